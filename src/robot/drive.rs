@@ -1,0 +1,291 @@
+//! The drive file (TOML): what a URDF does not say. Joint acceleration and jerk limits, gear
+//! ratios, motor constants, friction, gearbox efficiency, the cabinet's standby power and
+//! regeneration policy, the default payload and the tool (nozzle) transform, plus the
+//! closed-form kinematic parameters. Every key carries its unit in its name; values are SI.
+//! The schema is documented in `robots/README.md`.
+
+use crate::error::{Error, Result};
+use crate::robot::opw::OpwParams;
+use serde::Deserialize;
+
+/// What happens to power that a joint returns (negative electrical power).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Regeneration {
+    /// Negative power is lost: each axis draws `max(P, 0)`.
+    None,
+    /// Burnt per axis in its brake resistor: each axis draws `max(P, 0)` (same energy as `none`,
+    /// named separately because the heat goes to a resistor).
+    PerAxis,
+    /// Axes share a DC bus: the bus draws `max(Σ P, 0)`; the remainder is burnt.
+    DcBus,
+    /// Regenerative supply: the cabinet draws the net `Σ P`, negative returned to the grid.
+    Grid,
+}
+
+impl Regeneration {
+    /// Stable name as used in drive files and on the command line.
+    pub fn name(&self) -> &'static str {
+        match self {
+            Regeneration::None => "none",
+            Regeneration::PerAxis => "per_axis",
+            Regeneration::DcBus => "dc_bus",
+            Regeneration::Grid => "grid",
+        }
+    }
+
+    /// Parse a command-line or file name.
+    pub fn parse(s: &str) -> Option<Self> {
+        match s {
+            "none" => Some(Regeneration::None),
+            "per_axis" => Some(Regeneration::PerAxis),
+            "dc_bus" => Some(Regeneration::DcBus),
+            "grid" => Some(Regeneration::Grid),
+            _ => None,
+        }
+    }
+}
+
+/// Drive train of one joint. Motor-side quantities are marked; the rest are joint side.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct JointDrive {
+    /// Motor turns per joint turn (> 0).
+    pub gear_ratio: f64,
+    /// Motor torque constant K_t, N·m/A (motor side). The SI back-EMF constant K_v equals it.
+    pub torque_constant: f64,
+    /// Winding resistance R, Ω.
+    pub winding_resistance: f64,
+    /// Rotor inertia J_m, kg·m² (motor side). Reflected to the joint as G²·J_m.
+    pub rotor_inertia: f64,
+    /// Viscous friction f_v, N·m·s/rad (joint side).
+    pub viscous: f64,
+    /// Coulomb friction f_c, N·m (joint side).
+    pub coulomb: f64,
+    /// Gearbox efficiency η in (0, 1].
+    pub gear_efficiency: f64,
+}
+
+impl JointDrive {
+    /// Reflected rotor inertia G²·J_m, kg·m² (joint side).
+    pub fn armature(&self) -> f64 {
+        self.gear_ratio * self.gear_ratio * self.rotor_inertia
+    }
+}
+
+/// The drive train of the whole robot and its cabinet.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Drive {
+    /// One per actuated joint, in chain order.
+    pub joints: Vec<JointDrive>,
+    /// Cabinet's constant draw (controller, fans, released brakes), W.
+    pub standby_power: f64,
+    /// Policy for negative power.
+    pub regeneration: Regeneration,
+}
+
+// ---- the file as written -----------------------------------------------------------------------
+
+#[derive(Deserialize, Debug, Default)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct DriveFile {
+    #[serde(default)]
+    pub robot: RobotTable,
+    pub kinematics: Option<KinematicsTable>,
+    pub tool: Option<ToolTable>,
+    pub payload: Option<PayloadTable>,
+    pub cabinet: Option<CabinetTable>,
+    #[serde(default)]
+    pub joints: Vec<JointTable>,
+}
+
+#[derive(Deserialize, Debug, Default)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct RobotTable {
+    pub name: Option<String>,
+    pub reach_m: Option<f64>,
+    pub rated_payload_kg: Option<f64>,
+    pub provenance: Option<String>,
+    pub tool_link: Option<String>,
+    pub urdf: Option<String>,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct KinematicsTable {
+    #[serde(rename = "type")]
+    pub kind: String,
+    pub a1_m: f64,
+    pub a2_m: f64,
+    pub b_m: f64,
+    pub c1_m: f64,
+    pub c2_m: f64,
+    pub c3_m: f64,
+    pub c4_m: f64,
+    pub offsets_rad: [f64; 6],
+    pub signs: [f64; 6],
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct ToolTable {
+    pub xyz_m: [f64; 3],
+    #[serde(default)]
+    pub rpy_rad: [f64; 3],
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct PayloadTable {
+    pub mass_kg: f64,
+    #[serde(default)]
+    pub com_m: [f64; 3],
+    #[serde(default)]
+    pub inertia_kg_m2: [f64; 6],
+    #[serde(default)]
+    pub description: Option<String>,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct CabinetTable {
+    #[serde(default)]
+    pub standby_power_w: f64,
+    pub regeneration: Option<Regeneration>,
+}
+
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct JointTable {
+    pub name: String,
+    pub acceleration_limit_rad_s2: Option<f64>,
+    pub jerk_limit_rad_s3: Option<f64>,
+    pub velocity_limit_rad_s: Option<f64>,
+    pub position_min_rad: Option<f64>,
+    pub position_max_rad: Option<f64>,
+    pub gear_ratio: Option<f64>,
+    pub torque_constant_nm_per_a: Option<f64>,
+    pub winding_resistance_ohm: Option<f64>,
+    pub rotor_inertia_kg_m2: Option<f64>,
+    pub viscous_nm_s_per_rad: Option<f64>,
+    pub coulomb_nm: Option<f64>,
+    pub gear_efficiency: Option<f64>,
+}
+
+/// Parse the TOML text; syntax and schema errors name the file, line and column.
+pub(crate) fn parse_drive_file(text: &str, file: &str) -> Result<DriveFile> {
+    toml::from_str::<DriveFile>(text).map_err(|e| {
+        let (line, column) = e.span().map(|s| line_col(text, s.start)).unwrap_or((0, 0));
+        Error::Parse {
+            file: file.to_string(),
+            line,
+            column,
+            msg: e.message().to_string(),
+        }
+    })
+}
+
+/// 1-based line and column of a byte offset.
+pub(crate) fn line_col(text: &str, offset: usize) -> (usize, usize) {
+    let before = &text[..offset.min(text.len())];
+    let line = before.matches('\n').count() + 1;
+    let column = before.rsplit('\n').next().map_or(0, |l| l.chars().count()) + 1;
+    (line, column)
+}
+
+impl KinematicsTable {
+    pub(crate) fn to_params(&self, file: &str) -> Result<OpwParams> {
+        if self.kind != "opw" {
+            return Err(Error::Field {
+                file: file.into(),
+                field: "kinematics.type".into(),
+                msg: format!("unknown kinematics type `{}`, expected `opw`", self.kind),
+            });
+        }
+        for (i, s) in self.signs.iter().enumerate() {
+            if *s != 1.0 && *s != -1.0 {
+                return Err(Error::Field {
+                    file: file.into(),
+                    field: format!("kinematics.signs[{i}]"),
+                    msg: format!("must be 1 or -1, got {s}"),
+                });
+            }
+        }
+        Ok(OpwParams {
+            a1: self.a1_m,
+            a2: self.a2_m,
+            b: self.b_m,
+            c1: self.c1_m,
+            c2: self.c2_m,
+            c3: self.c3_m,
+            c4: self.c4_m,
+            offsets: self.offsets_rad,
+            signs: self.signs,
+        })
+    }
+}
+
+impl JointTable {
+    /// The drive data of this joint, or `None` if the table gives no drive numbers at all.
+    /// A table that gives some but not all of them is an error naming the missing field.
+    pub(crate) fn drive(&self, file: &str, idx: usize) -> Result<Option<JointDrive>> {
+        let fields: [(&str, Option<f64>); 7] = [
+            ("gear_ratio", self.gear_ratio),
+            ("torque_constant_nm_per_a", self.torque_constant_nm_per_a),
+            ("winding_resistance_ohm", self.winding_resistance_ohm),
+            ("rotor_inertia_kg_m2", self.rotor_inertia_kg_m2),
+            ("viscous_nm_s_per_rad", self.viscous_nm_s_per_rad),
+            ("coulomb_nm", self.coulomb_nm),
+            ("gear_efficiency", self.gear_efficiency),
+        ];
+        if fields.iter().all(|(_, v)| v.is_none()) {
+            return Ok(None);
+        }
+        let field = |name: &str, msg: String| Error::Field {
+            file: file.into(),
+            field: format!("joints[{idx}] (`{}`).{name}", self.name),
+            msg,
+        };
+        for (name, v) in fields.iter() {
+            match v {
+                None => {
+                    return Err(field(
+                        name,
+                        "missing: a joint with drive data needs all seven drive fields".into(),
+                    ))
+                }
+                Some(x) if !x.is_finite() || *x < 0.0 => {
+                    return Err(field(name, format!("must be finite and >= 0, got {x}")))
+                }
+                _ => {}
+            }
+        }
+        let jd = JointDrive {
+            gear_ratio: self.gear_ratio.unwrap_or_default(),
+            torque_constant: self.torque_constant_nm_per_a.unwrap_or_default(),
+            winding_resistance: self.winding_resistance_ohm.unwrap_or_default(),
+            rotor_inertia: self.rotor_inertia_kg_m2.unwrap_or_default(),
+            viscous: self.viscous_nm_s_per_rad.unwrap_or_default(),
+            coulomb: self.coulomb_nm.unwrap_or_default(),
+            gear_efficiency: self.gear_efficiency.unwrap_or_default(),
+        };
+        if jd.gear_ratio <= 0.0 {
+            return Err(field(
+                "gear_ratio",
+                format!("must be > 0, got {}", jd.gear_ratio),
+            ));
+        }
+        if jd.torque_constant <= 0.0 {
+            return Err(field(
+                "torque_constant_nm_per_a",
+                format!("must be > 0, got {}", jd.torque_constant),
+            ));
+        }
+        if jd.gear_efficiency <= 0.0 || jd.gear_efficiency > 1.0 {
+            return Err(field(
+                "gear_efficiency",
+                format!("must be in (0, 1], got {}", jd.gear_efficiency),
+            ));
+        }
+        Ok(Some(jd))
+    }
+}

@@ -1,0 +1,291 @@
+//! Robot models: URDF (kinematics and inertials) plus an optional drive file (TOML).
+//!
+//! A robot is given as a directory holding `robot.urdf` and, optionally, `drive.toml`
+//! (the shipped robots in `robots/`), as a `.urdf` file (rigid body only), or as a drive file
+//! whose `[robot] urdf = "..."` names the URDF (relative to the drive file).
+
+pub mod drive;
+pub mod model;
+pub mod opw;
+pub mod urdf;
+
+pub use drive::{Drive, JointDrive, Regeneration};
+pub use model::{Inertial, Joint, JointKind, RobotInfo, RobotModel};
+pub use opw::OpwParams;
+
+use crate::error::{read_text, Error, Result};
+use crate::math::{rotation_distance, Frame, M3, V3};
+use std::path::{Path, PathBuf};
+
+/// Tolerances for the load-time check of closed-form parameters against the URDF chain.
+const OPW_CHECK_POSITION_M: f64 = 1e-6;
+const OPW_CHECK_ANGLE_RAD: f64 = 1e-6;
+
+/// Load a robot from a directory, a `.urdf` file or a drive `.toml` file.
+pub fn load(path: &Path) -> Result<RobotModel> {
+    let (urdf_path, drive_path) = resolve(path)?;
+    let drive_text = match &drive_path {
+        Some(p) => Some(read_text(p)?),
+        None => None,
+    };
+    let drive_name = drive_path
+        .as_ref()
+        .map(|p| p.display().to_string())
+        .unwrap_or_default();
+    let drive_file = match &drive_text {
+        Some(t) => Some(drive::parse_drive_file(t, &drive_name)?),
+        None => None,
+    };
+    let urdf_text = read_text(&urdf_path)?;
+    let urdf_name = urdf_path.display().to_string();
+    let tool_link = drive_file.as_ref().and_then(|d| d.robot.tool_link.clone());
+    let mut model = urdf::parse_urdf(&urdf_text, &urdf_name, tool_link.as_deref())?;
+    model.source = urdf_path.clone();
+    if let Some(d) = drive_file {
+        apply_drive(&mut model, d, &drive_name)?;
+    }
+    if let Some(dir) = path.is_dir().then_some(path) {
+        if model.info.name.is_empty() {
+            model.info.name = dir
+                .file_name()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default();
+        }
+    }
+    Ok(model)
+}
+
+/// Find the URDF and the drive file for a user-given path.
+fn resolve(path: &Path) -> Result<(PathBuf, Option<PathBuf>)> {
+    if path.is_dir() {
+        let urdf = path.join("robot.urdf");
+        let drive = path.join("drive.toml");
+        let urdf = if urdf.is_file() {
+            urdf
+        } else {
+            let mut found: Vec<PathBuf> = std::fs::read_dir(path)
+                .map_err(|e| Error::io(path, e))?
+                .filter_map(|e| e.ok().map(|e| e.path()))
+                .filter(|p| p.extension().is_some_and(|x| x == "urdf"))
+                .collect();
+            found.sort();
+            match found.len() {
+                1 => found.remove(0),
+                0 => {
+                    return Err(Error::Invalid(format!(
+                        "{}: no robot.urdf (or other .urdf) in this directory",
+                        path.display()
+                    )))
+                }
+                _ => {
+                    return Err(Error::Invalid(format!(
+                        "{}: several .urdf files and no robot.urdf: name one",
+                        path.display()
+                    )))
+                }
+            }
+        };
+        return Ok((urdf, drive.is_file().then_some(drive)));
+    }
+    if !path.exists() {
+        return Err(Error::Invalid(format!(
+            "{}: no such robot file or directory",
+            path.display()
+        )));
+    }
+    match path.extension().and_then(|e| e.to_str()) {
+        Some("urdf") | Some("xml") => Ok((path.to_path_buf(), None)),
+        Some("toml") => {
+            let text = read_text(path)?;
+            let d = drive::parse_drive_file(&text, &path.display().to_string())?;
+            let rel = d.robot.urdf.ok_or_else(|| Error::Field {
+                file: path.display().to_string(),
+                field: "robot.urdf".into(),
+                msg: "a drive file given on its own must name its URDF".into(),
+            })?;
+            let base = path.parent().unwrap_or(Path::new("."));
+            Ok((base.join(rel), Some(path.to_path_buf())))
+        }
+        _ => Err(Error::Invalid(format!(
+            "{}: expected a robot directory, a .urdf file or a drive .toml file",
+            path.display()
+        ))),
+    }
+}
+
+fn finite_pos(file: &str, field: &str, v: f64) -> Result<f64> {
+    if v.is_finite() && v > 0.0 {
+        Ok(v)
+    } else {
+        Err(Error::Field {
+            file: file.into(),
+            field: field.into(),
+            msg: format!("must be finite and > 0, got {v}"),
+        })
+    }
+}
+
+fn apply_drive(model: &mut RobotModel, d: drive::DriveFile, file: &str) -> Result<()> {
+    if let Some(n) = d.robot.name {
+        model.info.name = n;
+    }
+    model.info.reach_m = d.robot.reach_m;
+    model.info.rated_payload_kg = d.robot.rated_payload_kg;
+    model.info.provenance = d.robot.provenance.unwrap_or_default();
+    if let Some(t) = d.tool {
+        model.tool = Frame::from_xyz_rpy(t.xyz_m, t.rpy_rad);
+    }
+    if let Some(p) = d.payload {
+        if !(p.mass_kg.is_finite() && p.mass_kg >= 0.0) {
+            return Err(Error::Field {
+                file: file.into(),
+                field: "payload.mass_kg".into(),
+                msg: format!("must be >= 0, got {}", p.mass_kg),
+            });
+        }
+        model.info.payload_description = p.description.clone();
+        let [ixx, iyy, izz, ixy, ixz, iyz] = p.inertia_kg_m2;
+        model.payload = Some(Inertial {
+            mass: p.mass_kg,
+            com: V3::from(p.com_m),
+            inertia: M3::new(ixx, ixy, ixz, ixy, iyy, iyz, ixz, iyz, izz),
+        });
+    }
+    if !d.joints.is_empty() && d.joints.len() != model.dof() {
+        return Err(Error::Field {
+            file: file.into(),
+            field: "joints".into(),
+            msg: format!(
+                "{} [[joints]] tables, but the URDF chain has {} actuated joints ({})",
+                d.joints.len(),
+                model.dof(),
+                model
+                    .joints
+                    .iter()
+                    .map(|j| j.name.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ),
+        });
+    }
+    let mut drives = Vec::new();
+    for (i, (jt, j)) in d.joints.iter().zip(model.joints.iter_mut()).enumerate() {
+        if jt.name != j.name {
+            return Err(Error::Field {
+                file: file.into(),
+                field: format!("joints[{i}].name"),
+                msg: format!(
+                    "`{}` does not match URDF joint {} `{}` (tables must follow chain order)",
+                    jt.name,
+                    i + 1,
+                    j.name
+                ),
+            });
+        }
+        let f = |k: &str| format!("joints[{i}] (`{}`).{k}", jt.name);
+        if let Some(a) = jt.acceleration_limit_rad_s2 {
+            j.acceleration_limit = finite_pos(file, &f("acceleration_limit_rad_s2"), a)?;
+        }
+        if let Some(a) = jt.jerk_limit_rad_s3 {
+            j.jerk_limit = finite_pos(file, &f("jerk_limit_rad_s3"), a)?;
+        }
+        if let Some(a) = jt.velocity_limit_rad_s {
+            j.velocity_limit = finite_pos(file, &f("velocity_limit_rad_s"), a)?;
+        }
+        if let Some(a) = jt.position_min_rad {
+            j.lower = a;
+        }
+        if let Some(a) = jt.position_max_rad {
+            j.upper = a;
+        }
+        if j.lower > j.upper {
+            return Err(Error::Field {
+                file: file.into(),
+                field: f("position_min_rad"),
+                msg: format!("lower limit {} > upper limit {}", j.lower, j.upper),
+            });
+        }
+        drives.push(jt.drive(file, i)?);
+    }
+    let any = drives.iter().any(|d| d.is_some());
+    if any {
+        if let Some(i) = drives.iter().position(|d| d.is_none()) {
+            return Err(Error::Field {
+                file: file.into(),
+                field: format!("joints[{i}]"),
+                msg: "drive data given for some joints but not this one: give all or none".into(),
+            });
+        }
+        let cab = d.cabinet.as_ref();
+        let standby = cab.map_or(0.0, |c| c.standby_power_w);
+        if !(standby.is_finite() && standby >= 0.0) {
+            return Err(Error::Field {
+                file: file.into(),
+                field: "cabinet.standby_power_w".into(),
+                msg: format!("must be >= 0, got {standby}"),
+            });
+        }
+        model.drive = Some(Drive {
+            joints: drives.into_iter().flatten().collect(),
+            standby_power: standby,
+            regeneration: cab
+                .and_then(|c| c.regeneration)
+                .unwrap_or(Regeneration::None),
+        });
+    }
+    if let Some(k) = d.kinematics {
+        if model.dof() != 6 {
+            return Err(Error::Field {
+                file: file.into(),
+                field: "kinematics".into(),
+                msg: format!(
+                    "OPW parameters need a 6-axis arm, the URDF has {} joints",
+                    model.dof()
+                ),
+            });
+        }
+        let p = k.to_params(file)?;
+        check_opw(model, &p, file)?;
+        model.opw = Some(p);
+    }
+    Ok(())
+}
+
+/// Flange pose by the URDF chain at `q` (rad / m).
+pub fn chain_flange(model: &RobotModel, q: &[f64]) -> Frame {
+    let mut f = Frame::identity();
+    for (j, &qi) in model.joints.iter().zip(q) {
+        f = f.compose(&j.transform(qi));
+    }
+    f.compose(&model.flange)
+}
+
+/// Check that the closed-form parameters reproduce the URDF chain on deterministic poses.
+fn check_opw(model: &RobotModel, p: &OpwParams, file: &str) -> Result<()> {
+    let mut worst = (0.0f64, 0.0f64);
+    for k in 0..64 {
+        let q: Vec<f64> = (0..6)
+            .map(|i| {
+                let j = &model.joints[i];
+                let (lo, hi) = (j.lower.max(-3.0), j.upper.min(3.0));
+                let u = ((k * 7 + i * 13) % 64) as f64 / 63.0; // deterministic spread
+                lo + (hi - lo) * u
+            })
+            .collect();
+        let a = chain_flange(model, &q);
+        let b = p.forward(&q);
+        worst.0 = worst.0.max((a.pos - b.pos).norm());
+        worst.1 = worst.1.max(rotation_distance(&a.rot, &b.rot));
+    }
+    if worst.0 > OPW_CHECK_POSITION_M || worst.1 > OPW_CHECK_ANGLE_RAD {
+        return Err(Error::Field {
+            file: file.into(),
+            field: "kinematics".into(),
+            msg: format!(
+                "the OPW parameters do not reproduce the URDF chain to `{}`: worst position error {:.3e} m, orientation error {:.3e} rad over 64 poses",
+                model.flange_link, worst.0, worst.1
+            ),
+        });
+    }
+    Ok(())
+}

@@ -1,0 +1,492 @@
+//! URDF reader for serial arms. Reads `<link>` inertials and `<joint>` origins, axes, limits
+//! and mimic tags; ignores visual and collision geometry (mesh references are not opened).
+//!
+//! What it does with the tree:
+//! - the arm chain runs from the root link to `tool_link` (or, when none is named, to the leaf
+//!   reached through the most actuated joints);
+//! - fixed joints on the chain are merged: their transforms are composed and their links'
+//!   inertials are added to the moving link before them;
+//! - side branches (passive or mimic joints such as the balancer cylinder and piston of ABB
+//!   URDFs) are frozen at their zero position and their mass, if any, is merged into the chain
+//!   link they hang from, with a warning; massless ones are dropped silently;
+//! - links before the first actuated joint belong to the fixed base.
+//!
+//! Limitations: one serial chain; floating and planar joints are rejected; a mimic joint on the
+//! chain itself is rejected (a closed-loop drive is not modelled).
+
+use crate::error::{Error, Result};
+use crate::math::{Frame, M3, V3};
+use crate::robot::model::{Inertial, Joint, JointKind, RobotInfo, RobotModel};
+use std::collections::HashMap;
+use std::path::Path;
+
+#[derive(Debug)]
+struct UJoint {
+    name: String,
+    kind: String,
+    parent: String,
+    child: String,
+    origin: Frame,
+    axis: V3,
+    lower: f64,
+    upper: f64,
+    velocity: f64,
+    effort: f64,
+    mimic: bool,
+    line: usize,
+}
+
+struct Ctx<'a> {
+    doc: &'a roxmltree::Document<'a>,
+    file: &'a str,
+}
+
+impl Ctx<'_> {
+    fn err(&self, node: roxmltree::Node, msg: impl Into<String>) -> Error {
+        let pos = self.doc.text_pos_at(node.range().start);
+        Error::Parse {
+            file: self.file.into(),
+            line: pos.row as usize,
+            column: pos.col as usize,
+            msg: msg.into(),
+        }
+    }
+
+    fn floats<const N: usize>(
+        &self,
+        node: roxmltree::Node,
+        attr: &str,
+        default: Option<[f64; N]>,
+    ) -> Result<[f64; N]> {
+        let Some(text) = node.attribute(attr) else {
+            return default.ok_or_else(|| {
+                self.err(
+                    node,
+                    format!("<{}> needs attribute `{attr}`", node.tag_name().name()),
+                )
+            });
+        };
+        let vals: Vec<&str> = text.split_whitespace().collect();
+        if vals.len() != N {
+            return Err(self.err(
+                node,
+                format!(
+                    "attribute `{attr}` = \"{text}\": expected {N} numbers, got {}",
+                    vals.len()
+                ),
+            ));
+        }
+        let mut out = [0.0; N];
+        for (o, v) in out.iter_mut().zip(vals) {
+            *o = v
+                .parse::<f64>()
+                .ok()
+                .filter(|x| x.is_finite())
+                .ok_or_else(|| {
+                    self.err(
+                        node,
+                        format!("attribute `{attr}`: `{v}` is not a finite number"),
+                    )
+                })?;
+        }
+        Ok(out)
+    }
+
+    fn float(&self, node: roxmltree::Node, attr: &str, default: Option<f64>) -> Result<f64> {
+        Ok(self.floats::<1>(node, attr, default.map(|d| [d]))?[0])
+    }
+
+    fn origin(&self, parent: roxmltree::Node) -> Result<Frame> {
+        match child(parent, "origin") {
+            None => Ok(Frame::identity()),
+            Some(o) => Ok(Frame::from_xyz_rpy(
+                self.floats(o, "xyz", Some([0.0; 3]))?,
+                self.floats(o, "rpy", Some([0.0; 3]))?,
+            )),
+        }
+    }
+}
+
+fn child<'a, 'i>(n: roxmltree::Node<'a, 'i>, tag: &str) -> Option<roxmltree::Node<'a, 'i>> {
+    n.children()
+        .find(|c| c.is_element() && c.tag_name().name() == tag)
+}
+
+/// Parse URDF text into a model (no drive data). `file` names the source in errors;
+/// `tool_link` ends the chain when given.
+pub fn parse_urdf(text: &str, file: &str, tool_link: Option<&str>) -> Result<RobotModel> {
+    let doc = roxmltree::Document::parse(text).map_err(|e| {
+        let p = e.pos();
+        Error::Parse {
+            file: file.into(),
+            line: p.row as usize,
+            column: p.col as usize,
+            msg: format!("not well-formed XML: {e}"),
+        }
+    })?;
+    let cx = Ctx { doc: &doc, file };
+    let root = doc.root_element();
+    if root.tag_name().name() != "robot" {
+        return Err(cx.err(
+            root,
+            format!(
+                "expected a <robot> root element, found <{}>",
+                root.tag_name().name()
+            ),
+        ));
+    }
+    let robot_name = root.attribute("name").unwrap_or("robot").to_string();
+
+    // Links and their inertials (in the link frame).
+    let mut links: HashMap<String, Option<Inertial>> = HashMap::new();
+    let mut link_order: Vec<String> = Vec::new();
+    let mut warnings = Vec::new();
+    for l in root
+        .children()
+        .filter(|n| n.is_element() && n.tag_name().name() == "link")
+    {
+        let name = l
+            .attribute("name")
+            .ok_or_else(|| cx.err(l, "<link> needs a `name`"))?
+            .to_string();
+        let inertial = match child(l, "inertial") {
+            None => None,
+            Some(inn) => {
+                let f = cx.origin(inn)?;
+                let m = child(inn, "mass")
+                    .ok_or_else(|| cx.err(inn, "<inertial> needs <mass value=...>"))?;
+                let mass = cx.float(m, "value", None)?;
+                if mass < 0.0 {
+                    return Err(cx.err(m, format!("link `{name}`: negative mass {mass}")));
+                }
+                let i = child(inn, "inertia")
+                    .ok_or_else(|| cx.err(inn, "<inertial> needs <inertia .../>"))?;
+                let g = |a: &str| cx.float(i, a, Some(0.0));
+                let (ixx, iyy, izz) = (g("ixx")?, g("iyy")?, g("izz")?);
+                let (ixy, ixz, iyz) = (g("ixy")?, g("ixz")?, g("iyz")?);
+                let ic = M3::new(ixx, ixy, ixz, ixy, iyy, iyz, ixz, iyz, izz);
+                if ixx < 0.0 || iyy < 0.0 || izz < 0.0 {
+                    return Err(cx.err(i, format!("link `{name}`: negative principal moment")));
+                }
+                if ixx + iyy < izz - 1e-12 || ixx + izz < iyy - 1e-12 || iyy + izz < ixx - 1e-12 {
+                    warnings.push(format!(
+                        "link `{name}`: inertia violates the triangle inequality (kept as given; \
+                         published PUMA 560 data do this)"
+                    ));
+                }
+                Some(
+                    Inertial {
+                        mass,
+                        com: V3::zeros(),
+                        inertia: ic,
+                    }
+                    .transformed(&f),
+                )
+            }
+        };
+        if links.insert(name.clone(), inertial).is_some() {
+            return Err(cx.err(l, format!("link `{name}` is defined twice")));
+        }
+        link_order.push(name);
+    }
+    if links.is_empty() {
+        return Err(cx.err(root, "the URDF has no <link>"));
+    }
+
+    // Joints.
+    let mut joints: Vec<UJoint> = Vec::new();
+    for j in root
+        .children()
+        .filter(|n| n.is_element() && n.tag_name().name() == "joint")
+    {
+        let name = j
+            .attribute("name")
+            .ok_or_else(|| cx.err(j, "<joint> needs a `name`"))?
+            .to_string();
+        let kind = j
+            .attribute("type")
+            .ok_or_else(|| cx.err(j, format!("joint `{name}` needs a `type`")))?
+            .to_string();
+        if !matches!(
+            kind.as_str(),
+            "revolute" | "continuous" | "prismatic" | "fixed"
+        ) {
+            return Err(cx.err(j, format!("joint `{name}`: type `{kind}` is not supported (expected revolute, continuous, prismatic or fixed)")));
+        }
+        let link_of = |tag: &str| -> Result<String> {
+            let n = child(j, tag)
+                .ok_or_else(|| cx.err(j, format!("joint `{name}` needs <{tag} link=...>")))?;
+            let l = n
+                .attribute("link")
+                .ok_or_else(|| cx.err(n, format!("<{tag}> needs `link`")))?;
+            if !links.contains_key(l) {
+                return Err(cx.err(
+                    n,
+                    format!("joint `{name}`: {tag} link `{l}` is not defined"),
+                ));
+            }
+            Ok(l.to_string())
+        };
+        let parent = link_of("parent")?;
+        let childl = link_of("child")?;
+        let origin = cx.origin(j)?;
+        let axis = match child(j, "axis") {
+            None => V3::x(),
+            Some(a) => {
+                let v = V3::from(cx.floats::<3>(a, "xyz", Some([1.0, 0.0, 0.0]))?);
+                let n = v.norm();
+                if n < 1e-12 {
+                    return Err(cx.err(a, format!("joint `{name}`: zero axis")));
+                }
+                v / n
+            }
+        };
+        let (mut lower, mut upper, mut velocity, mut effort) =
+            (f64::NEG_INFINITY, f64::INFINITY, f64::INFINITY, 0.0);
+        if let Some(l) = child(j, "limit") {
+            if kind != "continuous" {
+                lower = cx.float(l, "lower", Some(0.0))?;
+                upper = cx.float(l, "upper", Some(0.0))?;
+            }
+            velocity = cx.float(l, "velocity", Some(f64::INFINITY))?;
+            effort = cx.float(l, "effort", Some(0.0))?;
+            if lower > upper {
+                return Err(cx.err(
+                    l,
+                    format!("joint `{name}`: lower limit {lower} > upper limit {upper}"),
+                ));
+            }
+        } else if kind == "revolute" || kind == "prismatic" {
+            return Err(cx.err(j, format!("joint `{name}`: a {kind} joint needs <limit>")));
+        }
+        if velocity <= 0.0 {
+            velocity = f64::INFINITY;
+            warnings.push(format!("joint `{name}`: velocity limit 0 read as unknown"));
+        }
+        let line = doc.text_pos_at(j.range().start).row as usize;
+        joints.push(UJoint {
+            name,
+            kind,
+            parent,
+            child: childl,
+            origin,
+            axis,
+            lower,
+            upper,
+            velocity,
+            effort,
+            mimic: child(j, "mimic").is_some(),
+            line,
+        });
+    }
+
+    // Tree structure.
+    let mut parent_joint: HashMap<&str, usize> = HashMap::new();
+    for (k, j) in joints.iter().enumerate() {
+        if let Some(prev) = parent_joint.insert(j.child.as_str(), k) {
+            return Err(Error::Parse {
+                file: file.into(),
+                line: j.line,
+                column: 1,
+                msg: format!(
+                    "link `{}` is the child of two joints (`{}` and `{}`): not a tree",
+                    j.child, joints[prev].name, j.name
+                ),
+            });
+        }
+    }
+    let roots: Vec<&String> = link_order
+        .iter()
+        .filter(|l| !parent_joint.contains_key(l.as_str()))
+        .collect();
+    if roots.len() != 1 {
+        return Err(Error::Invalid(format!(
+            "{file}: expected one root link, found {}: {:?}",
+            roots.len(),
+            roots
+        )));
+    }
+    let root_link = roots[0].clone();
+    let actuated = |j: &UJoint| j.kind != "fixed" && !j.mimic;
+    let path_to = |leaf: &str| -> Result<Vec<usize>> {
+        let mut path = Vec::new();
+        let mut cur = leaf.to_string();
+        while let Some(&k) = parent_joint.get(cur.as_str()) {
+            path.push(k);
+            cur = joints[k].parent.clone();
+            if path.len() > joints.len() {
+                return Err(Error::Invalid(format!(
+                    "{file}: the joint graph has a cycle"
+                )));
+            }
+        }
+        path.reverse();
+        Ok(path)
+    };
+    let tip = match tool_link {
+        Some(t) => {
+            if !links.contains_key(t) {
+                return Err(Error::Invalid(format!(
+                    "{file}: tool_link `{t}` is not a link of this URDF"
+                )));
+            }
+            t.to_string()
+        }
+        None => {
+            // The leaf reached through the most actuated joints; first in document order wins ties.
+            let mut best: Option<(usize, String)> = None;
+            for l in &link_order {
+                let n = path_to(l)?
+                    .iter()
+                    .filter(|&&k| actuated(&joints[k]))
+                    .count();
+                if best.as_ref().is_none_or(|(b, _)| n > *b) {
+                    best = Some((n, l.clone()));
+                }
+            }
+            // Extend through fixed joints to the deepest fixed descendant (the flange / tool0).
+            let mut t = best.map(|b| b.1).unwrap_or(root_link.clone());
+            loop {
+                let next = joints.iter().find(|j| j.parent == t && j.kind == "fixed");
+                match next {
+                    Some(j) => t = j.child.clone(),
+                    None => break,
+                }
+            }
+            t
+        }
+    };
+    let path = path_to(&tip)?;
+    for &k in &path {
+        if joints[k].mimic {
+            return Err(Error::Parse {
+                file: file.into(),
+                line: joints[k].line,
+                column: 1,
+                msg: format!("joint `{}` on the arm chain is a mimic joint: closed-loop drives are not supported", joints[k].name),
+            });
+        }
+    }
+    let on_path: std::collections::HashSet<&str> = std::iter::once(root_link.as_str())
+        .chain(path.iter().map(|&k| joints[k].child.as_str()))
+        .collect();
+
+    // Inertial of a side subtree hanging from `link`, frozen at zero joint positions, expressed
+    // in `link`'s frame. Returns (inertial, any_missing, names of moving joints inside).
+    fn subtree(
+        link: &str,
+        joints: &[UJoint],
+        links: &HashMap<String, Option<Inertial>>,
+        on_path: &std::collections::HashSet<&str>,
+        moving: &mut Vec<String>,
+    ) -> Inertial {
+        let mut acc = Inertial::zero();
+        for j in joints
+            .iter()
+            .filter(|j| j.parent == link && !on_path.contains(j.child.as_str()))
+        {
+            if j.kind != "fixed" {
+                moving.push(j.name.clone());
+            }
+            let mut body = links[&j.child].unwrap_or(Inertial::zero());
+            body = body.merged(&subtree(&j.child, joints, links, on_path, moving));
+            acc = acc.merged(&body.transformed(&j.origin));
+        }
+        acc
+    }
+
+    let mut model_joints = Vec::new();
+    let mut model_links: Vec<Option<Inertial>> = Vec::new();
+    let mut link_names = Vec::new();
+    let mut acc = Frame::identity(); // from the last actuated joint's frame (or base) to current link
+    for &k in &path {
+        let j = &joints[k];
+        let origin_in_last = acc.compose(&j.origin); // child link frame at q=0, in last joint frame
+        let own = links[&j.child];
+        let mut moving = Vec::new();
+        let side = subtree(&j.child, &joints, &links, &on_path, &mut moving);
+        let side_has_mass = side.mass > 0.0 || side.inertia.norm() > 0.0;
+        if !moving.is_empty() {
+            if side_has_mass {
+                warnings.push(format!(
+                    "passive/mimic joints {moving:?} carry mass: frozen at their zero position and merged into link `{}`",
+                    j.child
+                ));
+            } else {
+                warnings.push(format!(
+                    "passive/mimic joints {moving:?} are massless: ignored for dynamics"
+                ));
+            }
+        }
+        let body = match own {
+            Some(b) => Some(b.merged(&side)),
+            None if side_has_mass => Some(side),
+            None => None,
+        };
+        if actuated(j) {
+            let kind = if j.kind == "prismatic" {
+                JointKind::Prismatic
+            } else {
+                JointKind::Revolute
+            };
+            model_joints.push(Joint {
+                name: j.name.clone(),
+                kind,
+                origin: origin_in_last,
+                axis: j.axis,
+                lower: j.lower,
+                upper: j.upper,
+                velocity_limit: j.velocity,
+                acceleration_limit: f64::INFINITY,
+                jerk_limit: f64::INFINITY,
+                effort_limit: (j.effort > 0.0).then_some(j.effort),
+            });
+            model_links.push(body);
+            link_names.push(j.child.clone());
+            acc = Frame::identity();
+        } else {
+            // Fixed joint: merge the child link into the current moving link.
+            acc = origin_in_last;
+            if let Some(cur) = model_links.last_mut() {
+                if let Some(b) = body {
+                    let b = b.transformed(&acc);
+                    *cur = Some(cur.unwrap_or(Inertial::zero()).merged(&b));
+                }
+            }
+        }
+    }
+    if model_joints.is_empty() {
+        return Err(Error::Invalid(format!(
+            "{file}: no actuated joint between `{root_link}` and `{tip}`"
+        )));
+    }
+    // A link with zero mass and zero inertia that had no <inertial> anywhere stays None.
+    let flange = acc;
+    let ignored_meshes = doc
+        .descendants()
+        .filter(|n| n.tag_name().name() == "mesh")
+        .count();
+    if ignored_meshes > 0 {
+        warnings.push(format!(
+            "{ignored_meshes} mesh references ignored (geometry is not used)"
+        ));
+    }
+    Ok(RobotModel {
+        info: RobotInfo {
+            name: robot_name,
+            ..Default::default()
+        },
+        source: Path::new(file).to_path_buf(),
+        joints: model_joints,
+        link_names,
+        links: model_links,
+        flange,
+        flange_link: tip,
+        tool: Frame::identity(),
+        payload: None,
+        gravity: V3::new(0.0, 0.0, -9.81),
+        drive: None,
+        opw: None,
+        warnings,
+    })
+}
