@@ -8,5 +8,6 @@
 pub mod error;
 pub mod math;
 pub mod robot;
+pub mod trajectory;
 
 pub use error::{Error, Result};
