@@ -5,6 +5,9 @@
 //! Units are SI everywhere inside (m, rad, s, kg, N·m, W, J); conversions happen only where
 //! data enter or leave.
 
+pub mod dynamics;
+pub mod effects;
+pub mod energy;
 pub mod error;
 pub mod math;
 pub mod robot;

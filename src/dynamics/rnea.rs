@@ -1,0 +1,453 @@
+//! Model, workspace and algorithms. See the module docs in `dynamics/mod.rs`.
+
+use crate::error::{Error, Result};
+use crate::math::{rot_axis, M3, V3};
+use crate::robot::{JointKind, RobotModel};
+
+/// Largest number of joints a [`DynModel`] supports (workspace arrays are this size).
+pub const MAX_DOF: usize = 8;
+
+/// What to include in a [`DynModel`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct DynOptions {
+    /// Merge the robot's payload (mass, CoM, inertia at the flange) into the last link.
+    pub payload: bool,
+    /// Add the reflected rotor inertia `G²·J_m` (kg·m², joint side) of each drive as a diagonal
+    /// term `G²J_m q̈` (the `armature` effect). Needs drive data; a robot without a drive gets
+    /// zero armature and [`DynModel::has_armature`] reports `false`.
+    pub armature: bool,
+}
+
+/// Precomputed per-link parameters in the re-oriented joint frame (axis = local +z).
+#[derive(Clone, Copy, Debug)]
+struct Link {
+    /// Constant part of the rotation child → parent: `R(q) = c · Rz(q)` (revolute) or `c`.
+    c: M3,
+    /// Joint origin in the parent frame at q = 0, m.
+    p: V3,
+    /// Prismatic joint (translation along local z).
+    prismatic: bool,
+    /// Mass, kg.
+    mass: f64,
+    /// First moment of mass `m·c` about the joint origin, kg·m.
+    h: V3,
+    /// Inertia about the joint origin, kg·m².
+    io: M3,
+    /// Reflected rotor inertia G²J_m, kg·m² (revolute) or kg (prismatic).
+    armature: f64,
+}
+
+impl Default for Link {
+    fn default() -> Self {
+        Link {
+            c: M3::identity(),
+            p: V3::zeros(),
+            prismatic: false,
+            mass: 0.0,
+            h: V3::zeros(),
+            io: M3::zeros(),
+            armature: 0.0,
+        }
+    }
+}
+
+/// Immutable rigid-body model of a fixed-base serial chain, built once from a [`RobotModel`].
+/// Cheap to share between threads (`Send + Sync`, no interior mutability).
+#[derive(Clone, Debug)]
+pub struct DynModel {
+    n: usize,
+    links: [Link; MAX_DOF],
+    /// Base acceleration that models gravity: `a_0 = −g`, m/s², base frame.
+    a0: V3,
+    gravity: V3,
+    has_armature: bool,
+    options: DynOptions,
+}
+
+/// Rotation `A` with `A e_z = axis` (unit axis).
+fn z_to_axis(axis: &V3) -> M3 {
+    let a = axis.normalize();
+    let ez = V3::z();
+    let k = ez.cross(&a);
+    let s = k.norm();
+    if s < 1e-12 {
+        if a.z > 0.0 {
+            M3::identity()
+        } else {
+            M3::new(1.0, 0.0, 0.0, 0.0, -1.0, 0.0, 0.0, 0.0, -1.0)
+        }
+    } else {
+        rot_axis(&(k / s), s.atan2(a.z))
+    }
+}
+
+/// `[p]×ᵀ[p]× = (p·p) 1 − p pᵀ`: the parallel-axis term per unit mass.
+fn pax(p: &V3) -> M3 {
+    M3::identity() * p.dot(p) - p * p.transpose()
+}
+
+impl DynModel {
+    /// Precompute the per-link parameters of `robot` (joint frames, mass, first moment
+    /// `m c`, inertia about each joint origin, armature `G²J_m`).
+    ///
+    /// Errors: [`Error::MissingInertial`] naming the first link without `<inertial>`;
+    /// [`Error::Invalid`] for more than [`MAX_DOF`] joints or a zero joint axis.
+    pub fn new(robot: &RobotModel, options: DynOptions) -> Result<Self> {
+        let n = robot.dof();
+        if n > MAX_DOF {
+            return Err(Error::Invalid(format!(
+                "robot `{}` has {n} joints; dynamics support at most {MAX_DOF}",
+                robot.name()
+            )));
+        }
+        let inertials = robot.dynamic_links(options.payload)?;
+        let mut links = [Link::default(); MAX_DOF];
+        let mut a_prev = M3::identity();
+        let arm: Vec<f64> = match (&robot.drive, options.armature) {
+            (Some(d), true) if d.joints.len() == n => d.joints.iter().map(|j| j.armature()).collect(),
+            _ => vec![0.0; n],
+        };
+        let has_armature = options.armature && robot.drive.is_some();
+        for (i, (j, inert)) in robot.joints.iter().zip(inertials.iter()).enumerate() {
+            if !(j.axis.norm() > 1e-9) {
+                return Err(Error::Invalid(format!(
+                    "joint `{}` of robot `{}` has a zero axis",
+                    j.name,
+                    robot.name()
+                )));
+            }
+            let a = z_to_axis(&j.axis);
+            let c = a_prev.transpose() * j.origin.rot * a;
+            let p = a_prev.transpose() * j.origin.pos;
+            // Inertial in the re-oriented frame: com' = Aᵀ com, I' = Aᵀ I A.
+            let com = a.transpose() * inert.com;
+            let ic = a.transpose() * inert.inertia * a;
+            links[i] = Link {
+                c,
+                p,
+                prismatic: j.kind == JointKind::Prismatic,
+                mass: inert.mass,
+                h: com * inert.mass,
+                io: ic + pax(&com) * inert.mass,
+                armature: arm[i],
+            };
+            a_prev = a;
+        }
+        Ok(DynModel {
+            n,
+            links,
+            a0: -robot.gravity,
+            gravity: robot.gravity,
+            has_armature,
+            options,
+        })
+    }
+
+    /// Number of joints.
+    pub fn dof(&self) -> usize {
+        self.n
+    }
+
+    /// Whether the armature `G²J_m` term is active (requested and drive data present).
+    pub fn has_armature(&self) -> bool {
+        self.has_armature
+    }
+
+    /// Options the model was built with.
+    pub fn options(&self) -> DynOptions {
+        self.options
+    }
+
+    /// Reflected rotor inertia of joint `i`, kg·m² (0 when inactive or out of range).
+    pub fn armature(&self, i: usize) -> f64 {
+        if i < self.n {
+            self.links[i].armature
+        } else {
+            0.0
+        }
+    }
+
+    /// Gravity in the base frame, m/s².
+    pub fn gravity(&self) -> V3 {
+        self.gravity
+    }
+
+    /// A fresh workspace for this model.
+    pub fn data(&self) -> DynData {
+        DynData::default()
+    }
+
+    fn check(&self, what: &str, len: usize) -> Result<()> {
+        if len != self.n {
+            return Err(Error::SizeMismatch {
+                what: what.to_string(),
+                got: len,
+                expected: self.n,
+            });
+        }
+        Ok(())
+    }
+}
+
+/// Per-thread workspace for the algorithms of this module: fixed-size arrays, no heap.
+/// Holds the last call's joint transforms, spatial velocities/accelerations and link forces.
+#[derive(Clone, Debug)]
+pub struct DynData {
+    r: [M3; MAX_DOF],
+    p: [V3; MAX_DOF],
+    w: [V3; MAX_DOF],
+    wd: [V3; MAX_DOF],
+    a: [V3; MAX_DOF],
+    f: [V3; MAX_DOF],
+    nn: [V3; MAX_DOF],
+    ic_m: [f64; MAX_DOF],
+    ic_h: [V3; MAX_DOF],
+    ic_i: [M3; MAX_DOF],
+}
+
+impl Default for DynData {
+    fn default() -> Self {
+        DynData {
+            r: [M3::identity(); MAX_DOF],
+            p: [V3::zeros(); MAX_DOF],
+            w: [V3::zeros(); MAX_DOF],
+            wd: [V3::zeros(); MAX_DOF],
+            a: [V3::zeros(); MAX_DOF],
+            f: [V3::zeros(); MAX_DOF],
+            nn: [V3::zeros(); MAX_DOF],
+            ic_m: [0.0; MAX_DOF],
+            ic_h: [V3::zeros(); MAX_DOF],
+            ic_i: [M3::zeros(); MAX_DOF],
+        }
+    }
+}
+
+/// Joint transforms (child → parent) of every joint at `q`, into `d.r`, `d.p`.
+#[inline(always)]
+fn kinematics(m: &DynModel, d: &mut DynData, q: &[f64]) {
+    for i in 0..m.n {
+        let l = &m.links[i];
+        if l.prismatic {
+            d.r[i] = l.c;
+            d.p[i] = l.p + l.c.column(2) * q[i];
+        } else {
+            let (s, c) = q[i].sin_cos();
+            let c0 = l.c.column(0);
+            let c1 = l.c.column(1);
+            d.r[i] = M3::from_columns(&[c0 * c + c1 * s, c1 * c - c0 * s, l.c.column(2).into()]);
+            d.p[i] = l.p;
+        }
+    }
+}
+
+/// `ω × e_z`.
+#[inline(always)]
+fn cross_z(w: &V3) -> V3 {
+    V3::new(w.y, -w.x, 0.0)
+}
+
+#[inline(always)]
+fn rnea_core(
+    m: &DynModel,
+    d: &mut DynData,
+    q: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+    a0: V3,
+    tau: &mut [f64],
+) {
+    kinematics(m, d, q);
+    let mut wp = V3::zeros();
+    let mut wdp = V3::zeros();
+    let mut ap = a0;
+    for i in 0..m.n {
+        let l = &m.links[i];
+        let r = &d.r[i];
+        let p = d.p[i];
+        let rt = r.transpose();
+        let a_origin = ap + wdp.cross(&p) + wp.cross(&wp.cross(&p));
+        let wpl = rt * wp;
+        let (w, wd, a) = if l.prismatic {
+            let w = wpl;
+            let wd = rt * wdp;
+            let mut a = rt * a_origin + cross_z(&w) * (2.0 * qd[i]);
+            a.z += qdd[i];
+            (w, wd, a)
+        } else {
+            let mut w = wpl;
+            w.z += qd[i];
+            let mut wd = rt * wdp + cross_z(&wpl) * qd[i];
+            wd.z += qdd[i];
+            (w, wd, rt * a_origin)
+        };
+        let iw = l.io * w;
+        d.f[i] = a * l.mass + wd.cross(&l.h) + w.cross(&w.cross(&l.h));
+        d.nn[i] = l.io * wd + w.cross(&iw) + l.h.cross(&a);
+        d.w[i] = w;
+        d.wd[i] = wd;
+        d.a[i] = a;
+        wp = w;
+        wdp = wd;
+        ap = a;
+    }
+    for i in (0..m.n).rev() {
+        let l = &m.links[i];
+        let t = if l.prismatic { d.f[i].z } else { d.nn[i].z };
+        tau[i] = t + l.armature * qdd[i];
+        if i > 0 {
+            let r = &d.r[i];
+            let fp = r * d.f[i];
+            let np = r * d.nn[i] + d.p[i].cross(&fp);
+            d.f[i - 1] += fp;
+            d.nn[i - 1] += np;
+        }
+    }
+}
+
+/// Inverse dynamics by the recursive Newton–Euler algorithm (seed 000, eqs. 1 and 5):
+/// `τ = M(q) q̈ + C(q, q̇) q̇ + G(q)` (+ `G²J_m q̈` when the armature is active), fixed base,
+/// gravity applied as the base acceleration `−g` (Featherstone 2008, table 5.1).
+///
+/// `q` rad (m), `qd` rad/s, `qdd` rad/s², all of length `model.dof()`; writes `tau` (N·m or N,
+/// length `dof`). No allocation. Error: [`Error::SizeMismatch`] on a wrong slice length.
+pub fn rnea(
+    model: &DynModel,
+    data: &mut DynData,
+    q: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+    tau: &mut [f64],
+) -> Result<()> {
+    model.check("rnea: q", q.len())?;
+    model.check("rnea: qd", qd.len())?;
+    model.check("rnea: qdd", qdd.len())?;
+    model.check("rnea: tau", tau.len())?;
+    rnea_core(model, data, q, qd, qdd, model.a0, tau);
+    Ok(())
+}
+
+/// Gravity torque `G(q)` (seed 000, eq. 1), N·m: the joint torque that holds the arm still
+/// at `q` (rad). Writes `tau` (length `dof`).
+pub fn gravity_torque(
+    model: &DynModel,
+    data: &mut DynData,
+    q: &[f64],
+    tau: &mut [f64],
+) -> Result<()> {
+    model.check("gravity_torque: q", q.len())?;
+    model.check("gravity_torque: tau", tau.len())?;
+    let z = [0.0; MAX_DOF];
+    rnea_core(model, data, q, &z[..model.n], &z[..model.n], model.a0, tau);
+    Ok(())
+}
+
+/// Joint-space mass matrix `M(q)` (seed 000, eq. 1), kg·m², by the composite-rigid-body
+/// algorithm (Featherstone 2008, §6.2), armature `G²J_m` on the diagonal when active.
+/// Writes `mass` row-major, `dof × dof` (both triangles). No allocation.
+pub fn mass_matrix(
+    model: &DynModel,
+    data: &mut DynData,
+    q: &[f64],
+    mass: &mut [f64],
+) -> Result<()> {
+    let n = model.n;
+    model.check("mass_matrix: q", q.len())?;
+    if mass.len() != n * n {
+        return Err(Error::SizeMismatch {
+            what: "mass_matrix: output (dof²)".into(),
+            got: mass.len(),
+            expected: n * n,
+        });
+    }
+    let d = data;
+    kinematics(model, d, q);
+    for i in 0..n {
+        let l = &model.links[i];
+        d.ic_m[i] = l.mass;
+        d.ic_h[i] = l.h;
+        d.ic_i[i] = l.io;
+    }
+    // Composite inertias, tip to base, each about its own joint origin.
+    for i in (1..n).rev() {
+        let r = d.r[i];
+        let p = d.p[i];
+        let m = d.ic_m[i];
+        let h = r * d.ic_h[i];
+        let io = r * d.ic_i[i] * r.transpose();
+        let sp = crate::math::skew(&p);
+        let sh = crate::math::skew(&h);
+        d.ic_m[i - 1] += m;
+        d.ic_h[i - 1] += h + p * m;
+        d.ic_i[i - 1] += io - sp * sp * m - sp * sh - sh * sp;
+    }
+    for j in 0..n {
+        let lj = &model.links[j];
+        // Spatial force F = I^c_j S_j in frame j (about its origin).
+        let (mut f, mut nn) = if lj.prismatic {
+            (V3::z() * d.ic_m[j], d.ic_h[j].cross(&V3::z()))
+        } else {
+            (V3::z().cross(&d.ic_h[j]), d.ic_i[j] * V3::z())
+        };
+        let mut i = j;
+        loop {
+            let li = &model.links[i];
+            let v = if li.prismatic { f.z } else { nn.z };
+            mass[i * n + j] = v;
+            mass[j * n + i] = v;
+            if i == 0 {
+                break;
+            }
+            let fp = d.r[i] * f;
+            nn = d.r[i] * nn + d.p[i].cross(&fp);
+            f = fp;
+            i -= 1;
+        }
+        mass[j * n + j] += lj.armature;
+    }
+    Ok(())
+}
+
+/// Kinetic energy `T = ½ q̇ᵀ M(q) q̇`, J, summed link by link
+/// (`½(m v·v + 2 v·(ω × m c) + ωᵀ I_O ω)`, Featherstone 2008 eq. 2.61), plus the rotors'
+/// `½ G²J_m q̇²` when the armature is active.
+pub fn kinetic_energy(model: &DynModel, data: &mut DynData, q: &[f64], qd: &[f64]) -> Result<f64> {
+    model.check("kinetic_energy: q", q.len())?;
+    model.check("kinetic_energy: qd", qd.len())?;
+    kinematics(model, data, q);
+    let mut wp = V3::zeros();
+    let mut vp = V3::zeros();
+    let mut t = 0.0;
+    for i in 0..model.n {
+        let l = &model.links[i];
+        let rt = data.r[i].transpose();
+        let mut v = rt * (vp + wp.cross(&data.p[i]));
+        let mut w = rt * wp;
+        if l.prismatic {
+            v.z += qd[i];
+        } else {
+            w.z += qd[i];
+        }
+        t += 0.5 * (l.mass * v.dot(&v) + w.dot(&(l.io * w))) + v.dot(&w.cross(&l.h));
+        t += 0.5 * l.armature * qd[i] * qd[i];
+        wp = w;
+        vp = v;
+    }
+    Ok(t)
+}
+
+/// Potential energy in the gravity field, `V = −Σ m_i g·p_com,i`, J, zero at the base origin
+/// (seed 000, eq. 1: `G(q) = ∂V/∂q`).
+pub fn potential_energy(model: &DynModel, data: &mut DynData, q: &[f64]) -> Result<f64> {
+    model.check("potential_energy: q", q.len())?;
+    kinematics(model, data, q);
+    let mut rw = M3::identity();
+    let mut pw = V3::zeros();
+    let mut v = 0.0;
+    for i in 0..model.n {
+        let l = &model.links[i];
+        pw += rw * data.p[i];
+        rw *= data.r[i];
+        v -= model.gravity.dot(&(pw * l.mass + rw * l.h));
+    }
+    Ok(v)
+}
