@@ -20,7 +20,9 @@ const ROBOTS: [&str; 5] = [
 const REL_TOL: f64 = 1e-9;
 
 fn robot(name: &str) -> RobotModel {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("robots").join(name);
+    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("robots")
+        .join(name);
     load(&dir).unwrap_or_else(|e| panic!("loading {name}: {e}"))
 }
 
@@ -40,7 +42,11 @@ fn csv(name: &str) -> (Vec<String>, Vec<Vec<f64>>) {
         .collect();
     let rows: Vec<Vec<f64>> = lines
         .filter(|l| !l.trim().is_empty())
-        .map(|l| l.split(',').map(|x| x.trim().parse().expect("number")).collect())
+        .map(|l| {
+            l.split(',')
+                .map(|x| x.trim().parse().expect("number"))
+                .collect()
+        })
         .collect();
     assert!(!rows.is_empty(), "{name}: no rows");
     (header, rows)
@@ -97,7 +103,9 @@ fn rnea_gravity_mass_match_pinocchio_on_every_shipped_robot() {
         let mut e_m = 0.0f64;
         let mut m = vec![0.0; n * n];
         for row in &mrows {
-            let q: Vec<f64> = (0..n).map(|j| row[col(&hm, &format!("q{}", j + 1))]).collect();
+            let q: Vec<f64> = (0..n)
+                .map(|j| row[col(&hm, &format!("q{}", j + 1))])
+                .collect();
             mass_matrix(&full, &mut d, &q, &mut m).unwrap();
             for a in 0..n {
                 for b in 0..n {
@@ -113,7 +121,10 @@ fn rnea_gravity_mass_match_pinocchio_on_every_shipped_robot() {
             mrows.len()
         );
         for (what, e) in [("tau_rb", e_rb), ("tau", e_full), ("g", e_g), ("M", e_m)] {
-            assert!(e <= REL_TOL, "{name}: {what} differs from pinocchio by {e:e}");
+            assert!(
+                e <= REL_TOL,
+                "{name}: {what} differs from pinocchio by {e:e}"
+            );
         }
     }
 }
@@ -198,7 +209,11 @@ fn sines(n: usize, seed: u64) -> impl Fn(f64) -> (Vec<f64>, Vec<f64>, Vec<f64>) 
 
 #[test]
 fn work_equals_change_of_kinetic_plus_potential_energy() {
-    for (name, armature) in [("abb_irb6700_200_260", true), ("ur10e", false), ("puma560", true)] {
+    for (name, armature) in [
+        ("abb_irb6700_200_260", true),
+        ("ur10e", false),
+        ("puma560", true),
+    ] {
         let r = robot(name);
         let n = r.dof();
         let model = DynModel::new(
@@ -280,10 +295,22 @@ fn kinetic_energy_equals_half_qd_m_qd() {
 fn puma560_matches_published_gravity_and_inertia() {
     const DEG: f64 = PI / 180.0;
     const GRAVLOAD_NM: [([f64; 6], [f64; 6]); 4] = [
-        ([0.0, 0.0, 0.0, 0.0, 0.0, 0.0], [0.0, 37.4837, 0.2489, 0.0, 0.0, 0.0]),
-        ([0.0, 90.0, -90.0, 0.0, 0.0, 0.0], [0.0, -0.7752, 0.2489, 0.0, 0.0, 0.0]),
-        ([0.0, 0.0, -90.0, 0.0, 0.0, 0.0], [0.0, 46.0069, 8.7722, 0.0, 0.0283, 0.0]),
-        ([0.0, 45.0, -180.0, 0.0, 45.0, 0.0], [0.0, 31.6399, 6.0351, 0.0, 0.0283, 0.0]),
+        (
+            [0.0, 0.0, 0.0, 0.0, 0.0, 0.0],
+            [0.0, 37.4837, 0.2489, 0.0, 0.0, 0.0],
+        ),
+        (
+            [0.0, 90.0, -90.0, 0.0, 0.0, 0.0],
+            [0.0, -0.7752, 0.2489, 0.0, 0.0, 0.0],
+        ),
+        (
+            [0.0, 0.0, -90.0, 0.0, 0.0, 0.0],
+            [0.0, 46.0069, 8.7722, 0.0, 0.0283, 0.0],
+        ),
+        (
+            [0.0, 45.0, -180.0, 0.0, 45.0, 0.0],
+            [0.0, 31.6399, 6.0351, 0.0, 0.0283, 0.0],
+        ),
     ];
     const M_QN_DIAG_KG_M2: [f64; 6] = [3.6594, 4.4137, 0.9378, 0.1925, 0.1713, 0.1941];
     const ROUNDING: f64 = 0.6e-4;
@@ -295,7 +322,10 @@ fn puma560_matches_published_gravity_and_inertia() {
         let q: Vec<f64> = qdeg.iter().map(|x| x * DEG).collect();
         gravity_torque(&rigid, &mut d, &q, &mut g).unwrap();
         for j in 0..6 {
-            assert!((g[j] - want[j]).abs() < ROUNDING, "q {qdeg:?} joint {j}: {g:?} vs {want:?}");
+            assert!(
+                (g[j] - want[j]).abs() < ROUNDING,
+                "q {qdeg:?} joint {j}: {g:?} vs {want:?}"
+            );
         }
     }
     let with_arm = DynModel::new(
@@ -324,7 +354,12 @@ fn fill_derivatives_is_exact_for_quadratics_on_nonuniform_grid() {
     let mut tr = JointTrajectory::new(2);
     let times = [0.0, 0.1, 0.25, 0.3, 0.7, 0.75, 1.2];
     for &t in &times {
-        tr.push(t, &[1.0 + 2.0 * t - 3.0 * t * t, 0.5 * t * t], &[0.0; 2], &[0.0; 2]);
+        tr.push(
+            t,
+            &[1.0 + 2.0 * t - 3.0 * t * t, 0.5 * t * t],
+            &[0.0; 2],
+            &[0.0; 2],
+        );
     }
     tr.qd.clear();
     tr.qdd.clear();
@@ -346,7 +381,9 @@ fn missing_inertial_is_an_error_naming_the_link_and_sizes_are_checked() {
     let mut r = robot("ur10e");
     let name = r.link_names[2].clone();
     r.links[2] = None;
-    let e = DynModel::new(&r, DynOptions::default()).unwrap_err().to_string();
+    let e = DynModel::new(&r, DynOptions::default())
+        .unwrap_err()
+        .to_string();
     assert!(e.contains(&name), "{e}");
     let r = robot("ur10e");
     let m = DynModel::new(&r, DynOptions::default()).unwrap();

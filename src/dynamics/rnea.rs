@@ -104,7 +104,9 @@ impl DynModel {
         let mut links = [Link::default(); MAX_DOF];
         let mut a_prev = M3::identity();
         let arm: Vec<f64> = match (&robot.drive, options.armature) {
-            (Some(d), true) if d.joints.len() == n => d.joints.iter().map(|j| j.armature()).collect(),
+            (Some(d), true) if d.joints.len() == n => {
+                d.joints.iter().map(|j| j.armature()).collect()
+            }
             _ => vec![0.0; n],
         };
         let has_armature = options.armature && robot.drive.is_some();

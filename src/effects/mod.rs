@@ -125,7 +125,10 @@ impl EffectSet {
     pub fn friction_of(drive: &crate::robot::Drive) -> Self {
         let mut s = Self::new();
         s.push(Box::new(Viscous::from_drive(drive)));
-        s.push(Box::new(Coulomb::from_drive(drive, COULOMB_VELOCITY_SCALE_RAD_S)));
+        s.push(Box::new(Coulomb::from_drive(
+            drive,
+            COULOMB_VELOCITY_SCALE_RAD_S,
+        )));
         s
     }
 

@@ -1,1 +1,445 @@
-//! placeholder
+//! Energy of a timed joint trajectory: torques → power → energy, per joint and per effect.
+//!
+//! Per sample (all joint-side quantities unless marked):
+//! - rigid-body torque `τ_rb = rne(q, q̇, q̈)` (seed 000, eq. 5) with the payload, and the
+//!   armature `G²J_m q̈` when the robot has a drive;
+//! - friction `τ_f = f_v q̇ + f_c tanh(q̇/ε)` (seed 000, eq. 2, smoothed; [`crate::effects`]);
+//! - joint torque `τ = τ_rb + τ_f`, mechanical power `P_j = τ_j q̇_j` (seed 000, eq. 6);
+//! - motor model (seed 001, eqs. 2–4): motor torque `τ_m = τ/(G η)` when driving
+//!   (`τ q̇ ≥ 0`) and `τ η / G` when back-driven, current `i = τ_m / K_t`, motor speed
+//!   `ω_m = G q̇`, voltage `u = R i + K_t ω_m` (K_v = K_t in SI), electrical power `P_el = u i`
+//!   `= τ q̇ + (gear loss) + R i²`;
+//! - supply by the regeneration policy: `none`/`per_axis` Σ max(P_el,j, 0); `dc_bus`
+//!   max(Σ P_el,j, 0); `grid` Σ P_el,j; plus the cabinet's standby power.
+//!
+//! Energies are trapezoidal integrals `E = ∫ P dt` (seed 000, eq. 7). The breakdown closes:
+//! `E_supply = E_rigid_body + E_friction + E_gear + E_copper + E_regeneration_lost + E_standby`.
+//!
+//! Without drive data the model is the rigid body only (payload, no armature, no friction):
+//! electrical power is taken equal to mechanical power, negative power is lost per axis
+//! (policy `none`), and [`EnergyReport::model`] says so.
+//!
+//! For placement sweeps, [`eval_sample`] evaluates one sample without allocating.
+
+mod report;
+
+pub use report::{EnergyReport, JointEnergy, SampleSeries, TotalEnergy};
+
+use crate::dynamics::{rnea, DynData, DynModel, DynOptions, MAX_DOF};
+use crate::effects::{Coulomb, Viscous, COULOMB_VELOCITY_SCALE_RAD_S};
+use crate::error::{Error, Result};
+use crate::robot::{Regeneration, RobotModel};
+use crate::trajectory::JointTrajectory;
+
+/// Choices for [`EnergyModel::with_options`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EnergyOptions {
+    /// Include the payload from the drive file (default `true`).
+    pub payload: bool,
+    /// Include friction (`viscous` + `coulomb`) from the drive (default `true`).
+    pub friction: bool,
+    /// Include the armature `G²J_m` (default `true`).
+    pub armature: bool,
+    /// Velocity scale ε of the smoothed Coulomb sign, rad/s.
+    pub coulomb_velocity_scale: f64,
+    /// Override the drive file's regeneration policy.
+    pub regeneration: Option<Regeneration>,
+}
+
+impl Default for EnergyOptions {
+    fn default() -> Self {
+        EnergyOptions {
+            payload: true,
+            friction: true,
+            armature: true,
+            coulomb_velocity_scale: COULOMB_VELOCITY_SCALE_RAD_S,
+            regeneration: None,
+        }
+    }
+}
+
+/// Motor and gearbox constants of one axis, copied into fixed arrays for the hot loop.
+#[derive(Clone, Copy, Debug, Default)]
+struct Axis {
+    gear: f64,
+    kt: f64,
+    r: f64,
+    eta: f64,
+}
+
+/// Immutable energy model of a robot: rigid body + friction + motor model + cabinet.
+#[derive(Clone, Debug)]
+pub struct EnergyModel {
+    dynamics: DynModel,
+    n: usize,
+    has_drive: bool,
+    axes: [Axis; MAX_DOF],
+    viscous: Viscous,
+    coulomb: Coulomb,
+    friction: bool,
+    regeneration: Regeneration,
+    standby_w: f64,
+    joint_names: Vec<String>,
+    robot_name: String,
+    options: EnergyOptions,
+}
+
+/// Everything computed for one sample. Arrays have [`MAX_DOF`] entries; the first `dof` are
+/// meaningful. Units: N·m for torques, W for powers, A for current, V for voltage.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct SamplePower {
+    /// Rigid-body torque incl. payload and armature, N·m.
+    pub tau_rb: [f64; MAX_DOF],
+    /// Friction torque `f_v q̇ + f_c tanh(q̇/ε)`, N·m.
+    pub tau_friction: [f64; MAX_DOF],
+    /// Joint torque `τ_rb + τ_f`, N·m.
+    pub tau: [f64; MAX_DOF],
+    /// Mechanical power at the joint `τ q̇` (seed 000, eq. 6), W.
+    pub p_mech: [f64; MAX_DOF],
+    /// Rigid-body part `τ_rb q̇`, W.
+    pub p_rigid_body: [f64; MAX_DOF],
+    /// Friction loss `τ_f q̇` (≥ 0), W.
+    pub p_friction: [f64; MAX_DOF],
+    /// Gearbox loss `τ_m ω_m − τ q̇` (≥ 0), W.
+    pub p_gear: [f64; MAX_DOF],
+    /// Copper loss `R i²`, W.
+    pub p_copper: [f64; MAX_DOF],
+    /// Electrical power `u i` (seed 001, eq. 4), W; negative when regenerating.
+    pub p_el: [f64; MAX_DOF],
+    /// Motor current `i = τ_m/K_t`, A (0 without drive).
+    pub current: [f64; MAX_DOF],
+    /// Motor voltage `u = R i + K_t ω_m`, V (0 without drive).
+    pub voltage: [f64; MAX_DOF],
+    /// Power drawn by the drives after the regeneration policy, W.
+    pub p_drives: f64,
+    /// Power returned by the axes but burnt (`p_drives − Σ p_el` ≥ 0), W.
+    pub p_regeneration_lost: f64,
+    /// Supply power: `p_drives + standby`, W.
+    pub p_supply: f64,
+}
+
+impl EnergyModel {
+    /// The model with default options (payload, armature, friction when a drive exists).
+    pub fn new(robot: &RobotModel) -> Result<Self> {
+        Self::with_options(robot, EnergyOptions::default())
+    }
+
+    /// The model with explicit options. Errors: as [`DynModel::new`]; an invalid Coulomb
+    /// velocity scale; a drive whose joint count differs from the robot's.
+    pub fn with_options(robot: &RobotModel, options: EnergyOptions) -> Result<Self> {
+        let n = robot.dof();
+        let has_drive = robot.drive.is_some();
+        let dynamics = DynModel::new(
+            robot,
+            DynOptions {
+                payload: options.payload,
+                armature: options.armature && has_drive,
+            },
+        )?;
+        let mut axes = [Axis::default(); MAX_DOF];
+        let (mut viscous, mut coulomb) = (
+            Viscous { fv: vec![0.0; n] },
+            Coulomb {
+                fc: vec![0.0; n],
+                velocity_scale: COULOMB_VELOCITY_SCALE_RAD_S,
+            },
+        );
+        coulomb.set_velocity_scale(options.coulomb_velocity_scale)?;
+        let (mut regeneration, mut standby_w) = (Regeneration::None, 0.0);
+        if let Some(d) = &robot.drive {
+            robot.check_len("drive joints", d.joints.len())?;
+            for (a, j) in axes.iter_mut().zip(&d.joints) {
+                *a = Axis {
+                    gear: j.gear_ratio,
+                    kt: j.torque_constant,
+                    r: j.winding_resistance,
+                    eta: j.gear_efficiency,
+                };
+            }
+            if options.friction {
+                viscous = Viscous::from_drive(d);
+                coulomb = Coulomb::from_drive(d, options.coulomb_velocity_scale);
+            }
+            regeneration = d.regeneration;
+            standby_w = d.standby_power;
+        }
+        if let Some(r) = options.regeneration {
+            regeneration = r;
+        }
+        Ok(EnergyModel {
+            dynamics,
+            n,
+            has_drive,
+            axes,
+            viscous,
+            coulomb,
+            friction: options.friction && has_drive,
+            regeneration,
+            standby_w,
+            joint_names: robot.joints.iter().map(|j| j.name.clone()).collect(),
+            robot_name: robot.name().to_string(),
+            options,
+        })
+    }
+
+    /// Number of joints.
+    pub fn dof(&self) -> usize {
+        self.n
+    }
+
+    /// Whether drive data (motor model, friction, cabinet) are present.
+    pub fn has_drive(&self) -> bool {
+        self.has_drive
+    }
+
+    /// The rigid-body model used.
+    pub fn dynamics(&self) -> &DynModel {
+        &self.dynamics
+    }
+
+    /// Regeneration policy in force.
+    pub fn regeneration(&self) -> Regeneration {
+        self.regeneration
+    }
+
+    /// Standby power, W.
+    pub fn standby_power(&self) -> f64 {
+        self.standby_w
+    }
+
+    /// Options the model was built with.
+    pub fn options(&self) -> EnergyOptions {
+        self.options
+    }
+
+    /// A fresh workspace.
+    pub fn data(&self) -> DynData {
+        self.dynamics.data()
+    }
+
+    /// One line describing what the model contains.
+    pub fn description(&self) -> String {
+        if self.has_drive {
+            format!(
+                "rigid body{}{}{} + motor model (copper, gear efficiency) + regeneration `{}` + standby {} W",
+                if self.options.payload { " + payload" } else { "" },
+                if self.dynamics.has_armature() { " + armature" } else { "" },
+                if self.friction { " + viscous/Coulomb friction" } else { "" },
+                self.regeneration.name(),
+                self.standby_w
+            )
+        } else {
+            format!(
+                "rigid body only{} (no drive data): electrical power = mechanical power, \
+                 negative power lost per axis; no friction, armature, copper or standby",
+                if self.options.payload {
+                    " + payload"
+                } else {
+                    ""
+                }
+            )
+        }
+    }
+}
+
+/// Supply power of the drives under a regeneration policy, W, from per-axis electrical powers.
+#[inline]
+pub fn drives_power(policy: Regeneration, p_el: &[f64]) -> f64 {
+    match policy {
+        Regeneration::None | Regeneration::PerAxis => p_el.iter().map(|p| p.max(0.0)).sum(),
+        Regeneration::DcBus => p_el.iter().sum::<f64>().max(0.0),
+        Regeneration::Grid => p_el.iter().sum(),
+    }
+}
+
+/// Evaluate one sample (`q` rad, `qd` rad/s, `qdd` rad/s², each of length `dof`) into `out`,
+/// returning the supply power in W. No allocation; meant for placement sweeps' hot loops.
+/// Equations: module docs. Error: [`Error::SizeMismatch`] on a wrong slice length.
+pub fn eval_sample(
+    model: &EnergyModel,
+    data: &mut DynData,
+    q: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+    out: &mut SamplePower,
+) -> Result<f64> {
+    let n = model.n;
+    rnea(&model.dynamics, data, q, qd, qdd, &mut out.tau_rb[..n])?;
+    let mut sum_el = 0.0;
+    for j in 0..n {
+        let v = qd[j];
+        let tf = if model.friction {
+            model.viscous.joint_torque(j, v) + model.coulomb.joint_torque(j, v)
+        } else {
+            0.0
+        };
+        let tau = out.tau_rb[j] + tf;
+        out.tau_friction[j] = tf;
+        out.tau[j] = tau;
+        let pm = tau * v;
+        out.p_mech[j] = pm;
+        out.p_rigid_body[j] = out.tau_rb[j] * v;
+        out.p_friction[j] = tf * v;
+        if model.has_drive {
+            let ax = &model.axes[j];
+            let tm = if pm >= 0.0 {
+                tau / (ax.gear * ax.eta)
+            } else {
+                tau * ax.eta / ax.gear
+            };
+            let wm = ax.gear * v;
+            let i = tm / ax.kt;
+            let u = ax.r * i + ax.kt * wm;
+            let shaft = tm * wm;
+            out.current[j] = i;
+            out.voltage[j] = u;
+            out.p_copper[j] = ax.r * i * i;
+            out.p_gear[j] = shaft - pm;
+            out.p_el[j] = u * i;
+        } else {
+            out.current[j] = 0.0;
+            out.voltage[j] = 0.0;
+            out.p_copper[j] = 0.0;
+            out.p_gear[j] = 0.0;
+            out.p_el[j] = pm;
+        }
+        sum_el += out.p_el[j];
+    }
+    let drives = drives_power(model.regeneration, &out.p_el[..n]);
+    out.p_drives = drives;
+    out.p_regeneration_lost = drives - sum_el;
+    out.p_supply = drives + model.standby_w;
+    Ok(out.p_supply)
+}
+
+/// Evaluate a whole trajectory (velocities and accelerations must be filled; see
+/// [`crate::dynamics::fill_derivatives`]) into an [`EnergyReport`] with per-joint and total
+/// energies (trapezoidal, seed 000 eq. 7), peaks, RMS torques and the per-sample series.
+///
+/// Errors: a joint count different from the model's; a trajectory with missing `qd`/`qdd`
+/// or non-increasing times (via [`JointTrajectory::validate`]).
+pub fn evaluate(model: &EnergyModel, traj: &JointTrajectory) -> Result<EnergyReport> {
+    let n = model.n;
+    if traj.n != n {
+        return Err(Error::SizeMismatch {
+            what: format!("trajectory joints for robot `{}`", model.robot_name),
+            got: traj.n,
+            expected: n,
+        });
+    }
+    let len = traj.len();
+    for (name, v) in [("q", &traj.q), ("qd", &traj.qd), ("qdd", &traj.qdd)] {
+        if v.len() != len * n {
+            return Err(Error::SizeMismatch {
+                what: format!(
+                    "trajectory {name} values (samples × joints; fill_derivatives fills qd/qdd)"
+                ),
+                got: v.len(),
+                expected: len * n,
+            });
+        }
+    }
+    traj.validate("trajectory")?;
+    let mut data = model.data();
+    let mut s = SamplePower::default();
+    let mut series = SampleSeries::with_capacity(n, len);
+    let mut lost = Vec::with_capacity(len);
+    let mut drives = Vec::with_capacity(len);
+    let mut rb = Vec::with_capacity(len * n);
+    let mut fr = Vec::with_capacity(len * n);
+    let mut gear = Vec::with_capacity(len * n);
+    let mut cu = Vec::with_capacity(len * n);
+    for k in 0..len {
+        eval_sample(model, &mut data, traj.q(k), traj.qd(k), traj.qdd(k), &mut s)?;
+        series.t.push(traj.t[k]);
+        series.tau.extend_from_slice(&s.tau[..n]);
+        series.p_mech.extend_from_slice(&s.p_mech[..n]);
+        series.p_el.extend_from_slice(&s.p_el[..n]);
+        series.current.extend_from_slice(&s.current[..n]);
+        series.p_supply.push(s.p_supply);
+        rb.extend_from_slice(&s.p_rigid_body[..n]);
+        fr.extend_from_slice(&s.p_friction[..n]);
+        gear.extend_from_slice(&s.p_gear[..n]);
+        cu.extend_from_slice(&s.p_copper[..n]);
+        lost.push(s.p_regeneration_lost);
+        drives.push(s.p_drives);
+    }
+    let t = &traj.t;
+    let joints: Vec<JointEnergy> = (0..n)
+        .map(|j| {
+            let col = |v: &[f64]| report::integrate_column(t, v, n, j);
+            let peak = |v: &[f64]| {
+                (0..len)
+                    .map(|k| v[k * n + j])
+                    .fold(f64::NEG_INFINITY, f64::max)
+            };
+            let tau2: Vec<f64> = (0..len).map(|k| series.tau[k * n + j].powi(2)).collect();
+            let dur = traj.duration();
+            let rms = if dur > 0.0 {
+                (report::integrate(t, &tau2) / dur).sqrt()
+            } else {
+                tau2.first().map_or(0.0, |x| x.sqrt())
+            };
+            JointEnergy {
+                name: model.joint_names[j].clone(),
+                mechanical_j: col(&series.p_mech),
+                rigid_body_j: col(&rb),
+                friction_j: col(&fr),
+                gear_j: col(&gear),
+                copper_j: col(&cu),
+                electrical_j: col(&series.p_el),
+                electrical_positive_j: {
+                    let pos: Vec<f64> = (0..len).map(|k| series.p_el[k * n + j].max(0.0)).collect();
+                    report::integrate(t, &pos)
+                },
+                peak_mechanical_power_w: if len > 0 { peak(&series.p_mech) } else { 0.0 },
+                peak_electrical_power_w: if len > 0 { peak(&series.p_el) } else { 0.0 },
+                rms_torque_nm: rms,
+                max_abs_torque_nm: (0..len)
+                    .map(|k| series.tau[k * n + j].abs())
+                    .fold(0.0, f64::max),
+            }
+        })
+        .collect();
+    let sum = |f: fn(&JointEnergy) -> f64| joints.iter().map(f).sum::<f64>();
+    let duration = traj.duration();
+    let supply_j = report::integrate(t, &series.p_supply);
+    let total = TotalEnergy {
+        mechanical_j: sum(|j| j.mechanical_j),
+        rigid_body_j: sum(|j| j.rigid_body_j),
+        friction_j: sum(|j| j.friction_j),
+        gear_j: sum(|j| j.gear_j),
+        copper_j: sum(|j| j.copper_j),
+        electrical_j: sum(|j| j.electrical_j),
+        drives_j: report::integrate(t, &drives),
+        regeneration_lost_j: report::integrate(t, &lost),
+        standby_j: model.standby_w * duration,
+        supply_j,
+        peak_supply_power_w: if len > 0 {
+            series
+                .p_supply
+                .iter()
+                .copied()
+                .fold(f64::NEG_INFINITY, f64::max)
+        } else {
+            0.0
+        },
+        mean_supply_power_w: if duration > 0.0 {
+            supply_j / duration
+        } else {
+            0.0
+        },
+    };
+    Ok(EnergyReport {
+        robot: model.robot_name.clone(),
+        model: model.description(),
+        has_drive: model.has_drive,
+        regeneration: model.regeneration.name().to_string(),
+        standby_power_w: model.standby_w,
+        duration_s: duration,
+        samples: len,
+        joints,
+        total,
+        series,
+    })
+}

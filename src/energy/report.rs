@@ -1,0 +1,163 @@
+//! The energy report: per-joint and total figures, and the per-sample series.
+
+use serde::Serialize;
+use std::io::Write;
+
+/// Energies and figures of one joint over a trajectory. Energies in J (trapezoidal
+/// `∫ P dt`, seed 000 eq. 7), powers in W, torques in N·m.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct JointEnergy {
+    /// URDF joint name.
+    pub name: String,
+    /// `∫ τ q̇ dt` with the joint torque incl. friction (seed 000, eqs. 6–7), J.
+    pub mechanical_j: f64,
+    /// `∫ τ_rb q̇ dt`, rigid body incl. payload and armature, J.
+    pub rigid_body_j: f64,
+    /// `∫ τ_f q̇ dt`, friction loss, J.
+    pub friction_j: f64,
+    /// Gearbox loss, J.
+    pub gear_j: f64,
+    /// Copper loss `∫ R i² dt`, J.
+    pub copper_j: f64,
+    /// Net electrical energy `∫ u i dt` (seed 001, eq. 4), J.
+    pub electrical_j: f64,
+    /// Drawn electrical energy `∫ max(u i, 0) dt`, J.
+    pub electrical_positive_j: f64,
+    /// Peak of `τ q̇`, W.
+    pub peak_mechanical_power_w: f64,
+    /// Peak of `u i`, W.
+    pub peak_electrical_power_w: f64,
+    /// RMS joint torque over time, `sqrt(∫ τ² dt / T)`, N·m.
+    pub rms_torque_nm: f64,
+    /// Largest |τ|, N·m.
+    pub max_abs_torque_nm: f64,
+}
+
+/// Totals over all joints, J (W for powers). The breakdown closes:
+/// `supply = rigid_body + friction + gear + copper + regeneration_lost + standby`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct TotalEnergy {
+    /// Σ joints `∫ τ q̇ dt`, J.
+    pub mechanical_j: f64,
+    /// Σ joints `∫ τ_rb q̇ dt`, J.
+    pub rigid_body_j: f64,
+    /// Σ friction losses, J.
+    pub friction_j: f64,
+    /// Σ gearbox losses, J.
+    pub gear_j: f64,
+    /// Σ copper losses, J.
+    pub copper_j: f64,
+    /// Σ joints net electrical energy, J.
+    pub electrical_j: f64,
+    /// Energy drawn by the drives after the regeneration policy, J.
+    pub drives_j: f64,
+    /// Returned energy that the policy burns (`drives − electrical`), J.
+    pub regeneration_lost_j: f64,
+    /// Standby power × duration, J.
+    pub standby_j: f64,
+    /// Energy from the supply (drives + standby), J.
+    pub supply_j: f64,
+    /// Peak supply power, W.
+    pub peak_supply_power_w: f64,
+    /// Mean supply power, W.
+    pub mean_supply_power_w: f64,
+}
+
+/// Per-sample series (row-major `sample × joint` for per-joint arrays).
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct SampleSeries {
+    /// Number of joints.
+    pub n: usize,
+    /// Times, s.
+    pub t: Vec<f64>,
+    /// Joint torque, N·m.
+    pub tau: Vec<f64>,
+    /// Mechanical power `τ q̇`, W.
+    pub p_mech: Vec<f64>,
+    /// Electrical power `u i`, W.
+    pub p_el: Vec<f64>,
+    /// Motor current, A.
+    pub current: Vec<f64>,
+    /// Supply power, W.
+    pub p_supply: Vec<f64>,
+}
+
+impl SampleSeries {
+    pub(crate) fn with_capacity(n: usize, len: usize) -> Self {
+        SampleSeries {
+            n,
+            t: Vec::with_capacity(len),
+            tau: Vec::with_capacity(len * n),
+            p_mech: Vec::with_capacity(len * n),
+            p_el: Vec::with_capacity(len * n),
+            current: Vec::with_capacity(len * n),
+            p_supply: Vec::with_capacity(len),
+        }
+    }
+
+    /// Write the series as CSV: `t_s, tau1_nm.., p_mech1_w.., p_el1_w.., current1_a.., p_supply_w`.
+    pub fn write_csv<W: Write>(&self, mut w: W) -> std::io::Result<()> {
+        let n = self.n;
+        let mut head = vec!["t_s".to_string()];
+        for (p, u) in [
+            ("tau", "nm"),
+            ("p_mech", "w"),
+            ("p_el", "w"),
+            ("current", "a"),
+        ] {
+            head.extend((1..=n).map(|j| format!("{p}{j}_{u}")));
+        }
+        head.push("p_supply_w".into());
+        writeln!(w, "{}", head.join(","))?;
+        for k in 0..self.t.len() {
+            write!(w, "{}", self.t[k])?;
+            for v in [&self.tau, &self.p_mech, &self.p_el, &self.current] {
+                for x in &v[k * n..(k + 1) * n] {
+                    write!(w, ",{x}")?;
+                }
+            }
+            writeln!(w, ",{}", self.p_supply[k])?;
+        }
+        Ok(())
+    }
+}
+
+/// Result of [`super::evaluate`]. Serialises to JSON (the per-sample series included).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct EnergyReport {
+    /// Robot display name.
+    pub robot: String,
+    /// What the model contains (rigid body only, or with drive effects).
+    pub model: String,
+    /// Whether the electrical model was used.
+    pub has_drive: bool,
+    /// Regeneration policy name.
+    pub regeneration: String,
+    /// Standby power, W.
+    pub standby_power_w: f64,
+    /// Trajectory duration, s.
+    pub duration_s: f64,
+    /// Number of samples.
+    pub samples: usize,
+    /// Per-joint figures.
+    pub joints: Vec<JointEnergy>,
+    /// Totals.
+    pub total: TotalEnergy,
+    /// Per-sample series.
+    pub series: SampleSeries,
+}
+
+/// Trapezoidal `∫ y dt`.
+pub(crate) fn integrate(t: &[f64], y: &[f64]) -> f64 {
+    t.windows(2)
+        .zip(y.windows(2))
+        .map(|(t, y)| 0.5 * (t[1] - t[0]) * (y[0] + y[1]))
+        .sum()
+}
+
+/// Trapezoidal `∫ y_j dt` over column `j` of a row-major `len × n` array.
+pub(crate) fn integrate_column(t: &[f64], y: &[f64], n: usize, j: usize) -> f64 {
+    (1..t.len())
+        .map(|k| 0.5 * (t[k] - t[k - 1]) * (y[(k - 1) * n + j] + y[k * n + j]))
+        .sum()
+}
