@@ -1,6 +1,8 @@
 //! Rigid-body dynamics against Pinocchio 4.1 reference data, identities between algorithms,
 //! the work–energy balance and the PUMA 560 published values.
 
+#![allow(clippy::needless_range_loop)] // index-parallel arrays read more clearly in tests
+
 use printwatt::dynamics::*;
 use printwatt::robot::{load, RobotModel};
 use printwatt::trajectory::JointTrajectory;

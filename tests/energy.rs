@@ -1,6 +1,8 @@
 //! Energy model: motor-model identity, regeneration policies, holding torque, standby,
 //! an analytic viscous case, the closed breakdown, and the effects' regressors.
 
+#![allow(clippy::needless_range_loop)] // index-parallel arrays read more clearly in tests
+
 use printwatt::effects::{Armature, Coulomb, Effect, EffectSet, TorqueEffect, Viscous};
 use printwatt::energy::{eval_sample, evaluate, EnergyModel, EnergyOptions, SamplePower};
 use printwatt::robot::{load, Regeneration, RobotModel};

@@ -20,7 +20,11 @@ pub fn fill_derivatives(traj: &mut JointTrajectory) -> Result<()> {
             expected: len * n,
         });
     }
-    if let Some(k) = traj.t.windows(2).position(|w| !(w[1] > w[0])) {
+    if let Some(k) = traj
+        .t
+        .windows(2)
+        .position(|w| w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater))
+    {
         return Err(Error::Invalid(format!(
             "fill_derivatives: time is not strictly increasing at sample {}",
             k + 1

@@ -111,7 +111,7 @@ impl DynModel {
         };
         let has_armature = options.armature && robot.drive.is_some();
         for (i, (j, inert)) in robot.joints.iter().zip(inertials.iter()).enumerate() {
-            if !(j.axis.norm() > 1e-9) {
+            if j.axis.norm().partial_cmp(&1e-9) != Some(std::cmp::Ordering::Greater) {
                 return Err(Error::Invalid(format!(
                     "joint `{}` of robot `{}` has a zero axis",
                     j.name,
@@ -226,6 +226,7 @@ impl Default for DynData {
 
 /// Joint transforms (child → parent) of every joint at `q`, into `d.r`, `d.p`.
 #[inline(always)]
+#[allow(clippy::needless_range_loop)] // parallel fixed arrays indexed by joint
 fn kinematics(m: &DynModel, d: &mut DynData, q: &[f64]) {
     for i in 0..m.n {
         let l = &m.links[i];
@@ -412,6 +413,7 @@ pub fn mass_matrix(
 /// Kinetic energy `T = ½ q̇ᵀ M(q) q̇`, J, summed link by link
 /// (`½(m v·v + 2 v·(ω × m c) + ωᵀ I_O ω)`, Featherstone 2008 eq. 2.61), plus the rotors'
 /// `½ G²J_m q̇²` when the armature is active.
+#[allow(clippy::needless_range_loop)] // parallel fixed arrays indexed by joint
 pub fn kinetic_energy(model: &DynModel, data: &mut DynData, q: &[f64], qd: &[f64]) -> Result<f64> {
     model.check("kinetic_energy: q", q.len())?;
     model.check("kinetic_energy: qd", qd.len())?;

@@ -255,6 +255,7 @@ pub fn drives_power(policy: Regeneration, p_el: &[f64]) -> f64 {
 /// Evaluate one sample (`q` rad, `qd` rad/s, `qdd` rad/s², each of length `dof`) into `out`,
 /// returning the supply power in W. No allocation; meant for placement sweeps' hot loops.
 /// Equations: module docs. Error: [`Error::SizeMismatch`] on a wrong slice length.
+#[allow(clippy::needless_range_loop)] // parallel fixed arrays indexed by joint
 pub fn eval_sample(
     model: &EnergyModel,
     data: &mut DynData,

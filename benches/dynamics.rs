@@ -1,0 +1,172 @@
+//! Criterion benchmarks of the dynamics and the per-sample energy evaluation, with a ratio
+//! against Pinocchio 4.1's C++ RNEA when `/work/shared/bench/pinocchio-rnea/run.sh` is present
+//! (run once per robot on the same URDF; see its README).
+
+#![allow(clippy::needless_range_loop)] // index-parallel arrays read more clearly in tests
+
+use criterion::{black_box, Criterion};
+use printwatt::dynamics::{gravity_torque, mass_matrix, rnea, DynModel, DynOptions};
+use printwatt::energy::{eval_sample, EnergyModel, SamplePower};
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use std::f64::consts::PI;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+use std::time::Instant;
+
+const PIN_RUN: &str = "/work/shared/bench/pinocchio-rnea/run.sh";
+const N_STATES: usize = 1000;
+
+fn robot_dir(name: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("robots")
+        .join(name)
+}
+
+/// Random states like the Pinocchio harness: q ∈ [−π, π], qd, qdd ∈ [−1, 1].
+fn states(n: usize) -> Vec<[Vec<f64>; 3]> {
+    let mut rng = ChaCha8Rng::seed_from_u64(42);
+    (0..N_STATES)
+        .map(|_| {
+            [
+                (0..n).map(|_| rng.gen_range(-PI..PI)).collect(),
+                (0..n).map(|_| rng.gen_range(-1.0..1.0)).collect(),
+                (0..n).map(|_| rng.gen_range(-1.0..1.0)).collect(),
+            ]
+        })
+        .collect()
+}
+
+/// Median over batches of the mean ns per RNEA call (same protocol as the Pinocchio harness).
+fn our_rnea_ns(model: &DynModel, st: &[[Vec<f64>; 3]]) -> f64 {
+    let mut d = model.data();
+    let mut tau = vec![0.0; model.dof()];
+    let mut batch = |d: &mut printwatt::dynamics::DynData| {
+        let t0 = Instant::now();
+        for s in st {
+            let _ = rnea(model, d, &s[0], &s[1], &s[2], &mut tau);
+            black_box(&tau);
+        }
+        t0.elapsed().as_nanos() as f64 / st.len() as f64
+    };
+    for _ in 0..100 {
+        batch(&mut d);
+    }
+    let mut v: Vec<f64> = (0..1000).map(|_| batch(&mut d)).collect();
+    v.sort_by(|a, b| a.total_cmp(b));
+    v[v.len() / 2]
+}
+
+/// Pinocchio's RNEA ns per call on `urdf`, or the reason it is unavailable.
+fn pinocchio_rnea_ns(urdf: &Path) -> Result<(f64, usize), String> {
+    if !Path::new(PIN_RUN).is_file() {
+        return Err(format!("{PIN_RUN} not found"));
+    }
+    let out = Command::new(PIN_RUN)
+        .arg(urdf)
+        .output()
+        .map_err(|e| format!("cannot run {PIN_RUN}: {e}"))?;
+    if !out.status.success() {
+        return Err(format!(
+            "{PIN_RUN} failed: {}",
+            String::from_utf8_lossy(&out.stderr)
+                .lines()
+                .last()
+                .unwrap_or("")
+        ));
+    }
+    let text = String::from_utf8_lossy(&out.stdout);
+    let field = |k: &str| {
+        text.lines()
+            .rev()
+            .take(4)
+            .find_map(|l| l.strip_prefix(k).and_then(|v| v.trim().parse::<f64>().ok()))
+    };
+    match (field("pinocchio_rnea_ns_per_call"), field("pinocchio_nv")) {
+        (Some(ns), Some(nv)) => Ok((ns, nv as usize)),
+        _ => Err("could not parse pinocchio_rnea_ns_per_call".into()),
+    }
+}
+
+fn main() {
+    let mut c = Criterion::default().configure_from_args();
+    let mut ratios = Vec::new();
+    for name in ["abb_irb6700_200_260", "ur10e"] {
+        let robot = match printwatt::robot::load(&robot_dir(name)) {
+            Ok(r) => r,
+            Err(e) => {
+                eprintln!("{name}: {e}");
+                continue;
+            }
+        };
+        let n = robot.dof();
+        let Ok(full) = DynModel::new(
+            &robot,
+            DynOptions {
+                payload: true,
+                armature: true,
+            },
+        ) else {
+            continue;
+        };
+        let Ok(bare) = DynModel::new(&robot, DynOptions::default()) else {
+            continue;
+        };
+        let Ok(em) = EnergyModel::new(&robot) else {
+            continue;
+        };
+        let st = states(n);
+        let mut d = full.data();
+        let mut tau = vec![0.0; n];
+        let mut m = vec![0.0; n * n];
+        let mut sp = SamplePower::default();
+        let mut k = 0usize;
+        let mut next = || {
+            k = (k + 1) % N_STATES;
+            &st[k]
+        };
+        c.bench_function(&format!("rnea/{name}"), |b| {
+            b.iter(|| {
+                let s = next();
+                let _ = rnea(&full, &mut d, &s[0], &s[1], &s[2], &mut tau);
+                black_box(&tau);
+            })
+        });
+        c.bench_function(&format!("gravity/{name}"), |b| {
+            b.iter(|| {
+                let s = next();
+                let _ = gravity_torque(&full, &mut d, &s[0], &mut tau);
+                black_box(&tau);
+            })
+        });
+        c.bench_function(&format!("mass_matrix/{name}"), |b| {
+            b.iter(|| {
+                let s = next();
+                let _ = mass_matrix(&full, &mut d, &s[0], &mut m);
+                black_box(&m);
+            })
+        });
+        c.bench_function(&format!("energy_sample/{name}"), |b| {
+            b.iter(|| {
+                let s = next();
+                black_box(eval_sample(&em, &mut d, &s[0], &s[1], &s[2], &mut sp).ok());
+            })
+        });
+        if !cfg!(test) && std::env::args().all(|a| a != "--test" && a != "--list") {
+            let ours = our_rnea_ns(&bare, &st);
+            match pinocchio_rnea_ns(&robot_dir(name).join("robot.urdf")) {
+                Ok((pin, nv)) => ratios.push(format!(
+                    "{name}: ours {ours:.1} ns / pinocchio {pin:.1} ns (nv = {nv}) = {:.3}",
+                    ours / pin
+                )),
+                Err(e) => ratios.push(format!(
+                    "{name}: ours {ours:.1} ns; pinocchio reference unavailable ({e})"
+                )),
+            }
+        }
+    }
+    c.final_summary();
+    for r in ratios {
+        println!("rnea ratio  {r}");
+    }
+}
