@@ -109,7 +109,8 @@ impl DynModel {
             }
             _ => vec![0.0; n],
         };
-        let has_armature = options.armature && robot.drive.is_some();
+        let has_armature =
+            options.armature && robot.drive.as_ref().is_some_and(|d| d.joints.len() == n);
         for (i, (j, inert)) in robot.joints.iter().zip(inertials.iter()).enumerate() {
             if j.axis.norm().partial_cmp(&1e-9) != Some(std::cmp::Ordering::Greater) {
                 return Err(Error::Invalid(format!(
@@ -192,14 +193,11 @@ impl DynModel {
 }
 
 /// Per-thread workspace for the algorithms of this module: fixed-size arrays, no heap.
-/// Holds the last call's joint transforms, spatial velocities/accelerations and link forces.
+/// Holds the last call's joint transforms, link forces and composite inertias.
 #[derive(Clone, Debug)]
 pub struct DynData {
     r: [M3; MAX_DOF],
     p: [V3; MAX_DOF],
-    w: [V3; MAX_DOF],
-    wd: [V3; MAX_DOF],
-    a: [V3; MAX_DOF],
     f: [V3; MAX_DOF],
     nn: [V3; MAX_DOF],
     ic_m: [f64; MAX_DOF],
@@ -212,9 +210,6 @@ impl Default for DynData {
         DynData {
             r: [M3::identity(); MAX_DOF],
             p: [V3::zeros(); MAX_DOF],
-            w: [V3::zeros(); MAX_DOF],
-            wd: [V3::zeros(); MAX_DOF],
-            a: [V3::zeros(); MAX_DOF],
             f: [V3::zeros(); MAX_DOF],
             nn: [V3::zeros(); MAX_DOF],
             ic_m: [0.0; MAX_DOF],
@@ -249,6 +244,42 @@ fn cross_z(w: &V3) -> V3 {
     V3::new(w.y, -w.x, 0.0)
 }
 
+/// Gravity-only pass (`q̇ = q̈ = 0`): every link accelerates like the base, `a_i = R_iᵀ a_{i−1}`,
+/// so `f = m a`, `n = (m c) × a`.
+#[inline(always)]
+fn gravity_core(m: &DynModel, d: &mut DynData, q: &[f64], tau: &mut [f64]) {
+    kinematics(m, d, q);
+    let mut ap = m.a0;
+    for i in 0..m.n {
+        let l = &m.links[i];
+        let a = d.r[i].tr_mul(&ap);
+        d.f[i] = a * l.mass;
+        d.nn[i] = l.h.cross(&a);
+        ap = a;
+    }
+    backward(m, d, tau, None);
+}
+
+/// Backward pass: joint torques from link forces, accumulating children into parents.
+#[inline(always)]
+fn backward(m: &DynModel, d: &mut DynData, tau: &mut [f64], qdd: Option<&[f64]>) {
+    for i in (0..m.n).rev() {
+        let l = &m.links[i];
+        let t = if l.prismatic { d.f[i].z } else { d.nn[i].z };
+        tau[i] = match qdd {
+            Some(a) => t + l.armature * a[i],
+            None => t,
+        };
+        if i > 0 {
+            let r = &d.r[i];
+            let fp = r * d.f[i];
+            let np = r * d.nn[i] + d.p[i].cross(&fp);
+            d.f[i - 1] += fp;
+            d.nn[i - 1] += np;
+        }
+    }
+}
+
 #[inline(always)]
 fn rnea_core(
     m: &DynModel,
@@ -267,44 +298,29 @@ fn rnea_core(
         let l = &m.links[i];
         let r = &d.r[i];
         let p = d.p[i];
-        let rt = r.transpose();
         let a_origin = ap + wdp.cross(&p) + wp.cross(&wp.cross(&p));
-        let wpl = rt * wp;
+        let wpl = r.tr_mul(&wp);
         let (w, wd, a) = if l.prismatic {
             let w = wpl;
-            let wd = rt * wdp;
-            let mut a = rt * a_origin + cross_z(&w) * (2.0 * qd[i]);
+            let wd = r.tr_mul(&wdp);
+            let mut a = r.tr_mul(&a_origin) + cross_z(&w) * (2.0 * qd[i]);
             a.z += qdd[i];
             (w, wd, a)
         } else {
             let mut w = wpl;
             w.z += qd[i];
-            let mut wd = rt * wdp + cross_z(&wpl) * qd[i];
+            let mut wd = r.tr_mul(&wdp) + cross_z(&wpl) * qd[i];
             wd.z += qdd[i];
-            (w, wd, rt * a_origin)
+            (w, wd, r.tr_mul(&a_origin))
         };
         let iw = l.io * w;
         d.f[i] = a * l.mass + wd.cross(&l.h) + w.cross(&w.cross(&l.h));
         d.nn[i] = l.io * wd + w.cross(&iw) + l.h.cross(&a);
-        d.w[i] = w;
-        d.wd[i] = wd;
-        d.a[i] = a;
         wp = w;
         wdp = wd;
         ap = a;
     }
-    for i in (0..m.n).rev() {
-        let l = &m.links[i];
-        let t = if l.prismatic { d.f[i].z } else { d.nn[i].z };
-        tau[i] = t + l.armature * qdd[i];
-        if i > 0 {
-            let r = &d.r[i];
-            let fp = r * d.f[i];
-            let np = r * d.nn[i] + d.p[i].cross(&fp);
-            d.f[i - 1] += fp;
-            d.nn[i - 1] += np;
-        }
-    }
+    backward(m, d, tau, Some(qdd));
 }
 
 /// Inverse dynamics by the recursive Newton–Euler algorithm (seed 000, eqs. 1 and 5):
@@ -339,8 +355,7 @@ pub fn gravity_torque(
 ) -> Result<()> {
     model.check("gravity_torque: q", q.len())?;
     model.check("gravity_torque: tau", tau.len())?;
-    let z = [0.0; MAX_DOF];
-    rnea_core(model, data, q, &z[..model.n], &z[..model.n], model.a0, tau);
+    gravity_core(model, data, q, tau);
     Ok(())
 }
 
