@@ -7,7 +7,9 @@
 
 pub mod error;
 pub mod math;
+pub mod output;
 pub mod robot;
+pub mod table;
 pub mod trajectory;
 
 pub use error::{Error, Result};
