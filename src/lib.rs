@@ -5,6 +5,7 @@
 //! Units are SI everywhere inside (m, rad, s, kg, N·m, W, J); conversions happen only where
 //! data enter or leave.
 
+pub mod cli;
 pub mod error;
 pub mod math;
 pub mod output;
