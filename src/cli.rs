@@ -96,7 +96,10 @@ fn cmd_robots(a: RobotsArgs) -> Result<()> {
     for d in dirs {
         let m = robot::load(&d).with_context(|| format!("loading robot {}", d.display()))?;
         rows.push(RobotRow {
-            id: d.file_name().map(|s| s.to_string_lossy().into_owned()).unwrap_or_default(),
+            id: d
+                .file_name()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default(),
             name: m.info.name.clone(),
             joints: m.dof(),
             reach_m: m.info.reach_m,

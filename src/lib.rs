@@ -11,6 +11,7 @@ pub mod math;
 pub mod output;
 pub mod robot;
 pub mod table;
+pub mod timing;
 pub mod trajectory;
 
 pub use error::{Error, Result};

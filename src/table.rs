@@ -50,7 +50,11 @@ pub enum Dim {
 
 /// Factor converting a value in `unit` to SI for dimension `dim`, or `None` if unknown.
 pub fn si_factor(dim: Dim, unit: &str) -> Option<f64> {
-    let u = unit.trim().to_ascii_lowercase().replace(['·', ' ', '*'], "").replace("n.m", "nm");
+    let u = unit
+        .trim()
+        .to_ascii_lowercase()
+        .replace(['·', ' ', '*'], "")
+        .replace("n.m", "nm");
     if u.is_empty() {
         return Some(1.0);
     }
@@ -125,7 +129,10 @@ pub fn si_factor(dim: Dim, unit: &str) -> Option<f64> {
 fn split_unit(h: &str) -> (String, String) {
     let h = h.trim();
     match (h.find('['), h.ends_with(']')) {
-        (Some(i), true) => (h[..i].trim().to_ascii_lowercase(), h[i + 1..h.len() - 1].trim().to_string()),
+        (Some(i), true) => (
+            h[..i].trim().to_ascii_lowercase(),
+            h[i + 1..h.len() - 1].trim().to_string(),
+        ),
         _ => (h.to_ascii_lowercase(), String::new()),
     }
 }
@@ -141,9 +148,17 @@ impl Table {
 
     /// Parse CSV text; see [`Table::read`].
     pub fn parse(text: &str, file: &str, dim_of: &dyn Fn(&str) -> Option<Dim>) -> Result<Table> {
-        let mut t = Table { file: file.to_string(), ..Default::default() };
+        let mut t = Table {
+            file: file.to_string(),
+            ..Default::default()
+        };
         let mut factors: Vec<f64> = Vec::new();
-        let perr = |line: usize, column: usize, msg: String| Error::Parse { file: file.to_string(), line, column, msg };
+        let perr = |line: usize, column: usize, msg: String| Error::Parse {
+            file: file.to_string(),
+            line,
+            column,
+            msg,
+        };
         for (ln0, raw) in text.lines().enumerate() {
             let ln = ln0 + 1;
             let line = raw.trim_end_matches('\r');
@@ -154,7 +169,8 @@ impl Table {
             if let Some(c) = trimmed.strip_prefix('#') {
                 if t.names.is_empty() {
                     if let Some((k, v)) = c.split_once(':') {
-                        t.metadata.push((k.trim().to_string(), v.trim().to_string()));
+                        t.metadata
+                            .push((k.trim().to_string(), v.trim().to_string()));
                     }
                 }
                 continue;
@@ -167,11 +183,19 @@ impl Table {
                         return Err(perr(ln, col, "empty column name in the header".into()));
                     }
                     if t.names.contains(&name) {
-                        return Err(perr(ln, col, format!("column `{name}` appears twice in the header")));
+                        return Err(perr(
+                            ln,
+                            col,
+                            format!("column `{name}` appears twice in the header"),
+                        ));
                     }
                     let f = match dim_of(&name) {
                         Some(d) => si_factor(d, &unit).ok_or_else(|| {
-                            perr(ln, col, format!("unknown unit `{unit}` for column `{name}` ({d:?})"))
+                            perr(
+                                ln,
+                                col,
+                                format!("unknown unit `{unit}` for column `{name}` ({d:?})"),
+                            )
                         })?,
                         None if unit.is_empty() => 1.0,
                         None => 1.0,
@@ -182,23 +206,43 @@ impl Table {
                     col += cell.chars().count() + 1;
                 }
                 if t.names.iter().all(|n| n.parse::<f64>().is_ok()) {
-                    return Err(perr(ln, 1, "expected a header row of column names, found numbers".into()));
+                    return Err(perr(
+                        ln,
+                        1,
+                        "expected a header row of column names, found numbers".into(),
+                    ));
                 }
                 continue;
             }
             let cells: Vec<&str> = line.split(',').collect();
             if cells.len() != t.names.len() {
-                return Err(perr(ln, 1, format!("expected {} values (one per header column), found {}", t.names.len(), cells.len())));
+                return Err(perr(
+                    ln,
+                    1,
+                    format!(
+                        "expected {} values (one per header column), found {}",
+                        t.names.len(),
+                        cells.len()
+                    ),
+                ));
             }
             let mut row = Vec::with_capacity(cells.len());
             let mut col = 1;
             for (k, cell) in cells.iter().enumerate() {
                 let s = cell.trim();
                 let v: f64 = s.parse().map_err(|_| {
-                    perr(ln, col, format!("column `{}`: expected a number, found `{s}`", t.names[k]))
+                    perr(
+                        ln,
+                        col,
+                        format!("column `{}`: expected a number, found `{s}`", t.names[k]),
+                    )
                 })?;
                 if !v.is_finite() {
-                    return Err(perr(ln, col, format!("column `{}`: value `{s}` is not finite", t.names[k])));
+                    return Err(perr(
+                        ln,
+                        col,
+                        format!("column `{}`: value `{s}` is not finite", t.names[k]),
+                    ));
                 }
                 row.push(v * factors[k]);
                 col += cell.chars().count() + 1;
@@ -246,12 +290,21 @@ mod tests {
 
     #[test]
     fn errors_name_line_and_column() {
-        let e = Table::parse("t,q1\n0,1\n1,NaN\n", "b.csv", &dims).unwrap_err().to_string();
+        let e = Table::parse("t,q1\n0,1\n1,NaN\n", "b.csv", &dims)
+            .unwrap_err()
+            .to_string();
         assert!(e.starts_with("b.csv:3:3:"), "{e}");
         assert!(e.contains("q1"), "{e}");
-        let e = Table::parse("t,q1[furlong]\n", "c.csv", &dims).unwrap_err().to_string();
+        let e = Table::parse("t,q1[furlong]\n", "c.csv", &dims)
+            .unwrap_err()
+            .to_string();
         assert!(e.starts_with("c.csv:1:3:") && e.contains("furlong"), "{e}");
-        let e = Table::parse("t,q1\n0,1,2\n", "d.csv", &dims).unwrap_err().to_string();
-        assert!(e.contains("d.csv:2:1") && e.contains("expected 2 values"), "{e}");
+        let e = Table::parse("t,q1\n0,1,2\n", "d.csv", &dims)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("d.csv:2:1") && e.contains("expected 2 values"),
+            "{e}"
+        );
     }
 }

@@ -22,7 +22,10 @@ pub struct JointTrajectory {
 impl JointTrajectory {
     /// An empty trajectory for `n` joints.
     pub fn new(n: usize) -> Self {
-        JointTrajectory { n, ..Default::default() }
+        JointTrajectory {
+            n,
+            ..Default::default()
+        }
     }
 
     /// Append one sample; slices must have length `n`.
@@ -104,7 +107,10 @@ pub struct Supplied {
 /// Dimension of a trajectory column from its name (`t`, `qK`, `qdK`, `qddK`).
 pub fn trajectory_dim(name: &str) -> Option<crate::table::Dim> {
     use crate::table::Dim;
-    let digits = |p: &str| name.strip_prefix(p).is_some_and(|r| !r.is_empty() && r.chars().all(|c| c.is_ascii_digit()));
+    let digits = |p: &str| {
+        name.strip_prefix(p)
+            .is_some_and(|r| !r.is_empty() && r.chars().all(|c| c.is_ascii_digit()))
+    };
     if name == "t" {
         Some(Dim::Time)
     } else if digits("qdd") {
@@ -135,7 +141,11 @@ pub fn from_table(table: &crate::table::Table, n: usize) -> Result<(JointTraject
         field: "t".into(),
         msg: "missing the time column `t`".into(),
     })?;
-    let count = |p: &str| (1..=64).take_while(|k| table.col(&format!("{p}{k}")).is_some()).count();
+    let count = |p: &str| {
+        (1..=64)
+            .take_while(|k| table.col(&format!("{p}{k}")).is_some())
+            .count()
+    };
     let nq = count("q");
     if nq != n {
         return Err(Error::SizeMismatch {
@@ -150,15 +160,26 @@ pub fn from_table(table: &crate::table::Table, n: usize) -> Result<(JointTraject
             return Ok(None);
         }
         if k != n {
-            return Err(Error::SizeMismatch { what: format!("{file}: columns {p}1..{p}N"), got: k, expected: n });
+            return Err(Error::SizeMismatch {
+                what: format!("{file}: columns {p}1..{p}N"),
+                got: k,
+                expected: n,
+            });
         }
-        Ok(Some((1..=n).map(|j| table.col(&format!("{p}{j}")).unwrap_or(0)).collect()))
+        Ok(Some(
+            (1..=n)
+                .map(|j| table.col(&format!("{p}{j}")).unwrap_or(0))
+                .collect(),
+        ))
     };
     let qc = cols("q")?.unwrap_or_default();
     let qdc = cols("qd")?;
     let qddc = cols("qdd")?;
     if table.rows.len() < 3 {
-        return Err(Error::Invalid(format!("{file}: {} samples; at least 3 are needed", table.rows.len())));
+        return Err(Error::Invalid(format!(
+            "{file}: {} samples; at least 3 are needed",
+            table.rows.len()
+        )));
     }
     let mut tr = JointTrajectory::new(n);
     let zeros = vec![0.0; n];
@@ -169,13 +190,25 @@ pub fn from_table(table: &crate::table::Table, n: usize) -> Result<(JointTraject
                     file: file.clone(),
                     line: table.lines[r],
                     column: 1,
-                    msg: format!("time `t` = {} s is not after the previous sample's {} s", row[tcol], prev),
+                    msg: format!(
+                        "time `t` = {} s is not after the previous sample's {} s",
+                        row[tcol], prev
+                    ),
                 });
             }
         }
-        let pick = |c: &Option<Vec<usize>>| c.as_ref().map_or(zeros.clone(), |c| c.iter().map(|&k| row[k]).collect());
+        let pick = |c: &Option<Vec<usize>>| {
+            c.as_ref()
+                .map_or(zeros.clone(), |c| c.iter().map(|&k| row[k]).collect())
+        };
         let q: Vec<f64> = qc.iter().map(|&k| row[k]).collect();
         tr.push(row[tcol], &q, &pick(&qdc), &pick(&qddc));
     }
-    Ok((tr, Supplied { velocities: qdc.is_some(), accelerations: qddc.is_some() }))
+    Ok((
+        tr,
+        Supplied {
+            velocities: qdc.is_some(),
+            accelerations: qddc.is_some(),
+        },
+    ))
 }
