@@ -8,6 +8,7 @@
 pub mod error;
 pub mod math;
 pub mod robot;
+pub mod toolpath;
 pub mod trajectory;
 
 pub use error::{Error, Result};
