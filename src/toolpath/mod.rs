@@ -425,7 +425,7 @@ pub(crate) fn circle_through(a: &V3, b: &V3, c: &V3) -> Option<(V3, V3, f64, f64
     let n = ab.cross(&ac);
     let n2 = n.norm_squared();
     let scale = ab.norm_squared().max(ac.norm_squared());
-    if !(n2 > 1e-18 * scale * scale) || !n2.is_finite() {
+    if n2.is_nan() || n2 <= 1e-18 * scale * scale || !n2.is_finite() {
         return None;
     }
     // Circumcentre: a + (|ac|²(n × ab)... standard formula.

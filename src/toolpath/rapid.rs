@@ -470,7 +470,7 @@ fn speed_of(file: &str, data: &Data, v: &Value, at: (usize, usize)) -> Result<f6
             ))
         }
     };
-    if !(mm_s > 0.0) {
+    if mm_s.is_nan() || mm_s <= 0.0 {
         return Err(perr(
             file,
             l,
