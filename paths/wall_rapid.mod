@@ -1,6 +1,6 @@
 ! Two layers of a 1200 mm x 40 mm stadium-shaped wall outline (straight sides joined by
 ! semicircles of radius 20 mm), written by hand for printwatt in the style of a Grasshopper /
-! RobotStudio export: named robtargets, Offs(), MoveJ approach and retract, MoveL straight
+! RobotStudio export: named robtargets, Offs(), MoveJ approach and retract (travel), MoveL straight
 ! sides at v100, MoveC end caps at a custom speeddata, z10 blends, a custom zonedata, fine at
 ! the end. Units: mm. Layer height 15 mm; the nozzle points down (q = [0,0,1,0]).
 ! Hand computation: print length per layer 2 x 1200 + 2 pi 20 = 2525.66 mm, plus 15 mm rise.
@@ -20,7 +20,7 @@ MODULE WallRapid
         ConfL \Off;
         MoveJ pHome, v500, z50, tNozzle \WObj:=wobj0;
         MoveJ Offs(p10,0,0,50), v500, z20, tNozzle \WObj:=wobj0;
-        MoveL p10, v100, fine, tNozzle \WObj:=wobj0;
+        MoveJ p10, v100, fine, tNozzle \WObj:=wobj0;
         SetDO doPump, 1;
         ! layer 1
         MoveL p20, v100, z10, tNozzle \WObj:=wobj0;
