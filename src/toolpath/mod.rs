@@ -199,11 +199,11 @@ impl Toolpath {
 
     /// Points every `ds` m or closer (each move is cut into equal parts no longer than `ds`),
     /// with every move's end point included, so corners are kept. `ds` is raised to
-    /// `length / 10⁷` at least, and a non-positive or NaN `ds` gives the move end points only.
+    /// `length / 10⁶` at least (at most about 10⁶ samples plus move ends), and a non-positive or NaN `ds` gives the move end points only.
     pub fn sample(&self, ds: f64) -> Vec<PathSample> {
         let total = self.length();
         let ds = if ds.is_finite() && ds > 0.0 {
-            ds.max(total / 1e7)
+            ds.max(total / 1e6)
         } else {
             f64::INFINITY
         };
