@@ -73,7 +73,7 @@ impl JointTrajectory {
     /// Check that times are finite and strictly increasing and all values finite.
     pub fn validate(&self, what: &str) -> Result<()> {
         for (k, w) in self.t.windows(2).enumerate() {
-            if !(w[1] > w[0]) {
+            if w[1].partial_cmp(&w[0]) != Some(std::cmp::Ordering::Greater) {
                 return Err(Error::Invalid(format!(
                     "{what}: time is not strictly increasing at sample {} (t = {} then {})",
                     k + 1,
