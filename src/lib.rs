@@ -6,6 +6,7 @@
 //! data enter or leave.
 
 pub mod error;
+pub mod kinematics;
 pub mod math;
 pub mod robot;
 pub mod trajectory;

@@ -22,7 +22,10 @@ pub struct JointTrajectory {
 impl JointTrajectory {
     /// An empty trajectory for `n` joints.
     pub fn new(n: usize) -> Self {
-        JointTrajectory { n, ..Default::default() }
+        JointTrajectory {
+            n,
+            ..Default::default()
+        }
     }
 
     /// Append one sample; slices must have length `n`.
