@@ -407,7 +407,8 @@ impl<'a> IkSolver<'a> {
             return Err(IkFailure::Unsupported("non-finite target pose".into()));
         }
         let d = (tool_target.pos - self.model.joints[0].origin.pos).norm();
-        if d > self.reach_bound_m {
+        // OPW arms report the more precise wrist-centre distance from the closed form.
+        if self.model.opw.is_none() && d > self.reach_bound_m {
             return Err(IkFailure::OutOfReach {
                 distance_m: d,
                 min_reach_m: 0.0,
