@@ -159,7 +159,7 @@ fn checked_acos(x: f64) -> Option<f64> {
 #[inline]
 fn arm(p: &OpwParams, c: &V3, shoulder: Shoulder, elbow: Elbow) -> Result<[f64; 3], IkFailure> {
     let rho2 = c.x * c.x + c.y * c.y - p.b * p.b;
-    if !(rho2 >= 0.0) {
+    if rho2.is_nan() || rho2 < 0.0 {
         return Err(IkFailure::OutOfReach {
             distance_m: (c.x * c.x + c.y * c.y).sqrt(),
             min_reach_m: p.b.abs(),
