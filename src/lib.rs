@@ -9,6 +9,7 @@
 
 pub mod cli;
 pub mod error;
+pub mod kinematics;
 pub mod math;
 pub mod output;
 pub mod robot;
