@@ -500,12 +500,52 @@ impl<'a> IkSolver<'a> {
         let mut q = match &self.model.opw {
             Some(p) => {
                 let flange = self.flange_target(tool_target);
+                // Keep the shoulder and elbow of q_prev; of the two wrist variants take the
+                // one nearer to q_prev, so that a smooth passage through q5 = 0 stays smooth.
                 let b = Branch::of(p, q_prev);
-                match opw::solve_branch_near(p, &flange, b, Some(q_prev)) {
-                    Ok(q) => JointVec::from_slice(&q),
-                    Err(e) => {
+                let flip = Branch {
+                    wrist: b.wrist.flipped(),
+                    ..b
+                };
+                let mut best: Option<(f64, JointVec)> = None;
+                let mut first_err = None;
+                for br in [b, flip] {
+                    match opw::solve_branch_near(p, &flange, br, Some(q_prev)) {
+                        Ok(q) => {
+                            let mut q = JointVec::from_slice(&q);
+                            if fit_limits(self.model, &mut q, Some(q_prev)).is_err() {
+                                continue;
+                            }
+                            let d = q
+                                .iter()
+                                .zip(q_prev)
+                                .map(|(a, b)| (a - b).abs())
+                                .fold(0.0, f64::max);
+                            if best.as_ref().is_none_or(|(bd, _)| d < *bd) {
+                                best = Some((d, q));
+                            }
+                        }
+                        Err(e) => {
+                            first_err.get_or_insert(e);
+                        }
+                    }
+                }
+                match (best, first_err) {
+                    (Some((_, q)), _) => q,
+                    (None, Some(e)) => {
                         self.precheck(tool_target)?;
                         return Err(e);
+                    }
+                    (None, None) => {
+                        // Both variants exist but violate limits: report the unflipped one.
+                        let mut q = JointVec::from_slice(&opw::solve_branch_near(
+                            p,
+                            &flange,
+                            b,
+                            Some(q_prev),
+                        )?);
+                        fit_limits(self.model, &mut q, Some(q_prev))?;
+                        q
                     }
                 }
             }

@@ -46,6 +46,16 @@ pub enum Wrist {
     Flip,
 }
 
+impl Wrist {
+    /// The other wrist variant.
+    pub fn flipped(self) -> Wrist {
+        match self {
+            Wrist::NoFlip => Wrist::Flip,
+            Wrist::Flip => Wrist::NoFlip,
+        }
+    }
+}
+
 /// One of the 8 closed-form solution branches.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub struct Branch {

@@ -8,6 +8,9 @@ pub const SMOOTH_JUNCTION_RAD: f64 = 0.5 * std::f64::consts::PI / 180.0;
 
 /// One primitive of the geometric path.
 #[derive(Clone, Copy, Debug, PartialEq)]
+// Pieces live in one Vec per path; boxing the blend table would cost an indirection per
+// evaluation in the hot sampling loop for no real saving.
+#[allow(clippy::large_enum_variant)]
 pub enum Prim {
     /// Straight line from `a` to `b`, m.
     Line { a: V3, b: V3 },

@@ -56,7 +56,11 @@ pub struct JointStageOptions {
 
 impl Default for JointStageOptions {
     fn default() -> Self {
-        JointStageOptions { max_iterations: 12, margin: 0.95, check_jerk: true }
+        JointStageOptions {
+            max_iterations: 12,
+            margin: 0.95,
+            check_jerk: true,
+        }
     }
 }
 
@@ -167,20 +171,28 @@ pub fn track(
     let max_step: Vec<f64> = model
         .joints
         .iter()
-        .map(|j| if j.velocity_limit.is_finite() { (j.velocity_limit * motion.dt * 4.0).max(0.05) } else { 0.5 })
+        .map(|j| {
+            if j.velocity_limit.is_finite() {
+                (j.velocity_limit * motion.dt * 4.0).max(0.05)
+            } else {
+                0.5
+            }
+        })
         .collect();
     for (k, p) in motion.p.iter().enumerate() {
         let tip = part_to_base.apply(p);
         let target = nozzle_target(&tip, spin);
         let mi = pieces[motion.piece[k]].move_index;
-        let q = solver.solve_near(&target, &prev).map_err(|reason| TimingFailure::Unreachable {
-            sample: k,
-            t: k as f64 * motion.dt,
-            point: tip,
-            move_index: mi,
-            line: moves_line(mi),
-            reason,
-        })?;
+        let q = solver
+            .solve_near(&target, &prev)
+            .map_err(|reason| TimingFailure::Unreachable {
+                sample: k,
+                t: k as f64 * motion.dt,
+                point: tip,
+                move_index: mi,
+                line: moves_line(mi),
+                reason,
+            })?;
         if k > 0 {
             for j in 0..n {
                 let d = (q[j] - prev[j]).abs();
@@ -214,7 +226,13 @@ pub fn differentiate(q: &[f64], n: usize, dt: f64) -> (Vec<f64>, Vec<f64>, Vec<f
     }
     let at = |k: usize, j: usize| q[k * n + j];
     for k in 0..m {
-        let (a, b) = if k == 0 { (0, 1) } else if k == m - 1 { (m - 2, m - 1) } else { (k - 1, k + 1) };
+        let (a, b) = if k == 0 {
+            (0, 1)
+        } else if k == m - 1 {
+            (m - 2, m - 1)
+        } else {
+            (k - 1, k + 1)
+        };
         let c = k.clamp(1, m - 2);
         for j in 0..n {
             qd[k * n + j] = (at(b, j) - at(a, j)) / ((b - a) as f64 * dt);
@@ -228,7 +246,9 @@ pub fn differentiate(q: &[f64], n: usize, dt: f64) -> (Vec<f64>, Vec<f64>, Vec<f
         }
         for j in 0..n {
             // (q[c+2] - 2q[c+1] + 2q[c-1] - q[c-2]) / (2 dt³)
-            qddd[k * n + j] = (at(c + 2, j) - 2.0 * at(c + 1, j) + 2.0 * at(c - 1, j) - at(c - 2, j)) / (2.0 * dt * dt * dt);
+            qddd[k * n + j] = (at(c + 2, j) - 2.0 * at(c + 1, j) + 2.0 * at(c - 1, j)
+                - at(c - 2, j))
+                / (2.0 * dt * dt * dt);
         }
     }
     (qd, qdd, qddd)
@@ -241,7 +261,13 @@ struct Violation {
     ratio: f64,
 }
 
-fn violations(model: &RobotModel, qd: &[f64], qdd: &[f64], qddd: &[f64], check_jerk: bool) -> Vec<Violation> {
+fn violations(
+    model: &RobotModel,
+    qd: &[f64],
+    qdd: &[f64],
+    qddd: &[f64],
+    check_jerk: bool,
+) -> Vec<Violation> {
     let n = model.dof();
     let mut out = Vec::new();
     let m = qd.len() / n;
@@ -249,12 +275,25 @@ fn violations(model: &RobotModel, qd: &[f64], qdd: &[f64], qddd: &[f64], check_j
         for (j, jt) in model.joints.iter().enumerate() {
             let checks = [
                 (LimitKind::Velocity, qd[k * n + j], jt.velocity_limit),
-                (LimitKind::Acceleration, qdd[k * n + j], jt.acceleration_limit),
-                (LimitKind::Jerk, if check_jerk { qddd[k * n + j] } else { 0.0 }, jt.jerk_limit),
+                (
+                    LimitKind::Acceleration,
+                    qdd[k * n + j],
+                    jt.acceleration_limit,
+                ),
+                (
+                    LimitKind::Jerk,
+                    if check_jerk { qddd[k * n + j] } else { 0.0 },
+                    jt.jerk_limit,
+                ),
             ];
             for (kind, v, lim) in checks {
                 if lim.is_finite() && v.abs() > lim {
-                    out.push(Violation { joint: j, kind, sample: k, ratio: v.abs() / lim });
+                    out.push(Violation {
+                        joint: j,
+                        kind,
+                        sample: k,
+                        ratio: v.abs() / lim,
+                    });
                 }
             }
         }
@@ -288,7 +327,17 @@ pub fn time_path(
     loop {
         round += 1;
         let motion = plan(pieces, &nodes, &scale, &opts);
-        track(solver, pieces, moves_line, &motion, part_to_base, spin, q0, &mut qs, &mut tcp)?;
+        track(
+            solver,
+            pieces,
+            moves_line,
+            &motion,
+            part_to_base,
+            spin,
+            q0,
+            &mut qs,
+            &mut tcp,
+        )?;
         let (qd, qdd, qddd) = differentiate(&qs, n, motion.dt);
         let viol = violations(model, &qd, &qdd, &qddd, jopts.check_jerk);
         if viol.is_empty() {
@@ -297,11 +346,26 @@ pub fn time_path(
             traj.q = qs;
             traj.qd = qd;
             traj.qdd = qdd;
-            return Ok(TimedPath { traj, motion, tcp, slowdowns, rounds: round, accel_factor: opts.accel / popts.accel });
+            return Ok(TimedPath {
+                traj,
+                motion,
+                tcp,
+                slowdowns,
+                rounds: round,
+                accel_factor: opts.accel / popts.accel,
+            });
         }
         if round == max_rounds {
-            let w = viol.iter().max_by(|a, b| a.ratio.total_cmp(&b.ratio)).expect("non-empty");
-            return Err(TimingFailure::LimitsNotMet { joint: w.joint, kind: w.kind, ratio: w.ratio, t: w.sample as f64 * motion.dt });
+            let w = viol
+                .iter()
+                .max_by(|a, b| a.ratio.total_cmp(&b.ratio))
+                .expect("non-empty");
+            return Err(TimingFailure::LimitsNotMet {
+                joint: w.joint,
+                kind: w.kind,
+                ratio: w.ratio,
+                t: w.sample as f64 * motion.dt,
+            });
         }
         // Slow down around every violating sample; report the worst per (joint, kind, move).
         let half = motion.taps + 2;
@@ -332,7 +396,10 @@ pub fn time_path(
                 });
             }
             let mi = pieces[motion.piece[v.sample]].move_index;
-            match slowdowns.iter_mut().find(|s| s.joint == v.joint && s.kind == v.kind && s.move_index == mi) {
+            match slowdowns
+                .iter_mut()
+                .find(|s| s.joint == v.joint && s.kind == v.kind && s.move_index == mi)
+            {
                 Some(s) => {
                     if v.ratio > s.ratio && round == 1 {
                         s.ratio = v.ratio;
@@ -357,4 +424,72 @@ pub fn time_path(
             opts.jerk *= ramp_factor;
         }
     }
+}
+
+/// Time a blended path at a placement, choosing the arm configuration: every IK solution at
+/// the first sample is tried, widest joint-limit margin first, and the first that carries the
+/// whole path with one configuration wins. When none does, the failure of the candidate that
+/// got furthest along the path is returned.
+pub fn time_at(
+    solver: &IkSolver,
+    pieces: &[Piece],
+    moves_line: &dyn Fn(usize) -> usize,
+    part_to_base: &Frame,
+    spin: f64,
+    popts: &ProfileOptions,
+    jopts: &JointStageOptions,
+) -> Result<TimedPath, TimingFailure> {
+    let first = pieces
+        .first()
+        .map(|p| p.prim.point(0.0))
+        .unwrap_or_else(V3::zeros);
+    let tip = part_to_base.apply(&first);
+    let mut cands = solver
+        .solve_all(&nozzle_target(&tip, spin))
+        .map_err(|reason| TimingFailure::Unreachable {
+            sample: 0,
+            t: 0.0,
+            point: tip,
+            move_index: 0,
+            line: moves_line(0),
+            reason,
+        })?;
+    let model = solver.model;
+    cands.sort_by(|a, b| {
+        crate::kinematics::limit_margin(model, &b.q)
+            .total_cmp(&crate::kinematics::limit_margin(model, &a.q))
+    });
+    let mut best_err: Option<TimingFailure> = None;
+    let progress = |e: &TimingFailure| match e {
+        TimingFailure::Unreachable { sample, .. }
+        | TimingFailure::ConfigurationChange { sample, .. } => *sample,
+        TimingFailure::LimitsNotMet { .. } => usize::MAX,
+    };
+    for c in &cands {
+        match time_path(
+            solver,
+            pieces,
+            moves_line,
+            part_to_base,
+            spin,
+            &c.q,
+            popts,
+            jopts,
+        ) {
+            Ok(t) => return Ok(t),
+            Err(e) => {
+                if best_err.as_ref().is_none_or(|b| progress(&e) > progress(b)) {
+                    best_err = Some(e);
+                }
+            }
+        }
+    }
+    Err(best_err.unwrap_or(TimingFailure::Unreachable {
+        sample: 0,
+        t: 0.0,
+        point: tip,
+        move_index: 0,
+        line: moves_line(0),
+        reason: IkFailure::Unsupported("no IK solution at the first sample".into()),
+    }))
 }

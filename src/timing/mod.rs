@@ -1,9 +1,13 @@
 //! Time parameterisation of a toolpath the way a robot controller runs it.
 
 pub mod geometry;
+pub mod joint;
 pub mod profile;
 
 pub use geometry::{blend_path, Move, Piece, Prim};
+pub use joint::{
+    time_at, time_path, JointStageOptions, LimitKind, Slowdown, TimedPath, TimingFailure,
+};
 pub use profile::{CartesianMotion, ProfileOptions};
 
 /// Moves shorter than this are dropped before timing (extruder-only moves, duplicates), m.
