@@ -207,6 +207,10 @@ def fixed(name, parent, child, xyz, rpy, src):
     return dict(name=name, type="fixed", parent=parent, child=child, xyz=xyz, rpy=rpy, src_origin=src)
 
 
+def pt(p):
+    return "(" + ", ".join("%.4g" % v for v in p) + ")"
+
+
 def estimate_inertials(weight, weight_src, segments, radii):
     """Distribute `weight` over base_link, link_1..link_6 in proportion to the KR 210 L150 CAD
     masses; each link a solid cylinder between two points of its frame (segments) with radius radii."""
@@ -220,7 +224,7 @@ def estimate_inertials(weight, weight_src, segments, radii):
         src = ("[ESTIMATE] mass = %s kg total (%s) x %.4f (KR 210 L150 CAD mass ratio %s/%s); CoM and inertia: "
                "solid cylinder r = %.3f m, L = %.3f m from %s to %s (link frame)"
                % (fmt(weight), weight_src.split(']')[0].strip('['), frac, fmt(KR210_MASSES[i]), "%.2f" % KR210_TOTAL,
-                  radii[i], L, p0, p1))
+                  radii[i], L, pt(p0), pt(p1)))
         links.append(dict(name=name, mass=m, com=com, inertia=I, src=src))
     return links
 
@@ -398,7 +402,7 @@ def tx200():
         drives.append(drive_entry("joint_%d" % (i + 1), G, motors[i][0], motors[i][2], v,
                                   T_RAMP_MAIN if i < 3 else T_RAMP_WRIST, motors[i][1], why))
     payload = cylinder_payload(45.0, 0.13, 0.30, "3DCP extruder head (~35 kg) + hose and material share (~10 kg)",
-                               "ESTIMATE: 3DCP print head for a 100 kg-class arm (seed paper 001 setting)")
+                               "ESTIMATE: 3DCP print head for a 100 kg-class arm")
     return dict(name="staubli_tx200", title="Staubli TX200", joints=joints, links=links, drives=drives,
                 opw=dict(a1=a1, a2=a2, b=b, c1=c1, c2=c2, c3=c3, c4=c4, offsets=[0.0] * 6, signs=[1] * 6,
                          src="[DERIVED] reference robots.md 4.2 (verified there vs two DH models, 7e-16 m)"),
