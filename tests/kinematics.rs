@@ -70,6 +70,7 @@ fn fk_matches_urdf_chain() {
     let mut rng = ChaCha8Rng::seed_from_u64(42);
     for name in ALL_ROBOTS {
         let m = load(name);
+        let chain = kinematics::FastChain::new(&m);
         for _ in 0..200 {
             let q = random_q(&m, &mut rng);
             let f = fk(&m, &q);
@@ -79,6 +80,8 @@ fn fk_matches_urdf_chain() {
             let (dp, dr) = pose_distance(&f.tool, &c.compose(&m.tool));
             assert!(dp < 1e-12 && dr < 1e-12, "{name}");
             assert_eq!(f.joint_frames().len(), m.dof());
+            let (dp, dr) = pose_distance(&chain.tool(&q), &f.tool);
+            assert!(dp < 1e-12 && dr < 1e-12, "{name}: FastChain");
             if let Some(p) = &m.opw {
                 let (dp, dr) = pose_distance(&p.forward(&q), &f.flange);
                 assert!(dp < 1e-9 && dr < 1e-9, "{name}: OPW forward vs chain");

@@ -28,7 +28,8 @@ impl FkFrames {
 }
 
 /// All joint frames, the flange and the tool pose for `q` (rad / m). Joints beyond
-/// [`MAX_DOF`] or beyond `q.len()` are taken at 0.
+/// `q.len()` are taken at 0; only the first [`MAX_DOF`] joints are used (the front end
+/// [`super::IkSolver`] refuses longer chains).
 pub fn fk(model: &RobotModel, q: &[f64]) -> FkFrames {
     let mut joints = [Frame::identity(); MAX_DOF];
     let mut f = Frame::identity();
@@ -152,4 +153,114 @@ pub fn jacobian_measures(model: &RobotModel, q: &[f64]) -> (f64, f64) {
 /// Convert a slice to a [`JointVec`] (up to [`MAX_DOF`] entries).
 pub fn joint_vec(q: &[f64]) -> JointVec {
     JointVec::from_slice(q)
+}
+
+/// Joint axis, specialised when it is a coordinate axis.
+#[derive(Clone, Copy, Debug)]
+enum Axis {
+    X(f64),
+    Y(f64),
+    Z(f64),
+    General(V3),
+}
+
+#[derive(Clone, Copy, Debug)]
+struct FastJoint {
+    /// `None` when the origin rotation is the identity.
+    rot: Option<crate::math::M3>,
+    pos: V3,
+    axis: Axis,
+    axis_vec: V3,
+    prismatic: bool,
+}
+
+/// A pre-processed copy of the chain for the fastest flange/tool pose (identity origin
+/// rotations skipped, rotations about coordinate axes applied to two columns only). Same
+/// result as [`flange_pose`] / [`tool_pose`] to rounding. At most [`MAX_DOF`] joints.
+#[derive(Clone, Copy, Debug)]
+pub struct FastChain {
+    n: usize,
+    joints: [FastJoint; MAX_DOF],
+    flange: Frame,
+    tool: Frame,
+}
+
+impl FastChain {
+    /// Pre-process `model` (joints beyond [`MAX_DOF`] are ignored; check `model.dof()`).
+    pub fn new(model: &RobotModel) -> Self {
+        let blank = FastJoint {
+            rot: None,
+            pos: V3::zeros(),
+            axis: Axis::Z(1.0),
+            axis_vec: V3::z(),
+            prismatic: false,
+        };
+        let mut joints = [blank; MAX_DOF];
+        let n = model.dof().min(MAX_DOF);
+        for (i, j) in model.joints.iter().take(n).enumerate() {
+            let exact = |a: f64, b: f64, c: f64| a.abs() == 1.0 && b == 0.0 && c == 0.0;
+            let (x, y, z) = (j.axis.x, j.axis.y, j.axis.z);
+            let axis = if exact(x, y, z) {
+                Axis::X(x)
+            } else if exact(y, x, z) {
+                Axis::Y(y)
+            } else if exact(z, x, y) {
+                Axis::Z(z)
+            } else {
+                Axis::General(j.axis)
+            };
+            let is_id = j.origin.rot == crate::math::M3::identity();
+            joints[i] = FastJoint {
+                rot: (!is_id).then_some(j.origin.rot),
+                pos: j.origin.pos,
+                axis,
+                axis_vec: j.axis,
+                prismatic: j.kind == JointKind::Prismatic,
+            };
+        }
+        FastChain {
+            n,
+            joints,
+            flange: model.flange,
+            tool: model.tool,
+        }
+    }
+
+    /// Flange pose in the base frame for `q` (rad / m; missing entries taken as 0).
+    #[inline]
+    pub fn flange(&self, q: &[f64]) -> Frame {
+        let mut r = crate::math::M3::identity();
+        let mut p = V3::zeros();
+        for (i, j) in self.joints[..self.n].iter().enumerate() {
+            let qi = q.get(i).copied().unwrap_or(0.0);
+            p += r * j.pos;
+            if let Some(o) = &j.rot {
+                r *= o;
+            }
+            if j.prismatic {
+                p += r * (j.axis_vec * qi);
+                continue;
+            }
+            let rot2 = |r: &mut crate::math::M3, a: usize, b: usize, ang: f64| {
+                let (s, c) = ang.sin_cos();
+                let ca = r.column(a).into_owned();
+                let cb = r.column(b).into_owned();
+                r.set_column(a, &(ca * c + cb * s));
+                r.set_column(b, &(cb * c - ca * s));
+            };
+            match j.axis {
+                Axis::X(sg) => rot2(&mut r, 1, 2, sg * qi),
+                Axis::Y(sg) => rot2(&mut r, 2, 0, sg * qi),
+                Axis::Z(sg) => rot2(&mut r, 0, 1, sg * qi),
+                Axis::General(a) => r *= crate::math::rot_axis(&a, qi),
+            }
+        }
+        Frame { rot: r, pos: p }.compose(&self.flange)
+    }
+
+    /// Tool (nozzle-tip) pose in the base frame for `q` (rad / m).
+    #[inline]
+    pub fn tool(&self, q: &[f64]) -> Frame {
+        self.flange(q).compose(&self.tool)
+    }
 }

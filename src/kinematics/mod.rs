@@ -10,7 +10,9 @@ pub mod fk;
 pub mod numeric;
 pub mod opw;
 
-pub use fk::{fk, flange_pose, jacobian, jacobian_measures, tool_pose, FkFrames, Jacobian};
+pub use fk::{
+    fk, flange_pose, jacobian, jacobian_measures, tool_pose, FastChain, FkFrames, Jacobian,
+};
 pub use numeric::NumericOptions;
 pub use opw::{Branch, Elbow, Shoulder, Wrist};
 
@@ -336,6 +338,7 @@ pub struct IkSolver<'a> {
     /// The robot.
     pub model: &'a RobotModel,
     tool_inv: Frame,
+    chain: fk::FastChain,
     /// Settings of the numeric solver.
     pub numeric: NumericOptions,
     /// Accepted tool position error of the FK re-check, m.
@@ -373,6 +376,7 @@ impl<'a> IkSolver<'a> {
         Ok(IkSolver {
             model,
             tool_inv: model.tool.inverse(),
+            chain: fk::FastChain::new(model),
             numeric: NumericOptions::default(),
             check_position_m: 1e-6,
             check_orientation_rad: 1e-6,
@@ -389,7 +393,7 @@ impl<'a> IkSolver<'a> {
     /// Re-check `q` by forward kinematics against the tool target; returns (m, rad) errors.
     #[inline]
     pub fn check(&self, tool_target: &Frame, q: &[f64]) -> Result<(f64, f64), IkFailure> {
-        let (dp, dr) = pose_distance(&tool_pose(self.model, q), tool_target);
+        let (dp, dr) = pose_distance(&self.chain.tool(q), tool_target);
         if dp < self.check_position_m && dr < self.check_orientation_rad {
             Ok((dp, dr))
         } else {

@@ -77,7 +77,9 @@ pub fn solve_from(
         e.fixed_rows::<3>(0).norm() < opts.tol_position_m
             && e.fixed_rows::<3>(3).norm() < opts.tol_orientation_rad
     };
-    for _ in 0..opts.max_iterations {
+    let mut iterations = 0;
+    for it in 0..opts.max_iterations {
+        iterations = it + 1;
         if tol2(&e) {
             return Ok(q);
         }
@@ -126,7 +128,7 @@ pub fn solve_from(
         return Ok(q);
     }
     Err(IkFailure::NoConvergence {
-        iterations: opts.max_iterations,
+        iterations,
         position_error_m: e.fixed_rows::<3>(0).norm(),
         orientation_error_rad: e.fixed_rows::<3>(3).norm(),
     })

@@ -96,10 +96,10 @@ impl Branch {
             + matches!(self.elbow, Elbow::Down) as usize
     }
 
-    /// Classify URDF joint angles `q` (rad, ≥ 6 entries) into their branch. Invariant under
+    /// Classify URDF joint angles `q` (rad; missing entries count as 0) into their branch. Invariant under
     /// 2π shifts of any joint.
     pub fn of(p: &OpwParams, q: &[f64]) -> Branch {
-        let o = p.to_opw(q);
+        let o = opw_angles(p, q);
         let psi3 = p.a2.atan2(p.c3);
         let k = (p.a2 * p.a2 + p.c3 * p.c3).sqrt();
         let cx1 = p.c2 * o[1].sin() + k * (o[1] + o[2] + psi3).sin() + p.a1;
@@ -142,6 +142,16 @@ impl std::fmt::Display for Branch {
             }
         )
     }
+}
+
+/// OPW angles of `q` (URDF, rad); missing entries are taken as 0.
+#[inline]
+fn opw_angles(p: &OpwParams, q: &[f64]) -> [f64; 6] {
+    let mut a = [0.0; 6];
+    for (d, s) in a.iter_mut().zip(q) {
+        *d = *s;
+    }
+    p.to_opw(&a)
 }
 
 /// Wrap an angle to (−π, π].
@@ -314,20 +324,20 @@ pub fn solve_all(p: &OpwParams, flange: &Frame) -> [Result<[f64; 6], IkFailure>;
 /// Wrist singularity measure `|sin q5|` (dimensionless, 0 = joints 4 and 6 aligned) for URDF
 /// angles `q` (rad).
 pub fn wrist_singularity(p: &OpwParams, q: &[f64]) -> f64 {
-    p.to_opw(q)[4].sin().abs()
+    opw_angles(p, q)[4].sin().abs()
 }
 
 /// Elbow singularity measure `|sin(q3_opw + ψ3)|` (dimensionless): 0 when the arm is stretched
 /// out (or folded back), 1 with a right angle between upper arm and forearm line.
 pub fn elbow_singularity(p: &OpwParams, q: &[f64]) -> f64 {
     let psi3 = p.a2.atan2(p.c3);
-    (p.to_opw(q)[2] + psi3).sin().abs()
+    (opw_angles(p, q)[2] + psi3).sin().abs()
 }
 
 /// Shoulder singularity measure, m: distance of the wrist centre from the axis of joint 1
 /// within the arm plane (`|c_x1|` of the OPW paper; for `b = 0` the distance to the axis).
 pub fn shoulder_singularity(p: &OpwParams, q: &[f64]) -> f64 {
-    let o = p.to_opw(q);
+    let o = opw_angles(p, q);
     let psi3 = p.a2.atan2(p.c3);
     let k = (p.a2 * p.a2 + p.c3 * p.c3).sqrt();
     (p.c2 * o[1].sin() + k * (o[1] + o[2] + psi3).sin() + p.a1).abs()
