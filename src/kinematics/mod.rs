@@ -24,6 +24,9 @@ use std::f64::consts::PI;
 /// Largest number of joints the allocation-free routines handle.
 pub const MAX_DOF: usize = 8;
 
+/// `|sin q5|` below which path IK also considers the other wrist variant (dimensionless).
+pub const NEAR_WRIST_SINGULARITY: f64 = 0.2;
+
 /// Joint vector on the stack (rad for revolute, m for prismatic joints); dereferences to a
 /// slice of its `len()` entries.
 #[derive(Clone, Copy, PartialEq)]
@@ -514,6 +517,15 @@ impl<'a> IkSolver<'a> {
                 let mut best: Option<(f64, JointVec)> = None;
                 let mut first_err = None;
                 for br in [b, flip] {
+                    if br == flip {
+                        // Far from the wrist singularity the flipped variant differs by about
+                        // π in q4 and q6 and cannot be nearer: skip it (the fast path).
+                        if let Some((_, q)) = &best {
+                            if opw::wrist_singularity(p, q) > NEAR_WRIST_SINGULARITY {
+                                break;
+                            }
+                        }
+                    }
                     match opw::solve_branch_near(p, &flange, br, Some(q_prev)) {
                         Ok(q) => {
                             let mut q = JointVec::from_slice(&q);
