@@ -94,3 +94,121 @@ impl JointTrajectory {
         Ok(())
     }
 }
+
+/// Which columns a trajectory file supplied.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Supplied {
+    /// `qd1..qdN` were in the file.
+    pub velocities: bool,
+    /// `qdd1..qddN` were in the file.
+    pub accelerations: bool,
+}
+
+/// Dimension of a trajectory column from its name (`t`, `qK`, `qdK`, `qddK`).
+pub fn trajectory_dim(name: &str) -> Option<crate::table::Dim> {
+    use crate::table::Dim;
+    let digits = |p: &str| {
+        name.strip_prefix(p)
+            .is_some_and(|r| !r.is_empty() && r.chars().all(|c| c.is_ascii_digit()))
+    };
+    if name == "t" {
+        Some(Dim::Time)
+    } else if digits("qdd") {
+        Some(Dim::AngularAcceleration)
+    } else if digits("qd") {
+        Some(Dim::AngularVelocity)
+    } else if digits("q") {
+        Some(Dim::Angle)
+    } else {
+        None
+    }
+}
+
+/// Read a joint trajectory CSV with columns `t, q1..qN` and optionally `qd1..qdN`,
+/// `qdd1..qddN` (units in brackets, SI by default). Missing derivatives are left at zero and
+/// reported in [`Supplied`]; fill them with central differences before use. Errors name the
+/// file, line and column; a joint count that does not match `n` names both numbers.
+pub fn read_csv(path: &std::path::Path, n: usize) -> Result<(JointTrajectory, Supplied)> {
+    let table = crate::table::Table::read(path, &trajectory_dim)?;
+    from_table(&table, n)
+}
+
+/// Build a trajectory from a parsed table; see [`read_csv`].
+pub fn from_table(table: &crate::table::Table, n: usize) -> Result<(JointTrajectory, Supplied)> {
+    let file = &table.file;
+    let tcol = table.col("t").ok_or_else(|| Error::Field {
+        file: file.clone(),
+        field: "t".into(),
+        msg: "missing the time column `t`".into(),
+    })?;
+    let count = |p: &str| {
+        (1..=64)
+            .take_while(|k| table.col(&format!("{p}{k}")).is_some())
+            .count()
+    };
+    let nq = count("q");
+    if nq != n {
+        return Err(Error::SizeMismatch {
+            what: format!("{file}: joint position columns q1..qN (the robot has {n} joints)"),
+            got: nq,
+            expected: n,
+        });
+    }
+    let cols = |p: &str| -> Result<Option<Vec<usize>>> {
+        let k = count(p);
+        if k == 0 {
+            return Ok(None);
+        }
+        if k != n {
+            return Err(Error::SizeMismatch {
+                what: format!("{file}: columns {p}1..{p}N"),
+                got: k,
+                expected: n,
+            });
+        }
+        Ok(Some(
+            (1..=n)
+                .map(|j| table.col(&format!("{p}{j}")).unwrap_or(0))
+                .collect(),
+        ))
+    };
+    let qc = cols("q")?.unwrap_or_default();
+    let qdc = cols("qd")?;
+    let qddc = cols("qdd")?;
+    if table.rows.len() < 3 {
+        return Err(Error::Invalid(format!(
+            "{file}: {} samples; at least 3 are needed",
+            table.rows.len()
+        )));
+    }
+    let mut tr = JointTrajectory::new(n);
+    let zeros = vec![0.0; n];
+    for (r, row) in table.rows.iter().enumerate() {
+        if let Some(prev) = tr.t.last() {
+            if row[tcol] <= *prev {
+                return Err(Error::Parse {
+                    file: file.clone(),
+                    line: table.lines[r],
+                    column: 1,
+                    msg: format!(
+                        "time `t` = {} s is not after the previous sample's {} s",
+                        row[tcol], prev
+                    ),
+                });
+            }
+        }
+        let pick = |c: &Option<Vec<usize>>| {
+            c.as_ref()
+                .map_or(zeros.clone(), |c| c.iter().map(|&k| row[k]).collect())
+        };
+        let q: Vec<f64> = qc.iter().map(|&k| row[k]).collect();
+        tr.push(row[tcol], &q, &pick(&qdc), &pick(&qddc));
+    }
+    Ok((
+        tr,
+        Supplied {
+            velocities: qdc.is_some(),
+            accelerations: qddc.is_some(),
+        },
+    ))
+}

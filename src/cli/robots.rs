@@ -1,0 +1,75 @@
+//! `printwatt robots`
+
+use super::RobotsArgs;
+use crate::robot;
+use anyhow::{Context, Result};
+use serde::Serialize;
+use std::path::PathBuf;
+
+#[derive(Serialize)]
+struct RobotRow {
+    id: String,
+    name: String,
+    joints: usize,
+    reach_m: Option<f64>,
+    rated_payload_kg: Option<f64>,
+    moving_mass_kg: f64,
+    closed_form_ik: bool,
+    drive_data: bool,
+    provenance: String,
+}
+
+/// `printwatt robots`: the shipped robots as a table or JSON.
+pub fn run(a: RobotsArgs) -> Result<()> {
+    let mut dirs: Vec<PathBuf> = std::fs::read_dir(&a.dir)
+        .with_context(|| format!("reading robots directory {}", a.dir.display()))?
+        .filter_map(|e| e.ok().map(|e| e.path()))
+        .filter(|p| p.is_dir())
+        .collect();
+    dirs.sort();
+    let mut rows = Vec::new();
+    for d in dirs {
+        let m = robot::load(&d).with_context(|| format!("loading robot {}", d.display()))?;
+        rows.push(RobotRow {
+            id: d
+                .file_name()
+                .map(|s| s.to_string_lossy().into_owned())
+                .unwrap_or_default(),
+            name: m.info.name.clone(),
+            joints: m.dof(),
+            reach_m: m.info.reach_m,
+            rated_payload_kg: m.info.rated_payload_kg,
+            moving_mass_kg: m.moving_mass(),
+            closed_form_ik: m.opw.is_some(),
+            drive_data: m.drive.is_some(),
+            provenance: m.info.provenance.clone(),
+        });
+    }
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&rows)?);
+        return Ok(());
+    }
+    println!(
+        "{:<22} {:<28} {:>6} {:>8} {:>11} {:>10} {:>4} {:>5}",
+        "id", "name", "joints", "reach_m", "payload_kg", "mass_kg", "opw", "drive"
+    );
+    for r in &rows {
+        let o = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.2}"));
+        println!(
+            "{:<22} {:<28} {:>6} {:>8} {:>11} {:>10.1} {:>4} {:>5}",
+            r.id,
+            r.name,
+            r.joints,
+            o(r.reach_m),
+            o(r.rated_payload_kg),
+            r.moving_mass_kg,
+            if r.closed_form_ik { "yes" } else { "no" },
+            if r.drive_data { "yes" } else { "no" }
+        );
+    }
+    println!();
+    for r in &rows {
+        println!("{}: {}", r.id, r.provenance);
+    }
+    Ok(())
+}

@@ -1,0 +1,266 @@
+//! Forward kinematics and the geometric Jacobian of the tool point, allocation-free.
+//!
+//! Everything is in the robot's base frame; positions in m, angles in rad (prismatic joint
+//! positions in m).
+
+use super::{JointVec, MAX_DOF};
+use crate::math::{Frame, V3};
+use crate::robot::{JointKind, RobotModel};
+
+/// Every frame of the chain at one joint vector, base frame, m / rad.
+#[derive(Clone, Copy, Debug)]
+pub struct FkFrames {
+    /// Number of valid entries in `joints`.
+    pub n: usize,
+    /// Frame of joint `i` (= its child link) in the base frame; entries `n..` are identity.
+    pub joints: [Frame; MAX_DOF],
+    /// Flange (`tool_link`) frame in the base frame.
+    pub flange: Frame,
+    /// Nozzle tip (tool centre point) in the base frame; the nozzle points along its +z.
+    pub tool: Frame,
+}
+
+impl FkFrames {
+    /// The joint frames actually used, base frame.
+    pub fn joint_frames(&self) -> &[Frame] {
+        &self.joints[..self.n]
+    }
+}
+
+/// All joint frames, the flange and the tool pose for `q` (rad / m). Joints beyond
+/// `q.len()` are taken at 0; only the first [`MAX_DOF`] joints are used (the front end
+/// [`super::IkSolver`] refuses longer chains).
+pub fn fk(model: &RobotModel, q: &[f64]) -> FkFrames {
+    let mut joints = [Frame::identity(); MAX_DOF];
+    let mut f = Frame::identity();
+    let n = model.joints.len().min(MAX_DOF);
+    for (i, j) in model.joints.iter().take(n).enumerate() {
+        f = f.compose(&j.transform(q.get(i).copied().unwrap_or(0.0)));
+        joints[i] = f;
+    }
+    let flange = f.compose(&model.flange);
+    let tool = flange.compose(&model.tool);
+    FkFrames {
+        n,
+        joints,
+        flange,
+        tool,
+    }
+}
+
+/// Flange pose in the base frame for `q` (rad / m): the fast path (no joint frames kept).
+#[inline]
+pub fn flange_pose(model: &RobotModel, q: &[f64]) -> Frame {
+    let mut f = Frame::identity();
+    for (i, j) in model.joints.iter().enumerate() {
+        f = f.compose(&j.transform(q.get(i).copied().unwrap_or(0.0)));
+    }
+    f.compose(&model.flange)
+}
+
+/// Nozzle-tip (tool) pose in the base frame for `q` (rad / m).
+#[inline]
+pub fn tool_pose(model: &RobotModel, q: &[f64]) -> Frame {
+    flange_pose(model, q).compose(&model.tool)
+}
+
+/// Geometric Jacobian of the tool point, 6 × n, base frame.
+///
+/// Column `i` maps `q̇_i` to the tool twist: rows 0–2 the linear velocity of the nozzle tip
+/// (m/s per rad/s, or per m/s for prismatic joints), rows 3–5 the angular velocity (rad/s per
+/// rad/s; 0 for prismatic joints).
+#[derive(Clone, Copy, Debug)]
+pub struct Jacobian {
+    /// Number of valid columns.
+    pub n: usize,
+    /// Columns `[vx, vy, vz, wx, wy, wz]`; entries `n..` are zero.
+    pub cols: [[f64; 6]; MAX_DOF],
+}
+
+impl Jacobian {
+    /// Entry at `row` (0..6) and `col` (0..n).
+    #[inline]
+    pub fn get(&self, row: usize, col: usize) -> f64 {
+        self.cols[col][row]
+    }
+
+    /// `J · J^T`, 6 × 6 (mixed units: m² in the linear block, 1 in the angular block).
+    pub fn jjt(&self) -> nalgebra::Matrix6<f64> {
+        let mut m = nalgebra::Matrix6::zeros();
+        for c in &self.cols[..self.n] {
+            for r in 0..6 {
+                for s in 0..6 {
+                    m[(r, s)] += c[r] * c[s];
+                }
+            }
+        }
+        m
+    }
+
+    /// The Jacobian as a dynamically sized nalgebra matrix (allocates).
+    pub fn to_dmatrix(&self) -> nalgebra::DMatrix<f64> {
+        nalgebra::DMatrix::from_fn(6, self.n, |r, c| self.cols[c][r])
+    }
+}
+
+/// Geometric Jacobian of the tool point at `q` (rad / m), together with the frames it used.
+pub fn jacobian_with_frames(model: &RobotModel, q: &[f64]) -> (Jacobian, FkFrames) {
+    let frames = fk(model, q);
+    (jacobian_of_frames(model, &frames), frames)
+}
+
+/// Geometric Jacobian of the tool point at `q` (rad / m); see [`Jacobian`].
+pub fn jacobian(model: &RobotModel, q: &[f64]) -> Jacobian {
+    jacobian_with_frames(model, q).0
+}
+
+/// Jacobian from already computed frames.
+pub fn jacobian_of_frames(model: &RobotModel, frames: &FkFrames) -> Jacobian {
+    let mut cols = [[0.0; 6]; MAX_DOF];
+    let p = frames.tool.pos;
+    for (i, j) in model.joints.iter().take(frames.n).enumerate() {
+        let f = &frames.joints[i];
+        let z: V3 = f.rot * j.axis;
+        match j.kind {
+            JointKind::Revolute => {
+                let v = z.cross(&(p - f.pos));
+                cols[i] = [v.x, v.y, v.z, z.x, z.y, z.z];
+            }
+            JointKind::Prismatic => cols[i] = [z.x, z.y, z.z, 0.0, 0.0, 0.0],
+        }
+    }
+    Jacobian { n: frames.n, cols }
+}
+
+/// Smallest singular value of the tool Jacobian and the manipulability `sqrt(det(J Jᵀ))`.
+///
+/// Units are mixed (linear rows in m/rad, angular rows in rad/rad); compare values of the same
+/// robot and tool only. Both are 0 at a singularity. For arms with fewer than 6 joints both
+/// are 0 by definition.
+pub fn jacobian_measures(model: &RobotModel, q: &[f64]) -> (f64, f64) {
+    let j = jacobian(model, q);
+    let m = j.jjt();
+    let eig = nalgebra::SymmetricEigen::new(m);
+    let min = eig
+        .eigenvalues
+        .iter()
+        .copied()
+        .fold(f64::INFINITY, f64::min);
+    let det: f64 = eig.eigenvalues.iter().product();
+    (min.max(0.0).sqrt(), det.max(0.0).sqrt())
+}
+
+/// Convert a slice to a [`JointVec`] (up to [`MAX_DOF`] entries).
+pub fn joint_vec(q: &[f64]) -> JointVec {
+    JointVec::from_slice(q)
+}
+
+/// Joint axis, specialised when it is a coordinate axis.
+#[derive(Clone, Copy, Debug)]
+enum Axis {
+    X(f64),
+    Y(f64),
+    Z(f64),
+    General(V3),
+}
+
+#[derive(Clone, Copy, Debug)]
+struct FastJoint {
+    /// `None` when the origin rotation is the identity.
+    rot: Option<crate::math::M3>,
+    pos: V3,
+    axis: Axis,
+    axis_vec: V3,
+    prismatic: bool,
+}
+
+/// A pre-processed copy of the chain for the fastest flange/tool pose (identity origin
+/// rotations skipped, rotations about coordinate axes applied to two columns only). Same
+/// result as [`flange_pose`] / [`tool_pose`] to rounding. At most [`MAX_DOF`] joints.
+#[derive(Clone, Copy, Debug)]
+pub struct FastChain {
+    n: usize,
+    joints: [FastJoint; MAX_DOF],
+    flange: Frame,
+    tool: Frame,
+}
+
+impl FastChain {
+    /// Pre-process `model` (joints beyond [`MAX_DOF`] are ignored; check `model.dof()`).
+    pub fn new(model: &RobotModel) -> Self {
+        let blank = FastJoint {
+            rot: None,
+            pos: V3::zeros(),
+            axis: Axis::Z(1.0),
+            axis_vec: V3::z(),
+            prismatic: false,
+        };
+        let mut joints = [blank; MAX_DOF];
+        let n = model.dof().min(MAX_DOF);
+        for (i, j) in model.joints.iter().take(n).enumerate() {
+            let exact = |a: f64, b: f64, c: f64| a.abs() == 1.0 && b == 0.0 && c == 0.0;
+            let (x, y, z) = (j.axis.x, j.axis.y, j.axis.z);
+            let axis = if exact(x, y, z) {
+                Axis::X(x)
+            } else if exact(y, x, z) {
+                Axis::Y(y)
+            } else if exact(z, x, y) {
+                Axis::Z(z)
+            } else {
+                Axis::General(j.axis)
+            };
+            let is_id = j.origin.rot == crate::math::M3::identity();
+            joints[i] = FastJoint {
+                rot: (!is_id).then_some(j.origin.rot),
+                pos: j.origin.pos,
+                axis,
+                axis_vec: j.axis,
+                prismatic: j.kind == JointKind::Prismatic,
+            };
+        }
+        FastChain {
+            n,
+            joints,
+            flange: model.flange,
+            tool: model.tool,
+        }
+    }
+
+    /// Flange pose in the base frame for `q` (rad / m; missing entries taken as 0).
+    #[inline]
+    pub fn flange(&self, q: &[f64]) -> Frame {
+        let mut r = crate::math::M3::identity();
+        let mut p = V3::zeros();
+        for (i, j) in self.joints[..self.n].iter().enumerate() {
+            let qi = q.get(i).copied().unwrap_or(0.0);
+            p += r * j.pos;
+            if let Some(o) = &j.rot {
+                r *= o;
+            }
+            if j.prismatic {
+                p += r * (j.axis_vec * qi);
+                continue;
+            }
+            let rot2 = |r: &mut crate::math::M3, a: usize, b: usize, ang: f64| {
+                let (s, c) = ang.sin_cos();
+                let ca = r.column(a).into_owned();
+                let cb = r.column(b).into_owned();
+                r.set_column(a, &(ca * c + cb * s));
+                r.set_column(b, &(cb * c - ca * s));
+            };
+            match j.axis {
+                Axis::X(sg) => rot2(&mut r, 1, 2, sg * qi),
+                Axis::Y(sg) => rot2(&mut r, 2, 0, sg * qi),
+                Axis::Z(sg) => rot2(&mut r, 0, 1, sg * qi),
+                Axis::General(a) => r *= crate::math::rot_axis(&a, qi),
+            }
+        }
+        Frame { rot: r, pos: p }.compose(&self.flange)
+    }
+
+    /// Tool (nozzle-tip) pose in the base frame for `q` (rad / m).
+    #[inline]
+    pub fn tool(&self, q: &[f64]) -> Frame {
+        self.flange(q).compose(&self.tool)
+    }
+}

@@ -1,0 +1,692 @@
+//! Kinematics: forward kinematics and Jacobian ([`fk`]), closed-form IK of ortho-parallel arms
+//! ([`opw`]), general numeric IK ([`numeric`]), and the front end [`IkSolver`] that picks one,
+//! applies joint limits and re-checks every answer by forward kinematics.
+//!
+//! Frames are in the robot's base frame; lengths in m, angles in rad (degrees only in
+//! messages). "Flange" is the `tool_link` frame; "tool" is the nozzle tip, whose +z is the
+//! nozzle direction.
+
+pub mod fk;
+pub mod numeric;
+pub mod opw;
+
+pub use fk::{
+    fk, flange_pose, jacobian, jacobian_measures, tool_pose, FastChain, FkFrames, Jacobian,
+};
+pub use numeric::NumericOptions;
+pub use opw::{Branch, Elbow, Shoulder, Wrist};
+
+use crate::math::{Frame, M3, V3};
+use crate::robot::{JointKind, RobotModel};
+use nalgebra::Vector6;
+use std::f64::consts::PI;
+
+/// Largest number of joints the allocation-free routines handle.
+pub const MAX_DOF: usize = 8;
+
+/// `|sin q5|` below which path IK also considers the other wrist variant (dimensionless).
+pub const NEAR_WRIST_SINGULARITY: f64 = 0.2;
+
+/// Joint vector on the stack (rad for revolute, m for prismatic joints); dereferences to a
+/// slice of its `len()` entries.
+#[derive(Clone, Copy, PartialEq)]
+pub struct JointVec {
+    n: usize,
+    v: [f64; MAX_DOF],
+}
+
+impl JointVec {
+    /// `n` zeros (`n` is capped at [`MAX_DOF`]).
+    pub fn zeros(n: usize) -> Self {
+        JointVec {
+            n: n.min(MAX_DOF),
+            v: [0.0; MAX_DOF],
+        }
+    }
+
+    /// Copy of the first ≤ [`MAX_DOF`] entries of `q`.
+    pub fn from_slice(q: &[f64]) -> Self {
+        let mut j = JointVec::zeros(q.len());
+        j.v[..j.n].copy_from_slice(&q[..j.n]);
+        j
+    }
+
+    /// As a `Vec`.
+    pub fn to_vec(&self) -> Vec<f64> {
+        self.v[..self.n].to_vec()
+    }
+}
+
+impl std::ops::Deref for JointVec {
+    type Target = [f64];
+    fn deref(&self) -> &[f64] {
+        &self.v[..self.n]
+    }
+}
+
+impl std::ops::DerefMut for JointVec {
+    fn deref_mut(&mut self) -> &mut [f64] {
+        &mut self.v[..self.n]
+    }
+}
+
+impl std::fmt::Debug for JointVec {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.debug_list().entries(self.iter()).finish()
+    }
+}
+
+/// Why an inverse-kinematics query has no (acceptable) answer.
+#[derive(Clone, Debug, PartialEq)]
+pub enum IkFailure {
+    /// The target is beyond (or inside) what the arm can reach: `what` is measured, in m.
+    OutOfReach {
+        /// The measured distance, m.
+        distance_m: f64,
+        /// Smallest reachable value of that distance, m.
+        min_reach_m: f64,
+        /// Largest reachable value of that distance, m (`inf` = no upper bound).
+        max_reach_m: f64,
+        /// What the distance is, e.g. "wrist centre from the axis of joint 2".
+        what: &'static str,
+    },
+    /// The solution needs a joint outside its position limits.
+    JointLimit {
+        /// 0-based joint index.
+        joint: usize,
+        /// URDF joint name.
+        name: String,
+        /// The needed value (rad, or m for prismatic joints).
+        value: f64,
+        /// Lower limit (rad / m).
+        lower: f64,
+        /// Upper limit (rad / m).
+        upper: f64,
+        /// Whether the joint is revolute (values shown in degrees).
+        revolute: bool,
+    },
+    /// The closed form is undefined at this pose.
+    Singular {
+        /// Which singularity.
+        what: &'static str,
+        /// The singularity measure at the failure (0 = exactly singular).
+        measure: f64,
+    },
+    /// The numeric solver did not converge.
+    NoConvergence {
+        /// Iterations spent (per seed).
+        iterations: usize,
+        /// Remaining tool position error, m.
+        position_error_m: f64,
+        /// Remaining tool orientation error, rad.
+        orientation_error_rad: f64,
+    },
+    /// A solution failed the forward-kinematics re-check (a bug or bad parameters).
+    CheckFailed {
+        /// Tool position error, m.
+        position_error_m: f64,
+        /// Tool orientation error, rad.
+        orientation_error_rad: f64,
+    },
+    /// The query itself is not supported (too many joints, wrong length, non-finite target).
+    Unsupported(String),
+}
+
+impl IkFailure {
+    /// How informative a failure is when several branches failed differently.
+    fn rank(&self) -> u8 {
+        match self {
+            IkFailure::OutOfReach { .. } => 1,
+            IkFailure::NoConvergence { .. } => 2,
+            IkFailure::Singular { .. } => 3,
+            IkFailure::JointLimit { .. } => 4,
+            IkFailure::CheckFailed { .. } => 5,
+            IkFailure::Unsupported(_) => 6,
+        }
+    }
+}
+
+impl std::fmt::Display for IkFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            IkFailure::OutOfReach {
+                distance_m,
+                min_reach_m,
+                max_reach_m,
+                what,
+            } => {
+                write!(f, "out of reach: {what} is {distance_m:.4} m")?;
+                if distance_m > max_reach_m {
+                    write!(
+                        f,
+                        ", the arm reaches at most {max_reach_m:.4} m ({:.4} m too far)",
+                        distance_m - max_reach_m
+                    )
+                } else if distance_m < min_reach_m {
+                    write!(
+                        f,
+                        ", it must be at least {min_reach_m:.4} m ({:.4} m too close)",
+                        min_reach_m - distance_m
+                    )
+                } else {
+                    write!(f, " (reachable {min_reach_m:.4}–{max_reach_m:.4} m)")
+                }
+            }
+            IkFailure::JointLimit {
+                joint,
+                name,
+                value,
+                lower,
+                upper,
+                revolute,
+            } => {
+                if *revolute {
+                    write!(
+                        f,
+                        "joint limit: joint {} `{name}` would need {:.2}°, outside its limits [{:.2}°, {:.2}°]",
+                        joint + 1,
+                        value.to_degrees(),
+                        lower.to_degrees(),
+                        upper.to_degrees()
+                    )
+                } else {
+                    write!(
+                        f,
+                        "joint limit: joint {} `{name}` would need {value:.4} m, outside its limits [{lower:.4} m, {upper:.4} m]",
+                        joint + 1
+                    )
+                }
+            }
+            IkFailure::Singular { what, measure } => {
+                write!(f, "singular: {what} (measure {measure:.3e})")
+            }
+            IkFailure::NoConvergence {
+                iterations,
+                position_error_m,
+                orientation_error_rad,
+            } => write!(
+                f,
+                "no convergence after {iterations} iterations: tool still {position_error_m:.3e} m and {:.3e}° off",
+                orientation_error_rad.to_degrees()
+            ),
+            IkFailure::CheckFailed {
+                position_error_m,
+                orientation_error_rad,
+            } => write!(
+                f,
+                "IK answer failed the forward-kinematics check: {position_error_m:.3e} m, {orientation_error_rad:.3e} rad"
+            ),
+            IkFailure::Unsupported(m) => write!(f, "IK not possible: {m}"),
+        }
+    }
+}
+
+impl std::error::Error for IkFailure {}
+
+impl From<IkFailure> for crate::Error {
+    fn from(e: IkFailure) -> Self {
+        crate::Error::Unreachable(e.to_string())
+    }
+}
+
+/// Rotation vector (axis · angle, rad) of `r`, robust near 0 and π.
+pub fn rot_log(r: &M3) -> V3 {
+    let v = V3::new(
+        r[(2, 1)] - r[(1, 2)],
+        r[(0, 2)] - r[(2, 0)],
+        r[(1, 0)] - r[(0, 1)],
+    ) * 0.5;
+    let c = (r.trace() - 1.0) * 0.5;
+    let s = v.norm();
+    let theta = s.atan2(c);
+    if c > 0.0 || s > 1e-6 {
+        if s < 1e-300 {
+            return V3::zeros();
+        }
+        return v * (theta / s);
+    }
+    // Near π: sym(R) = cos θ I + (1 − cos θ) u uᵀ.
+    let d = [r[(0, 0)], r[(1, 1)], r[(2, 2)]];
+    let k = if d[0] >= d[1] && d[0] >= d[2] {
+        0
+    } else if d[1] >= d[2] {
+        1
+    } else {
+        2
+    };
+    let mut col: V3 = (r.column(k) + r.row(k).transpose()) * 0.5;
+    col[k] -= c;
+    let mut u = col / col.norm().max(1e-300);
+    if u.dot(&v) < 0.0 {
+        u = -u;
+    }
+    u * theta
+}
+
+/// 6-D pose error `[p_t − p; log(R_t Rᵀ)]` of `current` towards `target` (m, rad; base frame).
+pub fn pose_error(target: &Frame, current: &Frame) -> Vector6<f64> {
+    let dp = target.pos - current.pos;
+    let w = rot_log(&(target.rot * current.rot.transpose()));
+    Vector6::new(dp.x, dp.y, dp.z, w.x, w.y, w.z)
+}
+
+/// Position (m) and orientation (rad) distance between two poses, accurate to rounding.
+pub fn pose_distance(a: &Frame, b: &Frame) -> (f64, f64) {
+    (
+        (a.pos - b.pos).norm(),
+        rot_log(&(a.rot * b.rot.transpose())).norm(),
+    )
+}
+
+/// Put each revolute joint on the 2π multiple that is within limits and closest to `q_ref`
+/// (or to 0 without a reference), then check every joint against its limits (1e-9 slack,
+/// clamped). Prismatic joints are only checked.
+pub fn fit_limits(
+    model: &RobotModel,
+    q: &mut [f64],
+    q_ref: Option<&[f64]>,
+) -> Result<(), IkFailure> {
+    const TOL: f64 = 1e-9;
+    const TAU: f64 = 2.0 * PI;
+    for (i, j) in model.joints.iter().enumerate().take(q.len()) {
+        let fail = |value: f64| IkFailure::JointLimit {
+            joint: i,
+            name: j.name.clone(),
+            value,
+            lower: j.lower,
+            upper: j.upper,
+            revolute: j.kind == JointKind::Revolute,
+        };
+        let v = q[i];
+        match j.kind {
+            JointKind::Revolute => {
+                let center = q_ref.and_then(|r| r.get(i).copied()).unwrap_or(0.0);
+                let kmin = ((j.lower - TOL - v) / TAU).ceil();
+                let kmax = ((j.upper + TOL - v) / TAU).floor();
+                if kmin > kmax {
+                    let w = opw::wrap_pi(v - center) + center;
+                    return Err(fail(w));
+                }
+                let k = ((center - v) / TAU).round().clamp(kmin, kmax);
+                q[i] = (v + k * TAU).clamp(j.lower, j.upper);
+            }
+            JointKind::Prismatic => {
+                if !j.within_limits(v, TOL) {
+                    return Err(fail(v));
+                }
+                q[i] = v.clamp(j.lower, j.upper);
+            }
+        }
+    }
+    Ok(())
+}
+
+/// One inverse-kinematics answer, already checked by forward kinematics and within limits.
+#[derive(Clone, Copy, Debug)]
+pub struct Solution {
+    /// Joint vector (rad / m).
+    pub q: JointVec,
+    /// The closed-form branch, for OPW arms.
+    pub branch: Option<Branch>,
+    /// Tool position error of the FK re-check, m.
+    pub position_error_m: f64,
+    /// Tool orientation error of the FK re-check, rad.
+    pub orientation_error_rad: f64,
+}
+
+/// Inverse-kinematics front end: closed form when the model has OPW parameters, numeric
+/// otherwise. Targets are **tool** (nozzle-tip) poses in the base frame.
+#[derive(Clone, Debug)]
+pub struct IkSolver<'a> {
+    /// The robot.
+    pub model: &'a RobotModel,
+    tool_inv: Frame,
+    chain: fk::FastChain,
+    /// Settings of the numeric solver.
+    pub numeric: NumericOptions,
+    /// Accepted tool position error of the FK re-check, m.
+    pub check_position_m: f64,
+    /// Accepted tool orientation error of the FK re-check, rad.
+    pub check_orientation_rad: f64,
+    /// Upper bound of the distance tool point ↔ origin of joint 1 (sum of link lengths), m.
+    pub reach_bound_m: f64,
+}
+
+impl<'a> IkSolver<'a> {
+    /// A solver for `model` (at most [`MAX_DOF`] joints).
+    pub fn new(model: &'a RobotModel) -> Result<Self, IkFailure> {
+        if model.dof() == 0 || model.dof() > MAX_DOF {
+            return Err(IkFailure::Unsupported(format!(
+                "robot `{}` has {} joints; the kinematics handle 1..={MAX_DOF}",
+                model.name(),
+                model.dof()
+            )));
+        }
+        let reach_bound_m = model
+            .joints
+            .iter()
+            .skip(1)
+            .map(|j| {
+                j.origin.pos.norm()
+                    + match j.kind {
+                        JointKind::Prismatic => j.upper.abs().max(j.lower.abs()),
+                        JointKind::Revolute => 0.0,
+                    }
+            })
+            .sum::<f64>()
+            + model.flange.pos.norm()
+            + model.tool.pos.norm();
+        Ok(IkSolver {
+            model,
+            tool_inv: model.tool.inverse(),
+            chain: fk::FastChain::new(model),
+            numeric: NumericOptions::default(),
+            check_position_m: 1e-6,
+            check_orientation_rad: 1e-6,
+            reach_bound_m,
+        })
+    }
+
+    /// The flange pose that puts the tool at `tool_target` (`target ∘ tool⁻¹`).
+    #[inline]
+    pub fn flange_target(&self, tool_target: &Frame) -> Frame {
+        tool_target.compose(&self.tool_inv)
+    }
+
+    /// Re-check `q` by forward kinematics against the tool target; returns (m, rad) errors.
+    #[inline]
+    pub fn check(&self, tool_target: &Frame, q: &[f64]) -> Result<(f64, f64), IkFailure> {
+        let (dp, dr) = pose_distance(&self.chain.tool(q), tool_target);
+        if dp < self.check_position_m && dr < self.check_orientation_rad {
+            Ok((dp, dr))
+        } else {
+            Err(IkFailure::CheckFailed {
+                position_error_m: dp,
+                orientation_error_rad: dr,
+            })
+        }
+    }
+
+    fn precheck(&self, tool_target: &Frame) -> Result<(), IkFailure> {
+        let finite = tool_target.pos.iter().all(|v| v.is_finite())
+            && tool_target.rot.iter().all(|v| v.is_finite());
+        if !finite {
+            return Err(IkFailure::Unsupported("non-finite target pose".into()));
+        }
+        let d = (tool_target.pos - self.model.joints[0].origin.pos).norm();
+        // OPW arms report the more precise wrist-centre distance from the closed form.
+        if self.model.opw.is_none() && d > self.reach_bound_m {
+            return Err(IkFailure::OutOfReach {
+                distance_m: d,
+                min_reach_m: 0.0,
+                max_reach_m: self.reach_bound_m,
+                what: "nozzle tip from the base of joint 1",
+            });
+        }
+        Ok(())
+    }
+
+    /// Every solution for the tool pose: all 8 closed-form branches that are within limits
+    /// (joints on the 2π multiple closest to 0), or the distinct numeric solutions from
+    /// deterministic seeds. Each is FK-checked. Errors when there is none, with the most
+    /// informative reason.
+    pub fn solve_all(&self, tool_target: &Frame) -> Result<Vec<Solution>, IkFailure> {
+        self.precheck(tool_target)?;
+        let mut out: Vec<Solution> = Vec::new();
+        let mut why: Option<IkFailure> = None;
+        let note = |e: IkFailure, why: &mut Option<IkFailure>| {
+            if why.as_ref().is_none_or(|w| e.rank() > w.rank()) {
+                *why = Some(e);
+            }
+        };
+        match &self.model.opw {
+            Some(p) => {
+                let flange = self.flange_target(tool_target);
+                for b in Branch::ALL {
+                    let r = opw::solve_branch(p, &flange, b).and_then(|q| {
+                        let mut q = JointVec::from_slice(&q);
+                        fit_limits(self.model, &mut q, None)?;
+                        let (dp, dr) = self.check(tool_target, &q)?;
+                        Ok(Solution {
+                            q,
+                            branch: Some(b),
+                            position_error_m: dp,
+                            orientation_error_rad: dr,
+                        })
+                    });
+                    match r {
+                        Ok(s) => {
+                            if !out
+                                .iter()
+                                .any(|o| numeric::same_modulo_2pi(self.model, &o.q, &s.q, 1e-9))
+                            {
+                                out.push(s)
+                            }
+                        }
+                        Err(e) => note(e, &mut why),
+                    }
+                }
+            }
+            None => match numeric::solve_all(self.model, tool_target, &self.numeric) {
+                Ok(qs) => {
+                    for mut q in qs {
+                        let r = fit_limits(self.model, &mut q, None)
+                            .and_then(|_| self.check(tool_target, &q));
+                        match r {
+                            Ok((dp, dr)) => out.push(Solution {
+                                q,
+                                branch: None,
+                                position_error_m: dp,
+                                orientation_error_rad: dr,
+                            }),
+                            Err(e) => note(e, &mut why),
+                        }
+                    }
+                }
+                Err(e) => note(e, &mut why),
+            },
+        }
+        if out.is_empty() {
+            return Err(why.unwrap_or(IkFailure::Unsupported("no solution".into())));
+        }
+        Ok(out)
+    }
+
+    /// The solution that continues `q_prev` (rad / m; the previous path sample): the same
+    /// closed-form branch with wide-range joints on the 2π multiple closest to `q_prev` and q4
+    /// kept at the wrist singularity, or the numeric solution seeded at `q_prev`. FK-checked.
+    #[inline]
+    pub fn solve_near(&self, tool_target: &Frame, q_prev: &[f64]) -> Result<JointVec, IkFailure> {
+        if q_prev.len() != self.model.dof() {
+            return Err(IkFailure::Unsupported(format!(
+                "previous joint vector has {} entries, the robot {}",
+                q_prev.len(),
+                self.model.dof()
+            )));
+        }
+        let mut q = match &self.model.opw {
+            Some(p) => {
+                let flange = self.flange_target(tool_target);
+                // Keep the shoulder and elbow of q_prev; of the two wrist variants take the
+                // one nearer to q_prev, so that a smooth passage through q5 = 0 stays smooth.
+                let b = Branch::of(p, q_prev);
+                let flip = Branch {
+                    wrist: b.wrist.flipped(),
+                    ..b
+                };
+                let mut best: Option<(f64, JointVec)> = None;
+                let mut first_err = None;
+                for br in [b, flip] {
+                    if br == flip {
+                        // Far from the wrist singularity the flipped variant differs by about
+                        // π in q4 and q6 and cannot be nearer: skip it (the fast path).
+                        if let Some((_, q)) = &best {
+                            if opw::wrist_singularity(p, q) > NEAR_WRIST_SINGULARITY {
+                                break;
+                            }
+                        }
+                    }
+                    match opw::solve_branch_near(p, &flange, br, Some(q_prev)) {
+                        Ok(q) => {
+                            let mut q = JointVec::from_slice(&q);
+                            if fit_limits(self.model, &mut q, Some(q_prev)).is_err() {
+                                continue;
+                            }
+                            let d = q
+                                .iter()
+                                .zip(q_prev)
+                                .map(|(a, b)| (a - b).abs())
+                                .fold(0.0, f64::max);
+                            if best.as_ref().is_none_or(|(bd, _)| d < *bd) {
+                                best = Some((d, q));
+                            }
+                        }
+                        Err(e) => {
+                            first_err.get_or_insert(e);
+                        }
+                    }
+                }
+                match (best, first_err) {
+                    (Some((_, q)), _) => q,
+                    (None, Some(e)) => {
+                        self.precheck(tool_target)?;
+                        return Err(e);
+                    }
+                    (None, None) => {
+                        // Both variants exist but violate limits: report the unflipped one.
+                        let mut q = JointVec::from_slice(&opw::solve_branch_near(
+                            p,
+                            &flange,
+                            b,
+                            Some(q_prev),
+                        )?);
+                        fit_limits(self.model, &mut q, Some(q_prev))?;
+                        q
+                    }
+                }
+            }
+            None => {
+                self.precheck(tool_target)?;
+                numeric::solve_from(self.model, tool_target, q_prev, &self.numeric)?
+            }
+        };
+        fit_limits(self.model, &mut q, Some(q_prev))?;
+        self.check(tool_target, &q)?;
+        Ok(q)
+    }
+
+    /// The spin (rad, about the vertical nozzle axis) on an `n_grid` grid over (−π, π] whose
+    /// solution maximises `score(q)`: with `q_prev` the solution continuing it, otherwise every
+    /// solution of [`IkSolver::solve_all`]. `None` when no spin is reachable.
+    pub fn best_spin<F: Fn(&[f64]) -> f64>(
+        &self,
+        tip: &V3,
+        q_prev: Option<&[f64]>,
+        n_grid: usize,
+        score: F,
+    ) -> Option<SpinChoice> {
+        let mut best: Option<SpinChoice> = None;
+        let mut consider = |spin: f64, q: JointVec| {
+            let s = score(&q);
+            if s.is_finite() && best.as_ref().is_none_or(|b| s > b.score) {
+                best = Some(SpinChoice { spin, q, score: s });
+            }
+        };
+        for k in 0..n_grid.max(1) {
+            let spin = -PI + 2.0 * PI * (k as f64 + 1.0) / n_grid.max(1) as f64;
+            let t = nozzle_target(tip, spin);
+            match q_prev {
+                Some(qp) => {
+                    if let Ok(q) = self.solve_near(&t, qp) {
+                        consider(spin, q);
+                    }
+                }
+                None => {
+                    if let Ok(sols) = self.solve_all(&t) {
+                        for s in sols {
+                            consider(spin, s.q);
+                        }
+                    }
+                }
+            }
+        }
+        best
+    }
+}
+
+/// Result of [`IkSolver::best_spin`].
+#[derive(Clone, Copy, Debug)]
+pub struct SpinChoice {
+    /// Rotation about the nozzle axis, rad.
+    pub spin: f64,
+    /// Joint vector (rad / m).
+    pub q: JointVec,
+    /// The score of `q`.
+    pub score: f64,
+}
+
+/// All solutions for a tool pose; see [`IkSolver::solve_all`].
+pub fn solve_all(model: &RobotModel, tool_target: &Frame) -> Result<Vec<Solution>, IkFailure> {
+    IkSolver::new(model)?.solve_all(tool_target)
+}
+
+/// The solution continuing `q_prev`; see [`IkSolver::solve_near`].
+pub fn solve_near(
+    model: &RobotModel,
+    tool_target: &Frame,
+    q_prev: &[f64],
+) -> Result<JointVec, IkFailure> {
+    IkSolver::new(model)?.solve_near(tool_target, q_prev)
+}
+
+/// Tool pose for printing: nozzle tip at `tip` (base frame, m), nozzle (tool +z) pointing
+/// straight down (−Z of the base), turned by `spin` (rad) about the nozzle axis (tool +x =
+/// `(cos spin, sin spin, 0)`).
+pub fn nozzle_target(tip: &V3, spin: f64) -> Frame {
+    let (s, c) = spin.sin_cos();
+    Frame {
+        rot: M3::new(c, s, 0.0, s, -c, 0.0, 0.0, 0.0, -1.0),
+        pos: *tip,
+    }
+}
+
+/// Joint-limit margin of `q` (dimensionless): the smallest distance to a limit as a fraction
+/// of the joint's range; 0 at a limit, 0.5 at mid-range. Joints without finite limits count
+/// as 0.5.
+pub fn limit_margin(model: &RobotModel, q: &[f64]) -> f64 {
+    model
+        .joints
+        .iter()
+        .zip(q)
+        .filter(|(j, _)| j.lower.is_finite() && j.upper.is_finite() && j.upper > j.lower)
+        .map(|(j, &v)| (v - j.lower).min(j.upper - v) / (j.upper - j.lower))
+        .fold(0.5, f64::min)
+}
+
+/// Singularity measures at one joint vector. Every measure is 0 at its singularity.
+#[derive(Clone, Copy, Debug)]
+pub struct SingularityMeasures {
+    /// `|sin q5|` (dimensionless), OPW arms only.
+    pub wrist: Option<f64>,
+    /// `|sin(q3_opw + ψ3)|` (dimensionless; 0 = stretched out), OPW arms only.
+    pub elbow: Option<f64>,
+    /// Wrist-centre distance from the axis of joint 1 in the arm plane, m; OPW arms only.
+    pub shoulder_m: Option<f64>,
+    /// Smallest singular value of the tool Jacobian (mixed units, see [`jacobian_measures`]).
+    pub sigma_min: f64,
+    /// Manipulability `sqrt(det(J Jᵀ))` (mixed units).
+    pub manipulability: f64,
+}
+
+/// All singularity measures at `q` (rad / m).
+pub fn singularity_measures(model: &RobotModel, q: &[f64]) -> SingularityMeasures {
+    let (sigma_min, manipulability) = jacobian_measures(model, q);
+    let p = model.opw.as_ref().filter(|_| q.len() >= 6);
+    SingularityMeasures {
+        wrist: p.map(|p| opw::wrist_singularity(p, q)),
+        elbow: p.map(|p| opw::elbow_singularity(p, q)),
+        shoulder_m: p.map(|p| opw::shoulder_singularity(p, q)),
+        sigma_min,
+        manipulability,
+    }
+}

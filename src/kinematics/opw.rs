@@ -1,0 +1,344 @@
+//! Closed-form inverse kinematics of ortho-parallel arms with a spherical wrist (Brandstötter,
+//! Angerer, Hofbaur 2014; the algorithm of `opw_kinematics`), in URDF joint angles (rad).
+//!
+//! The solver works on the **flange** pose (`tool_link`) in the base frame. It does not apply
+//! joint limits; [`super::fit_limits`] (used by [`super::IkSolver`]) does. Angles come back
+//! wrapped to (−π, π]; the front end picks the 2π multiple within limits.
+
+use super::IkFailure;
+use crate::math::{Frame, M3, V3};
+use crate::robot::OpwParams;
+use std::f64::consts::PI;
+
+/// Below this `|sin q5|` the wrist is treated as exactly singular: q4 is kept from the
+/// reference and q6 takes up the whole rotation about the aligned axes (orientation error of
+/// the answer ≤ this value, rad).
+pub const WRIST_SINGULAR_SIN: f64 = 1e-9;
+
+/// Tolerance on the cosine arguments before a pose counts as out of reach (rounding of a
+/// fully stretched or folded arm).
+const ACOS_SLACK: f64 = 1e-10;
+
+/// Which side of joint 1 the wrist centre is on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Shoulder {
+    /// Wrist centre in front of the axis of joint 1 (the usual working side).
+    Front,
+    /// Joint 1 turned by ~π, the arm reaching over backwards.
+    Back,
+}
+
+/// Sign of the elbow angle (the `acos` branch of joint 3).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Elbow {
+    /// `q3_opw + ψ3 ∈ [0, π]`: elbow up for the front shoulder (the zero pose of ABB/KUKA arms).
+    Up,
+    /// `q3_opw + ψ3 ∈ (−π, 0)`.
+    Down,
+}
+
+/// Sign of joint 5.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Wrist {
+    /// `sin q5_opw ≥ 0`.
+    NoFlip,
+    /// `sin q5_opw < 0` (q4 + π, −q5, q6 + π).
+    Flip,
+}
+
+impl Wrist {
+    /// The other wrist variant.
+    pub fn flipped(self) -> Wrist {
+        match self {
+            Wrist::NoFlip => Wrist::Flip,
+            Wrist::Flip => Wrist::NoFlip,
+        }
+    }
+}
+
+/// One of the 8 closed-form solution branches.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub struct Branch {
+    /// Shoulder front/back.
+    pub shoulder: Shoulder,
+    /// Elbow up/down.
+    pub elbow: Elbow,
+    /// Wrist flip.
+    pub wrist: Wrist,
+}
+
+impl Branch {
+    /// All 8 branches, in the order of [`Branch::index`].
+    pub const ALL: [Branch; 8] = [
+        Branch::new(Shoulder::Front, Elbow::Up, Wrist::NoFlip),
+        Branch::new(Shoulder::Front, Elbow::Down, Wrist::NoFlip),
+        Branch::new(Shoulder::Back, Elbow::Up, Wrist::NoFlip),
+        Branch::new(Shoulder::Back, Elbow::Down, Wrist::NoFlip),
+        Branch::new(Shoulder::Front, Elbow::Up, Wrist::Flip),
+        Branch::new(Shoulder::Front, Elbow::Down, Wrist::Flip),
+        Branch::new(Shoulder::Back, Elbow::Up, Wrist::Flip),
+        Branch::new(Shoulder::Back, Elbow::Down, Wrist::Flip),
+    ];
+
+    /// Build a branch.
+    pub const fn new(shoulder: Shoulder, elbow: Elbow, wrist: Wrist) -> Self {
+        Branch {
+            shoulder,
+            elbow,
+            wrist,
+        }
+    }
+
+    /// Index 0..8 in the order of `opw_kinematics` (wrist·4 + shoulder·2 + elbow).
+    pub fn index(self) -> usize {
+        (matches!(self.wrist, Wrist::Flip) as usize) * 4
+            + (matches!(self.shoulder, Shoulder::Back) as usize) * 2
+            + matches!(self.elbow, Elbow::Down) as usize
+    }
+
+    /// Classify URDF joint angles `q` (rad; missing entries count as 0) into their branch. Invariant under
+    /// 2π shifts of any joint.
+    pub fn of(p: &OpwParams, q: &[f64]) -> Branch {
+        let o = opw_angles(p, q);
+        let psi3 = p.a2.atan2(p.c3);
+        let k = (p.a2 * p.a2 + p.c3 * p.c3).sqrt();
+        let cx1 = p.c2 * o[1].sin() + k * (o[1] + o[2] + psi3).sin() + p.a1;
+        Branch {
+            shoulder: if cx1 >= 0.0 {
+                Shoulder::Front
+            } else {
+                Shoulder::Back
+            },
+            elbow: if (o[2] + psi3).sin() >= 0.0 {
+                Elbow::Up
+            } else {
+                Elbow::Down
+            },
+            wrist: if o[4].sin() >= 0.0 {
+                Wrist::NoFlip
+            } else {
+                Wrist::Flip
+            },
+        }
+    }
+}
+
+impl std::fmt::Display for Branch {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "shoulder {}, elbow {}, wrist {}",
+            match self.shoulder {
+                Shoulder::Front => "front",
+                Shoulder::Back => "back",
+            },
+            match self.elbow {
+                Elbow::Up => "up",
+                Elbow::Down => "down",
+            },
+            match self.wrist {
+                Wrist::NoFlip => "no flip",
+                Wrist::Flip => "flip",
+            }
+        )
+    }
+}
+
+/// OPW angles of `q` (URDF, rad); missing entries are taken as 0.
+#[inline]
+fn opw_angles(p: &OpwParams, q: &[f64]) -> [f64; 6] {
+    let mut a = [0.0; 6];
+    for (d, s) in a.iter_mut().zip(q) {
+        *d = *s;
+    }
+    p.to_opw(&a)
+}
+
+/// Wrap an angle to (−π, π].
+#[inline]
+pub fn wrap_pi(a: f64) -> f64 {
+    let w = a - (2.0 * PI) * ((a + PI) / (2.0 * PI)).floor();
+    // w in [−π, π); move −π to π.
+    if w <= -PI {
+        w + 2.0 * PI
+    } else {
+        w
+    }
+}
+
+#[inline]
+fn checked_acos(x: f64) -> Option<f64> {
+    if x.is_nan() || x.abs() > 1.0 + ACOS_SLACK {
+        None
+    } else {
+        Some(x.clamp(-1.0, 1.0).acos())
+    }
+}
+
+/// Arm part (joints 1–3, OPW angles) of one shoulder/elbow branch, or why it has none.
+#[inline]
+fn arm(p: &OpwParams, c: &V3, shoulder: Shoulder, elbow: Elbow) -> Result<[f64; 3], IkFailure> {
+    let rho2 = c.x * c.x + c.y * c.y - p.b * p.b;
+    if rho2.is_nan() || rho2 < 0.0 {
+        return Err(IkFailure::OutOfReach {
+            distance_m: (c.x * c.x + c.y * c.y).sqrt(),
+            min_reach_m: p.b.abs(),
+            max_reach_m: f64::INFINITY,
+            what: "wrist centre from the axis of joint 1",
+        });
+    }
+    let rho = rho2.sqrt();
+    let nx1 = rho - p.a1;
+    let phi = c.y.atan2(c.x);
+    let beta = p.b.atan2(rho);
+    let dz = c.z - p.c1;
+    let kappa2 = p.a2 * p.a2 + p.c3 * p.c3;
+    let kappa = kappa2.sqrt();
+    let c22 = p.c2 * p.c2;
+    let psi3 = p.a2.atan2(p.c3);
+    let (q1, x) = match shoulder {
+        Shoulder::Front => (phi - beta, nx1),
+        Shoulder::Back => (phi + beta - PI, nx1 + 2.0 * p.a1),
+    };
+    let s2 = x * x + dz * dz;
+    let s = s2.sqrt();
+    let out = || IkFailure::OutOfReach {
+        distance_m: s,
+        min_reach_m: (p.c2 - kappa).abs(),
+        max_reach_m: p.c2 + kappa,
+        what: "wrist centre from the axis of joint 2",
+    };
+    if s == 0.0 {
+        return Err(IkFailure::Singular {
+            what: "wrist centre on the axis of joint 2",
+            measure: 0.0,
+        });
+    }
+    let t2 = checked_acos((s2 + c22 - kappa2) / (2.0 * s * p.c2)).ok_or_else(out)?;
+    let t3 = checked_acos((s2 - c22 - kappa2) / (2.0 * p.c2 * kappa)).ok_or_else(out)?;
+    let (q2, q3) = match shoulder {
+        Shoulder::Front => {
+            let a = x.atan2(dz);
+            match elbow {
+                Elbow::Up => (a - t2, t3 - psi3),
+                Elbow::Down => (a + t2, -t3 - psi3),
+            }
+        }
+        Shoulder::Back => {
+            let a = x.atan2(dz);
+            match elbow {
+                Elbow::Up => (-t2 - a, t3 - psi3),
+                Elbow::Down => (t2 - a, -t3 - psi3),
+            }
+        }
+    };
+    Ok([q1, q2, q3])
+}
+
+/// Wrist part (OPW q4, q5, q6) given the arm; `q4_ref` (OPW angle, rad) is used at the
+/// singularity.
+#[inline]
+fn wrist(r: &M3, arm: &[f64; 3], w: Wrist, q4_ref: f64) -> [f64; 3] {
+    let (s1, c1) = arm[0].sin_cos();
+    let (s23, c23) = (arm[1] + arm[2]).sin_cos();
+    // Columns of R_0c.
+    let x = V3::new(c1 * c23, s1 * c23, -s23);
+    let y = V3::new(-s1, c1, 0.0);
+    let z = V3::new(c1 * s23, s1 * s23, c23);
+    let rz = r.column(2);
+    // R_ce = R_0c^T R, only the entries needed.
+    let r02 = x.dot(&rz);
+    let r12 = y.dot(&rz);
+    let r22 = z.dot(&rz);
+    let s5 = (r02 * r02 + r12 * r12).sqrt();
+    if s5 < WRIST_SINGULAR_SIN {
+        let rx = r.column(0);
+        let r00 = x.dot(&rx);
+        let r10 = y.dot(&rx);
+        if r22 >= 0.0 {
+            // R_ce ≈ Rz(q4 + q6).
+            let sum = r10.atan2(r00);
+            [q4_ref, 0.0, sum - q4_ref]
+        } else {
+            // R_ce ≈ Ry(π) Rz(q6 − q4).
+            let r11 = y.dot(&r.column(1));
+            let diff = r10.atan2(r11);
+            [q4_ref, PI, diff + q4_ref]
+        }
+    } else {
+        let r20 = z.dot(&r.column(0));
+        let r21 = z.dot(&r.column(1));
+        let q4 = r12.atan2(r02);
+        let q5 = s5.atan2(r22);
+        let q6 = r21.atan2(-r20);
+        match w {
+            Wrist::NoFlip => [q4, q5, q6],
+            Wrist::Flip => [q4 + PI, -q5, q6 + PI],
+        }
+    }
+}
+
+/// Joint angles (URDF convention, rad, wrapped to (−π, π]) of one branch for the flange pose
+/// `flange` (base frame, m). Joint limits are not applied. At the wrist singularity q4 = 0.
+pub fn solve_branch(p: &OpwParams, flange: &Frame, branch: Branch) -> Result<[f64; 6], IkFailure> {
+    solve_branch_near(p, flange, branch, None)
+}
+
+/// Like [`solve_branch`], but at the wrist singularity joint 4 keeps its value from `q_ref`
+/// (URDF angles, rad; the previous path sample).
+#[inline]
+pub fn solve_branch_near(
+    p: &OpwParams,
+    flange: &Frame,
+    branch: Branch,
+    q_ref: Option<&[f64]>,
+) -> Result<[f64; 6], IkFailure> {
+    let r = &flange.rot;
+    let c = flange.pos - r.column(2) * p.c4;
+    let a = arm(p, &c, branch.shoulder, branch.elbow)?;
+    let q4_ref = match q_ref {
+        Some(q) if q.len() > 3 => q[3] * p.signs[3] - p.offsets[3],
+        _ => -p.offsets[3],
+    };
+    let w = wrist(r, &a, branch.wrist, q4_ref);
+    let o = [a[0], a[1], a[2], w[0], w[1], w[2]];
+    let mut q = p.from_opw(&o);
+    for v in &mut q {
+        *v = wrap_pi(*v);
+    }
+    if q.iter().any(|v| !v.is_finite()) {
+        return Err(IkFailure::Singular {
+            what: "non-finite closed-form solution",
+            measure: 0.0,
+        });
+    }
+    Ok(q)
+}
+
+/// All 8 branches for the flange pose (base frame, m), indexed by [`Branch::index`]; each
+/// entry is the joint vector (URDF, rad, wrapped to (−π, π]) or why that branch has none.
+pub fn solve_all(p: &OpwParams, flange: &Frame) -> [Result<[f64; 6], IkFailure>; 8] {
+    Branch::ALL.map(|b| solve_branch(p, flange, b))
+}
+
+/// Wrist singularity measure `|sin q5|` (dimensionless, 0 = joints 4 and 6 aligned) for URDF
+/// angles `q` (rad).
+pub fn wrist_singularity(p: &OpwParams, q: &[f64]) -> f64 {
+    opw_angles(p, q)[4].sin().abs()
+}
+
+/// Elbow singularity measure `|sin(q3_opw + ψ3)|` (dimensionless): 0 when the arm is stretched
+/// out (or folded back), 1 with a right angle between upper arm and forearm line.
+pub fn elbow_singularity(p: &OpwParams, q: &[f64]) -> f64 {
+    let psi3 = p.a2.atan2(p.c3);
+    (opw_angles(p, q)[2] + psi3).sin().abs()
+}
+
+/// Shoulder singularity measure, m: distance of the wrist centre from the axis of joint 1
+/// within the arm plane (`|c_x1|` of the OPW paper; for `b = 0` the distance to the axis).
+pub fn shoulder_singularity(p: &OpwParams, q: &[f64]) -> f64 {
+    let o = opw_angles(p, q);
+    let psi3 = p.a2.atan2(p.c3);
+    let k = (p.a2 * p.a2 + p.c3 * p.c3).sqrt();
+    (p.c2 * o[1].sin() + k * (o[1] + o[2] + psi3).sin() + p.a1).abs()
+}

@@ -1,0 +1,495 @@
+//! From the Cartesian motion to the joint trajectory: inverse kinematics per sample with one
+//! arm configuration held along the path, joint velocities, accelerations and jerks by
+//! central differences, and the controller's answer to a joint limit: the path speed is
+//! reduced where the limit binds (and the acceleration where a ramp makes it bind), then the
+//! whole motion is planned again. Every reduction is reported with where and by how much.
+
+use super::geometry::Piece;
+use super::profile::{nodes, plan, CartesianMotion, Nodes, ProfileOptions};
+use crate::kinematics::{nozzle_target, IkFailure, IkSolver, JointVec};
+use crate::math::{Frame, V3};
+use crate::robot::RobotModel;
+use crate::trajectory::JointTrajectory;
+use serde::Serialize;
+
+/// Which limit bound.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum LimitKind {
+    /// Joint velocity limit (rad/s).
+    Velocity,
+    /// Joint acceleration limit (rad/s²).
+    Acceleration,
+    /// Joint jerk limit (rad/s³).
+    Jerk,
+}
+
+/// A place where a joint limit made the controller slow down.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Slowdown {
+    /// 0-based joint index.
+    pub joint: usize,
+    /// Which limit.
+    pub kind: LimitKind,
+    /// Time of the worst sample in the first plan that violated it, s.
+    pub t: f64,
+    /// Path position (arc length) there, m.
+    pub s: f64,
+    /// Programmed move index (0-based) there.
+    pub move_index: usize,
+    /// Demand over limit before the slow-down (> 1).
+    pub ratio: f64,
+    /// Factor applied to the path speed there (< 1).
+    pub speed_factor: f64,
+}
+
+/// Options of the joint stage.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct JointStageOptions {
+    /// Re-planning rounds before giving up.
+    pub max_iterations: usize,
+    /// Target fraction of a limit after a slow-down (e.g. 0.95).
+    pub margin: f64,
+    /// Check jerk limits too.
+    pub check_jerk: bool,
+}
+
+impl Default for JointStageOptions {
+    fn default() -> Self {
+        JointStageOptions {
+            max_iterations: 12,
+            margin: 0.95,
+            check_jerk: true,
+        }
+    }
+}
+
+/// Why a path could not be timed at a placement. Each names the sample and where it is.
+#[derive(Clone, Debug, PartialEq)]
+pub enum TimingFailure {
+    /// No IK solution at a sample.
+    Unreachable {
+        /// Sample index.
+        sample: usize,
+        /// Time, s.
+        t: f64,
+        /// TCP in the base frame, m.
+        point: V3,
+        /// Programmed move (0-based) and its source line.
+        move_index: usize,
+        /// Source line of the move.
+        line: usize,
+        /// The IK's reason.
+        reason: IkFailure,
+    },
+    /// Holding one configuration needs a jump (wrist flip or branch change) between samples.
+    ConfigurationChange {
+        /// Sample index where the jump happens.
+        sample: usize,
+        /// Time, s.
+        t: f64,
+        /// TCP in the base frame, m.
+        point: V3,
+        /// Source line of the move.
+        line: usize,
+        /// Joint that jumps (0-based) and by how much, rad.
+        joint: usize,
+        /// The jump, rad.
+        jump: f64,
+    },
+    /// Joint limits still exceeded after the allowed re-planning rounds.
+    LimitsNotMet {
+        /// Joint (0-based).
+        joint: usize,
+        /// Which limit.
+        kind: LimitKind,
+        /// Demand over limit.
+        ratio: f64,
+        /// Time, s.
+        t: f64,
+    },
+}
+
+impl std::fmt::Display for TimingFailure {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        match self {
+            TimingFailure::Unreachable { sample, t, point, line, reason, .. } => write!(
+                f,
+                "path sample {sample} (t = {t:.3} s, move on line {line}) at ({:.4}, {:.4}, {:.4}) m is unreachable: {reason}",
+                point.x, point.y, point.z
+            ),
+            TimingFailure::ConfigurationChange { sample, t, point, line, joint, jump } => write!(
+                f,
+                "holding one arm configuration fails at path sample {sample} (t = {t:.3} s, move on line {line}, ({:.4}, {:.4}, {:.4}) m): joint {} would jump {:.1} deg (wrist flip or branch change)",
+                point.x, point.y, point.z, joint + 1, jump.to_degrees()
+            ),
+            TimingFailure::LimitsNotMet { joint, kind, ratio, t } => write!(
+                f,
+                "joint {} {kind:?} limit still exceeded ({ratio:.2}x) at t = {t:.3} s after re-planning",
+                joint + 1
+            ),
+        }
+    }
+}
+
+/// A path timed at a placement.
+#[derive(Clone, Debug)]
+pub struct TimedPath {
+    /// The joint trajectory (t, q, q̇, q̈) at the interpolation period.
+    pub traj: JointTrajectory,
+    /// The Cartesian motion in the part frame it follows.
+    pub motion: CartesianMotion,
+    /// TCP in the base frame per sample, m.
+    pub tcp: Vec<V3>,
+    /// Where joint limits slowed the path.
+    pub slowdowns: Vec<Slowdown>,
+    /// Planning rounds used (1 = no limit bound).
+    pub rounds: usize,
+    /// Global acceleration factor applied (1 = none).
+    pub accel_factor: f64,
+}
+
+/// IK along the motion continuing from `q0`; fills `qs` (row-major).
+#[allow(clippy::too_many_arguments)]
+pub fn track(
+    solver: &IkSolver,
+    pieces: &[Piece],
+    moves_line: &dyn Fn(usize) -> usize,
+    motion: &CartesianMotion,
+    part_to_base: &Frame,
+    spin: f64,
+    q0: &[f64],
+    qs: &mut Vec<f64>,
+    tcp: &mut Vec<V3>,
+) -> Result<(), TimingFailure> {
+    let model = solver.model;
+    let n = model.dof();
+    qs.clear();
+    tcp.clear();
+    let mut prev = JointVec::from_slice(q0);
+    // A step larger than this cannot be a continuous motion of one configuration.
+    let max_step: Vec<f64> = model
+        .joints
+        .iter()
+        .map(|j| {
+            if j.velocity_limit.is_finite() {
+                (j.velocity_limit * motion.dt * 4.0).max(0.05)
+            } else {
+                0.5
+            }
+        })
+        .collect();
+    for (k, p) in motion.p.iter().enumerate() {
+        let tip = part_to_base.apply(p);
+        let target = nozzle_target(&tip, spin);
+        let mi = pieces[motion.piece[k]].move_index;
+        let q = solver
+            .solve_near(&target, &prev)
+            .map_err(|reason| TimingFailure::Unreachable {
+                sample: k,
+                t: k as f64 * motion.dt,
+                point: tip,
+                move_index: mi,
+                line: moves_line(mi),
+                reason,
+            })?;
+        if k > 0 {
+            for j in 0..n {
+                let d = (q[j] - prev[j]).abs();
+                if d > max_step[j] {
+                    return Err(TimingFailure::ConfigurationChange {
+                        sample: k,
+                        t: k as f64 * motion.dt,
+                        point: tip,
+                        line: moves_line(mi),
+                        joint: j,
+                        jump: d,
+                    });
+                }
+            }
+        }
+        qs.extend_from_slice(&q[..n]);
+        tcp.push(tip);
+        prev = q;
+    }
+    Ok(())
+}
+
+/// Central differences of uniformly sampled positions: (q̇, q̈, q⃛), one-sided at the ends.
+pub fn differentiate(q: &[f64], n: usize, dt: f64) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
+    let m = q.len() / n;
+    let mut qd = vec![0.0; q.len()];
+    let mut qdd = vec![0.0; q.len()];
+    let mut qddd = vec![0.0; q.len()];
+    if m < 3 {
+        return (qd, qdd, qddd);
+    }
+    let at = |k: usize, j: usize| q[k * n + j];
+    for k in 0..m {
+        let (a, b) = if k == 0 {
+            (0, 1)
+        } else if k == m - 1 {
+            (m - 2, m - 1)
+        } else {
+            (k - 1, k + 1)
+        };
+        let c = k.clamp(1, m - 2);
+        for j in 0..n {
+            qd[k * n + j] = (at(b, j) - at(a, j)) / ((b - a) as f64 * dt);
+            qdd[k * n + j] = (at(c + 1, j) - 2.0 * at(c, j) + at(c - 1, j)) / (dt * dt);
+        }
+    }
+    for k in 0..m {
+        let c = k.clamp(2, m.saturating_sub(3).max(2));
+        if c + 2 >= m {
+            continue;
+        }
+        for j in 0..n {
+            // (q[c+2] - 2q[c+1] + 2q[c-1] - q[c-2]) / (2 dt³)
+            qddd[k * n + j] = (at(c + 2, j) - 2.0 * at(c + 1, j) + 2.0 * at(c - 1, j)
+                - at(c - 2, j))
+                / (2.0 * dt * dt * dt);
+        }
+    }
+    (qd, qdd, qddd)
+}
+
+struct Violation {
+    joint: usize,
+    kind: LimitKind,
+    sample: usize,
+    ratio: f64,
+}
+
+fn violations(
+    model: &RobotModel,
+    qd: &[f64],
+    qdd: &[f64],
+    qddd: &[f64],
+    check_jerk: bool,
+) -> Vec<Violation> {
+    let n = model.dof();
+    let mut out = Vec::new();
+    let m = qd.len() / n;
+    for k in 0..m {
+        for (j, jt) in model.joints.iter().enumerate() {
+            let checks = [
+                (LimitKind::Velocity, qd[k * n + j], jt.velocity_limit),
+                (
+                    LimitKind::Acceleration,
+                    qdd[k * n + j],
+                    jt.acceleration_limit,
+                ),
+                (
+                    LimitKind::Jerk,
+                    if check_jerk { qddd[k * n + j] } else { 0.0 },
+                    jt.jerk_limit,
+                ),
+            ];
+            for (kind, v, lim) in checks {
+                if lim.is_finite() && v.abs() > lim {
+                    out.push(Violation {
+                        joint: j,
+                        kind,
+                        sample: k,
+                        ratio: v.abs() / lim,
+                    });
+                }
+            }
+        }
+    }
+    out
+}
+
+/// Time `pieces` at a placement: Cartesian plan, IK with one configuration from `q0`,
+/// joint-limit checks and slow-downs until every limit holds at every sample.
+#[allow(clippy::too_many_arguments)]
+pub fn time_path(
+    solver: &IkSolver,
+    pieces: &[Piece],
+    moves_line: &dyn Fn(usize) -> usize,
+    part_to_base: &Frame,
+    spin: f64,
+    q0: &[f64],
+    popts: &ProfileOptions,
+    jopts: &JointStageOptions,
+) -> Result<TimedPath, TimingFailure> {
+    let model = solver.model;
+    let n = model.dof();
+    let nodes: Nodes = nodes(pieces, popts);
+    let mut scale = vec![1.0; nodes.s.len()];
+    let mut opts = *popts;
+    let mut slowdowns: Vec<Slowdown> = Vec::new();
+    let mut qs = Vec::new();
+    let mut tcp = Vec::new();
+    let max_rounds = jopts.max_iterations.max(1);
+    let mut round = 0;
+    loop {
+        round += 1;
+        let motion = plan(pieces, &nodes, &scale, &opts);
+        track(
+            solver,
+            pieces,
+            moves_line,
+            &motion,
+            part_to_base,
+            spin,
+            q0,
+            &mut qs,
+            &mut tcp,
+        )?;
+        let (qd, qdd, qddd) = differentiate(&qs, n, motion.dt);
+        let viol = violations(model, &qd, &qdd, &qddd, jopts.check_jerk);
+        if viol.is_empty() {
+            let mut traj = JointTrajectory::new(n);
+            traj.t = (0..motion.p.len()).map(|k| k as f64 * motion.dt).collect();
+            traj.q = qs;
+            traj.qd = qd;
+            traj.qdd = qdd;
+            return Ok(TimedPath {
+                traj,
+                motion,
+                tcp,
+                slowdowns,
+                rounds: round,
+                accel_factor: opts.accel / popts.accel,
+            });
+        }
+        if round == max_rounds {
+            let w = viol
+                .iter()
+                .max_by(|a, b| a.ratio.total_cmp(&b.ratio))
+                .expect("non-empty");
+            return Err(TimingFailure::LimitsNotMet {
+                joint: w.joint,
+                kind: w.kind,
+                ratio: w.ratio,
+                t: w.sample as f64 * motion.dt,
+            });
+        }
+        // Slow down around every violating sample; report the worst per (joint, kind, move).
+        let half = motion.taps + 2;
+        let mut ramp_factor: f64 = 1.0;
+        for v in &viol {
+            let f = match v.kind {
+                LimitKind::Velocity => jopts.margin / v.ratio,
+                LimitKind::Acceleration => (jopts.margin / v.ratio).sqrt(),
+                LimitKind::Jerk => (jopts.margin / v.ratio).cbrt(),
+            };
+            let k0 = v.sample.saturating_sub(half);
+            let k1 = (v.sample + half).min(motion.s.len() - 1);
+            let (s0, s1) = (motion.s[k0], motion.s[k1]);
+            let i0 = nodes.s.partition_point(|&x| x < s0);
+            let i1 = nodes.s.partition_point(|&x| x <= s1);
+            let mut slow_cap = false;
+            for sc in &mut scale[i0..i1.min(nodes.s.len())] {
+                if *sc > f {
+                    *sc = f;
+                    slow_cap = true;
+                }
+            }
+            if !slow_cap && v.kind != LimitKind::Velocity {
+                // The cap is already low here: the demand comes from a ramp; lower acceleration.
+                ramp_factor = ramp_factor.min(match v.kind {
+                    LimitKind::Acceleration => jopts.margin / v.ratio,
+                    _ => (jopts.margin / v.ratio).sqrt(),
+                });
+            }
+            let mi = pieces[motion.piece[v.sample]].move_index;
+            match slowdowns
+                .iter_mut()
+                .find(|s| s.joint == v.joint && s.kind == v.kind && s.move_index == mi)
+            {
+                Some(s) => {
+                    if v.ratio > s.ratio && round == 1 {
+                        s.ratio = v.ratio;
+                        s.t = v.sample as f64 * motion.dt;
+                        s.s = motion.s[v.sample];
+                    }
+                    s.speed_factor = s.speed_factor.min(f);
+                }
+                None => slowdowns.push(Slowdown {
+                    joint: v.joint,
+                    kind: v.kind,
+                    t: v.sample as f64 * motion.dt,
+                    s: motion.s[v.sample],
+                    move_index: mi,
+                    ratio: v.ratio,
+                    speed_factor: f,
+                }),
+            }
+        }
+        if ramp_factor < 1.0 {
+            opts.accel *= ramp_factor;
+            opts.jerk *= ramp_factor;
+        }
+    }
+}
+
+/// Time a blended path at a placement, choosing the arm configuration: every IK solution at
+/// the first sample is tried, widest joint-limit margin first, and the first that carries the
+/// whole path with one configuration wins. When none does, the failure of the candidate that
+/// got furthest along the path is returned.
+pub fn time_at(
+    solver: &IkSolver,
+    pieces: &[Piece],
+    moves_line: &dyn Fn(usize) -> usize,
+    part_to_base: &Frame,
+    spin: f64,
+    popts: &ProfileOptions,
+    jopts: &JointStageOptions,
+) -> Result<TimedPath, TimingFailure> {
+    let first = pieces
+        .first()
+        .map(|p| p.prim.point(0.0))
+        .unwrap_or_else(V3::zeros);
+    let tip = part_to_base.apply(&first);
+    let mut cands = solver
+        .solve_all(&nozzle_target(&tip, spin))
+        .map_err(|reason| TimingFailure::Unreachable {
+            sample: 0,
+            t: 0.0,
+            point: tip,
+            move_index: 0,
+            line: moves_line(0),
+            reason,
+        })?;
+    let model = solver.model;
+    cands.sort_by(|a, b| {
+        crate::kinematics::limit_margin(model, &b.q)
+            .total_cmp(&crate::kinematics::limit_margin(model, &a.q))
+    });
+    let mut best_err: Option<TimingFailure> = None;
+    let progress = |e: &TimingFailure| match e {
+        TimingFailure::Unreachable { sample, .. }
+        | TimingFailure::ConfigurationChange { sample, .. } => *sample,
+        TimingFailure::LimitsNotMet { .. } => usize::MAX,
+    };
+    for c in &cands {
+        match time_path(
+            solver,
+            pieces,
+            moves_line,
+            part_to_base,
+            spin,
+            &c.q,
+            popts,
+            jopts,
+        ) {
+            Ok(t) => return Ok(t),
+            Err(e) => {
+                if best_err.as_ref().is_none_or(|b| progress(&e) > progress(b)) {
+                    best_err = Some(e);
+                }
+            }
+        }
+    }
+    Err(best_err.unwrap_or(TimingFailure::Unreachable {
+        sample: 0,
+        t: 0.0,
+        point: tip,
+        move_index: 0,
+        line: moves_line(0),
+        reason: IkFailure::Unsupported("no IK solution at the first sample".into()),
+    }))
+}

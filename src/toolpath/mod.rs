@@ -1,0 +1,450 @@
+//! Toolpaths: the path the nozzle follows, in its own part frame, read from the formats 3DCP
+//! teams have (G-code, CSV of points, ABB RAPID).
+//!
+//! Units: SI inside (m, rad, m/s). Millimetres, inches, degrees and feed rates (mm/min, mm/s,
+//! in/min) are converted in the readers of this module and nowhere else.
+//!
+//! The part frame is right-handed with +z up (against gravity); the nozzle points down along
+//! −z. A [`Placement`] maps the part frame into the robot base frame.
+//!
+//! Limitations (all readers): orientations are not kept (the nozzle is assumed vertical; RAPID
+//! quaternions are read and dropped); only the TCP position, speed, blend zone and extrusion
+//! state of each move are kept.
+
+mod csv;
+mod gcode;
+mod rapid;
+
+use std::path::Path;
+
+use crate::error::{read_text, Error, Result};
+use crate::math::{rot_axis, rot_z, Frame, V3};
+
+pub use self::csv::{parse_csv, parse_placements};
+pub use self::gcode::parse_gcode;
+pub use self::rapid::parse_rapid;
+
+/// Corner blending at the end of a move.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Zone {
+    /// Stop exactly at the end point (RAPID `fine`, G-code `G61`/`G9`).
+    Fine,
+    /// Blend the corner within this radius around the end point, m (RAPID `z10` = 0.010 m).
+    Blend(f64),
+}
+
+impl Zone {
+    /// Blend radius in m; 0 for [`Zone::Fine`].
+    pub fn radius(&self) -> f64 {
+        match *self {
+            Zone::Fine => 0.0,
+            Zone::Blend(r) => r,
+        }
+    }
+}
+
+/// Geometry of one move.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum MoveKind {
+    /// Straight line from the previous end point to [`Move::end`].
+    Line,
+    /// Circular (or helical) arc from the previous end point to [`Move::end`].
+    ///
+    /// Point at fraction `u ∈ [0, 1]` of the move, with `p0` the start point:
+    /// `centre + R(normal, u·sweep)(p0 − centre) + normal·(u·axial)`, `R` a right-handed
+    /// rotation. The motion is counter-clockwise about `normal` (G17: G3 has `normal = +z`,
+    /// G2 has `normal = −z`); `sweep > 0`.
+    Arc {
+        /// Centre of the circle, in the plane of the start point, m.
+        centre: V3,
+        /// Unit axis of the circle; the motion turns positively about it.
+        normal: V3,
+        /// Radius, m.
+        radius: f64,
+        /// Swept angle, rad, in (0, 2π] (2π = full circle).
+        sweep: f64,
+        /// Helical rise along `normal` over the whole move, m (0 for a planar arc).
+        axial: f64,
+    },
+}
+
+/// One move of a toolpath: from the end of the previous move (or [`Toolpath::start`]) to `end`.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Move {
+    /// Line or arc.
+    pub kind: MoveKind,
+    /// End point in the part frame, m.
+    pub end: V3,
+    /// Commanded TCP speed, m/s (> 0).
+    pub speed: f64,
+    /// Corner blend at the end of the move.
+    pub zone: Zone,
+    /// `true` when extruding, `false` for travel.
+    pub print: bool,
+    /// 1-based line of the source file that commanded this move.
+    pub line: usize,
+}
+
+impl Move {
+    /// Length of the move starting at `start` (m).
+    pub fn length(&self, start: &V3) -> f64 {
+        match self.kind {
+            MoveKind::Line => (self.end - start).norm(),
+            MoveKind::Arc {
+                radius,
+                sweep,
+                axial,
+                ..
+            } => (radius * sweep).hypot(axial),
+        }
+    }
+
+    /// Point at fraction `u ∈ [0, 1]` of the arc length of the move starting at `start` (m).
+    /// Exact for lines and arcs (arcs and helices have constant speed in the angle).
+    pub fn point_at(&self, start: &V3, u: f64) -> V3 {
+        let u = if u.is_nan() { 0.0 } else { u.clamp(0.0, 1.0) };
+        if u >= 1.0 {
+            return self.end;
+        }
+        match self.kind {
+            MoveKind::Line => start + (self.end - start) * u,
+            MoveKind::Arc {
+                centre,
+                normal,
+                sweep,
+                axial,
+                ..
+            } => centre + rot_axis(&normal, sweep * u) * (start - centre) + normal * (axial * u),
+        }
+    }
+}
+
+/// A named point on the path (from `; MARK name` comments), e.g. seed 000's `Ps`, `Pm`, `Pe`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Mark {
+    /// Name as written after `MARK`.
+    pub name: String,
+    /// Position in the part frame, m.
+    pub point: V3,
+    /// Arc length from the start of the path, m.
+    pub s: f64,
+}
+
+/// One sample of [`Toolpath::sample`].
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct PathSample {
+    /// Position in the part frame, m.
+    pub p: V3,
+    /// Arc length from the start of the path, m.
+    pub s: f64,
+    /// Index of the move this sample lies on (0 for the start point).
+    pub move_index: usize,
+    /// Whether that move extrudes.
+    pub print: bool,
+}
+
+/// A toolpath in its part frame (m, m/s).
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Toolpath {
+    /// Where the source came from (file name), for messages.
+    pub source: String,
+    /// Start point, m.
+    pub start: V3,
+    /// The moves, in order.
+    pub moves: Vec<Move>,
+    /// Named points (`MARK` comments), in order of appearance.
+    pub marks: Vec<Mark>,
+    /// Non-fatal notes from the reader (ignored codes, assumptions). The library never prints.
+    pub warnings: Vec<String>,
+}
+
+/// Relative tolerance used to tell z levels apart in [`Toolpath::layer_count`], m.
+pub const LAYER_Z_TOLERANCE_M: f64 = 1e-6;
+
+impl Toolpath {
+    /// Start point of move `i` (m): the previous move's end, or [`Toolpath::start`].
+    pub fn move_start(&self, i: usize) -> V3 {
+        if i == 0 {
+            self.start
+        } else {
+            self.moves.get(i - 1).map_or(self.start, |m| m.end)
+        }
+    }
+
+    /// Iterate `(start, move)` pairs.
+    pub fn segments(&self) -> impl Iterator<Item = (V3, &Move)> + '_ {
+        self.moves
+            .iter()
+            .enumerate()
+            .map(move |(i, m)| (self.move_start(i), m))
+    }
+
+    /// End point of the path (m).
+    pub fn end(&self) -> V3 {
+        self.moves.last().map_or(self.start, |m| m.end)
+    }
+
+    /// Total length of all moves, m.
+    pub fn length(&self) -> f64 {
+        self.segments().map(|(s, m)| m.length(&s)).sum()
+    }
+
+    /// Length of the extruding moves, m.
+    pub fn print_length(&self) -> f64 {
+        self.segments()
+            .filter(|(_, m)| m.print)
+            .map(|(s, m)| m.length(&s))
+            .sum()
+    }
+
+    /// Points every `ds` m or closer (each move is cut into equal parts no longer than `ds`),
+    /// with every move's end point included, so corners are kept. `ds` is raised to
+    /// `length / 10⁶` at least (at most about 10⁶ samples plus move ends), and a non-positive or NaN `ds` gives the move end points only.
+    pub fn sample(&self, ds: f64) -> Vec<PathSample> {
+        let total = self.length();
+        let ds = if ds.is_finite() && ds > 0.0 {
+            ds.max(total / 1e6)
+        } else {
+            f64::INFINITY
+        };
+        let mut out = vec![PathSample {
+            p: self.start,
+            s: 0.0,
+            move_index: 0,
+            print: self.moves.first().is_some_and(|m| m.print),
+        }];
+        let mut s0 = 0.0;
+        for (i, (start, m)) in self.segments().enumerate() {
+            let len = m.length(&start);
+            let n = if ds.is_finite() {
+                ((len / ds).ceil() as usize).max(1)
+            } else {
+                1
+            };
+            for k in 1..=n {
+                let u = k as f64 / n as f64;
+                out.push(PathSample {
+                    p: m.point_at(&start, u),
+                    s: s0 + len * u,
+                    move_index: i,
+                    print: m.print,
+                });
+            }
+            s0 += len;
+        }
+        out
+    }
+
+    /// Axis-aligned bounding box `(min, max)` in m over all moves, or `None` for a path without
+    /// moves. Arcs are bounded by samples every 1° of sweep (error ≤ 4·10⁻⁵ radius).
+    pub fn bounding_box(&self) -> Option<(V3, V3)> {
+        if self.moves.is_empty() {
+            return None;
+        }
+        let mut lo = self.start;
+        let mut hi = self.start;
+        let mut add = |p: V3| {
+            lo = lo.inf(&p);
+            hi = hi.sup(&p);
+        };
+        for (start, m) in self.segments() {
+            match m.kind {
+                MoveKind::Line => add(m.end),
+                MoveKind::Arc { sweep, .. } => {
+                    let n = ((sweep.to_degrees()).ceil() as usize).clamp(1, 360);
+                    for k in 1..=n {
+                        add(m.point_at(&start, k as f64 / n as f64));
+                    }
+                }
+            }
+        }
+        Some((lo, hi))
+    }
+
+    /// Number of distinct z levels (tolerance [`LAYER_Z_TOLERANCE_M`]) among the end points of
+    /// extruding moves that stay at constant z. A helical (spiral) path counts as one layer per
+    /// distinct end height.
+    pub fn layer_count(&self) -> usize {
+        let mut zs: Vec<f64> = self
+            .segments()
+            .filter(|(_, m)| m.print)
+            .map(|(_, m)| m.end.z)
+            .collect();
+        zs.sort_by(|a, b| a.total_cmp(b));
+        let mut n = 0;
+        let mut last = f64::NEG_INFINITY;
+        for z in zs {
+            if z - last > LAYER_Z_TOLERANCE_M {
+                n += 1;
+                last = z;
+            }
+        }
+        n
+    }
+
+    /// The mark named `name`, if any.
+    pub fn mark(&self, name: &str) -> Option<&Mark> {
+        self.marks.iter().find(|m| m.name == name)
+    }
+}
+
+/// Where the part sits in the robot's base frame.
+///
+/// `base = Rz(yaw) · part + (x, y, z)`: the part frame is turned by `yaw` about the vertical and
+/// its origin moved to `(x, y, z)`. `z` is the height of the nozzle tip at the part-frame
+/// origin above the base-frame origin (so the print bed height is folded into `z`).
+///
+/// `nozzle_spin` is kept here, beside the pose of the part, because it is a free choice made
+/// once per print like the placement itself: the rotation (rad) of the nozzle about its own
+/// vertical axis relative to the part frame, held fixed along the whole path (a round nozzle
+/// does not care; the robot's wrist does).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct Placement {
+    /// Translation along base x, m.
+    pub x: f64,
+    /// Translation along base y, m.
+    pub y: f64,
+    /// Translation along base z (nozzle tip height of the part origin), m.
+    pub z: f64,
+    /// Rotation of the part about the vertical, rad.
+    pub yaw: f64,
+    /// Fixed rotation of the nozzle about its vertical axis, relative to the part frame, rad.
+    pub nozzle_spin: f64,
+}
+
+impl Placement {
+    /// A placement without nozzle spin: position in m, yaw in rad.
+    pub fn new(x: f64, y: f64, z: f64, yaw: f64) -> Self {
+        Placement {
+            x,
+            y,
+            z,
+            yaw,
+            nozzle_spin: 0.0,
+        }
+    }
+
+    /// The part → base transform (m).
+    pub fn frame(&self) -> Frame {
+        Frame::new(rot_z(self.yaw), V3::new(self.x, self.y, self.z))
+    }
+
+    /// Map a part-frame point (m) to the base frame (m).
+    pub fn apply(&self, p: &V3) -> V3 {
+        self.frame().apply(p)
+    }
+}
+
+/// A placement with a name, as read by [`load_placements`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct NamedPlacement {
+    /// Name from the file (e.g. `P1`).
+    pub name: String,
+    /// The placement (m, rad).
+    pub placement: Placement,
+}
+
+/// Options for the readers. Speeds in m/s, lengths in m.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ReadOptions {
+    /// TCP speed of extruding moves when the file gives none (G-code before any `F`, CSV
+    /// without a `speed` column), m/s.
+    pub default_print_speed: f64,
+    /// TCP speed of travel moves when the file gives none (G-code `G0` without `F` on the
+    /// same line), m/s.
+    pub default_travel_speed: f64,
+    /// Corner blend for G-code (`G64` without `P`, and the initial mode) and CSV moves.
+    pub default_zone: Zone,
+    /// G-code M-codes that switch extrusion on (default `M3`, `M101`).
+    pub print_on_mcodes: Vec<u32>,
+    /// G-code M-codes that switch extrusion off (default `M5`, `M103`).
+    pub print_off_mcodes: Vec<u32>,
+}
+
+impl Default for ReadOptions {
+    /// 0.1 m/s print, 0.25 m/s travel, 5 mm blend radius, M3/M101 on, M5/M103 off.
+    fn default() -> Self {
+        ReadOptions {
+            default_print_speed: 0.1,
+            default_travel_speed: 0.25,
+            default_zone: Zone::Blend(0.005),
+            print_on_mcodes: vec![3, 101],
+            print_off_mcodes: vec![5, 103],
+        }
+    }
+}
+
+/// Read a toolpath, choosing the reader by extension: `.gcode`/`.nc`/`.ngc`/`.g` → G-code,
+/// `.csv` → CSV of points, `.mod`/`.prg`/`.modx` → ABB RAPID.
+pub fn load(path: &Path, opts: &ReadOptions) -> Result<Toolpath> {
+    let ext = path
+        .extension()
+        .and_then(|e| e.to_str())
+        .map(|e| e.to_ascii_lowercase())
+        .unwrap_or_default();
+    let name = path.display().to_string();
+    let parse: fn(&str, &str, &ReadOptions) -> Result<Toolpath> = match ext.as_str() {
+        "gcode" | "nc" | "ngc" | "g" => parse_gcode,
+        "csv" => parse_csv,
+        "mod" | "prg" | "modx" => parse_rapid,
+        _ => {
+            return Err(Error::Invalid(format!(
+                "{name}: unknown toolpath extension '.{ext}': expected .gcode, .nc, .ngc, .g, \
+                 .csv, .mod, .prg or .modx"
+            )))
+        }
+    };
+    let text = read_text(path)?;
+    parse(&text, &name, opts)
+}
+
+/// Read named placements from a CSV file with header `name,x[mm],y[mm],z[mm],yaw[deg]`
+/// (optional `nozzle_spin[deg]`); units as in CSV paths (lengths default mm, angles default
+/// deg). See [`parse_placements`].
+pub fn load_placements(path: &Path) -> Result<Vec<NamedPlacement>> {
+    let text = read_text(path)?;
+    parse_placements(&text, &path.display().to_string())
+}
+
+/// Build a parse error (1-based line and column).
+pub(crate) fn perr(file: &str, line: usize, column: usize, msg: impl Into<String>) -> Error {
+    Error::Parse {
+        file: file.to_string(),
+        line,
+        column,
+        msg: msg.into(),
+    }
+}
+
+/// Circle through three points `a → b → c` (m): `(centre, unit normal, radius, sweep)`, the
+/// motion turning positively about `normal` from `a` through `b` to `c`. `None` when the
+/// points are (nearly) collinear or coincide.
+pub(crate) fn circle_through(a: &V3, b: &V3, c: &V3) -> Option<(V3, V3, f64, f64)> {
+    let ab = b - a;
+    let ac = c - a;
+    let n = ab.cross(&ac);
+    let n2 = n.norm_squared();
+    let scale = ab.norm_squared().max(ac.norm_squared());
+    if n2.is_nan() || n2 <= 1e-18 * scale * scale || !n2.is_finite() {
+        return None;
+    }
+    // Circumcentre: a + (|ac|²(n × ab)... standard formula.
+    let centre =
+        a + (ac.norm_squared() * n.cross(&ab) + ab.norm_squared() * ac.cross(&n)) / (2.0 * n2);
+    let normal = n / n2.sqrt();
+    let radius = (a - centre).norm();
+    let sweep = ccw_angle(&(a - centre), &(c - centre), &normal);
+    Some((centre, normal, radius, sweep))
+}
+
+/// Angle in `(0, 2π]` turning `from` to `to` positively about unit `normal` (2π when equal
+/// directions).
+pub(crate) fn ccw_angle(from: &V3, to: &V3, normal: &V3) -> f64 {
+    let x = from.dot(to);
+    let y = normal.dot(&from.cross(to));
+    let mut a = y.atan2(x);
+    if a <= 1e-12 {
+        a += std::f64::consts::TAU;
+    }
+    a.min(std::f64::consts::TAU)
+}

@@ -1,0 +1,6 @@
+MODULE M
+    CONST robtarget p10 := [[0,0,0],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9];
+    PROC main()
+        MoveL p10, v100, fine, tool0;
+    ENDPROC
+ENDMODULE

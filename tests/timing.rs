@@ -1,0 +1,197 @@
+//! Time parameterisation on shipped robots and paths: speed held on straight print moves,
+//! blends inside their zones, joint limits at every sample, continuity of q, q̇, q̈, and one
+//! arm configuration along the path.
+
+use printwatt::kinematics::IkSolver;
+use printwatt::robot;
+use printwatt::timing::{self, blend_path, JointStageOptions, ProfileOptions};
+use printwatt::toolpath::{self, Placement, ReadOptions};
+use std::path::PathBuf;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn timed(
+    robot_id: &str,
+    path: &str,
+    at: Placement,
+) -> (printwatt::timing::TimedPath, Vec<timing::Move>) {
+    let model = robot::load(&root().join("robots").join(robot_id)).unwrap();
+    let tp = toolpath::load(&root().join("paths").join(path), &ReadOptions::default()).unwrap();
+    let moves = timing::moves_from_toolpath(&tp);
+    let pieces = blend_path(&moves);
+    let solver = IkSolver::new(&model).unwrap();
+    let lines: Vec<usize> = moves.iter().map(|m| m.line).collect();
+    let t = timing::time_at(
+        &solver,
+        &pieces,
+        &|i| lines[i],
+        &at.frame(),
+        at.yaw + at.nozzle_spin,
+        &ProfileOptions::default(),
+        &JointStageOptions::default(),
+    )
+    .unwrap_or_else(|e| panic!("{robot_id} {path}: {e}"));
+    (t, moves)
+}
+
+#[test]
+fn default_path_on_abb6700_meets_limits_and_is_continuous() {
+    let (t, _) = timed(
+        "abb_irb6700_200_260",
+        "default.gcode",
+        Placement::new(1.7, 0.0, 0.0, std::f64::consts::FRAC_PI_2),
+    );
+    let model = robot::load(&root().join("robots/abb_irb6700_200_260")).unwrap();
+    let n = model.dof();
+    let tr = &t.traj;
+    assert!(tr.len() > 100);
+    for k in 0..tr.len() {
+        for (j, jt) in model.joints.iter().enumerate() {
+            let q = tr.q(k)[j];
+            assert!(
+                jt.within_limits(q, 1e-9),
+                "joint {j} position {q} at sample {k}"
+            );
+            assert!(
+                tr.qd(k)[j].abs() <= jt.velocity_limit * (1.0 + 1e-9),
+                "joint {j} velocity at {k}"
+            );
+            assert!(
+                tr.qdd(k)[j].abs() <= jt.acceleration_limit * (1.0 + 1e-9),
+                "joint {j} acceleration at {k}"
+            );
+        }
+    }
+    // Continuity: no step in q larger than the velocity limit allows, and q̇, q̈ change by a
+    // bounded amount per sample (jerk limit).
+    let dt = t.motion.dt;
+    for k in 1..tr.len() {
+        for (j, jt) in model.joints.iter().enumerate().take(n) {
+            assert!((tr.q(k)[j] - tr.q(k - 1)[j]).abs() <= jt.velocity_limit * dt * 1.01);
+            assert!(
+                (tr.qd(k)[j] - tr.qd(k - 1)[j]).abs() <= jt.acceleration_limit * dt * 1.05 + 1e-9
+            );
+            assert!(
+                (tr.qdd(k)[j] - tr.qdd(k - 1)[j]).abs() <= jt.jerk_limit * dt * 1.5 + 1e-6,
+                "q̈ jump joint {j} at {k}"
+            );
+        }
+    }
+}
+
+#[test]
+fn print_speed_is_held_on_straight_moves_and_duration_matches() {
+    let at = Placement::new(1.7, 0.0, 0.0, std::f64::consts::FRAC_PI_2);
+    let (t, _) = timed("abb_irb6700_200_260", "default.gcode", at);
+    let m = &t.motion;
+    // Speed of the TCP on straight print moves away from their ends (part frame).
+    let mut held = 0;
+    for k in 1..m.p.len() - 1 {
+        let v = (m.p[k + 1] - m.p[k - 1]).norm() / (2.0 * m.dt);
+        // Straight segments of the default path are along x or y with |x| < 0.85 or |y| < 0.35.
+        // The start and end point (0, -0.5) is a ramp from and to rest: left out.
+        let ramp = m.p[k].y < 0.0 && m.p[k].x.abs() < 0.1;
+        let on_long_side = (m.p[k].y.abs() - 0.5).abs() < 1e-9 && m.p[k].x.abs() < 0.7 && !ramp;
+        if on_long_side {
+            assert!(
+                (v - 0.15).abs() <= 0.01 * 0.15,
+                "speed {v} m/s at sample {k}"
+            );
+            held += 1;
+        }
+    }
+    assert!(held > 1000, "{held} samples checked");
+    // 5.828 m at 0.15 m/s is 38.86 s; ramps and corner slow-downs add a little.
+    let d = t.traj.duration();
+    assert!(d > 38.86 && d < 45.0, "duration {d}");
+    assert!(t
+        .slowdowns
+        .iter()
+        .all(|s| s.speed_factor < 1.0 && s.ratio > 1.0));
+}
+
+#[test]
+fn arcs_follow_the_analytic_circle() {
+    // column_arcs.gcode: circle of radius 150 mm about the part origin; the FIR filter pulls
+    // the path inwards by about a·T²/24 on the arc, far below a millimetre here.
+    let (t, _) = timed(
+        "abb_irb6700_200_260",
+        "column_arcs.gcode",
+        Placement::new(1.6, 0.0, 0.0, 0.0),
+    );
+    let m = &t.motion;
+    let mut on_arc = 0;
+    for k in 0..m.p.len() {
+        let r = (m.p[k].x.powi(2) + m.p[k].y.powi(2)).sqrt();
+        if m.print[k] && (r - 0.15).abs() < 0.01 {
+            assert!((r - 0.15).abs() < 2e-4, "radius {r} at sample {k}");
+            on_arc += 1;
+        }
+    }
+    assert!(on_arc > 1000, "{on_arc}");
+}
+
+#[test]
+fn a_binding_velocity_limit_slows_the_path_and_is_reported() {
+    let mut model = robot::load(&root().join("robots/abb_irb6700_200_260")).unwrap();
+    model.joints[0].velocity_limit = 0.05; // rad/s: joint 1 must slow the 150 mm/s print
+    let tp = toolpath::load(&root().join("paths/default.gcode"), &ReadOptions::default()).unwrap();
+    let moves = timing::moves_from_toolpath(&tp);
+    let pieces = blend_path(&moves);
+    let solver = IkSolver::new(&model).unwrap();
+    let at = Placement::new(1.7, 0.0, 0.0, std::f64::consts::FRAC_PI_2);
+    let t = timing::time_at(
+        &solver,
+        &pieces,
+        &|i| moves[i].line,
+        &at.frame(),
+        at.yaw,
+        &ProfileOptions::default(),
+        &JointStageOptions::default(),
+    )
+    .unwrap();
+    assert!(!t.slowdowns.is_empty());
+    assert!(t
+        .slowdowns
+        .iter()
+        .any(|s| s.joint == 0 && s.kind == timing::LimitKind::Velocity));
+    for k in 0..t.traj.len() {
+        assert!(
+            t.traj.qd(k)[0].abs() <= 0.05 * (1.0 + 1e-9),
+            "sample {k}: {}",
+            t.traj.qd(k)[0]
+        );
+    }
+    assert!(
+        t.traj.duration() > 45.0,
+        "slower than the unconstrained {}",
+        t.traj.duration()
+    );
+}
+
+#[test]
+fn an_unreachable_placement_names_the_sample() {
+    let model = robot::load(&root().join("robots/abb_irb6700_200_260")).unwrap();
+    let tp = toolpath::load(&root().join("paths/default.gcode"), &ReadOptions::default()).unwrap();
+    let moves = timing::moves_from_toolpath(&tp);
+    let pieces = blend_path(&moves);
+    let solver = IkSolver::new(&model).unwrap();
+    let at = Placement::new(2.3, 0.0, 0.0, 0.0);
+    let e = timing::time_at(
+        &solver,
+        &pieces,
+        &|i| moves[i].line,
+        &at.frame(),
+        0.0,
+        &ProfileOptions::default(),
+        &JointStageOptions::default(),
+    )
+    .unwrap_err();
+    let msg = e.to_string();
+    assert!(
+        msg.contains("path sample") && msg.contains("line") && msg.contains("unreachable"),
+        "{msg}"
+    );
+}
