@@ -15,6 +15,7 @@ pub mod error;
 pub mod kinematics;
 pub mod math;
 pub mod output;
+pub mod placement;
 pub mod robot;
 pub mod table;
 pub mod timing;

@@ -1,0 +1,111 @@
+//! One placement, evaluated end to end: the toolpath is blended and timed as a controller
+//! would run it at that placement (one arm configuration, joint limits respected), and the
+//! resulting joint trajectory goes through inverse dynamics and the energy model.
+
+use crate::energy::{self, EnergyModel, EnergyOptions, EnergyReport};
+use crate::error::Result;
+use crate::kinematics::IkSolver;
+use crate::robot::RobotModel;
+use crate::timing::{self, JointStageOptions, Piece, ProfileOptions, TimedPath, TimingFailure};
+use crate::toolpath::{Placement, Toolpath};
+
+/// Everything about a job that does not depend on the placement: the robot, its energy
+/// model, the blended path and the timing options. Build once, evaluate many placements.
+pub struct PathJob<'a> {
+    /// The robot.
+    pub robot: &'a RobotModel,
+    /// Its energy model (dynamics, drives, regeneration, standby).
+    pub energy: EnergyModel,
+    /// The programmed moves (part frame).
+    pub moves: Vec<timing::Move>,
+    /// The blended path (part frame).
+    pub pieces: Vec<Piece>,
+    /// Cartesian profile limits and period.
+    pub profile: ProfileOptions,
+    /// Joint-stage options.
+    pub joint: JointStageOptions,
+}
+
+/// The result of one placement.
+#[derive(Clone, Debug)]
+pub struct PlacementEval {
+    /// The placement.
+    pub placement: Placement,
+    /// The timed path (joint trajectory, Cartesian motion, slow-downs).
+    pub timed: TimedPath,
+    /// Energy per joint and in total, with per-sample series.
+    pub energy: EnergyReport,
+}
+
+impl<'a> PathJob<'a> {
+    /// Prepare a job. Errors: the robot lacks what dynamics need (names the link), or the path
+    /// has no moves.
+    pub fn new(
+        robot: &'a RobotModel,
+        path: &Toolpath,
+        energy_options: EnergyOptions,
+        profile: ProfileOptions,
+        joint: JointStageOptions,
+    ) -> Result<Self> {
+        let energy = EnergyModel::with_options(robot, energy_options)?;
+        let moves = timing::moves_from_toolpath(path);
+        if moves.is_empty() {
+            return Err(crate::Error::Invalid(format!(
+                "{}: the path has no moves of non-zero length",
+                path.source
+            )));
+        }
+        let pieces = timing::blend_path(&moves);
+        Ok(PathJob {
+            robot,
+            energy,
+            moves,
+            pieces,
+            profile,
+            joint,
+        })
+    }
+
+    /// Source line of timing move `i`.
+    pub fn line_of(&self, i: usize) -> usize {
+        self.moves.get(i).map_or(0, |m| m.line)
+    }
+
+    /// Time the path at a placement. The nozzle's rotation about its axis in the base frame is
+    /// the placement's yaw plus its `nozzle_spin` (rad).
+    pub fn time(
+        &self,
+        solver: &IkSolver,
+        at: &Placement,
+    ) -> std::result::Result<TimedPath, TimingFailure> {
+        let lines = |i: usize| self.line_of(i);
+        timing::time_at(
+            solver,
+            &self.pieces,
+            &lines,
+            &at.frame(),
+            at.yaw + at.nozzle_spin,
+            &self.profile,
+            &self.joint,
+        )
+    }
+
+    /// Time the path and compute its energy at a placement. The outer error is a model error;
+    /// the inner one says why the placement is infeasible.
+    pub fn evaluate(
+        &self,
+        at: &Placement,
+    ) -> Result<std::result::Result<PlacementEval, TimingFailure>> {
+        let solver = IkSolver::new(self.robot)?;
+        let timed = match self.time(&solver, at) {
+            Ok(t) => t,
+            Err(e) => return Ok(Err(e)),
+        };
+        let energy = energy::evaluate(&self.energy, &timed.traj)?;
+        Ok(Ok(PlacementEval {
+            placement: *at,
+            timed,
+            energy,
+        }))
+    }
+}
