@@ -6,6 +6,7 @@ use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 use std::path::{Path, PathBuf};
 
+mod energy;
 mod robots;
 
 /// printwatt: where to put a 3D concrete print so the robot arm spends the least energy.
@@ -21,6 +22,8 @@ pub struct Cli {
 pub enum Command {
     /// List the shipped robots with reach, payload, joint count and provenance.
     Robots(RobotsArgs),
+    /// Energy of a joint trajectory, or of a toolpath at one placement.
+    Energy(energy::EnergyArgs),
 }
 
 /// `printwatt robots`
@@ -70,5 +73,24 @@ pub fn load_robot(arg: &Path) -> Result<robot::RobotModel> {
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Robots(a) => robots::run(a),
+        Command::Energy(a) => energy::run(a),
     }
+}
+
+/// Parse a comma-separated list of exactly `n` finite numbers.
+pub fn parse_list(s: &str, n: usize) -> Result<Vec<f64>> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|x| {
+            let t = x.trim();
+            t.parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .with_context(|| format!("`{t}` is not a finite number"))
+        })
+        .collect::<Result<_>>()?;
+    if v.len() != n {
+        anyhow::bail!("expected {n} comma-separated numbers, got {}", v.len());
+    }
+    Ok(v)
 }
