@@ -35,8 +35,15 @@ fn fixed_children_are_merged_exactly() {
     let split = parse_urdf(&arm(SPLIT, ""), "split.urdf", None).unwrap();
     assert_eq!(split.dof(), 2);
     assert_eq!(split.flange_link, "tool");
-    assert!(split.warnings.iter().any(|w| w.contains("mesh")), "{:?}", split.warnings);
-    assert!(split.joints[1].upper.is_infinite(), "continuous joint has no limits");
+    assert!(
+        split.warnings.iter().any(|w| w.contains("mesh")),
+        "{:?}",
+        split.warnings
+    );
+    assert!(
+        split.joints[1].upper.is_infinite(),
+        "continuous joint has no limits"
+    );
     // Merged mass and centre of mass, by hand: body A 2 kg at (0.1,0,0); body B 1 kg at
     // (0.3,0,0) + Ry(0.5)·(0,0,0.05).
     let l2 = split.links[1].unwrap();
@@ -49,11 +56,25 @@ fn fixed_children_are_merged_exactly() {
     let i = l2.inertia;
     let merged = format!(
         r#"<link name="l2"><inertial><origin xyz="{} {} {}"/><mass value="3"/><inertia ixx="{}" iyy="{}" izz="{}" ixy="{}" ixz="{}" iyz="{}"/></inertial></link>"#,
-        com.x, com.y, com.z, i[(0, 0)], i[(1, 1)], i[(2, 2)], i[(0, 1)], i[(0, 2)], i[(1, 2)]
+        com.x,
+        com.y,
+        com.z,
+        i[(0, 0)],
+        i[(1, 1)],
+        i[(2, 2)],
+        i[(0, 1)],
+        i[(0, 2)],
+        i[(1, 2)]
     );
     let one = parse_urdf(&arm(&merged, ""), "one.urdf", None).unwrap();
-    let opts = DynOptions { payload: false, armature: false };
-    let (ma, mb) = (DynModel::new(&split, opts).unwrap(), DynModel::new(&one, opts).unwrap());
+    let opts = DynOptions {
+        payload: false,
+        armature: false,
+    };
+    let (ma, mb) = (
+        DynModel::new(&split, opts).unwrap(),
+        DynModel::new(&one, opts).unwrap(),
+    );
     let (mut da, mut db) = (ma.data(), mb.data());
     let (mut ta, mut tb) = ([0.0; 2], [0.0; 2]);
     for k in 0..20 {
@@ -62,7 +83,10 @@ fn fixed_children_are_merged_exactly() {
         rnea(&ma, &mut da, &q, &qd, &qdd, &mut ta).unwrap();
         rnea(&mb, &mut db, &q, &qd, &qdd, &mut tb).unwrap();
         for j in 0..2 {
-            assert!((ta[j] - tb[j]).abs() < 1e-12 * (1.0 + ta[j].abs()), "{ta:?} vs {tb:?}");
+            assert!(
+                (ta[j] - tb[j]).abs() < 1e-12 * (1.0 + ta[j].abs()),
+                "{ta:?} vs {tb:?}"
+            );
         }
     }
 }
@@ -74,29 +98,65 @@ fn passive_mimic_branches_are_frozen_and_merged_with_a_warning() {
   <link name="cylinder"/>"#;
     let m = parse_urdf(&arm(SPLIT, massless), "m.urdf", None).unwrap();
     assert_eq!(m.dof(), 2);
-    assert!(m.warnings.iter().any(|w| w.contains("cyl") && w.contains("massless")), "{:?}", m.warnings);
+    assert!(
+        m.warnings
+            .iter()
+            .any(|w| w.contains("cyl") && w.contains("massless")),
+        "{:?}",
+        m.warnings
+    );
     let heavy = r#"
   <joint name="cyl" type="revolute"><parent link="l1"/><child link="cylinder"/><origin xyz="0.1 0 0"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" velocity="1" effort="0"/><mimic joint="j2" multiplier="-0.25"/></joint>
   <link name="cylinder"><inertial><mass value="5"/><inertia ixx="0.01" iyy="0.01" izz="0.01" ixy="0" ixz="0" iyz="0"/></inertial></link>"#;
     let h = parse_urdf(&arm(SPLIT, heavy), "h.urdf", None).unwrap();
-    assert!((h.links[0].unwrap().mass - 8.0).abs() < 1e-12, "5 kg merged into l1");
-    assert!(h.warnings.iter().any(|w| w.contains("carry mass")), "{:?}", h.warnings);
+    assert!(
+        (h.links[0].unwrap().mass - 8.0).abs() < 1e-12,
+        "5 kg merged into l1"
+    );
+    assert!(
+        h.warnings.iter().any(|w| w.contains("carry mass")),
+        "{:?}",
+        h.warnings
+    );
 }
 
 #[test]
 fn malformed_urdfs_name_the_line() {
     let bad_number = arm(SPLIT, "").replace(r#"<mass value="2"/>"#, r#"<mass value="two"/>"#);
-    let e = parse_urdf(&bad_number, "b.urdf", None).unwrap_err().to_string();
-    let line = bad_number.lines().position(|l| l.contains("value=\"two\"")).unwrap() + 1;
-    assert!(e.starts_with(&format!("b.urdf:{line}:")) && e.contains("`two`"), "{e}");
-    let no_limit = arm(SPLIT, "").replace(r#"<limit lower="-3" upper="3" velocity="2" effort="100"/>"#, "");
-    let e = parse_urdf(&no_limit, "c.urdf", None).unwrap_err().to_string();
-    assert!(e.contains("c.urdf:") && e.contains("j1") && e.contains("<limit>"), "{e}");
+    let e = parse_urdf(&bad_number, "b.urdf", None)
+        .unwrap_err()
+        .to_string();
+    let line = bad_number
+        .lines()
+        .position(|l| l.contains("value=\"two\""))
+        .unwrap()
+        + 1;
+    assert!(
+        e.starts_with(&format!("b.urdf:{line}:")) && e.contains("`two`"),
+        "{e}"
+    );
+    let no_limit = arm(SPLIT, "").replace(
+        r#"<limit lower="-3" upper="3" velocity="2" effort="100"/>"#,
+        "",
+    );
+    let e = parse_urdf(&no_limit, "c.urdf", None)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("c.urdf:") && e.contains("j1") && e.contains("<limit>"),
+        "{e}"
+    );
     let floating = arm(SPLIT, "").replace(r#"type="continuous""#, r#"type="floating""#);
-    let e = parse_urdf(&floating, "d.urdf", None).unwrap_err().to_string();
+    let e = parse_urdf(&floating, "d.urdf", None)
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("floating") && e.contains("not supported"), "{e}");
-    let e = parse_urdf(&arm(SPLIT, ""), "e.urdf", Some("nope")).unwrap_err().to_string();
+    let e = parse_urdf(&arm(SPLIT, ""), "e.urdf", Some("nope"))
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("tool_link `nope`"), "{e}");
-    let e = parse_urdf("<robot><link name='a'/>", "f.urdf", None).unwrap_err().to_string();
+    let e = parse_urdf("<robot><link name='a'/>", "f.urdf", None)
+        .unwrap_err()
+        .to_string();
     assert!(e.starts_with("f.urdf:1:"), "{e}");
 }
