@@ -40,42 +40,77 @@ fn setup() -> Setup {
     }
 }
 
-fn stages(c: &mut Criterion) {
-    let s = setup();
-    let solver = IkSolver::new(&s.model).expect("solver");
+/// The default path planned and timed once, for timing its stages separately.
+struct Prepared {
+    solver_q0: Vec<f64>,
+    nodes: profile::Nodes,
+    scale: Vec<f64>,
+    motion: timing::CartesianMotion,
+    traj: printwatt::trajectory::JointTrajectory,
+    em: EnergyModel,
+}
+
+fn prepare(s: &Setup, solver: &IkSolver) -> Prepared {
     let nodes = profile::nodes(&s.pieces, &s.opts);
     let scale = vec![1.0; nodes.s.len()];
     let motion = profile::plan(&s.pieces, &nodes, &scale, &s.opts);
     let lines = |i: usize| s.moves[i].line;
+    let jopts = JointStageOptions::default();
     let t = timing::time_at(
-        &solver,
+        solver,
         &s.pieces,
         &lines,
         &s.at.frame(),
         s.at.yaw,
         &s.opts,
-        &JointStageOptions::default(),
+        &jopts,
     )
     .expect("timed");
-    let q0 = t.traj.q(0).to_vec();
-    let n = s.model.dof();
     let em = EnergyModel::new(&s.model).expect("energy model");
-    let mut g = c.benchmark_group(format!("timing_default_path_{}_samples", motion.p.len()));
+    Prepared {
+        solver_q0: t.traj.q(0).to_vec(),
+        nodes,
+        scale,
+        motion,
+        traj: t.traj,
+        em,
+    }
+}
+
+/// Energy of every sample of `traj`, W summed (the dynamics + power stage).
+fn power_pass(em: &EnergyModel, traj: &printwatt::trajectory::JointTrajectory) -> f64 {
+    let mut d: DynData = em.data();
+    let mut out = SamplePower::default();
+    let mut e = 0.0;
+    for k in 0..traj.len() {
+        e += eval_sample(em, &mut d, traj.q(k), traj.qd(k), traj.qdd(k), &mut out).expect("sample");
+    }
+    e
+}
+
+fn stages(c: &mut Criterion) {
+    let s = setup();
+    let solver = IkSolver::new(&s.model).expect("solver");
+    let p = prepare(&s, &solver);
+    let lines = |i: usize| s.moves[i].line;
+    let n = s.model.dof();
+    let mut g = c.benchmark_group(format!("timing_default_path_{}_samples", p.motion.p.len()));
     g.sample_size(10);
     g.bench_function("cartesian_plan", |b| {
-        b.iter(|| black_box(profile::plan(&s.pieces, &nodes, &scale, &s.opts)))
+        b.iter(|| black_box(profile::plan(&s.pieces, &p.nodes, &p.scale, &s.opts)))
     });
     let (mut qs, mut tcp) = (Vec::new(), Vec::new());
+    let frame = s.at.frame();
     g.bench_function("ik_track", |b| {
         b.iter(|| {
             joint::track(
                 &solver,
                 &s.pieces,
                 &lines,
-                &motion,
-                &s.at.frame(),
+                &p.motion,
+                &frame,
                 s.at.yaw,
-                &q0,
+                &p.solver_q0,
                 &mut qs,
                 &mut tcp,
             )
@@ -83,26 +118,10 @@ fn stages(c: &mut Criterion) {
         })
     });
     g.bench_function("differences", |b| {
-        b.iter(|| black_box(joint::differentiate(&t.traj.q, n, motion.dt)))
+        b.iter(|| black_box(joint::differentiate(&p.traj.q, n, p.motion.dt)))
     });
     g.bench_function("dynamics_power", |b| {
-        let mut d: DynData = em.data();
-        let mut out = SamplePower::default();
-        b.iter(|| {
-            let mut e = 0.0;
-            for k in 0..t.traj.len() {
-                e += eval_sample(
-                    &em,
-                    &mut d,
-                    t.traj.q(k),
-                    t.traj.qd(k),
-                    t.traj.qdd(k),
-                    &mut out,
-                )
-                .expect("sample");
-            }
-            black_box(e)
-        })
+        b.iter(|| black_box(power_pass(&p.em, &p.traj)))
     });
     g.finish();
 }
@@ -123,67 +142,40 @@ fn median_time(reps: usize, mut f: impl FnMut()) -> f64 {
 fn summary() {
     let s = setup();
     let solver = IkSolver::new(&s.model).expect("solver");
-    let nodes = profile::nodes(&s.pieces, &s.opts);
-    let scale = vec![1.0; nodes.s.len()];
-    let motion = profile::plan(&s.pieces, &nodes, &scale, &s.opts);
+    let p = prepare(&s, &solver);
     let lines = |i: usize| s.moves[i].line;
-    let t = timing::time_at(
-        &solver,
-        &s.pieces,
-        &lines,
-        &s.at.frame(),
-        s.at.yaw,
-        &s.opts,
-        &JointStageOptions::default(),
-    )
-    .expect("timed");
-    let q0 = t.traj.q(0).to_vec();
     let n = s.model.dof();
-    let em = EnergyModel::new(&s.model).expect("energy model");
-    let m = motion.p.len() as f64;
+    let m = p.motion.p.len() as f64;
     let reps = 21;
     let plan = median_time(reps, || {
-        black_box(profile::plan(&s.pieces, &nodes, &scale, &s.opts));
+        black_box(profile::plan(&s.pieces, &p.nodes, &p.scale, &s.opts));
     });
     let (mut qs, mut tcp) = (Vec::new(), Vec::new());
+    let frame = s.at.frame();
     let ik = median_time(reps, || {
         joint::track(
             &solver,
             &s.pieces,
             &lines,
-            &motion,
-            &s.at.frame(),
+            &p.motion,
+            &frame,
             s.at.yaw,
-            &q0,
+            &p.solver_q0,
             &mut qs,
             &mut tcp,
         )
         .expect("track");
     });
     let diff = median_time(reps, || {
-        black_box(joint::differentiate(&t.traj.q, n, motion.dt));
+        black_box(joint::differentiate(&p.traj.q, n, p.motion.dt));
     });
-    let mut d = em.data();
-    let mut out = SamplePower::default();
     let dynp = median_time(reps, || {
-        for k in 0..t.traj.len() {
-            black_box(
-                eval_sample(
-                    &em,
-                    &mut d,
-                    t.traj.q(k),
-                    t.traj.qd(k),
-                    t.traj.qdd(k),
-                    &mut out,
-                )
-                .expect("sample"),
-            );
-        }
+        black_box(power_pass(&p.em, &p.traj));
     });
     let ns = |x: f64| x / m * 1e9;
     println!(
         "\n== per path sample ({} samples, IRB 6700, default path, 1 thread) ==",
-        motion.p.len()
+        p.motion.p.len()
     );
     println!(
         "cartesian plan (blends, speed profile, FIR filter) {:8.1} ns",

@@ -232,10 +232,10 @@ fn without_drive_the_report_is_rigid_body_only() {
     assert_eq!(t.friction_j, 0.0);
     assert!(close(t.electrical_j, t.mechanical_j, 1e-12));
     let mut csv = Vec::new();
-    rep.series.write_csv(&mut csv).unwrap();
+    rep.series.write_csv(None, &mut csv).unwrap();
     let text = String::from_utf8(csv).unwrap();
     assert_eq!(text.lines().count(), tr.len() + 1);
-    assert!(text.starts_with("t_s,tau1_nm"));
+    assert!(text.starts_with("t[s],tau1[Nm]"));
 }
 
 #[test]

@@ -145,7 +145,7 @@ pub fn run(a: EnergyArgs) -> Result<()> {
     let out = a.out.clone().unwrap_or_else(|| default_out(&input));
     guard_inputs(&out, &[&input, &a.robot])?;
     let mut csv = Vec::new();
-    write_series_csv(&mut csv, &traj, &report)?;
+    report.series.write_csv(Some(&traj), &mut csv)?;
     write_atomic(&out, &csv)?;
     let summary = Summary {
         robot: model.name(),
@@ -204,41 +204,6 @@ pub fn complete_derivatives(traj: &mut JointTrajectory, sup: trajectory::Supplie
                 traj.qdd = keep;
             }
         }
-    }
-    Ok(())
-}
-
-fn write_series_csv(w: &mut Vec<u8>, traj: &JointTrajectory, r: &EnergyReport) -> Result<()> {
-    use std::io::Write;
-    let n = traj.n;
-    let s = &r.series;
-    let mut h = vec!["t[s]".to_string()];
-    for (p, u) in [
-        ("q", "rad"),
-        ("qd", "rad/s"),
-        ("qdd", "rad/s^2"),
-        ("tau", "Nm"),
-        ("p_mech", "W"),
-        ("p_el", "W"),
-    ] {
-        h.extend((1..=n).map(|j| format!("{p}{j}[{u}]")));
-    }
-    h.push("p_supply[W]".into());
-    writeln!(w, "{}", h.join(","))?;
-    for k in 0..traj.len() {
-        let mut row: Vec<String> = vec![format!("{}", traj.t[k])];
-        for v in [
-            traj.q(k),
-            traj.qd(k),
-            traj.qdd(k),
-            &s.tau[k * n..(k + 1) * n],
-            &s.p_mech[k * n..(k + 1) * n],
-            &s.p_el[k * n..(k + 1) * n],
-        ] {
-            row.extend(v.iter().map(|x| format!("{x}")));
-        }
-        row.push(format!("{}", s.p_supply.get(k).copied().unwrap_or(0.0)));
-        writeln!(w, "{}", row.join(","))?;
     }
     Ok(())
 }

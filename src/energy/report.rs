@@ -95,24 +95,37 @@ impl SampleSeries {
         }
     }
 
-    /// Write the series as CSV: `t_s, tau1_nm.., p_mech1_w.., p_el1_w.., current1_a.., p_supply_w`.
-    pub fn write_csv<W: Write>(&self, mut w: W) -> std::io::Result<()> {
+    /// Write the series as CSV with units in the headers (the same convention printwatt reads):
+    /// `t[s]`, then, when `traj` is given, `q1[rad].., qd1[rad/s].., qdd1[rad/s^2]..`, then
+    /// `tau1[Nm].., p_mech1[W].., p_el1[W].., i1[A]..`, `p_supply[W]`.
+    pub fn write_csv<W: Write>(
+        &self,
+        traj: Option<&crate::trajectory::JointTrajectory>,
+        mut w: W,
+    ) -> std::io::Result<()> {
         let n = self.n;
-        let mut head = vec!["t_s".to_string()];
-        for (p, u) in [
-            ("tau", "nm"),
-            ("p_mech", "w"),
-            ("p_el", "w"),
-            ("current", "a"),
-        ] {
-            head.extend((1..=n).map(|j| format!("{p}{j}_{u}")));
+        let mut head = vec!["t[s]".to_string()];
+        let mut cols: Vec<(&str, &str)> = Vec::new();
+        if traj.is_some() {
+            cols.extend([("q", "rad"), ("qd", "rad/s"), ("qdd", "rad/s^2")]);
         }
-        head.push("p_supply_w".into());
+        cols.extend([("tau", "Nm"), ("p_mech", "W"), ("p_el", "W"), ("i", "A")]);
+        for (p, u) in &cols {
+            head.extend((1..=n).map(|j| format!("{p}{j}[{u}]")));
+        }
+        head.push("p_supply[W]".into());
         writeln!(w, "{}", head.join(","))?;
         for k in 0..self.t.len() {
             write!(w, "{}", self.t[k])?;
+            let mut blocks: Vec<&[f64]> = Vec::with_capacity(7);
+            if let Some(tr) = traj {
+                blocks.extend([tr.q(k), tr.qd(k), tr.qdd(k)]);
+            }
             for v in [&self.tau, &self.p_mech, &self.p_el, &self.current] {
-                for x in &v[k * n..(k + 1) * n] {
+                blocks.push(&v[k * n..(k + 1) * n]);
+            }
+            for b in blocks {
+                for x in b {
                     write!(w, ",{x}")?;
                 }
             }
