@@ -506,3 +506,30 @@ impl<'a> Prepared<'a> {
         }
     }
 }
+
+/// A saved copy of a model's switches and parameter values.
+#[derive(Clone, Debug)]
+pub struct ModelState {
+    enabled: [bool; 10],
+    values: Vec<Vec<f64>>,
+}
+
+impl Model {
+    /// Save switches and values.
+    pub fn state(&self) -> ModelState {
+        ModelState {
+            enabled: self.enabled,
+            values: CATALOGUE
+                .iter()
+                .map(|n| self.values(n).unwrap_or_default())
+                .collect(),
+        }
+    }
+    /// Restore a saved state.
+    pub fn restore(&mut self, s: &ModelState) {
+        self.enabled = s.enabled;
+        for (n, v) in CATALOGUE.iter().zip(&s.values) {
+            let _ = self.set_values(n, v);
+        }
+    }
+}
