@@ -64,7 +64,13 @@ pub fn run(a: super::CompareArgs) -> Result<()> {
     for c in cmp.channels.iter().chain(std::iter::once(&cmp.total)) {
         println!(
             "{:<10} {:>12.4} {:>12.4} {:>12.1} {:>12.1} {:>9.2} {:>9.2}",
-            c.name, c.rmse, c.measured_rms, c.energy_measured_j, c.energy_model_j, c.energy_error_pct, c.accuracy_pct
+            c.name,
+            c.rmse,
+            c.measured_rms,
+            c.energy_measured_j,
+            c.energy_model_j,
+            c.energy_error_pct,
+            c.accuracy_pct
         );
     }
     println!("worst windows:");

@@ -15,7 +15,10 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
     }
     for e in &effects {
         if !identify::model::Model::observable(e, log.kind) {
-            bail!("effect `{e}` cannot be seen in a `{}` log", log.kind.prefix());
+            bail!(
+                "effect `{e}` cannot be seen in a `{}` log",
+                log.kind.prefix()
+            );
         }
     }
     let prep = identify::Prepared::new(&model, &log)?;
@@ -77,7 +80,10 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
             )
             .as_bytes(),
         )?;
-        crate::output::write_atomic(&dir.join("ladder.md"), ladder_table(&id, log.kind.unit()).as_bytes())?;
+        crate::output::write_atomic(
+            &dir.join("ladder.md"),
+            ladder_table(&id, log.kind.unit()).as_bytes(),
+        )?;
         crate::output::write_atomic(
             &dir.join("identify.json"),
             serde_json::to_string_pretty(&id)?.as_bytes(),
@@ -125,7 +131,11 @@ fn ladder_table(id: &ladder::Identification, unit: &str) -> String {
     for r in &id.ladder {
         s.push_str(&format!(
             "| {} | {:.4} | {:.4} | {:.2} | {:.2} |\n",
-            r.step, r.train_rmse, r.validation_rmse, r.validation_energy_error_pct, r.validation_accuracy_pct
+            r.step,
+            r.train_rmse,
+            r.validation_rmse,
+            r.validation_energy_error_pct,
+            r.validation_accuracy_pct
         ));
     }
     s

@@ -82,6 +82,11 @@ pub fn run(a: super::SimulateArgs) -> Result<()> {
     ];
     let text = simulate::simulate_log(&truth, &traj, &opt, &meta)?;
     crate::output::write_atomic(&a.out, text.as_bytes())?;
-    eprintln!("wrote {} ({} samples at {} Hz)", a.out.display(), traj.len(), a.rate);
+    eprintln!(
+        "wrote {} ({} samples at {} Hz)",
+        a.out.display(),
+        traj.len(),
+        a.rate
+    );
     Ok(())
 }

@@ -150,7 +150,12 @@ pub fn fit(
             *t = t.clamp(lay.lower[i], lay.upper[i]);
         }
     };
-    let jacobian = |model: &mut Model, theta: &[f64], r: &[f64], jac: &mut [f64], rp: &mut Vec<f64>| -> Result<()> {
+    let jacobian = |model: &mut Model,
+                    theta: &[f64],
+                    r: &[f64],
+                    jac: &mut [f64],
+                    rp: &mut Vec<f64>|
+     -> Result<()> {
         for i in 0..p {
             let mut th = theta.to_vec();
             let mut h = 1e-5 * theta[i].abs().max(1e-2);
@@ -217,7 +222,27 @@ pub fn fit(
         jacobian(model, &theta, &r, &mut jac, &mut rp)?;
         let jm = nalgebra::DMatrix::from_row_slice(m, p, &jac);
         let jtj = jm.transpose() * &jm;
-        let norms: Vec<f64> = (0..p).map(|i| jtj[(i, i)].max(0.0).sqrt()).collect();
+        // A column whose effect on the signal is below 1e-6 of the signal's RMS (for the
+        // parameter at max(|θ|, 1)) is not excited: treated as zero.
+        let ch = prep.log.channels;
+        let yrms = (rows
+            .iter()
+            .flat_map(|&k| prep.log.y[k * ch..(k + 1) * ch].iter())
+            .map(|v| v * v)
+            .sum::<f64>()
+            / m.max(1) as f64)
+            .sqrt();
+        let norms: Vec<f64> = (0..p)
+            .map(|i| {
+                let nrm = jtj[(i, i)].max(0.0).sqrt();
+                if nrm * theta[i].abs().max(1.0) / (m.max(1) as f64).sqrt() < 1e-6 * yrms.max(1e-12)
+                {
+                    0.0
+                } else {
+                    nrm
+                }
+            })
+            .collect();
         let mut s = jtj.clone();
         for i in 0..p {
             for k in 0..p {
@@ -227,7 +252,11 @@ pub fn fit(
         }
         let eig = s.symmetric_eigen();
         let emax = eig.eigenvalues.iter().cloned().fold(0.0, f64::max);
-        let emin = eig.eigenvalues.iter().cloned().fold(f64::INFINITY, f64::min);
+        let emin = eig
+            .eigenvalues
+            .iter()
+            .cloned()
+            .fold(f64::INFINITY, f64::min);
         let zero_col = norms.iter().any(|n| *n == 0.0);
         cond = if zero_col || emin <= 0.0 {
             f64::INFINITY
@@ -236,12 +265,15 @@ pub fn fit(
         };
         let sigma2 = ssr / (m.saturating_sub(p).max(1) as f64);
         let cut = emax / (CONDITION_LIMIT * CONDITION_LIMIT);
-        let mut groups = Vec::new();
+        let mut groups: Vec<Vec<String>> = (0..p)
+            .filter(|&i| norms[i] == 0.0)
+            .map(|i| vec![format!("{}.{}", lay.names[i].0, lay.names[i].1)])
+            .collect();
         for (c, &ev) in eig.eigenvalues.iter().enumerate() {
             if ev <= cut {
                 let v = eig.eigenvectors.column(c);
                 let g: Vec<String> = (0..p)
-                    .filter(|&i| v[i].abs() > 0.2 || norms[i] == 0.0 && v[i].abs() > 0.5)
+                    .filter(|&i| norms[i] > 0.0 && v[i].abs() > 0.2)
                     .map(|i| format!("{}.{}", lay.names[i].0, lay.names[i].1))
                     .collect();
                 if !g.is_empty() && !groups.contains(&g) {
@@ -252,9 +284,9 @@ pub fn fit(
         let weak: Vec<bool> = (0..p)
             .map(|i| {
                 norms[i] == 0.0
-                    || groups.iter().any(|g| {
-                        g.contains(&format!("{}.{}", lay.names[i].0, lay.names[i].1))
-                    })
+                    || groups
+                        .iter()
+                        .any(|g| g.contains(&format!("{}.{}", lay.names[i].0, lay.names[i].1)))
             })
             .collect();
         // Covariance by the pseudo-inverse on the well-determined subspace.

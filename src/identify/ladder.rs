@@ -85,8 +85,19 @@ pub fn identify(
 /// = armature/G², `winding_resistance_ohm`, `gear_efficiency`, `standby_power_w`, payload
 /// `mass_kg` += Δm); the switches and the parameters without drive keys go to `[effects]`.
 /// Refuses to write over `src`, and over an existing `dst` unless `force`.
-pub fn write_drive_file(src: &Path, dst: &Path, model: &Model, urdf: &Path, force: bool) -> Result<()> {
-    if dst == src || dst.canonicalize().ok().is_some_and(|d| src.canonicalize().is_ok_and(|s| s == d)) {
+pub fn write_drive_file(
+    src: &Path,
+    dst: &Path,
+    model: &Model,
+    urdf: &Path,
+    force: bool,
+) -> Result<()> {
+    if dst == src
+        || dst
+            .canonicalize()
+            .ok()
+            .is_some_and(|d| src.canonicalize().is_ok_and(|s| s == d))
+    {
         return Err(Error::Invalid(format!(
             "{}: refusing to overwrite the input drive file",
             dst.display()
@@ -107,14 +118,19 @@ pub fn write_drive_file(src: &Path, dst: &Path, model: &Model, urdf: &Path, forc
     let f = |x: f64| toml::Value::Float(x);
     if let Some(joints) = t.get_mut("joints").and_then(|j| j.as_array_mut()) {
         for (j, jt) in joints.iter_mut().enumerate() {
-            let Some(jt) = jt.as_table_mut() else { continue };
+            let Some(jt) = jt.as_table_mut() else {
+                continue;
+            };
             if j >= model.n {
                 break;
             }
             jt.insert("viscous_nm_s_per_rad".into(), f(model.viscous.fv[j]));
             jt.insert("coulomb_nm".into(), f(model.coulomb.fc[j]));
             let g = model.gear[j];
-            jt.insert("rotor_inertia_kg_m2".into(), f(model.armature.ia[j] / (g * g)));
+            jt.insert(
+                "rotor_inertia_kg_m2".into(),
+                f(model.armature.ia[j] / (g * g)),
+            );
             jt.insert("winding_resistance_ohm".into(), f(model.copper.r[j]));
             jt.insert("gear_efficiency".into(), f(model.gear_efficiency.eta[j]));
         }
@@ -158,7 +174,12 @@ pub fn write_drive_file(src: &Path, dst: &Path, model: &Model, urdf: &Path, forc
     let mut e = toml::Table::new();
     e.insert(
         "enabled".into(),
-        toml::Value::Array(enabled.iter().map(|s| toml::Value::String(s.to_string())).collect()),
+        toml::Value::Array(
+            enabled
+                .iter()
+                .map(|s| toml::Value::String(s.to_string()))
+                .collect(),
+        ),
     );
     e.insert(
         "stribeck_nm".into(),
@@ -166,13 +187,17 @@ pub fn write_drive_file(src: &Path, dst: &Path, model: &Model, urdf: &Path, forc
     );
     e.insert("stribeck_velocity_rad_s".into(), f(model.stribeck.vs));
     e.insert("balancer_preload_n".into(), f(model.balancer.preload));
-    e.insert("balancer_stiffness_n_per_m".into(), f(model.balancer.stiffness));
+    e.insert(
+        "balancer_stiffness_n_per_m".into(),
+        f(model.balancer.stiffness),
+    );
     e.insert(
         "regeneration_recovered_fraction".into(),
         f(model.regeneration.recovered),
     );
     t.insert("effects".into(), toml::Value::Table(e));
-    let body = toml::to_string(&t).map_err(|e| Error::Invalid(format!("writing drive file: {e}")))?;
+    let body =
+        toml::to_string(&t).map_err(|e| Error::Invalid(format!("writing drive file: {e}")))?;
     let out = format!(
         "# drive file identified by `printwatt identify` from {}; all values SI, unit in the key\n{body}",
         src.display()

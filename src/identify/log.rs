@@ -140,9 +140,7 @@ pub fn expand_column_map(map: &str) -> Result<Vec<String>> {
     for raw in map.split(',') {
         let item = raw.trim();
         if item.is_empty() {
-            return Err(Error::Invalid(format!(
-                "column map `{map}`: empty entry"
-            )));
+            return Err(Error::Invalid(format!("column map `{map}`: empty entry")));
         }
         let (body, unit) = match (item.find('['), item.ends_with(']')) {
             (Some(i), true) => (&item[..i], &item[i..]),

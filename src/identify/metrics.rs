@@ -98,7 +98,9 @@ pub fn channel_names(prep: &Prepared) -> Vec<String> {
     if prep.log.kind == SignalKind::TotalPower {
         vec!["total".into()]
     } else {
-        (1..=prep.log.traj.n).map(|j| format!("joint_{j}")).collect()
+        (1..=prep.log.traj.n)
+            .map(|j| format!("joint_{j}"))
+            .collect()
     }
 }
 
@@ -236,7 +238,9 @@ pub fn compare(prep: &Prepared, model: &Model) -> (Comparison, Vec<f64>) {
         let a80 = sorted[(0.8 * (len - 1) as f64) as usize];
         let (qmin, qmax) = q
             .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| (a.min(*x), b.max(*x)));
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+                (a.min(*x), b.max(*x))
+            });
         let bin = |x: f64| {
             if qmax > qmin {
                 (((x - qmin) / (qmax - qmin) * 4.0) as usize).min(3)
@@ -283,7 +287,11 @@ pub fn compare(prep: &Prepared, model: &Model) -> (Comparison, Vec<f64>) {
             unit: log.kind.unit().into(),
             samples: len,
             duration_s: dur,
-            effects: model.enabled_names().iter().map(|s| s.to_string()).collect(),
+            effects: model
+                .enabled_names()
+                .iter()
+                .map(|s| s.to_string())
+                .collect(),
             channels,
             total,
             worst_windows: windows,

@@ -229,7 +229,8 @@ impl Model {
             if let Some(x) = get_f64(t, key) {
                 let mut v = m.values(name)?;
                 v[idx] = x;
-                m.set_values(name, &v).map_err(|e| bad(key, e.to_string()))?;
+                m.set_values(name, &v)
+                    .map_err(|e| bad(key, e.to_string()))?;
             }
             Ok(())
         };
@@ -360,7 +361,11 @@ impl Model {
             } else {
                 1.0
             };
-            let r = if self.enabled[6] { self.copper.r[j] } else { 0.0 };
+            let r = if self.enabled[6] {
+                self.copper.r[j]
+            } else {
+                0.0
+            };
             let g = self.gear[j];
             let tm = if tau[j] * qd[j] >= 0.0 {
                 tau[j] / (g * eta)
@@ -418,7 +423,10 @@ impl<'a> Prepared<'a> {
         let n = model.n;
         if log.traj.n != n {
             return Err(Error::SizeMismatch {
-                what: format!("{}: joints in the log for robot `{}`", log.file, model.robot_name),
+                what: format!(
+                    "{}: joints in the log for robot `{}`",
+                    log.file, model.robot_name
+                ),
                 got: log.traj.n,
                 expected: n,
             });
@@ -485,7 +493,11 @@ impl<'a> Prepared<'a> {
         let mut tau = [0.0; MAX_DOF];
         for (r, &k) in rows.iter().enumerate() {
             tau[..n].copy_from_slice(&self.tau_rb[k * n..(k + 1) * n]);
-            let (q, qd, qdd) = (self.log.traj.q(k), self.log.traj.qd(k), self.log.traj.qdd(k));
+            let (q, qd, qdd) = (
+                self.log.traj.q(k),
+                self.log.traj.qd(k),
+                self.log.traj.qdd(k),
+            );
             for (i, (e, on)) in effects.iter().enumerate() {
                 if !*on {
                     continue;

@@ -28,18 +28,19 @@ pub struct Hidden {
 pub fn parse_hidden(s: &str) -> Result<Vec<Hidden>> {
     let mut out = Vec::new();
     for item in s.split(',').map(str::trim).filter(|x| !x.is_empty()) {
-        let (lhs, rhs) = item.split_once('=').ok_or_else(|| {
-            Error::Invalid(format!("--hidden: `{item}`: expected effect=value"))
-        })?;
-        let (name, joint) = match lhs.split_once('[') {
-            Some((n, j)) => (
-                n.trim(),
-                Some(j.trim_end_matches(']').parse::<usize>().map_err(|_| {
-                    Error::Invalid(format!("--hidden: `{item}`: bad joint index"))
-                })?),
-            ),
-            None => (lhs.trim(), None),
-        };
+        let (lhs, rhs) = item
+            .split_once('=')
+            .ok_or_else(|| Error::Invalid(format!("--hidden: `{item}`: expected effect=value")))?;
+        let (name, joint) =
+            match lhs.split_once('[') {
+                Some((n, j)) => (
+                    n.trim(),
+                    Some(j.trim_end_matches(']').parse::<usize>().map_err(|_| {
+                        Error::Invalid(format!("--hidden: `{item}`: bad joint index"))
+                    })?),
+                ),
+                None => (lhs.trim(), None),
+            };
         let i = catalogue_index(name)?;
         let values = rhs
             .split(':')
@@ -109,9 +110,19 @@ pub fn excitation(robot: &RobotModel, duration_s: f64, rate_hz: f64, seed: u64) 
         let tw = std::f64::consts::TAU;
         let sv: f64 = (0..3).map(|k| w[k] * tw * f[k]).sum();
         let sa: f64 = (0..3).map(|k| w[k] * (tw * f[k]).powi(2)).sum();
-        let vl = if jt.velocity_limit > 0.0 { jt.velocity_limit } else { 2.0 };
-        let al = if jt.acceleration_limit > 0.0 { jt.acceleration_limit } else { 5.0 };
-        let amp = (0.3 * 0.5 * (hi - lo)).min(0.35 * vl / sv).min(0.35 * al / sa);
+        let vl = if jt.velocity_limit > 0.0 {
+            jt.velocity_limit
+        } else {
+            2.0
+        };
+        let al = if jt.acceleration_limit > 0.0 {
+            jt.acceleration_limit
+        } else {
+            5.0
+        };
+        let amp = (0.3 * 0.5 * (hi - lo))
+            .min(0.35 * vl / sv)
+            .min(0.35 * al / sa);
         let ph: Vec<f64> = (0..3).map(|_| rng.gen::<f64>() * tw).collect();
         spec.push((centre, amp, f, ph));
     }
@@ -234,7 +245,10 @@ pub fn simulate_log(
         truth.signal_from_torque(opt.kind, &tau, traj.qd(k), &mut y);
         let mut row = vec![format!("{:.6}", traj.t[k])];
         for j in 0..n {
-            row.push(format!("{:.9}", traj.q(k)[j] + opt.noise_q * gauss(&mut rng)));
+            row.push(format!(
+                "{:.9}",
+                traj.q(k)[j] + opt.noise_q * gauss(&mut rng)
+            ));
         }
         for v in &y {
             let mut x = v + opt.noise * gauss(&mut rng);
