@@ -178,7 +178,21 @@ pub fn fit(
         jacobian(model, &theta, &r, &mut jac, &mut rp)?;
         let jm = nalgebra::DMatrix::from_row_slice(m, p, &jac);
         let jtj = jm.transpose() * &jm;
-        let g = jm.transpose() * nalgebra::DVector::from_column_slice(&r);
+        let mut g = jm.transpose() * nalgebra::DVector::from_column_slice(&r);
+        let maxdiag = (0..p).map(|i| jtj[(i, i)]).fold(0.0, f64::max);
+        // Columns with no excitation stay where they are.
+        let frozen: Vec<bool> = (0..p).map(|i| jtj[(i, i)] <= 1e-12 * maxdiag).collect();
+        let mut jtj = jtj;
+        for i in 0..p {
+            if frozen[i] {
+                for k in 0..p {
+                    jtj[(i, k)] = 0.0;
+                    jtj[(k, i)] = 0.0;
+                }
+                jtj[(i, i)] = 1.0;
+                g[i] = 0.0;
+            }
+        }
         let mut improved = false;
         for _try in 0..12 {
             let mut a = jtj.clone();
