@@ -271,7 +271,7 @@ pub fn fit(
             .iter()
             .cloned()
             .fold(f64::INFINITY, f64::min);
-        let zero_col = norms.iter().any(|n| *n == 0.0);
+        let zero_col = norms.contains(&0.0);
         cond = if zero_col || emin <= 0.0 {
             f64::INFINITY
         } else {

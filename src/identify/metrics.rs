@@ -5,6 +5,7 @@
 //!
 //! Energies: `tau` logs `∫ max(τ q̇, 0) dt` per joint (mechanical energy drawn); `i` logs the
 //! same with `τ = K_t G i`; `p` and `p_total` logs `∫ P dt` (what a meter integrates). Trapezoidal.
+#![allow(clippy::needless_range_loop)] // parallel per-sample arrays indexed by sample
 
 use crate::identify::log::SignalKind;
 use crate::identify::model::{Model, Prepared};
