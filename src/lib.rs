@@ -12,6 +12,7 @@ pub mod dynamics;
 pub mod effects;
 pub mod energy;
 pub mod error;
+pub mod identify;
 pub mod kinematics;
 pub mod math;
 pub mod output;

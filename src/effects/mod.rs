@@ -9,18 +9,26 @@
 //! `algorithm/regressor.hpp`).
 //!
 //! Implemented joint-side effects: [`Viscous`] (`viscous`), [`Coulomb`] (`coulomb`),
-//! [`Armature`] (`armature`). The catalogue's other names are reserved in
-//! [`CATALOGUE`]: `stribeck` and `balancer` will implement [`TorqueEffect`]; the electrical and
-//! supply effects (`copper`, `gear_efficiency`, `regeneration`, `standby`) act after the torque
-//! is known and are evaluated today by the motor model in [`crate::energy`] (seed 001,
-//! eqs. 2–4); they will get a power-side trait of the same shape (name + params).
+//! [`Stribeck`] (`stribeck`), [`Armature`] (`armature`), [`Payload`] (`payload`, a payload
+//! mass error), [`Balancer`] (`balancer`). The electrical and supply effects [`Copper`],
+//! [`GearEfficiency`], [`Regeneration`] and [`Standby`] act after the torque is known; they
+//! implement [`Effect`] (name + bounded parameters) and are evaluated by the motor model in
+//! [`crate::energy`] and [`crate::identify`] (seed 001, eqs. 2–4).
 
 mod armature;
+mod balancer;
 mod coulomb;
+mod electrical;
+mod payload;
+mod stribeck;
 mod viscous;
 
 pub use armature::Armature;
+pub use balancer::{Balancer, BALANCER_A_M, BALANCER_B_M, BALANCER_PHI0_RAD};
 pub use coulomb::{Coulomb, COULOMB_VELOCITY_SCALE_RAD_S};
+pub use electrical::{Copper, GearEfficiency, Regeneration, Standby};
+pub use payload::Payload;
+pub use stribeck::{Stribeck, STRIBECK_VELOCITY_RAD_S};
 pub use viscous::Viscous;
 
 use crate::error::{Error, Result};

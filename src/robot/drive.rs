@@ -96,6 +96,11 @@ pub(crate) struct DriveFile {
     pub cabinet: Option<CabinetTable>,
     #[serde(default)]
     pub joints: Vec<JointTable>,
+    /// Optional `[effects]` table (switches and identified parameters of effects the rest of
+    /// the file has no keys for); read by [`crate::identify`], ignored elsewhere.
+    #[serde(default)]
+    #[allow(dead_code)]
+    pub effects: Option<toml::Table>,
 }
 
 #[derive(Deserialize, Debug, Default)]

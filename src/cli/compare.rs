@@ -1,0 +1,165 @@
+//! `printwatt compare`, `diagnose`, `identify`: shared loading, and `compare` itself.
+
+use super::{load_robot, LogArgs};
+use crate::identify::{self, metrics, model::Model, plot, Log};
+use anyhow::{Context, Result};
+use std::path::{Path, PathBuf};
+
+/// The robot, the model (effects switched per drive file and command line) and the log.
+pub(crate) fn load(a: &LogArgs) -> Result<(crate::robot::RobotModel, Model, Log)> {
+    let robot = load_robot(&a.robot)?;
+    let drive = identify::model::drive_file_of(&super::resolve_robot(&a.robot));
+    let mut model = Model::new(&robot, drive.as_deref())
+        .with_context(|| format!("building the model of {}", a.robot.display()))?;
+    if let Some(list) = &a.effects {
+        let names = identify::model::parse_effect_list(list)?;
+        model.enabled = [false; 10];
+        for n in names {
+            model.set_enabled(n, true)?;
+        }
+    }
+    if let Some(list) = &a.without {
+        for n in identify::model::parse_effect_list(list)? {
+            model.set_enabled(n, false)?;
+        }
+    }
+    let log = identify::read_log(&a.log, robot.dof(), a.columns.as_deref())
+        .with_context(|| format!("reading log {}", a.log.display()))?;
+    for w in &log.warnings {
+        eprintln!("warning: {w}");
+    }
+    Ok((robot, model, log))
+}
+
+/// `printwatt compare`.
+pub fn run(a: super::CompareArgs) -> Result<()> {
+    let (_robot, model, log) = load(&a.log)?;
+    let prep = identify::Prepared::new(&model, &log)?;
+    let (cmp, pred) = metrics::compare(&prep, &model);
+    if let Some(dir) = &a.out {
+        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+        crate::output::write_atomic(
+            &dir.join("compare.json"),
+            serde_json::to_string_pretty(&cmp)?.as_bytes(),
+        )?;
+        write_report(&dir.join("report.html"), &log, &pred, &cmp)?;
+    }
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&cmp)?);
+        return Ok(());
+    }
+    println!(
+        "log {} ({} samples, {:.2} s, signal `{}` [{}]); model: {}",
+        cmp.log,
+        cmp.samples,
+        cmp.duration_s,
+        log.kind.prefix(),
+        cmp.unit,
+        cmp.effects.join(", ")
+    );
+    println!(
+        "{:<10} {:>12} {:>12} {:>12} {:>12} {:>9} {:>9}",
+        "channel", "rmse", "meas_rms", "E_meas_J", "E_model_J", "dE_%", "acc_%"
+    );
+    for c in cmp.channels.iter().chain(std::iter::once(&cmp.total)) {
+        println!(
+            "{:<10} {:>12.4} {:>12.4} {:>12.1} {:>12.1} {:>9.2} {:>9.2}",
+            c.name,
+            c.rmse,
+            c.measured_rms,
+            c.energy_measured_j,
+            c.energy_model_j,
+            c.energy_error_pct,
+            c.accuracy_pct
+        );
+    }
+    println!("worst windows:");
+    for w in &cmp.worst_windows {
+        println!(
+            "  {:>8.2}–{:<8.2} s  rmse {:.4} (mostly {})",
+            w.t_start, w.t_end, w.rmse, w.worst_channel
+        );
+    }
+    println!("regimes carrying more than their share of the squared residual:");
+    for r in &cmp.regimes {
+        println!(
+            "  {:<8} {:<20} {:5.1} % of samples, {:5.1} % of residual²",
+            r.joint, r.regime, r.samples_pct, r.residual_pct
+        );
+    }
+    Ok(())
+}
+
+/// `report.html`: measured vs modelled, residual over time, residual vs q̇, q̈, q per joint.
+fn write_report(path: &Path, log: &Log, pred: &[f64], cmp: &metrics::Comparison) -> Result<()> {
+    let ch = log.channels;
+    let n = log.traj.n;
+    let t = &log.traj.t;
+    let mut html = format!(
+        "<!doctype html><html><head><meta charset=\"utf-8\"><title>printwatt compare</title></head><body>\
+<h1>Model vs measurement: {}</h1><p>signal <code>{}</code> [{}], {} samples, model: {}. Total RMSE {:.4}, energy error {:.2} %, accuracy {:.2} %.</p>",
+        cmp.log, log.kind.prefix(), cmp.unit, cmp.samples, cmp.effects.join(", "),
+        cmp.total.rmse, cmp.total.energy_error_pct, cmp.total.accuracy_pct
+    );
+    for c in 0..ch {
+        let name = &cmp.channels[c].name;
+        let meas: Vec<f64> = (0..log.len()).map(|k| log.y[k * ch + c]).collect();
+        let model: Vec<f64> = (0..log.len()).map(|k| pred[k * ch + c]).collect();
+        let res: Vec<f64> = model.iter().zip(&meas).map(|(a, b)| a - b).collect();
+        html.push_str(&format!("<h2>{name}</h2>"));
+        html.push_str(&plot::line_chart(
+            &format!("{name}: measured and modelled"),
+            "t [s]",
+            cmp.unit.as_str(),
+            &[("measured", t, &meas), ("model", t, &model)],
+        ));
+        html.push_str(&plot::line_chart(
+            &format!("{name}: residual (model − measured)"),
+            "t [s]",
+            cmp.unit.as_str(),
+            &[("residual", t, &res)],
+        ));
+        let joints: Vec<usize> = if ch == 1 { (0..n).collect() } else { vec![c] };
+        for j in joints {
+            for (lab, unit, f) in [
+                ("velocity", "rad/s", JointTrajSel::Qd),
+                ("acceleration", "rad/s²", JointTrajSel::Qdd),
+                ("position", "rad", JointTrajSel::Q),
+            ] {
+                let x: Vec<f64> = (0..log.len())
+                    .map(|k| match f {
+                        JointTrajSel::Q => log.traj.q(k)[j],
+                        JointTrajSel::Qd => log.traj.qd(k)[j],
+                        JointTrajSel::Qdd => log.traj.qdd(k)[j],
+                    })
+                    .collect();
+                html.push_str(&plot::scatter(
+                    &format!("{name}: residual vs joint {} {lab}", j + 1),
+                    &format!("{lab} [{unit}]"),
+                    cmp.unit.as_str(),
+                    &x,
+                    &res,
+                ));
+            }
+        }
+    }
+    html.push_str("</body></html>\n");
+    crate::output::write_atomic(path, html.as_bytes())?;
+    Ok(())
+}
+
+#[derive(Clone, Copy)]
+enum JointTrajSel {
+    Q,
+    Qd,
+    Qdd,
+}
+
+/// Default path of the identified drive file beside the input.
+pub(crate) fn identified_path(drive: &Path) -> PathBuf {
+    let stem = drive
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "drive".into());
+    drive.with_file_name(format!("{stem}.identified.toml"))
+}

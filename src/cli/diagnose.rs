@@ -1,0 +1,64 @@
+//! `printwatt diagnose`
+
+use crate::identify::{self, diagnose};
+use anyhow::Result;
+
+/// `printwatt diagnose`: rank the effects by the share of the residual they explain.
+pub fn run(a: super::DiagnoseArgs) -> Result<()> {
+    let (_robot, mut model, log) = super::compare::load(&a.log)?;
+    let prep = identify::Prepared::new(&model, &log)?;
+    let d = diagnose::diagnose(&prep, &mut model, a.folds)?;
+    if a.json {
+        println!("{}", serde_json::to_string_pretty(&d)?);
+        return Ok(());
+    }
+    println!(
+        "model: {}; RMSE {:.4} {}; {}-fold time blocks",
+        d.model_effects.join(", "),
+        d.base_rmse,
+        log.kind.unit(),
+        d.folds
+    );
+    println!(
+        "{:<4} {:<16} {:>8} {:>12} {:>8} {:>10} {:>5}  joints",
+        "rank", "effect", "status", "val_rmse", "cut_%", "dBIC", "sig"
+    );
+    for (i, c) in d.candidates.iter().enumerate() {
+        println!(
+            "{:<4} {:<16} {:>8} {:>12.4} {:>8.1} {:>10.1} {:>5}  {:?}",
+            i + 1,
+            c.effect,
+            if c.in_model { "refit" } else { "missing" },
+            c.validation_rmse,
+            c.rmse_cut_pct,
+            c.delta_bic,
+            if c.significant { "yes" } else { "no" },
+            c.joints
+        );
+        if i < 3 && c.significant {
+            for p in &c.params {
+                if p.value != p.nominal {
+                    match p.std_error {
+                        Some(se) => println!(
+                            "       {} = {:.4} ± {:.4} {} (was {:.4})",
+                            p.name, p.value, se, p.unit, p.nominal
+                        ),
+                        None => println!("       {} = not identifiable", p.name),
+                    }
+                }
+            }
+            if let Some(n) = &c.note {
+                println!("       {n}");
+            }
+        }
+    }
+    if !d.not_observable.is_empty() {
+        println!(
+            "not observable in a `{}` log: {}",
+            log.kind.prefix(),
+            d.not_observable.join(", ")
+        );
+    }
+    println!("{}", d.verdict);
+    Ok(())
+}

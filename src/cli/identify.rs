@@ -1,0 +1,142 @@
+//! `printwatt identify`
+
+use crate::identify::{self, ladder, plot};
+use anyhow::{bail, Context, Result};
+
+/// `printwatt identify`: fit the listed effects in turn, report the ladder, write the drive
+/// file beside the input.
+pub fn run(a: super::IdentifyArgs) -> Result<()> {
+    let mut la = a.log.clone();
+    let fit_list = la.effects.take().unwrap_or_default();
+    let (robot, mut model, log) = super::compare::load(&la)?;
+    let effects = identify::model::parse_effect_list(&fit_list)?;
+    if effects.is_empty() {
+        bail!("--effects: name the effects to fit, e.g. --effects coulomb,balancer");
+    }
+    for e in &effects {
+        if !identify::model::Model::observable(e, log.kind) {
+            bail!(
+                "effect `{e}` cannot be seen in a `{}` log",
+                log.kind.prefix()
+            );
+        }
+    }
+    let prep = identify::Prepared::new(&model, &log)?;
+    let vlog;
+    let vprep;
+    let (train_rows, val, what): (Vec<usize>, (&identify::Prepared, Vec<usize>), String) =
+        match &a.validate_log {
+            Some(p) => {
+                vlog = identify::read_log(p, robot.dof(), la.columns.as_deref())
+                    .with_context(|| format!("reading validation log {}", p.display()))?;
+                vprep = identify::Prepared::new(&model, &vlog)?;
+                (
+                    (0..log.len()).collect(),
+                    (&vprep, (0..vlog.len()).collect()),
+                    format!("fitted on {}, validated on {}", log.file, vlog.file),
+                )
+            }
+            None => {
+                let cut = log.len() * 3 / 4;
+                (
+                    (0..cut).collect(),
+                    (&prep, (cut..log.len()).collect()),
+                    format!(
+                        "fitted on the first 75 % of {} (t < {:.2} s), validated on the last 25 %",
+                        log.file, log.traj.t[cut]
+                    ),
+                )
+            }
+        };
+    let id = ladder::identify(
+        &mut model,
+        (&prep, &train_rows),
+        (val.0, &val.1),
+        &effects,
+        what,
+    )?;
+    let mut written = None;
+    if id.ill_conditioned.is_none() {
+        if let Some(src) = identify::model::drive_file_of(&super::resolve_robot(&la.robot)) {
+            let dst = a
+                .drive_out
+                .clone()
+                .unwrap_or_else(|| super::compare::identified_path(&src));
+            ladder::write_drive_file(&src, &dst, &model, &robot.source, a.force)?;
+            written = Some(dst);
+        }
+    }
+    if let Some(dir) = &a.out {
+        std::fs::create_dir_all(dir)?;
+        let labels: Vec<String> = id.ladder.iter().map(|s| s.step.clone()).collect();
+        let vals: Vec<f64> = id.ladder.iter().map(|s| s.validation_rmse).collect();
+        crate::output::write_atomic(
+            &dir.join("ladder.svg"),
+            plot::bar_chart(
+                "error ladder: validation RMSE per step",
+                log.kind.unit(),
+                &labels,
+                &vals,
+            )
+            .as_bytes(),
+        )?;
+        crate::output::write_atomic(
+            &dir.join("ladder.md"),
+            ladder_table(&id, log.kind.unit()).as_bytes(),
+        )?;
+        crate::output::write_atomic(
+            &dir.join("identify.json"),
+            serde_json::to_string_pretty(&id)?.as_bytes(),
+        )?;
+    }
+    if a.json {
+        let v = serde_json::json!({"identification": id, "drive_file": written});
+        println!("{}", serde_json::to_string_pretty(&v)?);
+        return Ok(());
+    }
+    println!("{}", id.validation);
+    print!("{}", ladder_table(&id, log.kind.unit()));
+    match &id.ill_conditioned {
+        Some(ill) => {
+            println!("{ill}");
+            println!("no parameters printed and no drive file written: excite these joints (or fit fewer effects)");
+        }
+        None => {
+            println!("identified parameters (changed ones):");
+            for p in &id.params {
+                if (p.value - p.nominal).abs() > 1e-12 {
+                    println!(
+                        "  {:<16} {:<10} {:>12.4} ± {:<10.4} {} (was {:.4})",
+                        p.effect,
+                        p.name,
+                        p.value,
+                        p.std_error.unwrap_or(f64::NAN),
+                        p.unit,
+                        p.nominal
+                    );
+                }
+            }
+        }
+    }
+    if let Some(w) = written {
+        println!("wrote {}", w.display());
+    }
+    Ok(())
+}
+
+fn ladder_table(id: &ladder::Identification, unit: &str) -> String {
+    let mut s = format!(
+        "| step | train RMSE [{unit}] | validation RMSE [{unit}] | validation energy error [%] | accuracy [%] |\n|---|---|---|---|---|\n"
+    );
+    for r in &id.ladder {
+        s.push_str(&format!(
+            "| {} | {:.4} | {:.4} | {:.2} | {:.2} |\n",
+            r.step,
+            r.train_rmse,
+            r.validation_rmse,
+            r.validation_energy_error_pct,
+            r.validation_accuracy_pct
+        ));
+    }
+    s
+}

@@ -1,0 +1,74 @@
+//! `stribeck`: the extra breakaway friction at low speed,
+//! `τ = f_s exp(−(q̇/v_s)²) tanh(q̇/ε)` (joint side), on top of Coulomb friction
+//! (Olsson et al. 1998, the Stribeck curve). Not linear in `v_s`, so [`TorqueEffect::regressor`]
+//! returns `false` and identification uses the bounded nonlinear fit.
+
+use super::{check_values, Effect, ParamSpec, TorqueEffect, COULOMB_VELOCITY_SCALE_RAD_S};
+use crate::error::Result;
+
+/// Default Stribeck velocity `v_s`, rad/s.
+pub const STRIBECK_VELOCITY_RAD_S: f64 = 0.05;
+
+/// Stribeck friction per joint: peaks `f_s` (N·m) and one Stribeck velocity `v_s` (rad/s).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Stribeck {
+    /// Extra breakaway torque per joint `f_s`, N·m (≥ 0).
+    pub fs: Vec<f64>,
+    /// Stribeck velocity `v_s`, rad/s, in [0.005, 1].
+    pub vs: f64,
+}
+
+impl Stribeck {
+    /// No Stribeck friction on `n` joints (`f_s = 0`, `v_s` = [`STRIBECK_VELOCITY_RAD_S`]).
+    pub fn zero(n: usize) -> Self {
+        Stribeck {
+            fs: vec![0.0; n],
+            vs: STRIBECK_VELOCITY_RAD_S,
+        }
+    }
+    /// Shape `exp(−(q̇/v_s)²) tanh(q̇/ε)` (dimensionless) at velocity `qd` rad/s.
+    pub fn shape(&self, qd: f64) -> f64 {
+        (-(qd / self.vs).powi(2)).exp() * (qd / COULOMB_VELOCITY_SCALE_RAD_S).tanh()
+    }
+}
+
+impl Effect for Stribeck {
+    fn name(&self) -> &'static str {
+        "stribeck"
+    }
+    fn params(&self) -> Vec<ParamSpec> {
+        let mut p = super::per_joint("f_s", "N·m", self.fs.len());
+        p.push(ParamSpec {
+            name: "v_s".into(),
+            unit: "rad/s",
+            lower: 0.005,
+            upper: 1.0,
+        });
+        p
+    }
+    fn values(&self) -> Vec<f64> {
+        let mut v = self.fs.clone();
+        v.push(self.vs);
+        v
+    }
+    fn set_values(&mut self, values: &[f64]) -> Result<()> {
+        check_values(self.name(), &self.params(), values)?;
+        let n = self.fs.len();
+        self.fs.copy_from_slice(&values[..n]);
+        self.vs = values[n];
+        Ok(())
+    }
+}
+
+impl TorqueEffect for Stribeck {
+    fn add_torque(&self, _q: &[f64], qd: &[f64], _qdd: &[f64], tau: &mut [f64]) {
+        for ((t, v), f) in tau.iter_mut().zip(qd).zip(&self.fs) {
+            if *f != 0.0 {
+                *t += f * self.shape(*v);
+            }
+        }
+    }
+    fn regressor(&self, _q: &[f64], _qd: &[f64], _qdd: &[f64], _y: &mut [f64]) -> bool {
+        false
+    }
+}

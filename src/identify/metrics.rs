@@ -1,0 +1,305 @@
+//! Comparison metrics (docs/measurement-logs.md "What is compared"): RMSE of the compared
+//! signal per channel and in total (seed 000, eq. 8), energy over the log and its relative
+//! error, accuracy `100 % − |relative energy error|`; where the residual sits: worst time
+//! windows and operating regimes per joint.
+//!
+//! Energies: `tau` logs `∫ max(τ q̇, 0) dt` per joint (mechanical energy drawn); `i` logs the
+//! same with `τ = K_t G i`; `p` and `p_total` logs `∫ P dt` (what a meter integrates). Trapezoidal.
+#![allow(clippy::needless_range_loop)] // parallel per-sample arrays indexed by sample
+
+use crate::identify::log::SignalKind;
+use crate::identify::model::{Model, Prepared};
+use serde::Serialize;
+
+/// Metrics of one channel or of the total.
+#[derive(Clone, Debug, Serialize)]
+pub struct ChannelMetrics {
+    /// `joint_1`…, or `total`.
+    pub name: String,
+    /// RMSE of the compared signal (signal unit).
+    pub rmse: f64,
+    /// RMS of the measured signal (signal unit).
+    pub measured_rms: f64,
+    /// Measured energy, J.
+    pub energy_measured_j: f64,
+    /// Modelled energy, J.
+    pub energy_model_j: f64,
+    /// Relative energy error `(E_model − E_measured)/|E_measured|`, %.
+    pub energy_error_pct: f64,
+    /// `100 − |energy_error_pct|`, %.
+    pub accuracy_pct: f64,
+}
+
+/// A time window with a large residual.
+#[derive(Clone, Debug, Serialize)]
+pub struct Window {
+    /// Start time, s.
+    pub t_start: f64,
+    /// End time, s.
+    pub t_end: f64,
+    /// Residual RMSE in the window (signal unit).
+    pub rmse: f64,
+    /// Channel with the largest residual there.
+    pub worst_channel: String,
+}
+
+/// Share of the squared residual in one operating regime of one joint.
+#[derive(Clone, Debug, Serialize)]
+pub struct Regime {
+    /// Joint name.
+    pub joint: String,
+    /// `positive_speed`, `negative_speed`, `near_zero_speed`, `high_acceleration`,
+    /// `pose_bin_k_of_4`.
+    pub regime: String,
+    /// Share of samples, %.
+    pub samples_pct: f64,
+    /// Share of the squared residual, %.
+    pub residual_pct: f64,
+}
+
+/// The full comparison.
+#[derive(Clone, Debug, Serialize)]
+pub struct Comparison {
+    /// Log file.
+    pub log: String,
+    /// Signal compared.
+    pub signal: SignalKind,
+    /// Its unit.
+    pub unit: String,
+    /// Samples.
+    pub samples: usize,
+    /// Duration, s.
+    pub duration_s: f64,
+    /// Effects switched on in the model.
+    pub effects: Vec<String>,
+    /// Per channel.
+    pub channels: Vec<ChannelMetrics>,
+    /// Total.
+    pub total: ChannelMetrics,
+    /// Worst windows, largest first.
+    pub worst_windows: Vec<Window>,
+    /// Regimes whose residual share exceeds their sample share by 1.5× or more, largest
+    /// ratio first (all regimes in `regimes_all`).
+    pub regimes: Vec<Regime>,
+    /// All regimes.
+    pub regimes_all: Vec<Regime>,
+    /// Warnings from reading the log.
+    pub warnings: Vec<String>,
+}
+
+fn integrate(t: &[f64], p: &[f64]) -> f64 {
+    t.windows(2)
+        .zip(p.windows(2))
+        .map(|(t, p)| 0.5 * (t[1] - t[0]) * (p[0] + p[1]))
+        .sum()
+}
+
+/// Channel names for a log.
+pub fn channel_names(prep: &Prepared) -> Vec<String> {
+    if prep.log.kind == SignalKind::TotalPower {
+        vec!["total".into()]
+    } else {
+        (1..=prep.log.traj.n)
+            .map(|j| format!("joint_{j}"))
+            .collect()
+    }
+}
+
+/// Power series (W) of channel `c` from signal values `y` (row-major over `rows`).
+fn power(prep: &Prepared, model: &Model, rows: &[usize], y: &[f64], c: usize) -> Vec<f64> {
+    let ch = prep.log.channels;
+    rows.iter()
+        .enumerate()
+        .map(|(r, &k)| {
+            let v = y[r * ch + c];
+            let qd = prep.log.traj.qd(k)[c.min(prep.log.traj.n - 1)];
+            match prep.log.kind {
+                SignalKind::Torque => (v * qd).max(0.0),
+                SignalKind::Current => (v * model.kt[c] * model.gear[c] * qd).max(0.0),
+                _ => v,
+            }
+        })
+        .collect()
+}
+
+/// RMSE and energies on a subset of rows: (rmse, measured J, model J).
+pub fn evaluate_rows(prep: &Prepared, model: &Model, rows: &[usize]) -> (f64, f64, f64) {
+    let mut pred = Vec::new();
+    prep.predict(model, rows, &mut pred);
+    let ch = prep.log.channels;
+    let meas: Vec<f64> = rows
+        .iter()
+        .flat_map(|&k| prep.log.y[k * ch..(k + 1) * ch].iter().copied())
+        .collect();
+    let ssr: f64 = pred.iter().zip(&meas).map(|(a, b)| (a - b).powi(2)).sum();
+    let t: Vec<f64> = rows.iter().map(|&k| prep.log.traj.t[k]).collect();
+    let (mut em, mut ep) = (0.0, 0.0);
+    for c in 0..ch {
+        em += integrate(&t, &power(prep, model, rows, &meas, c));
+        ep += integrate(&t, &power(prep, model, rows, &pred, c));
+    }
+    ((ssr / pred.len().max(1) as f64).sqrt(), em, ep)
+}
+
+/// Relative error in %, guarded against a zero reference.
+pub fn rel_pct(model: f64, measured: f64) -> f64 {
+    if measured.abs() > 1e-12 {
+        100.0 * (model - measured) / measured.abs()
+    } else if model.abs() > 1e-12 {
+        100.0
+    } else {
+        0.0
+    }
+}
+
+/// Compare the model with the whole log. Returns the metrics and the prediction
+/// (row-major `len × channels`).
+pub fn compare(prep: &Prepared, model: &Model) -> (Comparison, Vec<f64>) {
+    let log = prep.log;
+    let len = log.len();
+    let ch = log.channels;
+    let n = log.traj.n;
+    let rows: Vec<usize> = (0..len).collect();
+    let mut pred = Vec::new();
+    prep.predict(model, &rows, &mut pred);
+    let names = channel_names(prep);
+    let t = &log.traj.t;
+    let metrics = |name: String, cs: &[usize]| {
+        let (mut ssr, mut sm, mut cnt) = (0.0, 0.0, 0usize);
+        let (mut em, mut ep) = (0.0, 0.0);
+        for &c in cs {
+            for k in 0..len {
+                ssr += (pred[k * ch + c] - log.y[k * ch + c]).powi(2);
+                sm += log.y[k * ch + c].powi(2);
+                cnt += 1;
+            }
+            em += integrate(t, &power(prep, model, &rows, &log.y, c));
+            ep += integrate(t, &power(prep, model, &rows, &pred, c));
+        }
+        let e = rel_pct(ep, em);
+        ChannelMetrics {
+            name,
+            rmse: (ssr / cnt.max(1) as f64).sqrt(),
+            measured_rms: (sm / cnt.max(1) as f64).sqrt(),
+            energy_measured_j: em,
+            energy_model_j: ep,
+            energy_error_pct: e,
+            accuracy_pct: 100.0 - e.abs(),
+        }
+    };
+    let channels: Vec<ChannelMetrics> = (0..ch).map(|c| metrics(names[c].clone(), &[c])).collect();
+    let all: Vec<usize> = (0..ch).collect();
+    let total = metrics("total".into(), &all);
+    // Worst windows.
+    let dur = log.traj.duration();
+    let wlen = (dur / 20.0).clamp(0.2, 1.0);
+    let mut windows = Vec::new();
+    let mut start = 0;
+    while start < len {
+        let t0 = t[start];
+        let mut end = start;
+        while end < len && t[end] < t0 + wlen {
+            end += 1;
+        }
+        let mut per = vec![0.0; ch];
+        for k in start..end {
+            for (c, p) in per.iter_mut().enumerate() {
+                *p += (pred[k * ch + c] - log.y[k * ch + c]).powi(2);
+            }
+        }
+        let cnt = ((end - start) * ch).max(1) as f64;
+        let worst = (0..ch)
+            .max_by(|a, b| per[*a].total_cmp(&per[*b]))
+            .unwrap_or(0);
+        windows.push(Window {
+            t_start: t0,
+            t_end: t[end.min(len) - 1],
+            rmse: (per.iter().sum::<f64>() / cnt).sqrt(),
+            worst_channel: names[worst].clone(),
+        });
+        start = end.max(start + 1);
+    }
+    windows.sort_by(|a, b| b.rmse.total_cmp(&a.rmse));
+    windows.truncate(5);
+    // Regimes per joint.
+    let mut regimes_all = Vec::new();
+    for j in 0..n {
+        let c = if ch == 1 { 0 } else { j };
+        let r2: Vec<f64> = (0..len)
+            .map(|k| (pred[k * ch + c] - log.y[k * ch + c]).powi(2))
+            .collect();
+        let tot: f64 = r2.iter().sum::<f64>().max(1e-300);
+        let qd: Vec<f64> = (0..len).map(|k| log.traj.qd(k)[j]).collect();
+        let qdd: Vec<f64> = (0..len).map(|k| log.traj.qdd(k)[j].abs()).collect();
+        let q: Vec<f64> = (0..len).map(|k| log.traj.q(k)[j]).collect();
+        let vmax = qd.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+        let v0 = (0.05 * vmax).max(0.005);
+        let mut sorted = qdd.clone();
+        sorted.sort_by(f64::total_cmp);
+        let a80 = sorted[(0.8 * (len - 1) as f64) as usize];
+        let (qmin, qmax) = q
+            .iter()
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
+                (a.min(*x), b.max(*x))
+            });
+        let bin = |x: f64| {
+            if qmax > qmin {
+                (((x - qmin) / (qmax - qmin) * 4.0) as usize).min(3)
+            } else {
+                0
+            }
+        };
+        let mut push = |name: String, f: &dyn Fn(usize) -> bool| {
+            let (mut s, mut cnt) = (0.0, 0usize);
+            for k in 0..len {
+                if f(k) {
+                    s += r2[k];
+                    cnt += 1;
+                }
+            }
+            regimes_all.push(Regime {
+                joint: format!("joint_{}", j + 1),
+                regime: name,
+                samples_pct: 100.0 * cnt as f64 / len as f64,
+                residual_pct: 100.0 * s / tot,
+            });
+        };
+        push("positive_speed".into(), &|k| qd[k] > v0);
+        push("negative_speed".into(), &|k| qd[k] < -v0);
+        push("near_zero_speed".into(), &|k| qd[k].abs() <= v0);
+        push("high_acceleration".into(), &|k| qdd[k] >= a80 && a80 > 0.0);
+        for b in 0..4 {
+            push(format!("pose_bin_{}_of_4", b + 1), &|k| bin(q[k]) == b);
+        }
+    }
+    let mut regimes: Vec<Regime> = regimes_all
+        .iter()
+        .filter(|r| r.samples_pct > 1.0 && r.residual_pct > 1.5 * r.samples_pct)
+        .cloned()
+        .collect();
+    regimes.sort_by(|a, b| {
+        (b.residual_pct / b.samples_pct).total_cmp(&(a.residual_pct / a.samples_pct))
+    });
+    regimes.truncate(12);
+    (
+        Comparison {
+            log: log.file.clone(),
+            signal: log.kind,
+            unit: log.kind.unit().into(),
+            samples: len,
+            duration_s: dur,
+            effects: model
+                .enabled_names()
+                .iter()
+                .map(|s| s.to_string())
+                .collect(),
+            channels,
+            total,
+            worst_windows: windows,
+            regimes,
+            regimes_all,
+            warnings: log.warnings.clone(),
+        },
+        pred,
+    )
+}

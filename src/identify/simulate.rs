@@ -1,0 +1,264 @@
+//! Simulated logs from a "true" robot that differs from the nominal model by hidden effects
+//! and parameter errors, with sensor noise, current quantisation and a controller's sample
+//! rate; seeded (ChaCha8). The output follows docs/measurement-logs.md (`t`, `q1..qN`, signal).
+
+use crate::error::{Error, Result};
+use crate::identify::log::SignalKind;
+use crate::identify::model::{catalogue_index, Model};
+use crate::robot::RobotModel;
+use crate::trajectory::JointTrajectory;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+
+/// One hidden effect: `effect=v` adds `v` to every per-joint parameter (the first values of
+/// the effect, in its units), `effect[j]=v` only to joint `j` (1-based), and `effect=v1:v2`
+/// adds `v2` to the effect's second parameter kind (balancer `F0:k` N and N/m; stribeck
+/// `f_s:v_s` N·m and rad/s, `v_s` set rather than added).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Hidden {
+    /// Catalogue name.
+    pub effect: &'static str,
+    /// 1-based joint, or all.
+    pub joint: Option<usize>,
+    /// Values.
+    pub values: Vec<f64>,
+}
+
+/// Parse `coulomb=40,balancer=8000:20000,payload=+15,viscous[2]=30`.
+pub fn parse_hidden(s: &str) -> Result<Vec<Hidden>> {
+    let mut out = Vec::new();
+    for item in s.split(',').map(str::trim).filter(|x| !x.is_empty()) {
+        let (lhs, rhs) = item
+            .split_once('=')
+            .ok_or_else(|| Error::Invalid(format!("--hidden: `{item}`: expected effect=value")))?;
+        let (name, joint) =
+            match lhs.split_once('[') {
+                Some((n, j)) => (
+                    n.trim(),
+                    Some(j.trim_end_matches(']').parse::<usize>().map_err(|_| {
+                        Error::Invalid(format!("--hidden: `{item}`: bad joint index"))
+                    })?),
+                ),
+                None => (lhs.trim(), None),
+            };
+        let i = catalogue_index(name)?;
+        let values = rhs
+            .split(':')
+            .map(|v| {
+                v.trim().parse::<f64>().map_err(|_| {
+                    Error::Invalid(format!("--hidden: `{item}`: `{v}` is not a number"))
+                })
+            })
+            .collect::<Result<Vec<f64>>>()?;
+        out.push(Hidden {
+            effect: crate::effects::CATALOGUE[i],
+            joint,
+            values,
+        });
+    }
+    Ok(out)
+}
+
+/// Apply hidden effects to a model (switching them on). Values leaving the bounds are clamped.
+pub fn apply_hidden(model: &mut Model, hidden: &[Hidden]) -> Result<()> {
+    let n = model.n;
+    for h in hidden {
+        model.set_enabled(h.effect, true)?;
+        let specs = model.params(h.effect)?;
+        let mut v = model.values(h.effect)?;
+        let per_joint = specs.iter().filter(|s| s.name.ends_with(']')).count();
+        let first = h.values.first().copied().unwrap_or(0.0);
+        if per_joint == n {
+            for (j, x) in v.iter_mut().enumerate().take(n) {
+                if h.joint.is_none_or(|k| k == j + 1) {
+                    *x += first;
+                }
+            }
+            if let (Some(x2), Some(last)) = (h.values.get(1), v.get_mut(n)) {
+                *last = *x2;
+            }
+        } else {
+            for (x, a) in v.iter_mut().zip(&h.values) {
+                *x += a;
+            }
+        }
+        for (x, s) in v.iter_mut().zip(&specs) {
+            *x = x.clamp(s.lower, s.upper);
+        }
+        model.set_values(h.effect, &v)?;
+    }
+    Ok(())
+}
+
+/// A smooth exciting trajectory: per joint a sum of three sines within position, velocity
+/// and acceleration limits (a third of each), about the middle of the joint range, sampled at
+/// `rate_hz` for `duration_s`. Analytic `q̇`, `q̈`.
+pub fn excitation(robot: &RobotModel, duration_s: f64, rate_hz: f64, seed: u64) -> JointTrajectory {
+    let n = robot.dof();
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    let w = [0.6, 0.3, 0.1];
+    let mut spec = Vec::new();
+    for (j, jt) in robot.joints.iter().enumerate() {
+        let (lo, hi) = if jt.upper > jt.lower {
+            (jt.lower, jt.upper)
+        } else {
+            (-3.0, 3.0)
+        };
+        let centre = 0.5 * (lo + hi);
+        let f0 = 0.15 + 0.035 * j as f64 + 0.02 * rng.gen::<f64>();
+        let f = [f0, 2.3 * f0, 3.7 * f0];
+        let tw = std::f64::consts::TAU;
+        let sv: f64 = (0..3).map(|k| w[k] * tw * f[k]).sum();
+        let sa: f64 = (0..3).map(|k| w[k] * (tw * f[k]).powi(2)).sum();
+        let vl = if jt.velocity_limit > 0.0 {
+            jt.velocity_limit
+        } else {
+            2.0
+        };
+        let al = if jt.acceleration_limit > 0.0 {
+            jt.acceleration_limit
+        } else {
+            5.0
+        };
+        let amp = (0.3 * 0.5 * (hi - lo))
+            .min(0.35 * vl / sv)
+            .min(0.35 * al / sa);
+        let ph: Vec<f64> = (0..3).map(|_| rng.gen::<f64>() * tw).collect();
+        spec.push((centre, amp, f, ph));
+    }
+    let mut tr = JointTrajectory::new(n);
+    let len = (duration_s * rate_hz).round().max(2.0) as usize;
+    let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    for k in 0..len {
+        let t = k as f64 / rate_hz;
+        for (j, (c, a, f, ph)) in spec.iter().enumerate() {
+            q[j] = *c;
+            qd[j] = 0.0;
+            qdd[j] = 0.0;
+            for i in 0..3 {
+                let om = std::f64::consts::TAU * f[i];
+                let x = om * t + ph[i];
+                q[j] += a * w[i] * x.sin();
+                qd[j] += a * w[i] * om * x.cos();
+                qdd[j] -= a * w[i] * om * om * x.sin();
+            }
+        }
+        tr.push(t, &q, &qd, &qdd);
+    }
+    tr
+}
+
+/// Resample a trajectory (with `qd`, `qdd`) at `rate_hz` by linear interpolation.
+pub fn resample(tr: &JointTrajectory, rate_hz: f64) -> JointTrajectory {
+    let n = tr.n;
+    let mut out = JointTrajectory::new(n);
+    if tr.len() < 2 {
+        return tr.clone();
+    }
+    let t0 = tr.t[0];
+    let dur = tr.duration();
+    let len = (dur * rate_hz).floor() as usize + 1;
+    let mut i = 0;
+    let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+    for k in 0..len {
+        let t = t0 + k as f64 / rate_hz;
+        while i + 2 < tr.len() && tr.t[i + 1] < t {
+            i += 1;
+        }
+        let a = ((t - tr.t[i]) / (tr.t[i + 1] - tr.t[i])).clamp(0.0, 1.0);
+        for j in 0..n {
+            let lerp = |v: &[f64]| v[i * n + j] * (1.0 - a) + v[(i + 1) * n + j] * a;
+            q[j] = lerp(&tr.q);
+            qd[j] = lerp(&tr.qd);
+            qdd[j] = lerp(&tr.qdd);
+        }
+        out.push(t - t0, &q, &qd, &qdd);
+    }
+    out
+}
+
+/// Sensor options of a simulated log.
+#[derive(Clone, Debug)]
+pub struct SensorOptions {
+    /// Signal written.
+    pub kind: SignalKind,
+    /// Standard deviation of the signal noise (signal unit).
+    pub noise: f64,
+    /// Standard deviation of the position noise, rad.
+    pub noise_q: f64,
+    /// Current quantisation step, A (current logs; 0 = none).
+    pub current_quantum: f64,
+    /// Seed.
+    pub seed: u64,
+}
+
+fn gauss(rng: &mut ChaCha8Rng) -> f64 {
+    let u1: f64 = rng.gen::<f64>().max(1e-300);
+    let u2: f64 = rng.gen();
+    (-2.0 * u1.ln()).sqrt() * (std::f64::consts::TAU * u2).cos()
+}
+
+/// The log text (CSV, contract format) of the true model `truth` along `traj` (`qd`, `qdd`
+/// filled). `metadata`: extra `# key: value` lines.
+pub fn simulate_log(
+    truth: &Model,
+    traj: &JointTrajectory,
+    opt: &SensorOptions,
+    metadata: &[(String, String)],
+) -> Result<String> {
+    let n = truth.n;
+    if opt.kind != SignalKind::Torque && !truth.has_drive {
+        return Err(Error::Invalid(format!(
+            "robot `{}` has no drive data: only `tau` logs can be simulated",
+            truth.robot_name
+        )));
+    }
+    let mut rng = ChaCha8Rng::seed_from_u64(opt.seed);
+    let ch = opt.kind.channels(n);
+    let mut s = String::new();
+    for (k, v) in metadata {
+        s.push_str(&format!("# {k}: {v}\n"));
+    }
+    let mut head = vec!["t[s]".to_string()];
+    head.extend((1..=n).map(|j| format!("q{j}[rad]")));
+    if opt.kind == SignalKind::TotalPower {
+        head.push("p_total[W]".into());
+    } else {
+        head.extend((1..=n).map(|j| {
+            format!(
+                "{}{j}[{}]",
+                opt.kind.prefix(),
+                match opt.kind {
+                    SignalKind::Torque => "Nm",
+                    SignalKind::Current => "A",
+                    _ => "W",
+                }
+            )
+        }));
+    }
+    s.push_str(&head.join(","));
+    s.push('\n');
+    let mut tau = vec![0.0; n];
+    let mut y = vec![0.0; ch];
+    for k in 0..traj.len() {
+        truth.torque(traj.q(k), traj.qd(k), traj.qdd(k), &mut tau)?;
+        truth.signal_from_torque(opt.kind, &tau, traj.qd(k), &mut y);
+        let mut row = vec![format!("{:.6}", traj.t[k])];
+        for j in 0..n {
+            row.push(format!(
+                "{:.9}",
+                traj.q(k)[j] + opt.noise_q * gauss(&mut rng)
+            ));
+        }
+        for v in &y {
+            let mut x = v + opt.noise * gauss(&mut rng);
+            if opt.kind == SignalKind::Current && opt.current_quantum > 0.0 {
+                x = (x / opt.current_quantum).round() * opt.current_quantum;
+            }
+            row.push(format!("{x:.6}"));
+        }
+        s.push_str(&row.join(","));
+        s.push('\n');
+    }
+    Ok(s)
+}
