@@ -28,7 +28,10 @@ fn fast_evaluation_matches_full_evaluation() {
         JointStageOptions::default(),
     )
     .unwrap();
-    let feas = FeasibilityOptions { wrist_min: 0.0, ..Default::default() };
+    let feas = FeasibilityOptions {
+        wrist_min: 0.0,
+        ..Default::default()
+    };
     let ev = Evaluator::new(&job, feas, Objective::Supply);
     let at = Placement::new(1.7, 0.0, 0.0, std::f64::consts::FRAC_PI_2);
     let mut sc = ev.scratch().unwrap();
@@ -38,10 +41,18 @@ fn fast_evaluation_matches_full_evaluation() {
     let t0 = std::time::Instant::now();
     let full = job.evaluate(&at).unwrap().unwrap();
     let dt_full = t0.elapsed();
-    eprintln!("fast {dt_fast:?} full {dt_full:?} samples {}", full.timed.traj.len());
+    eprintln!(
+        "fast {dt_fast:?} full {dt_full:?} samples {}",
+        full.timed.traj.len()
+    );
     let f = fast.outcome.as_ref().unwrap_or_else(|e| panic!("{e}"));
     eprintln!("{f:?}");
     let rel = (f.supply_j - full.energy.total.supply_j).abs() / full.energy.total.supply_j;
-    assert!(rel < 1e-9, "{} vs {}", f.supply_j, full.energy.total.supply_j);
+    assert!(
+        rel < 1e-9,
+        "{} vs {}",
+        f.supply_j,
+        full.energy.total.supply_j
+    );
     assert_eq!(f.samples, full.timed.traj.len());
 }

@@ -6,7 +6,9 @@ use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
 use std::path::{Path, PathBuf};
 
+mod optimise;
 mod robots;
+pub mod sweep;
 
 /// printwatt: where to put a 3D concrete print so the robot arm spends the least energy.
 #[derive(Parser, Debug)]
@@ -21,6 +23,10 @@ pub struct Cli {
 pub enum Command {
     /// List the shipped robots with reach, payload, joint count and provenance.
     Robots(RobotsArgs),
+    /// Evaluate placements of a path (grid, named set or list) in parallel: energy or why not.
+    Sweep(sweep::SweepArgs),
+    /// Find the minimum-energy placement (grid, then seeded pattern search) and write a report.
+    Optimise(optimise::OptimiseArgs),
 }
 
 /// `printwatt robots`
@@ -70,5 +76,7 @@ pub fn load_robot(arg: &Path) -> Result<robot::RobotModel> {
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Robots(a) => robots::run(a),
+        Command::Sweep(a) => sweep::run(a),
+        Command::Optimise(a) => optimise::run(a),
     }
 }

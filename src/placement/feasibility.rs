@@ -269,7 +269,13 @@ pub fn reach_m(model: &RobotModel) -> f64 {
 
 /// The link capsules at `q` (rad), base frame. At most `MAX_DOF + 3` capsules, written into
 /// `out` (cleared first).
-pub fn capsules(model: &RobotModel, reach: f64, radii: &LinkRadii, q: &[f64], out: &mut Vec<Capsule>) {
+pub fn capsules(
+    model: &RobotModel,
+    reach: f64,
+    radii: &LinkRadii,
+    q: &[f64],
+    out: &mut Vec<Capsule>,
+) {
     out.clear();
     let f = fk(model, q);
     let mut prev = V3::zeros();
@@ -495,7 +501,10 @@ pub fn check_sample(
         if d < 0.0 {
             return Some((
                 Reason::CollisionBed,
-                format!("link capsule {i} (r = {:.3} m) reaches {:.3} m into the bed", c.r, -d),
+                format!(
+                    "link capsule {i} (r = {:.3} m) reaches {:.3} m into the bed",
+                    c.r, -d
+                ),
             ));
         }
         if part_top > world.part_lo.z + 1e-6 {
@@ -546,12 +555,7 @@ mod tests {
         let d = segment_distance(&o, &x, &V3::new(0.0, 1.0, 0.0), &V3::new(1.0, 1.0, 0.0));
         assert!((d - 1.0).abs() < 1e-12);
         // Crossing skew lines 0.5 apart.
-        let d = segment_distance(
-            &o,
-            &x,
-            &V3::new(0.5, -1.0, 0.5),
-            &V3::new(0.5, 1.0, 0.5),
-        );
+        let d = segment_distance(&o, &x, &V3::new(0.5, -1.0, 0.5), &V3::new(0.5, 1.0, 0.5));
         assert!((d - 0.5).abs() < 1e-12);
         // End-point to end-point.
         let d = segment_distance(&o, &x, &V3::new(2.0, 0.0, 0.0), &V3::new(3.0, 0.0, 0.0));
@@ -562,8 +566,18 @@ mod tests {
     fn segment_box_cases() {
         let lo = V3::new(0.0, 0.0, -1.0);
         let hi = V3::new(1.0, 1.0, 0.0);
-        assert!(segment_hits_box(&V3::new(0.5, 0.5, 1.0), &V3::new(0.5, 0.5, -0.5), &lo, &hi));
-        assert!(!segment_hits_box(&V3::new(2.0, 0.5, 1.0), &V3::new(2.0, 0.5, -0.5), &lo, &hi));
+        assert!(segment_hits_box(
+            &V3::new(0.5, 0.5, 1.0),
+            &V3::new(0.5, 0.5, -0.5),
+            &lo,
+            &hi
+        ));
+        assert!(!segment_hits_box(
+            &V3::new(2.0, 0.5, 1.0),
+            &V3::new(2.0, 0.5, -0.5),
+            &lo,
+            &hi
+        ));
         let d = segment_box_distance(&V3::new(-1.0, 0.5, 0.3), &V3::new(2.0, 0.5, 0.3), &lo, &hi);
         assert!((d - 0.3).abs() < 1e-9, "{d}");
         let d = segment_box_distance(&V3::new(2.0, 2.0, 0.0), &V3::new(3.0, 2.0, 0.0), &lo, &hi);

@@ -98,7 +98,9 @@ pub fn optimise(
     opts: &OptimiseOptions,
 ) -> Result<OptimiseResult> {
     let start = best_of(grid_results)
-        .ok_or_else(|| Error::Invalid("no feasible placement in the grid: nothing to refine".into()))?
+        .ok_or_else(|| {
+            Error::Invalid("no feasible placement in the grid: nothing to refine".into())
+        })?
         .clone();
     refine(ev, start, opts)
 }
@@ -147,7 +149,12 @@ pub fn refine(ev: &Evaluator, start: Evaluated, opts: &OptimiseOptions) -> Resul
         opts.step_angle_rad,
     ];
     let active = [true, true, opts.yaw, opts.spin];
-    let tol = [opts.tol_xy_m, opts.tol_xy_m, opts.tol_angle_rad, opts.tol_angle_rad];
+    let tol = [
+        opts.tol_xy_m,
+        opts.tol_xy_m,
+        opts.tol_angle_rad,
+        opts.tol_angle_rad,
+    ];
     let mut evals = 0;
     let mut iterations = 0;
     let mut history = vec![cur.cost()];
@@ -256,8 +263,10 @@ pub fn feasible_centre(v: &[Evaluated]) -> Option<&Evaluated> {
     best.map(|b| b.0)
 }
 
-/// A default workspace grid for a path and robot: x from 0.35·R to 0.95·R, y within ±0.7·R
-/// (R = reach, m), 0.1·R/…: about 16 × 16 cells, z = 0, yaws 0° and 90°, spin 0°.
+/// A default workspace grid for a robot of reach R (m): 16 × 16 cells with x from 0.35·R to
+/// 0.95·R and y within ±0.7·R, bed heights z ∈ {0, 0.25, 0.5} m (z = 0: nozzle tip at the
+/// height of the base-frame origin, usually the floor), part yaws 0° and 90°, spin 0°:
+/// 1536 placements.
 pub fn default_grid(reach_m: f64) -> Grid {
     let n = 16;
     let lin = |a: f64, b: f64| -> Vec<f64> {
@@ -268,7 +277,7 @@ pub fn default_grid(reach_m: f64) -> Grid {
     Grid {
         xs: lin(0.35 * reach_m, 0.95 * reach_m),
         ys: lin(-0.7 * reach_m, 0.7 * reach_m),
-        zs: vec![0.0],
+        zs: vec![0.0, 0.25, 0.5],
         yaws: vec![0.0, std::f64::consts::FRAC_PI_2],
         spins: vec![0.0],
     }

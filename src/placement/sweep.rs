@@ -12,8 +12,8 @@
 //! Sweeps run the placements in parallel with rayon (outermost loop only); results are
 //! collected in input order, so they are bit-identical for any thread count.
 
-use super::feasibility::{self, FeasibilityOptions, Infeasible, Margins, Reason, World};
 use super::eval::PathJob;
+use super::feasibility::{self, FeasibilityOptions, Infeasible, Margins, Reason, World};
 use crate::dynamics::DynData;
 use crate::energy::{self, SamplePower};
 use crate::error::{Error, Result};
@@ -93,7 +93,10 @@ pub struct Evaluated {
     pub outcome: std::result::Result<Feasible, Infeasible>,
 }
 
-fn ser_placement<S: serde::Serializer>(p: &Placement, s: S) -> std::result::Result<S::Ok, S::Error> {
+fn ser_placement<S: serde::Serializer>(
+    p: &Placement,
+    s: S,
+) -> std::result::Result<S::Ok, S::Error> {
     PlacementRow::from(p).serialize(s)
 }
 
@@ -178,13 +181,24 @@ fn bbox<'p>(pts: impl Iterator<Item = &'p V3>) -> Option<(V3, V3)> {
 
 impl<'j, 'a> Evaluator<'j, 'a> {
     /// Plan the placement-independent Cartesian motion once.
-    pub fn new(job: &'j PathJob<'a>, feasibility: FeasibilityOptions, objective: Objective) -> Self {
+    pub fn new(
+        job: &'j PathJob<'a>,
+        feasibility: FeasibilityOptions,
+        objective: Objective,
+    ) -> Self {
         let nodes = nodes(&job.pieces, &job.profile);
         let scale = vec![1.0; nodes.s.len()];
         let motion0 = plan(&job.pieces, &nodes, &scale, &job.profile);
         let all = bbox(motion0.p.iter()).unwrap_or((V3::zeros(), V3::zeros()));
-        let print = bbox(motion0.p.iter().zip(&motion0.print).filter(|(_, &pr)| pr).map(|(p, _)| p))
-            .unwrap_or(all);
+        let print = bbox(
+            motion0
+                .p
+                .iter()
+                .zip(&motion0.print)
+                .filter(|(_, &pr)| pr)
+                .map(|(p, _)| p),
+        )
+        .unwrap_or(all);
         Evaluator {
             job,
             feasibility,
@@ -233,7 +247,11 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         let lines = |i: usize| self.lines.get(i).copied().unwrap_or(0);
         let frame = at.frame();
         let spin = at.yaw + at.nozzle_spin;
-        let first = job.pieces.first().map(|p| p.prim.point(0.0)).unwrap_or_else(V3::zeros);
+        let first = job
+            .pieces
+            .first()
+            .map(|p| p.prim.point(0.0))
+            .unwrap_or_else(V3::zeros);
         let tip = frame.apply(&first);
         let mut cands = sc
             .solver
@@ -603,7 +621,11 @@ pub fn parse_range(what: &str, s: &str) -> Result<Vec<f64>> {
         }
         Ok((0..n).map(|i| a + st * i as f64).collect())
     } else {
-        let v: Result<Vec<f64>> = s.split(',').filter(|t| !t.trim().is_empty()).map(num).collect();
+        let v: Result<Vec<f64>> = s
+            .split(',')
+            .filter(|t| !t.trim().is_empty())
+            .map(num)
+            .collect();
         let v = v?;
         if v.is_empty() {
             return Err(bad("no values"));

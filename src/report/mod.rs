@@ -3,5 +3,5 @@
 //! No physics here: every number arrives computed.
 
 pub mod html;
-pub mod svg;
 pub mod placement;
+pub mod svg;

@@ -89,6 +89,8 @@ struct Summary<'a> {
     optimise: Option<&'a OptimiseResult>,
     details: Vec<DetailSummary>,
     named: Option<Vec<(String, &'a Evaluated)>>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    rows: Option<&'a [Evaluated]>,
 }
 
 impl RunReport {
@@ -114,7 +116,9 @@ impl RunReport {
         (lo > 0.0).then(|| (hi - lo) / lo * 100.0)
     }
 
-    fn summary_json(&self) -> Result<String> {
+    /// `summary.json`: counts, best/worst, spread, baseline and saving, search result and
+    /// sensitivity, per-joint energies of the detailed placements; every row with `with_rows`.
+    pub fn summary_json(&self, with_rows: bool) -> Result<String> {
         let mut reasons = std::collections::BTreeMap::new();
         for r in &self.rows {
             if let Err(e) = &r.outcome {
@@ -169,6 +173,7 @@ impl RunReport {
                 .names
                 .as_ref()
                 .map(|n| n.iter().cloned().zip(self.rows.iter()).collect()),
+            rows: with_rows.then_some(self.rows.as_slice()),
         };
         serde_json::to_string_pretty(&s).map_err(|e| Error::Invalid(e.to_string()))
     }
@@ -357,17 +362,21 @@ impl RunReport {
             .map(|d| {
                 (
                     d.label.clone(),
-                    d.energy.joints.iter().map(|j| self.joint_value(j)).collect(),
+                    d.energy
+                        .joints
+                        .iter()
+                        .map(|j| self.joint_value(j))
+                        .collect(),
                 )
             })
             .collect();
-        let what = if self.electrical { "electrical" } else { "mechanical" };
-        let f = svg::Frame::new(
-            &format!("Energy per joint ({what})"),
-            "joint",
-            "energy [J]",
-        )
-        .size(760.0, 360.0);
+        let what = if self.electrical {
+            "electrical"
+        } else {
+            "mechanical"
+        };
+        let f = svg::Frame::new(&format!("Energy per joint ({what})"), "joint", "energy [J]")
+            .size(760.0, 360.0);
         Some(svg::bar_chart(&f, &cats, &groups))
     }
 
@@ -381,7 +390,11 @@ impl RunReport {
                 Series::new(&d.energy.joints[j].name, &s.t, &y)
             })
             .collect();
-        let what = if self.electrical { "electrical" } else { "mechanical τ·q̇" };
+        let what = if self.electrical {
+            "electrical"
+        } else {
+            "mechanical τ·q̇"
+        };
         let f = svg::Frame::new(
             &format!("Power per joint ({what}) at the {} placement", d.label),
             "time [s]",
@@ -407,25 +420,45 @@ impl RunReport {
             facts.push((format!("baseline ({how})"), describe(b)));
         }
         if let Some((j, pct)) = self.saving() {
-            facts.push(("saving vs baseline".into(), format!("{j:.1} J ({pct:.2} %)")));
+            facts.push((
+                "saving vs baseline".into(),
+                format!("{j:.1} J ({pct:.2} %)"),
+            ));
         }
         if let Some(s) = self.spread_pct() {
-            facts.push(("spread (max−min)/min over feasible rows".into(), format!("{s:.2} %")));
+            facts.push((
+                "spread (max−min)/min over feasible rows".into(),
+                format!("{s:.2} %"),
+            ));
         }
         if let Some(o) = &self.optimise {
             let s = &o.sensitivity;
             let f = |v: Option<f64>| v.map_or("infeasible".to_string(), |v| format!("{v:.2}"));
             facts.push((
                 format!("energy at x∓{0:.0} mm, y∓{0:.0} mm [J]", s.h_m * 1000.0),
-                format!("{} / {} / {} / {}", f(s.e_j[0]), f(s.e_j[1]), f(s.e_j[2]), f(s.e_j[3])),
+                format!(
+                    "{} / {} / {} / {}",
+                    f(s.e_j[0]),
+                    f(s.e_j[1]),
+                    f(s.e_j[2]),
+                    f(s.e_j[3])
+                ),
             ));
             facts.push((
                 "gradient dE/dx, dE/dy [J/m]".into(),
-                format!("{} / {}", f(s.gradient_j_per_m[0]), f(s.gradient_j_per_m[1])),
+                format!(
+                    "{} / {}",
+                    f(s.gradient_j_per_m[0]),
+                    f(s.gradient_j_per_m[1])
+                ),
             ));
             facts.push((
                 "curvature d²E/dx², d²E/dy² [J/m²]".into(),
-                format!("{} / {}", f(s.curvature_j_per_m2[0]), f(s.curvature_j_per_m2[1])),
+                format!(
+                    "{} / {}",
+                    f(s.curvature_j_per_m2[0]),
+                    f(s.curvature_j_per_m2[1])
+                ),
             ));
             facts.push((
                 "search".into(),
@@ -441,10 +474,18 @@ impl RunReport {
             );
         }
         if let Some(b) = self.bars_svg() {
-            pg.figure("bars", &b, "Energy per placement (missing bars: infeasible).");
+            pg.figure(
+                "bars",
+                &b,
+                "Energy per placement (missing bars: infeasible).",
+            );
         }
         if let Some(j) = self.joints_svg() {
-            pg.figure("joints", &j, "Energy per joint at the placements reported in detail.");
+            pg.figure(
+                "joints",
+                &j,
+                "Energy per joint at the placements reported in detail.",
+            );
             let header: Vec<String> = std::iter::once("joint".to_string())
                 .chain(self.details.iter().map(|d| format!("{} [J]", d.label)))
                 .collect();
@@ -465,7 +506,15 @@ impl RunReport {
         }
         for (k, d) in self.details.iter().enumerate() {
             if d.label == "best" || d.label == "worst" || self.details.len() <= 2 {
-                pg.figure(&format!("power-{k}"), &self.power_svg(d), &format!("Power per joint over time at the {} placement: {}", d.label, describe(&d.eval)));
+                pg.figure(
+                    &format!("power-{k}"),
+                    &self.power_svg(d),
+                    &format!(
+                        "Power per joint over time at the {} placement: {}",
+                        d.label,
+                        describe(&d.eval)
+                    ),
+                );
             }
         }
         let infeasible: Vec<Vec<String>> = self
@@ -488,10 +537,17 @@ impl RunReport {
             .collect();
         if !infeasible.is_empty() {
             pg.h2("Infeasible placements (first 200)");
-            let h: Vec<String> = ["x [m]", "y [m]", "z [m]", "yaw [°]", "spin [°]", "why and where"]
-                .iter()
-                .map(|s| s.to_string())
-                .collect();
+            let h: Vec<String> = [
+                "x [m]",
+                "y [m]",
+                "z [m]",
+                "yaw [°]",
+                "spin [°]",
+                "why and where",
+            ]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
             pg.table(&h, &infeasible);
         }
         pg.finish()
@@ -501,8 +557,14 @@ impl RunReport {
     /// directory that holds files other than these (never overwrites foreign files).
     pub fn write(&self, dir: &Path) -> Result<()> {
         check_run_dir(dir)?;
-        write_atomic(&dir.join("summary.json"), self.summary_json()?.as_bytes())?;
-        write_atomic(&dir.join("placements.csv"), self.placements_csv().as_bytes())?;
+        write_atomic(
+            &dir.join("summary.json"),
+            self.summary_json(true)?.as_bytes(),
+        )?;
+        write_atomic(
+            &dir.join("placements.csv"),
+            self.placements_csv().as_bytes(),
+        )?;
         write_atomic(&dir.join("report.html"), self.html().as_bytes())?;
         Ok(())
     }
