@@ -119,7 +119,10 @@ fn bed_collision_is_reported_with_where() {
     let job = job_for(&model, &tp);
     let at = Placement::new(1.4, 0.0, 0.5, YAW90);
     let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
-    assert!(one(&ev, at).outcome.is_ok(), "feasible with the default bed");
+    assert!(
+        one(&ev, at).outcome.is_ok(),
+        "feasible with the default bed"
+    );
     // A print table reaching 1.5 m beyond the path passes under the robot: its top, 0.52 m
     // above the base-frame origin, cuts the base column.
     let big_bed = FeasibilityOptions {
@@ -194,7 +197,10 @@ fn optimiser_beats_the_grid_is_deterministic_and_reports_sensitivity() {
     assert_eq!(s.h_m, 0.05);
     assert!(s.e0_j.is_finite());
     for k in 0..4 {
-        assert!(s.e_j[k].is_some() != s.reasons[k].is_some(), "energy or reason at {k}");
+        assert!(
+            s.e_j[k].is_some() != s.reasons[k].is_some(),
+            "energy or reason at {k}"
+        );
     }
     assert!(s.e_j.iter().any(|e| e.is_some()));
 }
@@ -209,12 +215,24 @@ fn bin() -> std::process::Command {
 fn cli_sweep_json_and_optimise_end_to_end() {
     let out = bin()
         .args([
-            "sweep", "--x", "1.3:1.5:0.1", "--y", "-0.1:0.1:0.1", "--z", "0.5", "--yaw", "90",
+            "sweep",
+            "--x",
+            "1.3:1.5:0.1",
+            "--y",
+            "-0.1:0.1:0.1",
+            "--z",
+            "0.5",
+            "--yaw",
+            "90",
             "--json",
         ])
         .output()
         .unwrap();
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["placements"], 9);
     assert!(v["feasible"].as_u64().unwrap() >= 4);
@@ -224,15 +242,34 @@ fn cli_sweep_json_and_optimise_end_to_end() {
     let _ = std::fs::remove_dir_all(&dir);
     let out = bin()
         .args([
-            "optimise", "--x", "1.3:1.5:0.1", "--y", "-0.1:0.1:0.1", "--z", "0.5", "--yaw", "90",
-            "--max-evals", "20", "--run", "t", "--results-dir",
+            "optimise",
+            "--x",
+            "1.3:1.5:0.1",
+            "--y",
+            "-0.1:0.1:0.1",
+            "--z",
+            "0.5",
+            "--yaw",
+            "90",
+            "--max-evals",
+            "20",
+            "--run",
+            "t",
+            "--results-dir",
         ])
         .arg(&dir)
         .output()
         .unwrap();
     let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(out.status.success(), "{}", String::from_utf8_lossy(&out.stderr));
-    assert!(stdout.contains("best placement") && stdout.contains("saving"), "{stdout}");
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        stdout.contains("best placement") && stdout.contains("saving"),
+        "{stdout}"
+    );
     for f in ["summary.json", "placements.csv", "report.html"] {
         assert!(dir.join("t").join(f).is_file(), "{f}");
     }
@@ -240,8 +277,20 @@ fn cli_sweep_json_and_optimise_end_to_end() {
     std::fs::write(dir.join("t").join("notes.txt"), "mine").unwrap();
     let out = bin()
         .args([
-            "optimise", "--x", "1.4", "--y", "0", "--z", "0.5", "--yaw", "90", "--max-evals", "4",
-            "--run", "t", "--results-dir",
+            "optimise",
+            "--x",
+            "1.4",
+            "--y",
+            "0",
+            "--z",
+            "0.5",
+            "--yaw",
+            "90",
+            "--max-evals",
+            "4",
+            "--run",
+            "t",
+            "--results-dir",
         ])
         .arg(&dir)
         .output()

@@ -36,7 +36,10 @@ fn report_is_well_formed_with_expected_figures() {
         spins: vec![0.0],
     };
     let rows = ev.sweep(&grid.placements(), &|_, _| {}).unwrap();
-    assert!(rows.iter().any(|r| r.outcome.is_err()), "some infeasible cells to mark");
+    assert!(
+        rows.iter().any(|r| r.outcome.is_err()),
+        "some infeasible cells to mark"
+    );
     let opt = optimise::optimise(
         &ev,
         &rows,
@@ -98,7 +101,9 @@ fn report_is_well_formed_with_expected_figures() {
         .filter_map(|n| n.attribute("class"))
         .collect();
     assert!(classes.contains(&"mark-optimum"), "{classes:?}");
-    assert!(classes.iter().any(|c| c.starts_with("mark-") && *c != "mark-optimum"));
+    assert!(classes
+        .iter()
+        .any(|c| c.starts_with("mark-") && *c != "mark-optimum"));
     assert!(!html.contains("NaN") && !html.contains("\"inf\"") && !html.contains(">inf<"));
     assert!(html.contains("test &lt;report&gt; &amp; co"));
     let s: serde_json::Value =

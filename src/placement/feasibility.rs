@@ -232,8 +232,9 @@ pub struct Margins {
     pub elbow: Option<f64>,
     /// Smallest wrist-centre distance from the axis of joint 1, m.
     pub shoulder_m: Option<f64>,
-    /// Smallest clearance between a link capsule and the bed, m (negative = collision;
-    /// distance of the segment to the un-grown box minus the radius, exact on faces).
+    /// Smallest clearance between a link capsule and the bed, m: distance of the segment's
+    /// ends and middle to the bed box minus the radius (an upper bound of the true clearance;
+    /// the collision test itself is the exact slab test against the grown box).
     pub bed_clearance_m: Option<f64>,
 }
 
@@ -379,6 +380,16 @@ pub fn segment_hits_box(a: &V3, b: &V3, lo: &V3, hi: &V3) -> bool {
     true
 }
 
+/// Distance from point `p` to the axis-aligned box `[lo, hi]`, m (0 inside).
+pub fn point_box_distance(p: &V3, lo: &V3, hi: &V3) -> f64 {
+    let mut s = 0.0;
+    for i in 0..3 {
+        let d = (lo[i] - p[i]).max(0.0).max(p[i] - hi[i]);
+        s += d * d;
+    }
+    s.sqrt()
+}
+
 /// Distance from segment `[a, b]` to the axis-aligned box `[lo, hi]`, m (0 if they meet).
 /// Minimised over the segment by golden-section search on the convex distance function.
 pub fn segment_box_distance(a: &V3, b: &V3, lo: &V3, hi: &V3) -> f64 {
@@ -496,14 +507,25 @@ pub fn check_sample(
             continue;
         }
         let (a, b) = (tp.apply(&c.a), tp.apply(&c.b));
-        let d = segment_box_distance(&a, &b, &world.bed_lo, &world.bed_hi) - c.r;
+        let rv = V3::new(c.r, c.r, c.r);
+        // Clearance for reports: distance of the ends and the middle to the box, minus r.
+        let d = point_box_distance(&a, &world.bed_lo, &world.bed_hi)
+            .min(point_box_distance(&b, &world.bed_lo, &world.bed_hi))
+            .min(point_box_distance(
+                &((a + b) * 0.5),
+                &world.bed_lo,
+                &world.bed_hi,
+            ))
+            - c.r;
         margins.bed_clearance_m = Some(margins.bed_clearance_m.map_or(d, |x| x.min(d)));
-        if d < 0.0 {
+        if segment_hits_box(&a, &b, &(world.bed_lo - rv), &(world.bed_hi + rv)) {
+            let depth = segment_box_distance(&a, &b, &world.bed_lo, &world.bed_hi);
             return Some((
                 Reason::CollisionBed,
                 format!(
                     "link capsule {i} (r = {:.3} m) reaches {:.3} m into the bed",
-                    c.r, -d
+                    c.r,
+                    c.r - depth
                 ),
             ));
         }
