@@ -28,7 +28,7 @@ pub struct PlacementArgs {
     #[arg(long, allow_hyphen_values = true)]
     pub y: Option<String>,
     /// z of the part origin (nozzle tip height on the bed), m: value, list or range
-    /// (default 0 for a given grid).
+    /// (default 0 for a given grid; with --set, one value replacing the set's heights).
     #[arg(long, allow_hyphen_values = true)]
     pub z: Option<String>,
     /// Part yaws, deg (list or range).
@@ -148,11 +148,18 @@ impl PlacementArgs {
             let named = toolpath::load_placements(set)
                 .with_context(|| format!("loading placements {}", set.display()))?;
             let names = named.iter().map(|n| n.name.clone()).collect();
-            return Ok((
-                named.iter().map(|n| n.placement).collect(),
-                Some(names),
-                None,
-            ));
+            let mut ps: Vec<Placement> = named.iter().map(|n| n.placement).collect();
+            // A single --z replaces the set's heights (the bed height is often unknown).
+            if let Some(z) = &self.z {
+                let zs = parse_range("z", z)?;
+                if zs.len() != 1 {
+                    bail!("with --set, --z takes a single height (m)");
+                }
+                for p in &mut ps {
+                    p.z = zs[0];
+                }
+            }
+            return Ok((ps, Some(names), None));
         }
         if let Some(at) = &self.at {
             let mut v = Vec::new();
@@ -410,10 +417,22 @@ pub fn run(a: SweepArgs) -> Result<()> {
     } else {
         print_rows(&rep.rows, rep.names.as_deref());
         if let Some(b) = rep.best() {
-            println!("best: #{:?} {:.1} J", b.placement, b.cost());
+            let p = &b.placement;
+            println!(
+                "best: x = {:.3} m, y = {:.3} m, z = {:.3} m, yaw = {:.1}°, spin = {:.1}°: {:.1} J",
+                p.x,
+                p.y,
+                p.z,
+                p.yaw.to_degrees(),
+                p.nozzle_spin.to_degrees(),
+                b.cost()
+            );
         }
         if let Some(s) = rep.spread_pct() {
             println!("spread (max-min)/min: {s:.2} %");
+        }
+        if let Some(s) = rep.reduction_pct() {
+            println!("reduction (max-min)/max: {s:.2} %");
         }
     }
     Ok(())

@@ -15,9 +15,10 @@
 //!   tip prints on the bed.
 //! - **Part**: a box over the xy bounding box of the print moves, from the bed up to the highest
 //!   point printed so far. The nozzle segment is exempt.
-//! - **Self**: capsule–capsule distance (exact segment–segment distance) between links that are
-//!   not neighbours along the chain (links separated by less than the sum of their radii of
-//!   chain length are skipped).
+//! - **Self**: capsule–capsule distance (exact segment–segment distance) between links at least
+//!   three apart along the chain and separated by more than the sum of their radii of chain
+//!   length (e.g. the wrist or nozzle against the base column; the base column against the
+//!   upper arm is left to the joint limits, since the capsule estimate would flag it falsely).
 //!
 //! Capsule–box tests are "segment meets the box grown by r on every side", which is exact on
 //! faces and conservative by at most `r(√3 − 1)` at edges and corners.
@@ -544,7 +545,7 @@ pub fn check_sample(
         }
     }
     for i in 0..caps.len() {
-        for j in i + 2..caps.len() {
+        for j in i + 3..caps.len() {
             let (ci, cj) = (&caps[i], &caps[j]);
             let gap = cj.chain_s - (ci.chain_s + (ci.b - ci.a).norm());
             if gap <= ci.r + cj.r {
