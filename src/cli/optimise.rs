@@ -167,6 +167,13 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
             fmt(s.curvature_j_per_m2[0]),
             fmt(s.curvature_j_per_m2[1])
         );
+        if s.one_sided_j_per_m.iter().any(|v| v.is_some()) {
+            println!(
+                "one-sided slopes (optimum on the feasibility boundary): dE/dx {} J/m, dE/dy {} J/m",
+                fmt(s.one_sided_j_per_m[0]),
+                fmt(s.one_sided_j_per_m[1])
+            );
+        }
         println!(
             "grid {} placements ({} feasible), refinement {} evaluations; {:.2} s",
             rep.rows.len(),

@@ -69,6 +69,10 @@ pub struct Sensitivity {
     pub gradient_j_per_m: [Option<f64>; 2],
     /// ∂²E/∂x², ∂²E/∂y², J/m².
     pub curvature_j_per_m2: [Option<f64>; 2],
+    /// One-sided slopes (E(±h) − E0)/h toward the feasible side when only one neighbour in
+    /// x (resp. y) is feasible (the optimum often lies on the feasibility boundary), J/m,
+    /// signed as a slope along +x/+y.
+    pub one_sided_j_per_m: [Option<f64>; 2],
     /// Largest rise over the optimum among the four neighbours, % (feasible ones).
     pub max_rise_pct: Option<f64>,
 }
@@ -233,7 +237,13 @@ pub fn sensitivity(ev: &Evaluator, at: &Evaluated, h: f64) -> Result<Sensitivity
         .flatten()
         .map(|v| (v - e0) / e0 * 100.0)
         .fold(None, |m: Option<f64>, v| Some(m.map_or(v, |m| m.max(v))));
+    let one = |a: Option<f64>, b: Option<f64>| match (a, b) {
+        (None, Some(b)) => Some((b - e0) / h),
+        (Some(a), None) => Some((e0 - a) / h),
+        _ => None,
+    };
     Ok(Sensitivity {
+        one_sided_j_per_m: [one(e[0], e[1]), one(e[2], e[3])],
         h_m: h,
         e0_j: e0,
         e_j: e,

@@ -59,6 +59,7 @@ struct JointSummary {
     name: String,
     mechanical_j: f64,
     electrical_j: f64,
+    electrical_positive_j: f64,
     share_pct: f64,
 }
 
@@ -153,6 +154,7 @@ impl RunReport {
                             name: j.name.clone(),
                             mechanical_j: j.mechanical_j,
                             electrical_j: j.electrical_j,
+                            electrical_positive_j: j.electrical_positive_j,
                             share_pct: if tot_el != 0.0 {
                                 self.joint_value(j) / tot_el * 100.0
                             } else {
@@ -467,6 +469,14 @@ impl RunReport {
                     "{} / {}",
                     f(s.curvature_j_per_m2[0]),
                     f(s.curvature_j_per_m2[1])
+                ),
+            ));
+            facts.push((
+                "one-sided slopes dE/dx, dE/dy [J/m] (one neighbour infeasible)".into(),
+                format!(
+                    "{} / {}",
+                    f(s.one_sided_j_per_m[0]),
+                    f(s.one_sided_j_per_m[1])
                 ),
             ));
             facts.push((
