@@ -134,10 +134,7 @@ impl PlacementArgs {
 
     /// The placements asked for: `(placements, names, grid)`. `default_grid` is used when no
     /// grid, set or list is given (None: error).
-    pub fn placements(
-        &self,
-        default_grid: Option<Grid>,
-    ) -> Result<(Vec<Placement>, Option<Vec<String>>, Option<Grid>)> {
+    pub fn placements(&self, default_grid: Option<Grid>) -> Result<Asked> {
         let deg = |what: &str, s: &str| -> Result<Vec<f64>> {
             Ok(parse_range(what, s)?
                 .into_iter()
@@ -215,6 +212,10 @@ impl PlacementArgs {
         Ok(b.build()?)
     }
 }
+
+/// Placements asked for on the command line: the placements, their names (named sets) and the
+/// grid they form (grids).
+pub type Asked = (Vec<Placement>, Option<Vec<String>>, Option<Grid>);
 
 /// Parse `x,y,z,yaw` (m, m, m, deg) into a placement.
 pub fn parse_placement(s: &str) -> Result<Placement> {

@@ -261,7 +261,7 @@ impl RunReport {
                             let c = iy * nx + ix;
                             match &r.outcome {
                                 Ok(f) => {
-                                    if !(values[c] <= f.energy_j) {
+                                    if values[c].is_nan() || f.energy_j < values[c] {
                                         values[c] = f.energy_j;
                                     }
                                 }
