@@ -46,7 +46,6 @@ fn fast_evaluation_matches_full_evaluation() {
         full.timed.traj.len()
     );
     let f = fast.outcome.as_ref().unwrap_or_else(|e| panic!("{e}"));
-    eprintln!("{f:?}");
     let rel = (f.supply_j - full.energy.total.supply_j).abs() / full.energy.total.supply_j;
     assert!(
         rel < 1e-9,
@@ -187,8 +186,14 @@ fn optimiser_beats_the_grid_is_deterministic_and_reports_sensitivity() {
         max_evals: 40,
         ..Default::default()
     };
-    let a = optimise::optimise(&ev, &grid, &opts).unwrap();
-    let b = optimise::optimise(&ev, &grid, &opts).unwrap();
+    let pool = |n: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap()
+    };
+    let a = pool(1).install(|| optimise::optimise(&ev, &grid, &opts).unwrap());
+    let b = pool(2).install(|| optimise::optimise(&ev, &grid, &opts).unwrap());
     assert!(a.best.cost() <= best_grid);
     assert_eq!(a.best.cost().to_bits(), b.best.cost().to_bits());
     assert_eq!(a.best.placement, b.best.placement);
@@ -316,6 +321,12 @@ fn cli_bad_input_fails_clearly() {
     assert!(!out.status.success());
     let e = String::from_utf8_lossy(&out.stderr);
     assert!(e.contains("no_such_robot"), "{e}");
+}
+
+#[test]
+fn cli_definition_is_consistent() {
+    use clap::CommandFactory;
+    printwatt::cli::Cli::command().debug_assert();
 }
 
 #[test]

@@ -14,6 +14,7 @@ use anyhow::{Context, Result};
 /// default workspace grid and writes `results/optimise-default/`.
 #[derive(clap::Args, Debug)]
 pub struct OptimiseArgs {
+    /// Robot, path, grid and feasibility options.
     #[command(flatten)]
     pub p: PlacementArgs,
     /// Baseline placement `x,y,z,yaw` (m, m, m, deg); default: the feasible grid cell

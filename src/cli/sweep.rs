@@ -78,6 +78,7 @@ pub struct PlacementArgs {
 /// `printwatt sweep` arguments.
 #[derive(clap::Args, Debug)]
 pub struct SweepArgs {
+    /// Robot, path, placements and feasibility options.
     #[command(flatten)]
     pub p: PlacementArgs,
 }
@@ -95,14 +96,20 @@ pub fn shipped(rel: &str) -> PathBuf {
 
 /// Everything loaded for a placement command.
 pub struct Loaded {
+    /// The robot.
     pub robot: crate::robot::RobotModel,
+    /// The toolpath (part frame, m).
     pub path: toolpath::Toolpath,
+    /// Where the toolpath came from.
     pub path_file: PathBuf,
+    /// What is minimised (J).
     pub objective: Objective,
+    /// Feasibility thresholds.
     pub feas: FeasibilityOptions,
 }
 
 impl PlacementArgs {
+    /// Load the robot and path and turn the options into library options.
     pub fn load(&self) -> Result<Loaded> {
         let robot = super::load_robot(&self.robot)?;
         let path_file = self
