@@ -17,6 +17,7 @@ pub mod kinematics;
 pub mod math;
 pub mod output;
 pub mod placement;
+pub mod report;
 pub mod robot;
 pub mod table;
 pub mod timing;

@@ -10,8 +10,10 @@ mod compare;
 mod diagnose;
 mod energy;
 mod identify;
+mod optimise;
 mod robots;
 mod simulate;
+pub mod sweep;
 
 /// printwatt: where to put a 3D concrete print so the robot arm spends the least energy.
 #[derive(Parser, Debug)]
@@ -26,6 +28,10 @@ pub struct Cli {
 pub enum Command {
     /// List the shipped robots with reach, payload, joint count and provenance.
     Robots(RobotsArgs),
+    /// Evaluate placements of a path (grid, named set or list) in parallel: energy or why not.
+    Sweep(sweep::SweepArgs),
+    /// Find the minimum-energy placement (grid, then seeded pattern search) and write a report.
+    Optimise(optimise::OptimiseArgs),
     /// Energy of a joint trajectory, or of a toolpath at one placement.
     Energy(energy::EnergyArgs),
     /// Compare the model with a measured log: RMSE, energy error, where the residual sits.
@@ -199,6 +205,8 @@ pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Robots(a) => robots::run(a),
         Command::Energy(a) => energy::run(a),
+        Command::Sweep(a) => sweep::run(a),
+        Command::Optimise(a) => optimise::run(a),
         Command::Compare(a) => compare::run(a),
         Command::Diagnose(a) => diagnose::run(a),
         Command::Identify(a) => identify::run(a),

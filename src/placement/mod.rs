@@ -1,6 +1,12 @@
 //! Placements of a toolpath in the robot's workspace: evaluating one placement (timing, IK,
-//! dynamics, energy), and, built on it, feasibility, sweeps and the minimum-energy search.
+//! dynamics, energy), feasibility (reach, limits, singularity margin, collision), parallel
+//! sweeps and the minimum-energy search.
 
 pub mod eval;
+pub mod feasibility;
+pub mod optimise;
+pub mod sweep;
 
 pub use eval::{PathJob, PlacementEval};
+pub use feasibility::{FeasibilityOptions, Infeasible, Reason};
+pub use sweep::{parse_range, Evaluated, Evaluator, Feasible, Grid, Objective};

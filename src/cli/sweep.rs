@@ -1,0 +1,447 @@
+//! `printwatt sweep`: evaluate a grid, a named set or a list of placements in parallel.
+
+use crate::energy::EnergyOptions;
+use crate::placement::feasibility::FeasibilityOptions;
+use crate::placement::optimise::{best_of, worst_of};
+use crate::placement::sweep::{parse_range, Evaluated, Evaluator, Grid, Objective};
+use crate::placement::PathJob;
+use crate::report::placement::{Detail, RunReport};
+use crate::timing::{JointStageOptions, ProfileOptions};
+use crate::toolpath::{self, Placement, ReadOptions};
+use anyhow::{bail, Context, Result};
+use std::io::IsTerminal;
+use std::path::{Path, PathBuf};
+
+/// Options shared by `sweep` and `optimise`: robot, path, where to place it, feasibility.
+#[derive(clap::Args, Debug, Clone)]
+pub struct PlacementArgs {
+    /// Robot directory or shipped robot name.
+    #[arg(long, default_value = "abb_irb6700_200_260")]
+    pub robot: PathBuf,
+    /// Toolpath (G-code, CSV or RAPID); default `paths/default.gcode`.
+    #[arg(long)]
+    pub path: Option<PathBuf>,
+    /// Grid x of the part origin, m: `min:max:step`, a value, or a comma list.
+    #[arg(long, allow_hyphen_values = true)]
+    pub x: Option<String>,
+    /// Grid y of the part origin, m: `min:max:step`, a value, or a comma list.
+    #[arg(long, allow_hyphen_values = true)]
+    pub y: Option<String>,
+    /// z of the part origin (nozzle tip height on the bed), m: value, list or range
+    /// (default 0 for a given grid; with --set, one value replacing the set's heights).
+    #[arg(long, allow_hyphen_values = true)]
+    pub z: Option<String>,
+    /// Part yaws, deg (list or range).
+    #[arg(long, allow_hyphen_values = true)]
+    pub yaw: Option<String>,
+    /// Nozzle spins, deg (list or range; default 0).
+    #[arg(long, allow_hyphen_values = true)]
+    pub spin: Option<String>,
+    /// Named placements CSV (e.g. `paths/placements/p1-p5.csv`).
+    #[arg(long)]
+    pub set: Option<PathBuf>,
+    /// Placements `x,y,z,yaw;x,y,z,yaw;…` in m and deg.
+    #[arg(long, allow_hyphen_values = true)]
+    pub at: Option<String>,
+    /// Energy to minimise: supply, mechanical, mechanical_abs.
+    #[arg(long, default_value = "supply")]
+    pub objective: String,
+    /// Skip collision checks.
+    #[arg(long)]
+    pub no_collisions: bool,
+    /// Check singularities and collisions every k-th sample.
+    #[arg(long, default_value_t = 10)]
+    pub check_every: usize,
+    /// Smallest |sin q5| accepted (wrist singularity margin).
+    #[arg(long, default_value_t = 0.05)]
+    pub wrist_min: f64,
+    /// Smallest elbow measure accepted.
+    #[arg(long, default_value_t = 0.05)]
+    pub elbow_min: f64,
+    /// Smallest wrist-centre distance from axis 1 accepted, m.
+    #[arg(long, default_value_t = 0.10)]
+    pub shoulder_min: f64,
+    /// Worker threads (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Write `results/<run>/` (summary.json, placements.csv, report.html).
+    #[arg(long)]
+    pub run: Option<String>,
+    /// Parent directory of run directories.
+    #[arg(long, default_value = "results")]
+    pub results_dir: PathBuf,
+    /// Print JSON instead of text.
+    #[arg(long)]
+    pub json: bool,
+}
+
+/// `printwatt sweep` arguments.
+#[derive(clap::Args, Debug)]
+pub struct SweepArgs {
+    /// Robot, path, placements and feasibility options.
+    #[command(flatten)]
+    pub p: PlacementArgs,
+}
+
+/// A file shipped in the source tree: relative to the working directory if it exists there,
+/// else to the crate's source directory.
+pub fn shipped(rel: &str) -> PathBuf {
+    let local = Path::new(rel);
+    if local.exists() {
+        local.to_path_buf()
+    } else {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join(rel)
+    }
+}
+
+/// Everything loaded for a placement command.
+pub struct Loaded {
+    /// The robot.
+    pub robot: crate::robot::RobotModel,
+    /// The toolpath (part frame, m).
+    pub path: toolpath::Toolpath,
+    /// Where the toolpath came from.
+    pub path_file: PathBuf,
+    /// What is minimised (J).
+    pub objective: Objective,
+    /// Feasibility thresholds.
+    pub feas: FeasibilityOptions,
+}
+
+impl PlacementArgs {
+    /// Load the robot and path and turn the options into library options.
+    pub fn load(&self) -> Result<Loaded> {
+        let robot = super::load_robot(&self.robot)?;
+        let path_file = self
+            .path
+            .clone()
+            .unwrap_or_else(|| shipped("paths/default.gcode"));
+        let path = toolpath::load(&path_file, &ReadOptions::default())
+            .with_context(|| format!("loading path {}", path_file.display()))?;
+        let objective: Objective = self.objective.parse()?;
+        if self.check_every == 0 {
+            bail!("--check-every must be at least 1");
+        }
+        let feas = FeasibilityOptions {
+            wrist_min: self.wrist_min,
+            elbow_min: self.elbow_min,
+            shoulder_min_m: self.shoulder_min,
+            collisions: !self.no_collisions,
+            check_every: self.check_every,
+            ..Default::default()
+        };
+        Ok(Loaded {
+            robot,
+            path,
+            path_file,
+            objective,
+            feas,
+        })
+    }
+
+    /// The placements asked for: `(placements, names, grid)`. `default_grid` is used when no
+    /// grid, set or list is given (None: error).
+    pub fn placements(&self, default_grid: Option<Grid>) -> Result<Asked> {
+        let deg = |what: &str, s: &str| -> Result<Vec<f64>> {
+            Ok(parse_range(what, s)?
+                .into_iter()
+                .map(f64::to_radians)
+                .collect())
+        };
+        if let Some(set) = &self.set {
+            let named = toolpath::load_placements(set)
+                .with_context(|| format!("loading placements {}", set.display()))?;
+            let names = named.iter().map(|n| n.name.clone()).collect();
+            let mut ps: Vec<Placement> = named.iter().map(|n| n.placement).collect();
+            // A single --z replaces the set's heights (the bed height is often unknown).
+            if let Some(z) = &self.z {
+                let zs = parse_range("z", z)?;
+                if zs.len() != 1 {
+                    bail!("with --set, --z takes a single height (m)");
+                }
+                for p in &mut ps {
+                    p.z = zs[0];
+                }
+            }
+            return Ok((ps, Some(names), None));
+        }
+        if let Some(at) = &self.at {
+            let mut v = Vec::new();
+            for (i, item) in at.split(';').filter(|s| !s.trim().is_empty()).enumerate() {
+                v.push(parse_placement(item).with_context(|| format!("--at item {}", i + 1))?);
+            }
+            if v.is_empty() {
+                bail!("--at `{at}`: no placements");
+            }
+            return Ok((v, None, None));
+        }
+        let mut g = match (&self.x, &self.y) {
+            (Some(x), Some(y)) => Grid {
+                xs: parse_range("x", x)?,
+                ys: parse_range("y", y)?,
+                zs: parse_range("z", self.z.as_deref().unwrap_or("0"))?,
+                yaws: deg("yaw", self.yaw.as_deref().unwrap_or("0"))?,
+                spins: deg("spin", self.spin.as_deref().unwrap_or("0"))?,
+            },
+            (None, None) => match default_grid {
+                Some(g) => g,
+                None => bail!("give a grid (--x and --y), a named set (--set) or a list (--at)"),
+            },
+            _ => bail!("--x and --y go together"),
+        };
+        if self.x.is_none() {
+            // Default grid: the user's z, yaw and spin lists still apply when given.
+            if let Some(z) = &self.z {
+                g.zs = parse_range("z", z)?;
+            }
+            if let Some(y) = &self.yaw {
+                g.yaws = deg("yaw", y)?;
+            }
+            if let Some(s) = &self.spin {
+                g.spins = deg("spin", s)?;
+            }
+        }
+        if g.len() > 1_000_000 {
+            bail!("{} placements: more than 1,000,000", g.len());
+        }
+        Ok((g.placements(), None, Some(g)))
+    }
+
+    /// A rayon pool with `--threads` (or the global default).
+    pub fn pool(&self) -> Result<rayon::ThreadPool> {
+        let mut b = rayon::ThreadPoolBuilder::new();
+        if let Some(n) = self.threads {
+            if n == 0 {
+                bail!("--threads must be at least 1");
+            }
+            b = b.num_threads(n);
+        }
+        Ok(b.build()?)
+    }
+}
+
+/// Placements asked for on the command line: the placements, their names (named sets) and the
+/// grid they form (grids).
+pub type Asked = (Vec<Placement>, Option<Vec<String>>, Option<Grid>);
+
+/// Parse `x,y,z,yaw` (m, m, m, deg) into a placement.
+pub fn parse_placement(s: &str) -> Result<Placement> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| {
+            t.trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite())
+                .with_context(|| format!("`{}` is not a number", t.trim()))
+        })
+        .collect::<Result<_>>()?;
+    if v.len() != 4 && v.len() != 5 {
+        bail!("`{s}`: expected x,y,z,yaw (m, m, m, deg) and an optional nozzle spin (deg)");
+    }
+    Ok(Placement {
+        x: v[0],
+        y: v[1],
+        z: v[2],
+        yaw: v[3].to_radians(),
+        nozzle_spin: v.get(4).copied().unwrap_or(0.0).to_radians(),
+    })
+}
+
+/// Run a sweep with a progress bar on a terminal.
+pub fn run_sweep(
+    ev: &Evaluator,
+    ps: &[Placement],
+    pool: &rayon::ThreadPool,
+) -> Result<Vec<Evaluated>> {
+    let bar = if std::io::stderr().is_terminal() && ps.len() > 1 {
+        let b = indicatif::ProgressBar::new(ps.len() as u64);
+        b.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} placements ({per_sec}, eta {eta})",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        Some(b)
+    } else {
+        None
+    };
+    let cb = |done: usize, _total: usize| {
+        if let Some(b) = &bar {
+            b.set_position(done as u64);
+        }
+    };
+    let r = pool.install(|| ev.sweep(ps, &cb))?;
+    if let Some(b) = bar {
+        b.finish_and_clear();
+    }
+    Ok(r)
+}
+
+/// Full energy report of one placement (for the detailed figures).
+pub fn detail(job: &PathJob, label: &str, e: &Evaluated) -> Result<Option<Detail>> {
+    if !e.cost().is_finite() {
+        return Ok(None);
+    }
+    match job.evaluate(&e.placement)? {
+        Ok(pe) => Ok(Some(Detail {
+            label: label.into(),
+            eval: e.clone(),
+            energy: pe.energy,
+        })),
+        Err(_) => Ok(None),
+    }
+}
+
+/// Meta facts for reports.
+pub fn meta(
+    l: &Loaded,
+    threads: usize,
+    secs: f64,
+    n: usize,
+    samples: usize,
+) -> Vec<(String, String)> {
+    vec![
+        ("robot".into(), l.robot.name().to_string()),
+        ("path".into(), l.path_file.display().to_string()),
+        (
+            "objective".into(),
+            format!("{:?}", l.objective).to_lowercase(),
+        ),
+        ("nominal path samples".into(), samples.to_string()),
+        ("threads".into(), threads.to_string()),
+        (
+            "wall time".into(),
+            format!(
+                "{secs:.2} s for {n} placements ({:.1} placements/s)",
+                n as f64 / secs.max(1e-9)
+            ),
+        ),
+        (
+            "feasibility".into(),
+            format!(
+                "|sin q5| ≥ {}, elbow ≥ {}, shoulder ≥ {} m, collisions {} (every {} samples)",
+                l.feas.wrist_min,
+                l.feas.elbow_min,
+                l.feas.shoulder_min_m,
+                if l.feas.collisions { "on" } else { "off" },
+                l.feas.check_every
+            ),
+        ),
+        (
+            "command".into(),
+            std::env::args().collect::<Vec<_>>().join(" "),
+        ),
+    ]
+}
+
+/// Print a one-line-per-placement table.
+pub fn print_rows(rows: &[Evaluated], names: Option<&[String]>) {
+    println!(
+        "{:>8} {:>8} {:>8} {:>8} {:>7} {:>7}  {:>12} {:>9}  note",
+        "name", "x[m]", "y[m]", "z[m]", "yaw[°]", "spin[°]", "energy[J]", "time[s]"
+    );
+    for (i, r) in rows.iter().enumerate() {
+        let p = &r.placement;
+        let name = names
+            .and_then(|n| n.get(i).cloned())
+            .unwrap_or_else(|| i.to_string());
+        let (e, t, note) = match &r.outcome {
+            Ok(f) => (
+                format!("{:.1}", f.energy_j),
+                format!("{:.2}", f.duration_s),
+                String::new(),
+            ),
+            Err(x) => ("-".into(), "-".into(), x.to_string()),
+        };
+        println!(
+            "{name:>8} {:>8.3} {:>8.3} {:>8.3} {:>7.1} {:>7.1}  {e:>12} {t:>9}  {note}",
+            p.x,
+            p.y,
+            p.z,
+            p.yaw.to_degrees(),
+            p.nozzle_spin.to_degrees()
+        );
+    }
+}
+
+/// `printwatt sweep`.
+pub fn run(a: SweepArgs) -> Result<()> {
+    let a = a.p;
+    let l = a.load()?;
+    let job = PathJob::new(
+        &l.robot,
+        &l.path,
+        EnergyOptions::default(),
+        ProfileOptions::default(),
+        JointStageOptions::default(),
+    )?;
+    let ev = Evaluator::new(&job, l.feas, l.objective);
+    let reach = crate::placement::feasibility::reach_m(&l.robot);
+    let (ps, names, grid) = a.placements(Some(crate::placement::optimise::default_grid(reach)))?;
+    let pool = a.pool()?;
+    let t0 = std::time::Instant::now();
+    let rows = run_sweep(&ev, &ps, &pool)?;
+    let secs = t0.elapsed().as_secs_f64();
+    let mut details = Vec::new();
+    if a.run.is_some() {
+        if let Some(b) = best_of(&rows) {
+            details.extend(detail(&job, "best", b)?);
+        }
+        if let Some(w) = worst_of(&rows) {
+            details.extend(detail(&job, "worst", w)?);
+        }
+    }
+    let rep = RunReport {
+        title: format!(
+            "printwatt sweep: {} on {}",
+            l.path_file.display(),
+            l.robot.name()
+        ),
+        meta: meta(
+            &l,
+            pool.current_num_threads(),
+            secs,
+            ps.len(),
+            ev.nominal_samples(),
+        ),
+        rows,
+        names,
+        grid,
+        optimise: None,
+        baseline: None,
+        details,
+        electrical: l.robot.drive.is_some(),
+    };
+    if let Some(run) = &a.run {
+        let dir = a.results_dir.join(run);
+        rep.write(&dir)?;
+        if !a.json {
+            eprintln!("wrote {}", dir.display());
+        }
+    }
+    if a.json {
+        println!("{}", rep.summary_json(true)?);
+    } else {
+        print_rows(&rep.rows, rep.names.as_deref());
+        if let Some(b) = rep.best() {
+            let p = &b.placement;
+            println!(
+                "best: x = {:.3} m, y = {:.3} m, z = {:.3} m, yaw = {:.1}°, spin = {:.1}°: {:.1} J",
+                p.x,
+                p.y,
+                p.z,
+                p.yaw.to_degrees(),
+                p.nozzle_spin.to_degrees(),
+                b.cost()
+            );
+        }
+        if let Some(s) = rep.spread_pct() {
+            println!("spread (max-min)/min: {s:.2} %");
+        }
+        if let Some(s) = rep.reduction_pct() {
+            println!("reduction (max-min)/max: {s:.2} %");
+        }
+    }
+    Ok(())
+}

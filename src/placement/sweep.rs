@@ -1,0 +1,635 @@
+//! The fast placement objective and parallel sweeps.
+//!
+//! [`Evaluator`] times the path at a placement exactly as [`crate::timing::time_at`] does
+//! (same candidate configurations in the same order, same re-planning), but the Cartesian plan
+//! of the first round — which does not depend on the placement — is computed once per job and
+//! reused; the motion is re-planned only for a candidate whose joint limits bind. Energy comes
+//! from [`energy::eval_sample`] per sample with no per-sample allocation and no series stored;
+//! call [`crate::energy::evaluate`] (via [`PathJob::evaluate`]) only for placements reported in
+//! detail. Feasibility (singularity margins, collisions) is checked on every
+//! `check_every`-th sample, see [`super::feasibility`].
+//!
+//! Sweeps run the placements in parallel with rayon (outermost loop only); results are
+//! collected in input order, so they are bit-identical for any thread count.
+
+use super::eval::PathJob;
+use super::feasibility::{self, FeasibilityOptions, Infeasible, Margins, Reason, World};
+use crate::dynamics::DynData;
+use crate::energy::{self, SamplePower};
+use crate::error::{Error, Result};
+use crate::kinematics::{limit_margin, nozzle_target, IkSolver};
+use crate::math::V3;
+use crate::timing::profile::{nodes, plan, CartesianMotion, Nodes};
+use crate::timing::{self, TimingFailure};
+use crate::toolpath::Placement;
+use rayon::prelude::*;
+use serde::Serialize;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// Which energy the search minimises.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Default)]
+#[serde(rename_all = "snake_case")]
+pub enum Objective {
+    /// Energy drawn from the supply, J: drives (with the robot's regeneration policy) plus
+    /// standby; equals the mechanical energy for robots without drive data (and no standby).
+    #[default]
+    Supply,
+    /// Mechanical work ∑ⱼ ∫ τⱼ q̇ⱼ dt, J (signed; seed 000's power τ·q̇).
+    Mechanical,
+    /// Absolute mechanical work ∑ⱼ ∫ |τⱼ q̇ⱼ| dt, J.
+    MechanicalAbs,
+}
+
+impl std::str::FromStr for Objective {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s {
+            "supply" => Ok(Objective::Supply),
+            "mechanical" => Ok(Objective::Mechanical),
+            "mechanical_abs" | "mechanical-abs" => Ok(Objective::MechanicalAbs),
+            _ => Err(Error::Invalid(format!(
+                "unknown objective `{s}` (expected supply, mechanical or mechanical_abs)"
+            ))),
+        }
+    }
+}
+
+/// A feasible placement's numbers (energies in J, times in s).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Feasible {
+    /// The objective's energy, J.
+    pub energy_j: f64,
+    /// Supply energy, J.
+    pub supply_j: f64,
+    /// Signed mechanical work ∑ ∫ τ·q̇ dt, J.
+    pub mechanical_j: f64,
+    /// Absolute mechanical work ∑ ∫ |τ·q̇| dt, J.
+    pub mechanical_abs_j: f64,
+    /// Electrical energy of the drives ∑ ∫ p_el dt, J (= mechanical without drive data).
+    pub electrical_j: f64,
+    /// Print duration, s.
+    pub duration_s: f64,
+    /// Samples at the interpolation period.
+    pub samples: usize,
+    /// Planning rounds (1 = no joint limit bound).
+    pub rounds: usize,
+    /// Per joint signed mechanical work, J.
+    pub joint_mechanical_j: Vec<f64>,
+    /// Per joint absolute mechanical work, J.
+    pub joint_mechanical_abs_j: Vec<f64>,
+    /// Per joint electrical energy, J.
+    pub joint_electrical_j: Vec<f64>,
+    /// Smallest margins met on the checked samples.
+    pub margins: Margins,
+}
+
+/// A placement and what became of it.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Evaluated {
+    /// The placement (m, rad).
+    #[serde(serialize_with = "ser_placement")]
+    pub placement: Placement,
+    /// Its numbers, or why it is infeasible.
+    pub outcome: std::result::Result<Feasible, Infeasible>,
+}
+
+fn ser_placement<S: serde::Serializer>(
+    p: &Placement,
+    s: S,
+) -> std::result::Result<S::Ok, S::Error> {
+    PlacementRow::from(p).serialize(s)
+}
+
+/// A placement in JSON/CSV units: m and degrees.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct PlacementRow {
+    /// m.
+    pub x_m: f64,
+    /// m.
+    pub y_m: f64,
+    /// m.
+    pub z_m: f64,
+    /// Part yaw, deg.
+    pub yaw_deg: f64,
+    /// Nozzle spin, deg.
+    pub spin_deg: f64,
+}
+
+impl From<&Placement> for PlacementRow {
+    fn from(p: &Placement) -> Self {
+        PlacementRow {
+            x_m: p.x,
+            y_m: p.y,
+            z_m: p.z,
+            yaw_deg: p.yaw.to_degrees(),
+            spin_deg: p.nozzle_spin.to_degrees(),
+        }
+    }
+}
+
+impl Evaluated {
+    /// The objective energy, J; +∞ when infeasible (never NaN).
+    pub fn cost(&self) -> f64 {
+        match &self.outcome {
+            Ok(f) if f.energy_j.is_finite() => f.energy_j,
+            _ => f64::INFINITY,
+        }
+    }
+    /// The feasible numbers, if any.
+    pub fn feasible(&self) -> Option<&Feasible> {
+        self.outcome.as_ref().ok()
+    }
+}
+
+/// Per-thread scratch space of an [`Evaluator`].
+pub struct Scratch<'a> {
+    solver: IkSolver<'a>,
+    data: DynData,
+    qs: Vec<f64>,
+    tcp: Vec<V3>,
+    caps: Vec<feasibility::Capsule>,
+    sp: SamplePower,
+}
+
+/// The fast objective over one job: immutable, shared by all threads.
+pub struct Evaluator<'j, 'a> {
+    /// The job (robot, energy model, blended path, options).
+    pub job: &'j PathJob<'a>,
+    /// Feasibility thresholds.
+    pub feasibility: FeasibilityOptions,
+    /// What is minimised.
+    pub objective: Objective,
+    nodes: Nodes,
+    motion0: CartesianMotion,
+    reach: f64,
+    bbox_all: (V3, V3),
+    bbox_print: (V3, V3),
+    lines: Vec<usize>,
+}
+
+fn bbox<'p>(pts: impl Iterator<Item = &'p V3>) -> Option<(V3, V3)> {
+    let mut lo = V3::repeat(f64::INFINITY);
+    let mut hi = V3::repeat(f64::NEG_INFINITY);
+    let mut any = false;
+    for p in pts {
+        lo = lo.inf(p);
+        hi = hi.sup(p);
+        any = true;
+    }
+    any.then_some((lo, hi))
+}
+
+impl<'j, 'a> Evaluator<'j, 'a> {
+    /// Plan the placement-independent Cartesian motion once.
+    pub fn new(
+        job: &'j PathJob<'a>,
+        feasibility: FeasibilityOptions,
+        objective: Objective,
+    ) -> Self {
+        let nodes = nodes(&job.pieces, &job.profile);
+        let scale = vec![1.0; nodes.s.len()];
+        let motion0 = plan(&job.pieces, &nodes, &scale, &job.profile);
+        let all = bbox(motion0.p.iter()).unwrap_or((V3::zeros(), V3::zeros()));
+        let print = bbox(
+            motion0
+                .p
+                .iter()
+                .zip(&motion0.print)
+                .filter(|(_, &pr)| pr)
+                .map(|(p, _)| p),
+        )
+        .unwrap_or(all);
+        Evaluator {
+            job,
+            feasibility,
+            objective,
+            nodes,
+            motion0,
+            reach: feasibility::reach_m(job.robot),
+            bbox_all: all,
+            bbox_print: print,
+            lines: job.moves.iter().map(|m| m.line).collect(),
+        }
+    }
+
+    /// Samples of the unslowed plan (a lower bound of every placement's sample count).
+    pub fn nominal_samples(&self) -> usize {
+        self.motion0.p.len()
+    }
+
+    /// Cartesian plan nodes (placement-independent).
+    pub fn nodes(&self) -> &Nodes {
+        &self.nodes
+    }
+
+    /// Scratch space for one thread. Error: the robot has no IK (too many joints).
+    pub fn scratch(&self) -> Result<Scratch<'a>> {
+        let solver = IkSolver::new(self.job.robot)
+            .map_err(|e| Error::Invalid(format!("inverse kinematics: {e}")))?;
+        Ok(Scratch {
+            solver,
+            data: self.job.energy.data(),
+            qs: Vec::new(),
+            tcp: Vec::new(),
+            caps: Vec::new(),
+            sp: SamplePower::default(),
+        })
+    }
+
+    /// Time the path at `at` like [`timing::time_at`], reusing the first-round plan. Returns
+    /// `(q, q̇, q̈, motion, rounds)` with `q` row-major (samples × dof).
+    fn time(
+        &self,
+        sc: &mut Scratch<'a>,
+        at: &Placement,
+    ) -> std::result::Result<Timed, TimingFailure> {
+        let job = self.job;
+        let lines = |i: usize| self.lines.get(i).copied().unwrap_or(0);
+        let frame = at.frame();
+        let spin = at.yaw + at.nozzle_spin;
+        let first = job
+            .pieces
+            .first()
+            .map(|p| p.prim.point(0.0))
+            .unwrap_or_else(V3::zeros);
+        let tip = frame.apply(&first);
+        let mut cands = sc
+            .solver
+            .solve_all(&nozzle_target(&tip, spin))
+            .map_err(|reason| TimingFailure::Unreachable {
+                sample: 0,
+                t: 0.0,
+                point: tip,
+                move_index: 0,
+                line: lines(0),
+                reason,
+            })?;
+        let model = job.robot;
+        cands.sort_by(|a, b| limit_margin(model, &b.q).total_cmp(&limit_margin(model, &a.q)));
+        let progress = |e: &TimingFailure| match e {
+            TimingFailure::Unreachable { sample, .. }
+            | TimingFailure::ConfigurationChange { sample, .. } => *sample,
+            TimingFailure::LimitsNotMet { .. } => usize::MAX,
+        };
+        let mut best_err: Option<TimingFailure> = None;
+        let n = model.dof();
+        for c in &cands {
+            let r = timing::joint::track(
+                &sc.solver,
+                &job.pieces,
+                &lines,
+                &self.motion0,
+                &frame,
+                spin,
+                &c.q,
+                &mut sc.qs,
+                &mut sc.tcp,
+            );
+            let e = match r {
+                Ok(()) => {
+                    let (qd, qdd, qddd) = timing::joint::differentiate(&sc.qs, n, self.motion0.dt);
+                    if !violates(model, &qd, &qdd, &qddd, job.joint.check_jerk) {
+                        return Ok(Timed {
+                            q: std::mem::take(&mut sc.qs),
+                            qd,
+                            qdd,
+                            motion: None,
+                            rounds: 1,
+                        });
+                    }
+                    match timing::time_path(
+                        &sc.solver,
+                        &job.pieces,
+                        &lines,
+                        &frame,
+                        spin,
+                        &c.q,
+                        &job.profile,
+                        &job.joint,
+                    ) {
+                        Ok(t) => {
+                            return Ok(Timed {
+                                q: t.traj.q,
+                                qd: t.traj.qd,
+                                qdd: t.traj.qdd,
+                                motion: Some(t.motion),
+                                rounds: t.rounds,
+                            })
+                        }
+                        Err(e) => e,
+                    }
+                }
+                Err(e) => e,
+            };
+            if best_err.as_ref().is_none_or(|b| progress(&e) > progress(b)) {
+                best_err = Some(e);
+            }
+        }
+        Err(best_err.unwrap_or(TimingFailure::Unreachable {
+            sample: 0,
+            t: 0.0,
+            point: tip,
+            move_index: 0,
+            line: lines(0),
+            reason: crate::kinematics::IkFailure::Unsupported(
+                "no IK solution at the first sample".into(),
+            ),
+        }))
+    }
+
+    /// Evaluate one placement: timing, feasibility, energy. Never fails: an infeasible
+    /// placement is a value with a reason.
+    pub fn evaluate(&self, sc: &mut Scratch<'a>, at: &Placement) -> Evaluated {
+        let outcome = self.evaluate_inner(sc, at);
+        Evaluated {
+            placement: *at,
+            outcome,
+        }
+    }
+
+    fn evaluate_inner(
+        &self,
+        sc: &mut Scratch<'a>,
+        at: &Placement,
+    ) -> std::result::Result<Feasible, Infeasible> {
+        let timed = self.time(sc, at).map_err(|e| Infeasible::from_timing(&e))?;
+        let motion = timed.motion.as_ref().unwrap_or(&self.motion0);
+        let model = self.job.robot;
+        let n = model.dof();
+        let m = timed.q.len() / n.max(1);
+        let dt = motion.dt;
+        let frame = at.frame();
+        // Feasibility on every k-th sample.
+        let o = &self.feasibility;
+        let world = World::new(&frame, self.bbox_all, self.bbox_print, o);
+        let every = o.check_every.max(1);
+        let mut margins = Margins::default();
+        let mut part_top = world.part_lo.z;
+        for k in 0..m {
+            if motion.print.get(k).copied().unwrap_or(false) {
+                part_top = part_top.max(motion.p[k].z);
+            }
+            if k % every == 0 || k + 1 == m {
+                let q = &timed.q[k * n..(k + 1) * n];
+                if let Some((reason, detail)) = feasibility::check_sample(
+                    model,
+                    self.reach,
+                    o,
+                    &world,
+                    q,
+                    part_top,
+                    &mut sc.caps,
+                    &mut margins,
+                ) {
+                    let mi = self.job.pieces[motion.piece[k]].move_index;
+                    let tip = frame.apply(&motion.p[k]);
+                    sc.qs = timed.q;
+                    return Err(Infeasible {
+                        reason,
+                        sample: Some(k),
+                        t_s: Some(k as f64 * dt),
+                        line: Some(self.job.line_of(mi)),
+                        point_m: Some([tip.x, tip.y, tip.z]),
+                        detail,
+                    });
+                }
+            }
+        }
+        // Energy: trapezoid at uniform dt, no allocation per sample.
+        let mut jm = vec![0.0; n];
+        let mut jabs = vec![0.0; n];
+        let mut jel = vec![0.0; n];
+        let mut supply = 0.0;
+        for k in 0..m {
+            let w = if k == 0 || k + 1 == m { 0.5 * dt } else { dt };
+            let r = energy::eval_sample(
+                &self.job.energy,
+                &mut sc.data,
+                &timed.q[k * n..(k + 1) * n],
+                &timed.qd[k * n..(k + 1) * n],
+                &timed.qdd[k * n..(k + 1) * n],
+                &mut sc.sp,
+            );
+            let p = match r {
+                Ok(p) => p,
+                Err(e) => {
+                    return Err(Infeasible {
+                        reason: Reason::ModelError,
+                        sample: Some(k),
+                        t_s: Some(k as f64 * dt),
+                        line: None,
+                        point_m: None,
+                        detail: e.to_string(),
+                    })
+                }
+            };
+            supply += w * p;
+            for j in 0..n {
+                jm[j] += w * sc.sp.p_mech[j];
+                jabs[j] += w * sc.sp.p_mech[j].abs();
+                jel[j] += w * sc.sp.p_el[j];
+            }
+        }
+        if m < 2 {
+            supply = 0.0;
+        }
+        sc.qs = timed.q; // keep the buffer for the next placement
+        let mechanical_j: f64 = jm.iter().sum();
+        let mechanical_abs_j: f64 = jabs.iter().sum();
+        let energy_j = match self.objective {
+            Objective::Supply => supply,
+            Objective::Mechanical => mechanical_j,
+            Objective::MechanicalAbs => mechanical_abs_j,
+        };
+        if !energy_j.is_finite() {
+            return Err(Infeasible {
+                reason: Reason::ModelError,
+                sample: None,
+                t_s: None,
+                line: None,
+                point_m: None,
+                detail: "non-finite energy".into(),
+            });
+        }
+        Ok(Feasible {
+            energy_j,
+            supply_j: supply,
+            mechanical_j,
+            mechanical_abs_j,
+            electrical_j: jel.iter().sum(),
+            duration_s: dt * m.saturating_sub(1) as f64,
+            samples: m,
+            rounds: timed.rounds,
+            joint_mechanical_j: jm,
+            joint_mechanical_abs_j: jabs,
+            joint_electrical_j: jel,
+            margins,
+        })
+    }
+
+    /// Evaluate many placements in parallel (rayon, current pool), in input order.
+    /// `progress(done, total)` is called after each placement (from any thread).
+    pub fn sweep(
+        &self,
+        placements: &[Placement],
+        progress: &(dyn Fn(usize, usize) + Sync),
+    ) -> Result<Vec<Evaluated>> {
+        // Fail early (once) if the model cannot be solved at all.
+        drop(self.scratch()?);
+        let done = AtomicUsize::new(0);
+        let total = placements.len();
+        let out = placements
+            .par_iter()
+            .map_init(
+                || self.scratch().ok(),
+                |sc, at| {
+                    let r = match sc {
+                        Some(sc) => self.evaluate(sc, at),
+                        None => Evaluated {
+                            placement: *at,
+                            outcome: Err(Infeasible {
+                                reason: Reason::ModelError,
+                                sample: None,
+                                t_s: None,
+                                line: None,
+                                point_m: None,
+                                detail: "no IK solver".into(),
+                            }),
+                        },
+                    };
+                    let d = done.fetch_add(1, Ordering::Relaxed) + 1;
+                    progress(d, total);
+                    r
+                },
+            )
+            .collect();
+        Ok(out)
+    }
+}
+
+struct Timed {
+    q: Vec<f64>,
+    qd: Vec<f64>,
+    qdd: Vec<f64>,
+    motion: Option<CartesianMotion>,
+    rounds: usize,
+}
+
+fn violates(
+    model: &crate::robot::RobotModel,
+    qd: &[f64],
+    qdd: &[f64],
+    qddd: &[f64],
+    check_jerk: bool,
+) -> bool {
+    let n = model.dof();
+    let m = qd.len() / n.max(1);
+    for k in 0..m {
+        for (j, jt) in model.joints.iter().enumerate() {
+            let i = k * n + j;
+            if (jt.velocity_limit.is_finite() && qd[i].abs() > jt.velocity_limit)
+                || (jt.acceleration_limit.is_finite() && qdd[i].abs() > jt.acceleration_limit)
+                || (check_jerk && jt.jerk_limit.is_finite() && qddd[i].abs() > jt.jerk_limit)
+            {
+                return true;
+            }
+        }
+    }
+    false
+}
+
+/// A regular grid of placements. Order of [`Grid::placements`]: z, yaw, spin, y, x (x fastest).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Grid {
+    /// x values, m.
+    pub xs: Vec<f64>,
+    /// y values, m.
+    pub ys: Vec<f64>,
+    /// z values, m.
+    pub zs: Vec<f64>,
+    /// Part yaws, rad.
+    pub yaws: Vec<f64>,
+    /// Nozzle spins, rad.
+    pub spins: Vec<f64>,
+}
+
+impl Grid {
+    /// Number of placements.
+    pub fn len(&self) -> usize {
+        self.xs.len() * self.ys.len() * self.zs.len() * self.yaws.len() * self.spins.len()
+    }
+    /// True if the grid has no placements.
+    pub fn is_empty(&self) -> bool {
+        self.len() == 0
+    }
+    /// Flat index of `(ix, iy, iz, iyaw, ispin)`.
+    pub fn index(&self, ix: usize, iy: usize, iz: usize, iyaw: usize, ispin: usize) -> usize {
+        (((iz * self.yaws.len() + iyaw) * self.spins.len() + ispin) * self.ys.len() + iy)
+            * self.xs.len()
+            + ix
+    }
+    /// All placements, x fastest.
+    pub fn placements(&self) -> Vec<Placement> {
+        let mut v = Vec::with_capacity(self.len());
+        for &z in &self.zs {
+            for &yaw in &self.yaws {
+                for &spin in &self.spins {
+                    for &y in &self.ys {
+                        for &x in &self.xs {
+                            v.push(Placement {
+                                x,
+                                y,
+                                z,
+                                yaw,
+                                nozzle_spin: spin,
+                            });
+                        }
+                    }
+                }
+            }
+        }
+        v
+    }
+}
+
+/// Parse `min:max:step` (or a single value, or a comma list) into values. Units are the
+/// caller's (m on the command line). Errors name the text.
+pub fn parse_range(what: &str, s: &str) -> Result<Vec<f64>> {
+    let bad = |m: &str| Error::Invalid(format!("--{what} `{s}`: {m}"));
+    let num = |t: &str| {
+        t.trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| bad(&format!("`{t}` is not a number")))
+    };
+    if s.contains(':') {
+        let p: Vec<&str> = s.split(':').collect();
+        if p.len() != 3 {
+            return Err(bad("expected min:max:step"));
+        }
+        let (a, b, st) = (num(p[0])?, num(p[1])?, num(p[2])?);
+        if st <= 0.0 {
+            return Err(bad("step must be > 0"));
+        }
+        if b < a {
+            return Err(bad("max < min"));
+        }
+        let n = ((b - a) / st + 1e-9).floor() as usize + 1;
+        if n > 100_000 {
+            return Err(bad("more than 100000 values"));
+        }
+        Ok((0..n).map(|i| a + st * i as f64).collect())
+    } else {
+        let v: Result<Vec<f64>> = s
+            .split(',')
+            .filter(|t| !t.trim().is_empty())
+            .map(num)
+            .collect();
+        let v = v?;
+        if v.is_empty() {
+            return Err(bad("no values"));
+        }
+        Ok(v)
+    }
+}

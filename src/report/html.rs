@@ -1,0 +1,95 @@
+//! Minimal helpers for one self-contained HTML page: a document shell with inline CSS,
+//! sections, tables and key–value lists. Text is escaped; SVG strings from
+//! [`super::svg`] are inlined as they are. No physics here.
+
+use super::svg::esc;
+use std::fmt::Write as _;
+
+/// A self-contained HTML page under construction.
+#[derive(Clone, Debug, Default)]
+pub struct Page {
+    title: String,
+    body: String,
+}
+
+impl Page {
+    /// A new page with a title (shown as `<title>` and `<h1>`).
+    pub fn new(title: &str) -> Self {
+        Page {
+            title: title.into(),
+            body: String::new(),
+        }
+    }
+    /// A second-level heading.
+    pub fn h2(&mut self, text: &str) -> &mut Self {
+        let _ = writeln!(self.body, "<h2>{}</h2>", esc(text));
+        self
+    }
+    /// A paragraph of plain (escaped) text.
+    pub fn p(&mut self, text: &str) -> &mut Self {
+        let _ = writeln!(self.body, "<p>{}</p>", esc(text));
+        self
+    }
+    /// Raw, already well-formed XHTML (e.g. an SVG from [`super::svg`]) inside a `<figure>`
+    /// with an id and a caption.
+    pub fn figure(&mut self, id: &str, svg: &str, caption: &str) -> &mut Self {
+        let _ = writeln!(
+            self.body,
+            "<figure id=\"{}\">{}<figcaption>{}</figcaption></figure>",
+            esc(id),
+            svg,
+            esc(caption)
+        );
+        self
+    }
+    /// A table (header row + rows of already formatted cells).
+    pub fn table(&mut self, header: &[String], rows: &[Vec<String>]) -> &mut Self {
+        self.body.push_str(&table(header, rows));
+        self
+    }
+    /// A list of key: value lines.
+    pub fn kv(&mut self, items: &[(String, String)]) -> &mut Self {
+        self.body.push_str("<dl>");
+        for (k, v) in items {
+            let _ = write!(self.body, "<dt>{}</dt><dd>{}</dd>", esc(k), esc(v));
+        }
+        self.body.push_str("</dl>\n");
+        self
+    }
+    /// Preformatted text (escaped).
+    pub fn pre(&mut self, text: &str) -> &mut Self {
+        let _ = writeln!(self.body, "<pre>{}</pre>", esc(text));
+        self
+    }
+    /// The finished page: XHTML-compatible (every element closed), so it parses as XML.
+    pub fn finish(&self) -> String {
+        format!(
+            "<!DOCTYPE html>\n<html xmlns=\"http://www.w3.org/1999/xhtml\" lang=\"en\"><head><meta charset=\"utf-8\"/><title>{t}</title><style>{CSS}</style></head><body><h1>{t}</h1>\n{b}</body></html>\n",
+            t = esc(&self.title),
+            b = self.body
+        )
+    }
+}
+
+const CSS: &str = "body{font-family:sans-serif;max-width:1100px;margin:1em auto;padding:0 1em;color:#222}\
+table{border-collapse:collapse;margin:0.5em 0}td,th{border:1px solid #ccc;padding:2px 8px;text-align:right}\
+th{background:#f3f3f3}figure{margin:1em 0}figcaption{font-size:0.9em;color:#555}\
+dl{display:grid;grid-template-columns:max-content auto;gap:2px 12px}dt{font-weight:bold}dd{margin:0}";
+
+/// An HTML table (escaped cells).
+pub fn table(header: &[String], rows: &[Vec<String>]) -> String {
+    let mut s = String::from("<table><thead><tr>");
+    for h in header {
+        let _ = write!(s, "<th>{}</th>", esc(h));
+    }
+    s.push_str("</tr></thead><tbody>");
+    for r in rows {
+        s.push_str("<tr>");
+        for c in r {
+            let _ = write!(s, "<td>{}</td>", esc(c));
+        }
+        s.push_str("</tr>");
+    }
+    s.push_str("</tbody></table>\n");
+    s
+}

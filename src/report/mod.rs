@@ -1,0 +1,7 @@
+//! Writers for what people and scripts read: SVG charts ([`svg`]), HTML pages ([`html`]) and
+//! the placement-run report ([`placement`]: `summary.json`, `placements.csv`, `report.html`).
+//! No physics here: every number arrives computed.
+
+pub mod html;
+pub mod placement;
+pub mod svg;

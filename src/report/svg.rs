@@ -1,0 +1,665 @@
+//! Small, dependency-free SVG charts for self-contained HTML reports: line charts with several
+//! series, (grouped) bar charts, heatmaps with marked cells and a legend, scatter plots.
+//!
+//! Every function returns a complete `<svg>` element as a `String` (no XML declaration), so it
+//! can be inlined in HTML or written to a `.svg` file. Values are plotted in whatever unit the
+//! caller gives; axis labels carry the unit. Non-finite values are skipped (lines break, bars
+//! and cells are left empty), never drawn at NaN coordinates. No physics here.
+
+use std::fmt::Write as _;
+
+/// A qualitative palette (colour-blind friendly, Okabe–Ito), cycled by series index.
+pub const PALETTE: [&str; 8] = [
+    "#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#F0E442", "#000000",
+];
+
+/// Colour of series `i` from [`PALETTE`].
+pub fn colour(i: usize) -> &'static str {
+    PALETTE[i % PALETTE.len()]
+}
+
+/// Escape text for XML element content and attribute values.
+pub fn esc(s: &str) -> String {
+    let mut o = String::with_capacity(s.len());
+    for c in s.chars() {
+        match c {
+            '&' => o.push_str("&amp;"),
+            '<' => o.push_str("&lt;"),
+            '>' => o.push_str("&gt;"),
+            '"' => o.push_str("&quot;"),
+            '\'' => o.push_str("&#39;"),
+            _ => o.push(c),
+        }
+    }
+    o
+}
+
+/// Size and labels common to every chart. Sizes in SVG user units (px).
+#[derive(Clone, Debug)]
+pub struct Frame {
+    /// Title drawn above the plot.
+    pub title: String,
+    /// X-axis label (with unit).
+    pub x_label: String,
+    /// Y-axis label (with unit).
+    pub y_label: String,
+    /// Total width, px.
+    pub width: f64,
+    /// Total height, px.
+    pub height: f64,
+}
+
+impl Frame {
+    /// A 640 × 360 px chart.
+    pub fn new(title: &str, x_label: &str, y_label: &str) -> Self {
+        Frame {
+            title: title.into(),
+            x_label: x_label.into(),
+            y_label: y_label.into(),
+            width: 640.0,
+            height: 360.0,
+        }
+    }
+    /// Same frame with another size (px).
+    pub fn size(mut self, width: f64, height: f64) -> Self {
+        self.width = width;
+        self.height = height;
+        self
+    }
+}
+
+const ML: f64 = 70.0; // left margin, px
+const MR: f64 = 20.0;
+const MT: f64 = 36.0;
+const MB: f64 = 50.0;
+
+/// "Nice" tick values covering `[lo, hi]` (about `n` of them).
+pub fn ticks(lo: f64, hi: f64, n: usize) -> Vec<f64> {
+    if !(lo.is_finite() && hi.is_finite()) || hi <= lo {
+        return vec![lo];
+    }
+    let raw = (hi - lo) / n.max(1) as f64;
+    let mag = 10f64.powf(raw.log10().floor());
+    let step = [1.0, 2.0, 2.5, 5.0, 10.0]
+        .iter()
+        .map(|m| m * mag)
+        .find(|s| *s >= raw)
+        .unwrap_or(10.0 * mag);
+    let mut t = (lo / step).ceil() * step;
+    let mut out = Vec::new();
+    while t <= hi + step * 1e-9 {
+        out.push(if t.abs() < step * 1e-9 { 0.0 } else { t });
+        t += step;
+    }
+    out
+}
+
+/// Format a tick label compactly.
+pub fn fmt_num(v: f64) -> String {
+    if v == 0.0 {
+        return "0".into();
+    }
+    let a = v.abs();
+    if !(1e-3..1e6).contains(&a) {
+        format!("{v:.2e}")
+    } else if a >= 100.0 {
+        format!("{v:.0}")
+    } else if a >= 1.0 {
+        let s = format!("{v:.2}");
+        s.trim_end_matches('0').trim_end_matches('.').into()
+    } else {
+        let s = format!("{v:.4}");
+        s.trim_end_matches('0').trim_end_matches('.').into()
+    }
+}
+
+fn finite_range(vals: impl Iterator<Item = f64>) -> Option<(f64, f64)> {
+    let mut lo = f64::INFINITY;
+    let mut hi = f64::NEG_INFINITY;
+    for v in vals.filter(|v| v.is_finite()) {
+        lo = lo.min(v);
+        hi = hi.max(v);
+    }
+    if lo > hi {
+        return None;
+    }
+    if hi - lo < 1e-12 * (1.0 + lo.abs()) {
+        let d = if lo == 0.0 { 1.0 } else { lo.abs() * 0.05 };
+        return Some((lo - d, hi + d));
+    }
+    Some((lo, hi))
+}
+
+struct Axes {
+    x0: f64,
+    x1: f64,
+    y0: f64,
+    y1: f64,
+    px0: f64,
+    px1: f64,
+    py0: f64,
+    py1: f64,
+}
+
+impl Axes {
+    fn new(f: &Frame, (x0, x1): (f64, f64), (y0, y1): (f64, f64)) -> Self {
+        Axes {
+            x0,
+            x1,
+            y0,
+            y1,
+            px0: ML,
+            px1: f.width - MR,
+            py0: f.height - MB,
+            py1: MT,
+        }
+    }
+    fn x(&self, v: f64) -> f64 {
+        self.px0 + (v - self.x0) / (self.x1 - self.x0) * (self.px1 - self.px0)
+    }
+    fn y(&self, v: f64) -> f64 {
+        self.py0 + (v - self.y0) / (self.y1 - self.y0) * (self.py1 - self.py0)
+    }
+}
+
+fn open(f: &Frame) -> String {
+    let mut s = String::new();
+    let _ = write!(
+        s,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="sans-serif" font-size="12"><title>{t}</title><rect x="0" y="0" width="{w}" height="{h}" fill="white"/><text x="{cx}" y="20" text-anchor="middle" font-size="14" font-weight="bold">{t}</text>"#,
+        w = f.width,
+        h = f.height,
+        cx = f.width / 2.0,
+        t = esc(&f.title)
+    );
+    s
+}
+
+fn axis_labels(s: &mut String, f: &Frame) {
+    let _ = write!(
+        s,
+        r#"<text x="{}" y="{}" text-anchor="middle">{}</text><text x="14" y="{}" text-anchor="middle" transform="rotate(-90 14 {})">{}</text>"#,
+        (ML + f.width - MR) / 2.0,
+        f.height - 10.0,
+        esc(&f.x_label),
+        (MT + f.height - MB) / 2.0,
+        (MT + f.height - MB) / 2.0,
+        esc(&f.y_label)
+    );
+}
+
+fn y_axis(s: &mut String, a: &Axes) {
+    for t in ticks(a.y0, a.y1, 6) {
+        let y = a.y(t);
+        let _ = write!(
+            s,
+            r##"<line x1="{}" y1="{y:.1}" x2="{}" y2="{y:.1}" stroke="#ddd"/><text x="{}" y="{:.1}" text-anchor="end">{}</text>"##,
+            a.px0,
+            a.px1,
+            a.px0 - 5.0,
+            y + 4.0,
+            fmt_num(t)
+        );
+    }
+    let _ = write!(
+        s,
+        r##"<line x1="{0}" y1="{1}" x2="{0}" y2="{2}" stroke="#333"/><line x1="{0}" y1="{1}" x2="{3}" y2="{1}" stroke="#333"/>"##,
+        a.px0, a.py0, a.py1, a.px1
+    );
+}
+
+fn x_axis(s: &mut String, a: &Axes) {
+    for t in ticks(a.x0, a.x1, 8) {
+        let x = a.x(t);
+        let _ = write!(
+            s,
+            r##"<line x1="{x:.1}" y1="{}" x2="{x:.1}" y2="{}" stroke="#333"/><text x="{x:.1}" y="{}" text-anchor="middle">{}</text>"##,
+            a.py0,
+            a.py0 + 4.0,
+            a.py0 + 16.0,
+            fmt_num(t)
+        );
+    }
+}
+
+fn legend(s: &mut String, f: &Frame, names: &[&str]) {
+    let x = f.width - MR - 150.0;
+    for (i, n) in names.iter().enumerate() {
+        let y = MT + 8.0 + 16.0 * i as f64;
+        let _ = write!(
+            s,
+            r#"<rect x="{x}" y="{:.1}" width="12" height="10" fill="{}"/><text x="{}" y="{:.1}">{}</text>"#,
+            y - 9.0,
+            colour(i),
+            x + 16.0,
+            y,
+            esc(n)
+        );
+    }
+}
+
+/// One series of a line or scatter chart: `(x, y)` points in the caller's units.
+#[derive(Clone, Debug)]
+pub struct Series {
+    /// Legend name.
+    pub name: String,
+    /// Points; non-finite points break the line.
+    pub points: Vec<(f64, f64)>,
+}
+
+impl Series {
+    /// A named series from x and y slices of equal length (extra values are ignored).
+    pub fn new(name: &str, x: &[f64], y: &[f64]) -> Self {
+        Series {
+            name: name.into(),
+            points: x.iter().copied().zip(y.iter().copied()).collect(),
+        }
+    }
+}
+
+fn xy_axes(f: &Frame, series: &[Series]) -> Axes {
+    let xr = finite_range(series.iter().flat_map(|s| s.points.iter().map(|p| p.0)))
+        .unwrap_or((0.0, 1.0));
+    let yr = finite_range(series.iter().flat_map(|s| s.points.iter().map(|p| p.1)))
+        .unwrap_or((0.0, 1.0));
+    let pad = (yr.1 - yr.0) * 0.05;
+    Axes::new(f, xr, (yr.0 - pad, yr.1 + pad))
+}
+
+/// Line chart with several series (a legend names them). Long series are decimated to at
+/// most ~2000 points per series by keeping min and max per pixel column bucket.
+pub fn line_chart(f: &Frame, series: &[Series]) -> String {
+    let a = xy_axes(f, series);
+    let mut s = open(f);
+    y_axis(&mut s, &a);
+    x_axis(&mut s, &a);
+    for (i, se) in series.iter().enumerate() {
+        let pts = decimate(&se.points, 1000);
+        let mut d = String::new();
+        let mut pen_up = true;
+        for &(x, y) in &pts {
+            if !(x.is_finite() && y.is_finite()) {
+                pen_up = true;
+                continue;
+            }
+            let _ = write!(
+                d,
+                "{}{:.1},{:.1}",
+                if pen_up { "M" } else { "L" },
+                a.x(x),
+                a.y(y)
+            );
+            pen_up = false;
+        }
+        let _ = write!(
+            s,
+            r#"<path d="{d}" fill="none" stroke="{}" stroke-width="1.2"/>"#,
+            colour(i)
+        );
+    }
+    let names: Vec<&str> = series.iter().map(|s| s.name.as_str()).collect();
+    legend(&mut s, f, &names);
+    axis_labels(&mut s, f);
+    s.push_str("</svg>");
+    s
+}
+
+fn decimate(p: &[(f64, f64)], buckets: usize) -> Vec<(f64, f64)> {
+    if p.len() <= 2 * buckets {
+        return p.to_vec();
+    }
+    let per = p.len().div_ceil(buckets);
+    let mut out = Vec::with_capacity(2 * buckets + 2);
+    for c in p.chunks(per) {
+        let lo = c
+            .iter()
+            .copied()
+            .filter(|q| q.1.is_finite())
+            .min_by(|a, b| a.1.total_cmp(&b.1));
+        let hi = c
+            .iter()
+            .copied()
+            .filter(|q| q.1.is_finite())
+            .max_by(|a, b| a.1.total_cmp(&b.1));
+        match (lo, hi) {
+            (Some(l), Some(h)) => {
+                if l.0 <= h.0 {
+                    out.push(l);
+                    out.push(h);
+                } else {
+                    out.push(h);
+                    out.push(l);
+                }
+            }
+            _ => out.push((f64::NAN, f64::NAN)),
+        }
+    }
+    out
+}
+
+/// Scatter chart: one marker per point, one colour per series.
+pub fn scatter(f: &Frame, series: &[Series]) -> String {
+    let a = xy_axes(f, series);
+    let mut s = open(f);
+    y_axis(&mut s, &a);
+    x_axis(&mut s, &a);
+    for (i, se) in series.iter().enumerate() {
+        for &(x, y) in se
+            .points
+            .iter()
+            .filter(|p| p.0.is_finite() && p.1.is_finite())
+        {
+            let _ = write!(
+                s,
+                r#"<circle cx="{:.1}" cy="{:.1}" r="3" fill="{}" fill-opacity="0.8"/>"#,
+                a.x(x),
+                a.y(y),
+                colour(i)
+            );
+        }
+    }
+    let names: Vec<&str> = series.iter().map(|s| s.name.as_str()).collect();
+    legend(&mut s, f, &names);
+    axis_labels(&mut s, f);
+    s.push_str("</svg>");
+    s
+}
+
+/// Grouped bar chart: `categories` along x, one bar per group in `groups` (name, one value per
+/// category). A single group is a plain bar chart. Values are printed above the bars.
+/// The y axis starts at 0 (or below, for negative values).
+pub fn bar_chart(f: &Frame, categories: &[String], groups: &[(String, Vec<f64>)]) -> String {
+    let all = groups.iter().flat_map(|g| g.1.iter().copied());
+    let (lo, hi) = finite_range(all.chain([0.0])).unwrap_or((0.0, 1.0));
+    let a = Axes::new(f, (0.0, categories.len().max(1) as f64), (lo, hi * 1.1));
+    let mut s = open(f);
+    y_axis(&mut s, &a);
+    let ng = groups.len().max(1) as f64;
+    let slot = (a.px1 - a.px0) / categories.len().max(1) as f64;
+    let bw = slot * 0.8 / ng;
+    for (c, name) in categories.iter().enumerate() {
+        let x0 = a.px0 + slot * c as f64 + slot * 0.1;
+        for (g, (_, vals)) in groups.iter().enumerate() {
+            let Some(&v) = vals.get(c).filter(|v| v.is_finite()) else {
+                continue;
+            };
+            let (ya, yb) = (a.y(0.0), a.y(v));
+            let _ = write!(
+                s,
+                r#"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="{:.1}" fill="{}"><title>{}: {}</title></rect>"#,
+                x0 + bw * g as f64,
+                ya.min(yb),
+                bw * 0.95,
+                (ya - yb).abs(),
+                colour(g),
+                esc(name),
+                fmt_num(v)
+            );
+            if groups.len() <= 3 {
+                let _ = write!(
+                    s,
+                    r#"<text x="{:.1}" y="{:.1}" text-anchor="middle" font-size="10">{}</text>"#,
+                    x0 + bw * (g as f64 + 0.5),
+                    ya.min(yb) - 3.0,
+                    fmt_num(v)
+                );
+            }
+        }
+        let _ = write!(
+            s,
+            r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">{}</text>"#,
+            a.px0 + slot * (c as f64 + 0.5),
+            a.py0 + 16.0,
+            esc(name)
+        );
+    }
+    if groups.len() > 1 {
+        let names: Vec<&str> = groups.iter().map(|g| g.0.as_str()).collect();
+        legend(&mut s, f, &names);
+    }
+    axis_labels(&mut s, f);
+    s.push_str("</svg>");
+    s
+}
+
+/// A marked heatmap cell: drawn with a hatch/colour of its class and named in the legend.
+#[derive(Clone, Debug)]
+pub struct CellMark {
+    /// Column index (x).
+    pub col: usize,
+    /// Row index (y, 0 = bottom).
+    pub row: usize,
+    /// Class name (legend entry), e.g. "unreachable", "collision", "optimum".
+    pub class: String,
+}
+
+/// A heatmap over a regular grid.
+#[derive(Clone, Debug)]
+pub struct Heatmap {
+    /// Cell-centre x coordinates (ascending), caller's unit.
+    pub xs: Vec<f64>,
+    /// Cell-centre y coordinates (ascending), caller's unit.
+    pub ys: Vec<f64>,
+    /// Values, row-major: `values[row * xs.len() + col]`; non-finite = no colour.
+    pub values: Vec<f64>,
+    /// Marked cells (drawn over the colour); the classes get legend entries.
+    pub marks: Vec<CellMark>,
+    /// Unit of the colour scale, for the legend (e.g. "J").
+    pub value_label: String,
+}
+
+/// Viridis-like colour for `t` in [0, 1].
+pub fn ramp(t: f64) -> String {
+    const STOPS: [(f64, f64, f64); 5] = [
+        (68.0, 1.0, 84.0),
+        (59.0, 82.0, 139.0),
+        (33.0, 145.0, 140.0),
+        (94.0, 201.0, 98.0),
+        (253.0, 231.0, 37.0),
+    ];
+    let t = if t.is_finite() {
+        t.clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    let x = t * (STOPS.len() - 1) as f64;
+    let i = (x.floor() as usize).min(STOPS.len() - 2);
+    let u = x - i as f64;
+    let (a, b) = (STOPS[i], STOPS[i + 1]);
+    format!(
+        "rgb({},{},{})",
+        (a.0 + (b.0 - a.0) * u).round(),
+        (a.1 + (b.1 - a.1) * u).round(),
+        (a.2 + (b.2 - a.2) * u).round()
+    )
+}
+
+const MARK_STYLES: [&str; 6] = [
+    "#d62728", "#7f7f7f", "#ff7f0e", "#8c564b", "#e377c2", "#17becf",
+];
+
+/// Heatmap with a colour bar, marked cells and a legend of mark classes. A class named
+/// `optimum` (or `best`) is drawn as a star-like ring rather than a filled cell.
+pub fn heatmap(f: &Frame, h: &Heatmap) -> String {
+    let nx = h.xs.len().max(1);
+    let ny = h.ys.len().max(1);
+    let step = |v: &[f64]| {
+        if v.len() > 1 {
+            (v[v.len() - 1] - v[0]) / (v.len() - 1) as f64
+        } else {
+            1.0
+        }
+    };
+    let (dx, dy) = (step(&h.xs), step(&h.ys));
+    let x0 = h.xs.first().copied().unwrap_or(0.0) - dx / 2.0;
+    let y0 = h.ys.first().copied().unwrap_or(0.0) - dy / 2.0;
+    let f2 = Frame {
+        width: f.width - 120.0,
+        ..f.clone()
+    };
+    let a = Axes::new(&f2, (x0, x0 + dx * nx as f64), (y0, y0 + dy * ny as f64));
+    let (vlo, vhi) = finite_range(h.values.iter().copied()).unwrap_or((0.0, 1.0));
+    let mut s = open(f);
+    let cw = (a.px1 - a.px0) / nx as f64;
+    let ch = (a.py0 - a.py1) / ny as f64;
+    for r in 0..ny {
+        for c in 0..nx {
+            let v = h.values.get(r * nx + c).copied().unwrap_or(f64::NAN);
+            let fill = if v.is_finite() {
+                ramp((v - vlo) / (vhi - vlo))
+            } else {
+                "#ffffff".into()
+            };
+            let _ = write!(
+                s,
+                r#"<rect x="{:.1}" y="{:.1}" width="{:.2}" height="{:.2}" fill="{fill}"><title>({}, {}): {}</title></rect>"#,
+                a.px0 + cw * c as f64,
+                a.py0 - ch * (r + 1) as f64,
+                cw + 0.3,
+                ch + 0.3,
+                fmt_num(h.xs.get(c).copied().unwrap_or(0.0)),
+                fmt_num(h.ys.get(r).copied().unwrap_or(0.0)),
+                if v.is_finite() {
+                    fmt_num(v)
+                } else {
+                    "-".into()
+                }
+            );
+        }
+    }
+    let mut classes: Vec<&str> = Vec::new();
+    for m in &h.marks {
+        if !classes.contains(&m.class.as_str()) {
+            classes.push(&m.class);
+        }
+    }
+    for m in &h.marks {
+        let k = classes.iter().position(|c| *c == m.class).unwrap_or(0);
+        let (cx, cy) = (
+            a.px0 + cw * (m.col as f64 + 0.5),
+            a.py0 - ch * (m.row as f64 + 0.5),
+        );
+        if m.class == "optimum" || m.class == "best" {
+            let _ = write!(
+                s,
+                r#"<circle class="mark-{}" cx="{cx:.1}" cy="{cy:.1}" r="{:.1}" fill="none" stroke="white" stroke-width="3"/><circle cx="{cx:.1}" cy="{cy:.1}" r="{:.1}" fill="none" stroke="black" stroke-width="1.5"/>"#,
+                esc(&m.class),
+                (cw.min(ch) * 0.45).max(4.0),
+                (cw.min(ch) * 0.45).max(4.0)
+            );
+        } else {
+            let _ = write!(
+                s,
+                r#"<g class="mark-{}"><line x1="{:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{c}" stroke-width="2"/><line x1="{:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{c}" stroke-width="2"/></g>"#,
+                esc(&m.class),
+                cx - cw * 0.35,
+                cy - ch * 0.35,
+                cx + cw * 0.35,
+                cy + ch * 0.35,
+                cx - cw * 0.35,
+                cy + ch * 0.35,
+                cx + cw * 0.35,
+                cy - ch * 0.35,
+                c = MARK_STYLES[k % MARK_STYLES.len()]
+            );
+        }
+    }
+    y_axis(&mut s, &a);
+    x_axis(&mut s, &a);
+    // Colour bar.
+    let bx = f.width - 110.0;
+    let nb = 40;
+    let bh = (a.py0 - a.py1) * 0.6;
+    for i in 0..nb {
+        let t = i as f64 / (nb - 1) as f64;
+        let _ = write!(
+            s,
+            r#"<rect x="{bx}" y="{:.1}" width="14" height="{:.2}" fill="{}"/>"#,
+            a.py1 + bh * (1.0 - t) - bh / nb as f64,
+            bh / nb as f64 + 0.5,
+            ramp(t)
+        );
+    }
+    let _ = write!(
+        s,
+        r#"<text x="{}" y="{:.1}">{}</text><text x="{}" y="{:.1}">{}</text><text x="{bx}" y="{:.1}">{}</text>"#,
+        bx + 18.0,
+        a.py1 + 4.0,
+        fmt_num(vhi),
+        bx + 18.0,
+        a.py1 + bh,
+        fmt_num(vlo),
+        a.py1 - 6.0,
+        esc(&h.value_label)
+    );
+    // Mark legend.
+    for (k, c) in classes.iter().enumerate() {
+        let y = a.py1 + bh + 24.0 + 16.0 * k as f64;
+        let sym = if *c == "optimum" || *c == "best" {
+            format!(
+                r#"<circle cx="{}" cy="{:.1}" r="5" fill="none" stroke="black" stroke-width="1.5"/>"#,
+                bx + 6.0,
+                y - 4.0
+            )
+        } else {
+            format!(
+                r#"<line x1="{}" y1="{:.1}" x2="{}" y2="{:.1}" stroke="{}" stroke-width="2"/>"#,
+                bx,
+                y - 9.0,
+                bx + 12.0,
+                y + 1.0,
+                MARK_STYLES[k % MARK_STYLES.len()]
+            )
+        };
+        let _ = write!(
+            s,
+            r#"{sym}<text x="{}" y="{y:.1}" font-size="11">{}</text>"#,
+            bx + 16.0,
+            esc(c)
+        );
+    }
+    axis_labels(&mut s, &f2);
+    s.push_str("</svg>");
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn ticks_cover_range() {
+        let t = ticks(0.0, 10.0, 5);
+        assert_eq!(t.first(), Some(&0.0));
+        assert_eq!(t.last(), Some(&10.0));
+    }
+
+    #[test]
+    fn charts_are_balanced_and_skip_nan() {
+        let f = Frame::new("t <1>", "x [s]", "y [W]");
+        let l = line_chart(
+            &f,
+            &[Series::new("a", &[0.0, 1.0, 2.0], &[1.0, f64::NAN, 3.0])],
+        );
+        assert!(l.starts_with("<svg") && l.ends_with("</svg>"));
+        assert!(!l.contains("NaN"));
+        assert!(l.contains("t &lt;1&gt;"));
+        let b = bar_chart(&f, &["P1".into()], &[("E".into(), vec![2.0])]);
+        assert!(b.contains("<rect"));
+        let h = heatmap(
+            &f,
+            &Heatmap {
+                xs: vec![0.0, 1.0],
+                ys: vec![0.0],
+                values: vec![1.0, f64::NAN],
+                marks: vec![CellMark {
+                    col: 1,
+                    row: 0,
+                    class: "unreachable".into(),
+                }],
+                value_label: "J".into(),
+            },
+        );
+        assert!(h.contains("mark-unreachable") && !h.contains("NaN"));
+    }
+}

@@ -1,0 +1,341 @@
+//! Placement planner: feasibility with reasons, sweeps, determinism, optimiser, CLI.
+
+use printwatt::energy::EnergyOptions;
+use printwatt::placement::{Evaluator, FeasibilityOptions, Objective, PathJob};
+use printwatt::robot;
+use printwatt::timing::{JointStageOptions, ProfileOptions};
+use printwatt::toolpath::{self, Placement, ReadOptions};
+use std::path::PathBuf;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn load(robot_id: &str, path: &str) -> (robot::RobotModel, toolpath::Toolpath) {
+    let model = robot::load(&root().join("robots").join(robot_id)).unwrap();
+    let tp = toolpath::load(&root().join("paths").join(path), &ReadOptions::default()).unwrap();
+    (model, tp)
+}
+
+#[test]
+fn fast_evaluation_matches_full_evaluation() {
+    let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
+    let job = PathJob::new(
+        &model,
+        &tp,
+        EnergyOptions::default(),
+        ProfileOptions::default(),
+        JointStageOptions::default(),
+    )
+    .unwrap();
+    let feas = FeasibilityOptions {
+        wrist_min: 0.0,
+        ..Default::default()
+    };
+    let ev = Evaluator::new(&job, feas, Objective::Supply);
+    let at = Placement::new(1.7, 0.0, 0.0, std::f64::consts::FRAC_PI_2);
+    let mut sc = ev.scratch().unwrap();
+    let t0 = std::time::Instant::now();
+    let fast = ev.evaluate(&mut sc, &at);
+    let dt_fast = t0.elapsed();
+    let t0 = std::time::Instant::now();
+    let full = job.evaluate(&at).unwrap().unwrap();
+    let dt_full = t0.elapsed();
+    eprintln!(
+        "fast {dt_fast:?} full {dt_full:?} samples {}",
+        full.timed.traj.len()
+    );
+    let f = fast.outcome.as_ref().unwrap_or_else(|e| panic!("{e}"));
+    let rel = (f.supply_j - full.energy.total.supply_j).abs() / full.energy.total.supply_j;
+    assert!(
+        rel < 1e-9,
+        "{} vs {}",
+        f.supply_j,
+        full.energy.total.supply_j
+    );
+    assert_eq!(f.samples, full.timed.traj.len());
+}
+
+use printwatt::placement::optimise::{self, OptimiseOptions};
+use printwatt::placement::{Evaluated, Reason};
+
+fn job_for<'a>(model: &'a robot::RobotModel, tp: &toolpath::Toolpath) -> PathJob<'a> {
+    PathJob::new(
+        model,
+        tp,
+        EnergyOptions::default(),
+        ProfileOptions::default(),
+        JointStageOptions::default(),
+    )
+    .unwrap()
+}
+
+const YAW90: f64 = std::f64::consts::FRAC_PI_2;
+
+fn one(ev: &Evaluator, at: Placement) -> Evaluated {
+    let mut sc = ev.scratch().unwrap();
+    ev.evaluate(&mut sc, &at)
+}
+
+#[test]
+fn unreachable_placement_names_the_sample_line_and_point() {
+    let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
+    let job = job_for(&model, &tp);
+    let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
+    // The far end of the 2 m path is out of reach at x = 2.0 m, yaw 0.
+    let r = one(&ev, Placement::new(2.0, 0.0, 0.0, 0.0));
+    assert_eq!(r.cost(), f64::INFINITY);
+    let e = r.outcome.unwrap_err();
+    assert_eq!(e.reason, Reason::Unreachable);
+    assert!(e.sample.unwrap() > 0, "{e}");
+    assert!(e.line.is_some() && e.point_m.is_some() && e.t_s.is_some());
+    assert!(e.to_string().contains("sample"), "{e}");
+}
+
+#[test]
+fn wrist_singularity_margin_makes_a_placement_infeasible() {
+    let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
+    let job = job_for(&model, &tp);
+    let at = Placement::new(1.7, 0.0, 0.0, YAW90);
+    // Reachable and timed (see tests/timing.rs) but passes within 2.9° of the wrist singularity.
+    let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
+    let e = one(&ev, at).outcome.unwrap_err();
+    assert_eq!(e.reason, Reason::WristSingularity, "{e}");
+    assert!(e.sample.is_some() && e.line.is_some());
+    // Without the margin it is feasible, and its smallest |sin q5| is below the default.
+    let loose = FeasibilityOptions {
+        wrist_min: 0.0,
+        ..Default::default()
+    };
+    let ev = Evaluator::new(&job, loose, Objective::Supply);
+    let f = one(&ev, at).outcome.unwrap();
+    assert!(f.margins.wrist.unwrap() < 0.05);
+}
+
+#[test]
+fn bed_collision_is_reported_with_where() {
+    let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
+    let job = job_for(&model, &tp);
+    let at = Placement::new(1.4, 0.0, 0.5, YAW90);
+    let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
+    assert!(
+        one(&ev, at).outcome.is_ok(),
+        "feasible with the default bed"
+    );
+    // A print table reaching 1.5 m beyond the path passes under the robot: its top, 0.52 m
+    // above the base-frame origin, cuts the base column.
+    let big_bed = FeasibilityOptions {
+        bed_margin_m: 1.5,
+        ..Default::default()
+    };
+    let ev = Evaluator::new(&job, big_bed, Objective::Supply);
+    let e = one(&ev, at).outcome.unwrap_err();
+    assert_eq!(e.reason, Reason::CollisionBed, "{e}");
+    assert_eq!(e.sample, Some(0));
+    // Lower the bed (z too low for that table: 0.52 m → below the base) and the column clears.
+    let e2 = one(&ev, Placement::new(1.4, 0.0, -0.3, YAW90)).outcome;
+    assert!(
+        !matches!(&e2, Err(x) if x.reason == Reason::CollisionBed),
+        "{e2:?}"
+    );
+}
+
+fn small_grid() -> printwatt::placement::Grid {
+    printwatt::placement::Grid {
+        xs: vec![1.3, 1.4, 1.5],
+        ys: vec![-0.1, 0.0, 0.1],
+        zs: vec![0.5],
+        yaws: vec![YAW90],
+        spins: vec![0.0],
+    }
+}
+
+#[test]
+fn sweep_is_bit_identical_with_one_and_two_threads_and_survives_failures() {
+    let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
+    let job = job_for(&model, &tp);
+    let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
+    let mut ps = small_grid().placements();
+    ps.insert(3, Placement::new(5.0, 0.0, 0.0, 0.0)); // unreachable, in the middle
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| ev.sweep(&ps, &|_, _| {})).unwrap()
+    };
+    let a = run(1);
+    let b = run(2);
+    assert_eq!(a.len(), ps.len());
+    assert!(a[3].outcome.is_err(), "the far placement fails");
+    assert!(a.iter().filter(|r| r.outcome.is_ok()).count() >= 4);
+    for (x, y) in a.iter().zip(&b) {
+        assert_eq!(x.cost().to_bits(), y.cost().to_bits());
+        assert_eq!(format!("{x:?}"), format!("{y:?}"));
+    }
+}
+
+#[test]
+fn optimiser_beats_the_grid_is_deterministic_and_reports_sensitivity() {
+    let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
+    let job = job_for(&model, &tp);
+    let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
+    let grid = ev.sweep(&small_grid().placements(), &|_, _| {}).unwrap();
+    let best_grid = optimise::best_of(&grid).unwrap().cost();
+    let opts = OptimiseOptions {
+        max_evals: 40,
+        ..Default::default()
+    };
+    let pool = |n: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap()
+    };
+    let a = pool(1).install(|| optimise::optimise(&ev, &grid, &opts).unwrap());
+    let b = pool(2).install(|| optimise::optimise(&ev, &grid, &opts).unwrap());
+    assert!(a.best.cost() <= best_grid);
+    assert_eq!(a.best.cost().to_bits(), b.best.cost().to_bits());
+    assert_eq!(a.best.placement, b.best.placement);
+    assert_eq!(a.history_j, b.history_j);
+    let s = &a.sensitivity;
+    assert_eq!(s.h_m, 0.05);
+    assert!(s.e0_j.is_finite());
+    for k in 0..4 {
+        assert!(
+            s.e_j[k].is_some() != s.reasons[k].is_some(),
+            "energy or reason at {k}"
+        );
+    }
+    assert!(s.e_j.iter().any(|e| e.is_some()));
+}
+
+fn bin() -> std::process::Command {
+    let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_printwatt"));
+    c.current_dir(root());
+    c
+}
+
+#[test]
+fn cli_sweep_json_and_optimise_end_to_end() {
+    let out = bin()
+        .args([
+            "sweep",
+            "--x",
+            "1.3:1.5:0.1",
+            "--y",
+            "-0.1:0.1:0.1",
+            "--z",
+            "0.5",
+            "--yaw",
+            "90",
+            "--json",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["placements"], 9);
+    assert!(v["feasible"].as_u64().unwrap() >= 4);
+    assert_eq!(v["rows"].as_array().unwrap().len(), 9);
+
+    let dir = std::env::temp_dir().join(format!("pw-place-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = bin()
+        .args([
+            "optimise",
+            "--x",
+            "1.3:1.5:0.1",
+            "--y",
+            "-0.1:0.1:0.1",
+            "--z",
+            "0.5",
+            "--yaw",
+            "90",
+            "--max-evals",
+            "20",
+            "--run",
+            "t",
+            "--results-dir",
+        ])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(
+        stdout.contains("best placement") && stdout.contains("saving"),
+        "{stdout}"
+    );
+    for f in ["summary.json", "placements.csv", "report.html"] {
+        assert!(dir.join("t").join(f).is_file(), "{f}");
+    }
+    // A run directory holding a foreign file is refused, not overwritten.
+    std::fs::write(dir.join("t").join("notes.txt"), "mine").unwrap();
+    let out = bin()
+        .args([
+            "optimise",
+            "--x",
+            "1.4",
+            "--y",
+            "0",
+            "--z",
+            "0.5",
+            "--yaw",
+            "90",
+            "--max-evals",
+            "4",
+            "--run",
+            "t",
+            "--results-dir",
+        ])
+        .arg(&dir)
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    assert!(String::from_utf8_lossy(&out.stderr).contains("notes.txt"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn cli_bad_input_fails_clearly() {
+    let out = bin()
+        .args(["sweep", "--x", "1:abc:0.1", "--y", "0"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert!(e.contains("--x") && e.contains("abc"), "{e}");
+    let out = bin()
+        .args(["sweep", "--robot", "no_such_robot", "--x", "1", "--y", "0"])
+        .output()
+        .unwrap();
+    assert!(!out.status.success());
+    let e = String::from_utf8_lossy(&out.stderr);
+    assert!(e.contains("no_such_robot"), "{e}");
+}
+
+#[test]
+fn cli_definition_is_consistent() {
+    use clap::CommandFactory;
+    printwatt::cli::Cli::command().debug_assert();
+}
+
+#[test]
+fn parse_range_values_and_errors() {
+    use printwatt::placement::parse_range;
+    assert_eq!(parse_range("x", "1:1.2:0.1").unwrap().len(), 3);
+    assert_eq!(parse_range("x", "0.5").unwrap(), vec![0.5]);
+    assert_eq!(parse_range("x", "1,2,3").unwrap(), vec![1.0, 2.0, 3.0]);
+    assert!(parse_range("x", "1:0:0.1").is_err());
+    assert!(parse_range("x", "1:2:0").is_err());
+    assert!(parse_range("x", "1:2").is_err());
+}
