@@ -155,24 +155,29 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
     }
     if let Some(o) = &rep.optimise {
         let s = &o.sensitivity;
-        let fmt = |v: Option<f64>| v.map_or("infeasible".to_string(), |v| format!("{v:.1}"));
+        // A value with its unit, or why there is none.
+        let fmt = |v: Option<f64>, unit: &str| {
+            v.map_or("infeasible".to_string(), |v| format!("{v:.1} {unit}"))
+        };
+        let fmt_d =
+            |v: Option<f64>, unit: &str| v.map_or("n/a".to_string(), |v| format!("{v:.1} {unit}"));
         println!(
-            "±{:.0} mm: E(x−) {} J, E(x+) {} J, E(y−) {} J, E(y+) {} J; dE/dx {} J/m, dE/dy {} J/m; d²E/dx² {} J/m², d²E/dy² {} J/m²",
+            "±{:.0} mm: E(x−) {}, E(x+) {}, E(y−) {}, E(y+) {}; dE/dx {}, dE/dy {}; d²E/dx² {}, d²E/dy² {}",
             s.h_m * 1000.0,
-            fmt(s.e_j[0]),
-            fmt(s.e_j[1]),
-            fmt(s.e_j[2]),
-            fmt(s.e_j[3]),
-            fmt(s.gradient_j_per_m[0]),
-            fmt(s.gradient_j_per_m[1]),
-            fmt(s.curvature_j_per_m2[0]),
-            fmt(s.curvature_j_per_m2[1])
+            fmt(s.e_j[0], "J"),
+            fmt(s.e_j[1], "J"),
+            fmt(s.e_j[2], "J"),
+            fmt(s.e_j[3], "J"),
+            fmt_d(s.gradient_j_per_m[0], "J/m"),
+            fmt_d(s.gradient_j_per_m[1], "J/m"),
+            fmt_d(s.curvature_j_per_m2[0], "J/m²"),
+            fmt_d(s.curvature_j_per_m2[1], "J/m²")
         );
         if s.one_sided_j_per_m.iter().any(|v| v.is_some()) {
             println!(
-                "one-sided slopes (optimum on the feasibility boundary): dE/dx {} J/m, dE/dy {} J/m",
-                fmt(s.one_sided_j_per_m[0]),
-                fmt(s.one_sided_j_per_m[1])
+                "one-sided slopes (optimum on the feasibility boundary): dE/dx {}, dE/dy {}",
+                fmt_d(s.one_sided_j_per_m[0], "J/m"),
+                fmt_d(s.one_sided_j_per_m[1], "J/m")
             );
         }
         println!(
