@@ -6,7 +6,9 @@ use crate::energy::{self, EnergyModel, EnergyOptions, EnergyReport};
 use crate::error::Result;
 use crate::kinematics::IkSolver;
 use crate::robot::RobotModel;
-use crate::timing::{self, JointStageOptions, Piece, ProfileOptions, TimedPath, TimingFailure};
+use crate::timing::{
+    self, Buffers, JointStageOptions, Piece, Plan, ProfileOptions, TimedPath, TimingFailure,
+};
 use crate::toolpath::{Placement, Toolpath};
 
 /// Everything about a job that does not depend on the placement: the robot, its energy
@@ -20,6 +22,8 @@ pub struct PathJob<'a> {
     pub moves: Vec<timing::Move>,
     /// The blended path (part frame).
     pub pieces: Vec<Piece>,
+    /// The placement-independent first Cartesian plan of the path, shared by all placements.
+    pub plan: Plan,
     /// Cartesian profile limits and period.
     pub profile: ProfileOptions,
     /// Joint-stage options.
@@ -56,11 +60,13 @@ impl<'a> PathJob<'a> {
             )));
         }
         let pieces = timing::blend_path(&moves);
+        let plan = Plan::new(&pieces, &profile);
         Ok(PathJob {
             robot,
             energy,
             moves,
             pieces,
+            plan,
             profile,
             joint,
         })
@@ -79,14 +85,16 @@ impl<'a> PathJob<'a> {
         at: &Placement,
     ) -> std::result::Result<TimedPath, TimingFailure> {
         let lines = |i: usize| self.line_of(i);
-        timing::time_at(
+        timing::time_at_planned(
             solver,
             &self.pieces,
+            &self.plan,
             &lines,
             &at.frame(),
             at.yaw + at.nozzle_spin,
             &self.profile,
             &self.joint,
+            &mut Buffers::default(),
         )
     }
 

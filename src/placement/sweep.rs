@@ -1,9 +1,9 @@
 //! The fast placement objective and parallel sweeps.
 //!
-//! [`Evaluator`] times the path at a placement exactly as [`crate::timing::time_at`] does
-//! (same candidate configurations in the same order, same re-planning), but the Cartesian plan
-//! of the first round — which does not depend on the placement — is computed once per job and
-//! reused; the motion is re-planned only for a candidate whose joint limits bind. Energy comes
+//! [`Evaluator`] times the path at a placement with [`crate::timing::time_at_planned`]: the
+//! Cartesian plan of the first round, which does not depend on the placement, is computed once
+//! per job ([`PathJob::plan`]) and shared; the motion is re-planned only for a candidate whose
+//! joint limits bind. Energy comes
 //! from [`energy::eval_sample`] per sample with no per-sample allocation and no series stored;
 //! call [`crate::energy::evaluate`] (via [`PathJob::evaluate`]) only for placements reported in
 //! detail. Feasibility (singularity margins, collisions) is checked on every
@@ -17,10 +17,10 @@ use super::feasibility::{self, FeasibilityOptions, Infeasible, Margins, Reason, 
 use crate::dynamics::DynData;
 use crate::energy::{self, SamplePower};
 use crate::error::{Error, Result};
-use crate::kinematics::{limit_margin, nozzle_target, IkSolver};
+use crate::kinematics::IkSolver;
 use crate::math::V3;
-use crate::timing::profile::{nodes, plan, CartesianMotion, Nodes};
-use crate::timing::{self, TimingFailure};
+use crate::timing::profile::Nodes;
+use crate::timing::{self, Buffers, TimedPath, TimingFailure};
 use crate::toolpath::Placement;
 use rayon::prelude::*;
 use serde::Serialize;
@@ -145,8 +145,7 @@ impl Evaluated {
 pub struct Scratch<'a> {
     solver: IkSolver<'a>,
     data: DynData,
-    qs: Vec<f64>,
-    tcp: Vec<V3>,
+    buf: Buffers,
     caps: Vec<feasibility::Capsule>,
     sp: SamplePower,
 }
@@ -159,8 +158,6 @@ pub struct Evaluator<'j, 'a> {
     pub feasibility: FeasibilityOptions,
     /// What is minimised.
     pub objective: Objective,
-    nodes: Nodes,
-    motion0: CartesianMotion,
     reach: f64,
     bbox_all: (V3, V3),
     bbox_print: (V3, V3),
@@ -186,9 +183,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         feasibility: FeasibilityOptions,
         objective: Objective,
     ) -> Self {
-        let nodes = nodes(&job.pieces, &job.profile);
-        let scale = vec![1.0; nodes.s.len()];
-        let motion0 = plan(&job.pieces, &nodes, &scale, &job.profile);
+        let motion0 = &job.plan.motion;
         let all = bbox(motion0.p.iter()).unwrap_or((V3::zeros(), V3::zeros()));
         let print = bbox(
             motion0
@@ -203,8 +198,6 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             job,
             feasibility,
             objective,
-            nodes,
-            motion0,
             reach: feasibility::reach_m(job.robot),
             bbox_all: all,
             bbox_print: print,
@@ -214,12 +207,12 @@ impl<'j, 'a> Evaluator<'j, 'a> {
 
     /// Samples of the unslowed plan (a lower bound of every placement's sample count).
     pub fn nominal_samples(&self) -> usize {
-        self.motion0.p.len()
+        self.job.plan.motion.p.len()
     }
 
     /// Cartesian plan nodes (placement-independent).
     pub fn nodes(&self) -> &Nodes {
-        &self.nodes
+        &self.job.plan.nodes
     }
 
     /// Scratch space for one thread. Error: the robot has no IK (too many joints).
@@ -229,112 +222,31 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         Ok(Scratch {
             solver,
             data: self.job.energy.data(),
-            qs: Vec::new(),
-            tcp: Vec::new(),
+            buf: Buffers::default(),
             caps: Vec::new(),
             sp: SamplePower::default(),
         })
     }
 
-    /// Time the path at `at` like [`timing::time_at`], reusing the first-round plan. Returns
-    /// `(q, q̇, q̈, motion, rounds)` with `q` row-major (samples × dof).
+    /// Time the path at `at` (see [`timing::time_at_planned`]).
     fn time(
         &self,
         sc: &mut Scratch<'a>,
         at: &Placement,
-    ) -> std::result::Result<Timed, TimingFailure> {
+    ) -> std::result::Result<TimedPath, TimingFailure> {
         let job = self.job;
         let lines = |i: usize| self.lines.get(i).copied().unwrap_or(0);
-        let frame = at.frame();
-        let spin = at.yaw + at.nozzle_spin;
-        let first = job
-            .pieces
-            .first()
-            .map(|p| p.prim.point(0.0))
-            .unwrap_or_else(V3::zeros);
-        let tip = frame.apply(&first);
-        let mut cands = sc
-            .solver
-            .solve_all(&nozzle_target(&tip, spin))
-            .map_err(|reason| TimingFailure::Unreachable {
-                sample: 0,
-                t: 0.0,
-                point: tip,
-                move_index: 0,
-                line: lines(0),
-                reason,
-            })?;
-        let model = job.robot;
-        cands.sort_by(|a, b| limit_margin(model, &b.q).total_cmp(&limit_margin(model, &a.q)));
-        let progress = |e: &TimingFailure| match e {
-            TimingFailure::Unreachable { sample, .. }
-            | TimingFailure::ConfigurationChange { sample, .. } => *sample,
-            TimingFailure::LimitsNotMet { .. } => usize::MAX,
-        };
-        let mut best_err: Option<TimingFailure> = None;
-        let n = model.dof();
-        for c in &cands {
-            let r = timing::joint::track(
-                &sc.solver,
-                &job.pieces,
-                &lines,
-                &self.motion0,
-                &frame,
-                spin,
-                &c.q,
-                &mut sc.qs,
-                &mut sc.tcp,
-            );
-            let e = match r {
-                Ok(()) => {
-                    let (qd, qdd, qddd) = timing::joint::differentiate(&sc.qs, n, self.motion0.dt);
-                    if !violates(model, &qd, &qdd, &qddd, job.joint.check_jerk) {
-                        return Ok(Timed {
-                            q: std::mem::take(&mut sc.qs),
-                            qd,
-                            qdd,
-                            motion: None,
-                            rounds: 1,
-                        });
-                    }
-                    match timing::time_path(
-                        &sc.solver,
-                        &job.pieces,
-                        &lines,
-                        &frame,
-                        spin,
-                        &c.q,
-                        &job.profile,
-                        &job.joint,
-                    ) {
-                        Ok(t) => {
-                            return Ok(Timed {
-                                q: t.traj.q,
-                                qd: t.traj.qd,
-                                qdd: t.traj.qdd,
-                                motion: Some(t.motion),
-                                rounds: t.rounds,
-                            })
-                        }
-                        Err(e) => e,
-                    }
-                }
-                Err(e) => e,
-            };
-            if best_err.as_ref().is_none_or(|b| progress(&e) > progress(b)) {
-                best_err = Some(e);
-            }
-        }
-        Err(best_err.unwrap_or(TimingFailure::Unreachable {
-            sample: 0,
-            t: 0.0,
-            point: tip,
-            move_index: 0,
-            line: lines(0),
-            reason: crate::kinematics::IkFailure::Unsupported(
-                "no IK solution at the first sample".into(),
-            ),
-        }))
+        timing::time_at_planned(
+            &sc.solver,
+            &job.pieces,
+            &job.plan,
+            &lines,
+            &at.frame(),
+            at.yaw + at.nozzle_spin,
+            &job.profile,
+            &job.joint,
+            &mut sc.buf,
+        )
     }
 
     /// Evaluate one placement: timing, feasibility, energy. Never fails: an infeasible
@@ -353,10 +265,10 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         at: &Placement,
     ) -> std::result::Result<Feasible, Infeasible> {
         let timed = self.time(sc, at).map_err(|e| Infeasible::from_timing(&e))?;
-        let motion = timed.motion.as_ref().unwrap_or(&self.motion0);
+        let motion = &*timed.motion;
         let model = self.job.robot;
         let n = model.dof();
-        let m = timed.q.len() / n.max(1);
+        let m = timed.traj.len();
         let dt = motion.dt;
         let frame = at.frame();
         // Feasibility on every k-th sample.
@@ -370,7 +282,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                 part_top = part_top.max(motion.p[k].z);
             }
             if k % every == 0 || k + 1 == m {
-                let q = &timed.q[k * n..(k + 1) * n];
+                let q = timed.traj.q(k);
                 if let Some((reason, detail)) = feasibility::check_sample(
                     model,
                     self.reach,
@@ -383,15 +295,16 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                 ) {
                     let mi = self.job.pieces[motion.piece[k]].move_index;
                     let tip = frame.apply(&motion.p[k]);
-                    sc.qs = timed.q;
-                    return Err(Infeasible {
+                    let inf = Infeasible {
                         reason,
                         sample: Some(k),
                         t_s: Some(k as f64 * dt),
                         line: Some(self.job.line_of(mi)),
                         point_m: Some([tip.x, tip.y, tip.z]),
                         detail,
-                    });
+                    };
+                    sc.buf.recycle(timed);
+                    return Err(inf);
                 }
             }
         }
@@ -405,9 +318,9 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             let r = energy::eval_sample(
                 &self.job.energy,
                 &mut sc.data,
-                &timed.q[k * n..(k + 1) * n],
-                &timed.qd[k * n..(k + 1) * n],
-                &timed.qdd[k * n..(k + 1) * n],
+                timed.traj.q(k),
+                timed.traj.qd(k),
+                timed.traj.qdd(k),
                 &mut sc.sp,
             );
             let p = match r {
@@ -433,7 +346,8 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         if m < 2 {
             supply = 0.0;
         }
-        sc.qs = timed.q; // keep the buffer for the next placement
+        let rounds = timed.rounds;
+        sc.buf.recycle(timed); // keep the buffers for the next placement
         let mechanical_j: f64 = jm.iter().sum();
         let mechanical_abs_j: f64 = jabs.iter().sum();
         let energy_j = match self.objective {
@@ -459,7 +373,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             electrical_j: jel.iter().sum(),
             duration_s: dt * m.saturating_sub(1) as f64,
             samples: m,
-            rounds: timed.rounds,
+            rounds,
             joint_mechanical_j: jm,
             joint_mechanical_abs_j: jabs,
             joint_electrical_j: jel,
@@ -505,37 +419,6 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             .collect();
         Ok(out)
     }
-}
-
-struct Timed {
-    q: Vec<f64>,
-    qd: Vec<f64>,
-    qdd: Vec<f64>,
-    motion: Option<CartesianMotion>,
-    rounds: usize,
-}
-
-fn violates(
-    model: &crate::robot::RobotModel,
-    qd: &[f64],
-    qdd: &[f64],
-    qddd: &[f64],
-    check_jerk: bool,
-) -> bool {
-    let n = model.dof();
-    let m = qd.len() / n.max(1);
-    for k in 0..m {
-        for (j, jt) in model.joints.iter().enumerate() {
-            let i = k * n + j;
-            if (jt.velocity_limit.is_finite() && qd[i].abs() > jt.velocity_limit)
-                || (jt.acceleration_limit.is_finite() && qdd[i].abs() > jt.acceleration_limit)
-                || (check_jerk && jt.jerk_limit.is_finite() && qddd[i].abs() > jt.jerk_limit)
-            {
-                return true;
-            }
-        }
-    }
-    false
 }
 
 /// A regular grid of placements. Order of [`Grid::placements`]: z, yaw, spin, y, x (x fastest).

@@ -11,6 +11,7 @@ use crate::math::{Frame, V3};
 use crate::robot::RobotModel;
 use crate::trajectory::JointTrajectory;
 use serde::Serialize;
+use std::sync::Arc;
 
 /// Which limit bound.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -137,8 +138,9 @@ impl std::fmt::Display for TimingFailure {
 pub struct TimedPath {
     /// The joint trajectory (t, q, q̇, q̈) at the interpolation period.
     pub traj: JointTrajectory,
-    /// The Cartesian motion in the part frame it follows.
-    pub motion: CartesianMotion,
+    /// The Cartesian motion in the part frame it follows (shared with the job's [`Plan`] when
+    /// no joint limit made the controller slow down).
+    pub motion: Arc<CartesianMotion>,
     /// TCP in the base frame per sample, m.
     pub tcp: Vec<V3>,
     /// Where joint limits slowed the path.
@@ -301,8 +303,46 @@ fn violations(
     out
 }
 
+/// The placement-independent part of timing a path: the speed-limit nodes and the first
+/// Cartesian plan (no slow-down). Build it once per path and share it across placements.
+#[derive(Clone, Debug)]
+pub struct Plan {
+    /// Speed-limit nodes along the path.
+    pub nodes: Nodes,
+    /// The Cartesian motion with no joint-limit slow-down.
+    pub motion: Arc<CartesianMotion>,
+}
+
+impl Plan {
+    /// Plan `pieces` with the profile options.
+    pub fn new(pieces: &[Piece], popts: &ProfileOptions) -> Plan {
+        let nodes = nodes(pieces, popts);
+        let scale = vec![1.0; nodes.s.len()];
+        let motion = Arc::new(plan(pieces, &nodes, &scale, popts));
+        Plan { nodes, motion }
+    }
+}
+
+/// Buffers reused from one placement to the next (joint positions, TCP points).
+#[derive(Clone, Debug, Default)]
+pub struct Buffers {
+    /// Joint positions, row-major.
+    pub qs: Vec<f64>,
+    /// TCP points in the base frame, m.
+    pub tcp: Vec<V3>,
+}
+
+impl Buffers {
+    /// Take back the vectors of a timed path for reuse.
+    pub fn recycle(&mut self, t: TimedPath) {
+        self.qs = t.traj.q;
+        self.tcp = t.tcp;
+    }
+}
+
 /// Time `pieces` at a placement: Cartesian plan, IK with one configuration from `q0`,
-/// joint-limit checks and slow-downs until every limit holds at every sample.
+/// joint-limit checks and slow-downs until every limit holds at every sample. Convenience
+/// form of [`time_path_planned`] that plans the path itself.
 #[allow(clippy::too_many_arguments)]
 pub fn time_path(
     solver: &IkSolver,
@@ -314,20 +354,55 @@ pub fn time_path(
     popts: &ProfileOptions,
     jopts: &JointStageOptions,
 ) -> Result<TimedPath, TimingFailure> {
+    let plan = Plan::new(pieces, popts);
+    let mut buf = Buffers::default();
+    time_path_planned(
+        solver,
+        pieces,
+        &plan,
+        moves_line,
+        part_to_base,
+        spin,
+        q0,
+        popts,
+        jopts,
+        &mut buf,
+    )
+}
+
+/// [`time_path`] with the job's shared [`Plan`] (used as is in the first round) and reusable
+/// buffers (moved into the result; hand them back with [`Buffers::recycle`]).
+#[allow(clippy::too_many_arguments)]
+pub fn time_path_planned(
+    solver: &IkSolver,
+    pieces: &[Piece],
+    shared: &Plan,
+    moves_line: &dyn Fn(usize) -> usize,
+    part_to_base: &Frame,
+    spin: f64,
+    q0: &[f64],
+    popts: &ProfileOptions,
+    jopts: &JointStageOptions,
+    buf: &mut Buffers,
+) -> Result<TimedPath, TimingFailure> {
     let model = solver.model;
     let n = model.dof();
-    let nodes: Nodes = nodes(pieces, popts);
+    let nodes = &shared.nodes;
     let mut scale = vec![1.0; nodes.s.len()];
     let mut opts = *popts;
     let mut slowdowns: Vec<Slowdown> = Vec::new();
-    let mut qs = Vec::new();
-    let mut tcp = Vec::new();
+    let mut qs = std::mem::take(&mut buf.qs);
+    let mut tcp = std::mem::take(&mut buf.tcp);
     let max_rounds = jopts.max_iterations.max(1);
     let mut round = 0;
     loop {
         round += 1;
-        let motion = plan(pieces, &nodes, &scale, &opts);
-        track(
+        let motion = if round == 1 {
+            Arc::clone(&shared.motion)
+        } else {
+            Arc::new(plan(pieces, nodes, &scale, &opts))
+        };
+        if let Err(e) = track(
             solver,
             pieces,
             moves_line,
@@ -337,7 +412,11 @@ pub fn time_path(
             q0,
             &mut qs,
             &mut tcp,
-        )?;
+        ) {
+            buf.qs = qs;
+            buf.tcp = tcp;
+            return Err(e);
+        }
         let (qd, qdd, qddd) = differentiate(&qs, n, motion.dt);
         let viol = violations(model, &qd, &qdd, &qddd, jopts.check_jerk);
         if viol.is_empty() {
@@ -360,6 +439,8 @@ pub fn time_path(
                 .iter()
                 .max_by(|a, b| a.ratio.total_cmp(&b.ratio))
                 .expect("non-empty");
+            buf.qs = qs;
+            buf.tcp = tcp;
             return Err(TimingFailure::LimitsNotMet {
                 joint: w.joint,
                 kind: w.kind,
@@ -429,7 +510,7 @@ pub fn time_path(
 /// Time a blended path at a placement, choosing the arm configuration: every IK solution at
 /// the first sample is tried, widest joint-limit margin first, and the first that carries the
 /// whole path with one configuration wins. When none does, the failure of the candidate that
-/// got furthest along the path is returned.
+/// got furthest along the path is returned. Convenience form of [`time_at_planned`].
 pub fn time_at(
     solver: &IkSolver,
     pieces: &[Piece],
@@ -439,42 +520,74 @@ pub fn time_at(
     popts: &ProfileOptions,
     jopts: &JointStageOptions,
 ) -> Result<TimedPath, TimingFailure> {
+    let plan = Plan::new(pieces, popts);
+    let mut buf = Buffers::default();
+    time_at_planned(
+        solver,
+        pieces,
+        &plan,
+        moves_line,
+        part_to_base,
+        spin,
+        popts,
+        jopts,
+        &mut buf,
+    )
+}
+
+/// [`time_at`] with the job's shared [`Plan`] and reusable [`Buffers`]: what a placement
+/// sweep calls in its hot loop.
+#[allow(clippy::too_many_arguments)]
+pub fn time_at_planned(
+    solver: &IkSolver,
+    pieces: &[Piece],
+    plan: &Plan,
+    moves_line: &dyn Fn(usize) -> usize,
+    part_to_base: &Frame,
+    spin: f64,
+    popts: &ProfileOptions,
+    jopts: &JointStageOptions,
+    buf: &mut Buffers,
+) -> Result<TimedPath, TimingFailure> {
     let first = pieces
         .first()
         .map(|p| p.prim.point(0.0))
         .unwrap_or_else(V3::zeros);
     let tip = part_to_base.apply(&first);
+    let unreachable_at_start = |reason| TimingFailure::Unreachable {
+        sample: 0,
+        t: 0.0,
+        point: tip,
+        move_index: 0,
+        line: moves_line(0),
+        reason,
+    };
     let mut cands = solver
         .solve_all(&nozzle_target(&tip, spin))
-        .map_err(|reason| TimingFailure::Unreachable {
-            sample: 0,
-            t: 0.0,
-            point: tip,
-            move_index: 0,
-            line: moves_line(0),
-            reason,
-        })?;
+        .map_err(unreachable_at_start)?;
     let model = solver.model;
     cands.sort_by(|a, b| {
         crate::kinematics::limit_margin(model, &b.q)
             .total_cmp(&crate::kinematics::limit_margin(model, &a.q))
     });
-    let mut best_err: Option<TimingFailure> = None;
     let progress = |e: &TimingFailure| match e {
         TimingFailure::Unreachable { sample, .. }
         | TimingFailure::ConfigurationChange { sample, .. } => *sample,
         TimingFailure::LimitsNotMet { .. } => usize::MAX,
     };
+    let mut best_err: Option<TimingFailure> = None;
     for c in &cands {
-        match time_path(
+        match time_path_planned(
             solver,
             pieces,
+            plan,
             moves_line,
             part_to_base,
             spin,
             &c.q,
             popts,
             jopts,
+            buf,
         ) {
             Ok(t) => return Ok(t),
             Err(e) => {
@@ -484,12 +597,9 @@ pub fn time_at(
             }
         }
     }
-    Err(best_err.unwrap_or(TimingFailure::Unreachable {
-        sample: 0,
-        t: 0.0,
-        point: tip,
-        move_index: 0,
-        line: moves_line(0),
-        reason: IkFailure::Unsupported("no IK solution at the first sample".into()),
+    Err(best_err.unwrap_or_else(|| {
+        unreachable_at_start(IkFailure::Unsupported(
+            "no IK solution at the first sample".into(),
+        ))
     }))
 }

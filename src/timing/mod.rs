@@ -6,7 +6,8 @@ pub mod profile;
 
 pub use geometry::{blend_path, Move, Piece, Prim};
 pub use joint::{
-    time_at, time_path, JointStageOptions, LimitKind, Slowdown, TimedPath, TimingFailure,
+    time_at, time_at_planned, time_path, time_path_planned, Buffers, JointStageOptions, LimitKind,
+    Plan, Slowdown, TimedPath, TimingFailure,
 };
 pub use profile::{CartesianMotion, ProfileOptions};
 
