@@ -23,7 +23,7 @@ fn robot_dir() -> PathBuf {
 
 fn nominal() -> (robot::RobotModel, Model) {
     let r = robot::load(&robot_dir()).unwrap();
-    let m = Model::new(&r, Some(&robot_dir().join("drive.toml"))).unwrap();
+    let m = Model::new(&r).unwrap();
     (r, m)
 }
 

@@ -8,8 +8,7 @@ use std::path::{Path, PathBuf};
 /// The robot, the model (effects switched per drive file and command line) and the log.
 pub(crate) fn load(a: &LogArgs) -> Result<(crate::robot::RobotModel, Model, Log)> {
     let robot = load_robot(&a.robot)?;
-    let drive = identify::model::drive_file_of(&super::resolve_robot(&a.robot));
-    let mut model = Model::new(&robot, drive.as_deref())
+    let mut model = Model::new(&robot)
         .with_context(|| format!("building the model of {}", a.robot.display()))?;
     if let Some(list) = &a.effects {
         let names = identify::model::parse_effect_list(list)?;

@@ -254,8 +254,19 @@ fn print_summary(s: &Summary, model: &crate::robot::RobotModel) {
     );
     println!();
     println!(
-        "supply energy {:.1} J = rigid body {:.1} + friction {:.1} + gear {:.1} + copper {:.1} + regeneration lost {:.1} + standby {:.1}",
-        t.supply_j, t.rigid_body_j, t.friction_j, t.gear_j, t.copper_j, t.regeneration_lost_j, t.standby_j
+        "supply energy {:.1} J = rigid body {:.1}{} + friction {:.1} + gear {:.1} + copper {:.1} + regeneration lost {:.1} + standby {:.1}",
+        t.supply_j,
+        t.rigid_body_j,
+        if t.balancer_j != 0.0 {
+            format!(" + balancer {:.1}", t.balancer_j)
+        } else {
+            String::new()
+        },
+        t.friction_j,
+        t.gear_j,
+        t.copper_j,
+        t.regeneration_lost_j,
+        t.standby_j
     );
     println!("per-sample torque and power written to {}", s.output_csv);
 }

@@ -7,8 +7,7 @@ use anyhow::{bail, Context, Result};
 /// `printwatt simulate`: a log from a "true" robot with hidden effects.
 pub fn run(a: super::SimulateArgs) -> Result<()> {
     let robot = load_robot(&a.robot)?;
-    let drive = identify::model::drive_file_of(&super::resolve_robot(&a.robot));
-    let mut truth = identify::Model::new(&robot, drive.as_deref())?;
+    let mut truth = identify::Model::new(&robot)?;
     let hidden = simulate::parse_hidden(a.hidden.as_deref().unwrap_or(""))?;
     simulate::apply_hidden(&mut truth, &hidden)?;
     let kind = SignalKind::parse(&a.signal)

@@ -58,6 +58,12 @@ impl Balancer {
         let delta = l - self.length(0.0);
         [-dl, -delta * dl]
     }
+    /// Torque on joint [`Balancer::joint`] at its angle `q` rad, N·m: `−(F0 + k ΔL) dL/dq`.
+    #[inline]
+    pub fn joint_torque(&self, q: f64) -> f64 {
+        let s = self.shape(q);
+        s[0] * self.preload + s[1] * self.stiffness
+    }
 }
 
 impl Effect for Balancer {
@@ -94,8 +100,7 @@ impl Effect for Balancer {
 impl TorqueEffect for Balancer {
     fn add_torque(&self, q: &[f64], _qd: &[f64], _qdd: &[f64], tau: &mut [f64]) {
         if let (Some(q), Some(t)) = (q.get(self.joint), tau.get_mut(self.joint)) {
-            let s = self.shape(*q);
-            *t += s[0] * self.preload + s[1] * self.stiffness;
+            *t += self.joint_torque(*q);
         }
     }
     fn regressor(&self, q: &[f64], _qd: &[f64], _qdd: &[f64], y: &mut [f64]) -> bool {

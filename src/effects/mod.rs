@@ -17,6 +17,7 @@
 
 mod armature;
 mod balancer;
+mod config;
 mod coulomb;
 mod electrical;
 mod payload;
@@ -25,6 +26,8 @@ mod viscous;
 
 pub use armature::Armature;
 pub use balancer::{Balancer, BALANCER_A_M, BALANCER_B_M, BALANCER_PHI0_RAD};
+pub(crate) use config::EffectsTable;
+pub use config::{catalogue_index, EffectsConfig, DEFAULT_EFFECTS};
 pub use coulomb::{Coulomb, COULOMB_VELOCITY_SCALE_RAD_S};
 pub use electrical::{Copper, GearEfficiency, Regeneration, Standby};
 pub use payload::Payload;

@@ -30,6 +30,14 @@ impl Stribeck {
     pub fn shape(&self, qd: f64) -> f64 {
         (-(qd / self.vs).powi(2)).exp() * (qd / COULOMB_VELOCITY_SCALE_RAD_S).tanh()
     }
+    /// Torque of joint `j` at velocity `qd` rad/s, N·m (0 where `f_s = 0`). No allocation.
+    #[inline]
+    pub fn joint_torque(&self, j: usize, qd: f64) -> f64 {
+        match self.fs.get(j) {
+            Some(&f) if f != 0.0 => f * self.shape(qd),
+            _ => 0.0,
+        }
+    }
 }
 
 impl Effect for Stribeck {
@@ -62,10 +70,8 @@ impl Effect for Stribeck {
 
 impl TorqueEffect for Stribeck {
     fn add_torque(&self, _q: &[f64], qd: &[f64], _qdd: &[f64], tau: &mut [f64]) {
-        for ((t, v), f) in tau.iter_mut().zip(qd).zip(&self.fs) {
-            if *f != 0.0 {
-                *t += f * self.shape(*v);
-            }
+        for (j, (t, v)) in tau.iter_mut().zip(qd).enumerate() {
+            *t += self.joint_torque(j, *v);
         }
     }
     fn regressor(&self, _q: &[f64], _qd: &[f64], _qdd: &[f64], _y: &mut [f64]) -> bool {

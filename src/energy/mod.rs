@@ -3,17 +3,29 @@
 //! Per sample (all joint-side quantities unless marked):
 //! - rigid-body torque `τ_rb = rne(q, q̇, q̈)` (seed 000, eq. 5) with the payload, and the
 //!   armature `G²J_m q̈` when the robot has a drive;
-//! - friction `τ_f = f_v q̇ + f_c tanh(q̇/ε)` (seed 000, eq. 2, smoothed; [`crate::effects`]);
-//! - joint torque `τ = τ_rb + τ_f`, mechanical power `P_j = τ_j q̇_j` (seed 000, eq. 6);
+//! - friction `τ_f = f_v q̇ + f_c tanh(q̇/ε) + f_s exp(−(q̇/v_s)²) tanh(q̇/ε)` (seed 000, eq. 2,
+//!   smoothed, plus the Stribeck term; [`crate::effects`]);
+//! - the axis-2 balancer's torque `τ_b` ([`crate::effects::Balancer`]);
+//! - joint torque `τ = τ_rb + τ_f + τ_b`, mechanical power `P_j = τ_j q̇_j` (seed 000, eq. 6);
 //! - motor model (seed 001, eqs. 2–4): motor torque `τ_m = τ/(G η)` when driving
 //!   (`τ q̇ ≥ 0`) and `τ η / G` when back-driven, current `i = τ_m / K_t`, motor speed
 //!   `ω_m = G q̇`, voltage `u = R i + K_t ω_m` (K_v = K_t in SI), electrical power `P_el = u i`
 //!   `= τ q̇ + (gear loss) + R i²`;
 //! - supply by the regeneration policy: `none`/`per_axis` Σ max(P_el,j, 0); `dc_bus`
-//!   max(Σ P_el,j, 0); `grid` Σ P_el,j; plus the cabinet's standby power.
+//!   max(Σ P_el,j, 0); `grid` Σ P_el,j; of the power the policy burns, the fraction `ρ`
+//!   (`regeneration` effect) is recovered: `P_drives − ρ (P_drives − Σ P_el)`; plus the
+//!   cabinet's standby power.
+//!
+//! Which effects are in, and the parameters of those the `[[joints]]`/`[cabinet]` keys do
+//! not carry (`stribeck`, `balancer`, `payload` mass error, `regeneration` fraction), come from
+//! the drive file's `[effects]` table ([`crate::effects::EffectsConfig`], on
+//! [`RobotModel::effects`]), the same configuration [`crate::identify::Model`] reads; the
+//! torque and power formulas are the same code ([`motor`], [`supply_power`], the effects'
+//! `joint_torque`), so energy torques equal identification's predictions.
 //!
 //! Energies are trapezoidal integrals `E = ∫ P dt` (seed 000, eq. 7). The breakdown closes:
-//! `E_supply = E_rigid_body + E_friction + E_gear + E_copper + E_regeneration_lost + E_standby`.
+//! `E_supply = E_rigid_body + E_balancer + E_friction + E_gear + E_copper
+//! + E_regeneration_lost + E_standby`.
 //!
 //! Without drive data the model is the rigid body only (payload, no armature, no friction):
 //! electrical power is taken equal to mechanical power, negative power is lost per axis
@@ -26,7 +38,7 @@ mod report;
 pub use report::{EnergyReport, JointEnergy, SampleSeries, TotalEnergy};
 
 use crate::dynamics::{rnea, DynData, DynModel, DynOptions, MAX_DOF};
-use crate::effects::{Coulomb, Viscous, COULOMB_VELOCITY_SCALE_RAD_S};
+use crate::effects::{Balancer, Coulomb, Stribeck, Viscous, COULOMB_VELOCITY_SCALE_RAD_S};
 use crate::error::{Error, Result};
 use crate::robot::{Regeneration, RobotModel};
 use crate::trajectory::JointTrajectory;
@@ -36,9 +48,10 @@ use crate::trajectory::JointTrajectory;
 pub struct EnergyOptions {
     /// Include the payload from the drive file (default `true`).
     pub payload: bool,
-    /// Include friction (`viscous` + `coulomb`) from the drive (default `true`).
+    /// Include friction (`viscous` + `coulomb` from the drive, `stribeck` from `[effects]`),
+    /// each as switched by the drive file's `[effects]` table (default `true`).
     pub friction: bool,
-    /// Include the armature `G²J_m` (default `true`).
+    /// Include the armature `G²J_m` when `[effects]` switches it on (default `true`).
     pub armature: bool,
     /// Velocity scale ε of the smoothed Coulomb sign, rad/s.
     pub coulomb_velocity_scale: f64,
@@ -76,8 +89,13 @@ pub struct EnergyModel {
     axes: [Axis; MAX_DOF],
     viscous: Viscous,
     coulomb: Coulomb,
+    stribeck: Stribeck,
+    has_stribeck: bool,
+    balancer: Option<Balancer>,
     friction: bool,
     regeneration: Regeneration,
+    recovered_fraction: f64,
+    payload_error_kg: f64,
     standby_w: f64,
     joint_names: Vec<String>,
     robot_name: String,
@@ -90,14 +108,18 @@ pub struct EnergyModel {
 pub struct SamplePower {
     /// Rigid-body torque incl. payload and armature, N·m.
     pub tau_rb: [f64; MAX_DOF],
-    /// Friction torque `f_v q̇ + f_c tanh(q̇/ε)`, N·m.
+    /// Friction torque `f_v q̇ + f_c tanh(q̇/ε)` + Stribeck, N·m.
     pub tau_friction: [f64; MAX_DOF],
-    /// Joint torque `τ_rb + τ_f`, N·m.
+    /// Balancer torque (joint 2 only; 0 when the `balancer` effect is off), N·m.
+    pub tau_balancer: [f64; MAX_DOF],
+    /// Joint torque `τ_rb + τ_f + τ_b`, N·m.
     pub tau: [f64; MAX_DOF],
     /// Mechanical power at the joint `τ q̇` (seed 000, eq. 6), W.
     pub p_mech: [f64; MAX_DOF],
     /// Rigid-body part `τ_rb q̇`, W.
     pub p_rigid_body: [f64; MAX_DOF],
+    /// Balancer power `τ_b q̇` (stored in / released by the spring), W.
+    pub p_balancer: [f64; MAX_DOF],
     /// Friction loss `τ_f q̇` (≥ 0), W.
     pub p_friction: [f64; MAX_DOF],
     /// Gearbox loss `τ_m ω_m − τ q̇` (≥ 0), W.
@@ -112,7 +134,8 @@ pub struct SamplePower {
     pub voltage: [f64; MAX_DOF],
     /// Power drawn by the drives after the regeneration policy, W.
     pub p_drives: f64,
-    /// Power returned by the axes but burnt (`p_drives − Σ p_el` ≥ 0), W.
+    /// Power returned by the axes but burnt (`p_drives − Σ p_el` ≥ 0, after the recovered
+    /// fraction ρ), W.
     pub p_regeneration_lost: f64,
     /// Supply power: `p_drives + standby`, W.
     pub p_supply: f64,
@@ -129,11 +152,31 @@ impl EnergyModel {
     pub fn with_options(robot: &RobotModel, options: EnergyOptions) -> Result<Self> {
         let n = robot.dof();
         let has_drive = robot.drive.is_some();
+        let cfg = &robot.effects;
+        let on = cfg.enabled_mask(has_drive);
+        // `payload` (mass error Δm at the nominal payload's CoM): RNEA is linear in the
+        // inertial parameters, so a point mass Δm there is the payload with mass m + Δm.
+        let payload_error_kg = if options.payload && on[4] {
+            cfg.payload_mass_error_kg
+        } else {
+            0.0
+        };
+        let corrected;
+        let dyn_robot = if payload_error_kg != 0.0 {
+            let mut r = robot.clone();
+            let mut p = r.payload.unwrap_or_else(crate::robot::Inertial::zero);
+            p.mass += payload_error_kg;
+            r.payload = Some(p);
+            corrected = r;
+            &corrected
+        } else {
+            robot
+        };
         let dynamics = DynModel::new(
-            robot,
+            dyn_robot,
             DynOptions {
                 payload: options.payload,
-                armature: options.armature && has_drive,
+                armature: options.armature && has_drive && on[3],
             },
         )?;
         let mut axes = [Axis::default(); MAX_DOF];
@@ -146,23 +189,35 @@ impl EnergyModel {
         );
         coulomb.set_velocity_scale(options.coulomb_velocity_scale)?;
         let (mut regeneration, mut standby_w) = (Regeneration::None, 0.0);
+        let mut friction = false;
         if let Some(d) = &robot.drive {
             robot.check_len("drive joints", d.joints.len())?;
             for (a, j) in axes.iter_mut().zip(&d.joints) {
                 *a = Axis {
                     gear: j.gear_ratio,
                     kt: j.torque_constant,
-                    r: j.winding_resistance,
-                    eta: j.gear_efficiency,
+                    r: if on[6] { j.winding_resistance } else { 0.0 },
+                    eta: if on[7] { j.gear_efficiency } else { 1.0 },
                 };
             }
-            if options.friction {
+            if options.friction && on[0] {
                 viscous = Viscous::from_drive(d);
+                friction = true;
+            }
+            if options.friction && on[1] {
                 coulomb = Coulomb::from_drive(d, options.coulomb_velocity_scale);
+                friction = true;
             }
             regeneration = d.regeneration;
-            standby_w = d.standby_power;
+            if on[9] {
+                standby_w = d.standby_power;
+            }
         }
+        let stribeck = cfg.stribeck(n);
+        let has_stribeck = options.friction && on[2] && stribeck.fs.iter().any(|f| *f != 0.0);
+        friction |= has_stribeck;
+        let balancer = Some(cfg.balancer())
+            .filter(|b| on[5] && b.joint < n && (b.preload != 0.0 || b.stiffness != 0.0));
         if let Some(r) = options.regeneration {
             regeneration = r;
         }
@@ -173,8 +228,17 @@ impl EnergyModel {
             axes,
             viscous,
             coulomb,
-            friction: options.friction && has_drive,
+            stribeck,
+            has_stribeck,
+            balancer,
+            friction,
             regeneration,
+            recovered_fraction: if on[8] {
+                cfg.regeneration_recovered_fraction
+            } else {
+                0.0
+            },
+            payload_error_kg,
             standby_w,
             joint_names: robot.joints.iter().map(|j| j.name.clone()).collect(),
             robot_name: robot.name().to_string(),
@@ -219,18 +283,60 @@ impl EnergyModel {
 
     /// One line describing what the model contains.
     pub fn description(&self) -> String {
+        let mut extra = String::new();
+        if self.payload_error_kg != 0.0 {
+            extra += &format!(" (payload error {:+} kg)", self.payload_error_kg);
+        }
+        if let Some(b) = &self.balancer {
+            extra += &format!(" + balancer (F0 {} N, k {} N/m)", b.preload, b.stiffness);
+        }
+        if self.has_stribeck {
+            extra += &format!(" + Stribeck friction (v_s {} rad/s)", self.stribeck.vs);
+        }
         if self.has_drive {
+            let regen = if self.recovered_fraction != 0.0 {
+                format!(
+                    "`{}` (recovered fraction {})",
+                    self.regeneration.name(),
+                    self.recovered_fraction
+                )
+            } else {
+                format!("`{}`", self.regeneration.name())
+            };
+            let motor = match (
+                self.axes[..self.n].iter().any(|a| a.r != 0.0),
+                self.axes[..self.n].iter().any(|a| a.eta != 1.0),
+            ) {
+                (true, true) => "copper, gear efficiency",
+                (true, false) => "copper",
+                (false, true) => "gear efficiency",
+                (false, false) => "lossless",
+            };
             format!(
-                "rigid body{}{}{} + motor model (copper, gear efficiency) + regeneration `{}` + standby {} W",
-                if self.options.payload { " + payload" } else { "" },
-                if self.dynamics.has_armature() { " + armature" } else { "" },
-                if self.friction { " + viscous/Coulomb friction" } else { "" },
-                self.regeneration.name(),
+                "rigid body{}{}{}{} + motor model ({motor}) + regeneration {regen} + standby {} W",
+                if self.options.payload {
+                    " + payload"
+                } else {
+                    ""
+                },
+                if self.dynamics.has_armature() {
+                    " + armature"
+                } else {
+                    ""
+                },
+                if self.viscous.fv.iter().any(|f| *f != 0.0)
+                    || self.coulomb.fc.iter().any(|f| *f != 0.0)
+                {
+                    " + viscous/Coulomb friction"
+                } else {
+                    ""
+                },
+                extra,
                 self.standby_w
             )
         } else {
             format!(
-                "rigid body only{} (no drive data): electrical power = mechanical power, \
+                "rigid body only{}{extra} (no drive data): electrical power = mechanical power, \
                  negative power lost per axis; no friction, armature, copper or standby",
                 if self.options.payload {
                     " + payload"
@@ -239,6 +345,75 @@ impl EnergyModel {
                 }
             )
         }
+    }
+}
+
+/// One axis of the motor model at joint torque `tau` (N·m) and velocity `v` (rad/s), see
+/// [`motor`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct MotorPoint {
+    /// Motor torque `τ_m`, N·m (motor side).
+    pub torque: f64,
+    /// Current `i = τ_m/K_t`, A.
+    pub current: f64,
+    /// Voltage `u = R i + K_t G q̇`, V.
+    pub voltage: f64,
+    /// Shaft power `τ_m G q̇`, W.
+    pub shaft: f64,
+    /// Copper loss `R i²`, W.
+    pub copper: f64,
+    /// Electrical power `shaft + copper` (`= u i`), W.
+    pub p_el: f64,
+}
+
+/// The motor model of one axis (seed 001, eqs. 2–4): `τ_m = τ/(G η)` when driving
+/// (`τ q̇ ≥ 0`) else `τ η/G`; `i = τ_m/K_t`; `P_el = τ_m G q̇ + R i²`. Shared by
+/// [`eval_sample`] and [`crate::identify::Model::signal_from_torque`].
+#[inline]
+pub fn motor(tau: f64, v: f64, gear: f64, eta: f64, kt: f64, r: f64) -> MotorPoint {
+    let tm = if tau * v >= 0.0 {
+        tau / (gear * eta)
+    } else {
+        tau * eta / gear
+    };
+    let wm = gear * v;
+    let i = tm / kt;
+    let shaft = tm * wm;
+    let copper = r * i * i;
+    MotorPoint {
+        torque: tm,
+        current: i,
+        voltage: r * i + kt * wm,
+        shaft,
+        copper,
+        p_el: shaft + copper,
+    }
+}
+
+/// Supply-side powers of one sample, W; see [`supply_power`].
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct SupplyPoint {
+    /// Drawn by the drives after the policy and the recovered fraction.
+    pub drives: f64,
+    /// Returned by the axes and burnt (`drives − Σ P_el`).
+    pub lost: f64,
+    /// `drives + P_0`.
+    pub supply: f64,
+}
+
+/// Supply power from per-axis electrical powers `p_el` (W): the policy's draw
+/// ([`drives_power`]) less the recovered fraction `rho` of what it burns, plus standby `p0`:
+/// `P_drives − ρ (P_drives − Σ P_el) + P_0`. Shared by [`eval_sample`] and
+/// [`crate::identify::Model::signal_from_torque`].
+#[inline]
+pub fn supply_power(policy: Regeneration, p_el: &[f64], rho: f64, p0: f64) -> SupplyPoint {
+    let sum: f64 = p_el.iter().sum();
+    let policy_draw = drives_power(policy, p_el);
+    let drives = policy_draw - rho * (policy_draw - sum);
+    SupplyPoint {
+        drives,
+        lost: drives - sum,
+        supply: drives + p0,
     }
 }
 
@@ -266,37 +441,36 @@ pub fn eval_sample(
 ) -> Result<f64> {
     let n = model.n;
     rnea(&model.dynamics, data, q, qd, qdd, &mut out.tau_rb[..n])?;
-    let mut sum_el = 0.0;
+    out.tau_balancer = [0.0; MAX_DOF];
+    if let Some(b) = &model.balancer {
+        out.tau_balancer[b.joint] = b.joint_torque(q[b.joint]);
+    }
     for j in 0..n {
         let v = qd[j];
-        let tf = if model.friction {
-            model.viscous.joint_torque(j, v) + model.coulomb.joint_torque(j, v)
-        } else {
-            0.0
-        };
-        let tau = out.tau_rb[j] + tf;
+        let mut tf = 0.0;
+        if model.friction {
+            tf = model.viscous.joint_torque(j, v) + model.coulomb.joint_torque(j, v);
+            if model.has_stribeck {
+                tf += model.stribeck.joint_torque(j, v);
+            }
+        }
+        let tb = out.tau_balancer[j];
+        let tau = out.tau_rb[j] + tf + tb;
         out.tau_friction[j] = tf;
         out.tau[j] = tau;
         let pm = tau * v;
         out.p_mech[j] = pm;
         out.p_rigid_body[j] = out.tau_rb[j] * v;
         out.p_friction[j] = tf * v;
+        out.p_balancer[j] = tb * v;
         if model.has_drive {
             let ax = &model.axes[j];
-            let tm = if pm >= 0.0 {
-                tau / (ax.gear * ax.eta)
-            } else {
-                tau * ax.eta / ax.gear
-            };
-            let wm = ax.gear * v;
-            let i = tm / ax.kt;
-            let u = ax.r * i + ax.kt * wm;
-            let shaft = tm * wm;
-            out.current[j] = i;
-            out.voltage[j] = u;
-            out.p_copper[j] = ax.r * i * i;
-            out.p_gear[j] = shaft - pm;
-            out.p_el[j] = u * i;
+            let m = motor(tau, v, ax.gear, ax.eta, ax.kt, ax.r);
+            out.current[j] = m.current;
+            out.voltage[j] = m.voltage;
+            out.p_copper[j] = m.copper;
+            out.p_gear[j] = m.shaft - pm;
+            out.p_el[j] = m.p_el;
         } else {
             out.current[j] = 0.0;
             out.voltage[j] = 0.0;
@@ -304,12 +478,16 @@ pub fn eval_sample(
             out.p_gear[j] = 0.0;
             out.p_el[j] = pm;
         }
-        sum_el += out.p_el[j];
     }
-    let drives = drives_power(model.regeneration, &out.p_el[..n]);
-    out.p_drives = drives;
-    out.p_regeneration_lost = drives - sum_el;
-    out.p_supply = drives + model.standby_w;
+    let sp = supply_power(
+        model.regeneration,
+        &out.p_el[..n],
+        model.recovered_fraction,
+        model.standby_w,
+    );
+    out.p_drives = sp.drives;
+    out.p_regeneration_lost = sp.lost;
+    out.p_supply = sp.supply;
     Ok(out.p_supply)
 }
 
@@ -348,6 +526,7 @@ pub fn evaluate(model: &EnergyModel, traj: &JointTrajectory) -> Result<EnergyRep
     let mut drives = Vec::with_capacity(len);
     let mut rb = Vec::with_capacity(len * n);
     let mut fr = Vec::with_capacity(len * n);
+    let mut bal = Vec::with_capacity(len * n);
     let mut gear = Vec::with_capacity(len * n);
     let mut cu = Vec::with_capacity(len * n);
     for k in 0..len {
@@ -360,6 +539,7 @@ pub fn evaluate(model: &EnergyModel, traj: &JointTrajectory) -> Result<EnergyRep
         series.p_supply.push(s.p_supply);
         rb.extend_from_slice(&s.p_rigid_body[..n]);
         fr.extend_from_slice(&s.p_friction[..n]);
+        bal.extend_from_slice(&s.p_balancer[..n]);
         gear.extend_from_slice(&s.p_gear[..n]);
         cu.extend_from_slice(&s.p_copper[..n]);
         lost.push(s.p_regeneration_lost);
@@ -385,6 +565,7 @@ pub fn evaluate(model: &EnergyModel, traj: &JointTrajectory) -> Result<EnergyRep
                 name: model.joint_names[j].clone(),
                 mechanical_j: col(&series.p_mech),
                 rigid_body_j: col(&rb),
+                balancer_j: col(&bal),
                 friction_j: col(&fr),
                 gear_j: col(&gear),
                 copper_j: col(&cu),
@@ -408,6 +589,7 @@ pub fn evaluate(model: &EnergyModel, traj: &JointTrajectory) -> Result<EnergyRep
     let total = TotalEnergy {
         mechanical_j: sum(|j| j.mechanical_j),
         rigid_body_j: sum(|j| j.rigid_body_j),
+        balancer_j: sum(|j| j.balancer_j),
         friction_j: sum(|j| j.friction_j),
         gear_j: sum(|j| j.gear_j),
         copper_j: sum(|j| j.copper_j),

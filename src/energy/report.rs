@@ -13,6 +13,8 @@ pub struct JointEnergy {
     pub mechanical_j: f64,
     /// `∫ τ_rb q̇ dt`, rigid body incl. payload and armature, J.
     pub rigid_body_j: f64,
+    /// `∫ τ_b q̇ dt`, work of the motor against the balancer (`balancer` effect), J.
+    pub balancer_j: f64,
     /// `∫ τ_f q̇ dt`, friction loss, J.
     pub friction_j: f64,
     /// Gearbox loss, J.
@@ -34,13 +36,15 @@ pub struct JointEnergy {
 }
 
 /// Totals over all joints, J (W for powers). The breakdown closes:
-/// `supply = rigid_body + friction + gear + copper + regeneration_lost + standby`.
+/// `supply = rigid_body + balancer + friction + gear + copper + regeneration_lost + standby`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct TotalEnergy {
     /// Σ joints `∫ τ q̇ dt`, J.
     pub mechanical_j: f64,
     /// Σ joints `∫ τ_rb q̇ dt`, J.
     pub rigid_body_j: f64,
+    /// Σ joints `∫ τ_b q̇ dt` (balancer), J.
+    pub balancer_j: f64,
     /// Σ friction losses, J.
     pub friction_j: f64,
     /// Σ gearbox losses, J.

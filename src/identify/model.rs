@@ -9,6 +9,7 @@
 //! `R = 0`, `ρ = 0`, `P_0 = 0`.
 
 use crate::dynamics::{rnea, DynModel, DynOptions, MAX_DOF};
+pub use crate::effects::{catalogue_index, DEFAULT_EFFECTS};
 use crate::effects::{
     Armature, Balancer, Copper, Coulomb, Effect, GearEfficiency, ParamSpec, Payload,
     Regeneration as RegenEffect, Standby, Stribeck, TorqueEffect, Viscous, CATALOGUE,
@@ -18,18 +19,6 @@ use crate::error::{Error, Result};
 use crate::identify::log::{Log, SignalKind};
 use crate::robot::{Regeneration, RobotModel};
 use std::path::{Path, PathBuf};
-
-/// Effects switched on by default when the robot has drive data (those the drive file and
-/// the energy model already carry).
-pub const DEFAULT_EFFECTS: [&str; 7] = [
-    "viscous",
-    "coulomb",
-    "armature",
-    "copper",
-    "gear_efficiency",
-    "regeneration",
-    "standby",
-];
 
 /// The comparison model: every catalogue effect with its parameters and an on/off switch.
 #[derive(Debug)]
@@ -71,16 +60,6 @@ pub struct Model {
     dynamics: DynModel,
 }
 
-/// Index of a catalogue name, or an error listing the names.
-pub fn catalogue_index(name: &str) -> Result<usize> {
-    CATALOGUE.iter().position(|c| *c == name).ok_or_else(|| {
-        Error::Invalid(format!(
-            "unknown effect `{name}`; the catalogue: {}",
-            CATALOGUE.join(", ")
-        ))
-    })
-}
-
 /// Parse a comma-separated effect list.
 pub fn parse_effect_list(s: &str) -> Result<Vec<&'static str>> {
     let mut out = Vec::new();
@@ -106,21 +85,15 @@ pub fn drive_file_of(robot_arg: &Path) -> Option<PathBuf> {
     }
 }
 
-fn get_f64(t: &toml::Table, key: &str) -> Option<f64> {
-    t.get(key)
-        .and_then(|v| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)))
-}
-
 impl Model {
-    /// The nominal model of a robot: drive values for `viscous`, `coulomb`, `armature`,
-    /// `copper`, `gear_efficiency`, `standby`; zero for `stribeck`, `payload`, `balancer`,
-    /// `regeneration`. Switches: [`DEFAULT_EFFECTS`] when the robot has drive data, nothing
-    /// otherwise; then the drive file's optional `[effects]` table (`enabled = [...]` and
-    /// parameters `stribeck_nm`, `stribeck_velocity_rad_s`, `payload_mass_error_kg`,
-    /// `balancer_preload_n`, `balancer_stiffness_n_per_m`,
-    /// `regeneration_recovered_fraction`) when `drive_file` is given.
-    /// Errors: the robot lacks inertials; a malformed `[effects]` table.
-    pub fn new(robot: &RobotModel, drive_file: Option<&Path>) -> Result<Self> {
+    /// The model of a robot: drive values for `viscous`, `coulomb`, `armature`, `copper`,
+    /// `gear_efficiency`, `standby`; the robot's `[effects]` configuration
+    /// ([`RobotModel::effects`], parsed with the drive file) for the switches
+    /// ([`DEFAULT_EFFECTS`] when the robot has drive data and the table gives none, nothing
+    /// without drive data) and for `stribeck`, `payload`, `balancer`, `regeneration` (zero when
+    /// the table gives nothing). [`crate::energy::EnergyModel`] reads the same configuration.
+    /// Error: the robot lacks inertials.
+    pub fn new(robot: &RobotModel) -> Result<Self> {
         let n = robot.dof();
         let dynamics = DynModel::new(
             robot,
@@ -139,7 +112,10 @@ impl Model {
         if let Some(d) = d {
             robot.check_len("drive joints", d.joints.len())?;
         }
-        let mut m = Model {
+        let cfg = &robot.effects;
+        let mut payload = Payload::new(robot)?;
+        payload.set_values(&[cfg.payload_mass_error_kg])?;
+        Ok(Model {
             n,
             robot_name: robot.name().to_string(),
             gear: per(&|j| j.gear_ratio, 1.0),
@@ -153,94 +129,27 @@ impl Model {
                 fc: per(&|j| j.coulomb, 0.0),
                 velocity_scale: COULOMB_VELOCITY_SCALE_RAD_S,
             },
-            stribeck: Stribeck::zero(n),
+            stribeck: cfg.stribeck(n),
             armature: Armature {
                 ia: per(&|j| j.armature(), 0.0),
             },
-            payload: Payload::new(robot)?,
-            balancer: Balancer::zero(),
+            payload,
+            balancer: cfg.balancer(),
             copper: Copper {
                 r: per(&|j| j.winding_resistance, 0.0),
             },
             gear_efficiency: GearEfficiency {
                 eta: per(&|j| j.gear_efficiency, 1.0),
             },
-            regeneration: RegenEffect { recovered: 0.0 },
+            regeneration: RegenEffect {
+                recovered: cfg.regeneration_recovered_fraction,
+            },
             standby: Standby {
                 power: d.map_or(0.0, |d| d.standby_power),
             },
-            enabled: [false; 10],
+            enabled: cfg.enabled_mask(d.is_some()),
             dynamics,
-        };
-        if m.has_drive {
-            for e in DEFAULT_EFFECTS {
-                m.set_enabled(e, true)?;
-            }
-        }
-        if let Some(p) = drive_file {
-            m.apply_effects_table(p)?;
-        }
-        Ok(m)
-    }
-
-    fn apply_effects_table(&mut self, path: &Path) -> Result<()> {
-        let file = path.display().to_string();
-        let text = crate::error::read_text(path)?;
-        let v: toml::Table = toml::from_str(&text).map_err(|e| Error::Field {
-            file: file.clone(),
-            field: "effects".into(),
-            msg: e.message().to_string(),
-        })?;
-        let Some(t) = v.get("effects").and_then(|e| e.as_table()) else {
-            return Ok(());
-        };
-        let bad = |field: &str, msg: String| Error::Field {
-            file: file.clone(),
-            field: format!("effects.{field}"),
-            msg,
-        };
-        if let Some(list) = t.get("enabled") {
-            let arr = list
-                .as_array()
-                .ok_or_else(|| bad("enabled", "expected a list of effect names".into()))?;
-            self.enabled = [false; 10];
-            for a in arr {
-                let s = a
-                    .as_str()
-                    .ok_or_else(|| bad("enabled", "expected effect names".into()))?;
-                self.set_enabled(s, true)
-                    .map_err(|e| bad("enabled", e.to_string()))?;
-            }
-        }
-        if let Some(a) = t.get("stribeck_nm").and_then(|v| v.as_array()) {
-            let vals: Vec<f64> = a
-                .iter()
-                .filter_map(|x| x.as_float().or_else(|| x.as_integer().map(|i| i as f64)))
-                .collect();
-            if vals.len() != self.n {
-                return Err(bad(
-                    "stribeck_nm",
-                    format!("{} values, expected {}", vals.len(), self.n),
-                ));
-            }
-            self.stribeck.fs = vals;
-        }
-        let set = |m: &mut Model, key: &str, name: &str, idx: usize| -> Result<()> {
-            if let Some(x) = get_f64(t, key) {
-                let mut v = m.values(name)?;
-                v[idx] = x;
-                m.set_values(name, &v)
-                    .map_err(|e| bad(key, e.to_string()))?;
-            }
-            Ok(())
-        };
-        let n = self.n;
-        set(self, "stribeck_velocity_rad_s", "stribeck", n)?;
-        set(self, "payload_mass_error_kg", "payload", 0)?;
-        set(self, "balancer_preload_n", "balancer", 0)?;
-        set(self, "balancer_stiffness_n_per_m", "balancer", 1)?;
-        set(self, "regeneration_recovered_fraction", "regeneration", 0)?;
-        Ok(())
+        })
     }
 
     /// Switch an effect on or off. Error: unknown name.
@@ -366,23 +275,15 @@ impl Model {
             } else {
                 0.0
             };
-            let g = self.gear[j];
-            let tm = if tau[j] * qd[j] >= 0.0 {
-                tau[j] / (g * eta)
-            } else {
-                tau[j] * eta / g
-            };
-            let i = tm / self.kt[j];
-            p[j] = tm * g * qd[j] + r * i * i;
+            let m = crate::energy::motor(tau[j], qd[j], self.gear[j], eta, self.kt[j], r);
+            p[j] = m.p_el;
             match kind {
-                SignalKind::Current => out[j] = i,
+                SignalKind::Current => out[j] = m.current,
                 SignalKind::AxisPower => out[j] = p[j],
                 _ => {}
             }
         }
         if kind == SignalKind::TotalPower {
-            let sum: f64 = p[..n].iter().sum();
-            let drives = crate::energy::drives_power(self.policy, &p[..n]);
             let rho = if self.enabled[8] {
                 self.regeneration.recovered
             } else {
@@ -393,7 +294,7 @@ impl Model {
             } else {
                 0.0
             };
-            out[0] = drives - rho * (drives - sum) + p0;
+            out[0] = crate::energy::supply_power(self.policy, &p[..n], rho, p0).supply;
         }
     }
 

@@ -97,10 +97,9 @@ pub(crate) struct DriveFile {
     #[serde(default)]
     pub joints: Vec<JointTable>,
     /// Optional `[effects]` table (switches and identified parameters of effects the rest of
-    /// the file has no keys for); read by [`crate::identify`], ignored elsewhere.
+    /// the file has no keys for), validated into [`crate::effects::EffectsConfig`].
     #[serde(default)]
-    #[allow(dead_code)]
-    pub effects: Option<toml::Table>,
+    pub effects: Option<crate::effects::EffectsTable>,
 }
 
 #[derive(Deserialize, Debug, Default)]

@@ -13,6 +13,7 @@ pub use drive::{Drive, JointDrive, Regeneration};
 pub use model::{Inertial, Joint, JointKind, RobotInfo, RobotModel};
 pub use opw::OpwParams;
 
+use crate::effects::EffectsConfig;
 use crate::error::{read_text, Error, Result};
 use crate::math::{rotation_distance, Frame, M3, V3};
 use std::path::{Path, PathBuf};
@@ -232,6 +233,10 @@ fn apply_drive(model: &mut RobotModel, d: drive::DriveFile, file: &str) -> Resul
                 .and_then(|c| c.regeneration)
                 .unwrap_or(Regeneration::None),
         });
+    }
+    if let Some(t) = d.effects {
+        let nominal = model.payload.map_or(0.0, |p| p.mass);
+        model.effects = EffectsConfig::from_table(t, file, model.dof(), nominal)?;
     }
     if let Some(k) = d.kinematics {
         if model.dof() != 6 {

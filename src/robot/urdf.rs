@@ -486,6 +486,7 @@ pub fn parse_urdf(text: &str, file: &str, tool_link: Option<&str>) -> Result<Rob
         payload: None,
         gravity: V3::new(0.0, 0.0, -9.81),
         drive: None,
+        effects: Default::default(),
         opw: None,
         warnings,
     })

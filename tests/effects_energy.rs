@@ -1,0 +1,300 @@
+//! The drive file's `[effects]` table in the energy model: the energy model's torques equal
+//! identification's predictions on the worked example's identified drive file; the balancer
+//! adds exactly its own torque; the breakdown still closes; unknown keys are errors naming
+//! file and key; `printwatt energy` on the identified drive file differs from the nominal robot.
+
+#![allow(clippy::needless_range_loop)]
+
+use printwatt::effects::TorqueEffect;
+use printwatt::energy::{eval_sample, evaluate, EnergyModel, SamplePower};
+use printwatt::identify::log::SignalKind;
+use printwatt::identify::Model;
+use printwatt::robot::{load, RobotModel};
+use printwatt::trajectory::JointTrajectory;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn identified_file() -> PathBuf {
+    root().join("results/identify_example/robot/drive.identified.toml")
+}
+
+fn identified() -> RobotModel {
+    load(&identified_file()).unwrap()
+}
+
+/// A smooth exciting trajectory (sums of sines, analytic derivatives), slow enough to cross
+/// the Stribeck and Coulomb regions at the reversals.
+fn sines(n: usize, t_end: f64, steps: usize) -> JointTrajectory {
+    let mut tr = JointTrajectory::new(n);
+    for k in 0..=steps {
+        let t = t_end * k as f64 / steps as f64;
+        let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
+        for j in 0..n {
+            for (i, (a, w)) in [(0.4, 0.7), (0.15, 2.1), (0.05, 4.3)].iter().enumerate() {
+                let p = 0.3 * (j + 1) as f64 + 1.1 * i as f64;
+                let (s, c) = (w * t + p).sin_cos();
+                q[j] += a * s;
+                qd[j] += a * w * c;
+                qdd[j] -= a * w * w * s;
+            }
+        }
+        tr.push(t, &q, &qd, &qdd);
+    }
+    tr
+}
+
+fn close(a: f64, b: f64, rel: f64) -> bool {
+    (a - b).abs() <= rel * a.abs().max(b.abs()).max(1.0)
+}
+
+#[test]
+fn identified_drive_file_carries_its_effects() {
+    let r = identified();
+    let e = &r.effects;
+    assert!(e.is_enabled("balancer", true) && !e.is_enabled("stribeck", true));
+    assert!(close(e.balancer_preload_n, 2998.1191170439356, 1e-15));
+    assert!(close(e.balancer_stiffness_n_per_m, 20020.9928530204, 1e-15));
+    // The nominal robot has no table: the default switches, no balancer.
+    let nominal = load(&root().join("robots/abb_irb4600_40_255")).unwrap();
+    assert!(nominal.effects.file.is_none());
+    assert!(!nominal.effects.is_enabled("balancer", true));
+    assert!(nominal.effects.is_enabled("viscous", true));
+}
+
+/// (a) the energy model's joint torques are identification's predicted torques, and its
+/// supply power is identification's predicted `p_total`.
+fn energy_matches_identify(r: &RobotModel) {
+    let n = r.dof();
+    let tr = sines(n, 6.0, 1200);
+    let em = EnergyModel::new(r).unwrap();
+    let rep = evaluate(&em, &tr).unwrap();
+    let im = Model::new(r).unwrap();
+    let mut tau = vec![0.0; n];
+    let mut p = [0.0];
+    for k in 0..tr.len() {
+        im.torque(tr.q(k), tr.qd(k), tr.qdd(k), &mut tau).unwrap();
+        for j in 0..n {
+            let e = rep.series.tau[k * n + j];
+            assert!(
+                close(e, tau[j], 1e-9),
+                "sample {k} joint {}: energy {e} vs identify {}",
+                j + 1,
+                tau[j]
+            );
+        }
+        im.signal_from_torque(SignalKind::TotalPower, &tau, tr.qd(k), &mut p);
+        assert!(
+            close(rep.series.p_supply[k], p[0], 1e-9),
+            "sample {k}: supply {} vs identify {}",
+            rep.series.p_supply[k],
+            p[0]
+        );
+    }
+}
+
+#[test]
+fn energy_torques_equal_identify_predictions_on_the_identified_drive_file() {
+    energy_matches_identify(&identified());
+}
+
+#[test]
+fn energy_torques_equal_identify_predictions_with_every_effect() {
+    let mut r = identified();
+    let e = &mut r.effects;
+    for name in ["stribeck", "payload"] {
+        e.set_enabled(name, true, true).unwrap();
+    }
+    e.set_enabled("armature", false, true).unwrap();
+    e.stribeck_nm = Some(vec![20.0, 25.0, 10.0, 5.0, 4.0, 3.0]);
+    e.stribeck_velocity_rad_s = 0.08;
+    e.payload_mass_error_kg = 4.5;
+    e.regeneration_recovered_fraction = 0.4;
+    energy_matches_identify(&r);
+}
+
+/// (b) switching the balancer on changes joint 2's torque by exactly the balancer's
+/// `add_torque`, and nothing else.
+#[test]
+fn balancer_adds_exactly_its_own_torque_on_joint_2() {
+    let on = identified();
+    let mut off = on.clone();
+    off.effects.set_enabled("balancer", false, true).unwrap();
+    let (m_on, m_off) = (
+        EnergyModel::new(&on).unwrap(),
+        EnergyModel::new(&off).unwrap(),
+    );
+    let b = on.effects.balancer();
+    let tr = sines(6, 4.0, 400);
+    let (mut d_on, mut d_off) = (m_on.data(), m_off.data());
+    let (mut s_on, mut s_off) = (SamplePower::default(), SamplePower::default());
+    let mut moved = 0.0f64;
+    for k in 0..tr.len() {
+        let (q, qd, qdd) = (tr.q(k), tr.qd(k), tr.qdd(k));
+        eval_sample(&m_on, &mut d_on, q, qd, qdd, &mut s_on).unwrap();
+        eval_sample(&m_off, &mut d_off, q, qd, qdd, &mut s_off).unwrap();
+        let mut want = [0.0; 6];
+        b.add_torque(q, qd, qdd, &mut want);
+        for j in 0..6 {
+            assert_eq!(s_on.tau_balancer[j], want[j], "sample {k} joint {}", j + 1);
+            assert_eq!(s_on.tau_rb[j], s_off.tau_rb[j]);
+            assert_eq!(s_on.tau_friction[j], s_off.tau_friction[j]);
+            assert_eq!(s_off.tau_balancer[j], 0.0);
+            let d = s_on.tau[j] - s_off.tau[j];
+            assert!(
+                (d - want[j]).abs() <= 1e-12 * s_on.tau[j].abs().max(1.0),
+                "sample {k} joint {}: {d} vs {}",
+                j + 1,
+                want[j]
+            );
+        }
+        moved = moved.max(want[1].abs());
+    }
+    assert!(moved > 100.0, "the balancer should matter: {moved} N·m");
+}
+
+/// (c) the breakdown closes with the balancer, Stribeck friction and partial regeneration.
+#[test]
+fn breakdown_closes_with_the_identified_effects() {
+    for rho in [0.0, 0.5] {
+        let mut r = identified();
+        r.effects.set_enabled("stribeck", true, true).unwrap();
+        r.effects.stribeck_nm = Some(vec![10.0; 6]);
+        r.effects.regeneration_recovered_fraction = rho;
+        let rep = evaluate(&EnergyModel::new(&r).unwrap(), &sines(6, 5.0, 1000)).unwrap();
+        let t = &rep.total;
+        let parts = t.rigid_body_j
+            + t.balancer_j
+            + t.friction_j
+            + t.gear_j
+            + t.copper_j
+            + t.regeneration_lost_j
+            + t.standby_j;
+        assert!(close(t.supply_j, parts, 1e-9), "{} vs {parts}", t.supply_j);
+        assert!(close(
+            t.mechanical_j,
+            t.rigid_body_j + t.balancer_j + t.friction_j,
+            1e-9
+        ));
+        for je in &rep.joints {
+            assert!(close(
+                je.mechanical_j,
+                je.rigid_body_j + je.balancer_j + je.friction_j,
+                1e-9
+            ));
+        }
+        assert!(t.balancer_j != 0.0 && rep.joints[1].balancer_j == t.balancer_j);
+        assert!(t.regeneration_lost_j >= -1e-9);
+    }
+}
+
+/// (d) unknown keys and bad values in `[effects]` are errors naming the file and the key.
+#[test]
+fn bad_effects_tables_name_file_and_key() {
+    let src = std::fs::read_to_string(identified_file()).unwrap();
+    let dir = std::env::temp_dir().join(format!("printwatt_fx_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    std::fs::copy(
+        root().join("results/identify_example/robot/robot.urdf"),
+        dir.join("robot.urdf"),
+    )
+    .unwrap();
+    let cases = [
+        (
+            "[effects]\n",
+            "[effects]\nbalancer_spring_n = 3.0\n",
+            "balancer_spring_n",
+        ),
+        (
+            "enabled = [\"viscous\"",
+            "enabled = [\"viscus\"",
+            "effects.enabled",
+        ),
+        (
+            "stribeck_nm = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]",
+            "stribeck_nm = [0.0, 0.0]",
+            "effects.stribeck_nm",
+        ),
+        (
+            "balancer_preload_n = 2998.1191170439356",
+            "balancer_preload_n = -1.0",
+            "effects.balancer_preload_n",
+        ),
+        (
+            "regeneration_recovered_fraction = 0.0",
+            "regeneration_recovered_fraction = 1.5",
+            "effects.regeneration_recovered_fraction",
+        ),
+        (
+            "stribeck_velocity_rad_s = 0.05",
+            "stribeck_velocity_rad_s = 0.0",
+            "effects.stribeck_velocity_rad_s",
+        ),
+    ];
+    for (i, (from, to, key)) in cases.iter().enumerate() {
+        assert!(src.contains(from), "{from}");
+        let path = dir.join(format!("bad{i}.toml"));
+        std::fs::write(&path, src.replacen(from, to, 1)).unwrap();
+        let e = load(&path).expect_err(to).to_string();
+        assert!(
+            e.contains(&format!("bad{i}.toml")) && e.contains(key),
+            "case {i}: {e}"
+        );
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+fn energy_cli(robot: &Path, traj: &Path, out: &Path) -> serde_json::Value {
+    let o = Command::new(env!("CARGO_BIN_EXE_printwatt"))
+        .args(["energy", "--robot"])
+        .arg(robot)
+        .arg("--trajectory")
+        .arg(traj)
+        .arg("--json")
+        .arg("--out")
+        .arg(out)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    serde_json::from_slice(&o.stdout).unwrap()
+}
+
+/// (e) `printwatt energy` reads the identified drive file and its balancer changes the result.
+#[test]
+fn energy_cli_on_the_identified_drive_file_differs_from_the_nominal_robot() {
+    let dir = std::env::temp_dir().join(format!("printwatt_fx_cli_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let tr = sines(6, 4.0, 400);
+    let mut csv = String::from("t,q1,q2,q3,q4,q5,q6\n");
+    for k in 0..tr.len() {
+        csv.push_str(&format!("{}", tr.t[k]));
+        for q in tr.q(k) {
+            csv.push_str(&format!(",{q}"));
+        }
+        csv.push('\n');
+    }
+    let traj = dir.join("traj.csv");
+    std::fs::write(&traj, csv).unwrap();
+    let a = energy_cli(&identified_file(), &traj, &dir.join("a.csv"));
+    let b = energy_cli(
+        &root().join("results/identify_example/robot"),
+        &traj,
+        &dir.join("b.csv"),
+    );
+    let (ta, tb) = (&a["energy"]["total"], &b["energy"]["total"]);
+    let (ea, eb) = (
+        ta["supply_j"].as_f64().unwrap(),
+        tb["supply_j"].as_f64().unwrap(),
+    );
+    assert!(
+        ea > 0.0 && eb > 0.0 && (ea - eb).abs() > 1e-3 * eb,
+        "{ea} vs {eb}"
+    );
+    assert!(ta["balancer_j"].as_f64().unwrap() != 0.0);
+    assert_eq!(tb["balancer_j"].as_f64().unwrap(), 0.0);
+    assert!(a["energy"]["model"].as_str().unwrap().contains("balancer"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
