@@ -198,7 +198,7 @@ energy error {:.2} %, accuracy {:.2} %. Residual = model − measured.",
                     &format!("joint {} {lab} {sym} [{unit_x}]", j + 1),
                     &y_label("residual"),
                 )
-                .size(360.0, 300.0);
+                .size(345.0, 300.0);
                 row.push((
                     format!("{name}-residual-vs-q{}-{lab}", j + 1),
                     svg::scatter(&fr, &[Series::new("", &x, &res)]),

@@ -82,7 +82,7 @@ impl Page {
 
 const CSS: &str = "body{font-family:sans-serif;max-width:1100px;margin:1em auto;padding:0 1em;color:#222}\
 table{border-collapse:collapse;margin:0.5em 0}td,th{border:1px solid #ccc;padding:2px 8px;text-align:right}\
-th{background:#f3f3f3}figure{margin:1em 0}figcaption{font-size:0.9em;color:#555}\
+th{background:#f3f3f3}td.t{text-align:left}figure{margin:1em 0}figcaption{font-size:0.9em;color:#555}\
 dl{display:grid;grid-template-columns:max-content auto;gap:2px 12px}dt{font-weight:bold}dd{margin:0}\
 .row{display:flex;flex-wrap:wrap;gap:0 12px}.row figure{margin:0.5em 0}svg{max-width:100%;height:auto}";
 
@@ -96,7 +96,13 @@ pub fn table(header: &[String], rows: &[Vec<String>]) -> String {
     for r in rows {
         s.push_str("<tr>");
         for c in r {
-            let _ = write!(s, "<td>{}</td>", esc(c));
+            // Text (not a number) reads better left-aligned.
+            let class = if c.trim().parse::<f64>().is_ok() {
+                ""
+            } else {
+                " class=\"t\""
+            };
+            let _ = write!(s, "<td{class}>{}</td>", esc(c));
         }
         s.push_str("</tr>");
     }
