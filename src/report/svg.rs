@@ -439,7 +439,8 @@ pub fn bar_chart(f: &Frame, categories: &[String], groups: &[(String, Vec<f64>)]
     let ng = groups.len().max(1) as f64;
     let plot_w = f.width - ML - MR - legend_width(&names);
     let slot = plot_w / categories.len().max(1) as f64;
-    let bw = slot * 0.8 / ng;
+    // At most 80 px per bar, so one or two categories do not turn into slabs.
+    let bw = (slot * 0.8 / ng).min(80.0);
     // Value labels (font 10, ~5.6 px per character) that do not fit above a bar are turned
     // upright; leave head room for the longest of them.
     let label = |v: f64| {
@@ -480,7 +481,7 @@ pub fn bar_chart(f: &Frame, categories: &[String], groups: &[(String, Vec<f64>)]
     let mut s = open(f);
     y_axis(&mut s, &a, true);
     for (c, name) in categories.iter().enumerate() {
-        let x0 = a.px0 + slot * c as f64 + slot * 0.1;
+        let x0 = a.px0 + slot * (c as f64 + 0.5) - bw * ng / 2.0;
         for (g, (_, vals)) in groups.iter().enumerate() {
             let v = vals.get(c).copied().unwrap_or(f64::NAN);
             let cx = x0 + bw * (g as f64 + 0.5);
