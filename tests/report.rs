@@ -1,6 +1,7 @@
 //! The run report: a sweep rendered to `report.html` is well-formed XML (XHTML) with the
-//! expected figures; `summary.json` and `placements.csv` parse. A headless-browser screenshot
-//! is taken only if `chromium` is on the PATH (never required).
+//! expected figures; `summary.json` and `placements.csv` parse. The `compare` report of the
+//! identification commands is drawn by the same chart module and checked the same way.
+//! (Screenshots are taken by hand, never by the test suite.)
 
 use printwatt::energy::EnergyOptions;
 use printwatt::placement::optimise::{self, OptimiseOptions};
@@ -113,16 +114,86 @@ fn report_is_well_formed_with_expected_figures() {
     assert_eq!(s["details"][0]["joints"].as_array().unwrap().len(), 6);
     let csv = std::fs::read_to_string(dir.join("placements.csv")).unwrap();
     assert_eq!(csv.lines().count(), 13);
-    // Optional screenshot.
-    if let Ok(out) = std::process::Command::new("chromium")
-        .args(["--headless", "--disable-gpu", "--no-sandbox"])
-        .arg(format!("--screenshot={}", dir.join("shot.png").display()))
-        .arg(dir.join("report.html"))
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+fn parse_xhtml(html: &str) -> roxmltree::Document<'_> {
+    roxmltree::Document::parse_with_options(
+        html,
+        roxmltree::ParsingOptions {
+            allow_dtd: true,
+            ..Default::default()
+        },
+    )
+    .expect("report.html is well-formed XML")
+}
+
+#[test]
+fn compare_report_has_every_chart_and_stays_small() {
+    let dir = std::env::temp_dir().join(format!("pw-compare-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = std::process::Command::new(env!("CARGO_BIN_EXE_printwatt"))
+        .current_dir(root())
+        .args([
+            "compare",
+            "--robot",
+            "robots/abb_irb4600_40_255",
+            "--log",
+            "results/identify_example/log.csv",
+            "--out",
+        ])
+        .arg(&dir)
         .output()
-    {
-        if out.status.success() {
-            assert!(dir.join("shot.png").is_file());
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let html = std::fs::read_to_string(dir.join("report.html")).unwrap();
+    // 5000 samples × 6 joints: decimated lines and thinned scatters keep it well under 1 MB.
+    assert!(
+        html.len() < 1_000_000,
+        "report.html is {} bytes",
+        html.len()
+    );
+    let doc = parse_xhtml(&html);
+    let ids: Vec<&str> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("figure"))
+        .filter_map(|n| n.attribute("id"))
+        .collect();
+    for j in 1..=6 {
+        for want in [
+            format!("joint_{j}-signal"),
+            format!("joint_{j}-residual"),
+            format!("joint_{j}-residual-vs-q{j}-velocity"),
+            format!("joint_{j}-residual-vs-q{j}-acceleration"),
+            format!("joint_{j}-residual-vs-q{j}-position"),
+        ] {
+            assert!(ids.contains(&want.as_str()), "figure {want} in {ids:?}");
         }
     }
+    let svgs: Vec<_> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("svg"))
+        .collect();
+    assert_eq!(svgs.len(), 30);
+    // Every chart has drawn data (a non-empty path), axis labels with units, and the
+    // measured-vs-model charts a legend naming both.
+    for s in &svgs {
+        assert!(s
+            .descendants()
+            .any(|n| n.has_tag_name("path") && n.attribute("d").is_some_and(|d| d.len() > 100)));
+        assert!(s
+            .descendants()
+            .any(|n| n.text() == Some("residual [N·m]") || n.text() == Some("torque τ [N·m]")));
+    }
+    assert!(html.contains(">measured<") && html.contains(">model<"));
+    assert!(html.contains("joint 2 acceleration q̈ [rad/s²]"));
+    assert!(!html.contains("NaN"));
+    // The metrics table: six joints and the total.
+    let rows = doc.descendants().filter(|n| n.has_tag_name("tr")).count();
+    assert_eq!(rows, 1 + 7);
     let _ = std::fs::remove_dir_all(&dir);
 }

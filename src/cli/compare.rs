@@ -1,7 +1,9 @@
 //! `printwatt compare`, `diagnose`, `identify`: shared loading, and `compare` itself.
 
 use super::{load_robot, LogArgs};
-use crate::identify::{self, metrics, model::Model, plot, Log};
+use crate::identify::{self, metrics, model::Model, Log};
+use crate::report::html::Page;
+use crate::report::svg::{self, Series};
 use anyhow::{Context, Result};
 use std::path::{Path, PathBuf};
 
@@ -94,36 +96,94 @@ fn write_report(path: &Path, log: &Log, pred: &[f64], cmp: &metrics::Comparison)
     let ch = log.channels;
     let n = log.traj.n;
     let t = &log.traj.t;
-    let mut html = format!(
-        "<!doctype html><html><head><meta charset=\"utf-8\"><title>printwatt compare</title></head><body>\
-<h1>Model vs measurement: {}</h1><p>signal <code>{}</code> [{}], {} samples, model: {}. Total RMSE {:.4}, energy error {:.2} %, accuracy {:.2} %.</p>",
-        cmp.log, log.kind.prefix(), cmp.unit, cmp.samples, cmp.effects.join(", "),
-        cmp.total.rmse, cmp.total.energy_error_pct, cmp.total.accuracy_pct
-    );
+    let unit = cmp.unit.as_str();
+    let mut pg = Page::new(&format!("Model vs measurement: {}", cmp.log));
+    pg.p(&format!(
+        "Signal {} [{unit}], {} samples over {:.2} s; model effects: {}. Total RMSE {:.4} {unit}, \
+energy error {:.2} %, accuracy {:.2} %. Residual = model − measured.",
+        log.kind.prefix(),
+        cmp.samples,
+        cmp.duration_s,
+        cmp.effects.join(", "),
+        cmp.total.rmse,
+        cmp.total.energy_error_pct,
+        cmp.total.accuracy_pct
+    ));
+    let header: Vec<String> = [
+        "channel".to_string(),
+        format!("RMSE [{unit}]"),
+        format!("measured RMS [{unit}]"),
+        "E measured [J]".into(),
+        "E model [J]".into(),
+        "energy error [%]".into(),
+        "accuracy [%]".into(),
+    ]
+    .into();
+    let rows: Vec<Vec<String>> = cmp
+        .channels
+        .iter()
+        .chain(std::iter::once(&cmp.total))
+        .map(|c| {
+            vec![
+                c.name.clone(),
+                format!("{:.4}", c.rmse),
+                format!("{:.4}", c.measured_rms),
+                format!("{:.1}", c.energy_measured_j),
+                format!("{:.1}", c.energy_model_j),
+                format!("{:.2}", c.energy_error_pct),
+                format!("{:.2}", c.accuracy_pct),
+            ]
+        })
+        .collect();
+    pg.table(&header, &rows);
+    let y_label = |what: &str| format!("{what} [{unit}]");
+    let signal = match log.kind.prefix() {
+        "tau" => "torque τ",
+        "i" => "motor current i",
+        "p" => "axis power p",
+        _ => "supply power p_total",
+    };
     for c in 0..ch {
         let name = &cmp.channels[c].name;
         let meas: Vec<f64> = (0..log.len()).map(|k| log.y[k * ch + c]).collect();
         let model: Vec<f64> = (0..log.len()).map(|k| pred[k * ch + c]).collect();
         let res: Vec<f64> = model.iter().zip(&meas).map(|(a, b)| a - b).collect();
-        html.push_str(&format!("<h2>{name}</h2>"));
-        html.push_str(&plot::line_chart(
+        pg.h2(name);
+        let f = svg::Frame::new(
             &format!("{name}: measured and modelled"),
-            "t [s]",
-            cmp.unit.as_str(),
-            &[("measured", t, &meas), ("model", t, &model)],
-        ));
-        html.push_str(&plot::line_chart(
+            "time [s]",
+            &y_label(signal),
+        )
+        .size(1000.0, 340.0);
+        pg.figure(
+            &format!("{name}-signal"),
+            &svg::line_chart(
+                &f,
+                &[
+                    Series::new("measured", t, &meas),
+                    Series::new("model", t, &model),
+                ],
+            ),
+            &format!("{name}: measured and modelled signal over time."),
+        );
+        let f = svg::Frame::new(
             &format!("{name}: residual (model − measured)"),
-            "t [s]",
-            cmp.unit.as_str(),
-            &[("residual", t, &res)],
-        ));
+            "time [s]",
+            &y_label("residual"),
+        )
+        .size(1000.0, 300.0);
+        pg.figure(
+            &format!("{name}-residual"),
+            &svg::line_chart(&f, &[Series::new("residual", t, &res)]),
+            &format!("{name}: residual over time."),
+        );
         let joints: Vec<usize> = if ch == 1 { (0..n).collect() } else { vec![c] };
         for j in joints {
-            for (lab, unit, f) in [
-                ("velocity", "rad/s", JointTrajSel::Qd),
-                ("acceleration", "rad/s²", JointTrajSel::Qdd),
-                ("position", "rad", JointTrajSel::Q),
+            let mut row = Vec::new();
+            for (lab, sym, unit_x, f) in [
+                ("velocity", "q̇", "rad/s", JointTrajSel::Qd),
+                ("acceleration", "q̈", "rad/s²", JointTrajSel::Qdd),
+                ("position", "q", "rad", JointTrajSel::Q),
             ] {
                 let x: Vec<f64> = (0..log.len())
                     .map(|k| match f {
@@ -132,18 +192,22 @@ fn write_report(path: &Path, log: &Log, pred: &[f64], cmp: &metrics::Comparison)
                         JointTrajSel::Qdd => log.traj.qdd(k)[j],
                     })
                     .collect();
-                html.push_str(&plot::scatter(
-                    &format!("{name}: residual vs joint {} {lab}", j + 1),
-                    &format!("{lab} [{unit}]"),
-                    cmp.unit.as_str(),
-                    &x,
-                    &res,
+                let fr = svg::Frame::new(
+                    &format!("{name} residual vs joint {} {lab}", j + 1),
+                    &format!("joint {} {lab} {sym} [{unit_x}]", j + 1),
+                    &y_label("residual"),
+                )
+                .size(345.0, 300.0);
+                row.push((
+                    format!("{name}-residual-vs-q{}-{lab}", j + 1),
+                    svg::scatter(&fr, &[Series::new("", &x, &res)]),
+                    format!("{name}: residual vs joint {} {lab}.", j + 1),
                 ));
             }
+            pg.figure_row(&row);
         }
     }
-    html.push_str("</body></html>\n");
-    crate::output::write_atomic(path, html.as_bytes())?;
+    crate::output::write_atomic(path, pg.finish().as_bytes())?;
     Ok(())
 }
 

@@ -1,6 +1,7 @@
 //! `printwatt identify`
 
-use crate::identify::{self, ladder, plot};
+use crate::identify::{self, ladder};
+use crate::report::svg;
 use anyhow::{bail, Context, Result};
 
 /// `printwatt identify`: fit the listed effects in turn, report the ladder, write the drive
@@ -72,11 +73,14 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
         let vals: Vec<f64> = id.ladder.iter().map(|s| s.validation_rmse).collect();
         crate::output::write_atomic(
             &dir.join("ladder.svg"),
-            plot::bar_chart(
-                "error ladder: validation RMSE per step",
-                log.kind.unit(),
+            svg::bar_chart(
+                &svg::Frame::new(
+                    "Error ladder: validation RMSE per step",
+                    "ladder step (effects added cumulatively)",
+                    &format!("validation RMSE [{}]", log.kind.unit()),
+                ),
                 &labels,
-                &vals,
+                &[("validation RMSE".into(), vals)],
             )
             .as_bytes(),
         )?;

@@ -306,7 +306,11 @@ pub fn meta(
         ("path".into(), l.path_file.display().to_string()),
         (
             "objective".into(),
-            format!("{:?}", l.objective).to_lowercase(),
+            // The name the command line takes (`mechanical_abs`), not the Rust variant.
+            serde_json::to_value(l.objective)
+                .ok()
+                .and_then(|v| v.as_str().map(str::to_string))
+                .unwrap_or_else(|| format!("{:?}", l.objective).to_lowercase()),
         ),
         ("nominal path samples".into(), samples.to_string()),
         ("threads".into(), threads.to_string()),

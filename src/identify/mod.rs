@@ -1,7 +1,7 @@
 //! Measured logs against the model (architecture.md, `identify`): reading logs
 //! ([`log`]), comparison metrics ([`metrics`]), residual diagnosis ([`diagnose`]), parameter
 //! identification with the error ladder ([`ladder`], [`fit`]), simulated logs from a "true"
-//! robot ([`simulate`]) and minimal SVG charts ([`plot`]).
+//! robot ([`simulate`]). Charts are drawn by [`crate::report::svg`].
 
 pub mod diagnose;
 pub mod fit;
@@ -9,7 +9,6 @@ pub mod ladder;
 pub mod log;
 pub mod metrics;
 pub mod model;
-pub mod plot;
 pub mod simulate;
 
 pub use log::{read_log, Log, SignalKind};

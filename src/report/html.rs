@@ -42,6 +42,15 @@ impl Page {
         );
         self
     }
+    /// Several figures side by side (wrapping on narrow pages): `(id, svg, caption)` each.
+    pub fn figure_row(&mut self, figures: &[(String, String, String)]) -> &mut Self {
+        self.body.push_str("<div class=\"row\">");
+        for (id, svg, caption) in figures {
+            self.figure(id, svg, caption);
+        }
+        self.body.push_str("</div>\n");
+        self
+    }
     /// A table (header row + rows of already formatted cells).
     pub fn table(&mut self, header: &[String], rows: &[Vec<String>]) -> &mut Self {
         self.body.push_str(&table(header, rows));
@@ -73,8 +82,9 @@ impl Page {
 
 const CSS: &str = "body{font-family:sans-serif;max-width:1100px;margin:1em auto;padding:0 1em;color:#222}\
 table{border-collapse:collapse;margin:0.5em 0}td,th{border:1px solid #ccc;padding:2px 8px;text-align:right}\
-th{background:#f3f3f3}figure{margin:1em 0}figcaption{font-size:0.9em;color:#555}\
-dl{display:grid;grid-template-columns:max-content auto;gap:2px 12px}dt{font-weight:bold}dd{margin:0}";
+th{background:#f3f3f3}td.t{text-align:left}figure{margin:1em 0}figcaption{font-size:0.9em;color:#555}\
+dl{display:grid;grid-template-columns:max-content auto;gap:2px 12px}dt{font-weight:bold}dd{margin:0}\
+.row{display:flex;flex-wrap:wrap;gap:0 12px}.row figure{margin:0.5em 0}svg{max-width:100%;height:auto}";
 
 /// An HTML table (escaped cells).
 pub fn table(header: &[String], rows: &[Vec<String>]) -> String {
@@ -86,7 +96,13 @@ pub fn table(header: &[String], rows: &[Vec<String>]) -> String {
     for r in rows {
         s.push_str("<tr>");
         for c in r {
-            let _ = write!(s, "<td>{}</td>", esc(c));
+            // Text (not a number) reads better left-aligned.
+            let class = if c.trim().parse::<f64>().is_ok() {
+                ""
+            } else {
+                " class=\"t\""
+            };
+            let _ = write!(s, "<td{class}>{}</td>", esc(c));
         }
         s.push_str("</tr>");
     }

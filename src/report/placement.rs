@@ -283,6 +283,7 @@ impl RunReport {
                     col: c % nx,
                     row: c / nx,
                     class: reason[c].unwrap_or("infeasible").to_string(),
+                    at: None,
                 });
             }
         }
@@ -298,6 +299,7 @@ impl RunReport {
                 col: near(&g.xs, b.placement.x),
                 row: near(&g.ys, b.placement.y),
                 class: "optimum".into(),
+                at: Some((b.placement.x, b.placement.y)),
             });
         }
         let f = svg::Frame::new(
@@ -360,7 +362,9 @@ impl RunReport {
         if cats.is_empty() {
             return None;
         }
-        let f = svg::Frame::new("Energy per placement", "placement", "energy [J]");
+        let f = svg::Frame::new("Energy per placement", "placement", "energy [J]")
+            .size(760.0, 360.0)
+            .missing("infeasible");
         Some(svg::bar_chart(&f, &cats, &[("energy".into(), vals)]))
     }
 

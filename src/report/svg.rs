@@ -47,6 +47,8 @@ pub struct Frame {
     pub width: f64,
     /// Total height, px.
     pub height: f64,
+    /// Text written where a bar has no (finite) value, e.g. "infeasible".
+    pub missing: String,
 }
 
 impl Frame {
@@ -58,12 +60,18 @@ impl Frame {
             y_label: y_label.into(),
             width: 640.0,
             height: 360.0,
+            missing: "n/a".into(),
         }
     }
     /// Same frame with another size (px).
     pub fn size(mut self, width: f64, height: f64) -> Self {
         self.width = width;
         self.height = height;
+        self
+    }
+    /// Same frame with another text for bars without a value.
+    pub fn missing(mut self, text: &str) -> Self {
+        self.missing = text.into();
         self
     }
 }
@@ -188,14 +196,16 @@ fn axis_labels(s: &mut String, f: &Frame) {
     );
 }
 
-fn y_axis(s: &mut String, a: &Axes) {
+/// Y ticks and labels; `grid` draws light horizontal grid lines across the plot.
+fn y_axis(s: &mut String, a: &Axes, grid: bool) {
     for t in ticks(a.y0, a.y1, 6) {
         let y = a.y(t);
         let _ = write!(
             s,
-            r##"<line x1="{}" y1="{y:.1}" x2="{}" y2="{y:.1}" stroke="#ddd"/><text x="{}" y="{:.1}" text-anchor="end">{}</text>"##,
-            a.px0,
-            a.px1,
+            r##"<line x1="{}" y1="{y:.1}" x2="{}" y2="{y:.1}" stroke="{}"/><text x="{}" y="{:.1}" text-anchor="end">{}</text>"##,
+            if grid { a.px0 } else { a.px0 - 4.0 },
+            if grid { a.px1 } else { a.px0 },
+            if grid { "#ddd" } else { "#333" },
             a.px0 - 5.0,
             y + 4.0,
             fmt_num(t)
@@ -222,10 +232,19 @@ fn x_axis(s: &mut String, a: &Axes) {
     }
 }
 
+/// Width (px) a legend of `names` takes to the right of the plot.
+fn legend_width(names: &[&str]) -> f64 {
+    if names.is_empty() {
+        return 0.0;
+    }
+    24.0 + 7.0 * names.iter().map(|n| n.chars().count()).max().unwrap_or(0) as f64
+}
+
+/// Legend in the right margin (outside the plot area, so it never hides data).
 fn legend(s: &mut String, f: &Frame, names: &[&str]) {
-    let x = f.width - MR - 150.0;
+    let x = f.width - legend_width(names) + 4.0;
     for (i, n) in names.iter().enumerate() {
-        let y = MT + 8.0 + 16.0 * i as f64;
+        let y = MT + 10.0 + 17.0 * i as f64;
         let _ = write!(
             s,
             r#"<rect x="{x}" y="{:.1}" width="12" height="10" fill="{}"/><text x="{}" y="{:.1}">{}</text>"#,
@@ -257,24 +276,37 @@ impl Series {
     }
 }
 
-fn xy_axes(f: &Frame, series: &[Series]) -> Axes {
+fn xy_axes(f: &Frame, series: &[Series], legend: &[&str]) -> Axes {
     let xr = finite_range(series.iter().flat_map(|s| s.points.iter().map(|p| p.0)))
         .unwrap_or((0.0, 1.0));
     let yr = finite_range(series.iter().flat_map(|s| s.points.iter().map(|p| p.1)))
         .unwrap_or((0.0, 1.0));
     let pad = (yr.1 - yr.0) * 0.05;
-    Axes::new(f, xr, (yr.0 - pad, yr.1 + pad))
+    let mut a = Axes::new(f, xr, (yr.0 - pad, yr.1 + pad));
+    a.px1 -= legend_width(legend);
+    a
 }
 
-/// Line chart with several series (a legend names them). Long series are decimated to at
-/// most ~2000 points per series by keeping min and max per pixel column bucket.
+/// Legend entries of an x–y chart: none for a single unnamed or lone series (the title names it).
+fn xy_legend(series: &[Series]) -> Vec<&str> {
+    if series.len() > 1 {
+        series.iter().map(|s| s.name.as_str()).collect()
+    } else {
+        Vec::new()
+    }
+}
+
+/// Line chart with several series (a legend names them). Long series (logs) are decimated to
+/// one bucket per two pixel columns of the plot, keeping each bucket's min and max, so the
+/// drawn envelope is unchanged while the SVG stays small.
 pub fn line_chart(f: &Frame, series: &[Series]) -> String {
-    let a = xy_axes(f, series);
+    let names = xy_legend(series);
+    let a = xy_axes(f, series, &names);
     let mut s = open(f);
-    y_axis(&mut s, &a);
+    y_axis(&mut s, &a, true);
     x_axis(&mut s, &a);
     for (i, se) in series.iter().enumerate() {
-        let pts = decimate(&se.points, 1000);
+        let pts = decimate(&se.points, ((a.px1 - a.px0) / 2.0).ceil().max(1.0) as usize);
         let mut d = String::new();
         let mut pen_up = true;
         for &(x, y) in &pts {
@@ -282,10 +314,11 @@ pub fn line_chart(f: &Frame, series: &[Series]) -> String {
                 pen_up = true;
                 continue;
             }
+            // After "M", further coordinate pairs are implicit line-tos.
             let _ = write!(
                 d,
                 "{}{:.1},{:.1}",
-                if pen_up { "M" } else { "L" },
+                if pen_up { "M" } else { " " },
                 a.x(x),
                 a.y(y)
             );
@@ -297,7 +330,6 @@ pub fn line_chart(f: &Frame, series: &[Series]) -> String {
             colour(i)
         );
     }
-    let names: Vec<&str> = series.iter().map(|s| s.name.as_str()).collect();
     legend(&mut s, f, &names);
     axis_labels(&mut s, f);
     s.push_str("</svg>");
@@ -337,28 +369,56 @@ fn decimate(p: &[(f64, f64)], buckets: usize) -> Vec<(f64, f64)> {
     out
 }
 
-/// Scatter chart: one marker per point, one colour per series.
+/// Scatter chart: one marker per point, one colour per series. Dense series (long logs) are
+/// thinned to one marker per 2 px × 2 px cell of the plot area, which draws the same picture
+/// with a bounded number of markers; all markers of a series are one `<path>`.
 pub fn scatter(f: &Frame, series: &[Series]) -> String {
-    let a = xy_axes(f, series);
+    let names = xy_legend(series);
+    let a = xy_axes(f, series, &names);
     let mut s = open(f);
-    y_axis(&mut s, &a);
+    y_axis(&mut s, &a, true);
     x_axis(&mut s, &a);
+    let dense = series.iter().map(|s| s.points.len()).sum::<usize>() > 400;
+    let r = if dense { 1.6 } else { 3.0 };
     for (i, se) in series.iter().enumerate() {
+        let mut seen = std::collections::HashSet::new();
+        let mut last: Option<(i64, i64)> = None;
+        let mut d = String::new();
         for &(x, y) in se
             .points
             .iter()
             .filter(|p| p.0.is_finite() && p.1.is_finite())
         {
-            let _ = write!(
-                s,
-                r#"<circle cx="{:.1}" cy="{:.1}" r="3" fill="{}" fill-opacity="0.8"/>"#,
-                a.x(x),
-                a.y(y),
-                colour(i)
-            );
+            let (px, py) = (a.x(x), a.y(y));
+            if dense {
+                // Snap to the 2 px cell and write relative integer moves (small file).
+                let cell = ((px / 2.0).floor() as i64, (py / 2.0).floor() as i64);
+                if !seen.insert(cell) {
+                    continue;
+                }
+                let (u, v) = (2 * cell.0 + 1, 2 * cell.1 + 1);
+                // A round-capped zero-length segment draws a dot of diameter 2r.
+                match last {
+                    None => {
+                        let _ = write!(d, "M{u} {v}h0");
+                    }
+                    Some((lu, lv)) => {
+                        let _ = write!(d, "m{} {}h0", u - lu, v - lv);
+                    }
+                }
+                last = Some((u, v));
+            } else {
+                let _ = write!(d, "M{px:.1} {py:.1}h0");
+            }
         }
+        let _ = write!(
+            s,
+            r#"<path d="{d}" stroke="{}" stroke-width="{:.1}" stroke-linecap="round" stroke-opacity="{}" fill="none"/>"#,
+            colour(i),
+            2.0 * r,
+            if dense { 0.6 } else { 0.8 }
+        );
     }
-    let names: Vec<&str> = series.iter().map(|s| s.name.as_str()).collect();
     legend(&mut s, f, &names);
     axis_labels(&mut s, f);
     s.push_str("</svg>");
@@ -371,38 +431,93 @@ pub fn scatter(f: &Frame, series: &[Series]) -> String {
 pub fn bar_chart(f: &Frame, categories: &[String], groups: &[(String, Vec<f64>)]) -> String {
     let all = groups.iter().flat_map(|g| g.1.iter().copied());
     let (lo, hi) = finite_range(all.chain([0.0])).unwrap_or((0.0, 1.0));
-    let a = Axes::new(f, (0.0, categories.len().max(1) as f64), (lo, hi * 1.1));
-    let mut s = open(f);
-    y_axis(&mut s, &a);
+    let names: Vec<&str> = if groups.len() > 1 {
+        groups.iter().map(|g| g.0.as_str()).collect()
+    } else {
+        Vec::new()
+    };
     let ng = groups.len().max(1) as f64;
-    let slot = (a.px1 - a.px0) / categories.len().max(1) as f64;
-    let bw = slot * 0.8 / ng;
+    let plot_w = f.width - ML - MR - legend_width(&names);
+    let slot = plot_w / categories.len().max(1) as f64;
+    // At most 80 px per bar, so one or two categories do not turn into slabs.
+    let bw = (slot * 0.8 / ng).min(80.0);
+    // Value labels (font 10, ~5.6 px per character) that do not fit above a bar are turned
+    // upright; leave head room for the longest of them.
+    let label = |v: f64| {
+        if v.is_finite() {
+            fmt_num(v)
+        } else {
+            f.missing.clone()
+        }
+    };
+    let text_w = |t: &str| 5.6 * t.chars().count() as f64 + 4.0;
+    let labelled = groups.len() <= 3;
+    // All value labels upright if any must be (mixed orientations read badly).
+    let any_upright = groups
+        .iter()
+        .flat_map(|g| g.1.iter())
+        .filter(|v| labelled || !v.is_finite())
+        .any(|v| text_w(&label(*v)) > bw);
+    let upright = |_: &str| any_upright;
+    let need = if labelled {
+        groups
+            .iter()
+            .flat_map(|g| g.1.iter())
+            .map(|v| label(*v))
+            .filter(|t| upright(t))
+            .map(|t| text_w(&t))
+            .fold(14.0, f64::max)
+    } else {
+        0.0
+    };
+    let ph = f.height - MT - MB;
+    let top = if hi > 0.0 {
+        hi + (hi - lo) * need / (ph - need).max(ph * 0.3)
+    } else {
+        hi
+    };
+    let mut a = Axes::new(f, (0.0, categories.len().max(1) as f64), (lo, top));
+    a.px1 -= legend_width(&names);
+    let mut s = open(f);
+    y_axis(&mut s, &a, true);
     for (c, name) in categories.iter().enumerate() {
-        let x0 = a.px0 + slot * c as f64 + slot * 0.1;
+        let x0 = a.px0 + slot * (c as f64 + 0.5) - bw * ng / 2.0;
         for (g, (_, vals)) in groups.iter().enumerate() {
-            let Some(&v) = vals.get(c).filter(|v| v.is_finite()) else {
-                continue;
-            };
-            let (ya, yb) = (a.y(0.0), a.y(v));
-            let _ = write!(
-                s,
-                r#"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="{:.1}" fill="{}"><title>{}: {}</title></rect>"#,
-                x0 + bw * g as f64,
-                ya.min(yb),
-                bw * 0.95,
-                (ya - yb).abs(),
-                colour(g),
-                esc(name),
-                fmt_num(v)
-            );
-            if groups.len() <= 3 {
+            let v = vals.get(c).copied().unwrap_or(f64::NAN);
+            let cx = x0 + bw * (g as f64 + 0.5);
+            let (ya, yb) = (a.y(0.0), a.y(if v.is_finite() { v } else { 0.0 }));
+            if v.is_finite() {
                 let _ = write!(
                     s,
-                    r#"<text x="{:.1}" y="{:.1}" text-anchor="middle" font-size="10">{}</text>"#,
-                    x0 + bw * (g as f64 + 0.5),
-                    ya.min(yb) - 3.0,
+                    r#"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="{:.1}" fill="{}"><title>{}: {}</title></rect>"#,
+                    x0 + bw * g as f64,
+                    ya.min(yb),
+                    bw * 0.95,
+                    (ya - yb).abs(),
+                    colour(g),
+                    esc(name),
                     fmt_num(v)
                 );
+            }
+            if labelled || !v.is_finite() {
+                let t = label(v);
+                let fill = if v.is_finite() { "#222" } else { "#888" };
+                let y = ya.min(yb) - 3.0;
+                if upright(&t) {
+                    let _ = write!(
+                        s,
+                        r#"<text x="{:.1}" y="{y:.1}" transform="rotate(-90 {:.1} {y:.1})" font-size="10" fill="{fill}">{}</text>"#,
+                        cx + 3.5,
+                        cx + 3.5,
+                        esc(&t)
+                    );
+                } else {
+                    let _ = write!(
+                        s,
+                        r#"<text x="{cx:.1}" y="{y:.1}" text-anchor="middle" font-size="10" fill="{fill}">{}</text>"#,
+                        esc(&t)
+                    );
+                }
             }
         }
         let _ = write!(
@@ -413,10 +528,7 @@ pub fn bar_chart(f: &Frame, categories: &[String], groups: &[(String, Vec<f64>)]
             esc(name)
         );
     }
-    if groups.len() > 1 {
-        let names: Vec<&str> = groups.iter().map(|g| g.0.as_str()).collect();
-        legend(&mut s, f, &names);
-    }
+    legend(&mut s, f, &names);
     axis_labels(&mut s, f);
     s.push_str("</svg>");
     s
@@ -431,6 +543,9 @@ pub struct CellMark {
     pub row: usize,
     /// Class name (legend entry), e.g. "unreachable", "collision", "optimum".
     pub class: String,
+    /// Exact position in the axes' units, if the mark stands for a point rather than the
+    /// whole cell (e.g. an optimum found off the grid); `None` = the cell centre.
+    pub at: Option<(f64, f64)>,
 }
 
 /// A heatmap over a regular grid.
@@ -508,7 +623,7 @@ pub fn heatmap(f: &Frame, h: &Heatmap) -> String {
             let fill = if v.is_finite() {
                 ramp((v - vlo) / (vhi - vlo))
             } else {
-                "#ffffff".into()
+                "#f2f2f2".into()
             };
             let _ = write!(
                 s,
@@ -535,10 +650,13 @@ pub fn heatmap(f: &Frame, h: &Heatmap) -> String {
     }
     for m in &h.marks {
         let k = classes.iter().position(|c| *c == m.class).unwrap_or(0);
-        let (cx, cy) = (
-            a.px0 + cw * (m.col as f64 + 0.5),
-            a.py0 - ch * (m.row as f64 + 0.5),
-        );
+        let (cx, cy) = match m.at {
+            Some((x, y)) if x.is_finite() && y.is_finite() => (a.x(x), a.y(y)),
+            _ => (
+                a.px0 + cw * (m.col as f64 + 0.5),
+                a.py0 - ch * (m.row as f64 + 0.5),
+            ),
+        };
         if m.class == "optimum" || m.class == "best" {
             let _ = write!(
                 s,
@@ -550,7 +668,7 @@ pub fn heatmap(f: &Frame, h: &Heatmap) -> String {
         } else {
             let _ = write!(
                 s,
-                r#"<g class="mark-{}"><line x1="{:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{c}" stroke-width="2"/><line x1="{:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{c}" stroke-width="2"/></g>"#,
+                r#"<g class="mark-{}"><line x1="{:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{c}" stroke-width="1.3"/><line x1="{:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{c}" stroke-width="1.3"/></g>"#,
                 esc(&m.class),
                 cx - cw * 0.35,
                 cy - ch * 0.35,
@@ -564,32 +682,48 @@ pub fn heatmap(f: &Frame, h: &Heatmap) -> String {
             );
         }
     }
-    y_axis(&mut s, &a);
+    y_axis(&mut s, &a, false);
     x_axis(&mut s, &a);
     // Colour bar.
     let bx = f.width - 110.0;
     let nb = 40;
     let bh = (a.py0 - a.py1) * 0.6;
     for i in 0..nb {
-        let t = i as f64 / (nb - 1) as f64;
+        // Slice i spans [i, i + 1] / nb of the range, so ticks line up with the colours.
+        let (t0, t1) = (i as f64 / nb as f64, (i + 1) as f64 / nb as f64);
         let _ = write!(
             s,
             r#"<rect x="{bx}" y="{:.1}" width="14" height="{:.2}" fill="{}"/>"#,
-            a.py1 + bh * (1.0 - t) - bh / nb as f64,
+            a.py1 + bh * (1.0 - t1),
             bh / nb as f64 + 0.5,
-            ramp(t)
+            ramp((t0 + t1) / 2.0)
+        );
+    }
+    // Colour-bar ticks (nice values inside the range).
+    let mut cb = ticks(vlo, vhi, 4);
+    cb.retain(|t| *t >= vlo - 1e-9 * (vhi - vlo).abs() && *t <= vhi + 1e-9 * (vhi - vlo).abs());
+    // The ends of the range too, unless a tick is within 14 px of them.
+    let px = |t: f64| a.py1 + bh * (1.0 - (t - vlo) / (vhi - vlo));
+    for end in [vlo, vhi] {
+        if cb.iter().all(|t| (px(*t) - px(end)).abs() > 14.0) {
+            cb.push(end);
+        }
+    }
+    for t in cb {
+        let y = px(t);
+        let _ = write!(
+            s,
+            r##"<line x1="{bx}" y1="{y:.1}" x2="{}" y2="{y:.1}" stroke="#333"/><text x="{}" y="{:.1}">{}</text>"##,
+            bx + 17.0,
+            bx + 20.0,
+            y + 4.0,
+            fmt_num(t)
         );
     }
     let _ = write!(
         s,
-        r#"<text x="{}" y="{:.1}">{}</text><text x="{}" y="{:.1}">{}</text><text x="{bx}" y="{:.1}">{}</text>"#,
-        bx + 18.0,
-        a.py1 + 4.0,
-        fmt_num(vhi),
-        bx + 18.0,
-        a.py1 + bh,
-        fmt_num(vlo),
-        a.py1 - 6.0,
+        r#"<text x="{bx}" y="{:.1}" font-weight="bold">{}</text>"#,
+        a.py1 - 10.0,
         esc(&h.value_label)
     );
     // Mark legend.
@@ -656,6 +790,7 @@ mod tests {
                     col: 1,
                     row: 0,
                     class: "unreachable".into(),
+                    at: None,
                 }],
                 value_label: "J".into(),
             },
