@@ -281,7 +281,10 @@ fn opw_solve_near_follows_a_path_to_1e9() {
                 // Stop at a limit, and before the wrist centre crosses the axis of joint 1 or the
                 // arm stretches out (branch boundaries: there the branch of `prev` changes).
                 let p = m.opw.as_ref().unwrap();
-                if m.joints.iter().zip(&q).any(|(j, v)| !j.within_limits(*v, 0.0))
+                if m.joints
+                    .iter()
+                    .zip(&q)
+                    .any(|(j, v)| !j.within_limits(*v, 0.0))
                     || opw::shoulder_singularity(p, &q) < 0.02
                     || opw::elbow_singularity(p, &q) < 0.02
                 {
@@ -293,7 +296,11 @@ fn opw_solve_near_follows_a_path_to_1e9() {
                     .unwrap_or_else(|e| panic!("{name}: {q:?} from {prev:?}: {e}"));
                 assert_reaches(&m, &target, &r, 1e-9, 1e-9);
                 if opw::wrist_singularity(p, &q) > 1e-3 {
-                    let d = r.iter().zip(&q).map(|(x, y)| (x - y).abs()).fold(0.0, f64::max);
+                    let d = r
+                        .iter()
+                        .zip(&q)
+                        .map(|(x, y)| (x - y).abs())
+                        .fold(0.0, f64::max);
                     assert!(d < 1e-7, "{name}: {r:?} vs {q:?}");
                 }
                 prev = r.to_vec();
