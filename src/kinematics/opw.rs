@@ -233,7 +233,7 @@ fn arm(
     c: &V3,
     shoulder: Shoulder,
     elbow: Elbow,
-) -> Result<[f64; 3], IkFailure> {
+) -> Result<([f64; 3], (f64, f64)), IkFailure> {
     let rho2 = c.x * c.x + c.y * c.y - p.b * p.b;
     if rho2.is_nan() || rho2 < 0.0 {
         return Err(IkFailure::OutOfReach {
@@ -252,6 +252,17 @@ fn arm(
     let (q1, x) = match shoulder {
         Shoulder::Front => (phi - beta, nx1),
         Shoulder::Back => (phi + beta - PI, nx1 + 2.0 * p.a1),
+    };
+    // sin and cos of q1 from the geometry (phi and beta are angles of known vectors), which
+    // saves the wrist a sin_cos: cos φ = c_x/r, sin φ = c_y/r, cos β = ρ/r, sin β = b/r.
+    let r2 = c.x * c.x + c.y * c.y;
+    let sc1 = if r2 > 1e-200 {
+        match shoulder {
+            Shoulder::Front => ((c.y * rho - c.x * p.b) / r2, (c.x * rho + c.y * p.b) / r2),
+            Shoulder::Back => (-(c.y * rho + c.x * p.b) / r2, -(c.x * rho - c.y * p.b) / r2),
+        }
+    } else {
+        q1.sin_cos()
     };
     let s2 = x * x + dz * dz;
     let s = s2.sqrt();
@@ -285,14 +296,14 @@ fn arm(
             }
         }
     };
-    Ok([q1, q2, q3])
+    Ok(([q1, q2, q3], sc1))
 }
 
-/// Wrist part (OPW q4, q5, q6) given the arm; `q4_ref` (OPW angle, rad) is used at the
+/// Wrist part (OPW q4, q5, q6) given the arm and `(sin q1, cos q1)`; `q4_ref` (OPW angle, rad) is used at the
 /// singularity.
 #[inline]
-fn wrist(r: &M3, arm: &[f64; 3], w: Wrist, q4_ref: f64) -> ([f64; 3], f64) {
-    let (s1, c1) = arm[0].sin_cos();
+fn wrist(r: &M3, arm: &[f64; 3], sc1: (f64, f64), w: Wrist, q4_ref: f64) -> ([f64; 3], f64) {
+    let (s1, c1) = sc1;
     let (s23, c23) = (arm[1] + arm[2]).sin_cos();
     // Columns of R_0c.
     let x = V3::new(c1 * c23, s1 * c23, -s23);
@@ -367,12 +378,12 @@ pub fn solve_branch_prepared(
 ) -> Result<([f64; 6], f64), IkFailure> {
     let r = &flange.rot;
     let c = flange.pos - r.column(2) * p.c4;
-    let a = arm(p, k, &c, branch.shoulder, branch.elbow)?;
+    let (a, sc1) = arm(p, k, &c, branch.shoulder, branch.elbow)?;
     let q4_ref = match q_ref {
         Some(q) if q.len() > 3 => q[3] * p.signs[3] - p.offsets[3],
         _ => -p.offsets[3],
     };
-    let (w, s5) = wrist(r, &a, branch.wrist, q4_ref);
+    let (w, s5) = wrist(r, &a, sc1, branch.wrist, q4_ref);
     let o = [a[0], a[1], a[2], w[0], w[1], w[2]];
     let q = p.from_opw(&o);
     if q.iter().any(|v| !v.is_finite()) {
