@@ -245,24 +245,29 @@ fn arm(
     }
     let rho = rho2.sqrt();
     let nx1 = rho - p.a1;
-    let phi = c.y.atan2(c.x);
-    let beta = p.b.atan2(rho);
     let dz = c.z - p.c1;
     let (kappa2, kappa, c22, psi3) = (k.kappa2, k.kappa, k.c22, k.psi3);
-    let (q1, x) = match shoulder {
-        Shoulder::Front => (phi - beta, nx1),
-        Shoulder::Back => (phi + beta - PI, nx1 + 2.0 * p.a1),
+    let x = match shoulder {
+        Shoulder::Front => nx1,
+        Shoulder::Back => nx1 + 2.0 * p.a1,
     };
-    // sin and cos of q1 from the geometry (phi and beta are angles of known vectors), which
-    // saves the wrist a sin_cos: cos φ = c_x/r, sin φ = c_y/r, cos β = ρ/r, sin β = b/r.
+    // q1 = φ − β (front) or φ + β − π (back) with φ = atan2(c_y, c_x), β = atan2(b, ρ). From
+    // cos φ = c_x/r, sin φ = c_y/r, cos β = ρ/r, sin β = b/r (r² = c_x² + c_y²) one atan2
+    // gives q1 (equal modulo 2π), and its sine and cosine are left for the wrist.
     let r2 = c.x * c.x + c.y * c.y;
-    let sc1 = if r2 > 1e-200 {
-        match shoulder {
+    let (q1, sc1) = if r2 > 1e-200 {
+        let (s1, c1) = match shoulder {
             Shoulder::Front => ((c.y * rho - c.x * p.b) / r2, (c.x * rho + c.y * p.b) / r2),
             Shoulder::Back => (-(c.y * rho + c.x * p.b) / r2, -(c.x * rho - c.y * p.b) / r2),
-        }
+        };
+        (s1.atan2(c1), (s1, c1))
     } else {
-        q1.sin_cos()
+        // Wrist centre on the axis of joint 1 (b = 0): φ undefined, take 0 as atan2 does.
+        let q1 = match shoulder {
+            Shoulder::Front => -p.b.atan2(rho),
+            Shoulder::Back => p.b.atan2(rho) - PI,
+        };
+        (q1, q1.sin_cos())
     };
     let s2 = x * x + dz * dz;
     let s = s2.sqrt();
