@@ -1,5 +1,6 @@
 //! Kinematics timings: FK, OPW all branches, OPW single branch + FK re-check (the path loop),
-//! numeric solve_near on the UR10e.
+//! numeric solve_near on the UR10e, and the pieces of the OPW path step (FK re-check chain,
+//! branch classification, joint-limit fitting).
 
 use criterion::{black_box, criterion_group, criterion_main, Criterion};
 use printwatt::kinematics::{self, opw, IkSolver};
@@ -41,6 +42,22 @@ fn bench(c: &mut Criterion) {
     c.bench_function("opw solve_branch (raw)", |b| {
         let br = opw::Branch::of(&p, &q);
         b.iter(|| opw::solve_branch(black_box(&p), black_box(&flange), br))
+    });
+    c.bench_function("fk FastChain tool (re-check chain)", |b| {
+        let chain = kinematics::FastChain::new(&abb);
+        b.iter(|| chain.tool(black_box(&q)))
+    });
+    c.bench_function("IkSolver::check (FastChain + pose distance)", |b| {
+        b.iter(|| solver.check(black_box(&target), black_box(&q_next)))
+    });
+    c.bench_function("Branch::of", |b| {
+        b.iter(|| opw::Branch::of(black_box(&p), black_box(&q)))
+    });
+    c.bench_function("fit_limits", |b| {
+        b.iter(|| {
+            let mut x = q_next;
+            kinematics::fit_limits(&abb, black_box(&mut x), Some(black_box(&q)))
+        })
     });
     c.bench_function(
         "IkSolver::solve_near OPW (branch + limits + FK re-check)",

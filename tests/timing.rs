@@ -289,3 +289,73 @@ fn blends_stay_inside_their_zones() {
     }
     assert!(max_spill > 0.0);
 }
+
+#[test]
+fn a_line_over_the_axis_of_joint_1_reports_the_configuration_change() {
+    // Stäubli TX200 (OPW b = 0): a straight print line 0.8 m above the base, along x through
+    // the axis of joint 1, nozzle down. With the nozzle vertical the wrist centre is straight
+    // above the tip, so it passes exactly over the axis of joint 1: joint 1 would have to turn
+    // by 180° in one sample (or the shoulder change from front to back). Every configuration of
+    // the first sample fails there; the failure names the sample, time, line and point instead
+    // of taking the jump silently.
+    let dir = std::env::temp_dir().join(format!("printwatt-cfgchange-{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let p = dir.join("line_over_base.csv");
+    let mut csv = String::from("x[mm],y[mm],z[mm]\n");
+    for k in 0..=60 {
+        csv.push_str(&format!("{},0,0\n", -300 + 10 * k));
+    }
+    std::fs::write(&p, csv).unwrap();
+    let model = robot::load(&root().join("robots/staubli_tx200")).unwrap();
+    let tp = toolpath::load(&p, &ReadOptions::default()).unwrap();
+    let moves = timing::moves_from_toolpath(&tp);
+    let pieces = blend_path(&moves);
+    let solver = IkSolver::new(&model).unwrap();
+    let at = Placement::new(0.0, 0.0, 0.8, 0.0);
+    // Every sample on its own is reachable: the start, the crossing and the end.
+    for x in [-0.3, 0.0, 0.3] {
+        let t = printwatt::kinematics::nozzle_target(&V3::new(x, 0.0, 0.8), 0.0);
+        assert!(solver.solve_all(&t).is_ok(), "x = {x}");
+    }
+    let e = timing::time_at(
+        &solver,
+        &pieces,
+        &|i| moves[i].line,
+        &at.frame(),
+        at.yaw + at.nozzle_spin,
+        &ProfileOptions::default(),
+        &JointStageOptions::default(),
+    )
+    .unwrap_err();
+    let msg = e.to_string();
+    match e {
+        timing::TimingFailure::ConfigurationChange {
+            sample,
+            t,
+            point,
+            line,
+            joint,
+            jump,
+        } => {
+            // Measured: sample 775 (t = 3.100 s), move on line 33 (the move from x = 0 to
+            // x = 10 mm), at (0.0002, 0, 0.8) m; joint 1 jumps 180°.
+            assert!(sample > 0, "{msg}");
+            assert!((t - sample as f64 * 0.004).abs() < 1e-9, "{msg}");
+            assert!(point.x.abs() < 0.01 && point.y.abs() < 1e-9, "{msg}");
+            assert!((point.z - 0.8).abs() < 1e-9, "{msg}");
+            assert_eq!(line, 33, "{msg}");
+            assert_eq!(joint, 0, "{msg}");
+            assert!((jump - std::f64::consts::PI).abs() < 0.05, "{msg}");
+            assert!(
+                msg.contains(&format!("path sample {sample}"))
+                    && msg.contains(&format!("t = {t:.3} s"))
+                    && msg.contains(&format!("line {line}"))
+                    && msg.contains(&format!("{:.4}, {:.4}, {:.4}", point.x, point.y, point.z))
+                    && msg.contains("joint 1 would jump 180.0 deg"),
+                "{msg}"
+            );
+        }
+        other => panic!("expected a configuration change, got: {other}"),
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

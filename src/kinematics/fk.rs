@@ -182,7 +182,20 @@ pub struct FastChain {
     n: usize,
     joints: [FastJoint; MAX_DOF],
     flange: Frame,
-    tool: Frame,
+    /// `flange ∘ tool`, so that the tool pose costs one composition.
+    tail: Frame,
+}
+
+/// Rotate columns `a` and `b` of `r` by the angle with sine `s` and cosine `c` (post-multiply
+/// by a rotation about the third coordinate axis).
+#[inline(always)]
+fn rot_cols(r: &mut crate::math::M3, a: usize, b: usize, s: f64, c: f64) {
+    for i in 0..3 {
+        let ra = r[(i, a)];
+        let rb = r[(i, b)];
+        r[(i, a)] = ra * c + rb * s;
+        r[(i, b)] = rb * c - ra * s;
+    }
 }
 
 impl FastChain {
@@ -222,13 +235,13 @@ impl FastChain {
             n,
             joints,
             flange: model.flange,
-            tool: model.tool,
+            tail: model.flange.compose(&model.tool),
         }
     }
 
-    /// Flange pose in the base frame for `q` (rad / m; missing entries taken as 0).
+    /// Frame of the last joint in the base frame for `q` (rad / m; missing entries taken as 0).
     #[inline]
-    pub fn flange(&self, q: &[f64]) -> Frame {
+    fn last_joint(&self, q: &[f64]) -> Frame {
         let mut r = crate::math::M3::identity();
         let mut p = V3::zeros();
         for (i, j) in self.joints[..self.n].iter().enumerate() {
@@ -241,26 +254,34 @@ impl FastChain {
                 p += r * (j.axis_vec * qi);
                 continue;
             }
-            let rot2 = |r: &mut crate::math::M3, a: usize, b: usize, ang: f64| {
-                let (s, c) = ang.sin_cos();
-                let ca = r.column(a).into_owned();
-                let cb = r.column(b).into_owned();
-                r.set_column(a, &(ca * c + cb * s));
-                r.set_column(b, &(cb * c - ca * s));
-            };
             match j.axis {
-                Axis::X(sg) => rot2(&mut r, 1, 2, sg * qi),
-                Axis::Y(sg) => rot2(&mut r, 2, 0, sg * qi),
-                Axis::Z(sg) => rot2(&mut r, 0, 1, sg * qi),
+                Axis::X(sg) => {
+                    let (s, c) = qi.sin_cos();
+                    rot_cols(&mut r, 1, 2, sg * s, c)
+                }
+                Axis::Y(sg) => {
+                    let (s, c) = qi.sin_cos();
+                    rot_cols(&mut r, 2, 0, sg * s, c)
+                }
+                Axis::Z(sg) => {
+                    let (s, c) = qi.sin_cos();
+                    rot_cols(&mut r, 0, 1, sg * s, c)
+                }
                 Axis::General(a) => r *= crate::math::rot_axis(&a, qi),
             }
         }
-        Frame { rot: r, pos: p }.compose(&self.flange)
+        Frame { rot: r, pos: p }
+    }
+
+    /// Flange pose in the base frame for `q` (rad / m; missing entries taken as 0).
+    #[inline]
+    pub fn flange(&self, q: &[f64]) -> Frame {
+        self.last_joint(q).compose(&self.flange)
     }
 
     /// Tool (nozzle-tip) pose in the base frame for `q` (rad / m).
     #[inline]
     pub fn tool(&self, q: &[f64]) -> Frame {
-        self.flange(q).compose(&self.tool)
+        self.last_joint(q).compose(&self.tail)
     }
 }

@@ -278,6 +278,16 @@ pub fn pose_distance(a: &Frame, b: &Frame) -> (f64, f64) {
     )
 }
 
+/// Orientation distance (rad) of two rotation matrices from their Frobenius difference:
+/// `‖Ra − Rb‖_F = 2√2 sin(θ/2)`. Accurate to rounding for small angles (no product of the
+/// matrices, no `atan2`); loses precision only near θ = π. Used by the FK re-check.
+#[inline]
+pub fn rotation_distance_fast(a: &M3, b: &M3) -> f64 {
+    let f2: f64 = a.iter().zip(b.iter()).map(|(x, y)| (x - y) * (x - y)).sum();
+    let h = (f2.sqrt() * (0.125f64).sqrt()).min(1.0);
+    2.0 * h.asin()
+}
+
 /// Put each revolute joint on the 2π multiple that is within limits and closest to `q_ref`
 /// (or to 0 without a reference), then check every joint against its limits (1e-9 slack,
 /// clamped). Prismatic joints are only checked.
@@ -301,6 +311,11 @@ pub fn fit_limits(
         match j.kind {
             JointKind::Revolute => {
                 let center = q_ref.and_then(|r| r.get(i).copied()).unwrap_or(0.0);
+                // Fast path: within limits and less than π from the centre, so already on the
+                // closest 2π multiple.
+                if v >= j.lower && v <= j.upper && (v - center).abs() < PI {
+                    continue;
+                }
                 let kmin = ((j.lower - TOL - v) / TAU).ceil();
                 let kmax = ((j.upper + TOL - v) / TAU).floor();
                 if kmin > kmax {
@@ -342,6 +357,7 @@ pub struct IkSolver<'a> {
     pub model: &'a RobotModel,
     tool_inv: Frame,
     chain: fk::FastChain,
+    opw_k: Option<opw::Prepared>,
     /// Settings of the numeric solver.
     pub numeric: NumericOptions,
     /// Accepted tool position error of the FK re-check, m.
@@ -380,6 +396,7 @@ impl<'a> IkSolver<'a> {
             model,
             tool_inv: model.tool.inverse(),
             chain: fk::FastChain::new(model),
+            opw_k: model.opw.as_ref().map(opw::Prepared::new),
             numeric: NumericOptions::default(),
             check_position_m: 1e-6,
             check_orientation_rad: 1e-6,
@@ -396,10 +413,14 @@ impl<'a> IkSolver<'a> {
     /// Re-check `q` by forward kinematics against the tool target; returns (m, rad) errors.
     #[inline]
     pub fn check(&self, tool_target: &Frame, q: &[f64]) -> Result<(f64, f64), IkFailure> {
-        let (dp, dr) = pose_distance(&self.chain.tool(q), tool_target);
+        let f = self.chain.tool(q);
+        let dp = (f.pos - tool_target.pos).norm();
+        let dr = rotation_distance_fast(&f.rot, &tool_target.rot);
         if dp < self.check_position_m && dr < self.check_orientation_rad {
             Ok((dp, dr))
         } else {
+            // The precise distances for the message.
+            let (dp, dr) = pose_distance(&f, tool_target);
             Err(IkFailure::CheckFailed {
                 position_error_m: dp,
                 orientation_error_rad: dr,
@@ -504,75 +525,78 @@ impl<'a> IkSolver<'a> {
                 self.model.dof()
             )));
         }
-        let mut q = match &self.model.opw {
-            Some(p) => {
-                let flange = self.flange_target(tool_target);
-                // Keep the shoulder and elbow of q_prev; of the two wrist variants take the
-                // one nearer to q_prev, so that a smooth passage through q5 = 0 stays smooth.
-                let b = Branch::of(p, q_prev);
-                let flip = Branch {
-                    wrist: b.wrist.flipped(),
-                    ..b
-                };
-                let mut best: Option<(f64, JointVec)> = None;
-                let mut first_err = None;
-                for br in [b, flip] {
-                    if br == flip {
-                        // Far from the wrist singularity the flipped variant differs by about
-                        // π in q4 and q6 and cannot be nearer: skip it (the fast path).
-                        if let Some((_, q)) = &best {
-                            if opw::wrist_singularity(p, q) > NEAR_WRIST_SINGULARITY {
-                                break;
-                            }
-                        }
-                    }
-                    match opw::solve_branch_near(p, &flange, br, Some(q_prev)) {
-                        Ok(q) => {
-                            let mut q = JointVec::from_slice(&q);
-                            if fit_limits(self.model, &mut q, Some(q_prev)).is_err() {
-                                continue;
-                            }
-                            let d = q
-                                .iter()
-                                .zip(q_prev)
-                                .map(|(a, b)| (a - b).abs())
-                                .fold(0.0, f64::max);
-                            if best.as_ref().is_none_or(|(bd, _)| d < *bd) {
-                                best = Some((d, q));
-                            }
-                        }
-                        Err(e) => {
-                            first_err.get_or_insert(e);
-                        }
-                    }
-                }
-                match (best, first_err) {
-                    (Some((_, q)), _) => q,
-                    (None, Some(e)) => {
-                        self.precheck(tool_target)?;
-                        return Err(e);
-                    }
-                    (None, None) => {
-                        // Both variants exist but violate limits: report the unflipped one.
-                        let mut q = JointVec::from_slice(&opw::solve_branch_near(
-                            p,
-                            &flange,
-                            b,
-                            Some(q_prev),
-                        )?);
-                        fit_limits(self.model, &mut q, Some(q_prev))?;
-                        q
-                    }
-                }
+        match (&self.model.opw, &self.opw_k) {
+            (Some(p), Some(k)) => {
+                let q = self.solve_near_opw(p, k, tool_target, q_prev)?;
+                self.check(tool_target, &q)?;
+                Ok(q)
             }
-            None => {
+            _ => {
                 self.precheck(tool_target)?;
-                numeric::solve_from(self.model, tool_target, q_prev, &self.numeric)?
+                let mut q = numeric::solve_from(self.model, tool_target, q_prev, &self.numeric)?;
+                fit_limits(self.model, &mut q, Some(q_prev))?;
+                self.check(tool_target, &q)?;
+                Ok(q)
             }
+        }
+    }
+
+    /// The closed-form part of [`IkSolver::solve_near`]: joints fitted to the limits, not yet
+    /// FK-checked.
+    #[inline]
+    fn solve_near_opw(
+        &self,
+        p: &crate::robot::OpwParams,
+        k: &opw::Prepared,
+        tool_target: &Frame,
+        q_prev: &[f64],
+    ) -> Result<JointVec, IkFailure> {
+        let flange = self.flange_target(tool_target);
+        // Keep the shoulder and elbow of q_prev; of the two wrist variants take the one nearer
+        // to q_prev, so that a smooth passage through q5 = 0 stays smooth.
+        let b = k.branch_of(p, q_prev);
+        let solve = |br: Branch| -> Result<(JointVec, f64), IkFailure> {
+            let (q, s5) = opw::solve_branch_prepared(p, k, &flange, br, Some(q_prev))?;
+            let mut q = JointVec::from_slice(&q);
+            fit_limits(self.model, &mut q, Some(q_prev))?;
+            Ok((q, s5))
         };
-        fit_limits(self.model, &mut q, Some(q_prev))?;
-        self.check(tool_target, &q)?;
-        Ok(q)
+        let dist = |q: &JointVec| {
+            q.iter()
+                .zip(q_prev)
+                .map(|(a, b)| (a - b).abs())
+                .fold(0.0, f64::max)
+        };
+        let first = solve(b);
+        if let Ok((q, s5)) = &first {
+            // Far from the wrist singularity the flipped variant differs by about π in q4 and
+            // q6 and cannot be nearer: skip it (the fast path).
+            if *s5 > NEAR_WRIST_SINGULARITY {
+                return Ok(*q);
+            }
+        }
+        let flip = Branch {
+            wrist: b.wrist.flipped(),
+            ..b
+        };
+        let second = solve(flip);
+        match (first, second) {
+            (Ok((q1, _)), Ok((q2, _))) => Ok(if dist(&q2) < dist(&q1) { q2 } else { q1 }),
+            (Ok((q, _)), Err(_)) | (Err(_), Ok((q, _))) => Ok(q),
+            (Err(e1), Err(e2)) => {
+                // Both variants violate limits: report the unflipped one. Otherwise the first
+                // failure that is not a joint limit, after the general reachability check.
+                let e = match (&e1, &e2) {
+                    (IkFailure::JointLimit { .. }, IkFailure::JointLimit { .. }) => e1,
+                    (IkFailure::JointLimit { .. }, _) => e2,
+                    _ => e1,
+                };
+                if !matches!(e, IkFailure::JointLimit { .. }) {
+                    self.precheck(tool_target)?;
+                }
+                Err(e)
+            }
+        }
     }
 
     /// The spin (rad, about the vertical nozzle axis) on an `n_grid` grid over (−π, π] whose

@@ -24,6 +24,11 @@ pub struct NumericOptions {
     pub max_step: f64,
     /// Number of deterministic seeds used by [`solve_all`].
     pub seeds: usize,
+    /// Restarts of [`solve_from`] when the first attempt stalls: from the seeds of
+    /// [`seeds`]`(model, restart_pool)` nearest to the given seed, nearest first.
+    pub restarts: usize,
+    /// Number of deterministic seeds the restarts are chosen from.
+    pub restart_pool: usize,
 }
 
 impl Default for NumericOptions {
@@ -35,6 +40,8 @@ impl Default for NumericOptions {
             initial_damping: 1e-2,
             max_step: 0.5,
             seeds: 32,
+            restarts: RESTARTS,
+            restart_pool: 64,
         }
     }
 }
@@ -53,8 +60,14 @@ fn err_of(target: &Frame, f: &FkFrames) -> (Vector6<f64>, f64) {
     (e, n)
 }
 
-/// Solve from one seed (rad / m, clamped into the limits first). Returns the converged joint
-/// vector (within limits) or [`IkFailure::NoConvergence`] with the final errors.
+/// Default of [`NumericOptions::restarts`].
+pub const RESTARTS: usize = 8;
+
+/// Solve from one seed (rad / m, clamped into the limits first). When that attempt stalls in a
+/// local minimum, restart from up to [`NumericOptions::restarts`] deterministic seeds, nearest
+/// to `seed` first (distance modulo 2π, so the answer stays close to the seed where possible).
+/// Returns the converged joint vector (within limits) or [`IkFailure::NoConvergence`] with the
+/// errors of the first attempt.
 pub fn solve_from(
     model: &RobotModel,
     tool_target: &Frame,
@@ -68,6 +81,45 @@ pub fn solve_from(
             seed.len()
         )));
     }
+    let first = match solve_once(model, tool_target, &seed[..n], opts) {
+        Ok(q) => return Ok(q),
+        Err(e) => e,
+    };
+    if opts.restarts == 0 {
+        return Err(first);
+    }
+    let dist = |q: &[f64]| -> f64 {
+        model
+            .joints
+            .iter()
+            .zip(q.iter().zip(seed))
+            .map(|(j, (a, b))| match j.kind {
+                crate::robot::JointKind::Revolute => super::opw::wrap_pi(a - b).powi(2),
+                crate::robot::JointKind::Prismatic => (a - b).powi(2),
+            })
+            .sum()
+    };
+    let mut pool: Vec<(f64, JointVec)> = seeds(model, opts.restart_pool.max(opts.restarts))
+        .into_iter()
+        .map(|s| (dist(&s), s))
+        .collect();
+    pool.sort_by(|a, b| a.0.total_cmp(&b.0));
+    for (_, s) in pool.iter().take(opts.restarts) {
+        if let Ok(q) = solve_once(model, tool_target, s, opts) {
+            return Ok(q);
+        }
+    }
+    Err(first)
+}
+
+/// One Levenberg–Marquardt attempt from `seed` (clamped into the limits first), no restarts.
+pub fn solve_once(
+    model: &RobotModel,
+    tool_target: &Frame,
+    seed: &[f64],
+    opts: &NumericOptions,
+) -> Result<JointVec, IkFailure> {
+    let n = model.dof().min(seed.len()).min(MAX_DOF);
     let mut q = JointVec::from_slice(&seed[..n]);
     clamp_limits(model, &mut q);
     let mut frames = fk(model, &q);
@@ -179,7 +231,7 @@ pub fn solve_all(
     let mut sols: Vec<JointVec> = Vec::new();
     let mut last = None;
     for s in seeds(model, opts.seeds) {
-        match solve_from(model, tool_target, &s, opts) {
+        match solve_once(model, tool_target, &s, opts) {
             Ok(q) => {
                 if !sols.iter().any(|p| same_modulo_2pi(model, p, &q, 1e-6)) {
                     sols.push(q);

@@ -144,6 +144,56 @@ impl std::fmt::Display for Branch {
     }
 }
 
+/// Constants of the closed form that depend only on the OPW parameters, computed once (by
+/// [`super::IkSolver::new`]) instead of per query: `κ = √(a2² + c3²)` (m), `κ²`, `c2²` (m²) and
+/// `ψ3 = atan2(a2, c3)` (rad).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Prepared {
+    kappa: f64,
+    kappa2: f64,
+    c22: f64,
+    psi3: f64,
+}
+
+impl Prepared {
+    /// The constants of `p`.
+    pub fn new(p: &OpwParams) -> Self {
+        let kappa2 = p.a2 * p.a2 + p.c3 * p.c3;
+        Prepared {
+            kappa: kappa2.sqrt(),
+            kappa2,
+            c22: p.c2 * p.c2,
+            psi3: p.a2.atan2(p.c3),
+        }
+    }
+
+    /// [`Branch::of`] with the constants precomputed; the elbow and wrist signs come from
+    /// wrapped angles instead of sines (same answer up to rounding at the boundaries).
+    #[inline]
+    pub fn branch_of(&self, p: &OpwParams, q: &[f64]) -> Branch {
+        let o = opw_angles(p, q);
+        let e = o[2] + self.psi3;
+        let cx1 = p.c2 * o[1].sin() + self.kappa * (o[1] + e).sin() + p.a1;
+        Branch {
+            shoulder: if cx1 >= 0.0 {
+                Shoulder::Front
+            } else {
+                Shoulder::Back
+            },
+            elbow: if wrap_pi(e) >= 0.0 {
+                Elbow::Up
+            } else {
+                Elbow::Down
+            },
+            wrist: if wrap_pi(o[4]) >= 0.0 {
+                Wrist::NoFlip
+            } else {
+                Wrist::Flip
+            },
+        }
+    }
+}
+
 /// OPW angles of `q` (URDF, rad); missing entries are taken as 0.
 #[inline]
 fn opw_angles(p: &OpwParams, q: &[f64]) -> [f64; 6] {
@@ -177,7 +227,13 @@ fn checked_acos(x: f64) -> Option<f64> {
 
 /// Arm part (joints 1–3, OPW angles) of one shoulder/elbow branch, or why it has none.
 #[inline]
-fn arm(p: &OpwParams, c: &V3, shoulder: Shoulder, elbow: Elbow) -> Result<[f64; 3], IkFailure> {
+fn arm(
+    p: &OpwParams,
+    k: &Prepared,
+    c: &V3,
+    shoulder: Shoulder,
+    elbow: Elbow,
+) -> Result<([f64; 3], (f64, f64)), IkFailure> {
     let rho2 = c.x * c.x + c.y * c.y - p.b * p.b;
     if rho2.is_nan() || rho2 < 0.0 {
         return Err(IkFailure::OutOfReach {
@@ -189,16 +245,29 @@ fn arm(p: &OpwParams, c: &V3, shoulder: Shoulder, elbow: Elbow) -> Result<[f64; 
     }
     let rho = rho2.sqrt();
     let nx1 = rho - p.a1;
-    let phi = c.y.atan2(c.x);
-    let beta = p.b.atan2(rho);
     let dz = c.z - p.c1;
-    let kappa2 = p.a2 * p.a2 + p.c3 * p.c3;
-    let kappa = kappa2.sqrt();
-    let c22 = p.c2 * p.c2;
-    let psi3 = p.a2.atan2(p.c3);
-    let (q1, x) = match shoulder {
-        Shoulder::Front => (phi - beta, nx1),
-        Shoulder::Back => (phi + beta - PI, nx1 + 2.0 * p.a1),
+    let (kappa2, kappa, c22, psi3) = (k.kappa2, k.kappa, k.c22, k.psi3);
+    let x = match shoulder {
+        Shoulder::Front => nx1,
+        Shoulder::Back => nx1 + 2.0 * p.a1,
+    };
+    // q1 = φ − β (front) or φ + β − π (back) with φ = atan2(c_y, c_x), β = atan2(b, ρ). From
+    // cos φ = c_x/r, sin φ = c_y/r, cos β = ρ/r, sin β = b/r (r² = c_x² + c_y²) one atan2
+    // gives q1 (equal modulo 2π), and its sine and cosine are left for the wrist.
+    let r2 = c.x * c.x + c.y * c.y;
+    let (q1, sc1) = if r2 > 1e-200 {
+        let (s1, c1) = match shoulder {
+            Shoulder::Front => ((c.y * rho - c.x * p.b) / r2, (c.x * rho + c.y * p.b) / r2),
+            Shoulder::Back => (-(c.y * rho + c.x * p.b) / r2, -(c.x * rho - c.y * p.b) / r2),
+        };
+        (s1.atan2(c1), (s1, c1))
+    } else {
+        // Wrist centre on the axis of joint 1 (b = 0): φ undefined, take 0 as atan2 does.
+        let q1 = match shoulder {
+            Shoulder::Front => -p.b.atan2(rho),
+            Shoulder::Back => p.b.atan2(rho) - PI,
+        };
+        (q1, q1.sin_cos())
     };
     let s2 = x * x + dz * dz;
     let s = s2.sqrt();
@@ -232,14 +301,14 @@ fn arm(p: &OpwParams, c: &V3, shoulder: Shoulder, elbow: Elbow) -> Result<[f64; 
             }
         }
     };
-    Ok([q1, q2, q3])
+    Ok(([q1, q2, q3], sc1))
 }
 
-/// Wrist part (OPW q4, q5, q6) given the arm; `q4_ref` (OPW angle, rad) is used at the
+/// Wrist part (OPW q4, q5, q6) given the arm and `(sin q1, cos q1)`; `q4_ref` (OPW angle, rad) is used at the
 /// singularity.
 #[inline]
-fn wrist(r: &M3, arm: &[f64; 3], w: Wrist, q4_ref: f64) -> [f64; 3] {
-    let (s1, c1) = arm[0].sin_cos();
+fn wrist(r: &M3, arm: &[f64; 3], sc1: (f64, f64), w: Wrist, q4_ref: f64) -> ([f64; 3], f64) {
+    let (s1, c1) = sc1;
     let (s23, c23) = (arm[1] + arm[2]).sin_cos();
     // Columns of R_0c.
     let x = V3::new(c1 * c23, s1 * c23, -s23);
@@ -258,12 +327,12 @@ fn wrist(r: &M3, arm: &[f64; 3], w: Wrist, q4_ref: f64) -> [f64; 3] {
         if r22 >= 0.0 {
             // R_ce ≈ Rz(q4 + q6).
             let sum = r10.atan2(r00);
-            [q4_ref, 0.0, sum - q4_ref]
+            ([q4_ref, 0.0, sum - q4_ref], s5)
         } else {
             // R_ce ≈ Ry(π) Rz(q6 − q4).
             let r11 = y.dot(&r.column(1));
             let diff = r10.atan2(r11);
-            [q4_ref, PI, diff + q4_ref]
+            ([q4_ref, PI, diff + q4_ref], s5)
         }
     } else {
         let r20 = z.dot(&r.column(0));
@@ -271,10 +340,11 @@ fn wrist(r: &M3, arm: &[f64; 3], w: Wrist, q4_ref: f64) -> [f64; 3] {
         let q4 = r12.atan2(r02);
         let q5 = s5.atan2(r22);
         let q6 = r21.atan2(-r20);
-        match w {
+        let a = match w {
             Wrist::NoFlip => [q4, q5, q6],
             Wrist::Flip => [q4 + PI, -q5, q6 + PI],
-        }
+        };
+        (a, s5)
     }
 }
 
@@ -293,32 +363,54 @@ pub fn solve_branch_near(
     branch: Branch,
     q_ref: Option<&[f64]>,
 ) -> Result<[f64; 6], IkFailure> {
+    let (mut q, _) = solve_branch_prepared(p, &Prepared::new(p), flange, branch, q_ref)?;
+    for v in &mut q {
+        *v = wrap_pi(*v);
+    }
+    Ok(q)
+}
+
+/// The core of [`solve_branch_near`] with precomputed constants: URDF angles (rad) **not**
+/// wrapped (within a few π of 0; [`super::fit_limits`] picks the 2π multiple) and `|sin q5|`
+/// of the answer (the wrist singularity measure, dimensionless).
+#[inline]
+pub fn solve_branch_prepared(
+    p: &OpwParams,
+    k: &Prepared,
+    flange: &Frame,
+    branch: Branch,
+    q_ref: Option<&[f64]>,
+) -> Result<([f64; 6], f64), IkFailure> {
     let r = &flange.rot;
     let c = flange.pos - r.column(2) * p.c4;
-    let a = arm(p, &c, branch.shoulder, branch.elbow)?;
+    let (a, sc1) = arm(p, k, &c, branch.shoulder, branch.elbow)?;
     let q4_ref = match q_ref {
         Some(q) if q.len() > 3 => q[3] * p.signs[3] - p.offsets[3],
         _ => -p.offsets[3],
     };
-    let w = wrist(r, &a, branch.wrist, q4_ref);
+    let (w, s5) = wrist(r, &a, sc1, branch.wrist, q4_ref);
     let o = [a[0], a[1], a[2], w[0], w[1], w[2]];
-    let mut q = p.from_opw(&o);
-    for v in &mut q {
-        *v = wrap_pi(*v);
-    }
+    let q = p.from_opw(&o);
     if q.iter().any(|v| !v.is_finite()) {
         return Err(IkFailure::Singular {
             what: "non-finite closed-form solution",
             measure: 0.0,
         });
     }
-    Ok(q)
+    Ok((q, s5))
 }
 
 /// All 8 branches for the flange pose (base frame, m), indexed by [`Branch::index`]; each
 /// entry is the joint vector (URDF, rad, wrapped to (−π, π]) or why that branch has none.
 pub fn solve_all(p: &OpwParams, flange: &Frame) -> [Result<[f64; 6], IkFailure>; 8] {
-    Branch::ALL.map(|b| solve_branch(p, flange, b))
+    let k = Prepared::new(p);
+    Branch::ALL.map(|b| {
+        let (mut q, _) = solve_branch_prepared(p, &k, flange, b, None)?;
+        for v in &mut q {
+            *v = wrap_pi(*v);
+        }
+        Ok(q)
+    })
 }
 
 /// Wrist singularity measure `|sin q5|` (dimensionless, 0 = joints 4 and 6 aligned) for URDF
