@@ -2,12 +2,9 @@
 //! comparison, sensitivity within ±50 mm, and the run report under `results/<run>/`.
 
 use super::sweep::{detail, meta, parse_placement, run_sweep, PlacementArgs};
-use crate::energy::EnergyOptions;
 use crate::placement::optimise::{self, feasible_centre, worst_of, OptimiseOptions};
 use crate::placement::sweep::Evaluator;
-use crate::placement::PathJob;
 use crate::report::placement::RunReport;
-use crate::timing::{JointStageOptions, ProfileOptions};
 use anyhow::{Context, Result};
 
 /// `printwatt optimise` arguments. With none, runs the shipped default robot and path on a
@@ -42,16 +39,9 @@ pub struct OptimiseArgs {
 pub fn run(a: OptimiseArgs) -> Result<()> {
     let p = &a.p;
     let l = p.load()?;
-    let job = PathJob::new(
-        &l.robot,
-        &l.path,
-        EnergyOptions::default(),
-        ProfileOptions::default(),
-        JointStageOptions::default(),
-    )?;
+    let job = l.job()?;
     let ev = Evaluator::new(&job, l.feas, l.objective);
-    let reach = crate::placement::feasibility::reach_m(&l.robot);
-    let (ps, names, grid) = p.placements(Some(optimise::default_grid(reach)))?;
+    let (ps, names, grid) = p.placements(Some(l.default_grid()))?;
     let baseline_given = match &a.baseline {
         Some(s) => Some(parse_placement(s).context("--baseline")?),
         None => None,

@@ -108,6 +108,26 @@ pub struct Loaded {
     pub feas: FeasibilityOptions,
 }
 
+impl Loaded {
+    /// The job (energy model, blended and planned path) with default energy and timing options.
+    pub fn job(&self) -> Result<PathJob<'_>> {
+        Ok(PathJob::new(
+            &self.robot,
+            &self.path,
+            EnergyOptions::default(),
+            ProfileOptions::default(),
+            JointStageOptions::default(),
+        )?)
+    }
+
+    /// The workspace grid used when the command line names no placements.
+    pub fn default_grid(&self) -> Grid {
+        crate::placement::optimise::default_grid(crate::placement::feasibility::reach_m(
+            &self.robot,
+        ))
+    }
+}
+
 impl PlacementArgs {
     /// Load the robot and path and turn the options into library options.
     pub fn load(&self) -> Result<Loaded> {
@@ -373,16 +393,9 @@ pub fn print_rows(rows: &[Evaluated], names: Option<&[String]>) {
 pub fn run(a: SweepArgs) -> Result<()> {
     let a = a.p;
     let l = a.load()?;
-    let job = PathJob::new(
-        &l.robot,
-        &l.path,
-        EnergyOptions::default(),
-        ProfileOptions::default(),
-        JointStageOptions::default(),
-    )?;
+    let job = l.job()?;
     let ev = Evaluator::new(&job, l.feas, l.objective);
-    let reach = crate::placement::feasibility::reach_m(&l.robot);
-    let (ps, names, grid) = a.placements(Some(crate::placement::optimise::default_grid(reach)))?;
+    let (ps, names, grid) = a.placements(Some(l.default_grid()))?;
     let pool = a.pool()?;
     let t0 = std::time::Instant::now();
     let rows = run_sweep(&ev, &ps, &pool)?;
