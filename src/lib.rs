@@ -6,6 +6,28 @@
 //! writes what people read; `cli` is the thin front end.
 //! Units are SI everywhere inside (m, rad, s, kg, N·m, W, J); conversions happen only where
 //! data enter or leave.
+//!
+//! ```
+//! use printwatt::{dynamics, kinematics, robot};
+//! use std::path::Path;
+//!
+//! // A shipped robot: URDF + drive file (payload, motors, friction, OPW parameters).
+//! let dir = Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/abb_irb6700_200_260");
+//! let model = robot::load(&dir)?;
+//!
+//! // Nozzle tip 1.6 m in front of the robot, on the floor, pointing straight down.
+//! let target = kinematics::nozzle_target(&nalgebra::Vector3::new(1.6, 0.0, 0.0), 0.0);
+//! let solutions = kinematics::solve_all(&model, &target)?;
+//! assert!(!solutions.is_empty());
+//!
+//! // Torque (N·m) to hold the first solution still, with the payload.
+//! let dm = dynamics::DynModel::new(&model, dynamics::DynOptions { payload: true, armature: true })?;
+//! let mut data = dm.data();
+//! let mut tau = [0.0; 6];
+//! dynamics::gravity_torque(&dm, &mut data, &solutions[0].q, &mut tau)?;
+//! assert!(tau[1].abs() > 1000.0); // the shoulder carries the arm
+//! # Ok::<(), Box<dyn std::error::Error>>(())
+//! ```
 
 pub mod cli;
 pub mod dynamics;
