@@ -449,6 +449,8 @@ impl RunReport {
         if let Some(o) = &self.optimise {
             let s = &o.sensitivity;
             let f = |v: Option<f64>| v.map_or("infeasible".to_string(), |v| format!("{v:.2}"));
+            // Derivatives need both neighbours (one for the one-sided slope): "n/a" otherwise.
+            let g = |v: Option<f64>| v.map_or("n/a".to_string(), |v| format!("{v:.2}"));
             facts.push((
                 format!("energy at x∓{0:.0} mm, y∓{0:.0} mm [J]", s.h_m * 1000.0),
                 format!(
@@ -463,24 +465,24 @@ impl RunReport {
                 "gradient dE/dx, dE/dy [J/m]".into(),
                 format!(
                     "{} / {}",
-                    f(s.gradient_j_per_m[0]),
-                    f(s.gradient_j_per_m[1])
+                    g(s.gradient_j_per_m[0]),
+                    g(s.gradient_j_per_m[1])
                 ),
             ));
             facts.push((
                 "curvature d²E/dx², d²E/dy² [J/m²]".into(),
                 format!(
                     "{} / {}",
-                    f(s.curvature_j_per_m2[0]),
-                    f(s.curvature_j_per_m2[1])
+                    g(s.curvature_j_per_m2[0]),
+                    g(s.curvature_j_per_m2[1])
                 ),
             ));
             facts.push((
                 "one-sided slopes dE/dx, dE/dy [J/m] (one neighbour infeasible)".into(),
                 format!(
                     "{} / {}",
-                    f(s.one_sided_j_per_m[0]),
-                    f(s.one_sided_j_per_m[1])
+                    g(s.one_sided_j_per_m[0]),
+                    g(s.one_sided_j_per_m[1])
                 ),
             ));
             facts.push((
