@@ -3,8 +3,9 @@
 
 #![allow(clippy::needless_range_loop)] // index-parallel arrays read more clearly in tests
 
+mod common;
+use common::{robot, Sines};
 use printwatt::dynamics::*;
-use printwatt::robot::{load, RobotModel};
 use printwatt::trajectory::JointTrajectory;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -20,13 +21,6 @@ const ROBOTS: [&str; 5] = [
 ];
 /// Relative tolerance vs Pinocchio: |Δ| ≤ REL_TOL · max(1, |τ|).
 const REL_TOL: f64 = 1e-9;
-
-fn robot(name: &str) -> RobotModel {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("robots")
-        .join(name);
-    load(&dir).unwrap_or_else(|e| panic!("loading {name}: {e}"))
-}
 
 /// Rows of a reference CSV (first line a comment, second the header). Missing file = failure.
 fn csv(name: &str) -> (Vec<String>, Vec<Vec<f64>>) {
@@ -177,38 +171,6 @@ fn crba_equals_rnea_columns_and_is_spd() {
     }
 }
 
-/// Sum-of-sines trajectory: q_j(t) = Σ_k a sin(ω t + φ), with analytic derivatives.
-fn sines(n: usize, seed: u64) -> impl Fn(f64) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let terms: Vec<Vec<(f64, f64, f64)>> = (0..n)
-        .map(|_| {
-            (0..3)
-                .map(|_| {
-                    (
-                        rng.gen_range(0.1..0.5),
-                        rng.gen_range(0.3..2.0),
-                        rng.gen_range(0.0..2.0 * PI),
-                    )
-                })
-                .collect()
-        })
-        .collect();
-    move |t| {
-        let mut q = vec![0.0; n];
-        let mut qd = vec![0.0; n];
-        let mut qdd = vec![0.0; n];
-        for j in 0..n {
-            for &(a, w, p) in &terms[j] {
-                let (s, c) = (w * t + p).sin_cos();
-                q[j] += a * s;
-                qd[j] += a * w * c;
-                qdd[j] -= a * w * w * s;
-            }
-        }
-        (q, qd, qdd)
-    }
-}
-
 #[test]
 fn work_equals_change_of_kinetic_plus_potential_energy() {
     for (name, armature) in [
@@ -227,7 +189,8 @@ fn work_equals_change_of_kinetic_plus_potential_energy() {
         )
         .unwrap();
         let mut d = model.data();
-        let traj = sines(n, 7);
+        let sines = Sines::random(n, 7, 0.1..0.5, 0.3..2.0);
+        let traj = |t: f64| sines.at(t);
         let (t_end, steps) = (5.0, 20_000usize); // Simpson's rule, even number of steps
         let h = t_end / steps as f64;
         let mut tau = vec![0.0; n];

@@ -5,6 +5,8 @@
 
 #![allow(clippy::needless_range_loop)]
 
+mod common;
+use common::{close, root, Sines};
 use printwatt::effects::TorqueEffect;
 use printwatt::energy::{eval_sample, evaluate, EnergyModel, SamplePower};
 use printwatt::identify::log::SignalKind;
@@ -12,11 +14,21 @@ use printwatt::identify::Model;
 use printwatt::robot::{load, RobotModel};
 use printwatt::trajectory::JointTrajectory;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+/// Deterministic smooth motion: per joint 0.4 sin(0.7t+φ) + 0.15 sin(2.1t+φ') + 0.05 sin(4.3t+φ'').
+fn sines(n: usize, t_end: f64, steps: usize) -> JointTrajectory {
+    let terms = (0..n)
+        .map(|j| {
+            [(0.4, 0.7), (0.15, 2.1), (0.05, 4.3)]
+                .iter()
+                .enumerate()
+                .map(|(i, &(a, w))| (a, w, 0.3 * (j + 1) as f64 + 1.1 * i as f64))
+                .collect()
+        })
+        .collect();
+    Sines { terms }.trajectory(t_end, steps)
 }
+use std::process::Command;
 
 fn identified_file() -> PathBuf {
     root().join("results/identify_example/robot/drive.identified.toml")
@@ -24,31 +36,6 @@ fn identified_file() -> PathBuf {
 
 fn identified() -> RobotModel {
     load(&identified_file()).unwrap()
-}
-
-/// A smooth exciting trajectory (sums of sines, analytic derivatives), slow enough to cross
-/// the Stribeck and Coulomb regions at the reversals.
-fn sines(n: usize, t_end: f64, steps: usize) -> JointTrajectory {
-    let mut tr = JointTrajectory::new(n);
-    for k in 0..=steps {
-        let t = t_end * k as f64 / steps as f64;
-        let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-        for j in 0..n {
-            for (i, (a, w)) in [(0.4, 0.7), (0.15, 2.1), (0.05, 4.3)].iter().enumerate() {
-                let p = 0.3 * (j + 1) as f64 + 1.1 * i as f64;
-                let (s, c) = (w * t + p).sin_cos();
-                q[j] += a * s;
-                qd[j] += a * w * c;
-                qdd[j] -= a * w * w * s;
-            }
-        }
-        tr.push(t, &q, &qd, &qdd);
-    }
-    tr
-}
-
-fn close(a: f64, b: f64, rel: f64) -> bool {
-    (a - b).abs() <= rel * a.abs().max(b.abs()).max(1.0)
 }
 
 #[test]

@@ -3,58 +3,22 @@
 
 #![allow(clippy::needless_range_loop)] // index-parallel arrays read more clearly in tests
 
-use printwatt::effects::{Armature, Coulomb, Effect, EffectSet, TorqueEffect, Viscous};
-use printwatt::energy::{eval_sample, evaluate, EnergyModel, EnergyOptions, SamplePower};
-use printwatt::robot::{load, Regeneration, RobotModel};
+mod common;
+use common::{close, robot, Sines};
 use printwatt::trajectory::JointTrajectory;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
-use std::f64::consts::PI;
-use std::path::Path;
 
-fn robot(name: &str) -> RobotModel {
-    let dir = Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join("robots")
-        .join(name);
-    load(&dir).unwrap_or_else(|e| panic!("loading {name}: {e}"))
-}
-
-/// A smooth sum-of-sines trajectory with analytic derivatives, `steps + 1` samples over `t_end`.
+/// Random smooth motion (seeded): amplitudes amp·[0.2, 1) rad, ω in [0.5, 3) rad/s.
 fn sines(n: usize, seed: u64, t_end: f64, steps: usize, amp: f64) -> JointTrajectory {
-    let mut rng = ChaCha8Rng::seed_from_u64(seed);
-    let terms: Vec<Vec<(f64, f64, f64)>> = (0..n)
-        .map(|_| {
-            (0..3)
-                .map(|_| {
-                    (
-                        amp * rng.gen_range(0.2..1.0),
-                        rng.gen_range(0.5..3.0),
-                        rng.gen_range(0.0..2.0 * PI),
-                    )
-                })
-                .collect()
-        })
-        .collect();
-    let mut tr = JointTrajectory::new(n);
-    for k in 0..=steps {
-        let t = t_end * k as f64 / steps as f64;
-        let (mut q, mut qd, mut qdd) = (vec![0.0; n], vec![0.0; n], vec![0.0; n]);
-        for j in 0..n {
-            for &(a, w, p) in &terms[j] {
-                let (s, c) = (w * t + p).sin_cos();
-                q[j] += a * s;
-                qd[j] += a * w * c;
-                qdd[j] -= a * w * w * s;
-            }
-        }
-        tr.push(t, &q, &qd, &qdd);
-    }
-    tr
+    Sines::random(n, seed, 0.2..1.0, 0.5..3.0)
+        .scaled(amp)
+        .trajectory(t_end, steps)
 }
 
-fn close(a: f64, b: f64, rel: f64) -> bool {
-    (a - b).abs() <= rel * a.abs().max(b.abs()).max(1.0)
-}
+use printwatt::effects::{Armature, Coulomb, Effect, EffectSet, TorqueEffect, Viscous};
+use printwatt::energy::{eval_sample, evaluate, EnergyModel, EnergyOptions, SamplePower};
+use printwatt::robot::Regeneration;
 
 #[test]
 fn motor_model_identity_with_unit_gear_efficiency() {
