@@ -9,7 +9,7 @@ pub fn run(a: super::DiagnoseArgs) -> Result<()> {
     let prep = identify::Prepared::new(&model, &log)?;
     let d = diagnose::diagnose(&prep, &mut model, a.folds)?;
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&d)?);
+        super::print_json(&d)?;
         return Ok(());
     }
     println!(

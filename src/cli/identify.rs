@@ -22,6 +22,23 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
             );
         }
     }
+    // Every output checked against every input before anything is computed or written.
+    let inputs = super::inputs(
+        &la.robot,
+        Some(&robot),
+        &[Some(la.log.as_path()), a.validate_log.as_deref()],
+    );
+    let planned_drive = identify::model::drive_file_of(&super::resolve_robot(&la.robot)).map(|src| {
+        a.drive_out
+            .clone()
+            .unwrap_or_else(|| super::compare::identified_path(&src))
+    });
+    if let Some(dst) = &planned_drive {
+        crate::output::check_file(dst, &inputs, crate::output::Existing::Force(a.force))?;
+    }
+    if let Some(dir) = &a.out {
+        crate::output::check_dir(dir, &inputs)?;
+    }
     let prep = identify::Prepared::new(&model, &log)?;
     let vlog;
     let vprep;
@@ -30,6 +47,7 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
             Some(p) => {
                 vlog = identify::read_log(p, robot.dof(), la.columns.as_deref())
                     .with_context(|| format!("reading validation log {}", p.display()))?;
+                super::note_warnings(&vlog.file, &vlog.warnings);
                 vprep = identify::Prepared::new(&model, &vlog)?;
                 (
                     (0..log.len()).collect(),
@@ -68,7 +86,7 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
         }
     }
     if let Some(dir) = &a.out {
-        std::fs::create_dir_all(dir)?;
+        std::fs::create_dir_all(dir).map_err(|e| crate::Error::io(dir, e))?;
         let labels: Vec<String> = id.ladder.iter().map(|s| s.step.clone()).collect();
         let vals: Vec<f64> = id.ladder.iter().map(|s| s.validation_rmse).collect();
         crate::output::write_atomic(
@@ -95,7 +113,7 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
     }
     if a.json {
         let v = serde_json::json!({"identification": id, "drive_file": written});
-        println!("{}", serde_json::to_string_pretty(&v)?);
+        super::print_json(&v)?;
         return Ok(());
     }
     println!("{}", id.validation);

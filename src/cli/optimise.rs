@@ -39,6 +39,8 @@ pub struct OptimiseArgs {
 pub fn run(a: OptimiseArgs) -> Result<()> {
     let p = &a.p;
     let l = p.load()?;
+    let run_name = p.run.clone().unwrap_or_else(|| "optimise-default".into());
+    let mut run_dir = p.begin_run(&l, (!a.no_report).then_some(run_name.as_str()))?;
     let job = l.job()?;
     let ev = Evaluator::new(&job, l.feas, l.objective);
     let (ps, names, grid) = p.placements(Some(l.default_grid()))?;
@@ -109,14 +111,15 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
         details,
         electrical: l.robot.drive.is_some(),
     };
-    let dir = p
-        .results_dir
-        .join(p.run.clone().unwrap_or_else(|| "optimise-default".into()));
-    if !a.no_report {
-        rep.write(&dir)?;
+    let mut written = None;
+    if let Some(mut rd) = run_dir.take() {
+        rep.write_into(&mut rd)?;
+        written = Some(rd.commit()?);
+    } else {
+        rep.check_finite()?;
     }
     if p.json {
-        println!("{}", rep.summary_json(false)?);
+        super::print_json_text(&rep.summary_json(false)?)?;
         return Ok(());
     }
     let best = rep.best().context("no feasible placement")?;
@@ -178,7 +181,7 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
             secs
         );
     }
-    if !a.no_report {
+    if let Some(dir) = written {
         println!("report: {}", dir.join("report.html").display());
     }
     Ok(())

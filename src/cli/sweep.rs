@@ -136,8 +136,16 @@ impl PlacementArgs {
             .path
             .clone()
             .unwrap_or_else(|| shipped("paths/default.gcode"));
-        let path = toolpath::load(&path_file, &ReadOptions::default())
-            .with_context(|| format!("loading path {}", path_file.display()))?;
+        let path = super::load_path(&path_file, &ReadOptions::default())?;
+        for (opt, v) in [
+            ("--wrist-min", self.wrist_min),
+            ("--elbow-min", self.elbow_min),
+            ("--shoulder-min", self.shoulder_min),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                bail!("{opt} {v}: expected a finite margin >= 0 (0 switches the check off)");
+            }
+        }
         let objective: Objective = self.objective.parse()?;
         if self.check_every == 0 {
             bail!("--check-every must be at least 1");
@@ -225,6 +233,33 @@ impl PlacementArgs {
             bail!("{} placements: more than 1,000,000", g.len());
         }
         Ok((g.placements(), None, Some(g)))
+    }
+
+    /// The inputs of the command (robot files, path, set) for the output policy.
+    pub fn inputs(&self, l: &Loaded) -> crate::output::Inputs {
+        super::inputs(
+            &self.robot,
+            Some(&l.robot),
+            &[Some(l.path_file.as_path()), self.set.as_deref()],
+        )
+    }
+
+    /// Take the run directory `--results-dir/<run>` before any work (locked for this run,
+    /// checked against the inputs and for files printwatt did not write).
+    pub fn begin_run(
+        &self,
+        l: &Loaded,
+        run: Option<&str>,
+    ) -> Result<Option<crate::output::RunDir>> {
+        match run {
+            None => Ok(None),
+            Some(r) => Ok(Some(crate::output::RunDir::begin(
+                &self.results_dir,
+                r,
+                &self.inputs(l),
+                crate::output::Existing::Replace,
+            )?)),
+        }
     }
 
     /// A rayon pool with `--threads` (or the global default).
@@ -393,6 +428,7 @@ pub fn print_rows(rows: &[Evaluated], names: Option<&[String]>) {
 pub fn run(a: SweepArgs) -> Result<()> {
     let a = a.p;
     let l = a.load()?;
+    let mut run_dir = a.begin_run(&l, a.run.as_deref())?;
     let job = l.job()?;
     let ev = Evaluator::new(&job, l.feas, l.objective);
     let (ps, names, grid) = a.placements(Some(l.default_grid()))?;
@@ -430,15 +466,17 @@ pub fn run(a: SweepArgs) -> Result<()> {
         details,
         electrical: l.robot.drive.is_some(),
     };
-    if let Some(run) = &a.run {
-        let dir = a.results_dir.join(run);
-        rep.write(&dir)?;
+    if let Some(mut rd) = run_dir.take() {
+        rep.write_into(&mut rd)?;
+        let dir = rd.commit()?;
         if !a.json {
             eprintln!("wrote {}", dir.display());
         }
+    } else {
+        rep.check_finite()?;
     }
     if a.json {
-        println!("{}", rep.summary_json(true)?);
+        super::print_json_text(&rep.summary_json(true)?)?;
     } else {
         print_rows(&rep.rows, rep.names.as_deref());
         if let Some(b) = rep.best() {
