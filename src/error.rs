@@ -91,10 +91,7 @@ pub fn decode_text(bytes: &[u8], file: &str) -> Result<String> {
         Err(e) => {
             let at = e.valid_up_to();
             let before = &bytes[..at];
-            let line = 1 + before
-                .iter()
-                .filter(|&&b| b == b'\n' || b == b'\r')
-                .count()
+            let line = 1 + before.iter().filter(|&&b| b == b'\n' || b == b'\r').count()
                 - before.windows(2).filter(|w| w == b"\r\n").count();
             let line_start = before
                 .iter()

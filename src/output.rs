@@ -244,7 +244,9 @@ pub fn process_alive(pid: u32) -> bool {
 
 /// PID in a temporary name `….tmp-PID` or `….printwatt-tmp-PID`.
 fn tmp_pid(name: &str) -> Option<u32> {
-    let (_, pid) = name.rsplit_once("tmp-").or_else(|| name.rsplit_once("old-"))?;
+    let (_, pid) = name
+        .rsplit_once("tmp-")
+        .or_else(|| name.rsplit_once("old-"))?;
     pid.parse().ok()
 }
 
@@ -351,7 +353,12 @@ const LEGACY_RUN_FILES: [&str; 3] = ["summary.json", "placements.csv", "report.h
 
 impl RunDir {
     /// Begin writing `results_dir/run` (`run` checked by [`run_name`]). See [`RunDir::begin_at`].
-    pub fn begin(results_dir: &Path, run: &str, inputs: &Inputs, existing: Existing) -> Result<RunDir> {
+    pub fn begin(
+        results_dir: &Path,
+        run: &str,
+        inputs: &Inputs,
+        existing: Existing,
+    ) -> Result<RunDir> {
         let rel = run_name(run)?;
         RunDir::begin_at(&results_dir.join(rel), inputs, existing)
     }
@@ -364,9 +371,7 @@ impl RunDir {
         let name = target
             .file_name()
             .map(|n| n.to_string_lossy().into_owned())
-            .ok_or_else(|| {
-                Error::Invalid(format!("{}: not a directory name", target.display()))
-            })?;
+            .ok_or_else(|| Error::Invalid(format!("{}: not a directory name", target.display())))?;
         let parent = match target.parent() {
             Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
             _ => PathBuf::from("."),
@@ -425,7 +430,9 @@ impl RunDir {
     /// Write one file of the run (a plain file name) into the staging directory.
     pub fn write(&mut self, name: &str, contents: &[u8]) -> Result<()> {
         if name.contains(['/', '\\']) || name == MANIFEST || name.starts_with('.') {
-            return Err(Error::Invalid(format!("run file name `{name}` not allowed")));
+            return Err(Error::Invalid(format!(
+                "run file name `{name}` not allowed"
+            )));
         }
         let p = self.staging.join(name);
         let mut f = std::fs::File::create(&p).map_err(|e| Error::io(&p, e))?;
@@ -598,7 +605,10 @@ fn check_ours(dir: &Path) -> Result<()> {
             ));
         }
     } else if !names.is_empty() {
-        return Err(foreign(&names[0], "and no manifest says printwatt wrote it"));
+        return Err(foreign(
+            &names[0],
+            "and no manifest says printwatt wrote it",
+        ));
     }
     Ok(())
 }

@@ -27,6 +27,9 @@ pub(crate) fn load(a: &LogArgs) -> Result<(crate::robot::RobotModel, Model, Log)
     let log = identify::read_log(&a.log, robot.dof(), a.columns.as_deref())
         .with_context(|| format!("reading log {}", a.log.display()))?;
     super::note_warnings(&log.file, &log.warnings);
+    let (names, units): (Vec<String>, Vec<String>) = log.units.iter().cloned().unzip();
+    let kinds: Vec<_> = robot.joints.iter().map(|j| j.kind).collect();
+    crate::trajectory::check_joint_units(&log.file, log.header_line, &names, &units, &kinds)?;
     check_log_robot(&log, &robot);
     Ok((robot, model, log))
 }

@@ -122,7 +122,7 @@ pub fn run(a: EnergyArgs) -> Result<()> {
         })?);
     }
     let (input, traj, placement, slowdowns, report) = if let Some(tp) = &a.trajectory {
-        let (mut traj, sup) = trajectory::read_csv(tp, model.dof())?;
+        let (mut traj, sup) = trajectory::read_csv_for(tp, &model)?;
         complete_derivatives(&mut traj, sup)?;
         let em = EnergyModel::with_options(&model, opts)?;
         let report = energy::evaluate(&em, &traj)?;
@@ -133,7 +133,12 @@ pub fn run(a: EnergyArgs) -> Result<()> {
             default_zone: toolpath::Zone::Blend(a.zone * 1e-3),
             ..Default::default()
         };
-        for (opt, v) in [("--zone", a.zone), ("--period", a.period), ("--accel", a.accel), ("--jerk", a.jerk)] {
+        for (opt, v) in [
+            ("--zone", a.zone),
+            ("--period", a.period),
+            ("--accel", a.accel),
+            ("--jerk", a.jerk),
+        ] {
             super::finite(opt, v)?;
         }
         if a.zone < 0.0 {
@@ -253,7 +258,9 @@ fn check_report_finite(report: &EnergyReport, csv: &[u8], input: &Path) -> Resul
     let mut bad = None;
     nulls(&v, &mut String::new(), &mut bad);
     if let Some(p) = bad {
-        bail!("{what}: `energy{p}` is not a finite number: check the robot's drive and inertia data");
+        bail!(
+            "{what}: `energy{p}` is not a finite number: check the robot's drive and inertia data"
+        );
     }
     Ok(())
 }

@@ -28,11 +28,12 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
         Some(&robot),
         &[Some(la.log.as_path()), a.validate_log.as_deref()],
     );
-    let planned_drive = identify::model::drive_file_of(&super::resolve_robot(&la.robot)).map(|src| {
-        a.drive_out
-            .clone()
-            .unwrap_or_else(|| super::compare::identified_path(&src))
-    });
+    let planned_drive =
+        identify::model::drive_file_of(&super::resolve_robot(&la.robot)).map(|src| {
+            a.drive_out
+                .clone()
+                .unwrap_or_else(|| super::compare::identified_path(&src))
+        });
     if let Some(dst) = &planned_drive {
         crate::output::check_file(dst, &inputs, crate::output::Existing::Force(a.force))?;
     }

@@ -204,15 +204,23 @@ pub fn load_robot(arg: &Path) -> Result<robot::RobotModel> {
 }
 
 /// Load a toolpath named on the command line; its warnings are shown.
-pub fn load_path(p: &Path, opts: &crate::toolpath::ReadOptions) -> Result<crate::toolpath::Toolpath> {
-    let tp = crate::toolpath::load(p, opts).with_context(|| format!("loading path {}", p.display()))?;
+pub fn load_path(
+    p: &Path,
+    opts: &crate::toolpath::ReadOptions,
+) -> Result<crate::toolpath::Toolpath> {
+    let tp =
+        crate::toolpath::load(p, opts).with_context(|| format!("loading path {}", p.display()))?;
     note_warnings(&tp.source, &tp.warnings);
     Ok(tp)
 }
 
 /// The inputs of a command for the output policy: the robot (every file of its directory, its
 /// URDF and drive file) and the other files named.
-pub fn inputs(robot_arg: &Path, model: Option<&robot::RobotModel>, files: &[Option<&Path>]) -> crate::output::Inputs {
+pub fn inputs(
+    robot_arg: &Path,
+    model: Option<&robot::RobotModel>,
+    files: &[Option<&Path>],
+) -> crate::output::Inputs {
     let mut i = crate::output::Inputs::new();
     i.add_robot(&resolve_robot(robot_arg), model);
     for f in files.iter().flatten() {
@@ -274,7 +282,11 @@ pub fn note_warnings(file: &str, ws: &[String]) {
     for w in ws {
         let w = parse_warning(file, w);
         match w.line {
-            Some(l) => eprintln!("warning: {}:{l}: {}", w.file, crate::error::clip(&w.message)),
+            Some(l) => eprintln!(
+                "warning: {}:{l}: {}",
+                w.file,
+                crate::error::clip(&w.message)
+            ),
             None => eprintln!("warning: {}: {}", w.file, crate::error::clip(&w.message)),
         }
         if let Ok(mut g) = WARNINGS.lock() {

@@ -17,7 +17,11 @@ pub fn run(a: super::SimulateArgs) -> Result<()> {
         ),
         crate::output::Existing::Replace,
     )?;
-    for (opt, v) in [("--noise-q", a.noise_q), ("--quantum", a.quantum), ("--rate", a.rate)] {
+    for (opt, v) in [
+        ("--noise-q", a.noise_q),
+        ("--quantum", a.quantum),
+        ("--rate", a.rate),
+    ] {
         super::finite(opt, v)?;
     }
     if let Some(n) = a.noise {
@@ -39,7 +43,11 @@ pub fn run(a: super::SimulateArgs) -> Result<()> {
         }
     }
     if a.rate > 1e5 {
-        bail!("--rate {} Hz: above 100 kHz no controller logs; did you mean {} Hz?", a.rate, a.rate / 1000.0);
+        bail!(
+            "--rate {} Hz: above 100 kHz no controller logs; did you mean {} Hz?",
+            a.rate,
+            a.rate / 1000.0
+        );
     }
     let mut truth = identify::Model::new(&robot)?;
     let hidden = simulate::parse_hidden(a.hidden.as_deref().unwrap_or(""))?;
@@ -75,7 +83,7 @@ pub fn run(a: super::SimulateArgs) -> Result<()> {
             }
         }
         (None, Some(t), None) => {
-            let (mut tr, sup) = crate::trajectory::read_csv(t, robot.dof())?;
+            let (mut tr, sup) = crate::trajectory::read_csv_for(t, &robot)?;
             if !sup.velocities || !sup.accelerations {
                 crate::dynamics::fill_derivatives(&mut tr)?;
             }

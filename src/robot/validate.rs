@@ -84,7 +84,10 @@ fn err(file: &str, line: Option<usize>, field: &str, msg: String) -> Error {
 /// it satisfies the triangle inequality of its principal moments.
 fn check_inertia(i: &M3) -> std::result::Result<bool, String> {
     if i.iter().any(|v| !v.is_finite()) {
-        return Err(format!("inertia has a non-finite entry: {:?}", i.as_slice()));
+        return Err(format!(
+            "inertia has a non-finite entry: {:?}",
+            i.as_slice()
+        ));
     }
     if i.iter().any(|v| v.abs() > MAX_INERTIA) {
         return Err(format!(
@@ -114,7 +117,10 @@ fn check_inertial(
 ) -> std::result::Result<Option<String>, (String, String)> {
     let m = inertial.mass;
     if !(m.is_finite() && m >= 0.0) {
-        return Err(("mass".into(), format!("{what}: mass must be finite and >= 0, got {m} kg")));
+        return Err((
+            "mass".into(),
+            format!("{what}: mass must be finite and >= 0, got {m} kg"),
+        ));
     }
     if m > MAX_MASS_KG {
         return Err((
@@ -122,7 +128,11 @@ fn check_inertial(
             format!("{what}: mass {m} kg is above {MAX_MASS_KG} kg (a unit error?)"),
         ));
     }
-    if inertial.com.iter().any(|v| !v.is_finite() || v.abs() > MAX_LENGTH_M) {
+    if inertial
+        .com
+        .iter()
+        .any(|v| !v.is_finite() || v.abs() > MAX_LENGTH_M)
+    {
         return Err((
             "com".into(),
             format!(
@@ -167,7 +177,11 @@ pub fn validate(model: &mut RobotModel, src: &Sources) -> Result<()> {
             ("acceleration", j.acceleration_limit, "/s²"),
             ("jerk", j.jerk_limit, "/s³"),
         ] {
-            let u = if j.kind == JointKind::Prismatic { "m" } else { "rad" };
+            let u = if j.kind == JointKind::Prismatic {
+                "m"
+            } else {
+                "rad"
+            };
             if v.is_nan() || v <= 0.0 {
                 return Err(err(
                     ufile,
@@ -179,7 +193,11 @@ pub fn validate(model: &mut RobotModel, src: &Sources) -> Result<()> {
             if v < MIN_LIMIT {
                 let (file, line) = match src.drive {
                     Some((df, dt)) if dt.contains(&format!("{k}_limit")) => {
-                        let idx = model.joints.iter().position(|x| x.name == j.name).unwrap_or(0);
+                        let idx = model
+                            .joints
+                            .iter()
+                            .position(|x| x.name == j.name)
+                            .unwrap_or(0);
                         (df, joint_key_line(dt, idx, &format!("{k}_limit")))
                     }
                     _ => (ufile, jline),
@@ -306,19 +324,46 @@ pub fn validate(model: &mut RobotModel, src: &Sources) -> Result<()> {
             let name = &model.joints[i].name;
             for (key, v, lo, lo_incl, hi) in [
                 ("gear_ratio", jd.gear_ratio, 0.0, false, MAX_DRIVE_VALUE),
-                ("torque_constant_nm_per_a", jd.torque_constant, 0.0, false, MAX_DRIVE_VALUE),
-                ("winding_resistance_ohm", jd.winding_resistance, 0.0, true, MAX_DRIVE_VALUE),
-                ("rotor_inertia_kg_m2", jd.rotor_inertia, 0.0, true, MAX_INERTIA),
-                ("viscous_nm_s_per_rad", jd.viscous, 0.0, true, MAX_DRIVE_VALUE),
+                (
+                    "torque_constant_nm_per_a",
+                    jd.torque_constant,
+                    0.0,
+                    false,
+                    MAX_DRIVE_VALUE,
+                ),
+                (
+                    "winding_resistance_ohm",
+                    jd.winding_resistance,
+                    0.0,
+                    true,
+                    MAX_DRIVE_VALUE,
+                ),
+                (
+                    "rotor_inertia_kg_m2",
+                    jd.rotor_inertia,
+                    0.0,
+                    true,
+                    MAX_INERTIA,
+                ),
+                (
+                    "viscous_nm_s_per_rad",
+                    jd.viscous,
+                    0.0,
+                    true,
+                    MAX_DRIVE_VALUE,
+                ),
                 ("coulomb_nm", jd.coulomb, 0.0, true, MAX_DRIVE_VALUE),
-                ("gear_efficiency", jd.gear_efficiency, MIN_EFFICIENCY, true, 1.0),
+                (
+                    "gear_efficiency",
+                    jd.gear_efficiency,
+                    MIN_EFFICIENCY,
+                    true,
+                    1.0,
+                ),
             ] {
                 let ok = v.is_finite() && (v > lo || (lo_incl && v == lo)) && v <= hi;
                 if !ok {
-                    let range = format!(
-                        "{}{lo}, {hi}]",
-                        if lo_incl { "[" } else { "(" }
-                    );
+                    let range = format!("{}{lo}, {hi}]", if lo_incl { "[" } else { "(" });
                     return Err(err(
                         dfile,
                         joint_key_line(dtext, i, key),

@@ -72,7 +72,11 @@ pub fn estimate(moves: &[Move], popts: &ProfileOptions, n: usize) -> Estimate {
     let bytes = samples * bytes_per_sample(n) as f64 + nodes * 48.0;
     Estimate {
         duration_s: t,
-        samples: if samples.is_nan() { f64::INFINITY } else { samples },
+        samples: if samples.is_nan() {
+            f64::INFINITY
+        } else {
+            samples
+        },
         nodes: if nodes.is_nan() { f64::INFINITY } else { nodes },
         bytes,
         slowest: slowest.0,
@@ -85,7 +89,11 @@ pub fn check(moves: &[Move], popts: &ProfileOptions, n: usize, source: &str) -> 
     for (what, v, unit) in [
         ("interpolation period", popts.dt, "s"),
         ("TCP acceleration limit", popts.accel, "m/s²"),
-        ("TCP lateral acceleration limit", popts.lateral_accel, "m/s²"),
+        (
+            "TCP lateral acceleration limit",
+            popts.lateral_accel,
+            "m/s²",
+        ),
         ("TCP jerk limit", popts.jerk, "m/s³"),
         ("path node spacing", popts.ds, "m"),
     ] {
@@ -137,7 +145,10 @@ pub fn check(moves: &[Move], popts: &ProfileOptions, n: usize, source: &str) -> 
                 fmt_num(v_mm_s * 1e3)
             )
         };
-        format!("the move on line {} ({:.3} m) is commanded at {speed}", m.line, len)
+        format!(
+            "the move on line {} ({:.3} m) is commanded at {speed}",
+            m.line, len
+        )
     } else if len > 1e3 || !len.is_finite() {
         format!(
             "the move on line {} is {:.3e} m long: check the coordinates and their unit (mm, m, inch)",
@@ -207,10 +218,18 @@ mod tests {
 
     #[test]
     fn a_slow_feed_is_named_with_a_did_you_mean() {
-        let e = check(&[line(0.1, 0.025e-3)], &ProfileOptions::default(), 6, "a.gcode")
-            .unwrap_err()
-            .to_string();
-        assert!(e.contains("F1.5 mm/min is 0.025 mm/s; did you mean F1500?"), "{e}");
+        let e = check(
+            &[line(1.0, 0.025e-3)],
+            &ProfileOptions::default(),
+            6,
+            "a.gcode",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains("F1.5 mm/min is 0.025 mm/s; did you mean F1500?"),
+            "{e}"
+        );
         assert!(e.starts_with("a.gcode:"), "{e}");
     }
 
