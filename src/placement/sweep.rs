@@ -159,6 +159,8 @@ pub struct Evaluator<'j, 'a> {
     /// What is minimised.
     pub objective: Objective,
     shapes: crate::placement::collision::RobotShapes,
+    /// Beads of the unslowed plan (shared by every placement whose timing did not re-plan).
+    beads: crate::placement::collision::Beads,
     bbox_all: (V3, V3),
     lines: Vec<usize>,
 }
@@ -192,6 +194,12 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                 job.robot,
                 feasibility::reach_m(job.robot),
                 &feasibility.radii,
+            ),
+            beads: crate::placement::collision::Beads::new(
+                &motion0.p,
+                &motion0.print,
+                feasibility.check_every,
+                crate::placement::collision::BEAD_RADIUS_M,
             ),
             bbox_all: all,
             lines: job.moves.iter().map(|m| m.line).collect(),
@@ -269,12 +277,19 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         let world = World::new(&frame, self.bbox_all, o);
         let every = o.check_every.max(1);
         let mut margins = Margins::default();
-        let beads = crate::placement::collision::Beads::new(
-            &motion.p,
-            &motion.print,
-            every,
-            crate::placement::collision::BEAD_RADIUS_M,
-        );
+        // The printed beads: the job's when this placement kept the planned motion, else anew.
+        let replanned;
+        let beads = if std::sync::Arc::ptr_eq(&timed.motion, &self.job.plan.motion) {
+            &self.beads
+        } else {
+            replanned = crate::placement::collision::Beads::new(
+                &motion.p,
+                &motion.print,
+                every,
+                crate::placement::collision::BEAD_RADIUS_M,
+            );
+            &replanned
+        };
         for k in 0..m {
             if k % every == 0 || k + 1 == m {
                 let q = timed.traj.q(k);
@@ -283,7 +298,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                     o,
                     &world,
                     &self.shapes,
-                    &beads,
+                    beads,
                     q,
                     beads.laid_at(k),
                     &mut sc.poses,
