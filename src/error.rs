@@ -151,7 +151,7 @@ pub fn clip(msg: &str) -> String {
             cut -= 1;
         }
         out.truncate(cut);
-        out.push_str("…");
+        out.push('…');
     }
     out
 }

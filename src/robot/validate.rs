@@ -223,11 +223,10 @@ pub fn validate(model: &mut RobotModel, src: &Sources) -> Result<()> {
         let name = model.link_names.get(k).cloned().unwrap_or_default();
         let line = line_of(utext, &format!("name=\"{name}\""), Some("<link"));
         let what = format!("link `{name}`");
-        match check_inertial(&what, inertial) {
-            Err((field, msg)) => return Err(err(ufile, line, &format!("{what} {field}"), msg)),
-            // A link's triangle-inequality violation is already a warning of the URDF reader
-            // (the published PUMA 560 data have one).
-            Ok(_) => {}
+        // A link's triangle-inequality violation is already a warning of the URDF reader
+        // (the published PUMA 560 data have one).
+        if let Err((field, msg)) = check_inertial(&what, inertial) {
+            return Err(err(ufile, line, &format!("{what} {field}"), msg));
         }
         // A moving link (k ≥ 1) with neither mass nor inertia is a link whose data are missing.
         if k >= 1 && inertial.mass == 0.0 && inertial.inertia.iter().all(|v| *v == 0.0) {

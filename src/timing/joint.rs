@@ -519,7 +519,7 @@ pub fn time_path_planned(
             })
             .sum();
         let samples = t_est / opts.dt + opts.accel / opts.jerk / opts.dt;
-        if !(samples <= super::budget::max_samples() as f64) {
+        if samples.is_nan() || samples > super::budget::max_samples() as f64 {
             let w = viol
                 .iter()
                 .max_by(|a, b| a.ratio.total_cmp(&b.ratio))
