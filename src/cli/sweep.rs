@@ -409,6 +409,13 @@ pub fn run(a: SweepArgs) -> Result<()> {
             details.extend(detail(&job, "worst", w)?);
         }
     }
+    let site = crate::report::site::SiteGeometry::new(
+        &l.robot,
+        &job,
+        best_of(&rows).map_or(0.0, |b| b.placement.z),
+        &l.path_file,
+        names.as_deref(),
+    );
     let rep = RunReport {
         title: format!(
             "printwatt sweep: {} on {}",
@@ -427,6 +434,7 @@ pub fn run(a: SweepArgs) -> Result<()> {
         grid,
         optimise: None,
         baseline: None,
+        site: Some(site),
         details,
         electrical: l.robot.drive.is_some(),
     };
