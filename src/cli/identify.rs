@@ -129,15 +129,19 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
     if let Some(ill) = &id.ill_conditioned {
         println!("{ill}");
     }
-    if !id.held_at_prior.is_empty() {
-        println!(
-            "held at their prior values (not excited by this motion, or not separable): {}",
-            id.held_at_prior.join(", ")
-        );
+    for h in &id.held_at_prior {
+        println!("held at its prior value: {} ({})", h.name, h.reason);
     }
     println!("identified parameters (changed ones):");
     for p in &id.params {
         if (p.value - p.nominal).abs() > 1e-12 {
+            if id
+                .held_at_prior
+                .iter()
+                .any(|h| h.name == format!("{}.{}", p.effect, p.name))
+            {
+                continue;
+            }
             println!(
                 "  {:<16} {:<10} {:>12.4} ± {:<10.4} {} (was {:.4})",
                 p.effect,

@@ -241,7 +241,13 @@ pub fn calibrated_text(inp: &CalibrationInput, dst: &Path) -> Result<String> {
     });
     for p in &inp.id.params {
         let key = format!("{}.{}", p.effect, p.name);
-        let held = inp.id.held_at_prior.contains(&key);
+        let held_reason = inp
+            .id
+            .held_at_prior
+            .iter()
+            .find(|h| h.name == key)
+            .map(|h| h.reason.clone());
+        let held = held_reason.is_some();
         let entry = CalibratedParam {
             effect: p.effect.clone(),
             name: p.name.clone(),
@@ -250,10 +256,9 @@ pub fn calibrated_text(inp: &CalibrationInput, dst: &Path) -> Result<String> {
             std_error: if held { None } else { p.std_error },
             prior: p.nominal,
             round,
-            status: if held {
-                "held at prior: the motion does not excite it (or cannot tell it apart)".into()
-            } else {
-                "fitted".into()
+            status: match held_reason {
+                Some(r) => format!("held at prior: {r}"),
+                None => "fitted".into(),
             },
         };
         match cal

@@ -6,7 +6,7 @@
 //! [`crate::identify::calibrate`].
 
 use crate::error::Result;
-use crate::identify::fit::{fit, fit_holding, FittedParam, IllConditioning};
+use crate::identify::fit::{fit_holding, FittedParam, IllConditioning};
 use crate::identify::metrics::{evaluate_rows, rel_pct};
 use crate::identify::model::{Model, Prepared};
 use serde::Serialize;
@@ -39,9 +39,62 @@ pub struct Identification {
     pub params: Vec<FittedParam>,
     /// Parameters the data cannot tell apart, if any (in the first fit of the last rung).
     pub ill_conditioned: Option<IllConditioning>,
-    /// Parameters held at their prior values (`effect.param`) because the motion does not
-    /// excite them or cannot tell them apart; the others are fitted.
-    pub held_at_prior: Vec<String>,
+    /// Parameters held at their prior values because the motion does not excite them or
+    /// cannot tell them apart; the others are fitted.
+    pub held_at_prior: Vec<HeldParam>,
+}
+
+/// A parameter held at its prior value, and why.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct HeldParam {
+    /// `effect.param`, e.g. `coulomb.f_c[5]`.
+    pub name: String,
+    /// Why, in words.
+    pub reason: String,
+}
+
+/// RMS joint velocity below which a joint counts as still, rad/s (0.06 °/s: position noise and
+/// encoder quantisation of a joint held by its brake or servo give less).
+pub const STILL_RMS_VELOCITY_RAD_S: f64 = 1e-3;
+
+/// Parameters of velocity- and acceleration-driven per-joint effects (`viscous`, `coulomb`,
+/// `stribeck`, `armature`) on joints that do not move in `rows` of the log.
+pub fn still_joint_params(
+    model: &Model,
+    prep: &Prepared,
+    rows: &[usize],
+    effects: &[&'static str],
+) -> Vec<HeldParam> {
+    let n = model.n;
+    let mut out = Vec::new();
+    for j in 0..n {
+        let ms = rows
+            .iter()
+            .map(|&k| prep.log.traj.qd(k)[j].powi(2))
+            .sum::<f64>()
+            / rows.len().max(1) as f64;
+        let rms = ms.sqrt();
+        if rms >= STILL_RMS_VELOCITY_RAD_S {
+            continue;
+        }
+        for e in effects {
+            if !matches!(*e, "viscous" | "coulomb" | "stribeck" | "armature") {
+                continue;
+            }
+            for p in model.params(e).unwrap_or_default() {
+                if p.name.ends_with(&format!("[{}]", j + 1)) {
+                    out.push(HeldParam {
+                        name: format!("{e}.{}", p.name),
+                        reason: format!(
+                            "joint {} does not move (RMS velocity {rms:.1e} rad/s)",
+                            j + 1
+                        ),
+                    });
+                }
+            }
+        }
+    }
+    out
 }
 
 /// Identify `effects` in order. `train`: prepared training log and its rows; `val`: validation
@@ -68,11 +121,12 @@ pub fn identify(
     };
     let mut ladder = vec![step(model, "base".into(), &[])];
     let mut last = None;
-    let mut held: Vec<String> = Vec::new();
+    let mut held: Vec<HeldParam> = still_joint_params(model, train.0, train.1, effects);
     let mut first_ill = None;
     for i in 0..effects.len() {
         let before = model.state();
-        let mut r = fit(train.0, model, &effects[..=i], train.1)?;
+        let names: Vec<String> = held.iter().map(|h| h.name.clone()).collect();
+        let mut r = fit_holding(train.0, model, &effects[..=i], train.1, &names)?;
         // Hold what the motion cannot determine at its prior and fit the rest (again, if
         // the reduced fit still finds a direction it cannot determine).
         for _pass in 0..3 {
@@ -81,13 +135,21 @@ pub fn identify(
             };
             for g in &ill.groups {
                 for name in g {
-                    if !held.contains(name) {
-                        held.push(name.clone());
+                    if !held.iter().any(|h| h.name == *name) {
+                        held.push(HeldParam {
+                            name: name.clone(),
+                            reason: if g.len() == 1 {
+                                "not excited by this motion".into()
+                            } else {
+                                format!("cannot be told apart from {}", g.join(", "))
+                            },
+                        });
                     }
                 }
             }
             model.restore(&before);
-            r = fit_holding(train.0, model, &effects[..=i], train.1, &held)?;
+            let names: Vec<String> = held.iter().map(|h| h.name.clone()).collect();
+            r = fit_holding(train.0, model, &effects[..=i], train.1, &names)?;
             first_ill.get_or_insert(ill);
         }
         ladder.push(step(model, format!("+{}", effects[i]), &effects[..=i]));
