@@ -2,6 +2,7 @@
 //! dynamics, energy), feasibility (reach, limits, singularity margin, collision), parallel
 //! sweeps and the minimum-energy search.
 
+pub mod collision;
 pub mod eval;
 pub mod feasibility;
 pub mod optimise;
