@@ -160,13 +160,13 @@ pub(crate) struct ToolTable {
     pub rpy_rad: [f64; 3],
     /// `[tool.geometry]`: print head and hose for collision checks (issue 9; see
     /// [`crate::robot::ToolGeometry`]).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub geometry: Option<ToolGeometryTable>,
 }
 
 /// `[tool.geometry]` (flange frame, m): `head_radius_m` (cylinder around flange → tip),
 /// optional `hose_radius_m`, `hose_from_m`, `hose_to_m` (a straight capsule).
-#[derive(Deserialize, Debug)]
+#[derive(Deserialize, Serialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct ToolGeometryTable {
     pub head_radius_m: f64,
