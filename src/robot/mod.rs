@@ -309,6 +309,10 @@ fn apply_drive(model: &mut RobotModel, d: drive::DriveFile, file: &str) -> Resul
         let nominal = model.payload.map_or(0.0, |p| p.mass);
         model.effects = EffectsConfig::from_table(t, file, model.dof(), nominal)?;
     }
+    if let Some(c) = d.calibration {
+        model.effects.file = Some(file.to_string());
+        model.effects.calibration = Some(c);
+    }
     if let Some(k) = d.kinematics {
         if model.dof() != 6 {
             return Err(Error::Field {
