@@ -39,12 +39,20 @@ def table(prefix, title):
 
 a = table("", "Shipped 3DCP nozzle (payload on the joint-6 axis):")
 b = table("spindle_", "Seed 001's spindle (presets/seed001_spindle.toml, spin 180°):")
-print("\nRatios of the motors' energy (paper: Table 1 totals):\n")
-print("| ratio | nozzle | spindle | paper |")
-print("|---|---|---|---|")
+
+
+def supply(run):
+    return motors(run)[1]
+
+
+print("\nRatios (paper: Table 1 totals):\n")
+print("| ratio | nozzle (motors) | spindle (motors) | spindle (supply) | paper |")
+print("|---|---|---|---|---|")
 for p in ["y2x_r8", "y2x2y_r8"]:
     pr = sum(PAPER[p]) / sum(PAPER["x"])
-    print(f"| {p.replace('_', ' ')} / x | {a[p] / a['x']:.2f} | {b[p] / b['x']:.2f} | {pr:.2f} |")
-m, _, t = motors("spindle_y2x_r8_slow_y")
-print(f"| y2x r8 with the y leg at 14 mm/s / x (spindle) | | {sum(m) / b['x']:.2f} | {sum(PAPER['y2x_r8']) / sum(PAPER['x']):.2f} |")
-print(f"\n(slow-y run: {t:.2f} s, motors Σ {sum(m):.1f} J)")
+    print(f"| {p.replace('_', ' ')} / x | {a[p] / a['x']:.2f} | {b[p] / b['x']:.2f} | "
+          f"{supply('spindle_' + p) / supply('spindle_x'):.2f} | {pr:.2f} |")
+m, sup, t = motors("spindle_y2x_r8_slow_y")
+print(f"| y2x r8, y leg at 14 mm/s / x | | {sum(m) / b['x']:.2f} | {sup / supply('spindle_x'):.2f} | "
+      f"{sum(PAPER['y2x_r8']) / sum(PAPER['x']):.2f} |")
+print(f"\n(slow-y run: {t:.2f} s, motors Σ {sum(m):.1f} J, supply {sup:.1f} J)")
