@@ -547,8 +547,7 @@ fn file_exists_error_names_the_path_and_force_before_anything_is_written() {
         &d,
     );
     assert!(o.status.success(), "{}", err(&o));
-    // An earlier identified drive file, and --out naming an existing file.
-    write(&d, "rob/drive.identified.toml", "# earlier\n");
+    // --out naming an existing file: refused before anything is computed or written.
     write(&d, "outfile", "x");
     let o = run(
         &[
@@ -566,10 +565,10 @@ fn file_exists_error_names_the_path_and_force_before_anything_is_written() {
     );
     assert!(!o.status.success());
     let e = err(&o);
-    assert!(
-        e.contains("drive.identified.toml exists already: pass --force"),
-        "{e}"
-    );
+    assert!(e.contains("outfile exists and is not a directory"), "{e}");
+    // An earlier calibrated robot in --out: the message names it and --force.
+    std::fs::create_dir_all(d.join("id")).unwrap();
+    write(&d, "id/rob.calibrated.toml", "# earlier\n");
     let o = run(
         &[
             "identify",
@@ -580,15 +579,19 @@ fn file_exists_error_names_the_path_and_force_before_anything_is_written() {
             "--effects",
             "coulomb",
             "--out",
-            "outfile",
-            "--force",
+            "id",
         ],
         &d,
     );
+    assert!(!o.status.success());
     let e = err(&o);
-    assert!(e.contains("outfile exists and is not a directory"), "{e}");
+    assert!(
+        e.contains("id/rob.calibrated.toml exists already: pass --force"),
+        "{e}"
+    );
     assert_eq!(
-        std::fs::read_to_string(d.join("rob/drive.identified.toml")).unwrap(),
+        std::fs::read_to_string(d.join("id/rob.calibrated.toml")).unwrap(),
         "# earlier\n"
     );
+    assert!(!d.join("id/ladder.md").exists(), "nothing half written");
 }

@@ -5,7 +5,7 @@ use crate::identify::{self, metrics, model::Model, Log};
 use crate::report::html::Page;
 use crate::report::svg::{self, Series};
 use anyhow::{Context, Result};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// The robot, the model (effects switched per drive file and command line) and the log.
 pub(crate) fn load(a: &LogArgs) -> Result<(crate::robot::RobotModel, Model, Log)> {
@@ -78,7 +78,8 @@ pub fn run(a: super::CompareArgs) -> Result<()> {
         crate::output::check_dir(dir, &inputs)?;
     }
     let prep = identify::Prepared::new(&model, &log)?;
-    let (cmp, pred) = metrics::compare(&prep, &model);
+    let (mut cmp, pred) = metrics::compare(&prep, &model);
+    cmp.calibration = robot.effects.calibration_summary();
     if let Some(dir) = &a.out {
         crate::output::write_file(
             &dir.join("compare.json"),
@@ -92,6 +93,12 @@ pub fn run(a: super::CompareArgs) -> Result<()> {
         super::print_json(&cmp)?;
         return Ok(());
     }
+    println!(
+        "robot: {}",
+        cmp.calibration
+            .clone()
+            .unwrap_or_else(|| format!("{} (nominal, not calibrated)", robot.name()))
+    );
     println!(
         "log {} ({} samples, {:.2} s, signal `{}` [{}]); model: {}",
         cmp.log,
@@ -259,13 +266,4 @@ enum JointTrajSel {
     Q,
     Qd,
     Qdd,
-}
-
-/// Default path of the identified drive file beside the input.
-pub(crate) fn identified_path(drive: &Path) -> PathBuf {
-    let stem = drive
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "drive".into());
-    drive.with_file_name(format!("{stem}.identified.toml"))
 }

@@ -96,6 +96,13 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
         ev.nominal_samples(),
     );
     m.push(("seed".into(), a.seed.to_string()));
+    let site = crate::report::site::SiteGeometry::new(
+        &l.robot,
+        &job,
+        res.best.placement.z,
+        &l.path_file,
+        names.as_deref(),
+    );
     let rep = RunReport {
         title: format!(
             "printwatt optimise: {} on {}",
@@ -108,6 +115,7 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
         grid,
         optimise: Some(res),
         baseline,
+        site: Some(site),
         details,
         electrical: l.robot.drive.is_some(),
     };
