@@ -39,6 +39,12 @@ pub struct OptimiseArgs {
 pub fn run(a: OptimiseArgs) -> Result<()> {
     let p = &a.p;
     let l = p.load()?;
+    // Decide where the run goes before the work: an occupied --run fails now, not after.
+    let dir = if a.no_report {
+        None
+    } else {
+        p.run_dir(&l, Some("optimise"))?
+    };
     let job = l.job()?;
     let ev = Evaluator::new(&job, l.feas, l.objective);
     let (ps, names, grid) = p.placements(Some(l.default_grid()))?;
@@ -49,6 +55,12 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
     let pool = p.pool()?;
     let t0 = std::time::Instant::now();
     let rows = run_sweep(&ev, &ps, &pool)?;
+    if !rows.iter().any(|r| r.cost().is_finite()) {
+        anyhow::bail!(
+            "{}",
+            crate::placement::advice::nothing_feasible(&rows, &l.robot).trim_end()
+        );
+    }
     let step = grid
         .as_ref()
         .and_then(|g| {
@@ -109,11 +121,8 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
         details,
         electrical: l.robot.drive.is_some(),
     };
-    let dir = p
-        .results_dir
-        .join(p.run.clone().unwrap_or_else(|| "optimise-default".into()));
-    if !a.no_report {
-        rep.write(&dir)?;
+    if let Some(dir) = &dir {
+        rep.write(dir)?;
     }
     if p.json {
         println!("{}", rep.summary_json(false)?);
@@ -178,7 +187,7 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
             secs
         );
     }
-    if !a.no_report {
+    if let Some(dir) = &dir {
         println!("report: {}", dir.join("report.html").display());
     }
     Ok(())

@@ -2,8 +2,10 @@
 //! dynamics, energy), feasibility (reach, limits, singularity margin, collision), parallel
 //! sweeps and the minimum-energy search.
 
+pub mod advice;
 pub mod eval;
 pub mod feasibility;
+pub mod margins;
 pub mod optimise;
 pub mod sweep;
 
