@@ -161,7 +161,10 @@ impl PlacementArgs {
         }
         let margins = parse_range("joint-margin", &self.joint_margin)?;
         if margins.iter().any(|m| *m < 0.0 || *m > 90.0) {
-            bail!("--joint-margin `{}`: margins must lie in [0, 90] deg", self.joint_margin);
+            bail!(
+                "--joint-margin `{}`: margins must lie in [0, 90] deg",
+                self.joint_margin
+            );
         }
         let dof = robot.dof();
         if margins.len() != 1 && margins.len() != dof {
@@ -172,7 +175,12 @@ impl PlacementArgs {
         }
         let mut joint_margin_rad = [0.0; crate::kinematics::MAX_DOF];
         for (j, m) in joint_margin_rad.iter_mut().enumerate() {
-            *m = margins.get(j).or(margins.last()).copied().unwrap_or(0.0).to_radians();
+            *m = margins
+                .get(j)
+                .or(margins.last())
+                .copied()
+                .unwrap_or(0.0)
+                .to_radians();
         }
         if !(self.wrist_rate_max > 0.0 && self.wrist_rate_max.is_finite()) {
             bail!("--wrist-rate-max must be > 0");
@@ -362,7 +370,10 @@ pub fn default_run_name(command: &str, robot: &Path, path: &Path, unix_s: u64) -
             .map(|s| s.to_string_lossy().into_owned())
             .unwrap_or_default()
     };
-    let r = if robot.file_name().is_some_and(|f| f == "drive.toml" || f == "robot.urdf") {
+    let r = if robot
+        .file_name()
+        .is_some_and(|f| f == "drive.toml" || f == "robot.urdf")
+    {
         robot.parent().map(stem).unwrap_or_default()
     } else {
         stem(robot)
@@ -611,7 +622,7 @@ pub fn run(a: SweepArgs) -> Result<()> {
         electrical: l.robot.drive.is_some(),
     };
     if let Some(dir) = &run_dir {
-        rep.write(&dir)?;
+        rep.write(dir)?;
         if !a.json {
             eprintln!("wrote {}", dir.display());
         }

@@ -7,7 +7,9 @@ pub mod eval;
 pub mod feasibility;
 pub mod margins;
 pub mod optimise;
+pub mod search;
 pub mod sweep;
+pub mod tolerance;
 
 pub use eval::{PathJob, PlacementEval};
 pub use feasibility::{FeasibilityOptions, Infeasible, Reason};

@@ -374,16 +374,18 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             );
             if k % every == 0 || k + 1 == m || joint_check.is_some() {
                 let q = timed.traj.q(k);
-                if let Some((reason, detail)) = joint_check.or_else(|| feasibility::check_sample(
-                    model,
-                    self.reach,
-                    o,
-                    &world,
-                    q,
-                    part_top,
-                    &mut sc.caps,
-                    &mut margins,
-                )) {
+                if let Some((reason, detail)) = joint_check.or_else(|| {
+                    feasibility::check_sample(
+                        model,
+                        self.reach,
+                        o,
+                        &world,
+                        q,
+                        part_top,
+                        &mut sc.caps,
+                        &mut margins,
+                    )
+                }) {
                     let mi = self.job.pieces[motion.piece[k]].move_index;
                     let tip = frame.apply(&motion.p[k]);
                     let inf = Infeasible {
