@@ -404,6 +404,8 @@ impl PlacementArgs {
                     dir.display()
                 );
             }
+            // Even with --force, a directory holding files printwatt did not write is refused.
+            crate::report::placement::check_run_dir(&dir)?;
             return Ok(Some(dir));
         }
         let Some(cmd) = default_for else {
