@@ -3,25 +3,10 @@
 //! singularities, and no collision of the arm's links with the print bed, the part being
 //! printed, or the arm itself.
 //!
-//! # Collision model (documented estimate, not CAD)
-//! Each link is a capsule around the segment between consecutive points of the chain
-//! `base origin → joint-frame origins (FK) → flange → nozzle tip`. Segments shorter than
-//! 1 mm are dropped. Radii are fractions of the robot's reach `R` (from the robot's info, else
-//! the straight-line length of the chain at q = 0), see [`LinkRadii`]: e.g. on the
-//! IRB 6700 (R = 2.6 m) base column 0.18 m, arm 0.117 m, wrist 0.065 m, nozzle 0.039 m.
-//! - **Bed**: a box in the part frame covering the path's xy bounding box grown by
-//!   [`FeasibilityOptions::bed_margin_m`], from the lowest path point down by
-//!   [`FeasibilityOptions::bed_depth_m`]. The nozzle segment (flange → tip) is exempt: the
-//!   tip prints on the bed.
-//! - **Part**: a box over the xy bounding box of the print moves, from the bed up to the highest
-//!   point printed so far. The nozzle segment is exempt.
-//! - **Self**: capsule–capsule distance (exact segment–segment distance) between links at least
-//!   three apart along the chain and separated by more than the sum of their radii of chain
-//!   length (e.g. the wrist or nozzle against the base column; the base column against the
-//!   upper arm is left to the joint limits, since the capsule estimate would flag it falsely).
-//!
-//! Capsule–box tests are "segment meets the box grown by r on every side", which is exact on
-//! faces and conservative by at most `r(√3 − 1)` at edges and corners.
+//! # Collision model
+//! See [`super::collision`]: parry3d shapes from the URDF's `<collision>` elements (capsules
+//! sized by [`LinkRadii`] where a link has none), the print head and hose from the drive file,
+//! the bed as a cuboid, and the printed part as bead capsules in a BVH.
 //!
 //! Checks run on every `check_every`-th sample plus the last one (at 4 ms and 150 mm/s, every
 //! 10th sample is every 6 mm of path): a brief graze between checked samples can be missed.
@@ -29,10 +14,12 @@
 //! Singularity margins use the closed-form (OPW) measures and are skipped for robots without
 //! OPW parameters (documented limitation).
 
+use super::collision::{self, Beads, Bed, RobotShapes};
 use crate::kinematics::fk::fk;
 use crate::kinematics::opw;
 use crate::math::{Frame, V3};
 use crate::robot::RobotModel;
+use parry3d_f64::math::Isometry;
 use serde::Serialize;
 
 /// Thresholds of the feasibility checks.
@@ -252,25 +239,9 @@ pub struct Margins {
     pub elbow: Option<f64>,
     /// Smallest wrist-centre distance from the axis of joint 1, m.
     pub shoulder_m: Option<f64>,
-    /// Smallest clearance between a link capsule and the bed, m: distance of the segment's
-    /// ends and middle to the bed box minus the radius (an upper bound of the true clearance;
-    /// the collision test itself is the exact slab test against the grown box).
+    /// Smallest distance between an arm shape (not the print head) and the bed, m (parry's
+    /// exact distance, evaluated where the AABB broad phase says it could be the smallest).
     pub bed_clearance_m: Option<f64>,
-}
-
-/// One link capsule in the base frame.
-#[derive(Clone, Copy, Debug)]
-pub struct Capsule {
-    /// Segment start, m.
-    pub a: V3,
-    /// Segment end, m.
-    pub b: V3,
-    /// Radius, m.
-    pub r: f64,
-    /// True for the nozzle (flange → tip), exempt from bed and part checks.
-    pub nozzle: bool,
-    /// Chain length from the base to `a`, m (to skip neighbours in self-collision checks).
-    pub chain_s: f64,
 }
 
 /// Reach used to scale the link radii, m.
@@ -288,203 +259,55 @@ pub fn reach_m(model: &RobotModel) -> f64 {
     (s + (f.tool.pos - prev).norm()).max(0.1)
 }
 
-/// The link capsules at `q` (rad), base frame. At most `MAX_DOF + 3` capsules, written into
-/// `out` (cleared first).
-pub fn capsules(
-    model: &RobotModel,
-    reach: f64,
-    radii: &LinkRadii,
-    q: &[f64],
-    out: &mut Vec<Capsule>,
-) {
-    out.clear();
-    let f = fk(model, q);
-    let mut prev = V3::zeros();
-    let mut s = 0.0;
-    let n = f.n;
-    let mut push = |a: V3, b: V3, r: f64, nozzle: bool, s: &mut f64| {
-        let len = (b - a).norm();
-        if len > 1e-3 {
-            out.push(Capsule {
-                a,
-                b,
-                r: r * reach,
-                nozzle,
-                chain_s: *s,
-            });
-        }
-        *s += len;
-    };
-    for (i, fr) in f.joints[..n].iter().enumerate() {
-        let r = if i <= 1 {
-            radii.base
-        } else if i <= 3 {
-            radii.arm
-        } else {
-            radii.wrist
-        };
-        push(prev, fr.pos, r, false, &mut s);
-        prev = fr.pos;
-    }
-    push(prev, f.flange.pos, radii.wrist, false, &mut s);
-    push(f.flange.pos, f.tool.pos, radii.nozzle, true, &mut s);
-}
-
-/// Distance between segments `[p1, q1]` and `[p2, q2]`, m (exact; Ericson, Real-Time
-/// Collision Detection §5.1.9).
-pub fn segment_distance(p1: &V3, q1: &V3, p2: &V3, q2: &V3) -> f64 {
-    let d1 = q1 - p1;
-    let d2 = q2 - p2;
-    let r = p1 - p2;
-    let a = d1.dot(&d1);
-    let e = d2.dot(&d2);
-    let f = d2.dot(&r);
-    let eps = 1e-18;
-    let (s, t);
-    if a <= eps && e <= eps {
-        return r.norm();
-    }
-    if a <= eps {
-        s = 0.0;
-        t = (f / e).clamp(0.0, 1.0);
-    } else {
-        let c = d1.dot(&r);
-        if e <= eps {
-            t = 0.0;
-            s = (-c / a).clamp(0.0, 1.0);
-        } else {
-            let b = d1.dot(&d2);
-            let denom = a * e - b * b;
-            let mut s0 = if denom > eps {
-                ((b * f - c * e) / denom).clamp(0.0, 1.0)
-            } else {
-                0.0
-            };
-            let mut t0 = (b * s0 + f) / e;
-            if t0 < 0.0 {
-                t0 = 0.0;
-                s0 = (-c / a).clamp(0.0, 1.0);
-            } else if t0 > 1.0 {
-                t0 = 1.0;
-                s0 = ((b - c) / a).clamp(0.0, 1.0);
-            }
-            s = s0;
-            t = t0;
-        }
-    }
-    ((p1 + d1 * s) - (p2 + d2 * t)).norm()
-}
-
-/// Does segment `[a, b]` meet the axis-aligned box `[lo, hi]` (slab test)? Exact.
-pub fn segment_hits_box(a: &V3, b: &V3, lo: &V3, hi: &V3) -> bool {
-    let d = b - a;
-    let (mut t0, mut t1) = (0.0f64, 1.0f64);
-    for i in 0..3 {
-        if d[i].abs() < 1e-15 {
-            if a[i] < lo[i] || a[i] > hi[i] {
-                return false;
-            }
-        } else {
-            let inv = 1.0 / d[i];
-            let (mut ta, mut tb) = ((lo[i] - a[i]) * inv, (hi[i] - a[i]) * inv);
-            if ta > tb {
-                std::mem::swap(&mut ta, &mut tb);
-            }
-            t0 = t0.max(ta);
-            t1 = t1.min(tb);
-            if t0 > t1 {
-                return false;
-            }
-        }
-    }
-    true
-}
-
-/// Distance from point `p` to the axis-aligned box `[lo, hi]`, m (0 inside).
-pub fn point_box_distance(p: &V3, lo: &V3, hi: &V3) -> f64 {
-    let mut s = 0.0;
-    for i in 0..3 {
-        let d = (lo[i] - p[i]).max(0.0).max(p[i] - hi[i]);
-        s += d * d;
-    }
-    s.sqrt()
-}
-
-/// Distance from segment `[a, b]` to the axis-aligned box `[lo, hi]`, m (0 if they meet).
-/// Minimised over the segment by golden-section search on the convex distance function.
-pub fn segment_box_distance(a: &V3, b: &V3, lo: &V3, hi: &V3) -> f64 {
-    if segment_hits_box(a, b, lo, hi) {
-        return 0.0;
-    }
-    let dist = |t: f64| {
-        let p = a + (b - a) * t;
-        let mut s = 0.0;
-        for i in 0..3 {
-            let d = (lo[i] - p[i]).max(0.0).max(p[i] - hi[i]);
-            s += d * d;
-        }
-        s.sqrt()
-    };
-    let g = 0.618_033_988_749_895;
-    let (mut l, mut h) = (0.0, 1.0);
-    for _ in 0..40 {
-        let m1 = h - g * (h - l);
-        let m2 = l + g * (h - l);
-        if dist(m1) < dist(m2) {
-            h = m2;
-        } else {
-            l = m1;
-        }
-    }
-    dist(0.5 * (l + h)).min(dist(0.0)).min(dist(1.0))
-}
-
-/// The static world of one placement: bed and part boxes in the part frame.
-#[derive(Clone, Copy, Debug)]
+/// The static world of one placement: the bed in the part frame.
+#[derive(Clone, Copy)]
 pub struct World {
     /// Base → part transform.
     pub base_to_part: Frame,
+    /// The robot base pose in the part frame (parry isometry of `base_to_part`).
+    pub base_iso: Isometry<f64>,
     /// Bed box, part frame, m.
     pub bed_lo: V3,
     /// Bed box, part frame, m.
     pub bed_hi: V3,
-    /// Part footprint (print moves' xy bounding box), part frame, m; z = bed top.
-    pub part_lo: V3,
-    /// Part footprint upper corner (x, y), part frame, m.
-    pub part_hi_xy: [f64; 2],
+    /// The bed as a parry cuboid.
+    pub bed: Bed,
 }
 
 impl World {
-    /// Build from the path's bounding boxes (part frame): `all` over every move, `print` over
-    /// print moves.
-    pub fn new(at: &Frame, all: (V3, V3), print: (V3, V3), o: &FeasibilityOptions) -> Self {
+    /// Build from the path's bounding box over every move (part frame, m).
+    pub fn new(at: &Frame, all: (V3, V3), o: &FeasibilityOptions) -> Self {
         let ztop = all.0.z;
+        let bed_lo = V3::new(
+            all.0.x - o.bed_margin_m,
+            all.0.y - o.bed_margin_m,
+            ztop - o.bed_depth_m,
+        );
+        let bed_hi = V3::new(all.1.x + o.bed_margin_m, all.1.y + o.bed_margin_m, ztop);
+        let base_to_part = at.inverse();
         World {
-            base_to_part: at.inverse(),
-            bed_lo: V3::new(
-                all.0.x - o.bed_margin_m,
-                all.0.y - o.bed_margin_m,
-                ztop - o.bed_depth_m,
-            ),
-            bed_hi: V3::new(all.1.x + o.bed_margin_m, all.1.y + o.bed_margin_m, ztop),
-            part_lo: V3::new(print.0.x, print.0.y, ztop),
-            part_hi_xy: [print.1.x, print.1.y],
+            base_to_part,
+            base_iso: collision::iso(&base_to_part),
+            bed_lo,
+            bed_hi,
+            bed: Bed::new(&bed_lo, &bed_hi),
         }
     }
 }
 
-/// Check one joint vector `q` (rad) against singularity margins and collisions; `part_top` is
-/// the highest printed point so far (part frame z, m). Updates `margins`. Returns the reason
+/// Check one joint vector `q` (rad) against singularity margins and collisions; `laid` is the
+/// number of beads of `beads` printed so far. Updates `margins`. Returns the reason
 /// and a detail on failure.
 #[allow(clippy::too_many_arguments)]
 pub fn check_sample(
     model: &RobotModel,
-    reach: f64,
     o: &FeasibilityOptions,
     world: &World,
+    shapes: &RobotShapes,
+    beads: &Beads,
     q: &[f64],
-    part_top: f64,
-    caps: &mut Vec<Capsule>,
+    laid: usize,
+    poses: &mut Vec<Isometry<f64>>,
     margins: &mut Margins,
 ) -> Option<(Reason, String)> {
     if let Some(p) = model.opw.as_ref().filter(|_| q.len() >= 6) {
@@ -515,109 +338,13 @@ pub fn check_sample(
     if !o.collisions {
         return None;
     }
-    capsules(model, reach, &o.radii, q, caps);
-    let tp = &world.base_to_part;
-    for (i, c) in caps.iter().enumerate() {
-        if c.nozzle {
-            continue;
-        }
-        let (a, b) = (tp.apply(&c.a), tp.apply(&c.b));
-        let rv = V3::new(c.r, c.r, c.r);
-        // Clearance for reports: distance of the ends and the middle to the box, minus r.
-        let d = point_box_distance(&a, &world.bed_lo, &world.bed_hi)
-            .min(point_box_distance(&b, &world.bed_lo, &world.bed_hi))
-            .min(point_box_distance(
-                &((a + b) * 0.5),
-                &world.bed_lo,
-                &world.bed_hi,
-            ))
-            - c.r;
-        margins.bed_clearance_m = Some(margins.bed_clearance_m.map_or(d, |x| x.min(d)));
-        if segment_hits_box(&a, &b, &(world.bed_lo - rv), &(world.bed_hi + rv)) {
-            let depth = segment_box_distance(&a, &b, &world.bed_lo, &world.bed_hi);
-            return Some((
-                Reason::CollisionBed,
-                format!(
-                    "link capsule {i} (r = {:.3} m) reaches {:.3} m into the bed",
-                    c.r,
-                    c.r - depth
-                ),
-            ));
-        }
-        if part_top > world.part_lo.z + 1e-6 {
-            let r = V3::new(c.r, c.r, c.r);
-            let hi = V3::new(world.part_hi_xy[0], world.part_hi_xy[1], part_top);
-            if segment_hits_box(&a, &b, &(world.part_lo - r), &(hi + r)) {
-                return Some((
-                    Reason::CollisionPart,
-                    format!(
-                        "link capsule {i} (r = {:.3} m) meets the part printed up to z = {part_top:.3} m",
-                        c.r
-                    ),
-                ));
-            }
-        }
-    }
-    for i in 0..caps.len() {
-        for j in i + 3..caps.len() {
-            let (ci, cj) = (&caps[i], &caps[j]);
-            let gap = cj.chain_s - (ci.chain_s + (ci.b - ci.a).norm());
-            if gap <= ci.r + cj.r {
-                continue;
-            }
-            let d = segment_distance(&ci.a, &ci.b, &cj.a, &cj.b);
-            if d < ci.r + cj.r {
-                return Some((
-                    Reason::SelfCollision,
-                    format!(
-                        "link capsules {i} and {j} are {d:.3} m apart < {:.3} m",
-                        ci.r + cj.r
-                    ),
-                ));
-            }
-        }
-    }
-    None
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn segment_distance_cases() {
-        let o = V3::zeros();
-        let x = V3::new(1.0, 0.0, 0.0);
-        // Parallel, offset by 1 in y.
-        let d = segment_distance(&o, &x, &V3::new(0.0, 1.0, 0.0), &V3::new(1.0, 1.0, 0.0));
-        assert!((d - 1.0).abs() < 1e-12);
-        // Crossing skew lines 0.5 apart.
-        let d = segment_distance(&o, &x, &V3::new(0.5, -1.0, 0.5), &V3::new(0.5, 1.0, 0.5));
-        assert!((d - 0.5).abs() < 1e-12);
-        // End-point to end-point.
-        let d = segment_distance(&o, &x, &V3::new(2.0, 0.0, 0.0), &V3::new(3.0, 0.0, 0.0));
-        assert!((d - 1.0).abs() < 1e-12);
-    }
-
-    #[test]
-    fn segment_box_cases() {
-        let lo = V3::new(0.0, 0.0, -1.0);
-        let hi = V3::new(1.0, 1.0, 0.0);
-        assert!(segment_hits_box(
-            &V3::new(0.5, 0.5, 1.0),
-            &V3::new(0.5, 0.5, -0.5),
-            &lo,
-            &hi
-        ));
-        assert!(!segment_hits_box(
-            &V3::new(2.0, 0.5, 1.0),
-            &V3::new(2.0, 0.5, -0.5),
-            &lo,
-            &hi
-        ));
-        let d = segment_box_distance(&V3::new(-1.0, 0.5, 0.3), &V3::new(2.0, 0.5, 0.3), &lo, &hi);
-        assert!((d - 0.3).abs() < 1e-9, "{d}");
-        let d = segment_box_distance(&V3::new(2.0, 2.0, 0.0), &V3::new(3.0, 2.0, 0.0), &lo, &hi);
-        assert!((d - 2f64.sqrt()).abs() < 1e-6, "{d}");
-    }
+    shapes.poses_into(model, q, &world.base_iso, poses);
+    collision::check(
+        shapes,
+        poses,
+        &world.bed,
+        beads,
+        laid,
+        &mut margins.bed_clearance_m,
+    )
 }

@@ -3,6 +3,7 @@
 //! sweeps and the minimum-energy search.
 
 pub mod advice;
+pub mod collision;
 pub mod eval;
 pub mod feasibility;
 pub mod margins;

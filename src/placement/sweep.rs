@@ -229,7 +229,7 @@ pub struct Scratch<'a> {
     solver: IkSolver<'a>,
     data: DynData,
     buf: Buffers,
-    caps: Vec<feasibility::Capsule>,
+    poses: Vec<parry3d_f64::math::Isometry<f64>>,
     sp: SamplePower,
 }
 
@@ -241,9 +241,10 @@ pub struct Evaluator<'j, 'a> {
     pub feasibility: FeasibilityOptions,
     /// What is minimised.
     pub objective: Objective,
-    reach: f64,
+    shapes: crate::placement::collision::RobotShapes,
+    /// Beads of the unslowed plan (shared by every placement whose timing did not re-plan).
+    beads: crate::placement::collision::Beads,
     bbox_all: (V3, V3),
-    bbox_print: (V3, V3),
     lines: Vec<usize>,
 }
 
@@ -268,22 +269,22 @@ impl<'j, 'a> Evaluator<'j, 'a> {
     ) -> Self {
         let motion0 = &job.plan.motion;
         let all = bbox(motion0.p.iter()).unwrap_or((V3::zeros(), V3::zeros()));
-        let print = bbox(
-            motion0
-                .p
-                .iter()
-                .zip(&motion0.print)
-                .filter(|(_, &pr)| pr)
-                .map(|(p, _)| p),
-        )
-        .unwrap_or(all);
         Evaluator {
             job,
             feasibility,
             objective,
-            reach: feasibility::reach_m(job.robot),
+            shapes: crate::placement::collision::RobotShapes::new(
+                job.robot,
+                feasibility::reach_m(job.robot),
+                &feasibility.radii,
+            ),
+            beads: crate::placement::collision::Beads::new(
+                &motion0.p,
+                &motion0.print,
+                feasibility.check_every,
+                crate::placement::collision::BEAD_RADIUS_M,
+            ),
             bbox_all: all,
-            bbox_print: print,
             lines: job.moves.iter().map(|m| m.line).collect(),
         }
     }
@@ -306,7 +307,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             solver,
             data: self.job.energy.data(),
             buf: Buffers::default(),
-            caps: Vec::new(),
+            poses: Vec::new(),
             sp: SamplePower::default(),
         })
     }
@@ -356,14 +357,23 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         let frame = at.frame();
         // Feasibility on every k-th sample.
         let o = &self.feasibility;
-        let world = World::new(&frame, self.bbox_all, self.bbox_print, o);
+        let world = World::new(&frame, self.bbox_all, o);
         let every = o.check_every.max(1);
         let mut margins = Margins::default();
-        let mut part_top = world.part_lo.z;
+        // The printed beads: the job's when this placement kept the planned motion, else anew.
+        let replanned;
+        let beads = if std::sync::Arc::ptr_eq(&timed.motion, &self.job.plan.motion) {
+            &self.beads
+        } else {
+            replanned = crate::placement::collision::Beads::new(
+                &motion.p,
+                &motion.print,
+                every,
+                crate::placement::collision::BEAD_RADIUS_M,
+            );
+            &replanned
+        };
         for k in 0..m {
-            if motion.print.get(k).copied().unwrap_or(false) {
-                part_top = part_top.max(motion.p[k].z);
-            }
             let joint_check = super::margins::check_joint_sample(
                 model,
                 o,
@@ -377,12 +387,13 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                 if let Some((reason, detail)) = joint_check.or_else(|| {
                     feasibility::check_sample(
                         model,
-                        self.reach,
                         o,
                         &world,
+                        &self.shapes,
+                        beads,
                         q,
-                        part_top,
-                        &mut sc.caps,
+                        beads.laid_at(k),
+                        &mut sc.poses,
                         &mut margins,
                     )
                 }) {

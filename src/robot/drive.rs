@@ -135,6 +135,24 @@ pub(crate) struct ToolTable {
     pub xyz_m: [f64; 3],
     #[serde(default)]
     pub rpy_rad: [f64; 3],
+    /// `[tool.geometry]`: print head and hose for collision checks (issue 9; see
+    /// [`crate::robot::ToolGeometry`]).
+    #[serde(default)]
+    pub geometry: Option<ToolGeometryTable>,
+}
+
+/// `[tool.geometry]` (flange frame, m): `head_radius_m` (cylinder around flange → tip),
+/// optional `hose_radius_m`, `hose_from_m`, `hose_to_m` (a straight capsule).
+#[derive(Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+pub(crate) struct ToolGeometryTable {
+    pub head_radius_m: f64,
+    #[serde(default)]
+    pub hose_radius_m: f64,
+    #[serde(default)]
+    pub hose_from_m: [f64; 3],
+    #[serde(default)]
+    pub hose_to_m: [f64; 3],
 }
 
 #[derive(Deserialize, Debug)]

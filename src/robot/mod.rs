@@ -5,12 +5,15 @@
 //! whose `[robot] urdf = "..."` names the URDF (relative to the drive file).
 
 pub mod drive;
+pub mod mesh;
 pub mod model;
 pub mod opw;
 pub mod urdf;
 
 pub use drive::{Drive, JointDrive, Regeneration};
-pub use model::{Inertial, Joint, JointKind, RobotInfo, RobotModel};
+pub use model::{
+    CollisionGeom, GeomShape, Inertial, Joint, JointKind, RobotInfo, RobotModel, ToolGeometry,
+};
 pub use opw::OpwParams;
 
 use crate::effects::EffectsConfig;
@@ -135,6 +138,25 @@ fn apply_drive(model: &mut RobotModel, d: drive::DriveFile, file: &str) -> Resul
     model.info.provenance = d.robot.provenance.unwrap_or_default();
     if let Some(t) = d.tool {
         model.tool = Frame::from_xyz_rpy(t.xyz_m, t.rpy_rad);
+        if let Some(g) = t.geometry {
+            let ok = |v: f64| v.is_finite() && v >= 0.0;
+            if !(ok(g.head_radius_m) && ok(g.hose_radius_m)) {
+                return Err(Error::Field {
+                    file: file.into(),
+                    field: "tool.geometry".into(),
+                    msg: format!(
+                        "radii must be >= 0, got head {} m, hose {} m",
+                        g.head_radius_m, g.hose_radius_m
+                    ),
+                });
+            }
+            model.tool_geometry = Some(crate::robot::ToolGeometry {
+                head_radius_m: g.head_radius_m,
+                hose_radius_m: g.hose_radius_m,
+                hose_from_m: g.hose_from_m,
+                hose_to_m: g.hose_to_m,
+            });
+        }
     }
     if let Some(p) = d.payload {
         if !(p.mass_kg.is_finite() && p.mass_kg >= 0.0) {

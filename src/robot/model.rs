@@ -176,8 +176,68 @@ pub struct RobotModel {
     /// Closed-form (OPW) kinematic parameters, when the arm is ortho-parallel with a spherical
     /// wrist and the drive file names them. Checked against the URDF chain on load.
     pub opw: Option<OpwParams>,
+    /// Collision geometry of the fixed base (the root link and links fixed to it), base frame;
+    /// empty when the URDF gives none.
+    pub base_collision: Vec<CollisionGeom>,
+    /// Collision geometry of link `i` (fixed children merged) in the frame of joint `i`; an
+    /// empty entry means the URDF gives none for that link (a capsule stands in for it).
+    pub link_collision: Vec<Vec<CollisionGeom>>,
+    /// Print head and hose from the drive file's `[tool.geometry]`, if given.
+    pub tool_geometry: Option<ToolGeometry>,
     /// Things the loader noticed and accepted (ignored meshes, merged passive joints, ...).
     pub warnings: Vec<String>,
+}
+
+/// One `<collision>` element of a URDF link.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CollisionGeom {
+    /// Pose of the shape in its link (or joint) frame.
+    pub origin: Frame,
+    /// The shape.
+    pub shape: GeomShape,
+}
+
+/// A collision shape in its own frame (URDF conventions: boxes centred, cylinders along z).
+#[derive(Clone, Debug, PartialEq)]
+pub enum GeomShape {
+    /// Box with the given full edge lengths, m.
+    Box {
+        /// Edge lengths along x, y, z, m.
+        size_m: [f64; 3],
+    },
+    /// Cylinder along z, centred.
+    Cylinder {
+        /// Radius, m.
+        radius_m: f64,
+        /// Length along z, m.
+        length_m: f64,
+    },
+    /// Sphere, centred.
+    Sphere {
+        /// Radius, m.
+        radius_m: f64,
+    },
+    /// Vertices of a mesh (already scaled, m); used as its convex hull.
+    Hull {
+        /// Vertices, m, in the shape frame.
+        points: Vec<V3>,
+        /// The mesh file it came from.
+        source: String,
+    },
+}
+
+/// Print head and hose, from the drive file's `[tool.geometry]` table (flange frame, m).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct ToolGeometry {
+    /// Print head: a cylinder around the flange → nozzle-tip axis, radius in m.
+    pub head_radius_m: f64,
+    /// Hose: capsule radius, m (0 = no hose).
+    pub hose_radius_m: f64,
+    /// Hose start in the flange frame, m.
+    pub hose_from_m: [f64; 3],
+    /// Hose end in the flange frame, m (the hose is modelled as a straight capsule to the
+    /// point where it is tied to the arm).
+    pub hose_to_m: [f64; 3],
 }
 
 impl RobotModel {

@@ -1,5 +1,8 @@
-//! URDF reader for serial arms. Reads `<link>` inertials and `<joint>` origins, axes, limits
-//! and mimic tags; ignores visual and collision geometry (mesh references are not opened).
+//! URDF reader for serial arms. Reads `<link>` inertials and `<collision>` geometry (boxes,
+//! cylinders, spheres, and STL/OBJ meshes whose vertices become convex hulls; mesh paths are
+//! relative to the URDF, `package://` is looked up in `ROS_PACKAGE_PATH` and the URDF's
+//! ancestors, a mesh that cannot be read is a warning and its link falls back to a capsule),
+//! and `<joint>` origins, axes, limits and mimic tags; visual geometry is ignored.
 //!
 //! What it does with the tree:
 //! - the arm chain runs from the root link to `tool_link` (or, when none is named, to the leaf
@@ -16,7 +19,9 @@
 
 use crate::error::{Error, Result};
 use crate::math::{Frame, M3, V3};
-use crate::robot::model::{Inertial, Joint, JointKind, RobotInfo, RobotModel};
+use crate::robot::model::{
+    CollisionGeom, GeomShape, Inertial, Joint, JointKind, RobotInfo, RobotModel,
+};
 use std::collections::HashMap;
 use std::path::Path;
 
@@ -141,6 +146,7 @@ pub fn parse_urdf(text: &str, file: &str, tool_link: Option<&str>) -> Result<Rob
     let mut links: HashMap<String, Option<Inertial>> = HashMap::new();
     let mut link_order: Vec<String> = Vec::new();
     let mut warnings = Vec::new();
+    let mut collisions: HashMap<String, Vec<CollisionGeom>> = HashMap::new();
     for l in root
         .children()
         .filter(|n| n.is_element() && n.tag_name().name() == "link")
@@ -184,6 +190,8 @@ pub fn parse_urdf(text: &str, file: &str, tool_link: Option<&str>) -> Result<Rob
                 )
             }
         };
+        let geoms = collision_of(&cx, l, &name, &mut warnings)?;
+        collisions.insert(name.clone(), geoms);
         if links.insert(name.clone(), inertial).is_some() {
             return Err(cx.err(l, format!("link `{name}` is defined twice")));
         }
@@ -399,6 +407,8 @@ pub fn parse_urdf(text: &str, file: &str, tool_link: Option<&str>) -> Result<Rob
     let mut model_links: Vec<Option<Inertial>> = Vec::new();
     let mut link_names = Vec::new();
     let mut acc = Frame::identity(); // from the last actuated joint's frame (or base) to current link
+    let mut base_collision = collisions.remove(&root_link).unwrap_or_default();
+    let mut link_collision: Vec<Vec<CollisionGeom>> = Vec::new();
     for &k in &path {
         let j = &joints[k];
         let origin_in_last = acc.compose(&j.origin); // child link frame at q=0, in last joint frame
@@ -443,10 +453,23 @@ pub fn parse_urdf(text: &str, file: &str, tool_link: Option<&str>) -> Result<Rob
             });
             model_links.push(body);
             link_names.push(j.child.clone());
+            link_collision.push(collisions.remove(&j.child).unwrap_or_default());
             acc = Frame::identity();
         } else {
             // Fixed joint: merge the child link into the current moving link.
             acc = origin_in_last;
+            let moved = collisions
+                .remove(&j.child)
+                .unwrap_or_default()
+                .into_iter()
+                .map(|g| CollisionGeom {
+                    origin: acc.compose(&g.origin),
+                    shape: g.shape,
+                });
+            match link_collision.last_mut() {
+                Some(c) => c.extend(moved),
+                None => base_collision.extend(moved),
+            }
             if let Some(cur) = model_links.last_mut() {
                 if let Some(b) = body {
                     let b = b.transformed(&acc);
@@ -464,11 +487,12 @@ pub fn parse_urdf(text: &str, file: &str, tool_link: Option<&str>) -> Result<Rob
     let flange = acc;
     let ignored_meshes = doc
         .descendants()
-        .filter(|n| n.tag_name().name() == "mesh")
+        .filter(|n| n.tag_name().name() == "visual")
+        .filter(|v| v.descendants().any(|n| n.tag_name().name() == "mesh"))
         .count();
     if ignored_meshes > 0 {
         warnings.push(format!(
-            "{ignored_meshes} mesh references ignored (geometry is not used)"
+            "{ignored_meshes} visual mesh references ignored (only <collision> geometry is used)"
         ));
     }
     Ok(RobotModel {
@@ -488,6 +512,91 @@ pub fn parse_urdf(text: &str, file: &str, tool_link: Option<&str>) -> Result<Rob
         drive: None,
         effects: Default::default(),
         opw: None,
+        base_collision,
+        link_collision,
+        tool_geometry: None,
         warnings,
     })
+}
+
+/// The `<collision>` elements of one link, in the link frame. Bad sizes are errors; a mesh
+/// that cannot be found or read is a warning (the element is skipped, so a link left without
+/// geometry falls back to a capsule).
+fn collision_of(
+    cx: &Ctx,
+    link: roxmltree::Node,
+    name: &str,
+    warnings: &mut Vec<String>,
+) -> Result<Vec<CollisionGeom>> {
+    let mut out = Vec::new();
+    let urdf_dir = Path::new(cx.file).parent().unwrap_or(Path::new("."));
+    for c in link
+        .children()
+        .filter(|n| n.is_element() && n.tag_name().name() == "collision")
+    {
+        let origin = cx.origin(c)?;
+        let g = child(c, "geometry")
+            .ok_or_else(|| cx.err(c, format!("link `{name}`: <collision> needs <geometry>")))?;
+        let Some(s) = g.children().find(|n| n.is_element()) else {
+            return Err(cx.err(g, format!("link `{name}`: empty <geometry>")));
+        };
+        let positive = |v: f64, what: &str| -> Result<f64> {
+            if v.is_finite() && v > 0.0 {
+                Ok(v)
+            } else {
+                Err(cx.err(
+                    s,
+                    format!("link `{name}`: collision {what} must be > 0, got {v}"),
+                ))
+            }
+        };
+        let shape = match s.tag_name().name() {
+            "box" => {
+                let size = cx.floats::<3>(s, "size", None)?;
+                for v in size {
+                    positive(v, "box size")?;
+                }
+                GeomShape::Box { size_m: size }
+            }
+            "cylinder" => GeomShape::Cylinder {
+                radius_m: positive(cx.float(s, "radius", None)?, "cylinder radius")?,
+                length_m: positive(cx.float(s, "length", None)?, "cylinder length")?,
+            },
+            "sphere" => GeomShape::Sphere {
+                radius_m: positive(cx.float(s, "radius", None)?, "sphere radius")?,
+            },
+            "mesh" => {
+                let f = s
+                    .attribute("filename")
+                    .ok_or_else(|| cx.err(s, format!("link `{name}`: <mesh> needs `filename`")))?;
+                let scale = cx.floats::<3>(s, "scale", Some([1.0; 3]))?;
+                let read = super::mesh::resolve_mesh_path(f, urdf_dir)
+                    .ok_or_else(|| "package not found (set ROS_PACKAGE_PATH)".to_string())
+                    .and_then(|p| super::mesh::read_vertices(&p).map_err(|e| e.to_string()));
+                match read {
+                    Ok(pts) => GeomShape::Hull {
+                        points: pts
+                            .into_iter()
+                            .map(|p| V3::new(p.x * scale[0], p.y * scale[1], p.z * scale[2]))
+                            .collect(),
+                        source: f.to_string(),
+                    },
+                    Err(e) => {
+                        warnings.push(format!(
+                            "link `{name}`: collision mesh `{f}` not used ({e}); a capsule stands in"
+                        ));
+                        continue;
+                    }
+                }
+            }
+            other => {
+                warnings.push(format!(
+                    "link `{name}`: collision geometry <{other}> is not supported; skipped"
+                ));
+                continue;
+            }
+        };
+        out.push(CollisionGeom { origin, shape });
+    }
+    Ok(out)
 }

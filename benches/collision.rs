@@ -1,0 +1,135 @@
+//! What collision feasibility (parry3d-f64) costs per path sample, as a ratio to a bare RNEA
+//! call measured in the same run, on the shipped IRB 6700 and `paths/default.gcode` at a
+//! feasible placement: one full check (shape poses from FK, bed, printed beads in the BVH,
+//! self pairs), the amortised cost per sample with the default `check_every`, and the bead
+//! BVH build (once per job; again only for placements whose timing re-planned the motion).
+//!
+//! Run: `cargo bench --bench collision` (criterion, ~20 s); the ratios are printed at the end
+//! from criterion's own estimates.
+
+use criterion::{black_box, Criterion};
+use printwatt::dynamics::rnea;
+use printwatt::energy::EnergyOptions;
+use printwatt::math::V3;
+use printwatt::placement::collision::{self, Beads, RobotShapes, BEAD_RADIUS_M};
+use printwatt::placement::feasibility::{reach_m, FeasibilityOptions, World};
+use printwatt::placement::PathJob;
+use printwatt::robot;
+use printwatt::timing::{JointStageOptions, ProfileOptions};
+use printwatt::toolpath::{self, Placement, ReadOptions};
+use std::path::Path;
+use std::time::Duration;
+
+fn estimate_ns(dir: &Path, name: &str) -> Option<f64> {
+    let p = dir.join(name).join("new/estimates.json");
+    let v: serde_json::Value = serde_json::from_str(&std::fs::read_to_string(p).ok()?).ok()?;
+    v["mean"]["point_estimate"].as_f64()
+}
+
+fn main() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let model = robot::load(&root.join("robots/abb_irb6700_200_260")).unwrap();
+    let tp = toolpath::load(&root.join("paths/default.gcode"), &ReadOptions::default()).unwrap();
+    let job = PathJob::new(
+        &model,
+        &tp,
+        EnergyOptions::default(),
+        ProfileOptions::default(),
+        JointStageOptions::default(),
+    )
+    .unwrap();
+    let at = Placement::new(1.4, 0.0, 0.5, std::f64::consts::FRAC_PI_2);
+    let full = job.evaluate(&at).unwrap().unwrap();
+    let tr = &full.timed.traj;
+    let motion = &*full.timed.motion;
+    let m = tr.len();
+    let k = m / 2; // mid-print: half the beads laid
+    let o = FeasibilityOptions::default();
+    let mut lo = V3::repeat(f64::INFINITY);
+    let mut hi = V3::repeat(f64::NEG_INFINITY);
+    for p in &motion.p {
+        lo = lo.inf(p);
+        hi = hi.sup(p);
+    }
+    let world = World::new(&at.frame(), (lo, hi), &o);
+    let shapes = RobotShapes::new(&model, reach_m(&model), &o.radii);
+    let every = o.check_every.max(1);
+    let beads = Beads::new(&motion.p, &motion.print, every, BEAD_RADIUS_M);
+    let laid = beads.laid_at(k);
+
+    let mut c = Criterion::default()
+        .warm_up_time(Duration::from_secs(1))
+        .measurement_time(Duration::from_secs(4))
+        .configure_from_args();
+    let mut data = job.energy.data();
+    let mut tau = vec![0.0; model.dof()];
+    c.bench_function("rnea_one_sample", |b| {
+        b.iter(|| {
+            rnea(
+                job.energy.dynamics(),
+                &mut data,
+                tr.q(k),
+                tr.qd(k),
+                tr.qdd(k),
+                &mut tau,
+            )
+            .unwrap();
+            black_box(&tau);
+        })
+    });
+    let mut poses = Vec::new();
+    // The running bed clearance of the samples before k (as along a real path).
+    let mut clear0 = None;
+    for j in (0..k).step_by(every) {
+        shapes.poses_into(&model, tr.q(j), &world.base_iso, &mut poses);
+        collision::check(
+            &shapes,
+            &poses,
+            &world.bed,
+            &beads,
+            beads.laid_at(j),
+            &mut clear0,
+        );
+    }
+    c.bench_function("collision_check_one_sample", |b| {
+        b.iter(|| {
+            shapes.poses_into(&model, tr.q(k), &world.base_iso, &mut poses);
+            let mut clear = clear0;
+            black_box(collision::check(
+                &shapes, &poses, &world.bed, &beads, laid, &mut clear,
+            ))
+        })
+    });
+    c.bench_function("bead_bvh_build_per_placement", |b| {
+        b.iter(|| black_box(Beads::new(&motion.p, &motion.print, every, BEAD_RADIUS_M)))
+    });
+    c.final_summary();
+
+    let dir = root.join("target/criterion");
+    if let (Some(r), Some(ch), Some(bv)) = (
+        estimate_ns(&dir, "rnea_one_sample"),
+        estimate_ns(&dir, "collision_check_one_sample"),
+        estimate_ns(&dir, "bead_bvh_build_per_placement"),
+    ) {
+        let per_sample = ch / every as f64;
+        println!(
+            "collision feasibility ({} shapes, {} self pairs, {} beads, {m} samples, check every {every}):",
+            shapes.shapes.len(),
+            shapes.pairs.len(),
+            beads.len()
+        );
+        println!(
+            "  one check            {ch:9.1} ns = {:6.2}x RNEA ({r:.1} ns)",
+            ch / r
+        );
+        println!(
+            "  amortised per sample {per_sample:9.1} ns = {:6.2}x RNEA",
+            per_sample / r
+        );
+        println!(
+            "  bead BVH build       {bv:9.1} ns = {:6.2} RNEA calls ({:.2}x RNEA per path sample; once per job, again only for a placement whose timing re-planned)",
+            bv / r,
+            bv / m as f64 / r
+        );
+    }
+}
