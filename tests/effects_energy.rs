@@ -31,7 +31,7 @@ fn sines(n: usize, t_end: f64, steps: usize) -> JointTrajectory {
 use std::process::Command;
 
 fn identified_file() -> PathBuf {
-    root().join("results/identify_example/robot/drive.identified.toml")
+    root().join("results/identify_example/identify/robot.calibrated.toml")
 }
 
 fn identified() -> RobotModel {
@@ -43,13 +43,25 @@ fn identified_drive_file_carries_its_effects() {
     let r = identified();
     let e = &r.effects;
     assert!(e.is_enabled("balancer", true) && !e.is_enabled("stribeck", true));
-    assert!(close(e.balancer_preload_n, 2998.1191170439356, 1e-15));
-    assert!(close(e.balancer_stiffness_n_per_m, 20020.9928530204, 1e-15));
-    // The nominal robot has no table: the default switches, no balancer.
+    // The values in force are the ones the calibration record lists, with standard errors.
+    let cal = e.calibration.as_ref().expect("a calibrated robot");
+    assert_eq!(cal.rounds.len(), 2, "round 1 carried over, round 2 added");
+    let param = |name: &str| {
+        cal.params
+            .iter()
+            .find(|p| p.effect == "balancer" && p.name == name)
+            .unwrap()
+    };
+    assert!(close(e.balancer_preload_n, param("F0").value, 1e-15));
+    assert!(close(e.balancer_stiffness_n_per_m, param("k").value, 1e-15));
+    assert!(param("F0").std_error.is_some_and(|s| s > 0.0) && param("F0").round == 1);
+    // The nominal robot declares its sized balancer; the calibrated one moved it.
     let nominal = load(&root().join("robots/abb_irb4600_40_255")).unwrap();
-    assert!(nominal.effects.file.is_none());
-    assert!(!nominal.effects.is_enabled("balancer", true));
+    assert!(nominal.effects.balancer_declared);
+    assert!(nominal.effects.is_enabled("balancer", true));
     assert!(nominal.effects.is_enabled("viscous", true));
+    assert!(nominal.effects.calibration.is_none());
+    assert!((nominal.effects.balancer_preload_n - e.balancer_preload_n).abs() > 1000.0);
 }
 
 /// (a) the energy model's joint torques are identification's predicted torques, and its
@@ -181,7 +193,9 @@ fn breakdown_closes_with_the_identified_effects() {
 /// (d) unknown keys and bad values in `[effects]` are errors naming the file and the key.
 #[test]
 fn bad_effects_tables_name_file_and_key() {
-    let src = std::fs::read_to_string(identified_file()).unwrap();
+    let src = std::fs::read_to_string(identified_file())
+        .unwrap()
+        .replace("urdf = \"../robot/robot.urdf\"", "urdf = \"robot.urdf\"");
     let dir = std::env::temp_dir().join(format!("printwatt_fx_{}", std::process::id()));
     std::fs::create_dir_all(&dir).unwrap();
     std::fs::copy(
@@ -189,6 +203,11 @@ fn bad_effects_tables_name_file_and_key() {
         dir.join("robot.urdf"),
     )
     .unwrap();
+    let pre = src
+        .lines()
+        .find(|l| l.starts_with("balancer_preload_n = "))
+        .unwrap()
+        .to_string();
     let cases = [
         (
             "[effects]\n",
@@ -206,7 +225,7 @@ fn bad_effects_tables_name_file_and_key() {
             "effects.stribeck_nm",
         ),
         (
-            "balancer_preload_n = 2998.1191170439356",
+            pre.as_str(),
             "balancer_preload_n = -1.0",
             "effects.balancer_preload_n",
         ),
@@ -280,8 +299,12 @@ fn energy_cli_on_the_identified_drive_file_differs_from_the_nominal_robot() {
         ea > 0.0 && eb > 0.0 && (ea - eb).abs() > 1e-3 * eb,
         "{ea} vs {eb}"
     );
-    assert!(ta["balancer_j"].as_f64().unwrap() != 0.0);
-    assert_eq!(tb["balancer_j"].as_f64().unwrap(), 0.0);
+    // Both carry a balancer (the nominal one sized, the calibrated one identified).
+    assert!(ta["balancer_j"].as_f64().unwrap() != tb["balancer_j"].as_f64().unwrap());
+    assert!(a["energy"]["model"]
+        .as_str()
+        .unwrap()
+        .contains("calibrated robot"));
     assert!(a["energy"]["model"].as_str().unwrap().contains("balancer"));
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -58,6 +58,7 @@ fn breakdown_closes_and_losses_are_non_negative() {
             let rep = evaluate(&m, &sines(6, 2, 3.0, 600, 0.6)).unwrap();
             let t = &rep.total;
             let sum = t.rigid_body_j
+                + t.balancer_j
                 + t.friction_j
                 + t.gear_j
                 + t.copper_j
@@ -70,7 +71,7 @@ fn breakdown_closes_and_losses_are_non_negative() {
             );
             assert!(close(
                 t.electrical_j,
-                t.rigid_body_j + t.friction_j + t.gear_j + t.copper_j,
+                t.rigid_body_j + t.balancer_j + t.friction_j + t.gear_j + t.copper_j,
                 1e-9
             ));
             assert!(t.friction_j >= 0.0 && t.gear_j >= -1e-9 && t.copper_j > 0.0);

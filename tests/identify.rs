@@ -300,7 +300,11 @@ fn cli_json_outputs_parse() {
         }
     }
     let run = |args: &[&str]| {
-        let o = std::process::Command::new(bin).args(args).output().unwrap();
+        let o = std::process::Command::new(bin)
+            .current_dir(&dir)
+            .args(args)
+            .output()
+            .unwrap();
         assert!(
             o.status.success(),
             "{args:?}: {}",
@@ -325,9 +329,14 @@ fn cli_json_outputs_parse() {
     ]);
     let lad = i["identification"]["ladder"].as_array().unwrap();
     assert_eq!(lad.len(), 2);
-    assert!(robot_copy.join("drive.identified.toml").is_file());
+    assert_eq!(i["schema_version"], 1);
+    // Written into the current directory (no --out), never beside the input.
+    let calibrated = dir.join("robot.calibrated.toml");
+    assert!(calibrated.is_file());
+    assert!(!robot_copy.join("drive.identified.toml").exists());
     // Refuses to overwrite without --force.
     let o = std::process::Command::new(bin)
+        .current_dir(&dir)
         .args(["identify", "--robot", r, "--log", l, "--effects", "payload"])
         .output()
         .unwrap();
@@ -337,7 +346,7 @@ fn cli_json_outputs_parse() {
     let d = run(&[
         "diagnose",
         "--robot",
-        robot_copy.join("drive.identified.toml").to_str().unwrap(),
+        calibrated.to_str().unwrap(),
         "--log",
         l,
         "--json",

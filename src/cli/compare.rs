@@ -5,7 +5,7 @@ use crate::identify::{self, metrics, model::Model, Log};
 use crate::report::html::Page;
 use crate::report::svg::{self, Series};
 use anyhow::{Context, Result};
-use std::path::{Path, PathBuf};
+use std::path::Path;
 
 /// The robot, the model (effects switched per drive file and command line) and the log.
 pub(crate) fn load(a: &LogArgs) -> Result<(crate::robot::RobotModel, Model, Log)> {
@@ -34,9 +34,10 @@ pub(crate) fn load(a: &LogArgs) -> Result<(crate::robot::RobotModel, Model, Log)
 
 /// `printwatt compare`.
 pub fn run(a: super::CompareArgs) -> Result<()> {
-    let (_robot, model, log) = load(&a.log)?;
+    let (robot, model, log) = load(&a.log)?;
     let prep = identify::Prepared::new(&model, &log)?;
-    let (cmp, pred) = metrics::compare(&prep, &model);
+    let (mut cmp, pred) = metrics::compare(&prep, &model);
+    cmp.calibration = robot.effects.calibration_summary();
     if let Some(dir) = &a.out {
         std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
         crate::output::write_atomic(
@@ -49,6 +50,12 @@ pub fn run(a: super::CompareArgs) -> Result<()> {
         println!("{}", serde_json::to_string_pretty(&cmp)?);
         return Ok(());
     }
+    println!(
+        "robot: {}",
+        cmp.calibration
+            .clone()
+            .unwrap_or_else(|| format!("{} (nominal, not calibrated)", robot.name()))
+    );
     println!(
         "log {} ({} samples, {:.2} s, signal `{}` [{}]); model: {}",
         cmp.log,
@@ -216,13 +223,4 @@ enum JointTrajSel {
     Q,
     Qd,
     Qdd,
-}
-
-/// Default path of the identified drive file beside the input.
-pub(crate) fn identified_path(drive: &Path) -> PathBuf {
-    let stem = drive
-        .file_stem()
-        .map(|s| s.to_string_lossy().into_owned())
-        .unwrap_or_else(|| "drive".into());
-    drive.with_file_name(format!("{stem}.identified.toml"))
 }

@@ -5,13 +5,20 @@ use anyhow::Result;
 
 /// `printwatt diagnose`: rank the effects by the share of the residual they explain.
 pub fn run(a: super::DiagnoseArgs) -> Result<()> {
-    let (_robot, mut model, log) = super::compare::load(&a.log)?;
+    let (robot, mut model, log) = super::compare::load(&a.log)?;
     let prep = identify::Prepared::new(&model, &log)?;
-    let d = diagnose::diagnose(&prep, &mut model, a.folds)?;
+    let mut d = diagnose::diagnose(&prep, &mut model, a.folds)?;
+    d.calibration = robot.effects.calibration_summary();
     if a.json {
         println!("{}", serde_json::to_string_pretty(&d)?);
         return Ok(());
     }
+    println!(
+        "robot: {}",
+        d.calibration
+            .clone()
+            .unwrap_or_else(|| format!("{} (nominal, not calibrated)", robot.name()))
+    );
     println!(
         "model: {}; RMSE {:.4} {}; {}-fold time blocks",
         d.model_effects.join(", "),

@@ -4,8 +4,8 @@ use crate::identify::{self, ladder};
 use crate::report::svg;
 use anyhow::{bail, Context, Result};
 
-/// `printwatt identify`: fit the listed effects in turn, report the ladder, write the drive
-/// file beside the input.
+/// `printwatt identify`: fit the listed effects in turn, report the ladder, write the
+/// calibrated robot (`<name>.calibrated.toml` in --out or the current directory).
 pub fn run(a: super::IdentifyArgs) -> Result<()> {
     let mut la = a.log.clone();
     let fit_list = la.effects.take().unwrap_or_default();
@@ -56,17 +56,34 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
         &effects,
         what,
     )?;
-    let mut written = None;
-    if id.ill_conditioned.is_none() {
-        if let Some(src) = identify::model::drive_file_of(&super::resolve_robot(&la.robot)) {
-            let dst = a
-                .drive_out
-                .clone()
-                .unwrap_or_else(|| super::compare::identified_path(&src));
-            ladder::write_drive_file(&src, &dst, &model, &robot.source, a.force)?;
-            written = Some(dst);
-        }
-    }
+    // The calibrated robot: always written, into --out (or the current directory), never
+    // into the installed robots folder.
+    let resolved = super::resolve_robot(&la.robot);
+    let drive_src = identify::model::drive_file_of(&resolved);
+    let dst = match &a.drive_out {
+        Some(p) => p.clone(),
+        None => a
+            .out
+            .clone()
+            .unwrap_or_else(|| std::path::PathBuf::from("."))
+            .join(identify::calibrate::default_file_name(&resolved)),
+    };
+    let installed = super::default_robots_dir();
+    identify::calibrate::write_calibrated(
+        &identify::calibrate::CalibrationInput {
+            robot: &robot,
+            drive_file: drive_src.as_deref(),
+            robot_arg: &la.robot.display().to_string(),
+            model: &model,
+            id: &id,
+            log: &log,
+            date: identify::calibrate::utc_date_today(),
+        },
+        &dst,
+        Some(&installed),
+        a.force,
+    )?;
+    let written = Some(dst);
     if let Some(dir) = &a.out {
         std::fs::create_dir_all(dir)?;
         let labels: Vec<String> = id.ladder.iter().map(|s| s.step.clone()).collect();
@@ -94,32 +111,46 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
         )?;
     }
     if a.json {
-        let v = serde_json::json!({"identification": id, "drive_file": written});
+        let v = serde_json::json!({
+            "schema_version": 1,
+            "identification": id,
+            "drive_file": written,
+            "calibrated_robot": written,
+            "started_from": robot.effects.calibration_summary(),
+        });
         println!("{}", serde_json::to_string_pretty(&v)?);
         return Ok(());
     }
     println!("{}", id.validation);
     print!("{}", ladder_table(&id, log.kind.unit()));
-    match &id.ill_conditioned {
-        Some(ill) => {
-            println!("{ill}");
-            println!("no parameters printed and no drive file written: excite these joints (or fit fewer effects)");
-        }
-        None => {
-            println!("identified parameters (changed ones):");
-            for p in &id.params {
-                if (p.value - p.nominal).abs() > 1e-12 {
-                    println!(
-                        "  {:<16} {:<10} {:>12.4} ± {:<10.4} {} (was {:.4})",
-                        p.effect,
-                        p.name,
-                        p.value,
-                        p.std_error.unwrap_or(f64::NAN),
-                        p.unit,
-                        p.nominal
-                    );
-                }
+    if let Some(c) = robot.effects.calibration_summary() {
+        println!("started from {c}");
+    }
+    if let Some(ill) = &id.ill_conditioned {
+        println!("{ill}");
+    }
+    for h in &id.held_at_prior {
+        println!("held at its prior value: {} ({})", h.name, h.reason);
+    }
+    println!("identified parameters (changed ones):");
+    for p in &id.params {
+        if (p.value - p.nominal).abs() > 1e-12 {
+            if id
+                .held_at_prior
+                .iter()
+                .any(|h| h.name == format!("{}.{}", p.effect, p.name))
+            {
+                continue;
             }
+            println!(
+                "  {:<16} {:<10} {:>12.4} ± {:<10.4} {} (was {:.4})",
+                p.effect,
+                p.name,
+                p.value,
+                p.std_error.unwrap_or(f64::NAN),
+                p.unit,
+                p.nominal
+            );
         }
     }
     if let Some(w) = written {

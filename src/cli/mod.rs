@@ -38,7 +38,7 @@ pub enum Command {
     Compare(CompareArgs),
     /// Rank the catalogue effects by how much of the residual each explains (held out).
     Diagnose(DiagnoseArgs),
-    /// Fit effects' parameters, report the error ladder, write drive.identified.toml.
+    /// Fit effects' parameters, report the error ladder, write a calibrated robot file.
     Identify(IdentifyArgs),
     /// Write a simulated log from a "true" robot with hidden effects.
     Simulate(SimulateArgs),
@@ -99,13 +99,14 @@ pub struct IdentifyArgs {
     /// Validate on this log instead of the last quarter of --log.
     #[arg(long)]
     pub validate_log: Option<PathBuf>,
-    /// Where to write the identified drive file (default: `<drive>.identified.toml` beside it).
+    /// Where to write the calibrated robot (default: `<name>.calibrated.toml` in --out, or in
+    /// the current directory; never in the installed robots folder).
     #[arg(long)]
     pub drive_out: Option<PathBuf>,
-    /// Overwrite an existing identified drive file.
+    /// Overwrite an existing calibrated robot file (never the input).
     #[arg(long)]
     pub force: bool,
-    /// Directory for ladder.md, ladder.svg and identify.json.
+    /// Directory for the calibrated robot, ladder.md, ladder.svg and identify.json.
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Print JSON.

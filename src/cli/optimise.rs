@@ -266,6 +266,13 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
             ));
         }
     }
+    let site = crate::report::site::SiteGeometry::new(
+        &l.robot,
+        &job,
+        res.best.placement.z,
+        &l.path_file,
+        names.as_deref(),
+    );
     let rep = RunReport {
         title: format!(
             "printwatt optimise: {} on {}",
@@ -278,6 +285,7 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
         grid,
         optimise: Some(res),
         baseline,
+        site: Some(site),
         details,
         electrical: l.robot.drive.is_some(),
     };

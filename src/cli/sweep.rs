@@ -18,6 +18,9 @@ pub struct PlacementArgs {
     /// Robot directory or shipped robot name.
     #[arg(long, default_value = "abb_irb6700_200_260")]
     pub robot: PathBuf,
+    /// Tool preset replacing the robot's tool and payload (e.g. `tools/seed001_spindle.toml`).
+    #[arg(long)]
+    pub tool: Option<PathBuf>,
     /// Toolpath (G-code, CSV or RAPID); default `paths/default.gcode`.
     #[arg(long)]
     pub path: Option<PathBuf>,
@@ -148,7 +151,10 @@ impl Loaded {
 impl PlacementArgs {
     /// Load the robot and path and turn the options into library options.
     pub fn load(&self) -> Result<Loaded> {
-        let robot = super::load_robot(&self.robot)?;
+        let mut robot = super::load_robot(&self.robot)?;
+        if let Some(t) = &self.tool {
+            crate::robot::apply_tool_preset(&mut robot, t)?;
+        }
         let path_file = self
             .path
             .clone()
@@ -602,6 +608,13 @@ pub fn run(a: SweepArgs) -> Result<()> {
             details.extend(detail(&job, "worst", w)?);
         }
     }
+    let site = crate::report::site::SiteGeometry::new(
+        &l.robot,
+        &job,
+        best_of(&rows).map_or(0.0, |b| b.placement.z),
+        &l.path_file,
+        names.as_deref(),
+    );
     let rep = RunReport {
         title: format!(
             "printwatt sweep: {} on {}",
@@ -620,6 +633,7 @@ pub fn run(a: SweepArgs) -> Result<()> {
         grid,
         optimise: None,
         baseline: None,
+        site: Some(site),
         details,
         electrical: l.robot.drive.is_some(),
     };

@@ -1,33 +1,43 @@
-//! `balancer`: the gravity balancer of axis 2 of large arms, a spring or gas cylinder between
-//! link 1 and link 2. Simple geometry: the cylinder's fixed end sits at distance `a` from the
-//! axis-2 pivot on link 1, its moving end at distance `b` on link 2, the angle between the two
-//! lever arms being `q2 + φ0`. Its length is `L(q2) = √(a² + b² − 2ab cos(q2 + φ0))`, its force
-//! `F = F0 + k (L − L(0))` (preload `F0`, stiffness `k`), and the joint torque it takes off the
-//! motor is `F dL/dq2`, `dL/dq2 = a b sin(q2 + φ0) / L`. The contribution to the required joint
-//! torque is therefore `τ2 = −(F0 + k ΔL) dL/dq2`: linear in (`F0`, `k`).
+//! `balancer`: the gravity balancer of axis 2 of large arms, a spring (or gas/hydraulic-spring)
+//! cylinder between link 1 and link 2 that takes part of the arm's weight off the axis-2 motor.
+//!
+//! Geometry (per robot, from the drive file's `[effects]` table): the cylinder's fixed end sits
+//! on link 1 at distance `b` from the axis-2 pivot, its moving end on link 2 at distance `a`;
+//! the two ends are aligned (cylinder shortest, `L_min = |b − a|`) when the joint is at
+//! `q_up`, the pose where the arm stands upright and its own weight has no lever. Length
+//! `L(q) = √(a² + b² − 2ab cos(q − q_up))`, `dL/dq = a b sin(q − q_up) / L`.
+//!
+//! Force: a tension `F = F0 + k (L − L_min)` (preload `F0 ≥ 0` N at the shortest length,
+//! stiffness `k ≥ 0` N/m), pulling the arm back towards upright. Its potential `V(L)` has its
+//! minimum at `q_up`, where gravity's potential has its maximum, so it relieves gravity on both
+//! sides of upright. The torque the motor must add to hold it is
+//! `τ = dV/dq = (F0 + k (L − L_min)) dL/dq`: zero at upright, opposite to the gravity torque
+//! when the arm leans out, and linear in (`F0`, `k`) (regressor
+//! `[dL/dq, (L − L_min) dL/dq]`, m and m²).
 
 use super::{check_values, Effect, ParamSpec, TorqueEffect};
 use crate::error::Result;
 
-/// Default lever on link 1, m.
-pub const BALANCER_A_M: f64 = 0.25;
-/// Default lever on link 2, m.
-pub const BALANCER_B_M: f64 = 0.55;
-/// Default angle between the levers at `q2 = 0`, rad.
-pub const BALANCER_PHI0_RAD: f64 = std::f64::consts::FRAC_PI_2;
+/// Default lever of the moving end on link 2, m (ESTIMATE used when a drive file names no
+/// geometry; see docs/effects.md).
+pub const BALANCER_A_M: f64 = 0.2;
+/// Default distance of the fixed end on link 1 from the axis-2 pivot, m (ESTIMATE).
+pub const BALANCER_B_M: f64 = 0.6;
+/// Default upright angle `q_up` of axis 2 (ABB and Stäubli zero: lower arm vertical), rad.
+pub const BALANCER_UPRIGHT_RAD: f64 = 0.0;
 
 /// Axis-2 balancer with fixed geometry and identifiable preload and stiffness.
 #[derive(Clone, Debug, PartialEq)]
 pub struct Balancer {
     /// Index (0-based) of the joint it acts on (1 = axis 2).
     pub joint: usize,
-    /// Lever on link 1, m.
+    /// Lever of the moving end on the joint's child link, m (> 0).
     pub a: f64,
-    /// Lever on link 2, m.
+    /// Distance of the fixed end on the parent link from the pivot, m (> 0, ≠ a).
     pub b: f64,
-    /// Angle between the levers at `q = 0`, rad.
-    pub phi0: f64,
-    /// Preload force `F0`, N (≥ 0).
+    /// Joint angle at which the cylinder is shortest (arm upright), rad.
+    pub upright: f64,
+    /// Preload (tension at the shortest length) `F0`, N (≥ 0).
     pub preload: f64,
     /// Stiffness `k`, N/m (≥ 0).
     pub stiffness: f64,
@@ -40,25 +50,30 @@ impl Balancer {
             joint: 1,
             a: BALANCER_A_M,
             b: BALANCER_B_M,
-            phi0: BALANCER_PHI0_RAD,
+            upright: BALANCER_UPRIGHT_RAD,
             preload: 0.0,
             stiffness: 0.0,
         }
     }
     /// Cylinder length `L(q)`, m, at joint angle `q` rad.
     pub fn length(&self, q: f64) -> f64 {
-        (self.a * self.a + self.b * self.b - 2.0 * self.a * self.b * (q + self.phi0).cos())
+        (self.a * self.a + self.b * self.b - 2.0 * self.a * self.b * (q - self.upright).cos())
             .max(1e-12)
             .sqrt()
     }
-    /// The two regressor entries `[−dL/dq, −ΔL dL/dq]` (m, m²) at joint angle `q` rad.
+    /// Shortest length `L_min = |b − a|`, m.
+    pub fn min_length(&self) -> f64 {
+        (self.b - self.a).abs()
+    }
+    /// The two regressor entries `[dL/dq, (L − L_min) dL/dq]` (m, m²) at joint angle `q` rad.
     pub fn shape(&self, q: f64) -> [f64; 2] {
         let l = self.length(q);
-        let dl = self.a * self.b * (q + self.phi0).sin() / l;
-        let delta = l - self.length(0.0);
-        [-dl, -delta * dl]
+        let dl = self.a * self.b * (q - self.upright).sin() / l;
+        let stretch = (l - self.min_length()).max(0.0);
+        [dl, stretch * dl]
     }
-    /// Torque on joint [`Balancer::joint`] at its angle `q` rad, N·m: `−(F0 + k ΔL) dL/dq`.
+    /// Torque the motor of joint [`Balancer::joint`] adds at its angle `q` rad, N·m:
+    /// `(F0 + k ΔL) dL/dq` (opposite to gravity's when the arm leans out of upright).
     #[inline]
     pub fn joint_torque(&self, q: f64) -> f64 {
         let s = self.shape(q);

@@ -25,9 +25,11 @@ mod stribeck;
 mod viscous;
 
 pub use armature::Armature;
-pub use balancer::{Balancer, BALANCER_A_M, BALANCER_B_M, BALANCER_PHI0_RAD};
+pub use balancer::{Balancer, BALANCER_A_M, BALANCER_B_M, BALANCER_UPRIGHT_RAD};
 pub(crate) use config::EffectsTable;
-pub use config::{catalogue_index, EffectsConfig, DEFAULT_EFFECTS};
+pub use config::{
+    catalogue_index, CalibratedParam, Calibration, CalibrationRound, EffectsConfig, DEFAULT_EFFECTS,
+};
 pub use coulomb::{Coulomb, COULOMB_VELOCITY_SCALE_RAD_S};
 pub use electrical::{Copper, GearEfficiency, Regeneration, Standby};
 pub use payload::Payload;

@@ -92,6 +92,7 @@ pub struct EnergyModel {
     stribeck: Stribeck,
     has_stribeck: bool,
     balancer: Option<Balancer>,
+    calibration: Option<String>,
     friction: bool,
     regeneration: Regeneration,
     recovered_fraction: f64,
@@ -213,6 +214,18 @@ impl EnergyModel {
                 standby_w = d.standby_power;
             }
         }
+        if robot.drive.is_none() && options.friction {
+            // A calibrated robot without drive tables keeps identified friction in
+            // `[effects.values]`.
+            if let Some(v) = cfg.values.get("viscous").filter(|v| on[0] && v.len() == n) {
+                viscous.fv = v.clone();
+                friction = true;
+            }
+            if let Some(v) = cfg.values.get("coulomb").filter(|v| on[1] && v.len() == n) {
+                coulomb.fc = v.clone();
+                friction = true;
+            }
+        }
         let stribeck = cfg.stribeck(n);
         let has_stribeck = options.friction && on[2] && stribeck.fs.iter().any(|f| *f != 0.0);
         friction |= has_stribeck;
@@ -242,6 +255,7 @@ impl EnergyModel {
             standby_w,
             joint_names: robot.joints.iter().map(|j| j.name.clone()).collect(),
             robot_name: robot.name().to_string(),
+            calibration: cfg.calibration_summary(),
             options,
         })
     }
@@ -293,6 +307,20 @@ impl EnergyModel {
         if self.has_stribeck {
             extra += &format!(" + Stribeck friction (v_s {} rad/s)", self.stribeck.vs);
         }
+        if !self.has_drive
+            && (self.viscous.fv.iter().any(|f| *f != 0.0)
+                || self.coulomb.fc.iter().any(|f| *f != 0.0))
+        {
+            extra += " + identified viscous/Coulomb friction";
+        }
+        let desc = self.description_body(&extra);
+        match &self.calibration {
+            Some(c) => format!("{desc}; {c}"),
+            None => desc,
+        }
+    }
+
+    fn description_body(&self, extra: &str) -> String {
         if self.has_drive {
             let regen = if self.recovered_fraction != 0.0 {
                 format!(
@@ -337,7 +365,7 @@ impl EnergyModel {
         } else {
             format!(
                 "rigid body only{}{extra} (no drive data): electrical power = mechanical power, \
-                 negative power lost per axis; no friction, armature, copper or standby",
+                 negative power lost per axis; no armature, copper or standby",
                 if self.options.payload {
                     " + payload"
                 } else {

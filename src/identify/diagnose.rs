@@ -43,6 +43,10 @@ pub struct Candidate {
 /// The diagnosis.
 #[derive(Clone, Debug, Serialize)]
 pub struct Diagnosis {
+    /// Version of this JSON shape (docs/json.md).
+    pub schema_version: u32,
+    /// The calibration the model came from (`None`: a nominal robot); set by the caller.
+    pub calibration: Option<String>,
     /// RMSE of the current model over the log (signal unit).
     pub base_rmse: f64,
     /// Folds used.
@@ -90,7 +94,13 @@ pub fn diagnose(prep: &Prepared, model: &mut Model, folds: usize) -> Result<Diag
         let mut sse = 0.0;
         let mut cnt = 0usize;
         for b in &bl {
-            let train: Vec<usize> = all.iter().copied().filter(|k| !b.contains(k)).collect();
+            // Blocks are contiguous: the training rows are everything outside [lo, hi]
+            // (linear in the log length; `b.contains` per row was quadratic).
+            let (lo, hi) = (
+                b.first().copied().unwrap_or(0),
+                b.last().copied().unwrap_or(0),
+            );
+            let train: Vec<usize> = (0..lo).chain(hi + 1..len).collect();
             model.restore(&base_state);
             fit(prep, model, &[name], &train)?;
             residuals(prep, model, b, &mut r);
@@ -180,6 +190,8 @@ pub fn diagnose(prep: &Prepared, model: &mut Model, folds: usize) -> Result<Diag
         _ => "no candidate effect is observable in this log".into(),
     };
     Ok(Diagnosis {
+        schema_version: crate::identify::JSON_SCHEMA_VERSION,
+        calibration: None,
         base_rmse,
         folds: bl.len(),
         model_effects: model

@@ -115,6 +115,20 @@ pub fn fit(
     effects: &[&'static str],
     rows: &[usize],
 ) -> Result<FitResult> {
+    fit_holding(prep, model, effects, rows, &[])
+}
+
+/// [`fit`], holding the parameters named in `hold` (`effect.param`, e.g. `coulomb.f_c[5]`)
+/// at their current values: they are not fitted, get no standard error and take no part in
+/// the conditioning analysis (per-joint identifiability: a joint the motion does not excite
+/// keeps its prior while the others are fitted).
+pub fn fit_holding(
+    prep: &Prepared,
+    model: &mut Model,
+    effects: &[&'static str],
+    rows: &[usize],
+    hold: &[String],
+) -> Result<FitResult> {
     let mut lay = Layout {
         effects: effects.to_vec(),
         sizes: vec![],
@@ -137,6 +151,11 @@ pub fn fit(
     }
     let nominal = theta.clone();
     let p = theta.len();
+    let held: Vec<bool> = lay
+        .names
+        .iter()
+        .map(|(e, n, _)| hold.iter().any(|h| *h == format!("{e}.{n}")))
+        .collect();
     let mut r = Vec::new();
     residuals(prep, model, rows, &mut r);
     let m = r.len();
@@ -181,7 +200,9 @@ pub fn fit(
         let mut g = jm.transpose() * nalgebra::DVector::from_column_slice(&r);
         let maxdiag = (0..p).map(|i| jtj[(i, i)]).fold(0.0, f64::max);
         // Columns with no excitation stay where they are.
-        let frozen: Vec<bool> = (0..p).map(|i| jtj[(i, i)] <= 1e-12 * maxdiag).collect();
+        let frozen: Vec<bool> = (0..p)
+            .map(|i| held[i] || jtj[(i, i)] <= 1e-12 * maxdiag)
+            .collect();
         let mut jtj = jtj;
         for i in 0..p {
             if frozen[i] {
@@ -248,6 +269,9 @@ pub fn fit(
             .sqrt();
         let norms: Vec<f64> = (0..p)
             .map(|i| {
+                if held[i] {
+                    return f64::NAN;
+                }
                 let nrm = jtj[(i, i)].max(0.0).sqrt();
                 if nrm * theta[i].abs().max(1.0) / (m.max(1) as f64).sqrt() < 1e-6 * yrms.max(1e-12)
                 {
@@ -257,11 +281,14 @@ pub fn fit(
                 }
             })
             .collect();
-        let mut s = jtj.clone();
-        for i in 0..p {
-            for k in 0..p {
+        // The analysis runs on the active (not held) columns `act`.
+        let act: Vec<usize> = (0..p).filter(|&i| !held[i]).collect();
+        let pa = act.len();
+        let mut s = nalgebra::DMatrix::<f64>::zeros(pa, pa);
+        for (ii, &i) in act.iter().enumerate() {
+            for (kk, &k) in act.iter().enumerate() {
                 let d = norms[i] * norms[k];
-                s[(i, k)] = if d > 0.0 { s[(i, k)] / d } else { 0.0 };
+                s[(ii, kk)] = if d > 0.0 { jtj[(i, k)] / d } else { 0.0 };
             }
         }
         let eig = s.symmetric_eigen();
@@ -271,24 +298,27 @@ pub fn fit(
             .iter()
             .cloned()
             .fold(f64::INFINITY, f64::min);
-        let zero_col = norms.contains(&0.0);
+        let zero_col = act.iter().any(|&i| norms[i] == 0.0);
         cond = if zero_col || emin <= 0.0 {
             f64::INFINITY
         } else {
             (emax / emin).sqrt()
         };
-        let sigma2 = ssr / (m.saturating_sub(p).max(1) as f64);
+        let sigma2 = ssr / (m.saturating_sub(pa).max(1) as f64);
         let cut = emax / (CONDITION_LIMIT * CONDITION_LIMIT);
-        let mut groups: Vec<Vec<String>> = (0..p)
-            .filter(|&i| norms[i] == 0.0)
-            .map(|i| vec![format!("{}.{}", lay.names[i].0, lay.names[i].1)])
+        let mut groups: Vec<Vec<String>> = act
+            .iter()
+            .filter(|&&i| norms[i] == 0.0)
+            .map(|&i| vec![format!("{}.{}", lay.names[i].0, lay.names[i].1)])
             .collect();
         for (c, &ev) in eig.eigenvalues.iter().enumerate() {
             if ev <= cut {
                 let v = eig.eigenvectors.column(c);
-                let g: Vec<String> = (0..p)
-                    .filter(|&i| norms[i] > 0.0 && v[i].abs() > 0.2)
-                    .map(|i| format!("{}.{}", lay.names[i].0, lay.names[i].1))
+                let g: Vec<String> = act
+                    .iter()
+                    .enumerate()
+                    .filter(|&(ii, &i)| norms[i] > 0.0 && v[ii].abs() > 0.2)
+                    .map(|(_, &i)| format!("{}.{}", lay.names[i].0, lay.names[i].1))
                     .collect();
                 if !g.is_empty() && !groups.contains(&g) {
                     groups.push(g);
@@ -297,23 +327,24 @@ pub fn fit(
         }
         let weak: Vec<bool> = (0..p)
             .map(|i| {
-                norms[i] == 0.0
+                held[i]
+                    || norms[i] == 0.0
                     || groups
                         .iter()
                         .any(|g| g.contains(&format!("{}.{}", lay.names[i].0, lay.names[i].1)))
             })
             .collect();
         // Covariance by the pseudo-inverse on the well-determined subspace.
-        let mut cov = nalgebra::DMatrix::<f64>::zeros(p, p);
+        let mut cov = nalgebra::DMatrix::<f64>::zeros(pa, pa);
         for (c, &ev) in eig.eigenvalues.iter().enumerate() {
             if ev > cut {
                 let v = eig.eigenvectors.column(c);
                 cov += (v * v.transpose()) / ev;
             }
         }
-        for i in 0..p {
+        for (ii, &i) in act.iter().enumerate() {
             if !weak[i] && norms[i] > 0.0 {
-                se[i] = Some((sigma2 * cov[(i, i)]).max(0.0).sqrt() / norms[i]);
+                se[i] = Some((sigma2 * cov[(ii, ii)]).max(0.0).sqrt() / norms[i]);
             }
         }
         if !groups.is_empty() {

@@ -1,13 +1,15 @@
 //! Identification with the error ladder: the base model, then each listed effect added in turn
 //! (all added so far re-fitted jointly on the training data), each step validated on held-out
-//! data (the last quarter of the log, or a second log); and the updated drive file.
+//! data (the last quarter of the log, or a second log). Parameters the motion does not excite
+//! (or cannot tell apart) are named, held at their prior values, and the others fitted
+//! ([`crate::identify::fit::fit_holding`]). The calibrated robot is written by
+//! [`crate::identify::calibrate`].
 
-use crate::error::{Error, Result};
-use crate::identify::fit::{fit, FittedParam, IllConditioning};
+use crate::error::Result;
+use crate::identify::fit::{fit_holding, FittedParam, IllConditioning};
 use crate::identify::metrics::{evaluate_rows, rel_pct};
 use crate::identify::model::{Model, Prepared};
 use serde::Serialize;
-use std::path::Path;
 
 /// One rung of the ladder.
 #[derive(Clone, Debug, Serialize)]
@@ -35,8 +37,64 @@ pub struct Identification {
     pub ladder: Vec<LadderStep>,
     /// Parameters of the final fit (values withheld from display when ill-conditioned).
     pub params: Vec<FittedParam>,
-    /// Parameters the data cannot tell apart, if any.
+    /// Parameters the data cannot tell apart, if any (in the first fit of the last rung).
     pub ill_conditioned: Option<IllConditioning>,
+    /// Parameters held at their prior values because the motion does not excite them or
+    /// cannot tell them apart; the others are fitted.
+    pub held_at_prior: Vec<HeldParam>,
+}
+
+/// A parameter held at its prior value, and why.
+#[derive(Clone, Debug, Serialize, PartialEq)]
+pub struct HeldParam {
+    /// `effect.param`, e.g. `coulomb.f_c[5]`.
+    pub name: String,
+    /// Why, in words.
+    pub reason: String,
+}
+
+/// RMS joint velocity below which a joint counts as still, rad/s (0.06 °/s: position noise and
+/// encoder quantisation of a joint held by its brake or servo give less).
+pub const STILL_RMS_VELOCITY_RAD_S: f64 = 1e-3;
+
+/// Parameters of velocity- and acceleration-driven per-joint effects (`viscous`, `coulomb`,
+/// `stribeck`, `armature`) on joints that do not move in `rows` of the log.
+pub fn still_joint_params(
+    model: &Model,
+    prep: &Prepared,
+    rows: &[usize],
+    effects: &[&'static str],
+) -> Vec<HeldParam> {
+    let n = model.n;
+    let mut out = Vec::new();
+    for j in 0..n {
+        let ms = rows
+            .iter()
+            .map(|&k| prep.log.traj.qd(k)[j].powi(2))
+            .sum::<f64>()
+            / rows.len().max(1) as f64;
+        let rms = ms.sqrt();
+        if rms >= STILL_RMS_VELOCITY_RAD_S {
+            continue;
+        }
+        for e in effects {
+            if !matches!(*e, "viscous" | "coulomb" | "stribeck" | "armature") {
+                continue;
+            }
+            for p in model.params(e).unwrap_or_default() {
+                if p.name.ends_with(&format!("[{}]", j + 1)) {
+                    out.push(HeldParam {
+                        name: format!("{e}.{}", p.name),
+                        reason: format!(
+                            "joint {} does not move (RMS velocity {rms:.1e} rad/s)",
+                            j + 1
+                        ),
+                    });
+                }
+            }
+        }
+    }
+    out
 }
 
 /// Identify `effects` in order. `train`: prepared training log and its rows; `val`: validation
@@ -63,144 +121,46 @@ pub fn identify(
     };
     let mut ladder = vec![step(model, "base".into(), &[])];
     let mut last = None;
+    let mut held: Vec<HeldParam> = still_joint_params(model, train.0, train.1, effects);
+    let mut first_ill = None;
     for i in 0..effects.len() {
-        let r = fit(train.0, model, &effects[..=i], train.1)?;
+        let before = model.state();
+        let names: Vec<String> = held.iter().map(|h| h.name.clone()).collect();
+        let mut r = fit_holding(train.0, model, &effects[..=i], train.1, &names)?;
+        // Hold what the motion cannot determine at its prior and fit the rest (again, if
+        // the reduced fit still finds a direction it cannot determine).
+        for _pass in 0..3 {
+            let Some(ill) = r.ill_conditioned.clone() else {
+                break;
+            };
+            for g in &ill.groups {
+                for name in g {
+                    if !held.iter().any(|h| h.name == *name) {
+                        held.push(HeldParam {
+                            name: name.clone(),
+                            reason: if g.len() == 1 {
+                                "not excited by this motion".into()
+                            } else {
+                                format!("cannot be told apart from {}", g.join(", "))
+                            },
+                        });
+                    }
+                }
+            }
+            model.restore(&before);
+            let names: Vec<String> = held.iter().map(|h| h.name.clone()).collect();
+            r = fit_holding(train.0, model, &effects[..=i], train.1, &names)?;
+            first_ill.get_or_insert(ill);
+        }
         ladder.push(step(model, format!("+{}", effects[i]), &effects[..=i]));
         last = Some(r);
     }
-    let (params, ill) = match last {
-        Some(r) => (r.params, r.ill_conditioned),
-        None => (vec![], None),
-    };
+    let params = last.map(|r| r.params).unwrap_or_default();
     Ok(Identification {
         validation,
         ladder,
         params,
-        ill_conditioned: ill,
+        ill_conditioned: first_ill,
+        held_at_prior: held,
     })
-}
-
-/// Write the drive file `src` updated with the model's parameters to `dst` (beside it). Drive
-/// keys get the identified values (`viscous_nm_s_per_rad`, `coulomb_nm`, `rotor_inertia_kg_m2`
-/// = armature/G², `winding_resistance_ohm`, `gear_efficiency`, `standby_power_w`, payload
-/// `mass_kg` += Δm); the switches and the parameters without drive keys go to `[effects]`.
-/// Refuses to write over `src`, and over an existing `dst` unless `force`.
-pub fn write_drive_file(
-    src: &Path,
-    dst: &Path,
-    model: &Model,
-    urdf: &Path,
-    force: bool,
-) -> Result<()> {
-    if dst == src
-        || dst
-            .canonicalize()
-            .ok()
-            .is_some_and(|d| src.canonicalize().is_ok_and(|s| s == d))
-    {
-        return Err(Error::Invalid(format!(
-            "{}: refusing to overwrite the input drive file",
-            dst.display()
-        )));
-    }
-    if dst.exists() && !force {
-        return Err(Error::Invalid(format!(
-            "{}: exists; pass --force to overwrite it",
-            dst.display()
-        )));
-    }
-    let text = crate::error::read_text(src)?;
-    let mut t: toml::Table = toml::from_str(&text).map_err(|e| Error::Field {
-        file: src.display().to_string(),
-        field: "(file)".into(),
-        msg: e.message().to_string(),
-    })?;
-    let f = |x: f64| toml::Value::Float(x);
-    if let Some(joints) = t.get_mut("joints").and_then(|j| j.as_array_mut()) {
-        for (j, jt) in joints.iter_mut().enumerate() {
-            let Some(jt) = jt.as_table_mut() else {
-                continue;
-            };
-            if j >= model.n {
-                break;
-            }
-            jt.insert("viscous_nm_s_per_rad".into(), f(model.viscous.fv[j]));
-            jt.insert("coulomb_nm".into(), f(model.coulomb.fc[j]));
-            let g = model.gear[j];
-            jt.insert(
-                "rotor_inertia_kg_m2".into(),
-                f(model.armature.ia[j] / (g * g)),
-            );
-            jt.insert("winding_resistance_ohm".into(), f(model.copper.r[j]));
-            jt.insert("gear_efficiency".into(), f(model.gear_efficiency.eta[j]));
-        }
-    }
-    let cab = t
-        .entry("cabinet")
-        .or_insert_with(|| toml::Value::Table(Default::default()));
-    if let Some(c) = cab.as_table_mut() {
-        c.insert("standby_power_w".into(), f(model.standby.power));
-    }
-    let mut enabled: Vec<&str> = model.enabled_names();
-    if model.payload.dm != 0.0 {
-        let p = t
-            .entry("payload")
-            .or_insert_with(|| toml::Value::Table(Default::default()));
-        if let Some(p) = p.as_table_mut() {
-            let m0 = p
-                .get("mass_kg")
-                .and_then(|v| v.as_float().or_else(|| v.as_integer().map(|i| i as f64)))
-                .unwrap_or(0.0);
-            p.insert("mass_kg".into(), f(m0 + model.payload.dm));
-        }
-        enabled.retain(|e| *e != "payload");
-    }
-    if let Some(r) = t.get_mut("robot").and_then(|r| r.as_table_mut()) {
-        if !r.contains_key("urdf") {
-            let dir = dst.parent().unwrap_or(Path::new("."));
-            let rel = match (urdf.parent(), urdf.file_name()) {
-                (Some(p), Some(n)) if p.canonicalize().ok() == dir.canonicalize().ok() => {
-                    n.to_string_lossy().into_owned()
-                }
-                _ => urdf
-                    .canonicalize()
-                    .unwrap_or(urdf.to_path_buf())
-                    .display()
-                    .to_string(),
-            };
-            r.insert("urdf".into(), toml::Value::String(rel));
-        }
-    }
-    let mut e = toml::Table::new();
-    e.insert(
-        "enabled".into(),
-        toml::Value::Array(
-            enabled
-                .iter()
-                .map(|s| toml::Value::String(s.to_string()))
-                .collect(),
-        ),
-    );
-    e.insert(
-        "stribeck_nm".into(),
-        toml::Value::Array(model.stribeck.fs.iter().map(|x| f(*x)).collect()),
-    );
-    e.insert("stribeck_velocity_rad_s".into(), f(model.stribeck.vs));
-    e.insert("balancer_preload_n".into(), f(model.balancer.preload));
-    e.insert(
-        "balancer_stiffness_n_per_m".into(),
-        f(model.balancer.stiffness),
-    );
-    e.insert(
-        "regeneration_recovered_fraction".into(),
-        f(model.regeneration.recovered),
-    );
-    t.insert("effects".into(), toml::Value::Table(e));
-    let body =
-        toml::to_string(&t).map_err(|e| Error::Invalid(format!("writing drive file: {e}")))?;
-    let out = format!(
-        "# drive file identified by `printwatt identify` from {}; all values SI, unit in the key\n{body}",
-        src.display()
-    );
-    crate::output::write_atomic(dst, out.as_bytes())
 }

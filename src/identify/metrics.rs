@@ -60,6 +60,10 @@ pub struct Regime {
 /// The full comparison.
 #[derive(Clone, Debug, Serialize)]
 pub struct Comparison {
+    /// Version of this JSON shape (docs/json.md).
+    pub schema_version: u32,
+    /// The calibration the model came from (`None`: a nominal robot).
+    pub calibration: Option<String>,
     /// Log file.
     pub log: String,
     /// Signal compared.
@@ -283,6 +287,8 @@ pub fn compare(prep: &Prepared, model: &Model) -> (Comparison, Vec<f64>) {
     regimes.truncate(12);
     (
         Comparison {
+            schema_version: crate::identify::JSON_SCHEMA_VERSION,
+            calibration: None,
             log: log.file.clone(),
             signal: log.kind,
             unit: log.kind.unit().into(),

@@ -3,6 +3,7 @@
 //! identification with the error ladder ([`ladder`], [`fit`]), simulated logs from a "true"
 //! robot ([`simulate`]). Charts are drawn by [`crate::report::svg`].
 
+pub mod calibrate;
 pub mod diagnose;
 pub mod fit;
 pub mod ladder;
@@ -13,3 +14,7 @@ pub mod simulate;
 
 pub use log::{read_log, Log, SignalKind};
 pub use model::{Model, Prepared, DEFAULT_EFFECTS};
+
+/// Version of the `--json` shapes of `compare`, `diagnose`, `identify` and `simulate`
+/// (docs/json.md); raised when a field changes meaning or is removed.
+pub const JSON_SCHEMA_VERSION: u32 = 1;

@@ -115,7 +115,7 @@ impl Model {
         let cfg = &robot.effects;
         let mut payload = Payload::new(robot)?;
         payload.set_values(&[cfg.payload_mass_error_kg])?;
-        Ok(Model {
+        let mut m = Model {
             n,
             robot_name: robot.name().to_string(),
             gear: per(&|j| j.gear_ratio, 1.0),
@@ -149,7 +149,18 @@ impl Model {
             },
             enabled: cfg.enabled_mask(d.is_some()),
             dynamics,
-        })
+        };
+        // Identified values the drive file keeps in `[effects.values]` (a calibrated robot
+        // without per-joint drive tables) override the defaults above.
+        let file = cfg.file.clone().unwrap_or_default();
+        for (name, vals) in &cfg.values {
+            m.set_values(name, vals).map_err(|e| Error::Field {
+                file: file.clone(),
+                field: format!("effects.values.{name}"),
+                msg: e.to_string(),
+            })?;
+        }
+        Ok(m)
     }
 
     /// Switch an effect on or off. Error: unknown name.
@@ -332,12 +343,12 @@ impl<'a> Prepared<'a> {
                 expected: n,
             });
         }
-        if log.kind != SignalKind::Torque && !model.has_drive {
+        if log.kind == SignalKind::Current && !model.has_drive {
             return Err(Error::Invalid(format!(
-                "{}: a `{}` log needs drive data (gear ratios, K_t) for robot `{}`",
-                log.file,
-                log.kind.prefix(),
-                model.robot_name
+                "{}: a current log (`i1..i{n}`) needs each joint's gear ratio and torque constant K_t \
+(drive file [[joints]] `gear_ratio`, `torque_constant_nm_per_a`), and robot `{}` has none; \
+log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, or give a drive file",
+                log.file, model.robot_name
             )));
         }
         let len = log.len();

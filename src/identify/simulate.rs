@@ -207,9 +207,10 @@ pub fn simulate_log(
     metadata: &[(String, String)],
 ) -> Result<String> {
     let n = truth.n;
-    if opt.kind != SignalKind::Torque && !truth.has_drive {
+    if opt.kind == SignalKind::Current && !truth.has_drive {
         return Err(Error::Invalid(format!(
-            "robot `{}` has no drive data: only `tau` logs can be simulated",
+            "robot `{}` has no drive data (gear ratio, K_t): a current log cannot be simulated; \
+simulate `tau`, `p` or `p_total`",
             truth.robot_name
         )));
     }

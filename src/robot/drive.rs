@@ -6,7 +6,7 @@
 
 use crate::error::{Error, Result};
 use crate::robot::opw::OpwParams;
-use serde::Deserialize;
+use serde::{Deserialize, Serialize};
 
 /// What happens to power that a joint returns (negative electrical power).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Deserialize, serde::Serialize)]
@@ -85,35 +85,58 @@ pub struct Drive {
 
 // ---- the file as written -----------------------------------------------------------------------
 
-#[derive(Deserialize, Debug, Default)]
+/// The drive file as written: one schema, read and written with serde (`identify` writes a
+/// calibrated robot with it, [`DriveFile::to_toml`]).
+#[derive(Deserialize, Serialize, Debug, Default, Clone)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct DriveFile {
     #[serde(default)]
     pub robot: RobotTable,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub kinematics: Option<KinematicsTable>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub tool: Option<ToolTable>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub payload: Option<PayloadTable>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub cabinet: Option<CabinetTable>,
-    #[serde(default)]
-    pub joints: Vec<JointTable>,
     /// Optional `[effects]` table (switches and identified parameters of effects the rest of
     /// the file has no keys for), validated into [`crate::effects::EffectsConfig`].
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub effects: Option<crate::effects::EffectsTable>,
+    /// Optional `[calibration]` table: where the identified values of a calibrated robot came
+    /// from (written by `identify`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub calibration: Option<crate::effects::Calibration>,
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub joints: Vec<JointTable>,
 }
 
-#[derive(Deserialize, Debug, Default)]
+impl DriveFile {
+    /// The TOML text of this file (SI, unit in every key).
+    pub(crate) fn to_toml(&self) -> Result<String> {
+        toml::to_string(self).map_err(|e| Error::Invalid(format!("writing a drive file: {e}")))
+    }
+}
+
+#[derive(Deserialize, Serialize, Debug, Default, Clone)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct RobotTable {
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub name: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub reach_m: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub rated_payload_kg: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub provenance: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub tool_link: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub urdf: Option<String>,
 }
 
-#[derive(Deserialize, Debug)]
+#[derive(Deserialize, Serialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct KinematicsTable {
     #[serde(rename = "type")]
@@ -129,7 +152,7 @@ pub(crate) struct KinematicsTable {
     pub signs: [f64; 6],
 }
 
-#[derive(Deserialize, Debug)]
+#[derive(Deserialize, Serialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct ToolTable {
     pub xyz_m: [f64; 3],
@@ -137,13 +160,13 @@ pub(crate) struct ToolTable {
     pub rpy_rad: [f64; 3],
     /// `[tool.geometry]`: print head and hose for collision checks (issue 9; see
     /// [`crate::robot::ToolGeometry`]).
-    #[serde(default)]
+    #[serde(default, skip_serializing_if = "Option::is_none")]
     pub geometry: Option<ToolGeometryTable>,
 }
 
 /// `[tool.geometry]` (flange frame, m): `head_radius_m` (cylinder around flange → tip),
 /// optional `hose_radius_m`, `hose_from_m`, `hose_to_m` (a straight capsule).
-#[derive(Deserialize, Debug)]
+#[derive(Deserialize, Serialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct ToolGeometryTable {
     pub head_radius_m: f64,
@@ -155,7 +178,7 @@ pub(crate) struct ToolGeometryTable {
     pub hose_to_m: [f64; 3],
 }
 
-#[derive(Deserialize, Debug)]
+#[derive(Deserialize, Serialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct PayloadTable {
     pub mass_kg: f64,
@@ -167,7 +190,7 @@ pub(crate) struct PayloadTable {
     pub description: Option<String>,
 }
 
-#[derive(Deserialize, Debug)]
+#[derive(Deserialize, Serialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct CabinetTable {
     #[serde(default)]
@@ -175,7 +198,7 @@ pub(crate) struct CabinetTable {
     pub regeneration: Option<Regeneration>,
 }
 
-#[derive(Deserialize, Debug)]
+#[derive(Deserialize, Serialize, Debug, Clone)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct JointTable {
     pub name: String,

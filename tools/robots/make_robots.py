@@ -83,6 +83,12 @@ T_RAMP_MAIN = 0.5          # [ESTIMATE] s to reach max speed, axes 1-3 of the la
 T_RAMP_WRIST = 0.35        # [ESTIMATE] s, wrist axes of the large arms
 T_JERK = 0.1               # [ESTIMATE] s to build up the acceleration (jerk = acc / T_JERK)
 FRICTION_FRACTION = 0.03   # [ESTIMATE] Coulomb = 3 % of rated joint torque, viscous = 3 % at max speed
+# Axis-2 balancers (printwatt `balancer` effect, docs/effects.md): no manufacturer publishes the spring force
+# or stiffness, so the nominal values are SIZED here: least squares (F0, k >= 0) so that the balancer
+# cancels BALANCER_SHARE of the change of the static axis-2 gravity torque from the upright pose
+# (q2 = 0, all other joints 0, nominal payload) over q2 in [-BALANCER_RANGE_DEG, +BALANCER_RANGE_DEG].
+BALANCER_SHARE = 0.7       # [ESTIMATE] share of the lower-arm gravity moment a balancer is taken to carry
+BALANCER_RANGE_DEG = 45    # [ESTIMATE] working range of axis 2 about upright used for the sizing
 
 
 def fmt(x):
@@ -264,7 +270,7 @@ def cylinder_payload(mass, r, L, desc, src):
 
 
 def abb_like(name, title, p, limits, lim_src, org_src, weight, weight_src, radii, motors, payload, reach, rated,
-             provenance, extra_joints=(), extra_links=(), opw_src="", notes=()):
+             provenance, extra_joints=(), extra_links=(), opw_src="", notes=(), balancer=None):
     """ABB-type chain (ROS-I layout): arm at zero = lower arm vertical, upper arm horizontal."""
     a1, a2, c1, c2, c3, c4 = p["a1"], p["a2"], p["c1"], p["c2"], p["c3"], p["c4"]
     org = [((0, 0, c1), (0, 0, 1)), ((a1, 0, 0), (0, 1, 0)), ((0, 0, c2), (0, 1, 0)),
@@ -298,6 +304,7 @@ def abb_like(name, title, p, limits, lim_src, org_src, weight, weight_src, radii
                signs=[1] * 6, src=opw_src)
     return dict(name=name, title=title, joints=joints, links=links, drives=drives, opw=opw, payload=payload,
                 reach=reach, rated=rated, provenance=provenance, weight=(weight, weight_src), notes=list(notes),
+                balancer=balancer,
                 tool=dict(xyz=[0.0, 0.0, 0.30], rpy=[0.0, 0.0, 0.0],
                           src="ESTIMATE: 3DCP nozzle tip 0.30 m below the flange, pointing along tool0 z"),
                 cabinet=dict(standby=(250.0, "ESTIMATE: order of magnitude of an IRC5-class cabinet (electronics, fans, "
@@ -338,10 +345,16 @@ def irb6700():
                     "cylinder model); drive data ESTIMATE (generic servo classes)",
                     extra_joints=extra_j, extra_links=extra_l,
                     opw_src="[DERIVED] from the ROS-I joint origins (reference robots.md 1.3, verified there to 9e-16 m)",
-                    notes=["The real IRB 6700 has a hydraulic-spring balancer on axis 2. It is NOT modelled as a force: "
-                           "cylinder_joint/piston_joint are kinematic (visual) only, massless, mimic of joint_2. Axis-2 "
-                           "holding torques are therefore overestimated (the balancer carries a large share of the "
-                           "lower-arm gravity moment on the real robot)."])
+                    balancer=dict(a=(0.25, "ESTIMATE: lever of the piston end on the lower arm, behind the A2 pivot "
+                                           "(the ROS-I piston link gives no attachment point)"),
+                                  b=(0.6840, "[DERIVED] distance of the ROS-I cylinder_joint origin (-0.349, -0.194, -0.142) "
+                                             "in link_1 from the joint_2 origin (0.32, 0, 0), in the x-z plane: "
+                                             "sqrt(0.669^2 + 0.142^2)"),
+                                  src="hydraulic-spring balancer on axis 2 (ABB); force and stiffness not public"),
+                    notes=["The real IRB 6700 has a hydraulic-spring balancer on axis 2. It is modelled as the `balancer` "
+                           "effect ([effects] in drive.toml: geometry from the ROS-I cylinder origin + ESTIMATE, force "
+                           "SIZED, not published); cylinder_joint/piston_joint in the URDF stay kinematic (visual) only, "
+                           "massless, mimic of joint_2."])
 
 
 def irb4600():
@@ -363,8 +376,13 @@ def irb4600():
                     "kinematics and limits [ROS-I] (+ABB drawing); OPW [DERIVED]; inertials ESTIMATE (443 kg [DERIVED], "
                     "KR 210 mass ratios, cylinder model); drive data ESTIMATE (generic servo classes)",
                     opw_src="[DERIVED] from the ROS-I joint origins (reference robots.md 2, verified there to 1e-15 m)",
-                    notes=["Axis 2 of the real IRB 4600 has a spring balancer; it is not modelled (holding torques "
-                           "on axis 2 overestimated)."])
+                    balancer=dict(a=(0.15, "ESTIMATE: lever of the spring rod end on the lower arm, ~0.6 x the IRB 6700 "
+                                           "lever (housings about 0.6 x the size)"),
+                                  b=(0.42, "ESTIMATE: distance of the spring housing's pivot on the frame from the A2 "
+                                           "pivot, ~0.6 x the IRB 6700 value"),
+                                  src="spring balancer on axis 2 (ABB); force and stiffness not public"),
+                    notes=["Axis 2 of the real IRB 4600 has a spring balancer; it is modelled as the `balancer` effect "
+                           "([effects] in drive.toml) with ESTIMATE geometry and a SIZED force (not published)."])
 
 
 def tx200():
@@ -417,7 +435,11 @@ def tx200():
                 notes=["No public URDF of the TX200 exists: the URDF here is built from the OPW geometry with the "
                        "Staubli zero (arm straight up). URDF joint values = Staubli controller values (offsets 0, signs +1).",
                        "a2 = b = 0 come from the two third-party DH models and are not independently confirmed.",
-                       "Axis 2 of the real TX200 has a spring balancer; not modelled."])
+                       "Axis 2 of the real TX200 has a spring balancer; it is modelled as the `balancer` effect "
+                       "([effects] in drive.toml) with ESTIMATE geometry and a SIZED force (not published)."],
+                balancer=dict(a=(0.2, "ESTIMATE: lever of the spring rod end on the arm, behind the A2 pivot"),
+                              b=(0.55, "ESTIMATE: distance of the spring housing's pivot on the shoulder from the A2 pivot"),
+                              src="spring balancer on axis 2 (Staubli); force and stiffness not public"))
 
 
 def ur10e():
@@ -697,6 +719,21 @@ def write_drive(rb, path):
           "standby_power_w = %s  # %s" % (fmt(rb["cabinet"]["standby"][0]), rb["cabinet"]["standby"][1]),
           "regeneration = %s  # %s" % (tstr(rb["cabinet"]["regen"][0]), rb["cabinet"]["regen"][1]),
           ""]
+    B = rb.get("balancer")
+    if B:
+        how = ("ESTIMATE: SIZED, not published: least squares (F0, k >= 0) so that it cancels %.0f %% of the change of the "
+               "static axis-2 gravity torque from upright over q2 in [-%d, +%d] deg (other joints 0, nominal payload); "
+               "achieved: %.0f %% at q2 = -%d deg, %.0f %% at +%d deg"
+               % (100 * BALANCER_SHARE, BALANCER_RANGE_DEG, BALANCER_RANGE_DEG, 100 * B["achieved"][0],
+                  BALANCER_RANGE_DEG, 100 * B["achieved"][1], BALANCER_RANGE_DEG))
+        L += ["[effects]  # axis-2 balancer, printwatt `balancer` effect (docs/effects.md): %s" % B["src"],
+              "balancer_joint = 2  # the shoulder axis",
+              "balancer_lever_m = %s  # %s" % (fmt(B["a"][0]), B["a"][1]),
+              "balancer_base_m = %s  # %s" % (fmt(B["b"][0]), B["b"][1]),
+              "balancer_upright_rad = 0.0  # zero pose = lower arm vertical (cylinder shortest there)",
+              "balancer_preload_n = %s  # %s" % (fmt(B["F0"]), how),
+              "balancer_stiffness_n_per_m = %s  # %s" % (fmt(B["k"]), how),
+              ""]
     keys = ["acceleration_limit_rad_s2", "jerk_limit_rad_s3", "gear_ratio", "torque_constant_nm_per_a",
             "winding_resistance_ohm", "rotor_inertia_kg_m2", "viscous_nm_s_per_rad", "coulomb_nm", "gear_efficiency"]
     for d in rb["drives"]:
@@ -923,6 +960,47 @@ def gravity_torques(joints, links, tip, q, payload):
     return tau
 
 
+def balancer_shape(a, b, q):
+    """printwatt `balancer` regressor [dL/dq, (L - L_min) dL/dq] at q (rad from upright)."""
+    L = math.sqrt(a * a + b * b - 2 * a * b * math.cos(q))
+    dl = a * b * math.sin(q) / L
+    return [dl, (L - abs(b - a)) * dl]
+
+
+def size_balancer(rb, urdf_path):
+    """Size the nominal axis-2 balancer (F0, k >= 0) by least squares; see BALANCER_SHARE."""
+    B = rb.get("balancer")
+    if not B:
+        return
+    joints, links = parse_urdf(urdf_path)
+    a, b = B["a"][0], B["b"][0]
+
+    def tau2(q2):
+        return gravity_torques(joints, links, "tool0", [0.0, q2, 0.0, 0.0, 0.0, 0.0], rb["payload"])[1]
+    t0 = tau2(0.0)
+    X, y = [], []
+    for deg in range(-BALANCER_RANGE_DEG, BALANCER_RANGE_DEG + 1):
+        q = deg * D2R
+        X.append(balancer_shape(a, b, q))
+        y.append(-BALANCER_SHARE * (tau2(q) - t0))
+    s00 = sum(r[0] * r[0] for r in X)
+    s01 = sum(r[0] * r[1] for r in X)
+    s11 = sum(r[1] * r[1] for r in X)
+    g0 = sum(r[0] * t for r, t in zip(X, y))
+    g1 = sum(r[1] * t for r, t in zip(X, y))
+    det = s00 * s11 - s01 * s01
+    F0, k = (s11 * g0 - s01 * g1) / det, (s00 * g1 - s01 * g0) / det
+    if F0 < 0 or k < 0:   # active bound: the better one-parameter fit
+        cands = [(max(g0 / s00, 0.0), 0.0), (0.0, max(g1 / s11, 0.0))]
+        F0, k = min(cands, key=lambda c: sum((c[0] * r[0] + c[1] * r[1] - t) ** 2 for r, t in zip(X, y)))
+    F0, k = float("%.4g" % F0), float("%.4g" % k)
+    ach = []
+    for q in (-BALANCER_RANGE_DEG * D2R, BALANCER_RANGE_DEG * D2R):
+        sh = balancer_shape(a, b, q)
+        ach.append((F0 * sh[0] + k * sh[1]) / -(tau2(q) - t0))
+    B.update(F0=F0, k=k, achieved=ach)
+
+
 def run_checks(rb, urdf_path):
     out = []
     joints, links = parse_urdf(urdf_path)
@@ -983,6 +1061,7 @@ def main():
         d = os.path.join(ROOT, "robots", rb["name"])
         os.makedirs(d, exist_ok=True)
         write_urdf(rb, os.path.join(d, "robot.urdf"))
+        size_balancer(rb, os.path.join(d, "robot.urdf"))
         write_drive(rb, os.path.join(d, "drive.toml"))
         if do_check:
             checks[rb["name"]] = run_checks(rb, os.path.join(d, "robot.urdf"))

@@ -1,0 +1,323 @@
+//! The calibrated robot: a drive file that names its URDF and carries the identified
+//! parameters with their standard errors, the logs and dates they came from and every earlier
+//! round's parameters ([`crate::effects::Calibration`]). Written with the one drive-file schema
+//! ([`crate::robot::drive`], serde both ways), for robots with per-joint drive tables (the
+//! identified values go to the drive keys), without them and for URDF-only robots (they go
+//! to `[effects.values]`). Every command takes the written file as `--robot`.
+
+use crate::effects::{CalibratedParam, Calibration, CalibrationRound};
+use crate::error::{Error, Result};
+use crate::identify::ladder::Identification;
+use crate::identify::model::Model;
+use crate::identify::Log;
+use crate::robot::drive::{parse_drive_file, DriveFile, PayloadTable};
+use crate::robot::RobotModel;
+use std::path::{Component, Path, PathBuf};
+
+/// Effects whose parameters a drive file with per-joint drive tables keeps in its drive keys.
+const DRIVE_KEY_EFFECTS: [&str; 6] = [
+    "viscous",
+    "coulomb",
+    "armature",
+    "copper",
+    "gear_efficiency",
+    "standby",
+];
+
+/// What [`write_calibrated`] needs.
+#[derive(Debug)]
+pub struct CalibrationInput<'a> {
+    /// The robot as loaded (its URDF path in `source`, its drive file in `effects.file`).
+    pub robot: &'a RobotModel,
+    /// The drive file the robot was loaded from, if any.
+    pub drive_file: Option<&'a Path>,
+    /// The `--robot` argument as the user gave it.
+    pub robot_arg: &'a str,
+    /// The model after identification.
+    pub model: &'a Model,
+    /// The identification (ladder, parameters, held parameters).
+    pub id: &'a Identification,
+    /// The log fitted.
+    pub log: &'a Log,
+    /// UTC date `YYYY-MM-DD`.
+    pub date: String,
+}
+
+/// Default file name of the calibrated robot: `<name>.calibrated.toml`, where `<name>` is the
+/// robot's directory or file name without `.calibrated` (so rounds never grow the name).
+pub fn default_file_name(robot_arg: &Path) -> String {
+    let base = robot_arg
+        .file_name()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "robot".into());
+    let mut stem = base
+        .trim_end_matches(".toml")
+        .trim_end_matches(".urdf")
+        .to_string();
+    for suffix in [".calibrated", ".identified"] {
+        while let Some(s) = stem.strip_suffix(suffix) {
+            stem = s.to_string();
+        }
+    }
+    if stem == "drive" || stem.is_empty() {
+        stem = robot_arg
+            .parent()
+            .and_then(|p| p.file_name())
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_else(|| "robot".into());
+    }
+    format!("{stem}.calibrated.toml")
+}
+
+/// The relative path from directory `from` to `to` (both made absolute), or `to` absolute.
+pub fn relative_path(from: &Path, to: &Path) -> PathBuf {
+    let abs = |p: &Path| {
+        p.canonicalize().unwrap_or_else(|_| {
+            std::env::current_dir()
+                .map(|c| c.join(p))
+                .unwrap_or(p.to_path_buf())
+        })
+    };
+    let (f, t) = (abs(from), abs(to));
+    let fc: Vec<Component> = f.components().collect();
+    let tc: Vec<Component> = t.components().collect();
+    let common = fc.iter().zip(&tc).take_while(|(a, b)| a == b).count();
+    if common == 0 {
+        return t;
+    }
+    let mut r = PathBuf::new();
+    for _ in common..fc.len() {
+        r.push("..");
+    }
+    for c in &tc[common..] {
+        r.push(c.as_os_str());
+    }
+    r
+}
+
+/// Today's UTC date `YYYY-MM-DD` (civil-from-days, Howard Hinnant's algorithm).
+pub fn utc_date_today() -> String {
+    let secs = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_secs() as i64)
+        .unwrap_or(0);
+    let z = secs.div_euclid(86_400) + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    format!("{y:04}-{m:02}-{d:02}")
+}
+
+/// Whether `path` lies inside directory `dir` (both canonicalised where they exist).
+pub fn is_inside(path: &Path, dir: &Path) -> bool {
+    let Ok(d) = dir.canonicalize() else {
+        return false;
+    };
+    let parent = path.parent().unwrap_or(Path::new("."));
+    let parent = if parent.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        parent
+    };
+    parent.canonicalize().is_ok_and(|p| p.starts_with(&d))
+}
+
+/// The calibrated drive file's text.
+pub fn calibrated_text(inp: &CalibrationInput, dst: &Path) -> Result<String> {
+    let model = inp.model;
+    let robot = inp.robot;
+    let mut f: DriveFile = match inp.drive_file {
+        Some(p) => {
+            let text = crate::error::read_text(p)?;
+            parse_drive_file(&text, &p.display().to_string())?
+        }
+        None => DriveFile::default(),
+    };
+    let dst_dir = match dst.parent() {
+        Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+        _ => PathBuf::from("."),
+    };
+    f.robot.urdf = Some(
+        relative_path(&dst_dir, &robot.source)
+            .to_string_lossy()
+            .into_owned(),
+    );
+    if f.robot.name.is_none() {
+        f.robot.name = Some(robot.name().to_string());
+    }
+    let has_drive = robot.drive.is_some();
+    let mut effects = f.effects.take().unwrap_or_default();
+    let mut values = effects.values.take().unwrap_or_default();
+    if has_drive {
+        for (j, jt) in f.joints.iter_mut().enumerate().take(model.n) {
+            jt.viscous_nm_s_per_rad = Some(model.viscous.fv[j]);
+            jt.coulomb_nm = Some(model.coulomb.fc[j]);
+            let g = model.gear[j];
+            jt.rotor_inertia_kg_m2 = Some(model.armature.ia[j] / (g * g));
+            jt.winding_resistance_ohm = Some(model.copper.r[j]);
+            jt.gear_efficiency = Some(model.gear_efficiency.eta[j]);
+        }
+        if let Some(c) = f.cabinet.as_mut() {
+            c.standby_power_w = model.standby.power;
+        }
+        for e in DRIVE_KEY_EFFECTS {
+            values.remove(e);
+        }
+    } else {
+        for e in DRIVE_KEY_EFFECTS {
+            if model.is_enabled(e) {
+                values.insert(e.to_string(), model.values(e)?);
+            } else {
+                values.remove(e);
+            }
+        }
+    }
+    let mut enabled = model.enabled_names();
+    if model.payload.dm != 0.0 {
+        match f.payload.as_mut() {
+            Some(p) => p.mass_kg += model.payload.dm,
+            None => {
+                f.payload = Some(PayloadTable {
+                    mass_kg: model.payload.dm,
+                    com_m: robot
+                        .payload
+                        .map(|p| [p.com.x, p.com.y, p.com.z])
+                        .unwrap_or([0.0; 3]),
+                    inertia_kg_m2: [0.0; 6],
+                    description: Some("payload identified by printwatt identify".into()),
+                })
+            }
+        }
+        enabled.retain(|e| *e != "payload");
+    }
+    effects.enabled = Some(enabled.iter().map(|s| s.to_string()).collect());
+    effects.payload_mass_error_kg = None;
+    effects.stribeck_nm = Some(model.stribeck.fs.clone());
+    effects.stribeck_velocity_rad_s = Some(model.stribeck.vs);
+    let b = &model.balancer;
+    effects.balancer_preload_n = Some(b.preload);
+    effects.balancer_stiffness_n_per_m = Some(b.stiffness);
+    if robot.effects.balancer_declared {
+        effects.balancer_joint = Some(b.joint + 1);
+        effects.balancer_lever_m = Some(b.a);
+        effects.balancer_base_m = Some(b.b);
+        effects.balancer_upright_rad = Some(b.upright);
+    }
+    effects.regeneration_recovered_fraction = Some(model.regeneration.recovered);
+    effects.values = (!values.is_empty()).then_some(values);
+    f.effects = Some(effects);
+    // Calibration record: earlier rounds carried over, this round appended.
+    let mut cal = robot.effects.calibration.clone().unwrap_or(Calibration {
+        base_robot: inp.robot_arg.to_string(),
+        ..Default::default()
+    });
+    let round = cal.rounds.len() + 1;
+    let (before, after) = (
+        inp.id
+            .ladder
+            .first()
+            .map_or(f64::NAN, |s| s.validation_rmse),
+        inp.id.ladder.last().map_or(f64::NAN, |s| s.validation_rmse),
+    );
+    cal.rounds.push(CalibrationRound {
+        round,
+        date: inp.date.clone(),
+        log: inp.log.file.clone(),
+        signal: inp.log.kind.prefix().to_string(),
+        effects: inp
+            .id
+            .ladder
+            .last()
+            .map(|s| s.fitted.clone())
+            .unwrap_or_default(),
+        validation: inp.id.validation.clone(),
+        validation_rmse_before: before,
+        validation_rmse_after: after,
+    });
+    for p in &inp.id.params {
+        let key = format!("{}.{}", p.effect, p.name);
+        let held_reason = inp
+            .id
+            .held_at_prior
+            .iter()
+            .find(|h| h.name == key)
+            .map(|h| h.reason.clone());
+        let held = held_reason.is_some();
+        let entry = CalibratedParam {
+            effect: p.effect.clone(),
+            name: p.name.clone(),
+            unit: p.unit.clone(),
+            value: p.value,
+            std_error: if held { None } else { p.std_error },
+            prior: p.nominal,
+            round,
+            status: match held_reason {
+                Some(r) => format!("held at prior: {r}"),
+                None => "fitted".into(),
+            },
+        };
+        match cal
+            .params
+            .iter_mut()
+            .find(|q| q.effect == entry.effect && q.name == entry.name)
+        {
+            // A parameter held this round keeps an earlier round's fitted value.
+            Some(q) if held && q.status == "fitted" => {}
+            Some(q) => *q = entry,
+            None => cal.params.push(entry),
+        }
+    }
+    f.calibration = Some(cal);
+    let body = f.to_toml()?;
+    Ok(format!(
+        "# calibrated robot written by `printwatt identify` on {} from {}; use it as --robot.\n\
+# All values SI, unit in the key; [calibration] lists every identified parameter with its\n\
+# standard error, the round, log and date it came from.\n{body}",
+        inp.date, inp.log.file
+    ))
+}
+
+/// Write the calibrated robot to `dst`. Refuses: the input drive file or URDF itself, a file
+/// inside `installed` (the shipped robots folder), an existing file unless `force`.
+pub fn write_calibrated(
+    inp: &CalibrationInput,
+    dst: &Path,
+    installed: Option<&Path>,
+    force: bool,
+) -> Result<()> {
+    let same = |a: &Path, b: &Path| {
+        a == b
+            || a.canonicalize()
+                .ok()
+                .is_some_and(|x| b.canonicalize().is_ok_and(|y| x == y))
+    };
+    if inp.drive_file.is_some_and(|s| same(dst, s)) || same(dst, &inp.robot.source) {
+        return Err(Error::Invalid(format!(
+            "{}: refusing to overwrite the input robot file; give another --out directory",
+            dst.display()
+        )));
+    }
+    if let Some(dir) = installed {
+        if is_inside(dst, dir) {
+            return Err(Error::Invalid(format!(
+                "{}: refusing to write a calibrated robot into the installed robots folder {}; \
+give --out DIR (default: the current directory)",
+                dst.display(),
+                dir.display()
+            )));
+        }
+    }
+    if dst.exists() && !force {
+        return Err(Error::Invalid(format!(
+            "{}: exists; pass --force to overwrite it, or give another --out directory",
+            dst.display()
+        )));
+    }
+    let text = calibrated_text(inp, dst)?;
+    crate::output::write_atomic(dst, text.as_bytes())
+}

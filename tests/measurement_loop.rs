@@ -1,0 +1,503 @@
+//! The measurement loop as a user walks it (issue 8, "What was seen"): a calibrated robot is
+//! always written (URDF-only robots, drive files without per-joint tables), never into the
+//! installed robots folder and without growing names; a still joint does not block the others;
+//! power logs work without drive data and a current log says what is missing; two hidden
+//! effects are found in two rounds, the second on the calibrated robot of the first; every
+//! command names the calibration it used. Plus the balancer's physics (issue 9, item 2): it
+//! relieves the axis-2 gravity torque, checked against a hand-computed static case.
+//! Simulated logs: exciting motion at controller rates (250 Hz) with realistic noise.
+
+use printwatt::dynamics::{rnea, DynModel, DynOptions};
+use printwatt::identify::{
+    log::{parse_log, SignalKind},
+    simulate, Model, Prepared,
+};
+use printwatt::robot::{self, RobotModel};
+use printwatt::trajectory::JointTrajectory;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn tmp(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("printwatt_loop_{tag}_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// A simulated log of `robot` with `hidden` effects: `secs` of exciting motion at 250 Hz;
+/// `still`: a joint (0-based) held at its mid-range for the whole log.
+fn sim(
+    robot: &RobotModel,
+    hidden: &str,
+    kind: SignalKind,
+    noise: f64,
+    seed: u64,
+    secs: f64,
+    still: Option<usize>,
+) -> String {
+    let mut truth = Model::new(robot).unwrap();
+    simulate::apply_hidden(&mut truth, &simulate::parse_hidden(hidden).unwrap()).unwrap();
+    let mut tr: JointTrajectory =
+        simulate::resample(&simulate::excitation(robot, secs, 1000.0, seed), 250.0);
+    if let Some(j) = still {
+        let n = tr.n;
+        let hold = tr.q[j];
+        for k in 0..tr.len() {
+            tr.q[k * n + j] = hold;
+            tr.qd[k * n + j] = 0.0;
+            tr.qdd[k * n + j] = 0.0;
+        }
+    }
+    let opt = simulate::SensorOptions {
+        kind,
+        noise,
+        noise_q: 1e-6,
+        current_quantum: 0.01,
+        seed,
+    };
+    simulate::simulate_log(&truth, &tr, &opt, &[]).unwrap()
+}
+
+fn cli(dir: &Path, args: &[&str]) -> (bool, String, String) {
+    let o = Command::new(env!("CARGO_BIN_EXE_printwatt"))
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        o.status.success(),
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+fn ok(dir: &Path, args: &[&str]) -> String {
+    let (s, out, err) = cli(dir, args);
+    assert!(s, "{args:?}: {err}");
+    out
+}
+
+fn ur10e_urdf() -> PathBuf {
+    root().join("robots/ur10e/robot.urdf")
+}
+
+// ---- balancer physics (issue 9, item 2) -------------------------------------------------------
+
+/// Static torque (q̇ = q̈ = 0) of the rigid body with the nominal payload, N·m.
+fn static_torque(r: &RobotModel, q: &[f64]) -> Vec<f64> {
+    let m = DynModel::new(
+        r,
+        DynOptions {
+            payload: true,
+            armature: false,
+        },
+    )
+    .unwrap();
+    let mut d = m.data();
+    let mut tau = vec![0.0; r.dof()];
+    let z = vec![0.0; r.dof()];
+    rnea(&m, &mut d, q, &z, &z, &mut tau).unwrap();
+    tau
+}
+
+/// Hand-computed static case on the IRB 6700 with its shipped balancer: at q2 = 0.6 rad
+/// (others 0) the cylinder length, its lever dL/dq and force are computed here from the drive
+/// file's numbers; the balancer's torque equals them and lowers the axis-2 holding torque.
+#[test]
+fn balancer_lowers_static_axis2_torque() {
+    let r = robot::load(&root().join("robots/abb_irb6700_200_260")).unwrap();
+    let b = r.effects.balancer();
+    // The shipped geometry and sized force (drive.toml [effects]).
+    assert_eq!((b.joint, b.a, b.b, b.upright), (1, 0.25, 0.684, 0.0));
+    let (f0, k) = (b.preload, b.stiffness);
+    assert!(f0 > 0.0 && k >= 0.0);
+    let q2: f64 = 0.6;
+    // By hand: L² = a² + b² − 2ab cos q2 = 0.0625 + 0.467856 − 0.342 cos 0.6.
+    let l = (0.0625 + 0.467856 - 0.342 * q2.cos()).sqrt();
+    let dl = 0.25 * 0.684 * q2.sin() / l; // dL/dq2 = ab sin q2 / L
+    let stretch = l - (0.684 - 0.25);
+    let hand = (f0 + k * stretch) * dl;
+    assert!(
+        (b.joint_torque(q2) - hand).abs() < 1e-9 * hand.abs(),
+        "{hand}"
+    );
+    let q = [0.0, q2, 0.0, 0.0, 0.0, 0.0];
+    let g = static_torque(&r, &q)[1];
+    let g0 = static_torque(&r, &[0.0; 6])[1];
+    // Gravity pulls the leaning arm further out: the motor holds against it; the balancer
+    // torque has the opposite sign and takes the stated ~70 % off the change from upright.
+    assert!(
+        (g - g0) * hand < 0.0,
+        "gravity change {} N·m vs balancer {hand} N·m",
+        g - g0
+    );
+    let share = -hand / (g - g0);
+    assert!(
+        (0.5..0.95).contains(&share),
+        "balancer takes {share:.2} of the gravity change"
+    );
+    assert!((g + hand).abs() < g.abs());
+    // Through the identification model (the same torque the energy model adds).
+    let m = Model::new(&r).unwrap();
+    assert!(m.is_enabled("balancer"));
+    let mut tau = [0.0; 6];
+    m.torque(&q, &[0.0; 6], &[0.0; 6], &mut tau).unwrap();
+    assert!((tau[1] - (g + hand)).abs() < 1e-6 * g.abs());
+}
+
+/// "an identified balancer ADDS ~690 N·m at the upright pose": at upright the cylinder is
+/// shortest and adds nothing, whatever its force.
+#[test]
+fn balancer_adds_no_torque_at_the_upright_pose() {
+    for name in ["abb_irb6700_200_260", "abb_irb4600_40_255", "staubli_tx200"] {
+        let r = robot::load(&root().join("robots").join(name)).unwrap();
+        let mut b = r.effects.balancer();
+        assert!(r.effects.balancer_declared, "{name}");
+        b.preload = 3000.0;
+        b.stiffness = 20000.0;
+        assert!(b.joint_torque(b.upright).abs() < 1e-9, "{name}");
+        // and relieves on both sides
+        for q in [-0.5, 0.5] {
+            let g = static_torque(&r, &[0.0, q, 0.0, 0.0, 0.0, 0.0])[1]
+                - static_torque(&r, &[0.0; 6])[1];
+            assert!(g * b.joint_torque(q) < 0.0, "{name} q2 = {q}");
+        }
+    }
+    // The UR10e declares none: no balancer in its model.
+    let ur = robot::load(&root().join("robots/ur10e")).unwrap();
+    assert!(!ur.effects.balancer_declared && !Model::new(&ur).unwrap().is_enabled("balancer"));
+}
+
+// ---- a calibrated robot is a first-class thing ------------------------------------------------
+
+#[test]
+fn identify_writes_a_drive_file_for_a_urdf_only_robot() {
+    let dir = tmp("urdf_only");
+    let r = robot::load(&ur10e_urdf()).unwrap();
+    std::fs::write(
+        dir.join("log.csv"),
+        sim(&r, "viscous=5", SignalKind::Torque, 0.5, 21, 8.0, None),
+    )
+    .unwrap();
+    let urdf = ur10e_urdf();
+    let out = ok(
+        &dir,
+        &[
+            "identify",
+            "--robot",
+            urdf.to_str().unwrap(),
+            "--log",
+            "log.csv",
+            "--effects",
+            "viscous",
+            "--out",
+            "id",
+        ],
+    );
+    let cal = dir.join("id/robot.calibrated.toml");
+    assert!(cal.is_file(), "{out}");
+    assert!(out.contains("wrote"), "{out}");
+    let c = robot::load(&cal).unwrap();
+    assert!(c.drive.is_none());
+    let fv = &c.effects.values["viscous"];
+    for (j, v) in fv.iter().enumerate() {
+        assert!((v - 5.0).abs() < 0.25, "f_v[{}] = {v}", j + 1);
+    }
+    let m = Model::new(&c).unwrap();
+    assert!(m.is_enabled("viscous") && m.viscous.fv == *fv);
+    // Every command takes it and says which calibration it used.
+    let cmp = ok(
+        &dir,
+        &[
+            "compare",
+            "--robot",
+            cal.to_str().unwrap(),
+            "--log",
+            "log.csv",
+        ],
+    );
+    assert!(cmp.contains("calibrated robot"), "{cmp}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn identify_keeps_friction_of_a_drive_file_without_joint_tables() {
+    let dir = tmp("no_tables");
+    let drive = dir.join("mine.toml");
+    std::fs::write(
+        &drive,
+        format!(
+            "[robot]\nname = \"my arm\"\nurdf = \"{}\"\ntool_link = \"tool0\"\n\n[payload]\nmass_kg = 4.0\ncom_m = [0.0, 0.0, 0.075]\n",
+            ur10e_urdf().display()
+        ),
+    )
+    .unwrap();
+    let r = robot::load(&drive).unwrap();
+    std::fs::write(
+        dir.join("log.csv"),
+        sim(&r, "coulomb=6", SignalKind::Torque, 0.5, 22, 8.0, None),
+    )
+    .unwrap();
+    ok(
+        &dir,
+        &[
+            "identify",
+            "--robot",
+            "mine.toml",
+            "--log",
+            "log.csv",
+            "--effects",
+            "coulomb",
+        ],
+    );
+    let cal = dir.join("mine.calibrated.toml");
+    let c = robot::load(&cal).unwrap();
+    let fc = &c.effects.values["coulomb"];
+    assert!(
+        fc.iter().all(|v| (v - 6.0).abs() < 0.3),
+        "identified friction kept: {fc:?}"
+    );
+    assert_eq!(c.payload.unwrap().mass, 4.0);
+    assert_eq!(c.name(), "my arm");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_still_joint_does_not_block_the_others() {
+    let dir = tmp("still");
+    let r = robot::load(&root().join("robots/abb_irb4600_40_255")).unwrap();
+    // Joint 5 stays put (a vertical nozzle on a print-like motion).
+    std::fs::write(
+        dir.join("log.csv"),
+        sim(&r, "coulomb=30", SignalKind::Torque, 2.0, 23, 8.0, Some(4)),
+    )
+    .unwrap();
+    let out = ok(
+        &dir,
+        &[
+            "identify",
+            "--robot",
+            root().join("robots/abb_irb4600_40_255").to_str().unwrap(),
+            "--log",
+            "log.csv",
+            "--effects",
+            "coulomb",
+        ],
+    );
+    assert!(out.contains("coulomb.f_c[5]"), "{out}");
+    let c = robot::load(&dir.join("abb_irb4600_40_255.calibrated.toml")).unwrap();
+    let cal = c.effects.calibration.as_ref().unwrap();
+    let nominal: Vec<f64> = r
+        .drive
+        .as_ref()
+        .unwrap()
+        .joints
+        .iter()
+        .map(|j| j.coulomb)
+        .collect();
+    let fitted: Vec<f64> = c
+        .drive
+        .as_ref()
+        .unwrap()
+        .joints
+        .iter()
+        .map(|j| j.coulomb)
+        .collect();
+    for j in 0..6 {
+        let p = cal
+            .params
+            .iter()
+            .find(|p| p.name == format!("f_c[{}]", j + 1))
+            .unwrap();
+        if j == 4 {
+            assert!(p.status.starts_with("held at prior") && p.std_error.is_none());
+            assert_eq!(fitted[j], nominal[j]);
+        } else {
+            assert_eq!(p.status, "fitted");
+            assert!(
+                (fitted[j] - nominal[j] - 30.0).abs() < 1.5,
+                "f_c[{}] = {} (nominal {})",
+                j + 1,
+                fitted[j],
+                nominal[j]
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn power_logs_work_with_a_urdf_only_robot_and_current_logs_say_what_is_missing() {
+    let r = robot::load(&ur10e_urdf()).unwrap();
+    let m = Model::new(&r).unwrap();
+    for (kind, noise) in [(SignalKind::AxisPower, 2.0), (SignalKind::TotalPower, 5.0)] {
+        let text = sim(&r, "", kind, noise, 24, 4.0, None);
+        let log = parse_log(&text, "p.csv", 6, None).unwrap();
+        let prep = Prepared::new(&m, &log).unwrap();
+        let (cmp, _) = printwatt::identify::metrics::compare(&prep, &m);
+        // The URDF-only model is the truth here: only the noise is left.
+        assert!(cmp.total.rmse < 1.5 * noise, "{kind:?}: {}", cmp.total.rmse);
+    }
+    let text = sim(&r, "", SignalKind::Torque, 1.0, 24, 2.0, None);
+    let text: String = text
+        .lines()
+        .map(|l| {
+            if l.starts_with('t') {
+                l.split(',')
+                    .map(|c| match c.strip_prefix("tau") {
+                        Some(rest) => format!("i{}[A]", &rest[..1]),
+                        None => c.to_string(),
+                    })
+                    .collect::<Vec<_>>()
+                    .join(",")
+            } else {
+                l.to_string()
+            }
+        })
+        .collect::<Vec<_>>()
+        .join("\n");
+    let log = parse_log(&text, "i.csv", 6, None).unwrap();
+    let e = Prepared::new(&m, &log).unwrap_err().to_string();
+    assert!(
+        e.contains("i.csv")
+            && e.contains("gear ratio")
+            && e.contains("K_t")
+            && e.contains("torque_constant_nm_per_a"),
+        "{e}"
+    );
+}
+
+/// Two hidden effects in two rounds, the second run on the calibrated robot the first wrote;
+/// a shipped robot's name never gets a file in the installed robots folder and names do not
+/// grow; `energy` on the calibrated robot says which calibration it used.
+#[test]
+fn two_rounds_on_the_calibrated_robot_never_write_into_robots() {
+    let dir = tmp("rounds");
+    let r = robot::load(&root().join("robots/abb_irb4600_40_255")).unwrap();
+    std::fs::write(
+        dir.join("log.csv"),
+        sim(
+            &r,
+            "coulomb=30,balancer=3000:20000",
+            SignalKind::Torque,
+            2.0,
+            25,
+            8.0,
+            None,
+        ),
+    )
+    .unwrap();
+    let before: Vec<_> = std::fs::read_dir(root().join("robots/abb_irb4600_40_255"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    let d1 = ok(
+        &dir,
+        &[
+            "diagnose",
+            "--robot",
+            "abb_irb4600_40_255",
+            "--log",
+            "log.csv",
+            "--json",
+        ],
+    );
+    let d1: serde_json::Value = serde_json::from_str(&d1).unwrap();
+    assert_eq!(d1["best"], "balancer");
+    ok(
+        &dir,
+        &[
+            "identify",
+            "--robot",
+            "abb_irb4600_40_255",
+            "--log",
+            "log.csv",
+            "--effects",
+            "balancer",
+        ],
+    );
+    let round1 = dir.join("abb_irb4600_40_255.calibrated.toml");
+    assert!(round1.is_file());
+    // Into the installed folder: refused.
+    let inst = root().join("robots/abb_irb4600_40_255/drive.identified.toml");
+    let (s, _, err) = cli(
+        &dir,
+        &[
+            "identify",
+            "--robot",
+            "abb_irb4600_40_255",
+            "--log",
+            "log.csv",
+            "--effects",
+            "balancer",
+            "--drive-out",
+            inst.to_str().unwrap(),
+        ],
+    );
+    assert!(!s && err.contains("installed robots folder"), "{err}");
+    let d2 = ok(
+        &dir,
+        &[
+            "diagnose",
+            "--robot",
+            round1.to_str().unwrap(),
+            "--log",
+            "log.csv",
+            "--json",
+        ],
+    );
+    let d2: serde_json::Value = serde_json::from_str(&d2).unwrap();
+    assert_eq!(d2["best"], "coulomb", "{}", d2["verdict"]);
+    assert!(d2["calibration"].as_str().unwrap().contains("round 1"));
+    let out = ok(
+        &dir,
+        &[
+            "identify",
+            "--robot",
+            round1.to_str().unwrap(),
+            "--log",
+            "log.csv",
+            "--effects",
+            "coulomb",
+            "--out",
+            "r2",
+        ],
+    );
+    let round2 = dir.join("r2/abb_irb4600_40_255.calibrated.toml");
+    assert!(round2.is_file(), "{out}");
+    assert!(!dir
+        .join("r2/abb_irb4600_40_255.calibrated.calibrated.toml")
+        .exists());
+    let c = robot::load(&round2).unwrap();
+    let cal = c.effects.calibration.as_ref().unwrap();
+    assert_eq!(cal.rounds.len(), 2);
+    // Round 1's balancer carried over, round 2's friction added, both with standard errors.
+    let f0 = cal.params.iter().find(|p| p.name == "F0").unwrap();
+    assert_eq!(f0.round, 1);
+    assert!(f0.std_error.is_some());
+    assert!(cal
+        .params
+        .iter()
+        .any(|p| p.name == "f_c[3]" && p.round == 2));
+    let truth_f0 = r.effects.balancer_preload_n + 3000.0;
+    assert!((c.effects.balancer_preload_n - truth_f0).abs() < 0.02 * truth_f0);
+    // The model of round 2 explains the log down to the noise.
+    let m = Model::new(&c).unwrap();
+    let log = printwatt::identify::read_log(&dir.join("log.csv"), 6, None).unwrap();
+    let prep = Prepared::new(&m, &log).unwrap();
+    let (cmp, _) = printwatt::identify::metrics::compare(&prep, &m);
+    // (Round 2 fits Coulomb only, on top of round 1's balancer, which absorbed a little of
+    // the then-missing friction: within 1.75 × the 2 N·m noise.)
+    assert!(cmp.total.rmse < 3.5, "{}", cmp.total.rmse);
+    // Nothing was added to the installed robot folder.
+    let after: Vec<_> = std::fs::read_dir(root().join("robots/abb_irb4600_40_255"))
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    assert_eq!(before, after);
+    let _ = std::fs::remove_dir_all(&dir);
+}
