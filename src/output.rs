@@ -410,9 +410,10 @@ impl RunDir {
                 )));
             }
             check_ours(target)?;
-            if existing == Existing::Force(false) {
+            let empty = std::fs::read_dir(target).is_ok_and(|mut d| d.next().is_none());
+            if existing == Existing::Force(false) && !empty {
                 return Err(Error::Invalid(format!(
-                    "{} exists already (an earlier printwatt run): pass --force to replace it, or choose another run name",
+                    "{} already holds a run: replacing it needs --force (or choose another --run)",
                     target.display()
                 )));
             }
