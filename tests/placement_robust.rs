@@ -292,7 +292,7 @@ fn exported_wobjdata_and_frame_put_the_nozzle_where_the_placement_says() {
     let w = export::wobjdata("wobjPrint", &at);
     let inner = &w[w.find("[[").unwrap() + 2..];
     let nums: Vec<f64> = inner[..inner.find("]]").unwrap()]
-        .split(|c| c == ',' || c == '[' || c == ']')
+        .split([',', '[', ']'])
         .filter_map(|t| t.trim().parse().ok())
         .collect();
     assert_eq!(nums.len(), 7, "{w}");
