@@ -264,6 +264,17 @@ fn apply_drive(model: &mut RobotModel, d: drive::DriveFile, file: &str) -> Resul
         if let Some(a) = jt.velocity_limit_rad_s {
             j.velocity_limit = finite_pos(file, &f("velocity_limit_rad_s"), a)?;
         }
+        if let Some(m) = jt.limit_margin_rad {
+            if !(m.is_finite() && m >= 0.0) {
+                return Err(Error::Field {
+                    file: file.into(),
+                    field: f("limit_margin_rad"),
+                    msg: format!("must be finite and >= 0, got {m}"),
+                });
+            }
+            model.info.limit_margins_rad.resize(i + 1, None);
+            model.info.limit_margins_rad[i] = Some(m);
+        }
         if let Some(a) = jt.position_min_rad {
             j.lower = a;
         }
