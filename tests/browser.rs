@@ -138,7 +138,8 @@ fn reports_under(dir: &Path, out: &mut Vec<PathBuf>) {
     };
     for e in rd.flatten() {
         let p = e.path();
-        if p.is_dir() {
+        // Local scratch runs (git-ignored) are not committed reports.
+        if p.is_dir() && !p.ends_with("results/runs") && !p.ends_with("results/tmp") {
             reports_under(&p, out);
         } else if p.file_name().is_some_and(|n| n == "report.html") {
             out.push(p);

@@ -360,3 +360,29 @@ fn package_urls_and_obj_meshes_resolve_and_a_missing_package_is_a_warning() {
     .unwrap();
     assert!((d - 0.15).abs() < 1e-6, "{d}");
 }
+
+#[test]
+fn a_degenerate_collision_mesh_is_a_warning_and_a_capsule_stands_in() {
+    // Four vertices on one line: no solid, no face.
+    let dir = tmpdir("flat");
+    std::fs::write(
+        dir.join("flat.obj"),
+        "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 3 0 0\nf 1 2 3\n",
+    )
+    .unwrap();
+    let xml = r#"<collision><geometry><mesh filename="flat.obj"/></geometry></collision>"#;
+    let model = load(&arm_urdf(&dir, xml)).expect("load");
+    assert!(
+        model
+            .warnings
+            .iter()
+            .any(|w| w.contains("flat.obj") && w.contains("no convex hull")),
+        "{:?}",
+        model.warnings
+    );
+    let rs = RobotShapes::new(&model, 1.0, &LinkRadii::default());
+    assert!(rs
+        .shapes
+        .iter()
+        .any(|s| s.body == 2 && s.label == "capsule of link `l2`"));
+}

@@ -266,3 +266,60 @@ fn urdf_without_nozzle_gets_counts_per_reason_and_the_no_tool_offset_hint() {
         "{e}"
     );
 }
+
+#[test]
+fn exported_wobjdata_and_frame_put_the_nozzle_where_the_placement_says() {
+    use printwatt::placement::export;
+    let model = robot::load(&root().join("robots/abb_irb6700_200_260")).unwrap();
+    let tp = toolpath::load(&root().join("paths/default.gcode"), &ReadOptions::default()).unwrap();
+    let job = PathJob::new(
+        &model,
+        &tp,
+        EnergyOptions::default(),
+        ProfileOptions::default(),
+        JointStageOptions::default(),
+    )
+    .unwrap();
+    let at = printwatt::toolpath::Placement {
+        x: 1.55,
+        y: 0.05,
+        z: 0.45,
+        yaw: 100f64.to_radians(),
+        nozzle_spin: 10f64.to_radians(),
+    };
+    let pe = job.evaluate(&at).unwrap().unwrap();
+    // Read the numbers back from the RAPID text: [[x, y, z], [q1, q2, q3, q4]] in mm.
+    let w = export::wobjdata("wobjPrint", &at);
+    let inner = &w[w.find("[[").unwrap() + 2..];
+    let nums: Vec<f64> = inner[..inner.find("]]").unwrap()]
+        .split([',', '[', ']'])
+        .filter_map(|t| t.trim().parse().ok())
+        .collect();
+    assert_eq!(nums.len(), 7, "{w}");
+    let t = nalgebra::Vector3::new(nums[0], nums[1], nums[2]) / 1000.0;
+    let q = nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(
+        nums[3], nums[4], nums[5], nums[6],
+    ));
+    // The COMPAS frame says the same.
+    let f = export::compas_frame(&at);
+    let xa = &f["data"]["xaxis"];
+    let xaxis = nalgebra::Vector3::new(
+        xa[0].as_f64().unwrap(),
+        xa[1].as_f64().unwrap(),
+        xa[2].as_f64().unwrap(),
+    );
+    assert!((q * nalgebra::Vector3::x() - xaxis).norm() < 1e-9);
+    // FK of the timed joint trajectory puts the nozzle tip at wobj ∘ part-frame point.
+    let traj = &pe.timed.traj;
+    let motion = &pe.timed.motion;
+    let mut worst: f64 = 0.0;
+    for k in (0..traj.len()).step_by(50) {
+        let tip = printwatt::kinematics::fk::tool_pose(&model, traj.q(k)).pos;
+        let want = q * motion.p[k] + t;
+        worst = worst.max((tip - want).norm());
+    }
+    assert!(
+        worst < 1e-3,
+        "nozzle {worst} m from where the wobjdata puts it"
+    );
+}

@@ -49,6 +49,10 @@ pub struct OptimiseArgs {
     /// default grid spans 0 to half the reach).
     #[arg(long, allow_hyphen_values = true)]
     pub z_bounds: Option<String>,
+    /// Write the chosen placement for the robot into this directory: `wobj_print.mod` (ABB RAPID
+    /// wobjdata) and `frame.json` (COMPAS frame). Existing files are replaced only with --force.
+    #[arg(long)]
+    pub export: Option<std::path::PathBuf>,
 }
 
 /// What the tolerance check says, in one line.
@@ -295,6 +299,30 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
         written = Some(rd.commit()?);
     } else {
         rep.check_finite()?;
+    }
+    if let (Some(ex), Some(b)) = (&a.export, rep.best()) {
+        let files = [
+            (
+                ex.join("wobj_print.mod"),
+                format!(
+                    "MODULE printwatt_placement\n{}ENDMODULE\n",
+                    crate::placement::export::wobjdata("wobjPrint", &b.placement)
+                ),
+            ),
+            (
+                ex.join("frame.json"),
+                serde_json::to_string_pretty(&crate::placement::export::compas_frame(
+                    &b.placement,
+                ))?,
+            ),
+        ];
+        for (f, text) in &files {
+            if f.exists() && !p.force {
+                anyhow::bail!("{} exists: replacing it needs --force", f.display());
+            }
+            crate::output::guard_inputs(f, &[l.path_file.as_path()])?;
+            crate::output::write_atomic(f, text.as_bytes())?;
+        }
     }
     if p.json {
         super::print_json_text(&rep.summary_json(false)?)?;

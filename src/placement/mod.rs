@@ -5,6 +5,7 @@
 pub mod advice;
 pub mod collision;
 pub mod eval;
+pub mod export;
 pub mod feasibility;
 pub mod margins;
 pub mod optimise;
