@@ -595,3 +595,118 @@ fn file_exists_error_names_the_path_and_force_before_anything_is_written() {
     );
     assert!(!d.join("id/ladder.md").exists(), "nothing half written");
 }
+
+// ---- warnings are shown; readers refuse what they cannot read -----------------------------
+
+#[test]
+fn reader_warnings_reach_stderr_and_json_with_file_and_line() {
+    let d = tmp("warn");
+    robot_copy(&d);
+    write(
+        &d,
+        "sp.csv",
+        "x[mm],y[mm],z[mm],spede[mm/s]\n0,0,0,100\n100,0,0,100\n",
+    );
+    let o = energy_at(&d, "rob", "sp.csv", &["--out", "o.csv", "--json"]);
+    assert!(o.status.success(), "{}", err(&o));
+    assert!(
+        err(&o).contains("warning: sp.csv:1: unknown column 'spede'"),
+        "{}",
+        err(&o)
+    );
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let w = &v["warnings"][0];
+    assert_eq!(w["file"], "sp.csv");
+    assert_eq!(w["line"], 1);
+    assert!(w["message"]
+        .as_str()
+        .unwrap()
+        .contains("did you mean 'speed'"));
+}
+
+#[test]
+fn a_file_with_only_travel_moves_says_so() {
+    let d = tmp("g0");
+    robot_copy(&d);
+    write(&d, "g0.gcode", "G21\nG90\nG0 X0 Y0 Z20\nG0 X100\n");
+    let o = energy_at(&d, "rob", "g0.gcode", &["--out", "o.csv"]);
+    assert!(err(&o).contains("no print moves"), "{}", err(&o));
+}
+
+#[test]
+fn gnan_word_is_an_error_not_a_dropped_move() {
+    let e = printwatt::toolpath::parse_gcode(
+        "G21\nG1 X0 Y0 Z0 F1500\nGnan X5\nG1 X10 E2\n",
+        "n.gcode",
+        &Default::default(),
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.starts_with("n.gcode:3:2: expected a number after 'G'"),
+        "{e}"
+    );
+}
+
+#[test]
+fn duplicate_rapid_robtargets_are_reported() {
+    let t = "MODULE M\n CONST robtarget p0 := [[0,0,0],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];\n CONST robtarget p0 := [[1,0,0],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];\n PROC main()\n  MoveL p0, v100, fine, tool0;\n ENDPROC\nENDMODULE\n";
+    let e = printwatt::toolpath::parse_rapid(t, "d.mod", &Default::default())
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("d.mod:3") && e.contains("declared twice (first on line 2)"),
+        "{e}"
+    );
+}
+
+#[test]
+fn a_time_gap_in_a_log_is_named() {
+    let mut s = String::from("t,q1,q2,q3,q4,q5,q6,tau1,tau2,tau3,tau4,tau5,tau6\n");
+    for k in 0..200 {
+        let t = if k < 100 {
+            k as f64 * 0.004
+        } else {
+            1000.0 + k as f64 * 0.004
+        };
+        let q = 0.1 * (k as f64 * 0.05).sin();
+        s.push_str(&format!("{t},{q},{q},{q},{q},{q},{q},1,1,1,1,1,1\n"));
+    }
+    let log = printwatt::identify::log::parse_log(&s, "gap.csv", 6, None).unwrap();
+    assert!(
+        log.warnings
+            .iter()
+            .any(|w| w.starts_with("gap.csv:102:") && w.contains("time jumps by 1000")),
+        "{:?}",
+        log.warnings
+    );
+}
+
+#[test]
+fn q1_mm_on_a_revolute_joint_is_refused() {
+    let d = tmp("qmm");
+    robot_copy(&d);
+    write(
+        &d,
+        "t.csv",
+        "t,q1[mm],q2,q3,q4,q5,q6\n0,0,0,0,0,0.5,0\n0.1,0,0,0,0,0.5,0\n0.2,0,0,0,0,0.5,0\n",
+    );
+    let o = run(
+        &[
+            "energy",
+            "--robot",
+            "rob",
+            "--trajectory",
+            "t.csv",
+            "--out",
+            "o.csv",
+        ],
+        &d,
+    );
+    assert!(!o.status.success());
+    assert!(
+        err(&o).contains("t.csv:1:2: column `q1[mm]`: joint 1 is revolute"),
+        "{}",
+        err(&o)
+    );
+}
