@@ -226,7 +226,10 @@ pub fn from_table(table: &crate::table::Table, n: usize) -> Result<(JointTraject
     let nq = count("q");
     if nq != n {
         return Err(Error::SizeMismatch {
-            what: format!("{file}: joint position columns q1..qN (the robot has {n} joints)"),
+            what: format!(
+                "{file}: line {} (header): joint position columns q1..qN (the robot has {n} joints)",
+                table.header_line
+            ),
             got: nq,
             expected: n,
         });
@@ -238,7 +241,10 @@ pub fn from_table(table: &crate::table::Table, n: usize) -> Result<(JointTraject
         }
         if k != n {
             return Err(Error::SizeMismatch {
-                what: format!("{file}: columns {p}1..{p}N"),
+                what: format!(
+                    "{file}: line {} (header): columns {p}1..{p}N",
+                    table.header_line
+                ),
                 got: k,
                 expected: n,
             });

@@ -320,7 +320,11 @@ fn read(r: Reader, path: &Path) -> Result<String, Error> {
         }
         Reader::Gcode | Reader::Rapid | Reader::CsvPath => {
             let tp = load(path, &ReadOptions::default())?;
-            format!("{tp:?} length {:?} print {:?}", tp.length(), tp.print_length())
+            format!(
+                "{tp:?} length {:?} print {:?}",
+                tp.length(),
+                tp.print_length()
+            )
         }
         Reader::Placements => format!("{:?}", load_placements(path)?),
         Reader::Trajectory => format!("{:?}", printwatt::trajectory::read_csv(path, 6)?),
@@ -334,10 +338,7 @@ fn read(r: Reader, path: &Path) -> Result<String, Error> {
 fn run_reader(r: Reader, n: usize, tally: &mut Tally) {
     let seeds = seeds(r);
     assert!(!seeds.is_empty(), "{r:?}: no seed files");
-    let dir = std::env::temp_dir().join(format!(
-        "printwatt-fuzzmut-{}-{r:?}",
-        std::process::id()
-    ));
+    let dir = std::env::temp_dir().join(format!("printwatt-fuzzmut-{}-{r:?}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     let mut rng = ChaCha8Rng::seed_from_u64(10 + r as u64);

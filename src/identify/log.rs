@@ -293,7 +293,8 @@ fn from_table(table: Table, n: usize) -> Result<Log> {
     if kind != SignalKind::TotalPower && k != n {
         return Err(Error::SizeMismatch {
             what: format!(
-                "{file}: columns {p}1..{p}N (the robot has {n} joints)",
+                "{file}: line {} (header): columns {p}1..{p}N (the robot has {n} joints)",
+                table.header_line,
                 p = kind.prefix()
             ),
             got: k,

@@ -404,11 +404,20 @@ pub fn parse_urdf(text: &str, file: &str, tool_link: Option<&str>) -> Result<Rob
         .filter(|l| !parent_joint.contains_key(l.as_str()))
         .collect();
     if roots.len() != 1 {
-        return Err(Error::Invalid(format!(
-            "{file}: expected one root link, found {}: {:?}",
-            roots.len(),
-            roots
-        )));
+        let names: Vec<String> = roots.iter().map(|l| format!("`{l}`")).collect();
+        return Err(Error::Field {
+            file: file.into(),
+            field: if names.is_empty() {
+                "<joint> parent/child".into()
+            } else {
+                format!("<link name> {}", names.join(", "))
+            },
+            msg: format!(
+                "expected one root link (a link that is no joint's child), found {}: the \
+                 joints must join all links into one tree",
+                roots.len()
+            ),
+        });
     }
     let root_link = roots[0].clone();
     let actuated = |j: &UJoint| j.kind != "fixed" && !j.mimic;
