@@ -11,7 +11,8 @@
 //!   link), an [`Error::Io`] (path), or any other variant whose text contains the file name and
 //!   one of `line(s) <n>`, `row(s) <n>`, `column <n>`, `:<n>:` or a back-quoted field name;
 //! - every `Ok` value holds no NaN or infinite number (checked on its `Debug` form, with
-//!   quoted strings removed, so a link called `nan` does not count).
+//!   quoted strings removed, so a link called `nan` does not count); the one exception is
+//!   `±inf` in the joint-limit fields, where the model documents it as "no limit".
 //!
 //! Mutations per reader: `PRINTWATT_MUTATIONS` (default 40; the README's 10,000-input figures
 //! come from `PRINTWATT_MUTATIONS=1250`, 8 readers). Seeded with ChaCha8 (seed 10), so a
@@ -184,6 +185,16 @@ fn mutate(seed: &[u8], rng: &mut ChaCha8Rng, xml: bool) -> Vec<u8> {
     b
 }
 
+/// Fields whose documented value for "no limit" is `±inf` (`robot::model::Joint`): an
+/// infinity there is the model's sentinel, not an overflow. NaN is never allowed.
+const INF_MEANS_NO_LIMIT: &[&str] = &[
+    "lower",
+    "upper",
+    "velocity_limit",
+    "acceleration_limit",
+    "jerk_limit",
+];
+
 /// The `Debug` text with quoted strings removed, searched for `NaN` and `inf` words.
 fn has_non_finite(debug: &str) -> Option<String> {
     let mut plain = String::with_capacity(debug.len());
@@ -207,13 +218,17 @@ fn has_non_finite(debug: &str) -> Option<String> {
             plain.push(c);
         }
     }
-    plain
+    let words: Vec<&str> = plain
         .split(|c: char| !(c.is_alphanumeric() || c == '_'))
-        .find(|w| *w == "NaN" || *w == "inf")
-        .map(|w| {
-            let i = plain.find(w).unwrap_or(0);
-            plain[i.saturating_sub(120)..(i + 20).min(plain.len())].to_string()
+        .filter(|w| !w.is_empty())
+        .collect();
+    words
+        .iter()
+        .enumerate()
+        .position(|(k, &w)| {
+            w == "NaN" || (w == "inf" && !(k > 0 && INF_MEANS_NO_LIMIT.contains(&words[k - 1])))
         })
+        .map(|k| words[k.saturating_sub(12)..(k + 3).min(words.len())].join(" "))
 }
 
 fn has_location(text: &str) -> bool {
@@ -460,6 +475,8 @@ fn the_mutation_oracles_catch_what_they_guard() {
     // is not; an unlocated error is seen.
     assert!(has_non_finite("Move { x: NaN }").is_some());
     assert!(has_non_finite("[1.0, -inf]").is_some());
+    assert!(has_non_finite("Joint { upper: inf, velocity_limit: inf }").is_none());
+    assert!(has_non_finite("Joint { upper: inf, mass: inf }").is_some());
     assert!(has_non_finite("Link { name: \"nan inf\", m: 1.0 }").is_none());
     let e = Error::Invalid("something went wrong".into());
     assert!(unlocated(&e, &["p.gcode"]).is_some());

@@ -710,3 +710,41 @@ fn q1_mm_on_a_revolute_joint_is_refused() {
         err(&o)
     );
 }
+
+// ---- found by tests/fuzz_mutation.rs --------------------------------------------------------
+
+#[test]
+fn toolpath_with_1e308_coordinates_is_refused_naming_the_line() {
+    // Parses as a finite number, but every length after it is infinite.
+    let d = tmp("huge-coord");
+    let p = write(
+        &d,
+        "p.mod",
+        "MODULE M\n  PROC main()\n    MoveL [[0,0,0],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v100, fine, tool0;\n    MoveL [[1e308,0,0],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v100, fine, tool0;\n    MoveL [[-1e308,0,0],[1,0,0,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]], v100, fine, tool0;\n  ENDPROC\nENDMODULE\n",
+    );
+    let e = printwatt::toolpath::load(&p, &Default::default())
+        .expect_err("a 1e308 m move must be refused")
+        .to_string();
+    assert!(
+        e.contains("p.mod:4:") && e.contains("check the units"),
+        "{e}"
+    );
+}
+
+#[test]
+fn urdf_with_two_root_links_names_them() {
+    let d = tmp("two-roots");
+    let r = robot_copy(&d);
+    let u = std::fs::read_to_string(r.join("robot.urdf")).unwrap();
+    // Cut the first joint's parent link: its child becomes a second root.
+    let i = u.find("<joint ").unwrap();
+    let j = i + u[i..].find("</joint>").unwrap() + "</joint>".len();
+    std::fs::write(r.join("robot.urdf"), format!("{}{}", &u[..i], &u[j..])).unwrap();
+    let e = printwatt::robot::load(&r)
+        .expect_err("two roots")
+        .to_string();
+    assert!(
+        e.contains("robot.urdf") && e.contains("<link name>") && e.contains("one root link"),
+        "{e}"
+    );
+}

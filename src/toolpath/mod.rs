@@ -401,7 +401,47 @@ pub fn load(path: &Path, opts: &ReadOptions) -> Result<Toolpath> {
         }
     };
     let text = read_text(path)?;
-    parse(&text, &name, opts)
+    let tp = parse(&text, &name, opts)?;
+    check_extent(&tp, &name)?;
+    Ok(tp)
+}
+
+/// Largest coordinate a toolpath may hold, m (100 km: far beyond any printer, small enough
+/// that lengths and times stay finite).
+pub const MAX_EXTENT_M: f64 = 1e5;
+
+/// Refuse a toolpath whose points lie beyond [`MAX_EXTENT_M`] or whose move lengths are not
+/// finite (numbers like `1e308` parse but overflow every later sum), naming the move's line.
+pub fn check_extent(tp: &Toolpath, file: &str) -> Result<()> {
+    let bad = |p: &V3| p.iter().any(|c| !c.is_finite() || c.abs() > MAX_EXTENT_M);
+    if bad(&tp.start) {
+        return Err(Error::Field {
+            file: file.into(),
+            field: "start point".into(),
+            msg: format!(
+                "coordinates {:?} m lie beyond {MAX_EXTENT_M} m: check the units",
+                tp.start
+            ),
+        });
+    }
+    let mut total = 0.0;
+    for (i, m) in tp.moves.iter().enumerate() {
+        let len = m.length(&tp.move_start(i));
+        total += len;
+        if bad(&m.end) || !len.is_finite() || !total.is_finite() {
+            return Err(Error::Parse {
+                file: file.into(),
+                line: m.line,
+                column: 1,
+                msg: format!(
+                    "the move ends at {:?} m (length {len} m), beyond {MAX_EXTENT_M} m from \
+                     the part origin: check the units",
+                    m.end
+                ),
+            });
+        }
+    }
+    Ok(())
 }
 
 /// Read named placements from a CSV file with header `name,x[mm],y[mm],z[mm],yaw[deg]`
