@@ -200,7 +200,7 @@ pub fn unexplained(
         let y: Vec<f64> = (0..len).map(|k| r[k * ch + c]).collect();
         let rms = (y.iter().map(|v| v * v).sum::<f64>() / len.max(1) as f64).sqrt();
         let nf = noise_floor(r, ch, c);
-        if !(rms > STRUCTURE_RATIO * nf) {
+        if rms.is_nan() || rms <= STRUCTURE_RATIO * nf {
             continue;
         }
         let joints: Vec<usize> = if ch == n_joints {
