@@ -310,3 +310,79 @@ hose_to_m = [-0.4, 0.0, -0.2]
     let e = load(&dir).unwrap_err().to_string();
     assert!(e.contains("tool.geometry"), "{e}");
 }
+
+#[test]
+fn package_urls_and_obj_meshes_resolve_and_a_missing_package_is_a_warning() {
+    // <root>/my_robot_description/meshes/l2.obj referenced as package://my_robot_description/...
+    // from a URDF in <root>/my_robot_description/urdf/: found among the URDF's ancestors.
+    let root = tmpdir("pkg");
+    let pkg = root.join("my_robot_description");
+    std::fs::create_dir_all(pkg.join("meshes")).unwrap();
+    std::fs::create_dir_all(pkg.join("urdf")).unwrap();
+    let mut obj = String::from("# unit cube shifted down 0.5 m\n");
+    for i in 0..8 {
+        obj += &format!(
+            "v {} {} {}\n",
+            (i & 1) as f64 * 0.1,
+            ((i >> 1) & 1) as f64 * 0.1 - 0.05,
+            ((i >> 2) & 1) as f64 * 0.1 - 0.55
+        );
+    }
+    obj += "f 1 2 3\n";
+    std::fs::write(pkg.join("meshes/l2.obj"), obj).unwrap();
+    let xml = r#"<collision><geometry><mesh filename="package://my_robot_description/meshes/l2.obj" scale="1 1 1"/></geometry></collision>
+      <collision><geometry><mesh filename="package://no_such_package/meshes/x.stl"/></geometry></collision>"#;
+    let model = load(&arm_urdf(&pkg.join("urdf"), xml)).expect("load");
+    assert_eq!(model.link_collision[1].len(), 1, "{:?}", model.warnings);
+    assert!(
+        model
+            .warnings
+            .iter()
+            .any(|w| w.contains("no_such_package") && w.contains("ROS_PACKAGE_PATH")),
+        "{:?}",
+        model.warnings
+    );
+    // The hull's lowest point is 0.7 − 0.55 = 0.15 m above the base plane at q = 0.
+    let rs = RobotShapes::new(&model, 1.0, &LinkRadii::default());
+    let i = rs
+        .shapes
+        .iter()
+        .position(|s| s.label == "link `l2` (URDF mesh hull)")
+        .unwrap();
+    let poses = rs.poses(&model, &[0.0, 0.0], &Isometry::identity());
+    let bed = Bed::new(&V3::new(-3.0, -3.0, -0.5), &V3::new(3.0, 3.0, 0.0));
+    let d = query::distance(
+        &poses[i],
+        rs.shapes[i].shape.as_ref(),
+        &bed.pose,
+        &bed.cuboid,
+    )
+    .unwrap();
+    assert!((d - 0.15).abs() < 1e-6, "{d}");
+}
+
+#[test]
+fn a_degenerate_collision_mesh_is_a_warning_and_a_capsule_stands_in() {
+    // Four vertices on one line: no solid, no face.
+    let dir = tmpdir("flat");
+    std::fs::write(
+        dir.join("flat.obj"),
+        "v 0 0 0\nv 1 0 0\nv 2 0 0\nv 3 0 0\nf 1 2 3\n",
+    )
+    .unwrap();
+    let xml = r#"<collision><geometry><mesh filename="flat.obj"/></geometry></collision>"#;
+    let model = load(&arm_urdf(&dir, xml)).expect("load");
+    assert!(
+        model
+            .warnings
+            .iter()
+            .any(|w| w.contains("flat.obj") && w.contains("no convex hull")),
+        "{:?}",
+        model.warnings
+    );
+    let rs = RobotShapes::new(&model, 1.0, &LinkRadii::default());
+    assert!(rs
+        .shapes
+        .iter()
+        .any(|s| s.body == 2 && s.label == "capsule of link `l2`"));
+}

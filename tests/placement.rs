@@ -93,23 +93,31 @@ fn unreachable_placement_names_the_sample_line_and_point() {
 }
 
 #[test]
-fn wrist_singularity_margin_makes_a_placement_infeasible() {
+fn wrist_passing_through_zero_with_joint_4_still_is_feasible() {
     let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
     let job = job_for(&model, &tp);
     let at = Placement::new(1.7, 0.0, 0.0, YAW90);
-    // Reachable and timed (see tests/timing.rs) but passes within 2.9° of the wrist singularity.
+    // Reachable and timed (see tests/timing.rs); passes within 2.9° of the wrist singularity
+    // (|sin q5| < 0.05) with joints 4 and 6 slow: harmless with a vertical nozzle, accepted.
     let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
+    let f = one(&ev, at).outcome.unwrap_or_else(|e| panic!("{e}"));
+    assert!(f.margins.wrist.unwrap() < 0.05, "{:?}", f.margins);
+    let rate = f
+        .margins
+        .wrist_rate
+        .expect("the path comes near the singularity");
+    assert!(rate < 0.5, "joint 4/6 use {rate} of their limits");
+    // The rule still rejects a wrist that moves fast there: with a strict share the same
+    // placement fails as a wrist singularity, naming the joint and where.
+    let strict = FeasibilityOptions {
+        wrist_rate_max: rate / 2.0,
+        ..Default::default()
+    };
+    let ev = Evaluator::new(&job, strict, Objective::Supply);
     let e = one(&ev, at).outcome.unwrap_err();
     assert_eq!(e.reason, Reason::WristSingularity, "{e}");
     assert!(e.sample.is_some() && e.line.is_some());
-    // Without the margin it is feasible, and its smallest |sin q5| is below the default.
-    let loose = FeasibilityOptions {
-        wrist_min: 0.0,
-        ..Default::default()
-    };
-    let ev = Evaluator::new(&job, loose, Objective::Supply);
-    let f = one(&ev, at).outcome.unwrap();
-    assert!(f.margins.wrist.unwrap() < 0.05);
+    assert!(e.detail.contains("joint"), "{e}");
 }
 
 #[test]
@@ -117,7 +125,12 @@ fn bed_collision_is_reported_with_where() {
     let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
     let job = job_for(&model, &tp);
     let at = Placement::new(1.4, 0.0, 0.5, YAW90);
-    let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
+    // Joint 3 comes within 3° of its stop here: no joint-limit margin in this test.
+    let no_margin = FeasibilityOptions {
+        joint_margin_rad: [0.0; 8],
+        ..Default::default()
+    };
+    let ev = Evaluator::new(&job, no_margin, Objective::Supply);
     assert!(
         one(&ev, at).outcome.is_ok(),
         "feasible with the default bed"
@@ -126,7 +139,7 @@ fn bed_collision_is_reported_with_where() {
     // above the base-frame origin, cuts the base column.
     let big_bed = FeasibilityOptions {
         bed_margin_m: 1.5,
-        ..Default::default()
+        ..no_margin
     };
     let ev = Evaluator::new(&job, big_bed, Objective::Supply);
     let e = one(&ev, at).outcome.unwrap_err();
@@ -142,7 +155,7 @@ fn bed_collision_is_reported_with_where() {
 
 fn small_grid() -> printwatt::placement::Grid {
     printwatt::placement::Grid {
-        xs: vec![1.3, 1.4, 1.5],
+        xs: vec![1.4, 1.5, 1.6],
         ys: vec![-0.1, 0.0, 0.1],
         zs: vec![0.5],
         yaws: vec![YAW90],
@@ -222,7 +235,7 @@ fn cli_sweep_json_and_optimise_end_to_end() {
         .args([
             "sweep",
             "--x",
-            "1.3:1.5:0.1",
+            "1.4:1.6:0.1",
             "--y",
             "-0.1:0.1:0.1",
             "--z",
@@ -249,7 +262,7 @@ fn cli_sweep_json_and_optimise_end_to_end() {
         .args([
             "optimise",
             "--x",
-            "1.3:1.5:0.1",
+            "1.4:1.6:0.1",
             "--y",
             "-0.1:0.1:0.1",
             "--z",
@@ -278,13 +291,52 @@ fn cli_sweep_json_and_optimise_end_to_end() {
     for f in ["summary.json", "placements.csv", "report.html"] {
         assert!(dir.join("t").join(f).is_file(), "{f}");
     }
-    // A run directory holding a foreign file is refused, not overwritten.
+    // An existing run is not replaced without --force.
+    let again = |force: bool| {
+        let mut c = bin();
+        c.args([
+            "optimise",
+            "--x",
+            "1.5",
+            "--y",
+            "0",
+            "--z",
+            "0.5",
+            "--yaw",
+            "90",
+            "--max-evals",
+            "4",
+            "--run",
+            "t",
+            "--results-dir",
+        ])
+        .arg(&dir);
+        if force {
+            c.arg("--force");
+        }
+        c.output().unwrap()
+    };
+    let out = again(false);
+    assert!(!out.status.success());
+    assert!(
+        String::from_utf8_lossy(&out.stderr).contains("--force"),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let out = again(true);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    // A run directory holding a foreign file is refused, not overwritten, even with --force.
     std::fs::write(dir.join("t").join("notes.txt"), "mine").unwrap();
     let out = bin()
         .args([
             "optimise",
+            "--force",
             "--x",
-            "1.4",
+            "1.5",
             "--y",
             "0",
             "--z",

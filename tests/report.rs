@@ -1,12 +1,14 @@
 //! The run report: a sweep rendered to `report.html` is well-formed XML (XHTML) with the
 //! expected figures; `summary.json` and `placements.csv` parse. The `compare` report of the
 //! identification commands is drawn by the same chart module and checked the same way.
-//! (Screenshots are taken by hand, never by the test suite.)
+//! The top view and the infeasible summary are checked against what a designer was shown
+//! before (issue 9). Rendering in a browser: tests/browser.rs.
 
 use printwatt::energy::EnergyOptions;
 use printwatt::placement::optimise::{self, OptimiseOptions};
 use printwatt::placement::{Evaluator, FeasibilityOptions, Grid, Objective, PathJob};
 use printwatt::report::placement::{Detail, RunReport};
+use printwatt::report::site::SiteGeometry;
 use printwatt::robot;
 use printwatt::timing::{JointStageOptions, ProfileOptions};
 use printwatt::toolpath::{self, ReadOptions};
@@ -16,8 +18,14 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
-#[test]
-fn report_is_well_formed_with_expected_figures() {
+/// A report over a small grid with two bed heights (some cells infeasible), optimised, with
+/// the site geometry; built once for the tests of this file.
+fn report() -> &'static RunReport {
+    static R: std::sync::OnceLock<RunReport> = std::sync::OnceLock::new();
+    R.get_or_init(build_report)
+}
+
+fn build_report() -> RunReport {
     let model = robot::load(&root().join("robots/abb_irb6700_200_260")).unwrap();
     let tp = toolpath::load(&root().join("paths/default.gcode"), &ReadOptions::default()).unwrap();
     let job = PathJob::new(
@@ -32,7 +40,7 @@ fn report_is_well_formed_with_expected_figures() {
     let grid = Grid {
         xs: vec![1.2, 1.3, 1.4, 1.5],
         ys: vec![-0.1, 0.0, 0.1],
-        zs: vec![0.5],
+        zs: vec![0.25, 0.5],
         yaws: vec![std::f64::consts::FRAC_PI_2],
         spins: vec![0.0],
     };
@@ -63,7 +71,14 @@ fn report_is_well_formed_with_expected_figures() {
         });
     }
     let baseline = optimise::feasible_centre(&rows).unwrap().clone();
-    let rep = RunReport {
+    let site = SiteGeometry::new(
+        &model,
+        &job,
+        opt.best.placement.z,
+        std::path::Path::new("paths/default.gcode"),
+        None,
+    );
+    RunReport {
         title: "test <report> & co".into(),
         meta: vec![("robot".into(), model.name().into())],
         rows,
@@ -73,7 +88,13 @@ fn report_is_well_formed_with_expected_figures() {
         baseline: Some(("centre".into(), baseline)),
         details,
         electrical: model.drive.is_some(),
-    };
+        site: Some(site),
+    }
+}
+
+#[test]
+fn report_is_well_formed_with_expected_figures() {
+    let rep = report();
     let dir = std::env::temp_dir().join(format!("pw-report-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     rep.write(&dir).unwrap();
@@ -95,13 +116,15 @@ fn report_is_well_formed_with_expected_figures() {
         assert!(ids.contains(&want), "figure {want} in {ids:?}");
     }
     let svgs = doc.descendants().filter(|n| n.has_tag_name("svg")).count();
-    assert_eq!(svgs, 5);
+    // top view, z slice, bars, supply, joints, power and cumulative energy at best and worst.
+    assert_eq!(svgs, 9, "{ids:?}");
     // Infeasible cells are marked by reason and the optimum is marked.
     let classes: Vec<&str> = doc
         .descendants()
         .filter_map(|n| n.attribute("class"))
         .collect();
     assert!(classes.contains(&"mark-optimum"), "{classes:?}");
+    assert!(classes.contains(&"mark-best-cell"), "{classes:?}");
     assert!(classes
         .iter()
         .any(|c| c.starts_with("mark-") && *c != "mark-optimum"));
@@ -109,11 +132,11 @@ fn report_is_well_formed_with_expected_figures() {
     assert!(html.contains("test &lt;report&gt; &amp; co"));
     let s: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
-    assert_eq!(s["placements"], 12);
+    assert_eq!(s["placements"], 24);
     assert!(s["saving_pct"].as_f64().is_some());
     assert_eq!(s["details"][0]["joints"].as_array().unwrap().len(), 6);
     let csv = std::fs::read_to_string(dir.join("placements.csv")).unwrap();
-    assert_eq!(csv.lines().count(), 13);
+    assert_eq!(csv.lines().count(), 25);
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -196,4 +219,212 @@ fn compare_report_has_every_chart_and_stays_small() {
     let rows = doc.descendants().filter(|n| n.has_tag_name("tr")).count();
     assert_eq!(rows, 1 + 7);
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The top-view SVG of the shared report, parsed.
+fn top_view_svg() -> String {
+    report().heatmap_svg().expect("top view")
+}
+
+/// Attributes of every element with tag `tag` in `svg` (as (name, value) lists).
+fn elements<'a>(doc: &'a roxmltree::Document, tag: &str) -> Vec<roxmltree::Node<'a, 'a>> {
+    doc.descendants().filter(|n| n.has_tag_name(tag)).collect()
+}
+
+fn attr(n: &roxmltree::Node, a: &str) -> f64 {
+    n.attribute(a)
+        .and_then(|v| v.parse().ok())
+        .unwrap_or(f64::NAN)
+}
+
+#[test]
+fn heatmap_is_drawn_to_scale_with_robot_base_reach_and_part_outline() {
+    let svg = top_view_svg();
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    // Cells: 0.1 m × 0.1 m on the grid, so their drawn width and height must match (equal axis
+    // scales; the old heatmap stretched x and y independently).
+    let cells: Vec<_> = elements(&doc, "rect")
+        .into_iter()
+        .filter(|r| r.children().any(|c| c.has_tag_name("title")))
+        .collect();
+    assert_eq!(cells.len(), 4 * 3);
+    for c in &cells {
+        let (w, h) = (attr(c, "width"), attr(c, "height"));
+        assert!((w - h).abs() < 0.05, "cell {w} × {h} px for 0.1 × 0.1 m");
+    }
+    let classes: Vec<&str> = doc
+        .descendants()
+        .filter_map(|n| n.attribute("class"))
+        .collect();
+    for want in ["base", "reach", "part at the optimum"] {
+        assert!(classes.contains(&want), "{want} in {classes:?}");
+    }
+    // The reach circle's radius equals the annulus' outer radius at the same scale as the cells.
+    let site = report().site.as_ref().unwrap();
+    let (_, outer) = site.annulus_m.expect("annulus");
+    // (cells are drawn 0.3 px wider than their share so neighbours do not show seams)
+    let px_per_m = (attr(&cells[0], "width") - 0.3) / 0.1;
+    let reach = elements(&doc, "circle")
+        .into_iter()
+        .find(|c| c.attribute("class") == Some("reach"))
+        .unwrap();
+    assert!(
+        (attr(&reach, "r") - outer * px_per_m).abs() < 0.2 + 0.003 * px_per_m,
+        "reach circle r = {} px, want {} px",
+        attr(&reach, "r"),
+        outer * px_per_m
+    );
+}
+
+#[test]
+fn heatmap_is_a_slice_at_the_best_bed_height_and_yaw_not_a_minimum() {
+    let rep = report();
+    let best_grid = &rep.optimise.as_ref().unwrap().best_grid;
+    let svg = top_view_svg();
+    let z = printwatt::report::svg::fmt_num(best_grid.placement.z);
+    assert!(
+        svg.contains(&format!("energy at bed z = {z} m")),
+        "title names the slice"
+    );
+    // Every coloured cell shows the energy of the row at that bed height (and the grid's one
+    // yaw and spin), not the minimum over both heights.
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    for c in elements(&doc, "rect") {
+        let Some(t) = c.children().find(|n| n.has_tag_name("title")) else {
+            continue;
+        };
+        let t = t.text().unwrap_or("");
+        let Some((xy, v)) = t.split_once(": ") else {
+            continue;
+        };
+        let Ok(v) = v.parse::<f64>() else { continue };
+        let xy: Vec<f64> = xy
+            .trim_matches(|c| c == '(' || c == ')')
+            .split(", ")
+            .map(|s| s.parse().unwrap())
+            .collect();
+        let row = rep
+            .rows
+            .iter()
+            .find(|r| {
+                (r.placement.x - xy[0]).abs() < 1e-9
+                    && (r.placement.y - xy[1]).abs() < 1e-9
+                    && (r.placement.z - best_grid.placement.z).abs() < 1e-9
+            })
+            .unwrap();
+        let want = printwatt::report::svg::fmt_num(row.cost());
+        assert_eq!(printwatt::report::svg::fmt_num(v), want, "cell {xy:?}");
+    }
+}
+
+#[test]
+fn colour_bar_covers_the_optimum() {
+    let rep = report();
+    let opt = rep.best().unwrap().cost();
+    let svg = top_view_svg();
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let bar = doc
+        .descendants()
+        .find(|n| n.attribute("class") == Some("cbar"))
+        .unwrap();
+    let (lo, hi) = (attr(&bar, "data-lo"), attr(&bar, "data-hi"));
+    assert!(
+        lo <= opt && opt <= hi,
+        "optimum {opt} J outside the colour bar {lo}–{hi} J"
+    );
+}
+
+#[test]
+fn optimum_marker_sits_in_a_feasible_cell() {
+    let rep = report();
+    let svg = top_view_svg();
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    // The ring marks the best grid cell; that cell must be coloured (feasible), not crossed.
+    let ring = doc
+        .descendants()
+        .find(|n| n.attribute("class") == Some("mark-best-cell"))
+        .expect("best-cell ring");
+    let c = ring.children().find(|n| n.has_tag_name("circle")).unwrap();
+    let (cx, cy) = (attr(&c, "cx"), attr(&c, "cy"));
+    let cell = elements(&doc, "rect")
+        .into_iter()
+        .find(|r| {
+            r.children().any(|t| t.has_tag_name("title"))
+                && attr(r, "x") <= cx
+                && cx <= attr(r, "x") + attr(r, "width")
+                && attr(r, "y") <= cy
+                && cy <= attr(r, "y") + attr(r, "height")
+        })
+        .expect("a cell under the ring");
+    assert_ne!(
+        cell.attribute("fill"),
+        Some("#f2f2f2"),
+        "ring on a grey cell"
+    );
+    let crossed = doc
+        .descendants()
+        .filter(|n| {
+            n.attribute("class").is_some_and(|c| {
+                c.starts_with("mark-") && c != "mark-best-cell" && c != "mark-optimum"
+            })
+        })
+        .any(|g| {
+            let l = g.children().find(|n| n.has_tag_name("line")).unwrap();
+            let (x1, x2) = (attr(&l, "x1"), attr(&l, "x2"));
+            let (y1, y2) = (attr(&l, "y1"), attr(&l, "y2"));
+            (x1.min(x2)..=x1.max(x2)).contains(&cx) && (y1.min(y2)..=y1.max(y2)).contains(&cy)
+        });
+    assert!(!crossed, "the ring sits on a crossed cell");
+    assert!(rep.optimise.as_ref().unwrap().best_grid.cost().is_finite());
+}
+
+#[test]
+fn infeasible_cells_are_summarised_by_reason_with_details_collapsed() {
+    let rep = report();
+    let html = rep.html();
+    let n_inf = rep.rows.iter().filter(|r| r.outcome.is_err()).count();
+    assert!(n_inf > 0);
+    let doc = roxmltree::Document::parse_with_options(
+        &html,
+        roxmltree::ParsingOptions {
+            allow_dtd: true,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    // The count table: one row per reason, counts adding up to the infeasible placements.
+    let h2 = doc
+        .descendants()
+        .find(|n| n.has_tag_name("h2") && n.text() == Some("Infeasible placements by reason"))
+        .expect("summary heading");
+    let table = h2
+        .next_siblings()
+        .find(|n| n.has_tag_name("table"))
+        .unwrap();
+    let counts: usize = table
+        .descendants()
+        .filter(|n| n.has_tag_name("tr"))
+        .skip(1)
+        .map(|tr| {
+            tr.children()
+                .filter(|n| n.has_tag_name("td"))
+                .nth(1)
+                .and_then(|td| td.text())
+                .unwrap()
+                .parse::<usize>()
+                .unwrap()
+        })
+        .sum();
+    assert_eq!(counts, n_inf);
+    // The per-placement rows live only inside a collapsed <details>.
+    let details = doc
+        .descendants()
+        .find(|n| n.has_tag_name("details"))
+        .expect("details");
+    assert!(details.attribute("open").is_none());
+    let rows_in_details = details
+        .descendants()
+        .filter(|n| n.has_tag_name("tr"))
+        .count();
+    assert_eq!(rows_in_details, n_inf + 1);
 }

@@ -3,9 +3,13 @@
 
 use super::sweep::{detail, meta, parse_placement, run_sweep, PlacementArgs};
 use crate::placement::optimise::{self, feasible_centre, worst_of, OptimiseOptions};
+use crate::placement::search::{self, Bounds, SearchOptions};
 use crate::placement::sweep::Evaluator;
+use crate::placement::tolerance::Tolerance;
 use crate::report::placement::RunReport;
+use crate::toolpath::Placement;
 use anyhow::{Context, Result};
+use std::io::IsTerminal;
 
 /// `printwatt optimise` arguments. With none, runs the shipped default robot and path on a
 /// default workspace grid and writes `results/optimise-default/`.
@@ -33,12 +37,115 @@ pub struct OptimiseArgs {
     /// Do not write a run directory.
     #[arg(long)]
     pub no_report: bool,
+    /// Refinement: `nelder-mead` (argmin, over x, y, z, yaw, spin; default) or `pattern` (the
+    /// earlier compass search over x, y, yaw, spin at the grid cell's z).
+    #[arg(long, default_value = "nelder-mead")]
+    pub search: String,
+    /// Placement tolerance the answer must hold, `XY_MM,YAW_DEG` or `XY_MM,Z_MM,YAW_DEG`
+    /// (every corner of the box is re-evaluated); `0,0` switches the check off.
+    #[arg(long, default_value = "20,1")]
+    pub tolerance: String,
+    /// Range of the bed height searched, `min:max` in m (default: the grid's z range; the
+    /// default grid spans 0 to half the reach).
+    #[arg(long, allow_hyphen_values = true)]
+    pub z_bounds: Option<String>,
+    /// Write the chosen placement for the robot into this directory: `wobj_print.mod` (ABB RAPID
+    /// wobjdata) and `frame.json` (COMPAS frame). Existing files are replaced only with --force.
+    #[arg(long)]
+    pub export: Option<std::path::PathBuf>,
+}
+
+/// What the tolerance check says, in one line.
+pub fn tolerance_line(c: &crate::placement::tolerance::ToleranceCheck) -> String {
+    if c.corners == 0 {
+        return "not checked (--tolerance 0,0)".into();
+    }
+    if c.holds {
+        format!(
+            "holds {}: all {} corners feasible, energy {:.1}…{:.1} J",
+            c.tolerance.describe(),
+            c.corners,
+            c.best_j.unwrap_or(f64::NAN),
+            c.worst_j.unwrap_or(f64::NAN)
+        )
+    } else {
+        format!(
+            "does NOT hold {}: {} of {} corners infeasible (first: {}); no grid cell near the optimum holds it",
+            c.tolerance.describe(),
+            c.failures.len(),
+            c.corners,
+            c.failures.first().map_or("", String::as_str)
+        )
+    }
+}
+
+/// Parse `--tolerance`: `XY_MM,YAW_DEG` or `XY_MM,Z_MM,YAW_DEG`.
+pub fn parse_tolerance(s: &str) -> Result<Tolerance> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| {
+            t.trim()
+                .parse::<f64>()
+                .ok()
+                .filter(|v| v.is_finite() && *v >= 0.0)
+                .with_context(|| format!("--tolerance `{s}`: `{}` is not a number >= 0", t.trim()))
+        })
+        .collect::<Result<_>>()?;
+    let (xy, z, yaw) = match v.as_slice() {
+        [xy, yaw] => (*xy, *xy, *yaw),
+        [xy, z, yaw] => (*xy, *z, *yaw),
+        _ => anyhow::bail!("--tolerance `{s}`: expected XY_MM,YAW_DEG or XY_MM,Z_MM,YAW_DEG"),
+    };
+    if xy > 500.0 || z > 500.0 || yaw > 45.0 {
+        anyhow::bail!("--tolerance `{s}`: at most 500 mm and 45°");
+    }
+    Ok(Tolerance {
+        xy_m: xy / 1000.0,
+        z_m: z / 1000.0,
+        yaw_rad: yaw.to_radians(),
+    })
+}
+
+/// The search box: x and y over the placements asked for, z over `--z-bounds` or them.
+pub fn search_bounds(ps: &[Placement], z_bounds: Option<&str>) -> Result<Bounds> {
+    let span = |f: &dyn Fn(&Placement) -> f64| {
+        ps.iter()
+            .map(f)
+            .fold([f64::INFINITY, f64::NEG_INFINITY], |r, v| {
+                [r[0].min(v), r[1].max(v)]
+            })
+    };
+    let z = match z_bounds {
+        Some(s) => {
+            let v: Vec<f64> = s
+                .split(':')
+                .map(|t| t.trim().parse::<f64>().ok().filter(|v| v.is_finite()))
+                .collect::<Option<_>>()
+                .with_context(|| format!("--z-bounds `{s}`: expected min:max in m"))?;
+            match v.as_slice() {
+                [a, b] if a <= b => [*a, *b],
+                _ => anyhow::bail!("--z-bounds `{s}`: expected min:max with min <= max (m)"),
+            }
+        }
+        None => span(&|p| p.z),
+    };
+    Ok(Bounds {
+        x: span(&|p| p.x),
+        y: span(&|p| p.y),
+        z,
+    })
 }
 
 /// `printwatt optimise`.
 pub fn run(a: OptimiseArgs) -> Result<()> {
     let p = &a.p;
     let l = p.load()?;
+    // Decide where the run goes before the work: an occupied --run fails now, not after.
+    let dir = if a.no_report {
+        None
+    } else {
+        p.run_dir(&l, Some("optimise"))?
+    };
     let job = l.job()?;
     let ev = Evaluator::new(&job, l.feas, l.objective);
     let (ps, names, grid) = p.placements(Some(l.default_grid()))?;
@@ -49,6 +156,12 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
     let pool = p.pool()?;
     let t0 = std::time::Instant::now();
     let rows = run_sweep(&ev, &ps, &pool)?;
+    if !rows.iter().any(|r| r.cost().is_finite()) {
+        anyhow::bail!(
+            "{}",
+            crate::placement::advice::nothing_feasible(&rows, &l.robot).trim_end()
+        );
+    }
     let step = grid
         .as_ref()
         .and_then(|g| {
@@ -67,7 +180,45 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
         spin: !a.fixed_spin,
         ..Default::default()
     };
-    let res = pool.install(|| optimise::optimise(&ev, &rows, &opts))?;
+    let tol = parse_tolerance(&a.tolerance)?;
+    let bounds = search_bounds(&ps, a.z_bounds.as_deref())?;
+    let mut res = match a.search.as_str() {
+        "nelder-mead" | "nelder_mead" | "nm" => {
+            let so = SearchOptions {
+                bounds,
+                tolerance: tol,
+                step_z_m: ((bounds.z[1] - bounds.z[0]) / 4.0).max(0.01),
+                z: bounds.z[1] > bounds.z[0],
+                max_start_cells: 20,
+            };
+            let bar = std::io::stderr().is_terminal().then(|| {
+                let b = indicatif::ProgressBar::new(opts.max_evals as u64);
+                b.set_style(
+                    indicatif::ProgressStyle::with_template(
+                        "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} refinement evaluations {msg}",
+                    )
+                    .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+                );
+                b
+            });
+            let b2 = bar.clone();
+            let progress: search::Progress = std::sync::Arc::new(move |_it, n, best| {
+                if let Some(b) = &b2 {
+                    b.set_position(n as u64);
+                    b.set_message(format!("best {best:.1} J"));
+                }
+            });
+            let (mut r, info) =
+                pool.install(|| search::refine(&ev, &rows, &opts, &so, progress))?;
+            if let Some(b) = bar {
+                b.finish_and_clear();
+            }
+            r.search = Some(info);
+            r
+        }
+        "pattern" => pool.install(|| optimise::optimise(&ev, &rows, &opts))?,
+        s => anyhow::bail!("--search `{s}`: expected nelder-mead or pattern"),
+    };
     let baseline = match baseline_given {
         Some(b) => {
             let r = pool.install(|| ev.sweep(&[b], &|_, _| {}))?;
@@ -76,6 +227,9 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
         None => feasible_centre(&rows)
             .map(|e| ("centre of the feasible grid region".to_string(), e.clone())),
     };
+    if let Some((_, b)) = &baseline {
+        res.savings = optimise::Savings::of(&res.best, b);
+    }
     let secs = t0.elapsed().as_secs_f64();
     let mut details = Vec::new();
     details.extend(detail(&job, "best", &res.best)?);
@@ -94,6 +248,35 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
         ev.nominal_samples(),
     );
     m.push(("seed".into(), a.seed.to_string()));
+    if let Some(si) = &res.search {
+        m.push(("search".into(), si.method.clone()));
+        m.push(("tolerance".into(), tolerance_line(&si.tolerance)));
+        m.push((
+            "search bounds".into(),
+            format!(
+                "x {:.3}…{:.3} m, y {:.3}…{:.3} m, z {:.3}…{:.3} m",
+                si.bounds.x[0],
+                si.bounds.x[1],
+                si.bounds.y[0],
+                si.bounds.y[1],
+                si.bounds.z[0],
+                si.bounds.z[1]
+            ),
+        ));
+        if !si.on_bounds.is_empty() {
+            m.push((
+                "optimum on a search bound".into(),
+                format!("{}: widen the range there", si.on_bounds.join(", ")),
+            ));
+        }
+    }
+    let site = crate::report::site::SiteGeometry::new(
+        &l.robot,
+        &job,
+        res.best.placement.z,
+        &l.path_file,
+        names.as_deref(),
+    );
     let rep = RunReport {
         title: format!(
             "printwatt optimise: {} on {}",
@@ -106,14 +289,36 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
         grid,
         optimise: Some(res),
         baseline,
+        site: Some(site),
         details,
         electrical: l.robot.drive.is_some(),
     };
-    let dir = p
-        .results_dir
-        .join(p.run.clone().unwrap_or_else(|| "optimise-default".into()));
-    if !a.no_report {
-        rep.write(&dir)?;
+    if let Some(dir) = &dir {
+        rep.write(dir)?;
+    }
+    if let (Some(ex), Some(b)) = (&a.export, rep.best()) {
+        let files = [
+            (
+                ex.join("wobj_print.mod"),
+                format!(
+                    "MODULE printwatt_placement\n{}ENDMODULE\n",
+                    crate::placement::export::wobjdata("wobjPrint", &b.placement)
+                ),
+            ),
+            (
+                ex.join("frame.json"),
+                serde_json::to_string_pretty(&crate::placement::export::compas_frame(
+                    &b.placement,
+                ))?,
+            ),
+        ];
+        for (f, text) in &files {
+            if f.exists() && !p.force {
+                anyhow::bail!("{} exists: replacing it needs --force", f.display());
+            }
+            crate::output::guard_inputs(f, &[l.path_file.as_path()])?;
+            crate::output::write_atomic(f, text.as_bytes())?;
+        }
     }
     if p.json {
         println!("{}", rep.summary_json(false)?);
@@ -132,16 +337,44 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
     );
     println!(
         "energy {:.1} J ({}), print time {:.2} s",
-        f.energy_j, p.objective, f.duration_s
+        f.energy_j,
+        l.objective.describe(),
+        f.duration_s
     );
-    if let (Some((how, b)), Some((j, pct))) = (&rep.baseline, rep.saving()) {
+    println!(
+        "supply {:.1} J = standby {:.1} J + drives {:.1} J (friction {:.1} J, gear {:.1} J, copper {:.1} J, regeneration lost {:.1} J)",
+        f.supply_j,
+        f.standby_j,
+        f.drives_j,
+        f.losses.friction_j,
+        f.losses.gear_j,
+        f.losses.copper_j,
+        f.losses.regeneration_lost_j
+    );
+    if let Some((how, b)) = &rep.baseline {
         println!(
-            "saving vs baseline ({how}: x = {:.3}, y = {:.3}, yaw = {:.1}°, {:.1} J): {j:.1} J ({pct:.2} %)",
+            "baseline ({how}): x = {:.3} m, y = {:.3} m, z = {:.3} m, yaw = {:.1}°: {:.1} J",
             b.placement.x,
             b.placement.y,
+            b.placement.z,
             b.placement.yaw.to_degrees(),
             b.cost()
         );
+    }
+    if let Some(sv) = rep.optimise.as_ref().and_then(|o| o.savings.as_ref()) {
+        println!(
+            "saving vs baseline: supply {:.1} J ({:.2} %), drives {:.1} J ({:.2} %), standby {:.1} J ({:.2} %)",
+            sv.supply.0, sv.supply.1, sv.drives.0, sv.drives.1, sv.standby.0, sv.standby.1
+        );
+    }
+    if let Some(si) = rep.optimise.as_ref().and_then(|o| o.search.as_ref()) {
+        println!("tolerance: {}", tolerance_line(&si.tolerance));
+        if !si.on_bounds.is_empty() {
+            println!(
+                "optimum on a search bound: {} (widen --x/--y/--z-bounds there)",
+                si.on_bounds.join(", ")
+            );
+        }
     }
     if let Some(o) = &rep.optimise {
         let s = &o.sensitivity;
@@ -178,7 +411,7 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
             secs
         );
     }
-    if !a.no_report {
+    if let Some(dir) = &dir {
         println!("report: {}", dir.join("report.html").display());
     }
     Ok(())

@@ -18,6 +18,9 @@ pub struct PlacementArgs {
     /// Robot directory or shipped robot name.
     #[arg(long, default_value = "abb_irb6700_200_260")]
     pub robot: PathBuf,
+    /// Tool preset replacing the robot's tool and payload (e.g. `tools/seed001_spindle.toml`).
+    #[arg(long)]
+    pub tool: Option<PathBuf>,
     /// Toolpath (G-code, CSV or RAPID); default `paths/default.gcode`.
     #[arg(long)]
     pub path: Option<PathBuf>,
@@ -43,7 +46,9 @@ pub struct PlacementArgs {
     /// Placements `x,y,z,yaw;x,y,z,yaw;…` in m and deg.
     #[arg(long, allow_hyphen_values = true)]
     pub at: Option<String>,
-    /// Energy to minimise: supply, mechanical, mechanical_abs.
+    /// Energy to minimise: `supply` (standby + drives), `drives` (standby excluded),
+    /// `mechanical` (signed Σ∫τq̇), `mechanical_positive` (Σ∫max(τq̇, 0): no regeneration),
+    /// `mechanical_abs` (Σ∫|τq̇|: braking costed like driving).
     #[arg(long, default_value = "supply")]
     pub objective: String,
     /// Skip collision checks.
@@ -52,9 +57,18 @@ pub struct PlacementArgs {
     /// Check singularities and collisions every k-th sample.
     #[arg(long, default_value_t = 10)]
     pub check_every: usize,
-    /// Smallest |sin q5| accepted (wrist singularity margin).
+    /// |sin q5| below which a sample is near the wrist singularity; there joints 4 and 6 may
+    /// use at most --wrist-rate-max of their velocity/acceleration limits.
     #[arg(long, default_value_t = 0.05)]
     pub wrist_min: f64,
+    /// Largest share of the joint 4/6 velocity or acceleration limit near the wrist
+    /// singularity (0.5 = half).
+    #[arg(long, default_value_t = crate::placement::margins::DEFAULT_WRIST_RATE_MAX)]
+    pub wrist_rate_max: f64,
+    /// Margin kept from every joint's position limits, deg: one value for all joints or a
+    /// comma list per joint (the drive file's `limit_margin_rad` takes precedence).
+    #[arg(long, default_value = "3")]
+    pub joint_margin: String,
     /// Smallest elbow measure accepted.
     #[arg(long, default_value_t = 0.05)]
     pub elbow_min: f64,
@@ -64,9 +78,15 @@ pub struct PlacementArgs {
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,
-    /// Write `results/<run>/` (summary.json, placements.csv, report.html).
+    /// Write `<results-dir>/<run>/` (summary.json, placements.csv, report.html). An existing
+    /// run is never replaced without --force. `optimise` without --run writes
+    /// `<results-dir>/runs/optimise-<robot>-<path>-<UTC time>/` (ignored by git).
     #[arg(long)]
     pub run: Option<String>,
+    /// Replace an existing run directory of the same name (files printwatt did not write are
+    /// still refused).
+    #[arg(long)]
+    pub force: bool,
     /// Parent directory of run directories.
     #[arg(long, default_value = "results")]
     pub results_dir: PathBuf,
@@ -131,7 +151,10 @@ impl Loaded {
 impl PlacementArgs {
     /// Load the robot and path and turn the options into library options.
     pub fn load(&self) -> Result<Loaded> {
-        let robot = super::load_robot(&self.robot)?;
+        let mut robot = super::load_robot(&self.robot)?;
+        if let Some(t) = &self.tool {
+            crate::robot::apply_tool_preset(&mut robot, t)?;
+        }
         let path_file = self
             .path
             .clone()
@@ -142,8 +165,36 @@ impl PlacementArgs {
         if self.check_every == 0 {
             bail!("--check-every must be at least 1");
         }
+        let margins = parse_range("joint-margin", &self.joint_margin)?;
+        if margins.iter().any(|m| *m < 0.0 || *m > 90.0) {
+            bail!(
+                "--joint-margin `{}`: margins must lie in [0, 90] deg",
+                self.joint_margin
+            );
+        }
+        let dof = robot.dof();
+        if margins.len() != 1 && margins.len() != dof {
+            bail!(
+                "--joint-margin `{}`: give one margin or {dof} (one per joint)",
+                self.joint_margin
+            );
+        }
+        let mut joint_margin_rad = [0.0; crate::kinematics::MAX_DOF];
+        for (j, m) in joint_margin_rad.iter_mut().enumerate() {
+            *m = margins
+                .get(j)
+                .or(margins.last())
+                .copied()
+                .unwrap_or(0.0)
+                .to_radians();
+        }
+        if !(self.wrist_rate_max > 0.0 && self.wrist_rate_max.is_finite()) {
+            bail!("--wrist-rate-max must be > 0");
+        }
         let feas = FeasibilityOptions {
             wrist_min: self.wrist_min,
+            wrist_rate_max: self.wrist_rate_max,
+            joint_margin_rad,
             elbow_min: self.elbow_min,
             shoulder_min_m: self.shoulder_min,
             collisions: !self.no_collisions,
@@ -183,6 +234,7 @@ impl PlacementArgs {
                     p.z = zs[0];
                 }
             }
+            let (ps, names) = self.with_spins(ps, names)?;
             return Ok((ps, Some(names), None));
         }
         if let Some(at) = &self.at {
@@ -192,6 +244,11 @@ impl PlacementArgs {
             }
             if v.is_empty() {
                 bail!("--at `{at}`: no placements");
+            }
+            if self.spin.is_some() {
+                let names = (1..=v.len()).map(|i| i.to_string()).collect();
+                let (v, names) = self.with_spins(v, names)?;
+                return Ok((v, Some(names), None));
             }
             return Ok((v, None, None));
         }
@@ -227,6 +284,36 @@ impl PlacementArgs {
         Ok((g.placements(), None, Some(g)))
     }
 
+    /// Every placement of a set or list at every `--spin` (deg), added to the placement's own
+    /// spin; names get `@<spin>°` when more than one spin is asked for. Without `--spin` the
+    /// placements are returned as given.
+    fn with_spins(
+        &self,
+        ps: Vec<Placement>,
+        names: Vec<String>,
+    ) -> Result<(Vec<Placement>, Vec<String>)> {
+        let Some(sp) = &self.spin else {
+            return Ok((ps, names));
+        };
+        let spins = parse_range("spin", sp)?;
+        let mut out = Vec::with_capacity(ps.len() * spins.len());
+        let mut out_names = Vec::with_capacity(ps.len() * spins.len());
+        for (p, n) in ps.iter().zip(&names) {
+            for s in &spins {
+                out.push(Placement {
+                    nozzle_spin: p.nozzle_spin + s.to_radians(),
+                    ..*p
+                });
+                out_names.push(if spins.len() > 1 {
+                    format!("{n}@{s}°")
+                } else {
+                    n.clone()
+                });
+            }
+        }
+        Ok((out, out_names))
+    }
+
     /// A rayon pool with `--threads` (or the global default).
     pub fn pool(&self) -> Result<rayon::ThreadPool> {
         let mut b = rayon::ThreadPoolBuilder::new();
@@ -237,6 +324,112 @@ impl PlacementArgs {
             b = b.num_threads(n);
         }
         Ok(b.build()?)
+    }
+}
+
+/// A file-name-safe token: ASCII letters, digits, `-`, `_` and `.`; anything else becomes `_`.
+fn safe_token(s: &str) -> String {
+    let t: String = s
+        .chars()
+        .map(|c| {
+            if c.is_ascii_alphanumeric() || c == '-' || c == '_' || c == '.' {
+                c
+            } else {
+                '_'
+            }
+        })
+        .collect();
+    let t = t.trim_matches('_').to_string();
+    if t.is_empty() {
+        "x".into()
+    } else {
+        t
+    }
+}
+
+/// UTC time `YYYYmmddTHHMMSSZ` of a Unix time, s (proleptic Gregorian; Howard Hinnant's
+/// days-to-civil algorithm).
+pub fn utc_stamp(unix_s: u64) -> String {
+    let days = (unix_s / 86_400) as i64;
+    let sod = unix_s % 86_400;
+    let z = days + 719_468;
+    let era = z.div_euclid(146_097);
+    let doe = z - era * 146_097;
+    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
+    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
+    let mp = (5 * doy + 2) / 153;
+    let d = doy - (153 * mp + 2) / 5 + 1;
+    let m = if mp < 10 { mp + 3 } else { mp - 9 };
+    let y = yoe + era * 400 + i64::from(m <= 2);
+    format!(
+        "{y:04}{m:02}{d:02}T{:02}{:02}{:02}Z",
+        sod / 3600,
+        (sod / 60) % 60,
+        sod % 60
+    )
+}
+
+/// The default run name: `<command>-<robot dir or file stem>-<path stem>-<UTC time>`.
+pub fn default_run_name(command: &str, robot: &Path, path: &Path, unix_s: u64) -> String {
+    let stem = |p: &Path| {
+        p.file_stem()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default()
+    };
+    let r = if robot
+        .file_name()
+        .is_some_and(|f| f == "drive.toml" || f == "robot.urdf")
+    {
+        robot.parent().map(stem).unwrap_or_default()
+    } else {
+        stem(robot)
+    };
+    format!(
+        "{command}-{}-{}-{}",
+        safe_token(&r),
+        safe_token(&stem(path)),
+        utc_stamp(unix_s)
+    )
+}
+
+impl PlacementArgs {
+    /// Where this run writes: `--run` under `--results-dir` (an existing, non-empty directory
+    /// needs `--force`), else, when `default_for` names the command, a fresh
+    /// `runs/<command>-<robot>-<path>-<UTC time>` (suffixed `-2`, `-3`, … if taken). `None`:
+    /// no run directory.
+    pub fn run_dir(&self, l: &Loaded, default_for: Option<&str>) -> Result<Option<PathBuf>> {
+        if let Some(run) = &self.run {
+            if run.trim().is_empty() || run.contains("..") {
+                bail!("--run `{run}`: give a non-empty name without `..`");
+            }
+            let dir = self.results_dir.join(run);
+            let occupied = std::fs::read_dir(&dir).is_ok_and(|mut d| d.next().is_some());
+            if occupied && !self.force {
+                bail!(
+                    "{} already holds a run: replacing it needs --force (or choose another --run)",
+                    dir.display()
+                );
+            }
+            // Even with --force, a directory holding files printwatt did not write is refused.
+            crate::report::placement::check_run_dir(&dir)?;
+            return Ok(Some(dir));
+        }
+        let Some(cmd) = default_for else {
+            return Ok(None);
+        };
+        let now = std::time::SystemTime::now()
+            .duration_since(std::time::UNIX_EPOCH)
+            .map(|d| d.as_secs())
+            .unwrap_or(0);
+        let base = default_run_name(cmd, &self.robot, &l.path_file, now);
+        let parent = self.results_dir.join("runs");
+        let mut dir = parent.join(&base);
+        let mut k = 2;
+        while dir.exists() {
+            dir = parent.join(format!("{base}-{k}"));
+            k += 1;
+        }
+        Ok(Some(dir))
     }
 }
 
@@ -327,10 +520,7 @@ pub fn meta(
         (
             "objective".into(),
             // The name the command line takes (`mechanical_abs`), not the Rust variant.
-            serde_json::to_value(l.objective)
-                .ok()
-                .and_then(|v| v.as_str().map(str::to_string))
-                .unwrap_or_else(|| format!("{:?}", l.objective).to_lowercase()),
+            format!("{}: {}", l.objective.name(), l.objective.describe()),
         ),
         ("nominal path samples".into(), samples.to_string()),
         ("threads".into(), threads.to_string()),
@@ -344,8 +534,16 @@ pub fn meta(
         (
             "feasibility".into(),
             format!(
-                "|sin q5| ≥ {}, elbow ≥ {}, shoulder ≥ {} m, collisions {} (every {} samples)",
+                "joint-limit margin {} deg, near the wrist singularity (|sin q5| < {}) joints 4/6 at most {:.0} % of their limits, elbow ≥ {}, shoulder ≥ {} m, collisions {} (every {} samples)",
+                (0..l.robot.dof())
+                    .map(|j| format!(
+                        "{:.1}",
+                        crate::placement::margins::joint_margin(&l.robot, &l.feas, j).to_degrees()
+                    ))
+                    .collect::<Vec<_>>()
+                    .join("/"),
                 l.feas.wrist_min,
+                l.feas.wrist_rate_max * 100.0,
                 l.feas.elbow_min,
                 l.feas.shoulder_min_m,
                 if l.feas.collisions { "on" } else { "off" },
@@ -393,6 +591,7 @@ pub fn print_rows(rows: &[Evaluated], names: Option<&[String]>) {
 pub fn run(a: SweepArgs) -> Result<()> {
     let a = a.p;
     let l = a.load()?;
+    let run_dir = a.run_dir(&l, None)?;
     let job = l.job()?;
     let ev = Evaluator::new(&job, l.feas, l.objective);
     let (ps, names, grid) = a.placements(Some(l.default_grid()))?;
@@ -409,6 +608,13 @@ pub fn run(a: SweepArgs) -> Result<()> {
             details.extend(detail(&job, "worst", w)?);
         }
     }
+    let site = crate::report::site::SiteGeometry::new(
+        &l.robot,
+        &job,
+        best_of(&rows).map_or(0.0, |b| b.placement.z),
+        &l.path_file,
+        names.as_deref(),
+    );
     let rep = RunReport {
         title: format!(
             "printwatt sweep: {} on {}",
@@ -427,12 +633,12 @@ pub fn run(a: SweepArgs) -> Result<()> {
         grid,
         optimise: None,
         baseline: None,
+        site: Some(site),
         details,
         electrical: l.robot.drive.is_some(),
     };
-    if let Some(run) = &a.run {
-        let dir = a.results_dir.join(run);
-        rep.write(&dir)?;
+    if let Some(dir) = &run_dir {
+        rep.write(dir)?;
         if !a.json {
             eprintln!("wrote {}", dir.display());
         }
@@ -451,6 +657,12 @@ pub fn run(a: SweepArgs) -> Result<()> {
                 p.yaw.to_degrees(),
                 p.nozzle_spin.to_degrees(),
                 b.cost()
+            );
+        }
+        if rep.best().is_none() {
+            print!(
+                "{}",
+                crate::placement::advice::nothing_feasible(&rep.rows, &l.robot)
             );
         }
         if let Some(s) = rep.spread_pct() {

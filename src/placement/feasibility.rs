@@ -25,8 +25,16 @@ use serde::Serialize;
 /// Thresholds of the feasibility checks.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct FeasibilityOptions {
-    /// Smallest accepted `|sin q5|` (dimensionless; 0.05 ≈ 2.9° from the wrist singularity).
+    /// `|sin q5|` below which a sample counts as near the wrist singularity (dimensionless;
+    /// 0.05 ≈ 2.9°). Near it, joints 4 and 6 may use at most [`Self::wrist_rate_max`] of their
+    /// velocity and acceleration limits (see [`super::margins`]).
     pub wrist_min: f64,
+    /// Largest share of joint 4/6 velocity or acceleration limit accepted near the wrist
+    /// singularity (dimensionless, 0.5 = half the limit).
+    pub wrist_rate_max: f64,
+    /// Position margin from each joint's limits, rad (per joint; the drive file's
+    /// `limit_margin_rad` takes precedence).
+    pub joint_margin_rad: [f64; crate::kinematics::MAX_DOF],
     /// Smallest accepted elbow measure `|sin(q3 + ψ3)|` (dimensionless; 0 = stretched out).
     pub elbow_min: f64,
     /// Smallest accepted distance of the wrist centre from the axis of joint 1, m.
@@ -47,6 +55,9 @@ impl Default for FeasibilityOptions {
     fn default() -> Self {
         FeasibilityOptions {
             wrist_min: 0.05,
+            wrist_rate_max: super::margins::DEFAULT_WRIST_RATE_MAX,
+            joint_margin_rad: [super::margins::DEFAULT_JOINT_MARGIN_DEG.to_radians();
+                crate::kinematics::MAX_DOF],
             elbow_min: 0.05,
             shoulder_min_m: 0.10,
             collisions: true,
@@ -94,7 +105,9 @@ pub enum Reason {
     ConfigurationChange,
     /// Joint velocity/acceleration/jerk limits not met after re-planning.
     JointLimits,
-    /// Too close to the wrist singularity.
+    /// A joint comes closer to a position limit than its margin.
+    JointLimitMargin,
+    /// Near the wrist singularity, joint 4 or 6 moves too fast.
     WristSingularity,
     /// Too close to the elbow singularity (arm stretched).
     ElbowSingularity,
@@ -117,6 +130,7 @@ impl Reason {
             Reason::Unreachable => "unreachable",
             Reason::ConfigurationChange => "configuration_change",
             Reason::JointLimits => "joint_limits",
+            Reason::JointLimitMargin => "joint_limit_margin",
             Reason::WristSingularity => "wrist_singularity",
             Reason::ElbowSingularity => "elbow_singularity",
             Reason::ShoulderSingularity => "shoulder_singularity",
@@ -216,6 +230,11 @@ impl Infeasible {
 pub struct Margins {
     /// Smallest `|sin q5|` (dimensionless); `None` without OPW parameters.
     pub wrist: Option<f64>,
+    /// Largest share of joint 4/6 velocity or acceleration limit used near the wrist
+    /// singularity (dimensionless); `None` if the path never comes near it.
+    pub wrist_rate: Option<f64>,
+    /// Closest approach to a position limit: (joint, 1-based; distance, rad), every sample.
+    pub joint_limit_rad: Option<(usize, f64)>,
     /// Smallest elbow measure (dimensionless).
     pub elbow: Option<f64>,
     /// Smallest wrist-centre distance from the axis of joint 1, m.
@@ -299,12 +318,7 @@ pub fn check_sample(
         upd(&mut margins.wrist, w);
         upd(&mut margins.elbow, e);
         upd(&mut margins.shoulder_m, s);
-        if w < o.wrist_min {
-            return Some((
-                Reason::WristSingularity,
-                format!("|sin q5| = {w:.4} < {:.4}", o.wrist_min),
-            ));
-        }
+        // The wrist rule needs joint speeds: see super::margins::check_joint_sample.
         if e < o.elbow_min {
             return Some((
                 Reason::ElbowSingularity,

@@ -2,11 +2,16 @@
 //! dynamics, energy), feasibility (reach, limits, singularity margin, collision), parallel
 //! sweeps and the minimum-energy search.
 
+pub mod advice;
 pub mod collision;
 pub mod eval;
+pub mod export;
 pub mod feasibility;
+pub mod margins;
 pub mod optimise;
+pub mod search;
 pub mod sweep;
+pub mod tolerance;
 
 pub use eval::{PathJob, PlacementEval};
 pub use feasibility::{FeasibilityOptions, Infeasible, Reason};

@@ -92,6 +92,38 @@ pub struct OptimiseResult {
     pub history_j: Vec<f64>,
     /// Sensitivity at the optimum.
     pub sensitivity: Sensitivity,
+    /// The argmin search's method, the tolerance the answer holds and the bounds it lies on
+    /// (`None` for the pattern search).
+    pub search: Option<super::search::SearchInfo>,
+    /// Savings against the baseline in supply, drives and the objective (set by the caller).
+    pub savings: Option<Savings>,
+}
+
+/// Savings of the best placement against a baseline, each as (J, % of the baseline).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Savings {
+    /// Objective energy saved.
+    pub objective: (f64, f64),
+    /// Supply energy (standby + drives) saved.
+    pub supply: (f64, f64),
+    /// Drives' energy (standby excluded) saved.
+    pub drives: (f64, f64),
+    /// Standby energy saved (shorter or longer print).
+    pub standby: (f64, f64),
+}
+
+impl Savings {
+    /// Savings of `best` against `base` (both feasible), else `None`.
+    pub fn of(best: &Evaluated, base: &Evaluated) -> Option<Savings> {
+        let (b, o) = (base.feasible()?, best.feasible()?);
+        let sv = |x: f64, y: f64| (x - y, if x != 0.0 { (x - y) / x * 100.0 } else { 0.0 });
+        Some(Savings {
+            objective: sv(b.energy_j, o.energy_j),
+            supply: sv(b.supply_j, o.supply_j),
+            drives: sv(b.drives_j, o.drives_j),
+            standby: sv(b.standby_j, o.standby_j),
+        })
+    }
 }
 
 /// Refine from the best feasible entry of `grid_results` (in order; ties to the first).
@@ -211,6 +243,8 @@ pub fn refine(ev: &Evaluator, start: Evaluated, opts: &OptimiseOptions) -> Resul
         iterations,
         history_j: history,
         sensitivity,
+        search: None,
+        savings: None,
     })
 }
 
@@ -274,9 +308,10 @@ pub fn feasible_centre(v: &[Evaluated]) -> Option<&Evaluated> {
 }
 
 /// A default workspace grid for a robot of reach R (m): 16 × 16 cells with x from 0.35·R to
-/// 0.95·R and y within ±0.7·R, bed heights z ∈ {0, 0.25, 0.5} m (z = 0: nozzle tip at the
-/// height of the base-frame origin, usually the floor), part yaws 0° and 90°, spin 0°:
-/// 1536 placements.
+/// 0.95·R and y within ±0.7·R, bed heights z ∈ {0, R/4, R/2} (z = 0: nozzle tip at the
+/// height of the base-frame origin, usually the floor; the refinement then searches z
+/// continuously within [0, R/2], see [`DEFAULT_Z_MAX_PER_REACH`]), part yaws 0° and 90°,
+/// spin 0°: 1536 placements.
 pub fn default_grid(reach_m: f64) -> Grid {
     let n = 16;
     let lin = |a: f64, b: f64| -> Vec<f64> {
@@ -287,8 +322,17 @@ pub fn default_grid(reach_m: f64) -> Grid {
     Grid {
         xs: lin(0.35 * reach_m, 0.95 * reach_m),
         ys: lin(-0.7 * reach_m, 0.7 * reach_m),
-        zs: vec![0.0, 0.25, 0.5],
+        zs: vec![
+            0.0,
+            (0.5 * DEFAULT_Z_MAX_PER_REACH * reach_m * 1000.0).round() / 1000.0,
+            (DEFAULT_Z_MAX_PER_REACH * reach_m * 1000.0).round() / 1000.0,
+        ],
         yaws: vec![0.0, std::f64::consts::FRAC_PI_2],
         spins: vec![0.0],
     }
 }
+
+/// Upper bound of the default bed-height range, as a fraction of the reach (dimensionless):
+/// the bed top may sit from the base-frame origin (z = 0) up to R/2 (1.3 m on the IRB 6700,
+/// above the shoulder), a cell bound for a bed a person can still work at.
+pub const DEFAULT_Z_MAX_PER_REACH: f64 = 0.5;

@@ -26,47 +26,104 @@ use rayon::prelude::*;
 use serde::Serialize;
 use std::sync::atomic::{AtomicUsize, Ordering};
 
-/// Which energy the search minimises.
+/// Which energy the search minimises (all in J over the whole print).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Default)]
 #[serde(rename_all = "snake_case")]
 pub enum Objective {
-    /// Energy drawn from the supply, J: drives (with the robot's regeneration policy) plus
-    /// standby; equals the mechanical energy for robots without drive data (and no standby).
+    /// Energy drawn from the supply: standby (cabinet power × print time) plus the drives'
+    /// draw under the robot's regeneration policy. Equals the mechanical energy for robots
+    /// without drive data (no standby).
     #[default]
     Supply,
-    /// Mechanical work ∑ⱼ ∫ τⱼ q̇ⱼ dt, J (signed; seed 000's power τ·q̇).
+    /// Energy drawn by the drives alone (supply minus standby): what the placement can change.
+    /// Equals the mechanical energy for robots without drive data.
+    Drives,
+    /// Signed mechanical work ∑ⱼ ∫ τⱼ q̇ⱼ dt (seed 000's power τ·q̇; braking work counts as
+    /// recovered).
     Mechanical,
-    /// Absolute mechanical work ∑ⱼ ∫ |τⱼ q̇ⱼ| dt, J.
+    /// Positive mechanical work ∑ⱼ ∫ max(τⱼ q̇ⱼ, 0) dt: what the joints deliver when nothing is
+    /// regenerated (braking work is lost, not returned).
+    MechanicalPositive,
+    /// Absolute mechanical work ∑ⱼ ∫ |τⱼ q̇ⱼ| dt: driving plus braking work, as if braking cost
+    /// as much as driving (an upper bound, not what a drive draws).
     MechanicalAbs,
+}
+
+impl Objective {
+    /// Every objective with its command-line name.
+    pub const ALL: [(&'static str, Objective); 5] = [
+        ("supply", Objective::Supply),
+        ("drives", Objective::Drives),
+        ("mechanical", Objective::Mechanical),
+        ("mechanical_positive", Objective::MechanicalPositive),
+        ("mechanical_abs", Objective::MechanicalAbs),
+    ];
+
+    /// The command-line name.
+    pub fn name(self) -> &'static str {
+        Objective::ALL
+            .iter()
+            .find(|(_, o)| *o == self)
+            .map_or("supply", |(n, _)| n)
+    }
+
+    /// One line saying what the objective is (for reports).
+    pub fn describe(self) -> &'static str {
+        match self {
+            Objective::Supply => "supply energy = standby + drives (J)",
+            Objective::Drives => "drives' energy, standby excluded (J)",
+            Objective::Mechanical => "signed mechanical work Σ∫τq̇ dt (J)",
+            Objective::MechanicalPositive => {
+                "positive mechanical work Σ∫max(τq̇, 0) dt, no regeneration (J)"
+            }
+            Objective::MechanicalAbs => "absolute mechanical work Σ∫|τq̇| dt (J)",
+        }
+    }
 }
 
 impl std::str::FromStr for Objective {
     type Err = Error;
     fn from_str(s: &str) -> Result<Self> {
-        match s {
-            "supply" => Ok(Objective::Supply),
-            "mechanical" => Ok(Objective::Mechanical),
-            "mechanical_abs" | "mechanical-abs" => Ok(Objective::MechanicalAbs),
+        let t = s.trim().to_ascii_lowercase().replace('-', "_");
+        if let Some((_, o)) = Objective::ALL.iter().find(|(n, _)| *n == t) {
+            return Ok(*o);
+        }
+        match t.as_str() {
+            // Older or natural spellings.
+            "drive" | "electrical" => Ok(Objective::Drives),
+            "mechanical_pos" | "positive" => Ok(Objective::MechanicalPositive),
             _ => Err(Error::Invalid(format!(
-                "unknown objective `{s}` (expected supply, mechanical or mechanical_abs)"
+                "unknown objective `{s}` (expected supply, drives, mechanical, mechanical_positive or mechanical_abs)"
             ))),
         }
     }
 }
 
-/// A feasible placement's numbers (energies in J, times in s).
+/// A feasible placement's numbers (energies in J, times in s). The supply energy is
+/// `supply_j = standby_j + drives_j`; the drives' losses by kind are in [`Losses`] (the full
+/// breakdown of one placement is [`crate::energy::TotalEnergy`]).
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Feasible {
     /// The objective's energy, J.
     pub energy_j: f64,
-    /// Supply energy, J.
+    /// Supply energy (standby + drives), J.
     pub supply_j: f64,
+    /// Energy drawn by the drives under the regeneration policy, J (= mechanical without
+    /// drive data).
+    pub drives_j: f64,
+    /// Standby energy: cabinet power × print time, J.
+    pub standby_j: f64,
     /// Signed mechanical work ∑ ∫ τ·q̇ dt, J.
     pub mechanical_j: f64,
+    /// Positive mechanical work ∑ ∫ max(τ·q̇, 0) dt, J.
+    pub mechanical_positive_j: f64,
     /// Absolute mechanical work ∑ ∫ |τ·q̇| dt, J.
     pub mechanical_abs_j: f64,
     /// Electrical energy of the drives ∑ ∫ p_el dt, J (= mechanical without drive data).
     pub electrical_j: f64,
+    /// Losses by kind, J: friction ∫τ_f q̇, gearbox, copper ∫R i², and returned energy the
+    /// regeneration policy burns.
+    pub losses: Losses,
     /// Print duration, s.
     pub duration_s: f64,
     /// Samples at the interpolation period.
@@ -81,6 +138,32 @@ pub struct Feasible {
     pub joint_electrical_j: Vec<f64>,
     /// Smallest margins met on the checked samples.
     pub margins: Margins,
+}
+
+/// Drive losses by kind over the print, J.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+pub struct Losses {
+    /// Friction ∑ ∫ τ_f q̇ dt, J.
+    pub friction_j: f64,
+    /// Gearbox ∑ ∫ p_gear dt, J.
+    pub gear_j: f64,
+    /// Copper ∑ ∫ R i² dt, J.
+    pub copper_j: f64,
+    /// Returned energy the regeneration policy burns, J.
+    pub regeneration_lost_j: f64,
+}
+
+impl Feasible {
+    /// The energy of objective `o`, J.
+    pub fn of(&self, o: Objective) -> f64 {
+        match o {
+            Objective::Supply => self.supply_j,
+            Objective::Drives => self.drives_j,
+            Objective::Mechanical => self.mechanical_j,
+            Objective::MechanicalPositive => self.mechanical_positive_j,
+            Objective::MechanicalAbs => self.mechanical_abs_j,
+        }
+    }
 }
 
 /// A placement and what became of it.
@@ -291,19 +374,29 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             &replanned
         };
         for k in 0..m {
-            if k % every == 0 || k + 1 == m {
+            let joint_check = super::margins::check_joint_sample(
+                model,
+                o,
+                timed.traj.q(k),
+                timed.traj.qd(k),
+                timed.traj.qdd(k),
+                &mut margins,
+            );
+            if k % every == 0 || k + 1 == m || joint_check.is_some() {
                 let q = timed.traj.q(k);
-                if let Some((reason, detail)) = feasibility::check_sample(
-                    model,
-                    o,
-                    &world,
-                    &self.shapes,
-                    beads,
-                    q,
-                    beads.laid_at(k),
-                    &mut sc.poses,
-                    &mut margins,
-                ) {
+                if let Some((reason, detail)) = joint_check.or_else(|| {
+                    feasibility::check_sample(
+                        model,
+                        o,
+                        &world,
+                        &self.shapes,
+                        beads,
+                        q,
+                        beads.laid_at(k),
+                        &mut sc.poses,
+                        &mut margins,
+                    )
+                }) {
                     let mi = self.job.pieces[motion.piece[k]].move_index;
                     let tip = frame.apply(&motion.p[k]);
                     let inf = Infeasible {
@@ -324,6 +417,9 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         let mut jabs = vec![0.0; n];
         let mut jel = vec![0.0; n];
         let mut supply = 0.0;
+        let mut drives = 0.0;
+        let mut mpos = 0.0;
+        let mut losses = Losses::default();
         for k in 0..m {
             let w = if k == 0 || k + 1 == m { 0.5 * dt } else { dt };
             let r = energy::eval_sample(
@@ -348,14 +444,22 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                 }
             };
             supply += w * p;
+            drives += w * sc.sp.p_drives;
+            losses.regeneration_lost_j += w * sc.sp.p_regeneration_lost;
             for j in 0..n {
-                jm[j] += w * sc.sp.p_mech[j];
-                jabs[j] += w * sc.sp.p_mech[j].abs();
+                let pm = sc.sp.p_mech[j];
+                jm[j] += w * pm;
+                jabs[j] += w * pm.abs();
+                mpos += w * pm.max(0.0);
                 jel[j] += w * sc.sp.p_el[j];
+                losses.friction_j += w * sc.sp.p_friction[j];
+                losses.gear_j += w * sc.sp.p_gear[j];
+                losses.copper_j += w * sc.sp.p_copper[j];
             }
         }
         if m < 2 {
             supply = 0.0;
+            drives = 0.0;
         }
         let rounds = timed.rounds;
         sc.buf.recycle(timed); // keep the buffers for the next placement
@@ -363,7 +467,9 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         let mechanical_abs_j: f64 = jabs.iter().sum();
         let energy_j = match self.objective {
             Objective::Supply => supply,
+            Objective::Drives => drives,
             Objective::Mechanical => mechanical_j,
+            Objective::MechanicalPositive => mpos,
             Objective::MechanicalAbs => mechanical_abs_j,
         };
         if !energy_j.is_finite() {
@@ -379,7 +485,11 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         Ok(Feasible {
             energy_j,
             supply_j: supply,
+            drives_j: drives,
+            standby_j: supply - drives,
             mechanical_j,
+            mechanical_positive_j: mpos,
+            losses,
             mechanical_abs_j,
             electrical_j: jel.iter().sum(),
             duration_s: dt * m.saturating_sub(1) as f64,

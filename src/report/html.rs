@@ -65,6 +65,16 @@ impl Page {
         self.body.push_str("</dl>\n");
         self
     }
+    /// A collapsed block: `summary` (escaped text) opens already well-formed XHTML `inner`
+    /// (e.g. a [`table`]) on demand.
+    pub fn collapsed(&mut self, summary: &str, inner: &str) -> &mut Self {
+        let _ = writeln!(
+            self.body,
+            "<details><summary>{}</summary>{inner}</details>",
+            esc(summary)
+        );
+        self
+    }
     /// Preformatted text (escaped).
     pub fn pre(&mut self, text: &str) -> &mut Self {
         let _ = writeln!(self.body, "<pre>{}</pre>", esc(text));

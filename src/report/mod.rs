@@ -4,4 +4,5 @@
 
 pub mod html;
 pub mod placement;
+pub mod site;
 pub mod svg;

@@ -2,13 +2,20 @@
 //! for scripts, `report.html` (self-contained, inline SVG) for people. Numbers arrive
 //! computed; this module only formats them.
 //!
-//! Figures: energy heatmap over the workspace (minimum over z, yaw and spin per (x, y) cell;
-//! infeasible cells marked by reason; the optimum marked), energy per placement (bars, like
-//! seed 000's P1–P5), energy per joint (grouped bars, like seed 001's Table 1), power–time
-//! curves per joint at the best and worst placements (like seed 000's Fig. 2a).
+//! Figures: a top view drawn to scale (equal axis scales) with the robot base, the reachable
+//! annulus at the bed height, the part outline at the optimum and the energy over (x, y) at the
+//! best grid cell's bed height and yaw (infeasible cells crossed by reason; the colour bar
+//! covers the optimum; the ring marks the best grid cell, which is feasible, the dot the refined
+//! optimum); for named sets (P1–P5) the named positions on the same map, with seed 000's values
+//! beside ours for that reproduction; slices of energy against bed height and yaw through the
+//! best cell; energy per placement (bars); the supply breakdown stacked (standby, motion work,
+//! losses by kind); energy per joint; power–time curves per joint (decimated to the pixel
+//! columns) and the cumulative energy at the best and worst placements; infeasible placements
+//! counted by reason, their details collapsed.
 
 use super::html::Page;
-use super::svg::{self, CellMark, Heatmap, Series};
+use super::site::SiteGeometry;
+use super::svg::{self, CellMark, Heatmap, MapPoint, Series, TopView};
 use crate::energy::EnergyReport;
 use crate::error::{Error, Result};
 use crate::output::write_atomic;
@@ -52,6 +59,8 @@ pub struct RunReport {
     pub details: Vec<Detail>,
     /// Use electrical (true) or mechanical (false) power in the per-joint figures.
     pub electrical: bool,
+    /// The cell drawn to scale (annulus, part outline, published values), when known.
+    pub site: Option<SiteGeometry>,
 }
 
 #[derive(Serialize)]
@@ -243,81 +252,277 @@ impl RunReport {
         s
     }
 
-    /// The energy heatmap (None without a grid).
-    pub fn heatmap_svg(&self) -> Option<String> {
-        let g = self.grid.as_ref()?;
-        if self.rows.len() != g.len() || g.xs.len() < 2 || g.ys.len() < 2 {
+    /// Indices `(iz, iyaw)` of the best feasible grid row's bed height and yaw, and its (ix, iy).
+    fn best_cell(&self, g: &Grid) -> Option<[usize; 4]> {
+        if self.rows.len() != g.len() {
             return None;
         }
-        let (nx, ny) = (g.xs.len(), g.ys.len());
-        let mut values = vec![f64::NAN; nx * ny];
-        let mut reason: Vec<Option<&'static str>> = vec![None; nx * ny];
-        for iz in 0..g.zs.len() {
-            for iyaw in 0..g.yaws.len() {
-                for isp in 0..g.spins.len() {
-                    for iy in 0..ny {
-                        for ix in 0..nx {
-                            let r = &self.rows[g.index(ix, iy, iz, iyaw, isp)];
-                            let c = iy * nx + ix;
-                            match &r.outcome {
-                                Ok(f) => {
-                                    if values[c].is_nan() || f.energy_j < values[c] {
-                                        values[c] = f.energy_j;
-                                    }
-                                }
-                                Err(e) => {
-                                    if reason[c].is_none() {
-                                        reason[c] = Some(e.reason.name());
-                                    }
-                                }
-                            }
-                        }
+        let b = crate::placement::optimise::best_of(&self.rows)?;
+        let near = |v: &[f64], x: f64| {
+            v.iter()
+                .enumerate()
+                .min_by(|a, b| (a.1 - x).abs().total_cmp(&(b.1 - x).abs()))
+                .map(|(i, _)| i)
+                .unwrap_or(0)
+        };
+        let p = &b.placement;
+        Some([
+            near(&g.xs, p.x),
+            near(&g.ys, p.y),
+            near(&g.zs, p.z),
+            near(&g.yaws, p.yaw),
+        ])
+    }
+
+    /// Energy of grid cell (ix, iy, iz, iyaw), minimum over the nozzle spins (a flat direction);
+    /// `Err(reason)` when every spin is infeasible.
+    fn cell(
+        &self,
+        g: &Grid,
+        ix: usize,
+        iy: usize,
+        iz: usize,
+        iyaw: usize,
+    ) -> std::result::Result<f64, &'static str> {
+        let mut best = f64::INFINITY;
+        let mut why = "infeasible";
+        for isp in 0..g.spins.len() {
+            match &self.rows[g.index(ix, iy, iz, iyaw, isp)].outcome {
+                Ok(_) => best = best.min(self.rows[g.index(ix, iy, iz, iyaw, isp)].cost()),
+                Err(e) => why = e.reason.name(),
+            }
+        }
+        if best.is_finite() {
+            Ok(best)
+        } else {
+            Err(why)
+        }
+    }
+
+    /// The top view drawn to scale: the energy over (x, y) at the best grid cell's bed height
+    /// and yaw (a slice, not a minimum over them), or the named placements of a set; the robot
+    /// base, the reachable annulus and the part outline at the optimum.
+    pub fn heatmap_svg(&self) -> Option<String> {
+        let mut v = TopView {
+            value_label: "energy [J]".into(),
+            ..Default::default()
+        };
+        let title;
+        if let Some(g) = self
+            .grid
+            .as_ref()
+            .filter(|g| g.xs.len() >= 2 && g.ys.len() >= 2)
+        {
+            let [bx, by, iz, iyaw] = self.best_cell(g)?;
+            let (nx, ny) = (g.xs.len(), g.ys.len());
+            let mut values = vec![f64::NAN; nx * ny];
+            let mut marks = Vec::new();
+            for iy in 0..ny {
+                for ix in 0..nx {
+                    match self.cell(g, ix, iy, iz, iyaw) {
+                        Ok(e) => values[iy * nx + ix] = e,
+                        Err(why) => marks.push(CellMark {
+                            col: ix,
+                            row: iy,
+                            class: why.to_string(),
+                            at: None,
+                        }),
                     }
                 }
             }
-        }
-        let mut marks = Vec::new();
-        for c in 0..nx * ny {
-            if !values[c].is_finite() {
-                marks.push(CellMark {
-                    col: c % nx,
-                    row: c / nx,
-                    class: reason[c].unwrap_or("infeasible").to_string(),
-                    at: None,
-                });
-            }
-        }
-        if let Some(b) = self.best().filter(|b| b.cost().is_finite()) {
-            let near = |v: &[f64], x: f64| {
-                v.iter()
-                    .enumerate()
-                    .min_by(|a, b| (a.1 - x).abs().total_cmp(&(b.1 - x).abs()))
-                    .map(|(i, _)| i)
-                    .unwrap_or(0)
-            };
-            marks.push(CellMark {
-                col: near(&g.xs, b.placement.x),
-                row: near(&g.ys, b.placement.y),
-                class: "optimum".into(),
-                at: Some((b.placement.x, b.placement.y)),
+            title = format!(
+                "Top view (to scale): energy at bed z = {} m, yaw = {}°",
+                svg::fmt_num(g.zs[iz]),
+                svg::fmt_num(g.yaws[iyaw].to_degrees())
+            );
+            v.points.push(MapPoint {
+                x: g.xs[bx],
+                y: g.ys[by],
+                label: String::new(),
+                value: values[by * nx + bx],
+                class: "best-cell".into(),
             });
-        }
-        let f = svg::Frame::new(
-            "Energy over the workspace (min over yaw/spin/z per cell)",
-            "x of the part origin [m]",
-            "y of the part origin [m]",
-        )
-        .size(760.0, 520.0);
-        Some(svg::heatmap(
-            &f,
-            &Heatmap {
+            v.cells = Some(Heatmap {
                 xs: g.xs.clone(),
                 ys: g.ys.clone(),
                 values,
                 marks,
                 value_label: "energy [J]".into(),
-            },
-        ))
+            });
+        } else if let Some(names) = &self.names {
+            for (n, r) in names.iter().zip(&self.rows) {
+                v.points.push(MapPoint {
+                    x: r.placement.x,
+                    y: r.placement.y,
+                    label: n.clone(),
+                    value: r.cost(),
+                    class: "named".into(),
+                });
+            }
+            title = "Top view (to scale): the named placements".into();
+        } else {
+            return None;
+        }
+        let best = self.best().filter(|b| b.cost().is_finite());
+        if let Some(b) = best {
+            if self.grid.is_some() {
+                v.points.push(MapPoint {
+                    x: b.placement.x,
+                    y: b.placement.y,
+                    label: "optimum".into(),
+                    value: b.cost(),
+                    class: "optimum".into(),
+                });
+            }
+        }
+        v.circles
+            .push((0.0, 0.0, 0.12, "base".into(), "robot base (axis 1)".into()));
+        if let Some(site) = &self.site {
+            if let Some((lo, hi)) = site.annulus_m {
+                v.circles.push((
+                    0.0,
+                    0.0,
+                    hi,
+                    "reach".into(),
+                    format!("reach {}–{} m", svg::fmt_num(lo), svg::fmt_num(hi)),
+                ));
+                if lo > 0.0 {
+                    v.circles
+                        .push((0.0, 0.0, lo, "reach-inner".into(), "inner reach".into()));
+                }
+            }
+            if let (Some(b), false) = (best, site.part_xy_m.is_empty()) {
+                let f = b.placement.frame();
+                let pts = site
+                    .part_xy_m
+                    .iter()
+                    .map(|&(x, y)| {
+                        let p = f.apply(&crate::math::V3::new(x, y, 0.0));
+                        (p.x, p.y)
+                    })
+                    .collect();
+                v.lines.push(("part at the optimum".into(), pts));
+            }
+        }
+        let f =
+            svg::Frame::new(&title, "x in the robot base frame [m]", "y [m]").size(900.0, 640.0);
+        Some(svg::top_view(&f, &v))
+    }
+
+    /// Energy against bed height and against yaw through the best grid cell (other variables
+    /// at the best cell's values; minimum over spin). `None` where the grid has one value.
+    fn slices_svg(&self) -> Vec<(String, String, String)> {
+        let mut out = Vec::new();
+        let Some(g) = self.grid.as_ref() else {
+            return out;
+        };
+        let Some([ix, iy, iz, iyaw]) = self.best_cell(g) else {
+            return out;
+        };
+        let val = |iz, iyaw| self.cell(g, ix, iy, iz, iyaw).unwrap_or(f64::NAN);
+        if g.zs.len() > 1 {
+            let y: Vec<f64> = (0..g.zs.len()).map(|k| val(k, iyaw)).collect();
+            let f = svg::Frame::new(
+                &format!(
+                    "Energy against bed height at x = {} m, y = {} m, yaw = {}°",
+                    svg::fmt_num(g.xs[ix]),
+                    svg::fmt_num(g.ys[iy]),
+                    svg::fmt_num(g.yaws[iyaw].to_degrees())
+                ),
+                "bed height z [m]",
+                "energy [J]",
+            )
+            .size(440.0, 300.0);
+            out.push((
+                "slice-z".into(),
+                svg::scatter(&f, &[Series::new("energy", &g.zs, &y)]),
+                "Energy against bed height through the best grid cell (gaps: infeasible).".into(),
+            ));
+        }
+        if g.yaws.len() > 1 {
+            let yaws: Vec<f64> = g.yaws.iter().map(|a| a.to_degrees()).collect();
+            let y: Vec<f64> = (0..g.yaws.len()).map(|k| val(iz, k)).collect();
+            let f = svg::Frame::new(
+                &format!(
+                    "Energy against yaw at x = {} m, y = {} m, z = {} m",
+                    svg::fmt_num(g.xs[ix]),
+                    svg::fmt_num(g.ys[iy]),
+                    svg::fmt_num(g.zs[iz])
+                ),
+                "part yaw [°]",
+                "energy [J]",
+            )
+            .size(440.0, 300.0);
+            out.push((
+                "slice-yaw".into(),
+                svg::scatter(&f, &[Series::new("energy", &yaws, &y)]),
+                "Energy against part yaw through the best grid cell (gaps: infeasible).".into(),
+            ));
+        }
+        out
+    }
+
+    /// Supply energy of the detailed placements, stacked: standby, motion work (rigid body and
+    /// balancer), and the losses by kind. The stack sums to the supply energy.
+    fn supply_svg(&self) -> Option<String> {
+        if self.details.is_empty() || !self.details.iter().all(|d| d.energy.has_drive) {
+            return None;
+        }
+        let cats: Vec<String> = self.details.iter().map(|d| d.label.clone()).collect();
+        let part = |f: &dyn Fn(&crate::energy::TotalEnergy) -> f64| -> Vec<f64> {
+            self.details.iter().map(|d| f(&d.energy.total)).collect()
+        };
+        let parts = vec![
+            ("standby".to_string(), part(&|t| t.standby_j)),
+            ("rigid-body work".to_string(), part(&|t| t.rigid_body_j)),
+            ("balancer".to_string(), part(&|t| t.balancer_j)),
+            ("friction".to_string(), part(&|t| t.friction_j)),
+            ("gearbox".to_string(), part(&|t| t.gear_j)),
+            ("copper".to_string(), part(&|t| t.copper_j)),
+            (
+                "regeneration lost".to_string(),
+                part(&|t| t.regeneration_lost_j),
+            ),
+        ];
+        let f = svg::Frame::new("Supply energy, stacked by kind", "placement", "energy [J]")
+            .size(760.0, 360.0);
+        Some(svg::stacked_bars(&f, &cats, &parts))
+    }
+
+    /// Cumulative energy over time at a detailed placement: supply (with drives) and per joint.
+    fn cumulative_svg(&self, d: &Detail) -> String {
+        let s = &d.energy.series;
+        let n = d.energy.joints.len();
+        let p = if self.electrical { &s.p_el } else { &s.p_mech };
+        let cum = |y: &dyn Fn(usize) -> f64| {
+            let mut acc = 0.0;
+            let mut out = Vec::with_capacity(s.t.len());
+            for k in 0..s.t.len() {
+                if k > 0 {
+                    acc += 0.5 * (y(k) + y(k - 1)) * (s.t[k] - s.t[k - 1]);
+                }
+                out.push(acc);
+            }
+            out
+        };
+        let mut series = Vec::new();
+        if self.electrical && s.p_supply.len() == s.t.len() {
+            series.push(Series::new("supply", &s.t, &cum(&|k| s.p_supply[k])));
+        }
+        for j in 0..n {
+            series.push(Series::new(
+                &d.energy.joints[j].name,
+                &s.t,
+                &cum(&|k| p[k * n + j]),
+            ));
+        }
+        let f = svg::Frame::new(
+            &format!("Cumulative energy at the {} placement", d.label),
+            "time [s]",
+            "energy [J]",
+        )
+        .size(760.0, 320.0);
+        svg::line_chart(&f, &series)
     }
 
     fn bars_svg(&self) -> Option<String> {
@@ -419,6 +624,32 @@ impl RunReport {
         svg::line_chart(&f, &series)
     }
 
+    /// Rows `placement, ours, paper, ratio` when the run has published values beside it.
+    pub fn reference_rows(&self) -> Option<Vec<Vec<String>>> {
+        let (_, refs) = self.site.as_ref()?.reference.as_ref()?;
+        let names = self.names.as_ref()?;
+        Some(
+            refs.iter()
+                .map(|(n, paper)| {
+                    let ours = names
+                        .iter()
+                        .position(|x| x == n)
+                        .map(|i| self.rows[i].cost())
+                        .filter(|c| c.is_finite());
+                    vec![
+                        n.clone(),
+                        ours.map_or("infeasible".into(), |v| format!("{v:.1}")),
+                        paper.map_or("n/a".into(), |v| format!("{v:.1}")),
+                        match (ours, paper) {
+                            (Some(o), Some(p)) if *p > 0.0 => format!("{:.2}", o / p),
+                            _ => "n/a".into(),
+                        },
+                    ]
+                })
+                .collect(),
+        )
+    }
+
     /// The HTML page.
     pub fn html(&self) -> String {
         let mut pg = Page::new(&self.title);
@@ -495,8 +726,23 @@ impl RunReport {
             pg.figure(
                 "heatmap",
                 &h,
-                "Energy over the workspace; crosses mark infeasible cells by reason, the ring marks the optimum.",
+                "Top view drawn to scale (1 m is as long on both axes): the robot base, the reach of a downward nozzle at the bed height (dashed), the part outline at the optimum (red); cells: energy at the best cell's bed height and yaw, crosses mark infeasible cells by reason; the ring marks the best grid cell, the dot the refined optimum.",
             );
+        }
+        let slices = self.slices_svg();
+        if !slices.is_empty() {
+            pg.figure_row(&slices);
+        }
+        if let Some(rows) = self.reference_rows() {
+            pg.h2("Ours beside the paper");
+            let h: Vec<String> = ["placement", "ours [J]", "paper [J]", "ours / paper"]
+                .iter()
+                .map(|s| s.to_string())
+                .collect();
+            pg.table(&h, &rows);
+            if let Some((src, _)) = self.site.as_ref().and_then(|s| s.reference.as_ref()) {
+                pg.p(&format!("Paper values: {src}."));
+            }
         }
         if let Some(b) = self.bars_svg() {
             pg.figure(
@@ -529,6 +775,13 @@ impl RunReport {
                 .collect();
             pg.table(&header, &rows);
         }
+        if let Some(sup) = self.supply_svg() {
+            pg.figure(
+                "supply",
+                &sup,
+                "Supply energy of the placements reported in detail, stacked: standby, motion work and the losses by kind (negative parts, e.g. work returned by gravity, below zero; the printed total is the supply energy).",
+            );
+        }
         for (k, d) in self.details.iter().enumerate() {
             if d.label == "best" || d.label == "worst" || self.details.len() <= 2 {
                 pg.figure(
@@ -540,28 +793,52 @@ impl RunReport {
                         describe(&d.eval)
                     ),
                 );
+                pg.figure(
+                    &format!("cumulative-{k}"),
+                    &self.cumulative_svg(d),
+                    &format!("Cumulative energy at the {} placement.", d.label),
+                );
             }
         }
-        let infeasible: Vec<Vec<String>> = self
-            .rows
-            .iter()
-            .filter_map(|r| {
-                r.outcome.as_ref().err().map(|e| {
-                    let p = PlacementRow::from(&r.placement);
-                    vec![
-                        format!("{:.3}", p.x_m),
-                        format!("{:.3}", p.y_m),
-                        format!("{:.3}", p.z_m),
-                        format!("{:.1}", p.yaw_deg),
-                        format!("{:.1}", p.spin_deg),
-                        e.to_string(),
-                    ]
+        let mut by_reason: std::collections::BTreeMap<&'static str, (usize, String)> =
+            Default::default();
+        for r in &self.rows {
+            if let Err(e) = &r.outcome {
+                let ent = by_reason
+                    .entry(e.reason.name())
+                    .or_insert_with(|| (0, format!("{} — {}", describe(r), e)));
+                ent.0 += 1;
+            }
+        }
+        if !by_reason.is_empty() {
+            pg.h2("Infeasible placements by reason");
+            let h: Vec<String> = ["reason", "placements", "first example"]
+                .iter()
+                .map(|s| s.to_string())
+                .collect();
+            let rows: Vec<Vec<String>> = by_reason
+                .iter()
+                .map(|(k, (n, ex))| vec![k.to_string(), n.to_string(), ex.clone()])
+                .collect();
+            pg.table(&h, &rows);
+            let infeasible: Vec<Vec<String>> = self
+                .rows
+                .iter()
+                .filter_map(|r| {
+                    r.outcome.as_ref().err().map(|e| {
+                        let p = PlacementRow::from(&r.placement);
+                        vec![
+                            format!("{:.3}", p.x_m),
+                            format!("{:.3}", p.y_m),
+                            format!("{:.3}", p.z_m),
+                            format!("{:.1}", p.yaw_deg),
+                            format!("{:.1}", p.spin_deg),
+                            e.to_string(),
+                        ]
+                    })
                 })
-            })
-            .take(200)
-            .collect();
-        if !infeasible.is_empty() {
-            pg.h2("Infeasible placements (first 200)");
+                .take(200)
+                .collect();
             let h: Vec<String> = [
                 "x [m]",
                 "y [m]",
@@ -573,7 +850,13 @@ impl RunReport {
             .iter()
             .map(|s| s.to_string())
             .collect();
-            pg.table(&h, &infeasible);
+            pg.collapsed(
+                &format!(
+                    "Details of {} infeasible placements (all in placements.csv)",
+                    infeasible.len()
+                ),
+                &super::html::table(&h, &infeasible),
+            );
         }
         pg.finish()
     }

@@ -174,13 +174,23 @@ fn open(f: &Frame) -> String {
     let mut s = String::new();
     let _ = write!(
         s,
-        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="sans-serif" font-size="12"><title>{t}</title><rect x="0" y="0" width="{w}" height="{h}" fill="white"/><text x="{cx}" y="20" text-anchor="middle" font-size="14" font-weight="bold">{t}</text>"#,
+        r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" data-n="{DATA_N}" font-family="sans-serif" font-size="12"><title>{t}</title><rect x="0" y="0" width="{w}" height="{h}" fill="white"/><text x="{cx}" y="20" text-anchor="middle" font-size="14" font-weight="bold">{t}</text>"#,
         w = f.width,
         h = f.height,
         cx = f.width / 2.0,
         t = esc(&f.title)
     );
     s
+}
+
+/// Placeholder of the `data-n` attribute (number of data items drawn), set by [`finish`].
+const DATA_N: &str = "@data-n@";
+
+/// Close the SVG and record how many data items (points, bars, cells) it draws in the root's
+/// `data-n` attribute, so a test (or a reader's script) can tell a chart from an empty frame.
+fn finish(mut s: String, n: usize) -> String {
+    s.push_str("</svg>");
+    s.replacen(DATA_N, &n.to_string(), 1)
 }
 
 fn axis_labels(s: &mut String, f: &Frame) {
@@ -332,8 +342,16 @@ pub fn line_chart(f: &Frame, series: &[Series]) -> String {
     }
     legend(&mut s, f, &names);
     axis_labels(&mut s, f);
-    s.push_str("</svg>");
-    s
+    let n = series
+        .iter()
+        .map(|se| {
+            se.points
+                .iter()
+                .filter(|p| p.0.is_finite() && p.1.is_finite())
+                .count()
+        })
+        .sum();
+    finish(s, n)
 }
 
 fn decimate(p: &[(f64, f64)], buckets: usize) -> Vec<(f64, f64)> {
@@ -421,8 +439,16 @@ pub fn scatter(f: &Frame, series: &[Series]) -> String {
     }
     legend(&mut s, f, &names);
     axis_labels(&mut s, f);
-    s.push_str("</svg>");
-    s
+    let n = series
+        .iter()
+        .map(|se| {
+            se.points
+                .iter()
+                .filter(|p| p.0.is_finite() && p.1.is_finite())
+                .count()
+        })
+        .sum();
+    finish(s, n)
 }
 
 /// Grouped bar chart: `categories` along x, one bar per group in `groups` (name, one value per
@@ -530,8 +556,12 @@ pub fn bar_chart(f: &Frame, categories: &[String], groups: &[(String, Vec<f64>)]
     }
     legend(&mut s, f, &names);
     axis_labels(&mut s, f);
-    s.push_str("</svg>");
-    s
+    let n = groups
+        .iter()
+        .flat_map(|g| g.1.iter())
+        .filter(|v| v.is_finite())
+        .count();
+    finish(s, n)
 }
 
 /// A marked heatmap cell: drawn with a hatch/colour of its class and named in the legend.
@@ -753,8 +783,390 @@ pub fn heatmap(f: &Frame, h: &Heatmap) -> String {
         );
     }
     axis_labels(&mut s, &f2);
-    s.push_str("</svg>");
-    s
+    let n = h.values.iter().filter(|v| v.is_finite()).count();
+    finish(s, n)
+}
+
+/// A point drawn on a [`top_view`]: a named position, optionally coloured by its value.
+#[derive(Clone, Debug)]
+pub struct MapPoint {
+    /// Position, m (base frame x, y).
+    pub x: f64,
+    /// Position, m.
+    pub y: f64,
+    /// Label drawn beside it (e.g. "P1", "optimum").
+    pub label: String,
+    /// Value on the colour scale (non-finite: drawn hollow, e.g. infeasible).
+    pub value: f64,
+    /// Class (`mark-<class>` in the SVG): "optimum", "best-cell", "named", ...
+    pub class: String,
+}
+
+/// A top view of the cell drawn to scale (one metre is as long on both axes).
+#[derive(Clone, Debug, Default)]
+pub struct TopView {
+    /// Energy cells over the workspace (optional): centres, values and marks as for
+    /// [`heatmap`].
+    pub cells: Option<Heatmap>,
+    /// Circles `(cx, cy, r, class, label)`, m: the robot base, the reachable annulus.
+    pub circles: Vec<(f64, f64, f64, String, String)>,
+    /// Polylines `(class, points)`, m: the part outline at the optimum.
+    pub lines: Vec<(String, Vec<(f64, f64)>)>,
+    /// Named points.
+    pub points: Vec<MapPoint>,
+    /// Unit of the colour scale.
+    pub value_label: String,
+}
+
+/// Top view with equal axis scales: energy cells (colour bar covering every cell and point
+/// value, so an optimum found off the grid is on the scale), infeasible cells crossed by
+/// reason, circles (base, reach), outlines (the part) and labelled points. The drawn extent
+/// covers the cells, the points, the outlines and the base; circles are clipped to it.
+pub fn top_view(f: &Frame, v: &TopView) -> String {
+    let bar_w = 170.0;
+    let f2 = Frame {
+        width: f.width - bar_w,
+        ..f.clone()
+    };
+    // Extent in metres.
+    let (mut x0, mut x1, mut y0, mut y1) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
+    let mut grow = |x: f64, y: f64| {
+        if x.is_finite() && y.is_finite() {
+            x0 = x0.min(x);
+            x1 = x1.max(x);
+            y0 = y0.min(y);
+            y1 = y1.max(y);
+        }
+    };
+    let cell_step = |c: &[f64]| {
+        if c.len() > 1 {
+            (c[c.len() - 1] - c[0]) / (c.len() - 1) as f64
+        } else {
+            0.1
+        }
+    };
+    if let Some(h) = &v.cells {
+        let (dx, dy) = (cell_step(&h.xs), cell_step(&h.ys));
+        for x in &h.xs {
+            for y in &h.ys {
+                grow(x - dx / 2.0, y - dy / 2.0);
+                grow(x + dx / 2.0, y + dy / 2.0);
+            }
+        }
+    }
+    for p in &v.points {
+        grow(p.x, p.y);
+    }
+    for (_, l) in &v.lines {
+        for &(x, y) in l {
+            grow(x, y);
+        }
+    }
+    for (cx, cy, r, class, _) in &v.circles {
+        if class == "base" {
+            grow(cx - r, cy - r);
+            grow(cx + r, cy + r);
+        }
+    }
+    let pad = 0.05 * (x1 - x0).max(y1 - y0).max(0.1);
+    let (mut x0, mut x1, mut y0, mut y1) = (x0 - pad, x1 + pad, y0 - pad, y1 + pad);
+    // Equal scales: widen the range of the axis that would otherwise be stretched.
+    let (pw, ph) = (f2.width - ML - MR, f2.height - MT - MB);
+    let k = (pw / (x1 - x0)).min(ph / (y1 - y0));
+    let (cx, cy) = ((x0 + x1) / 2.0, (y0 + y1) / 2.0);
+    x0 = cx - pw / k / 2.0;
+    x1 = cx + pw / k / 2.0;
+    y0 = cy - ph / k / 2.0;
+    y1 = cy + ph / k / 2.0;
+    let a = Axes::new(&f2, (x0, x1), (y0, y1));
+    let vals = v
+        .cells
+        .iter()
+        .flat_map(|h| h.values.iter().copied())
+        .chain(v.points.iter().map(|p| p.value));
+    let (vlo, vhi) = finite_range(vals).unwrap_or((0.0, 1.0));
+    let mut n = 0usize;
+    let mut s = open(f);
+    let _ = write!(
+        s,
+        r#"<defs><clipPath id="plot-area"><rect x="{:.1}" y="{:.1}" width="{:.1}" height="{:.1}"/></clipPath></defs><g clip-path="url(#plot-area)">"#,
+        a.px0,
+        a.py1,
+        a.px1 - a.px0,
+        a.py0 - a.py1
+    );
+    let mut classes: Vec<String> = Vec::new();
+    if let Some(h) = &v.cells {
+        let (dx, dy) = (cell_step(&h.xs), cell_step(&h.ys));
+        let (cw, ch) = (dx * k, dy * k);
+        let nx = h.xs.len();
+        for (r, y) in h.ys.iter().enumerate() {
+            for (c, x) in h.xs.iter().enumerate() {
+                let val = h.values.get(r * nx + c).copied().unwrap_or(f64::NAN);
+                let fill = if val.is_finite() {
+                    n += 1;
+                    ramp((val - vlo) / (vhi - vlo))
+                } else {
+                    "#f2f2f2".into()
+                };
+                let _ = write!(
+                    s,
+                    r#"<rect x="{:.1}" y="{:.1}" width="{:.2}" height="{:.2}" fill="{fill}"><title>({}, {}): {}</title></rect>"#,
+                    a.x(x - dx / 2.0),
+                    a.y(y + dy / 2.0),
+                    cw + 0.3,
+                    ch + 0.3,
+                    fmt_num(*x),
+                    fmt_num(*y),
+                    if val.is_finite() {
+                        fmt_num(val)
+                    } else {
+                        "-".into()
+                    }
+                );
+            }
+        }
+        for m in &h.marks {
+            if !classes.contains(&m.class) {
+                classes.push(m.class.clone());
+            }
+            let kk = classes.iter().position(|c| *c == m.class).unwrap_or(0);
+            let (px, py) = (
+                a.x(h.xs.get(m.col).copied().unwrap_or(0.0)),
+                a.y(h.ys.get(m.row).copied().unwrap_or(0.0)),
+            );
+            let _ = write!(
+                s,
+                r#"<g class="mark-{}"><line x1="{:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{c}" stroke-width="1.3"/><line x1="{:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{c}" stroke-width="1.3"/></g>"#,
+                esc(&m.class),
+                px - cw * 0.35,
+                py - ch * 0.35,
+                px + cw * 0.35,
+                py + ch * 0.35,
+                px - cw * 0.35,
+                py + ch * 0.35,
+                px + cw * 0.35,
+                py - ch * 0.35,
+                c = MARK_STYLES[kk % MARK_STYLES.len()]
+            );
+        }
+    }
+    for (cx, cy, r, class, label) in &v.circles {
+        let (dash, fill) = if class == "base" {
+            ("", "#555")
+        } else {
+            (r#" stroke-dasharray="6 4""#, "none")
+        };
+        let _ = write!(
+            s,
+            r##"<circle class="{}" cx="{:.1}" cy="{:.1}" r="{:.1}" fill="{fill}" fill-opacity="0.6" stroke="#333" stroke-width="1.2"{dash}><title>{}</title></circle>"##,
+            esc(class),
+            a.x(*cx),
+            a.y(*cy),
+            r * k,
+            esc(label)
+        );
+    }
+    for (class, l) in &v.lines {
+        let mut d = String::new();
+        for (i, &(x, y)) in l.iter().enumerate() {
+            let _ = write!(
+                d,
+                "{}{:.1},{:.1}",
+                if i == 0 { "M" } else { " " },
+                a.x(x),
+                a.y(y)
+            );
+        }
+        n += l.len();
+        let _ = write!(
+            s,
+            r##"<path class="{}" d="{d}" fill="none" stroke="#c00" stroke-width="1.5"/>"##,
+            esc(class)
+        );
+    }
+    s.push_str("</g>");
+    for p in &v.points {
+        let (px, py) = (a.x(p.x), a.y(p.y));
+        let fill = if p.value.is_finite() {
+            n += 1;
+            ramp((p.value - vlo) / (vhi - vlo))
+        } else {
+            "white".into()
+        };
+        let r = if p.class == "best-cell" { 9.0 } else { 6.0 };
+        let _ = write!(
+            s,
+            r##"<g class="mark-{}"><circle cx="{px:.1}" cy="{py:.1}" r="{r}" fill="none" stroke="white" stroke-width="3"/><circle cx="{px:.1}" cy="{py:.1}" r="{r}" fill="{fill}" fill-opacity="{}" stroke="black" stroke-width="1.5"><title>{}: {}</title></circle><text x="{:.1}" y="{:.1}" font-size="11" font-weight="bold">{}</text></g>"##,
+            esc(&p.class),
+            if p.class == "best-cell" { "0" } else { "1" },
+            esc(&p.label),
+            if p.value.is_finite() {
+                fmt_num(p.value)
+            } else {
+                "infeasible".into()
+            },
+            px + r + 2.0,
+            py - r,
+            esc(&p.label)
+        );
+    }
+    y_axis(&mut s, &a, false);
+    x_axis(&mut s, &a);
+    // Colour bar.
+    let bx = f.width - bar_w + 10.0;
+    let nb = 40;
+    let bh = (a.py0 - a.py1) * 0.5;
+    for i in 0..nb {
+        let (t0, t1) = (i as f64 / nb as f64, (i + 1) as f64 / nb as f64);
+        let _ = write!(
+            s,
+            r#"<rect x="{bx}" y="{:.1}" width="14" height="{:.2}" fill="{}"/>"#,
+            a.py1 + bh * (1.0 - t1),
+            bh / nb as f64 + 0.5,
+            ramp((t0 + t1) / 2.0)
+        );
+    }
+    let px = |t: f64| a.py1 + bh * (1.0 - (t - vlo) / (vhi - vlo));
+    let mut cb = ticks(vlo, vhi, 4);
+    cb.retain(|t| *t >= vlo - 1e-9 * (vhi - vlo).abs() && *t <= vhi + 1e-9 * (vhi - vlo).abs());
+    for end in [vlo, vhi] {
+        if cb.iter().all(|t| (px(*t) - px(end)).abs() > 14.0) {
+            cb.push(end);
+        }
+    }
+    for t in cb {
+        let y = px(t);
+        let _ = write!(
+            s,
+            r##"<line x1="{bx}" y1="{y:.1}" x2="{}" y2="{y:.1}" stroke="#333"/><text class="cbar-tick" x="{}" y="{:.1}">{}</text>"##,
+            bx + 17.0,
+            bx + 20.0,
+            y + 4.0,
+            fmt_num(t)
+        );
+    }
+    let _ = write!(
+        s,
+        r#"<text x="{bx}" y="{:.1}" font-weight="bold" data-lo="{vlo}" data-hi="{vhi}" class="cbar">{}</text>"#,
+        a.py1 - 10.0,
+        esc(&v.value_label)
+    );
+    // Legend of marks, circles and lines.
+    let mut y = a.py1 + bh + 24.0;
+    for (kk, c) in classes.iter().enumerate() {
+        let _ = write!(
+            s,
+            r#"<line x1="{bx}" y1="{:.1}" x2="{}" y2="{:.1}" stroke="{}" stroke-width="2"/><text x="{}" y="{y:.1}" font-size="11">{}</text>"#,
+            y - 9.0,
+            bx + 12.0,
+            y + 1.0,
+            MARK_STYLES[kk % MARK_STYLES.len()],
+            bx + 16.0,
+            esc(c)
+        );
+        y += 16.0;
+    }
+    for (_, _, _, class, label) in &v.circles {
+        let _ = write!(
+            s,
+            r##"<circle cx="{}" cy="{:.1}" r="5" fill="{}" stroke="#333"/><text x="{}" y="{y:.1}" font-size="11">{}</text>"##,
+            bx + 6.0,
+            y - 4.0,
+            if class == "base" { "#555" } else { "none" },
+            bx + 16.0,
+            esc(label)
+        );
+        y += 16.0;
+    }
+    for (class, _) in &v.lines {
+        let _ = write!(
+            s,
+            r##"<line x1="{bx}" y1="{:.1}" x2="{}" y2="{:.1}" stroke="#c00" stroke-width="1.5"/><text x="{}" y="{y:.1}" font-size="11">{}</text>"##,
+            y - 4.0,
+            bx + 12.0,
+            y - 4.0,
+            bx + 16.0,
+            esc(class)
+        );
+        y += 16.0;
+    }
+    axis_labels(&mut s, &f2);
+    finish(s, n)
+}
+
+/// Stacked bars: one bar per category, `parts` (name, one value per category) stacked; positive
+/// parts upward from 0, negative ones downward. A legend names the parts.
+pub fn stacked_bars(f: &Frame, categories: &[String], parts: &[(String, Vec<f64>)]) -> String {
+    let nc = categories.len().max(1);
+    let (mut lo, mut hi) = (0.0f64, 0.0f64);
+    for c in 0..nc {
+        let (mut p, mut m) = (0.0, 0.0);
+        for (_, v) in parts {
+            let x = v.get(c).copied().unwrap_or(0.0);
+            if x.is_finite() {
+                if x >= 0.0 {
+                    p += x
+                } else {
+                    m += x
+                }
+            }
+        }
+        hi = hi.max(p);
+        lo = lo.min(m);
+    }
+    if hi - lo <= 0.0 {
+        hi = 1.0;
+    }
+    let names: Vec<&str> = parts.iter().map(|p| p.0.as_str()).collect();
+    let mut a = Axes::new(f, (0.0, nc as f64), (lo, hi * 1.05));
+    a.px1 -= legend_width(&names);
+    let slot = (a.px1 - a.px0) / nc as f64;
+    let bw = (slot * 0.6).min(90.0);
+    let mut s = open(f);
+    y_axis(&mut s, &a, true);
+    let mut n = 0;
+    for (c, name) in categories.iter().enumerate() {
+        let x = a.px0 + slot * (c as f64 + 0.5) - bw / 2.0;
+        let (mut up, mut down) = (0.0, 0.0);
+        for (g, (pn, v)) in parts.iter().enumerate() {
+            let val = v.get(c).copied().unwrap_or(f64::NAN);
+            if !val.is_finite() || val == 0.0 {
+                continue;
+            }
+            let (b0, b1) = if val > 0.0 {
+                up += val;
+                (up - val, up)
+            } else {
+                down += val;
+                (down - val, down)
+            };
+            n += 1;
+            let _ = write!(
+                s,
+                r#"<rect x="{x:.1}" y="{:.1}" width="{bw:.1}" height="{:.1}" fill="{}"><title>{}, {}: {} </title></rect>"#,
+                a.y(b0.max(b1)),
+                (a.y(b0) - a.y(b1)).abs(),
+                colour(g),
+                esc(name),
+                esc(pn),
+                fmt_num(val)
+            );
+        }
+        let _ = write!(
+            s,
+            r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">{}</text><text x="{:.1}" y="{:.1}" text-anchor="middle" font-size="10">{}</text>"#,
+            x + bw / 2.0,
+            a.py0 + 16.0,
+            esc(name),
+            x + bw / 2.0,
+            a.y(up) - 4.0,
+            fmt_num(up + down)
+        );
+    }
+    legend(&mut s, f, &names);
+    axis_labels(&mut s, f);
+    finish(s, n)
 }
 
 #[cfg(test)]

@@ -207,6 +207,8 @@ pub(crate) struct JointTable {
     pub velocity_limit_rad_s: Option<f64>,
     pub position_min_rad: Option<f64>,
     pub position_max_rad: Option<f64>,
+    /// Position margin from the limits kept by placement searches, rad (issue 9).
+    pub limit_margin_rad: Option<f64>,
     pub gear_ratio: Option<f64>,
     pub torque_constant_nm_per_a: Option<f64>,
     pub winding_resistance_ohm: Option<f64>,

@@ -129,14 +129,52 @@ fn finite_pos(file: &str, field: &str, v: f64) -> Result<f64> {
     }
 }
 
-fn apply_drive(model: &mut RobotModel, d: drive::DriveFile, file: &str) -> Result<()> {
-    if let Some(n) = d.robot.name {
-        model.info.name = n;
-    }
-    model.info.reach_m = d.robot.reach_m;
-    model.info.rated_payload_kg = d.robot.rated_payload_kg;
-    model.info.provenance = d.robot.provenance.unwrap_or_default();
-    if let Some(t) = d.tool {
+/// A tool preset file (`tools/*.toml`): the drive file's `[tool]` (with its optional
+/// `[tool.geometry]`) and `[payload]` tables, and a `[preset]` table naming it and its source.
+#[derive(serde::Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct ToolPreset {
+    preset: PresetInfo,
+    tool: drive::ToolTable,
+    payload: drive::PayloadTable,
+}
+
+#[derive(serde::Deserialize, Debug)]
+#[serde(deny_unknown_fields)]
+struct PresetInfo {
+    name: String,
+    #[serde(default)]
+    provenance: String,
+}
+
+/// Replace the robot's tool (TCP, head geometry) and payload by a tool preset file, e.g. seed
+/// 001's machining spindle (`tools/seed001_spindle.toml`). Errors name the file and the field;
+/// the preset's name and provenance are recorded in the model's warnings (shown in reports).
+pub fn apply_tool_preset(model: &mut RobotModel, path: &Path) -> Result<()> {
+    let text = read_text(path)?;
+    let file = path.display().to_string();
+    let p: ToolPreset = toml::from_str(&text).map_err(|e| Error::Field {
+        file: file.clone(),
+        field: "tool preset".into(),
+        msg: e.to_string(),
+    })?;
+    model.tool_geometry = None;
+    apply_tool_and_payload(model, Some(p.tool), Some(p.payload), &file)?;
+    model.warnings.push(format!(
+        "tool preset `{}` from {file}: {}",
+        p.preset.name, p.preset.provenance
+    ));
+    Ok(())
+}
+
+/// The drive file's (or a tool preset's) `[tool]` and `[payload]` tables applied to `model`.
+fn apply_tool_and_payload(
+    model: &mut RobotModel,
+    tool: Option<drive::ToolTable>,
+    payload: Option<drive::PayloadTable>,
+    file: &str,
+) -> Result<()> {
+    if let Some(t) = tool {
         model.tool = Frame::from_xyz_rpy(t.xyz_m, t.rpy_rad);
         if let Some(g) = t.geometry {
             let ok = |v: f64| v.is_finite() && v >= 0.0;
@@ -158,7 +196,7 @@ fn apply_drive(model: &mut RobotModel, d: drive::DriveFile, file: &str) -> Resul
             });
         }
     }
-    if let Some(p) = d.payload {
+    if let Some(p) = payload {
         if !(p.mass_kg.is_finite() && p.mass_kg >= 0.0) {
             return Err(Error::Field {
                 file: file.into(),
@@ -174,6 +212,17 @@ fn apply_drive(model: &mut RobotModel, d: drive::DriveFile, file: &str) -> Resul
             inertia: M3::new(ixx, ixy, ixz, ixy, iyy, iyz, ixz, iyz, izz),
         });
     }
+    Ok(())
+}
+
+fn apply_drive(model: &mut RobotModel, d: drive::DriveFile, file: &str) -> Result<()> {
+    if let Some(n) = d.robot.name {
+        model.info.name = n;
+    }
+    model.info.reach_m = d.robot.reach_m;
+    model.info.rated_payload_kg = d.robot.rated_payload_kg;
+    model.info.provenance = d.robot.provenance.unwrap_or_default();
+    apply_tool_and_payload(model, d.tool, d.payload, file)?;
     if !d.joints.is_empty() && d.joints.len() != model.dof() {
         return Err(Error::Field {
             file: file.into(),
@@ -214,6 +263,17 @@ fn apply_drive(model: &mut RobotModel, d: drive::DriveFile, file: &str) -> Resul
         }
         if let Some(a) = jt.velocity_limit_rad_s {
             j.velocity_limit = finite_pos(file, &f("velocity_limit_rad_s"), a)?;
+        }
+        if let Some(m) = jt.limit_margin_rad {
+            if !(m.is_finite() && m >= 0.0) {
+                return Err(Error::Field {
+                    file: file.into(),
+                    field: f("limit_margin_rad"),
+                    msg: format!("must be finite and >= 0, got {m}"),
+                });
+            }
+            model.info.limit_margins_rad.resize(i + 1, None);
+            model.info.limit_margins_rad[i] = Some(m);
         }
         if let Some(a) = jt.position_min_rad {
             j.lower = a;

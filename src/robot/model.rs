@@ -139,6 +139,9 @@ pub struct RobotInfo {
     pub provenance: String,
     /// What the default payload is (extruder, hose, material), from the drive file.
     pub payload_description: Option<String>,
+    /// Per-joint position margin from the limits for placement searches, rad (drive file
+    /// `limit_margin_rad`; `None` = the command's default).
+    pub limit_margins_rad: Vec<Option<f64>>,
 }
 
 /// The immutable robot model. Build it with [`crate::robot::load`].

@@ -572,7 +572,16 @@ fn collision_of(
                 let scale = cx.floats::<3>(s, "scale", Some([1.0; 3]))?;
                 let read = super::mesh::resolve_mesh_path(f, urdf_dir)
                     .ok_or_else(|| "package not found (set ROS_PACKAGE_PATH)".to_string())
-                    .and_then(|p| super::mesh::read_vertices(&p).map_err(|e| e.to_string()));
+                    .and_then(|p| super::mesh::read_vertices(&p).map_err(|e| e.to_string()))
+                    .and_then(|pts| {
+                        // Points on a line (or one point) have no convex hull to collide with.
+                        let hull: Vec<parry3d_f64::math::Point<f64>> =
+                            pts.iter().map(|p| (*p).into()).collect();
+                        match parry3d_f64::shape::ConvexPolyhedron::from_convex_hull(&hull) {
+                            Some(_) => Ok(pts),
+                            None => Err("degenerate: no convex hull".to_string()),
+                        }
+                    });
                 match read {
                     Ok(pts) => GeomShape::Hull {
                         points: pts

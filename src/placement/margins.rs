@@ -1,0 +1,115 @@
+//! Per-sample checks that need the joint motion, run on every sample of a timed path:
+//!
+//! - **Joint-limit margin**: every revolute joint keeps at least its margin (rad) from both
+//!   position limits, so that a base placement error or a calibration offset of a few degrees
+//!   does not stop the print at a limit. The margin comes, per joint, from the drive file
+//!   (`limit_margin_rad` in `[[joints]]`), else from [`FeasibilityOptions::joint_margin_rad`]
+//!   (default [`DEFAULT_JOINT_MARGIN_DEG`] on every joint; `--joint-margin` on the command line).
+//! - **Wrist singularity, as a vertical nozzle sees it**: near `q5 = 0` (|sin q5| below
+//!   [`FeasibilityOptions::wrist_min`]) what hurts is joints 4 and 6 spinning fast to keep the
+//!   tool orientation, not the pose itself. A sample near the singularity is rejected only when
+//!   joint 4 or 6 uses more than [`FeasibilityOptions::wrist_rate_max`] of its velocity or
+//!   acceleration limit there. A `q5` passing 0 while `q4` stays still is harmless and
+//!   accepted.
+
+use super::feasibility::{FeasibilityOptions, Margins, Reason};
+use crate::kinematics::opw;
+use crate::robot::{JointKind, RobotModel};
+
+/// Default joint-limit margin on every joint, degrees.
+pub const DEFAULT_JOINT_MARGIN_DEG: f64 = 3.0;
+
+/// Default largest share of joint 4/6 velocity or acceleration limit accepted near the wrist
+/// singularity (dimensionless).
+pub const DEFAULT_WRIST_RATE_MAX: f64 = 0.5;
+
+/// The position margin of joint `j`, rad: the drive file's per-joint value, else the option's.
+pub fn joint_margin(model: &RobotModel, o: &FeasibilityOptions, j: usize) -> f64 {
+    model
+        .info
+        .limit_margins_rad
+        .get(j)
+        .copied()
+        .flatten()
+        .unwrap_or_else(|| o.joint_margin_rad.get(j).copied().unwrap_or(0.0))
+}
+
+/// Check one sample (`q` rad, `qd` rad/s, `qdd` rad/s²) against the joint-limit margins and
+/// the wrist-rate rule; updates `margins`. Returns the reason and a detail on failure.
+pub fn check_joint_sample(
+    model: &RobotModel,
+    o: &FeasibilityOptions,
+    q: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+    margins: &mut Margins,
+) -> Option<(Reason, String)> {
+    let mut fail: Option<(Reason, String)> = None;
+    for (j, jt) in model.joints.iter().enumerate().take(q.len()) {
+        if jt.kind != JointKind::Revolute || !(jt.lower.is_finite() && jt.upper.is_finite()) {
+            continue;
+        }
+        let d = (q[j] - jt.lower).min(jt.upper - q[j]);
+        if margins.joint_limit_rad.is_none_or(|(_, m)| d < m) {
+            margins.joint_limit_rad = Some((j + 1, d));
+        }
+        let m = joint_margin(model, o, j);
+        if fail.is_none() && d < m {
+            let lim = if q[j] - jt.lower < jt.upper - q[j] {
+                jt.lower
+            } else {
+                jt.upper
+            };
+            fail = Some((
+                Reason::JointLimitMargin,
+                format!(
+                    "joint {} at {:.2}° is {:.2}° from its limit {:.2}° (margin {:.2}°)",
+                    j + 1,
+                    q[j].to_degrees(),
+                    d.to_degrees(),
+                    lim.to_degrees(),
+                    m.to_degrees()
+                ),
+            ));
+        }
+    }
+    if fail.is_some() {
+        return fail;
+    }
+    let p = model.opw.as_ref().filter(|_| q.len() >= 6)?;
+    let w = opw::wrist_singularity(p, q);
+    if w >= o.wrist_min {
+        return None;
+    }
+    let mut worst = (0.0f64, 0usize, "");
+    for j in [3usize, 5] {
+        let jt = &model.joints[j];
+        for (v, lim, what) in [
+            (qd[j], jt.velocity_limit, "velocity"),
+            (qdd[j], jt.acceleration_limit, "acceleration"),
+        ] {
+            if lim.is_finite() && lim > 0.0 {
+                let r = v.abs() / lim;
+                if r > worst.0 {
+                    worst = (r, j + 1, what);
+                }
+            }
+        }
+    }
+    if margins.wrist_rate.is_none_or(|r| worst.0 > r) {
+        margins.wrist_rate = Some(worst.0);
+    }
+    (worst.0 > o.wrist_rate_max).then(|| {
+        (
+            Reason::WristSingularity,
+            format!(
+                "near the wrist singularity (|sin q5| = {w:.4} < {:.4}) joint {} uses {:.0} % of its {} limit (> {:.0} %)",
+                o.wrist_min,
+                worst.1,
+                worst.0 * 100.0,
+                worst.2,
+                o.wrist_rate_max * 100.0
+            ),
+        )
+    })
+}

@@ -1,0 +1,386 @@
+//! The refinement on [argmin]'s Nelder–Mead simplex, derivative-free and tolerant of a
+//! feasibility-bounded objective (an infeasible placement costs +∞, which only ever loses a
+//! comparison). The search runs over x, y, bed height z (continuous, within
+//! [`Bounds`]), part yaw and nozzle spin, in units of their initial steps so that the simplex
+//! is well scaled. It starts from a simplex around the best grid cell that holds the
+//! placement [`Tolerance`] (the grid is the seed), and a candidate only becomes the answer once
+//! all its tolerance corners are feasible (checked lazily, only for candidates that would
+//! improve on the answer so far). An argmin observer reports each iteration (the progress bar).
+//!
+//! Evaluations are sequential on one thread (the tolerance corners in parallel), and
+//! Nelder–Mead is deterministic, so the answer does not depend on the thread count.
+
+use super::optimise::{sensitivity, OptimiseOptions, OptimiseResult};
+use super::sweep::{Evaluated, Evaluator, Scratch};
+use super::tolerance::{self, Tolerance, ToleranceCheck};
+use crate::error::{Error, Result};
+use crate::toolpath::Placement;
+use argmin::core::observers::{Observe, ObserverMode};
+use argmin::core::{CostFunction, Executor, IterState, State, KV};
+use argmin::solver::neldermead::NelderMead;
+use serde::Serialize;
+use std::cell::RefCell;
+use std::sync::{Arc, Mutex};
+
+/// Box bounds of the search (m); yaw and spin are unbounded angles.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct Bounds {
+    /// x range, m.
+    pub x: [f64; 2],
+    /// y range, m.
+    pub y: [f64; 2],
+    /// Bed height (z) range, m.
+    pub z: [f64; 2],
+}
+
+impl Bounds {
+    /// Is `p` inside (closed box)?
+    pub fn contains(&self, p: &Placement) -> bool {
+        let inside = |v: f64, r: [f64; 2]| v >= r[0] - 1e-12 && v <= r[1] + 1e-12;
+        inside(p.x, self.x) && inside(p.y, self.y) && inside(p.z, self.z)
+    }
+
+    /// The bounds `p` lies on (within `eps` m), named, e.g. "z max = 1.300 m". A bound of zero
+    /// width (a fixed coordinate) is not reported.
+    pub fn on_bounds(&self, p: &Placement, eps: f64) -> Vec<String> {
+        let mut v = Vec::new();
+        for (name, val, r) in [("x", p.x, self.x), ("y", p.y, self.y), ("z", p.z, self.z)] {
+            if r[1] - r[0] <= eps {
+                continue;
+            }
+            if (val - r[0]).abs() <= eps {
+                v.push(format!("{name} min = {:.3} m", r[0]));
+            }
+            if (val - r[1]).abs() <= eps {
+                v.push(format!("{name} max = {:.3} m", r[1]));
+            }
+        }
+        v
+    }
+}
+
+/// Progress of the search, as seen by the observer: (iteration, evaluations, best cost J).
+pub type Progress = Arc<dyn Fn(u64, usize, f64) + Send + Sync>;
+
+struct Obs {
+    evals: Arc<Mutex<usize>>,
+    report: Progress,
+}
+
+impl Observe<IterState<Vec<f64>, (), (), (), (), f64>> for Obs {
+    fn observe_iter(
+        &mut self,
+        state: &IterState<Vec<f64>, (), (), (), (), f64>,
+        _kv: &KV,
+    ) -> std::result::Result<(), argmin::core::Error> {
+        let n = self.evals.lock().map(|g| *g).unwrap_or(0);
+        (self.report)(state.get_iter(), n, state.get_best_cost());
+        Ok(())
+    }
+}
+
+struct Problem<'e, 'j, 'a> {
+    ev: &'e Evaluator<'j, 'a>,
+    sc: RefCell<Scratch<'a>>,
+    origin: Placement,
+    scale: [f64; 5],
+    active: [bool; 5],
+    bounds: Bounds,
+    budget: usize,
+    evals: Arc<Mutex<usize>>,
+    visited: RefCell<Vec<Evaluated>>,
+    history: RefCell<Vec<f64>>,
+    error: RefCell<Option<Error>>,
+}
+
+const BUDGET: &str = "evaluation budget spent";
+
+/// Candidates (best first) whose tolerance is checked after the simplex search.
+const CANDIDATES: usize = 2;
+/// Bisection steps between the grid seed and the best candidate when no candidate holds.
+const BISECTIONS: usize = 4;
+
+impl Problem<'_, '_, '_> {
+    fn placement(&self, u: &[f64]) -> Placement {
+        let mut d = [0.0; 5];
+        let mut k = 0;
+        for ((di, on), sc) in d.iter_mut().zip(self.active).zip(self.scale) {
+            if on {
+                *di = u[k] * sc;
+                k += 1;
+            }
+        }
+        Placement {
+            x: self.origin.x + d[0],
+            y: self.origin.y + d[1],
+            z: self.origin.z + d[2],
+            yaw: self.origin.yaw + d[3],
+            nozzle_spin: self.origin.nozzle_spin + d[4],
+        }
+    }
+}
+
+/// The problem as argmin holds it (by reference, so that its state can be read afterwards).
+struct ByRef<'p, 'e, 'j, 'a>(&'p Problem<'e, 'j, 'a>);
+
+impl CostFunction for ByRef<'_, '_, '_, '_> {
+    type Param = Vec<f64>;
+    type Output = f64;
+    fn cost(&self, u: &Vec<f64>) -> std::result::Result<f64, argmin::core::Error> {
+        self.0.cost_of(u)
+    }
+}
+
+impl Problem<'_, '_, '_> {
+    fn cost_of(&self, u: &[f64]) -> std::result::Result<f64, argmin::core::Error> {
+        let p = self.placement(u);
+        if !self.bounds.contains(&p) {
+            return Ok(f64::INFINITY);
+        }
+        {
+            let mut n = self
+                .evals
+                .lock()
+                .map_err(|_| argmin::core::Error::msg("lock"))?;
+            if *n >= self.budget {
+                return Err(argmin::core::Error::msg(BUDGET));
+            }
+            *n += 1;
+        }
+        let e = self.ev.evaluate(&mut self.sc.borrow_mut(), &p);
+        let c = e.cost();
+        let best = self
+            .history
+            .borrow()
+            .last()
+            .copied()
+            .unwrap_or(f64::INFINITY);
+        self.history.borrow_mut().push(best.min(c));
+        if c.is_finite() {
+            self.visited.borrow_mut().push(e);
+        }
+        Ok(c)
+    }
+}
+
+/// What [`refine`] adds to the classic result: the tolerance the answer holds, the bounds it
+/// lies on, the evaluations the tolerance checks took.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct SearchInfo {
+    /// "nelder-mead (argmin)" or "pattern".
+    pub method: String,
+    /// The tolerance check of the answer.
+    pub tolerance: ToleranceCheck,
+    /// Evaluations spent on tolerance corners (not counted in `evals`).
+    pub tolerance_evals: usize,
+    /// The search box.
+    pub bounds: Bounds,
+    /// Search bounds the answer lies on (named), e.g. "z max = 1.300 m": widen them.
+    pub on_bounds: Vec<String>,
+    /// Grid cells tried before one held the tolerance (1 = the best cell held it).
+    pub grid_cells_tried: usize,
+}
+
+/// Options of the argmin refinement beyond [`OptimiseOptions`].
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct SearchOptions {
+    /// Search box.
+    pub bounds: Bounds,
+    /// Tolerance the answer must hold.
+    pub tolerance: Tolerance,
+    /// Initial simplex step in z, m.
+    pub step_z_m: f64,
+    /// Search z (bed height).
+    pub z: bool,
+    /// Grid cells tried (best first) for one that holds the tolerance.
+    pub max_start_cells: usize,
+}
+
+/// The grid's feasible cells in cost order (ties to the first).
+fn ranked(grid: &[Evaluated]) -> Vec<&Evaluated> {
+    let mut v: Vec<(usize, &Evaluated)> = grid
+        .iter()
+        .enumerate()
+        .filter(|(_, e)| e.cost().is_finite())
+        .collect();
+    v.sort_by(|a, b| a.1.cost().total_cmp(&b.1.cost()).then(a.0.cmp(&b.0)));
+    v.into_iter().map(|(_, e)| e).collect()
+}
+
+/// Refine with Nelder–Mead from the best grid cell that holds the tolerance. `progress` is
+/// called by the argmin observer after each iteration. Errors: no feasible grid cell; a model
+/// error.
+pub fn refine(
+    ev: &Evaluator,
+    grid: &[Evaluated],
+    opts: &OptimiseOptions,
+    so: &SearchOptions,
+    progress: Progress,
+) -> Result<(OptimiseResult, SearchInfo)> {
+    let cells = ranked(grid);
+    if cells.is_empty() {
+        return Err(Error::Invalid(
+            "no feasible placement in the grid: nothing to refine".into(),
+        ));
+    }
+    // The seed: the best grid cell whose tolerance corners are all feasible.
+    let mut tol_evals = 0;
+    let mut start: Option<(Evaluated, ToleranceCheck)> = None;
+    let mut tried = 0;
+    let mut first_check = None;
+    for c in cells.iter().take(so.max_start_cells.max(1)) {
+        tried += 1;
+        let chk = tolerance::check(ev, &c.placement, &so.tolerance)?;
+        tol_evals += chk.corners;
+        if chk.holds {
+            start = Some(((*c).clone(), chk));
+            break;
+        }
+        first_check.get_or_insert(chk);
+    }
+    let robust_start = start.is_some();
+    let (start, start_chk) = match start {
+        Some(s) => s,
+        // None holds: refine from the best cell and say that the tolerance is not held.
+        None => (
+            cells[0].clone(),
+            first_check.expect("at least one cell was checked"),
+        ),
+    };
+    let active = [true, true, so.z, opts.yaw, opts.spin];
+    let scale = [
+        opts.step_xy_m,
+        opts.step_xy_m,
+        so.step_z_m,
+        opts.step_angle_rad,
+        opts.step_angle_rad,
+    ];
+    let dim = active.iter().filter(|a| **a).count();
+    let evals = Arc::new(Mutex::new(0usize));
+    let problem = Problem {
+        ev,
+        sc: RefCell::new(ev.scratch()?),
+        origin: start.placement,
+        scale,
+        active,
+        bounds: so.bounds,
+        budget: opts.max_evals,
+        evals: evals.clone(),
+        visited: RefCell::new(Vec::new()),
+        history: RefCell::new(vec![start.cost()]),
+        error: RefCell::new(None),
+    };
+    // Initial simplex: the grid cell and one step along each searched coordinate.
+    let mut simplex = vec![vec![0.0; dim]];
+    for k in 0..dim {
+        let mut v = vec![0.0; dim];
+        v[k] = 1.0;
+        simplex.push(v);
+    }
+    let solver = NelderMead::new(simplex)
+        .with_sd_tolerance(1e-6)
+        .map_err(|e| Error::Invalid(format!("Nelder–Mead: {e}")))?;
+    let obs = Obs {
+        evals: evals.clone(),
+        report: progress,
+    };
+    let mut iterations = 0;
+    if robust_start && opts.max_evals > dim {
+        let r = Executor::new(ByRef(&problem), solver)
+            .configure(|s| s.max_iters(opts.max_evals as u64))
+            .add_observer(obs, ObserverMode::Always)
+            .run();
+        match r {
+            Ok(res) => iterations = res.state().get_iter() as usize,
+            Err(e) if e.to_string().contains(BUDGET) => {}
+            Err(e) => {
+                if let Some(err) = problem.error.borrow_mut().take() {
+                    return Err(err);
+                }
+                return Err(Error::Invalid(format!("Nelder–Mead: {e}")));
+            }
+        }
+    }
+    let used = *evals.lock().map_err(|_| Error::Invalid("lock".into()))?;
+    // The answer must hold the tolerance: the best candidates first, else the best placement
+    // on the segment from the (tolerance-holding) seed toward the best candidate.
+    let mut best = (start.clone(), start_chk);
+    let mut cands: Vec<Evaluated> = problem
+        .visited
+        .borrow()
+        .iter()
+        .filter(|e| e.cost() < start.cost())
+        .cloned()
+        .collect();
+    cands.sort_by(|a, b| a.cost().total_cmp(&b.cost()));
+    let mut held = false;
+    for c in cands.iter().take(CANDIDATES) {
+        let chk = tolerance::check(ev, &c.placement, &so.tolerance)?;
+        tol_evals += chk.corners;
+        if chk.holds {
+            best = (c.clone(), chk);
+            held = true;
+            break;
+        }
+    }
+    if !held && robust_start {
+        if let Some(target) = cands.first() {
+            let (s0, s1) = (start.placement, target.placement);
+            let at = |t: f64| Placement {
+                x: s0.x + t * (s1.x - s0.x),
+                y: s0.y + t * (s1.y - s0.y),
+                z: s0.z + t * (s1.z - s0.z),
+                yaw: s0.yaw + t * (s1.yaw - s0.yaw),
+                nozzle_spin: s0.nozzle_spin + t * (s1.nozzle_spin - s0.nozzle_spin),
+            };
+            let (mut lo, mut hi) = (0.0, 1.0);
+            for _ in 0..BISECTIONS {
+                let t = 0.5 * (lo + hi);
+                let p = at(t);
+                let e = ev.sweep(&[p], &|_, _| {})?.remove(0);
+                tol_evals += 1;
+                let ok = if e.cost() < best.0.cost() {
+                    let chk = tolerance::check(ev, &p, &so.tolerance)?;
+                    tol_evals += chk.corners;
+                    if chk.holds {
+                        best = (e, chk);
+                        true
+                    } else {
+                        false
+                    }
+                } else {
+                    e.cost().is_finite()
+                };
+                if ok {
+                    lo = t;
+                } else {
+                    hi = t;
+                }
+            }
+        }
+    }
+    let (best, chk) = best;
+    let sens = sensitivity(ev, &best, opts.sensitivity_m)?;
+    let on_bounds = so.bounds.on_bounds(&best.placement, 0.005);
+    let history = problem.history.borrow().clone();
+    Ok((
+        OptimiseResult {
+            best,
+            best_grid: cells[0].clone(),
+            evals: used,
+            iterations,
+            history_j: history,
+            sensitivity: sens,
+            search: None,
+            savings: None,
+        },
+        SearchInfo {
+            method: "nelder-mead (argmin)".into(),
+            tolerance: chk,
+            tolerance_evals: tol_evals,
+            bounds: so.bounds,
+            on_bounds,
+            grid_cells_tried: tried,
+        },
+    ))
+}
