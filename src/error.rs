@@ -15,7 +15,7 @@ pub enum Error {
         source: std::io::Error,
     },
     /// Text that does not parse: names the file, 1-based line and column, and what was expected.
-    #[error("{file}:{line}:{column}: {msg}")]
+    #[error("{file}:{line}:{column}: {}", clip(msg))]
     Parse {
         file: String,
         line: usize,
@@ -23,7 +23,7 @@ pub enum Error {
         msg: String,
     },
     /// A value that parses but is wrong: names the file and the field.
-    #[error("{file}: {field}: {msg}")]
+    #[error("{file}: {field}: {}", clip(msg))]
     Field {
         file: String,
         field: String,
@@ -43,10 +43,10 @@ pub enum Error {
     )]
     MissingInertial { file: String, link: String },
     /// A pose or path the robot cannot reach, with the reason.
-    #[error("unreachable: {0}")]
+    #[error("unreachable: {}", clip(.0))]
     Unreachable(String),
     /// Anything else that the user's input makes impossible, with the reason.
-    #[error("{0}")]
+    #[error("{}", clip(.0))]
     Invalid(String),
 }
 
@@ -63,7 +63,100 @@ impl Error {
     }
 }
 
-/// Read a whole text file, naming it on failure.
+/// Read a whole text file, naming it on failure. The text is decoded as files come from
+/// people's tools (see [`decode_text`]): a UTF-8 byte-order mark is dropped, CR-only and CRLF
+/// line endings become LF, and invalid UTF-8 is an error naming the line and byte.
 pub fn read_text(path: &std::path::Path) -> Result<String> {
-    std::fs::read_to_string(path).map_err(|e| Error::io(path, e))
+    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    decode_text(&bytes, &path.display().to_string())
 }
+
+/// Decode the bytes of a text file: UTF-8, with an optional byte-order mark (Excel's "CSV
+/// UTF-8" writes one) dropped; CRLF and CR-only line endings (old Mac exports) turned into LF,
+/// so that every reader counts lines the same way. Invalid UTF-8 is a [`Error::Parse`] naming
+/// the 1-based line and the 1-based byte within it (column) of the first bad byte, and the
+/// byte's offset in the file. UTF-16 files (a UTF-16 byte-order mark) are named as such.
+pub fn decode_text(bytes: &[u8], file: &str) -> Result<String> {
+    let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+    if bytes.starts_with(b"\xFF\xFE") || bytes.starts_with(b"\xFE\xFF") {
+        return Err(Error::Parse {
+            file: file.into(),
+            line: 1,
+            column: 1,
+            msg: "the file is UTF-16 encoded: save it as UTF-8 (e.g. Excel's \"CSV UTF-8\")".into(),
+        });
+    }
+    let text = match std::str::from_utf8(bytes) {
+        Ok(t) => t,
+        Err(e) => {
+            let at = e.valid_up_to();
+            let before = &bytes[..at];
+            let line = 1 + before.iter().filter(|&&b| b == b'\n' || b == b'\r').count()
+                - before.windows(2).filter(|w| w == b"\r\n").count();
+            let line_start = before
+                .iter()
+                .rposition(|&b| b == b'\n' || b == b'\r')
+                .map_or(0, |i| i + 1);
+            return Err(Error::Parse {
+                file: file.into(),
+                line,
+                column: at - line_start + 1,
+                msg: format!(
+                    "invalid UTF-8 (byte 0x{:02X} at byte offset {at} of the file): save the file as UTF-8",
+                    bytes[at]
+                ),
+            });
+        }
+    };
+    if !text.contains('\r') {
+        return Ok(text.to_string());
+    }
+    Ok(text.replace("\r\n", "\n").replace('\r', "\n"))
+}
+
+/// Shorten a message for people: any run of more than [`CLIP_TOKEN`] characters without
+/// whitespace is cut to its first characters and its length, so that a 5 MB token in a file is
+/// not echoed whole; the whole message is kept under [`CLIP_MESSAGE`] characters.
+pub fn clip(msg: &str) -> String {
+    if msg.len() <= CLIP_TOKEN {
+        return msg.to_string();
+    }
+    let mut out = String::with_capacity(msg.len().min(CLIP_MESSAGE + 64));
+    let mut word = String::new();
+    let flush = |word: &mut String, out: &mut String| {
+        let n = word.chars().count();
+        if n > CLIP_TOKEN {
+            let head: String = word.chars().take(CLIP_TOKEN / 2).collect();
+            out.push_str(&format!("{head}…({n} characters)"));
+        } else {
+            out.push_str(word);
+        }
+        word.clear();
+    };
+    for c in msg.chars() {
+        if c.is_whitespace() {
+            flush(&mut word, &mut out);
+            out.push(c);
+        } else {
+            word.push(c);
+        }
+        if out.len() > CLIP_MESSAGE {
+            break;
+        }
+    }
+    flush(&mut word, &mut out);
+    if out.len() > CLIP_MESSAGE {
+        let mut cut = CLIP_MESSAGE;
+        while !out.is_char_boundary(cut) {
+            cut -= 1;
+        }
+        out.truncate(cut);
+        out.push('…');
+    }
+    out
+}
+
+/// Longest token [`clip`] keeps whole, characters.
+pub const CLIP_TOKEN: usize = 120;
+/// Longest message [`clip`] keeps, bytes.
+pub const CLIP_MESSAGE: usize = 2000;

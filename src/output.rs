@@ -1,31 +1,289 @@
-//! Writing results: files appear complete or not at all (written to a temporary name, then
-//! renamed), and no input the user gave is ever overwritten.
+//! The output policy, in one place, for every command: nothing the user gave is lost or
+//! overwritten, and what printwatt writes appears complete or not at all.
+//!
+//! - [`Inputs`] knows every file a command reads (a robot directory's files, the URDF and drive
+//!   file, paths, sets, logs, validation logs, trajectories); [`Inputs::check`] refuses an
+//!   output that is one of them (same canonical path, or the same file by device and inode, as a
+//!   hard link is) or a directory that holds one.
+//! - [`write_file`] writes one file atomically (a sibling temporary file, then a rename), after
+//!   [`Inputs::check`], and refuses to replace an existing file unless told it may.
+//! - [`RunDir`] writes a run directory as a whole: it is locked while a run writes it (a lock
+//!   file holding the PID; a second run into the same directory fails and names the first),
+//!   written into a sibling staging directory, then put in place by one rename. A manifest
+//!   (`.printwatt-manifest.json`, SHA-256 of every file written) tells printwatt's own files from
+//!   anything else; a directory holding a file printwatt did not write (or that was changed
+//!   since) is never replaced. Temporary files and directories and locks of processes that are
+//!   no longer running are removed.
+//! - [`run_name`] keeps `--run` inside `--results-dir` (no `..`, no absolute path).
+//! - [`check_finite`] is the last check before numbers leave: a NaN or an infinity becomes an
+//!   error naming the first sample and quantity where it appeared.
 
 use crate::error::{Error, Result};
+use sha2::{Digest, Sha256};
+use std::collections::BTreeMap;
 use std::io::Write;
-use std::path::{Path, PathBuf};
+use std::path::{Component, Path, PathBuf};
 
-/// Refuse to write `out` if it is one of `inputs` (compared after canonicalisation).
-pub fn guard_inputs(out: &Path, inputs: &[&Path]) -> Result<()> {
-    let canon = |p: &Path| std::fs::canonicalize(p).ok();
-    if let Some(o) = canon(out) {
-        for i in inputs {
-            if canon(i).as_ref() == Some(&o) {
-                return Err(Error::Invalid(format!(
-                    "refusing to write {}: it is an input of this command",
-                    out.display()
-                )));
+/// Name of the manifest file inside a run directory.
+pub const MANIFEST: &str = ".printwatt-manifest.json";
+
+/// Every input file of a command. Outputs are checked against them before anything is written.
+#[derive(Clone, Debug, Default)]
+pub struct Inputs {
+    files: Vec<PathBuf>,
+}
+
+/// Identity of a file: canonical path, and (on Unix) device and inode.
+#[derive(Clone, Debug, PartialEq)]
+struct FileId {
+    canon: PathBuf,
+    dev_ino: Option<(u64, u64)>,
+}
+
+fn file_id(p: &Path) -> Option<FileId> {
+    let canon = std::fs::canonicalize(p).ok()?;
+    #[cfg(unix)]
+    let dev_ino = {
+        use std::os::unix::fs::MetadataExt;
+        std::fs::metadata(p).ok().map(|m| (m.dev(), m.ino()))
+    };
+    #[cfg(not(unix))]
+    let dev_ino = None;
+    Some(FileId { canon, dev_ino })
+}
+
+impl Inputs {
+    /// No inputs yet.
+    pub fn new() -> Self {
+        Inputs::default()
+    }
+
+    /// Add an input file (or directory).
+    pub fn add(&mut self, p: impl AsRef<Path>) -> &mut Self {
+        self.files.push(p.as_ref().to_path_buf());
+        self
+    }
+
+    /// Add an optional input.
+    pub fn add_opt(&mut self, p: Option<impl AsRef<Path>>) -> &mut Self {
+        if let Some(p) = p {
+            self.add(p);
+        }
+        self
+    }
+
+    /// Add a robot as given on the command line (`arg`, after resolving a shipped name) and the
+    /// files its model was read from: a robot directory's `robot.urdf` (or other `.urdf`) and
+    /// `drive.toml`, the URDF, the drive file (and, for a drive file given alone, the URDF it
+    /// names).
+    pub fn add_robot(&mut self, arg: &Path, model: Option<&crate::robot::RobotModel>) -> &mut Self {
+        self.add(arg);
+        let dir = if arg.is_dir() {
+            Some(arg.to_path_buf())
+        } else {
+            None
+        };
+        if let Some(d) = dir {
+            // What `robot::load` reads from a directory: robot.urdf (or its one .urdf) and
+            // drive.toml. Other files (an identified drive file written earlier, a README) are
+            // not inputs of this command.
+            self.files.push(d.join("robot.urdf"));
+            self.files.push(d.join("drive.toml"));
+            if let Ok(rd) = std::fs::read_dir(&d) {
+                for e in rd.flatten() {
+                    if e.path().extension().is_some_and(|x| x == "urdf") {
+                        self.files.push(e.path());
+                    }
+                }
             }
+        } else if arg.extension().is_some_and(|x| x == "toml") {
+            // A drive file given alone: the URDF it names is an input too (model.source).
+            self.files.push(arg.to_path_buf());
+        }
+        if let Some(m) = model {
+            self.add(&m.source);
+            // The drive file beside the URDF, when the robot was given by its URDF's directory.
+            if let Some(p) = m.source.parent() {
+                let d = p.join("drive.toml");
+                if d.exists() {
+                    self.add(d);
+                }
+            }
+        }
+        self
+    }
+
+    /// The inputs as given.
+    pub fn paths(&self) -> &[PathBuf] {
+        &self.files
+    }
+
+    /// Refuse `out` if it is an input (same canonical path, or the same file by device and
+    /// inode), or a directory that holds an input.
+    pub fn check(&self, out: &Path) -> Result<()> {
+        let Some(o) = file_id(out) else {
+            // Not there yet: it cannot be an input (its parent may still be; see below).
+            return self.check_not_inside(out);
+        };
+        for i in &self.files {
+            if let Some(id) = file_id(i) {
+                let same = id.canon == o.canon || (id.dev_ino.is_some() && id.dev_ino == o.dev_ino);
+                if same {
+                    return Err(Error::Invalid(format!(
+                        "refusing to write {}: it is an input of this command ({}); choose another output path",
+                        out.display(),
+                        i.display()
+                    )));
+                }
+            }
+        }
+        self.check_not_inside(out)
+    }
+
+    /// Refuse `dir` if an input lies inside it (replacing the directory would remove it).
+    fn check_not_inside(&self, dir: &Path) -> Result<()> {
+        let Ok(d) = std::fs::canonicalize(dir) else {
+            return Ok(());
+        };
+        if !d.is_dir() {
+            return Ok(());
+        }
+        for i in &self.files {
+            if let Ok(c) = std::fs::canonicalize(i) {
+                if c != d && c.starts_with(&d) {
+                    return Err(Error::Invalid(format!(
+                        "refusing to write into {}: it holds {}, an input of this command; choose another output directory",
+                        dir.display(),
+                        i.display()
+                    )));
+                }
+            }
+        }
+        Ok(())
+    }
+}
+
+/// What to do when the output file exists already (and is not an input).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Existing {
+    /// Replace it: the user named this output explicitly (`--out FILE`).
+    Replace,
+    /// Replace it only if `--force` was given (`true`); else refuse naming the path.
+    Force(bool),
+}
+
+/// Write one output file: refused if it is an input (see [`Inputs::check`]) or, per
+/// `existing`, if it exists; then written atomically (see [`write_atomic`]).
+pub fn write_file(path: &Path, contents: &[u8], inputs: &Inputs, existing: Existing) -> Result<()> {
+    check_file(path, inputs, existing)?;
+    write_atomic(path, contents)
+}
+
+/// The checks of [`write_file`] without writing: call it for every output of a command before
+/// writing the first, so that a refusal leaves nothing half done.
+pub fn check_file(path: &Path, inputs: &Inputs, existing: Existing) -> Result<()> {
+    inputs.check(path)?;
+    if path.is_dir() {
+        return Err(Error::Invalid(format!(
+            "{} is a directory: give a file name for this output",
+            path.display()
+        )));
+    }
+    if path.exists() && existing == Existing::Force(false) {
+        return Err(Error::Invalid(format!(
+            "{} exists already: pass --force to replace it, or choose another output path",
+            path.display()
+        )));
+    }
+    if let Some(parent) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        if parent.exists() && !parent.is_dir() {
+            return Err(Error::Invalid(format!(
+                "cannot write {}: {} exists and is not a directory",
+                path.display(),
+                parent.display()
+            )));
         }
     }
     Ok(())
 }
 
-/// Write `contents` to `path` atomically: a sibling temporary file, then a rename.
+/// Check an output directory before anything is written into it: not an input, holds no
+/// input, and not an existing file.
+pub fn check_dir(dir: &Path, inputs: &Inputs) -> Result<()> {
+    inputs.check(dir)?;
+    if dir.exists() && !dir.is_dir() {
+        return Err(Error::Invalid(format!(
+            "{} exists and is not a directory: choose another output directory",
+            dir.display()
+        )));
+    }
+    Ok(())
+}
+
+/// Refuse `path` if it is one of `inputs` (compared after canonicalisation and by device and
+/// inode). Kept for callers with a list of paths; see [`Inputs::check`].
+pub fn guard_inputs(out: &Path, inputs: &[&Path]) -> Result<()> {
+    let mut i = Inputs::new();
+    for p in inputs {
+        i.add(p);
+    }
+    i.check(out)
+}
+
+/// Whether a process with this PID is running (Linux: `/proc/PID`; elsewhere assumed running).
+pub fn process_alive(pid: u32) -> bool {
+    if pid == std::process::id() {
+        return true;
+    }
+    if cfg!(target_os = "linux") {
+        Path::new("/proc").join(pid.to_string()).exists()
+    } else {
+        true
+    }
+}
+
+/// PID in a temporary name `….tmp-PID` or `….printwatt-tmp-PID`.
+fn tmp_pid(name: &str) -> Option<u32> {
+    let (_, pid) = name
+        .rsplit_once("tmp-")
+        .or_else(|| name.rsplit_once("old-"))?;
+    pid.parse().ok()
+}
+
+/// Remove `<name>.tmp-PID` siblings of `path` left by processes that are no longer running
+/// (an interrupted write). Returns how many were removed.
+pub fn clean_stale_temps(path: &Path) -> usize {
+    let (Some(dir), Some(name)) = (path.parent(), path.file_name()) else {
+        return 0;
+    };
+    let dir = if dir.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        dir
+    };
+    let prefix = format!("{}.tmp-", name.to_string_lossy());
+    let mut n = 0;
+    if let Ok(rd) = std::fs::read_dir(dir) {
+        for e in rd.flatten() {
+            let f = e.file_name().to_string_lossy().into_owned();
+            if let Some(pid) = f.strip_prefix(&prefix).and_then(|p| p.parse::<u32>().ok()) {
+                if !process_alive(pid) && std::fs::remove_file(e.path()).is_ok() {
+                    n += 1;
+                }
+            }
+        }
+    }
+    n
+}
+
+/// Write `contents` to `path` atomically: a sibling temporary file `<path>.tmp-PID`, synced,
+/// then renamed over `path`. Stale temporary files of dead processes are removed first. Checks
+/// nothing about inputs: use [`write_file`] for outputs of commands.
 pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<()> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     }
+    clean_stale_temps(path);
     let tmp: PathBuf = {
         let mut s = path.as_os_str().to_owned();
         s.push(format!(".tmp-{}", std::process::id()));
@@ -40,6 +298,338 @@ pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<()> {
     if let Err(e) = res {
         let _ = std::fs::remove_file(&tmp);
         return Err(Error::io(path, e));
+    }
+    Ok(())
+}
+
+/// Check a `--run` name: one or more plain relative path components (no `..`, `.`, root or
+/// drive prefix), so that the run directory stays inside `--results-dir`.
+pub fn run_name(run: &str) -> Result<PathBuf> {
+    let p = Path::new(run);
+    if run.trim().is_empty() {
+        return Err(Error::Invalid("--run: empty name".into()));
+    }
+    for c in p.components() {
+        match c {
+            Component::Normal(_) => {}
+            _ => {
+                return Err(Error::Invalid(format!(
+                    "--run `{run}`: a run name must stay inside --results-dir (plain names such as `grid` or `a/b`; no `..`, `.` or absolute path)"
+                )))
+            }
+        }
+    }
+    Ok(p.to_path_buf())
+}
+
+/// SHA-256 of `bytes`, lower-case hex.
+pub fn sha256_hex(bytes: &[u8]) -> String {
+    let d = Sha256::digest(bytes);
+    d.iter().map(|b| format!("{b:02x}")).collect()
+}
+
+#[derive(serde::Serialize, serde::Deserialize, Default)]
+struct Manifest {
+    /// Always "printwatt".
+    writer: String,
+    /// File name → SHA-256 (hex) of its content as written.
+    files: BTreeMap<String, String>,
+}
+
+/// A run directory being written. Created by [`RunDir::begin`] (which takes the lock), filled
+/// with [`RunDir::write`], put in place by [`RunDir::commit`]. Dropped without commit (an
+/// error), it removes its staging directory and lock and leaves any earlier run untouched.
+#[derive(Debug)]
+pub struct RunDir {
+    target: PathBuf,
+    staging: PathBuf,
+    lock: PathBuf,
+    files: BTreeMap<String, String>,
+    done: bool,
+}
+
+/// Files a legacy run directory (written before manifests) may hold.
+const LEGACY_RUN_FILES: [&str; 3] = ["summary.json", "placements.csv", "report.html"];
+
+impl RunDir {
+    /// Begin writing `results_dir/run` (`run` checked by [`run_name`]). See [`RunDir::begin_at`].
+    pub fn begin(
+        results_dir: &Path,
+        run: &str,
+        inputs: &Inputs,
+        existing: Existing,
+    ) -> Result<RunDir> {
+        let rel = run_name(run)?;
+        RunDir::begin_at(&results_dir.join(rel), inputs, existing)
+    }
+
+    /// Begin writing the directory `target`: refuse it if it is or holds an input, if it holds
+    /// anything printwatt did not write (or changed since), or (per `existing`) if it exists;
+    /// take the lock (fails naming the PID of a running printwatt that holds it); remove stale
+    /// staging directories and locks of dead processes; create the staging directory.
+    pub fn begin_at(target: &Path, inputs: &Inputs, existing: Existing) -> Result<RunDir> {
+        let name = target
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .ok_or_else(|| Error::Invalid(format!("{}: not a directory name", target.display())))?;
+        let parent = match target.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::from("."),
+        };
+        inputs.check(target)?;
+        std::fs::create_dir_all(&parent).map_err(|e| Error::io(&parent, e))?;
+        let lock = parent.join(format!(".{name}.printwatt-lock"));
+        take_lock(&lock, target)?;
+        let mut rd = RunDir {
+            target: target.to_path_buf(),
+            staging: parent.join(format!(".{name}.printwatt-tmp-{}", std::process::id())),
+            lock,
+            files: BTreeMap::new(),
+            done: false,
+        };
+        // Stale staging and old directories of dead processes.
+        if let Ok(entries) = std::fs::read_dir(&parent) {
+            for e in entries.flatten() {
+                let f = e.file_name().to_string_lossy().into_owned();
+                let ours = f.starts_with(&format!(".{name}.printwatt-tmp-"))
+                    || f.starts_with(&format!(".{name}.printwatt-old-"));
+                if ours {
+                    if let Some(pid) = tmp_pid(&f) {
+                        if !process_alive(pid) || pid == std::process::id() {
+                            let _ = std::fs::remove_dir_all(e.path());
+                        }
+                    }
+                }
+            }
+        }
+        if target.exists() {
+            if !target.is_dir() {
+                return Err(Error::Invalid(format!(
+                    "{} exists and is not a directory: choose another run name",
+                    target.display()
+                )));
+            }
+            check_ours(target)?;
+            let empty = std::fs::read_dir(target).is_ok_and(|mut d| d.next().is_none());
+            if existing == Existing::Force(false) && !empty {
+                return Err(Error::Invalid(format!(
+                    "{} already holds a run: replacing it needs --force (or choose another --run)",
+                    target.display()
+                )));
+            }
+        }
+        std::fs::create_dir_all(&rd.staging).map_err(|e| Error::io(&rd.staging, e))?;
+        rd.done = false;
+        Ok(rd)
+    }
+
+    /// The directory the run will be in once committed.
+    pub fn target(&self) -> &Path {
+        &self.target
+    }
+
+    /// Write one file of the run (a plain file name) into the staging directory.
+    pub fn write(&mut self, name: &str, contents: &[u8]) -> Result<()> {
+        if name.contains(['/', '\\']) || name == MANIFEST || name.starts_with('.') {
+            return Err(Error::Invalid(format!(
+                "run file name `{name}` not allowed"
+            )));
+        }
+        let p = self.staging.join(name);
+        let mut f = std::fs::File::create(&p).map_err(|e| Error::io(&p, e))?;
+        f.write_all(contents).map_err(|e| Error::io(&p, e))?;
+        f.sync_all().map_err(|e| Error::io(&p, e))?;
+        self.files.insert(name.to_string(), sha256_hex(contents));
+        Ok(())
+    }
+
+    /// Put the run in place: the manifest is written, an earlier run (checked again to be
+    /// printwatt's own) is moved aside, the staging directory renamed to the target, the earlier
+    /// run removed, the lock released. Returns the target.
+    pub fn commit(mut self) -> Result<PathBuf> {
+        let m = Manifest {
+            writer: "printwatt".into(),
+            files: self.files.clone(),
+        };
+        let text = serde_json::to_string_pretty(&m)
+            .map_err(|e| Error::Invalid(format!("writing the manifest: {e}")))?;
+        let mp = self.staging.join(MANIFEST);
+        std::fs::write(&mp, text).map_err(|e| Error::io(&mp, e))?;
+        let old = self.target.with_file_name(format!(
+            ".{}.printwatt-old-{}",
+            self.target
+                .file_name()
+                .map(|n| n.to_string_lossy().into_owned())
+                .unwrap_or_default(),
+            std::process::id()
+        ));
+        let had_old = self.target.exists();
+        if had_old {
+            check_ours(&self.target)?;
+            std::fs::rename(&self.target, &old).map_err(|e| Error::io(&self.target, e))?;
+        }
+        if let Err(e) = std::fs::rename(&self.staging, &self.target) {
+            if had_old {
+                let _ = std::fs::rename(&old, &self.target);
+            }
+            return Err(Error::io(&self.target, e));
+        }
+        if had_old {
+            let _ = std::fs::remove_dir_all(&old);
+        }
+        let _ = std::fs::remove_file(&self.lock);
+        self.done = true;
+        Ok(self.target.clone())
+    }
+}
+
+impl Drop for RunDir {
+    fn drop(&mut self) {
+        if !self.done {
+            let _ = std::fs::remove_dir_all(&self.staging);
+            let _ = std::fs::remove_file(&self.lock);
+        }
+    }
+}
+
+/// Take the lock file `lock` (holding our PID) for `target`; a lock of a dead process is
+/// replaced, one of a running process is an error naming it.
+fn take_lock(lock: &Path, target: &Path) -> Result<()> {
+    for _ in 0..3 {
+        match std::fs::OpenOptions::new()
+            .write(true)
+            .create_new(true)
+            .open(lock)
+        {
+            Ok(mut f) => {
+                let _ = writeln!(f, "{}", std::process::id());
+                return Ok(());
+            }
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+                let pid = std::fs::read_to_string(lock)
+                    .ok()
+                    .and_then(|s| s.trim().parse::<u32>().ok());
+                match pid {
+                    Some(p) if process_alive(p) => {
+                        return Err(Error::Invalid(format!(
+                            "{} is being written by another printwatt run (PID {p}, lock {}): wait for it to finish, or choose another run name",
+                            target.display(),
+                            lock.display()
+                        )))
+                    }
+                    Some(_) => {
+                        let _ = std::fs::remove_file(lock);
+                    }
+                    None => {
+                        // Being written this instant, or garbage: a fresh lock is left alone;
+                        // an old one (> 10 s) is removed.
+                        let old = std::fs::metadata(lock)
+                            .and_then(|m| m.modified())
+                            .ok()
+                            .and_then(|t| t.elapsed().ok())
+                            .is_some_and(|d| d.as_secs() > 10);
+                        if old {
+                            let _ = std::fs::remove_file(lock);
+                        } else {
+                            std::thread::sleep(std::time::Duration::from_millis(50));
+                        }
+                    }
+                }
+            }
+            Err(e) => return Err(Error::io(lock, e)),
+        }
+    }
+    Err(Error::Invalid(format!(
+        "{}: could not take the lock {}; remove it if no printwatt is running",
+        target.display(),
+        lock.display()
+    )))
+}
+
+/// Error unless every entry of the existing directory `dir` was written by printwatt and is
+/// unchanged: listed in its manifest with the same SHA-256. Stale temporary files of dead
+/// processes are removed first. A directory without a manifest is accepted only as a run
+/// written before manifests existed: nothing but `summary.json`, `placements.csv` and
+/// `report.html`, with a summary whose title printwatt writes.
+fn check_ours(dir: &Path) -> Result<()> {
+    let rd = std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))?;
+    let mut names = Vec::new();
+    for e in rd.flatten() {
+        let f = e.file_name().to_string_lossy().into_owned();
+        if let Some((_, pid)) = f.rsplit_once(".tmp-") {
+            if pid.parse::<u32>().is_ok_and(|p| !process_alive(p))
+                && std::fs::remove_file(e.path()).is_ok()
+            {
+                continue;
+            }
+        }
+        names.push(f);
+    }
+    let foreign = |f: &str, why: &str| {
+        Error::Invalid(format!(
+            "refusing to replace {}: it holds `{f}`, {why}; choose another run name, or move that file away",
+            dir.display()
+        ))
+    };
+    let mp = dir.join(MANIFEST);
+    if mp.exists() {
+        let m: Manifest = std::fs::read_to_string(&mp)
+            .ok()
+            .and_then(|t| serde_json::from_str(&t).ok())
+            .ok_or_else(|| foreign(MANIFEST, "a manifest printwatt cannot read"))?;
+        for f in names.iter().filter(|f| *f != MANIFEST) {
+            let Some(h) = m.files.get(f) else {
+                return Err(foreign(f, "which printwatt did not write"));
+            };
+            let bytes = std::fs::read(dir.join(f)).map_err(|e| Error::io(dir.join(f), e))?;
+            if &sha256_hex(&bytes) != h {
+                return Err(foreign(f, "which was changed after printwatt wrote it"));
+            }
+        }
+        return Ok(());
+    }
+    for f in &names {
+        if !LEGACY_RUN_FILES.contains(&f.as_str()) {
+            return Err(foreign(f, "which printwatt did not write"));
+        }
+    }
+    if names.iter().any(|f| f == "summary.json") {
+        let ok = std::fs::read_to_string(dir.join("summary.json"))
+            .ok()
+            .and_then(|t| serde_json::from_str::<serde_json::Value>(&t).ok())
+            .and_then(|v| v.get("title").and_then(|t| t.as_str()).map(str::to_string))
+            .is_some_and(|t| t.starts_with("printwatt "));
+        if !ok {
+            return Err(foreign(
+                "summary.json",
+                "which is not a printwatt summary (no manifest says printwatt wrote it)",
+            ));
+        }
+    } else if !names.is_empty() {
+        return Err(foreign(
+            &names[0],
+            "and no manifest says printwatt wrote it",
+        ));
+    }
+    Ok(())
+}
+
+/// The last check before numbers leave printwatt: `columns` names the quantities, `rows` gives
+/// samples. A NaN or an infinity is an error naming `what`, the first sample (0-based) and the
+/// quantity where it appeared.
+pub fn check_finite<'a>(
+    what: &str,
+    columns: &[String],
+    rows: impl Iterator<Item = &'a [f64]>,
+) -> Result<()> {
+    for (k, r) in rows.enumerate() {
+        if let Some(j) = r.iter().position(|v| !v.is_finite()) {
+            let q = columns.get(j).map_or("?", String::as_str);
+            return Err(Error::Invalid(format!(
+                "{what}: `{q}` is {} at sample {k}: the model produced a number that is not a number; check the robot's drive and inertia data",
+                r[j]
+            )));
+        }
     }
     Ok(())
 }

@@ -21,6 +21,8 @@ pub struct Table {
     pub rows: Vec<Vec<f64>>,
     /// 1-based source line of each row, for messages.
     pub lines: Vec<usize>,
+    /// 1-based line of the header row.
+    pub header_line: usize,
 }
 
 /// The physical dimension a column holds; decides which units are accepted.
@@ -153,6 +155,7 @@ impl Table {
             ..Default::default()
         };
         let mut factors: Vec<f64> = Vec::new();
+        let mut sep = ',';
         let perr = |line: usize, column: usize, msg: String| Error::Parse {
             file: file.to_string(),
             line,
@@ -176,8 +179,10 @@ impl Table {
                 continue;
             }
             if t.names.is_empty() {
+                sep = crate::toolpath::csv_separator(line);
+                t.header_line = ln;
                 let mut col = 1;
-                for cell in line.split(',') {
+                for cell in line.split(sep) {
                     let (name, unit) = split_unit(cell);
                     if name.is_empty() {
                         return Err(perr(ln, col, "empty column name in the header".into()));
@@ -214,7 +219,14 @@ impl Table {
                 }
                 continue;
             }
-            let cells: Vec<&str> = line.split(',').collect();
+            let owned;
+            let line = if sep == ';' {
+                owned = line.replace(',', ".");
+                owned.as_str()
+            } else {
+                line
+            };
+            let cells: Vec<&str> = line.split(sep).collect();
             if cells.len() != t.names.len() {
                 return Err(perr(
                     ln,

@@ -124,6 +124,83 @@ pub fn trajectory_dim(name: &str) -> Option<crate::table::Dim> {
     }
 }
 
+/// Refuse a unit on the wrong kind of joint: a length unit (`q1[mm]`, `qd1[m/s]`) on a revolute
+/// joint, an angle unit (`q1[deg]`) on a prismatic one. `names` and `units` are the header's
+/// lower-case column names and units; `kinds` the robot's joints in chain order. The error names
+/// the file, the header line and the column.
+pub fn check_joint_units(
+    file: &str,
+    header_line: usize,
+    names: &[String],
+    units: &[String],
+    kinds: &[crate::robot::JointKind],
+) -> Result<()> {
+    use crate::robot::JointKind;
+    for (c, (name, unit)) in names.iter().zip(units).enumerate() {
+        let u = unit.trim().to_ascii_lowercase();
+        if u.is_empty() {
+            continue;
+        }
+        let idx = ["qdd", "qd", "q"].iter().find_map(|p| {
+            name.strip_prefix(p)
+                .filter(|r| !r.is_empty() && r.chars().all(|c| c.is_ascii_digit()))
+                .and_then(|r| r.parse::<usize>().ok())
+        });
+        let Some(k) = idx else { continue };
+        let Some(kind) = kinds.get(k.wrapping_sub(1)) else {
+            continue;
+        };
+        let length = u.starts_with("mm")
+            || u.starts_with("m/")
+            || u == "m"
+            || u.starts_with("cm")
+            || u.starts_with("in");
+        let angle =
+            u.starts_with("rad") || u.starts_with("deg") || u.starts_with('°') || u == "rpm";
+        let wrong = match kind {
+            JointKind::Revolute => length,
+            JointKind::Prismatic => angle,
+        };
+        if wrong {
+            return Err(Error::Parse {
+                file: file.to_string(),
+                line: header_line,
+                column: c + 1,
+                msg: format!(
+                    "column `{name}[{unit}]`: joint {k} is {}, so `{unit}` is the wrong kind of unit (expected {})",
+                    match kind {
+                        JointKind::Revolute => "revolute",
+                        JointKind::Prismatic => "prismatic",
+                    },
+                    match kind {
+                        JointKind::Revolute => "rad or deg",
+                        JointKind::Prismatic => "m or mm",
+                    }
+                ),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Read a joint trajectory CSV for `model` (see [`read_csv`]), refusing units on the wrong
+/// kind of joint (see [`check_joint_units`]).
+pub fn read_csv_for(
+    path: &std::path::Path,
+    model: &crate::robot::RobotModel,
+) -> Result<(JointTrajectory, Supplied)> {
+    let table = crate::table::Table::read(path, &trajectory_dim)?;
+    let kinds: Vec<_> = model.joints.iter().map(|j| j.kind).collect();
+    check_joint_units(
+        &table.file,
+        table.header_line,
+        &table.names,
+        &table.units,
+        &kinds,
+    )?;
+    from_table(&table, model.dof())
+}
+
 /// Read a joint trajectory CSV with columns `t, q1..qN` and optionally `qd1..qdN`,
 /// `qdd1..qddN` (units in brackets, SI by default). Missing derivatives are left at zero and
 /// reported in [`Supplied`]; fill them with central differences before use. Errors name the

@@ -26,28 +26,71 @@ pub(crate) fn load(a: &LogArgs) -> Result<(crate::robot::RobotModel, Model, Log)
     }
     let log = identify::read_log(&a.log, robot.dof(), a.columns.as_deref())
         .with_context(|| format!("reading log {}", a.log.display()))?;
-    for w in &log.warnings {
-        eprintln!("warning: {w}");
-    }
+    super::note_warnings(&log.file, &log.warnings);
+    let (names, units): (Vec<String>, Vec<String>) = log.units.iter().cloned().unzip();
+    let kinds: Vec<_> = robot.joints.iter().map(|j| j.kind).collect();
+    crate::trajectory::check_joint_units(&log.file, log.header_line, &names, &units, &kinds)?;
+    check_log_robot(&log, &robot);
     Ok((robot, model, log))
+}
+
+/// Warn when the log's metadata names another robot than the one it is compared with.
+pub(crate) fn check_log_robot(log: &Log, robot: &crate::robot::RobotModel) {
+    let named = log
+        .metadata
+        .iter()
+        .find(|(k, _)| k.eq_ignore_ascii_case("robot"))
+        .map(|(_, v)| v.trim().to_string());
+    if let Some(n) = named {
+        let norm = |s: &str| {
+            s.chars()
+                .filter(|c| c.is_ascii_alphanumeric())
+                .collect::<String>()
+                .to_ascii_lowercase()
+        };
+        let dir_name = robot
+            .source
+            .parent()
+            .and_then(|p| p.file_name())
+            .map(|f| f.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let same = [robot.name(), dir_name.as_str()]
+            .iter()
+            .any(|r| !r.is_empty() && norm(r) == norm(&n));
+        if !same && !n.is_empty() {
+            super::note_warnings(
+                &log.file,
+                &[format!(
+                    "{}: the log's metadata names robot `{n}`, but it is compared with `{}`",
+                    log.file,
+                    robot.name()
+                )],
+            );
+        }
+    }
 }
 
 /// `printwatt compare`.
 pub fn run(a: super::CompareArgs) -> Result<()> {
     let (robot, model, log) = load(&a.log)?;
+    let inputs = super::inputs(&a.log.robot, Some(&robot), &[Some(a.log.log.as_path())]);
+    if let Some(dir) = &a.out {
+        crate::output::check_dir(dir, &inputs)?;
+    }
     let prep = identify::Prepared::new(&model, &log)?;
     let (mut cmp, pred) = metrics::compare(&prep, &model);
     cmp.calibration = robot.effects.calibration_summary();
     if let Some(dir) = &a.out {
-        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
-        crate::output::write_atomic(
+        crate::output::write_file(
             &dir.join("compare.json"),
             serde_json::to_string_pretty(&cmp)?.as_bytes(),
+            &inputs,
+            crate::output::Existing::Replace,
         )?;
         write_report(&dir.join("report.html"), &log, &pred, &cmp)?;
     }
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&cmp)?);
+        super::print_json(&cmp)?;
         return Ok(());
     }
     println!(

@@ -10,7 +10,7 @@ pub fn run(a: super::DiagnoseArgs) -> Result<()> {
     let mut d = diagnose::diagnose(&prep, &mut model, a.folds)?;
     d.calibration = robot.effects.calibration_summary();
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&d)?);
+        super::print_json(&d)?;
         return Ok(());
     }
     println!(

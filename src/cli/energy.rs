@@ -3,7 +3,7 @@
 use super::{load_robot, parse_list};
 use crate::dynamics::fill_derivatives;
 use crate::energy::{self, EnergyModel, EnergyOptions, EnergyReport};
-use crate::output::{guard_inputs, write_atomic};
+use crate::output::{write_file, Existing};
 use crate::placement::PathJob;
 use crate::robot::Regeneration;
 use crate::timing::{JointStageOptions, ProfileOptions, Slowdown};
@@ -95,6 +95,22 @@ pub fn parse_placement(s: &str, spin_deg: f64) -> Result<Placement> {
 /// Run `printwatt energy`.
 pub fn run(a: EnergyArgs) -> Result<()> {
     let model = load_robot(&a.robot)?;
+    let spin = super::finite("--spin", a.spin)?;
+    // Every output is checked against every input before anything is computed or written.
+    let inputs = super::inputs(
+        &a.robot,
+        Some(&model),
+        &[a.trajectory.as_deref(), a.path.as_deref()],
+    );
+    let planned_out = a.out.clone().or_else(|| {
+        a.trajectory
+            .as_deref()
+            .or(a.path.as_deref())
+            .map(default_out)
+    });
+    if let Some(o) = &planned_out {
+        crate::output::check_file(o, &inputs, Existing::Replace)?;
+    }
     let mut opts = EnergyOptions {
         payload: !a.no_payload,
         friction: !a.no_friction,
@@ -106,18 +122,29 @@ pub fn run(a: EnergyArgs) -> Result<()> {
         })?);
     }
     let (input, traj, placement, slowdowns, report) = if let Some(tp) = &a.trajectory {
-        let (mut traj, sup) = trajectory::read_csv(tp, model.dof())?;
+        let (mut traj, sup) = trajectory::read_csv_for(tp, &model)?;
         complete_derivatives(&mut traj, sup)?;
         let em = EnergyModel::with_options(&model, opts)?;
         let report = energy::evaluate(&em, &traj)?;
         (tp.clone(), traj, None, Vec::new(), report)
     } else if let (Some(pp), Some(at)) = (&a.path, &a.at) {
-        let placement = parse_placement(at, a.spin)?;
+        let placement = parse_placement(at, spin)?;
         let ro = ReadOptions {
             default_zone: toolpath::Zone::Blend(a.zone * 1e-3),
             ..Default::default()
         };
-        let path = toolpath::load(pp, &ro)?;
+        for (opt, v) in [
+            ("--zone", a.zone),
+            ("--period", a.period),
+            ("--accel", a.accel),
+            ("--jerk", a.jerk),
+        ] {
+            super::finite(opt, v)?;
+        }
+        if a.zone < 0.0 {
+            bail!("--zone {}: expected a blend radius >= 0 mm", a.zone);
+        }
+        let path = super::load_path(pp, &ro)?;
         let profile = ProfileOptions {
             accel: a.accel,
             lateral_accel: a.accel,
@@ -143,10 +170,10 @@ pub fn run(a: EnergyArgs) -> Result<()> {
         bail!("give either --trajectory T, or --path P with --at x,y,z,yaw");
     };
     let out = a.out.clone().unwrap_or_else(|| default_out(&input));
-    guard_inputs(&out, &[&input, &a.robot])?;
     let mut csv = Vec::new();
     report.series.write_csv(Some(&traj), &mut csv)?;
-    write_atomic(&out, &csv)?;
+    check_report_finite(&report, &csv, &input)?;
+    write_file(&out, &csv, &inputs, Existing::Replace)?;
     let summary = Summary {
         robot: model.name(),
         input: input.display().to_string(),
@@ -167,9 +194,73 @@ pub fn run(a: EnergyArgs) -> Result<()> {
         if let Some(e) = v.get_mut("energy").and_then(|e| e.as_object_mut()) {
             e.remove("series"); // per-sample data go to the CSV
         }
-        println!("{}", serde_json::to_string_pretty(&v)?);
+        super::print_json(&v)?;
     } else {
         print_summary(&summary, &model);
+    }
+    Ok(())
+}
+
+/// The last check before the numbers leave: every per-sample value of the trajectory and of the
+/// energy series, and every total, finite; else an error naming the first sample and quantity.
+fn check_report_finite(report: &EnergyReport, csv: &[u8], input: &Path) -> Result<()> {
+    let what = format!("energy of {}", input.display());
+    let text = String::from_utf8_lossy(csv);
+    let mut lines = text.lines();
+    let header: Vec<String> = lines
+        .next()
+        .unwrap_or_default()
+        .split(',')
+        .map(str::to_string)
+        .collect();
+    for (k, l) in lines.enumerate() {
+        for (j, c) in l.split(',').enumerate() {
+            if matches!(c.trim(), "NaN" | "inf" | "-inf") {
+                bail!(
+                    "{what}: `{}` is {c} at sample {k}: the model produced a number that is not a number; check the robot's drive and inertia data",
+                    header.get(j).map_or("?", String::as_str)
+                );
+            }
+        }
+    }
+    let v = serde_json::to_value(report)?;
+    // Totals: serde_json writes a non-finite number as null; a null where the report has a
+    // number is the same failure.
+    fn nulls(v: &serde_json::Value, path: &mut String, out: &mut Option<String>) {
+        if out.is_some() {
+            return;
+        }
+        match v {
+            serde_json::Value::Null => *out = Some(path.clone()),
+            serde_json::Value::Array(a) => {
+                for (i, x) in a.iter().enumerate() {
+                    let l = path.len();
+                    path.push_str(&format!("[{i}]"));
+                    nulls(x, path, out);
+                    path.truncate(l);
+                }
+            }
+            serde_json::Value::Object(o) => {
+                for (k, x) in o {
+                    if k == "series" {
+                        continue;
+                    }
+                    let l = path.len();
+                    path.push('.');
+                    path.push_str(k);
+                    nulls(x, path, out);
+                    path.truncate(l);
+                }
+            }
+            _ => {}
+        }
+    }
+    let mut bad = None;
+    nulls(&v, &mut String::new(), &mut bad);
+    if let Some(p) = bad {
+        bail!(
+            "{what}: `energy{p}` is not a finite number: check the robot's drive and inertia data"
+        );
     }
     Ok(())
 }

@@ -22,6 +22,27 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
             );
         }
     }
+    // Every output checked against every input before anything is computed or written.
+    let inputs = super::inputs(
+        &la.robot,
+        Some(&robot),
+        &[Some(la.log.as_path()), a.validate_log.as_deref()],
+    );
+    if let Some(dir) = &a.out {
+        crate::output::check_dir(dir, &inputs)?;
+    }
+    // The calibrated robot: always written, into --out (or the current directory), never
+    // into the installed robots folder.
+    let resolved = super::resolve_robot(&la.robot);
+    let dst = match &a.drive_out {
+        Some(p) => p.clone(),
+        None => a
+            .out
+            .clone()
+            .unwrap_or_else(|| std::path::PathBuf::from("."))
+            .join(identify::calibrate::default_file_name(&resolved)),
+    };
+    crate::output::check_file(&dst, &inputs, crate::output::Existing::Force(a.force))?;
     let prep = identify::Prepared::new(&model, &log)?;
     let vlog;
     let vprep;
@@ -30,6 +51,7 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
             Some(p) => {
                 vlog = identify::read_log(p, robot.dof(), la.columns.as_deref())
                     .with_context(|| format!("reading validation log {}", p.display()))?;
+                super::note_warnings(&vlog.file, &vlog.warnings);
                 vprep = identify::Prepared::new(&model, &vlog)?;
                 (
                     (0..log.len()).collect(),
@@ -56,18 +78,7 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
         &effects,
         what,
     )?;
-    // The calibrated robot: always written, into --out (or the current directory), never
-    // into the installed robots folder.
-    let resolved = super::resolve_robot(&la.robot);
     let drive_src = identify::model::drive_file_of(&resolved);
-    let dst = match &a.drive_out {
-        Some(p) => p.clone(),
-        None => a
-            .out
-            .clone()
-            .unwrap_or_else(|| std::path::PathBuf::from("."))
-            .join(identify::calibrate::default_file_name(&resolved)),
-    };
     let installed = super::default_robots_dir();
     identify::calibrate::write_calibrated(
         &identify::calibrate::CalibrationInput {
@@ -85,7 +96,7 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
     )?;
     let written = Some(dst);
     if let Some(dir) = &a.out {
-        std::fs::create_dir_all(dir)?;
+        std::fs::create_dir_all(dir).map_err(|e| crate::Error::io(dir, e))?;
         let labels: Vec<String> = id.ladder.iter().map(|s| s.step.clone()).collect();
         let vals: Vec<f64> = id.ladder.iter().map(|s| s.validation_rmse).collect();
         crate::output::write_atomic(
@@ -118,7 +129,7 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
             "calibrated_robot": written,
             "started_from": robot.effects.calibration_summary(),
         });
-        println!("{}", serde_json::to_string_pretty(&v)?);
+        super::print_json(&v)?;
         return Ok(());
     }
     println!("{}", id.validation);

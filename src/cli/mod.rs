@@ -195,10 +195,149 @@ pub fn resolve_robot(arg: &Path) -> PathBuf {
     }
 }
 
-/// Load a robot named on the command line, with context for the error message.
+/// Load a robot named on the command line, with context for the error message. Its warnings
+/// are shown (see [`note_warnings`]).
 pub fn load_robot(arg: &Path) -> Result<robot::RobotModel> {
     let p = resolve_robot(arg);
-    robot::load(&p).with_context(|| format!("loading robot {}", arg.display()))
+    let m = robot::load(&p).with_context(|| format!("loading robot {}", arg.display()))?;
+    note_warnings(&m.source.display().to_string(), &m.warnings);
+    Ok(m)
+}
+
+/// Load a toolpath named on the command line; its warnings are shown.
+pub fn load_path(
+    p: &Path,
+    opts: &crate::toolpath::ReadOptions,
+) -> Result<crate::toolpath::Toolpath> {
+    let tp =
+        crate::toolpath::load(p, opts).with_context(|| format!("loading path {}", p.display()))?;
+    note_warnings(&tp.source, &tp.warnings);
+    Ok(tp)
+}
+
+/// The inputs of a command for the output policy: the robot (every file of its directory, its
+/// URDF and drive file) and the other files named.
+pub fn inputs(
+    robot_arg: &Path,
+    model: Option<&robot::RobotModel>,
+    files: &[Option<&Path>],
+) -> crate::output::Inputs {
+    let mut i = crate::output::Inputs::new();
+    i.add_robot(&resolve_robot(robot_arg), model);
+    for f in files.iter().flatten() {
+        i.add(f);
+    }
+    i
+}
+
+/// A warning shown to the user: on stderr when it is noted, and in every `--json` output under
+/// `warnings`.
+#[derive(Clone, Debug, serde::Serialize, PartialEq)]
+pub struct Warning {
+    /// The input file it concerns.
+    pub file: String,
+    /// 1-based line, where the reader knows it.
+    pub line: Option<usize>,
+    /// The message (without the file and line).
+    pub message: String,
+}
+
+static WARNINGS: std::sync::Mutex<Vec<Warning>> = std::sync::Mutex::new(Vec::new());
+
+/// Split a reader's warning `file:line: message` (or `file: message`, or a bare message) into a
+/// [`Warning`] for `file`.
+pub fn parse_warning(file: &str, w: &str) -> Warning {
+    let rest = w
+        .strip_prefix(file)
+        .and_then(|r| r.strip_prefix(':'))
+        .map(str::trim_start);
+    let (line, message) = match rest {
+        Some(r) => {
+            let digits: String = r.chars().take_while(|c| c.is_ascii_digit()).collect();
+            match (digits.parse::<usize>(), r[digits.len()..].strip_prefix(':')) {
+                (Ok(l), Some(m)) => {
+                    // `file:line:column: msg` too.
+                    let m = m.trim_start();
+                    let d2: String = m.chars().take_while(|c| c.is_ascii_digit()).collect();
+                    let m = match m[d2.len()..].strip_prefix(':') {
+                        Some(mm) if !d2.is_empty() => mm.trim_start(),
+                        _ => m,
+                    };
+                    (Some(l), m.to_string())
+                }
+                _ => (None, r.to_string()),
+            }
+        }
+        None => (None, w.to_string()),
+    };
+    Warning {
+        file: file.to_string(),
+        line,
+        message,
+    }
+}
+
+/// Show a reader's warnings: each goes to stderr now (`warning: file:line: message`) and is
+/// kept for the `warnings` of a `--json` output.
+pub fn note_warnings(file: &str, ws: &[String]) {
+    for w in ws {
+        let w = parse_warning(file, w);
+        match w.line {
+            Some(l) => eprintln!(
+                "warning: {}:{l}: {}",
+                w.file,
+                crate::error::clip(&w.message)
+            ),
+            None => eprintln!("warning: {}: {}", w.file, crate::error::clip(&w.message)),
+        }
+        if let Ok(mut g) = WARNINGS.lock() {
+            if !g.contains(&w) {
+                g.push(w);
+            }
+        }
+    }
+}
+
+/// The warnings noted so far.
+pub fn warnings() -> Vec<Warning> {
+    WARNINGS.lock().map(|g| g.clone()).unwrap_or_default()
+}
+
+/// Print a `--json` answer with the warnings noted so far added as `warnings` (an object's
+/// key; other values are wrapped as `{"result": …, "warnings": […]}`).
+pub fn print_json<T: serde::Serialize>(v: &T) -> Result<()> {
+    let mut v = serde_json::to_value(v)?;
+    add_warnings(&mut v);
+    println!("{}", serde_json::to_string_pretty(&v)?);
+    Ok(())
+}
+
+/// [`print_json`] for JSON text already formatted.
+pub fn print_json_text(text: &str) -> Result<()> {
+    let v: serde_json::Value = serde_json::from_str(text)?;
+    print_json(&v)
+}
+
+fn add_warnings(v: &mut serde_json::Value) {
+    let ws = serde_json::to_value(warnings()).unwrap_or_default();
+    match v {
+        serde_json::Value::Object(o) => {
+            o.insert("warnings".into(), ws);
+        }
+        other => {
+            let inner = std::mem::take(other);
+            *other = serde_json::json!({"result": inner, "warnings": ws});
+        }
+    }
+}
+
+/// A command-line number: finite, else an error naming the option.
+pub fn finite(opt: &str, v: f64) -> Result<f64> {
+    if v.is_finite() {
+        Ok(v)
+    } else {
+        anyhow::bail!("{opt} {v}: expected a finite number")
+    }
 }
 
 /// Run the parsed command line.
@@ -215,12 +354,16 @@ pub fn run(cli: Cli) -> Result<()> {
     }
 }
 
-/// Parse a comma-separated list of exactly `n` finite numbers.
+/// Parse a comma-separated list of exactly `n` finite numbers (an empty item is an error).
 pub fn parse_list(s: &str, n: usize) -> Result<Vec<f64>> {
     let v: Vec<f64> = s
         .split(',')
-        .map(|x| {
+        .enumerate()
+        .map(|(i, x)| {
             let t = x.trim();
+            if t.is_empty() {
+                anyhow::bail!("item {} of `{s}` is empty", i + 1);
+            }
             t.parse::<f64>()
                 .ok()
                 .filter(|v| v.is_finite())

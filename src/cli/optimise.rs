@@ -140,8 +140,8 @@ pub fn search_bounds(ps: &[Placement], z_bounds: Option<&str>) -> Result<Bounds>
 pub fn run(a: OptimiseArgs) -> Result<()> {
     let p = &a.p;
     let l = p.load()?;
-    // Decide where the run goes before the work: an occupied --run fails now, not after.
-    let dir = if a.no_report {
+    // Take the run directory before the work: an occupied or locked --run fails now.
+    let mut run_dir = if a.no_report {
         None
     } else {
         p.run_dir(&l, Some("optimise"))?
@@ -293,8 +293,12 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
         details,
         electrical: l.robot.drive.is_some(),
     };
-    if let Some(dir) = &dir {
-        rep.write(dir)?;
+    let mut written = None;
+    if let Some(mut rd) = run_dir.take() {
+        rep.write_into(&mut rd)?;
+        written = Some(rd.commit()?);
+    } else {
+        rep.check_finite()?;
     }
     if let (Some(ex), Some(b)) = (&a.export, rep.best()) {
         let files = [
@@ -321,7 +325,7 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
         }
     }
     if p.json {
-        println!("{}", rep.summary_json(false)?);
+        super::print_json_text(&rep.summary_json(false)?)?;
         return Ok(());
     }
     let best = rep.best().context("no feasible placement")?;
@@ -411,7 +415,7 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
             secs
         );
     }
-    if let Some(dir) = &dir {
+    if let Some(dir) = &written {
         println!("report: {}", dir.join("report.html").display());
     }
     Ok(())

@@ -7,6 +7,48 @@ use anyhow::{bail, Context, Result};
 /// `printwatt simulate`: a log from a "true" robot with hidden effects.
 pub fn run(a: super::SimulateArgs) -> Result<()> {
     let robot = load_robot(&a.robot)?;
+    // The output is checked against the inputs before any work.
+    crate::output::check_file(
+        &a.out,
+        &super::inputs(
+            &a.robot,
+            Some(&robot),
+            &[a.path.as_deref(), a.trajectory.as_deref()],
+        ),
+        crate::output::Existing::Replace,
+    )?;
+    for (opt, v) in [
+        ("--noise-q", a.noise_q),
+        ("--quantum", a.quantum),
+        ("--rate", a.rate),
+    ] {
+        super::finite(opt, v)?;
+    }
+    if let Some(n) = a.noise {
+        super::finite("--noise", n)?;
+    }
+    if let Some(d) = a.excite {
+        if !(d.is_finite() && d > 0.0) {
+            bail!("--excite {d}: expected a duration > 0 s");
+        }
+        // Budget: the dense excitation is sampled at 1 kHz (6 joints × 3 quantities).
+        let samples = d * 1000.0;
+        if samples > crate::timing::budget::max_samples() as f64 {
+            bail!(
+                "--excite {d} s needs {samples:.3e} samples at 1 kHz, more than the budget of {} ({}): did you mean {} s?",
+                crate::timing::budget::max_samples(),
+                crate::timing::budget::MAX_SAMPLES_ENV,
+                d / 1000.0
+            );
+        }
+    }
+    if a.rate > 1e5 {
+        bail!(
+            "--rate {} Hz: above 100 kHz no controller logs; did you mean {} Hz?",
+            a.rate,
+            a.rate / 1000.0
+        );
+    }
     let mut truth = identify::Model::new(&robot)?;
     let hidden = simulate::parse_hidden(a.hidden.as_deref().unwrap_or(""))?;
     simulate::apply_hidden(&mut truth, &hidden)?;
@@ -26,7 +68,7 @@ pub fn run(a: super::SimulateArgs) -> Result<()> {
             if v.len() != 4 {
                 bail!("--at `{at}`: expected 4 numbers x,y,z (m), yaw (deg)");
             }
-            let tp = crate::toolpath::load(p, &crate::toolpath::ReadOptions::default())?;
+            let tp = super::load_path(p, &crate::toolpath::ReadOptions::default())?;
             let job = crate::placement::PathJob::new(
                 &robot,
                 &tp,
@@ -41,7 +83,7 @@ pub fn run(a: super::SimulateArgs) -> Result<()> {
             }
         }
         (None, Some(t), None) => {
-            let (mut tr, sup) = crate::trajectory::read_csv(t, robot.dof())?;
+            let (mut tr, sup) = crate::trajectory::read_csv_for(t, &robot)?;
             if !sup.velocities || !sup.accelerations {
                 crate::dynamics::fill_derivatives(&mut tr)?;
             }
@@ -80,7 +122,17 @@ pub fn run(a: super::SimulateArgs) -> Result<()> {
         ),
     ];
     let text = simulate::simulate_log(&truth, &traj, &opt, &meta)?;
-    crate::output::write_atomic(&a.out, text.as_bytes())?;
+    let inputs = super::inputs(
+        &a.robot,
+        Some(&robot),
+        &[a.path.as_deref(), a.trajectory.as_deref()],
+    );
+    crate::output::write_file(
+        &a.out,
+        text.as_bytes(),
+        &inputs,
+        crate::output::Existing::Replace,
+    )?;
     eprintln!(
         "wrote {} ({} samples at {} Hz)",
         a.out.display(),

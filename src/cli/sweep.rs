@@ -159,8 +159,16 @@ impl PlacementArgs {
             .path
             .clone()
             .unwrap_or_else(|| shipped("paths/default.gcode"));
-        let path = toolpath::load(&path_file, &ReadOptions::default())
-            .with_context(|| format!("loading path {}", path_file.display()))?;
+        let path = super::load_path(&path_file, &ReadOptions::default())?;
+        for (opt, v) in [
+            ("--wrist-min", self.wrist_min),
+            ("--elbow-min", self.elbow_min),
+            ("--shoulder-min", self.shoulder_min),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                bail!("{opt} {v}: expected a finite margin >= 0 (0 switches the check off)");
+            }
+        }
         let objective: Objective = self.objective.parse()?;
         if self.check_every == 0 {
             bail!("--check-every must be at least 1");
@@ -284,6 +292,33 @@ impl PlacementArgs {
         Ok((g.placements(), None, Some(g)))
     }
 
+    /// The inputs of the command (robot files, path, set) for the output policy.
+    pub fn inputs(&self, l: &Loaded) -> crate::output::Inputs {
+        super::inputs(
+            &self.robot,
+            Some(&l.robot),
+            &[Some(l.path_file.as_path()), self.set.as_deref()],
+        )
+    }
+
+    /// Take the run directory `--results-dir/<run>` before any work (locked for this run,
+    /// checked against the inputs and for files printwatt did not write).
+    pub fn begin_run(
+        &self,
+        l: &Loaded,
+        run: Option<&str>,
+    ) -> Result<Option<crate::output::RunDir>> {
+        match run {
+            None => Ok(None),
+            Some(r) => Ok(Some(crate::output::RunDir::begin(
+                &self.results_dir,
+                r,
+                &self.inputs(l),
+                crate::output::Existing::Force(self.force),
+            )?)),
+        }
+    }
+
     /// Every placement of a set or list at every `--spin` (deg), added to the placement's own
     /// spin; names get `@<spin>°` when more than one spin is asked for. Without `--spin` the
     /// placements are returned as given.
@@ -397,22 +432,16 @@ impl PlacementArgs {
     /// needs `--force`), else, when `default_for` names the command, a fresh
     /// `runs/<command>-<robot>-<path>-<UTC time>` (suffixed `-2`, `-3`, … if taken). `None`:
     /// no run directory.
-    pub fn run_dir(&self, l: &Loaded, default_for: Option<&str>) -> Result<Option<PathBuf>> {
-        if let Some(run) = &self.run {
-            if run.trim().is_empty() || run.contains("..") {
-                bail!("--run `{run}`: give a non-empty name without `..`");
-            }
-            let dir = self.results_dir.join(run);
-            let occupied = std::fs::read_dir(&dir).is_ok_and(|mut d| d.next().is_some());
-            if occupied && !self.force {
-                bail!(
-                    "{} already holds a run: replacing it needs --force (or choose another --run)",
-                    dir.display()
-                );
-            }
-            // Even with --force, a directory holding files printwatt did not write is refused.
-            crate::report::placement::check_run_dir(&dir)?;
-            return Ok(Some(dir));
+    /// The directory is taken through the output policy ([`crate::output::RunDir`]): locked
+    /// for this run, checked against the inputs, refused if it holds files printwatt did not
+    /// write (even with --force), written whole at the end.
+    pub fn run_dir(
+        &self,
+        l: &Loaded,
+        default_for: Option<&str>,
+    ) -> Result<Option<crate::output::RunDir>> {
+        if self.run.is_some() {
+            return self.begin_run(l, self.run.as_deref());
         }
         let Some(cmd) = default_for else {
             return Ok(None);
@@ -429,7 +458,11 @@ impl PlacementArgs {
             dir = parent.join(format!("{base}-{k}"));
             k += 1;
         }
-        Ok(Some(dir))
+        Ok(Some(crate::output::RunDir::begin_at(
+            &dir,
+            &self.inputs(l),
+            crate::output::Existing::Force(false),
+        )?))
     }
 }
 
@@ -591,7 +624,7 @@ pub fn print_rows(rows: &[Evaluated], names: Option<&[String]>) {
 pub fn run(a: SweepArgs) -> Result<()> {
     let a = a.p;
     let l = a.load()?;
-    let run_dir = a.run_dir(&l, None)?;
+    let mut run_dir = a.run_dir(&l, None)?;
     let job = l.job()?;
     let ev = Evaluator::new(&job, l.feas, l.objective);
     let (ps, names, grid) = a.placements(Some(l.default_grid()))?;
@@ -637,14 +670,17 @@ pub fn run(a: SweepArgs) -> Result<()> {
         details,
         electrical: l.robot.drive.is_some(),
     };
-    if let Some(dir) = &run_dir {
-        rep.write(dir)?;
+    if let Some(mut rd) = run_dir.take() {
+        rep.write_into(&mut rd)?;
+        let dir = rd.commit()?;
         if !a.json {
             eprintln!("wrote {}", dir.display());
         }
+    } else {
+        rep.check_finite()?;
     }
     if a.json {
-        println!("{}", rep.summary_json(true)?);
+        super::print_json_text(&rep.summary_json(true)?)?;
     } else {
         print_rows(&rep.rows, rep.names.as_deref());
         if let Some(b) = rep.best() {

@@ -86,6 +86,10 @@ pub struct Log {
     pub metadata: Vec<(String, String)>,
     /// Warnings (unknown columns, ignored signals, derived derivatives).
     pub warnings: Vec<String>,
+    /// Column names and the units written in the header (empty when none).
+    pub units: Vec<(String, String)>,
+    /// 1-based line of the header row (0 for a column map).
+    pub header_line: usize,
     /// Source line of each sample.
     pub lines: Vec<usize>,
     /// Half-width `m` of the derivative window when velocities/accelerations were derived.
@@ -352,7 +356,32 @@ fn from_table(table: Table, n: usize) -> Result<Log> {
             traj.qdd = qdd;
         }
     }
+    // A hole in the time axis: name it (energy and RMSE integrate across it).
+    if traj.t.len() > 2 {
+        let mut d: Vec<f64> = traj.t.windows(2).map(|w| w[1] - w[0]).collect();
+        let dt_of = d.clone();
+        d.sort_by(f64::total_cmp);
+        let median = d[d.len() / 2];
+        if let Some(k) = dt_of
+            .iter()
+            .position(|&x| x > 10.0 * median && x > median + 0.05)
+        {
+            warnings.push(format!(
+                "{file}:{}: time jumps by {:.3} s from the previous sample (the log's usual step is {:.4} s): a hole in the log; energies and errors are integrated across it",
+                table.lines.get(k + 1).copied().unwrap_or(0),
+                dt_of[k],
+                median
+            ));
+        }
+    }
     Ok(Log {
+        units: table
+            .names
+            .iter()
+            .cloned()
+            .zip(table.units.iter().cloned())
+            .collect(),
+        header_line: table.header_line,
         file,
         traj,
         kind,

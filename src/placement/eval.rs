@@ -59,6 +59,7 @@ impl<'a> PathJob<'a> {
                 path.source
             )));
         }
+        timing::budget::check(&moves, &profile, robot.dof(), &path.source)?;
         let pieces = timing::blend_path(&moves);
         let plan = Plan::new(&pieces, &profile);
         Ok(PathJob {

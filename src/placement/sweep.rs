@@ -625,10 +625,17 @@ pub fn parse_range(what: &str, s: &str) -> Result<Vec<f64>> {
         }
         Ok((0..n).map(|i| a + st * i as f64).collect())
     } else {
+        // An empty item (`1,,2`) is an error, not skipped: it is a typo.
         let v: Result<Vec<f64>> = s
             .split(',')
-            .filter(|t| !t.trim().is_empty())
-            .map(num)
+            .enumerate()
+            .map(|(i, t)| {
+                if t.trim().is_empty() {
+                    Err(bad(&format!("item {} is empty", i + 1)))
+                } else {
+                    num(t)
+                }
+            })
             .collect();
         let v = v?;
         if v.is_empty() {

@@ -18,7 +18,7 @@ use super::site::SiteGeometry;
 use super::svg::{self, CellMark, Heatmap, MapPoint, Series, TopView};
 use crate::energy::EnergyReport;
 use crate::error::{Error, Result};
-use crate::output::write_atomic;
+use crate::output::{Existing, Inputs, RunDir};
 use crate::placement::optimise::OptimiseResult;
 use crate::placement::sweep::{Evaluated, Grid, PlacementRow};
 use serde::Serialize;
@@ -861,45 +861,43 @@ impl RunReport {
         pg.finish()
     }
 
-    /// Write `summary.json`, `placements.csv` and `report.html` into `dir`. Refuses a
-    /// directory that holds files other than these (never overwrites foreign files).
+    /// Write `summary.json`, `placements.csv` and `report.html` into the directory `dir`
+    /// through the output policy ([`RunDir`]: locked, staged, one rename, refused if it holds
+    /// files printwatt did not write).
     pub fn write(&self, dir: &Path) -> Result<()> {
-        check_run_dir(dir)?;
-        write_atomic(
-            &dir.join("summary.json"),
-            self.summary_json(true)?.as_bytes(),
-        )?;
-        write_atomic(
-            &dir.join("placements.csv"),
-            self.placements_csv().as_bytes(),
-        )?;
-        write_atomic(&dir.join("report.html"), self.html().as_bytes())?;
+        let mut rd = RunDir::begin_at(dir, &Inputs::new(), Existing::Replace)?;
+        self.write_into(&mut rd)?;
+        rd.commit()?;
         Ok(())
     }
-}
 
-/// Error if `dir` exists and holds anything but [`OUR_FILES`].
-pub fn check_run_dir(dir: &Path) -> Result<()> {
-    if !dir.exists() {
-        return Ok(());
+    /// Write `summary.json`, `placements.csv` and `report.html` into a run directory being
+    /// written (commit it afterwards). The numbers are checked to be finite first.
+    pub fn write_into(&self, rd: &mut RunDir) -> Result<()> {
+        self.check_finite()?;
+        rd.write("summary.json", self.summary_json(true)?.as_bytes())?;
+        rd.write("placements.csv", self.placements_csv().as_bytes())?;
+        rd.write("report.html", self.html().as_bytes())?;
+        Ok(())
     }
-    if !dir.is_dir() {
-        return Err(Error::Invalid(format!(
-            "{} exists and is not a directory",
-            dir.display()
-        )));
-    }
-    let rd = std::fs::read_dir(dir).map_err(|e| Error::io(dir, e))?;
-    for e in rd.flatten() {
-        let name = e.file_name().to_string_lossy().into_owned();
-        if !OUR_FILES.contains(&name.as_str()) {
-            return Err(Error::Invalid(format!(
-                "refusing to write into {}: it holds `{name}`, which this command did not write; choose another --run name or remove it",
-                dir.display()
-            )));
+
+    /// No NaN or infinity in the numbers of a feasible placement (energy, time): the first is
+    /// an error naming the placement and quantity.
+    pub fn check_finite(&self) -> Result<()> {
+        for (i, r) in self.rows.iter().enumerate() {
+            if let Ok(f) = &r.outcome {
+                for (q, v) in [("energy_j", f.energy_j), ("duration_s", f.duration_s)] {
+                    if !v.is_finite() {
+                        return Err(Error::Invalid(format!(
+                            "placement {i} (x = {} m, y = {} m): {q} is {v}: the model produced a number that is not a number; check the robot's drive and inertia data",
+                            r.placement.x, r.placement.y
+                        )));
+                    }
+                }
+            }
         }
+        Ok(())
     }
-    Ok(())
 }
 
 fn describe(e: &Evaluated) -> String {

@@ -9,6 +9,7 @@ pub mod mesh;
 pub mod model;
 pub mod opw;
 pub mod urdf;
+pub mod validate;
 
 pub use drive::{Drive, JointDrive, Regeneration};
 pub use model::{
@@ -48,6 +49,13 @@ pub fn load(path: &Path) -> Result<RobotModel> {
     if let Some(d) = drive_file {
         apply_drive(&mut model, d, &drive_name)?;
     }
+    validate::validate(
+        &mut model,
+        &validate::Sources {
+            urdf: (&urdf_name, &urdf_text),
+            drive: drive_text.as_deref().map(|t| (drive_name.as_str(), t)),
+        },
+    )?;
     if let Some(dir) = path.is_dir().then_some(path) {
         if model.info.name.is_empty() {
             model.info.name = dir

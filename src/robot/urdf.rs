@@ -112,6 +112,92 @@ impl Ctx<'_> {
     }
 }
 
+/// Deepest element nesting accepted in a URDF (real ones nest 4 or 5 levels). roxmltree
+/// recurses per level, so a file nested 20,000 levels deep would overflow the stack: it is
+/// refused before parsing.
+pub const MAX_XML_DEPTH: usize = 256;
+
+/// Refuse XML nested deeper than `max` elements, naming the line where the limit is passed.
+/// A light scan (comments, CDATA, processing instructions, DOCTYPE and quoted attribute values
+/// skipped); well-formedness is left to the parser.
+pub fn check_xml_depth(text: &str, file: &str, max: usize) -> Result<()> {
+    let b = text.as_bytes();
+    let mut depth: usize = 0;
+    let mut line = 1;
+    let mut i = 0;
+    let skip_to = |i: usize, pat: &[u8], line: &mut usize| -> usize {
+        let mut j = i;
+        while j < b.len() {
+            if b[j..].starts_with(pat) {
+                return j + pat.len();
+            }
+            if b[j] == b'\n' {
+                *line += 1;
+            }
+            j += 1;
+        }
+        b.len()
+    };
+    while i < b.len() {
+        match b[i] {
+            b'\n' => {
+                line += 1;
+                i += 1;
+            }
+            b'<' => {
+                let rest = &b[i + 1..];
+                if rest.starts_with(b"!--") {
+                    i = skip_to(i + 4, b"-->", &mut line);
+                } else if rest.starts_with(b"![CDATA[") {
+                    i = skip_to(i + 9, b"]]>", &mut line);
+                } else if rest.starts_with(b"?") {
+                    i = skip_to(i + 2, b"?>", &mut line);
+                } else if rest.starts_with(b"!") {
+                    i = skip_to(i + 2, b">", &mut line);
+                } else if rest.starts_with(b"/") {
+                    depth = depth.saturating_sub(1);
+                    i = skip_to(i + 2, b">", &mut line);
+                } else {
+                    // A start tag: find its end outside quotes.
+                    let mut j = i + 1;
+                    let mut quote: Option<u8> = None;
+                    while j < b.len() {
+                        let c = b[j];
+                        if c == b'\n' {
+                            line += 1;
+                        }
+                        match quote {
+                            Some(q) if c == q => quote = None,
+                            Some(_) => {}
+                            None if c == b'"' || c == b'\'' => quote = Some(c),
+                            None if c == b'>' => break,
+                            None => {}
+                        }
+                        j += 1;
+                    }
+                    let self_closing = j > 0 && j < b.len() && b[j - 1] == b'/';
+                    if !self_closing {
+                        depth += 1;
+                        if depth > max {
+                            return Err(Error::Parse {
+                                file: file.into(),
+                                line,
+                                column: 1,
+                                msg: format!(
+                                    "XML nested deeper than {max} elements: not a URDF (refused before parsing)"
+                                ),
+                            });
+                        }
+                    }
+                    i = j + 1;
+                }
+            }
+            _ => i += 1,
+        }
+    }
+    Ok(())
+}
+
 fn child<'a, 'i>(n: roxmltree::Node<'a, 'i>, tag: &str) -> Option<roxmltree::Node<'a, 'i>> {
     n.children()
         .find(|c| c.is_element() && c.tag_name().name() == tag)
@@ -120,6 +206,7 @@ fn child<'a, 'i>(n: roxmltree::Node<'a, 'i>, tag: &str) -> Option<roxmltree::Nod
 /// Parse URDF text into a model (no drive data). `file` names the source in errors;
 /// `tool_link` ends the chain when given.
 pub fn parse_urdf(text: &str, file: &str, tool_link: Option<&str>) -> Result<RobotModel> {
+    check_xml_depth(text, file, MAX_XML_DEPTH)?;
     let doc = roxmltree::Document::parse(text).map_err(|e| {
         let p = e.pos();
         Error::Parse {
@@ -267,9 +354,18 @@ pub fn parse_urdf(text: &str, file: &str, tool_link: Option<&str>) -> Result<Rob
         } else if kind == "revolute" || kind == "prismatic" {
             return Err(cx.err(j, format!("joint `{name}`: a {kind} joint needs <limit>")));
         }
+        if velocity <= 0.0 && kind != "fixed" {
+            let l = child(j, "limit").unwrap_or(j);
+            return Err(cx.err(
+                l,
+                format!(
+                    "joint `{name}`: velocity limit {velocity}: a joint limit must be > 0 (the \
+                     joint's rated speed, rad/s or m/s); omit `velocity` if it is unknown"
+                ),
+            ));
+        }
         if velocity <= 0.0 {
             velocity = f64::INFINITY;
-            warnings.push(format!("joint `{name}`: velocity limit 0 read as unknown"));
         }
         let line = doc.text_pos_at(j.range().start).row as usize;
         joints.push(UJoint {

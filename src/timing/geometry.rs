@@ -95,7 +95,7 @@ impl Prim {
     }
 
     fn blend_u(table: &[f64; BLEND_TABLE], s: f64) -> f64 {
-        let s = s.clamp(0.0, table[BLEND_TABLE - 1]);
+        let s = s.max(0.0).min(table[BLEND_TABLE - 1]); // NaN-safe, unlike clamp
         let k = table.partition_point(|&x| x < s).clamp(1, BLEND_TABLE - 1);
         let (a, b) = (table[k - 1], table[k]);
         let f = if b > a { (s - a) / (b - a) } else { 0.0 };
@@ -105,7 +105,7 @@ impl Prim {
     /// Point at arc length `s` (m) from the start, clamped to the primitive.
     pub fn point(&self, s: f64) -> V3 {
         let len = self.length();
-        let s = s.clamp(0.0, len);
+        let s = s.max(0.0).min(len); // NaN-safe, unlike clamp
         match self {
             Prim::Line { a, b } => {
                 if len > 0.0 {

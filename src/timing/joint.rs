@@ -504,6 +504,35 @@ pub fn time_path_planned(
             opts.accel *= ramp_factor;
             opts.jerk *= ramp_factor;
         }
+        // Budget: a slow-down so deep that the re-planned motion would exceed the sample
+        // budget (a joint limit of 1e-9 rad/s) is a failure to meet the limits, not an
+        // allocation of terabytes.
+        let v = super::profile::speed_at_nodes(nodes, &scale, opts.accel);
+        let t_est: f64 = (1..v.len())
+            .map(|i| {
+                let vs = v[i] + v[i - 1];
+                if vs > 0.0 {
+                    2.0 * (nodes.s[i] - nodes.s[i - 1]) / vs
+                } else {
+                    0.0
+                }
+            })
+            .sum();
+        let samples = t_est / opts.dt + opts.accel / opts.jerk / opts.dt;
+        if samples.is_nan() || samples > super::budget::max_samples() as f64 {
+            let w = viol
+                .iter()
+                .max_by(|a, b| a.ratio.total_cmp(&b.ratio))
+                .expect("non-empty");
+            buf.qs = qs;
+            buf.tcp = tcp;
+            return Err(TimingFailure::LimitsNotMet {
+                joint: w.joint,
+                kind: w.kind,
+                ratio: w.ratio,
+                t: w.sample as f64 * motion.dt,
+            });
+        }
     }
 }
 

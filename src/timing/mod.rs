@@ -1,5 +1,6 @@
 //! Time parameterisation of a toolpath the way a robot controller runs it.
 
+pub mod budget;
 pub mod geometry;
 pub mod joint;
 pub mod profile;

@@ -137,7 +137,8 @@ pub fn sample_arc_length(nodes: &Nodes, v: &[f64], dt: f64) -> Vec<f64> {
             let tau = t - t0;
             let a = (v[i] * v[i] - v[i - 1] * v[i - 1]) / (2.0 * ds);
             (nodes.s[i - 1] + v[i - 1] * tau + 0.5 * a * tau * tau)
-                .clamp(nodes.s[i - 1], nodes.s[i])
+                .max(nodes.s[i - 1])
+                .min(nodes.s[i]) // NaN-safe, unlike clamp
         } else {
             nodes.s[i]
         };

@@ -33,14 +33,52 @@ struct Column {
 
 /// Fields of one line with their 1-based starting columns (leading spaces skipped).
 fn split_fields(line: &str) -> Vec<(usize, String)> {
+    split_fields_sep(line, ',')
+}
+
+/// Split on `sep`; with `;` (a European spreadsheet's export) a decimal comma becomes a point.
+fn split_fields_sep(line: &str, sep: char) -> Vec<(usize, String)> {
     let mut out = Vec::new();
     let mut col = 1;
-    for part in line.split(',') {
+    for part in line.split(sep) {
         let lead = part.chars().take_while(|c| c.is_whitespace()).count();
-        out.push((col + lead, part.trim().to_string()));
+        let t = part.trim();
+        let t = if sep == ';' {
+            t.replace(',', ".")
+        } else {
+            t.to_string()
+        };
+        out.push((col + lead, t));
         col += part.chars().count() + 1;
     }
     out
+}
+
+/// The field separator of a CSV from its header: `;` when the header has semicolons and no
+/// commas (European spreadsheet exports, decimal comma in the numbers), else `,`.
+pub(crate) fn separator(header: &str) -> char {
+    if header.contains(';') && !header.contains(',') {
+        ';'
+    } else {
+        ','
+    }
+}
+
+/// Levenshtein distance of two short names.
+fn edit_distance(a: &str, b: &str) -> usize {
+    let a: Vec<char> = a.chars().collect();
+    let b: Vec<char> = b.chars().take(64).collect();
+    let mut prev: Vec<usize> = (0..=b.len()).collect();
+    for (i, ca) in a.iter().enumerate() {
+        let mut cur = vec![i + 1; b.len() + 1];
+        for (j, cb) in b.iter().enumerate() {
+            cur[j + 1] = (prev[j] + usize::from(ca != cb))
+                .min(prev[j + 1] + 1)
+                .min(cur[j] + 1);
+        }
+        prev = cur;
+    }
+    prev[b.len()]
 }
 
 fn strip_comment(line: &str) -> (&str, Option<&str>) {
@@ -125,7 +163,26 @@ fn parse_header(
         }
         let factor = match kind(&name) {
             None => {
-                warnings.push(format!("{file}:{lineno}: column '{name}' ignored"));
+                let known = [
+                    "x",
+                    "y",
+                    "z",
+                    "speed",
+                    "print",
+                    "name",
+                    "yaw",
+                    "nozzle_spin",
+                ];
+                let close = known
+                    .iter()
+                    .filter(|k| kind(k).is_some())
+                    .find(|k| edit_distance(k, &name) <= 2 && name.len() > 1);
+                warnings.push(match close {
+                    Some(k) => format!(
+                        "{file}:{lineno}: unknown column '{name}' ignored (did you mean '{k}'? without it its default is used)"
+                    ),
+                    None => format!("{file}:{lineno}: unknown column '{name}' ignored"),
+                });
                 f64::NAN
             }
             Some(q @ (Quantity::Flag | Quantity::Text)) => {
@@ -224,6 +281,7 @@ enum Row {
 fn rows(text: &str) -> Vec<Row> {
     let mut out = Vec::new();
     let mut header_seen = false;
+    let mut sep = ',';
     for (i, raw) in text.lines().enumerate() {
         let (body, comment) = strip_comment(raw);
         if body.trim().is_empty() {
@@ -235,12 +293,21 @@ fn rows(text: &str) -> Vec<Row> {
         if header_seen {
             out.push(Row::Data(
                 i + 1,
-                split_fields(body),
+                split_fields_sep(body, sep),
                 body.trim_end().chars().count() + 1,
             ));
         } else {
             header_seen = true;
-            out.push(Row::Header(i + 1, body.to_string()));
+            sep = separator(body);
+            // The header's fields are split on commas below: give it commas.
+            out.push(Row::Header(
+                i + 1,
+                if sep == ';' {
+                    body.replace(';', ",")
+                } else {
+                    body.to_string()
+                },
+            ));
         }
     }
     out

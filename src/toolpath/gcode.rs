@@ -93,6 +93,20 @@ fn lex_line(
                     .iter()
                     .take_while(|x| !x.is_whitespace())
                     .collect();
+                // `Gnan`, `Xinf`: a word whose number is not a number, not an extended command.
+                let tail = cmd[c.len_utf8()..].to_ascii_lowercase();
+                if tail.starts_with("nan") || tail.starts_with("inf") {
+                    return Err(perr(
+                        file,
+                        lineno,
+                        i + 2,
+                        format!(
+                            "expected a number after '{}', found '{}'",
+                            c.to_ascii_uppercase(),
+                            crate::error::clip(&cmd[c.len_utf8()..])
+                        ),
+                    ));
+                }
                 return Ok((words, comments, Some(cmd)));
             }
             let letter = c.to_ascii_uppercase();
@@ -442,7 +456,7 @@ pub fn parse_gcode(text: &str, file: &str, opts: &ReadOptions) -> Result<Toolpat
     }
 
     let infer_from_g = !saw_e && !saw_pump;
-    let moves = pending
+    let moves: Vec<Move> = pending
         .into_iter()
         .map(|p| {
             let print = if infer_from_g { !p.rapid } else { p.extruding };
@@ -468,6 +482,11 @@ pub fn parse_gcode(text: &str, file: &str, opts: &ReadOptions) -> Result<Toolpat
     if infer_from_g {
         warnings.push(format!(
             "{file}: no E words and no extrusion M-codes: G1/G2/G3 taken as printing, G0 as travel"
+        ));
+    }
+    if !moves.is_empty() && !moves.iter().any(|m: &Move| m.print) {
+        warnings.push(format!(
+            "{file}: no print moves: every move is travel (G0, or no extrusion), so nothing is printed; the energy is that of the travel alone"
         ));
     }
     Ok(Toolpath {

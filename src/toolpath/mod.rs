@@ -21,6 +21,12 @@ use crate::error::{read_text, Error, Result};
 use crate::math::{rot_axis, rot_z, Frame, V3};
 
 pub use self::csv::{parse_csv, parse_placements};
+
+/// The field separator of a CSV from its header line: `;` for a European spreadsheet export
+/// (header with semicolons and no commas; numbers then have a decimal comma), else `,`.
+pub fn csv_separator(header: &str) -> char {
+    csv::separator(header)
+}
 pub use self::gcode::parse_gcode;
 pub use self::rapid::parse_rapid;
 

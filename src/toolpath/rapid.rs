@@ -612,6 +612,20 @@ pub fn parse_rapid(text: &str, file: &str, _opts: &ReadOptions) -> Result<Toolpa
         speeds: HashMap::new(),
         zones: HashMap::new(),
     };
+    // A name declared twice is an error naming both lines (RAPID refuses it too).
+    {
+        let mut seen: HashMap<&str, usize> = HashMap::new();
+        for (_, name, _, l, c) in &decls {
+            if let Some(first) = seen.insert(name.as_str(), *l) {
+                return Err(perr(
+                    file,
+                    *l,
+                    *c,
+                    format!("'{name}' is declared twice (first on line {first}): rename one"),
+                ));
+            }
+        }
+    }
     // Robtargets may refer to others (Offs); resolve in declaration order.
     for (ty, name, v, l, c) in &decls {
         match ty.as_str() {
