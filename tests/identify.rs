@@ -79,8 +79,8 @@ fn each_hidden_effect_is_ranked_first_and_cuts_the_error() {
         let top = &d.candidates[0];
         if d.best.as_deref() != Some(*name) || top.rmse_cut_pct < 80.0 {
             failures.push(format!(
-                "{name}: best {:?}, top {} cut {:.1} %",
-                d.best, top.effect, top.rmse_cut_pct
+                "{name}: best {:?}, top {} cut {:.1} %, t {:.2}",
+                d.best, top.effect, top.rmse_cut_pct, top.t_statistic
             ));
         }
     }

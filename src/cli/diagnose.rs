@@ -27,21 +27,38 @@ pub fn run(a: super::DiagnoseArgs) -> Result<()> {
         d.folds
     );
     println!(
-        "{:<4} {:<16} {:>8} {:>12} {:>8} {:>10} {:>5}  joints",
-        "rank", "effect", "status", "val_rmse", "cut_%", "dBIC", "sig"
+        "noise floor (estimated from the data) {:.4} {}; residual correlation time {:.3} s; blocks of {:.2} s",
+        d.noise_floor,
+        log.kind.unit(),
+        d.correlation_time_s,
+        d.block_length_s
+    );
+    println!(
+        "{:<4} {:<16} {:>8} {:>12} {:>8} {:>8} {:>10} {:>5}  joints",
+        "rank", "effect", "status", "val_rmse", "cut_%", "t", "dBIC", "sig"
     );
     for (i, c) in d.candidates.iter().enumerate() {
         println!(
-            "{:<4} {:<16} {:>8} {:>12.4} {:>8.1} {:>10.1} {:>5}  {:?}",
+            "{:<4} {:<16} {:>8} {:>12.4} {:>8.1} {:>8.1} {:>10.1} {:>5}  {:?}",
             i + 1,
             c.effect,
             if c.in_model { "refit" } else { "missing" },
             c.validation_rmse,
             c.rmse_cut_pct,
+            c.t_statistic,
             c.delta_bic,
-            if c.significant { "yes" } else { "no" },
+            if c.significant {
+                "yes"
+            } else if !c.plausible {
+                "n/a"
+            } else {
+                "no"
+            },
             c.joints
         );
+        if let Some(w) = &c.implausible {
+            println!("       not plausible for this robot: {w}");
+        }
         if i < 3 && c.significant {
             for p in &c.params {
                 if p.value != p.nominal {
@@ -65,6 +82,9 @@ pub fn run(a: super::DiagnoseArgs) -> Result<()> {
             log.kind.prefix(),
             d.not_observable.join(", ")
         );
+    }
+    for u in &d.unexplained {
+        println!("unexplained: {u}");
     }
     println!("{}", d.verdict);
     Ok(())

@@ -1,15 +1,30 @@
 //! Which effect is missing: each catalogue effect observable in the log is fitted alone on top
 //! of the current model (switched on if it was off, its parameters re-fitted if it was on),
-//! k-fold by contiguous time blocks; candidates are ranked by the held-out RMSE. A candidate
-//! is significant when it cuts the held-out RMSE by at least [`MIN_GAIN`] and its BIC
-//! `m ln(SSR/m) + P ln m` beats the current model's by more than [`MIN_DELTA_BIC`] (the penalty
-//! for the parameters it adds). When none is, the diagnosis says that nothing significant is
-//! missing.
+//! k-fold by contiguous time blocks; candidates are ranked by the held-out RMSE.
+//!
+//! Claims a statistician would sign. The noise floor is estimated from the data (second
+//! differences of the residual, [`crate::identify::structure`]) and printed, and so is the
+//! residual's correlation time; the blocks are made at least that long (fewer folds, at least
+//! 2; no claim at all when the log is shorter than two correlation times). A candidate is
+//! significant when
+//! - it is physically plausible for the robot (no `balancer` on a robot whose drive file
+//!   declares none, such as the UR10e),
+//! - it cuts the held-out RMSE by at least [`MIN_GAIN`],
+//! - its held-out gain is beyond noise and autocorrelation: the held-out rows are cut into
+//!   chunks one correlation time long, and the t statistic of the chunk means of
+//!   `|r_before|² − |r_after|²` exceeds the one-sided 95 % quantile of Student's t with
+//!   (chunks − 1) degrees of freedom (chunks that long are close to independent), and
+//! - its BIC `m ln(SSR/m) + P ln m` beats the current model's by more than [`MIN_DELTA_BIC`].
+//!
+//! When none is, the diagnosis says nothing significant is missing; when structure beyond the
+//! noise floor remains that no candidate explains, it says so per joint, with what it
+//! correlates against and its dominant period ([`Diagnosis::unexplained`]).
 
 use crate::effects::CATALOGUE;
 use crate::error::Result;
 use crate::identify::fit::{fit, residuals, FittedParam};
 use crate::identify::model::{Model, Prepared};
+use crate::identify::structure::{self, Unexplained};
 use serde::Serialize;
 
 /// Minimum relative cut of the held-out RMSE for a significant candidate.
@@ -34,7 +49,13 @@ pub struct Candidate {
     pub rmse_cut_pct: f64,
     /// BIC change (negative is better).
     pub delta_bic: f64,
-    /// Significant by both criteria.
+    /// Physically plausible for this robot.
+    pub plausible: bool,
+    /// Why not plausible, if not.
+    pub implausible: Option<String>,
+    /// t statistic of the held-out gain over chunks one correlation time long.
+    pub t_statistic: f64,
+    /// Significant by every criterion (module docs).
     pub significant: bool,
     /// Parameters it cannot tell apart, if any.
     pub note: Option<String>,
@@ -49,8 +70,19 @@ pub struct Diagnosis {
     pub calibration: Option<String>,
     /// RMSE of the current model over the log (signal unit).
     pub base_rmse: f64,
-    /// Folds used.
+    /// Folds used (time blocks at least one correlation time long).
     pub folds: usize,
+    /// Noise floor estimated from the data (RMS over channels, signal unit).
+    pub noise_floor: f64,
+    /// Noise floor per channel (signal unit).
+    pub noise_floor_per_channel: Vec<f64>,
+    /// Correlation time of the residual (longest over channels), s.
+    pub correlation_time_s: f64,
+    /// Length of one held-out block, s.
+    pub block_length_s: f64,
+    /// Structure beyond the noise floor left after the best significant candidate (or in the
+    /// current model's residual when there is none), per channel.
+    pub unexplained: Vec<Unexplained>,
     /// Effects in the model.
     pub model_effects: Vec<String>,
     /// Candidates, best first.
@@ -82,7 +114,26 @@ pub fn diagnose(prep: &Prepared, model: &mut Model, folds: usize) -> Result<Diag
     let ssr0: f64 = r.iter().map(|x| x * x).sum();
     let base_rmse = (ssr0 / m).sqrt();
     let bic0 = m * (ssr0 / m).max(1e-300).ln();
-    let bl = blocks(len, folds);
+    let ch = prep.log.channels;
+    let t = &prep.log.traj.t;
+    let dur = t.last().copied().unwrap_or(0.0) - t.first().copied().unwrap_or(0.0);
+    let dt = dur / (len.max(2) - 1) as f64;
+    let nf: Vec<f64> = (0..ch).map(|c| structure::noise_floor(&r, ch, c)).collect();
+    let noise = (nf.iter().map(|v| v * v).sum::<f64>() / ch.max(1) as f64).sqrt();
+    let tau_c = (0..ch)
+        .map(|c| structure::correlation_time(&r, ch, c, dt))
+        .fold(0.0, f64::max);
+    // Blocks at least one correlation time long.
+    let max_folds = if tau_c > 0.0 {
+        (dur / tau_c).floor() as usize
+    } else {
+        folds
+    };
+    let too_short = max_folds < 2;
+    let bl = blocks(len, folds.min(max_folds).max(2));
+    let r0 = r.clone();
+    let chunk = ((tau_c / dt.max(1e-300)).ceil() as usize).clamp(1, len.max(1));
+    let balancer_declared = model.balancer_declared;
     let mut cands = Vec::new();
     let mut not_obs = Vec::new();
     for name in CATALOGUE {
@@ -93,7 +144,8 @@ pub fn diagnose(prep: &Prepared, model: &mut Model, folds: usize) -> Result<Diag
         let in_model = model.is_enabled(name);
         let mut sse = 0.0;
         let mut cnt = 0usize;
-        for b in &bl {
+        let mut gains = Vec::with_capacity(bl.len());
+        for (bi, b) in bl.iter().enumerate() {
             // Blocks are contiguous: the training rows are everything outside [lo, hi]
             // (linear in the log length; `b.contains` per row was quadratic).
             let (lo, hi) = (
@@ -104,7 +156,26 @@ pub fn diagnose(prep: &Prepared, model: &mut Model, folds: usize) -> Result<Diag
             model.restore(&base_state);
             fit(prep, model, &[name], &train)?;
             residuals(prep, model, b, &mut r);
-            sse += r.iter().map(|x| x * x).sum::<f64>();
+            let sb = r.iter().map(|x| x * x).sum::<f64>();
+            // Held-out gain per chunk of one correlation time: chunk means of
+            // `|r_before|² − |r_after|²` are close to independent, so their t statistic
+            // measures the gain against noise and autocorrelation.
+            let _ = bi;
+            let mut acc = 0.0;
+            let mut in_chunk = 0usize;
+            for (i, &k) in b.iter().enumerate() {
+                let g: f64 = (0..ch)
+                    .map(|c| r0[k * ch + c].powi(2) - r[i * ch + c].powi(2))
+                    .sum();
+                acc += g;
+                in_chunk += 1;
+                if in_chunk == chunk || i + 1 == b.len() {
+                    gains.push(acc / in_chunk as f64);
+                    acc = 0.0;
+                    in_chunk = 0;
+                }
+            }
+            sse += sb;
             cnt += r.len();
         }
         model.restore(&base_state);
@@ -116,7 +187,6 @@ pub fn diagnose(prep: &Prepared, model: &mut Model, folds: usize) -> Result<Diag
         model.restore(&base_state);
         let mut pred0 = Vec::new();
         prep.predict(model, &all, &mut pred0);
-        let ch = prep.log.channels;
         let mut joints = Vec::new();
         if ch > 1 {
             let d: Vec<f64> = (0..ch)
@@ -153,6 +223,12 @@ pub fn diagnose(prep: &Prepared, model: &mut Model, folds: usize) -> Result<Diag
         };
         let bic = m * (full.ssr / m).max(1e-300).ln() + full.params.len() as f64 * m.ln();
         let dbic = bic - bic0;
+        let tstat = paired_t(&gains);
+        let implausible = (name == "balancer" && !balancer_declared).then(|| {
+            "the robot declares no balancer (drive file [effects] balancer_lever_m, balancer_base_m): \
+a gravity error here is a link or payload error"
+                .to_string()
+        });
         cands.push(Candidate {
             effect: name.to_string(),
             in_model,
@@ -161,31 +237,93 @@ pub fn diagnose(prep: &Prepared, model: &mut Model, folds: usize) -> Result<Diag
             validation_rmse: cv,
             rmse_cut_pct: cut,
             delta_bic: dbic,
-            significant: cut >= 100.0 * MIN_GAIN && dbic < -MIN_DELTA_BIC,
+            plausible: implausible.is_none(),
+            significant: implausible.is_none()
+                && !too_short
+                && cut >= 100.0 * MIN_GAIN
+                && tstat > t_quantile_95(gains.len().saturating_sub(1))
+                && dbic < -MIN_DELTA_BIC,
+            implausible,
+            t_statistic: tstat,
             note: full.ill_conditioned.map(|i| i.to_string()),
         });
     }
     model.restore(&base_state);
     cands.sort_by(|a, b| a.validation_rmse.total_cmp(&b.validation_rmse));
+    // The best significant candidate (an implausible one ranked above it is named, not
+    // claimed).
     let best = cands
-        .first()
+        .iter()
+        .find(|c| c.significant || c.plausible)
         .filter(|c| c.significant)
         .map(|c| c.effect.clone());
-    let verdict = match (&best, cands.first()) {
-        (Some(b), Some(c)) => format!(
-            "`{b}` {} explains the largest part of the residual: held-out RMSE {:.4} → {:.4} ({:.1} % less) on joints {:?}",
-            if c.in_model { "(re-fitted)" } else { "(missing)" },
-            base_rmse,
-            c.validation_rmse,
-            c.rmse_cut_pct,
-            c.joints
+    // What is left after the best claim.
+    if let Some(b) = &best {
+        let name = CATALOGUE
+            .iter()
+            .find(|c| *c == b)
+            .copied()
+            .unwrap_or("viscous");
+        fit(prep, model, &[name], &all)?;
+    }
+    residuals(prep, model, &all, &mut r);
+    model.restore(&base_state);
+    let names = crate::identify::metrics::channel_names(prep);
+    let unexplained = structure::unexplained(
+        &r,
+        &names,
+        model.n,
+        t,
+        &|k, j| prep.log.traj.q(k)[j],
+        &|k, j| prep.log.traj.qd(k)[j],
+    );
+    let left = if unexplained.is_empty() {
+        String::new()
+    } else {
+        format!(
+            "; structure no catalogue effect explains remains: {}",
+            unexplained
+                .iter()
+                .map(|u| u.to_string())
+                .collect::<Vec<_>>()
+                .join("; ")
+        )
+    };
+    let head = cands.first();
+    let noise_txt = format!(
+        "noise floor {noise:.4} (from the data), residual correlation time {tau_c:.3} s, {} blocks of {:.2} s",
+        bl.len(),
+        dur / bl.len() as f64
+    );
+    let verdict = match (&best, head) {
+        (Some(b), _) => {
+            let c = cands.iter().find(|c| c.effect == *b).expect("best is a candidate");
+            format!(
+                "`{b}` {} explains the largest part of the residual: held-out RMSE {:.4} → {:.4} ({:.1} % less, t = {:.1}) on joints {:?}; {noise_txt}{left}",
+                if c.in_model { "(re-fitted)" } else { "(missing)" },
+                base_rmse,
+                c.validation_rmse,
+                c.rmse_cut_pct,
+                c.t_statistic,
+                c.joints
+            )
+        }
+        (None, _) if too_short => format!(
+            "no claim: the log ({dur:.2} s) is shorter than two correlation times of the residual; {noise_txt}{left}"
         ),
         (None, Some(c)) => format!(
-            "nothing significant is missing: the best candidate `{}` cuts the held-out RMSE by only {:.1} % (threshold {:.0} %, ΔBIC {:.1}); the residual looks like noise",
+            "nothing significant is missing from the catalogue: the best candidate `{}` cuts the held-out RMSE by {:.1} % (threshold {:.0} %, t = {:.1}, ΔBIC {:.1}{}); {noise_txt}{}",
             c.effect,
             c.rmse_cut_pct,
             100.0 * MIN_GAIN,
-            c.delta_bic
+            c.t_statistic,
+            c.delta_bic,
+            c.implausible.as_deref().map(|w| format!(", not plausible: {w}")).unwrap_or_default(),
+            if left.is_empty() {
+                "; the residual is at the noise floor".to_string()
+            } else {
+                left.clone()
+            }
         ),
         _ => "no candidate effect is observable in this log".into(),
     };
@@ -194,6 +332,11 @@ pub fn diagnose(prep: &Prepared, model: &mut Model, folds: usize) -> Result<Diag
         calibration: None,
         base_rmse,
         folds: bl.len(),
+        noise_floor: noise,
+        noise_floor_per_channel: nf,
+        correlation_time_s: tau_c,
+        block_length_s: dur / bl.len() as f64,
+        unexplained,
         model_effects: model
             .enabled_names()
             .iter()
@@ -204,4 +347,33 @@ pub fn diagnose(prep: &Prepared, model: &mut Model, folds: usize) -> Result<Diag
         verdict,
         not_observable: not_obs,
     })
+}
+
+/// t statistic of gains (mean / standard error); +∞ when all gains are equal and positive.
+pub fn paired_t(g: &[f64]) -> f64 {
+    let b = g.len() as f64;
+    if g.len() < 2 {
+        return 0.0;
+    }
+    let mean = g.iter().sum::<f64>() / b;
+    let var = g.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / (b - 1.0);
+    if var <= 0.0 {
+        return if mean > 0.0 { f64::INFINITY } else { 0.0 };
+    }
+    mean / (var / b).sqrt()
+}
+
+/// One-sided 95 % quantile of Student's t with `dof` degrees of freedom (table; linear in
+/// between, normal quantile 1.645 beyond 120).
+pub fn t_quantile_95(dof: usize) -> f64 {
+    const T: [f64; 10] = [
+        6.314, 2.920, 2.353, 2.132, 2.015, 1.943, 1.895, 1.860, 1.833, 1.812,
+    ];
+    match dof {
+        0 => f64::INFINITY,
+        d if d <= 10 => T[d - 1],
+        d if d <= 30 => 1.812 - (1.812 - 1.697) * (d - 10) as f64 / 20.0,
+        d if d <= 120 => 1.697 - (1.697 - 1.658) * (d - 30) as f64 / 90.0,
+        _ => 1.645,
+    }
 }

@@ -11,6 +11,7 @@ pub mod log;
 pub mod metrics;
 pub mod model;
 pub mod simulate;
+pub mod structure;
 
 pub use log::{read_log, Log, SignalKind};
 pub use model::{Model, Prepared, DEFAULT_EFFECTS};

@@ -57,6 +57,9 @@ pub struct Model {
     pub standby: Standby,
     /// Switch per catalogue entry (order of [`CATALOGUE`]).
     pub enabled: [bool; 10],
+    /// Whether the robot declares a balancer (drive file geometry): without one, a `balancer`
+    /// candidate is not physically plausible.
+    pub balancer_declared: bool,
     dynamics: DynModel,
 }
 
@@ -148,6 +151,7 @@ impl Model {
                 power: d.map_or(0.0, |d| d.standby_power),
             },
             enabled: cfg.enabled_mask(d.is_some()),
+            balancer_declared: cfg.balancer_declared,
             dynamics,
         };
         // Identified values the drive file keeps in `[effects.values]` (a calibrated robot
