@@ -110,7 +110,7 @@ fn mutate(seed: &[u8], rng: &mut ChaCha8Rng, xml: bool) -> Vec<u8> {
                 let at = rng.gen_range(0..=b.len());
                 b.splice(at..at, piece);
             }
-            3 | 4 | 5 => {
+            3..=5 => {
                 // numbers swapped for nasty ones (several)
                 let spans = number_spans(&b);
                 if !spans.is_empty() {
