@@ -228,8 +228,9 @@ pub fn validate(model: &mut RobotModel, src: &Sources) -> Result<()> {
         if let Err((field, msg)) = check_inertial(&what, inertial) {
             return Err(err(ufile, line, &format!("{what} {field}"), msg));
         }
-        // A moving link (k ≥ 1) with neither mass nor inertia is a link whose data are missing.
-        if k >= 1 && inertial.mass == 0.0 && inertial.inertia.iter().all(|v| *v == 0.0) {
+        // A moving link (every entry of `model.links`, the first included) with neither mass
+        // nor inertia is a link whose data are missing.
+        if inertial.mass == 0.0 && inertial.inertia.iter().all(|v| *v == 0.0) {
             return Err(err(
                 ufile,
                 line,
