@@ -748,3 +748,22 @@ fn urdf_with_two_root_links_names_them() {
         "{e}"
     );
 }
+
+#[test]
+fn gcode_dwell_is_warned_as_not_timed_naming_the_line() {
+    let d = tmp("dwell");
+    let p = write(
+        &d,
+        "p.gcode",
+        "G21\nG90\nG1 X0 Y0 Z0 E1 F600\nG4 P500\nG1 X10 E2\nG4 S2\n",
+    );
+    let tp = printwatt::toolpath::load(&p, &Default::default()).unwrap();
+    let w = tp.warnings.join("\n");
+    assert!(
+        w.contains("line 4, 6")
+            && w.contains("G4 dwell")
+            && w.contains("2.5 s")
+            && w.contains("not timed"),
+        "{w}"
+    );
+}

@@ -197,6 +197,8 @@ pub fn parse_gcode(text: &str, file: &str, opts: &ReadOptions) -> Result<Toolpat
     let mut saw_pump = false;
     let mut started = false;
     let mut unknown: BTreeSet<String> = BTreeSet::new();
+    // `G4` dwells: (line, seconds when `P` (ms) or `S` (s) gives it).
+    let mut dwells: Vec<(usize, Option<f64>)> = Vec::new();
     let mut start = V3::zeros();
     let mut pending: Vec<PendingMove> = Vec::new();
     let mut marks: Vec<Mark> = Vec::new();
@@ -223,6 +225,7 @@ pub fn parse_gcode(text: &str, file: &str, opts: &ReadOptions) -> Result<Toolpat
         let mut axis: [Option<f64>; 3] = [None; 3];
         let mut first_axis_col = 0;
         let (mut wi, mut wj, mut wr, mut we, mut wf, mut wp) = (None, None, None, None, None, None);
+        let mut ws: Option<f64> = None;
         let mut gs: Vec<(i64, usize)> = Vec::new();
         let mut ms: Vec<(i64, usize)> = Vec::new();
         for w in &words {
@@ -242,6 +245,7 @@ pub fn parse_gcode(text: &str, file: &str, opts: &ReadOptions) -> Result<Toolpat
                 'E' => we = Some(w.value),
                 'F' => wf = Some((w.value, w.col)),
                 'P' => wp = Some(w.value),
+                'S' => ws = Some(w.value),
                 _ => {} // N, K, S, T, H, D, Q, A, B, C …: not needed for the path.
             }
         }
@@ -252,7 +256,11 @@ pub fn parse_gcode(text: &str, file: &str, opts: &ReadOptions) -> Result<Toolpat
         for &(g, col) in &gs {
             match g {
                 0 | 10 | 20 | 30 => line_motion = Some(((g / 10) as u8, col)),
-                40 => {} // dwell
+                // Dwell: `P` in ms (Marlin/RepRap), `S` in s. Not timed: warned below.
+                40 => dwells.push((
+                    lineno,
+                    wp.map(|p| p / 1000.0).or(ws).filter(|t| t.is_finite()),
+                )),
                 90 => exact_here = true,
                 170 => {}
                 180 | 190 => {
@@ -477,6 +485,17 @@ pub fn parse_gcode(text: &str, file: &str, opts: &ReadOptions) -> Result<Toolpat
         warnings.push(format!(
             "{file}: ignored codes: {}",
             unknown.into_iter().collect::<Vec<_>>().join(", ")
+        ));
+    }
+    if !dwells.is_empty() {
+        let total: f64 = dwells.iter().filter_map(|d| d.1).sum();
+        let lines: Vec<String> = dwells.iter().take(10).map(|d| d.0.to_string()).collect();
+        warnings.push(format!(
+            "{file}: line {}{}: G4 dwell ({} in all, {total} s given): dwells are not timed; \
+             the hold is missing from the cycle time and the standby energy",
+            lines.join(", "),
+            if dwells.len() > 10 { ", …" } else { "" },
+            dwells.len()
         ));
     }
     if infer_from_g {
