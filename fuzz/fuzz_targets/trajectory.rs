@@ -7,7 +7,9 @@ fuzz_target!(|data: &[u8]| {
     let Ok(text) = printwatt::error::decode_text(data, "fuzz.csv") else {
         return;
     };
-    if let Ok(t) = printwatt::table::Table::parse(&text, "fuzz.csv", &printwatt::trajectory::trajectory_dim) {
+    if let Ok(t) =
+        printwatt::table::Table::parse(&text, "fuzz.csv", &printwatt::trajectory::trajectory_dim)
+    {
         let _ = printwatt::trajectory::from_table(&t, 6);
     }
 });
