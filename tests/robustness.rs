@@ -750,19 +750,86 @@ fn urdf_with_two_root_links_names_them() {
 }
 
 #[test]
-fn gcode_dwell_is_warned_as_not_timed_naming_the_line() {
+fn gcode_dwell_is_timed_as_a_hold_at_the_point() {
+    use printwatt::energy::EnergyOptions;
+    use printwatt::placement::PathJob;
+    use printwatt::timing::{JointStageOptions, ProfileOptions};
+    use printwatt::toolpath::Placement;
     let d = tmp("dwell");
-    let p = write(
-        &d,
-        "p.gcode",
-        "G21\nG90\nG1 X0 Y0 Z0 E1 F600\nG4 P500\nG1 X10 E2\nG4 S2\n",
+    // Two print moves with a fine point (G61) between them, with and without `G4 P2000`.
+    let base = "G21\nG90\nG61\nG0 X0 Y0 Z20 F6000\nG1 X100 E1 F6000\n";
+    let tail = "G1 X100 Y100 E2\n";
+    let plain = write(&d, "plain.gcode", &format!("{base}{tail}"));
+    let dwell = write(&d, "dwell.gcode", &format!("{base}G4 P2000\n{tail}"));
+    let model = printwatt::robot::load(&root().join("robots/abb_irb6700_200_260")).unwrap();
+    let at = Placement::new(1.7, 0.0, 0.0, std::f64::consts::FRAC_PI_2);
+    let time = |p: &Path| {
+        let tp = printwatt::toolpath::load(p, &Default::default()).unwrap();
+        assert!(
+            !tp.warnings.iter().any(|w| w.contains("G4")),
+            "{:?}",
+            tp.warnings
+        );
+        let job = PathJob::new(
+            &model,
+            &tp,
+            EnergyOptions::default(),
+            ProfileOptions::default(),
+            JointStageOptions::default(),
+        )
+        .unwrap();
+        (
+            tp.dwells.clone(),
+            job.time(&printwatt::kinematics::IkSolver::new(&model).unwrap(), &at)
+                .unwrap(),
+        )
+    };
+    let (none, t0) = time(&plain);
+    let (dw, t1) = time(&dwell);
+    assert!(none.is_empty());
+    assert_eq!(dw.len(), 1);
+    assert_eq!((dw[0].line, dw[0].seconds), (6, 2.0));
+    let m = &t1.motion;
+    let grow = m.duration() - t0.motion.duration();
+    eprintln!(
+        "duration {} s -> {} s: +{grow} s",
+        t0.motion.duration(),
+        m.duration()
     );
+    assert!((grow - 2.0).abs() <= m.dt + 1e-9, "grew by {grow} s");
+    // The hold: the longest run of samples at the end of the first move, at rest.
+    let end = printwatt::math::V3::new(0.1, 0.0, 0.02);
+    let (mut best, mut run, mut best_end) = (0usize, 0usize, 0usize);
+    for (k, p) in m.p.iter().enumerate() {
+        if (p - end).norm() < 1e-9 {
+            run += 1;
+            if run > best {
+                best = run;
+                best_end = k;
+            }
+        } else {
+            run = 0;
+        }
+    }
+    let held = (best.saturating_sub(1)) as f64 * m.dt;
+    eprintln!("held at the end of the first move for {held} s ({best} samples)");
+    let filter = m.taps as f64 * m.dt;
+    assert!(
+        held >= 2.0 - filter - m.dt && held <= 2.0 + filter + m.dt,
+        "held {held} s"
+    );
+    for k in best_end + 1 - best..best_end {
+        let v = (m.p[k + 1] - m.p[k]).norm() / m.dt;
+        assert!(v < 1e-9, "speed {v} m/s at sample {k} during the hold");
+    }
+    // A `G4` without a duration stays a warning naming its line.
+    let p = write(&d, "bare.gcode", &format!("{base}G4\n{tail}"));
     let tp = printwatt::toolpath::load(&p, &Default::default()).unwrap();
     let w = tp.warnings.join("\n");
     assert!(
-        w.contains("line 4, 6")
+        tp.dwells.is_empty()
+            && w.contains("line 6")
             && w.contains("G4 dwell")
-            && w.contains("2.5 s")
             && w.contains("not timed"),
         "{w}"
     );

@@ -59,8 +59,10 @@ impl<'a> PathJob<'a> {
                 path.source
             )));
         }
-        timing::budget::check(&moves, &profile, robot.dof(), &path.source)?;
-        let pieces = timing::blend_path(&moves);
+        let dwells = timing::dwells_from_toolpath(path);
+        let dwell_s: f64 = dwells.iter().map(|d| d.1).sum();
+        timing::budget::check(&moves, dwell_s, &profile, robot.dof(), &path.source)?;
+        let pieces = timing::blend_path_with_dwells(&moves, &dwells);
         let plan = Plan::new(&pieces, &profile);
         Ok(PathJob {
             robot,

@@ -5,7 +5,8 @@
 //!
 //! The estimate is a lower bound of what planning allocates: the time is at least the sum of
 //! `length / speed` over the moves and at least `2 √(L / a)` (accelerating over the whole path
-//! and back), the samples are that time over the period plus the jerk filter's length
+//! and back), plus the dwells (`G4` holds), the samples are that time over the period plus the
+//! jerk filter's length
 //! `a / (j · dt)`, the speed nodes are the path length over the node spacing.
 
 use super::geometry::Move;
@@ -53,6 +54,16 @@ pub struct Estimate {
 
 /// Estimate what planning `moves` with `popts` needs for an `n`-joint arm.
 pub fn estimate(moves: &[Move], popts: &ProfileOptions, n: usize) -> Estimate {
+    estimate_with_dwell(moves, 0.0, popts, n)
+}
+
+/// [`estimate`] with `dwell_s` seconds of dwells (holds at rest) on the path.
+pub fn estimate_with_dwell(
+    moves: &[Move],
+    dwell_s: f64,
+    popts: &ProfileOptions,
+    n: usize,
+) -> Estimate {
     let mut t = 0.0;
     let mut length = 0.0;
     let mut slowest = (0, 0.0);
@@ -65,7 +76,7 @@ pub fn estimate(moves: &[Move], popts: &ProfileOptions, n: usize) -> Estimate {
         t += ti;
         length += len;
     }
-    let t = t.max(2.0 * (length / popts.accel).sqrt());
+    let t = t.max(2.0 * (length / popts.accel).sqrt()) + dwell_s;
     let taps = popts.accel / popts.jerk / popts.dt;
     let samples = t / popts.dt + taps;
     let nodes = length / popts.ds + moves.len() as f64;
@@ -85,7 +96,14 @@ pub fn estimate(moves: &[Move], popts: &ProfileOptions, n: usize) -> Estimate {
 
 /// Refuse a path whose planning would exceed the sample budget ([`max_samples`]); the error
 /// names `source`, the estimate and the likely cause.
-pub fn check(moves: &[Move], popts: &ProfileOptions, n: usize, source: &str) -> Result<()> {
+/// `dwell_s`: the total of the path's dwells (holds at rest), s.
+pub fn check(
+    moves: &[Move],
+    dwell_s: f64,
+    popts: &ProfileOptions,
+    n: usize,
+    source: &str,
+) -> Result<()> {
     for (what, v, unit) in [
         ("interpolation period", popts.dt, "s"),
         ("TCP acceleration limit", popts.accel, "m/s²"),
@@ -112,7 +130,16 @@ pub fn check(moves: &[Move], popts: &ProfileOptions, n: usize, source: &str) -> 
         }
     }
     let max = max_samples() as f64;
-    let e = estimate(moves, popts, n);
+    let e = estimate_with_dwell(moves, dwell_s, popts, n);
+    if dwell_s / popts.dt > max || dwell_s.is_nan() {
+        return Err(Error::Invalid(format!(
+            "{source}: the dwells (G4) add up to {dwell_s} s: {} samples at the {} s period, \
+             more than the {} samples the planner allows; shorten the dwells",
+            dwell_s / popts.dt,
+            popts.dt,
+            max_samples()
+        )));
+    }
     if e.samples <= max && e.nodes <= 2.0 * max {
         return Ok(());
     }
@@ -220,6 +247,7 @@ mod tests {
     fn a_slow_feed_is_named_with_a_did_you_mean() {
         let e = check(
             &[line(1.0, 0.025e-3)],
+            0.0,
             &ProfileOptions::default(),
             6,
             "a.gcode",
@@ -235,7 +263,14 @@ mod tests {
 
     #[test]
     fn an_ordinary_path_passes() {
-        check(&[line(5.8, 0.15)], &ProfileOptions::default(), 6, "a.gcode").unwrap();
+        check(
+            &[line(5.8, 0.15)],
+            0.0,
+            &ProfileOptions::default(),
+            6,
+            "a.gcode",
+        )
+        .unwrap();
         let est = estimate(&[line(5.8, 0.15)], &ProfileOptions::default(), 6);
         assert!((est.duration_s - 5.8 / 0.15).abs() < 1e-9);
     }

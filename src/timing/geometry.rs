@@ -260,6 +260,11 @@ pub struct Piece {
     pub blend: bool,
     /// Whether the path must stop (v = 0) at the end of this piece.
     pub stop_after: bool,
+    /// Time held at rest at the end of this piece (a dwell), s; 0 = none. Implies `stop_after`.
+    pub dwell_after: f64,
+    /// Time held at rest at the start of this piece, s; only on the first piece (a dwell
+    /// before any move), 0 = none.
+    pub dwell_before: f64,
 }
 
 /// Replace every corner that has a zone by a blend inside the zone; stop at fine corners.
@@ -310,6 +315,8 @@ pub fn blend_path(moves: &[Move]) -> Vec<Piece> {
             move_index: k,
             blend: false,
             stop_after: stop[k] || k + 1 == n,
+            dwell_after: 0.0,
+            dwell_before: 0.0,
         });
         if cut_end[k] > 0.0 {
             let nx = &moves[k + 1];
@@ -324,8 +331,55 @@ pub fn blend_path(moves: &[Move]) -> Vec<Piece> {
                 move_index: k,
                 blend: true,
                 stop_after: false,
+                dwell_after: 0.0,
+                dwell_before: 0.0,
             });
         }
+    }
+    out
+}
+
+/// Put dwells on blended pieces: `(k, seconds)` holds the path at rest for `seconds` at the end
+/// of programmed move `k` (`None`: at the start, before the first move). The move before a
+/// dwell stops: its corner blend, if any, is undone (the pieces are rebuilt from `moves`).
+/// A dwell at the start is held as `dwell_before` of the first piece.
+pub fn blend_path_with_dwells(moves: &[Move], dwells: &[(Option<usize>, f64)]) -> Vec<Piece> {
+    let mut at_start = 0.0;
+    if dwells.is_empty() {
+        return blend_path(moves);
+    }
+    let mut after = vec![0.0; moves.len()];
+    for &(k, t) in dwells {
+        match k {
+            Some(k) if k < moves.len() => after[k] += t,
+            Some(_) => {
+                if let Some(last) = after.last_mut() {
+                    *last += t;
+                }
+            }
+            None => at_start += t,
+        }
+    }
+    // Blend each run of moves between dwells on its own, so that the move before a dwell
+    // ends exactly at its programmed end point, at rest.
+    let mut out = Vec::with_capacity(moves.len() * 2);
+    let mut first = 0;
+    for k in 0..moves.len() {
+        if after[k] > 0.0 || k + 1 == moves.len() {
+            let offset = first;
+            for mut p in blend_path(&moves[first..=k]) {
+                p.move_index += offset;
+                out.push(p);
+            }
+            if let Some(last) = out.last_mut() {
+                last.stop_after = true;
+                last.dwell_after = after[k];
+            }
+            first = k + 1;
+        }
+    }
+    if let Some(p) = out.first_mut() {
+        p.dwell_before = at_start;
     }
     out
 }

@@ -517,7 +517,8 @@ pub fn time_path_planned(
                     0.0
                 }
             })
-            .sum();
+            .sum::<f64>()
+            + nodes.dwell_total();
         let samples = t_est / opts.dt + opts.accel / opts.jerk / opts.dt;
         if samples.is_nan() || samples > super::budget::max_samples() as f64 {
             let w = viol

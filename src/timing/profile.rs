@@ -45,6 +45,16 @@ pub struct Nodes {
     pub piece: Vec<usize>,
     /// Speed cap from the commanded speed, curvature and stops, m/s.
     pub cap: Vec<f64>,
+    /// Time held at rest at each node before leaving it (dwells), s; empty when the path has
+    /// no dwells (then 0 everywhere).
+    pub dwell: Vec<f64>,
+}
+
+impl Nodes {
+    /// Total time held at rest at the nodes (dwells), s.
+    pub fn dwell_total(&self) -> f64 {
+        self.dwell.iter().sum()
+    }
 }
 
 /// Start arc length of each piece, m (one more entry: the total length).
@@ -62,6 +72,8 @@ pub fn piece_starts(pieces: &[Piece]) -> Vec<f64> {
 /// Evaluate the speed caps at nodes no more than `opts.ds` apart.
 pub fn nodes(pieces: &[Piece], opts: &ProfileOptions) -> Nodes {
     let mut n = Nodes::default();
+    // (node, seconds) of the dwells.
+    let mut dwells: Vec<(usize, f64)> = Vec::new();
     let mut s0 = 0.0;
     for (k, p) in pieces.iter().enumerate() {
         let len = p.prim.length();
@@ -76,11 +88,17 @@ pub fn nodes(pieces: &[Piece], opts: &ProfileOptions) -> Nodes {
             if i == 0 {
                 if k == 0 {
                     cap = 0.0;
+                    if p.dwell_before > 0.0 {
+                        dwells.push((n.s.len(), p.dwell_before));
+                    }
                 } else {
                     let prev = &pieces[k - 1];
                     cap = cap.min(prev.speed);
-                    if prev.stop_after {
+                    if prev.stop_after || prev.dwell_after > 0.0 {
                         cap = 0.0;
+                    }
+                    if prev.dwell_after > 0.0 {
+                        dwells.push((n.s.len(), prev.dwell_after));
                     }
                 }
             }
@@ -90,9 +108,20 @@ pub fn nodes(pieces: &[Piece], opts: &ProfileOptions) -> Nodes {
         }
         s0 += len;
     }
+    if let Some(last) = pieces.last() {
+        if last.dwell_after > 0.0 {
+            dwells.push((n.s.len(), last.dwell_after));
+        }
+    }
     n.s.push(s0);
     n.piece.push(pieces.len().saturating_sub(1));
     n.cap.push(0.0);
+    if !dwells.is_empty() {
+        n.dwell = vec![0.0; n.s.len()];
+        for (i, t) in dwells {
+            n.dwell[i] += t;
+        }
+    }
     n
 }
 
@@ -112,28 +141,45 @@ pub fn speed_at_nodes(nodes: &Nodes, scale: &[f64], accel: f64) -> Vec<f64> {
 }
 
 /// Uniform-time samples of arc length `s(t)` (m) for node speeds `v`, constant acceleration
-/// between nodes, period `dt`.
+/// between nodes, period `dt`. The path is held at rest at node `i` for `nodes.dwell[i]`.
 pub fn sample_arc_length(nodes: &Nodes, v: &[f64], dt: f64) -> Vec<f64> {
     let n = nodes.s.len();
-    // Time at each node.
-    let mut tn = vec![0.0; n];
+    // Arrival time `ta` and leaving time `tl` at each node (equal without dwells).
+    let mut ta = vec![0.0; n];
+    let has_dwell = nodes.dwell.len() == n;
+    let mut tl = if has_dwell {
+        let mut t = vec![0.0; n];
+        t[0] = nodes.dwell[0];
+        t
+    } else {
+        Vec::new()
+    };
     for i in 1..n {
         let ds = nodes.s[i] - nodes.s[i - 1];
         let vs = v[i] + v[i - 1];
-        tn[i] = tn[i - 1] + if vs > 0.0 { 2.0 * ds / vs } else { 0.0 };
+        let t_prev = if has_dwell { tl[i - 1] } else { ta[i - 1] };
+        ta[i] = t_prev + if vs > 0.0 { 2.0 * ds / vs } else { 0.0 };
+        if has_dwell {
+            tl[i] = ta[i] + nodes.dwell[i];
+        }
     }
-    let total = tn[n - 1];
+    let tl: &[f64] = if has_dwell { &tl } else { &ta };
+    let total = tl[n - 1];
     let steps = (total / dt).ceil() as usize;
     let mut out = Vec::with_capacity(steps + 1);
     let mut i = 1;
     for k in 0..=steps {
         let t = (k as f64 * dt).min(total);
-        while i < n - 1 && tn[i] < t {
+        while i < n - 1 && tl[i] < t {
             i += 1;
         }
-        let (t0, t1) = (tn[i - 1], tn[i]);
+        let (t0, t1) = (tl[i - 1], ta[i]);
         let ds = nodes.s[i] - nodes.s[i - 1];
-        let s = if t1 > t0 {
+        let s = if has_dwell && t >= t1 {
+            nodes.s[i] // arrived (and held there during a dwell)
+        } else if has_dwell && t <= t0 {
+            nodes.s[i - 1] // still held at the previous node
+        } else if t1 > t0 {
             let tau = t - t0;
             let a = (v[i] * v[i] - v[i - 1] * v[i - 1]) / (2.0 * ds);
             (nodes.s[i - 1] + v[i - 1] * tau + 0.5 * a * tau * tau)

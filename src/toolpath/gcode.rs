@@ -6,7 +6,9 @@
 //! during an arc); `G90`/`G91` absolute/relative (also switch E, as Marlin does), `M82`/`M83`
 //! absolute/relative E; `G20`/`G21` inches/mm; `G92` set position (X Y Z E; no axes = all 0);
 //! `G61` exact stop (zone fine), `G64` blend (`P` = blend radius in file units, no `P` = the
-//! caller's default), `G9` exact stop on its line; comments `;` and `( … )`; `N…` line
+//! caller's default), `G9` exact stop on its line; `G4` dwell (`P` in ms or `S` in s: the
+//! path stops and holds still there for that time, see [`Toolpath::dwells`]; without either,
+//! a warning naming the line); comments `;` and `( … )`; `N…` line
 //! numbers; `*…` checksums; `%`; `; MARK name` comments become [`Mark`]s.
 //!
 //! Extrusion: a move prints when E increases on it, or when extrusion has been switched on by
@@ -26,7 +28,7 @@
 
 use std::collections::BTreeSet;
 
-use super::{ccw_angle, perr, Mark, Move, MoveKind, ReadOptions, Toolpath, Zone};
+use super::{ccw_angle, perr, Dwell, Mark, Move, MoveKind, ReadOptions, Toolpath, Zone};
 use crate::error::Result;
 use crate::math::V3;
 
@@ -197,8 +199,10 @@ pub fn parse_gcode(text: &str, file: &str, opts: &ReadOptions) -> Result<Toolpat
     let mut saw_pump = false;
     let mut started = false;
     let mut unknown: BTreeSet<String> = BTreeSet::new();
-    // `G4` dwells: (line, seconds when `P` (ms) or `S` (s) gives it).
-    let mut dwells: Vec<(usize, Option<f64>)> = Vec::new();
+    // `G4` dwells with a usable duration (`P` in ms or `S` in s), and the lines of those
+    // without one.
+    let mut dwells: Vec<Dwell> = Vec::new();
+    let mut untimed_dwells: Vec<usize> = Vec::new();
     let mut start = V3::zeros();
     let mut pending: Vec<PendingMove> = Vec::new();
     let mut marks: Vec<Mark> = Vec::new();
@@ -256,11 +260,20 @@ pub fn parse_gcode(text: &str, file: &str, opts: &ReadOptions) -> Result<Toolpat
         for &(g, col) in &gs {
             match g {
                 0 | 10 | 20 | 30 => line_motion = Some(((g / 10) as u8, col)),
-                // Dwell: `P` in ms (Marlin/RepRap), `S` in s. Not timed: warned below.
-                40 => dwells.push((
-                    lineno,
-                    wp.map(|p| p / 1000.0).or(ws).filter(|t| t.is_finite()),
-                )),
+                // Dwell: `P` in ms (Marlin/RepRap), `S` in s: a hold at rest after the last
+                // move so far. Without a usable duration: warned below.
+                40 => match wp
+                    .map(|p| p / 1000.0)
+                    .or(ws)
+                    .filter(|t| t.is_finite() && *t >= 0.0)
+                {
+                    Some(seconds) => dwells.push(Dwell {
+                        after_move: pending.len().checked_sub(1),
+                        seconds,
+                        line: lineno,
+                    }),
+                    None => untimed_dwells.push(lineno),
+                },
                 90 => exact_here = true,
                 170 => {}
                 180 | 190 => {
@@ -487,15 +500,22 @@ pub fn parse_gcode(text: &str, file: &str, opts: &ReadOptions) -> Result<Toolpat
             unknown.into_iter().collect::<Vec<_>>().join(", ")
         ));
     }
-    if !dwells.is_empty() {
-        let total: f64 = dwells.iter().filter_map(|d| d.1).sum();
-        let lines: Vec<String> = dwells.iter().take(10).map(|d| d.0.to_string()).collect();
+    if !untimed_dwells.is_empty() {
+        let lines: Vec<String> = untimed_dwells
+            .iter()
+            .take(10)
+            .map(|l| l.to_string())
+            .collect();
         warnings.push(format!(
-            "{file}: line {}{}: G4 dwell ({} in all, {total} s given): dwells are not timed; \
-             the hold is missing from the cycle time and the standby energy",
+            "{file}: line {}{}: G4 dwell without a usable P<ms> or S<s> ({} in all): \
+             not timed, the hold is missing from the cycle time and the standby energy",
             lines.join(", "),
-            if dwells.len() > 10 { ", …" } else { "" },
-            dwells.len()
+            if untimed_dwells.len() > 10 {
+                ", …"
+            } else {
+                ""
+            },
+            untimed_dwells.len()
         ));
     }
     if infer_from_g {
@@ -514,6 +534,7 @@ pub fn parse_gcode(text: &str, file: &str, opts: &ReadOptions) -> Result<Toolpat
         moves,
         marks,
         warnings,
+        dwells,
     })
 }
 

@@ -162,6 +162,19 @@ pub struct Toolpath {
     pub marks: Vec<Mark>,
     /// Non-fatal notes from the reader (ignored codes, assumptions). The library never prints.
     pub warnings: Vec<String>,
+    /// Timed holds at rest (G-code `G4`), in order.
+    pub dwells: Vec<Dwell>,
+}
+
+/// A hold at rest on the path (G-code `G4 P<ms>` / `G4 S<s>`).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Dwell {
+    /// Index of the move the dwell follows; `None`: before any move, at the start point.
+    pub after_move: Option<usize>,
+    /// Duration, s (finite, ≥ 0).
+    pub seconds: f64,
+    /// Source line.
+    pub line: usize,
 }
 
 /// Relative tolerance used to tell z levels apart in [`Toolpath::layer_count`], m.
