@@ -16,7 +16,9 @@
 //!   no longer running are removed.
 //! - [`run_name`] keeps `--run` inside `--results-dir` (no `..`, no absolute path).
 //! - [`check_finite`] is the last check before numbers leave: a NaN or an infinity becomes an
-//!   error naming the first sample and quantity where it appeared.
+//!   error naming the first sample and quantity where it appeared; [`check_finite_json`] does
+//!   the same for any serialisable result (every `--json` print and JSON file), naming the JSON
+//!   path of the first one.
 
 use crate::error::{Error, Result};
 use sha2::{Digest, Sha256};
@@ -623,15 +625,352 @@ pub fn check_finite<'a>(
     rows: impl Iterator<Item = &'a [f64]>,
 ) -> Result<()> {
     for (k, r) in rows.enumerate() {
-        if let Some(j) = r.iter().position(|v| !v.is_finite()) {
-            let q = columns.get(j).map_or("?", String::as_str);
-            return Err(Error::Invalid(format!(
-                "{what}: `{q}` is {} at sample {k}: the model produced a number that is not a number; check the robot's drive and inertia data",
-                r[j]
-            )));
-        }
+        check_finite_row(what, columns, k, r)?;
     }
     Ok(())
+}
+
+/// [`check_finite`] for one row, sample `k` (0-based), for writers that produce rows one at a
+/// time.
+pub fn check_finite_row(what: &str, columns: &[String], k: usize, row: &[f64]) -> Result<()> {
+    if let Some(j) = row.iter().position(|v| !v.is_finite()) {
+        let q = columns.get(j).map_or("?", String::as_str);
+        return Err(Error::Invalid(format!(
+            "{what}: `{q}` is {} at sample {k}: the model produced a number that is not a number; check the robot's drive and inertia data",
+            row[j]
+        )));
+    }
+    Ok(())
+}
+
+/// The last check before a serialisable result leaves printwatt (a `--json` print, a
+/// `compare.json`, an `identify.json`, ...): a NaN or an infinity anywhere inside `value` is an
+/// error naming `what` and the JSON path of the first one, e.g. `channels[2].rmse` (a time
+/// series' index is its sample).
+///
+/// The check walks `value`'s own [`serde::Serialize`] output with a serialiser that keeps the
+/// path and writes nothing. It must run on the typed value, before `serde_json` sees it:
+/// `serde_json` silently turns NaN and infinities into `null`.
+pub fn check_finite_json<T: serde::Serialize + ?Sized>(what: &str, value: &T) -> Result<()> {
+    let mut f = finite::Finder::default();
+    match value.serialize(&mut f) {
+        Err(finite::Found::NonFinite { path, value }) => {
+            let path = if path.is_empty() {
+                "(the value itself)".to_string()
+            } else {
+                path.trim_start_matches('.').to_string()
+            };
+            Err(Error::Invalid(format!(
+                "{what}: `{path}` is {value}: the model produced a number that is not a number; nothing was written; check the robot's drive and inertia data and the log"
+            )))
+        }
+        // Anything else (a map key JSON cannot hold, ...) is the serialiser's to report.
+        Err(finite::Found::Other(_)) | Ok(()) => Ok(()),
+    }
+}
+
+/// The serialiser behind [`check_finite_json`]: it follows the value, records the path of
+/// struct fields (`.name`), map keys (`.key`), sequence elements (`[i]`) and enum variants,
+/// and stops at the first non-finite float.
+mod finite {
+    use serde::ser::{self, Serialize};
+    use std::fmt;
+
+    #[derive(Default)]
+    pub struct Finder {
+        path: Vec<String>,
+    }
+
+    #[derive(Debug)]
+    pub enum Found {
+        NonFinite { path: String, value: f64 },
+        Other(String),
+    }
+
+    impl fmt::Display for Found {
+        fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+            match self {
+                Found::NonFinite { path, value } => write!(f, "{path} = {value}"),
+                Found::Other(m) => f.write_str(m),
+            }
+        }
+    }
+
+    impl std::error::Error for Found {}
+
+    impl ser::Error for Found {
+        fn custom<T: fmt::Display>(msg: T) -> Self {
+            Found::Other(msg.to_string())
+        }
+    }
+
+    impl Finder {
+        fn float(&self, v: f64) -> Result<(), Found> {
+            if v.is_finite() {
+                Ok(())
+            } else {
+                Err(Found::NonFinite {
+                    path: self.path.concat(),
+                    value: v,
+                })
+            }
+        }
+
+        fn under<T: Serialize + ?Sized>(&mut self, seg: String, v: &T) -> Result<(), Found> {
+            self.path.push(seg);
+            let r = v.serialize(&mut *self);
+            self.path.pop();
+            r
+        }
+    }
+
+    /// A map key as the path shows it: a string as is, anything else as JSON would print it.
+    fn key_name<T: Serialize + ?Sized>(key: &T) -> String {
+        match serde_json::to_value(key) {
+            Ok(serde_json::Value::String(s)) => s,
+            Ok(v) => v.to_string(),
+            Err(_) => "?".into(),
+        }
+    }
+
+    pub struct Compound<'a> {
+        f: &'a mut Finder,
+        i: usize,
+        key: String,
+    }
+
+    impl<'a> Compound<'a> {
+        fn new(f: &'a mut Finder) -> Self {
+            Compound {
+                f,
+                i: 0,
+                key: String::new(),
+            }
+        }
+        fn element<T: Serialize + ?Sized>(&mut self, v: &T) -> Result<(), Found> {
+            let seg = format!("[{}]", self.i);
+            self.i += 1;
+            self.f.under(seg, v)
+        }
+    }
+
+    impl ser::SerializeSeq for Compound<'_> {
+        type Ok = ();
+        type Error = Found;
+        fn serialize_element<T: Serialize + ?Sized>(&mut self, v: &T) -> Result<(), Found> {
+            self.element(v)
+        }
+        fn end(self) -> Result<(), Found> {
+            Ok(())
+        }
+    }
+
+    impl ser::SerializeTuple for Compound<'_> {
+        type Ok = ();
+        type Error = Found;
+        fn serialize_element<T: Serialize + ?Sized>(&mut self, v: &T) -> Result<(), Found> {
+            self.element(v)
+        }
+        fn end(self) -> Result<(), Found> {
+            Ok(())
+        }
+    }
+
+    impl ser::SerializeTupleStruct for Compound<'_> {
+        type Ok = ();
+        type Error = Found;
+        fn serialize_field<T: Serialize + ?Sized>(&mut self, v: &T) -> Result<(), Found> {
+            self.element(v)
+        }
+        fn end(self) -> Result<(), Found> {
+            Ok(())
+        }
+    }
+
+    impl ser::SerializeTupleVariant for Compound<'_> {
+        type Ok = ();
+        type Error = Found;
+        fn serialize_field<T: Serialize + ?Sized>(&mut self, v: &T) -> Result<(), Found> {
+            self.element(v)
+        }
+        fn end(self) -> Result<(), Found> {
+            self.f.path.pop();
+            Ok(())
+        }
+    }
+
+    impl ser::SerializeMap for Compound<'_> {
+        type Ok = ();
+        type Error = Found;
+        fn serialize_key<T: Serialize + ?Sized>(&mut self, key: &T) -> Result<(), Found> {
+            self.key = key_name(key);
+            Ok(())
+        }
+        fn serialize_value<T: Serialize + ?Sized>(&mut self, v: &T) -> Result<(), Found> {
+            let seg = format!(".{}", self.key);
+            self.f.under(seg, v)
+        }
+        fn end(self) -> Result<(), Found> {
+            Ok(())
+        }
+    }
+
+    impl ser::SerializeStruct for Compound<'_> {
+        type Ok = ();
+        type Error = Found;
+        fn serialize_field<T: Serialize + ?Sized>(
+            &mut self,
+            name: &'static str,
+            v: &T,
+        ) -> Result<(), Found> {
+            self.f.under(format!(".{name}"), v)
+        }
+        fn end(self) -> Result<(), Found> {
+            Ok(())
+        }
+    }
+
+    impl ser::SerializeStructVariant for Compound<'_> {
+        type Ok = ();
+        type Error = Found;
+        fn serialize_field<T: Serialize + ?Sized>(
+            &mut self,
+            name: &'static str,
+            v: &T,
+        ) -> Result<(), Found> {
+            self.f.under(format!(".{name}"), v)
+        }
+        fn end(self) -> Result<(), Found> {
+            self.f.path.pop();
+            Ok(())
+        }
+    }
+
+    impl<'a> ser::Serializer for &'a mut Finder {
+        type Ok = ();
+        type Error = Found;
+        type SerializeSeq = Compound<'a>;
+        type SerializeTuple = Compound<'a>;
+        type SerializeTupleStruct = Compound<'a>;
+        type SerializeTupleVariant = Compound<'a>;
+        type SerializeMap = Compound<'a>;
+        type SerializeStruct = Compound<'a>;
+        type SerializeStructVariant = Compound<'a>;
+
+        fn serialize_bool(self, _: bool) -> Result<(), Found> {
+            Ok(())
+        }
+        fn serialize_i8(self, _: i8) -> Result<(), Found> {
+            Ok(())
+        }
+        fn serialize_i16(self, _: i16) -> Result<(), Found> {
+            Ok(())
+        }
+        fn serialize_i32(self, _: i32) -> Result<(), Found> {
+            Ok(())
+        }
+        fn serialize_i64(self, _: i64) -> Result<(), Found> {
+            Ok(())
+        }
+        fn serialize_u8(self, _: u8) -> Result<(), Found> {
+            Ok(())
+        }
+        fn serialize_u16(self, _: u16) -> Result<(), Found> {
+            Ok(())
+        }
+        fn serialize_u32(self, _: u32) -> Result<(), Found> {
+            Ok(())
+        }
+        fn serialize_u64(self, _: u64) -> Result<(), Found> {
+            Ok(())
+        }
+        fn serialize_f32(self, v: f32) -> Result<(), Found> {
+            self.float(f64::from(v))
+        }
+        fn serialize_f64(self, v: f64) -> Result<(), Found> {
+            self.float(v)
+        }
+        fn serialize_char(self, _: char) -> Result<(), Found> {
+            Ok(())
+        }
+        fn serialize_str(self, _: &str) -> Result<(), Found> {
+            Ok(())
+        }
+        fn serialize_bytes(self, _: &[u8]) -> Result<(), Found> {
+            Ok(())
+        }
+        fn serialize_none(self) -> Result<(), Found> {
+            Ok(())
+        }
+        fn serialize_some<T: Serialize + ?Sized>(self, v: &T) -> Result<(), Found> {
+            v.serialize(self)
+        }
+        fn serialize_unit(self) -> Result<(), Found> {
+            Ok(())
+        }
+        fn serialize_unit_struct(self, _: &'static str) -> Result<(), Found> {
+            Ok(())
+        }
+        fn serialize_unit_variant(
+            self,
+            _: &'static str,
+            _: u32,
+            _: &'static str,
+        ) -> Result<(), Found> {
+            Ok(())
+        }
+        fn serialize_newtype_struct<T: Serialize + ?Sized>(
+            self,
+            _: &'static str,
+            v: &T,
+        ) -> Result<(), Found> {
+            v.serialize(self)
+        }
+        fn serialize_newtype_variant<T: Serialize + ?Sized>(
+            self,
+            _: &'static str,
+            _: u32,
+            variant: &'static str,
+            v: &T,
+        ) -> Result<(), Found> {
+            self.under(format!(".{variant}"), v)
+        }
+        fn serialize_seq(self, _: Option<usize>) -> Result<Compound<'a>, Found> {
+            Ok(Compound::new(self))
+        }
+        fn serialize_tuple(self, _: usize) -> Result<Compound<'a>, Found> {
+            Ok(Compound::new(self))
+        }
+        fn serialize_tuple_struct(self, _: &'static str, _: usize) -> Result<Compound<'a>, Found> {
+            Ok(Compound::new(self))
+        }
+        fn serialize_tuple_variant(
+            self,
+            _: &'static str,
+            _: u32,
+            variant: &'static str,
+            _: usize,
+        ) -> Result<Compound<'a>, Found> {
+            self.path.push(format!(".{variant}"));
+            Ok(Compound::new(self))
+        }
+        fn serialize_map(self, _: Option<usize>) -> Result<Compound<'a>, Found> {
+            Ok(Compound::new(self))
+        }
+        fn serialize_struct(self, _: &'static str, _: usize) -> Result<Compound<'a>, Found> {
+            Ok(Compound::new(self))
+        }
+        fn serialize_struct_variant(
+            self,
+            _: &'static str,
+            _: u32,
+            variant: &'static str,
+            _: usize,
+        ) -> Result<Compound<'a>, Found> {
+            self.path.push(format!(".{variant}"));
+            Ok(Compound::new(self))
+        }
+    }
 }
 
 /// Format a CSV: header cells then rows of numbers with full round-trip precision.

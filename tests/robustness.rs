@@ -834,3 +834,86 @@ fn gcode_dwell_is_timed_as_a_hold_at_the_point() {
         "{w}"
     );
 }
+
+/// Issue 10: the shared last check before any result leaves printwatt. serde_json writes NaN
+/// and infinities as `null`, so the check walks the typed value; the error names the JSON path
+/// of the first non-finite number (a time series' index is its sample).
+#[test]
+fn non_finite_numbers_never_reach_json_outputs() {
+    use printwatt::output::check_finite_json;
+    use std::collections::BTreeMap;
+
+    #[derive(serde::Serialize)]
+    struct Joint {
+        name: String,
+        rmse: f64,
+        samples: Vec<f64>,
+        note: Option<f64>,
+    }
+    #[derive(serde::Serialize)]
+    enum Kind {
+        Fit { residual: (u32, f32) },
+    }
+    #[derive(serde::Serialize)]
+    struct Report {
+        joints: Vec<Joint>,
+        kind: Kind,
+        extra: BTreeMap<String, f64>,
+    }
+    let joint = |rmse: f64, s: f64| Joint {
+        name: "j".into(),
+        rmse,
+        samples: vec![1.0, s, 3.0],
+        note: None,
+    };
+    let ok = || Report {
+        joints: vec![joint(1.0, 2.0), joint(1.5, 2.5), joint(0.5, 4.0)],
+        kind: Kind::Fit {
+            residual: (3, 0.25),
+        },
+        extra: BTreeMap::from([("a".to_string(), 1.0)]),
+    };
+    assert!(check_finite_json("report", &ok()).is_ok());
+
+    // A NaN deep inside: the error names the quantity's path.
+    let mut r = ok();
+    r.joints[2].rmse = f64::NAN;
+    let e = check_finite_json("report", &r).unwrap_err().to_string();
+    assert!(
+        e.contains("report") && e.contains("`joints[2].rmse` is NaN"),
+        "{e}"
+    );
+
+    // In a time series: the first one, naming the sample.
+    let mut r = ok();
+    r.joints[1].samples[1] = f64::INFINITY;
+    r.joints[2].rmse = f64::NAN;
+    let e = check_finite_json("report", &r).unwrap_err().to_string();
+    assert!(e.contains("`joints[1].samples[1]` is inf"), "{e}");
+
+    // Options, enum variants, tuples, f32 and map keys.
+    let mut r = ok();
+    r.joints[0].note = Some(f64::NEG_INFINITY);
+    let e = check_finite_json("report", &r).unwrap_err().to_string();
+    assert!(e.contains("`joints[0].note` is -inf"), "{e}");
+    let mut r = ok();
+    r.kind = Kind::Fit {
+        residual: (3, f32::NAN),
+    };
+    let e = check_finite_json("report", &r).unwrap_err().to_string();
+    assert!(e.contains("`kind.Fit.residual[1]` is NaN"), "{e}");
+    let mut r = ok();
+    r.extra.insert("power_W".into(), f64::NAN);
+    let e = check_finite_json("report", &r).unwrap_err().to_string();
+    assert!(e.contains("`extra.power_W` is NaN"), "{e}");
+
+    // A bare number and a flat time series.
+    assert!(check_finite_json("x", &f64::NAN)
+        .unwrap_err()
+        .to_string()
+        .contains("NaN"));
+    let e = check_finite_json("power", &vec![0.0, 1.0, f64::NAN])
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("`[2]` is NaN"), "{e}");
+}

@@ -80,7 +80,20 @@ pub fn run(a: super::CompareArgs) -> Result<()> {
     let prep = identify::Prepared::new(&model, &log)?;
     let (mut cmp, pred) = metrics::compare(&prep, &model);
     cmp.calibration = robot.effects.calibration_summary();
+    // The last check before anything leaves: the JSON, the report and the printed table.
+    crate::output::check_finite_json("compare", &cmp)?;
     if let Some(dir) = &a.out {
+        // The report plots the model's prediction, sample by sample.
+        let ch = log.channels.max(1);
+        let names: Vec<String> = (0..ch)
+            .map(|c| {
+                cmp.channels.get(c).map_or_else(
+                    || format!("channel {}", c + 1),
+                    |x| format!("model {}", x.name),
+                )
+            })
+            .collect();
+        crate::output::check_finite("compare: model prediction", &names, pred.chunks(ch))?;
         crate::output::write_file(
             &dir.join("compare.json"),
             serde_json::to_string_pretty(&cmp)?.as_bytes(),

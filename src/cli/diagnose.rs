@@ -9,6 +9,8 @@ pub fn run(a: super::DiagnoseArgs) -> Result<()> {
     let prep = identify::Prepared::new(&model, &log)?;
     let mut d = diagnose::diagnose(&prep, &mut model, a.folds)?;
     d.calibration = robot.effects.calibration_summary();
+    // The last check before anything leaves (the JSON or the printed ranking).
+    crate::output::check_finite_json("diagnose", &d)?;
     if a.json {
         super::print_json(&d)?;
         return Ok(());

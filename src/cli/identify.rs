@@ -78,6 +78,8 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
         &effects,
         what,
     )?;
+    // The last check before anything leaves: the calibrated robot, the files, the JSON.
+    crate::output::check_finite_json("identify", &id)?;
     let drive_src = identify::model::drive_file_of(&resolved);
     let installed = super::default_robots_dir();
     identify::calibrate::write_calibrated(

@@ -306,6 +306,8 @@ pub fn warnings() -> Vec<Warning> {
 /// Print a `--json` answer with the warnings noted so far added as `warnings` (an object's
 /// key; other values are wrapped as `{"result": …, "warnings": […]}`).
 pub fn print_json<T: serde::Serialize>(v: &T) -> Result<()> {
+    // Before serde_json sees it: serde_json writes NaN and infinities as `null`.
+    crate::output::check_finite_json("JSON output", v)?;
     let mut v = serde_json::to_value(v)?;
     add_warnings(&mut v);
     println!("{}", serde_json::to_string_pretty(&v)?);

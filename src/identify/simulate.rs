@@ -244,20 +244,28 @@ simulate `tau`, `p` or `p_total`",
     for k in 0..traj.len() {
         truth.torque(traj.q(k), traj.qd(k), traj.qdd(k), &mut tau)?;
         truth.signal_from_torque(opt.kind, &tau, traj.qd(k), &mut y);
-        let mut row = vec![format!("{:.6}", traj.t[k])];
+        let mut vals = vec![traj.t[k]];
         for j in 0..n {
-            row.push(format!(
-                "{:.9}",
-                traj.q(k)[j] + opt.noise_q * gauss(&mut rng)
-            ));
+            vals.push(traj.q(k)[j] + opt.noise_q * gauss(&mut rng));
         }
         for v in &y {
             let mut x = v + opt.noise * gauss(&mut rng);
             if opt.kind == SignalKind::Current && opt.current_quantum > 0.0 {
                 x = (x / opt.current_quantum).round() * opt.current_quantum;
             }
-            row.push(format!("{x:.6}"));
+            vals.push(x);
         }
+        // The last check before the numbers leave: the error names the sample and column.
+        crate::output::check_finite_row("simulated log", &head, k, &vals)?;
+        let row: Vec<String> = vals
+            .iter()
+            .enumerate()
+            .map(|(i, v)| match i {
+                0 => format!("{v:.6}"),
+                i if i <= n => format!("{v:.9}"),
+                _ => format!("{v:.6}"),
+            })
+            .collect();
         s.push_str(&row.join(","));
         s.push('\n');
     }
