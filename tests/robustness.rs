@@ -366,6 +366,22 @@ fn gcode_f1_5_is_refused_with_a_did_you_mean() {
 }
 
 #[test]
+fn gcode_f1_5_on_a_short_move_warns_with_a_did_you_mean() {
+    // Short enough to stay within the sample budget (so it is timed), but the user is told.
+    let d = tmp("f15short");
+    robot_copy(&d);
+    write(&d, "p.gcode", "G21\nG90\nG0 X0 Y0 Z20\nG1 X2 E1 F1.5\n");
+    let o = energy_at(&d, "rob", "p.gcode", &[]);
+    assert_eq!(o.status.code(), Some(0), "{}", err(&o));
+    let e = err(&o);
+    assert!(e.contains("line 4"), "{e}");
+    assert!(
+        e.contains("F1.5 mm/min is 0.025 mm/s; did you mean F1500?"),
+        "{e}"
+    );
+}
+
+#[test]
 fn huge_coordinates_are_an_error_not_a_panic_or_a_hang() {
     let d = tmp("huge");
     robot_copy(&d);

@@ -414,9 +414,53 @@ pub fn load(path: &Path, opts: &ReadOptions) -> Result<Toolpath> {
         }
     };
     let text = read_text(path)?;
-    let tp = parse(&text, &name, opts)?;
+    let mut tp = parse(&text, &name, opts)?;
     check_extent(&tp, &name)?;
+    warn_slow_moves(
+        &mut tp,
+        &name,
+        matches!(ext.as_str(), "gcode" | "nc" | "ngc" | "g"),
+    );
     Ok(tp)
+}
+
+/// Commanded speeds below this are implausible for printing (m/s): 1 mm/s, a sixtieth of the
+/// slowest 3DCP print speeds. Such a speed is usually a unit slip (`F1.5` meant `F1500`).
+pub const SLOW_MOVE_M_S: f64 = 1e-3;
+
+/// Warn (naming the lines) about moves commanded below [`SLOW_MOVE_M_S`]. Paths too long to
+/// time at such a speed are refused later by the timing budget; shorter ones still run, so
+/// the user must be told.
+fn warn_slow_moves(tp: &mut Toolpath, file: &str, gcode: bool) {
+    let slow: Vec<&Move> = tp
+        .moves
+        .iter()
+        .filter(|m| m.speed < SLOW_MOVE_M_S)
+        .collect();
+    let Some(first) = slow.first() else {
+        return;
+    };
+    let lines: Vec<String> = slow.iter().take(10).map(|m| m.line.to_string()).collect();
+    // Six decimals, so that 1.5 mm/min prints as 1.5 and not 1.4999999999999998.
+    let r = |x: f64| (x * 1e6).round() / 1e6;
+    let v_mm_s = first.speed * 1e3;
+    let hint = if gcode {
+        let f = first.speed * 60e3;
+        format!(
+            "F{} mm/min is {} mm/s; did you mean F{}?",
+            r(f),
+            r(v_mm_s),
+            r(f * 1e3)
+        )
+    } else {
+        format!("{} mm/s; did you mean {} mm/s?", r(v_mm_s), r(v_mm_s * 1e3))
+    };
+    tp.warnings.push(format!(
+        "{file}: line {}{}: {} move(s) commanded below 1 mm/s ({hint}); timed as given",
+        lines.join(", "),
+        if slow.len() > 10 { ", …" } else { "" },
+        slow.len()
+    ));
 }
 
 /// Largest coordinate a toolpath may hold, m (100 km: far beyond any printer, small enough
