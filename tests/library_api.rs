@@ -87,8 +87,8 @@ fn derivative_completion_keeps_what_the_file_gave() {
         accelerations: false,
     };
     complete_derivatives(&mut b, vel).unwrap();
-    for k in 0..t.len() {
-        assert!((b.qd[k] - 3.0 * t[k]).abs() < 1e-15);
+    for (k, &x) in t.iter().enumerate() {
+        assert!((b.qd[k] - 3.0 * x).abs() < 1e-15);
         assert!((b.qdd[k] - 3.0).abs() < 1e-12, "{k}");
     }
     // Accelerations given, velocities not: q̇ from q, q̈ kept.
