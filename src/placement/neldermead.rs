@@ -85,7 +85,7 @@ impl SpeculativeNelderMead {
 
     /// Stop when the standard deviation of the simplex's costs falls below `tol` (≥ 0).
     pub fn with_sd_tolerance(mut self, tol: f64) -> Result<Self, Error> {
-        if !(tol >= 0.0) {
+        if tol.is_nan() || tol < 0.0 {
             return Err(Error::msg("sd_tolerance must be >= 0"));
         }
         self.sd_tolerance = tol;
