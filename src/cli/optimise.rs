@@ -49,6 +49,13 @@ pub struct OptimiseArgs {
     /// default grid spans 0 to half the reach).
     #[arg(long, allow_hyphen_values = true)]
     pub z_bounds: Option<String>,
+    /// Uncertainty study: draw N plausible robots (masses, inertias, drive constants,
+    /// friction, balancer present or not, payload; ranges from the drive file's
+    /// `[uncertainty]` table, standard errors for a calibrated robot) seeded by --seed, and
+    /// re-evaluate the recommended placement, the feasible grid cells and the baseline under
+    /// each.
+    #[arg(long, value_name = "N")]
+    pub uncertainty: Option<usize>,
     /// Write the chosen placement for the robot into this directory: `wobj_print.mod` (ABB RAPID
     /// wobjdata) and `frame.json` (COMPAS frame). Existing files are replaced only with --force.
     #[arg(long)]
@@ -230,6 +237,35 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
     if let Some((_, b)) = &baseline {
         res.savings = optimise::Savings::of(&res.best, b);
     }
+    if let Some(n) = a.uncertainty {
+        if n == 0 || n > 100_000 {
+            anyhow::bail!("--uncertainty {n}: expected 1 to 100000 draws");
+        }
+        // Candidates: the answer first, then every feasible grid cell that is not nominally
+        // better than it (a cheaper cell is one the search rejected because it does not hold
+        // the placement tolerance: not a candidate a site could use).
+        let mut cands = vec![res.best.clone()];
+        cands.extend(
+            rows.iter()
+                .filter(|r| {
+                    r.cost().is_finite()
+                        && r.cost() >= res.best.cost()
+                        && r.placement != res.best.placement
+                })
+                .cloned(),
+        );
+        let study = pool.install(|| {
+            printwatt::placement::uncertainty::study(
+                &job,
+                &ev,
+                &cands,
+                baseline.as_ref().map(|b| &b.1),
+                n,
+                a.seed,
+            )
+        })?;
+        res.uncertainty = Some(study);
+    }
     let secs = t0.elapsed().as_secs_f64();
     let mut details = Vec::new();
     details.extend(detail(&job, "best", &res.best)?);
@@ -378,6 +414,11 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
                 "optimum on a search bound: {} (widen --x/--y/--z-bounds there)",
                 si.on_bounds.join(", ")
             );
+        }
+    }
+    if let Some(u) = rep.optimise.as_ref().and_then(|o| o.uncertainty.as_ref()) {
+        for l in printwatt::report::placement::uncertainty_lines(u) {
+            println!("{l}");
         }
     }
     if let Some(o) = &rep.optimise {

@@ -472,9 +472,7 @@ pub fn check(
         if gap <= clearance.unwrap_or(f64::INFINITY) {
             let d = match bed.capsule_above(p, &s.shape) {
                 Some(d) => d,
-                None => {
-                    query::distance(p, s.shape.as_ref(), &bed.pose, &bed.cuboid).unwrap_or(gap)
-                }
+                None => query::distance(p, s.shape.as_ref(), &bed.pose, &bed.cuboid).unwrap_or(gap),
             };
             *clearance = Some(clearance.map_or(d, |c| c.min(d)));
             if d <= 0.0 {

@@ -409,6 +409,7 @@ pub fn refine(
             sensitivity: sens,
             search: None,
             savings: None,
+            uncertainty: None,
         },
         SearchInfo {
             method: "nelder-mead (argmin)".into(),
