@@ -323,3 +323,30 @@ fn exported_wobjdata_and_frame_put_the_nozzle_where_the_placement_says() {
         "nozzle {worst} m from where the wobjdata puts it"
     );
 }
+
+#[test]
+fn an_optimum_on_the_joint_limit_margin_is_flagged_and_the_margin_stated() {
+    use printwatt::placement::feasibility::Margins;
+    use printwatt::placement::margins::margin_statement;
+    let model = robot::load(&root().join("robots/abb_irb6700_200_260")).unwrap();
+    let o = FeasibilityOptions::default();
+    let margin = 3f64.to_radians();
+    // Joint 3 exactly on its 3° margin (67.00° against its 70° stop): flagged.
+    let on = Margins {
+        joint_limit_rad: Some((3, margin)),
+        ..Default::default()
+    };
+    let (text, flagged) = margin_statement(&model, &o, &on).unwrap();
+    assert!(flagged, "{text}");
+    assert!(
+        text.contains("joint 3 keeps 3.00°") && text.contains("margin 3.00°"),
+        "{text}"
+    );
+    // 1° further away: stated, not flagged.
+    let off = Margins {
+        joint_limit_rad: Some((3, margin + 1f64.to_radians())),
+        ..Default::default()
+    };
+    let (text, flagged) = margin_statement(&model, &o, &off).unwrap();
+    assert!(!flagged && text.contains("4.00°"), "{text}");
+}

@@ -305,6 +305,15 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
                 format!("{}: widen the range there", si.on_bounds.join(", ")),
             ));
         }
+        if let Some(jm) = &si.joint_margin {
+            m.push(("joint-limit margin kept".into(), jm.clone()));
+        }
+        if let Some(om) = &si.on_margin {
+            m.push((
+                "optimum on a joint-limit margin".into(),
+                format!("{om}: the margin, not the energy, stops the search here (--joint-margin)"),
+            ));
+        }
     }
     let site = printwatt::report::site::SiteGeometry::new(
         &l.robot,
@@ -409,6 +418,14 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
     }
     if let Some(si) = rep.optimise.as_ref().and_then(|o| o.search.as_ref()) {
         println!("tolerance: {}", tolerance_line(&si.tolerance));
+        if let Some(jm) = &si.joint_margin {
+            println!("joint-limit margin: {jm}");
+        }
+        if let Some(om) = &si.on_margin {
+            println!(
+                "optimum on a joint-limit margin: {om} (the margin, not the energy, stops the search here; --joint-margin)"
+            );
+        }
         if !si.on_bounds.is_empty() {
             println!(
                 "optimum on a search bound: {} (widen --x/--y/--z-bounds there)",
