@@ -334,3 +334,28 @@ fn an_infeasible_placement_says_why() {
         &["--at `2.5,0,0`", "expected x,y,z,yaw"],
     );
 }
+
+#[test]
+fn version_names_the_commit() {
+    let o = printwatt(&["--version"], &root());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(
+        v.starts_with(&format!("printwatt {} (commit ", env!("CARGO_PKG_VERSION"))),
+        "{v}"
+    );
+    let head = Command::new("git")
+        .args(["rev-parse", "--short", "HEAD"])
+        .current_dir(root())
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string());
+    match head {
+        Some(h) if std::env::var_os("PRINTWATT_COMMIT").is_none() => {
+            assert!(v.contains(&format!("(commit {h})")), "{v} vs HEAD {h}")
+        }
+        Some(_) => {}
+        None => assert!(v.contains("not built from a git checkout"), "{v}"),
+    }
+}

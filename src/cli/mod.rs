@@ -15,9 +15,17 @@ mod robots;
 mod simulate;
 mod sweep;
 
+/// `printwatt --version`: the package version and the git commit it was built from (build.rs).
+pub const VERSION: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    " (commit ",
+    env!("PRINTWATT_COMMIT"),
+    ")"
+);
+
 /// printwatt: where to put a 3D concrete print so the robot arm spends the least energy.
 #[derive(Parser, Debug)]
-#[command(name = "printwatt", version, about, long_about = None)]
+#[command(name = "printwatt", version = VERSION, about, long_about = None)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
