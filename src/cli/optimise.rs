@@ -70,7 +70,7 @@ pub fn tolerance_line(c: &printwatt::placement::tolerance::ToleranceCheck) -> St
         )
     } else {
         format!(
-            "does NOT hold {}: {} of {} corners infeasible (first: {}); no grid cell near the optimum holds it",
+            "does NOT hold {}: {} of the {} corners checked infeasible (first: {}); no grid cell near the optimum holds it",
             c.tolerance.describe(),
             c.failures.len(),
             c.corners,
