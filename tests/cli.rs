@@ -410,7 +410,12 @@ fn shared_options_read_the_same_in_every_command() {
     for opt in ["--robot", "--tool", "--out", "--json", "--force"] {
         let lines: Vec<_> = helps
             .iter()
-            .map(|(c, h)| (c, option_line(h, opt).unwrap_or_else(|| panic!("{c}: no {opt}"))))
+            .map(|(c, h)| {
+                (
+                    c,
+                    option_line(h, opt).unwrap_or_else(|| panic!("{c}: no {opt}")),
+                )
+            })
             .collect();
         for (c, l) in &lines {
             assert_eq!(l, &lines[0].1, "{opt} differs in {c}");
@@ -420,7 +425,9 @@ fn shared_options_read_the_same_in_every_command() {
         .unwrap()
         .contains("[default: abb_irb6700_200_260]"));
     // Timing options: on every command that times a path, with the same unit and default.
-    for opt in ["--zone", "--period", "--accel", "--jerk", "--at", "--spin", "--path"] {
+    for opt in [
+        "--zone", "--period", "--accel", "--jerk", "--at", "--spin", "--path",
+    ] {
         let lines: Vec<_> = ["energy", "sweep", "optimise", "simulate"]
             .iter()
             .map(|c| {
@@ -450,7 +457,11 @@ fn numeric_options_state_their_unit_and_default() {
         ("energy", "--at", &["m, m, m, deg"]),
         ("sweep", "--x", &[", m", "default"]),
         ("sweep", "--yaw", &["deg", "[default: 0]"]),
-        ("sweep", "--elbow-min", &["dimensionless", "[default: 0.05]"]),
+        (
+            "sweep",
+            "--elbow-min",
+            &["dimensionless", "[default: 0.05]"],
+        ),
         ("sweep", "--shoulder-min", &[", m", "[default: 0.1]"]),
         ("sweep", "--joint-margin", &["deg", "[default: 3]"]),
         ("simulate", "--rate", &["Hz", "[default: 250]"]),
@@ -495,8 +506,11 @@ fn near_miss_robot_names_get_did_you_mean_and_the_list() {
         &d,
         &["robot `zzz`", "Shipped robots:"],
     );
-    assert!(!stderr(&printwatt(&["energy", "--robot", "zzz", "--at", "1.7,0,0,90"], &d))
-        .contains("did you mean"));
+    assert!(!stderr(&printwatt(
+        &["energy", "--robot", "zzz", "--at", "1.7,0,0,90"],
+        &d
+    ))
+    .contains("did you mean"));
 }
 
 #[test]
@@ -528,7 +542,10 @@ fn energy_json_writes_nothing_but_the_json() {
     assert!(v["output_csv"].is_null(), "{v}");
     assert_eq!(std::fs::read_dir(&d).unwrap().count(), 0, "files written");
     // --out makes it write the CSV too; --no-csv never.
-    let o = printwatt(&["energy", "--at", "1.7,0,0,90", "--json", "--out", "o"], &d);
+    let o = printwatt(
+        &["energy", "--at", "1.7,0,0,90", "--json", "--out", "o"],
+        &d,
+    );
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(d.join("o/default.energy.csv").is_file());
     let o = printwatt(&["energy", "--at", "1.7,0,0,90", "--no-csv"], &d);
@@ -539,7 +556,15 @@ fn energy_json_writes_nothing_but_the_json() {
 #[test]
 fn sweep_runs_at_the_timing_energy_was_checked_at() {
     let d = tmpdir("timing");
-    let args = ["--at", "1.7,0,0,90", "--period", "8", "--accel", "0.5", "--json"];
+    let args = [
+        "--at",
+        "1.7,0,0,90",
+        "--period",
+        "8",
+        "--accel",
+        "0.5",
+        "--json",
+    ];
     let mut e = vec!["energy"];
     e.extend(args);
     let o = printwatt(&e, &d);
