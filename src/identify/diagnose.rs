@@ -20,7 +20,7 @@
 //! noise floor remains that no candidate explains, it says so per joint, with what it
 //! correlates against and its dominant period ([`Diagnosis::unexplained`]).
 
-use crate::effects::CATALOGUE;
+use crate::effects::catalogue;
 use crate::error::Result;
 use crate::identify::fit::{fit, residuals, FittedParam};
 use crate::identify::model::{Model, Prepared};
@@ -133,10 +133,9 @@ pub fn diagnose(prep: &Prepared, model: &mut Model, folds: usize) -> Result<Diag
     let bl = blocks(len, folds.min(max_folds).max(2));
     let r0 = r.clone();
     let chunk = ((tau_c / dt.max(1e-300)).ceil() as usize).clamp(1, len.max(1));
-    let balancer_declared = model.balancer_declared;
     let mut cands = Vec::new();
     let mut not_obs = Vec::new();
-    for name in CATALOGUE {
+    for name in catalogue() {
         if !Model::observable(name, prep.log.kind) {
             not_obs.push(name.to_string());
             continue;
@@ -224,11 +223,7 @@ pub fn diagnose(prep: &Prepared, model: &mut Model, folds: usize) -> Result<Diag
         let bic = m * (full.ssr / m).max(1e-300).ln() + full.params.len() as f64 * m.ln();
         let dbic = bic - bic0;
         let tstat = paired_t(&gains);
-        let implausible = (name == "balancer" && !balancer_declared).then(|| {
-            "the robot declares no balancer (drive file [effects] balancer_lever_m, balancer_base_m): \
-a gravity error here is a link or payload error"
-                .to_string()
-        });
+        let implausible = model.implausible(name);
         cands.push(Candidate {
             effect: name.to_string(),
             in_model,
@@ -259,10 +254,9 @@ a gravity error here is a link or payload error"
         .map(|c| c.effect.clone());
     // What is left after the best claim.
     if let Some(b) = &best {
-        let name = CATALOGUE
-            .iter()
-            .find(|c| *c == b)
-            .copied()
+        let name = catalogue()
+            .into_iter()
+            .find(|c| c == b)
             .unwrap_or("viscous");
         fit(prep, model, &[name], &all)?;
     }
