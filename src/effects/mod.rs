@@ -128,6 +128,11 @@ pub trait Effect: AsAny + Send + Sync + std::fmt::Debug {
     fn regressor(&self, _q: &[f64], _qd: &[f64], _qdd: &[f64], _y: &mut [f64]) -> bool {
         false
     }
+    /// Whether evaluating it costs inverse-dynamics passes (`payload`, `rigid_body`):
+    /// identification then caches its regressor once per log. Default `false`.
+    fn costly(&self) -> bool {
+        false
+    }
     /// Whether it contributes nothing with its current values (skipped by the energy model).
     fn is_null(&self) -> bool {
         false

@@ -172,6 +172,9 @@ impl Effect for Payload {
             ..self.clone()
         })
     }
+    fn costly(&self) -> bool {
+        true
+    }
     fn is_null(&self) -> bool {
         self.dm == 0.0 && self.dh == [0.0; 3]
     }

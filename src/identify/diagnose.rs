@@ -22,7 +22,7 @@
 
 use crate::effects::catalogue;
 use crate::error::Result;
-use crate::identify::fit::{fit, residuals, FittedParam};
+use crate::identify::fit::{fit_parameters, residuals, FittedParam};
 use crate::identify::model::{Model, Prepared};
 use crate::identify::structure::{self, Unexplained};
 use serde::Serialize;
@@ -153,7 +153,7 @@ pub fn diagnose(prep: &Prepared, model: &mut Model, folds: usize) -> Result<Diag
             );
             let train: Vec<usize> = (0..lo).chain(hi + 1..len).collect();
             model.restore(&base_state);
-            fit(prep, model, &[name], &train)?;
+            fit_parameters(prep, model, &[name], &train)?;
             residuals(prep, model, b, &mut r);
             let sb = r.iter().map(|x| x * x).sum::<f64>();
             // Held-out gain per chunk of one correlation time: chunk means of
@@ -178,20 +178,20 @@ pub fn diagnose(prep: &Prepared, model: &mut Model, folds: usize) -> Result<Diag
             cnt += r.len();
         }
         model.restore(&base_state);
-        let full = fit(prep, model, &[name], &all)?;
+        let full = fit_parameters(prep, model, &[name], &all)?;
+        // Its residual over the whole log (the fit may have used a stride of the rows).
+        residuals(prep, model, &all, &mut r);
+        let full_ssr: f64 = r.iter().map(|x| x * x).sum();
+        model.restore(&base_state);
         // Joints it acts on: channels whose prediction moved by more than 10 % of the largest
         // move, or per-joint parameters that moved by more than two standard errors.
-        let mut pred1 = Vec::new();
-        prep.predict(model, &all, &mut pred1);
-        model.restore(&base_state);
-        let mut pred0 = Vec::new();
-        prep.predict(model, &all, &mut pred0);
         let mut joints = Vec::new();
         if ch > 1 {
+            // prediction_after − prediction_before = r_after − r_before.
             let d: Vec<f64> = (0..ch)
                 .map(|c| {
                     (0..len)
-                        .map(|k| (pred1[k * ch + c] - pred0[k * ch + c]).powi(2))
+                        .map(|k| (r[k * ch + c] - r0[k * ch + c]).powi(2))
                         .sum::<f64>()
                 })
                 .collect();
@@ -220,7 +220,7 @@ pub fn diagnose(prep: &Prepared, model: &mut Model, folds: usize) -> Result<Diag
         } else {
             0.0
         };
-        let bic = m * (full.ssr / m).max(1e-300).ln() + full.params.len() as f64 * m.ln();
+        let bic = m * (full_ssr / m).max(1e-300).ln() + full.params.len() as f64 * m.ln();
         let dbic = bic - bic0;
         let tstat = paired_t(&gains);
         let implausible = model.implausible(name);
@@ -258,7 +258,7 @@ pub fn diagnose(prep: &Prepared, model: &mut Model, folds: usize) -> Result<Diag
             .into_iter()
             .find(|c| c == b)
             .unwrap_or("viscous");
-        fit(prep, model, &[name], &all)?;
+        fit_parameters(prep, model, &[name], &all)?;
     }
     residuals(prep, model, &all, &mut r);
     model.restore(&base_state);

@@ -154,6 +154,11 @@ impl Model {
         self.effects.enabled_names()
     }
 
+    /// Position of the effect called `name` in the model's set.
+    pub fn position(&self, name: &str) -> Option<usize> {
+        self.effects.iter().position(|(e, _)| e.name() == name)
+    }
+
     /// The effect called `name`.
     pub fn effect(&self, name: &str) -> Result<&dyn Effect> {
         self.effects.get(name)
@@ -247,8 +252,9 @@ pub struct Prepared<'a> {
     pub log: &'a Log,
     /// Rigid-body torque per sample, row-major `len × n`, N·m.
     pub tau_rb: Vec<f64>,
-    /// Regressors of the linear torque effects by position in the model's effect set
-    /// (`None` for effects after the torque and for nonlinear ones): `len × n × P` each.
+    /// Regressors of the costly linear torque effects ([`Effect::costly`]: those that need
+    /// inverse-dynamics passes) by position in the model's effect set (`None` for the others,
+    /// which are evaluated directly): `len × n × P` each.
     regs: Vec<Option<Vec<f64>>>,
 }
 
@@ -291,7 +297,7 @@ log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, 
         let mut regs: Vec<Option<Vec<f64>>> = Vec::new();
         for (e, _) in model.effects.iter() {
             regs.push(None);
-            if e.stage() != Stage::Torque {
+            if e.stage() != Stage::Torque || !e.costly() {
                 continue;
             }
             let i = regs.len() - 1;
@@ -322,6 +328,44 @@ log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, 
         self.log.is_empty()
     }
 
+    /// Joint torque of `model` at sample `k` (N·m) into `tau` (length `n`), skipping the
+    /// effects whose position in the model's set is in `skip`.
+    pub fn torque_row(&self, model: &Model, k: usize, skip: &[usize], tau: &mut [f64]) {
+        let n = model.n;
+        tau[..n].copy_from_slice(&self.tau_rb[k * n..(k + 1) * n]);
+        let (q, qd, qdd) = (
+            self.log.traj.q(k),
+            self.log.traj.qd(k),
+            self.log.traj.qdd(k),
+        );
+        for (i, (e, on)) in model.effects.iter().enumerate() {
+            if !on || e.stage() != Stage::Torque || skip.contains(&i) {
+                continue;
+            }
+            match &self.regs[i] {
+                Some(y) => {
+                    let vals = e.values();
+                    let p = vals.len();
+                    let yk = &y[k * n * p..(k + 1) * n * p];
+                    for (j, t) in tau[..n].iter_mut().enumerate() {
+                        let row = &yk[j * p..(j + 1) * p];
+                        *t += row.iter().zip(&vals).map(|(a, b)| a * b).sum::<f64>();
+                    }
+                }
+                None => e.add_torque(q, qd, qdd, &mut tau[..n]),
+            }
+        }
+    }
+
+    /// The cached regressor of the effect at position `i` of the model's set at sample `k`
+    /// (`n × P`, row-major), if cached.
+    pub fn cached_regressor(&self, i: usize, k: usize, n: usize, p: usize) -> Option<&[f64]> {
+        self.regs
+            .get(i)?
+            .as_ref()
+            .map(|y| &y[k * n * p..(k + 1) * n * p])
+    }
+
     /// Model prediction of the logged signal at the samples `rows`, row-major
     /// `rows.len() × channels`, into `out` (resized).
     pub fn predict(&self, model: &Model, rows: &[usize], out: &mut Vec<f64>) {
@@ -329,33 +373,15 @@ log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, 
         let ch = self.log.channels;
         out.clear();
         out.resize(rows.len() * ch, 0.0);
-        let effects: Vec<(&dyn Effect, bool)> = model.effects.iter().collect();
-        let vals: Vec<Vec<f64>> = effects.iter().map(|(e, _)| e.values()).collect();
         let mut tau = [0.0; MAX_DOF];
         for (r, &k) in rows.iter().enumerate() {
-            tau[..n].copy_from_slice(&self.tau_rb[k * n..(k + 1) * n]);
-            let (q, qd, qdd) = (
-                self.log.traj.q(k),
+            self.torque_row(model, k, &[], &mut tau);
+            model.signal_from_torque(
+                self.log.kind,
+                &tau[..n],
                 self.log.traj.qd(k),
-                self.log.traj.qdd(k),
+                &mut out[r * ch..(r + 1) * ch],
             );
-            for (i, (e, on)) in effects.iter().enumerate() {
-                if !*on || e.stage() != Stage::Torque {
-                    continue;
-                }
-                match &self.regs[i] {
-                    Some(y) => {
-                        let p = vals[i].len();
-                        let yk = &y[k * n * p..(k + 1) * n * p];
-                        for (j, t) in tau[..n].iter_mut().enumerate() {
-                            let row = &yk[j * p..(j + 1) * p];
-                            *t += row.iter().zip(&vals[i]).map(|(a, b)| a * b).sum::<f64>();
-                        }
-                    }
-                    None => e.add_torque(q, qd, qdd, &mut tau[..n]),
-                }
-            }
-            model.signal_from_torque(self.log.kind, &tau[..n], qd, &mut out[r * ch..(r + 1) * ch]);
         }
     }
 }
