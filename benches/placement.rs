@@ -4,6 +4,9 @@
 //! bare RNEA call measured in the same run, and the projected time of the issue's target:
 //! a 50 × 50 grid on a 5,000-sample path (12.5 M path samples) on this machine's cores.
 //!
+//! It also measures, in the same run, the default grid with and without the prune before
+//! tracking (`JointStageOptions::prune_stride`), per feasible and per infeasible placement.
+//!
 //! Run: `cargo bench --bench placement` (plain main, no criterion: prints a small table).
 
 use printwatt::dynamics::rnea;
@@ -32,7 +35,15 @@ fn main() {
     .unwrap();
     let n = model.dof();
     // Reference: bare RNEA on the samples of a real trajectory.
-    let at = Placement::new(1.4, 0.0, 0.5, std::f64::consts::FRAC_PI_2);
+    // A feasible placement: the centre of the default grid's feasible region.
+    let grid0 = {
+        let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
+        let ps = default_grid(printwatt::placement::feasibility::reach_m(&model)).placements();
+        ev.sweep(&ps, &|_, _| {}).unwrap()
+    };
+    let at = printwatt::placement::optimise::feasible_centre(&grid0)
+        .expect("a feasible grid cell")
+        .placement;
     let full = job.evaluate(&at).unwrap().unwrap();
     let tr = &full.timed.traj;
     let m = tr.len();
@@ -109,19 +120,54 @@ fn main() {
     let (rate1, feasible) = rate(&one);
     let (rate_all, _) = rate(&all);
     // Feasible-only throughput (every sample evaluated).
-    let feas_ps: Vec<Placement> = (0..16)
-        .map(|i| {
-            Placement::new(
-                1.40 + 0.005 * i as f64,
-                0.0,
-                0.5,
-                std::f64::consts::FRAC_PI_2,
-            )
-        })
+    let feas_ps: Vec<Placement> = grid0
+        .iter()
+        .filter(|e| e.cost().is_finite())
+        .map(|e| e.placement)
+        .take(16)
         .collect();
     let t0 = Instant::now();
     let _ = all.install(|| ev.sweep(&feas_ps, &|_, _| {})).unwrap();
     let feas_rate_all = feas_ps.len() as f64 / t0.elapsed().as_secs_f64();
+
+    // Prune before tracking (issue 12 item 1): the same grid with and without pruning, one
+    // thread, each placement timed alone and booked as feasible or infeasible.
+    let job_unpruned = PathJob::new(
+        &model,
+        &tp,
+        EnergyOptions::default(),
+        ProfileOptions::default(),
+        JointStageOptions {
+            prune_stride: 0,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    let per_kind = |ev: &Evaluator| {
+        let mut sc = ev.scratch().unwrap();
+        let (mut tf, mut nf, mut ti, mut ni) = (0.0, 0usize, 0.0, 0usize);
+        for p in &ps {
+            let t0 = Instant::now();
+            let r = black_box(ev.evaluate(&mut sc, p));
+            let s = t0.elapsed().as_secs_f64();
+            if r.cost().is_finite() {
+                tf += s;
+                nf += 1;
+            } else {
+                ti += s;
+                ni += 1;
+            }
+        }
+        (tf, nf, ti, ni)
+    };
+    let ev_u = Evaluator::new(
+        &job_unpruned,
+        FeasibilityOptions::default(),
+        Objective::Supply,
+    );
+    let (pf, pnf, pi, pni) = per_kind(&ev);
+    let (uf, unf, ui, uni) = per_kind(&ev_u);
+    assert_eq!((pnf, pni), (unf, uni), "pruning changed a verdict");
 
     let target = 50.0 * 50.0 * 5000.0;
     println!("printwatt placement bench ({} cores)", cores);
@@ -145,6 +191,31 @@ fn main() {
         ps.len()
     );
     println!("  feasible placements only: {feas_rate_all:.1} placements/s on {cores} threads");
+    println!(
+        "  prune before tracking, default grid on 1 thread ({pnf} feasible, {pni} infeasible):"
+    );
+    println!(
+        "    pruned:   grid {:.3} s; feasible {:.2} ms each, infeasible {:.3} ms each ({:.1} % of a feasible one); infeasible share of grid time {:.0} %",
+        pf + pi,
+        pf / pnf.max(1) as f64 * 1e3,
+        pi / pni.max(1) as f64 * 1e3,
+        (pi / pni.max(1) as f64) / (pf / pnf.max(1) as f64) * 100.0,
+        pi / (pf + pi) * 100.0
+    );
+    println!(
+        "    unpruned: grid {:.3} s; feasible {:.2} ms each, infeasible {:.3} ms each ({:.1} % of a feasible one); infeasible share of grid time {:.0} %",
+        uf + ui,
+        uf / unf.max(1) as f64 * 1e3,
+        ui / uni.max(1) as f64 * 1e3,
+        (ui / uni.max(1) as f64) / (uf / unf.max(1) as f64) * 100.0,
+        ui / (uf + ui) * 100.0
+    );
+    println!(
+        "    pruned / unpruned grid time: {:.3} ({:.2}x faster); infeasible placements {:.1}x faster",
+        (pf + pi) / (uf + ui),
+        (uf + ui) / (pf + pi),
+        ui / pi
+    );
     println!(
         "  projected 50x50 grid x 5000 samples (12.5 M samples, all feasible): {:.1} s on 1 thread, {:.1} s on {cores} (ideal scaling); target 10 s",
         target * full_ns * 1e-9,

@@ -3,7 +3,8 @@
 //!
 //! The pipeline, one stage a module: `robot` → `kinematics` → `toolpath` → `timing` →
 //! `dynamics` → `energy` → `placement`; `identify` compares with measured logs; `report`
-//! writes what people read; `cli` is the thin front end.
+//! writes what people read. The command-line front end (`printwatt`) is a binary over this
+//! library; it is not part of the library's API.
 //! Units are SI everywhere inside (m, rad, s, kg, N·m, W, J); conversions happen only where
 //! data enter or leave.
 //!
@@ -29,7 +30,6 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
-pub mod cli;
 pub mod dynamics;
 pub mod effects;
 pub mod energy;

@@ -376,12 +376,6 @@ fn cli_bad_input_fails_clearly() {
 }
 
 #[test]
-fn cli_definition_is_consistent() {
-    use clap::CommandFactory;
-    printwatt::cli::Cli::command().debug_assert();
-}
-
-#[test]
 fn parse_range_values_and_errors() {
     use printwatt::placement::parse_range;
     assert_eq!(parse_range("x", "1:1.2:0.1").unwrap().len(), 3);

@@ -237,7 +237,7 @@ fn optimise_without_run_writes_a_new_named_run_and_never_replaces_one() {
     assert!(!dir.join("optimise-default").exists());
     let _ = std::fs::remove_dir_all(&dir);
     assert_eq!(
-        printwatt::cli::sweep::utc_stamp(1_795_000_000),
+        printwatt::output::utc_stamp(1_795_000_000),
         "20261118T110640Z"
     );
 }

@@ -1,14 +1,14 @@
 //! `printwatt compare`, `diagnose`, `identify`: shared loading, and `compare` itself.
 
 use super::{load_robot, LogArgs};
-use crate::identify::{self, metrics, model::Model, Log};
-use crate::report::html::Page;
-use crate::report::svg::{self, Series};
 use anyhow::{Context, Result};
+use printwatt::identify::{self, metrics, model::Model, Log};
+use printwatt::report::html::Page;
+use printwatt::report::svg::{self, Series};
 use std::path::Path;
 
 /// The robot, the model (effects switched per drive file and command line) and the log.
-pub(crate) fn load(a: &LogArgs) -> Result<(crate::robot::RobotModel, Model, Log)> {
+pub(crate) fn load(a: &LogArgs) -> Result<(printwatt::robot::RobotModel, Model, Log)> {
     let robot = load_robot(&a.robot)?;
     let mut model = Model::new(&robot)
         .with_context(|| format!("building the model of {}", a.robot.display()))?;
@@ -29,13 +29,13 @@ pub(crate) fn load(a: &LogArgs) -> Result<(crate::robot::RobotModel, Model, Log)
     super::note_warnings(&log.file, &log.warnings);
     let (names, units): (Vec<String>, Vec<String>) = log.units.iter().cloned().unzip();
     let kinds: Vec<_> = robot.joints.iter().map(|j| j.kind).collect();
-    crate::trajectory::check_joint_units(&log.file, log.header_line, &names, &units, &kinds)?;
+    printwatt::trajectory::check_joint_units(&log.file, log.header_line, &names, &units, &kinds)?;
     check_log_robot(&log, &robot);
     Ok((robot, model, log))
 }
 
 /// Warn when the log's metadata names another robot than the one it is compared with.
-pub(crate) fn check_log_robot(log: &Log, robot: &crate::robot::RobotModel) {
+pub(crate) fn check_log_robot(log: &Log, robot: &printwatt::robot::RobotModel) {
     let named = log
         .metadata
         .iter()
@@ -75,13 +75,13 @@ pub fn run(a: super::CompareArgs) -> Result<()> {
     let (robot, model, log) = load(&a.log)?;
     let inputs = super::inputs(&a.log.robot, Some(&robot), &[Some(a.log.log.as_path())]);
     if let Some(dir) = &a.out {
-        crate::output::check_dir(dir, &inputs)?;
+        printwatt::output::check_dir(dir, &inputs)?;
     }
     let prep = identify::Prepared::new(&model, &log)?;
     let (mut cmp, pred) = metrics::compare(&prep, &model);
     cmp.calibration = robot.effects.calibration_summary();
     // The last check before anything leaves: the JSON, the report and the printed table.
-    crate::output::check_finite_json("compare", &cmp)?;
+    printwatt::output::check_finite_json("compare", &cmp)?;
     if let Some(dir) = &a.out {
         // The report plots the model's prediction, sample by sample.
         let ch = log.channels.max(1);
@@ -93,12 +93,12 @@ pub fn run(a: super::CompareArgs) -> Result<()> {
                 )
             })
             .collect();
-        crate::output::check_finite("compare: model prediction", &names, pred.chunks(ch))?;
-        crate::output::write_file(
+        printwatt::output::check_finite("compare: model prediction", &names, pred.chunks(ch))?;
+        printwatt::output::write_file(
             &dir.join("compare.json"),
             serde_json::to_string_pretty(&cmp)?.as_bytes(),
             &inputs,
-            crate::output::Existing::Replace,
+            printwatt::output::Existing::Replace,
         )?;
         write_report(&dir.join("report.html"), &log, &pred, &cmp)?;
     }
@@ -270,7 +270,7 @@ energy error {:.2} %, accuracy {:.2} %. Residual = model − measured.",
             pg.figure_row(&row);
         }
     }
-    crate::output::write_atomic(path, pg.finish().as_bytes())?;
+    printwatt::output::write_atomic(path, pg.finish().as_bytes())?;
     Ok(())
 }
 

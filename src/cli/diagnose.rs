@@ -1,7 +1,7 @@
 //! `printwatt diagnose`
 
-use crate::identify::{self, diagnose};
 use anyhow::Result;
+use printwatt::identify::{self, diagnose};
 
 /// `printwatt diagnose`: rank the effects by the share of the residual they explain.
 pub fn run(a: super::DiagnoseArgs) -> Result<()> {
@@ -10,7 +10,7 @@ pub fn run(a: super::DiagnoseArgs) -> Result<()> {
     let mut d = diagnose::diagnose(&prep, &mut model, a.folds)?;
     d.calibration = robot.effects.calibration_summary();
     // The last check before anything leaves (the JSON or the printed ranking).
-    crate::output::check_finite_json("diagnose", &d)?;
+    printwatt::output::check_finite_json("diagnose", &d)?;
     if a.json {
         super::print_json(&d)?;
         return Ok(());

@@ -1,15 +1,15 @@
 //! `printwatt energy`: the energy of one joint trajectory, or of a toolpath at one placement.
 
-use super::{load_robot, parse_list};
-use crate::dynamics::fill_derivatives;
-use crate::energy::{self, EnergyModel, EnergyOptions, EnergyReport};
-use crate::output::{write_file, Existing};
-use crate::placement::PathJob;
-use crate::robot::Regeneration;
-use crate::timing::{JointStageOptions, ProfileOptions, Slowdown};
-use crate::toolpath::{self, Placement, ReadOptions};
-use crate::trajectory::{self, JointTrajectory};
+use super::load_robot;
 use anyhow::{bail, Context, Result};
+use printwatt::dynamics::complete_derivatives;
+use printwatt::energy::{self, EnergyModel, EnergyOptions, EnergyReport};
+use printwatt::output::{write_file, Existing};
+use printwatt::placement::PathJob;
+use printwatt::robot::Regeneration;
+use printwatt::timing::{JointStageOptions, ProfileOptions, Slowdown};
+use printwatt::toolpath::{self, Placement, ReadOptions};
+use printwatt::trajectory;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
@@ -83,12 +83,16 @@ struct PlacementOut {
     nozzle_spin_deg: f64,
 }
 
-/// Parse `x,y,z,yaw` (m, m, m, deg) into a placement.
+/// Parse `--at x,y,z,yaw[,spin]` ([`Placement::parse`]); a `--spin` other than 0 sets the
+/// nozzle spin (giving both is an error).
 pub fn parse_placement(s: &str, spin_deg: f64) -> Result<Placement> {
-    let v = parse_list(s, 4)
-        .with_context(|| format!("--at `{s}`: expected x,y,z,yaw in m, m, m, deg"))?;
-    let mut p = Placement::new(v[0], v[1], v[2], v[3].to_radians());
-    p.nozzle_spin = spin_deg.to_radians();
+    let mut p = Placement::parse(s).with_context(|| format!("--at `{s}`"))?;
+    if spin_deg != 0.0 {
+        if s.split(',').count() == 5 {
+            bail!("--at `{s}` gives a nozzle spin and so does --spin {spin_deg}: give one");
+        }
+        p.nozzle_spin = spin_deg.to_radians();
+    }
     Ok(p)
 }
 
@@ -109,7 +113,7 @@ pub fn run(a: EnergyArgs) -> Result<()> {
             .map(default_out)
     });
     if let Some(o) = &planned_out {
-        crate::output::check_file(o, &inputs, Existing::Replace)?;
+        printwatt::output::check_file(o, &inputs, Existing::Replace)?;
     }
     let mut opts = EnergyOptions {
         payload: !a.no_payload,
@@ -273,33 +277,7 @@ fn default_out(input: &Path) -> PathBuf {
     PathBuf::from(format!("{stem}.energy.csv"))
 }
 
-/// Fill whatever derivatives the file did not give: q̈ from a given q̇, else both from q.
-pub fn complete_derivatives(traj: &mut JointTrajectory, sup: trajectory::Supplied) -> Result<()> {
-    match (sup.velocities, sup.accelerations) {
-        (true, true) => {}
-        (true, false) => {
-            let mut v = JointTrajectory {
-                n: traj.n,
-                t: traj.t.clone(),
-                q: traj.qd.clone(),
-                qd: vec![0.0; traj.qd.len()],
-                qdd: vec![0.0; traj.qd.len()],
-            };
-            fill_derivatives(&mut v)?;
-            traj.qdd = v.qd;
-        }
-        (false, acc) => {
-            let keep = traj.qdd.clone();
-            fill_derivatives(traj)?;
-            if acc {
-                traj.qdd = keep;
-            }
-        }
-    }
-    Ok(())
-}
-
-fn print_summary(s: &Summary, model: &crate::robot::RobotModel) {
+fn print_summary(s: &Summary, model: &printwatt::robot::RobotModel) {
     let r = s.energy;
     println!("robot      {}", s.robot);
     println!("input      {}", s.input);

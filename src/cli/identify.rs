@@ -1,8 +1,8 @@
 //! `printwatt identify`
 
-use crate::identify::{self, ladder};
-use crate::report::svg;
 use anyhow::{bail, Context, Result};
+use printwatt::identify::{self, ladder};
+use printwatt::report::svg;
 
 /// `printwatt identify`: fit the listed effects in turn, report the ladder, write the
 /// calibrated robot (`<name>.calibrated.toml` in --out or the current directory).
@@ -29,7 +29,7 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
         &[Some(la.log.as_path()), a.validate_log.as_deref()],
     );
     if let Some(dir) = &a.out {
-        crate::output::check_dir(dir, &inputs)?;
+        printwatt::output::check_dir(dir, &inputs)?;
     }
     // The calibrated robot: always written, into --out (or the current directory), never
     // into the installed robots folder.
@@ -42,7 +42,7 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
             .unwrap_or_else(|| std::path::PathBuf::from("."))
             .join(identify::calibrate::default_file_name(&resolved)),
     };
-    crate::output::check_file(&dst, &inputs, crate::output::Existing::Force(a.force))?;
+    printwatt::output::check_file(&dst, &inputs, printwatt::output::Existing::Force(a.force))?;
     let prep = identify::Prepared::new(&model, &log)?;
     let vlog;
     let vprep;
@@ -60,10 +60,11 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
                 )
             }
             None => {
-                let cut = log.len() * 3 / 4;
+                let (train, val) = identify::train_validation_split(log.len());
+                let cut = val.start;
                 (
-                    (0..cut).collect(),
-                    (&prep, (cut..log.len()).collect()),
+                    train.collect(),
+                    (&prep, val.collect()),
                     format!(
                         "fitted on the first 75 % of {} (t < {:.2} s), validated on the last 25 %",
                         log.file, log.traj.t[cut]
@@ -79,7 +80,7 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
         what,
     )?;
     // The last check before anything leaves: the calibrated robot, the files, the JSON.
-    crate::output::check_finite_json("identify", &id)?;
+    printwatt::output::check_finite_json("identify", &id)?;
     let drive_src = identify::model::drive_file_of(&resolved);
     let installed = super::default_robots_dir();
     identify::calibrate::write_calibrated(
@@ -98,10 +99,10 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
     )?;
     let written = Some(dst);
     if let Some(dir) = &a.out {
-        std::fs::create_dir_all(dir).map_err(|e| crate::Error::io(dir, e))?;
+        std::fs::create_dir_all(dir).map_err(|e| printwatt::Error::io(dir, e))?;
         let labels: Vec<String> = id.ladder.iter().map(|s| s.step.clone()).collect();
         let vals: Vec<f64> = id.ladder.iter().map(|s| s.validation_rmse).collect();
-        crate::output::write_atomic(
+        printwatt::output::write_atomic(
             &dir.join("ladder.svg"),
             svg::bar_chart(
                 &svg::Frame::new(
@@ -114,11 +115,11 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
             )
             .as_bytes(),
         )?;
-        crate::output::write_atomic(
+        printwatt::output::write_atomic(
             &dir.join("ladder.md"),
             ladder_table(&id, log.kind.unit()).as_bytes(),
         )?;
-        crate::output::write_atomic(
+        printwatt::output::write_atomic(
             &dir.join("identify.json"),
             serde_json::to_string_pretty(&id)?.as_bytes(),
         )?;

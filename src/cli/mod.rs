@@ -1,9 +1,9 @@
 //! The command-line front end: a thin layer of clap over library calls. Every command that
 //! prints results also answers in JSON with `--json`.
 
-use crate::robot;
 use anyhow::{Context, Result};
 use clap::{Parser, Subcommand};
+use printwatt::robot;
 use std::path::{Path, PathBuf};
 
 mod compare;
@@ -13,7 +13,7 @@ mod identify;
 mod optimise;
 mod robots;
 mod simulate;
-pub mod sweep;
+mod sweep;
 
 /// printwatt: where to put a 3D concrete print so the robot arm spends the least energy.
 #[derive(Parser, Debug)]
@@ -207,10 +207,10 @@ pub fn load_robot(arg: &Path) -> Result<robot::RobotModel> {
 /// Load a toolpath named on the command line; its warnings are shown.
 pub fn load_path(
     p: &Path,
-    opts: &crate::toolpath::ReadOptions,
-) -> Result<crate::toolpath::Toolpath> {
-    let tp =
-        crate::toolpath::load(p, opts).with_context(|| format!("loading path {}", p.display()))?;
+    opts: &printwatt::toolpath::ReadOptions,
+) -> Result<printwatt::toolpath::Toolpath> {
+    let tp = printwatt::toolpath::load(p, opts)
+        .with_context(|| format!("loading path {}", p.display()))?;
     note_warnings(&tp.source, &tp.warnings);
     Ok(tp)
 }
@@ -221,8 +221,8 @@ pub fn inputs(
     robot_arg: &Path,
     model: Option<&robot::RobotModel>,
     files: &[Option<&Path>],
-) -> crate::output::Inputs {
-    let mut i = crate::output::Inputs::new();
+) -> printwatt::output::Inputs {
+    let mut i = printwatt::output::Inputs::new();
     i.add_robot(&resolve_robot(robot_arg), model);
     for f in files.iter().flatten() {
         i.add(f);
@@ -286,9 +286,13 @@ pub fn note_warnings(file: &str, ws: &[String]) {
             Some(l) => eprintln!(
                 "warning: {}:{l}: {}",
                 w.file,
-                crate::error::clip(&w.message)
+                printwatt::error::clip(&w.message)
             ),
-            None => eprintln!("warning: {}: {}", w.file, crate::error::clip(&w.message)),
+            None => eprintln!(
+                "warning: {}: {}",
+                w.file,
+                printwatt::error::clip(&w.message)
+            ),
         }
         if let Ok(mut g) = WARNINGS.lock() {
             if !g.contains(&w) {
@@ -307,7 +311,7 @@ pub fn warnings() -> Vec<Warning> {
 /// key; other values are wrapped as `{"result": …, "warnings": […]}`).
 pub fn print_json<T: serde::Serialize>(v: &T) -> Result<()> {
     // Before serde_json sees it: serde_json writes NaN and infinities as `null`.
-    crate::output::check_finite_json("JSON output", v)?;
+    printwatt::output::check_finite_json("JSON output", v)?;
     let mut v = serde_json::to_value(v)?;
     add_warnings(&mut v);
     println!("{}", serde_json::to_string_pretty(&v)?);
@@ -354,26 +358,4 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Identify(a) => identify::run(a),
         Command::Simulate(a) => simulate::run(a),
     }
-}
-
-/// Parse a comma-separated list of exactly `n` finite numbers (an empty item is an error).
-pub fn parse_list(s: &str, n: usize) -> Result<Vec<f64>> {
-    let v: Vec<f64> = s
-        .split(',')
-        .enumerate()
-        .map(|(i, x)| {
-            let t = x.trim();
-            if t.is_empty() {
-                anyhow::bail!("item {} of `{s}` is empty", i + 1);
-            }
-            t.parse::<f64>()
-                .ok()
-                .filter(|v| v.is_finite())
-                .with_context(|| format!("`{t}` is not a finite number"))
-        })
-        .collect::<Result<_>>()?;
-    if v.len() != n {
-        anyhow::bail!("expected {n} comma-separated numbers, got {}", v.len());
-    }
-    Ok(v)
 }

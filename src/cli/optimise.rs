@@ -2,13 +2,13 @@
 //! comparison, sensitivity within ±50 mm, and the run report under `results/<run>/`.
 
 use super::sweep::{detail, meta, parse_placement, run_sweep, PlacementArgs};
-use crate::placement::optimise::{self, feasible_centre, worst_of, OptimiseOptions};
-use crate::placement::search::{self, Bounds, SearchOptions};
-use crate::placement::sweep::Evaluator;
-use crate::placement::tolerance::Tolerance;
-use crate::report::placement::RunReport;
-use crate::toolpath::Placement;
 use anyhow::{Context, Result};
+use printwatt::placement::optimise::{self, feasible_centre, worst_of, OptimiseOptions};
+use printwatt::placement::search::{self, Bounds, SearchOptions};
+use printwatt::placement::sweep::Evaluator;
+use printwatt::placement::tolerance::Tolerance;
+use printwatt::report::placement::RunReport;
+use printwatt::toolpath::Placement;
 use std::io::IsTerminal;
 
 /// `printwatt optimise` arguments. With none, runs the shipped default robot and path on a
@@ -56,7 +56,7 @@ pub struct OptimiseArgs {
 }
 
 /// What the tolerance check says, in one line.
-pub fn tolerance_line(c: &crate::placement::tolerance::ToleranceCheck) -> String {
+pub fn tolerance_line(c: &printwatt::placement::tolerance::ToleranceCheck) -> String {
     if c.corners == 0 {
         return "not checked (--tolerance 0,0)".into();
     }
@@ -70,7 +70,7 @@ pub fn tolerance_line(c: &crate::placement::tolerance::ToleranceCheck) -> String
         )
     } else {
         format!(
-            "does NOT hold {}: {} of {} corners infeasible (first: {}); no grid cell near the optimum holds it",
+            "does NOT hold {}: {} of the {} corners checked infeasible (first: {}); no grid cell near the optimum holds it",
             c.tolerance.describe(),
             c.failures.len(),
             c.corners,
@@ -159,7 +159,7 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
     if !rows.iter().any(|r| r.cost().is_finite()) {
         anyhow::bail!(
             "{}",
-            crate::placement::advice::nothing_feasible(&rows, &l.robot).trim_end()
+            printwatt::placement::advice::nothing_feasible(&rows, &l.robot).trim_end()
         );
     }
     let step = grid
@@ -270,7 +270,7 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
             ));
         }
     }
-    let site = crate::report::site::SiteGeometry::new(
+    let site = printwatt::report::site::SiteGeometry::new(
         &l.robot,
         &job,
         res.best.placement.z,
@@ -306,12 +306,12 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
                 ex.join("wobj_print.mod"),
                 format!(
                     "MODULE printwatt_placement\n{}ENDMODULE\n",
-                    crate::placement::export::wobjdata("wobjPrint", &b.placement)
+                    printwatt::placement::export::wobjdata("wobjPrint", &b.placement)
                 ),
             ),
             (
                 ex.join("frame.json"),
-                serde_json::to_string_pretty(&crate::placement::export::compas_frame(
+                serde_json::to_string_pretty(&printwatt::placement::export::compas_frame(
                     &b.placement,
                 ))?,
             ),
@@ -320,8 +320,8 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
             if f.exists() && !p.force {
                 anyhow::bail!("{} exists: replacing it needs --force", f.display());
             }
-            crate::output::guard_inputs(f, &[l.path_file.as_path()])?;
-            crate::output::write_atomic(f, text.as_bytes())?;
+            printwatt::output::guard_inputs(f, &[l.path_file.as_path()])?;
+            printwatt::output::write_atomic(f, text.as_bytes())?;
         }
     }
     if p.json {

@@ -1,8 +1,8 @@
 //! `printwatt robots`
 
 use super::RobotsArgs;
-use crate::robot;
 use anyhow::{Context, Result};
+use printwatt::robot;
 use serde::Serialize;
 use std::path::PathBuf;
 

@@ -1,21 +1,21 @@
 //! `printwatt simulate`
 
 use super::load_robot;
-use crate::identify::{self, log::SignalKind, simulate};
 use anyhow::{bail, Context, Result};
+use printwatt::identify::{self, log::SignalKind, simulate};
 
 /// `printwatt simulate`: a log from a "true" robot with hidden effects.
 pub fn run(a: super::SimulateArgs) -> Result<()> {
     let robot = load_robot(&a.robot)?;
     // The output is checked against the inputs before any work.
-    crate::output::check_file(
+    printwatt::output::check_file(
         &a.out,
         &super::inputs(
             &a.robot,
             Some(&robot),
             &[a.path.as_deref(), a.trajectory.as_deref()],
         ),
-        crate::output::Existing::Replace,
+        printwatt::output::Existing::Replace,
     )?;
     for (opt, v) in [
         ("--noise-q", a.noise_q),
@@ -33,11 +33,11 @@ pub fn run(a: super::SimulateArgs) -> Result<()> {
         }
         // Budget: the dense excitation is sampled at 1 kHz (6 joints × 3 quantities).
         let samples = d * 1000.0;
-        if samples > crate::timing::budget::max_samples() as f64 {
+        if samples > printwatt::timing::budget::max_samples() as f64 {
             bail!(
                 "--excite {d} s needs {samples:.3e} samples at 1 kHz, more than the budget of {} ({}): did you mean {} s?",
-                crate::timing::budget::max_samples(),
-                crate::timing::budget::MAX_SAMPLES_ENV,
+                printwatt::timing::budget::max_samples(),
+                printwatt::timing::budget::MAX_SAMPLES_ENV,
                 d / 1000.0
             );
         }
@@ -60,33 +60,27 @@ pub fn run(a: super::SimulateArgs) -> Result<()> {
     let dense = match (&a.path, &a.trajectory, a.excite) {
         (Some(p), None, None) => {
             let at = a.at.as_deref().context("--path needs --at x,y,z,yaw_deg")?;
-            let v: Vec<f64> = at
-                .split(',')
-                .map(|s| s.trim().parse::<f64>())
-                .collect::<std::result::Result<_, _>>()
-                .with_context(|| format!("--at `{at}`: expected x,y,z,yaw_deg"))?;
-            if v.len() != 4 {
-                bail!("--at `{at}`: expected 4 numbers x,y,z (m), yaw (deg)");
-            }
-            let tp = super::load_path(p, &crate::toolpath::ReadOptions::default())?;
-            let job = crate::placement::PathJob::new(
+            let pl = printwatt::toolpath::Placement::parse(at).with_context(|| {
+                format!(
+                    "--at `{at}`: expected x,y,z,yaw in m, m, m, deg (and an optional spin, deg)"
+                )
+            })?;
+            let tp = super::load_path(p, &printwatt::toolpath::ReadOptions::default())?;
+            let job = printwatt::placement::PathJob::new(
                 &robot,
                 &tp,
-                crate::energy::EnergyOptions::default(),
-                crate::timing::ProfileOptions::default(),
-                crate::timing::JointStageOptions::default(),
+                printwatt::energy::EnergyOptions::default(),
+                printwatt::timing::ProfileOptions::default(),
+                printwatt::timing::JointStageOptions::default(),
             )?;
-            let pl = crate::toolpath::Placement::new(v[0], v[1], v[2], v[3].to_radians());
             match job.evaluate(&pl)? {
                 Ok(e) => e.timed.traj,
                 Err(f) => bail!("the path is not feasible at {at}: {f}"),
             }
         }
         (None, Some(t), None) => {
-            let (mut tr, sup) = crate::trajectory::read_csv_for(t, &robot)?;
-            if !sup.velocities || !sup.accelerations {
-                crate::dynamics::fill_derivatives(&mut tr)?;
-            }
+            let (mut tr, sup) = printwatt::trajectory::read_csv_for(t, &robot)?;
+            printwatt::dynamics::complete_derivatives(&mut tr, sup)?;
             tr
         }
         (None, None, Some(d)) => simulate::excitation(&robot, d, 1000.0, a.seed),
@@ -127,11 +121,11 @@ pub fn run(a: super::SimulateArgs) -> Result<()> {
         Some(&robot),
         &[a.path.as_deref(), a.trajectory.as_deref()],
     );
-    crate::output::write_file(
+    printwatt::output::write_file(
         &a.out,
         text.as_bytes(),
         &inputs,
-        crate::output::Existing::Replace,
+        printwatt::output::Existing::Replace,
     )?;
     eprintln!(
         "wrote {} ({} samples at {} Hz)",

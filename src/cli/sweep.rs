@@ -1,14 +1,14 @@
 //! `printwatt sweep`: evaluate a grid, a named set or a list of placements in parallel.
 
-use crate::energy::EnergyOptions;
-use crate::placement::feasibility::FeasibilityOptions;
-use crate::placement::optimise::{best_of, worst_of};
-use crate::placement::sweep::{parse_range, Evaluated, Evaluator, Grid, Objective};
-use crate::placement::PathJob;
-use crate::report::placement::{Detail, RunReport};
-use crate::timing::{JointStageOptions, ProfileOptions};
-use crate::toolpath::{self, Placement, ReadOptions};
 use anyhow::{bail, Context, Result};
+use printwatt::energy::EnergyOptions;
+use printwatt::placement::feasibility::FeasibilityOptions;
+use printwatt::placement::optimise::{best_of, worst_of};
+use printwatt::placement::sweep::{parse_range, Evaluated, Evaluator, Grid, Objective};
+use printwatt::placement::PathJob;
+use printwatt::report::placement::{Detail, RunReport};
+use printwatt::timing::{JointStageOptions, ProfileOptions};
+use printwatt::toolpath::{self, Placement, ReadOptions};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
@@ -63,7 +63,7 @@ pub struct PlacementArgs {
     pub wrist_min: f64,
     /// Largest share of the joint 4/6 velocity or acceleration limit near the wrist
     /// singularity (0.5 = half).
-    #[arg(long, default_value_t = crate::placement::margins::DEFAULT_WRIST_RATE_MAX)]
+    #[arg(long, default_value_t = printwatt::placement::margins::DEFAULT_WRIST_RATE_MAX)]
     pub wrist_rate_max: f64,
     /// Margin kept from every joint's position limits, deg: one value for all joints or a
     /// comma list per joint (the drive file's `limit_margin_rad` takes precedence).
@@ -117,7 +117,7 @@ pub fn shipped(rel: &str) -> PathBuf {
 /// Everything loaded for a placement command.
 pub struct Loaded {
     /// The robot.
-    pub robot: crate::robot::RobotModel,
+    pub robot: printwatt::robot::RobotModel,
     /// The toolpath (part frame, m).
     pub path: toolpath::Toolpath,
     /// Where the toolpath came from.
@@ -142,7 +142,7 @@ impl Loaded {
 
     /// The workspace grid used when the command line names no placements.
     pub fn default_grid(&self) -> Grid {
-        crate::placement::optimise::default_grid(crate::placement::feasibility::reach_m(
+        printwatt::placement::optimise::default_grid(printwatt::placement::feasibility::reach_m(
             &self.robot,
         ))
     }
@@ -153,7 +153,7 @@ impl PlacementArgs {
     pub fn load(&self) -> Result<Loaded> {
         let mut robot = super::load_robot(&self.robot)?;
         if let Some(t) = &self.tool {
-            crate::robot::apply_tool_preset(&mut robot, t)?;
+            printwatt::robot::apply_tool_preset(&mut robot, t)?;
         }
         let path_file = self
             .path
@@ -187,7 +187,7 @@ impl PlacementArgs {
                 self.joint_margin
             );
         }
-        let mut joint_margin_rad = [0.0; crate::kinematics::MAX_DOF];
+        let mut joint_margin_rad = [0.0; printwatt::kinematics::MAX_DOF];
         for (j, m) in joint_margin_rad.iter_mut().enumerate() {
             *m = margins
                 .get(j)
@@ -293,7 +293,7 @@ impl PlacementArgs {
     }
 
     /// The inputs of the command (robot files, path, set) for the output policy.
-    pub fn inputs(&self, l: &Loaded) -> crate::output::Inputs {
+    pub fn inputs(&self, l: &Loaded) -> printwatt::output::Inputs {
         super::inputs(
             &self.robot,
             Some(&l.robot),
@@ -307,14 +307,14 @@ impl PlacementArgs {
         &self,
         l: &Loaded,
         run: Option<&str>,
-    ) -> Result<Option<crate::output::RunDir>> {
+    ) -> Result<Option<printwatt::output::RunDir>> {
         match run {
             None => Ok(None),
-            Some(r) => Ok(Some(crate::output::RunDir::begin(
+            Some(r) => Ok(Some(printwatt::output::RunDir::begin(
                 &self.results_dir,
                 r,
                 &self.inputs(l),
-                crate::output::Existing::Force(self.force),
+                printwatt::output::Existing::Force(self.force),
             )?)),
         }
     }
@@ -382,28 +382,6 @@ fn safe_token(s: &str) -> String {
     }
 }
 
-/// UTC time `YYYYmmddTHHMMSSZ` of a Unix time, s (proleptic Gregorian; Howard Hinnant's
-/// days-to-civil algorithm).
-pub fn utc_stamp(unix_s: u64) -> String {
-    let days = (unix_s / 86_400) as i64;
-    let sod = unix_s % 86_400;
-    let z = days + 719_468;
-    let era = z.div_euclid(146_097);
-    let doe = z - era * 146_097;
-    let yoe = (doe - doe / 1460 + doe / 36_524 - doe / 146_096) / 365;
-    let doy = doe - (365 * yoe + yoe / 4 - yoe / 100);
-    let mp = (5 * doy + 2) / 153;
-    let d = doy - (153 * mp + 2) / 5 + 1;
-    let m = if mp < 10 { mp + 3 } else { mp - 9 };
-    let y = yoe + era * 400 + i64::from(m <= 2);
-    format!(
-        "{y:04}{m:02}{d:02}T{:02}{:02}{:02}Z",
-        sod / 3600,
-        (sod / 60) % 60,
-        sod % 60
-    )
-}
-
 /// The default run name: `<command>-<robot dir or file stem>-<path stem>-<UTC time>`.
 pub fn default_run_name(command: &str, robot: &Path, path: &Path, unix_s: u64) -> String {
     let stem = |p: &Path| {
@@ -423,7 +401,7 @@ pub fn default_run_name(command: &str, robot: &Path, path: &Path, unix_s: u64) -
         "{command}-{}-{}-{}",
         safe_token(&r),
         safe_token(&stem(path)),
-        utc_stamp(unix_s)
+        printwatt::output::utc_stamp(unix_s)
     )
 }
 
@@ -432,14 +410,14 @@ impl PlacementArgs {
     /// needs `--force`), else, when `default_for` names the command, a fresh
     /// `runs/<command>-<robot>-<path>-<UTC time>` (suffixed `-2`, `-3`, … if taken). `None`:
     /// no run directory.
-    /// The directory is taken through the output policy ([`crate::output::RunDir`]): locked
+    /// The directory is taken through the output policy ([`printwatt::output::RunDir`]): locked
     /// for this run, checked against the inputs, refused if it holds files printwatt did not
     /// write (even with --force), written whole at the end.
     pub fn run_dir(
         &self,
         l: &Loaded,
         default_for: Option<&str>,
-    ) -> Result<Option<crate::output::RunDir>> {
+    ) -> Result<Option<printwatt::output::RunDir>> {
         if self.run.is_some() {
             return self.begin_run(l, self.run.as_deref());
         }
@@ -458,10 +436,10 @@ impl PlacementArgs {
             dir = parent.join(format!("{base}-{k}"));
             k += 1;
         }
-        Ok(Some(crate::output::RunDir::begin_at(
+        Ok(Some(printwatt::output::RunDir::begin_at(
             &dir,
             &self.inputs(l),
-            crate::output::Existing::Force(false),
+            printwatt::output::Existing::Force(false),
         )?))
     }
 }
@@ -470,28 +448,9 @@ impl PlacementArgs {
 /// grid they form (grids).
 pub type Asked = (Vec<Placement>, Option<Vec<String>>, Option<Grid>);
 
-/// Parse `x,y,z,yaw` (m, m, m, deg) into a placement.
+/// Parse `x,y,z,yaw[,spin]` (m, m, m, deg, deg) into a placement ([`Placement::parse`]).
 pub fn parse_placement(s: &str) -> Result<Placement> {
-    let v: Vec<f64> = s
-        .split(',')
-        .map(|t| {
-            t.trim()
-                .parse::<f64>()
-                .ok()
-                .filter(|v| v.is_finite())
-                .with_context(|| format!("`{}` is not a number", t.trim()))
-        })
-        .collect::<Result<_>>()?;
-    if v.len() != 4 && v.len() != 5 {
-        bail!("`{s}`: expected x,y,z,yaw (m, m, m, deg) and an optional nozzle spin (deg)");
-    }
-    Ok(Placement {
-        x: v[0],
-        y: v[1],
-        z: v[2],
-        yaw: v[3].to_radians(),
-        nozzle_spin: v.get(4).copied().unwrap_or(0.0).to_radians(),
-    })
+    Placement::parse(s).with_context(|| format!("`{s}`"))
 }
 
 /// Run a sweep with a progress bar on a terminal.
@@ -571,7 +530,7 @@ pub fn meta(
                 (0..l.robot.dof())
                     .map(|j| format!(
                         "{:.1}",
-                        crate::placement::margins::joint_margin(&l.robot, &l.feas, j).to_degrees()
+                        printwatt::placement::margins::joint_margin(&l.robot, &l.feas, j).to_degrees()
                     ))
                     .collect::<Vec<_>>()
                     .join("/"),
@@ -641,7 +600,7 @@ pub fn run(a: SweepArgs) -> Result<()> {
             details.extend(detail(&job, "worst", w)?);
         }
     }
-    let site = crate::report::site::SiteGeometry::new(
+    let site = printwatt::report::site::SiteGeometry::new(
         &l.robot,
         &job,
         best_of(&rows).map_or(0.0, |b| b.placement.z),
@@ -698,7 +657,7 @@ pub fn run(a: SweepArgs) -> Result<()> {
         if rep.best().is_none() {
             print!(
                 "{}",
-                crate::placement::advice::nothing_feasible(&rep.rows, &l.robot)
+                printwatt::placement::advice::nothing_feasible(&rep.rows, &l.robot)
             );
         }
         if let Some(s) = rep.spread_pct() {

@@ -72,3 +72,37 @@ pub fn fill_derivatives(traj: &mut JointTrajectory) -> Result<()> {
     }
     Ok(())
 }
+
+/// Fill whatever derivatives a trajectory file did not give (see
+/// [`crate::trajectory::Supplied`]): both given, nothing changes; q̇ given, q̈ (rad/s²) comes
+/// from differentiating q̇; q̇ missing, q̇ (rad/s) comes from q and so does q̈ unless the file
+/// gave it (then it is kept). Differences as in [`fill_derivatives`].
+///
+/// Error: as [`fill_derivatives`] (times not strictly increasing, wrong lengths).
+pub fn complete_derivatives(
+    traj: &mut JointTrajectory,
+    supplied: crate::trajectory::Supplied,
+) -> Result<()> {
+    match (supplied.velocities, supplied.accelerations) {
+        (true, true) => {}
+        (true, false) => {
+            let mut v = JointTrajectory {
+                n: traj.n,
+                t: traj.t.clone(),
+                q: traj.qd.clone(),
+                qd: vec![0.0; traj.qd.len()],
+                qdd: vec![0.0; traj.qd.len()],
+            };
+            fill_derivatives(&mut v)?;
+            traj.qdd = v.qd;
+        }
+        (false, acc) => {
+            let keep = traj.qdd.clone();
+            fill_derivatives(traj)?;
+            if acc {
+                traj.qdd = keep;
+            }
+        }
+    }
+    Ok(())
+}

@@ -22,7 +22,7 @@
 mod derivatives;
 mod rnea;
 
-pub use derivatives::fill_derivatives;
+pub use derivatives::{complete_derivatives, fill_derivatives};
 pub use rnea::{
     gravity_torque, kinetic_energy, mass_matrix, potential_energy, rnea, DynData, DynModel,
     DynOptions, MAX_DOF,

@@ -19,3 +19,11 @@ pub use model::{Model, Prepared, DEFAULT_EFFECTS};
 /// Version of the `--json` shapes of `compare`, `diagnose`, `identify` and `simulate`
 /// (docs/json.md); raised when a field changes meaning or is removed.
 pub const JSON_SCHEMA_VERSION: u32 = 1;
+
+/// The default train/validation split of a log of `n` samples: the first 75 % (rows
+/// `0..cut`) to fit, the last 25 % (`cut..n`) to validate. Time
+/// blocks, not random rows, so that validation is on motion the fit has not seen.
+pub fn train_validation_split(n: usize) -> (std::ops::Range<usize>, std::ops::Range<usize>) {
+    let cut = n * 3 / 4;
+    (0..cut, cut..n)
+}

@@ -513,6 +513,106 @@ impl<'a> IkSolver<'a> {
         Ok(out)
     }
 
+    /// A necessary condition for any IK answer at `tool_target` (base frame, m), far cheaper
+    /// than solving: for OPW arms, the wrist centre within reach of the arm for at least one
+    /// shoulder (the closed form's own reach conditions, [`opw::arm_reaches`]); otherwise the
+    /// tool within the sum of link lengths of joint 1. An `Err` here means that
+    /// [`IkSolver::solve_near`] fails for every previous joint vector and
+    /// [`IkSolver::solve_all`] finds nothing, so a path containing this target cannot be
+    /// tracked. `Ok` proves nothing.
+    #[inline]
+    pub fn reachable(&self, tool_target: &Frame) -> Result<(), IkFailure> {
+        match (&self.model.opw, &self.opw_k) {
+            (Some(p), Some(_)) => {
+                let flange = self.flange_target(tool_target);
+                self.wrist_centre_reachable(&(flange.pos - flange.rot.column(2) * p.c4), 0.0)
+            }
+            _ => self.precheck(tool_target),
+        }
+    }
+
+    /// For a tool orientation `rot` (base frame), the constant offset from the tool point to
+    /// the wrist centre, m (OPW arms; `None` otherwise): wrist centre = tip + offset.
+    pub fn wrist_offset(&self, rot: &M3) -> Option<V3> {
+        let p = self.model.opw.as_ref()?;
+        let flange = self.flange_target(&Frame {
+            rot: *rot,
+            pos: V3::zeros(),
+        });
+        Some(flange.pos - flange.rot.column(2) * p.c4)
+    }
+
+    /// [`IkSolver::reachable`] on a wrist centre `c` (base frame, m) of an OPW arm, with the
+    /// conditions widened by `slack` (see [`opw::arm_reaches`]; use 1e-9 for a wrist centre
+    /// from [`IkSolver::wrist_offset`], whose rounding differs from the solver's). `Ok` for
+    /// arms without OPW parameters.
+    #[inline]
+    pub fn wrist_centre_reachable(&self, c: &V3, slack: f64) -> Result<(), IkFailure> {
+        let (Some(p), Some(k)) = (&self.model.opw, &self.opw_k) else {
+            return Ok(());
+        };
+        match opw::arm_reaches(p, k, c, Shoulder::Front, slack) {
+            Ok(()) => Ok(()),
+            Err(e) => opw::arm_reaches(p, k, c, Shoulder::Back, slack).map_err(|_| e),
+        }
+    }
+
+    /// The closed-form branch [`IkSolver::solve_near`] continues from `q` (OPW arms), else `None`.
+    pub fn branch_of(&self, q: &[f64]) -> Option<Branch> {
+        match (&self.model.opw, &self.opw_k) {
+            (Some(p), Some(k)) if q.len() >= 6 => Some(k.branch_of(p, q)),
+            _ => None,
+        }
+    }
+
+    /// A necessary condition for [`IkSolver::solve_near`] to continue a path in the
+    /// shoulder/elbow branch `(shoulder, elbow)` at `tool_target`: one of the branch's two
+    /// wrist variants reaches the target with every joint within its limits. At an exactly
+    /// singular wrist (`|sin q5|` < 1e-6), where `solve_near` splits the rotation between
+    /// joints 4 and 6 according to the previous sample, joints 4 and 6 are not judged. No
+    /// forward-kinematics re-check (it can only reject more). OPW arms only (`Ok` otherwise).
+    pub fn branch_admits(
+        &self,
+        tool_target: &Frame,
+        shoulder: Shoulder,
+        elbow: Elbow,
+    ) -> Result<(), IkFailure> {
+        let (Some(p), Some(k)) = (&self.model.opw, &self.opw_k) else {
+            return Ok(());
+        };
+        let flange = self.flange_target(tool_target);
+        let mut first: Option<IkFailure> = None;
+        for wrist in [Wrist::NoFlip, Wrist::Flip] {
+            let r = opw::solve_branch_prepared(
+                p,
+                k,
+                &flange,
+                Branch::new(shoulder, elbow, wrist),
+                None,
+            )
+            .and_then(|(q, s5)| {
+                let mut q = JointVec::from_slice(&q);
+                if s5 < 1e-6 {
+                    for j in [3, 5] {
+                        if let (Some(v), Some(jt)) = (q.get_mut(j), self.model.joints.get(j)) {
+                            if jt.lower <= jt.upper {
+                                *v = 0.0f64.clamp(jt.lower, jt.upper);
+                            }
+                        }
+                    }
+                }
+                fit_limits(self.model, &mut q, None)
+            });
+            match r {
+                Ok(()) => return Ok(()),
+                Err(e) => {
+                    first.get_or_insert(e);
+                }
+            }
+        }
+        Err(first.unwrap_or(IkFailure::Unsupported("no wrist variant".into())))
+    }
+
     /// The solution that continues `q_prev` (rad / m; the previous path sample): the same
     /// closed-form branch with wide-range joints on the 2π multiple closest to `q_prev` and q4
     /// kept at the wrist singularity, or the numeric solution seeded at `q_prev`. FK-checked.

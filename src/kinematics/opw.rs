@@ -225,6 +225,61 @@ fn checked_acos(x: f64) -> Option<f64> {
     }
 }
 
+/// Can the arm (joints 1–3) of the `shoulder` branch put the wrist centre at `c` (base frame,
+/// m)? Exactly the reach conditions of the closed form (the same expressions, in the same
+/// order, as the arm part of [`solve_branch_prepared`], without its trigonometry): `Ok` if and
+/// only if both elbow variants of that shoulder have an arm solution. Used to reject a path
+/// that leaves the reachable set before any tracking (a necessary condition for every branch).
+/// `slack` (dimensionless, ≥ 0) widens every condition: with `slack` = 1e-9 a wrist centre
+/// computed with rounding differences of ~1e-15 m is never rejected where the closed form
+/// would accept it.
+#[inline]
+pub fn arm_reaches(
+    p: &OpwParams,
+    k: &Prepared,
+    c: &V3,
+    shoulder: Shoulder,
+    slack: f64,
+) -> Result<(), IkFailure> {
+    let rho2 = c.x * c.x + c.y * c.y - p.b * p.b;
+    if rho2.is_nan() || rho2 < -slack {
+        return Err(IkFailure::OutOfReach {
+            distance_m: (c.x * c.x + c.y * c.y).sqrt(),
+            min_reach_m: p.b.abs(),
+            max_reach_m: f64::INFINITY,
+            what: "wrist centre from the axis of joint 1",
+        });
+    }
+    let rho = rho2.max(0.0).sqrt();
+    let nx1 = rho - p.a1;
+    let dz = c.z - p.c1;
+    let x = match shoulder {
+        Shoulder::Front => nx1,
+        Shoulder::Back => nx1 + 2.0 * p.a1,
+    };
+    let s2 = x * x + dz * dz;
+    let s = s2.sqrt();
+    if s == 0.0 && slack == 0.0 {
+        return Err(IkFailure::Singular {
+            what: "wrist centre on the axis of joint 2",
+            measure: 0.0,
+        });
+    }
+    let ok = |v: f64| !(v.is_nan() || v.abs() > 1.0 + ACOS_SLACK + slack);
+    if ok((s2 + k.c22 - k.kappa2) / (2.0 * s * p.c2))
+        && ok((s2 - k.c22 - k.kappa2) / (2.0 * p.c2 * k.kappa))
+    {
+        Ok(())
+    } else {
+        Err(IkFailure::OutOfReach {
+            distance_m: s,
+            min_reach_m: (p.c2 - k.kappa).abs(),
+            max_reach_m: p.c2 + k.kappa,
+            what: "wrist centre from the axis of joint 2",
+        })
+    }
+}
+
 /// Arm part (joints 1–3, OPW angles) of one shoulder/elbow branch, or why it has none.
 #[inline]
 fn arm(

@@ -377,16 +377,35 @@ impl Beads {
         }
         let aabb = shape.compute_aabb(pose);
         let cap_id = Isometry::identity();
-        let found = self
-            .bvh
-            .intersect_aabb(&aabb)
-            .map(|i| i as usize)
-            .filter(|&i| i < laid)
-            .find(|&i| {
-                let d = query::distance(pose, shape.as_ref(), &cap_id, &self.segs[i])
-                    .unwrap_or(f64::INFINITY);
-                d < self.radius_m
-            });
+        // A capsule (every link without URDF geometry) against a bead segment in closed form
+        // (segment–segment closest points, Ericson's method as parry implements it) instead of
+        // parry's general GJK dispatch: same distance, a fraction of the cost.
+        let cap = shape
+            .as_capsule()
+            .map(|c| (pose * c.segment.a, pose * c.segment.b, c.radius));
+        let found =
+            self.bvh
+                .intersect_aabb(&aabb)
+                .map(|i| i as usize)
+                .filter(|&i| i < laid)
+                .find(|&i| {
+                    let seg = &self.segs[i];
+                    let d = match &cap {
+                        Some((a, b, r)) => {
+                            let (la, lb) =
+                                query::details::closest_points_segment_segment_with_locations_nD(
+                                    (a, b),
+                                    (&seg.a, &seg.b),
+                                );
+                            let pa = Segment::new(*a, *b).point_at(&la);
+                            let pb = seg.point_at(&lb);
+                            ((pa - pb).norm() - r).max(0.0)
+                        }
+                        None => query::distance(pose, shape.as_ref(), &cap_id, seg)
+                            .unwrap_or(f64::INFINITY),
+                    };
+                    d < self.radius_m
+                });
         found
     }
 }

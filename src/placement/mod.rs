@@ -8,6 +8,7 @@ pub mod eval;
 pub mod export;
 pub mod feasibility;
 pub mod margins;
+pub mod neldermead;
 pub mod optimise;
 pub mod search;
 pub mod sweep;

@@ -10,14 +10,14 @@
 //! Evaluations are sequential on one thread (the tolerance corners in parallel), and
 //! Nelder–Mead is deterministic, so the answer does not depend on the thread count.
 
+use super::neldermead::{BatchCost, SpeculativeNelderMead};
 use super::optimise::{sensitivity, OptimiseOptions, OptimiseResult};
 use super::sweep::{Evaluated, Evaluator, Scratch};
 use super::tolerance::{self, Tolerance, ToleranceCheck};
 use crate::error::{Error, Result};
 use crate::toolpath::Placement;
 use argmin::core::observers::{Observe, ObserverMode};
-use argmin::core::{CostFunction, Executor, IterState, State, KV};
-use argmin::solver::neldermead::NelderMead;
+use argmin::core::{Executor, IterState, State, KV};
 use serde::Serialize;
 use std::cell::RefCell;
 use std::sync::{Arc, Mutex};
@@ -90,7 +90,8 @@ struct Problem<'e, 'j, 'a> {
     evals: Arc<Mutex<usize>>,
     visited: RefCell<Vec<Evaluated>>,
     history: RefCell<Vec<f64>>,
-    error: RefCell<Option<Error>>,
+    /// Speculative evaluations that were not needed.
+    speculative: RefCell<usize>,
 }
 
 const BUDGET: &str = "evaluation budget spent";
@@ -123,43 +124,83 @@ impl Problem<'_, '_, '_> {
 /// The problem as argmin holds it (by reference, so that its state can be read afterwards).
 struct ByRef<'p, 'e, 'j, 'a>(&'p Problem<'e, 'j, 'a>);
 
-impl CostFunction for ByRef<'_, '_, '_, '_> {
-    type Param = Vec<f64>;
-    type Output = f64;
-    fn cost(&self, u: &Vec<f64>) -> std::result::Result<f64, argmin::core::Error> {
-        self.0.cost_of(u)
-    }
+/// A point evaluated for the simplex, not yet counted.
+enum Pending {
+    /// Outside the search box: +∞, never evaluated, not counted.
+    Outside,
+    /// Evaluated.
+    Done(Box<Evaluated>),
 }
 
-impl Problem<'_, '_, '_> {
-    fn cost_of(&self, u: &[f64]) -> std::result::Result<f64, argmin::core::Error> {
-        let p = self.placement(u);
-        if !self.bounds.contains(&p) {
-            return Ok(f64::INFINITY);
+impl BatchCost for ByRef<'_, '_, '_, '_> {
+    type Pending = Pending;
+
+    fn evaluate(
+        &self,
+        points: &[Vec<f64>],
+    ) -> std::result::Result<Vec<Pending>, argmin::core::Error> {
+        let pr = self.0;
+        let ps: Vec<Placement> = points.iter().map(|u| pr.placement(u)).collect();
+        let inside: Vec<Placement> = ps
+            .iter()
+            .copied()
+            .filter(|p| pr.bounds.contains(p))
+            .collect();
+        let mut done = if inside.len() == 1 {
+            // One point: this thread, with the problem's own scratch.
+            vec![pr.ev.evaluate(&mut pr.sc.borrow_mut(), &inside[0])]
+        } else {
+            pr.ev
+                .sweep(&inside, &|_, _| {})
+                .map_err(|e| argmin::core::Error::msg(e.to_string()))?
         }
+        .into_iter();
+        Ok(ps
+            .iter()
+            .map(|p| {
+                if pr.bounds.contains(p) {
+                    done.next()
+                        .map_or(Pending::Outside, |e| Pending::Done(Box::new(e)))
+                } else {
+                    Pending::Outside
+                }
+            })
+            .collect())
+    }
+
+    fn commit(&self, p: Pending) -> std::result::Result<f64, argmin::core::Error> {
+        let pr = self.0;
+        let e = match p {
+            Pending::Outside => return Ok(f64::INFINITY),
+            Pending::Done(e) => e,
+        };
         {
-            let mut n = self
+            let mut n = pr
                 .evals
                 .lock()
                 .map_err(|_| argmin::core::Error::msg("lock"))?;
-            if *n >= self.budget {
+            if *n >= pr.budget {
                 return Err(argmin::core::Error::msg(BUDGET));
             }
             *n += 1;
         }
-        let e = self.ev.evaluate(&mut self.sc.borrow_mut(), &p);
         let c = e.cost();
-        let best = self
-            .history
-            .borrow()
-            .last()
-            .copied()
-            .unwrap_or(f64::INFINITY);
-        self.history.borrow_mut().push(best.min(c));
+        let best = pr.history.borrow().last().copied().unwrap_or(f64::INFINITY);
+        pr.history.borrow_mut().push(best.min(c));
         if c.is_finite() {
-            self.visited.borrow_mut().push(e);
+            pr.visited.borrow_mut().push(*e);
         }
         Ok(c)
+    }
+
+    fn parallel(&self) -> bool {
+        rayon::current_num_threads() > 1
+    }
+
+    fn discarded(&self, p: Pending) {
+        if let Pending::Done(_) = p {
+            *self.0.speculative.borrow_mut() += 1;
+        }
     }
 }
 
@@ -268,7 +309,7 @@ pub fn refine(
         evals: evals.clone(),
         visited: RefCell::new(Vec::new()),
         history: RefCell::new(vec![start.cost()]),
-        error: RefCell::new(None),
+        speculative: RefCell::new(0),
     };
     // Initial simplex: the grid cell and one step along each searched coordinate.
     let mut simplex = vec![vec![0.0; dim]];
@@ -277,7 +318,7 @@ pub fn refine(
         v[k] = 1.0;
         simplex.push(v);
     }
-    let solver = NelderMead::new(simplex)
+    let solver = SpeculativeNelderMead::new(simplex)
         .with_sd_tolerance(1e-6)
         .map_err(|e| Error::Invalid(format!("Nelder–Mead: {e}")))?;
     let obs = Obs {
@@ -293,12 +334,7 @@ pub fn refine(
         match r {
             Ok(res) => iterations = res.state().get_iter() as usize,
             Err(e) if e.to_string().contains(BUDGET) => {}
-            Err(e) => {
-                if let Some(err) = problem.error.borrow_mut().take() {
-                    return Err(err);
-                }
-                return Err(Error::Invalid(format!("Nelder–Mead: {e}")));
-            }
+            Err(e) => return Err(Error::Invalid(format!("Nelder–Mead: {e}"))),
         }
     }
     let used = *evals.lock().map_err(|_| Error::Invalid("lock".into()))?;

@@ -73,7 +73,8 @@ impl Tolerance {
 pub struct ToleranceCheck {
     /// The tolerance checked.
     pub tolerance: Tolerance,
-    /// Corners evaluated (16, or 0 for a zero tolerance).
+    /// Corners evaluated (16 when the tolerance holds; fewer when an infeasible corner
+    /// stopped the check, see [`CORNER_BATCH`]; 0 for a zero tolerance).
     pub corners: usize,
     /// Corners that are infeasible, with the reason (as printed).
     pub failures: Vec<String>,
@@ -85,7 +86,13 @@ pub struct ToleranceCheck {
     pub best_j: Option<f64>,
 }
 
-/// Re-evaluate `at` at the corners of `tol` (in parallel, in order; deterministic).
+/// Corners are evaluated in batches of this many (in parallel within a batch); the check stops
+/// after the first batch with an infeasible corner. The batches are fixed, so what is
+/// evaluated does not depend on the thread count.
+pub const CORNER_BATCH: usize = 4;
+
+/// Re-evaluate `at` at the corners of `tol` (in parallel batches, in order; deterministic),
+/// stopping after the first batch that has an infeasible corner.
 pub fn check(ev: &Evaluator, at: &Placement, tol: &Tolerance) -> Result<ToleranceCheck> {
     if tol.is_zero() {
         return Ok(ToleranceCheck {
@@ -98,11 +105,19 @@ pub fn check(ev: &Evaluator, at: &Placement, tol: &Tolerance) -> Result<Toleranc
         });
     }
     let cs = tol.corners(at);
-    let r = ev.sweep(&cs, &|_, _| {})?;
+    let mut r = Vec::with_capacity(cs.len());
+    for batch in cs.chunks(CORNER_BATCH) {
+        let b = ev.sweep(batch, &|_, _| {})?;
+        let failed = b.iter().any(|e| !e.cost().is_finite());
+        r.extend(b);
+        if failed {
+            break;
+        }
+    }
     Ok(summarise(tol, &r))
 }
 
-/// Summarise evaluated corners.
+/// Summarise evaluated corners (a check holds when all 16 were evaluated and are feasible).
 pub fn summarise(tol: &Tolerance, r: &[Evaluated]) -> ToleranceCheck {
     let failures: Vec<String> = r
         .iter()
@@ -116,7 +131,7 @@ pub fn summarise(tol: &Tolerance, r: &[Evaluated]) -> ToleranceCheck {
     ToleranceCheck {
         tolerance: *tol,
         corners: r.len(),
-        holds: failures.is_empty(),
+        holds: failures.is_empty() && r.len() == 16,
         failures,
         worst_j: costs.iter().copied().reduce(f64::max),
         best_j: costs.iter().copied().reduce(f64::min),

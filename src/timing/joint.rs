@@ -44,6 +44,10 @@ pub struct Slowdown {
     pub speed_factor: f64,
 }
 
+/// Sample stride of the first, coarse pass of the reach prune (see
+/// [`JointStageOptions::prune_stride`]).
+const PRUNE_COARSE_STRIDE: usize = 64;
+
 /// Options of the joint stage.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct JointStageOptions {
@@ -53,6 +57,14 @@ pub struct JointStageOptions {
     pub margin: f64,
     /// Check jerk limits too.
     pub check_jerk: bool,
+    /// Prune before tracking (0 = off): reject a placement at once when a path sample's
+    /// wrist centre is out of the arm's reach ([`IkSolver::reachable`], every sample), and skip
+    /// an arm configuration when its shoulder/elbow branch cannot reach every
+    /// `prune_stride`-th sample within joint limits ([`IkSolver::branch_admits`]). Both are
+    /// necessary conditions of tracking, so the outcome (timed path, or infeasible) is the
+    /// same as without pruning; only which sample an infeasible placement is reported at
+    /// may differ.
+    pub prune_stride: usize,
 }
 
 impl Default for JointStageOptions {
@@ -61,6 +73,7 @@ impl Default for JointStageOptions {
             max_iterations: 12,
             margin: 0.95,
             check_jerk: true,
+            prune_stride: 8,
         }
     }
 }
@@ -592,6 +605,48 @@ pub fn time_at_planned(
         line: moves_line(0),
         reason,
     };
+    let motion0 = &plan.motion;
+    let stride = jopts.prune_stride;
+    let fail_at = |k: usize, tip: V3, reason: IkFailure| {
+        let mi = pieces[motion0.piece[k]].move_index;
+        TimingFailure::Unreachable {
+            sample: k,
+            t: k as f64 * motion0.dt,
+            point: tip,
+            move_index: mi,
+            line: moves_line(mi),
+            reason,
+        }
+    };
+    let rot = nozzle_target(&V3::zeros(), spin).rot;
+    let target_at = |k: usize| {
+        let tip = part_to_base.apply(&motion0.p[k]);
+        (Frame { rot, pos: tip }, tip)
+    };
+    if stride > 0 {
+        // Prune 1: every sample's wrist centre within reach (no trigonometry), coarse to fine
+        // so that a path leaving the reachable set is found after a few samples.
+        let m = motion0.p.len();
+        let coarse = (0..m).step_by(PRUNE_COARSE_STRIDE);
+        match solver.wrist_offset(&rot) {
+            Some(d) => {
+                for k in coarse.chain(0..m) {
+                    let tip = part_to_base.apply(&motion0.p[k]);
+                    if let Err(reason) = solver.wrist_centre_reachable(&(tip + d), 1e-9) {
+                        return Err(fail_at(k, tip, reason));
+                    }
+                }
+            }
+            None => {
+                for k in coarse.chain(0..m) {
+                    let (target, tip) = target_at(k);
+                    if let Err(reason) = solver.reachable(&target) {
+                        return Err(fail_at(k, tip, reason));
+                    }
+                }
+            }
+        }
+    }
     let mut cands = solver
         .solve_all(&nozzle_target(&tip, spin))
         .map_err(unreachable_at_start)?;
@@ -606,7 +661,30 @@ pub fn time_at_planned(
         TimingFailure::LimitsNotMet { .. } => usize::MAX,
     };
     let mut best_err: Option<TimingFailure> = None;
+    // Prune 2: a configuration whose branch cannot reach every stride-th sample within
+    // limits would fail while tracking; skip it (recording where it would fail).
+    let thinned = |q: &[f64]| -> Result<(), TimingFailure> {
+        let Some(b) = solver.branch_of(q) else {
+            return Ok(());
+        };
+        let m = motion0.p.len();
+        for k in (stride..m).step_by(stride).chain(std::iter::once(m - 1)) {
+            let (target, tip) = target_at(k);
+            if let Err(reason) = solver.branch_admits(&target, b.shoulder, b.elbow) {
+                return Err(fail_at(k, tip, reason));
+            }
+        }
+        Ok(())
+    };
     for c in &cands {
+        if stride > 0 && !motion0.p.is_empty() {
+            if let Err(e) = thinned(&c.q) {
+                if best_err.as_ref().is_none_or(|b| progress(&e) > progress(b)) {
+                    best_err = Some(e);
+                }
+                continue;
+            }
+        }
         match time_path_planned(
             solver,
             pieces,

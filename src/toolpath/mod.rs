@@ -352,6 +352,85 @@ impl Placement {
     pub fn apply(&self, p: &V3) -> V3 {
         self.frame().apply(p)
     }
+
+    /// Parse the text form `x,y,z,yaw[,spin]`: x, y, z in m, yaw and the optional nozzle spin
+    /// in degrees (spin 0 when absent). Every item must be a finite number (no `nan`, no
+    /// `inf`, no empty item). The one parser of placements given as text.
+    pub fn parse(s: &str) -> std::result::Result<Placement, PlacementParseError> {
+        let mut v = Vec::with_capacity(5);
+        for (i, t) in s.split(',').enumerate() {
+            let t = t.trim();
+            let item = i + 1;
+            if t.is_empty() {
+                return Err(PlacementParseError::Empty { item });
+            }
+            let x: f64 = t.parse().map_err(|_| PlacementParseError::NotANumber {
+                item,
+                text: t.to_string(),
+            })?;
+            if !x.is_finite() {
+                return Err(PlacementParseError::NotFinite {
+                    item,
+                    text: t.to_string(),
+                });
+            }
+            v.push(x);
+        }
+        if v.len() != 4 && v.len() != 5 {
+            return Err(PlacementParseError::Count { got: v.len() });
+        }
+        Ok(Placement {
+            x: v[0],
+            y: v[1],
+            z: v[2],
+            yaw: v[3].to_radians(),
+            nozzle_spin: v.get(4).copied().unwrap_or(0.0).to_radians(),
+        })
+    }
+}
+
+impl std::str::FromStr for Placement {
+    type Err = PlacementParseError;
+    fn from_str(s: &str) -> std::result::Result<Self, Self::Err> {
+        Placement::parse(s)
+    }
+}
+
+/// Why a placement text (`x,y,z,yaw[,spin]`, see [`Placement::parse`]) does not parse. Items
+/// are numbered from 1.
+#[derive(Clone, Debug, PartialEq, thiserror::Error)]
+#[non_exhaustive]
+pub enum PlacementParseError {
+    /// An item is empty (`1.7,,0,90`).
+    #[error(
+        "item {item} is empty; expected x,y,z,yaw (m, m, m, deg) and an optional nozzle spin (deg)"
+    )]
+    Empty {
+        /// 1-based item.
+        item: usize,
+    },
+    /// An item is not a number.
+    #[error("item {item} `{text}` is not a number")]
+    NotANumber {
+        /// 1-based item.
+        item: usize,
+        /// The text of the item.
+        text: String,
+    },
+    /// An item is NaN or infinite.
+    #[error("item {item} `{text}` is not a finite number")]
+    NotFinite {
+        /// 1-based item.
+        item: usize,
+        /// The text of the item.
+        text: String,
+    },
+    /// Not 4 or 5 items.
+    #[error("{got} numbers: expected x,y,z,yaw (m, m, m, deg) and an optional nozzle spin (deg)")]
+    Count {
+        /// Number of items given.
+        got: usize,
+    },
 }
 
 /// A placement with a name, as read by [`load_placements`].

@@ -1,0 +1,275 @@
+//! Issue 12 item 1 (prune before tracking) and issue 9 items 1 and 6 (the argmin search runs
+//! its evaluations in parallel and stays deterministic).
+
+use argmin::core::{CostFunction, Executor, IterState, Problem, State};
+use printwatt::energy::EnergyOptions;
+use printwatt::placement::neldermead::{BatchCost, SpeculativeNelderMead};
+use printwatt::placement::optimise::{default_grid, OptimiseOptions};
+use printwatt::placement::search::{self, Bounds, SearchOptions};
+use printwatt::placement::tolerance::Tolerance;
+use printwatt::placement::{Evaluated, Evaluator, FeasibilityOptions, Grid, Objective, PathJob};
+use printwatt::robot::{self, RobotModel};
+use printwatt::timing::{JointStageOptions, ProfileOptions};
+use printwatt::toolpath::{self, Placement, ReadOptions, Toolpath};
+use std::cell::RefCell;
+use std::path::PathBuf;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn load(robot_id: &str, path: &str) -> (RobotModel, Toolpath) {
+    let model = robot::load(&root().join("robots").join(robot_id)).unwrap();
+    let tp = toolpath::load(&root().join("paths").join(path), &ReadOptions::default()).unwrap();
+    (model, tp)
+}
+
+fn job<'a>(model: &'a RobotModel, tp: &Toolpath, prune_stride: usize) -> PathJob<'a> {
+    PathJob::new(
+        model,
+        tp,
+        EnergyOptions::default(),
+        ProfileOptions::default(),
+        JointStageOptions {
+            prune_stride,
+            ..Default::default()
+        },
+    )
+    .unwrap()
+}
+
+fn pool(n: usize) -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(n)
+        .build()
+        .unwrap()
+}
+
+/// Sweep `ps` with and without pruning; every feasible result must be identical (energies,
+/// times, margins) and every infeasible one must stay infeasible. Returns (feasible,
+/// infeasible) counts.
+fn same_with_and_without_pruning(robot_id: &str, path: &str, ps: &[Placement]) -> (usize, usize) {
+    let (model, tp) = load(robot_id, path);
+    let (jp, ju) = (job(&model, &tp, 8), job(&model, &tp, 0));
+    let feas = FeasibilityOptions::default();
+    let pruned = Evaluator::new(&jp, feas, Objective::Supply)
+        .sweep(ps, &|_, _| {})
+        .unwrap();
+    let unpruned = Evaluator::new(&ju, feas, Objective::Supply)
+        .sweep(ps, &|_, _| {})
+        .unwrap();
+    let mut n = (0, 0);
+    for (a, b) in pruned.iter().zip(&unpruned) {
+        assert_eq!(a.placement, b.placement);
+        match (&a.outcome, &b.outcome) {
+            (Ok(x), Ok(y)) => {
+                assert_eq!(x, y, "{robot_id} {path} at {:?}", a.placement);
+                assert_eq!(x.energy_j.to_bits(), y.energy_j.to_bits());
+                n.0 += 1;
+            }
+            (Err(_), Err(_)) => n.1 += 1,
+            _ => panic!(
+                "{robot_id} {path} at {:?}: pruned {:?} but unpruned {:?}",
+                a.placement,
+                a.outcome.as_ref().map(|f| f.energy_j),
+                b.outcome.as_ref().map(|f| f.energy_j)
+            ),
+        }
+    }
+    n
+}
+
+#[test]
+fn pruned_and_unpruned_evaluation_agree_on_shipped_examples() {
+    // The main job's default grid (every other of its 1536 placements; 38 are feasible).
+    let (model, _) = load("abb_irb6700_200_260", "default.gcode");
+    let ps: Vec<Placement> = default_grid(printwatt::placement::feasibility::reach_m(&model))
+        .placements()
+        .into_iter()
+        .step_by(2)
+        .collect();
+    let (f, i) = same_with_and_without_pruning("abb_irb6700_200_260", "default.gcode", &ps);
+    assert!(f >= 10 && i >= 700, "{f} feasible, {i} infeasible");
+    // The README's IRB 4600 wall example and seed 000's path on a coarser grid.
+    let g = Grid {
+        xs: vec![0.9, 1.3, 1.7, 2.1],
+        ys: vec![-0.5, 0.0, 0.5],
+        zs: vec![0.3],
+        yaws: vec![0.0, std::f64::consts::FRAC_PI_2],
+        spins: vec![0.0],
+    };
+    let (f, i) = same_with_and_without_pruning(
+        "abb_irb4600_40_255",
+        "wall_multilayer.gcode",
+        &g.placements(),
+    );
+    assert!(f >= 5 && i >= 2, "{f} feasible, {i} infeasible");
+    let (f, i) = same_with_and_without_pruning(
+        "abb_irb6700_200_260",
+        "seed000_test_path.gcode",
+        &g.placements(),
+    );
+    assert!(f >= 1 && i >= 1, "{f} feasible, {i} infeasible");
+    // Seed 001 on the TX200 (a different OPW geometry).
+    let g = Grid {
+        xs: (0..6).map(|i| 0.4 + 0.3 * i as f64).collect(),
+        ys: vec![-0.8, 0.0, 0.8],
+        zs: vec![-0.4, 0.0],
+        yaws: vec![0.0],
+        spins: vec![0.0],
+    };
+    let (f, i) =
+        same_with_and_without_pruning("staubli_tx200", "seed001_y2x2y_r8.gcode", &g.placements());
+    assert!(f >= 1 && i >= 1, "{f} feasible, {i} infeasible");
+}
+
+// --- The speculative Nelder–Mead against argmin's own -----------------------------------
+
+/// A test function: Rosenbrock in 3-D, +∞ on a half-space (an "infeasible" region), so that
+/// every kind of step (expansion, both contractions, shrink) occurs.
+fn f(u: &[f64]) -> f64 {
+    if u[0] + u[1] > 2.5 {
+        return f64::INFINITY;
+    }
+    (0..u.len() - 1)
+        .map(|i| 100.0 * (u[i + 1] - u[i] * u[i]).powi(2) + (1.0 - u[i]).powi(2))
+        .sum()
+}
+
+struct Plain(RefCell<Vec<Vec<f64>>>);
+impl CostFunction for Plain {
+    type Param = Vec<f64>;
+    type Output = f64;
+    fn cost(&self, u: &Vec<f64>) -> Result<f64, argmin::core::Error> {
+        self.0.borrow_mut().push(u.clone());
+        Ok(f(u))
+    }
+}
+
+struct Batched(RefCell<Vec<Vec<f64>>>, RefCell<usize>);
+impl BatchCost for Batched {
+    type Pending = (Vec<f64>, f64);
+    fn evaluate(&self, ps: &[Vec<f64>]) -> Result<Vec<(Vec<f64>, f64)>, argmin::core::Error> {
+        use rayon::prelude::*;
+        Ok(ps.par_iter().map(|u| (u.clone(), f(u))).collect())
+    }
+    fn commit(&self, p: (Vec<f64>, f64)) -> Result<f64, argmin::core::Error> {
+        self.0.borrow_mut().push(p.0);
+        Ok(p.1)
+    }
+    fn parallel(&self) -> bool {
+        rayon::current_num_threads() > 1
+    }
+    fn discarded(&self, _p: (Vec<f64>, f64)) {
+        *self.1.borrow_mut() += 1;
+    }
+}
+
+fn simplex() -> Vec<Vec<f64>> {
+    vec![
+        vec![-1.2, 1.0, 0.5],
+        vec![-0.7, 1.0, 0.5],
+        vec![-1.2, 1.5, 0.5],
+        vec![-1.2, 1.0, 1.0],
+    ]
+}
+
+#[test]
+fn speculative_nelder_mead_takes_the_steps_of_argmins_nelder_mead() {
+    let iters = 400;
+    let reference = Plain(RefCell::new(Vec::new()));
+    let solver = argmin::solver::neldermead::NelderMead::new(simplex())
+        .with_sd_tolerance(1e-10)
+        .unwrap();
+    let r = Executor::new(reference, solver)
+        .configure(|s| s.max_iters(iters))
+        .run()
+        .unwrap();
+    let ref_best = r.state().get_best_param().unwrap().clone();
+    let ref_iters = r.state().get_iter();
+    let ref_calls = r.problem.problem.as_ref().unwrap().0.borrow().clone();
+    assert!(ref_calls.len() > 100, "a long enough run");
+    for threads in [1, 2] {
+        let (best, it, calls, spec) = pool(threads).install(|| {
+            let solver = SpeculativeNelderMead::new(simplex())
+                .with_sd_tolerance(1e-10)
+                .unwrap();
+            let r = Executor::new(Batched(RefCell::new(Vec::new()), RefCell::new(0)), solver)
+                .configure(|s| s.max_iters(iters))
+                .run()
+                .unwrap();
+            let st: &IterState<Vec<f64>, (), (), (), (), f64> = r.state();
+            let p: &Problem<Batched> = &r.problem;
+            let b = p.problem.as_ref().unwrap();
+            let out = (
+                st.get_best_param().unwrap().clone(),
+                st.get_iter(),
+                b.0.borrow().clone(),
+                *b.1.borrow(),
+            );
+            out
+        });
+        assert_eq!(it, ref_iters, "{threads} threads");
+        assert_eq!(
+            calls, ref_calls,
+            "{threads} threads: the same points in the same order"
+        );
+        assert_eq!(best, ref_best);
+        if threads == 1 {
+            assert_eq!(spec, 0, "no speculation on one thread");
+        } else {
+            assert!(spec > 0 && spec < calls.len(), "{spec} guesses discarded");
+        }
+    }
+}
+
+#[test]
+fn argmin_search_is_bit_identical_with_one_and_two_threads() {
+    let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
+    let j = job(&model, &tp, 8);
+    let ev = Evaluator::new(&j, FeasibilityOptions::default(), Objective::Supply);
+    let g = Grid {
+        xs: vec![1.4, 1.5, 1.6],
+        ys: vec![-0.1, 0.1],
+        zs: vec![0.4, 0.6],
+        yaws: vec![std::f64::consts::FRAC_PI_2],
+        spins: vec![0.0],
+    };
+    let grid = ev.sweep(&g.placements(), &|_, _| {}).unwrap();
+    let so = SearchOptions {
+        bounds: Bounds {
+            x: [1.4, 1.6],
+            y: [-0.1, 0.1],
+            z: [0.4, 0.6],
+        },
+        tolerance: Tolerance::default(),
+        step_z_m: 0.05,
+        z: true,
+        max_start_cells: 5,
+    };
+    let opts = OptimiseOptions {
+        max_evals: 30,
+        ..Default::default()
+    };
+    let run = |n: usize| {
+        pool(n).install(|| {
+            search::refine(&ev, &grid, &opts, &so, std::sync::Arc::new(|_, _, _| {})).unwrap()
+        })
+    };
+    let (a, ia) = run(1);
+    let (b, ib) = run(2);
+    let best_grid = grid
+        .iter()
+        .map(Evaluated::cost)
+        .fold(f64::INFINITY, f64::min);
+    assert!(a.best.cost() <= best_grid);
+    assert_eq!(a.best.placement, b.best.placement);
+    assert_eq!(a.best.cost().to_bits(), b.best.cost().to_bits());
+    assert_eq!(a.evals, b.evals);
+    assert_eq!(a.history_j, b.history_j);
+    assert_eq!(ia, ib);
+    assert_eq!(
+        format!("{:?}", a.sensitivity),
+        format!("{:?}", b.sensitivity)
+    );
+}
