@@ -14,7 +14,7 @@ pub(crate) fn load(a: &LogArgs) -> Result<(printwatt::robot::RobotModel, Model, 
         .with_context(|| format!("building the model of {}", a.robot.robot.display()))?;
     if let Some(list) = &a.effects {
         let names = identify::model::parse_effect_list(list)?;
-        model.enabled = [false; 10];
+        model.disable_all();
         for n in names {
             model.set_enabled(n, true)?;
         }
