@@ -192,10 +192,9 @@ pub fn check_file(path: &Path, inputs: &Inputs, existing: Existing) -> Result<()
         )));
     }
     if path.exists() && existing == Existing::Force(false) {
-        return Err(Error::Invalid(format!(
-            "{} exists already: pass --force to replace it, or choose another output path",
-            path.display()
-        )));
+        return Err(Error::OutputExists {
+            path: path.to_path_buf(),
+        });
     }
     if let Some(parent) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         if parent.exists() && !parent.is_dir() {
@@ -309,16 +308,12 @@ pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<()> {
 pub fn run_name(run: &str) -> Result<PathBuf> {
     let p = Path::new(run);
     if run.trim().is_empty() {
-        return Err(Error::Invalid("--run: empty name".into()));
+        return Err(Error::BadRunName { name: run.into() });
     }
     for c in p.components() {
         match c {
             Component::Normal(_) => {}
-            _ => {
-                return Err(Error::Invalid(format!(
-                    "--run `{run}`: a run name must stay inside --results-dir (plain names such as `grid` or `a/b`; no `..`, `.` or absolute path)"
-                )))
-            }
+            _ => return Err(Error::BadRunName { name: run.into() }),
         }
     }
     Ok(p.to_path_buf())
@@ -414,10 +409,9 @@ impl RunDir {
             check_ours(target)?;
             let empty = std::fs::read_dir(target).is_ok_and(|mut d| d.next().is_none());
             if existing == Existing::Force(false) && !empty {
-                return Err(Error::Invalid(format!(
-                    "{} already holds a run: replacing it needs --force (or choose another --run)",
-                    target.display()
-                )));
+                return Err(Error::OutputExists {
+                    path: target.to_path_buf(),
+                });
             }
         }
         std::fs::create_dir_all(&rd.staging).map_err(|e| Error::io(&rd.staging, e))?;

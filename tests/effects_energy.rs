@@ -7,7 +7,7 @@
 
 mod common;
 use common::{close, root, Sines};
-use printwatt::effects::TorqueEffect;
+use printwatt::effects::{Balancer, EffectSet, TorqueEffect};
 use printwatt::energy::{eval_sample, evaluate, EnergyModel, SamplePower};
 use printwatt::identify::log::SignalKind;
 use printwatt::identify::Model;
@@ -34,6 +34,39 @@ fn identified_file() -> PathBuf {
     root().join("results/identify_example/identify/robot.calibrated.toml")
 }
 
+/// Switch effect `name` on or off in the robot's `[effects]` table (the others keep their
+/// switches).
+fn set_enabled(r: &mut RobotModel, name: &str, on: bool) {
+    let mut list: Vec<String> = EffectSet::of_robot(r)
+        .unwrap()
+        .enabled_names()
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+    list.retain(|n| n != name);
+    if on {
+        list.push(name.to_string());
+    }
+    r.effects.table.enabled = Some(list);
+}
+
+/// Set effect `name`'s values in the robot's `[effects.values]`.
+fn set_values(r: &mut RobotModel, name: &str, v: Vec<f64>) {
+    r.effects
+        .table
+        .values
+        .get_or_insert_with(Default::default)
+        .insert(name.to_string(), v);
+}
+
+fn set(r: &RobotModel) -> EffectSet {
+    EffectSet::of_robot(r).unwrap()
+}
+
+fn balancer(r: &RobotModel) -> Balancer {
+    set(r).typed::<Balancer>("balancer").unwrap().clone()
+}
+
 fn identified() -> RobotModel {
     load(&identified_file()).unwrap()
 }
@@ -41,10 +74,10 @@ fn identified() -> RobotModel {
 #[test]
 fn identified_drive_file_carries_its_effects() {
     let r = identified();
-    let e = &r.effects;
-    assert!(e.is_enabled("balancer", true) && !e.is_enabled("stribeck", true));
+    let e = set(&r);
+    assert!(e.is_enabled("balancer") && !e.is_enabled("stribeck"));
     // The values in force are the ones the calibration record lists, with standard errors.
-    let cal = e.calibration.as_ref().expect("a calibrated robot");
+    let cal = r.effects.calibration.as_ref().expect("a calibrated robot");
     assert_eq!(cal.rounds.len(), 2, "round 1 carried over, round 2 added");
     let param = |name: &str| {
         cal.params
@@ -52,16 +85,17 @@ fn identified_drive_file_carries_its_effects() {
             .find(|p| p.effect == "balancer" && p.name == name)
             .unwrap()
     };
-    assert!(close(e.balancer_preload_n, param("F0").value, 1e-15));
-    assert!(close(e.balancer_stiffness_n_per_m, param("k").value, 1e-15));
+    let b = balancer(&r);
+    assert!(close(b.preload, param("F0").value, 1e-15));
+    assert!(close(b.stiffness, param("k").value, 1e-15));
     assert!(param("F0").std_error.is_some_and(|s| s > 0.0) && param("F0").round == 1);
     // The nominal robot declares its sized balancer; the calibrated one moved it.
     let nominal = load(&root().join("robots/abb_irb4600_40_255")).unwrap();
-    assert!(nominal.effects.balancer_declared);
-    assert!(nominal.effects.is_enabled("balancer", true));
-    assert!(nominal.effects.is_enabled("viscous", true));
+    assert!(balancer(&nominal).declared);
+    assert!(set(&nominal).is_enabled("balancer"));
+    assert!(set(&nominal).is_enabled("viscous"));
     assert!(nominal.effects.calibration.is_none());
-    assert!((nominal.effects.balancer_preload_n - e.balancer_preload_n).abs() > 1000.0);
+    assert!((balancer(&nominal).preload - b.preload).abs() > 1000.0);
 }
 
 /// (a) the energy model's joint torques are identification's predicted torques, and its
@@ -103,15 +137,22 @@ fn energy_torques_equal_identify_predictions_on_the_identified_drive_file() {
 #[test]
 fn energy_torques_equal_identify_predictions_with_every_effect() {
     let mut r = identified();
-    let e = &mut r.effects;
-    for name in ["stribeck", "payload"] {
-        e.set_enabled(name, true, true).unwrap();
+    for name in ["stribeck", "payload", "offset", "regeneration"] {
+        set_enabled(&mut r, name, true);
     }
-    e.set_enabled("armature", false, true).unwrap();
-    e.stribeck_nm = Some(vec![20.0, 25.0, 10.0, 5.0, 4.0, 3.0]);
-    e.stribeck_velocity_rad_s = 0.08;
-    e.payload_mass_error_kg = 4.5;
-    e.regeneration_recovered_fraction = 0.4;
+    set_enabled(&mut r, "armature", false);
+    set_values(
+        &mut r,
+        "stribeck",
+        vec![20.0, 25.0, 10.0, 5.0, 4.0, 3.0, 0.08],
+    );
+    set_values(&mut r, "payload", vec![4.5, 0.0, 0.0, 0.0]);
+    set_values(&mut r, "regeneration", vec![0.4]);
+    set_values(&mut r, "offset", vec![3.0, -12.0, 5.0, 0.5, -0.7, 0.2]);
+    // Direction-dependent Coulomb friction with a wider transition.
+    let mut fc: Vec<f64> = vec![30.0, 45.0, 20.0, 6.0, 5.0, 3.0];
+    fc.extend([22.0, 60.0, 14.0, 8.0, 3.0, 4.0, 0.02]);
+    set_values(&mut r, "coulomb", fc);
     energy_matches_identify(&r);
 }
 
@@ -121,12 +162,12 @@ fn energy_torques_equal_identify_predictions_with_every_effect() {
 fn balancer_adds_exactly_its_own_torque_on_joint_2() {
     let on = identified();
     let mut off = on.clone();
-    off.effects.set_enabled("balancer", false, true).unwrap();
+    set_enabled(&mut off, "balancer", false);
     let (m_on, m_off) = (
         EnergyModel::new(&on).unwrap(),
         EnergyModel::new(&off).unwrap(),
     );
-    let b = on.effects.balancer();
+    let b = balancer(&on);
     let tr = sines(6, 4.0, 400);
     let (mut d_on, mut d_off) = (m_on.data(), m_off.data());
     let (mut s_on, mut s_off) = (SamplePower::default(), SamplePower::default());
@@ -160,9 +201,16 @@ fn balancer_adds_exactly_its_own_torque_on_joint_2() {
 fn breakdown_closes_with_the_identified_effects() {
     for rho in [0.0, 0.5] {
         let mut r = identified();
-        r.effects.set_enabled("stribeck", true, true).unwrap();
-        r.effects.stribeck_nm = Some(vec![10.0; 6]);
-        r.effects.regeneration_recovered_fraction = rho;
+        set_enabled(&mut r, "stribeck", true);
+        set_values(
+            &mut r,
+            "stribeck",
+            vec![10.0, 10.0, 10.0, 10.0, 10.0, 10.0, 0.05],
+        );
+        set_enabled(&mut r, "offset", true);
+        set_values(&mut r, "offset", vec![2.0, -8.0, 1.0, 0.0, 0.3, -0.2]);
+        set_enabled(&mut r, "regeneration", true);
+        set_values(&mut r, "regeneration", vec![rho]);
         let rep = evaluate(&EnergyModel::new(&r).unwrap(), &sines(6, 5.0, 1000)).unwrap();
         let t = &rep.total;
         let parts = t.rigid_body_j
@@ -244,7 +292,10 @@ fn bad_effects_tables_name_file_and_key() {
         assert!(src.contains(from), "{from}");
         let path = dir.join(format!("bad{i}.toml"));
         std::fs::write(&path, src.replacen(from, to, 1)).unwrap();
-        let e = load(&path).expect_err(to).to_string();
+        let e = load(&path)
+            .and_then(|r| EffectSet::of_robot(&r).map(|_| ()))
+            .expect_err(to)
+            .to_string();
         assert!(
             e.contains(&format!("bad{i}.toml")) && e.contains(key),
             "case {i}: {e}"

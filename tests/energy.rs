@@ -217,9 +217,11 @@ fn wrong_trajectory_sizes_are_errors() {
 fn regressor_times_parameters_equals_contribution() {
     let r = robot("puma560");
     let d = r.drive.as_ref().expect("drive");
+    // `coulomb` carries its transition width ε as a parameter: not linear, no regressor.
+    let c = Coulomb::from_drive(d, 0.01);
+    assert!(!c.regressor(&[0.0; 6], &[0.1; 6], &[0.0; 6], &mut [0.0; 6 * 13]));
     let effects: Vec<Box<dyn TorqueEffect>> = vec![
         Box::new(Viscous::from_drive(d)),
-        Box::new(Coulomb::from_drive(d, 0.01)),
         Box::new(Armature::from_drive(d)),
     ];
     let mut rng = ChaCha8Rng::seed_from_u64(9);

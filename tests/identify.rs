@@ -250,7 +250,7 @@ fn ill_conditioned_fit_names_parameters() {
     let ill = r.ill_conditioned.expect("ill-conditioned");
     let msg = ill.to_string();
     assert!(
-        msg.contains("viscous.f_v[6]") && msg.contains("coulomb.f_c[6]"),
+        msg.contains("viscous.f_v[6]") && msg.contains("coulomb.f_c+[6]"),
         "{msg}"
     );
 }
@@ -267,7 +267,8 @@ fn regressor_times_params_equals_contribution() {
         ..Balancer::zero()
     };
     let (q, qd, qdd) = ([0.1, 0.4, -0.3, 0.2, 0.5, 0.1], [0.3; 6], [0.7; 6]);
-    for (e, np) in [(&p as &dyn TorqueEffect, 1usize), (&b, 2)] {
+    p.dh = [0.4, -0.3, 1.2];
+    for (e, np) in [(&p as &dyn TorqueEffect, 4usize), (&b, 2)] {
         let mut tau = [0.0; 6];
         e.add_torque(&q, &qd, &qdd, &mut tau);
         let mut y = vec![0.0; 6 * np];

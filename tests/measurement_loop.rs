@@ -88,6 +88,15 @@ fn ur10e_urdf() -> PathBuf {
 // ---- balancer physics (issue 9, item 2) -------------------------------------------------------
 
 /// Static torque (q̇ = q̈ = 0) of the rigid body with the nominal payload, N·m.
+/// The robot's `balancer` effect as built by the registry.
+fn balancer_of(r: &printwatt::robot::RobotModel) -> printwatt::effects::Balancer {
+    printwatt::effects::EffectSet::of_robot(r)
+        .unwrap()
+        .typed::<printwatt::effects::Balancer>("balancer")
+        .unwrap()
+        .clone()
+}
+
 fn static_torque(r: &RobotModel, q: &[f64]) -> Vec<f64> {
     let m = DynModel::new(
         r,
@@ -110,7 +119,7 @@ fn static_torque(r: &RobotModel, q: &[f64]) -> Vec<f64> {
 #[test]
 fn balancer_lowers_static_axis2_torque() {
     let r = robot::load(&root().join("robots/abb_irb6700_200_260")).unwrap();
-    let b = r.effects.balancer();
+    let b = balancer_of(&r);
     // The shipped geometry and sized force (drive.toml [effects]).
     assert_eq!((b.joint, b.a, b.b, b.upright), (1, 0.25, 0.684, 0.0));
     let (f0, k) = (b.preload, b.stiffness);
@@ -155,8 +164,8 @@ fn balancer_lowers_static_axis2_torque() {
 fn balancer_adds_no_torque_at_the_upright_pose() {
     for name in ["abb_irb6700_200_260", "abb_irb4600_40_255", "staubli_tx200"] {
         let r = robot::load(&root().join("robots").join(name)).unwrap();
-        let mut b = r.effects.balancer();
-        assert!(r.effects.balancer_declared, "{name}");
+        let mut b = balancer_of(&r);
+        assert!(b.declared, "{name}");
         b.preload = 3000.0;
         b.stiffness = 20000.0;
         assert!(b.joint_torque(b.upright).abs() < 1e-9, "{name}");
@@ -169,7 +178,7 @@ fn balancer_adds_no_torque_at_the_upright_pose() {
     }
     // The UR10e declares none: no balancer in its model.
     let ur = robot::load(&root().join("robots/ur10e")).unwrap();
-    assert!(!ur.effects.balancer_declared && !Model::new(&ur).unwrap().is_enabled("balancer"));
+    assert!(!balancer_of(&ur).declared && !Model::new(&ur).unwrap().is_enabled("balancer"));
 }
 
 // ---- a calibrated robot is a first-class thing ------------------------------------------------
@@ -203,12 +212,12 @@ fn identify_writes_a_drive_file_for_a_urdf_only_robot() {
     assert!(out.contains("wrote"), "{out}");
     let c = robot::load(&cal).unwrap();
     assert!(c.drive.is_none());
-    let fv = &c.effects.values["viscous"];
+    let fv = &c.effects.table.values.as_ref().unwrap()["viscous"];
     for (j, v) in fv.iter().enumerate() {
         assert!((v - 5.0).abs() < 0.25, "f_v[{}] = {v}", j + 1);
     }
     let m = Model::new(&c).unwrap();
-    assert!(m.is_enabled("viscous") && m.viscous.fv == *fv);
+    assert!(m.is_enabled("viscous") && m.values("viscous").unwrap() == *fv);
     // Every command takes it and says which calibration it used.
     let cmp = ok(
         &dir,
@@ -256,9 +265,10 @@ fn identify_keeps_friction_of_a_drive_file_without_joint_tables() {
     );
     let cal = dir.join("mine.calibrated.toml");
     let c = robot::load(&cal).unwrap();
-    let fc = &c.effects.values["coulomb"];
+    let fc = &c.effects.table.values.as_ref().unwrap()["coulomb"];
+    assert_eq!(fc.len(), 13, "f_c+, f_c-, eps: {fc:?}");
     assert!(
-        fc.iter().all(|v| (v - 6.0).abs() < 0.3),
+        fc[..12].iter().all(|v| (v - 6.0).abs() < 0.3),
         "identified friction kept: {fc:?}"
     );
     assert_eq!(c.payload.unwrap().mass, 4.0);
@@ -288,7 +298,7 @@ fn a_still_joint_does_not_block_the_others() {
             "coulomb",
         ],
     );
-    assert!(out.contains("coulomb.f_c[5]"), "{out}");
+    assert!(out.contains("coulomb.f_c+[5]"), "{out}");
     let c = robot::load(&dir.join("abb_irb4600_40_255.calibrated.toml")).unwrap();
     let cal = c.effects.calibration.as_ref().unwrap();
     let nominal: Vec<f64> = r
@@ -311,7 +321,7 @@ fn a_still_joint_does_not_block_the_others() {
         let p = cal
             .params
             .iter()
-            .find(|p| p.name == format!("f_c[{}]", j + 1))
+            .find(|p| p.name == format!("f_c+[{}]", j + 1))
             .unwrap();
         if j == 4 {
             assert!(p.status.starts_with("held at prior") && p.std_error.is_none());
@@ -320,7 +330,7 @@ fn a_still_joint_does_not_block_the_others() {
             assert_eq!(p.status, "fitted");
             assert!(
                 (fitted[j] - nominal[j] - 30.0).abs() < 1.5,
-                "f_c[{}] = {} (nominal {})",
+                "f_c+[{}] = {} (nominal {})",
                 j + 1,
                 fitted[j],
                 nominal[j]
@@ -482,9 +492,9 @@ fn two_rounds_on_the_calibrated_robot_never_write_into_robots() {
     assert!(cal
         .params
         .iter()
-        .any(|p| p.name == "f_c[3]" && p.round == 2));
-    let truth_f0 = r.effects.balancer_preload_n + 3000.0;
-    assert!((c.effects.balancer_preload_n - truth_f0).abs() < 0.02 * truth_f0);
+        .any(|p| p.name == "f_c+[3]" && p.round == 2));
+    let truth_f0 = balancer_of(&r).preload + 3000.0;
+    assert!((balancer_of(&c).preload - truth_f0).abs() < 0.02 * truth_f0);
     // The model of round 2 explains the log down to the noise.
     let m = Model::new(&c).unwrap();
     let log = printwatt::identify::read_log(&dir.join("log.csv"), 6, None).unwrap();

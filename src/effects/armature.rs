@@ -1,8 +1,7 @@
 //! `armature`: reflected rotor inertia `τ = G² J_m q̈` (joint side; the rotor's kinetic energy
-//! `½ J_m (G q̇)²`). [`crate::dynamics::DynModel`] includes the same term when built with
-//! `armature: true`; this effect is its parameterised form for identification.
+//! `½ J_m (G q̇)²`).
 
-use super::{check_values, per_joint, Effect, ParamSpec, TorqueEffect};
+use super::{check_values, diagonal_regressor, per_joint, BuildContext, Effect, ParamSpec};
 use crate::error::Result;
 
 /// Reflected rotor inertia per joint `I_a = G² J_m`, kg·m².
@@ -10,6 +9,13 @@ use crate::error::Result;
 pub struct Armature {
     /// `G² J_m` per joint, kg·m².
     pub ia: Vec<f64>,
+}
+
+/// Registry entry: `G² J_m` from the drive file (zeros without drive data).
+pub(crate) fn build(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
+    Ok(Box::new(Armature {
+        ia: ctx.per_joint(|j| j.armature(), 0.0),
+    }))
 }
 
 impl Armature {
@@ -36,22 +42,22 @@ impl Effect for Armature {
         self.ia.copy_from_slice(values);
         Ok(())
     }
-}
-
-impl TorqueEffect for Armature {
+    fn clone_box(&self) -> Box<dyn Effect> {
+        Box::new(self.clone())
+    }
+    fn is_null(&self) -> bool {
+        self.ia.iter().all(|f| *f == 0.0)
+    }
+    fn driven_by_motion(&self) -> bool {
+        true
+    }
     fn add_torque(&self, _q: &[f64], _qd: &[f64], qdd: &[f64], tau: &mut [f64]) {
         for ((t, a), i) in tau.iter_mut().zip(qdd).zip(&self.ia) {
             *t += i * a;
         }
     }
     fn regressor(&self, _q: &[f64], _qd: &[f64], qdd: &[f64], y: &mut [f64]) -> bool {
-        let p = self.ia.len();
-        y.iter_mut().for_each(|v| *v = 0.0);
-        for (j, a) in qdd.iter().enumerate().take(p) {
-            if let Some(c) = y.get_mut(j * p + j) {
-                *c = *a;
-            }
-        }
+        diagonal_regressor(self.ia.len(), y, |j| qdd.get(j).copied().unwrap_or(0.0));
         true
     }
 }

@@ -15,7 +15,7 @@
 //! when the arm leans out, and linear in (`F0`, `k`) (regressor
 //! `[dL/dq, (L − L_min) dL/dq]`, m and m²).
 
-use super::{check_values, Effect, ParamSpec, TorqueEffect};
+use super::{check_values, BuildContext, Effect, EnergyClass, ParamSpec};
 use crate::error::Result;
 
 /// Default lever of the moving end on link 2, m (ESTIMATE used when a drive file names no
@@ -41,6 +41,75 @@ pub struct Balancer {
     pub preload: f64,
     /// Stiffness `k`, N/m (≥ 0).
     pub stiffness: f64,
+    /// Whether the robot's drive file declares a balancer (gives `balancer_lever_m` and
+    /// `balancer_base_m`); without one the effect is not physically plausible.
+    pub declared: bool,
+}
+
+/// Registry entry: geometry, preload and stiffness from the `[effects]` keys
+/// (`balancer_joint`, `balancer_lever_m`, `balancer_base_m`, `balancer_upright_rad`,
+/// `balancer_preload_n`, `balancer_stiffness_n_per_m`; errors name the key).
+pub(crate) fn build(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
+    let t = ctx.table;
+    let dof = ctx.dof();
+    let mut b = Balancer::zero();
+    if let Some(j) = t.balancer_joint {
+        if j == 0 || j > dof {
+            return Err(ctx.bad(
+                "balancer_joint",
+                format!("must be a joint number 1..={dof}, got {j}"),
+            ));
+        }
+        b.joint = j - 1;
+    }
+    for (key, v) in [
+        ("balancer_lever_m", t.balancer_lever_m),
+        ("balancer_base_m", t.balancer_base_m),
+    ] {
+        if let Some(x) = v {
+            if !(x.is_finite() && x > 0.0) {
+                return Err(ctx.bad(key, format!("must be finite and > 0 m, got {x}")));
+            }
+        }
+    }
+    if let Some(x) = t.balancer_lever_m {
+        b.a = x;
+    }
+    if let Some(x) = t.balancer_base_m {
+        b.b = x;
+    }
+    if (b.a - b.b).abs() < 1e-6 {
+        return Err(ctx.bad(
+            "balancer_lever_m",
+            format!(
+                "lever {} m equals the base distance {} m: the cylinder would reach zero length",
+                b.a, b.b
+            ),
+        ));
+    }
+    if let Some(x) = t.balancer_upright_rad {
+        if !x.is_finite() {
+            return Err(ctx.bad("balancer_upright_rad", format!("must be finite, got {x}")));
+        }
+        b.upright = x;
+    }
+    b.declared = t.balancer_lever_m.is_some() && t.balancer_base_m.is_some();
+    for (key, v, idx) in [
+        ("balancer_preload_n", t.balancer_preload_n, 0),
+        (
+            "balancer_stiffness_n_per_m",
+            t.balancer_stiffness_n_per_m,
+            1,
+        ),
+    ] {
+        if let Some(x) = v {
+            let mut vals = b.values();
+            vals[idx] = x;
+            b.set_values(&vals)
+                .map_err(|e| ctx.bad(key, e.to_string()))?;
+        }
+    }
+    Ok(Box::new(b))
 }
 
 impl Balancer {
@@ -53,6 +122,7 @@ impl Balancer {
             upright: BALANCER_UPRIGHT_RAD,
             preload: 0.0,
             stiffness: 0.0,
+            declared: false,
         }
     }
     /// Cylinder length `L(q)`, m, at joint angle `q` rad.
@@ -110,9 +180,22 @@ impl Effect for Balancer {
         self.stiffness = values[1];
         Ok(())
     }
-}
-
-impl TorqueEffect for Balancer {
+    fn clone_box(&self) -> Box<dyn Effect> {
+        Box::new(self.clone())
+    }
+    fn energy_class(&self) -> EnergyClass {
+        EnergyClass::Balancer
+    }
+    fn is_null(&self) -> bool {
+        self.preload == 0.0 && self.stiffness == 0.0
+    }
+    fn implausible(&self) -> Option<String> {
+        (!self.declared).then(|| {
+            "the robot declares no balancer (drive file [effects] balancer_lever_m, balancer_base_m): \
+a gravity error here is a link or payload error"
+                .to_string()
+        })
+    }
     fn add_torque(&self, q: &[f64], _qd: &[f64], _qdd: &[f64], tau: &mut [f64]) {
         if let (Some(q), Some(t)) = (q.get(self.joint), tau.get_mut(self.joint)) {
             *t += self.joint_torque(*q);

@@ -1,25 +1,20 @@
-//! The drive file's optional `[effects]` table, parsed once (in [`crate::robot::load`]) and
-//! carried by [`crate::robot::RobotModel::effects`], so that identification
-//! ([`crate::identify::Model`]) and the energy model ([`crate::energy::EnergyModel`]) read the
-//! same switches and parameters.
+//! Building the effects of a robot from its drive file, and the set of effects with their
+//! switches that energy and identification share.
 //!
-//! Keys (all optional, SI, unknown keys are errors naming the key):
-//! `enabled = [...]` (catalogue names; replaces [`DEFAULT_EFFECTS`]), `stribeck_nm` (one
-//! `f_s` per joint, N·m), `stribeck_velocity_rad_s` (`v_s`), `payload_mass_error_kg` (`Δm`),
-//! `balancer_preload_n` (`F0`), `balancer_stiffness_n_per_m` (`k`),
-//! `regeneration_recovered_fraction` (`ρ`); balancer geometry `balancer_joint` (1-based, default
-//! 2), `balancer_lever_m` (`a`), `balancer_base_m` (`b`), `balancer_upright_rad` (`q_up`): a
-//! drive file that gives `a` and `b` declares that the robot has a balancer; `[effects.values]`
-//! (effect name → parameter values in the effect's order, for robots whose file has no other
-//! key for them). Values are checked against the effects' bounds
-//! ([`super::ParamSpec`]).
+//! Keys of the drive file's `[effects]` table (all optional, SI; unknown keys are errors
+//! naming the key, values are checked against the effects' bounds ([`super::ParamSpec`])):
+//! `enabled = [...]` (catalogue names; replaces [`DEFAULT_EFFECTS`]), `stribeck_nm`,
+//! `stribeck_velocity_rad_s`, `payload_mass_error_kg`, `balancer_preload_n`,
+//! `balancer_stiffness_n_per_m`, balancer geometry `balancer_joint` (1-based),
+//! `balancer_lever_m`, `balancer_base_m`, `balancer_upright_rad` (a drive file that gives the
+//! lever and the base declares that the robot has a balancer), `regeneration_recovered_fraction`,
+//! and `[effects.values]`: effect name → parameter values in the effect's order (wins over
+//! the other keys; this is where `identify` writes what no other key holds). docs/effects.md.
 
-use super::{
-    Balancer, Effect, Regeneration as RegenEffect, Stribeck, BALANCER_A_M, BALANCER_B_M,
-    BALANCER_UPRIGHT_RAD, CATALOGUE, STRIBECK_VELOCITY_RAD_S,
-};
+use super::registry::{EffectId, REGISTRY};
+use super::{Effect, Stage};
 use crate::error::{Error, Result};
-use serde::{Deserialize, Serialize};
+use crate::robot::{EffectsTable, RobotModel};
 
 /// Effects switched on by default when the robot has drive data (those the drive file's
 /// `[[joints]]` and `[cabinet]` keys carry). Without drive data nothing is switched on.
@@ -33,382 +28,223 @@ pub const DEFAULT_EFFECTS: [&str; 7] = [
     "standby",
 ];
 
-/// Index of a catalogue name, or an error listing the names.
-pub fn catalogue_index(name: &str) -> Result<usize> {
-    CATALOGUE.iter().position(|c| *c == name).ok_or_else(|| {
-        Error::Invalid(format!(
-            "unknown effect `{name}`; the catalogue: {}",
-            CATALOGUE.join(", ")
-        ))
-    })
+/// What an effect's `build` function reads: the robot, its `[effects]` table and file.
+#[derive(Debug)]
+pub struct BuildContext<'a> {
+    /// The robot (dof, inertials, payload, drive data).
+    pub robot: &'a RobotModel,
+    /// The `[effects]` table (default when there is none).
+    pub table: &'a EffectsTable,
+    /// The drive file's name, for error messages.
+    pub file: &'a str,
 }
 
-/// The `[effects]` table as written (strict: unknown keys are errors).
-#[derive(Deserialize, Serialize, Debug, Default, Clone)]
-#[serde(deny_unknown_fields)]
-pub(crate) struct EffectsTable {
-    pub enabled: Option<Vec<String>>,
-    pub stribeck_nm: Option<Vec<f64>>,
-    pub stribeck_velocity_rad_s: Option<f64>,
-    pub payload_mass_error_kg: Option<f64>,
-    pub balancer_preload_n: Option<f64>,
-    pub balancer_stiffness_n_per_m: Option<f64>,
-    pub balancer_joint: Option<usize>,
-    pub balancer_lever_m: Option<f64>,
-    pub balancer_base_m: Option<f64>,
-    pub balancer_upright_rad: Option<f64>,
-    pub regeneration_recovered_fraction: Option<f64>,
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub values: Option<std::collections::BTreeMap<String, Vec<f64>>>,
-}
-
-/// The `[calibration]` table of a calibrated robot (written by `printwatt identify`, read
-/// back by every command, which then names the calibration it used).
-#[derive(Clone, Debug, PartialEq, Default, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct Calibration {
-    /// The robot the first round started from, as given to `identify --robot`.
-    pub base_robot: String,
-    /// Rounds of identification, oldest first.
-    #[serde(default)]
-    pub rounds: Vec<CalibrationRound>,
-    /// Every identified parameter with its latest value; parameters of earlier rounds that
-    /// were not re-fitted are carried over.
-    #[serde(default)]
-    pub params: Vec<CalibratedParam>,
-}
-
-/// One round of `identify`.
-#[derive(Clone, Debug, PartialEq, Default, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct CalibrationRound {
-    /// 1-based round number.
-    pub round: usize,
-    /// UTC date of the run, `YYYY-MM-DD`.
-    pub date: String,
-    /// The log fitted.
-    pub log: String,
-    /// Signal of the log (`tau`, `i`, `p`, `p_total`).
-    pub signal: String,
-    /// Effects fitted in this round.
-    pub effects: Vec<String>,
-    /// What was validated on.
-    pub validation: String,
-    /// Validation RMSE before and after the round (signal unit).
-    pub validation_rmse_before: f64,
-    /// Validation RMSE after the round (signal unit).
-    pub validation_rmse_after: f64,
-}
-
-/// One identified parameter.
-#[derive(Clone, Debug, PartialEq, Default, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
-pub struct CalibratedParam {
-    /// Catalogue name of the effect.
-    pub effect: String,
-    /// Parameter name, e.g. `f_c[2]`.
-    pub name: String,
-    /// SI unit.
-    pub unit: String,
-    /// Value in the calibrated robot.
-    pub value: f64,
-    /// Standard error (same unit); absent when the parameter was held at its prior.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub std_error: Option<f64>,
-    /// Value before the round that fitted it.
-    pub prior: f64,
-    /// Round that fitted it (or held it).
-    pub round: usize,
-    /// `fitted`, or `held at prior: ...` with the reason.
-    pub status: String,
-}
-
-/// The validated `[effects]` configuration of a robot. [`Default`] = no table: default
-/// switches, every extra parameter zero (`v_s` = [`STRIBECK_VELOCITY_RAD_S`]).
-#[derive(Clone, Debug, PartialEq)]
-pub struct EffectsConfig {
-    /// The drive file the table came from (`None`: no table).
-    pub file: Option<String>,
-    /// Switches by catalogue index ([`CATALOGUE`]); `None` = [`DEFAULT_EFFECTS`] when the
-    /// robot has drive data, nothing otherwise.
-    pub enabled: Option<[bool; 10]>,
-    /// Stribeck peaks `f_s` per joint, N·m (`None` = zeros).
-    pub stribeck_nm: Option<Vec<f64>>,
-    /// Stribeck velocity `v_s`, rad/s.
-    pub stribeck_velocity_rad_s: f64,
-    /// Payload mass error `Δm`, kg.
-    pub payload_mass_error_kg: f64,
-    /// Balancer preload `F0`, N.
-    pub balancer_preload_n: f64,
-    /// Balancer stiffness `k`, N/m.
-    pub balancer_stiffness_n_per_m: f64,
-    /// Recovered fraction `ρ` of the power the regeneration policy burns.
-    pub regeneration_recovered_fraction: f64,
-    /// Balancer geometry declared by the drive file (`balancer_lever_m`, `balancer_base_m`):
-    /// the robot has a balancer. Without it a `balancer` candidate is not plausible.
-    pub balancer_declared: bool,
-    /// Balancer geometry: joint (0-based), lever `a` on the moving link (m), distance `b` of
-    /// the fixed end (m), upright angle (rad).
-    pub balancer_geometry: (usize, f64, f64, f64),
-    /// Identified parameter values of effects the drive file has no other key for (a robot
-    /// without per-joint drive tables): effect name → values in the order of the effect's
-    /// parameters (`[effects.values]`, docs/effects.md).
-    pub values: std::collections::BTreeMap<String, Vec<f64>>,
-    /// The `[calibration]` table when the robot is a calibrated one.
-    pub calibration: Option<Calibration>,
-}
-
-impl Default for EffectsConfig {
-    fn default() -> Self {
-        EffectsConfig {
-            file: None,
-            enabled: None,
-            stribeck_nm: None,
-            stribeck_velocity_rad_s: STRIBECK_VELOCITY_RAD_S,
-            payload_mass_error_kg: 0.0,
-            balancer_preload_n: 0.0,
-            balancer_stiffness_n_per_m: 0.0,
-            regeneration_recovered_fraction: 0.0,
-            balancer_declared: false,
-            balancer_geometry: (1, BALANCER_A_M, BALANCER_B_M, BALANCER_UPRIGHT_RAD),
-            values: Default::default(),
-            calibration: None,
-        }
+impl BuildContext<'_> {
+    /// Number of joints.
+    pub fn dof(&self) -> usize {
+        self.robot.dof()
     }
-}
-
-impl EffectsConfig {
-    /// One line naming the calibration (file, rounds, dates, logs), or `None` for a nominal
-    /// robot.
-    pub fn calibration_summary(&self) -> Option<String> {
-        let c = self.calibration.as_ref()?;
-        let rounds: Vec<String> = c
-            .rounds
-            .iter()
-            .map(|r| {
-                format!(
-                    "round {} on {} from {} ({})",
-                    r.round,
-                    r.date,
-                    r.log,
-                    r.effects.join(", ")
-                )
-            })
-            .collect();
-        Some(format!(
-            "calibrated robot {} (from {}; {})",
-            self.file.as_deref().unwrap_or("?"),
-            c.base_robot,
-            rounds.join("; ")
-        ))
-    }
-
-    /// Validate a parsed table for a robot of `dof` joints whose nominal payload is
-    /// `nominal_payload_kg`. Errors ([`Error::Field`]) name `file` and `effects.<key>`.
-    pub(crate) fn from_table(
-        t: EffectsTable,
-        file: &str,
-        dof: usize,
-        nominal_payload_kg: f64,
-    ) -> Result<Self> {
-        let bad = |key: &str, msg: String| Error::Field {
-            file: file.to_string(),
+    /// An error naming the file and `effects.<key>`.
+    pub fn bad(&self, key: &str, msg: impl Into<String>) -> Error {
+        Error::Field {
+            file: self.file.to_string(),
             field: format!("effects.{key}"),
-            msg,
-        };
-        let mut c = EffectsConfig {
-            file: Some(file.to_string()),
-            ..Default::default()
-        };
-        if let Some(list) = t.enabled {
-            let mut mask = [false; 10];
-            for s in &list {
-                let i = catalogue_index(s).map_err(|e| bad("enabled", e.to_string()))?;
-                mask[i] = true;
-            }
-            c.enabled = Some(mask);
-        }
-        // Bounds: those of the effects themselves.
-        let mut stribeck = Stribeck::zero(dof);
-        if let Some(fs) = t.stribeck_nm {
-            if fs.len() != dof {
-                return Err(bad(
-                    "stribeck_nm",
-                    format!("{} values, expected {dof} (one per joint)", fs.len()),
-                ));
-            }
-            stribeck.fs = fs;
-        }
-        if let Some(vs) = t.stribeck_velocity_rad_s {
-            stribeck.vs = vs;
-        }
-        let vals = stribeck.values();
-        stribeck.set_values(&vals).map_err(|e| {
-            let key = if t
-                .stribeck_velocity_rad_s
-                .is_some_and(|v| !(0.005..=1.0).contains(&v))
-            {
-                "stribeck_velocity_rad_s"
-            } else {
-                "stribeck_nm"
-            };
-            bad(key, e.to_string())
-        })?;
-        c.stribeck_nm = Some(stribeck.fs).filter(|fs| fs.iter().any(|f| *f != 0.0));
-        c.stribeck_velocity_rad_s = stribeck.vs;
-        if let Some(dm) = t.payload_mass_error_kg {
-            if !(dm.is_finite() && dm >= -nominal_payload_kg) {
-                return Err(bad(
-                    "payload_mass_error_kg",
-                    format!("must be finite and >= -{nominal_payload_kg} (the nominal payload), got {dm}"),
-                ));
-            }
-            c.payload_mass_error_kg = dm;
-        }
-        let mut b = Balancer::zero();
-        if let Some(j) = t.balancer_joint {
-            if j == 0 || j > dof {
-                return Err(bad(
-                    "balancer_joint",
-                    format!("must be a joint number 1..={dof}, got {j}"),
-                ));
-            }
-            b.joint = j - 1;
-        }
-        for (key, v) in [
-            ("balancer_lever_m", t.balancer_lever_m),
-            ("balancer_base_m", t.balancer_base_m),
-        ] {
-            if let Some(x) = v {
-                if !(x.is_finite() && x > 0.0) {
-                    return Err(bad(key, format!("must be finite and > 0 m, got {x}")));
-                }
-            }
-        }
-        if let Some(x) = t.balancer_lever_m {
-            b.a = x;
-        }
-        if let Some(x) = t.balancer_base_m {
-            b.b = x;
-        }
-        if (b.a - b.b).abs() < 1e-6 {
-            return Err(bad(
-                "balancer_lever_m",
-                format!(
-                    "lever {} m equals the base distance {} m: the cylinder would reach zero length",
-                    b.a, b.b
-                ),
-            ));
-        }
-        if let Some(x) = t.balancer_upright_rad {
-            if !x.is_finite() {
-                return Err(bad(
-                    "balancer_upright_rad",
-                    format!("must be finite, got {x}"),
-                ));
-            }
-            b.upright = x;
-        }
-        c.balancer_declared = t.balancer_lever_m.is_some() && t.balancer_base_m.is_some();
-        c.balancer_geometry = (b.joint, b.a, b.b, b.upright);
-        for (key, v, idx) in [
-            ("balancer_preload_n", t.balancer_preload_n, 0),
-            (
-                "balancer_stiffness_n_per_m",
-                t.balancer_stiffness_n_per_m,
-                1,
-            ),
-        ] {
-            if let Some(x) = v {
-                let mut vals = b.values();
-                vals[idx] = x;
-                b.set_values(&vals).map_err(|e| bad(key, e.to_string()))?;
-            }
-        }
-        c.balancer_preload_n = b.preload;
-        c.balancer_stiffness_n_per_m = b.stiffness;
-        if let Some(rho) = t.regeneration_recovered_fraction {
-            RegenEffect { recovered: 0.0 }
-                .set_values(&[rho])
-                .map_err(|e| bad("regeneration_recovered_fraction", e.to_string()))?;
-            c.regeneration_recovered_fraction = rho;
-        }
-        if let Some(v) = t.values {
-            for (name, vals) in v {
-                catalogue_index(&name).map_err(|e| bad("values", e.to_string()))?;
-                if vals.iter().any(|x| !x.is_finite()) {
-                    return Err(bad(
-                        &format!("values.{name}"),
-                        "values must be finite".into(),
-                    ));
-                }
-                c.values.insert(name, vals);
-            }
-        }
-        Ok(c)
-    }
-
-    /// The switches by catalogue index for a robot with (`has_drive`) or without drive data.
-    pub fn enabled_mask(&self, has_drive: bool) -> [bool; 10] {
-        match self.enabled {
-            Some(m) => m,
-            None => {
-                let mut m = [false; 10];
-                if has_drive {
-                    for e in DEFAULT_EFFECTS {
-                        if let Ok(i) = catalogue_index(e) {
-                            m[i] = true;
-                        }
-                    }
-                }
-                // A declared balancer with a force is part of the robot.
-                if self.balancer_declared
-                    && (self.balancer_preload_n != 0.0 || self.balancer_stiffness_n_per_m != 0.0)
-                {
-                    if let Ok(i) = catalogue_index("balancer") {
-                        m[i] = true;
-                    }
-                }
-                m
-            }
+            msg: msg.into(),
         }
     }
-
-    /// Whether effect `name` is switched on (false for unknown names).
-    pub fn is_enabled(&self, name: &str, has_drive: bool) -> bool {
-        catalogue_index(name).is_ok_and(|i| self.enabled_mask(has_drive)[i])
+    /// Per-joint values from the drive's `[[joints]]` (`dflt` per joint without drive data).
+    pub fn per_joint(&self, f: impl Fn(&crate::robot::JointDrive) -> f64, dflt: f64) -> Vec<f64> {
+        match &self.robot.drive {
+            Some(d) => d.joints.iter().map(f).collect(),
+            None => vec![dflt; self.dof()],
+        }
     }
-
-    /// Switch effect `name` on or off (the other switches keep their current state for a
-    /// robot with or without drive data, `has_drive`). Error: unknown name.
-    pub fn set_enabled(&mut self, name: &str, on: bool, has_drive: bool) -> Result<()> {
-        let i = catalogue_index(name)?;
-        let mut m = self.enabled_mask(has_drive);
-        m[i] = on;
-        self.enabled = Some(m);
+    /// Apply `[effects.values].<name>` to `e` if the table has it (error naming the key).
+    pub fn apply_values(&self, e: &mut dyn Effect) -> Result<()> {
+        if let Some(v) = self.table.values.as_ref().and_then(|m| m.get(e.name())) {
+            e.set_values(v)
+                .map_err(|err| self.bad(&format!("values.{}", e.name()), err.to_string()))?;
+        }
         Ok(())
     }
+}
 
-    /// The `stribeck` effect on `n` joints with the configured parameters.
-    pub fn stribeck(&self, n: usize) -> Stribeck {
-        let mut s = Stribeck::zero(n);
-        if let Some(fs) = &self.stribeck_nm {
-            s.fs.iter_mut().zip(fs).for_each(|(a, b)| *a = *b);
-        }
-        s.vs = self.stribeck_velocity_rad_s;
+/// Every registered effect of a robot with its switch, indexed by [`EffectId`].
+#[derive(Debug, Clone, Default)]
+pub struct EffectSet {
+    effects: Vec<Box<dyn Effect>>,
+    enabled: Vec<bool>,
+}
+
+impl EffectSet {
+    /// An empty set (for hand-built sets; see [`EffectSet::push`]).
+    pub fn new() -> Self {
+        Self::default()
+    }
+
+    /// The friction effects of a drive: `viscous` and `coulomb` (velocity scale
+    /// [`super::COULOMB_VELOCITY_SCALE_RAD_S`]), both switched on.
+    pub fn friction_of(drive: &crate::robot::Drive) -> Self {
+        let mut s = Self::new();
+        s.push(Box::new(super::Viscous::from_drive(drive)));
+        s.push(Box::new(super::Coulomb::from_drive(
+            drive,
+            super::COULOMB_VELOCITY_SCALE_RAD_S,
+        )));
         s
     }
 
-    /// The `balancer` effect with the configured geometry, preload and stiffness.
-    pub fn balancer(&self) -> Balancer {
-        let (joint, a, b, upright) = self.balancer_geometry;
-        Balancer {
-            joint,
-            a,
-            b,
-            upright,
-            preload: self.balancer_preload_n,
-            stiffness: self.balancer_stiffness_n_per_m,
+    /// Every registered effect of `robot`, built from its drive data and drive-file tables,
+    /// with the switches of `[effects] enabled` ([`DEFAULT_EFFECTS`] when the robot has drive
+    /// data and the table names none, plus a declared balancer with a force; nothing without
+    /// drive data). Errors ([`Error::Field`]) name the file and `effects.<key>`.
+    pub fn of_robot(robot: &RobotModel) -> Result<Self> {
+        let table = &robot.effects.table;
+        let file = robot
+            .effects
+            .file
+            .clone()
+            .unwrap_or_else(|| robot.name().to_string());
+        let ctx = BuildContext {
+            robot,
+            table,
+            file: &file,
+        };
+        if let Some(v) = &table.values {
+            for name in v.keys() {
+                EffectId::of(name).map_err(|e| ctx.bad("values", e.to_string()))?;
+            }
+        }
+        let mut effects = Vec::with_capacity(REGISTRY.len());
+        for r in REGISTRY {
+            let mut e = (r.build)(&ctx)?;
+            ctx.apply_values(e.as_mut())?;
+            effects.push(e);
+        }
+        let has_drive = robot.drive.is_some();
+        let enabled = match &table.enabled {
+            Some(list) => {
+                let mut m = vec![false; REGISTRY.len()];
+                for s in list {
+                    let i = EffectId::of(s).map_err(|e| ctx.bad("enabled", e.to_string()))?;
+                    m[i.0] = true;
+                }
+                m
+            }
+            None => REGISTRY
+                .iter()
+                .zip(&effects)
+                .map(|(r, e)| {
+                    (has_drive && DEFAULT_EFFECTS.contains(&r.name))
+                        || (r.name == "balancer" && e.implausible().is_none() && !e.is_null())
+                })
+                .collect(),
+        };
+        Ok(EffectSet { effects, enabled })
+    }
+
+    /// Add an effect, switched on.
+    pub fn push(&mut self, effect: Box<dyn Effect>) {
+        self.effects.push(effect);
+        self.enabled.push(true);
+    }
+
+    /// The position of the effect called `name` in this set.
+    fn position(&self, name: &str) -> Option<usize> {
+        self.effects.iter().position(|e| e.name() == name)
+    }
+
+    /// The effect called `name`. Error: unknown name (listing the catalogue).
+    pub fn get(&self, name: &str) -> Result<&dyn Effect> {
+        match self.position(name) {
+            Some(i) => Ok(self.effects[i].as_ref()),
+            None => Err(EffectId::of(name)
+                .err()
+                .unwrap_or_else(|| Error::Invalid(format!("effect `{name}` is not in this set")))),
+        }
+    }
+
+    /// The effect called `name` as its concrete type `T` (e.g. [`super::Balancer`] for its
+    /// geometry), or `None` when absent or of another type.
+    pub fn typed<T: 'static>(&self, name: &str) -> Option<&T> {
+        self.get(name).ok()?.as_any().downcast_ref::<T>()
+    }
+
+    /// The effect called `name`, mutable.
+    pub fn get_mut(&mut self, name: &str) -> Result<&mut dyn Effect> {
+        match self.position(name) {
+            Some(i) => Ok(self.effects[i].as_mut()),
+            None => Err(EffectId::of(name)
+                .err()
+                .unwrap_or_else(|| Error::Invalid(format!("effect `{name}` is not in this set")))),
+        }
+    }
+
+    /// Switch the effect called `name` on or off; `false` if there is none.
+    pub fn set_enabled(&mut self, name: &str, on: bool) -> bool {
+        match self.position(name) {
+            Some(i) => {
+                self.enabled[i] = on;
+                true
+            }
+            None => false,
+        }
+    }
+
+    /// Switch every effect off.
+    pub fn disable_all(&mut self) {
+        self.enabled.iter_mut().for_each(|e| *e = false);
+    }
+
+    /// Whether the effect called `name` is switched on (false for unknown names).
+    pub fn is_enabled(&self, name: &str) -> bool {
+        self.position(name).is_some_and(|i| self.enabled[i])
+    }
+
+    /// Names of the effects, with their switches.
+    pub fn names(&self) -> Vec<(&'static str, bool)> {
+        self.effects
+            .iter()
+            .zip(&self.enabled)
+            .map(|(e, on)| (e.name(), *on))
+            .collect()
+    }
+
+    /// Names of the effects switched on, in catalogue order.
+    pub fn enabled_names(&self) -> Vec<&'static str> {
+        self.names()
+            .into_iter()
+            .filter(|(_, on)| *on)
+            .map(|(n, _)| n)
+            .collect()
+    }
+
+    /// The effects with their switches, in order.
+    pub fn iter(&self) -> impl Iterator<Item = (&dyn Effect, bool)> {
+        self.effects
+            .iter()
+            .zip(&self.enabled)
+            .map(|(e, on)| (e.as_ref(), *on))
+    }
+
+    /// The torque effects with their switches, in order.
+    pub fn torque_effects(&self) -> impl Iterator<Item = (&dyn Effect, bool)> {
+        self.iter().filter(|(e, _)| e.stage() == Stage::Torque)
+    }
+
+    /// Values of an enabled effect, or `None` when it is off or absent.
+    pub fn enabled_values(&self, name: &str) -> Option<Vec<f64>> {
+        self.position(name)
+            .filter(|&i| self.enabled[i])
+            .map(|i| self.effects[i].values())
+    }
+
+    /// Sum of the enabled torque effects' torques added to `tau` (N·m).
+    pub fn add_torque(&self, q: &[f64], qd: &[f64], qdd: &[f64], tau: &mut [f64]) {
+        for (e, on) in self.torque_effects() {
+            if on {
+                e.add_torque(q, qd, qdd, tau);
+            }
         }
     }
 }

@@ -1,11 +1,11 @@
 //! Electrical and supply effects (seed 001, eqs. 2–4): they act after the joint torque is
 //! known, so they implement [`Effect`] (name and bounded parameters) but not
-//! [`super::TorqueEffect`]. Their contribution is evaluated by the motor model in
+//! a torque. Their contribution is evaluated by the motor model in
 //! [`crate::energy`] and, with identifiable parameters, in [`crate::identify`]:
 //! motor torque `τ_m = τ/(G η)` when driving and `τ η / G` when back-driven, current
 //! `i = τ_m / K_t`, electrical power `P = τ_m G q̇ + R i²`.
 
-use super::{check_values, per_joint, Effect, ParamSpec};
+use super::{check_values, per_joint, BuildContext, Effect, ParamSpec, Stage};
 use crate::error::Result;
 
 /// `copper`: winding resistance per axis `R`, Ω; loss `R i²` (W).
@@ -53,6 +53,12 @@ impl Effect for Copper {
         self.r.copy_from_slice(values);
         Ok(())
     }
+    fn clone_box(&self) -> Box<dyn Effect> {
+        Box::new(self.clone())
+    }
+    fn stage(&self) -> Stage {
+        Stage::Motor
+    }
 }
 
 impl Effect for GearEfficiency {
@@ -77,6 +83,12 @@ impl Effect for GearEfficiency {
         self.eta.copy_from_slice(values);
         Ok(())
     }
+    fn clone_box(&self) -> Box<dyn Effect> {
+        Box::new(self.clone())
+    }
+    fn stage(&self) -> Stage {
+        Stage::Motor
+    }
 }
 
 impl Effect for Regeneration {
@@ -98,6 +110,12 @@ impl Effect for Regeneration {
         check_values(self.name(), &self.params(), values)?;
         self.recovered = values[0];
         Ok(())
+    }
+    fn clone_box(&self) -> Box<dyn Effect> {
+        Box::new(self.clone())
+    }
+    fn stage(&self) -> Stage {
+        Stage::Supply
     }
 }
 
@@ -121,4 +139,42 @@ impl Effect for Standby {
         self.power = values[0];
         Ok(())
     }
+    fn clone_box(&self) -> Box<dyn Effect> {
+        Box::new(self.clone())
+    }
+    fn stage(&self) -> Stage {
+        Stage::Supply
+    }
+}
+
+/// Registry entry: `R` from the drive file's `winding_resistance_ohm` (zeros without drive data).
+pub(crate) fn build_copper(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
+    Ok(Box::new(Copper {
+        r: ctx.per_joint(|j| j.winding_resistance, 0.0),
+    }))
+}
+
+/// Registry entry: `η` from the drive file's `gear_efficiency` (1 without drive data).
+pub(crate) fn build_gear_efficiency(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
+    Ok(Box::new(GearEfficiency {
+        eta: ctx.per_joint(|j| j.gear_efficiency, 1.0),
+    }))
+}
+
+/// Registry entry: `ρ` from `[effects] regeneration_recovered_fraction` (0 by default).
+pub(crate) fn build_regeneration(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
+    let mut r = Regeneration { recovered: 0.0 };
+    if let Some(rho) = ctx.table.regeneration_recovered_fraction {
+        r.set_values(&[rho])
+            .map_err(|e| ctx.bad("regeneration_recovered_fraction", e.to_string()))?;
+    }
+    Ok(Box::new(r))
+}
+
+/// Registry entry: `P_0` from the drive file's `[cabinet] standby_power_w` (0 without drive
+/// data).
+pub(crate) fn build_standby(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
+    Ok(Box::new(Standby {
+        power: ctx.robot.drive.as_ref().map_or(0.0, |d| d.standby_power),
+    }))
 }

@@ -1,56 +1,75 @@
-//! Physical effects beyond the rigid body, one file per effect, behind one small trait
+//! Physical effects beyond the rigid body, one file per effect, one trait, one registry
 //! (architecture.md, rule 3 and "Physical effects: the catalogue").
 //!
 //! Every effect has a stable [`Effect::name`] (used on the command line, in drive files and in
-//! reports), named parameters with unit and bounds ([`ParamSpec`]), its current parameter
-//! values, and, for joint-side torque effects, a [`TorqueEffect::add_torque`] contribution and,
-//! where the torque is linear in the parameters, a [`TorqueEffect::regressor`] `Y(q, q̇, q̈)`
-//! with `τ_effect = Y · θ` (the shape identification builds on; cf. pinocchio
-//! `algorithm/regressor.hpp`).
+//! reports), named parameters with unit and bounds ([`ParamSpec`]) and its current values. A
+//! joint-side torque effect ([`Stage::Torque`]) adds [`Effect::add_torque`] and, where the
+//! torque is linear in the parameters, a regressor `Y(q, q̇, q̈)` with `τ_effect = Y · θ`
+//! ([`Effect::regressor`], the shape identification builds on; cf. pinocchio
+//! `algorithm/regressor.hpp`). The electrical and supply effects ([`Stage::Motor`],
+//! [`Stage::Supply`]) act after the torque is known and are evaluated by the motor model
+//! (seed 001, eqs. 2–4) from their values.
 //!
-//! Implemented joint-side effects: [`Viscous`] (`viscous`), [`Coulomb`] (`coulomb`),
-//! [`Stribeck`] (`stribeck`), [`Armature`] (`armature`), [`Payload`] (`payload`, a payload
-//! mass error), [`Balancer`] (`balancer`). The electrical and supply effects [`Copper`],
-//! [`GearEfficiency`], [`Regeneration`] and [`Standby`] act after the torque is known; they
-//! implement [`Effect`] (name + bounded parameters) and are evaluated by the motor model in
-//! [`crate::energy`] and [`crate::identify`] (seed 001, eqs. 2–4).
+//! **Adding an effect** = one file here implementing [`Effect`] with a `build` function, plus
+//! one line in [`registry::REGISTRY`]. [`EffectSet::of_robot`] builds every registered effect
+//! from the robot's drive file (`[[joints]]`, `[effects]`, `[effects.values]`); energy
+//! ([`crate::energy`]), identification, diagnosis and comparison ([`crate::identify`]) all walk
+//! that set, so they see the same effects with the same parameters. The robot description
+//! ([`crate::robot`]) carries the drive file's tables as data and does not know the effects.
 
 mod armature;
 mod balancer;
 mod config;
 mod coulomb;
 mod electrical;
+mod offset;
 mod payload;
+pub mod registry;
 mod stribeck;
 mod viscous;
 
 pub use armature::Armature;
 pub use balancer::{Balancer, BALANCER_A_M, BALANCER_B_M, BALANCER_UPRIGHT_RAD};
-pub(crate) use config::EffectsTable;
-pub use config::{
-    catalogue_index, CalibratedParam, Calibration, CalibrationRound, EffectsConfig, DEFAULT_EFFECTS,
-};
+pub use config::{BuildContext, EffectSet, DEFAULT_EFFECTS};
 pub use coulomb::{Coulomb, COULOMB_VELOCITY_SCALE_RAD_S};
 pub use electrical::{Copper, GearEfficiency, Regeneration, Standby};
+pub use offset::Offset;
 pub use payload::Payload;
+pub use registry::{catalogue, catalogue_index, EffectId, Registration, REGISTRY};
 pub use stribeck::{Stribeck, STRIBECK_VELOCITY_RAD_S};
 pub use viscous::Viscous;
 
-use crate::error::{Error, Result};
+pub use crate::robot::drive::{CalibratedParam, Calibration, CalibrationRound};
 
-/// The stable names of the effect catalogue (architecture.md), implemented or reserved.
-pub const CATALOGUE: [&str; 10] = [
-    "viscous",
-    "coulomb",
-    "stribeck",
-    "armature",
-    "payload",
-    "balancer",
-    "copper",
-    "gear_efficiency",
-    "regeneration",
-    "standby",
-];
+/// The same trait as [`Effect`] under its former name (torque effects implement
+/// [`Effect::add_torque`] and [`Effect::regressor`]).
+pub use self::Effect as TorqueEffect;
+
+use crate::error::{Error, Result};
+use crate::robot::RobotModel;
+
+/// Where in the chain an effect acts.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Stage {
+    /// Joint-side torque added to the rigid body (`τ = τ_rb + Σ τ_effect`).
+    Torque,
+    /// Motor model of each axis (`copper`, `gear_efficiency`).
+    Motor,
+    /// Supply side (`regeneration`, `standby`).
+    Supply,
+}
+
+/// Which part of the energy breakdown a torque effect's power `τ_effect q̇` is booked to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum EnergyClass {
+    /// Rigid body (inertial errors, armature, offset torques).
+    RigidBody,
+    /// Friction (dissipative).
+    Friction,
+    /// Balancer (a spring: stored and released).
+    Balancer,
+}
 
 /// One named parameter of an effect.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
@@ -65,9 +84,22 @@ pub struct ParamSpec {
     pub upper: f64,
 }
 
-/// What every effect has: a stable name and named, bounded parameters.
-pub trait Effect: Send + Sync + std::fmt::Debug {
-    /// Stable short name from [`CATALOGUE`].
+/// Access to the concrete type behind a `dyn Effect` (implemented for every type).
+pub trait AsAny {
+    /// `self` as [`std::any::Any`], for [`EffectSet::typed`].
+    fn as_any(&self) -> &dyn std::any::Any;
+}
+
+impl<T: std::any::Any> AsAny for T {
+    fn as_any(&self) -> &dyn std::any::Any {
+        self
+    }
+}
+
+/// What every effect has: a stable name and named, bounded parameters; torque effects also
+/// their torque and (when linear) its regressor.
+pub trait Effect: AsAny + Send + Sync + std::fmt::Debug {
+    /// Stable short name from the catalogue ([`registry::REGISTRY`]).
     fn name(&self) -> &'static str;
     /// The parameters, in the order of [`Effect::values`] and of the regressor's columns.
     fn params(&self) -> Vec<ParamSpec>;
@@ -75,18 +107,59 @@ pub trait Effect: Send + Sync + std::fmt::Debug {
     fn values(&self) -> Vec<f64>;
     /// Replace all parameter values. Error: wrong count, or a value outside its bounds.
     fn set_values(&mut self, values: &[f64]) -> Result<()>;
-}
+    /// A boxed copy.
+    fn clone_box(&self) -> Box<dyn Effect>;
 
-/// A joint-side torque effect, added to the rigid-body torque (seed 000, eq. 1: `τ_f`).
-pub trait TorqueEffect: Effect {
+    /// Where it acts (default: joint-side torque).
+    fn stage(&self) -> Stage {
+        Stage::Torque
+    }
+    /// The energy-breakdown class of its torque (default: rigid body).
+    fn energy_class(&self) -> EnergyClass {
+        EnergyClass::RigidBody
+    }
     /// Add this effect's joint torque (N·m, N for prismatic joints) at state
-    /// (`q` rad, `qd` rad/s, `qdd` rad/s², each of length `dof`) to `tau`. No allocation.
-    fn add_torque(&self, q: &[f64], qd: &[f64], qdd: &[f64], tau: &mut [f64]);
-
+    /// (`q` rad, `qd` rad/s, `qdd` rad/s², each of length `dof`) to `tau`. Default: nothing
+    /// (effects after the torque).
+    fn add_torque(&self, _q: &[f64], _qd: &[f64], _qdd: &[f64], _tau: &mut [f64]) {}
     /// Fill the regressor `Y` (row-major, `dof × params().len()`) with
     /// `τ_effect = Y · values()`, and return `true`; return `false` (leaving `y` untouched)
-    /// if the effect is not linear in its parameters.
-    fn regressor(&self, q: &[f64], qd: &[f64], qdd: &[f64], y: &mut [f64]) -> bool;
+    /// if the effect is not linear in its parameters (default).
+    fn regressor(&self, _q: &[f64], _qd: &[f64], _qdd: &[f64], _y: &mut [f64]) -> bool {
+        false
+    }
+    /// Whether evaluating it costs inverse-dynamics passes (`payload`, `rigid_body`):
+    /// identification then caches its regressor once per log. Default `false`.
+    fn costly(&self) -> bool {
+        false
+    }
+    /// Whether it contributes nothing with its current values (skipped by the energy model).
+    fn is_null(&self) -> bool {
+        false
+    }
+    /// For effects that are errors of the robot's own inertial parameters (`payload`,
+    /// `rigid_body`): apply them to `robot` (exactly, RNEA is linear in the inertial
+    /// parameters) and return `true`; the energy model then evaluates the corrected rigid
+    /// body instead of calling [`Effect::add_torque`] per sample. Default `false`.
+    fn fold_into(&self, _robot: &mut RobotModel) -> bool {
+        false
+    }
+    /// Why this effect is not physically plausible for the robot it was built for (e.g. a
+    /// `balancer` on a robot whose drive file declares none), or `None`.
+    fn implausible(&self) -> Option<String> {
+        None
+    }
+    /// Whether a velocity- or acceleration-driven per-joint parameter (which a joint that does
+    /// not move cannot excite); default `false`.
+    fn driven_by_motion(&self) -> bool {
+        false
+    }
+}
+
+impl Clone for Box<dyn Effect> {
+    fn clone(&self) -> Self {
+        self.clone_box()
+    }
 }
 
 /// Check a new parameter vector against the specs.
@@ -109,70 +182,35 @@ pub(crate) fn check_values(effect: &str, specs: &[ParamSpec], values: &[f64]) ->
     Ok(())
 }
 
-/// Per-joint parameter specs `prefix[1..=n]`.
+/// Per-joint parameter specs `prefix[1..=n]`, bounds `[0, ∞)`.
 pub(crate) fn per_joint(prefix: &str, unit: &'static str, n: usize) -> Vec<ParamSpec> {
+    per_joint_bounded(prefix, unit, n, 0.0, f64::INFINITY)
+}
+
+/// Per-joint parameter specs `prefix[1..=n]` with bounds.
+pub(crate) fn per_joint_bounded(
+    prefix: &str,
+    unit: &'static str,
+    n: usize,
+    lower: f64,
+    upper: f64,
+) -> Vec<ParamSpec> {
     (0..n)
         .map(|j| ParamSpec {
             name: format!("{prefix}[{}]", j + 1),
             unit,
-            lower: 0.0,
-            upper: f64::INFINITY,
+            lower,
+            upper,
         })
         .collect()
 }
 
-/// A set of torque effects with on/off switches, summed in insertion order.
-#[derive(Debug, Default)]
-pub struct EffectSet {
-    effects: Vec<(Box<dyn TorqueEffect>, bool)>,
-}
-
-impl EffectSet {
-    /// An empty set.
-    pub fn new() -> Self {
-        Self::default()
-    }
-
-    /// The friction effects of a drive: `viscous` and `coulomb` (velocity scale
-    /// [`COULOMB_VELOCITY_SCALE_RAD_S`]), both switched on.
-    pub fn friction_of(drive: &crate::robot::Drive) -> Self {
-        let mut s = Self::new();
-        s.push(Box::new(Viscous::from_drive(drive)));
-        s.push(Box::new(Coulomb::from_drive(
-            drive,
-            COULOMB_VELOCITY_SCALE_RAD_S,
-        )));
-        s
-    }
-
-    /// Add an effect, switched on.
-    pub fn push(&mut self, effect: Box<dyn TorqueEffect>) {
-        self.effects.push((effect, true));
-    }
-
-    /// Switch the effect called `name` on or off; `false` if there is none.
-    pub fn set_enabled(&mut self, name: &str, on: bool) -> bool {
-        let mut found = false;
-        for (e, en) in &mut self.effects {
-            if e.name() == name {
-                *en = on;
-                found = true;
-            }
-        }
-        found
-    }
-
-    /// Names of the effects, with their switches.
-    pub fn names(&self) -> Vec<(&'static str, bool)> {
-        self.effects.iter().map(|(e, on)| (e.name(), *on)).collect()
-    }
-
-    /// Sum of the enabled effects' torques added to `tau` (N·m).
-    pub fn add_torque(&self, q: &[f64], qd: &[f64], qdd: &[f64], tau: &mut [f64]) {
-        for (e, on) in &self.effects {
-            if *on {
-                e.add_torque(q, qd, qdd, tau);
-            }
+/// Diagonal per-joint regressor: `y[j, j] = f(j)`, zeros elsewhere (`dof × p`, `p` columns).
+pub(crate) fn diagonal_regressor(p: usize, y: &mut [f64], f: impl Fn(usize) -> f64) {
+    y.iter_mut().for_each(|v| *v = 0.0);
+    for j in 0..p {
+        if let Some(c) = y.get_mut(j * p + j) {
+            *c = f(j);
         }
     }
 }

@@ -3,7 +3,9 @@
 //! (Olsson et al. 1998, the Stribeck curve). Not linear in `v_s`, so [`TorqueEffect::regressor`]
 //! returns `false` and identification uses the bounded nonlinear fit.
 
-use super::{check_values, Effect, ParamSpec, TorqueEffect, COULOMB_VELOCITY_SCALE_RAD_S};
+use super::{
+    check_values, BuildContext, Effect, EnergyClass, ParamSpec, COULOMB_VELOCITY_SCALE_RAD_S,
+};
 use crate::error::Result;
 
 /// Default Stribeck velocity `v_s`, rad/s.
@@ -16,6 +18,33 @@ pub struct Stribeck {
     pub fs: Vec<f64>,
     /// Stribeck velocity `v_s`, rad/s, in [0.005, 1].
     pub vs: f64,
+}
+
+/// Registry entry: `f_s` from `[effects] stribeck_nm` (one per joint), `v_s` from
+/// `stribeck_velocity_rad_s` (errors name the key).
+pub(crate) fn build(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
+    let n = ctx.dof();
+    let t = ctx.table;
+    let mut s = Stribeck::zero(n);
+    if let Some(fs) = &t.stribeck_nm {
+        if fs.len() != n {
+            return Err(ctx.bad(
+                "stribeck_nm",
+                format!("{} values, expected {n} (one per joint)", fs.len()),
+            ));
+        }
+        let mut v = fs.clone();
+        v.push(s.vs);
+        s.set_values(&v)
+            .map_err(|e| ctx.bad("stribeck_nm", e.to_string()))?;
+    }
+    if let Some(vs) = t.stribeck_velocity_rad_s {
+        let mut v = s.values();
+        v[n] = vs;
+        s.set_values(&v)
+            .map_err(|e| ctx.bad("stribeck_velocity_rad_s", e.to_string()))?;
+    }
+    Ok(Box::new(s))
 }
 
 impl Stribeck {
@@ -66,15 +95,21 @@ impl Effect for Stribeck {
         self.vs = values[n];
         Ok(())
     }
-}
-
-impl TorqueEffect for Stribeck {
+    fn clone_box(&self) -> Box<dyn Effect> {
+        Box::new(self.clone())
+    }
+    fn energy_class(&self) -> EnergyClass {
+        EnergyClass::Friction
+    }
+    fn is_null(&self) -> bool {
+        self.fs.iter().all(|f| *f == 0.0)
+    }
+    fn driven_by_motion(&self) -> bool {
+        true
+    }
     fn add_torque(&self, _q: &[f64], qd: &[f64], _qdd: &[f64], tau: &mut [f64]) {
         for (j, (t, v)) in tau.iter_mut().zip(qd).enumerate() {
             *t += self.joint_torque(j, *v);
         }
-    }
-    fn regressor(&self, _q: &[f64], _qd: &[f64], _qdd: &[f64], _y: &mut [f64]) -> bool {
-        false
     }
 }

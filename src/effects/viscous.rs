@@ -1,6 +1,8 @@
 //! `viscous`: joint-side viscous friction `τ = f_v q̇` (seed 000, eq. 2, first term).
 
-use super::{check_values, per_joint, Effect, ParamSpec, TorqueEffect};
+use super::{
+    check_values, diagonal_regressor, per_joint, BuildContext, Effect, EnergyClass, ParamSpec,
+};
 use crate::error::Result;
 
 /// Viscous friction per joint, `f_v` in N·m·s/rad (joint side).
@@ -8,6 +10,13 @@ use crate::error::Result;
 pub struct Viscous {
     /// `f_v` per joint, N·m·s/rad.
     pub fv: Vec<f64>,
+}
+
+/// Registry entry: `f_v` from the drive file's `viscous_nm_s_per_rad` (zeros without drive data).
+pub(crate) fn build(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
+    Ok(Box::new(Viscous {
+        fv: ctx.per_joint(|j| j.viscous, 0.0),
+    }))
 }
 
 impl Viscous {
@@ -40,22 +49,25 @@ impl Effect for Viscous {
         self.fv.copy_from_slice(values);
         Ok(())
     }
-}
-
-impl TorqueEffect for Viscous {
+    fn clone_box(&self) -> Box<dyn Effect> {
+        Box::new(self.clone())
+    }
+    fn energy_class(&self) -> EnergyClass {
+        EnergyClass::Friction
+    }
+    fn is_null(&self) -> bool {
+        self.fv.iter().all(|f| *f == 0.0)
+    }
+    fn driven_by_motion(&self) -> bool {
+        true
+    }
     fn add_torque(&self, _q: &[f64], qd: &[f64], _qdd: &[f64], tau: &mut [f64]) {
         for ((t, v), f) in tau.iter_mut().zip(qd).zip(&self.fv) {
             *t += f * v;
         }
     }
     fn regressor(&self, _q: &[f64], qd: &[f64], _qdd: &[f64], y: &mut [f64]) -> bool {
-        let p = self.fv.len();
-        y.iter_mut().for_each(|v| *v = 0.0);
-        for (j, v) in qd.iter().enumerate().take(p) {
-            if let Some(c) = y.get_mut(j * p + j) {
-                *c = *v;
-            }
-        }
+        diagonal_regressor(self.fv.len(), y, |j| qd.get(j).copied().unwrap_or(0.0));
         true
     }
 }

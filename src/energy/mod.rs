@@ -16,12 +16,15 @@
 //!   (`regeneration` effect) is recovered: `P_drives − ρ (P_drives − Σ P_el)`; plus the
 //!   cabinet's standby power.
 //!
-//! Which effects are in, and the parameters of those the `[[joints]]`/`[cabinet]` keys do
-//! not carry (`stribeck`, `balancer`, `payload` mass error, `regeneration` fraction), come from
-//! the drive file's `[effects]` table ([`crate::effects::EffectsConfig`], on
-//! [`RobotModel::effects`]), the same configuration [`crate::identify::Model`] reads; the
-//! torque and power formulas are the same code ([`motor`], [`supply_power`], the effects'
-//! `joint_torque`), so energy torques equal identification's predictions.
+//! Which effects are in, and their parameters, come from the one effect registry
+//! ([`crate::effects::EffectSet::of_robot`]: drive data, the drive file's `[effects]` table
+//! and `[effects.values]`), the same set [`crate::identify::Model`] walks; the torque and
+//! power formulas are the same code ([`motor`], [`supply_power`], the effects'
+//! `add_torque`), so energy torques equal identification's predictions. Effects that are
+//! errors of the robot's own inertial parameters (`payload`, `rigid_body`) are folded into the
+//! rigid body once ([`crate::effects::Effect::fold_into`]); every other enabled torque effect
+//! is added per sample and booked to friction, balancer or rigid body by its
+//! [`crate::effects::EnergyClass`].
 //!
 //! Energies are trapezoidal integrals `E = ∫ P dt` (seed 000, eq. 7). The breakdown closes:
 //! `E_supply = E_rigid_body + E_balancer + E_friction + E_gear + E_copper
@@ -38,22 +41,24 @@ mod report;
 pub use report::{EnergyReport, JointEnergy, SampleSeries, TotalEnergy};
 
 use crate::dynamics::{rnea, DynData, DynModel, DynOptions, MAX_DOF};
-use crate::effects::{Balancer, Coulomb, Stribeck, Viscous, COULOMB_VELOCITY_SCALE_RAD_S};
+use crate::effects::{Effect, EffectSet, EnergyClass, Stage, COULOMB_VELOCITY_SCALE_RAD_S};
 use crate::error::{Error, Result};
 use crate::robot::{Regeneration, RobotModel};
 use crate::trajectory::JointTrajectory;
+use std::sync::Arc;
 
 /// Choices for [`EnergyModel::with_options`].
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct EnergyOptions {
     /// Include the payload from the drive file (default `true`).
     pub payload: bool,
-    /// Include friction (`viscous` + `coulomb` from the drive, `stribeck` from `[effects]`),
-    /// each as switched by the drive file's `[effects]` table (default `true`).
+    /// Include the friction effects (`viscous`, `coulomb`, `stribeck`), each as switched by the
+    /// drive file's `[effects]` table (default `true`).
     pub friction: bool,
     /// Include the armature `G²J_m` when `[effects]` switches it on (default `true`).
     pub armature: bool,
-    /// Velocity scale ε of the smoothed Coulomb sign, rad/s.
+    /// Velocity scale ε of the smoothed Coulomb sign, rad/s; the default
+    /// ([`COULOMB_VELOCITY_SCALE_RAD_S`]) keeps the robot's own (identified) ε.
     pub coulomb_velocity_scale: f64,
     /// Override the drive file's regeneration policy.
     pub regeneration: Option<Regeneration>,
@@ -80,23 +85,20 @@ struct Axis {
     eta: f64,
 }
 
-/// Immutable energy model of a robot: rigid body + friction + motor model + cabinet.
+/// Immutable energy model of a robot: rigid body + torque effects + motor model + cabinet.
 #[derive(Clone, Debug)]
 pub struct EnergyModel {
     dynamics: DynModel,
     n: usize,
     has_drive: bool,
     axes: [Axis; MAX_DOF],
-    viscous: Viscous,
-    coulomb: Coulomb,
-    stribeck: Stribeck,
-    has_stribeck: bool,
-    balancer: Option<Balancer>,
+    /// Enabled, non-null torque effects added per sample, with their energy class.
+    torque: Vec<(Arc<dyn Effect>, EnergyClass)>,
+    /// Names of the effects in the model (folded or per sample), for the description.
+    in_model: Vec<String>,
     calibration: Option<String>,
-    friction: bool,
     regeneration: Regeneration,
     recovered_fraction: f64,
-    payload_error_kg: f64,
     standby_w: f64,
     joint_names: Vec<String>,
     robot_name: String,
@@ -107,11 +109,12 @@ pub struct EnergyModel {
 /// meaningful. Units: N·m for torques, W for powers, A for current, V for voltage.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct SamplePower {
-    /// Rigid-body torque incl. payload and armature, N·m.
+    /// Rigid-body torque incl. payload, armature and the other rigid-body-class effects
+    /// (`offset`, `rigid_body`), N·m.
     pub tau_rb: [f64; MAX_DOF],
-    /// Friction torque `f_v q̇ + f_c tanh(q̇/ε)` + Stribeck, N·m.
+    /// Friction torque (the friction-class effects: viscous, Coulomb, Stribeck), N·m.
     pub tau_friction: [f64; MAX_DOF],
-    /// Balancer torque (joint 2 only; 0 when the `balancer` effect is off), N·m.
+    /// Balancer torque (0 when the `balancer` effect is off), N·m.
     pub tau_balancer: [f64; MAX_DOF],
     /// Joint torque `τ_rb + τ_f + τ_b`, N·m.
     pub tau: [f64; MAX_DOF],
@@ -153,84 +156,83 @@ impl EnergyModel {
     pub fn with_options(robot: &RobotModel, options: EnergyOptions) -> Result<Self> {
         let n = robot.dof();
         let has_drive = robot.drive.is_some();
-        let cfg = &robot.effects;
-        let on = cfg.enabled_mask(has_drive);
-        // `payload` (mass error Δm at the nominal payload's CoM): RNEA is linear in the
-        // inertial parameters, so a point mass Δm there is the payload with mass m + Δm.
-        let payload_error_kg = if options.payload && on[4] {
-            cfg.payload_mass_error_kg
-        } else {
-            0.0
-        };
-        let corrected;
-        let dyn_robot = if payload_error_kg != 0.0 {
-            let mut r = robot.clone();
-            let mut p = r.payload.unwrap_or_else(crate::robot::Inertial::zero);
-            p.mass += payload_error_kg;
-            r.payload = Some(p);
-            corrected = r;
-            &corrected
-        } else {
-            robot
-        };
+        if !(options.coulomb_velocity_scale.is_finite() && options.coulomb_velocity_scale > 0.0) {
+            return Err(Error::Invalid(format!(
+                "coulomb velocity scale must be > 0 rad/s, got {}",
+                options.coulomb_velocity_scale
+            )));
+        }
+        let mut set = EffectSet::of_robot(robot)?;
+        if options.coulomb_velocity_scale != COULOMB_VELOCITY_SCALE_RAD_S
+            && set.is_enabled("coulomb")
+        {
+            let c = set.get_mut("coulomb")?;
+            let mut v = c.values();
+            if let Some(last) = v.last_mut() {
+                *last = options.coulomb_velocity_scale;
+            }
+            c.set_values(&v)?;
+        }
+        let mut dyn_robot = robot.clone();
+        if !options.payload {
+            dyn_robot.payload = None;
+        }
+        let mut torque = Vec::new();
+        let mut in_model = Vec::new();
+        let mut motor: [Option<Vec<f64>>; 2] = [None, None];
+        let (mut rho, mut p0) = (0.0, 0.0);
+        for (e, on) in set.iter() {
+            if !on {
+                continue;
+            }
+            match e.stage() {
+                Stage::Torque => {
+                    let class = e.energy_class();
+                    let skip = e.is_null()
+                        || (class == EnergyClass::Friction && !options.friction)
+                        || (e.name() == "armature" && !(options.armature && has_drive))
+                        || (e.name() == "payload" && !options.payload);
+                    if skip {
+                        continue;
+                    }
+                    in_model.push(e.name().to_string());
+                    if !e.fold_into(&mut dyn_robot) {
+                        torque.push((Arc::from(e.clone_box()), class));
+                    }
+                }
+                Stage::Motor => match e.name() {
+                    "copper" => motor[0] = Some(e.values()),
+                    _ => motor[1] = Some(e.values()),
+                },
+                Stage::Supply => match e.name() {
+                    "regeneration" => rho = e.values()[0],
+                    _ => p0 = e.values()[0],
+                },
+            }
+        }
         let dynamics = DynModel::new(
-            dyn_robot,
+            &dyn_robot,
             DynOptions {
                 payload: options.payload,
-                armature: options.armature && has_drive && on[3],
+                armature: false,
             },
         )?;
         let mut axes = [Axis::default(); MAX_DOF];
-        let (mut viscous, mut coulomb) = (
-            Viscous { fv: vec![0.0; n] },
-            Coulomb {
-                fc: vec![0.0; n],
-                velocity_scale: COULOMB_VELOCITY_SCALE_RAD_S,
-            },
-        );
-        coulomb.set_velocity_scale(options.coulomb_velocity_scale)?;
-        let (mut regeneration, mut standby_w) = (Regeneration::None, 0.0);
-        let mut friction = false;
+        let mut regeneration = Regeneration::None;
+        let mut standby_w = 0.0;
         if let Some(d) = &robot.drive {
             robot.check_len("drive joints", d.joints.len())?;
-            for (a, j) in axes.iter_mut().zip(&d.joints) {
+            for (j, (a, jd)) in axes.iter_mut().zip(&d.joints).enumerate() {
                 *a = Axis {
-                    gear: j.gear_ratio,
-                    kt: j.torque_constant,
-                    r: if on[6] { j.winding_resistance } else { 0.0 },
-                    eta: if on[7] { j.gear_efficiency } else { 1.0 },
+                    gear: jd.gear_ratio,
+                    kt: jd.torque_constant,
+                    r: motor[0].as_ref().map_or(0.0, |v| v[j]),
+                    eta: motor[1].as_ref().map_or(1.0, |v| v[j]),
                 };
             }
-            if options.friction && on[0] {
-                viscous = Viscous::from_drive(d);
-                friction = true;
-            }
-            if options.friction && on[1] {
-                coulomb = Coulomb::from_drive(d, options.coulomb_velocity_scale);
-                friction = true;
-            }
             regeneration = d.regeneration;
-            if on[9] {
-                standby_w = d.standby_power;
-            }
+            standby_w = p0;
         }
-        if robot.drive.is_none() && options.friction {
-            // A calibrated robot without drive tables keeps identified friction in
-            // `[effects.values]`.
-            if let Some(v) = cfg.values.get("viscous").filter(|v| on[0] && v.len() == n) {
-                viscous.fv = v.clone();
-                friction = true;
-            }
-            if let Some(v) = cfg.values.get("coulomb").filter(|v| on[1] && v.len() == n) {
-                coulomb.fc = v.clone();
-                friction = true;
-            }
-        }
-        let stribeck = cfg.stribeck(n);
-        let has_stribeck = options.friction && on[2] && stribeck.fs.iter().any(|f| *f != 0.0);
-        friction |= has_stribeck;
-        let balancer = Some(cfg.balancer())
-            .filter(|b| on[5] && b.joint < n && (b.preload != 0.0 || b.stiffness != 0.0));
         if let Some(r) = options.regeneration {
             regeneration = r;
         }
@@ -239,23 +241,14 @@ impl EnergyModel {
             n,
             has_drive,
             axes,
-            viscous,
-            coulomb,
-            stribeck,
-            has_stribeck,
-            balancer,
-            friction,
+            torque,
+            in_model,
             regeneration,
-            recovered_fraction: if on[8] {
-                cfg.regeneration_recovered_fraction
-            } else {
-                0.0
-            },
-            payload_error_kg,
+            recovered_fraction: if has_drive { rho } else { 0.0 },
             standby_w,
             joint_names: robot.joints.iter().map(|j| j.name.clone()).collect(),
             robot_name: robot.name().to_string(),
-            calibration: cfg.calibration_summary(),
+            calibration: robot.effects.calibration_summary(),
             options,
         })
     }
@@ -297,31 +290,12 @@ impl EnergyModel {
 
     /// One line describing what the model contains.
     pub fn description(&self) -> String {
-        let mut extra = String::new();
-        if self.payload_error_kg != 0.0 {
-            extra += &format!(" (payload error {:+} kg)", self.payload_error_kg);
-        }
-        if let Some(b) = &self.balancer {
-            extra += &format!(" + balancer (F0 {} N, k {} N/m)", b.preload, b.stiffness);
-        }
-        if self.has_stribeck {
-            extra += &format!(" + Stribeck friction (v_s {} rad/s)", self.stribeck.vs);
-        }
-        if !self.has_drive
-            && (self.viscous.fv.iter().any(|f| *f != 0.0)
-                || self.coulomb.fc.iter().any(|f| *f != 0.0))
-        {
-            extra += " + identified viscous/Coulomb friction";
-        }
-        let desc = self.description_body(&extra);
-        match &self.calibration {
-            Some(c) => format!("{desc}; {c}"),
-            None => desc,
-        }
-    }
-
-    fn description_body(&self, extra: &str) -> String {
-        if self.has_drive {
+        let effects = if self.in_model.is_empty() {
+            String::new()
+        } else {
+            format!(" + effects: {}", self.in_model.join(", "))
+        };
+        let desc = if self.has_drive {
             let regen = if self.recovered_fraction != 0.0 {
                 format!(
                     "`{}` (recovered fraction {})",
@@ -341,37 +315,24 @@ impl EnergyModel {
                 (false, false) => "lossless",
             };
             format!(
-                "rigid body{}{}{}{} + motor model ({motor}) + regeneration {regen} + standby {} W",
-                if self.options.payload {
-                    " + payload"
-                } else {
-                    ""
-                },
-                if self.dynamics.has_armature() {
-                    " + armature"
-                } else {
-                    ""
-                },
-                if self.viscous.fv.iter().any(|f| *f != 0.0)
-                    || self.coulomb.fc.iter().any(|f| *f != 0.0)
-                {
-                    " + viscous/Coulomb friction"
-                } else {
-                    ""
-                },
-                extra,
+                "rigid body{}{effects} + motor model ({motor}) + regeneration {regen} + standby {} W",
+                if self.options.payload { " + payload" } else { "" },
                 self.standby_w
             )
         } else {
             format!(
-                "rigid body only{}{extra} (no drive data): electrical power = mechanical power, \
-                 negative power lost per axis; no armature, copper or standby",
+                "rigid body only{}{effects} (no drive data): electrical power = mechanical power, \
+                 negative power lost per axis; no copper or standby",
                 if self.options.payload {
                     " + payload"
                 } else {
                     ""
                 }
             )
+        };
+        match &self.calibration {
+            Some(c) => format!("{desc}; {c}"),
+            None => desc,
         }
     }
 }
@@ -470,18 +431,18 @@ pub fn eval_sample(
     let n = model.n;
     rnea(&model.dynamics, data, q, qd, qdd, &mut out.tau_rb[..n])?;
     out.tau_balancer = [0.0; MAX_DOF];
-    if let Some(b) = &model.balancer {
-        out.tau_balancer[b.joint] = b.joint_torque(q[b.joint]);
+    out.tau_friction = [0.0; MAX_DOF];
+    for (e, class) in &model.torque {
+        let dst = match class {
+            EnergyClass::RigidBody => &mut out.tau_rb,
+            EnergyClass::Friction => &mut out.tau_friction,
+            EnergyClass::Balancer => &mut out.tau_balancer,
+        };
+        e.add_torque(q, qd, qdd, &mut dst[..n]);
     }
     for j in 0..n {
         let v = qd[j];
-        let mut tf = 0.0;
-        if model.friction {
-            tf = model.viscous.joint_torque(j, v) + model.coulomb.joint_torque(j, v);
-            if model.has_stribeck {
-                tf += model.stribeck.joint_torque(j, v);
-            }
-        }
+        let tf = out.tau_friction[j];
         let tb = out.tau_balancer[j];
         let tau = out.tau_rb[j] + tf + tb;
         out.tau_friction[j] = tf;

@@ -5,13 +5,13 @@
 //! identified values go to the drive keys), without them and for URDF-only robots (they go
 //! to `[effects.values]`). Every command takes the written file as `--robot`.
 
-use crate::effects::{CalibratedParam, Calibration, CalibrationRound};
 use crate::error::{Error, Result};
 use crate::identify::ladder::Identification;
 use crate::identify::model::Model;
 use crate::identify::Log;
 use crate::robot::drive::{parse_drive_file, DriveFile, PayloadTable};
 use crate::robot::RobotModel;
+use crate::robot::{CalibratedParam, Calibration, CalibrationRound};
 use std::path::{Component, Path, PathBuf};
 
 /// Effects whose parameters a drive file with per-joint drive tables keeps in its drive keys.
@@ -153,62 +153,80 @@ pub fn calibrated_text(inp: &CalibrationInput, dst: &Path) -> Result<String> {
     let has_drive = robot.drive.is_some();
     let mut effects = f.effects.take().unwrap_or_default();
     let mut values = effects.values.take().unwrap_or_default();
+    let val = |name: &str| model.values(name);
     if has_drive {
-        for (j, jt) in f.joints.iter_mut().enumerate().take(model.n) {
-            jt.viscous_nm_s_per_rad = Some(model.viscous.fv[j]);
-            jt.coulomb_nm = Some(model.coulomb.fc[j]);
+        // Effects with drive keys keep their values there.
+        let fv = val("viscous")?;
+        let ia = val("armature")?;
+        let r = val("copper")?;
+        let eta = val("gear_efficiency")?;
+        let fc = val("coulomb")?;
+        let n = model.n;
+        for (j, jt) in f.joints.iter_mut().enumerate().take(n) {
+            jt.viscous_nm_s_per_rad = Some(fv[j]);
+            // The drive key is symmetric: the mean of both directions (the values below,
+            // per direction and with the transition width, win).
+            jt.coulomb_nm = Some(0.5 * (fc[j] + fc[n + j]));
             let g = model.gear[j];
-            jt.rotor_inertia_kg_m2 = Some(model.armature.ia[j] / (g * g));
-            jt.winding_resistance_ohm = Some(model.copper.r[j]);
-            jt.gear_efficiency = Some(model.gear_efficiency.eta[j]);
+            jt.rotor_inertia_kg_m2 = Some(ia[j] / (g * g));
+            jt.winding_resistance_ohm = Some(r[j]);
+            jt.gear_efficiency = Some(eta[j]);
         }
         if let Some(c) = f.cabinet.as_mut() {
-            c.standby_power_w = model.standby.power;
+            c.standby_power_w = val("standby")?[0];
         }
         for e in DRIVE_KEY_EFFECTS {
             values.remove(e);
         }
-    } else {
-        for e in DRIVE_KEY_EFFECTS {
-            if model.is_enabled(e) {
-                values.insert(e.to_string(), model.values(e)?);
-            } else {
-                values.remove(e);
-            }
-        }
     }
+    // Every other enabled effect (and, without drive tables, every enabled one) keeps its
+    // values in `[effects.values]`, which wins over the older per-effect keys.
     let mut enabled = model.enabled_names();
-    if model.payload.dm != 0.0 {
-        match f.payload.as_mut() {
-            Some(p) => p.mass_kg += model.payload.dm,
-            None => {
-                f.payload = Some(PayloadTable {
-                    mass_kg: model.payload.dm,
-                    com_m: robot
-                        .payload
-                        .map(|p| [p.com.x, p.com.y, p.com.z])
-                        .unwrap_or([0.0; 3]),
-                    inertia_kg_m2: [0.0; 6],
-                    description: Some("payload identified by printwatt identify".into()),
-                })
-            }
+    for e in crate::effects::catalogue() {
+        if e == "payload" || (has_drive && DRIVE_KEY_EFFECTS.contains(&e)) {
+            continue;
         }
-        enabled.retain(|e| *e != "payload");
+        if model.is_enabled(e) {
+            values.insert(e.to_string(), val(e)?);
+            match e {
+                "stribeck" => {
+                    effects.stribeck_nm = None;
+                    effects.stribeck_velocity_rad_s = None;
+                }
+                "balancer" => {
+                    effects.balancer_preload_n = None;
+                    effects.balancer_stiffness_n_per_m = None;
+                }
+                "regeneration" => effects.regeneration_recovered_fraction = None,
+                _ => {}
+            }
+        } else {
+            values.remove(e);
+        }
     }
-    effects.enabled = Some(enabled.iter().map(|s| s.to_string()).collect());
+    // The payload is written as the robot's payload (mass and centre of mass).
+    let payload = model.effect("payload")?;
+    if model.is_enabled("payload") && !payload.is_null() {
+        let pv = payload.values();
+        let mut folded = robot.clone();
+        payload.fold_into(&mut folded);
+        if let Some(p) = folded.payload {
+            let inertia = f.payload.as_ref().map_or([0.0; 6], |t| t.inertia_kg_m2);
+            f.payload = Some(PayloadTable {
+                mass_kg: p.mass,
+                com_m: [p.com.x, p.com.y, p.com.z],
+                inertia_kg_m2: inertia,
+                description: Some(format!(
+                    "payload identified by printwatt identify (mass error {:+.4} kg, first moment error [{:+.4}, {:+.4}, {:+.4}] kg·m)",
+                    pv[0], pv[1], pv[2], pv[3]
+                )),
+            });
+        }
+    }
+    enabled.retain(|e| *e != "payload");
+    values.remove("payload");
     effects.payload_mass_error_kg = None;
-    effects.stribeck_nm = Some(model.stribeck.fs.clone());
-    effects.stribeck_velocity_rad_s = Some(model.stribeck.vs);
-    let b = &model.balancer;
-    effects.balancer_preload_n = Some(b.preload);
-    effects.balancer_stiffness_n_per_m = Some(b.stiffness);
-    if robot.effects.balancer_declared {
-        effects.balancer_joint = Some(b.joint + 1);
-        effects.balancer_lever_m = Some(b.a);
-        effects.balancer_base_m = Some(b.b);
-        effects.balancer_upright_rad = Some(b.upright);
-    }
-    effects.regeneration_recovered_fraction = Some(model.regeneration.recovered);
+    effects.enabled = Some(enabled.iter().map(|s| s.to_string()).collect());
     effects.values = (!values.is_empty()).then_some(values);
     f.effects = Some(effects);
     // Calibration record: earlier rounds carried over, this round appended.
@@ -313,10 +331,9 @@ give --out DIR (default: the current directory)",
         }
     }
     if dst.exists() && !force {
-        return Err(Error::Invalid(format!(
-            "{}: exists; pass --force to overwrite it, or give another --out directory",
-            dst.display()
-        )));
+        return Err(Error::OutputExists {
+            path: dst.to_path_buf(),
+        });
     }
     let text = calibrated_text(inp, dst)?;
     crate::output::write_atomic(dst, text.as_bytes())

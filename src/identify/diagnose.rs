@@ -20,9 +20,9 @@
 //! noise floor remains that no candidate explains, it says so per joint, with what it
 //! correlates against and its dominant period ([`Diagnosis::unexplained`]).
 
-use crate::effects::CATALOGUE;
+use crate::effects::catalogue;
 use crate::error::Result;
-use crate::identify::fit::{fit, residuals, FittedParam};
+use crate::identify::fit::{fit_parameters, residuals, FittedParam};
 use crate::identify::model::{Model, Prepared};
 use crate::identify::structure::{self, Unexplained};
 use serde::Serialize;
@@ -133,10 +133,9 @@ pub fn diagnose(prep: &Prepared, model: &mut Model, folds: usize) -> Result<Diag
     let bl = blocks(len, folds.min(max_folds).max(2));
     let r0 = r.clone();
     let chunk = ((tau_c / dt.max(1e-300)).ceil() as usize).clamp(1, len.max(1));
-    let balancer_declared = model.balancer_declared;
     let mut cands = Vec::new();
     let mut not_obs = Vec::new();
-    for name in CATALOGUE {
+    for name in catalogue() {
         if !Model::observable(name, prep.log.kind) {
             not_obs.push(name.to_string());
             continue;
@@ -154,7 +153,7 @@ pub fn diagnose(prep: &Prepared, model: &mut Model, folds: usize) -> Result<Diag
             );
             let train: Vec<usize> = (0..lo).chain(hi + 1..len).collect();
             model.restore(&base_state);
-            fit(prep, model, &[name], &train)?;
+            fit_parameters(prep, model, &[name], &train)?;
             residuals(prep, model, b, &mut r);
             let sb = r.iter().map(|x| x * x).sum::<f64>();
             // Held-out gain per chunk of one correlation time: chunk means of
@@ -179,20 +178,20 @@ pub fn diagnose(prep: &Prepared, model: &mut Model, folds: usize) -> Result<Diag
             cnt += r.len();
         }
         model.restore(&base_state);
-        let full = fit(prep, model, &[name], &all)?;
+        let full = fit_parameters(prep, model, &[name], &all)?;
+        // Its residual over the whole log (the fit may have used a stride of the rows).
+        residuals(prep, model, &all, &mut r);
+        let full_ssr: f64 = r.iter().map(|x| x * x).sum();
+        model.restore(&base_state);
         // Joints it acts on: channels whose prediction moved by more than 10 % of the largest
         // move, or per-joint parameters that moved by more than two standard errors.
-        let mut pred1 = Vec::new();
-        prep.predict(model, &all, &mut pred1);
-        model.restore(&base_state);
-        let mut pred0 = Vec::new();
-        prep.predict(model, &all, &mut pred0);
         let mut joints = Vec::new();
         if ch > 1 {
+            // prediction_after − prediction_before = r_after − r_before.
             let d: Vec<f64> = (0..ch)
                 .map(|c| {
                     (0..len)
-                        .map(|k| (pred1[k * ch + c] - pred0[k * ch + c]).powi(2))
+                        .map(|k| (r[k * ch + c] - r0[k * ch + c]).powi(2))
                         .sum::<f64>()
                 })
                 .collect();
@@ -221,14 +220,10 @@ pub fn diagnose(prep: &Prepared, model: &mut Model, folds: usize) -> Result<Diag
         } else {
             0.0
         };
-        let bic = m * (full.ssr / m).max(1e-300).ln() + full.params.len() as f64 * m.ln();
+        let bic = m * (full_ssr / m).max(1e-300).ln() + full.params.len() as f64 * m.ln();
         let dbic = bic - bic0;
         let tstat = paired_t(&gains);
-        let implausible = (name == "balancer" && !balancer_declared).then(|| {
-            "the robot declares no balancer (drive file [effects] balancer_lever_m, balancer_base_m): \
-a gravity error here is a link or payload error"
-                .to_string()
-        });
+        let implausible = model.implausible(name);
         cands.push(Candidate {
             effect: name.to_string(),
             in_model,
@@ -259,12 +254,11 @@ a gravity error here is a link or payload error"
         .map(|c| c.effect.clone());
     // What is left after the best claim.
     if let Some(b) = &best {
-        let name = CATALOGUE
-            .iter()
-            .find(|c| *c == b)
-            .copied()
+        let name = catalogue()
+            .into_iter()
+            .find(|c| c == b)
             .unwrap_or("viscous");
-        fit(prep, model, &[name], &all)?;
+        fit_parameters(prep, model, &[name], &all)?;
     }
     residuals(prep, model, &all, &mut r);
     model.restore(&base_state);

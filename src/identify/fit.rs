@@ -5,9 +5,164 @@
 //! The objective is the sum of squared signal residuals over samples and channels, i.e. the
 //! RMSE of seed 000, eq. 8.
 
-use crate::error::Result;
+use crate::dynamics::MAX_DOF;
+use crate::effects::{Effect, Stage};
+use crate::error::{Error, Result};
 use crate::identify::model::{Model, Prepared};
 use serde::Serialize;
+
+/// At most this many rows take part in the parameter fit (an even stride through the rows
+/// given; every row is still used for the returned RMSE and by the callers' validation).
+/// Neighbouring rows of a controller log are correlated over the residual's correlation time,
+/// so a longer log adds little information to the fit and only time: with the cap, fitting is
+/// of fixed cost and everything else is linear in the log length.
+pub const FIT_ROWS_MAX: usize = 20_000;
+
+/// The rows used for fitting: all of `rows`, or an even stride of at most [`FIT_ROWS_MAX`].
+pub fn fit_rows(rows: &[usize]) -> Vec<usize> {
+    if rows.len() <= FIT_ROWS_MAX {
+        return rows.to_vec();
+    }
+    let stride = rows.len().div_ceil(FIT_ROWS_MAX);
+    rows.iter().step_by(stride).copied().collect()
+}
+
+/// Jacobian `∂ signal / ∂ θ` at `rows` (row-major `rows.len()·channels × θ.len()`), by
+/// derivatives of each fitted effect alone: a linear torque effect's regressor column; a
+/// nonlinear one's forward difference of its own torque; a motor or supply effect's forward
+/// difference of the motor model at the same torque. Torque changes reach current and power
+/// logs through a forward difference of the motor model. No full re-prediction per column.
+fn jacobian(
+    prep: &Prepared,
+    model: &mut Model,
+    lay: &Layout,
+    theta: &[f64],
+    rows: &[usize],
+    jac: &mut [f64],
+) -> Result<()> {
+    let n = model.n;
+    let ch = prep.log.channels;
+    let kind = prep.log.kind;
+    let p = theta.len();
+    let m = rows.len() * ch;
+    let mut tau = vec![0.0; rows.len() * n];
+    let mut sig = vec![0.0; m];
+    for (r, &k) in rows.iter().enumerate() {
+        prep.torque_row(model, k, &[], &mut tau[r * n..(r + 1) * n]);
+        model.signal_from_torque(
+            kind,
+            &tau[r * n..(r + 1) * n],
+            prep.log.traj.qd(k),
+            &mut sig[r * ch..(r + 1) * ch],
+        );
+    }
+    let step = |i: usize| {
+        let mut h = 1e-5 * theta[i].abs().max(1e-2);
+        if theta[i] + h > lay.upper[i] {
+            h = -h;
+        }
+        h
+    };
+    let mut s2 = [0.0; MAX_DOF];
+    let mut t2 = [0.0; MAX_DOF];
+    let mut o = 0;
+    for (name, &pe) in lay.effects.iter().zip(&lay.sizes) {
+        let pos = model
+            .position(name)
+            .ok_or_else(|| Error::Invalid(format!("effect `{name}` is not in the model")))?;
+        let vals = model.values(name)?;
+        let stage = model.effect(name)?.stage();
+        if stage != Stage::Torque {
+            for li in 0..pe {
+                let i = o + li;
+                let h = step(i);
+                let mut v = vals.clone();
+                v[li] += h;
+                model.set_values(name, &v)?;
+                for (r, &k) in rows.iter().enumerate() {
+                    model.signal_from_torque(
+                        kind,
+                        &tau[r * n..(r + 1) * n],
+                        prep.log.traj.qd(k),
+                        &mut s2[..ch],
+                    );
+                    for c in 0..ch {
+                        jac[(r * ch + c) * p + i] = (s2[c] - sig[r * ch + c]) / h;
+                    }
+                }
+                model.set_values(name, &vals)?;
+            }
+            o += pe;
+            continue;
+        }
+        let eff = model.effect(name)?;
+        let hs: Vec<f64> = (0..pe).map(|li| step(o + li)).collect();
+        // Perturbed copies for effects without a regressor.
+        let mut y = vec![0.0; n * pe];
+        let linear = rows.first().is_none_or(|&k| {
+            eff.regressor(
+                prep.log.traj.q(k),
+                prep.log.traj.qd(k),
+                prep.log.traj.qdd(k),
+                &mut y,
+            )
+        });
+        let mut copies: Vec<Box<dyn Effect>> = Vec::new();
+        if !linear {
+            for li in 0..pe {
+                let mut c = eff.clone_box();
+                let mut v = vals.clone();
+                v[li] += hs[li];
+                c.set_values(&v)?;
+                copies.push(c);
+            }
+        }
+        let mut d = vec![0.0; n * pe]; // dτ_j/dθ_li at j * pe + li
+        let mut base = [0.0; MAX_DOF];
+        for (r, &k) in rows.iter().enumerate() {
+            let (q, qd, qdd) = (
+                prep.log.traj.q(k),
+                prep.log.traj.qd(k),
+                prep.log.traj.qdd(k),
+            );
+            if let Some(yc) = prep.cached_regressor(pos, k, n, pe) {
+                d.copy_from_slice(yc);
+            } else if linear {
+                eff.regressor(q, qd, qdd, &mut d);
+            } else {
+                base[..n].iter_mut().for_each(|v| *v = 0.0);
+                eff.add_torque(q, qd, qdd, &mut base[..n]);
+                for (li, c) in copies.iter().enumerate() {
+                    t2[..n].iter_mut().for_each(|v| *v = 0.0);
+                    c.add_torque(q, qd, qdd, &mut t2[..n]);
+                    for j in 0..n {
+                        d[j * pe + li] = (t2[j] - base[j]) / hs[li];
+                    }
+                }
+            }
+            let tr = &tau[r * n..(r + 1) * n];
+            for li in 0..pe {
+                let i = o + li;
+                if kind == crate::identify::SignalKind::Torque {
+                    for j in 0..n {
+                        jac[(r * ch + j) * p + i] = d[j * pe + li];
+                    }
+                } else {
+                    let h = hs[li];
+                    for j in 0..n {
+                        t2[j] = tr[j] + h * d[j * pe + li];
+                    }
+                    model.signal_from_torque(kind, &t2[..n], qd, &mut s2[..ch]);
+                    for c in 0..ch {
+                        jac[(r * ch + c) * p + i] = (s2[c] - sig[r * ch + c]) / h;
+                    }
+                }
+            }
+        }
+        o += pe;
+    }
+    Ok(())
+}
 
 /// Column-normalised condition number above which a fit is reported as ill-conditioned.
 pub const CONDITION_LIMIT: f64 = 1e4;
@@ -126,9 +281,33 @@ pub fn fit_holding(
     prep: &Prepared,
     model: &mut Model,
     effects: &[&'static str],
-    rows: &[usize],
+    all_rows: &[usize],
     hold: &[String],
 ) -> Result<FitResult> {
+    fit_core(prep, model, effects, all_rows, hold, true)
+}
+
+/// [`fit`] without the final pass over every row: the returned RMSE and SSR are those of the
+/// rows the fit used ([`fit_rows`]). For callers that evaluate the fitted model themselves.
+pub fn fit_parameters(
+    prep: &Prepared,
+    model: &mut Model,
+    effects: &[&'static str],
+    rows: &[usize],
+) -> Result<FitResult> {
+    fit_core(prep, model, effects, rows, &[], false)
+}
+
+fn fit_core(
+    prep: &Prepared,
+    model: &mut Model,
+    effects: &[&'static str],
+    all_rows: &[usize],
+    hold: &[String],
+    full_ssr: bool,
+) -> Result<FitResult> {
+    let fit_on = fit_rows(all_rows);
+    let rows = &fit_on[..];
     let mut lay = Layout {
         effects: effects.to_vec(),
         sizes: vec![],
@@ -169,32 +348,11 @@ pub fn fit_holding(
             *t = t.clamp(lay.lower[i], lay.upper[i]);
         }
     };
-    let jacobian = |model: &mut Model,
-                    theta: &[f64],
-                    r: &[f64],
-                    jac: &mut [f64],
-                    rp: &mut Vec<f64>|
-     -> Result<()> {
-        for i in 0..p {
-            let mut th = theta.to_vec();
-            let mut h = 1e-5 * theta[i].abs().max(1e-2);
-            if th[i] + h > lay.upper[i] {
-                h = -h;
-            }
-            th[i] += h;
-            set_all(model, &lay, &th)?;
-            residuals(prep, model, rows, rp);
-            for k in 0..m {
-                jac[k * p + i] = (rp[k] - r[k]) / h;
-            }
-        }
-        set_all(model, &lay, theta)
-    };
     for _iter in 0..40 {
         if p == 0 {
             break;
         }
-        jacobian(model, &theta, &r, &mut jac, &mut rp)?;
+        jacobian(prep, model, &lay, &theta, rows, &mut jac)?;
         let jm = nalgebra::DMatrix::from_row_slice(m, p, &jac);
         let jtj = jm.transpose() * &jm;
         let mut g = jm.transpose() * nalgebra::DVector::from_column_slice(&r);
@@ -254,7 +412,7 @@ pub fn fit_holding(
     let mut cond = 1.0;
     let mut ill = None;
     if p > 0 {
-        jacobian(model, &theta, &r, &mut jac, &mut rp)?;
+        jacobian(prep, model, &lay, &theta, rows, &mut jac)?;
         let jm = nalgebra::DMatrix::from_row_slice(m, p, &jac);
         let jtj = jm.transpose() * &jm;
         // A column whose effect on the signal is below 1e-6 of the signal's RMS (for the
@@ -364,6 +522,13 @@ pub fn fit_holding(
             std_error: se[i],
         })
         .collect();
+    // RMSE and SSR over every row given (the fit may have used a stride of them).
+    let (ssr, m) = if rows.len() == all_rows.len() || !full_ssr {
+        (ssr, m)
+    } else {
+        residuals(prep, model, all_rows, &mut r);
+        (r.iter().map(|x| x * x).sum::<f64>(), r.len())
+    };
     Ok(FitResult {
         params,
         rmse: (ssr / m.max(1) as f64).sqrt(),

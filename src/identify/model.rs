@@ -9,18 +9,29 @@
 //! `R = 0`, `ρ = 0`, `P_0 = 0`.
 
 use crate::dynamics::{rnea, DynModel, DynOptions, MAX_DOF};
+use crate::effects::{catalogue, Effect, EffectSet, ParamSpec, Stage};
 pub use crate::effects::{catalogue_index, DEFAULT_EFFECTS};
-use crate::effects::{
-    Armature, Balancer, Copper, Coulomb, Effect, GearEfficiency, ParamSpec, Payload,
-    Regeneration as RegenEffect, Standby, Stribeck, TorqueEffect, Viscous, CATALOGUE,
-    COULOMB_VELOCITY_SCALE_RAD_S,
-};
 use crate::error::{Error, Result};
 use crate::identify::log::{Log, SignalKind};
 use crate::robot::{Regeneration, RobotModel};
 use std::path::{Path, PathBuf};
 
-/// The comparison model: every catalogue effect with its parameters and an on/off switch.
+/// The motor- and supply-stage values of the enabled electrical effects, cached for the
+/// per-sample motor model (refreshed whenever the effects change).
+#[derive(Clone, Debug, Default)]
+struct MotorCache {
+    /// `R` per axis, Ω (0 when `copper` is off).
+    r: Vec<f64>,
+    /// `η` per axis (1 when `gear_efficiency` is off).
+    eta: Vec<f64>,
+    /// `ρ` (0 when `regeneration` is off).
+    rho: f64,
+    /// `P_0`, W (0 when `standby` is off).
+    p0: f64,
+}
+
+/// The comparison model: every registered effect ([`crate::effects::REGISTRY`]) with its
+/// parameters and an on/off switch, the rigid body and the motor model.
 #[derive(Debug)]
 pub struct Model {
     /// Number of joints.
@@ -33,43 +44,22 @@ pub struct Model {
     pub kt: Vec<f64>,
     /// Drive regeneration policy.
     pub policy: Regeneration,
-    /// Whether drive data exist (needed for current and power logs).
+    /// Whether drive data exist (needed for current logs).
     pub has_drive: bool,
-    /// `viscous`.
-    pub viscous: Viscous,
-    /// `coulomb`.
-    pub coulomb: Coulomb,
-    /// `stribeck`.
-    pub stribeck: Stribeck,
-    /// `armature`.
-    pub armature: Armature,
-    /// `payload` (mass error).
-    pub payload: Payload,
-    /// `balancer`.
-    pub balancer: Balancer,
-    /// `copper`.
-    pub copper: Copper,
-    /// `gear_efficiency`.
-    pub gear_efficiency: GearEfficiency,
-    /// `regeneration`.
-    pub regeneration: RegenEffect,
-    /// `standby`.
-    pub standby: Standby,
-    /// Switch per catalogue entry (order of [`CATALOGUE`]).
-    pub enabled: [bool; 10],
-    /// Whether the robot declares a balancer (drive file geometry): without one, a `balancer`
-    /// candidate is not physically plausible.
-    pub balancer_declared: bool,
+    /// The effects with their switches (the same set the energy model builds).
+    pub effects: EffectSet,
+    motor: MotorCache,
     dynamics: DynModel,
 }
 
 /// Parse a comma-separated effect list.
 pub fn parse_effect_list(s: &str) -> Result<Vec<&'static str>> {
+    let cat = catalogue();
     let mut out = Vec::new();
     for w in s.split(',').map(str::trim).filter(|w| !w.is_empty()) {
         let i = catalogue_index(w)?;
-        if !out.contains(&CATALOGUE[i]) {
-            out.push(CATALOGUE[i]);
+        if !out.contains(&cat[i]) {
+            out.push(cat[i]);
         }
     }
     Ok(out)
@@ -89,13 +79,10 @@ pub fn drive_file_of(robot_arg: &Path) -> Option<PathBuf> {
 }
 
 impl Model {
-    /// The model of a robot: drive values for `viscous`, `coulomb`, `armature`, `copper`,
-    /// `gear_efficiency`, `standby`; the robot's `[effects]` configuration
-    /// ([`RobotModel::effects`], parsed with the drive file) for the switches
-    /// ([`DEFAULT_EFFECTS`] when the robot has drive data and the table gives none, nothing
-    /// without drive data) and for `stribeck`, `payload`, `balancer`, `regeneration` (zero when
-    /// the table gives nothing). [`crate::energy::EnergyModel`] reads the same configuration.
-    /// Error: the robot lacks inertials.
+    /// The model of a robot: every registered effect built from the robot's drive data and
+    /// drive-file tables ([`EffectSet::of_robot`], the same the energy model reads), the rigid
+    /// body with the nominal payload and without armature (that is the `armature` effect).
+    /// Errors: the robot lacks inertials; a bad `[effects]` key (naming file and key).
     pub fn new(robot: &RobotModel) -> Result<Self> {
         let n = robot.dof();
         let dynamics = DynModel::new(
@@ -115,9 +102,6 @@ impl Model {
         if let Some(d) = d {
             robot.check_len("drive joints", d.joints.len())?;
         }
-        let cfg = &robot.effects;
-        let mut payload = Payload::new(robot)?;
-        payload.set_values(&[cfg.payload_mass_error_kg])?;
         let mut m = Model {
             n,
             robot_name: robot.name().to_string(),
@@ -125,99 +109,59 @@ impl Model {
             kt: per(&|j| j.torque_constant, 1.0),
             policy: d.map_or(Regeneration::None, |d| d.regeneration),
             has_drive: d.is_some(),
-            viscous: Viscous {
-                fv: per(&|j| j.viscous, 0.0),
-            },
-            coulomb: Coulomb {
-                fc: per(&|j| j.coulomb, 0.0),
-                velocity_scale: COULOMB_VELOCITY_SCALE_RAD_S,
-            },
-            stribeck: cfg.stribeck(n),
-            armature: Armature {
-                ia: per(&|j| j.armature(), 0.0),
-            },
-            payload,
-            balancer: cfg.balancer(),
-            copper: Copper {
-                r: per(&|j| j.winding_resistance, 0.0),
-            },
-            gear_efficiency: GearEfficiency {
-                eta: per(&|j| j.gear_efficiency, 1.0),
-            },
-            regeneration: RegenEffect {
-                recovered: cfg.regeneration_recovered_fraction,
-            },
-            standby: Standby {
-                power: d.map_or(0.0, |d| d.standby_power),
-            },
-            enabled: cfg.enabled_mask(d.is_some()),
-            balancer_declared: cfg.balancer_declared,
+            effects: EffectSet::of_robot(robot)?,
+            motor: MotorCache::default(),
             dynamics,
         };
-        // Identified values the drive file keeps in `[effects.values]` (a calibrated robot
-        // without per-joint drive tables) override the defaults above.
-        let file = cfg.file.clone().unwrap_or_default();
-        for (name, vals) in &cfg.values {
-            m.set_values(name, vals).map_err(|e| Error::Field {
-                file: file.clone(),
-                field: format!("effects.values.{name}"),
-                msg: e.to_string(),
-            })?;
-        }
+        m.refresh();
         Ok(m)
+    }
+
+    fn refresh(&mut self) {
+        let n = self.n;
+        let e = &self.effects;
+        self.motor = MotorCache {
+            r: e.enabled_values("copper").unwrap_or_else(|| vec![0.0; n]),
+            eta: e
+                .enabled_values("gear_efficiency")
+                .unwrap_or_else(|| vec![1.0; n]),
+            rho: e.enabled_values("regeneration").map_or(0.0, |v| v[0]),
+            p0: e.enabled_values("standby").map_or(0.0, |v| v[0]),
+        };
     }
 
     /// Switch an effect on or off. Error: unknown name.
     pub fn set_enabled(&mut self, name: &str, on: bool) -> Result<()> {
-        let i = catalogue_index(name)?;
-        self.enabled[i] = on;
+        self.effects.get(name)?;
+        self.effects.set_enabled(name, on);
+        self.refresh();
         Ok(())
+    }
+
+    /// Switch every effect off (the rigid body only).
+    pub fn disable_all(&mut self) {
+        self.effects.disable_all();
+        self.refresh();
     }
 
     /// Whether an effect is switched on (false for unknown names).
     pub fn is_enabled(&self, name: &str) -> bool {
-        catalogue_index(name).is_ok_and(|i| self.enabled[i])
+        self.effects.is_enabled(name)
     }
 
     /// Names of the effects switched on, in catalogue order.
     pub fn enabled_names(&self) -> Vec<&'static str> {
-        CATALOGUE
-            .iter()
-            .zip(self.enabled)
-            .filter(|(_, on)| *on)
-            .map(|(n, _)| *n)
-            .collect()
+        self.effects.enabled_names()
+    }
+
+    /// Position of the effect called `name` in the model's set.
+    pub fn position(&self, name: &str) -> Option<usize> {
+        self.effects.iter().position(|(e, _)| e.name() == name)
     }
 
     /// The effect called `name`.
     pub fn effect(&self, name: &str) -> Result<&dyn Effect> {
-        Ok(match catalogue_index(name)? {
-            0 => &self.viscous,
-            1 => &self.coulomb,
-            2 => &self.stribeck,
-            3 => &self.armature,
-            4 => &self.payload,
-            5 => &self.balancer,
-            6 => &self.copper,
-            7 => &self.gear_efficiency,
-            8 => &self.regeneration,
-            _ => &self.standby,
-        })
-    }
-
-    fn effect_mut(&mut self, name: &str) -> Result<&mut dyn Effect> {
-        Ok(match catalogue_index(name)? {
-            0 => &mut self.viscous,
-            1 => &mut self.coulomb,
-            2 => &mut self.stribeck,
-            3 => &mut self.armature,
-            4 => &mut self.payload,
-            5 => &mut self.balancer,
-            6 => &mut self.copper,
-            7 => &mut self.gear_efficiency,
-            8 => &mut self.regeneration,
-            _ => &mut self.standby,
-        })
+        self.effects.get(name)
     }
 
     /// Parameter specs of an effect.
@@ -232,7 +176,9 @@ impl Model {
 
     /// Set the parameter values of an effect (checked against the bounds).
     pub fn set_values(&mut self, name: &str, values: &[f64]) -> Result<()> {
-        self.effect_mut(name)?.set_values(values)
+        self.effects.get_mut(name)?.set_values(values)?;
+        self.refresh();
+        Ok(())
     }
 
     /// Whether an effect can be seen in a log of this signal: torque-side effects in every
@@ -247,26 +193,11 @@ impl Model {
         }
     }
 
-    fn torque_effects(&self) -> [(&dyn TorqueEffect, bool); 6] {
-        [
-            (&self.viscous, self.enabled[0]),
-            (&self.coulomb, self.enabled[1]),
-            (&self.stribeck, self.enabled[2]),
-            (&self.armature, self.enabled[3]),
-            (&self.payload, self.enabled[4]),
-            (&self.balancer, self.enabled[5]),
-        ]
-    }
-
     /// Joint torque of the model at one state (N·m), into `tau` (length `n`).
     pub fn torque(&self, q: &[f64], qd: &[f64], qdd: &[f64], tau: &mut [f64]) -> Result<()> {
         let mut data = self.dynamics.data();
         rnea(&self.dynamics, &mut data, q, qd, qdd, tau)?;
-        for (e, on) in self.torque_effects() {
-            if on {
-                e.add_torque(q, qd, qdd, tau);
-            }
-        }
+        self.effects.add_torque(q, qd, qdd, tau);
         Ok(())
     }
 
@@ -280,17 +211,14 @@ impl Model {
         }
         let mut p = [0.0; MAX_DOF];
         for j in 0..n {
-            let eta = if self.enabled[7] {
-                self.gear_efficiency.eta[j]
-            } else {
-                1.0
-            };
-            let r = if self.enabled[6] {
-                self.copper.r[j]
-            } else {
-                0.0
-            };
-            let m = crate::energy::motor(tau[j], qd[j], self.gear[j], eta, self.kt[j], r);
+            let m = crate::energy::motor(
+                tau[j],
+                qd[j],
+                self.gear[j],
+                self.motor.eta[j],
+                self.kt[j],
+                self.motor.r[j],
+            );
             p[j] = m.p_el;
             match kind {
                 SignalKind::Current => out[j] = m.current,
@@ -299,23 +227,20 @@ impl Model {
             }
         }
         if kind == SignalKind::TotalPower {
-            let rho = if self.enabled[8] {
-                self.regeneration.recovered
-            } else {
-                0.0
-            };
-            let p0 = if self.enabled[9] {
-                self.standby.power
-            } else {
-                0.0
-            };
-            out[0] = crate::energy::supply_power(self.policy, &p[..n], rho, p0).supply;
+            out[0] =
+                crate::energy::supply_power(self.policy, &p[..n], self.motor.rho, self.motor.p0)
+                    .supply;
         }
     }
 
     /// The rigid-body model (nominal payload, no armature: that is the `armature` effect).
     pub fn dynamics(&self) -> &DynModel {
         &self.dynamics
+    }
+
+    /// Why the effect called `name` is not physically plausible for this robot, or `None`.
+    pub fn implausible(&self, name: &str) -> Option<String> {
+        self.effect(name).ok().and_then(|e| e.implausible())
     }
 }
 
@@ -327,8 +252,9 @@ pub struct Prepared<'a> {
     pub log: &'a Log,
     /// Rigid-body torque per sample, row-major `len × n`, N·m.
     pub tau_rb: Vec<f64>,
-    /// Regressors of the linear torque effects by catalogue index (0 viscous, 1 coulomb,
-    /// 3 armature, 4 payload, 5 balancer): `len × n × P` each.
+    /// Regressors of the costly linear torque effects ([`Effect::costly`]: those that need
+    /// inverse-dynamics passes) by position in the model's effect set (`None` for the others,
+    /// which are evaluated directly): `len × n × P` each.
     regs: Vec<Option<Vec<f64>>>,
 }
 
@@ -368,8 +294,13 @@ log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, 
                 &mut tau_rb[k * n..(k + 1) * n],
             )?;
         }
-        let mut regs: Vec<Option<Vec<f64>>> = vec![None; 6];
-        for (i, (e, _)) in model.torque_effects().iter().enumerate() {
+        let mut regs: Vec<Option<Vec<f64>>> = Vec::new();
+        for (e, _) in model.effects.iter() {
+            regs.push(None);
+            if e.stage() != Stage::Torque || !e.costly() {
+                continue;
+            }
+            let i = regs.len() - 1;
             let p = e.params().len();
             let mut all = vec![0.0; len * n * p];
             let mut linear = true;
@@ -397,6 +328,44 @@ log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, 
         self.log.is_empty()
     }
 
+    /// Joint torque of `model` at sample `k` (N·m) into `tau` (length `n`), skipping the
+    /// effects whose position in the model's set is in `skip`.
+    pub fn torque_row(&self, model: &Model, k: usize, skip: &[usize], tau: &mut [f64]) {
+        let n = model.n;
+        tau[..n].copy_from_slice(&self.tau_rb[k * n..(k + 1) * n]);
+        let (q, qd, qdd) = (
+            self.log.traj.q(k),
+            self.log.traj.qd(k),
+            self.log.traj.qdd(k),
+        );
+        for (i, (e, on)) in model.effects.iter().enumerate() {
+            if !on || e.stage() != Stage::Torque || skip.contains(&i) {
+                continue;
+            }
+            match &self.regs[i] {
+                Some(y) => {
+                    let vals = e.values();
+                    let p = vals.len();
+                    let yk = &y[k * n * p..(k + 1) * n * p];
+                    for (j, t) in tau[..n].iter_mut().enumerate() {
+                        let row = &yk[j * p..(j + 1) * p];
+                        *t += row.iter().zip(&vals).map(|(a, b)| a * b).sum::<f64>();
+                    }
+                }
+                None => e.add_torque(q, qd, qdd, &mut tau[..n]),
+            }
+        }
+    }
+
+    /// The cached regressor of the effect at position `i` of the model's set at sample `k`
+    /// (`n × P`, row-major), if cached.
+    pub fn cached_regressor(&self, i: usize, k: usize, n: usize, p: usize) -> Option<&[f64]> {
+        self.regs
+            .get(i)?
+            .as_ref()
+            .map(|y| &y[k * n * p..(k + 1) * n * p])
+    }
+
     /// Model prediction of the logged signal at the samples `rows`, row-major
     /// `rows.len() × channels`, into `out` (resized).
     pub fn predict(&self, model: &Model, rows: &[usize], out: &mut Vec<f64>) {
@@ -404,33 +373,15 @@ log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, 
         let ch = self.log.channels;
         out.clear();
         out.resize(rows.len() * ch, 0.0);
-        let effects = model.torque_effects();
-        let vals: Vec<Vec<f64>> = effects.iter().map(|(e, _)| e.values()).collect();
         let mut tau = [0.0; MAX_DOF];
         for (r, &k) in rows.iter().enumerate() {
-            tau[..n].copy_from_slice(&self.tau_rb[k * n..(k + 1) * n]);
-            let (q, qd, qdd) = (
-                self.log.traj.q(k),
+            self.torque_row(model, k, &[], &mut tau);
+            model.signal_from_torque(
+                self.log.kind,
+                &tau[..n],
                 self.log.traj.qd(k),
-                self.log.traj.qdd(k),
+                &mut out[r * ch..(r + 1) * ch],
             );
-            for (i, (e, on)) in effects.iter().enumerate() {
-                if !*on {
-                    continue;
-                }
-                match &self.regs[i] {
-                    Some(y) => {
-                        let p = vals[i].len();
-                        let yk = &y[k * n * p..(k + 1) * n * p];
-                        for (j, t) in tau[..n].iter_mut().enumerate() {
-                            let row = &yk[j * p..(j + 1) * p];
-                            *t += row.iter().zip(&vals[i]).map(|(a, b)| a * b).sum::<f64>();
-                        }
-                    }
-                    None => e.add_torque(q, qd, qdd, &mut tau[..n]),
-                }
-            }
-            model.signal_from_torque(self.log.kind, &tau[..n], qd, &mut out[r * ch..(r + 1) * ch]);
         }
     }
 }
@@ -438,26 +389,19 @@ log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, 
 /// A saved copy of a model's switches and parameter values.
 #[derive(Clone, Debug)]
 pub struct ModelState {
-    enabled: [bool; 10],
-    values: Vec<Vec<f64>>,
+    effects: EffectSet,
 }
 
 impl Model {
     /// Save switches and values.
     pub fn state(&self) -> ModelState {
         ModelState {
-            enabled: self.enabled,
-            values: CATALOGUE
-                .iter()
-                .map(|n| self.values(n).unwrap_or_default())
-                .collect(),
+            effects: self.effects.clone(),
         }
     }
     /// Restore a saved state.
     pub fn restore(&mut self, s: &ModelState) {
-        self.enabled = s.enabled;
-        for (n, v) in CATALOGUE.iter().zip(&s.values) {
-            let _ = self.set_values(n, v);
-        }
+        self.effects = s.effects.clone();
+        self.refresh();
     }
 }

@@ -2,6 +2,7 @@
 //! and parameter errors, with sensor noise, current quantisation and a controller's sample
 //! rate; seeded (ChaCha8). The output follows docs/measurement-logs.md (`t`, `q1..qN`, signal).
 
+use crate::effects::catalogue;
 use crate::error::{Error, Result};
 use crate::identify::log::SignalKind;
 use crate::identify::model::{catalogue_index, Model};
@@ -10,10 +11,12 @@ use crate::trajectory::JointTrajectory;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 
-/// One hidden effect: `effect=v` adds `v` to every per-joint parameter (the first values of
-/// the effect, in its units), `effect[j]=v` only to joint `j` (1-based), and `effect=v1:v2`
-/// adds `v2` to the effect's second parameter kind (balancer `F0:k` N and N/m; stribeck
-/// `f_s:v_s` N·m and rad/s, `v_s` set rather than added).
+/// One hidden effect. For an effect with per-joint parameters, `effect=v` adds `v` to every
+/// per-joint parameter, `effect[j]=v` only to joint `j` (1-based); `effect=v1:v2` adds `v1`
+/// to the first per-joint kind and `v2` to the second (coulomb `f_c+:f_c−`, N·m); values
+/// beyond the per-joint kinds *set* the effect's scalar parameters (stribeck `f_s:v_s`,
+/// coulomb `f_c+:f_c−:ε`, rad/s). For an effect without per-joint parameters the values are
+/// added in order (balancer `F0:k` N and N/m; payload `Δm:Δh_x:Δh_y:Δh_z` kg and kg·m).
 #[derive(Clone, Debug, PartialEq)]
 pub struct Hidden {
     /// Catalogue name.
@@ -51,7 +54,7 @@ pub fn parse_hidden(s: &str) -> Result<Vec<Hidden>> {
             })
             .collect::<Result<Vec<f64>>>()?;
         out.push(Hidden {
-            effect: crate::effects::CATALOGUE[i],
+            effect: catalogue()[i],
             joint,
             values,
         });
@@ -66,20 +69,41 @@ pub fn apply_hidden(model: &mut Model, hidden: &[Hidden]) -> Result<()> {
         model.set_enabled(h.effect, true)?;
         let specs = model.params(h.effect)?;
         let mut v = model.values(h.effect)?;
-        let per_joint = specs.iter().filter(|s| s.name.ends_with(']')).count();
-        let first = h.values.first().copied().unwrap_or(0.0);
-        if per_joint == n {
-            for (j, x) in v.iter_mut().enumerate().take(n) {
-                if h.joint.is_none_or(|k| k == j + 1) {
-                    *x += first;
+        // Per-joint kinds (`f_c+[..]`, `f_c-[..]`) in order, and the scalar parameters.
+        let mut kinds: Vec<String> = Vec::new();
+        for sp in &specs {
+            if let Some((k, _)) = sp.name.split_once('[') {
+                if !kinds.iter().any(|x| x == k) {
+                    kinds.push(k.to_string());
                 }
             }
-            if let (Some(x2), Some(last)) = (h.values.get(1), v.get_mut(n)) {
-                *last = *x2;
-            }
-        } else {
+        }
+        if kinds.is_empty() {
             for (x, a) in v.iter_mut().zip(&h.values) {
                 *x += a;
+            }
+        } else {
+            let mut scalar = h.values.iter().skip(kinds.len());
+            for (i, sp) in specs.iter().enumerate() {
+                match sp.name.split_once('[') {
+                    Some((k, jt)) => {
+                        let kind = kinds.iter().position(|x| x == k).unwrap_or(0);
+                        let add = if h.values.len() == 1 {
+                            h.values[0]
+                        } else {
+                            h.values.get(kind).copied().unwrap_or(0.0)
+                        };
+                        let j = jt.trim_end_matches(']').parse::<usize>().unwrap_or(0);
+                        if j <= n && h.joint.is_none_or(|k| k == j) {
+                            v[i] += add;
+                        }
+                    }
+                    None => {
+                        if let Some(x) = scalar.next() {
+                            v[i] = *x;
+                        }
+                    }
+                }
             }
         }
         for (x, s) in v.iter_mut().zip(&specs) {

@@ -250,8 +250,13 @@ fn draw_robot(
         d.standby_power *= sb;
         drawn.push(("standby power".into(), sb));
     }
-    let e = &mut m.effects;
-    if e.balancer_declared || e.balancer_preload_n != 0.0 || e.balancer_stiffness_n_per_m != 0.0 {
+    let t = &mut m.effects.table;
+    let declared = t.balancer_lever_m.is_some() && t.balancer_base_m.is_some();
+    let (p0, k0) = (
+        t.balancer_preload_n.unwrap_or(0.0),
+        t.balancer_stiffness_n_per_m.unwrap_or(0.0),
+    );
+    if declared || p0 != 0.0 || k0 != 0.0 {
         let present = rng.gen_range(0.0..1.0) >= r.balancer_absent_probability;
         let (f0, k) = match (calibrated("F0"), calibrated("k")) {
             (Some((f, sf)), Some((k, sk))) => {
@@ -259,16 +264,12 @@ fn draw_robot(
             }
             _ => {
                 let f = 1.0 + r.balancer_force_rel * u(rng);
-                (e.balancer_preload_n * f, e.balancer_stiffness_n_per_m * f)
+                (p0 * f, k0 * f)
             }
         };
-        if present {
-            e.balancer_preload_n = f0;
-            e.balancer_stiffness_n_per_m = k;
-        } else {
-            e.balancer_preload_n = 0.0;
-            e.balancer_stiffness_n_per_m = 0.0;
-        }
+        let (f0, k) = if present { (f0, k) } else { (0.0, 0.0) };
+        t.balancer_preload_n = Some(f0);
+        t.balancer_stiffness_n_per_m = Some(k);
         drawn.push(("balancer present".into(), if present { 1.0 } else { 0.0 }));
     }
     (m, drawn)

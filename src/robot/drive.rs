@@ -101,19 +101,165 @@ pub(crate) struct DriveFile {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub cabinet: Option<CabinetTable>,
     /// Optional `[effects]` table (switches and identified parameters of effects the rest of
-    /// the file has no keys for), validated into [`crate::effects::EffectsConfig`].
+    /// the file has no keys for), validated by the effects themselves when a model is built (`crate::effects::EffectSet::of_robot`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub effects: Option<crate::effects::EffectsTable>,
+    pub effects: Option<EffectsTable>,
     /// Optional `[calibration]` table: where the identified values of a calibrated robot came
     /// from (written by `identify`).
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub calibration: Option<crate::effects::Calibration>,
+    pub calibration: Option<Calibration>,
     /// Optional `[uncertainty]` table: ranges of the estimated numbers, read by the
     /// placement's uncertainty study (`crate::placement::uncertainty::Ranges`), kept as written.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub uncertainty: Option<toml::Value>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub joints: Vec<JointTable>,
+}
+
+/// The drive file's `[effects]` table as written (strict: unknown keys are errors). The robot
+/// description carries it as data ([`crate::robot::RobotModel::effects`]); the effects
+/// themselves read and validate their keys when a model is built (the robot does not know the
+/// effects). Keys: docs/effects.md.
+#[derive(Deserialize, Serialize, Debug, Default, Clone, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct EffectsTable {
+    /// Catalogue names switched on (replaces the default switches).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub enabled: Option<Vec<String>>,
+    /// `stribeck`: `f_s` per joint, N·m.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stribeck_nm: Option<Vec<f64>>,
+    /// `stribeck`: `v_s`, rad/s.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stribeck_velocity_rad_s: Option<f64>,
+    /// `payload`: mass error `Δm`, kg.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub payload_mass_error_kg: Option<f64>,
+    /// `balancer`: preload `F0`, N.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub balancer_preload_n: Option<f64>,
+    /// `balancer`: stiffness `k`, N/m.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub balancer_stiffness_n_per_m: Option<f64>,
+    /// `balancer`: joint it acts on (1-based).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub balancer_joint: Option<usize>,
+    /// `balancer`: lever `a` on the moving link, m.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub balancer_lever_m: Option<f64>,
+    /// `balancer`: distance `b` of the fixed end, m.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub balancer_base_m: Option<f64>,
+    /// `balancer`: upright angle `q_up`, rad.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub balancer_upright_rad: Option<f64>,
+    /// `regeneration`: recovered fraction `ρ`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub regeneration_recovered_fraction: Option<f64>,
+    /// Effect name → parameter values in the order of the effect's parameters (SI).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub values: Option<std::collections::BTreeMap<String, Vec<f64>>>,
+}
+
+/// What a robot's drive file says about the effects, kept as data: the file, its `[effects]`
+/// table and its `[calibration]` table. The effects read and validate it
+/// (`crate::effects::EffectSet::of_robot`); the robot description does not know them.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct EffectsData {
+    /// The drive file the tables came from (`None`: no drive file, or no table in it).
+    pub file: Option<String>,
+    /// The `[effects]` table (default when there is none).
+    pub table: EffectsTable,
+    /// The `[calibration]` table when the robot is a calibrated one.
+    pub calibration: Option<Calibration>,
+}
+
+impl EffectsData {
+    /// One line naming the calibration (file, rounds, dates, logs), or `None` for a nominal
+    /// robot.
+    pub fn calibration_summary(&self) -> Option<String> {
+        let c = self.calibration.as_ref()?;
+        let rounds: Vec<String> = c
+            .rounds
+            .iter()
+            .map(|r| {
+                format!(
+                    "round {} on {} from {} ({})",
+                    r.round,
+                    r.date,
+                    r.log,
+                    r.effects.join(", ")
+                )
+            })
+            .collect();
+        Some(format!(
+            "calibrated robot {} (from {}; {})",
+            self.file.as_deref().unwrap_or("?"),
+            c.base_robot,
+            rounds.join("; ")
+        ))
+    }
+}
+
+/// The `[calibration]` table of a calibrated robot (written by `printwatt identify`, read
+/// back by every command, which then names the calibration it used).
+#[derive(Clone, Debug, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Calibration {
+    /// The robot the first round started from, as given to `identify --robot`.
+    pub base_robot: String,
+    /// Rounds of identification, oldest first.
+    #[serde(default)]
+    pub rounds: Vec<CalibrationRound>,
+    /// Every identified parameter with its latest value; parameters of earlier rounds that
+    /// were not re-fitted are carried over.
+    #[serde(default)]
+    pub params: Vec<CalibratedParam>,
+}
+
+/// One round of `identify`.
+#[derive(Clone, Debug, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CalibrationRound {
+    /// 1-based round number.
+    pub round: usize,
+    /// UTC date of the run, `YYYY-MM-DD`.
+    pub date: String,
+    /// The log fitted.
+    pub log: String,
+    /// Signal of the log (`tau`, `i`, `p`, `p_total`).
+    pub signal: String,
+    /// Effects fitted in this round.
+    pub effects: Vec<String>,
+    /// What was validated on.
+    pub validation: String,
+    /// Validation RMSE before the round (signal unit).
+    pub validation_rmse_before: f64,
+    /// Validation RMSE after the round (signal unit).
+    pub validation_rmse_after: f64,
+}
+
+/// One identified parameter.
+#[derive(Clone, Debug, PartialEq, Default, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct CalibratedParam {
+    /// Catalogue name of the effect.
+    pub effect: String,
+    /// Parameter name, e.g. `f_c+[2]`.
+    pub name: String,
+    /// SI unit.
+    pub unit: String,
+    /// Value in the calibrated robot.
+    pub value: f64,
+    /// Standard error (same unit); absent when the parameter was held at its prior.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub std_error: Option<f64>,
+    /// Value before the round that fitted it.
+    pub prior: f64,
+    /// Round that fitted it (or held it).
+    pub round: usize,
+    /// `fitted`, or `held at prior: ...` with the reason.
+    pub status: String,
 }
 
 impl DriveFile {

@@ -11,13 +11,15 @@ pub mod opw;
 pub mod urdf;
 pub mod validate;
 
-pub use drive::{Drive, JointDrive, Regeneration};
+pub use drive::{
+    CalibratedParam, Calibration, CalibrationRound, Drive, EffectsData, EffectsTable, JointDrive,
+    Regeneration,
+};
 pub use model::{
     CollisionGeom, GeomShape, Inertial, Joint, JointKind, RobotInfo, RobotModel, ToolGeometry,
 };
 pub use opw::OpwParams;
 
-use crate::effects::EffectsConfig;
 use crate::error::{read_text, Error, Result};
 use crate::math::{rotation_distance, Frame, M3, V3};
 use std::path::{Path, PathBuf};
@@ -324,13 +326,12 @@ fn apply_drive(model: &mut RobotModel, d: drive::DriveFile, file: &str) -> Resul
                 .unwrap_or(Regeneration::None),
         });
     }
-    if let Some(t) = d.effects {
-        let nominal = model.payload.map_or(0.0, |p| p.mass);
-        model.effects = EffectsConfig::from_table(t, file, model.dof(), nominal)?;
-    }
-    if let Some(c) = d.calibration {
-        model.effects.file = Some(file.to_string());
-        model.effects.calibration = Some(c);
+    if d.effects.is_some() || d.calibration.is_some() {
+        model.effects = drive::EffectsData {
+            file: Some(file.to_string()),
+            table: d.effects.unwrap_or_default(),
+            calibration: d.calibration,
+        };
     }
     if let Some(k) = d.kinematics {
         if model.dof() != 6 {

@@ -170,9 +170,9 @@ pub struct RobotModel {
     pub gravity: V3,
     /// Drive data (gear ratios, motors, friction, cabinet); `None` = rigid body only.
     pub drive: Option<Drive>,
-    /// The drive file's `[effects]` table (switches and parameters of the catalogue's effects),
-    /// read by both [`crate::identify`] and [`crate::energy`]; default when there is none.
-    pub effects: crate::effects::EffectsConfig,
+    /// The drive file's `[effects]` and `[calibration]` tables as data; the effects read them
+    /// (one registry for [`crate::identify`] and [`crate::energy`]); default when there are none.
+    pub effects: crate::robot::drive::EffectsData,
     /// Closed-form (OPW) kinematic parameters, when the arm is ortho-parallel with a spherical
     /// wrist and the drive file names them. Checked against the URDF chain on load.
     pub opw: Option<OpwParams>,
