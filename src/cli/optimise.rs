@@ -57,7 +57,9 @@ pub struct OptimiseArgs {
     #[arg(long, value_name = "N")]
     pub uncertainty: Option<usize>,
     /// Write the chosen placement for the robot into this directory: `wobj_print.mod` (ABB RAPID
-    /// wobjdata) and `frame.json` (COMPAS frame). Existing files are replaced only with --force.
+    /// wobjdata), `frame.json` (COMPAS frame), and the path re-expressed in the robot base
+    /// frame as `path_base.gcode` and `path_base.mod` (RAPID MoveL in wobj0). Existing files
+    /// are replaced only with --force.
     #[arg(long)]
     pub export: Option<std::path::PathBuf>,
 }
@@ -361,6 +363,22 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
                 serde_json::to_string_pretty(&printwatt::placement::export::compas_frame(
                     &b.placement,
                 ))?,
+            ),
+            (
+                ex.join("path_base.gcode"),
+                printwatt::placement::export::gcode_base(
+                    &printwatt::placement::export::base_frame_path(&job.moves, &b.placement),
+                    &b.placement,
+                    l.robot.name(),
+                ),
+            ),
+            (
+                ex.join("path_base.mod"),
+                printwatt::placement::export::rapid_base(
+                    &printwatt::placement::export::base_frame_path(&job.moves, &b.placement),
+                    &b.placement,
+                    &l.robot,
+                ),
             ),
         ];
         for (f, text) in &files {
