@@ -275,6 +275,9 @@ fn draw_robot(
     (m, drawn)
 }
 
+/// One draw's energies at every candidate (J) and the values it drew (name, value).
+type DrawResult = (Vec<f64>, Vec<(String, f64)>);
+
 /// Average ranks (1-based, ties share their mean rank).
 fn ranks(v: &[f64]) -> Vec<f64> {
     let mut idx: Vec<usize> = (0..v.len()).collect();
@@ -388,7 +391,7 @@ pub fn study_with(
     let objective: Objective = ev.objective;
     let feas = ev.feasibility;
     // One draw: a robot, its energies at every candidate.
-    let one = |d: usize| -> Result<(Vec<f64>, Vec<(String, f64)>)> {
+    let one = |d: usize| -> Result<DrawResult> {
         let mut rng = ChaCha8Rng::seed_from_u64(seed);
         rng.set_stream(d as u64);
         let (m, drawn) = draw_robot(robot, &ranges, &mut rng);
@@ -412,9 +415,8 @@ pub fn study_with(
             .collect();
         Ok((e, drawn))
     };
-    let results: Vec<Result<(Vec<f64>, Vec<(String, f64)>)>> =
-        (0..draws).into_par_iter().map(one).collect();
-    let mut per: Vec<(Vec<f64>, Vec<(String, f64)>)> = Vec::with_capacity(draws);
+    let results: Vec<Result<DrawResult>> = (0..draws).into_par_iter().map(one).collect();
+    let mut per: Vec<DrawResult> = Vec::with_capacity(draws);
     for r in results {
         per.push(r?);
     }
