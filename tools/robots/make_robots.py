@@ -1151,7 +1151,32 @@ def write_summary(rbs):
     L += ["", "Conventions: SI units; inertia about the CoM in link axes; `tool0` has z out of the flange (ROS-I); "
           "OPW sets follow opw_kinematics (q_opw = q·sign − offset). The drive data of every industrial arm are "
           "ESTIMATES: energy results for them rank toolpaths, they are not calibrated predictions.",
-          "", "Reference data computed with pinocchio from these files: `tests/data/pinocchio/` (see `tools/reference/`)."]
+          "", "Reference data computed with pinocchio from these files: `tests/data/pinocchio/` (see `tools/reference/`).",
+          "", "## Drive-file tables beyond the drive train", "",
+          "- `[effects]` (robots with an axis-2 balancer: IRB 6700, IRB 4600, TX200): `balancer_joint` (1-based axis), "
+          "`balancer_lever_m` (lever a of the cylinder's end on the moving link, m), `balancer_base_m` (distance b of its "
+          "fixed end from the axis, m), `balancer_upright_rad` (joint angle at which the cylinder is shortest), "
+          "`balancer_preload_n` (force F0 at that angle, N) and `balancer_stiffness_n_per_m` (k, N/m). "
+          "The torque is that of a spring cylinder between the two ends (equations in `docs/effects.md`); every value "
+          "names its source, the forces are SIZED (ESTIMATE) to carry 70 % of the change of the static axis-2 torque.",
+          "- `[tool.geometry]` (flange frame, m): `head_radius_m` (the print head, a cylinder from the flange to the "
+          "nozzle tip), `hose_radius_m`, `hose_from_m`, `hose_to_m` (the material hose as a straight capsule). "
+          "ESTIMATE for every shipped robot: the head is the payload's cylinder, the hose a 2-inch concrete hose "
+          "(60 mm OD; 20 mm for the lab-scale extruders of the UR10e and PUMA 560) up the side of the head. The head "
+          "is exempt from bed and part checks (it prints on them).",
+          "- `[uncertainty]`: half-widths of uniform ranges of the estimated numbers (`link_mass_rel`, `link_com_m`, "
+          "`link_inertia_rel`, `payload_mass_rel`, `torque_constant_rel`, `winding_resistance_rel`, `viscous_rel`, "
+          "`coulomb_rel`, `gear_efficiency_abs`, `standby_power_rel`, and for balanced arms "
+          "`balancer_absent_probability`, `balancer_force_rel`), each with its reason; drawn by "
+          "`printwatt optimise --uncertainty N`. A calibrated robot (written by `identify`) draws its identified "
+          "parameters from their standard errors instead.",
+          "", "## Collision geometry", "",
+          "None of the reference URDFs these files come from (`../shared/reference/robots/`) has `<collision>` "
+          "elements (the vendor meshes are not redistributed with them), so the shipped `robot.urdf` files have none "
+          "either and printwatt's collision checks (parry3d-f64) use a capsule per link from its joint origin to the "
+          "next, sized as a fraction of the reach (base 0.07 R, arms 0.045 R, wrist 0.025 R: ESTIMATE, rough "
+          "half-widths of the housings), plus the print head and hose of `[tool.geometry]`. A user's URDF with "
+          "`<collision>` boxes, cylinders, spheres or STL/OBJ meshes (as convex hulls) is used as given."]
     with open(os.path.join(ROOT, "robots", "README.md"), "w") as f:
         f.write("\n".join(L) + "\n")
 
