@@ -9,7 +9,8 @@
 //! the stated probability, else its preload and stiffness scaled), each independently. A
 //! calibrated robot (a drive file with a `[calibration]` table written by `identify`) draws
 //! every identified parameter from a normal distribution with its identified standard error
-//! instead of its range; the numbers `identify` did not fit keep their ranges.
+//! instead of its range (an identified balancer is always present); the numbers `identify`
+//! did not fit keep their ranges.
 //!
 //! Timing does not depend on these numbers (kinematics and joint limits are not varied), so
 //! each candidate is timed once and only its energy is recomputed per draw
@@ -257,7 +258,9 @@ fn draw_robot(
         t.balancer_stiffness_n_per_m.unwrap_or(0.0),
     );
     if declared || p0 != 0.0 || k0 != 0.0 {
-        let present = rng.gen_range(0.0..1.0) >= r.balancer_absent_probability;
+        // An identified balancer is there: only its force is uncertain.
+        let identified = calibrated("F0").is_some() && calibrated("k").is_some();
+        let present = rng.gen_range(0.0..1.0) >= r.balancer_absent_probability || identified;
         let (f0, k) = match (calibrated("F0"), calibrated("k")) {
             (Some((f, sf)), Some((k, sk))) => {
                 (f + sf * normal(rng), (k + sk * normal(rng)).max(0.0))
