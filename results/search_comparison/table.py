@@ -13,10 +13,14 @@ for f in sorted(glob.glob(os.path.join(here, "*.json"))):
     d = json.load(open(f))
     o = d["optimise"]
     rows.setdefault(job, {})[search] = (o["best"]["outcome"]["Ok"]["energy_j"], o["evals"],
-                                        o["best_grid"]["outcome"]["Ok"]["energy_j"])
-print("| example | best grid cell [J] | pattern [J] | evaluations | argmin Nelder–Mead [J] | evaluations | argmin − pattern |")
-print("|---|---|---|---|---|---|---|")
+                                        o["best_grid"]["outcome"]["Ok"]["energy_j"], o["history_j"])
+print("| example | best grid cell [J] | pattern [J] | its evaluations | argmin Nelder–Mead [J] | its evaluations "
+      "| argmin after the pattern's evaluations [J] | argmin − pattern at equal evaluations |")
+print("|---|---|---|---|---|---|---|---|")
 for job, r in rows.items():
     if "pattern" in r and "nelder-mead" in r:
-        (ep, np_, eg), (ea, na, _) = r["pattern"], r["nelder-mead"]
-        print("| %s | %.1f | %.1f | %d | %.1f | %d | %+.2f %% |" % (job, eg, ep, np_, ea, na, (ea - ep) / ep * 100))
+        (ep, np_, eg, _), (ea, na, _, h) = r["pattern"], r["nelder-mead"]
+        # history_j[k]: the best energy after k evaluations (k = 0: the grid cell it starts from).
+        at = h[min(np_, len(h) - 1)]
+        print("| %s | %.2f | %.2f | %d | %.2f | %d | %.2f | %+.4f %% |" % (
+            job, eg, ep, np_, ea, na, at, (at - ep) / ep * 100))
