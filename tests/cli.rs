@@ -32,6 +32,8 @@ fn robots_lists_the_shipped_robots() {
     let o = printwatt(&["robots", "--json"], &root());
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["schema_version"], 1);
+    let v = &v["robots"];
     let ids: Vec<&str> = v
         .as_array()
         .unwrap()
@@ -576,11 +578,8 @@ fn sweep_runs_at_the_timing_energy_was_checked_at() {
     assert!(o.status.success(), "{}", stderr(&o));
     let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let t_e = e["print_time_s"].as_f64().unwrap();
-    let t_s = s["best"]["outcome"]["Ok"]["duration_s"]
-        .as_f64()
-        .or_else(|| s["best"]["outcome"]["duration_s"].as_f64())
-        .or_else(|| s["best"]["duration_s"].as_f64())
-        .unwrap_or_else(|| panic!("{s}"));
+    assert_eq!(s["best"]["outcome"]["status"], "feasible", "{s}");
+    let t_s = s["best"]["outcome"]["duration_s"].as_f64().unwrap();
     assert_eq!(t_e, t_s);
     // 8 ms samples: the path takes the same time as at 4 ms, with half the samples.
     let o = printwatt(&["energy", "--at", "1.7,0,0,90", "--json"], &d);
@@ -588,4 +587,135 @@ fn sweep_runs_at_the_timing_energy_was_checked_at() {
     let n8 = e["energy"]["samples"].as_u64().unwrap();
     let n4 = e4["energy"]["samples"].as_u64().unwrap();
     assert!((n4 as f64 / n8 as f64 - 2.0).abs() < 0.01, "{n4} vs {n8}");
+}
+
+/// Every number of a JSON value has at most 9 significant digits; no `Ok`/`Err` key anywhere.
+fn check_json_shape(cmd: &str, v: &serde_json::Value, path: &str) {
+    match v {
+        serde_json::Value::Number(n) => {
+            let x = n.as_f64().unwrap();
+            let r: f64 = format!("{x:.8e}").parse().unwrap();
+            assert_eq!(x, r, "{cmd}: {path} = {x} has float noise");
+        }
+        serde_json::Value::Array(a) => {
+            for (i, x) in a.iter().enumerate() {
+                check_json_shape(cmd, x, &format!("{path}[{i}]"));
+            }
+        }
+        serde_json::Value::Object(o) => {
+            for (k, x) in o {
+                assert!(k != "Ok" && k != "Err", "{cmd}: Rust wrapper at {path}.{k}");
+                check_json_shape(cmd, x, &format!("{path}.{k}"));
+            }
+        }
+        _ => {}
+    }
+}
+
+#[test]
+fn every_command_answers_json_with_schema_version_and_no_rust_wrappers() {
+    let d = tmpdir("json-all");
+    // simulate --json without --out: the samples in the JSON, no file.
+    let o = printwatt(
+        &[
+            "simulate",
+            "--robot",
+            "abb_irb4600_40_255",
+            "--excite",
+            "3",
+            "--hidden",
+            "coulomb=30",
+            "--json",
+        ],
+        &d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let sim: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(sim["log"].is_null());
+    assert_eq!(sim["rows"].as_array().unwrap().len(), 750);
+    assert_eq!(sim["columns"][0], "t[s]");
+    assert_eq!(
+        std::fs::read_dir(&d).unwrap().count(),
+        0,
+        "simulate --json wrote a file"
+    );
+    // With --out the log is written and named.
+    let o = printwatt(
+        &[
+            "simulate",
+            "--robot",
+            "abb_irb4600_40_255",
+            "--excite",
+            "3",
+            "--hidden",
+            "coulomb=30",
+            "--out",
+            ".",
+        ],
+        &d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(d.join("log.csv").is_file());
+    let r = ["--robot", "abb_irb4600_40_255", "--log", "log.csv"];
+    let runs: Vec<(&str, Vec<&str>)> = vec![
+        ("robots", vec!["robots"]),
+        ("energy", vec!["energy", "--at", "1.7,0,0,90"]),
+        ("sweep", vec!["sweep", "--at", "1.7,0,0,90;3,0,0,0"]),
+        (
+            "optimise",
+            vec![
+                "optimise",
+                "--x",
+                "1.6,1.7",
+                "--y",
+                "0",
+                "--yaw",
+                "90",
+                "--max-evals",
+                "5",
+                "--tolerance",
+                "0,0",
+            ],
+        ),
+        ("compare", [&["compare"][..], &r].concat()),
+        ("diagnose", [&["diagnose"][..], &r].concat()),
+        (
+            "identify",
+            [&["identify"][..], &r, &["--effects", "coulomb"]].concat(),
+        ),
+    ];
+    let before: Vec<_> = std::fs::read_dir(&d)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    for (cmd, mut args) in runs {
+        args.push("--json");
+        let o = printwatt(&args, &d);
+        assert!(o.status.success(), "{cmd}: {}", stderr(&o));
+        let v: serde_json::Value =
+            serde_json::from_slice(&o.stdout).unwrap_or_else(|e| panic!("{cmd}: {e}"));
+        assert_eq!(v["schema_version"], 1, "{cmd}");
+        assert!(v["warnings"].is_array(), "{cmd}");
+        check_json_shape(cmd, &v, "");
+        if cmd == "sweep" {
+            let rows = v["rows"].as_array().unwrap();
+            assert_eq!(rows[0]["outcome"]["status"], "feasible");
+            assert!(rows[0]["outcome"]["energy_j"].as_f64().unwrap() > 0.0);
+            assert_eq!(rows[1]["outcome"]["status"], "infeasible");
+            assert_eq!(rows[1]["outcome"]["reason"], "unreachable");
+        }
+        // Nothing but the JSON (identify's calibrated robot is its result).
+        let now: Vec<_> = std::fs::read_dir(&d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .filter(|f| !before.contains(f))
+            .collect();
+        if cmd == "identify" {
+            assert_eq!(now.len(), 1, "{now:?}");
+            assert!(now[0].to_string_lossy().ends_with(".calibrated.toml"));
+        } else {
+            assert!(now.is_empty(), "{cmd} --json wrote {now:?}");
+        }
+    }
+    assert!(!d.join("results").exists(), "optimise --json wrote a run");
 }

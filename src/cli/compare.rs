@@ -107,7 +107,7 @@ pub fn run(a: super::CompareArgs) -> Result<()> {
         printwatt::output::check_finite("compare: model prediction", &names, pred.chunks(ch))?;
         printwatt::output::write_file(
             &dir.join("compare.json"),
-            serde_json::to_string_pretty(&cmp)?.as_bytes(),
+            printwatt::output::json_text(&cmp)?.as_bytes(),
             &inputs,
             printwatt::output::Existing::Force(a.out.force),
         )?;

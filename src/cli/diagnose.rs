@@ -21,7 +21,7 @@ pub fn run(a: super::DiagnoseArgs) -> Result<()> {
         std::fs::create_dir_all(dir).map_err(|e| printwatt::Error::io(dir, e))?;
         printwatt::output::write_file(
             &dir.join("diagnose.json"),
-            serde_json::to_string_pretty(&d)?.as_bytes(),
+            printwatt::output::json_text(&d)?.as_bytes(),
             &inputs,
             printwatt::output::Existing::Force(a.out.force),
         )?;

@@ -126,7 +126,7 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
         )?;
         printwatt::output::write_atomic(
             &dir.join("identify.json"),
-            serde_json::to_string_pretty(&id)?.as_bytes(),
+            printwatt::output::json_text(&id)?.as_bytes(),
         )?;
     }
     if a.out.json {

@@ -313,12 +313,15 @@ pub fn warnings() -> Vec<Warning> {
     WARNINGS.lock().map(|g| g.clone()).unwrap_or_default()
 }
 
-/// Print a `--json` answer with the warnings noted so far added as `warnings` (an object's
-/// key; other values are wrapped as `{"result": …, "warnings": […]}`).
+/// Print a `--json` answer: numbers rounded and `schema_version` added
+/// ([`printwatt::output::finish_json`]), the warnings noted so far added as `warnings` (an
+/// object's key; other values are wrapped as `{"schema_version": …, "result": …, "warnings":
+/// […]}`).
 pub fn print_json<T: serde::Serialize>(v: &T) -> Result<()> {
     // Before serde_json sees it: serde_json writes NaN and infinities as `null`.
     printwatt::output::check_finite_json("JSON output", v)?;
     let mut v = serde_json::to_value(v)?;
+    printwatt::output::finish_json(&mut v);
     add_warnings(&mut v);
     println!("{}", serde_json::to_string_pretty(&v)?);
     Ok(())
@@ -338,7 +341,11 @@ fn add_warnings(v: &mut serde_json::Value) {
         }
         other => {
             let inner = std::mem::take(other);
-            *other = serde_json::json!({"result": inner, "warnings": ws});
+            *other = serde_json::json!({
+                "schema_version": printwatt::output::JSON_SCHEMA_VERSION,
+                "result": inner,
+                "warnings": ws
+            });
         }
     }
 }
