@@ -312,6 +312,16 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
         if let Some(jm) = &si.joint_margin {
             m.push(("joint-limit margin kept".into(), jm.clone()));
         }
+        m.push((
+            "evaluations".into(),
+            format!(
+                "grid {}, refinement {} (+{} speculative, evaluated in parallel and not needed), tolerance corners {}",
+                ps.len(),
+                res.evals,
+                si.speculative_evals,
+                si.tolerance_evals
+            ),
+        ));
         if let Some(om) = &si.on_margin {
             m.push((
                 "optimum on a joint-limit margin".into(),

@@ -220,6 +220,9 @@ pub struct SearchInfo {
     pub on_bounds: Vec<String>,
     /// Grid cells tried before one held the tolerance (1 = the best cell held it).
     pub grid_cells_tried: usize,
+    /// Speculative evaluations the search made in parallel and did not need (extra work on a
+    /// second core; 0 on one thread; not counted in `evals`).
+    pub speculative_evals: usize,
     /// The joint-limit margin the answer keeps, in words (closest joint, its distance from a
     /// limit and the margin).
     pub joint_margin: Option<String>,
@@ -401,6 +404,7 @@ pub fn refine(
         }
     }
     let (best, chk) = best;
+    let speculative = *problem.speculative.borrow();
     let sens = sensitivity(ev, &best, opts.sensitivity_m)?;
     let on_bounds = so.bounds.on_bounds(&best.placement, 0.005);
     let stmt = best
@@ -428,6 +432,7 @@ pub fn refine(
             bounds: so.bounds,
             on_bounds,
             grid_cells_tried: tried,
+            speculative_evals: speculative,
             joint_margin,
             on_margin,
         },
