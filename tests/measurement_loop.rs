@@ -603,7 +603,8 @@ fn each_new_effect_hidden_alone_is_ranked_first_and_its_error_falls_80_percent()
     let nominal = Model::new(&r).unwrap();
     // (effect, --hidden, truth of the checked parameters as (name, value)).
     let fc = nominal.values("coulomb").unwrap();
-    let cases: Vec<(&str, &str, Vec<(String, f64)>)> = vec![
+    type Truth = Vec<(String, f64)>;
+    let cases: Vec<(&str, &str, Truth)> = vec![
         (
             "offset",
             "offset=15",
