@@ -6,6 +6,7 @@ use std::path::PathBuf;
 /// Every failure the library reports. No variant is a panic in disguise: each one is a
 /// user-facing message.
 #[derive(Debug, thiserror::Error)]
+#[non_exhaustive]
 pub enum Error {
     /// A file could not be read or written.
     #[error("{}: {source}", path.display())]
@@ -48,6 +49,22 @@ pub enum Error {
     /// Anything else that the user's input makes impossible, with the reason.
     #[error("{}", clip(.0))]
     Invalid(String),
+    /// An output (a file, or a run directory holding an earlier run) exists already and the
+    /// caller did not ask to replace it ([`crate::output::Existing::Force`]`(false)`).
+    #[error("{} exists already", path.display())]
+    OutputExists {
+        /// The file or directory.
+        path: PathBuf,
+    },
+    /// A run name that would leave the results directory (`..`, `.`, an absolute path, empty).
+    #[error(
+        "run name `{name}`: a run name must stay inside the results directory (plain names \
+         such as `grid` or `a/b`; no `..`, `.` or absolute path)"
+    )]
+    BadRunName {
+        /// The name given.
+        name: String,
+    },
 }
 
 /// Result with the library's error.

@@ -8,9 +8,29 @@ mod cli;
 fn main() {
     let cli = cli::Cli::parse();
     if let Err(e) = cli::run(cli) {
-        eprintln!("error: {}", printwatt::error::clip(&format!("{e:#}")));
+        eprintln!(
+            "error: {}{}",
+            printwatt::error::clip(&format!("{e:#}")),
+            hint(&e)
+        );
         std::process::exit(1);
     }
+}
+
+/// The command-line words for a library error: the library names no flags, the binary does.
+fn hint(e: &anyhow::Error) -> &'static str {
+    for c in e.chain() {
+        match c.downcast_ref::<printwatt::Error>() {
+            Some(printwatt::Error::OutputExists { .. }) => {
+                return ": pass --force to replace it, or choose another --out"
+            }
+            Some(printwatt::Error::BadRunName { .. }) => {
+                return " (--run names a directory inside --results-dir)"
+            }
+            _ => {}
+        }
+    }
+    ""
 }
 
 #[cfg(test)]

@@ -192,10 +192,9 @@ pub fn check_file(path: &Path, inputs: &Inputs, existing: Existing) -> Result<()
         )));
     }
     if path.exists() && existing == Existing::Force(false) {
-        return Err(Error::Invalid(format!(
-            "{} exists already: pass --force to replace it, or choose another output path",
-            path.display()
-        )));
+        return Err(Error::OutputExists {
+            path: path.to_path_buf(),
+        });
     }
     if let Some(parent) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         if parent.exists() && !parent.is_dir() {
@@ -309,16 +308,12 @@ pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<()> {
 pub fn run_name(run: &str) -> Result<PathBuf> {
     let p = Path::new(run);
     if run.trim().is_empty() {
-        return Err(Error::Invalid("--run: empty name".into()));
+        return Err(Error::BadRunName { name: run.into() });
     }
     for c in p.components() {
         match c {
             Component::Normal(_) => {}
-            _ => {
-                return Err(Error::Invalid(format!(
-                    "--run `{run}`: a run name must stay inside --results-dir (plain names such as `grid` or `a/b`; no `..`, `.` or absolute path)"
-                )))
-            }
+            _ => return Err(Error::BadRunName { name: run.into() }),
         }
     }
     Ok(p.to_path_buf())
@@ -414,10 +409,9 @@ impl RunDir {
             check_ours(target)?;
             let empty = std::fs::read_dir(target).is_ok_and(|mut d| d.next().is_none());
             if existing == Existing::Force(false) && !empty {
-                return Err(Error::Invalid(format!(
-                    "{} already holds a run: replacing it needs --force (or choose another --run)",
-                    target.display()
-                )));
+                return Err(Error::OutputExists {
+                    path: target.to_path_buf(),
+                });
             }
         }
         std::fs::create_dir_all(&rd.staging).map_err(|e| Error::io(&rd.staging, e))?;
@@ -1005,4 +999,57 @@ pub fn utc_stamp(unix_s: u64) -> String {
         (sod / 60) % 60,
         sod % 60
     )
+}
+
+/// Version of every `--json` answer and JSON file printwatt writes (docs/json.md); raised when a
+/// field changes meaning or is removed (fields may be added without a raise).
+pub const JSON_SCHEMA_VERSION: u32 = 1;
+
+/// Significant digits kept in JSON numbers: far finer than any model or measurement behind
+/// them, coarse enough that float noise (`0.050000000000000044`) does not reach a reader.
+pub const JSON_SIGNIFICANT_DIGITS: usize = 9;
+
+/// `x` rounded to `digits` significant digits (non-finite values unchanged).
+pub fn round_significant(x: f64, digits: usize) -> f64 {
+    if !x.is_finite() || x == 0.0 {
+        return x;
+    }
+    format!("{:.*e}", digits.saturating_sub(1), x)
+        .parse()
+        .unwrap_or(x)
+}
+
+/// Round every non-integer number of a JSON value to [`JSON_SIGNIFICANT_DIGITS`].
+pub fn round_json(v: &mut serde_json::Value) {
+    match v {
+        serde_json::Value::Number(n) if n.is_f64() => {
+            if let Some(x) = n.as_f64() {
+                let r = round_significant(x, JSON_SIGNIFICANT_DIGITS);
+                if let Some(m) = serde_json::Number::from_f64(r) {
+                    *n = m;
+                }
+            }
+        }
+        serde_json::Value::Array(a) => a.iter_mut().for_each(round_json),
+        serde_json::Value::Object(o) => o.values_mut().for_each(round_json),
+        _ => {}
+    }
+}
+
+/// The last step before a JSON document leaves: numbers rounded ([`round_json`]) and, for an
+/// object, `schema_version` ([`JSON_SCHEMA_VERSION`]) added when it has none.
+pub fn finish_json(v: &mut serde_json::Value) {
+    round_json(v);
+    if let serde_json::Value::Object(o) = v {
+        if !o.contains_key("schema_version") {
+            o.insert("schema_version".into(), JSON_SCHEMA_VERSION.into());
+        }
+    }
+}
+
+/// A serialisable value as finished, pretty JSON text ([`finish_json`]).
+pub fn json_text<T: serde::Serialize + ?Sized>(value: &T) -> Result<String> {
+    let mut v = serde_json::to_value(value).map_err(|e| Error::Invalid(e.to_string()))?;
+    finish_json(&mut v);
+    serde_json::to_string_pretty(&v).map_err(|e| Error::Invalid(e.to_string()))
 }

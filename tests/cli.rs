@@ -32,6 +32,8 @@ fn robots_lists_the_shipped_robots() {
     let o = printwatt(&["robots", "--json"], &root());
     assert!(o.status.success(), "{}", stderr(&o));
     let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert_eq!(v["schema_version"], 1);
+    let v = &v["robots"];
     let ids: Vec<&str> = v
         .as_array()
         .unwrap()
@@ -67,7 +69,7 @@ fn energy_of_a_trajectory_agrees_with_the_same_path_timed_by_printwatt() {
             traj.to_str().unwrap(),
             "--json",
             "--out",
-            "t.csv",
+            "t",
         ],
         &d,
     );
@@ -83,8 +85,7 @@ fn energy_of_a_trajectory_agrees_with_the_same_path_timed_by_printwatt() {
             "--at",
             "1.7,0,0,90",
             "--json",
-            "--out",
-            "p.csv",
+            "--no-csv",
         ],
         &d,
     );
@@ -96,7 +97,7 @@ fn energy_of_a_trajectory_agrees_with_the_same_path_timed_by_printwatt() {
     // differences): the energies agree to a fraction of a percent.
     assert!(ea > 1000.0 && ((ea - eb) / eb).abs() < 0.01, "{ea} vs {eb}");
     assert_eq!(a["energy"]["joints"].as_array().unwrap().len(), 6);
-    let csv = std::fs::read_to_string(d.join("t.csv")).unwrap();
+    let csv = std::fs::read_to_string(d.join("t/irb6700_default_25hz.energy.csv")).unwrap();
     let header = csv.lines().next().unwrap();
     assert!(
         header.starts_with("t[s],q1[rad]")
@@ -116,7 +117,7 @@ fn energy_of_a_trajectory_agrees_with_the_same_path_timed_by_printwatt() {
             "--trajectory",
             traj.to_str().unwrap(),
             "--out",
-            "t2.csv",
+            "t2",
         ],
         &d,
     );
@@ -215,7 +216,8 @@ fn bad_trajectories_name_file_line_and_column() {
         &d,
         &["unit.csv:1:1", "fortnight"],
     );
-    // The output may not overwrite an input.
+    // The output may not overwrite an input: --out names a directory, and a file there is
+    // not taken for one.
     let good = write(&d, "good.csv", &format!("t,q1,q2,q3,q4,q5,q6\n{ok_rows}"));
     let before = std::fs::read(&good).unwrap();
     fails_with(
@@ -229,9 +231,22 @@ fn bad_trajectories_name_file_line_and_column() {
             "good.csv",
         ],
         &d,
-        &["refusing to write"],
+        &["--out good.csv", "not a directory"],
     );
     assert_eq!(std::fs::read(&good).unwrap(), before);
+    // A second run does not replace the first one's CSV without --force.
+    let args = [
+        "energy",
+        "--robot",
+        "abb_irb6700_200_260",
+        "--trajectory",
+        "good.csv",
+    ];
+    assert!(printwatt(&args, &d).status.success());
+    fails_with(&args, &d, &["good.energy.csv exists already", "--force"]);
+    let mut forced = args.to_vec();
+    forced.push("--force");
+    assert!(printwatt(&forced, &d).status.success());
 }
 
 #[test]
@@ -333,4 +348,374 @@ fn an_infeasible_placement_says_why() {
         &d,
         &["--at `2.5,0,0`", "expected x,y,z,yaw"],
     );
+}
+
+#[test]
+fn version_names_the_commit() {
+    let o = printwatt(&["--version"], &root());
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(
+        v.starts_with(&format!("printwatt {} (commit ", env!("CARGO_PKG_VERSION"))),
+        "{v}"
+    );
+    let head = Command::new("git")
+        .args(["rev-parse", "--short", "HEAD"])
+        .current_dir(root())
+        .output()
+        .ok()
+        .filter(|o| o.status.success())
+        .map(|o| String::from_utf8_lossy(&o.stdout).trim().to_string());
+    match head {
+        Some(h) if std::env::var_os("PRINTWATT_COMMIT").is_none() => {
+            assert!(v.contains(&format!("(commit {h})")), "{v} vs HEAD {h}")
+        }
+        Some(_) => {}
+        None => assert!(v.contains("not built from a git checkout"), "{v}"),
+    }
+}
+
+fn help(cmd: &str) -> String {
+    let o = printwatt(&[cmd, "--help"], &root());
+    assert!(o.status.success(), "{cmd}: {}", stderr(&o));
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// The help text of `--opt` with its value name, whitespace normalised (clap puts the text
+/// beside the option or, when the lines are long, on the following indented lines).
+fn option_line(help: &str, opt: &str) -> Option<String> {
+    let lines: Vec<&str> = help.lines().collect();
+    let i = lines.iter().position(|l| {
+        let t = l.trim_start();
+        t.starts_with(&format!("{opt} ")) || t == opt
+    })?;
+    let mut text = lines[i].trim().to_string();
+    for l in &lines[i + 1..] {
+        let t = l.trim_start();
+        if t.is_empty() || t.starts_with('-') {
+            break;
+        }
+        text.push(' ');
+        text.push_str(t);
+    }
+    Some(text.split_whitespace().collect::<Vec<_>>().join(" "))
+}
+
+const COMMANDS: [&str; 7] = [
+    "energy", "sweep", "optimise", "simulate", "compare", "diagnose", "identify",
+];
+
+#[test]
+fn shared_options_read_the_same_in_every_command() {
+    let helps: Vec<(&str, String)> = COMMANDS.iter().map(|c| (*c, help(c))).collect();
+    // --robot, --tool and the output options: present everywhere, one text, one default.
+    for opt in ["--robot", "--tool", "--out", "--json", "--force"] {
+        let lines: Vec<_> = helps
+            .iter()
+            .map(|(c, h)| {
+                (
+                    c,
+                    option_line(h, opt).unwrap_or_else(|| panic!("{c}: no {opt}")),
+                )
+            })
+            .collect();
+        for (c, l) in &lines {
+            assert_eq!(l, &lines[0].1, "{opt} differs in {c}");
+        }
+    }
+    assert!(option_line(&helps[0].1, "--robot")
+        .unwrap()
+        .contains("[default: abb_irb6700_200_260]"));
+    // Timing options: on every command that times a path, with the same unit and default.
+    for opt in [
+        "--zone", "--period", "--accel", "--jerk", "--at", "--spin", "--path",
+    ] {
+        let lines: Vec<_> = ["energy", "sweep", "optimise", "simulate"]
+            .iter()
+            .map(|c| {
+                let h = &helps.iter().find(|(n, _)| n == c).unwrap().1;
+                option_line(h, opt).unwrap_or_else(|| panic!("{c}: no {opt}"))
+            })
+            .collect();
+        assert!(lines.iter().all(|l| l == &lines[0]), "{opt}: {lines:#?}");
+    }
+    // Energy options on every command that computes the energy of a timed path.
+    for opt in ["--regeneration", "--no-payload", "--no-friction"] {
+        for c in ["energy", "sweep", "optimise"] {
+            let h = &helps.iter().find(|(n, _)| n == &c).unwrap().1;
+            assert!(option_line(h, opt).is_some(), "{c}: no {opt}");
+        }
+    }
+}
+
+#[test]
+fn numeric_options_state_their_unit_and_default() {
+    let cases: [(&str, &str, &[&str]); 14] = [
+        ("energy", "--zone", &["mm", "[default: 5]"]),
+        ("energy", "--period", &["ms", "[default: 4]"]),
+        ("energy", "--accel", &["m/s²", "[default: 1]"]),
+        ("energy", "--jerk", &["m/s³", "[default: 10]"]),
+        ("energy", "--spin", &["deg", "[default: 0]"]),
+        ("energy", "--at", &["m, m, m, deg"]),
+        ("sweep", "--x", &[", m", "default"]),
+        ("sweep", "--yaw", &["deg", "[default: 0]"]),
+        (
+            "sweep",
+            "--elbow-min",
+            &["dimensionless", "[default: 0.05]"],
+        ),
+        ("sweep", "--shoulder-min", &[", m", "[default: 0.1]"]),
+        ("sweep", "--joint-margin", &["deg", "[default: 3]"]),
+        ("simulate", "--rate", &["Hz", "[default: 250]"]),
+        ("simulate", "--noise-q", &["rad", "[default: 0.000001]"]),
+        ("simulate", "--excite", &["SECONDS"]),
+    ];
+    for (c, opt, needles) in cases {
+        let l = option_line(&help(c), opt).unwrap_or_else(|| panic!("{c}: no {opt}"));
+        for n in needles {
+            assert!(l.contains(n), "{c} {opt}: `{n}` not in `{l}`");
+        }
+    }
+}
+
+#[test]
+fn near_miss_robot_names_get_did_you_mean_and_the_list() {
+    let d = tmpdir("nearmiss");
+    for (cmd, typed, meant) in [
+        ("energy", "abb_irb6700", "abb_irb6700_200_260"),
+        ("sweep", "ur10", "ur10e"),
+        ("compare", "staubli_tx2000", "staubli_tx200"),
+    ] {
+        let mut args = vec![cmd, "--robot", typed];
+        if cmd == "compare" {
+            args.extend(["--log", "log.csv"]);
+        } else {
+            args.extend(["--at", "1.7,0,0,90"]);
+        }
+        fails_with(
+            &args,
+            &d,
+            &[
+                &format!("robot `{typed}`"),
+                &format!("did you mean `{meant}`"),
+                "Shipped robots: abb_irb4600_40_255, abb_irb6700_200_260, puma560, staubli_tx200, ur10e",
+            ],
+        );
+    }
+    // Nothing near: the list alone.
+    fails_with(
+        &["energy", "--robot", "zzz", "--at", "1.7,0,0,90"],
+        &d,
+        &["robot `zzz`", "Shipped robots:"],
+    );
+    assert!(!stderr(&printwatt(
+        &["energy", "--robot", "zzz", "--at", "1.7,0,0,90"],
+        &d
+    ))
+    .contains("did you mean"));
+}
+
+#[test]
+fn a_placement_in_millimetres_gets_a_hint() {
+    let d = tmpdir("mm");
+    fails_with(
+        &["energy", "--at", "1700,0,0,90"],
+        &d,
+        &["--at `1700,0,0,90`", "x = 1700 m", "did you mean 1.7 m"],
+    );
+    fails_with(
+        &["sweep", "--at", "1.7,0,0,90;1700,0,200,0"],
+        &d,
+        &["x = 1700 m", "did you mean 1.7 m"],
+    );
+    fails_with(
+        &["sweep", "--x", "1200:1800:100", "--y", "0"],
+        &d,
+        &["x = 1200 m", "did you mean 1.2 m"],
+    );
+}
+
+#[test]
+fn energy_json_writes_nothing_but_the_json() {
+    let d = tmpdir("jsononly");
+    let o = printwatt(&["energy", "--at", "1.7,0,0,90", "--json"], &d);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(v["output_csv"].is_null(), "{v}");
+    assert_eq!(std::fs::read_dir(&d).unwrap().count(), 0, "files written");
+    // --out makes it write the CSV too; --no-csv never.
+    let o = printwatt(
+        &["energy", "--at", "1.7,0,0,90", "--json", "--out", "o"],
+        &d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(d.join("o/default.energy.csv").is_file());
+    let o = printwatt(&["energy", "--at", "1.7,0,0,90", "--no-csv"], &d);
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(!d.join("default.energy.csv").exists());
+}
+
+#[test]
+fn sweep_runs_at_the_timing_energy_was_checked_at() {
+    let d = tmpdir("timing");
+    let args = [
+        "--at",
+        "1.7,0,0,90",
+        "--period",
+        "8",
+        "--accel",
+        "0.5",
+        "--json",
+    ];
+    let mut e = vec!["energy"];
+    e.extend(args);
+    let o = printwatt(&e, &d);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let e: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let mut s = vec!["sweep"];
+    s.extend(args);
+    let o = printwatt(&s, &d);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let s: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let t_e = e["print_time_s"].as_f64().unwrap();
+    assert_eq!(s["best"]["outcome"]["status"], "feasible", "{s}");
+    let t_s = s["best"]["outcome"]["duration_s"].as_f64().unwrap();
+    assert_eq!(t_e, t_s);
+    // 8 ms samples: the path takes the same time as at 4 ms, with half the samples.
+    let o = printwatt(&["energy", "--at", "1.7,0,0,90", "--json"], &d);
+    let e4: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let n8 = e["energy"]["samples"].as_u64().unwrap();
+    let n4 = e4["energy"]["samples"].as_u64().unwrap();
+    assert!((n4 as f64 / n8 as f64 - 2.0).abs() < 0.01, "{n4} vs {n8}");
+}
+
+/// Every number of a JSON value has at most 9 significant digits; no `Ok`/`Err` key anywhere.
+fn check_json_shape(cmd: &str, v: &serde_json::Value, path: &str) {
+    match v {
+        serde_json::Value::Number(n) => {
+            let x = n.as_f64().unwrap();
+            let r: f64 = format!("{x:.8e}").parse().unwrap();
+            assert_eq!(x, r, "{cmd}: {path} = {x} has float noise");
+        }
+        serde_json::Value::Array(a) => {
+            for (i, x) in a.iter().enumerate() {
+                check_json_shape(cmd, x, &format!("{path}[{i}]"));
+            }
+        }
+        serde_json::Value::Object(o) => {
+            for (k, x) in o {
+                assert!(k != "Ok" && k != "Err", "{cmd}: Rust wrapper at {path}.{k}");
+                check_json_shape(cmd, x, &format!("{path}.{k}"));
+            }
+        }
+        _ => {}
+    }
+}
+
+#[test]
+fn every_command_answers_json_with_schema_version_and_no_rust_wrappers() {
+    let d = tmpdir("json-all");
+    // simulate --json without --out: the samples in the JSON, no file.
+    let o = printwatt(
+        &[
+            "simulate",
+            "--robot",
+            "abb_irb4600_40_255",
+            "--excite",
+            "3",
+            "--hidden",
+            "coulomb=30",
+            "--json",
+        ],
+        &d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let sim: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(sim["log"].is_null());
+    assert_eq!(sim["rows"].as_array().unwrap().len(), 750);
+    assert_eq!(sim["columns"][0], "t[s]");
+    assert_eq!(
+        std::fs::read_dir(&d).unwrap().count(),
+        0,
+        "simulate --json wrote a file"
+    );
+    // With --out the log is written and named.
+    let o = printwatt(
+        &[
+            "simulate",
+            "--robot",
+            "abb_irb4600_40_255",
+            "--excite",
+            "3",
+            "--hidden",
+            "coulomb=30",
+            "--out",
+            ".",
+        ],
+        &d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(d.join("log.csv").is_file());
+    let r = ["--robot", "abb_irb4600_40_255", "--log", "log.csv"];
+    let runs: Vec<(&str, Vec<&str>)> = vec![
+        ("robots", vec!["robots"]),
+        ("energy", vec!["energy", "--at", "1.7,0,0,90"]),
+        ("sweep", vec!["sweep", "--at", "1.7,0,0,90;3,0,0,0"]),
+        (
+            "optimise",
+            vec![
+                "optimise",
+                "--x",
+                "1.6,1.7",
+                "--y",
+                "0",
+                "--yaw",
+                "90",
+                "--max-evals",
+                "5",
+                "--tolerance",
+                "0,0",
+            ],
+        ),
+        ("compare", [&["compare"][..], &r].concat()),
+        ("diagnose", [&["diagnose"][..], &r].concat()),
+        (
+            "identify",
+            [&["identify"][..], &r, &["--effects", "coulomb"]].concat(),
+        ),
+    ];
+    let before: Vec<_> = std::fs::read_dir(&d)
+        .unwrap()
+        .map(|e| e.unwrap().file_name())
+        .collect();
+    for (cmd, mut args) in runs {
+        args.push("--json");
+        let o = printwatt(&args, &d);
+        assert!(o.status.success(), "{cmd}: {}", stderr(&o));
+        let v: serde_json::Value =
+            serde_json::from_slice(&o.stdout).unwrap_or_else(|e| panic!("{cmd}: {e}"));
+        assert_eq!(v["schema_version"], 1, "{cmd}");
+        assert!(v["warnings"].is_array(), "{cmd}");
+        check_json_shape(cmd, &v, "");
+        if cmd == "sweep" {
+            let rows = v["rows"].as_array().unwrap();
+            assert_eq!(rows[0]["outcome"]["status"], "feasible");
+            assert!(rows[0]["outcome"]["energy_j"].as_f64().unwrap() > 0.0);
+            assert_eq!(rows[1]["outcome"]["status"], "infeasible");
+            assert_eq!(rows[1]["outcome"]["reason"], "unreachable");
+        }
+        // Nothing but the JSON (identify's calibrated robot is its result).
+        let now: Vec<_> = std::fs::read_dir(&d)
+            .unwrap()
+            .map(|e| e.unwrap().file_name())
+            .filter(|f| !before.contains(f))
+            .collect();
+        if cmd == "identify" {
+            assert_eq!(now.len(), 1, "{now:?}");
+            assert!(now[0].to_string_lossy().ends_with(".calibrated.toml"));
+        } else {
+            assert!(now.is_empty(), "{cmd} --json wrote {now:?}");
+        }
+    }
+    assert!(!d.join("results").exists(), "optimise --json wrote a run");
 }

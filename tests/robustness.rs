@@ -70,13 +70,11 @@ fn energy_out_refuses_to_replace_the_robot_urdf() {
     write(&d, "p.gcode", SHORT);
     for f in ["rob/robot.urdf", "rob/drive.toml"] {
         let before = std::fs::read(d.join(f)).unwrap();
+        // --out names a directory: an input file given there is refused, not replaced.
         let o = energy_at(&d, "rob", "p.gcode", &["--out", f]);
         assert!(!o.status.success());
         let e = err(&o);
-        assert!(
-            e.contains("it is an input of this command") && e.contains(f),
-            "{e}"
-        );
+        assert!(e.contains("not a directory") && e.contains(f), "{e}");
         assert_eq!(std::fs::read(d.join(f)).unwrap(), before, "{f} untouched");
     }
 }
@@ -102,24 +100,40 @@ fn simulate_out_refuses_to_replace_its_own_trajectory_or_path() {
         &d,
     );
     assert!(!o.status.success());
-    assert!(err(&o).contains("input of this command"), "{}", err(&o));
+    assert!(err(&o).contains("not a directory"), "{}", err(&o));
     assert_eq!(std::fs::read(&p).unwrap(), before);
-    // A hard link to the input is the same file (device + inode), under another name.
+    // The log is `<out>/log.csv`: a trajectory of that name is an input, refused.
     let t = write(
         &d,
-        "t.csv",
+        "log.csv",
         "t,q1,q2,q3,q4,q5,q6\n0,0,0,0,0,0.5,0\n0.1,0,0,0,0,0.5,0\n0.2,0,0,0,0,0.5,0\n",
     );
-    std::fs::hard_link(&t, d.join("alias.csv")).unwrap();
     let o = run(
         &[
             "simulate",
             "--robot",
             "rob",
             "--trajectory",
-            "t.csv",
+            "log.csv",
+            "--force",
+        ],
+        &d,
+    );
+    assert!(!o.status.success());
+    assert!(err(&o).contains("input of this command"), "{}", err(&o));
+    // A hard link to the input is the same file (device + inode), under another name.
+    std::fs::create_dir_all(d.join("o")).unwrap();
+    std::fs::hard_link(&t, d.join("o/log.csv")).unwrap();
+    let o = run(
+        &[
+            "simulate",
+            "--robot",
+            "rob",
+            "--trajectory",
+            "log.csv",
             "--out",
-            "alias.csv",
+            "o",
+            "--force",
         ],
         &d,
     );
@@ -133,7 +147,7 @@ fn identify_drive_out_refuses_to_replace_the_measurement_log_even_with_force() {
     robot_copy(&d);
     let o = run(
         &[
-            "simulate", "--robot", "rob", "--excite", "4", "--rate", "100", "--out", "log.csv",
+            "simulate", "--robot", "rob", "--excite", "4", "--rate", "100", "--out", ".",
         ],
         &d,
     );
@@ -321,7 +335,8 @@ fn run_outside_results_dir_is_refused() {
         );
         assert!(!o.status.success(), "{bad}");
         assert!(
-            err(&o).contains("must stay inside --results-dir"),
+            err(&o).contains("must stay inside the results directory")
+                && err(&o).contains("--results-dir"),
             "{bad}: {}",
             err(&o)
         );
@@ -521,7 +536,7 @@ fn utf8_bom_and_cr_only_line_endings_are_read() {
     .unwrap();
     std::fs::write(d.join("cr.gcode"), SHORT.replace('\n', "\r")).unwrap();
     for f in ["bom.csv", "cr.csv", "bom.gcode", "cr.gcode"] {
-        let o = energy_at(&d, "rob", f, &["--out", "o.csv"]);
+        let o = energy_at(&d, "rob", f, &["--no-csv"]);
         assert!(o.status.success(), "{f}: {}", err(&o));
     }
 }
@@ -558,7 +573,7 @@ fn file_exists_error_names_the_path_and_force_before_anything_is_written() {
     robot_copy(&d);
     let o = run(
         &[
-            "simulate", "--robot", "rob", "--excite", "4", "--rate", "100", "--out", "log.csv",
+            "simulate", "--robot", "rob", "--excite", "4", "--rate", "100", "--out", ".",
         ],
         &d,
     );

@@ -12,7 +12,8 @@ PAPER = {"P1": 1185.4, "P2": 1151.2, "P3": None, "P4": 2497.6, "P5": 1237.8}
 
 def named(run):
     d = json.load(open(os.path.join(R, run, "summary.json")))
-    return {n: e["outcome"]["Ok"]["energy_j"] for n, e in d["named"]}
+    # schema_version 1 writes the outcome's fields directly; older files wrapped them in "Ok".
+    return {n: e["outcome"].get("Ok", e["outcome"])["energy_j"] for n, e in d["named"]}
 
 
 a = named("irb6700_z0.2_abs")

@@ -1,6 +1,6 @@
 //! `printwatt compare`, `diagnose`, `identify`: shared loading, and `compare` itself.
 
-use super::{load_robot, LogArgs};
+use super::LogArgs;
 use anyhow::{Context, Result};
 use printwatt::identify::{self, metrics, model::Model, Log};
 use printwatt::report::html::Page;
@@ -9,9 +9,9 @@ use std::path::Path;
 
 /// The robot, the model (effects switched per drive file and command line) and the log.
 pub(crate) fn load(a: &LogArgs) -> Result<(printwatt::robot::RobotModel, Model, Log)> {
-    let robot = load_robot(&a.robot)?;
+    let robot = a.robot.load()?;
     let mut model = Model::new(&robot)
-        .with_context(|| format!("building the model of {}", a.robot.display()))?;
+        .with_context(|| format!("building the model of {}", a.robot.robot.display()))?;
     if let Some(list) = &a.effects {
         let names = identify::model::parse_effect_list(list)?;
         model.disable_all();
@@ -73,16 +73,27 @@ pub(crate) fn check_log_robot(log: &Log, robot: &printwatt::robot::RobotModel) {
 /// `printwatt compare`.
 pub fn run(a: super::CompareArgs) -> Result<()> {
     let (robot, model, log) = load(&a.log)?;
-    let inputs = super::inputs(&a.log.robot, Some(&robot), &[Some(a.log.log.as_path())]);
-    if let Some(dir) = &a.out {
+    let inputs = super::inputs(
+        &a.log.robot.robot,
+        Some(&robot),
+        &[Some(a.log.log.as_path())],
+    );
+    if let Some(dir) = &a.out.out {
         printwatt::output::check_dir(dir, &inputs)?;
+        for f in ["compare.json", "report.html"] {
+            printwatt::output::check_file(
+                &dir.join(f),
+                &inputs,
+                printwatt::output::Existing::Force(a.out.force),
+            )?;
+        }
     }
     let prep = identify::Prepared::new(&model, &log)?;
     let (mut cmp, pred) = metrics::compare(&prep, &model);
     cmp.calibration = robot.effects.calibration_summary();
     // The last check before anything leaves: the JSON, the report and the printed table.
     printwatt::output::check_finite_json("compare", &cmp)?;
-    if let Some(dir) = &a.out {
+    if let Some(dir) = &a.out.out {
         // The report plots the model's prediction, sample by sample.
         let ch = log.channels.max(1);
         let names: Vec<String> = (0..ch)
@@ -96,13 +107,13 @@ pub fn run(a: super::CompareArgs) -> Result<()> {
         printwatt::output::check_finite("compare: model prediction", &names, pred.chunks(ch))?;
         printwatt::output::write_file(
             &dir.join("compare.json"),
-            serde_json::to_string_pretty(&cmp)?.as_bytes(),
+            printwatt::output::json_text(&cmp)?.as_bytes(),
             &inputs,
-            printwatt::output::Existing::Replace,
+            printwatt::output::Existing::Force(a.out.force),
         )?;
         write_report(&dir.join("report.html"), &log, &pred, &cmp)?;
     }
-    if a.json {
+    if a.out.json {
         super::print_json(&cmp)?;
         return Ok(());
     }

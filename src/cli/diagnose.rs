@@ -11,7 +11,22 @@ pub fn run(a: super::DiagnoseArgs) -> Result<()> {
     d.calibration = robot.effects.calibration_summary();
     // The last check before anything leaves (the JSON or the printed ranking).
     printwatt::output::check_finite_json("diagnose", &d)?;
-    if a.json {
+    if let Some(dir) = &a.out.out {
+        let inputs = super::inputs(
+            &a.log.robot.robot,
+            Some(&robot),
+            &[Some(a.log.log.as_path())],
+        );
+        printwatt::output::check_dir(dir, &inputs)?;
+        std::fs::create_dir_all(dir).map_err(|e| printwatt::Error::io(dir, e))?;
+        printwatt::output::write_file(
+            &dir.join("diagnose.json"),
+            printwatt::output::json_text(&d)?.as_bytes(),
+            &inputs,
+            printwatt::output::Existing::Force(a.out.force),
+        )?;
+    }
+    if a.out.json {
         super::print_json(&d)?;
         return Ok(());
     }

@@ -1,66 +1,40 @@
 //! `printwatt energy`: the energy of one joint trajectory, or of a toolpath at one placement.
 
-use super::load_robot;
+use super::args;
 use anyhow::{bail, Context, Result};
 use printwatt::dynamics::complete_derivatives;
-use printwatt::energy::{self, EnergyModel, EnergyOptions, EnergyReport};
+use printwatt::energy::{self, EnergyModel, EnergyReport};
 use printwatt::output::{write_file, Existing};
 use printwatt::placement::PathJob;
-use printwatt::robot::Regeneration;
-use printwatt::timing::{JointStageOptions, ProfileOptions, Slowdown};
-use printwatt::toolpath::{self, Placement, ReadOptions};
+use printwatt::timing::{JointStageOptions, Slowdown};
 use printwatt::trajectory;
 use serde::Serialize;
 use std::path::{Path, PathBuf};
 
 /// `printwatt energy`
 #[derive(clap::Args, Debug)]
-pub struct EnergyArgs {
-    /// Robot: a directory with robot.urdf (+ drive.toml), a .urdf, a drive .toml, or the name
-    /// of a shipped robot.
-    #[arg(long)]
-    pub robot: PathBuf,
+pub struct EnergyCmd {
+    #[command(flatten)]
+    pub robot: args::RobotArg,
     /// Joint trajectory CSV: `t, q1..qN` (+ optional `qd1..qdN`, `qdd1..qddN`); units in
     /// brackets (`t[ms]`, `q1[deg]`), SI by default. Missing derivatives: central differences.
-    #[arg(long, conflicts_with_all = ["path", "at"])]
+    #[arg(long, value_name = "FILE", conflicts_with_all = ["path", "at"])]
     pub trajectory: Option<PathBuf>,
-    /// Toolpath (G-code, CSV of points, ABB RAPID module), timed at the placement `--at`.
-    #[arg(long, requires = "at")]
-    pub path: Option<PathBuf>,
-    /// Placement of the path's part frame in the robot base frame: `x,y,z,yaw` in m, m, m, deg.
-    #[arg(long, allow_hyphen_values = true)]
-    pub at: Option<String>,
-    /// Nozzle rotation about its own (vertical) axis relative to the part, deg.
-    #[arg(long, default_value_t = 0.0, allow_hyphen_values = true)]
-    pub spin: f64,
-    /// Corner blend radius for G-code moves that give none, mm.
-    #[arg(long, default_value_t = 5.0)]
-    pub zone: f64,
-    /// Interpolation period of the controller, ms (the output sample period).
-    #[arg(long, default_value_t = 4.0)]
-    pub period: f64,
-    /// TCP acceleration limit, m/s².
-    #[arg(long, default_value_t = 1.0)]
-    pub accel: f64,
-    /// TCP jerk limit, m/s³.
-    #[arg(long, default_value_t = 10.0)]
-    pub jerk: f64,
-    /// Override the drive file's regeneration policy: none, per_axis, dc_bus, grid.
+    #[command(flatten)]
+    pub path: args::PathArg,
+    #[command(flatten)]
+    pub at: args::AtArg,
+    #[command(flatten)]
+    pub timing: args::TimingArgs,
+    #[command(flatten)]
+    pub energy: args::EnergyArgs,
+    /// --out: the per-sample CSV `<input stem>.energy.csv` (t, q, q̇, q̈, torque, mechanical and
+    /// electrical power per joint, supply power).
+    #[command(flatten)]
+    pub out: args::OutputArgs,
+    /// Write no per-sample CSV (print the summary only).
     #[arg(long)]
-    pub regeneration: Option<String>,
-    /// Leave the payload out.
-    #[arg(long)]
-    pub no_payload: bool,
-    /// Leave friction out.
-    #[arg(long)]
-    pub no_friction: bool,
-    /// Per-sample output CSV (t, q, q̇, q̈, torque, mechanical and electrical power per joint,
-    /// supply power). Default: `<input stem>.energy.csv` beside the current directory.
-    #[arg(long)]
-    pub out: Option<PathBuf>,
-    /// Print the summary as JSON.
-    #[arg(long)]
-    pub json: bool,
+    pub no_csv: bool,
 }
 
 #[derive(Serialize)]
@@ -70,7 +44,7 @@ struct Summary<'a> {
     placement: Option<PlacementOut>,
     print_time_s: f64,
     slowdowns: &'a [Slowdown],
-    output_csv: String,
+    output_csv: Option<String>,
     energy: &'a EnergyReport,
 }
 
@@ -83,101 +57,64 @@ struct PlacementOut {
     nozzle_spin_deg: f64,
 }
 
-/// Parse `--at x,y,z,yaw[,spin]` ([`Placement::parse`]); a `--spin` other than 0 sets the
-/// nozzle spin (giving both is an error).
-pub fn parse_placement(s: &str, spin_deg: f64) -> Result<Placement> {
-    let mut p = Placement::parse(s).with_context(|| format!("--at `{s}`"))?;
-    if spin_deg != 0.0 {
-        if s.split(',').count() == 5 {
-            bail!("--at `{s}` gives a nozzle spin and so does --spin {spin_deg}: give one");
-        }
-        p.nozzle_spin = spin_deg.to_radians();
-    }
-    Ok(p)
-}
-
 /// Run `printwatt energy`.
-pub fn run(a: EnergyArgs) -> Result<()> {
-    let model = load_robot(&a.robot)?;
-    let spin = super::finite("--spin", a.spin)?;
+pub fn run(a: EnergyCmd) -> Result<()> {
+    let model = a.robot.load()?;
+    let opts = a.energy.options()?;
+    let placement = a.at.one()?;
+    if a.trajectory.is_none() && placement.is_none() {
+        bail!("give either --trajectory T, or --at x,y,z,yaw (with --path P; default paths/default.gcode)");
+    }
+    let input = match &a.trajectory {
+        Some(t) => t.clone(),
+        None => a.path.file(),
+    };
     // Every output is checked against every input before anything is computed or written.
     let inputs = super::inputs(
-        &a.robot,
+        &a.robot.robot,
         Some(&model),
-        &[a.trajectory.as_deref(), a.path.as_deref()],
+        &[Some(input.as_path()), a.robot.tool.as_deref()],
     );
-    let planned_out = a.out.clone().or_else(|| {
-        a.trajectory
-            .as_deref()
-            .or(a.path.as_deref())
-            .map(default_out)
-    });
-    if let Some(o) = &planned_out {
-        printwatt::output::check_file(o, &inputs, Existing::Replace)?;
-    }
-    let mut opts = EnergyOptions {
-        payload: !a.no_payload,
-        friction: !a.no_friction,
-        ..Default::default()
+    let out_dir = if a.no_csv {
+        None
+    } else {
+        a.out.dir(Some(Path::new(".")))
     };
-    if let Some(r) = &a.regeneration {
-        opts.regeneration = Some(Regeneration::parse(r).with_context(|| {
-            format!("--regeneration `{r}`: expected none, per_axis, dc_bus or grid")
-        })?);
+    let out = out_dir.as_ref().map(|d| d.join(default_out(&input)));
+    if let Some(d) = &out_dir {
+        args::check_out_dir(d)?;
     }
-    let (input, traj, placement, slowdowns, report) = if let Some(tp) = &a.trajectory {
+    if let Some(o) = &out {
+        printwatt::output::check_file(o, &inputs, Existing::Force(a.out.force))?;
+    }
+    let (traj, slowdowns, report) = if let Some(tp) = &a.trajectory {
         let (mut traj, sup) = trajectory::read_csv_for(tp, &model)?;
         complete_derivatives(&mut traj, sup)?;
         let em = EnergyModel::with_options(&model, opts)?;
         let report = energy::evaluate(&em, &traj)?;
-        (tp.clone(), traj, None, Vec::new(), report)
-    } else if let (Some(pp), Some(at)) = (&a.path, &a.at) {
-        let placement = parse_placement(at, spin)?;
-        let ro = ReadOptions {
-            default_zone: toolpath::Zone::Blend(a.zone * 1e-3),
-            ..Default::default()
-        };
-        for (opt, v) in [
-            ("--zone", a.zone),
-            ("--period", a.period),
-            ("--accel", a.accel),
-            ("--jerk", a.jerk),
-        ] {
-            super::finite(opt, v)?;
-        }
-        if a.zone < 0.0 {
-            bail!("--zone {}: expected a blend radius >= 0 mm", a.zone);
-        }
-        let path = super::load_path(pp, &ro)?;
-        let profile = ProfileOptions {
-            accel: a.accel,
-            lateral_accel: a.accel,
-            jerk: a.jerk,
-            dt: a.period * 1e-3,
-            ..Default::default()
-        };
-        if !(profile.dt > 0.0 && profile.accel > 0.0 && profile.jerk > 0.0) {
-            bail!("--period, --accel and --jerk must be > 0");
-        }
-        let job = PathJob::new(&model, &path, opts, profile, JointStageOptions::default())?;
-        let ev = job
-            .evaluate(&placement)?
-            .map_err(|e| anyhow::anyhow!("placement {at} is infeasible: {e}"))?;
-        (
-            pp.clone(),
-            ev.timed.traj,
-            Some(placement),
-            ev.timed.slowdowns,
-            ev.energy,
-        )
+        (traj, Vec::new(), report)
     } else {
-        bail!("give either --trajectory T, or --path P with --at x,y,z,yaw");
+        let placement = placement.context("--at")?;
+        let path = super::load_path(&input, &a.timing.read_options()?)?;
+        let profile = a.timing.profile()?;
+        let job = PathJob::new(&model, &path, opts, profile, JointStageOptions::default())?;
+        let ev = job.evaluate(&placement)?.map_err(|e| {
+            anyhow::anyhow!(
+                "placement {} is infeasible: {e}",
+                a.at.at.as_deref().unwrap_or_default()
+            )
+        })?;
+        (ev.timed.traj, ev.timed.slowdowns, ev.energy)
     };
-    let out = a.out.clone().unwrap_or_else(|| default_out(&input));
     let mut csv = Vec::new();
     report.series.write_csv(Some(&traj), &mut csv)?;
     check_report_finite(&report, &csv, &input)?;
-    write_file(&out, &csv, &inputs, Existing::Replace)?;
+    if let Some(o) = &out {
+        if let Some(d) = &out_dir {
+            std::fs::create_dir_all(d).map_err(|e| printwatt::Error::io(d, e))?;
+        }
+        write_file(o, &csv, &inputs, Existing::Force(a.out.force))?;
+    }
     let summary = Summary {
         robot: model.name(),
         input: input.display().to_string(),
@@ -190,10 +127,10 @@ pub fn run(a: EnergyArgs) -> Result<()> {
         }),
         print_time_s: report.duration_s,
         slowdowns: &slowdowns,
-        output_csv: out.display().to_string(),
+        output_csv: out.as_ref().map(|o| o.display().to_string()),
         energy: &report,
     };
-    if a.json {
+    if a.out.json {
         let mut v = serde_json::to_value(&summary)?;
         if let Some(e) = v.get_mut("energy").and_then(|e| e.as_object_mut()) {
             e.remove("series"); // per-sample data go to the CSV
@@ -337,5 +274,7 @@ fn print_summary(s: &Summary, model: &printwatt::robot::RobotModel) {
         t.regeneration_lost_j,
         t.standby_j
     );
-    println!("per-sample torque and power written to {}", s.output_csv);
+    if let Some(o) = &s.output_csv {
+        println!("per-sample torque and power written to {o}");
+    }
 }

@@ -41,25 +41,30 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
     }
     // Every output checked against every input before anything is computed or written.
     let inputs = super::inputs(
-        &la.robot,
+        &la.robot.robot,
         Some(&robot),
         &[Some(la.log.as_path()), a.validate_log.as_deref()],
     );
-    if let Some(dir) = &a.out {
+    if let Some(dir) = &a.out.out {
         printwatt::output::check_dir(dir, &inputs)?;
     }
     // The calibrated robot: always written, into --out (or the current directory), never
     // into the installed robots folder.
-    let resolved = super::resolve_robot(&la.robot);
+    let resolved = super::resolve_robot(&la.robot.robot);
     let dst = match &a.drive_out {
         Some(p) => p.clone(),
         None => a
+            .out
             .out
             .clone()
             .unwrap_or_else(|| std::path::PathBuf::from("."))
             .join(identify::calibrate::default_file_name(&resolved)),
     };
-    printwatt::output::check_file(&dst, &inputs, printwatt::output::Existing::Force(a.force))?;
+    printwatt::output::check_file(
+        &dst,
+        &inputs,
+        printwatt::output::Existing::Force(a.out.force),
+    )?;
     let prep = identify::Prepared::new(&model, &log)?;
     let vlog;
     let vprep;
@@ -104,7 +109,7 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
         &identify::calibrate::CalibrationInput {
             robot: &robot,
             drive_file: drive_src.as_deref(),
-            robot_arg: &la.robot.display().to_string(),
+            robot_arg: &la.robot.robot.display().to_string(),
             model: &model,
             id: &id,
             log: &log,
@@ -112,10 +117,10 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
         },
         &dst,
         Some(&installed),
-        a.force,
+        a.out.force,
     )?;
     let written = Some(dst);
-    if let Some(dir) = &a.out {
+    if let Some(dir) = &a.out.out {
         std::fs::create_dir_all(dir).map_err(|e| printwatt::Error::io(dir, e))?;
         let labels: Vec<String> = id.ladder.iter().map(|s| s.step.clone()).collect();
         let vals: Vec<f64> = id.ladder.iter().map(|s| s.validation_rmse).collect();
@@ -138,10 +143,10 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
         )?;
         printwatt::output::write_atomic(
             &dir.join("identify.json"),
-            serde_json::to_string_pretty(&id)?.as_bytes(),
+            printwatt::output::json_text(&id)?.as_bytes(),
         )?;
     }
-    if a.json {
+    if a.out.json {
         let v = serde_json::json!({
             "schema_version": 1,
             "identification": id,

@@ -6,6 +6,7 @@ use clap::{Parser, Subcommand};
 use printwatt::robot;
 use std::path::{Path, PathBuf};
 
+pub mod args;
 mod compare;
 mod diagnose;
 mod energy;
@@ -15,9 +16,17 @@ mod robots;
 mod simulate;
 mod sweep;
 
+/// `printwatt --version`: the package version and the git commit it was built from (build.rs).
+pub const VERSION: &str = concat!(
+    env!("CARGO_PKG_VERSION"),
+    " (commit ",
+    env!("PRINTWATT_COMMIT"),
+    ")"
+);
+
 /// printwatt: where to put a 3D concrete print so the robot arm spends the least energy.
 #[derive(Parser, Debug)]
-#[command(name = "printwatt", version, about, long_about = None)]
+#[command(name = "printwatt", version = VERSION, about, long_about = None)]
 pub struct Cli {
     #[command(subcommand)]
     pub command: Command,
@@ -33,7 +42,7 @@ pub enum Command {
     /// Find the minimum-energy placement (grid, then seeded pattern search) and write a report.
     Optimise(optimise::OptimiseArgs),
     /// Energy of a joint trajectory, or of a toolpath at one placement.
-    Energy(energy::EnergyArgs),
+    Energy(energy::EnergyCmd),
     /// Compare the model with a measured log: RMSE, energy error, where the residual sits.
     Compare(CompareArgs),
     /// Rank the catalogue effects by how much of the residual each explains (held out).
@@ -47,17 +56,16 @@ pub enum Command {
 /// Robot, log and model switches shared by compare/diagnose/identify.
 #[derive(clap::Args, Debug, Clone)]
 pub struct LogArgs {
-    /// Robot: a shipped robot's name, a directory, a .urdf or a drive .toml file.
-    #[arg(long)]
-    pub robot: PathBuf,
+    #[command(flatten)]
+    pub robot: args::RobotArg,
     /// Measured log (CSV, docs/measurement-logs.md).
-    #[arg(long)]
+    #[arg(long, value_name = "FILE")]
     pub log: PathBuf,
     /// Column map for a log without header, e.g. "t, q1..q6[deg], i1..i6, skip*12".
     #[arg(long)]
     pub columns: Option<String>,
     /// Effects switched on (comma list of catalogue names); for `identify`: the effects to
-    /// fit, in ladder order.
+    /// fit, in ladder order (`viscous[2]`: on joint 2 only, as in `simulate --hidden`).
     #[arg(long)]
     pub effects: Option<String>,
     /// Effects switched off (comma list).
@@ -70,12 +78,9 @@ pub struct LogArgs {
 pub struct CompareArgs {
     #[command(flatten)]
     pub log: LogArgs,
-    /// Print JSON.
-    #[arg(long)]
-    pub json: bool,
-    /// Directory for compare.json and report.html.
-    #[arg(long)]
-    pub out: Option<PathBuf>,
+    /// --out: compare.json and report.html.
+    #[command(flatten)]
+    pub out: args::OutputArgs,
 }
 
 /// `printwatt diagnose`
@@ -86,9 +91,9 @@ pub struct DiagnoseArgs {
     /// Number of time-block folds.
     #[arg(long, default_value_t = 5)]
     pub folds: usize,
-    /// Print JSON.
-    #[arg(long)]
-    pub json: bool,
+    /// --out: diagnose.json.
+    #[command(flatten)]
+    pub out: args::OutputArgs,
 }
 
 /// `printwatt identify`
@@ -97,40 +102,34 @@ pub struct IdentifyArgs {
     #[command(flatten)]
     pub log: LogArgs,
     /// Validate on this log instead of the last quarter of --log.
-    #[arg(long)]
+    #[arg(long, value_name = "FILE")]
     pub validate_log: Option<PathBuf>,
     /// Where to write the calibrated robot (default: `<name>.calibrated.toml` in --out, or in
     /// the current directory; never in the installed robots folder).
-    #[arg(long)]
+    #[arg(long, value_name = "FILE")]
     pub drive_out: Option<PathBuf>,
-    /// Overwrite an existing calibrated robot file (never the input).
-    #[arg(long)]
-    pub force: bool,
-    /// Directory for the calibrated robot, ladder.md, ladder.svg and identify.json.
-    #[arg(long)]
-    pub out: Option<PathBuf>,
-    /// Print JSON.
-    #[arg(long)]
-    pub json: bool,
+    /// --out: the calibrated robot, ladder.md, ladder.svg and identify.json.
+    #[command(flatten)]
+    pub out: args::OutputArgs,
 }
 
 /// `printwatt simulate`
 #[derive(clap::Args, Debug)]
 pub struct SimulateArgs {
-    /// Robot (nominal model).
-    #[arg(long)]
-    pub robot: PathBuf,
-    /// Toolpath to time at --at.
-    #[arg(long)]
-    pub path: Option<PathBuf>,
-    /// Placement x,y,z (m), yaw (deg).
-    #[arg(long, allow_hyphen_values = true)]
-    pub at: Option<String>,
+    /// The nominal robot (the "true" robot is it plus --hidden).
+    #[command(flatten)]
+    pub robot: args::RobotArg,
+    #[command(flatten)]
+    pub path: args::PathArg,
+    #[command(flatten)]
+    pub at: args::AtArg,
+    #[command(flatten)]
+    pub timing: args::TimingArgs,
     /// Joint trajectory CSV instead of a path.
-    #[arg(long)]
+    #[arg(long, value_name = "FILE")]
     pub trajectory: Option<PathBuf>,
     /// Synthetic exciting motion (sums of sines within limits) of this many seconds.
-    #[arg(long)]
+    #[arg(long, value_name = "SECONDS")]
     pub excite: Option<f64>,
     /// Hidden effects of the true robot, e.g. "coulomb=40,balancer=8000:20000,payload=+15".
     #[arg(long, allow_hyphen_values = true)]
@@ -153,9 +152,9 @@ pub struct SimulateArgs {
     /// Random seed.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
-    /// Output log.
-    #[arg(long)]
-    pub out: PathBuf,
+    /// --out: the log, `log.csv`.
+    #[command(flatten)]
+    pub out: args::OutputArgs,
 }
 
 /// `printwatt robots`
@@ -199,6 +198,13 @@ pub fn resolve_robot(arg: &Path) -> PathBuf {
 /// are shown (see [`note_warnings`]).
 pub fn load_robot(arg: &Path) -> Result<robot::RobotModel> {
     let p = resolve_robot(arg);
+    if !p.exists() {
+        anyhow::bail!(
+            "robot `{}`: no such file or directory, and no shipped robot of that name; {}",
+            arg.display(),
+            args::robot_suggestion(arg)
+        );
+    }
     let m = robot::load(&p).with_context(|| format!("loading robot {}", arg.display()))?;
     note_warnings(&m.source.display().to_string(), &m.warnings);
     Ok(m)
@@ -307,12 +313,15 @@ pub fn warnings() -> Vec<Warning> {
     WARNINGS.lock().map(|g| g.clone()).unwrap_or_default()
 }
 
-/// Print a `--json` answer with the warnings noted so far added as `warnings` (an object's
-/// key; other values are wrapped as `{"result": …, "warnings": […]}`).
+/// Print a `--json` answer: numbers rounded and `schema_version` added
+/// ([`printwatt::output::finish_json`]), the warnings noted so far added as `warnings` (an
+/// object's key; other values are wrapped as `{"schema_version": …, "result": …, "warnings":
+/// […]}`).
 pub fn print_json<T: serde::Serialize>(v: &T) -> Result<()> {
     // Before serde_json sees it: serde_json writes NaN and infinities as `null`.
     printwatt::output::check_finite_json("JSON output", v)?;
     let mut v = serde_json::to_value(v)?;
+    printwatt::output::finish_json(&mut v);
     add_warnings(&mut v);
     println!("{}", serde_json::to_string_pretty(&v)?);
     Ok(())
@@ -332,7 +341,11 @@ fn add_warnings(v: &mut serde_json::Value) {
         }
         other => {
             let inner = std::mem::take(other);
-            *other = serde_json::json!({"result": inner, "warnings": ws});
+            *other = serde_json::json!({
+                "schema_version": printwatt::output::JSON_SCHEMA_VERSION,
+                "result": inner,
+                "warnings": ws
+            });
         }
     }
 }

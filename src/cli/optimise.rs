@@ -141,7 +141,9 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
     let p = &a.p;
     let l = p.load()?;
     // Take the run directory before the work: an occupied or locked --run fails now.
-    let mut run_dir = if a.no_report {
+    // A JSON run writes nothing but the JSON unless --out (or --run) is given.
+    let json_only = p.out.json && p.out.out.is_none() && p.run.is_none();
+    let mut run_dir = if a.no_report || json_only {
         None
     } else {
         p.run_dir(&l, Some("optimise"))?
@@ -317,14 +319,14 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
             ),
         ];
         for (f, text) in &files {
-            if f.exists() && !p.force {
+            if f.exists() && !p.out.force {
                 anyhow::bail!("{} exists: replacing it needs --force", f.display());
             }
             printwatt::output::guard_inputs(f, &[l.path_file.as_path()])?;
             printwatt::output::write_atomic(f, text.as_bytes())?;
         }
     }
-    if p.json {
+    if p.out.json {
         super::print_json_text(&rep.summary_json(false)?)?;
         return Ok(());
     }

@@ -46,7 +46,7 @@ pub fn run(a: RobotsArgs) -> Result<()> {
         });
     }
     if a.json {
-        println!("{}", serde_json::to_string_pretty(&rows)?);
+        super::print_json(&serde_json::json!({ "robots": rows }))?;
         return Ok(());
     }
     println!(

@@ -1,22 +1,27 @@
 //! `printwatt simulate`
 
-use super::load_robot;
 use anyhow::{bail, Context, Result};
 use printwatt::identify::{self, log::SignalKind, simulate};
 
 /// `printwatt simulate`: a log from a "true" robot with hidden effects.
 pub fn run(a: super::SimulateArgs) -> Result<()> {
-    let robot = load_robot(&a.robot)?;
+    let robot = a.robot.load()?;
     // The output is checked against the inputs before any work.
-    printwatt::output::check_file(
-        &a.out,
-        &super::inputs(
-            &a.robot,
-            Some(&robot),
-            &[a.path.as_deref(), a.trajectory.as_deref()],
-        ),
-        printwatt::output::Existing::Replace,
-    )?;
+    let inputs = super::inputs(
+        &a.robot.robot,
+        Some(&robot),
+        &[
+            a.path.path.as_deref(),
+            a.trajectory.as_deref(),
+            a.robot.tool.as_deref(),
+        ],
+    );
+    let out_dir = a.out.dir(Some(std::path::Path::new(".")));
+    let out_file = out_dir.as_ref().map(|d| d.join("log.csv"));
+    if let (Some(d), Some(f)) = (&out_dir, &out_file) {
+        super::args::check_out_dir(d)?;
+        printwatt::output::check_file(f, &inputs, printwatt::output::Existing::Force(a.out.force))?;
+    }
     for (opt, v) in [
         ("--noise-q", a.noise_q),
         ("--quantum", a.quantum),
@@ -57,25 +62,24 @@ pub fn run(a: super::SimulateArgs) -> Result<()> {
     if !(a.rate > 0.0 && a.rate.is_finite()) {
         bail!("--rate must be > 0 Hz");
     }
-    let dense = match (&a.path, &a.trajectory, a.excite) {
+    let placement = a.at.one()?;
+    let dense = match (&a.path.path, &a.trajectory, a.excite) {
         (Some(p), None, None) => {
-            let at = a.at.as_deref().context("--path needs --at x,y,z,yaw_deg")?;
-            let pl = printwatt::toolpath::Placement::parse(at).with_context(|| {
-                format!(
-                    "--at `{at}`: expected x,y,z,yaw in m, m, m, deg (and an optional spin, deg)"
-                )
-            })?;
-            let tp = super::load_path(p, &printwatt::toolpath::ReadOptions::default())?;
+            let pl = placement.context("--path needs --at x,y,z,yaw")?;
+            let tp = super::load_path(p, &a.timing.read_options()?)?;
             let job = printwatt::placement::PathJob::new(
                 &robot,
                 &tp,
                 printwatt::energy::EnergyOptions::default(),
-                printwatt::timing::ProfileOptions::default(),
+                a.timing.profile()?,
                 printwatt::timing::JointStageOptions::default(),
             )?;
             match job.evaluate(&pl)? {
                 Ok(e) => e.timed.traj,
-                Err(f) => bail!("the path is not feasible at {at}: {f}"),
+                Err(f) => bail!(
+                    "the path is not feasible at {}: {f}",
+                    a.at.at.as_deref().unwrap_or_default()
+                ),
             }
         }
         (None, Some(t), None) => {
@@ -116,22 +120,67 @@ pub fn run(a: super::SimulateArgs) -> Result<()> {
         ),
     ];
     let text = simulate::simulate_log(&truth, &traj, &opt, &meta)?;
-    let inputs = super::inputs(
-        &a.robot,
-        Some(&robot),
-        &[a.path.as_deref(), a.trajectory.as_deref()],
-    );
-    printwatt::output::write_file(
-        &a.out,
-        text.as_bytes(),
-        &inputs,
-        printwatt::output::Existing::Replace,
-    )?;
-    eprintln!(
-        "wrote {} ({} samples at {} Hz)",
-        a.out.display(),
-        traj.len(),
-        a.rate
-    );
+    if let (Some(d), Some(f)) = (&out_dir, &out_file) {
+        std::fs::create_dir_all(d).map_err(|e| printwatt::Error::io(d, e))?;
+        printwatt::output::write_file(
+            f,
+            text.as_bytes(),
+            &inputs,
+            printwatt::output::Existing::Force(a.out.force),
+        )?;
+        if !a.out.json {
+            eprintln!(
+                "wrote {} ({} samples at {} Hz)",
+                f.display(),
+                traj.len(),
+                a.rate
+            );
+        }
+    }
+    if a.out.json {
+        let (columns, rows) = csv_columns_rows(&text)?;
+        let mut v = serde_json::json!({
+            "schema_version": identify::JSON_SCHEMA_VERSION,
+            "robot": robot.name(),
+            "log": out_file.as_ref().map(|f| f.display().to_string()),
+            "signal": kind.prefix(),
+            "unit": kind.unit(),
+            "samples": traj.len(),
+            "rate_hz": a.rate,
+            "hidden": a.hidden.as_deref().unwrap_or(""),
+            "noise": noise,
+            "noise_q_rad": a.noise_q,
+            "seed": a.seed,
+            "columns": columns,
+        });
+        // A JSON run without --out writes no file: the samples come in the JSON.
+        if out_file.is_none() {
+            v["rows"] = serde_json::json!(rows);
+        }
+        super::print_json(&v)?;
+    }
     Ok(())
+}
+
+/// The header (column names with units) and the rows of a simulated log's CSV text (`#`
+/// metadata lines skipped).
+fn csv_columns_rows(text: &str) -> Result<(Vec<String>, Vec<Vec<f64>>)> {
+    let mut lines = text
+        .lines()
+        .filter(|l| !l.starts_with('#') && !l.trim().is_empty());
+    let columns: Vec<String> = lines
+        .next()
+        .unwrap_or_default()
+        .split(',')
+        .map(|c| c.trim().to_string())
+        .collect();
+    let rows = lines
+        .map(|l| {
+            l.split(',')
+                .map(|x| x.trim().parse::<f64>())
+                .collect::<std::result::Result<Vec<f64>, _>>()
+        })
+        .collect::<std::result::Result<Vec<_>, _>>()
+        .context("simulated log: a value that is not a number")?;
+    Ok((columns, rows))
 }

@@ -8,44 +8,41 @@ use printwatt::placement::sweep::{parse_range, Evaluated, Evaluator, Grid, Objec
 use printwatt::placement::PathJob;
 use printwatt::report::placement::{Detail, RunReport};
 use printwatt::timing::{JointStageOptions, ProfileOptions};
-use printwatt::toolpath::{self, Placement, ReadOptions};
+use printwatt::toolpath::{self, Placement};
 use std::io::IsTerminal;
 use std::path::{Path, PathBuf};
 
 /// Options shared by `sweep` and `optimise`: robot, path, where to place it, feasibility.
 #[derive(clap::Args, Debug, Clone)]
 pub struct PlacementArgs {
-    /// Robot directory or shipped robot name.
-    #[arg(long, default_value = "abb_irb6700_200_260")]
-    pub robot: PathBuf,
-    /// Tool preset replacing the robot's tool and payload (e.g. `tools/seed001_spindle.toml`).
-    #[arg(long)]
-    pub tool: Option<PathBuf>,
-    /// Toolpath (G-code, CSV or RAPID); default `paths/default.gcode`.
-    #[arg(long)]
-    pub path: Option<PathBuf>,
-    /// Grid x of the part origin, m: `min:max:step`, a value, or a comma list.
+    #[command(flatten)]
+    pub robot: super::args::RobotArg,
+    #[command(flatten)]
+    pub path: super::args::PathArg,
+    /// Grid x of the part origin, m: `min:max:step`, a value, or a comma list (default: a
+    /// 16-cell grid over the robot's reach).
     #[arg(long, allow_hyphen_values = true)]
     pub x: Option<String>,
-    /// Grid y of the part origin, m: `min:max:step`, a value, or a comma list.
+    /// Grid y of the part origin, m: `min:max:step`, a value, or a comma list (default: as
+    /// --x).
     #[arg(long, allow_hyphen_values = true)]
     pub y: Option<String>,
     /// z of the part origin (nozzle tip height on the bed), m: value, list or range
     /// (default 0 for a given grid; with --set, one value replacing the set's heights).
     #[arg(long, allow_hyphen_values = true)]
     pub z: Option<String>,
-    /// Part yaws, deg (list or range).
+    /// Part yaws about the vertical, deg: a value, a comma list or `min:max:step` [default: 0].
     #[arg(long, allow_hyphen_values = true)]
     pub yaw: Option<String>,
-    /// Nozzle spins, deg (list or range; default 0).
-    #[arg(long, allow_hyphen_values = true)]
-    pub spin: Option<String>,
     /// Named placements CSV (e.g. `paths/placements/p1-p5.csv`).
-    #[arg(long)]
+    #[arg(long, value_name = "FILE")]
     pub set: Option<PathBuf>,
-    /// Placements `x,y,z,yaw;x,y,z,yaw;…` in m and deg.
-    #[arg(long, allow_hyphen_values = true)]
-    pub at: Option<String>,
+    #[command(flatten)]
+    pub at: super::args::AtArg,
+    #[command(flatten)]
+    pub timing: super::args::TimingArgs,
+    #[command(flatten)]
+    pub energy: super::args::EnergyArgs,
     /// Energy to minimise: `supply` (standby + drives), `drives` (standby excluded),
     /// `mechanical` (signed Σ∫τq̇), `mechanical_positive` (Σ∫max(τq̇, 0): no regeneration),
     /// `mechanical_abs` (Σ∫|τq̇|: braking costed like driving).
@@ -69,7 +66,8 @@ pub struct PlacementArgs {
     /// comma list per joint (the drive file's `limit_margin_rad` takes precedence).
     #[arg(long, default_value = "3")]
     pub joint_margin: String,
-    /// Smallest elbow measure accepted.
+    /// Smallest elbow measure accepted, |sin q3'| (dimensionless, 0…1; 0 switches the check
+    /// off): how far the arm is from being stretched straight or folded.
     #[arg(long, default_value_t = 0.05)]
     pub elbow_min: f64,
     /// Smallest wrist-centre distance from axis 1 accepted, m.
@@ -78,21 +76,16 @@ pub struct PlacementArgs {
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,
-    /// Write `<results-dir>/<run>/` (summary.json, placements.csv, report.html). An existing
-    /// run is never replaced without --force. `optimise` without --run writes
-    /// `<results-dir>/runs/optimise-<robot>-<path>-<UTC time>/` (ignored by git).
-    #[arg(long)]
+    /// Shorthand for `--out <results-dir>/<RUN>`: the run directory (summary.json,
+    /// placements.csv, report.html). An existing run is never replaced without --force.
+    #[arg(long, value_name = "RUN", conflicts_with = "out")]
     pub run: Option<String>,
-    /// Replace an existing run directory of the same name (files printwatt did not write are
-    /// still refused).
-    #[arg(long)]
-    pub force: bool,
-    /// Parent directory of run directories.
-    #[arg(long, default_value = "results")]
+    /// Parent directory of --run and of optimise's default run directories.
+    #[arg(long, value_name = "DIR", default_value = "results")]
     pub results_dir: PathBuf,
-    /// Print JSON instead of text.
-    #[arg(long)]
-    pub json: bool,
+    /// --out: the run directory (summary.json, placements.csv, report.html).
+    #[command(flatten)]
+    pub out: super::args::OutputArgs,
 }
 
 /// `printwatt sweep` arguments.
@@ -126,16 +119,21 @@ pub struct Loaded {
     pub objective: Objective,
     /// Feasibility thresholds.
     pub feas: FeasibilityOptions,
+    /// Energy model options (--regeneration, --no-payload, --no-friction).
+    pub energy: EnergyOptions,
+    /// Controller timing (--period, --accel, --jerk).
+    pub profile: ProfileOptions,
 }
 
 impl Loaded {
-    /// The job (energy model, blended and planned path) with default energy and timing options.
+    /// The job (energy model, blended and planned path) with the command line's energy and
+    /// timing options.
     pub fn job(&self) -> Result<PathJob<'_>> {
         Ok(PathJob::new(
             &self.robot,
             &self.path,
-            EnergyOptions::default(),
-            ProfileOptions::default(),
+            self.energy,
+            self.profile,
             JointStageOptions::default(),
         )?)
     }
@@ -151,15 +149,9 @@ impl Loaded {
 impl PlacementArgs {
     /// Load the robot and path and turn the options into library options.
     pub fn load(&self) -> Result<Loaded> {
-        let mut robot = super::load_robot(&self.robot)?;
-        if let Some(t) = &self.tool {
-            printwatt::robot::apply_tool_preset(&mut robot, t)?;
-        }
-        let path_file = self
-            .path
-            .clone()
-            .unwrap_or_else(|| shipped("paths/default.gcode"));
-        let path = super::load_path(&path_file, &ReadOptions::default())?;
+        let robot = self.robot.load()?;
+        let path_file = self.path.file();
+        let path = super::load_path(&path_file, &self.timing.read_options()?)?;
         for (opt, v) in [
             ("--wrist-min", self.wrist_min),
             ("--elbow-min", self.elbow_min),
@@ -215,12 +207,26 @@ impl PlacementArgs {
             path_file,
             objective,
             feas,
+            energy: self.energy.options()?,
+            profile: self.timing.profile()?,
         })
     }
 
     /// The placements asked for: `(placements, names, grid)`. `default_grid` is used when no
     /// grid, set or list is given (None: error).
     pub fn placements(&self, default_grid: Option<Grid>) -> Result<Asked> {
+        let asked = self.placements_unchecked(default_grid)?;
+        if let Some(p) = asked
+            .0
+            .iter()
+            .find(|p| super::args::check_metres(p).is_err())
+        {
+            super::args::check_metres(p).context("placement")?;
+        }
+        Ok(asked)
+    }
+
+    fn placements_unchecked(&self, default_grid: Option<Grid>) -> Result<Asked> {
         let deg = |what: &str, s: &str| -> Result<Vec<f64>> {
             Ok(parse_range(what, s)?
                 .into_iter()
@@ -245,7 +251,7 @@ impl PlacementArgs {
             let (ps, names) = self.with_spins(ps, names)?;
             return Ok((ps, Some(names), None));
         }
-        if let Some(at) = &self.at {
+        if let Some(at) = &self.at.at {
             let mut v = Vec::new();
             for (i, item) in at.split(';').filter(|s| !s.trim().is_empty()).enumerate() {
                 v.push(parse_placement(item).with_context(|| format!("--at item {}", i + 1))?);
@@ -253,7 +259,7 @@ impl PlacementArgs {
             if v.is_empty() {
                 bail!("--at `{at}`: no placements");
             }
-            if self.spin.is_some() {
+            if self.at.spin.is_some() {
                 let names = (1..=v.len()).map(|i| i.to_string()).collect();
                 let (v, names) = self.with_spins(v, names)?;
                 return Ok((v, Some(names), None));
@@ -266,7 +272,7 @@ impl PlacementArgs {
                 ys: parse_range("y", y)?,
                 zs: parse_range("z", self.z.as_deref().unwrap_or("0"))?,
                 yaws: deg("yaw", self.yaw.as_deref().unwrap_or("0"))?,
-                spins: deg("spin", self.spin.as_deref().unwrap_or("0"))?,
+                spins: deg("spin", self.at.spin.as_deref().unwrap_or("0"))?,
             },
             (None, None) => match default_grid {
                 Some(g) => g,
@@ -282,7 +288,7 @@ impl PlacementArgs {
             if let Some(y) = &self.yaw {
                 g.yaws = deg("yaw", y)?;
             }
-            if let Some(s) = &self.spin {
+            if let Some(s) = &self.at.spin {
                 g.spins = deg("spin", s)?;
             }
         }
@@ -295,9 +301,13 @@ impl PlacementArgs {
     /// The inputs of the command (robot files, path, set) for the output policy.
     pub fn inputs(&self, l: &Loaded) -> printwatt::output::Inputs {
         super::inputs(
-            &self.robot,
+            &self.robot.robot,
             Some(&l.robot),
-            &[Some(l.path_file.as_path()), self.set.as_deref()],
+            &[
+                Some(l.path_file.as_path()),
+                self.set.as_deref(),
+                self.robot.tool.as_deref(),
+            ],
         )
     }
 
@@ -314,7 +324,7 @@ impl PlacementArgs {
                 &self.results_dir,
                 r,
                 &self.inputs(l),
-                printwatt::output::Existing::Force(self.force),
+                printwatt::output::Existing::Force(self.out.force),
             )?)),
         }
     }
@@ -327,7 +337,7 @@ impl PlacementArgs {
         ps: Vec<Placement>,
         names: Vec<String>,
     ) -> Result<(Vec<Placement>, Vec<String>)> {
-        let Some(sp) = &self.spin else {
+        let Some(sp) = &self.at.spin else {
             return Ok((ps, names));
         };
         let spins = parse_range("spin", sp)?;
@@ -421,6 +431,13 @@ impl PlacementArgs {
         if self.run.is_some() {
             return self.begin_run(l, self.run.as_deref());
         }
+        if let Some(dir) = &self.out.out {
+            return Ok(Some(printwatt::output::RunDir::begin_at(
+                dir,
+                &self.inputs(l),
+                printwatt::output::Existing::Force(self.out.force),
+            )?));
+        }
         let Some(cmd) = default_for else {
             return Ok(None);
         };
@@ -428,7 +445,7 @@ impl PlacementArgs {
             .duration_since(std::time::UNIX_EPOCH)
             .map(|d| d.as_secs())
             .unwrap_or(0);
-        let base = default_run_name(cmd, &self.robot, &l.path_file, now);
+        let base = default_run_name(cmd, &self.robot.robot, &l.path_file, now);
         let parent = self.results_dir.join("runs");
         let mut dir = parent.join(&base);
         let mut k = 2;
@@ -599,7 +616,7 @@ pub fn run(a: SweepArgs) -> Result<()> {
     let rows = run_sweep(&ev, &ps, &pool)?;
     let secs = t0.elapsed().as_secs_f64();
     let mut details = Vec::new();
-    if a.run.is_some() {
+    if a.run.is_some() || a.out.out.is_some() {
         if let Some(b) = best_of(&rows) {
             details.extend(detail(&job, "best", b)?);
         }
@@ -639,13 +656,13 @@ pub fn run(a: SweepArgs) -> Result<()> {
     if let Some(mut rd) = run_dir.take() {
         rep.write_into(&mut rd)?;
         let dir = rd.commit()?;
-        if !a.json {
+        if !a.out.json {
             eprintln!("wrote {}", dir.display());
         }
     } else {
         rep.check_finite()?;
     }
-    if a.json {
+    if a.out.json {
         super::print_json_text(&rep.summary_json(true)?)?;
     } else {
         print_rows(&rep.rows, rep.names.as_deref());

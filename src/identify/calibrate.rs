@@ -331,10 +331,9 @@ give --out DIR (default: the current directory)",
         }
     }
     if dst.exists() && !force {
-        return Err(Error::Invalid(format!(
-            "{}: exists; pass --force to overwrite it, or give another --out directory",
-            dst.display()
-        )));
+        return Err(Error::OutputExists {
+            path: dst.to_path_buf(),
+        });
     }
     let text = calibrated_text(inp, dst)?;
     crate::output::write_atomic(dst, text.as_bytes())

@@ -18,7 +18,7 @@ pub use model::{Model, Prepared, DEFAULT_EFFECTS};
 
 /// Version of the `--json` shapes of `compare`, `diagnose`, `identify` and `simulate`
 /// (docs/json.md); raised when a field changes meaning or is removed.
-pub const JSON_SCHEMA_VERSION: u32 = 1;
+pub const JSON_SCHEMA_VERSION: u32 = crate::output::JSON_SCHEMA_VERSION;
 
 /// The default train/validation split of a log of `n` samples: the first 75 % (rows
 /// `0..cut`) to fit, the last 25 % (`cut..n`) to validate. Time

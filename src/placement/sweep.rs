@@ -172,8 +172,27 @@ pub struct Evaluated {
     /// The placement (m, rad).
     #[serde(serialize_with = "ser_placement")]
     pub placement: Placement,
-    /// Its numbers, or why it is infeasible.
+    /// Its numbers, or why it is infeasible. JSON: `{"status": "feasible", …numbers}` or
+    /// `{"status": "infeasible", "reason": …, …}` (docs/json.md).
+    #[serde(serialize_with = "ser_outcome")]
     pub outcome: std::result::Result<Feasible, Infeasible>,
+}
+
+/// The outcome in JSON without Rust's `Ok`/`Err` wrapper: a `status` tag beside the fields.
+fn ser_outcome<S: serde::Serializer>(
+    o: &std::result::Result<Feasible, Infeasible>,
+    s: S,
+) -> std::result::Result<S::Ok, S::Error> {
+    #[derive(Serialize)]
+    #[serde(tag = "status", rename_all = "snake_case")]
+    enum Outcome<'a> {
+        Feasible(&'a Feasible),
+        Infeasible(&'a Infeasible),
+    }
+    match o {
+        Ok(f) => Outcome::Feasible(f).serialize(s),
+        Err(i) => Outcome::Infeasible(i).serialize(s),
+    }
 }
 
 fn ser_placement<S: serde::Serializer>(

@@ -195,7 +195,7 @@ impl RunReport {
                 .map(|n| n.iter().cloned().zip(self.rows.iter()).collect()),
             rows: with_rows.then_some(self.rows.as_slice()),
         };
-        serde_json::to_string_pretty(&s).map_err(|e| Error::Invalid(e.to_string()))
+        crate::output::json_text(&s)
     }
 
     fn joint_value(&self, j: &crate::energy::JointEnergy) -> f64 {

@@ -1,0 +1,314 @@
+//! One vocabulary of options: one clap `Args` struct per concern, flattened into every command
+//! that needs it, so that an option has one name, one unit, one default and one meaning in
+//! every command.
+//!
+//! - [`RobotArg`]: `--robot`, `--tool`
+//! - [`AtArg`]: `--at`, `--spin` (where the path's part frame sits)
+//! - [`TimingArgs`]: `--zone`, `--period`, `--accel`, `--jerk`
+//! - [`EnergyArgs`]: `--regeneration`, `--no-payload`, `--no-friction`
+//! - [`OutputArgs`]: `--out`, `--json`, `--force`
+
+use anyhow::{bail, Context, Result};
+use printwatt::energy::EnergyOptions;
+use printwatt::robot::{Regeneration, RobotModel};
+use printwatt::timing::ProfileOptions;
+use printwatt::toolpath::{Placement, ReadOptions, Zone};
+use std::path::{Path, PathBuf};
+
+/// The robot every command uses when `--robot` is not given.
+pub const DEFAULT_ROBOT: &str = "abb_irb6700_200_260";
+
+/// The robot.
+#[derive(clap::Args, Debug, Clone)]
+pub struct RobotArg {
+    /// Robot: a shipped robot's name (`printwatt robots` lists them), a directory with
+    /// robot.urdf (+ drive.toml), a .urdf file (rigid body only), or a drive .toml naming its
+    /// URDF (e.g. a calibrated robot written by `identify`).
+    #[arg(long, value_name = "NAME|PATH", default_value = DEFAULT_ROBOT)]
+    pub robot: PathBuf,
+    /// Tool preset replacing the robot's tool and payload (a .toml file, e.g.
+    /// `presets/seed001_spindle.toml`). Default: the robot's own tool.
+    #[arg(long, value_name = "FILE")]
+    pub tool: Option<PathBuf>,
+}
+
+impl RobotArg {
+    /// Load the robot (shipped name or path; a near-miss name gets "did you mean") with the
+    /// tool preset applied; its warnings are shown.
+    pub fn load(&self) -> Result<RobotModel> {
+        let mut m = super::load_robot(&self.robot)?;
+        if let Some(t) = &self.tool {
+            printwatt::robot::apply_tool_preset(&mut m, t)?;
+        }
+        Ok(m)
+    }
+}
+
+/// Where the path's part frame is placed in the robot base frame (one placement).
+#[derive(clap::Args, Debug, Clone)]
+pub struct AtArg {
+    /// Placement of the path's part frame in the robot base frame: `x,y,z,yaw[,spin]` in m, m,
+    /// m, deg, deg (z: height of the part origin, the nozzle tip on the bed). `sweep` and
+    /// `optimise` take several separated by `;`.
+    #[arg(long, value_name = "X,Y,Z,YAW[,SPIN]", allow_hyphen_values = true)]
+    pub at: Option<String>,
+    /// Nozzle rotation about its own vertical axis relative to the part, deg, added to each
+    /// placement's own spin [default: 0]. `sweep` and `optimise` take a list or a range
+    /// `min:max:step`.
+    #[arg(long, value_name = "DEG", allow_hyphen_values = true)]
+    pub spin: Option<String>,
+}
+
+impl AtArg {
+    /// The one placement `--at` (+ `--spin`, one value) names; `None` without `--at`.
+    pub fn one(&self) -> Result<Option<Placement>> {
+        let Some(at) = &self.at else {
+            if self.spin.is_some() {
+                bail!("--spin needs --at x,y,z,yaw");
+            }
+            return Ok(None);
+        };
+        if at.contains(';') {
+            bail!("--at `{at}`: this command evaluates one placement (use `printwatt sweep` for several)");
+        }
+        let mut p = Placement::parse(at).with_context(|| format!("--at `{at}`"))?;
+        if let Some(s) = &self.spin {
+            let v: f64 = s
+                .trim()
+                .parse()
+                .ok()
+                .filter(|v: &f64| v.is_finite())
+                .with_context(|| format!("--spin `{s}`: expected one angle in deg"))?;
+            if at.split(',').count() == 5 {
+                bail!("--at `{at}` gives a nozzle spin and so does --spin {s}: give one");
+            }
+            p.nozzle_spin = v.to_radians();
+        }
+        check_metres(&p).with_context(|| format!("--at `{at}`"))?;
+        Ok(Some(p))
+    }
+}
+
+/// A placement whose position looks like millimetres where metres are expected: an error
+/// with the hint. No arm reaches 50 m; 1700 "m" is 1.7 m typed in mm.
+pub fn check_metres(p: &Placement) -> Result<()> {
+    for (name, v) in [("x", p.x), ("y", p.y), ("z", p.z)] {
+        if v.abs() >= 50.0 {
+            bail!(
+                "{name} = {v} m: no robot reaches that far; placements are in metres — did you mean {} m (the value in mm)?",
+                v / 1000.0
+            );
+        }
+    }
+    Ok(())
+}
+
+/// How the controller times the path.
+#[derive(clap::Args, Debug, Clone)]
+pub struct TimingArgs {
+    /// Corner blend radius for G-code moves that give none, mm (RAPID zones are read from the
+    /// file).
+    #[arg(long, value_name = "MM", default_value_t = 5.0)]
+    pub zone: f64,
+    /// Interpolation period of the controller, ms (the sample period of the timed motion).
+    #[arg(long, value_name = "MS", default_value_t = 4.0)]
+    pub period: f64,
+    /// TCP acceleration limit (along the path and lateral), m/s².
+    #[arg(long, value_name = "M/S²", default_value_t = 1.0)]
+    pub accel: f64,
+    /// TCP jerk limit, m/s³.
+    #[arg(long, value_name = "M/S³", default_value_t = 10.0)]
+    pub jerk: f64,
+}
+
+impl TimingArgs {
+    fn check(&self) -> Result<()> {
+        for (opt, v) in [
+            ("--zone", self.zone),
+            ("--period", self.period),
+            ("--accel", self.accel),
+            ("--jerk", self.jerk),
+        ] {
+            super::finite(opt, v)?;
+        }
+        if self.zone < 0.0 {
+            bail!("--zone {}: expected a blend radius >= 0 mm", self.zone);
+        }
+        for (opt, v, unit) in [
+            ("--period", self.period, "ms"),
+            ("--accel", self.accel, "m/s²"),
+            ("--jerk", self.jerk, "m/s³"),
+        ] {
+            if v <= 0.0 {
+                bail!("{opt} {v}: expected a value > 0 {unit}");
+            }
+        }
+        if self.period > 1000.0 {
+            bail!(
+                "--period {} ms: no controller interpolates that slowly; did you mean {} ms?",
+                self.period,
+                self.period / 1000.0
+            );
+        }
+        Ok(())
+    }
+
+    /// The path reader's options (the default corner zone).
+    pub fn read_options(&self) -> Result<ReadOptions> {
+        self.check()?;
+        Ok(ReadOptions {
+            default_zone: Zone::Blend(self.zone * 1e-3),
+            ..Default::default()
+        })
+    }
+
+    /// The speed-profile options (SI).
+    pub fn profile(&self) -> Result<ProfileOptions> {
+        self.check()?;
+        Ok(ProfileOptions {
+            accel: self.accel,
+            lateral_accel: self.accel,
+            jerk: self.jerk,
+            dt: self.period * 1e-3,
+            ..Default::default()
+        })
+    }
+}
+
+/// What the energy model includes.
+#[derive(clap::Args, Debug, Clone)]
+pub struct EnergyArgs {
+    /// Regeneration policy, overriding the drive file's: `none` (braking energy lost),
+    /// `per_axis`, `dc_bus` (shared between axes) or `grid` (returned). Default: the drive
+    /// file's policy.
+    #[arg(long, value_name = "POLICY")]
+    pub regeneration: Option<String>,
+    /// Leave the payload out.
+    #[arg(long)]
+    pub no_payload: bool,
+    /// Leave friction out.
+    #[arg(long)]
+    pub no_friction: bool,
+}
+
+impl EnergyArgs {
+    /// The energy model's options.
+    pub fn options(&self) -> Result<EnergyOptions> {
+        let mut opts = EnergyOptions {
+            payload: !self.no_payload,
+            friction: !self.no_friction,
+            ..Default::default()
+        };
+        if let Some(r) = &self.regeneration {
+            opts.regeneration = Some(Regeneration::parse(r).with_context(|| {
+                format!("--regeneration `{r}`: expected none, per_axis, dc_bus or grid")
+            })?);
+        }
+        Ok(opts)
+    }
+}
+
+/// Where results go.
+#[derive(clap::Args, Debug, Clone)]
+pub struct OutputArgs {
+    /// Directory for every file this command writes (created if missing; never an input's
+    /// place). Default: the current directory for `energy`, `simulate` and `identify`; a new
+    /// `results/runs/optimise-<robot>-<path>-<UTC time>/` for `optimise`; no files for
+    /// `sweep`, `compare` and `diagnose`. With --json and no --out, nothing but the JSON is
+    /// written (except `identify`'s calibrated robot, its result).
+    #[arg(long, value_name = "DIR")]
+    pub out: Option<PathBuf>,
+    /// Print the result as JSON on stdout (shapes: docs/json.md).
+    #[arg(long)]
+    pub json: bool,
+    /// Replace output files that exist already (never an input; a run directory holding
+    /// files printwatt did not write is refused even then). Without it an existing output is
+    /// an error.
+    #[arg(long)]
+    pub force: bool,
+}
+
+impl OutputArgs {
+    /// The directory files go to: --out, else `default` unless this is a JSON run.
+    pub fn dir(&self, default: Option<&Path>) -> Option<PathBuf> {
+        match &self.out {
+            Some(d) => Some(d.clone()),
+            None if self.json => None,
+            None => default.map(Path::to_path_buf),
+        }
+    }
+}
+
+/// An output directory that files are written into (beside whatever else it holds): it must
+/// be a directory if it exists. Each file is checked against the inputs on its own.
+pub fn check_out_dir(dir: &Path) -> Result<()> {
+    if dir.exists() && !dir.is_dir() {
+        bail!(
+            "--out {}: exists and is not a directory (--out names a directory; the file names are fixed)",
+            dir.display()
+        );
+    }
+    Ok(())
+}
+
+/// The shipped robots' names (sub-directories of the robots directory), sorted.
+pub fn shipped_robots() -> Vec<String> {
+    let mut v: Vec<String> = std::fs::read_dir(super::default_robots_dir())
+        .map(|rd| {
+            rd.filter_map(|e| e.ok())
+                .filter(|e| e.path().join("robot.urdf").is_file())
+                .map(|e| e.file_name().to_string_lossy().into_owned())
+                .collect()
+        })
+        .unwrap_or_default();
+    v.sort();
+    v
+}
+
+/// "did you mean" for a robot name that is neither a file nor a shipped robot: the nearest
+/// shipped names (edit distance, or a shipped name containing what was typed) and the list.
+pub fn robot_suggestion(arg: &Path) -> String {
+    let typed = arg.to_string_lossy().to_ascii_lowercase();
+    let names = shipped_robots();
+    let mut near: Vec<(f64, &String)> = names
+        .iter()
+        .map(|n| {
+            let score = if n.contains(typed.as_str()) && typed.len() >= 3 {
+                1.0
+            } else {
+                strsim::normalized_damerau_levenshtein(&typed, n)
+            };
+            (score, n)
+        })
+        .filter(|(s, _)| *s >= 0.6)
+        .collect();
+    near.sort_by(|a, b| b.0.total_cmp(&a.0).then(a.1.cmp(b.1)));
+    let mut s = String::new();
+    if !near.is_empty() {
+        let list: Vec<String> = near.iter().map(|(_, n)| format!("`{n}`")).collect();
+        s.push_str(&format!("did you mean {}? ", list.join(" or ")));
+    }
+    s.push_str(&format!(
+        "Shipped robots: {} (`printwatt robots`); or give a robot directory, a .urdf or a drive .toml",
+        names.join(", ")
+    ));
+    s
+}
+
+/// The toolpath.
+#[derive(clap::Args, Debug, Clone)]
+pub struct PathArg {
+    /// Toolpath in its part frame: G-code, CSV of points or an ABB RAPID module. Default:
+    /// `paths/default.gcode` (for `simulate`: none; give --path, --trajectory or --excite).
+    #[arg(long, value_name = "FILE")]
+    pub path: Option<PathBuf>,
+}
+
+impl PathArg {
+    /// The path file, the shipped default when none is given.
+    pub fn file(&self) -> PathBuf {
+        self.path
+            .clone()
+            .unwrap_or_else(|| super::sweep::shipped("paths/default.gcode"))
+    }
+}
