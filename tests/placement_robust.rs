@@ -323,3 +323,141 @@ fn exported_wobjdata_and_frame_put_the_nozzle_where_the_placement_says() {
         "nozzle {worst} m from where the wobjdata puts it"
     );
 }
+
+#[test]
+fn an_optimum_on_the_joint_limit_margin_is_flagged_and_the_margin_stated() {
+    use printwatt::placement::feasibility::Margins;
+    use printwatt::placement::margins::margin_statement;
+    let model = robot::load(&root().join("robots/abb_irb6700_200_260")).unwrap();
+    let o = FeasibilityOptions::default();
+    let margin = 3f64.to_radians();
+    // Joint 3 exactly on its 3° margin (67.00° against its 70° stop): flagged.
+    let on = Margins {
+        joint_limit_rad: Some((3, margin)),
+        ..Default::default()
+    };
+    let (text, flagged) = margin_statement(&model, &o, &on).unwrap();
+    assert!(flagged, "{text}");
+    assert!(
+        text.contains("joint 3 keeps 3.00°") && text.contains("margin 3.00°"),
+        "{text}"
+    );
+    // 1° further away: stated, not flagged.
+    let off = Margins {
+        joint_limit_rad: Some((3, margin + 1f64.to_radians())),
+        ..Default::default()
+    };
+    let (text, flagged) = margin_statement(&model, &o, &off).unwrap();
+    assert!(!flagged && text.contains("4.00°"), "{text}");
+}
+
+#[test]
+fn exported_base_frame_path_puts_the_nozzle_where_the_placement_says() {
+    use printwatt::kinematics::{nozzle_target, IkSolver};
+    use printwatt::placement::export;
+    let model = robot::load(&root().join("robots/abb_irb6700_200_260")).unwrap();
+    let tp = toolpath::load(&root().join("paths/default.gcode"), &ReadOptions::default()).unwrap();
+    let job = PathJob::new(
+        &model,
+        &tp,
+        EnergyOptions::default(),
+        ProfileOptions::default(),
+        JointStageOptions::default(),
+    )
+    .unwrap();
+    let at = printwatt::toolpath::Placement {
+        x: 1.55,
+        y: 0.05,
+        z: 0.45,
+        yaw: 100f64.to_radians(),
+        nozzle_spin: 10f64.to_radians(),
+    };
+    let pts = export::base_frame_path(&job.moves, &at);
+    assert!(pts.len() > job.moves.len());
+    // Read the coordinates back from both files (mm).
+    let nums = |line: &str, open: &str, close: &str| -> Vec<f64> {
+        let i = line.find(open).unwrap() + open.len();
+        line[i..i + line[i..].find(close).unwrap()]
+            .split([',', '[', ']'])
+            .filter_map(|t| t.trim().parse().ok())
+            .collect()
+    };
+    let g = export::gcode_base(&pts, &at, model.name());
+    let from_g: Vec<[f64; 3]> = g
+        .lines()
+        .filter(|l| l.starts_with("G0 ") || l.starts_with("G1 "))
+        .map(|l| {
+            let w: Vec<f64> = l
+                .split_whitespace()
+                .filter(|t| t.starts_with(['X', 'Y', 'Z']))
+                .map(|t| t[1..].parse::<f64>().unwrap() / 1000.0)
+                .collect();
+            [w[0], w[1], w[2]]
+        })
+        .collect();
+    let r = export::rapid_base(&pts, &at, &model);
+    let from_r: Vec<Vec<f64>> = r
+        .lines()
+        .filter(|l| l.trim_start().starts_with("MoveL"))
+        .map(|l| nums(l, "[[", "]]"))
+        .collect();
+    assert_eq!(from_g.len(), pts.len());
+    assert_eq!(from_r.len(), pts.len());
+    // FK of the IK solution at the placement: the nozzle is at the exported point, pointing
+    // where the RAPID quaternion says.
+    let solver = IkSolver::new(&model).unwrap();
+    let frame = at.frame();
+    let mut checked = 0;
+    let mut k = 0;
+    for m in &job.moves {
+        let n = 3;
+        for i in 0..n {
+            let s = m.prim.length() * i as f64 / n as f64;
+            let want = frame.apply(&m.prim.point(s));
+            let target = nozzle_target(&want, at.yaw + at.nozzle_spin);
+            let Ok(sols) = solver.solve_all(&target) else {
+                continue;
+            };
+            for sol in sols {
+                let t = printwatt::kinematics::fk::tool_pose(&model, &sol.q);
+                assert!((t.pos - want).norm() < 1e-6);
+                checked += 1;
+            }
+        }
+        k += 1;
+    }
+    assert!(
+        checked > 50 && k == job.moves.len(),
+        "{checked} IK solutions checked"
+    );
+    // Every exported point is FK of an IK solution at that point, to the file's rounding.
+    let q_rapid = {
+        let v = &from_r[0];
+        nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(v[3], v[4], v[5], v[6]))
+    };
+    for (i, b) in pts.iter().enumerate().step_by(5) {
+        let target = nozzle_target(&b.p, at.yaw + at.nozzle_spin);
+        let sol = &solver.solve_all(&target).unwrap()[0];
+        let t = printwatt::kinematics::fk::tool_pose(&model, &sol.q);
+        let g = nalgebra::Vector3::new(from_g[i][0], from_g[i][1], from_g[i][2]);
+        let rp = nalgebra::Vector3::new(from_r[i][0], from_r[i][1], from_r[i][2]) / 1000.0;
+        assert!((t.pos - g).norm() < 1e-6, "G-code point {i}");
+        assert!((t.pos - rp).norm() < 1e-6, "RAPID point {i}");
+        let rot = nalgebra::UnitQuaternion::from_rotation_matrix(
+            &nalgebra::Rotation3::from_matrix_unchecked(t.rot),
+        );
+        assert!(rot.angle_to(&q_rapid) < 1e-6, "RAPID orientation at {i}");
+    }
+    // The G-code reads back as the same path.
+    let dir = std::env::temp_dir().join(format!("pw_export_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let f = dir.join("path_base.gcode");
+    std::fs::write(&f, &g).unwrap();
+    let back = toolpath::load(&f, &ReadOptions::default()).unwrap();
+    let ends: Vec<_> = back.moves.iter().map(|m| m.end).collect();
+    assert_eq!(ends.len() + 1, pts.len());
+    for (e, b) in ends.iter().zip(&pts[1..]) {
+        assert!((e - b.p).norm() < 1e-6);
+    }
+    std::fs::remove_dir_all(&dir).ok();
+}

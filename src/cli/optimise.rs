@@ -49,8 +49,17 @@ pub struct OptimiseArgs {
     /// default grid spans 0 to half the reach).
     #[arg(long, allow_hyphen_values = true)]
     pub z_bounds: Option<String>,
+    /// Uncertainty study: draw N plausible robots (masses, inertias, drive constants,
+    /// friction, balancer present or not, payload; ranges from the drive file's
+    /// `[uncertainty]` table, standard errors for a calibrated robot) seeded by --seed, and
+    /// re-evaluate the recommended placement, the feasible grid cells and the baseline under
+    /// each.
+    #[arg(long, value_name = "N")]
+    pub uncertainty: Option<usize>,
     /// Write the chosen placement for the robot into this directory: `wobj_print.mod` (ABB RAPID
-    /// wobjdata) and `frame.json` (COMPAS frame). Existing files are replaced only with --force.
+    /// wobjdata), `frame.json` (COMPAS frame), and the path re-expressed in the robot base
+    /// frame as `path_base.gcode` and `path_base.mod` (RAPID MoveL in wobj0). Existing files
+    /// are replaced only with --force.
     #[arg(long)]
     pub export: Option<std::path::PathBuf>,
 }
@@ -232,6 +241,35 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
     if let Some((_, b)) = &baseline {
         res.savings = optimise::Savings::of(&res.best, b);
     }
+    if let Some(n) = a.uncertainty {
+        if n == 0 || n > 100_000 {
+            anyhow::bail!("--uncertainty {n}: expected 1 to 100000 draws");
+        }
+        // Candidates: the answer first, then every feasible grid cell that is not nominally
+        // better than it (a cheaper cell is one the search rejected because it does not hold
+        // the placement tolerance: not a candidate a site could use).
+        let mut cands = vec![res.best.clone()];
+        cands.extend(
+            rows.iter()
+                .filter(|r| {
+                    r.cost().is_finite()
+                        && r.cost() >= res.best.cost()
+                        && r.placement != res.best.placement
+                })
+                .cloned(),
+        );
+        let study = pool.install(|| {
+            printwatt::placement::uncertainty::study(
+                &job,
+                &ev,
+                &cands,
+                baseline.as_ref().map(|b| &b.1),
+                n,
+                a.seed,
+            )
+        })?;
+        res.uncertainty = Some(study);
+    }
     let secs = t0.elapsed().as_secs_f64();
     let mut details = Vec::new();
     details.extend(detail(&job, "best", &res.best)?);
@@ -269,6 +307,15 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
             m.push((
                 "optimum on a search bound".into(),
                 format!("{}: widen the range there", si.on_bounds.join(", ")),
+            ));
+        }
+        if let Some(jm) = &si.joint_margin {
+            m.push(("joint-limit margin kept".into(), jm.clone()));
+        }
+        if let Some(om) = &si.on_margin {
+            m.push((
+                "optimum on a joint-limit margin".into(),
+                format!("{om}: the margin, not the energy, stops the search here (--joint-margin)"),
             ));
         }
     }
@@ -316,6 +363,22 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
                 serde_json::to_string_pretty(&printwatt::placement::export::compas_frame(
                     &b.placement,
                 ))?,
+            ),
+            (
+                ex.join("path_base.gcode"),
+                printwatt::placement::export::gcode_base(
+                    &printwatt::placement::export::base_frame_path(&job.moves, &b.placement),
+                    &b.placement,
+                    l.robot.name(),
+                ),
+            ),
+            (
+                ex.join("path_base.mod"),
+                printwatt::placement::export::rapid_base(
+                    &printwatt::placement::export::base_frame_path(&job.moves, &b.placement),
+                    &b.placement,
+                    &l.robot,
+                ),
             ),
         ];
         for (f, text) in &files {
@@ -375,11 +438,24 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
     }
     if let Some(si) = rep.optimise.as_ref().and_then(|o| o.search.as_ref()) {
         println!("tolerance: {}", tolerance_line(&si.tolerance));
+        if let Some(jm) = &si.joint_margin {
+            println!("joint-limit margin: {jm}");
+        }
+        if let Some(om) = &si.on_margin {
+            println!(
+                "optimum on a joint-limit margin: {om} (the margin, not the energy, stops the search here; --joint-margin)"
+            );
+        }
         if !si.on_bounds.is_empty() {
             println!(
                 "optimum on a search bound: {} (widen --x/--y/--z-bounds there)",
                 si.on_bounds.join(", ")
             );
+        }
+    }
+    if let Some(u) = rep.optimise.as_ref().and_then(|o| o.uncertainty.as_ref()) {
+        for l in printwatt::report::placement::uncertainty_lines(u) {
+            println!("{l}");
         }
     }
     if let Some(o) = &rep.optimise {

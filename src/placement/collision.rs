@@ -422,6 +422,21 @@ pub struct Bed {
 }
 
 impl Bed {
+    /// Exact distance of a capsule `shape` at `pose` (part frame) from the bed when the
+    /// capsule's axis lies wholly above the bed's top face and within its footprint (the usual
+    /// case: a link above the table): then the nearest point of the bed to every point of the
+    /// axis is straight below it, and the distance is the axis's lowest height over the top
+    /// minus the radius (0 when it touches). `None` in every other case (use parry's GJK).
+    pub fn capsule_above(&self, pose: &Isometry<f64>, shape: &SharedShape) -> Option<f64> {
+        let c = shape.as_capsule()?;
+        let (a, b) = (pose * c.segment.a, pose * c.segment.b);
+        let (lo, hi) = (&self.aabb.mins, &self.aabb.maxs);
+        let inside = |p: &Point<f64>| {
+            p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= hi.z
+        };
+        (inside(&a) && inside(&b)).then(|| (a.z.min(b.z) - hi.z - c.radius).max(0.0))
+    }
+
     /// From the box corners `lo`, `hi` (part frame, m).
     pub fn new(lo: &V3, hi: &V3) -> Self {
         let c = (lo + hi) * 0.5;
@@ -455,7 +470,10 @@ pub fn check(
         // Bed: broad phase on the AABB gap, exact distance only when it could lower the margin.
         let gap = aabb_gap(a, &bed.aabb);
         if gap <= clearance.unwrap_or(f64::INFINITY) {
-            let d = query::distance(p, s.shape.as_ref(), &bed.pose, &bed.cuboid).unwrap_or(gap);
+            let d = match bed.capsule_above(p, &s.shape) {
+                Some(d) => d,
+                None => query::distance(p, s.shape.as_ref(), &bed.pose, &bed.cuboid).unwrap_or(gap),
+            };
             *clearance = Some(clearance.map_or(d, |c| c.min(d)));
             if d <= 0.0 {
                 return Some((

@@ -113,3 +113,29 @@ pub fn check_joint_sample(
         )
     })
 }
+
+/// How close to its joint-limit margin a placement's closest joint comes: the margin is met
+/// "on" the margin when the joint's smallest distance from a limit is within this of it, rad
+/// (0.01°): the answer then sits on the margin the way an optimum can sit on a search bound.
+pub const ON_MARGIN_RAD: f64 = 1.7453292519943295e-4;
+
+/// The joint-limit margin a feasible placement keeps, in words, and whether it lies on the
+/// margin (see [`ON_MARGIN_RAD`]): e.g. ("joint 3 keeps 4.48° from a limit (margin 3.00°)",
+/// false). `None` when no joint has finite limits.
+pub fn margin_statement(
+    model: &RobotModel,
+    o: &FeasibilityOptions,
+    m: &Margins,
+) -> Option<(String, bool)> {
+    let (j, d) = m.joint_limit_rad?;
+    let margin = joint_margin(model, o, j.checked_sub(1)?);
+    let on = d - margin <= ON_MARGIN_RAD;
+    Some((
+        format!(
+            "joint {j} keeps {:.2}° from a limit (margin {:.2}°)",
+            d.to_degrees(),
+            margin.to_degrees()
+        ),
+        on,
+    ))
+}

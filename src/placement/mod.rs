@@ -13,6 +13,7 @@ pub mod optimise;
 pub mod search;
 pub mod sweep;
 pub mod tolerance;
+pub mod uncertainty;
 
 pub use eval::{PathJob, PlacementEval};
 pub use feasibility::{FeasibilityOptions, Infeasible, Reason};

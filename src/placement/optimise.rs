@@ -97,6 +97,8 @@ pub struct OptimiseResult {
     pub search: Option<super::search::SearchInfo>,
     /// Savings against the baseline in supply, drives and the objective (set by the caller).
     pub savings: Option<Savings>,
+    /// The uncertainty study of the answer (`optimise --uncertainty N`, set by the caller).
+    pub uncertainty: Option<super::uncertainty::Study>,
 }
 
 /// Savings of the best placement against a baseline, each as (J, % of the baseline).
@@ -245,6 +247,7 @@ pub fn refine(ev: &Evaluator, start: Evaluated, opts: &OptimiseOptions) -> Resul
         sensitivity,
         search: None,
         savings: None,
+        uncertainty: None,
     })
 }
 

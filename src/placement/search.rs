@@ -220,6 +220,11 @@ pub struct SearchInfo {
     pub on_bounds: Vec<String>,
     /// Grid cells tried before one held the tolerance (1 = the best cell held it).
     pub grid_cells_tried: usize,
+    /// The joint-limit margin the answer keeps, in words (closest joint, its distance from a
+    /// limit and the margin).
+    pub joint_margin: Option<String>,
+    /// The answer lies on a joint-limit margin (within 0.01°): named like a search bound.
+    pub on_margin: Option<String>,
 }
 
 /// Options of the argmin refinement beyond [`OptimiseOptions`].
@@ -398,6 +403,11 @@ pub fn refine(
     let (best, chk) = best;
     let sens = sensitivity(ev, &best, opts.sensitivity_m)?;
     let on_bounds = so.bounds.on_bounds(&best.placement, 0.005);
+    let stmt = best
+        .feasible()
+        .and_then(|f| super::margins::margin_statement(ev.job.robot, &ev.feasibility, &f.margins));
+    let joint_margin = stmt.as_ref().map(|s| s.0.clone());
+    let on_margin = stmt.filter(|s| s.1).map(|s| s.0);
     let history = problem.history.borrow().clone();
     Ok((
         OptimiseResult {
@@ -409,6 +419,7 @@ pub fn refine(
             sensitivity: sens,
             search: None,
             savings: None,
+            uncertainty: None,
         },
         SearchInfo {
             method: "nelder-mead (argmin)".into(),
@@ -417,6 +428,8 @@ pub fn refine(
             bounds: so.bounds,
             on_bounds,
             grid_cells_tried: tried,
+            joint_margin,
+            on_margin,
         },
     ))
 }

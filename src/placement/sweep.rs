@@ -370,7 +370,6 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         let timed = self.time(sc, at).map_err(|e| Infeasible::from_timing(&e))?;
         let motion = &*timed.motion;
         let model = self.job.robot;
-        let n = model.dof();
         let m = timed.traj.len();
         let dt = motion.dt;
         let frame = at.frame();
@@ -431,6 +430,43 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                 }
             }
         }
+        let r = self.energy_inner(sc, &timed, margins);
+        sc.buf.recycle(timed); // keep the buffers for the next placement
+        r
+    }
+
+    /// Time the path at `at` with the job's timing (no feasibility checks beyond what timing
+    /// checks): the trajectory that [`Evaluator::energy_of`] integrates.
+    pub fn timed(
+        &self,
+        sc: &mut Scratch<'a>,
+        at: &Placement,
+    ) -> std::result::Result<TimedPath, TimingFailure> {
+        self.time(sc, at)
+    }
+
+    /// The energies of an already timed path under this evaluator's energy model (the same
+    /// integration as [`Evaluator::evaluate`]); `margins` are copied into the result. Used to
+    /// re-evaluate one trajectory under many plausible robots (timing does not depend on the
+    /// dynamics).
+    pub fn energy_of(
+        &self,
+        sc: &mut Scratch<'a>,
+        timed: &TimedPath,
+        margins: Margins,
+    ) -> std::result::Result<Feasible, Infeasible> {
+        self.energy_inner(sc, timed, margins)
+    }
+
+    fn energy_inner(
+        &self,
+        sc: &mut Scratch<'a>,
+        timed: &TimedPath,
+        margins: Margins,
+    ) -> std::result::Result<Feasible, Infeasible> {
+        let n = self.job.robot.dof();
+        let m = timed.traj.len();
+        let dt = timed.motion.dt;
         // Energy: trapezoid at uniform dt, no allocation per sample.
         let mut jm = vec![0.0; n];
         let mut jabs = vec![0.0; n];
@@ -481,7 +517,6 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             drives = 0.0;
         }
         let rounds = timed.rounds;
-        sc.buf.recycle(timed); // keep the buffers for the next placement
         let mechanical_j: f64 = jm.iter().sum();
         let mechanical_abs_j: f64 = jabs.iter().sum();
         let energy_j = match self.objective {

@@ -677,6 +677,13 @@ impl RunReport {
                 format!("{s:.2} %"),
             ));
         }
+        if let Some(u) = self.optimise.as_ref().and_then(|o| o.uncertainty.as_ref()) {
+            for l in uncertainty_lines(u) {
+                if let Some((k, v)) = l.split_once(": ") {
+                    facts.push((k.to_string(), v.to_string()));
+                }
+            }
+        }
         if let Some(o) = &self.optimise {
             let s = &o.sensitivity;
             let f = |v: Option<f64>| v.map_or("infeasible".to_string(), |v| format!("{v:.2}"));
@@ -918,4 +925,58 @@ fn csv_cell(s: &str) -> String {
     } else {
         s.to_string()
     }
+}
+
+/// The uncertainty study in a few lines "what: value" (terminal and report).
+pub fn uncertainty_lines(u: &crate::placement::uncertainty::Study) -> Vec<String> {
+    use crate::placement::uncertainty::Source;
+    let src = match &u.source {
+        Source::DriveFile(f) => format!("ranges of {f} [uncertainty]"),
+        Source::Default => {
+            "built-in default ranges (the drive file has no [uncertainty] table)".into()
+        }
+        Source::Given => "ranges given by the caller".into(),
+    };
+    let cal = if u.calibrated.is_empty() {
+        String::new()
+    } else {
+        format!(
+            "; standard errors of the identified {}",
+            u.calibrated.join(", ")
+        )
+    };
+    let mut v = vec![
+        format!(
+            "uncertainty: {} plausible robots (seed {}, {src}{cal}), {} candidate placements each",
+            u.draws, u.seed, u.candidates
+        ),
+        format!(
+            "uncertainty, recommended placement within 1 % of each robot's best: {:.0} % of the draws (the best in {:.0} %)",
+            u.p_within_1pct * 100.0,
+            u.p_best * 100.0
+        ),
+    ];
+    if let Some(s) = u.saving_pct {
+        v.push(format!(
+            "uncertainty, saving against the baseline: {:.2} % expected, 90 % interval {:.2} … {:.2} %",
+            s[0], s[1], s[2]
+        ));
+    }
+    v.push(format!(
+        "uncertainty, rank correlation of the placements with the nominal robot's: Spearman {:.3} mean, {:.3} lowest",
+        u.rank_correlation[0], u.rank_correlation[1]
+    ));
+    if let Some((name, r)) = u.depends_on.first() {
+        v.push(format!(
+            "uncertainty, the answer depends most on: {name} (Spearman {r:+.2}; next: {})",
+            u.depends_on
+                .iter()
+                .skip(1)
+                .take(2)
+                .map(|(n, r)| format!("{n} {r:+.2}"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        ));
+    }
+    v
 }

@@ -194,9 +194,11 @@ pub fn track(
             }
         })
         .collect();
+    // The nozzle's orientation is the same at every sample: its sine and cosine once.
+    let rot = nozzle_target(&V3::zeros(), spin).rot;
     for (k, p) in motion.p.iter().enumerate() {
         let tip = part_to_base.apply(p);
-        let target = nozzle_target(&tip, spin);
+        let target = Frame { rot, pos: tip };
         let mi = pieces[motion.piece[k]].move_index;
         let q = solver
             .solve_near(&target, &prev)

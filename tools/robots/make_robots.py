@@ -266,7 +266,53 @@ def gear_for(vmax):
 def cylinder_payload(mass, r, L, desc, src):
     ixx, iyy, izz = cylinder_inertia(mass, r, L)
     return dict(mass=mass, com=[0.0, 0.0, L / 2.0], inertia=[round(ixx, 6), round(iyy, 6), round(izz, 6), 0.0, 0.0, 0.0],
-                description=desc, src=src + "; ESTIMATE: solid cylinder r = %.2f m, L = %.2f m along tool0 z" % (r, L))
+                description=desc, src=src + "; ESTIMATE: solid cylinder r = %.2f m, L = %.2f m along tool0 z" % (r, L),
+                r=r, L=L)
+
+
+# Collision geometry of the print head and hose ([tool.geometry], flange frame). ESTIMATE: the head is the
+# payload's cylinder (radius r) from the flange to the nozzle tip; the hose is a straight piece of a 2-inch
+# concrete hose (60 mm outer diameter; 20 mm for the lab-scale extruders) running up the side of the head
+# from 0.8 L below the flange to 5 cm behind it, where it is clamped to the wrist.
+def tool_geometry(rb):
+    P = rb["payload"]
+    if "r" not in P:
+        return None
+    r, L = P["r"], P["L"]
+    hose_r = 0.03 if P["mass"] >= 20 else 0.01
+    x = round(r + hose_r, 4)
+    return dict(head=r, hose=hose_r, hose_from=[x, 0.0, round(0.8 * L, 4)], hose_to=[x, 0.0, -0.05],
+                src="ESTIMATE: head = the payload's cylinder (r = %s m) from the flange to the nozzle tip; hose = "
+                    "%s m radius (%s), straight up the side of the head from 0.8 L below the flange to 5 cm behind it"
+                    % (fmt(r), fmt(hose_r), "2-inch concrete hose, 60 mm OD" if hose_r >= 0.03 else "lab-scale feed hose, 20 mm OD"))
+
+
+# Ranges of the estimated numbers ([uncertainty] in drive.toml), drawn by `printwatt optimise --uncertainty`.
+# Half-widths of uniform ranges, relative unless the key names a unit.
+def uncertainty(rb):
+    if rb["name"] in ("abb_irb6700_200_260", "abb_irb4600_40_255", "staubli_tx200"):
+        inert = (0.20, 0.10, 0.50, "ESTIMATE: the stated accuracy of the inertial estimates (README: total mass +-20 %, "
+                 "CoMs +-0.2 m, inertias +-50 %; CoM range per axis 0.1 m, i.e. up to 0.17 m in 3-D)")
+    elif rb["name"] == "ur10e":
+        inert = (0.05, 0.01, 0.30, "ESTIMATE: masses and CoMs are the official [ROS-I] values (+-5 %, +-1 cm), "
+                 "inertias APPROX (+-30 %)")
+    else:
+        inert = (0.10, 0.02, 0.20, "ESTIMATE: complete published model [3rd] (Corke 1994): +-10 % masses, +-2 cm, "
+                 "+-20 % inertias")
+    U = [("link_mass_rel", inert[0], inert[3]), ("link_com_m", inert[1], "see link_mass_rel"),
+         ("link_inertia_rel", inert[2], "see link_mass_rel"),
+         ("payload_mass_rel", 0.25, "ESTIMATE: print head, hose and material share are not known to better than a quarter"),
+         ("torque_constant_rel", 0.20, "ESTIMATE: generic servo classes, a real motor of the class differs by up to 20 %"),
+         ("winding_resistance_rel", 0.30, "ESTIMATE: generic servo classes; R also rises ~40 % from 20 to 120 C"),
+         ("viscous_rel", 0.50, "ESTIMATE: friction sized as 3 % of the rated torque; real reducers differ by a factor ~2"),
+         ("coulomb_rel", 0.50, "ESTIMATE: as viscous_rel"),
+         ("gear_efficiency_abs", 0.05, "ESTIMATE: typical spread of RV/cycloidal and bevel-stage efficiencies"),
+         ("standby_power_rel", 0.50, "ESTIMATE: the cabinet's draw is an order-of-magnitude figure")]
+    if rb.get("balancer"):
+        U += [("balancer_absent_probability", 0.2, "ESTIMATE: the balancer model (geometry ESTIMATE, force SIZED) may not "
+               "describe the robot at all"),
+              ("balancer_force_rel", 0.50, "ESTIMATE: preload and stiffness are SIZED, not published")]
+    return U
 
 
 def abb_like(name, title, p, limits, lim_src, org_src, weight, weight_src, radii, motors, payload, reach, rated,
@@ -708,8 +754,16 @@ def write_drive(rb, path):
     L += ["[tool]  # nozzle tip relative to tool_link, URDF xyz/rpy convention",
           "xyz_m = %s  # %s" % (tarr(T["xyz"]), T["src"]),
           "rpy_rad = %s  # %s" % (tarr(T["rpy"]), T["src"]),
-          "",
-          "[payload]  # extruder + hose + material, rigidly attached to tool_link",
+          ""]
+    G = tool_geometry(rb)
+    if G:
+        L += ["[tool.geometry]  # print head and hose for collision checks, flange (tool_link) frame, m; " + G["src"],
+              "head_radius_m = %s  # ESTIMATE: see the table comment" % fmt(G["head"]),
+              "hose_radius_m = %s  # ESTIMATE: see the table comment" % fmt(G["hose"]),
+              "hose_from_m = %s  # ESTIMATE: see the table comment" % tarr(G["hose_from"]),
+              "hose_to_m = %s  # ESTIMATE: see the table comment" % tarr(G["hose_to"]),
+              ""]
+    L += ["[payload]  # extruder + hose + material, rigidly attached to tool_link",
           "mass_kg = %s  # %s" % (fmt(P["mass"]), P["src"]),
           "com_m = %s  # in tool_link frame; %s" % (tarr(P["com"]), P["src"]),
           "inertia_kg_m2 = %s  # [ixx, iyy, izz, ixy, ixz, iyz] about the CoM, tool_link axes; %s" % (tarr(P["inertia"]), P["src"]),
@@ -734,6 +788,10 @@ def write_drive(rb, path):
               "balancer_preload_n = %s  # %s" % (fmt(B["F0"]), how),
               "balancer_stiffness_n_per_m = %s  # %s" % (fmt(B["k"]), how),
               ""]
+    L += ["[uncertainty]  # ranges of the ESTIMATE numbers above (half-widths of uniform ranges, relative unless the key "
+          "names a unit), drawn by `printwatt optimise --uncertainty N`"]
+    L += ["%s = %s  # %s" % (k, fmt(v), why) for k, v, why in uncertainty(rb)]
+    L.append("")
     keys = ["acceleration_limit_rad_s2", "jerk_limit_rad_s3", "gear_ratio", "torque_constant_nm_per_a",
             "winding_resistance_ohm", "rotor_inertia_kg_m2", "viscous_nm_s_per_rad", "coulomb_nm", "gear_efficiency"]
     for d in rb["drives"]:
@@ -1093,7 +1151,32 @@ def write_summary(rbs):
     L += ["", "Conventions: SI units; inertia about the CoM in link axes; `tool0` has z out of the flange (ROS-I); "
           "OPW sets follow opw_kinematics (q_opw = q·sign − offset). The drive data of every industrial arm are "
           "ESTIMATES: energy results for them rank toolpaths, they are not calibrated predictions.",
-          "", "Reference data computed with pinocchio from these files: `tests/data/pinocchio/` (see `tools/reference/`)."]
+          "", "Reference data computed with pinocchio from these files: `tests/data/pinocchio/` (see `tools/reference/`).",
+          "", "## Drive-file tables beyond the drive train", "",
+          "- `[effects]` (robots with an axis-2 balancer: IRB 6700, IRB 4600, TX200): `balancer_joint` (1-based axis), "
+          "`balancer_lever_m` (lever a of the cylinder's end on the moving link, m), `balancer_base_m` (distance b of its "
+          "fixed end from the axis, m), `balancer_upright_rad` (joint angle at which the cylinder is shortest), "
+          "`balancer_preload_n` (force F0 at that angle, N) and `balancer_stiffness_n_per_m` (k, N/m). "
+          "The torque is that of a spring cylinder between the two ends (equations in `docs/effects.md`); every value "
+          "names its source, the forces are SIZED (ESTIMATE) to carry 70 % of the change of the static axis-2 torque.",
+          "- `[tool.geometry]` (flange frame, m): `head_radius_m` (the print head, a cylinder from the flange to the "
+          "nozzle tip), `hose_radius_m`, `hose_from_m`, `hose_to_m` (the material hose as a straight capsule). "
+          "ESTIMATE for every shipped robot: the head is the payload's cylinder, the hose a 2-inch concrete hose "
+          "(60 mm OD; 20 mm for the lab-scale extruders of the UR10e and PUMA 560) up the side of the head. The head "
+          "is exempt from bed and part checks (it prints on them).",
+          "- `[uncertainty]`: half-widths of uniform ranges of the estimated numbers (`link_mass_rel`, `link_com_m`, "
+          "`link_inertia_rel`, `payload_mass_rel`, `torque_constant_rel`, `winding_resistance_rel`, `viscous_rel`, "
+          "`coulomb_rel`, `gear_efficiency_abs`, `standby_power_rel`, and for balanced arms "
+          "`balancer_absent_probability`, `balancer_force_rel`), each with its reason; drawn by "
+          "`printwatt optimise --uncertainty N`. A calibrated robot (written by `identify`) draws its identified "
+          "parameters from their standard errors instead.",
+          "", "## Collision geometry", "",
+          "None of the reference URDFs these files come from (`../shared/reference/robots/`) has `<collision>` "
+          "elements (the vendor meshes are not redistributed with them), so the shipped `robot.urdf` files have none "
+          "either and printwatt's collision checks (parry3d-f64) use a capsule per link from its joint origin to the "
+          "next, sized as a fraction of the reach (base 0.07 R, arms 0.045 R, wrist 0.025 R: ESTIMATE, rough "
+          "half-widths of the housings), plus the print head and hose of `[tool.geometry]`. A user's URDF with "
+          "`<collision>` boxes, cylinders, spheres or STL/OBJ meshes (as convex hulls) is used as given."]
     with open(os.path.join(ROOT, "robots", "README.md"), "w") as f:
         f.write("\n".join(L) + "\n")
 

@@ -1,0 +1,512 @@
+//! How much to trust the recommended placement: draw plausible robots and re-evaluate the
+//! candidate placements under each.
+//!
+//! Every estimated number of a shipped robot carries a range in its drive file's
+//! `[uncertainty]` table (uniform, ± relative to the nominal value unless the key says
+//! otherwise; [`Ranges`]). A draw perturbs every link's mass, centre of mass and inertia, the
+//! payload's mass, every joint's torque constant, winding resistance, viscous and Coulomb
+//! friction and gear efficiency, the cabinet's standby power, and the balancer (absent with
+//! the stated probability, else its preload and stiffness scaled), each independently. A
+//! calibrated robot (a drive file with a `[calibration]` table written by `identify`) draws
+//! every identified parameter from a normal distribution with its identified standard error
+//! instead of its range (an identified balancer is always present); the numbers `identify`
+//! did not fit keep their ranges.
+//!
+//! Timing does not depend on these numbers (kinematics and joint limits are not varied), so
+//! each candidate is timed once and only its energy is recomputed per draw
+//! ([`Evaluator::energy_of`]). Draws run in parallel; draw `d` uses its own ChaCha8 stream
+//! (`seed`, stream `d`), and every reduction runs in draw order, so the study is identical for
+//! any thread count.
+
+use super::sweep::{Evaluated, Evaluator, Objective};
+use super::PathJob;
+use crate::energy::EnergyModel;
+use crate::error::{Error, Result};
+use crate::robot::RobotModel;
+use rand::{Rng, SeedableRng};
+use rand_chacha::ChaCha8Rng;
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+/// The `[uncertainty]` table of a drive file: half-widths of uniform ranges (dimensionless
+/// fractions of the nominal value, except where the key names a unit).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Ranges {
+    /// Link masses, ± fraction.
+    pub link_mass_rel: f64,
+    /// Link centres of mass, ± m along each axis of the link frame.
+    pub link_com_m: f64,
+    /// Link inertia tensors, ± fraction (scaled as a whole).
+    pub link_inertia_rel: f64,
+    /// Payload mass (inertia scaled with it), ± fraction.
+    pub payload_mass_rel: f64,
+    /// Motor torque constants, ± fraction.
+    pub torque_constant_rel: f64,
+    /// Winding resistances, ± fraction.
+    pub winding_resistance_rel: f64,
+    /// Viscous friction coefficients, ± fraction.
+    pub viscous_rel: f64,
+    /// Coulomb friction torques, ± fraction.
+    pub coulomb_rel: f64,
+    /// Gear efficiencies, ± absolute (kept within (0.3, 1]).
+    pub gear_efficiency_abs: f64,
+    /// Cabinet standby power, ± fraction.
+    pub standby_power_rel: f64,
+    /// Probability that the balancer is absent (dimensionless, 0–1; robots with a balancer).
+    #[serde(default)]
+    pub balancer_absent_probability: f64,
+    /// Balancer preload and stiffness, ± fraction (one factor for both).
+    #[serde(default)]
+    pub balancer_force_rel: f64,
+}
+
+impl Default for Ranges {
+    /// Used only for a robot whose drive file has no `[uncertainty]` table (said so in the
+    /// study): ±20 % masses, ±0.05 m centres of mass, ±50 % inertias, ±25 % payload, ±20 %
+    /// motor constants, ±50 % friction, ±0.05 gear efficiency, ±30 % standby, balancer
+    /// absent with probability 0.2 and ±30 % force.
+    fn default() -> Self {
+        Ranges {
+            link_mass_rel: 0.2,
+            link_com_m: 0.05,
+            link_inertia_rel: 0.5,
+            payload_mass_rel: 0.25,
+            torque_constant_rel: 0.2,
+            winding_resistance_rel: 0.2,
+            viscous_rel: 0.5,
+            coulomb_rel: 0.5,
+            gear_efficiency_abs: 0.05,
+            standby_power_rel: 0.3,
+            balancer_absent_probability: 0.2,
+            balancer_force_rel: 0.3,
+        }
+    }
+}
+
+impl Ranges {
+    /// The `[uncertainty]` table of the robot's drive file (`Ok(None)` when it has none or the
+    /// robot has no drive file). Errors name the file.
+    pub fn of_robot(model: &RobotModel) -> Result<Option<(Ranges, String)>> {
+        // The drive file: named by its [effects]/[calibration] tables, else beside the URDF
+        // of a robot directory, else the .toml the robot was loaded from.
+        let file = match model.effects.file.clone() {
+            Some(f) => f,
+            None => {
+                let src = &model.source;
+                let cand = if src.is_dir() {
+                    src.join("drive.toml")
+                } else if src.extension().is_some_and(|e| e == "toml") {
+                    src.clone()
+                } else {
+                    src.with_file_name("drive.toml")
+                };
+                if !cand.is_file() {
+                    return Ok(None);
+                }
+                cand.display().to_string()
+            }
+        };
+        let file = &file;
+        let text =
+            std::fs::read_to_string(file).map_err(|e| Error::Invalid(format!("{file}: {e}")))?;
+        let v: toml::Value =
+            toml::from_str(&text).map_err(|e| Error::Invalid(format!("{file}: {e}")))?;
+        match v.get("uncertainty") {
+            None => Ok(None),
+            Some(t) => t
+                .clone()
+                .try_into::<Ranges>()
+                .map(|r| Some((r, file.clone())))
+                .map_err(|e| Error::Invalid(format!("{file}: [uncertainty]: {e}"))),
+        }
+    }
+}
+
+/// Where the draws' spreads came from.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub enum Source {
+    /// The drive file's `[uncertainty]` ranges.
+    DriveFile(String),
+    /// Built-in default ranges (the drive file has no `[uncertainty]` table).
+    Default,
+    /// Ranges given by the caller.
+    Given,
+}
+
+/// The outcome of the study, for the recommended placement (index 0 of the candidates).
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Study {
+    /// Draws made.
+    pub draws: usize,
+    /// Seed of the draws.
+    pub seed: u64,
+    /// Where the ranges came from.
+    pub source: Source,
+    /// Identified parameters drawn from their standard errors (calibrated robots), by name.
+    pub calibrated: Vec<String>,
+    /// Candidate placements re-evaluated per draw (the recommended one first).
+    pub candidates: usize,
+    /// Share of draws in which the recommended placement is within 1 % of that draw's best
+    /// candidate (dimensionless, 0–1).
+    pub p_within_1pct: f64,
+    /// Share of draws in which it is the best candidate.
+    pub p_best: f64,
+    /// Saving of the recommended placement against the baseline (the last candidate), % of the
+    /// baseline's energy: mean, 5th and 95th percentile over the draws (`None` without a
+    /// baseline).
+    pub saving_pct: Option<[f64; 3]>,
+    /// Spearman rank correlation of the candidates' energies between each draw and the nominal
+    /// robot: mean and minimum over the draws.
+    pub rank_correlation: [f64; 2],
+    /// Parameters ranked by |Spearman ρ| between their drawn value and the recommended
+    /// placement's regret ((E_rec − E_best)/E_best) or, where the regret never varies, its
+    /// saving: (name, ρ), the first is what the answer depends on most (top 5).
+    pub depends_on: Vec<(String, f64)>,
+    /// Per draw: the recommended placement's energy and the best candidate's, J.
+    pub per_draw_j: Vec<[f64; 2]>,
+}
+
+/// A perturbed robot and the normalised values drawn (name, value in the parameter's own
+/// scale: the multiplier, the shift in m, or 1/0 for the balancer's presence).
+fn draw_robot(
+    nominal: &RobotModel,
+    r: &Ranges,
+    rng: &mut ChaCha8Rng,
+) -> (RobotModel, Vec<(String, f64)>) {
+    let mut m = nominal.clone();
+    let mut drawn = Vec::new();
+    // Identified parameters (calibrated robot): normal with their standard errors.
+    let cal: Vec<(String, f64, f64)> = nominal
+        .effects
+        .calibration
+        .as_ref()
+        .map(|c| {
+            c.params
+                .iter()
+                .filter_map(|p| p.std_error.map(|se| (p.name.clone(), p.value, se)))
+                .filter(|(_, _, se)| se.is_finite() && *se > 0.0)
+                .collect()
+        })
+        .unwrap_or_default();
+    let calibrated = |name: &str| cal.iter().find(|(n, _, _)| n == name).map(|c| (c.1, c.2));
+    let u = |rng: &mut ChaCha8Rng| rng.gen_range(-1.0..=1.0);
+    let normal = |rng: &mut ChaCha8Rng| {
+        // Box–Muller from two uniforms of the stream.
+        let a: f64 = rng.gen_range(f64::EPSILON..1.0);
+        let b: f64 = rng.gen_range(0.0..1.0);
+        (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos()
+    };
+    for (i, l) in m.links.iter_mut().enumerate() {
+        if let Some(l) = l.as_mut() {
+            let f = 1.0 + r.link_mass_rel * u(rng);
+            l.mass *= f;
+            drawn.push((format!("link {} mass", i + 1), f));
+            for k in 0..3 {
+                let d = r.link_com_m * u(rng);
+                l.com[k] += d;
+            }
+            let g = 1.0 + r.link_inertia_rel * u(rng);
+            l.inertia *= g;
+            drawn.push((format!("link {} inertia", i + 1), g));
+        }
+    }
+    if let Some(p) = m.payload.as_mut() {
+        let f = 1.0 + r.payload_mass_rel * u(rng);
+        p.mass *= f;
+        p.inertia *= f;
+        drawn.push(("payload mass".into(), f));
+    }
+    if let Some(d) = m.drive.as_mut() {
+        for (j, jd) in d.joints.iter_mut().enumerate() {
+            let name = |s: &str| format!("{s} joint {}", j + 1);
+            let kt = 1.0 + r.torque_constant_rel * u(rng);
+            jd.torque_constant *= kt;
+            drawn.push((name("torque constant"), kt));
+            let rr = 1.0 + r.winding_resistance_rel * u(rng);
+            jd.winding_resistance *= rr;
+            drawn.push((name("winding resistance"), rr));
+            let fv_name = format!("f_v[{}]", j + 1);
+            let fv = match calibrated(&fv_name) {
+                Some((v, se)) => (v + se * normal(rng)).max(0.0) / v.max(1e-300),
+                None => 1.0 + r.viscous_rel * u(rng),
+            };
+            jd.viscous *= fv;
+            drawn.push((name("viscous friction"), fv));
+            let fc_name = format!("f_c[{}]", j + 1);
+            let fc = match calibrated(&fc_name) {
+                Some((v, se)) => (v + se * normal(rng)).max(0.0) / v.max(1e-300),
+                None => 1.0 + r.coulomb_rel * u(rng),
+            };
+            jd.coulomb *= fc;
+            drawn.push((name("Coulomb friction"), fc));
+            let de = r.gear_efficiency_abs * u(rng);
+            jd.gear_efficiency = (jd.gear_efficiency + de).clamp(0.3, 1.0);
+            drawn.push((name("gear efficiency"), de));
+        }
+        let sb = match calibrated("P0") {
+            Some((v, se)) => (v + se * normal(rng)).max(0.0) / v.max(1e-300),
+            None => 1.0 + r.standby_power_rel * u(rng),
+        };
+        d.standby_power *= sb;
+        drawn.push(("standby power".into(), sb));
+    }
+    let t = &mut m.effects.table;
+    let declared = t.balancer_lever_m.is_some() && t.balancer_base_m.is_some();
+    let (p0, k0) = (
+        t.balancer_preload_n.unwrap_or(0.0),
+        t.balancer_stiffness_n_per_m.unwrap_or(0.0),
+    );
+    if declared || p0 != 0.0 || k0 != 0.0 {
+        // An identified balancer is there: only its force is uncertain.
+        let identified = calibrated("F0").is_some() && calibrated("k").is_some();
+        let present = rng.gen_range(0.0..1.0) >= r.balancer_absent_probability || identified;
+        let (f0, k) = match (calibrated("F0"), calibrated("k")) {
+            (Some((f, sf)), Some((k, sk))) => {
+                (f + sf * normal(rng), (k + sk * normal(rng)).max(0.0))
+            }
+            _ => {
+                let f = 1.0 + r.balancer_force_rel * u(rng);
+                (p0 * f, k0 * f)
+            }
+        };
+        let (f0, k) = if present { (f0, k) } else { (0.0, 0.0) };
+        t.balancer_preload_n = Some(f0);
+        t.balancer_stiffness_n_per_m = Some(k);
+        drawn.push(("balancer present".into(), if present { 1.0 } else { 0.0 }));
+    }
+    (m, drawn)
+}
+
+/// One draw's energies at every candidate (J) and the values it drew (name, value).
+type DrawResult = (Vec<f64>, Vec<(String, f64)>);
+
+/// Average ranks (1-based, ties share their mean rank).
+fn ranks(v: &[f64]) -> Vec<f64> {
+    let mut idx: Vec<usize> = (0..v.len()).collect();
+    idx.sort_by(|&a, &b| v[a].total_cmp(&v[b]).then(a.cmp(&b)));
+    let mut r = vec![0.0; v.len()];
+    let mut i = 0;
+    while i < idx.len() {
+        let mut j = i;
+        while j + 1 < idx.len() && v[idx[j + 1]] == v[idx[i]] {
+            j += 1;
+        }
+        let avg = (i + j) as f64 / 2.0 + 1.0;
+        for &k in &idx[i..=j] {
+            r[k] = avg;
+        }
+        i = j + 1;
+    }
+    r
+}
+
+/// Spearman's rank correlation of two equally long series (Pearson on average ranks);
+/// `None` when either has no spread.
+pub fn spearman(a: &[f64], b: &[f64]) -> Option<f64> {
+    let n = a.len();
+    if n < 2 || b.len() != n {
+        return None;
+    }
+    let (ra, rb) = (ranks(a), ranks(b));
+    let mean = (n as f64 + 1.0) / 2.0;
+    let (mut sab, mut saa, mut sbb) = (0.0, 0.0, 0.0);
+    for k in 0..n {
+        let (x, y) = (ra[k] - mean, rb[k] - mean);
+        sab += x * y;
+        saa += x * x;
+        sbb += y * y;
+    }
+    (saa > 0.0 && sbb > 0.0).then(|| sab / (saa * sbb).sqrt())
+}
+
+fn percentile(sorted: &[f64], p: f64) -> f64 {
+    if sorted.is_empty() {
+        return f64::NAN;
+    }
+    let x = p * (sorted.len() - 1) as f64;
+    let (i, f) = (x.floor() as usize, x - x.floor());
+    let j = (i + 1).min(sorted.len() - 1);
+    sorted[i] * (1.0 - f) + sorted[j] * f
+}
+
+/// Run the study: `candidates[0]` is the recommended placement, `baseline` (if any) is
+/// compared against it; every candidate must be feasible under the nominal robot (infeasible
+/// ones are skipped). `draws` ≥ 1. Errors: no drive data to vary, a model error.
+pub fn study(
+    job: &PathJob,
+    ev: &Evaluator,
+    candidates: &[Evaluated],
+    baseline: Option<&Evaluated>,
+    draws: usize,
+    seed: u64,
+) -> Result<Study> {
+    study_with(job, ev, candidates, baseline, draws, seed, None)
+}
+
+/// [`study`] with the ranges given (`None`: the drive file's, else the defaults).
+pub fn study_with(
+    job: &PathJob,
+    ev: &Evaluator,
+    candidates: &[Evaluated],
+    baseline: Option<&Evaluated>,
+    draws: usize,
+    seed: u64,
+    ranges: Option<Ranges>,
+) -> Result<Study> {
+    if draws == 0 {
+        return Err(Error::Invalid("--uncertainty: at least 1 draw".into()));
+    }
+    let robot = job.robot;
+    let (ranges, source) = match ranges {
+        Some(r) => (r, Source::Given),
+        None => match Ranges::of_robot(robot)? {
+            Some((r, file)) => (r, Source::DriveFile(file)),
+            None => (Ranges::default(), Source::Default),
+        },
+    };
+    // Candidates: feasible, the recommended first, the baseline last; timed once.
+    let mut cands: Vec<&Evaluated> = candidates
+        .iter()
+        .filter(|e| e.feasible().is_some())
+        .collect();
+    if cands.is_empty() {
+        return Err(Error::Invalid(
+            "--uncertainty: no feasible candidate".into(),
+        ));
+    }
+    let has_base = match baseline.filter(|b| b.feasible().is_some()) {
+        Some(b) => {
+            cands.push(b);
+            true
+        }
+        None => false,
+    };
+    let mut sc = ev.scratch()?;
+    let mut timed = Vec::with_capacity(cands.len());
+    for c in &cands {
+        let t = ev
+            .timed(&mut sc, &c.placement)
+            .map_err(|e| Error::Invalid(format!("--uncertainty: re-timing a candidate: {e}")))?;
+        timed.push(t);
+    }
+    let nominal: Vec<f64> = cands.iter().map(|c| c.cost()).collect();
+    let objective: Objective = ev.objective;
+    let feas = ev.feasibility;
+    // One draw: a robot, its energies at every candidate.
+    let one = |d: usize| -> Result<DrawResult> {
+        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+        rng.set_stream(d as u64);
+        let (m, drawn) = draw_robot(robot, &ranges, &mut rng);
+        let jd = PathJob {
+            robot: &m,
+            energy: EnergyModel::with_options(&m, job.energy.options())?,
+            moves: job.moves.clone(),
+            pieces: job.pieces.clone(),
+            plan: job.plan.clone(),
+            profile: job.profile,
+            joint: job.joint,
+        };
+        let evd = Evaluator::new(&jd, feas, objective);
+        let mut scd = evd.scratch()?;
+        let e: Vec<f64> = timed
+            .iter()
+            .map(|t| {
+                evd.energy_of(&mut scd, t, Default::default())
+                    .map_or(f64::INFINITY, |f| f.energy_j)
+            })
+            .collect();
+        Ok((e, drawn))
+    };
+    let results: Vec<Result<DrawResult>> = (0..draws).into_par_iter().map(one).collect();
+    let mut per: Vec<DrawResult> = Vec::with_capacity(draws);
+    for r in results {
+        per.push(r?);
+    }
+    let k_opt = cands.len() - usize::from(has_base); // candidates competing for "best"
+    let mut within = 0usize;
+    let mut best_n = 0usize;
+    let mut savings = Vec::new();
+    let mut rhos = Vec::new();
+    let mut regret = Vec::with_capacity(draws);
+    let mut per_draw_j = Vec::with_capacity(draws);
+    for (e, _) in &per {
+        let best = e[..k_opt].iter().copied().fold(f64::INFINITY, f64::min);
+        let rec = e[0];
+        if rec <= 1.01 * best {
+            within += 1;
+        }
+        if rec <= best {
+            best_n += 1;
+        }
+        regret.push((rec - best) / best);
+        per_draw_j.push([rec, best]);
+        if has_base {
+            let b = e[e.len() - 1];
+            savings.push((b - rec) / b * 100.0);
+        }
+        if let Some(r) = spearman(&e[..k_opt], &nominal[..k_opt]) {
+            rhos.push(r);
+        }
+    }
+    let saving_pct = (!savings.is_empty()).then(|| {
+        let mean = savings.iter().sum::<f64>() / savings.len() as f64;
+        let mut s = savings.clone();
+        s.sort_by(f64::total_cmp);
+        [mean, percentile(&s, 0.05), percentile(&s, 0.95)]
+    });
+    let rank_correlation = if rhos.is_empty() {
+        [1.0, 1.0]
+    } else {
+        [
+            rhos.iter().sum::<f64>() / rhos.len() as f64,
+            rhos.iter().copied().fold(f64::INFINITY, f64::min),
+        ]
+    };
+    // Which drawn parameter moves the answer: against the regret where it varies, else
+    // against the saving.
+    let response: &[f64] = if regret.iter().any(|r| *r != regret[0]) || savings.is_empty() {
+        &regret
+    } else {
+        &savings
+    };
+    let mut depends: Vec<(String, f64)> = Vec::new();
+    if let Some((_, names)) = per.first() {
+        for (i, (name, _)) in names.iter().enumerate() {
+            let xs: Vec<f64> = per
+                .iter()
+                .map(|(_, d)| d.get(i).map_or(0.0, |v| v.1))
+                .collect();
+            if let Some(r) = spearman(&xs, response) {
+                depends.push((name.clone(), r));
+            }
+        }
+    }
+    depends.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()).then(a.0.cmp(&b.0)));
+    depends.truncate(5);
+    let calibrated = robot
+        .effects
+        .calibration
+        .as_ref()
+        .map(|c| {
+            c.params
+                .iter()
+                .filter(|p| p.std_error.is_some_and(|s| s > 0.0))
+                .map(|p| p.name.clone())
+                .collect()
+        })
+        .unwrap_or_default();
+    Ok(Study {
+        draws,
+        seed,
+        source,
+        calibrated,
+        candidates: k_opt,
+        p_within_1pct: within as f64 / draws as f64,
+        p_best: best_n as f64 / draws as f64,
+        saving_pct,
+        rank_correlation,
+        depends_on: depends,
+        per_draw_j,
+    })
+}

@@ -1,0 +1,124 @@
+//! Issue 9 item 4: how much to trust the answer (`optimise --uncertainty N`).
+
+use printwatt::energy::EnergyOptions;
+use printwatt::placement::uncertainty::{self, Ranges};
+use printwatt::placement::{Evaluator, FeasibilityOptions, Grid, Objective, PathJob};
+use printwatt::robot;
+use printwatt::timing::{JointStageOptions, ProfileOptions};
+use printwatt::toolpath::{self, ReadOptions};
+use std::path::PathBuf;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn pool(n: usize) -> rayon::ThreadPool {
+    rayon::ThreadPoolBuilder::new()
+        .num_threads(n)
+        .build()
+        .unwrap()
+}
+
+#[test]
+fn uncertainty_study_is_deterministic_for_a_seed_and_thread_count() {
+    let model = robot::load(&root().join("robots/abb_irb4600_40_255")).unwrap();
+    let tp = toolpath::load(
+        &root().join("paths/seed000_test_path.gcode"),
+        &ReadOptions::default(),
+    )
+    .unwrap();
+    let job = PathJob::new(
+        &model,
+        &tp,
+        EnergyOptions::default(),
+        ProfileOptions::default(),
+        JointStageOptions::default(),
+    )
+    .unwrap();
+    let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
+    let g = Grid {
+        xs: vec![1.0, 1.2, 1.4],
+        ys: vec![-0.3, 0.0, 0.3],
+        zs: vec![0.0],
+        yaws: vec![0.0],
+        spins: vec![0.0],
+    };
+    let rows = ev.sweep(&g.placements(), &|_, _| {}).unwrap();
+    let feasible: Vec<_> = rows
+        .iter()
+        .filter(|r| r.cost().is_finite())
+        .cloned()
+        .collect();
+    assert!(feasible.len() >= 4, "{} feasible", feasible.len());
+    let base = feasible.last().unwrap().clone();
+    let run = |threads: usize, seed: u64| {
+        pool(threads)
+            .install(|| uncertainty::study(&job, &ev, &feasible, Some(&base), 8, seed).unwrap())
+    };
+    let a = run(1, 7);
+    let b = run(2, 7);
+    // Bitwise identical for 1 and 2 threads.
+    assert_eq!(
+        serde_json::to_string(&a).unwrap(),
+        serde_json::to_string(&b).unwrap()
+    );
+    for (x, y) in a.per_draw_j.iter().zip(&b.per_draw_j) {
+        assert_eq!(x[0].to_bits(), y[0].to_bits());
+    }
+    // The shipped [uncertainty] table is used, and a different seed draws other robots.
+    assert!(matches!(a.source, uncertainty::Source::DriveFile(ref f) if f.ends_with("drive.toml")));
+    let c = run(2, 8);
+    assert_ne!(a.per_draw_j, c.per_draw_j);
+    assert!(a.p_within_1pct >= 0.0 && a.p_within_1pct <= 1.0);
+    assert!(a.rank_correlation[1] <= a.rank_correlation[0]);
+    assert!(!a.depends_on.is_empty());
+    // With every range zero, each draw is the nominal robot: the candidates' energies are
+    // exactly the nominal ones and the best candidate is the best in every draw.
+    let zero = Ranges {
+        link_mass_rel: 0.0,
+        link_com_m: 0.0,
+        link_inertia_rel: 0.0,
+        payload_mass_rel: 0.0,
+        torque_constant_rel: 0.0,
+        winding_resistance_rel: 0.0,
+        viscous_rel: 0.0,
+        coulomb_rel: 0.0,
+        gear_efficiency_abs: 0.0,
+        standby_power_rel: 0.0,
+        balancer_absent_probability: 0.0,
+        balancer_force_rel: 0.0,
+    };
+    let mut ranked = feasible.clone();
+    ranked.sort_by(|x, y| x.cost().total_cmp(&y.cost()));
+    let z = uncertainty::study_with(&job, &ev, &ranked, Some(&base), 3, 1, Some(zero)).unwrap();
+    assert_eq!(z.p_best, 1.0);
+    assert_eq!(z.p_within_1pct, 1.0);
+    assert_eq!(z.rank_correlation, [1.0, 1.0]);
+    for d in &z.per_draw_j {
+        assert_eq!(d[0].to_bits(), ranked[0].cost().to_bits());
+    }
+}
+
+#[test]
+fn every_shipped_drive_file_gives_ranges_for_its_estimates() {
+    for r in [
+        "abb_irb6700_200_260",
+        "abb_irb4600_40_255",
+        "staubli_tx200",
+        "ur10e",
+        "puma560",
+    ] {
+        let model = robot::load(&root().join("robots").join(r)).unwrap();
+        let (ranges, file) = Ranges::of_robot(&model)
+            .unwrap()
+            .unwrap_or_else(|| panic!("{r}: no [uncertainty] table"));
+        assert!(file.ends_with("drive.toml"));
+        assert!(
+            ranges.link_mass_rel > 0.0 && ranges.torque_constant_rel > 0.0,
+            "{r}"
+        );
+        if model.effects.table.balancer_lever_m.is_some() {
+            assert!(ranges.balancer_absent_probability > 0.0, "{r}");
+        }
+    }
+}
