@@ -11,30 +11,42 @@ pub enum Error {
     /// A file could not be read or written.
     #[error("{}: {source}", path.display())]
     Io {
+        /// The file.
         path: PathBuf,
+        /// What the system said.
         #[source]
         source: std::io::Error,
     },
     /// Text that does not parse: names the file, 1-based line and column, and what was expected.
     #[error("{file}:{line}:{column}: {}", clip(msg))]
     Parse {
+        /// The file.
         file: String,
+        /// 1-based line.
         line: usize,
+        /// 1-based column.
         column: usize,
+        /// What is wrong and what was expected.
         msg: String,
     },
     /// A value that parses but is wrong: names the file and the field.
     #[error("{file}: {field}: {}", clip(msg))]
     Field {
+        /// The file.
         file: String,
+        /// The field (a key path, a column name, an element).
         field: String,
+        /// What is wrong and what was expected.
         msg: String,
     },
     /// Two sizes that must agree do not.
     #[error("{what}: got {got}, expected {expected}")]
     SizeMismatch {
+        /// What was counted.
         what: String,
+        /// The size given.
         got: usize,
+        /// The size needed.
         expected: usize,
     },
     /// Dynamics were asked of a robot whose link has no `<inertial>`.
@@ -42,7 +54,12 @@ pub enum Error {
         "{file}: link `{link}` has no <inertial>: dynamics need the mass, centre of mass and \
          inertia of every moving link (kinematics alone work without them)"
     )]
-    MissingInertial { file: String, link: String },
+    MissingInertial {
+        /// The URDF.
+        file: String,
+        /// The link without `<inertial>`.
+        link: String,
+    },
     /// A pose or path the robot cannot reach, with the reason.
     #[error("unreachable: {}", clip(.0))]
     Unreachable(String),

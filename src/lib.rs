@@ -1,3 +1,4 @@
+#![warn(missing_docs)]
 //! printwatt: where to put a 3D concrete print so the robot arm spends the least energy, and
 //! how well the energy model agrees with what the robot measured.
 //!
@@ -47,3 +48,13 @@ pub mod toolpath;
 pub mod trajectory;
 
 pub use error::{Error, Result};
+
+/// The linear-algebra crate of every public vector, matrix and transform (nalgebra 0.34), so
+/// that a user of printwatt names the same types without pinning its version.
+pub use nalgebra;
+
+// The main job in one line each (see `examples/`).
+pub use energy::{EnergyModel, EnergyOptions, EnergyReport};
+pub use placement::PathJob;
+pub use robot::{load as load_robot, RobotModel};
+pub use toolpath::{load as load_path, Placement, ReadOptions, Toolpath};

@@ -10,10 +10,27 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
     let mut la = a.log.clone();
     let fit_list = la.effects.take().unwrap_or_default();
     let (robot, mut model, log) = super::compare::load(&la)?;
-    let effects = identify::model::parse_effect_list(&fit_list)?;
-    if effects.is_empty() {
+    let asked = identify::model::parse_effect_list(&fit_list)?;
+    if asked.is_empty() {
         bail!("--effects: name the effects to fit, e.g. --effects coulomb,balancer");
     }
+    // A calibrated robot: the effects of earlier rounds are re-fitted jointly with the new
+    // ones (first, so the ladder shows them), not frozen; parameters this log cannot
+    // determine are held at their calibrated values by the ladder.
+    let mut carried: Vec<&'static str> = Vec::new();
+    if let Some(c) = &robot.effects.calibration {
+        for e in c.rounds.iter().flat_map(|r| r.effects.iter()) {
+            if let Some(name) = printwatt::effects::catalogue().into_iter().find(|n| n == e) {
+                if !asked.contains(&name)
+                    && !carried.contains(&name)
+                    && identify::model::Model::observable(name, log.kind)
+                {
+                    carried.push(name);
+                }
+            }
+        }
+    }
+    let effects: Vec<&'static str> = carried.iter().chain(&asked).copied().collect();
     for e in &effects {
         if !identify::model::Model::observable(e, log.kind) {
             bail!(
@@ -136,6 +153,7 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
             "drive_file": written,
             "calibrated_robot": written,
             "started_from": robot.effects.calibration_summary(),
+            "refitted_from_earlier_rounds": carried,
         });
         super::print_json(&v)?;
         return Ok(());
@@ -144,6 +162,12 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
     print!("{}", ladder_table(&id, log.kind.unit()));
     if let Some(c) = robot.effects.calibration_summary() {
         println!("started from {c}");
+    }
+    if !carried.is_empty() {
+        println!(
+            "re-fitted jointly with this round: {} (from earlier rounds)",
+            carried.join(", ")
+        );
     }
     if let Some(ill) = &id.ill_conditioned {
         println!("{ill}");

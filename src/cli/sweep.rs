@@ -525,6 +525,13 @@ pub fn meta(
 ) -> Vec<(String, String)> {
     vec![
         ("robot".into(), l.robot.name().to_string()),
+        (
+            "calibration".into(),
+            l.robot
+                .effects
+                .calibration_summary()
+                .unwrap_or_else(|| "none (nominal robot)".into()),
+        ),
         ("path".into(), l.path_file.display().to_string()),
         (
             "objective".into(),

@@ -175,6 +175,49 @@ impl DynModel {
         self.gravity
     }
 
+    /// The standard inertial parameters of link `i` (0-based moving link) in its joint frame
+    /// (re-oriented so the joint axis is +z), the vector RNEA is linear in:
+    /// `[m, h_x, h_y, h_z, I_xx, I_yy, I_zz, I_xy, I_xz, I_yz]` with `h = m c` (kg·m) and `I`
+    /// about the joint origin (kg·m²). Zeros out of range.
+    pub fn link_params(&self, i: usize) -> [f64; 10] {
+        if i >= self.n {
+            return [0.0; 10];
+        }
+        let l = &self.links[i];
+        [
+            l.mass,
+            l.h.x,
+            l.h.y,
+            l.h.z,
+            l.io[(0, 0)],
+            l.io[(1, 1)],
+            l.io[(2, 2)],
+            l.io[(0, 1)],
+            l.io[(0, 2)],
+            l.io[(1, 2)],
+        ]
+    }
+
+    /// A copy whose links have the standard parameters `params` (one
+    /// [`DynModel::link_params`] vector per moving link; missing links get zeros), without
+    /// armature. Since RNEA is linear in these, `rnea(with_link_params(a + b)) =
+    /// rnea(with_link_params(a)) + rnea(with_link_params(b))` up to the gravity/velocity terms
+    /// being shared: exactly linear. Parameters need not be physical (a difference of two
+    /// models is fine).
+    pub fn with_link_params(&self, params: &[[f64; 10]]) -> DynModel {
+        let mut m = self.clone();
+        m.has_armature = false;
+        for i in 0..m.n {
+            let p = params.get(i).copied().unwrap_or([0.0; 10]);
+            let l = &mut m.links[i];
+            l.mass = p[0];
+            l.h = V3::new(p[1], p[2], p[3]);
+            l.io = M3::new(p[4], p[7], p[8], p[7], p[5], p[9], p[8], p[9], p[6]);
+            l.armature = 0.0;
+        }
+        m
+    }
+
     /// A fresh workspace for this model.
     pub fn data(&self) -> DynData {
         DynData::default()
@@ -321,6 +364,113 @@ fn rnea_core(
         ap = a;
     }
     backward(m, d, tau, Some(qdd));
+}
+
+/// The inertial-parameter regressor of RNEA (Khalil & Dombre 2002, §9.4; cf. pinocchio
+/// `computeJointTorqueRegressor`): `τ = Y π` with `π` the [`DynModel::link_params`] of every
+/// link stacked (`10 n` values). `y` is row-major `n × 10 n`. One forward pass for the link
+/// motions, then for each link parameter the link's force and moment propagated back to the
+/// base; the armature is not included. Error: [`Error::SizeMismatch`] on a wrong slice length.
+#[allow(clippy::needless_range_loop)] // parallel fixed arrays indexed by joint
+pub fn rnea_regressor(
+    model: &DynModel,
+    data: &mut DynData,
+    q: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+    y: &mut [f64],
+) -> Result<()> {
+    let n = model.n;
+    model.check("rnea_regressor: q", q.len())?;
+    model.check("rnea_regressor: qd", qd.len())?;
+    model.check("rnea_regressor: qdd", qdd.len())?;
+    if y.len() != n * 10 * n {
+        return Err(Error::SizeMismatch {
+            what: "rnea_regressor: y (n × 10n)".into(),
+            got: y.len(),
+            expected: n * 10 * n,
+        });
+    }
+    kinematics(model, data, q);
+    let mut ws = [V3::zeros(); MAX_DOF];
+    let mut wds = [V3::zeros(); MAX_DOF];
+    let mut acc = [V3::zeros(); MAX_DOF];
+    let mut wp = V3::zeros();
+    let mut wdp = V3::zeros();
+    let mut ap = model.a0;
+    for i in 0..n {
+        let l = &model.links[i];
+        let r = &data.r[i];
+        let p = data.p[i];
+        let a_origin = ap + wdp.cross(&p) + wp.cross(&wp.cross(&p));
+        let wpl = r.tr_mul(&wp);
+        let (w, wd, a) = if l.prismatic {
+            let w = wpl;
+            let wd = r.tr_mul(&wdp);
+            let mut a = r.tr_mul(&a_origin) + cross_z(&w) * (2.0 * qd[i]);
+            a.z += qdd[i];
+            (w, wd, a)
+        } else {
+            let mut w = wpl;
+            w.z += qd[i];
+            let mut wd = r.tr_mul(&wdp) + cross_z(&wpl) * qd[i];
+            wd.z += qdd[i];
+            (w, wd, r.tr_mul(&a_origin))
+        };
+        ws[i] = w;
+        wds[i] = wd;
+        acc[i] = a;
+        wp = w;
+        wdp = wd;
+        ap = a;
+    }
+    y.iter_mut().for_each(|v| *v = 0.0);
+    let cols = 10 * n;
+    let e = [V3::x(), V3::y(), V3::z()];
+    for i in 0..n {
+        let (w, wd, a) = (ws[i], wds[i], acc[i]);
+        for c in 0..10 {
+            let (f, nn) = match c {
+                0 => (a, V3::zeros()),
+                1..=3 => {
+                    let h = e[c - 1];
+                    (wd.cross(&h) + w.cross(&w.cross(&h)), h.cross(&a))
+                }
+                _ => {
+                    let mut io = M3::zeros();
+                    match c {
+                        4..=6 => io[(c - 4, c - 4)] = 1.0,
+                        7 => {
+                            io[(0, 1)] = 1.0;
+                            io[(1, 0)] = 1.0
+                        }
+                        8 => {
+                            io[(0, 2)] = 1.0;
+                            io[(2, 0)] = 1.0
+                        }
+                        _ => {
+                            io[(1, 2)] = 1.0;
+                            io[(2, 1)] = 1.0
+                        }
+                    }
+                    (V3::zeros(), io * wd + w.cross(&(io * w)))
+                }
+            };
+            let (mut f, mut nn) = (f, nn);
+            let col = 10 * i + c;
+            for k in (0..=i).rev() {
+                let t = if model.links[k].prismatic { f.z } else { nn.z };
+                y[k * cols + col] = t;
+                if k > 0 {
+                    let r = &data.r[k];
+                    let fp = r * f;
+                    nn = r * nn + data.p[k].cross(&fp);
+                    f = fp;
+                }
+            }
+        }
+    }
+    Ok(())
 }
 
 /// Inverse dynamics by the recursive Newton–Euler algorithm (seed 000, eqs. 1 and 5):

@@ -25,6 +25,7 @@ mod electrical;
 mod offset;
 mod payload;
 pub mod registry;
+mod rigid_body;
 mod stribeck;
 mod viscous;
 
@@ -36,6 +37,7 @@ pub use electrical::{Copper, GearEfficiency, Regeneration, Standby};
 pub use offset::Offset;
 pub use payload::Payload;
 pub use registry::{catalogue, catalogue_index, EffectId, Registration, REGISTRY};
+pub use rigid_body::RigidBody;
 pub use stribeck::{Stribeck, STRIBECK_VELOCITY_RAD_S};
 pub use viscous::Viscous;
 

@@ -33,6 +33,7 @@ pub static REGISTRY: &[Registration] = &[
     Registration { name: "payload", build: super::payload::build },
     Registration { name: "balancer", build: super::balancer::build },
     Registration { name: "offset", build: super::offset::build },
+    Registration { name: "rigid_body", build: super::rigid_body::build },
     Registration { name: "copper", build: super::electrical::build_copper },
     Registration { name: "gear_efficiency", build: super::electrical::build_gear_efficiency },
     Registration { name: "regeneration", build: super::electrical::build_regeneration },

@@ -13,21 +13,34 @@ pub const SMOOTH_JUNCTION_RAD: f64 = 0.5 * std::f64::consts::PI / 180.0;
 #[allow(clippy::large_enum_variant)]
 pub enum Prim {
     /// Straight line from `a` to `b`, m.
-    Line { a: V3, b: V3 },
+    Line {
+        /// Start, m.
+        a: V3,
+        /// End, m.
+        b: V3,
+    },
     /// Circular arc (optionally helical): `p(θ) = centre + r (cos θ u + sin θ w) + rise · θ/sweep`
     /// for θ in [0, sweep]; `u`, `w` orthonormal, `w` the direction of motion at the start.
     Arc {
+        /// Centre, m.
         centre: V3,
+        /// Unit vector from the centre to the start point.
         u: V3,
+        /// Unit vector of the direction of motion at the start.
         w: V3,
+        /// Radius, m.
         radius: f64,
+        /// Swept angle, rad.
         sweep: f64,
+        /// Axial displacement over the whole arc (helix), m.
         rise: V3,
     },
     /// Cubic Bézier blend with control points `p` (m), parameterised by arc length through a
     /// table of `BLEND_TABLE` entries.
     Blend {
+        /// Control points, m.
         p: [V3; 4],
+        /// Arc length at evenly spaced curve parameters, m.
         table: [f64; BLEND_TABLE],
     },
 }
