@@ -88,7 +88,8 @@ fn identified_drive_file_carries_its_effects() {
     let b = balancer(&r);
     assert!(close(b.preload, param("F0").value, 1e-15));
     assert!(close(b.stiffness, param("k").value, 1e-15));
-    assert!(param("F0").std_error.is_some_and(|s| s > 0.0) && param("F0").round == 1);
+    // Round 2 re-fits round 1's balancer jointly with Coulomb, so F0 carries round 2.
+    assert!(param("F0").std_error.is_some_and(|s| s > 0.0) && param("F0").round == 2);
     // The nominal robot declares its sized balancer; the calibrated one moved it.
     let nominal = load(&root().join("robots/abb_irb4600_40_255")).unwrap();
     assert!(balancer(&nominal).declared);
@@ -251,9 +252,10 @@ fn bad_effects_tables_name_file_and_key() {
         dir.join("robot.urdf"),
     )
     .unwrap();
+    // The identified balancer values [F0, k] as written in `[effects.values]`.
     let pre = src
         .lines()
-        .find(|l| l.starts_with("balancer_preload_n = "))
+        .find(|l| l.starts_with("balancer = ["))
         .unwrap()
         .to_string();
     let cases = [
@@ -267,26 +269,18 @@ fn bad_effects_tables_name_file_and_key() {
             "enabled = [\"viscus\"",
             "effects.enabled",
         ),
+        (pre.as_str(), "balancer = [1.0]", "balancer"),
         (
-            "stribeck_nm = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0]",
-            "stribeck_nm = [0.0, 0.0]",
-            "effects.stribeck_nm",
+            "regeneration = [0.0]",
+            "regeneration = [1.5]",
+            "regeneration",
         ),
         (
-            pre.as_str(),
-            "balancer_preload_n = -1.0",
-            "effects.balancer_preload_n",
+            "balancer_lever_m = 0.15",
+            "balancer_lever_m = -0.15",
+            "balancer_lever_m",
         ),
-        (
-            "regeneration_recovered_fraction = 0.0",
-            "regeneration_recovered_fraction = 1.5",
-            "effects.regeneration_recovered_fraction",
-        ),
-        (
-            "stribeck_velocity_rad_s = 0.05",
-            "stribeck_velocity_rad_s = 0.0",
-            "effects.stribeck_velocity_rad_s",
-        ),
+        ("balancer_joint = 2", "balancer_joint = 9", "balancer_joint"),
     ];
     for (i, (from, to, key)) in cases.iter().enumerate() {
         assert!(src.contains(from), "{from}");
