@@ -341,21 +341,7 @@ fn rnea_core(
         let l = &m.links[i];
         let r = &d.r[i];
         let p = d.p[i];
-        let a_origin = ap + wdp.cross(&p) + wp.cross(&wp.cross(&p));
-        let wpl = r.tr_mul(&wp);
-        let (w, wd, a) = if l.prismatic {
-            let w = wpl;
-            let wd = r.tr_mul(&wdp);
-            let mut a = r.tr_mul(&a_origin) + cross_z(&w) * (2.0 * qd[i]);
-            a.z += qdd[i];
-            (w, wd, a)
-        } else {
-            let mut w = wpl;
-            w.z += qd[i];
-            let mut wd = r.tr_mul(&wdp) + cross_z(&wpl) * qd[i];
-            wd.z += qdd[i];
-            (w, wd, r.tr_mul(&a_origin))
-        };
+        let (w, wd, a) = link_motion(l.prismatic, r, &p, &wp, &wdp, &ap, qd[i], qdd[i]);
         let iw = l.io * w;
         d.f[i] = a * l.mass + wd.cross(&l.h) + w.cross(&w.cross(&l.h));
         d.nn[i] = l.io * wd + w.cross(&iw) + l.h.cross(&a);
@@ -364,6 +350,39 @@ fn rnea_core(
         ap = a;
     }
     backward(m, d, tau, Some(qdd));
+}
+
+/// One link's motion in its own frame from its parent's (forward pass of RNEA): angular
+/// velocity [rad/s], angular acceleration [rad/s²] and linear acceleration of the frame origin
+/// [m/s²], given the joint's rotation `r` and offset `p` [m] from the parent frame and the joint
+/// rate `qd` and acceleration `qdd` (rad or m). Shared by [`rnea`] and [`rnea_regressor`].
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn link_motion(
+    prismatic: bool,
+    r: &M3,
+    p: &V3,
+    wp: &V3,
+    wdp: &V3,
+    ap: &V3,
+    qd: f64,
+    qdd: f64,
+) -> (V3, V3, V3) {
+    let a_origin = ap + wdp.cross(p) + wp.cross(&wp.cross(p));
+    let wpl = r.tr_mul(wp);
+    if prismatic {
+        let w = wpl;
+        let wd = r.tr_mul(wdp);
+        let mut a = r.tr_mul(&a_origin) + cross_z(&w) * (2.0 * qd);
+        a.z += qdd;
+        (w, wd, a)
+    } else {
+        let mut w = wpl;
+        w.z += qd;
+        let mut wd = r.tr_mul(wdp) + cross_z(&wpl) * qd;
+        wd.z += qdd;
+        (w, wd, r.tr_mul(&a_origin))
+    }
 }
 
 /// The inertial-parameter regressor of RNEA (Khalil & Dombre 2002, §9.4; cf. pinocchio
@@ -402,21 +421,7 @@ pub fn rnea_regressor(
         let l = &model.links[i];
         let r = &data.r[i];
         let p = data.p[i];
-        let a_origin = ap + wdp.cross(&p) + wp.cross(&wp.cross(&p));
-        let wpl = r.tr_mul(&wp);
-        let (w, wd, a) = if l.prismatic {
-            let w = wpl;
-            let wd = r.tr_mul(&wdp);
-            let mut a = r.tr_mul(&a_origin) + cross_z(&w) * (2.0 * qd[i]);
-            a.z += qdd[i];
-            (w, wd, a)
-        } else {
-            let mut w = wpl;
-            w.z += qd[i];
-            let mut wd = r.tr_mul(&wdp) + cross_z(&wpl) * qd[i];
-            wd.z += qdd[i];
-            (w, wd, r.tr_mul(&a_origin))
-        };
+        let (w, wd, a) = link_motion(l.prismatic, r, &p, &wp, &wdp, &ap, qd[i], qdd[i]);
         ws[i] = w;
         wds[i] = wd;
         acc[i] = a;
