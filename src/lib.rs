@@ -38,6 +38,7 @@ pub mod error;
 pub mod identify;
 pub mod kinematics;
 pub mod math;
+pub mod numerics;
 pub mod output;
 pub mod placement;
 pub mod report;

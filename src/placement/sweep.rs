@@ -476,7 +476,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         let mut mpos = 0.0;
         let mut losses = Losses::default();
         for k in 0..m {
-            let w = if k == 0 || k + 1 == m { 0.5 * dt } else { dt };
+            let w = crate::numerics::trapezoid_weight(k, m, dt);
             let r = energy::eval_sample(
                 &self.job.energy,
                 &mut sc.data,

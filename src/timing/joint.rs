@@ -232,43 +232,15 @@ pub fn track(
     Ok(())
 }
 
-/// Central differences of uniformly sampled positions: (q̇, q̈, q⃛), one-sided at the ends.
+/// Derivatives of uniformly sampled positions (row-major `len × n`, rad or m, `dt` s apart):
+/// (q̇, q̈, q⃛) from [`crate::numerics::differentiate`] and
+/// [`crate::numerics::third_derivative_uniform`].
 pub fn differentiate(q: &[f64], n: usize, dt: f64) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
-    let m = q.len() / n;
-    let mut qd = vec![0.0; q.len()];
-    let mut qdd = vec![0.0; q.len()];
-    let mut qddd = vec![0.0; q.len()];
-    if m < 3 {
-        return (qd, qdd, qddd);
-    }
-    let at = |k: usize, j: usize| q[k * n + j];
-    for k in 0..m {
-        let (a, b) = if k == 0 {
-            (0, 1)
-        } else if k == m - 1 {
-            (m - 2, m - 1)
-        } else {
-            (k - 1, k + 1)
-        };
-        let c = k.clamp(1, m - 2);
-        for j in 0..n {
-            qd[k * n + j] = (at(b, j) - at(a, j)) / ((b - a) as f64 * dt);
-            qdd[k * n + j] = (at(c + 1, j) - 2.0 * at(c, j) + at(c - 1, j)) / (dt * dt);
-        }
-    }
-    for k in 0..m {
-        let c = k.clamp(2, m.saturating_sub(3).max(2));
-        if c + 2 >= m {
-            continue;
-        }
-        for j in 0..n {
-            // (q[c+2] - 2q[c+1] + 2q[c-1] - q[c-2]) / (2 dt³)
-            qddd[k * n + j] = (at(c + 2, j) - 2.0 * at(c + 1, j) + 2.0 * at(c - 1, j)
-                - at(c - 2, j))
-                / (2.0 * dt * dt * dt);
-        }
-    }
-    (qd, qdd, qddd)
+    let len = if n == 0 { 0 } else { q.len() / n };
+    let grid = crate::numerics::Grid::Uniform { dt, len };
+    let (qd, qdd) = crate::numerics::differentiate(grid, &q[..len * n], n)
+        .unwrap_or_else(|_| (vec![0.0; len * n], vec![0.0; len * n]));
+    (qd, qdd, crate::numerics::third_derivative_uniform(q, n, dt))
 }
 
 struct Violation {
