@@ -56,6 +56,6 @@ pub use nalgebra;
 
 // The main job in one line each (see `examples/`).
 pub use energy::{EnergyModel, EnergyOptions, EnergyReport};
-pub use placement::PathJob;
+pub use placement::{PathJob, Placement};
 pub use robot::{load as load_robot, RobotModel};
-pub use toolpath::{load as load_path, Placement, ReadOptions, Toolpath};
+pub use toolpath::{load as load_path, ReadOptions, Toolpath};

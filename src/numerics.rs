@@ -64,7 +64,7 @@ pub fn trapezoid(t: &[f64], y: &[f64]) -> f64 {
 
 /// Trapezoidal `∫ y_j dt` over column `j` of a row-major `len × n` array `y` at times `t` (s).
 pub fn trapezoid_column(t: &[f64], y: &[f64], n: usize, j: usize) -> f64 {
-    let len = if n == 0 { 0 } else { t.len().min(y.len() / n) };
+    let len = y.len().checked_div(n).map_or(0, |rows| t.len().min(rows));
     trapezoid_by(t, |k| y[k * n + j], len)
 }
 
@@ -191,7 +191,7 @@ pub fn differentiate(grid: Grid<'_>, q: &[f64], n: usize) -> Result<(Vec<f64>, V
 /// clamped to the interior (the two first and last samples take their neighbour's value).
 /// Fewer than five samples: zeros.
 pub fn third_derivative_uniform(q: &[f64], n: usize, dt: f64) -> Vec<f64> {
-    let m = if n == 0 { 0 } else { q.len() / n };
+    let m = q.len().checked_div(n).unwrap_or(0);
     let mut out = vec![0.0; m * n];
     if m < 5 {
         return out;
