@@ -1,7 +1,18 @@
-//! A small reader for numeric CSV tables as printwatt's inputs use them: `#` comment lines,
-//! `# key: value` metadata before the header, one header row whose names may carry a unit in
-//! brackets (`t[ms]`, `q3[deg]`, `tau2[kNm]`), then rows of numbers. Units are converted to SI
-//! here, on reading, and only here. Every error names the file, the 1-based line and column.
+//! The one reader of CSV files printwatt takes (toolpaths as points, placement sets, joint
+//! trajectories, measurement logs) and the one unit table ([`si_factor`]).
+//!
+//! The format: `#` starts a comment (a whole line, or the rest of a line); `# key: value`
+//! lines before the header are metadata; blank lines are skipped; the first other line is the
+//! header, column names with an optional unit in brackets (`t[ms]`, `q3[deg]`, `x[mm]`),
+//! case-insensitive; then rows of values. A header with semicolons and no commas marks a
+//! European spreadsheet export: `;` separates the fields and a decimal comma becomes a point.
+//! Units are converted to SI here, on reading, and only here. Every error names the file, the
+//! 1-based line and column, and the column's name where there is one (a NaN or an infinity is
+//! refused as "expected a finite number for 'q1', found 'NaN'").
+//!
+//! Two levels: [`Table`] reads a whole numeric table (trajectories, logs); [`lines`],
+//! [`parse_header`], [`number`] and [`check_count`] are the pieces it is made of, for readers
+//! with text and flag columns or comments among the rows (toolpath points, placement sets).
 
 use crate::error::{read_text, Error, Result};
 use std::path::Path;
@@ -44,10 +55,16 @@ pub enum Dim {
     Power,
     /// Length: m, mm, cm, in.
     Length,
-    /// Speed: m/s, mm/s, mm/min, m/min.
+    /// Speed: m/s, mm/s, mm/min, m/min, in/min, in/s.
     Speed,
+    /// A rotation about an axis (a part's yaw, a nozzle's spin): rad, deg.
+    Rotation,
     /// A plain number.
     Number,
+    /// A 0/1 (or false/true) flag: no unit.
+    Flag,
+    /// Text (a name): no unit.
+    Text,
 }
 
 /// Factor converting a value in `unit` to SI for dimension `dim`, or `None` if unknown.
@@ -109,7 +126,7 @@ pub fn si_factor(dim: Dim, unit: &str) -> Option<f64> {
             "m" => 1.0,
             "mm" => 1e-3,
             "cm" => 1e-2,
-            "in" => 0.0254,
+            "in" | "inch" => 0.0254,
             _ => return None,
         },
         Dim::Speed => match u.as_str() {
@@ -117,32 +134,316 @@ pub fn si_factor(dim: Dim, unit: &str) -> Option<f64> {
             "mm/s" => 1e-3,
             "mm/min" => 1e-3 / 60.0,
             "m/min" => 1.0 / 60.0,
+            "in/min" => 0.0254 / 60.0,
+            "in/s" => 0.0254,
+            _ => return None,
+        },
+        Dim::Rotation => match u.as_str() {
+            "rad" => 1.0,
+            "deg" | "°" => deg,
             _ => return None,
         },
         Dim::Number => match u.as_str() {
             "" | "1" | "-" => 1.0,
             _ => return None,
         },
+        Dim::Flag | Dim::Text => return None,
     };
     Some(f)
 }
 
-/// Split `name[unit]` into (lower-cased name, unit).
-fn split_unit(h: &str) -> (String, String) {
-    let h = h.trim();
-    match (h.find('['), h.ends_with(']')) {
-        (Some(i), true) => (
-            h[..i].trim().to_ascii_lowercase(),
-            h[i + 1..h.len() - 1].trim().to_string(),
-        ),
-        _ => (h.to_ascii_lowercase(), String::new()),
+/// The units [`si_factor`] accepts for `dim`, for messages.
+pub fn expected_units(dim: Dim) -> &'static str {
+    match dim {
+        Dim::Time => "s, ms, us or min",
+        Dim::Angle => "rad or deg (m or mm for a prismatic joint)",
+        Dim::AngularVelocity => "rad/s, deg/s or rpm (m/s or mm/s for a prismatic joint)",
+        Dim::AngularAcceleration => "rad/s^2 or deg/s^2 (m/s^2 or mm/s^2 for a prismatic joint)",
+        Dim::Torque => "Nm, kNm or mNm",
+        Dim::Current => "A or mA",
+        Dim::Power => "W, kW or mW",
+        Dim::Length => "mm, cm, m or in",
+        Dim::Speed => "mm/s, m/s, mm/min, m/min, in/min or in/s",
+        Dim::Rotation => "deg or rad",
+        Dim::Number => "no unit (or 1)",
+        Dim::Flag | Dim::Text => "no unit",
     }
 }
 
+/// How a reader wants a column read: its dimension and the unit assumed when the header gives
+/// none (empty: SI).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct ColumnSpec {
+    /// The dimension (decides the units accepted).
+    pub dim: Dim,
+    /// Unit assumed when the header gives none (`"mm"`, `"deg"`; `""` = SI).
+    pub default_unit: &'static str,
+}
+
+impl ColumnSpec {
+    /// A column in SI unless its header says otherwise.
+    pub fn si(dim: Dim) -> Self {
+        ColumnSpec {
+            dim,
+            default_unit: "",
+        }
+    }
+    /// A column in `unit` unless its header says otherwise.
+    pub fn default_unit(dim: Dim, unit: &'static str) -> Self {
+        ColumnSpec {
+            dim,
+            default_unit: unit,
+        }
+    }
+}
+
+/// One field of a line: its 1-based starting column (leading spaces skipped) and its trimmed
+/// text (a decimal comma already made a point in a `;`-separated file).
+#[derive(Clone, Debug, PartialEq)]
+pub struct Cell {
+    /// 1-based character column where the value starts.
+    pub col: usize,
+    /// The trimmed text.
+    pub text: String,
+}
+
+/// One line of a CSV file as the readers see it (blank lines are dropped).
+#[derive(Clone, Debug, PartialEq)]
+pub enum Line {
+    /// A line holding only a comment: its 1-based number and the text after `#`, trimmed.
+    Comment(usize, String),
+    /// The header: 1-based line number and its fields.
+    Header(usize, Vec<Cell>),
+    /// A data row: 1-based line number, its fields, and the column just past its last
+    /// character (where a missing field would start).
+    Data(usize, Vec<Cell>, usize),
+}
+
+/// The field separator of a CSV from its header line: `;` for a European spreadsheet export
+/// (header with semicolons and no commas; numbers then have a decimal comma), else `,`.
+pub fn separator(header: &str) -> char {
+    if header.contains(';') && !header.contains(',') {
+        ';'
+    } else {
+        ','
+    }
+}
+
+fn cells(line: &str, sep: char, decimal_comma: bool) -> Vec<Cell> {
+    let mut out = Vec::new();
+    let mut col = 1;
+    for part in line.split(sep) {
+        let lead = part.chars().take_while(|c| c.is_whitespace()).count();
+        let t = part.trim();
+        let text = if decimal_comma {
+            t.replace(',', ".")
+        } else {
+            t.to_string()
+        };
+        out.push(Cell {
+            col: col + lead,
+            text,
+        });
+        col += part.chars().count() + 1;
+    }
+    out
+}
+
+/// Split CSV text into comment, header and data lines (see the module docs).
+pub fn lines(text: &str) -> Vec<Line> {
+    let mut out = Vec::new();
+    let mut sep = None;
+    for (i, raw) in text.lines().enumerate() {
+        let raw = raw.trim_end_matches('\r');
+        let (body, comment) = match raw.find('#') {
+            Some(p) => (&raw[..p], Some(&raw[p + 1..])),
+            None => (raw, None),
+        };
+        if body.trim().is_empty() {
+            if let Some(c) = comment {
+                out.push(Line::Comment(i + 1, c.trim().to_string()));
+            }
+            continue;
+        }
+        match sep {
+            None => {
+                let s = separator(body);
+                sep = Some(s);
+                out.push(Line::Header(i + 1, cells(body, s, false)));
+            }
+            Some(s) => out.push(Line::Data(
+                i + 1,
+                cells(body, s, s == ';'),
+                body.trim_end().chars().count() + 1,
+            )),
+        }
+    }
+    out
+}
+
+/// A column of a parsed header.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Column {
+    /// Name without its unit, lower-cased.
+    pub name: String,
+    /// The unit written in brackets (empty when none).
+    pub unit: String,
+    /// 1-based character column of the name.
+    pub col: usize,
+    /// Factor to SI; `None` for a column the reader does not know (its `spec` gave `None`).
+    pub factor: Option<f64>,
+}
+
+fn parse_err(file: &str, line: usize, column: usize, msg: impl Into<String>) -> Error {
+    Error::Parse {
+        file: file.to_string(),
+        line,
+        column,
+        msg: msg.into(),
+    }
+}
+
+/// Parse a header's fields: each column's name, unit and factor to SI. `spec` says how the
+/// reader wants a (lower-case) column name read, `None` for a column it does not know (kept
+/// with no factor: [`Table`] reads it as a plain number, the toolpath reader ignores it).
+///
+/// Errors (file, line, column): an unclosed `[`, an empty name, a unit on a flag or text
+/// column, an unknown unit (naming the units accepted), a name given twice, a header made of
+/// numbers only.
+pub fn parse_header(
+    file: &str,
+    line: usize,
+    fields: &[Cell],
+    spec: &dyn Fn(&str) -> Option<ColumnSpec>,
+) -> Result<Vec<Column>> {
+    let mut cols: Vec<Column> = Vec::with_capacity(fields.len());
+    for Cell { col, text: field } in fields {
+        let col = *col;
+        let (name, unit) = match field.find('[') {
+            Some(p) => {
+                let Some(q) = field[p..].find(']') else {
+                    return Err(parse_err(
+                        file,
+                        line,
+                        col + field.chars().count(),
+                        format!("expected ']' to close the unit of column '{}'", &field[..p]),
+                    ));
+                };
+                (
+                    field[..p].trim().to_ascii_lowercase(),
+                    field[p + 1..p + q].trim().to_string(),
+                )
+            }
+            None => (field.to_ascii_lowercase(), String::new()),
+        };
+        if name.is_empty() {
+            return Err(parse_err(
+                file,
+                line,
+                col,
+                "expected a column name, found nothing",
+            ));
+        }
+        let factor = match spec(&name) {
+            None => None,
+            Some(ColumnSpec {
+                dim: Dim::Flag | Dim::Text,
+                ..
+            }) => {
+                if !unit.is_empty() {
+                    return Err(parse_err(
+                        file,
+                        line,
+                        col,
+                        format!("column '{name}' takes no unit, found '[{unit}]'"),
+                    ));
+                }
+                Some(1.0)
+            }
+            Some(ColumnSpec { dim, default_unit }) => {
+                let u = if unit.is_empty() { default_unit } else { &unit };
+                Some(si_factor(dim, u).ok_or_else(|| {
+                    parse_err(
+                        file,
+                        line,
+                        col,
+                        format!(
+                            "unknown unit '{u}' for column '{name}': expected {}",
+                            expected_units(dim)
+                        ),
+                    )
+                })?)
+            }
+        };
+        if cols.iter().any(|c| c.name == name) {
+            return Err(parse_err(
+                file,
+                line,
+                col,
+                format!("column '{name}' appears twice: expected each column once"),
+            ));
+        }
+        cols.push(Column {
+            name,
+            unit,
+            col,
+            factor,
+        });
+    }
+    if cols.iter().all(|c| c.name.parse::<f64>().is_ok()) {
+        return Err(parse_err(
+            file,
+            line,
+            1,
+            "expected a header row of column names, found numbers",
+        ));
+    }
+    Ok(cols)
+}
+
+/// A finite number from a field, or an error at `file:line:col` naming the column:
+/// "expected a finite number for 'q1', found 'NaN'" (or "found nothing").
+pub fn number(file: &str, line: usize, col: usize, name: &str, text: &str) -> Result<f64> {
+    match text.parse::<f64>() {
+        Ok(v) if v.is_finite() => Ok(v),
+        _ => Err(parse_err(
+            file,
+            line,
+            col,
+            format!(
+                "expected a finite number for '{name}', found {}",
+                if text.is_empty() {
+                    "nothing".to_string()
+                } else {
+                    format!("'{text}'")
+                }
+            ),
+        )),
+    }
+}
+
+/// A data row must have one field per header column: the error points at the first extra
+/// field, or at the end of the line when fields are missing.
+pub fn check_count(file: &str, line: usize, fields: &[Cell], n: usize, eol: usize) -> Result<()> {
+    if fields.len() != n {
+        let col = if fields.len() > n { fields[n].col } else { eol };
+        return Err(parse_err(
+            file,
+            line,
+            col,
+            format!(
+                "expected {n} values (one per header column), found {}",
+                fields.len()
+            ),
+        ));
+    }
+    Ok(())
+}
+
 impl Table {
-    /// Read a CSV file. `dim_of` gives the dimension of a column from its name (unit checks),
-    /// or `None` for a column the caller does not know (kept, converted with factor 1 if it
-    /// has no unit).
+    /// Read a CSV file. `dim_of` gives the dimension of a column from its name (unit checks;
+    /// SI when the header gives no unit), or `None` for a column the caller does not know
+    /// (kept, read as a plain number).
     pub fn read(path: &Path, dim_of: &dyn Fn(&str) -> Option<Dim>) -> Result<Table> {
         let text = read_text(path)?;
         Table::parse(&text, &path.display().to_string(), dim_of)
@@ -155,119 +456,40 @@ impl Table {
             ..Default::default()
         };
         let mut factors: Vec<f64> = Vec::new();
-        let mut sep = ',';
-        let perr = |line: usize, column: usize, msg: String| Error::Parse {
-            file: file.to_string(),
-            line,
-            column,
-            msg,
-        };
-        for (ln0, raw) in text.lines().enumerate() {
-            let ln = ln0 + 1;
-            let line = raw.trim_end_matches('\r');
-            let trimmed = line.trim();
-            if trimmed.is_empty() {
-                continue;
-            }
-            if let Some(c) = trimmed.strip_prefix('#') {
-                if t.names.is_empty() {
-                    if let Some((k, v)) = c.split_once(':') {
-                        t.metadata
-                            .push((k.trim().to_string(), v.trim().to_string()));
+        for l in lines(text) {
+            match l {
+                Line::Comment(_, c) => {
+                    if t.names.is_empty() {
+                        if let Some((k, v)) = c.split_once(':') {
+                            t.metadata
+                                .push((k.trim().to_string(), v.trim().to_string()));
+                        }
                     }
                 }
-                continue;
-            }
-            if t.names.is_empty() {
-                sep = crate::toolpath::csv_separator(line);
-                t.header_line = ln;
-                let mut col = 1;
-                for cell in line.split(sep) {
-                    let (name, unit) = split_unit(cell);
-                    if name.is_empty() {
-                        return Err(perr(ln, col, "empty column name in the header".into()));
+                Line::Header(ln, fields) => {
+                    t.header_line = ln;
+                    for c in parse_header(file, ln, &fields, &|n| dim_of(n).map(ColumnSpec::si))? {
+                        factors.push(c.factor.unwrap_or(1.0));
+                        t.names.push(c.name);
+                        t.units.push(c.unit);
                     }
-                    if t.names.contains(&name) {
-                        return Err(perr(
-                            ln,
-                            col,
-                            format!("column `{name}` appears twice in the header"),
-                        ));
+                }
+                Line::Data(ln, fields, eol) => {
+                    check_count(file, ln, &fields, t.names.len(), eol)?;
+                    let mut row = Vec::with_capacity(fields.len());
+                    for (k, f) in fields.iter().enumerate() {
+                        row.push(number(file, ln, f.col, &t.names[k], &f.text)? * factors[k]);
                     }
-                    let f = match dim_of(&name) {
-                        Some(d) => si_factor(d, &unit).ok_or_else(|| {
-                            perr(
-                                ln,
-                                col,
-                                format!("unknown unit `{unit}` for column `{name}` ({d:?})"),
-                            )
-                        })?,
-                        None if unit.is_empty() => 1.0,
-                        None => 1.0,
-                    };
-                    factors.push(f);
-                    t.names.push(name);
-                    t.units.push(unit);
-                    col += cell.chars().count() + 1;
+                    t.rows.push(row);
+                    t.lines.push(ln);
                 }
-                if t.names.iter().all(|n| n.parse::<f64>().is_ok()) {
-                    return Err(perr(
-                        ln,
-                        1,
-                        "expected a header row of column names, found numbers".into(),
-                    ));
-                }
-                continue;
             }
-            let owned;
-            let line = if sep == ';' {
-                owned = line.replace(',', ".");
-                owned.as_str()
-            } else {
-                line
-            };
-            let cells: Vec<&str> = line.split(sep).collect();
-            if cells.len() != t.names.len() {
-                return Err(perr(
-                    ln,
-                    1,
-                    format!(
-                        "expected {} values (one per header column), found {}",
-                        t.names.len(),
-                        cells.len()
-                    ),
-                ));
-            }
-            let mut row = Vec::with_capacity(cells.len());
-            let mut col = 1;
-            for (k, cell) in cells.iter().enumerate() {
-                let s = cell.trim();
-                let v: f64 = s.parse().map_err(|_| {
-                    perr(
-                        ln,
-                        col,
-                        format!("column `{}`: expected a number, found `{s}`", t.names[k]),
-                    )
-                })?;
-                if !v.is_finite() {
-                    return Err(perr(
-                        ln,
-                        col,
-                        format!("column `{}`: value `{s}` is not finite", t.names[k]),
-                    ));
-                }
-                row.push(v * factors[k]);
-                col += cell.chars().count() + 1;
-            }
-            t.rows.push(row);
-            t.lines.push(ln);
         }
         if t.names.is_empty() {
-            return Err(perr(1, 1, "no header row found".into()));
+            return Err(parse_err(file, 1, 1, "no header row found"));
         }
         Ok(t)
     }
-
     /// Index of a column by its (lower-case) name.
     pub fn col(&self, name: &str) -> Option<usize> {
         self.names.iter().position(|n| n == name)
@@ -289,6 +511,27 @@ mod tests {
             Some('q') => Some(Dim::Angle),
             _ => None,
         }
+    }
+
+    #[test]
+    fn one_unit_table_for_every_reader() {
+        let mm = si_factor(Dim::Length, "mm").unwrap();
+        assert_eq!(mm, 1e-3);
+        assert_eq!(si_factor(Dim::Length, "inch"), Some(0.0254));
+        assert_eq!(si_factor(Dim::Speed, "in/min"), Some(0.0254 / 60.0));
+        assert_eq!(
+            si_factor(Dim::Rotation, "deg"),
+            Some(std::f64::consts::PI / 180.0)
+        );
+        assert_eq!(si_factor(Dim::Rotation, "m"), None);
+        assert_eq!(si_factor(Dim::Torque, "N·m"), Some(1.0));
+        assert_eq!(si_factor(Dim::Flag, "mm"), None);
+    }
+
+    #[test]
+    fn trailing_comments_and_decimal_commas() {
+        let t = Table::parse("t;q1[deg]\n0;1,5 # note\n", "f.csv", &dims).unwrap();
+        assert!((t.rows[0][1] - 1.5f64.to_radians()).abs() < 1e-15);
     }
 
     #[test]
@@ -315,7 +558,15 @@ mod tests {
             .unwrap_err()
             .to_string();
         assert!(
-            e.contains("d.csv:2:1") && e.contains("expected 2 values"),
+            e.contains("d.csv:2:5") && e.contains("expected 2 values"),
+            "{e}"
+        );
+        // A unit of another dimension is refused with the units accepted.
+        let e = Table::parse("t[mm],q1\n", "e.csv", &dims)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("e.csv:1:1") && e.contains("expected s, ms"),
             "{e}"
         );
     }

@@ -28,7 +28,7 @@ pub use crate::placement::value::{NamedPlacement, Placement, PlacementParseError
 /// The field separator of a CSV from its header line: `;` for a European spreadsheet export
 /// (header with semicolons and no commas; numbers then have a decimal comma), else `,`.
 pub fn csv_separator(header: &str) -> char {
-    csv::separator(header)
+    crate::table::separator(header)
 }
 pub use self::gcode::parse_gcode;
 pub use self::rapid::parse_rapid;
