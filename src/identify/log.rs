@@ -165,7 +165,7 @@ pub fn expand_column_map(map: &str) -> Result<Vec<String>> {
             };
             for _ in 0..k {
                 skip += 1;
-                out.push(format!("skip#{skip}"));
+                out.push(format!("skip~{skip}"));
             }
         } else if let Some((a, b)) = body.split_once("..") {
             let split = |s: &str| -> Option<(String, usize)> {
@@ -314,7 +314,7 @@ fn from_table(table: Table, n: usize) -> Result<Log> {
     }
     // Unknown columns: one warning.
     let known = |name: &str| {
-        name.starts_with("skip#")
+        name.starts_with("skip~")
             || log_dim(name).is_some_and(|_| {
                 let idx = |p: &str| digits_after(name, p).and_then(|d| d.parse::<usize>().ok());
                 name == "t"
