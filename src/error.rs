@@ -73,6 +73,15 @@ pub enum Error {
         /// The file or directory.
         path: PathBuf,
     },
+    /// An output the library will not write there: it would replace an input or land in a
+    /// folder that is not the user's (the reason says which). The caller picks another place.
+    #[error("{}: refusing to write there: {reason}; write it to another directory", path.display())]
+    OutputRefused {
+        /// The file that would have been written.
+        path: PathBuf,
+        /// Why not there.
+        reason: String,
+    },
     /// A run name that would leave the results directory (`..`, `.`, an absolute path, empty).
     #[error(
         "run name `{name}`: a run name must stay inside the results directory (plain names \

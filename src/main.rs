@@ -24,6 +24,9 @@ fn hint(e: &anyhow::Error) -> &'static str {
             Some(printwatt::Error::OutputExists { .. }) => {
                 return ": pass --force to replace it, or choose another --out"
             }
+            Some(printwatt::Error::OutputRefused { .. }) => {
+                return " (give another --out DIR; default: the current directory)"
+            }
             Some(printwatt::Error::BadRunName { .. }) => {
                 return " (--run names a directory inside --results-dir)"
             }

@@ -128,3 +128,155 @@ fn utc_stamp_names_run_directories() {
         "20261118T110640Z"
     );
 }
+
+/// The string literals of a Rust source text (normal and raw strings), comments skipped.
+fn string_literals(src: &str) -> Vec<(usize, String)> {
+    let b = src.as_bytes();
+    let mut out = Vec::new();
+    let mut i = 0;
+    let line_at = |i: usize| src[..i].matches('\n').count() + 1;
+    while i < b.len() {
+        match b[i] {
+            b'/' if b.get(i + 1) == Some(&b'/') => {
+                while i < b.len() && b[i] != b'\n' {
+                    i += 1;
+                }
+            }
+            b'/' if b.get(i + 1) == Some(&b'*') => {
+                i += 2;
+                while i + 1 < b.len() && !(b[i] == b'*' && b[i + 1] == b'/') {
+                    i += 1;
+                }
+                i += 2;
+            }
+            b'\'' => {
+                // A char literal ('"', '\'', 'x') or a lifetime ('a).
+                if b.get(i + 1) == Some(&b'\\') {
+                    i += 2;
+                    while i < b.len() && b[i] != b'\'' {
+                        i += 1;
+                    }
+                    i += 1;
+                } else if b.get(i + 2) == Some(&b'\'') {
+                    i += 3;
+                } else {
+                    i += 1;
+                }
+            }
+            b'r' if matches!(b.get(i + 1), Some(b'"') | Some(b'#'))
+                && (i == 0 || !(b[i - 1].is_ascii_alphanumeric() || b[i - 1] == b'_')) =>
+            {
+                let mut j = i + 1;
+                let mut hashes = 0;
+                while b.get(j) == Some(&b'#') {
+                    hashes += 1;
+                    j += 1;
+                }
+                if b.get(j) != Some(&b'"') {
+                    i += 1;
+                    continue;
+                }
+                let close = format!("\"{}", "#".repeat(hashes));
+                let start = j + 1;
+                let end = src[start..].find(&close).map_or(b.len(), |e| start + e);
+                out.push((line_at(i), src[start..end].to_string()));
+                i = end + close.len();
+            }
+            b'"' => {
+                let start = i + 1;
+                let mut j = start;
+                while j < b.len() && b[j] != b'"' {
+                    j += if b[j] == b'\\' { 2 } else { 1 };
+                }
+                out.push((line_at(i), src[start..j.min(b.len())].to_string()));
+                i = j + 1;
+            }
+            _ => i += 1,
+        }
+    }
+    out
+}
+
+/// `--name` (a command-line option) in a text.
+fn names_a_flag(s: &str) -> Option<&str> {
+    let b = s.as_bytes();
+    (0..b.len().saturating_sub(2)).find_map(|k| {
+        let before_ok = k == 0 || !(b[k - 1] == b'-' || b[k - 1].is_ascii_alphanumeric());
+        (before_ok && b[k] == b'-' && b[k + 1] == b'-' && b[k + 2].is_ascii_lowercase())
+            .then(|| &s[k..(k + 20).min(s.len())])
+    })
+}
+
+/// Library messages never name command-line options: the library is used from Rust and
+/// Python, where no `--flag` exists; the binary (src/cli, src/main.rs) maps typed errors and
+/// advice to its options. Scans every string literal of the library's sources, and the
+/// rendered advice and errors that once named flags.
+#[test]
+fn library_errors_never_name_command_line_flags() {
+    // The scanner finds what it must (so that a clean scan means something).
+    let probe = "let a = \"ok\"; // \"--not-this\"\nlet b = format!(\"give --out DIR\");\nlet c = r#\"raw --force\"#;";
+    let found: Vec<String> = string_literals(probe)
+        .into_iter()
+        .filter_map(|(_, s)| names_a_flag(&s).map(str::to_string))
+        .collect();
+    assert_eq!(found.len(), 2, "{found:?}");
+
+    let src = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut files = Vec::new();
+    let mut stack = vec![src.clone()];
+    while let Some(d) = stack.pop() {
+        for e in std::fs::read_dir(&d).unwrap() {
+            let p = e.unwrap().path();
+            if p.is_dir() {
+                if p != src.join("cli") {
+                    stack.push(p);
+                }
+            } else if p.extension().is_some_and(|x| x == "rs") && p != src.join("main.rs") {
+                files.push(p);
+            }
+        }
+    }
+    assert!(files.len() > 50, "{} library files", files.len());
+    let mut bad = Vec::new();
+    for f in &files {
+        let text = std::fs::read_to_string(f).unwrap();
+        // Unit tests inside a library file may run the binary; only the library proper.
+        let text = text.split("#[cfg(test)]").next().unwrap_or("");
+        for (line, s) in string_literals(text) {
+            if let Some(flag) = names_a_flag(&s) {
+                bad.push(format!("{}:{line}: {flag}…", f.display()));
+            }
+        }
+    }
+    assert!(
+        bad.is_empty(),
+        "library messages naming flags:\n{}",
+        bad.join("\n")
+    );
+
+    // The rendered advice and the errors that once named flags.
+    use printwatt::placement::advice::what_to_try;
+    use printwatt::placement::Reason;
+    for r in [
+        Reason::Unreachable,
+        Reason::ConfigurationChange,
+        Reason::JointLimitMargin,
+        Reason::WristSingularity,
+        Reason::ElbowSingularity,
+        Reason::ShoulderSingularity,
+        Reason::CollisionBed,
+        Reason::SelfCollision,
+    ] {
+        let a = what_to_try(r);
+        let words = a.to_string();
+        assert!(
+            names_a_flag(&words).is_none() && !words.contains("{}"),
+            "{words}"
+        );
+        // A front end names the settings its own way.
+        let cli = a.render(&|k| format!("--{}", k.words().replace(' ', "-")));
+        assert_eq!(cli.contains("--"), !a.knobs.is_empty(), "{cli}");
+    }
+    let e = printwatt::identify::simulate::parse_hidden("viscous").unwrap_err();
+    assert!(names_a_flag(&e.to_string()).is_none(), "{e}");
+}

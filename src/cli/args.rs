@@ -135,6 +135,13 @@ impl TimingArgs {
                 bail!("{opt} {v}: expected a value > 0 {unit}");
             }
         }
+        if self.period < 0.1 {
+            bail!(
+                "--period {} ms is far shorter than a controller's (0.5–12 ms); --period is in ms: did you mean {} ms?",
+                self.period,
+                self.period * 1000.0
+            );
+        }
         if self.period > 1000.0 {
             bail!(
                 "--period {} ms: no controller interpolates that slowly; did you mean {} ms?",

@@ -170,7 +170,12 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
     if !rows.iter().any(|r| r.cost().is_finite()) {
         anyhow::bail!(
             "{}",
-            printwatt::placement::advice::nothing_feasible(&rows, &l.robot).trim_end()
+            printwatt::placement::advice::nothing_feasible(
+                &rows,
+                &l.robot,
+                &super::sweep::knob_flag
+            )
+            .trim_end()
         );
     }
     let step = grid

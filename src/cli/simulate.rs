@@ -55,7 +55,7 @@ pub fn run(a: super::SimulateArgs) -> Result<()> {
         );
     }
     let mut truth = identify::Model::new(&robot)?;
-    let hidden = simulate::parse_hidden(a.hidden.as_deref().unwrap_or(""))?;
+    let hidden = simulate::parse_hidden(a.hidden.as_deref().unwrap_or("")).context("--hidden")?;
     simulate::apply_hidden(&mut truth, &hidden)?;
     let kind = SignalKind::parse(&a.signal)
         .with_context(|| format!("--signal `{}`: expected tau, i, p or p_total", a.signal))?;

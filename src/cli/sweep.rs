@@ -681,7 +681,7 @@ pub fn run(a: SweepArgs) -> Result<()> {
         if rep.best().is_none() {
             print!(
                 "{}",
-                printwatt::placement::advice::nothing_feasible(&rep.rows, &l.robot)
+                printwatt::placement::advice::nothing_feasible(&rep.rows, &l.robot, &knob_flag)
             );
         }
         if let Some(s) = rep.spread_pct() {
@@ -692,4 +692,22 @@ pub fn run(a: SweepArgs) -> Result<()> {
         }
     }
     Ok(())
+}
+
+/// The command-line option for a setting the library's advice names.
+pub fn knob_flag(k: printwatt::placement::advice::Knob) -> String {
+    use printwatt::placement::advice::Knob;
+    match k {
+        Knob::X => "--x",
+        Knob::Y => "--y",
+        Knob::Z => "--z",
+        Knob::Yaw => "--yaw",
+        Knob::Spin => "--spin",
+        Knob::JointMargin => "--joint-margin",
+        Knob::WristRateMax => "--wrist-rate-max",
+        Knob::ElbowMin => "--elbow-min",
+        Knob::ShoulderMin => "--shoulder-min",
+        _ => k.words(),
+    }
+    .to_string()
 }

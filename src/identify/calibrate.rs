@@ -293,7 +293,7 @@ pub fn calibrated_text(inp: &CalibrationInput, dst: &Path) -> Result<String> {
     f.calibration = Some(cal);
     let body = f.to_toml()?;
     Ok(format!(
-        "# calibrated robot written by `printwatt identify` on {} from {}; use it as --robot.\n\
+        "# calibrated robot written by `printwatt identify` on {} from {}; every printwatt command takes it as its robot.\n\
 # All values SI, unit in the key; [calibration] lists every identified parameter with its\n\
 # standard error, the round, log and date it came from.\n{body}",
         inp.date, inp.log.file
@@ -315,19 +315,17 @@ pub fn write_calibrated(
                 .is_some_and(|x| b.canonicalize().is_ok_and(|y| x == y))
     };
     if inp.drive_file.is_some_and(|s| same(dst, s)) || same(dst, &inp.robot.source) {
-        return Err(Error::Invalid(format!(
-            "{}: refusing to overwrite the input robot file; give another --out directory",
-            dst.display()
-        )));
+        return Err(Error::OutputRefused {
+            path: dst.to_path_buf(),
+            reason: "it is the input robot file".into(),
+        });
     }
     if let Some(dir) = installed {
         if is_inside(dst, dir) {
-            return Err(Error::Invalid(format!(
-                "{}: refusing to write a calibrated robot into the installed robots folder {}; \
-give --out DIR (default: the current directory)",
-                dst.display(),
-                dir.display()
-            )));
+            return Err(Error::OutputRefused {
+                path: dst.to_path_buf(),
+                reason: format!("it is inside the installed robots folder {}", dir.display()),
+            });
         }
     }
     if dst.exists() && !force {

@@ -31,25 +31,24 @@ pub struct Hidden {
 pub fn parse_hidden(s: &str) -> Result<Vec<Hidden>> {
     let mut out = Vec::new();
     for item in s.split(',').map(str::trim).filter(|x| !x.is_empty()) {
-        let (lhs, rhs) = item
-            .split_once('=')
-            .ok_or_else(|| Error::Invalid(format!("--hidden: `{item}`: expected effect=value")))?;
-        let (name, joint) =
-            match lhs.split_once('[') {
-                Some((n, j)) => (
-                    n.trim(),
-                    Some(j.trim_end_matches(']').parse::<usize>().map_err(|_| {
-                        Error::Invalid(format!("--hidden: `{item}`: bad joint index"))
-                    })?),
-                ),
-                None => (lhs.trim(), None),
-            };
+        let (lhs, rhs) = item.split_once('=').ok_or_else(|| {
+            Error::Invalid(format!("hidden effect `{item}`: expected effect=value"))
+        })?;
+        let (name, joint) = match lhs.split_once('[') {
+            Some((n, j)) => (
+                n.trim(),
+                Some(j.trim_end_matches(']').parse::<usize>().map_err(|_| {
+                    Error::Invalid(format!("hidden effect `{item}`: bad joint index"))
+                })?),
+            ),
+            None => (lhs.trim(), None),
+        };
         let i = catalogue_index(name)?;
         let values = rhs
             .split(':')
             .map(|v| {
                 v.trim().parse::<f64>().map_err(|_| {
-                    Error::Invalid(format!("--hidden: `{item}`: `{v}` is not a number"))
+                    Error::Invalid(format!("hidden effect `{item}`: `{v}` is not a number"))
                 })
             })
             .collect::<Result<Vec<f64>>>()?;

@@ -355,7 +355,7 @@ pub fn study_with(
     ranges: Option<Ranges>,
 ) -> Result<Study> {
     if draws == 0 {
-        return Err(Error::Invalid("--uncertainty: at least 1 draw".into()));
+        return Err(Error::Invalid("uncertainty study: at least 1 draw".into()));
     }
     let robot = job.robot;
     let (ranges, source) = match ranges {
@@ -372,7 +372,7 @@ pub fn study_with(
         .collect();
     if cands.is_empty() {
         return Err(Error::Invalid(
-            "--uncertainty: no feasible candidate".into(),
+            "uncertainty study: no feasible candidate".into(),
         ));
     }
     let has_base = match baseline.filter(|b| b.feasible().is_some()) {
@@ -385,9 +385,9 @@ pub fn study_with(
     let mut sc = ev.scratch()?;
     let mut timed = Vec::with_capacity(cands.len());
     for c in &cands {
-        let t = ev
-            .timed(&mut sc, &c.placement)
-            .map_err(|e| Error::Invalid(format!("--uncertainty: re-timing a candidate: {e}")))?;
+        let t = ev.timed(&mut sc, &c.placement).map_err(|e| {
+            Error::Invalid(format!("uncertainty study: re-timing a candidate: {e}"))
+        })?;
         timed.push(t);
     }
     let nominal: Vec<f64> = cands.iter().map(|c| c.cost()).collect();

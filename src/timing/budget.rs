@@ -153,7 +153,7 @@ pub fn check(
     let gcode = matches!(ext.as_str(), "gcode" | "nc" | "ngc" | "g");
     let cause = if popts.dt < 1e-4 {
         format!(
-            "the interpolation period {} ms is far shorter than a controller's (0.5–12 ms; --period is in ms)",
+            "the interpolation period {} ms is far shorter than a controller's (0.5–12 ms)",
             popts.dt * 1e3
         )
     } else if m.speed < 1e-3 {
