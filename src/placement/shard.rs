@@ -310,7 +310,8 @@ pub fn find_shards(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
             out.push(p.clone());
             continue;
         }
-        let rd = std::fs::read_dir(p).map_err(|e| Error::Invalid(format!("{}: {e}", p.display())))?;
+        let rd =
+            std::fs::read_dir(p).map_err(|e| Error::Invalid(format!("{}: {e}", p.display())))?;
         let mut found = false;
         for e in rd {
             let e = e.map_err(|e| Error::Invalid(format!("{}: {e}", p.display())))?;
@@ -491,7 +492,10 @@ mod tests {
     #[test]
     fn shard_spec_is_read_from_the_flag_slurm_or_kubernetes() {
         let none = env(&[]);
-        assert_eq!(Shard::parse("2/4", &none).unwrap().0, Shard::new(2, 4).unwrap());
+        assert_eq!(
+            Shard::parse("2/4", &none).unwrap().0,
+            Shard::new(2, 4).unwrap()
+        );
         assert!(Shard::parse("4/4", &none).is_err());
         assert!(Shard::parse("1/0", &none).is_err());
         assert!(Shard::parse("x/4", &none).is_err());
