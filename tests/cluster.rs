@@ -108,7 +108,7 @@ fn merged_shards_give_the_single_run_files_bit_for_bit() {
         }
     }
     assert!(
-        feasible >= 15 && feasible < 50,
+        (15..50).contains(&feasible),
         "the grid should hold feasible cells: {feasible}"
     );
     let run: serde_json::Value =
