@@ -295,16 +295,25 @@ impl World {
     }
 }
 
+/// What the arm can collide with at one placement, and its own shapes: borrowed for
+/// [`check_sample`].
+#[derive(Clone, Copy)]
+pub struct Scene<'a> {
+    /// The bed and the part frame at this placement.
+    pub world: &'a World,
+    /// The arm's collision shapes.
+    pub shapes: &'a RobotShapes,
+    /// The beads of the path (part frame).
+    pub beads: &'a Beads,
+}
+
 /// Check one joint vector `q` (rad) against singularity margins and collisions; `laid` is the
-/// number of beads of `beads` printed so far. Updates `margins`. Returns the reason
+/// number of beads of `scene.beads` printed so far. Updates `margins`. Returns the reason
 /// and a detail on failure.
-#[allow(clippy::too_many_arguments)]
 pub fn check_sample(
     model: &RobotModel,
     o: &FeasibilityOptions,
-    world: &World,
-    shapes: &RobotShapes,
-    beads: &Beads,
+    scene: Scene<'_>,
     q: &[f64],
     laid: usize,
     poses: &mut Vec<Isometry<f64>>,
@@ -338,6 +347,11 @@ pub fn check_sample(
     if !o.collisions {
         return None;
     }
+    let Scene {
+        world,
+        shapes,
+        beads,
+    } = scene;
     shapes.poses_into(model, q, &world.base_iso, poses);
     collision::check(
         shapes,
