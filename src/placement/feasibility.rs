@@ -20,7 +20,7 @@ use crate::kinematics::opw;
 use crate::math::{Frame, V3};
 use crate::robot::RobotModel;
 use parry3d_f64::math::Isometry;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Thresholds of the feasibility checks.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -96,7 +96,7 @@ impl Default for LinkRadii {
 }
 
 /// Why a placement is infeasible.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Reason {
     /// A path point has no IK solution.
@@ -143,7 +143,7 @@ impl Reason {
 }
 
 /// An infeasible placement: why, and where along the path.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Infeasible {
     /// The reason.
     pub reason: Reason,
@@ -226,7 +226,7 @@ impl Infeasible {
 }
 
 /// Smallest margins met along the checked samples (for reports).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Margins {
     /// Smallest `|sin q5|` (dimensionless); `None` without OPW parameters.
     pub wrist: Option<f64>,

@@ -11,6 +11,7 @@ pub mod margins;
 pub mod neldermead;
 pub mod optimise;
 pub mod search;
+pub mod shard;
 pub mod sweep;
 pub mod tolerance;
 pub mod uncertainty;

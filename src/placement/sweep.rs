@@ -23,7 +23,7 @@ use crate::placement::Placement;
 use crate::timing::profile::Nodes;
 use crate::timing::{self, Buffers, TimedPath, TimingFailure};
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Which energy the search minimises (all in J over the whole print).
@@ -102,7 +102,7 @@ impl std::str::FromStr for Objective {
 /// A feasible placement's numbers (energies in J, times in s). The supply energy is
 /// `supply_j = standby_j + drives_j`; the drives' losses by kind are in [`Losses`] (the full
 /// breakdown of one placement is [`crate::energy::TotalEnergy`]).
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Feasible {
     /// The objective's energy, J.
     pub energy_j: f64,
@@ -141,7 +141,7 @@ pub struct Feasible {
 }
 
 /// Drive losses by kind over the print, J.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Losses {
     /// Friction ∑ ∫ τ_f q̇ dt, J.
     pub friction_j: f64,
