@@ -252,6 +252,40 @@ pub fn smooth_differentiate(t: &[f64], q: &[f64], n: usize, m: usize) -> (Vec<f6
     (qd, qdd)
 }
 
+/// Significant digits the operands of a [`difference`] are taken to carry: those every JSON
+/// number and report keeps ([`crate::output::JSON_SIGNIFICANT_DIGITS`]).
+pub const OPERAND_DIGITS: i32 = crate::output::JSON_SIGNIFICANT_DIGITS as i32;
+
+/// `a − b` (units of `a` and `b`) rounded to the digits its operands carry: to the unit of the
+/// [`OPERAND_DIGITS`]-th significant digit of the larger of `|a|` and `|b|`. Two numbers equal
+/// to that many digits (two sums of the same energies taken in another order, differing by
+/// 2e-11 J out of 1.3e4 J) give exactly 0: "no difference", not float noise. Non-finite
+/// operands give their plain difference.
+pub fn difference(a: f64, b: f64) -> f64 {
+    let d = a - b;
+    let scale = a.abs().max(b.abs());
+    if !d.is_finite() || scale == 0.0 || !scale.is_finite() {
+        return d;
+    }
+    let unit = 10f64.powi(scale.log10().floor() as i32 - (OPERAND_DIGITS - 1));
+    let r = (d / unit).round() * unit;
+    if r == 0.0 {
+        0.0
+    } else {
+        r
+    }
+}
+
+/// `(a − b) / a` in % from [`difference`]: 0 where the difference is within rounding, and
+/// where `a` is 0.
+pub fn relative_difference_pct(a: f64, b: f64) -> f64 {
+    if a == 0.0 {
+        0.0
+    } else {
+        difference(a, b) / a * 100.0
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -364,6 +398,30 @@ mod tests {
             assert!((qd[k] - (3.0 * t * t - 2.0 * t)).abs() < 1e-8, "{k}");
             assert!((qdd[k] - (6.0 * t - 2.0)).abs() < 1e-5, "{k}");
         }
+    }
+
+    #[test]
+    fn differences_of_nearly_equal_numbers_are_rounded_to_their_operands_digits() {
+        // The same energy summed in two orders: 2e-11 J apart out of 1.3e4 J is no difference.
+        let a = 13_091.831_002_345;
+        let b = a + 2.0e-11;
+        assert_ne!(a - b, 0.0);
+        assert_eq!(difference(a, b), 0.0);
+        assert_eq!(
+            difference(b, a).to_bits(),
+            0.0f64.to_bits(),
+            "no negative zero"
+        );
+        assert_eq!(relative_difference_pct(a, b), 0.0);
+        // A real difference keeps its meaningful digits (the operands carry 1e-5 J here).
+        let d = difference(13091.83102, 12850.7);
+        assert!((d - 241.13102).abs() < 1e-9, "{d}");
+        assert!((difference(1.0, 0.75) - 0.25).abs() < 1e-15);
+        // Below the operands' resolution it is 0, above it is kept.
+        assert_eq!(difference(1.0e4, 1.0e4 + 4.0e-6), 0.0);
+        assert!(difference(1.0e4, 1.0e4 + 2.0e-5) < 0.0);
+        assert_eq!(difference(0.0, 0.0), 0.0);
+        assert!(difference(f64::INFINITY, 1.0).is_infinite());
     }
 
     #[test]

@@ -385,3 +385,55 @@ fn parse_range_values_and_errors() {
     assert!(parse_range("x", "1:2:0").is_err());
     assert!(parse_range("x", "1:2").is_err());
 }
+
+/// A difference of two nearly equal energies is rounded to the digits the energies carry: the
+/// same placement's energy summed in another order (2e-11 J apart out of ~1.3e4 J) saves
+/// "no difference", in the library's savings, their JSON and the text, while a real saving
+/// keeps its digits.
+#[test]
+fn savings_between_equal_placements_are_no_difference_not_float_noise() {
+    let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
+    let job = job_for(&model, &tp);
+    let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
+    let at = Placement::new(1.6, 0.0, 0.2, std::f64::consts::FRAC_PI_2);
+    let base = one(&ev, at);
+    let mut same = base.clone();
+    if let Ok(f) = &mut same.outcome {
+        f.energy_j += 2e-11;
+        f.supply_j += 2e-11;
+        f.drives_j -= 3e-12;
+    }
+    assert_ne!(
+        base.feasible().unwrap().supply_j - same.feasible().unwrap().supply_j,
+        0.0
+    );
+    let s = optimise::Savings::of(&same, &base).unwrap();
+    for (what, (j, pct)) in [
+        ("objective", s.objective),
+        ("supply", s.supply),
+        ("drives", s.drives),
+        ("standby", s.standby),
+    ] {
+        assert_eq!(
+            (j.to_bits(), pct.to_bits()),
+            (0, 0),
+            "{what}: {j} J {pct} %"
+        );
+    }
+    let json = printwatt::output::json_text(&s).unwrap();
+    assert!(!json.contains("e-1"), "{json}");
+    assert_eq!(
+        printwatt::report::placement::saving_text(s.supply.0, s.supply.1),
+        "no difference"
+    );
+    // A real saving is kept (other placement, other energy).
+    let other = one(
+        &ev,
+        Placement::new(1.5, 0.0, 0.2, std::f64::consts::FRAC_PI_2),
+    );
+    let s = optimise::Savings::of(&other, &base).unwrap();
+    let raw = base.feasible().unwrap().supply_j - other.feasible().unwrap().supply_j;
+    assert!(raw.abs() > 1.0, "{raw}");
+    assert!((s.supply.0 - raw).abs() <= 1e-4, "{} vs {raw}", s.supply.0);
+    assert!(printwatt::report::placement::saving_text(s.supply.0, s.supply.1).ends_with("%)"));
+}

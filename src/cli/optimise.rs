@@ -445,9 +445,12 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
         );
     }
     if let Some(sv) = rep.optimise.as_ref().and_then(|o| o.savings.as_ref()) {
+        let t = |(j, pct): (f64, f64)| printwatt::report::placement::saving_text(j, pct);
         println!(
-            "saving vs baseline: supply {:.1} J ({:.2} %), drives {:.1} J ({:.2} %), standby {:.1} J ({:.2} %)",
-            sv.supply.0, sv.supply.1, sv.drives.0, sv.drives.1, sv.standby.0, sv.standby.1
+            "saving vs baseline: supply {}, drives {}, standby {}",
+            t(sv.supply),
+            t(sv.drives),
+            t(sv.standby)
         );
     }
     if let Some(si) = rep.optimise.as_ref().and_then(|o| o.search.as_ref()) {

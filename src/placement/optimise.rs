@@ -118,7 +118,13 @@ impl Savings {
     /// Savings of `best` against `base` (both feasible), else `None`.
     pub fn of(best: &Evaluated, base: &Evaluated) -> Option<Savings> {
         let (b, o) = (base.feasible()?, best.feasible()?);
-        let sv = |x: f64, y: f64| (x - y, if x != 0.0 { (x - y) / x * 100.0 } else { 0.0 });
+        // Rounded to the operands' digits: equal placements save exactly 0, not float noise.
+        let sv = |x: f64, y: f64| {
+            (
+                crate::numerics::difference(x, y),
+                crate::numerics::relative_difference_pct(x, y),
+            )
+        };
         Some(Savings {
             objective: sv(b.energy_j, o.energy_j),
             supply: sv(b.supply_j, o.supply_j),

@@ -117,21 +117,26 @@ impl RunReport {
     pub fn saving(&self) -> Option<(f64, f64)> {
         let b = self.baseline.as_ref()?.1.cost();
         let o = self.best()?.cost();
-        (b.is_finite() && o.is_finite() && b != 0.0).then(|| (b - o, (b - o) / b * 100.0))
+        (b.is_finite() && o.is_finite() && b != 0.0).then(|| {
+            (
+                crate::numerics::difference(b, o),
+                crate::numerics::relative_difference_pct(b, o),
+            )
+        })
     }
 
     /// Spread (max − min) / min over feasible rows, %.
     pub fn spread_pct(&self) -> Option<f64> {
         let lo = crate::placement::optimise::best_of(&self.rows)?.cost();
         let hi = crate::placement::optimise::worst_of(&self.rows)?.cost();
-        (lo > 0.0).then(|| (hi - lo) / lo * 100.0)
+        (lo > 0.0).then(|| crate::numerics::difference(hi, lo) / lo * 100.0)
     }
 
     /// Reduction (max − min) / max over feasible rows, % (seed 000's 53.72 % definition).
     pub fn reduction_pct(&self) -> Option<f64> {
         let lo = crate::placement::optimise::best_of(&self.rows)?.cost();
         let hi = crate::placement::optimise::worst_of(&self.rows)?.cost();
-        (hi > 0.0).then(|| (hi - lo) / hi * 100.0)
+        (hi > 0.0).then(|| crate::numerics::relative_difference_pct(hi, lo))
     }
 
     /// `summary.json`: counts, best/worst, spread, baseline and saving, search result and
@@ -659,10 +664,7 @@ impl RunReport {
             facts.push((format!("baseline ({how})"), describe(b)));
         }
         if let Some((j, pct)) = self.saving() {
-            facts.push((
-                "saving vs baseline".into(),
-                format!("{j:.1} J ({pct:.2} %)"),
-            ));
+            facts.push(("saving vs baseline".into(), saving_text(j, pct)));
         }
         if let Some(s) = self.spread_pct() {
             facts.push((
@@ -972,4 +974,15 @@ pub fn uncertainty_lines(u: &crate::placement::uncertainty::Study) -> Vec<String
         ));
     }
     v
+}
+
+/// A saving as people read it: `"819.8 J (6.00 %)"`, or `"no difference"` when the saving is
+/// 0 after rounding to the operands' digits ([`crate::numerics::difference`]). `j` in J,
+/// `pct` in %.
+pub fn saving_text(j: f64, pct: f64) -> String {
+    if j == 0.0 {
+        "no difference".into()
+    } else {
+        format!("{j:.1} J ({pct:.2} %)")
+    }
 }
