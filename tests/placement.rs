@@ -1,15 +1,13 @@
 //! Placement planner: feasibility with reasons, sweeps, determinism, optimiser, CLI.
 
+mod common;
+use common::{bin, root};
+
 use printwatt::energy::EnergyOptions;
 use printwatt::placement::{Evaluator, FeasibilityOptions, Objective, PathJob};
 use printwatt::robot;
 use printwatt::timing::{JointStageOptions, ProfileOptions};
 use printwatt::toolpath::{self, Placement, ReadOptions};
-use std::path::PathBuf;
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
 
 fn load(robot_id: &str, path: &str) -> (robot::RobotModel, toolpath::Toolpath) {
     let model = robot::load(&root().join("robots").join(robot_id)).unwrap();
@@ -20,14 +18,7 @@ fn load(robot_id: &str, path: &str) -> (robot::RobotModel, toolpath::Toolpath) {
 #[test]
 fn fast_evaluation_matches_full_evaluation() {
     let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
-    let job = PathJob::new(
-        &model,
-        &tp,
-        EnergyOptions::default(),
-        ProfileOptions::default(),
-        JointStageOptions::default(),
-    )
-    .unwrap();
+    let job = common::default_job(&model, &tp);
     let feas = FeasibilityOptions {
         wrist_min: 0.0,
         ..Default::default()
@@ -221,12 +212,6 @@ fn optimiser_beats_the_grid_is_deterministic_and_reports_sensitivity() {
         );
     }
     assert!(s.e_j.iter().any(|e| e.is_some()));
-}
-
-fn bin() -> std::process::Command {
-    let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_printwatt"));
-    c.current_dir(root());
-    c
 }
 
 #[test]

@@ -1,24 +1,13 @@
 //! Issue 9 (placement half): margins, tolerance, objectives, spins, run names, advice.
 
-use printwatt::energy::EnergyOptions;
+mod common;
+use common::bin;
+
 use printwatt::placement::optimise::{OptimiseOptions, Savings};
 use printwatt::placement::search::{self, Bounds, SearchOptions};
 use printwatt::placement::tolerance::{self, Tolerance};
-use printwatt::placement::{Evaluator, FeasibilityOptions, Grid, Objective, PathJob};
-use printwatt::robot;
-use printwatt::timing::{JointStageOptions, ProfileOptions};
+use printwatt::placement::{Evaluator, FeasibilityOptions, Grid, Objective};
 use printwatt::toolpath::{self, ReadOptions};
-use std::path::PathBuf;
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn bin() -> std::process::Command {
-    let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_printwatt"));
-    c.current_dir(root());
-    c
-}
 
 const YAW90: f64 = std::f64::consts::FRAC_PI_2;
 
@@ -26,16 +15,9 @@ const YAW90: f64 = std::f64::consts::FRAC_PI_2;
 fn optimum_respects_joint_margins_and_holds_its_tolerance() {
     // The default example: joint 3 used to end 0.03° from its stop. The optimum now keeps the
     // 3° margin on every joint and every tolerance corner (±20 mm, ±1°) is feasible.
-    let model = robot::load(&root().join("robots/abb_irb6700_200_260")).unwrap();
-    let tp = toolpath::load(&root().join("paths/default.gcode"), &ReadOptions::default()).unwrap();
-    let job = PathJob::new(
-        &model,
-        &tp,
-        EnergyOptions::default(),
-        ProfileOptions::default(),
-        JointStageOptions::default(),
-    )
-    .unwrap();
+    let model = common::robot("abb_irb6700_200_260");
+    let tp = common::path("default.gcode");
+    let job = common::default_job(&model, &tp);
     let feas = FeasibilityOptions::default();
     let ev = Evaluator::new(&job, feas, Objective::Supply);
     let g = Grid {
@@ -95,16 +77,9 @@ fn optimum_respects_joint_margins_and_holds_its_tolerance() {
 #[test]
 fn joint_margin_rejects_a_placement_that_ends_at_a_stop() {
     // x = 1.4 m, z = 0.5 m, yaw 90°: joint 3 reaches 67° against its 70° stop.
-    let model = robot::load(&root().join("robots/abb_irb6700_200_260")).unwrap();
-    let tp = toolpath::load(&root().join("paths/default.gcode"), &ReadOptions::default()).unwrap();
-    let job = PathJob::new(
-        &model,
-        &tp,
-        EnergyOptions::default(),
-        ProfileOptions::default(),
-        JointStageOptions::default(),
-    )
-    .unwrap();
+    let model = common::robot("abb_irb6700_200_260");
+    let tp = common::path("default.gcode");
+    let job = common::default_job(&model, &tp);
     let at = printwatt::toolpath::Placement::new(1.4, 0.0, 0.5, YAW90);
     let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
     let e = ev.sweep(&[at], &|_, _| {}).unwrap().remove(0);
@@ -270,16 +245,9 @@ fn urdf_without_nozzle_gets_counts_per_reason_and_the_no_tool_offset_hint() {
 #[test]
 fn exported_wobjdata_and_frame_put_the_nozzle_where_the_placement_says() {
     use printwatt::placement::export;
-    let model = robot::load(&root().join("robots/abb_irb6700_200_260")).unwrap();
-    let tp = toolpath::load(&root().join("paths/default.gcode"), &ReadOptions::default()).unwrap();
-    let job = PathJob::new(
-        &model,
-        &tp,
-        EnergyOptions::default(),
-        ProfileOptions::default(),
-        JointStageOptions::default(),
-    )
-    .unwrap();
+    let model = common::robot("abb_irb6700_200_260");
+    let tp = common::path("default.gcode");
+    let job = common::default_job(&model, &tp);
     let at = printwatt::toolpath::Placement {
         x: 1.55,
         y: 0.05,
@@ -328,7 +296,7 @@ fn exported_wobjdata_and_frame_put_the_nozzle_where_the_placement_says() {
 fn an_optimum_on_the_joint_limit_margin_is_flagged_and_the_margin_stated() {
     use printwatt::placement::feasibility::Margins;
     use printwatt::placement::margins::margin_statement;
-    let model = robot::load(&root().join("robots/abb_irb6700_200_260")).unwrap();
+    let model = common::robot("abb_irb6700_200_260");
     let o = FeasibilityOptions::default();
     let margin = 3f64.to_radians();
     // Joint 3 exactly on its 3° margin (67.00° against its 70° stop): flagged.
@@ -355,16 +323,9 @@ fn an_optimum_on_the_joint_limit_margin_is_flagged_and_the_margin_stated() {
 fn exported_base_frame_path_puts_the_nozzle_where_the_placement_says() {
     use printwatt::kinematics::{nozzle_target, IkSolver};
     use printwatt::placement::export;
-    let model = robot::load(&root().join("robots/abb_irb6700_200_260")).unwrap();
-    let tp = toolpath::load(&root().join("paths/default.gcode"), &ReadOptions::default()).unwrap();
-    let job = PathJob::new(
-        &model,
-        &tp,
-        EnergyOptions::default(),
-        ProfileOptions::default(),
-        JointStageOptions::default(),
-    )
-    .unwrap();
+    let model = common::robot("abb_irb6700_200_260");
+    let tp = common::path("default.gcode");
+    let job = common::default_job(&model, &tp);
     let at = printwatt::toolpath::Placement {
         x: 1.55,
         y: 0.05,

@@ -1,16 +1,11 @@
 //! Issue 9 item 4: how much to trust the answer (`optimise --uncertainty N`).
 
-use printwatt::energy::EnergyOptions;
-use printwatt::placement::uncertainty::{self, Ranges};
-use printwatt::placement::{Evaluator, FeasibilityOptions, Grid, Objective, PathJob};
-use printwatt::robot;
-use printwatt::timing::{JointStageOptions, ProfileOptions};
-use printwatt::toolpath::{self, ReadOptions};
-use std::path::PathBuf;
+mod common;
+use common::root;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+use printwatt::placement::uncertainty::{self, Ranges};
+use printwatt::placement::{Evaluator, FeasibilityOptions, Grid, Objective};
+use printwatt::robot;
 
 fn pool(n: usize) -> rayon::ThreadPool {
     rayon::ThreadPoolBuilder::new()
@@ -21,20 +16,9 @@ fn pool(n: usize) -> rayon::ThreadPool {
 
 #[test]
 fn uncertainty_study_is_deterministic_for_a_seed_and_thread_count() {
-    let model = robot::load(&root().join("robots/abb_irb4600_40_255")).unwrap();
-    let tp = toolpath::load(
-        &root().join("paths/seed000_test_path.gcode"),
-        &ReadOptions::default(),
-    )
-    .unwrap();
-    let job = PathJob::new(
-        &model,
-        &tp,
-        EnergyOptions::default(),
-        ProfileOptions::default(),
-        JointStageOptions::default(),
-    )
-    .unwrap();
+    let model = common::robot("abb_irb4600_40_255");
+    let tp = common::path("seed000_test_path.gcode");
+    let job = common::default_job(&model, &tp);
     let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
     let g = Grid {
         xs: vec![1.0, 1.2, 1.4],

@@ -4,19 +4,13 @@
 //! The top view and the infeasible summary are checked against what a designer was shown
 //! before (issue 9). Rendering in a browser: tests/browser.rs.
 
-use printwatt::energy::EnergyOptions;
+mod common;
+use common::root;
+
 use printwatt::placement::optimise::{self, OptimiseOptions};
-use printwatt::placement::{Evaluator, FeasibilityOptions, Grid, Objective, PathJob};
+use printwatt::placement::{Evaluator, FeasibilityOptions, Grid, Objective};
 use printwatt::report::placement::{Detail, RunReport};
 use printwatt::report::site::SiteGeometry;
-use printwatt::robot;
-use printwatt::timing::{JointStageOptions, ProfileOptions};
-use printwatt::toolpath::{self, ReadOptions};
-use std::path::PathBuf;
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
 
 /// A report over a small grid with two bed heights (some cells infeasible), optimised, with
 /// the site geometry; built once for the tests of this file.
@@ -26,16 +20,9 @@ fn report() -> &'static RunReport {
 }
 
 fn build_report() -> RunReport {
-    let model = robot::load(&root().join("robots/abb_irb6700_200_260")).unwrap();
-    let tp = toolpath::load(&root().join("paths/default.gcode"), &ReadOptions::default()).unwrap();
-    let job = PathJob::new(
-        &model,
-        &tp,
-        EnergyOptions::default(),
-        ProfileOptions::default(),
-        JointStageOptions::default(),
-    )
-    .unwrap();
+    let model = common::robot("abb_irb6700_200_260");
+    let tp = common::path("default.gcode");
+    let job = common::default_job(&model, &tp);
     let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
     let grid = Grid {
         xs: vec![1.2, 1.3, 1.4, 1.5],

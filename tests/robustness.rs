@@ -2,30 +2,18 @@
 //! it guards. Each runs the binary (or the library) the way a user would and checks the exit,
 //! the message (file, line or field, what to do) and that no input was touched.
 
+mod common;
+use common::{root, run};
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn run(args: &[&str], cwd: &Path) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_printwatt"))
-        .args(args)
-        .current_dir(cwd)
-        .output()
-        .expect("run printwatt")
-}
+use std::process::Output;
 
 fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("printwatt-rob-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
+    common::scratch("rob", name)
 }
 
 fn err(o: &Output) -> String {
-    String::from_utf8_lossy(&o.stderr).into_owned()
+    common::stderr_of(o)
 }
 
 /// A copy of a shipped robot in `dir/rob`.
@@ -782,9 +770,6 @@ fn urdf_with_two_root_links_names_them() {
 
 #[test]
 fn gcode_dwell_is_timed_as_a_hold_at_the_point() {
-    use printwatt::energy::EnergyOptions;
-    use printwatt::placement::PathJob;
-    use printwatt::timing::{JointStageOptions, ProfileOptions};
     use printwatt::toolpath::Placement;
     let d = tmp("dwell");
     // Two print moves with a fine point (G61) between them, with and without `G4 P2000`.
@@ -792,7 +777,7 @@ fn gcode_dwell_is_timed_as_a_hold_at_the_point() {
     let tail = "G1 X100 Y100 E2\n";
     let plain = write(&d, "plain.gcode", &format!("{base}{tail}"));
     let dwell = write(&d, "dwell.gcode", &format!("{base}G4 P2000\n{tail}"));
-    let model = printwatt::robot::load(&root().join("robots/abb_irb6700_200_260")).unwrap();
+    let model = common::robot("abb_irb6700_200_260");
     let at = Placement::new(1.7, 0.0, 0.0, std::f64::consts::FRAC_PI_2);
     let time = |p: &Path| {
         let tp = printwatt::toolpath::load(p, &Default::default()).unwrap();
@@ -801,14 +786,7 @@ fn gcode_dwell_is_timed_as_a_hold_at_the_point() {
             "{:?}",
             tp.warnings
         );
-        let job = PathJob::new(
-            &model,
-            &tp,
-            EnergyOptions::default(),
-            ProfileOptions::default(),
-            JointStageOptions::default(),
-        )
-        .unwrap();
+        let job = common::default_job(&model, &tp);
         (
             tp.dwells.clone(),
             job.time(&printwatt::kinematics::IkSolver::new(&model).unwrap(), &at)

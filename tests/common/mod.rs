@@ -90,3 +90,57 @@ impl Sines {
         tr
     }
 }
+
+/// A shipped path (`paths/<name>`) read with the default options.
+pub fn path(name: &str) -> printwatt::toolpath::Toolpath {
+    printwatt::toolpath::load(
+        &root().join("paths").join(name),
+        &printwatt::toolpath::ReadOptions::default(),
+    )
+    .unwrap_or_else(|e| panic!("loading path {name}: {e}"))
+}
+
+/// The job of `path` on `model` with every option at its default (energy, Cartesian profile,
+/// joint stage): what most placement tests evaluate.
+pub fn default_job<'a>(
+    model: &'a RobotModel,
+    path: &printwatt::toolpath::Toolpath,
+) -> printwatt::placement::PathJob<'a> {
+    printwatt::placement::PathJob::new(
+        model,
+        path,
+        printwatt::energy::EnergyOptions::default(),
+        printwatt::timing::ProfileOptions::default(),
+        printwatt::timing::JointStageOptions::default(),
+    )
+    .unwrap_or_else(|e| panic!("job of {}: {e}", path.source))
+}
+
+/// The `printwatt` binary, run in the repository root.
+pub fn bin() -> std::process::Command {
+    let mut c = std::process::Command::new(env!("CARGO_BIN_EXE_printwatt"));
+    c.current_dir(root());
+    c
+}
+
+/// Run `printwatt args` in `cwd`.
+pub fn run(args: &[&str], cwd: &std::path::Path) -> std::process::Output {
+    std::process::Command::new(env!("CARGO_BIN_EXE_printwatt"))
+        .args(args)
+        .current_dir(cwd)
+        .output()
+        .expect("run printwatt")
+}
+
+/// A fresh scratch directory `printwatt-<prefix>-<pid>-<name>` under the system's temp dir.
+pub fn scratch(prefix: &str, name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("printwatt-{prefix}-{}-{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+/// A command's stderr as text.
+pub fn stderr_of(o: &std::process::Output) -> String {
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
