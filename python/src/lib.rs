@@ -431,6 +431,14 @@ fn placement(at: &[f64]) -> PyRes<Placement> {
     if at.iter().any(|v| !v.is_finite()) {
         return Err(err(format!("at = {at:?}: every value must be finite")));
     }
+    for (name, v) in [("yaw", yaw), ("spin", spin)] {
+        if v.abs() > 2.0 * std::f64::consts::PI + 1e-9 {
+            return Err(err(format!(
+                "at: {name} = {v} rad: more than a full turn; angles are in radians — did you mean {} rad ({v}°)?",
+                v.to_radians()
+            )));
+        }
+    }
     for (name, v) in [("x", x), ("y", y), ("z", z)] {
         if v.abs() >= 50.0 {
             return Err(err(format!(

@@ -137,6 +137,8 @@ def test_bad_input_raises_printwatt_error_with_the_library_message(robot, tmp_pa
         pw.path_from_points(np.zeros((4, 2)), 0.1)
     with pytest.raises(pw.PrintwattError, match="speed"):
         pw.path_from_points([[0, 0, 0], [1, 0, 0]], 0.0)
+    with pytest.raises(pw.PrintwattError, match=r"angles are in radians .* 1.5707963"):
+        pw.energy(robot, pw.load_path(PATH), (1.7, 0.0, 0.0, 90.0))
     with pytest.raises(pw.PrintwattError, match="infeasible"):
         pw.energy(robot, pw.load_path(PATH), (9.0, 0.0, 0.0, 0.0))
 
@@ -156,6 +158,23 @@ def test_sweep_returns_a_grid_of_energies_equal_to_single_evaluations(robot, pat
     e = pw.energy(robot, path, (1.7, 0.2, 0.0, math.pi / 2))
     assert s["energy_j"][2, 1] == pytest.approx(e["supply_j"], rel=1e-9)
     assert len(s["rows"]) == 8 and s["rows"][2]["outcome"]["status"] == "feasible"
+
+
+def test_optimise_returns_the_best_placement_its_energy_and_the_reasons(robot):
+    wall = pw.path_from_points([[0, 0, 0], [0.6, 0, 0], [0.6, 0.3, 0], [0, 0.3, 0]], 0.1)
+    xs, ys = [1.0, 1.4, 1.8, 9.0], [-0.3, 0.0, 0.3]
+    o = pw.optimise(robot, wall, xs=xs, ys=ys, zs=[0.0], yaws=[0.0], max_evals=20)
+    x, y, z, yaw, spin = o["placement"]
+    assert 1.0 <= x <= 9.0 and -0.3 <= y <= 0.3 and z == 0.0
+    # The answer is that placement's energy, and no worse than the grid cell it started from.
+    assert o["energy_j"] == pytest.approx(pw.energy(robot, wall, o["placement"])["supply_j"], rel=1e-9)
+    assert o["energy_j"] <= o["best_grid"]["outcome"]["energy_j"] * (1 + 1e-9)
+    assert o["placements"] == 12 and o["infeasible_by_reason"]["unreachable"] == 3
+    assert o["feasible"] + sum(o["infeasible_by_reason"].values()) == 12
+    assert o["search"]["method"].startswith("nelder-mead")
+    # Nothing feasible: the command's advice, as an error.
+    with pytest.raises(pw.PrintwattError, match="unreachable"):
+        pw.optimise(robot, wall, xs=[9.0], ys=[0.0], zs=[0.0], yaws=[0.0])
 
 
 def test_compare_diagnose_identify_mirror_the_cli_json(tmp_path):
