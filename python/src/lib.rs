@@ -439,21 +439,15 @@ fn placement(at: &[f64]) -> PyRes<Placement> {
             )));
         }
     }
-    for (name, v) in [("x", x), ("y", y), ("z", z)] {
-        if v.abs() >= 50.0 {
-            return Err(err(format!(
-                "at: {name} = {v} m: no robot reaches that far; placements are in metres — did you mean {} m (the value in mm)?",
-                v / 1000.0
-            )));
-        }
-    }
-    Ok(Placement {
+    let p = Placement {
         x,
         y,
         z,
         yaw,
         nozzle_spin: spin,
-    })
+    };
+    p.check_metres().map_err(|e| err(format!("at: {e}")))?;
+    Ok(p)
 }
 
 fn placement_tuple(p: &Placement) -> (f64, f64, f64, f64, f64) {
