@@ -615,28 +615,39 @@ fn energy<'py>(
         })?;
     let e = &ev.energy;
     check_series(e, &ev.timed.traj)?;
-    let d = PyDict::new(py);
-    d.set_item("schema_version", printwatt::output::JSON_SCHEMA_VERSION)?;
-    d.set_item("robot", model.name())?;
-    d.set_item("input", &tp.source)?;
-    let pl = PyDict::new(py);
-    pl.set_item("x_m", at.x)?;
-    pl.set_item("y_m", at.y)?;
-    pl.set_item("z_m", at.z)?;
-    pl.set_item("yaw_deg", at.yaw.to_degrees())?;
-    pl.set_item("nozzle_spin_deg", at.nozzle_spin.to_degrees())?;
-    d.set_item("placement", pl)?;
-    d.set_item("print_time_s", e.duration_s)?;
-    d.set_item(
-        "slowdowns",
-        json_part(py, "energy: slowdowns", &ev.timed.slowdowns)?,
-    )?;
-    d.set_item("output_csv", py.None())?;
-    // The report without its per-sample series (they are the arrays below).
-    let mut rep = serde_json::to_value(ReportNoSeries(e)).map_err(err)?;
-    printwatt::output::check_finite_json("energy", &ReportNoSeries(e)).map_err(err)?;
-    printwatt::output::round_json(&mut rep);
-    d.set_item("energy", value_to_py(py, &rep)?)?;
+    // The `energy --json` document (numbers rounded as there), the report without its
+    // per-sample series (they are the arrays below). Checked finite on the typed values:
+    // serde_json would turn a NaN into null.
+    printwatt::output::check_finite_json("energy", e).map_err(err)?;
+    printwatt::output::check_finite_json("energy: slowdowns", &ev.timed.slowdowns).map_err(err)?;
+    let mut rep = serde_json::to_value(e).map_err(err)?;
+    if let Some(o) = rep.as_object_mut() {
+        o.remove("series");
+    }
+    let mut doc = serde_json::Map::new();
+    doc.insert("robot".into(), model.name().into());
+    doc.insert("input".into(), tp.source.clone().into());
+    let pl: serde_json::Map<String, serde_json::Value> = [
+        ("x_m", at.x),
+        ("y_m", at.y),
+        ("z_m", at.z),
+        ("yaw_deg", at.yaw.to_degrees()),
+        ("nozzle_spin_deg", at.nozzle_spin.to_degrees()),
+    ]
+    .into_iter()
+    .map(|(k, v)| (k.to_string(), v.into()))
+    .collect();
+    doc.insert("placement".into(), pl.into());
+    doc.insert("print_time_s".into(), e.duration_s.into());
+    doc.insert(
+        "slowdowns".into(),
+        serde_json::to_value(&ev.timed.slowdowns).map_err(err)?,
+    );
+    doc.insert("output_csv".into(), serde_json::Value::Null);
+    doc.insert("energy".into(), rep);
+    let mut doc = serde_json::Value::Object(doc);
+    printwatt::output::finish_json(&mut doc);
+    let d = value_to_py(py, &doc)?.cast_into::<PyDict>()?;
     d.set_item(
         "warnings",
         warnings_list(
@@ -704,19 +715,6 @@ fn check_series(
         }
     }
     Ok(())
-}
-
-/// An energy report serialised without its `series` field (the JSON document's `energy`).
-struct ReportNoSeries<'a>(&'a printwatt::EnergyReport);
-
-impl serde::Serialize for ReportNoSeries<'_> {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        let mut v = serde_json::to_value(self.0).map_err(serde::ser::Error::custom)?;
-        if let Some(o) = v.as_object_mut() {
-            o.remove("series");
-        }
-        v.serialize(s)
-    }
 }
 
 // ---------------------------------------------------------------------------------------------
