@@ -308,6 +308,63 @@ impl Toolpath {
     pub fn mark(&self, name: &str) -> Option<&Mark> {
         self.marks.iter().find(|m| m.name == name)
     }
+
+    /// A printing path through `points` (part frame, m) at the print speed `speed` (m/s), each
+    /// corner blended within `zone`: what a designer's list of points is (COMPAS, Grasshopper,
+    /// the Python bindings). `source` names it in messages; move `k` has line `k + 1` (the
+    /// point's 1-based row). Consecutive duplicate points are dropped. Errors: fewer than two
+    /// distinct points, a non-finite coordinate (naming the row), a speed that is not > 0, a
+    /// blend radius that is not finite and >= 0.
+    pub fn from_points(points: &[V3], speed: f64, zone: Zone, source: &str) -> Result<Toolpath> {
+        if !(speed.is_finite() && speed > 0.0) {
+            return Err(Error::Invalid(format!(
+                "{source}: speed {speed} m/s: expected a finite speed > 0"
+            )));
+        }
+        if !(zone.radius().is_finite() && zone.radius() >= 0.0) {
+            return Err(Error::Invalid(format!(
+                "{source}: zone {} m: expected a finite blend radius >= 0",
+                zone.radius()
+            )));
+        }
+        if let Some(k) = points.iter().position(|p| p.iter().any(|v| !v.is_finite())) {
+            return Err(Error::Invalid(format!(
+                "{source}: point {} (row {k}) has a coordinate that is not a finite number: {:?}",
+                k + 1,
+                points[k].as_slice()
+            )));
+        }
+        let Some(start) = points.first() else {
+            return Err(Error::Invalid(format!(
+                "{source}: no points: expected at least two distinct points (m)"
+            )));
+        };
+        let mut tp = Toolpath {
+            source: source.to_string(),
+            start: *start,
+            ..Default::default()
+        };
+        for (k, p) in points.iter().enumerate().skip(1) {
+            if (p - tp.end()).norm() <= 1e-12 {
+                continue;
+            }
+            tp.moves.push(Move {
+                kind: MoveKind::Line,
+                end: *p,
+                speed,
+                zone,
+                print: true,
+                line: k + 1,
+            });
+        }
+        if tp.moves.is_empty() {
+            return Err(Error::Invalid(format!(
+                "{source}: {} point(s), all at the same place: expected at least two distinct points (m)",
+                points.len()
+            )));
+        }
+        Ok(tp)
+    }
 }
 
 /// Options for the readers. Speeds in m/s, lengths in m.
