@@ -170,7 +170,7 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
     if !rows.iter().any(|r| r.cost().is_finite()) {
         anyhow::bail!(
             "{}",
-            printwatt::placement::advice::nothing_feasible(
+            printwatt::placement::advice::nothing_feasible_named(
                 &rows,
                 &l.robot,
                 &super::sweep::knob_flag

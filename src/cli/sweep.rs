@@ -735,7 +735,9 @@ pub fn finish(
         if rep.best().is_none() {
             print!(
                 "{}",
-                printwatt::placement::advice::nothing_feasible(&rep.rows, &l.robot, &knob_flag)
+                printwatt::placement::advice::nothing_feasible_named(
+                    &rep.rows, &l.robot, &knob_flag
+                )
             );
         }
         if let Some(s) = rep.spread_pct() {
