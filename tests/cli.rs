@@ -793,3 +793,111 @@ fn placement_spin_means_the_same_in_every_command() {
         "the spin-free comparison must be feasible"
     );
 }
+
+/// `identify --effects "viscous[2]"` fits joint 2's viscous friction only, as `simulate
+/// --hidden viscous[2]=…` hides it (one parser of `effect[j]`): the other joints' viscous
+/// parameters are held at their prior values and named; a joint beyond the robot is refused.
+#[test]
+fn identify_accepts_a_per_joint_effect_subset() {
+    let d = tmpdir("subset");
+    let ds = d.display().to_string();
+    let o = printwatt(
+        &[
+            "simulate",
+            "--robot",
+            "abb_irb4600_40_255",
+            "--excite",
+            "8",
+            "--hidden",
+            "viscous[2]=40",
+            "--signal",
+            "tau",
+            "--noise",
+            "1",
+            "--rate",
+            "100",
+            "--seed",
+            "3",
+            "--out",
+            &ds,
+        ],
+        &root(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let log = d.join("log.csv").display().to_string();
+    let id_dir = d.join("id").display().to_string();
+    let o = printwatt(
+        &[
+            "identify",
+            "--robot",
+            "abb_irb4600_40_255",
+            "--log",
+            &log,
+            "--effects",
+            "viscous[2]",
+            "--out",
+            &id_dir,
+            "--json",
+        ],
+        &root(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let id = &v["identification"];
+    let held: Vec<&str> = id["held_at_prior"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|h| h["name"].as_str().unwrap())
+        .collect();
+    for j in [1, 3, 4, 5, 6] {
+        assert!(
+            held.contains(&format!("viscous.f_v[{j}]").as_str()),
+            "{held:?}"
+        );
+    }
+    assert!(!held.contains(&"viscous.f_v[2]"), "{held:?}");
+    let p = |name: &str| {
+        id["params"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .find(|p| p["effect"] == "viscous" && p["name"] == name)
+            .unwrap_or_else(|| panic!("{name} in {}", id["params"]))
+            .clone()
+    };
+    let f2 = p("f_v[2]");
+    let (value, nominal) = (
+        f2["value"].as_f64().unwrap(),
+        f2["nominal"].as_f64().unwrap(),
+    );
+    assert!(
+        (value - nominal - 40.0).abs() < 4.0,
+        "f_v[2] {value} from {nominal}: the hidden +40 N·m·s/rad not found"
+    );
+    for j in [1, 3] {
+        let q = p(&format!("f_v[{j}]"));
+        assert_eq!(q["value"], q["nominal"], "joint {j} must be held");
+    }
+    let o = printwatt(
+        &[
+            "identify",
+            "--robot",
+            "abb_irb4600_40_255",
+            "--log",
+            &log,
+            "--effects",
+            "viscous[9]",
+            "--out",
+            &id_dir,
+            "--force",
+        ],
+        &root(),
+    );
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("joint 9") && stderr(&o).contains("6 joints"),
+        "{}",
+        stderr(&o)
+    );
+}

@@ -137,7 +137,7 @@ impl TimingArgs {
         }
         if self.period < 0.1 {
             bail!(
-                "--period {} ms is far shorter than a controller's (0.5–12 ms); --period is in ms: did you mean {} ms?",
+                "--period {} ms: the interpolation period is far shorter than a controller's (0.5–12 ms); --period is in ms: did you mean {} ms?",
                 self.period,
                 self.period * 1000.0
             );

@@ -10,7 +10,23 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
     let mut la = a.log.clone();
     let fit_list = la.effects.take().unwrap_or_default();
     let (robot, mut model, log) = super::compare::load(&la)?;
-    let asked = identify::model::parse_effect_list(&fit_list)?;
+    // `coulomb,viscous[2]`: effects, each for every joint or for the joints in brackets (the
+    // others' parameters held at their prior values).
+    let subsets = identify::model::parse_effect_subsets(&fit_list, robot.dof())
+        .with_context(|| format!("--effects `{fit_list}`"))?;
+    let asked: Vec<&'static str> = subsets.iter().map(|(e, _)| *e).collect();
+    let mut hold: Vec<ladder::HeldParam> = Vec::new();
+    for (e, joints) in &subsets {
+        if let Some(js) = joints {
+            let list: Vec<String> = js.iter().map(|j| j.to_string()).collect();
+            for name in model.params_outside(e, js)? {
+                hold.push(ladder::HeldParam {
+                    name,
+                    reason: format!("only joint(s) {} of `{e}` asked for", list.join(", ")),
+                });
+            }
+        }
+    }
     if asked.is_empty() {
         bail!("--effects: name the effects to fit, e.g. --effects coulomb,balancer");
     }
@@ -94,12 +110,13 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
                 )
             }
         };
-    let id = ladder::identify(
+    let id = ladder::identify_holding(
         &mut model,
         (&prep, &train_rows),
         (val.0, &val.1),
         &effects,
         what,
+        &hold,
     )?;
     // The last check before anything leaves: the calibrated robot, the files, the JSON.
     printwatt::output::check_finite_json("identify", &id)?;

@@ -106,6 +106,19 @@ pub fn identify(
     effects: &[&'static str],
     validation: String,
 ) -> Result<Identification> {
+    identify_holding(model, train, val, effects, validation, &[])
+}
+
+/// [`identify`] holding the parameters `hold` at their prior values (`effect.param` with the
+/// reason, e.g. the joints outside a per-joint subset, [`Model::params_outside`]).
+pub fn identify_holding(
+    model: &mut Model,
+    train: (&Prepared, &[usize]),
+    val: (&Prepared, &[usize]),
+    effects: &[&'static str],
+    validation: String,
+    hold: &[HeldParam],
+) -> Result<Identification> {
     let step = |model: &Model, name: String, fitted: &[&str]| {
         let (tr, _, _) = evaluate_rows(train.0, model, train.1);
         let (vr, em, ep) = evaluate_rows(val.0, model, val.1);
@@ -121,7 +134,12 @@ pub fn identify(
     };
     let mut ladder = vec![step(model, "base".into(), &[])];
     let mut last = None;
-    let mut held: Vec<HeldParam> = still_joint_params(model, train.0, train.1, effects);
+    let mut held: Vec<HeldParam> = hold.to_vec();
+    for h in still_joint_params(model, train.0, train.1, effects) {
+        if !held.iter().any(|x| x.name == h.name) {
+            held.push(h);
+        }
+    }
     let mut first_ill = None;
     for i in 0..effects.len() {
         let before = model.state();

@@ -65,6 +65,41 @@ pub fn parse_effect_list(s: &str) -> Result<Vec<&'static str>> {
     Ok(out)
 }
 
+/// An effect to fit and, for `effect[j]`, the 1-based joints whose parameters are fitted
+/// (`None`: every joint). Several entries of one effect (`viscous[2],viscous[3]`) merge.
+pub type EffectSubset = (&'static str, Option<Vec<usize>>);
+
+/// Parse `coulomb,viscous[2],viscous[3]` (effect names of the catalogue, a joint in brackets as
+/// `simulate`'s hidden effects take it, [`crate::identify::simulate::split_joint`]) for a robot
+/// of `n` joints. Order kept, duplicates merged; `viscous` and `viscous[2]` together mean every
+/// joint. Errors: an unknown effect, a bad joint or one beyond `n`.
+pub fn parse_effect_subsets(s: &str, n: usize) -> Result<Vec<EffectSubset>> {
+    let cat = catalogue();
+    let mut out: Vec<EffectSubset> = Vec::new();
+    for w in s.split(',').map(str::trim).filter(|w| !w.is_empty()) {
+        let (name, joint) = crate::identify::simulate::split_joint(w)?;
+        let e = cat[catalogue_index(name)?];
+        if let Some(k) = joint.filter(|&k| k > n) {
+            return Err(Error::Invalid(format!(
+                "`{w}`: joint {k}, but the robot has {n} joints"
+            )));
+        }
+        match out.iter_mut().find(|(x, _)| *x == e) {
+            Some((_, js)) => match (js.as_mut(), joint) {
+                (Some(v), Some(k)) => {
+                    if !v.contains(&k) {
+                        v.push(k)
+                    }
+                }
+                (_, None) => *js = None,
+                (None, Some(_)) => {}
+            },
+            None => out.push((e, joint.map(|k| vec![k]))),
+        }
+    }
+    Ok(out)
+}
+
 /// The drive file a `--robot` argument refers to (directory → `drive.toml`, a `.toml` file →
 /// itself), if any.
 pub fn drive_file_of(robot_arg: &Path) -> Option<PathBuf> {
@@ -167,6 +202,23 @@ impl Model {
     /// Parameter specs of an effect.
     pub fn params(&self, name: &str) -> Result<Vec<ParamSpec>> {
         Ok(self.effect(name)?.params())
+    }
+
+    /// The parameters (`effect.param`, as [`crate::identify::fit::fit_holding`] names them) of
+    /// `effect` that belong to a joint outside `joints` (1-based): what a per-joint subset
+    /// holds at its prior. Parameters of no joint (a transition width, a mass) are fitted.
+    pub fn params_outside(&self, effect: &str, joints: &[usize]) -> Result<Vec<String>> {
+        Ok(self
+            .params(effect)?
+            .into_iter()
+            .filter(|p| {
+                p.name
+                    .rsplit_once('[')
+                    .and_then(|(_, j)| j.strip_suffix(']')?.parse::<usize>().ok())
+                    .is_some_and(|k| !joints.contains(&k))
+            })
+            .map(|p| format!("{effect}.{}", p.name))
+            .collect())
     }
 
     /// Parameter values of an effect (SI).

@@ -27,6 +27,29 @@ pub struct Hidden {
     pub values: Vec<f64>,
 }
 
+/// Split `effect[j]` into the effect's name and the 1-based joint `j` (`None` without
+/// brackets): the one parser of per-joint effect names (`simulate`'s hidden effects,
+/// `identify`'s per-joint subsets). Error: a joint that is not a whole number ≥ 1, or a
+/// bracket left open.
+pub fn split_joint(s: &str) -> Result<(&str, Option<usize>)> {
+    let s = s.trim();
+    match s.split_once('[') {
+        Some((n, j)) => {
+            let k = j
+                .strip_suffix(']')
+                .and_then(|j| j.trim().parse::<usize>().ok())
+                .filter(|&k| k >= 1)
+                .ok_or_else(|| {
+                    Error::Invalid(format!(
+                        "`{s}`: expected effect[j] with a joint j from 1 (e.g. viscous[2])"
+                    ))
+                })?;
+            Ok((n.trim(), Some(k)))
+        }
+        None => Ok((s, None)),
+    }
+}
+
 /// Parse `coulomb=40,balancer=8000:20000,payload=+15,viscous[2]=30`.
 pub fn parse_hidden(s: &str) -> Result<Vec<Hidden>> {
     let mut out = Vec::new();
@@ -34,15 +57,8 @@ pub fn parse_hidden(s: &str) -> Result<Vec<Hidden>> {
         let (lhs, rhs) = item.split_once('=').ok_or_else(|| {
             Error::Invalid(format!("hidden effect `{item}`: expected effect=value"))
         })?;
-        let (name, joint) = match lhs.split_once('[') {
-            Some((n, j)) => (
-                n.trim(),
-                Some(j.trim_end_matches(']').parse::<usize>().map_err(|_| {
-                    Error::Invalid(format!("hidden effect `{item}`: bad joint index"))
-                })?),
-            ),
-            None => (lhs.trim(), None),
-        };
+        let (name, joint) = split_joint(lhs)
+            .map_err(|_| Error::Invalid(format!("hidden effect `{item}`: bad joint index")))?;
         let i = catalogue_index(name)?;
         let values = rhs
             .split(':')
