@@ -1,6 +1,7 @@
 //! Measured logs against the model (architecture.md, `identify`): reading logs
 //! ([`log`]), comparison metrics ([`metrics`]), residual diagnosis ([`diagnose`]), parameter
-//! identification with the error ladder ([`ladder`], [`fit`]), simulated logs from a "true"
+//! identification with the error ladder ([`ladder`], [`fit`]), where the model fails
+//! ([`profiles`]), simulated logs from a "true"
 //! robot ([`simulate`]). Charts are drawn by [`crate::report::svg`].
 
 pub mod calibrate;
@@ -10,6 +11,7 @@ pub mod ladder;
 pub mod log;
 pub mod metrics;
 pub mod model;
+pub mod profiles;
 pub mod simulate;
 pub mod structure;
 

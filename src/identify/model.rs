@@ -242,6 +242,15 @@ impl Model {
     pub fn implausible(&self, name: &str) -> Option<String> {
         self.effect(name).ok().and_then(|e| e.implausible())
     }
+
+    /// Why the *current values* of the effect called `name` (just fitted, with standard
+    /// errors `std_errors` in parameter order) are not physically plausible for this robot, or
+    /// `None` ([`Effect::implausible_fit`]).
+    pub fn implausible_fit(&self, name: &str, std_errors: &[Option<f64>]) -> Option<String> {
+        self.effect(name)
+            .ok()
+            .and_then(|e| e.implausible_fit(std_errors))
+    }
 }
 
 /// A log prepared for repeated prediction: rigid-body torques and the regressors of the
