@@ -957,7 +957,7 @@ fn with_small_errors(r: &RobotModel, pct: f64, seed: u64) -> RobotModel {
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(seed);
     let mut t = r.clone();
     for l in t.links.iter_mut().flatten() {
-        let mut f = || 1.0 + if rng.gen::<bool>() { pct } else { -pct } / 100.0;
+        let mut f = || 1.0 + (if rng.gen::<bool>() { pct } else { -pct }) / 100.0;
         l.mass *= f();
         for a in 0..3 {
             l.inertia[(a, a)] *= f();

@@ -7,6 +7,46 @@ use printwatt::report::html::Page;
 use printwatt::report::svg::{self, Series};
 use std::path::Path;
 
+/// A progress bar on stderr for the loop's long stages (hidden when stderr is not a terminal,
+/// as indicatif does).
+pub(crate) struct Bar(indicatif::ProgressBar);
+
+impl Bar {
+    pub(crate) fn new() -> Self {
+        use std::io::IsTerminal;
+        let b = if std::io::stderr().is_terminal() {
+            indicatif::ProgressBar::new(0)
+        } else {
+            indicatif::ProgressBar::hidden()
+        };
+        b.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{msg:18} [{bar:40}] {percent:>3} % ({elapsed} elapsed, ~{eta} left)",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        Bar(b)
+    }
+}
+
+impl printwatt::identify::Progress for Bar {
+    fn update(&self, stage: &str, done: u64, total: u64) {
+        if self.0.length() != Some(total) {
+            self.0.set_length(total);
+        }
+        if self.0.message() != stage {
+            self.0.set_message(stage.to_string());
+        }
+        self.0.set_position(done);
+    }
+}
+
+impl Drop for Bar {
+    fn drop(&mut self) {
+        self.0.finish_and_clear();
+    }
+}
+
 /// The robot, the model (effects switched per drive file and command line) and the log.
 pub(crate) fn load(a: &LogArgs) -> Result<(printwatt::robot::RobotModel, Model, Log)> {
     let robot = a.robot.load()?;
@@ -88,7 +128,9 @@ pub fn run(a: super::CompareArgs) -> Result<()> {
             )?;
         }
     }
-    let prep = identify::Prepared::new(&model, &log)?;
+    let bar = Bar::new();
+    let prep = identify::Prepared::with_progress(&model, &log, &bar)?;
+    drop(bar);
     let (mut cmp, pred) = metrics::compare(&prep, &model);
     cmp.calibration = robot.effects.calibration_summary();
     // The last check before anything leaves: the JSON, the report and the printed table.

@@ -271,6 +271,17 @@ impl<'a> Prepared<'a> {
     /// Prepare `log` for `model`. Errors: joint count mismatch; a current or power log for a
     /// robot without drive data.
     pub fn new(model: &Model, log: &'a Log) -> Result<Self> {
+        Self::with_progress(model, log, &crate::identify::NoProgress)
+    }
+
+    /// [`Prepared::new`], telling `progress` how many rows are done (stage
+    /// `"preparing the log"`; the rigid body and each costly effect's regressor are one pass
+    /// each over the rows).
+    pub fn with_progress(
+        model: &Model,
+        log: &'a Log,
+        progress: &dyn crate::identify::Progress,
+    ) -> Result<Self> {
         let n = model.n;
         if log.traj.n != n {
             return Err(Error::SizeMismatch {
@@ -291,9 +302,20 @@ log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, 
             )));
         }
         let len = log.len();
+        let passes = 1 + model
+            .effects
+            .iter()
+            .filter(|(e, _)| e.stage() == Stage::Torque && e.costly())
+            .count();
+        let total = (passes * len) as u64;
+        let step = (len / 100).max(1);
+        let stage = "preparing the log";
         let mut data = model.dynamics.data();
         let mut tau_rb = vec![0.0; len * n];
         for k in 0..len {
+            if k % step == 0 {
+                progress.update(stage, k as u64, total);
+            }
             rnea(
                 &model.dynamics,
                 &mut data,
@@ -304,6 +326,7 @@ log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, 
             )?;
         }
         let mut regs: Vec<Option<Vec<f64>>> = Vec::new();
+        let mut pass = 1;
         for (e, _) in model.effects.iter() {
             regs.push(None);
             if e.stage() != Stage::Torque || !e.costly() {
@@ -314,6 +337,9 @@ log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, 
             let mut all = vec![0.0; len * n * p];
             let mut linear = true;
             for k in 0..len {
+                if k % step == 0 {
+                    progress.update(stage, (pass * len + k) as u64, total);
+                }
                 let y = &mut all[k * n * p..(k + 1) * n * p];
                 if !e.regressor(log.traj.q(k), log.traj.qd(k), log.traj.qdd(k), y) {
                     linear = false;
@@ -323,7 +349,9 @@ log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, 
             if linear {
                 regs[i] = Some(all);
             }
+            pass += 1;
         }
+        progress.update(stage, total, total);
         Ok(Prepared { log, tau_rb, regs })
     }
 
