@@ -56,16 +56,7 @@ fn prepare(s: &Setup, solver: &IkSolver) -> Prepared {
     let motion = profile::plan(&s.pieces, &nodes, &scale, &s.opts);
     let lines = |i: usize| s.moves[i].line;
     let jopts = JointStageOptions::default();
-    let t = timing::time_at(
-        solver,
-        &s.pieces,
-        &lines,
-        &s.at.frame(),
-        s.at.yaw,
-        &s.opts,
-        &jopts,
-    )
-    .expect("timed");
+    let t = timing::time_at(solver, &s.pieces, &lines, &s.at, &s.opts, &jopts).expect("timed");
     let em = EnergyModel::new(&s.model).expect("energy model");
     Prepared {
         solver_q0: t.traj.q(0).to_vec(),
@@ -99,8 +90,7 @@ fn stages(c: &mut Criterion) {
     g.bench_function("cartesian_plan", |b| {
         b.iter(|| black_box(profile::plan(&s.pieces, &p.nodes, &p.scale, &s.opts)))
     });
-    let (mut qs, mut tcp) = (Vec::new(), Vec::new());
-    let frame = s.at.frame();
+    let mut bufs = timing::Buffers::default();
     g.bench_function("ik_track", |b| {
         b.iter(|| {
             joint::track(
@@ -108,11 +98,9 @@ fn stages(c: &mut Criterion) {
                 &s.pieces,
                 &lines,
                 &p.motion,
-                &frame,
-                s.at.yaw,
+                &s.at,
                 &p.solver_q0,
-                &mut qs,
-                &mut tcp,
+                &mut bufs,
             )
             .expect("track")
         })
@@ -150,19 +138,16 @@ fn summary() {
     let plan = median_time(reps, || {
         black_box(profile::plan(&s.pieces, &p.nodes, &p.scale, &s.opts));
     });
-    let (mut qs, mut tcp) = (Vec::new(), Vec::new());
-    let frame = s.at.frame();
+    let mut bufs = timing::Buffers::default();
     let ik = median_time(reps, || {
         joint::track(
             &solver,
             &s.pieces,
             &lines,
             &p.motion,
-            &frame,
-            s.at.yaw,
+            &s.at,
             &p.solver_q0,
-            &mut qs,
-            &mut tcp,
+            &mut bufs,
         )
         .expect("track");
     });

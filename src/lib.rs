@@ -38,6 +38,7 @@ pub mod error;
 pub mod identify;
 pub mod kinematics;
 pub mod math;
+pub mod numerics;
 pub mod output;
 pub mod placement;
 pub mod report;
@@ -55,6 +56,6 @@ pub use nalgebra;
 
 // The main job in one line each (see `examples/`).
 pub use energy::{EnergyModel, EnergyOptions, EnergyReport};
-pub use placement::PathJob;
+pub use placement::{PathJob, Placement};
 pub use robot::{load as load_robot, RobotModel};
-pub use toolpath::{load as load_path, Placement, ReadOptions, Toolpath};
+pub use toolpath::{load as load_path, ReadOptions, Toolpath};

@@ -414,7 +414,7 @@ fn exported_base_frame_path_puts_the_nozzle_where_the_placement_says() {
         for i in 0..n {
             let s = m.prim.length() * i as f64 / n as f64;
             let want = frame.apply(&m.prim.point(s));
-            let target = nozzle_target(&want, at.yaw + at.nozzle_spin);
+            let target = nozzle_target(&want, at.nozzle_yaw());
             let Ok(sols) = solver.solve_all(&target) else {
                 continue;
             };
@@ -436,7 +436,7 @@ fn exported_base_frame_path_puts_the_nozzle_where_the_placement_says() {
         nalgebra::UnitQuaternion::from_quaternion(nalgebra::Quaternion::new(v[3], v[4], v[5], v[6]))
     };
     for (i, b) in pts.iter().enumerate().step_by(5) {
-        let target = nozzle_target(&b.p, at.yaw + at.nozzle_spin);
+        let target = nozzle_target(&b.p, at.nozzle_yaw());
         let sol = &solver.solve_all(&target).unwrap()[0];
         let t = printwatt::kinematics::fk::tool_pose(&model, &sol.q);
         let g = nalgebra::Vector3::new(from_g[i][0], from_g[i][1], from_g[i][2]);

@@ -28,8 +28,7 @@ fn timed(
         &solver,
         &pieces,
         &|i| lines[i],
-        &at.frame(),
-        at.yaw + at.nozzle_spin,
+        &at,
         &ProfileOptions::default(),
         &JointStageOptions::default(),
     )
@@ -147,8 +146,7 @@ fn a_binding_velocity_limit_slows_the_path_and_is_reported() {
         &solver,
         &pieces,
         &|i| moves[i].line,
-        &at.frame(),
-        at.yaw,
+        &at,
         &ProfileOptions::default(),
         &JointStageOptions::default(),
     )
@@ -184,8 +182,7 @@ fn an_unreachable_placement_names_the_sample() {
         &solver,
         &pieces,
         &|i| moves[i].line,
-        &at.frame(),
-        0.0,
+        &at,
         &ProfileOptions::default(),
         &JointStageOptions::default(),
     )
@@ -223,8 +220,7 @@ fn blends_stay_inside_their_zones() {
         &solver,
         &pieces,
         &|i| moves[i].line,
-        &at.frame(),
-        0.0,
+        &at,
         &ProfileOptions::default(),
         &JointStageOptions::default(),
     )
@@ -321,8 +317,7 @@ fn a_line_over_the_axis_of_joint_1_reports_the_configuration_change() {
         &solver,
         &pieces,
         &|i| moves[i].line,
-        &at.frame(),
-        at.yaw + at.nozzle_spin,
+        &at,
         &ProfileOptions::default(),
         &JointStageOptions::default(),
     )

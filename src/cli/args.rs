@@ -90,17 +90,9 @@ impl AtArg {
 }
 
 /// A placement whose position looks like millimetres where metres are expected: an error
-/// with the hint. No arm reaches 50 m; 1700 "m" is 1.7 m typed in mm.
+/// with the hint ([`Placement::check_metres`]).
 pub fn check_metres(p: &Placement) -> Result<()> {
-    for (name, v) in [("x", p.x), ("y", p.y), ("z", p.z)] {
-        if v.abs() >= 50.0 {
-            bail!(
-                "{name} = {v} m: no robot reaches that far; placements are in metres — did you mean {} m (the value in mm)?",
-                v / 1000.0
-            );
-        }
-    }
-    Ok(())
+    Ok(p.check_metres()?)
 }
 
 /// How the controller times the path.

@@ -11,6 +11,7 @@ mod compare;
 mod diagnose;
 mod energy;
 mod identify;
+mod merge;
 mod optimise;
 mod robots;
 mod simulate;
@@ -39,6 +40,8 @@ pub enum Command {
     Robots(RobotsArgs),
     /// Evaluate placements of a path (grid, named set or list) in parallel: energy or why not.
     Sweep(sweep::SweepArgs),
+    /// Put the shards of a split sweep (`sweep --shard`) together: the files of a single run.
+    Merge(merge::MergeArgs),
     /// Find the minimum-energy placement (grid, then seeded pattern search) and write a report.
     Optimise(optimise::OptimiseArgs),
     /// Energy of a joint trajectory, or of a toolpath at one placement.
@@ -365,6 +368,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Robots(a) => robots::run(a),
         Command::Energy(a) => energy::run(a),
         Command::Sweep(a) => sweep::run(a),
+        Command::Merge(a) => merge::run(a),
         Command::Optimise(a) => optimise::run(a),
         Command::Compare(a) => compare::run(a),
         Command::Diagnose(a) => diagnose::run(a),

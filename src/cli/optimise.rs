@@ -280,13 +280,7 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
         details.extend(detail(&job, "baseline", b)?);
     }
     let n_eval = ps.len() + res.evals + 4;
-    let mut m = meta(
-        &l,
-        pool.current_num_threads(),
-        secs,
-        n_eval,
-        ev.nominal_samples(),
-    );
+    let mut m = meta(&l, ev.nominal_samples());
     m.push(("seed".into(), a.seed.to_string()));
     if let Some(si) = &res.search {
         m.push(("search".into(), si.method.clone()));
@@ -355,6 +349,11 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
     let mut written = None;
     if let Some(mut rd) = run_dir.take() {
         rep.write_into(&mut rd)?;
+        super::sweep::write_run_facts(
+            &mut rd,
+            super::sweep::run_facts(pool.current_num_threads(), secs, n_eval),
+            &[],
+        )?;
         written = Some(rd.commit()?);
     } else {
         rep.check_finite()?;

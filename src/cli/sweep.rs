@@ -94,6 +94,13 @@ pub struct SweepArgs {
     /// Robot, path, placements and feasibility options.
     #[command(flatten)]
     pub p: PlacementArgs,
+    /// Evaluate one shard of the placements for a cluster run: `K/N` (shard K, 0-based, of N;
+    /// shard K owns placements K, K+N, K+2N, …), `auto` (index and count from a Slurm job
+    /// array), `auto/N` (index from Slurm or a Kubernetes Indexed Job's JOB_COMPLETION_INDEX).
+    /// Writes `<--out>/shard-K-of-N/`; `printwatt merge` puts the shards together into the
+    /// files a single run writes, bit for bit (docs/cluster.md).
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<String>,
 }
 
 /// A file shipped in the source tree: relative to the working directory if it exists there,
@@ -515,14 +522,11 @@ pub fn detail(job: &PathJob, label: &str, e: &Evaluated) -> Result<Option<Detail
     }
 }
 
-/// Meta facts for reports.
-pub fn meta(
-    l: &Loaded,
-    threads: usize,
-    secs: f64,
-    n: usize,
-    samples: usize,
-) -> Vec<(String, String)> {
+/// Facts about the job shown in reports and `summary.json` (`meta`). Only what determines the
+/// results: how this run was executed (threads, wall time, command line) goes to `run.json`
+/// ([`run_facts`]), so that the same job gives the same `summary.json`, `placements.csv` and
+/// `report.html` bit for bit, on one machine or merged from shards.
+pub fn meta(l: &Loaded, samples: usize) -> Vec<(String, String)> {
     vec![
         ("robot".into(), l.robot.name().to_string()),
         (
@@ -539,14 +543,6 @@ pub fn meta(
             format!("{}: {}", l.objective.name(), l.objective.describe()),
         ),
         ("nominal path samples".into(), samples.to_string()),
-        ("threads".into(), threads.to_string()),
-        (
-            "wall time".into(),
-            format!(
-                "{secs:.2} s for {n} placements ({:.1} placements/s)",
-                n as f64 / secs.max(1e-9)
-            ),
-        ),
         (
             "feasibility".into(),
             format!(
@@ -566,11 +562,36 @@ pub fn meta(
                 l.feas.check_every
             ),
         ),
-        (
-            "command".into(),
-            std::env::args().collect::<Vec<_>>().join(" "),
-        ),
     ]
+}
+
+/// How a run was executed, for `run.json` (changes from run to run; no result depends on it):
+/// printwatt build, command line, worker threads, wall time (s) and evaluations.
+pub fn run_facts(threads: usize, secs: f64, evaluations: usize) -> serde_json::Value {
+    serde_json::json!({
+        "schema_version": 1,
+        "printwatt": super::VERSION,
+        "command": std::env::args().collect::<Vec<_>>().join(" "),
+        "threads": threads,
+        "wall_time_s": secs,
+        "evaluations": evaluations,
+        "evaluations_per_s": evaluations as f64 / secs.max(1e-9),
+    })
+}
+
+/// Write `run.json` ([`run_facts`] and `extra` fields) into a run directory being written.
+pub fn write_run_facts(
+    rd: &mut printwatt::output::RunDir,
+    mut facts: serde_json::Value,
+    extra: &[(&str, serde_json::Value)],
+) -> Result<()> {
+    if let Some(o) = facts.as_object_mut() {
+        for (k, v) in extra {
+            o.insert((*k).to_string(), v.clone());
+        }
+    }
+    rd.write("run.json", printwatt::output::json_text(&facts)?.as_bytes())?;
+    Ok(())
 }
 
 /// Print a one-line-per-placement table.
@@ -605,9 +626,12 @@ pub fn print_rows(rows: &[Evaluated], names: Option<&[String]>) {
 
 /// `printwatt sweep`.
 pub fn run(a: SweepArgs) -> Result<()> {
+    if let Some(spec) = &a.shard {
+        return run_shard(&a.p, spec);
+    }
     let a = a.p;
     let l = a.load()?;
-    let mut run_dir = a.run_dir(&l, None)?;
+    let run_dir = a.run_dir(&l, None)?;
     let job = l.job()?;
     let ev = Evaluator::new(&job, l.feas, l.objective);
     let (ps, names, grid) = a.placements(Some(l.default_grid()))?;
@@ -615,18 +639,53 @@ pub fn run(a: SweepArgs) -> Result<()> {
     let t0 = std::time::Instant::now();
     let rows = run_sweep(&ev, &ps, &pool)?;
     let secs = t0.elapsed().as_secs_f64();
+    let facts = run_facts(pool.current_num_threads(), secs, ps.len());
+    finish(
+        &a,
+        &l,
+        &job,
+        &ev,
+        Swept { rows, names, grid },
+        run_dir,
+        (facts, Vec::new()),
+    )
+}
+
+/// A sweep's rows with their names and grid (as [`PlacementArgs::placements`] gave them).
+pub struct Swept {
+    /// Every placement's evaluation, in sweep order.
+    pub rows: Vec<Evaluated>,
+    /// Names of the placements (sets, lists with spins).
+    pub names: Option<Vec<String>>,
+    /// The grid they form, when they do.
+    pub grid: Option<Grid>,
+}
+
+/// Everything after the evaluations (shared by `sweep` and `merge`): detailed best and worst
+/// placements, the report files and `run.json` into `run_dir`, and the terminal or JSON
+/// answer.
+pub fn finish(
+    a: &PlacementArgs,
+    l: &Loaded,
+    job: &PathJob,
+    ev: &Evaluator,
+    swept: Swept,
+    mut run_dir: Option<printwatt::output::RunDir>,
+    facts: (serde_json::Value, Vec<(&str, serde_json::Value)>),
+) -> Result<()> {
+    let Swept { rows, names, grid } = swept;
     let mut details = Vec::new();
-    if a.run.is_some() || a.out.out.is_some() {
+    if run_dir.is_some() {
         if let Some(b) = best_of(&rows) {
-            details.extend(detail(&job, "best", b)?);
+            details.extend(detail(job, "best", b)?);
         }
         if let Some(w) = worst_of(&rows) {
-            details.extend(detail(&job, "worst", w)?);
+            details.extend(detail(job, "worst", w)?);
         }
     }
     let site = printwatt::report::site::SiteGeometry::new(
         &l.robot,
-        &job,
+        job,
         best_of(&rows).map_or(0.0, |b| b.placement.z),
         &l.path_file,
         names.as_deref(),
@@ -637,13 +696,7 @@ pub fn run(a: SweepArgs) -> Result<()> {
             l.path_file.display(),
             l.robot.name()
         ),
-        meta: meta(
-            &l,
-            pool.current_num_threads(),
-            secs,
-            ps.len(),
-            ev.nominal_samples(),
-        ),
+        meta: meta(l, ev.nominal_samples()),
         rows,
         names,
         grid,
@@ -655,6 +708,7 @@ pub fn run(a: SweepArgs) -> Result<()> {
     };
     if let Some(mut rd) = run_dir.take() {
         rep.write_into(&mut rd)?;
+        write_run_facts(&mut rd, facts.0, &facts.1)?;
         let dir = rd.commit()?;
         if !a.out.json {
             eprintln!("wrote {}", dir.display());
@@ -690,6 +744,106 @@ pub fn run(a: SweepArgs) -> Result<()> {
         if let Some(s) = rep.reduction_pct() {
             println!("reduction (max-min)/max: {s:.2} %");
         }
+    }
+    Ok(())
+}
+
+/// The job of a sweep in a normalised form: every option that changes a result, none of those
+/// that only say where the output goes or how many threads run (shards of one run agree on it).
+pub fn job_key(a: &PlacementArgs) -> String {
+    let mut n = a.clone();
+    n.out = super::args::OutputArgs {
+        out: None,
+        json: false,
+        force: false,
+    };
+    n.run = None;
+    n.results_dir = PathBuf::new();
+    n.threads = None;
+    format!("{n:?}")
+}
+
+/// SHA-256 (hex) of every input file of the job, keyed by the path as the run names it.
+pub fn hash_inputs(
+    inputs: &printwatt::output::Inputs,
+) -> Result<std::collections::BTreeMap<String, String>> {
+    let mut m = std::collections::BTreeMap::new();
+    for p in inputs.paths() {
+        if p.is_file() {
+            let bytes = std::fs::read(p).with_context(|| format!("reading {}", p.display()))?;
+            m.insert(
+                p.display().to_string(),
+                printwatt::output::sha256_hex(&bytes),
+            );
+        }
+    }
+    Ok(m)
+}
+
+/// `printwatt sweep --shard`: evaluate this shard's placements and write them as the shard
+/// directory `<--out>/shard-K-of-N/` (header and rows, docs/cluster.md).
+fn run_shard(a: &PlacementArgs, spec: &str) -> Result<()> {
+    use printwatt::placement::shard::{self, Shard, ShardHeader};
+    let (sh, source) = Shard::parse(spec, &|k| std::env::var(k).ok())?;
+    let Some(parent) = a.out.out.clone() else {
+        bail!("--shard writes a shard directory: give --out DIR (every shard of the run writes DIR/shard-K-of-N/, and `printwatt merge DIR` puts them together)");
+    };
+    if a.run.is_some() {
+        bail!("--shard writes into --out DIR/shard-K-of-N/, not into a --run directory");
+    }
+    let l = a.load()?;
+    let inputs = a.inputs(&l);
+    let mut rd = printwatt::output::RunDir::begin_at(
+        &parent.join(sh.dir_name()),
+        &inputs,
+        printwatt::output::Existing::Force(a.out.force),
+    )?;
+    let job = l.job()?;
+    let ev = Evaluator::new(&job, l.feas, l.objective);
+    let (ps, _, _) = a.placements(Some(l.default_grid()))?;
+    let idx = sh.indices(ps.len());
+    let mine: Vec<Placement> = idx.iter().map(|&i| ps[i]).collect();
+    let pool = a.pool()?;
+    let t0 = std::time::Instant::now();
+    let rows = run_sweep(&ev, &mine, &pool)?;
+    let secs = t0.elapsed().as_secs_f64();
+    let feasible = rows.iter().filter(|r| r.cost().is_finite()).count();
+    let rows: Vec<(usize, Evaluated)> = idx.into_iter().zip(rows).collect();
+    let bytes = shard::encode_rows(&rows)?;
+    let header = ShardHeader {
+        schema_version: shard::SCHEMA_VERSION,
+        kind: shard::KIND_SWEEP.into(),
+        shard: sh,
+        total: ps.len(),
+        rows: rows.len(),
+        job: job_key(a),
+        args: std::env::args().skip(1).collect(),
+        cwd: std::env::current_dir().context("the working directory")?,
+        inputs: hash_inputs(&inputs)?,
+        version: super::VERSION.into(),
+        rows_sha256: printwatt::output::sha256_hex(&bytes),
+        wall_time_s: secs,
+    };
+    let text = serde_json::to_string_pretty(&header)?;
+    rd.write(shard::ROWS, &bytes)?;
+    rd.write(shard::HEADER, text.as_bytes())?;
+    let dir = rd.commit()?;
+    if a.out.json {
+        println!("{text}");
+    } else {
+        let from = match source {
+            shard::ShardSource::Given => "as given",
+            shard::ShardSource::Slurm => "from the Slurm job array",
+            shard::ShardSource::Kubernetes => "from the Kubernetes Indexed Job",
+        };
+        println!(
+            "shard {} of {} ({from}): {} of {} placements evaluated ({feasible} feasible) in {secs:.2} s",
+            sh.index,
+            sh.count,
+            rows.len(),
+            ps.len()
+        );
+        println!("wrote {}", dir.display());
     }
     Ok(())
 }

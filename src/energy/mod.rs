@@ -537,7 +537,7 @@ pub fn evaluate(model: &EnergyModel, traj: &JointTrajectory) -> Result<EnergyRep
     let t = &traj.t;
     let joints: Vec<JointEnergy> = (0..n)
         .map(|j| {
-            let col = |v: &[f64]| report::integrate_column(t, v, n, j);
+            let col = |v: &[f64]| crate::numerics::trapezoid_column(t, v, n, j);
             let peak = |v: &[f64]| {
                 (0..len)
                     .map(|k| v[k * n + j])
@@ -546,7 +546,7 @@ pub fn evaluate(model: &EnergyModel, traj: &JointTrajectory) -> Result<EnergyRep
             let tau2: Vec<f64> = (0..len).map(|k| series.tau[k * n + j].powi(2)).collect();
             let dur = traj.duration();
             let rms = if dur > 0.0 {
-                (report::integrate(t, &tau2) / dur).sqrt()
+                (crate::numerics::trapezoid(t, &tau2) / dur).sqrt()
             } else {
                 tau2.first().map_or(0.0, |x| x.sqrt())
             };
@@ -561,7 +561,7 @@ pub fn evaluate(model: &EnergyModel, traj: &JointTrajectory) -> Result<EnergyRep
                 electrical_j: col(&series.p_el),
                 electrical_positive_j: {
                     let pos: Vec<f64> = (0..len).map(|k| series.p_el[k * n + j].max(0.0)).collect();
-                    report::integrate(t, &pos)
+                    crate::numerics::trapezoid(t, &pos)
                 },
                 peak_mechanical_power_w: if len > 0 { peak(&series.p_mech) } else { 0.0 },
                 peak_electrical_power_w: if len > 0 { peak(&series.p_el) } else { 0.0 },
@@ -574,7 +574,7 @@ pub fn evaluate(model: &EnergyModel, traj: &JointTrajectory) -> Result<EnergyRep
         .collect();
     let sum = |f: fn(&JointEnergy) -> f64| joints.iter().map(f).sum::<f64>();
     let duration = traj.duration();
-    let supply_j = report::integrate(t, &series.p_supply);
+    let supply_j = crate::numerics::trapezoid(t, &series.p_supply);
     let total = TotalEnergy {
         mechanical_j: sum(|j| j.mechanical_j),
         rigid_body_j: sum(|j| j.rigid_body_j),
@@ -583,8 +583,8 @@ pub fn evaluate(model: &EnergyModel, traj: &JointTrajectory) -> Result<EnergyRep
         gear_j: sum(|j| j.gear_j),
         copper_j: sum(|j| j.copper_j),
         electrical_j: sum(|j| j.electrical_j),
-        drives_j: report::integrate(t, &drives),
-        regeneration_lost_j: report::integrate(t, &lost),
+        drives_j: crate::numerics::trapezoid(t, &drives),
+        regeneration_lost_j: crate::numerics::trapezoid(t, &lost),
         standby_j: model.standby_w * duration,
         supply_j,
         peak_supply_power_w: if len > 0 {

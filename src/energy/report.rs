@@ -163,18 +163,3 @@ pub struct EnergyReport {
     /// Per-sample series.
     pub series: SampleSeries,
 }
-
-/// Trapezoidal `∫ y dt`.
-pub(crate) fn integrate(t: &[f64], y: &[f64]) -> f64 {
-    t.windows(2)
-        .zip(y.windows(2))
-        .map(|(t, y)| 0.5 * (t[1] - t[0]) * (y[0] + y[1]))
-        .sum()
-}
-
-/// Trapezoidal `∫ y_j dt` over column `j` of a row-major `len × n` array.
-pub(crate) fn integrate_column(t: &[f64], y: &[f64], n: usize, j: usize) -> f64 {
-    (1..t.len())
-        .map(|k| 0.5 * (t[k] - t[k - 1]) * (y[(k - 1) * n + j] + y[k * n + j]))
-        .sum()
-}

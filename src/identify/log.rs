@@ -405,41 +405,5 @@ pub fn half_window(rate_hz: f64) -> usize {
 /// `t` (s) by a local cubic least-squares fit over `2m + 1` samples (Savitzky–Golay on
 /// non-uniform time stamps; window shifted inwards at the ends).
 pub fn smooth_derivatives(t: &[f64], q: &[f64], n: usize, m: usize) -> (Vec<f64>, Vec<f64>) {
-    let len = t.len();
-    let mut qd = vec![0.0; len * n];
-    let mut qdd = vec![0.0; len * n];
-    if len < 4 {
-        return (qd, qdd);
-    }
-    let w = (2 * m + 1).min(len);
-    for k in 0..len {
-        let start = k.saturating_sub(w / 2).min(len - w);
-        let idx = start..start + w;
-        let t0 = t[k];
-        let scale = (t[start + w - 1] - t[start]).max(1e-12);
-        // Normal equations of the cubic in s = (t − t0)/scale.
-        let mut a = nalgebra::Matrix4::<f64>::zeros();
-        for i in idx.clone() {
-            let s = (t[i] - t0) / scale;
-            let p = [1.0, s, s * s, s * s * s];
-            for r in 0..4 {
-                for c in 0..4 {
-                    a[(r, c)] += p[r] * p[c];
-                }
-            }
-        }
-        let Some(inv) = a.try_inverse() else { continue };
-        for j in 0..n {
-            let mut b = nalgebra::Vector4::<f64>::zeros();
-            for i in idx.clone() {
-                let s = (t[i] - t0) / scale;
-                let v = q[i * n + j];
-                b += nalgebra::Vector4::new(v, v * s, v * s * s, v * s * s * s);
-            }
-            let c = inv * b;
-            qd[k * n + j] = c[1] / scale;
-            qdd[k * n + j] = 2.0 * c[2] / (scale * scale);
-        }
-    }
-    (qd, qdd)
+    crate::numerics::smooth_differentiate(t, q, n, m)
 }

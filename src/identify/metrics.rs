@@ -99,12 +99,7 @@ pub struct Comparison {
     pub warnings: Vec<String>,
 }
 
-fn integrate(t: &[f64], p: &[f64]) -> f64 {
-    t.windows(2)
-        .zip(p.windows(2))
-        .map(|(t, p)| 0.5 * (t[1] - t[0]) * (p[0] + p[1]))
-        .sum()
-}
+use crate::numerics::trapezoid as integrate;
 
 /// Channel names for a log.
 pub fn channel_names(prep: &Prepared) -> Vec<String> {

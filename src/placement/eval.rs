@@ -5,11 +5,12 @@
 use crate::energy::{self, EnergyModel, EnergyOptions, EnergyReport};
 use crate::error::Result;
 use crate::kinematics::IkSolver;
+use crate::placement::Placement;
 use crate::robot::RobotModel;
 use crate::timing::{
     self, Buffers, JointStageOptions, Piece, Plan, ProfileOptions, TimedPath, TimingFailure,
 };
-use crate::toolpath::{Placement, Toolpath};
+use crate::toolpath::Toolpath;
 
 /// Everything about a job that does not depend on the placement: the robot, its energy
 /// model, the blended path and the timing options. Build once, evaluate many placements.
@@ -80,25 +81,26 @@ impl<'a> PathJob<'a> {
         self.moves.get(i).map_or(0, |m| m.line)
     }
 
-    /// Time the path at a placement. The nozzle's rotation about its axis in the base frame is
-    /// the placement's yaw plus its `nozzle_spin` (rad).
+    /// The placement-independent side of timing this job's path, with `lines` giving the
+    /// source line of each timing move.
+    pub fn timing<'b>(&'b self, lines: &'b dyn Fn(usize) -> usize) -> timing::PathTiming<'b> {
+        timing::PathTiming {
+            pieces: &self.pieces,
+            plan: &self.plan,
+            moves_line: lines,
+            profile: &self.profile,
+            joint: &self.joint,
+        }
+    }
+
+    /// Time the path at a placement (the nozzle turned by [`Placement::nozzle_yaw`]).
     pub fn time(
         &self,
         solver: &IkSolver,
         at: &Placement,
     ) -> std::result::Result<TimedPath, TimingFailure> {
         let lines = |i: usize| self.line_of(i);
-        timing::time_at_planned(
-            solver,
-            &self.pieces,
-            &self.plan,
-            &lines,
-            &at.frame(),
-            at.yaw + at.nozzle_spin,
-            &self.profile,
-            &self.joint,
-            &mut Buffers::default(),
-        )
+        timing::time_at_planned(solver, &self.timing(&lines), at, &mut Buffers::default())
     }
 
     /// Time the path and compute its energy at a placement. The outer error is a model error;

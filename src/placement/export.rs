@@ -7,11 +7,10 @@
 //! frame, as G-code ([`gcode_base`]) and as an ABB RAPID module of `MoveL`s in `wobj0`
 //! ([`rapid_base`]), for controllers and slicers that take the path in base coordinates.
 
-use crate::kinematics::nozzle_target;
 use crate::math::V3;
+use crate::placement::Placement;
 use crate::robot::RobotModel;
 use crate::timing::{Move, Prim};
-use crate::toolpath::Placement;
 
 /// Largest chord of an arc (or any curved move) in the exported base-frame path, m (5 mm: a
 /// chordal error of 0.03 mm on a 0.1 m radius).
@@ -75,7 +74,7 @@ fn header(at: &Placement, robot: &str, comment: &str) -> String {
         at.z,
         at.yaw.to_degrees(),
         at.nozzle_spin.to_degrees(),
-        (at.yaw + at.nozzle_spin).to_degrees()
+        at.nozzle_yaw().to_degrees()
     )
 }
 
@@ -132,7 +131,7 @@ pub fn rapid_base(points: &[BasePoint], at: &Placement, model: &RobotModel) -> S
         cog.y * 1000.0,
         cog.z * 1000.0
     ));
-    let q = quat(&nozzle_target(&V3::zeros(), at.yaw + at.nozzle_spin).rot);
+    let q = quat(&at.nozzle_target(&V3::zeros()).rot);
     s.push_str("  PROC print_path()\n    ConfL \\Off;\n");
     for b in points {
         let zone = if b.zone <= 0.0 {

@@ -20,7 +20,7 @@ use crate::kinematics::opw;
 use crate::math::{Frame, V3};
 use crate::robot::RobotModel;
 use parry3d_f64::math::Isometry;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 
 /// Thresholds of the feasibility checks.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -96,7 +96,7 @@ impl Default for LinkRadii {
 }
 
 /// Why a placement is infeasible.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Reason {
     /// A path point has no IK solution.
@@ -143,7 +143,7 @@ impl Reason {
 }
 
 /// An infeasible placement: why, and where along the path.
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Infeasible {
     /// The reason.
     pub reason: Reason,
@@ -226,7 +226,7 @@ impl Infeasible {
 }
 
 /// Smallest margins met along the checked samples (for reports).
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Margins {
     /// Smallest `|sin q5|` (dimensionless); `None` without OPW parameters.
     pub wrist: Option<f64>,
@@ -295,16 +295,25 @@ impl World {
     }
 }
 
+/// What the arm can collide with at one placement, and its own shapes: borrowed for
+/// [`check_sample`].
+#[derive(Clone, Copy)]
+pub struct Scene<'a> {
+    /// The bed and the part frame at this placement.
+    pub world: &'a World,
+    /// The arm's collision shapes.
+    pub shapes: &'a RobotShapes,
+    /// The beads of the path (part frame).
+    pub beads: &'a Beads,
+}
+
 /// Check one joint vector `q` (rad) against singularity margins and collisions; `laid` is the
-/// number of beads of `beads` printed so far. Updates `margins`. Returns the reason
+/// number of beads of `scene.beads` printed so far. Updates `margins`. Returns the reason
 /// and a detail on failure.
-#[allow(clippy::too_many_arguments)]
 pub fn check_sample(
     model: &RobotModel,
     o: &FeasibilityOptions,
-    world: &World,
-    shapes: &RobotShapes,
-    beads: &Beads,
+    scene: Scene<'_>,
     q: &[f64],
     laid: usize,
     poses: &mut Vec<Isometry<f64>>,
@@ -338,6 +347,11 @@ pub fn check_sample(
     if !o.collisions {
         return None;
     }
+    let Scene {
+        world,
+        shapes,
+        beads,
+    } = scene;
     shapes.poses_into(model, q, &world.base_iso, poses);
     collision::check(
         shapes,

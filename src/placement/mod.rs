@@ -11,10 +11,13 @@ pub mod margins;
 pub mod neldermead;
 pub mod optimise;
 pub mod search;
+pub mod shard;
 pub mod sweep;
 pub mod tolerance;
 pub mod uncertainty;
+pub mod value;
 
 pub use eval::{PathJob, PlacementEval};
 pub use feasibility::{FeasibilityOptions, Infeasible, Reason};
 pub use sweep::{parse_range, Evaluated, Evaluator, Feasible, Grid, Objective};
+pub use value::{NamedPlacement, Placement, PlacementParseError, PlacementUnitsError};

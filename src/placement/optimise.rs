@@ -9,7 +9,7 @@
 
 use super::sweep::{Evaluated, Evaluator, Grid};
 use crate::error::{Error, Result};
-use crate::toolpath::Placement;
+use crate::placement::Placement;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;

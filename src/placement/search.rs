@@ -15,7 +15,7 @@ use super::optimise::{sensitivity, OptimiseOptions, OptimiseResult};
 use super::sweep::{Evaluated, Evaluator, Scratch};
 use super::tolerance::{self, Tolerance, ToleranceCheck};
 use crate::error::{Error, Result};
-use crate::toolpath::Placement;
+use crate::placement::Placement;
 use argmin::core::observers::{Observe, ObserverMode};
 use argmin::core::{Executor, IterState, State, KV};
 use serde::Serialize;

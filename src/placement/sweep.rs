@@ -19,11 +19,11 @@ use crate::energy::{self, SamplePower};
 use crate::error::{Error, Result};
 use crate::kinematics::IkSolver;
 use crate::math::V3;
+use crate::placement::Placement;
 use crate::timing::profile::Nodes;
 use crate::timing::{self, Buffers, TimedPath, TimingFailure};
-use crate::toolpath::Placement;
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
 use std::sync::atomic::{AtomicUsize, Ordering};
 
 /// Which energy the search minimises (all in J over the whole print).
@@ -102,7 +102,7 @@ impl std::str::FromStr for Objective {
 /// A feasible placement's numbers (energies in J, times in s). The supply energy is
 /// `supply_j = standby_j + drives_j`; the drives' losses by kind are in [`Losses`] (the full
 /// breakdown of one placement is [`crate::energy::TotalEnergy`]).
-#[derive(Clone, Debug, PartialEq, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Feasible {
     /// The objective's energy, J.
     pub energy_j: f64,
@@ -141,7 +141,7 @@ pub struct Feasible {
 }
 
 /// Drive losses by kind over the print, J.
-#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize)]
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
 pub struct Losses {
     /// Friction ∑ ∫ τ_f q̇ dt, J.
     pub friction_j: f64,
@@ -337,19 +337,8 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         sc: &mut Scratch<'a>,
         at: &Placement,
     ) -> std::result::Result<TimedPath, TimingFailure> {
-        let job = self.job;
         let lines = |i: usize| self.lines.get(i).copied().unwrap_or(0);
-        timing::time_at_planned(
-            &sc.solver,
-            &job.pieces,
-            &job.plan,
-            &lines,
-            &at.frame(),
-            at.yaw + at.nozzle_spin,
-            &job.profile,
-            &job.joint,
-            &mut sc.buf,
-        )
+        timing::time_at_planned(&sc.solver, &self.job.timing(&lines), at, &mut sc.buf)
     }
 
     /// Evaluate one placement: timing, feasibility, energy. Never fails: an infeasible
@@ -406,9 +395,11 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                     feasibility::check_sample(
                         model,
                         o,
-                        &world,
-                        &self.shapes,
-                        beads,
+                        feasibility::Scene {
+                            world: &world,
+                            shapes: &self.shapes,
+                            beads,
+                        },
                         q,
                         beads.laid_at(k),
                         &mut sc.poses,
@@ -476,7 +467,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         let mut mpos = 0.0;
         let mut losses = Losses::default();
         for k in 0..m {
-            let w = if k == 0 || k + 1 == m { 0.5 * dt } else { dt };
+            let w = crate::numerics::trapezoid_weight(k, m, dt);
             let r = energy::eval_sample(
                 &self.job.energy,
                 &mut sc.data,

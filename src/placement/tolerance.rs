@@ -5,7 +5,7 @@
 
 use super::sweep::{Evaluated, Evaluator};
 use crate::error::Result;
-use crate::toolpath::Placement;
+use crate::placement::Placement;
 use serde::Serialize;
 
 /// The placement tolerance (half-widths of the box).

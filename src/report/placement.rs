@@ -495,15 +495,8 @@ impl RunReport {
         let n = d.energy.joints.len();
         let p = if self.electrical { &s.p_el } else { &s.p_mech };
         let cum = |y: &dyn Fn(usize) -> f64| {
-            let mut acc = 0.0;
-            let mut out = Vec::with_capacity(s.t.len());
-            for k in 0..s.t.len() {
-                if k > 0 {
-                    acc += 0.5 * (y(k) + y(k - 1)) * (s.t[k] - s.t[k - 1]);
-                }
-                out.push(acc);
-            }
-            out
+            let v: Vec<f64> = (0..s.t.len()).map(y).collect();
+            crate::numerics::cumulative_trapezoid(&s.t, &v)
         };
         let mut series = Vec::new();
         if self.electrical && s.p_supply.len() == s.t.len() {

@@ -8,6 +8,7 @@ use super::geometry::Piece;
 use super::profile::{nodes, plan, CartesianMotion, Nodes, ProfileOptions};
 use crate::kinematics::{nozzle_target, IkFailure, IkSolver, JointVec};
 use crate::math::{Frame, V3};
+use crate::placement::Placement;
 use crate::robot::RobotModel;
 use crate::trajectory::JointTrajectory;
 use serde::Serialize;
@@ -164,21 +165,21 @@ pub struct TimedPath {
     pub accel_factor: f64,
 }
 
-/// IK along the motion continuing from `q0`; fills `qs` (row-major).
-#[allow(clippy::too_many_arguments)]
+/// IK along the motion (part frame) at the placement `at`, continuing from `q0` (rad / m);
+/// fills `buf.qs` (row-major joint positions) and `buf.tcp` (base frame, m).
 pub fn track(
     solver: &IkSolver,
     pieces: &[Piece],
     moves_line: &dyn Fn(usize) -> usize,
     motion: &CartesianMotion,
-    part_to_base: &Frame,
-    spin: f64,
+    at: &Placement,
     q0: &[f64],
-    qs: &mut Vec<f64>,
-    tcp: &mut Vec<V3>,
+    buf: &mut Buffers,
 ) -> Result<(), TimingFailure> {
     let model = solver.model;
     let n = model.dof();
+    let part_to_base = at.frame();
+    let Buffers { qs, tcp } = buf;
     qs.clear();
     tcp.clear();
     let mut prev = JointVec::from_slice(q0);
@@ -195,7 +196,7 @@ pub fn track(
         })
         .collect();
     // The nozzle's orientation is the same at every sample: its sine and cosine once.
-    let rot = nozzle_target(&V3::zeros(), spin).rot;
+    let rot = nozzle_target(&V3::zeros(), at.nozzle_yaw()).rot;
     for (k, p) in motion.p.iter().enumerate() {
         let tip = part_to_base.apply(p);
         let target = Frame { rot, pos: tip };
@@ -232,43 +233,15 @@ pub fn track(
     Ok(())
 }
 
-/// Central differences of uniformly sampled positions: (q̇, q̈, q⃛), one-sided at the ends.
+/// Derivatives of uniformly sampled positions (row-major `len × n`, rad or m, `dt` s apart):
+/// (q̇, q̈, q⃛) from [`crate::numerics::differentiate`] and
+/// [`crate::numerics::third_derivative_uniform`].
 pub fn differentiate(q: &[f64], n: usize, dt: f64) -> (Vec<f64>, Vec<f64>, Vec<f64>) {
-    let m = q.len() / n;
-    let mut qd = vec![0.0; q.len()];
-    let mut qdd = vec![0.0; q.len()];
-    let mut qddd = vec![0.0; q.len()];
-    if m < 3 {
-        return (qd, qdd, qddd);
-    }
-    let at = |k: usize, j: usize| q[k * n + j];
-    for k in 0..m {
-        let (a, b) = if k == 0 {
-            (0, 1)
-        } else if k == m - 1 {
-            (m - 2, m - 1)
-        } else {
-            (k - 1, k + 1)
-        };
-        let c = k.clamp(1, m - 2);
-        for j in 0..n {
-            qd[k * n + j] = (at(b, j) - at(a, j)) / ((b - a) as f64 * dt);
-            qdd[k * n + j] = (at(c + 1, j) - 2.0 * at(c, j) + at(c - 1, j)) / (dt * dt);
-        }
-    }
-    for k in 0..m {
-        let c = k.clamp(2, m.saturating_sub(3).max(2));
-        if c + 2 >= m {
-            continue;
-        }
-        for j in 0..n {
-            // (q[c+2] - 2q[c+1] + 2q[c-1] - q[c-2]) / (2 dt³)
-            qddd[k * n + j] = (at(c + 2, j) - 2.0 * at(c + 1, j) + 2.0 * at(c - 1, j)
-                - at(c - 2, j))
-                / (2.0 * dt * dt * dt);
-        }
-    }
-    (qd, qdd, qddd)
+    let len = q.len().checked_div(n).unwrap_or(0);
+    let grid = crate::numerics::Grid::Uniform { dt, len };
+    let (qd, qdd) = crate::numerics::differentiate(grid, &q[..len * n], n)
+        .unwrap_or_else(|_| (vec![0.0; len * n], vec![0.0; len * n]));
+    (qd, qdd, crate::numerics::third_derivative_uniform(q, n, dt))
 }
 
 struct Violation {
@@ -355,59 +328,72 @@ impl Buffers {
     }
 }
 
-/// Time `pieces` at a placement: Cartesian plan, IK with one configuration from `q0`,
-/// joint-limit checks and slow-downs until every limit holds at every sample. Convenience
-/// form of [`time_path_planned`] that plans the path itself.
-#[allow(clippy::too_many_arguments)]
+/// The placement-independent side of timing a path, borrowed from whoever owns it (a
+/// [`crate::placement::PathJob`], a test): the blended path, its shared first [`Plan`], the
+/// source line of each move, and the options. Built once, used for every placement.
+#[derive(Clone, Copy)]
+pub struct PathTiming<'a> {
+    /// The blended path, part frame.
+    pub pieces: &'a [Piece],
+    /// Its first Cartesian plan (no slow-down), shared by all placements.
+    pub plan: &'a Plan,
+    /// Source line of timing move `i` (for messages).
+    pub moves_line: &'a dyn Fn(usize) -> usize,
+    /// Cartesian profile limits (m/s², m/s³) and the interpolation period (s).
+    pub profile: &'a ProfileOptions,
+    /// Joint-stage options.
+    pub joint: &'a JointStageOptions,
+}
+
+/// Time `pieces` at the placement `at`: Cartesian plan, IK with one configuration from `q0`
+/// (rad / m), joint-limit checks and slow-downs until every limit holds at every sample.
+/// Convenience form of [`time_path_planned`] that plans the path itself.
 pub fn time_path(
     solver: &IkSolver,
     pieces: &[Piece],
     moves_line: &dyn Fn(usize) -> usize,
-    part_to_base: &Frame,
-    spin: f64,
+    at: &Placement,
     q0: &[f64],
     popts: &ProfileOptions,
     jopts: &JointStageOptions,
 ) -> Result<TimedPath, TimingFailure> {
     let plan = Plan::new(pieces, popts);
-    let mut buf = Buffers::default();
-    time_path_planned(
-        solver,
+    let path = PathTiming {
         pieces,
-        &plan,
+        plan: &plan,
         moves_line,
-        part_to_base,
-        spin,
-        q0,
-        popts,
-        jopts,
-        &mut buf,
-    )
+        profile: popts,
+        joint: jopts,
+    };
+    time_path_planned(solver, &path, at, q0, &mut Buffers::default())
 }
 
 /// [`time_path`] with the job's shared [`Plan`] (used as is in the first round) and reusable
 /// buffers (moved into the result; hand them back with [`Buffers::recycle`]).
-#[allow(clippy::too_many_arguments)]
 pub fn time_path_planned(
     solver: &IkSolver,
-    pieces: &[Piece],
-    shared: &Plan,
-    moves_line: &dyn Fn(usize) -> usize,
-    part_to_base: &Frame,
-    spin: f64,
+    path: &PathTiming<'_>,
+    at: &Placement,
     q0: &[f64],
-    popts: &ProfileOptions,
-    jopts: &JointStageOptions,
     buf: &mut Buffers,
 ) -> Result<TimedPath, TimingFailure> {
+    let PathTiming {
+        pieces,
+        plan: shared,
+        moves_line,
+        profile: popts,
+        joint: jopts,
+    } = *path;
     let model = solver.model;
     let n = model.dof();
     let nodes = &shared.nodes;
     let mut scale = vec![1.0; nodes.s.len()];
     let mut opts = *popts;
     let mut slowdowns: Vec<Slowdown> = Vec::new();
-    let mut qs = std::mem::take(&mut buf.qs);
-    let mut tcp = std::mem::take(&mut buf.tcp);
+    let mut tracked = Buffers {
+        qs: std::mem::take(&mut buf.qs),
+        tcp: std::mem::take(&mut buf.tcp),
+    };
     let max_rounds = jopts.max_iterations.max(1);
     let mut round = 0;
     loop {
@@ -417,33 +403,22 @@ pub fn time_path_planned(
         } else {
             Arc::new(plan(pieces, nodes, &scale, &opts))
         };
-        if let Err(e) = track(
-            solver,
-            pieces,
-            moves_line,
-            &motion,
-            part_to_base,
-            spin,
-            q0,
-            &mut qs,
-            &mut tcp,
-        ) {
-            buf.qs = qs;
-            buf.tcp = tcp;
+        if let Err(e) = track(solver, pieces, moves_line, &motion, at, q0, &mut tracked) {
+            *buf = tracked;
             return Err(e);
         }
-        let (qd, qdd, qddd) = differentiate(&qs, n, motion.dt);
+        let (qd, qdd, qddd) = differentiate(&tracked.qs, n, motion.dt);
         let viol = violations(model, &qd, &qdd, &qddd, jopts.check_jerk);
         if viol.is_empty() {
             let mut traj = JointTrajectory::new(n);
             traj.t = (0..motion.p.len()).map(|k| k as f64 * motion.dt).collect();
-            traj.q = qs;
+            traj.q = tracked.qs;
             traj.qd = qd;
             traj.qdd = qdd;
             return Ok(TimedPath {
                 traj,
                 motion,
-                tcp,
+                tcp: tracked.tcp,
                 slowdowns,
                 rounds: round,
                 accel_factor: opts.accel / popts.accel,
@@ -454,8 +429,7 @@ pub fn time_path_planned(
                 .iter()
                 .max_by(|a, b| a.ratio.total_cmp(&b.ratio))
                 .expect("non-empty");
-            buf.qs = qs;
-            buf.tcp = tcp;
+            *buf = tracked;
             return Err(TimingFailure::LimitsNotMet {
                 joint: w.joint,
                 kind: w.kind,
@@ -540,8 +514,7 @@ pub fn time_path_planned(
                 .iter()
                 .max_by(|a, b| a.ratio.total_cmp(&b.ratio))
                 .expect("non-empty");
-            buf.qs = qs;
-            buf.tcp = tcp;
+            *buf = tracked;
             return Err(TimingFailure::LimitsNotMet {
                 joint: w.joint,
                 kind: w.kind,
@@ -560,40 +533,37 @@ pub fn time_at(
     solver: &IkSolver,
     pieces: &[Piece],
     moves_line: &dyn Fn(usize) -> usize,
-    part_to_base: &Frame,
-    spin: f64,
+    at: &Placement,
     popts: &ProfileOptions,
     jopts: &JointStageOptions,
 ) -> Result<TimedPath, TimingFailure> {
     let plan = Plan::new(pieces, popts);
-    let mut buf = Buffers::default();
-    time_at_planned(
-        solver,
+    let path = PathTiming {
         pieces,
-        &plan,
+        plan: &plan,
         moves_line,
-        part_to_base,
-        spin,
-        popts,
-        jopts,
-        &mut buf,
-    )
+        profile: popts,
+        joint: jopts,
+    };
+    time_at_planned(solver, &path, at, &mut Buffers::default())
 }
 
 /// [`time_at`] with the job's shared [`Plan`] and reusable [`Buffers`]: what a placement
 /// sweep calls in its hot loop.
-#[allow(clippy::too_many_arguments)]
 pub fn time_at_planned(
     solver: &IkSolver,
-    pieces: &[Piece],
-    plan: &Plan,
-    moves_line: &dyn Fn(usize) -> usize,
-    part_to_base: &Frame,
-    spin: f64,
-    popts: &ProfileOptions,
-    jopts: &JointStageOptions,
+    path: &PathTiming<'_>,
+    at: &Placement,
     buf: &mut Buffers,
 ) -> Result<TimedPath, TimingFailure> {
+    let PathTiming {
+        pieces,
+        plan,
+        moves_line,
+        joint: jopts,
+        ..
+    } = *path;
+    let part_to_base = at.frame();
     let first = pieces
         .first()
         .map(|p| p.prim.point(0.0))
@@ -620,7 +590,7 @@ pub fn time_at_planned(
             reason,
         }
     };
-    let rot = nozzle_target(&V3::zeros(), spin).rot;
+    let rot = nozzle_target(&V3::zeros(), at.nozzle_yaw()).rot;
     let target_at = |k: usize| {
         let tip = part_to_base.apply(&motion0.p[k]);
         (Frame { rot, pos: tip }, tip)
@@ -650,7 +620,7 @@ pub fn time_at_planned(
         }
     }
     let mut cands = solver
-        .solve_all(&nozzle_target(&tip, spin))
+        .solve_all(&nozzle_target(&tip, at.nozzle_yaw()))
         .map_err(unreachable_at_start)?;
     let model = solver.model;
     cands.sort_by(|a, b| {
@@ -687,18 +657,7 @@ pub fn time_at_planned(
                 continue;
             }
         }
-        match time_path_planned(
-            solver,
-            pieces,
-            plan,
-            moves_line,
-            part_to_base,
-            spin,
-            &c.q,
-            popts,
-            jopts,
-            buf,
-        ) {
+        match time_path_planned(solver, path, at, &c.q, buf) {
             Ok(t) => return Ok(t),
             Err(e) => {
                 if best_err.as_ref().is_none_or(|b| progress(&e) > progress(b)) {

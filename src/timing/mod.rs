@@ -8,7 +8,7 @@ pub mod profile;
 pub use geometry::{blend_path, blend_path_with_dwells, Move, Piece, Prim};
 pub use joint::{
     time_at, time_at_planned, time_path, time_path_planned, Buffers, JointStageOptions, LimitKind,
-    Plan, Slowdown, TimedPath, TimingFailure,
+    PathTiming, Plan, Slowdown, TimedPath, TimingFailure,
 };
 pub use profile::{CartesianMotion, ProfileOptions};
 

@@ -18,9 +18,12 @@ mod rapid;
 use std::path::Path;
 
 use crate::error::{read_text, Error, Result};
-use crate::math::{rot_axis, rot_z, Frame, V3};
+use crate::math::{rot_axis, V3};
 
 pub use self::csv::{parse_csv, parse_placements};
+/// The placement value lives in [`crate::placement::value`]; re-exported here for code that
+/// names it beside the readers.
+pub use crate::placement::value::{NamedPlacement, Placement, PlacementParseError};
 
 /// The field separator of a CSV from its header line: `;` for a European spreadsheet export
 /// (header with semicolons and no commas; numbers then have a decimal comma), else `,`.
@@ -305,141 +308,63 @@ impl Toolpath {
     pub fn mark(&self, name: &str) -> Option<&Mark> {
         self.marks.iter().find(|m| m.name == name)
     }
-}
 
-/// Where the part sits in the robot's base frame.
-///
-/// `base = Rz(yaw) · part + (x, y, z)`: the part frame is turned by `yaw` about the vertical and
-/// its origin moved to `(x, y, z)`. `z` is the height of the nozzle tip at the part-frame
-/// origin above the base-frame origin (so the print bed height is folded into `z`).
-///
-/// `nozzle_spin` is kept here, beside the pose of the part, because it is a free choice made
-/// once per print like the placement itself: the rotation (rad) of the nozzle about its own
-/// vertical axis relative to the part frame, held fixed along the whole path (a round nozzle
-/// does not care; the robot's wrist does).
-#[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct Placement {
-    /// Translation along base x, m.
-    pub x: f64,
-    /// Translation along base y, m.
-    pub y: f64,
-    /// Translation along base z (nozzle tip height of the part origin), m.
-    pub z: f64,
-    /// Rotation of the part about the vertical, rad.
-    pub yaw: f64,
-    /// Fixed rotation of the nozzle about its vertical axis, relative to the part frame, rad.
-    pub nozzle_spin: f64,
-}
-
-impl Placement {
-    /// A placement without nozzle spin: position in m, yaw in rad.
-    pub fn new(x: f64, y: f64, z: f64, yaw: f64) -> Self {
-        Placement {
-            x,
-            y,
-            z,
-            yaw,
-            nozzle_spin: 0.0,
+    /// A printing path through `points` (part frame, m) at the print speed `speed` (m/s), each
+    /// corner blended within `zone`: what a designer's list of points is (COMPAS, Grasshopper,
+    /// the Python bindings). `source` names it in messages; move `k` has line `k + 1` (the
+    /// point's 1-based row). Consecutive duplicate points are dropped. Errors: fewer than two
+    /// distinct points, a non-finite coordinate (naming the row), a speed that is not > 0, a
+    /// blend radius that is not finite and >= 0.
+    pub fn from_points(points: &[V3], speed: f64, zone: Zone, source: &str) -> Result<Toolpath> {
+        if !(speed.is_finite() && speed > 0.0) {
+            return Err(Error::Invalid(format!(
+                "{source}: speed {speed} m/s: expected a finite speed > 0"
+            )));
         }
-    }
-
-    /// The part → base transform (m).
-    pub fn frame(&self) -> Frame {
-        Frame::new(rot_z(self.yaw), V3::new(self.x, self.y, self.z))
-    }
-
-    /// Map a part-frame point (m) to the base frame (m).
-    pub fn apply(&self, p: &V3) -> V3 {
-        self.frame().apply(p)
-    }
-
-    /// Parse the text form `x,y,z,yaw[,spin]`: x, y, z in m, yaw and the optional nozzle spin
-    /// in degrees (spin 0 when absent). Every item must be a finite number (no `nan`, no
-    /// `inf`, no empty item). The one parser of placements given as text.
-    pub fn parse(s: &str) -> std::result::Result<Placement, PlacementParseError> {
-        let mut v = Vec::with_capacity(5);
-        for (i, t) in s.split(',').enumerate() {
-            let t = t.trim();
-            let item = i + 1;
-            if t.is_empty() {
-                return Err(PlacementParseError::Empty { item });
+        if !(zone.radius().is_finite() && zone.radius() >= 0.0) {
+            return Err(Error::Invalid(format!(
+                "{source}: zone {} m: expected a finite blend radius >= 0",
+                zone.radius()
+            )));
+        }
+        if let Some(k) = points.iter().position(|p| p.iter().any(|v| !v.is_finite())) {
+            return Err(Error::Invalid(format!(
+                "{source}: point {} (row {k}) has a coordinate that is not a finite number: {:?}",
+                k + 1,
+                points[k].as_slice()
+            )));
+        }
+        let Some(start) = points.first() else {
+            return Err(Error::Invalid(format!(
+                "{source}: no points: expected at least two distinct points (m)"
+            )));
+        };
+        let mut tp = Toolpath {
+            source: source.to_string(),
+            start: *start,
+            ..Default::default()
+        };
+        for (k, p) in points.iter().enumerate().skip(1) {
+            if (p - tp.end()).norm() <= 1e-12 {
+                continue;
             }
-            let x: f64 = t.parse().map_err(|_| PlacementParseError::NotANumber {
-                item,
-                text: t.to_string(),
-            })?;
-            if !x.is_finite() {
-                return Err(PlacementParseError::NotFinite {
-                    item,
-                    text: t.to_string(),
-                });
-            }
-            v.push(x);
+            tp.moves.push(Move {
+                kind: MoveKind::Line,
+                end: *p,
+                speed,
+                zone,
+                print: true,
+                line: k + 1,
+            });
         }
-        if v.len() != 4 && v.len() != 5 {
-            return Err(PlacementParseError::Count { got: v.len() });
+        if tp.moves.is_empty() {
+            return Err(Error::Invalid(format!(
+                "{source}: {} point(s), all at the same place: expected at least two distinct points (m)",
+                points.len()
+            )));
         }
-        Ok(Placement {
-            x: v[0],
-            y: v[1],
-            z: v[2],
-            yaw: v[3].to_radians(),
-            nozzle_spin: v.get(4).copied().unwrap_or(0.0).to_radians(),
-        })
+        Ok(tp)
     }
-}
-
-impl std::str::FromStr for Placement {
-    type Err = PlacementParseError;
-    fn from_str(s: &str) -> std::result::Result<Self, Self::Err> {
-        Placement::parse(s)
-    }
-}
-
-/// Why a placement text (`x,y,z,yaw[,spin]`, see [`Placement::parse`]) does not parse. Items
-/// are numbered from 1.
-#[derive(Clone, Debug, PartialEq, thiserror::Error)]
-#[non_exhaustive]
-pub enum PlacementParseError {
-    /// An item is empty (`1.7,,0,90`).
-    #[error(
-        "item {item} is empty; expected x,y,z,yaw (m, m, m, deg) and an optional nozzle spin (deg)"
-    )]
-    Empty {
-        /// 1-based item.
-        item: usize,
-    },
-    /// An item is not a number.
-    #[error("item {item} `{text}` is not a number")]
-    NotANumber {
-        /// 1-based item.
-        item: usize,
-        /// The text of the item.
-        text: String,
-    },
-    /// An item is NaN or infinite.
-    #[error("item {item} `{text}` is not a finite number")]
-    NotFinite {
-        /// 1-based item.
-        item: usize,
-        /// The text of the item.
-        text: String,
-    },
-    /// Not 4 or 5 items.
-    #[error("{got} numbers: expected x,y,z,yaw (m, m, m, deg) and an optional nozzle spin (deg)")]
-    Count {
-        /// Number of items given.
-        got: usize,
-    },
-}
-
-/// A placement with a name, as read by [`load_placements`].
-#[derive(Clone, Debug, PartialEq)]
-pub struct NamedPlacement {
-    /// Name from the file (e.g. `P1`).
-    pub name: String,
-    /// The placement (m, rad).
-    pub placement: Placement,
 }
 
 /// Options for the readers. Speeds in m/s, lengths in m.

@@ -1,0 +1,125 @@
+//! `printwatt merge`: put the shards of a split sweep together into the files a single run
+//! writes (`summary.json`, `placements.csv`, `report.html`), bit for bit; `run.json` says how
+//! the merged run was made.
+
+use anyhow::{bail, Context, Result};
+use clap::Parser;
+use printwatt::placement::shard;
+use printwatt::placement::sweep::Evaluator;
+use std::path::PathBuf;
+
+/// `printwatt merge` arguments.
+#[derive(clap::Args, Debug)]
+pub struct MergeArgs {
+    /// Shard directories (`shard-K-of-N/`), or directories holding them (the --out every shard
+    /// of the run wrote into).
+    #[arg(required = true, value_name = "SHARDS")]
+    pub shards: Vec<PathBuf>,
+    /// --out: the merged run directory (summary.json, placements.csv, report.html, run.json).
+    #[command(flatten)]
+    pub out: super::args::OutputArgs,
+}
+
+/// `printwatt merge`.
+pub fn run(m: MergeArgs) -> Result<()> {
+    let t0 = std::time::Instant::now();
+    let dirs = shard::find_shards(&m.shards)?;
+    let mut data = Vec::with_capacity(dirs.len());
+    for d in &dirs {
+        data.push(shard::read_shard(d)?);
+    }
+    let merged = shard::merge(data)?;
+    let h = &merged.header;
+    if h.version != super::VERSION {
+        bail!(
+            "the shards were computed by printwatt {}, this is printwatt {}: merge with the build that computed them",
+            h.version,
+            super::VERSION
+        );
+    }
+    // The job's relative paths are relative to where the shards ran.
+    let out = match &m.out.out {
+        Some(o) => Some(std::path::absolute(o).with_context(|| o.display().to_string())?),
+        None => None,
+    };
+    let here = std::env::current_dir().context("the working directory")?;
+    if h.cwd != here {
+        std::env::set_current_dir(&h.cwd).with_context(|| {
+            format!(
+                "the shards ran in {}, which the job's relative paths refer to",
+                h.cwd.display()
+            )
+        })?;
+    }
+    let cli = super::Cli::try_parse_from(
+        std::iter::once("printwatt".to_string()).chain(h.args.iter().cloned()),
+    )
+    .context("the shards' command line")?;
+    let super::Command::Sweep(sa) = cli.command else {
+        bail!("the shards were not written by `printwatt sweep`");
+    };
+    let mut a = sa.p;
+    a.out = super::args::OutputArgs {
+        out,
+        json: m.out.json,
+        force: m.out.force,
+    };
+    a.run = None;
+    if super::sweep::job_key(&a) != h.job {
+        bail!("this printwatt reads the shards' command line as a different job than the one they ran");
+    }
+    let l = a.load()?;
+    let now = super::sweep::hash_inputs(&a.inputs(&l))?;
+    for (f, sha) in &h.inputs {
+        if now.get(f) != Some(sha) {
+            bail!("{f} changed since the shards ran (SHA-256 differs): the shards are results of the old file; re-run them");
+        }
+    }
+    let run_dir = a.run_dir(&l, None)?;
+    let job = l.job()?;
+    let ev = Evaluator::new(&job, l.feas, l.objective);
+    let (ps, names, grid) = a.placements(Some(l.default_grid()))?;
+    if ps.len() != merged.rows.len() {
+        bail!(
+            "the job asks for {} placements, the shards hold {}",
+            ps.len(),
+            merged.rows.len()
+        );
+    }
+    if let Some(i) = ps.iter().zip(&merged.rows).position(|(p, r)| {
+        let q = &r.placement;
+        [p.x, p.y, p.z, p.yaw, p.nozzle_spin]
+            .iter()
+            .zip([q.x, q.y, q.z, q.yaw, q.nozzle_spin])
+            .any(|(a, b)| a.to_bits() != b.to_bits())
+    }) {
+        bail!("placement {i} of the shards is not placement {i} of the job");
+    }
+    let facts = super::sweep::run_facts(1, t0.elapsed().as_secs_f64(), 0);
+    let extra = vec![
+        (
+            "merged_from",
+            serde_json::json!(dirs
+                .iter()
+                .map(|d| d.display().to_string())
+                .collect::<Vec<_>>()),
+        ),
+        ("shards", serde_json::json!(h.shard.count)),
+        ("placements", serde_json::json!(h.total)),
+        (
+            "shard_wall_time_s",
+            serde_json::json!(merged.shard_wall_time_s),
+        ),
+    ];
+    let rows = merged.rows;
+    std::env::set_current_dir(&here).ok();
+    super::sweep::finish(
+        &a,
+        &l,
+        &job,
+        &ev,
+        super::sweep::Swept { rows, names, grid },
+        run_dir,
+        (facts, extra),
+    )
+}

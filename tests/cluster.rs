@@ -1,0 +1,239 @@
+//! Sharded sweeps (`sweep --shard`, `merge`): the merged files are the single run's files bit
+//! for bit, whatever the shard count and thread count; merge refuses what is not one run.
+
+use std::path::{Path, PathBuf};
+use std::process::{Command, Output};
+
+fn printwatt(args: &[&str], cwd: &Path, env: &[(&str, &str)]) -> Output {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_printwatt"));
+    c.args(args).current_dir(cwd);
+    for k in [
+        "SLURM_ARRAY_TASK_ID",
+        "SLURM_ARRAY_TASK_MIN",
+        "SLURM_ARRAY_TASK_MAX",
+        "SLURM_ARRAY_TASK_COUNT",
+        "JOB_COMPLETION_INDEX",
+    ] {
+        c.env_remove(k);
+    }
+    for (k, v) in env {
+        c.env(k, v);
+    }
+    c.output().expect("running printwatt")
+}
+
+fn ok(o: &Output) -> String {
+    assert!(
+        o.status.success(),
+        "failed: {}\n{}",
+        String::from_utf8_lossy(&o.stdout),
+        String::from_utf8_lossy(&o.stderr)
+    );
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+fn err(o: &Output) -> String {
+    assert!(
+        !o.status.success(),
+        "should have failed: {}",
+        String::from_utf8_lossy(&o.stdout)
+    );
+    String::from_utf8_lossy(&o.stderr).into_owned()
+}
+
+/// A fresh scratch directory holding a copy of the shipped default path (so that a test may
+/// change it) and the shipped robots reachable by name.
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("printwatt-cluster-{name}-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    std::fs::copy(root.join("paths/default.gcode"), d.join("wall.gcode")).unwrap();
+    d
+}
+
+/// A small grid over the default robot with feasible and infeasible cells.
+const GRID: [&str; 8] = [
+    "--x",
+    "1.5:1.9:0.1",
+    "--y",
+    "-0.5:0.5:0.25",
+    "--yaw",
+    "90,80",
+    "--path",
+    "wall.gcode",
+];
+
+fn sweep(extra: &[&str], cwd: &Path, env: &[(&str, &str)]) -> Output {
+    let mut a = vec!["sweep"];
+    a.extend(GRID);
+    a.extend(extra);
+    printwatt(&a, cwd, env)
+}
+
+#[test]
+fn merged_shards_give_the_single_run_files_bit_for_bit() {
+    let d = scratch("bits");
+    let single = ok(&sweep(&["--out", "single", "--threads", "2"], &d, &[]));
+    // Three shards, computed with different thread counts, in a different order.
+    for (k, threads) in [(2, "2"), (0, "1"), (1, "2")] {
+        let spec = format!("{k}/3");
+        let o = ok(&sweep(
+            &["--shard", &spec, "--out", "parts", "--threads", threads],
+            &d,
+            &[],
+        ));
+        assert!(o.contains(&format!("shard {k} of 3")), "{o}");
+    }
+    // Merged from another working directory: the job's relative paths are the shards'.
+    let elsewhere = d.join("elsewhere");
+    std::fs::create_dir_all(&elsewhere).unwrap();
+    let merged = ok(&printwatt(
+        &["merge", "../parts", "--out", "../merged"],
+        &elsewhere,
+        &[],
+    ));
+    assert_eq!(single, merged, "the terminal answers differ");
+    let mut feasible = 0;
+    for f in ["summary.json", "placements.csv", "report.html"] {
+        let a = std::fs::read(d.join("single").join(f)).unwrap();
+        let b = std::fs::read(d.join("merged").join(f)).unwrap();
+        assert!(a == b, "{f} differs between the single run and the merge");
+        if f == "placements.csv" {
+            feasible = String::from_utf8(a)
+                .unwrap()
+                .lines()
+                .filter(|l| l.contains(",true,"))
+                .count();
+        }
+    }
+    assert!(
+        (15..50).contains(&feasible),
+        "the grid should hold feasible cells: {feasible}"
+    );
+    let run: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("merged/run.json")).unwrap()).unwrap();
+    assert_eq!(run["shards"], 3);
+    assert_eq!(run["placements"], 50);
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn merge_refuses_a_missing_shard_a_duplicate_and_shards_of_another_job() {
+    let d = scratch("refuse");
+    for k in 0..3 {
+        ok(&sweep(
+            &["--shard", &format!("{k}/3"), "--out", "a"],
+            &d,
+            &[],
+        ));
+    }
+    // Another job: a different objective.
+    ok(&sweep(
+        &["--shard", "1/3", "--out", "b", "--objective", "mechanical"],
+        &d,
+        &[],
+    ));
+    let e = err(&printwatt(
+        &["merge", "a/shard-0-of-3", "a/shard-2-of-3", "--out", "m"],
+        &d,
+        &[],
+    ));
+    assert!(e.contains("1 of 3 shards missing (0-based: 1)"), "{e}");
+    let e = err(&printwatt(
+        &[
+            "merge",
+            "a/shard-0-of-3",
+            "a/shard-1-of-3",
+            "a/shard-2-of-3",
+            "b/shard-1-of-3",
+            "--out",
+            "m",
+        ],
+        &d,
+        &[],
+    ));
+    assert!(
+        e.contains("not a shard of the same run") && e.contains("--objective"),
+        "{e}"
+    );
+    // The same shard copied under another name.
+    copy_dir(&d.join("a/shard-1-of-3"), &d.join("copy"));
+    let e = err(&printwatt(&["merge", "a", "copy", "--out", "m"], &d, &[]));
+    assert!(e.contains("shard 1 of 3 is given twice"), "{e}");
+    // A damaged rows file.
+    let rows = d.join("a/shard-2-of-3/rows.postcard");
+    let mut b = std::fs::read(&rows).unwrap();
+    let n = b.len();
+    b[n / 2] ^= 0x40;
+    std::fs::write(&rows, b).unwrap();
+    let e = err(&printwatt(&["merge", "a", "--out", "m"], &d, &[]));
+    assert!(e.contains("damaged or replaced"), "{e}");
+    assert!(!d.join("m").exists(), "a refused merge wrote its output");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn merge_refuses_shards_whose_input_file_changed_since_they_ran() {
+    let d = scratch("changed");
+    for k in 0..2 {
+        ok(&sweep(
+            &["--shard", &format!("{k}/2"), "--out", "a"],
+            &d,
+            &[],
+        ));
+    }
+    let p = d.join("wall.gcode");
+    let mut text = std::fs::read_to_string(&p).unwrap();
+    text.push_str("; edited after the shards ran\n");
+    std::fs::write(&p, text).unwrap();
+    let e = err(&printwatt(&["merge", "a", "--out", "m"], &d, &[]));
+    assert!(e.contains("wall.gcode changed since the shards ran"), "{e}");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn shard_auto_reads_the_slurm_array_and_the_kubernetes_index() {
+    let d = scratch("auto");
+    let slurm = [
+        ("SLURM_ARRAY_TASK_ID", "2"),
+        ("SLURM_ARRAY_TASK_MIN", "1"),
+        ("SLURM_ARRAY_TASK_MAX", "2"),
+        ("SLURM_ARRAY_TASK_COUNT", "2"),
+    ];
+    let o = ok(&sweep(&["--shard", "auto", "--out", "s"], &d, &slurm));
+    assert!(o.contains("shard 1 of 2 (from the Slurm job array)"), "{o}");
+    assert!(d.join("s/shard-1-of-2/shard.json").is_file());
+    let o = ok(&sweep(
+        &["--shard", "auto/2", "--out", "s"],
+        &d,
+        &[("JOB_COMPLETION_INDEX", "0")],
+    ));
+    assert!(
+        o.contains("shard 0 of 2 (from the Kubernetes Indexed Job)"),
+        "{o}"
+    );
+    ok(&printwatt(&["merge", "s", "--out", "m"], &d, &[]));
+    let e = err(&sweep(&["--shard", "auto", "--out", "s"], &d, &[]));
+    assert!(e.contains("SLURM_ARRAY_TASK_ID"), "{e}");
+    // Never replaced without --force.
+    let e = err(&sweep(&["--shard", "0/2", "--out", "s"], &d, &[]));
+    assert!(e.contains("shard-0-of-2"), "{e}");
+    ok(&sweep(
+        &["--shard", "0/2", "--out", "s", "--force"],
+        &d,
+        &[],
+    ));
+    // A shard needs a place to go.
+    let e = err(&sweep(&["--shard", "0/2"], &d, &[]));
+    assert!(e.contains("--out"), "{e}");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+fn copy_dir(from: &Path, to: &Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap() {
+        let e = e.unwrap();
+        std::fs::copy(e.path(), to.join(e.file_name())).unwrap();
+    }
+}
