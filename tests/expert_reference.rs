@@ -105,8 +105,7 @@ impl Expert {
             }
         }
         let norms: Vec<f64> = (0..cols).map(|c| a.column(c).norm().max(1e-12)).collect();
-        for c in 0..cols {
-            let s = norms[c];
+        for (c, s) in norms.iter().enumerate() {
             a.column_mut(c).scale_mut(1.0 / s);
         }
         let x = a.svd(true, true).solve(&b, 1e-10).unwrap();

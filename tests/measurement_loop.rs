@@ -1044,8 +1044,8 @@ fn compare_shows_a_friction_step_against_velocity() {
             .velocity
             .bins
             .iter()
-            .filter(|b| b.x + 0.5 * w <= 0.0 && b.samples > 0)
-            .last()
+            .rev()
+            .find(|b| b.x + 0.5 * w <= 0.0 && b.samples > 0)
             .unwrap();
         let above = p
             .velocity

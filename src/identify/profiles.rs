@@ -108,7 +108,8 @@ pub fn profile(against: &str, unit: &str, x: &[f64], r: &[f64], sigma: f64) -> P
     let mut sum = [0.0; BINS];
     let mut sq = [0.0; BINS];
     let mut cnt = [0usize; BINS];
-    let flat = !(hi - lo > 1e-12 * (1.0 + hi.abs()));
+    let span = hi - lo;
+    let flat = span.is_nan() || span <= 1e-12 * (1.0 + hi.abs());
     for k in 0..n {
         let b = if flat {
             0
