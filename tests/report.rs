@@ -188,23 +188,32 @@ fn compare_report_has_every_chart_and_stays_small() {
         .descendants()
         .filter(|n| n.has_tag_name("svg"))
         .collect();
-    assert_eq!(svgs.len(), 30);
+    // 5 charts per joint plus its binned residual against velocity, position and time
+    // (where the model fails, issue 8 item 7).
+    for j in 1..=6 {
+        for what in ["velocity", "position", "time"] {
+            let want = format!("joint_{j}-profile-{what}-q{j}");
+            assert!(ids.contains(&want.as_str()), "figure {want} in {ids:?}");
+        }
+    }
+    assert_eq!(svgs.len(), 48);
     // Every chart has drawn data (a non-empty path), axis labels with units, and the
     // measured-vs-model charts a legend naming both.
     for s in &svgs {
         assert!(s
             .descendants()
             .any(|n| n.has_tag_name("path") && n.attribute("d").is_some_and(|d| d.len() > 100)));
-        assert!(s
-            .descendants()
-            .any(|n| n.text() == Some("residual [N·m]") || n.text() == Some("torque τ [N·m]")));
+        assert!(s.descendants().any(|n| n.text() == Some("residual [N·m]")
+            || n.text() == Some("mean residual [N·m]")
+            || n.text() == Some("torque τ [N·m]")));
     }
     assert!(html.contains(">measured<") && html.contains(">model<"));
     assert!(html.contains("joint 2 acceleration q̈ [rad/s²]"));
     assert!(!html.contains("NaN"));
-    // The metrics table: six joints and the total.
+    // The metrics table (six joints and the total) and the table of where the model fails
+    // (the 15 largest of 6 joints × 5 structures).
     let rows = doc.descendants().filter(|n| n.has_tag_name("tr")).count();
-    assert_eq!(rows, 1 + 7);
+    assert_eq!(rows, 1 + 7 + 1 + 15);
     let _ = std::fs::remove_dir_all(&dir);
 }
 

@@ -446,3 +446,47 @@ fn fuzz_no_panics() {
         let _ = printwatt::toolpath::parse_placements(&text, "f");
     }
 }
+
+/// `Toolpath::from_points` (the designer's list of points, the Python bindings' path): the same
+/// moves as the CSV reader makes of the same points, duplicates dropped, and a clear error for
+/// a NaN (naming the row), a speed <= 0, a negative zone, or fewer than two distinct points.
+#[test]
+fn from_points_builds_the_csv_readers_path_and_names_a_bad_row() {
+    let pts = [
+        V3::new(0.0, 0.0, 0.0),
+        V3::new(0.6, 0.0, 0.0),
+        V3::new(0.6, 0.0, 0.0),
+        V3::new(0.6, 0.4, 0.01),
+    ];
+    let opts = ReadOptions::default();
+    let tp = Toolpath::from_points(&pts, 0.1, opts.default_zone, "pts").unwrap();
+    let csv = parse_csv(
+        "x[m],y[m],z[m],speed[m/s]\n0,0,0,0.1\n0.6,0,0,0.1\n0.6,0,0,0.1\n0.6,0.4,0.01,0.1\n",
+        "pts.csv",
+        &opts,
+    )
+    .unwrap();
+    assert_eq!(tp.moves.len(), 2);
+    assert_eq!(tp.start, csv.start);
+    for (a, b) in tp.moves.iter().zip(&csv.moves) {
+        assert_eq!(
+            (a.end, a.speed, a.zone, a.print),
+            (b.end, b.speed, b.zone, b.print)
+        );
+    }
+    assert_eq!(tp.moves[1].line, 4, "the point's 1-based row");
+    let bad = |pts: &[V3], speed: f64, zone: Zone| {
+        Toolpath::from_points(pts, speed, zone, "pts")
+            .unwrap_err()
+            .to_string()
+    };
+    let e = bad(&[pts[0], V3::new(1.0, f64::NAN, 0.0)], 0.1, Zone::Fine);
+    assert!(
+        e.contains("pts: point 2 (row 1)") && e.contains("not a finite"),
+        "{e}"
+    );
+    assert!(bad(&pts, 0.0, Zone::Fine).contains("speed 0 m/s"));
+    assert!(bad(&pts, 0.1, Zone::Blend(-0.01)).contains("zone -0.01 m"));
+    assert!(bad(&[pts[1], pts[2]], 0.1, Zone::Fine).contains("all at the same place"));
+    assert!(bad(&[], 0.1, Zone::Fine).contains("no points"));
+}

@@ -1140,7 +1140,8 @@ fn diagnose<'py>(
     Ok(d)
 }
 
-/// Fit the parameters of `effects` (comma list of catalogue names, in ladder order, e.g.
+/// robot: a shipped name or a path (not a loaded `Robot`: the calibrated file records where
+/// the robot came from). Fit the parameters of `effects` (comma list of catalogue names, in ladder order, e.g.
 /// "coulomb,balancer"; `viscous[2]`: joint 2 only) on `log`, validated on `validate_log` or
 /// the last 25 % of `log`. A calibrated robot's earlier effects are re-fitted jointly.
 /// drive_out: write the calibrated robot (a drive .toml) there (an existing file is replaced

@@ -7,6 +7,46 @@ use printwatt::report::html::Page;
 use printwatt::report::svg::{self, Series};
 use std::path::Path;
 
+/// A progress bar on stderr for the loop's long stages (hidden when stderr is not a terminal,
+/// as indicatif does).
+pub(crate) struct Bar(indicatif::ProgressBar);
+
+impl Bar {
+    pub(crate) fn new() -> Self {
+        use std::io::IsTerminal;
+        let b = if std::io::stderr().is_terminal() {
+            indicatif::ProgressBar::new(0)
+        } else {
+            indicatif::ProgressBar::hidden()
+        };
+        b.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{msg:18} [{bar:40}] {percent:>3} % ({elapsed} elapsed, ~{eta} left)",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        Bar(b)
+    }
+}
+
+impl printwatt::identify::Progress for Bar {
+    fn update(&self, stage: &str, done: u64, total: u64) {
+        if self.0.length() != Some(total) {
+            self.0.set_length(total);
+        }
+        if self.0.message() != stage {
+            self.0.set_message(stage.to_string());
+        }
+        self.0.set_position(done);
+    }
+}
+
+impl Drop for Bar {
+    fn drop(&mut self) {
+        self.0.finish_and_clear();
+    }
+}
+
 /// The robot, the model (effects switched per drive file and command line) and the log.
 pub(crate) fn load(a: &LogArgs) -> Result<(printwatt::robot::RobotModel, Model, Log)> {
     let robot = a.robot.load()?;
@@ -88,7 +128,9 @@ pub fn run(a: super::CompareArgs) -> Result<()> {
             )?;
         }
     }
-    let prep = identify::Prepared::new(&model, &log)?;
+    let bar = Bar::new();
+    let prep = identify::Prepared::with_progress(&model, &log, &bar)?;
+    drop(bar);
     let (mut cmp, pred) = metrics::compare(&prep, &model);
     cmp.calibration = robot.effects.calibration_summary();
     // The last check before anything leaves: the JSON, the report and the printed table.
@@ -155,14 +197,123 @@ pub fn run(a: super::CompareArgs) -> Result<()> {
             w.t_start, w.t_end, w.rmse, w.worst_channel
         );
     }
-    println!("regimes carrying more than their share of the squared residual:");
-    for r in &cmp.regimes {
+    print_failures(&cmp);
+    Ok(())
+}
+
+/// Where the model fails: the ranked structures above the noise floor, and the direction step
+/// at q̇ = 0 per joint (friction).
+fn print_failures(cmp: &metrics::Comparison) {
+    let unit = &cmp.unit;
+    println!("where the model fails (residual RMS a structure explains beyond the noise floor):");
+    let shown: Vec<_> = cmp
+        .failures
+        .iter()
+        .filter(|f| f.ratio_to_noise >= 1.0)
+        .take(10)
+        .collect();
+    if shown.is_empty() {
+        println!("  nothing beyond the noise floor");
+    }
+    for f in shown {
         println!(
-            "  {:<8} {:<20} {:5.1} % of samples, {:5.1} % of residual²",
-            r.joint, r.regime, r.samples_pct, r.residual_pct
+            "  {:<8} against joint {} {:<12} {:>10.4} {unit} ({:6.1} × noise floor, {:5.1} % of its residual variance)",
+            f.channel, f.joint, f.structure, f.explained_rms, f.ratio_to_noise, f.explained_pct
         );
     }
-    Ok(())
+    println!(
+        "direction step of the residual at q̇ = 0 (friction; mean just above minus just below):"
+    );
+    for p in &cmp.profiles {
+        println!(
+            "  {:<8} joint {}: {:+.4} ± {:.4} {unit} (band ±{:.3}), noise floor {:.4} {unit}",
+            p.channel, p.joint, p.direction_step, p.direction_step_se, p.step_band, p.noise_floor
+        );
+    }
+}
+
+/// The report's "where the model fails" section: the ranked structures as a table and, per
+/// joint, the binned residual against velocity, position and time.
+fn failure_section(pg: &mut Page, cmp: &metrics::Comparison) {
+    let unit = cmp.unit.as_str();
+    pg.h2("Where the model fails");
+    pg.p(&format!(
+        "Per joint, the residual (model − measured) binned against the joint's velocity (friction \
+shows as a step at q̇ = 0), position (gravity and balancer errors) and time (drift). The table \
+ranks the structures by the residual RMS they explain beyond the noise floor [{unit}]."
+    ));
+    let header: Vec<String> = [
+        "channel".to_string(),
+        "joint".into(),
+        "structure".into(),
+        format!("explained RMS [{unit}]"),
+        "× noise floor".into(),
+        "% of residual variance".into(),
+    ]
+    .into();
+    let rows: Vec<Vec<String>> = cmp
+        .failures
+        .iter()
+        .take(15)
+        .map(|f| {
+            vec![
+                f.channel.clone(),
+                f.joint.to_string(),
+                f.structure.clone(),
+                format!("{:.4}", f.explained_rms),
+                format!("{:.1}", f.ratio_to_noise),
+                format!("{:.1}", f.explained_pct),
+            ]
+        })
+        .collect();
+    pg.table(&header, &rows);
+    for p in &cmp.profiles {
+        let mut row = Vec::new();
+        for pr in [&p.velocity, &p.position, &p.time] {
+            let (x, y): (Vec<f64>, Vec<f64>) = pr
+                .bins
+                .iter()
+                .filter(|b| b.samples > 0)
+                .map(|b| (b.x, b.mean))
+                .unzip();
+            let fr = svg::Frame::new(
+                &format!(
+                    "{} mean residual vs joint {} {}",
+                    p.channel, p.joint, pr.against
+                ),
+                &format!(
+                    "{} [{}]",
+                    if pr.against == "time" {
+                        "time".to_string()
+                    } else {
+                        format!("joint {} {}", p.joint, pr.against)
+                    },
+                    pr.unit
+                ),
+                &format!("mean residual [{unit}]"),
+            )
+            .size(345.0, 300.0);
+            row.push((
+                format!("{}-profile-{}-q{}", p.channel, pr.against, p.joint),
+                svg::line_chart(&fr, &[Series::new("bin mean", &x, &y)]),
+                format!(
+                    "{}: residual binned against {} (explains {:.4} {unit} beyond noise){}.",
+                    p.channel,
+                    pr.against,
+                    pr.explained_rms,
+                    if pr.against == "velocity" {
+                        format!(
+                            "; step at q̇ = 0: {:+.4} ± {:.4} {unit}",
+                            p.direction_step, p.direction_step_se
+                        )
+                    } else {
+                        String::new()
+                    }
+                ),
+            ));
+        }
+        pg.figure_row(&row);
+    }
 }
 
 /// `report.html`: measured vs modelled, residual over time, residual vs q̇, q̈, q per joint.
@@ -210,6 +361,7 @@ energy error {:.2} %, accuracy {:.2} %. Residual = model − measured.",
         })
         .collect();
     pg.table(&header, &rows);
+    failure_section(&mut pg, cmp);
     let y_label = |what: &str| format!("{what} [{unit}]");
     let signal = match log.kind.prefix() {
         "tau" => "torque τ",

@@ -6,8 +6,10 @@ use printwatt::identify::{self, diagnose};
 /// `printwatt diagnose`: rank the effects by the share of the residual they explain.
 pub fn run(a: super::DiagnoseArgs) -> Result<()> {
     let (robot, mut model, log) = super::compare::load(&a.log)?;
-    let prep = identify::Prepared::new(&model, &log)?;
-    let mut d = diagnose::diagnose(&prep, &mut model, a.folds)?;
+    let bar = super::compare::Bar::new();
+    let prep = identify::Prepared::with_progress(&model, &log, &bar)?;
+    let mut d = diagnose::diagnose_with_progress(&prep, &mut model, a.folds, &bar)?;
+    drop(bar);
     d.calibration = robot.effects.calibration_summary();
     // The last check before anything leaves (the JSON or the printed ranking).
     printwatt::output::check_finite_json("diagnose", &d)?;

@@ -81,7 +81,9 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
         &inputs,
         printwatt::output::Existing::Force(a.out.force),
     )?;
-    let prep = identify::Prepared::new(&model, &log)?;
+    let bar = super::compare::Bar::new();
+    let prep = identify::Prepared::with_progress(&model, &log, &bar)?;
+    drop(bar);
     let vlog;
     let vprep;
     let (train_rows, val, what): (Vec<usize>, (&identify::Prepared, Vec<usize>), String) =

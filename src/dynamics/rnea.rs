@@ -151,6 +151,11 @@ impl DynModel {
         self.n
     }
 
+    /// Whether joint `i` (0-based) is prismatic (`false` beyond the last joint).
+    pub fn is_prismatic(&self, i: usize) -> bool {
+        i < self.n && self.links[i].prismatic
+    }
+
     /// Whether the armature `G²J_m` term is active (requested and drive data present).
     pub fn has_armature(&self) -> bool {
         self.has_armature

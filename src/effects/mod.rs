@@ -151,6 +151,13 @@ pub trait Effect: AsAny + Send + Sync + std::fmt::Debug {
     fn implausible(&self) -> Option<String> {
         None
     }
+    /// Why the effect's *current (fitted) values* are not physically plausible for the robot
+    /// (e.g. a `rigid_body` fit that gives a link a negative mass), given the standard error
+    /// of each value (`None`: not identifiable); `None` when plausible. Default: the same as
+    /// [`Effect::implausible`] (the robot, not the values, decides).
+    fn implausible_fit(&self, _std_errors: &[Option<f64>]) -> Option<String> {
+        self.implausible()
+    }
     /// Whether a velocity- or acceleration-driven per-joint parameter (which a joint that does
     /// not move cannot excite); default `false`.
     fn driven_by_motion(&self) -> bool {

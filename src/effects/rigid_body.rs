@@ -30,6 +30,14 @@ use std::sync::Arc;
 
 /// Bound on each base-parameter error, SI (kg, kg·m, kg·m²).
 pub const RIGID_BODY_MAX: f64 = 1e4;
+/// Largest plausible change of a link's mass by a calibration, as a fraction of its nominal
+/// mass (a stated bound, not a law of physics: CAD link masses are rarely off by more than a
+/// few tens of per cent; a larger change is a different robot or an effect the catalogue
+/// lacks, folded into the link by the fit).
+pub const RIGID_BODY_MAX_MASS_CHANGE: f64 = 0.5;
+/// Standard errors by which each fitted base-parameter error is pulled toward the nominal
+/// before the plausibility checks (only violations the data insist on are reported).
+pub const RIGID_BODY_PLAUSIBILITY_SIGMAS: f64 = 2.0;
 /// Random states used to find the base parameters.
 const BASE_SAMPLES: usize = 100;
 /// Relative threshold on `|R_kk|` for the rank.
@@ -58,7 +66,73 @@ struct Base {
     /// Each base parameter in words: its independent standard parameter plus the dependent
     /// ones it absorbs.
     combination: Vec<String>,
+    /// Orthonormal basis (columns) of the standard-parameter changes the torques cannot see
+    /// (the null space of `W`), in the pseudo-inertia coordinates of [`j_coords`]: the
+    /// realisations of one set of base parameters differ by these.
+    null_j: nalgebra::DMatrix<f64>,
+    /// The nominal robot's base-parameter values `π₁ + K π₂` (SI, parameter order).
+    nominal_values: Vec<f64>,
 }
+
+/// A link's ten standard parameters as its pseudo-inertia `J` (4 × 4, symmetric).
+fn pseudo_inertia(p: &[f64]) -> nalgebra::Matrix4<f64> {
+    let i = nalgebra::Matrix3::new(p[4], p[7], p[8], p[7], p[5], p[9], p[8], p[9], p[6]);
+    let s = nalgebra::Matrix3::identity() * (0.5 * i.trace()) - i;
+    let mut j = nalgebra::Matrix4::<f64>::zeros();
+    j.fixed_view_mut::<3, 3>(0, 0).copy_from(&s);
+    for a in 0..3 {
+        j[(a, 3)] = p[1 + a];
+        j[(3, a)] = p[1 + a];
+    }
+    j[(3, 3)] = p[0];
+    j
+}
+
+/// The standard parameters of a pseudo-inertia (inverse of [`pseudo_inertia`]):
+/// `I = tr(Σ) 1 − Σ`.
+fn standard_of(j: &nalgebra::Matrix4<f64>) -> [f64; 10] {
+    let s = j.fixed_view::<3, 3>(0, 0).into_owned();
+    let i = nalgebra::Matrix3::identity() * s.trace() - s;
+    [
+        j[(3, 3)],
+        j[(0, 3)],
+        j[(1, 3)],
+        j[(2, 3)],
+        i[(0, 0)],
+        i[(1, 1)],
+        i[(2, 2)],
+        i[(0, 1)],
+        i[(0, 2)],
+        i[(1, 2)],
+    ]
+}
+
+const SQRT2: f64 = std::f64::consts::SQRT_2;
+
+/// Coordinates of a pseudo-inertia in which the Euclidean norm is the Frobenius norm of `J`.
+fn j_coords(j: &nalgebra::Matrix4<f64>) -> [f64; 10] {
+    [
+        j[(0, 0)],
+        j[(1, 1)],
+        j[(2, 2)],
+        SQRT2 * j[(0, 1)],
+        SQRT2 * j[(0, 2)],
+        SQRT2 * j[(1, 2)],
+        SQRT2 * j[(0, 3)],
+        SQRT2 * j[(1, 3)],
+        SQRT2 * j[(2, 3)],
+        j[(3, 3)],
+    ]
+}
+
+fn j_of_coords(v: &[f64]) -> nalgebra::Matrix4<f64> {
+    let (a, b, c) = (v[3] / SQRT2, v[4] / SQRT2, v[5] / SQRT2);
+    let (d, e, f) = (v[6] / SQRT2, v[7] / SQRT2, v[8] / SQRT2);
+    nalgebra::Matrix4::new(v[0], a, b, d, a, v[1], c, e, b, c, v[2], f, d, e, f, v[9])
+}
+
+/// Iterations of the alternating projections of [`RigidBody::nearest_physical`].
+const PROJECTION_ITERATIONS: usize = 3000;
 
 /// Errors of the base inertial parameters.
 #[derive(Debug, Clone)]
@@ -167,12 +241,69 @@ impl RigidBody {
                 s
             })
             .collect();
+        // Null space of W in standard parameters (zero columns included), then in
+        // pseudo-inertia coordinates, orthonormalised.
+        let scale: Vec<f64> = norms
+            .iter()
+            .map(|&v| if v > 1e-9 * nmax { v } else { 1.0 })
+            .collect();
+        let wn_all = nalgebra::DMatrix::from_fn(rows, ncol, |i, c| w[(i, c)] / scale[c]);
+        let svd = wn_all.transpose().svd(true, false);
+        let smax = svd.singular_values.max();
+        let u = svd.u.as_ref().expect("svd with u");
+        let mut null_cols = Vec::new();
+        for (k, &sv) in svd.singular_values.iter().enumerate() {
+            if sv <= RANK_TOL * smax {
+                null_cols.push(k);
+            }
+        }
+        // Columns of U beyond the rows' count are not computed by a thin SVD: ncol ≤ rows
+        // here (BASE_SAMPLES · n rows ≫ 10 n columns), so U (ncol × ncol) is complete.
+        let mut nj = nalgebra::DMatrix::<f64>::zeros(ncol, null_cols.len());
+        for (o, &k) in null_cols.iter().enumerate() {
+            for l in 0..n {
+                let mut p = [0.0; 10];
+                for (a, pa) in p.iter_mut().enumerate() {
+                    *pa = u[(10 * l + a, k)] / scale[10 * l + a];
+                }
+                let v = j_coords(&pseudo_inertia(&p));
+                for a in 0..10 {
+                    nj[(10 * l + a, o)] = v[a];
+                }
+            }
+        }
+        let null_j = if nj.ncols() > 0 {
+            let svd = nj.svd(true, false);
+            let smax = svd.singular_values.max();
+            let keep: Vec<usize> = (0..svd.singular_values.len())
+                .filter(|&k| svd.singular_values[k] > 1e-9 * smax)
+                .collect();
+            let u = svd.u.expect("svd with u");
+            nalgebra::DMatrix::from_fn(ncol, keep.len(), |i, k| u[(i, keep[k])])
+        } else {
+            nj
+        };
+        let std_value = |c: usize| nominal.link_params(c / 10)[c % 10];
+        let nominal_values: Vec<f64> = indep
+            .iter()
+            .enumerate()
+            .map(|(row, &c)| {
+                std_value(c)
+                    + dep
+                        .iter()
+                        .enumerate()
+                        .map(|(col, &dc)| k[(row, col)] * std_value(dc))
+                        .sum::<f64>()
+            })
+            .collect();
         let independent: Vec<(usize, usize)> = indep.iter().map(|&c| (c / 10, c % 10)).collect();
         let delta = vec![0.0; independent.len()];
         let base = Arc::new(Base {
             nominal,
             independent,
             combination,
+            null_j,
+            nominal_values,
         });
         let delta_model = base.nominal.with_link_params(&[]);
         Ok(RigidBody {
@@ -182,10 +313,87 @@ impl RigidBody {
         })
     }
 
+    /// The nominal robot's values of the base parameters (each independent standard parameter
+    /// plus the dependent ones it absorbs; SI, in parameter order). Errors `δ = −2 ×` these
+    /// mirror the rigid body (every torque negated).
+    pub fn nominal_base_values(&self) -> &[f64] {
+        &self.base.nominal_values
+    }
+
     /// Each base parameter in words (its standard parameter and the dependent ones it
     /// absorbs, with coefficients), in parameter order.
     pub fn combination(&self) -> &[String] {
         &self.base.combination
+    }
+
+    /// Smallest eigenvalue of the pseudo-inertia `J = [[½ tr(I) 1 − I, h], [hᵀ, m]]` of one
+    /// link's standard parameters (`I` about the joint origin), kg·m²; a physically consistent
+    /// link (positive mass, inertia of a real mass distribution: the triangle inequalities
+    /// included) has `J ⪰ 0` (Wensing, Kim & Slotine 2017).
+    pub fn pseudo_inertia_min_eigenvalue(p: &[f64; 10]) -> f64 {
+        pseudo_inertia(p).symmetric_eigenvalues().min()
+    }
+
+    /// The physically consistent robot nearest to `links` (standard parameters per link) among
+    /// those with the same base parameters (same torques), found by cyclic projections
+    /// (von Neumann / Bregman; converge to a point of the intersection when there is one) in
+    /// pseudo-inertia coordinates onto: the realisations of these base parameters (affine:
+    /// `links` plus the null space of `W`), the links whose pseudo-inertia is positive
+    /// semidefinite (or no less so than the nominal link's), and the links whose mass is within
+    /// [`RIGID_BODY_MAX_MASS_CHANGE`] of the nominal. Returns the last realisation (on the
+    /// affine set).
+    fn nearest_physical(&self, links: &[[f64; 10]]) -> Vec<[f64; 10]> {
+        let n = links.len();
+        let nom: Vec<[f64; 10]> = (0..n).map(|l| self.base.nominal.link_params(l)).collect();
+        let floor: Vec<f64> = nom
+            .iter()
+            .map(|p| Self::pseudo_inertia_min_eigenvalue(p).min(0.0))
+            .collect();
+        let a = nalgebra::DVector::from_iterator(
+            10 * n,
+            links.iter().flat_map(|p| j_coords(&pseudo_inertia(p))),
+        );
+        let nb = &self.base.null_j;
+        let onto_a = |x: &nalgebra::DVector<f64>| -> nalgebra::DVector<f64> {
+            if nb.ncols() == 0 {
+                return a.clone();
+            }
+            &a + nb * (nb.transpose() * (x - &a))
+        };
+        let mut x = a.clone();
+        for _ in 0..PROJECTION_ITERATIONS {
+            for l in 0..n {
+                let j = j_of_coords(&x.as_slice()[10 * l..10 * l + 10]);
+                let e = j.symmetric_eigen();
+                let vals = e.eigenvalues.map(|v| v.max(floor[l]));
+                let mut j = e.eigenvectors
+                    * nalgebra::Matrix4::from_diagonal(&vals)
+                    * e.eigenvectors.transpose();
+                let m0 = nom[l][0];
+                j[(3, 3)] = j[(3, 3)].clamp(
+                    (1.0 - RIGID_BODY_MAX_MASS_CHANGE) * m0,
+                    (1.0 + RIGID_BODY_MAX_MASS_CHANGE) * m0,
+                );
+                x.as_mut_slice()[10 * l..10 * l + 10].copy_from_slice(&j_coords(&j));
+            }
+            x = onto_a(&x);
+        }
+        (0..n)
+            .map(|l| standard_of(&j_of_coords(&x.as_slice()[10 * l..10 * l + 10])))
+            .collect()
+    }
+
+    /// The links' standard parameters of the robot this fit describes: nominal plus each
+    /// base-parameter error on its independent standard parameter (the realisation the model
+    /// evaluates), each error first pulled `sigmas` standard errors toward zero.
+    fn corrected_links(&self, std_errors: &[Option<f64>], sigmas: f64) -> Vec<[f64; 10]> {
+        let n = self.base.nominal.dof();
+        let mut p: Vec<[f64; 10]> = (0..n).map(|l| self.base.nominal.link_params(l)).collect();
+        for (i, (&v, &(l, k))) in self.delta.iter().zip(&self.base.independent).enumerate() {
+            let s = std_errors.get(i).copied().flatten().unwrap_or(0.0);
+            p[l][k] += v.signum() * (v.abs() - sigmas * s).max(0.0);
+        }
+        p
     }
 
     fn rebuild(&mut self) {
@@ -228,6 +436,59 @@ impl Effect for RigidBody {
     }
     fn is_null(&self) -> bool {
         self.delta.iter().all(|v| *v == 0.0)
+    }
+    /// Implausible when no physically consistent robot has the fitted base parameters (each
+    /// error first pulled [`RIGID_BODY_PLAUSIBILITY_SIGMAS`] standard errors toward the
+    /// nominal): every realisation of them (the standard parameters may move along the null
+    /// space of the regressor without changing a torque) gives some link a negative mass, a
+    /// mass changed by more than [`RIGID_BODY_MAX_MASS_CHANGE`] of its nominal, or an inertia
+    /// no mass distribution has (pseudo-inertia not positive semidefinite, where the nominal
+    /// link's is). Searched by [`RigidBody::nearest_physical`]; a violation is reported when
+    /// it exceeds 1 % of the link's nominal mass or pseudo-inertia trace.
+    fn implausible_fit(&self, std_errors: &[Option<f64>]) -> Option<String> {
+        let n = self.base.nominal.dof();
+        let pulled = self.corrected_links(std_errors, RIGID_BODY_PLAUSIBILITY_SIGMAS);
+        let nom: Vec<[f64; 10]> = (0..n).map(|l| self.base.nominal.link_params(l)).collect();
+        if pulled == nom {
+            return None;
+        }
+        let best = self.nearest_physical(&pulled);
+        let full = self.corrected_links(&[], 0.0);
+        let mut why = Vec::new();
+        for l in 0..n {
+            let (m0, m) = (nom[l][0], best[l][0]);
+            let tol_m = 0.01 * m0.abs().max(1e-6);
+            let scale = pseudo_inertia(&nom[l]).trace().abs().max(1e-9);
+            if m < -tol_m {
+                why.push(format!(
+                    "link {} would weigh {m:.1} kg (nominal {m0:.1} kg; {:.1} kg as fitted)",
+                    l + 1,
+                    full[l][0]
+                ));
+            } else if (m - m0).abs() > RIGID_BODY_MAX_MASS_CHANGE * m0 + tol_m {
+                why.push(format!(
+                    "link {} mass changes by {:+.1} kg, more than {:.0} % of its nominal {m0:.1} kg",
+                    l + 1,
+                    m - m0,
+                    100.0 * RIGID_BODY_MAX_MASS_CHANGE
+                ));
+            }
+            let e0 = Self::pseudo_inertia_min_eigenvalue(&nom[l]).min(0.0);
+            let e = Self::pseudo_inertia_min_eigenvalue(&best[l]);
+            if e < e0 - 0.01 * scale {
+                why.push(format!(
+                    "link {} inertia is not physically consistent (pseudo-inertia eigenvalue {e:.3} kg·m² < 0)",
+                    l + 1
+                ));
+            }
+        }
+        (!why.is_empty()).then(|| {
+            format!(
+                "no physical robot has the fitted base parameters, even in its nearest realisation: {} (each error pulled {} standard errors toward the nominal)",
+                why.join("; "),
+                RIGID_BODY_PLAUSIBILITY_SIGMAS
+            )
+        })
     }
     fn add_torque(&self, q: &[f64], qd: &[f64], qdd: &[f64], tau: &mut [f64]) {
         if self.is_null() {

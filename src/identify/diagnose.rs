@@ -14,7 +14,11 @@
 //!   chunks one correlation time long, and the t statistic of the chunk means of
 //!   `|r_before|² − |r_after|²` exceeds the one-sided 95 % quantile of Student's t with
 //!   (chunks − 1) degrees of freedom (chunks that long are close to independent), and
-//! - its BIC `m ln(SSR/m) + P ln m` beats the current model's by more than [`MIN_DELTA_BIC`].
+//! - its BIC `m ln(SSR/m) + P ln m` beats the current model's by more than [`MIN_DELTA_BIC`],
+//! - it is material: on some channel, the held-out RMS it explains reaches the channel's noise
+//!   floor and [`MIN_MATERIAL`] of the channel's measured RMS (a log with only 1 % parameter errors has nothing missing), and
+//! - its fitted values are physically plausible ([`crate::effects::Effect::implausible_fit`]:
+//!   e.g. a `rigid_body` fit no physical robot has is named, with the reason, but not claimed).
 //!
 //! When none is, the diagnosis says nothing significant is missing; when structure beyond the
 //! noise floor remains that no candidate explains, it says so per joint, with what it
@@ -31,6 +35,11 @@ use serde::Serialize;
 pub const MIN_GAIN: f64 = 0.05;
 /// BIC improvement (decrease) required for a significant candidate.
 pub const MIN_DELTA_BIC: f64 = 10.0;
+/// Materiality: on some channel, the held-out RMS a significant candidate explains must reach
+/// both that channel's noise floor and this fraction of its measured RMS. An effect smaller than 1 % of the signal moves the energy by about 1 % or less,
+/// the accuracy the loop is asked to reach (issue 8 target: ≥ 99 %); a log whose only errors
+/// are that small (e.g. 1 % link-mass and inertia errors) has nothing missing.
+pub const MIN_MATERIAL: f64 = 0.01;
 
 /// One ranked candidate.
 #[derive(Clone, Debug, Serialize)]
@@ -55,6 +64,14 @@ pub struct Candidate {
     pub implausible: Option<String>,
     /// t statistic of the held-out gain over chunks one correlation time long.
     pub t_statistic: f64,
+    /// RMS it explains on held-out blocks, `√(base_rmse² − validation_rmse²)` (0 when it
+    /// explains nothing), signal unit.
+    pub explained_rms: f64,
+    /// Materiality, %: the largest, over the channels where the held-out RMS it explains
+    /// (`√((SSR_before − SSR_after)/rows)`) reaches the channel's noise floor, of that RMS as a
+    /// share of the channel's measured RMS (0 when no channel qualifies; at least
+    /// [`MIN_MATERIAL`] for a claim).
+    pub explained_pct_of_signal: f64,
     /// Significant by every criterion (module docs).
     pub significant: bool,
     /// Parameters it cannot tell apart, if any.
@@ -105,6 +122,17 @@ pub fn blocks(len: usize, folds: usize) -> Vec<Vec<usize>> {
 
 /// Diagnose the residual of `model` on the log; the model is left unchanged.
 pub fn diagnose(prep: &Prepared, model: &mut Model, folds: usize) -> Result<Diagnosis> {
+    diagnose_with_progress(prep, model, folds, &crate::identify::NoProgress)
+}
+
+/// [`diagnose`], telling `progress` how many candidate fits are done (stage `"diagnosing"`;
+/// per observable candidate one fit per fold and one on the whole log).
+pub fn diagnose_with_progress(
+    prep: &Prepared,
+    model: &mut Model,
+    folds: usize,
+    progress: &dyn crate::identify::Progress,
+) -> Result<Diagnosis> {
     let len = prep.len();
     let all: Vec<usize> = (0..len).collect();
     let base_state = model.state();
@@ -115,6 +143,15 @@ pub fn diagnose(prep: &Prepared, model: &mut Model, folds: usize) -> Result<Diag
     let base_rmse = (ssr0 / m).sqrt();
     let bic0 = m * (ssr0 / m).max(1e-300).ln();
     let ch = prep.log.channels;
+    // Per channel: the measured signal's mean square and the model's squared residual.
+    let mut meas_ms = vec![0.0; ch.max(1)];
+    let mut base_ss = vec![0.0; ch.max(1)];
+    for (i, v) in prep.log.y.iter().enumerate() {
+        meas_ms[i % ch.max(1)] += v * v / len.max(1) as f64;
+    }
+    for (i, v) in r.iter().enumerate() {
+        base_ss[i % ch.max(1)] += v * v;
+    }
     let t = &prep.log.traj.t;
     let dur = t.last().copied().unwrap_or(0.0) - t.first().copied().unwrap_or(0.0);
     let dt = dur / (len.max(2) - 1) as f64;
@@ -135,6 +172,13 @@ pub fn diagnose(prep: &Prepared, model: &mut Model, folds: usize) -> Result<Diag
     let chunk = ((tau_c / dt.max(1e-300)).ceil() as usize).clamp(1, len.max(1));
     let mut cands = Vec::new();
     let mut not_obs = Vec::new();
+    let observable = catalogue()
+        .into_iter()
+        .filter(|c| Model::observable(c, prep.log.kind))
+        .count();
+    let total = (observable * (bl.len() + 1)) as u64;
+    let mut done = 0u64;
+    progress.update("diagnosing", 0, total);
     for name in catalogue() {
         if !Model::observable(name, prep.log.kind) {
             not_obs.push(name.to_string());
@@ -142,6 +186,7 @@ pub fn diagnose(prep: &Prepared, model: &mut Model, folds: usize) -> Result<Diag
         }
         let in_model = model.is_enabled(name);
         let mut sse = 0.0;
+        let mut sse_c = vec![0.0; ch.max(1)];
         let mut cnt = 0usize;
         let mut gains = Vec::with_capacity(bl.len());
         for (bi, b) in bl.iter().enumerate() {
@@ -156,6 +201,9 @@ pub fn diagnose(prep: &Prepared, model: &mut Model, folds: usize) -> Result<Diag
             fit_parameters(prep, model, &[name], &train)?;
             residuals(prep, model, b, &mut r);
             let sb = r.iter().map(|x| x * x).sum::<f64>();
+            for (i, x) in r.iter().enumerate() {
+                sse_c[i % ch.max(1)] += x * x;
+            }
             // Held-out gain per chunk of one correlation time: chunk means of
             // `|r_before|² − |r_after|²` are close to independent, so their t statistic
             // measures the gain against noise and autocorrelation.
@@ -176,12 +224,20 @@ pub fn diagnose(prep: &Prepared, model: &mut Model, folds: usize) -> Result<Diag
             }
             sse += sb;
             cnt += r.len();
+            done += 1;
+            progress.update("diagnosing", done, total);
         }
         model.restore(&base_state);
         let full = fit_parameters(prep, model, &[name], &all)?;
+        done += 1;
+        progress.update("diagnosing", done, total);
         // Its residual over the whole log (the fit may have used a stride of the rows).
         residuals(prep, model, &all, &mut r);
         let full_ssr: f64 = r.iter().map(|x| x * x).sum();
+        // Plausibility of the robot (e.g. no balancer declared) and of the fitted values
+        // (e.g. no negative link mass), judged on the whole-log fit.
+        let std_errors: Vec<Option<f64>> = full.params.iter().map(|p| p.std_error).collect();
+        let implausible = model.implausible_fit(name, &std_errors);
         model.restore(&base_state);
         // Joints it acts on: channels whose prediction moved by more than 10 % of the largest
         // move, or per-joint parameters that moved by more than two standard errors.
@@ -223,7 +279,23 @@ pub fn diagnose(prep: &Prepared, model: &mut Model, folds: usize) -> Result<Diag
         let bic = m * (full_ssr / m).max(1e-300).ln() + full.params.len() as f64 * m.ln();
         let dbic = bic - bic0;
         let tstat = paired_t(&gains);
-        let implausible = model.implausible(name);
+        let explained_rms = (base_rmse * base_rmse - cv * cv).max(0.0).sqrt();
+        // Materiality on the channel where it is largest (held-out blocks cover every row).
+        // Only channels where it explains at least the noise floor count (a channel with
+        // little signal must not make a small absolute error look large).
+        let explained_pct_of_signal = (0..ch.max(1))
+            .map(|c| {
+                let e = ((base_ss[c] - sse_c[c]) / len.max(1) as f64)
+                    .max(0.0)
+                    .sqrt();
+                if meas_ms[c] > 0.0 && e >= nf[c] {
+                    100.0 * e / meas_ms[c].sqrt()
+                } else {
+                    0.0
+                }
+            })
+            .fold(0.0, f64::max);
+        let material = explained_pct_of_signal >= 100.0 * MIN_MATERIAL;
         cands.push(Candidate {
             effect: name.to_string(),
             in_model,
@@ -237,9 +309,12 @@ pub fn diagnose(prep: &Prepared, model: &mut Model, folds: usize) -> Result<Diag
                 && !too_short
                 && cut >= 100.0 * MIN_GAIN
                 && tstat > t_quantile_95(gains.len().saturating_sub(1))
-                && dbic < -MIN_DELTA_BIC,
+                && dbic < -MIN_DELTA_BIC
+                && material,
             implausible,
             t_statistic: tstat,
+            explained_rms,
+            explained_pct_of_signal,
             note: full.ill_conditioned.map(|i| i.to_string()),
         });
     }
@@ -306,12 +381,14 @@ pub fn diagnose(prep: &Prepared, model: &mut Model, folds: usize) -> Result<Diag
             "no claim: the log ({dur:.2} s) is shorter than two correlation times of the residual; {noise_txt}{left}"
         ),
         (None, Some(c)) => format!(
-            "nothing significant is missing from the catalogue: the best candidate `{}` cuts the held-out RMSE by {:.1} % (threshold {:.0} %, t = {:.1}, ΔBIC {:.1}{}); {noise_txt}{}",
+            "nothing significant is missing from the catalogue: the best candidate `{}` cuts the held-out RMSE by {:.1} % (threshold {:.0} %, t = {:.1}, ΔBIC {:.1}) and explains {:.2} % of the signal's RMS (threshold {:.0} %{}); {noise_txt}{}",
             c.effect,
             c.rmse_cut_pct,
             100.0 * MIN_GAIN,
             c.t_statistic,
             c.delta_bic,
+            c.explained_pct_of_signal,
+            100.0 * MIN_MATERIAL,
             c.implausible.as_deref().map(|w| format!(", not plausible: {w}")).unwrap_or_default(),
             if left.is_empty() {
                 "; the residual is at the noise floor".to_string()

@@ -85,8 +85,16 @@ pub struct Comparison {
     /// Regimes whose residual share exceeds their sample share by 1.5× or more, largest
     /// ratio first (all regimes in `regimes_all`).
     pub regimes: Vec<Regime>,
-    /// All regimes.
+    /// All regimes (share of the squared residual per regime; kept for older readers: a
+    /// share cannot see friction, read `failures`).
     pub regimes_all: Vec<Regime>,
+    /// Where the model fails: per joint and structure (`direction`, `velocity`, `position`,
+    /// `acceleration`, `time`), the residual RMS each explains beyond the noise floor, largest
+    /// first ([`crate::identify::profiles`]).
+    pub failures: Vec<crate::identify::profiles::Failure>,
+    /// Per joint, the residual binned against velocity, position and time, and the direction
+    /// step at q̇ = 0.
+    pub profiles: Vec<crate::identify::profiles::JointProfiles>,
     /// Warnings from reading the log.
     pub warnings: Vec<String>,
 }
@@ -280,6 +288,18 @@ pub fn compare(prep: &Prepared, model: &Model) -> (Comparison, Vec<f64>) {
         (b.residual_pct / b.samples_pct).total_cmp(&(a.residual_pct / a.samples_pct))
     });
     regimes.truncate(12);
+    let res: Vec<f64> = pred.iter().zip(&log.y).map(|(p, y)| p - y).collect();
+    let prismatic: Vec<bool> = (0..n).map(|j| model.dynamics().is_prismatic(j)).collect();
+    let (profiles, failures) = crate::identify::profiles::analyse(
+        &res,
+        &names,
+        n,
+        t,
+        &|k, j| log.traj.q(k)[j],
+        &|k, j| log.traj.qd(k)[j],
+        &|k, j| log.traj.qdd(k)[j],
+        &prismatic,
+    );
     (
         Comparison {
             schema_version: crate::identify::JSON_SCHEMA_VERSION,
@@ -299,6 +319,8 @@ pub fn compare(prep: &Prepared, model: &Model) -> (Comparison, Vec<f64>) {
             worst_windows: windows,
             regimes,
             regimes_all,
+            failures,
+            profiles,
             warnings: log.warnings.clone(),
         },
         pred,

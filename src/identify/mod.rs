@@ -1,6 +1,7 @@
 //! Measured logs against the model (architecture.md, `identify`): reading logs
 //! ([`log`]), comparison metrics ([`metrics`]), residual diagnosis ([`diagnose`]), parameter
-//! identification with the error ladder ([`ladder`], [`fit`]), simulated logs from a "true"
+//! identification with the error ladder ([`ladder`], [`fit`]), where the model fails
+//! ([`profiles`]), simulated logs from a "true"
 //! robot ([`simulate`]). Charts are drawn by [`crate::report::svg`].
 
 pub mod calibrate;
@@ -10,11 +11,29 @@ pub mod ladder;
 pub mod log;
 pub mod metrics;
 pub mod model;
+pub mod profiles;
 pub mod simulate;
 pub mod structure;
 
 pub use log::{read_log, Log, SignalKind};
 pub use model::{Model, Prepared, DEFAULT_EFFECTS};
+
+/// An observer of a long run's progress (preparing a log, diagnosing): called with the stage
+/// (`"preparing the log"`, `"diagnosing"`), the units of work done and their total (rows, or
+/// fits). The library draws nothing; the binary shows a bar. Called at most a few hundred
+/// times per stage, from the working thread.
+pub trait Progress: Sync {
+    /// `done` of `total` units of `stage` are finished.
+    fn update(&self, stage: &str, done: u64, total: u64);
+}
+
+/// Progress that goes nowhere.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct NoProgress;
+
+impl Progress for NoProgress {
+    fn update(&self, _stage: &str, _done: u64, _total: u64) {}
+}
 
 /// Version of the `--json` shapes of `compare`, `diagnose`, `identify` and `simulate`
 /// (docs/json.md); raised when a field changes meaning or is removed.

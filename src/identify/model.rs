@@ -294,6 +294,15 @@ impl Model {
     pub fn implausible(&self, name: &str) -> Option<String> {
         self.effect(name).ok().and_then(|e| e.implausible())
     }
+
+    /// Why the *current values* of the effect called `name` (just fitted, with standard
+    /// errors `std_errors` in parameter order) are not physically plausible for this robot, or
+    /// `None` ([`Effect::implausible_fit`]).
+    pub fn implausible_fit(&self, name: &str, std_errors: &[Option<f64>]) -> Option<String> {
+        self.effect(name)
+            .ok()
+            .and_then(|e| e.implausible_fit(std_errors))
+    }
 }
 
 /// A log prepared for repeated prediction: rigid-body torques and the regressors of the
@@ -314,6 +323,17 @@ impl<'a> Prepared<'a> {
     /// Prepare `log` for `model`. Errors: joint count mismatch; a current or power log for a
     /// robot without drive data.
     pub fn new(model: &Model, log: &'a Log) -> Result<Self> {
+        Self::with_progress(model, log, &crate::identify::NoProgress)
+    }
+
+    /// [`Prepared::new`], telling `progress` how many rows are done (stage
+    /// `"preparing the log"`; the rigid body and each costly effect's regressor are one pass
+    /// each over the rows).
+    pub fn with_progress(
+        model: &Model,
+        log: &'a Log,
+        progress: &dyn crate::identify::Progress,
+    ) -> Result<Self> {
         let n = model.n;
         if log.traj.n != n {
             return Err(Error::SizeMismatch {
@@ -334,9 +354,20 @@ log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, 
             )));
         }
         let len = log.len();
+        let passes = 1 + model
+            .effects
+            .iter()
+            .filter(|(e, _)| e.stage() == Stage::Torque && e.costly())
+            .count();
+        let total = (passes * len) as u64;
+        let step = (len / 100).max(1);
+        let stage = "preparing the log";
         let mut data = model.dynamics.data();
         let mut tau_rb = vec![0.0; len * n];
         for k in 0..len {
+            if k % step == 0 {
+                progress.update(stage, k as u64, total);
+            }
             rnea(
                 &model.dynamics,
                 &mut data,
@@ -347,6 +378,7 @@ log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, 
             )?;
         }
         let mut regs: Vec<Option<Vec<f64>>> = Vec::new();
+        let mut pass = 1;
         for (e, _) in model.effects.iter() {
             regs.push(None);
             if e.stage() != Stage::Torque || !e.costly() {
@@ -357,6 +389,9 @@ log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, 
             let mut all = vec![0.0; len * n * p];
             let mut linear = true;
             for k in 0..len {
+                if k % step == 0 {
+                    progress.update(stage, (pass * len + k) as u64, total);
+                }
                 let y = &mut all[k * n * p..(k + 1) * n * p];
                 if !e.regressor(log.traj.q(k), log.traj.qd(k), log.traj.qdd(k), y) {
                     linear = false;
@@ -366,7 +401,9 @@ log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, 
             if linear {
                 regs[i] = Some(all);
             }
+            pass += 1;
         }
+        progress.update(stage, total, total);
         Ok(Prepared { log, tau_rb, regs })
     }
 

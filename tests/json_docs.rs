@@ -1,0 +1,230 @@
+//! Stable JSON (issue 8, item 9): the `--json` output of `simulate`, `compare`, `diagnose` and
+//! `identify` against the field lists of docs/json.md (the ```` ```fields <command> ```` blocks),
+//! both ways, so that the documentation and the output cannot drift apart: every field the
+//! output has is documented, and every documented field is present wherever its parent is
+//! non-null and non-empty. Arrays are written `name[]`, nested fields `a.b`.
+
+use serde_json::Value;
+use std::collections::BTreeSet;
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+fn tmp(tag: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("printwatt_json_{tag}_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn run(dir: &Path, args: &[&str]) -> String {
+    let o = Command::new(env!("CARGO_BIN_EXE_printwatt"))
+        .current_dir(dir)
+        .args(args)
+        .output()
+        .unwrap();
+    assert!(
+        o.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    String::from_utf8(o.stdout).unwrap()
+}
+
+/// The documented field paths of `command` (docs/json.md, block ```` ```fields command ````).
+fn documented(command: &str) -> BTreeSet<String> {
+    let text = std::fs::read_to_string(root().join("docs/json.md")).unwrap();
+    let open = format!("```fields {command}");
+    let start = text
+        .lines()
+        .position(|l| l.trim() == open)
+        .unwrap_or_else(|| panic!("docs/json.md has no `{open}` block"));
+    text.lines()
+        .skip(start + 1)
+        .take_while(|l| l.trim() != "```")
+        .map(|l| l.trim().to_string())
+        .filter(|l| !l.is_empty())
+        .collect()
+}
+
+/// Every field path of a JSON value, and the paths that have children (non-null objects,
+/// arrays with object elements).
+fn paths(v: &Value, pre: &str, out: &mut BTreeSet<String>, parents: &mut BTreeSet<String>) {
+    match v {
+        Value::Object(m) => {
+            if !m.is_empty() {
+                parents.insert(pre.to_string());
+            }
+            for (k, x) in m {
+                let p = if pre.is_empty() {
+                    k.clone()
+                } else {
+                    format!("{pre}.{k}")
+                };
+                out.insert(p.clone());
+                paths(x, &p, out, parents);
+            }
+        }
+        Value::Array(a) => {
+            let p = format!("{pre}[]");
+            for x in a {
+                if x.is_object() || x.is_array() {
+                    paths(x, &p, out, parents);
+                }
+            }
+        }
+        _ => {}
+    }
+}
+
+fn parent_of(p: &str) -> String {
+    match p.rfind('.') {
+        Some(i) => p[..i].to_string(),
+        None => String::new(),
+    }
+}
+
+/// Check one command's output against docs/json.md.
+fn check(command: &str, outputs: &[&str]) {
+    let doc = documented(command);
+    let (mut seen, mut parents) = (BTreeSet::new(), BTreeSet::new());
+    for o in outputs {
+        let v: Value = serde_json::from_str(o).unwrap();
+        assert_eq!(
+            v["schema_version"].as_u64(),
+            Some(printwatt::identify::JSON_SCHEMA_VERSION as u64),
+            "{command}: schema_version"
+        );
+        paths(&v, "", &mut seen, &mut parents);
+    }
+    let undocumented: Vec<&String> = seen.difference(&doc).collect();
+    assert!(
+        undocumented.is_empty(),
+        "{command}: fields in the output that docs/json.md does not list: {undocumented:?}"
+    );
+    // A documented field must be there wherever its parent (or its array element) is.
+    let missing: Vec<&String> = doc
+        .iter()
+        .filter(|d| {
+            let par = parent_of(d);
+            parents.contains(&par) && !seen.contains(*d)
+        })
+        .collect();
+    assert!(
+        missing.is_empty(),
+        "{command}: fields docs/json.md lists that the output lacks: {missing:?}"
+    );
+}
+
+/// A short simulated torque log (IRB 4600, Coulomb friction hidden) in `dir/log.csv`.
+fn log_in(dir: &Path) -> PathBuf {
+    let robot = root().join("robots/abb_irb4600_40_255");
+    run(
+        dir,
+        &[
+            "simulate",
+            "--robot",
+            robot.to_str().unwrap(),
+            "--excite",
+            "4",
+            "--hidden",
+            "coulomb=20",
+            "--signal",
+            "tau",
+            "--noise",
+            "2",
+            "--rate",
+            "100",
+            "--seed",
+            "3",
+            "--out",
+            dir.to_str().unwrap(),
+        ],
+    );
+    dir.join("log.csv")
+}
+
+fn robot_arg() -> String {
+    root()
+        .join("robots/abb_irb4600_40_255")
+        .to_string_lossy()
+        .into_owned()
+}
+
+#[test]
+fn json_output_of_simulate_matches_docs_json_md() {
+    let d = tmp("simulate");
+    let r = robot_arg();
+    let base = [
+        "simulate", "--robot", &r, "--excite", "1", "--signal", "tau", "--rate", "50", "--seed",
+        "1", "--json",
+    ];
+    let rows = run(&d, &base);
+    let mut with_out: Vec<&str> = base.to_vec();
+    let out = d.join("o");
+    let out_s = out.to_string_lossy().into_owned();
+    with_out.extend(["--out", &out_s]);
+    let file = run(&d, &with_out);
+    check("simulate", &[&rows, &file]);
+}
+
+#[test]
+fn json_output_of_compare_matches_docs_json_md() {
+    let d = tmp("compare");
+    let log = log_in(&d);
+    let out = run(
+        &d,
+        &[
+            "compare",
+            "--robot",
+            &robot_arg(),
+            "--log",
+            log.to_str().unwrap(),
+            "--json",
+        ],
+    );
+    check("compare", &[&out]);
+}
+
+#[test]
+fn json_output_of_diagnose_matches_docs_json_md() {
+    let d = tmp("diagnose");
+    let log = log_in(&d);
+    let out = run(
+        &d,
+        &[
+            "diagnose",
+            "--robot",
+            &robot_arg(),
+            "--log",
+            log.to_str().unwrap(),
+            "--json",
+        ],
+    );
+    check("diagnose", &[&out]);
+}
+
+#[test]
+fn json_output_of_identify_matches_docs_json_md() {
+    let d = tmp("identify");
+    let log = log_in(&d);
+    let out = run(
+        &d,
+        &[
+            "identify",
+            "--robot",
+            &robot_arg(),
+            "--log",
+            log.to_str().unwrap(),
+            "--effects",
+            "coulomb",
+            "--out",
+            d.join("id").to_str().unwrap(),
+            "--json",
+        ],
+    );
+    check("identify", &[&out]);
+}
