@@ -275,7 +275,7 @@ pub fn run(a: StationsArgs) -> Result<()> {
         plan.total_j
     );
     println!(
-        "{} units; {} candidate positions; {} runs of units evaluated from {} stations ({} feasible); {secs:.2} s",
+        "{} units; {} candidate positions; {} runs of units; {} evaluations of a run from a station ({} feasible); wall time {secs:.2} s",
         plan.stats.units,
         plan.stats.positions,
         plan.stats.runs,

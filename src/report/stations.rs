@@ -199,7 +199,8 @@ impl StationsReport<'_> {
         let px = |x: f64| ml + (x - x0) * k;
         let py = |y: f64| mt + (y1 - y) * k;
         let mut s = format!(
-            r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="sans-serif" class="stations-top-view"><text x="{:.1}" y="20" font-size="14" font-weight="bold" text-anchor="middle">{}</text>"#,
+            r#"<svg xmlns="http://www.w3.org/2000/svg" width="{w}" height="{h}" viewBox="0 0 {w} {h}" font-family="sans-serif" class="stations-top-view" data-n="{}"><text x="{:.1}" y="20" font-size="14" font-weight="bold" text-anchor="middle">{}</text>"#,
+            plan.segments.len() + pts.len(),
             w / 2.0,
             esc("Plan on the top view (part frame)")
         );
@@ -258,10 +259,7 @@ impl StationsReport<'_> {
         for q in pts.iter().skip(1) {
             let o = owner(q.move_index);
             let key = (o, q.print);
-            let start = match &cur {
-                Some((co, cp, _)) if (*co, *cp) == key => false,
-                _ => true,
-            };
+            let start = !matches!(&cur, Some((co, cp, _)) if (*co, *cp) == key);
             if start {
                 if let Some(c) = cur.take() {
                     paths.push(c);

@@ -359,13 +359,24 @@ fn uncovered(
     let mut reasons: BTreeMap<&str, usize> = BTreeMap::new();
     let mut tried = 0;
     let mut feasible_alone = 0;
+    let mut example: Option<String> = None;
     for (r, run) in runs.iter().enumerate() {
         if run.i == u && run.j == u {
-            for e in &evaluated[r] {
+            for (e, (_, st)) in evaluated[r].iter().zip(&run.stations) {
                 tried += 1;
                 match &e.outcome {
                     Ok(_) => feasible_alone += 1,
-                    Err(x) => *reasons.entry(x.reason.name()).or_insert(0) += 1,
+                    Err(x) => {
+                        *reasons.entry(x.reason.name()).or_insert(0) += 1;
+                        example.get_or_insert_with(|| {
+                            format!(
+                                "; e.g. from the station at ({:.3}, {:.3}) m facing {:.1}°: {x}",
+                                st.x_m,
+                                st.y_m,
+                                st.heading_rad.to_degrees()
+                            )
+                        });
+                    }
                 }
             }
         }
@@ -383,8 +394,9 @@ fn uncovered(
     } else {
         let list: Vec<String> = reasons.iter().map(|(k, v)| format!("{k} {v}")).collect();
         format!(
-            "of the {tried} candidate stations within reach, none is feasible: {}",
-            list.join(", ")
+            "of the {tried} candidate stations within reach, none is feasible: {}{}",
+            list.join(", "),
+            example.unwrap_or_default()
         )
     };
     Error::Invalid(format!(
