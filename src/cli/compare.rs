@@ -52,16 +52,35 @@ pub(crate) fn load(a: &LogArgs) -> Result<(printwatt::robot::RobotModel, Model, 
     let robot = a.robot.load()?;
     let mut model = Model::new(&robot)
         .with_context(|| format!("building the model of {}", a.robot.robot.display()))?;
+    // `viscous[2]`: the effect on joint 2 only (its parameters of the other joints zero), as
+    // `identify --effects` and `simulate --hidden` take it.
+    let n = robot.dof();
     if let Some(list) = &a.effects {
-        let names = identify::model::parse_effect_list(list)?;
+        let subsets = identify::model::parse_effect_subsets(list, n)
+            .with_context(|| format!("--effects `{list}`"))?;
         model.disable_all();
-        for n in names {
-            model.set_enabled(n, true)?;
+        for (e, joints) in subsets {
+            model.set_enabled(e, true)?;
+            if let Some(js) = joints {
+                model
+                    .keep_joints(e, &js)
+                    .with_context(|| format!("--effects `{list}`"))?;
+            }
         }
     }
     if let Some(list) = &a.without {
-        for n in identify::model::parse_effect_list(list)? {
-            model.set_enabled(n, false)?;
+        let subsets = identify::model::parse_effect_subsets(list, n)
+            .with_context(|| format!("--without `{list}`"))?;
+        for (e, joints) in subsets {
+            match joints {
+                None => model.set_enabled(e, false)?,
+                Some(js) => {
+                    let rest: Vec<usize> = (1..=n).filter(|k| !js.contains(k)).collect();
+                    model
+                        .keep_joints(e, &rest)
+                        .with_context(|| format!("--without `{list}`"))?;
+                }
+            }
         }
     }
     let log = identify::read_log(&a.log, robot.dof(), a.columns.as_deref())

@@ -68,10 +68,12 @@ pub struct LogArgs {
     #[arg(long)]
     pub columns: Option<String>,
     /// Effects switched on (comma list of catalogue names); for `identify`: the effects to
-    /// fit, in ladder order (`viscous[2]`: on joint 2 only, as in `simulate --hidden`).
+    /// fit, in ladder order. `viscous[2]`: on joint 2 only, as in `simulate --hidden` (for
+    /// `compare` and `diagnose` the effect's parameters of the other joints are zero; for
+    /// `identify` they are held at their prior).
     #[arg(long)]
     pub effects: Option<String>,
-    /// Effects switched off (comma list).
+    /// Effects switched off (comma list; `viscous[2]`: on joint 2 only).
     #[arg(long)]
     pub without: Option<String>,
 }
