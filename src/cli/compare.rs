@@ -54,41 +54,13 @@ pub(crate) fn load(a: &LogArgs) -> Result<(printwatt::robot::RobotModel, Model, 
         .with_context(|| format!("building the model of {}", a.robot.robot.display()))?;
     // `viscous[2]`: the effect on joint 2 only (its parameters of the other joints zero), as
     // `identify --effects` and `simulate --hidden` take it.
-    let n = robot.dof();
-    if let Some(list) = &a.effects {
-        let subsets = identify::model::parse_effect_subsets(list, n)
-            .with_context(|| format!("--effects `{list}`"))?;
-        model.disable_all();
-        for (e, joints) in subsets {
-            model.set_enabled(e, true)?;
-            if let Some(js) = joints {
-                model
-                    .keep_joints(e, &js)
-                    .with_context(|| format!("--effects `{list}`"))?;
-            }
-        }
-    }
-    if let Some(list) = &a.without {
-        let subsets = identify::model::parse_effect_subsets(list, n)
-            .with_context(|| format!("--without `{list}`"))?;
-        for (e, joints) in subsets {
-            match joints {
-                None => model.set_enabled(e, false)?,
-                Some(js) => {
-                    let rest: Vec<usize> = (1..=n).filter(|k| !js.contains(k)).collect();
-                    model
-                        .keep_joints(e, &rest)
-                        .with_context(|| format!("--without `{list}`"))?;
-                }
-            }
-        }
-    }
-    let log = identify::read_log(&a.log, robot.dof(), a.columns.as_deref())
+    identify::switch_effects(&mut model, robot.dof(), a.effects.as_deref(), None)
+        .with_context(|| format!("--effects `{}`", a.effects.as_deref().unwrap_or("")))?;
+    identify::switch_effects(&mut model, robot.dof(), None, a.without.as_deref())
+        .with_context(|| format!("--without `{}`", a.without.as_deref().unwrap_or("")))?;
+    let log = identify::read_log_for(&robot, &a.log, a.columns.as_deref())
         .with_context(|| format!("reading log {}", a.log.display()))?;
     super::note_warnings(&log.file, &log.warnings);
-    let (names, units): (Vec<String>, Vec<String>) = log.units.iter().cloned().unzip();
-    let kinds: Vec<_> = robot.joints.iter().map(|j| j.kind).collect();
-    printwatt::trajectory::check_joint_units(&log.file, log.header_line, &names, &units, &kinds)?;
     check_log_robot(&log, &robot);
     Ok((robot, model, log))
 }
