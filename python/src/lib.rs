@@ -44,52 +44,22 @@ type PyRes<T> = PyResult<T>;
 // ---------------------------------------------------------------------------------------------
 // Robots
 
-/// The source tree's shipped robots directory (this crate lives in `<tree>/python`).
-const SOURCE_TREE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
-
-/// The shipped robots directory: `$PRINTWATT_ROBOTS`, else `robots/` in the working directory,
-/// else the one in the source tree the module was built from (as the command line does).
 fn robots_dir() -> PathBuf {
-    if let Some(p) = std::env::var_os("PRINTWATT_ROBOTS") {
-        return p.into();
-    }
-    let local = Path::new("robots");
-    if local.is_dir() {
-        return local.to_path_buf();
-    }
-    let tree = Path::new(SOURCE_TREE);
-    tree.canonicalize()
-        .unwrap_or_else(|_| tree.to_path_buf())
-        .join("robots")
+    printwatt::robot::shipped::robots_dir()
 }
 
 fn shipped_names() -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(robots_dir())
-        .map(|rd| {
-            rd.filter_map(|e| e.ok())
-                .filter(|e| e.path().join("robot.urdf").is_file())
-                .map(|e| e.file_name().to_string_lossy().into_owned())
-                .collect()
-        })
-        .unwrap_or_default();
-    v.sort();
-    v
+    printwatt::robot::shipped::names()
 }
 
 fn load_robot_model(arg: &Path, tool: Option<&Path>) -> PyRes<RobotModel> {
-    let resolved = if arg.exists() {
-        arg.to_path_buf()
-    } else {
-        let shipped = robots_dir().join(arg);
-        if !shipped.exists() {
-            return Err(err(format!(
-                "robot `{}`: no such file or directory, and no shipped robot of that name; shipped robots: {} (or give a robot directory, a .urdf or a drive .toml)",
-                arg.display(),
-                shipped_names().join(", ")
-            )));
-        }
-        shipped
-    };
+    let resolved = printwatt::robot::shipped::resolve(arg).ok_or_else(|| {
+        err(format!(
+            "robot `{}`: no such file or directory, and no shipped robot of that name; shipped robots: {} (or give a robot directory, a .urdf or a drive .toml)",
+            arg.display(),
+            shipped_names().join(", ")
+        ))
+    })?;
     // Library errors name the file and the line:column or field already.
     let mut m = printwatt::load_robot(&resolved).map_err(err)?;
     if let Some(t) = tool {
@@ -1149,11 +1119,7 @@ fn identify<'py>(
     force: bool,
     columns: Option<String>,
 ) -> PyRes<Bound<'py, PyAny>> {
-    let resolved = if robot.exists() {
-        robot.clone()
-    } else {
-        robots_dir().join(&robot)
-    };
+    let resolved = printwatt::robot::shipped::resolve(&robot).unwrap_or_else(|| robot.clone());
     let rm = load_robot_model(&robot, None)?;
     let (mut model, l) = load_log_model(&rm, &log, None, None, columns.as_deref())?;
     let plan = pid::RoundPlan::new(&rm, &model, &effects, l.kind).map_err(err)?;
