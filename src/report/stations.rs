@@ -380,7 +380,7 @@ impl StationsReport<'_> {
             "station x [m]",
             "station y [m]",
             "heading [°]",
-            "--at (m, m, m, °, °)",
+            "placement x,y,z,yaw,spin (m, m, m, °, °)",
             "units",
             "lines",
             "print [m]",

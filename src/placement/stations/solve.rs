@@ -106,7 +106,7 @@ pub fn solve(p: &StationsProblem, progress: &(dyn Fn(usize, usize) + Sync)) -> R
         .collect();
     let annulus = reach_annulus(p.robot, &zs).ok_or_else(|| {
         Error::Invalid(format!(
-            "{}: the robot reaches no point with a vertical nozzle at heights {:.3}…{:.3} m above its base: change the station height (--z)",
+            "{}: the robot reaches no point with a vertical nozzle at heights {:.3}…{:.3} m above its base: change the station height (the part origin's height above the base)",
             path.source, zs[0], zs[4]
         ))
     })?;
