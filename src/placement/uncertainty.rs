@@ -278,7 +278,6 @@ fn draw_robot(
     (m, drawn)
 }
 
-/// One draw's energies at every candidate (J) and the values it drew (name, value).
 
 /// Average ranks (1-based, ties share their mean rank).
 fn ranks(v: &[f64]) -> Vec<f64> {
