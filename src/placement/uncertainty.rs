@@ -278,7 +278,6 @@ fn draw_robot(
     (m, drawn)
 }
 
-
 /// Average ranks (1-based, ties share their mean rank).
 fn ranks(v: &[f64]) -> Vec<f64> {
     let mut idx: Vec<usize> = (0..v.len()).collect();
