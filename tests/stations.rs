@@ -307,3 +307,19 @@ fn stations_refuses_to_overwrite_an_existing_run_without_force() {
     assert!(String::from_utf8_lossy(&o.stderr).contains("chooses its own stations"));
     let _ = std::fs::remove_dir_all(&d);
 }
+
+#[test]
+fn fixed_headings_along_a_track_are_kept_and_stations_stay_on_the_track() {
+    let model = robot();
+    let path = gcode(&wall_text(3, 1500.0));
+    let mut p = problem(&model, &path, 2000.0);
+    let h = 90f64.to_radians();
+    p.candidates.headings = Headings::Fixed(vec![h]);
+    let plan = solve(&p);
+    for s in &plan.segments {
+        assert_eq!(s.station.heading_rad, h);
+        assert!((s.station.y_m + 1.2).abs() < 1e-12, "off the track: {:?}", s.station);
+        // The placement's yaw is the heading turned back.
+        assert!((s.station.placement.yaw + h).abs() < 1e-12);
+    }
+}
