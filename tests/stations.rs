@@ -318,7 +318,11 @@ fn fixed_headings_along_a_track_are_kept_and_stations_stay_on_the_track() {
     let plan = solve(&p);
     for s in &plan.segments {
         assert_eq!(s.station.heading_rad, h);
-        assert!((s.station.y_m + 1.2).abs() < 1e-12, "off the track: {:?}", s.station);
+        assert!(
+            (s.station.y_m + 1.2).abs() < 1e-12,
+            "off the track: {:?}",
+            s.station
+        );
         // The placement's yaw is the heading turned back.
         assert!((s.station.placement.yaw + h).abs() < 1e-12);
     }
