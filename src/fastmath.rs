@@ -56,25 +56,26 @@ pub fn libm_selected() -> bool {
 pub const SIN_COS_MAX: f64 = 64.0;
 
 /// π/2 to 33 bits (its low 20 bits are zero, so `k · PIO2_1` is exact for `|k| < 2²⁰`).
-const PIO2_1: f64 = 1.570_796_326_734_125_614_17e+00; // 0x3FF921FB, 0x54400000
+const PIO2_1: f64 = f64::from_bits(0x3FF9_21FB_5440_0000);
 /// π/2 − [`PIO2_1`].
-const PIO2_1T: f64 = 6.077_100_506_506_192_249_32e-11; // 0x3DD0B461, 0x1A626331
+const PIO2_1T: f64 = f64::from_bits(0x3DD0_B461_1A62_6331);
 /// 1.5 · 2⁵²: adding and subtracting it rounds to the nearest integer (|v| < 2⁵¹).
 const ROUND_MAGIC: f64 = 6_755_399_441_055_744.0;
 
-const S1: f64 = -1.666_666_666_666_663_243_48e-01;
-const S2: f64 = 8.333_333_333_322_489_461_24e-03;
-const S3: f64 = -1.984_126_982_985_794_931_34e-04;
-const S4: f64 = 2.755_731_370_707_006_767_89e-06;
-const S5: f64 = -2.505_076_025_340_686_341_95e-08;
-const S6: f64 = 1.589_690_995_211_550_102_21e-10;
+// fdlibm's kernel coefficients, as bit patterns (exact; the decimal forms are in musl).
+const S1: f64 = f64::from_bits(0xBFC5_5555_5555_5549);
+const S2: f64 = f64::from_bits(0x3F81_1111_1110_F8A6);
+const S3: f64 = f64::from_bits(0xBF2A_01A0_19C1_61D5);
+const S4: f64 = f64::from_bits(0x3EC7_1DE3_57B1_FE7D);
+const S5: f64 = f64::from_bits(0xBE5A_E5E6_8A2B_9CEB);
+const S6: f64 = f64::from_bits(0x3DE5_D93A_5ACF_D57C);
 
-const C1: f64 = 4.166_666_666_666_660_190_37e-02;
-const C2: f64 = -1.388_888_888_887_410_957_49e-03;
-const C3: f64 = 2.480_158_728_947_672_941_78e-05;
-const C4: f64 = -2.755_731_435_139_066_330_35e-07;
-const C5: f64 = 2.087_572_321_298_174_827_90e-09;
-const C6: f64 = -1.135_964_755_778_819_482_65e-11;
+const C1: f64 = f64::from_bits(0x3FA5_5555_5555_554C);
+const C2: f64 = f64::from_bits(0xBF56_C16C_16C1_5177);
+const C3: f64 = f64::from_bits(0x3EFA_01A0_19CB_1590);
+const C4: f64 = f64::from_bits(0xBE92_7E4F_809C_52AD);
+const C5: f64 = f64::from_bits(0x3E21_EE9E_BDB4_B1C4);
+const C6: f64 = f64::from_bits(0xBDA8_FAE9_BE88_38D4);
 
 /// fdlibm `__kernel_sin(r, 0, 0)`: sin r for |r| ≤ π/4.
 #[inline(always)]
@@ -98,8 +99,7 @@ fn k_cos(r: f64) -> f64 {
 /// `(sin x, cos x)`; see the module docs for the error bound. `x` in rad.
 #[inline]
 pub fn sin_cos(x: f64) -> (f64, f64) {
-    // `!(a <= b)` is also true for NaN.
-    if libm_selected() || !(x.abs() <= SIN_COS_MAX) {
+    if libm_selected() || x.is_nan() || x.abs() > SIN_COS_MAX {
         return x.sin_cos();
     }
     if x.abs() < 7.450_580_596_923_828e-9 {
@@ -133,29 +133,29 @@ pub fn cos(x: f64) -> f64 {
 }
 
 const ATANHI: [f64; 2] = [
-    4.636_476_090_008_060_935_15e-01, // atan(0.5) hi
-    7.853_981_633_974_482_789_99e-01, // atan(1.0) hi
+    f64::from_bits(0x3FDD_AC67_0561_BB4F), // atan(0.5) hi
+    f64::from_bits(0x3FE9_21FB_5444_2D18), // atan(1.0) hi
 ];
 const ATANLO: [f64; 2] = [
-    2.269_877_745_296_168_709_24e-17, // atan(0.5) lo
-    3.061_616_997_868_383_017_93e-17, // atan(1.0) lo
+    f64::from_bits(0x3C7A_2B7F_222F_65E2), // atan(0.5) lo
+    f64::from_bits(0x3C81_A626_3314_5C07), // atan(1.0) lo
 ];
 const AT: [f64; 11] = [
-    3.333_333_333_333_293_180_27e-01,
-    -1.999_999_999_987_648_324_76e-01,
-    1.428_571_427_250_346_637_11e-01,
-    -1.111_111_040_546_235_578_80e-01,
-    9.090_887_133_436_506_561_96e-02,
-    -7.691_876_205_044_829_994_95e-02,
-    6.661_073_137_387_531_206_69e-02,
-    -5.833_570_133_790_573_486_45e-02,
-    4.976_877_994_615_932_360_17e-02,
-    -3.653_157_274_421_691_552_70e-02,
-    1.628_582_011_536_578_236_23e-02,
+    f64::from_bits(0x3FD5_5555_5555_550D),
+    f64::from_bits(0xBFC9_9999_9998_EBC4),
+    f64::from_bits(0x3FC2_4924_9200_83FF),
+    f64::from_bits(0xBFBC_71C6_FE23_1671),
+    f64::from_bits(0x3FB7_45CD_C54C_206E),
+    f64::from_bits(0xBFB3_B0F2_AF74_9A6D),
+    f64::from_bits(0x3FB1_0D66_A0D0_3D51),
+    f64::from_bits(0xBFAD_DE2D_52DE_FD9A),
+    f64::from_bits(0x3FA9_7B4B_2476_0DEB),
+    f64::from_bits(0xBFA2_B444_2C6A_6C2F),
+    f64::from_bits(0x3F90_AD3A_E322_DA11),
 ];
-const PIO2_HI: f64 = 1.570_796_326_794_896_558_00e+00;
-const PIO2_LO: f64 = 6.123_233_995_736_766_035_87e-17;
-const PI_LO: f64 = 1.224_646_799_147_353_207_17e-16;
+const PIO2_HI: f64 = f64::from_bits(0x3FF9_21FB_5444_2D18);
+const PIO2_LO: f64 = f64::from_bits(0x3C91_A626_3314_5C07);
+const PI_LO: f64 = f64::from_bits(0x3CA1_A626_3314_5C07);
 
 /// `atan(n/d)` for `0 ≤ n ≤ d`, `d > 0` (fdlibm's reduction restricted to `[0, 1]`).
 #[inline(always)]
@@ -204,7 +204,7 @@ pub fn atan2(y: f64, x: f64) -> f64 {
 /// `acos x` in [0, π], rad, for `|x| ≤ 1` (libm otherwise); see the module docs.
 #[inline]
 pub fn acos(x: f64) -> f64 {
-    if libm_selected() || !(x.abs() <= 1.0) {
+    if libm_selected() || x.is_nan() || x.abs() > 1.0 {
         return x.acos();
     }
     atan2(((1.0 - x) * (1.0 + x)).sqrt(), x)

@@ -118,9 +118,9 @@ fn fast_atan2_stays_within_two_ulp_in_every_quadrant() {
         let s = 10f64.powf(-6.0 + 12.0 * c[2]);
         pts.push(((c[0] - 0.5) * s, c[1] - 0.5));
     }
-    for &t in &[0.4375, 0.6875, 1.0] {
+    for &t in &[0.4375f64, 0.6875, 1.0] {
         for d in -50i64..=50 {
-            let n = f64::from_bits((t as f64).to_bits().wrapping_add(d as u64));
+            let n = f64::from_bits(t.to_bits().wrapping_add(d as u64));
             for (sy, sx) in [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)] {
                 pts.push((sy * n, sx * 1.0));
                 pts.push((sy * 1.0, sx * n));
