@@ -40,7 +40,7 @@ pub enum Command {
     Robots(RobotsArgs),
     /// Evaluate placements of a path (grid, named set or list) in parallel: energy or why not.
     Sweep(sweep::SweepArgs),
-    /// Put the shards of a split sweep (`sweep --shard`) together: the files of a single run.
+    /// Put the shards of a split run (`sweep --shard`, `optimise --uncertainty N --shard`) together: the files of a single run.
     Merge(merge::MergeArgs),
     /// Find the minimum-energy placement (grid, then seeded pattern search) and write a report.
     Optimise(optimise::OptimiseArgs),
