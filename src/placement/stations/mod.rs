@@ -29,7 +29,9 @@
 //!   feasibility (reach with one arm configuration, joint limits and margins, singularity
 //!   margins, collisions with the bed under the segment and with the beads the segment lays
 //!   itself) as `sweep` and `optimise`. Walls printed by **earlier** segments are not in the
-//!   segment's collision scene (a limitation).
+//!   segment's collision scene, and a station's own footprint (the track carriage or
+//!   crawler) is not checked against them either: two limitations to keep in mind when a
+//!   station stands inside a room printed earlier.
 //! - Two consecutive segments never share a station position: an arm that stays would print
 //!   them as one segment.
 //!
