@@ -327,3 +327,37 @@ fn fixed_headings_along_a_track_are_kept_and_stations_stay_on_the_track() {
         assert!((s.station.placement.yaw + h).abs() < 1e-12);
     }
 }
+
+#[test]
+fn walls_printed_before_a_segment_are_in_its_collision_scene() {
+    use printwatt::placement::{Placement, Reason};
+    let model = robot();
+    let path =
+        toolpath::load(&root().join("paths/default.gcode"), &ReadOptions::default()).unwrap();
+    let job = PathJob::new(
+        &model,
+        &path,
+        EnergyOptions::default(),
+        ProfileOptions::default(),
+        JointStageOptions::default(),
+    )
+    .unwrap();
+    let at = Placement::new(1.7, 0.0, 0.0, std::f64::consts::FRAC_PI_2);
+    let free = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
+    let e = free.sweep(&[at], &|_, _| {}).unwrap();
+    assert!(e[0].cost().is_finite(), "{:?}", e[0].outcome);
+    // A 3 m column printed earlier halfway between the robot base and the part origin: the
+    // arm reaches over it.
+    let base = at.frame().inverse().apply(&Default::default());
+    let mid = base * 0.5;
+    let column = vec![(
+        printwatt::math::V3::new(mid.x, mid.y, 0.0),
+        printwatt::math::V3::new(mid.x, mid.y, 3.0),
+    )];
+    let walled = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply)
+        .with_prior_walls(column);
+    let e = walled.sweep(&[at], &|_, _| {}).unwrap();
+    let why = e[0].outcome.as_ref().expect_err("the column is in the way");
+    assert_eq!(why.reason, Reason::CollisionPart, "{why}");
+    assert_eq!(why.sample, Some(0), "laid before the first sample: {why}");
+}

@@ -321,10 +321,27 @@ impl Beads {
     /// Beads along the nozzle-tip points `p` (part frame, m) where `print` is set, one bead
     /// capsule per run of up to `every` print samples.
     pub fn new(p: &[V3], print: &[bool], every: usize, radius_m: f64) -> Self {
+        Beads::with_prior(&[], p, print, every, radius_m)
+    }
+
+    /// [`Beads::new`] with walls printed before this path starts: `prior` nozzle-tip segments
+    /// (part frame, m), laid from sample 0 on and indexed before the path's own beads (a
+    /// multi-station plan's earlier segments).
+    pub fn with_prior(
+        prior: &[(V3, V3)],
+        p: &[V3],
+        print: &[bool],
+        every: usize,
+        radius_m: f64,
+    ) -> Self {
         let every = every.max(1);
         let down = V3::new(0.0, 0.0, radius_m);
         let mut segs = Vec::new();
         let mut done_at = Vec::new();
+        for (a, b) in prior {
+            segs.push(Segment::new(Point::from(a - down), Point::from(b - down)));
+            done_at.push(0);
+        }
         let mut start: Option<usize> = None;
         for k in 0..p.len() {
             if !print.get(k).copied().unwrap_or(false) {

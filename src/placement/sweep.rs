@@ -265,6 +265,9 @@ pub struct Evaluator<'j, 'a> {
     beads: crate::placement::collision::Beads,
     bbox_all: (V3, V3),
     lines: Vec<usize>,
+    /// Walls printed before this path (nozzle-tip segments, part frame, m), in every
+    /// placement's collision scene ([`Evaluator::with_prior_walls`]).
+    prior: Vec<(V3, V3)>,
 }
 
 fn bbox<'p>(pts: impl Iterator<Item = &'p V3>) -> Option<(V3, V3)> {
@@ -305,7 +308,24 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             ),
             bbox_all: all,
             lines: job.moves.iter().map(|m| m.line).collect(),
+            prior: Vec::new(),
         }
+    }
+
+    /// This evaluator with walls printed before its path starts (nozzle-tip segments, part
+    /// frame, m) in the collision scene of every placement, as beads laid from the first
+    /// sample on (a multi-station plan's earlier segments).
+    pub fn with_prior_walls(mut self, prior: Vec<(V3, V3)>) -> Self {
+        let motion0 = &self.job.plan.motion;
+        self.beads = crate::placement::collision::Beads::with_prior(
+            &prior,
+            &motion0.p,
+            &motion0.print,
+            self.feasibility.check_every,
+            crate::placement::collision::BEAD_RADIUS_M,
+        );
+        self.prior = prior;
+        self
     }
 
     /// Samples of the unslowed plan (a lower bound of every placement's sample count).
@@ -372,7 +392,8 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         let beads = if std::sync::Arc::ptr_eq(&timed.motion, &self.job.plan.motion) {
             &self.beads
         } else {
-            replanned = crate::placement::collision::Beads::new(
+            replanned = crate::placement::collision::Beads::with_prior(
+                &self.prior,
                 &motion.p,
                 &motion.print,
                 every,

@@ -27,11 +27,12 @@
 //! - Each segment is timed and its energy computed **from rest to rest at its station**, with
 //!   [`crate::placement::Evaluator`] on the sub-path: the same timing, dynamics, losses and
 //!   feasibility (reach with one arm configuration, joint limits and margins, singularity
-//!   margins, collisions with the bed under the segment and with the beads the segment lays
-//!   itself) as `sweep` and `optimise`. Walls printed by **earlier** segments are not in the
-//!   segment's collision scene, and a station's own footprint (the track carriage or
-//!   crawler) is not checked against them either: two limitations to keep in mind when a
-//!   station stands inside a room printed earlier.
+//!   margins, collisions with the bed under the segment, with the beads the segment lays
+//!   itself and with the walls the segments before it printed,
+//!   [`crate::placement::Evaluator::with_prior_walls`]) as `sweep` and `optimise`. A
+//!   station's own footprint (the track carriage or crawler) and the way between stations
+//!   are not checked against the walls: a limitation to keep in mind when a station stands
+//!   inside a room printed earlier.
 //! - Two consecutive segments never share a station position: an arm that stays would print
 //!   them as one segment.
 //!

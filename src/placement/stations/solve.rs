@@ -190,7 +190,31 @@ pub fn solve(p: &StationsProblem, progress: &(dyn Fn(usize, usize) + Sync)) -> R
         }
     }
 
-    // Evaluate every run from its stations (rayon; collected in run order).
+    // Walls each move lays (nozzle-tip chords, part frame): lines whole, arcs every ≤ 5°.
+    let walls: Vec<Vec<(crate::math::V3, crate::math::V3)>> = path
+        .segments()
+        .map(|(start, m)| {
+            if !m.print {
+                return Vec::new();
+            }
+            let n = match m.kind {
+                crate::toolpath::MoveKind::Line => 1,
+                crate::toolpath::MoveKind::Arc { sweep, .. } => {
+                    ((sweep.to_degrees() / 5.0).ceil() as usize).max(1)
+                }
+            };
+            (0..n)
+                .map(|k| {
+                    (
+                        m.point_at(&start, k as f64 / n as f64),
+                        m.point_at(&start, (k + 1) as f64 / n as f64),
+                    )
+                })
+                .collect()
+        })
+        .collect();
+    // Evaluate every run from its stations (rayon; collected in run order), the walls of the
+    // units before it in its collision scene.
     let done = AtomicUsize::new(0);
     let total = runs.len();
     let evaluated: Vec<Vec<Evaluated>> = runs
@@ -199,7 +223,8 @@ pub fn solve(p: &StationsProblem, progress: &(dyn Fn(usize, usize) + Sync)) -> R
             let (first, last) = segment_moves(path, &units, run.i, run.j);
             let sub = sub_path(path, first, last);
             let job = PathJob::new(p.robot, &sub, p.energy, p.profile, p.joint)?;
-            let ev = Evaluator::new(&job, p.feasibility, p.objective);
+            let prior: Vec<_> = walls[..first].iter().flatten().copied().collect();
+            let ev = Evaluator::new(&job, p.feasibility, p.objective).with_prior_walls(prior);
             let ps: Vec<_> = run.stations.iter().map(|(_, s)| s.placement).collect();
             let rows = ev.sweep(&ps, &|_, _| {})?;
             progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
