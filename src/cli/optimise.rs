@@ -450,7 +450,11 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
         f.losses.copper_j,
         f.losses.regeneration_lost_j
     );
-    if let Some(c) = rep.optimise.as_ref().and_then(|o| o.path_reduction.as_ref()) {
+    if let Some(c) = rep
+        .optimise
+        .as_ref()
+        .and_then(|o| o.path_reduction.as_ref())
+    {
         println!("{}", printwatt::report::placement::full_check_line(c));
     }
     if let Some((how, b)) = &rep.baseline {

@@ -156,7 +156,9 @@ impl std::fmt::Display for NotReduced {
         match self {
             NotReduced::Short(n) => write!(f, "the path has {n} samples: evaluated in full"),
             NotReduced::NoRepetition => write!(f, "no layers repeat: evaluated in full"),
-            NotReduced::Unmapped => write!(f, "repeating layers without samples: evaluated in full"),
+            NotReduced::Unmapped => {
+                write!(f, "repeating layers without samples: evaluated in full")
+            }
         }
     }
 }
@@ -273,7 +275,13 @@ fn lobatto(len: usize, nodes: usize) -> Vec<usize> {
 
 /// Σ over `at` of the interpolant through `(xs, ys)` (barycentric Lagrange; at a node its own
 /// value) times `weights`.
-fn interpolated_sum(xs: &[f64], ys: &[Vec<f64>], at: &[f64], weights: &[f64], dim: usize) -> Vec<f64> {
+fn interpolated_sum(
+    xs: &[f64],
+    ys: &[Vec<f64>],
+    at: &[f64],
+    weights: &[f64],
+    dim: usize,
+) -> Vec<f64> {
     let w: Vec<f64> = (0..xs.len())
         .map(|i| {
             1.0 / (0..xs.len())
@@ -585,8 +593,19 @@ fn reduced<'a>(
         for r in merged {
             samples_evaluated += r.len();
             match window(
-                ev, red, sc, at, &frame, &world, r, stride, &thin_idx, &mut margins, &unit_of,
-                &mut unit_e, &mut exact,
+                ev,
+                red,
+                sc,
+                at,
+                &frame,
+                &world,
+                r,
+                stride,
+                &thin_idx,
+                &mut margins,
+                &unit_of,
+                &mut unit_e,
+                &mut exact,
             ) {
                 Ok(()) => {}
                 Err(o) => return o,
@@ -597,8 +616,7 @@ fn reduced<'a>(
         let (total, err) = estimate(red, &unit_e, &evaluated, n, ev.objective, &exact);
         let too_big = err > red.options.rel_tol * objective_of(&total, n, ev.objective).abs();
         let next = 2 * level - 1;
-        if too_big && next <= red.options.max_nodes && red.classes.iter().any(|c| c.len() > level)
-        {
+        if too_big && next <= red.options.max_nodes && red.classes.iter().any(|c| c.len() > level) {
             level = next;
             for cl in &red.classes {
                 for i in lobatto(cl.len(), level) {
@@ -607,8 +625,8 @@ fn reduced<'a>(
             }
             continue;
         }
-        let layers_evaluated = evaluated.iter().filter(|e| **e).count()
-            + (red.summary.layers - red.units.len());
+        let layers_evaluated =
+            evaluated.iter().filter(|e| **e).count() + (red.summary.layers - red.units.len());
         let v = &total;
         let jm = v[FIXED..FIXED + n].to_vec();
         let jabs = v[FIXED + n..FIXED + 2 * n].to_vec();

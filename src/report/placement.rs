@@ -660,7 +660,11 @@ impl RunReport {
         if let Some(b) = self.best() {
             facts.push(("best".into(), describe(b)));
         }
-        if let Some(c) = self.optimise.as_ref().and_then(|o| o.path_reduction.as_ref()) {
+        if let Some(c) = self
+            .optimise
+            .as_ref()
+            .and_then(|o| o.path_reduction.as_ref())
+        {
             if let Some((k, v)) = full_check_line(c).split_once(": ") {
                 facts.push((k.to_string(), v.to_string()));
             }

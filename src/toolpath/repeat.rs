@@ -124,7 +124,10 @@ fn same_shifted(path: &Toolpath, a: &Unit, b: &Unit, tol: f64) -> bool {
         (pb.x - pa.x).abs() <= tol && (pb.y - pa.y).abs() <= tol && (pb.z - pa.z - dz).abs() <= tol
     };
     let eq = |x: f64, y: f64| (x - y).abs() <= 1e-9 * x.abs().max(y.abs()).max(1.0);
-    if !near(&path.move_start(a.moves.start), &path.move_start(b.moves.start)) {
+    if !near(
+        &path.move_start(a.moves.start),
+        &path.move_start(b.moves.start),
+    ) {
         return false;
     }
     for (i, j) in a.moves.clone().zip(b.moves.clone()) {
@@ -219,9 +222,5 @@ pub fn repetition(path: &Toolpath, tol: f64) -> Option<Repetition> {
     if run.len() < 2 * period {
         return None;
     }
-    Some(Repetition {
-        units,
-        period,
-        run,
-    })
+    Some(Repetition { units, period, run })
 }
