@@ -206,3 +206,79 @@ fn path_without_repeating_layers_falls_back_to_full_evaluation() {
         Err(NotReduced::Short(_))
     ));
 }
+
+#[test]
+fn optimise_on_a_repetitive_path_reports_full_and_estimate_within_half_a_percent() {
+    let dir = common::scratch("reduce", "optimise");
+    std::fs::write(
+        dir.join("wall30.gcode"),
+        wall::wall_gcode(800.0, 200.0, 20.0, 30),
+    )
+    .unwrap();
+    let o = common::run(
+        &[
+            "optimise",
+            "--path",
+            "wall30.gcode",
+            "--x",
+            "1.6:2.0:0.2",
+            "--y",
+            "-0.2:0.2:0.2",
+            "--z",
+            "0",
+            "--yaw",
+            "0",
+            "--max-evals",
+            "12",
+            "--tolerance",
+            "0,0",
+            "--evaluation",
+            "reduced",
+            "--threads",
+            "2",
+            "--json",
+        ],
+        &dir,
+    );
+    assert!(o.status.success(), "{}", common::stderr_of(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let c = &v["optimise"]["path_reduction"];
+    let (est, full, err) = (
+        c["estimate_j"].as_f64().unwrap(),
+        c["full_j"].as_f64().unwrap(),
+        c["error_j"].as_f64().unwrap(),
+    );
+    assert!((est - full).abs() / full < 0.005, "{c}");
+    assert_eq!(c["within_error"], serde_json::json!((est - full).abs() <= err));
+    assert_eq!(c["summary"]["layers"], 30);
+    // The answer's figures are the full evaluation's (no estimate attached).
+    let best = &v["optimise"]["best"]["outcome"];
+    assert_eq!(best["energy_j"].as_f64().unwrap(), full);
+    assert!(best.get("path_reduction").is_none(), "{best}");
+    // Grid cells are estimates, each with its error.
+    assert!(v["optimise"]["best_grid"]["outcome"]["path_reduction"]["error_j"].is_number());
+    assert!(v["meta"].to_string().contains("reduced: 30 layers"));
+
+    // --evaluation full: no reduction anywhere.
+    let o = common::run(
+        &[
+            "optimise",
+            "--path",
+            "wall30.gcode",
+            "--at",
+            "1.8,0,0,0",
+            "--max-evals",
+            "0",
+            "--tolerance",
+            "0,0",
+            "--evaluation",
+            "full",
+            "--json",
+        ],
+        &dir,
+    );
+    assert!(o.status.success(), "{}", common::stderr_of(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(v["optimise"].get("path_reduction").is_none());
+    assert!(!v.to_string().contains("path_reduction"));
+}

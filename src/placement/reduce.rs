@@ -39,9 +39,10 @@
 //! # When the full evaluation is used instead
 //! The placement is evaluated in full (and the estimate records why) when a joint's velocity,
 //! acceleration or jerk demand on an evaluated unit exceeds [`ReduceOptions::headroom`] of its
-//! limit (the controller would slow down somewhere; the slow-down changes the whole plan), or
-//! when a tracked sample outside the evaluated units comes within twice `wrist_min` of the
-//! wrist singularity (the wrist rule needs joint rates).
+//! limit (the controller would slow down somewhere; the slow-down changes the whole plan).
+//! A unit where a tracked sample comes within twice `wrist_min` of the wrist singularity is
+//! evaluated sample by sample (the wrist rule needs joint rates), and then serves as one more
+//! interpolation node.
 //!
 //! # Limitations
 //! Between the representative layers, collisions are not checked (the extreme layers, where
@@ -487,15 +488,19 @@ fn reduced<'a>(
     // The units evaluated at the first level, and which samples they cover.
     let nu = red.units.len();
     let run = red.units.first().map_or(0, |u| u.start)..red.units.last().map_or(0, |u| u.end);
+    // Interpolation nodes (Chebyshev–Lobatto in each class) and every unit evaluated sample by
+    // sample (the nodes and units near the wrist singularity).
     let mut evaluated = vec![false; nu];
+    let mut node = vec![false; nu];
     let mut level = 5.min(red.options.max_nodes.max(3));
     for cl in &red.classes {
         for i in lobatto(cl.len(), level) {
             evaluated[cl[i]] = true;
+            node[cl[i]] = true;
         }
     }
-    // Geometric checks on the tracked samples; a wrist near its singularity outside the
-    // evaluated units sends the placement to the full evaluation.
+    // Geometric checks on the tracked samples; a unit where the wrist comes near its
+    // singularity is evaluated sample by sample (the wrist rule needs joint rates).
     let mut margins = Margins::default();
     let unit_of = |k: usize| -> Option<usize> {
         if !run.contains(&k) {
@@ -507,6 +512,12 @@ fn reduced<'a>(
     let zeros = [0.0; crate::kinematics::MAX_DOF];
     for (i, &k) in thin_idx.iter().enumerate() {
         let q = &sc.red.thin[i * n..(i + 1) * n];
+        let opw_p = model.opw.as_ref().filter(|_| n >= 6);
+        if let (Some(p), Some(u)) = (opw_p, unit_of(k)) {
+            if opw::wrist_singularity(p, q) < 2.0 * o.wrist_min {
+                evaluated[u] = true;
+            }
+        }
         let fail = super::margins::check_joint_sample(
             model,
             o,
@@ -516,11 +527,7 @@ fn reduced<'a>(
             &mut Margins::default(),
         )
         .or_else(|| {
-            let p = model.opw.as_ref().filter(|_| n >= 6)?;
-            let w = opw::wrist_singularity(p, q);
-            if w < 2.0 * o.wrist_min && unit_of(k).is_some_and(|u| !evaluated[u]) {
-                return Some((Reason::ModelError, String::new()));
-            }
+            let p = opw_p?;
             let e = opw::elbow_singularity(p, q);
             let s = opw::shoulder_singularity(p, q);
             if e < o.elbow_min {
@@ -540,11 +547,6 @@ fn reduced<'a>(
             })
         });
         if let Some((reason, detail)) = fail {
-            if reason == Reason::ModelError {
-                return Outcome::Full(format!(
-                    "the wrist comes near its singularity at sample {k}, outside the evaluated layers"
-                ));
-            }
             let tip = frame.apply(&motion.p[k]);
             return Outcome::Infeasible(Infeasible {
                 reason,
@@ -613,7 +615,7 @@ fn reduced<'a>(
         }
         first_pass = false;
         // 4./5. Interpolate per class; refine while the stated error is too large.
-        let (total, err) = estimate(red, &unit_e, &evaluated, n, ev.objective, &exact);
+        let (total, err) = estimate(red, &unit_e, &evaluated, &node, n, ev.objective, &exact);
         let too_big = err > red.options.rel_tol * objective_of(&total, n, ev.objective).abs();
         let next = 2 * level - 1;
         if too_big && next <= red.options.max_nodes && red.classes.iter().any(|c| c.len() > level) {
@@ -621,6 +623,7 @@ fn reduced<'a>(
             for cl in &red.classes {
                 for i in lobatto(cl.len(), level) {
                     evaluated[cl[i]] = true;
+                    node[cl[i]] = true;
                 }
             }
             continue;
@@ -673,6 +676,7 @@ fn estimate(
     red: &Reduction,
     unit_e: &[Option<Vec<f64>>],
     evaluated: &[bool],
+    node: &[bool],
     n: usize,
     obj: Objective,
     exact: &[f64],
@@ -682,9 +686,9 @@ fn estimate(
     let mut err = 0.0;
     let len = |u: usize| red.units[u].len() as f64;
     for cl in &red.classes {
-        let nodes: Vec<usize> = cl.iter().copied().filter(|&u| evaluated[u]).collect();
+        let nodes: Vec<usize> = cl.iter().copied().filter(|&u| node[u]).collect();
         let rest: Vec<usize> = cl.iter().copied().filter(|&u| !evaluated[u]).collect();
-        for &u in &nodes {
+        for &u in cl.iter().filter(|&&u| evaluated[u]) {
             if let Some(e) = &unit_e[u] {
                 for d in 0..dim {
                     total[d] += e[d];
