@@ -255,9 +255,21 @@ fn json_path_reduction_of_optimise_matches_docs_json_md() {
     for k in 0..5 {
         let z = 15.0 * (k + 1) as f64;
         let c = if k % 2 == 0 {
-            ["X-600 Y-20", "X600 Y-20", "X600 Y20", "X-600 Y20", "X-600 Y-20"]
+            [
+                "X-600 Y-20",
+                "X600 Y-20",
+                "X600 Y20",
+                "X-600 Y20",
+                "X-600 Y-20",
+            ]
         } else {
-            ["X600 Y20", "X-600 Y20", "X-600 Y-20", "X600 Y-20", "X600 Y20"]
+            [
+                "X600 Y20",
+                "X-600 Y20",
+                "X-600 Y-20",
+                "X600 Y-20",
+                "X600 Y20",
+            ]
         };
         g += &format!("G0 F12000 Z{}\nG0 {}\nG0 Z{z}\n", z + 10.0, c[0]);
         for p in &c[1..] {

@@ -249,7 +249,10 @@ fn optimise_on_a_repetitive_path_reports_full_and_estimate_within_half_a_percent
         c["error_j"].as_f64().unwrap(),
     );
     assert!((est - full).abs() / full < 0.005, "{c}");
-    assert_eq!(c["within_error"], serde_json::json!((est - full).abs() <= err));
+    assert_eq!(
+        c["within_error"],
+        serde_json::json!((est - full).abs() <= err)
+    );
     assert_eq!(c["summary"]["layers"], 30);
     // The answer's figures are the full evaluation's (no estimate attached).
     let best = &v["optimise"]["best"]["outcome"];
