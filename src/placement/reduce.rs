@@ -426,7 +426,7 @@ fn reduced<'a>(
         .collect();
     let thin_idx: Vec<usize> = (0..m)
         .step_by(stride)
-        .chain(((m - 1) % stride != 0).then_some(m - 1))
+        .chain((!(m - 1).is_multiple_of(stride)).then_some(m - 1))
         .collect();
     let mut best_fail: Option<(usize, Infeasible)> = None;
     let mut chosen = false;
