@@ -140,8 +140,10 @@ pub struct Feasible {
     pub margins: Margins,
     /// With the path reduction on ([`Evaluator::with_reduction`]): how these numbers were
     /// obtained (an estimate and its error, or why the placement was evaluated in full).
-    /// `None`: a full evaluation. JSON: omitted when `None`.
-    #[serde(default, skip_serializing_if = "Option::is_none")]
+    /// `None`: a full evaluation. JSON: `path_reduction` beside the numbers of an evaluated
+    /// placement's outcome, omitted when `None` (see `ser_outcome`; the positional shard
+    /// files carry it in their own field).
+    #[serde(skip)]
     pub path_reduction: Option<super::reduce::Estimate>,
 }
 
@@ -189,13 +191,24 @@ fn ser_outcome<S: serde::Serializer>(
     s: S,
 ) -> std::result::Result<S::Ok, S::Error> {
     #[derive(Serialize)]
+    struct WithEstimate<'a> {
+        #[serde(flatten)]
+        f: &'a Feasible,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        path_reduction: Option<&'a super::reduce::Estimate>,
+    }
+    #[derive(Serialize)]
     #[serde(tag = "status", rename_all = "snake_case")]
     enum Outcome<'a> {
-        Feasible(&'a Feasible),
+        Feasible(WithEstimate<'a>),
         Infeasible(&'a Infeasible),
     }
     match o {
-        Ok(f) => Outcome::Feasible(f).serialize(s),
+        Ok(f) => Outcome::Feasible(WithEstimate {
+            f,
+            path_reduction: f.path_reduction.as_ref(),
+        })
+        .serialize(s),
         Err(i) => Outcome::Infeasible(i).serialize(s),
     }
 }
