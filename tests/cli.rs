@@ -798,6 +798,97 @@ fn placement_spin_means_the_same_in_every_command() {
 /// --hidden viscous[2]=…` hides it (one parser of `effect[j]`): the other joints' viscous
 /// parameters are held at their prior values and named; a joint beyond the robot is refused.
 #[test]
+fn compare_takes_per_joint_effect_subsets_as_identify_and_simulate_do() {
+    // `--effects viscous[2]` / `--without viscous[2]` mean in `compare` what they mean in
+    // `identify` and `simulate --hidden`: that effect on (off) joint 2 only.
+    let d = tmpdir("compare-subset");
+    let ds = d.display().to_string();
+    let o = printwatt(
+        &[
+            "simulate",
+            "--robot",
+            "abb_irb4600_40_255",
+            "--excite",
+            "8",
+            "--hidden",
+            "viscous=40",
+            "--rate",
+            "100",
+            "--noise",
+            "1",
+            "--seed",
+            "3",
+            "--out",
+            &ds,
+        ],
+        &root(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let log = d.join("log.csv").display().to_string();
+    let rmse = |extra: &[&str]| -> Vec<f64> {
+        let mut args = vec![
+            "compare",
+            "--robot",
+            "abb_irb4600_40_255",
+            "--log",
+            &log,
+            "--json",
+        ];
+        args.extend_from_slice(extra);
+        let o = printwatt(&args, &root());
+        assert!(o.status.success(), "{extra:?}: {}", stderr(&o));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        v["channels"]
+            .as_array()
+            .unwrap()
+            .iter()
+            .map(|c| c["rmse"].as_f64().unwrap())
+            .collect()
+    };
+    let all = rmse(&["--effects", "viscous"]);
+    let only2 = rmse(&["--effects", "viscous[2]"]);
+    let none = rmse(&["--effects", "coulomb", "--without", "coulomb"]);
+    assert_eq!(only2[1], all[1], "joint 2 as with viscous on every joint");
+    for j in [0, 2, 3, 4, 5] {
+        assert_eq!(
+            only2[j],
+            none[j],
+            "joint {}: as with no viscous friction",
+            j + 1
+        );
+        assert!(
+            only2[j] > all[j],
+            "joint {}: the nominal viscous term helps",
+            j + 1
+        );
+    }
+    let nominal = rmse(&[]);
+    let without2 = rmse(&["--without", "viscous[2]"]);
+    assert!(without2[1] > nominal[1], "joint 2 loses its viscous term");
+    for j in [0, 2, 3, 4, 5] {
+        assert_eq!(without2[j], nominal[j], "joint {} untouched", j + 1);
+    }
+    let o = printwatt(
+        &[
+            "compare",
+            "--robot",
+            "abb_irb4600_40_255",
+            "--log",
+            &log,
+            "--effects",
+            "viscous[9]",
+        ],
+        &root(),
+    );
+    assert!(!o.status.success());
+    assert!(
+        stderr(&o).contains("joint 9, but the robot has 6 joints"),
+        "{}",
+        stderr(&o)
+    );
+}
+
+#[test]
 fn identify_accepts_a_per_joint_effect_subset() {
     let d = tmpdir("subset");
     let ds = d.display().to_string();

@@ -106,3 +106,53 @@ fn every_shipped_drive_file_gives_ranges_for_its_estimates() {
         }
     }
 }
+
+#[test]
+fn uncertainty_draws_computed_in_interleaved_shards_reduce_to_the_single_run_study() {
+    // Issue 12 item 6: a study's draws split as shards split them (draw d on shard d mod 3),
+    // serialised and read back as a merge reads them, give the single run's study bit for bit.
+    let model = common::robot("abb_irb4600_40_255");
+    let tp = common::path("seed000_test_path.gcode");
+    let job = common::default_job(&model, &tp);
+    let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
+    let g = Grid {
+        xs: vec![1.0, 1.2, 1.4],
+        ys: vec![-0.3, 0.0],
+        zs: vec![0.0],
+        yaws: vec![0.0],
+        spins: vec![0.0],
+    };
+    let rows = ev.sweep(&g.placements(), &|_, _| {}).unwrap();
+    let feasible: Vec<_> = rows
+        .iter()
+        .filter(|r| r.cost().is_finite())
+        .cloned()
+        .collect();
+    assert!(feasible.len() >= 3, "{} feasible", feasible.len());
+    let base = feasible.last().unwrap().clone();
+    let n = 7;
+    let single = uncertainty::study(&job, &ev, &feasible, Some(&base), n, 11).unwrap();
+    let setup = uncertainty::StudySetup::new(&ev, &feasible, Some(&base), n, 11, None).unwrap();
+    let mut per: Vec<Option<uncertainty::Draw>> = vec![None; n];
+    for k in 0..3 {
+        let mine: Vec<usize> = (0..n).filter(|d| d % 3 == k).collect();
+        // postcard, as shard rows are stored: every bit of an f64 kept.
+        let bytes = postcard::to_stdvec(&setup.draws(&mine).unwrap()).unwrap();
+        let back: Vec<uncertainty::Draw> = postcard::from_bytes(&bytes).unwrap();
+        for (d, x) in mine.into_iter().zip(back) {
+            per[d] = Some(x);
+        }
+    }
+    let per: Vec<_> = per.into_iter().map(Option::unwrap).collect();
+    let merged = setup.reduce(&per).unwrap();
+    assert_eq!(
+        serde_json::to_string(&merged).unwrap(),
+        serde_json::to_string(&single).unwrap()
+    );
+    // A missing draw or a draw of other candidates is refused, not reduced.
+    assert!(setup.reduce(&per[..n - 1]).is_err());
+    let mut wrong = per.clone();
+    wrong[2].energies_j.pop();
+    assert!(setup.reduce(&wrong).is_err());
+    assert!(setup.draw(n).is_err());
+}

@@ -9,7 +9,7 @@
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray2};
 use printwatt::energy::EnergyOptions;
-use printwatt::identify::{self as pid, ladder, metrics, Log, Model, Prepared};
+use printwatt::identify::{self as pid, metrics, Log, Model, Prepared};
 use printwatt::nalgebra::Vector3;
 use printwatt::placement::feasibility::{self, FeasibilityOptions};
 use printwatt::placement::optimise::{self as popt, OptimiseOptions};
@@ -44,52 +44,22 @@ type PyRes<T> = PyResult<T>;
 // ---------------------------------------------------------------------------------------------
 // Robots
 
-/// The source tree's shipped robots directory (this crate lives in `<tree>/python`).
-const SOURCE_TREE: &str = concat!(env!("CARGO_MANIFEST_DIR"), "/..");
-
-/// The shipped robots directory: `$PRINTWATT_ROBOTS`, else `robots/` in the working directory,
-/// else the one in the source tree the module was built from (as the command line does).
 fn robots_dir() -> PathBuf {
-    if let Some(p) = std::env::var_os("PRINTWATT_ROBOTS") {
-        return p.into();
-    }
-    let local = Path::new("robots");
-    if local.is_dir() {
-        return local.to_path_buf();
-    }
-    let tree = Path::new(SOURCE_TREE);
-    tree.canonicalize()
-        .unwrap_or_else(|_| tree.to_path_buf())
-        .join("robots")
+    printwatt::robot::shipped::robots_dir()
 }
 
 fn shipped_names() -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(robots_dir())
-        .map(|rd| {
-            rd.filter_map(|e| e.ok())
-                .filter(|e| e.path().join("robot.urdf").is_file())
-                .map(|e| e.file_name().to_string_lossy().into_owned())
-                .collect()
-        })
-        .unwrap_or_default();
-    v.sort();
-    v
+    printwatt::robot::shipped::names()
 }
 
 fn load_robot_model(arg: &Path, tool: Option<&Path>) -> PyRes<RobotModel> {
-    let resolved = if arg.exists() {
-        arg.to_path_buf()
-    } else {
-        let shipped = robots_dir().join(arg);
-        if !shipped.exists() {
-            return Err(err(format!(
-                "robot `{}`: no such file or directory, and no shipped robot of that name; shipped robots: {} (or give a robot directory, a .urdf or a drive .toml)",
-                arg.display(),
-                shipped_names().join(", ")
-            )));
-        }
-        shipped
-    };
+    let resolved = printwatt::robot::shipped::resolve(arg).ok_or_else(|| {
+        err(format!(
+            "robot `{}`: no such file or directory, and no shipped robot of that name; shipped robots: {} (or give a robot directory, a .urdf or a drive .toml)",
+            arg.display(),
+            shipped_names().join(", ")
+        ))
+    })?;
     // Library errors name the file and the line:column or field already.
     let mut m = printwatt::load_robot(&resolved).map_err(err)?;
     if let Some(t) = tool {
@@ -1036,29 +1006,15 @@ fn load_log_model(
     columns: Option<&str>,
 ) -> PyRes<(Model, Log)> {
     let mut model = Model::new(robot).map_err(err)?;
-    if let Some(list) = effects {
-        let names = pid::model::parse_effect_list(list).map_err(err)?;
-        model.disable_all();
-        for n in names {
-            model.set_enabled(n, true).map_err(err)?;
-        }
-    }
-    if let Some(list) = without {
-        for n in pid::model::parse_effect_list(list).map_err(err)? {
-            model.set_enabled(n, false).map_err(err)?;
-        }
-    }
-    let l = pid::read_log(log, robot.dof(), columns).map_err(err)?;
-    let (names, units): (Vec<String>, Vec<String>) = l.units.iter().cloned().unzip();
-    let kinds: Vec<_> = robot.joints.iter().map(|j| j.kind).collect();
-    printwatt::trajectory::check_joint_units(&l.file, l.header_line, &names, &units, &kinds)
-        .map_err(err)?;
+    pid::switch_effects(&mut model, robot.dof(), effects, without).map_err(err)?;
+    let l = pid::read_log_for(robot, log, columns).map_err(err)?;
     Ok((model, l))
 }
 
 /// Compare the model with a measured log (docs/measurement-logs.md: `t`, `q1..qN`, and one of
 /// `tau`, `i`, `p`, `p_total`; units in brackets, SI by default). effects: comma list of the
-/// catalogue effects switched on (default: the drive file's); without: effects switched off;
+/// catalogue effects switched on (default: the drive file's; `viscous[2]`: on joint 2 only);
+/// without: effects switched off (`viscous[2]`: off on joint 2 only);
 /// columns: a column map for a log without header. Returns a dict mirroring `printwatt
 /// compare --json` (RMSE and measured RMS in the signal's unit, energies in J, errors in %,
 /// windows in s).
@@ -1163,67 +1119,22 @@ fn identify<'py>(
     force: bool,
     columns: Option<String>,
 ) -> PyRes<Bound<'py, PyAny>> {
-    let resolved = if robot.exists() {
-        robot.clone()
-    } else {
-        robots_dir().join(&robot)
-    };
+    let resolved = printwatt::robot::shipped::resolve(&robot).unwrap_or_else(|| robot.clone());
     let rm = load_robot_model(&robot, None)?;
     let (mut model, l) = load_log_model(&rm, &log, None, None, columns.as_deref())?;
-    let asked = pid::model::parse_effect_list(&effects).map_err(err)?;
-    if asked.is_empty() {
-        return Err(err(
-            "effects: name the effects to fit, e.g. \"coulomb,balancer\"",
-        ));
-    }
-    let mut carried: Vec<&'static str> = Vec::new();
-    if let Some(c) = &rm.effects.calibration {
-        for e in c.rounds.iter().flat_map(|r| r.effects.iter()) {
-            if let Some(name) = printwatt::effects::catalogue().into_iter().find(|n| n == e) {
-                if !asked.contains(&name)
-                    && !carried.contains(&name)
-                    && Model::observable(name, l.kind)
-                {
-                    carried.push(name);
-                }
-            }
-        }
-    }
-    let all: Vec<&'static str> = carried.iter().chain(&asked).copied().collect();
-    for e in &all {
-        if !Model::observable(e, l.kind) {
-            return Err(err(format!(
-                "effect `{e}` cannot be seen in a `{}` log",
-                l.kind.prefix()
-            )));
-        }
-    }
+    let plan = pid::RoundPlan::new(&rm, &model, &effects, l.kind).map_err(err)?;
     let vlog = match &validate_log {
-        Some(p) => Some(pid::read_log(p, rm.dof(), columns.as_deref()).map_err(err)?),
+        Some(p) => Some(pid::read_log_for(&rm, p, columns.as_deref()).map_err(err)?),
         None => None,
     };
     let id = py
         .detach(|| -> printwatt::Result<_> {
             let prep = Prepared::new(&model, &l)?;
-            match &vlog {
-                Some(v) => {
-                    let vprep = Prepared::new(&model, v)?;
-                    let tr: Vec<usize> = (0..l.len()).collect();
-                    let va: Vec<usize> = (0..v.len()).collect();
-                    let what = format!("fitted on {}, validated on {}", l.file, v.file);
-                    ladder::identify(&mut model, (&prep, &tr), (&vprep, &va), &all, what)
-                }
-                None => {
-                    let (train, val) = pid::train_validation_split(l.len());
-                    let what = format!(
-                        "fitted on the first 75 % of {} (t < {:.2} s), validated on the last 25 %",
-                        l.file, l.traj.t[val.start]
-                    );
-                    let tr: Vec<usize> = train.collect();
-                    let va: Vec<usize> = val.collect();
-                    ladder::identify(&mut model, (&prep, &tr), (&prep, &va), &all, what)
-                }
-            }
+            let vprep = match &vlog {
+                Some(v) => Some(Prepared::new(&model, v)?),
+                None => None,
+            };
+            plan.fit(&mut model, (&l, &prep), vlog.as_ref().zip(vprep.as_ref()))
         })
         .map_err(err)?;
     printwatt::output::check_finite_json("identify", &id).map_err(err)?;
@@ -1250,7 +1161,7 @@ fn identify<'py>(
         "identification": serde_json::to_value(&id).map_err(err)?,
         "calibrated_robot": drive_out.as_ref().map(|p| p.display().to_string()),
         "started_from": rm.effects.calibration_summary(),
-        "refitted_from_earlier_rounds": carried,
+        "refitted_from_earlier_rounds": plan.carried,
     });
     let d = json_obj(py, "identify", &doc)?;
     add_warnings(py, &d, &rm, &l)?;

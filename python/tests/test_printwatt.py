@@ -213,6 +213,29 @@ def test_compare_diagnose_identify_mirror_the_cli_json(tmp_path):
         pw.identify(robot, log, "coulomb", drive_out=cal)
 
 
+def test_per_joint_effect_subsets_mean_what_they_mean_in_the_cli(tmp_path):
+    """`viscous[2]` in identify (joint 2 fitted, the others held at their prior) and in
+    compare (the effect on joint 2 only), as the binary takes them."""
+    robot = "abb_irb4600_40_255"
+    subprocess.run(
+        [str(ROOT / "target" / "release" / "printwatt"), "simulate", "--robot", robot,
+         "--excite", "8", "--hidden", "viscous[2]=40", "--signal", "tau", "--noise", "1",
+         "--rate", "100", "--seed", "3", "--out", str(tmp_path)],
+        check=True, capture_output=True,
+    )
+    log = tmp_path / "log.csv"
+    i = pw.identify(robot, log, "viscous[2]")
+    doc = cli("identify", "--robot", robot, "--log", str(log), "--effects", "viscous[2]",
+              "--out", str(tmp_path / "id"))
+    assert_same_numbers(i["identification"], doc["identification"], "identification")
+    held = [h["name"] for h in i["identification"]["held_at_prior"]]
+    assert "viscous.f_v[1]" in held and "viscous.f_v[2]" not in held
+    for args in (dict(effects="viscous[2]"), dict(without="viscous[2]")):
+        flags = [f"--{k}" for k in args] + list(args.values())
+        assert_same_numbers(pw.compare(robot, log, **args),
+                            cli("compare", "--robot", robot, "--log", str(log), *flags))
+
+
 def test_compas_style_example_returns_the_robot_frame_in_design_coordinates():
     points, plane = best_placement.demo_wall()
     best = best_placement.best_placement(points, plane, **best_placement.DEMO_SEARCH)

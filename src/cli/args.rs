@@ -279,16 +279,7 @@ pub fn check_out_dir(dir: &Path) -> Result<()> {
 
 /// The shipped robots' names (sub-directories of the robots directory), sorted.
 pub fn shipped_robots() -> Vec<String> {
-    let mut v: Vec<String> = std::fs::read_dir(super::default_robots_dir())
-        .map(|rd| {
-            rd.filter_map(|e| e.ok())
-                .filter(|e| e.path().join("robot.urdf").is_file())
-                .map(|e| e.file_name().to_string_lossy().into_owned())
-                .collect()
-        })
-        .unwrap_or_default();
-    v.sort();
-    v
+    printwatt::robot::shipped::names()
 }
 
 /// "did you mean" for a robot name that is neither a file nor a shipped robot: the nearest

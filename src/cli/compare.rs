@@ -52,24 +52,15 @@ pub(crate) fn load(a: &LogArgs) -> Result<(printwatt::robot::RobotModel, Model, 
     let robot = a.robot.load()?;
     let mut model = Model::new(&robot)
         .with_context(|| format!("building the model of {}", a.robot.robot.display()))?;
-    if let Some(list) = &a.effects {
-        let names = identify::model::parse_effect_list(list)?;
-        model.disable_all();
-        for n in names {
-            model.set_enabled(n, true)?;
-        }
-    }
-    if let Some(list) = &a.without {
-        for n in identify::model::parse_effect_list(list)? {
-            model.set_enabled(n, false)?;
-        }
-    }
-    let log = identify::read_log(&a.log, robot.dof(), a.columns.as_deref())
+    // `viscous[2]`: the effect on joint 2 only (its parameters of the other joints zero), as
+    // `identify --effects` and `simulate --hidden` take it.
+    identify::switch_effects(&mut model, robot.dof(), a.effects.as_deref(), None)
+        .with_context(|| format!("--effects `{}`", a.effects.as_deref().unwrap_or("")))?;
+    identify::switch_effects(&mut model, robot.dof(), None, a.without.as_deref())
+        .with_context(|| format!("--without `{}`", a.without.as_deref().unwrap_or("")))?;
+    let log = identify::read_log_for(&robot, &a.log, a.columns.as_deref())
         .with_context(|| format!("reading log {}", a.log.display()))?;
     super::note_warnings(&log.file, &log.warnings);
-    let (names, units): (Vec<String>, Vec<String>) = log.units.iter().cloned().unzip();
-    let kinds: Vec<_> = robot.joints.iter().map(|j| j.kind).collect();
-    printwatt::trajectory::check_joint_units(&log.file, log.header_line, &names, &units, &kinds)?;
     check_log_robot(&log, &robot);
     Ok((robot, model, log))
 }

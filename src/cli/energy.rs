@@ -259,20 +259,30 @@ fn print_summary(s: &Summary, model: &printwatt::robot::RobotModel) {
         "total", t.mechanical_j, t.friction_j, t.copper_j, t.electrical_j
     );
     println!();
+    // One decimal; a value that rounds to zero is printed 0.0, not -0.0 (the signed
+    // rigid-body and balancer work of a closed print cycle is near zero).
+    let j1 = |x: f64| {
+        let s = format!("{x:.1}");
+        if s == "-0.0" {
+            "0.0".to_string()
+        } else {
+            s
+        }
+    };
     println!(
-        "supply energy {:.1} J = rigid body {:.1}{} + friction {:.1} + gear {:.1} + copper {:.1} + regeneration lost {:.1} + standby {:.1}",
-        t.supply_j,
-        t.rigid_body_j,
+        "supply energy {} J = rigid body {}{} + friction {} + gear {} + copper {} + regeneration lost {} + standby {}",
+        j1(t.supply_j),
+        j1(t.rigid_body_j),
         if t.balancer_j != 0.0 {
-            format!(" + balancer {:.1}", t.balancer_j)
+            format!(" + balancer {}", j1(t.balancer_j))
         } else {
             String::new()
         },
-        t.friction_j,
-        t.gear_j,
-        t.copper_j,
-        t.regeneration_lost_j,
-        t.standby_j
+        j1(t.friction_j),
+        j1(t.gear_j),
+        j1(t.copper_j),
+        j1(t.regeneration_lost_j),
+        j1(t.standby_j)
     );
     if let Some(o) = &s.output_csv {
         println!("per-sample torque and power written to {o}");

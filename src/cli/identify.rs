@@ -1,6 +1,6 @@
 //! `printwatt identify`
 
-use anyhow::{bail, Context, Result};
+use anyhow::{Context, Result};
 use printwatt::identify::{self, ladder};
 use printwatt::report::svg;
 
@@ -11,50 +11,12 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
     let fit_list = la.effects.take().unwrap_or_default();
     let (robot, mut model, log) = super::compare::load(&la)?;
     // `coulomb,viscous[2]`: effects, each for every joint or for the joints in brackets (the
-    // others' parameters held at their prior values).
-    let subsets = identify::model::parse_effect_subsets(&fit_list, robot.dof())
+    // others' parameters held at their prior values). A calibrated robot: the effects of
+    // earlier rounds are re-fitted jointly with the new ones (first, so the ladder shows
+    // them), not frozen; parameters this log cannot determine are held at their calibrated
+    // values by the ladder.
+    let plan = identify::RoundPlan::new(&robot, &model, &fit_list, log.kind)
         .with_context(|| format!("--effects `{fit_list}`"))?;
-    let asked: Vec<&'static str> = subsets.iter().map(|(e, _)| *e).collect();
-    let mut hold: Vec<ladder::HeldParam> = Vec::new();
-    for (e, joints) in &subsets {
-        if let Some(js) = joints {
-            let list: Vec<String> = js.iter().map(|j| j.to_string()).collect();
-            for name in model.params_outside(e, js)? {
-                hold.push(ladder::HeldParam {
-                    name,
-                    reason: format!("only joint(s) {} of `{e}` asked for", list.join(", ")),
-                });
-            }
-        }
-    }
-    if asked.is_empty() {
-        bail!("--effects: name the effects to fit, e.g. --effects coulomb,balancer");
-    }
-    // A calibrated robot: the effects of earlier rounds are re-fitted jointly with the new
-    // ones (first, so the ladder shows them), not frozen; parameters this log cannot
-    // determine are held at their calibrated values by the ladder.
-    let mut carried: Vec<&'static str> = Vec::new();
-    if let Some(c) = &robot.effects.calibration {
-        for e in c.rounds.iter().flat_map(|r| r.effects.iter()) {
-            if let Some(name) = printwatt::effects::catalogue().into_iter().find(|n| n == e) {
-                if !asked.contains(&name)
-                    && !carried.contains(&name)
-                    && identify::model::Model::observable(name, log.kind)
-                {
-                    carried.push(name);
-                }
-            }
-        }
-    }
-    let effects: Vec<&'static str> = carried.iter().chain(&asked).copied().collect();
-    for e in &effects {
-        if !identify::model::Model::observable(e, log.kind) {
-            bail!(
-                "effect `{e}` cannot be seen in a `{}` log",
-                log.kind.prefix()
-            );
-        }
-    }
     // Every output checked against every input before anything is computed or written.
     let inputs = super::inputs(
         &la.robot.robot,
@@ -84,42 +46,20 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
     let bar = super::compare::Bar::new();
     let prep = identify::Prepared::with_progress(&model, &log, &bar)?;
     drop(bar);
-    let vlog;
-    let vprep;
-    let (train_rows, val, what): (Vec<usize>, (&identify::Prepared, Vec<usize>), String) =
-        match &a.validate_log {
-            Some(p) => {
-                vlog = identify::read_log(p, robot.dof(), la.columns.as_deref())
-                    .with_context(|| format!("reading validation log {}", p.display()))?;
-                super::note_warnings(&vlog.file, &vlog.warnings);
-                vprep = identify::Prepared::new(&model, &vlog)?;
-                (
-                    (0..log.len()).collect(),
-                    (&vprep, (0..vlog.len()).collect()),
-                    format!("fitted on {}, validated on {}", log.file, vlog.file),
-                )
-            }
-            None => {
-                let (train, val) = identify::train_validation_split(log.len());
-                let cut = val.start;
-                (
-                    train.collect(),
-                    (&prep, val.collect()),
-                    format!(
-                        "fitted on the first 75 % of {} (t < {:.2} s), validated on the last 25 %",
-                        log.file, log.traj.t[cut]
-                    ),
-                )
-            }
-        };
-    let id = ladder::identify_holding(
-        &mut model,
-        (&prep, &train_rows),
-        (val.0, &val.1),
-        &effects,
-        what,
-        &hold,
-    )?;
+    let vlog = match &a.validate_log {
+        Some(p) => {
+            let v = identify::read_log_for(&robot, p, la.columns.as_deref())
+                .with_context(|| format!("reading validation log {}", p.display()))?;
+            super::note_warnings(&v.file, &v.warnings);
+            Some(v)
+        }
+        None => None,
+    };
+    let vprep = match &vlog {
+        Some(v) => Some(identify::Prepared::new(&model, v)?),
+        None => None,
+    };
+    let id = plan.fit(&mut model, (&log, &prep), vlog.as_ref().zip(vprep.as_ref()))?;
     // The last check before anything leaves: the calibrated robot, the files, the JSON.
     printwatt::output::check_finite_json("identify", &id)?;
     let drive_src = identify::model::drive_file_of(&resolved);
@@ -172,7 +112,7 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
             "drive_file": written,
             "calibrated_robot": written,
             "started_from": robot.effects.calibration_summary(),
-            "refitted_from_earlier_rounds": carried,
+            "refitted_from_earlier_rounds": plan.carried,
         });
         super::print_json(&v)?;
         return Ok(());
@@ -182,10 +122,10 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
     if let Some(c) = robot.effects.calibration_summary() {
         println!("started from {c}");
     }
-    if !carried.is_empty() {
+    if !plan.carried.is_empty() {
         println!(
             "re-fitted jointly with this round: {} (from earlier rounds)",
-            carried.join(", ")
+            plan.carried.join(", ")
         );
     }
     if let Some(ill) = &id.ill_conditioned {

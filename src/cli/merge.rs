@@ -78,14 +78,17 @@ pub fn run(m: MergeArgs) -> Result<()> {
     let job = l.job()?;
     let ev = l.evaluator(&job, &a.evaluation)?;
     let (ps, names, grid) = a.placements(Some(l.default_grid()))?;
-    if ps.len() != merged.rows.len() {
+    let shard::MergedRows::Sweep(swept) = &merged.rows else {
+        bail!("the shards hold draws, not placements");
+    };
+    if ps.len() != swept.len() {
         bail!(
             "the job asks for {} placements, the shards hold {}",
             ps.len(),
-            merged.rows.len()
+            swept.len()
         );
     }
-    if let Some(i) = ps.iter().zip(&merged.rows).position(|(p, r)| {
+    if let Some(i) = ps.iter().zip(swept).position(|(p, r)| {
         let q = &r.placement;
         [p.x, p.y, p.z, p.yaw, p.nozzle_spin]
             .iter()
@@ -110,7 +113,9 @@ pub fn run(m: MergeArgs) -> Result<()> {
             serde_json::json!(merged.shard_wall_time_s),
         ),
     ];
-    let rows = merged.rows;
+    let shard::MergedRows::Sweep(rows) = merged.rows else {
+        bail!("the shards hold draws, not placements");
+    };
     std::env::set_current_dir(&here).ok();
     super::sweep::finish(
         &a,

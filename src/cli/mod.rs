@@ -68,10 +68,12 @@ pub struct LogArgs {
     #[arg(long)]
     pub columns: Option<String>,
     /// Effects switched on (comma list of catalogue names); for `identify`: the effects to
-    /// fit, in ladder order (`viscous[2]`: on joint 2 only, as in `simulate --hidden`).
+    /// fit, in ladder order. `viscous[2]`: on joint 2 only, as in `simulate --hidden` (for
+    /// `compare` and `diagnose` the effect's parameters of the other joints are zero; for
+    /// `identify` they are held at their prior).
     #[arg(long)]
     pub effects: Option<String>,
-    /// Effects switched off (comma list).
+    /// Effects switched off (comma list; `viscous[2]`: on joint 2 only).
     #[arg(long)]
     pub without: Option<String>,
 }
@@ -174,27 +176,13 @@ pub struct RobotsArgs {
 /// The shipped robots directory: `$PRINTWATT_ROBOTS`, else `robots/` in the working
 /// directory, else the one in the source tree this binary was built from.
 pub fn default_robots_dir() -> PathBuf {
-    if let Some(p) = std::env::var_os("PRINTWATT_ROBOTS") {
-        return p.into();
-    }
-    let local = Path::new("robots");
-    if local.is_dir() {
-        return local.to_path_buf();
-    }
-    Path::new(env!("CARGO_MANIFEST_DIR")).join("robots")
+    robot::shipped::robots_dir()
 }
 
-/// Resolve a `--robot` argument: a path, or the name of a shipped robot.
+/// Resolve a `--robot` argument: a path, or the name of a shipped robot (the argument itself
+/// when it is neither, so that the error names what was typed).
 pub fn resolve_robot(arg: &Path) -> PathBuf {
-    if arg.exists() {
-        return arg.to_path_buf();
-    }
-    let shipped = default_robots_dir().join(arg);
-    if shipped.exists() {
-        shipped
-    } else {
-        arg.to_path_buf()
-    }
+    robot::shipped::resolve(arg).unwrap_or_else(|| arg.to_path_buf())
 }
 
 /// Load a robot named on the command line, with context for the error message. Its warnings

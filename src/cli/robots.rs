@@ -49,14 +49,27 @@ pub fn run(a: RobotsArgs) -> Result<()> {
         super::print_json(&serde_json::json!({ "robots": rows }))?;
         return Ok(());
     }
+    // Column widths from the longest id and name, so a long name does not shift the row.
+    let wi = rows
+        .iter()
+        .map(|r| r.id.chars().count())
+        .max()
+        .unwrap_or(0)
+        .max(2);
+    let wn = rows
+        .iter()
+        .map(|r| r.name.chars().count())
+        .max()
+        .unwrap_or(0)
+        .max(4);
     println!(
-        "{:<22} {:<28} {:>6} {:>8} {:>11} {:>10} {:>4} {:>5}",
+        "{:<wi$} {:<wn$} {:>6} {:>8} {:>11} {:>10} {:>4} {:>5}",
         "id", "name", "joints", "reach_m", "payload_kg", "mass_kg", "opw", "drive"
     );
     for r in &rows {
         let o = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.2}"));
         println!(
-            "{:<22} {:<28} {:>6} {:>8} {:>11} {:>10.1} {:>4} {:>5}",
+            "{:<wi$} {:<wn$} {:>6} {:>8} {:>11} {:>10.1} {:>4} {:>5}",
             r.id,
             r.name,
             r.joints,

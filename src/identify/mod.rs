@@ -1,7 +1,7 @@
 //! Measured logs against the model (architecture.md, `identify`): reading logs
 //! ([`log`]), comparison metrics ([`metrics`]), residual diagnosis ([`diagnose`]), parameter
 //! identification with the error ladder ([`ladder`], [`fit`]), where the model fails
-//! ([`profiles`]), simulated logs from a "true"
+//! ([`profiles`]), one round as a user runs it ([`round`]), simulated logs from a "true"
 //! robot ([`simulate`]). Charts are drawn by [`crate::report::svg`].
 
 pub mod calibrate;
@@ -12,11 +12,13 @@ pub mod log;
 pub mod metrics;
 pub mod model;
 pub mod profiles;
+pub mod round;
 pub mod simulate;
 pub mod structure;
 
 pub use log::{read_log, Log, SignalKind};
 pub use model::{Model, Prepared, DEFAULT_EFFECTS};
+pub use round::{read_log_for, switch_effects, RoundPlan};
 
 /// An observer of a long run's progress (preparing a log, diagnosing): called with the stage
 /// (`"preparing the log"`, `"diagnosing"`), the units of work done and their total (rows, or

@@ -221,6 +221,32 @@ impl Model {
             .collect())
     }
 
+    /// Keep `effect` on the joints in `joints` (1-based) only: its per-joint parameters of
+    /// every other joint are set to zero (no torque from that effect there), its parameters of
+    /// no joint (a transition width, a mass) are kept. Errors: an unknown effect, or zero
+    /// outside a parameter's bounds (named).
+    pub fn keep_joints(&mut self, effect: &str, joints: &[usize]) -> Result<()> {
+        let specs = self.params(effect)?;
+        let mut v = self.values(effect)?;
+        for (p, x) in specs.iter().zip(v.iter_mut()) {
+            let outside = p
+                .name
+                .rsplit_once('[')
+                .and_then(|(_, j)| j.strip_suffix(']')?.parse::<usize>().ok())
+                .is_some_and(|k| !joints.contains(&k));
+            if outside {
+                if !(p.lower..=p.upper).contains(&0.0) {
+                    return Err(Error::Invalid(format!(
+                        "{effect}.{}: cannot be switched off on its own joint (0 is outside [{}, {}] {})",
+                        p.name, p.lower, p.upper, p.unit
+                    )));
+                }
+                *x = 0.0;
+            }
+        }
+        self.set_values(effect, &v)
+    }
+
     /// Parameter values of an effect (SI).
     pub fn values(&self, name: &str) -> Result<Vec<f64>> {
         Ok(self.effect(name)?.values())

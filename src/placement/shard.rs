@@ -1,5 +1,9 @@
-//! Deterministic sharding of placement sweeps, for cluster engines (a Slurm job array, a
-//! Kubernetes Indexed Job) and for splitting any long sweep by hand.
+//! Deterministic sharding of placement sweeps and of uncertainty studies' draws, for cluster
+//! engines (a Slurm job array, a Kubernetes Indexed Job) and for splitting any long run by hand.
+//!
+//! The same holds for the draws of an uncertainty study ([`KIND_UNCERTAINTY`]): draw `d` owns
+//! its own random stream, so shard `index` computes the draws `d mod count = index` and
+//! [`merge`] returns them in draw order ([`MergedRows::Draws`]).
 //!
 //! A sweep of `total` placements is split into `count` shards; shard `index` (0-based) owns the
 //! placements `i` with `i mod count = index`. Interleaving keeps the shards' costs alike: a
@@ -17,6 +21,7 @@
 
 use super::feasibility::Infeasible;
 use super::sweep::{Evaluated, Feasible};
+use super::uncertainty::Draw;
 use crate::error::{Error, Result};
 use crate::placement::Placement;
 use serde::{Deserialize, Serialize};
@@ -31,6 +36,8 @@ pub const ROWS: &str = "rows.postcard";
 pub const SCHEMA_VERSION: u32 = 1;
 /// `kind` of a sweep shard.
 pub const KIND_SWEEP: &str = "printwatt-sweep-shard";
+/// `kind` of a shard of an `optimise --uncertainty` study (its rows are draws).
+pub const KIND_UNCERTAINTY: &str = "printwatt-optimise-uncertainty-shard";
 
 /// One shard of a split run: `index` (0-based) of `count`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -174,13 +181,13 @@ impl Shard {
 pub struct ShardHeader {
     /// [`SCHEMA_VERSION`].
     pub schema_version: u32,
-    /// What kind of run was split ([`KIND_SWEEP`]).
+    /// What kind of run was split ([`KIND_SWEEP`], [`KIND_UNCERTAINTY`]).
     pub kind: String,
     /// This shard.
     pub shard: Shard,
-    /// Placements in the whole run.
+    /// Items in the whole run: placements (a sweep) or draws (an uncertainty study).
     pub total: usize,
-    /// Placements (rows) in this shard.
+    /// Items (rows) in this shard.
     pub rows: usize,
     /// The job in a normalised form: every option that changes a result (not where the output
     /// goes, not the thread count, not the shard). Shards of one run have the same job.
@@ -260,6 +267,45 @@ pub fn decode_rows(bytes: &[u8], what: &str) -> Result<Vec<(usize, Evaluated)>> 
         .collect())
 }
 
+/// Encode a shard's draws of an uncertainty study (draw index, draw).
+pub fn encode_draws(rows: &[(usize, Draw)]) -> Result<Vec<u8>> {
+    postcard::to_stdvec(rows).map_err(|e| Error::Invalid(format!("encoding shard draws: {e}")))
+}
+
+/// Decode a shard's draws (what [`encode_draws`] wrote); `what` names the file in errors.
+pub fn decode_draws(bytes: &[u8], what: &str) -> Result<Vec<(usize, Draw)>> {
+    postcard::from_bytes(bytes)
+        .map_err(|e| Error::Invalid(format!("{what}: not a printwatt shard draws file ({e})")))
+}
+
+/// The rows of a shard, by the kind of run it split.
+#[derive(Clone, Debug)]
+pub enum ShardRows {
+    /// A sweep's rows: (index in sweep order, evaluation).
+    Sweep(Vec<(usize, Evaluated)>),
+    /// An uncertainty study's draws: (draw index, draw).
+    Draws(Vec<(usize, Draw)>),
+}
+
+impl ShardRows {
+    /// The indices the rows hold, in the order stored.
+    pub fn indices(&self) -> Vec<usize> {
+        match self {
+            ShardRows::Sweep(r) => r.iter().map(|(i, _)| *i).collect(),
+            ShardRows::Draws(r) => r.iter().map(|(i, _)| *i).collect(),
+        }
+    }
+}
+
+/// A whole run's rows in order.
+#[derive(Clone, Debug)]
+pub enum MergedRows {
+    /// Every placement's evaluation, in sweep order.
+    Sweep(Vec<Evaluated>),
+    /// Every draw, in draw order.
+    Draws(Vec<Draw>),
+}
+
 /// A shard read from its directory.
 #[derive(Clone, Debug)]
 pub struct ShardData {
@@ -267,8 +313,8 @@ pub struct ShardData {
     pub dir: PathBuf,
     /// Its header.
     pub header: ShardHeader,
-    /// Its rows: (index in sweep order, evaluation).
-    pub rows: Vec<(usize, Evaluated)>,
+    /// Its rows.
+    pub rows: ShardRows,
 }
 
 /// Read one shard directory (its header and rows; the rows' SHA-256 checked).
@@ -299,7 +345,17 @@ pub fn read_shard(dir: &Path) -> Result<ShardData> {
             header.rows_sha256
         )));
     }
-    let rows = decode_rows(&bytes, &rp.display().to_string())?;
+    let what = rp.display().to_string();
+    let rows = match header.kind.as_str() {
+        KIND_SWEEP => ShardRows::Sweep(decode_rows(&bytes, &what)?),
+        KIND_UNCERTAINTY => ShardRows::Draws(decode_draws(&bytes, &what)?),
+        k => {
+            return Err(Error::Invalid(format!(
+                "{}: a shard of kind `{k}`, which this printwatt does not know",
+                hp.display()
+            )))
+        }
+    };
     Ok(ShardData {
         dir: dir.to_path_buf(),
         header,
@@ -353,8 +409,8 @@ pub fn find_shards(paths: &[PathBuf]) -> Result<Vec<PathBuf>> {
 pub struct Merged {
     /// The header of shard 0 (job, args, cwd, inputs, version are the same in every shard).
     pub header: ShardHeader,
-    /// Every row, in sweep order.
-    pub rows: Vec<Evaluated>,
+    /// Every row, in order (placements in sweep order, or draws in draw order).
+    pub rows: MergedRows,
     /// Sum of the shards' wall times, s.
     pub shard_wall_time_s: f64,
 }
@@ -388,7 +444,7 @@ pub fn merge(shards: Vec<ShardData>) -> Result<Merged> {
             return Err(differs("shard count", &h.shard.count, &n));
         }
         if h.total != h0.total {
-            return Err(differs("number of placements", &h.total, &h0.total));
+            return Err(differs("number of items", &h.total, &h0.total));
         }
         if h.job != h0.job {
             return Err(Error::Invalid(format!(
@@ -416,17 +472,15 @@ pub fn merge(shards: Vec<ShardData>) -> Result<Merged> {
             )));
         }
         let want = h.shard.indices(h.total);
-        if s.rows.len() != want.len()
-            || h.rows != want.len()
-            || s.rows.iter().zip(&want).any(|((i, _), w)| i != w)
-        {
+        let have = s.rows.indices();
+        if have != want || h.rows != want.len() {
             return Err(Error::Invalid(format!(
-                "{d}: shard {} of {n} should hold placements {}, {}, … ({} rows) and holds {} rows",
+                "{d}: shard {} of {n} should hold items {}, {}, … ({} rows) and holds {} rows",
                 h.shard.index,
                 h.shard.index,
                 h.shard.index + n,
                 want.len(),
-                s.rows.len()
+                have.len()
             )));
         }
         if let Some(prev) = slot[h.shard.index] {
@@ -451,16 +505,40 @@ pub fn merge(shards: Vec<ShardData>) -> Result<Merged> {
             missing.join(", ")
         )));
     }
-    let mut rows: Vec<Option<Evaluated>> = vec![None; h0.total];
-    let mut wall = 0.0;
-    for s in &shards {
-        wall += s.header.wall_time_s;
-        for (i, e) in &s.rows {
-            rows[*i] = Some(e.clone());
+    let wall: f64 = shards.iter().map(|s| s.header.wall_time_s).sum();
+    // Every index 0..total is held exactly once (checked above), so each slot is filled.
+    fn place<T: Clone>(total: usize, parts: Vec<&[(usize, T)]>) -> Vec<T> {
+        let mut rows: Vec<Option<T>> = vec![None; total];
+        for part in parts {
+            for (i, e) in part {
+                rows[*i] = Some(e.clone());
+            }
         }
+        rows.into_iter().flatten().collect()
     }
-    let rows = rows.into_iter().flatten().collect::<Vec<_>>();
-    debug_assert_eq!(rows.len(), h0.total);
+    let rows = if h0.kind == KIND_SWEEP {
+        MergedRows::Sweep(place(
+            h0.total,
+            shards
+                .iter()
+                .filter_map(|s| match &s.rows {
+                    ShardRows::Sweep(r) => Some(r.as_slice()),
+                    ShardRows::Draws(_) => None,
+                })
+                .collect(),
+        ))
+    } else {
+        MergedRows::Draws(place(
+            h0.total,
+            shards
+                .iter()
+                .filter_map(|s| match &s.rows {
+                    ShardRows::Draws(r) => Some(r.as_slice()),
+                    ShardRows::Sweep(_) => None,
+                })
+                .collect(),
+        ))
+    };
     let header = slot[0].map(|s| s.header.clone()).unwrap_or(h0);
     Ok(Merged {
         header,

@@ -18,7 +18,7 @@
 //! (`seed`, stream `d`), and every reduction runs in draw order, so the study is identical for
 //! any thread count.
 
-use super::sweep::{Evaluated, Evaluator, Objective};
+use super::sweep::{Evaluated, Evaluator};
 use super::PathJob;
 use crate::energy::EnergyModel;
 use crate::error::{Error, Result};
@@ -278,9 +278,6 @@ fn draw_robot(
     (m, drawn)
 }
 
-/// One draw's energies at every candidate (J) and the values it drew (name, value).
-type DrawResult = (Vec<f64>, Vec<(String, f64)>);
-
 /// Average ranks (1-based, ties share their mean rank).
 fn ranks(v: &[f64]) -> Vec<f64> {
     let mut idx: Vec<usize> = (0..v.len()).collect();
@@ -344,9 +341,10 @@ pub fn study(
     study_with(job, ev, candidates, baseline, draws, seed, None)
 }
 
-/// [`study`] with the ranges given (`None`: the drive file's, else the defaults).
+/// [`study`] with the ranges given (`None`: the drive file's, else the defaults). `_job` is
+/// the evaluator's job (the draws rebuild it per drawn robot from `ev.job`).
 pub fn study_with(
-    job: &PathJob,
+    _job: &PathJob,
     ev: &Evaluator,
     candidates: &[Evaluated],
     baseline: Option<&Evaluated>,
@@ -354,50 +352,123 @@ pub fn study_with(
     seed: u64,
     ranges: Option<Ranges>,
 ) -> Result<Study> {
-    if draws == 0 {
-        return Err(Error::Invalid("uncertainty study: at least 1 draw".into()));
-    }
-    let robot = job.robot;
-    let (ranges, source) = match ranges {
-        Some(r) => (r, Source::Given),
-        None => match Ranges::of_robot(robot)? {
-            Some((r, file)) => (r, Source::DriveFile(file)),
-            None => (Ranges::default(), Source::Default),
-        },
-    };
-    // Candidates: feasible, the recommended first, the baseline last; timed once.
-    let mut cands: Vec<&Evaluated> = candidates
-        .iter()
-        .filter(|e| e.feasible().is_some())
-        .collect();
-    if cands.is_empty() {
-        return Err(Error::Invalid(
-            "uncertainty study: no feasible candidate".into(),
-        ));
-    }
-    let has_base = match baseline.filter(|b| b.feasible().is_some()) {
-        Some(b) => {
-            cands.push(b);
-            true
+    let setup = StudySetup::new(ev, candidates, baseline, draws, seed, ranges)?;
+    let all: Vec<usize> = (0..draws).collect();
+    let per = setup.draws(&all)?;
+    setup.reduce(&per)
+}
+
+/// One draw of a study: the energies of every candidate under the drawn robot (J, the study's
+/// candidate order: the recommended placement first, the baseline last when there is one;
+/// `inf` where a candidate's energy could not be evaluated) and the values drawn (name, value
+/// in the parameter's own scale). Serialisable, so that draws computed on several machines
+/// ([`crate::placement::shard`]) reduce to the same study as one run.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Draw {
+    /// Energy of each candidate under this draw's robot, J.
+    pub energies_j: Vec<f64>,
+    /// The parameters drawn: (name, multiplier, shift in m, or 1/0 for presence).
+    pub drawn: Vec<(String, f64)>,
+}
+
+/// A study prepared: the candidates timed once under the nominal robot (timing does not depend
+/// on the drawn numbers), the ranges, the seed and the number of draws. Draw `d` depends only
+/// on `(seed, d)`, so any subset of draws can be computed anywhere and [`StudySetup::reduce`]
+/// gives the same [`Study`] from all of them, in draw order.
+pub struct StudySetup<'s, 'j, 'a> {
+    ev: &'s Evaluator<'j, 'a>,
+    timed: Vec<crate::timing::TimedPath>,
+    nominal: Vec<f64>,
+    has_base: bool,
+    ranges: Ranges,
+    source: Source,
+    draws: usize,
+    seed: u64,
+}
+
+impl<'s, 'j, 'a> StudySetup<'s, 'j, 'a> {
+    /// Prepare a study of `draws` draws (>= 1) seeded by `seed`: `candidates[0]` is the
+    /// recommended placement, `baseline` (if any) is compared against it; infeasible candidates
+    /// are skipped. Errors: no draw, no feasible candidate, a candidate that cannot be re-timed.
+    pub fn new(
+        ev: &'s Evaluator<'j, 'a>,
+        candidates: &[Evaluated],
+        baseline: Option<&Evaluated>,
+        draws: usize,
+        seed: u64,
+        ranges: Option<Ranges>,
+    ) -> Result<Self> {
+        if draws == 0 {
+            return Err(Error::Invalid("uncertainty study: at least 1 draw".into()));
         }
-        None => false,
-    };
-    let mut sc = ev.scratch()?;
-    let mut timed = Vec::with_capacity(cands.len());
-    for c in &cands {
-        let t = ev.timed(&mut sc, &c.placement).map_err(|e| {
-            Error::Invalid(format!("uncertainty study: re-timing a candidate: {e}"))
-        })?;
-        timed.push(t);
+        let (ranges, source) = match ranges {
+            Some(r) => (r, Source::Given),
+            None => match Ranges::of_robot(ev.job.robot)? {
+                Some((r, file)) => (r, Source::DriveFile(file)),
+                None => (Ranges::default(), Source::Default),
+            },
+        };
+        // Candidates: feasible, the recommended first, the baseline last; timed once.
+        let mut cands: Vec<&Evaluated> = candidates
+            .iter()
+            .filter(|e| e.feasible().is_some())
+            .collect();
+        if cands.is_empty() {
+            return Err(Error::Invalid(
+                "uncertainty study: no feasible candidate".into(),
+            ));
+        }
+        let has_base = match baseline.filter(|b| b.feasible().is_some()) {
+            Some(b) => {
+                cands.push(b);
+                true
+            }
+            None => false,
+        };
+        let mut sc = ev.scratch()?;
+        let mut timed = Vec::with_capacity(cands.len());
+        for c in &cands {
+            let t = ev.timed(&mut sc, &c.placement).map_err(|e| {
+                Error::Invalid(format!("uncertainty study: re-timing a candidate: {e}"))
+            })?;
+            timed.push(t);
+        }
+        let nominal: Vec<f64> = cands.iter().map(|c| c.cost()).collect();
+        Ok(StudySetup {
+            ev,
+            timed,
+            nominal,
+            has_base,
+            ranges,
+            source,
+            draws,
+            seed,
+        })
     }
-    let nominal: Vec<f64> = cands.iter().map(|c| c.cost()).collect();
-    let objective: Objective = ev.objective;
-    let feas = ev.feasibility;
-    // One draw: a robot, its energies at every candidate.
-    let one = |d: usize| -> Result<DrawResult> {
-        let mut rng = ChaCha8Rng::seed_from_u64(seed);
+
+    /// Number of draws of the study.
+    pub fn len(&self) -> usize {
+        self.draws
+    }
+
+    /// Whether the study has no draws (never: [`StudySetup::new`] refuses 0).
+    pub fn is_empty(&self) -> bool {
+        self.draws == 0
+    }
+
+    /// Draw `d`: a robot from its own ChaCha8 stream (`seed`, stream `d`), and its energies at
+    /// every candidate. Errors: `d` beyond the study, a model error.
+    pub fn draw(&self, d: usize) -> Result<Draw> {
+        if d >= self.draws {
+            return Err(Error::Invalid(format!(
+                "uncertainty study: draw {d} of a study of {} draws",
+                self.draws
+            )));
+        }
+        let job = self.ev.job;
+        let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
         rng.set_stream(d as u64);
-        let (m, drawn) = draw_robot(robot, &ranges, &mut rng);
+        let (m, drawn) = draw_robot(job.robot, &self.ranges, &mut rng);
         let jd = PathJob {
             robot: &m,
             energy: EnergyModel::with_options(&m, job.energy.options())?,
@@ -407,106 +478,136 @@ pub fn study_with(
             profile: job.profile,
             joint: job.joint,
         };
-        let evd = Evaluator::new(&jd, feas, objective);
+        let evd = Evaluator::new(&jd, self.ev.feasibility, self.ev.objective);
         let mut scd = evd.scratch()?;
-        let e: Vec<f64> = timed
+        let energies_j: Vec<f64> = self
+            .timed
             .iter()
             .map(|t| {
                 evd.energy_of(&mut scd, t, Default::default())
                     .map_or(f64::INFINITY, |f| f.energy_j)
             })
             .collect();
-        Ok((e, drawn))
-    };
-    let results: Vec<Result<DrawResult>> = (0..draws).into_par_iter().map(one).collect();
-    let mut per: Vec<DrawResult> = Vec::with_capacity(draws);
-    for r in results {
-        per.push(r?);
+        Ok(Draw { energies_j, drawn })
     }
-    let k_opt = cands.len() - usize::from(has_base); // candidates competing for "best"
-    let mut within = 0usize;
-    let mut best_n = 0usize;
-    let mut savings = Vec::new();
-    let mut rhos = Vec::new();
-    let mut regret = Vec::with_capacity(draws);
-    let mut per_draw_j = Vec::with_capacity(draws);
-    for (e, _) in &per {
-        let best = e[..k_opt].iter().copied().fold(f64::INFINITY, f64::min);
-        let rec = e[0];
-        if rec <= 1.01 * best {
-            within += 1;
-        }
-        if rec <= best {
-            best_n += 1;
-        }
-        regret.push((rec - best) / best);
-        per_draw_j.push([rec, best]);
-        if has_base {
-            let b = e[e.len() - 1];
-            savings.push((b - rec) / b * 100.0);
-        }
-        if let Some(r) = spearman(&e[..k_opt], &nominal[..k_opt]) {
-            rhos.push(r);
-        }
+
+    /// The draws `indices`, in parallel, returned in the order given.
+    pub fn draws(&self, indices: &[usize]) -> Result<Vec<Draw>> {
+        let results: Vec<Result<Draw>> = indices.par_iter().map(|&d| self.draw(d)).collect();
+        results.into_iter().collect()
     }
-    let saving_pct = (!savings.is_empty()).then(|| {
-        let mean = savings.iter().sum::<f64>() / savings.len() as f64;
-        let mut s = savings.clone();
-        s.sort_by(f64::total_cmp);
-        [mean, percentile(&s, 0.05), percentile(&s, 0.95)]
-    });
-    let rank_correlation = if rhos.is_empty() {
-        [1.0, 1.0]
-    } else {
-        [
-            rhos.iter().sum::<f64>() / rhos.len() as f64,
-            rhos.iter().copied().fold(f64::INFINITY, f64::min),
-        ]
-    };
-    // Which drawn parameter moves the answer: against the regret where it varies, else
-    // against the saving.
-    let response: &[f64] = if regret.iter().any(|r| *r != regret[0]) || savings.is_empty() {
-        &regret
-    } else {
-        &savings
-    };
-    let mut depends: Vec<(String, f64)> = Vec::new();
-    if let Some((_, names)) = per.first() {
-        for (i, (name, _)) in names.iter().enumerate() {
-            let xs: Vec<f64> = per
-                .iter()
-                .map(|(_, d)| d.get(i).map_or(0.0, |v| v.1))
-                .collect();
-            if let Some(r) = spearman(&xs, response) {
-                depends.push((name.clone(), r));
+
+    /// The study from all its draws, `per[d]` being draw `d` (every reduction in draw order,
+    /// so the result does not depend on where or on how many threads the draws ran). Errors:
+    /// not exactly one draw per index, or a draw of another set of candidates.
+    pub fn reduce(&self, per: &[Draw]) -> Result<Study> {
+        let draws = self.draws;
+        if per.len() != draws {
+            return Err(Error::Invalid(format!(
+                "uncertainty study: {} draws given for a study of {draws}",
+                per.len()
+            )));
+        }
+        if let Some(d) = per
+            .iter()
+            .position(|p| p.energies_j.len() != self.timed.len())
+        {
+            return Err(Error::Invalid(format!(
+                "uncertainty study: draw {d} holds {} candidates, the study {}",
+                per[d].energies_j.len(),
+                self.timed.len()
+            )));
+        }
+        let has_base = self.has_base;
+        let nominal = &self.nominal;
+        let k_opt = self.timed.len() - usize::from(has_base); // candidates competing for "best"
+        let mut within = 0usize;
+        let mut best_n = 0usize;
+        let mut savings = Vec::new();
+        let mut rhos = Vec::new();
+        let mut regret = Vec::with_capacity(draws);
+        let mut per_draw_j = Vec::with_capacity(draws);
+        for Draw { energies_j: e, .. } in per {
+            let best = e[..k_opt].iter().copied().fold(f64::INFINITY, f64::min);
+            let rec = e[0];
+            if rec <= 1.01 * best {
+                within += 1;
+            }
+            if rec <= best {
+                best_n += 1;
+            }
+            regret.push((rec - best) / best);
+            per_draw_j.push([rec, best]);
+            if has_base {
+                let b = e[e.len() - 1];
+                savings.push((b - rec) / b * 100.0);
+            }
+            if let Some(r) = spearman(&e[..k_opt], &nominal[..k_opt]) {
+                rhos.push(r);
             }
         }
-    }
-    depends.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()).then(a.0.cmp(&b.0)));
-    depends.truncate(5);
-    let calibrated = robot
-        .effects
-        .calibration
-        .as_ref()
-        .map(|c| {
-            c.params
-                .iter()
-                .filter(|p| p.std_error.is_some_and(|s| s > 0.0))
-                .map(|p| p.name.clone())
-                .collect()
+        let saving_pct = (!savings.is_empty()).then(|| {
+            let mean = savings.iter().sum::<f64>() / savings.len() as f64;
+            let mut s = savings.clone();
+            s.sort_by(f64::total_cmp);
+            [mean, percentile(&s, 0.05), percentile(&s, 0.95)]
+        });
+        let rank_correlation = if rhos.is_empty() {
+            [1.0, 1.0]
+        } else {
+            [
+                rhos.iter().sum::<f64>() / rhos.len() as f64,
+                rhos.iter().copied().fold(f64::INFINITY, f64::min),
+            ]
+        };
+        // Which drawn parameter moves the answer: against the regret where it varies, else
+        // against the saving.
+        let response: &[f64] = if regret.iter().any(|r| *r != regret[0]) || savings.is_empty() {
+            &regret
+        } else {
+            &savings
+        };
+        let mut depends: Vec<(String, f64)> = Vec::new();
+        if let Some(first) = per.first() {
+            for (i, (name, _)) in first.drawn.iter().enumerate() {
+                let xs: Vec<f64> = per
+                    .iter()
+                    .map(|d| d.drawn.get(i).map_or(0.0, |v| v.1))
+                    .collect();
+                if let Some(r) = spearman(&xs, response) {
+                    depends.push((name.clone(), r));
+                }
+            }
+        }
+        depends.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()).then(a.0.cmp(&b.0)));
+        depends.truncate(5);
+        let calibrated = self
+            .ev
+            .job
+            .robot
+            .effects
+            .calibration
+            .as_ref()
+            .map(|c| {
+                c.params
+                    .iter()
+                    .filter(|p| p.std_error.is_some_and(|s| s > 0.0))
+                    .map(|p| p.name.clone())
+                    .collect()
+            })
+            .unwrap_or_default();
+        Ok(Study {
+            draws,
+            seed: self.seed,
+            source: self.source.clone(),
+            calibrated,
+            candidates: k_opt,
+            p_within_1pct: within as f64 / draws as f64,
+            p_best: best_n as f64 / draws as f64,
+            saving_pct,
+            rank_correlation,
+            depends_on: depends,
+            per_draw_j,
         })
-        .unwrap_or_default();
-    Ok(Study {
-        draws,
-        seed,
-        source,
-        calibrated,
-        candidates: k_opt,
-        p_within_1pct: within as f64 / draws as f64,
-        p_best: best_n as f64 / draws as f64,
-        saving_pct,
-        rank_correlation,
-        depends_on: depends,
-        per_draw_j,
-    })
+    }
 }

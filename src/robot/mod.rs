@@ -8,6 +8,7 @@ pub mod drive;
 pub mod mesh;
 pub mod model;
 pub mod opw;
+pub mod shipped;
 pub mod urdf;
 pub mod validate;
 

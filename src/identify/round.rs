@@ -1,0 +1,176 @@
+//! One round of the measurement loop as a user runs it, shared by the binary and the Python
+//! bindings: read a log against a robot (units checked), switch effects on and off by name
+//! (`viscous[2]`: joint 2 only), plan which effects a round fits (the ones asked for, plus the
+//! effects of earlier calibration rounds, re-fitted jointly), and fit them with the
+//! train/validation split.
+
+use crate::error::{Error, Result};
+use crate::identify::ladder::{self, HeldParam, Identification};
+use crate::identify::log::{Log, SignalKind};
+use crate::identify::model::{parse_effect_subsets, Model, Prepared};
+use crate::robot::RobotModel;
+use std::path::Path;
+
+/// Read a measured log for `robot` (docs/measurement-logs.md; `columns`: a column map for a
+/// log without header) and check that its joint columns' units suit the robot's joint kinds
+/// (angles for revolute joints, lengths for prismatic ones). Errors name the file and row.
+pub fn read_log_for(robot: &RobotModel, path: &Path, columns: Option<&str>) -> Result<Log> {
+    let log = crate::identify::read_log(path, robot.dof(), columns)?;
+    let (names, units): (Vec<String>, Vec<String>) = log.units.iter().cloned().unzip();
+    let kinds: Vec<_> = robot.joints.iter().map(|j| j.kind).collect();
+    crate::trajectory::check_joint_units(&log.file, log.header_line, &names, &units, &kinds)?;
+    Ok(log)
+}
+
+/// Switch effects of `model` (a robot of `n` joints) on and off by name: `on` (comma list;
+/// when given, every other effect is switched off) and then `off`. `viscous[2]` means the
+/// effect on (off) joint 2 only: its parameters of the other joints (of joint 2) are set to
+/// zero ([`Model::keep_joints`]). Errors: an unknown effect, a joint beyond `n`, a parameter
+/// whose bounds exclude zero.
+pub fn switch_effects(
+    model: &mut Model,
+    n: usize,
+    on: Option<&str>,
+    off: Option<&str>,
+) -> Result<()> {
+    if let Some(list) = on {
+        let subsets = parse_effect_subsets(list, n)?;
+        model.disable_all();
+        for (e, joints) in subsets {
+            model.set_enabled(e, true)?;
+            if let Some(js) = joints {
+                model.keep_joints(e, &js)?;
+            }
+        }
+    }
+    if let Some(list) = off {
+        for (e, joints) in parse_effect_subsets(list, n)? {
+            match joints {
+                None => model.set_enabled(e, false)?,
+                Some(js) => {
+                    let rest: Vec<usize> = (1..=n).filter(|k| !js.contains(k)).collect();
+                    model.keep_joints(e, &rest)?;
+                }
+            }
+        }
+    }
+    Ok(())
+}
+
+/// What one identification round fits.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RoundPlan {
+    /// The effects fitted, in ladder order: the carried ones first, then the asked ones.
+    pub effects: Vec<&'static str>,
+    /// Effects of earlier calibration rounds (a calibrated robot) re-fitted jointly with the
+    /// asked ones, not frozen.
+    pub carried: Vec<&'static str>,
+    /// Parameters held at their prior values (outside an `effect[j]` subset), with the reason.
+    pub hold: Vec<HeldParam>,
+}
+
+impl RoundPlan {
+    /// Plan a round on `robot` (whose calibration, if any, names earlier rounds' effects) for
+    /// a log of `kind`: `fit` is the comma list of effects to fit (`coulomb,viscous[2]`; a
+    /// joint in brackets fits that joint's parameters, the others are held at their prior).
+    /// Errors: nothing named, an unknown effect or joint, an effect this log's signal cannot
+    /// see.
+    pub fn new(robot: &RobotModel, model: &Model, fit: &str, kind: SignalKind) -> Result<Self> {
+        let subsets = parse_effect_subsets(fit, robot.dof())?;
+        if subsets.is_empty() {
+            return Err(Error::Invalid(
+                "no effect to fit named: give a comma list, e.g. coulomb,balancer".into(),
+            ));
+        }
+        let asked: Vec<&'static str> = subsets.iter().map(|(e, _)| *e).collect();
+        let mut hold = Vec::new();
+        for (e, joints) in &subsets {
+            if let Some(js) = joints {
+                let list: Vec<String> = js.iter().map(|j| j.to_string()).collect();
+                for name in model.params_outside(e, js)? {
+                    hold.push(HeldParam {
+                        name,
+                        reason: format!("only joint(s) {} of `{e}` asked for", list.join(", ")),
+                    });
+                }
+            }
+        }
+        let mut carried: Vec<&'static str> = Vec::new();
+        if let Some(c) = &robot.effects.calibration {
+            for e in c.rounds.iter().flat_map(|r| r.effects.iter()) {
+                if let Some(name) = crate::effects::catalogue().into_iter().find(|n| n == e) {
+                    if !asked.contains(&name)
+                        && !carried.contains(&name)
+                        && Model::observable(name, kind)
+                    {
+                        carried.push(name);
+                    }
+                }
+            }
+        }
+        let effects: Vec<&'static str> = carried.iter().chain(&asked).copied().collect();
+        if let Some(e) = effects.iter().find(|e| !Model::observable(e, kind)) {
+            return Err(Error::Invalid(format!(
+                "effect `{e}` cannot be seen in a `{}` log",
+                kind.prefix()
+            )));
+        }
+        Ok(RoundPlan {
+            effects,
+            carried,
+            hold,
+        })
+    }
+
+    /// Fit the round: on the whole of `log` validated on the whole of `validation` when one
+    /// is given, else on the first 75 % of `log` validated on the last 25 %
+    /// ([`crate::identify::train_validation_split`]). `prep` is `log` prepared for `model`,
+    /// `vprep` the validation log prepared likewise. The model ends with the fitted values.
+    pub fn fit(
+        &self,
+        model: &mut Model,
+        log: (&Log, &Prepared),
+        validation: Option<(&Log, &Prepared)>,
+    ) -> Result<Identification> {
+        let (l, prep) = log;
+        match validation {
+            Some((v, vprep)) => {
+                let tr: Vec<usize> = (0..l.len()).collect();
+                let va: Vec<usize> = (0..v.len()).collect();
+                let what = format!("fitted on {}, validated on {}", l.file, v.file);
+                ladder::identify_holding(
+                    model,
+                    (prep, &tr),
+                    (vprep, &va),
+                    &self.effects,
+                    what,
+                    &self.hold,
+                )
+            }
+            None => {
+                let (train, val) = crate::identify::train_validation_split(l.len());
+                if val.is_empty() || train.is_empty() {
+                    return Err(Error::Invalid(format!(
+                        "{}: {} samples are too few to split into fit and validation",
+                        l.file,
+                        l.len()
+                    )));
+                }
+                let what = format!(
+                    "fitted on the first 75 % of {} (t < {:.2} s), validated on the last 25 %",
+                    l.file, l.traj.t[val.start]
+                );
+                let tr: Vec<usize> = train.collect();
+                let va: Vec<usize> = val.collect();
+                ladder::identify_holding(
+                    model,
+                    (prep, &tr),
+                    (prep, &va),
+                    &self.effects,
+                    what,
+                    &self.hold,
+                )
+            }
+        }
+    }
+}
