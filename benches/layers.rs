@@ -68,17 +68,19 @@ fn main() {
         .build()
         .unwrap();
     let t = Instant::now();
-    let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply)
-        .with_reduction(red);
+    let ev =
+        Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply).with_reduction(red);
     let grid = default_grid(reach_m(&model));
     let ps = grid.placements();
     let rows = pool.install(|| ev.sweep(&ps, &|_, _| {})).unwrap();
     let t_grid = t.elapsed().as_secs_f64();
     let feasible = rows.iter().filter(|r| r.cost().is_finite()).count();
     let span = |f: &dyn Fn(&printwatt::placement::Placement) -> f64| {
-        ps.iter().map(f).fold([f64::INFINITY, f64::NEG_INFINITY], |r, v| {
-            [r[0].min(v), r[1].max(v)]
-        })
+        ps.iter()
+            .map(f)
+            .fold([f64::INFINITY, f64::NEG_INFINITY], |r, v| {
+                [r[0].min(v), r[1].max(v)]
+            })
     };
     let bounds = Bounds {
         x: span(&|p| p.x),
