@@ -38,11 +38,15 @@
 //!
 //! # When the full evaluation is used instead
 //! The placement is evaluated in full (and the estimate records why) when a joint's velocity,
-//! acceleration or jerk demand on an evaluated unit exceeds [`ReduceOptions::headroom`] of its
-//! limit (the controller would slow down somewhere; the slow-down changes the whole plan).
-//! A unit where a tracked sample comes within twice `wrist_min` of the wrist singularity is
-//! evaluated sample by sample (the wrist rule needs joint rates), and then serves as one more
-//! interpolation node.
+//! acceleration or jerk demand may bind somewhere (the controller would slow down there, and
+//! the slow-down changes the whole plan): when it exceeds the limit on an evaluated unit, or
+//! when its peak over a class's evaluated units plus the largest change of that peak between
+//! neighbouring evaluated units exceeds [`ReduceOptions::headroom`] of the limit (the peak of
+//! a layer between two evaluated ones is taken to lie within that bound).
+//! The wrist rule (near the wrist singularity, joints 4 and 6 within a share of their limits)
+//! needs joint rates: units where a tracked sample comes within twice `wrist_min` of the
+//! wrist singularity are evaluated sample by sample unless the evaluated units come near it
+//! too and use at most `headroom` of the allowed share there.
 //!
 //! # Limitations
 //! Between the representative layers, collisions are not checked (the extreme layers, where
@@ -76,8 +80,9 @@ pub struct ReduceOptions {
     pub rel_tol: f64,
     /// Largest number of evaluated units per class (5, 9 or 17).
     pub max_nodes: usize,
-    /// Share of a joint's velocity, acceleration or jerk limit above which the placement is
-    /// evaluated in full (dimensionless).
+    /// Share of a joint's velocity, acceleration or jerk limit that the demand predicted for
+    /// the interpolated layers may reach before the placement is evaluated in full
+    /// (dimensionless; see the module docs).
     pub headroom: f64,
     /// Position tolerance for telling repeated layers apart, m.
     pub tolerance_m: f64,
@@ -90,7 +95,7 @@ impl Default for ReduceOptions {
             stride: 40,
             rel_tol: 1e-3,
             max_nodes: 17,
-            headroom: 0.9,
+            headroom: 0.98,
             tolerance_m: repeat::REPEAT_TOLERANCE_M,
         }
     }
@@ -492,6 +497,7 @@ fn reduced<'a>(
     // sample (the nodes and units near the wrist singularity).
     let mut evaluated = vec![false; nu];
     let mut node = vec![false; nu];
+    let mut near_wrist = vec![false; nu];
     let mut level = 5.min(red.options.max_nodes.max(3));
     for cl in &red.classes {
         for i in lobatto(cl.len(), level) {
@@ -499,8 +505,8 @@ fn reduced<'a>(
             node[cl[i]] = true;
         }
     }
-    // Geometric checks on the tracked samples; a unit where the wrist comes near its
-    // singularity is evaluated sample by sample (the wrist rule needs joint rates).
+    // Geometric checks on the tracked samples; units where the wrist comes near its
+    // singularity are noted (the wrist rule needs joint rates, see below).
     let mut margins = Margins::default();
     let unit_of = |k: usize| -> Option<usize> {
         if !run.contains(&k) {
@@ -515,7 +521,7 @@ fn reduced<'a>(
         let opw_p = model.opw.as_ref().filter(|_| n >= 6);
         if let (Some(p), Some(u)) = (opw_p, unit_of(k)) {
             if opw::wrist_singularity(p, q) < 2.0 * o.wrist_min {
-                evaluated[u] = true;
+                near_wrist[u] = true;
             }
         }
         let fail = super::margins::check_joint_sample(
@@ -561,6 +567,8 @@ fn reduced<'a>(
     // 3. The evaluated units, sample by sample.
     let dim = FIXED + 3 * n;
     let mut unit_e: Vec<Option<Vec<f64>>> = vec![None; nu];
+    let mut peaks: Vec<Option<Vec<f64>>> = vec![None; nu];
+    let mut exact_peak = vec![0.0; 3 * n];
     let mut exact = vec![0.0; dim];
     let world = World::new(&frame, ev.bbox_all, o);
     let mut done = vec![false; nu];
@@ -608,12 +616,33 @@ fn reduced<'a>(
                 &unit_of,
                 &mut unit_e,
                 &mut exact,
+                &mut peaks,
+                &mut exact_peak,
             ) {
                 Ok(()) => {}
                 Err(o) => return o,
             }
         }
         first_pass = false;
+        // Joint rate demands of the interpolated units, bounded from the evaluated ones.
+        if let Some(why) = rate_bound(red, &peaks, &evaluated, red.options.headroom) {
+            return Outcome::Full(why);
+        }
+        // The wrist rule on units not evaluated: accepted when the evaluated units come near
+        // the wrist singularity too and use at most `headroom` of the allowed share there;
+        // otherwise those units are evaluated sample by sample.
+        let wrist_ok = margins
+            .wrist_rate
+            .is_some_and(|r| r <= red.options.headroom * o.wrist_rate_max);
+        let pending: Vec<usize> = (0..nu)
+            .filter(|&u| near_wrist[u] && !evaluated[u])
+            .collect();
+        if !wrist_ok && !pending.is_empty() {
+            for u in pending {
+                evaluated[u] = true;
+            }
+            continue;
+        }
         // 4./5. Interpolate per class; refine while the stated error is too large.
         let (total, err) = estimate(red, &unit_e, &evaluated, &node, n, ev.objective, &exact);
         let too_big = err > red.options.rel_tol * objective_of(&total, n, ev.objective).abs();
@@ -669,6 +698,43 @@ fn reduced<'a>(
             }),
         }));
     }
+}
+
+/// Why the joint rate demand may bind on a unit that is not evaluated, if it may: per class
+/// and channel (joint × velocity/acceleration/jerk, as a share of the limit), the peak over
+/// the evaluated units plus the largest change between neighbouring evaluated units, against
+/// `headroom`.
+fn rate_bound(
+    red: &Reduction,
+    peaks: &[Option<Vec<f64>>],
+    evaluated: &[bool],
+    headroom: f64,
+) -> Option<String> {
+    const KIND: [&str; 3] = ["velocity", "acceleration", "jerk"];
+    for cl in &red.classes {
+        if cl.iter().all(|&u| evaluated[u]) {
+            continue;
+        }
+        let ev: Vec<&Vec<f64>> = cl.iter().filter_map(|&u| peaks[u].as_ref()).collect();
+        let Some(first) = ev.first() else { continue };
+        for c in 0..first.len() {
+            let max = ev.iter().map(|p| p[c]).fold(0.0, f64::max);
+            let step = ev
+                .windows(2)
+                .map(|w| (w[1][c] - w[0][c]).abs())
+                .fold(0.0, f64::max);
+            if max + step > headroom {
+                return Some(format!(
+                    "joint {} uses up to {:.0} % of its {} limit on the evaluated layers (changing by up to {:.0} % between them): it may bind on a layer in between",
+                    c / 3 + 1,
+                    max * 100.0,
+                    KIND[c % 3],
+                    step * 100.0
+                ));
+            }
+        }
+    }
+    None
 }
 
 /// The estimate: (total vector, stated error of the objective, J).
@@ -749,6 +815,8 @@ fn window<'a>(
     unit_of: &dyn Fn(usize) -> Option<usize>,
     unit_e: &mut [Option<Vec<f64>>],
     exact: &mut [f64],
+    peaks: &mut [Option<Vec<f64>>],
+    exact_peak: &mut [f64],
 ) -> std::result::Result<(), Outcome> {
     const PAD: usize = 4;
     let job = ev.job;
@@ -790,12 +858,15 @@ fn window<'a>(
         prev = q;
     }
     let (qd, qdd, qddd) = crate::timing::joint::differentiate(qs, n, dt);
-    let h = _red.options.headroom;
     let check_jerk = job.joint.check_jerk;
     for k in r.clone() {
         let i = k - t0;
+        let peak: &mut [f64] = match unit_of(k) {
+            Some(u) => peaks[u].get_or_insert_with(|| vec![0.0; 3 * n]),
+            None => exact_peak,
+        };
         for (j, jt) in model.joints.iter().enumerate() {
-            for (v, lim, what) in [
+            for (c, (v, lim, what)) in [
                 (qd[i * n + j], jt.velocity_limit, "velocity"),
                 (qdd[i * n + j], jt.acceleration_limit, "acceleration"),
                 (
@@ -803,15 +874,22 @@ fn window<'a>(
                     jt.jerk_limit,
                     "jerk",
                 ),
-            ] {
-                if lim.is_finite() && v.abs() > h * lim {
+            ]
+            .into_iter()
+            .enumerate()
+            {
+                if !(lim.is_finite() && lim > 0.0) {
+                    continue;
+                }
+                let ratio = v.abs() / lim;
+                if ratio > 1.0 {
                     return Err(Outcome::Full(format!(
-                        "joint {} uses {:.0} % of its {what} limit at sample {k} (above {:.0} %: the controller may slow down)",
+                        "joint {} exceeds its {what} limit ({:.0} %) at sample {k}: the controller slows down",
                         j + 1,
-                        v.abs() / lim * 100.0,
-                        h * 100.0
+                        ratio * 100.0
                     )));
                 }
+                peak[3 * j + c] = peak[3 * j + c].max(ratio);
             }
         }
     }
