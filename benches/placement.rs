@@ -7,7 +7,21 @@
 //! It also measures, in the same run, the default grid with and without the prune before
 //! tracking (`JointStageOptions::prune_stride`), per feasible and per infeasible placement.
 //!
+//! Before/after of the fast elementary functions (`printwatt::fastmath`, issue 12 item 2) in
+//! the same run: every per-sample figure is measured with libm (`fastmath::set_libm(true)`,
+//! the code as it was) and with the fast path, interleaved round by round so that a load
+//! spike hits both alike, and reported as the median of the rounds, each as a ratio to the
+//! bare RNEA **with libm** measured in the same rounds (the reference the earlier figures
+//! used). The projection of the issue's target (50 × 50 placements × 5,000 samples) is made
+//! from a measured sweep of feasible placements on all cores, for both paths.
+//!
+//! Single-thread figures are this thread's on-CPU time (`/proc/thread-self/schedstat`), so
+//! that other processes sharing the cores do not inflate them; the sweep on all cores is
+//! wall-clock time and is only meaningful on an otherwise idle machine.
+//!
 //! Run: `cargo bench --bench placement` (plain main, no criterion: prints a small table).
+//! The load average is printed: figures from a loaded machine are not idle figures, but the
+//! ratios of one run survive load.
 
 use printwatt::dynamics::rnea;
 use printwatt::energy::EnergyOptions;
@@ -20,6 +34,17 @@ use printwatt::toolpath::{self, Placement, ReadOptions};
 use std::hint::black_box;
 use std::path::Path;
 use std::time::Instant;
+
+/// This thread's time on a CPU, ns (`/proc/thread-self/schedstat`, Linux), so that the
+/// single-thread figures do not count the time other processes hold the CPU; wall-clock time
+/// where that file is missing.
+fn thread_ns() -> f64 {
+    static START: std::sync::OnceLock<Instant> = std::sync::OnceLock::new();
+    std::fs::read_to_string("/proc/thread-self/schedstat")
+        .ok()
+        .and_then(|s| s.split_whitespace().next()?.parse::<f64>().ok())
+        .unwrap_or_else(|| START.get_or_init(Instant::now).elapsed().as_secs_f64() * 1e9)
+}
 
 fn main() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -49,23 +74,25 @@ fn main() {
     let m = tr.len();
     let mut data = job.energy.data();
     let mut tau = vec![0.0; n];
-    let reps = 20;
-    let t0 = Instant::now();
-    for _ in 0..reps {
-        for k in 0..m {
-            rnea(
-                job.energy.dynamics(),
-                &mut data,
-                tr.q(k),
-                tr.qd(k),
-                tr.qdd(k),
-                &mut tau,
-            )
-            .unwrap();
-            black_box(&tau);
+    let mut rnea_pass = || {
+        let reps = 5;
+        let t0 = thread_ns();
+        for _ in 0..reps {
+            for k in 0..m {
+                rnea(
+                    job.energy.dynamics(),
+                    &mut data,
+                    tr.q(k),
+                    tr.qd(k),
+                    tr.qdd(k),
+                    &mut tau,
+                )
+                .unwrap();
+                black_box(&tau);
+            }
         }
-    }
-    let rnea_ns = t0.elapsed().as_secs_f64() * 1e9 / (reps * m) as f64;
+        (thread_ns() - t0) / (reps * m) as f64
+    };
 
     let one = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
@@ -76,34 +103,93 @@ fn main() {
         .num_threads(cores)
         .build()
         .unwrap();
-    let per_sample = |feas: FeasibilityOptions| {
-        let ev = Evaluator::new(&job, feas, Objective::Supply);
+    let ev_full = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
+    let ev_nocoll = Evaluator::new(
+        &job,
+        FeasibilityOptions {
+            collisions: false,
+            ..Default::default()
+        },
+        Objective::Supply,
+    );
+    let samples = ev_full
+        .evaluate(&mut ev_full.scratch().unwrap(), &at)
+        .feasible()
+        .expect("feasible")
+        .samples;
+    let per_sample = |ev: &Evaluator| {
         let mut sc = ev.scratch().unwrap();
-        let r = ev.evaluate(&mut sc, &at);
-        let samples = r.feasible().expect("feasible").samples;
-        let reps = 10;
-        let t0 = Instant::now();
+        black_box(ev.evaluate(&mut sc, &at));
+        let reps = 3;
+        let t0 = thread_ns();
         for _ in 0..reps {
             black_box(ev.evaluate(&mut sc, &at));
         }
-        (
-            t0.elapsed().as_secs_f64() * 1e9 / (reps * samples) as f64,
-            samples,
-        )
+        (thread_ns() - t0) / (reps * samples) as f64
     };
-    let (full_ns, samples) = per_sample(FeasibilityOptions::default());
-    let (nocoll_ns, _) = per_sample(FeasibilityOptions {
-        collisions: false,
-        ..Default::default()
-    });
+    // Feasible placements of the default grid (every sample evaluated), swept on all cores.
+    let feas_ps: Vec<Placement> = grid0
+        .iter()
+        .filter(|e| e.cost().is_finite())
+        .map(|e| e.placement)
+        .take(16)
+        .collect();
+    let sweep_ns = |ev: &Evaluator| {
+        let t0 = Instant::now();
+        let r = all.install(|| ev.sweep(&feas_ps, &|_, _| {})).unwrap();
+        let s: usize = r
+            .iter()
+            .filter_map(|e| e.feasible())
+            .map(|f| f.samples)
+            .sum();
+        t0.elapsed().as_secs_f64() * 1e9 / s as f64
+    };
+    // Before (libm) and after (fast), interleaved; the answers must agree to the stated
+    // tolerance of the fast functions (a few ulp, amplified by the integration: 1e-9 relative).
+    let (mut e_libm, mut e_fast) = (0.0, 0.0);
+    for (libm, e) in [(true, &mut e_libm), (false, &mut e_fast)] {
+        printwatt::fastmath::set_libm(libm);
+        *e = ev_full
+            .evaluate(&mut ev_full.scratch().unwrap(), &at)
+            .cost();
+    }
+    assert!(
+        ((e_fast - e_libm) / e_libm).abs() < 1e-9,
+        "fast and libm energies differ: {e_fast} vs {e_libm} J"
+    );
+    let rounds = 7;
+    let mut t: [[Vec<f64>; 2]; 4] = Default::default();
+    for _ in 0..rounds {
+        for (i, libm) in [true, false].into_iter().enumerate() {
+            printwatt::fastmath::set_libm(libm);
+            t[0][i].push(rnea_pass());
+            t[1][i].push(per_sample(&ev_full));
+            t[2][i].push(per_sample(&ev_nocoll));
+            t[3][i].push(sweep_ns(&ev_full));
+        }
+    }
+    printwatt::fastmath::set_libm(false);
+    let median = |v: &mut Vec<f64>| {
+        v.sort_by(f64::total_cmp);
+        v[v.len() / 2]
+    };
+    let mut med = [[0.0; 2]; 4];
+    for (row, ts) in med.iter_mut().zip(t.iter_mut()) {
+        for (cell, v) in row.iter_mut().zip(ts.iter_mut()) {
+            *cell = median(v);
+        }
+    }
+    let rnea_ns = med[0][0];
+    let full_ns = med[1][1];
+
     // The unoptimised path for comparison: timing::time_at (plans per candidate) + evaluate
     // (series stored).
     let reps = 5;
-    let t0 = Instant::now();
+    let t0 = thread_ns();
     for _ in 0..reps {
         black_box(job.evaluate(&at).unwrap().unwrap());
     }
-    let slow_ns = t0.elapsed().as_secs_f64() * 1e9 / (reps * samples) as f64;
+    let slow_ns = (thread_ns() - t0) / (reps * samples) as f64;
 
     // Throughput on the default workspace grid (mixed feasible / infeasible placements).
     let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
@@ -119,16 +205,6 @@ fn main() {
     };
     let (rate1, feasible) = rate(&one);
     let (rate_all, _) = rate(&all);
-    // Feasible-only throughput (every sample evaluated).
-    let feas_ps: Vec<Placement> = grid0
-        .iter()
-        .filter(|e| e.cost().is_finite())
-        .map(|e| e.placement)
-        .take(16)
-        .collect();
-    let t0 = Instant::now();
-    let _ = all.install(|| ev.sweep(&feas_ps, &|_, _| {})).unwrap();
-    let feas_rate_all = feas_ps.len() as f64 / t0.elapsed().as_secs_f64();
 
     // Prune before tracking (issue 12 item 1): the same grid with and without pruning, one
     // thread, each placement timed alone and booked as feasible or infeasible.
@@ -147,9 +223,9 @@ fn main() {
         let mut sc = ev.scratch().unwrap();
         let (mut tf, mut nf, mut ti, mut ni) = (0.0, 0usize, 0.0, 0usize);
         for p in &ps {
-            let t0 = Instant::now();
+            let t0 = thread_ns();
             let r = black_box(ev.evaluate(&mut sc, p));
-            let s = t0.elapsed().as_secs_f64();
+            let s = (thread_ns() - t0) * 1e-9;
             if r.cost().is_finite() {
                 tf += s;
                 nf += 1;
@@ -170,16 +246,41 @@ fn main() {
     assert_eq!((pnf, pni), (unf, uni), "pruning changed a verdict");
 
     let target = 50.0 * 50.0 * 5000.0;
+    let load = || std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
     println!("printwatt placement bench ({} cores)", cores);
-    println!("  path samples (feasible placement)       {samples}");
-    println!("  bare RNEA (reference)                   {rnea_ns:9.1} ns/sample   1.00x");
     println!(
-        "  full placement eval, 1 thread           {full_ns:9.1} ns/sample  {:5.2}x RNEA",
-        full_ns / rnea_ns
+        "  load average (1, 5, 15 min) at the end: {}",
+        load().trim()
+    );
+    println!("  path samples (feasible placement)       {samples}");
+    println!(
+        "  before (libm) and after (fastmath), median of {rounds} interleaved rounds, on-CPU time; ratios to bare RNEA with libm:"
+    );
+    println!("                                              libm                      fast      fast/libm");
+    let names = [
+        "bare RNEA",
+        "full placement eval, 1 thread",
+        "  without collision checks",
+        &format!("feasible sweep, {cores} threads, wall/sample"),
+    ];
+    for (name, [l, f]) in names.iter().zip(med) {
+        println!(
+            "  {name:<38} {l:8.1} ns {:5.2}x    {f:8.1} ns {:5.2}x    {:5.3}",
+            l / rnea_ns,
+            f / rnea_ns,
+            f / l
+        );
+    }
+    println!(
+        "  projected 50x50 grid x 5000 samples (12.5 M samples, all feasible) on {cores} threads, from the measured sweep (wall): libm {:.2} s, fast {:.2} s ({:.2}x faster); target 1 s",
+        target * med[3][0] * 1e-9,
+        target * med[3][1] * 1e-9,
+        med[3][0] / med[3][1]
     );
     println!(
-        "    of which without collision checks     {nocoll_ns:9.1} ns/sample  {:5.2}x RNEA",
-        nocoll_ns / rnea_ns
+        "    from 1 thread's on-CPU time x ideal scaling: libm {:.2} s, fast {:.2} s",
+        target * med[1][0] * 1e-9 / cores as f64,
+        target * full_ns * 1e-9 / cores as f64
     );
     println!(
         "  time_at + energy::evaluate (unoptimised){slow_ns:9.1} ns/sample  {:5.2}x RNEA ({:.2}x the fast path)",
@@ -190,9 +291,8 @@ fn main() {
         "  default grid ({} placements, {feasible} feasible): {rate1:.0} placements/s on 1 thread, {rate_all:.0} on {cores}",
         ps.len()
     );
-    println!("  feasible placements only: {feas_rate_all:.1} placements/s on {cores} threads");
     println!(
-        "  prune before tracking, default grid on 1 thread ({pnf} feasible, {pni} infeasible):"
+        "  prune before tracking, default grid on 1 thread, on-CPU time ({pnf} feasible, {pni} infeasible):"
     );
     println!(
         "    pruned:   grid {:.3} s; feasible {:.2} ms each, infeasible {:.3} ms each ({:.1} % of a feasible one); infeasible share of grid time {:.0} %",
@@ -215,10 +315,5 @@ fn main() {
         (pf + pi) / (uf + ui),
         (uf + ui) / (pf + pi),
         ui / pi
-    );
-    println!(
-        "  projected 50x50 grid x 5000 samples (12.5 M samples, all feasible): {:.1} s on 1 thread, {:.1} s on {cores} (ideal scaling); target 10 s",
-        target * full_ns * 1e-9,
-        target * full_ns * 1e-9 / cores as f64
     );
 }

@@ -35,6 +35,7 @@ pub mod dynamics;
 pub mod effects;
 pub mod energy;
 pub mod error;
+pub mod fastmath;
 pub mod identify;
 pub mod kinematics;
 pub mod math;

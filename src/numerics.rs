@@ -138,8 +138,37 @@ pub fn differentiate(grid: Grid<'_>, q: &[f64], n: usize) -> Result<(Vec<f64>, V
     }
     let mut qd = vec![0.0; len * n];
     let mut qdd = vec![0.0; len * n];
+    fill_derivatives(grid, q, n, &mut qd, &mut qdd);
+    Ok((qd, qdd))
+}
+
+/// [`differentiate`] on a uniform grid (`dt` s, positive and finite; `q` row-major
+/// `len × n`) into buffers reused between calls (resized to `q.len()`): the same formulas,
+/// bit for bit, without allocating once the buffers are large enough. A step that is not
+/// positive and finite leaves zeros (where [`differentiate`] errs).
+pub fn differentiate_uniform_into(
+    q: &[f64],
+    n: usize,
+    dt: f64,
+    qd: &mut Vec<f64>,
+    qdd: &mut Vec<f64>,
+) {
+    let len = q.len().checked_div(n).unwrap_or(0);
+    qd.clear();
+    qd.resize(len * n, 0.0);
+    qdd.clear();
+    qdd.resize(len * n, 0.0);
+    if dt > 0.0 && dt.is_finite() {
+        fill_derivatives(Grid::Uniform { dt, len }, &q[..len * n], n, qd, qdd);
+    }
+}
+
+/// The body of [`differentiate`]: `qd`, `qdd` zeroed and of length `len × n`, the grid
+/// already checked.
+fn fill_derivatives(grid: Grid<'_>, q: &[f64], n: usize, qd: &mut [f64], qdd: &mut [f64]) {
+    let len = grid.len();
     if len < 2 {
-        return Ok((qd, qdd));
+        return;
     }
     if len == 2 {
         let h = grid.t(1) - grid.t(0);
@@ -148,7 +177,7 @@ pub fn differentiate(grid: Grid<'_>, q: &[f64], n: usize) -> Result<(Vec<f64>, V
             qd[j] = v;
             qd[n + j] = v;
         }
-        return Ok((qd, qdd));
+        return;
     }
     // Lagrange basis derivatives at x for nodes ts: d1 (first), d2 (second, constant).
     let weights = |ts: [f64; 3], x: f64| {
@@ -183,7 +212,6 @@ pub fn differentiate(grid: Grid<'_>, q: &[f64], n: usize) -> Result<(Vec<f64>, V
             qdd[k * n + j] = d2[0] * f[0] + d2[1] * f[1] + d2[2] * f[2];
         }
     }
-    Ok((qd, qdd))
 }
 
 /// Third derivative (units of `q` per s³) of samples `q` (row-major `len × n`) `dt` s apart:
@@ -196,16 +224,22 @@ pub fn third_derivative_uniform(q: &[f64], n: usize, dt: f64) -> Vec<f64> {
     if m < 5 {
         return out;
     }
-    let at = |k: usize, j: usize| q[k * n + j];
     for k in 0..m {
-        let c = k.clamp(2, m - 3);
         for j in 0..n {
-            out[k * n + j] = (at(c + 2, j) - 2.0 * at(c + 1, j) + 2.0 * at(c - 1, j)
-                - at(c - 2, j))
-                / (2.0 * dt * dt * dt);
+            out[k * n + j] = third_derivative_uniform_at(q, n, dt, k, j);
         }
     }
     out
+}
+
+/// Entry `(k, j)` of [`third_derivative_uniform`] (`q` with at least five samples), without
+/// storing the others.
+#[inline]
+pub fn third_derivative_uniform_at(q: &[f64], n: usize, dt: f64, k: usize, j: usize) -> f64 {
+    let m = q.len() / n;
+    let at = |k: usize| q[k * n + j];
+    let c = k.clamp(2, m - 3);
+    (at(c + 2) - 2.0 * at(c + 1) + 2.0 * at(c - 1) - at(c - 2)) / (2.0 * dt * dt * dt)
 }
 
 /// Smoothed first and second derivatives (units of `q` per s and per s²) of noisy samples `q`

@@ -237,3 +237,88 @@ fn copy_dir(from: &Path, to: &Path) {
         std::fs::copy(e.path(), to.join(e.file_name())).unwrap();
     }
 }
+
+#[test]
+fn uncertainty_study_shards_merge_to_the_single_run_files_bit_for_bit() {
+    // Issue 12 item 6: `optimise --uncertainty N` split over its draws.
+    let d = scratch("study");
+    let job = [
+        "optimise",
+        "--x",
+        "1.5:1.9:0.1",
+        "--y",
+        "-0.5:0.5:0.25",
+        "--yaw",
+        "90",
+        "--path",
+        "wall.gcode",
+        "--max-evals",
+        "12",
+        "--uncertainty",
+        "5",
+        "--seed",
+        "3",
+    ];
+    let run = |extra: &[&str]| {
+        let mut a: Vec<&str> = job.to_vec();
+        a.extend(extra);
+        printwatt(&a, &d, &[])
+    };
+    let single = ok(&run(&["--out", "single", "--threads", "2"]));
+    assert!(single.contains("uncertainty"), "{single}");
+    for (k, threads) in [(1, "2"), (0, "1")] {
+        let o = ok(&run(&[
+            "--shard",
+            &format!("{k}/2"),
+            "--out",
+            "parts",
+            "--threads",
+            threads,
+        ]));
+        assert!(o.contains(&format!("shard {k} of 2")), "{o}");
+        assert!(
+            !d.join("parts/summary.json").exists(),
+            "a shard writes no run"
+        );
+    }
+    let merged = ok(&printwatt(&["merge", "parts", "--out", "merged"], &d, &[]));
+    // The answer, line for line, but the run's time and where its report went.
+    let answer = |s: &str| -> Vec<String> {
+        s.lines()
+            .filter(|l| !l.starts_with("grid ") && !l.starts_with("report:"))
+            .map(str::to_string)
+            .collect()
+    };
+    assert_eq!(
+        answer(&single),
+        answer(&merged),
+        "the terminal answers differ"
+    );
+    assert!(single.contains("saving against the baseline"), "{single}");
+    for f in ["summary.json", "placements.csv", "report.html"] {
+        let a = std::fs::read(d.join("single").join(f)).unwrap();
+        let b = std::fs::read(d.join("merged").join(f)).unwrap();
+        assert!(a == b, "{f} differs between the single run and the merge");
+    }
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("merged/summary.json")).unwrap())
+            .unwrap();
+    let u = &s["optimise"]["uncertainty"];
+    assert_eq!(u["draws"], 5, "{u}");
+    assert_eq!(u["per_draw_j"].as_array().map(Vec::len), Some(5));
+    let facts: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("merged/run.json")).unwrap()).unwrap();
+    assert_eq!(facts["draws"], 5);
+    // Half the shards are not a study; a shard without --uncertainty is refused by the parser.
+    let e = err(&printwatt(
+        &["merge", "parts/shard-0-of-2", "--out", "m2"],
+        &d,
+        &[],
+    ));
+    assert!(e.contains("missing"), "{e}");
+    let mut a: Vec<&str> = job[..job.len() - 4].to_vec();
+    a.extend(["--shard", "0/2", "--out", "p2"]);
+    let e = err(&printwatt(&a, &d, &[]));
+    assert!(e.contains("--uncertainty"), "{e}");
+    let _ = std::fs::remove_dir_all(&d);
+}

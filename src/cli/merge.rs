@@ -1,4 +1,4 @@
-//! `printwatt merge`: put the shards of a split sweep together into the files a single run
+//! `printwatt merge`: put the shards of a split sweep or uncertainty study together into the files a single run
 //! writes (`summary.json`, `placements.csv`, `report.html`), bit for bit; `run.json` says how
 //! the merged run was made.
 
@@ -54,6 +54,12 @@ pub fn run(m: MergeArgs) -> Result<()> {
         std::iter::once("printwatt".to_string()).chain(h.args.iter().cloned()),
     )
     .context("the shards' command line")?;
+    if h.kind == shard::KIND_UNCERTAINTY {
+        let super::Command::Optimise(oa) = cli.command else {
+            bail!("the shards hold uncertainty draws but were not written by `printwatt optimise`");
+        };
+        return merge_study(oa, &merged, &dirs, out, &m.out, t0);
+    }
     let super::Command::Sweep(sa) = cli.command else {
         bail!("the shards were not written by `printwatt sweep`");
     };
@@ -125,5 +131,75 @@ pub fn run(m: MergeArgs) -> Result<()> {
         super::sweep::Swept { rows, names, grid },
         run_dir,
         (facts, extra),
+    )
+}
+
+/// Merge the shards of an `optimise --uncertainty N --shard …` run: the optimisation is run
+/// again here (deterministic: the answer and the candidates the shards drew for), the draws
+/// come from the shards, and the run directory is the one a single run writes.
+fn merge_study(
+    mut a: super::optimise::OptimiseArgs,
+    merged: &shard::Merged,
+    dirs: &[PathBuf],
+    out: Option<PathBuf>,
+    o: &super::args::OutputArgs,
+    t0: std::time::Instant,
+) -> Result<()> {
+    let h = &merged.header;
+    let shard::MergedRows::Draws(draws) = &merged.rows else {
+        bail!("the shards hold placements, not uncertainty draws");
+    };
+    let Some(out) = out else {
+        bail!("merging an uncertainty study writes its run directory: give --out DIR");
+    };
+    a.shard = None;
+    a.no_report = false;
+    a.export = None;
+    a.p.run = None;
+    a.p.out = super::args::OutputArgs {
+        out: Some(out),
+        json: o.json,
+        force: o.force,
+    };
+    if super::optimise::job_key(&a) != h.job {
+        bail!("this printwatt reads the shards' command line as a different job than the one they ran");
+    }
+    if a.uncertainty != Some(h.total) {
+        bail!(
+            "the shards hold {} draws, their command line asks for {:?}",
+            h.total,
+            a.uncertainty
+        );
+    }
+    let l = a.p.load()?;
+    let now = super::sweep::hash_inputs(&a.p.inputs(&l))?;
+    for (f, sha) in &h.inputs {
+        if now.get(f) != Some(sha) {
+            bail!("{f} changed since the shards ran (SHA-256 differs): the shards are results of the old file; re-run them");
+        }
+    }
+    drop(l);
+    let facts = super::sweep::run_facts(1, t0.elapsed().as_secs_f64(), 0);
+    let extra = vec![
+        (
+            "merged_from",
+            serde_json::json!(dirs
+                .iter()
+                .map(|d| d.display().to_string())
+                .collect::<Vec<_>>()),
+        ),
+        ("shards", serde_json::json!(h.shard.count)),
+        ("draws", serde_json::json!(h.total)),
+        (
+            "shard_wall_time_s",
+            serde_json::json!(merged.shard_wall_time_s),
+        ),
+    ];
+    super::optimise::run_with(
+        a,
+        Some(super::optimise::MergedDraws {
+            draws: draws.clone(),
+            facts: (facts, extra),
+        }),
     )
 }

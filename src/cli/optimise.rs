@@ -13,7 +13,7 @@ use std::io::IsTerminal;
 
 /// `printwatt optimise` arguments. With none, runs the shipped default robot and path on a
 /// default workspace grid and writes `results/optimise-default/`.
-#[derive(clap::Args, Debug)]
+#[derive(clap::Args, Debug, Clone)]
 pub struct OptimiseArgs {
     /// Robot, path, grid and feasibility options.
     #[command(flatten)]
@@ -56,6 +56,14 @@ pub struct OptimiseArgs {
     /// each.
     #[arg(long, value_name = "N")]
     pub uncertainty: Option<usize>,
+    /// With --uncertainty: compute one shard of the draws, for a cluster run: `K/N` (0-based
+    /// shard K of N owns draws K, K+N, …), `auto` (index and count from a Slurm job array) or
+    /// `auto/N` (Slurm, or a Kubernetes Indexed Job's JOB_COMPLETION_INDEX). Every shard runs
+    /// the grid and the refinement (deterministic, the same answer on every machine) and
+    /// writes `<--out>/shard-K-of-N/`; `printwatt merge` puts the shards together into the
+    /// files of a single run, bit for bit.
+    #[arg(long, value_name = "SPEC", requires = "uncertainty")]
+    pub shard: Option<String>,
     /// Write the chosen placement for the robot into this directory: `wobj_print.mod` (ABB RAPID
     /// wobjdata), `frame.json` (COMPAS frame), and the path re-expressed in the robot base
     /// frame as `path_base.gcode` and `path_base.mod` (RAPID MoveL in wobj0). Existing files
@@ -145,14 +153,72 @@ pub fn search_bounds(ps: &[Placement], z_bounds: Option<&str>) -> Result<Bounds>
     })
 }
 
+/// An uncertainty study's draws computed elsewhere (the shards put together by `printwatt
+/// merge`), with the facts of the merged run for `run.json`.
+pub struct MergedDraws {
+    /// Every draw, in draw order.
+    pub draws: Vec<printwatt::placement::uncertainty::Draw>,
+    /// `run.json` of the merged run ([`super::sweep::run_facts`]) and its extra fields.
+    pub facts: (serde_json::Value, Vec<(&'static str, serde_json::Value)>),
+}
+
+/// The job of an `optimise` run in a normalised form: every option that changes a result, none
+/// of those that say where the output goes, how many threads run or which shard this is.
+pub fn job_key(a: &OptimiseArgs) -> String {
+    let mut n = a.clone();
+    let pk = super::sweep::job_key(&n.p);
+    n.shard = None;
+    n.export = None;
+    n.no_report = false;
+    format!(
+        "{pk} baseline={:?} seed={} max_evals={} fixed_yaw={} fixed_spin={} search={} tolerance={} z_bounds={:?} uncertainty={:?}",
+        n.baseline,
+        n.seed,
+        n.max_evals,
+        n.fixed_yaw,
+        n.fixed_spin,
+        n.search,
+        n.tolerance,
+        n.z_bounds,
+        n.uncertainty
+    )
+}
+
 /// `printwatt optimise`.
 pub fn run(a: OptimiseArgs) -> Result<()> {
+    run_with(a, None)
+}
+
+/// `printwatt optimise`, with the uncertainty study's draws given (`merged`: a merge of
+/// shards) instead of computed.
+pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
     let p = &a.p;
     let l = p.load()?;
+    // A shard of the uncertainty study writes its shard directory and nothing else; it is
+    // taken before the work, as a run directory is.
+    let mut shard_out = None;
+    if let Some(spec) = &a.shard {
+        use printwatt::placement::shard::Shard;
+        let (sh, source) = Shard::parse(spec, &|k| std::env::var(k).ok())?;
+        let Some(parent) = p.out.out.clone() else {
+            anyhow::bail!("--shard writes a shard directory: give --out DIR (every shard of the run writes DIR/shard-K-of-N/, and `printwatt merge DIR` puts them together)");
+        };
+        if p.run.is_some() {
+            anyhow::bail!(
+                "--shard writes into --out DIR/shard-K-of-N/, not into a --run directory"
+            );
+        }
+        let rd = printwatt::output::RunDir::begin_at(
+            &parent.join(sh.dir_name()),
+            &p.inputs(&l),
+            printwatt::output::Existing::Force(p.out.force),
+        )?;
+        shard_out = Some((sh, source, rd));
+    }
     // Take the run directory before the work: an occupied or locked --run fails now.
     // A JSON run writes nothing but the JSON unless --out (or --run) is given.
     let json_only = p.out.json && p.out.out.is_none() && p.run.is_none();
-    let mut run_dir = if a.no_report || json_only {
+    let mut run_dir = if a.no_report || json_only || shard_out.is_some() {
         None
     } else {
         p.run_dir(&l, Some("optimise"))?
@@ -278,16 +344,25 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
                 })
                 .cloned(),
         );
-        let study = pool.install(|| {
-            printwatt::placement::uncertainty::study(
-                &job,
-                &ev,
-                &cands,
-                baseline.as_ref().map(|b| &b.1),
-                n,
-                a.seed,
-            )
-        })?;
+        let setup = printwatt::placement::uncertainty::StudySetup::new(
+            &ev,
+            &cands,
+            baseline.as_ref().map(|b| &b.1),
+            n,
+            a.seed,
+            None,
+        )?;
+        if let Some((sh, source, rd)) = shard_out.take() {
+            return write_study_shard(&a, &l, &setup, (sh, source, rd), t0);
+        }
+        let study = match &merged {
+            Some(m) => setup.reduce(&m.draws)?,
+            None => {
+                let all: Vec<usize> = (0..n).collect();
+                let per = pool.install(|| setup.draws(&all))?;
+                setup.reduce(&per)?
+            }
+        };
         res.uncertainty = Some(study);
     }
     let secs = t0.elapsed().as_secs_f64();
@@ -330,10 +405,9 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
         m.push((
             "evaluations".into(),
             format!(
-                "grid {}, refinement {} (+{} speculative, evaluated in parallel and not needed), tolerance corners {}",
+                "grid {}, refinement {}, tolerance corners {}",
                 ps.len(),
                 res.evals,
-                si.speculative_evals,
                 si.tolerance_evals
             ),
         ));
@@ -370,11 +444,29 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
     let mut written = None;
     if let Some(mut rd) = run_dir.take() {
         rep.write_into(&mut rd)?;
-        super::sweep::write_run_facts(
-            &mut rd,
-            super::sweep::run_facts(pool.current_num_threads(), secs, n_eval),
-            &[],
-        )?;
+        // Facts of this run, not of its answer: the speculative evaluations of the parallel
+        // refinement depend on the thread count.
+        let spec = rep
+            .optimise
+            .as_ref()
+            .and_then(|o| o.search.as_ref())
+            .map(|si| si.speculative_evals);
+        let spec = ("speculative_evaluations", serde_json::json!(spec));
+        match &merged {
+            Some(m) => {
+                // The merge's own wall time includes the optimisation run again here.
+                let mut f = m.facts.0.clone();
+                f["wall_time_s"] = serde_json::json!(secs);
+                let mut extra = m.facts.1.clone();
+                extra.push(spec);
+                super::sweep::write_run_facts(&mut rd, f, &extra)?
+            }
+            None => super::sweep::write_run_facts(
+                &mut rd,
+                super::sweep::run_facts(pool.current_num_threads(), secs, n_eval),
+                &[spec],
+            )?,
+        }
         written = Some(rd.commit()?);
     } else {
         rep.check_finite()?;
@@ -535,6 +627,68 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
     }
     if let Some(dir) = &written {
         println!("report: {}", dir.join("report.html").display());
+    }
+    Ok(())
+}
+
+/// `optimise --uncertainty N --shard SPEC`: this shard's draws of the study, written as the
+/// shard directory `<--out>/shard-K-of-N/` (docs/cluster.md).
+fn write_study_shard(
+    a: &OptimiseArgs,
+    l: &super::sweep::Loaded,
+    setup: &printwatt::placement::uncertainty::StudySetup,
+    (sh, source, mut rd): (
+        printwatt::placement::shard::Shard,
+        printwatt::placement::shard::ShardSource,
+        printwatt::output::RunDir,
+    ),
+    t0: std::time::Instant,
+) -> Result<()> {
+    use printwatt::placement::shard::{self, ShardHeader};
+    let p = &a.p;
+    let idx = sh.indices(setup.len());
+    let pool = p.pool()?;
+    let t1 = std::time::Instant::now();
+    let draws = pool.install(|| setup.draws(&idx))?;
+    let draw_s = t1.elapsed().as_secs_f64();
+    let rows: Vec<(usize, printwatt::placement::uncertainty::Draw)> =
+        idx.into_iter().zip(draws).collect();
+    let bytes = shard::encode_draws(&rows)?;
+    let header = ShardHeader {
+        schema_version: shard::SCHEMA_VERSION,
+        kind: shard::KIND_UNCERTAINTY.into(),
+        shard: sh,
+        total: setup.len(),
+        rows: rows.len(),
+        job: job_key(a),
+        args: std::env::args().skip(1).collect(),
+        cwd: std::env::current_dir().context("the working directory")?,
+        inputs: super::sweep::hash_inputs(&p.inputs(l))?,
+        version: super::VERSION.into(),
+        rows_sha256: printwatt::output::sha256_hex(&bytes),
+        wall_time_s: t0.elapsed().as_secs_f64(),
+    };
+    let text = serde_json::to_string_pretty(&header)?;
+    rd.write(shard::ROWS, &bytes)?;
+    rd.write(shard::HEADER, text.as_bytes())?;
+    let dir = rd.commit()?;
+    if p.out.json {
+        println!("{text}");
+    } else {
+        let from = match source {
+            shard::ShardSource::Given => "as given",
+            shard::ShardSource::Slurm => "from the Slurm job array",
+            shard::ShardSource::Kubernetes => "from the Kubernetes Indexed Job",
+        };
+        println!(
+            "shard {} of {} ({from}): {} of {} uncertainty draws in {draw_s:.2} s (grid and refinement {:.2} s)",
+            sh.index,
+            sh.count,
+            rows.len(),
+            setup.len(),
+            header.wall_time_s - draw_s
+        );
+        println!("wrote {}", dir.display());
     }
     Ok(())
 }

@@ -277,7 +277,7 @@ fn kinematics(m: &DynModel, d: &mut DynData, q: &[f64]) {
             d.r[i] = l.c;
             d.p[i] = l.p + l.c.column(2) * q[i];
         } else {
-            let (s, c) = q[i].sin_cos();
+            let (s, c) = crate::fastmath::sin_cos(q[i]);
             let c0 = l.c.column(0);
             let c1 = l.c.column(1);
             d.r[i] = M3::from_columns(&[c0 * c + c1 * s, c1 * c - c0 * s, l.c.column(2).into()]);

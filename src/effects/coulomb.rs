@@ -63,7 +63,7 @@ impl Coulomb {
     /// Smoothed sign `tanh(q̇/ε)` (dimensionless).
     #[inline]
     pub fn smooth_sign(&self, qd: f64) -> f64 {
-        (qd / self.velocity_scale).tanh()
+        crate::fastmath::tanh(qd / self.velocity_scale)
     }
 
     /// Torque of joint `j` at velocity `qd` rad/s, N·m.

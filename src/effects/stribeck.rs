@@ -57,7 +57,7 @@ impl Stribeck {
     }
     /// Shape `exp(−(q̇/v_s)²) tanh(q̇/ε)` (dimensionless) at velocity `qd` rad/s.
     pub fn shape(&self, qd: f64) -> f64 {
-        (-(qd / self.vs).powi(2)).exp() * (qd / COULOMB_VELOCITY_SCALE_RAD_S).tanh()
+        (-(qd / self.vs).powi(2)).exp() * crate::fastmath::tanh(qd / COULOMB_VELOCITY_SCALE_RAD_S)
     }
     /// Torque of joint `j` at velocity `qd` rad/s, N·m (0 where `f_s = 0`). No allocation.
     #[inline]

@@ -256,15 +256,15 @@ impl FastChain {
             }
             match j.axis {
                 Axis::X(sg) => {
-                    let (s, c) = qi.sin_cos();
+                    let (s, c) = crate::fastmath::sin_cos(qi);
                     rot_cols(&mut r, 1, 2, sg * s, c)
                 }
                 Axis::Y(sg) => {
-                    let (s, c) = qi.sin_cos();
+                    let (s, c) = crate::fastmath::sin_cos(qi);
                     rot_cols(&mut r, 2, 0, sg * s, c)
                 }
                 Axis::Z(sg) => {
-                    let (s, c) = qi.sin_cos();
+                    let (s, c) = crate::fastmath::sin_cos(qi);
                     rot_cols(&mut r, 0, 1, sg * s, c)
                 }
                 Axis::General(a) => r *= crate::math::rot_axis(&a, qi),

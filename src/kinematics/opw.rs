@@ -173,7 +173,8 @@ impl Prepared {
     pub fn branch_of(&self, p: &OpwParams, q: &[f64]) -> Branch {
         let o = opw_angles(p, q);
         let e = o[2] + self.psi3;
-        let cx1 = p.c2 * o[1].sin() + self.kappa * (o[1] + e).sin() + p.a1;
+        let cx1 =
+            p.c2 * crate::fastmath::sin(o[1]) + self.kappa * crate::fastmath::sin(o[1] + e) + p.a1;
         Branch {
             shoulder: if cx1 >= 0.0 {
                 Shoulder::Front
@@ -221,7 +222,7 @@ fn checked_acos(x: f64) -> Option<f64> {
     if x.is_nan() || x.abs() > 1.0 + ACOS_SLACK {
         None
     } else {
-        Some(x.clamp(-1.0, 1.0).acos())
+        Some(crate::fastmath::acos(x.clamp(-1.0, 1.0)))
     }
 }
 
@@ -315,7 +316,7 @@ fn arm(
             Shoulder::Front => ((c.y * rho - c.x * p.b) / r2, (c.x * rho + c.y * p.b) / r2),
             Shoulder::Back => (-(c.y * rho + c.x * p.b) / r2, -(c.x * rho - c.y * p.b) / r2),
         };
-        (s1.atan2(c1), (s1, c1))
+        (crate::fastmath::atan2(s1, c1), (s1, c1))
     } else {
         // Wrist centre on the axis of joint 1 (b = 0): φ undefined, take 0 as atan2 does.
         let q1 = match shoulder {
@@ -342,14 +343,14 @@ fn arm(
     let t3 = checked_acos((s2 - c22 - kappa2) / (2.0 * p.c2 * kappa)).ok_or_else(out)?;
     let (q2, q3) = match shoulder {
         Shoulder::Front => {
-            let a = x.atan2(dz);
+            let a = crate::fastmath::atan2(x, dz);
             match elbow {
                 Elbow::Up => (a - t2, t3 - psi3),
                 Elbow::Down => (a + t2, -t3 - psi3),
             }
         }
         Shoulder::Back => {
-            let a = x.atan2(dz);
+            let a = crate::fastmath::atan2(x, dz);
             match elbow {
                 Elbow::Up => (-t2 - a, t3 - psi3),
                 Elbow::Down => (t2 - a, -t3 - psi3),
@@ -364,7 +365,7 @@ fn arm(
 #[inline]
 fn wrist(r: &M3, arm: &[f64; 3], sc1: (f64, f64), w: Wrist, q4_ref: f64) -> ([f64; 3], f64) {
     let (s1, c1) = sc1;
-    let (s23, c23) = (arm[1] + arm[2]).sin_cos();
+    let (s23, c23) = crate::fastmath::sin_cos(arm[1] + arm[2]);
     // Columns of R_0c.
     let x = V3::new(c1 * c23, s1 * c23, -s23);
     let y = V3::new(-s1, c1, 0.0);
@@ -381,20 +382,20 @@ fn wrist(r: &M3, arm: &[f64; 3], sc1: (f64, f64), w: Wrist, q4_ref: f64) -> ([f6
         let r10 = y.dot(&rx);
         if r22 >= 0.0 {
             // R_ce ≈ Rz(q4 + q6).
-            let sum = r10.atan2(r00);
+            let sum = crate::fastmath::atan2(r10, r00);
             ([q4_ref, 0.0, sum - q4_ref], s5)
         } else {
             // R_ce ≈ Ry(π) Rz(q6 − q4).
             let r11 = y.dot(&r.column(1));
-            let diff = r10.atan2(r11);
+            let diff = crate::fastmath::atan2(r10, r11);
             ([q4_ref, PI, diff + q4_ref], s5)
         }
     } else {
         let r20 = z.dot(&r.column(0));
         let r21 = z.dot(&r.column(1));
-        let q4 = r12.atan2(r02);
-        let q5 = s5.atan2(r22);
-        let q6 = r21.atan2(-r20);
+        let q4 = crate::fastmath::atan2(r12, r02);
+        let q5 = crate::fastmath::atan2(s5, r22);
+        let q6 = crate::fastmath::atan2(r21, -r20);
         let a = match w {
             Wrist::NoFlip => [q4, q5, q6],
             Wrist::Flip => [q4 + PI, -q5, q6 + PI],
@@ -471,21 +472,21 @@ pub fn solve_all(p: &OpwParams, flange: &Frame) -> [Result<[f64; 6], IkFailure>;
 /// Wrist singularity measure `|sin q5|` (dimensionless, 0 = joints 4 and 6 aligned) for URDF
 /// angles `q` (rad).
 pub fn wrist_singularity(p: &OpwParams, q: &[f64]) -> f64 {
-    opw_angles(p, q)[4].sin().abs()
+    crate::fastmath::sin(opw_angles(p, q)[4]).abs()
 }
 
 /// Elbow singularity measure `|sin(q3_opw + ψ3)|` (dimensionless): 0 when the arm is stretched
 /// out (or folded back), 1 with a right angle between upper arm and forearm line.
 pub fn elbow_singularity(p: &OpwParams, q: &[f64]) -> f64 {
-    let psi3 = p.a2.atan2(p.c3);
-    (opw_angles(p, q)[2] + psi3).sin().abs()
+    let psi3 = crate::fastmath::atan2(p.a2, p.c3);
+    crate::fastmath::sin(opw_angles(p, q)[2] + psi3).abs()
 }
 
 /// Shoulder singularity measure, m: distance of the wrist centre from the axis of joint 1
 /// within the arm plane (`|c_x1|` of the OPW paper; for `b = 0` the distance to the axis).
 pub fn shoulder_singularity(p: &OpwParams, q: &[f64]) -> f64 {
     let o = opw_angles(p, q);
-    let psi3 = p.a2.atan2(p.c3);
+    let psi3 = crate::fastmath::atan2(p.a2, p.c3);
     let k = (p.a2 * p.a2 + p.c3 * p.c3).sqrt();
-    (p.c2 * o[1].sin() + k * (o[1] + o[2] + psi3).sin() + p.a1).abs()
+    (p.c2 * crate::fastmath::sin(o[1]) + k * crate::fastmath::sin(o[1] + o[2] + psi3) + p.a1).abs()
 }

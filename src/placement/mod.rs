@@ -13,6 +13,7 @@ pub mod optimise;
 pub mod reduce;
 pub mod search;
 pub mod shard;
+pub mod stations;
 pub mod sweep;
 pub mod tolerance;
 pub mod uncertainty;

@@ -179,7 +179,7 @@ pub fn track(
     let model = solver.model;
     let n = model.dof();
     let part_to_base = at.frame();
-    let Buffers { qs, tcp } = buf;
+    let Buffers { qs, tcp, .. } = buf;
     qs.clear();
     tcp.clear();
     let mut prev = JointVec::from_slice(q0);
@@ -251,16 +251,27 @@ struct Violation {
     ratio: f64,
 }
 
+/// Every (sample, joint, limit) over its limit, from the positions `q` (for the jerk,
+/// [`crate::numerics::third_derivative_uniform_at`], computed where needed rather than
+/// stored) and the derivatives `qd`, `qdd` (row-major, `dt` s apart).
 fn violations(
     model: &RobotModel,
+    q: &[f64],
     qd: &[f64],
     qdd: &[f64],
-    qddd: &[f64],
+    dt: f64,
     check_jerk: bool,
 ) -> Vec<Violation> {
     let n = model.dof();
     let mut out = Vec::new();
     let m = qd.len() / n;
+    let jerk = |k: usize, j: usize| {
+        if check_jerk && m >= 5 {
+            crate::numerics::third_derivative_uniform_at(q, n, dt, k, j)
+        } else {
+            0.0
+        }
+    };
     for k in 0..m {
         for (j, jt) in model.joints.iter().enumerate() {
             let checks = [
@@ -272,7 +283,11 @@ fn violations(
                 ),
                 (
                     LimitKind::Jerk,
-                    if check_jerk { qddd[k * n + j] } else { 0.0 },
+                    if jt.jerk_limit.is_finite() {
+                        jerk(k, j)
+                    } else {
+                        0.0
+                    },
                     jt.jerk_limit,
                 ),
             ];
@@ -311,19 +326,26 @@ impl Plan {
     }
 }
 
-/// Buffers reused from one placement to the next (joint positions, TCP points).
+/// Buffers reused from one placement to the next (joint positions, their derivatives, TCP
+/// points), so that timing a path allocates nothing once they are large enough.
 #[derive(Clone, Debug, Default)]
 pub struct Buffers {
     /// Joint positions, row-major.
     pub qs: Vec<f64>,
     /// TCP points in the base frame, m.
     pub tcp: Vec<V3>,
+    /// Joint velocities, row-major (rad/s).
+    pub qd: Vec<f64>,
+    /// Joint accelerations, row-major (rad/s²).
+    pub qdd: Vec<f64>,
 }
 
 impl Buffers {
     /// Take back the vectors of a timed path for reuse.
     pub fn recycle(&mut self, t: TimedPath) {
         self.qs = t.traj.q;
+        self.qd = t.traj.qd;
+        self.qdd = t.traj.qdd;
         self.tcp = t.tcp;
     }
 }
@@ -390,10 +412,7 @@ pub fn time_path_planned(
     let mut scale = vec![1.0; nodes.s.len()];
     let mut opts = *popts;
     let mut slowdowns: Vec<Slowdown> = Vec::new();
-    let mut tracked = Buffers {
-        qs: std::mem::take(&mut buf.qs),
-        tcp: std::mem::take(&mut buf.tcp),
-    };
+    let mut tracked = std::mem::take(buf);
     let max_rounds = jopts.max_iterations.max(1);
     let mut round = 0;
     loop {
@@ -407,14 +426,27 @@ pub fn time_path_planned(
             *buf = tracked;
             return Err(e);
         }
-        let (qd, qdd, qddd) = differentiate(&tracked.qs, n, motion.dt);
-        let viol = violations(model, &qd, &qdd, &qddd, jopts.check_jerk);
+        crate::numerics::differentiate_uniform_into(
+            &tracked.qs,
+            n,
+            motion.dt,
+            &mut tracked.qd,
+            &mut tracked.qdd,
+        );
+        let viol = violations(
+            model,
+            &tracked.qs,
+            &tracked.qd,
+            &tracked.qdd,
+            motion.dt,
+            jopts.check_jerk,
+        );
         if viol.is_empty() {
             let mut traj = JointTrajectory::new(n);
             traj.t = (0..motion.p.len()).map(|k| k as f64 * motion.dt).collect();
             traj.q = tracked.qs;
-            traj.qd = qd;
-            traj.qdd = qdd;
+            traj.qd = tracked.qd;
+            traj.qdd = tracked.qdd;
             return Ok(TimedPath {
                 traj,
                 motion,

@@ -1,0 +1,253 @@
+//! Fast elementary functions for the per-sample hot loop (IK, forward kinematics, RNEA,
+//! feasibility measures, friction): `sin`/`cos`, `atan2`, `acos` and `tanh`, each a few ulp
+//! from the libm result, without libm's call overhead (glibc's `sin`/`cos` save and restore
+//! the rounding mode on every call: measured 15 % of a placement evaluation).
+//!
+//! # Stated error bounds (checked densely against libm by `tests/fastmath.rs`)
+//!
+//! With `u(y)` the spacing of doubles at `|y|` (1 ulp):
+//!
+//! | function | domain of the fast path | stated bound on `|fast − libm|` | measured (tests) |
+//! |---|---|---|---|
+//! | [`sin_cos`], [`sin`], [`cos`] | `|x| ≤` [`SIN_COS_MAX`] (64 rad ≈ 20π) | `2 u(y) + 1e-24` | 1 ulp |
+//! | [`atan2`] | `0 < max(|x|, |y|) ≤ 1e300`, both finite | `2 u(y)` | 1 ulp |
+//! | [`acos`] | `|x| ≤ 1` | `3 u(y)` | 2 ulp |
+//! | [`tanh`] | `|x| ≥ 20` (±1, identical to libm); libm below | `0` | 0 |
+//!
+//! Outside the domain (and for NaN, infinities, `atan2(±0, ±0)`) each function returns libm's
+//! answer. The absolute term of `sin_cos` is the argument reduction's: `x − k π/2` is formed
+//! with a 2-part π/2 (33 + 53 bits; Cody and Waite 1980) whose error, times `k ≤ 41`, stays
+//! below 1e-24 rad: relative accuracy is kept down to results of ~1e-8, far below anything a
+//! joint angle or a torque is compared with.
+//!
+//! The kernels are fdlibm's (Sun Microsystems, 1993; as in musl and Rust's `libm` crate):
+//! `__kernel_sin`/`__kernel_cos` (degree-13/14 polynomials on `|r| ≤ π/4`, error < 2⁻⁵⁸ relative
+//! before rounding) and `atan`'s degree-22 polynomial on `|t| ≤ 7/16` after reduction by
+//! `atan(½)`, `atan(1)`. `acos(x) = atan2(√((1−x)(1+x)), x)`.
+//!
+//! The results are plain IEEE double arithmetic without fused multiply-add, so they are the
+//! same on every x86-64 and aarch64 machine and for any thread count.
+//!
+//! # The libm switch
+//!
+//! [`set_libm`]`(true)` makes every function here return libm's result (process-wide; a
+//! relaxed atomic load per call). Benchmarks use it to measure the before/after in one run
+//! (`benches/placement.rs`); tests use it to compare whole evaluations. The default is the
+//! fast path.
+
+use std::f64::consts::{FRAC_2_PI, PI};
+use std::sync::atomic::{AtomicBool, Ordering};
+
+static USE_LIBM: AtomicBool = AtomicBool::new(false);
+
+/// Route every function of this module to libm (`true`) or to the fast path (`false`, the
+/// default). Process-wide; meant for benchmarks and A/B checks, not for normal use.
+pub fn set_libm(on: bool) {
+    USE_LIBM.store(on, Ordering::Relaxed);
+}
+
+/// Whether the functions of this module currently return libm's results.
+#[inline(always)]
+pub fn libm_selected() -> bool {
+    USE_LIBM.load(Ordering::Relaxed)
+}
+
+/// Largest `|x|` (rad) that [`sin_cos`] reduces itself; beyond it, libm.
+pub const SIN_COS_MAX: f64 = 64.0;
+
+/// π/2 to 33 bits (its low 20 bits are zero, so `k · PIO2_1` is exact for `|k| < 2²⁰`).
+const PIO2_1: f64 = f64::from_bits(0x3FF9_21FB_5440_0000);
+/// π/2 − [`PIO2_1`].
+const PIO2_1T: f64 = f64::from_bits(0x3DD0_B461_1A62_6331);
+/// 1.5 · 2⁵²: adding and subtracting it rounds to the nearest integer (|v| < 2⁵¹).
+const ROUND_MAGIC: f64 = 6_755_399_441_055_744.0;
+
+// fdlibm's kernel coefficients, as bit patterns (exact; the decimal forms are in musl).
+const S1: f64 = f64::from_bits(0xBFC5_5555_5555_5549);
+const S2: f64 = f64::from_bits(0x3F81_1111_1110_F8A6);
+const S3: f64 = f64::from_bits(0xBF2A_01A0_19C1_61D5);
+const S4: f64 = f64::from_bits(0x3EC7_1DE3_57B1_FE7D);
+const S5: f64 = f64::from_bits(0xBE5A_E5E6_8A2B_9CEB);
+const S6: f64 = f64::from_bits(0x3DE5_D93A_5ACF_D57C);
+
+const C1: f64 = f64::from_bits(0x3FA5_5555_5555_554C);
+const C2: f64 = f64::from_bits(0xBF56_C16C_16C1_5177);
+const C3: f64 = f64::from_bits(0x3EFA_01A0_19CB_1590);
+const C4: f64 = f64::from_bits(0xBE92_7E4F_809C_52AD);
+const C5: f64 = f64::from_bits(0x3E21_EE9E_BDB4_B1C4);
+const C6: f64 = f64::from_bits(0xBDA8_FAE9_BE88_38D4);
+
+/// fdlibm `__kernel_sin(r, 0, 0)`: sin r for |r| ≤ π/4.
+#[inline(always)]
+fn k_sin(r: f64) -> f64 {
+    let z = r * r;
+    let v = z * r;
+    let p = S2 + z * (S3 + z * (S4 + z * (S5 + z * S6)));
+    r + v * (S1 + z * p)
+}
+
+/// fdlibm `__kernel_cos(r, 0)`: cos r for |r| ≤ π/4.
+#[inline(always)]
+fn k_cos(r: f64) -> f64 {
+    let z = r * r;
+    let p = z * (C1 + z * (C2 + z * (C3 + z * (C4 + z * (C5 + z * C6)))));
+    let hz = 0.5 * z;
+    let w = 1.0 - hz;
+    w + (((1.0 - w) - hz) + z * p)
+}
+
+/// `(sin x, cos x)`; see the module docs for the error bound. `x` in rad.
+#[inline]
+pub fn sin_cos(x: f64) -> (f64, f64) {
+    if libm_selected() || x.is_nan() || x.abs() > SIN_COS_MAX {
+        return x.sin_cos();
+    }
+    if x.abs() < 7.450_580_596_923_828e-9 {
+        // |x| < 2⁻²⁷: sin x = x and cos x = 1 to rounding (keeps the sign of −0).
+        return (x, 1.0);
+    }
+    let t = x * FRAC_2_PI + ROUND_MAGIC;
+    let quadrant = t.to_bits() & 3;
+    let k = t - ROUND_MAGIC;
+    // Exact (Sterbenz) then one rounding; |r| ≤ π/4 + tiny.
+    let r = (x - k * PIO2_1) - k * PIO2_1T;
+    let (s, c) = (k_sin(r), k_cos(r));
+    match quadrant {
+        0 => (s, c),
+        1 => (c, -s),
+        2 => (-s, -c),
+        _ => (-c, s),
+    }
+}
+
+/// `sin x` (rad); see [`sin_cos`].
+#[inline]
+pub fn sin(x: f64) -> f64 {
+    sin_cos(x).0
+}
+
+/// `cos x` (rad); see [`sin_cos`].
+#[inline]
+pub fn cos(x: f64) -> f64 {
+    sin_cos(x).1
+}
+
+const ATANHI: [f64; 2] = [
+    f64::from_bits(0x3FDD_AC67_0561_BB4F), // atan(0.5) hi
+    f64::from_bits(0x3FE9_21FB_5444_2D18), // atan(1.0) hi
+];
+const ATANLO: [f64; 2] = [
+    f64::from_bits(0x3C7A_2B7F_222F_65E2), // atan(0.5) lo
+    f64::from_bits(0x3C81_A626_3314_5C07), // atan(1.0) lo
+];
+const AT: [f64; 11] = [
+    f64::from_bits(0x3FD5_5555_5555_550D),
+    f64::from_bits(0xBFC9_9999_9998_EBC4),
+    f64::from_bits(0x3FC2_4924_9200_83FF),
+    f64::from_bits(0xBFBC_71C6_FE23_1671),
+    f64::from_bits(0x3FB7_45CD_C54C_206E),
+    f64::from_bits(0xBFB3_B0F2_AF74_9A6D),
+    f64::from_bits(0x3FB1_0D66_A0D0_3D51),
+    f64::from_bits(0xBFAD_DE2D_52DE_FD9A),
+    f64::from_bits(0x3FA9_7B4B_2476_0DEB),
+    f64::from_bits(0xBFA2_B444_2C6A_6C2F),
+    f64::from_bits(0x3F90_AD3A_E322_DA11),
+];
+const PIO2_HI: f64 = f64::from_bits(0x3FF9_21FB_5444_2D18);
+const PIO2_LO: f64 = f64::from_bits(0x3C91_A626_3314_5C07);
+const PI_LO: f64 = f64::from_bits(0x3CA1_A626_3314_5C07);
+
+/// `atan(n/d)` for `0 ≤ n ≤ d`, `d > 0` (fdlibm's reduction restricted to `[0, 1]`).
+#[inline(always)]
+fn atan_unit(n: f64, d: f64) -> f64 {
+    // Reduce t = n/d ∈ [0, 1] to |z| ≤ 7/16 with one division.
+    let (z, id) = if n < 0.4375 * d {
+        (n / d, None)
+    } else if n < 0.6875 * d {
+        // atan(t) = atan(½) + atan((2t − 1)/(2 + t))
+        ((2.0 * n - d) / (2.0 * d + n), Some(0))
+    } else {
+        // atan(t) = atan(1) + atan((t − 1)/(t + 1))
+        ((n - d) / (n + d), Some(1))
+    };
+    let z2 = z * z;
+    let w = z2 * z2;
+    let s1 = z2 * (AT[0] + w * (AT[2] + w * (AT[4] + w * (AT[6] + w * (AT[8] + w * AT[10])))));
+    let s2 = w * (AT[1] + w * (AT[3] + w * (AT[5] + w * (AT[7] + w * AT[9]))));
+    match id {
+        None => z - z * (s1 + s2),
+        Some(i) => ATANHI[i] - ((z * (s1 + s2) - ATANLO[i]) - z),
+    }
+}
+
+/// `atan2(y, x)` in (−π, π], rad; see the module docs for the error bound.
+#[inline]
+pub fn atan2(y: f64, x: f64) -> f64 {
+    let (ax, ay) = (x.abs(), y.abs());
+    let big = ax.max(ay);
+    // Zero, non-finite or huge operands (and NaN): libm.
+    if libm_selected() || !(big > 0.0 && big <= 1e300) {
+        return y.atan2(x);
+    }
+    let swap = ay > ax;
+    let (n, d) = if swap { (ax, ay) } else { (ay, ax) };
+    let mut r = atan_unit(n, d);
+    if swap {
+        r = (PIO2_HI - r) + PIO2_LO;
+    }
+    if x.is_sign_negative() {
+        r = (PI - r) + PI_LO;
+    }
+    r.copysign(y)
+}
+
+/// `acos x` in [0, π], rad, for `|x| ≤ 1` (libm otherwise); see the module docs.
+#[inline]
+pub fn acos(x: f64) -> f64 {
+    if libm_selected() || x.is_nan() || x.abs() > 1.0 {
+        return x.acos();
+    }
+    atan2(((1.0 - x) * (1.0 + x)).sqrt(), x)
+}
+
+/// `tanh x`: ±1 for `|x| ≥ 20`, where libm's result rounds to ±1 as well (`1 − tanh 20 ≈
+/// 8.5e-18` is below half an ulp of 1), libm below. The smoothed Coulomb sign `tanh(q̇/ε)`
+/// with ε = 1e-3 rad/s is in this range whenever `|q̇| ≥ 0.02 rad/s`.
+#[inline]
+pub fn tanh(x: f64) -> f64 {
+    if x.abs() >= 20.0 {
+        1.0f64.copysign(x)
+    } else {
+        x.tanh()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn quadrant_boundaries_and_signs() {
+        for &x in &[
+            0.0,
+            -0.0,
+            1e-300,
+            PI / 4.0,
+            PI / 2.0,
+            PI,
+            -PI,
+            3.0 * PI / 2.0,
+            40.0,
+        ] {
+            let (s, c) = sin_cos(x);
+            assert!((s - x.sin()).abs() <= 4.0 * f64::EPSILON, "sin {x}");
+            assert!((c - x.cos()).abs() <= 4.0 * f64::EPSILON, "cos {x}");
+        }
+        assert_eq!(sin_cos(-0.0).0.to_bits(), (-0.0f64).to_bits());
+        assert_eq!(atan2(0.0, -1.0), PI);
+        assert_eq!(atan2(-0.0, -1.0), -PI);
+        assert_eq!(atan2(-0.0, 1.0).to_bits(), (-0.0f64).to_bits());
+        assert_eq!(acos(1.0), 0.0);
+        assert_eq!(tanh(-25.0), -1.0);
+    }
+}

@@ -1,0 +1,216 @@
+//! The fast elementary functions (`printwatt::fastmath`) against libm, densely over the
+//! ranges the hot loop meets them (joint angles up to ±4π, every quadrant of `atan2`, the
+//! whole domain of `acos`), at the bounds the module docs state.
+
+use printwatt::fastmath;
+use std::sync::Mutex;
+
+/// The libm switch is process-wide: the tests of this file take turns.
+static SWITCH: Mutex<()> = Mutex::new(());
+
+/// Spacing of doubles at |y| (1 ulp), the smallest normal spacing for y = 0.
+fn ulp(y: f64) -> f64 {
+    let a = y.abs().max(f64::MIN_POSITIVE);
+    f64::from_bits(a.to_bits() + 1) - a
+}
+
+/// Largest error of `fast` against `exact` in ulp of the exact value, ignoring an absolute
+/// error up to `abs_floor`.
+fn worst(
+    xs: impl Iterator<Item = f64>,
+    fast: impl Fn(f64) -> f64,
+    exact: impl Fn(f64) -> f64,
+    abs_floor: f64,
+) -> (f64, f64) {
+    let mut w = (0.0, 0.0);
+    for x in xs {
+        let (f, e) = (fast(x), exact(x));
+        assert!(f.is_finite() == e.is_finite(), "finiteness differs at {x}");
+        let err = (f - e).abs();
+        let u = if err <= abs_floor { 0.0 } else { err / ulp(e) };
+        if u > w.0 {
+            w = (u, x);
+        }
+    }
+    w
+}
+
+/// A deterministic stream of pseudo-random numbers in [0, 1) (xorshift; seeded).
+fn uniform(seed: u64, n: usize) -> impl Iterator<Item = f64> {
+    let mut s = seed.max(1);
+    (0..n).map(move |_| {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        (s >> 11) as f64 / (1u64 << 53) as f64
+    })
+}
+
+/// Dense grid over [-a, a], random points, and points next to every multiple of π/4
+/// (quadrant boundaries of the reduction and zeros of sin/cos).
+fn angles(a: f64) -> Vec<f64> {
+    let n = 400_000;
+    let mut v: Vec<f64> = (0..=n)
+        .map(|i| -a + 2.0 * a * i as f64 / n as f64)
+        .collect();
+    v.extend(uniform(7, 400_000).map(|u| -a + 2.0 * a * u));
+    let quarter = std::f64::consts::FRAC_PI_4;
+    let k_max = (a / quarter) as i64;
+    for k in -k_max..=k_max {
+        let c = k as f64 * quarter;
+        let mut lo = c;
+        let mut hi = c;
+        for _ in 0..64 {
+            lo = f64::from_bits(lo.to_bits().wrapping_sub(1)).min(lo - 1e-300);
+            hi = f64::from_bits(hi.to_bits().wrapping_add(1)).max(hi + 1e-300);
+            v.push(lo);
+            v.push(hi);
+        }
+        for e in 1..12 {
+            v.push(c + 10f64.powi(-e));
+            v.push(c - 10f64.powi(-e));
+        }
+    }
+    v
+}
+
+#[test]
+fn fast_sin_cos_stay_within_the_stated_bound_over_the_joint_ranges() {
+    let _g = SWITCH.lock().unwrap_or_else(|e| e.into_inner());
+    fastmath::set_libm(false);
+    let xs = angles(4.0 * std::f64::consts::PI);
+    let (ws, xs_at) = worst(xs.iter().copied(), fastmath::sin, f64::sin, 1e-24);
+    let (wc, xc_at) = worst(xs.iter().copied(), fastmath::cos, f64::cos, 1e-24);
+    println!("sin: worst {ws:.2} ulp at {xs_at}; cos: worst {wc:.2} ulp at {xc_at}");
+    assert!(ws <= 2.0, "sin: {ws} ulp at {xs_at}");
+    assert!(wc <= 2.0, "cos: {wc} ulp at {xc_at}");
+    // The whole fast domain, sparser.
+    let m = fastmath::SIN_COS_MAX;
+    let (ws, at) = worst(
+        uniform(11, 200_000).map(|u| -m + 2.0 * m * u),
+        fastmath::sin,
+        f64::sin,
+        1e-24,
+    );
+    assert!(ws <= 2.0, "sin: {ws} ulp at {at}");
+    // sin_cos is the pair.
+    for &x in xs.iter().step_by(97) {
+        assert_eq!(fastmath::sin_cos(x), (fastmath::sin(x), fastmath::cos(x)));
+    }
+}
+
+#[test]
+fn fast_atan2_stays_within_two_ulp_in_every_quadrant() {
+    let _g = SWITCH.lock().unwrap_or_else(|e| e.into_inner());
+    fastmath::set_libm(false);
+    let mut pts: Vec<(f64, f64)> = Vec::new();
+    // Every direction on circles of several radii, densely.
+    for &r in &[1e-9, 1e-3, 0.7, 1.0, 2.6, 1e4] {
+        let n = 200_000;
+        for i in 0..n {
+            let a = -std::f64::consts::PI + 2.0 * std::f64::consts::PI * i as f64 / n as f64;
+            pts.push((r * a.sin(), r * a.cos()));
+        }
+    }
+    // Random pairs over wide magnitudes, and the interval edges of the reduction.
+    let u: Vec<f64> = uniform(3, 600_000).collect();
+    for c in u.chunks(3) {
+        let s = 10f64.powf(-6.0 + 12.0 * c[2]);
+        pts.push(((c[0] - 0.5) * s, c[1] - 0.5));
+    }
+    for &t in &[0.4375f64, 0.6875, 1.0] {
+        for d in -50i64..=50 {
+            let n = f64::from_bits(t.to_bits().wrapping_add(d as u64));
+            for (sy, sx) in [(1.0, 1.0), (1.0, -1.0), (-1.0, 1.0), (-1.0, -1.0)] {
+                pts.push((sy * n, sx * 1.0));
+                pts.push((sy * 1.0, sx * n));
+            }
+        }
+    }
+    let mut w = (0.0, (0.0, 0.0));
+    for &(y, x) in &pts {
+        let (f, e) = (fastmath::atan2(y, x), y.atan2(x));
+        let u = (f - e).abs() / ulp(e);
+        if u > w.0 {
+            w = (u, (y, x));
+        }
+    }
+    println!("atan2: worst {:.2} ulp at {:?}", w.0, w.1);
+    assert!(w.0 <= 2.0, "atan2: {} ulp at {:?}", w.0, w.1);
+}
+
+#[test]
+fn fast_acos_stays_within_three_ulp_over_its_domain() {
+    let _g = SWITCH.lock().unwrap_or_else(|e| e.into_inner());
+    fastmath::set_libm(false);
+    let n = 400_000;
+    let mut xs: Vec<f64> = (0..=n).map(|i| -1.0 + 2.0 * i as f64 / n as f64).collect();
+    xs.extend(uniform(5, 200_000).map(|u| 2.0 * u - 1.0));
+    for e in 1..16 {
+        let d = 10f64.powi(-e);
+        xs.extend([1.0 - d, -1.0 + d, d, -d]);
+    }
+    let (w, at) = worst(xs.into_iter(), fastmath::acos, f64::acos, 0.0);
+    println!("acos: worst {w:.2} ulp at {at}");
+    assert!(w <= 3.0, "acos: {w} ulp at {at}");
+}
+
+#[test]
+fn fast_functions_give_libms_answer_outside_their_domain_and_on_special_values() {
+    let _g = SWITCH.lock().unwrap_or_else(|e| e.into_inner());
+    fastmath::set_libm(false);
+    let same = |a: f64, b: f64| a.to_bits() == b.to_bits() || (a.is_nan() && b.is_nan());
+    for x in [
+        65.0,
+        -1e6,
+        1e300,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NAN,
+    ] {
+        let (s, c) = fastmath::sin_cos(x);
+        assert!(same(s, x.sin()) && same(c, x.cos()), "sin_cos({x})");
+    }
+    for (y, x) in [
+        (0.0, 0.0),
+        (-0.0, 0.0),
+        (0.0, -0.0),
+        (-0.0, -0.0),
+        (1.0, f64::INFINITY),
+        (f64::INFINITY, -1.0),
+        (f64::NAN, 1.0),
+        (1e305, 1.0),
+    ] {
+        assert!(same(fastmath::atan2(y, x), y.atan2(x)), "atan2({y}, {x})");
+    }
+    for x in [1.5, -1.0000001, f64::NAN] {
+        assert!(same(fastmath::acos(x), x.acos()), "acos({x})");
+    }
+    // tanh: ±1 where libm rounds to ±1, libm below.
+    for x in [-1e3, -20.0, -19.9, -0.3, 0.0, 1e-5, 0.9, 19.99, 20.0, 1e300] {
+        assert!(same(fastmath::tanh(x), x.tanh()), "tanh({x})");
+    }
+}
+
+#[test]
+fn the_libm_switch_returns_libms_results() {
+    let _g = SWITCH.lock().unwrap_or_else(|e| e.into_inner());
+    fastmath::set_libm(true);
+    let mut differs_fast = false;
+    for x in angles(2.0).into_iter().step_by(13) {
+        assert_eq!(fastmath::sin_cos(x), x.sin_cos());
+        assert_eq!(fastmath::atan2(x, 0.3), x.atan2(0.3));
+        let c = (x / 2.0).clamp(-1.0, 1.0);
+        assert_eq!(fastmath::acos(c).to_bits(), c.acos().to_bits());
+    }
+    fastmath::set_libm(false);
+    assert!(!fastmath::libm_selected());
+    for x in angles(2.0).into_iter().step_by(13) {
+        differs_fast |=
+            fastmath::sin_cos(x) != x.sin_cos() || fastmath::atan2(x, 0.3) != x.atan2(0.3);
+    }
+    assert!(
+        differs_fast,
+        "the fast path never differs from libm: is it in use?"
+    );
+}
