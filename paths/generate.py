@@ -185,9 +185,51 @@ def default():
     write("default.gcode", text)
 
 
+def floor():
+    """A floor plan larger than one arm's reach: three rooms of 4 x 3 m in a row (12 x 3 m
+    outside, nozzle centreline), each wall piece printed in two layers back and forth, piece
+    after piece, with a lifted travel between pieces."""
+    rooms, rw, rh, dz, layers = 4, 3000.0, 3000.0, 20.0, 2
+    pieces = []
+    for k in range(rooms):
+        x0, x1 = k * rw, (k + 1) * rw
+        pieces.append(((x0, 0.0), (x1, 0.0)))  # bottom wall of the room
+        pieces.append(((x1, 0.0), (x1, rh)))  # its right wall (the end wall for the last)
+        pieces.append(((x1, rh), (x0, rh)))  # its top wall
+        if k == 0:
+            pieces.append(((x0, rh), (x0, 0.0)))  # the left end wall
+    per_layer = sum(math.dist(a, b) for a, b in pieces)
+    text = f"""; A floor plan larger than one arm's reach, for multi-station plans (printwatt stations):
+; {rooms} rooms of {f(rw)} x {f(rh)} mm in a row, {f(rooms * rw)} x {f(rh)} mm outside (nozzle
+; centreline), {len(pieces)} straight wall pieces printed one after the other, each in
+; {layers} layers of {f(dz)} mm back and forth (the nozzle rises at the end of a layer while
+; extruding), with a lifted travel (M5, G0 50 mm up, across, down, M3) between pieces.
+; Print 150 mm/s (F9000), travel 200 mm/s (F12000). Part frame: origin at the outside
+; corner of the first room on the bed; the robot stands on the same floor (z = 0).
+; Made up for printwatt as an example (not from a paper).
+; Hand computation: {len(pieces)} pieces, {f(per_layer)} mm per layer, {f(layers * per_layer)} mm
+; extruded along the walls plus {f(len(pieces) * (layers - 1) * dz)} mm of rises.
+""" + STAMP
+    (sx, sy) = pieces[0][0]
+    text += f"G21\nG90\nG17\nG0 X{f(sx)} Y{f(sy)} Z{f(dz)} F12000\n"
+    for n, (a, b) in enumerate(pieces):
+        if n > 0:
+            text += f"M5\nG0 Z{f(dz + 50)} F12000\nG0 X{f(a[0])} Y{f(a[1])}\nG0 Z{f(dz)}\n"
+        text += f"; piece {n + 1}: ({f(a[0])}, {f(a[1])}) to ({f(b[0])}, {f(b[1])}) mm\nM3\nG1 F9000\n"
+        ends = [b, a]
+        for k in range(layers):
+            if k > 0:
+                text += f"G1 Z{f(dz * (k + 1))}\n"
+            e = ends[k % 2]
+            text += f"G1 X{f(e[0])} Y{f(e[1])}\n"
+    text += f"M5\nG0 Z{f(dz * layers + 100)}\nM30\n"
+    write("floor_four_rooms.gcode", text)
+
+
 if __name__ == "__main__":
     seed001()
     seed000()
     wall()
     column()
     default()
+    floor()

@@ -188,7 +188,7 @@ fn every_report_renders_in_a_browser_with_data_in_every_chart() {
     let _ = std::fs::remove_dir_all(&tmp);
     let t = tmp.to_str().unwrap();
     // Fresh reports of each kind: optimise on a small grid, the seed-000 P1–P5 sweep (map with
-    // the paper's values), and a compare report.
+    // the paper's values), a compare report and a stations plan.
     run(&[
         "optimise",
         "--x",
@@ -230,9 +230,20 @@ fn every_report_renders_in_a_browser_with_data_in_every_chart() {
         "--out",
         &format!("{t}/compare"),
     ]);
+    run(&[
+        "stations",
+        "--path",
+        "paths/floor_four_rooms.gcode",
+        "--relocation-cost",
+        "20000",
+        "--track",
+        "-1,1.5:13,1.5",
+        "--out",
+        &format!("{t}/stations"),
+    ]);
     let mut pages = Vec::new();
     reports_under(&tmp, &mut pages);
-    assert_eq!(pages.len(), 3, "{pages:?}");
+    assert_eq!(pages.len(), 4, "{pages:?}");
     let p15 = std::fs::read_to_string(tmp.join("p15/report.html")).unwrap();
     assert!(p15.contains("Ours beside the paper") && p15.contains("2497.6"));
     reports_under(&root().join("results"), &mut pages);

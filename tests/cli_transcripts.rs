@@ -51,6 +51,11 @@ const CASES: &[Case] = &[
         files: &[],
     },
     Case {
+        name: "stations_track",
+        args: "stations --path {ROOT}/paths/floor_four_rooms.gcode --relocation-cost 20000 --track -1,1.5:13,1.5 --out {TMP}/stations",
+        files: &[],
+    },
+    Case {
         name: "simulate",
         args: "simulate --robot abb_irb4600_40_255 --excite 8 --hidden coulomb=30 --signal tau --noise 2 --rate 100 --seed 7 --out {TMP}",
         files: &[],

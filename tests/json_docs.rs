@@ -228,3 +228,28 @@ fn json_output_of_identify_matches_docs_json_md() {
     );
     check("identify", &[&out]);
 }
+
+#[test]
+fn json_output_of_stations_matches_docs_json_md() {
+    let d = tmp("stations");
+    // Two 1.5 m wall pieces with a travel between them, stations along a track beside them.
+    std::fs::write(
+        d.join("wall.gcode"),
+        "G21\nG90\nG0 X0 Y0 Z20 F12000\nM3\nG1 X1500 Y0 F9000\nM5\nG0 Z70\nG0 X1500\nG0 Z20\nM3\nG1 X3000\nM5\n",
+    )
+    .unwrap();
+    let out = run(
+        &d,
+        &[
+            "stations",
+            "--path",
+            "wall.gcode",
+            "--relocation-cost",
+            "5000",
+            "--track",
+            "-0.5,-1.2:3.5,-1.2",
+            "--json",
+        ],
+    );
+    check("stations", &[&out]);
+}

@@ -15,6 +15,7 @@ mod merge;
 mod optimise;
 mod robots;
 mod simulate;
+mod stations;
 mod sweep;
 
 /// `printwatt --version`: the package version and the git commit it was built from (build.rs).
@@ -44,6 +45,9 @@ pub enum Command {
     Merge(merge::MergeArgs),
     /// Find the minimum-energy placement (grid, then seeded pattern search) and write a report.
     Optimise(optimise::OptimiseArgs),
+    /// Plan stations for a path larger than one placement's reach: where the arm stands, where
+    /// the path is split, least energy plus a stated cost per relocation.
+    Stations(stations::StationsArgs),
     /// Energy of a joint trajectory, or of a toolpath at one placement.
     Energy(energy::EnergyCmd),
     /// Compare the model with a measured log: RMSE, energy error, where the residual sits.
@@ -358,6 +362,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Sweep(a) => sweep::run(a),
         Command::Merge(a) => merge::run(a),
         Command::Optimise(a) => optimise::run(a),
+        Command::Stations(a) => stations::run(a),
         Command::Compare(a) => compare::run(a),
         Command::Diagnose(a) => diagnose::run(a),
         Command::Identify(a) => identify::run(a),

@@ -12,6 +12,7 @@ pub mod neldermead;
 pub mod optimise;
 pub mod search;
 pub mod shard;
+pub mod stations;
 pub mod sweep;
 pub mod tolerance;
 pub mod uncertainty;

@@ -5,4 +5,5 @@
 pub mod html;
 pub mod placement;
 pub mod site;
+pub mod stations;
 pub mod svg;

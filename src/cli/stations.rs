@@ -1,0 +1,289 @@
+//! `printwatt stations`: a multi-station plan for a path larger than one placement's reach
+//! (library: [`printwatt::placement::stations`]; report: [`printwatt::report::stations`]).
+
+use super::sweep::{meta, PlacementArgs};
+use anyhow::{bail, Context, Result};
+use printwatt::placement::stations::{self, Candidates, Headings, StationsProblem};
+use printwatt::report::stations::StationsReport;
+use printwatt::timing::JointStageOptions;
+use std::io::IsTerminal;
+
+/// `printwatt stations` arguments: the robot, path, timing, energy, feasibility and output
+/// options of `sweep` and `optimise` (the placement grid options excepted: this command
+/// chooses its own stations), plus the relocation cost and the candidate stations.
+#[derive(clap::Args, Debug)]
+#[command(
+    after_help = "Station height: --z is the height of the part origin above each station's base frame, m (default -0.5: the base 0.5 m above the floor the path is printed on, a robot on a track carriage or crawler; at 0 the base stands in the bed the feasibility check models). --spin: one nozzle spin, deg (default 0). Costs in J, lengths in m, angles in deg."
+)]
+pub struct StationsArgs {
+    /// Robot, path, timing, energy, feasibility and output options (`--x`, `--y`, `--yaw`,
+    /// `--set` and `--at` do not apply: give `--station-step`, `--track`, `--heading`).
+    #[command(flatten)]
+    pub p: PlacementArgs,
+    /// Cost of one relocation of the arm between stations, J: your number (the energy of
+    /// moving the arm on its track or crawler, the cabinet's standby meanwhile, …); printwatt
+    /// does not model the move. Required.
+    #[arg(long, value_name = "J")]
+    pub relocation_cost: f64,
+    /// Extra relocation cost per metre between consecutive stations, J/m.
+    #[arg(long, value_name = "J/M", default_value_t = 0.0)]
+    pub relocation_cost_per_m: f64,
+    /// Spacing of the candidate station positions, m: a grid over the path's footprint
+    /// widened by the robot's reach, or points along --track.
+    #[arg(long, value_name = "M", default_value_t = 0.5)]
+    pub station_step: f64,
+    /// Candidate stations along a straight track from X0,Y0 to X1,Y1 (m, part frame) every
+    /// --station-step, instead of the grid.
+    #[arg(long, value_name = "X0,Y0:X1,Y1", allow_hyphen_values = true)]
+    pub track: Option<String>,
+    /// Heading of the robot at a station (its base x axis in the part frame): `auto` (facing
+    /// the centroid of the segment it prints) or angles in deg (a list: each a candidate).
+    #[arg(
+        long,
+        value_name = "auto|DEG",
+        default_value = "auto",
+        allow_hyphen_values = true
+    )]
+    pub heading: String,
+}
+
+/// Height of the part origin above a station's base frame when --z is not given, m: the base
+/// 0.5 m above the floor printed on (a track carriage or crawler).
+pub const DEFAULT_Z_M: f64 = -0.5;
+
+fn parse_xy(s: &str, what: &str) -> Result<[f64; 2]> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f64>().ok().filter(|v| v.is_finite()))
+        .collect::<Option<_>>()
+        .with_context(|| format!("--track: `{s}` in {what}: expected X,Y in m"))?;
+    match v.as_slice() {
+        [x, y] => Ok([*x, *y]),
+        _ => bail!("--track: `{s}` in {what}: expected X,Y in m"),
+    }
+}
+
+/// `printwatt stations`.
+pub fn run(a: StationsArgs) -> Result<()> {
+    let p = &a.p;
+    for (given, opt) in [
+        (p.x.is_some(), "--x"),
+        (p.y.is_some(), "--y"),
+        (p.yaw.is_some(), "--yaw"),
+        (p.set.is_some(), "--set"),
+        (p.at.at.is_some(), "--at"),
+    ] {
+        if given {
+            bail!("{opt}: `stations` chooses its own stations; give --station-step, --track or --heading instead");
+        }
+    }
+    let l = p.load()?;
+    let z = match &p.z {
+        Some(s) => {
+            let v = printwatt::placement::parse_range("z", s)?;
+            if v.len() != 1 {
+                bail!("--z `{s}`: `stations` takes one height (m)");
+            }
+            v[0]
+        }
+        None => DEFAULT_Z_M,
+    };
+    let spin = match &p.at.spin {
+        Some(s) => s
+            .trim()
+            .parse::<f64>()
+            .ok()
+            .filter(|v| v.is_finite())
+            .with_context(|| format!("--spin `{s}`: `stations` takes one angle in deg"))?
+            .to_radians(),
+        None => 0.0,
+    };
+    let headings = if a.heading.trim() == "auto" {
+        Headings::Auto
+    } else {
+        Headings::Fixed(
+            printwatt::placement::parse_range("heading", &a.heading)?
+                .into_iter()
+                .map(f64::to_radians)
+                .collect(),
+        )
+    };
+    let reach = printwatt::placement::feasibility::reach_m(&l.robot);
+    let (positions, description) = match &a.track {
+        Some(t) => {
+            let (s0, s1) = t
+                .split_once(':')
+                .with_context(|| format!("--track `{t}`: expected X0,Y0:X1,Y1 (m)"))?;
+            let (a0, b0) = (parse_xy(s0, t)?, parse_xy(s1, t)?);
+            (
+                stations::track_positions(a0, b0, a.station_step)?,
+                format!(
+                    "track ({}, {}) → ({}, {}) m every {} m",
+                    a0[0], a0[1], b0[0], b0[1], a.station_step
+                ),
+            )
+        }
+        None => (
+            stations::grid_positions(&l.path, a.station_step, reach)?,
+            format!(
+                "grid every {} m over the footprint ± {reach:.2} m",
+                a.station_step
+            ),
+        ),
+    };
+    let json_only = p.out.json && p.out.out.is_none() && p.run.is_none();
+    let mut run_dir = if json_only {
+        None
+    } else {
+        p.run_dir(&l, Some("stations"))?
+    };
+    let problem = StationsProblem {
+        robot: &l.robot,
+        path: &l.path,
+        energy: l.energy,
+        profile: l.profile,
+        joint: JointStageOptions::default(),
+        feasibility: l.feas,
+        objective: l.objective,
+        candidates: Candidates {
+            positions,
+            headings,
+            description: description.clone(),
+        },
+        z_m: z,
+        spin_rad: spin,
+        relocation_j: a.relocation_cost,
+        relocation_j_per_m: a.relocation_cost_per_m,
+    };
+    let pool = p.pool()?;
+    let bar = std::io::stderr().is_terminal().then(|| {
+        let b = indicatif::ProgressBar::new(0);
+        b.set_style(
+            indicatif::ProgressStyle::with_template(
+                "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} runs of units",
+            )
+            .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        b
+    });
+    let cb = |done: usize, total: usize| {
+        if let Some(b) = &bar {
+            b.set_length(total as u64);
+            b.set_position(done as u64);
+        }
+    };
+    let t0 = std::time::Instant::now();
+    let plan = pool.install(|| stations::solve(&problem, &cb));
+    if let Some(b) = &bar {
+        b.finish_and_clear();
+    }
+    let plan = plan?;
+    let secs = t0.elapsed().as_secs_f64();
+    let mut m = meta(&l, 0);
+    m.retain(|(k, _)| k != "nominal path samples");
+    m.push(("stations".into(), description));
+    m.push((
+        "station height and spin".into(),
+        format!(
+            "part origin {z:.3} m above the base frame; nozzle spin {:.1}° (part frame); heading {}",
+            spin.to_degrees(),
+            a.heading.trim()
+        ),
+    ));
+    m.push((
+        "relocation cost".into(),
+        format!(
+            "{} J per relocation + {} J/m (given)",
+            a.relocation_cost, a.relocation_cost_per_m
+        ),
+    ));
+    let rep = StationsReport {
+        title: format!(
+            "printwatt stations: {} on {}",
+            l.path_file.display(),
+            l.robot.name()
+        ),
+        meta: m,
+        plan: &plan,
+        path: &l.path,
+        relocation_cost_j: a.relocation_cost,
+        relocation_cost_per_m_j: a.relocation_cost_per_m,
+    };
+    let mut written = None;
+    if let Some(mut rd) = run_dir.take() {
+        rep.write_into(&mut rd)?;
+        super::sweep::write_run_facts(
+            &mut rd,
+            super::sweep::run_facts(pool.current_num_threads(), secs, plan.stats.evaluations),
+            &[],
+        )?;
+        written = Some(rd.commit()?);
+    }
+    if p.out.json {
+        super::print_json_text(&rep.summary_json()?)?;
+        return Ok(());
+    }
+    println!(
+        "plan: {} station(s), {} relocation(s) at {} J each + {} J/m ({:.2} m moved)",
+        plan.segments.len(),
+        plan.relocations,
+        a.relocation_cost,
+        a.relocation_cost_per_m,
+        plan.relocation_distance_m
+    );
+    println!(
+        "{:>3} {:>8} {:>8} {:>8}  {:<36} {:>7} {:>9} {:>8} {:>10} {:>8}",
+        "seg",
+        "x[m]",
+        "y[m]",
+        "head[°]",
+        "--at x,y,z,yaw,spin (m, °)",
+        "units",
+        "lines",
+        "print[m]",
+        "energy[J]",
+        "time[s]"
+    );
+    for (k, s) in plan.segments.iter().enumerate() {
+        let at = &s.station.placement;
+        println!(
+            "{:>3} {:>8.3} {:>8.3} {:>8.1}  {:<36} {:>7} {:>9} {:>8.2} {:>10.1} {:>8.2}",
+            k + 1,
+            s.station.x_m,
+            s.station.y_m,
+            s.station.heading_rad.to_degrees(),
+            format!(
+                "{:.3},{:.3},{:.3},{:.2},{:.2}",
+                at.x,
+                at.y,
+                at.z,
+                at.yaw.to_degrees(),
+                at.nozzle_spin.to_degrees()
+            ),
+            format!("{}–{}", s.units[0], s.units[1]),
+            format!("{}–{}", s.lines[0], s.lines[1]),
+            s.print_length_m,
+            s.eval.energy_j,
+            s.eval.duration_s
+        );
+    }
+    println!(
+        "energy {:.1} J ({}) + relocations {:.1} J = total {:.1} J",
+        plan.energy_j,
+        l.objective.describe(),
+        plan.relocation_j,
+        plan.total_j
+    );
+    println!(
+        "{} units; {} candidate positions; {} runs of units; {} evaluations of a run from a station ({} feasible); wall time {secs:.2} s",
+        plan.stats.units,
+        plan.stats.positions,
+        plan.stats.runs,
+        plan.stats.evaluations,
+        plan.stats.feasible
+    );
+    if let Some(dir) = &written {
+        println!("report: {}", dir.join("report.html").display());
+    }
+    Ok(())
+}

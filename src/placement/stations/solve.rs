@@ -1,0 +1,413 @@
+//! The solver of [`super::StationsProblem`]: candidate runs and stations, their evaluation in
+//! parallel, and the dynamic programme over the split points (see the module documentation
+//! of [`super`]).
+
+use super::{
+    reach_annulus, segment_moves, split_units, sub_path, Headings, Station, StationsProblem, Unit,
+    PREFILTER_SAMPLE_M, PREFILTER_SLACK_REACH,
+};
+use crate::error::{Error, Result};
+use crate::placement::sweep::{Evaluated, Evaluator, Feasible};
+use crate::placement::PathJob;
+use rayon::prelude::*;
+use serde::Serialize;
+use std::collections::BTreeMap;
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+/// One segment of a plan: a contiguous run of units printed from one station.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Segment {
+    /// First and last unit (0-based, inclusive).
+    pub units: [usize; 2],
+    /// First and last move of the sub-path (0-based indices into the path's moves, inclusive).
+    pub moves: [usize; 2],
+    /// Source lines of the first and last move (1-based).
+    pub lines: [usize; 2],
+    /// Where the robot stands.
+    pub station: Station,
+    /// Extruded length of the segment, m.
+    pub print_length_m: f64,
+    /// The segment's numbers, timed and evaluated from rest to rest at its station (energies
+    /// J, times s).
+    pub eval: Feasible,
+}
+
+/// How much work the plan took.
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct PlanStats {
+    /// Units of the path (where it may be split).
+    pub units: usize,
+    /// Candidate station positions.
+    pub positions: usize,
+    /// Runs of units evaluated (those some candidate passed the pre-filter for).
+    pub runs: usize,
+    /// (run, station) evaluations (full timing, feasibility and energy).
+    pub evaluations: usize,
+    /// Feasible ones among them.
+    pub feasible: usize,
+    /// The reach annulus the pre-filter used (before its slack), m.
+    pub annulus_m: (f64, f64),
+    /// The pre-filter's slack, m.
+    pub slack_m: f64,
+}
+
+/// A multi-station plan: the segments in path order, each with its station, and the totals.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Plan {
+    /// The path's units.
+    pub units: Vec<Unit>,
+    /// The segments, in path order.
+    pub segments: Vec<Segment>,
+    /// Moves of the arm between stations (segments − 1).
+    pub relocations: usize,
+    /// Distance moved between stations, m (straight lines).
+    pub relocation_distance_m: f64,
+    /// Relocation cost: relocations × cost + distance × cost per metre, J.
+    pub relocation_j: f64,
+    /// Σ segment energies (the objective), J.
+    pub energy_j: f64,
+    /// `energy_j + relocation_j`, J: what the plan minimises.
+    pub total_j: f64,
+    /// Work done.
+    pub stats: PlanStats,
+}
+
+/// A feasible candidate: run, index of the station in the run, its energy (J).
+struct Cand {
+    run: usize,
+    k: usize,
+    cost: f64,
+}
+
+/// A run of units `i..=j` and its candidate stations (position index, station).
+struct Run {
+    i: usize,
+    j: usize,
+    stations: Vec<(usize, Station)>,
+}
+
+/// Choose the plan of least energy plus relocation cost (see [`super`]). `progress(done,
+/// total)` is called after each run of units is evaluated (from any thread). Errors: bad
+/// numbers in the problem, a path no candidate set covers (naming the first unit that cannot
+/// be printed, its moves, lines and why), model errors.
+pub fn solve(p: &StationsProblem, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<Plan> {
+    p.check()?;
+    let path = p.path;
+    let units = split_units(path)?;
+    let n_units = units.len();
+    let positions = &p.candidates.positions;
+    let reach = crate::placement::feasibility::reach_m(p.robot);
+    // Heights of the path in the base frame.
+    let (lo, hi) = path
+        .bounding_box()
+        .ok_or_else(|| Error::Invalid(format!("{}: the path has no moves", path.source)))?;
+    let zs: Vec<f64> = (0..5)
+        .map(|k| p.z_m + lo.z + (hi.z - lo.z) * k as f64 / 4.0)
+        .collect();
+    let annulus = reach_annulus(p.robot, &zs).ok_or_else(|| {
+        Error::Invalid(format!(
+            "{}: the robot reaches no point with a vertical nozzle at heights {:.3}…{:.3} m above its base: change the station height (the part origin's height above the base)",
+            path.source, zs[0], zs[4]
+        ))
+    })?;
+    let slack = PREFILTER_SLACK_REACH * reach + PREFILTER_SAMPLE_M / 2.0;
+    let (rmin, rmax) = ((annulus.0 - slack).max(0.0), annulus.1 + slack);
+
+    // Horizontal distance range of every move's points from every position.
+    let n_pos = positions.len();
+    let mut dist = vec![[f64::INFINITY, f64::NEG_INFINITY]; path.moves.len() * n_pos];
+    // Centroid sums of the extruded points per move (for headings facing the work).
+    let mut centre = vec![(0.0, 0.0, 0usize); path.moves.len()];
+    for (mi, (start, m)) in path.segments().enumerate() {
+        let len = m.length(&start);
+        let n = ((len / PREFILTER_SAMPLE_M).ceil() as usize).max(1);
+        let pts: Vec<(f64, f64)> = (0..=n)
+            .map(|k| {
+                let q = m.point_at(&start, k as f64 / n as f64);
+                (q.x, q.y)
+            })
+            .collect();
+        if m.print {
+            centre[mi] = (
+                pts.iter().map(|q| q.0).sum(),
+                pts.iter().map(|q| q.1).sum(),
+                pts.len(),
+            );
+        }
+        for (s, pos) in positions.iter().enumerate() {
+            let d = &mut dist[mi * n_pos + s];
+            for q in &pts {
+                let r = (q.0 - pos[0]).hypot(q.1 - pos[1]);
+                d[0] = d[0].min(r);
+                d[1] = d[1].max(r);
+            }
+        }
+    }
+
+    // Runs of units with the positions passing the pre-filter.
+    let mut runs: Vec<Run> = Vec::new();
+    for i in 0..n_units {
+        let mut acc = vec![[f64::INFINITY, f64::NEG_INFINITY]; n_pos];
+        let mut sums = (0.0, 0.0, 0usize);
+        let first = segment_moves(path, &units, i, i).0;
+        let mut upto = first; // moves first..upto are folded in
+        for j in i..n_units {
+            let last = segment_moves(path, &units, i, j).1;
+            for mi in upto..=last {
+                for (s, a) in acc.iter_mut().enumerate() {
+                    let d = dist[mi * n_pos + s];
+                    a[0] = a[0].min(d[0]);
+                    a[1] = a[1].max(d[1]);
+                }
+                sums.0 += centre[mi].0;
+                sums.1 += centre[mi].1;
+                sums.2 += centre[mi].2;
+            }
+            upto = last + 1;
+            let pass: Vec<usize> = (0..n_pos)
+                .filter(|&s| acc[s][0] >= rmin && acc[s][1] <= rmax)
+                .collect();
+            if pass.is_empty() {
+                break; // a longer run holds these points too
+            }
+            let c = (sums.0 / sums.2.max(1) as f64, sums.1 / sums.2.max(1) as f64);
+            let mut stations = Vec::new();
+            for s in pass {
+                let [x, y] = positions[s];
+                match &p.candidates.headings {
+                    Headings::Auto => {
+                        let h = (c.1 - y).atan2(c.0 - x);
+                        stations.push((s, Station::new(x, y, h, p.z_m, p.spin_rad)));
+                    }
+                    Headings::Fixed(hs) => {
+                        for &h in hs {
+                            stations.push((s, Station::new(x, y, h, p.z_m, p.spin_rad)));
+                        }
+                    }
+                }
+            }
+            runs.push(Run { i, j, stations });
+        }
+    }
+
+    // Evaluate every run from its stations (rayon; collected in run order).
+    let done = AtomicUsize::new(0);
+    let total = runs.len();
+    let evaluated: Vec<Vec<Evaluated>> = runs
+        .par_iter()
+        .map(|run| {
+            let (first, last) = segment_moves(path, &units, run.i, run.j);
+            let sub = sub_path(path, first, last);
+            let job = PathJob::new(p.robot, &sub, p.energy, p.profile, p.joint)?;
+            let ev = Evaluator::new(&job, p.feasibility, p.objective);
+            let ps: Vec<_> = run.stations.iter().map(|(_, s)| s.placement).collect();
+            let rows = ev.sweep(&ps, &|_, _| {})?;
+            progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
+            Ok(rows)
+        })
+        .collect::<Result<_>>()?;
+
+    // Flatten the feasible candidates: (run, index in run).
+    let mut cands: Vec<Cand> = Vec::new();
+    let mut n_eval = 0;
+    for (r, rows) in evaluated.iter().enumerate() {
+        n_eval += rows.len();
+        for (k, e) in rows.iter().enumerate() {
+            let c = e.cost();
+            if c.is_finite() {
+                cands.push(Cand { run: r, k, cost: c });
+            }
+        }
+    }
+    // Candidates by their last unit, in run order within it.
+    let mut by_end: Vec<Vec<usize>> = vec![Vec::new(); n_units];
+    for (ci, c) in cands.iter().enumerate() {
+        by_end[runs[c.run].j].push(ci);
+    }
+    let mut best = vec![f64::INFINITY; cands.len()];
+    let mut back: Vec<Option<usize>> = vec![None; cands.len()];
+    let hop = |a: &Station, b: &Station| (a.x_m - b.x_m).hypot(a.y_m - b.y_m);
+    for j in 0..n_units {
+        for &ci in &by_end[j] {
+            let c = &cands[ci];
+            let run = &runs[c.run];
+            let (pos, st) = &run.stations[c.k];
+            if run.i == 0 {
+                best[ci] = c.cost;
+                continue;
+            }
+            let mut b: Option<(usize, f64)> = None;
+            for &pi in &by_end[run.i - 1] {
+                if !best[pi].is_finite() {
+                    continue;
+                }
+                let pc = &cands[pi];
+                let (ppos, pst) = &runs[pc.run].stations[pc.k];
+                if ppos == pos {
+                    continue; // the arm would print both as one segment
+                }
+                let v = best[pi] + p.relocation_j + p.relocation_j_per_m * hop(pst, st);
+                if b.is_none_or(|(_, bv)| v < bv) {
+                    b = Some((pi, v));
+                }
+            }
+            if let Some((pi, v)) = b {
+                best[ci] = v + c.cost;
+                back[ci] = Some(pi);
+            }
+        }
+    }
+    let mut end: Option<usize> = None;
+    for &ci in &by_end[n_units - 1] {
+        if best[ci].is_finite() && end.is_none_or(|e| best[ci] < best[e]) {
+            end = Some(ci);
+        }
+    }
+    let stats = PlanStats {
+        units: n_units,
+        positions: n_pos,
+        runs: runs.len(),
+        evaluations: n_eval,
+        feasible: cands.len(),
+        annulus_m: annulus,
+        slack_m: slack,
+    };
+    let Some(end) = end else {
+        return Err(uncovered(
+            p,
+            &units,
+            &runs,
+            &evaluated,
+            &cands_ends(&cands, &runs, &best),
+        ));
+    };
+    let mut chain = vec![end];
+    while let Some(b) = back[*chain.last().unwrap_or(&end)] {
+        chain.push(b);
+    }
+    chain.reverse();
+    let mut segments = Vec::with_capacity(chain.len());
+    for &ci in &chain {
+        let c = &cands[ci];
+        let run = &runs[c.run];
+        let (first, last) = segment_moves(path, &units, run.i, run.j);
+        let Some(eval) = evaluated[c.run][c.k].feasible().cloned() else {
+            return Err(Error::Invalid(
+                "internal: an infeasible segment in the plan".into(),
+            ));
+        };
+        segments.push(Segment {
+            units: [run.i, run.j],
+            moves: [first, last],
+            lines: [path.moves[first].line, path.moves[last].line],
+            station: run.stations[c.k].1,
+            print_length_m: units[run.i..=run.j].iter().map(|u| u.print_length_m).sum(),
+            eval,
+        });
+    }
+    let relocation_distance_m: f64 = segments
+        .windows(2)
+        .map(|w| hop(&w[0].station, &w[1].station))
+        .sum();
+    let relocations = segments.len() - 1;
+    let relocation_j =
+        relocations as f64 * p.relocation_j + p.relocation_j_per_m * relocation_distance_m;
+    let energy_j: f64 = segments.iter().map(|s| s.eval.energy_j).sum();
+    Ok(Plan {
+        units,
+        segments,
+        relocations,
+        relocation_distance_m,
+        relocation_j,
+        energy_j,
+        total_j: energy_j + relocation_j,
+        stats,
+    })
+}
+
+/// For each unit, whether some chain of feasible segments from the start prints it (the
+/// chain's last segment ends at or after it).
+fn cands_ends(cands: &[Cand], runs: &[Run], best: &[f64]) -> Vec<bool> {
+    let n = runs.iter().map(|r| r.j + 1).max().unwrap_or(0);
+    let mut covered = vec![false; n];
+    for (ci, c) in cands.iter().enumerate() {
+        if best[ci].is_finite() {
+            let r = &runs[c.run];
+            for u in covered.iter_mut().take(r.j + 1).skip(r.i) {
+                *u = true;
+            }
+        }
+    }
+    covered
+}
+
+/// The error of a path no plan covers: the first unit no chain of feasible segments reaches,
+/// with its moves and lines and why the candidates failed there.
+fn uncovered(
+    p: &StationsProblem,
+    units: &[Unit],
+    runs: &[Run],
+    evaluated: &[Vec<Evaluated>],
+    covered: &[bool],
+) -> Error {
+    let u = (0..units.len())
+        .find(|&k| !covered.get(k).copied().unwrap_or(false))
+        .unwrap_or(0);
+    let unit = &units[u];
+    let (first, last) = (unit.first_move, unit.last_move);
+    // Why: the candidates evaluated for runs holding this unit alone.
+    let mut reasons: BTreeMap<&str, usize> = BTreeMap::new();
+    let mut tried = 0;
+    let mut feasible_alone = 0;
+    let mut example: Option<String> = None;
+    for (r, run) in runs.iter().enumerate() {
+        if run.i == u && run.j == u {
+            for (e, (_, st)) in evaluated[r].iter().zip(&run.stations) {
+                tried += 1;
+                match &e.outcome {
+                    Ok(_) => feasible_alone += 1,
+                    Err(x) => {
+                        *reasons.entry(x.reason.name()).or_insert(0) += 1;
+                        example.get_or_insert_with(|| {
+                            format!(
+                                "; e.g. from the station at ({:.3}, {:.3}) m facing {:.1}°: {x}",
+                                st.x_m,
+                                st.y_m,
+                                st.heading_rad.to_degrees()
+                            )
+                        });
+                    }
+                }
+            }
+        }
+    }
+    let n_pos = p.candidates.positions.len();
+    let why = if tried == 0 {
+        format!(
+            "none of the {n_pos} candidate positions has all its points within the arm's reach ({})",
+            p.candidates.description
+        )
+    } else if feasible_alone > 0 {
+        format!(
+            "{feasible_alone} station(s) print it alone, but none continues a plan of the units before it (consecutive segments need different stations)"
+        )
+    } else {
+        let list: Vec<String> = reasons.iter().map(|(k, v)| format!("{k} {v}")).collect();
+        format!(
+            "of the {tried} candidate stations within reach, none is feasible: {}{}",
+            list.join(", "),
+            example.unwrap_or_default()
+        )
+    };
+    Error::Invalid(format!(
+        "{}: no plan of stations prints the path: unit {} (moves {}–{}, lines {}–{}, z = {:.3} m, {:.2} m extruded) cannot be printed from any candidate station: {why}",
+        p.path.source,
+        u,
+        first,
+        last,
+        p.path.moves[first].line,
+        p.path.moves[last].line,
+        unit.z_m,
+        unit.print_length_m
+    ))
+}
