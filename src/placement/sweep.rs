@@ -435,11 +435,16 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             );
             &replanned
         };
+        // The joints' sines and cosines of every sample, from the IK's FK re-check.
+        let n = model.dof();
+        let shared = sc.buf.sincos.len() == m * 2 * n;
         for k in 0..m {
-            let joint_check = super::margins::check_joint_sample(
+            let sincos = shared.then(|| &sc.buf.sincos[k * 2 * n..(k + 1) * 2 * n]);
+            let joint_check = super::margins::check_joint_sample_with(
                 model,
                 o,
                 timed.traj.q(k),
+                sincos,
                 timed.traj.qd(k),
                 timed.traj.qdd(k),
                 &mut margins,
@@ -476,7 +481,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                 }
             }
         }
-        let r = self.energy_inner(sc, &timed, margins);
+        let r = self.energy_inner(sc, &timed, margins, true);
         sc.buf.recycle(timed); // keep the buffers for the next placement
         r
     }
@@ -501,17 +506,22 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         timed: &TimedPath,
         margins: Margins,
     ) -> std::result::Result<Feasible, Infeasible> {
-        self.energy_inner(sc, timed, margins)
+        self.energy_inner(sc, timed, margins, false)
     }
 
+    /// `shared`: `sc.buf.sincos` holds the sines and cosines of `timed`'s joint positions (the
+    /// path was just timed with this scratch).
     fn energy_inner(
         &self,
         sc: &mut Scratch<'a>,
         timed: &TimedPath,
         margins: Margins,
+        shared: bool,
     ) -> std::result::Result<Feasible, Infeasible> {
         let n = self.job.robot.dof();
         let m = timed.traj.len();
+        let Scratch { data, buf, sp, .. } = sc;
+        let sincos = (shared && buf.sincos.len() == m * 2 * n).then_some(&buf.sincos[..]);
         let dt = timed.motion.dt;
         // Energy: trapezoid at uniform dt, no allocation per sample.
         let mut jm = vec![0.0; n];
@@ -523,14 +533,25 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         let mut losses = Losses::default();
         for k in 0..m {
             let w = crate::numerics::trapezoid_weight(k, m, dt);
-            let r = energy::eval_sample(
-                &self.job.energy,
-                &mut sc.data,
-                timed.traj.q(k),
-                timed.traj.qd(k),
-                timed.traj.qdd(k),
-                &mut sc.sp,
-            );
+            let r = match sincos {
+                Some(s) => energy::eval_sample_with_sincos(
+                    &self.job.energy,
+                    data,
+                    timed.traj.q(k),
+                    &s[k * 2 * n..(k + 1) * 2 * n],
+                    timed.traj.qd(k),
+                    timed.traj.qdd(k),
+                    sp,
+                ),
+                None => energy::eval_sample(
+                    &self.job.energy,
+                    data,
+                    timed.traj.q(k),
+                    timed.traj.qd(k),
+                    timed.traj.qdd(k),
+                    sp,
+                ),
+            };
             let p = match r {
                 Ok(p) => p,
                 Err(e) => {
@@ -545,17 +566,17 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                 }
             };
             supply += w * p;
-            drives += w * sc.sp.p_drives;
-            losses.regeneration_lost_j += w * sc.sp.p_regeneration_lost;
+            drives += w * sp.p_drives;
+            losses.regeneration_lost_j += w * sp.p_regeneration_lost;
             for j in 0..n {
-                let pm = sc.sp.p_mech[j];
+                let pm = sp.p_mech[j];
                 jm[j] += w * pm;
                 jabs[j] += w * pm.abs();
                 mpos += w * pm.max(0.0);
-                jel[j] += w * sc.sp.p_el[j];
-                losses.friction_j += w * sc.sp.p_friction[j];
-                losses.gear_j += w * sc.sp.p_gear[j];
-                losses.copper_j += w * sc.sp.p_copper[j];
+                jel[j] += w * sp.p_el[j];
+                losses.friction_j += w * sp.p_friction[j];
+                losses.gear_j += w * sp.p_gear[j];
+                losses.copper_j += w * sp.p_copper[j];
             }
         }
         if m < 2 {
