@@ -8,8 +8,9 @@
 //! tracking (`JointStageOptions::prune_stride`), per feasible and per infeasible placement.
 //!
 //! Before/after of the fast elementary functions (`printwatt::fastmath`, issue 12 item 2) in
-//! the same run: every per-sample figure is measured with libm (`fastmath::set_libm(true)`,
-//! the code as it was) and with the fast path, interleaved round by round so that a load
+//! the same run: every per-sample figure is measured with libm's functions
+//! (`fastmath::set_libm(true)`; the sines computed once per sample and the reused buffers
+//! apply to both) and with the fast path, interleaved round by round so that a load
 //! spike hits both alike, and reported as the median of the rounds, each as a ratio to the
 //! bare RNEA **with libm** measured in the same rounds (the reference the earlier figures
 //! used). The projection of the issue's target (50 × 50 placements × 5,000 samples) is made

@@ -98,6 +98,12 @@ pub fn rot_rpy(roll: f64, pitch: f64, yaw: f64) -> M3 {
 #[inline]
 pub fn rot_axis(axis: &V3, angle: f64) -> M3 {
     let (s, c) = angle.sin_cos();
+    rot_axis_sc(axis, s, c)
+}
+
+/// [`rot_axis`] from the angle's sine `s` and cosine `c`.
+#[inline]
+pub fn rot_axis_sc(axis: &V3, s: f64, c: f64) -> M3 {
     let t = 1.0 - c;
     let (x, y, z) = (axis.x, axis.y, axis.z);
     M3::new(

@@ -1,6 +1,9 @@
 //! The fast elementary functions (`printwatt::fastmath`) against libm, densely over the
 //! ranges the hot loop meets them (joint angles up to ±4π, every quadrant of `atan2`, the
-//! whole domain of `acos`), at the bounds the module docs state.
+//! whole domain of `acos`), at the bounds the module docs state; and the joint sines computed
+//! once per sample (by the IK's FK re-check) giving what computing them afresh gives.
+
+mod common;
 
 use printwatt::fastmath;
 use std::sync::Mutex;
@@ -213,4 +216,79 @@ fn the_libm_switch_returns_libms_results() {
         differs_fast,
         "the fast path never differs from libm: is it in use?"
     );
+}
+
+#[test]
+fn the_ik_records_the_sines_of_its_answer_and_rnea_from_them_equals_rnea() {
+    let _g = SWITCH.lock().unwrap_or_else(|e| e.into_inner());
+    fastmath::set_libm(false);
+    use printwatt::dynamics::{rnea, rnea_with_sincos, DynModel, DynOptions};
+    use printwatt::kinematics::{nozzle_target, IkSolver};
+    let model = common::robot("abb_irb6700_200_260");
+    let solver = IkSolver::new(&model).unwrap();
+    let dm = DynModel::new(
+        &model,
+        DynOptions {
+            payload: true,
+            armature: true,
+        },
+    )
+    .unwrap();
+    let (mut d1, mut d2) = (dm.data(), dm.data());
+    let n = model.dof();
+    let mut checked = 0;
+    for (i, u) in uniform(9, 200).enumerate() {
+        let tip = nalgebra::Vector3::new(1.2 + 0.8 * u, -0.6 + 0.006 * i as f64, 0.3);
+        let target = nozzle_target(&tip, 0.3 * u);
+        let Ok(sols) = solver.solve_all(&target) else {
+            continue;
+        };
+        let mut sincos = vec![f64::NAN; 2 * n];
+        let q = solver
+            .solve_near_with_sincos(&target, &sols[0].q, &mut sincos)
+            .expect("continuing a solution of the same target");
+        for j in 0..n {
+            let (s, c) = fastmath::sin_cos(q[j]);
+            assert_eq!((sincos[j], sincos[n + j]), (s, c), "joint {j}");
+        }
+        let qd: Vec<f64> = (0..n).map(|j| 0.3 - 0.1 * j as f64).collect();
+        let qdd: Vec<f64> = (0..n).map(|j| -0.5 + 0.2 * j as f64).collect();
+        let (mut t1, mut t2) = (vec![0.0; n], vec![0.0; n]);
+        rnea(&dm, &mut d1, &q, &qd, &qdd, &mut t1).unwrap();
+        rnea_with_sincos(&dm, &mut d2, &q, &sincos, &qd, &qdd, &mut t2).unwrap();
+        assert_eq!(t1, t2, "torques from the shared sines differ");
+        checked += 1;
+    }
+    assert!(checked > 100, "only {checked} reachable targets");
+    let mut tau = vec![0.0; n];
+    assert!(
+        rnea_with_sincos(&dm, &mut d1, &[0.0; 6], &[0.0; 11], &[0.0; 6], &[0.0; 6], &mut tau)
+            .is_err()
+    );
+}
+
+#[test]
+fn a_placement_evaluated_with_shared_sines_equals_its_energy_computed_afresh() {
+    let _g = SWITCH.lock().unwrap_or_else(|e| e.into_inner());
+    fastmath::set_libm(false);
+    use printwatt::placement::feasibility::FeasibilityOptions;
+    use printwatt::placement::{Evaluator, Objective, Placement};
+    let model = common::robot("abb_irb6700_200_260");
+    let job = common::default_job(&model, &common::path("seed000_test_path.gcode"));
+    let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
+    let mut sc = ev.scratch().unwrap();
+    let at = Placement {
+        x: 1.8,
+        y: 0.0,
+        z: 0.2,
+        yaw: 90f64.to_radians(),
+        nozzle_spin: 0.0,
+    };
+    // evaluate: the sines of the IK's FK re-check, shared by the checks and RNEA.
+    let shared = ev.evaluate(&mut sc, &at);
+    let f = shared.feasible().expect("a feasible placement");
+    // energy_of: the same trajectory, its sines computed again per sample.
+    let timed = ev.timed(&mut sc, &at).unwrap();
+    let afresh = ev.energy_of(&mut sc, &timed, f.margins).unwrap();
+    assert_eq!(f, &afresh);
 }

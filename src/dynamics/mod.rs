@@ -24,6 +24,6 @@ mod rnea;
 
 pub use derivatives::{complete_derivatives, fill_derivatives};
 pub use rnea::{
-    gravity_torque, kinetic_energy, mass_matrix, potential_energy, rnea, rnea_regressor, DynData,
-    DynModel, DynOptions, MAX_DOF,
+    gravity_torque, kinetic_energy, mass_matrix, potential_energy, rnea, rnea_regressor,
+    rnea_with_sincos, DynData, DynModel, DynOptions, MAX_DOF,
 };

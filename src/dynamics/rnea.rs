@@ -269,15 +269,26 @@ impl Default for DynData {
 
 /// Joint transforms (child → parent) of every joint at `q`, into `d.r`, `d.p`.
 #[inline(always)]
-#[allow(clippy::needless_range_loop)] // parallel fixed arrays indexed by joint
 fn kinematics(m: &DynModel, d: &mut DynData, q: &[f64]) {
+    kinematics_with(m, d, q, |i| crate::fastmath::sin_cos(q[i]))
+}
+
+/// [`kinematics`] with the revolute joints' `(sin q_i, cos q_i)` from `sin_cos(i)`.
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // parallel fixed arrays indexed by joint
+fn kinematics_with(
+    m: &DynModel,
+    d: &mut DynData,
+    q: &[f64],
+    sin_cos: impl Fn(usize) -> (f64, f64),
+) {
     for i in 0..m.n {
         let l = &m.links[i];
         if l.prismatic {
             d.r[i] = l.c;
             d.p[i] = l.p + l.c.column(2) * q[i];
         } else {
-            let (s, c) = crate::fastmath::sin_cos(q[i]);
+            let (s, c) = sin_cos(i);
             let c0 = l.c.column(0);
             let c1 = l.c.column(1);
             d.r[i] = M3::from_columns(&[c0 * c + c1 * s, c1 * c - c0 * s, l.c.column(2).into()]);
@@ -329,16 +340,18 @@ fn backward(m: &DynModel, d: &mut DynData, tau: &mut [f64], qdd: Option<&[f64]>)
 }
 
 #[inline(always)]
+#[allow(clippy::too_many_arguments)]
 fn rnea_core(
     m: &DynModel,
     d: &mut DynData,
     q: &[f64],
+    sin_cos: impl Fn(usize) -> (f64, f64),
     qd: &[f64],
     qdd: &[f64],
     a0: V3,
     tau: &mut [f64],
 ) {
-    kinematics(m, d, q);
+    kinematics_with(m, d, q, sin_cos);
     let mut wp = V3::zeros();
     let mut wdp = V3::zeros();
     let mut ap = a0;
@@ -501,7 +514,47 @@ pub fn rnea(
     model.check("rnea: qd", qd.len())?;
     model.check("rnea: qdd", qdd.len())?;
     model.check("rnea: tau", tau.len())?;
-    rnea_core(model, data, q, qd, qdd, model.a0, tau);
+    rnea_core(
+        model,
+        data,
+        q,
+        |i| crate::fastmath::sin_cos(q[i]),
+        qd,
+        qdd,
+        model.a0,
+        tau,
+    );
+    Ok(())
+}
+
+/// [`rnea`] with the joints' sines and cosines already computed (by the IK's FK re-check of
+/// the same sample, [`crate::kinematics::IkSolver::solve_near_with_sincos`]): `sincos` holds
+/// `sin q_0 … sin q_{n−1}` then `cos q_0 … cos q_{n−1}` (length `2 dof`; prismatic joints'
+/// entries unused). Same result as [`rnea`] when `sincos` is [`crate::fastmath::sin_cos`] of
+/// `q`. Error: [`Error::SizeMismatch`] on a wrong slice length.
+pub fn rnea_with_sincos(
+    model: &DynModel,
+    data: &mut DynData,
+    q: &[f64],
+    sincos: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+    tau: &mut [f64],
+) -> Result<()> {
+    let n = model.n;
+    model.check("rnea: q", q.len())?;
+    model.check("rnea: qd", qd.len())?;
+    model.check("rnea: qdd", qdd.len())?;
+    model.check("rnea: tau", tau.len())?;
+    if sincos.len() != 2 * n {
+        return Err(Error::SizeMismatch {
+            what: "rnea: sincos (2 dof)".into(),
+            got: sincos.len(),
+            expected: 2 * n,
+        });
+    }
+    let (s, c) = sincos.split_at(n);
+    rnea_core(model, data, q, |i| (s[i], c[i]), qd, qdd, model.a0, tau);
     Ok(())
 }
 

@@ -127,7 +127,12 @@ impl Balancer {
     }
     /// Cylinder length `L(q)`, m, at joint angle `q` rad.
     pub fn length(&self, q: f64) -> f64 {
-        (self.a * self.a + self.b * self.b - 2.0 * self.a * self.b * (q - self.upright).cos())
+        self.length_at_cos(crate::fastmath::cos(q - self.upright))
+    }
+    /// [`Balancer::length`] from `cos(q − q_up)`.
+    #[inline]
+    fn length_at_cos(&self, c: f64) -> f64 {
+        (self.a * self.a + self.b * self.b - 2.0 * self.a * self.b * c)
             .max(1e-12)
             .sqrt()
     }
@@ -137,8 +142,9 @@ impl Balancer {
     }
     /// The two regressor entries `[dL/dq, (L − L_min) dL/dq]` (m, m²) at joint angle `q` rad.
     pub fn shape(&self, q: f64) -> [f64; 2] {
-        let l = self.length(q);
-        let dl = self.a * self.b * (q - self.upright).sin() / l;
+        let (s, c) = crate::fastmath::sin_cos(q - self.upright);
+        let l = self.length_at_cos(c);
+        let dl = self.a * self.b * s / l;
         let stretch = (l - self.min_length()).max(0.0);
         [dl, stretch * dl]
     }

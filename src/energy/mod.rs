@@ -40,7 +40,7 @@ mod report;
 
 pub use report::{EnergyReport, JointEnergy, SampleSeries, TotalEnergy};
 
-use crate::dynamics::{rnea, DynData, DynModel, DynOptions, MAX_DOF};
+use crate::dynamics::{rnea, rnea_with_sincos, DynData, DynModel, DynOptions, MAX_DOF};
 use crate::effects::{Effect, EffectSet, EnergyClass, Stage, COULOMB_VELOCITY_SCALE_RAD_S};
 use crate::error::{Error, Result};
 use crate::robot::{Regeneration, RobotModel};
@@ -419,7 +419,6 @@ pub fn drives_power(policy: Regeneration, p_el: &[f64]) -> f64 {
 /// Evaluate one sample (`q` rad, `qd` rad/s, `qdd` rad/s², each of length `dof`) into `out`,
 /// returning the supply power in W. No allocation; meant for placement sweeps' hot loops.
 /// Equations: module docs. Error: [`Error::SizeMismatch`] on a wrong slice length.
-#[allow(clippy::needless_range_loop)] // parallel fixed arrays indexed by joint
 pub fn eval_sample(
     model: &EnergyModel,
     data: &mut DynData,
@@ -428,8 +427,39 @@ pub fn eval_sample(
     qdd: &[f64],
     out: &mut SamplePower,
 ) -> Result<f64> {
+    eval_sample_inner(model, data, q, None, qd, qdd, out)
+}
+
+/// [`eval_sample`] with the joints' sines and cosines already computed for `q` (see
+/// [`crate::dynamics::rnea_with_sincos`]: the sines, then the cosines, length `2 dof`).
+pub fn eval_sample_with_sincos(
+    model: &EnergyModel,
+    data: &mut DynData,
+    q: &[f64],
+    sincos: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+    out: &mut SamplePower,
+) -> Result<f64> {
+    eval_sample_inner(model, data, q, Some(sincos), qd, qdd, out)
+}
+
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // parallel fixed arrays indexed by joint
+fn eval_sample_inner(
+    model: &EnergyModel,
+    data: &mut DynData,
+    q: &[f64],
+    sincos: Option<&[f64]>,
+    qd: &[f64],
+    qdd: &[f64],
+    out: &mut SamplePower,
+) -> Result<f64> {
     let n = model.n;
-    rnea(&model.dynamics, data, q, qd, qdd, &mut out.tau_rb[..n])?;
+    match sincos {
+        Some(sc) => rnea_with_sincos(&model.dynamics, data, q, sc, qd, qdd, &mut out.tau_rb[..n])?,
+        None => rnea(&model.dynamics, data, q, qd, qdd, &mut out.tau_rb[..n])?,
+    }
     out.tau_balancer = [0.0; MAX_DOF];
     out.tau_friction = [0.0; MAX_DOF];
     for (e, class) in &model.torque {

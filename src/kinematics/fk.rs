@@ -242,6 +242,13 @@ impl FastChain {
     /// Frame of the last joint in the base frame for `q` (rad / m; missing entries taken as 0).
     #[inline]
     fn last_joint(&self, q: &[f64]) -> Frame {
+        self.last_joint_with(q, |_, _, _| {})
+    }
+
+    /// [`FastChain::last_joint`], handing each revolute joint's `(i, sin q_i, cos q_i)` to
+    /// `record` as it is computed.
+    #[inline(always)]
+    fn last_joint_with(&self, q: &[f64], mut record: impl FnMut(usize, f64, f64)) -> Frame {
         let mut r = crate::math::M3::identity();
         let mut p = V3::zeros();
         for (i, j) in self.joints[..self.n].iter().enumerate() {
@@ -254,23 +261,31 @@ impl FastChain {
                 p += r * (j.axis_vec * qi);
                 continue;
             }
+            let (s, c) = crate::fastmath::sin_cos(qi);
+            record(i, s, c);
             match j.axis {
-                Axis::X(sg) => {
-                    let (s, c) = crate::fastmath::sin_cos(qi);
-                    rot_cols(&mut r, 1, 2, sg * s, c)
-                }
-                Axis::Y(sg) => {
-                    let (s, c) = crate::fastmath::sin_cos(qi);
-                    rot_cols(&mut r, 2, 0, sg * s, c)
-                }
-                Axis::Z(sg) => {
-                    let (s, c) = crate::fastmath::sin_cos(qi);
-                    rot_cols(&mut r, 0, 1, sg * s, c)
-                }
-                Axis::General(a) => r *= crate::math::rot_axis(&a, qi),
+                Axis::X(sg) => rot_cols(&mut r, 1, 2, sg * s, c),
+                Axis::Y(sg) => rot_cols(&mut r, 2, 0, sg * s, c),
+                Axis::Z(sg) => rot_cols(&mut r, 0, 1, sg * s, c),
+                Axis::General(a) => r *= crate::math::rot_axis_sc(&a, s, c),
             }
         }
         Frame { rot: r, pos: p }
+    }
+
+    /// [`FastChain::tool`] that also writes the joints' sines and cosines it computed into
+    /// `sincos` (length ≥ 2 × joints: `sin q_0 … sin q_{n−1}`, then `cos q_0 … cos q_{n−1}`;
+    /// prismatic joints' entries are left untouched), for the callers that need them again
+    /// for the same `q` (RNEA, feasibility): computed once per sample.
+    #[inline]
+    pub fn tool_with_sincos(&self, q: &[f64], sincos: &mut [f64]) -> Frame {
+        let n = self.n;
+        let (s_out, c_out) = sincos.split_at_mut(n);
+        self.last_joint_with(q, |i, s, c| {
+            s_out[i] = s;
+            c_out[i] = c;
+        })
+        .compose(&self.tail)
     }
 
     /// Flange pose in the base frame for `q` (rad / m; missing entries taken as 0).

@@ -418,14 +418,30 @@ impl<'a> IkSolver<'a> {
     /// Re-check `q` by forward kinematics against the tool target; returns (m, rad) errors.
     #[inline]
     pub fn check(&self, tool_target: &Frame, q: &[f64]) -> Result<(f64, f64), IkFailure> {
-        let f = self.chain.tool(q);
+        self.check_pose(tool_target, &self.chain.tool(q))
+    }
+
+    /// [`IkSolver::check`] that also writes the sines and cosines of `q` it computed into
+    /// `sincos` (see [`fk::FastChain::tool_with_sincos`]).
+    #[inline]
+    pub fn check_with_sincos(
+        &self,
+        tool_target: &Frame,
+        q: &[f64],
+        sincos: &mut [f64],
+    ) -> Result<(f64, f64), IkFailure> {
+        self.check_pose(tool_target, &self.chain.tool_with_sincos(q, sincos))
+    }
+
+    #[inline]
+    fn check_pose(&self, tool_target: &Frame, f: &Frame) -> Result<(f64, f64), IkFailure> {
         let dp = (f.pos - tool_target.pos).norm();
         let dr = rotation_distance_fast(&f.rot, &tool_target.rot);
         if dp < self.check_position_m && dr < self.check_orientation_rad {
             Ok((dp, dr))
         } else {
             // The precise distances for the message.
-            let (dp, dr) = pose_distance(&f, tool_target);
+            let (dp, dr) = pose_distance(f, tool_target);
             Err(IkFailure::CheckFailed {
                 position_error_m: dp,
                 orientation_error_rad: dr,
@@ -623,6 +639,21 @@ impl<'a> IkSolver<'a> {
     /// kept at the wrist singularity, or the numeric solution seeded at `q_prev`. FK-checked.
     #[inline]
     pub fn solve_near(&self, tool_target: &Frame, q_prev: &[f64]) -> Result<JointVec, IkFailure> {
+        let mut sincos = [0.0; 2 * MAX_DOF];
+        self.solve_near_with_sincos(tool_target, q_prev, &mut sincos)
+    }
+
+    /// [`IkSolver::solve_near`] that also writes the sines and cosines of the answer, computed
+    /// once by its FK re-check, into `sincos` (length ≥ 2 × dof: the sines, then the cosines;
+    /// see [`fk::FastChain::tool_with_sincos`]), for RNEA and the feasibility checks of the
+    /// same sample.
+    #[inline]
+    pub fn solve_near_with_sincos(
+        &self,
+        tool_target: &Frame,
+        q_prev: &[f64],
+        sincos: &mut [f64],
+    ) -> Result<JointVec, IkFailure> {
         if q_prev.len() != self.model.dof() {
             return Err(IkFailure::Unsupported(format!(
                 "previous joint vector has {} entries, the robot {}",
@@ -633,14 +664,14 @@ impl<'a> IkSolver<'a> {
         match (&self.model.opw, &self.opw_k) {
             (Some(p), Some(k)) => {
                 let q = self.solve_near_opw(p, k, tool_target, q_prev)?;
-                self.check(tool_target, &q)?;
+                self.check_with_sincos(tool_target, &q, sincos)?;
                 Ok(q)
             }
             _ => {
                 self.precheck(tool_target)?;
                 let mut q = numeric::solve_from(self.model, tool_target, q_prev, &self.numeric)?;
                 fit_limits(self.model, &mut q, Some(q_prev))?;
-                self.check(tool_target, &q)?;
+                self.check_with_sincos(tool_target, &q, sincos)?;
                 Ok(q)
             }
         }

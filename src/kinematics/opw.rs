@@ -475,6 +475,20 @@ pub fn wrist_singularity(p: &OpwParams, q: &[f64]) -> f64 {
     crate::fastmath::sin(opw_angles(p, q)[4]).abs()
 }
 
+/// [`wrist_singularity`] from `sin q5` and `cos q5` (URDF angle, already computed):
+/// `|sin(σ q5 − δ)|` with the OPW sign σ and offset δ of joint 5; equal to
+/// [`wrist_singularity`] when δ = 0 (the shipped arms), to rounding otherwise.
+#[inline]
+pub fn wrist_singularity_sincos(p: &OpwParams, s5: f64, c5: f64) -> f64 {
+    let (sign, off) = (p.signs[4], p.offsets[4]);
+    if off == 0.0 {
+        (sign * s5).abs()
+    } else {
+        let (so, co) = crate::fastmath::sin_cos(off);
+        (sign * s5 * co - c5 * so).abs()
+    }
+}
+
 /// Elbow singularity measure `|sin(q3_opw + ψ3)|` (dimensionless): 0 when the arm is stretched
 /// out (or folded back), 1 with a right angle between upper arm and forearm line.
 pub fn elbow_singularity(p: &OpwParams, q: &[f64]) -> f64 {

@@ -44,6 +44,21 @@ pub fn check_joint_sample(
     qdd: &[f64],
     margins: &mut Margins,
 ) -> Option<(Reason, String)> {
+    check_joint_sample_with(model, o, q, None, qd, qdd, margins)
+}
+
+/// [`check_joint_sample`] with, when known, the sines and cosines of `q` (the sines then the
+/// cosines, `2 dof` values; see [`crate::kinematics::IkSolver::solve_near_with_sincos`]),
+/// from which the wrist measure is taken ([`opw::wrist_singularity_sincos`]).
+pub fn check_joint_sample_with(
+    model: &RobotModel,
+    o: &FeasibilityOptions,
+    q: &[f64],
+    sincos: Option<&[f64]>,
+    qd: &[f64],
+    qdd: &[f64],
+    margins: &mut Margins,
+) -> Option<(Reason, String)> {
     let mut fail: Option<(Reason, String)> = None;
     for (j, jt) in model.joints.iter().enumerate().take(q.len()) {
         if jt.kind != JointKind::Revolute || !(jt.lower.is_finite() && jt.upper.is_finite()) {
@@ -77,7 +92,13 @@ pub fn check_joint_sample(
         return fail;
     }
     let p = model.opw.as_ref().filter(|_| q.len() >= 6)?;
-    let w = opw::wrist_singularity(p, q);
+    let w = match sincos {
+        Some(sc) if sc.len() == 2 * q.len() => {
+            let (s, c) = sc.split_at(q.len());
+            opw::wrist_singularity_sincos(p, s[4], c[4])
+        }
+        _ => opw::wrist_singularity(p, q),
+    };
     if w >= o.wrist_min {
         return None;
     }

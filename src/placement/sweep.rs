@@ -138,6 +138,13 @@ pub struct Feasible {
     pub joint_electrical_j: Vec<f64>,
     /// Smallest margins met on the checked samples.
     pub margins: Margins,
+    /// With the path reduction on ([`Evaluator::with_reduction`]): how these numbers were
+    /// obtained (an estimate and its error, or why the placement was evaluated in full).
+    /// `None`: a full evaluation. JSON: `path_reduction` beside the numbers of an evaluated
+    /// placement's outcome, omitted when `None` (see `ser_outcome`; the positional shard
+    /// files carry it in their own field).
+    #[serde(skip)]
+    pub path_reduction: Option<super::reduce::Estimate>,
 }
 
 /// Drive losses by kind over the print, J.
@@ -184,13 +191,24 @@ fn ser_outcome<S: serde::Serializer>(
     s: S,
 ) -> std::result::Result<S::Ok, S::Error> {
     #[derive(Serialize)]
+    struct WithEstimate<'a> {
+        #[serde(flatten)]
+        f: &'a Feasible,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        path_reduction: Option<&'a super::reduce::Estimate>,
+    }
+    #[derive(Serialize)]
     #[serde(tag = "status", rename_all = "snake_case")]
     enum Outcome<'a> {
-        Feasible(&'a Feasible),
+        Feasible(WithEstimate<'a>),
         Infeasible(&'a Infeasible),
     }
     match o {
-        Ok(f) => Outcome::Feasible(f).serialize(s),
+        Ok(f) => Outcome::Feasible(WithEstimate {
+            f,
+            path_reduction: f.path_reduction.as_ref(),
+        })
+        .serialize(s),
         Err(i) => Outcome::Infeasible(i).serialize(s),
     }
 }
@@ -245,11 +263,12 @@ impl Evaluated {
 
 /// Per-thread scratch space of an [`Evaluator`].
 pub struct Scratch<'a> {
-    solver: IkSolver<'a>,
-    data: DynData,
+    pub(super) solver: IkSolver<'a>,
+    pub(super) data: DynData,
     buf: Buffers,
-    poses: Vec<parry3d_f64::math::Isometry<f64>>,
-    sp: SamplePower,
+    pub(super) poses: Vec<parry3d_f64::math::Isometry<f64>>,
+    pub(super) sp: SamplePower,
+    pub(super) red: super::reduce::Buffers,
 }
 
 /// The fast objective over one job: immutable, shared by all threads.
@@ -260,14 +279,16 @@ pub struct Evaluator<'j, 'a> {
     pub feasibility: FeasibilityOptions,
     /// What is minimised.
     pub objective: Objective,
-    shapes: crate::placement::collision::RobotShapes,
+    pub(super) shapes: crate::placement::collision::RobotShapes,
     /// Beads of the unslowed plan (shared by every placement whose timing did not re-plan).
-    beads: crate::placement::collision::Beads,
-    bbox_all: (V3, V3),
+    pub(super) beads: crate::placement::collision::Beads,
+    pub(super) bbox_all: (V3, V3),
     lines: Vec<usize>,
     /// Walls printed before this path (nozzle-tip segments, part frame, m), in every
     /// placement's collision scene ([`Evaluator::with_prior_walls`]).
     prior: Vec<(V3, V3)>,
+    /// The path reduction for long repetitive prints, when on.
+    reduction: Option<super::reduce::Reduction>,
 }
 
 fn bbox<'p>(pts: impl Iterator<Item = &'p V3>) -> Option<(V3, V3)> {
@@ -309,6 +330,27 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             bbox_all: all,
             lines: job.moves.iter().map(|m| m.line).collect(),
             prior: Vec::new(),
+            reduction: None,
+        }
+    }
+
+    /// Evaluate placements with the path reduction `r` ([`super::reduce`]): estimates with a
+    /// stated error instead of full evaluations. Built from this evaluator's job.
+    pub fn with_reduction(mut self, r: super::reduce::Reduction) -> Self {
+        self.reduction = Some(r);
+        self
+    }
+
+    /// The path reduction in use, if any.
+    pub fn reduction(&self) -> Option<&super::reduce::Reduction> {
+        self.reduction.as_ref()
+    }
+
+    /// Evaluate one placement in full, whether or not the reduction is on.
+    pub fn evaluate_full(&self, sc: &mut Scratch<'a>, at: &Placement) -> Evaluated {
+        Evaluated {
+            placement: *at,
+            outcome: self.evaluate_full_inner(sc, at),
         }
     }
 
@@ -348,6 +390,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             buf: Buffers::default(),
             poses: Vec::new(),
             sp: SamplePower::default(),
+            red: Default::default(),
         })
     }
 
@@ -372,6 +415,18 @@ impl<'j, 'a> Evaluator<'j, 'a> {
     }
 
     fn evaluate_inner(
+        &self,
+        sc: &mut Scratch<'a>,
+        at: &Placement,
+    ) -> std::result::Result<Feasible, Infeasible> {
+        match &self.reduction {
+            Some(r) => super::reduce::evaluate(self, r, sc, at),
+            None => self.evaluate_full_inner(sc, at),
+        }
+    }
+
+    /// The full evaluation: every sample timed, checked and integrated.
+    pub(super) fn evaluate_full_inner(
         &self,
         sc: &mut Scratch<'a>,
         at: &Placement,
@@ -401,11 +456,16 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             );
             &replanned
         };
+        // The joints' sines and cosines of every sample, from the IK's FK re-check.
+        let n = model.dof();
+        let shared = sc.buf.sincos.len() == m * 2 * n;
         for k in 0..m {
-            let joint_check = super::margins::check_joint_sample(
+            let sincos = shared.then(|| &sc.buf.sincos[k * 2 * n..(k + 1) * 2 * n]);
+            let joint_check = super::margins::check_joint_sample_with(
                 model,
                 o,
                 timed.traj.q(k),
+                sincos,
                 timed.traj.qd(k),
                 timed.traj.qdd(k),
                 &mut margins,
@@ -442,7 +502,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                 }
             }
         }
-        let r = self.energy_inner(sc, &timed, margins);
+        let r = self.energy_inner(sc, &timed, margins, true);
         sc.buf.recycle(timed); // keep the buffers for the next placement
         r
     }
@@ -467,17 +527,22 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         timed: &TimedPath,
         margins: Margins,
     ) -> std::result::Result<Feasible, Infeasible> {
-        self.energy_inner(sc, timed, margins)
+        self.energy_inner(sc, timed, margins, false)
     }
 
+    /// `shared`: `sc.buf.sincos` holds the sines and cosines of `timed`'s joint positions (the
+    /// path was just timed with this scratch).
     fn energy_inner(
         &self,
         sc: &mut Scratch<'a>,
         timed: &TimedPath,
         margins: Margins,
+        shared: bool,
     ) -> std::result::Result<Feasible, Infeasible> {
         let n = self.job.robot.dof();
         let m = timed.traj.len();
+        let Scratch { data, buf, sp, .. } = sc;
+        let sincos = (shared && buf.sincos.len() == m * 2 * n).then_some(&buf.sincos[..]);
         let dt = timed.motion.dt;
         // Energy: trapezoid at uniform dt, no allocation per sample.
         let mut jm = vec![0.0; n];
@@ -489,14 +554,25 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         let mut losses = Losses::default();
         for k in 0..m {
             let w = crate::numerics::trapezoid_weight(k, m, dt);
-            let r = energy::eval_sample(
-                &self.job.energy,
-                &mut sc.data,
-                timed.traj.q(k),
-                timed.traj.qd(k),
-                timed.traj.qdd(k),
-                &mut sc.sp,
-            );
+            let r = match sincos {
+                Some(s) => energy::eval_sample_with_sincos(
+                    &self.job.energy,
+                    data,
+                    timed.traj.q(k),
+                    &s[k * 2 * n..(k + 1) * 2 * n],
+                    timed.traj.qd(k),
+                    timed.traj.qdd(k),
+                    sp,
+                ),
+                None => energy::eval_sample(
+                    &self.job.energy,
+                    data,
+                    timed.traj.q(k),
+                    timed.traj.qd(k),
+                    timed.traj.qdd(k),
+                    sp,
+                ),
+            };
             let p = match r {
                 Ok(p) => p,
                 Err(e) => {
@@ -511,17 +587,17 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                 }
             };
             supply += w * p;
-            drives += w * sc.sp.p_drives;
-            losses.regeneration_lost_j += w * sc.sp.p_regeneration_lost;
+            drives += w * sp.p_drives;
+            losses.regeneration_lost_j += w * sp.p_regeneration_lost;
             for j in 0..n {
-                let pm = sc.sp.p_mech[j];
+                let pm = sp.p_mech[j];
                 jm[j] += w * pm;
                 jabs[j] += w * pm.abs();
                 mpos += w * pm.max(0.0);
-                jel[j] += w * sc.sp.p_el[j];
-                losses.friction_j += w * sc.sp.p_friction[j];
-                losses.gear_j += w * sc.sp.p_gear[j];
-                losses.copper_j += w * sc.sp.p_copper[j];
+                jel[j] += w * sp.p_el[j];
+                losses.friction_j += w * sp.p_friction[j];
+                losses.gear_j += w * sp.p_gear[j];
+                losses.copper_j += w * sp.p_copper[j];
             }
         }
         if m < 2 {
@@ -565,6 +641,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             joint_mechanical_abs_j: jabs,
             joint_electrical_j: jel,
             margins,
+            path_reduction: None,
         })
     }
 

@@ -166,7 +166,8 @@ pub struct TimedPath {
 }
 
 /// IK along the motion (part frame) at the placement `at`, continuing from `q0` (rad / m);
-/// fills `buf.qs` (row-major joint positions) and `buf.tcp` (base frame, m).
+/// fills `buf.qs` (row-major joint positions), `buf.sincos` (their sines and cosines, from
+/// the IK's FK re-check) and `buf.tcp` (base frame, m).
 pub fn track(
     solver: &IkSolver,
     pieces: &[Piece],
@@ -179,9 +180,13 @@ pub fn track(
     let model = solver.model;
     let n = model.dof();
     let part_to_base = at.frame();
-    let Buffers { qs, tcp, .. } = buf;
+    let Buffers {
+        qs, tcp, sincos, ..
+    } = buf;
     qs.clear();
     tcp.clear();
+    sincos.clear();
+    let mut sc = [0.0; 2 * crate::kinematics::MAX_DOF];
     let mut prev = JointVec::from_slice(q0);
     // A step larger than this cannot be a continuous motion of one configuration.
     let max_step: Vec<f64> = model
@@ -202,7 +207,7 @@ pub fn track(
         let target = Frame { rot, pos: tip };
         let mi = pieces[motion.piece[k]].move_index;
         let q = solver
-            .solve_near(&target, &prev)
+            .solve_near_with_sincos(&target, &prev, &mut sc[..2 * n])
             .map_err(|reason| TimingFailure::Unreachable {
                 sample: k,
                 t: k as f64 * motion.dt,
@@ -227,6 +232,7 @@ pub fn track(
             }
         }
         qs.extend_from_slice(&q[..n]);
+        sincos.extend_from_slice(&sc[..2 * n]);
         tcp.push(tip);
         prev = q;
     }
@@ -338,6 +344,11 @@ pub struct Buffers {
     pub qd: Vec<f64>,
     /// Joint accelerations, row-major (rad/s²).
     pub qdd: Vec<f64>,
+    /// Per sample of the last successfully timed path, the sines then the cosines of its joint
+    /// positions (`2 n` values a sample; prismatic joints' entries unused), computed once by the
+    /// IK's FK re-check and shared with RNEA and the feasibility checks. Left here by
+    /// [`time_path_planned`] (it is not part of the [`TimedPath`]).
+    pub sincos: Vec<f64>,
 }
 
 impl Buffers {
@@ -447,6 +458,7 @@ pub fn time_path_planned(
             traj.q = tracked.qs;
             traj.qd = tracked.qd;
             traj.qdd = tracked.qdd;
+            buf.sincos = tracked.sincos;
             return Ok(TimedPath {
                 traj,
                 motion,
