@@ -229,6 +229,81 @@ fn json_output_of_identify_matches_docs_json_md() {
     check("identify", &[&out]);
 }
 
+/// The documented fields of one object against the object itself, both ways.
+fn check_object(block: &str, v: &Value) {
+    let doc = documented(block);
+    let (mut seen, mut parents) = (BTreeSet::new(), BTreeSet::new());
+    assert!(v.is_object(), "{block}: not an object: {v}");
+    paths(v, "", &mut seen, &mut parents);
+    let undocumented: Vec<&String> = seen.difference(&doc).collect();
+    assert!(
+        undocumented.is_empty(),
+        "{block}: fields in the output that docs/json.md does not list: {undocumented:?}"
+    );
+    let missing: Vec<&String> = doc.difference(&seen).collect();
+    assert!(
+        missing.is_empty(),
+        "{block}: fields docs/json.md lists that the output lacks: {missing:?}"
+    );
+}
+
+#[test]
+fn json_path_reduction_of_optimise_matches_docs_json_md() {
+    let d = tmp("reduction");
+    // Five layers of the shipped wall's outline (1200 x 40 mm), 15 mm apart, seams alternating.
+    let mut g = String::from("G21\nG90\nM83\n");
+    for k in 0..5 {
+        let z = 15.0 * (k + 1) as f64;
+        let c = if k % 2 == 0 {
+            [
+                "X-600 Y-20",
+                "X600 Y-20",
+                "X600 Y20",
+                "X-600 Y20",
+                "X-600 Y-20",
+            ]
+        } else {
+            [
+                "X600 Y20",
+                "X-600 Y20",
+                "X-600 Y-20",
+                "X600 Y-20",
+                "X600 Y20",
+            ]
+        };
+        g += &format!("G0 F12000 Z{}\nG0 {}\nG0 Z{z}\n", z + 10.0, c[0]);
+        for p in &c[1..] {
+            g += &format!("G1 F9000 {p} E1\n");
+        }
+    }
+    std::fs::write(d.join("wall5.gcode"), g).unwrap();
+    let out = run(
+        &d,
+        &[
+            "optimise",
+            "--robot",
+            root().join("robots/abb_irb6700_200_260").to_str().unwrap(),
+            "--path",
+            "wall5.gcode",
+            "--at",
+            "1.8,0,0,0",
+            "--max-evals",
+            "0",
+            "--tolerance",
+            "0,0",
+            "--evaluation",
+            "reduced",
+            "--json",
+        ],
+    );
+    let v: Value = serde_json::from_str(&out).unwrap();
+    check_object("optimise.path_reduction", &v["optimise"]["path_reduction"]);
+    check_object(
+        "outcome.path_reduction",
+        &v["optimise"]["best_grid"]["outcome"]["path_reduction"],
+    );
+}
+
 #[test]
 fn json_output_of_stations_matches_docs_json_md() {
     let d = tmp("stations");

@@ -174,6 +174,33 @@ impl TimingArgs {
     }
 }
 
+/// How each placement is evaluated.
+#[derive(clap::Args, Debug, Clone)]
+pub struct EvaluationArgs {
+    /// `auto`: a long path (at least 200,000 samples) whose layers repeat up to a shift in z
+    /// is evaluated on a few representative layers, the others interpolated over z with a
+    /// stated error, and the answer re-evaluated in full; `full`: every sample of every
+    /// placement; `reduced`: the reduction whenever layers repeat, whatever the length.
+    #[arg(long, value_name = "MODE", default_value = "auto")]
+    pub evaluation: String,
+}
+
+impl EvaluationArgs {
+    /// The reduction options, or `None` for `full`. Error: an unknown mode.
+    pub fn reduce_options(&self) -> Result<Option<printwatt::placement::reduce::ReduceOptions>> {
+        let d = printwatt::placement::reduce::ReduceOptions::default();
+        match self.evaluation.trim() {
+            "auto" => Ok(Some(d)),
+            "full" => Ok(None),
+            "reduced" => Ok(Some(printwatt::placement::reduce::ReduceOptions {
+                min_samples: 0,
+                ..d
+            })),
+            m => bail!("--evaluation `{m}`: expected auto, full or reduced"),
+        }
+    }
+}
+
 /// What the energy model includes.
 #[derive(clap::Args, Debug, Clone)]
 pub struct EnergyArgs {

@@ -5,7 +5,6 @@
 use anyhow::{bail, Context, Result};
 use clap::Parser;
 use printwatt::placement::shard;
-use printwatt::placement::sweep::Evaluator;
 use std::path::PathBuf;
 
 /// `printwatt merge` arguments.
@@ -83,7 +82,7 @@ pub fn run(m: MergeArgs) -> Result<()> {
     }
     let run_dir = a.run_dir(&l, None)?;
     let job = l.job()?;
-    let ev = Evaluator::new(&job, l.feas, l.objective);
+    let ev = l.evaluator(&job, &a.evaluation)?;
     let (ps, names, grid) = a.placements(Some(l.default_grid()))?;
     let shard::MergedRows::Sweep(swept) = &merged.rows else {
         bail!("the shards hold draws, not placements");

@@ -4,8 +4,8 @@
 use super::sweep::{detail, meta, parse_placement, run_sweep, PlacementArgs};
 use anyhow::{Context, Result};
 use printwatt::placement::optimise::{self, feasible_centre, worst_of, OptimiseOptions};
+use printwatt::placement::reduce;
 use printwatt::placement::search::{self, Bounds, SearchOptions};
-use printwatt::placement::sweep::Evaluator;
 use printwatt::placement::tolerance::Tolerance;
 use printwatt::report::placement::RunReport;
 use printwatt::toolpath::Placement;
@@ -224,7 +224,7 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
         p.run_dir(&l, Some("optimise"))?
     };
     let job = l.job()?;
-    let ev = Evaluator::new(&job, l.feas, l.objective);
+    let ev = l.evaluator(&job, &p.evaluation)?;
     let (ps, names, grid) = p.placements(Some(l.default_grid()))?;
     let baseline_given = match &a.baseline {
         Some(s) => Some(parse_placement(s).context("--baseline")?),
@@ -301,6 +301,21 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
         "pattern" => pool.install(|| optimise::optimise(&ev, &rows, &opts))?,
         s => anyhow::bail!("--search `{s}`: expected nelder-mead or pattern"),
     };
+    // The answer of a reduced evaluation is always re-evaluated in full; the report shows
+    // both figures.
+    if let Some((full, chk)) = pool.install(|| reduce::confirm(&ev, &res.best))? {
+        if let Err(why) = &full.outcome {
+            anyhow::bail!(
+                "the placement chosen on representative layers (x = {:.3} m, y = {:.3} m, z = {:.3} m, yaw = {:.1}°) is infeasible when every sample is evaluated: {why}; run again with --evaluation full",
+                full.placement.x,
+                full.placement.y,
+                full.placement.z,
+                full.placement.yaw.to_degrees()
+            );
+        }
+        res.best = full;
+        res.path_reduction = Some(chk);
+    }
     let baseline = match baseline_given {
         Some(b) => {
             let r = pool.install(|| ev.sweep(&[b], &|_, _| {}))?;
@@ -361,6 +376,7 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
     }
     let n_eval = ps.len() + res.evals + 4;
     let mut m = meta(&l, ev.nominal_samples());
+    m.extend(super::sweep::evaluation_line(&ev));
     m.push(("seed".into(), a.seed.to_string()));
     if let Some(si) = &res.search {
         m.push(("search".into(), si.method.clone()));
@@ -526,6 +542,13 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
         f.losses.copper_j,
         f.losses.regeneration_lost_j
     );
+    if let Some(c) = rep
+        .optimise
+        .as_ref()
+        .and_then(|o| o.path_reduction.as_ref())
+    {
+        println!("{}", printwatt::report::placement::full_check_line(c));
+    }
     if let Some((how, b)) = &rep.baseline {
         println!(
             "baseline ({how}): x = {:.3} m, y = {:.3} m, z = {:.3} m, yaw = {:.1}°: {:.1} J",

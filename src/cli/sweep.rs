@@ -43,6 +43,8 @@ pub struct PlacementArgs {
     pub timing: super::args::TimingArgs,
     #[command(flatten)]
     pub energy: super::args::EnergyArgs,
+    #[command(flatten)]
+    pub evaluation: super::args::EvaluationArgs,
     /// Energy to minimise: `supply` (standby + drives), `drives` (standby excluded),
     /// `mechanical` (signed Σ∫τq̇), `mechanical_positive` (Σ∫max(τq̇, 0): no regeneration),
     /// `mechanical_abs` (Σ∫|τq̇|: braking costed like driving).
@@ -143,6 +145,23 @@ impl Loaded {
             self.profile,
             JointStageOptions::default(),
         )?)
+    }
+
+    /// The placement objective over `job` (built by [`Loaded::job`]) with the path reduction
+    /// that `--evaluation` asks for (none for a path that is short or does not repeat).
+    pub fn evaluator<'j, 'a>(
+        &'a self,
+        job: &'j PathJob<'a>,
+        evaluation: &super::args::EvaluationArgs,
+    ) -> Result<Evaluator<'j, 'a>> {
+        let ev = Evaluator::new(job, self.feas, self.objective);
+        Ok(match evaluation.reduce_options()? {
+            Some(o) => match printwatt::placement::reduce::Reduction::plan(job, &self.path, o) {
+                Ok(r) => ev.with_reduction(r),
+                Err(_) => ev,
+            },
+            None => ev,
+        })
     }
 
     /// The workspace grid used when the command line names no placements.
@@ -522,6 +541,18 @@ pub fn detail(job: &PathJob, label: &str, e: &Evaluated) -> Result<Option<Detail
     }
 }
 
+/// The report line saying how placements were evaluated, when the path reduction is on.
+pub fn evaluation_line(ev: &Evaluator) -> Option<(String, String)> {
+    let s = &ev.reduction()?.summary;
+    Some((
+        "evaluation".into(),
+        format!(
+            "reduced: {} layers, {} repeating with period {}, {} samples; each placement evaluated on representative layers, the others interpolated over z (each feasible placement states its error); --evaluation full evaluates every sample",
+            s.layers, s.repeating_layers, s.period, s.samples
+        ),
+    ))
+}
+
 /// Facts about the job shown in reports and `summary.json` (`meta`). Only what determines the
 /// results: how this run was executed (threads, wall time, command line) goes to `run.json`
 /// ([`run_facts`]), so that the same job gives the same `summary.json`, `placements.csv` and
@@ -633,7 +664,7 @@ pub fn run(a: SweepArgs) -> Result<()> {
     let l = a.load()?;
     let run_dir = a.run_dir(&l, None)?;
     let job = l.job()?;
-    let ev = Evaluator::new(&job, l.feas, l.objective);
+    let ev = l.evaluator(&job, &a.evaluation)?;
     let (ps, names, grid) = a.placements(Some(l.default_grid()))?;
     let pool = a.pool()?;
     let t0 = std::time::Instant::now();
@@ -696,7 +727,10 @@ pub fn finish(
             l.path_file.display(),
             l.robot.name()
         ),
-        meta: meta(l, ev.nominal_samples()),
+        meta: meta(l, ev.nominal_samples())
+            .into_iter()
+            .chain(evaluation_line(ev))
+            .collect(),
         rows,
         names,
         grid,
@@ -819,7 +853,7 @@ fn run_shard(a: &PlacementArgs, spec: &str) -> Result<()> {
         printwatt::output::Existing::Force(a.out.force),
     )?;
     let job = l.job()?;
-    let ev = Evaluator::new(&job, l.feas, l.objective);
+    let ev = l.evaluator(&job, &a.evaluation)?;
     let (ps, _, _) = a.placements(Some(l.default_grid()))?;
     let idx = sh.indices(ps.len());
     let mine: Vec<Placement> = idx.iter().map(|&i| ps[i]).collect();

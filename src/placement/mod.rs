@@ -10,6 +10,7 @@ pub mod feasibility;
 pub mod margins;
 pub mod neldermead;
 pub mod optimise;
+pub mod reduce;
 pub mod search;
 pub mod shard;
 pub mod stations;

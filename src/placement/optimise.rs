@@ -99,6 +99,11 @@ pub struct OptimiseResult {
     pub savings: Option<Savings>,
     /// The uncertainty study of the answer (`optimise --uncertainty N`, set by the caller).
     pub uncertainty: Option<super::uncertainty::Study>,
+    /// With the path reduction on: the answer's full evaluation beside its estimate (set by
+    /// the caller with [`super::reduce::confirm`]; `best` then holds the full evaluation).
+    /// JSON: omitted when `None`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub path_reduction: Option<super::reduce::FullCheck>,
 }
 
 /// Savings of the best placement against a baseline, each as (J, % of the baseline).
@@ -254,6 +259,7 @@ pub fn refine(ev: &Evaluator, start: Evaluated, opts: &OptimiseOptions) -> Resul
         search: None,
         savings: None,
         uncertainty: None,
+        path_reduction: None,
     })
 }
 

@@ -427,6 +427,7 @@ pub fn refine(
             search: None,
             savings: None,
             uncertainty: None,
+            path_reduction: None,
         },
         SearchInfo {
             method: "nelder-mead (argmin)".into(),

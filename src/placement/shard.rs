@@ -214,6 +214,8 @@ struct Row {
     /// x, y, z (m), yaw, nozzle spin (rad).
     placement: [f64; 5],
     outcome: std::result::Result<Feasible, Infeasible>,
+    /// The outcome's path-reduction estimate (not part of `Feasible`'s own serialisation).
+    path_reduction: Option<super::reduce::Estimate>,
 }
 
 /// Encode a shard's rows (index in sweep order, evaluation).
@@ -230,6 +232,7 @@ pub fn encode_rows(rows: &[(usize, Evaluated)]) -> Result<Vec<u8>> {
                 e.placement.nozzle_spin,
             ],
             outcome: e.outcome.clone(),
+            path_reduction: e.feasible().and_then(|f| f.path_reduction.clone()),
         })
         .collect();
     postcard::to_stdvec(&rows).map_err(|e| Error::Invalid(format!("encoding shard rows: {e}")))
@@ -243,6 +246,10 @@ pub fn decode_rows(bytes: &[u8], what: &str) -> Result<Vec<(usize, Evaluated)>> 
         .into_iter()
         .map(|r| {
             let [x, y, z, yaw, nozzle_spin] = r.placement;
+            let mut outcome = r.outcome;
+            if let Ok(f) = &mut outcome {
+                f.path_reduction = r.path_reduction;
+            }
             (
                 r.index as usize,
                 Evaluated {
@@ -253,7 +260,7 @@ pub fn decode_rows(bytes: &[u8], what: &str) -> Result<Vec<(usize, Evaluated)>> 
                         yaw,
                         nozzle_spin,
                     },
-                    outcome: r.outcome,
+                    outcome,
                 },
             )
         })

@@ -138,6 +138,13 @@ pub struct Feasible {
     pub joint_electrical_j: Vec<f64>,
     /// Smallest margins met on the checked samples.
     pub margins: Margins,
+    /// With the path reduction on ([`Evaluator::with_reduction`]): how these numbers were
+    /// obtained (an estimate and its error, or why the placement was evaluated in full).
+    /// `None`: a full evaluation. JSON: `path_reduction` beside the numbers of an evaluated
+    /// placement's outcome, omitted when `None` (see `ser_outcome`; the positional shard
+    /// files carry it in their own field).
+    #[serde(skip)]
+    pub path_reduction: Option<super::reduce::Estimate>,
 }
 
 /// Drive losses by kind over the print, J.
@@ -184,13 +191,24 @@ fn ser_outcome<S: serde::Serializer>(
     s: S,
 ) -> std::result::Result<S::Ok, S::Error> {
     #[derive(Serialize)]
+    struct WithEstimate<'a> {
+        #[serde(flatten)]
+        f: &'a Feasible,
+        #[serde(skip_serializing_if = "Option::is_none")]
+        path_reduction: Option<&'a super::reduce::Estimate>,
+    }
+    #[derive(Serialize)]
     #[serde(tag = "status", rename_all = "snake_case")]
     enum Outcome<'a> {
-        Feasible(&'a Feasible),
+        Feasible(WithEstimate<'a>),
         Infeasible(&'a Infeasible),
     }
     match o {
-        Ok(f) => Outcome::Feasible(f).serialize(s),
+        Ok(f) => Outcome::Feasible(WithEstimate {
+            f,
+            path_reduction: f.path_reduction.as_ref(),
+        })
+        .serialize(s),
         Err(i) => Outcome::Infeasible(i).serialize(s),
     }
 }
@@ -245,11 +263,12 @@ impl Evaluated {
 
 /// Per-thread scratch space of an [`Evaluator`].
 pub struct Scratch<'a> {
-    solver: IkSolver<'a>,
-    data: DynData,
+    pub(super) solver: IkSolver<'a>,
+    pub(super) data: DynData,
     buf: Buffers,
-    poses: Vec<parry3d_f64::math::Isometry<f64>>,
-    sp: SamplePower,
+    pub(super) poses: Vec<parry3d_f64::math::Isometry<f64>>,
+    pub(super) sp: SamplePower,
+    pub(super) red: super::reduce::Buffers,
 }
 
 /// The fast objective over one job: immutable, shared by all threads.
@@ -260,11 +279,13 @@ pub struct Evaluator<'j, 'a> {
     pub feasibility: FeasibilityOptions,
     /// What is minimised.
     pub objective: Objective,
-    shapes: crate::placement::collision::RobotShapes,
+    pub(super) shapes: crate::placement::collision::RobotShapes,
     /// Beads of the unslowed plan (shared by every placement whose timing did not re-plan).
-    beads: crate::placement::collision::Beads,
-    bbox_all: (V3, V3),
+    pub(super) beads: crate::placement::collision::Beads,
+    pub(super) bbox_all: (V3, V3),
     lines: Vec<usize>,
+    /// The path reduction for long repetitive prints, when on.
+    reduction: Option<super::reduce::Reduction>,
 }
 
 fn bbox<'p>(pts: impl Iterator<Item = &'p V3>) -> Option<(V3, V3)> {
@@ -305,6 +326,27 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             ),
             bbox_all: all,
             lines: job.moves.iter().map(|m| m.line).collect(),
+            reduction: None,
+        }
+    }
+
+    /// Evaluate placements with the path reduction `r` ([`super::reduce`]): estimates with a
+    /// stated error instead of full evaluations. Built from this evaluator's job.
+    pub fn with_reduction(mut self, r: super::reduce::Reduction) -> Self {
+        self.reduction = Some(r);
+        self
+    }
+
+    /// The path reduction in use, if any.
+    pub fn reduction(&self) -> Option<&super::reduce::Reduction> {
+        self.reduction.as_ref()
+    }
+
+    /// Evaluate one placement in full, whether or not the reduction is on.
+    pub fn evaluate_full(&self, sc: &mut Scratch<'a>, at: &Placement) -> Evaluated {
+        Evaluated {
+            placement: *at,
+            outcome: self.evaluate_full_inner(sc, at),
         }
     }
 
@@ -328,6 +370,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             buf: Buffers::default(),
             poses: Vec::new(),
             sp: SamplePower::default(),
+            red: Default::default(),
         })
     }
 
@@ -352,6 +395,18 @@ impl<'j, 'a> Evaluator<'j, 'a> {
     }
 
     fn evaluate_inner(
+        &self,
+        sc: &mut Scratch<'a>,
+        at: &Placement,
+    ) -> std::result::Result<Feasible, Infeasible> {
+        match &self.reduction {
+            Some(r) => super::reduce::evaluate(self, r, sc, at),
+            None => self.evaluate_full_inner(sc, at),
+        }
+    }
+
+    /// The full evaluation: every sample timed, checked and integrated.
+    pub(super) fn evaluate_full_inner(
         &self,
         sc: &mut Scratch<'a>,
         at: &Placement,
@@ -565,6 +620,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             joint_mechanical_abs_j: jabs,
             joint_electrical_j: jel,
             margins,
+            path_reduction: None,
         })
     }
 

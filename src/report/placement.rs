@@ -660,6 +660,15 @@ impl RunReport {
         if let Some(b) = self.best() {
             facts.push(("best".into(), describe(b)));
         }
+        if let Some(c) = self
+            .optimise
+            .as_ref()
+            .and_then(|o| o.path_reduction.as_ref())
+        {
+            if let Some((k, v)) = full_check_line(c).split_once(": ") {
+                facts.push((k.to_string(), v.to_string()));
+            }
+        }
         if let Some((how, b)) = &self.baseline {
             facts.push((format!("baseline ({how})"), describe(b)));
         }
@@ -920,6 +929,22 @@ fn csv_cell(s: &str) -> String {
     } else {
         s.to_string()
     }
+}
+
+/// One line comparing the reduced estimate of an optimisation's answer with its full
+/// evaluation: "energy at the answer: full evaluation … J; estimate from … of … layers … J ±
+/// … J (… %)".
+pub fn full_check_line(c: &crate::placement::reduce::FullCheck) -> String {
+    format!(
+        "energy at the answer: full evaluation {:.1} J; estimate from {} of {} layers {:.1} J ± {:.1} J ({:+.3} % from the full figure, {} the stated error)",
+        c.full_j,
+        c.layers_evaluated,
+        c.summary.layers,
+        c.estimate_j,
+        c.error_j,
+        c.difference_pct,
+        if c.within_error { "within" } else { "OUTSIDE" }
+    )
 }
 
 /// The uncertainty study in a few lines "what: value" (terminal and report).

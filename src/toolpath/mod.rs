@@ -14,6 +14,7 @@
 mod csv;
 mod gcode;
 mod rapid;
+pub mod repeat;
 
 use std::path::Path;
 

@@ -1,0 +1,287 @@
+//! Path reduction for long repetitive prints (src/placement/reduce.rs,
+//! src/toolpath/repeat.rs): the estimate against the full evaluation, feasibility across z,
+//! the fallback for paths that do not repeat, and optimise's report of both figures.
+
+mod common;
+#[path = "common/wall.rs"]
+mod wall;
+
+use printwatt::placement::reduce::{NotReduced, ReduceOptions, Reduction};
+use printwatt::placement::{Evaluator, FeasibilityOptions, Objective, Placement};
+use printwatt::toolpath::repeat;
+use printwatt::toolpath::{self, ReadOptions, Toolpath};
+
+fn wall_path(layers: usize) -> Toolpath {
+    toolpath::parse_gcode(
+        &wall::wall_gcode(800.0, 200.0, 20.0, layers),
+        "wall.gcode",
+        &ReadOptions::default(),
+    )
+    .unwrap()
+}
+
+/// A 12-layer wall, each layer 10 mm shorter than the one below: nothing repeats.
+fn taper_path() -> Toolpath {
+    let mut taper = String::new();
+    for (k, layer) in (0..12).map(|k| {
+        (
+            k,
+            wall::wall_gcode(800.0 - 10.0 * k as f64, 200.0, 20.0, k + 1),
+        )
+    }) {
+        // The last layer of a k+1-layer wall is layer k of the taper.
+        let body: Vec<&str> = layer.lines().collect();
+        let start = body
+            .iter()
+            .rposition(|l| l.starts_with("G0 X"))
+            .unwrap_or(4);
+        let start = if k == 0 { 4 } else { start - 2 };
+        for l in &body[start..body.len() - 2] {
+            taper += l;
+            taper += "\n";
+        }
+    }
+    toolpath::parse_gcode(&taper, "taper.gcode", &ReadOptions::default()).unwrap()
+}
+
+fn forced() -> ReduceOptions {
+    ReduceOptions {
+        min_samples: 0,
+        ..Default::default()
+    }
+}
+
+fn evaluators<'j, 'a>(
+    job: &'j printwatt::placement::PathJob<'a>,
+    tp: &Toolpath,
+    o: ReduceOptions,
+) -> (Evaluator<'j, 'a>, Evaluator<'j, 'a>) {
+    let red = Reduction::plan(job, tp, o).unwrap();
+    (
+        Evaluator::new(job, FeasibilityOptions::default(), Objective::Supply).with_reduction(red),
+        Evaluator::new(job, FeasibilityOptions::default(), Objective::Supply),
+    )
+}
+
+#[test]
+fn shipped_wall_repeats_with_alternating_seams() {
+    let tp = common::path("wall_multilayer.gcode");
+    let rep = repeat::repetition(&tp, repeat::REPEAT_TOLERANCE_M).unwrap();
+    assert_eq!(rep.units.len(), 10);
+    assert_eq!(rep.period, 2, "the seam alternates between two corners");
+    // Layer 0 comes from the home position; layers 1..9 repeat.
+    assert_eq!(rep.run, 1..10);
+    assert!((rep.units[3].z_m - 0.060).abs() < 1e-12);
+}
+
+#[test]
+fn float_noise_below_the_tolerance_still_repeats_and_a_taper_does_not() {
+    // 0.3 µm of noise in every coordinate (G-code written to 4 decimals of a mm).
+    let noisy: String = wall::wall_gcode(800.0, 200.0, 20.0, 12)
+        .lines()
+        .enumerate()
+        .map(|(i, l)| {
+            let l = if l.starts_with("G1") && i % 2 == 1 {
+                l.replace(".0000 Y", ".0003 Y")
+            } else {
+                l.to_string()
+            };
+            format!("{l}\n")
+        })
+        .collect();
+    assert_ne!(noisy, wall::wall_gcode(800.0, 200.0, 20.0, 12));
+    let tp = toolpath::parse_gcode(&noisy, "noisy.gcode", &ReadOptions::default()).unwrap();
+    let rep = repeat::repetition(&tp, repeat::REPEAT_TOLERANCE_M).unwrap();
+    assert_eq!((rep.period, rep.run.len()), (2, 11));
+    let tp = taper_path();
+    assert_eq!(repeat::layers(&tp, repeat::REPEAT_TOLERANCE_M).len(), 12);
+    assert!(repeat::repetition(&tp, repeat::REPEAT_TOLERANCE_M).is_none());
+}
+
+#[test]
+fn estimate_is_within_its_stated_error_of_the_full_evaluation() {
+    let model = common::robot("abb_irb6700_200_260");
+    let tp = wall_path(30);
+    let job = common::default_job(&model, &tp);
+    let (ev, full) = evaluators(&job, &tp, forced());
+    let (mut sc, mut sf) = (ev.scratch().unwrap(), full.scratch().unwrap());
+    for at in [
+        Placement::new(1.8, 0.0, 0.0, 0.0),
+        Placement::new(1.6, 0.5, 0.3, 1.5),
+        Placement::new(2.0, -0.3, 0.0, 0.5),
+    ] {
+        let r = ev.evaluate(&mut sc, &at);
+        let f = full.evaluate(&mut sf, &at);
+        let (r, f) = (r.feasible().unwrap(), f.feasible().unwrap());
+        let est = r.path_reduction.as_ref().unwrap();
+        assert!(est.fallback.is_none(), "{at:?}: {:?}", est.fallback);
+        assert!(est.samples_evaluated < f.samples / 2, "{est:?}");
+        let d = (r.energy_j - f.energy_j).abs();
+        assert!(
+            d <= est.error_j,
+            "{at:?}: estimate {} J, full {} J: |difference| {d} J > stated error {} J",
+            r.energy_j,
+            f.energy_j,
+            est.error_j
+        );
+        assert!(est.error_j < 0.005 * f.energy_j, "{est:?}");
+        assert_eq!(r.samples, f.samples);
+        for j in 0..6 {
+            let (a, b) = (r.joint_electrical_j[j], f.joint_electrical_j[j]);
+            assert!(
+                (a - b).abs() <= 0.01 * b.abs().max(100.0),
+                "joint {j}: {a} vs {b}"
+            );
+        }
+    }
+}
+
+#[test]
+fn every_layer_evaluated_gives_the_full_evaluation() {
+    // 16 layers: classes of 8 and 7 units, all evaluated at 9 nodes when no error is accepted.
+    let model = common::robot("abb_irb6700_200_260");
+    let tp = wall_path(16);
+    let job = common::default_job(&model, &tp);
+    let o = ReduceOptions {
+        rel_tol: 0.0,
+        ..forced()
+    };
+    let (ev, full) = evaluators(&job, &tp, o);
+    let at = Placement::new(1.8, 0.2, 0.1, 0.3);
+    let r = ev.evaluate(&mut ev.scratch().unwrap(), &at);
+    let f = full.evaluate(&mut full.scratch().unwrap(), &at);
+    let (r, f) = (r.feasible().unwrap(), f.feasible().unwrap());
+    let est = r.path_reduction.as_ref().unwrap();
+    assert_eq!((est.error_j, est.samples_evaluated), (0.0, f.samples));
+    for (a, b) in [
+        (r.supply_j, f.supply_j),
+        (r.drives_j, f.drives_j),
+        (r.mechanical_abs_j, f.mechanical_abs_j),
+        (r.losses.copper_j, f.losses.copper_j),
+    ] {
+        assert!((a - b).abs() <= 1e-9 * b.abs(), "{a} vs {b}");
+    }
+    assert_eq!(r.margins.joint_limit_rad, f.margins.joint_limit_rad);
+}
+
+#[test]
+fn wall_whose_top_layers_are_out_of_reach_is_not_called_feasible() {
+    let model = common::robot("abb_irb6700_200_260");
+    let tp = wall_path(30);
+    let job = common::default_job(&model, &tp);
+    let (ev, full) = evaluators(&job, &tp, forced());
+    let one = wall_path(1);
+    let job1 = common::default_job(&model, &one);
+    let ev1 = Evaluator::new(&job1, FeasibilityOptions::default(), Objective::Supply);
+    // x = 1.4: layer 20 of 30 leaves the reach; x = 1.0: joint 5 passes its limit near the top.
+    for x in [1.4, 1.0] {
+        let at = Placement::new(x, 0.0, 1.6, 0.0);
+        assert!(
+            ev1.evaluate(&mut ev1.scratch().unwrap(), &at)
+                .feasible()
+                .is_some(),
+            "the first layer alone is feasible at {at:?}"
+        );
+        let f = full.evaluate(&mut full.scratch().unwrap(), &at);
+        let r = ev.evaluate(&mut ev.scratch().unwrap(), &at);
+        let (fi, ri) = (f.outcome.unwrap_err(), r.outcome.unwrap_err());
+        assert_eq!(ri.reason, fi.reason, "{ri}");
+        assert!(ri.point_m.unwrap()[2] > 1.6 + 0.3, "{ri}");
+    }
+}
+
+#[test]
+fn path_without_repeating_layers_falls_back_to_full_evaluation() {
+    let model = common::robot("abb_irb6700_200_260");
+    for tp in [common::path("default.gcode"), taper_path()] {
+        let job = common::default_job(&model, &tp);
+        let why = Reduction::plan(&job, &tp, forced()).unwrap_err();
+        assert_eq!(why, NotReduced::NoRepetition, "{}", tp.source);
+    }
+    // A repeating path shorter than the automatic threshold is evaluated in full too.
+    let tp = wall_path(4);
+    let job = common::default_job(&model, &tp);
+    assert!(matches!(
+        Reduction::plan(&job, &tp, ReduceOptions::default()),
+        Err(NotReduced::Short(_))
+    ));
+}
+
+#[test]
+fn optimise_on_a_repetitive_path_reports_full_and_estimate_within_half_a_percent() {
+    let dir = common::scratch("reduce", "optimise");
+    std::fs::write(
+        dir.join("wall30.gcode"),
+        wall::wall_gcode(800.0, 200.0, 20.0, 30),
+    )
+    .unwrap();
+    let o = common::run(
+        &[
+            "optimise",
+            "--path",
+            "wall30.gcode",
+            "--x",
+            "1.6:2.0:0.2",
+            "--y",
+            "-0.2:0.2:0.2",
+            "--z",
+            "0",
+            "--yaw",
+            "0",
+            "--max-evals",
+            "12",
+            "--tolerance",
+            "0,0",
+            "--evaluation",
+            "reduced",
+            "--threads",
+            "2",
+            "--json",
+        ],
+        &dir,
+    );
+    assert!(o.status.success(), "{}", common::stderr_of(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let c = &v["optimise"]["path_reduction"];
+    let (est, full, err) = (
+        c["estimate_j"].as_f64().unwrap(),
+        c["full_j"].as_f64().unwrap(),
+        c["error_j"].as_f64().unwrap(),
+    );
+    assert!((est - full).abs() / full < 0.005, "{c}");
+    assert_eq!(
+        c["within_error"],
+        serde_json::json!((est - full).abs() <= err)
+    );
+    assert_eq!(c["summary"]["layers"], 30);
+    // The answer's figures are the full evaluation's (no estimate attached).
+    let best = &v["optimise"]["best"]["outcome"];
+    assert_eq!(best["energy_j"].as_f64().unwrap(), full);
+    assert!(best.get("path_reduction").is_none(), "{best}");
+    // Grid cells are estimates, each with its error.
+    assert!(v["optimise"]["best_grid"]["outcome"]["path_reduction"]["error_j"].is_number());
+    assert!(v["meta"].to_string().contains("reduced: 30 layers"));
+
+    // --evaluation full: no reduction anywhere.
+    let o = common::run(
+        &[
+            "optimise",
+            "--path",
+            "wall30.gcode",
+            "--at",
+            "1.8,0,0,0",
+            "--max-evals",
+            "0",
+            "--tolerance",
+            "0,0",
+            "--evaluation",
+            "full",
+            "--json",
+        ],
+        &dir,
+    );
+    assert!(o.status.success(), "{}", common::stderr_of(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    assert!(v["optimise"].get("path_reduction").is_none());
+    assert!(!v.to_string().contains("path_reduction"));
+}
