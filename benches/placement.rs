@@ -16,7 +16,7 @@
 //! used). The projection of the target (50 × 50 placements × 5,000 samples) is made
 //! from a measured sweep of feasible placements on all cores, for both paths.
 //!
-//! Single-thread figures are this thread's on-CPU time (`/proc/thread-self/schedstat`), so
+//! Single-thread figures are this thread's on-CPU time (`CLOCK_THREAD_CPUTIME_ID`), so
 //! that other processes sharing the cores do not inflate them; the sweep on all cores is
 //! wall-clock time and is only meaningful on an otherwise idle machine.
 //!
@@ -36,15 +36,18 @@ use std::hint::black_box;
 use std::path::Path;
 use std::time::Instant;
 
-/// This thread's time on a CPU, ns (`/proc/thread-self/schedstat`, Linux), so that the
-/// single-thread figures do not count the time other processes hold the CPU; wall-clock time
-/// where that file is missing.
+/// This thread's time on a CPU, ns (`clock_gettime(CLOCK_THREAD_CPUTIME_ID)`), so that the
+/// single-thread figures do not count the time other processes hold the CPU (the scheduler's
+/// `/proc/thread-self/schedstat` is only updated at ticks: too coarse for a few ms).
 fn thread_ns() -> f64 {
-    static START: std::sync::OnceLock<Instant> = std::sync::OnceLock::new();
-    std::fs::read_to_string("/proc/thread-self/schedstat")
-        .ok()
-        .and_then(|s| s.split_whitespace().next()?.parse::<f64>().ok())
-        .unwrap_or_else(|| START.get_or_init(Instant::now).elapsed().as_secs_f64() * 1e9)
+    let mut ts = libc::timespec {
+        tv_sec: 0,
+        tv_nsec: 0,
+    };
+    // SAFETY: `ts` is a valid, writable timespec; the clock id is a constant the call accepts.
+    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
+    assert_eq!(rc, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID) failed");
+    ts.tv_sec as f64 * 1e9 + ts.tv_nsec as f64
 }
 
 fn main() {
