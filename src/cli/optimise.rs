@@ -417,6 +417,9 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
                 format!("{om}: the margin, not the energy, stops the search here (--joint-margin)"),
             ));
         }
+        if let Some(sk) = &si.spin_kept {
+            m.push(("nozzle spin".into(), sk.clone()));
+        }
     }
     let site = printwatt::report::site::SiteGeometry::new(
         &l.robot,
@@ -577,6 +580,9 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
             println!(
                 "optimum on a joint-limit margin: {om} (the margin, not the energy, stops the search here; --joint-margin)"
             );
+        }
+        if let Some(sk) = &si.spin_kept {
+            println!("nozzle spin: {sk}");
         }
         if !si.on_bounds.is_empty() {
             println!(

@@ -231,6 +231,9 @@ pub struct SearchInfo {
     pub joint_margin: Option<String>,
     /// The answer lies on a joint-limit margin (within 0.01°): named like a search bound.
     pub on_margin: Option<String>,
+    /// Set when the energy does not depend on the nozzle spin at the answer (no difference at
+    /// the printed digits) and the search's spin was replaced by the start's: says so.
+    pub spin_kept: Option<String>,
 }
 
 /// Options of the argmin refinement beyond [`OptimiseOptions`].
@@ -406,6 +409,32 @@ pub fn refine(
             }
         }
     }
+    // A nozzle spin the energy does not depend on (a round nozzle whose spin only shifts
+    // joint 6 by a constant) is not an answer: Nelder–Mead would pick it from rounding noise.
+    // Where the start's spin gives the same energy (no difference at the printed digits,
+    // [`crate::numerics::difference`]) and holds the tolerance, the start's spin is kept.
+    let mut spin_kept = None;
+    if opts.spin && best.0.placement.nozzle_spin != start.placement.nozzle_spin {
+        let p = Placement {
+            nozzle_spin: start.placement.nozzle_spin,
+            ..best.0.placement
+        };
+        let e = ev.sweep(&[p], &|_, _| {})?.remove(0);
+        tol_evals += 1;
+        if e.cost().is_finite() && crate::numerics::difference(e.cost(), best.0.cost()) == 0.0 {
+            let chk = tolerance::check(ev, &p, &so.tolerance)?;
+            tol_evals += chk.corners;
+            if chk.holds || !best.1.holds {
+                spin_kept = Some(format!(
+                    "the energy does not depend on the nozzle spin here ({:.1}° and {:.1}° give the same energy): the spin is kept at {:.1}°",
+                    best.0.placement.nozzle_spin.to_degrees(),
+                    p.nozzle_spin.to_degrees(),
+                    p.nozzle_spin.to_degrees()
+                ));
+                best = (e, chk);
+            }
+        }
+    }
     let (best, chk) = best;
     let speculative = *problem.speculative.borrow();
     let sens = sensitivity(ev, &best, opts.sensitivity_m)?;
@@ -439,6 +468,7 @@ pub fn refine(
             speculative_evals: speculative,
             joint_margin,
             on_margin,
+            spin_kept,
         },
     ))
 }
