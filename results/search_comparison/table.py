@@ -12,8 +12,10 @@ for f in sorted(glob.glob(os.path.join(here, "*.json"))):
         continue
     d = json.load(open(f))
     o = d["optimise"]
-    rows.setdefault(job, {})[search] = (o["best"]["outcome"]["Ok"]["energy_j"], o["evals"],
-                                        o["best_grid"]["outcome"]["Ok"]["energy_j"], o["history_j"])
+    # A feasible outcome: {"energy_j": …} (runs before schema 1 wrapped it as {"Ok": {…}}).
+    energy = lambda e: e["outcome"].get("Ok", e["outcome"])["energy_j"]
+    rows.setdefault(job, {})[search] = (energy(o["best"]), o["evals"], energy(o["best_grid"]),
+                                        o["history_j"])
 print("| example | best grid cell [J] | pattern [J] | its evaluations | argmin Nelder–Mead [J] | its evaluations "
       "| argmin after the pattern's evaluations [J] | argmin − pattern at equal evaluations |")
 print("|---|---|---|---|---|---|---|---|")
