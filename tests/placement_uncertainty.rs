@@ -156,3 +156,117 @@ fn uncertainty_draws_computed_in_interleaved_shards_reduce_to_the_single_run_stu
     assert!(setup.reduce(&wrong).is_err());
     assert!(setup.draw(n).is_err());
 }
+
+#[test]
+fn a_calibrated_robots_uncertainty_draws_vary_the_parameters_it_identified() {
+    // A calibrated robot keeps per-direction Coulomb friction in `[effects.values]`, which wins
+    // over the drive keys: the draws must vary it there (they varied the drive key, to no
+    // effect, so every draw was the nominal robot), and the calibrated file must keep it (it
+    // kept the mean of both directions only).
+    let d = std::env::temp_dir().join(format!("printwatt-unc-cal-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    let run = |args: &[&str]| {
+        let o = std::process::Command::new(env!("CARGO_BIN_EXE_printwatt"))
+            .args(args)
+            .current_dir(root())
+            .output()
+            .unwrap();
+        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    };
+    let ds = d.display().to_string();
+    run(&[
+        "simulate",
+        "--robot",
+        "abb_irb4600_40_255",
+        "--excite",
+        "20",
+        "--hidden",
+        "coulomb=60:20",
+        "--noise",
+        "1",
+        "--rate",
+        "100",
+        "--seed",
+        "5",
+        "--out",
+        &ds,
+    ]);
+    let log = d.join("log.csv").display().to_string();
+    let id = d.join("id").display().to_string();
+    run(&[
+        "identify",
+        "--robot",
+        "abb_irb4600_40_255",
+        "--log",
+        &log,
+        "--effects",
+        "coulomb",
+        "--out",
+        &id,
+    ]);
+    let cal = d.join("id/abb_irb4600_40_255.calibrated.toml");
+    // The calibrated robot reproduces the log as well as the fit did (noise 1 N·m).
+    let cmp: serde_json::Value = serde_json::from_str(&run(&[
+        "compare",
+        "--robot",
+        &cal.display().to_string(),
+        "--log",
+        &log,
+        "--json",
+    ]))
+    .unwrap();
+    let rmse = cmp["total"]["rmse"].as_f64().unwrap();
+    assert!(
+        rmse < 1.5,
+        "calibrated robot's RMSE {rmse} N·m: the identified friction was lost"
+    );
+    // With every range zero, only the identified parameters vary between draws.
+    let model = robot::load(&cal).unwrap();
+    let tp = common::path("seed000_test_path.gcode");
+    let job = common::default_job(&model, &tp);
+    let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
+    let g = Grid {
+        xs: vec![1.2, 1.4],
+        ys: vec![0.0],
+        zs: vec![0.0],
+        yaws: vec![0.0],
+        spins: vec![0.0],
+    };
+    let rows = ev.sweep(&g.placements(), &|_, _| {}).unwrap();
+    let feasible: Vec<_> = rows
+        .iter()
+        .filter(|r| r.cost().is_finite())
+        .cloned()
+        .collect();
+    assert!(!feasible.is_empty());
+    let zero = Ranges {
+        link_mass_rel: 0.0,
+        link_com_m: 0.0,
+        link_inertia_rel: 0.0,
+        payload_mass_rel: 0.0,
+        torque_constant_rel: 0.0,
+        winding_resistance_rel: 0.0,
+        viscous_rel: 0.0,
+        coulomb_rel: 0.0,
+        gear_efficiency_abs: 0.0,
+        standby_power_rel: 0.0,
+        balancer_absent_probability: 0.0,
+        balancer_force_rel: 0.0,
+    };
+    let st = uncertainty::study_with(&job, &ev, &feasible, None, 4, 3, Some(zero)).unwrap();
+    let e0 = feasible[0].cost();
+    assert!(
+        st.per_draw_j.iter().any(|d| d[0] != e0),
+        "every draw gave the nominal energy {e0} J: the identified parameters were not varied"
+    );
+    assert!(
+        st.per_draw_j
+            .iter()
+            .all(|d| ((d[0] - e0) / e0).abs() < 0.01),
+        "standard errors of ~0.05 N·m move the energy by far less than 1 %: {:?}",
+        st.per_draw_j
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}

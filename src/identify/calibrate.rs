@@ -24,6 +24,11 @@ const DRIVE_KEY_EFFECTS: [&str; 6] = [
     "standby",
 ];
 
+/// Drive-key effects whose identified values do not fit their drive key and are also written
+/// to `[effects.values]` (which wins when the robot is loaded): `coulomb`'s drive key holds one
+/// value per joint, the identified effect one per direction and its transition width.
+const VALUES_TOO: [&str; 1] = ["coulomb"];
+
 /// What [`write_calibrated`] needs.
 #[derive(Debug)]
 pub struct CalibrationInput<'a> {
@@ -164,8 +169,8 @@ pub fn calibrated_text(inp: &CalibrationInput, dst: &Path) -> Result<String> {
         let n = model.n;
         for (j, jt) in f.joints.iter_mut().enumerate().take(n) {
             jt.viscous_nm_s_per_rad = Some(fv[j]);
-            // The drive key is symmetric: the mean of both directions (the values below,
-            // per direction and with the transition width, win).
+            // The drive key is symmetric: the mean of both directions (the values in
+            // `[effects.values]`, per direction and with the transition width, win).
             jt.coulomb_nm = Some(0.5 * (fc[j] + fc[n + j]));
             let g = model.gear[j];
             jt.rotor_inertia_kg_m2 = Some(ia[j] / (g * g));
@@ -176,14 +181,18 @@ pub fn calibrated_text(inp: &CalibrationInput, dst: &Path) -> Result<String> {
             c.standby_power_w = val("standby")?[0];
         }
         for e in DRIVE_KEY_EFFECTS {
-            values.remove(e);
+            if !VALUES_TOO.contains(&e) {
+                values.remove(e);
+            }
         }
     }
     // Every other enabled effect (and, without drive tables, every enabled one) keeps its
     // values in `[effects.values]`, which wins over the older per-effect keys.
     let mut enabled = model.enabled_names();
     for e in crate::effects::catalogue() {
-        if e == "payload" || (has_drive && DRIVE_KEY_EFFECTS.contains(&e)) {
+        if e == "payload"
+            || (has_drive && DRIVE_KEY_EFFECTS.contains(&e) && !VALUES_TOO.contains(&e))
+        {
             continue;
         }
         if model.is_enabled(e) {

@@ -253,10 +253,14 @@ fn draw_robot(
     }
     let t = &mut m.effects.table;
     let declared = t.balancer_lever_m.is_some() && t.balancer_base_m.is_some();
-    let (p0, k0) = (
-        t.balancer_preload_n.unwrap_or(0.0),
-        t.balancer_stiffness_n_per_m.unwrap_or(0.0),
-    );
+    // A calibrated robot keeps the balancer in `[effects.values]` (which wins over the keys).
+    let (p0, k0) = match t.values.as_ref().and_then(|v| v.get("balancer")) {
+        Some(b) if b.len() >= 2 => (b[0], b[1]),
+        _ => (
+            t.balancer_preload_n.unwrap_or(0.0),
+            t.balancer_stiffness_n_per_m.unwrap_or(0.0),
+        ),
+    };
     if declared || p0 != 0.0 || k0 != 0.0 {
         // An identified balancer is there: only its force is uncertain.
         let identified = calibrated("F0").is_some() && calibrated("k").is_some();
@@ -273,7 +277,50 @@ fn draw_robot(
         let (f0, k) = if present { (f0, k) } else { (0.0, 0.0) };
         t.balancer_preload_n = Some(f0);
         t.balancer_stiffness_n_per_m = Some(k);
+        // A calibrated robot keeps the balancer in `[effects.values]`, which wins.
+        if let Some(b) = t.values.as_mut().and_then(|v| v.get_mut("balancer")) {
+            if b.len() >= 2 {
+                b[0] = f0;
+                b[1] = k;
+            }
+        }
         drawn.push(("balancer present".into(), if present { 1.0 } else { 0.0 }));
+    }
+    // Every other identified parameter that a calibrated robot keeps in `[effects.values]`
+    // (which wins over the drive keys drawn above: coulomb per direction, offset, stribeck,
+    // rigid_body, …): normal with its standard error, within the parameter's bounds.
+    let specs = crate::effects::EffectSet::of_robot(nominal).ok();
+    if let (Some(vals), Some(specs)) = (m.effects.table.values.as_mut(), specs.as_ref()) {
+        let params: Vec<(String, String, f64, f64)> = nominal
+            .effects
+            .calibration
+            .as_ref()
+            .map(|c| {
+                c.params
+                    .iter()
+                    .filter(|p| p.effect != "balancer")
+                    .filter_map(|p| {
+                        let se = p.std_error.filter(|se| se.is_finite() && *se > 0.0)?;
+                        Some((p.effect.clone(), p.name.clone(), p.value, se))
+                    })
+                    .collect()
+            })
+            .unwrap_or_default();
+        for (effect, name, value, se) in params {
+            let (Some(v), Ok(e)) = (vals.get_mut(&effect), specs.get(&effect)) else {
+                continue;
+            };
+            let ps = e.params();
+            let Some(i) = ps.iter().position(|p| p.name == name) else {
+                continue;
+            };
+            if i >= v.len() {
+                continue;
+            }
+            let x = (value + se * normal(rng)).clamp(ps[i].lower, ps[i].upper);
+            v[i] = x;
+            drawn.push((format!("{effect} {name}"), x - value));
+        }
     }
     (m, drawn)
 }
