@@ -7,6 +7,24 @@ use printwatt::placement::uncertainty::{self, Ranges};
 use printwatt::placement::{Evaluator, FeasibilityOptions, Grid, Objective};
 use printwatt::robot;
 
+/// Every range zero: a draw is the nominal robot but for what a calibrated robot identified.
+fn zero_ranges() -> Ranges {
+    Ranges {
+        link_mass_rel: 0.0,
+        link_com_m: 0.0,
+        link_inertia_rel: 0.0,
+        payload_mass_rel: 0.0,
+        torque_constant_rel: 0.0,
+        winding_resistance_rel: 0.0,
+        viscous_rel: 0.0,
+        coulomb_rel: 0.0,
+        gear_efficiency_abs: 0.0,
+        standby_power_rel: 0.0,
+        balancer_absent_probability: 0.0,
+        balancer_force_rel: 0.0,
+    }
+}
+
 fn pool(n: usize) -> rayon::ThreadPool {
     rayon::ThreadPoolBuilder::new()
         .num_threads(n)
@@ -58,20 +76,7 @@ fn uncertainty_study_is_deterministic_for_a_seed_and_thread_count() {
     assert!(!a.depends_on.is_empty());
     // With every range zero, each draw is the nominal robot: the candidates' energies are
     // exactly the nominal ones and the best candidate is the best in every draw.
-    let zero = Ranges {
-        link_mass_rel: 0.0,
-        link_com_m: 0.0,
-        link_inertia_rel: 0.0,
-        payload_mass_rel: 0.0,
-        torque_constant_rel: 0.0,
-        winding_resistance_rel: 0.0,
-        viscous_rel: 0.0,
-        coulomb_rel: 0.0,
-        gear_efficiency_abs: 0.0,
-        standby_power_rel: 0.0,
-        balancer_absent_probability: 0.0,
-        balancer_force_rel: 0.0,
-    };
+    let zero = zero_ranges();
     let mut ranked = feasible.clone();
     ranked.sort_by(|x, y| x.cost().total_cmp(&y.cost()));
     let z = uncertainty::study_with(&job, &ev, &ranked, Some(&base), 3, 1, Some(zero)).unwrap();
@@ -241,20 +246,7 @@ fn a_calibrated_robots_uncertainty_draws_vary_the_parameters_it_identified() {
         .cloned()
         .collect();
     assert!(!feasible.is_empty());
-    let zero = Ranges {
-        link_mass_rel: 0.0,
-        link_com_m: 0.0,
-        link_inertia_rel: 0.0,
-        payload_mass_rel: 0.0,
-        torque_constant_rel: 0.0,
-        winding_resistance_rel: 0.0,
-        viscous_rel: 0.0,
-        coulomb_rel: 0.0,
-        gear_efficiency_abs: 0.0,
-        standby_power_rel: 0.0,
-        balancer_absent_probability: 0.0,
-        balancer_force_rel: 0.0,
-    };
+    let zero = zero_ranges();
     let st = uncertainty::study_with(&job, &ev, &feasible, None, 4, 3, Some(zero)).unwrap();
     let e0 = feasible[0].cost();
     assert!(

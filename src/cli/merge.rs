@@ -74,12 +74,7 @@ pub fn run(m: MergeArgs) -> Result<()> {
         bail!("this printwatt reads the shards' command line as a different job than the one they ran");
     }
     let l = a.load()?;
-    let now = super::sweep::hash_inputs(&a.inputs(&l))?;
-    for (f, sha) in &h.inputs {
-        if now.get(f) != Some(sha) {
-            bail!("{f} changed since the shards ran (SHA-256 differs): the shards are results of the old file; re-run them");
-        }
-    }
+    unchanged_inputs(h, &super::sweep::hash_inputs(&a.inputs(&l))?)?;
     let run_dir = a.run_dir(&l, None)?;
     let job = l.job()?;
     let ev = l.evaluator(&job, &a.evaluation)?;
@@ -103,22 +98,7 @@ pub fn run(m: MergeArgs) -> Result<()> {
     }) {
         bail!("placement {i} of the shards is not placement {i} of the job");
     }
-    let facts = super::sweep::run_facts(1, t0.elapsed().as_secs_f64(), 0);
-    let extra = vec![
-        (
-            "merged_from",
-            serde_json::json!(dirs
-                .iter()
-                .map(|d| d.display().to_string())
-                .collect::<Vec<_>>()),
-        ),
-        ("shards", serde_json::json!(h.shard.count)),
-        ("placements", serde_json::json!(h.total)),
-        (
-            "shard_wall_time_s",
-            serde_json::json!(merged.shard_wall_time_s),
-        ),
-    ];
+    let (facts, extra) = merged_facts(&merged, &dirs, "placements", t0);
     let shard::MergedRows::Sweep(rows) = merged.rows else {
         bail!("the shards hold draws, not placements");
     };
@@ -172,13 +152,40 @@ fn merge_study(
         );
     }
     let l = a.p.load()?;
-    let now = super::sweep::hash_inputs(&a.p.inputs(&l))?;
+    unchanged_inputs(h, &super::sweep::hash_inputs(&a.p.inputs(&l))?)?;
+    drop(l);
+    let (facts, extra) = merged_facts(merged, dirs, "draws", t0);
+    super::optimise::run_with(
+        a,
+        Some(super::optimise::MergedDraws {
+            draws: draws.clone(),
+            facts: (facts, extra),
+        }),
+    )
+}
+
+/// Every input the shards hashed is unchanged now (`now`: the same inputs hashed again).
+fn unchanged_inputs(
+    h: &shard::ShardHeader,
+    now: &std::collections::BTreeMap<String, String>,
+) -> Result<()> {
     for (f, sha) in &h.inputs {
         if now.get(f) != Some(sha) {
             bail!("{f} changed since the shards ran (SHA-256 differs): the shards are results of the old file; re-run them");
         }
     }
-    drop(l);
+    Ok(())
+}
+
+/// `run.json` of a merged run: the merge's own facts, the shards it read, their count, the
+/// number of items (`items`: "placements" or "draws") and the shards' summed wall time.
+fn merged_facts(
+    merged: &shard::Merged,
+    dirs: &[PathBuf],
+    items: &'static str,
+    t0: std::time::Instant,
+) -> (serde_json::Value, Vec<(&'static str, serde_json::Value)>) {
+    let h = &merged.header;
     let facts = super::sweep::run_facts(1, t0.elapsed().as_secs_f64(), 0);
     let extra = vec![
         (
@@ -189,17 +196,11 @@ fn merge_study(
                 .collect::<Vec<_>>()),
         ),
         ("shards", serde_json::json!(h.shard.count)),
-        ("draws", serde_json::json!(h.total)),
+        (items, serde_json::json!(h.total)),
         (
             "shard_wall_time_s",
             serde_json::json!(merged.shard_wall_time_s),
         ),
     ];
-    super::optimise::run_with(
-        a,
-        Some(super::optimise::MergedDraws {
-            draws: draws.clone(),
-            facts: (facts, extra),
-        }),
-    )
+    (facts, extra)
 }

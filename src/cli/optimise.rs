@@ -643,14 +643,14 @@ fn write_study_shard(
     a: &OptimiseArgs,
     l: &super::sweep::Loaded,
     setup: &printwatt::placement::uncertainty::StudySetup,
-    (sh, source, mut rd): (
+    (sh, source, rd): (
         printwatt::placement::shard::Shard,
         printwatt::placement::shard::ShardSource,
         printwatt::output::RunDir,
     ),
     t0: std::time::Instant,
 ) -> Result<()> {
-    use printwatt::placement::shard::{self, ShardHeader};
+    use printwatt::placement::shard;
     let p = &a.p;
     let idx = sh.indices(setup.len());
     let pool = p.pool()?;
@@ -660,41 +660,27 @@ fn write_study_shard(
     let rows: Vec<(usize, printwatt::placement::uncertainty::Draw)> =
         idx.into_iter().zip(draws).collect();
     let bytes = shard::encode_draws(&rows)?;
-    let header = ShardHeader {
-        schema_version: shard::SCHEMA_VERSION,
-        kind: shard::KIND_UNCERTAINTY.into(),
-        shard: sh,
-        total: setup.len(),
-        rows: rows.len(),
-        job: job_key(a),
-        args: std::env::args().skip(1).collect(),
-        cwd: std::env::current_dir().context("the working directory")?,
-        inputs: super::sweep::hash_inputs(&p.inputs(l))?,
-        version: super::VERSION.into(),
-        rows_sha256: printwatt::output::sha256_hex(&bytes),
-        wall_time_s: t0.elapsed().as_secs_f64(),
-    };
-    let text = serde_json::to_string_pretty(&header)?;
-    rd.write(shard::ROWS, &bytes)?;
-    rd.write(shard::HEADER, text.as_bytes())?;
-    let dir = rd.commit()?;
-    if p.out.json {
-        println!("{text}");
-    } else {
-        let from = match source {
-            shard::ShardSource::Given => "as given",
-            shard::ShardSource::Slurm => "from the Slurm job array",
-            shard::ShardSource::Kubernetes => "from the Kubernetes Indexed Job",
-        };
-        println!(
-            "shard {} of {} ({from}): {} of {} uncertainty draws in {draw_s:.2} s (grid and refinement {:.2} s)",
-            sh.index,
-            sh.count,
-            rows.len(),
-            setup.len(),
-            header.wall_time_s - draw_s
-        );
-        println!("wrote {}", dir.display());
-    }
-    Ok(())
+    let wall_time_s = t0.elapsed().as_secs_f64();
+    let done = format!(
+        "{} of {} uncertainty draws in {draw_s:.2} s (grid and refinement {:.2} s)",
+        rows.len(),
+        setup.len(),
+        wall_time_s - draw_s
+    );
+    super::sweep::write_shard(
+        rd,
+        super::sweep::ShardOut {
+            kind: shard::KIND_UNCERTAINTY,
+            shard: sh,
+            source,
+            total: setup.len(),
+            rows: rows.len(),
+            job: job_key(a),
+            inputs: super::sweep::hash_inputs(&p.inputs(l))?,
+            bytes,
+            wall_time_s,
+        },
+        p.out.json,
+        &done,
+    )
 }

@@ -837,7 +837,7 @@ pub fn hash_inputs(
 /// `printwatt sweep --shard`: evaluate this shard's placements and write them as the shard
 /// directory `<--out>/shard-K-of-N/` (header and rows, docs/cluster.md).
 fn run_shard(a: &PlacementArgs, spec: &str) -> Result<()> {
-    use printwatt::placement::shard::{self, Shard, ShardHeader};
+    use printwatt::placement::shard::{self, Shard};
     let (sh, source) = Shard::parse(spec, &|k| std::env::var(k).ok())?;
     let Some(parent) = a.out.out.clone() else {
         bail!("--shard writes a shard directory: give --out DIR (every shard of the run writes DIR/shard-K-of-N/, and `printwatt merge DIR` puts them together)");
@@ -847,7 +847,7 @@ fn run_shard(a: &PlacementArgs, spec: &str) -> Result<()> {
     }
     let l = a.load()?;
     let inputs = a.inputs(&l);
-    let mut rd = printwatt::output::RunDir::begin_at(
+    let rd = printwatt::output::RunDir::begin_at(
         &parent.join(sh.dir_name()),
         &inputs,
         printwatt::output::Existing::Force(a.out.force),
@@ -864,38 +864,89 @@ fn run_shard(a: &PlacementArgs, spec: &str) -> Result<()> {
     let feasible = rows.iter().filter(|r| r.cost().is_finite()).count();
     let rows: Vec<(usize, Evaluated)> = idx.into_iter().zip(rows).collect();
     let bytes = shard::encode_rows(&rows)?;
+    let done = format!(
+        "{} of {} placements evaluated ({feasible} feasible) in {secs:.2} s",
+        rows.len(),
+        ps.len()
+    );
+    write_shard(
+        rd,
+        ShardOut {
+            kind: shard::KIND_SWEEP,
+            shard: sh,
+            source,
+            total: ps.len(),
+            rows: rows.len(),
+            job: job_key(a),
+            inputs: hash_inputs(&inputs)?,
+            bytes,
+            wall_time_s: secs,
+        },
+        a.out.json,
+        &done,
+    )
+}
+
+/// A shard's rows and what its header says of them ([`write_shard`]).
+pub struct ShardOut {
+    /// [`printwatt::placement::shard::KIND_SWEEP`] or `KIND_UNCERTAINTY`.
+    pub kind: &'static str,
+    /// This shard.
+    pub shard: printwatt::placement::shard::Shard,
+    /// Where its index came from (for the message).
+    pub source: printwatt::placement::shard::ShardSource,
+    /// Items of the whole run.
+    pub total: usize,
+    /// Items in this shard.
+    pub rows: usize,
+    /// The normalised job ([`job_key`], or optimise's).
+    pub job: String,
+    /// SHA-256 of every input ([`hash_inputs`]).
+    pub inputs: std::collections::BTreeMap<String, String>,
+    /// The encoded rows.
+    pub bytes: Vec<u8>,
+    /// Wall time of the shard's work, s.
+    pub wall_time_s: f64,
+}
+
+/// Write a shard directory (rows and header) into the run directory taken for it, and say so:
+/// the header as JSON with `json`, else `shard K of N (source): <done>` and where it went.
+pub fn write_shard(
+    mut rd: printwatt::output::RunDir,
+    o: ShardOut,
+    json: bool,
+    done: &str,
+) -> Result<()> {
+    use printwatt::placement::shard::{self, ShardHeader, ShardSource};
     let header = ShardHeader {
         schema_version: shard::SCHEMA_VERSION,
-        kind: shard::KIND_SWEEP.into(),
-        shard: sh,
-        total: ps.len(),
-        rows: rows.len(),
-        job: job_key(a),
+        kind: o.kind.into(),
+        shard: o.shard,
+        total: o.total,
+        rows: o.rows,
+        job: o.job,
         args: std::env::args().skip(1).collect(),
         cwd: std::env::current_dir().context("the working directory")?,
-        inputs: hash_inputs(&inputs)?,
+        inputs: o.inputs,
         version: super::VERSION.into(),
-        rows_sha256: printwatt::output::sha256_hex(&bytes),
-        wall_time_s: secs,
+        rows_sha256: printwatt::output::sha256_hex(&o.bytes),
+        wall_time_s: o.wall_time_s,
     };
     let text = serde_json::to_string_pretty(&header)?;
-    rd.write(shard::ROWS, &bytes)?;
+    rd.write(shard::ROWS, &o.bytes)?;
     rd.write(shard::HEADER, text.as_bytes())?;
     let dir = rd.commit()?;
-    if a.out.json {
+    if json {
         println!("{text}");
     } else {
-        let from = match source {
-            shard::ShardSource::Given => "as given",
-            shard::ShardSource::Slurm => "from the Slurm job array",
-            shard::ShardSource::Kubernetes => "from the Kubernetes Indexed Job",
+        let from = match o.source {
+            ShardSource::Given => "as given",
+            ShardSource::Slurm => "from the Slurm job array",
+            ShardSource::Kubernetes => "from the Kubernetes Indexed Job",
         };
         println!(
-            "shard {} of {} ({from}): {} of {} placements evaluated ({feasible} feasible) in {secs:.2} s",
-            sh.index,
-            sh.count,
-            rows.len(),
-            ps.len()
+            "shard {} of {} ({from}): {done}",
+            o.shard.index, o.shard.count
         );
         println!("wrote {}", dir.display());
     }

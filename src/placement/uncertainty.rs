@@ -177,19 +177,25 @@ fn draw_robot(
     let mut m = nominal.clone();
     let mut drawn = Vec::new();
     // Identified parameters (calibrated robot): normal with their standard errors.
-    let cal: Vec<(String, f64, f64)> = nominal
+    let cal: Vec<(String, String, f64, f64)> = nominal
         .effects
         .calibration
         .as_ref()
         .map(|c| {
             c.params
                 .iter()
-                .filter_map(|p| p.std_error.map(|se| (p.name.clone(), p.value, se)))
-                .filter(|(_, _, se)| se.is_finite() && *se > 0.0)
+                .filter_map(|p| {
+                    let se = p.std_error.filter(|se| se.is_finite() && *se > 0.0)?;
+                    Some((p.effect.clone(), p.name.clone(), p.value, se))
+                })
                 .collect()
         })
         .unwrap_or_default();
-    let calibrated = |name: &str| cal.iter().find(|(n, _, _)| n == name).map(|c| (c.1, c.2));
+    let calibrated = |name: &str| {
+        cal.iter()
+            .find(|(_, n, _, _)| n == name)
+            .map(|c| (c.2, c.3))
+    };
     let u = |rng: &mut ChaCha8Rng| rng.gen_range(-1.0..=1.0);
     let normal = |rng: &mut ChaCha8Rng| {
         // Box–Muller from two uniforms of the stream.
@@ -289,29 +295,18 @@ fn draw_robot(
     // Every other identified parameter that a calibrated robot keeps in `[effects.values]`
     // (which wins over the drive keys drawn above: coulomb per direction, offset, stribeck,
     // rigid_body, …): normal with its standard error, within the parameter's bounds.
-    let specs = crate::effects::EffectSet::of_robot(nominal).ok();
+    let with_values = m.effects.table.values.is_some() && !cal.is_empty();
+    let specs = with_values
+        .then(|| crate::effects::EffectSet::of_robot(nominal).ok())
+        .flatten();
     if let (Some(vals), Some(specs)) = (m.effects.table.values.as_mut(), specs.as_ref()) {
-        let params: Vec<(String, String, f64, f64)> = nominal
-            .effects
-            .calibration
-            .as_ref()
-            .map(|c| {
-                c.params
-                    .iter()
-                    .filter(|p| p.effect != "balancer")
-                    .filter_map(|p| {
-                        let se = p.std_error.filter(|se| se.is_finite() && *se > 0.0)?;
-                        Some((p.effect.clone(), p.name.clone(), p.value, se))
-                    })
-                    .collect()
-            })
-            .unwrap_or_default();
-        for (effect, name, value, se) in params {
-            let (Some(v), Ok(e)) = (vals.get_mut(&effect), specs.get(&effect)) else {
+        for (effect, name, value, se) in cal.iter().filter(|c| c.0 != "balancer") {
+            let (value, se) = (*value, *se);
+            let (Some(v), Ok(e)) = (vals.get_mut(effect), specs.get(effect)) else {
                 continue;
             };
             let ps = e.params();
-            let Some(i) = ps.iter().position(|p| p.name == name) else {
+            let Some(i) = ps.iter().position(|p| &p.name == name) else {
                 continue;
             };
             if i >= v.len() {
