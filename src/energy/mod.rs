@@ -518,8 +518,8 @@ pub fn eval_batch_with_sincos<'s>(
     let mut tau: [Lanes; MAX_DOF] = [[0.0; LANES]; MAX_DOF];
     rnea_batch(&model.dynamics, &b, &mut tau, level);
     for (l, o) in out.iter_mut().enumerate().take(count) {
-        for j in 0..n {
-            o.tau_rb[j] = tau[j][l];
+        for (t, lanes) in o.tau_rb.iter_mut().zip(&tau).take(n) {
+            *t = lanes[l];
         }
         finish_sample(model, q(l), qd(l), qdd(l), o);
     }
