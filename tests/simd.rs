@@ -9,6 +9,10 @@ use printwatt::dynamics::{rnea_batch, rnea_with_sincos, DynModel, DynOptions, St
 use printwatt::energy::{self, EnergyModel, SamplePower};
 use printwatt::fastmath;
 use printwatt::simd::{self, Level, LANES};
+use std::sync::Mutex;
+
+/// The level is process-wide: the tests of this file that set it take turns.
+static LEVEL_LOCK: Mutex<()> = Mutex::new(());
 
 /// A deterministic stream of pseudo-random numbers in [-1, 1) (xorshift; seeded).
 fn uniform(seed: u64) -> impl FnMut() -> f64 {
@@ -168,6 +172,7 @@ fn forcing_the_scalar_path_gives_the_same_placement_ranking() {
             })
         })
         .collect();
+    let _g = LEVEL_LOCK.lock().unwrap_or_else(|e| e.into_inner());
     let run = |level: Level| {
         assert!(simd::set_level(level));
         assert_eq!(simd::level(), level);
@@ -201,4 +206,142 @@ fn the_level_names_round_trip_and_the_detected_level_is_available() {
     assert_eq!(Level::from_name("avx1024"), None);
     assert!(simd::detected().available());
     assert_ne!(simd::detected(), Level::Scalar);
+}
+
+#[test]
+fn sin_cos_of_eight_lanes_equals_sin_cos_bit_for_bit_including_special_values() {
+    let mut u = uniform(3);
+    let mut xs: Vec<f64> = (0..800).map(|_| 70.0 * u()).collect();
+    xs.extend([
+        0.0,
+        -0.0,
+        1e-300,
+        -3e-9,
+        7.450_580_596_923_828e-9,
+        f64::NAN,
+        64.0,
+        -64.000001,
+        1e6,
+        f64::INFINITY,
+        std::f64::consts::FRAC_PI_2,
+        -std::f64::consts::PI,
+        2.356194490192345,
+        -5.497787143782138,
+    ]);
+    for chunk in xs.chunks(LANES) {
+        let mut x = [0.25; LANES];
+        x[..chunk.len()].copy_from_slice(chunk);
+        let (s, c) = fastmath::sin_cos_lanes(&x);
+        for l in 0..LANES {
+            let (ws, wc) = fastmath::sin_cos(x[l]);
+            assert_eq!(
+                (s[l].to_bits(), c[l].to_bits()),
+                (ws.to_bits(), wc.to_bits()),
+                "x = {:e}",
+                x[l]
+            );
+        }
+    }
+}
+
+#[test]
+fn batched_tool_poses_equal_the_scalar_fk_recheck_bit_for_bit_on_every_level() {
+    use printwatt::kinematics::fk::FastChain;
+    for name in [
+        "abb_irb6700_200_260",
+        "abb_irb4600_40_255",
+        "staubli_tx200",
+        "ur10e",
+    ] {
+        let model = common::robot(name);
+        let chain = FastChain::new(&model);
+        if !chain.batchable() {
+            continue;
+        }
+        let n = model.dof();
+        let st = states(5, n, 4 * LANES);
+        for chunk in st.chunks(LANES) {
+            let mut qb = [[0.0; LANES]; printwatt::dynamics::MAX_DOF];
+            for (l, (q, ..)) in chunk.iter().enumerate() {
+                for j in 0..n {
+                    qb[j][l] = q[j];
+                }
+            }
+            for level in levels() {
+                let tb = chain.tool_batch(&qb, level);
+                for (l, (q, ..)) in chunk.iter().enumerate() {
+                    let mut sc = vec![0.0; 2 * n];
+                    let want = chain.tool_with_sincos(q, &mut sc);
+                    let got = tb.frame(l);
+                    assert_eq!(format!("{got:?}"), format!("{want:?}"), "{name} {level:?}");
+                    for j in 0..n {
+                        assert_eq!(tb.s[j][l].to_bits(), sc[j].to_bits());
+                        assert_eq!(tb.c[j][l].to_bits(), sc[n + j].to_bits());
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn a_failing_fk_recheck_is_reported_at_the_same_sample_when_the_checks_run_in_batches() {
+    use printwatt::kinematics::{nozzle_target, IkSolver};
+    use printwatt::placement::Placement;
+    use printwatt::timing::{self, blend_path, JointStageOptions, ProfileOptions};
+    let _g = LEVEL_LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    let model = common::robot("abb_irb6700_200_260");
+    let tp = common::path("default.gcode");
+    let moves = timing::moves_from_toolpath(&tp);
+    let pieces = blend_path(&moves);
+    let lines: Vec<usize> = moves.iter().map(|m| m.line).collect();
+    let at = Placement::new(1.7, 0.0, 0.0, std::f64::consts::FRAC_PI_2);
+    let time = |solver: &IkSolver, level: Level| {
+        assert!(simd::set_level(level));
+        timing::time_at(
+            solver,
+            &pieces,
+            &|i| lines[i],
+            &at,
+            &ProfileOptions::default(),
+            &JointStageOptions::default(),
+        )
+    };
+    let mut solver = IkSolver::new(&model).unwrap();
+    assert!(
+        solver.batch_checkable(),
+        "the deferred, batched re-check applies"
+    );
+    let t = time(&solver, Level::Scalar).expect("the default path at the default placement");
+    // The re-check's position error of every sample; a threshold at the largest one fails
+    // the path exactly where it is reached first.
+    let rot = nozzle_target(&nalgebra::Vector3::zeros(), at.nozzle_yaw()).rot;
+    let n = model.dof();
+    let mut sc = vec![0.0; 2 * n];
+    let dp: Vec<f64> = (0..t.traj.len())
+        .map(|k| {
+            let target = printwatt::math::Frame { rot, pos: t.tcp[k] };
+            solver
+                .check_with_sincos(&target, t.traj.q(k), &mut sc)
+                .unwrap()
+                .0
+        })
+        .collect();
+    let worst = dp.iter().copied().fold(0.0, f64::max);
+    let first = dp.iter().position(|&d| d == worst).unwrap();
+    assert!(
+        first > LANES,
+        "the worst sample is {first}: pick another path"
+    );
+    solver.check_position_m = worst;
+    let want = time(&solver, Level::Scalar).expect_err("a check fails");
+    assert!(
+        matches!(want, timing::TimingFailure::Unreachable { sample, .. } if sample == first),
+        "{want:?}"
+    );
+    for level in levels() {
+        let got = time(&solver, level).expect_err("a check fails");
+        assert_eq!(got, want, "{level:?}");
+    }
+    simd::set_level(simd::detected());
 }
