@@ -126,6 +126,28 @@ mod tests {
     use super::*;
 
     #[test]
+    fn segment_distances_agree_with_parry3d_in_the_plane() {
+        use parry3d_f64::math::{Isometry, Point};
+        use parry3d_f64::shape::Segment;
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+        let mut p = || [rng.gen_range(-2.0..2.0), rng.gen_range(-2.0..2.0)];
+        for _ in 0..2000 {
+            let (a, b, c, d) = (p(), p(), p(), p());
+            let seg = |u: [f64; 2], v: [f64; 2]| {
+                Segment::new(Point::new(u[0], u[1], 0.0), Point::new(v[0], v[1], 0.0))
+            };
+            let id = Isometry::identity();
+            let reference = parry3d_f64::query::distance(&id, &seg(a, b), &id, &seg(c, d)).unwrap();
+            let mine = segment_distance(a, b, c, d);
+            assert!(
+                (mine - reference).abs() < 1e-12,
+                "{a:?}-{b:?} to {c:?}-{d:?}: {mine} vs {reference}"
+            );
+        }
+    }
+
+    #[test]
     fn segment_distances_are_those_of_the_plane() {
         // Crossing, parallel, end to end, and a point.
         assert_eq!(
