@@ -115,30 +115,16 @@ pub fn run(a: StationsArgs) -> Result<()> {
         )
     };
     let reach = printwatt::placement::feasibility::reach_m(&l.robot);
-    let (positions, description, track) = match &a.track {
+    let candidates = match &a.track {
         Some(t) => {
             let (s0, s1) = t
                 .split_once(':')
                 .with_context(|| format!("--track `{t}`: expected X0,Y0:X1,Y1 (m)"))?;
-            let (a0, b0) = (parse_xy(s0, t)?, parse_xy(s1, t)?);
-            (
-                stations::track_positions(a0, b0, a.station_step)?,
-                format!(
-                    "track ({}, {}) → ({}, {}) m every {} m",
-                    a0[0], a0[1], b0[0], b0[1], a.station_step
-                ),
-                Some([a0, b0]),
-            )
+            Candidates::track(parse_xy(s0, t)?, parse_xy(s1, t)?, a.station_step, headings)?
         }
-        None => (
-            stations::grid_positions(&l.path, a.station_step, reach)?,
-            format!(
-                "grid every {} m over the footprint ± {reach:.2} m",
-                a.station_step
-            ),
-            None,
-        ),
+        None => Candidates::grid(&l.path, a.station_step, reach, headings)?,
     };
+    let description = candidates.description.clone();
     let footprint = a
         .footprint
         .unwrap_or_else(|| stations::default_footprint_m(&l.robot));
@@ -156,12 +142,7 @@ pub fn run(a: StationsArgs) -> Result<()> {
         joint: JointStageOptions::default(),
         feasibility: l.feas,
         objective: l.objective,
-        candidates: Candidates {
-            positions,
-            headings,
-            description: description.clone(),
-            track,
-        },
+        candidates,
         z_m: z,
         spin_rad: spin,
         relocation_j: a.relocation_cost,

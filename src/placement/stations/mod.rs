@@ -215,6 +215,33 @@ pub struct Candidates {
     pub track: Option<[[f64; 2]; 2]>,
 }
 
+impl Candidates {
+    /// Positions on a grid every `step_m` (m) over the path's footprint widened by the arm's
+    /// reach ([`grid_positions`]), with `headings`. Errors as [`grid_positions`].
+    pub fn grid(path: &Toolpath, step_m: f64, reach_m: f64, headings: Headings) -> Result<Self> {
+        Ok(Candidates {
+            positions: grid_positions(path, step_m, reach_m)?,
+            headings,
+            description: format!("grid every {step_m} m over the footprint ± {reach_m:.2} m"),
+            track: None,
+        })
+    }
+
+    /// Positions every `step_m` (m) along the track from `a` to `b` (part frame, m;
+    /// [`track_positions`]), with `headings`. Errors as [`track_positions`].
+    pub fn track(a: [f64; 2], b: [f64; 2], step_m: f64, headings: Headings) -> Result<Self> {
+        Ok(Candidates {
+            positions: track_positions(a, b, step_m)?,
+            headings,
+            description: format!(
+                "track ({}, {}) → ({}, {}) m every {step_m} m",
+                a[0], a[1], b[0], b[1]
+            ),
+            track: Some([a, b]),
+        })
+    }
+}
+
 /// A grid every `step_m` (m) over the path's footprint (its xy bounding box) widened by
 /// `margin_m` on every side, aligned to multiples of `step_m` (so a shifted job gives the same
 /// lattice). Error: a step that is not > 0, or more than [`MAX_CANDIDATES`] positions.
