@@ -136,7 +136,7 @@ pub fn sin_cos_lanes(
     for l in 0..LANES {
         let a = x[l].abs();
         // NaN fails the comparison: special.
-        special |= !(a <= SIN_COS_MAX && a >= 7.450_580_596_923_828e-9);
+        special |= !(7.450_580_596_923_828e-9..=SIN_COS_MAX).contains(&a);
         let t = x[l] * FRAC_2_PI + ROUND_MAGIC;
         let quadrant = t.to_bits() & 3;
         let k = t - ROUND_MAGIC;
@@ -151,7 +151,7 @@ pub fn sin_cos_lanes(
     if special || libm_selected() {
         for l in 0..LANES {
             let a = x[l].abs();
-            if libm_selected() || !(a <= SIN_COS_MAX && a >= 7.450_580_596_923_828e-9) {
+            if libm_selected() || !(7.450_580_596_923_828e-9..=SIN_COS_MAX).contains(&a) {
                 (s[l], c[l]) = sin_cos(x[l]);
             }
         }

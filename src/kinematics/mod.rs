@@ -722,8 +722,8 @@ impl<'a> IkSolver<'a> {
         let count = count.min(LANES);
         let mut qb = [[0.0; LANES]; MAX_DOF];
         for l in 0..count {
-            for (j, v) in q(l).iter().take(n).enumerate() {
-                qb[j][l] = *v;
+            for (lanes, v) in qb.iter_mut().zip(q(l).iter().take(n)) {
+                lanes[l] = *v;
             }
         }
         let tb = self.chain.tool_batch(&qb, level);
