@@ -412,7 +412,7 @@ fn the_closed_form_of_eight_samples_equals_the_per_sample_closed_form_on_every_b
     let mut checked = 0;
     for name in ["abb_irb6700_200_260", "abb_irb4600_40_255", "staubli_tx200"] {
         let model = common::robot(name);
-        let Some(p) = model.opw.clone() else {
+        let Some(p) = model.opw else {
             continue;
         };
         let k = Prepared::new(&p);
@@ -443,8 +443,8 @@ fn the_closed_form_of_eight_samples_equals_the_per_sample_closed_form_on_every_b
                             let want = solve_branch_prepared(&p, &k, &flange, branch, None);
                             if b.ok[l] {
                                 let (q, s5) = want.expect("an ok lane has an answer");
-                                for j in 0..6 {
-                                    assert_eq!(b.q[l][j].to_bits(), q[j].to_bits(), "{name}");
+                                for (got, want) in b.q[l].iter().zip(&q) {
+                                    assert_eq!(got.to_bits(), want.to_bits(), "{name}");
                                 }
                                 assert_eq!(b.s5[l].to_bits(), s5.to_bits());
                                 checked += 1;
