@@ -447,6 +447,17 @@ fn the_closed_form_of_eight_samples_equals_the_per_sample_closed_form_on_every_b
                                     assert_eq!(got.to_bits(), want.to_bits(), "{name}");
                                 }
                                 assert_eq!(b.s5[l].to_bits(), s5.to_bits());
+                                // The other wrist variant from the same lane.
+                                let flip = Branch {
+                                    wrist: branch.wrist.flipped(),
+                                    ..branch
+                                };
+                                let (qf, _) =
+                                    solve_branch_prepared(&p, &k, &flange, flip, None).unwrap();
+                                let got = b.variant(&p, l, flip.wrist);
+                                for (g, w) in got.iter().zip(&qf) {
+                                    assert_eq!(g.to_bits(), w.to_bits(), "{name} flipped");
+                                }
                                 checked += 1;
                             } else if let Ok((_, s5)) = want {
                                 assert!(s5 < 1e-9, "{name}: a lane with an answer not ok");

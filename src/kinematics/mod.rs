@@ -734,9 +734,9 @@ impl<'a> IkSolver<'a> {
 
     /// The answer of lane `lane` of `batch` for `tool_target` (its tip and orientation must be
     /// the ones [`IkSolver::solve_near_batch`] was given), continuing `q_prev`: exactly
-    /// [`IkSolver::solve_near_unchecked`]`(tool_target, q_prev)`. The lane's closed form is
-    /// used when `q_prev` continues the batch's branch and the lane is away from the wrist
-    /// singularity and within limits; otherwise the sample is solved afresh.
+    /// [`IkSolver::solve_near_unchecked`]`(tool_target, q_prev)`. The lane's closed form (both
+    /// wrist variants come from it) is used when `q_prev` continues the batch's branch and the
+    /// lane has an answer within limits; otherwise the sample is solved afresh.
     #[inline]
     pub fn take_near(
         &self,
@@ -747,13 +747,32 @@ impl<'a> IkSolver<'a> {
     ) -> Result<JointVec, IkFailure> {
         if let (Some(p), Some(k)) = (&self.model.opw, &self.opw_k) {
             if batch.ok[lane]
-                && batch.s5[lane] > NEAR_WRIST_SINGULARITY
                 && q_prev.len() == self.model.dof()
                 && k.branch_of(p, q_prev) == batch.branch
             {
-                let mut q = JointVec::from_slice(&batch.q[lane]);
-                if fit_limits(self.model, &mut q, Some(q_prev)).is_ok() {
-                    return Ok(q);
+                // solve_near_opw's choice between the two wrist variants, from the lane.
+                let b = batch.branch;
+                let fit = |w: Wrist| {
+                    let mut q = JointVec::from_slice(&batch.variant(p, lane, w));
+                    fit_limits(self.model, &mut q, Some(q_prev)).map(|_| q)
+                };
+                let first = fit(b.wrist);
+                if let Ok(q) = &first {
+                    if batch.s5[lane] > NEAR_WRIST_SINGULARITY {
+                        return Ok(*q);
+                    }
+                }
+                let dist = |q: &JointVec| {
+                    q.iter()
+                        .zip(q_prev)
+                        .map(|(a, b)| (a - b).abs())
+                        .fold(0.0, f64::max)
+                };
+                match (first, fit(b.wrist.flipped())) {
+                    (Ok(q1), Ok(q2)) => return Ok(if dist(&q2) < dist(&q1) { q2 } else { q1 }),
+                    (Ok(q), Err(_)) | (Err(_), Ok(q)) => return Ok(q),
+                    // Both fail: the per-sample path gives the error it reports.
+                    (Err(_), Err(_)) => {}
                 }
             }
         }

@@ -415,7 +415,10 @@ pub struct BranchBatch {
     pub branch: Branch,
     /// URDF angles (rad, not wrapped) per lane, as [`solve_branch_prepared`] gives them.
     pub q: [[f64; 6]; crate::simd::LANES],
-    /// `|sin q5|` per lane.
+    /// OPW angles per lane before the wrist variant is applied (`q1 … q6` with the wrist's
+    /// `atan2` results), for [`BranchBatch::variant`].
+    pub o: [[f64; 6]; crate::simd::LANES],
+    /// `|sin q5|` per lane (the same for both wrist variants).
     pub s5: Lanes,
     /// Whether the lane holds [`solve_branch_prepared`]'s answer; `false` where it errs or
     /// the lane needs `q_ref` (the wrist singularity) or a degenerate case (wrist centre on
@@ -526,16 +529,39 @@ fn solve_branch_lanes(
     let q5 = atan2_lanes(&s5, &r22);
     let q6 = atan2_lanes(&r21, &mr20);
     let mut q = [[0.0; 6]; LANES];
+    let mut o = [[0.0; 6]; LANES];
     for l in 0..LANES {
-        let w = match branch.wrist {
-            Wrist::NoFlip => [q4[l], q5[l], q6[l]],
-            Wrist::Flip => [q4[l] + PI, -q5[l], q6[l] + PI],
-        };
-        let o = [q1[l], q2[l], q3[l], w[0], w[1], w[2]];
-        q[l] = p.from_opw(&o);
+        o[l] = [q1[l], q2[l], q3[l], q4[l], q5[l], q6[l]];
+        q[l] = variant(p, &o[l], branch.wrist);
         ok[l] &= q[l].iter().all(|v| v.is_finite());
     }
-    BranchBatch { branch, q, s5, ok }
+    BranchBatch {
+        branch,
+        q,
+        o,
+        s5,
+        ok,
+    }
+}
+
+/// URDF angles of the wrist variant `w` of the OPW angles `o` (the wrist's `atan2` results
+/// unflipped), as [`solve_branch_prepared`] forms them.
+#[inline(always)]
+fn variant(p: &OpwParams, o: &[f64; 6], w: Wrist) -> [f64; 6] {
+    let wr = match w {
+        Wrist::NoFlip => [o[3], o[4], o[5]],
+        Wrist::Flip => [o[3] + PI, -o[4], o[5] + PI],
+    };
+    p.from_opw(&[o[0], o[1], o[2], wr[0], wr[1], wr[2]])
+}
+
+impl BranchBatch {
+    /// Lane `lane`'s URDF angles (rad, not wrapped) for the wrist variant `w` of the batch's
+    /// shoulder and elbow: [`solve_branch_prepared`]'s answer for that branch, bit for bit,
+    /// when the lane is `ok`.
+    pub fn variant(&self, p: &OpwParams, lane: usize, w: Wrist) -> [f64; 6] {
+        variant(p, &self.o[lane], w)
+    }
 }
 
 /// [`solve_branch_prepared`] of [`crate::simd::LANES`] flange poses with the common rotation
