@@ -272,6 +272,38 @@ pub fn refine(
     so: &SearchOptions,
     progress: Progress,
 ) -> Result<(OptimiseResult, SearchInfo)> {
+    refine_with(ev, grid, opts, so, progress, Checker::new(ev, so.tolerance))
+}
+
+/// [`refine`] with every tolerance check made in full and every placement evaluated each time
+/// it is asked for ([`Checker::plain`]): the refinement as it was before the fast checks, the
+/// reference that `tests/placement_search.rs` and `benches/optimise.rs` compare with. The
+/// answer is the same; only the evaluation count differs.
+pub fn refine_plain(
+    ev: &Evaluator,
+    grid: &[Evaluated],
+    opts: &OptimiseOptions,
+    so: &SearchOptions,
+    progress: Progress,
+) -> Result<(OptimiseResult, SearchInfo)> {
+    refine_with(
+        ev,
+        grid,
+        opts,
+        so,
+        progress,
+        Checker::plain(ev, so.tolerance),
+    )
+}
+
+fn refine_with(
+    ev: &Evaluator,
+    grid: &[Evaluated],
+    opts: &OptimiseOptions,
+    so: &SearchOptions,
+    progress: Progress,
+    checker: Checker,
+) -> Result<(OptimiseResult, SearchInfo)> {
     let cells = ranked(grid);
     if cells.is_empty() {
         return Err(Error::Invalid(
@@ -279,9 +311,8 @@ pub fn refine(
         ));
     }
     // The seed: the best grid cell whose tolerance corners are all feasible. Every tolerance
-    // check and single evaluation below goes through one checker (first failure stops a
-    // check; nothing is evaluated twice).
-    let checker = Checker::new(ev, so.tolerance);
+    // check and single evaluation below goes through `checker` (first failure stops a check;
+    // nothing is evaluated twice).
     let mut start: Option<(Evaluated, ToleranceCheck)> = None;
     let mut tried = 0;
     let mut first_check = None;

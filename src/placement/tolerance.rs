@@ -174,9 +174,16 @@ fn key(p: &Placement) -> [u64; 5] {
 ///
 /// The corners a check reports, its failures and the evaluation count are those of the
 /// sequential check in this order, whatever the thread count.
+///
+/// [`Checker::plain`] checks as [`check`] does and evaluates every placement it is asked for
+/// (the search as it was before this checker: the reference its tests compare with).
 pub struct Checker<'e, 'j, 'a> {
     ev: &'e Evaluator<'j, 'a>,
     tol: Tolerance,
+    /// [`Checker::plain`]: every check is [`check`], every evaluation made anew.
+    plain: bool,
+    /// Evaluations counted in plain mode.
+    plain_count: Cell<usize>,
     /// Corner indices (of [`Tolerance::corners`]) in the order they are tried.
     order: RefCell<Vec<usize>>,
     /// Every evaluation made, by placement.
@@ -193,10 +200,23 @@ impl<'e, 'j, 'a> Checker<'e, 'j, 'a> {
         Checker {
             ev,
             tol,
+            plain: false,
+            plain_count: Cell::new(0),
             order: RefCell::new((0..16).collect()),
             cache: RefCell::new(HashMap::new()),
             used: RefCell::new(HashSet::new()),
             made: Cell::new(0),
+        }
+    }
+
+    /// A checker that checks as [`check`] does (batches of [`CORNER_BATCH`] corners, stopping
+    /// after the first batch with an infeasible corner, in the fixed order) and evaluates every
+    /// placement anew each time it is asked for one, without evaluating ahead: the search
+    /// before [`Checker::new`], kept as the reference the fast checks are tested against.
+    pub fn plain(ev: &'e Evaluator<'j, 'a>, tol: Tolerance) -> Self {
+        Checker {
+            plain: true,
+            ..Checker::new(ev, tol)
         }
     }
 
@@ -205,14 +225,20 @@ impl<'e, 'j, 'a> Checker<'e, 'j, 'a> {
         &self.tol
     }
 
-    /// Evaluations used by the checks and [`Checker::evaluate`] (each placement once): the
-    /// same for any thread count.
+    /// Evaluations used by the checks and [`Checker::evaluate`] (each placement once; in
+    /// plain mode, every evaluation): the same for any thread count.
     pub fn evaluations(&self) -> usize {
+        if self.plain {
+            return self.plain_count.get();
+        }
         self.used.borrow().len()
     }
 
-    /// Evaluations made ahead of need and never used (0 on one thread).
+    /// Evaluations made ahead of need and never used (0 on one thread and in plain mode).
     pub fn speculative(&self) -> usize {
+        if self.plain {
+            return 0;
+        }
         self.made.get() - self.evaluations().min(self.made.get())
     }
 
@@ -254,6 +280,10 @@ impl<'e, 'j, 'a> Checker<'e, 'j, 'a> {
     /// evaluated in the same parallel batch, where a thread would otherwise wait (they are
     /// used only if `p` is then checked).
     pub fn evaluate(&self, p: &Placement, ahead: bool) -> Result<Evaluated> {
+        if self.plain {
+            self.plain_count.set(self.plain_count.get() + 1);
+            return Ok(self.ev.sweep(&[*p], &|_, _| {})?.remove(0));
+        }
         let width = rayon::current_num_threads().max(1);
         let mut batch = vec![*p];
         if ahead && !self.tol.is_zero() {
@@ -266,6 +296,11 @@ impl<'e, 'j, 'a> Checker<'e, 'j, 'a> {
     /// Check `at`'s tolerance box: the corners in this checker's order, as many at once as
     /// the pool has threads, up to the first infeasible one.
     pub fn check(&self, at: &Placement) -> Result<ToleranceCheck> {
+        if self.plain {
+            let c = check(self.ev, at, &self.tol)?;
+            self.plain_count.set(self.plain_count.get() + c.corners);
+            return Ok(c);
+        }
         if self.tol.is_zero() {
             return Ok(summarise(&self.tol, &[]));
         }
