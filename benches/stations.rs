@@ -37,11 +37,13 @@ fn main() {
             positions: stations::grid_positions(&path, 0.5, reach).unwrap(),
             headings: Headings::Auto,
             description: "grid every 0.5 m".into(),
+            track: None,
         },
         z_m: -0.5,
         spin_rad: 0.0,
         relocation_j: 20_000.0,
         relocation_j_per_m: 0.0,
+        footprint_m: stations::default_footprint_m(&model),
     };
     let pool = |n: usize| {
         rayon::ThreadPoolBuilder::new()

@@ -186,22 +186,29 @@ def default():
 
 
 def floor():
-    """A floor plan larger than one arm's reach: three rooms of 4 x 3 m in a row (12 x 3 m
-    outside, nozzle centreline), each wall piece printed in two layers back and forth, piece
-    after piece, with a lifted travel between pieces."""
-    rooms, rw, rh, dz, layers = 4, 3000.0, 3000.0, 20.0, 2
+    """A floor plan larger than one arm's reach: four rooms of 3 x 3 m in a row (12 x 3 m
+    outside, nozzle centreline), a door opening in every cross wall (so a crawler can drive
+    from room to room along the middle line, and a track can run through them), each wall piece
+    printed in two layers back and forth, piece after piece, with a lifted travel between
+    pieces."""
+    rooms, rw, rh, dz, layers, door = 4, 3000.0, 3000.0, 20.0, 2, 1500.0
+    d0, d1 = (rh - door) / 2, (rh + door) / 2
     pieces = []
     for k in range(rooms):
         x0, x1 = k * rw, (k + 1) * rw
         pieces.append(((x0, 0.0), (x1, 0.0)))  # bottom wall of the room
-        pieces.append(((x1, 0.0), (x1, rh)))  # its right wall (the end wall for the last)
+        pieces.append(((x1, 0.0), (x1, d0)))  # its right wall up to the door
+        pieces.append(((x1, d1), (x1, rh)))  # and after it (the end wall for the last)
         pieces.append(((x1, rh), (x0, rh)))  # its top wall
         if k == 0:
-            pieces.append(((x0, rh), (x0, 0.0)))  # the left end wall
+            pieces.append(((x0, rh), (x0, d1)))  # the left end wall, its door
+            pieces.append(((x0, d0), (x0, 0.0)))
     per_layer = sum(math.dist(a, b) for a, b in pieces)
     text = f"""; A floor plan larger than one arm's reach, for multi-station plans (printwatt stations):
 ; {rooms} rooms of {f(rw)} x {f(rh)} mm in a row, {f(rooms * rw)} x {f(rh)} mm outside (nozzle
-; centreline), {len(pieces)} straight wall pieces printed one after the other, each in
+; centreline), a {f(door)} mm door opening in the middle of every cross wall (y {f(d0)} to
+; {f(d1)} mm: a crawler drives from room to room, a track runs through them),
+; {len(pieces)} straight wall pieces printed one after the other, each in
 ; {layers} layers of {f(dz)} mm back and forth (the nozzle rises at the end of a layer while
 ; extruding), with a lifted travel (M5, G0 50 mm up, across, down, M3) between pieces.
 ; Print 150 mm/s (F9000), travel 200 mm/s (F12000). Part frame: origin at the outside

@@ -25,6 +25,65 @@ fn zero_ranges() -> Ranges {
     }
 }
 
+/// Run the CLI from the repository root; its stdout. Panics (with stderr) on failure.
+fn run_cli(args: &[&str]) -> String {
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_printwatt"))
+        .args(args)
+        .current_dir(root())
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
+/// The loop on the IRB 4600 in `dir` (made afresh): a simulated 20 s exciting log of `signal`
+/// at 100 Hz with `hidden` effects and `noise`, identified with `effects`. The calibrated
+/// robot's file and the log's path.
+fn calibrate(
+    dir: &std::path::Path,
+    signal: &str,
+    hidden: &str,
+    noise: &str,
+    effects: &str,
+) -> (std::path::PathBuf, String) {
+    let _ = std::fs::remove_dir_all(dir);
+    std::fs::create_dir_all(dir).unwrap();
+    let ds = dir.display().to_string();
+    run_cli(&[
+        "simulate",
+        "--robot",
+        "abb_irb4600_40_255",
+        "--excite",
+        "20",
+        "--signal",
+        signal,
+        "--hidden",
+        hidden,
+        "--noise",
+        noise,
+        "--rate",
+        "100",
+        "--seed",
+        "5",
+        "--out",
+        &ds,
+    ]);
+    let log = dir.join("log.csv").display().to_string();
+    let id = dir.join("id").display().to_string();
+    run_cli(&[
+        "identify",
+        "--robot",
+        "abb_irb4600_40_255",
+        "--log",
+        &log,
+        "--effects",
+        effects,
+        "--out",
+        &id,
+    ]);
+    (dir.join("id/abb_irb4600_40_255.calibrated.toml"), log)
+}
+
 fn pool(n: usize) -> rayon::ThreadPool {
     rayon::ThreadPoolBuilder::new()
         .num_threads(n)
@@ -169,51 +228,9 @@ fn a_calibrated_robots_uncertainty_draws_vary_the_parameters_it_identified() {
     // effect, so every draw was the nominal robot), and the calibrated file must keep it (it
     // kept the mean of both directions only).
     let d = std::env::temp_dir().join(format!("printwatt-unc-cal-{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    let run = |args: &[&str]| {
-        let o = std::process::Command::new(env!("CARGO_BIN_EXE_printwatt"))
-            .args(args)
-            .current_dir(root())
-            .output()
-            .unwrap();
-        assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
-        String::from_utf8_lossy(&o.stdout).into_owned()
-    };
-    let ds = d.display().to_string();
-    run(&[
-        "simulate",
-        "--robot",
-        "abb_irb4600_40_255",
-        "--excite",
-        "20",
-        "--hidden",
-        "coulomb=60:20",
-        "--noise",
-        "1",
-        "--rate",
-        "100",
-        "--seed",
-        "5",
-        "--out",
-        &ds,
-    ]);
-    let log = d.join("log.csv").display().to_string();
-    let id = d.join("id").display().to_string();
-    run(&[
-        "identify",
-        "--robot",
-        "abb_irb4600_40_255",
-        "--log",
-        &log,
-        "--effects",
-        "coulomb",
-        "--out",
-        &id,
-    ]);
-    let cal = d.join("id/abb_irb4600_40_255.calibrated.toml");
+    let (cal, log) = calibrate(&d, "tau", "coulomb=60:20", "1", "coulomb");
     // The calibrated robot reproduces the log as well as the fit did (noise 1 N·m).
-    let cmp: serde_json::Value = serde_json::from_str(&run(&[
+    let cmp: serde_json::Value = serde_json::from_str(&run_cli(&[
         "compare",
         "--robot",
         &cal.display().to_string(),
@@ -260,5 +277,115 @@ fn a_calibrated_robots_uncertainty_draws_vary_the_parameters_it_identified() {
         "standard errors of ~0.05 N·m move the energy by far less than 1 %: {:?}",
         st.per_draw_j
     );
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn a_calibrated_robots_identified_armature_copper_gear_efficiency_and_payload_are_drawn_from_their_standard_errors(
+) {
+    // These live in the drive keys of a calibrated robot. They were drawn from the (wide)
+    // ranges, not their standard errors, while the study listed them as calibrated; the
+    // armature was not drawn at all, and the torque constant was drawn on top of a winding
+    // resistance identified with it held (the log determines R/k_t² only). An identified
+    // payload (written as the robot's payload) was drawn from the payload mass range.
+    let d = std::env::temp_dir().join(format!("printwatt-unc-drive-{}", std::process::id()));
+    let (cal, _) = calibrate(
+        &d,
+        "p",
+        "coulomb=30,payload=+15",
+        "5",
+        "coulomb,armature,copper,gear_efficiency,payload",
+    );
+    let model = robot::load(&cal).unwrap();
+    let se = |name: &str| {
+        let p = model
+            .effects
+            .calibration
+            .as_ref()
+            .unwrap()
+            .params
+            .iter()
+            .find(|p| p.name == name);
+        let p = p.unwrap_or_else(|| panic!("{name} not identified"));
+        (p.value, p.std_error.unwrap())
+    };
+    let tp = common::path("seed000_test_path.gcode");
+    let job = common::default_job(&model, &tp);
+    let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
+    let g = Grid {
+        xs: vec![1.3],
+        ys: vec![0.0],
+        zs: vec![0.0],
+        yaws: vec![0.0],
+        spins: vec![0.0],
+    };
+    let rows = ev.sweep(&g.placements(), &|_, _| {}).unwrap();
+    assert!(rows[0].cost().is_finite());
+    // Wide ranges: a draw from them would spread far more than the standard errors.
+    let ranges = Ranges {
+        torque_constant_rel: 0.3,
+        winding_resistance_rel: 0.5,
+        gear_efficiency_abs: 0.2,
+        payload_mass_rel: 0.3,
+        ..zero_ranges()
+    };
+    let n = 60;
+    let setup = uncertainty::StudySetup::new(&ev, &rows, None, n, 7, Some(ranges)).unwrap();
+    let draws = setup.draws(&(0..n).collect::<Vec<_>>()).unwrap();
+    let values = |name: &str| -> Vec<f64> {
+        draws
+            .iter()
+            .map(|d| {
+                d.drawn
+                    .iter()
+                    .find(|x| x.0 == name)
+                    .unwrap_or_else(|| panic!("{name} not drawn"))
+                    .1
+            })
+            .collect()
+    };
+    let sd = |v: &[f64]| {
+        let m = v.iter().sum::<f64>() / v.len() as f64;
+        (v.iter().map(|x| (x - m) * (x - m)).sum::<f64>() / (v.len() - 1) as f64).sqrt()
+    };
+    for j in [2, 3] {
+        for (drawn, param) in [("winding resistance", "R"), ("armature", "G2Jm")] {
+            let (v, s) = se(&format!("{param}[{j}]"));
+            // Multipliers: spread s / v.
+            let ratio = sd(&values(&format!("{drawn} joint {j}"))) / (s / v);
+            assert!(
+                (0.6..1.5).contains(&ratio),
+                "{drawn} joint {j}: spread {ratio} × its standard error"
+            );
+        }
+        let (_, s) = se(&format!("eta[{j}]"));
+        let ratio = sd(&values(&format!("gear efficiency joint {j}"))) / s;
+        assert!(
+            (0.6..1.5).contains(&ratio),
+            "gear efficiency joint {j}: spread {ratio} × its standard error"
+        );
+        assert!(
+            draws[0]
+                .drawn
+                .iter()
+                .all(|x| x.0 != format!("torque constant joint {j}")),
+            "the torque constant is drawn on top of an identified winding resistance"
+        );
+    }
+    let (_, s) = se("dm");
+    let m = model.payload.as_ref().unwrap().mass;
+    let ratio = sd(&values("payload mass")) / (s / m);
+    assert!(
+        (0.6..1.5).contains(&ratio),
+        "payload mass: spread {ratio} × its standard error"
+    );
+    let st = setup.reduce(&draws).unwrap();
+    for name in ["R[2]", "G2Jm[2]", "eta[2]", "dm", "dh_z"] {
+        assert!(
+            st.calibrated.iter().any(|c| c == name),
+            "{name} missing from {:?}",
+            st.calibrated
+        );
+    }
     let _ = std::fs::remove_dir_all(&d);
 }

@@ -59,11 +59,13 @@ fn problem<'a>(
                 .unwrap(),
             headings: Headings::Auto,
             description: "test track".into(),
+            track: None,
         },
         z_m: -0.5,
         spin_rad: 0.0,
         relocation_j,
         relocation_j_per_m: 0.0,
+        footprint_m: stations::default_footprint_m(model),
     }
 }
 
@@ -360,4 +362,154 @@ fn walls_printed_before_a_segment_are_in_its_collision_scene() {
     let why = e[0].outcome.as_ref().expect_err("the column is in the way");
     assert_eq!(why.reason, Reason::CollisionPart, "{why}");
     assert_eq!(why.sample, Some(0), "laid before the first sample: {why}");
+}
+
+/// One layer (z = 20 mm) of straight wall pieces (mm, part frame) printed one after the
+/// other with a lifted travel between them, 150 mm/s.
+fn pieces_text(pieces: &[[f64; 4]]) -> String {
+    let mut t = format!(
+        "G21\nG90\nG0 X{} Y{} Z20 F12000\n",
+        pieces[0][0], pieces[0][1]
+    );
+    for (k, p) in pieces.iter().enumerate() {
+        if k > 0 {
+            t += &format!("M5\nG0 Z70\nG0 X{} Y{}\nG0 Z20\n", p[0], p[1]);
+        }
+        t += &format!("M3\nG1 X{} Y{} F9000\n", p[2], p[3]);
+    }
+    t + "M5\n"
+}
+
+/// Points every 10 mm along the walls of moves `..=last` (plan view, m).
+fn wall_points(path: &Toolpath, last: usize) -> Vec<[f64; 2]> {
+    let mut v = Vec::new();
+    for (start, m) in path.segments().take(last + 1) {
+        if m.print {
+            let n = ((m.length(&start) / 0.01).ceil() as usize).max(1);
+            for k in 0..=n {
+                let q = m.point_at(&start, k as f64 / n as f64);
+                v.push([q.x, q.y]);
+            }
+        }
+    }
+    v
+}
+
+/// Distance from `p` to the segment `a–b` (plan view, m).
+fn to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let l2 = dx * dx + dy * dy;
+    let t = if l2 > 0.0 {
+        (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p[0] - a[0] - t * dx).hypot(p[1] - a[1] - t * dy)
+}
+
+fn grid_problem<'a>(model: &'a RobotModel, path: &'a Toolpath, step: f64) -> StationsProblem<'a> {
+    let reach = printwatt::placement::feasibility::reach_m(model);
+    let mut p = problem(model, path, 20_000.0);
+    p.candidates = Candidates {
+        positions: stations::grid_positions(path, step, reach).unwrap(),
+        headings: Headings::Auto,
+        description: "test grid".into(),
+        track: None,
+    };
+    p
+}
+
+#[test]
+fn a_station_plan_never_stands_on_or_drives_across_a_printed_wall() {
+    // The example floor (four rooms with doors): a plan stood stations inside rooms whose
+    // walls were printed before, reached across them, on a crawler that cannot cross them.
+    let model = robot();
+    let path = toolpath::load(
+        &root().join("paths/floor_four_rooms.gcode"),
+        &ReadOptions::default(),
+    )
+    .unwrap();
+    let p = grid_problem(&model, &path, 0.75);
+    let plan = solve(&p);
+    assert!(plan.segments.len() > 1);
+    // The checks bound: positions on walls and ways across them were refused.
+    assert!(plan.stats.footprint_on_wall > 0 && plan.stats.way_blocked > 0);
+    let clear = p.footprint_m + printwatt::placement::collision::BEAD_RADIUS_M;
+    let tol = 0.006; // wall points every 10 mm: at most 5 mm from the chord
+    for (k, s) in plan.segments.iter().enumerate() {
+        let at = [s.station.x_m, s.station.y_m];
+        for w in wall_points(&path, s.moves[1]) {
+            let d = (w[0] - at[0]).hypot(w[1] - at[1]);
+            assert!(
+                d + tol >= clear,
+                "station {} stands on a wall: {d} m from ({}, {})",
+                k + 1,
+                w[0],
+                w[1]
+            );
+        }
+        if let Some(next) = plan.segments.get(k + 1) {
+            let to = [next.station.x_m, next.station.y_m];
+            for w in wall_points(&path, s.moves[1]) {
+                let d = to_segment(w, at, to);
+                assert!(
+                    d + tol >= clear,
+                    "the way from station {} crosses the wall at ({}, {}): {d} m",
+                    k + 1,
+                    w[0],
+                    w[1]
+                );
+            }
+        }
+    }
+}
+
+#[test]
+fn a_room_closed_before_the_arm_can_leave_it_is_refused_and_one_with_a_door_is_not() {
+    // Room A (0..3 m) printed whole, then room B (3..6 m) against its right wall: from inside
+    // A nothing reaches B's far wall, and the way out of A crosses A's walls.
+    let model = robot();
+    let mut a: Vec<[f64; 4]> = vec![
+        [0.0, 0.0, 3000.0, 0.0],
+        [3000.0, 0.0, 3000.0, 3000.0],
+        [3000.0, 3000.0, 0.0, 3000.0],
+        [0.0, 3000.0, 0.0, 0.0],
+    ];
+    let b = [
+        [3000.0, 0.0, 6000.0, 0.0],
+        [6000.0, 0.0, 6000.0, 3000.0],
+        [6000.0, 3000.0, 3000.0, 3000.0],
+    ];
+    let closed = gcode(&pieces_text(&[a.clone(), b.to_vec()].concat()));
+    let p = grid_problem(&model, &closed, 0.75);
+    let e = stations::solve(&p, &|_, _| {}).expect_err("room A closes the arm in");
+    let msg = e.to_string();
+    assert!(
+        msg.contains("no plan of stations prints the path") && msg.contains("wall"),
+        "{msg}"
+    );
+    // The same rooms with a 1.5 m door in the shared wall: a plan, through the door.
+    a[1] = [3000.0, 0.0, 3000.0, 750.0];
+    a.insert(2, [3000.0, 2250.0, 3000.0, 3000.0]);
+    let door = gcode(&pieces_text(&[a, b.to_vec()].concat()));
+    let p = grid_problem(&model, &door, 0.75);
+    let plan = solve(&p);
+    assert!(plan.segments.len() > 1);
+}
+
+#[test]
+fn a_track_under_a_wall_is_refused_naming_the_wall_line() {
+    let model = robot();
+    let path = toolpath::load(
+        &root().join("paths/floor_four_rooms.gcode"),
+        &ReadOptions::default(),
+    )
+    .unwrap();
+    let mut p = problem(&model, &path, 20_000.0);
+    // Along y = 0.5 m: under the cross walls (their doors are at 0.75…2.25 m).
+    p.candidates.positions = stations::track_positions([-1.0, 0.5], [13.0, 0.5], 0.5).unwrap();
+    p.candidates.track = Some([[-1.0, 0.5], [13.0, 0.5]]);
+    let e = stations::solve(&p, &|_, _| {}).expect_err("the rail lies under walls");
+    let msg = e.to_string();
+    assert!(msg.contains("lies under the wall printed by line"), "{msg}");
 }

@@ -1169,6 +1169,100 @@ fn identify<'py>(
 }
 
 // ---------------------------------------------------------------------------------------------
+// stations
+
+/// A multi-station plan for a path larger than one placement's reach, as `printwatt stations`
+/// makes it: the path is split at travel moves and layer changes, every run of units is
+/// evaluated from every candidate station (a grid every `station_step` m over the path's
+/// footprint widened by the reach, or every `station_step` m along `track` ((x0, y0), (x1, y1))
+/// m in the part frame), and dynamic programming minimises the segments' energy plus
+/// `relocation_cost` J per relocation and `relocation_cost_per_m` J/m. `headings`: None faces
+/// each segment's centroid, else a list of headings (rad, part frame), each a candidate. `z`:
+/// the part origin's height above each station's base frame, m (default −0.5). `footprint`:
+/// the radius of the floor disc a station occupies, m (default 0.2 × reach, an estimate): no
+/// station stands on a wall printed before or by its segment, no straight way between
+/// stations crosses one, no track lies under one. Options as in `sweep`.
+///
+/// Returns a dict: the plan (`segments` with `units`, `moves`, `lines`, `station` (`x_m`,
+/// `y_m`, `heading_rad`), `print_length_m`, `eval` (the segment's numbers, J and s);
+/// `relocations`, `relocation_distance_m`, `relocation_j`, `energy_j`, `total_j`, `units`,
+/// `stats`), plus `at` (per segment, the placement (x, y, z, yaw, spin) in m and rad that the
+/// station amounts to, what `energy` takes) and `footprint_m`. Raises PrintwattError when no
+/// plan prints the path, naming the first unit that cannot be printed and why.
+#[pyfunction]
+#[pyo3(signature = (robot, path, *, relocation_cost, relocation_cost_per_m = 0.0,
+    station_step = 0.5, track = None, headings = None, z = -0.5, spin = 0.0, footprint = None,
+    objective = "supply".to_string(), period = 0.004, accel = 1.0, jerk = 10.0,
+    regeneration = None, payload = true, friction = true, joint_margin = 3f64.to_radians(),
+    collisions = true, check_every = 10))]
+#[allow(clippy::too_many_arguments)]
+fn stations<'py>(
+    py: Python<'py>,
+    robot: RobotArg<'py>,
+    path: PathArg<'py>,
+    relocation_cost: f64,
+    relocation_cost_per_m: f64,
+    station_step: f64,
+    track: Option<([f64; 2], [f64; 2])>,
+    headings: Option<Vec<f64>>,
+    z: f64,
+    spin: f64,
+    footprint: Option<f64>,
+    objective: String,
+    period: f64,
+    accel: f64,
+    jerk: f64,
+    regeneration: Option<String>,
+    payload: bool,
+    friction: bool,
+    joint_margin: f64,
+    collisions: bool,
+    check_every: usize,
+) -> PyRes<Bound<'py, PyAny>> {
+    use printwatt::placement::stations::{self as pst, Candidates, Headings, StationsProblem};
+    let robot = robot.hold()?;
+    let path = path.hold()?;
+    let model: &RobotModel = &robot;
+    let tp: &Toolpath = &path;
+    let headings = match headings {
+        None => Headings::Auto,
+        Some(h) => Headings::Fixed(h),
+    };
+    let candidates = match track {
+        Some((a, b)) => Candidates::track(a, b, station_step, headings),
+        None => Candidates::grid(tp, station_step, feasibility::reach_m(model), headings),
+    }
+    .map_err(err)?;
+    let problem = StationsProblem {
+        robot: model,
+        path: tp,
+        energy: energy_options(regeneration.as_deref(), payload, friction)?,
+        profile: profile(period, accel, jerk)?,
+        joint: JointStageOptions::default(),
+        feasibility: feasibility_options(joint_margin, collisions, check_every)?,
+        objective: self::objective(&objective)?,
+        candidates,
+        z_m: z,
+        spin_rad: spin,
+        relocation_j: relocation_cost,
+        relocation_j_per_m: relocation_cost_per_m,
+        footprint_m: footprint.unwrap_or_else(|| pst::default_footprint_m(model)),
+    };
+    let plan = py
+        .detach(|| pst::solve(&problem, &|_, _| {}))
+        .map_err(err)?;
+    let d = json_obj(py, "stations", &plan)?;
+    let at: Vec<_> = plan
+        .segments
+        .iter()
+        .map(|s| placement_tuple(&s.station.placement))
+        .collect();
+    d.set_item("at", at)?;
+    d.set_item("footprint_m", problem.footprint_m)?;
+    Ok(d)
+}
+
+// ---------------------------------------------------------------------------------------------
 
 /// printwatt: where to put a 3D concrete print so the robot arm spends the least energy, and
 /// how well the energy model agrees with what the robot measured. SI units throughout (m, rad,
@@ -1190,5 +1284,6 @@ fn printwatt_py(m: &Bound<'_, PyModule>) -> PyResult<()> {
     m.add_function(wrap_pyfunction!(compare, m)?)?;
     m.add_function(wrap_pyfunction!(diagnose, m)?)?;
     m.add_function(wrap_pyfunction!(identify, m)?)?;
+    m.add_function(wrap_pyfunction!(stations, m)?)?;
     Ok(())
 }

@@ -236,6 +236,29 @@ def test_per_joint_effect_subsets_mean_what_they_mean_in_the_cli(tmp_path):
                             cli("compare", "--robot", robot, "--log", str(log), *flags))
 
 
+def test_stations_plans_a_floor_as_the_cli_does(robot, tmp_path):
+    """Two 1.5 m wall pieces, stations along a track beside them: the same plan, energies and
+    placements as `printwatt stations --json`; a track under the wall is refused."""
+    g = tmp_path / "wall.gcode"
+    g.write_text("G21\nG90\nG0 X0 Y0 Z20 F12000\nM3\nG1 X1500 Y0 F9000\nM5\nG0 Z70\n"
+                 "G0 X1500\nG0 Z20\nM3\nG1 X3000\nM5\n")
+    p = pw.stations(robot, pw.load_path(g), relocation_cost=5000.0,
+                    track=((-0.5, -1.2), (3.5, -1.2)))
+    doc = cli("stations", "--path", str(g), "--relocation-cost", "5000",
+              "--track=-0.5,-1.2:3.5,-1.2")
+    assert len(p["segments"]) == doc["stations"] and p["relocations"] == doc["relocations"]
+    assert rounds_to(p["total_j"], doc["total_j"]) and rounds_to(p["energy_j"], doc["energy_j"])
+    for mine, theirs, at in zip(p["segments"], doc["segments"], p["at"]):
+        assert mine["units"] == theirs["units"]
+        assert mine["station"]["x_m"] == theirs["station"]["x_m"]
+        assert mine["station"]["y_m"] == theirs["station"]["y_m"]
+        assert at[0] == pytest.approx(theirs["at"]["x_m"], abs=1e-9)
+    assert p["footprint_m"] > 0 and p["stats"]["units"] == 2
+    with pytest.raises(pw.PrintwattError, match="lies under the wall"):
+        pw.stations(robot, pw.load_path(g), relocation_cost=5000.0,
+                    track=((-0.5, 0.0), (3.5, 0.0)))
+
+
 def test_compas_style_example_returns_the_robot_frame_in_design_coordinates():
     points, plane = best_placement.demo_wall()
     best = best_placement.best_placement(points, plane, **best_placement.DEMO_SEARCH)

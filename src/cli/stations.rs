@@ -45,6 +45,12 @@ pub struct StationsArgs {
         allow_hyphen_values = true
     )]
     pub heading: String,
+    /// Radius of the floor disc a station occupies (the robot's foot with its track carriage
+    /// or crawler), m: a station may not stand on a wall printed before or by its segment, nor
+    /// cross one on the way to the next station. Default: 0.2 × the arm's reach (an estimate
+    /// from the IRB 6640 family's foot; give your carriage's or crawler's).
+    #[arg(long, value_name = "M")]
+    pub footprint: Option<f64>,
 }
 
 /// Height of the part origin above a station's base frame when --z is not given, m: the base
@@ -109,28 +115,19 @@ pub fn run(a: StationsArgs) -> Result<()> {
         )
     };
     let reach = printwatt::placement::feasibility::reach_m(&l.robot);
-    let (positions, description) = match &a.track {
+    let candidates = match &a.track {
         Some(t) => {
             let (s0, s1) = t
                 .split_once(':')
                 .with_context(|| format!("--track `{t}`: expected X0,Y0:X1,Y1 (m)"))?;
-            let (a0, b0) = (parse_xy(s0, t)?, parse_xy(s1, t)?);
-            (
-                stations::track_positions(a0, b0, a.station_step)?,
-                format!(
-                    "track ({}, {}) → ({}, {}) m every {} m",
-                    a0[0], a0[1], b0[0], b0[1], a.station_step
-                ),
-            )
+            Candidates::track(parse_xy(s0, t)?, parse_xy(s1, t)?, a.station_step, headings)?
         }
-        None => (
-            stations::grid_positions(&l.path, a.station_step, reach)?,
-            format!(
-                "grid every {} m over the footprint ± {reach:.2} m",
-                a.station_step
-            ),
-        ),
+        None => Candidates::grid(&l.path, a.station_step, reach, headings)?,
     };
+    let description = candidates.description.clone();
+    let footprint = a
+        .footprint
+        .unwrap_or_else(|| stations::default_footprint_m(&l.robot));
     let json_only = p.out.json && p.out.out.is_none() && p.run.is_none();
     let mut run_dir = if json_only {
         None
@@ -145,15 +142,12 @@ pub fn run(a: StationsArgs) -> Result<()> {
         joint: JointStageOptions::default(),
         feasibility: l.feas,
         objective: l.objective,
-        candidates: Candidates {
-            positions,
-            headings,
-            description: description.clone(),
-        },
+        candidates,
         z_m: z,
         spin_rad: spin,
         relocation_j: a.relocation_cost,
         relocation_j_per_m: a.relocation_cost_per_m,
+        footprint_m: footprint,
     };
     let pool = p.pool()?;
     let bar = std::io::stderr().is_terminal().then(|| {
@@ -188,6 +182,15 @@ pub fn run(a: StationsArgs) -> Result<()> {
             "part origin {z:.3} m above the base frame; nozzle spin {:.1}° (part frame); heading {}",
             spin.to_degrees(),
             a.heading.trim()
+        ),
+    ));
+    m.push((
+        "station footprint".into(),
+        format!(
+            "floor disc of radius {footprint:.3} m ({}): stations stand on no wall printed before or by their segment and the way between stations crosses none ({} positions on walls dropped, {} moves refused)",
+            if a.footprint.is_some() { "given" } else { "estimate: 0.2 × reach" },
+            plan.stats.footprint_on_wall,
+            plan.stats.way_blocked
         ),
     ));
     m.push((

@@ -9,8 +9,11 @@
 //! the stated probability, else its preload and stiffness scaled), each independently. A
 //! calibrated robot (a drive file with a `[calibration]` table written by `identify`) draws
 //! every identified parameter from a normal distribution with its identified standard error
-//! instead of its range (an identified balancer is always present); the numbers `identify`
-//! did not fit keep their ranges.
+//! instead of its range (an identified balancer is always present; an identified payload
+//! draws its mass and first moment, so its centre of mass too; an identified armature, which
+//! has no range, is drawn; an identified winding resistance was fitted with the torque
+//! constant held, so the torque constant is not drawn on top of it); the numbers `identify`
+//! did not fit keep their ranges. [`Study::calibrated`] lists the parameters so drawn.
 //!
 //! Timing does not depend on these numbers (kinematics and joint limits are not varied), so
 //! each candidate is timed once and only its energy is recomputed per draw
@@ -167,13 +170,14 @@ pub struct Study {
     pub per_draw_j: Vec<[f64; 2]>,
 }
 
-/// A perturbed robot and the normalised values drawn (name, value in the parameter's own
-/// scale: the multiplier, the shift in m, or 1/0 for the balancer's presence).
+/// A perturbed robot, the normalised values drawn (name, value in the parameter's own
+/// scale: the multiplier, the shift in m, or 1/0 for the balancer's presence), and the
+/// identified parameters that were drawn with their standard errors (calibrated robots).
 fn draw_robot(
     nominal: &RobotModel,
     r: &Ranges,
     rng: &mut ChaCha8Rng,
-) -> (RobotModel, Vec<(String, f64)>) {
+) -> (RobotModel, Vec<(String, f64)>, Vec<String>) {
     let mut m = nominal.clone();
     let mut drawn = Vec::new();
     // Identified parameters (calibrated robot): normal with their standard errors.
@@ -191,10 +195,14 @@ fn draw_robot(
                 .collect()
         })
         .unwrap_or_default();
+    let used = std::cell::RefCell::new(Vec::<String>::new());
     let calibrated = |name: &str| {
-        cal.iter()
-            .find(|(_, n, _, _)| n == name)
-            .map(|c| (c.2, c.3))
+        let c = cal.iter().find(|(_, n, _, _)| n == name)?;
+        let mut u = used.borrow_mut();
+        if !u.iter().any(|n| n == name) {
+            u.push(name.to_string());
+        }
+        Some((c.2, c.3))
     };
     let u = |rng: &mut ChaCha8Rng| rng.gen_range(-1.0..=1.0);
     let normal = |rng: &mut ChaCha8Rng| {
@@ -218,20 +226,54 @@ fn draw_robot(
         }
     }
     if let Some(p) = m.payload.as_mut() {
-        let f = 1.0 + r.payload_mass_rel * u(rng);
-        p.mass *= f;
-        p.inertia *= f;
-        drawn.push(("payload mass".into(), f));
+        match calibrated("dm") {
+            // An identified payload (written as the robot's payload: mass m, centre of mass c):
+            // mass and first moment h = m·c drawn with their standard errors.
+            Some((_, se_m)) => {
+                let m0 = p.mass;
+                let m1 = (m0 + se_m * normal(rng)).max(1e-3 * m0.abs().max(1e-3));
+                let f = m1 / m0.abs().max(1e-300);
+                for (k, a) in ["x", "y", "z"].iter().enumerate() {
+                    let h = m0 * p.com[k]
+                        + calibrated(&format!("dh_{a}")).map_or(0.0, |(_, se)| se * normal(rng));
+                    p.com[k] = h / m1;
+                }
+                p.mass = m1;
+                p.inertia *= f;
+                drawn.push(("payload mass".into(), f));
+            }
+            None => {
+                let f = 1.0 + r.payload_mass_rel * u(rng);
+                p.mass *= f;
+                p.inertia *= f;
+                drawn.push(("payload mass".into(), f));
+            }
+        }
     }
     if let Some(d) = m.drive.as_mut() {
         for (j, jd) in d.joints.iter_mut().enumerate() {
             let name = |s: &str| format!("{s} joint {}", j + 1);
-            let kt = 1.0 + r.torque_constant_rel * u(rng);
-            jd.torque_constant *= kt;
-            drawn.push((name("torque constant"), kt));
-            let rr = 1.0 + r.winding_resistance_rel * u(rng);
+            let r_cal = calibrated(&format!("R[{}]", j + 1));
+            // An identified winding resistance was fitted with the torque constant held: what
+            // the log determines is R/k_t² (the copper loss R·(τ/k_t)²), drawn with its
+            // standard error; k_t is then not drawn again.
+            if r_cal.is_none() {
+                let kt = 1.0 + r.torque_constant_rel * u(rng);
+                jd.torque_constant *= kt;
+                drawn.push((name("torque constant"), kt));
+            }
+            let rr = match r_cal {
+                Some((v, se)) => (v + se * normal(rng)).max(0.0) / v.max(1e-300),
+                None => 1.0 + r.winding_resistance_rel * u(rng),
+            };
             jd.winding_resistance *= rr;
             drawn.push((name("winding resistance"), rr));
+            // Armature (gear ratio² × rotor inertia): only an identified one is drawn.
+            if let Some((v, se)) = calibrated(&format!("G2Jm[{}]", j + 1)) {
+                let f = (v + se * normal(rng)).max(0.0) / v.max(1e-300);
+                jd.rotor_inertia *= f;
+                drawn.push((name("armature"), f));
+            }
             let fv_name = format!("f_v[{}]", j + 1);
             let fv = match calibrated(&fv_name) {
                 Some((v, se)) => (v + se * normal(rng)).max(0.0) / v.max(1e-300),
@@ -246,7 +288,10 @@ fn draw_robot(
             };
             jd.coulomb *= fc;
             drawn.push((name("Coulomb friction"), fc));
-            let de = r.gear_efficiency_abs * u(rng);
+            let de = match calibrated(&format!("eta[{}]", j + 1)) {
+                Some((v, se)) => (v + se * normal(rng)).clamp(0.3, 1.0) - jd.gear_efficiency,
+                None => r.gear_efficiency_abs * u(rng),
+            };
             jd.gear_efficiency = (jd.gear_efficiency + de).clamp(0.3, 1.0);
             drawn.push((name("gear efficiency"), de));
         }
@@ -315,9 +360,13 @@ fn draw_robot(
             let x = (value + se * normal(rng)).clamp(ps[i].lower, ps[i].upper);
             v[i] = x;
             drawn.push((format!("{effect} {name}"), x - value));
+            let mut u = used.borrow_mut();
+            if !u.iter().any(|n| n == name) {
+                u.push(name.clone());
+            }
         }
     }
-    (m, drawn)
+    (m, drawn, used.into_inner())
 }
 
 /// Average ranks (1-based, ties share their mean rank).
@@ -510,7 +559,7 @@ impl<'s, 'j, 'a> StudySetup<'s, 'j, 'a> {
         let job = self.ev.job;
         let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
         rng.set_stream(d as u64);
-        let (m, drawn) = draw_robot(job.robot, &self.ranges, &mut rng);
+        let (m, drawn, _) = draw_robot(job.robot, &self.ranges, &mut rng);
         let jd = PathJob {
             robot: &m,
             energy: EnergyModel::with_options(&m, job.energy.options())?,
@@ -623,21 +672,13 @@ impl<'s, 'j, 'a> StudySetup<'s, 'j, 'a> {
         }
         depends.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()).then(a.0.cmp(&b.0)));
         depends.truncate(5);
-        let calibrated = self
-            .ev
-            .job
-            .robot
-            .effects
-            .calibration
-            .as_ref()
-            .map(|c| {
-                c.params
-                    .iter()
-                    .filter(|p| p.std_error.is_some_and(|s| s > 0.0))
-                    .map(|p| p.name.clone())
-                    .collect()
-            })
-            .unwrap_or_default();
+        // The identified parameters the draws take from their standard errors (the same in
+        // every draw: which parameters, not their values, depend on the robot alone).
+        let (_, _, calibrated) = draw_robot(
+            self.ev.job.robot,
+            &self.ranges,
+            &mut ChaCha8Rng::seed_from_u64(self.seed),
+        );
         Ok(Study {
             draws,
             seed: self.seed,

@@ -424,7 +424,7 @@ impl StationsReport<'_> {
             "Each segment timed and evaluated from rest to rest at its station.",
         );
         pg.h2("Model");
-        pg.p("The path is split only between units: maximal runs of extruding moves at one z level (a unit ends at a travel move or a layer change). Each segment is timed and its energy computed from rest to rest at its station, with the feasibility checks of sweep and optimise (reach with one arm configuration, joint limits and margins, singularity margins, collisions with the bed, the beads the segment lays and the walls the earlier segments printed); neither a station's footprint nor the way between stations is checked against the walls. The travel between two stations' segments is replaced by the relocation, whose cost is the number given, not modelled.");
+        pg.p("The path is split only between units: maximal runs of extruding moves at one z level (a unit ends at a travel move or a layer change). Each segment is timed and its energy computed from rest to rest at its station, with the feasibility checks of sweep and optimise (reach with one arm configuration, joint limits and margins, singularity margins, collisions with the bed, the beads the segment lays and the walls the earlier segments printed). A station stands on no wall printed before or by its segment (its floor disc, the robot's foot with its carriage or crawler), and the straight way to the next station (that disc swept) crosses no wall printed before the move: a plan whose way needs a detour is refused. The travel between two stations' segments is replaced by the relocation, whose cost is the number given, not modelled.");
         pg.kv(&[
             (
                 "units".into(),

@@ -29,10 +29,12 @@
 //!   feasibility (reach with one arm configuration, joint limits and margins, singularity
 //!   margins, collisions with the bed under the segment, with the beads the segment lays
 //!   itself and with the walls the segments before it printed,
-//!   [`crate::placement::Evaluator::with_prior_walls`]) as `sweep` and `optimise`. A
-//!   station's own footprint (the track carriage or crawler) and the way between stations
-//!   are not checked against the walls: a limitation to keep in mind when a station stands
-//!   inside a room printed earlier.
+//!   [`crate::placement::Evaluator::with_prior_walls`]) as `sweep` and `optimise`.
+//! - Where a station stands and the way between stations are checked against the walls in
+//!   plan view ([`floor`]): a station's floor disc ([`StationsProblem::footprint_m`], the
+//!   robot's foot with its carriage or crawler) may not stand on a wall printed before or by
+//!   its segment, the disc swept along the straight line to the next station may not cross a
+//!   wall printed before the move, and a track's rail may not lie under any wall.
 //! - Two consecutive segments never share a station position: an arm that stays would print
 //!   them as one segment.
 //!
@@ -47,6 +49,7 @@
 //! order, the DP runs sequentially with ties to the first candidate, so the plan is identical
 //! for any thread count.
 
+pub mod floor;
 mod solve;
 
 pub use solve::{solve, Plan, PlanStats, Segment};
@@ -70,6 +73,18 @@ pub const PREFILTER_SAMPLE_M: f64 = 0.05;
 
 /// Two z levels closer than this are one layer, m.
 pub const LEVEL_TOLERANCE_M: f64 = 1e-6;
+
+/// A station's floor disc radius when none is given, as a share of the arm's reach
+/// ([`crate::placement::feasibility::reach_m`]), dimensionless. ESTIMATE: the IRB 6640 family's
+/// foot is 1107 × 720 mm at a working radius of 3.2 m (`../shared/reference/robots.md`,
+/// [3rd] Joseph, *Mastering ROS for Robotics Programming*): a circumscribed radius of 0.66 m,
+/// 0.21 of the reach. A track carriage or crawler is often larger: give its radius.
+pub const FOOTPRINT_PER_REACH: f64 = 0.2;
+
+/// The default floor disc radius of a station for `model`, m ([`FOOTPRINT_PER_REACH`] × reach).
+pub fn default_footprint_m(model: &RobotModel) -> f64 {
+    FOOTPRINT_PER_REACH * crate::placement::feasibility::reach_m(model)
+}
 
 /// The largest number of candidate station positions accepted (a finer grid is refused with
 /// the count, not run for hours).
@@ -195,6 +210,36 @@ pub struct Candidates {
     pub headings: Headings,
     /// How they were made (for reports), e.g. "grid every 0.50 m over the footprint ± 2.60 m".
     pub description: String,
+    /// The track's ends (part frame, m) when the positions lie on a track: its rail may not
+    /// lie under a wall.
+    pub track: Option<[[f64; 2]; 2]>,
+}
+
+impl Candidates {
+    /// Positions on a grid every `step_m` (m) over the path's footprint widened by the arm's
+    /// reach ([`grid_positions`]), with `headings`. Errors as [`grid_positions`].
+    pub fn grid(path: &Toolpath, step_m: f64, reach_m: f64, headings: Headings) -> Result<Self> {
+        Ok(Candidates {
+            positions: grid_positions(path, step_m, reach_m)?,
+            headings,
+            description: format!("grid every {step_m} m over the footprint ± {reach_m:.2} m"),
+            track: None,
+        })
+    }
+
+    /// Positions every `step_m` (m) along the track from `a` to `b` (part frame, m;
+    /// [`track_positions`]), with `headings`. Errors as [`track_positions`].
+    pub fn track(a: [f64; 2], b: [f64; 2], step_m: f64, headings: Headings) -> Result<Self> {
+        Ok(Candidates {
+            positions: track_positions(a, b, step_m)?,
+            headings,
+            description: format!(
+                "track ({}, {}) → ({}, {}) m every {step_m} m",
+                a[0], a[1], b[0], b[1]
+            ),
+            track: Some([a, b]),
+        })
+    }
 }
 
 /// A grid every `step_m` (m) over the path's footprint (its xy bounding box) widened by
@@ -317,6 +362,9 @@ pub struct StationsProblem<'a> {
     pub relocation_j: f64,
     /// The user's cost per metre between consecutive stations, J/m (≥ 0).
     pub relocation_j_per_m: f64,
+    /// Radius of the floor disc a station occupies (the robot's foot with its track carriage
+    /// or crawler), m (≥ 0; [`default_footprint_m`] when the user gives none).
+    pub footprint_m: f64,
 }
 
 impl StationsProblem<'_> {
@@ -325,6 +373,7 @@ impl StationsProblem<'_> {
         for (what, v) in [
             ("relocation cost (J)", self.relocation_j),
             ("relocation cost per metre (J/m)", self.relocation_j_per_m),
+            ("station footprint radius (m)", self.footprint_m),
         ] {
             if !(v.is_finite() && v >= 0.0) {
                 return Err(Error::Invalid(format!(

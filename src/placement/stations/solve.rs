@@ -2,6 +2,7 @@
 //! parallel, and the dynamic programme over the split points (see the module documentation
 //! of [`super`]).
 
+use super::floor::Floor;
 use super::{
     reach_annulus, segment_moves, split_units, sub_path, Headings, Station, StationsProblem, Unit,
     PREFILTER_SAMPLE_M, PREFILTER_SLACK_REACH,
@@ -45,6 +46,11 @@ pub struct PlanStats {
     pub evaluations: usize,
     /// Feasible ones among them.
     pub feasible: usize,
+    /// (run, position) pairs dropped because the station's floor disc stands on a wall printed
+    /// before or by the run.
+    pub footprint_on_wall: usize,
+    /// Moves between stations refused because the way crosses a printed wall.
+    pub way_blocked: usize,
     /// The reach annulus the pre-filter used (before its slack), m.
     pub annulus_m: (f64, f64),
     /// The pre-filter's slack, m.
@@ -84,6 +90,9 @@ struct Run {
     i: usize,
     j: usize,
     stations: Vec<(usize, Station)>,
+    /// Positions within reach dropped because their floor disc stands on a wall, with the
+    /// first such (position, move of the wall).
+    on_wall: (usize, Option<(usize, usize)>),
 }
 
 /// Choose the plan of least energy plus relocation cost (see [`super`]). `progress(done,
@@ -112,6 +121,17 @@ pub fn solve(p: &StationsProblem, progress: &(dyn Fn(usize, usize) + Sync)) -> R
     })?;
     let slack = PREFILTER_SLACK_REACH * reach + PREFILTER_SAMPLE_M / 2.0;
     let (rmin, rmax) = ((annulus.0 - slack).max(0.0), annulus.1 + slack);
+
+    // The walls in plan view: a track's rail may not lie under any.
+    let floor = Floor::of(path);
+    if let Some([a, b]) = p.candidates.track {
+        if let Some(mv) = floor.first_blocking(a, b, 0.0, path.moves.len()) {
+            return Err(Error::Invalid(format!(
+                "{}: the track ({:.3}, {:.3}) → ({:.3}, {:.3}) m lies under the wall printed by line {} (move {mv}): move the track off the walls",
+                path.source, a[0], a[1], b[0], b[1], path.moves[mv].line
+            )));
+        }
+    }
 
     // Horizontal distance range of every move's points from every position.
     let n_pos = positions.len();
@@ -144,6 +164,12 @@ pub fn solve(p: &StationsProblem, progress: &(dyn Fn(usize, usize) + Sync)) -> R
         }
     }
 
+    // The first move whose wall a station's floor disc at each position would stand on.
+    let wall_under: Vec<Option<usize>> = positions
+        .iter()
+        .map(|&q| floor.first_blocking(q, q, p.footprint_m, path.moves.len()))
+        .collect();
+
     // Runs of units with the positions passing the pre-filter.
     let mut runs: Vec<Run> = Vec::new();
     for i in 0..n_units {
@@ -170,6 +196,19 @@ pub fn solve(p: &StationsProblem, progress: &(dyn Fn(usize, usize) + Sync)) -> R
             if pass.is_empty() {
                 break; // a longer run holds these points too
             }
+            // A station may not stand on a wall printed before or by this run.
+            let mut on_wall = (0, None);
+            let pass: Vec<usize> = pass
+                .into_iter()
+                .filter(|&s| match wall_under[s] {
+                    Some(mv) if mv <= last => {
+                        on_wall.0 += 1;
+                        on_wall.1.get_or_insert((s, mv));
+                        false
+                    }
+                    _ => true,
+                })
+                .collect();
             let c = (sums.0 / sums.2.max(1) as f64, sums.1 / sums.2.max(1) as f64);
             let mut stations = Vec::new();
             for s in pass {
@@ -186,7 +225,12 @@ pub fn solve(p: &StationsProblem, progress: &(dyn Fn(usize, usize) + Sync)) -> R
                     }
                 }
             }
-            runs.push(Run { i, j, stations });
+            runs.push(Run {
+                i,
+                j,
+                stations,
+                on_wall,
+            });
         }
     }
 
@@ -252,6 +296,10 @@ pub fn solve(p: &StationsProblem, progress: &(dyn Fn(usize, usize) + Sync)) -> R
     let mut best = vec![f64::INFINITY; cands.len()];
     let mut back: Vec<Option<usize>> = vec![None; cands.len()];
     let hop = |a: &Station, b: &Station| (a.x_m - b.x_m).hypot(a.y_m - b.y_m);
+    // Whether the way from position `a` to `b` after the walls up to move `last` is clear
+    // (cached: it depends on the positions and the split only).
+    let mut ways: std::collections::HashMap<(usize, usize, usize), bool> = Default::default();
+    let mut way_blocked = 0;
     for j in 0..n_units {
         for &ci in &by_end[j] {
             let c = &cands[ci];
@@ -270,6 +318,16 @@ pub fn solve(p: &StationsProblem, progress: &(dyn Fn(usize, usize) + Sync)) -> R
                 let (ppos, pst) = &runs[pc.run].stations[pc.k];
                 if ppos == pos {
                     continue; // the arm would print both as one segment
+                }
+                let last = segment_moves(path, &units, run.i - 1, run.i - 1).1;
+                let clear = *ways.entry((*ppos, *pos, last)).or_insert_with(|| {
+                    floor
+                        .first_blocking(positions[*ppos], positions[*pos], p.footprint_m, last)
+                        .is_none()
+                });
+                if !clear {
+                    way_blocked += 1;
+                    continue; // the way to this station crosses a printed wall
                 }
                 let v = best[pi] + p.relocation_j + p.relocation_j_per_m * hop(pst, st);
                 if b.is_none_or(|(_, bv)| v < bv) {
@@ -294,6 +352,8 @@ pub fn solve(p: &StationsProblem, progress: &(dyn Fn(usize, usize) + Sync)) -> R
         runs: runs.len(),
         evaluations: n_eval,
         feasible: cands.len(),
+        footprint_on_wall: runs.iter().map(|r| r.on_wall.0).sum(),
+        way_blocked,
         annulus_m: annulus,
         slack_m: slack,
     };
@@ -407,14 +467,26 @@ fn uncovered(
         }
     }
     let n_pos = p.candidates.positions.len();
-    let why = if tried == 0 {
+    let on_wall = runs
+        .iter()
+        .find(|r| r.i == u && r.j == u)
+        .map_or((0, None), |r| r.on_wall);
+    let why = if tried == 0 && on_wall.0 > 0 {
+        let (s, mv) = on_wall.1.unwrap_or((0, 0));
+        let pos = p.candidates.positions[s];
+        format!(
+            "the {} candidate position(s) within reach stand on walls (a floor disc of radius {:.3} m), e.g. ({:.3}, {:.3}) m on the wall of line {}",
+            on_wall.0, p.footprint_m, pos[0], pos[1], p.path.moves[mv].line
+        )
+    } else if tried == 0 {
         format!(
             "none of the {n_pos} candidate positions has all its points within the arm's reach ({})",
             p.candidates.description
         )
     } else if feasible_alone > 0 {
         format!(
-            "{feasible_alone} station(s) print it alone, but none continues a plan of the units before it (consecutive segments need different stations)"
+            "{feasible_alone} station(s) print it alone, but none continues a plan of the units before it (consecutive segments need different stations, and the way between two stations, a floor disc of radius {:.3} m, may not cross a printed wall)",
+            p.footprint_m
         )
     } else {
         let list: Vec<String> = reasons.iter().map(|(k, v)| format!("{k} {v}")).collect();

@@ -1,0 +1,168 @@
+//! Where a station stands and the way between stations, against the walls on the floor.
+//!
+//! A station occupies a disc of the floor ([`super::StationsProblem::footprint_m`]: the robot's
+//! foot plus its track carriage or crawler). Walls are the beads the path lays, seen from above
+//! (nozzle-tip chords widened by the bead's half-width,
+//! [`crate::placement::collision::BEAD_RADIUS_M`]): a wall stands on the floor from the moment
+//! it is printed, whatever its height, so every check is in the floor plane.
+//!
+//! - A station may not stand on a wall printed before or by its own segment (the disc must be
+//!   clear of the walls of every move up to the segment's last).
+//! - The way to the next station (the disc swept along the straight line between the two, the
+//!   way a track carriage or a crawler goes) may not cross a wall printed before the move.
+//! - A track's rail, the whole line between its ends, may not lie under any wall.
+
+use crate::math::V3;
+use crate::placement::collision::BEAD_RADIUS_M;
+use crate::toolpath::{MoveKind, Toolpath};
+
+/// Arcs are cut into chords of at most this sweep, deg, for the plan view.
+const ARC_CHORD_DEG: f64 = 5.0;
+
+/// One wall chord seen from above: its ends (part frame, m) and the move that lays it.
+#[derive(Clone, Copy, Debug)]
+struct Chord {
+    a: [f64; 2],
+    b: [f64; 2],
+    /// Index of the move (into [`Toolpath::moves`]).
+    mv: usize,
+}
+
+/// The walls of a path in plan view, in path order.
+pub struct Floor {
+    chords: Vec<Chord>,
+}
+
+/// Distance between the segments `p0–p1` and `q0–q1` in the plane, m.
+fn segment_distance(p0: [f64; 2], p1: [f64; 2], q0: [f64; 2], q1: [f64; 2]) -> f64 {
+    let cross = |o: [f64; 2], a: [f64; 2], b: [f64; 2]| {
+        (a[0] - o[0]) * (b[1] - o[1]) - (a[1] - o[1]) * (b[0] - o[0])
+    };
+    // Proper crossing: distance 0.
+    let (d1, d2) = (cross(q0, q1, p0), cross(q0, q1, p1));
+    let (d3, d4) = (cross(p0, p1, q0), cross(p0, p1, q1));
+    if ((d1 > 0.0 && d2 < 0.0) || (d1 < 0.0 && d2 > 0.0))
+        && ((d3 > 0.0 && d4 < 0.0) || (d3 < 0.0 && d4 > 0.0))
+    {
+        return 0.0;
+    }
+    point_segment_distance(p0, q0, q1)
+        .min(point_segment_distance(p1, q0, q1))
+        .min(point_segment_distance(q0, p0, p1))
+        .min(point_segment_distance(q1, p0, p1))
+}
+
+/// Distance from `p` to the segment `a–b` in the plane, m.
+fn point_segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
+    let (dx, dy) = (b[0] - a[0], b[1] - a[1]);
+    let l2 = dx * dx + dy * dy;
+    let t = if l2 > 0.0 {
+        (((p[0] - a[0]) * dx + (p[1] - a[1]) * dy) / l2).clamp(0.0, 1.0)
+    } else {
+        0.0
+    };
+    (p[0] - a[0] - t * dx).hypot(p[1] - a[1] - t * dy)
+}
+
+impl Floor {
+    /// The walls `path` lays: every extruding move's nozzle-tip track in plan view (lines
+    /// whole, arcs in chords of at most 5°).
+    pub fn of(path: &Toolpath) -> Floor {
+        let mut chords = Vec::new();
+        for (mv, (start, m)) in path.segments().enumerate() {
+            if !m.print {
+                continue;
+            }
+            let n = match m.kind {
+                MoveKind::Line => 1,
+                MoveKind::Arc { sweep, .. } => {
+                    ((sweep.abs().to_degrees() / ARC_CHORD_DEG).ceil() as usize).max(1)
+                }
+            };
+            let at = |t: f64| {
+                let p: V3 = m.point_at(&start, t);
+                [p.x, p.y]
+            };
+            for k in 0..n {
+                chords.push(Chord {
+                    a: at(k as f64 / n as f64),
+                    b: at((k + 1) as f64 / n as f64),
+                    mv,
+                });
+            }
+        }
+        Floor { chords }
+    }
+
+    /// The first move up to `last_move` (inclusive) whose wall comes closer than `r` (m) plus
+    /// the bead's half-width to the segment `p0–p1` (a point when equal), or `None`: clear.
+    pub fn first_blocking(
+        &self,
+        p0: [f64; 2],
+        p1: [f64; 2],
+        r: f64,
+        last_move: usize,
+    ) -> Option<usize> {
+        let clear = r + BEAD_RADIUS_M;
+        let (xlo, xhi) = (p0[0].min(p1[0]) - clear, p0[0].max(p1[0]) + clear);
+        let (ylo, yhi) = (p0[1].min(p1[1]) - clear, p0[1].max(p1[1]) + clear);
+        self.chords
+            .iter()
+            .take_while(|c| c.mv <= last_move)
+            .find(|c| {
+                // Bounding boxes first.
+                c.a[0].max(c.b[0]) >= xlo
+                    && c.a[0].min(c.b[0]) <= xhi
+                    && c.a[1].max(c.b[1]) >= ylo
+                    && c.a[1].min(c.b[1]) <= yhi
+                    && segment_distance(p0, p1, c.a, c.b) < clear
+            })
+            .map(|c| c.mv)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn segment_distances_agree_with_parry3d_in_the_plane() {
+        use parry3d_f64::math::{Isometry, Point};
+        use parry3d_f64::shape::Segment;
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+        let mut p = || [rng.gen_range(-2.0..2.0), rng.gen_range(-2.0..2.0)];
+        for _ in 0..2000 {
+            let (a, b, c, d) = (p(), p(), p(), p());
+            let seg = |u: [f64; 2], v: [f64; 2]| {
+                Segment::new(Point::new(u[0], u[1], 0.0), Point::new(v[0], v[1], 0.0))
+            };
+            let id = Isometry::identity();
+            let reference = parry3d_f64::query::distance(&id, &seg(a, b), &id, &seg(c, d)).unwrap();
+            let mine = segment_distance(a, b, c, d);
+            assert!(
+                (mine - reference).abs() < 1e-12,
+                "{a:?}-{b:?} to {c:?}-{d:?}: {mine} vs {reference}"
+            );
+        }
+    }
+
+    #[test]
+    fn segment_distances_are_those_of_the_plane() {
+        // Crossing, parallel, end to end, and a point.
+        assert_eq!(
+            segment_distance([0.0, -1.0], [0.0, 1.0], [-1.0, 0.0], [1.0, 0.0]),
+            0.0
+        );
+        assert!(
+            (segment_distance([0.0, 0.0], [1.0, 0.0], [0.0, 0.5], [1.0, 0.5]) - 0.5).abs() < 1e-15
+        );
+        assert!(
+            (segment_distance([0.0, 0.0], [1.0, 0.0], [2.0, 0.0], [3.0, 0.0]) - 1.0).abs() < 1e-15
+        );
+        assert!((point_segment_distance([0.5, 2.0], [0.0, 0.0], [1.0, 0.0]) - 2.0).abs() < 1e-15);
+        assert!(
+            (segment_distance([3.0, 4.0], [3.0, 4.0], [0.0, 0.0], [0.0, 0.0]) - 5.0).abs() < 1e-15
+        );
+    }
+}
