@@ -24,12 +24,13 @@
 //! The load average is printed: figures from a loaded machine are not idle figures, but the
 //! ratios of one run survive load.
 
-use printwatt::dynamics::rnea;
-use printwatt::energy::EnergyOptions;
+use printwatt::dynamics::{rnea, rnea_batch, rnea_with_sincos, StateBatch, MAX_DOF};
+use printwatt::energy::{self, EnergyOptions, SamplePower};
 use printwatt::placement::feasibility::FeasibilityOptions;
 use printwatt::placement::optimise::default_grid;
 use printwatt::placement::{Evaluator, Objective, PathJob};
 use printwatt::robot;
+use printwatt::simd::{self, Level, LANES};
 use printwatt::timing::{JointStageOptions, ProfileOptions};
 use printwatt::toolpath::{self, Placement, ReadOptions};
 use std::hint::black_box;
@@ -48,6 +49,49 @@ fn thread_ns() -> f64 {
     let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
     assert_eq!(rc, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID) failed");
     ts.tv_sec as f64 * 1e9 + ts.tv_nsec as f64
+}
+
+/// Flops (one add, subtract or multiply each; no FMA) of one revolute link in the batched
+/// RNEA kernel (`src/dynamics/batch.rs`), counted from its code: joint rotation 18, origin
+/// acceleration 33, angular velocity 16 and acceleration 23, link acceleration 15, `I ω` 15,
+/// force 36, moment 39, torque 2, backward propagation to the parent 48.
+const RNEA_FLOPS_PER_LINK: f64 = 18.0 + 33.0 + 16.0 + 23.0 + 15.0 + 15.0 + 36.0 + 39.0 + 2.0 + 48.0;
+/// Of which the backward propagation to the parent, which the first link does not do.
+const RNEA_BACKWARD_FLOPS: f64 = 48.0;
+/// The earlier estimate's other terms (README, issue 12 item 2): IK closed form and FK
+/// re-check, energy terms, timing, per-sample checks, flops per sample.
+const FLOPS_IK: f64 = 650.0;
+/// See [`FLOPS_IK`].
+const FLOPS_ENERGY: f64 = 150.0;
+/// See [`FLOPS_IK`].
+const FLOPS_TIMING: f64 = 100.0;
+/// See [`FLOPS_IK`].
+const FLOPS_CHECKS: f64 = 50.0;
+/// Vector peak of one core of this CPU (AMD family 26, Zen 5, AVX-512 with 512-bit
+/// datapaths): 2 multiply + 2 add pipes x 8 f64 lanes. The floor takes half of it, as the
+/// earlier estimate did.
+const PEAK_FLOPS_PER_CYCLE: f64 = 32.0;
+
+/// The core clock, GHz: a chain of dependent integer adds, one cycle each on x86-64, timed
+/// on this thread's CPU clock.
+fn clock_ghz() -> f64 {
+    let iters: u64 = 200_000_000;
+    let t0 = thread_ns();
+    let mut x: u64 = black_box(1);
+    #[cfg(target_arch = "x86_64")]
+    for _ in 0..iters / 8 {
+        // SAFETY: register-only arithmetic.
+        unsafe {
+            std::arch::asm!(
+                "add {0}, 1", "add {0}, 1", "add {0}, 1", "add {0}, 1",
+                "add {0}, 1", "add {0}, 1", "add {0}, 1", "add {0}, 1",
+                inout(reg) x,
+                options(nomem, nostack, pure)
+            );
+        }
+    }
+    black_box(x);
+    iters as f64 / (thread_ns() - t0)
 }
 
 fn main() {
@@ -78,25 +122,6 @@ fn main() {
     let m = tr.len();
     let mut data = job.energy.data();
     let mut tau = vec![0.0; n];
-    let mut rnea_pass = || {
-        let reps = 5;
-        let t0 = thread_ns();
-        for _ in 0..reps {
-            for k in 0..m {
-                rnea(
-                    job.energy.dynamics(),
-                    &mut data,
-                    tr.q(k),
-                    tr.qd(k),
-                    tr.qdd(k),
-                    &mut tau,
-                )
-                .unwrap();
-                black_box(&tau);
-            }
-        }
-        (thread_ns() - t0) / (reps * m) as f64
-    };
 
     let one = rayon::ThreadPoolBuilder::new()
         .num_threads(1)
@@ -148,43 +173,148 @@ fn main() {
             .sum();
         t0.elapsed().as_secs_f64() * 1e9 / s as f64
     };
-    // Before (libm) and after (fast), interleaved; the answers must agree to the stated
-    // tolerance of the fast functions (a few ulp, amplified by the integration: 1e-9 relative).
-    let (mut e_libm, mut e_fast) = (0.0, 0.0);
-    for (libm, e) in [(true, &mut e_libm), (false, &mut e_fast)] {
+    // Configurations measured in the same run, interleaved round by round: libm's functions
+    // on the scalar path (the earlier reference), the fast functions on the scalar path, and
+    // the fast functions with the lockstep batches on every SIMD level this CPU runs.
+    let levels: Vec<Level> = [Level::Sse2, Level::Avx2, Level::Avx512]
+        .into_iter()
+        .filter(|l| l.available())
+        .collect();
+    let mut configs = vec![(true, Level::Scalar), (false, Level::Scalar)];
+    configs.extend(levels.iter().map(|&l| (false, l)));
+    let set = |(libm, level): (bool, Level)| {
         printwatt::fastmath::set_libm(libm);
-        *e = ev_full
-            .evaluate(&mut ev_full.scratch().unwrap(), &at)
-            .cost();
-    }
+        assert!(simd::set_level(level));
+    };
+    // The answers agree: fast and libm to the fast functions' stated tolerance (a few ulp,
+    // amplified by the integration: 1e-9 relative); every SIMD level equals the scalar path
+    // bit for bit (its stated tolerance is 0).
+    let energies: Vec<f64> = configs
+        .iter()
+        .map(|&c| {
+            set(c);
+            ev_full
+                .evaluate(&mut ev_full.scratch().unwrap(), &at)
+                .cost()
+        })
+        .collect();
     assert!(
-        ((e_fast - e_libm) / e_libm).abs() < 1e-9,
-        "fast and libm energies differ: {e_fast} vs {e_libm} J"
+        ((energies[1] - energies[0]) / energies[0]).abs() < 1e-9,
+        "fast and libm energies differ: {} vs {} J",
+        energies[1],
+        energies[0]
     );
+    for (e, c) in energies.iter().zip(&configs).skip(2) {
+        assert_eq!(
+            e.to_bits(),
+            energies[1].to_bits(),
+            "{c:?} differs from scalar"
+        );
+    }
+    // Bare RNEA and the energy pass (RNEA + effects + motor + supply) of the trajectory's
+    // samples, per sample, with the sines given (as the IK gives them).
+    let sincos: Vec<f64> = (0..m)
+        .flat_map(|k| {
+            let q = tr.q(k);
+            let (s, c): (Vec<f64>, Vec<f64>) =
+                q.iter().map(|&a| printwatt::fastmath::sin_cos(a)).unzip();
+            s.into_iter().chain(c)
+        })
+        .collect();
+    let sc = |k: usize| &sincos[k * 2 * n..(k + 1) * 2 * n];
+    let mut data2 = job.energy.data();
+    let mut rnea_pass = |(libm, level): (bool, Level)| {
+        let reps = 5;
+        let t0 = thread_ns();
+        for _ in 0..reps {
+            if level != Level::Scalar {
+                let mut t = [[0.0; LANES]; MAX_DOF];
+                for k0 in (0..m).step_by(LANES) {
+                    let mut b = StateBatch::default();
+                    for l in 0..LANES.min(m - k0) {
+                        b.set(l, n, sc(k0 + l), tr.qd(k0 + l), tr.qdd(k0 + l));
+                    }
+                    rnea_batch(job.energy.dynamics(), &b, &mut t, level);
+                    black_box(&t);
+                }
+                continue;
+            }
+            for k in 0..m {
+                if libm {
+                    rnea(
+                        job.energy.dynamics(),
+                        &mut data,
+                        tr.q(k),
+                        tr.qd(k),
+                        tr.qdd(k),
+                        &mut tau,
+                    )
+                } else {
+                    rnea_with_sincos(
+                        job.energy.dynamics(),
+                        &mut data,
+                        tr.q(k),
+                        sc(k),
+                        tr.qd(k),
+                        tr.qdd(k),
+                        &mut tau,
+                    )
+                }
+                .unwrap();
+                black_box(&tau);
+            }
+        }
+        (thread_ns() - t0) / (reps * m) as f64
+    };
+    let mut energy_pass = |(_, level): (bool, Level)| {
+        let reps = 5;
+        let mut out = [SamplePower::default(); LANES];
+        let t0 = thread_ns();
+        for _ in 0..reps {
+            for k0 in (0..m).step_by(LANES) {
+                energy::eval_batch_with_sincos(
+                    &job.energy,
+                    &mut data2,
+                    LANES.min(m - k0),
+                    |l| tr.q(k0 + l),
+                    |l| sc(k0 + l),
+                    |l| tr.qd(k0 + l),
+                    |l| tr.qdd(k0 + l),
+                    &mut out,
+                    level,
+                )
+                .unwrap();
+                black_box(&out);
+            }
+        }
+        (thread_ns() - t0) / (reps * m) as f64
+    };
     let rounds = 7;
-    let mut t: [[Vec<f64>; 2]; 4] = Default::default();
+    let nc = configs.len();
+    let mut t: Vec<Vec<Vec<f64>>> = vec![vec![Vec::new(); nc]; 5];
     for _ in 0..rounds {
-        for (i, libm) in [true, false].into_iter().enumerate() {
-            printwatt::fastmath::set_libm(libm);
-            t[0][i].push(rnea_pass());
-            t[1][i].push(per_sample(&ev_full));
-            t[2][i].push(per_sample(&ev_nocoll));
-            t[3][i].push(sweep_ns(&ev_full));
+        for (i, &c) in configs.iter().enumerate() {
+            set(c);
+            t[0][i].push(rnea_pass(c));
+            t[1][i].push(energy_pass(c));
+            t[2][i].push(per_sample(&ev_full));
+            t[3][i].push(per_sample(&ev_nocoll));
+            t[4][i].push(sweep_ns(&ev_full));
         }
     }
     printwatt::fastmath::set_libm(false);
+    simd::set_level(simd::detected());
     let median = |v: &mut Vec<f64>| {
         v.sort_by(f64::total_cmp);
         v[v.len() / 2]
     };
-    let mut med = [[0.0; 2]; 4];
-    for (row, ts) in med.iter_mut().zip(t.iter_mut()) {
-        for (cell, v) in row.iter_mut().zip(ts.iter_mut()) {
-            *cell = median(v);
-        }
-    }
+    let med: Vec<Vec<f64>> = t
+        .iter_mut()
+        .map(|row| row.iter_mut().map(median).collect())
+        .collect();
     let rnea_ns = med[0][0];
-    let full_ns = med[1][1];
+    let best = nc - 1; // the best SIMD level this CPU runs
+    let full_ns = med[2][best];
 
     // The unoptimised path for comparison: timing::time_at (plans per candidate) + evaluate
     // (series stored).
@@ -257,34 +387,72 @@ fn main() {
         load().trim()
     );
     println!("  path samples (feasible placement)       {samples}");
+    let names: Vec<String> = configs
+        .iter()
+        .map(|&(libm, l)| match (libm, l) {
+            (true, _) => "libm scalar".to_string(),
+            (false, Level::Scalar) => "scalar".to_string(),
+            (false, l) => l.name().to_string(),
+        })
+        .collect();
     println!(
-        "  before (libm) and after (fastmath), median of {rounds} interleaved rounds, on-CPU time; ratios to bare RNEA with libm:"
+        "  median of {rounds} interleaved rounds, on-CPU time except the sweep; columns: libm's functions on the scalar path, the fast functions on the scalar path, and the lockstep batches of {LANES} samples on each SIMD level (bit-identical to scalar); (x) = time / scalar"
     );
-    println!("                                              libm                      fast      fast/libm");
-    let names = [
-        "bare RNEA",
+    print!("  {:<44}", "ns per sample");
+    for nm in &names {
+        print!("{nm:>18}");
+    }
+    println!();
+    let rows = [
+        "bare RNEA (sines given; libm: computed)",
+        "RNEA + effects + motor + supply",
         "full placement eval, 1 thread",
         "  without collision checks",
-        &format!("feasible sweep, {cores} threads, wall/sample"),
+        &format!("feasible sweep, {cores} threads, wall"),
     ];
-    for (name, [l, f]) in names.iter().zip(med) {
-        println!(
-            "  {name:<38} {l:8.1} ns {:5.2}x    {f:8.1} ns {:5.2}x    {:5.3}",
-            l / rnea_ns,
-            f / rnea_ns,
-            f / l
-        );
+    for (name, row) in rows.iter().zip(&med) {
+        print!("  {name:<44}");
+        for v in row {
+            print!("{:>10.1} ({:4.2})", v, v / row[1]);
+        }
+        println!();
     }
     println!(
-        "  projected 50x50 grid x 5000 samples (12.5 M samples, all feasible) on {cores} threads, from the measured sweep (wall): libm {:.2} s, fast {:.2} s ({:.2}x faster); target 1 s",
-        target * med[3][0] * 1e-9,
-        target * med[3][1] * 1e-9,
-        med[3][0] / med[3][1]
+        "  projected 50x50 grid x 5000 samples (12.5 M samples, all feasible) on {cores} threads, from the measured sweep (wall): scalar {:.2} s, {} {:.2} s ({:.2}x faster); target 1 s",
+        target * med[4][1] * 1e-9,
+        names[best],
+        target * med[4][best] * 1e-9,
+        med[4][1] / med[4][best]
     );
     println!(
-        "    from 1 thread's on-CPU time x ideal scaling: libm {:.2} s, fast {:.2} s",
-        target * med[1][0] * 1e-9 / cores as f64,
+        "    from 1 thread's on-CPU time x ideal scaling: libm scalar {:.2} s, scalar {:.2} s, {} {:.2} s",
+        target * med[2][0] * 1e-9 / cores as f64,
+        target * med[2][1] * 1e-9 / cores as f64,
+        names[best],
         target * full_ns * 1e-9 / cores as f64
+    );
+    // The SIMD floor: flops per sample over the attainable vector rate.
+    let ghz = clock_ghz();
+    let flops_rnea = RNEA_FLOPS_PER_LINK * n as f64 - RNEA_BACKWARD_FLOPS;
+    let flops = flops_rnea + FLOPS_IK + FLOPS_ENERGY + FLOPS_TIMING + FLOPS_CHECKS;
+    let per_cycle = 0.5 * PEAK_FLOPS_PER_CYCLE;
+    let floor_ns = flops / per_cycle / ghz;
+    println!("  clock measured by a chain of dependent integer adds (1 cycle each): {ghz:.2} GHz");
+    println!(
+        "  SIMD floor: {flops:.0} flops/sample (RNEA {flops_rnea:.0} counted in the batched kernel, IK {FLOPS_IK:.0}, energy {FLOPS_ENERGY:.0}, timing {FLOPS_TIMING:.0}, checks {FLOPS_CHECKS:.0}) / (half of {PEAK_FLOPS_PER_CYCLE:.0} flops/cycle x {ghz:.2} GHz) = {floor_ns:.1} ns/sample; 50x50x5000 on {cores} cores at the floor: {:.2} s",
+        target * floor_ns * 1e-9 / cores as f64
+    );
+    println!(
+        "  full evaluation ({}) / floor: {:.1}x (target <= 3x); scalar / floor: {:.1}x",
+        names[best],
+        full_ns / floor_ns,
+        med[2][1] / floor_ns
+    );
+    println!(
+        "  batched RNEA attains {:.1} flops/cycle ({}), scalar RNEA {:.1}",
+        flops_rnea / (med[0][best] * ghz),
+        names[best],
+        flops_rnea / (med[0][1] * ghz)
     );
     println!(
         "  time_at + energy::evaluate (unoptimised){slow_ns:9.1} ns/sample  {:5.2}x RNEA ({:.2}x the fast path)",

@@ -120,6 +120,45 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
     }
 }
 
+/// [`sin_cos`] of [`crate::simd::LANES`] angles at once (rad), lane by lane bit-identical to
+/// [`sin_cos`]: the same reduction and kernels as plain lane arithmetic, the quadrant chosen
+/// by selects; lanes outside the fast path's domain (tiny, NaN, beyond [`SIN_COS_MAX`], or
+/// with the libm switch on) go through [`sin_cos`] one by one. Inlined into the caller, so it
+/// runs on the caller's instruction set ([`crate::simd`]).
+#[inline(always)]
+pub fn sin_cos_lanes(
+    x: &[f64; crate::simd::LANES],
+) -> ([f64; crate::simd::LANES], [f64; crate::simd::LANES]) {
+    use crate::simd::LANES;
+    let mut s = [0.0; LANES];
+    let mut c = [0.0; LANES];
+    let mut special = false;
+    for l in 0..LANES {
+        let a = x[l].abs();
+        // NaN fails the comparison: special.
+        special |= !(7.450_580_596_923_828e-9..=SIN_COS_MAX).contains(&a);
+        let t = x[l] * FRAC_2_PI + ROUND_MAGIC;
+        let quadrant = t.to_bits() & 3;
+        let k = t - ROUND_MAGIC;
+        let r = (x[l] - k * PIO2_1) - k * PIO2_1T;
+        let (ks, kc) = (k_sin(r), k_cos(r));
+        let swap = quadrant & 1 == 1;
+        let (a, b) = if swap { (kc, ks) } else { (ks, kc) };
+        // quadrant 0: (s, c); 1: (c, −s); 2: (−s, −c); 3: (−c, s).
+        s[l] = if quadrant & 2 != 0 { -a } else { a };
+        c[l] = if (quadrant + 1) & 2 != 0 { -b } else { b };
+    }
+    if special || libm_selected() {
+        for l in 0..LANES {
+            let a = x[l].abs();
+            if libm_selected() || !(7.450_580_596_923_828e-9..=SIN_COS_MAX).contains(&a) {
+                (s[l], c[l]) = sin_cos(x[l]);
+            }
+        }
+    }
+    (s, c)
+}
+
 /// `sin x` (rad); see [`sin_cos`].
 #[inline]
 pub fn sin(x: f64) -> f64 {

@@ -44,6 +44,7 @@ pub mod output;
 pub mod placement;
 pub mod report;
 pub mod robot;
+pub mod simd;
 pub mod table;
 pub mod timing;
 pub mod toolpath;

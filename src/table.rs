@@ -152,6 +152,27 @@ pub fn si_factor(dim: Dim, unit: &str) -> Option<f64> {
     Some(f)
 }
 
+/// The kind of a joint column's unit ([`Dim::Angle`], [`Dim::AngularVelocity`],
+/// [`Dim::AngularAcceleration`] hold a revolute joint's in rad or deg, a prismatic joint's in
+/// m or mm): `Some(true)` for a length-based unit (`mm`, `m/s`, `in/s^2`, …), `Some(false)` for
+/// an angular one (`rad`, `deg/s`, `°`, `rpm`, …), `None` for no unit or one of neither kind.
+pub fn joint_unit_is_linear(unit: &str) -> Option<bool> {
+    let u = unit.trim().to_ascii_lowercase();
+    if u == "rpm" {
+        return Some(false);
+    }
+    let base = u.split('/').next().unwrap_or("");
+    if base.is_empty() {
+        None
+    } else if si_factor(Dim::Length, base).is_some() {
+        Some(true)
+    } else if si_factor(Dim::Rotation, base).is_some() {
+        Some(false)
+    } else {
+        None
+    }
+}
+
 /// The units [`si_factor`] accepts for `dim`, for messages.
 pub fn expected_units(dim: Dim) -> &'static str {
     match dim {

@@ -150,16 +150,12 @@ pub fn check_joint_units(
         let Some(kind) = kinds.get(k.wrapping_sub(1)) else {
             continue;
         };
-        let length = u.starts_with("mm")
-            || u.starts_with("m/")
-            || u == "m"
-            || u.starts_with("cm")
-            || u.starts_with("in");
-        let angle =
-            u.starts_with("rad") || u.starts_with("deg") || u.starts_with('°') || u == "rpm";
+        let Some(linear) = crate::table::joint_unit_is_linear(&u) else {
+            continue;
+        };
         let wrong = match kind {
-            JointKind::Revolute => length,
-            JointKind::Prismatic => angle,
+            JointKind::Revolute => linear,
+            JointKind::Prismatic => !linear,
         };
         if wrong {
             return Err(Error::Parse {

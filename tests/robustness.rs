@@ -926,3 +926,48 @@ fn non_finite_numbers_never_reach_json_outputs() {
         .to_string();
     assert!(e.contains("`[2]` is NaN"), "{e}");
 }
+
+#[test]
+fn length_units_on_a_revolute_joints_angle_and_rate_are_refused_and_deg_is_read() {
+    // The units' kind comes from the one unit table (`table::joint_unit_is_linear`): `q2[mm]`
+    // and `qd1[mm/s]` on the IRB 6700's revolute joints are lengths, `q2[deg]` an angle.
+    let model = common::robot("abb_irb6700_200_260");
+    let d = common::scratch("robustness", "joint-units");
+    let write = |name: &str, header: &str| {
+        let f = d.join(name);
+        let row = "0.0,0,0,0,0,0,0\n0.1,0,0,0,0,0,0\n0.2,0,0,0,0,0,0\n";
+        std::fs::write(&f, format!("{header}\n{row}")).unwrap();
+        f
+    };
+    let bad = write(
+        "mm.csv",
+        "t[s],q1[rad],q2[mm],q3[rad],q4[rad],q5[rad],q6[rad]",
+    );
+    let e = printwatt::trajectory::read_csv_for(&bad, &model)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("q2[mm]") && e.contains("wrong kind of unit"),
+        "{e}"
+    );
+    let rate = write(
+        "rate.csv",
+        "t[s],q1[rad],q2[deg],q3[rad],q4[rad],q5[rad],q6[rad],qd1[mm/s]",
+    );
+    let rate_text = std::fs::read_to_string(&rate)
+        .unwrap()
+        .replace(",0\n", ",0,0\n");
+    std::fs::write(&rate, rate_text).unwrap();
+    let e = printwatt::trajectory::read_csv_for(&rate, &model)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("qd1[mm/s]") && e.contains("wrong kind of unit"),
+        "{e}"
+    );
+    let good = write(
+        "deg.csv",
+        "t[s],q1[rad],q2[deg],q3[rad],q4[rad],q5[rad],q6[rad]",
+    );
+    assert!(printwatt::trajectory::read_csv_for(&good, &model).is_ok());
+}

@@ -19,8 +19,11 @@
 //! Limitations: fixed base only; revolute and prismatic joints (no mimic coupling, no
 //! spherical/floating joints); at most [`MAX_DOF`] joints.
 
+mod batch;
 mod derivatives;
 mod rnea;
+
+pub use batch::{rnea_batch, Lanes, StateBatch};
 
 pub use derivatives::{complete_derivatives, fill_derivatives};
 pub use rnea::{

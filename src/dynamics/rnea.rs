@@ -20,21 +20,21 @@ pub struct DynOptions {
 
 /// Precomputed per-link parameters in the re-oriented joint frame (axis = local +z).
 #[derive(Clone, Copy, Debug)]
-struct Link {
+pub(super) struct Link {
     /// Constant part of the rotation child → parent: `R(q) = c · Rz(q)` (revolute) or `c`.
-    c: M3,
+    pub(super) c: M3,
     /// Joint origin in the parent frame at q = 0, m.
-    p: V3,
+    pub(super) p: V3,
     /// Prismatic joint (translation along local z).
-    prismatic: bool,
+    pub(super) prismatic: bool,
     /// Mass, kg.
-    mass: f64,
+    pub(super) mass: f64,
     /// First moment of mass `m·c` about the joint origin, kg·m.
-    h: V3,
+    pub(super) h: V3,
     /// Inertia about the joint origin, kg·m².
-    io: M3,
+    pub(super) io: M3,
     /// Reflected rotor inertia G²J_m, kg·m² (revolute) or kg (prismatic).
-    armature: f64,
+    pub(super) armature: f64,
 }
 
 impl Default for Link {
@@ -55,10 +55,10 @@ impl Default for Link {
 /// Cheap to share between threads (`Send + Sync`, no interior mutability).
 #[derive(Clone, Debug)]
 pub struct DynModel {
-    n: usize,
-    links: [Link; MAX_DOF],
+    pub(super) n: usize,
+    pub(super) links: [Link; MAX_DOF],
     /// Base acceleration that models gravity: `a_0 = −g`, m/s², base frame.
-    a0: V3,
+    pub(super) a0: V3,
     gravity: V3,
     has_armature: bool,
     options: DynOptions,
@@ -144,6 +144,11 @@ impl DynModel {
             has_armature,
             options,
         })
+    }
+
+    /// Whether [`super::rnea_batch`] applies: every joint revolute.
+    pub fn batchable(&self) -> bool {
+        self.links[..self.n].iter().all(|l| !l.prismatic)
     }
 
     /// Number of joints.

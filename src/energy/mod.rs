@@ -40,10 +40,13 @@ mod report;
 
 pub use report::{EnergyReport, JointEnergy, SampleSeries, TotalEnergy};
 
-use crate::dynamics::{rnea, rnea_with_sincos, DynData, DynModel, DynOptions, MAX_DOF};
+use crate::dynamics::{
+    rnea, rnea_batch, rnea_with_sincos, DynData, DynModel, DynOptions, Lanes, StateBatch, MAX_DOF,
+};
 use crate::effects::{Effect, EffectSet, EnergyClass, Stage, COULOMB_VELOCITY_SCALE_RAD_S};
 use crate::error::{Error, Result};
 use crate::robot::{Regeneration, RobotModel};
+use crate::simd::{Level, LANES};
 use crate::trajectory::JointTrajectory;
 use std::sync::Arc;
 
@@ -460,6 +463,81 @@ fn eval_sample_inner(
         Some(sc) => rnea_with_sincos(&model.dynamics, data, q, sc, qd, qdd, &mut out.tau_rb[..n])?,
         None => rnea(&model.dynamics, data, q, qd, qdd, &mut out.tau_rb[..n])?,
     }
+    Ok(finish_sample(model, q, qd, qdd, out))
+}
+
+impl EnergyModel {
+    /// Whether [`eval_batch_with_sincos`] evaluates this model in lockstep (every joint
+    /// revolute; see [`crate::dynamics::rnea_batch`]).
+    pub fn batchable(&self) -> bool {
+        self.dynamics.batchable()
+    }
+}
+
+/// [`eval_sample_with_sincos`] of `count ≤` [`LANES`] samples at once: lane `l` is
+/// `q(l)`, `sincos(l)`, `qd(l)`, `qdd(l)` (rad, -, rad/s, rad/s², as
+/// [`eval_sample_with_sincos`] takes them) and its result goes to `out[l]` (the supply power,
+/// W, in `out[l].p_supply`). The rigid-body torques of the batch run in lockstep on the
+/// instruction set `level` ([`crate::dynamics::rnea_batch`]); the torque effects, the motor
+/// model and the supply follow per lane. Bit-identical to [`eval_sample_with_sincos`] of each
+/// sample. With [`Level::Scalar`] or a model that is not [`EnergyModel::batchable`], each
+/// sample goes through [`eval_sample_with_sincos`]. Error: [`Error::SizeMismatch`] on a wrong
+/// slice length.
+#[allow(clippy::too_many_arguments)]
+pub fn eval_batch_with_sincos<'s>(
+    model: &EnergyModel,
+    data: &mut DynData,
+    count: usize,
+    q: impl Fn(usize) -> &'s [f64],
+    sincos: impl Fn(usize) -> &'s [f64],
+    qd: impl Fn(usize) -> &'s [f64],
+    qdd: impl Fn(usize) -> &'s [f64],
+    out: &mut [SamplePower; LANES],
+    level: Level,
+) -> Result<()> {
+    let n = model.n;
+    let count = count.min(LANES);
+    if level == Level::Scalar || !model.batchable() {
+        for (l, o) in out.iter_mut().enumerate().take(count) {
+            eval_sample_with_sincos(model, data, q(l), sincos(l), qd(l), qdd(l), o)?;
+        }
+        return Ok(());
+    }
+    let mut b = StateBatch::default();
+    for l in 0..count {
+        let (sc, v, a) = (sincos(l), qd(l), qdd(l));
+        if sc.len() != 2 * n || v.len() != n || a.len() != n || q(l).len() != n {
+            return Err(Error::SizeMismatch {
+                what: "eval_batch_with_sincos: q, sincos (2 dof), qd, qdd".into(),
+                got: sc.len().min(2 * v.len()).min(2 * a.len()),
+                expected: 2 * n,
+            });
+        }
+        b.set(l, n, sc, v, a);
+    }
+    let mut tau: [Lanes; MAX_DOF] = [[0.0; LANES]; MAX_DOF];
+    rnea_batch(&model.dynamics, &b, &mut tau, level);
+    for (l, o) in out.iter_mut().enumerate().take(count) {
+        for (t, lanes) in o.tau_rb.iter_mut().zip(&tau).take(n) {
+            *t = lanes[l];
+        }
+        finish_sample(model, q(l), qd(l), qdd(l), o);
+    }
+    Ok(())
+}
+
+/// The rest of a sample once `out.tau_rb` holds the rigid-body torque: the torque effects,
+/// the motor model, the supply. Returns the supply power, W.
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // parallel fixed arrays indexed by joint
+fn finish_sample(
+    model: &EnergyModel,
+    q: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+    out: &mut SamplePower,
+) -> f64 {
+    let n = model.n;
     out.tau_balancer = [0.0; MAX_DOF];
     out.tau_friction = [0.0; MAX_DOF];
     for (e, class) in &model.torque {
@@ -507,7 +585,7 @@ fn eval_sample_inner(
     out.p_drives = sp.drives;
     out.p_regeneration_lost = sp.lost;
     out.p_supply = sp.supply;
-    Ok(out.p_supply)
+    out.p_supply
 }
 
 /// Evaluate a whole trajectory (velocities and accelerations must be filled; see

@@ -6,6 +6,7 @@
 use super::{JointVec, MAX_DOF};
 use crate::math::{Frame, V3};
 use crate::robot::{JointKind, RobotModel};
+use crate::simd::{Level, LANES};
 
 /// Every frame of the chain at one joint vector, base frame, m / rad.
 #[derive(Clone, Copy, Debug)]
@@ -298,5 +299,171 @@ impl FastChain {
     #[inline]
     pub fn tool(&self, q: &[f64]) -> Frame {
         self.last_joint(q).compose(&self.tail)
+    }
+}
+
+/// Tool poses of [`LANES`] joint vectors at once (structure of arrays; base frame): the
+/// rotation `rot[i][j][lane]`, the position `pos[i][lane]` (m), and the revolute joints'
+/// sines `s[j][lane]` and cosines `c[j][lane]`.
+#[derive(Clone, Copy, Debug)]
+pub struct ToolBatch {
+    /// Rotation, row `i`, column `j`.
+    pub rot: [[Lanes; 3]; 3],
+    /// Position, m.
+    pub pos: [Lanes; 3],
+    /// `sin q_j`.
+    pub s: [Lanes; MAX_DOF],
+    /// `cos q_j`.
+    pub c: [Lanes; MAX_DOF],
+}
+
+impl ToolBatch {
+    /// The tool pose of one lane.
+    pub fn frame(&self, lane: usize) -> Frame {
+        let r = &self.rot;
+        Frame {
+            rot: crate::math::M3::new(
+                r[0][0][lane],
+                r[0][1][lane],
+                r[0][2][lane],
+                r[1][0][lane],
+                r[1][1][lane],
+                r[1][2][lane],
+                r[2][0][lane],
+                r[2][1][lane],
+                r[2][2][lane],
+            ),
+            pos: V3::new(self.pos[0][lane], self.pos[1][lane], self.pos[2][lane]),
+        }
+    }
+}
+
+type Lanes = [f64; LANES];
+type ML = [[Lanes; 3]; 3];
+
+/// `m v` per lane with a constant `v` (nalgebra's order: `(m₀ x + m₁ y) + m₂ z` per row).
+#[inline(always)]
+fn ml_mul_v(m: &ML, v: &V3) -> [Lanes; 3] {
+    std::array::from_fn(|i| {
+        let mut r = [0.0; LANES];
+        for l in 0..LANES {
+            r[l] = (m[i][0][l] * v.x + m[i][1][l] * v.y) + m[i][2][l] * v.z;
+        }
+        r
+    })
+}
+
+/// `m o` per lane with a constant `o` (nalgebra's gemm: column by column, the same order).
+#[inline(always)]
+fn ml_mul_m(m: &ML, o: &crate::math::M3) -> ML {
+    std::array::from_fn(|i| {
+        std::array::from_fn(|j| {
+            let mut r = [0.0; LANES];
+            for l in 0..LANES {
+                r[l] = (m[i][0][l] * o[(0, j)] + m[i][1][l] * o[(1, j)]) + m[i][2][l] * o[(2, j)];
+            }
+            r
+        })
+    })
+}
+
+impl FastChain {
+    /// Whether [`FastChain::tool_batch`] applies: every joint revolute about a coordinate
+    /// axis of its frame.
+    pub fn batchable(&self) -> bool {
+        self.joints[..self.n]
+            .iter()
+            .all(|j| !j.prismatic && !matches!(j.axis, Axis::General(_)))
+    }
+
+    /// The body of [`FastChain::tool_batch`]: [`FastChain::tool_with_sincos`]'s operations
+    /// per lane, in the same order.
+    #[inline(always)]
+    fn tool_lanes(&self, q: &[Lanes; MAX_DOF]) -> ToolBatch {
+        let (one, zero) = ([1.0; LANES], [0.0; LANES]);
+        let mut r: ML = [[one, zero, zero], [zero, one, zero], [zero, zero, one]];
+        let mut p = [zero; 3];
+        let mut s_out = [zero; MAX_DOF];
+        let mut c_out = [one; MAX_DOF];
+        for (i, j) in self.joints[..self.n].iter().enumerate() {
+            let d = ml_mul_v(&r, &j.pos);
+            for (pk, dk) in p.iter_mut().zip(&d) {
+                for l in 0..LANES {
+                    pk[l] += dk[l];
+                }
+            }
+            if let Some(o) = &j.rot {
+                r = ml_mul_m(&r, o);
+            }
+            let (s, c) = crate::fastmath::sin_cos_lanes(&q[i]);
+            s_out[i] = s;
+            c_out[i] = c;
+            let (a, b, sg) = match j.axis {
+                Axis::X(sg) => (1, 2, sg),
+                Axis::Y(sg) => (2, 0, sg),
+                Axis::Z(sg) => (0, 1, sg),
+                Axis::General(_) => unreachable!("FastChain::batchable excludes general axes"),
+            };
+            for row in r.iter_mut() {
+                for l in 0..LANES {
+                    let ss = sg * s[l];
+                    let (ra, rb) = (row[a][l], row[b][l]);
+                    row[a][l] = ra * c[l] + rb * ss;
+                    row[b][l] = rb * c[l] - ra * ss;
+                }
+            }
+        }
+        // compose(tail): rot = r · tail.rot, pos = r · tail.pos + p.
+        let rot = ml_mul_m(&r, &self.tail.rot);
+        let tp = ml_mul_v(&r, &self.tail.pos);
+        let pos = std::array::from_fn(|i| {
+            let mut v = [0.0; LANES];
+            for l in 0..LANES {
+                v[l] = tp[i][l] + p[i][l];
+            }
+            v
+        });
+        ToolBatch {
+            rot,
+            pos,
+            s: s_out,
+            c: c_out,
+        }
+    }
+
+    /// Tool poses of the [`LANES`] joint vectors `q[j][lane]` (rad) in lockstep on the
+    /// instruction set `level` ([`crate::simd`]), lane by lane bit-identical to
+    /// [`FastChain::tool_with_sincos`]. Only for a [`FastChain::batchable`] chain (panics
+    /// otherwise: a programming error, the callers check).
+    pub fn tool_batch(&self, q: &[Lanes; MAX_DOF], level: Level) -> ToolBatch {
+        assert!(
+            self.batchable(),
+            "tool_batch on a chain it does not apply to"
+        );
+        match level {
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx512 if Level::Avx512.available() => {
+                // SAFETY: the CPU has AVX-512F (checked just above).
+                unsafe { self.tool_avx512(q) }
+            }
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx2 if Level::Avx2.available() => {
+                // SAFETY: the CPU has AVX2 and FMA (checked just above).
+                unsafe { self.tool_avx2(q) }
+            }
+            _ => self.tool_lanes(q),
+        }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    fn tool_avx512(&self, q: &[Lanes; MAX_DOF]) -> ToolBatch {
+        self.tool_lanes(q)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn tool_avx2(&self, q: &[Lanes; MAX_DOF]) -> ToolBatch {
+        self.tool_lanes(q)
     }
 }

@@ -677,6 +677,68 @@ impl<'a> IkSolver<'a> {
         }
     }
 
+    /// Whether the FK re-check can be deferred and run in lockstep batches
+    /// ([`IkSolver::solve_near_unchecked`] + [`IkSolver::check_batch`]): a closed-form (OPW)
+    /// arm whose chain [`fk::FastChain::batchable`] is.
+    pub fn batch_checkable(&self) -> bool {
+        self.model.opw.is_some() && self.opw_k.is_some() && self.chain.batchable()
+    }
+
+    /// [`IkSolver::solve_near`] without its FK re-check (the closed form, fitted to the
+    /// limits), for callers that check the answers later with [`IkSolver::check_batch`]
+    /// before using them. For a robot that is not [`IkSolver::batch_checkable`], the checked
+    /// [`IkSolver::solve_near`].
+    #[inline]
+    pub fn solve_near_unchecked(
+        &self,
+        tool_target: &Frame,
+        q_prev: &[f64],
+    ) -> Result<JointVec, IkFailure> {
+        match (&self.model.opw, &self.opw_k) {
+            (Some(p), Some(k)) if q_prev.len() == self.model.dof() => {
+                self.solve_near_opw(p, k, tool_target, q_prev)
+            }
+            _ => self.solve_near(tool_target, q_prev),
+        }
+    }
+
+    /// The FK re-check of `count ≤` [`crate::simd::LANES`] answers in lockstep: lane `l` is the
+    /// joint vector `q(l)` (rad) for the tool pose `target(l)`; the sines and cosines of
+    /// each answer go to `sincos(l)` (length `2 dof`, as
+    /// [`IkSolver::solve_near_with_sincos`] writes them). The verdicts and the sines are
+    /// those of [`IkSolver::check_with_sincos`], bit for bit (the same operations per lane).
+    /// Errors with the first failing lane and its [`IkFailure::CheckFailed`]. Only for a
+    /// [`IkSolver::batch_checkable`] solver.
+    pub fn check_batch<'q>(
+        &self,
+        count: usize,
+        target: impl Fn(usize) -> Frame,
+        q: impl Fn(usize) -> &'q [f64],
+        mut sincos: impl FnMut(usize) -> &'q mut [f64],
+        level: crate::simd::Level,
+    ) -> Result<(), (usize, IkFailure)> {
+        use crate::simd::LANES;
+        let n = self.model.dof();
+        let count = count.min(LANES);
+        let mut qb = [[0.0; LANES]; MAX_DOF];
+        for l in 0..count {
+            for (lanes, v) in qb.iter_mut().zip(q(l).iter().take(n)) {
+                lanes[l] = *v;
+            }
+        }
+        let tb = self.chain.tool_batch(&qb, level);
+        for l in 0..count {
+            self.check_pose(&target(l), &tb.frame(l))
+                .map_err(|e| (l, e))?;
+            let out = sincos(l);
+            for j in 0..n {
+                out[j] = tb.s[j][l];
+                out[n + j] = tb.c[j][l];
+            }
+        }
+        Ok(())
+    }
+
     /// The closed-form part of [`IkSolver::solve_near`]: joints fitted to the limits, not yet
     /// FK-checked.
     #[inline]

@@ -20,6 +20,7 @@ use crate::error::{Error, Result};
 use crate::kinematics::IkSolver;
 use crate::math::V3;
 use crate::placement::Placement;
+use crate::simd::LANES;
 use crate::timing::profile::Nodes;
 use crate::timing::{self, Buffers, TimedPath, TimingFailure};
 use rayon::prelude::*;
@@ -588,40 +589,9 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         let mut drives = 0.0;
         let mut mpos = 0.0;
         let mut losses = Losses::default();
-        for k in 0..m {
+        let mut sc_batch = [energy::SamplePower::default(); LANES];
+        let mut acc = |k: usize, p: f64, sp: &energy::SamplePower| {
             let w = crate::numerics::trapezoid_weight(k, m, dt);
-            let r = match sincos {
-                Some(s) => energy::eval_sample_with_sincos(
-                    &self.job.energy,
-                    data,
-                    timed.traj.q(k),
-                    &s[k * 2 * n..(k + 1) * 2 * n],
-                    timed.traj.qd(k),
-                    timed.traj.qdd(k),
-                    sp,
-                ),
-                None => energy::eval_sample(
-                    &self.job.energy,
-                    data,
-                    timed.traj.q(k),
-                    timed.traj.qd(k),
-                    timed.traj.qdd(k),
-                    sp,
-                ),
-            };
-            let p = match r {
-                Ok(p) => p,
-                Err(e) => {
-                    return Err(Infeasible {
-                        reason: Reason::ModelError,
-                        sample: Some(k),
-                        t_s: Some(k as f64 * dt),
-                        line: None,
-                        point_m: None,
-                        detail: e.to_string(),
-                    })
-                }
-            };
             supply += w * p;
             drives += w * sp.p_drives;
             losses.regeneration_lost_j += w * sp.p_regeneration_lost;
@@ -634,6 +604,65 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                 losses.friction_j += w * sp.p_friction[j];
                 losses.gear_j += w * sp.p_gear[j];
                 losses.copper_j += w * sp.p_copper[j];
+            }
+        };
+        let model_error = |k: usize, e: crate::error::Error| Infeasible {
+            reason: Reason::ModelError,
+            sample: Some(k),
+            t_s: Some(k as f64 * dt),
+            line: None,
+            point_m: None,
+            detail: e.to_string(),
+        };
+        let level = crate::simd::level();
+        match sincos {
+            // Lockstep batches of LANES samples (bit-identical to the per-sample path).
+            Some(s) if level != crate::simd::Level::Scalar && self.job.energy.batchable() => {
+                let tr = &timed.traj;
+                let sc = |k: usize| &s[k * 2 * n..(k + 1) * 2 * n];
+                for k0 in (0..m).step_by(LANES) {
+                    let count = LANES.min(m - k0);
+                    energy::eval_batch_with_sincos(
+                        &self.job.energy,
+                        data,
+                        count,
+                        |l| tr.q(k0 + l),
+                        |l| sc(k0 + l),
+                        |l| tr.qd(k0 + l),
+                        |l| tr.qdd(k0 + l),
+                        &mut sc_batch,
+                        level,
+                    )
+                    .map_err(|e| model_error(k0, e))?;
+                    for (l, sp) in sc_batch.iter().enumerate().take(count) {
+                        acc(k0 + l, sp.p_supply, sp);
+                    }
+                }
+            }
+            _ => {
+                for k in 0..m {
+                    let r = match sincos {
+                        Some(s) => energy::eval_sample_with_sincos(
+                            &self.job.energy,
+                            data,
+                            timed.traj.q(k),
+                            &s[k * 2 * n..(k + 1) * 2 * n],
+                            timed.traj.qd(k),
+                            timed.traj.qdd(k),
+                            sp,
+                        ),
+                        None => energy::eval_sample(
+                            &self.job.energy,
+                            data,
+                            timed.traj.q(k),
+                            timed.traj.qd(k),
+                            timed.traj.qdd(k),
+                            sp,
+                        ),
+                    };
+                    let p = r.map_err(|e| model_error(k, e))?;
+                    acc(k, p, sp);
+                }
             }
         }
         if m < 2 {

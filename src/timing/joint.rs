@@ -202,24 +202,79 @@ pub fn track(
         .collect();
     // The nozzle's orientation is the same at every sample: its sine and cosine once.
     let rot = nozzle_target(&V3::zeros(), at.nozzle_yaw()).rot;
+    // With SIMD (crate::simd) the IK's FK re-check runs deferred, in lockstep batches of
+    // LANES samples: the same verdicts and sines bit for bit, and a failing check is reported
+    // at its sample ahead of any later failure, exactly as the per-sample check would.
+    let level = crate::simd::level();
+    let batched = level != crate::simd::Level::Scalar && solver.batch_checkable();
+    let unreachable = |k: usize, tip: V3, reason| {
+        let mi = pieces[motion.piece[k]].move_index;
+        TimingFailure::Unreachable {
+            sample: k,
+            t: k as f64 * motion.dt,
+            point: tip,
+            move_index: mi,
+            line: moves_line(mi),
+            reason,
+        }
+    };
+    // Check the samples not yet checked, below `upto`.
+    let check_pending = |qs: &[f64], tcp: &[V3], sincos: &mut Vec<f64>, upto: usize| {
+        let mut k0 = sincos.len() / (2 * n);
+        while k0 < upto {
+            let count = crate::simd::LANES.min(upto - k0);
+            sincos.resize((k0 + count) * 2 * n, 0.0);
+            let out = &mut sincos[k0 * 2 * n..];
+            let mut chunks = out.chunks_mut(2 * n);
+            let mut next = move |_| chunks.next().unwrap_or_default();
+            solver
+                .check_batch(
+                    count,
+                    |l| Frame {
+                        rot,
+                        pos: tcp[k0 + l],
+                    },
+                    |l| &qs[(k0 + l) * n..(k0 + l + 1) * n],
+                    &mut next,
+                    level,
+                )
+                .map_err(|(l, reason)| {
+                    sincos.truncate(k0 * 2 * n);
+                    unreachable(k0 + l, tcp[k0 + l], reason)
+                })?;
+            k0 += count;
+        }
+        Ok::<(), TimingFailure>(())
+    };
     for (k, p) in motion.p.iter().enumerate() {
         let tip = part_to_base.apply(p);
         let target = Frame { rot, pos: tip };
         let mi = pieces[motion.piece[k]].move_index;
-        let q = solver
-            .solve_near_with_sincos(&target, &prev, &mut sc[..2 * n])
-            .map_err(|reason| TimingFailure::Unreachable {
-                sample: k,
-                t: k as f64 * motion.dt,
-                point: tip,
-                move_index: mi,
-                line: moves_line(mi),
-                reason,
-            })?;
+        let solved = if batched {
+            solver.solve_near_unchecked(&target, &prev)
+        } else {
+            solver.solve_near_with_sincos(&target, &prev, &mut sc[..2 * n])
+        };
+        let q = match solved {
+            Ok(q) => q,
+            Err(reason) => {
+                if batched {
+                    check_pending(qs, tcp, sincos, k)?;
+                }
+                return Err(unreachable(k, tip, reason));
+            }
+        };
         if k > 0 {
             for j in 0..n {
                 let d = (q[j] - prev[j]).abs();
                 if d > max_step[j] {
+                    if batched {
+                        // The per-sample path checked this sample's answer before its step.
+                        check_pending(qs, tcp, sincos, k)?;
+                        solver
+                            .check_with_sincos(&target, &q, &mut sc[..2 * n])
+                            .map_err(|reason| unreachable(k, tip, reason))?;
+                    }
                     return Err(TimingFailure::ConfigurationChange {
                         sample: k,
                         t: k as f64 * motion.dt,
@@ -232,9 +287,18 @@ pub fn track(
             }
         }
         qs.extend_from_slice(&q[..n]);
-        sincos.extend_from_slice(&sc[..2 * n]);
         tcp.push(tip);
         prev = q;
+        if batched {
+            if tcp.len() - sincos.len() / (2 * n) == crate::simd::LANES {
+                check_pending(qs, tcp, sincos, tcp.len())?;
+            }
+        } else {
+            sincos.extend_from_slice(&sc[..2 * n]);
+        }
+    }
+    if batched {
+        check_pending(qs, tcp, sincos, tcp.len())?;
     }
     Ok(())
 }

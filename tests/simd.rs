@@ -1,0 +1,347 @@
+//! The lockstep (SIMD) batches of issue 12 item 3 against the per-sample scalar path: the
+//! batched RNEA and energy of every instruction-set level this CPU runs give the scalar
+//! results bit for bit (the stated tolerance is 0: same operations, same order, no fused
+//! multiply-add), and a sweep forced onto the scalar path ranks the placements the same.
+
+mod common;
+
+use printwatt::dynamics::{rnea_batch, rnea_with_sincos, DynModel, DynOptions, StateBatch};
+use printwatt::energy::{self, EnergyModel, SamplePower};
+use printwatt::fastmath;
+use printwatt::simd::{self, Level, LANES};
+use std::sync::Mutex;
+
+/// The level is process-wide: the tests of this file that set it take turns.
+static LEVEL_LOCK: Mutex<()> = Mutex::new(());
+
+/// A deterministic stream of pseudo-random numbers in [-1, 1) (xorshift; seeded).
+fn uniform(seed: u64) -> impl FnMut() -> f64 {
+    let mut s = seed.max(1);
+    move || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        2.0 * ((s >> 11) as f64 / (1u64 << 53) as f64) - 1.0
+    }
+}
+
+/// `count` random joint states of an `n`-joint arm: (q, sincos, qd, qdd).
+#[allow(clippy::type_complexity)]
+fn states(seed: u64, n: usize, count: usize) -> Vec<(Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>)> {
+    let mut u = uniform(seed);
+    (0..count)
+        .map(|_| {
+            let q: Vec<f64> = (0..n).map(|_| 3.0 * u()).collect();
+            let mut sc = vec![0.0; 2 * n];
+            for j in 0..n {
+                (sc[j], sc[n + j]) = fastmath::sin_cos(q[j]);
+            }
+            let qd = (0..n).map(|_| 2.0 * u()).collect();
+            let qdd = (0..n).map(|_| 10.0 * u()).collect();
+            (q, sc, qd, qdd)
+        })
+        .collect()
+}
+
+fn levels() -> Vec<Level> {
+    Level::ALL.into_iter().filter(|l| l.available()).collect()
+}
+
+#[test]
+fn batched_rnea_equals_scalar_rnea_bit_for_bit_on_every_level() {
+    for name in ["abb_irb6700_200_260", "ur10e", "staubli_tx200"] {
+        let model = common::robot(name);
+        for armature in [false, true] {
+            let dm = DynModel::new(
+                &model,
+                DynOptions {
+                    payload: true,
+                    armature,
+                },
+            )
+            .unwrap();
+            assert!(dm.batchable(), "{name}: every joint is revolute");
+            let n = dm.dof();
+            let mut data = dm.data();
+            let st = states(7, n, 5 * LANES + 3);
+            let mut want = vec![0.0; n];
+            for chunk in st.chunks(LANES) {
+                let mut b = StateBatch::default();
+                for (l, (_, sc, qd, qdd)) in chunk.iter().enumerate() {
+                    b.set(l, n, sc, qd, qdd);
+                }
+                for level in levels() {
+                    let mut tau = [[f64::NAN; LANES]; printwatt::dynamics::MAX_DOF];
+                    rnea_batch(&dm, &b, &mut tau, level);
+                    for (l, (q, sc, qd, qdd)) in chunk.iter().enumerate() {
+                        rnea_with_sincos(&dm, &mut data, q, sc, qd, qdd, &mut want).unwrap();
+                        for j in 0..n {
+                            assert_eq!(
+                                tau[j][l].to_bits(),
+                                want[j].to_bits(),
+                                "{name}, armature {armature}, {level:?}, lane {l}, joint {j}: {} vs {}",
+                                tau[j][l],
+                                want[j]
+                            );
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn simd_and_scalar_energy_agree_within_the_stated_tolerance() {
+    // The stated tolerance is 0: every field of every sample equal, bit for bit.
+    for name in ["abb_irb6700_200_260", "abb_irb4600_40_255", "ur10e"] {
+        let model = common::robot(name);
+        let em = EnergyModel::new(&model).unwrap();
+        let n = em.dof();
+        let mut data = em.data();
+        let st = states(11, n, 3 * LANES + 5);
+        for chunk in st.chunks(LANES) {
+            let mut want = vec![SamplePower::default(); chunk.len()];
+            for ((q, sc, qd, qdd), w) in chunk.iter().zip(want.iter_mut()) {
+                energy::eval_sample_with_sincos(&em, &mut data, q, sc, qd, qdd, w).unwrap();
+            }
+            for level in levels() {
+                let mut out = [SamplePower::default(); LANES];
+                energy::eval_batch_with_sincos(
+                    &em,
+                    &mut data,
+                    chunk.len(),
+                    |l| &chunk[l].0,
+                    |l| &chunk[l].1,
+                    |l| &chunk[l].2,
+                    |l| &chunk[l].3,
+                    &mut out,
+                    level,
+                )
+                .unwrap();
+                for (l, w) in want.iter().enumerate() {
+                    // Debug prints every f64 exactly (shortest round-trip form).
+                    assert_eq!(
+                        format!("{:?}", out[l]),
+                        format!("{w:?}"),
+                        "{name}, {level:?}, lane {l}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn a_batch_with_a_wrong_slice_length_is_an_error_not_a_panic() {
+    let model = common::robot("abb_irb6700_200_260");
+    let em = EnergyModel::new(&model).unwrap();
+    let mut data = em.data();
+    let (q, sc, v) = (vec![0.0; 6], vec![0.0; 11], vec![0.0; 6]);
+    let mut out = [SamplePower::default(); LANES];
+    let r = energy::eval_batch_with_sincos(
+        &em,
+        &mut data,
+        2,
+        |_| &q,
+        |_| &sc,
+        |_| &v,
+        |_| &v,
+        &mut out,
+        simd::detected(),
+    );
+    assert!(r.is_err());
+}
+
+#[test]
+fn forcing_the_scalar_path_gives_the_same_placement_ranking() {
+    use printwatt::placement::feasibility::FeasibilityOptions;
+    use printwatt::placement::{Evaluator, Objective, Placement};
+    let model = common::robot("abb_irb6700_200_260");
+    let job = common::default_job(&model, &common::path("seed000_test_path.gcode"));
+    let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
+    let ps: Vec<Placement> = [1.5, 1.7, 1.9]
+        .iter()
+        .flat_map(|&x| {
+            [-0.3, 0.0, 0.3].map(|y| Placement {
+                x,
+                y,
+                z: 0.2,
+                yaw: 90f64.to_radians(),
+                nozzle_spin: 0.0,
+            })
+        })
+        .collect();
+    let _g = LEVEL_LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    let run = |level: Level| {
+        assert!(simd::set_level(level));
+        assert_eq!(simd::level(), level);
+        ev.sweep(&ps, &|_, _| {}).unwrap()
+    };
+    let scalar = run(Level::Scalar);
+    assert!(
+        scalar.iter().filter(|e| e.cost().is_finite()).count() >= 3,
+        "too few feasible placements to rank"
+    );
+    let rank = |r: &[printwatt::placement::Evaluated]| {
+        let mut ix: Vec<usize> = (0..r.len()).collect();
+        ix.sort_by(|&a, &b| r[a].cost().total_cmp(&r[b].cost()));
+        ix
+    };
+    for level in levels() {
+        let batched = run(level);
+        assert_eq!(rank(&batched), rank(&scalar), "{level:?}");
+        for (a, b) in batched.iter().zip(&scalar) {
+            assert_eq!(a.feasible(), b.feasible(), "{level:?} at {:?}", a.placement);
+        }
+    }
+    simd::set_level(simd::detected());
+}
+
+#[test]
+fn the_level_names_round_trip_and_the_detected_level_is_available() {
+    for l in Level::ALL {
+        assert_eq!(Level::from_name(l.name()), Some(l));
+    }
+    assert_eq!(Level::from_name("avx1024"), None);
+    assert!(simd::detected().available());
+    assert_ne!(simd::detected(), Level::Scalar);
+}
+
+#[test]
+fn sin_cos_of_eight_lanes_equals_sin_cos_bit_for_bit_including_special_values() {
+    let mut u = uniform(3);
+    let mut xs: Vec<f64> = (0..800).map(|_| 70.0 * u()).collect();
+    xs.extend([
+        0.0,
+        -0.0,
+        1e-300,
+        -3e-9,
+        7.450_580_596_923_828e-9,
+        f64::NAN,
+        64.0,
+        -64.000001,
+        1e6,
+        f64::INFINITY,
+        std::f64::consts::FRAC_PI_2,
+        -std::f64::consts::PI,
+        2.356194490192345,
+        -5.497787143782138,
+    ]);
+    for chunk in xs.chunks(LANES) {
+        let mut x = [0.25; LANES];
+        x[..chunk.len()].copy_from_slice(chunk);
+        let (s, c) = fastmath::sin_cos_lanes(&x);
+        for l in 0..LANES {
+            let (ws, wc) = fastmath::sin_cos(x[l]);
+            assert_eq!(
+                (s[l].to_bits(), c[l].to_bits()),
+                (ws.to_bits(), wc.to_bits()),
+                "x = {:e}",
+                x[l]
+            );
+        }
+    }
+}
+
+#[test]
+fn batched_tool_poses_equal_the_scalar_fk_recheck_bit_for_bit_on_every_level() {
+    use printwatt::kinematics::fk::FastChain;
+    for name in [
+        "abb_irb6700_200_260",
+        "abb_irb4600_40_255",
+        "staubli_tx200",
+        "ur10e",
+    ] {
+        let model = common::robot(name);
+        let chain = FastChain::new(&model);
+        if !chain.batchable() {
+            continue;
+        }
+        let n = model.dof();
+        let st = states(5, n, 4 * LANES);
+        for chunk in st.chunks(LANES) {
+            let mut qb = [[0.0; LANES]; printwatt::dynamics::MAX_DOF];
+            for (l, (q, ..)) in chunk.iter().enumerate() {
+                for j in 0..n {
+                    qb[j][l] = q[j];
+                }
+            }
+            for level in levels() {
+                let tb = chain.tool_batch(&qb, level);
+                for (l, (q, ..)) in chunk.iter().enumerate() {
+                    let mut sc = vec![0.0; 2 * n];
+                    let want = chain.tool_with_sincos(q, &mut sc);
+                    let got = tb.frame(l);
+                    assert_eq!(format!("{got:?}"), format!("{want:?}"), "{name} {level:?}");
+                    for j in 0..n {
+                        assert_eq!(tb.s[j][l].to_bits(), sc[j].to_bits());
+                        assert_eq!(tb.c[j][l].to_bits(), sc[n + j].to_bits());
+                    }
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn a_failing_fk_recheck_is_reported_at_the_same_sample_when_the_checks_run_in_batches() {
+    use printwatt::kinematics::{nozzle_target, IkSolver};
+    use printwatt::placement::Placement;
+    use printwatt::timing::{self, blend_path, JointStageOptions, ProfileOptions};
+    let _g = LEVEL_LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    let model = common::robot("abb_irb6700_200_260");
+    let tp = common::path("default.gcode");
+    let moves = timing::moves_from_toolpath(&tp);
+    let pieces = blend_path(&moves);
+    let lines: Vec<usize> = moves.iter().map(|m| m.line).collect();
+    let at = Placement::new(1.7, 0.0, 0.0, std::f64::consts::FRAC_PI_2);
+    let time = |solver: &IkSolver, level: Level| {
+        assert!(simd::set_level(level));
+        timing::time_at(
+            solver,
+            &pieces,
+            &|i| lines[i],
+            &at,
+            &ProfileOptions::default(),
+            &JointStageOptions::default(),
+        )
+    };
+    let mut solver = IkSolver::new(&model).unwrap();
+    assert!(
+        solver.batch_checkable(),
+        "the deferred, batched re-check applies"
+    );
+    let t = time(&solver, Level::Scalar).expect("the default path at the default placement");
+    // The re-check's position error of every sample; a threshold at the largest one fails
+    // the path exactly where it is reached first.
+    let rot = nozzle_target(&nalgebra::Vector3::zeros(), at.nozzle_yaw()).rot;
+    let n = model.dof();
+    let mut sc = vec![0.0; 2 * n];
+    let dp: Vec<f64> = (0..t.traj.len())
+        .map(|k| {
+            let target = printwatt::math::Frame { rot, pos: t.tcp[k] };
+            solver
+                .check_with_sincos(&target, t.traj.q(k), &mut sc)
+                .unwrap()
+                .0
+        })
+        .collect();
+    let worst = dp.iter().copied().fold(0.0, f64::max);
+    let first = dp.iter().position(|&d| d == worst).unwrap();
+    assert!(
+        first > LANES,
+        "the worst sample is {first}: pick another path"
+    );
+    solver.check_position_m = worst;
+    let want = time(&solver, Level::Scalar).expect_err("a check fails");
+    assert!(
+        matches!(want, timing::TimingFailure::Unreachable { sample, .. } if sample == first),
+        "{want:?}"
+    );
+    for level in levels() {
+        let got = time(&solver, level).expect_err("a check fails");
+        assert_eq!(got, want, "{level:?}");
+    }
+    simd::set_level(simd::detected());
+}
