@@ -278,3 +278,150 @@ fn argmin_search_is_bit_identical_with_one_and_two_threads() {
         format!("{:?}", b.sensitivity)
     );
 }
+
+// --- Fast tolerance checks (issue 12: `optimise` faster, same answer) ----------------------
+
+/// The main job's search options: the default grid's box, z from 0 to R/2, ±20 mm / ±1°.
+fn default_search(model: &RobotModel) -> (Grid, SearchOptions, OptimiseOptions) {
+    let g = default_grid(printwatt::placement::feasibility::reach_m(model));
+    let span = |v: &[f64]| [v[0], v[v.len() - 1]];
+    let so = SearchOptions {
+        bounds: Bounds {
+            x: span(&g.xs),
+            y: span(&g.ys),
+            z: span(&g.zs),
+        },
+        tolerance: Tolerance::default(),
+        step_z_m: (g.zs[g.zs.len() - 1] - g.zs[0]) / 4.0,
+        z: true,
+        max_start_cells: 20,
+    };
+    let opts = OptimiseOptions {
+        max_evals: 60,
+        step_xy_m: (g.xs[1] - g.xs[0]).min(g.ys[1] - g.ys[0]) / 2.0,
+        ..Default::default()
+    };
+    (g, so, opts)
+}
+
+#[test]
+fn the_faster_optimise_finds_the_same_placement_as_the_exhaustive_refinement() {
+    // The main job (default robot, path and grid; 60 refinement evaluations for test speed):
+    // the seed search rejects cells on a failing corner, the candidates fail their tolerance
+    // and the answer comes from the bisection toward the seed, then the spin check; every path
+    // through the checks is taken. The fast checks (first failure stops a check, the corner
+    // that failed last first, nothing evaluated twice, corners ahead of need) must give the
+    // answer of the plain checks bit for bit, with fewer evaluations, on 1 and 2 threads.
+    let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
+    let j = job(&model, &tp, 8);
+    let ev = Evaluator::new(&j, FeasibilityOptions::default(), Objective::Supply);
+    let (g, so, opts) = default_search(&model);
+    let grid = pool(2).install(|| ev.sweep(&g.placements(), &|_, _| {}).unwrap());
+    let quiet = || std::sync::Arc::new(|_, _, _| {}) as search::Progress;
+    let (plain, plain_info) = pool(2)
+        .install(|| search::refine_plain(&ev, &grid, &opts, &so, quiet()))
+        .unwrap();
+    assert!(
+        plain_info.grid_cells_tried > 1,
+        "a seed cell failed its tolerance"
+    );
+    assert!(plain_info.spin_kept.is_some(), "the spin check was made");
+    assert!(
+        plain.best.cost()
+            > plain
+                .history_j
+                .iter()
+                .copied()
+                .fold(f64::INFINITY, f64::min),
+        "the best candidate failed its tolerance: the answer comes from the bisection"
+    );
+    for threads in [1, 2] {
+        let (fast, info) = pool(threads)
+            .install(|| search::refine(&ev, &grid, &opts, &so, quiet()))
+            .unwrap();
+        assert_eq!(
+            fast.best.placement, plain.best.placement,
+            "{threads} threads"
+        );
+        assert_eq!(fast.best.cost().to_bits(), plain.best.cost().to_bits());
+        assert_eq!(fast.best, plain.best);
+        assert_eq!(fast.evals, plain.evals);
+        assert_eq!(fast.history_j, plain.history_j);
+        assert_eq!(fast.sensitivity, plain.sensitivity);
+        assert_eq!(info.tolerance, plain_info.tolerance, "the answer's check");
+        assert!(info.tolerance.holds && info.tolerance.corners == 16);
+        assert_eq!(info.grid_cells_tried, plain_info.grid_cells_tried);
+        assert_eq!(info.spin_kept, plain_info.spin_kept);
+        assert_eq!(info.on_bounds, plain_info.on_bounds);
+        assert_eq!(info.joint_margin, plain_info.joint_margin);
+        assert!(
+            info.tolerance_evals < plain_info.tolerance_evals,
+            "{} tolerance evaluations against {}",
+            info.tolerance_evals,
+            plain_info.tolerance_evals
+        );
+        if threads == 1 {
+            assert_eq!(info.speculative_evals, 0);
+        }
+    }
+}
+
+#[test]
+fn a_tolerance_check_stopped_at_the_first_infeasible_corner_agrees_with_all_sixteen() {
+    // Placements whose boxes hold and placements whose boxes fail on different sides, checked
+    // one after the other through one checker (its corner order changes as checks fail): each
+    // verdict is that of evaluating all 16 corners, the failure it names is an infeasible
+    // corner of the box, a box that holds reports the energies of all 16, and the reports
+    // and counts are the same on 1 and 2 threads.
+    let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
+    let j = job(&model, &tp, 8);
+    let ev = Evaluator::new(&j, FeasibilityOptions::default(), Objective::Supply);
+    let tol = Tolerance::default();
+    let y90 = std::f64::consts::FRAC_PI_2;
+    let ps = [
+        Placement::new(1.43, 0.121, 0.0, y90), // fails (joint 3 margin side)
+        Placement::new(1.534, 0.121, 0.0, y90), // holds
+        Placement::new(1.43, -0.121, 0.0, y90), // fails
+        Placement::new(1.43, 0.364, 0.0, y90), // fails
+        Placement::new(1.534, 0.121, 0.0, y90), // holds, again: nothing evaluated twice
+    ];
+    let all: Vec<Vec<Evaluated>> = ps
+        .iter()
+        .map(|p| ev.sweep(&tol.corners(p), &|_, _| {}).unwrap())
+        .collect();
+    let run = |threads: usize| {
+        pool(threads).install(|| {
+            let c = printwatt::placement::tolerance::Checker::new(&ev, tol);
+            let r: Vec<_> = ps.iter().map(|p| c.check(p).unwrap()).collect();
+            (r, c.evaluations())
+        })
+    };
+    let (one, n1) = run(1);
+    let (two, n2) = run(2);
+    assert_eq!(one, two, "the same reports on 1 and 2 threads");
+    assert_eq!(n1, n2, "the same evaluation count on 1 and 2 threads");
+    let mut held = 0;
+    for ((chk, corners), p) in one.iter().zip(&all).zip(&ps) {
+        let feasible = corners.iter().all(|e| e.cost().is_finite());
+        assert_eq!(chk.holds, feasible, "{p:?}");
+        if feasible {
+            held += 1;
+            assert_eq!(chk.corners, 16);
+            let costs: Vec<f64> = corners.iter().map(Evaluated::cost).collect();
+            assert_eq!(chk.best_j, costs.iter().copied().reduce(f64::min));
+            assert_eq!(chk.worst_j, costs.iter().copied().reduce(f64::max));
+        } else {
+            assert_eq!(chk.failures.len(), 1, "{chk:?}");
+            let named: Vec<String> = corners
+                .iter()
+                .filter_map(|e| e.outcome.as_ref().err().map(|x| x.to_string()))
+                .collect();
+            assert!(named.contains(&chk.failures[0]), "{chk:?}");
+            assert!(chk.corners < 16);
+        }
+    }
+    assert_eq!(held, 2);
+    // Each placement at most once: the first three failing checks and one box held (16).
+    let full_failures: usize = one.iter().filter(|c| !c.holds).map(|c| c.corners).sum();
+    assert_eq!(n1, 16 + full_failures);
+}

@@ -366,14 +366,22 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
         res.uncertainty = Some(study);
     }
     let secs = t0.elapsed().as_secs_f64();
-    let mut details = Vec::new();
-    details.extend(detail(&job, "best", &res.best)?);
-    if let Some(w) = worst_of(&rows) {
-        details.extend(detail(&job, "worst", w)?);
-    }
-    if let Some((_, b)) = &baseline {
-        details.extend(detail(&job, "baseline", b)?);
-    }
+    // The placements shown in detail (series for the report), evaluated in parallel.
+    let mut wanted = vec![("best", &res.best)];
+    wanted.extend(worst_of(&rows).map(|w| ("worst", w)));
+    wanted.extend(baseline.as_ref().map(|(_, b)| ("baseline", b)));
+    let details: Vec<_> = {
+        use rayon::prelude::*;
+        pool.install(|| {
+            wanted
+                .par_iter()
+                .map(|(label, e)| detail(&job, label, e))
+                .collect::<Result<Vec<_>>>()
+        })?
+        .into_iter()
+        .flatten()
+        .collect()
+    };
     let n_eval = ps.len() + res.evals + 4;
     let mut m = meta(&l, ev.nominal_samples());
     m.extend(super::sweep::evaluation_line(&ev));

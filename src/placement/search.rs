@@ -13,7 +13,7 @@
 use super::neldermead::{BatchCost, SpeculativeNelderMead};
 use super::optimise::{sensitivity, OptimiseOptions, OptimiseResult};
 use super::sweep::{Evaluated, Evaluator, Scratch};
-use super::tolerance::{self, Tolerance, ToleranceCheck};
+use super::tolerance::{Checker, Tolerance, ToleranceCheck};
 use crate::error::{Error, Result};
 use crate::placement::Placement;
 use argmin::core::observers::{Observe, ObserverMode};
@@ -272,21 +272,53 @@ pub fn refine(
     so: &SearchOptions,
     progress: Progress,
 ) -> Result<(OptimiseResult, SearchInfo)> {
+    refine_with(ev, grid, opts, so, progress, Checker::new(ev, so.tolerance))
+}
+
+/// [`refine`] with every tolerance check made in full and every placement evaluated each time
+/// it is asked for ([`Checker::plain`]): the refinement as it was before the fast checks, the
+/// reference that `tests/placement_search.rs` and `benches/optimise.rs` compare with. The
+/// answer is the same; only the evaluation count differs.
+pub fn refine_plain(
+    ev: &Evaluator,
+    grid: &[Evaluated],
+    opts: &OptimiseOptions,
+    so: &SearchOptions,
+    progress: Progress,
+) -> Result<(OptimiseResult, SearchInfo)> {
+    refine_with(
+        ev,
+        grid,
+        opts,
+        so,
+        progress,
+        Checker::plain(ev, so.tolerance),
+    )
+}
+
+fn refine_with(
+    ev: &Evaluator,
+    grid: &[Evaluated],
+    opts: &OptimiseOptions,
+    so: &SearchOptions,
+    progress: Progress,
+    checker: Checker,
+) -> Result<(OptimiseResult, SearchInfo)> {
     let cells = ranked(grid);
     if cells.is_empty() {
         return Err(Error::Invalid(
             "no feasible placement in the grid: nothing to refine".into(),
         ));
     }
-    // The seed: the best grid cell whose tolerance corners are all feasible.
-    let mut tol_evals = 0;
+    // The seed: the best grid cell whose tolerance corners are all feasible. Every tolerance
+    // check and single evaluation below goes through `checker` (first failure stops a check;
+    // nothing is evaluated twice).
     let mut start: Option<(Evaluated, ToleranceCheck)> = None;
     let mut tried = 0;
     let mut first_check = None;
     for c in cells.iter().take(so.max_start_cells.max(1)) {
         tried += 1;
-        let chk = tolerance::check(ev, &c.placement, &so.tolerance)?;
-        tol_evals += chk.corners;
+        let chk = checker.check(&c.placement)?;
         if chk.holds {
             start = Some(((*c).clone(), chk));
             break;
@@ -365,8 +397,7 @@ pub fn refine(
     cands.sort_by(|a, b| a.cost().total_cmp(&b.cost()));
     let mut held = false;
     for c in cands.iter().take(CANDIDATES) {
-        let chk = tolerance::check(ev, &c.placement, &so.tolerance)?;
-        tol_evals += chk.corners;
+        let chk = checker.check(&c.placement)?;
         if chk.holds {
             best = (c.clone(), chk);
             held = true;
@@ -387,11 +418,9 @@ pub fn refine(
             for _ in 0..BISECTIONS {
                 let t = 0.5 * (lo + hi);
                 let p = at(t);
-                let e = ev.sweep(&[p], &|_, _| {})?.remove(0);
-                tol_evals += 1;
+                let e = checker.evaluate(&p, true)?;
                 let ok = if e.cost() < best.0.cost() {
-                    let chk = tolerance::check(ev, &p, &so.tolerance)?;
-                    tol_evals += chk.corners;
+                    let chk = checker.check(&p)?;
                     if chk.holds {
                         best = (e, chk);
                         true
@@ -419,11 +448,9 @@ pub fn refine(
             nozzle_spin: start.placement.nozzle_spin,
             ..best.0.placement
         };
-        let e = ev.sweep(&[p], &|_, _| {})?.remove(0);
-        tol_evals += 1;
+        let e = checker.evaluate(&p, true)?;
         if e.cost().is_finite() && crate::numerics::difference(e.cost(), best.0.cost()) == 0.0 {
-            let chk = tolerance::check(ev, &p, &so.tolerance)?;
-            tol_evals += chk.corners;
+            let chk = checker.check(&p)?;
             if chk.holds || !best.1.holds {
                 spin_kept = Some(format!(
                     "the energy does not depend on the nozzle spin here ({:.1}° and {:.1}° give the same energy): the spin is kept at {:.1}°",
@@ -436,7 +463,8 @@ pub fn refine(
         }
     }
     let (best, chk) = best;
-    let speculative = *problem.speculative.borrow();
+    let speculative = *problem.speculative.borrow() + checker.speculative();
+    let tol_evals = checker.evaluations();
     let sens = sensitivity(ev, &best, opts.sensitivity_m)?;
     let on_bounds = so.bounds.on_bounds(&best.placement, 0.005);
     let stmt = best

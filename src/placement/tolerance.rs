@@ -2,11 +2,18 @@
 //! robot base) sits a little off, as it will on a site. The placement is re-evaluated at the
 //! corners of the tolerance box: x ± δxy, y ± δxy, z ± δz and yaw ± δyaw (16 corners); the
 //! nozzle spin is programmed, not placed, and is not varied.
+//!
+//! [`check`] checks one placement on its own. A search that checks many placements uses a
+//! [`Checker`]: it stops at the first infeasible corner, tries first the corner that failed
+//! last, evaluates as many corners at once as the pool has threads, and never evaluates a
+//! placement twice. What it reports does not depend on the thread count.
 
 use super::sweep::{Evaluated, Evaluator};
 use crate::error::Result;
 use crate::placement::Placement;
 use serde::Serialize;
+use std::cell::{Cell, RefCell};
+use std::collections::{HashMap, HashSet};
 
 /// The placement tolerance (half-widths of the box).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -74,7 +81,8 @@ pub struct ToleranceCheck {
     /// The tolerance checked.
     pub tolerance: Tolerance,
     /// Corners evaluated (16 when the tolerance holds; fewer when an infeasible corner
-    /// stopped the check, see [`CORNER_BATCH`]; 0 for a zero tolerance).
+    /// stopped the check: see [`CORNER_BATCH`] for [`check`], [`Checker::check`] stops at the
+    /// first infeasible corner; 0 for a zero tolerance).
     pub corners: usize,
     /// Corners that are infeasible, with the reason (as printed).
     pub failures: Vec<String>,
@@ -117,7 +125,8 @@ pub fn check(ev: &Evaluator, at: &Placement, tol: &Tolerance) -> Result<Toleranc
     Ok(summarise(tol, &r))
 }
 
-/// Summarise evaluated corners (a check holds when all 16 were evaluated and are feasible).
+/// Summarise evaluated corners (a check holds when all 16 were evaluated and are feasible, or
+/// the tolerance is zero).
 pub fn summarise(tol: &Tolerance, r: &[Evaluated]) -> ToleranceCheck {
     let failures: Vec<String> = r
         .iter()
@@ -131,9 +140,190 @@ pub fn summarise(tol: &Tolerance, r: &[Evaluated]) -> ToleranceCheck {
     ToleranceCheck {
         tolerance: *tol,
         corners: r.len(),
-        holds: failures.is_empty() && r.len() == 16,
+        holds: failures.is_empty() && (r.len() == 16 || tol.is_zero()),
         failures,
         worst_j: costs.iter().copied().reduce(f64::max),
         best_j: costs.iter().copied().reduce(f64::min),
+    }
+}
+
+/// A placement as a hash key: the bits of its five coordinates (two placements are the same
+/// only when every coordinate is bit for bit the same).
+fn key(p: &Placement) -> [u64; 5] {
+    [
+        p.x.to_bits(),
+        p.y.to_bits(),
+        p.z.to_bits(),
+        p.yaw.to_bits(),
+        p.nozzle_spin.to_bits(),
+    ]
+}
+
+/// The tolerance checks (and the other single evaluations) of one search, made cheaply and
+/// deterministically:
+///
+/// - a check stops at the **first infeasible corner** in its order (the answer, holds or not,
+///   does not need the others); the order is [`Tolerance::corners`]' with the corner that
+///   failed the last failing check moved to the front (a tolerance box that fails usually fails
+///   on the same side again: toward a joint limit, into the bed);
+/// - corners are evaluated as many at once as the current rayon pool has threads; corners
+///   after the first failure in such a batch were evaluated for nothing (on one thread there
+///   are none): they are counted as speculative, never reported;
+/// - every evaluation is kept by placement (bit for bit), so a placement is never evaluated
+///   twice (two candidates that are the same point, a corner evaluated ahead of need).
+///
+/// The corners a check reports, its failures and the evaluation count are those of the
+/// sequential check in this order, whatever the thread count.
+///
+/// [`Checker::plain`] checks as [`check`] does and evaluates every placement it is asked for
+/// (the search as it was before this checker: the reference its tests compare with).
+pub struct Checker<'e, 'j, 'a> {
+    ev: &'e Evaluator<'j, 'a>,
+    tol: Tolerance,
+    /// [`Checker::plain`]: every check is [`check`], every evaluation made anew.
+    plain: bool,
+    /// Evaluations counted in plain mode.
+    plain_count: Cell<usize>,
+    /// Corner indices (of [`Tolerance::corners`]) in the order they are tried.
+    order: RefCell<Vec<usize>>,
+    /// Every evaluation made, by placement.
+    cache: RefCell<HashMap<[u64; 5], Evaluated>>,
+    /// Placements the checks and [`Checker::evaluate`] have used (each counted once).
+    used: RefCell<HashSet<[u64; 5]>>,
+    /// Evaluations made (used or not).
+    made: Cell<usize>,
+}
+
+impl<'e, 'j, 'a> Checker<'e, 'j, 'a> {
+    /// A checker of `tol` over `ev`'s placements.
+    pub fn new(ev: &'e Evaluator<'j, 'a>, tol: Tolerance) -> Self {
+        Checker {
+            ev,
+            tol,
+            plain: false,
+            plain_count: Cell::new(0),
+            order: RefCell::new((0..16).collect()),
+            cache: RefCell::new(HashMap::new()),
+            used: RefCell::new(HashSet::new()),
+            made: Cell::new(0),
+        }
+    }
+
+    /// A checker that checks as [`check`] does (batches of [`CORNER_BATCH`] corners, stopping
+    /// after the first batch with an infeasible corner, in the fixed order) and evaluates every
+    /// placement anew each time it is asked for one, without evaluating ahead: the search
+    /// before [`Checker::new`], kept as the reference the fast checks are tested against.
+    pub fn plain(ev: &'e Evaluator<'j, 'a>, tol: Tolerance) -> Self {
+        Checker {
+            plain: true,
+            ..Checker::new(ev, tol)
+        }
+    }
+
+    /// The tolerance checked.
+    pub fn tolerance(&self) -> &Tolerance {
+        &self.tol
+    }
+
+    /// Evaluations used by the checks and [`Checker::evaluate`] (each placement once; in
+    /// plain mode, every evaluation): the same for any thread count.
+    pub fn evaluations(&self) -> usize {
+        if self.plain {
+            return self.plain_count.get();
+        }
+        self.used.borrow().len()
+    }
+
+    /// Evaluations made ahead of need and never used (0 on one thread and in plain mode).
+    pub fn speculative(&self) -> usize {
+        if self.plain {
+            return 0;
+        }
+        self.made.get() - self.evaluations().min(self.made.get())
+    }
+
+    /// Evaluate the placements not evaluated yet (in parallel), and keep them.
+    fn ensure(&self, ps: &[Placement]) -> Result<()> {
+        let todo: Vec<Placement> = {
+            let cache = self.cache.borrow();
+            let mut seen = HashSet::new();
+            ps.iter()
+                .filter(|p| !cache.contains_key(&key(p)) && seen.insert(key(p)))
+                .copied()
+                .collect()
+        };
+        if todo.is_empty() {
+            return Ok(());
+        }
+        let r = self.ev.sweep(&todo, &|_, _| {})?;
+        self.made.set(self.made.get() + r.len());
+        let mut cache = self.cache.borrow_mut();
+        for e in r {
+            cache.insert(key(&e.placement), e);
+        }
+        Ok(())
+    }
+
+    /// Take `p`'s evaluation as used (counted once) and return it.
+    fn take(&self, p: &Placement) -> Evaluated {
+        self.used.borrow_mut().insert(key(p));
+        self.cache.borrow()[&key(p)].clone()
+    }
+
+    /// The corners of `at` in the order they are tried.
+    fn ordered_corners(&self, at: &Placement) -> Vec<Placement> {
+        let cs = self.tol.corners(at);
+        self.order.borrow().iter().map(|&i| cs[i]).collect()
+    }
+
+    /// Evaluate `p` (counted); with `ahead`, the first corners of its tolerance box are
+    /// evaluated in the same parallel batch, where a thread would otherwise wait (they are
+    /// used only if `p` is then checked).
+    pub fn evaluate(&self, p: &Placement, ahead: bool) -> Result<Evaluated> {
+        if self.plain {
+            self.plain_count.set(self.plain_count.get() + 1);
+            return Ok(self.ev.sweep(&[*p], &|_, _| {})?.remove(0));
+        }
+        let width = rayon::current_num_threads().max(1);
+        let mut batch = vec![*p];
+        if ahead && !self.tol.is_zero() {
+            batch.extend(self.ordered_corners(p).into_iter().take(width - 1));
+        }
+        self.ensure(&batch)?;
+        Ok(self.take(p))
+    }
+
+    /// Check `at`'s tolerance box: the corners in this checker's order, as many at once as
+    /// the pool has threads, up to the first infeasible one.
+    pub fn check(&self, at: &Placement) -> Result<ToleranceCheck> {
+        if self.plain {
+            let c = check(self.ev, at, &self.tol)?;
+            self.plain_count.set(self.plain_count.get() + c.corners);
+            return Ok(c);
+        }
+        if self.tol.is_zero() {
+            return Ok(summarise(&self.tol, &[]));
+        }
+        let order = self.order.borrow().clone();
+        let cs = self.tol.corners(at);
+        let width = rayon::current_num_threads().max(1);
+        let mut r = Vec::with_capacity(16);
+        for chunk in order.chunks(width) {
+            let ps: Vec<Placement> = chunk.iter().map(|&i| cs[i]).collect();
+            self.ensure(&ps)?;
+            for (&i, p) in chunk.iter().zip(&ps) {
+                let e = self.take(p);
+                let failed = !e.cost().is_finite();
+                r.push(e);
+                if failed {
+                    // Try this corner first next time.
+                    let mut o = self.order.borrow_mut();
+                    o.retain(|&j| j != i);
+                    o.insert(0, i);
+                    return Ok(summarise(&self.tol, &r));
+                }
+            }
+        }
+        Ok(summarise(&self.tol, &r))
     }
 }
