@@ -249,6 +249,94 @@ pub fn acos(x: f64) -> f64 {
     atan2(((1.0 - x) * (1.0 + x)).sqrt(), x)
 }
 
+/// [`atan2`] of [`crate::simd::LANES`] pairs at once (rad), lane by lane bit-identical to
+/// [`atan2`]: the three reductions of `atan_unit` chosen by selects before its one division,
+/// the quadrant fix-ups by selects; lanes outside the fast path's domain (a zero, huge or
+/// non-finite operand, or the libm switch on) go through [`atan2`] one by one. Inlined into
+/// the caller, so it runs on the caller's instruction set ([`crate::simd`]).
+#[inline(always)]
+pub fn atan2_lanes(
+    y: &[f64; crate::simd::LANES],
+    x: &[f64; crate::simd::LANES],
+) -> [f64; crate::simd::LANES] {
+    use crate::simd::LANES;
+    let mut out = [0.0; LANES];
+    let mut special = false;
+    for l in 0..LANES {
+        let (ax, ay) = (x[l].abs(), y[l].abs());
+        let big = ax.max(ay);
+        special |= !(big > 0.0 && big <= 1e300);
+        let swap = ay > ax;
+        let n = if swap { ax } else { ay };
+        let d = if swap { ay } else { ax };
+        // atan_unit's reduction: id 0 (none), 1 (atan ½), 2 (atan 1).
+        let lo = n < 0.4375 * d;
+        let mid = n < 0.6875 * d;
+        let num = if lo {
+            n
+        } else if mid {
+            2.0 * n - d
+        } else {
+            n - d
+        };
+        let den = if lo {
+            d
+        } else if mid {
+            2.0 * d + n
+        } else {
+            n + d
+        };
+        let z = num / den;
+        let z2 = z * z;
+        let w = z2 * z2;
+        let s1 = z2 * (AT[0] + w * (AT[2] + w * (AT[4] + w * (AT[6] + w * (AT[8] + w * AT[10])))));
+        let s2 = w * (AT[1] + w * (AT[3] + w * (AT[5] + w * (AT[7] + w * AT[9]))));
+        let hi = if mid { ATANHI[0] } else { ATANHI[1] };
+        let lo_c = if mid { ATANLO[0] } else { ATANLO[1] };
+        let reduced = hi - ((z * (s1 + s2) - lo_c) - z);
+        let mut r = if lo { z - z * (s1 + s2) } else { reduced };
+        if swap {
+            r = (PIO2_HI - r) + PIO2_LO;
+        }
+        if x[l].is_sign_negative() {
+            r = (PI - r) + PI_LO;
+        }
+        out[l] = r.copysign(y[l]);
+    }
+    if special || libm_selected() {
+        for l in 0..LANES {
+            let big = x[l].abs().max(y[l].abs());
+            if libm_selected() || !(big > 0.0 && big <= 1e300) {
+                out[l] = atan2(y[l], x[l]);
+            }
+        }
+    }
+    out
+}
+
+/// [`acos`] of [`crate::simd::LANES`] values at once, lane by lane bit-identical to
+/// [`acos`] (`atan2(√((1−x)(1+x)), x)`; lanes with `|x| > 1`, NaN or the libm switch on go
+/// through [`acos`]).
+#[inline(always)]
+pub fn acos_lanes(x: &[f64; crate::simd::LANES]) -> [f64; crate::simd::LANES] {
+    use crate::simd::LANES;
+    let mut y = [0.0; LANES];
+    let mut special = false;
+    for l in 0..LANES {
+        special |= x[l].is_nan() || x[l].abs() > 1.0;
+        y[l] = ((1.0 - x[l]) * (1.0 + x[l])).sqrt();
+    }
+    let mut out = atan2_lanes(&y, x);
+    if special || libm_selected() {
+        for l in 0..LANES {
+            if libm_selected() || x[l].is_nan() || x[l].abs() > 1.0 {
+                out[l] = acos(x[l]);
+            }
+        }
+    }
+    out
+}
+
 /// `tanh x`: ±1 for `|x| ≥ 20`, where libm's result rounds to ±1 as well (`1 − tanh 20 ≈
 /// 8.5e-18` is below half an ulp of 1), libm below. The smoothed Coulomb sign `tanh(q̇/ε)`
 /// with ε = 1e-3 rad/s is in this range whenever `|q̇| ≥ 0.02 rad/s`.

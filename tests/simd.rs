@@ -345,3 +345,128 @@ fn a_failing_fk_recheck_is_reported_at_the_same_sample_when_the_checks_run_in_ba
     }
     simd::set_level(simd::detected());
 }
+
+#[test]
+fn atan2_and_acos_of_eight_lanes_equal_the_scalar_functions_bit_for_bit() {
+    let mut u = uniform(17);
+    let mut pairs: Vec<(f64, f64)> = (0..4000)
+        .map(|i| {
+            let scale = [1e-3, 1.0, 30.0, 1e5][i % 4];
+            (scale * u(), scale * u())
+        })
+        .collect();
+    let specials = [
+        0.0,
+        -0.0,
+        1.0,
+        -1.0,
+        1e-310,
+        1e301,
+        f64::NAN,
+        f64::INFINITY,
+        -2.5,
+    ];
+    for &y in &specials {
+        for &x in &specials {
+            pairs.push((y, x));
+        }
+    }
+    // The reduction boundaries of atan: t = 7/16 and 11/16 and their neighbours.
+    for t in [0.4375f64, 0.6875, 1.0] {
+        for d in [-1e-16, 0.0, 1e-16] {
+            pairs.push((t + d, 1.0));
+            pairs.push((1.0, t + d));
+        }
+    }
+    for chunk in pairs.chunks(LANES) {
+        let (mut y, mut x) = ([0.5; LANES], [0.5; LANES]);
+        for (l, &(a, b)) in chunk.iter().enumerate() {
+            (y[l], x[l]) = (a, b);
+        }
+        let got = fastmath::atan2_lanes(&y, &x);
+        let ac = fastmath::acos_lanes(&x);
+        for l in 0..LANES {
+            let want = fastmath::atan2(y[l], x[l]);
+            assert!(
+                got[l].to_bits() == want.to_bits() || (got[l].is_nan() && want.is_nan()),
+                "atan2({:e}, {:e}): {} vs {}",
+                y[l],
+                x[l],
+                got[l],
+                want
+            );
+            let want = fastmath::acos(x[l]);
+            assert!(
+                ac[l].to_bits() == want.to_bits() || (ac[l].is_nan() && want.is_nan()),
+                "acos({:e})",
+                x[l]
+            );
+        }
+    }
+}
+
+#[test]
+fn the_closed_form_of_eight_samples_equals_the_per_sample_closed_form_on_every_branch() {
+    use printwatt::kinematics::nozzle_target;
+    use printwatt::kinematics::opw::{solve_branch_batch, solve_branch_prepared, Branch, Prepared};
+    let mut checked = 0;
+    for name in ["abb_irb6700_200_260", "abb_irb4600_40_255", "staubli_tx200"] {
+        let model = common::robot(name);
+        let Some(p) = model.opw else {
+            continue;
+        };
+        let k = Prepared::new(&p);
+        let mut u = uniform(23);
+        let reach = printwatt::placement::feasibility::reach_m(&model);
+        for spin in [0.0, 0.7, -2.0] {
+            // Flange poses with one orientation, tips spread over the workspace.
+            let rot = nozzle_target(&nalgebra::Vector3::zeros(), spin).rot;
+            for _ in 0..6 {
+                let tips: Vec<nalgebra::Vector3<f64>> = (0..LANES)
+                    .map(|_| {
+                        nalgebra::Vector3::new(
+                            reach * (0.6 + 0.3 * u()),
+                            reach * 0.5 * u(),
+                            reach * 0.4 * u(),
+                        )
+                    })
+                    .collect();
+                let mut pos = [[0.0; LANES]; 3];
+                for (l, t) in tips.iter().enumerate() {
+                    (pos[0][l], pos[1][l], pos[2][l]) = (t.x, t.y, t.z);
+                }
+                for branch in Branch::ALL {
+                    for level in levels().into_iter().filter(|l| *l != Level::Scalar) {
+                        let b = solve_branch_batch(&p, &k, &rot, &pos, branch, level);
+                        for (l, t) in tips.iter().enumerate() {
+                            let flange = printwatt::math::Frame { rot, pos: *t };
+                            let want = solve_branch_prepared(&p, &k, &flange, branch, None);
+                            if b.ok[l] {
+                                let (q, s5) = want.expect("an ok lane has an answer");
+                                for (got, want) in b.q[l].iter().zip(&q) {
+                                    assert_eq!(got.to_bits(), want.to_bits(), "{name}");
+                                }
+                                assert_eq!(b.s5[l].to_bits(), s5.to_bits());
+                                // The other wrist variant from the same lane.
+                                let flip = Branch {
+                                    wrist: branch.wrist.flipped(),
+                                    ..branch
+                                };
+                                let (qf, _) =
+                                    solve_branch_prepared(&p, &k, &flange, flip, None).unwrap();
+                                let got = b.variant(&p, l, flip.wrist);
+                                for (g, w) in got.iter().zip(&qf) {
+                                    assert_eq!(g.to_bits(), w.to_bits(), "{name} flipped");
+                                }
+                                checked += 1;
+                            } else if let Ok((_, s5)) = want {
+                                assert!(s5 < 1e-9, "{name}: a lane with an answer not ok");
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    assert!(checked > 500, "only {checked} lanes with an answer");
+}

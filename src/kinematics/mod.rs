@@ -702,6 +702,83 @@ impl<'a> IkSolver<'a> {
         }
     }
 
+    /// The closed form of up to [`crate::simd::LANES`] tool targets with the common
+    /// orientation `rot` and the tips `tips` (base frame, m), in lockstep on `level`, for the
+    /// branch that continues `q_prev` (rad). `None` for a robot without closed form (or a
+    /// `q_prev` of the wrong length). Each sample's answer is then taken with
+    /// [`IkSolver::take_near`].
+    pub fn solve_near_batch(
+        &self,
+        rot: &M3,
+        tips: &[V3],
+        q_prev: &[f64],
+        level: crate::simd::Level,
+    ) -> Option<opw::BranchBatch> {
+        use crate::simd::LANES;
+        let (p, k) = match (&self.model.opw, &self.opw_k) {
+            (Some(p), Some(k)) if q_prev.len() == self.model.dof() => (p, k),
+            _ => return None,
+        };
+        // flange_target of each tip: rot · tool_inv.rot and rot · tool_inv.pos + tip.
+        let frot = rot * self.tool_inv.rot;
+        let off = rot * self.tool_inv.pos;
+        let mut pos = [[0.0; LANES]; 3];
+        for (l, t) in tips.iter().take(LANES).enumerate() {
+            pos[0][l] = off.x + t.x;
+            pos[1][l] = off.y + t.y;
+            pos[2][l] = off.z + t.z;
+        }
+        let branch = k.branch_of(p, q_prev);
+        Some(opw::solve_branch_batch(p, k, &frot, &pos, branch, level))
+    }
+
+    /// The answer of lane `lane` of `batch` for `tool_target` (its tip and orientation must be
+    /// the ones [`IkSolver::solve_near_batch`] was given), continuing `q_prev`: exactly
+    /// [`IkSolver::solve_near_unchecked`]`(tool_target, q_prev)`. The lane's closed form (both
+    /// wrist variants come from it) is used when `q_prev` continues the batch's branch and the
+    /// lane has an answer within limits; otherwise the sample is solved afresh.
+    #[inline]
+    pub fn take_near(
+        &self,
+        batch: &opw::BranchBatch,
+        lane: usize,
+        tool_target: &Frame,
+        q_prev: &[f64],
+    ) -> Result<JointVec, IkFailure> {
+        if let (Some(p), Some(k)) = (&self.model.opw, &self.opw_k) {
+            if batch.ok[lane]
+                && q_prev.len() == self.model.dof()
+                && k.branch_of(p, q_prev) == batch.branch
+            {
+                // solve_near_opw's choice between the two wrist variants, from the lane.
+                let b = batch.branch;
+                let fit = |w: Wrist| {
+                    let mut q = JointVec::from_slice(&batch.variant(p, lane, w));
+                    fit_limits(self.model, &mut q, Some(q_prev)).map(|_| q)
+                };
+                let first = fit(b.wrist);
+                if let Ok(q) = &first {
+                    if batch.s5[lane] > NEAR_WRIST_SINGULARITY {
+                        return Ok(*q);
+                    }
+                }
+                let dist = |q: &JointVec| {
+                    q.iter()
+                        .zip(q_prev)
+                        .map(|(a, b)| (a - b).abs())
+                        .fold(0.0, f64::max)
+                };
+                match (first, fit(b.wrist.flipped())) {
+                    (Ok(q1), Ok(q2)) => return Ok(if dist(&q2) < dist(&q1) { q2 } else { q1 }),
+                    (Ok(q), Err(_)) | (Err(_), Ok(q)) => return Ok(q),
+                    // Both fail: the per-sample path gives the error it reports.
+                    (Err(_), Err(_)) => {}
+                }
+            }
+        }
+        self.solve_near_unchecked(tool_target, q_prev)
+    }
+
     /// The FK re-check of `count ≤` [`crate::simd::LANES`] answers in lockstep: lane `l` is the
     /// joint vector `q(l)` (rad) for the tool pose `target(l)`; the sines and cosines of
     /// each answer go to `sincos(l)` (length `2 dof`, as

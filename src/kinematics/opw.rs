@@ -404,6 +404,219 @@ fn wrist(r: &M3, arm: &[f64; 3], sc1: (f64, f64), w: Wrist, q4_ref: f64) -> ([f6
     }
 }
 
+/// One value per lane ([`crate::simd::LANES`]).
+type Lanes = [f64; crate::simd::LANES];
+
+/// Closed-form answers of [`crate::simd::LANES`] flange poses sharing one orientation, in
+/// lockstep; see [`solve_branch_batch`].
+#[derive(Clone, Copy, Debug)]
+pub struct BranchBatch {
+    /// The branch every lane was solved for.
+    pub branch: Branch,
+    /// URDF angles (rad, not wrapped) per lane, as [`solve_branch_prepared`] gives them.
+    pub q: [[f64; 6]; crate::simd::LANES],
+    /// OPW angles per lane before the wrist variant is applied (`q1 … q6` with the wrist's
+    /// `atan2` results), for [`BranchBatch::variant`].
+    pub o: [[f64; 6]; crate::simd::LANES],
+    /// `|sin q5|` per lane (the same for both wrist variants).
+    pub s5: Lanes,
+    /// Whether the lane holds [`solve_branch_prepared`]'s answer; `false` where it errs or
+    /// the lane needs `q_ref` (the wrist singularity) or a degenerate case (wrist centre on
+    /// the axis of joint 1): such lanes are to be solved one by one.
+    pub ok: [bool; crate::simd::LANES],
+}
+
+/// The body of [`solve_branch_batch`]: [`solve_branch_prepared`]'s operations per lane, in
+/// the same order.
+#[inline(always)]
+fn solve_branch_lanes(
+    p: &OpwParams,
+    k: &Prepared,
+    rot: &M3,
+    pos: &[Lanes; 3],
+    branch: Branch,
+) -> BranchBatch {
+    use crate::fastmath::{acos_lanes, atan2_lanes, sin_cos_lanes};
+    use crate::simd::LANES;
+    let mut ok = [true; LANES];
+    let rz = rot.column(2);
+    let off = rz * p.c4;
+    let (mut cx, mut cy, mut cz) = ([0.0; LANES], [0.0; LANES], [0.0; LANES]);
+    for l in 0..LANES {
+        cx[l] = pos[0][l] - off.x;
+        cy[l] = pos[1][l] - off.y;
+        cz[l] = pos[2][l] - off.z;
+    }
+    let (kappa2, kappa, c22, psi3) = (k.kappa2, k.kappa, k.c22, k.psi3);
+    let (mut s1, mut c1, mut x, mut dz) = ([0.0; LANES], [0.0; LANES], [0.0; LANES], [0.0; LANES]);
+    let (mut a2, mut a3) = ([0.0; LANES], [0.0; LANES]);
+    let (mut s2v, mut sv) = ([0.0; LANES], [0.0; LANES]);
+    let two_a1 = 2.0 * p.a1;
+    let den3 = 2.0 * p.c2 * kappa;
+    for l in 0..LANES {
+        let rho2 = cx[l] * cx[l] + cy[l] * cy[l] - p.b * p.b;
+        ok[l] &= !(rho2.is_nan() || rho2 < 0.0);
+        let rho = rho2.sqrt();
+        let nx1 = rho - p.a1;
+        dz[l] = cz[l] - p.c1;
+        x[l] = match branch.shoulder {
+            Shoulder::Front => nx1,
+            Shoulder::Back => nx1 + two_a1,
+        };
+        let r2 = cx[l] * cx[l] + cy[l] * cy[l];
+        ok[l] &= r2 > 1e-200;
+        (s1[l], c1[l]) = match branch.shoulder {
+            Shoulder::Front => (
+                (cy[l] * rho - cx[l] * p.b) / r2,
+                (cx[l] * rho + cy[l] * p.b) / r2,
+            ),
+            Shoulder::Back => (
+                -(cy[l] * rho + cx[l] * p.b) / r2,
+                -(cx[l] * rho - cy[l] * p.b) / r2,
+            ),
+        };
+        let s2 = x[l] * x[l] + dz[l] * dz[l];
+        let s = s2.sqrt();
+        ok[l] &= s != 0.0;
+        let u2 = (s2 + c22 - kappa2) / (2.0 * s * p.c2);
+        let u3 = (s2 - c22 - kappa2) / den3;
+        ok[l] &= !(u2.is_nan() || u2.abs() > 1.0 + ACOS_SLACK);
+        ok[l] &= !(u3.is_nan() || u3.abs() > 1.0 + ACOS_SLACK);
+        a2[l] = u2.clamp(-1.0, 1.0);
+        a3[l] = u3.clamp(-1.0, 1.0);
+        // Keep NaN lanes finite for the vector kernels (they are not ok anyway).
+        if !ok[l] {
+            a2[l] = 0.0;
+            a3[l] = 0.0;
+        }
+        s2v[l] = s2;
+        sv[l] = s;
+    }
+    let q1 = atan2_lanes(&s1, &c1);
+    let t2 = acos_lanes(&a2);
+    let t3 = acos_lanes(&a3);
+    let a = atan2_lanes(&x, &dz);
+    let (mut q2, mut q3, mut sum23) = ([0.0; LANES], [0.0; LANES], [0.0; LANES]);
+    for l in 0..LANES {
+        (q2[l], q3[l]) = match (branch.shoulder, branch.elbow) {
+            (Shoulder::Front, Elbow::Up) => (a[l] - t2[l], t3[l] - psi3),
+            (Shoulder::Front, Elbow::Down) => (a[l] + t2[l], -t3[l] - psi3),
+            (Shoulder::Back, Elbow::Up) => (-t2[l] - a[l], t3[l] - psi3),
+            (Shoulder::Back, Elbow::Down) => (t2[l] - a[l], -t3[l] - psi3),
+        };
+        sum23[l] = q2[l] + q3[l];
+    }
+    // wrist()
+    let (s23, c23) = sin_cos_lanes(&sum23);
+    let (rx, ry) = (rot.column(0), rot.column(1));
+    let (mut r12, mut r02, mut s5, mut r22) =
+        ([0.0; LANES], [0.0; LANES], [0.0; LANES], [0.0; LANES]);
+    let (mut r21, mut mr20) = ([0.0; LANES], [0.0; LANES]);
+    for l in 0..LANES {
+        let xv = [c1[l] * c23[l], s1[l] * c23[l], -s23[l]];
+        let yv = [-s1[l], c1[l], 0.0];
+        let zv = [c1[l] * s23[l], s1[l] * s23[l], c23[l]];
+        r02[l] = xv[0] * rz.x + xv[1] * rz.y + xv[2] * rz.z;
+        r12[l] = yv[0] * rz.x + yv[1] * rz.y + yv[2] * rz.z;
+        r22[l] = zv[0] * rz.x + zv[1] * rz.y + zv[2] * rz.z;
+        s5[l] = (r02[l] * r02[l] + r12[l] * r12[l]).sqrt();
+        ok[l] &= s5[l].is_nan() || s5[l] >= WRIST_SINGULAR_SIN;
+        let r20 = zv[0] * rx.x + zv[1] * rx.y + zv[2] * rx.z;
+        r21[l] = zv[0] * ry.x + zv[1] * ry.y + zv[2] * ry.z;
+        mr20[l] = -r20;
+    }
+    let q4 = atan2_lanes(&r12, &r02);
+    let q5 = atan2_lanes(&s5, &r22);
+    let q6 = atan2_lanes(&r21, &mr20);
+    let mut q = [[0.0; 6]; LANES];
+    let mut o = [[0.0; 6]; LANES];
+    for l in 0..LANES {
+        o[l] = [q1[l], q2[l], q3[l], q4[l], q5[l], q6[l]];
+        q[l] = variant(p, &o[l], branch.wrist);
+        ok[l] &= q[l].iter().all(|v| v.is_finite());
+    }
+    BranchBatch {
+        branch,
+        q,
+        o,
+        s5,
+        ok,
+    }
+}
+
+/// URDF angles of the wrist variant `w` of the OPW angles `o` (the wrist's `atan2` results
+/// unflipped), as [`solve_branch_prepared`] forms them.
+#[inline(always)]
+fn variant(p: &OpwParams, o: &[f64; 6], w: Wrist) -> [f64; 6] {
+    let wr = match w {
+        Wrist::NoFlip => [o[3], o[4], o[5]],
+        Wrist::Flip => [o[3] + PI, -o[4], o[5] + PI],
+    };
+    p.from_opw(&[o[0], o[1], o[2], wr[0], wr[1], wr[2]])
+}
+
+impl BranchBatch {
+    /// Lane `lane`'s URDF angles (rad, not wrapped) for the wrist variant `w` of the batch's
+    /// shoulder and elbow: [`solve_branch_prepared`]'s answer for that branch, bit for bit,
+    /// when the lane is `ok`.
+    pub fn variant(&self, p: &OpwParams, lane: usize, w: Wrist) -> [f64; 6] {
+        variant(p, &self.o[lane], w)
+    }
+}
+
+/// [`solve_branch_prepared`] of [`crate::simd::LANES`] flange poses with the common rotation
+/// `rot` and the positions `pos[i][lane]` (base frame, m), in lockstep on the instruction set
+/// `level` ([`crate::simd`]). Each `ok` lane holds exactly [`solve_branch_prepared`]'s
+/// answer (bit for bit; `q_ref` does not matter away from the wrist singularity, where
+/// lanes are not `ok`).
+pub fn solve_branch_batch(
+    p: &OpwParams,
+    k: &Prepared,
+    rot: &M3,
+    pos: &[Lanes; 3],
+    branch: Branch,
+    level: crate::simd::Level,
+) -> BranchBatch {
+    use crate::simd::Level;
+    match level {
+        #[cfg(target_arch = "x86_64")]
+        Level::Avx512 if Level::Avx512.available() => {
+            // SAFETY: the CPU has AVX-512F (checked just above).
+            unsafe { solve_branch_avx512(p, k, rot, pos, branch) }
+        }
+        #[cfg(target_arch = "x86_64")]
+        Level::Avx2 if Level::Avx2.available() => {
+            // SAFETY: the CPU has AVX2 and FMA (checked just above).
+            unsafe { solve_branch_avx2(p, k, rot, pos, branch) }
+        }
+        _ => solve_branch_lanes(p, k, rot, pos, branch),
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn solve_branch_avx512(
+    p: &OpwParams,
+    k: &Prepared,
+    rot: &M3,
+    pos: &[Lanes; 3],
+    branch: Branch,
+) -> BranchBatch {
+    solve_branch_lanes(p, k, rot, pos, branch)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn solve_branch_avx2(
+    p: &OpwParams,
+    k: &Prepared,
+    rot: &M3,
+    pos: &[Lanes; 3],
+    branch: Branch,
+) -> BranchBatch {
+    solve_branch_lanes(p, k, rot, pos, branch)
+}
+
 /// Joint angles (URDF convention, rad, wrapped to (−π, π]) of one branch for the flange pose
 /// `flange` (base frame, m). Joint limits are not applied. At the wrist singularity q4 = 0.
 pub fn solve_branch(p: &OpwParams, flange: &Frame, branch: Branch) -> Result<[f64; 6], IkFailure> {

@@ -246,12 +246,31 @@ pub fn track(
         }
         Ok::<(), TimingFailure>(())
     };
+    // The closed form of the next LANES samples in lockstep (batched mode); each sample then
+    // takes its lane's answer or is solved afresh (IkSolver::take_near), as solve_near would.
+    let mut chunk: Option<crate::kinematics::opw::BranchBatch> = None;
+    let mut tips = [V3::zeros(); crate::simd::LANES];
     for (k, p) in motion.p.iter().enumerate() {
-        let tip = part_to_base.apply(p);
+        let lane = k % crate::simd::LANES;
+        if batched && lane == 0 {
+            let end = (k + crate::simd::LANES).min(motion.p.len());
+            for (t, pk) in tips.iter_mut().zip(&motion.p[k..end]) {
+                *t = part_to_base.apply(pk);
+            }
+            chunk = solver.solve_near_batch(&rot, &tips[..end - k], &prev, level);
+        }
+        let tip = if batched {
+            tips[lane]
+        } else {
+            part_to_base.apply(p)
+        };
         let target = Frame { rot, pos: tip };
         let mi = pieces[motion.piece[k]].move_index;
         let solved = if batched {
-            solver.solve_near_unchecked(&target, &prev)
+            match &chunk {
+                Some(b) => solver.take_near(b, lane, &target, &prev),
+                None => solver.solve_near_unchecked(&target, &prev),
+            }
         } else {
             solver.solve_near_with_sincos(&target, &prev, &mut sc[..2 * n])
         };
