@@ -388,3 +388,36 @@ fn an_estimate_whose_stated_error_is_above_the_accepted_one_is_evaluated_in_full
     assert_eq!(r.energy_j, f.energy_j);
     assert_eq!(ev.reduction().unwrap().counts().full, 1);
 }
+
+#[test]
+fn a_reduced_sweep_gives_the_same_results_on_1_and_2_threads() {
+    // Speed limits at 12 % so that some placements re-plan layers on their own.
+    let mut model = common::robot("abb_irb6700_200_260");
+    for j in model.joints.iter_mut() {
+        j.velocity_limit *= 0.12;
+    }
+    let tp = wall_path(30);
+    let job = common::default_job(&model, &tp);
+    let (ev, _) = evaluators(&job, &tp, forced());
+    let ps = [
+        Placement::new(1.9, 0.4, 0.6, 1.57),
+        Placement::new(1.8, 0.0, 0.0, 0.0),
+        Placement::new(1.6, 0.5, 0.3, 1.5),
+        Placement::new(1.0, 0.0, 1.6, 0.0),
+    ];
+    let run = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| ev.sweep(&ps, &|_, _| {}))
+            .unwrap()
+    };
+    let (one, two) = (run(1), run(2));
+    assert_eq!(one, two);
+    assert!(one.iter().any(|r| r
+        .feasible()
+        .and_then(|f| f.path_reduction.as_ref())
+        .is_some_and(|e| e.layers_replanned > 0)));
+    assert!(one.iter().any(|r| r.feasible().is_none()));
+}
