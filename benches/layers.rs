@@ -63,6 +63,76 @@ fn main() {
         samples as f64 * 0.004 / 3600.0,
         t_job
     );
+    // PRINTWATT_LAYERS_BREAKDOWN=K: where the grid's time goes instead: every K-th grid cell
+    // evaluated on one thread, timed and put in a category by how it was evaluated (an
+    // estimate, re-planned layers, found infeasible by the reduced evaluation, or evaluated
+    // in full and why); one line per cell on stderr, the totals per category on stdout.
+    if let Ok(every) = std::env::var("PRINTWATT_LAYERS_BREAKDOWN") {
+        let every: usize = every.parse().expect("PRINTWATT_LAYERS_BREAKDOWN: a number");
+        let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply)
+            .with_reduction(red.clone());
+        let grid = default_grid(reach_m(&model));
+        let ps = grid.placements();
+        let mut sc = ev.scratch().unwrap();
+        let mut cats: std::collections::BTreeMap<String, (usize, f64)> = Default::default();
+        for (i, p) in ps.iter().enumerate().step_by(every) {
+            let c0 = ev.reduction().unwrap().counts();
+            let t = Instant::now();
+            let r = ev.evaluate(&mut sc, p);
+            let dt = t.elapsed().as_secs_f64();
+            let c1 = ev.reduction().unwrap().counts();
+            let fb = r
+                .feasible()
+                .and_then(|f| f.path_reduction.as_ref())
+                .and_then(|e| e.fallback.clone());
+            let rp = c1.replanned_layers - c0.replanned_layers;
+            let full = c1.full > c0.full;
+            let cat = match (&r.outcome, full) {
+                (Ok(_), false) => {
+                    format!("feasible reduced{}", if rp > 0 { " replanned" } else { "" })
+                }
+                (Ok(_), true) => format!(
+                    "feasible, evaluated in full ({})",
+                    fb.map(|w| if w.contains("lowers the acceleration") {
+                        "a ramp: the path's acceleration is lowered".to_string()
+                    } else {
+                        w.chars().take(40).collect()
+                    })
+                    .unwrap_or_default()
+                ),
+                (Err(e), false) => format!("infeasible ({}), reduced evaluation", e.reason.name()),
+                (Err(e), true) => {
+                    format!("infeasible ({}) after a full evaluation", e.reason.name())
+                }
+            };
+            eprintln!(
+                "{i} {:?} {dt:.3} {cat} {}",
+                (p.x, p.y, p.z, p.yaw),
+                r.outcome
+                    .as_ref()
+                    .err()
+                    .map(|e| e.to_string())
+                    .unwrap_or_default()
+                    .chars()
+                    .take(160)
+                    .collect::<String>()
+            );
+            let e = cats.entry(cat).or_default();
+            e.0 += 1;
+            e.1 += dt;
+        }
+        for (k, (n, t)) in &cats {
+            println!("{n:5} {t:9.2} s  {k}");
+        }
+        let total: f64 = cats.values().map(|c| c.1).sum();
+        println!(
+            "{} of {} grid cells, {total:.1} s on 1 thread; load average at start: {}",
+            ps.len().div_ceil(every),
+            ps.len(),
+            load.trim()
+        );
+        return;
+    }
     let pool = rayon::ThreadPoolBuilder::new()
         .num_threads(2)
         .build()
@@ -108,11 +178,18 @@ fn main() {
         .unwrap()
         .expect("the answer is an estimate");
     let t_total = t.elapsed().as_secs_f64();
-    // One full evaluation of the chosen placement on one thread, timed alone.
+    let counts = ev.reduction().map(|r| r.counts()).unwrap_or_default();
+    // One full and one reduced evaluation of the chosen placement on one thread, each timed
+    // alone.
+    let mut sc = ev.scratch().unwrap();
     let t1 = Instant::now();
-    let again = ev.evaluate_full(&mut ev.scratch().unwrap(), &full.placement);
+    let again = ev.evaluate_full(&mut sc, &full.placement);
     let t_full = t1.elapsed().as_secs_f64();
     assert_eq!(again.cost(), full.cost());
+    let t1 = Instant::now();
+    let reduced = ev.evaluate(&mut sc, &full.placement);
+    let t_reduced = t1.elapsed().as_secs_f64();
+    assert_eq!(reduced.cost(), est.cost());
     let p = full.placement;
     println!(
         "grid {} placements ({} feasible) {:.1} s; refinement {} evaluations (+{} speculative) and {} tolerance corners {:.1} s; full re-evaluation of the answer {:.1} s",
@@ -149,5 +226,19 @@ fn main() {
         t_full,
         t_total / t_full
     );
-    println!("load average at start: {}", load.trim());
+    println!(
+        "evaluations: {} estimates, {} found infeasible by the reduced evaluation, {} evaluated in full ({} layers re-planned on their own in the estimates)",
+        counts.estimates, counts.rejected, counts.full, counts.replanned_layers
+    );
+    println!(
+        "the answer on 1 thread, same run: full evaluation {t_full:.2} s, reduced {t_reduced:.3} s ({:.1} %)",
+        t_reduced / t_full * 100.0
+    );
+    println!(
+        "load average at start: {}; at the end: {}",
+        load.trim(),
+        std::fs::read_to_string("/proc/loadavg")
+            .unwrap_or_default()
+            .trim()
+    );
 }

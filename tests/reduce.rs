@@ -285,3 +285,106 @@ fn optimise_on_a_repetitive_path_reports_full_and_estimate_within_half_a_percent
     assert!(v["optimise"].get("path_reduction").is_none());
     assert!(!v.to_string().contains("path_reduction"));
 }
+
+#[test]
+fn a_joint_speed_limit_binding_on_some_layers_is_replanned_there_and_matches_the_full_evaluation() {
+    // Joint speed limits at 12 % of the IRB 6700's: at this placement they bind on a few layers
+    // (the controller slows down there; a speed limit never lowers the path's acceleration).
+    let mut model = common::robot("abb_irb6700_200_260");
+    for j in model.joints.iter_mut() {
+        j.velocity_limit *= 0.12;
+    }
+    let tp = wall_path(30);
+    let job = common::default_job(&model, &tp);
+    let (ev, full) = evaluators(&job, &tp, forced());
+    let at = Placement::new(1.9, 0.4, 0.6, 1.57);
+    let r = ev.evaluate(&mut ev.scratch().unwrap(), &at);
+    let f = full.evaluate(&mut full.scratch().unwrap(), &at);
+    let (r, f) = (r.feasible().unwrap(), f.feasible().unwrap());
+    assert!(
+        f.rounds > 1,
+        "the full evaluation slows down: {} rounds",
+        f.rounds
+    );
+    let est = r.path_reduction.as_ref().unwrap();
+    assert_eq!(est.fallback, None);
+    assert!(est.layers_replanned >= 1, "{est:?}");
+    let counts = ev.reduction().unwrap().counts();
+    assert_eq!((counts.full, counts.estimates), (0, 1), "{counts:?}");
+    // The slow-down is in the estimate: its samples are the full evaluation's (each re-planned
+    // layer's boundary phase aside), more than the unslowed plan's.
+    let nominal = ev.nominal_samples();
+    assert!(r.samples > nominal && f.samples > nominal);
+    assert!(
+        r.samples.abs_diff(f.samples) <= est.layers_replanned + 2,
+        "{} vs {} samples",
+        r.samples,
+        f.samples
+    );
+    let d = (r.energy_j - f.energy_j).abs();
+    assert!(
+        d <= est.error_j,
+        "{} vs {} J: {d} J > stated {} J",
+        r.energy_j,
+        f.energy_j,
+        est.error_j
+    );
+    assert!(est.error_j < 0.005 * f.energy_j, "{est:?}");
+}
+
+#[test]
+fn an_infeasible_tall_wall_is_rejected_before_any_full_evaluation() {
+    // A 40-layer wall (1.8 × 0.6 m, 4 mm layers: 4e5 samples) on a bed 1.3 m up: link 1 meets
+    // the bed at the first sample, and joint 3's jerk limit binds on the evaluated layers. The
+    // cheap checks (every sample's reach, every 40th tracked, the evaluated layers' collisions)
+    // come before any re-planning or full evaluation.
+    let model = common::robot("abb_irb6700_200_260");
+    let tp = toolpath::parse_gcode(
+        &wall::wall_gcode(1800.0, 600.0, 4.0, 40),
+        "wall40.gcode",
+        &ReadOptions::default(),
+    )
+    .unwrap();
+    let job = common::default_job(&model, &tp);
+    let (ev, full) = evaluators(&job, &tp, ReduceOptions::default());
+    let mut sc = ev.scratch().unwrap();
+    for at in [
+        Placement::new(1.326, -0.121, 1.3, 0.0),
+        Placement::new(0.91, 0.849, 1.3, 0.0),
+    ] {
+        let r = ev.evaluate(&mut sc, &at);
+        let f = full.evaluate(&mut full.scratch().unwrap(), &at);
+        let (ri, fi) = (r.outcome.unwrap_err(), f.outcome.unwrap_err());
+        assert_eq!(
+            (ri.reason, ri.sample),
+            (fi.reason, fi.sample),
+            "{ri} / {fi}"
+        );
+    }
+    let c = ev.reduction().unwrap().counts();
+    assert_eq!((c.rejected, c.full, c.estimates), (2, 0, 0), "{c:?}");
+}
+
+#[test]
+fn an_estimate_whose_stated_error_is_above_the_accepted_one_is_evaluated_in_full_and_says_so() {
+    let model = common::robot("abb_irb6700_200_260");
+    let tp = wall_path(30);
+    let job = common::default_job(&model, &tp);
+    let o = ReduceOptions {
+        max_nodes: 5,
+        max_rel_error: 1e-9,
+        ..forced()
+    };
+    let (ev, full) = evaluators(&job, &tp, o);
+    let at = Placement::new(1.8, 0.0, 0.0, 0.0);
+    let r = ev.evaluate(&mut ev.scratch().unwrap(), &at);
+    let f = full.evaluate(&mut full.scratch().unwrap(), &at);
+    let (r, f) = (r.feasible().unwrap(), f.feasible().unwrap());
+    let why = r.path_reduction.as_ref().unwrap().fallback.clone().unwrap();
+    assert!(
+        why.contains("stated error") && why.contains("above the accepted"),
+        "{why}"
+    );
+    assert_eq!(r.energy_j, f.energy_j);
+    assert_eq!(ev.reduction().unwrap().counts().full, 1);
+}

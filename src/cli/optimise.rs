@@ -382,7 +382,9 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
         .flatten()
         .collect()
     };
-    let n_eval = ps.len() + res.evals + 4;
+    // Every evaluation the answer needed: grid, refinement, tolerance checks (with the
+    // bisection and spin points) and the 4 sensitivity points.
+    let n_eval = ps.len() + res.evals + res.search.as_ref().map_or(0, |si| si.tolerance_evals) + 4;
     let mut m = meta(&l, ev.nominal_samples());
     m.extend(super::sweep::evaluation_line(&ev));
     m.push(("seed".into(), a.seed.to_string()));

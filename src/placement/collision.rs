@@ -15,8 +15,9 @@
 //! - **Bed**: a cuboid under the path (see [`super::feasibility::World`]).
 //! - **Part**: the beads laid so far, capsules of [`BEAD_RADIUS_M`] around the nozzle-tip path
 //!   (centre one bead radius below the tip) between checked print samples, in a bounding-volume
-//!   hierarchy (`parry3d::partitioning::Bvh`) built once per placement; a query at sample `k`
-//!   takes only the beads finished at or before `k`.
+//!   hierarchy over the order they are laid in ([`Beads`]), built once per job (and again for a
+//!   placement whose timing re-planned the motion); a query at sample `k` takes only the beads
+//!   finished at or before `k`, and skips whole subtrees laid later.
 //! - **Self**: shape pairs on bodies at least three apart along the chain (base = 0, link i =
 //!   i + 1, tool = n + 1) that do not already touch at q = 0 (an allowed-collision matrix made
 //!   at the home pose, as SRDF generators do).
@@ -30,7 +31,6 @@ use crate::robot::{GeomShape, RobotModel};
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::math::{Isometry, Point, Translation, Vector};
 use parry3d_f64::na::{Rotation3, UnitQuaternion};
-use parry3d_f64::partitioning::{Bvh, BvhBuildStrategy};
 use parry3d_f64::query;
 use parry3d_f64::shape::{Capsule, Cuboid, Cylinder, Segment, SharedShape};
 
@@ -307,14 +307,63 @@ impl RobotShapes {
     }
 }
 
-/// The printed part: bead capsules in a BVH, in the part frame.
+/// The printed part: bead capsules in a bounding-volume hierarchy, in the part frame.
+///
+/// The hierarchy is built over the beads in the order they are laid (each node holds a
+/// contiguous range of bead indices, split in halves), not over space: a path lays its beads
+/// along a continuous curve, so index ranges are compact in space, and a query at sample `k`
+/// skips every node whose first bead is laid after `k` without looking at its children. On a
+/// tall wall (300 layers, 3·10⁵ beads) a spatial BVH handed every bead of the layers *above*
+/// the current one that a link's box overlaps to the `laid` filter, one by one; here they
+/// cost one test per subtree. The beads found are the same; the one named is the first laid.
 pub struct Beads {
     segs: Vec<Segment>,
+    /// Each bead's box, loosened by the bead radius.
+    boxes: Vec<Aabb>,
     /// Sample index at which bead `i` is finished (non-decreasing).
     done_at: Vec<usize>,
-    bvh: Bvh,
+    /// The hierarchy over index ranges, root first (see [`BeadNode`]).
+    nodes: Vec<BeadNode>,
     /// Bead radius, m.
     pub radius_m: f64,
+}
+
+/// Beads per leaf of [`Beads`]' hierarchy.
+const BEAD_LEAF: usize = 8;
+
+/// A node of [`Beads`]' hierarchy: the box of beads `start..end` and its children `left` and
+/// `right` (indices into the node list; 0 for a leaf: the root is never a child).
+#[derive(Clone, Copy, Debug)]
+struct BeadNode {
+    aabb: Aabb,
+    start: u32,
+    end: u32,
+    left: u32,
+    right: u32,
+}
+
+/// Build the hierarchy over `boxes[r]` into `nodes`; returns the node's index.
+fn build_bead_nodes(boxes: &[Aabb], r: std::ops::Range<usize>, nodes: &mut Vec<BeadNode>) -> u32 {
+    let mut aabb = boxes[r.start];
+    for b in &boxes[r.start + 1..r.end] {
+        aabb.merge(b);
+    }
+    let me = nodes.len();
+    nodes.push(BeadNode {
+        aabb,
+        start: r.start as u32,
+        end: r.end as u32,
+        left: 0,
+        right: 0,
+    });
+    if r.len() > BEAD_LEAF {
+        let mid = r.start + r.len() / 2;
+        let l = build_bead_nodes(boxes, r.start..mid, nodes);
+        let rr = build_bead_nodes(boxes, mid..r.end, nodes);
+        nodes[me].left = l;
+        nodes[me].right = rr;
+    }
+    me as u32
 }
 
 impl Beads {
@@ -359,14 +408,19 @@ impl Beads {
                 start = Some(k);
             }
         }
-        let leaves: Vec<Aabb> = segs
+        let boxes: Vec<Aabb> = segs
             .iter()
             .map(|s| Aabb::from_points([s.a, s.b]).loosened(radius_m))
             .collect();
+        let mut nodes = Vec::with_capacity(2 * boxes.len().div_ceil(BEAD_LEAF));
+        if !boxes.is_empty() {
+            build_bead_nodes(&boxes, 0..boxes.len(), &mut nodes);
+        }
         Beads {
-            bvh: Bvh::from_leaves(BvhBuildStrategy::Binned, &leaves),
             segs,
+            boxes,
             done_at,
+            nodes,
             radius_m,
         }
     }
@@ -389,7 +443,7 @@ impl Beads {
     /// Does `shape` at `pose` (part frame) come within the bead radius of one of the first
     /// `laid` beads? Returns the bead index.
     pub fn hit(&self, pose: &Isometry<f64>, shape: &SharedShape, laid: usize) -> Option<usize> {
-        if laid == 0 {
+        if laid == 0 || self.nodes.is_empty() {
             return None;
         }
         let aabb = shape.compute_aabb(pose);
@@ -400,30 +454,49 @@ impl Beads {
         let cap = shape
             .as_capsule()
             .map(|c| (pose * c.segment.a, pose * c.segment.b, c.radius));
-        let found =
-            self.bvh
-                .intersect_aabb(&aabb)
-                .map(|i| i as usize)
-                .filter(|&i| i < laid)
-                .find(|&i| {
-                    let seg = &self.segs[i];
-                    let d = match &cap {
-                        Some((a, b, r)) => {
-                            let (la, lb) =
-                                query::details::closest_points_segment_segment_with_locations_nD(
-                                    (a, b),
-                                    (&seg.a, &seg.b),
-                                );
-                            let pa = Segment::new(*a, *b).point_at(&la);
-                            let pb = seg.point_at(&lb);
-                            ((pa - pb).norm() - r).max(0.0)
-                        }
-                        None => query::distance(pose, shape.as_ref(), &cap_id, seg)
-                            .unwrap_or(f64::INFINITY),
-                    };
-                    d < self.radius_m
-                });
-        found
+        let touches = |i: usize| {
+            let seg = &self.segs[i];
+            let d = match &cap {
+                Some((a, b, r)) => {
+                    let (la, lb) = query::details::closest_points_segment_segment_with_locations_nD(
+                        (a, b),
+                        (&seg.a, &seg.b),
+                    );
+                    let pa = Segment::new(*a, *b).point_at(&la);
+                    let pb = seg.point_at(&lb);
+                    ((pa - pb).norm() - r).max(0.0)
+                }
+                None => {
+                    query::distance(pose, shape.as_ref(), &cap_id, seg).unwrap_or(f64::INFINITY)
+                }
+            };
+            d < self.radius_m
+        };
+        // Depth-first, lower indices first: the first bead found is the first laid.
+        let mut stack = [0u32; 64];
+        let mut top = 1;
+        while top > 0 {
+            top -= 1;
+            let nd = &self.nodes[stack[top] as usize];
+            if nd.start as usize >= laid || !nd.aabb.intersects(&aabb) {
+                continue;
+            }
+            if nd.left == 0 {
+                let end = (nd.end as usize).min(laid);
+                if let Some(i) = (nd.start as usize..end)
+                    .find(|&i| self.boxes[i].intersects(&aabb) && touches(i))
+                {
+                    return Some(i);
+                }
+            } else {
+                // Right pushed first so that the left (earlier) half is searched first; the
+                // depth is at most log2 of the bead count, far below the stack's 64.
+                stack[top] = nd.right;
+                stack[top + 1] = nd.left;
+                top += 2;
+            }
+        }
+        None
     }
 }
 
@@ -534,4 +607,88 @@ fn aabb_gap(a: &Aabb, b: &Aabb) -> f64 {
         s += d * d;
     }
     s.sqrt()
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+
+    /// The first laid bead within reach of `shape`, by looking at every bead in turn.
+    fn hit_each(
+        b: &Beads,
+        pose: &Isometry<f64>,
+        shape: &SharedShape,
+        laid: usize,
+    ) -> Option<usize> {
+        (0..laid.min(b.len())).find(|&i| {
+            query::distance(pose, shape.as_ref(), &Isometry::identity(), &b.segs[i])
+                .is_ok_and(|d| d < b.radius_m)
+        })
+    }
+
+    #[test]
+    fn the_bead_hierarchy_finds_the_first_laid_bead_that_checking_every_bead_finds() {
+        // A 40-layer rectangular wall (1.0 × 0.4 m, 10 mm layers), beads every 5 samples.
+        let mut p = Vec::new();
+        let corners = [
+            (-0.5, -0.2),
+            (0.5, -0.2),
+            (0.5, 0.2),
+            (-0.5, 0.2),
+            (-0.5, -0.2),
+        ];
+        for layer in 0..40 {
+            let z = 0.01 * (layer + 1) as f64;
+            for w in corners.windows(2) {
+                for k in 0..50 {
+                    let t = k as f64 / 50.0;
+                    let (x, y) = (
+                        w[0].0 + t * (w[1].0 - w[0].0),
+                        w[0].1 + t * (w[1].1 - w[0].1),
+                    );
+                    p.push(V3::new(x, y, z));
+                }
+            }
+        }
+        // Travel between layers does not print: every 200th sample.
+        let print: Vec<bool> = (0..p.len()).map(|k| k % 200 != 0).collect();
+        let beads = Beads::new(&p, &print, 5, BEAD_RADIUS_M);
+        assert!(
+            beads.len() > 1000 && beads.nodes.len() > 200,
+            "{}",
+            beads.len()
+        );
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(12);
+        let shapes = [
+            SharedShape::ball(0.05),
+            SharedShape::capsule_z(0.3, 0.06),
+            SharedShape::cuboid(0.2, 0.05, 0.1),
+        ];
+        let (mut hits, mut misses) = (0, 0);
+        for _ in 0..3000 {
+            let s = &shapes[rng.gen_range(0..shapes.len())];
+            let pose = Isometry::new(
+                Vector::new(
+                    rng.gen_range(-0.7..0.7),
+                    rng.gen_range(-0.4..0.4),
+                    rng.gen_range(-0.1..0.6),
+                ),
+                Vector::new(rng.gen_range(-1.0..1.0), rng.gen_range(-1.0..1.0), 0.0),
+            );
+            let laid = rng.gen_range(0..=beads.len() + 2);
+            let want = hit_each(&beads, &pose, s, laid);
+            assert_eq!(beads.hit(&pose, s, laid), want, "{pose:?} laid {laid}");
+            if want.is_some() {
+                hits += 1
+            } else {
+                misses += 1
+            }
+        }
+        // Both outcomes are exercised.
+        assert!(hits > 300 && misses > 300, "{hits} hits, {misses} misses");
+        // No beads at all: nothing to hit, whatever `laid` says.
+        let none = Beads::new(&p[..10], &[false; 10], 5, BEAD_RADIUS_M);
+        assert_eq!(none.hit(&Isometry::identity(), &shapes[0], 3), None);
+    }
 }

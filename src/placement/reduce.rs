@@ -36,13 +36,32 @@
 //!    [`ReduceOptions::rel_tol`] of the estimate, the node count doubles (5, 9, 17 nodes per
 //!    class); a class with no more members than nodes is evaluated exactly.
 //!
+//! # Where a joint's rate limit binds: the layer is re-planned on its own
+//! The feasibility checks of every evaluated unit come first (an infeasible placement costs
+//! no re-planning). Then a unit (or the stretch before or after the repeating run) where a
+//! joint's velocity, acceleration or jerk demand exceeds its limit is re-planned on its own
+//! ([`Replanner`]): the stretch of path from the unit's start to its end, with enough path
+//! before and after ([`Reduction`]'s `pad_m`), entered and left at the unslowed plan's node
+//! speeds, slowed down by the full evaluation's rule until the limits hold. Its energy and
+//! sample count replace the unslowed ones; for the units between evaluated ones, the
+//! slow-down (energy and samples added) is interpolated linearly in z between the evaluated
+//! neighbours, with a stated error per unit of the larger of their difference and half the
+//! larger slow-down, plus one sample's energy per re-planned unit (its samples' phase). A unit
+//! still over a limit after `max_iterations` plans makes the placement infeasible.
+//!
+//! Where the rate demand may bind between evaluated units unlike at them (per class and
+//! channel, the larger of the two neighbours' peaks plus the largest change of the peak
+//! between neighbouring evaluated units exceeds [`ReduceOptions::headroom`] of the limit),
+//! more units are evaluated: the next node count, then every unit in that interval.
+//!
 //! # When the full evaluation is used instead
-//! The placement is evaluated in full (and the estimate records why) when a joint's velocity,
-//! acceleration or jerk demand may bind somewhere (the controller would slow down there, and
-//! the slow-down changes the whole plan): when it exceeds the limit on an evaluated unit, or
-//! when its peak over a class's evaluated units plus the largest change of that peak between
-//! neighbouring evaluated units exceeds [`ReduceOptions::headroom`] of the limit (the peak of
-//! a layer between two evaluated ones is taken to lie within that bound).
+//! The placement is evaluated in full (and the estimate records why) when re-planning a unit
+//! meets a limit that binds again where the speed is already capped (a ramp): the full
+//! evaluation then lowers the acceleration of the whole path, and how its later rounds go
+//! depends on every layer's samples, their phase included (re-planning the evaluated layers
+//! alone with the lowered acceleration was tried: its verdicts differed from the full
+//! evaluation's both ways). Also when the stated error is still above
+//! [`ReduceOptions::max_rel_error`] with the most nodes.
 //! The wrist rule (near the wrist singularity, joints 4 and 6 within a share of their limits)
 //! needs joint rates: units where a tracked sample comes within twice `wrist_min` of the
 //! wrist singularity are evaluated sample by sample unless the evaluated units come near it
@@ -50,8 +69,9 @@
 //!
 //! # Limitations
 //! Between the representative layers, collisions are not checked (the extreme layers, where
-//! the part is lowest and highest, are), and the configuration is tracked at the stride, not
-//! every sample. The answer of an optimisation is therefore always re-evaluated in full
+//! the part is lowest and highest, are), the configuration is tracked at the stride, not
+//! every sample, and a rate limit that binds only there is found only through the peak bound
+//! above. The answer of an optimisation is therefore always re-evaluated in full
 //! ([`confirm`]).
 
 use super::feasibility::{self, Infeasible, Margins, Reason, World};
@@ -78,6 +98,10 @@ pub struct ReduceOptions {
     /// Target relative error of the objective estimate (dimensionless): more layers are
     /// evaluated while the stated error exceeds it.
     pub rel_tol: f64,
+    /// Largest relative stated error accepted (dimensionless): an estimate whose stated error
+    /// is still above it with the most nodes is replaced by the full evaluation, which says
+    /// why.
+    pub max_rel_error: f64,
     /// Largest number of evaluated units per class (5, 9 or 17).
     pub max_nodes: usize,
     /// Share of a joint's velocity, acceleration or jerk limit that the demand predicted for
@@ -94,6 +118,7 @@ impl Default for ReduceOptions {
             min_samples: 200_000,
             stride: 40,
             rel_tol: 1e-3,
+            max_rel_error: 5e-3,
             max_nodes: 17,
             headroom: 0.98,
             tolerance_m: repeat::REPEAT_TOLERANCE_M,
@@ -113,6 +138,10 @@ pub struct Estimate {
     pub layers_evaluated: usize,
     /// Samples evaluated sample by sample (of [`Feasible::samples`]).
     pub samples_evaluated: usize,
+    /// Layers (or the stretches before and after the repeating run) re-planned on their own
+    /// because a joint's rate limit bound there (0 when evaluated in full).
+    #[serde(default)]
+    pub layers_replanned: usize,
     /// Why this placement was evaluated in full instead, if it was.
     pub fallback: Option<String>,
 }
@@ -127,6 +156,15 @@ pub struct Reduction {
     z: Vec<f64>,
     /// Run units per class (indices into `units`).
     classes: Vec<Vec<usize>>,
+    /// Speed at each node of the job's plan with no slow-down, m/s (the boundary speeds of a
+    /// layer re-planned on its own, see [`replan`]).
+    v0: Vec<f64>,
+    /// Path length added on each side of a layer re-planned on its own, m: beyond the reach
+    /// of a slow-down inside the layer (deceleration distance, jerk filter, the nodes capped
+    /// around a violation), with a factor 3.
+    pad_m: f64,
+    /// What the evaluations did (counts, for benchmarks and tests).
+    stats: Stats,
     /// Options.
     pub options: ReduceOptions,
     /// What was found (for reports).
@@ -221,10 +259,26 @@ impl Reduction {
         let classes = (0..rep.period)
             .map(|c| rep.class(c).iter().map(|k| k - rep.run.start).collect())
             .collect();
+        let nodes = &job.plan.nodes;
+        let popts = &job.profile;
+        let v0 =
+            crate::timing::profile::speed_at_nodes(nodes, &vec![1.0; nodes.s.len()], popts.accel);
+        let v_max = nodes.cap.iter().copied().fold(0.0, f64::max);
+        let taps = ((popts.accel / popts.jerk / popts.dt).round()).max(1.0);
+        // Deceleration distance, the filter's length and the capped nodes (± taps + 2
+        // samples) at the highest speed, three times over (a layer whose re-plan would lower
+        // the acceleration is evaluated in full instead).
+        let pad_m = 3.0
+            * (v_max * v_max / (2.0 * popts.accel.max(1e-9))
+                + (2.0 * taps + 4.0) * popts.dt * v_max)
+            + 0.01;
         Ok(Reduction {
             units,
             z,
             classes,
+            v0,
+            pad_m,
+            stats: Stats::default(),
             options,
             summary: Summary {
                 layers: rep.units.len(),
@@ -233,6 +287,50 @@ impl Reduction {
                 samples: m,
             },
         })
+    }
+}
+
+/// Counts of what the reduced evaluations of one [`Reduction`] did (for benchmarks and
+/// tests; the results never depend on them).
+#[derive(Debug, Default)]
+pub struct Stats {
+    estimates: std::sync::atomic::AtomicUsize,
+    rejected: std::sync::atomic::AtomicUsize,
+    full: std::sync::atomic::AtomicUsize,
+    replanned: std::sync::atomic::AtomicUsize,
+}
+
+impl Clone for Stats {
+    /// A fresh count (a cloned reduction counts its own evaluations).
+    fn clone(&self) -> Self {
+        Stats::default()
+    }
+}
+
+/// A snapshot of [`Stats`].
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Counts {
+    /// Placements evaluated on representative layers (estimates).
+    pub estimates: usize,
+    /// Placements found infeasible by the reduced evaluation (no full evaluation).
+    pub rejected: usize,
+    /// Placements evaluated in full instead (whatever the outcome).
+    pub full: usize,
+    /// Layers (or the stretches before and after the repeating run) re-planned on their own
+    /// because a joint's rate limit bound there.
+    pub replanned_layers: usize,
+}
+
+impl Reduction {
+    /// What the evaluations with this reduction did so far.
+    pub fn counts(&self) -> Counts {
+        use std::sync::atomic::Ordering::Relaxed;
+        Counts {
+            estimates: self.stats.estimates.load(Relaxed),
+            rejected: self.stats.rejected.load(Relaxed),
+            full: self.stats.full.load(Relaxed),
+            replanned_layers: self.stats.replanned.load(Relaxed),
+        }
     }
 }
 
@@ -329,10 +427,18 @@ pub(super) fn evaluate<'a>(
     sc: &mut Scratch<'a>,
     at: &Placement,
 ) -> std::result::Result<Feasible, Infeasible> {
+    use std::sync::atomic::Ordering::Relaxed;
     match reduced(ev, red, sc, at) {
-        Outcome::Done(f) => Ok(*f),
-        Outcome::Infeasible(i) => Err(i),
+        Outcome::Done(f) => {
+            red.stats.estimates.fetch_add(1, Relaxed);
+            Ok(*f)
+        }
+        Outcome::Infeasible(i) => {
+            red.stats.rejected.fetch_add(1, Relaxed);
+            Err(i)
+        }
         Outcome::Full(why) => {
+            red.stats.full.fetch_add(1, Relaxed);
             let mut r = ev.evaluate_full_inner(sc, at);
             if let Ok(f) = &mut r {
                 f.path_reduction = Some(Estimate {
@@ -340,6 +446,7 @@ pub(super) fn evaluate<'a>(
                     layers: red.summary.layers,
                     layers_evaluated: red.summary.layers,
                     samples_evaluated: f.samples,
+                    layers_replanned: 0,
                     fallback: Some(why),
                 });
             }
@@ -564,16 +671,39 @@ fn reduced<'a>(
             });
         }
     }
-    // 3. The evaluated units, sample by sample.
-    let dim = FIXED + 3 * n;
-    let mut unit_e: Vec<Option<Vec<f64>>> = vec![None; nu];
-    let mut peaks: Vec<Option<Vec<f64>>> = vec![None; nu];
-    let mut exact_peak = vec![0.0; 3 * n];
-    let mut exact = vec![0.0; dim];
+    // 3. The evaluated units, sample by sample. Segment ids: the units, then the exact
+    // stretches before (`nu`) and after (`nu + 1`) the repeating run.
+    let seg_of =
+        |k: usize| -> usize { unit_of(k).unwrap_or(if k < run.start { nu } else { nu + 1 }) };
+    let seg_range = |g: usize| -> Range<usize> {
+        if g < nu {
+            red.units[g].clone()
+        } else if g == nu {
+            0..run.start
+        } else {
+            run.end..m
+        }
+    };
+    let nseg = nu + 2;
+    let mut unit_e: Vec<Option<Vec<f64>>> = vec![None; nseg];
+    let mut peaks: Vec<Option<Vec<f64>>> = vec![None; nseg];
+    // Where a joint rate limit binds (the first such sample), and the re-planned outcome.
+    let mut binds: Vec<Option<String>> = vec![None; nseg];
+    let mut delta: Vec<Option<Replanned>> = vec![None; nseg];
     let world = World::new(&frame, ev.bbox_all, o);
     let mut done = vec![false; nu];
     let mut samples_evaluated = 0;
     let mut first_pass = true;
+    let ctx = Ctx {
+        ev,
+        red,
+        frame: &frame,
+        rot,
+        world: &world,
+        stride,
+        thin_idx: &thin_idx,
+    };
+    let mut replanner = Replanner::new(&ctx);
     loop {
         // Contiguous sample ranges to evaluate now: the exact rest (first pass) and every unit
         // marked and not done.
@@ -600,33 +730,62 @@ fn reduced<'a>(
                 _ => merged.push(r),
             }
         }
+        // Every window's feasibility first (cheap next to a re-plan), then the re-plans.
         for r in merged {
             samples_evaluated += r.len();
-            match window(
-                ev,
-                red,
+            if let Err(o) = window(
+                &ctx,
                 sc,
-                at,
-                &frame,
-                &world,
                 r,
-                stride,
-                &thin_idx,
                 &mut margins,
-                &unit_of,
+                &seg_of,
                 &mut unit_e,
-                &mut exact,
                 &mut peaks,
-                &mut exact_peak,
+                &mut binds,
             ) {
-                Ok(()) => {}
-                Err(o) => return o,
+                return o;
             }
         }
         first_pass = false;
-        // Joint rate demands of the interpolated units, bounded from the evaluated ones.
-        if let Some(why) = rate_bound(red, &peaks, &evaluated, red.options.headroom) {
-            return Outcome::Full(why);
+        // 3b. Segments where a joint rate limit binds are re-planned on their own, as the
+        // controller slows down there (see [`Replanner`]).
+        let binding: Vec<usize> = (0..nseg).filter(|&g| binds[g].is_some()).collect();
+        if !binding.is_empty() {
+            if let Err(o) = replanner.run(&ctx, sc, &binding, &seg_range, &mut margins) {
+                return o;
+            }
+            for st in &replanner.stretches {
+                let (Some(r), Some(e0)) = (&st.result, &unit_e[st.g]) else {
+                    continue;
+                };
+                let mut d = r.clone();
+                for (x, b) in d.e.iter_mut().zip(e0) {
+                    *x -= b;
+                }
+                d.samples -= seg_range(st.g).len() as f64;
+                delta[st.g] = Some(d);
+            }
+        }
+        // Joint rate demands of the interpolated units, bounded from the evaluated ones: where
+        // a layer in between may bind unlike its evaluated neighbours, more layers are
+        // evaluated (the next node count, then every layer of that stretch).
+        let flagged = rate_bound(red, &peaks, &evaluated, &delta, red.options.headroom);
+        if !flagged.is_empty() {
+            let next = 2 * level - 1;
+            if next <= red.options.max_nodes && red.classes.iter().any(|c| c.len() > level) {
+                level = next;
+                for cl in &red.classes {
+                    for i in lobatto(cl.len(), level) {
+                        evaluated[cl[i]] = true;
+                        node[cl[i]] = true;
+                    }
+                }
+            } else {
+                for u in flagged {
+                    evaluated[u] = true;
+                }
+            }
+            continue;
         }
         // The wrist rule on units not evaluated: accepted when the evaluated units come near
         // the wrist singularity too and use at most `headroom` of the allowed share there;
@@ -644,8 +803,10 @@ fn reduced<'a>(
             continue;
         }
         // 4./5. Interpolate per class; refine while the stated error is too large.
-        let (total, err) = estimate(red, &unit_e, &evaluated, &node, n, ev.objective, &exact);
-        let too_big = err > red.options.rel_tol * objective_of(&total, n, ev.objective).abs();
+        let est = estimate(red, &unit_e, &delta, &evaluated, &node, n, ev.objective);
+        let (total, err) = (&est.total, est.error_j);
+        let objective = objective_of(total, n, ev.objective).abs();
+        let too_big = err > red.options.rel_tol * objective;
         let next = 2 * level - 1;
         if too_big && next <= red.options.max_nodes && red.classes.iter().any(|c| c.len() > level) {
             level = next;
@@ -657,9 +818,16 @@ fn reduced<'a>(
             }
             continue;
         }
+        if err > red.options.max_rel_error * objective {
+            return Outcome::Full(format!(
+                "the estimate's stated error {:.3} % is above the accepted {:.3} %",
+                err / objective * 100.0,
+                red.options.max_rel_error * 100.0
+            ));
+        }
         let layers_evaluated =
             evaluated.iter().filter(|e| **e).count() + (red.summary.layers - red.units.len());
-        let v = &total;
+        let v = total;
         let jm = v[FIXED..FIXED + n].to_vec();
         let jabs = v[FIXED + n..FIXED + 2 * n].to_vec();
         let jel = v[FIXED + 2 * n..FIXED + 3 * n].to_vec();
@@ -667,6 +835,11 @@ fn reduced<'a>(
         if !energy_j.is_finite() {
             return Outcome::Full("non-finite estimate".into());
         }
+        let samples = (m as f64 + est.extra_samples).round().max(1.0) as usize;
+        let replanned = delta.iter().filter(|d| d.is_some()).count();
+        red.stats
+            .replanned
+            .fetch_add(replanned, std::sync::atomic::Ordering::Relaxed);
         return Outcome::Done(Box::new(Feasible {
             energy_j,
             supply_j: v[SUPPLY],
@@ -682,9 +855,9 @@ fn reduced<'a>(
                 copper_j: v[COPPER],
                 regeneration_lost_j: v[REGEN],
             },
-            duration_s: dt * m.saturating_sub(1) as f64,
-            samples: m,
-            rounds: 1,
+            duration_s: dt * samples.saturating_sub(1) as f64,
+            samples,
+            rounds: 1 + usize::from(replanned > 0),
             joint_mechanical_j: jm,
             joint_mechanical_abs_j: jabs,
             joint_electrical_j: jel,
@@ -694,77 +867,117 @@ fn reduced<'a>(
                 layers: red.summary.layers,
                 layers_evaluated,
                 samples_evaluated,
+                layers_replanned: replanned,
                 fallback: None,
             }),
         }));
     }
 }
 
-/// Why the joint rate demand may bind on a unit that is not evaluated, if it may: per class
-/// and channel (joint × velocity/acceleration/jerk, as a share of the limit), the peak over
-/// the evaluated units plus the largest change between neighbouring evaluated units, against
-/// `headroom`.
+/// Units between evaluated ones (per class) where a joint's rate demand may bind unlike at
+/// their evaluated neighbours: per channel (joint × velocity/acceleration/jerk, as a share of
+/// the limit), the larger of the two neighbours' peaks plus the largest change between
+/// neighbouring evaluated units of the class, against `headroom`. Between two neighbours
+/// that both bound (and were re-planned), the layers are taken to bind too: their slow-down
+/// is interpolated (see [`estimate`]).
 fn rate_bound(
     red: &Reduction,
     peaks: &[Option<Vec<f64>>],
     evaluated: &[bool],
+    delta: &[Option<Replanned>],
     headroom: f64,
-) -> Option<String> {
-    const KIND: [&str; 3] = ["velocity", "acceleration", "jerk"];
+) -> Vec<usize> {
+    let mut out = Vec::new();
     for cl in &red.classes {
-        if cl.iter().all(|&u| evaluated[u]) {
-            continue;
-        }
-        let ev: Vec<&Vec<f64>> = cl.iter().filter_map(|&u| peaks[u].as_ref()).collect();
-        let Some(first) = ev.first() else { continue };
-        for c in 0..first.len() {
-            let max = ev.iter().map(|p| p[c]).fold(0.0, f64::max);
-            let step = ev
-                .windows(2)
-                .map(|w| (w[1][c] - w[0][c]).abs())
-                .fold(0.0, f64::max);
-            if max + step > headroom {
-                return Some(format!(
-                    "joint {} uses up to {:.0} % of its {} limit on the evaluated layers (changing by up to {:.0} % between them): it may bind on a layer in between",
-                    c / 3 + 1,
-                    max * 100.0,
-                    KIND[c % 3],
-                    step * 100.0
-                ));
+        let ev: Vec<usize> = cl
+            .iter()
+            .copied()
+            .filter(|&u| evaluated[u] && peaks[u].is_some())
+            .collect();
+        let Some(&first) = ev.first() else { continue };
+        let channels = peaks[first].as_ref().map_or(0, |p| p.len());
+        let step: Vec<f64> = (0..channels)
+            .map(|c| {
+                ev.windows(2)
+                    .filter(|w| delta[w[0]].is_none() && delta[w[1]].is_none())
+                    .map(|w| {
+                        (peaks[w[1]].as_ref().unwrap()[c] - peaks[w[0]].as_ref().unwrap()[c]).abs()
+                    })
+                    .fold(0.0, f64::max)
+            })
+            .collect();
+        for w in ev.windows(2) {
+            let (a, b) = (w[0], w[1]);
+            let between = cl
+                .iter()
+                .copied()
+                .filter(|&u| !evaluated[u] && red.z[u] > red.z[a] && red.z[u] < red.z[b]);
+            if delta[a].is_some() && delta[b].is_some() {
+                continue;
+            }
+            let (pa, pb) = (peaks[a].as_ref().unwrap(), peaks[b].as_ref().unwrap());
+            if (0..channels)
+                .any(|c| pa[c].max(pb[c]) + step[c].max((pa[c] - pb[c]).abs()) > headroom)
+            {
+                out.extend(between);
             }
         }
     }
-    None
+    out
 }
 
-/// The estimate: (total vector, stated error of the objective, J).
+/// A reduced estimate: the additive quantities, the stated error of the objective (J) and
+/// the samples the slow-downs add (estimated where interpolated).
+struct Sum {
+    total: Vec<f64>,
+    error_j: f64,
+    extra_samples: f64,
+}
+
+/// The estimate (see the module docs): per class, the energy per sample of the node units
+/// without slow-down interpolated over z, plus each unit's slow-down (re-planned minus
+/// unslowed energy and samples) interpolated linearly between its evaluated neighbours.
 fn estimate(
     red: &Reduction,
     unit_e: &[Option<Vec<f64>>],
+    delta: &[Option<Replanned>],
     evaluated: &[bool],
     node: &[bool],
     n: usize,
     obj: Objective,
-    exact: &[f64],
-) -> (Vec<f64>, f64) {
-    let dim = exact.len();
-    let mut total = exact.to_vec();
+) -> Sum {
+    let nu = red.units.len();
+    let dim = unit_e
+        .iter()
+        .flatten()
+        .next()
+        .map_or(FIXED + 3 * n, |v| v.len());
+    let mut total = vec![0.0; dim];
     let mut err = 0.0;
+    let mut extra = 0.0;
+    let add = |total: &mut Vec<f64>, v: &[f64], w: f64| {
+        for (t, x) in total.iter_mut().zip(v) {
+            *t += w * x;
+        }
+    };
+    // The exact stretches and every evaluated unit: their own numbers.
+    for g in (0..nu).filter(|&u| evaluated[u]).chain([nu, nu + 1]) {
+        if let Some(e) = &unit_e[g] {
+            add(&mut total, e, 1.0);
+        }
+        if let Some(d) = &delta[g] {
+            add(&mut total, &d.e, 1.0);
+            extra += d.samples;
+        }
+    }
     let len = |u: usize| red.units[u].len() as f64;
     for cl in &red.classes {
         let nodes: Vec<usize> = cl.iter().copied().filter(|&u| node[u]).collect();
         let rest: Vec<usize> = cl.iter().copied().filter(|&u| !evaluated[u]).collect();
-        for &u in cl.iter().filter(|&&u| evaluated[u]) {
-            if let Some(e) = &unit_e[u] {
-                for d in 0..dim {
-                    total[d] += e[d];
-                }
-            }
-        }
         if rest.is_empty() {
             continue;
         }
-        // Energy per sample of each evaluated unit, over z.
+        // Energy per sample of each node unit (no slow-down), over z.
         let xs: Vec<f64> = nodes.iter().map(|&u| red.z[u]).collect();
         let ys: Vec<Vec<f64>> = nodes
             .iter()
@@ -785,9 +998,7 @@ fn estimate(
             let yl: Vec<Vec<f64>> = keep.iter().map(|&i| ys[i].clone()).collect();
             interpolated_sum(&xl, &yl, &at, &wts, dim)
         };
-        for d in 0..dim {
-            total[d] += hi[d];
-        }
+        add(&mut total, &hi, 1.0);
         // One sample's energy per interpolated unit: the phase of unit boundaries.
         let per_sample = ys
             .iter()
@@ -795,52 +1006,279 @@ fn estimate(
             .fold(0.0, f64::max);
         err += (objective_of(&hi, n, obj) - objective_of(&lo, n, obj)).abs()
             + rest.len() as f64 * per_sample;
+        // Slow-downs: linear in z between the evaluated neighbours; the error stated per
+        // unit is the larger of their difference and half the larger slow-down.
+        let evs: Vec<usize> = cl.iter().copied().filter(|&u| evaluated[u]).collect();
+        for &u in &rest {
+            let b = evs.partition_point(|&e| red.z[e] < red.z[u]);
+            let (Some(&ua), Some(&ub)) = (evs.get(b.wrapping_sub(1)), evs.get(b)) else {
+                continue;
+            };
+            let (da, db) = (&delta[ua], &delta[ub]);
+            if da.is_none() && db.is_none() {
+                continue;
+            }
+            let t = (red.z[u] - red.z[ua]) / (red.z[ub] - red.z[ua]);
+            let zero = Replanned {
+                e: vec![0.0; dim],
+                samples: 0.0,
+            };
+            let (da, db) = (da.as_ref().unwrap_or(&zero), db.as_ref().unwrap_or(&zero));
+            for ((x, a), b) in total.iter_mut().zip(&da.e).zip(&db.e) {
+                *x += (1.0 - t) * a + t * b;
+            }
+            extra += (1.0 - t) * da.samples + t * db.samples;
+            let (oa, ob) = (objective_of(&da.e, n, obj), objective_of(&db.e, n, obj));
+            err += (oa - ob).abs().max(0.5 * oa.abs().max(ob.abs()));
+        }
     }
-    (total, err)
+    // Every re-planned segment: its phase against the full evaluation, one sample's energy
+    // (the re-planned stretch starts its samples at its own first node; the full evaluation's
+    // samples there are shifted by every slow-down before them).
+    for g in 0..unit_e.len() {
+        if let (Some(_), Some(e)) = (&delta[g], &unit_e[g]) {
+            let samples = if g < nu {
+                red.units[g].len()
+            } else {
+                red.summary
+                    .samples
+                    .saturating_sub(red.units.iter().map(|u| u.len()).sum())
+            };
+            err += objective_of(e, n, obj).abs() / samples.max(1) as f64;
+        }
+    }
+    Sum {
+        total,
+        error_j: err,
+        extra_samples: extra,
+    }
 }
 
-/// Track, check and integrate the samples `r` (a union of whole units and the exact rest).
-#[allow(clippy::too_many_arguments)]
-fn window<'a>(
-    ev: &Evaluator<'_, 'a>,
-    _red: &Reduction,
-    sc: &mut Scratch<'a>,
-    _at: &Placement,
-    frame: &Frame,
-    world: &World,
-    r: Range<usize>,
+/// What a re-planned segment changes: the additive quantities and the sample count, each
+/// as re-planned minus unslowed (as returned by [`replan`]: the re-planned values).
+#[derive(Clone, Debug)]
+struct Replanned {
+    e: Vec<f64>,
+    samples: f64,
+}
+
+/// The placement-wide inputs of [`window`] and [`replan`].
+struct Ctx<'c, 'j, 'a> {
+    ev: &'c Evaluator<'j, 'a>,
+    red: &'c Reduction,
+    frame: &'c Frame,
+    /// The nozzle's orientation in the base frame (the same at every sample).
+    rot: crate::math::M3,
+    world: &'c World,
     stride: usize,
-    thin_idx: &[usize],
+    thin_idx: &'c [usize],
+}
+
+/// The largest demand over limit of sample `i` of derivatives `qd`, `qdd`, `qddd`
+/// (row-major), with the joint and the limit's name, updating `peak` (3 per joint).
+fn rates(
+    model: &crate::robot::RobotModel,
+    check_jerk: bool,
+    qd: &[f64],
+    qdd: &[f64],
+    qddd: &[f64],
+    i: usize,
+    peak: &mut [f64],
+) -> Option<(usize, crate::timing::LimitKind, f64)> {
+    use crate::timing::LimitKind as K;
+    let n = model.dof();
+    let mut worst: Option<(usize, K, f64)> = None;
+    for (j, jt) in model.joints.iter().enumerate() {
+        for (c, (v, lim, kind)) in [
+            (qd[i * n + j], jt.velocity_limit, K::Velocity),
+            (qdd[i * n + j], jt.acceleration_limit, K::Acceleration),
+            (
+                if check_jerk { qddd[i * n + j] } else { 0.0 },
+                jt.jerk_limit,
+                K::Jerk,
+            ),
+        ]
+        .into_iter()
+        .enumerate()
+        {
+            if !(lim.is_finite() && lim > 0.0) {
+                continue;
+            }
+            let ratio = v.abs() / lim;
+            peak[3 * j + c] = peak[3 * j + c].max(ratio);
+            if ratio > 1.0 && worst.is_none_or(|w| ratio > w.2) {
+                worst = Some((j, kind, ratio));
+            }
+        }
+    }
+    worst
+}
+
+/// Feasibility of the tracked samples `idx` (indices into `qs`, `qd`, `qdd`, row-major) as the
+/// full evaluation checks it: joint margins and the wrist rule on every sample, singularities
+/// and collisions on every `check_every`-th. `at(i)`: the sample of the job's plan that sample
+/// `i` stands for (its index there, for the beads laid, and the place reported), its
+/// position (part frame) and whether it is checked in full.
+#[allow(clippy::too_many_arguments)]
+fn check(
+    ctx: &Ctx<'_, '_, '_>,
+    poses: &mut Vec<parry3d_f64::math::Isometry<f64>>,
+    qs: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+    idx: impl Iterator<Item = usize>,
+    at: &dyn Fn(usize) -> (usize, V3, bool),
     margins: &mut Margins,
-    unit_of: &dyn Fn(usize) -> Option<usize>,
+) -> std::result::Result<(), Outcome> {
+    let ev = ctx.ev;
+    let job = ev.job;
+    let model = job.robot;
+    let n = model.dof();
+    let o = &ev.feasibility;
+    let motion = &*job.plan.motion;
+    let beads = &ev.beads;
+    for i in idx {
+        let q = &qs[i * n..(i + 1) * n];
+        let jc = super::margins::check_joint_sample(
+            model,
+            o,
+            q,
+            &qd[i * n..(i + 1) * n],
+            &qdd[i * n..(i + 1) * n],
+            margins,
+        );
+        let (k, p, full) = at(i);
+        if full || jc.is_some() {
+            if let Some((reason, detail)) = jc.or_else(|| {
+                feasibility::check_sample(
+                    model,
+                    o,
+                    feasibility::Scene {
+                        world: ctx.world,
+                        shapes: &ev.shapes,
+                        beads,
+                    },
+                    q,
+                    beads.laid_at(k),
+                    poses,
+                    margins,
+                )
+            }) {
+                let mi = job.pieces[motion.piece[k]].move_index;
+                let tip = ctx.frame.apply(&p);
+                return Err(Outcome::Infeasible(Infeasible {
+                    reason,
+                    sample: Some(k),
+                    t_s: Some(k as f64 * motion.dt),
+                    line: Some(job.line_of(mi)),
+                    point_m: Some([tip.x, tip.y, tip.z]),
+                    detail,
+                }));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Energy of the tracked samples `idx` with trapezoid weights `w(i)` (s), added to
+/// `acc[dest(i)]` (every additive quantity).
+#[allow(clippy::too_many_arguments)]
+fn integrate(
+    ctx: &Ctx<'_, '_, '_>,
+    data: &mut crate::dynamics::DynData,
+    sp: &mut crate::energy::SamplePower,
+    qs: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+    idx: impl Iterator<Item = usize>,
+    w: &dyn Fn(usize) -> f64,
+    dest: &dyn Fn(usize) -> usize,
+    at_sample: &dyn Fn(usize) -> usize,
+    acc: &mut [Option<Vec<f64>>],
+) -> std::result::Result<(), Outcome> {
+    let job = ctx.ev.job;
+    let n = job.robot.dof();
+    let dim = FIXED + 3 * n;
+    let dt = job.plan.motion.dt;
+    for i in idx {
+        let p = match energy::eval_sample(
+            &job.energy,
+            data,
+            &qs[i * n..(i + 1) * n],
+            &qd[i * n..(i + 1) * n],
+            &qdd[i * n..(i + 1) * n],
+            sp,
+        ) {
+            Ok(p) => p,
+            Err(e) => {
+                let k = at_sample(i);
+                return Err(Outcome::Infeasible(Infeasible {
+                    reason: Reason::ModelError,
+                    sample: Some(k),
+                    t_s: Some(k as f64 * dt),
+                    line: None,
+                    point_m: None,
+                    detail: e.to_string(),
+                }));
+            }
+        };
+        let w = w(i);
+        let acc = acc[dest(i)].get_or_insert_with(|| vec![0.0; dim]);
+        acc[SUPPLY] += w * p;
+        acc[DRIVES] += w * sp.p_drives;
+        acc[REGEN] += w * sp.p_regeneration_lost;
+        for j in 0..n {
+            let pm = sp.p_mech[j];
+            acc[FIXED + j] += w * pm;
+            acc[FIXED + n + j] += w * pm.abs();
+            acc[MPOS] += w * pm.max(0.0);
+            acc[FIXED + 2 * n + j] += w * sp.p_el[j];
+            acc[FRICTION] += w * sp.p_friction[j];
+            acc[GEAR] += w * sp.p_gear[j];
+            acc[COPPER] += w * sp.p_copper[j];
+        }
+    }
+    Ok(())
+}
+
+/// Track, check and integrate the samples `r` of the job's plan (a union of whole segments:
+/// units and the exact stretches). A joint rate limit exceeded on a segment is noted in
+/// `binds` (that segment is then re-planned, see [`replan`]); the feasibility checks go on.
+#[allow(clippy::too_many_arguments)]
+fn window(
+    ctx: &Ctx<'_, '_, '_>,
+    sc: &mut Scratch<'_>,
+    r: Range<usize>,
+    margins: &mut Margins,
+    seg_of: &dyn Fn(usize) -> usize,
     unit_e: &mut [Option<Vec<f64>>],
-    exact: &mut [f64],
     peaks: &mut [Option<Vec<f64>>],
-    exact_peak: &mut [f64],
+    binds: &mut [Option<String>],
 ) -> std::result::Result<(), Outcome> {
     const PAD: usize = 4;
+    let ev = ctx.ev;
     let job = ev.job;
     let model = job.robot;
     let n = model.dof();
     let motion = &*job.plan.motion;
     let m = motion.p.len();
     let dt = motion.dt;
-    let o = &ev.feasibility;
-    let every = o.check_every.max(1);
+    let every = ev.feasibility.check_every.max(1);
     let lo = r.start.saturating_sub(PAD);
     let hi = (r.end + PAD).min(m);
     // Start at the tracked sample at or before `lo`.
-    let ti = (lo / stride).min(thin_idx.len() - 1);
-    let t0 = thin_idx[ti];
-    let rot = nozzle_target(&V3::zeros(), _at.nozzle_yaw()).rot;
+    let ti = (lo / ctx.stride).min(ctx.thin_idx.len() - 1);
+    let t0 = ctx.thin_idx[ti];
+    let rot = ctx.rot;
     let mut prev = JointVec::from_slice(&sc.red.thin[ti * n..(ti + 1) * n]);
-    let qs = &mut sc.red.qs;
+    let mut qs = std::mem::take(&mut sc.red.qs);
     qs.clear();
     for k in t0..hi {
-        let tip = frame.apply(&motion.p[k]);
+        let tip = ctx.frame.apply(&motion.p[k]);
         let q = match sc.solver.solve_near(&Frame { rot, pos: tip }, &prev) {
             Ok(q) => q,
             Err(reason) => {
+                sc.red.qs = qs;
                 let mi = job.pieces[motion.piece[k]].move_index;
                 return Err(Outcome::Infeasible(Infeasible::from_timing(
                     &crate::timing::TimingFailure::Unreachable {
@@ -857,129 +1295,445 @@ fn window<'a>(
         qs.extend_from_slice(&q[..n]);
         prev = q;
     }
-    let (qd, qdd, qddd) = crate::timing::joint::differentiate(qs, n, dt);
+    let (qd, qdd, qddd) = crate::timing::joint::differentiate(&qs, n, dt);
     let check_jerk = job.joint.check_jerk;
     for k in r.clone() {
-        let i = k - t0;
-        let peak: &mut [f64] = match unit_of(k) {
-            Some(u) => peaks[u].get_or_insert_with(|| vec![0.0; 3 * n]),
-            None => exact_peak,
+        let g = seg_of(k);
+        let peak = peaks[g].get_or_insert_with(|| vec![0.0; 3 * n]);
+        if let Some((j, kind, ratio)) = rates(model, check_jerk, &qd, &qdd, &qddd, k - t0, peak) {
+            if binds[g].is_none() {
+                binds[g] = Some(format!(
+                    "joint {} exceeds its {kind:?} limit ({:.0} %) at sample {k}",
+                    j + 1,
+                    ratio * 100.0
+                ));
+            }
+        }
+    }
+    let res = check(
+        ctx,
+        &mut sc.poses,
+        &qs,
+        &qd,
+        &qdd,
+        (r.start - t0)..(r.end - t0),
+        &|i| {
+            let k = i + t0;
+            (k, motion.p[k], k.is_multiple_of(every) || k + 1 == m)
+        },
+        margins,
+    )
+    .and_then(|()| {
+        integrate(
+            ctx,
+            &mut sc.data,
+            &mut sc.sp,
+            &qs,
+            &qd,
+            &qdd,
+            (r.start - t0)..(r.end - t0),
+            &|i| crate::numerics::trapezoid_weight(i + t0, m, dt),
+            &|i| seg_of(i + t0),
+            &|i| i + t0,
+            unit_e,
+        )
+    });
+    sc.red.qs = qs;
+    res
+}
+
+/// One stretch of the path re-planned on its own (see [`Replanner`]): a segment's samples
+/// of the job's plan with [`Reduction::pad_m`] of path before and after, entered and left at
+/// the unslowed plan's node speeds.
+struct Stretch {
+    /// Segment id (a unit, or the exact stretch before or after the repeating run).
+    g: usize,
+    /// The segment's arc-length range in the job's plan (filtered), m.
+    s_a: f64,
+    s_b: f64,
+    /// Node range of the job's plan.
+    i0: usize,
+    i1: usize,
+    nodes: crate::timing::profile::Nodes,
+    scale: Vec<f64>,
+    q_start: JointVec,
+    /// Plans made so far.
+    rounds: usize,
+    /// Planned again since its scale or the acceleration changed.
+    dirty: bool,
+    /// The re-planned segment's additive quantities and samples.
+    result: Option<Replanned>,
+}
+
+/// The segments where a joint's rate limit binds, re-planned with the full evaluation's rule
+/// ([`crate::timing::joint::time_path_planned`]) on the stretch around each: each round, the
+/// nodes around every sample over a limit are capped at `margin / ratio` (square root for
+/// acceleration, cube root for jerk) and the stretch is planned again. A stretch still over a
+/// limit after `max_iterations` plans makes the placement infeasible. Where a limit binds
+/// again where the speed is already capped (a ramp), the full evaluation lowers the
+/// acceleration of the whole path, and the placement is evaluated in full. Only the
+/// evaluated segments are re-planned: the slow-down of the layers between is interpolated
+/// ([`estimate`]).
+struct Replanner {
+    popts: crate::timing::ProfileOptions,
+    stretches: Vec<Stretch>,
+}
+
+/// A stretch planned and tracked: the motion, joint positions and derivatives (row-major),
+/// the samples not distorted by the stretch's ends, and every (sample, joint, limit, ratio)
+/// over a limit near the segment.
+struct Planned {
+    mo: CartesianMotion,
+    qs: Vec<f64>,
+    qd: Vec<f64>,
+    qdd: Vec<f64>,
+    clean: Range<usize>,
+    viol: Vec<(usize, usize, crate::timing::LimitKind, f64)>,
+}
+
+impl Stretch {
+    fn new(ctx: &Ctx<'_, '_, '_>, thin: &[f64], g: usize, seg: Range<usize>) -> Stretch {
+        let red = ctx.red;
+        let job = ctx.ev.job;
+        let n = job.robot.dof();
+        let nodes = &job.plan.nodes;
+        let motion = &*job.plan.motion;
+        let m = motion.p.len();
+        let (a, b) = (seg.start, seg.end);
+        let s_a = motion.s[a.min(m - 1)];
+        let s_b = if b < m { motion.s[b] } else { f64::INFINITY };
+        let last = nodes.s.len() - 1;
+        let i0 = nodes
+            .s
+            .partition_point(|&x| x < s_a - red.pad_m)
+            .saturating_sub(1);
+        let i1 = if b < m {
+            nodes.s.partition_point(|&x| x <= s_b + red.pad_m).min(last)
+        } else {
+            last
         };
-        for (j, jt) in model.joints.iter().enumerate() {
-            for (c, (v, lim, what)) in [
-                (qd[i * n + j], jt.velocity_limit, "velocity"),
-                (qdd[i * n + j], jt.acceleration_limit, "acceleration"),
-                (
-                    if check_jerk { qddd[i * n + j] } else { 0.0 },
-                    jt.jerk_limit,
-                    "jerk",
-                ),
-            ]
-            .into_iter()
-            .enumerate()
-            {
-                if !(lim.is_finite() && lim > 0.0) {
-                    continue;
+        let slice = |v: &Vec<f64>| v[i0..=i1].to_vec();
+        let mut sub = crate::timing::profile::Nodes {
+            s: slice(&nodes.s),
+            piece: nodes.piece[i0..=i1].to_vec(),
+            cap: slice(&nodes.cap),
+            dwell: if nodes.dwell.is_empty() {
+                Vec::new()
+            } else {
+                slice(&nodes.dwell)
+            },
+        };
+        let nl = sub.s.len();
+        if i0 > 0 {
+            sub.cap[0] = red.v0[i0];
+        }
+        if i1 < last {
+            sub.cap[nl - 1] = red.v0[i1];
+        }
+        // The configuration: from the tracked sample at or before the stretch's start.
+        let k_start = motion.s.partition_point(|&x| x < sub.s[0]).min(m - 1);
+        let ti = (k_start / ctx.stride).min(ctx.thin_idx.len() - 1);
+        Stretch {
+            g,
+            s_a,
+            s_b,
+            i0,
+            i1,
+            nodes: sub,
+            scale: vec![1.0; nl],
+            q_start: JointVec::from_slice(&thin[ti * n..(ti + 1) * n]),
+            rounds: 0,
+            dirty: true,
+            result: None,
+        }
+    }
+
+    /// The sample of the job's plan at the place of sample `i` of `mo`.
+    fn k_of(motion: &CartesianMotion, mo: &CartesianMotion, i: usize) -> usize {
+        motion
+            .s
+            .partition_point(|&x| x <= mo.s[i])
+            .saturating_sub(1)
+    }
+
+    /// Plan, track and differentiate the stretch; list the limits exceeded near the segment.
+    fn plan(
+        &mut self,
+        ctx: &Ctx<'_, '_, '_>,
+        sc: &mut Scratch<'_>,
+        popts: &crate::timing::ProfileOptions,
+    ) -> std::result::Result<Planned, Outcome> {
+        use crate::timing::LimitKind as K;
+        self.rounds += 1;
+        let red = ctx.red;
+        let job = ctx.ev.job;
+        let model = job.robot;
+        let n = model.dof();
+        let motion = &*job.plan.motion;
+        let dt = motion.dt;
+        let jopts = &job.joint;
+        let last = job.plan.nodes.s.len() - 1;
+        let mo = crate::timing::profile::plan(&job.pieces, &self.nodes, &self.scale, popts);
+        let len = mo.p.len();
+        let taps = mo.taps;
+        // Samples not distorted by the stretch's ends (the filter holds the first and last
+        // positions; derivatives reach 2 samples): all of them at the path's own ends.
+        let lo = if self.i0 == 0 { 0 } else { (taps + 3).min(len) };
+        let hi = if self.i1 == last {
+            len
+        } else {
+            (len + 1).saturating_sub(taps).saturating_sub(4).max(lo)
+        };
+        let mut qs = Vec::with_capacity(len * n);
+        let mut prev = self.q_start;
+        for (i, p) in mo.p.iter().enumerate() {
+            let tip = ctx.frame.apply(p);
+            match sc.solver.solve_near(
+                &Frame {
+                    rot: ctx.rot,
+                    pos: tip,
+                },
+                &prev,
+            ) {
+                Ok(q) => {
+                    qs.extend_from_slice(&q[..n]);
+                    prev = q;
                 }
-                let ratio = v.abs() / lim;
-                if ratio > 1.0 {
-                    return Err(Outcome::Full(format!(
-                        "joint {} exceeds its {what} limit ({:.0} %) at sample {k}: the controller slows down",
-                        j + 1,
-                        ratio * 100.0
+                Err(reason) => {
+                    let k = Stretch::k_of(motion, &mo, i);
+                    let mi = job.pieces[motion.piece[k]].move_index;
+                    return Err(Outcome::Infeasible(Infeasible::from_timing(
+                        &crate::timing::TimingFailure::Unreachable {
+                            sample: k,
+                            t: k as f64 * dt,
+                            point: tip,
+                            move_index: mi,
+                            line: job.line_of(mi),
+                            reason,
+                        },
                     )));
                 }
-                peak[3 * j + c] = peak[3 * j + c].max(ratio);
             }
         }
+        let (qd, qdd, qddd) = crate::timing::joint::differentiate(&qs, n, dt);
+        let near = |x: f64| x >= self.s_a - 0.5 * red.pad_m && x < self.s_b + 0.5 * red.pad_m;
+        let mut viol = Vec::new();
+        for i in lo..hi {
+            if !near(mo.s[i]) {
+                continue;
+            }
+            // Every limit over at this sample, as the full evaluation lists them.
+            for (j, jt) in model.joints.iter().enumerate() {
+                for (v, lim, kind) in [
+                    (qd[i * n + j], jt.velocity_limit, K::Velocity),
+                    (qdd[i * n + j], jt.acceleration_limit, K::Acceleration),
+                    (
+                        if jopts.check_jerk && jt.jerk_limit.is_finite() {
+                            qddd[i * n + j]
+                        } else {
+                            0.0
+                        },
+                        jt.jerk_limit,
+                        K::Jerk,
+                    ),
+                ] {
+                    if lim.is_finite() && v.abs() > lim {
+                        viol.push((i, j, kind, v.abs() / lim));
+                    }
+                }
+            }
+        }
+        Ok(Planned {
+            mo,
+            qs,
+            qd,
+            qdd,
+            clean: lo..hi,
+            viol,
+        })
     }
-    // Feasibility, as the full evaluation checks it, on these samples.
-    let beads = &ev.beads;
-    for k in r.clone() {
-        let i = k - t0;
-        let q = &qs[i * n..(i + 1) * n];
-        let jc = super::margins::check_joint_sample(
-            model,
-            o,
-            q,
-            &qd[i * n..(i + 1) * n],
-            &qdd[i * n..(i + 1) * n],
-            margins,
-        );
-        if k % every == 0 || k + 1 == m || jc.is_some() {
-            if let Some((reason, detail)) = jc.or_else(|| {
-                feasibility::check_sample(
-                    model,
-                    o,
-                    feasibility::Scene {
-                        world,
-                        shapes: &ev.shapes,
-                        beads,
-                    },
-                    q,
-                    beads.laid_at(k),
-                    &mut sc.poses,
-                    margins,
+
+    /// Feasibility and energy of the segment's samples of a plan without violations.
+    fn finish(
+        &self,
+        ctx: &Ctx<'_, '_, '_>,
+        sc: &mut Scratch<'_>,
+        pl: &Planned,
+        margins: &mut Margins,
+    ) -> std::result::Result<Replanned, Outcome> {
+        let job = ctx.ev.job;
+        let n = job.robot.dof();
+        let motion = &*job.plan.motion;
+        let dt = motion.dt;
+        let every = ctx.ev.feasibility.check_every.max(1);
+        let last = job.plan.nodes.s.len() - 1;
+        let mo = &pl.mo;
+        let len = mo.p.len();
+        let (i0, i1) = (self.i0, self.i1);
+        let in_seg = |i: usize| pl.clean.contains(&i) && mo.s[i] >= self.s_a && mo.s[i] < self.s_b;
+        let idx = || (0..len).filter(|&i| in_seg(i));
+        let k_of = |i: usize| Stretch::k_of(motion, mo, i);
+        check(
+            ctx,
+            &mut sc.poses,
+            &pl.qs,
+            &pl.qd,
+            &pl.qdd,
+            idx(),
+            &|i| {
+                (
+                    k_of(i),
+                    mo.p[i],
+                    i.is_multiple_of(every) || (i1 == last && i + 1 == len),
                 )
-            }) {
-                let mi = job.pieces[motion.piece[k]].move_index;
-                let tip = frame.apply(&motion.p[k]);
-                return Err(Outcome::Infeasible(Infeasible {
-                    reason,
-                    sample: Some(k),
-                    t_s: Some(k as f64 * dt),
-                    line: Some(job.line_of(mi)),
-                    point_m: Some([tip.x, tip.y, tip.z]),
-                    detail,
-                }));
-            }
-        }
-    }
-    // Energy, with the full evaluation's weights, into each unit's vector (or the rest).
-    let dim = FIXED + 3 * n;
-    for k in r {
-        let i = k - t0;
-        let w = crate::numerics::trapezoid_weight(k, m, dt);
-        let p = match energy::eval_sample(
-            &job.energy,
+            },
+            margins,
+        )?;
+        let mut acc = [None];
+        integrate(
+            ctx,
             &mut sc.data,
-            &qs[i * n..(i + 1) * n],
-            &qd[i * n..(i + 1) * n],
-            &qdd[i * n..(i + 1) * n],
             &mut sc.sp,
-        ) {
-            Ok(p) => p,
-            Err(e) => {
-                return Err(Outcome::Infeasible(Infeasible {
-                    reason: Reason::ModelError,
-                    sample: Some(k),
-                    t_s: Some(k as f64 * dt),
-                    line: None,
-                    point_m: None,
-                    detail: e.to_string(),
-                }))
-            }
-        };
-        let acc: &mut [f64] = match unit_of(k) {
-            Some(u) => unit_e[u].get_or_insert_with(|| vec![0.0; dim]),
-            None => exact,
-        };
-        let sp = &sc.sp;
-        acc[SUPPLY] += w * p;
-        acc[DRIVES] += w * sp.p_drives;
-        acc[REGEN] += w * sp.p_regeneration_lost;
-        for j in 0..n {
-            let pm = sp.p_mech[j];
-            acc[FIXED + j] += w * pm;
-            acc[FIXED + n + j] += w * pm.abs();
-            acc[MPOS] += w * pm.max(0.0);
-            acc[FIXED + 2 * n + j] += w * sp.p_el[j];
-            acc[FRICTION] += w * sp.p_friction[j];
-            acc[GEAR] += w * sp.p_gear[j];
-            acc[COPPER] += w * sp.p_copper[j];
+            &pl.qs,
+            &pl.qd,
+            &pl.qdd,
+            idx(),
+            &|i| {
+                if (i == 0 && i0 == 0) || (i + 1 == len && i1 == last) {
+                    0.5 * dt
+                } else {
+                    dt
+                }
+            },
+            &|_| 0,
+            &k_of,
+            &mut acc,
+        )?;
+        let [e] = acc;
+        Ok(Replanned {
+            e: e.unwrap_or_else(|| vec![0.0; FIXED + 3 * n]),
+            samples: idx().count() as f64,
+        })
+    }
+}
+
+impl Replanner {
+    fn new(ctx: &Ctx<'_, '_, '_>) -> Self {
+        Replanner {
+            popts: ctx.ev.job.profile,
+            stretches: Vec::new(),
         }
     }
-    Ok(())
+
+    fn add(&mut self, ctx: &Ctx<'_, '_, '_>, thin: &[f64], g: usize, seg: Range<usize>) {
+        if !self.stretches.iter().any(|s| s.g == g) {
+            self.stretches.push(Stretch::new(ctx, thin, g, seg));
+        }
+    }
+
+    /// Re-plan the segments `binding` until no limit binds; `range(g)`: segment `g`'s samples.
+    fn run(
+        &mut self,
+        ctx: &Ctx<'_, '_, '_>,
+        sc: &mut Scratch<'_>,
+        binding: &[usize],
+        range: &dyn Fn(usize) -> Range<usize>,
+        margins: &mut Margins,
+    ) -> std::result::Result<(), Outcome> {
+        use crate::timing::LimitKind as K;
+        let thin = std::mem::take(&mut sc.red.thin);
+        for &g in binding {
+            self.add(ctx, &thin, g, range(g));
+        }
+        sc.red.thin = thin;
+        let job = ctx.ev.job;
+        let jopts = &job.joint;
+        let max_rounds = jopts.max_iterations.max(1);
+        let motion = &*job.plan.motion;
+        while self.stretches.iter().any(|s| s.dirty) {
+            let mut ramp_factor: f64 = 1.0;
+            let mut ramp_why = None;
+            for st in self.stretches.iter_mut().filter(|s| s.dirty) {
+                let pl = st.plan(ctx, sc, &self.popts)?;
+                if pl.viol.is_empty() {
+                    st.result = Some(st.finish(ctx, sc, &pl, margins)?);
+                    st.dirty = false;
+                    continue;
+                }
+                if st.rounds >= max_rounds {
+                    let (i, j, kind, ratio) = pl
+                        .viol
+                        .iter()
+                        .copied()
+                        .max_by(|x, y| x.3.total_cmp(&y.3))
+                        .expect("non-empty");
+                    let k = Stretch::k_of(motion, &pl.mo, i);
+                    let tip = ctx.frame.apply(&pl.mo.p[i]);
+                    return Err(Outcome::Infeasible(Infeasible {
+                        reason: Reason::JointLimits,
+                        sample: Some(k),
+                        t_s: Some(k as f64 * motion.dt),
+                        line: Some(job.line_of(job.pieces[motion.piece[k]].move_index)),
+                        point_m: Some([tip.x, tip.y, tip.z]),
+                        detail: format!(
+                            "joint {} {kind:?} limit still exceeded ({ratio:.2}x) after re-planning this layer {} times (the reduced evaluation re-plans each evaluated layer where a limit binds on its own)",
+                            j + 1,
+                            st.rounds - 1,
+                        ),
+                    }));
+                }
+                let half = pl.mo.taps + 2;
+                let len = pl.mo.p.len();
+                let nl = st.nodes.s.len();
+                for &(i, j, kind, ratio) in &pl.viol {
+                    let f = match kind {
+                        K::Velocity => jopts.margin / ratio,
+                        K::Acceleration => (jopts.margin / ratio).sqrt(),
+                        K::Jerk => (jopts.margin / ratio).cbrt(),
+                    };
+                    let (s0, s1) = (
+                        pl.mo.s[i.saturating_sub(half)],
+                        pl.mo.s[(i + half).min(len - 1)],
+                    );
+                    let n0 = st.nodes.s.partition_point(|&x| x < s0);
+                    let n1 = st.nodes.s.partition_point(|&x| x <= s1);
+                    let mut capped = false;
+                    for c in &mut st.scale[n0..n1.min(nl)] {
+                        if *c > f {
+                            *c = f;
+                            capped = true;
+                        }
+                    }
+                    if !capped && kind != K::Velocity {
+                        ramp_factor = ramp_factor.min(match kind {
+                            K::Acceleration => jopts.margin / ratio,
+                            _ => (jopts.margin / ratio).sqrt(),
+                        });
+                        ramp_why.get_or_insert_with(|| {
+                            format!(
+                                "joint {} {kind:?} limit binds again ({:.0} %) where the speed is already capped, near sample {}",
+                                j + 1,
+                                ratio * 100.0,
+                                Stretch::k_of(motion, &pl.mo, i)
+                            )
+                        });
+                    }
+                }
+            }
+            if ramp_factor < 1.0 {
+                // The full evaluation lowers the acceleration of the whole path here. How it
+                // then proceeds depends on every layer's samples (their phase included: a
+                // limit met at 99 % in one plan is exceeded by 1 % in the next), which
+                // re-planning the evaluated layers alone does not reproduce (tried: verdicts
+                // differed from the full evaluation's both ways): evaluate in full.
+                return Err(Outcome::Full(format!(
+                    "{}: the controller lowers the acceleration of the whole path",
+                    ramp_why.unwrap_or_default()
+                )));
+            }
+        }
+        Ok(())
+    }
 }
 
 /// The full re-evaluation of an optimisation's answer beside its estimate (JSON: the
