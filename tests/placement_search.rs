@@ -425,3 +425,58 @@ fn a_tolerance_check_stopped_at_the_first_infeasible_corner_agrees_with_all_sixt
     let full_failures: usize = one.iter().filter(|c| !c.holds).map(|c| c.corners).sum();
     assert_eq!(n1, 16 + full_failures);
 }
+
+#[test]
+fn the_search_box_step_and_tolerance_limits_are_set_once_for_the_cli_and_python() {
+    use printwatt::placement::search::{Bounds, SearchOptions};
+    use printwatt::placement::tolerance::Tolerance;
+    use printwatt::placement::{Grid, Placement};
+    let g = Grid {
+        xs: vec![1.0, 1.4, 1.8],
+        ys: vec![-0.3, 0.0],
+        zs: vec![0.0, 0.5],
+        yaws: vec![0.0],
+        spins: vec![0.0],
+    };
+    assert_eq!(g.step_xy_m(), Some(0.3_f64.min(0.4)));
+    let one = Grid {
+        xs: vec![1.0],
+        ys: vec![0.0],
+        ..g.clone()
+    };
+    assert_eq!(one.step_xy_m(), None);
+    let ps: Vec<Placement> = g.placements();
+    let b = Bounds::over(&ps, None).unwrap();
+    assert_eq!((b.x, b.y, b.z), ([1.0, 1.8], [-0.3, 0.0], [0.0, 0.5]));
+    assert_eq!(Bounds::over(&ps, Some([0.1, 0.2])).unwrap().z, [0.1, 0.2]);
+    assert!(Bounds::over(&ps, Some([0.2, 0.1])).is_err());
+    assert!(Bounds::over(&ps, Some([f64::NAN, 0.1])).is_err());
+    let so = SearchOptions::new(b, Tolerance::default());
+    assert!(so.z && (so.step_z_m - 0.125).abs() < 1e-15 && so.max_start_cells == 20);
+    let flat = SearchOptions::new(
+        Bounds::over(&ps, Some([0.0, 0.0])).unwrap(),
+        Tolerance::default(),
+    );
+    assert!(!flat.z && flat.step_z_m == 0.01);
+    assert!(Tolerance::default().check().is_ok());
+    for bad in [
+        Tolerance {
+            xy_m: 0.6,
+            ..Tolerance::default()
+        },
+        Tolerance {
+            z_m: -0.01,
+            ..Tolerance::default()
+        },
+        Tolerance {
+            yaw_rad: 46f64.to_radians(),
+            ..Tolerance::default()
+        },
+        Tolerance {
+            xy_m: f64::NAN,
+            ..Tolerance::default()
+        },
+    ] {
+        assert!(bad.check().is_err(), "{bad:?}");
+    }
+}

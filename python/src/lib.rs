@@ -883,65 +883,23 @@ fn optimise<'py>(
     let eopts = energy_options(regeneration.as_deref(), payload, friction)?;
     let feas = feasibility_options(joint_margin, collisions, check_every)?;
     let (txy, tz, tyaw) = tolerance;
-    if [txy, tz, tyaw]
-        .iter()
-        .any(|v| !(v.is_finite() && *v >= 0.0))
-        || txy > 0.5
-        || tz > 0.5
-        || tyaw > 45f64.to_radians()
-    {
-        return Err(err(format!(
-            "tolerance = {tolerance:?}: expected (±xy m, ±z m, ±yaw rad), each >= 0, at most 0.5 m and π/4"
-        )));
-    }
+    let tolerance = Tolerance {
+        xy_m: txy,
+        z_m: tz,
+        yaw_rad: tyaw,
+    };
+    tolerance.check().map_err(err)?;
     let ps = grid.placements();
-    let span = |f: &dyn Fn(&Placement) -> f64| {
-        ps.iter()
-            .map(f)
-            .fold([f64::INFINITY, f64::NEG_INFINITY], |r, v| {
-                [r[0].min(v), r[1].max(v)]
-            })
-    };
-    let z = match z_bounds {
-        Some((a, b)) if a.is_finite() && b.is_finite() && a <= b => [a, b],
-        Some(zb) => {
-            return Err(err(format!(
-                "z_bounds = {zb:?}: expected (min, max) in m with min <= max"
-            )))
-        }
-        None => span(&|p| p.z),
-    };
-    let bounds = Bounds {
-        x: span(&|p| p.x),
-        y: span(&|p| p.y),
-        z,
-    };
-    let step = {
-        let d = |v: &[f64]| (v.len() > 1).then(|| (v[1] - v[0]).abs());
-        match (d(&grid.xs), d(&grid.ys)) {
-            (Some(a), Some(b)) => a.min(b),
-            (a, b) => a.or(b).unwrap_or(0.1),
-        }
-    };
+    let bounds = Bounds::over(&ps, z_bounds.map(|(a, b)| [a, b])).map_err(err)?;
     let opts = OptimiseOptions {
         seed,
         max_evals,
-        step_xy_m: step / 2.0,
+        step_xy_m: grid.step_xy_m().unwrap_or(0.1) / 2.0,
         yaw: !fixed_yaw,
         spin: !fixed_spin,
         ..Default::default()
     };
-    let so = SearchOptions {
-        bounds,
-        tolerance: Tolerance {
-            xy_m: txy,
-            z_m: tz,
-            yaw_rad: tyaw,
-        },
-        step_z_m: ((bounds.z[1] - bounds.z[0]) / 4.0).max(0.01),
-        z: bounds.z[1] > bounds.z[0],
-        max_start_cells: 20,
-    };
+    let so = SearchOptions::new(bounds, tolerance);
     let out = py.detach(|| -> printwatt::Result<_> {
         let job = PathJob::new(model, tp, eopts, prof, JointStageOptions::default())?;
         let ev = Evaluator::new(&job, feas, obj);

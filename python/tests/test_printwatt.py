@@ -179,6 +179,11 @@ def test_optimise_returns_the_best_placement_its_energy_and_the_reasons(robot):
     assert o["placements"] == 12 and o["infeasible_by_reason"]["unreachable"] == 3
     assert o["feasible"] + sum(o["infeasible_by_reason"].values()) == 12
     assert o["search"]["method"].startswith("nelder-mead")
+    # Bad search settings: the library's messages.
+    with pytest.raises(pw.PrintwattError, match="at most 0.5 m and 45"):
+        pw.optimise(robot, wall, xs=xs, ys=ys, zs=[0.0], yaws=[0.0], tolerance=(0.6, 0.0, 0.0))
+    with pytest.raises(pw.PrintwattError, match="z bounds"):
+        pw.optimise(robot, wall, xs=xs, ys=ys, zs=[0.0], yaws=[0.0], z_bounds=(0.5, 0.0))
     # Nothing feasible: the command's advice, as an error.
     with pytest.raises(pw.PrintwattError, match="unreachable"):
         pw.optimise(robot, wall, xs=[9.0], ys=[0.0], zs=[0.0], yaws=[0.0])

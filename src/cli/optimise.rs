@@ -125,13 +125,6 @@ pub fn parse_tolerance(s: &str) -> Result<Tolerance> {
 
 /// The search box: x and y over the placements asked for, z over `--z-bounds` or them.
 pub fn search_bounds(ps: &[Placement], z_bounds: Option<&str>) -> Result<Bounds> {
-    let span = |f: &dyn Fn(&Placement) -> f64| {
-        ps.iter()
-            .map(f)
-            .fold([f64::INFINITY, f64::NEG_INFINITY], |r, v| {
-                [r[0].min(v), r[1].max(v)]
-            })
-    };
     let z = match z_bounds {
         Some(s) => {
             let v: Vec<f64> = s
@@ -140,17 +133,13 @@ pub fn search_bounds(ps: &[Placement], z_bounds: Option<&str>) -> Result<Bounds>
                 .collect::<Option<_>>()
                 .with_context(|| format!("--z-bounds `{s}`: expected min:max in m"))?;
             match v.as_slice() {
-                [a, b] if a <= b => [*a, *b],
+                [a, b] if a <= b => Some([*a, *b]),
                 _ => anyhow::bail!("--z-bounds `{s}`: expected min:max with min <= max (m)"),
             }
         }
-        None => span(&|p| p.z),
+        None => None,
     };
-    Ok(Bounds {
-        x: span(&|p| p.x),
-        y: span(&|p| p.y),
-        z,
-    })
+    Ok(Bounds::over(ps, z)?)
 }
 
 /// An uncertainty study's draws computed elsewhere (the shards put together by `printwatt
@@ -244,16 +233,7 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
             .trim_end()
         );
     }
-    let step = grid
-        .as_ref()
-        .and_then(|g| {
-            let d = |v: &[f64]| (v.len() > 1).then(|| (v[1] - v[0]).abs());
-            match (d(&g.xs), d(&g.ys)) {
-                (Some(a), Some(b)) => Some(a.min(b)),
-                (a, b) => a.or(b),
-            }
-        })
-        .unwrap_or(0.1);
+    let step = grid.as_ref().and_then(|g| g.step_xy_m()).unwrap_or(0.1);
     let opts = OptimiseOptions {
         seed: a.seed,
         max_evals: a.max_evals,
@@ -266,13 +246,7 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
     let bounds = search_bounds(&ps, a.z_bounds.as_deref())?;
     let mut res = match a.search.as_str() {
         "nelder-mead" | "nelder_mead" | "nm" => {
-            let so = SearchOptions {
-                bounds,
-                tolerance: tol,
-                step_z_m: ((bounds.z[1] - bounds.z[0]) / 4.0).max(0.01),
-                z: bounds.z[1] > bounds.z[0],
-                max_start_cells: 20,
-            };
+            let so = SearchOptions::new(bounds, tol);
             let bar = std::io::stderr().is_terminal().then(|| {
                 let b = indicatif::ProgressBar::new(opts.max_evals as u64);
                 b.set_style(

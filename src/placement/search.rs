@@ -34,6 +34,32 @@ pub struct Bounds {
 }
 
 impl Bounds {
+    /// The box over `ps` in x and y, and in z over `z` (m, `[min, max]`) or else `ps`. Error:
+    /// `z` not finite or min > max.
+    pub fn over(ps: &[Placement], z: Option<[f64; 2]>) -> Result<Bounds> {
+        let span = |f: &dyn Fn(&Placement) -> f64| {
+            ps.iter()
+                .map(f)
+                .fold([f64::INFINITY, f64::NEG_INFINITY], |r, v| {
+                    [r[0].min(v), r[1].max(v)]
+                })
+        };
+        let z = match z {
+            Some([a, b]) if a.is_finite() && b.is_finite() && a <= b => [a, b],
+            Some([a, b]) => {
+                return Err(Error::Invalid(format!(
+                    "z bounds {a}…{b} m: expected finite min <= max"
+                )))
+            }
+            None => span(&|p| p.z),
+        };
+        Ok(Bounds {
+            x: span(&|p| p.x),
+            y: span(&|p| p.y),
+            z,
+        })
+    }
+
     /// Is `p` inside (closed box)?
     pub fn contains(&self, p: &Placement) -> bool {
         let inside = |v: f64, r: [f64; 2]| v >= r[0] - 1e-12 && v <= r[1] + 1e-12;
@@ -249,6 +275,21 @@ pub struct SearchOptions {
     pub z: bool,
     /// Grid cells tried (best first) for one that holds the tolerance.
     pub max_start_cells: usize,
+}
+
+impl SearchOptions {
+    /// The options `printwatt optimise` uses in `bounds` with `tolerance`: a first simplex step
+    /// in z of a quarter of the z range (at least 10 mm), z searched when its range is not
+    /// empty, and up to 20 grid cells tried for a start that holds the tolerance.
+    pub fn new(bounds: Bounds, tolerance: Tolerance) -> SearchOptions {
+        SearchOptions {
+            bounds,
+            tolerance,
+            step_z_m: ((bounds.z[1] - bounds.z[0]) / 4.0).max(0.01),
+            z: bounds.z[1] > bounds.z[0],
+            max_start_cells: 20,
+        }
+    }
 }
 
 /// The grid's feasible cells in cost order (ties to the first).

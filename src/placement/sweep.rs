@@ -803,6 +803,16 @@ pub struct Grid {
 }
 
 impl Grid {
+    /// The finer of the x and y spacings (the first two values of each axis), m; `None` when
+    /// both axes have a single value. `optimise` starts its simplex at half of it.
+    pub fn step_xy_m(&self) -> Option<f64> {
+        let d = |v: &[f64]| (v.len() > 1).then(|| (v[1] - v[0]).abs());
+        match (d(&self.xs), d(&self.ys)) {
+            (Some(a), Some(b)) => Some(a.min(b)),
+            (a, b) => a.or(b),
+        }
+    }
+
     /// Number of placements.
     pub fn len(&self) -> usize {
         self.xs.len() * self.ys.len() * self.zs.len() * self.yaws.len() * self.spins.len()

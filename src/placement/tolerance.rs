@@ -26,6 +26,23 @@ pub struct Tolerance {
     pub yaw_rad: f64,
 }
 
+impl Tolerance {
+    /// Refuse a tolerance that is not a number >= 0 or is wider than 0.5 m or 45°.
+    pub fn check(&self) -> crate::error::Result<()> {
+        let ok = |v: f64, max: f64| v.is_finite() && (0.0..=max).contains(&v);
+        if ok(self.xy_m, 0.5) && ok(self.z_m, 0.5) && ok(self.yaw_rad, 45f64.to_radians()) {
+            Ok(())
+        } else {
+            Err(crate::error::Error::Invalid(format!(
+                "tolerance ±{} m in x and y, ±{} m in z, ±{}° in yaw: expected numbers >= 0, at most 0.5 m and 45°",
+                self.xy_m,
+                self.z_m,
+                self.yaw_rad.to_degrees()
+            )))
+        }
+    }
+}
+
 impl Default for Tolerance {
     /// ±20 mm in x, y and z; ±1° in yaw.
     fn default() -> Self {
