@@ -10,11 +10,14 @@
 //! full ([`printwatt::placement::reduce::confirm`]).
 //!
 //! Prints: samples, the wall time of the optimisation on 2 threads (grid, refinement, full
-//! re-evaluation), the time of one full evaluation of the chosen placement on 1 thread, their
-//! ratio, and the estimate against the full energy at the chosen placement.
+//! re-evaluation), the time of one full and one reduced evaluation of the chosen placement on
+//! 1 thread, their ratio, how the evaluations went (estimates, rejected by the reduced
+//! evaluation, evaluated in full, layers re-planned), and the estimate against the full
+//! energy at the chosen placement.
 //!
 //! Run: `cargo bench --bench layers` (plain main, no criterion). `PRINTWATT_LAYERS=N` sets
-//! the number of layers (default 300).
+//! the number of layers (default 300); `PRINTWATT_LAYERS_BREAKDOWN=K` times every K-th grid
+//! cell on one thread instead and sorts the time by how each cell was evaluated.
 
 #[path = "../tests/common/wall.rs"]
 mod wall;
