@@ -1,12 +1,16 @@
 //! Criterion benchmarks of the dynamics and the per-sample energy evaluation, with a ratio
 //! against Pinocchio 4.1's C++ RNEA when `/work/shared/bench/pinocchio-rnea/run.sh` is present
-//! (run once per robot on the same URDF; see its README).
+//! (run once per robot on the same URDF; see its README); the lockstep RNEA (8 samples per
+//! call on the CPU's best SIMD level) per sample in the same run, as a ratio to it too.
 
 #![allow(clippy::needless_range_loop)] // index-parallel arrays read more clearly in tests
 
 use criterion::{black_box, Criterion};
-use printwatt::dynamics::{gravity_torque, mass_matrix, rnea, DynModel, DynOptions};
+use printwatt::dynamics::{
+    gravity_torque, mass_matrix, rnea, rnea_batch, DynModel, DynOptions, StateBatch,
+};
 use printwatt::energy::{eval_sample, EnergyModel, SamplePower};
+use printwatt::simd::LANES;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::f64::consts::PI;
@@ -53,6 +57,39 @@ fn our_rnea_ns(model: &DynModel, st: &[[Vec<f64>; 3]]) -> f64 {
         batch(&mut d);
     }
     let mut v: Vec<f64> = (0..1000).map(|_| batch(&mut d)).collect();
+    v.sort_by(|a, b| a.total_cmp(b));
+    v[v.len() / 2]
+}
+
+/// The same for the lockstep RNEA ([`rnea_batch`] on the CPU's best SIMD level): ns per
+/// sample, the sines of each batch computed inside the timed loop
+/// ([`printwatt::fastmath::sin_cos_lanes`]) as RNEA computes them.
+fn our_rnea_batch_ns(model: &DynModel, st: &[[Vec<f64>; 3]]) -> f64 {
+    let n = model.dof();
+    let level = printwatt::simd::detected();
+    let mut tau = [[0.0; LANES]; printwatt::dynamics::MAX_DOF];
+    let mut batch = || {
+        let t0 = Instant::now();
+        for chunk in st.chunks(LANES) {
+            let mut b = StateBatch::default();
+            for j in 0..n {
+                let mut x = [0.0; LANES];
+                for (l, s) in chunk.iter().enumerate() {
+                    x[l] = s[0][j];
+                    b.qd[j][l] = s[1][j];
+                    b.qdd[j][l] = s[2][j];
+                }
+                (b.s[j], b.c[j]) = printwatt::fastmath::sin_cos_lanes(&x);
+            }
+            rnea_batch(model, &b, &mut tau, level);
+            black_box(&tau);
+        }
+        t0.elapsed().as_nanos() as f64 / st.len() as f64
+    };
+    for _ in 0..100 {
+        batch();
+    }
+    let mut v: Vec<f64> = (0..1000).map(|_| batch()).collect();
     v.sort_by(|a, b| a.total_cmp(b));
     v[v.len() / 2]
 }
@@ -154,13 +191,16 @@ fn main() {
         });
         if std::env::args().all(|a| a != "--test" && a != "--list") {
             let ours = our_rnea_ns(&bare, &st);
+            let lockstep = our_rnea_batch_ns(&bare, &st);
+            let level = printwatt::simd::detected().name();
             match pinocchio_rnea_ns(&robot_dir(name).join("robot.urdf")) {
                 Ok((pin, nv)) => ratios.push(format!(
-                    "{name}: ours {ours:.1} ns / pinocchio {pin:.1} ns (nv = {nv}) = {:.3}",
-                    ours / pin
+                    "{name}: ours {ours:.1} ns / pinocchio {pin:.1} ns (nv = {nv}) = {:.3}; lockstep ({level}, 8 samples) {lockstep:.1} ns per sample = {:.3}",
+                    ours / pin,
+                    lockstep / pin
                 )),
                 Err(e) => ratios.push(format!(
-                    "{name}: ours {ours:.1} ns; pinocchio reference unavailable ({e})"
+                    "{name}: ours {ours:.1} ns, lockstep ({level}) {lockstep:.1} ns per sample; pinocchio reference unavailable ({e})"
                 )),
             }
         }

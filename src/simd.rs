@@ -1,14 +1,16 @@
 //! Runtime choice of the instruction set for the per-sample kernels that run several samples
-//! in lockstep (issue 12 item 3): structure-of-arrays batches of [`LANES`] samples, written
+//! in lockstep (issue 12 item 3: the IK's closed form and FK re-check while tracking, RNEA and
+//! the balancer in the energy pass): structure-of-arrays batches of [`LANES`] samples, written
 //! as plain `[f64; LANES]` loops that LLVM turns into vector instructions, compiled three
 //! times (baseline x86-64 SSE2, AVX2 + FMA, AVX-512F) and chosen once per process by
 //! [`level`].
 //!
 //! # Why plain arrays and `#[target_feature]`, not a SIMD crate
 //!
-//! The kernels are straight-line arithmetic over 8 lanes (no shuffles, no gathers, no
-//! transcendentals inside the batched part), which LLVM vectorises completely from
-//! fixed-length loops; `#[target_feature(enable = …)]` wrappers around one
+//! The kernels are straight-line arithmetic over 8 lanes (no shuffles, no gathers; the
+//! transcendentals `sin_cos`, `atan2`, `acos` are fdlibm's kernels per lane with their
+//! branches turned into selects, [`crate::fastmath::sin_cos_lanes`] and friends), which LLVM
+//! vectorises completely from fixed-length loops; `#[target_feature(enable = …)]` wrappers around one
 //! `#[inline(always)]` generic body give the AVX2 and AVX-512 code with runtime dispatch by
 //! `is_x86_feature_detected!` and no dependency. `wide` would fix the lane width at compile
 //! time (no runtime dispatch), `pulp`/`multiversion` add a dependency for what three

@@ -470,3 +470,27 @@ fn the_closed_form_of_eight_samples_equals_the_per_sample_closed_form_on_every_b
     }
     assert!(checked > 500, "only {checked} lanes with an answer");
 }
+
+#[test]
+fn energy_of_a_timed_path_is_the_same_on_the_scalar_and_every_simd_path() {
+    // energy_of (the uncertainty draws' re-evaluation) computes the sines itself.
+    use printwatt::placement::feasibility::FeasibilityOptions;
+    use printwatt::placement::{Evaluator, Objective, Placement};
+    let _g = LEVEL_LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    let model = common::robot("abb_irb6700_200_260");
+    let job = common::default_job(&model, &common::path("seed000_test_path.gcode"));
+    let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
+    let mut sc = ev.scratch().unwrap();
+    let at = Placement::new(1.8, 0.0, 0.2, 90f64.to_radians());
+    let timed = ev.timed(&mut sc, &at).expect("a feasible placement");
+    let margins = Default::default();
+    let mut energy = |level: Level| {
+        assert!(simd::set_level(level));
+        ev.energy_of(&mut sc, &timed, margins).unwrap()
+    };
+    let want = energy(Level::Scalar);
+    for level in levels() {
+        assert_eq!(energy(level), want, "{level:?}");
+    }
+    simd::set_level(simd::detected());
+}

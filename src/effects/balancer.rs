@@ -155,6 +155,27 @@ impl Balancer {
         let s = self.shape(q);
         s[0] * self.preload + s[1] * self.stiffness
     }
+
+    /// [`Balancer::joint_torque`] at [`crate::simd::LANES`] angles at once (rad → N·m), lane by
+    /// lane bit-identical (the same operations; the sines by
+    /// [`crate::fastmath::sin_cos_lanes`]).
+    #[inline]
+    pub fn joint_torque_lanes(&self, q: &[f64; crate::simd::LANES]) -> [f64; crate::simd::LANES] {
+        use crate::simd::LANES;
+        let mut x = [0.0; LANES];
+        for l in 0..LANES {
+            x[l] = q[l] - self.upright;
+        }
+        let (s, c) = crate::fastmath::sin_cos_lanes(&x);
+        let mut t = [0.0; LANES];
+        for l in 0..LANES {
+            let len = self.length_at_cos(c[l]);
+            let dl = self.a * self.b * s[l] / len;
+            let stretch = (len - self.min_length()).max(0.0);
+            t[l] = dl * self.preload + (stretch * dl) * self.stiffness;
+        }
+        t
+    }
 }
 
 impl Effect for Balancer {

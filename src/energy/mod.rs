@@ -521,9 +521,44 @@ pub fn eval_batch_with_sincos<'s>(
         for (t, lanes) in o.tau_rb.iter_mut().zip(&tau).take(n) {
             *t = lanes[l];
         }
-        finish_sample(model, q(l), qd(l), qdd(l), o);
+        o.tau_balancer = [0.0; MAX_DOF];
+        o.tau_friction = [0.0; MAX_DOF];
+    }
+    // The torque effects in the order finish_sample adds them, each over the lanes; the
+    // balancer in lockstep (its sines and square root), the others lane by lane.
+    for (e, class) in &model.torque {
+        match e.as_any().downcast_ref::<crate::effects::Balancer>() {
+            Some(b) if b.joint < n => {
+                let mut x = [0.0; LANES];
+                for (l, v) in x.iter_mut().enumerate().take(count) {
+                    *v = q(l)[b.joint];
+                }
+                let t = b.joint_torque_lanes(&x);
+                for (l, o) in out.iter_mut().enumerate().take(count) {
+                    class_torque(o, *class)[b.joint] += t[l];
+                }
+            }
+            _ => {
+                for (l, o) in out.iter_mut().enumerate().take(count) {
+                    e.add_torque(q(l), qd(l), qdd(l), &mut class_torque(o, *class)[..n]);
+                }
+            }
+        }
+    }
+    for (l, o) in out.iter_mut().enumerate().take(count) {
+        power_sample(model, qd(l), o);
     }
     Ok(())
+}
+
+/// The torque array of `out` an effect of `class` adds to.
+#[inline(always)]
+fn class_torque(out: &mut SamplePower, class: EnergyClass) -> &mut [f64; MAX_DOF] {
+    match class {
+        EnergyClass::RigidBody => &mut out.tau_rb,
+        EnergyClass::Friction => &mut out.tau_friction,
+        EnergyClass::Balancer => &mut out.tau_balancer,
+    }
 }
 
 /// The rest of a sample once `out.tau_rb` holds the rigid-body torque: the torque effects,
@@ -548,6 +583,15 @@ fn finish_sample(
         };
         e.add_torque(q, qd, qdd, &mut dst[..n]);
     }
+    power_sample(model, qd, out)
+}
+
+/// The powers of a sample once its torques are in `out` (rigid body, friction, balancer):
+/// joint torque, mechanical power, the motor model, the supply. Returns the supply power, W.
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // parallel fixed arrays indexed by joint
+fn power_sample(model: &EnergyModel, qd: &[f64], out: &mut SamplePower) -> f64 {
+    let n = model.n;
     for j in 0..n {
         let v = qd[j];
         let tf = out.tau_friction[j];
