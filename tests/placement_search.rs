@@ -480,3 +480,50 @@ fn the_search_box_step_and_tolerance_limits_are_set_once_for_the_cli_and_python(
         assert!(bad.check().is_err(), "{bad:?}");
     }
 }
+
+#[test]
+fn optimise_says_when_its_evaluation_budget_not_convergence_ended_the_search() {
+    // The answer of a search stopped by its budget is where the budget ran out; more
+    // evaluations may move it. The report must say so, and must not when the simplex
+    // converged.
+    let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
+    let j = job(&model, &tp, 8);
+    let ev = Evaluator::new(&j, FeasibilityOptions::default(), Objective::Supply);
+    let g = Grid {
+        xs: vec![1.4, 1.5, 1.6],
+        ys: vec![-0.1, 0.1],
+        zs: vec![0.5],
+        yaws: vec![std::f64::consts::FRAC_PI_2],
+        spins: vec![0.0],
+    };
+    let grid = ev.sweep(&g.placements(), &|_, _| {}).unwrap();
+    let so = SearchOptions::new(
+        Bounds::over(&g.placements(), None).unwrap(),
+        Tolerance::default(),
+    );
+    let run = |max_evals: usize| {
+        let opts = OptimiseOptions {
+            max_evals,
+            yaw: false,
+            spin: false,
+            ..Default::default()
+        };
+        search::refine(&ev, &grid, &opts, &so, std::sync::Arc::new(|_, _, _| {})).unwrap()
+    };
+    let (short, info) = run(8);
+    assert_eq!(short.evals, 8);
+    let said = info
+        .budget_spent
+        .expect("a search stopped by its budget says so");
+    assert!(said.contains("8 evaluations"), "{said}");
+    let (long, info) = run(2000);
+    assert!(
+        long.evals < 2000,
+        "converged before the budget: {} evaluations",
+        long.evals
+    );
+    assert_eq!(
+        info.budget_spent, None,
+        "a converged search claims a spent budget"
+    );
+}

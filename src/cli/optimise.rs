@@ -404,6 +404,9 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
         if let Some(sk) = &si.spin_kept {
             m.push(("nozzle spin".into(), sk.clone()));
         }
+        if let Some(b) = &si.budget_spent {
+            m.push(("search stopped".into(), b.clone()));
+        }
     }
     let site = printwatt::report::site::SiteGeometry::new(
         &l.robot,
@@ -567,6 +570,9 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
         }
         if let Some(sk) = &si.spin_kept {
             println!("nozzle spin: {sk}");
+        }
+        if let Some(b) = &si.budget_spent {
+            println!("search stopped: {b}");
         }
         if !si.on_bounds.is_empty() {
             println!(

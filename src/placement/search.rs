@@ -260,6 +260,10 @@ pub struct SearchInfo {
     /// Set when the energy does not depend on the nozzle spin at the answer (no difference at
     /// the printed digits) and the search's spin was replaced by the start's: says so.
     pub spin_kept: Option<String>,
+    /// Set when Nelder–Mead stopped because it had used its evaluation budget, not because its
+    /// simplex converged: the answer is where the budget ran out, and more evaluations may move
+    /// it. Says so, with the budget and the energy gained from the start cell.
+    pub budget_spent: Option<String>,
 }
 
 /// Options of the argmin refinement beyond [`OptimiseOptions`].
@@ -413,14 +417,21 @@ fn refine_with(
         report: progress,
     };
     let mut iterations = 0;
+    let mut converged = true;
     if robust_start && opts.max_evals > dim {
         let r = Executor::new(ByRef(&problem), solver)
             .configure(|s| s.max_iters(opts.max_evals as u64))
             .add_observer(obs, ObserverMode::Always)
             .run();
         match r {
-            Ok(res) => iterations = res.state().get_iter() as usize,
-            Err(e) if e.to_string().contains(BUDGET) => {}
+            Ok(res) => {
+                iterations = res.state().get_iter() as usize;
+                converged = matches!(
+                    res.state().get_termination_reason(),
+                    Some(argmin::core::TerminationReason::SolverConverged)
+                );
+            }
+            Err(e) if e.to_string().contains(BUDGET) => converged = false,
             Err(e) => return Err(Error::Invalid(format!("Nelder–Mead: {e}"))),
         }
     }
@@ -504,6 +515,14 @@ fn refine_with(
         }
     }
     let (best, chk) = best;
+    let budget_spent = (!converged).then(|| {
+        format!(
+            "Nelder–Mead used its {} evaluations before its simplex converged: the answer is where the budget ran out ({:.1} J below the start cell's {:.1} J); more evaluations (--max-evals) may still move it",
+            opts.max_evals,
+            start.cost() - best.cost(),
+            start.cost()
+        )
+    });
     let speculative = *problem.speculative.borrow() + checker.speculative();
     let tol_evals = checker.evaluations();
     let sens = sensitivity(ev, &best, opts.sensitivity_m)?;
@@ -538,6 +557,7 @@ fn refine_with(
             joint_margin,
             on_margin,
             spin_kept,
+            budget_spent,
         },
     ))
 }
