@@ -572,7 +572,7 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
             println!("nozzle spin: {sk}");
         }
         if let Some(b) = &si.budget_spent {
-            println!("search stopped: {b}");
+            println!("search stopped: {b} (--max-evals)");
         }
         if !si.on_bounds.is_empty() {
             println!(

@@ -517,7 +517,7 @@ fn refine_with(
     let (best, chk) = best;
     let budget_spent = (!converged).then(|| {
         format!(
-            "Nelder–Mead used its {} evaluations before its simplex converged: the answer is where the budget ran out ({:.1} J below the start cell's {:.1} J); more evaluations (--max-evals) may still move it",
+            "Nelder–Mead used its {} evaluations before its simplex converged: the answer is where the budget ran out ({:.1} J below the start cell's {:.1} J); a larger evaluation budget may still move it",
             opts.max_evals,
             start.cost() - best.cost(),
             start.cost()
