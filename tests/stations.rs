@@ -410,13 +410,17 @@ fn to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
 fn grid_problem<'a>(model: &'a RobotModel, path: &'a Toolpath, step: f64) -> StationsProblem<'a> {
     let reach = printwatt::placement::feasibility::reach_m(model);
     let mut p = problem(model, path, 20_000.0);
-    p.candidates = Candidates {
-        positions: stations::grid_positions(path, step, reach).unwrap(),
-        headings: Headings::Auto,
-        description: "test grid".into(),
-        track: None,
-    };
+    p.candidates = Candidates::grid(path, step, reach, Headings::Auto).unwrap();
     p
+}
+
+/// The example floor plan (four rooms with doors).
+fn floor_path() -> Toolpath {
+    toolpath::load(
+        &root().join("paths/floor_four_rooms.gcode"),
+        &ReadOptions::default(),
+    )
+    .unwrap()
 }
 
 #[test]
@@ -424,11 +428,7 @@ fn a_station_plan_never_stands_on_or_drives_across_a_printed_wall() {
     // The example floor (four rooms with doors): a plan stood stations inside rooms whose
     // walls were printed before, reached across them, on a crawler that cannot cross them.
     let model = robot();
-    let path = toolpath::load(
-        &root().join("paths/floor_four_rooms.gcode"),
-        &ReadOptions::default(),
-    )
-    .unwrap();
+    let path = floor_path();
     let p = grid_problem(&model, &path, 0.75);
     let plan = solve(&p);
     assert!(plan.segments.len() > 1);
@@ -500,15 +500,10 @@ fn a_room_closed_before_the_arm_can_leave_it_is_refused_and_one_with_a_door_is_n
 #[test]
 fn a_track_under_a_wall_is_refused_naming_the_wall_line() {
     let model = robot();
-    let path = toolpath::load(
-        &root().join("paths/floor_four_rooms.gcode"),
-        &ReadOptions::default(),
-    )
-    .unwrap();
+    let path = floor_path();
     let mut p = problem(&model, &path, 20_000.0);
     // Along y = 0.5 m: under the cross walls (their doors are at 0.75…2.25 m).
-    p.candidates.positions = stations::track_positions([-1.0, 0.5], [13.0, 0.5], 0.5).unwrap();
-    p.candidates.track = Some([[-1.0, 0.5], [13.0, 0.5]]);
+    p.candidates = Candidates::track([-1.0, 0.5], [13.0, 0.5], 0.5, Headings::Auto).unwrap();
     let e = stations::solve(&p, &|_, _| {}).expect_err("the rail lies under walls");
     let msg = e.to_string();
     assert!(msg.contains("lies under the wall printed by line"), "{msg}");

@@ -196,12 +196,15 @@ fn draw_robot(
         })
         .unwrap_or_default();
     let used = std::cell::RefCell::new(Vec::<String>::new());
-    let calibrated = |name: &str| {
-        let c = cal.iter().find(|(_, n, _, _)| n == name)?;
+    let note = |name: &str| {
         let mut u = used.borrow_mut();
         if !u.iter().any(|n| n == name) {
             u.push(name.to_string());
         }
+    };
+    let calibrated = |name: &str| {
+        let c = cal.iter().find(|(_, n, _, _)| n == name)?;
+        note(name);
         Some((c.2, c.3))
     };
     let u = |rng: &mut ChaCha8Rng| rng.gen_range(-1.0..=1.0);
@@ -360,10 +363,7 @@ fn draw_robot(
             let x = (value + se * normal(rng)).clamp(ps[i].lower, ps[i].upper);
             v[i] = x;
             drawn.push((format!("{effect} {name}"), x - value));
-            let mut u = used.borrow_mut();
-            if !u.iter().any(|n| n == name) {
-                u.push(name.clone());
-            }
+            note(name);
         }
     }
     (m, drawn, used.into_inner())

@@ -64,14 +64,15 @@ fn point_segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
     (p[0] - a[0] - t * dx).hypot(p[1] - a[1] - t * dy)
 }
 
-impl Floor {
-    /// The walls `path` lays: every extruding move's nozzle-tip track in plan view (lines
-    /// whole, arcs in chords of at most 5°).
-    pub fn of(path: &Toolpath) -> Floor {
-        let mut chords = Vec::new();
-        for (mv, (start, m)) in path.segments().enumerate() {
+/// The walls each move of `path` lays, in path order (one entry per move, empty for a travel
+/// move): nozzle-tip chords in the part frame, m, lines whole and arcs in chords of at most
+/// 5°. The stations' collision scene ([`crate::placement::Evaluator::with_prior_walls`]) and
+/// the plan view ([`Floor`]) are both made of them.
+pub fn wall_chords(path: &Toolpath) -> Vec<Vec<(V3, V3)>> {
+    path.segments()
+        .map(|(start, m)| {
             if !m.print {
-                continue;
+                return Vec::new();
             }
             let n = match m.kind {
                 MoveKind::Line => 1,
@@ -79,18 +80,32 @@ impl Floor {
                     ((sweep.abs().to_degrees() / ARC_CHORD_DEG).ceil() as usize).max(1)
                 }
             };
-            let at = |t: f64| {
-                let p: V3 = m.point_at(&start, t);
-                [p.x, p.y]
-            };
-            for k in 0..n {
-                chords.push(Chord {
-                    a: at(k as f64 / n as f64),
-                    b: at((k + 1) as f64 / n as f64),
+            (0..n)
+                .map(|k| {
+                    (
+                        m.point_at(&start, k as f64 / n as f64),
+                        m.point_at(&start, (k + 1) as f64 / n as f64),
+                    )
+                })
+                .collect()
+        })
+        .collect()
+}
+
+impl Floor {
+    /// The plan view of the walls [`wall_chords`] gives (indexed by move).
+    pub fn from_chords(walls: &[Vec<(V3, V3)>]) -> Floor {
+        let chords = walls
+            .iter()
+            .enumerate()
+            .flat_map(|(mv, w)| {
+                w.iter().map(move |(a, b)| Chord {
+                    a: [a.x, a.y],
+                    b: [b.x, b.y],
                     mv,
-                });
-            }
-        }
+                })
+            })
+            .collect();
         Floor { chords }
     }
 
@@ -145,6 +160,19 @@ mod tests {
                 "{a:?}-{b:?} to {c:?}-{d:?}: {mine} vs {reference}"
             );
         }
+    }
+
+    #[test]
+    fn clockwise_arcs_are_cut_into_chords_like_counter_clockwise_ones() {
+        // A clockwise arc's sweep is negative: it was laid as one chord across the whole
+        // arc in the stations' collision scene.
+        let arc = |g: &str| {
+            let text = format!("G21\nG90\nG0 X0 Y0 Z20\nM3\n{g} X20 Y0 I10 J0 F9000\nM5\n");
+            let tp = crate::toolpath::parse_gcode(&text, "arc.gcode", &Default::default()).unwrap();
+            wall_chords(&tp).iter().map(Vec::len).max().unwrap()
+        };
+        assert_eq!(arc("G2"), 36);
+        assert_eq!(arc("G3"), 36);
     }
 
     #[test]

@@ -2,7 +2,7 @@
 //! parallel, and the dynamic programme over the split points (see the module documentation
 //! of [`super`]).
 
-use super::floor::Floor;
+use super::floor::{self, Floor};
 use super::{
     reach_annulus, segment_moves, split_units, sub_path, Headings, Station, StationsProblem, Unit,
     PREFILTER_SAMPLE_M, PREFILTER_SLACK_REACH,
@@ -122,8 +122,10 @@ pub fn solve(p: &StationsProblem, progress: &(dyn Fn(usize, usize) + Sync)) -> R
     let slack = PREFILTER_SLACK_REACH * reach + PREFILTER_SAMPLE_M / 2.0;
     let (rmin, rmax) = ((annulus.0 - slack).max(0.0), annulus.1 + slack);
 
-    // The walls in plan view: a track's rail may not lie under any.
-    let floor = Floor::of(path);
+    // The walls each move lays (collision scene of later segments) and in plan view: a
+    // track's rail may not lie under any.
+    let walls = floor::wall_chords(path);
+    let floor = Floor::from_chords(&walls);
     if let Some([a, b]) = p.candidates.track {
         if let Some(mv) = floor.first_blocking(a, b, 0.0, path.moves.len()) {
             return Err(Error::Invalid(format!(
@@ -234,29 +236,6 @@ pub fn solve(p: &StationsProblem, progress: &(dyn Fn(usize, usize) + Sync)) -> R
         }
     }
 
-    // Walls each move lays (nozzle-tip chords, part frame): lines whole, arcs every ≤ 5°.
-    let walls: Vec<Vec<(crate::math::V3, crate::math::V3)>> = path
-        .segments()
-        .map(|(start, m)| {
-            if !m.print {
-                return Vec::new();
-            }
-            let n = match m.kind {
-                crate::toolpath::MoveKind::Line => 1,
-                crate::toolpath::MoveKind::Arc { sweep, .. } => {
-                    ((sweep.to_degrees() / 5.0).ceil() as usize).max(1)
-                }
-            };
-            (0..n)
-                .map(|k| {
-                    (
-                        m.point_at(&start, k as f64 / n as f64),
-                        m.point_at(&start, (k + 1) as f64 / n as f64),
-                    )
-                })
-                .collect()
-        })
-        .collect();
     // Evaluate every run from its stations (rayon; collected in run order), the walls of the
     // units before it in its collision scene.
     let done = AtomicUsize::new(0);
