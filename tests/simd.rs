@@ -550,6 +550,7 @@ fn lockstep_friction_motor_and_supply_stages_equal_the_per_sample_path_near_velo
     model.effects.table.values = Some(values);
     let mut u = uniform(23);
     let count = 6 * LANES + 3;
+    #[allow(clippy::type_complexity)]
     let st: Vec<(Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>)> = (0..count)
         .map(|k| {
             let q: Vec<f64> = (0..n).map(|_| 3.0 * u()).collect();
@@ -646,10 +647,10 @@ fn the_branch_a_closed_form_batch_hands_on_equals_branch_of_its_answers_bit_for_
         let reach = printwatt::placement::feasibility::reach_m(&model);
         let rot = nozzle_target(&nalgebra::Vector3::zeros(), 0.3).rot;
         let mut pos = [[0.0; LANES]; 3];
-        for l in 0..LANES {
-            pos[0][l] = reach * (0.6 + 0.3 * u());
-            pos[1][l] = reach * 0.5 * u();
-            pos[2][l] = reach * 0.4 * u();
+        for (i, scale) in [(0.6, 0.3), (0.0, 0.5), (0.0, 0.4)].into_iter().enumerate() {
+            for v in pos[i].iter_mut() {
+                *v = reach * (scale.0 + scale.1 * u());
+            }
         }
         for branch in Branch::ALL {
             for level in levels().into_iter().filter(|l| *l != Level::Scalar) {

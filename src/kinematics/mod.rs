@@ -820,6 +820,7 @@ impl<'a> IkSolver<'a> {
     /// those of [`IkSolver::check_with_sincos`], bit for bit (the same operations per lane).
     /// Errors with the first failing lane and its [`IkFailure::CheckFailed`]. Only for a
     /// [`IkSolver::batch_checkable`] solver.
+    #[allow(clippy::needless_range_loop)] // lanes of parallel fixed arrays
     pub fn check_batch<'q>(
         &self,
         count: usize,
