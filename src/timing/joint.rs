@@ -569,10 +569,10 @@ impl Slowing {
                     LimitKind::Acceleration => (margin / e.ratio).sqrt(),
                     LimitKind::Jerk => (margin / e.ratio).cbrt(),
                 };
-                for i in i0..i1 {
-                    let cap = nodes.cap[i];
+                let caps = nodes.cap[i0..i1].iter().zip(&v[i0..i1]);
+                for (sc, (&cap, &vi)) in self.scale[i0..i1].iter_mut().zip(caps) {
                     if cap > 0.0 {
-                        self.scale[i] = self.scale[i].min(f * v[i] / cap);
+                        *sc = sc.min(f * vi / cap);
                     }
                 }
                 out.push(Lever::Speed(f));
