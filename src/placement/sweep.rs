@@ -25,7 +25,7 @@ use crate::timing::profile::Nodes;
 use crate::timing::{self, Buffers, TimedPath, TimingFailure};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 /// Which energy the search minimises (all in J over the whole print).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Default)]
@@ -478,7 +478,6 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         let o = &self.feasibility;
         let world = World::new(&frame, self.bbox_all, o);
         let every = o.check_every.max(1);
-        let mut margins = Margins::default();
         // The printed beads: the job's when this placement kept the planned motion, else anew.
         let replanned;
         let beads = if std::sync::Arc::ptr_eq(&timed.motion, &self.job.plan.motion) {
@@ -495,52 +494,79 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         };
         // The joints' sines and cosines of every sample, from the IK's FK re-check.
         let n = model.dof();
-        let shared = sc.buf.sincos.len() == m * 2 * n;
-        for k in 0..m {
-            let sincos = shared.then(|| &sc.buf.sincos[k * 2 * n..(k + 1) * 2 * n]);
-            let joint_check = super::margins::check_joint_sample_with(
-                model,
-                o,
-                timed.traj.q(k),
-                sincos,
-                timed.traj.qd(k),
-                timed.traj.qdd(k),
-                &mut margins,
-            );
-            if k % every == 0 || k + 1 == m || joint_check.is_some() {
-                let q = timed.traj.q(k);
-                if let Some((reason, detail)) = joint_check.or_else(|| {
-                    feasibility::check_sample(
-                        model,
-                        o,
-                        feasibility::Scene {
-                            world: &world,
-                            shapes: &self.shapes,
-                            beads,
-                        },
-                        q,
-                        beads.laid_at(k),
-                        &mut sc.poses,
-                        &mut margins,
-                    )
-                }) {
-                    let mi = self.job.pieces[motion.piece[k]].move_index;
-                    let tip = frame.apply(&motion.p[k]);
-                    let inf = Infeasible {
-                        reason,
-                        sample: Some(k),
-                        t_s: Some(k as f64 * dt),
-                        line: Some(self.job.line_of(mi)),
-                        point_m: Some([tip.x, tip.y, tip.z]),
-                        detail,
-                    };
-                    sc.buf.recycle(timed);
-                    return Err(inf);
+        let Scratch {
+            data,
+            buf,
+            poses,
+            sp,
+            ..
+        } = sc;
+        let shared = buf.sincos.len() == m * 2 * n;
+        let sincos_all = &buf.sincos[..];
+        // The checks and the energy integration, at once where a thread is free (rayon::join:
+        // the energy is taken up by an idle thread, else run here after the checks). The
+        // energy does not depend on the checks: the outcome is that of checking first and
+        // integrating after, bit for bit. A failed check tells the integration to stop.
+        let failed = AtomicBool::new(false);
+        let checks = || -> std::result::Result<Margins, Infeasible> {
+            let mut margins = Margins::default();
+            for k in 0..m {
+                let sincos = shared.then(|| &sincos_all[k * 2 * n..(k + 1) * 2 * n]);
+                let joint_check = super::margins::check_joint_sample_with(
+                    model,
+                    o,
+                    timed.traj.q(k),
+                    sincos,
+                    timed.traj.qd(k),
+                    timed.traj.qdd(k),
+                    &mut margins,
+                );
+                if k % every == 0 || k + 1 == m || joint_check.is_some() {
+                    let q = timed.traj.q(k);
+                    if let Some((reason, detail)) = joint_check.or_else(|| {
+                        feasibility::check_sample(
+                            model,
+                            o,
+                            feasibility::Scene {
+                                world: &world,
+                                shapes: &self.shapes,
+                                beads,
+                            },
+                            q,
+                            beads.laid_at(k),
+                            poses,
+                            &mut margins,
+                        )
+                    }) {
+                        failed.store(true, Ordering::Relaxed);
+                        let mi = self.job.pieces[motion.piece[k]].move_index;
+                        let tip = frame.apply(&motion.p[k]);
+                        return Err(Infeasible {
+                            reason,
+                            sample: Some(k),
+                            t_s: Some(k as f64 * dt),
+                            line: Some(self.job.line_of(mi)),
+                            point_m: Some([tip.x, tip.y, tip.z]),
+                            detail,
+                        });
+                    }
                 }
             }
-        }
-        let r = self.energy_inner(sc, &timed, margins, true);
-        sc.buf.recycle(timed); // keep the buffers for the next placement
+            Ok(margins)
+        };
+        let energy = || {
+            self.energy_parts(
+                data,
+                sp,
+                shared.then_some(sincos_all),
+                &timed,
+                Margins::default(),
+                Some(&failed),
+            )
+        };
+        let (checked, integrated) = rayon::join(checks, energy);
+        let r = checked.and_then(|margins| integrated.map(|f| Feasible { margins, ..f }));
+        buf.recycle(timed); // keep the buffers for the next placement
         r
     }
 
@@ -580,6 +606,33 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         let m = timed.traj.len();
         let Scratch { data, buf, sp, .. } = sc;
         let sincos = (shared && buf.sincos.len() == m * 2 * n).then_some(&buf.sincos[..]);
+        self.energy_parts(data, sp, sincos, timed, margins, None)
+    }
+
+    /// The energies of `timed` with the given scratch parts; `sincos`: the sines and cosines
+    /// of its joint positions when known (`2 n` a sample). With `stop`, the integration ends
+    /// early (with an error nobody reads) once the flag is set: the caller found the placement
+    /// infeasible and discards the result.
+    fn energy_parts(
+        &self,
+        data: &mut DynData,
+        sp: &mut SamplePower,
+        sincos: Option<&[f64]>,
+        timed: &TimedPath,
+        margins: Margins,
+        stop: Option<&AtomicBool>,
+    ) -> std::result::Result<Feasible, Infeasible> {
+        let n = self.job.robot.dof();
+        let m = timed.traj.len();
+        let stopped = || stop.is_some_and(|f| f.load(Ordering::Relaxed));
+        let abandoned = || Infeasible {
+            reason: Reason::ModelError,
+            sample: None,
+            t_s: None,
+            line: None,
+            point_m: None,
+            detail: "energy integration abandoned: the placement failed a check".into(),
+        };
         let dt = timed.motion.dt;
         // Energy: trapezoid at uniform dt, no allocation per sample.
         let mut jm = vec![0.0; n];
@@ -621,6 +674,9 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                 let tr = &timed.traj;
                 let sc = |k: usize| &s[k * 2 * n..(k + 1) * 2 * n];
                 for k0 in (0..m).step_by(LANES) {
+                    if stopped() {
+                        return Err(abandoned());
+                    }
                     let count = LANES.min(m - k0);
                     energy::eval_batch_with_sincos(
                         &self.job.energy,
@@ -645,6 +701,9 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                 let tr = &timed.traj;
                 let mut sc = [[0.0; 2 * crate::dynamics::MAX_DOF]; LANES];
                 for k0 in (0..m).step_by(LANES) {
+                    if stopped() {
+                        return Err(abandoned());
+                    }
                     let count = LANES.min(m - k0);
                     for j in 0..n {
                         let mut x = [0.0; LANES];
@@ -676,6 +735,9 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             }
             _ => {
                 for k in 0..m {
+                    if k % LANES == 0 && stopped() {
+                        return Err(abandoned());
+                    }
                     let r = match sincos {
                         Some(s) => energy::eval_sample_with_sincos(
                             &self.job.energy,
