@@ -313,6 +313,19 @@ impl Drop for Pooled<'_, '_> {
     }
 }
 
+/// The outcome of an evaluation that was abandoned part-way (a failed check stopped the
+/// energy integration, or the caller no longer needed the placement): never reported.
+fn abandoned() -> Infeasible {
+    Infeasible {
+        reason: Reason::ModelError,
+        sample: None,
+        t_s: None,
+        line: None,
+        point_m: None,
+        detail: "evaluation abandoned part-way".into(),
+    }
+}
+
 fn bbox<'p>(pts: impl Iterator<Item = &'p V3>) -> Option<(V3, V3)> {
     let mut lo = V3::repeat(f64::INFINITY);
     let mut hi = V3::repeat(f64::NEG_INFINITY);
@@ -468,7 +481,32 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         sc: &mut Scratch<'a>,
         at: &Placement,
     ) -> std::result::Result<Feasible, Infeasible> {
-        let timed = self.time(sc, at).map_err(|e| Infeasible::from_timing(&e))?;
+        // Never abandoned without a flag to say so.
+        self.evaluate_full_unless(sc, at, None)
+            .unwrap_or_else(|| Err(abandoned()))
+    }
+
+    /// [`Evaluator::evaluate_full_inner`], abandoned (`None`) once `cancel` is set: looked at
+    /// before and after the timing, every 64 samples of the checks and every batch of the
+    /// energy integration. An evaluation that is not abandoned is the full one, bit for bit.
+    fn evaluate_full_unless(
+        &self,
+        sc: &mut Scratch<'a>,
+        at: &Placement,
+        cancel: Option<&AtomicBool>,
+    ) -> Option<std::result::Result<Feasible, Infeasible>> {
+        let cancelled = || cancel.is_some_and(|c| c.load(Ordering::Relaxed));
+        if cancelled() {
+            return None;
+        }
+        let timed = match self.time(sc, at) {
+            Ok(t) => t,
+            Err(e) => return Some(Err(Infeasible::from_timing(&e))),
+        };
+        if cancelled() {
+            sc.buf.recycle(timed);
+            return None;
+        }
         let motion = &*timed.motion;
         let model = self.job.robot;
         let m = timed.traj.len();
@@ -511,6 +549,10 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         let checks = || -> std::result::Result<Margins, Infeasible> {
             let mut margins = Margins::default();
             for k in 0..m {
+                if k % 64 == 0 && cancelled() {
+                    // Abandoned: the result is not read.
+                    return Err(abandoned());
+                }
                 let sincos = shared.then(|| &sincos_all[k * 2 * n..(k + 1) * 2 * n]);
                 let joint_check = super::margins::check_joint_sample_with(
                     model,
@@ -554,6 +596,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             }
             Ok(margins)
         };
+        let stop = || failed.load(Ordering::Relaxed) || cancelled();
         let energy = || {
             self.energy_parts(
                 data,
@@ -561,13 +604,13 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                 shared.then_some(sincos_all),
                 &timed,
                 Margins::default(),
-                Some(&failed),
+                &stop,
             )
         };
         let (checked, integrated) = rayon::join(checks, energy);
         let r = checked.and_then(|margins| integrated.map(|f| Feasible { margins, ..f }));
         buf.recycle(timed); // keep the buffers for the next placement
-        r
+        (!cancelled()).then_some(r)
     }
 
     /// Time the path at `at` with the job's timing (no feasibility checks beyond what timing
@@ -606,13 +649,13 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         let m = timed.traj.len();
         let Scratch { data, buf, sp, .. } = sc;
         let sincos = (shared && buf.sincos.len() == m * 2 * n).then_some(&buf.sincos[..]);
-        self.energy_parts(data, sp, sincos, timed, margins, None)
+        self.energy_parts(data, sp, sincos, timed, margins, &|| false)
     }
 
     /// The energies of `timed` with the given scratch parts; `sincos`: the sines and cosines
-    /// of its joint positions when known (`2 n` a sample). With `stop`, the integration ends
-    /// early (with an error nobody reads) once the flag is set: the caller found the placement
-    /// infeasible and discards the result.
+    /// of its joint positions when known (`2 n` a sample). The integration ends early (with an
+    /// error nobody reads) once `stop` says so: the caller found the placement infeasible, or
+    /// abandoned it, and discards the result.
     fn energy_parts(
         &self,
         data: &mut DynData,
@@ -620,19 +663,11 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         sincos: Option<&[f64]>,
         timed: &TimedPath,
         margins: Margins,
-        stop: Option<&AtomicBool>,
+        stop: &(dyn Fn() -> bool + Sync),
     ) -> std::result::Result<Feasible, Infeasible> {
         let n = self.job.robot.dof();
         let m = timed.traj.len();
-        let stopped = || stop.is_some_and(|f| f.load(Ordering::Relaxed));
-        let abandoned = || Infeasible {
-            reason: Reason::ModelError,
-            sample: None,
-            t_s: None,
-            line: None,
-            point_m: None,
-            detail: "energy integration abandoned: the placement failed a check".into(),
-        };
+        let stopped = stop;
         let dt = timed.motion.dt;
         // Energy: trapezoid at uniform dt, no allocation per sample.
         let mut jm = vec![0.0; n];
@@ -805,6 +840,68 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             margins,
             path_reduction: None,
         })
+    }
+
+    /// One placement with a scratch from the pool (a "no IK solver" model error when none can
+    /// be made), abandoned (`None`) once `cancel` is set (see
+    /// [`Evaluator::evaluate_full_unless`]; an evaluation with the path reduction is not
+    /// abandoned part-way).
+    fn evaluate_pooled(&self, at: &Placement, cancel: Option<&AtomicBool>) -> Option<Evaluated> {
+        let mut pooled = self.pooled();
+        let Some(sc) = &mut pooled.sc else {
+            return Some(Evaluated {
+                placement: *at,
+                outcome: Err(Infeasible {
+                    detail: "no IK solver".into(),
+                    ..abandoned()
+                }),
+            });
+        };
+        let outcome = match &self.reduction {
+            Some(_) if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) => return None,
+            Some(_) => self.evaluate_inner(sc, at),
+            None => self.evaluate_full_unless(sc, at, cancel)?,
+        };
+        Some(Evaluated {
+            placement: *at,
+            outcome,
+        })
+    }
+
+    /// Evaluate `first` and, on another thread where one is free, `guess` beside it (a point a
+    /// search will need next only for some outcomes of `first`). Once `first` is evaluated, a
+    /// guess that `wanted(&first)` rejects is abandoned where it stands and `None` is
+    /// returned for it; a wanted guess is evaluated in full. Both evaluations are those of
+    /// [`Evaluator::evaluate`] bit for bit, and whether the guess is returned depends only on
+    /// `wanted`, never on timing or the thread count (on one thread, an unwanted guess is
+    /// never started).
+    pub fn evaluate_with_guess(
+        &self,
+        first: &Placement,
+        guess: &Placement,
+        wanted: &(dyn Fn(&Evaluated) -> bool + Sync),
+    ) -> (Evaluated, Option<Evaluated>) {
+        let cancel = AtomicBool::new(false);
+        let (a, b) = rayon::join(
+            || {
+                let e = self.evaluate_pooled(first, None);
+                if !e.as_ref().is_some_and(wanted) {
+                    cancel.store(true, Ordering::Relaxed);
+                }
+                e
+            },
+            || self.evaluate_pooled(guess, Some(&cancel)),
+        );
+        // Never abandoned without the flag: the fall-backs do not run.
+        let a = a.unwrap_or_else(|| Evaluated {
+            placement: *first,
+            outcome: Err(abandoned()),
+        });
+        if !wanted(&a) {
+            return (a, None);
+        }
+        let b = b.or_else(|| self.evaluate_pooled(guess, None));
+        (a, b)
     }
 
     /// Evaluate many placements in parallel (rayon, current pool), in input order.
