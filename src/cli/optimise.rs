@@ -407,6 +407,12 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
         if let Some(b) = &si.budget_spent {
             m.push(("search stopped".into(), b.clone()));
         }
+        if let Some(pm) = &si.polished {
+            m.push(("polish".into(), pm.clone()));
+        }
+        for l in &si.lower_neighbours {
+            m.push(("cheaper neighbour not taken".into(), l.clone()));
+        }
     }
     let site = printwatt::report::site::SiteGeometry::new(
         &l.robot,
@@ -574,6 +580,9 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
         if let Some(b) = &si.budget_spent {
             println!("search stopped: {b} (--max-evals)");
         }
+        if let Some(pm) = &si.polished {
+            println!("polish: {pm}");
+        }
         if !si.on_bounds.is_empty() {
             println!(
                 "optimum on a search bound: {} (widen --x/--y/--z-bounds there)",
@@ -612,6 +621,9 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
                 fmt_d(s.one_sided_j_per_m[0], "J/m"),
                 fmt_d(s.one_sided_j_per_m[1], "J/m")
             );
+        }
+        for l in o.search.iter().flat_map(|si| &si.lower_neighbours) {
+            println!("cheaper neighbour not taken: {l}");
         }
         println!(
             "grid {} placements ({} feasible), refinement {} evaluations; {:.2} s",

@@ -263,18 +263,21 @@ pub fn refine(ev: &Evaluator, start: Evaluated, opts: &OptimiseOptions) -> Resul
     })
 }
 
+/// Names of the four sensitivity probes, in the order of [`probes`] and [`Sensitivity::e_j`].
+pub const PROBE_NAMES: [&str; 4] = ["x−", "x+", "y−", "y+"];
+
+/// The four sensitivity probes around `p`: x−h, x+h, y−h, y+h (h in m; z, yaw and spin kept).
+pub fn probes(p: &Placement, h: f64) -> [Placement; 4] {
+    [(-h, 0.0), (h, 0.0), (0.0, -h), (0.0, h)].map(|(dx, dy)| Placement {
+        x: p.x + dx,
+        y: p.y + dy,
+        ..*p
+    })
+}
+
 /// Energies at ±h in x and y around `at`, gradient and curvature.
 pub fn sensitivity(ev: &Evaluator, at: &Evaluated, h: f64) -> Result<Sensitivity> {
-    let p = at.placement;
-    let ps: Vec<Placement> = [(-h, 0.0), (h, 0.0), (0.0, -h), (0.0, h)]
-        .iter()
-        .map(|(dx, dy)| Placement {
-            x: p.x + dx,
-            y: p.y + dy,
-            ..p
-        })
-        .collect();
-    let r = eval_all(ev, &ps)?;
+    let r = eval_all(ev, &probes(&at.placement, h))?;
     let e0 = at.cost();
     let e: [Option<f64>; 4] = std::array::from_fn(|i| r[i].feasible().map(|f| f.energy_j));
     let reasons: [Option<String>; 4] =

@@ -290,9 +290,16 @@ pub struct SearchInfo {
     /// the printed digits) and the search's spin was replaced by the start's: says so.
     pub spin_kept: Option<String>,
     /// Set when Nelder–Mead stopped because it had used its evaluation budget, not because its
-    /// simplex converged: the answer is where the budget ran out, and more evaluations may move
-    /// it. Says so, with the budget and the energy gained from the start cell.
+    /// simplex converged: its best point is where the budget ran out (the polish may still move
+    /// the answer from there), and more evaluations may move it. Says so, with the budget and
+    /// the energy the simplex gained from the start cell.
     pub budget_spent: Option<String>,
+    /// Set when a sensitivity probe (±h in x or y) of the search's answer cost less and held
+    /// the tolerance, so the answer moved there: how many steps, which way, how many J.
+    pub polished: Option<String>,
+    /// The answer's sensitivity probes that cost less than the answer but are not it, each
+    /// with the reason (its tolerance box does not hold, it lies outside the search box).
+    pub lower_neighbours: Vec<String>,
 }
 
 /// Options of the argmin refinement beyond [`OptimiseOptions`].
@@ -543,18 +550,17 @@ fn refine_with(
             }
         }
     }
-    let (best, chk) = best;
     let budget_spent = (!converged).then(|| {
         format!(
-            "Nelder–Mead used its {} evaluations before its simplex converged: the answer is where the budget ran out ({:.1} J below the start cell's {:.1} J); a larger evaluation budget may still move it",
+            "Nelder–Mead used its {} evaluations before its simplex converged: its best point is where the budget ran out ({:.1} J below the start cell's {:.1} J); a larger evaluation budget may still move it",
             opts.max_evals,
-            start.cost() - best.cost(),
+            start.cost() - best.0.cost(),
             start.cost()
         )
     });
+    let (best, chk, sens, polish) = polish(ev, &checker, so, opts, best)?;
     let speculative = *problem.speculative.borrow() + checker.speculative();
     let tol_evals = checker.evaluations();
-    let sens = sensitivity(ev, &best, opts.sensitivity_m)?;
     let on_bounds = so.bounds.on_bounds(&best.placement, 0.005);
     let stmt = best
         .feasible()
@@ -587,6 +593,104 @@ fn refine_with(
             on_margin,
             spin_kept,
             budget_spent,
+            polished: polish.moved,
+            lower_neighbours: polish.lower,
         },
     ))
+}
+
+/// At most this many compass steps of [`polish`].
+const POLISH_STEPS: usize = 8;
+
+/// What [`polish`] did and saw.
+struct Polish {
+    moved: Option<String>,
+    lower: Vec<String>,
+}
+
+/// The answer's own sensitivity probes ([`super::optimise::probes`], ±h in x and y) as a last
+/// compass step: a probe that costs less than the answer, lies in the search box and holds
+/// the tolerance is a better answer, so the answer moves there and is probed again (at most
+/// [`POLISH_STEPS`] times). A cheaper probe that does not hold the tolerance, or lies outside
+/// the box, is named with the reason, so that no printed neighbour contradicts the answer
+/// unexplained. Skipped (probes only) when the answer itself does not hold the tolerance.
+#[allow(clippy::type_complexity)]
+fn polish(
+    ev: &Evaluator,
+    checker: &Checker,
+    so: &SearchOptions,
+    opts: &OptimiseOptions,
+    start: (Evaluated, ToleranceCheck),
+) -> Result<(
+    Evaluated,
+    ToleranceCheck,
+    super::optimise::Sensitivity,
+    Polish,
+)> {
+    use super::optimise::{probes, PROBE_NAMES};
+    let h = opts.sensitivity_m;
+    let (mut best, mut chk) = start;
+    let e_stop = best.cost();
+    let mut steps: Vec<&str> = Vec::new();
+    loop {
+        let sens = sensitivity(ev, &best, h)?;
+        let e0 = best.cost();
+        let mut lower: Vec<(usize, f64)> = (0..4)
+            .filter_map(|i| sens.e_j[i].filter(|&e| e < e0).map(|e| (i, e)))
+            .collect();
+        lower.sort_by(|a, b| a.1.total_cmp(&b.1));
+        let ps = probes(&best.placement, h);
+        let mut refused = Vec::new();
+        let mut next = None;
+        for &(i, e) in &lower {
+            let why = if !chk.holds {
+                "the answer itself does not hold the tolerance".to_string()
+            } else if !so.bounds.contains(&ps[i]) {
+                "it lies outside the search box".to_string()
+            } else if steps.len() >= POLISH_STEPS {
+                format!("the polish stopped after {POLISH_STEPS} steps")
+            } else {
+                let c = checker.check(&ps[i])?;
+                if c.holds {
+                    next = Some((i, c));
+                    break;
+                }
+                format!(
+                    "its tolerance box does not hold ({})",
+                    c.failures.first().map_or("a corner is infeasible", |f| f)
+                )
+            };
+            refused.push(format!(
+                "E({}) {e:.1} J is below the answer's {e0:.1} J, but {why}",
+                PROBE_NAMES[i]
+            ));
+        }
+        match next {
+            Some((i, c)) => {
+                best = checker.evaluate(&ps[i], false)?;
+                chk = c;
+                steps.push(PROBE_NAMES[i]);
+            }
+            None => {
+                let moved = (!steps.is_empty()).then(|| {
+                    format!(
+                        "the answer moved {} of {:.0} mm ({}) to a cheaper neighbour that holds the tolerance: {:.1} J below where the search stopped",
+                        if steps.len() == 1 { "1 step".to_string() } else { format!("{} steps", steps.len()) },
+                        h * 1000.0,
+                        steps.join(", "),
+                        e_stop - best.cost()
+                    )
+                });
+                return Ok((
+                    best,
+                    chk,
+                    sens,
+                    Polish {
+                        moved,
+                        lower: refused,
+                    },
+                ));
+            }
+        }
+    }
 }
