@@ -421,3 +421,55 @@ fn a_reduced_sweep_gives_the_same_results_on_1_and_2_threads() {
         .is_some_and(|e| e.layers_replanned > 0)));
     assert!(one.iter().any(|r| r.feasible().is_none()));
 }
+
+#[test]
+fn a_ramp_binding_limit_is_replanned_on_its_layers_and_the_estimate_matches_the_full_evaluation_without_a_full_fallback(
+) {
+    // A 12-layer wall (1.8 × 0.6 m, 4 mm layers, 1.2·10⁵ samples) with the bed 0.65 m up,
+    // close to the IRB 6700: joint 3's jerk limit binds at the corners again where the speed
+    // is already capped, so the controller lowers the acceleration of those ramps. Until
+    // 2026-11-26 it lowered the acceleration of the whole path there, which the reduction
+    // could not re-plan layer by layer: the placement was evaluated in full. The slow-down is
+    // local now, and the layers where it binds are re-planned on their own.
+    let model = common::robot("abb_irb6700_200_260");
+    let tp = toolpath::parse_gcode(
+        &wall::wall_gcode(1800.0, 600.0, 4.0, 12),
+        "wall.gcode",
+        &ReadOptions::default(),
+    )
+    .unwrap();
+    let job = common::default_job(&model, &tp);
+    let (ev, full) = evaluators(&job, &tp, forced());
+    let at = Placement::new(1.222, -1.092, 0.65, 0.0);
+    // A ramp case: the full evaluation's timing lowers the acceleration somewhere.
+    let lines = |i: usize| job.line_of(i);
+    let solver = printwatt::kinematics::IkSolver::new(&model).unwrap();
+    let timed = printwatt::timing::time_at_planned(
+        &solver,
+        &job.timing(&lines),
+        &at,
+        &mut printwatt::timing::Buffers::default(),
+    )
+    .unwrap();
+    assert!(timed.accel_factor < 1.0, "{}", timed.accel_factor);
+    let r = ev.evaluate(&mut ev.scratch().unwrap(), &at);
+    let f = full.evaluate(&mut full.scratch().unwrap(), &at);
+    let (r, f) = (r.feasible().unwrap(), f.feasible().unwrap());
+    assert!(f.rounds > 1, "{} rounds", f.rounds);
+    let est = r.path_reduction.as_ref().unwrap();
+    assert_eq!(est.fallback, None);
+    assert!(est.layers_replanned >= 1, "{est:?}");
+    let counts = ev.reduction().unwrap().counts();
+    assert_eq!((counts.full, counts.estimates), (0, 1), "{counts:?}");
+    let nominal = ev.nominal_samples();
+    assert!(r.samples > nominal && f.samples > nominal);
+    let d = (r.energy_j - f.energy_j).abs();
+    assert!(
+        d <= est.error_j,
+        "{} vs {} J: {d} J > stated {} J",
+        r.energy_j,
+        f.energy_j,
+        est.error_j
+    );
+    assert!(est.error_j < 0.005 * f.energy_j, "{est:?}");
+}

@@ -9,6 +9,9 @@ use printwatt::timing::{self, blend_path, JointStageOptions, ProfileOptions};
 use printwatt::toolpath::{self, Placement, ReadOptions};
 use std::path::PathBuf;
 
+#[path = "common/wall.rs"]
+mod wall;
+
 fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
@@ -353,4 +356,112 @@ fn a_line_over_the_axis_of_joint_1_reports_the_configuration_change() {
         other => panic!("expected a configuration change, got: {other}"),
     }
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// Joint jerk (rad/s³) of joint `j` at sample `k` of `q` (row-major, `n` joints, `dt` apart):
+/// the difference the joint stage checks.
+fn jerk_at(q: &[f64], n: usize, dt: f64, k: usize, j: usize) -> f64 {
+    printwatt::numerics::third_derivative_uniform_at(q, n, dt, k, j)
+}
+
+#[test]
+fn a_ramp_binding_jerk_limit_slows_only_its_stretch_and_leaves_the_rest_of_the_paths_acceleration_unchanged(
+) {
+    // Two layers of a 1.8 × 0.6 m wall with the bed 0.65 m up, close to the IRB 6700: joint
+    // 3's jerk limit binds at the corners, again where the speed is already capped (the demand
+    // comes from the ramps into and out of the corners). The controller lowers the
+    // acceleration over those ramps only: the path before the first slow-down is the
+    // unslowed plan's, sample for sample, and every limit holds at every sample.
+    let model = robot::load(&root().join("robots/abb_irb6700_200_260")).unwrap();
+    let tp = toolpath::parse_gcode(
+        &wall::wall_gcode(1800.0, 600.0, 4.0, 2),
+        "wall.gcode",
+        &ReadOptions::default(),
+    )
+    .unwrap();
+    let moves = timing::moves_from_toolpath(&tp);
+    let pieces = blend_path(&moves);
+    let solver = IkSolver::new(&model).unwrap();
+    let at = Placement::new(1.222, -1.092, 0.65, 0.0);
+    let popts = ProfileOptions::default();
+    let t = timing::time_at(
+        &solver,
+        &pieces,
+        &|i| moves[i].line,
+        &at,
+        &popts,
+        &JointStageOptions::default(),
+    )
+    .unwrap();
+    assert!(t.rounds > 1, "{} rounds", t.rounds);
+    // Reported with where and how much: a jerk or acceleration limit of joint 3 whose ramp
+    // acceleration was lowered.
+    let ramps: Vec<_> = t
+        .slowdowns
+        .iter()
+        .filter(|s| s.accel_factor < 1.0)
+        .collect();
+    assert!(!ramps.is_empty(), "{:?}", t.slowdowns);
+    for s in &t.slowdowns {
+        assert!(s.ratio > 1.0 && s.t >= 0.0 && s.s >= 0.0, "{s:?}");
+        assert!(s.speed_factor <= 1.0 && s.accel_factor <= 1.0, "{s:?}");
+        assert!(s.speed_factor < 1.0 || s.accel_factor < 1.0, "{s:?}");
+    }
+    assert!(ramps
+        .iter()
+        .all(|s| s.joint == 2 && s.kind != timing::LimitKind::Velocity));
+    assert!(t.accel_factor < 1.0 && t.accel_factor > 0.0);
+    // Every limit holds after the re-plan.
+    let n = model.dof();
+    let dt = t.motion.dt;
+    let tr = &t.traj;
+    for k in 0..tr.len() {
+        for (j, jt) in model.joints.iter().enumerate() {
+            assert!(
+                tr.qd(k)[j].abs() <= jt.velocity_limit,
+                "velocity {j} at {k}"
+            );
+            assert!(
+                tr.qdd(k)[j].abs() <= jt.acceleration_limit,
+                "acceleration {j} at {k}"
+            );
+            if jt.jerk_limit.is_finite() {
+                let jk = jerk_at(&tr.q, n, dt, k, j);
+                assert!(jk.abs() <= jt.jerk_limit, "jerk {j} at {k}: {jk}");
+            }
+        }
+    }
+    // The rest of the path keeps the profile's acceleration: up to half a metre before the
+    // first slow-down (deceleration, filter and the lowered ramp are far shorter), the motion
+    // is the unslowed plan's to the bit (a lowered acceleration of the whole path would
+    // change the ramp from rest at the start).
+    let plan = timing::Plan::new(&pieces, &popts);
+    let s_first = t
+        .slowdowns
+        .iter()
+        .map(|s| s.s)
+        .fold(f64::INFINITY, f64::min);
+    let same = plan
+        .motion
+        .s
+        .iter()
+        .take_while(|&&s| s < s_first - 0.5)
+        .count();
+    assert!(same > 500, "{same} samples before the first slow-down");
+    assert_eq!(&t.motion.s[..same], &plan.motion.s[..same]);
+    assert_eq!(&t.motion.p[..same], &plan.motion.p[..same]);
+    // The largest tangential acceleration of the slowed motion is still the profile's (ramps
+    // elsewhere are untouched), while the print takes longer only by the slowed stretches.
+    let max_acc = |s: &[f64]| {
+        (1..s.len() - 1)
+            .map(|k| ((s[k + 1] - 2.0 * s[k] + s[k - 1]) / (dt * dt)).abs())
+            .fold(0.0, f64::max)
+    };
+    let (a_slow, a_plan) = (max_acc(&t.motion.s), max_acc(&plan.motion.s));
+    assert!(a_slow >= 0.999 * a_plan, "{a_slow} vs {a_plan} m/s²");
+    let extra = t.motion.duration() - plan.motion.duration();
+    assert!(
+        extra > 0.0 && extra < 0.01 * plan.motion.duration(),
+        "{extra} s"
+    );
 }

@@ -227,8 +227,13 @@ fn print_summary(s: &Summary, model: &printwatt::robot::RobotModel) {
     println!("model      {}", r.model);
     println!("time       {:.2} s ({} samples)", r.duration_s, r.samples);
     for sd in s.slowdowns {
+        let ramp = if sd.accel_factor < 1.0 {
+            format!(", ramp acceleration x{:.2}", sd.accel_factor)
+        } else {
+            String::new()
+        };
         println!(
-            "slow-down  joint {} {:?} limit at t = {:.2} s (path {:.3} m, move {}): demand {:.2}x the limit, speed x{:.2}",
+            "slow-down  joint {} {:?} limit at t = {:.2} s (path {:.3} m, move {}): demand {:.2}x the limit, speed x{:.2}{ramp}",
             sd.joint + 1, sd.kind, sd.t, sd.s, sd.move_index + 1, sd.ratio, sd.speed_factor
         );
     }

@@ -47,7 +47,12 @@
 //! slow-down (energy and samples added) is interpolated linearly in z between the evaluated
 //! neighbours, with a stated error per unit of the larger of their difference and half the
 //! larger slow-down, plus one sample's energy per re-planned unit (its samples' phase). A unit
-//! still over a limit after `max_iterations` plans makes the placement infeasible.
+//! still over a limit after `max_iterations` plans makes the placement infeasible. The rule
+//! is local ([`crate::timing::joint::Slowing`]): the speed is capped around a sample over a
+//! limit, and where the demand comes from a ramp (a limit that binds again where the speed is
+//! already capped, typically) the acceleration is lowered over that ramp only, so the full
+//! evaluation's slow-down of a layer is that of the layer re-planned on its own, up to the
+//! samples' phase.
 //!
 //! Where the rate demand may bind between evaluated units unlike at them (per class and
 //! channel, the larger of the two neighbours' peaks plus the largest change of the peak
@@ -55,13 +60,11 @@
 //! more units are evaluated: the next node count, then every unit in that interval.
 //!
 //! # When the full evaluation is used instead
-//! The placement is evaluated in full (and the estimate records why) when re-planning a unit
-//! meets a limit that binds again where the speed is already capped (a ramp): the full
-//! evaluation then lowers the acceleration of the whole path, and how its later rounds go
-//! depends on every layer's samples, their phase included (re-planning the evaluated layers
-//! alone with the lowered acceleration was tried: its verdicts differed from the full
-//! evaluation's both ways). Also when the stated error is still above
-//! [`ReduceOptions::max_rel_error`] with the most nodes.
+//! The placement is evaluated in full (and the estimate records why) when the stated error is
+//! still above [`ReduceOptions::max_rel_error`] with the most nodes. (Until 2026-11-26 also
+//! where a ramp made a limit bind again: the controller's model then lowered the acceleration
+//! of the whole path, which re-planning a layer on its own cannot reproduce; it now lowers it
+//! over that ramp only.)
 //! The wrist rule (near the wrist singularity, joints 4 and 6 within a share of their limits)
 //! needs joint rates: units where a tracked sample comes within twice `wrist_min` of the
 //! wrist singularity are evaluated sample by sample unless the evaluated units come near it
@@ -261,13 +264,12 @@ impl Reduction {
             .collect();
         let nodes = &job.plan.nodes;
         let popts = &job.profile;
-        let v0 =
-            crate::timing::profile::speed_at_nodes(nodes, &vec![1.0; nodes.s.len()], popts.accel);
+        let v0 = job.plan.v.clone();
         let v_max = nodes.cap.iter().copied().fold(0.0, f64::max);
         let taps = ((popts.accel / popts.jerk / popts.dt).round()).max(1.0);
         // Deceleration distance, the filter's length and the capped nodes (± taps + 2
-        // samples) at the highest speed, three times over (a layer whose re-plan would lower
-        // the acceleration is evaluated in full instead).
+        // samples) at the highest speed, three times over (a ramp whose acceleration a re-plan
+        // lowers to a third reaches as far).
         let pad_m = 3.0
             * (v_max * v_max / (2.0 * popts.accel.max(1e-9))
                 + (2.0 * taps + 4.0) * popts.dt * v_max)
@@ -1355,7 +1357,8 @@ struct Stretch {
     i0: usize,
     i1: usize,
     nodes: crate::timing::profile::Nodes,
-    scale: Vec<f64>,
+    /// Its slow-downs so far (the full evaluation's rule, [`crate::timing::joint::Slowing`]).
+    slowing: crate::timing::joint::Slowing,
     q_start: JointVec,
     /// Plans made so far.
     rounds: usize,
@@ -1368,12 +1371,11 @@ struct Stretch {
 /// The segments where a joint's rate limit binds, re-planned with the full evaluation's rule
 /// ([`crate::timing::joint::time_path_planned`]) on the stretch around each: each round, the
 /// nodes around every sample over a limit are capped at `margin / ratio` (square root for
-/// acceleration, cube root for jerk) and the stretch is planned again. A stretch still over a
-/// limit after `max_iterations` plans makes the placement infeasible. Where a limit binds
-/// again where the speed is already capped (a ramp), the full evaluation lowers the
-/// acceleration of the whole path, and the placement is evaluated in full. Only the
-/// evaluated segments are re-planned: the slow-down of the layers between is interpolated
-/// ([`estimate`]).
+/// acceleration, cube root for jerk) of the current speed, or, where the demand comes from a
+/// ramp, the ramp's acceleration is lowered ([`crate::timing::joint::Slowing`]), and the
+/// stretch is planned again. A stretch still over a limit after `max_iterations` plans makes
+/// the placement infeasible. Only the evaluated segments are re-planned: the slow-down of the
+/// layers between is interpolated ([`estimate`]).
 struct Replanner {
     popts: crate::timing::ProfileOptions,
     stretches: Vec<Stretch>,
@@ -1384,11 +1386,13 @@ struct Replanner {
 /// over a limit near the segment.
 struct Planned {
     mo: CartesianMotion,
+    /// Node speeds of the plan, m/s.
+    v: Vec<f64>,
     qs: Vec<f64>,
     qd: Vec<f64>,
     qdd: Vec<f64>,
     clean: Range<usize>,
-    viol: Vec<(usize, usize, crate::timing::LimitKind, f64)>,
+    viol: Vec<crate::timing::joint::Excess>,
 }
 
 impl Stretch {
@@ -1440,7 +1444,7 @@ impl Stretch {
             i0,
             i1,
             nodes: sub,
-            scale: vec![1.0; nl],
+            slowing: crate::timing::joint::Slowing::new(nl),
             q_start: JointVec::from_slice(&thin[ti * n..(ti + 1) * n]),
             rounds: 0,
             dirty: true,
@@ -1473,7 +1477,8 @@ impl Stretch {
         let dt = motion.dt;
         let jopts = &job.joint;
         let last = job.plan.nodes.s.len() - 1;
-        let mo = crate::timing::profile::plan(&job.pieces, &self.nodes, &self.scale, popts);
+        let v = self.slowing.speeds(&self.nodes, popts.accel);
+        let mo = crate::timing::profile::plan_at_speeds(&job.pieces, &self.nodes, &v, popts);
         let len = mo.p.len();
         let taps = mo.taps;
         // Samples not distorted by the stretch's ends (the filter holds the first and last
@@ -1538,13 +1543,26 @@ impl Stretch {
                     ),
                 ] {
                     if lim.is_finite() && v.abs() > lim {
-                        viol.push((i, j, kind, v.abs() / lim));
+                        viol.push(crate::timing::joint::Excess {
+                            sample: i,
+                            joint: j,
+                            kind,
+                            ratio: v.abs() / lim,
+                            ramp_share: crate::timing::joint::ramp_share(
+                                kind,
+                                qd[i * n + j],
+                                qdd[i * n + j],
+                                qddd[i * n + j],
+                                crate::timing::joint::path_rates(&mo.s, dt, i),
+                            ),
+                        });
                     }
                 }
             }
         }
         Ok(Planned {
             mo,
+            v,
             qs,
             qd,
             qdd,
@@ -1640,7 +1658,6 @@ impl Replanner {
         range: &dyn Fn(usize) -> Range<usize>,
         margins: &mut Margins,
     ) -> std::result::Result<(), Outcome> {
-        use crate::timing::LimitKind as K;
         let thin = std::mem::take(&mut sc.red.thin);
         for &g in binding {
             self.add(ctx, &thin, g, range(g));
@@ -1651,8 +1668,6 @@ impl Replanner {
         let max_rounds = jopts.max_iterations.max(1);
         let motion = &*job.plan.motion;
         while self.stretches.iter().any(|s| s.dirty) {
-            let mut ramp_factor: f64 = 1.0;
-            let mut ramp_why = None;
             for st in self.stretches.iter_mut().filter(|s| s.dirty) {
                 let pl = st.plan(ctx, sc, &self.popts)?;
                 if pl.viol.is_empty() {
@@ -1661,12 +1676,12 @@ impl Replanner {
                     continue;
                 }
                 if st.rounds >= max_rounds {
-                    let (i, j, kind, ratio) = pl
+                    let w = pl
                         .viol
                         .iter()
-                        .copied()
-                        .max_by(|x, y| x.3.total_cmp(&y.3))
+                        .max_by(|x, y| x.ratio.total_cmp(&y.ratio))
                         .expect("non-empty");
+                    let (i, j, kind, ratio) = (w.sample, w.joint, w.kind, w.ratio);
                     let k = Stretch::k_of(motion, &pl.mo, i);
                     let tip = ctx.frame.apply(&pl.mo.p[i]);
                     return Err(Outcome::Infeasible(Infeasible {
@@ -1682,54 +1697,10 @@ impl Replanner {
                         ),
                     }));
                 }
-                let half = pl.mo.taps + 2;
-                let len = pl.mo.p.len();
-                let nl = st.nodes.s.len();
-                for &(i, j, kind, ratio) in &pl.viol {
-                    let f = match kind {
-                        K::Velocity => jopts.margin / ratio,
-                        K::Acceleration => (jopts.margin / ratio).sqrt(),
-                        K::Jerk => (jopts.margin / ratio).cbrt(),
-                    };
-                    let (s0, s1) = (
-                        pl.mo.s[i.saturating_sub(half)],
-                        pl.mo.s[(i + half).min(len - 1)],
-                    );
-                    let n0 = st.nodes.s.partition_point(|&x| x < s0);
-                    let n1 = st.nodes.s.partition_point(|&x| x <= s1);
-                    let mut capped = false;
-                    for c in &mut st.scale[n0..n1.min(nl)] {
-                        if *c > f {
-                            *c = f;
-                            capped = true;
-                        }
-                    }
-                    if !capped && kind != K::Velocity {
-                        ramp_factor = ramp_factor.min(match kind {
-                            K::Acceleration => jopts.margin / ratio,
-                            _ => (jopts.margin / ratio).sqrt(),
-                        });
-                        ramp_why.get_or_insert_with(|| {
-                            format!(
-                                "joint {} {kind:?} limit binds again ({:.0} %) where the speed is already capped, near sample {}",
-                                j + 1,
-                                ratio * 100.0,
-                                Stretch::k_of(motion, &pl.mo, i)
-                            )
-                        });
-                    }
-                }
-            }
-            if ramp_factor < 1.0 {
-                // The full evaluation lowers the acceleration of the whole path here. How it
-                // then proceeds depends on every layer's samples (their phase included: a
-                // limit met at 99 % in one plan is exceeded by 1 % in the next), which
-                // re-planning the evaluated layers alone does not reproduce (tried: verdicts
-                // differed from the full evaluation's both ways): evaluate in full.
-                return Err(Outcome::Full(format!(
-                    "{}: the controller lowers the acceleration of the whole path",
-                    ramp_why.unwrap_or_default()
-                )));
+                // The full evaluation's rule: the speed capped, or the acceleration of a
+                // ramp lowered, around each sample over a limit (both local).
+                st.slowing
+                    .apply(&st.nodes, &pl.v, &pl.mo, &pl.viol, jopts.margin);
             }
         }
         Ok(())

@@ -1,11 +1,12 @@
 //! From the Cartesian motion to the joint trajectory: inverse kinematics per sample with one
 //! arm configuration held along the path, joint velocities, accelerations and jerks by
 //! central differences, and the controller's answer to a joint limit: the path speed is
-//! reduced where the limit binds (and the acceleration where a ramp makes it bind), then the
-//! whole motion is planned again. Every reduction is reported with where and by how much.
+//! reduced where the limit binds (and, where the demand comes from a ramp, the acceleration
+//! over that stretch only), then the motion is planned again ([`Slowing`]). Every reduction
+//! is local and reported with where and by how much.
 
 use super::geometry::Piece;
-use super::profile::{nodes, plan, CartesianMotion, Nodes, ProfileOptions};
+use super::profile::{nodes, plan_at_speeds, CartesianMotion, Nodes, ProfileOptions};
 use crate::kinematics::{nozzle_target, IkFailure, IkSolver, JointVec};
 use crate::math::{Frame, V3};
 use crate::placement::Placement;
@@ -41,8 +42,13 @@ pub struct Slowdown {
     pub move_index: usize,
     /// Demand over limit before the slow-down (> 1).
     pub ratio: f64,
-    /// Factor applied to the path speed there (< 1).
+    /// Path speed there after the slow-downs, as a share of the unslowed plan's (≤ 1; 1 when
+    /// only the acceleration was lowered).
     pub speed_factor: f64,
+    /// Ramp acceleration (and jerk) there after the slow-downs, as a share of the profile's
+    /// (≤ 1; 1 when only the speed was capped): lowered where the demand came from a ramp,
+    /// over that stretch of path only.
+    pub accel_factor: f64,
 }
 
 /// Sample stride of the first, coarse pass of the reach prune (see
@@ -161,7 +167,9 @@ pub struct TimedPath {
     pub slowdowns: Vec<Slowdown>,
     /// Planning rounds used (1 = no limit bound).
     pub rounds: usize,
-    /// Global acceleration factor applied (1 = none).
+    /// Lowest acceleration factor applied anywhere along the path (1 = none). The
+    /// acceleration is lowered only over the stretches where a ramp made a limit bind (see
+    /// [`Slowing`]); elsewhere the profile's acceleration holds.
     pub accel_factor: f64,
 }
 
@@ -395,6 +403,204 @@ fn violations(
     out
 }
 
+/// Rates of the (filtered) arc length `s` (m, `dt` s apart) at sample `k`: (ṡ m/s, s̈ m/s²,
+/// s⃛ m/s³), central differences (shifted inwards at the ends).
+pub fn path_rates(s: &[f64], dt: f64, k: usize) -> (f64, f64, f64) {
+    let m = s.len();
+    if m < 5 {
+        return (0.0, 0.0, 0.0);
+    }
+    let c = k.clamp(2, m - 3);
+    let v = (s[c + 1] - s[c - 1]) / (2.0 * dt);
+    let a = (s[c + 1] - 2.0 * s[c] + s[c - 1]) / (dt * dt);
+    let j = (s[c + 2] - 2.0 * s[c + 1] + 2.0 * s[c - 1] - s[c - 2]) / (2.0 * dt * dt * dt);
+    (v, a, j)
+}
+
+/// The share (dimensionless) of a joint's acceleration or jerk demand that comes from the
+/// path's ramp (its tangential acceleration s̈ and jerk s⃛) rather than from its speed and
+/// curvature, from the joint's rates `qd`, `qdd`, `qddd` (rad/s, rad/s², rad/s³) and the path
+/// rates `(ṡ, s̈, s⃛)` at the sample: with q̇ = q′ṡ, q̈ = q′s̈ + q″ṡ², q⃛ = q′s⃛ + 3q″ṡs̈ +
+/// q‴ṡ³, the ramp part is q′s̈ (acceleration) or q′s⃛ + 3q″ṡs̈ (jerk). Lowering the speed
+/// scales the rest; lowering the acceleration (and with it the jerk) scales the ramp part.
+/// Velocity: 0. At rest (ṡ ≈ 0): 1.
+pub fn ramp_share(kind: LimitKind, qd: f64, qdd: f64, qddd: f64, rates: (f64, f64, f64)) -> f64 {
+    let (sd, sdd, sddd) = rates;
+    if kind == LimitKind::Velocity {
+        return 0.0;
+    }
+    if sd.abs() < 1e-6 {
+        return 1.0;
+    }
+    let q1 = qd / sd;
+    let (ramp, total) = match kind {
+        LimitKind::Acceleration => (q1 * sdd, qdd),
+        _ => {
+            let q2 = (qdd - q1 * sdd) / (sd * sd);
+            (q1 * sddd + 3.0 * q2 * sd * sdd, qddd)
+        }
+    };
+    if total.abs() < 1e-300 || !(ramp / total).is_finite() {
+        return 0.0;
+    }
+    ramp / total
+}
+
+/// One sample over a joint limit, as the slow-down rule needs it.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Excess {
+    /// Sample index of the plan.
+    pub sample: usize,
+    /// 0-based joint index.
+    pub joint: usize,
+    /// Which limit.
+    pub kind: LimitKind,
+    /// Demand over limit (> 1).
+    pub ratio: f64,
+    /// Share of the demand from the path's ramp ([`ramp_share`]).
+    pub ramp_share: f64,
+}
+
+/// Where a demand counts as coming from a ramp ([`ramp_share`] at least this): the
+/// acceleration is lowered there instead of the speed.
+pub const RAMP_SHARE: f64 = 0.5;
+
+/// Lowest factor the ramp acceleration is lowered by in one round (dimensionless).
+const MIN_ACCEL_STEP: f64 = 0.1;
+
+/// What one round of the slow-down rule did at one excess: the factor applied to the path
+/// speed or to the ramp acceleration there, relative to the plan it was found in.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Lever {
+    /// Path speed capped at this share of the current speed (around the sample).
+    Speed(f64),
+    /// Ramp acceleration lowered to this share of the current one (over the ramp around the
+    /// sample).
+    Accel(f64),
+}
+
+/// The controller's slow-down along a path's nodes, as it re-plans after a joint limit was
+/// exceeded: per node, the factor on the speed cap and on the ramp acceleration
+/// (1 = none). Each round ([`Slowing::apply`]) acts where a limit is exceeded, relative to
+/// the plan in which it was found, so that slow-downs compound:
+/// - a velocity limit, or an acceleration or jerk demand mostly from the speed and the
+///   path's curvature (ramp share below [`RAMP_SHARE`]), caps the speed at the nodes within
+///   the jerk filter's reach (± `taps + 2` samples) of the sample at `margin / ratio` of the
+///   current node speed (square root for acceleration, cube root for jerk);
+/// - an acceleration or jerk demand mostly from a ramp lowers the ramp acceleration (and,
+///   with the filter's length fixed, the jerk) over that window and the rest of the ramp it
+///   lies on (the contiguous nodes where the speed is acceleration-limited), by the factor
+///   that brings the ramp's share of the demand to `margin` of the limit.
+///
+/// Elsewhere the speed and the acceleration are the unslowed plan's.
+#[derive(Clone, Debug, Default)]
+pub struct Slowing {
+    /// Factor on each node's speed cap (1 = none).
+    pub scale: Vec<f64>,
+    /// Factor on the ramp acceleration at each node (empty: 1 everywhere), see
+    /// [`super::profile::speed_at_nodes_local`].
+    pub accel_scale: Vec<f64>,
+}
+
+impl Slowing {
+    /// No slow-down on `nodes` nodes.
+    pub fn new(nodes: usize) -> Slowing {
+        Slowing {
+            scale: vec![1.0; nodes],
+            accel_scale: Vec::new(),
+        }
+    }
+
+    /// Node speeds (m/s) of the plan with these slow-downs.
+    pub fn speeds(&self, nodes: &Nodes, accel: f64) -> Vec<f64> {
+        super::profile::speed_at_nodes_local(nodes, &self.scale, accel, &self.accel_scale)
+    }
+
+    /// Lowest acceleration factor (1 = none).
+    pub fn min_accel_factor(&self) -> f64 {
+        self.accel_scale.iter().copied().fold(1.0, f64::min)
+    }
+
+    /// One round of the rule (see [`Slowing`]) for the excesses `viol` found in `motion`,
+    /// planned on `nodes` at node speeds `v` (m/s). Returns the lever applied at each excess.
+    pub fn apply(
+        &mut self,
+        nodes: &Nodes,
+        v: &[f64],
+        motion: &CartesianMotion,
+        viol: &[Excess],
+        margin: f64,
+    ) -> Vec<Lever> {
+        let nl = nodes.s.len();
+        let half = motion.taps + 2;
+        let len = motion.s.len();
+        let mut out = Vec::with_capacity(viol.len());
+        // Acceleration factors of this round, applied after every excess was seen (relative
+        // to the plan's, not compounded within a round).
+        let mut accel: Vec<(usize, usize, f64)> = Vec::new();
+        for e in viol {
+            let k0 = e.sample.saturating_sub(half);
+            let k1 = (e.sample + half).min(len - 1);
+            let (s0, s1) = (motion.s[k0], motion.s[k1]);
+            let i0 = nodes.s.partition_point(|&x| x < s0).min(nl - 1);
+            let i1 = nodes.s.partition_point(|&x| x <= s1).clamp(i0 + 1, nl);
+            let ramp = e.kind != LimitKind::Velocity && e.ramp_share >= RAMP_SHARE;
+            if ramp {
+                // Bring the ramp part (share r) down so that the whole is `margin` of the
+                // limit: r·g + (1 − r) = margin / ratio.
+                let r = e.ramp_share;
+                let g = ((margin / e.ratio - (1.0 - r)) / r).clamp(MIN_ACCEL_STEP, margin);
+                // The ramp the window lies on: the contiguous nodes whose speed is
+                // acceleration-limited (below their cap).
+                let limited = |i: usize| v[i] < nodes.cap[i] * self.scale[i] * (1.0 - 1e-9);
+                let mut a = i0;
+                while a > 0 && limited(a - 1) {
+                    a -= 1;
+                }
+                let mut b = i1;
+                while b < nl && limited(b) {
+                    b += 1;
+                }
+                accel.push((a.saturating_sub(1), (b + 1).min(nl), g));
+                out.push(Lever::Accel(g));
+            } else {
+                let f = match e.kind {
+                    LimitKind::Velocity => margin / e.ratio,
+                    LimitKind::Acceleration => (margin / e.ratio).sqrt(),
+                    LimitKind::Jerk => (margin / e.ratio).cbrt(),
+                };
+                let caps = nodes.cap[i0..i1].iter().zip(&v[i0..i1]);
+                for (sc, (&cap, &vi)) in self.scale[i0..i1].iter_mut().zip(caps) {
+                    if cap > 0.0 {
+                        *sc = sc.min(f * vi / cap);
+                    }
+                }
+                out.push(Lever::Speed(f));
+            }
+        }
+        if !accel.is_empty() {
+            if self.accel_scale.len() != nl {
+                self.accel_scale = vec![1.0; nl];
+            }
+            // The smallest factor per node of this round, then applied once.
+            accel.sort_by_key(|r| r.0);
+            let mut round: Vec<(usize, f64)> = Vec::new();
+            for &(a, b, g) in &accel {
+                for i in a..b {
+                    match round.binary_search_by_key(&i, |x| x.0) {
+                        Ok(p) => round[p].1 = round[p].1.min(g),
+                        Err(p) => round.insert(p, (i, g)),
+                    }
+                }
+            }
+            for (i, g) in round {
+                self.accel_scale[i] *= g;
+            }
+        }
+        out
+    }
+}
+
 /// The placement-independent part of timing a path: the speed-limit nodes and the first
 /// Cartesian plan (no slow-down). Build it once per path and share it across placements.
 #[derive(Clone, Debug)]
@@ -403,15 +609,17 @@ pub struct Plan {
     pub nodes: Nodes,
     /// The Cartesian motion with no joint-limit slow-down.
     pub motion: Arc<CartesianMotion>,
+    /// Its speed at each node, m/s.
+    pub v: Vec<f64>,
 }
 
 impl Plan {
     /// Plan `pieces` with the profile options.
     pub fn new(pieces: &[Piece], popts: &ProfileOptions) -> Plan {
         let nodes = nodes(pieces, popts);
-        let scale = vec![1.0; nodes.s.len()];
-        let motion = Arc::new(plan(pieces, &nodes, &scale, popts));
-        Plan { nodes, motion }
+        let v = Slowing::new(nodes.s.len()).speeds(&nodes, popts.accel);
+        let motion = Arc::new(plan_at_speeds(pieces, &nodes, &v, popts));
+        Plan { nodes, motion, v }
     }
 }
 
@@ -503,19 +711,18 @@ pub fn time_path_planned(
     let model = solver.model;
     let n = model.dof();
     let nodes = &shared.nodes;
-    let mut scale = vec![1.0; nodes.s.len()];
-    let mut opts = *popts;
+    let mut slowing = Slowing::new(nodes.s.len());
+    // Node speeds of the current round's plan (the shared plan's in the first round).
+    let mut v: Vec<f64> = Vec::new();
     let mut slowdowns: Vec<Slowdown> = Vec::new();
     let mut tracked = std::mem::take(buf);
     let max_rounds = jopts.max_iterations.max(1);
     let mut round = 0;
+    let mut next: Option<Arc<CartesianMotion>> = None;
     loop {
         round += 1;
-        let motion = if round == 1 {
-            Arc::clone(&shared.motion)
-        } else {
-            Arc::new(plan(pieces, nodes, &scale, &opts))
-        };
+        let motion = next.take().unwrap_or_else(|| Arc::clone(&shared.motion));
+        let v_now: &[f64] = if round == 1 { &shared.v } else { &v };
         if let Err(e) = track(solver, pieces, moves_line, &motion, at, q0, &mut tracked) {
             *buf = tracked;
             return Err(e);
@@ -548,82 +755,105 @@ pub fn time_path_planned(
                 tcp: tracked.tcp,
                 slowdowns,
                 rounds: round,
-                accel_factor: opts.accel / popts.accel,
+                accel_factor: slowing.min_accel_factor(),
             });
         }
-        if round == max_rounds {
+        let worst = |viol: &[Violation]| {
             let w = viol
                 .iter()
                 .max_by(|a, b| a.ratio.total_cmp(&b.ratio))
                 .expect("non-empty");
-            *buf = tracked;
-            return Err(TimingFailure::LimitsNotMet {
+            TimingFailure::LimitsNotMet {
                 joint: w.joint,
                 kind: w.kind,
                 ratio: w.ratio,
                 t: w.sample as f64 * motion.dt,
-            });
+            }
+        };
+        if round == max_rounds {
+            let e = worst(&viol);
+            *buf = tracked;
+            return Err(e);
         }
-        // Slow down around every violating sample; report the worst per (joint, kind, move).
-        let half = motion.taps + 2;
-        let mut ramp_factor: f64 = 1.0;
-        for v in &viol {
-            let f = match v.kind {
-                LimitKind::Velocity => jopts.margin / v.ratio,
-                LimitKind::Acceleration => (jopts.margin / v.ratio).sqrt(),
-                LimitKind::Jerk => (jopts.margin / v.ratio).cbrt(),
-            };
-            let k0 = v.sample.saturating_sub(half);
-            let k1 = (v.sample + half).min(motion.s.len() - 1);
-            let (s0, s1) = (motion.s[k0], motion.s[k1]);
-            let i0 = nodes.s.partition_point(|&x| x < s0);
-            let i1 = nodes.s.partition_point(|&x| x <= s1);
-            let mut slow_cap = false;
-            for sc in &mut scale[i0..i1.min(nodes.s.len())] {
-                if *sc > f {
-                    *sc = f;
-                    slow_cap = true;
+        // Slow down around every violating sample (see [`Slowing`]); report the worst per
+        // (joint, kind, move).
+        let dt = motion.dt;
+        let excess: Vec<Excess> = viol
+            .iter()
+            .map(|w| {
+                let (k, j) = (w.sample, w.joint);
+                let jerk = if w.kind == LimitKind::Jerk {
+                    crate::numerics::third_derivative_uniform_at(&tracked.qs, n, dt, k, j)
+                } else {
+                    0.0
+                };
+                Excess {
+                    sample: k,
+                    joint: j,
+                    kind: w.kind,
+                    ratio: w.ratio,
+                    ramp_share: ramp_share(
+                        w.kind,
+                        tracked.qd[k * n + j],
+                        tracked.qdd[k * n + j],
+                        jerk,
+                        path_rates(&motion.s, dt, k),
+                    ),
                 }
-            }
-            if !slow_cap && v.kind != LimitKind::Velocity {
-                // The cap is already low here: the demand comes from a ramp; lower acceleration.
-                ramp_factor = ramp_factor.min(match v.kind {
-                    LimitKind::Acceleration => jopts.margin / v.ratio,
-                    _ => (jopts.margin / v.ratio).sqrt(),
-                });
-            }
-            let mi = pieces[motion.piece[v.sample]].move_index;
+            })
+            .collect();
+        let levers = slowing.apply(nodes, v_now, &motion, &excess, jopts.margin);
+        for (w, lever) in viol.iter().zip(&levers) {
+            let i = nodes
+                .s
+                .partition_point(|&x| x < motion.s[w.sample])
+                .min(nodes.s.len() - 1);
+            let (speed, accel) = match *lever {
+                Lever::Speed(f) => {
+                    // The new speed there against the unslowed plan's.
+                    let v0 = shared.v[i];
+                    (
+                        if v0 > 0.0 {
+                            (f * v_now[i] / v0).min(f)
+                        } else {
+                            f
+                        },
+                        1.0,
+                    )
+                }
+                Lever::Accel(g) => (1.0, slowing.accel_scale.get(i).copied().unwrap_or(g)),
+            };
+            let mi = pieces[motion.piece[w.sample]].move_index;
             match slowdowns
                 .iter_mut()
-                .find(|s| s.joint == v.joint && s.kind == v.kind && s.move_index == mi)
+                .find(|s| s.joint == w.joint && s.kind == w.kind && s.move_index == mi)
             {
                 Some(s) => {
-                    if v.ratio > s.ratio && round == 1 {
-                        s.ratio = v.ratio;
-                        s.t = v.sample as f64 * motion.dt;
-                        s.s = motion.s[v.sample];
+                    if w.ratio > s.ratio && round == 1 {
+                        s.ratio = w.ratio;
+                        s.t = w.sample as f64 * motion.dt;
+                        s.s = motion.s[w.sample];
                     }
-                    s.speed_factor = s.speed_factor.min(f);
+                    s.speed_factor = s.speed_factor.min(speed);
+                    s.accel_factor = s.accel_factor.min(accel);
                 }
                 None => slowdowns.push(Slowdown {
-                    joint: v.joint,
-                    kind: v.kind,
-                    t: v.sample as f64 * motion.dt,
-                    s: motion.s[v.sample],
+                    joint: w.joint,
+                    kind: w.kind,
+                    t: w.sample as f64 * motion.dt,
+                    s: motion.s[w.sample],
                     move_index: mi,
-                    ratio: v.ratio,
-                    speed_factor: f,
+                    ratio: w.ratio,
+                    speed_factor: speed,
+                    accel_factor: accel,
                 }),
             }
         }
-        if ramp_factor < 1.0 {
-            opts.accel *= ramp_factor;
-            opts.jerk *= ramp_factor;
-        }
-        // Budget: a slow-down so deep that the re-planned motion would exceed the sample
-        // budget (a joint limit of 1e-9 rad/s) is a failure to meet the limits, not an
-        // allocation of terabytes.
-        let v = super::profile::speed_at_nodes(nodes, &scale, opts.accel);
+        // The next round's node speeds, once: for its plan, and first for the budget: a
+        // slow-down so deep that the re-planned motion would exceed the sample budget (a joint
+        // limit of 1e-9 rad/s) is a failure to meet the limits, not an allocation of
+        // terabytes.
+        v = slowing.speeds(nodes, popts.accel);
         let t_est: f64 = (1..v.len())
             .map(|i| {
                 let vs = v[i] + v[i - 1];
@@ -635,20 +865,13 @@ pub fn time_path_planned(
             })
             .sum::<f64>()
             + nodes.dwell_total();
-        let samples = t_est / opts.dt + opts.accel / opts.jerk / opts.dt;
+        let samples = t_est / popts.dt + popts.accel / popts.jerk / popts.dt;
         if samples.is_nan() || samples > super::budget::max_samples() as f64 {
-            let w = viol
-                .iter()
-                .max_by(|a, b| a.ratio.total_cmp(&b.ratio))
-                .expect("non-empty");
+            let e = worst(&viol);
             *buf = tracked;
-            return Err(TimingFailure::LimitsNotMet {
-                joint: w.joint,
-                kind: w.kind,
-                ratio: w.ratio,
-                t: w.sample as f64 * motion.dt,
-            });
+            return Err(e);
         }
+        next = Some(Arc::new(plan_at_speeds(pieces, nodes, &v, popts)));
     }
 }
 
@@ -798,4 +1021,129 @@ pub fn time_at_planned(
             "no IK solution at the first sample".into(),
         ))
     }))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::timing::geometry::{blend_path, Move, Prim};
+
+    /// A 1 m straight line at 0.15 m/s from rest to rest: its nodes and unslowed plan.
+    fn line() -> (Vec<Piece>, Plan, ProfileOptions) {
+        let moves = [Move {
+            prim: Prim::Line {
+                a: V3::zeros(),
+                b: V3::new(1.0, 0.0, 0.0),
+            },
+            speed: 0.15,
+            zone: 0.0,
+            print: true,
+            line: 1,
+        }];
+        let pieces = blend_path(&moves);
+        let popts = ProfileOptions::default();
+        let plan = Plan::new(&pieces, &popts);
+        (pieces, plan, popts)
+    }
+
+    /// The sample of `motion` nearest arc length `s`, m.
+    fn sample_at(motion: &CartesianMotion, s: f64) -> usize {
+        motion.s.partition_point(|&x| x < s)
+    }
+
+    #[test]
+    fn a_limit_that_binds_again_where_the_speed_is_capped_compounds_the_cap() {
+        // A velocity demand 1.2× the limit in the middle, then, planned again, 1.05× at the
+        // same place: the second cap is relative to the capped speed, not to the programmed
+        // one (which the first cap is already below).
+        let (pieces, plan, popts) = line();
+        let mut sl = Slowing::new(plan.nodes.s.len());
+        let k = sample_at(&plan.motion, 0.5);
+        let e = |sample, ratio| Excess {
+            sample,
+            joint: 0,
+            kind: LimitKind::Velocity,
+            ratio,
+            ramp_share: 0.0,
+        };
+        let lev = sl.apply(&plan.nodes, &plan.v, &plan.motion, &[e(k, 1.2)], 0.95);
+        assert_eq!(lev, vec![Lever::Speed(0.95 / 1.2)]);
+        let v1 = sl.speeds(&plan.nodes, popts.accel);
+        let i = plan.nodes.s.partition_point(|&x| x < 0.5);
+        assert!((v1[i] - 0.15 * 0.95 / 1.2).abs() < 1e-12, "{}", v1[i]);
+        let m1 = plan_at_speeds(&pieces, &plan.nodes, &v1, &popts);
+        let k1 = sample_at(&m1, 0.5);
+        sl.apply(&plan.nodes, &v1, &m1, &[e(k1, 1.05)], 0.95);
+        let v2 = sl.speeds(&plan.nodes, popts.accel);
+        let want = 0.15 * (0.95 / 1.2) * (0.95 / 1.05);
+        assert!((v2[i] - want).abs() < 1e-12, "{} vs {want}", v2[i]);
+        // Far from the sample the speed is the programmed one.
+        let far = plan.nodes.s.partition_point(|&x| x < 0.1);
+        assert_eq!(v2[far], 0.15);
+        assert!(sl.accel_scale.is_empty());
+    }
+
+    #[test]
+    fn a_demand_from_a_ramp_lowers_the_acceleration_over_that_ramp_only() {
+        // An acceleration demand from the ramp at the start (1.25× the limit, all of it from
+        // the ramp): the ramp's acceleration is lowered, to margin / ratio; the speed caps,
+        // the cruise and the ramp at the end keep the profile's.
+        let (pieces, plan, popts) = line();
+        let k = sample_at(&plan.motion, 0.004);
+        let rates = path_rates(&plan.motion.s, plan.motion.dt, k);
+        assert!(rates.1 > 0.1, "on the ramp: {rates:?}");
+        let mut sl = Slowing::new(plan.nodes.s.len());
+        let e = Excess {
+            sample: k,
+            joint: 2,
+            kind: LimitKind::Acceleration,
+            ratio: 1.25,
+            ramp_share: 1.0,
+        };
+        let lev = sl.apply(&plan.nodes, &plan.v, &plan.motion, &[e], 0.95);
+        assert_eq!(lev, vec![Lever::Accel(0.95 / 1.25)]);
+        assert!(sl.scale.iter().all(|&c| c == 1.0));
+        let node = |s: f64| plan.nodes.s.partition_point(|&x| x < s);
+        assert_eq!(sl.accel_scale[node(0.004)], 0.95 / 1.25);
+        // The ramp from rest to 0.15 m/s at 1 m/s² is 11 mm long; beyond it (and its
+        // neighbouring node), nothing changes.
+        assert!(sl.accel_scale[node(0.02)..].iter().all(|&g| g == 1.0));
+        let v = sl.speeds(&plan.nodes, popts.accel);
+        let slowed = plan_at_speeds(&pieces, &plan.nodes, &v, &popts);
+        assert!(slowed.duration() > plan.motion.duration());
+        // The ramp at the end, untouched: the last 11 mm are passed exactly as unslowed.
+        let (a, b) = (node(0.98), plan.nodes.s.len());
+        assert_eq!(&v[a..b], &plan.v[a..b]);
+    }
+
+    #[test]
+    fn ramp_share_tells_a_ramp_from_speed_and_curvature() {
+        // q̇ = q′ṡ, q̈ = q′s̈ + q″ṡ²: with q′ = 2, q″ = 3, ṡ = 0.1, s̈ = 1 the ramp part of q̈ is
+        // 2 of 2.03.
+        let (q1, q2, q3, sd, sdd, sddd) = (2.0, 3.0, 5.0, 0.1, 1.0, 10.0);
+        let qd = q1 * sd;
+        let qdd = q1 * sdd + q2 * sd * sd;
+        let qddd = q1 * sddd + 3.0 * q2 * sd * sdd + q3 * sd * sd * sd;
+        let r = ramp_share(LimitKind::Acceleration, qd, qdd, qddd, (sd, sdd, sddd));
+        assert!((r - 2.0 / 2.03).abs() < 1e-12, "{r}");
+        let r = ramp_share(LimitKind::Jerk, qd, qdd, qddd, (sd, sdd, sddd));
+        assert!((r - 20.9 / 20.905).abs() < 1e-12, "{r}");
+        // At constant speed, none; a velocity demand never; at rest, all.
+        let r = ramp_share(
+            LimitKind::Acceleration,
+            qd,
+            q2 * sd * sd,
+            0.0,
+            (sd, 0.0, 0.0),
+        );
+        assert_eq!(r, 0.0);
+        assert_eq!(
+            ramp_share(LimitKind::Velocity, qd, qdd, qddd, (sd, sdd, sddd)),
+            0.0
+        );
+        assert_eq!(
+            ramp_share(LimitKind::Jerk, 0.0, 1.0, 1.0, (0.0, 1.0, 1.0)),
+            1.0
+        );
+    }
 }

@@ -125,17 +125,40 @@ pub fn nodes(pieces: &[Piece], opts: &ProfileOptions) -> Nodes {
     n
 }
 
-/// Acceleration-limited speed at each node under the caps (times `scale`, per node).
+/// Acceleration-limited speed at each node under the caps (times `scale`, per node), m/s.
 pub fn speed_at_nodes(nodes: &Nodes, scale: &[f64], accel: f64) -> Vec<f64> {
+    speed_at_nodes_local(nodes, scale, accel, &[])
+}
+
+/// [`speed_at_nodes`] with the acceleration lowered locally: the ramp between nodes `i − 1`
+/// and `i` is limited to `accel · min(accel_scale[i − 1], accel_scale[i])` (m/s²; an empty
+/// `accel_scale` is 1 everywhere). This is how the controller lowers the acceleration over
+/// a stretch of path only: the speed stays continuous, ramps elsewhere keep `accel`, and the
+/// jerk filter (its length set by the global `accel / jerk`) blends the change of
+/// acceleration at the stretch's ends.
+pub fn speed_at_nodes_local(
+    nodes: &Nodes,
+    scale: &[f64],
+    accel: f64,
+    accel_scale: &[f64],
+) -> Vec<f64> {
     let n = nodes.s.len();
     let mut v: Vec<f64> = (0..n).map(|i| nodes.cap[i] * scale[i]).collect();
+    let local = accel_scale.len() == n;
+    let a = |i: usize| {
+        if local {
+            accel * accel_scale[i - 1].min(accel_scale[i])
+        } else {
+            accel
+        }
+    };
     for i in 1..n {
         let ds = nodes.s[i] - nodes.s[i - 1];
-        v[i] = v[i].min((v[i - 1] * v[i - 1] + 2.0 * accel * ds).sqrt());
+        v[i] = v[i].min((v[i - 1] * v[i - 1] + 2.0 * a(i) * ds).sqrt());
     }
     for i in (0..n - 1).rev() {
         let ds = nodes.s[i + 1] - nodes.s[i];
-        v[i] = v[i].min((v[i + 1] * v[i + 1] + 2.0 * accel * ds).sqrt());
+        v[i] = v[i].min((v[i + 1] * v[i + 1] + 2.0 * a(i + 1) * ds).sqrt());
     }
     v
 }
@@ -274,7 +297,18 @@ pub fn plan(
     opts: &ProfileOptions,
 ) -> CartesianMotion {
     let v = speed_at_nodes(nodes, scale, opts.accel);
-    let s_raw = sample_arc_length(nodes, &v, opts.dt);
+    plan_at_speeds(pieces, nodes, &v, opts)
+}
+
+/// Plan the Cartesian motion along `pieces` through the node speeds `v` (m/s, from
+/// [`speed_at_nodes`] or [`speed_at_nodes_local`]).
+pub fn plan_at_speeds(
+    pieces: &[Piece],
+    nodes: &Nodes,
+    v: &[f64],
+    opts: &ProfileOptions,
+) -> CartesianMotion {
+    let s_raw = sample_arc_length(nodes, v, opts.dt);
     let starts = piece_starts(pieces);
     let taps = ((opts.accel / opts.jerk / opts.dt).round() as usize).max(1);
     let piece_of = |s: f64| {
