@@ -336,12 +336,19 @@ struct Manifest {
 /// A run directory being written. Created by [`RunDir::begin`] (which takes the lock), filled
 /// with [`RunDir::write`], put in place by [`RunDir::commit`]. Dropped without commit (an
 /// error), it removes its staging directory and lock and leaves any earlier run untouched.
+///
+/// Each file is synced to disk on a thread of its own while the next one is made; the commit
+/// waits for every sync before it puts the run in place, so a committed run's files are on
+/// disk as before, without the program waiting for each sync in turn (an `fsync` costs
+/// 10–20 ms here; `printwatt optimise` writes four files).
 #[derive(Debug)]
 pub struct RunDir {
     target: PathBuf,
     staging: PathBuf,
     lock: PathBuf,
     files: BTreeMap<String, String>,
+    /// The syncs under way: the file's path and the thread syncing it.
+    syncing: Vec<(PathBuf, std::thread::JoinHandle<std::io::Result<()>>)>,
     done: bool,
 }
 
@@ -382,6 +389,7 @@ impl RunDir {
             staging: parent.join(format!(".{name}.printwatt-tmp-{}", std::process::id())),
             lock,
             files: BTreeMap::new(),
+            syncing: Vec::new(),
             done: false,
         };
         // Stale staging and old directories of dead processes.
@@ -424,7 +432,8 @@ impl RunDir {
         &self.target
     }
 
-    /// Write one file of the run (a plain file name) into the staging directory.
+    /// Write one file of the run (a plain file name) into the staging directory. Its sync to
+    /// disk runs on its own thread; [`RunDir::commit`] waits for it (and reports its error).
     pub fn write(&mut self, name: &str, contents: &[u8]) -> Result<()> {
         if name.contains(['/', '\\']) || name == MANIFEST || name.starts_with('.') {
             return Err(Error::Invalid(format!(
@@ -434,15 +443,41 @@ impl RunDir {
         let p = self.staging.join(name);
         let mut f = std::fs::File::create(&p).map_err(|e| Error::io(&p, e))?;
         f.write_all(contents).map_err(|e| Error::io(&p, e))?;
-        f.sync_all().map_err(|e| Error::io(&p, e))?;
+        let sync = std::thread::Builder::new()
+            .name("printwatt-sync".into())
+            .spawn(move || f.sync_all());
+        match sync {
+            Ok(h) => self.syncing.push((p, h)),
+            // No thread to be had: sync here.
+            Err(_) => std::fs::File::open(&p)
+                .and_then(|f| f.sync_all())
+                .map_err(|e| Error::io(&p, e))?,
+        }
         self.files.insert(name.to_string(), sha256_hex(contents));
         Ok(())
+    }
+
+    /// Wait for every file's sync; the first error, naming its file.
+    fn wait_for_syncs(&mut self) -> Result<()> {
+        let mut first = None;
+        for (p, h) in self.syncing.drain(..) {
+            let r = h.join().unwrap_or_else(|_| {
+                Err(std::io::Error::other(
+                    "the thread syncing the file panicked",
+                ))
+            });
+            if let (Err(e), None) = (r, &first) {
+                first = Some(Error::io(&p, e));
+            }
+        }
+        first.map_or(Ok(()), Err)
     }
 
     /// Put the run in place: the manifest is written, an earlier run (checked again to be
     /// printwatt's own) is moved aside, the staging directory renamed to the target, the earlier
     /// run removed, the lock released. Returns the target.
     pub fn commit(mut self) -> Result<PathBuf> {
+        self.wait_for_syncs()?;
         let m = Manifest {
             writer: "printwatt".into(),
             files: self.files.clone(),
@@ -481,6 +516,7 @@ impl RunDir {
 
 impl Drop for RunDir {
     fn drop(&mut self) {
+        let _ = self.wait_for_syncs();
         if !self.done {
             let _ = std::fs::remove_dir_all(&self.staging);
             let _ = std::fs::remove_file(&self.lock);

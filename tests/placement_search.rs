@@ -279,6 +279,126 @@ fn argmin_search_is_bit_identical_with_one_and_two_threads() {
     );
 }
 
+/// [`Batched`] that drops a guess the step does not need (as the placement search does: its
+/// evaluation abandoned part-way), counting the drops.
+struct Abandoning(RefCell<Vec<Vec<f64>>>, RefCell<usize>);
+impl BatchCost for Abandoning {
+    type Pending = (Vec<f64>, f64);
+    fn evaluate(&self, ps: &[Vec<f64>]) -> Result<Vec<(Vec<f64>, f64)>, argmin::core::Error> {
+        Ok(ps.iter().map(|u| (u.clone(), f(u))).collect())
+    }
+    fn commit(&self, p: (Vec<f64>, f64)) -> Result<f64, argmin::core::Error> {
+        self.0.borrow_mut().push(p.0);
+        Ok(p.1)
+    }
+    fn parallel(&self) -> bool {
+        true
+    }
+    fn evaluate_guessed(
+        &self,
+        point: &[f64],
+        guess: &[f64],
+        needed_from: f64,
+    ) -> Result<((Vec<f64>, f64), Option<(Vec<f64>, f64)>), argmin::core::Error> {
+        let c = f(point);
+        let g = if c >= needed_from {
+            Some((guess.to_vec(), f(guess)))
+        } else {
+            *self.1.borrow_mut() += 1;
+            None
+        };
+        Ok(((point.to_vec(), c), g))
+    }
+}
+
+#[test]
+fn speculative_nelder_mead_that_abandons_unneeded_guesses_takes_argmins_steps() {
+    // The guess (the inside contraction) is dropped whenever the reflected point is below the
+    // worst vertex: exactly when the step does not take it. The points asked for, in order,
+    // and the answer are still those of argmin's solver.
+    let iters = 400;
+    let solver = argmin::solver::neldermead::NelderMead::new(simplex())
+        .with_sd_tolerance(1e-10)
+        .unwrap();
+    let r = Executor::new(Plain(RefCell::new(Vec::new())), solver)
+        .configure(|s| s.max_iters(iters))
+        .run()
+        .unwrap();
+    let ref_best = r.state().get_best_param().unwrap().clone();
+    let ref_calls = r.problem.problem.as_ref().unwrap().0.borrow().clone();
+    let solver = SpeculativeNelderMead::new(simplex())
+        .with_sd_tolerance(1e-10)
+        .unwrap();
+    let r = Executor::new(
+        Abandoning(RefCell::new(Vec::new()), RefCell::new(0)),
+        solver,
+    )
+    .configure(|s| s.max_iters(iters))
+    .run()
+    .unwrap();
+    let b = r.problem.problem.as_ref().unwrap();
+    assert_eq!(
+        *b.0.borrow(),
+        ref_calls,
+        "the same points in the same order"
+    );
+    assert_eq!(r.state().get_best_param().unwrap(), &ref_best);
+    assert!(*b.1.borrow() > 10, "{} guesses dropped", b.1.borrow());
+}
+
+#[test]
+fn an_evaluation_beside_a_guess_is_the_plain_evaluation_and_an_unwanted_guess_is_dropped() {
+    // Evaluator::evaluate_with_guess (the search's reflected point with its guess beside it,
+    // each placement's checks and energy integration at once where a thread is free): the
+    // first placement and a wanted guess are evaluated bit for bit as a sweep evaluates them,
+    // an unwanted guess is dropped, on 1 and 2 threads; feasible, infeasible after the
+    // timing (a joint-limit margin) and unreachable placements.
+    let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
+    let j = job(&model, &tp, 8);
+    let ev = Evaluator::new(&j, FeasibilityOptions::default(), Objective::Supply);
+    let y90 = std::f64::consts::FRAC_PI_2;
+    // A tolerance corner of the grid cell beside the answer fails on the joint-3 margin.
+    let corners = Tolerance::default().corners(&Placement::new(1.43, 0.121, 0.0, y90));
+    let margin = pool(2)
+        .install(|| ev.sweep(&corners, &|_, _| {}).unwrap())
+        .into_iter()
+        .find(|e| {
+            e.outcome.as_ref().err().map(|x| x.reason)
+                == Some(printwatt::placement::feasibility::Reason::JointLimitMargin)
+        })
+        .expect("a corner on the joint-limit margin")
+        .placement;
+    let ps = [
+        Placement::new(1.534, 0.121, 0.0, y90),
+        margin,
+        Placement::new(0.5, -2.0, 0.0, 0.0),
+    ];
+    let plain = pool(1).install(|| ev.sweep(&ps, &|_, _| {}).unwrap());
+    assert!(plain[0].cost().is_finite());
+    assert!(
+        plain[1..].iter().all(|e| !e.cost().is_finite()),
+        "{:?}",
+        plain
+            .iter()
+            .map(|e| e.outcome.as_ref().err())
+            .collect::<Vec<_>>()
+    );
+    for threads in [1, 2] {
+        pool(threads).install(|| {
+            for (i, a) in ps.iter().enumerate() {
+                for (k, b) in ps.iter().enumerate() {
+                    for want in [true, false] {
+                        let (ea, eb) = ev.evaluate_with_guess(a, b, &|_| want);
+                        assert_eq!(ea, plain[i], "{threads} threads");
+                        assert_eq!(ea.cost().to_bits(), plain[i].cost().to_bits());
+                        assert_eq!(eb.as_ref(), want.then_some(&plain[k]));
+                    }
+                }
+            }
+        });
+    }
+}
+
 // --- Fast tolerance checks (issue 12: `optimise` faster, same answer) ----------------------
 
 /// The main job's search options: the default grid's box, z from 0 to R/2, ±20 mm / ±1°.

@@ -290,6 +290,48 @@ fn a_run_directory_is_replaced_whole_or_not_at_all() {
 }
 
 #[test]
+fn a_run_directorys_files_are_complete_when_it_is_committed_while_their_syncs_overlap() {
+    // RunDir::write syncs each file on a thread of its own; commit waits for every sync before
+    // the rename. Several files written back to back, one large: all complete after commit,
+    // and the manifest records each file's content.
+    use printwatt::output::{Existing, Inputs, RunDir};
+    let d = tmp("overlap");
+    let big: Vec<u8> = (0..4_000_000u32).map(|i| (i % 251) as u8).collect();
+    let mut rd = RunDir::begin(&d, "r", &Inputs::new(), Existing::Replace).unwrap();
+    rd.write("report.html", &big).unwrap();
+    for k in 0..6 {
+        rd.write(&format!("f{k}.txt"), format!("file {k}").as_bytes())
+            .unwrap();
+    }
+    rd.commit().unwrap();
+    assert_eq!(std::fs::read(d.join("r/report.html")).unwrap(), big);
+    for k in 0..6 {
+        assert_eq!(
+            std::fs::read_to_string(d.join(format!("r/f{k}.txt"))).unwrap(),
+            format!("file {k}")
+        );
+    }
+    let manifest = std::fs::read_dir(d.join("r"))
+        .unwrap()
+        .flatten()
+        .filter(|e| e.file_name().to_string_lossy().starts_with('.'))
+        .map(|e| std::fs::read_to_string(e.path()).unwrap())
+        .next()
+        .expect("a manifest");
+    for k in 0..6 {
+        assert!(manifest.contains(&format!("f{k}.txt")), "{manifest}");
+    }
+    // No staging directory is left beside the run.
+    let left: Vec<String> = std::fs::read_dir(&d)
+        .unwrap()
+        .flatten()
+        .map(|e| e.file_name().to_string_lossy().into_owned())
+        .filter(|n| n.contains("printwatt-tmp"))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
+}
+
+#[test]
 fn a_second_run_into_a_locked_run_directory_fails_clearly() {
     use printwatt::output::{Existing, Inputs, RunDir};
     let d = tmp("lock");

@@ -432,13 +432,23 @@ fn a_station_plan_never_stands_on_or_drives_across_a_printed_wall() {
     let p = grid_problem(&model, &path, 0.75);
     let plan = solve(&p);
     assert!(plan.segments.len() > 1);
-    // The checks bound: positions on walls and ways across them were refused.
-    assert!(plan.stats.footprint_on_wall > 0 && plan.stats.way_blocked > 0);
-    let clear = p.footprint_m + printwatt::placement::collision::BEAD_RADIUS_M;
-    let tol = 0.006; // wall points every 10 mm: at most 5 mm from the chord
+    // The checks bound: positions on walls were refused, and ways across walls were refused
+    // or went around them.
+    assert!(plan.stats.footprint_on_wall > 0);
+    assert!(plan.stats.way_blocked + plan.stats.detoured > 0);
+    assert_clear_of_walls(&plan, &path, p.footprint_m);
+}
+
+/// No station of `plan` stands on a wall printed before or by its segment, and no way between
+/// stations comes closer to a wall printed before the move than the floor disc (radius
+/// `footprint` m) allows: checked on wall points every 10 mm, independently of the planner.
+fn assert_clear_of_walls(plan: &Plan, path: &Toolpath, footprint: f64) {
+    assert_eq!(plan.ways.len(), plan.segments.len() - 1);
+    let clear = footprint + printwatt::placement::collision::BEAD_RADIUS_M;
+    let tol = 0.006;
     for (k, s) in plan.segments.iter().enumerate() {
         let at = [s.station.x_m, s.station.y_m];
-        for w in wall_points(&path, s.moves[1]) {
+        for w in wall_points(path, s.moves[1]) {
             let d = (w[0] - at[0]).hypot(w[1] - at[1]);
             assert!(
                 d + tol >= clear,
@@ -450,22 +460,28 @@ fn a_station_plan_never_stands_on_or_drives_across_a_printed_wall() {
         }
         if let Some(next) = plan.segments.get(k + 1) {
             let to = [next.station.x_m, next.station.y_m];
-            for w in wall_points(&path, s.moves[1]) {
-                let d = to_segment(w, at, to);
-                assert!(
-                    d + tol >= clear,
-                    "the way from station {} crosses the wall at ({}, {}): {d} m",
-                    k + 1,
-                    w[0],
-                    w[1]
-                );
+            let way = &plan.ways[k];
+            assert_eq!(way.points.first(), Some(&at));
+            assert_eq!(way.points.last(), Some(&to));
+            assert!(way.length_m + 1e-12 >= (to[0] - at[0]).hypot(to[1] - at[1]));
+            for w in wall_points(path, s.moves[1]) {
+                for leg in way.points.windows(2) {
+                    let d = to_segment(w, leg[0], leg[1]);
+                    assert!(
+                        d + tol >= clear,
+                        "the way from station {} crosses the wall at ({}, {}): {d} m",
+                        k + 1,
+                        w[0],
+                        w[1]
+                    );
+                }
             }
         }
     }
 }
 
 #[test]
-fn a_room_closed_before_the_arm_can_leave_it_is_refused_and_one_with_a_door_is_not() {
+fn a_room_closed_around_the_arm_is_refused_and_one_closed_from_outside_or_through_a_door_is_not() {
     // Room A (0..3 m) printed whole, then room B (3..6 m) against its right wall: from inside
     // A nothing reaches B's far wall, and the way out of A crosses A's walls.
     let model = robot();
@@ -480,21 +496,41 @@ fn a_room_closed_before_the_arm_can_leave_it_is_refused_and_one_with_a_door_is_n
         [6000.0, 0.0, 6000.0, 3000.0],
         [6000.0, 3000.0, 3000.0, 3000.0],
     ];
+    // Stations only inside the rooms: the arm that closes A stands in it and is shut in.
+    let inside = |p: &mut StationsProblem| {
+        p.candidates
+            .positions
+            .retain(|q| q[1] > 0.0 && q[1] < 3.0 && q[0] > 0.0 && q[0] < 6.0 && q[0] != 3.0);
+    };
     let closed = gcode(&pieces_text(&[a.clone(), b.to_vec()].concat()));
-    let p = grid_problem(&model, &closed, 0.75);
+    let mut p = grid_problem(&model, &closed, 0.75);
+    inside(&mut p);
     let e = stations::solve(&p, &|_, _| {}).expect_err("room A closes the arm in");
     let msg = e.to_string();
     assert!(
         msg.contains("no plan of stations prints the path") && msg.contains("wall"),
         "{msg}"
     );
-    // The same rooms with a 1.5 m door in the shared wall: a plan, through the door.
+    // Stations anywhere: A is closed from a station outside it, and the crawler goes around
+    // A to B, clear of every wall.
+    let p = grid_problem(&model, &closed, 0.75);
+    let plan = solve(&p);
+    assert!(plan.stats.detoured > 0);
+    assert!(
+        plan.ways.iter().any(|w| w.points.len() > 2),
+        "{:?}",
+        plan.ways
+    );
+    assert_clear_of_walls(&plan, &closed, p.footprint_m);
+    // The same rooms with a 1.5 m door in the shared wall, stations inside: through the door.
     a[1] = [3000.0, 0.0, 3000.0, 750.0];
     a.insert(2, [3000.0, 2250.0, 3000.0, 3000.0]);
     let door = gcode(&pieces_text(&[a, b.to_vec()].concat()));
-    let p = grid_problem(&model, &door, 0.75);
+    let mut p = grid_problem(&model, &door, 0.75);
+    inside(&mut p);
     let plan = solve(&p);
     assert!(plan.segments.len() > 1);
+    assert_clear_of_walls(&plan, &door, p.footprint_m);
 }
 
 #[test]
@@ -507,4 +543,75 @@ fn a_track_under_a_wall_is_refused_naming_the_wall_line() {
     let e = stations::solve(&p, &|_, _| {}).expect_err("the rail lies under walls");
     let msg = e.to_string();
     assert!(msg.contains("lies under the wall printed by line"), "{msg}");
+}
+
+#[test]
+fn a_crawler_goes_around_a_printed_wall_through_its_door_and_never_through_a_narrow_gap() {
+    // A 10 × 5 m room whose wall along y = 0 has a door at x = 1…3 m; the disc (0.5 m, plus
+    // the bead's half-width) goes from (−1, −2) m inside to (−1, 2) m outside. The straight way
+    // crosses the wall; the way found goes through the door, every leg clear of the wall (checked on wall points every
+    // 10 mm, independently of the router). With a 0.8 m gap, narrower than the disc, and with
+    // no gap, there is no way.
+    use printwatt::placement::stations::floor::{wall_chords, Floor, Router};
+    let r = 0.5;
+    let clear = r + printwatt::placement::collision::BEAD_RADIUS_M;
+    let (a, b) = ([-1.0, -2.0], [-1.0, 2.0]);
+    let wall = |gap: Option<(f64, f64)>| {
+        let mut pieces: Vec<[f64; 4]> = vec![
+            [-5000.0, -5000.0, 5000.0, -5000.0],
+            [5000.0, -5000.0, 5000.0, 0.0],
+        ];
+        match gap {
+            Some((g0, g1)) => pieces.extend([[5000.0, 0.0, g1, 0.0], [g0, 0.0, -5000.0, 0.0]]),
+            None => pieces.push([5000.0, 0.0, -5000.0, 0.0]),
+        }
+        pieces.push([-5000.0, 0.0, -5000.0, -5000.0]);
+        gcode(&pieces_text(&pieces))
+    };
+    let door = wall(Some((1000.0, 3000.0)));
+    let floor = Floor::from_chords(&wall_chords(&door));
+    let last = door.moves.len() - 1;
+    assert!(floor.first_blocking(a, b, r, last).is_some());
+    let way = Router::new(&floor, r)
+        .way(a, b, last)
+        .expect("a way through the door");
+    assert_eq!(way.points.first(), Some(&a));
+    assert_eq!(way.points.last(), Some(&b));
+    let len: f64 = way
+        .points
+        .windows(2)
+        .map(|l| (l[1][0] - l[0][0]).hypot(l[1][1] - l[0][1]))
+        .sum();
+    assert!((len - way.length_m).abs() < 1e-12);
+    // Through the door: from (−1, −2) to (1.525, 0) (the nearest the disc passes the jamb)
+    // and on to (−1, 2); the octagons make it at most a few per cent longer.
+    let through_door = 2.0 * (2.0 + clear).hypot(2.0);
+    assert!(
+        way.length_m >= through_door - 1e-9 && way.length_m < 1.06 * through_door,
+        "{way:?}"
+    );
+    let crossing = way
+        .points
+        .windows(2)
+        .find(|l| (l[0][1] < 0.0) != (l[1][1] < 0.0))
+        .expect("the way crosses y = 0");
+    let t = -crossing[0][1] / (crossing[1][1] - crossing[0][1]);
+    let x = crossing[0][0] + t * (crossing[1][0] - crossing[0][0]);
+    assert!(
+        (1.0 + clear - 1e-6..=3.0 - clear + 1e-6).contains(&x),
+        "{x}"
+    );
+    for w in wall_points(&door, last) {
+        for leg in way.points.windows(2) {
+            assert!(
+                to_segment(w, leg[0], leg[1]) + 0.006 >= clear,
+                "{w:?} {leg:?}"
+            );
+        }
+    }
+    for closed in [wall(Some((1000.0, 1800.0))), wall(None)] {
+        let floor = Floor::from_chords(&wall_chords(&closed));
+        let last = closed.moves.len() - 1;
+        assert_eq!(Router::new(&floor, r).way(a, b, last), None);
+    }
 }

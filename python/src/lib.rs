@@ -1138,13 +1138,14 @@ fn identify<'py>(
 /// each segment's centroid, else a list of headings (rad, part frame), each a candidate. `z`:
 /// the part origin's height above each station's base frame, m (default −0.5). `footprint`:
 /// the radius of the floor disc a station occupies, m (default 0.2 × reach, an estimate): no
-/// station stands on a wall printed before or by its segment, no straight way between
-/// stations crosses one, no track lies under one. Options as in `sweep`.
+/// station stands on a wall printed before or by its segment, no way between stations crosses
+/// one (the straight line on a track, the shortest way around the walls otherwise), no track
+/// lies under one. Options as in `sweep`.
 ///
 /// Returns a dict: the plan (`segments` with `units`, `moves`, `lines`, `station` (`x_m`,
 /// `y_m`, `heading_rad`), `print_length_m`, `eval` (the segment's numbers, J and s);
-/// `relocations`, `relocation_distance_m`, `relocation_j`, `energy_j`, `total_j`, `units`,
-/// `stats`), plus `at` (per segment, the placement (x, y, z, yaw, spin) in m and rad that the
+/// `relocations`, `relocation_distance_m`, `ways` (per relocation: `points`, the polyline
+/// in m, and `length_m`), `relocation_j`, `energy_j`, `total_j`, `units`, `stats`), plus `at` (per segment, the placement (x, y, z, yaw, spin) in m and rad that the
 /// station amounts to, what `energy` takes) and `footprint_m`. Raises PrintwattError when no
 /// plan prints the path, naming the first unit that cannot be printed and why.
 #[pyfunction]

@@ -187,10 +187,16 @@ pub fn run(a: StationsArgs) -> Result<()> {
     m.push((
         "station footprint".into(),
         format!(
-            "floor disc of radius {footprint:.3} m ({}): stations stand on no wall printed before or by their segment and the way between stations crosses none ({} positions on walls dropped, {} moves refused)",
+            "floor disc of radius {footprint:.3} m ({}): stations stand on no wall printed before or by their segment and the way between stations crosses none ({}; {} positions on walls dropped, {} moves with no clear way refused, {} moves around walls)",
             if a.footprint.is_some() { "given" } else { "estimate: 0.2 × reach" },
+            if a.track.is_some() {
+                "on the track: the straight way along the rail"
+            } else {
+                "a crawler: the shortest way around the walls printed so far"
+            },
             plan.stats.footprint_on_wall,
-            plan.stats.way_blocked
+            plan.stats.way_blocked,
+            plan.stats.detoured
         ),
     ));
     m.push((

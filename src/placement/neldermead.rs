@@ -12,7 +12,11 @@
 //!   iteration may need next, in parallel: the inside contraction (the step a simplex closing
 //!   in on a feasibility boundary takes most: 47 of the 76 iterations of the default job, where
 //!   guessing the kind of the last step was right 29 times and this guess 47 times). When the
-//!   guess is right, the iteration costs one evaluation's wall time instead of two.
+//!   guess is right, the iteration costs one evaluation's wall time instead of two; when the
+//!   reflected point shows that it is not needed (its cost is below the worst vertex's), the
+//!   guess is abandoned where it stands ([`BatchCost::evaluate_guessed`]), so that the next
+//!   evaluation (the expansion, the outside contraction, the next iteration) gets both
+//!   threads sooner.
 //!
 //! The cost function sees the evaluations **committed** in exactly the order a sequential
 //! Nelder–Mead would ask for them ([`BatchCost::commit`]): budgets, histories and the visited
@@ -38,6 +42,21 @@ pub trait BatchCost {
     fn parallel(&self) -> bool;
     /// Record that a speculative evaluation was not needed.
     fn discarded(&self, _p: Self::Pending) {}
+    /// Evaluate `point` and, beside it, `guess`, which the algorithm needs next only when
+    /// `point`'s cost is at least `needed_from`: an unneeded guess may be abandoned part-way
+    /// (`None`). A needed guess must be returned in full. Default: both as one batch.
+    fn evaluate_guessed(
+        &self,
+        point: &[f64],
+        guess: &[f64],
+        needed_from: f64,
+    ) -> Result<(Self::Pending, Option<Self::Pending>), Error> {
+        let _ = needed_from;
+        let mut v = self.evaluate(&[point.to_vec(), guess.to_vec()])?;
+        let g = v.pop();
+        let p = v.pop().ok_or_else(|| Error::msg("no evaluation"))?;
+        Ok((p, g))
+    }
 }
 
 /// Nelder–Mead with parallel batches and one speculative evaluation per iteration; the
@@ -183,14 +202,15 @@ impl<O: BatchCost> Solver<O, St> for SpeculativeNelderMead {
         let worst = self.params[n - 1].clone();
         let second_worst_c = self.params[n - 2].1;
         let xr = Self::reflect(&x0, &worst.0);
-        // The guess: always the inside contraction (deterministic; see the module docs).
-        let mut pend = if o.parallel() {
-            o.evaluate(&[xr.clone(), Self::contract(&x0, &worst.0)])?
+        // The guess: always the inside contraction (deterministic; see the module docs), the
+        // point needed next exactly when the reflected point is no better than the worst.
+        let (pend, mut spec) = if o.parallel() {
+            o.evaluate_guessed(&xr, &Self::contract(&x0, &worst.0), worst.1)?
         } else {
-            o.evaluate(std::slice::from_ref(&xr))?
+            let mut v = o.evaluate(std::slice::from_ref(&xr))?;
+            (v.pop().ok_or_else(|| Error::msg("no evaluation"))?, None)
         };
-        let mut spec = if pend.len() > 1 { pend.pop() } else { None };
-        let xr_c = o.commit(pend.pop().ok_or_else(|| Error::msg("no evaluation"))?)?;
+        let xr_c = o.commit(pend)?;
         // The second evaluation: the guess when it is the point needed, else evaluated now.
         let mut second = |inside: bool, p: &Vec<f64>| -> Result<f64, Error> {
             match spec.take() {

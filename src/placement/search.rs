@@ -223,6 +223,35 @@ impl BatchCost for ByRef<'_, '_, '_, '_> {
         rayon::current_num_threads() > 1
     }
 
+    fn evaluate_guessed(
+        &self,
+        point: &[f64],
+        guess: &[f64],
+        needed_from: f64,
+    ) -> std::result::Result<(Pending, Option<Pending>), argmin::core::Error> {
+        let pr = self.0;
+        let (p, g) = (pr.placement(point), pr.placement(guess));
+        let one =
+            |at: &Placement| Pending::Done(Box::new(pr.ev.evaluate(&mut pr.sc.borrow_mut(), at)));
+        Ok(match (pr.bounds.contains(&p), pr.bounds.contains(&g)) {
+            (true, true) => {
+                // The guess is needed when the point costs at least `needed_from` (an
+                // infeasible point costs +∞, as `commit` counts it).
+                let (a, b) = pr
+                    .ev
+                    .evaluate_with_guess(&p, &g, &|e| e.cost() >= needed_from);
+                (
+                    Pending::Done(Box::new(a)),
+                    b.map(|e| Pending::Done(Box::new(e))),
+                )
+            }
+            // The point is outside (+∞): the guess is needed; one point, on this thread.
+            (false, true) => (Pending::Outside, Some(one(&g))),
+            (true, false) => (one(&p), Some(Pending::Outside)),
+            (false, false) => (Pending::Outside, Some(Pending::Outside)),
+        })
+    }
+
     fn discarded(&self, p: Pending) {
         if let Pending::Done(_) = p {
             *self.0.speculative.borrow_mut() += 1;

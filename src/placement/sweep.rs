@@ -25,7 +25,7 @@ use crate::timing::profile::Nodes;
 use crate::timing::{self, Buffers, TimedPath, TimingFailure};
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
 /// Which energy the search minimises (all in J over the whole print).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Default)]
@@ -313,6 +313,19 @@ impl Drop for Pooled<'_, '_> {
     }
 }
 
+/// The outcome of an evaluation that was abandoned part-way (a failed check stopped the
+/// energy integration, or the caller no longer needed the placement): never reported.
+fn abandoned() -> Infeasible {
+    Infeasible {
+        reason: Reason::ModelError,
+        sample: None,
+        t_s: None,
+        line: None,
+        point_m: None,
+        detail: "evaluation abandoned part-way".into(),
+    }
+}
+
 fn bbox<'p>(pts: impl Iterator<Item = &'p V3>) -> Option<(V3, V3)> {
     let mut lo = V3::repeat(f64::INFINITY);
     let mut hi = V3::repeat(f64::NEG_INFINITY);
@@ -468,7 +481,32 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         sc: &mut Scratch<'a>,
         at: &Placement,
     ) -> std::result::Result<Feasible, Infeasible> {
-        let timed = self.time(sc, at).map_err(|e| Infeasible::from_timing(&e))?;
+        // Never abandoned without a flag to say so.
+        self.evaluate_full_unless(sc, at, None)
+            .unwrap_or_else(|| Err(abandoned()))
+    }
+
+    /// [`Evaluator::evaluate_full_inner`], abandoned (`None`) once `cancel` is set: looked at
+    /// before and after the timing, every 64 samples of the checks and every batch of the
+    /// energy integration. An evaluation that is not abandoned is the full one, bit for bit.
+    fn evaluate_full_unless(
+        &self,
+        sc: &mut Scratch<'a>,
+        at: &Placement,
+        cancel: Option<&AtomicBool>,
+    ) -> Option<std::result::Result<Feasible, Infeasible>> {
+        let cancelled = || cancel.is_some_and(|c| c.load(Ordering::Relaxed));
+        if cancelled() {
+            return None;
+        }
+        let timed = match self.time(sc, at) {
+            Ok(t) => t,
+            Err(e) => return Some(Err(Infeasible::from_timing(&e))),
+        };
+        if cancelled() {
+            sc.buf.recycle(timed);
+            return None;
+        }
         let motion = &*timed.motion;
         let model = self.job.robot;
         let m = timed.traj.len();
@@ -478,7 +516,6 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         let o = &self.feasibility;
         let world = World::new(&frame, self.bbox_all, o);
         let every = o.check_every.max(1);
-        let mut margins = Margins::default();
         // The printed beads: the job's when this placement kept the planned motion, else anew.
         let replanned;
         let beads = if std::sync::Arc::ptr_eq(&timed.motion, &self.job.plan.motion) {
@@ -495,53 +532,85 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         };
         // The joints' sines and cosines of every sample, from the IK's FK re-check.
         let n = model.dof();
-        let shared = sc.buf.sincos.len() == m * 2 * n;
-        for k in 0..m {
-            let sincos = shared.then(|| &sc.buf.sincos[k * 2 * n..(k + 1) * 2 * n]);
-            let joint_check = super::margins::check_joint_sample_with(
-                model,
-                o,
-                timed.traj.q(k),
-                sincos,
-                timed.traj.qd(k),
-                timed.traj.qdd(k),
-                &mut margins,
-            );
-            if k % every == 0 || k + 1 == m || joint_check.is_some() {
-                let q = timed.traj.q(k);
-                if let Some((reason, detail)) = joint_check.or_else(|| {
-                    feasibility::check_sample(
-                        model,
-                        o,
-                        feasibility::Scene {
-                            world: &world,
-                            shapes: &self.shapes,
-                            beads,
-                        },
-                        q,
-                        beads.laid_at(k),
-                        &mut sc.poses,
-                        &mut margins,
-                    )
-                }) {
-                    let mi = self.job.pieces[motion.piece[k]].move_index;
-                    let tip = frame.apply(&motion.p[k]);
-                    let inf = Infeasible {
-                        reason,
-                        sample: Some(k),
-                        t_s: Some(k as f64 * dt),
-                        line: Some(self.job.line_of(mi)),
-                        point_m: Some([tip.x, tip.y, tip.z]),
-                        detail,
-                    };
-                    sc.buf.recycle(timed);
-                    return Err(inf);
+        let Scratch {
+            data,
+            buf,
+            poses,
+            sp,
+            ..
+        } = sc;
+        let shared = buf.sincos.len() == m * 2 * n;
+        let sincos_all = &buf.sincos[..];
+        // The checks and the energy integration, at once where a thread is free (rayon::join:
+        // the energy is taken up by an idle thread, else run here after the checks). The
+        // energy does not depend on the checks: the outcome is that of checking first and
+        // integrating after, bit for bit. A failed check tells the integration to stop.
+        let failed = AtomicBool::new(false);
+        let checks = || -> std::result::Result<Margins, Infeasible> {
+            let mut margins = Margins::default();
+            for k in 0..m {
+                if k % 64 == 0 && cancelled() {
+                    // Abandoned: the result is not read.
+                    return Err(abandoned());
+                }
+                let sincos = shared.then(|| &sincos_all[k * 2 * n..(k + 1) * 2 * n]);
+                let joint_check = super::margins::check_joint_sample_with(
+                    model,
+                    o,
+                    timed.traj.q(k),
+                    sincos,
+                    timed.traj.qd(k),
+                    timed.traj.qdd(k),
+                    &mut margins,
+                );
+                if k % every == 0 || k + 1 == m || joint_check.is_some() {
+                    let q = timed.traj.q(k);
+                    if let Some((reason, detail)) = joint_check.or_else(|| {
+                        feasibility::check_sample(
+                            model,
+                            o,
+                            feasibility::Scene {
+                                world: &world,
+                                shapes: &self.shapes,
+                                beads,
+                            },
+                            q,
+                            beads.laid_at(k),
+                            poses,
+                            &mut margins,
+                        )
+                    }) {
+                        failed.store(true, Ordering::Relaxed);
+                        let mi = self.job.pieces[motion.piece[k]].move_index;
+                        let tip = frame.apply(&motion.p[k]);
+                        return Err(Infeasible {
+                            reason,
+                            sample: Some(k),
+                            t_s: Some(k as f64 * dt),
+                            line: Some(self.job.line_of(mi)),
+                            point_m: Some([tip.x, tip.y, tip.z]),
+                            detail,
+                        });
+                    }
                 }
             }
-        }
-        let r = self.energy_inner(sc, &timed, margins, true);
-        sc.buf.recycle(timed); // keep the buffers for the next placement
-        r
+            Ok(margins)
+        };
+        let stop = || failed.load(Ordering::Relaxed) || cancelled();
+        let energy = || {
+            self.energy_parts(
+                data,
+                sp,
+                shared.then_some(sincos_all),
+                &timed,
+                Margins::default(),
+                &stop,
+            )
+        };
+        let (checked, integrated) = rayon::join(checks, energy);
+        let r = checked.and_then(|margins| integrated.map(|f| Feasible { margins, ..f }));
+        buf.recycle(timed); // keep the buffers for the next placement
+        (!cancelled()).then_some(r)
     }
 
     /// Time the path at `at` with the job's timing (no feasibility checks beyond what timing
@@ -580,6 +649,25 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         let m = timed.traj.len();
         let Scratch { data, buf, sp, .. } = sc;
         let sincos = (shared && buf.sincos.len() == m * 2 * n).then_some(&buf.sincos[..]);
+        self.energy_parts(data, sp, sincos, timed, margins, &|| false)
+    }
+
+    /// The energies of `timed` with the given scratch parts; `sincos`: the sines and cosines
+    /// of its joint positions when known (`2 n` a sample). The integration ends early (with an
+    /// error nobody reads) once `stop` says so: the caller found the placement infeasible, or
+    /// abandoned it, and discards the result.
+    fn energy_parts(
+        &self,
+        data: &mut DynData,
+        sp: &mut SamplePower,
+        sincos: Option<&[f64]>,
+        timed: &TimedPath,
+        margins: Margins,
+        stop: &(dyn Fn() -> bool + Sync),
+    ) -> std::result::Result<Feasible, Infeasible> {
+        let n = self.job.robot.dof();
+        let m = timed.traj.len();
+        let stopped = stop;
         let dt = timed.motion.dt;
         // Energy: trapezoid at uniform dt, no allocation per sample.
         let mut jm = vec![0.0; n];
@@ -621,6 +709,9 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                 let tr = &timed.traj;
                 let sc = |k: usize| &s[k * 2 * n..(k + 1) * 2 * n];
                 for k0 in (0..m).step_by(LANES) {
+                    if stopped() {
+                        return Err(abandoned());
+                    }
                     let count = LANES.min(m - k0);
                     energy::eval_batch_with_sincos(
                         &self.job.energy,
@@ -645,6 +736,9 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                 let tr = &timed.traj;
                 let mut sc = [[0.0; 2 * crate::dynamics::MAX_DOF]; LANES];
                 for k0 in (0..m).step_by(LANES) {
+                    if stopped() {
+                        return Err(abandoned());
+                    }
                     let count = LANES.min(m - k0);
                     for j in 0..n {
                         let mut x = [0.0; LANES];
@@ -676,6 +770,9 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             }
             _ => {
                 for k in 0..m {
+                    if k % LANES == 0 && stopped() {
+                        return Err(abandoned());
+                    }
                     let r = match sincos {
                         Some(s) => energy::eval_sample_with_sincos(
                             &self.job.energy,
@@ -743,6 +840,68 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             margins,
             path_reduction: None,
         })
+    }
+
+    /// One placement with a scratch from the pool (a "no IK solver" model error when none can
+    /// be made), abandoned (`None`) once `cancel` is set (see
+    /// [`Evaluator::evaluate_full_unless`]; an evaluation with the path reduction is not
+    /// abandoned part-way).
+    fn evaluate_pooled(&self, at: &Placement, cancel: Option<&AtomicBool>) -> Option<Evaluated> {
+        let mut pooled = self.pooled();
+        let Some(sc) = &mut pooled.sc else {
+            return Some(Evaluated {
+                placement: *at,
+                outcome: Err(Infeasible {
+                    detail: "no IK solver".into(),
+                    ..abandoned()
+                }),
+            });
+        };
+        let outcome = match &self.reduction {
+            Some(_) if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) => return None,
+            Some(_) => self.evaluate_inner(sc, at),
+            None => self.evaluate_full_unless(sc, at, cancel)?,
+        };
+        Some(Evaluated {
+            placement: *at,
+            outcome,
+        })
+    }
+
+    /// Evaluate `first` and, on another thread where one is free, `guess` beside it (a point a
+    /// search will need next only for some outcomes of `first`). Once `first` is evaluated, a
+    /// guess that `wanted(&first)` rejects is abandoned where it stands and `None` is
+    /// returned for it; a wanted guess is evaluated in full. Both evaluations are those of
+    /// [`Evaluator::evaluate`] bit for bit, and whether the guess is returned depends only on
+    /// `wanted`, never on timing or the thread count (on one thread, an unwanted guess is
+    /// never started).
+    pub fn evaluate_with_guess(
+        &self,
+        first: &Placement,
+        guess: &Placement,
+        wanted: &(dyn Fn(&Evaluated) -> bool + Sync),
+    ) -> (Evaluated, Option<Evaluated>) {
+        let cancel = AtomicBool::new(false);
+        let (a, b) = rayon::join(
+            || {
+                let e = self.evaluate_pooled(first, None);
+                if !e.as_ref().is_some_and(wanted) {
+                    cancel.store(true, Ordering::Relaxed);
+                }
+                e
+            },
+            || self.evaluate_pooled(guess, Some(&cancel)),
+        );
+        // Never abandoned without the flag: the fall-backs do not run.
+        let a = a.unwrap_or_else(|| Evaluated {
+            placement: *first,
+            outcome: Err(abandoned()),
+        });
+        if !wanted(&a) {
+            return (a, None);
+        }
+        let b = b.or_else(|| self.evaluate_pooled(guess, None));
+        (a, b)
     }
 
     /// Evaluate many placements in parallel (rayon, current pool), in input order.

@@ -68,6 +68,7 @@ struct Summary<'a> {
     total_j: f64,
     segments: Vec<SegmentRow>,
     units: &'a [crate::placement::stations::Unit],
+    ways: &'a [crate::placement::stations::floor::Way],
     stats: &'a crate::placement::stations::PlanStats,
 }
 
@@ -115,6 +116,7 @@ impl StationsReport<'_> {
             total_j: p.total_j,
             segments: self.rows(),
             units: &p.units,
+            ways: &p.ways,
             stats: &p.stats,
         };
         crate::output::check_finite_json("the stations plan", &summary)?;
@@ -291,6 +293,28 @@ impl StationsReport<'_> {
                 r#"<path class="{class}" d="{d}" fill="none" stroke="{stroke}" stroke-width="{width}"{dash}/>"#
             );
         }
+        // The ways of the relocations (the floor disc's centre; a detour around printed walls
+        // where the straight line crosses one).
+        for (n, way) in plan.ways.iter().enumerate() {
+            let d: Vec<String> = way
+                .points
+                .iter()
+                .map(|q| format!("{:.1},{:.1}", px(q[0]), py(q[1])))
+                .collect();
+            let _ = write!(
+                s,
+                r##"<polyline class="relocation-way" points="{}" fill="none" stroke="#333" stroke-width="1.5" stroke-dasharray="6 4"><title>relocation {} → {}: {:.2} m{}</title></polyline>"##,
+                d.join(" "),
+                n + 1,
+                n + 2,
+                way.length_m,
+                if way.points.len() > 2 {
+                    ", around printed walls"
+                } else {
+                    ""
+                }
+            );
+        }
         // Stations.
         for (n, sg) in plan.segments.iter().enumerate() {
             let c = colour(n);
@@ -339,6 +363,14 @@ impl StationsReport<'_> {
         let _ = write!(
             s,
             r##"<line x1="{lx}" y1="{ly:.1}" x2="{:.1}" y2="{ly:.1}" stroke="#bbb" stroke-dasharray="3 3"/><text x="{:.1}" y="{:.1}" font-size="11">replaced by relocation</text>"##,
+            lx + 14.0,
+            lx + 18.0,
+            ly + 4.0
+        );
+        ly += 16.0;
+        let _ = write!(
+            s,
+            r##"<line x1="{lx}" y1="{ly:.1}" x2="{:.1}" y2="{ly:.1}" stroke="#333" stroke-width="1.5" stroke-dasharray="6 4"/><text x="{:.1}" y="{:.1}" font-size="11">relocation way</text>"##,
             lx + 14.0,
             lx + 18.0,
             ly + 4.0

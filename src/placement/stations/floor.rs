@@ -8,13 +8,15 @@
 //!
 //! - A station may not stand on a wall printed before or by its own segment (the disc must be
 //!   clear of the walls of every move up to the segment's last).
-//! - The way to the next station (the disc swept along the straight line between the two, the
-//!   way a track carriage or a crawler goes) may not cross a wall printed before the move.
+//! - The way to the next station (the disc swept along it) may not cross a wall printed before
+//!   the move: on a track the straight line along the rail; for a crawler the shortest way
+//!   around the walls ([`Router`]).
 //! - A track's rail, the whole line between its ends, may not lie under any wall.
 
 use crate::math::V3;
 use crate::placement::collision::BEAD_RADIUS_M;
 use crate::toolpath::{MoveKind, Toolpath};
+use serde::Serialize;
 
 /// Arcs are cut into chords of at most this sweep, deg, for the plan view.
 const ARC_CHORD_DEG: f64 = 5.0;
@@ -134,6 +136,162 @@ impl Floor {
             })
             .map(|c| c.mv)
     }
+}
+
+/// A way of the floor disc between two stations in plan view: the polyline its centre follows
+/// (part frame, m; the straight line when that is clear) and its length, m.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Way {
+    /// Points of the polyline, from the station left to the station reached, m.
+    pub points: Vec<[f64; 2]>,
+    /// Length of the polyline, m.
+    pub length_m: f64,
+}
+
+/// Corners of the polygon put around each wall end for detours.
+const DETOUR_CORNERS: usize = 8;
+
+/// The walls' plan view after one move: the detour graph's nodes (corners of an octagon put
+/// around every wall end, outside the disc's clearance, where the disc stands clear) and the
+/// straight ways between them that are clear.
+struct Graph {
+    nodes: Vec<[f64; 2]>,
+    /// `n × n` lengths of the clear straight ways between nodes, m (∞ where blocked).
+    edge: Vec<f64>,
+}
+
+/// Shortest ways of a floor disc of radius `r` (m) around the walls printed so far, for a
+/// crawler that goes around walls (not for a track: its carriage stays on the rail).
+///
+/// A way is the straight line when that is clear ([`Floor::first_blocking`]); otherwise the
+/// shortest polyline through the corners of octagons around the wall ends (each just outside
+/// the disc's clearance `r` + the bead's half-width from the end: the octagon circumscribes
+/// the clearance circle, so its edges stay clear of the end they surround), every leg of
+/// which passes the same check. A way found is therefore clear by the same test as a straight
+/// one; its length is at most a few per cent above the true shortest (the octagon against
+/// the circle); a way is missed only where a gap is narrower than the octagon needs (a door
+/// less than ≈ 2.2 × the clearance wide), which is conservative.
+pub struct Router<'f> {
+    floor: &'f Floor,
+    r: f64,
+    graphs: std::collections::HashMap<usize, Graph>,
+}
+
+impl<'f> Router<'f> {
+    /// Ways of a disc of radius `r_m` (m) around the walls of `floor`.
+    pub fn new(floor: &'f Floor, r_m: f64) -> Self {
+        Router {
+            floor,
+            r: r_m,
+            graphs: Default::default(),
+        }
+    }
+
+    fn graph(&mut self, last_move: usize) -> &Graph {
+        let (floor, r) = (self.floor, self.r);
+        self.graphs.entry(last_move).or_insert_with(|| {
+            let clear = r + BEAD_RADIUS_M;
+            // Circumradius of the octagon whose edges touch the clearance circle, a hair out.
+            let rad =
+                clear / (std::f64::consts::PI / DETOUR_CORNERS as f64).cos() * (1.0 + 1e-9) + 1e-9;
+            let mut ends: Vec<[f64; 2]> = floor
+                .chords
+                .iter()
+                .take_while(|c| c.mv <= last_move)
+                .flat_map(|c| [c.a, c.b])
+                .collect();
+            ends.sort_by(|a, b| a[0].total_cmp(&b[0]).then(a[1].total_cmp(&b[1])));
+            ends.dedup();
+            let nodes: Vec<[f64; 2]> = ends
+                .iter()
+                .flat_map(|e| {
+                    (0..DETOUR_CORNERS).map(move |k| {
+                        let a = std::f64::consts::TAU * k as f64 / DETOUR_CORNERS as f64;
+                        [e[0] + rad * a.cos(), e[1] + rad * a.sin()]
+                    })
+                })
+                .filter(|q| floor.first_blocking(*q, *q, r, last_move).is_none())
+                .collect();
+            let n = nodes.len();
+            let mut edge = vec![f64::INFINITY; n * n];
+            for i in 0..n {
+                for j in i + 1..n {
+                    if floor
+                        .first_blocking(nodes[i], nodes[j], r, last_move)
+                        .is_none()
+                    {
+                        let d = dist(nodes[i], nodes[j]);
+                        edge[i * n + j] = d;
+                        edge[j * n + i] = d;
+                    }
+                }
+            }
+            Graph { nodes, edge }
+        })
+    }
+
+    /// The shortest way of the disc from `p0` to `p1` (m) across the floor as it is after
+    /// move `last_move` (walls laid up to it), or `None` when none is clear.
+    pub fn way(&mut self, p0: [f64; 2], p1: [f64; 2], last_move: usize) -> Option<Way> {
+        let (floor, r) = (self.floor, self.r);
+        if floor.first_blocking(p0, p1, r, last_move).is_none() {
+            return Some(Way {
+                points: vec![p0, p1],
+                length_m: dist(p0, p1),
+            });
+        }
+        let g = self.graph(last_move);
+        let n = g.nodes.len();
+        // Dense Dijkstra from p0 (index n) to p1 (index n + 1) over the nodes.
+        let seen = |q: [f64; 2], i: usize| {
+            floor
+                .first_blocking(q, g.nodes[i], r, last_move)
+                .is_none()
+                .then(|| dist(q, g.nodes[i]))
+        };
+        let to_end: Vec<Option<f64>> = (0..n).map(|i| seen(p1, i)).collect();
+        let mut d: Vec<f64> = (0..n)
+            .map(|i| seen(p0, i).unwrap_or(f64::INFINITY))
+            .collect();
+        let mut prev: Vec<Option<usize>> = vec![None; n];
+        let mut done = vec![false; n];
+        let mut best_end: Option<(f64, usize)> = None;
+        while let Some(u) = (0..n)
+            .filter(|&i| !done[i] && d[i].is_finite())
+            .min_by(|&a, &b| d[a].total_cmp(&d[b]))
+        {
+            if best_end.is_some_and(|(e, _)| d[u] >= e) {
+                break;
+            }
+            done[u] = true;
+            if let Some(t) = to_end[u] {
+                if best_end.is_none_or(|(e, _)| d[u] + t < e) {
+                    best_end = Some((d[u] + t, u));
+                }
+            }
+            for v in 0..n {
+                let w = g.edge[u * n + v];
+                if !done[v] && d[u] + w < d[v] {
+                    d[v] = d[u] + w;
+                    prev[v] = Some(u);
+                }
+            }
+        }
+        let (length_m, mut u) = best_end?;
+        let mut points = vec![p1, g.nodes[u]];
+        while let Some(q) = prev[u] {
+            points.push(g.nodes[q]);
+            u = q;
+        }
+        points.push(p0);
+        points.reverse();
+        Some(Way { points, length_m })
+    }
+}
+
+/// Distance between two points of the plane, m.
+fn dist(a: [f64; 2], b: [f64; 2]) -> f64 {
+    (a[0] - b[0]).hypot(a[1] - b[1])
 }
 
 #[cfg(test)]

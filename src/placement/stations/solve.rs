@@ -2,7 +2,7 @@
 //! parallel, and the dynamic programme over the split points (see the module documentation
 //! of [`super`]).
 
-use super::floor::{self, Floor};
+use super::floor::{self, Floor, Router, Way};
 use super::{
     reach_annulus, segment_moves, split_units, sub_path, Headings, Station, StationsProblem, Unit,
     PREFILTER_SAMPLE_M, PREFILTER_SLACK_REACH,
@@ -49,8 +49,12 @@ pub struct PlanStats {
     /// (run, position) pairs dropped because the station's floor disc stands on a wall printed
     /// before or by the run.
     pub footprint_on_wall: usize,
-    /// Moves between stations refused because the way crosses a printed wall.
+    /// Moves between stations refused because no way of the floor disc is clear of the printed
+    /// walls (the straight line on a track; around the walls otherwise).
     pub way_blocked: usize,
+    /// Moves between stations whose straight line crosses a printed wall but which have a clear
+    /// way around the walls (a crawler's detour, e.g. through a door).
+    pub detoured: usize,
     /// The reach annulus the pre-filter used (before its slack), m.
     pub annulus_m: (f64, f64),
     /// The pre-filter's slack, m.
@@ -66,8 +70,10 @@ pub struct Plan {
     pub segments: Vec<Segment>,
     /// Moves of the arm between stations (segments − 1).
     pub relocations: usize,
-    /// Distance moved between stations, m (straight lines).
+    /// Distance moved between stations, m (along the ways).
     pub relocation_distance_m: f64,
+    /// The way of each relocation (the straight line, or the detour around printed walls).
+    pub ways: Vec<Way>,
     /// Relocation cost: relocations × cost + distance × cost per metre, J.
     pub relocation_j: f64,
     /// Σ segment energies (the objective), J.
@@ -274,54 +280,82 @@ pub fn solve(p: &StationsProblem, progress: &(dyn Fn(usize, usize) + Sync)) -> R
     }
     let mut best = vec![f64::INFINITY; cands.len()];
     let mut back: Vec<Option<usize>> = vec![None; cands.len()];
-    let hop = |a: &Station, b: &Station| (a.x_m - b.x_m).hypot(a.y_m - b.y_m);
-    // Whether the way from position `a` to `b` after the walls up to move `last` is clear
-    // (cached: it depends on the positions and the split only).
-    let mut ways: std::collections::HashMap<(usize, usize, usize), bool> = Default::default();
+    // Distance moved so far along the ways, m: of two chains of the same cost (a mirror
+    // station with the same energy, no cost per metre) the one that moves less is kept.
+    let mut moved = vec![0.0; cands.len()];
+    // The way from position `a` to `b` after the walls up to move `last`: its length, or None
+    // when none is clear (cached: it depends on the positions and the split only). On a track
+    // the carriage keeps to the rail: only the straight way counts.
+    let mut router = Router::new(&floor, p.footprint_m);
+    let on_track = p.candidates.track.is_some();
+    let mut way_of = |a: usize, b: usize, last: usize| -> Option<Way> {
+        if on_track {
+            floor
+                .first_blocking(positions[a], positions[b], p.footprint_m, last)
+                .is_none()
+                .then(|| Way {
+                    points: vec![positions[a], positions[b]],
+                    length_m: (positions[a][0] - positions[b][0])
+                        .hypot(positions[a][1] - positions[b][1]),
+                })
+        } else {
+            router.way(positions[a], positions[b], last)
+        }
+    };
+    let mut ways: std::collections::HashMap<(usize, usize, usize), Option<f64>> =
+        Default::default();
     let mut way_blocked = 0;
+    let mut detoured = 0;
     for j in 0..n_units {
         for &ci in &by_end[j] {
             let c = &cands[ci];
             let run = &runs[c.run];
-            let (pos, st) = &run.stations[c.k];
+            let (pos, _) = &run.stations[c.k];
             if run.i == 0 {
                 best[ci] = c.cost;
                 continue;
             }
-            let mut b: Option<(usize, f64)> = None;
+            let mut b: Option<(usize, f64, f64)> = None;
             for &pi in &by_end[run.i - 1] {
                 if !best[pi].is_finite() {
                     continue;
                 }
                 let pc = &cands[pi];
-                let (ppos, pst) = &runs[pc.run].stations[pc.k];
+                let (ppos, _) = &runs[pc.run].stations[pc.k];
                 if ppos == pos {
                     continue; // the arm would print both as one segment
                 }
                 let last = segment_moves(path, &units, run.i - 1, run.i - 1).1;
-                let clear = *ways.entry((*ppos, *pos, last)).or_insert_with(|| {
-                    floor
-                        .first_blocking(positions[*ppos], positions[*pos], p.footprint_m, last)
-                        .is_none()
+                let way = *ways.entry((*ppos, *pos, last)).or_insert_with(|| {
+                    way_of(*ppos, *pos, last).map(|w| {
+                        if w.points.len() > 2 {
+                            detoured += 1;
+                        }
+                        w.length_m
+                    })
                 });
-                if !clear {
+                let Some(way_m) = way else {
                     way_blocked += 1;
-                    continue; // the way to this station crosses a printed wall
-                }
-                let v = best[pi] + p.relocation_j + p.relocation_j_per_m * hop(pst, st);
-                if b.is_none_or(|(_, bv)| v < bv) {
-                    b = Some((pi, v));
+                    continue; // no way to this station is clear of the printed walls
+                };
+                let v = best[pi] + p.relocation_j + p.relocation_j_per_m * way_m;
+                let m = moved[pi] + way_m;
+                if b.is_none_or(|(_, bv, bm)| better(v, m, bv, bm)) {
+                    b = Some((pi, v, m));
                 }
             }
-            if let Some((pi, v)) = b {
+            if let Some((pi, v, m)) = b {
                 best[ci] = v + c.cost;
+                moved[ci] = m;
                 back[ci] = Some(pi);
             }
         }
     }
     let mut end: Option<usize> = None;
     for &ci in &by_end[n_units - 1] {
-        if best[ci].is_finite() && end.is_none_or(|e| best[ci] < best[e]) {
+        if best[ci].is_finite()
+            && end.is_none_or(|e| better(best[ci], moved[ci], best[e], moved[e]))
+        {
             end = Some(ci);
         }
     }
@@ -333,6 +367,7 @@ pub fn solve(p: &StationsProblem, progress: &(dyn Fn(usize, usize) + Sync)) -> R
         feasible: cands.len(),
         footprint_on_wall: runs.iter().map(|r| r.on_wall.0).sum(),
         way_blocked,
+        detoured,
         annulus_m: annulus,
         slack_m: slack,
     };
@@ -369,10 +404,21 @@ pub fn solve(p: &StationsProblem, progress: &(dyn Fn(usize, usize) + Sync)) -> R
             eval,
         });
     }
-    let relocation_distance_m: f64 = segments
-        .windows(2)
-        .map(|w| hop(&w[0].station, &w[1].station))
-        .sum();
+    let mut ways_taken = Vec::with_capacity(chain.len().saturating_sub(1));
+    for w in chain.windows(2) {
+        let pos = |ci: usize| runs[cands[ci].run].stations[cands[ci].k].0;
+        let last = segment_moves(
+            path,
+            &units,
+            runs[cands[w[0]].run].j,
+            runs[cands[w[0]].run].j,
+        )
+        .1;
+        ways_taken.push(way_of(pos(w[0]), pos(w[1]), last).ok_or_else(|| {
+            Error::Invalid("internal: a relocation of the plan has no clear way".into())
+        })?);
+    }
+    let relocation_distance_m: f64 = ways_taken.iter().map(|w| w.length_m).sum();
     let relocations = segments.len() - 1;
     let relocation_j =
         relocations as f64 * p.relocation_j + p.relocation_j_per_m * relocation_distance_m;
@@ -382,11 +428,20 @@ pub fn solve(p: &StationsProblem, progress: &(dyn Fn(usize, usize) + Sync)) -> R
         segments,
         relocations,
         relocation_distance_m,
+        ways: ways_taken,
         relocation_j,
         energy_j,
         total_j: energy_j + relocation_j,
         stats,
     })
+}
+
+/// Is a chain of cost `v` (J) that moves `m` (m) better than one of `bv`, `bm`? Lower cost;
+/// costs within 1e-9 relative (the same energy up to rounding, a mirror station) go to the
+/// chain that moves less.
+fn better(v: f64, m: f64, bv: f64, bm: f64) -> bool {
+    let tie = 1e-9 * v.abs().max(bv.abs());
+    v < bv - tie || ((v - bv).abs() <= tie && m < bm)
 }
 
 /// For each unit, whether some chain of feasible segments from the start prints it (the
