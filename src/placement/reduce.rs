@@ -331,7 +331,8 @@ fn chunk_reaches(p: &crate::robot::opw::OpwParams, lo: &V3, hi: &V3, o: &V3) -> 
     let b2 = p.b * p.b;
     let rmin2 = near2(xl, xh) + near2(yl, yh) - b2;
     let rmax2 = far2(xl, xh) + far2(yl, yh) - b2;
-    if !(rmin2 > MARGIN_M) || !rmax2.is_finite() {
+    // (NaN-safe: a NaN bound is not clear.)
+    if rmin2.is_nan() || rmin2 <= MARGIN_M || !rmax2.is_finite() {
         return false;
     }
     let (xl, xh) = (rmin2.sqrt() - p.a1, rmax2.sqrt() - p.a1);
