@@ -276,7 +276,8 @@ pub struct SearchInfo {
     /// Grid cells tried before one held the tolerance (1 = the best cell held it).
     pub grid_cells_tried: usize,
     /// Speculative evaluations the search made in parallel and did not need (extra work on a
-    /// second core; 0 on one thread; not counted in `evals`). A fact of the run, not of the
+    /// second core; 0 on one thread; not counted in `evals`; a guess abandoned part-way is not
+    /// counted). A fact of the run, not of the
     /// answer (it depends on the thread count): not serialised into a run's summary, which is
     /// the same for 1 and 2 threads; the binary writes it to `run.json`.
     #[serde(skip)]
