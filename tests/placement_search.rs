@@ -606,6 +606,38 @@ fn optimise_says_when_its_evaluation_budget_not_convergence_ended_the_search() {
     // The answer of a search stopped by its budget is where the budget ran out; more
     // evaluations may move it. The report must say so, and must not when the simplex
     // converged.
+    with_small_search(|ev, grid, so| {
+        let run = |max_evals: usize| {
+            let opts = OptimiseOptions {
+                max_evals,
+                yaw: false,
+                spin: false,
+                ..Default::default()
+            };
+            search::refine(&ev, &grid, &opts, &so, std::sync::Arc::new(|_, _, _| {})).unwrap()
+        };
+        let (short, info) = run(8);
+        assert_eq!(short.evals, 8);
+        let said = info
+            .budget_spent
+            .expect("a search stopped by its budget says so");
+        assert!(said.contains("8 evaluations"), "{said}");
+        let (long, info) = run(2000);
+        assert!(
+            long.evals < 2000,
+            "converged before the budget: {} evaluations",
+            long.evals
+        );
+        assert_eq!(
+            info.budget_spent, None,
+            "a converged search claims a spent budget"
+        );
+    });
+}
+
+/// The default path on the IRB 6700 over a 3 × 2 grid at z = 0.5 m, yaw 90° (a small search
+/// that stops early on a budget of 8 and converges on one of 2000), with the default tolerance.
+fn with_small_search(f: impl FnOnce(&Evaluator, &[Evaluated], &SearchOptions)) {
     let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
     let j = job(&model, &tp, 8);
     let ev = Evaluator::new(&j, FeasibilityOptions::default(), Objective::Supply);
@@ -621,31 +653,7 @@ fn optimise_says_when_its_evaluation_budget_not_convergence_ended_the_search() {
         Bounds::over(&g.placements(), None).unwrap(),
         Tolerance::default(),
     );
-    let run = |max_evals: usize| {
-        let opts = OptimiseOptions {
-            max_evals,
-            yaw: false,
-            spin: false,
-            ..Default::default()
-        };
-        search::refine(&ev, &grid, &opts, &so, std::sync::Arc::new(|_, _, _| {})).unwrap()
-    };
-    let (short, info) = run(8);
-    assert_eq!(short.evals, 8);
-    let said = info
-        .budget_spent
-        .expect("a search stopped by its budget says so");
-    assert!(said.contains("8 evaluations"), "{said}");
-    let (long, info) = run(2000);
-    assert!(
-        long.evals < 2000,
-        "converged before the budget: {} evaluations",
-        long.evals
-    );
-    assert_eq!(
-        info.budget_spent, None,
-        "a converged search claims a spent budget"
-    );
+    f(&ev, &grid, &so);
 }
 
 #[test]
@@ -654,74 +662,62 @@ fn no_printed_neighbour_is_cheaper_than_the_answer_and_holds_the_tolerance_unexp
     // tolerance is a better answer: the search moves there. A cheaper probe that is not taken
     // is named with the reason. Checked independently: the probes are evaluated again and
     // each cheaper one's tolerance box re-checked with the plain corner check.
-    let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
-    let j = job(&model, &tp, 8);
-    let ev = Evaluator::new(&j, FeasibilityOptions::default(), Objective::Supply);
-    let g = Grid {
-        xs: vec![1.4, 1.5, 1.6],
-        ys: vec![-0.1, 0.1],
-        zs: vec![0.5],
-        yaws: vec![std::f64::consts::FRAC_PI_2],
-        spins: vec![0.0],
-    };
-    let grid = ev.sweep(&g.placements(), &|_, _| {}).unwrap();
-    let so = SearchOptions::new(
-        Bounds::over(&g.placements(), None).unwrap(),
-        Tolerance::default(),
-    );
-    for max_evals in [0, 8, 2000] {
-        let opts = OptimiseOptions {
-            max_evals,
-            yaw: false,
-            spin: false,
-            ..Default::default()
-        };
-        let (res, info) =
-            search::refine(&ev, &grid, &opts, &so, std::sync::Arc::new(|_, _, _| {})).unwrap();
-        assert!(info.tolerance.holds, "{max_evals}: {:?}", info.tolerance);
-        let e0 = res.best.cost();
-        let h = opts.sensitivity_m;
-        let again = ev
-            .sweep(
-                &printwatt::placement::optimise::probes(&res.best.placement, h),
-                &|_, _| {},
-            )
-            .unwrap();
-        for (k, e) in again.iter().enumerate() {
-            let name = printwatt::placement::optimise::PROBE_NAMES[k];
-            assert_eq!(e.cost().to_bits(), {
-                res.sensitivity.e_j[k].unwrap_or(f64::INFINITY).to_bits()
-            });
-            if e.cost() >= e0 {
-                continue;
-            }
-            let said = info
-                .lower_neighbours
-                .iter()
-                .find(|l| l.starts_with(&format!("E({name})")))
-                .unwrap_or_else(|| {
-                    panic!("{max_evals}: E({name}) {} < {e0} J not named", e.cost())
+    with_small_search(|ev, grid, so| {
+        for max_evals in [0, 8, 2000] {
+            let opts = OptimiseOptions {
+                max_evals,
+                yaw: false,
+                spin: false,
+                ..Default::default()
+            };
+            let (res, info) =
+                search::refine(&ev, &grid, &opts, &so, std::sync::Arc::new(|_, _, _| {})).unwrap();
+            assert!(info.tolerance.holds, "{max_evals}: {:?}", info.tolerance);
+            let e0 = res.best.cost();
+            let h = opts.sensitivity_m;
+            let again = ev
+                .sweep(
+                    &printwatt::placement::optimise::probes(&res.best.placement, h),
+                    &|_, _| {},
+                )
+                .unwrap();
+            for (k, e) in again.iter().enumerate() {
+                let name = printwatt::placement::optimise::PROBE_NAMES[k];
+                assert_eq!(e.cost().to_bits(), {
+                    res.sensitivity.e_j[k].unwrap_or(f64::INFINITY).to_bits()
                 });
-            let in_box = so.bounds.contains(&e.placement);
-            let holds = printwatt::placement::tolerance::check(&ev, &e.placement, &so.tolerance)
-                .unwrap()
-                .holds;
-            assert!(
-                !(in_box && holds) || said.contains("polish stopped"),
-                "{max_evals}: {said}, yet it holds the tolerance in the box"
-            );
+                if e.cost() >= e0 {
+                    continue;
+                }
+                let said = info
+                    .lower_neighbours
+                    .iter()
+                    .find(|l| l.starts_with(&format!("E({name})")))
+                    .unwrap_or_else(|| {
+                        panic!("{max_evals}: E({name}) {} < {e0} J not named", e.cost())
+                    });
+                let in_box = so.bounds.contains(&e.placement);
+                let holds =
+                    printwatt::placement::tolerance::check(&ev, &e.placement, &so.tolerance)
+                        .unwrap()
+                        .holds;
+                assert!(
+                    !(in_box && holds) || said.contains("polish stopped"),
+                    "{max_evals}: {said}, yet it holds the tolerance in the box"
+                );
+            }
+            if max_evals == 0 {
+                // The grid cell itself (0.1 m grid): a cheaper 50 mm neighbour holds the tolerance.
+                let moved = info
+                    .polished
+                    .as_deref()
+                    .expect("the polish moved the answer");
+                assert!(
+                    moved.contains("J below where the search stopped"),
+                    "{moved}"
+                );
+                assert!(e0 < grid.iter().map(|e| e.cost()).fold(f64::INFINITY, f64::min));
+            }
         }
-        if max_evals == 0 {
-            // The grid cell itself (0.1 m grid): a cheaper 50 mm neighbour holds the tolerance.
-            let moved = info
-                .polished
-                .as_deref()
-                .expect("the polish moved the answer");
-            assert!(
-                moved.contains("J below where the search stopped"),
-                "{moved}"
-            );
-            assert!(e0 < grid.iter().map(|e| e.cost()).fold(f64::INFINITY, f64::min));
-        }
-    }
+    });
 }
