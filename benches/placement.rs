@@ -269,9 +269,27 @@ fn main() {
     let mut energy_pass = |(_, level): (bool, Level)| {
         let reps = 5;
         let mut out = [SamplePower::default(); LANES];
+        let mut lanes = energy::PowerLanes::default();
         let t0 = thread_ns();
         for _ in 0..reps {
             for k0 in (0..m).step_by(LANES) {
+                if level != Level::Scalar {
+                    // What the sweep runs: the structure-of-arrays pass.
+                    energy::eval_lanes_with_sincos(
+                        &job.energy,
+                        &mut data2,
+                        LANES.min(m - k0),
+                        |l| tr.q(k0 + l),
+                        |l| sc(k0 + l),
+                        |l| tr.qd(k0 + l),
+                        |l| tr.qdd(k0 + l),
+                        &mut lanes,
+                        level,
+                    )
+                    .unwrap();
+                    black_box(&lanes);
+                    continue;
+                }
                 energy::eval_batch_with_sincos(
                     &job.energy,
                     &mut data2,

@@ -494,3 +494,322 @@ fn energy_of_a_timed_path_is_the_same_on_the_scalar_and_every_simd_path() {
     }
     simd::set_level(simd::detected());
 }
+
+#[test]
+fn lockstep_friction_motor_and_supply_stages_equal_the_per_sample_path_near_velocity_reversals() {
+    // Every torque effect the lockstep pass knows (viscous, Coulomb, Stribeck, armature,
+    // offset, balancer) and one it calls per lane (rigid_body), on every regeneration policy,
+    // at velocities around zero where the smoothed Coulomb sign is not saturated (libm's tanh
+    // per lane) mixed with saturated ones, exact zeros and −0 included: every field of every
+    // sample bit for bit.
+    use printwatt::robot::Regeneration;
+    let mut model = common::robot("abb_irb6700_200_260");
+    let n = model.dof();
+    let t = &mut model.effects.table;
+    t.enabled = Some(
+        [
+            "viscous",
+            "coulomb",
+            "stribeck",
+            "armature",
+            "payload",
+            "balancer",
+            "offset",
+            "rigid_body",
+            "copper",
+            "gear_efficiency",
+            "regeneration",
+            "standby",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect(),
+    );
+    t.stribeck_nm = Some(
+        (0..n)
+            .map(|j| if j == 2 { 0.0 } else { 5.0 + j as f64 })
+            .collect(),
+    );
+    let mut values = t.values.clone().unwrap_or_default();
+    values.insert(
+        "offset".into(),
+        (0..n).map(|j| 0.5 - 0.3 * j as f64).collect(),
+    );
+    t.values = Some(values.clone());
+    // A small rigid-body error: an effect the lockstep pass calls per lane.
+    let k = printwatt::effects::EffectSet::of_robot(&model)
+        .unwrap()
+        .get_mut("rigid_body")
+        .unwrap()
+        .params()
+        .len();
+    values.insert(
+        "rigid_body".into(),
+        (0..k).map(|i| 1e-3 * (1.0 + (i % 7) as f64)).collect(),
+    );
+    model.effects.table.values = Some(values);
+    let mut u = uniform(23);
+    let count = 6 * LANES + 3;
+    #[allow(clippy::type_complexity)]
+    let st: Vec<(Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>)> = (0..count)
+        .map(|k| {
+            let q: Vec<f64> = (0..n).map(|_| 3.0 * u()).collect();
+            let mut sc = vec![0.0; 2 * n];
+            for j in 0..n {
+                (sc[j], sc[n + j]) = fastmath::sin_cos(q[j]);
+            }
+            let qd = (0..n)
+                .map(|j| match (k + j) % 5 {
+                    0 => 0.03 * u(),  // |q̇/ε| < 30: some lanes below 20
+                    1 => 0.005 * u(), // well inside the transition
+                    2 => 2.0 * u(),   // saturated
+                    3 => 0.0,
+                    _ => -0.0,
+                })
+                .collect();
+            let qdd = (0..n).map(|_| 10.0 * u()).collect();
+            (q, sc, qd, qdd)
+        })
+        .collect();
+    for regeneration in [
+        Regeneration::None,
+        Regeneration::PerAxis,
+        Regeneration::DcBus,
+        Regeneration::Grid,
+    ] {
+        let em = EnergyModel::with_options(
+            &model,
+            energy::EnergyOptions {
+                regeneration: Some(regeneration),
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        let desc = em.description();
+        for e in [
+            "stribeck",
+            "offset",
+            "balancer",
+            "coulomb",
+            "viscous",
+            "rigid_body",
+        ] {
+            assert!(desc.contains(e), "{e} is in the model: {desc}");
+        }
+        let mut data = em.data();
+        for chunk in st.chunks(LANES) {
+            let mut want = vec![SamplePower::default(); chunk.len()];
+            for ((q, sc, qd, qdd), w) in chunk.iter().zip(want.iter_mut()) {
+                energy::eval_sample_with_sincos(&em, &mut data, q, sc, qd, qdd, w).unwrap();
+            }
+            for level in levels() {
+                let mut out = energy::PowerLanes::default();
+                energy::eval_lanes_with_sincos(
+                    &em,
+                    &mut data,
+                    chunk.len(),
+                    |l| &chunk[l].0,
+                    |l| &chunk[l].1,
+                    |l| &chunk[l].2,
+                    |l| &chunk[l].3,
+                    &mut out,
+                    level,
+                )
+                .unwrap();
+                for (l, w) in want.iter().enumerate() {
+                    assert_eq!(
+                        format!("{:?}", out.sample(l)),
+                        format!("{w:?}"),
+                        "{regeneration:?}, {level:?}, lane {l}"
+                    );
+                }
+            }
+        }
+    }
+}
+
+#[test]
+fn the_branch_a_closed_form_batch_hands_on_equals_branch_of_its_answers_bit_for_bit() {
+    // take_near continues lane l from lane l − 1's answer without computing its branch when
+    // the batch knows it (BranchBatch::known_branch): next_branch must be exactly
+    // Prepared::branch_of of each lane's answer, also at the branch boundaries (q3 + ψ3 and
+    // q5 on 0 and ±π, where only the sign of a wrapped angle decides).
+    use printwatt::kinematics::nozzle_target;
+    use printwatt::kinematics::opw::{solve_branch_batch, Branch, Prepared};
+    use std::f64::consts::PI;
+    for name in ["abb_irb6700_200_260", "abb_irb4600_40_255", "staubli_tx200"] {
+        let model = common::robot(name);
+        let Some(p) = model.opw else {
+            continue;
+        };
+        let k = Prepared::new(&p);
+        let mut u = uniform(29);
+        let reach = printwatt::placement::feasibility::reach_m(&model);
+        let rot = nozzle_target(&nalgebra::Vector3::zeros(), 0.3).rot;
+        let mut pos = [[0.0; LANES]; 3];
+        for (i, scale) in [(0.6, 0.3), (0.0, 0.5), (0.0, 0.4)].into_iter().enumerate() {
+            for v in pos[i].iter_mut() {
+                *v = reach * (scale.0 + scale.1 * u());
+            }
+        }
+        for branch in Branch::ALL {
+            for level in levels().into_iter().filter(|l| *l != Level::Scalar) {
+                let mut b = solve_branch_batch(&p, &k, &rot, &pos, branch, level);
+                for l in 0..LANES {
+                    assert_eq!(
+                        b.next_branch[l],
+                        k.branch_of(&p, &b.q[l]),
+                        "{name} lane {l}"
+                    );
+                }
+                // Boundary joint vectors (the lockstep branch_of on its own): q3 + ψ3, q5
+                // and q2 on 0, −0, ±π and just off them.
+                let psi3 = k.psi3();
+                for (i, edge) in [0.0, -0.0, PI, -PI, 1e-17, PI - 1e-15]
+                    .into_iter()
+                    .enumerate()
+                {
+                    let mut q = [[0.0; 6]; LANES];
+                    for (l, ql) in q.iter_mut().enumerate() {
+                        *ql = [u(), u(), u(), u(), u(), u()];
+                        let o = match (l + i) % 3 {
+                            0 => 4,
+                            1 => 2,
+                            _ => 1,
+                        };
+                        let v = if o == 2 { edge - psi3 } else { edge };
+                        ql[o] = (v + p.offsets[o]) * p.signs[o];
+                    }
+                    let got = printwatt::kinematics::opw::branch_of_batch(&p, &k, &q);
+                    for (l, ql) in q.iter().enumerate() {
+                        assert_eq!(got[l], k.branch_of(&p, ql), "{name} edge {edge} lane {l}");
+                    }
+                }
+                // A joint vector other than the previous lane's answer is not known.
+                let mut other = b.q[2];
+                other[0] += 1e-12;
+                assert_eq!(b.known_branch(3, &other), None);
+                assert_eq!(b.known_branch(0, &other), None, "prev not set: NaN");
+                b.prev = other;
+                assert_eq!(b.known_branch(0, &other), Some(b.branch));
+            }
+        }
+    }
+}
+
+#[test]
+fn fk_recheck_verdicts_in_lockstep_equal_the_per_sample_check_around_the_tolerance() {
+    // check_batch decides the lanes that pass with room to spare in lockstep and hands every
+    // other lane to the per-sample check: the verdicts equal check_with_sincos's for targets
+    // moved by 0 to 2 tolerances in position or orientation.
+    use printwatt::kinematics::{nozzle_target, IkSolver};
+    let model = common::robot("abb_irb6700_200_260");
+    let solver = IkSolver::new(&model).unwrap();
+    assert!(solver.batch_checkable());
+    let n = model.dof();
+    let st = states(31, n, 6 * LANES);
+    let chain = printwatt::kinematics::fk::FastChain::new(&model);
+    let mut u = uniform(37);
+    let mut seen = [0usize; 2];
+    for (c, chunk) in st.chunks(LANES).enumerate() {
+        let targets: Vec<printwatt::math::Frame> = chunk
+            .iter()
+            .enumerate()
+            .map(|(l, (q, ..))| {
+                let mut sc = vec![0.0; 2 * n];
+                let mut f = chain.tool_with_sincos(q, &mut sc);
+                let r = (c * LANES + l) % 4;
+                let x = 2.0 * u().abs();
+                match r {
+                    0 => f.pos.x += x * solver.check_position_m,
+                    1 => f.pos.z -= 0.5 * x * solver.check_position_m,
+                    2 => {
+                        let spin = nozzle_target(&nalgebra::Vector3::zeros(), x * 1e-6).rot;
+                        f.rot *= spin;
+                    }
+                    _ => {}
+                }
+                f
+            })
+            .collect();
+        let want: Vec<bool> = chunk
+            .iter()
+            .zip(&targets)
+            .map(|((q, ..), t)| {
+                let mut sc = vec![0.0; 2 * n];
+                solver.check_with_sincos(t, q, &mut sc).is_ok()
+            })
+            .collect();
+        for v in &want {
+            seen[*v as usize] += 1;
+        }
+        for level in levels().into_iter().filter(|l| *l != Level::Scalar) {
+            // The first failing lane is reported; the lanes before it pass.
+            let mut out = vec![vec![0.0; 2 * n]; LANES];
+            let mut it = out.iter_mut();
+            let r = solver.check_batch(
+                chunk.len(),
+                |l| targets[l],
+                |l| &chunk[l].0,
+                |_| it.next().unwrap(),
+                level,
+            );
+            let first_fail = want.iter().position(|ok| !ok);
+            match (r, first_fail) {
+                (Ok(()), None) => {}
+                (Err((l, _)), Some(f)) => assert_eq!(l, f, "{level:?}"),
+                (r, f) => panic!("{level:?}: {r:?} vs first failing lane {f:?}"),
+            }
+        }
+    }
+    assert!(seen[0] > 3 && seen[1] > 3, "both verdicts occur: {seen:?}");
+}
+
+#[test]
+fn precomputed_joint_checks_equal_the_per_sample_joint_check_and_leave_the_same_margins() {
+    use printwatt::placement::feasibility::{FeasibilityOptions, Margins};
+    use printwatt::placement::margins::{check_joint_sample_with, JointChecks};
+    for name in ["abb_irb6700_200_260", "ur10e", "staubli_tx200"] {
+        let model = common::robot(name);
+        let n = model.dof();
+        let o = FeasibilityOptions::default();
+        let checks = JointChecks::new(&model, &o);
+        let mut u = uniform(41);
+        let (mut a, mut b) = (Margins::default(), Margins::default());
+        let mut fails = 0;
+        for k in 0..3000 {
+            // Joint vectors across the limits (some within the margin or beyond), some with
+            // joint 5 near 0 (the wrist rule) and fast wrist joints.
+            let q: Vec<f64> = model
+                .joints
+                .iter()
+                .enumerate()
+                .map(|(j, jt)| {
+                    let (lo, hi) = (jt.lower.max(-4.0), jt.upper.min(4.0));
+                    let v = 0.5 * (lo + hi) + 0.52 * (hi - lo) * u();
+                    if j == 4 && k % 3 == 0 {
+                        1e-3 * u()
+                    } else {
+                        v
+                    }
+                })
+                .collect();
+            let mut sc = vec![0.0; 2 * n];
+            for j in 0..n {
+                (sc[j], sc[n + j]) = fastmath::sin_cos(q[j]);
+            }
+            let qd: Vec<f64> = (0..n).map(|_| 3.0 * u()).collect();
+            let qdd: Vec<f64> = (0..n).map(|_| 20.0 * u()).collect();
+            let sincos = (k % 5 != 0).then_some(&sc[..]);
+            let want = check_joint_sample_with(&model, &o, &q, sincos, &qd, &qdd, &mut a);
+            let got = checks.check(&model, &o, &q, sincos, &qd, &qdd, &mut b);
+            assert_eq!(got, want, "{name} sample {k}");
+            assert_eq!(format!("{b:?}"), format!("{a:?}"), "{name} sample {k}");
+            fails += want.is_some() as usize;
+        }
+        assert!(
+            fails > 100 && fails < 2900,
+            "{name}: {fails} failing samples"
+        );
+    }
+}

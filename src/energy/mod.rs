@@ -36,13 +36,13 @@
 //!
 //! For placement sweeps, [`eval_sample`] evaluates one sample without allocating.
 
+mod lanes;
 mod report;
 
+pub use lanes::{eval_lanes_with_sincos, PowerLanes};
 pub use report::{EnergyReport, JointEnergy, SampleSeries, TotalEnergy};
 
-use crate::dynamics::{
-    rnea, rnea_batch, rnea_with_sincos, DynData, DynModel, DynOptions, Lanes, StateBatch, MAX_DOF,
-};
+use crate::dynamics::{rnea, rnea_with_sincos, DynData, DynModel, DynOptions, MAX_DOF};
 use crate::effects::{Effect, EffectSet, EnergyClass, Stage, COULOMB_VELOCITY_SCALE_RAD_S};
 use crate::error::{Error, Result};
 use crate::robot::{Regeneration, RobotModel};
@@ -97,6 +97,8 @@ pub struct EnergyModel {
     axes: [Axis; MAX_DOF],
     /// Enabled, non-null torque effects added per sample, with their energy class.
     torque: Vec<(Arc<dyn Effect>, EnergyClass)>,
+    /// The same effects in the form the lockstep pass evaluates ([`lanes`]).
+    lane_effects: Vec<(lanes::LaneEffect, EnergyClass)>,
     /// Names of the effects in the model (folded or per sample), for the description.
     in_model: Vec<String>,
     calibration: Option<String>,
@@ -239,12 +241,17 @@ impl EnergyModel {
         if let Some(r) = options.regeneration {
             regeneration = r;
         }
+        let lane_effects = torque
+            .iter()
+            .map(|(e, c)| (lanes::LaneEffect::of(e, n), *c))
+            .collect();
         Ok(EnergyModel {
             dynamics,
             n,
             has_drive,
             axes,
             torque,
+            lane_effects,
             in_model,
             regeneration,
             recovered_fraction: if has_drive { rho } else { 0.0 },
@@ -478,8 +485,8 @@ impl EnergyModel {
 /// `q(l)`, `sincos(l)`, `qd(l)`, `qdd(l)` (rad, -, rad/s, rad/s², as
 /// [`eval_sample_with_sincos`] takes them) and its result goes to `out[l]` (the supply power,
 /// W, in `out[l].p_supply`). The rigid-body torques of the batch run in lockstep on the
-/// instruction set `level` ([`crate::dynamics::rnea_batch`]); the torque effects, the motor
-/// model and the supply follow per lane. Bit-identical to [`eval_sample_with_sincos`] of each
+/// instruction set `level` ([`crate::dynamics::rnea_batch`]), and so do the torque effects,
+/// the motor model and the supply ([`eval_lanes_with_sincos`]). Bit-identical to [`eval_sample_with_sincos`] of each
 /// sample. With [`Level::Scalar`] or a model that is not [`EnergyModel::batchable`], each
 /// sample goes through [`eval_sample_with_sincos`]. Error: [`Error::SizeMismatch`] on a wrong
 /// slice length.
@@ -495,7 +502,6 @@ pub fn eval_batch_with_sincos<'s>(
     out: &mut [SamplePower; LANES],
     level: Level,
 ) -> Result<()> {
-    let n = model.n;
     let count = count.min(LANES);
     if level == Level::Scalar || !model.batchable() {
         for (l, o) in out.iter_mut().enumerate().take(count) {
@@ -503,62 +509,12 @@ pub fn eval_batch_with_sincos<'s>(
         }
         return Ok(());
     }
-    let mut b = StateBatch::default();
-    for l in 0..count {
-        let (sc, v, a) = (sincos(l), qd(l), qdd(l));
-        if sc.len() != 2 * n || v.len() != n || a.len() != n || q(l).len() != n {
-            return Err(Error::SizeMismatch {
-                what: "eval_batch_with_sincos: q, sincos (2 dof), qd, qdd".into(),
-                got: sc.len().min(2 * v.len()).min(2 * a.len()),
-                expected: 2 * n,
-            });
-        }
-        b.set(l, n, sc, v, a);
-    }
-    let mut tau: [Lanes; MAX_DOF] = [[0.0; LANES]; MAX_DOF];
-    rnea_batch(&model.dynamics, &b, &mut tau, level);
+    let mut p = PowerLanes::default();
+    eval_lanes_with_sincos(model, data, count, q, sincos, qd, qdd, &mut p, level)?;
     for (l, o) in out.iter_mut().enumerate().take(count) {
-        for (t, lanes) in o.tau_rb.iter_mut().zip(&tau).take(n) {
-            *t = lanes[l];
-        }
-        o.tau_balancer = [0.0; MAX_DOF];
-        o.tau_friction = [0.0; MAX_DOF];
-    }
-    // The torque effects in the order finish_sample adds them, each over the lanes; the
-    // balancer in lockstep (its sines and square root), the others lane by lane.
-    for (e, class) in &model.torque {
-        match e.as_any().downcast_ref::<crate::effects::Balancer>() {
-            Some(b) if b.joint < n => {
-                let mut x = [0.0; LANES];
-                for (l, v) in x.iter_mut().enumerate().take(count) {
-                    *v = q(l)[b.joint];
-                }
-                let t = b.joint_torque_lanes(&x);
-                for (l, o) in out.iter_mut().enumerate().take(count) {
-                    class_torque(o, *class)[b.joint] += t[l];
-                }
-            }
-            _ => {
-                for (l, o) in out.iter_mut().enumerate().take(count) {
-                    e.add_torque(q(l), qd(l), qdd(l), &mut class_torque(o, *class)[..n]);
-                }
-            }
-        }
-    }
-    for (l, o) in out.iter_mut().enumerate().take(count) {
-        power_sample(model, qd(l), o);
+        *o = p.sample(l);
     }
     Ok(())
-}
-
-/// The torque array of `out` an effect of `class` adds to.
-#[inline(always)]
-fn class_torque(out: &mut SamplePower, class: EnergyClass) -> &mut [f64; MAX_DOF] {
-    match class {
-        EnergyClass::RigidBody => &mut out.tau_rb,
-        EnergyClass::Friction => &mut out.tau_friction,
-        EnergyClass::Balancer => &mut out.tau_balancer,
-    }
 }
 
 /// The rest of a sample once `out.tau_rb` holds the rigid-body torque: the torque effects,

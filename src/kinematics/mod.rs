@@ -301,6 +301,33 @@ pub fn fit_limits(
     q: &mut [f64],
     q_ref: Option<&[f64]>,
 ) -> Result<(), IkFailure> {
+    // `floor`, `ceil` and `round` are exact, so every build gives the same answer; with SSE4.1
+    // they are instructions instead of libm calls (a wide-range joint continuing past ±π takes
+    // them on every sample).
+    #[cfg(target_arch = "x86_64")]
+    if std::is_x86_feature_detected!("sse4.1") {
+        // SAFETY: the CPU has SSE4.1 (checked just above).
+        return unsafe { fit_limits_sse41(model, q, q_ref) };
+    }
+    fit_limits_body(model, q, q_ref)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "sse4.1")]
+fn fit_limits_sse41(
+    model: &RobotModel,
+    q: &mut [f64],
+    q_ref: Option<&[f64]>,
+) -> Result<(), IkFailure> {
+    fit_limits_body(model, q, q_ref)
+}
+
+#[inline(always)]
+fn fit_limits_body(
+    model: &RobotModel,
+    q: &mut [f64],
+    q_ref: Option<&[f64]>,
+) -> Result<(), IkFailure> {
     const TOL: f64 = 1e-9;
     const TAU: f64 = 2.0 * PI;
     for (i, j) in model.joints.iter().enumerate().take(q.len()) {
@@ -729,7 +756,11 @@ impl<'a> IkSolver<'a> {
             pos[2][l] = off.z + t.z;
         }
         let branch = k.branch_of(p, q_prev);
-        Some(opw::solve_branch_batch(p, k, &frot, &pos, branch, level))
+        let mut b = opw::solve_branch_batch(p, k, &frot, &pos, branch, level);
+        if q_prev.len() == 6 {
+            b.prev.copy_from_slice(q_prev);
+        }
+        Some(b)
     }
 
     /// The answer of lane `lane` of `batch` for `tool_target` (its tip and orientation must be
@@ -748,7 +779,10 @@ impl<'a> IkSolver<'a> {
         if let (Some(p), Some(k)) = (&self.model.opw, &self.opw_k) {
             if batch.ok[lane]
                 && q_prev.len() == self.model.dof()
-                && k.branch_of(p, q_prev) == batch.branch
+                && batch
+                    .known_branch(lane, q_prev)
+                    .unwrap_or_else(|| k.branch_of(p, q_prev))
+                    == batch.branch
             {
                 // solve_near_opw's choice between the two wrist variants, from the lane.
                 let b = batch.branch;
@@ -786,6 +820,7 @@ impl<'a> IkSolver<'a> {
     /// those of [`IkSolver::check_with_sincos`], bit for bit (the same operations per lane).
     /// Errors with the first failing lane and its [`IkFailure::CheckFailed`]. Only for a
     /// [`IkSolver::batch_checkable`] solver.
+    #[allow(clippy::needless_range_loop)] // lanes of parallel fixed arrays
     pub fn check_batch<'q>(
         &self,
         count: usize,
@@ -804,9 +839,45 @@ impl<'a> IkSolver<'a> {
             }
         }
         let tb = self.chain.tool_batch(&qb, level);
+        // The verdicts of the lanes that pass with room to spare, in lockstep: the squared
+        // position error below (tol/2)² and the orientation measure of
+        // rotation_distance_fast below min(1e-8, tol/2)/2 (its small-angle branch), where no
+        // rounding difference can change check_pose's verdict. Every other lane (and NaN)
+        // goes through check_pose itself.
+        let (mut tp, mut tr) = ([[0.0; LANES]; 3], [[0.0; LANES]; 9]);
         for l in 0..count {
-            self.check_pose(&target(l), &tb.frame(l))
-                .map_err(|e| (l, e))?;
+            let t = target(l);
+            for i in 0..3 {
+                tp[i][l] = t.pos[i];
+            }
+            for (i, v) in t.rot.iter().enumerate() {
+                tr[i][l] = *v;
+            }
+        }
+        let dp_max = 0.5 * self.check_position_m;
+        let dp2_max = dp_max * dp_max;
+        let h_max = 0.5 * (1e-8f64).min(0.5 * self.check_orientation_rad);
+        let f2_max = 8.0 * h_max * h_max;
+        let mut clear = [false; LANES];
+        for (l, c) in clear.iter_mut().enumerate() {
+            let mut dp2 = 0.0;
+            for i in 0..3 {
+                let d = tb.pos[i][l] - tp[i][l];
+                dp2 += d * d;
+            }
+            let mut f2 = 0.0;
+            for i in 0..9 {
+                // Column-major, as M3::iter.
+                let d = tb.rot[i % 3][i / 3][l] - tr[i][l];
+                f2 += d * d;
+            }
+            *c = dp_max > 0.0 && h_max > 0.0 && dp2 < dp2_max && f2 < f2_max;
+        }
+        for l in 0..count {
+            if !clear[l] {
+                self.check_pose(&target(l), &tb.frame(l))
+                    .map_err(|e| (l, e))?;
+            }
             let out = sincos(l);
             for j in 0..n {
                 out[j] = tb.s[j][l];

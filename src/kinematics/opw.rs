@@ -167,6 +167,11 @@ impl Prepared {
         }
     }
 
+    /// `ψ3 = atan2(a2, c3)`, rad.
+    pub fn psi3(&self) -> f64 {
+        self.psi3
+    }
+
     /// [`Branch::of`] with the constants precomputed; the elbow and wrist signs come from
     /// wrapped angles instead of sines (same answer up to rounding at the boundaries).
     #[inline]
@@ -424,6 +429,13 @@ pub struct BranchBatch {
     /// the lane needs `q_ref` (the wrist singularity) or a degenerate case (wrist centre on
     /// the axis of joint 1): such lanes are to be solved one by one.
     pub ok: [bool; crate::simd::LANES],
+    /// Per lane, [`Prepared::branch_of`] of the lane's answer `q[lane]`, bit for bit (the same
+    /// operations, in lockstep): the branch the next sample continues when it continues from
+    /// that answer unchanged ([`BranchBatch::known_branch`]).
+    pub next_branch: [Branch; crate::simd::LANES],
+    /// The joint vector the batch's branch was taken from (rad; [`Prepared::branch_of`] of it
+    /// is `branch`), when the caller set it; NaN otherwise.
+    pub prev: [f64; 6],
 }
 
 /// The body of [`solve_branch_batch`]: [`solve_branch_prepared`]'s operations per lane, in
@@ -535,13 +547,79 @@ fn solve_branch_lanes(
         q[l] = variant(p, &o[l], branch.wrist);
         ok[l] &= q[l].iter().all(|v| v.is_finite());
     }
+    let next_branch = branch_of_lanes(p, k, &q);
     BranchBatch {
         branch,
         q,
         o,
         s5,
         ok,
+        next_branch,
+        prev: [f64::NAN; 6],
     }
+}
+
+/// [`Prepared::branch_of`] of [`crate::simd::LANES`] joint vectors (URDF angles, rad), lane by
+/// lane bit-identical: the lockstep computation [`solve_branch_batch`] makes of
+/// [`BranchBatch::next_branch`], on the baseline instruction set.
+pub fn branch_of_batch(
+    p: &OpwParams,
+    k: &Prepared,
+    q: &[[f64; 6]; crate::simd::LANES],
+) -> [Branch; crate::simd::LANES] {
+    branch_of_lanes(p, k, q)
+}
+
+/// [`Prepared::branch_of`] of [`crate::simd::LANES`] joint vectors, lane by lane bit-identical
+/// (the same operations; the sines by [`crate::fastmath::sin_cos_lanes`], [`wrap_pi`] with
+/// its branch as a select).
+#[inline(always)]
+fn branch_of_lanes(
+    p: &OpwParams,
+    k: &Prepared,
+    q: &[[f64; 6]; crate::simd::LANES],
+) -> [Branch; crate::simd::LANES] {
+    use crate::simd::LANES;
+    let wrap = |a: f64| {
+        let w = a - (2.0 * PI) * ((a + PI) / (2.0 * PI)).floor();
+        if w <= -PI {
+            w + 2.0 * PI
+        } else {
+            w
+        }
+    };
+    let (mut o1, mut o1e, mut e, mut o4) = ([0.0; LANES], [0.0; LANES], [0.0; LANES], [0.0; LANES]);
+    for l in 0..LANES {
+        let o = p.to_opw(&q[l]);
+        o1[l] = o[1];
+        e[l] = o[2] + k.psi3;
+        o1e[l] = o[1] + e[l];
+        o4[l] = o[4];
+    }
+    let (s1, _) = crate::fastmath::sin_cos_lanes(&o1);
+    let (s1e, _) = crate::fastmath::sin_cos_lanes(&o1e);
+    let mut front = [false; LANES];
+    let mut up = [false; LANES];
+    let mut noflip = [false; LANES];
+    for l in 0..LANES {
+        let cx1 = p.c2 * s1[l] + k.kappa * s1e[l] + p.a1;
+        front[l] = cx1 >= 0.0;
+        up[l] = wrap(e[l]) >= 0.0;
+        noflip[l] = wrap(o4[l]) >= 0.0;
+    }
+    std::array::from_fn(|l| Branch {
+        shoulder: if front[l] {
+            Shoulder::Front
+        } else {
+            Shoulder::Back
+        },
+        elbow: if up[l] { Elbow::Up } else { Elbow::Down },
+        wrist: if noflip[l] {
+            Wrist::NoFlip
+        } else {
+            Wrist::Flip
+        },
+    })
 }
 
 /// URDF angles of the wrist variant `w` of the OPW angles `o` (the wrist's `atan2` results
@@ -561,6 +639,25 @@ impl BranchBatch {
     /// when the lane is `ok`.
     pub fn variant(&self, p: &OpwParams, lane: usize, w: Wrist) -> [f64; 6] {
         variant(p, &self.o[lane], w)
+    }
+
+    /// [`Prepared::branch_of`]`(q_prev)` without computing it, when the batch knows it: at
+    /// lane 0 for the joint vector the batch was solved from ([`BranchBatch::prev`]), at a
+    /// later lane for the previous lane's answer `q[lane − 1]` (both compared bit for bit).
+    /// `None` otherwise (compute it).
+    #[inline]
+    pub fn known_branch(&self, lane: usize, q_prev: &[f64]) -> Option<Branch> {
+        let same = |a: &[f64; 6]| {
+            q_prev.len() == 6
+                && a.iter()
+                    .zip(q_prev)
+                    .all(|(x, y)| x.to_bits() == y.to_bits())
+        };
+        match lane {
+            0 => same(&self.prev).then_some(self.branch),
+            l if l < crate::simd::LANES => same(&self.q[l - 1]).then_some(self.next_branch[l - 1]),
+            _ => None,
+        }
     }
 }
 

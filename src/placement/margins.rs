@@ -135,6 +135,79 @@ pub fn check_joint_sample_with(
     })
 }
 
+/// [`check_joint_sample_with`] with what depends only on the robot and the options worked
+/// out once (which joints have finite revolute limits, each one's margin), for the per-sample
+/// loop of a placement evaluation. [`JointChecks::check`] gives exactly
+/// [`check_joint_sample_with`]'s answer and leaves `margins` exactly as it does: a sample that
+/// fails, or comes near the wrist singularity, is handed to [`check_joint_sample_with`] itself.
+#[derive(Clone, Debug)]
+pub struct JointChecks {
+    /// Per checked joint: index, lower and upper limit (rad), margin (rad).
+    limits: Vec<(usize, f64, f64, f64)>,
+    /// OPW joint-5 sign and offset when the robot has OPW parameters (the wrist measure).
+    wrist: Option<(f64, f64)>,
+}
+
+impl JointChecks {
+    /// The checks of `model` under `o`.
+    pub fn new(model: &RobotModel, o: &FeasibilityOptions) -> Self {
+        let limits = model
+            .joints
+            .iter()
+            .enumerate()
+            .filter(|(_, jt)| {
+                jt.kind == JointKind::Revolute && jt.lower.is_finite() && jt.upper.is_finite()
+            })
+            .map(|(j, jt)| (j, jt.lower, jt.upper, joint_margin(model, o, j)))
+            .collect();
+        JointChecks {
+            limits,
+            wrist: model.opw.as_ref().map(|p| (p.signs[4], p.offsets[4])),
+        }
+    }
+
+    /// [`check_joint_sample_with`]`(model, o, q, sincos, qd, qdd, margins)` (the same `model`
+    /// and `o` as [`JointChecks::new`]'s), bit for bit.
+    #[inline]
+    #[allow(clippy::too_many_arguments)]
+    pub fn check(
+        &self,
+        model: &RobotModel,
+        o: &FeasibilityOptions,
+        q: &[f64],
+        sincos: Option<&[f64]>,
+        qd: &[f64],
+        qdd: &[f64],
+        margins: &mut Margins,
+    ) -> Option<(Reason, String)> {
+        let before = margins.joint_limit_rad;
+        let mut fails = false;
+        for &(j, lower, upper, m) in &self.limits {
+            let Some(&v) = q.get(j) else { break };
+            let d = (v - lower).min(upper - v);
+            if margins.joint_limit_rad.is_none_or(|(_, x)| d < x) {
+                margins.joint_limit_rad = Some((j + 1, d));
+            }
+            fails |= d < m;
+        }
+        // The wrist measure as check_joint_sample_with takes it, for the common case (shared
+        // sines, joint 5's OPW offset 0); anything else goes the long way.
+        let clear_of_wrist = match (self.wrist, sincos) {
+            (None, _) => true,
+            _ if q.len() < 6 => true,
+            (Some((sign, off)), Some(sc)) if off == 0.0 && sc.len() == 2 * q.len() => {
+                (sign * sc[4]).abs() >= o.wrist_min
+            }
+            _ => false,
+        };
+        if fails || !clear_of_wrist {
+            margins.joint_limit_rad = before;
+            return check_joint_sample_with(model, o, q, sincos, qd, qdd, margins);
+        }
+        None
+    }
+}
+
 /// How close to its joint-limit margin a placement's closest joint comes: the margin is met
 /// "on" the margin when the joint's smallest distance from a limit is within this of it, rad
 /// (0.01°): the answer then sits on the margin the way an optimum can sit on a search bound.

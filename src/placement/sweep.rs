@@ -546,6 +546,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         // energy does not depend on the checks: the outcome is that of checking first and
         // integrating after, bit for bit. A failed check tells the integration to stop.
         let failed = AtomicBool::new(false);
+        let joint_checks = super::margins::JointChecks::new(model, o);
         let checks = || -> std::result::Result<Margins, Infeasible> {
             let mut margins = Margins::default();
             for k in 0..m {
@@ -554,7 +555,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                     return Err(abandoned());
                 }
                 let sincos = shared.then(|| &sincos_all[k * 2 * n..(k + 1) * 2 * n]);
-                let joint_check = super::margins::check_joint_sample_with(
+                let joint_check = joint_checks.check(
                     model,
                     o,
                     timed.traj.q(k),
@@ -677,7 +678,6 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         let mut drives = 0.0;
         let mut mpos = 0.0;
         let mut losses = Losses::default();
-        let mut sc_batch = [energy::SamplePower::default(); LANES];
         let mut acc = |k: usize, p: f64, sp: &energy::SamplePower| {
             let w = crate::numerics::trapezoid_weight(k, m, dt);
             supply += w * p;
@@ -694,6 +694,32 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                 losses.copper_j += w * sp.p_copper[j];
             }
         };
+        // `acc` of lane `l` of a lockstep batch: the same operations in the same order.
+        let acc_lane = |k: usize,
+                        pl: &energy::PowerLanes,
+                        l: usize,
+                        supply: &mut f64,
+                        drives: &mut f64,
+                        mpos: &mut f64,
+                        losses: &mut Losses,
+                        jm: &mut [f64],
+                        jabs: &mut [f64],
+                        jel: &mut [f64]| {
+            let w = crate::numerics::trapezoid_weight(k, m, dt);
+            *supply += w * pl.p_supply[l];
+            *drives += w * pl.p_drives[l];
+            losses.regeneration_lost_j += w * pl.p_regeneration_lost[l];
+            for j in 0..n {
+                let pm = pl.p_mech[j][l];
+                jm[j] += w * pm;
+                jabs[j] += w * pm.abs();
+                *mpos += w * pm.max(0.0);
+                jel[j] += w * pl.p_el[j][l];
+                losses.friction_j += w * pl.p_friction[j][l];
+                losses.gear_j += w * pl.p_gear[j][l];
+                losses.copper_j += w * pl.p_copper[j][l];
+            }
+        };
         let model_error = |k: usize, e: crate::error::Error| Infeasible {
             reason: Reason::ModelError,
             sample: Some(k),
@@ -708,12 +734,13 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             Some(s) if level != crate::simd::Level::Scalar && self.job.energy.batchable() => {
                 let tr = &timed.traj;
                 let sc = |k: usize| &s[k * 2 * n..(k + 1) * 2 * n];
+                let mut pl = energy::PowerLanes::default();
                 for k0 in (0..m).step_by(LANES) {
                     if stopped() {
                         return Err(abandoned());
                     }
                     let count = LANES.min(m - k0);
-                    energy::eval_batch_with_sincos(
+                    energy::eval_lanes_with_sincos(
                         &self.job.energy,
                         data,
                         count,
@@ -721,12 +748,23 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                         |l| sc(k0 + l),
                         |l| tr.qd(k0 + l),
                         |l| tr.qdd(k0 + l),
-                        &mut sc_batch,
+                        &mut pl,
                         level,
                     )
                     .map_err(|e| model_error(k0, e))?;
-                    for (l, sp) in sc_batch.iter().enumerate().take(count) {
-                        acc(k0 + l, sp.p_supply, sp);
+                    for l in 0..count {
+                        acc_lane(
+                            k0 + l,
+                            &pl,
+                            l,
+                            &mut supply,
+                            &mut drives,
+                            &mut mpos,
+                            &mut losses,
+                            &mut jm,
+                            &mut jabs,
+                            &mut jel,
+                        );
                     }
                 }
             }
@@ -735,6 +773,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             None if level != crate::simd::Level::Scalar && self.job.energy.batchable() => {
                 let tr = &timed.traj;
                 let mut sc = [[0.0; 2 * crate::dynamics::MAX_DOF]; LANES];
+                let mut pl = energy::PowerLanes::default();
                 for k0 in (0..m).step_by(LANES) {
                     if stopped() {
                         return Err(abandoned());
@@ -751,7 +790,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                             row[n + j] = cj[l];
                         }
                     }
-                    energy::eval_batch_with_sincos(
+                    energy::eval_lanes_with_sincos(
                         &self.job.energy,
                         data,
                         count,
@@ -759,12 +798,23 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                         |l| &sc[l][..2 * n],
                         |l| tr.qd(k0 + l),
                         |l| tr.qdd(k0 + l),
-                        &mut sc_batch,
+                        &mut pl,
                         level,
                     )
                     .map_err(|e| model_error(k0, e))?;
-                    for (l, sp) in sc_batch.iter().enumerate().take(count) {
-                        acc(k0 + l, sp.p_supply, sp);
+                    for l in 0..count {
+                        acc_lane(
+                            k0 + l,
+                            &pl,
+                            l,
+                            &mut supply,
+                            &mut drives,
+                            &mut mpos,
+                            &mut losses,
+                            &mut jm,
+                            &mut jabs,
+                            &mut jel,
+                        );
                     }
                 }
             }

@@ -1,0 +1,472 @@
+//! The energy pass of [`LANES`] samples in lockstep, structure of arrays (issue 12 item 3):
+//! RNEA ([`crate::dynamics::rnea_batch`]), then the torque effects, the motor model and the
+//! supply lane by lane in plain `[f64; LANES]` loops compiled for the level in force
+//! ([`crate::simd`]), so that they vectorise like RNEA does.
+//!
+//! Every lane performs the operations of [`super::eval_sample_with_sincos`] in the same order
+//! (branches become selects: both sides computed, one kept), so each lane is **bit-identical**
+//! to the per-sample path (tested: `tests/simd.rs`). The smoothed Coulomb sign
+//! ([`crate::fastmath::tanh`]) is ±1 for `|q̇/ε| ≥ 20`, which is a select; the lanes below
+//! that (a joint slower than 20 ε, 0.02 rad/s by default: reversals and standstills) take
+//! libm's `tanh` one by one, as the per-sample path does. The Stribeck term's `exp` is libm's
+//! per lane. An effect the pass does not know ([`LaneEffect::Other`]) is called per lane
+//! through [`Effect::add_torque`].
+
+use super::{EnergyModel, SamplePower};
+use crate::dynamics::{rnea_batch, Lanes, StateBatch, MAX_DOF};
+use crate::effects::{
+    Armature, Balancer, Coulomb, Effect, EnergyClass, Offset, Stribeck, Viscous,
+    COULOMB_VELOCITY_SCALE_RAD_S,
+};
+use crate::error::{Error, Result};
+use crate::robot::Regeneration;
+use crate::simd::{Level, LANES};
+use std::sync::Arc;
+
+/// The per-sample quantities of [`LANES`] samples, joint-major (`x[j][lane]`): the fields of
+/// [`SamplePower`] with the same units (N·m, W, A, V). Lanes beyond the samples in use hold
+/// values not meant to be read.
+#[derive(Clone, Copy, Debug)]
+pub struct PowerLanes {
+    /// See [`SamplePower::tau_rb`], N·m.
+    pub tau_rb: [Lanes; MAX_DOF],
+    /// See [`SamplePower::tau_friction`], N·m.
+    pub tau_friction: [Lanes; MAX_DOF],
+    /// See [`SamplePower::tau_balancer`], N·m.
+    pub tau_balancer: [Lanes; MAX_DOF],
+    /// See [`SamplePower::tau`], N·m.
+    pub tau: [Lanes; MAX_DOF],
+    /// See [`SamplePower::p_mech`], W.
+    pub p_mech: [Lanes; MAX_DOF],
+    /// See [`SamplePower::p_rigid_body`], W.
+    pub p_rigid_body: [Lanes; MAX_DOF],
+    /// See [`SamplePower::p_balancer`], W.
+    pub p_balancer: [Lanes; MAX_DOF],
+    /// See [`SamplePower::p_friction`], W.
+    pub p_friction: [Lanes; MAX_DOF],
+    /// See [`SamplePower::p_gear`], W.
+    pub p_gear: [Lanes; MAX_DOF],
+    /// See [`SamplePower::p_copper`], W.
+    pub p_copper: [Lanes; MAX_DOF],
+    /// See [`SamplePower::p_el`], W.
+    pub p_el: [Lanes; MAX_DOF],
+    /// See [`SamplePower::current`], A.
+    pub current: [Lanes; MAX_DOF],
+    /// See [`SamplePower::voltage`], V.
+    pub voltage: [Lanes; MAX_DOF],
+    /// See [`SamplePower::p_drives`], W.
+    pub p_drives: Lanes,
+    /// See [`SamplePower::p_regeneration_lost`], W.
+    pub p_regeneration_lost: Lanes,
+    /// See [`SamplePower::p_supply`], W.
+    pub p_supply: Lanes,
+}
+
+impl Default for PowerLanes {
+    fn default() -> Self {
+        let z = [[0.0; LANES]; MAX_DOF];
+        PowerLanes {
+            tau_rb: z,
+            tau_friction: z,
+            tau_balancer: z,
+            tau: z,
+            p_mech: z,
+            p_rigid_body: z,
+            p_balancer: z,
+            p_friction: z,
+            p_gear: z,
+            p_copper: z,
+            p_el: z,
+            current: z,
+            voltage: z,
+            p_drives: [0.0; LANES],
+            p_regeneration_lost: [0.0; LANES],
+            p_supply: [0.0; LANES],
+        }
+    }
+}
+
+impl PowerLanes {
+    /// Lane `lane` as a [`SamplePower`].
+    pub fn sample(&self, lane: usize) -> SamplePower {
+        let col = |a: &[Lanes; MAX_DOF]| {
+            let mut r = [0.0; MAX_DOF];
+            for (v, l) in r.iter_mut().zip(a) {
+                *v = l[lane];
+            }
+            r
+        };
+        SamplePower {
+            tau_rb: col(&self.tau_rb),
+            tau_friction: col(&self.tau_friction),
+            tau_balancer: col(&self.tau_balancer),
+            tau: col(&self.tau),
+            p_mech: col(&self.p_mech),
+            p_rigid_body: col(&self.p_rigid_body),
+            p_balancer: col(&self.p_balancer),
+            p_friction: col(&self.p_friction),
+            p_gear: col(&self.p_gear),
+            p_copper: col(&self.p_copper),
+            p_el: col(&self.p_el),
+            current: col(&self.current),
+            voltage: col(&self.voltage),
+            p_drives: self.p_drives[lane],
+            p_regeneration_lost: self.p_regeneration_lost[lane],
+            p_supply: self.p_supply[lane],
+        }
+    }
+
+    /// Put `s` into lane `lane`.
+    fn set_sample(&mut self, lane: usize, s: &SamplePower) {
+        let put = |a: &mut [Lanes; MAX_DOF], v: &[f64; MAX_DOF]| {
+            for (l, x) in a.iter_mut().zip(v) {
+                l[lane] = *x;
+            }
+        };
+        put(&mut self.tau_rb, &s.tau_rb);
+        put(&mut self.tau_friction, &s.tau_friction);
+        put(&mut self.tau_balancer, &s.tau_balancer);
+        put(&mut self.tau, &s.tau);
+        put(&mut self.p_mech, &s.p_mech);
+        put(&mut self.p_rigid_body, &s.p_rigid_body);
+        put(&mut self.p_balancer, &s.p_balancer);
+        put(&mut self.p_friction, &s.p_friction);
+        put(&mut self.p_gear, &s.p_gear);
+        put(&mut self.p_copper, &s.p_copper);
+        put(&mut self.p_el, &s.p_el);
+        put(&mut self.current, &s.current);
+        put(&mut self.voltage, &s.voltage);
+        self.p_drives[lane] = s.p_drives;
+        self.p_regeneration_lost[lane] = s.p_regeneration_lost;
+        self.p_supply[lane] = s.p_supply;
+    }
+}
+
+/// A per-sample torque effect as the lockstep pass evaluates it: the effects it knows with
+/// their parameters, anything else called lane by lane.
+#[derive(Clone, Debug)]
+pub(super) enum LaneEffect {
+    /// [`Viscous`]: `τ_j += f_v,j q̇_j` (N·m·s/rad per joint).
+    Viscous(Vec<f64>),
+    /// [`Armature`]: `τ_j += I_a,j q̈_j` (kg·m² per joint).
+    Armature(Vec<f64>),
+    /// [`Offset`]: `τ_j += τ_0,j` (N·m per joint).
+    Offset(Vec<f64>),
+    /// [`Coulomb`].
+    Coulomb(Coulomb),
+    /// [`Stribeck`].
+    Stribeck(Stribeck),
+    /// [`Balancer`] (on a joint of the model).
+    Balancer(Balancer),
+    /// Any other effect, through [`Effect::add_torque`] per lane.
+    Other(Arc<dyn Effect>),
+}
+
+impl LaneEffect {
+    /// The lockstep form of `e` on a model of `n` joints.
+    pub(super) fn of(e: &Arc<dyn Effect>, n: usize) -> LaneEffect {
+        let a = e.as_any();
+        if let Some(v) = a.downcast_ref::<Viscous>() {
+            LaneEffect::Viscous(v.fv.clone())
+        } else if let Some(v) = a.downcast_ref::<Armature>() {
+            LaneEffect::Armature(v.ia.clone())
+        } else if let Some(v) = a.downcast_ref::<Offset>() {
+            LaneEffect::Offset(v.tau0.clone())
+        } else if let Some(c) = a.downcast_ref::<Coulomb>() {
+            LaneEffect::Coulomb(c.clone())
+        } else if let Some(s) = a.downcast_ref::<Stribeck>() {
+            LaneEffect::Stribeck(s.clone())
+        } else {
+            match a.downcast_ref::<Balancer>() {
+                Some(b) if b.joint < n => LaneEffect::Balancer(b.clone()),
+                _ => LaneEffect::Other(Arc::clone(e)),
+            }
+        }
+    }
+}
+
+/// [`crate::fastmath::tanh`] of [`LANES`] values, lane by lane bit-identical: ±1 by select
+/// where `|x| ≥ 20`, libm's `tanh` one by one elsewhere (NaN included).
+#[inline(always)]
+fn tanh_lanes(x: &Lanes) -> Lanes {
+    let mut r = [0.0; LANES];
+    let mut slow = false;
+    for l in 0..LANES {
+        let big = x[l].abs() >= 20.0;
+        slow |= !big;
+        r[l] = 1.0f64.copysign(x[l]);
+    }
+    if slow {
+        for l in 0..LANES {
+            // Below 20, and NaN: libm.
+            #[allow(clippy::neg_cmp_op_on_partial_ord)]
+            if !(x[l].abs() >= 20.0) {
+                r[l] = x[l].tanh();
+            }
+        }
+    }
+    r
+}
+
+/// The inputs of the lockstep pass: joint angles (rad), their sines and cosines, velocities
+/// (rad/s), accelerations (rad/s²), joint-major.
+struct Inputs<'b> {
+    q: &'b [Lanes; MAX_DOF],
+    b: &'b StateBatch,
+}
+
+/// Everything after RNEA, lane by lane (see the module docs); `out.tau_rb` holds the
+/// rigid-body torques.
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // parallel fixed arrays indexed by joint and lane
+fn tail_lanes(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
+    let n = model.n;
+    let (qd, qdd) = (&x.b.qd, &x.b.qdd);
+    for j in 0..MAX_DOF {
+        out.tau_balancer[j] = [0.0; LANES];
+        out.tau_friction[j] = [0.0; LANES];
+    }
+    for (e, class) in &model.lane_effects {
+        let dst = match class {
+            EnergyClass::RigidBody => &mut out.tau_rb,
+            EnergyClass::Friction => &mut out.tau_friction,
+            EnergyClass::Balancer => &mut out.tau_balancer,
+        };
+        match e {
+            LaneEffect::Viscous(fv) => {
+                for (j, f) in fv.iter().enumerate().take(n) {
+                    for l in 0..LANES {
+                        dst[j][l] += f * qd[j][l];
+                    }
+                }
+            }
+            LaneEffect::Armature(ia) => {
+                for (j, i) in ia.iter().enumerate().take(n) {
+                    for l in 0..LANES {
+                        dst[j][l] += i * qdd[j][l];
+                    }
+                }
+            }
+            LaneEffect::Offset(t0) => {
+                for (j, o) in t0.iter().enumerate().take(n) {
+                    for l in 0..LANES {
+                        dst[j][l] += o;
+                    }
+                }
+            }
+            LaneEffect::Coulomb(c) => {
+                for j in 0..n {
+                    let (Some(&p), Some(&m)) = (c.fc_pos.get(j), c.fc_neg.get(j)) else {
+                        for l in 0..LANES {
+                            dst[j][l] += 0.0;
+                        }
+                        continue;
+                    };
+                    if p == 0.0 && m == 0.0 {
+                        for l in 0..LANES {
+                            dst[j][l] += 0.0;
+                        }
+                        continue;
+                    }
+                    let mut v = [0.0; LANES];
+                    for l in 0..LANES {
+                        v[l] = qd[j][l] / c.velocity_scale;
+                    }
+                    let s = tanh_lanes(&v);
+                    for l in 0..LANES {
+                        let t = if s[l] >= 0.0 { p * s[l] } else { m * s[l] };
+                        dst[j][l] += t;
+                    }
+                }
+            }
+            LaneEffect::Stribeck(s) => {
+                for j in 0..n {
+                    match s.fs.get(j) {
+                        Some(&f) if f != 0.0 => {
+                            let mut v = [0.0; LANES];
+                            for l in 0..LANES {
+                                v[l] = qd[j][l] / COULOMB_VELOCITY_SCALE_RAD_S;
+                            }
+                            let th = tanh_lanes(&v);
+                            for l in 0..LANES {
+                                let e = (-(qd[j][l] / s.vs).powi(2)).exp();
+                                dst[j][l] += f * (e * th[l]);
+                            }
+                        }
+                        _ => {
+                            for l in 0..LANES {
+                                dst[j][l] += 0.0;
+                            }
+                        }
+                    }
+                }
+            }
+            LaneEffect::Balancer(bal) => {
+                let j = bal.joint;
+                let t = bal.joint_torque_lanes(&x.q[j]);
+                for l in 0..LANES {
+                    dst[j][l] += t[l];
+                }
+            }
+            LaneEffect::Other(e) => {
+                for l in 0..LANES {
+                    let (mut a, mut v, mut w, mut t) = (
+                        [0.0; MAX_DOF],
+                        [0.0; MAX_DOF],
+                        [0.0; MAX_DOF],
+                        [0.0; MAX_DOF],
+                    );
+                    for j in 0..n {
+                        a[j] = x.q[j][l];
+                        v[j] = qd[j][l];
+                        w[j] = qdd[j][l];
+                        t[j] = dst[j][l];
+                    }
+                    e.add_torque(&a[..n], &v[..n], &w[..n], &mut t[..n]);
+                    for j in 0..n {
+                        dst[j][l] = t[j];
+                    }
+                }
+            }
+        }
+    }
+    // super::power_sample, lane by lane.
+    for j in 0..n {
+        let ax = &model.axes[j];
+        for l in 0..LANES {
+            let v = qd[j][l];
+            let tf = out.tau_friction[j][l];
+            let tb = out.tau_balancer[j][l];
+            let trb = out.tau_rb[j][l];
+            let tau = trb + tf + tb;
+            out.tau[j][l] = tau;
+            let pm = tau * v;
+            out.p_mech[j][l] = pm;
+            out.p_rigid_body[j][l] = trb * v;
+            out.p_friction[j][l] = tf * v;
+            out.p_balancer[j][l] = tb * v;
+            if model.has_drive {
+                // super::motor, the branch as a select.
+                let drive = tau / (ax.gear * ax.eta);
+                let back = tau * ax.eta / ax.gear;
+                let tm = if tau * v >= 0.0 { drive } else { back };
+                let wm = ax.gear * v;
+                let i = tm / ax.kt;
+                let shaft = tm * wm;
+                let copper = ax.r * i * i;
+                out.current[j][l] = i;
+                out.voltage[j][l] = ax.r * i + ax.kt * wm;
+                out.p_copper[j][l] = copper;
+                out.p_gear[j][l] = shaft - pm;
+                out.p_el[j][l] = shaft + copper;
+            } else {
+                out.current[j][l] = 0.0;
+                out.voltage[j][l] = 0.0;
+                out.p_copper[j][l] = 0.0;
+                out.p_gear[j][l] = 0.0;
+                out.p_el[j][l] = pm;
+            }
+        }
+    }
+    // super::supply_power, lane by lane: the sums in joint order from the neutral element of
+    // `Iterator::sum` (whatever this toolchain's is), as the per-sample code sums.
+    let zero: f64 = std::iter::empty::<f64>().sum();
+    let (rho, p0) = (model.recovered_fraction, model.standby_w);
+    for l in 0..LANES {
+        let mut sum = zero;
+        let mut pos = zero;
+        for j in 0..n {
+            sum += out.p_el[j][l];
+            pos += out.p_el[j][l].max(0.0);
+        }
+        let draw = match model.regeneration {
+            Regeneration::None | Regeneration::PerAxis => pos,
+            Regeneration::DcBus => sum.max(0.0),
+            Regeneration::Grid => sum,
+        };
+        let drives = draw - rho * (draw - sum);
+        out.p_drives[l] = drives;
+        out.p_regeneration_lost[l] = drives - sum;
+        out.p_supply[l] = drives + p0;
+    }
+}
+
+fn tail_sse2(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
+    tail_lanes(model, x, out)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn tail_avx2(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
+    tail_lanes(model, x, out)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn tail_avx512(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
+    tail_lanes(model, x, out)
+}
+
+/// [`super::eval_sample_with_sincos`] of `count ≤` [`LANES`] samples at once into the lanes
+/// of `out` (see [`super::eval_batch_with_sincos`] for the arguments): lane `l` is
+/// `q(l)`, `sincos(l)`, `qd(l)`, `qdd(l)` (rad, -, rad/s, rad/s²), and its supply power, W,
+/// is `out.p_supply[l]`. RNEA, the torque effects, the motor model and the supply run in
+/// lockstep on `level`; each lane is bit-identical to the per-sample path. With
+/// [`Level::Scalar`] or a model that is not [`EnergyModel::batchable`] each sample goes
+/// through [`super::eval_sample_with_sincos`]. Lanes `count..` are left as they were. Error:
+/// [`Error::SizeMismatch`] on a wrong slice length.
+#[allow(clippy::too_many_arguments)]
+pub fn eval_lanes_with_sincos<'s>(
+    model: &EnergyModel,
+    data: &mut crate::dynamics::DynData,
+    count: usize,
+    q: impl Fn(usize) -> &'s [f64],
+    sincos: impl Fn(usize) -> &'s [f64],
+    qd: impl Fn(usize) -> &'s [f64],
+    qdd: impl Fn(usize) -> &'s [f64],
+    out: &mut PowerLanes,
+    level: Level,
+) -> Result<()> {
+    let n = model.n;
+    let count = count.min(LANES);
+    if level == Level::Scalar || !model.batchable() {
+        let mut sp = SamplePower::default();
+        for l in 0..count {
+            super::eval_sample_with_sincos(model, data, q(l), sincos(l), qd(l), qdd(l), &mut sp)?;
+            out.set_sample(l, &sp);
+        }
+        return Ok(());
+    }
+    let mut b = StateBatch::default();
+    let mut qb = [[0.0; LANES]; MAX_DOF];
+    for l in 0..count {
+        let (a, sc, v, w) = (q(l), sincos(l), qd(l), qdd(l));
+        if sc.len() != 2 * n || v.len() != n || w.len() != n || a.len() != n {
+            return Err(Error::SizeMismatch {
+                what: "eval_batch_with_sincos: q, sincos (2 dof), qd, qdd".into(),
+                got: sc.len().min(2 * v.len()).min(2 * w.len()),
+                expected: 2 * n,
+            });
+        }
+        b.set(l, n, sc, v, w);
+        for (lanes, x) in qb.iter_mut().zip(a) {
+            lanes[l] = *x;
+        }
+    }
+    rnea_batch(&model.dynamics, &b, &mut out.tau_rb, level);
+    let x = Inputs { q: &qb, b: &b };
+    match level {
+        #[cfg(target_arch = "x86_64")]
+        Level::Avx512 if Level::Avx512.available() => {
+            // SAFETY: the CPU has AVX-512F (checked just above).
+            unsafe { tail_avx512(model, &x, out) }
+        }
+        #[cfg(target_arch = "x86_64")]
+        Level::Avx2 if Level::Avx2.available() => {
+            // SAFETY: the CPU has AVX2 and FMA (checked just above).
+            unsafe { tail_avx2(model, &x, out) }
+        }
+        _ => tail_sse2(model, &x, out),
+    }
+    Ok(())
+}
