@@ -614,7 +614,7 @@ fn optimise_says_when_its_evaluation_budget_not_convergence_ended_the_search() {
                 spin: false,
                 ..Default::default()
             };
-            search::refine(&ev, &grid, &opts, &so, std::sync::Arc::new(|_, _, _| {})).unwrap()
+            search::refine(ev, grid, &opts, so, std::sync::Arc::new(|_, _, _| {})).unwrap()
         };
         let (short, info) = run(8);
         assert_eq!(short.evals, 8);
@@ -671,7 +671,7 @@ fn no_printed_neighbour_is_cheaper_than_the_answer_and_holds_the_tolerance_unexp
                 ..Default::default()
             };
             let (res, info) =
-                search::refine(&ev, &grid, &opts, &so, std::sync::Arc::new(|_, _, _| {})).unwrap();
+                search::refine(ev, grid, &opts, so, std::sync::Arc::new(|_, _, _| {})).unwrap();
             assert!(info.tolerance.holds, "{max_evals}: {:?}", info.tolerance);
             let e0 = res.best.cost();
             let h = opts.sensitivity_m;
@@ -697,10 +697,9 @@ fn no_printed_neighbour_is_cheaper_than_the_answer_and_holds_the_tolerance_unexp
                         panic!("{max_evals}: E({name}) {} < {e0} J not named", e.cost())
                     });
                 let in_box = so.bounds.contains(&e.placement);
-                let holds =
-                    printwatt::placement::tolerance::check(&ev, &e.placement, &so.tolerance)
-                        .unwrap()
-                        .holds;
+                let holds = printwatt::placement::tolerance::check(ev, &e.placement, &so.tolerance)
+                    .unwrap()
+                    .holds;
                 assert!(
                     !(in_box && holds) || said.contains("polish stopped"),
                     "{max_evals}: {said}, yet it holds the tolerance in the box"
