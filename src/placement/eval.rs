@@ -53,6 +53,19 @@ impl<'a> PathJob<'a> {
         joint: JointStageOptions,
     ) -> Result<Self> {
         let energy = EnergyModel::with_options(robot, energy_options)?;
+        Self::with_energy(robot, energy, path, profile, joint)
+    }
+
+    /// Prepare a job with an energy model built already (of `robot`; many jobs of one robot,
+    /// e.g. the segments of a stations plan, share one: building it costs more than a short
+    /// path's set-up). Errors: the path has no moves.
+    pub fn with_energy(
+        robot: &'a RobotModel,
+        energy: EnergyModel,
+        path: &Toolpath,
+        profile: ProfileOptions,
+        joint: JointStageOptions,
+    ) -> Result<Self> {
         let moves = timing::moves_from_toolpath(path);
         if moves.is_empty() {
             return Err(crate::Error::Invalid(format!(

@@ -246,12 +246,14 @@ pub fn solve(p: &StationsProblem, progress: &(dyn Fn(usize, usize) + Sync)) -> R
     // units before it in its collision scene.
     let done = AtomicUsize::new(0);
     let total = runs.len();
+    // One energy model for every segment (it depends on the robot only).
+    let model = crate::energy::EnergyModel::with_options(p.robot, p.energy)?;
     let evaluated: Vec<Vec<Evaluated>> = runs
         .par_iter()
         .map(|run| {
             let (first, last) = segment_moves(path, &units, run.i, run.j);
             let sub = sub_path(path, first, last);
-            let job = PathJob::new(p.robot, &sub, p.energy, p.profile, p.joint)?;
+            let job = PathJob::with_energy(p.robot, model.clone(), &sub, p.profile, p.joint)?;
             let prior: Vec<_> = walls[..first].iter().flatten().copied().collect();
             let ev = Evaluator::new(&job, p.feasibility, p.objective).with_prior_walls(prior);
             let ps: Vec<_> = run.stations.iter().map(|(_, s)| s.placement).collect();
