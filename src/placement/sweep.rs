@@ -730,72 +730,41 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         };
         let level = crate::simd::level();
         match sincos {
-            // Lockstep batches of LANES samples (bit-identical to the per-sample path).
-            Some(s) if level != crate::simd::Level::Scalar && self.job.energy.batchable() => {
+            // Lockstep batches of LANES samples (bit-identical to the per-sample path). The
+            // sines are the shared ones, or (energy_of) computed 8 samples at a time, bit for
+            // bit fastmath::sin_cos.
+            _ if level != crate::simd::Level::Scalar && self.job.energy.batchable() => {
                 let tr = &timed.traj;
-                let sc = |k: usize| &s[k * 2 * n..(k + 1) * 2 * n];
+                let mut own = [[0.0; 2 * crate::dynamics::MAX_DOF]; LANES];
                 let mut pl = energy::PowerLanes::default();
                 for k0 in (0..m).step_by(LANES) {
                     if stopped() {
                         return Err(abandoned());
                     }
                     let count = LANES.min(m - k0);
+                    if sincos.is_none() {
+                        for j in 0..n {
+                            let mut x = [0.0; LANES];
+                            for (l, v) in x.iter_mut().enumerate().take(count) {
+                                *v = tr.q(k0 + l)[j];
+                            }
+                            let (sj, cj) = crate::fastmath::sin_cos_lanes(&x);
+                            for (l, row) in own.iter_mut().enumerate() {
+                                row[j] = sj[l];
+                                row[n + j] = cj[l];
+                            }
+                        }
+                    }
+                    let sc = |l: usize| match sincos {
+                        Some(s) => &s[(k0 + l) * 2 * n..(k0 + l + 1) * 2 * n],
+                        None => &own[l][..2 * n],
+                    };
                     energy::eval_lanes_with_sincos(
                         &self.job.energy,
                         data,
                         count,
                         |l| tr.q(k0 + l),
-                        |l| sc(k0 + l),
-                        |l| tr.qd(k0 + l),
-                        |l| tr.qdd(k0 + l),
-                        &mut pl,
-                        level,
-                    )
-                    .map_err(|e| model_error(k0, e))?;
-                    for l in 0..count {
-                        acc_lane(
-                            k0 + l,
-                            &pl,
-                            l,
-                            &mut supply,
-                            &mut drives,
-                            &mut mpos,
-                            &mut losses,
-                            &mut jm,
-                            &mut jabs,
-                            &mut jel,
-                        );
-                    }
-                }
-            }
-            // The sines not shared (energy_of): computed 8 samples at a time, bit for bit
-            // fastmath::sin_cos, then the same batches.
-            None if level != crate::simd::Level::Scalar && self.job.energy.batchable() => {
-                let tr = &timed.traj;
-                let mut sc = [[0.0; 2 * crate::dynamics::MAX_DOF]; LANES];
-                let mut pl = energy::PowerLanes::default();
-                for k0 in (0..m).step_by(LANES) {
-                    if stopped() {
-                        return Err(abandoned());
-                    }
-                    let count = LANES.min(m - k0);
-                    for j in 0..n {
-                        let mut x = [0.0; LANES];
-                        for (l, v) in x.iter_mut().enumerate().take(count) {
-                            *v = tr.q(k0 + l)[j];
-                        }
-                        let (sj, cj) = crate::fastmath::sin_cos_lanes(&x);
-                        for (l, row) in sc.iter_mut().enumerate() {
-                            row[j] = sj[l];
-                            row[n + j] = cj[l];
-                        }
-                    }
-                    energy::eval_lanes_with_sincos(
-                        &self.job.energy,
-                        data,
-                        count,
-                        |l| tr.q(k0 + l),
-                        |l| &sc[l][..2 * n],
+                        sc,
                         |l| tr.qd(k0 + l),
                         |l| tr.qdd(k0 + l),
                         &mut pl,
