@@ -187,16 +187,17 @@ fn an_estimate_from_every_layer_is_within_its_stated_error_of_the_full_evaluatio
     ] {
         let best = ev.evaluate(&mut ev.scratch().unwrap(), &at);
         let est = best.feasible().unwrap().path_reduction.clone().unwrap();
-        assert_eq!(est.layers_evaluated, est.layers, "{at:?}: every layer evaluated");
+        assert_eq!(
+            est.layers_evaluated, est.layers,
+            "{at:?}: every layer evaluated"
+        );
         let (_, chk) = printwatt::placement::reduce::confirm(&ev, &best)
             .unwrap()
             .expect("an estimate is confirmed");
         assert!(
             chk.within_error,
             "{at:?}: estimate {} J, full {} J, stated error {} J",
-            chk.estimate_j,
-            chk.full_j,
-            chk.error_j
+            chk.estimate_j, chk.full_j, chk.error_j
         );
         let line = printwatt::report::placement::full_check_line(&chk);
         assert!(line.contains("within the stated error"), "{line}");
