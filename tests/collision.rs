@@ -389,7 +389,7 @@ fn a_degenerate_collision_mesh_is_a_warning_and_a_capsule_stands_in() {
 
 /// A four-joint arm written by the test whose links carry URDF boxes, cylinders, spheres and a
 /// mesh hull (shapes other than the capsules of the shipped robots), with self pairs between
-/// them: base column 0.4 m, joints about z, y, y, x, 0.5 m links.
+/// them: base column 0.4 m, joints about z, y, y and a tilted axis, 0.5 m links.
 fn mixed_arm(dir: &Path) -> std::path::PathBuf {
     std::fs::write(
         dir.join("l4.stl"),
@@ -416,7 +416,7 @@ fn mixed_arm(dir: &Path) -> std::path::PathBuf {
   <joint name="j3" type="revolute"><parent link="l2"/><child link="l3"/>
     <origin xyz="0.5 0 0"/><axis xyz="0 1 0"/><limit lower="-3" upper="3" velocity="2" effort="100"/></joint>
   <joint name="j4" type="revolute"><parent link="l3"/><child link="l4"/>
-    <origin xyz="0.5 0 0"/><axis xyz="1 0 0"/><limit lower="-3" upper="3" velocity="2" effort="100"/></joint>
+    <origin xyz="0.5 0 0"/><axis xyz="0.6 0.8 0"/><limit lower="-3" upper="3" velocity="2" effort="100"/></joint>
   <joint name="flange" type="fixed"><parent link="l4"/><child link="tool0"/><origin xyz="0.3 0 0"/></joint>
 </robot>"#;
     let p = dir.join("mixed.urdf");
@@ -424,8 +424,21 @@ fn mixed_arm(dir: &Path) -> std::path::PathBuf {
     p
 }
 
+/// The shapes' poses equal to the plain forward kinematics' (every number equal; a zero may
+/// differ in sign).
+fn same_poses(fast: &[Isometry<f64>], plain: &[Isometry<f64>], q: &[f64]) {
+    assert_eq!(fast.len(), plain.len());
+    for (a, b) in fast.iter().zip(plain) {
+        assert!(
+            a.translation.vector == b.translation.vector && a.rotation.coords == b.rotation.coords,
+            "q {q:?}: {a:?} vs {b:?}"
+        );
+    }
+}
+
 /// `check` and `check_unfiltered` at `q`: the same verdict, reason and message, and the same
-/// running bed clearance to the bit (both continue from `clear`, which takes the new value).
+/// running bed clearance to the bit (both continue from `clear`, which takes the new value);
+/// the poses they are given equal to the plain forward kinematics' ([`same_poses`]).
 #[allow(clippy::too_many_arguments)]
 fn same_check(
     model: &printwatt::robot::RobotModel,
@@ -438,6 +451,7 @@ fn same_check(
     clear: &mut Option<f64>,
 ) -> Option<(Reason, String)> {
     let poses = rs.poses(model, q, world);
+    same_poses(&poses, &rs.poses_by_fk(model, q, world), q);
     let mut c_fast = *clear;
     let mut c_plain = *clear;
     let fast = collision::check(rs, &poses, bed, beads, laid, &mut c_fast);
@@ -453,7 +467,7 @@ fn same_check(
 }
 
 #[test]
-fn the_prefiltered_collision_check_equals_the_plain_check_on_random_and_near_contact_configurations(
+fn the_prefiltered_collision_check_and_the_shortcut_poses_equal_the_plain_ones_on_random_and_near_contact_configurations(
 ) {
     use rand::{Rng, SeedableRng};
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
@@ -595,7 +609,7 @@ fn the_prefiltered_collision_check_equals_the_plain_check_on_random_and_near_con
 }
 
 #[test]
-fn the_prefiltered_collision_check_equals_the_plain_check_along_real_paths() {
+fn the_prefiltered_collision_check_and_the_shortcut_poses_equal_the_plain_ones_along_real_paths() {
     use printwatt::placement::feasibility::{reach_m, FeasibilityOptions, World};
     use printwatt::timing::{JointStageOptions, ProfileOptions};
     use printwatt::toolpath::{self, Placement, ReadOptions};

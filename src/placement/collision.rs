@@ -64,6 +64,8 @@ pub struct BodyShape {
     /// A sphere that holds the shape, in the shape's own frame (centre, m; radius, m): the
     /// self pairs' broad phase (see [`check`]).
     pub bound: (Point<f64>, f64),
+    /// `local` is the identity (the shape's pose is its body's).
+    pub at_origin: bool,
 }
 
 impl BodyShape {
@@ -82,6 +84,7 @@ impl BodyShape {
             role,
             label,
             bound: (b.center, b.radius),
+            at_origin: local == Isometry::identity(),
         }
     }
 }
@@ -302,6 +305,15 @@ impl RobotShapes {
     }
 
     /// As [`Self::poses`], into `out` (cleared first).
+    ///
+    /// The same numbers as [`Self::poses_by_fk`] (the chain by [`fk`], each frame turned into
+    /// an isometry and composed with `world` and the shape's own pose), with the work that
+    /// cannot change a value left out: a joint frame whose origin has no rotation and whose
+    /// axis is a coordinate axis takes the product with the joint's rotation from its two
+    /// turning columns (the other products are by exact zeros), no tool frame is made, and a
+    /// shape placed at its body's origin takes the body's pose without a product with the
+    /// identity. Zeros may differ in sign; every number is equal (tested on random
+    /// configurations of every shipped robot).
     pub fn poses_into(
         &self,
         model: &RobotModel,
@@ -310,6 +322,31 @@ impl RobotShapes {
         out: &mut Vec<Isometry<f64>>,
     ) {
         out.clear();
+        let n = model.joints.len().min(crate::kinematics::MAX_DOF);
+        let mut bodies = [Isometry::identity(); crate::kinematics::MAX_DOF + 2];
+        bodies[0] = *world;
+        let mut f = Frame::identity();
+        for (i, j) in model.joints.iter().take(n).enumerate() {
+            let qi = q.get(i).copied().unwrap_or(0.0);
+            f = next_frame(&f, j, qi);
+            bodies[i + 1] = world * iso(&f);
+        }
+        bodies[n + 1] = world * iso(&f.compose(&model.flange));
+        for s in &self.shapes {
+            let b = &bodies[s.body.min(n + 1)];
+            out.push(if s.at_origin { *b } else { b * s.local });
+        }
+    }
+
+    /// [`Self::poses_into`] the plain way: [`fk`] for every frame, each shape's pose the
+    /// product of its body's and its own. The reference that `poses_into` is tested against.
+    #[doc(hidden)]
+    pub fn poses_by_fk(
+        &self,
+        model: &RobotModel,
+        q: &[f64],
+        world: &Isometry<f64>,
+    ) -> Vec<Isometry<f64>> {
         let f = fk(model, q);
         let n = f.n;
         let mut bodies = Vec::with_capacity(n + 2);
@@ -318,9 +355,60 @@ impl RobotShapes {
             bodies.push(world * iso(fr));
         }
         bodies.push(world * iso(&f.flange));
-        for s in &self.shapes {
-            out.push(bodies[s.body.min(n + 1)] * s.local);
-        }
+        self.shapes
+            .iter()
+            .map(|s| bodies[s.body.min(n + 1)] * s.local)
+            .collect()
+    }
+}
+
+/// `f.compose(&j.transform(q))` (rad / m), with the same numbers: for a revolute joint whose
+/// origin has no rotation and whose axis is exactly a coordinate axis, the rotation
+/// [`crate::math::rot_axis`] makes has exact zeros off the turning plane, so each column of
+/// the product is one or two of its terms (in the order the full product adds them; a zero
+/// term only ever changes the sign of a zero sum).
+#[inline]
+fn next_frame(f: &Frame, j: &crate::robot::Joint, q: f64) -> Frame {
+    use crate::robot::JointKind;
+    let (x, y, z) = (j.axis.x, j.axis.y, j.axis.z);
+    let unit = |a: f64, b: f64, c: f64| a.abs() == 1.0 && b == 0.0 && c == 0.0;
+    if j.kind != JointKind::Revolute
+        || j.origin.rot != crate::math::M3::identity()
+        || !(unit(x, y, z) || unit(y, z, x) || unit(z, x, y))
+    {
+        return f.compose(&j.transform(q));
+    }
+    let (s, c) = q.sin_cos();
+    let t = 1.0 - c;
+    let r = &f.rot;
+    let col = |k: usize| V3::new(r[(0, k)], r[(1, k)], r[(2, k)]);
+    // rot_axis about axis k (sign σ): the diagonal entry of k is t·σ·σ + c = t + c; in the
+    // plane (a, b) after k: R[a][a] = R[b][b] = c, R[b][a] = σ s, R[a][b] = −σ s.
+    let (k, a, b, sg) = if x != 0.0 {
+        (0, 1, 2, x)
+    } else if y != 0.0 {
+        (1, 2, 0, y)
+    } else {
+        (2, 0, 1, z)
+    };
+    // rot_axis's entries: R[b][a] = t·(..)·0 + s·σ, R[a][b] = t·(..)·0 − s·σ.
+    let (sba, sab) = (s * sg, -(s * sg));
+    let (ca, cb, ck) = (col(a), col(b), col(k));
+    // Column a of f·R: f[:, a]·R[a][a] + f[:, b]·R[b][a]; column b: f[:, a]·R[a][b] +
+    // f[:, b]·R[b][b], each added in index order (a < b, or b < a when the axis is y).
+    let (na, nb) = if a < b {
+        (ca * c + cb * sba, ca * sab + cb * c)
+    } else {
+        (cb * sba + ca * c, cb * c + ca * sab)
+    };
+    let nk = ck * (t + c);
+    let mut rot = crate::math::M3::zeros();
+    rot.set_column(a, &na);
+    rot.set_column(b, &nb);
+    rot.set_column(k, &nk);
+    Frame {
+        rot,
+        pos: f.rot * j.origin.pos + f.pos,
     }
 }
 
