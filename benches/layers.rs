@@ -19,6 +19,8 @@
 //! the number of layers (default 300); `PRINTWATT_LAYERS_BREAKDOWN=K` times every K-th grid
 //! cell on one thread instead and sorts the time by how each cell was evaluated.
 
+#[path = "common/pinocchio.rs"]
+mod pinocchio;
 #[path = "../tests/common/wall.rs"]
 mod wall;
 
@@ -236,6 +238,15 @@ fn main() {
     println!(
         "the answer on 1 thread, same run: full evaluation {t_full:.2} s, reduced {t_reduced:.3} s ({:.1} %)",
         t_reduced / t_full * 100.0
+    );
+    println!(
+        "{}",
+        pinocchio::pass_line(
+            "optimise, 300-layer wall, 2 threads",
+            t_total,
+            samples,
+            &root.join("robots/abb_irb6700_200_260/robot.urdf")
+        )
     );
     println!(
         "load average at start: {}; at the end: {}",

@@ -18,6 +18,9 @@
 //! Run: `cargo bench --bench optimise` (plain main, no criterion). The end-to-end figure
 //! against an older binary is measured with the binaries themselves (README, Performance).
 
+#[path = "common/pinocchio.rs"]
+mod pinocchio;
+
 use printwatt::energy::EnergyOptions;
 use printwatt::placement::feasibility::{reach_m, FeasibilityOptions};
 use printwatt::placement::optimise::{default_grid, OptimiseOptions};
@@ -160,5 +163,14 @@ fn main() {
         t_grid + mf,
         t_grid + mp,
         (t_grid + mp) / (t_grid + mf)
+    );
+    println!(
+        "{}",
+        pinocchio::pass_line(
+            "grid + refinement (fast checks)",
+            t_grid + mf,
+            job.plan.motion.p.len(),
+            &root.join("robots/abb_irb6700_200_260/robot.urdf")
+        )
     );
 }

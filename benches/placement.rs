@@ -24,6 +24,9 @@
 //! The load average is printed: figures from a loaded machine are not idle figures, but the
 //! ratios of one run survive load.
 
+#[path = "common/pinocchio.rs"]
+mod pinocchio;
+
 use printwatt::dynamics::{rnea, rnea_batch, rnea_with_sincos, StateBatch, MAX_DOF};
 use printwatt::energy::{self, EnergyOptions, SamplePower};
 use printwatt::placement::feasibility::FeasibilityOptions;
@@ -510,5 +513,23 @@ fn main() {
         (pf + pi) / (uf + ui),
         (uf + ui) / (pf + pi),
         ui / pi
+    );
+    // The reference of issue 12: Pinocchio's RNEA on the same robot, timed now.
+    let urdf = root.join("robots/abb_irb6700_200_260/robot.urdf");
+    println!(
+        "{}",
+        pinocchio::ratio_line(
+            &format!("full placement evaluation, 1 thread, {}", names[best]),
+            full_ns,
+            &urdf
+        )
+    );
+    println!(
+        "{}",
+        pinocchio::ratio_line(
+            &format!("feasible sweep, {cores} threads, wall, {}", names[best]),
+            med[4][best],
+            &urdf
+        )
     );
 }

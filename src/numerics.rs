@@ -153,14 +153,149 @@ pub fn differentiate_uniform_into(
     qd: &mut Vec<f64>,
     qdd: &mut Vec<f64>,
 ) {
+    differentiate_uniform_into_on(q, n, dt, qd, qdd, crate::simd::level());
+}
+
+/// [`differentiate_uniform_into`] on the instruction-set level `level`
+/// ([`crate::simd::Level`]): [`crate::simd::Level::Scalar`] runs the per-sample formulas
+/// sample by sample and channel by channel (the reference); every other level computes the
+/// interior samples row by row as one three-point stencil over the row-major array (sample
+/// `k` channel `j` is entry `k n + j`, its neighbours `± n` entries away), vectorised for the
+/// level. Each entry takes the same operations in the same order, so every level gives the
+/// reference's values bit for bit. Every entry is written, so the buffers are not cleared
+/// first (a reused buffer of the right length is not zeroed).
+pub fn differentiate_uniform_into_on(
+    q: &[f64],
+    n: usize,
+    dt: f64,
+    qd: &mut Vec<f64>,
+    qdd: &mut Vec<f64>,
+    level: crate::simd::Level,
+) {
     let len = q.len().checked_div(n).unwrap_or(0);
-    qd.clear();
     qd.resize(len * n, 0.0);
-    qdd.clear();
     qdd.resize(len * n, 0.0);
-    if dt > 0.0 && dt.is_finite() {
-        fill_derivatives(Grid::Uniform { dt, len }, &q[..len * n], n, qd, qdd);
+    let q = &q[..len * n];
+    let valid = dt > 0.0 && dt.is_finite();
+    if !valid || len < 3 {
+        // Not every entry is written below (two samples: no acceleration).
+        qd.fill(0.0);
+        qdd.fill(0.0);
+        if valid {
+            fill_derivatives(Grid::Uniform { dt, len }, q, n, qd, qdd);
+        }
+        return;
     }
+    if level == crate::simd::Level::Scalar {
+        fill_derivatives(Grid::Uniform { dt, len }, q, n, qd, qdd);
+        return;
+    }
+    let w = uniform_weights(dt);
+    // The first and last samples (one-sided windows), as fill_derivatives computes them.
+    for (k, c, (d1, d2)) in [(0, 1, w[0]), (len - 1, len - 2, w[2])] {
+        for j in 0..n {
+            let f = [q[(c - 1) * n + j], q[c * n + j], q[(c + 1) * n + j]];
+            qd[k * n + j] = d1[0] * f[0] + d1[1] * f[1] + d1[2] * f[2];
+            qdd[k * n + j] = d2[0] * f[0] + d2[1] * f[1] + d2[2] * f[2];
+        }
+    }
+    // Interior samples 1 ..= len − 2: entry i from entries i − n, i, i + n.
+    let (d1, d2) = w[1];
+    let inner = n..(len - 1) * n;
+    let lo = &q[..(len - 2) * n];
+    let mid = &q[n..(len - 1) * n];
+    let hi = &q[2 * n..];
+    let (od, odd) = (&mut qd[inner.clone()], &mut qdd[inner]);
+    match level {
+        #[cfg(target_arch = "x86_64")]
+        crate::simd::Level::Avx512 if crate::simd::Level::Avx512.available() => {
+            // SAFETY: the CPU has AVX-512F (checked just above).
+            unsafe { stencil3_avx512(lo, mid, hi, d1, d2, od, odd) }
+        }
+        #[cfg(target_arch = "x86_64")]
+        crate::simd::Level::Avx2 if crate::simd::Level::Avx2.available() => {
+            // SAFETY: the CPU has AVX2 and FMA (checked just above).
+            unsafe { stencil3_avx2(lo, mid, hi, d1, d2, od, odd) }
+        }
+        _ => stencil3(lo, mid, hi, d1, d2, od, odd),
+    }
+}
+
+/// `od[i] = d1·(lo, mid, hi)[i]` and `odd[i] = d2·(…)[i]`, each as `w0·a + w1·b + w2·c`
+/// evaluated left to right (fill_derivatives' expression).
+#[inline(always)]
+fn stencil3(
+    lo: &[f64],
+    mid: &[f64],
+    hi: &[f64],
+    d1: [f64; 3],
+    d2: [f64; 3],
+    od: &mut [f64],
+    odd: &mut [f64],
+) {
+    let it = od
+        .iter_mut()
+        .zip(odd.iter_mut())
+        .zip(lo.iter().zip(mid).zip(hi));
+    for ((v, a), ((&f0, &f1), &f2)) in it {
+        *v = d1[0] * f0 + d1[1] * f1 + d1[2] * f2;
+        *a = d2[0] * f0 + d2[1] * f1 + d2[2] * f2;
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn stencil3_avx512(
+    lo: &[f64],
+    mid: &[f64],
+    hi: &[f64],
+    d1: [f64; 3],
+    d2: [f64; 3],
+    od: &mut [f64],
+    odd: &mut [f64],
+) {
+    stencil3(lo, mid, hi, d1, d2, od, odd)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn stencil3_avx2(
+    lo: &[f64],
+    mid: &[f64],
+    hi: &[f64],
+    d1: [f64; 3],
+    d2: [f64; 3],
+    od: &mut [f64],
+    odd: &mut [f64],
+) {
+    stencil3(lo, mid, hi, d1, d2, od, odd)
+}
+
+/// Lagrange basis derivatives at `x` for the nodes `ts`: `d1` (first), `d2` (second,
+/// constant).
+#[inline]
+fn lagrange_weights(ts: [f64; 3], x: f64) -> ([f64; 3], [f64; 3]) {
+    let mut d1 = [0.0; 3];
+    let mut d2 = [0.0; 3];
+    for a in 0..3 {
+        let (b, c) = ((a + 1) % 3, (a + 2) % 3);
+        let den = (ts[a] - ts[b]) * (ts[a] - ts[c]);
+        d1[a] = ((x - ts[b]) + (x - ts[c])) / den;
+        d2[a] = 2.0 / den;
+    }
+    (d1, d2)
+}
+
+/// On a uniform grid (`dt` s) the weights depend only on where the sample sits in its
+/// window: the first sample, an interior one, the last.
+#[allow(clippy::type_complexity)]
+fn uniform_weights(dt: f64) -> [([f64; 3], [f64; 3]); 3] {
+    let ts = [0.0, dt, 2.0 * dt];
+    [
+        lagrange_weights(ts, 0.0),
+        lagrange_weights(ts, dt),
+        lagrange_weights(ts, 2.0 * dt),
+    ]
 }
 
 /// The body of [`differentiate`]: `qd`, `qdd` zeroed and of length `len × n`, the grid
@@ -179,32 +314,16 @@ fn fill_derivatives(grid: Grid<'_>, q: &[f64], n: usize, qd: &mut [f64], qdd: &m
         }
         return;
     }
-    // Lagrange basis derivatives at x for nodes ts: d1 (first), d2 (second, constant).
-    let weights = |ts: [f64; 3], x: f64| {
-        let mut d1 = [0.0; 3];
-        let mut d2 = [0.0; 3];
-        for a in 0..3 {
-            let (b, c) = ((a + 1) % 3, (a + 2) % 3);
-            let den = (ts[a] - ts[b]) * (ts[a] - ts[c]);
-            d1[a] = ((x - ts[b]) + (x - ts[c])) / den;
-            d2[a] = 2.0 / den;
-        }
-        (d1, d2)
-    };
-    // On a uniform grid the weights depend only on where the sample sits in its window: the
-    // first sample, an interior one, the last. Computed once.
+    // On a uniform grid the weights are computed once (see uniform_weights).
     let uniform = match grid {
-        Grid::Uniform { dt, .. } => {
-            let ts = [0.0, dt, 2.0 * dt];
-            Some([weights(ts, 0.0), weights(ts, dt), weights(ts, 2.0 * dt)])
-        }
+        Grid::Uniform { dt, .. } => Some(uniform_weights(dt)),
         Grid::Times(_) => None,
     };
     for k in 0..len {
         let c = k.clamp(1, len - 2);
         let (d1, d2) = match &uniform {
             Some(w) => w[1 + k - c],
-            None => weights([grid.t(c - 1), grid.t(c), grid.t(c + 1)], grid.t(k)),
+            None => lagrange_weights([grid.t(c - 1), grid.t(c), grid.t(c + 1)], grid.t(k)),
         };
         for j in 0..n {
             let f = [q[(c - 1) * n + j], q[c * n + j], q[(c + 1) * n + j]];
@@ -401,6 +520,63 @@ mod tests {
         assert!((a.0 / b.0 - 4.0).abs() < 0.1, "{a:?} {b:?}");
         assert!((a.1 / b.1 - 4.0).abs() < 0.1, "{a:?} {b:?}");
         assert!(a.0 < 2e-3 && a.1 < 5e-3, "{a:?}");
+    }
+
+    #[test]
+    fn row_stencil_derivatives_equal_the_per_sample_formulas_bit_for_bit_on_every_level() {
+        // Every length from 0 to 40 samples and a long one, 1 to 7 channels, steps of
+        // several sizes (and a bad one), into fresh buffers and into reused ones of another
+        // length holding garbage: every SIMD level writes the per-sample formulas' values
+        // (the scalar level, and differentiate on the same uniform grid) to the bit.
+        let mut s = 7u64;
+        let mut u = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            2.0 * ((s >> 11) as f64 / (1u64 << 53) as f64) - 1.0
+        };
+        let levels: Vec<_> = crate::simd::Level::ALL
+            .into_iter()
+            .filter(|l| l.available())
+            .collect();
+        for n in 1..=7 {
+            for len in (0..=40).chain([1001]) {
+                let q: Vec<f64> = (0..len * n).map(|_| 3.0 * u()).collect();
+                for dt in [0.004, 1e-3 / 3.0, 0.25, 0.0] {
+                    let (mut wd, mut wdd) = (Vec::new(), Vec::new());
+                    differentiate_uniform_into_on(
+                        &q,
+                        n,
+                        dt,
+                        &mut wd,
+                        &mut wdd,
+                        crate::simd::Level::Scalar,
+                    );
+                    if dt > 0.0 {
+                        let (d, dd) = differentiate(Grid::Uniform { dt, len }, &q, n).unwrap();
+                        assert_eq!(
+                            d.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+                            wd.iter().map(|v| v.to_bits()).collect::<Vec<_>>()
+                        );
+                        assert_eq!(
+                            dd.iter().map(|v| v.to_bits()).collect::<Vec<_>>(),
+                            wdd.iter().map(|v| v.to_bits()).collect::<Vec<_>>()
+                        );
+                    }
+                    for &level in &levels {
+                        for garbage in [0usize, len * n / 2, len * n, len * n + 5] {
+                            let mut qd = vec![f64::NAN; garbage];
+                            let mut qdd = vec![-1.0; garbage];
+                            differentiate_uniform_into_on(&q, n, dt, &mut qd, &mut qdd, level);
+                            let bits =
+                                |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                            assert_eq!(bits(&qd), bits(&wd), "n={n} len={len} dt={dt} {level:?}");
+                            assert_eq!(bits(&qdd), bits(&wdd), "n={n} len={len} dt={dt} {level:?}");
+                        }
+                    }
+                }
+            }
+        }
     }
 
     #[test]

@@ -813,3 +813,89 @@ fn precomputed_joint_checks_equal_the_per_sample_joint_check_and_leave_the_same_
         );
     }
 }
+
+#[test]
+fn timing_a_path_gives_the_same_trajectory_slowdowns_and_failures_on_every_level() {
+    // The joint stage's derivatives (row stencils) and limit checks (screened in lockstep)
+    // against the per-sample path: robots with and without a closed form, two paths, the
+    // drives' limits as shipped and lowered so that the controller slows down (and, lowered
+    // far, fails): the same joint trajectory to the bit, the same slow-downs and rounds, the
+    // same failure.
+    use printwatt::kinematics::IkSolver;
+    use printwatt::timing::{self, blend_path, JointStageOptions, ProfileOptions};
+    use printwatt::toolpath::Placement;
+    let _g = LEVEL_LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    let (mut slowed, mut failed, mut plain) = (0, 0, 0);
+    let cases = [
+        (
+            "abb_irb6700_200_260",
+            Placement::new(1.7, 0.0, 0.0, 90f64.to_radians()),
+        ),
+        (
+            "abb_irb4600_40_255",
+            Placement::new(1.4, 0.0, 0.3, 90f64.to_radians()),
+        ),
+        (
+            "staubli_tx200",
+            Placement::new(1.2, 0.0, 0.3, 90f64.to_radians()),
+        ),
+        ("ur10e", Placement::new(0.7, 0.0, 0.2, 90f64.to_radians())),
+    ];
+    for (name, at) in cases {
+        for path in ["seed000_test_path.gcode", "default.gcode"] {
+            let tp = common::path(path);
+            let moves = timing::moves_from_toolpath(&tp);
+            let pieces = blend_path(&moves);
+            for scale in [1.0, 0.5, 0.2, 0.02] {
+                let mut model = common::robot(name);
+                for j in &mut model.joints {
+                    j.velocity_limit *= scale;
+                    j.acceleration_limit *= scale;
+                    j.jerk_limit *= scale;
+                }
+                let solver = IkSolver::new(&model).unwrap();
+                let run = |level: Level| {
+                    assert!(simd::set_level(level));
+                    timing::time_at(
+                        &solver,
+                        &pieces,
+                        &|i| moves[i].line,
+                        &at,
+                        &ProfileOptions::default(),
+                        &JointStageOptions::default(),
+                    )
+                };
+                let want = run(Level::Scalar);
+                match &want {
+                    Ok(t) if t.rounds > 1 => slowed += 1,
+                    Ok(_) => plain += 1,
+                    Err(_) => failed += 1,
+                }
+                for level in levels() {
+                    let got = run(level);
+                    let what = format!("{name} {path} limits x{scale} {level:?}");
+                    match (&got, &want) {
+                        (Ok(g), Ok(w)) => {
+                            assert_eq!(bits(&g.traj.q), bits(&w.traj.q), "{what}");
+                            assert_eq!(bits(&g.traj.qd), bits(&w.traj.qd), "{what}");
+                            assert_eq!(bits(&g.traj.qdd), bits(&w.traj.qdd), "{what}");
+                            assert_eq!(g.slowdowns, w.slowdowns, "{what}");
+                            assert_eq!(g.rounds, w.rounds, "{what}");
+                            assert_eq!(g.accel_factor.to_bits(), w.accel_factor.to_bits());
+                        }
+                        (Err(g), Err(w)) => {
+                            assert_eq!(format!("{g:?}"), format!("{w:?}"), "{what}")
+                        }
+                        _ => panic!("{what}: {got:?} vs {want:?}"),
+                    }
+                }
+            }
+        }
+    }
+    simd::set_level(simd::detected());
+    assert!(
+        slowed >= 2 && failed >= 1 && plain >= 2,
+        "{slowed} slowed, {failed} failed, {plain} plain"
+    );
+}

@@ -350,7 +350,11 @@ struct Violation {
 
 /// Every (sample, joint, limit) over its limit, from the positions `q` (for the jerk,
 /// [`crate::numerics::third_derivative_uniform_at`], computed where needed rather than
-/// stored) and the derivatives `qd`, `qdd` (row-major, `dt` s apart).
+/// stored) and the derivatives `qd`, `qdd` (row-major, `dt` s apart), in the order sample,
+/// joint, kind. On a SIMD level ([`crate::simd::Level`]) the interior samples are screened
+/// first in lockstep ([`screen_rows`]: the same values and comparisons, no list); only the
+/// samples of a block that has an excess go through the per-sample checks, so the list is the
+/// per-sample path's ([`crate::simd::Level::Scalar`]) exactly.
 fn violations(
     model: &RobotModel,
     q: &[f64],
@@ -358,9 +362,89 @@ fn violations(
     qdd: &[f64],
     dt: f64,
     check_jerk: bool,
+    level: crate::simd::Level,
 ) -> Vec<Violation> {
     let n = model.dof();
     let mut out = Vec::new();
+    let m = qd.len() / n;
+    let row = |k: usize, out: &mut Vec<Violation>| {
+        row_violations(model, q, qd, qdd, dt, check_jerk, k, out)
+    };
+    if level == crate::simd::Level::Scalar || !check_jerk || m < 5 {
+        for k in 0..m {
+            row(k, &mut out);
+        }
+        return out;
+    }
+    // Rows 0, 1 and m − 2, m − 1 (the jerk clamped to the interior) per sample; rows
+    // 2 ..= m − 3 screened in blocks of SCREEN_BLOCK entries, each row of a block with an
+    // excess checked per sample once.
+    let limits = |f: fn(&crate::robot::Joint) -> f64| -> Vec<f64> {
+        // A limit the per-sample check skips (not finite) never binds: +∞.
+        let lim: Vec<f64> = model
+            .joints
+            .iter()
+            .map(|j| {
+                let l = f(j);
+                if l.is_finite() {
+                    l
+                } else {
+                    f64::INFINITY
+                }
+            })
+            .collect();
+        (0..n + SCREEN_BLOCK).map(|t| lim[t % n]).collect()
+    };
+    let lims = [
+        limits(|j| j.velocity_limit),
+        limits(|j| j.acceleration_limit),
+        limits(|j| j.jerk_limit),
+    ];
+    row(0, &mut out);
+    row(1, &mut out);
+    let (first, end) = (2 * n, (m - 2) * n);
+    let mut next_row = 2;
+    let mut i0 = first;
+    while i0 + SCREEN_BLOCK <= end {
+        let o = i0 % n;
+        let lim = [
+            &lims[0][o..o + SCREEN_BLOCK],
+            &lims[1][o..o + SCREEN_BLOCK],
+            &lims[2][o..o + SCREEN_BLOCK],
+        ];
+        if screen_rows(q, qd, qdd, n, dt, i0, lim, level) {
+            let last = (i0 + SCREEN_BLOCK - 1) / n;
+            for k in next_row.max(i0 / n)..=last {
+                row(k, &mut out);
+            }
+            next_row = last + 1;
+        }
+        i0 += SCREEN_BLOCK;
+    }
+    // The rows of the rest, then the last two.
+    for k in next_row.max(i0 / n)..m {
+        row(k, &mut out);
+    }
+    out
+}
+
+/// Entries screened at once by [`screen_rows`].
+const SCREEN_BLOCK: usize = 64;
+
+/// The per-sample checks of sample `k` ([`violations`]), appended to `out`.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn row_violations(
+    model: &RobotModel,
+    q: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+    dt: f64,
+    check_jerk: bool,
+    k: usize,
+    out: &mut Vec<Violation>,
+) {
+    let n = model.dof();
     let m = qd.len() / n;
     let jerk = |k: usize, j: usize| {
         if check_jerk && m >= 5 {
@@ -369,38 +453,108 @@ fn violations(
             0.0
         }
     };
-    for k in 0..m {
-        for (j, jt) in model.joints.iter().enumerate() {
-            let checks = [
-                (LimitKind::Velocity, qd[k * n + j], jt.velocity_limit),
-                (
-                    LimitKind::Acceleration,
-                    qdd[k * n + j],
-                    jt.acceleration_limit,
-                ),
-                (
-                    LimitKind::Jerk,
-                    if jt.jerk_limit.is_finite() {
-                        jerk(k, j)
-                    } else {
-                        0.0
-                    },
-                    jt.jerk_limit,
-                ),
-            ];
-            for (kind, v, lim) in checks {
-                if lim.is_finite() && v.abs() > lim {
-                    out.push(Violation {
-                        joint: j,
-                        kind,
-                        sample: k,
-                        ratio: v.abs() / lim,
-                    });
-                }
+    for (j, jt) in model.joints.iter().enumerate() {
+        let checks = [
+            (LimitKind::Velocity, qd[k * n + j], jt.velocity_limit),
+            (
+                LimitKind::Acceleration,
+                qdd[k * n + j],
+                jt.acceleration_limit,
+            ),
+            (
+                LimitKind::Jerk,
+                if jt.jerk_limit.is_finite() {
+                    jerk(k, j)
+                } else {
+                    0.0
+                },
+                jt.jerk_limit,
+            ),
+        ];
+        for (kind, v, lim) in checks {
+            if lim.is_finite() && v.abs() > lim {
+                out.push(Violation {
+                    joint: j,
+                    kind,
+                    sample: k,
+                    ratio: v.abs() / lim,
+                });
             }
         }
     }
-    out
+}
+
+/// Whether any of the [`SCREEN_BLOCK`] row-major entries from `i0` (all in rows
+/// 2 ..= m − 3) is over its limit (`lim`: velocity, acceleration and jerk limits of those
+/// entries, +∞ where none applies): `|q̇| > lim`, `|q̈| > lim`, and the jerk of
+/// [`crate::numerics::third_derivative_uniform_at`] (the same operations in the same order,
+/// entry `i`'s neighbours `± n`, `± 2n` entries away), vectorised for `level`.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn screen_rows(
+    q: &[f64],
+    qd: &[f64],
+    qdd: &[f64],
+    n: usize,
+    dt: f64,
+    i0: usize,
+    lim: [&[f64]; 3],
+    level: crate::simd::Level,
+) -> bool {
+    let b = SCREEN_BLOCK;
+    let qs = [
+        &q[i0 - 2 * n..][..b],
+        &q[i0 - n..][..b],
+        &q[i0 + n..][..b],
+        &q[i0 + 2 * n..][..b],
+    ];
+    let (v, a) = (&qd[i0..i0 + b], &qdd[i0..i0 + b]);
+    match level {
+        #[cfg(target_arch = "x86_64")]
+        crate::simd::Level::Avx512 if crate::simd::Level::Avx512.available() => {
+            // SAFETY: the CPU has AVX-512F (checked just above).
+            unsafe { screen_avx512(qs, v, a, dt, lim) }
+        }
+        #[cfg(target_arch = "x86_64")]
+        crate::simd::Level::Avx2 if crate::simd::Level::Avx2.available() => {
+            // SAFETY: the CPU has AVX2 and FMA (checked just above).
+            unsafe { screen_avx2(qs, v, a, dt, lim) }
+        }
+        _ => screen(qs, v, a, dt, lim),
+    }
+}
+
+/// The body of [`screen_rows`]: `qs` the positions 2 rows before, 1 before, 1 after and 2
+/// after each entry; `v`, `a` its velocity and acceleration.
+#[inline(always)]
+fn screen(qs: [&[f64]; 4], v: &[f64], a: &[f64], dt: f64, lim: [&[f64]; 3]) -> bool {
+    use crate::simd::LANES;
+    let b = SCREEN_BLOCK;
+    let (qm2, qm1, qp1, qp2) = (&qs[0][..b], &qs[1][..b], &qs[2][..b], &qs[3][..b]);
+    let (v, a) = (&v[..b], &a[..b]);
+    let (lv, la, lj) = (&lim[0][..b], &lim[1][..b], &lim[2][..b]);
+    let den = 2.0 * dt * dt * dt;
+    let mut over = [false; LANES];
+    for c in (0..b).step_by(LANES) {
+        for (l, o) in over.iter_mut().enumerate() {
+            let i = c + l;
+            let jerk = (qp2[i] - 2.0 * qp1[i] + 2.0 * qm1[i] - qm2[i]) / den;
+            *o |= (v[i].abs() > lv[i]) | (a[i].abs() > la[i]) | (jerk.abs() > lj[i]);
+        }
+    }
+    over.iter().any(|&o| o)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn screen_avx512(qs: [&[f64]; 4], v: &[f64], a: &[f64], dt: f64, lim: [&[f64]; 3]) -> bool {
+    screen(qs, v, a, dt, lim)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn screen_avx2(qs: [&[f64]; 4], v: &[f64], a: &[f64], dt: f64, lim: [&[f64]; 3]) -> bool {
+    screen(qs, v, a, dt, lim)
 }
 
 /// Rates of the (filtered) arc length `s` (m, `dt` s apart) at sample `k`: (ṡ m/s, s̈ m/s²,
@@ -727,12 +881,14 @@ pub fn time_path_planned(
             *buf = tracked;
             return Err(e);
         }
-        crate::numerics::differentiate_uniform_into(
+        let level = crate::simd::level();
+        crate::numerics::differentiate_uniform_into_on(
             &tracked.qs,
             n,
             motion.dt,
             &mut tracked.qd,
             &mut tracked.qdd,
+            level,
         );
         let viol = violations(
             model,
@@ -741,6 +897,7 @@ pub fn time_path_planned(
             &tracked.qdd,
             motion.dt,
             jopts.check_jerk,
+            level,
         );
         if viol.is_empty() {
             let mut traj = JointTrajectory::new(n);
@@ -1049,6 +1206,108 @@ mod tests {
     /// The sample of `motion` nearest arc length `s`, m.
     fn sample_at(motion: &CartesianMotion, s: f64) -> usize {
         motion.s.partition_point(|&x| x < s)
+    }
+
+    /// A deterministic stream in [-1, 1) (xorshift).
+    fn uniform(seed: u64) -> impl FnMut() -> f64 {
+        let mut s = seed.max(1);
+        move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            2.0 * ((s >> 11) as f64 / (1u64 << 53) as f64) - 1.0
+        }
+    }
+
+    #[test]
+    fn limit_checks_screened_in_lockstep_list_the_per_sample_checks_excesses_bit_for_bit() {
+        // Random smooth-ish joint paths of several lengths on three robots, with limits set so
+        // that none, a few and many samples exceed them (and joints without a limit): every
+        // SIMD level lists exactly the per-sample path's excesses, in its order, with the same
+        // ratios to the bit.
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let dt = 0.004;
+        let levels: Vec<_> = crate::simd::Level::ALL
+            .into_iter()
+            .filter(|l| l.available())
+            .collect();
+        for (r, name) in ["abb_irb6700_200_260", "ur10e", "puma560"]
+            .iter()
+            .enumerate()
+        {
+            let base = crate::robot::load(&root.join("robots").join(name)).unwrap();
+            let n = base.dof();
+            for (t, &m) in [3usize, 4, 5, 6, 17, 64, 150, 1001].iter().enumerate() {
+                let mut u = uniform(1 + (r * 10 + t) as u64);
+                let mut q = vec![0.0; m * n];
+                let mut vel = vec![0.0; n];
+                for k in 0..m {
+                    for j in 0..n {
+                        vel[j] += 0.02 * u();
+                        q[k * n + j] = if k == 0 { u() } else { q[(k - 1) * n + j] } + vel[j] * dt;
+                    }
+                }
+                let (mut qd, mut qdd) = (Vec::new(), Vec::new());
+                crate::numerics::differentiate_uniform_into_on(
+                    &q,
+                    n,
+                    dt,
+                    &mut qd,
+                    &mut qdd,
+                    crate::simd::Level::Scalar,
+                );
+                // Limits: each at a quantile of the demand (0.5, 0.95, 1.0, above all) or none.
+                let max_abs = |v: &dyn Fn(usize, usize) -> f64, j: usize| {
+                    (0..m).map(|k| v(k, j).abs()).fold(0.0, f64::max)
+                };
+                let jerk = |k: usize, j: usize| {
+                    if m >= 5 {
+                        crate::numerics::third_derivative_uniform_at(&q, n, dt, k, j)
+                    } else {
+                        0.0
+                    }
+                };
+                for (case, scale) in [0.5, 0.97, 1.0, 2.0, f64::INFINITY].iter().enumerate() {
+                    let mut model = base.clone();
+                    for (j, jt) in model.joints.iter_mut().enumerate() {
+                        let pick = (case + j) % 4;
+                        jt.velocity_limit = scale * max_abs(&|k, j| qd[k * n + j], j);
+                        jt.acceleration_limit = scale * max_abs(&|k, j| qdd[k * n + j], j);
+                        jt.jerk_limit = scale * max_abs(&jerk, j);
+                        match pick {
+                            0 => jt.jerk_limit = f64::INFINITY,
+                            1 => jt.velocity_limit = f64::NAN,
+                            2 => jt.acceleration_limit = f64::NEG_INFINITY,
+                            _ => {}
+                        }
+                    }
+                    for check_jerk in [true, false] {
+                        let want = violations(
+                            &model,
+                            &q,
+                            &qd,
+                            &qdd,
+                            dt,
+                            check_jerk,
+                            crate::simd::Level::Scalar,
+                        );
+                        if *scale < 1.0 && m >= 5 && check_jerk {
+                            assert!(!want.is_empty(), "{name} m={m} scale={scale}");
+                        }
+                        for &level in &levels {
+                            let got = violations(&model, &q, &qd, &qdd, dt, check_jerk, level);
+                            let key =
+                                |v: &Violation| (v.sample, v.joint, v.kind, v.ratio.to_bits());
+                            assert_eq!(
+                                got.iter().map(key).collect::<Vec<_>>(),
+                                want.iter().map(key).collect::<Vec<_>>(),
+                                "{name} m={m} scale={scale} jerk={check_jerk} {level:?}"
+                            );
+                        }
+                    }
+                }
+            }
+        }
     }
 
     #[test]
