@@ -632,7 +632,7 @@ fn the_prefiltered_collision_check_and_the_shortcut_poses_equal_the_plain_ones_a
         (1.7, 0.0, 0.0, 90.0),
         (1.3, 0.3, -0.3, 0.0),
     ] {
-        let at = Placement::new(x, y, z, (yaw_deg as f64).to_radians());
+        let at = Placement::new(x, y, z, f64::to_radians(yaw_deg));
         let Ok(Ok(full)) = job.evaluate(&at) else {
             continue;
         };
