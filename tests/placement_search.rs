@@ -399,6 +399,62 @@ fn an_evaluation_beside_a_guess_is_the_plain_evaluation_and_an_unwanted_guess_is
     }
 }
 
+#[test]
+fn a_sweep_until_the_first_infeasible_placement_gives_every_evaluation_up_to_it_bit_for_bit() {
+    // Evaluator::sweep_until (a tolerance check's corners: each thread takes the next corner
+    // as it is free; the first infeasible one abandons those after it): every entry up to the
+    // first accepted placement is the plain evaluation bit for bit, on 1 and 2 threads; on one
+    // thread nothing after it is evaluated; an entry after it, when present, is the plain
+    // evaluation too; with none accepted, every entry is there.
+    let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
+    let j = job(&model, &tp, 8);
+    let ev = Evaluator::new(&j, FeasibilityOptions::default(), Objective::Supply);
+    let y90 = std::f64::consts::FRAC_PI_2;
+    let feasible = [
+        Placement::new(1.534, 0.121, 0.0, y90),
+        Placement::new(1.534, -0.121, 0.0, y90),
+        Placement::new(1.44, 0.121, 0.0, y90),
+    ];
+    let unreachable = Placement::new(0.5, -2.0, 0.0, 0.0);
+    let mut ps = feasible.to_vec();
+    ps.push(unreachable);
+    ps.extend(feasible);
+    let plain = pool(1).install(|| ev.sweep(&ps, &|_, _| {}).unwrap());
+    assert!(plain[..3].iter().all(|e| e.cost().is_finite()));
+    assert!(!plain[3].cost().is_finite());
+    let infeasible = |e: &Evaluated| !e.cost().is_finite();
+    for threads in [1, 2] {
+        pool(threads).install(|| {
+            let r = ev.sweep_until(&ps, &infeasible).unwrap();
+            assert_eq!(r.len(), ps.len());
+            for k in 0..=3 {
+                assert_eq!(
+                    r[k].as_ref(),
+                    Some(&plain[k]),
+                    "{threads} threads, entry {k}"
+                );
+            }
+            for (k, e) in r.iter().enumerate().skip(4) {
+                if threads == 1 {
+                    assert!(
+                        e.is_none(),
+                        "one thread: entry {k} evaluated after the first"
+                    );
+                }
+                if let Some(e) = e {
+                    assert_eq!(e, &plain[k]);
+                }
+            }
+            let all = ev.sweep_until(&feasible, &infeasible).unwrap();
+            assert_eq!(
+                all.into_iter().map(Option::unwrap).collect::<Vec<_>>(),
+                plain[..3].to_vec()
+            );
+            assert!(ev.sweep_until(&[], &infeasible).unwrap().is_empty());
+        });
+    }
+}
+
 // --- Fast tolerance checks (issue 12: `optimise` faster, same answer) ----------------------
 
 /// The main job's search options: the default grid's box, z from 0 to R/2, ±20 mm / ±1°.

@@ -923,6 +923,74 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         (a, b)
     }
 
+    /// Evaluate `placements` in their order until the first one that `stop` accepts: as many
+    /// at once as the current pool has threads, each thread taking the next placement not yet
+    /// started (no batch waits for its slowest member). Once placement `i` is evaluated and
+    /// `stop` accepts it, the placements after `i` are not started, and those under way are
+    /// abandoned where they stand ([`Evaluator::evaluate_with_guess`]'s mechanism).
+    ///
+    /// Entry `k` of the result is `Some` (the evaluation of [`Evaluator::evaluate`], bit for
+    /// bit) for every `k` up to the first accepted placement (or for all, when none is
+    /// accepted); after it, an entry is `Some` only when that evaluation finished before it
+    /// could be abandoned (work ahead of need, which depends on timing; on one thread there is
+    /// none). Which placements are accepted, and every entry up to the first, do not depend on
+    /// the thread count.
+    pub fn sweep_until(
+        &self,
+        placements: &[Placement],
+        stop: &(dyn Fn(&Evaluated) -> bool + Sync),
+    ) -> Result<Vec<Option<Evaluated>>> {
+        // Fail early (once) if the model cannot be solved at all.
+        if self.pooled().sc.is_none() {
+            drop(self.scratch()?);
+        }
+        let n = placements.len();
+        let next = AtomicUsize::new(0);
+        // The first accepted index so far (`n`: none).
+        let first = AtomicUsize::new(n);
+        let cancel: Vec<AtomicBool> = (0..n).map(|_| AtomicBool::new(false)).collect();
+        let out: Vec<std::sync::Mutex<Option<Evaluated>>> =
+            (0..n).map(|_| std::sync::Mutex::new(None)).collect();
+        let worker = || loop {
+            let i = next.fetch_add(1, Ordering::SeqCst);
+            if i >= n || i > first.load(Ordering::SeqCst) {
+                break;
+            }
+            let Some(e) = self.evaluate_pooled(&placements[i], Some(&cancel[i])) else {
+                continue;
+            };
+            if stop(&e) && first.fetch_min(i, Ordering::SeqCst) > i {
+                for c in &cancel[i + 1..] {
+                    c.store(true, Ordering::SeqCst);
+                }
+            }
+            if let Ok(mut slot) = out[i].lock() {
+                *slot = Some(e);
+            }
+        };
+        let workers = rayon::current_num_threads().clamp(1, n.max(1));
+        let worker = &worker;
+        rayon::scope(|s| {
+            for _ in 1..workers {
+                s.spawn(move |_| worker());
+            }
+            worker();
+        });
+        let f = first.load(Ordering::SeqCst);
+        let mut r: Vec<Option<Evaluated>> = out
+            .into_iter()
+            .map(|m| m.into_inner().unwrap_or_else(|p| p.into_inner()))
+            .collect();
+        // Never abandoned without the flag: an entry up to the first accepted one that is
+        // missing (it cannot be) is evaluated here.
+        for (k, e) in r.iter_mut().enumerate().take(f.saturating_add(1).min(n)) {
+            if e.is_none() {
+                *e = self.evaluate_pooled(&placements[k], None);
+            }
+        }
+        Ok(r)
+    }
+
     /// Evaluate many placements in parallel (rayon, current pool), in input order.
     /// `progress(done, total)` is called after each placement (from any thread).
     pub fn sweep(

@@ -183,9 +183,11 @@ fn key(p: &Placement) -> [u64; 5] {
 ///   does not need the others); the order is [`Tolerance::corners`]' with the corner that
 ///   failed the last failing check moved to the front (a tolerance box that fails usually fails
 ///   on the same side again: toward a joint limit, into the bed);
-/// - corners are evaluated as many at once as the current rayon pool has threads; corners
-///   after the first failure in such a batch were evaluated for nothing (on one thread there
-///   are none): they are counted as speculative, never reported;
+/// - corners are evaluated as many at once as the current rayon pool has threads, each thread
+///   taking the next corner in the order as soon as it is free ([`Evaluator::sweep_until`]);
+///   the first infeasible corner abandons those after it where they stand, and one that
+///   finished first was evaluated for nothing (on one thread there are none): it is counted as
+///   speculative, never reported;
 /// - every evaluation is kept by placement (bit for bit), so a placement is never evaluated
 ///   twice (two candidates that are the same point, a corner evaluated ahead of need).
 ///
@@ -329,7 +331,8 @@ impl<'e, 'j, 'a> Checker<'e, 'j, 'a> {
     }
 
     /// Check `at`'s tolerance box: the corners in this checker's order, as many at once as
-    /// the pool has threads, up to the first infeasible one.
+    /// the pool has threads (no batch waits for its slowest corner), up to the first
+    /// infeasible one, which abandons the corners under way after it.
     pub fn check(&self, at: &Placement) -> Result<ToleranceCheck> {
         if self.plain {
             let c = check(self.ev, at, &self.tol)?;
@@ -341,22 +344,47 @@ impl<'e, 'j, 'a> Checker<'e, 'j, 'a> {
         }
         let order = self.order.borrow().clone();
         let cs = self.tol.corners(at);
-        let width = rayon::current_num_threads().max(1);
-        let mut r = Vec::with_capacity(16);
-        for chunk in order.chunks(width) {
-            let ps: Vec<Placement> = chunk.iter().map(|&i| cs[i]).collect();
-            self.ensure(&ps)?;
-            for (&i, p) in chunk.iter().zip(&ps) {
-                let e = self.take(p);
-                let failed = !e.cost().is_finite();
-                r.push(e);
-                if failed {
-                    // Try this corner first next time.
-                    let mut o = self.order.borrow_mut();
-                    o.retain(|&j| j != i);
-                    o.insert(0, i);
-                    return Ok(summarise(&self.tol, &r));
+        // The corners not kept yet, in the check's order, up to the first kept infeasible one
+        // (the check ends there): evaluated as many at once as the pool has threads, each
+        // thread taking the next corner as it is free, until the first infeasible one in this
+        // order, which abandons those after it.
+        let todo: Vec<Placement> = {
+            let cache = self.cache.borrow();
+            let mut seen = HashSet::new();
+            let mut v = Vec::new();
+            for &i in &order {
+                match cache.get(&key(&cs[i])) {
+                    Some(e) if !e.cost().is_finite() => break,
+                    Some(_) => {}
+                    None => {
+                        if seen.insert(key(&cs[i])) {
+                            v.push(cs[i]);
+                        }
+                    }
                 }
+            }
+            v
+        };
+        if !todo.is_empty() {
+            let done = self.ev.sweep_until(&todo, &|e| !e.cost().is_finite())?;
+            let mut cache = self.cache.borrow_mut();
+            for e in done.into_iter().flatten() {
+                self.made.set(self.made.get() + 1);
+                cache.insert(key(&e.placement), e);
+            }
+        }
+        // The check itself, in order, from the kept evaluations.
+        let mut r = Vec::with_capacity(16);
+        for &i in &order {
+            let e = self.take(&cs[i]);
+            let failed = !e.cost().is_finite();
+            r.push(e);
+            if failed {
+                // Try this corner first next time.
+                let mut o = self.order.borrow_mut();
+                o.retain(|&j| j != i);
+                o.insert(0, i);
+                return Ok(summarise(&self.tol, &r));
             }
         }
         Ok(summarise(&self.tol, &r))
