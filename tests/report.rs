@@ -424,3 +424,32 @@ fn infeasible_cells_are_summarised_by_reason_with_details_collapsed() {
         .count();
     assert_eq!(rows_in_details, n_inf + 1);
 }
+
+#[test]
+fn the_report_files_made_at_once_are_those_made_one_by_one() {
+    // RunReport::write_into makes summary.json, placements.csv and report.html at once where
+    // the pool has threads free: each file is byte for byte what its own method makes, on 1
+    // and 2 threads.
+    let rep = report();
+    for threads in [1, 2] {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        let dir = std::env::temp_dir().join(format!(
+            "pw-report-at-once-{}-{threads}",
+            std::process::id()
+        ));
+        let _ = std::fs::remove_dir_all(&dir);
+        pool.install(|| rep.write(&dir)).unwrap();
+        let read = |f: &str| std::fs::read_to_string(dir.join(f)).unwrap();
+        assert_eq!(
+            read("summary.json"),
+            rep.summary_json(true).unwrap(),
+            "{threads}"
+        );
+        assert_eq!(read("placements.csv"), rep.placements_csv(), "{threads}");
+        assert_eq!(read("report.html"), rep.html(), "{threads}");
+        let _ = std::fs::remove_dir_all(&dir);
+    }
+}

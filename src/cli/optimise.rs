@@ -439,7 +439,8 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
     };
     let mut written = None;
     if let Some(mut rd) = run_dir.take() {
-        rep.write_into(&mut rd)?;
+        // In the run's pool: its threads make the report's files at once.
+        pool.install(|| rep.write_into(&mut rd))?;
         // Facts of this run, not of its answer: the speculative evaluations of the parallel
         // refinement depend on the thread count.
         let spec = rep

@@ -886,9 +886,15 @@ impl RunReport {
     /// written (commit it afterwards). The numbers are checked to be finite first.
     pub fn write_into(&self, rd: &mut RunDir) -> Result<()> {
         self.check_finite()?;
-        rd.write("summary.json", self.summary_json(true)?.as_bytes())?;
-        rd.write("placements.csv", self.placements_csv().as_bytes())?;
-        rd.write("report.html", self.html().as_bytes())?;
+        // The three files are made at once where the current rayon pool has threads free
+        // (each is made by the same code as alone), then written in the same order.
+        let (summary, (csv, html)) = rayon::join(
+            || self.summary_json(true),
+            || rayon::join(|| self.placements_csv(), || self.html()),
+        );
+        rd.write("summary.json", summary?.as_bytes())?;
+        rd.write("placements.csv", csv.as_bytes())?;
+        rd.write("report.html", html.as_bytes())?;
         Ok(())
     }
 
