@@ -24,17 +24,16 @@ mod pinocchio;
 #[path = "../tests/common/wall.rs"]
 mod wall;
 
-use printwatt::energy::EnergyOptions;
+#[path = "common/setup.rs"]
+mod setup;
+
 use printwatt::placement::feasibility::{reach_m, FeasibilityOptions};
 use printwatt::placement::optimise::{default_grid, OptimiseOptions};
 use printwatt::placement::reduce::{self, ReduceOptions, Reduction};
 use printwatt::placement::search::{self, Bounds, SearchOptions};
 use printwatt::placement::tolerance::Tolerance;
-use printwatt::placement::{Evaluator, Objective, PathJob};
-use printwatt::robot;
-use printwatt::timing::{JointStageOptions, ProfileOptions};
+use printwatt::placement::{Evaluator, Objective};
 use printwatt::toolpath::{self, ReadOptions};
-use std::path::Path;
 use std::time::Instant;
 
 fn main() {
@@ -43,21 +42,15 @@ fn main() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(300);
     let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let model = robot::load(&root.join("robots/abb_irb6700_200_260")).unwrap();
+    let model = setup::robot();
     let t = Instant::now();
     let text = wall::wall_gcode(1800.0, 600.0, 4.0, layers);
     let tp = toolpath::parse_gcode(&text, "wall300.gcode", &ReadOptions::default()).unwrap();
-    let job = PathJob::new(
-        &model,
-        &tp,
-        EnergyOptions::default(),
-        ProfileOptions::default(),
-        JointStageOptions::default(),
-    )
-    .unwrap();
+    let job = setup::job(&model, &tp);
     let samples = job.plan.motion.p.len();
-    let red = Reduction::plan(&job, &tp, ReduceOptions::default()).unwrap();
+    let red = Reduction::plan(&job, &tp, ReduceOptions::default()).unwrap_or_else(|e| {
+        panic!("the wall is not reduced ({e:?}): it needs at least 200,000 samples (PRINTWATT_LAYERS >= 25)")
+    });
     let t_job = t.elapsed().as_secs_f64();
     println!(
         "wall: {} layers ({} repeating, period {}), {} samples at 4 ms ({:.1} h of printing); reading, planning and the reduction plan {:.2} s",
@@ -226,7 +219,7 @@ fn main() {
         chk.summary.layers
     );
     println!(
-        "| optimise, 300-layer wall, 2 threads | {:.1} s | one full evaluation, 1 thread, same run: {:.2} s | {:.1} |",
+        "| optimise, {layers}-layer wall, 2 threads | {:.1} s | one full evaluation, 1 thread, same run: {:.2} s | {:.1} |",
         t_total,
         t_full,
         t_total / t_full
@@ -242,10 +235,10 @@ fn main() {
     println!(
         "{}",
         pinocchio::pass_line(
-            "optimise, 300-layer wall, 2 threads",
+            &format!("optimise, {layers}-layer wall, 2 threads"),
             t_total,
             samples,
-            &root.join("robots/abb_irb6700_200_260/robot.urdf")
+            &setup::robot_dir().join("robot.urdf")
         )
     );
     println!(
