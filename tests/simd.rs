@@ -899,3 +899,72 @@ fn timing_a_path_gives_the_same_trajectory_slowdowns_and_failures_on_every_level
         "{slowed} slowed, {failed} failed, {plain} plain"
     );
 }
+
+#[test]
+fn a_limit_table_fits_joint_vectors_exactly_as_fit_limits_does() {
+    // LimitTable::fit (path IK's per-sample fit, limits gathered once) against fit_limits on
+    // every shipped robot: joint vectors inside, at and beyond the limits (by the tolerance
+    // and by whole turns), wide-range joints past ±π from their reference, infinite entries
+    // (not NaN: fit_limits panics in `clamp` on a NaN angle, and so does the table), no
+    // reference, a short reference, a short vector: the same fitted vector to the bit and the
+    // same error.
+    use printwatt::kinematics::{fit_limits, LimitTable};
+    let mut u = uniform(11);
+    let mut fitted = 0;
+    for name in [
+        "abb_irb6700_200_260",
+        "abb_irb4600_40_255",
+        "staubli_tx200",
+        "ur10e",
+        "puma560",
+    ] {
+        let model = common::robot(name);
+        let n = model.dof();
+        let table = LimitTable::new(&model);
+        for case in 0..4000 {
+            let mut q: Vec<f64> = model
+                .joints
+                .iter()
+                .map(|j| {
+                    let (lo, hi) = (j.lower.max(-10.0), j.upper.min(10.0));
+                    let mid = 0.5 * (lo + hi);
+                    let half = 0.5 * (hi - lo);
+                    match case % 7 {
+                        0 => mid + 0.99 * half * u(),
+                        1 => mid + 1.3 * half * u(),
+                        2 => {
+                            if u() > 0.0 {
+                                hi + 2e-9 * u()
+                            } else {
+                                lo + 2e-9 * u()
+                            }
+                        }
+                        3 => mid + 0.9 * half * u() + std::f64::consts::TAU * (3.0 * u()).round(),
+                        4 => std::f64::consts::PI * u() * 1.2,
+                        5 => [f64::NEG_INFINITY, f64::INFINITY, 0.5, -0.5][(case / 7) % 4],
+                        _ => 20.0 * u(),
+                    }
+                })
+                .collect();
+            let r: Vec<f64> = q.iter().map(|v| v + 4.0 * u()).collect();
+            if case % 11 == 0 {
+                q.truncate(n - 1);
+            }
+            let refs: [Option<&[f64]>; 3] = [None, Some(&r), Some(&r[..n / 2])];
+            for q_ref in refs {
+                let (mut a, mut b) = (q.clone(), q.clone());
+                let want = fit_limits(&model, &mut a, q_ref);
+                let got = table.fit(&model, &mut b, q_ref);
+                assert_eq!(
+                    format!("{got:?}"),
+                    format!("{want:?}"),
+                    "{name} {q:?} {q_ref:?}"
+                );
+                let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(&b), bits(&a), "{name} {q:?} {q_ref:?}");
+                fitted += want.is_ok() as usize;
+            }
+        }
+    }
+    assert!(fitted > 10_000, "only {fitted} fitted");
+}
