@@ -55,6 +55,14 @@ impl JointVec {
     pub fn to_vec(&self) -> Vec<f64> {
         self.v[..self.n].to_vec()
     }
+
+    /// All [`MAX_DOF`] slots (rad / m): the entries, then zeros beyond its `len()` entries
+    /// (every constructor zeroes them and the slice views never reach them), for fixed-width
+    /// loops that vectorise.
+    #[inline]
+    pub fn padded(&self) -> &[f64; MAX_DOF] {
+        &self.v
+    }
 }
 
 impl std::ops::Deref for JointVec {
@@ -813,6 +821,67 @@ impl<'a> IkSolver<'a> {
             }
         }
         Err(first.unwrap_or(IkFailure::Unsupported("no wrist variant".into())))
+    }
+
+    /// [`IkSolver::branch_admits`] of up to [`crate::simd::LANES`] tool targets with the
+    /// common orientation `rot` and the tips `tips` (base frame, m), the closed form in
+    /// lockstep on `level` ([`opw::solve_branch_batch`]; both wrist variants come from each
+    /// lane, as [`IkSolver::take_near`] takes them): the first target it rejects, with
+    /// exactly the error `branch_admits` gives, or `None`. Lanes the batch does not hold
+    /// (unreachable, near the wrist singularity) go through `branch_admits` itself.
+    pub fn branch_admits_batch(
+        &self,
+        rot: &M3,
+        tips: &[V3],
+        shoulder: Shoulder,
+        elbow: Elbow,
+        level: crate::simd::Level,
+    ) -> Option<(usize, IkFailure)> {
+        use crate::simd::LANES;
+        let (Some(p), Some(k)) = (&self.model.opw, &self.opw_k) else {
+            return None;
+        };
+        let tips = &tips[..tips.len().min(LANES)];
+        // flange_target of each tip, as solve_near_batch forms it.
+        let frot = rot * self.tool_inv.rot;
+        let off = rot * self.tool_inv.pos;
+        let mut pos = [[0.0; LANES]; 3];
+        for (l, t) in tips.iter().enumerate() {
+            pos[0][l] = off.x + t.x;
+            pos[1][l] = off.y + t.y;
+            pos[2][l] = off.z + t.z;
+        }
+        let b = opw::solve_branch_batch(
+            p,
+            k,
+            &frot,
+            &pos,
+            Branch::new(shoulder, elbow, Wrist::NoFlip),
+            level,
+        );
+        for (l, tip) in tips.iter().enumerate() {
+            // branch_admits zeroes q4 and q6 below |sin q5| = 1e-6: per sample there.
+            let r = if b.ok[l] && b.s5[l] >= 1e-6 {
+                let fit = |w: Wrist| {
+                    let mut q = JointVec::from_slice(&b.variant(p, l, w));
+                    self.limits.fit(self.model, &mut q, None)
+                };
+                fit(Wrist::NoFlip).or_else(|e| fit(Wrist::Flip).map_err(|_| e))
+            } else {
+                self.branch_admits(
+                    &Frame {
+                        rot: *rot,
+                        pos: *tip,
+                    },
+                    shoulder,
+                    elbow,
+                )
+            };
+            if let Err(e) = r {
+                return Some((l, e));
+            }
+        }
+        None
     }
 
     /// The solution that continues `q_prev` (rad / m; the previous path sample): the same

@@ -290,14 +290,15 @@ pub fn track(
         };
         // The first joint whose step is too large (none: the common case, found in one
         // pass over the joints).
-        let jump = if k > 0 {
-            let mut any = false;
-            for j in 0..n.min(crate::kinematics::MAX_DOF) {
-                any |= (q[j] - prev[j]).abs() > max_step[j];
+        // All MAX_DOF slots at once: beyond the robot's joints both vectors hold zeros and
+        // the step limit is +inf.
+        let jump = k > 0 && {
+            let (a, b) = (q.padded(), prev.padded());
+            let mut any = 0u8;
+            for j in 0..crate::kinematics::MAX_DOF {
+                any |= u8::from((a[j] - b[j]).abs() > max_step[j]);
             }
-            any
-        } else {
-            false
+            any != 0
         };
         if jump {
             for j in 0..n {
@@ -1149,6 +1150,8 @@ pub fn time_at_planned(
         TimingFailure::LimitsNotMet { .. } => usize::MAX,
     };
     let mut best_err: Option<TimingFailure> = None;
+    let level = crate::simd::level();
+    const LANES: usize = crate::simd::LANES;
     // Prune 2: a configuration whose branch cannot reach every stride-th sample within
     // limits would fail while tracking; skip it (recording where it would fail).
     let thinned = |q: &[f64]| -> Result<(), TimingFailure> {
@@ -1156,10 +1159,33 @@ pub fn time_at_planned(
             return Ok(());
         };
         let m = motion0.p.len();
-        for k in (stride..m).step_by(stride).chain(std::iter::once(m - 1)) {
-            let (target, tip) = target_at(k);
-            if let Err(reason) = solver.branch_admits(&target, b.shoulder, b.elbow) {
-                return Err(fail_at(k, tip, reason));
+        let ks = (stride..m).step_by(stride).chain(std::iter::once(m - 1));
+        if level == crate::simd::Level::Scalar {
+            for k in ks {
+                let (target, tip) = target_at(k);
+                if let Err(reason) = solver.branch_admits(&target, b.shoulder, b.elbow) {
+                    return Err(fail_at(k, tip, reason));
+                }
+            }
+            return Ok(());
+        }
+        // LANES samples at a time, their closed form in lockstep: the same verdicts, and the
+        // first sample rejected with the same error.
+        let (mut idx, mut tips) = ([0usize; LANES], [V3::zeros(); LANES]);
+        let mut count = 0;
+        let mut ks = ks.peekable();
+        while let Some(k) = ks.next() {
+            idx[count] = k;
+            tips[count] = part_to_base.apply(&motion0.p[k]);
+            count += 1;
+            if count == LANES || ks.peek().is_none() {
+                let tips = &tips[..count];
+                if let Some((l, reason)) =
+                    solver.branch_admits_batch(&rot, tips, b.shoulder, b.elbow, level)
+                {
+                    return Err(fail_at(idx[l], tips[l], reason));
+                }
+                count = 0;
             }
         }
         Ok(())
