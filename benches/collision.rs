@@ -7,16 +7,15 @@
 //! Run: `cargo bench --bench collision` (criterion, ~20 s); the ratios are printed at the end
 //! from criterion's own estimates.
 
+#[path = "common/setup.rs"]
+mod setup;
+
 use criterion::{black_box, Criterion};
 use printwatt::dynamics::rnea;
-use printwatt::energy::EnergyOptions;
 use printwatt::math::V3;
 use printwatt::placement::collision::{self, Beads, RobotShapes, BEAD_RADIUS_M};
 use printwatt::placement::feasibility::{reach_m, FeasibilityOptions, World};
-use printwatt::placement::PathJob;
-use printwatt::robot;
-use printwatt::timing::{JointStageOptions, ProfileOptions};
-use printwatt::toolpath::{self, Placement, ReadOptions};
+use printwatt::toolpath::Placement;
 use std::path::Path;
 use std::time::Duration;
 
@@ -28,16 +27,9 @@ fn estimate_ns(dir: &Path, name: &str) -> Option<f64> {
 
 fn main() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let model = robot::load(&root.join("robots/abb_irb6700_200_260")).unwrap();
-    let tp = toolpath::load(&root.join("paths/default.gcode"), &ReadOptions::default()).unwrap();
-    let job = PathJob::new(
-        &model,
-        &tp,
-        EnergyOptions::default(),
-        ProfileOptions::default(),
-        JointStageOptions::default(),
-    )
-    .unwrap();
+    let model = setup::robot();
+    let tp = setup::default_path();
+    let job = setup::job(&model, &tp);
     let at = Placement::new(1.4, 0.0, 0.5, std::f64::consts::FRAC_PI_2);
     let full = job.evaluate(&at).unwrap().unwrap();
     let tr = &full.timed.traj;

@@ -1,9 +1,12 @@
 //! Criterion benchmarks of the dynamics and the per-sample energy evaluation, with a ratio
-//! against Pinocchio 4.1's C++ RNEA when `/work/shared/bench/pinocchio-rnea/run.sh` is present
+//! against Pinocchio 4.1's C++ RNEA when the harness `../shared/bench/pinocchio-rnea/run.sh` is present
 //! (run once per robot on the same URDF; see its README); the lockstep RNEA (8 samples per
 //! call on the CPU's best SIMD level) per sample in the same run, as a ratio to it too.
 
 #![allow(clippy::needless_range_loop)] // index-parallel arrays read more clearly in tests
+
+#[path = "common/pinocchio.rs"]
+mod pinocchio;
 
 use criterion::{black_box, Criterion};
 use printwatt::dynamics::{
@@ -15,10 +18,8 @@ use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use std::f64::consts::PI;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 use std::time::Instant;
 
-const PIN_RUN: &str = "/work/shared/bench/pinocchio-rnea/run.sh";
 const N_STATES: usize = 1000;
 
 fn robot_dir(name: &str) -> PathBuf {
@@ -94,37 +95,6 @@ fn our_rnea_batch_ns(model: &DynModel, st: &[[Vec<f64>; 3]]) -> f64 {
     v[v.len() / 2]
 }
 
-/// Pinocchio's RNEA ns per call on `urdf`, or the reason it is unavailable.
-fn pinocchio_rnea_ns(urdf: &Path) -> Result<(f64, usize), String> {
-    if !Path::new(PIN_RUN).is_file() {
-        return Err(format!("{PIN_RUN} not found"));
-    }
-    let out = Command::new(PIN_RUN)
-        .arg(urdf)
-        .output()
-        .map_err(|e| format!("cannot run {PIN_RUN}: {e}"))?;
-    if !out.status.success() {
-        return Err(format!(
-            "{PIN_RUN} failed: {}",
-            String::from_utf8_lossy(&out.stderr)
-                .lines()
-                .last()
-                .unwrap_or("")
-        ));
-    }
-    let text = String::from_utf8_lossy(&out.stdout);
-    let field = |k: &str| {
-        text.lines()
-            .rev()
-            .take(4)
-            .find_map(|l| l.strip_prefix(k).and_then(|v| v.trim().parse::<f64>().ok()))
-    };
-    match (field("pinocchio_rnea_ns_per_call"), field("pinocchio_nv")) {
-        (Some(ns), Some(nv)) => Ok((ns, nv as usize)),
-        _ => Err("could not parse pinocchio_rnea_ns_per_call".into()),
-    }
-}
-
 fn main() {
     let mut c = Criterion::default().configure_from_args();
     let mut ratios = Vec::new();
@@ -193,7 +163,7 @@ fn main() {
             let ours = our_rnea_ns(&bare, &st);
             let lockstep = our_rnea_batch_ns(&bare, &st);
             let level = printwatt::simd::detected().name();
-            match pinocchio_rnea_ns(&robot_dir(name).join("robot.urdf")) {
+            match pinocchio::rnea_ns(&robot_dir(name).join("robot.urdf")) {
                 Ok((pin, nv)) => ratios.push(format!(
                     "{name}: ours {ours:.1} ns / pinocchio {pin:.1} ns (nv = {nv}) = {:.3}; lockstep ({level}, 8 samples) {lockstep:.1} ns per sample = {:.3}",
                     ours / pin,

@@ -19,20 +19,21 @@
 //! the number of layers (default 300); `PRINTWATT_LAYERS_BREAKDOWN=K` times every K-th grid
 //! cell on one thread instead and sorts the time by how each cell was evaluated.
 
+#[path = "common/pinocchio.rs"]
+mod pinocchio;
 #[path = "../tests/common/wall.rs"]
 mod wall;
 
-use printwatt::energy::EnergyOptions;
+#[path = "common/setup.rs"]
+mod setup;
+
 use printwatt::placement::feasibility::{reach_m, FeasibilityOptions};
 use printwatt::placement::optimise::{default_grid, OptimiseOptions};
 use printwatt::placement::reduce::{self, ReduceOptions, Reduction};
 use printwatt::placement::search::{self, Bounds, SearchOptions};
 use printwatt::placement::tolerance::Tolerance;
-use printwatt::placement::{Evaluator, Objective, PathJob};
-use printwatt::robot;
-use printwatt::timing::{JointStageOptions, ProfileOptions};
+use printwatt::placement::{Evaluator, Objective};
 use printwatt::toolpath::{self, ReadOptions};
-use std::path::Path;
 use std::time::Instant;
 
 fn main() {
@@ -41,21 +42,15 @@ fn main() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(300);
     let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let model = robot::load(&root.join("robots/abb_irb6700_200_260")).unwrap();
+    let model = setup::robot();
     let t = Instant::now();
     let text = wall::wall_gcode(1800.0, 600.0, 4.0, layers);
     let tp = toolpath::parse_gcode(&text, "wall300.gcode", &ReadOptions::default()).unwrap();
-    let job = PathJob::new(
-        &model,
-        &tp,
-        EnergyOptions::default(),
-        ProfileOptions::default(),
-        JointStageOptions::default(),
-    )
-    .unwrap();
+    let job = setup::job(&model, &tp);
     let samples = job.plan.motion.p.len();
-    let red = Reduction::plan(&job, &tp, ReduceOptions::default()).unwrap();
+    let red = Reduction::plan(&job, &tp, ReduceOptions::default()).unwrap_or_else(|e| {
+        panic!("the wall is not reduced ({e:?}): it needs at least 200,000 samples (PRINTWATT_LAYERS >= 25)")
+    });
     let t_job = t.elapsed().as_secs_f64();
     println!(
         "wall: {} layers ({} repeating, period {}), {} samples at 4 ms ({:.1} h of printing); reading, planning and the reduction plan {:.2} s",
@@ -224,7 +219,7 @@ fn main() {
         chk.summary.layers
     );
     println!(
-        "| optimise, 300-layer wall, 2 threads | {:.1} s | one full evaluation, 1 thread, same run: {:.2} s | {:.1} |",
+        "| optimise, {layers}-layer wall, 2 threads | {:.1} s | one full evaluation, 1 thread, same run: {:.2} s | {:.1} |",
         t_total,
         t_full,
         t_total / t_full
@@ -236,6 +231,15 @@ fn main() {
     println!(
         "the answer on 1 thread, same run: full evaluation {t_full:.2} s, reduced {t_reduced:.3} s ({:.1} %)",
         t_reduced / t_full * 100.0
+    );
+    println!(
+        "{}",
+        pinocchio::pass_line(
+            &format!("optimise, {layers}-layer wall, 2 threads"),
+            t_total,
+            samples,
+            &setup::robot_dir().join("robot.urdf")
+        )
     );
     println!(
         "load average at start: {}; at the end: {}",

@@ -18,16 +18,17 @@
 //! Run: `cargo bench --bench optimise` (plain main, no criterion). The end-to-end figure
 //! against an older binary is measured with the binaries themselves (README, Performance).
 
-use printwatt::energy::EnergyOptions;
+#[path = "common/pinocchio.rs"]
+mod pinocchio;
+
+#[path = "common/setup.rs"]
+mod setup;
+
 use printwatt::placement::feasibility::{reach_m, FeasibilityOptions};
 use printwatt::placement::optimise::{default_grid, OptimiseOptions};
 use printwatt::placement::search::{self, Bounds, SearchOptions};
 use printwatt::placement::tolerance::Tolerance;
-use printwatt::placement::{Evaluator, Objective, PathJob};
-use printwatt::robot;
-use printwatt::timing::{JointStageOptions, ProfileOptions};
-use printwatt::toolpath::{self, ReadOptions};
-use std::path::Path;
+use printwatt::placement::{Evaluator, Objective};
 use std::time::Instant;
 
 /// This thread's time on a CPU, s (`CLOCK_THREAD_CPUTIME_ID`).
@@ -43,17 +44,9 @@ fn thread_s() -> f64 {
 }
 
 fn main() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let model = robot::load(&root.join("robots/abb_irb6700_200_260")).unwrap();
-    let tp = toolpath::load(&root.join("paths/default.gcode"), &ReadOptions::default()).unwrap();
-    let job = PathJob::new(
-        &model,
-        &tp,
-        EnergyOptions::default(),
-        ProfileOptions::default(),
-        JointStageOptions::default(),
-    )
-    .unwrap();
+    let model = setup::robot();
+    let tp = setup::default_path();
+    let job = setup::job(&model, &tp);
     let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
     let g = default_grid(reach_m(&model));
     let ps = g.placements();
@@ -160,5 +153,14 @@ fn main() {
         t_grid + mf,
         t_grid + mp,
         (t_grid + mp) / (t_grid + mf)
+    );
+    println!(
+        "{}",
+        pinocchio::pass_line(
+            "grid + refinement (fast checks)",
+            t_grid + mf,
+            job.plan.motion.p.len(),
+            &setup::robot_dir().join("robot.urdf")
+        )
     );
 }

@@ -24,17 +24,21 @@
 //! The load average is printed: figures from a loaded machine are not idle figures, but the
 //! ratios of one run survive load.
 
+#[path = "common/pinocchio.rs"]
+mod pinocchio;
+
+#[path = "common/setup.rs"]
+mod setup;
+
 use printwatt::dynamics::{rnea, rnea_batch, rnea_with_sincos, StateBatch, MAX_DOF};
 use printwatt::energy::{self, EnergyOptions, SamplePower};
 use printwatt::placement::feasibility::FeasibilityOptions;
 use printwatt::placement::optimise::default_grid;
 use printwatt::placement::{Evaluator, Objective, PathJob};
-use printwatt::robot;
 use printwatt::simd::{self, Level, LANES};
 use printwatt::timing::{JointStageOptions, ProfileOptions};
-use printwatt::toolpath::{self, Placement, ReadOptions};
+use printwatt::toolpath::Placement;
 use std::hint::black_box;
-use std::path::Path;
 use std::time::Instant;
 
 /// This thread's time on a CPU, ns (`clock_gettime(CLOCK_THREAD_CPUTIME_ID)`), so that the
@@ -95,17 +99,9 @@ fn clock_ghz() -> f64 {
 }
 
 fn main() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let model = robot::load(&root.join("robots/abb_irb6700_200_260")).unwrap();
-    let tp = toolpath::load(&root.join("paths/default.gcode"), &ReadOptions::default()).unwrap();
-    let job = PathJob::new(
-        &model,
-        &tp,
-        EnergyOptions::default(),
-        ProfileOptions::default(),
-        JointStageOptions::default(),
-    )
-    .unwrap();
+    let model = setup::robot();
+    let tp = setup::default_path();
+    let job = setup::job(&model, &tp);
     let n = model.dof();
     // Reference: bare RNEA on the samples of a real trajectory.
     // A feasible placement: the centre of the default grid's feasible region.
@@ -510,5 +506,23 @@ fn main() {
         (pf + pi) / (uf + ui),
         (uf + ui) / (pf + pi),
         ui / pi
+    );
+    // The reference of issue 12: Pinocchio's RNEA on the same robot, timed now.
+    let urdf = setup::robot_dir().join("robot.urdf");
+    println!(
+        "{}",
+        pinocchio::ratio_line(
+            &format!("full placement evaluation, 1 thread, {}", names[best]),
+            full_ns,
+            &urdf
+        )
+    );
+    println!(
+        "{}",
+        pinocchio::ratio_line(
+            &format!("feasible sweep, {cores} threads, wall, {}", names[best]),
+            med[4][best],
+            &urdf
+        )
     );
 }

@@ -386,3 +386,304 @@ fn a_degenerate_collision_mesh_is_a_warning_and_a_capsule_stands_in() {
         .iter()
         .any(|s| s.body == 2 && s.label == "capsule of link `l2`"));
 }
+
+/// A four-joint arm written by the test whose links carry URDF boxes, cylinders, spheres and a
+/// mesh hull (shapes other than the capsules of the shipped robots), with self pairs between
+/// them: base column 0.4 m, joints about z, y, y and a tilted axis, 0.5 m links.
+fn mixed_arm(dir: &Path) -> std::path::PathBuf {
+    std::fs::write(
+        dir.join("l4.stl"),
+        stl_box([0.0, -0.06, -0.06], [0.3, 0.06, 0.06]),
+    )
+    .unwrap();
+    let urdf = r#"<robot name="mixed_arm">
+  <link name="base"><inertial><mass value="10"/><inertia ixx="1" iyy="1" izz="1"/></inertial>
+    <collision><origin xyz="0 0 0.2"/><geometry><box size="0.4 0.4 0.4"/></geometry></collision></link>
+  <link name="l1"><inertial><mass value="5"/><inertia ixx="1" iyy="1" izz="1"/></inertial>
+    <collision><origin xyz="0 0 0.1"/><geometry><cylinder radius="0.15" length="0.2"/></geometry></collision></link>
+  <link name="l2"><inertial><mass value="5"/><inertia ixx="1" iyy="1" izz="1"/></inertial>
+    <collision><origin xyz="0.25 0 0" rpy="0 1.5707963267948966 0"/><geometry><cylinder radius="0.08" length="0.5"/></geometry></collision>
+    <collision><origin xyz="0.5 0 0"/><geometry><sphere radius="0.12"/></geometry></collision></link>
+  <link name="l3"><inertial><mass value="5"/><inertia ixx="1" iyy="1" izz="1"/></inertial>
+    <collision><origin xyz="0.25 0 0" rpy="0.3 0 0"/><geometry><box size="0.5 0.1 0.14"/></geometry></collision></link>
+  <link name="l4"><inertial><mass value="2"/><inertia ixx="1" iyy="1" izz="1"/></inertial>
+    <collision><geometry><mesh filename="l4.stl"/></geometry></collision></link>
+  <link name="tool0"/>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/>
+    <origin xyz="0 0 0.4"/><axis xyz="0 0 1"/><limit lower="-3" upper="3" velocity="2" effort="100"/></joint>
+  <joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/>
+    <origin xyz="0 0 0.2"/><axis xyz="0 1 0"/><limit lower="-3" upper="3" velocity="2" effort="100"/></joint>
+  <joint name="j3" type="revolute"><parent link="l2"/><child link="l3"/>
+    <origin xyz="0.5 0 0"/><axis xyz="0 1 0"/><limit lower="-3" upper="3" velocity="2" effort="100"/></joint>
+  <joint name="j4" type="revolute"><parent link="l3"/><child link="l4"/>
+    <origin xyz="0.5 0 0"/><axis xyz="0.6 0.8 0"/><limit lower="-3" upper="3" velocity="2" effort="100"/></joint>
+  <joint name="flange" type="fixed"><parent link="l4"/><child link="tool0"/><origin xyz="0.3 0 0"/></joint>
+</robot>"#;
+    let p = dir.join("mixed.urdf");
+    std::fs::write(&p, urdf).unwrap();
+    p
+}
+
+/// The shapes' poses equal to the plain forward kinematics' (every number equal; a zero may
+/// differ in sign).
+fn same_poses(fast: &[Isometry<f64>], plain: &[Isometry<f64>], q: &[f64]) {
+    assert_eq!(fast.len(), plain.len());
+    for (a, b) in fast.iter().zip(plain) {
+        assert!(
+            a.translation.vector == b.translation.vector && a.rotation.coords == b.rotation.coords,
+            "q {q:?}: {a:?} vs {b:?}"
+        );
+    }
+}
+
+/// `check` and `check_unfiltered` at `q`: the same verdict, reason and message, and the same
+/// running bed clearance to the bit (both continue from `clear`, which takes the new value);
+/// the poses they are given equal to the plain forward kinematics' ([`same_poses`]).
+#[allow(clippy::too_many_arguments)]
+fn same_check(
+    model: &printwatt::robot::RobotModel,
+    rs: &RobotShapes,
+    world: &Isometry<f64>,
+    q: &[f64],
+    bed: &Bed,
+    beads: &Beads,
+    laid: usize,
+    clear: &mut Option<f64>,
+) -> Option<(Reason, String)> {
+    let poses = rs.poses(model, q, world);
+    same_poses(&poses, &rs.poses_by_fk(model, q, world), q);
+    let mut c_fast = *clear;
+    let mut c_plain = *clear;
+    let fast = collision::check(rs, &poses, bed, beads, laid, &mut c_fast);
+    let plain = collision::check_unfiltered(rs, &poses, bed, beads, laid, &mut c_plain);
+    assert_eq!(fast, plain, "q {q:?} laid {laid}");
+    assert_eq!(
+        c_fast.map(f64::to_bits),
+        c_plain.map(f64::to_bits),
+        "bed clearance at q {q:?}: {c_fast:?} vs {c_plain:?}"
+    );
+    *clear = c_fast;
+    fast
+}
+
+#[test]
+fn the_prefiltered_collision_check_and_the_shortcut_poses_equal_the_plain_ones_on_random_and_near_contact_configurations(
+) {
+    use rand::{Rng, SeedableRng};
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = tmpdir("mixed");
+    let mut robots: Vec<printwatt::robot::RobotModel> = [
+        "abb_irb6700_200_260",
+        "abb_irb4600_40_255",
+        "ur10e",
+        "staubli_tx200",
+        "puma560",
+    ]
+    .iter()
+    .map(|r| load(&root.join("robots").join(r)).unwrap())
+    .collect();
+    robots.push(load(&mixed_arm(&dir)).unwrap());
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(8);
+    // A round wall of beads about every robot (part frame = base frame, radius 0.8 m, 0.8 m
+    // tall), and a bed under it.
+    let mut p = Vec::new();
+    for layer in 0..40 {
+        for k in 0..100 {
+            let a = std::f64::consts::TAU * k as f64 / 100.0;
+            p.push(V3::new(
+                0.8 * a.cos(),
+                0.8 * a.sin(),
+                0.02 * (layer + 1) as f64,
+            ));
+        }
+    }
+    let print = vec![true; p.len()];
+    let beads = Beads::new(&p, &print, 5, collision::BEAD_RADIUS_M);
+    let (mut outcomes, mut near) = ([0usize; 4], 0usize);
+    let tally = |o: &Option<(Reason, String)>, t: &mut [usize; 4]| {
+        t[match o.as_ref().map(|h| h.0) {
+            None => 0,
+            Some(Reason::CollisionBed) => 1,
+            Some(Reason::CollisionPart) => 2,
+            _ => 3,
+        }] += 1;
+    };
+    for model in &robots {
+        let rs = RobotShapes::new(
+            model,
+            printwatt::placement::feasibility::reach_m(model),
+            &LinkRadii::default(),
+        );
+        let n = model.dof();
+        let q_at = |u: &[f64]| -> Vec<f64> {
+            model
+                .joints
+                .iter()
+                .zip(u)
+                .map(|(j, u)| {
+                    let (lo, hi) = (j.lower.max(-3.2), j.upper.min(3.2));
+                    lo + u * (hi - lo)
+                })
+                .collect()
+        };
+        for round in 0..400 {
+            // The bed's top anywhere from well below the base to above it.
+            let top = rng.gen_range(-0.6..0.3);
+            let bed = Bed::new(&V3::new(0.2, -1.5, top - 0.5), &V3::new(2.0, 1.5, top));
+            let world = Isometry::translation(0.0, 0.0, rng.gen_range(-0.2..0.2));
+            let laid = rng.gen_range(0..=beads.len());
+            let mut clear = (round % 2 == 0).then(|| rng.gen_range(0.0..0.5));
+            let u: Vec<f64> = (0..n).map(|_| rng.gen::<f64>()).collect();
+            let o = same_check(
+                model,
+                &rs,
+                &world,
+                &q_at(&u),
+                &bed,
+                &beads,
+                laid,
+                &mut clear,
+            );
+            tally(&o, &mut outcomes);
+            // Near contact: bisect towards another configuration with the other outcome, and
+            // check both sides of the boundary 1e-12 apart in the parameter.
+            let v: Vec<f64> = (0..n).map(|_| rng.gen::<f64>()).collect();
+            let mid =
+                |t: f64| -> Vec<f64> { u.iter().zip(&v).map(|(a, b)| a + t * (b - a)).collect() };
+            let other = same_check(
+                model,
+                &rs,
+                &world,
+                &q_at(&v),
+                &bed,
+                &beads,
+                laid,
+                &mut clear.clone(),
+            );
+            if o.as_ref().map(|h| h.0) == other.as_ref().map(|h| h.0) {
+                continue;
+            }
+            let (mut a, mut b) = (0.0f64, 1.0f64);
+            let verdict = |t: f64| {
+                let mut c = None;
+                same_check(
+                    model,
+                    &rs,
+                    &world,
+                    &q_at(&mid(t)),
+                    &bed,
+                    &beads,
+                    laid,
+                    &mut c,
+                )
+                .map(|h| h.0)
+            };
+            let va = verdict(a);
+            while b - a > 1e-12 {
+                let m = 0.5 * (a + b);
+                if verdict(m) == va {
+                    a = m
+                } else {
+                    b = m
+                }
+            }
+            for t in [a, b, a - 1e-9, b + 1e-9] {
+                let mut c = clear;
+                same_check(
+                    model,
+                    &rs,
+                    &world,
+                    &q_at(&mid(t.clamp(0.0, 1.0))),
+                    &bed,
+                    &beads,
+                    laid,
+                    &mut c,
+                );
+            }
+            near += 1;
+        }
+    }
+    // Every outcome is exercised, and many boundaries between them.
+    assert!(outcomes.iter().all(|&c| c > 50), "{outcomes:?}");
+    assert!(near > 300, "{near} boundaries");
+}
+
+#[test]
+fn the_prefiltered_collision_check_and_the_shortcut_poses_equal_the_plain_ones_along_real_paths() {
+    use printwatt::placement::feasibility::{reach_m, FeasibilityOptions, World};
+    use printwatt::timing::{JointStageOptions, ProfileOptions};
+    use printwatt::toolpath::{self, Placement, ReadOptions};
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let model = load(&root.join("robots/abb_irb6700_200_260")).unwrap();
+    let tp = toolpath::load(&root.join("paths/default.gcode"), &ReadOptions::default()).unwrap();
+    let job = printwatt::placement::PathJob::new(
+        &model,
+        &tp,
+        printwatt::energy::EnergyOptions::default(),
+        ProfileOptions::default(),
+        JointStageOptions::default(),
+    )
+    .unwrap();
+    let o = FeasibilityOptions::default();
+    let rs = RobotShapes::new(&model, reach_m(&model), &o.radii);
+    let (mut samples, mut outcomes) = (0, [0usize; 4]);
+    for (x, y, z, yaw_deg) in [
+        (1.534, -0.121, 0.0, 90.0),
+        (1.7, 0.0, 0.0, 90.0),
+        (1.3, 0.3, -0.3, 0.0),
+    ] {
+        let at = Placement::new(x, y, z, f64::to_radians(yaw_deg));
+        let Ok(Ok(full)) = job.evaluate(&at) else {
+            continue;
+        };
+        let tr = &full.timed.traj;
+        let motion = &*full.timed.motion;
+        let (mut lo, mut hi) = (V3::repeat(f64::INFINITY), V3::repeat(f64::NEG_INFINITY));
+        for p in &motion.p {
+            lo = lo.inf(p);
+            hi = hi.sup(p);
+        }
+        let world = World::new(&at.frame(), (lo, hi), &o);
+        // The bed raised towards the arm (the clearance at the first placement is 0.03 m:
+        // just below, at and just above it), and fatter beads raised into the hose and wrist.
+        for (dz, every) in [
+            (0.0, 1),
+            (0.029_999_999, 3),
+            (0.03, 3),
+            (0.030_000_001, 3),
+            (0.06, 7),
+            (0.3, 7),
+        ] {
+            let bed = Bed::new(&world.bed_lo, &(world.bed_hi + V3::new(0.0, 0.0, dz)));
+            for (radius, up) in [(collision::BEAD_RADIUS_M, 0.0), (0.06, 0.1), (0.06, 0.25)] {
+                let raised: Vec<V3> = motion.p.iter().map(|p| p + V3::new(0.0, 0.0, up)).collect();
+                let beads = Beads::new(&raised, &motion.print, o.check_every, radius);
+                let mut clear = None;
+                for k in (0..tr.len()).step_by(every) {
+                    samples += 1;
+                    let r = same_check(
+                        &model,
+                        &rs,
+                        &world.base_iso,
+                        tr.q(k),
+                        &bed,
+                        &beads,
+                        beads.laid_at(k),
+                        &mut clear,
+                    );
+                    outcomes[match r.map(|h| h.0) {
+                        None => 0,
+                        Some(Reason::CollisionBed) => 1,
+                        Some(Reason::CollisionPart) => 2,
+                        _ => 3,
+                    }] += 1;
+                }
+            }
+        }
+    }
+    // Clear samples, the bed and the part met.
+    assert!(
+        samples > 60_000 && outcomes[0] > 1000 && outcomes[1] > 1000 && outcomes[2] > 1000,
+        "{samples} samples, {outcomes:?}"
+    );
+}

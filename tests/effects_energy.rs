@@ -353,3 +353,94 @@ fn energy_cli_on_the_identified_drive_file_differs_from_the_nominal_robot() {
     assert!(a["energy"]["model"].as_str().unwrap().contains("balancer"));
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The shipped default robot (the one `printwatt optimise` uses without --robot).
+fn default_robot() -> RobotModel {
+    load(&root().join("robots/abb_irb6700_200_260")).unwrap()
+}
+
+/// The rigid body's base parameters (a regressor at 100 states, a QR, two SVDs) are found on
+/// first use, not when the effect is built: building the effect set, and everything the
+/// energy model asks of a null effect (name, stage, class, is it null, a copy), leaves them
+/// unfound; an energy model of the robot evaluates as before.
+#[test]
+fn an_energy_model_does_not_find_the_rigid_body_base() {
+    use printwatt::effects::{Effect, RigidBody};
+    let r = default_robot();
+    let s = set(&r);
+    let rb = s.typed::<RigidBody>("rigid_body").unwrap();
+    assert!(!rb.base_found(), "building the effect set found the base");
+    for (e, _on) in s.iter() {
+        let _ = (e.name(), e.stage(), e.energy_class(), e.is_null());
+        drop(e.clone_box());
+    }
+    assert!(rb.is_null());
+    assert!(
+        !rb.base_found(),
+        "the energy model's questions found the base"
+    );
+    let copy = rb.clone();
+    assert!(!copy.base_found());
+    // The energy model builds its own set; it still evaluates.
+    let m = EnergyModel::new(&r).unwrap();
+    let tr = sines(r.dof(), 1.0, 50);
+    assert!(evaluate(&m, &tr).unwrap().total.supply_j.is_finite());
+}
+
+/// The base found on first use equals the one found at once (as the effect did before it was
+/// lazy): parameter names, combinations, nominal values, zero values and the regressor bit
+/// for bit, whichever copy asks first; copies share one base; set values read back.
+#[test]
+fn the_lazy_rigid_body_base_equals_the_eager_one() {
+    use printwatt::effects::{Effect, RigidBody};
+    for name in ["abb_irb6700_200_260", "ur10e", "puma560"] {
+        let r = load(&root().join("robots").join(name)).unwrap();
+        // Eager: asked for right after it is built.
+        let eager = RigidBody::new(&r).unwrap();
+        let p_eager = eager.params();
+        assert!(eager.base_found());
+        // Lazy: copied first, the copy asks later, after other work.
+        let lazy = RigidBody::new(&r).unwrap();
+        let copy = lazy.clone();
+        assert!(!lazy.base_found() && !copy.base_found());
+        let _ = EnergyModel::new(&r).unwrap();
+        let v = copy.values();
+        assert!(lazy.base_found(), "{name}: copies share one base");
+        assert_eq!(
+            v,
+            vec![0.0; p_eager.len()],
+            "{name}: zero errors, one per parameter"
+        );
+        let names = |ps: &[printwatt::effects::ParamSpec]| {
+            ps.iter()
+                .map(|p| (p.name.clone(), p.unit, p.lower, p.upper))
+                .collect::<Vec<_>>()
+        };
+        assert_eq!(names(&lazy.params()), names(&p_eager), "{name}");
+        assert_eq!(lazy.combination(), eager.combination(), "{name}");
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(
+            bits(lazy.nominal_base_values()),
+            bits(eager.nominal_base_values()),
+            "{name}"
+        );
+        let n = r.dof();
+        let p = p_eager.len();
+        let (q, qd, qdd) = (vec![0.3; n], vec![0.5; n], vec![-1.0; n]);
+        let (mut ya, mut yb) = (vec![0.0; n * p], vec![0.0; n * p]);
+        assert!(eager.regressor(&q, &qd, &qdd, &mut ya));
+        assert!(lazy.regressor(&q, &qd, &qdd, &mut yb));
+        assert_eq!(bits(&ya), bits(&yb), "{name}");
+        // Values set on a lazy effect read back and give the eager effect's torque.
+        let vals: Vec<f64> = (0..p).map(|k| 0.05 * ((k as f64) * 0.7).cos()).collect();
+        let (mut a, mut b) = (RigidBody::new(&r).unwrap(), eager.clone());
+        a.set_values(&vals).unwrap();
+        b.set_values(&vals).unwrap();
+        assert_eq!(a.values(), vals);
+        assert!(!a.is_null());
+        let (mut ta, mut tb) = (vec![0.0; n], vec![0.0; n]);
+        a.add_torque(&q, &qd, &qdd, &mut ta);
+        b.add_torque(&q, &qd, &qdd, &mut tb);
+        assert_eq!(bits(&ta), bits(&tb), "{name}");
+    }
+}

@@ -720,3 +720,60 @@ fn no_printed_neighbour_is_cheaper_than_the_answer_and_holds_the_tolerance_unexp
         }
     });
 }
+
+#[test]
+fn the_polish_moving_to_a_probe_it_reuses_gives_the_answer_of_evaluating_it_again() {
+    // The polish moves to a cheaper ±50 mm probe that holds the tolerance; it takes the probe's
+    // evaluation from the sensitivity that has just made it instead of evaluating it again.
+    // The plain refinement evaluates it again: the answer, its sensitivity, the polish's words
+    // and the evaluation counts must be the same bit for bit, on 1 and 2 threads.
+    with_small_search(|ev, grid, so| {
+        let opts = OptimiseOptions {
+            max_evals: 0,
+            yaw: false,
+            spin: false,
+            ..Default::default()
+        };
+        let quiet = || std::sync::Arc::new(|_, _, _| {}) as search::Progress;
+        let (plain, plain_info) = pool(1)
+            .install(|| search::refine_plain(ev, grid, &opts, so, quiet()))
+            .unwrap();
+        assert!(plain_info.polished.is_some(), "the polish moved the answer");
+        for threads in [1, 2] {
+            let (fast, info) = pool(threads)
+                .install(|| search::refine(ev, grid, &opts, so, quiet()))
+                .unwrap();
+            assert_eq!(fast.best, plain.best, "{threads} threads");
+            assert_eq!(fast.best.cost().to_bits(), plain.best.cost().to_bits());
+            assert_eq!(fast.sensitivity, plain.sensitivity);
+            assert_eq!(info.polished, plain_info.polished);
+            assert_eq!(info.lower_neighbours, plain_info.lower_neighbours);
+            assert_eq!(info.tolerance, plain_info.tolerance);
+            if threads == 1 {
+                assert_eq!(info.speculative_evals, 0, "nothing made ahead of need");
+            }
+        }
+    });
+}
+
+#[test]
+fn a_checker_counts_an_adopted_evaluation_once_and_never_makes_it_again() {
+    // An evaluation made elsewhere and adopted is kept and counted as one evaluation used:
+    // asking the checker for the same placement afterwards returns it without another.
+    with_small_search(|ev, grid, _so| {
+        let e = grid.iter().find(|e| e.cost().is_finite()).unwrap();
+        pool(1).install(|| {
+            let c = printwatt::placement::tolerance::Checker::new(ev, Tolerance::default());
+            let a = c.adopt(e).unwrap();
+            assert_eq!(&a, e);
+            assert_eq!((c.evaluations(), c.speculative()), (1, 0));
+            let b = c.evaluate(&e.placement, false).unwrap();
+            assert_eq!(&b, e);
+            assert_eq!((c.evaluations(), c.speculative()), (1, 0));
+            // Adopting a placement already kept returns the kept evaluation.
+            let again = c.adopt(e).unwrap();
+            assert_eq!(&again, e);
+            assert_eq!(c.evaluations(), 1);
+        });
+    });
+}

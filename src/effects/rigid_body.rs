@@ -7,7 +7,8 @@
 //! (`m, h = m c, I` about the joint origin, in the joint frame; [`DynModel::link_params`]):
 //! `τ = W(q, q̇, q̈) π`. Some columns of `W` are zero (parameters the chain cannot move, e.g.
 //! most of link 1's) and some are combinations of others; the *base parameters* are the
-//! independent set. They are found once per robot: `W` at 100 seeded random states, columns
+//! independent set. They are found once per robot, on first use (an energy model, whose
+//! rigid-body errors are zero, never needs them): `W` at 100 seeded random states, columns
 //! normalised, QR with column pivoting (nalgebra `col_piv_qr`); the rank `r` counts
 //! `|R_kk| > 10⁻⁸ |R_00|`, the first `r` pivoted columns are the independent standard
 //! parameters, and each base parameter is its independent standard parameter plus the
@@ -56,11 +57,9 @@ const PARAM_NAMES: [(&str, &str); 10] = [
     ("Iyz", "kg·m²"),
 ];
 
-/// The structure shared by copies: the base-parameter set of one robot.
-#[derive(Debug)]
+/// The base-parameter set of one robot (found by [`Base::find`]).
+#[derive(Debug, PartialEq)]
 struct Base {
-    /// The nominal rigid body (payload merged, no armature).
-    nominal: DynModel,
     /// (link, standard parameter) of each base parameter.
     independent: Vec<(usize, usize)>,
     /// Each base parameter in words: its independent standard parameter plus the dependent
@@ -72,6 +71,21 @@ struct Base {
     null_j: nalgebra::DMatrix<f64>,
     /// The nominal robot's base-parameter values `π₁ + K π₂` (SI, parameter order).
     nominal_values: Vec<f64>,
+}
+
+/// The structure shared by copies: the nominal rigid body, and its base-parameter set found
+/// on first use. Finding the base (the regressor at [`BASE_SAMPLES`] states, a QR and two
+/// SVDs) costs milliseconds that an energy model never needs: the effect is null (zero
+/// errors) unless identification or a drive file's `[effects.values]` sets it, and a null
+/// effect adds no torque. Identification, the parameter list and every value access build it.
+#[derive(Debug)]
+struct Shared {
+    /// The nominal rigid body (payload merged, no armature).
+    nominal: DynModel,
+    /// Joint ranges the random states of [`Base::find`] are drawn from, rad or m.
+    ranges: Vec<(f64, f64)>,
+    /// The base parameters, found on first use.
+    base: std::sync::OnceLock<Base>,
 }
 
 /// A link's ten standard parameters as its pseudo-inertia `J` (4 × 4, symmetric).
@@ -137,9 +151,10 @@ const PROJECTION_ITERATIONS: usize = 3000;
 /// Errors of the base inertial parameters.
 #[derive(Debug, Clone)]
 pub struct RigidBody {
-    /// `δθ_b`, SI (units in [`Effect::params`]).
-    pub delta: Vec<f64>,
-    base: Arc<Base>,
+    /// `δθ_b`, SI (units in [`Effect::params`]); empty while every error is zero and the
+    /// base parameters have not been set ([`Effect::values`] gives them in full).
+    delta: Vec<f64>,
+    shared: Arc<Shared>,
     /// The model whose only parameters are `δθ_b` (torque = its RNEA).
     delta_model: DynModel,
 }
@@ -153,17 +168,10 @@ fn std_name(link: usize, p: usize) -> String {
     format!("L{}.{}", link + 1, PARAM_NAMES[p].0)
 }
 
-impl RigidBody {
-    /// The base parameters of `robot` (payload merged into the last link). Error: the robot
-    /// lacks inertials.
-    pub fn new(robot: &crate::robot::RobotModel) -> Result<Self> {
-        let nominal = DynModel::new(
-            robot,
-            DynOptions {
-                payload: true,
-                armature: false,
-            },
-        )?;
+impl Base {
+    /// The base parameters of `nominal`: the regressor at [`BASE_SAMPLES`] seeded random
+    /// states within `ranges` (one per joint), reduced by QR with column pivoting.
+    fn find(nominal: &DynModel, ranges: &[(f64, f64)]) -> Base {
         let n = nominal.dof();
         let ncol = 10 * n;
         // W at seeded random states within the joint limits.
@@ -176,17 +184,13 @@ impl RigidBody {
             let mut q = [0.0; MAX_DOF];
             let mut qd = [0.0; MAX_DOF];
             let mut qdd = [0.0; MAX_DOF];
-            for (j, jt) in robot.joints.iter().enumerate().take(n) {
-                let (lo, hi) = if jt.upper > jt.lower {
-                    (jt.lower, jt.upper)
-                } else {
-                    (-3.0, 3.0)
-                };
+            for (j, &(lo, hi)) in ranges.iter().enumerate().take(n) {
                 q[j] = rng.gen_range(lo..=hi);
                 qd[j] = rng.gen_range(-1.5..=1.5);
                 qdd[j] = rng.gen_range(-3.0..=3.0);
             }
-            rnea_regressor(&nominal, &mut d, &q[..n], &qd[..n], &qdd[..n], &mut ys)?;
+            rnea_regressor(nominal, &mut d, &q[..n], &qd[..n], &qdd[..n], &mut ys)
+                .expect("slices of the model's joint count");
             for j in 0..n {
                 for c in 0..ncol {
                     w[(s * n + j, c)] = ys[j * ncol + c];
@@ -296,34 +300,74 @@ impl RigidBody {
                         .sum::<f64>()
             })
             .collect();
-        let independent: Vec<(usize, usize)> = indep.iter().map(|&c| (c / 10, c % 10)).collect();
-        let delta = vec![0.0; independent.len()];
-        let base = Arc::new(Base {
-            nominal,
-            independent,
+        Base {
+            independent: indep.iter().map(|&c| (c / 10, c % 10)).collect(),
             combination,
             null_j,
             nominal_values,
-        });
-        let delta_model = base.nominal.with_link_params(&[]);
+        }
+    }
+}
+
+impl RigidBody {
+    /// The base parameters of `robot` (payload merged into the last link). Error: the robot
+    /// lacks inertials.
+    pub fn new(robot: &crate::robot::RobotModel) -> Result<Self> {
+        let nominal = DynModel::new(
+            robot,
+            DynOptions {
+                payload: true,
+                armature: false,
+            },
+        )?;
+        let ranges = robot
+            .joints
+            .iter()
+            .take(nominal.dof())
+            .map(|jt| {
+                if jt.upper > jt.lower {
+                    (jt.lower, jt.upper)
+                } else {
+                    (-3.0, 3.0)
+                }
+            })
+            .collect();
+        let delta_model = nominal.with_link_params(&[]);
         Ok(RigidBody {
-            delta,
-            base,
+            delta: Vec::new(),
+            shared: Arc::new(Shared {
+                nominal,
+                ranges,
+                base: std::sync::OnceLock::new(),
+            }),
             delta_model,
         })
+    }
+
+    /// The base parameters (found now if no copy of this effect has needed them yet).
+    fn base(&self) -> &Base {
+        self.shared
+            .base
+            .get_or_init(|| Base::find(&self.shared.nominal, &self.shared.ranges))
+    }
+
+    /// Whether the base parameters have been found (by this effect or a copy of it): they
+    /// are found on first use, not when the effect is built (an energy model never uses them).
+    pub fn base_found(&self) -> bool {
+        self.shared.base.get().is_some()
     }
 
     /// The nominal robot's values of the base parameters (each independent standard parameter
     /// plus the dependent ones it absorbs; SI, in parameter order). Errors `δ = −2 ×` these
     /// mirror the rigid body (every torque negated).
     pub fn nominal_base_values(&self) -> &[f64] {
-        &self.base.nominal_values
+        &self.base().nominal_values
     }
 
     /// Each base parameter in words (its standard parameter and the dependent ones it
     /// absorbs, with coefficients), in parameter order.
     pub fn combination(&self) -> &[String] {
-        &self.base.combination
+        &self.base().combination
     }
 
     /// Smallest eigenvalue of the pseudo-inertia `J = [[½ tr(I) 1 − I, h], [hᵀ, m]]` of one
@@ -344,7 +388,7 @@ impl RigidBody {
     /// affine set).
     fn nearest_physical(&self, links: &[[f64; 10]]) -> Vec<[f64; 10]> {
         let n = links.len();
-        let nom: Vec<[f64; 10]> = (0..n).map(|l| self.base.nominal.link_params(l)).collect();
+        let nom: Vec<[f64; 10]> = (0..n).map(|l| self.shared.nominal.link_params(l)).collect();
         let floor: Vec<f64> = nom
             .iter()
             .map(|p| Self::pseudo_inertia_min_eigenvalue(p).min(0.0))
@@ -353,7 +397,7 @@ impl RigidBody {
             10 * n,
             links.iter().flat_map(|p| j_coords(&pseudo_inertia(p))),
         );
-        let nb = &self.base.null_j;
+        let nb = &self.base().null_j;
         let onto_a = |x: &nalgebra::DVector<f64>| -> nalgebra::DVector<f64> {
             if nb.ncols() == 0 {
                 return a.clone();
@@ -387,9 +431,9 @@ impl RigidBody {
     /// base-parameter error on its independent standard parameter (the realisation the model
     /// evaluates), each error first pulled `sigmas` standard errors toward zero.
     fn corrected_links(&self, std_errors: &[Option<f64>], sigmas: f64) -> Vec<[f64; 10]> {
-        let n = self.base.nominal.dof();
-        let mut p: Vec<[f64; 10]> = (0..n).map(|l| self.base.nominal.link_params(l)).collect();
-        for (i, (&v, &(l, k))) in self.delta.iter().zip(&self.base.independent).enumerate() {
+        let n = self.shared.nominal.dof();
+        let mut p: Vec<[f64; 10]> = (0..n).map(|l| self.shared.nominal.link_params(l)).collect();
+        for (i, (&v, &(l, k))) in self.delta.iter().zip(&self.base().independent).enumerate() {
             let s = std_errors.get(i).copied().flatten().unwrap_or(0.0);
             p[l][k] += v.signum() * (v.abs() - sigmas * s).max(0.0);
         }
@@ -397,12 +441,12 @@ impl RigidBody {
     }
 
     fn rebuild(&mut self) {
-        let n = self.base.nominal.dof();
+        let n = self.shared.nominal.dof();
         let mut p = vec![[0.0; 10]; n];
-        for (v, &(l, k)) in self.delta.iter().zip(&self.base.independent) {
+        for (v, &(l, k)) in self.delta.iter().zip(&self.base().independent) {
             p[l][k] = *v;
         }
-        self.delta_model = self.base.nominal.with_link_params(&p);
+        self.delta_model = self.shared.nominal.with_link_params(&p);
     }
 }
 
@@ -411,7 +455,7 @@ impl Effect for RigidBody {
         "rigid_body"
     }
     fn params(&self) -> Vec<ParamSpec> {
-        self.base
+        self.base()
             .independent
             .iter()
             .map(|&(l, k)| ParamSpec {
@@ -423,11 +467,15 @@ impl Effect for RigidBody {
             .collect()
     }
     fn values(&self) -> Vec<f64> {
+        if self.delta.is_empty() {
+            // Every error zero (not set yet): one per base parameter.
+            return vec![0.0; self.base().independent.len()];
+        }
         self.delta.clone()
     }
     fn set_values(&mut self, values: &[f64]) -> Result<()> {
         check_values(self.name(), &self.params(), values)?;
-        self.delta.copy_from_slice(values);
+        self.delta = values.to_vec();
         self.rebuild();
         Ok(())
     }
@@ -446,9 +494,9 @@ impl Effect for RigidBody {
     /// link's is). Searched by [`RigidBody::nearest_physical`]; a violation is reported when
     /// it exceeds 1 % of the link's nominal mass or pseudo-inertia trace.
     fn implausible_fit(&self, std_errors: &[Option<f64>]) -> Option<String> {
-        let n = self.base.nominal.dof();
+        let n = self.shared.nominal.dof();
         let pulled = self.corrected_links(std_errors, RIGID_BODY_PLAUSIBILITY_SIGMAS);
-        let nom: Vec<[f64; 10]> = (0..n).map(|l| self.base.nominal.link_params(l)).collect();
+        let nom: Vec<[f64; 10]> = (0..n).map(|l| self.shared.nominal.link_params(l)).collect();
         if pulled == nom {
             return None;
         }
@@ -504,18 +552,26 @@ impl Effect for RigidBody {
         }
     }
     fn regressor(&self, q: &[f64], qd: &[f64], qdd: &[f64], y: &mut [f64]) -> bool {
-        let p = self.base.independent.len();
-        let n = self.base.nominal.dof();
+        let p = self.base().independent.len();
+        let n = self.shared.nominal.dof();
         let ncol = 10 * n;
         let mut ys = [0.0; 10 * MAX_DOF * MAX_DOF];
         let mut d = DynData::default();
         if y.len() < n * p
-            || rnea_regressor(&self.base.nominal, &mut d, q, qd, qdd, &mut ys[..n * ncol]).is_err()
+            || rnea_regressor(
+                &self.shared.nominal,
+                &mut d,
+                q,
+                qd,
+                qdd,
+                &mut ys[..n * ncol],
+            )
+            .is_err()
         {
             return false;
         }
         for j in 0..n {
-            for (c, &(l, k)) in self.base.independent.iter().enumerate() {
+            for (c, &(l, k)) in self.base().independent.iter().enumerate() {
                 y[j * p + c] = ys[j * ncol + 10 * l + k];
             }
         }

@@ -61,6 +61,32 @@ pub struct BodyShape {
     pub role: Role,
     /// For messages: "link `name` (URDF box)", "capsule of link 3", "print head", ...
     pub label: String,
+    /// A sphere that holds the shape, in the shape's own frame (centre, m; radius, m): the
+    /// self pairs' broad phase (see [`check`]).
+    pub bound: (Point<f64>, f64),
+    /// `local` is the identity (the shape's pose is its body's).
+    pub at_origin: bool,
+}
+
+impl BodyShape {
+    fn new(
+        body: usize,
+        local: Isometry<f64>,
+        shape: SharedShape,
+        role: Role,
+        label: String,
+    ) -> Self {
+        let b = shape.compute_local_bounding_sphere();
+        BodyShape {
+            body,
+            local,
+            shape,
+            role,
+            label,
+            bound: (b.center, b.radius),
+            at_origin: local == Isometry::identity(),
+        }
+    }
 }
 
 /// The arm's collision shapes and the pairs checked against each other.
@@ -139,13 +165,13 @@ impl RobotShapes {
                         GeomShape::Sphere { .. } => "sphere",
                         GeomShape::Hull { .. } => "mesh hull",
                     };
-                    shapes.push(BodyShape {
+                    shapes.push(BodyShape::new(
                         body,
-                        local: iso(&g.origin) * l,
-                        shape: s,
-                        role: Role::Link,
-                        label: format!("link `{name}` (URDF {kind})"),
-                    });
+                        iso(&g.origin) * l,
+                        s,
+                        Role::Link,
+                        format!("link `{name}` (URDF {kind})"),
+                    ));
                     any = true;
                 }
             }
@@ -177,13 +203,13 @@ impl RobotShapes {
         if !base_has {
             if let Some(j0) = model.joints.first() {
                 if let Some(s) = capsule(&V3::zeros(), &j0.origin.pos, radius(0)) {
-                    shapes.push(BodyShape {
-                        body: 0,
-                        local: Isometry::identity(),
-                        shape: s,
-                        role: Role::Link,
-                        label: "capsule of the base".into(),
-                    });
+                    shapes.push(BodyShape::new(
+                        0,
+                        Isometry::identity(),
+                        s,
+                        Role::Link,
+                        "capsule of the base".into(),
+                    ));
                 }
             }
         }
@@ -196,16 +222,16 @@ impl RobotShapes {
                 .get(i + 1)
                 .map_or(model.flange.pos, |j| j.origin.pos);
             if let Some(s) = capsule(&V3::zeros(), &end, radius(i + 1)) {
-                shapes.push(BodyShape {
-                    body: i + 1,
-                    local: Isometry::identity(),
-                    shape: s,
-                    role: Role::Link,
-                    label: format!(
+                shapes.push(BodyShape::new(
+                    i + 1,
+                    Isometry::identity(),
+                    s,
+                    Role::Link,
+                    format!(
                         "capsule of link `{}`",
                         model.link_names.get(i).map_or("?", String::as_str)
                     ),
-                });
+                ));
             }
         }
         // Print head and hose (flange frame).
@@ -213,34 +239,28 @@ impl RobotShapes {
         match &model.tool_geometry {
             Some(g) => {
                 if let Some((l, s)) = cylinder_between(&V3::zeros(), &tip, g.head_radius_m) {
-                    shapes.push(BodyShape {
-                        body: n + 1,
-                        local: l,
-                        shape: s,
-                        role: Role::Head,
-                        label: "print head".into(),
-                    });
+                    shapes.push(BodyShape::new(n + 1, l, s, Role::Head, "print head".into()));
                 }
                 let (a, b) = (V3::from(g.hose_from_m), V3::from(g.hose_to_m));
                 if let Some(s) = capsule(&a, &b, g.hose_radius_m) {
-                    shapes.push(BodyShape {
-                        body: n + 1,
-                        local: Isometry::identity(),
-                        shape: s,
-                        role: Role::Hose,
-                        label: "hose".into(),
-                    });
+                    shapes.push(BodyShape::new(
+                        n + 1,
+                        Isometry::identity(),
+                        s,
+                        Role::Hose,
+                        "hose".into(),
+                    ));
                 }
             }
             None => {
                 if let Some(s) = capsule(&V3::zeros(), &tip, radii.nozzle * reach) {
-                    shapes.push(BodyShape {
-                        body: n + 1,
-                        local: Isometry::identity(),
-                        shape: s,
-                        role: Role::Head,
-                        label: "nozzle (capsule)".into(),
-                    });
+                    shapes.push(BodyShape::new(
+                        n + 1,
+                        Isometry::identity(),
+                        s,
+                        Role::Head,
+                        "nozzle (capsule)".into(),
+                    ));
                 }
             }
         }
@@ -285,6 +305,15 @@ impl RobotShapes {
     }
 
     /// As [`Self::poses`], into `out` (cleared first).
+    ///
+    /// The same numbers as [`Self::poses_by_fk`] (the chain by [`fk`], each frame turned into
+    /// an isometry and composed with `world` and the shape's own pose), with the work that
+    /// cannot change a value left out: a joint frame whose origin has no rotation and whose
+    /// axis is a coordinate axis takes the product with the joint's rotation from its two
+    /// turning columns (the other products are by exact zeros), no tool frame is made, and a
+    /// shape placed at its body's origin takes the body's pose without a product with the
+    /// identity. Zeros may differ in sign; every number is equal (tested on random
+    /// configurations of every shipped robot).
     pub fn poses_into(
         &self,
         model: &RobotModel,
@@ -293,6 +322,31 @@ impl RobotShapes {
         out: &mut Vec<Isometry<f64>>,
     ) {
         out.clear();
+        let n = model.joints.len().min(crate::kinematics::MAX_DOF);
+        let mut bodies = [Isometry::identity(); crate::kinematics::MAX_DOF + 2];
+        bodies[0] = *world;
+        let mut f = Frame::identity();
+        for (i, j) in model.joints.iter().take(n).enumerate() {
+            let qi = q.get(i).copied().unwrap_or(0.0);
+            f = next_frame(&f, j, qi);
+            bodies[i + 1] = world * iso(&f);
+        }
+        bodies[n + 1] = world * iso(&f.compose(&model.flange));
+        for s in &self.shapes {
+            let b = &bodies[s.body.min(n + 1)];
+            out.push(if s.at_origin { *b } else { b * s.local });
+        }
+    }
+
+    /// [`Self::poses_into`] the plain way: [`fk`] for every frame, each shape's pose the
+    /// product of its body's and its own. The reference that `poses_into` is tested against.
+    #[doc(hidden)]
+    pub fn poses_by_fk(
+        &self,
+        model: &RobotModel,
+        q: &[f64],
+        world: &Isometry<f64>,
+    ) -> Vec<Isometry<f64>> {
         let f = fk(model, q);
         let n = f.n;
         let mut bodies = Vec::with_capacity(n + 2);
@@ -301,9 +355,60 @@ impl RobotShapes {
             bodies.push(world * iso(fr));
         }
         bodies.push(world * iso(&f.flange));
-        for s in &self.shapes {
-            out.push(bodies[s.body.min(n + 1)] * s.local);
-        }
+        self.shapes
+            .iter()
+            .map(|s| bodies[s.body.min(n + 1)] * s.local)
+            .collect()
+    }
+}
+
+/// `f.compose(&j.transform(q))` (rad / m), with the same numbers: for a revolute joint whose
+/// origin has no rotation and whose axis is exactly a coordinate axis, the rotation
+/// [`crate::math::rot_axis`] makes has exact zeros off the turning plane, so each column of
+/// the product is one or two of its terms (in the order the full product adds them; a zero
+/// term only ever changes the sign of a zero sum).
+#[inline]
+fn next_frame(f: &Frame, j: &crate::robot::Joint, q: f64) -> Frame {
+    use crate::robot::JointKind;
+    let (x, y, z) = (j.axis.x, j.axis.y, j.axis.z);
+    let unit = |a: f64, b: f64, c: f64| a.abs() == 1.0 && b == 0.0 && c == 0.0;
+    if j.kind != JointKind::Revolute
+        || j.origin.rot != crate::math::M3::identity()
+        || !(unit(x, y, z) || unit(y, z, x) || unit(z, x, y))
+    {
+        return f.compose(&j.transform(q));
+    }
+    let (s, c) = q.sin_cos();
+    let t = 1.0 - c;
+    let r = &f.rot;
+    let col = |k: usize| V3::new(r[(0, k)], r[(1, k)], r[(2, k)]);
+    // rot_axis about axis k (sign σ): the diagonal entry of k is t·σ·σ + c = t + c; in the
+    // plane (a, b) after k: R[a][a] = R[b][b] = c, R[b][a] = σ s, R[a][b] = −σ s.
+    let (k, a, b, sg) = if x != 0.0 {
+        (0, 1, 2, x)
+    } else if y != 0.0 {
+        (1, 2, 0, y)
+    } else {
+        (2, 0, 1, z)
+    };
+    // rot_axis's entries: R[b][a] = t·(..)·0 + s·σ, R[a][b] = t·(..)·0 − s·σ.
+    let (sba, sab) = (s * sg, -(s * sg));
+    let (ca, cb, ck) = (col(a), col(b), col(k));
+    // Column a of f·R: f[:, a]·R[a][a] + f[:, b]·R[b][a]; column b: f[:, a]·R[a][b] +
+    // f[:, b]·R[b][b], each added in index order (a < b, or b < a when the axis is y).
+    let (na, nb) = if a < b {
+        (ca * c + cb * sba, ca * sab + cb * c)
+    } else {
+        (cb * sba + ca * c, cb * c + ca * sab)
+    };
+    let nk = ck * (t + c);
+    let mut rot = crate::math::M3::zeros();
+    rot.set_column(a, &na);
+    rot.set_column(b, &nb);
+    rot.set_column(k, &nk);
+    Frame {
+        rot,
+        pos: f.rot * j.origin.pos + f.pos,
     }
 }
 
@@ -446,7 +551,22 @@ impl Beads {
         if laid == 0 || self.nodes.is_empty() {
             return None;
         }
-        let aabb = shape.compute_aabb(pose);
+        self.hit_within(pose, shape, &shape.compute_aabb(pose), laid)
+    }
+
+    /// [`Beads::hit`] with the shape's AABB at `pose` already known (`aabb`, part frame, m:
+    /// `shape.compute_aabb(pose)`).
+    pub fn hit_within(
+        &self,
+        pose: &Isometry<f64>,
+        shape: &SharedShape,
+        aabb: &Aabb,
+        laid: usize,
+    ) -> Option<usize> {
+        if laid == 0 || self.nodes.is_empty() {
+            return None;
+        }
+        let aabb = *aabb;
         let cap_id = Isometry::identity();
         // A capsule (every link without URDF geometry) against a bead segment in closed form
         // (segment–segment closest points, Ericson's method as parry implements it) instead of
@@ -540,7 +660,125 @@ impl Bed {
 
 /// Collision check of one sample: the shapes at `poses` (part frame) against the bed, the
 /// first `laid` beads and each other. Updates the smallest bed clearance `clearance` (m).
+///
+/// Broad phases, each conservative (a pair it drops is one the exact query would find apart):
+/// every shape's AABB against the bed and the beads' hierarchy (computed once a shape and
+/// shared by both); for the self pairs the AABBs, where the print head, which meets neither
+/// bed nor beads, first stands in with the box of its bounding sphere (its own AABB, costly
+/// for a cylinder, is computed only when that box meets the other shape's). The verdict, the
+/// reason, its message and the clearance are those of the same tests without these
+/// shortcuts ([`check_unfiltered`]; tested on random, near-contact and real configurations).
 pub fn check(
+    rs: &RobotShapes,
+    poses: &[Isometry<f64>],
+    bed: &Bed,
+    beads: &Beads,
+    laid: usize,
+    clearance: &mut Option<f64>,
+) -> Option<(Reason, String)> {
+    const ON_STACK: usize = 16;
+    let n = rs.shapes.len().min(poses.len());
+    if n <= ON_STACK {
+        let mut aabbs = [None; ON_STACK];
+        check_with(rs, poses, bed, beads, laid, clearance, &mut aabbs[..n])
+    } else {
+        let mut aabbs = vec![None; n];
+        check_with(rs, poses, bed, beads, laid, clearance, &mut aabbs)
+    }
+}
+
+/// Margin added to a bounding sphere's radius before its box stands in for a shape's AABB, m
+/// (against rounding in the sphere's centre; a larger box only makes the test looser).
+pub const SPHERE_MARGIN_M: f64 = 1e-6;
+
+/// [`check`] with `aabbs` (one per shape, `None`) as scratch for the shapes' boxes (the AABB,
+/// `true`; or a box that holds it, `false`).
+fn check_with(
+    rs: &RobotShapes,
+    poses: &[Isometry<f64>],
+    bed: &Bed,
+    beads: &Beads,
+    laid: usize,
+    clearance: &mut Option<f64>,
+    aabbs: &mut [Option<(Aabb, bool)>],
+) -> Option<(Reason, String)> {
+    for (i, (s, p)) in rs.shapes.iter().zip(poses).enumerate() {
+        if s.role == Role::Head {
+            continue;
+        }
+        let a = aabbs[i].insert((s.shape.compute_aabb(p), true)).0;
+        // Bed: broad phase on the AABB gap, exact distance only when it could lower the margin.
+        let gap = aabb_gap(&a, &bed.aabb);
+        if gap <= clearance.unwrap_or(f64::INFINITY) {
+            let d = match bed.capsule_above(p, &s.shape) {
+                Some(d) => d,
+                None => query::distance(p, s.shape.as_ref(), &bed.pose, &bed.cuboid).unwrap_or(gap),
+            };
+            *clearance = Some(clearance.map_or(d, |c| c.min(d)));
+            if d <= 0.0 {
+                return Some((
+                    Reason::CollisionBed,
+                    format!("{} (shape {i}) meets the bed", s.label),
+                ));
+            }
+        }
+        if let Some(b) = beads.hit_within(p, &s.shape, &a, laid) {
+            return Some((
+                Reason::CollisionPart,
+                format!(
+                    "{} (shape {i}) comes within {:.3} m of printed bead {b}",
+                    s.label, beads.radius_m
+                ),
+            ));
+        }
+    }
+    // Self pairs: AABBs first. A shape whose AABB was not needed above (the print head) first
+    // gets the box of its bounding sphere, which holds its AABB: when that box misses the
+    // other shape's, so would the AABB. Only otherwise is the AABB computed.
+    let loose = |k: usize, aabbs: &mut [Option<(Aabb, bool)>]| {
+        *aabbs[k].get_or_insert_with(|| {
+            let (c, r) = rs.shapes[k].bound;
+            let c = poses[k] * c;
+            let r = r + SPHERE_MARGIN_M;
+            (
+                Aabb::new(c - Vector::repeat(r), c + Vector::repeat(r)),
+                false,
+            )
+        })
+    };
+    let exact = |k: usize, aabbs: &mut [Option<(Aabb, bool)>]| match aabbs[k] {
+        Some((b, true)) => b,
+        _ => {
+            let b = rs.shapes[k].shape.compute_aabb(&poses[k]);
+            aabbs[k] = Some((b, true));
+            b
+        }
+    };
+    for &(i, j) in &rs.pairs {
+        if !loose(i, aabbs).0.intersects(&loose(j, aabbs).0) {
+            continue;
+        }
+        if !exact(i, aabbs).intersects(&exact(j, aabbs)) {
+            continue;
+        }
+        let (a, b) = (&rs.shapes[i], &rs.shapes[j]);
+        if query::intersection_test(&poses[i], a.shape.as_ref(), &poses[j], b.shape.as_ref())
+            .unwrap_or(false)
+        {
+            return Some((
+                Reason::SelfCollision,
+                format!("{} and {} collide", a.label, b.label),
+            ));
+        }
+    }
+    None
+}
+
+/// [`check`] without its shortcuts (the print head's bounding-sphere box, AABBs shared between
+/// the bed and the beads): the plain check that [`check`] is tested against (same arguments, units
+/// and result).
+#[doc(hidden)]
+pub fn check_unfiltered(
     rs: &RobotShapes,
     poses: &[Isometry<f64>],
     bed: &Bed,

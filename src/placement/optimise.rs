@@ -277,7 +277,22 @@ pub fn probes(p: &Placement, h: f64) -> [Placement; 4] {
 
 /// Energies at ±h in x and y around `at`, gradient and curvature.
 pub fn sensitivity(ev: &Evaluator, at: &Evaluated, h: f64) -> Result<Sensitivity> {
+    Ok(sensitivity_with_probes(ev, at, h)?.0)
+}
+
+/// [`sensitivity`] and the four probes' evaluations it was computed from (in the order of
+/// [`probes`]), for a caller that may move to a probe without evaluating it again.
+pub fn sensitivity_with_probes(
+    ev: &Evaluator,
+    at: &Evaluated,
+    h: f64,
+) -> Result<(Sensitivity, Vec<Evaluated>)> {
     let r = eval_all(ev, &probes(&at.placement, h))?;
+    Ok((sensitivity_of(at, h, &r), r))
+}
+
+/// The sensitivity at `at` from its four evaluated probes `r` (in the order of [`probes`]).
+fn sensitivity_of(at: &Evaluated, h: f64, r: &[Evaluated]) -> Sensitivity {
     let e0 = at.cost();
     let e: [Option<f64>; 4] = std::array::from_fn(|i| r[i].feasible().map(|f| f.energy_j));
     let reasons: [Option<String>; 4] =
@@ -294,7 +309,7 @@ pub fn sensitivity(ev: &Evaluator, at: &Evaluated, h: f64) -> Result<Sensitivity
         (Some(a), None) => Some((e0 - a) / h),
         _ => None,
     };
-    Ok(Sensitivity {
+    Sensitivity {
         one_sided_j_per_m: [one(e[0], e[1]), one(e[2], e[3])],
         h_m: h,
         e0_j: e0,
@@ -303,7 +318,7 @@ pub fn sensitivity(ev: &Evaluator, at: &Evaluated, h: f64) -> Result<Sensitivity
         gradient_j_per_m: [g(e[0], e[1]), g(e[2], e[3])],
         curvature_j_per_m2: [c(e[0], e[1]), c(e[2], e[3])],
         max_rise_pct: max_rise,
-    })
+    }
 }
 
 /// The baseline "centre of the feasible region": the feasible grid entry nearest (in x, y) to

@@ -11,7 +11,7 @@
 //! Nelder–Mead is deterministic, so the answer does not depend on the thread count.
 
 use super::neldermead::{BatchCost, SpeculativeNelderMead};
-use super::optimise::{sensitivity, OptimiseOptions, OptimiseResult};
+use super::optimise::{sensitivity_with_probes, OptimiseOptions, OptimiseResult};
 use super::sweep::{Evaluated, Evaluator, Scratch};
 use super::tolerance::{Checker, Tolerance, ToleranceCheck};
 use crate::error::{Error, Result};
@@ -634,7 +634,7 @@ fn polish(
     let e_stop = best.cost();
     let mut steps: Vec<&str> = Vec::new();
     loop {
-        let sens = sensitivity(ev, &best, h)?;
+        let (sens, evaluated) = sensitivity_with_probes(ev, &best, h)?;
         let e0 = best.cost();
         let mut lower: Vec<(usize, f64)> = (0..4)
             .filter_map(|i| sens.e_j[i].filter(|&e| e < e0).map(|e| (i, e)))
@@ -668,7 +668,8 @@ fn polish(
         }
         match next {
             Some((i, c)) => {
-                best = checker.evaluate(&ps[i], false)?;
+                // The probe the sensitivity has just evaluated, not evaluated again.
+                best = checker.adopt(&evaluated[i])?;
                 chk = c;
                 steps.push(PROBE_NAMES[i]);
             }

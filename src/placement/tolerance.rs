@@ -310,6 +310,24 @@ impl<'e, 'j, 'a> Checker<'e, 'j, 'a> {
         Ok(self.take(p))
     }
 
+    /// `e`, an evaluation made elsewhere (by [`Evaluator::sweep`] or [`Evaluator::evaluate`],
+    /// bit for bit what this checker would make), taken as if [`Checker::evaluate`] had made
+    /// it: counted once, kept, and returned (the kept one when this placement was evaluated
+    /// before). In plain mode the placement is evaluated anew, as every plain evaluation is.
+    pub fn adopt(&self, e: &Evaluated) -> Result<Evaluated> {
+        if self.plain {
+            return self.evaluate(&e.placement, false);
+        }
+        {
+            let mut cache = self.cache.borrow_mut();
+            if let std::collections::hash_map::Entry::Vacant(v) = cache.entry(key(&e.placement)) {
+                v.insert(e.clone());
+                self.made.set(self.made.get() + 1);
+            }
+        }
+        Ok(self.take(&e.placement))
+    }
+
     /// Check `at`'s tolerance box: the corners in this checker's order, as many at once as
     /// the pool has threads, up to the first infeasible one.
     pub fn check(&self, at: &Placement) -> Result<ToleranceCheck> {
