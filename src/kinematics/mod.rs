@@ -479,6 +479,7 @@ impl LimitTable {
     }
 
     /// fit_limits_body with the table's numbers: the same operations in the same order.
+    #[allow(clippy::needless_range_loop)] // joint i of q and of the table's arrays
     #[inline(always)]
     fn fit_joints(
         &self,
