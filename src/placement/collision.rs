@@ -66,6 +66,8 @@ pub struct BodyShape {
     pub bound: (Point<f64>, f64),
     /// `local` is the identity (the shape's pose is its body's).
     pub at_origin: bool,
+    /// The shape when it is a capsule (its axis in the shape's frame, m).
+    pub capsule: Option<Capsule>,
 }
 
 impl BodyShape {
@@ -77,6 +79,7 @@ impl BodyShape {
         label: String,
     ) -> Self {
         let b = shape.compute_local_bounding_sphere();
+        let capsule = shape.as_capsule().copied();
         BodyShape {
             body,
             local,
@@ -85,6 +88,7 @@ impl BodyShape {
             label,
             bound: (b.center, b.radius),
             at_origin: local == Isometry::identity(),
+            capsule,
         }
     }
 }
@@ -566,14 +570,30 @@ impl Beads {
         if laid == 0 || self.nodes.is_empty() {
             return None;
         }
+        let cap = shape
+            .as_capsule()
+            .map(|c| (pose * c.segment.a, pose * c.segment.b, c.radius));
+        self.hit_placed(pose, shape, aabb, cap, laid)
+    }
+
+    /// [`Beads::hit_within`] with, for a capsule, its axis's ends at `pose` and its radius
+    /// already known (`cap`: `pose * a`, `pose * b`, part frame, m; radius, m).
+    fn hit_placed(
+        &self,
+        pose: &Isometry<f64>,
+        shape: &SharedShape,
+        aabb: &Aabb,
+        cap: Option<(Point<f64>, Point<f64>, f64)>,
+        laid: usize,
+    ) -> Option<usize> {
+        if laid == 0 || self.nodes.is_empty() {
+            return None;
+        }
         let aabb = *aabb;
         let cap_id = Isometry::identity();
         // A capsule (every link without URDF geometry) against a bead segment in closed form
         // (segment–segment closest points, Ericson's method as parry implements it) instead of
         // parry's general GJK dispatch: same distance, a fraction of the cost.
-        let cap = shape
-            .as_capsule()
-            .map(|c| (pose * c.segment.a, pose * c.segment.b, c.radius));
         let touches = |i: usize| {
             let seg = &self.segs[i];
             let d = match &cap {
@@ -592,6 +612,11 @@ impl Beads {
             };
             d < self.radius_m
         };
+        // The root first: most shapes (the base, the upper arm) miss the part's box.
+        let root = &self.nodes[0];
+        if root.start as usize >= laid || !root.aabb.intersects(&aabb) {
+            return None;
+        }
         // Depth-first, lower indices first: the first bead found is the first laid.
         let mut stack = [0u32; 64];
         let mut top = 1;
@@ -639,12 +664,17 @@ impl Bed {
     /// minus the radius (0 when it touches). `None` in every other case (use parry's GJK).
     pub fn capsule_above(&self, pose: &Isometry<f64>, shape: &SharedShape) -> Option<f64> {
         let c = shape.as_capsule()?;
-        let (a, b) = (pose * c.segment.a, pose * c.segment.b);
+        self.axis_above(&(pose * c.segment.a), &(pose * c.segment.b), c.radius)
+    }
+
+    /// [`Bed::capsule_above`] of the capsule around the axis `a`–`b` (part frame, m) of
+    /// radius `radius`, m.
+    fn axis_above(&self, a: &Point<f64>, b: &Point<f64>, radius: f64) -> Option<f64> {
         let (lo, hi) = (&self.aabb.mins, &self.aabb.maxs);
         let inside = |p: &Point<f64>| {
             p.x >= lo.x && p.x <= hi.x && p.y >= lo.y && p.y <= hi.y && p.z >= hi.z
         };
-        (inside(&a) && inside(&b)).then(|| (a.z.min(b.z) - hi.z - c.radius).max(0.0))
+        (inside(a) && inside(b)).then(|| (a.z.min(b.z) - hi.z - radius).max(0.0))
     }
 
     /// From the box corners `lo`, `hi` (part frame, m).
@@ -678,12 +708,24 @@ pub fn check(
 ) -> Option<(Reason, String)> {
     const ON_STACK: usize = 16;
     let n = rs.shapes.len().min(poses.len());
+    let none = Aabb::new_invalid();
     if n <= ON_STACK {
-        let mut aabbs = [None; ON_STACK];
-        check_with(rs, poses, bed, beads, laid, clearance, &mut aabbs[..n])
+        let (mut boxes, mut exact) = ([none; ON_STACK], [false; ON_STACK]);
+        check_with(
+            rs,
+            poses,
+            bed,
+            beads,
+            laid,
+            clearance,
+            &mut boxes[..n],
+            &mut exact[..n],
+        )
     } else {
-        let mut aabbs = vec![None; n];
-        check_with(rs, poses, bed, beads, laid, clearance, &mut aabbs)
+        let (mut boxes, mut exact) = (vec![none; n], vec![false; n]);
+        check_with(
+            rs, poses, bed, beads, laid, clearance, &mut boxes, &mut exact,
+        )
     }
 }
 
@@ -691,8 +733,9 @@ pub fn check(
 /// (against rounding in the sphere's centre; a larger box only makes the test looser).
 pub const SPHERE_MARGIN_M: f64 = 1e-6;
 
-/// [`check`] with `aabbs` (one per shape, `None`) as scratch for the shapes' boxes (the AABB,
-/// `true`; or a box that holds it, `false`).
+/// [`check`] with `boxes` and `exact` (one per shape) as scratch for the shapes' boxes: the
+/// AABB (`exact`), or a box that holds it.
+#[allow(clippy::too_many_arguments)]
 fn check_with(
     rs: &RobotShapes,
     poses: &[Isometry<f64>],
@@ -700,17 +743,35 @@ fn check_with(
     beads: &Beads,
     laid: usize,
     clearance: &mut Option<f64>,
-    aabbs: &mut [Option<(Aabb, bool)>],
+    boxes: &mut [Aabb],
+    exact: &mut [bool],
 ) -> Option<(Reason, String)> {
     for (i, (s, p)) in rs.shapes.iter().zip(poses).enumerate() {
         if s.role == Role::Head {
+            let (c, r) = s.bound;
+            let (c, r) = (p * c, r + SPHERE_MARGIN_M);
+            boxes[i] = Aabb::new(c - Vector::repeat(r), c + Vector::repeat(r));
+            exact[i] = false;
             continue;
         }
-        let a = aabbs[i].insert((s.shape.compute_aabb(p), true)).0;
+        // A capsule's axis at its pose, once for its AABB (as parry makes it), the bed and the
+        // beads.
+        let cap = s
+            .capsule
+            .map(|c| (p * c.segment.a, p * c.segment.b, c.radius));
+        let a = match &cap {
+            Some((ea, eb, r)) => Capsule::new(*ea, *eb, *r).local_aabb(),
+            None => s.shape.compute_aabb(p),
+        };
+        (boxes[i], exact[i]) = (a, true);
         // Bed: broad phase on the AABB gap, exact distance only when it could lower the margin.
         let gap = aabb_gap(&a, &bed.aabb);
         if gap <= clearance.unwrap_or(f64::INFINITY) {
-            let d = match bed.capsule_above(p, &s.shape) {
+            let above = match &cap {
+                Some((ea, eb, r)) => bed.axis_above(ea, eb, *r),
+                None => None,
+            };
+            let d = match above {
                 Some(d) => d,
                 None => query::distance(p, s.shape.as_ref(), &bed.pose, &bed.cuboid).unwrap_or(gap),
             };
@@ -722,7 +783,7 @@ fn check_with(
                 ));
             }
         }
-        if let Some(b) = beads.hit_within(p, &s.shape, &a, laid) {
+        if let Some(b) = beads.hit_placed(p, &s.shape, &a, cap, laid) {
             return Some((
                 Reason::CollisionPart,
                 format!(
@@ -732,33 +793,20 @@ fn check_with(
             ));
         }
     }
-    // Self pairs: AABBs first. A shape whose AABB was not needed above (the print head) first
-    // gets the box of its bounding sphere, which holds its AABB: when that box misses the
-    // other shape's, so would the AABB. Only otherwise is the AABB computed.
-    let loose = |k: usize, aabbs: &mut [Option<(Aabb, bool)>]| {
-        *aabbs[k].get_or_insert_with(|| {
-            let (c, r) = rs.shapes[k].bound;
-            let c = poses[k] * c;
-            let r = r + SPHERE_MARGIN_M;
-            (
-                Aabb::new(c - Vector::repeat(r), c + Vector::repeat(r)),
-                false,
-            )
-        })
-    };
-    let exact = |k: usize, aabbs: &mut [Option<(Aabb, bool)>]| match aabbs[k] {
-        Some((b, true)) => b,
-        _ => {
-            let b = rs.shapes[k].shape.compute_aabb(&poses[k]);
-            aabbs[k] = Some((b, true));
-            b
-        }
-    };
+    // Self pairs: boxes first, then the exact test. The print head's box is that of its
+    // bounding sphere (it holds the AABB: when it misses the other shape's box, so would the
+    // AABB); only when it meets one is the AABB computed.
     for &(i, j) in &rs.pairs {
-        if !loose(i, aabbs).0.intersects(&loose(j, aabbs).0) {
+        if !boxes[i].intersects(&boxes[j]) {
             continue;
         }
-        if !exact(i, aabbs).intersects(&exact(j, aabbs)) {
+        for k in [i, j] {
+            if !exact[k] {
+                boxes[k] = rs.shapes[k].shape.compute_aabb(&poses[k]);
+                exact[k] = true;
+            }
+        }
+        if !boxes[i].intersects(&boxes[j]) {
             continue;
         }
         let (a, b) = (&rs.shapes[i], &rs.shapes[j]);
