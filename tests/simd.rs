@@ -904,10 +904,9 @@ fn timing_a_path_gives_the_same_trajectory_slowdowns_and_failures_on_every_level
 fn a_limit_table_fits_joint_vectors_exactly_as_fit_limits_does() {
     // LimitTable::fit (path IK's per-sample fit, limits gathered once) against fit_limits on
     // every shipped robot: joint vectors inside, at and beyond the limits (by the tolerance
-    // and by whole turns), wide-range joints past ±π from their reference, infinite entries
-    // (not NaN: fit_limits panics in `clamp` on a NaN angle, and so does the table), no
-    // reference, a short reference, a short vector: the same fitted vector to the bit and the
-    // same error.
+    // and by whole turns), wide-range joints past ±π from their reference, infinite and NaN
+    // entries, no reference, a short reference, a short vector: the same fitted vector to the
+    // bit and the same error.
     use printwatt::kinematics::{fit_limits, LimitTable};
     let mut u = uniform(11);
     let mut fitted = 0;
@@ -941,7 +940,9 @@ fn a_limit_table_fits_joint_vectors_exactly_as_fit_limits_does() {
                         }
                         3 => mid + 0.9 * half * u() + std::f64::consts::TAU * (3.0 * u()).round(),
                         4 => std::f64::consts::PI * u() * 1.2,
-                        5 => [f64::NEG_INFINITY, f64::INFINITY, 0.5, -0.5][(case / 7) % 4],
+                        5 => {
+                            [f64::NEG_INFINITY, f64::INFINITY, f64::NAN, 0.5, -0.5][(case / 7) % 5]
+                        }
                         _ => 20.0 * u(),
                     }
                 })

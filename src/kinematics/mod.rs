@@ -356,9 +356,16 @@ fn fit_limits_body(
                 if v >= j.lower && v <= j.upper && (v - center).abs() < PI {
                     continue;
                 }
+                // A NaN or infinite angle is no angle: no 2π multiple puts it within the
+                // limits (before, NaN made `clamp` panic and ±∞ came out as NaN).
+                if !v.is_finite() {
+                    return Err(fail(v));
+                }
                 let kmin = ((j.lower - TOL - v) / TAU).ceil();
                 let kmax = ((j.upper + TOL - v) / TAU).floor();
-                if kmin > kmax {
+                // Not `kmin > kmax`: NaN limits fail too (`clamp` below panics on NaN).
+                #[allow(clippy::neg_cmp_op_on_partial_ord)]
+                if !(kmin <= kmax) {
                     let w = opw::wrap_pi(v - center) + center;
                     return Err(fail(w));
                 }
@@ -508,9 +515,16 @@ impl LimitTable {
                 if v >= lower && v <= upper && (v - center).abs() < PI {
                     continue;
                 }
+                // A NaN or infinite angle is no angle: no 2π multiple puts it within the
+                // limits (before, NaN made `clamp` panic and ±∞ came out as NaN).
+                if !v.is_finite() {
+                    return Err(fail(v));
+                }
                 let kmin = ((self.lower_tol[i] - v) / TAU).ceil();
                 let kmax = ((self.upper_tol[i] - v) / TAU).floor();
-                if kmin > kmax {
+                // Not `kmin > kmax`: NaN limits fail too (`clamp` below panics on NaN).
+                #[allow(clippy::neg_cmp_op_on_partial_ord)]
+                if !(kmin <= kmax) {
                     let w = opw::wrap_pi(v - center) + center;
                     return Err(fail(w));
                 }
