@@ -417,3 +417,39 @@ fn singularity_measures_behave() {
     assert!((s.shoulder_m.unwrap() - (p.a1 + p.c3 + p.c2 * 0.0)).abs() < 0.3);
     assert!(s.sigma_min > 1e-3);
 }
+
+#[test]
+fn a_nan_joint_angle_is_a_joint_limit_failure_not_a_panic() {
+    // fit_limits (and path IK's LimitTable, its twin) on a NaN or infinite angle: before,
+    // `clamp` panicked on the NaN bounds the 2π-multiple search made of it.
+    use printwatt::kinematics::{fit_limits, IkFailure, LimitTable};
+    for name in ["abb_irb6700_200_260", "ur10e", "puma560"] {
+        let model = robot::load(
+            &Path::new(env!("CARGO_MANIFEST_DIR"))
+                .join("robots")
+                .join(name),
+        )
+        .unwrap();
+        let table = LimitTable::new(&model);
+        for bad in [f64::NAN, f64::INFINITY, f64::NEG_INFINITY] {
+            for j in 0..model.dof() {
+                let mut q = vec![0.1; model.dof()];
+                q[j] = bad;
+                let refs = vec![0.2; model.dof()];
+                for q_ref in [None, Some(&refs[..])] {
+                    for r in [
+                        fit_limits(&model, &mut q.clone(), q_ref),
+                        table.fit(&model, &mut q.clone(), q_ref),
+                    ] {
+                        match r {
+                            Err(IkFailure::JointLimit { joint, .. }) => {
+                                assert_eq!(joint, j, "{name}: {bad} at joint {}", j + 1)
+                            }
+                            other => panic!("{name}: {bad} at joint {}: {other:?}", j + 1),
+                        }
+                    }
+                }
+            }
+        }
+    }
+}

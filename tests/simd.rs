@@ -899,3 +899,168 @@ fn timing_a_path_gives_the_same_trajectory_slowdowns_and_failures_on_every_level
         "{slowed} slowed, {failed} failed, {plain} plain"
     );
 }
+
+#[test]
+fn a_limit_table_fits_joint_vectors_exactly_as_fit_limits_does() {
+    // LimitTable::fit (path IK's per-sample fit, limits gathered once) against fit_limits on
+    // every shipped robot: joint vectors inside, at and beyond the limits (by the tolerance
+    // and by whole turns), wide-range joints past ±π from their reference, infinite and NaN
+    // entries, no reference, a short reference, a short vector: the same fitted vector to the
+    // bit and the same error.
+    use printwatt::kinematics::{fit_limits, LimitTable};
+    let mut u = uniform(11);
+    let mut fitted = 0;
+    for name in [
+        "abb_irb6700_200_260",
+        "abb_irb4600_40_255",
+        "staubli_tx200",
+        "ur10e",
+        "puma560",
+    ] {
+        let model = common::robot(name);
+        let n = model.dof();
+        let table = LimitTable::new(&model);
+        for case in 0..4000 {
+            let mut q: Vec<f64> = model
+                .joints
+                .iter()
+                .map(|j| {
+                    let (lo, hi) = (j.lower.max(-10.0), j.upper.min(10.0));
+                    let mid = 0.5 * (lo + hi);
+                    let half = 0.5 * (hi - lo);
+                    match case % 7 {
+                        0 => mid + 0.99 * half * u(),
+                        1 => mid + 1.3 * half * u(),
+                        2 => {
+                            if u() > 0.0 {
+                                hi + 2e-9 * u()
+                            } else {
+                                lo + 2e-9 * u()
+                            }
+                        }
+                        3 => mid + 0.9 * half * u() + std::f64::consts::TAU * (3.0 * u()).round(),
+                        4 => std::f64::consts::PI * u() * 1.2,
+                        5 => {
+                            [f64::NEG_INFINITY, f64::INFINITY, f64::NAN, 0.5, -0.5][(case / 7) % 5]
+                        }
+                        _ => 20.0 * u(),
+                    }
+                })
+                .collect();
+            let r: Vec<f64> = q.iter().map(|v| v + 4.0 * u()).collect();
+            if case % 11 == 0 {
+                q.truncate(n - 1);
+            }
+            let refs: [Option<&[f64]>; 3] = [None, Some(&r), Some(&r[..n / 2])];
+            for q_ref in refs {
+                let (mut a, mut b) = (q.clone(), q.clone());
+                let want = fit_limits(&model, &mut a, q_ref);
+                let got = table.fit(&model, &mut b, q_ref);
+                assert_eq!(
+                    format!("{got:?}"),
+                    format!("{want:?}"),
+                    "{name} {q:?} {q_ref:?}"
+                );
+                let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                assert_eq!(bits(&b), bits(&a), "{name} {q:?} {q_ref:?}");
+                fitted += want.is_ok() as usize;
+            }
+        }
+    }
+    assert!(fitted > 10_000, "only {fitted} fitted");
+}
+
+#[test]
+fn the_prunes_branch_check_in_lockstep_rejects_the_same_first_sample_with_the_same_error() {
+    // IkSolver::branch_admits_batch (the prune before tracking, 8 thinned samples at once)
+    // against branch_admits sample by sample: tips inside and beyond the reach, every
+    // shoulder/elbow branch, several nozzle spins, and targets at and near the wrist
+    // singularity (from joint vectors with q5 = 0 .. 1e-3): the same first rejected sample
+    // with the same error, for every start within the batch, on every level.
+    use printwatt::kinematics::fk::tool_pose;
+    use printwatt::kinematics::opw::{Elbow, Shoulder};
+    use printwatt::kinematics::{nozzle_target, IkSolver};
+    use printwatt::math::{Frame, V3};
+    let _g = LEVEL_LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    let (mut rejected, mut admitted) = (0, 0);
+    let robots = ["abb_irb6700_200_260", "abb_irb4600_40_255", "staubli_tx200"];
+    for (name, narrow) in robots.iter().flat_map(|r| [(*r, false), (*r, true)]) {
+        let mut model = common::robot(name);
+        assert!(model.opw.is_some(), "{name}");
+        if narrow {
+            // Wrist joints 4 and 6 within ±0.3 rad: at the singularity only the zeroed
+            // q4, q6 of branch_admits fit.
+            for j in [3, 5] {
+                (model.joints[j].lower, model.joints[j].upper) = (-0.3, 0.3);
+            }
+        }
+        let solver = IkSolver::new(&model).unwrap();
+        let reach = printwatt::placement::feasibility::reach_m(&model);
+        let mut u = uniform(31);
+        let mut batches: Vec<(nalgebra::Matrix3<f64>, Vec<V3>)> = Vec::new();
+        for spin in [0.0, 0.7, -2.0, 3.1] {
+            let rot = nozzle_target(&V3::zeros(), spin).rot;
+            for _ in 0..12 {
+                let tips = (0..LANES)
+                    .map(|_| {
+                        V3::new(
+                            reach * (0.55 + 0.45 * u()),
+                            reach * 0.6 * u(),
+                            reach * 0.5 * u(),
+                        )
+                    })
+                    .collect();
+                batches.push((rot, tips));
+            }
+        }
+        for q5 in [0.0, 1e-9, 1e-7, 3e-7, 2e-6, 1e-3] {
+            for _ in 0..6 {
+                let mut q: Vec<f64> = (0..6).map(|_| 1.2 * u()).collect();
+                q[4] = q5;
+                let t: Frame = tool_pose(&model, &q);
+                let tips = (0..LANES)
+                    .map(|l| t.pos + V3::new(1e-8 * l as f64 * u(), 0.0, 1e-8 * l as f64 * u()))
+                    .collect();
+                batches.push((t.rot, tips));
+            }
+        }
+        for (rot, tips) in &batches {
+            for (shoulder, elbow) in [
+                (Shoulder::Front, Elbow::Up),
+                (Shoulder::Front, Elbow::Down),
+                (Shoulder::Back, Elbow::Up),
+                (Shoulder::Back, Elbow::Down),
+            ] {
+                for start in 0..LANES {
+                    let tips = &tips[start..];
+                    let want = tips.iter().enumerate().find_map(|(l, tip)| {
+                        let target = Frame {
+                            rot: *rot,
+                            pos: *tip,
+                        };
+                        solver
+                            .branch_admits(&target, shoulder, elbow)
+                            .err()
+                            .map(|e| (l, e))
+                    });
+                    match &want {
+                        Some(_) => rejected += 1,
+                        None => admitted += 1,
+                    }
+                    for level in levels() {
+                        let got = solver.branch_admits_batch(rot, tips, shoulder, elbow, level);
+                        assert_eq!(
+                            format!("{got:?}"),
+                            format!("{want:?}"),
+                            "{name} narrow {narrow} {shoulder:?} {elbow:?} from {start} {level:?}"
+                        );
+                    }
+                }
+            }
+        }
+    }
+    assert!(
+        rejected > 300 && admitted > 300,
+        "{rejected} rejected, {admitted} admitted"
+    );
+}

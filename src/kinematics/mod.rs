@@ -55,6 +55,14 @@ impl JointVec {
     pub fn to_vec(&self) -> Vec<f64> {
         self.v[..self.n].to_vec()
     }
+
+    /// All [`MAX_DOF`] slots (rad / m): the entries, then zeros beyond its `len()` entries
+    /// (every constructor zeroes them and the slice views never reach them), for fixed-width
+    /// loops that vectorise.
+    #[inline]
+    pub fn padded(&self) -> &[f64; MAX_DOF] {
+        &self.v
+    }
 }
 
 impl std::ops::Deref for JointVec {
@@ -348,9 +356,16 @@ fn fit_limits_body(
                 if v >= j.lower && v <= j.upper && (v - center).abs() < PI {
                     continue;
                 }
+                // A NaN or infinite angle is no angle: no 2π multiple puts it within the
+                // limits (before, NaN made `clamp` panic and ±∞ came out as NaN).
+                if !v.is_finite() {
+                    return Err(fail(v));
+                }
                 let kmin = ((j.lower - TOL - v) / TAU).ceil();
                 let kmax = ((j.upper + TOL - v) / TAU).floor();
-                if kmin > kmax {
+                // Not `kmin > kmax`: NaN limits fail too (`clamp` below panics on NaN).
+                #[allow(clippy::neg_cmp_op_on_partial_ord)]
+                if !(kmin <= kmax) {
                     let w = opw::wrap_pi(v - center) + center;
                     return Err(fail(w));
                 }
@@ -366,6 +381,164 @@ fn fit_limits_body(
         }
     }
     Ok(())
+}
+
+/// The joint limits [`fit_limits`] reads, gathered once per solver (a robot's joints are
+/// large records; the per-sample fit of path IK reads six of their numbers): per joint the
+/// limits, the limits widened by the fit's tolerance (`lower − 1e-9`, `upper + 1e-9`, the
+/// same sums `fit_limits` forms per call) and the kind, and whether the CPU has SSE4.1.
+/// [`LimitTable::fit`] is [`fit_limits`], bit for bit.
+#[derive(Clone, Debug)]
+pub struct LimitTable {
+    n: usize,
+    lower: [f64; MAX_DOF],
+    upper: [f64; MAX_DOF],
+    lower_tol: [f64; MAX_DOF],
+    upper_tol: [f64; MAX_DOF],
+    revolute: [bool; MAX_DOF],
+    sse41: bool,
+}
+
+/// Tolerance of [`fit_limits`]' limit checks, rad (m).
+const FIT_TOL: f64 = 1e-9;
+
+impl LimitTable {
+    /// The table of `model`'s first [`MAX_DOF`] joints.
+    pub fn new(model: &RobotModel) -> LimitTable {
+        let mut t = LimitTable {
+            n: model.joints.len().min(MAX_DOF),
+            lower: [0.0; MAX_DOF],
+            upper: [0.0; MAX_DOF],
+            lower_tol: [0.0; MAX_DOF],
+            upper_tol: [0.0; MAX_DOF],
+            revolute: [false; MAX_DOF],
+            #[cfg(target_arch = "x86_64")]
+            sse41: std::is_x86_feature_detected!("sse4.1"),
+            #[cfg(not(target_arch = "x86_64"))]
+            sse41: false,
+        };
+        for (i, j) in model.joints.iter().take(MAX_DOF).enumerate() {
+            t.lower[i] = j.lower;
+            t.upper[i] = j.upper;
+            t.lower_tol[i] = j.lower - FIT_TOL;
+            t.upper_tol[i] = j.upper + FIT_TOL;
+            t.revolute[i] = j.kind == JointKind::Revolute;
+        }
+        t
+    }
+
+    /// [`fit_limits`]`(model, q, q_ref)` from the table (`model` the table's robot, for the
+    /// error's joint name only): the same answer, the same error, bit for bit.
+    #[inline]
+    pub fn fit(
+        &self,
+        model: &RobotModel,
+        q: &mut [f64],
+        q_ref: Option<&[f64]>,
+    ) -> Result<(), IkFailure> {
+        if model.joints.len() > MAX_DOF {
+            return fit_limits(model, q, q_ref);
+        }
+        let m = q.len().min(self.n);
+        let (q_m, lower, upper) = (&q[..m], &self.lower[..m], &self.upper[..m]);
+        // fit_limits' fast path at every joint (revolute, within the limits, less than π from
+        // the centre: its reference, else 0) leaves `q` as it is.
+        let mut inside = true;
+        match q_ref {
+            Some(r) if r.len() >= m => {
+                for i in 0..m {
+                    inside &= self.revolute[i]
+                        & (q_m[i] >= lower[i])
+                        & (q_m[i] <= upper[i])
+                        & ((q_m[i] - r[i]).abs() < PI);
+                }
+            }
+            None => {
+                for i in 0..m {
+                    inside &= self.revolute[i]
+                        & (q_m[i] >= lower[i])
+                        & (q_m[i] <= upper[i])
+                        & ((q_m[i] - 0.0).abs() < PI);
+                }
+            }
+            Some(_) => inside = false,
+        }
+        if inside {
+            return Ok(());
+        }
+        #[cfg(target_arch = "x86_64")]
+        if self.sse41 {
+            // SAFETY: the CPU has SSE4.1 (detected when the table was made).
+            return unsafe { self.fit_sse41(model, q, q_ref) };
+        }
+        self.fit_joints(model, q, q_ref)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "sse4.1")]
+    fn fit_sse41(
+        &self,
+        model: &RobotModel,
+        q: &mut [f64],
+        q_ref: Option<&[f64]>,
+    ) -> Result<(), IkFailure> {
+        self.fit_joints(model, q, q_ref)
+    }
+
+    /// fit_limits_body with the table's numbers: the same operations in the same order.
+    #[allow(clippy::needless_range_loop)] // joint i of q and of the table's arrays
+    #[inline(always)]
+    fn fit_joints(
+        &self,
+        model: &RobotModel,
+        q: &mut [f64],
+        q_ref: Option<&[f64]>,
+    ) -> Result<(), IkFailure> {
+        const TAU: f64 = 2.0 * PI;
+        let m = q.len().min(self.n);
+        for i in 0..m {
+            let fail = |value: f64| {
+                let j = &model.joints[i];
+                IkFailure::JointLimit {
+                    joint: i,
+                    name: j.name.clone(),
+                    value,
+                    lower: j.lower,
+                    upper: j.upper,
+                    revolute: j.kind == JointKind::Revolute,
+                }
+            };
+            let (lower, upper) = (self.lower[i], self.upper[i]);
+            let v = q[i];
+            if self.revolute[i] {
+                let center = q_ref.and_then(|r| r.get(i).copied()).unwrap_or(0.0);
+                if v >= lower && v <= upper && (v - center).abs() < PI {
+                    continue;
+                }
+                // A NaN or infinite angle is no angle: no 2π multiple puts it within the
+                // limits (before, NaN made `clamp` panic and ±∞ came out as NaN).
+                if !v.is_finite() {
+                    return Err(fail(v));
+                }
+                let kmin = ((self.lower_tol[i] - v) / TAU).ceil();
+                let kmax = ((self.upper_tol[i] - v) / TAU).floor();
+                // Not `kmin > kmax`: NaN limits fail too (`clamp` below panics on NaN).
+                #[allow(clippy::neg_cmp_op_on_partial_ord)]
+                if !(kmin <= kmax) {
+                    let w = opw::wrap_pi(v - center) + center;
+                    return Err(fail(w));
+                }
+                let k = ((center - v) / TAU).round().clamp(kmin, kmax);
+                q[i] = (v + k * TAU).clamp(lower, upper);
+            } else {
+                if !(v >= self.lower_tol[i] && v <= self.upper_tol[i]) {
+                    return Err(fail(v));
+                }
+                q[i] = v.clamp(lower, upper);
+            }
+        }
+        Ok(())
+    }
 }
 
 /// One inverse-kinematics answer, already checked by forward kinematics and within limits.
@@ -390,6 +563,7 @@ pub struct IkSolver<'a> {
     tool_inv: Frame,
     chain: fk::FastChain,
     opw_k: Option<opw::Prepared>,
+    limits: LimitTable,
     /// Settings of the numeric solver.
     pub numeric: NumericOptions,
     /// Accepted tool position error of the FK re-check, m.
@@ -429,6 +603,7 @@ impl<'a> IkSolver<'a> {
             tool_inv: model.tool.inverse(),
             chain: fk::FastChain::new(model),
             opw_k: model.opw.as_ref().map(opw::Prepared::new),
+            limits: LimitTable::new(model),
             numeric: NumericOptions::default(),
             check_position_m: 1e-6,
             check_orientation_rad: 1e-6,
@@ -514,7 +689,7 @@ impl<'a> IkSolver<'a> {
                 for b in Branch::ALL {
                     let r = opw::solve_branch(p, &flange, b).and_then(|q| {
                         let mut q = JointVec::from_slice(&q);
-                        fit_limits(self.model, &mut q, None)?;
+                        self.limits.fit(self.model, &mut q, None)?;
                         let (dp, dr) = self.check(tool_target, &q)?;
                         Ok(Solution {
                             q,
@@ -539,7 +714,9 @@ impl<'a> IkSolver<'a> {
             None => match numeric::solve_all(self.model, tool_target, &self.numeric) {
                 Ok(qs) => {
                     for mut q in qs {
-                        let r = fit_limits(self.model, &mut q, None)
+                        let r = self
+                            .limits
+                            .fit(self.model, &mut q, None)
                             .and_then(|_| self.check(tool_target, &q));
                         match r {
                             Ok((dp, dr)) => out.push(Solution {
@@ -649,7 +826,7 @@ impl<'a> IkSolver<'a> {
                         }
                     }
                 }
-                fit_limits(self.model, &mut q, None)
+                self.limits.fit(self.model, &mut q, None)
             });
             match r {
                 Ok(()) => return Ok(()),
@@ -659,6 +836,67 @@ impl<'a> IkSolver<'a> {
             }
         }
         Err(first.unwrap_or(IkFailure::Unsupported("no wrist variant".into())))
+    }
+
+    /// [`IkSolver::branch_admits`] of up to [`crate::simd::LANES`] tool targets with the
+    /// common orientation `rot` and the tips `tips` (base frame, m), the closed form in
+    /// lockstep on `level` ([`opw::solve_branch_batch`]; both wrist variants come from each
+    /// lane, as [`IkSolver::take_near`] takes them): the first target it rejects, with
+    /// exactly the error `branch_admits` gives, or `None`. Lanes the batch does not hold
+    /// (unreachable, near the wrist singularity) go through `branch_admits` itself.
+    pub fn branch_admits_batch(
+        &self,
+        rot: &M3,
+        tips: &[V3],
+        shoulder: Shoulder,
+        elbow: Elbow,
+        level: crate::simd::Level,
+    ) -> Option<(usize, IkFailure)> {
+        use crate::simd::LANES;
+        let (Some(p), Some(k)) = (&self.model.opw, &self.opw_k) else {
+            return None;
+        };
+        let tips = &tips[..tips.len().min(LANES)];
+        // flange_target of each tip, as solve_near_batch forms it.
+        let frot = rot * self.tool_inv.rot;
+        let off = rot * self.tool_inv.pos;
+        let mut pos = [[0.0; LANES]; 3];
+        for (l, t) in tips.iter().enumerate() {
+            pos[0][l] = off.x + t.x;
+            pos[1][l] = off.y + t.y;
+            pos[2][l] = off.z + t.z;
+        }
+        let b = opw::solve_branch_batch(
+            p,
+            k,
+            &frot,
+            &pos,
+            Branch::new(shoulder, elbow, Wrist::NoFlip),
+            level,
+        );
+        for (l, tip) in tips.iter().enumerate() {
+            // branch_admits zeroes q4 and q6 below |sin q5| = 1e-6: per sample there.
+            let r = if b.ok[l] && b.s5[l] >= 1e-6 {
+                let fit = |w: Wrist| {
+                    let mut q = JointVec::from_slice(&b.variant(p, l, w));
+                    self.limits.fit(self.model, &mut q, None)
+                };
+                fit(Wrist::NoFlip).or_else(|e| fit(Wrist::Flip).map_err(|_| e))
+            } else {
+                self.branch_admits(
+                    &Frame {
+                        rot: *rot,
+                        pos: *tip,
+                    },
+                    shoulder,
+                    elbow,
+                )
+            };
+            if let Err(e) = r {
+                return Some((l, e));
+            }
+        }
+        None
     }
 
     /// The solution that continues `q_prev` (rad / m; the previous path sample): the same
@@ -697,7 +935,7 @@ impl<'a> IkSolver<'a> {
             _ => {
                 self.precheck(tool_target)?;
                 let mut q = numeric::solve_from(self.model, tool_target, q_prev, &self.numeric)?;
-                fit_limits(self.model, &mut q, Some(q_prev))?;
+                self.limits.fit(self.model, &mut q, Some(q_prev))?;
                 self.check_with_sincos(tool_target, &q, sincos)?;
                 Ok(q)
             }
@@ -788,7 +1026,7 @@ impl<'a> IkSolver<'a> {
                 let b = batch.branch;
                 let fit = |w: Wrist| {
                     let mut q = JointVec::from_slice(&batch.variant(p, lane, w));
-                    fit_limits(self.model, &mut q, Some(q_prev)).map(|_| q)
+                    self.limits.fit(self.model, &mut q, Some(q_prev)).map(|_| q)
                 };
                 let first = fit(b.wrist);
                 if let Ok(q) = &first {
@@ -904,7 +1142,7 @@ impl<'a> IkSolver<'a> {
         let solve = |br: Branch| -> Result<(JointVec, f64), IkFailure> {
             let (q, s5) = opw::solve_branch_prepared(p, k, &flange, br, Some(q_prev))?;
             let mut q = JointVec::from_slice(&q);
-            fit_limits(self.model, &mut q, Some(q_prev))?;
+            self.limits.fit(self.model, &mut q, Some(q_prev))?;
             Ok((q, s5))
         };
         let dist = |q: &JointVec| {

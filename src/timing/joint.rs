@@ -197,17 +197,14 @@ pub fn track(
     let mut sc = [0.0; 2 * crate::kinematics::MAX_DOF];
     let mut prev = JointVec::from_slice(q0);
     // A step larger than this cannot be a continuous motion of one configuration.
-    let max_step: Vec<f64> = model
-        .joints
-        .iter()
-        .map(|j| {
-            if j.velocity_limit.is_finite() {
-                (j.velocity_limit * motion.dt * 4.0).max(0.05)
-            } else {
-                0.5
-            }
-        })
-        .collect();
+    let mut max_step = [f64::INFINITY; crate::kinematics::MAX_DOF];
+    for (m, j) in max_step.iter_mut().zip(&model.joints) {
+        *m = if j.velocity_limit.is_finite() {
+            (j.velocity_limit * motion.dt * 4.0).max(0.05)
+        } else {
+            0.5
+        };
+    }
     // The nozzle's orientation is the same at every sample: its sine and cosine once.
     let rot = nozzle_target(&V3::zeros(), at.nozzle_yaw()).rot;
     // With SIMD (crate::simd) the IK's FK re-check runs deferred, in lockstep batches of
@@ -291,7 +288,19 @@ pub fn track(
                 return Err(unreachable(k, tip, reason));
             }
         };
-        if k > 0 {
+        // The first joint whose step is too large (none: the common case, found in one
+        // pass over the joints).
+        // All MAX_DOF slots at once: beyond the robot's joints both vectors hold zeros and
+        // the step limit is +inf.
+        let jump = k > 0 && {
+            let (a, b) = (q.padded(), prev.padded());
+            let mut any = 0u8;
+            for j in 0..crate::kinematics::MAX_DOF {
+                any |= u8::from((a[j] - b[j]).abs() > max_step[j]);
+            }
+            any != 0
+        };
+        if jump {
             for j in 0..n {
                 let d = (q[j] - prev[j]).abs();
                 if d > max_step[j] {
@@ -528,21 +537,22 @@ fn screen_rows(
 /// after each entry; `v`, `a` its velocity and acceleration.
 #[inline(always)]
 fn screen(qs: [&[f64]; 4], v: &[f64], a: &[f64], dt: f64, lim: [&[f64]; 3]) -> bool {
-    use crate::simd::LANES;
-    let b = SCREEN_BLOCK;
-    let (qm2, qm1, qp1, qp2) = (&qs[0][..b], &qs[1][..b], &qs[2][..b], &qs[3][..b]);
-    let (v, a) = (&v[..b], &a[..b]);
-    let (lv, la, lj) = (&lim[0][..b], &lim[1][..b], &lim[2][..b]);
-    let den = 2.0 * dt * dt * dt;
-    let mut over = [false; LANES];
-    for c in (0..b).step_by(LANES) {
-        for (l, o) in over.iter_mut().enumerate() {
-            let i = c + l;
-            let jerk = (qp2[i] - 2.0 * qp1[i] + 2.0 * qm1[i] - qm2[i]) / den;
-            *o |= (v[i].abs() > lv[i]) | (a[i].abs() > la[i]) | (jerk.abs() > lj[i]);
-        }
+    fn block(x: &[f64]) -> &[f64; SCREEN_BLOCK] {
+        x[..SCREEN_BLOCK].try_into().expect("a block")
     }
-    over.iter().any(|&o| o)
+    let (qm2, qm1, qp1, qp2) = (block(qs[0]), block(qs[1]), block(qs[2]), block(qs[3]));
+    let (v, a) = (block(v), block(a));
+    let (lv, la, lj) = (block(lim[0]), block(lim[1]), block(lim[2]));
+    let den = 2.0 * dt * dt * dt;
+    // 1 where an entry is over its limit, or-ed (an integer reduction, so that it
+    // vectorises).
+    let mut over = 0u64;
+    for i in 0..SCREEN_BLOCK {
+        let jerk = (qp2[i] - 2.0 * qp1[i] + 2.0 * qm1[i] - qm2[i]) / den;
+        let x = (v[i].abs() > lv[i]) | (a[i].abs() > la[i]) | (jerk.abs() > lj[i]);
+        over |= x as u64;
+    }
+    over != 0
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -1140,6 +1150,8 @@ pub fn time_at_planned(
         TimingFailure::LimitsNotMet { .. } => usize::MAX,
     };
     let mut best_err: Option<TimingFailure> = None;
+    let level = crate::simd::level();
+    const LANES: usize = crate::simd::LANES;
     // Prune 2: a configuration whose branch cannot reach every stride-th sample within
     // limits would fail while tracking; skip it (recording where it would fail).
     let thinned = |q: &[f64]| -> Result<(), TimingFailure> {
@@ -1147,10 +1159,33 @@ pub fn time_at_planned(
             return Ok(());
         };
         let m = motion0.p.len();
-        for k in (stride..m).step_by(stride).chain(std::iter::once(m - 1)) {
-            let (target, tip) = target_at(k);
-            if let Err(reason) = solver.branch_admits(&target, b.shoulder, b.elbow) {
-                return Err(fail_at(k, tip, reason));
+        let ks = (stride..m).step_by(stride).chain(std::iter::once(m - 1));
+        if level == crate::simd::Level::Scalar {
+            for k in ks {
+                let (target, tip) = target_at(k);
+                if let Err(reason) = solver.branch_admits(&target, b.shoulder, b.elbow) {
+                    return Err(fail_at(k, tip, reason));
+                }
+            }
+            return Ok(());
+        }
+        // LANES samples at a time, their closed form in lockstep: the same verdicts, and the
+        // first sample rejected with the same error.
+        let (mut idx, mut tips) = ([0usize; LANES], [V3::zeros(); LANES]);
+        let mut count = 0;
+        let mut ks = ks.peekable();
+        while let Some(k) = ks.next() {
+            idx[count] = k;
+            tips[count] = part_to_base.apply(&motion0.p[k]);
+            count += 1;
+            if count == LANES || ks.peek().is_none() {
+                let tips = &tips[..count];
+                if let Some((l, reason)) =
+                    solver.branch_admits_batch(&rot, tips, b.shoulder, b.elbow, level)
+                {
+                    return Err(fail_at(idx[l], tips[l], reason));
+                }
+                count = 0;
             }
         }
         Ok(())
