@@ -7,8 +7,8 @@
 //! Run: `cargo bench --bench collision` (criterion, ~20 s); the ratios are printed at the end
 //! from criterion's own estimates.
 
-#[path = "common/setup.rs"]
-mod setup;
+#[path = "../tests/common/mod.rs"]
+mod common;
 
 use criterion::{black_box, Criterion};
 use printwatt::dynamics::rnea;
@@ -27,9 +27,9 @@ fn estimate_ns(dir: &Path, name: &str) -> Option<f64> {
 
 fn main() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let model = setup::robot();
-    let tp = setup::default_path();
-    let job = setup::job(&model, &tp);
+    let model = common::robot("abb_irb6700_200_260");
+    let tp = common::path("default.gcode");
+    let job = common::default_job(&model, &tp);
     let at = Placement::new(1.4, 0.0, 0.5, std::f64::consts::FRAC_PI_2);
     let full = job.evaluate(&at).unwrap().unwrap();
     let tr = &full.timed.traj;

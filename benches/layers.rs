@@ -24,8 +24,8 @@ mod pinocchio;
 #[path = "../tests/common/wall.rs"]
 mod wall;
 
-#[path = "common/setup.rs"]
-mod setup;
+#[path = "../tests/common/mod.rs"]
+mod common;
 
 use printwatt::placement::feasibility::{reach_m, FeasibilityOptions};
 use printwatt::placement::optimise::{default_grid, OptimiseOptions};
@@ -42,11 +42,11 @@ fn main() {
         .and_then(|s| s.parse().ok())
         .unwrap_or(300);
     let load = std::fs::read_to_string("/proc/loadavg").unwrap_or_default();
-    let model = setup::robot();
+    let model = common::robot("abb_irb6700_200_260");
     let t = Instant::now();
     let text = wall::wall_gcode(1800.0, 600.0, 4.0, layers);
     let tp = toolpath::parse_gcode(&text, "wall300.gcode", &ReadOptions::default()).unwrap();
-    let job = setup::job(&model, &tp);
+    let job = common::default_job(&model, &tp);
     let samples = job.plan.motion.p.len();
     let red = Reduction::plan(&job, &tp, ReduceOptions::default()).unwrap_or_else(|e| {
         panic!("the wall is not reduced ({e:?}): it needs at least 200,000 samples (PRINTWATT_LAYERS >= 25)")
@@ -238,7 +238,10 @@ fn main() {
             &format!("optimise, {layers}-layer wall, 2 threads"),
             t_total,
             samples,
-            &setup::robot_dir().join("robot.urdf")
+            &common::root()
+                .join("robots")
+                .join("abb_irb6700_200_260")
+                .join("robot.urdf")
         )
     );
     println!(

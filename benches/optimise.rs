@@ -21,8 +21,8 @@
 #[path = "common/pinocchio.rs"]
 mod pinocchio;
 
-#[path = "common/setup.rs"]
-mod setup;
+#[path = "../tests/common/mod.rs"]
+mod common;
 
 use printwatt::placement::feasibility::{reach_m, FeasibilityOptions};
 use printwatt::placement::optimise::{default_grid, OptimiseOptions};
@@ -44,9 +44,9 @@ fn thread_s() -> f64 {
 }
 
 fn main() {
-    let model = setup::robot();
-    let tp = setup::default_path();
-    let job = setup::job(&model, &tp);
+    let model = common::robot("abb_irb6700_200_260");
+    let tp = common::path("default.gcode");
+    let job = common::default_job(&model, &tp);
     let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
     let g = default_grid(reach_m(&model));
     let ps = g.placements();
@@ -160,7 +160,10 @@ fn main() {
             "grid + refinement (fast checks)",
             t_grid + mf,
             job.plan.motion.p.len(),
-            &setup::robot_dir().join("robot.urdf")
+            &common::root()
+                .join("robots")
+                .join("abb_irb6700_200_260")
+                .join("robot.urdf")
         )
     );
 }

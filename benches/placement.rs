@@ -27,8 +27,8 @@
 #[path = "common/pinocchio.rs"]
 mod pinocchio;
 
-#[path = "common/setup.rs"]
-mod setup;
+#[path = "../tests/common/mod.rs"]
+mod common;
 
 use printwatt::dynamics::{rnea, rnea_batch, rnea_with_sincos, StateBatch, MAX_DOF};
 use printwatt::energy::{self, EnergyOptions, SamplePower};
@@ -99,9 +99,9 @@ fn clock_ghz() -> f64 {
 }
 
 fn main() {
-    let model = setup::robot();
-    let tp = setup::default_path();
-    let job = setup::job(&model, &tp);
+    let model = common::robot("abb_irb6700_200_260");
+    let tp = common::path("default.gcode");
+    let job = common::default_job(&model, &tp);
     let n = model.dof();
     // Reference: bare RNEA on the samples of a real trajectory.
     // A feasible placement: the centre of the default grid's feasible region.
@@ -508,7 +508,10 @@ fn main() {
         ui / pi
     );
     // The reference of issue 12: Pinocchio's RNEA on the same robot, timed now.
-    let urdf = setup::robot_dir().join("robot.urdf");
+    let urdf = common::root()
+        .join("robots")
+        .join("abb_irb6700_200_260")
+        .join("robot.urdf");
     println!(
         "{}",
         pinocchio::ratio_line(

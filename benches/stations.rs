@@ -7,8 +7,8 @@
 //! Run: `cargo bench --bench stations` (plain main, no criterion: prints a small table; the
 //! planner takes seconds, so each figure is the best of 2 runs, the reference the best of 5).
 
-#[path = "common/setup.rs"]
-mod setup;
+#[path = "../tests/common/mod.rs"]
+mod common;
 
 use printwatt::energy::EnergyOptions;
 use printwatt::placement::stations::{self, Candidates, Headings, StationsProblem};
@@ -20,7 +20,7 @@ use std::time::Instant;
 
 fn main() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let model = setup::robot();
+    let model = common::robot("abb_irb6700_200_260");
     let path = toolpath::load(
         &root.join("paths/floor_four_rooms.gcode"),
         &ReadOptions::default(),
@@ -72,7 +72,7 @@ fn main() {
     // Reference: one single-placement evaluation, the plan's first segment at its station.
     let s0 = &plan.segments[0];
     let sub = stations::sub_path(&path, s0.moves[0], s0.moves[1]);
-    let job = setup::job(&model, &sub);
+    let job = common::default_job(&model, &sub);
     let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
     let mut sc = ev.scratch().unwrap();
     let mut t_ref = f64::INFINITY;
