@@ -515,9 +515,7 @@ impl LimitTable {
             let w = if w < lo { lo } else { w };
             let w = if w > hi { hi } else { w };
             out[l] = if fast { x } else { w };
-            // x − x is 0 exactly when x is finite.
-            let finite = (x - x) == 0.0;
-            ok[l] = rev & u64::from(fast | (finite & (kmin <= kmax)));
+            ok[l] = rev & u64::from(fast | (x.is_finite() & (kmin <= kmax)));
         }
         (out, ok)
     }
@@ -1187,6 +1185,7 @@ impl<'a> IkSolver<'a> {
     /// The per-lane verdicts of [`IkSolver::continuing_lanes`] (6 joints) and the answers,
     /// in lockstep.
     #[allow(clippy::needless_range_loop)] // lanes of parallel fixed arrays
+    #[allow(clippy::neg_cmp_op_on_partial_ord)] // `!(d > max)`: NaN is no excess
     #[inline(always)]
     fn continuing_body(
         &self,
