@@ -3,10 +3,8 @@
 mod common;
 use common::{bin, root};
 
-use printwatt::energy::EnergyOptions;
-use printwatt::placement::{Evaluator, FeasibilityOptions, Objective, PathJob};
+use printwatt::placement::{Evaluator, FeasibilityOptions, Objective};
 use printwatt::robot;
-use printwatt::timing::{JointStageOptions, ProfileOptions};
 use printwatt::toolpath::{self, Placement, ReadOptions};
 
 fn load(robot_id: &str, path: &str) -> (robot::RobotModel, toolpath::Toolpath) {
@@ -50,17 +48,6 @@ fn fast_evaluation_matches_full_evaluation() {
 use printwatt::placement::optimise::{self, OptimiseOptions};
 use printwatt::placement::{Evaluated, Reason};
 
-fn job_for<'a>(model: &'a robot::RobotModel, tp: &toolpath::Toolpath) -> PathJob<'a> {
-    PathJob::new(
-        model,
-        tp,
-        EnergyOptions::default(),
-        ProfileOptions::default(),
-        JointStageOptions::default(),
-    )
-    .unwrap()
-}
-
 const YAW90: f64 = std::f64::consts::FRAC_PI_2;
 
 fn one(ev: &Evaluator, at: Placement) -> Evaluated {
@@ -71,7 +58,7 @@ fn one(ev: &Evaluator, at: Placement) -> Evaluated {
 #[test]
 fn unreachable_placement_names_the_sample_line_and_point() {
     let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
-    let job = job_for(&model, &tp);
+    let job = common::default_job(&model, &tp);
     let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
     // The far end of the 2 m path is out of reach at x = 2.0 m, yaw 0.
     let r = one(&ev, Placement::new(2.0, 0.0, 0.0, 0.0));
@@ -86,7 +73,7 @@ fn unreachable_placement_names_the_sample_line_and_point() {
 #[test]
 fn wrist_passing_through_zero_with_joint_4_still_is_feasible() {
     let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
-    let job = job_for(&model, &tp);
+    let job = common::default_job(&model, &tp);
     let at = Placement::new(1.7, 0.0, 0.0, YAW90);
     // Reachable and timed (see tests/timing.rs); passes within 2.9° of the wrist singularity
     // (|sin q5| < 0.05) with joints 4 and 6 slow: harmless with a vertical nozzle, accepted.
@@ -114,7 +101,7 @@ fn wrist_passing_through_zero_with_joint_4_still_is_feasible() {
 #[test]
 fn bed_collision_is_reported_with_where() {
     let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
-    let job = job_for(&model, &tp);
+    let job = common::default_job(&model, &tp);
     let at = Placement::new(1.4, 0.0, 0.5, YAW90);
     // Joint 3 comes within 3° of its stop here: no joint-limit margin in this test.
     let no_margin = FeasibilityOptions {
@@ -157,7 +144,7 @@ fn small_grid() -> printwatt::placement::Grid {
 #[test]
 fn sweep_is_bit_identical_with_one_and_two_threads_and_survives_failures() {
     let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
-    let job = job_for(&model, &tp);
+    let job = common::default_job(&model, &tp);
     let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
     let mut ps = small_grid().placements();
     ps.insert(3, Placement::new(5.0, 0.0, 0.0, 0.0)); // unreachable, in the middle
@@ -182,7 +169,7 @@ fn sweep_is_bit_identical_with_one_and_two_threads_and_survives_failures() {
 #[test]
 fn optimiser_beats_the_grid_is_deterministic_and_reports_sensitivity() {
     let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
-    let job = job_for(&model, &tp);
+    let job = common::default_job(&model, &tp);
     let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
     let grid = ev.sweep(&small_grid().placements(), &|_, _| {}).unwrap();
     let best_grid = optimise::best_of(&grid).unwrap().cost();
@@ -378,7 +365,7 @@ fn parse_range_values_and_errors() {
 #[test]
 fn savings_between_equal_placements_are_no_difference_not_float_noise() {
     let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
-    let job = job_for(&model, &tp);
+    let job = common::default_job(&model, &tp);
     let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
     let at = Placement::new(1.6, 0.0, 0.2, std::f64::consts::FRAC_PI_2);
     let base = one(&ev, at);

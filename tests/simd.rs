@@ -1064,3 +1064,200 @@ fn the_prunes_branch_check_in_lockstep_rejects_the_same_first_sample_with_the_sa
         "{rejected} rejected, {admitted} admitted"
     );
 }
+
+#[test]
+fn tracking_in_lockstep_batches_gives_the_per_sample_answers_and_sines_through_the_wrist_singularity(
+) {
+    // timing::joint::track takes the leading lanes of each closed-form batch at once when
+    // they provably continue one another (IkSolver::continuing_lanes: the limit fit in
+    // lockstep, 2π shifts included; the flipped wrist variant not fitted where it cannot be
+    // nearer) and checks them straight from the lanes. Against the per-sample path
+    // (Level::Scalar: solve_near with both wrist variants fitted near the singularity), on
+    // paths that pass the wrist singularity, from every first-sample configuration, with the
+    // shipped limits, joint 4/6 ranges shifted by 2π and narrowed: the same answers, TCP
+    // points and sines bit for bit, or the same failure.
+    use printwatt::kinematics::{opw, IkSolver};
+    use printwatt::timing::{self, blend_path, Buffers, Plan, ProfileOptions};
+    use printwatt::toolpath::Placement;
+    use std::f64::consts::PI;
+    let _g = LEVEL_LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    let (mut ok_cases, mut failed, mut near_singular) = (0, 0, 0);
+    let cases = [
+        (
+            "abb_irb6700_200_260",
+            Placement::new(1.534, -0.121, 0.0, 90f64.to_radians()),
+        ),
+        (
+            "abb_irb6700_200_260",
+            Placement::new(1.7, 0.0, 0.0, 90f64.to_radians()),
+        ),
+        (
+            "abb_irb6700_200_260",
+            Placement::new(1.534, -0.121, 0.0, 0.0).with_spin(1.0),
+        ),
+        (
+            "abb_irb4600_40_255",
+            Placement::new(1.4, 0.0, 0.3, 90f64.to_radians()),
+        ),
+        (
+            "staubli_tx200",
+            Placement::new(1.2, 0.0, 0.3, 90f64.to_radians()),
+        ),
+        ("ur10e", Placement::new(0.7, 0.0, 0.2, 90f64.to_radians())),
+    ];
+    let popts = ProfileOptions::default();
+    for (name, at) in cases {
+        for path in ["default.gcode", "seed000_test_path.gcode"] {
+            let tp = common::path(path);
+            let moves = timing::moves_from_toolpath(&tp);
+            let pieces = blend_path(&moves);
+            let plan = Plan::new(&pieces, &popts);
+            for limits in 0..3 {
+                let mut model = common::robot(name);
+                for j in [3, 5] {
+                    let jt = &mut model.joints[j];
+                    match limits {
+                        // Shifted by 2π: every answer is fitted onto another turn.
+                        1 => (jt.lower, jt.upper) = (0.0, 2.0 * PI + 1.0),
+                        // Narrowed: the fit fails, or the other wrist variant is taken.
+                        2 => (jt.lower, jt.upper) = (-2.0, 2.0),
+                        _ => {}
+                    }
+                }
+                let solver = IkSolver::new(&model).unwrap();
+                let first = at.frame().apply(&plan.motion.p[0]);
+                let Ok(starts) = solver.solve_all(&at.nozzle_target(&first)) else {
+                    continue;
+                };
+                for s in starts {
+                    let run = |level: Level| {
+                        assert!(simd::set_level(level));
+                        let mut buf = Buffers::default();
+                        let r = timing::joint::track(
+                            &solver,
+                            &pieces,
+                            &|i| moves[i].line,
+                            &plan.motion,
+                            &at,
+                            &s.q,
+                            &mut buf,
+                        );
+                        (r, buf)
+                    };
+                    let (want, wb) = run(Level::Scalar);
+                    match &want {
+                        Ok(()) => {
+                            ok_cases += 1;
+                            if let Some(p) = &model.opw {
+                                near_singular += wb
+                                    .qs
+                                    .chunks(6)
+                                    .filter(|q| opw::wrist_singularity(p, q) < 0.05)
+                                    .count();
+                            }
+                        }
+                        Err(_) => failed += 1,
+                    }
+                    for level in levels() {
+                        let (got, gb) = run(level);
+                        let what = format!("{name} {path} limits {limits} {level:?}");
+                        assert_eq!(format!("{got:?}"), format!("{want:?}"), "{what}");
+                        if want.is_ok() {
+                            assert_eq!(bits(&gb.qs), bits(&wb.qs), "{what}");
+                            assert_eq!(bits(&gb.sincos), bits(&wb.sincos), "{what}");
+                            let tcp = |b: &Buffers| {
+                                b.tcp
+                                    .iter()
+                                    .flat_map(|p| p.iter().map(|v| v.to_bits()))
+                                    .collect::<Vec<_>>()
+                            };
+                            assert_eq!(tcp(&gb), tcp(&wb), "{what}");
+                        }
+                    }
+                }
+            }
+        }
+    }
+    simd::set_level(simd::detected());
+    assert!(
+        ok_cases >= 4 && failed >= 4 && near_singular >= 100,
+        "cases: {ok_cases} tracked ({near_singular} samples near the wrist singularity), {failed} failed"
+    );
+}
+
+#[test]
+fn skipping_the_flipped_wrist_fit_where_it_cannot_be_nearer_gives_solve_nears_answer() {
+    // take_near returns the unflipped variant without fitting the flipped one when its step
+    // from q_prev is at most FLIP_CANNOT_WIN_RAD. Against solve_near_unchecked (both fitted)
+    // near the wrist singularity, with q_prev stepped away from the answer by up to 3 rad in
+    // joints 4 and 6 (either side of the bound) and narrowed limits.
+    use printwatt::kinematics::IkSolver;
+    use printwatt::math::Frame;
+    use std::f64::consts::PI;
+    let _g = LEVEL_LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    let mut u = uniform(41);
+    let (mut compared, mut near, mut far) = (0, 0, 0);
+    for name in ["abb_irb6700_200_260", "abb_irb4600_40_255", "staubli_tx200"] {
+        for narrow in [false, true] {
+            let mut model = common::robot(name);
+            if narrow {
+                for j in [3, 5] {
+                    (model.joints[j].lower, model.joints[j].upper) = (-2.5, 2.5);
+                }
+            }
+            let solver = IkSolver::new(&model).unwrap();
+            for _ in 0..300 {
+                // A configuration near the wrist singularity, its tool pose the target.
+                let mut q0 = [0.0; 6];
+                for (j, v) in q0.iter_mut().enumerate() {
+                    *v = if j == 4 { 0.15 * u() } else { 1.2 * u() };
+                }
+                let f = printwatt::kinematics::tool_pose(&model, &q0);
+                let mut tips = [f.pos; LANES];
+                for (l, t) in tips.iter_mut().enumerate() {
+                    t.x += 1e-4 * l as f64;
+                }
+                let mut q_prev = q0;
+                q_prev[3] += 3.0 * u();
+                q_prev[5] += 3.0 * u();
+                q_prev[0] += 0.01 * u();
+                for level in levels().into_iter().filter(|l| *l != Level::Scalar) {
+                    let Some(b) = solver.solve_near_batch(&f.rot, &tips, &q_prev, level) else {
+                        continue;
+                    };
+                    for (l, tip) in tips.iter().enumerate() {
+                        let target = Frame {
+                            rot: f.rot,
+                            pos: *tip,
+                        };
+                        let got = solver.take_near(&b, l, &target, &q_prev);
+                        let want = solver.solve_near_unchecked(&target, &q_prev);
+                        match (&got, &want) {
+                            (Ok(g), Ok(w)) => {
+                                assert_eq!(bits(g), bits(w), "{name} lane {l} {level:?}");
+                                let d = g
+                                    .iter()
+                                    .zip(&q_prev)
+                                    .map(|(a, b)| (a - b).abs())
+                                    .fold(0.0, f64::max);
+                                compared += 1;
+                                near += usize::from(d <= 1.5);
+                                far += usize::from(d > 1.5 && d < PI);
+                            }
+                            _ => assert_eq!(format!("{got:?}"), format!("{want:?}"), "{name}"),
+                        }
+                    }
+                }
+            }
+        }
+    }
+    assert!(
+        compared > 1000 && near > 50 && far > 50,
+        "{compared} compared, {near} within the bound, {far} beyond it"
+    );
+
+    fn bits(v: &[f64]) -> Vec<u64> {
+        v.iter().map(|x| x.to_bits()).collect()
+    }
+}

@@ -27,6 +27,15 @@ pub const MAX_DOF: usize = 8;
 /// `|sin q5|` below which path IK also considers the other wrist variant (dimensionless).
 pub const NEAR_WRIST_SINGULARITY: f64 = 0.2;
 
+/// Path IK's largest step from the previous answer (rad, the largest |Δq| over the joints) of
+/// the wrist variant it continues, below which the other wrist variant cannot be nearer, so
+/// that it need not be fitted. The flipped variant's joint 4 differs from the unflipped one's
+/// by an odd multiple of π (OPW signs ±1; the limit fit adds 2π multiples and moves a value by
+/// at most its 1e-9 tolerance), so its step is at least π − d − 3e-9 when the unflipped
+/// variant's is d; below (π − 3e-9)/2 ≈ 1.5708 it is larger than d and loses the choice
+/// (nearer wins, a tie keeps the unflipped). 1.5 leaves 0.07 rad for rounding.
+pub const FLIP_CANNOT_WIN_RAD: f64 = 1.5;
+
 /// Joint vector on the stack (rad for revolute, m for prismatic joints); dereferences to a
 /// slice of its `len()` entries.
 #[derive(Clone, Copy, PartialEq)]
@@ -474,6 +483,43 @@ impl LimitTable {
         self.fit_joints(model, q, q_ref)
     }
 
+    /// [`LimitTable::fit`] of joint `j` (revolute) over [`crate::simd::LANES`] values `v` (rad)
+    /// with the centres `centre` (rad), in lockstep: per lane the fitted value, bit for bit
+    /// `fit`'s, and whether `fit` accepts it (1, else 0; 0 for a prismatic joint: not
+    /// handled).
+    #[allow(clippy::needless_range_loop)] // lanes of parallel fixed arrays
+    #[inline(always)]
+    pub(crate) fn fit_lanes(
+        &self,
+        j: usize,
+        v: &[f64; crate::simd::LANES],
+        centre: &[f64; crate::simd::LANES],
+    ) -> ([f64; crate::simd::LANES], [u64; crate::simd::LANES]) {
+        use crate::simd::LANES;
+        const TAU: f64 = 2.0 * PI;
+        let (lo, hi) = (self.lower[j], self.upper[j]);
+        let (lo_tol, hi_tol) = (self.lower_tol[j], self.upper_tol[j]);
+        let rev = u64::from(self.revolute[j]);
+        let mut out = [0.0; LANES];
+        let mut ok = [0u64; LANES];
+        for l in 0..LANES {
+            let (x, c) = (v[l], centre[l]);
+            let fast = (x >= lo) & (x <= hi) & ((x - c).abs() < PI);
+            let kmin = ((lo_tol - x) / TAU).ceil();
+            let kmax = ((hi_tol - x) / TAU).floor();
+            // f64::clamp as selects (the same comparisons; no panic on NaN lanes).
+            let r = ((c - x) / TAU).round();
+            let k = if r < kmin { kmin } else { r };
+            let k = if k > kmax { kmax } else { k };
+            let w = x + k * TAU;
+            let w = if w < lo { lo } else { w };
+            let w = if w > hi { hi } else { w };
+            out[l] = if fast { x } else { w };
+            ok[l] = rev & u64::from(fast | (x.is_finite() & (kmin <= kmax)));
+        }
+        (out, ok)
+    }
+
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "sse4.1")]
     fn fit_sse41(
@@ -564,6 +610,9 @@ pub struct IkSolver<'a> {
     chain: fk::FastChain,
     opw_k: Option<opw::Prepared>,
     limits: LimitTable,
+    /// Whether [`FLIP_CANNOT_WIN_RAD`]'s bound holds for this arm (OPW sign of joint 4 ±1,
+    /// offset small enough that its rounding is far below the bound's margin).
+    flip_bound: bool,
     /// Settings of the numeric solver.
     pub numeric: NumericOptions,
     /// Accepted tool position error of the FK re-check, m.
@@ -604,6 +653,10 @@ impl<'a> IkSolver<'a> {
             chain: fk::FastChain::new(model),
             opw_k: model.opw.as_ref().map(opw::Prepared::new),
             limits: LimitTable::new(model),
+            flip_bound: model
+                .opw
+                .as_ref()
+                .is_some_and(|p| p.signs[3].abs() == 1.0 && p.offsets[3].abs() <= 100.0),
             numeric: NumericOptions::default(),
             check_position_m: 1e-6,
             check_orientation_rad: 1e-6,
@@ -1029,17 +1082,22 @@ impl<'a> IkSolver<'a> {
                     self.limits.fit(self.model, &mut q, Some(q_prev)).map(|_| q)
                 };
                 let first = fit(b.wrist);
-                if let Ok(q) = &first {
-                    if batch.s5[lane] > NEAR_WRIST_SINGULARITY {
-                        return Ok(*q);
-                    }
-                }
                 let dist = |q: &JointVec| {
                     q.iter()
                         .zip(q_prev)
                         .map(|(a, b)| (a - b).abs())
                         .fold(0.0, f64::max)
                 };
+                if let Ok(q) = &first {
+                    if batch.s5[lane] > NEAR_WRIST_SINGULARITY {
+                        return Ok(*q);
+                    }
+                    // The flipped variant cannot be nearer (see FLIP_CANNOT_WIN_RAD): skip
+                    // its fit.
+                    if self.flip_bound && dist(q) <= FLIP_CANNOT_WIN_RAD {
+                        return Ok(*q);
+                    }
+                }
                 match (first, fit(b.wrist.flipped())) {
                     (Ok(q1), Ok(q2)) => return Ok(if dist(&q2) < dist(&q1) { q2 } else { q1 }),
                     (Ok(q), Err(_)) | (Err(_), Ok(q)) => return Ok(q),
@@ -1049,6 +1107,238 @@ impl<'a> IkSolver<'a> {
             }
         }
         self.solve_near_unchecked(tool_target, q_prev)
+    }
+
+    /// How many leading lanes (of the first `count`) of `batch` (from
+    /// [`IkSolver::solve_near_batch`] with `q_prev`) path tracking can take at once, decided in
+    /// lockstep, and their answers (rad; lane `l` at `[l]`): lane `l` continues lane `l − 1`'s
+    /// answer (lane 0 `q_prev`), and for each taken lane the answer is provably
+    /// [`IkSolver::take_near`]'s, bit for bit, and its step from the previous answer is within
+    /// `max_step` (rad per joint; not checked at lane 0 unless `step_at_first`). The
+    /// conditions: the lane is `ok`; its branch is the batch's (lane 0: `q_prev` is the
+    /// batch's own; later lanes: [`opw::BranchBatch::next_branch`], or `branch_of` of the
+    /// previous fitted answer in lockstep where the fit moved a joint it reads); the limit
+    /// fit of the lane's wrist variant ([`LimitTable::fit`], in lockstep, its 2π shifts
+    /// included) accepts it; and either `|sin q5| >` [`NEAR_WRIST_SINGULARITY`] or the
+    /// flipped variant cannot be nearer ([`FLIP_CANNOT_WIN_RAD`]), so `take_near` returns this
+    /// one. Every lane from the first that fails a condition is for `take_near`.
+    pub fn continuing_lanes(
+        &self,
+        batch: &opw::BranchBatch,
+        count: usize,
+        q_prev: &[f64],
+        max_step: &[f64; MAX_DOF],
+        step_at_first: bool,
+        level: crate::simd::Level,
+    ) -> (usize, [[f64; 6]; crate::simd::LANES]) {
+        use crate::simd::{Level, LANES};
+        let none = (0, [[0.0; 6]; LANES]);
+        if self.model.dof() != 6 || self.limits.n != 6 || q_prev.len() != 6 {
+            return none;
+        }
+        // Lane 0 continues q_prev only if the batch was solved from it (bit for bit).
+        if batch.known_branch(0, q_prev) != Some(batch.branch) {
+            return none;
+        }
+        let (ok, q) = match level {
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx512 if Level::Avx512.available() => {
+                // SAFETY: the CPU has AVX-512F (checked just above).
+                unsafe { self.continuing_avx512(batch, q_prev, max_step, step_at_first) }
+            }
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx2 if Level::Avx2.available() => {
+                // SAFETY: the CPU has AVX2 and FMA (checked just above).
+                unsafe { self.continuing_avx2(batch, q_prev, max_step, step_at_first) }
+            }
+            _ => self.continuing_body(batch, q_prev, max_step, step_at_first),
+        };
+        let count = count.min(LANES);
+        let taken = ok[..count].iter().take_while(|&&o| o).count();
+        (taken, q)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    fn continuing_avx512(
+        &self,
+        batch: &opw::BranchBatch,
+        q_prev: &[f64],
+        max_step: &[f64; MAX_DOF],
+        step_at_first: bool,
+    ) -> ([bool; crate::simd::LANES], [[f64; 6]; crate::simd::LANES]) {
+        self.continuing_body(batch, q_prev, max_step, step_at_first)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn continuing_avx2(
+        &self,
+        batch: &opw::BranchBatch,
+        q_prev: &[f64],
+        max_step: &[f64; MAX_DOF],
+        step_at_first: bool,
+    ) -> ([bool; crate::simd::LANES], [[f64; 6]; crate::simd::LANES]) {
+        self.continuing_body(batch, q_prev, max_step, step_at_first)
+    }
+
+    /// The per-lane verdicts of [`IkSolver::continuing_lanes`] (6 joints) and the answers,
+    /// in lockstep.
+    #[allow(clippy::needless_range_loop)] // lanes of parallel fixed arrays
+    #[allow(clippy::neg_cmp_op_on_partial_ord)] // `!(d > max)`: NaN is no excess
+    #[inline(always)]
+    fn continuing_body(
+        &self,
+        batch: &opw::BranchBatch,
+        q_prev: &[f64],
+        max_step: &[f64; MAX_DOF],
+        step_at_first: bool,
+    ) -> ([bool; crate::simd::LANES], [[f64; 6]; crate::simd::LANES]) {
+        use crate::simd::LANES;
+        let t = &self.limits;
+        let mut ok = [0u64; LANES];
+        for l in 0..LANES {
+            ok[l] = u64::from(batch.ok[l]);
+        }
+        let mut dist = [0.0f64; LANES];
+        let mut fitted = [[0.0; LANES]; 6];
+        let mut shifted = 0u64;
+        for j in 0..6 {
+            let mut v = [0.0; LANES];
+            for l in 0..LANES {
+                v[l] = batch.q[l][j];
+            }
+            // Each lane's fit is centred on the previous lane's fitted answer (lane 0:
+            // q_prev). Where every lane takes the fit's fast path (the common case) that is
+            // the previous lane's value as it is.
+            let mut centre = [q_prev[j]; LANES];
+            centre[1..].copy_from_slice(&v[..LANES - 1]);
+            let (lo, hi) = (t.lower[j], t.upper[j]);
+            let mut slow = u64::from(!t.revolute[j]);
+            for l in 0..LANES {
+                let x = v[l];
+                slow |= u64::from(!((x >= lo) & (x <= hi) & ((x - centre[l]).abs() < PI)));
+            }
+            let (fb, okb) = if slow == 0 {
+                (v, [1u64; LANES])
+            } else {
+                // Guess the centres by fitting every lane about q_prev (a), fit again about
+                // the guesses (b): where the two agree bit for bit along the lanes, (b) is
+                // the chained fit.
+                let (fa, oka) = t.fit_lanes(j, &v, &[q_prev[j]; LANES]);
+                centre[1..].copy_from_slice(&fa[..LANES - 1]);
+                let (fb, okb) = t.fit_lanes(j, &v, &centre);
+                let mut okc = [0u64; LANES];
+                for l in 0..LANES {
+                    okc[l] = oka[l] & okb[l] & u64::from(fa[l].to_bits() == fb[l].to_bits());
+                }
+                (fb, okc)
+            };
+            let ms = max_step[j];
+            // branch_of reads joints 2, 3 and 5 only (OPW q2, q3, q5).
+            let reads = u64::from(matches!(j, 1 | 2 | 4));
+            for l in 0..LANES {
+                let d = (fb[l] - centre[l]).abs();
+                // No step over max_step (as track's jump test: NaN is none).
+                let free = u64::from((l == 0) & !step_at_first);
+                let step_ok = u64::from(!(d > ms)) | free;
+                ok[l] &= okb[l] & step_ok;
+                // take_near's distance: the largest |step| (f64::max, from 0).
+                dist[l] = dist[l].max(d);
+                shifted |= reads & slow & u64::from(fb[l].to_bits() != v[l].to_bits());
+            }
+            fitted[j] = fb;
+        }
+        let mut q = [[0.0; 6]; LANES];
+        for l in 0..LANES {
+            for j in 0..6 {
+                q[l][j] = fitted[j][l];
+            }
+        }
+        // The branch each lane continues: branch_of of the previous lane's answer, as the
+        // batch computed it of the unfitted answers (the same bits where the fit moved none
+        // of the joints branch_of reads), or again of the fitted ones.
+        let next = match (&self.model.opw, &self.opw_k) {
+            (Some(p), Some(k)) if shifted != 0 => opw::branch_of_lanes(p, k, &q),
+            _ => batch.next_branch,
+        };
+        let flip_bound = u64::from(self.flip_bound);
+        let mut out = [false; LANES];
+        for l in 0..LANES {
+            let wrist_ok = u64::from(batch.s5[l] > NEAR_WRIST_SINGULARITY)
+                | (flip_bound & u64::from(dist[l] <= FLIP_CANNOT_WIN_RAD));
+            let branch_ok = l == 0 || next[l - 1] == batch.branch;
+            out[l] = (ok[l] & wrist_ok) != 0 && branch_ok;
+        }
+        (out, q)
+    }
+
+    /// The FK re-check of `count ≤` [`crate::simd::LANES`] answers in lockstep, all for tool
+    /// poses of the orientation `rot` (base frame): lane `l` is the joint vector `q[j][l]`
+    /// (rad) for the tip `tips[l]` (m); the sines then the cosines of each answer go to
+    /// `sincos[l · 2 dof ..]` (as [`IkSolver::solve_near_with_sincos`] writes them). The
+    /// verdicts and the sines are [`IkSolver::check_with_sincos`]'s, bit for bit, as
+    /// [`IkSolver::check_batch`] gives them. Errors with the first failing lane. Only for a
+    /// [`IkSolver::batch_checkable`] solver.
+    #[allow(clippy::needless_range_loop)] // lanes of parallel fixed arrays
+    pub fn check_lanes(
+        &self,
+        count: usize,
+        q: &[[f64; crate::simd::LANES]; MAX_DOF],
+        rot: &M3,
+        tips: &[V3],
+        sincos: &mut [f64],
+        level: crate::simd::Level,
+    ) -> Result<(), (usize, IkFailure)> {
+        use crate::simd::LANES;
+        let n = self.model.dof();
+        let count = count.min(LANES).min(tips.len());
+        let tb = self.chain.tool_batch(q, level);
+        // As check_batch: the lanes that pass with room to spare decided in lockstep, every
+        // other lane (and NaN) by check_pose itself.
+        let mut tp = [[0.0; LANES]; 3];
+        for (l, t) in tips.iter().take(count).enumerate() {
+            for i in 0..3 {
+                tp[i][l] = t[i];
+            }
+        }
+        let dp_max = 0.5 * self.check_position_m;
+        let dp2_max = dp_max * dp_max;
+        let h_max = 0.5 * (1e-8f64).min(0.5 * self.check_orientation_rad);
+        let f2_max = 8.0 * h_max * h_max;
+        let mut clear = [false; LANES];
+        for (l, c) in clear.iter_mut().enumerate() {
+            let mut dp2 = 0.0;
+            for i in 0..3 {
+                let d = tb.pos[i][l] - tp[i][l];
+                dp2 += d * d;
+            }
+            let mut f2 = 0.0;
+            for i in 0..9 {
+                // Column-major, as M3::iter.
+                let d = tb.rot[i % 3][i / 3][l] - rot[i];
+                f2 += d * d;
+            }
+            *c = dp_max > 0.0 && h_max > 0.0 && dp2 < dp2_max && f2 < f2_max;
+        }
+        for l in 0..count {
+            if !clear[l] {
+                self.check_pose(
+                    &Frame {
+                        rot: *rot,
+                        pos: tips[l],
+                    },
+                    &tb.frame(l),
+                )
+                .map_err(|e| (l, e))?;
+            }
+            let out = &mut sincos[l * 2 * n..(l + 1) * 2 * n];
+            for j in 0..n {
+                out[j] = tb.s[j][l];
+                out[n + j] = tb.c[j][l];
+            }
+        }
+        Ok(())
     }
 
     /// The FK re-check of `count ≤` [`crate::simd::LANES`] answers in lockstep: lane `l` is the

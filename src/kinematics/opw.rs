@@ -574,7 +574,7 @@ pub fn branch_of_batch(
 /// (the same operations; the sines by [`crate::fastmath::sin_cos_lanes`], [`wrap_pi`] with
 /// its branch as a select).
 #[inline(always)]
-fn branch_of_lanes(
+pub(crate) fn branch_of_lanes(
     p: &OpwParams,
     k: &Prepared,
     q: &[[f64; 6]; crate::simd::LANES],

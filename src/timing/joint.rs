@@ -228,19 +228,20 @@ pub fn track(
         let mut k0 = sincos.len() / (2 * n);
         while k0 < upto {
             let count = crate::simd::LANES.min(upto - k0);
+            let mut qb = [[0.0; crate::simd::LANES]; crate::kinematics::MAX_DOF];
+            for l in 0..count {
+                for (lanes, v) in qb.iter_mut().zip(&qs[(k0 + l) * n..(k0 + l + 1) * n]) {
+                    lanes[l] = *v;
+                }
+            }
             sincos.resize((k0 + count) * 2 * n, 0.0);
-            let out = &mut sincos[k0 * 2 * n..];
-            let mut chunks = out.chunks_mut(2 * n);
-            let mut next = move |_| chunks.next().unwrap_or_default();
             solver
-                .check_batch(
+                .check_lanes(
                     count,
-                    |l| Frame {
-                        rot,
-                        pos: tcp[k0 + l],
-                    },
-                    |l| &qs[(k0 + l) * n..(k0 + l + 1) * n],
-                    &mut next,
+                    &qb,
+                    &rot,
+                    &tcp[k0..k0 + count],
+                    &mut sincos[k0 * 2 * n..],
                     level,
                 )
                 .map_err(|(l, reason)| {
@@ -251,33 +252,25 @@ pub fn track(
         }
         Ok::<(), TimingFailure>(())
     };
-    // The closed form of the next LANES samples in lockstep (batched mode); each sample then
-    // takes its lane's answer or is solved afresh (IkSolver::take_near), as solve_near would.
-    let mut chunk: Option<crate::kinematics::opw::BranchBatch> = None;
-    let mut tips = [V3::zeros(); crate::simd::LANES];
-    for (k, p) in motion.p.iter().enumerate() {
-        let lane = k % crate::simd::LANES;
-        if batched && lane == 0 {
-            let end = (k + crate::simd::LANES).min(motion.p.len());
-            for (t, pk) in tips.iter_mut().zip(&motion.p[k..end]) {
-                *t = part_to_base.apply(pk);
-            }
-            chunk = solver.solve_near_batch(&rot, &tips[..end - k], &prev, level);
-        }
-        let tip = if batched {
-            tips[lane]
-        } else {
-            part_to_base.apply(p)
-        };
+    // One sample's answer by IkSolver::take_near from the batch `chunk` (batched) or solved
+    // with its check (per sample), its step checked; appended to the buffers.
+    let mut sample = |k: usize,
+                      tip: V3,
+                      chunk: Option<&crate::kinematics::opw::BranchBatch>,
+                      prev: &mut JointVec,
+                      qs: &mut Vec<f64>,
+                      tcp: &mut Vec<V3>,
+                      sincos: &mut Vec<f64>|
+     -> Result<(), TimingFailure> {
         let target = Frame { rot, pos: tip };
         let mi = pieces[motion.piece[k]].move_index;
         let solved = if batched {
-            match &chunk {
-                Some(b) => solver.take_near(b, lane, &target, &prev),
-                None => solver.solve_near_unchecked(&target, &prev),
+            match chunk {
+                Some(b) => solver.take_near(b, k % crate::simd::LANES, &target, prev),
+                None => solver.solve_near_unchecked(&target, prev),
             }
         } else {
-            solver.solve_near_with_sincos(&target, &prev, &mut sc[..2 * n])
+            solver.solve_near_with_sincos(&target, prev, &mut sc[..2 * n])
         };
         let q = match solved {
             Ok(q) => q,
@@ -324,17 +317,76 @@ pub fn track(
         }
         qs.extend_from_slice(&q[..n]);
         tcp.push(tip);
-        prev = q;
-        if batched {
-            if tcp.len() - sincos.len() / (2 * n) == crate::simd::LANES {
-                check_pending(qs, tcp, sincos, tcp.len())?;
-            }
-        } else {
+        *prev = q;
+        if !batched {
             sincos.extend_from_slice(&sc[..2 * n]);
         }
+        Ok(())
+    };
+    if !batched {
+        for (k, p) in motion.p.iter().enumerate() {
+            sample(k, part_to_base.apply(p), None, &mut prev, qs, tcp, sincos)?;
+        }
+        return Ok(());
     }
-    if batched {
+    // Batched: the closed form of the next LANES samples in lockstep; the leading lanes that
+    // provably continue one another unchanged (IkSolver::continuing_lanes: what take_near
+    // would return, within the step limits) are taken at once, the rest one by one with
+    // take_near exactly as solve_near would answer. Every sample of the batch is FK-checked
+    // before the next batch (in lockstep; straight from the lanes when all were taken at
+    // once), so a failing check is reported at its sample ahead of any later failure.
+    use crate::simd::LANES;
+    let len = motion.p.len();
+    qs.reserve(len * n);
+    tcp.reserve(len);
+    sincos.reserve(len * 2 * n);
+    let mut tips = [V3::zeros(); LANES];
+    let mut k0 = 0;
+    while k0 < len {
+        let count = LANES.min(len - k0);
+        for (t, pk) in tips.iter_mut().zip(&motion.p[k0..k0 + count]) {
+            *t = part_to_base.apply(pk);
+        }
+        let chunk = solver.solve_near_batch(&rot, &tips[..count], &prev, level);
+        let (taken, fitted) = chunk.as_ref().map_or((0, [[0.0; 6]; LANES]), |b| {
+            solver.continuing_lanes(b, count, &prev, &max_step, k0 > 0, level)
+        });
+        if taken > 0 {
+            for q in &fitted[..taken] {
+                qs.extend_from_slice(&q[..n]);
+            }
+            tcp.extend_from_slice(&tips[..taken]);
+            prev = JointVec::from_slice(&fitted[taken - 1]);
+            if taken == count && sincos.len() == k0 * 2 * n {
+                let mut qb = [[0.0; LANES]; crate::kinematics::MAX_DOF];
+                for (j, lanes) in qb.iter_mut().enumerate().take(n) {
+                    for l in 0..count {
+                        lanes[l] = fitted[l][j];
+                    }
+                }
+                sincos.resize((k0 + count) * 2 * n, 0.0);
+                solver
+                    .check_lanes(
+                        count,
+                        &qb,
+                        &rot,
+                        &tips[..count],
+                        &mut sincos[k0 * 2 * n..],
+                        level,
+                    )
+                    .map_err(|(l, reason)| {
+                        sincos.truncate(k0 * 2 * n);
+                        unreachable(k0 + l, tips[l], reason)
+                    })?;
+                k0 += count;
+                continue;
+            }
+        }
+        for (l, &tip) in tips.iter().enumerate().take(count).skip(taken) {
+            sample(k0 + l, tip, chunk.as_ref(), &mut prev, qs, tcp, sincos)?;
+        }
         check_pending(qs, tcp, sincos, tcp.len())?;
+        k0 += count;
     }
     Ok(())
 }
