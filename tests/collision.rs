@@ -781,6 +781,9 @@ fn poses_from_the_shared_sines_agree_with_poses_by_fk_within_the_stated_bound() 
     eprintln!("largest pose difference: {worst_t:e} m, rotation entries {worst_r:e}");
 }
 
+/// A check's answer: why a sample fails, and the message.
+type Verdict = Option<(Reason, String)>;
+
 /// The largest difference of bed clearances [`both_checks`] saw (bits of a positive f64, m).
 static WORST_CLEARANCE: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
 
@@ -797,7 +800,7 @@ fn both_checks(
     beads: &Beads,
     laid: usize,
     clear: &mut Option<f64>,
-) -> (Option<(Reason, String)>, Option<(Reason, String)>) {
+) -> (Verdict, Verdict) {
     let bodies = rs.body_frames(q, Some(&shared_sines(q)), world);
     let (mut c_new, mut c_plain) = (*clear, *clear);
     let mut isos = Vec::new();
