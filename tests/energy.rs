@@ -260,3 +260,102 @@ fn regressor_times_parameters_equals_contribution() {
         assert!((tau[j] - d.joints[j].viscous).abs() < 1e-12);
     }
 }
+
+#[test]
+fn a_placements_energies_summed_in_lane_interleaved_partial_sums_stay_within_rounding_of_a_compensated_sum(
+) {
+    // The sweep sums sample k into partial sum k mod LANES (energy::EnergySums) on every SIMD
+    // level; against an exactly rounded (Neumaier-compensated) sum of the same per-sample
+    // powers, each total stays within the recursive summation bound
+    // (m/LANES + LANES + n) ε Σ|w p|, and the lockstep and per-sample paths give the same bits.
+    use printwatt::placement::feasibility::FeasibilityOptions;
+    use printwatt::placement::{Evaluator, Objective, Placement};
+    use printwatt::simd::{self, Level, LANES};
+    let model = robot("abb_irb6700_200_260");
+    let job = common::default_job(&model, &common::path("seed000_test_path.gcode"));
+    let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
+    let mut sc = ev.scratch().unwrap();
+    let at = Placement {
+        x: 1.8,
+        y: 0.0,
+        z: 0.2,
+        yaw: 90f64.to_radians(),
+        nozzle_spin: 0.0,
+    };
+    let timed = ev.timed(&mut sc, &at).unwrap();
+    let f = ev
+        .energy_of(&mut sc, &timed, Default::default())
+        .expect("feasible");
+    let n = model.dof();
+    let (m, dt) = (timed.traj.len(), timed.motion.dt);
+    // Neumaier sums of w p and of |w p|.
+    #[derive(Default)]
+    struct Ks {
+        s: f64,
+        c: f64,
+        abs: f64,
+    }
+    impl Ks {
+        fn add(&mut self, x: f64) {
+            let t = self.s + x;
+            self.c += if self.s.abs() >= x.abs() {
+                (self.s - t) + x
+            } else {
+                (x - t) + self.s
+            };
+            self.s = t;
+            self.abs += x.abs();
+        }
+        fn value(&self) -> f64 {
+            self.s + self.c
+        }
+    }
+    let (mut supply, mut friction, mut mech) = (Ks::default(), Ks::default(), Ks::default());
+    let mut data = job.energy.data();
+    let mut sp = SamplePower::default();
+    for k in 0..m {
+        eval_sample(
+            &job.energy,
+            &mut data,
+            timed.traj.q(k),
+            timed.traj.qd(k),
+            timed.traj.qdd(k),
+            &mut sp,
+        )
+        .unwrap();
+        let w = printwatt::numerics::trapezoid_weight(k, m, dt);
+        supply.add(w * sp.p_supply);
+        for j in 0..n {
+            friction.add(w * sp.p_friction[j]);
+            mech.add(w * sp.p_mech[j]);
+        }
+    }
+    let bound = |k: &Ks| (m / LANES + LANES + n) as f64 * f64::EPSILON * k.abs;
+    for (what, got, k) in [
+        ("supply", f.supply_j, &supply),
+        ("friction", f.losses.friction_j, &friction),
+        ("mechanical", f.mechanical_j, &mech),
+    ] {
+        let err = (got - k.value()).abs();
+        println!(
+            "{what}: {got} J, off the compensated sum by {err:.3e} J (bound {:.3e})",
+            bound(k)
+        );
+        assert!(
+            err <= bound(k),
+            "{what}: {got} vs {} (bound {})",
+            k.value(),
+            bound(k)
+        );
+    }
+    // The same bits from the per-sample path (scalar) and every lockstep level.
+    let want = f.supply_j.to_bits();
+    for level in [Level::Scalar, Level::Sse2, Level::Avx2, Level::Avx512] {
+        if simd::set_level(level) {
+            let g = ev.energy_of(&mut sc, &timed, Default::default()).unwrap();
+            assert_eq!(g.supply_j.to_bits(), want, "{level:?}");
+            assert_eq!(g, f, "{level:?}");
+        }
+    }
+    simd::set_level(simd::detected());
+}

@@ -5,11 +5,11 @@
 //!
 //! Every lane performs the operations of [`super::eval_sample_with_sincos`] in the same order
 //! (branches become selects: both sides computed, one kept), so each lane is **bit-identical**
-//! to the per-sample path (tested: `tests/simd.rs`). The smoothed Coulomb sign
-//! ([`crate::fastmath::tanh`]) is ±1 for `|q̇/ε| ≥ 20`, which is a select; the lanes below
-//! that (a joint slower than 20 ε, 0.02 rad/s by default: reversals and standstills) take
-//! libm's `tanh` one by one, as the per-sample path does. The Stribeck term's `exp` is libm's
-//! per lane. An effect the pass does not know ([`LaneEffect::Other`]) is called per lane
+//! to the per-sample path (tested: `tests/simd.rs`). The smoothed Coulomb sign is
+//! [`crate::fastmath::tanh_lanes`]: ±1 by select for `|q̇/ε| ≥ 20`, and where a lane is
+//! slower than that (20 ε, 0.02 rad/s by default: reversals and standstills) the polynomial
+//! [`crate::fastmath::tanh`] of every lane in lockstep, bit for bit the per-sample path's.
+//! The Stribeck term's `exp` is libm's per lane. An effect the pass does not know ([`LaneEffect::Other`]) is called per lane
 //! through [`Effect::add_torque`].
 
 use super::{EnergyModel, SamplePower};
@@ -185,29 +185,6 @@ impl LaneEffect {
     }
 }
 
-/// [`crate::fastmath::tanh`] of [`LANES`] values, lane by lane bit-identical: ±1 by select
-/// where `|x| ≥ 20`, libm's `tanh` one by one elsewhere (NaN included).
-#[inline(always)]
-fn tanh_lanes(x: &Lanes) -> Lanes {
-    let mut r = [0.0; LANES];
-    let mut slow = false;
-    for l in 0..LANES {
-        let big = x[l].abs() >= 20.0;
-        slow |= !big;
-        r[l] = 1.0f64.copysign(x[l]);
-    }
-    if slow {
-        for l in 0..LANES {
-            // Below 20, and NaN: libm.
-            #[allow(clippy::neg_cmp_op_on_partial_ord)]
-            if !(x[l].abs() >= 20.0) {
-                r[l] = x[l].tanh();
-            }
-        }
-    }
-    r
-}
-
 /// The inputs of the lockstep pass: joint angles (rad), their sines and cosines, velocities
 /// (rad/s), accelerations (rad/s²), joint-major.
 struct Inputs<'b> {
@@ -272,7 +249,7 @@ fn tail_lanes(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
                     for l in 0..LANES {
                         v[l] = qd[j][l] / c.velocity_scale;
                     }
-                    let s = tanh_lanes(&v);
+                    let s = crate::fastmath::tanh_lanes(&v);
                     for l in 0..LANES {
                         let t = if s[l] >= 0.0 { p * s[l] } else { m * s[l] };
                         dst[j][l] += t;
@@ -287,7 +264,7 @@ fn tail_lanes(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
                             for l in 0..LANES {
                                 v[l] = qd[j][l] / COULOMB_VELOCITY_SCALE_RAD_S;
                             }
-                            let th = tanh_lanes(&v);
+                            let th = crate::fastmath::tanh_lanes(&v);
                             for l in 0..LANES {
                                 let e = (-(qd[j][l] / s.vs).powi(2)).exp();
                                 dst[j][l] += f * (e * th[l]);
@@ -370,16 +347,21 @@ fn tail_lanes(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
     }
     // super::supply_power, lane by lane: the sums in joint order from the neutral element of
     // `Iterator::sum` (whatever this toolchain's is), as the per-sample code sums.
+    // Joint by joint over all lanes (each lane's sums still in joint order).
     let zero: f64 = std::iter::empty::<f64>().sum();
     let (rho, p0) = (model.recovered_fraction, model.standby_w);
-    for l in 0..LANES {
-        let mut sum = zero;
-        let mut pos = zero;
-        for j in 0..n {
-            sum += out.p_el[j][l];
-            pos += out.p_el[j][l].max(0.0);
+    let mut sum = [zero; LANES];
+    let mut pos = [zero; LANES];
+    for j in 0..n {
+        for l in 0..LANES {
+            sum[l] += out.p_el[j][l];
+            pos[l] += out.p_el[j][l].max(0.0);
         }
-        let draw = match model.regeneration {
+    }
+    let regeneration = model.regeneration;
+    for l in 0..LANES {
+        let (sum, pos) = (sum[l], pos[l]);
+        let draw = match regeneration {
             Regeneration::None | Regeneration::PerAxis => pos,
             Regeneration::DcBus => sum.max(0.0),
             Regeneration::Grid => sum,
@@ -469,4 +451,183 @@ pub fn eval_lanes_with_sincos<'s>(
         _ => tail_sse2(model, &x, out),
     }
     Ok(())
+}
+
+/// Trapezoid sums (J) of a placement's per-sample powers, kept as [`LANES`] interleaved
+/// partial sums: sample `k` goes into lane `k mod LANES` (a lockstep batch starts at a multiple
+/// of [`LANES`], so its lane `l` is lane `l` here), joint by joint; the totals add the lanes in
+/// order at the end ([`EnergySums::lanes_total`]). The sums of the lockstep pass
+/// ([`EnergySums::add_lanes`]) and of the per-sample path ([`EnergySums::add_sample`]) make the
+/// same operations in the same order, so they give the same bits. Against one running sum in
+/// sample order the result differs by rounding only (each is within the usual recursive
+/// summation bound `(m/LANES + LANES + n) ε Σ|w p|` of the exact sum; tested against a
+/// compensated sum in `tests/energy.rs`).
+#[derive(Clone, Copy, Debug)]
+pub struct EnergySums {
+    /// `Σ w p_supply`, J.
+    pub supply: Lanes,
+    /// `Σ w p_drives`, J.
+    pub drives: Lanes,
+    /// `Σ w p_regeneration_lost`, J.
+    pub regeneration_lost: Lanes,
+    /// Per joint `Σ w p_mech`, J.
+    pub mech: [Lanes; MAX_DOF],
+    /// Per joint `Σ w |p_mech|`, J.
+    pub mech_abs: [Lanes; MAX_DOF],
+    /// Per joint `Σ w max(p_mech, 0)`, J.
+    pub mech_pos: [Lanes; MAX_DOF],
+    /// Per joint `Σ w p_el`, J.
+    pub el: [Lanes; MAX_DOF],
+    /// Per joint `Σ w p_friction`, J.
+    pub friction: [Lanes; MAX_DOF],
+    /// Per joint `Σ w p_gear`, J.
+    pub gear: [Lanes; MAX_DOF],
+    /// Per joint `Σ w p_copper`, J.
+    pub copper: [Lanes; MAX_DOF],
+}
+
+impl Default for EnergySums {
+    fn default() -> Self {
+        let z = [[0.0; LANES]; MAX_DOF];
+        EnergySums {
+            supply: [0.0; LANES],
+            drives: [0.0; LANES],
+            regeneration_lost: [0.0; LANES],
+            mech: z,
+            mech_abs: z,
+            mech_pos: z,
+            el: z,
+            friction: z,
+            gear: z,
+            copper: z,
+        }
+    }
+}
+
+/// One lane's additions of [`EnergySums`]: `w` s times the powers, W.
+macro_rules! add_lane {
+    ($s:ident, $l:expr, $w:expr, $n:expr, $supply:expr, $drives:expr, $lost:expr,
+     |$j:ident| $pm:expr, $pel:expr, $pf:expr, $pg:expr, $pc:expr) => {{
+        let (l, w) = ($l, $w);
+        $s.supply[l] += w * $supply;
+        $s.drives[l] += w * $drives;
+        $s.regeneration_lost[l] += w * $lost;
+        for $j in 0..$n {
+            let pm = $pm;
+            $s.mech[$j][l] += w * pm;
+            $s.mech_abs[$j][l] += w * pm.abs();
+            $s.mech_pos[$j][l] += w * pm.max(0.0);
+            $s.el[$j][l] += w * $pel;
+            $s.friction[$j][l] += w * $pf;
+            $s.gear[$j][l] += w * $pg;
+            $s.copper[$j][l] += w * $pc;
+        }
+    }};
+}
+
+impl EnergySums {
+    /// Add sample `k`'s powers `sp` (W) with trapezoid weight `w` (s) into lane `k mod`
+    /// [`LANES`], for the first `n` joints.
+    #[inline]
+    pub fn add_sample(&mut self, k: usize, sp: &SamplePower, w: f64, n: usize) {
+        let n = n.min(MAX_DOF);
+        add_lane!(
+            self,
+            k % LANES,
+            w,
+            n,
+            sp.p_supply,
+            sp.p_drives,
+            sp.p_regeneration_lost,
+            |j| sp.p_mech[j],
+            sp.p_el[j],
+            sp.p_friction[j],
+            sp.p_gear[j],
+            sp.p_copper[j]
+        );
+    }
+
+    /// Add the first `count` lanes of `pl` (W; a batch starting at a multiple of [`LANES`])
+    /// with trapezoid weights `w` (s) per lane, for the first `n` joints, on `level`:
+    /// lane by lane the operations of [`EnergySums::add_sample`].
+    pub fn add_lanes(&mut self, pl: &PowerLanes, w: &Lanes, count: usize, n: usize, level: Level) {
+        let n = n.min(MAX_DOF);
+        if count < LANES {
+            for l in 0..count {
+                add_lane!(
+                    self,
+                    l,
+                    w[l],
+                    n,
+                    pl.p_supply[l],
+                    pl.p_drives[l],
+                    pl.p_regeneration_lost[l],
+                    |j| pl.p_mech[j][l],
+                    pl.p_el[j][l],
+                    pl.p_friction[j][l],
+                    pl.p_gear[j][l],
+                    pl.p_copper[j][l]
+                );
+            }
+            return;
+        }
+        match level {
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx512 if Level::Avx512.available() => {
+                // SAFETY: the CPU has AVX-512F (checked just above).
+                unsafe { sums_avx512(self, pl, w, n) }
+            }
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx2 if Level::Avx2.available() => {
+                // SAFETY: the CPU has AVX2 and FMA (checked just above).
+                unsafe { sums_avx2(self, pl, w, n) }
+            }
+            _ => sums_lanes(self, pl, w, n),
+        }
+    }
+
+    /// The lanes of `a` added in order from +0, J.
+    #[inline]
+    pub fn lanes_total(a: &Lanes) -> f64 {
+        let mut t = 0.0;
+        for x in a {
+            t += x;
+        }
+        t
+    }
+}
+
+/// [`EnergySums::add_lanes`] of a full batch: joint-major, every lane at once.
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // parallel fixed arrays indexed by joint and lane
+fn sums_lanes(s: &mut EnergySums, pl: &PowerLanes, w: &Lanes, n: usize) {
+    for l in 0..LANES {
+        s.supply[l] += w[l] * pl.p_supply[l];
+        s.drives[l] += w[l] * pl.p_drives[l];
+        s.regeneration_lost[l] += w[l] * pl.p_regeneration_lost[l];
+    }
+    for j in 0..n {
+        for l in 0..LANES {
+            let pm = pl.p_mech[j][l];
+            s.mech[j][l] += w[l] * pm;
+            s.mech_abs[j][l] += w[l] * pm.abs();
+            s.mech_pos[j][l] += w[l] * pm.max(0.0);
+            s.el[j][l] += w[l] * pl.p_el[j][l];
+            s.friction[j][l] += w[l] * pl.p_friction[j][l];
+            s.gear[j][l] += w[l] * pl.p_gear[j][l];
+            s.copper[j][l] += w[l] * pl.p_copper[j][l];
+        }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn sums_avx2(s: &mut EnergySums, pl: &PowerLanes, w: &Lanes, n: usize) {
+    sums_lanes(s, pl, w, n)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn sums_avx512(s: &mut EnergySums, pl: &PowerLanes, w: &Lanes, n: usize) {
+    sums_lanes(s, pl, w, n)
 }

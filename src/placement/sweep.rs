@@ -671,56 +671,10 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         let m = timed.traj.len();
         let stopped = stop;
         let dt = timed.motion.dt;
-        // Energy: trapezoid at uniform dt, no allocation per sample.
-        let mut jm = vec![0.0; n];
-        let mut jabs = vec![0.0; n];
-        let mut jel = vec![0.0; n];
-        let mut supply = 0.0;
-        let mut drives = 0.0;
-        let mut mpos = 0.0;
-        let mut losses = Losses::default();
-        let mut acc = |k: usize, p: f64, sp: &energy::SamplePower| {
-            let w = crate::numerics::trapezoid_weight(k, m, dt);
-            supply += w * p;
-            drives += w * sp.p_drives;
-            losses.regeneration_lost_j += w * sp.p_regeneration_lost;
-            for j in 0..n {
-                let pm = sp.p_mech[j];
-                jm[j] += w * pm;
-                jabs[j] += w * pm.abs();
-                mpos += w * pm.max(0.0);
-                jel[j] += w * sp.p_el[j];
-                losses.friction_j += w * sp.p_friction[j];
-                losses.gear_j += w * sp.p_gear[j];
-                losses.copper_j += w * sp.p_copper[j];
-            }
-        };
-        // `acc` of lane `l` of a lockstep batch: the same operations in the same order.
-        let acc_lane = |k: usize,
-                        pl: &energy::PowerLanes,
-                        l: usize,
-                        supply: &mut f64,
-                        drives: &mut f64,
-                        mpos: &mut f64,
-                        losses: &mut Losses,
-                        jm: &mut [f64],
-                        jabs: &mut [f64],
-                        jel: &mut [f64]| {
-            let w = crate::numerics::trapezoid_weight(k, m, dt);
-            *supply += w * pl.p_supply[l];
-            *drives += w * pl.p_drives[l];
-            losses.regeneration_lost_j += w * pl.p_regeneration_lost[l];
-            for j in 0..n {
-                let pm = pl.p_mech[j][l];
-                jm[j] += w * pm;
-                jabs[j] += w * pm.abs();
-                *mpos += w * pm.max(0.0);
-                jel[j] += w * pl.p_el[j][l];
-                losses.friction_j += w * pl.p_friction[j][l];
-                losses.gear_j += w * pl.p_gear[j][l];
-                losses.copper_j += w * pl.p_copper[j][l];
-            }
-        };
+        // Energy: trapezoid at uniform dt in LANES interleaved partial sums (sample k into
+        // lane k mod LANES; energy::EnergySums), the same bits from the lockstep and the
+        // per-sample paths; no allocation per sample.
+        let mut sums = energy::EnergySums::default();
         let model_error = |k: usize, e: crate::error::Error| Infeasible {
             reason: Reason::ModelError,
             sample: Some(k),
@@ -772,20 +726,11 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                         level,
                     )
                     .map_err(|e| model_error(k0, e))?;
-                    for l in 0..count {
-                        acc_lane(
-                            k0 + l,
-                            &pl,
-                            l,
-                            &mut supply,
-                            &mut drives,
-                            &mut mpos,
-                            &mut losses,
-                            &mut jm,
-                            &mut jabs,
-                            &mut jel,
-                        );
+                    let mut w = [0.0; LANES];
+                    for (l, w) in w.iter_mut().enumerate().take(count) {
+                        *w = crate::numerics::trapezoid_weight(k0 + l, m, dt);
                     }
+                    sums.add_lanes(&pl, &w, count, n, level);
                 }
             }
             _ => {
@@ -812,15 +757,39 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                             sp,
                         ),
                     };
-                    let p = r.map_err(|e| model_error(k, e))?;
-                    acc(k, p, sp);
+                    r.map_err(|e| model_error(k, e))?;
+                    sums.add_sample(k, sp, crate::numerics::trapezoid_weight(k, m, dt), n);
                 }
             }
         }
+        let total = energy::EnergySums::lanes_total;
+        let (mut supply, mut drives) = (total(&sums.supply), total(&sums.drives));
         if m < 2 {
             supply = 0.0;
             drives = 0.0;
         }
+        let per_joint = |a: &[[f64; LANES]; crate::dynamics::MAX_DOF]| -> Vec<f64> {
+            a[..n].iter().map(total).collect()
+        };
+        let all_joints = |a: &[[f64; LANES]; crate::dynamics::MAX_DOF]| -> f64 {
+            let mut t = 0.0;
+            for x in &a[..n] {
+                t += total(x);
+            }
+            t
+        };
+        let (jm, jabs, jel) = (
+            per_joint(&sums.mech),
+            per_joint(&sums.mech_abs),
+            per_joint(&sums.el),
+        );
+        let mpos = all_joints(&sums.mech_pos);
+        let losses = Losses {
+            friction_j: all_joints(&sums.friction),
+            gear_j: all_joints(&sums.gear),
+            copper_j: all_joints(&sums.copper),
+            regeneration_lost_j: total(&sums.regeneration_lost),
+        };
         let rounds = timed.rounds;
         let mechanical_j: f64 = jm.iter().sum();
         let mechanical_abs_j: f64 = jabs.iter().sum();
