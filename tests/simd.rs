@@ -1384,3 +1384,62 @@ fn the_lockstep_fk_recheck_measures_within_its_bound_and_gives_the_per_sample_ve
         v.iter().map(|x| x.to_bits()).collect()
     }
 }
+
+#[test]
+fn the_prunes_reach_test_in_lockstep_rejects_the_same_first_sample_with_the_same_error() {
+    // time_at's first prune tests every sample's wrist centre 8 at a time (the front
+    // shoulder's reach in lockstep, per sample where it rejects): on placements from well
+    // inside to beyond the reach, the same outcome as the per-sample path (Level::Scalar),
+    // the same first unreachable sample and error.
+    use printwatt::kinematics::IkSolver;
+    use printwatt::timing::{self, blend_path, JointStageOptions, ProfileOptions};
+    use printwatt::toolpath::Placement;
+    let _g = LEVEL_LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    let (mut unreachable, mut other) = (0, 0);
+    let cases = [
+        ("abb_irb6700_200_260", (1.534, -0.121, 0.0)),
+        ("abb_irb4600_40_255", (1.4, 0.0, 0.3)),
+        ("ur10e", (0.7, 0.0, 0.2)),
+    ];
+    for (name, (x0, y0, z0)) in cases {
+        let model = common::robot(name);
+        let solver = IkSolver::new(&model).unwrap();
+        let tp = common::path("default.gcode");
+        let moves = timing::moves_from_toolpath(&tp);
+        let pieces = blend_path(&moves);
+        for f in [0.5, 0.8, 0.95, 1.0, 1.05, 1.1, 1.2, 1.4, 1.7] {
+            let x = x0 * f;
+            let at = Placement::new(x, y0, z0, 90f64.to_radians());
+            let run = |level: Level| {
+                assert!(simd::set_level(level));
+                timing::time_at(
+                    &solver,
+                    &pieces,
+                    &|i| moves[i].line,
+                    &at,
+                    &ProfileOptions::default(),
+                    &JointStageOptions::default(),
+                )
+                .map(|t| t.traj.q.iter().map(|v| v.to_bits()).collect::<Vec<_>>())
+            };
+            let want = run(Level::Scalar);
+            match &want {
+                Err(timing::TimingFailure::Unreachable { .. }) => unreachable += 1,
+                _ => other += 1,
+            }
+            for level in levels() {
+                let got = run(level);
+                assert_eq!(
+                    format!("{got:?}"),
+                    format!("{want:?}"),
+                    "{name} x {x} {level:?}"
+                );
+            }
+        }
+    }
+    simd::set_level(simd::detected());
+    assert!(
+        unreachable >= 5 && other >= 5,
+        "{unreachable} unreachable, {other} other"
+    );
+}

@@ -876,6 +876,37 @@ impl<'a> IkSolver<'a> {
         }
     }
 
+    /// For [`crate::simd::LANES`] wrist centres `c[i][lane]` (base frame, m) of an OPW arm:
+    /// per lane whether the front shoulder reaches it with `slack` ([`opw::arm_reaches`] with
+    /// [`Shoulder::Front`], the same operations in lockstep on `level`, so the same verdict).
+    /// `true` means [`IkSolver::wrist_centre_reachable`] is `Ok`; on `false` ask it (it tries
+    /// the back shoulder and gives the error). All `false` for arms without OPW parameters.
+    pub fn wrist_centres_reach_front(
+        &self,
+        c: &[[f64; crate::simd::LANES]; 3],
+        slack: f64,
+        level: crate::simd::Level,
+    ) -> [bool; crate::simd::LANES] {
+        use crate::simd::{Level, LANES};
+        let (Some(p), Some(k)) = (&self.model.opw, &self.opw_k) else {
+            return [false; LANES];
+        };
+        let ok = match level {
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx512 if Level::Avx512.available() => {
+                // SAFETY: the CPU has AVX-512F (checked just above).
+                unsafe { opw::arm_reaches_front_avx512(p, k, c, slack) }
+            }
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx2 if Level::Avx2.available() => {
+                // SAFETY: the CPU has AVX2 and FMA (checked just above).
+                unsafe { opw::arm_reaches_front_avx2(p, k, c, slack) }
+            }
+            _ => opw::arm_reaches_front_lanes(p, k, c, slack),
+        };
+        ok.map(|o| o != 0)
+    }
+
     /// The closed-form branch [`IkSolver::solve_near`] continues from `q` (OPW arms), else `None`.
     pub fn branch_of(&self, q: &[f64]) -> Option<Branch> {
         match (&self.model.opw, &self.opw_k) {

@@ -286,6 +286,61 @@ pub fn arm_reaches(
     }
 }
 
+/// [`arm_reaches`] with [`Shoulder::Front`] of [`crate::simd::LANES`] wrist centres
+/// `c[i][lane]` (m), in lockstep: per lane 1 where it is `Ok`, else 0 (the same operations,
+/// so the same verdict; NaN is 0).
+#[allow(clippy::needless_range_loop)] // lanes of parallel fixed arrays
+#[inline(always)]
+pub(crate) fn arm_reaches_front_lanes(
+    p: &OpwParams,
+    k: &Prepared,
+    c: &[[f64; crate::simd::LANES]; 3],
+    slack: f64,
+) -> [u64; crate::simd::LANES] {
+    use crate::simd::LANES;
+    let mut ok = [0u64; LANES];
+    let lim = 1.0 + ACOS_SLACK + slack;
+    for l in 0..LANES {
+        let (cx, cy, cz) = (c[0][l], c[1][l], c[2][l]);
+        let rho2 = cx * cx + cy * cy - p.b * p.b;
+        let near = !(rho2.is_nan() || rho2 < -slack);
+        let rho = rho2.max(0.0).sqrt();
+        let x = rho - p.a1;
+        let dz = cz - p.c1;
+        let s2 = x * x + dz * dz;
+        let s = s2.sqrt();
+        let axis = !(s == 0.0 && slack == 0.0);
+        let u2 = (s2 + k.c22 - k.kappa2) / (2.0 * s * p.c2);
+        let u3 = (s2 - k.c22 - k.kappa2) / (2.0 * p.c2 * k.kappa);
+        let ok2 = !(u2.is_nan() || u2.abs() > lim);
+        let ok3 = !(u3.is_nan() || u3.abs() > lim);
+        ok[l] = u64::from(near & axis & ok2 & ok3);
+    }
+    ok
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+pub(crate) fn arm_reaches_front_avx512(
+    p: &OpwParams,
+    k: &Prepared,
+    c: &[[f64; crate::simd::LANES]; 3],
+    slack: f64,
+) -> [u64; crate::simd::LANES] {
+    arm_reaches_front_lanes(p, k, c, slack)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+pub(crate) fn arm_reaches_front_avx2(
+    p: &OpwParams,
+    k: &Prepared,
+    c: &[[f64; crate::simd::LANES]; 3],
+    slack: f64,
+) -> [u64; crate::simd::LANES] {
+    arm_reaches_front_lanes(p, k, c, slack)
+}
+
 /// Arm part (joints 1–3, OPW angles) of one shoulder/elbow branch, or why it has none.
 #[inline]
 fn arm(

@@ -1183,6 +1183,41 @@ pub fn time_at_planned(
         let m = motion0.p.len();
         let coarse = (0..m).step_by(PRUNE_COARSE_STRIDE);
         match solver.wrist_offset(&rot) {
+            Some(d) if crate::simd::level() != crate::simd::Level::Scalar => {
+                for k in coarse {
+                    let tip = part_to_base.apply(&motion0.p[k]);
+                    if let Err(reason) = solver.wrist_centre_reachable(&(tip + d), 1e-9) {
+                        return Err(fail_at(k, tip, reason));
+                    }
+                }
+                // Every sample, LANES at a time: the front shoulder's reach test in lockstep
+                // (IkSolver::wrist_centres_reach_front, the same operations); a lane it
+                // rejects is asked per sample (the back shoulder, and the error), in order.
+                const LANES: usize = crate::simd::LANES;
+                let level = crate::simd::level();
+                let mut k0 = 0;
+                while k0 < m {
+                    let count = LANES.min(m - k0);
+                    let mut tips = [V3::zeros(); LANES];
+                    let mut c = [[0.0; LANES]; 3];
+                    for (l, t) in tips.iter_mut().enumerate().take(count) {
+                        *t = part_to_base.apply(&motion0.p[k0 + l]);
+                        let w = *t + d;
+                        for i in 0..3 {
+                            c[i][l] = w[i];
+                        }
+                    }
+                    let front = solver.wrist_centres_reach_front(&c, 1e-9, level);
+                    for (l, tip) in tips.iter().enumerate().take(count) {
+                        if !front[l] {
+                            if let Err(reason) = solver.wrist_centre_reachable(&(tip + d), 1e-9) {
+                                return Err(fail_at(k0 + l, *tip, reason));
+                            }
+                        }
+                    }
+                    k0 += count;
+                }
+            }
             Some(d) => {
                 for k in coarse.chain(0..m) {
                     let tip = part_to_base.apply(&motion0.p[k]);
