@@ -39,7 +39,7 @@
 mod lanes;
 mod report;
 
-pub use lanes::{eval_lanes_with_sincos, EnergySums, PowerLanes};
+pub use lanes::{eval_lanes_with_sincos, eval_rows, EnergySums, LaneInputs, PowerLanes, Rows};
 pub use report::{EnergyReport, JointEnergy, SampleSeries, TotalEnergy};
 
 use crate::dynamics::{rnea, rnea_with_sincos, DynData, DynModel, DynOptions, MAX_DOF};
