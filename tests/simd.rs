@@ -654,12 +654,14 @@ fn lockstep_friction_motor_and_supply_stages_equal_the_per_sample_path_near_velo
 }
 
 #[test]
-fn the_row_major_lockstep_pass_carries_its_inputs_across_batches_and_equals_the_per_sample_path_bit_for_bit(
+fn the_row_major_lockstep_pass_carries_its_inputs_across_batches_and_its_sums_equal_the_per_sample_path_bit_for_bit(
 ) {
     // energy::eval_rows (the sweep's energy pass: rows of the trajectory transposed into lanes,
     // RNEA and the tail compiled together per level, inputs and RNEA intermediates kept from
     // batch to batch, nothing cleared) against the per-sample path, with the sines given and
-    // computed, over batches of 8, 8 and 3 samples; short slices are an error, not a panic.
+    // computed, over batches of 8, 8 and 3 samples, and the energy sums it adds in the same
+    // pass (eval_rows_summed) equal the per-sample path's; short slices are an error, not a
+    // panic.
     let model = common::robot("abb_irb6700_200_260");
     let n = model.dof();
     let em = EnergyModel::new(&model).unwrap();
@@ -688,10 +690,18 @@ fn the_row_major_lockstep_pass_carries_its_inputs_across_batches_and_equals_the_
         let r = |a: &[f64]| a[k * n..(k + 1) * n].to_vec();
         energy::eval_sample(&em, &mut data, &r(&q), &r(&qd), &r(&qdd), w).unwrap();
     }
+    // The sums of the per-sample path (energy::EnergySums::add_sample, trapezoid weights).
+    let weight = |k: usize| printwatt::numerics::trapezoid_weight(k, m, 0.004);
+    let mut want_sums = energy::EnergySums::default();
+    for (k, w) in want.iter().enumerate() {
+        want_sums.add_sample(k, w, weight(k), n);
+    }
     for level in levels() {
         for given in [true, false] {
             let mut x = energy::LaneInputs::default();
             let mut out = energy::PowerLanes::default();
+            let (mut xs, mut outs) = (energy::LaneInputs::default(), energy::PowerLanes::default());
+            let mut sums = energy::EnergySums::default();
             for k0 in (0..m).step_by(LANES) {
                 let count = LANES.min(m - k0);
                 let rows = energy::Rows {
@@ -700,6 +710,14 @@ fn the_row_major_lockstep_pass_carries_its_inputs_across_batches_and_equals_the_
                     qd: &qd[k0 * n..],
                     qdd: &qdd[k0 * n..],
                 };
+                let mut w = [0.0; LANES];
+                for (l, w) in w.iter_mut().enumerate().take(count) {
+                    *w = weight(k0 + l);
+                }
+                energy::eval_rows_summed(
+                    &em, &mut data, count, &rows, &mut xs, &mut outs, &mut sums, &w, level,
+                )
+                .unwrap();
                 energy::eval_rows(&em, &mut data, count, &rows, &mut x, &mut out, level).unwrap();
                 for l in 0..count {
                     assert_eq!(
@@ -710,6 +728,11 @@ fn the_row_major_lockstep_pass_carries_its_inputs_across_batches_and_equals_the_
                     );
                 }
             }
+            assert_eq!(
+                format!("{sums:?}"),
+                format!("{want_sums:?}"),
+                "summed in the pass: {level:?}, sines given {given}"
+            );
             let short = energy::Rows {
                 q: &q[..n],
                 sincos: None,

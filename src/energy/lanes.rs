@@ -196,6 +196,21 @@ macro_rules! each {
     }};
 }
 
+/// The joints whose angles the lockstep effects `e` read (the balancer's joint; every joint
+/// for an effect called per lane): only these are transposed into lanes when the sines are
+/// given.
+pub(super) fn angles_read(e: &[(LaneEffect, EnergyClass)], n: usize) -> [bool; MAX_DOF] {
+    let mut read = [false; MAX_DOF];
+    for (e, _) in e {
+        match e {
+            LaneEffect::Balancer(b) if b.joint < MAX_DOF => read[b.joint] = true,
+            LaneEffect::Other(_) => read[..n.min(MAX_DOF)].fill(true),
+            _ => {}
+        }
+    }
+    read
+}
+
 /// The inputs of the lockstep pass: joint angles (rad), their sines and cosines, velocities
 /// (rad/s), accelerations (rad/s²), joint-major.
 struct Inputs<'b> {
@@ -207,7 +222,10 @@ struct Inputs<'b> {
 /// rigid-body torques.
 #[inline(always)]
 #[allow(clippy::needless_range_loop)] // parallel fixed arrays indexed by joint and lane
-fn tail_lanes(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
+/// With `ALL` false only what the integration reads is written (`tau_rb`, `tau_friction`,
+/// `tau_balancer`, `p_mech`, `p_friction`, `p_gear`, `p_copper`, `p_el` and the supply lanes);
+/// `tau`, `p_rigid_body`, `p_balancer`, `current` and `voltage` are left as they were.
+fn tail_lanes<const ALL: bool>(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
     let n = model.n;
     let (qd, qdd) = (&x.b.qd, &x.b.qdd);
     for j in 0..MAX_DOF {
@@ -318,11 +336,17 @@ fn tail_lanes(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
         let (tf, tb, trb) = (out.tau_friction[j], out.tau_balancer[j], out.tau_rb[j]);
         let tau = each!(l => trb[l] + tf[l] + tb[l]);
         let pm = each!(l => tau[l] * v[l]);
-        out.tau[j] = tau;
+        if ALL {
+            out.tau[j] = tau;
+        }
         out.p_mech[j] = pm;
-        out.p_rigid_body[j] = each!(l => trb[l] * v[l]);
+        if ALL {
+            out.p_rigid_body[j] = each!(l => trb[l] * v[l]);
+        }
         out.p_friction[j] = each!(l => tf[l] * v[l]);
-        out.p_balancer[j] = each!(l => tb[l] * v[l]);
+        if ALL {
+            out.p_balancer[j] = each!(l => tb[l] * v[l]);
+        }
         if model.has_drive {
             // super::motor, the branch as a select.
             let ge = ax.gear * ax.eta;
@@ -335,14 +359,18 @@ fn tail_lanes(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
             let i = each!(l => tm[l] / ax.kt);
             let shaft = each!(l => tm[l] * wm[l]);
             let copper = each!(l => ax.r * i[l] * i[l]);
-            out.current[j] = i;
-            out.voltage[j] = each!(l => ax.r * i[l] + ax.kt * wm[l]);
+            if ALL {
+                out.current[j] = i;
+                out.voltage[j] = each!(l => ax.r * i[l] + ax.kt * wm[l]);
+            }
             out.p_copper[j] = copper;
             out.p_gear[j] = each!(l => shaft[l] - pm[l]);
             out.p_el[j] = each!(l => shaft[l] + copper[l]);
         } else {
-            out.current[j] = [0.0; LANES];
-            out.voltage[j] = [0.0; LANES];
+            if ALL {
+                out.current[j] = [0.0; LANES];
+                out.voltage[j] = [0.0; LANES];
+            }
             out.p_copper[j] = [0.0; LANES];
             out.p_gear[j] = [0.0; LANES];
             out.p_el[j] = pm;
@@ -375,19 +403,19 @@ fn tail_lanes(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
 }
 
 fn tail_sse2(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
-    tail_lanes(model, x, out)
+    tail_lanes::<true>(model, x, out)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 fn tail_avx2(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
-    tail_lanes(model, x, out)
+    tail_lanes::<true>(model, x, out)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
 fn tail_avx512(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
-    tail_lanes(model, x, out)
+    tail_lanes::<true>(model, x, out)
 }
 
 /// Consecutive samples, row-major (`n` values a sample; the sines then the cosines, `2 n` a
@@ -417,7 +445,56 @@ pub struct LaneInputs {
 
 /// Rows `0..count` of `r` into the lanes of `x`, and their sines where `r` has none.
 #[inline(always)]
-fn transpose(n: usize, count: usize, r: &Rows<'_>, x: &mut LaneInputs) {
+fn transpose(n: usize, count: usize, r: &Rows<'_>, angles: &[bool; MAX_DOF], x: &mut LaneInputs) {
+    if n == 6 && count == LANES {
+        // The six-joint arm, a full batch: fixed sizes (unrolled, no bounds checks per value);
+        // the angles only of the joints that need them (all when the sines are computed here).
+        let all = [true; MAX_DOF];
+        transpose_full::<6>(r, x, if r.sincos.is_some() { angles } else { &all });
+    } else {
+        transpose_rows(n, count, r, x);
+    }
+    if r.sincos.is_none() {
+        for j in 0..n {
+            let (s, c) = crate::fastmath::sin_cos_lanes(&x.q[j]);
+            x.b.s[j] = s;
+            x.b.c[j] = c;
+        }
+    }
+}
+
+/// [`transpose`] of [`LANES`] rows of `N` joints.
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // parallel fixed arrays indexed by joint and lane
+fn transpose_full<const N: usize>(r: &Rows<'_>, x: &mut LaneInputs, angles: &[bool; MAX_DOF]) {
+    let (q, qd, qdd) = (&r.q[..LANES * N], &r.qd[..LANES * N], &r.qdd[..LANES * N]);
+    for l in 0..LANES {
+        for j in 0..N {
+            x.b.qd[j][l] = qd[l * N + j];
+            x.b.qdd[j][l] = qdd[l * N + j];
+        }
+    }
+    for j in 0..N {
+        if angles[j] {
+            for l in 0..LANES {
+                x.q[j][l] = q[l * N + j];
+            }
+        }
+    }
+    if let Some(sc) = r.sincos {
+        let sc = &sc[..LANES * 2 * N];
+        for l in 0..LANES {
+            for j in 0..N {
+                x.b.s[j][l] = sc[l * 2 * N + j];
+                x.b.c[j][l] = sc[l * 2 * N + N + j];
+            }
+        }
+    }
+}
+
+/// [`transpose`] of any rows.
+#[inline(always)]
+fn transpose_rows(n: usize, count: usize, r: &Rows<'_>, x: &mut LaneInputs) {
     for l in 0..count {
         let (q, v, w) = (
             &r.q[l * n..][..n],
@@ -437,13 +514,6 @@ fn transpose(n: usize, count: usize, r: &Rows<'_>, x: &mut LaneInputs) {
             }
         }
     }
-    if r.sincos.is_none() {
-        for j in 0..n {
-            let (s, c) = crate::fastmath::sin_cos_lanes(&x.q[j]);
-            x.b.s[j] = s;
-            x.b.c[j] = c;
-        }
-    }
 }
 
 /// The whole lockstep pass of one batch, inlined into one function per level.
@@ -454,10 +524,22 @@ fn pass_lanes(
     r: &Rows<'_>,
     x: &mut LaneInputs,
     out: &mut PowerLanes,
+    sum: Option<(&mut EnergySums, &Lanes)>,
 ) {
-    transpose(model.n, count, r, x);
+    transpose(model.n, count, r, &model.lane_angles, x);
     crate::dynamics::rnea_lanes(&model.dynamics, &x.b, &mut out.tau_rb, &mut x.rnea);
-    tail_lanes(model, &Inputs { q: &x.q, b: &x.b }, out);
+    let x = Inputs { q: &x.q, b: &x.b };
+    match &sum {
+        Some(_) => tail_lanes::<false>(model, &x, out),
+        None => tail_lanes::<true>(model, &x, out),
+    }
+    if let Some((s, w)) = sum {
+        if count == LANES {
+            sums_lanes(s, out, w, model.n);
+        } else {
+            s.add_partial(out, w, count, model.n);
+        }
+    }
 }
 
 fn pass_sse2(
@@ -466,8 +548,9 @@ fn pass_sse2(
     r: &Rows<'_>,
     x: &mut LaneInputs,
     out: &mut PowerLanes,
+    sum: Option<(&mut EnergySums, &Lanes)>,
 ) {
-    pass_lanes(model, count, r, x, out)
+    pass_lanes(model, count, r, x, out, sum)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -478,8 +561,9 @@ fn pass_avx2(
     r: &Rows<'_>,
     x: &mut LaneInputs,
     out: &mut PowerLanes,
+    sum: Option<(&mut EnergySums, &Lanes)>,
 ) {
-    pass_lanes(model, count, r, x, out)
+    pass_lanes(model, count, r, x, out, sum)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -490,8 +574,9 @@ fn pass_avx512(
     r: &Rows<'_>,
     x: &mut LaneInputs,
     out: &mut PowerLanes,
+    sum: Option<(&mut EnergySums, &Lanes)>,
 ) {
-    pass_lanes(model, count, r, x, out)
+    pass_lanes(model, count, r, x, out, sum)
 }
 
 /// [`eval_lanes_with_sincos`] of `count ≤` [`LANES`] consecutive samples held row-major in
@@ -509,6 +594,39 @@ pub fn eval_rows(
     r: &Rows<'_>,
     x: &mut LaneInputs,
     out: &mut PowerLanes,
+    level: Level,
+) -> Result<()> {
+    eval_rows_with(model, data, count, r, x, out, None, level)
+}
+
+/// [`eval_rows`], then the batch's powers added into `sums` with trapezoid weights `w` (s per
+/// lane; [`EnergySums::add_lanes`]) in the same compiled pass: the sweep's integration step.
+/// Only what the sums read is written into `out` on the lockstep levels: `tau`,
+/// `p_rigid_body`, `p_balancer`, `current` and `voltage` are left as they were there.
+#[allow(clippy::too_many_arguments)]
+pub fn eval_rows_summed(
+    model: &EnergyModel,
+    data: &mut crate::dynamics::DynData,
+    count: usize,
+    r: &Rows<'_>,
+    x: &mut LaneInputs,
+    out: &mut PowerLanes,
+    sums: &mut EnergySums,
+    w: &Lanes,
+    level: Level,
+) -> Result<()> {
+    eval_rows_with(model, data, count, r, x, out, Some((sums, w)), level)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn eval_rows_with(
+    model: &EnergyModel,
+    data: &mut crate::dynamics::DynData,
+    count: usize,
+    r: &Rows<'_>,
+    x: &mut LaneInputs,
+    out: &mut PowerLanes,
+    sum: Option<(&mut EnergySums, &Lanes)>,
     level: Level,
 ) -> Result<()> {
     let n = model.n;
@@ -546,20 +664,23 @@ pub fn eval_rows(
             };
             out.set_sample(l, &sp);
         }
+        if let Some((s, w)) = sum {
+            s.add_lanes(out, w, count, n, level);
+        }
         return Ok(());
     }
     match level {
         #[cfg(target_arch = "x86_64")]
         Level::Avx512 if Level::Avx512.available() => {
             // SAFETY: the CPU has AVX-512F (checked just above).
-            unsafe { pass_avx512(model, count, r, x, out) }
+            unsafe { pass_avx512(model, count, r, x, out, sum) }
         }
         #[cfg(target_arch = "x86_64")]
         Level::Avx2 if Level::Avx2.available() => {
             // SAFETY: the CPU has AVX2 and FMA (checked just above).
-            unsafe { pass_avx2(model, count, r, x, out) }
+            unsafe { pass_avx2(model, count, r, x, out, sum) }
         }
-        _ => pass_sse2(model, count, r, x, out),
+        _ => pass_sse2(model, count, r, x, out, sum),
     }
     Ok(())
 }
@@ -728,22 +849,7 @@ impl EnergySums {
     pub fn add_lanes(&mut self, pl: &PowerLanes, w: &Lanes, count: usize, n: usize, level: Level) {
         let n = n.min(MAX_DOF);
         if count < LANES {
-            for l in 0..count {
-                add_lane!(
-                    self,
-                    l,
-                    w[l],
-                    n,
-                    pl.p_supply[l],
-                    pl.p_drives[l],
-                    pl.p_regeneration_lost[l],
-                    |j| pl.p_mech[j][l],
-                    pl.p_el[j][l],
-                    pl.p_friction[j][l],
-                    pl.p_gear[j][l],
-                    pl.p_copper[j][l]
-                );
-            }
+            self.add_partial(pl, w, count, n);
             return;
         }
         match level {
@@ -758,6 +864,28 @@ impl EnergySums {
                 unsafe { sums_avx2(self, pl, w, n) }
             }
             _ => sums_lanes(self, pl, w, n),
+        }
+    }
+
+    /// Lanes `0..count` of `pl`, one by one ([`EnergySums::add_sample`]'s operations).
+    #[inline(always)]
+    fn add_partial(&mut self, pl: &PowerLanes, w: &Lanes, count: usize, n: usize) {
+        let n = n.min(MAX_DOF);
+        for l in 0..count.min(LANES) {
+            add_lane!(
+                self,
+                l,
+                w[l],
+                n,
+                pl.p_supply[l],
+                pl.p_drives[l],
+                pl.p_regeneration_lost[l],
+                |j| pl.p_mech[j][l],
+                pl.p_el[j][l],
+                pl.p_friction[j][l],
+                pl.p_gear[j][l],
+                pl.p_copper[j][l]
+            );
         }
     }
 

@@ -702,21 +702,27 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                         qd: tr.qd.get(k0 * n..).unwrap_or(&[]),
                         qdd: tr.qdd.get(k0 * n..).unwrap_or(&[]),
                     };
-                    energy::eval_rows(
+                    // Inside the path every weight is dt (what trapezoid_weight gives there).
+                    let mut w = [dt; LANES];
+                    if k0 == 0 || k0 + LANES >= m {
+                        w = [0.0; LANES];
+                        for (l, w) in w.iter_mut().enumerate().take(count) {
+                            *w = crate::numerics::trapezoid_weight(k0 + l, m, dt);
+                        }
+                    }
+                    // The batch's powers, then added into the sums, in one compiled pass.
+                    energy::eval_rows_summed(
                         &self.job.energy,
                         data,
                         count,
                         &r,
                         &mut inputs,
                         &mut pl,
+                        &mut sums,
+                        &w,
                         level,
                     )
                     .map_err(|e| model_error(k0, e))?;
-                    let mut w = [0.0; LANES];
-                    for (l, w) in w.iter_mut().enumerate().take(count) {
-                        *w = crate::numerics::trapezoid_weight(k0 + l, m, dt);
-                    }
-                    sums.add_lanes(&pl, &w, count, n, level);
                 }
             }
             _ => {
