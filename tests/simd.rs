@@ -775,6 +775,12 @@ fn the_branch_a_closed_form_batch_hands_on_equals_branch_of_its_answers_bit_for_
             for level in levels().into_iter().filter(|l| *l != Level::Scalar) {
                 let mut b = solve_branch_batch(&p, &k, &rot, &pos, branch, level);
                 for l in 0..LANES {
+                    for j in 0..6 {
+                        // The joint-by-joint copy continuing_lanes reads.
+                        assert_eq!(b.qj[j][l].to_bits(), b.q[l][j].to_bits(), "{name}");
+                    }
+                }
+                for l in 0..LANES {
                     assert_eq!(
                         b.next_branch[l],
                         k.branch_of(&p, &b.q[l]),
@@ -1374,6 +1380,123 @@ fn skipping_the_flipped_wrist_fit_where_it_cannot_be_nearer_gives_solve_nears_an
     assert!(
         compared > 1000 && near > 50 && far > 50,
         "{compared} compared, {near} within the bound, {far} beyond it"
+    );
+
+    fn bits(v: &[f64]) -> Vec<u64> {
+        v.iter().map(|x| x.to_bits()).collect()
+    }
+}
+
+#[test]
+fn the_lockstep_fk_recheck_measures_within_its_bound_and_gives_the_per_sample_verdicts() {
+    // FastChain::check_lanes measures the errors on a pose within fk::CHECK_POSE_BOUND of the
+    // exact FK (not the same bits) and gives the joints' sines bit for bit; IkSolver::check_lanes
+    // decides only the lanes with room to spare on it and hands every other lane to the
+    // per-sample check: the same verdicts, first failing lane and error as check_with_sincos
+    // (and its sines when all pass), for lanes moved by 0 to a few tolerances around one
+    // target rotation.
+    use printwatt::kinematics::fk::{FastChain, CHECK_POSE_BOUND};
+    use printwatt::kinematics::IkSolver;
+    use printwatt::math::Frame;
+    let _g = LEVEL_LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    let mut u = uniform(43);
+    let (mut seen, mut worst) = ([0usize; 2], 0.0f64);
+    for name in [
+        "abb_irb6700_200_260",
+        "abb_irb4600_40_255",
+        "staubli_tx200",
+        "ur10e",
+    ] {
+        let model = common::robot(name);
+        let solver = IkSolver::new(&model).unwrap();
+        let chain = FastChain::new(&model);
+        if !solver.batch_checkable() {
+            continue;
+        }
+        let n = model.dof();
+        for round in 0..200 {
+            let q0: Vec<f64> = model.joints.iter().map(|_| 2.0 * u()).collect();
+            let f0 = chain.tool(&q0);
+            let mut qb = [[0.0; LANES]; 8];
+            let mut tips = [f0.pos; LANES];
+            let mut tp = [[0.0; LANES]; 3];
+            for l in 0..LANES {
+                // Joint and position offsets from none to a few tolerances (1e-6).
+                let e = [0.0, 1e-10, 1e-9, 3e-8, 1e-7, 4e-7, 1e-6, 3e-6][(l + round) % LANES];
+                for j in 0..n {
+                    qb[j][l] = q0[j] + e * u();
+                }
+                let d = [0.0, 2e-7, 4.99e-7, 5e-7, 9.9e-7, 1e-6, 1.2e-6, 3e-6][(3 * l + round) % 8];
+                tips[l].x += d * u();
+                tips[l].y += d * u();
+                tips[l].z += d * u();
+                for i in 0..3 {
+                    tp[i][l] = tips[l][i];
+                }
+            }
+            let target = solver.path_target(&f0.rot);
+            for level in levels().into_iter().filter(|l| *l != Level::Scalar) {
+                // The bound, against the exact pose.
+                let cl = chain.check_lanes(&qb, &chain.check_rotation(&f0.rot), &tp, level);
+                for l in 0..LANES {
+                    let ql: Vec<f64> = (0..n).map(|j| qb[j][l]).collect();
+                    let mut sc = vec![0.0; 2 * n];
+                    let f = chain.tool_with_sincos(&ql, &mut sc);
+                    let dp = (f.pos - tips[l]).norm();
+                    let dr = (f.rot - f0.rot).norm();
+                    let err = (cl.dp2[l].sqrt() - dp)
+                        .abs()
+                        .max((cl.f2[l].sqrt() - dr).abs());
+                    worst = worst.max(err);
+                    assert!(err <= CHECK_POSE_BOUND, "{name} lane {l}: {err:e}");
+                    for j in 0..n {
+                        assert_eq!(cl.s[j][l].to_bits(), sc[j].to_bits(), "{name}");
+                        assert_eq!(cl.c[j][l].to_bits(), sc[n + j].to_bits(), "{name}");
+                    }
+                }
+                // The verdicts, against the per-sample check.
+                let mut want = Vec::new();
+                for (l, tip) in tips.iter().enumerate() {
+                    let ql: Vec<f64> = (0..n).map(|j| qb[j][l]).collect();
+                    let mut sc = vec![0.0; 2 * n];
+                    let t = Frame {
+                        rot: f0.rot,
+                        pos: *tip,
+                    };
+                    want.push((solver.check_with_sincos(&t, &ql, &mut sc), sc));
+                }
+                let mut out = vec![0.0; LANES * 2 * n];
+                let got = solver.check_lanes(LANES, &qb, &target, &tips, &mut out, level);
+                let first = want.iter().position(|(r, _)| r.is_err());
+                match (&got, first) {
+                    (Ok(()), None) => {}
+                    (Err((l, e)), Some(f)) => {
+                        assert_eq!(*l, f, "{name} {level:?}");
+                        assert_eq!(
+                            format!("{:?}", Err::<(), _>(e)),
+                            format!("{:?}", want[f].0.as_ref().map(|_| ())),
+                            "{name}"
+                        );
+                    }
+                    _ => panic!("{name} {level:?}: {got:?} vs first failing lane {first:?}"),
+                }
+                // The sines are written when every lane passes.
+                for (l, (r, sc)) in want.iter().enumerate().take(first.unwrap_or(LANES)) {
+                    seen[usize::from(r.is_ok())] += 1;
+                    let o = &out[l * 2 * n..(l + 1) * 2 * n];
+                    if got.is_ok() {
+                        assert_eq!(bits(o), bits(sc), "{name} lane {l}");
+                    }
+                }
+                if let Some(f) = first {
+                    seen[0] += usize::from(f < LANES);
+                }
+            }
+        }
+    }
+    assert!(
+        seen[0] > 50 && seen[1] > 500,
+        "verdicts seen: {seen:?}, worst {worst:e}"
     );
 
     fn bits(v: &[f64]) -> Vec<u64> {

@@ -469,3 +469,306 @@ impl FastChain {
         self.tool_lanes(q)
     }
 }
+
+/// Largest difference (m, and dimensionless for a rotation matrix's entries, in the Frobenius
+/// norm) between the pose [`FastChain::check_lanes`] measures against and
+/// [`FastChain::tool_with_sincos`]'s, for chains [`FastChain::batchable`] and poses within a
+/// few metres of the base: the same sines and cosines, the same products save for terms that
+/// are exactly zero, in another order (a few dozen roundings of numbers ≤ 4 in magnitude,
+/// ≲ 1e-14), and the tool's rotation moved to the target's side (its orthogonality error,
+/// ≲ 1e-15). 1e-12 leaves a hundredfold margin; `tests/simd.rs` measures it.
+pub const CHECK_POSE_BOUND: f64 = 1e-12;
+
+/// What [`FastChain::check_lanes`] measures of [`LANES`] tool poses against their targets.
+#[derive(Clone, Copy, Debug)]
+pub struct CheckLanes {
+    /// Squared position error, m² (of a pose within [`CHECK_POSE_BOUND`] of the exact one).
+    pub dp2: Lanes,
+    /// Squared Frobenius distance of the rotations (of a pose within [`CHECK_POSE_BOUND`]).
+    pub f2: Lanes,
+    /// `sin q_j`, bit for bit [`FastChain::tool_with_sincos`]'s.
+    pub s: [Lanes; MAX_DOF],
+    /// `cos q_j`, likewise.
+    pub c: [Lanes; MAX_DOF],
+}
+
+/// Vector registers of `f64` for [`FastChain::check_lanes`]'s products: the rotation and
+/// position of a chunk of lanes are carried from joint to joint as register values (plain
+/// per-lane arrays are spilled to memory between the joints of a runtime loop).
+#[cfg(target_arch = "x86_64")]
+mod reg {
+    use std::arch::x86_64::*;
+
+    /// `W` lanes of `f64` in one register. The methods are `unsafe`: the CPU must have the
+    /// instruction set of the type (the callers are compiled for it and dispatch on it).
+    pub(super) trait V: Copy {
+        const W: usize;
+        unsafe fn splat(x: f64) -> Self;
+        unsafe fn load(p: &[f64]) -> Self;
+        unsafe fn store(self, p: &mut [f64]);
+        unsafe fn add(self, o: Self) -> Self;
+        unsafe fn sub(self, o: Self) -> Self;
+        unsafe fn mul(self, o: Self) -> Self;
+    }
+
+    macro_rules! reg {
+        ($t:ty, $w:expr, $set:ident, $ld:ident, $st:ident, $add:ident, $sub:ident, $mul:ident) => {
+            impl V for $t {
+                const W: usize = $w;
+                #[inline(always)]
+                unsafe fn splat(x: f64) -> Self {
+                    $set(x)
+                }
+                #[inline(always)]
+                unsafe fn load(p: &[f64]) -> Self {
+                    assert!(p.len() >= $w);
+                    $ld(p.as_ptr())
+                }
+                #[inline(always)]
+                unsafe fn store(self, p: &mut [f64]) {
+                    assert!(p.len() >= $w);
+                    $st(p.as_mut_ptr(), self)
+                }
+                #[inline(always)]
+                unsafe fn add(self, o: Self) -> Self {
+                    $add(self, o)
+                }
+                #[inline(always)]
+                unsafe fn sub(self, o: Self) -> Self {
+                    $sub(self, o)
+                }
+                #[inline(always)]
+                unsafe fn mul(self, o: Self) -> Self {
+                    $mul(self, o)
+                }
+            }
+        };
+    }
+    reg!(
+        __m128d,
+        2,
+        _mm_set1_pd,
+        _mm_loadu_pd,
+        _mm_storeu_pd,
+        _mm_add_pd,
+        _mm_sub_pd,
+        _mm_mul_pd
+    );
+    reg!(
+        __m256d,
+        4,
+        _mm256_set1_pd,
+        _mm256_loadu_pd,
+        _mm256_storeu_pd,
+        _mm256_add_pd,
+        _mm256_sub_pd,
+        _mm256_mul_pd
+    );
+    reg!(
+        __m512d,
+        8,
+        _mm512_set1_pd,
+        _mm512_loadu_pd,
+        _mm512_storeu_pd,
+        _mm512_add_pd,
+        _mm512_sub_pd,
+        _mm512_mul_pd
+    );
+
+    /// Rotate columns `A` and `B` of `r` by the angle with sine `sg · s` and cosine `c`
+    /// ([`super::rot_cols`] in registers).
+    #[inline(always)]
+    pub(super) unsafe fn rot_cols<T: V, const A: usize, const B: usize>(
+        r: &mut [[T; 3]; 3],
+        s: T,
+        c: T,
+        sg: f64,
+    ) {
+        let ss = T::splat(sg).mul(s);
+        for row in r.iter_mut() {
+            let (ra, rb) = (row[A], row[B]);
+            row[A] = ra.mul(c).add(rb.mul(ss));
+            row[B] = rb.mul(c).sub(ra.mul(ss));
+        }
+    }
+}
+
+impl FastChain {
+    /// The position and rotation errors of [`FastChain::check_lanes`] in registers of `T`,
+    /// chunk by chunk of the lanes.
+    #[cfg(target_arch = "x86_64")]
+    #[inline(always)]
+    unsafe fn check_errors<T: reg::V>(
+        &self,
+        s: &[Lanes; MAX_DOF],
+        c: &[Lanes; MAX_DOF],
+        m: &crate::math::M3,
+        tp: &[Lanes; 3],
+        dp2: &mut Lanes,
+        f2: &mut Lanes,
+    ) {
+        for h in (0..LANES).step_by(T::W) {
+            let (one, zero) = (T::splat(1.0), T::splat(0.0));
+            let mut r = [[one, zero, zero], [zero, one, zero], [zero, zero, one]];
+            let mut p = [zero; 3];
+            for (i, j) in self.joints[..self.n].iter().enumerate() {
+                // p += r · pos, the exactly-zero components of pos skipped.
+                for k in 0..3 {
+                    let v = j.pos[k];
+                    if v != 0.0 {
+                        let v = T::splat(v);
+                        for (pr, rr) in p.iter_mut().zip(&r) {
+                            *pr = pr.add(rr[k].mul(v));
+                        }
+                    }
+                }
+                if let Some(o) = &j.rot {
+                    let mut out = [[zero; 3]; 3];
+                    for (orow, rr) in out.iter_mut().zip(&r) {
+                        for (col, oc) in orow.iter_mut().enumerate() {
+                            *oc = rr[0]
+                                .mul(T::splat(o[(0, col)]))
+                                .add(rr[1].mul(T::splat(o[(1, col)])))
+                                .add(rr[2].mul(T::splat(o[(2, col)])));
+                        }
+                    }
+                    r = out;
+                }
+                let (sv, cv) = (T::load(&s[i][h..]), T::load(&c[i][h..]));
+                match j.axis {
+                    Axis::X(sg) => reg::rot_cols::<T, 1, 2>(&mut r, sv, cv, sg),
+                    Axis::Y(sg) => reg::rot_cols::<T, 2, 0>(&mut r, sv, cv, sg),
+                    Axis::Z(sg) => reg::rot_cols::<T, 0, 1>(&mut r, sv, cv, sg),
+                    Axis::General(_) => unreachable!("FastChain::batchable excludes general axes"),
+                }
+            }
+            // The tool: p + r · tail.pos against tp; r · tail.rot against the target
+            // rotation R as r against R · tail.rotᵀ (= m).
+            let tpos = self.tail.pos;
+            let (tx, ty, tz) = (T::splat(tpos.x), T::splat(tpos.y), T::splat(tpos.z));
+            let mut d2 = zero;
+            let mut e2 = zero;
+            for (row, (pr, rr)) in p.iter().zip(&r).enumerate() {
+                let x = pr
+                    .add(rr[0].mul(tx).add(rr[1].mul(ty)).add(rr[2].mul(tz)))
+                    .sub(T::load(&tp[row][h..]));
+                d2 = d2.add(x.mul(x));
+                for (col, rc) in rr.iter().enumerate() {
+                    let d = rc.sub(T::splat(m[(row, col)]));
+                    e2 = e2.add(d.mul(d));
+                }
+            }
+            d2.store(&mut dp2[h..]);
+            e2.store(&mut f2[h..]);
+        }
+    }
+
+    /// The body of [`FastChain::check_lanes`] on the caller's instruction set.
+    #[inline(always)]
+    fn check_sincos(&self, q: &[Lanes; MAX_DOF]) -> ([Lanes; MAX_DOF], [Lanes; MAX_DOF]) {
+        let mut s_out = [[0.0; LANES]; MAX_DOF];
+        let mut c_out = [[1.0; LANES]; MAX_DOF];
+        for i in 0..self.n {
+            (s_out[i], c_out[i]) = crate::fastmath::sin_cos_lanes_with_zeros(&q[i]);
+        }
+        (s_out, c_out)
+    }
+
+    /// The rotation [`FastChain::check_lanes`] compares against for tool poses of the
+    /// rotation `rot`: `rot · tail.rotᵀ` (the tool's fixed rotation moved to the target's
+    /// side).
+    pub fn check_rotation(&self, rot: &crate::math::M3) -> crate::math::M3 {
+        rot * self.tail.rot.transpose()
+    }
+
+    /// For the FK re-check of [`LANES`] joint vectors `q[j][lane]` (rad) against tool poses
+    /// of a common rotation `R` (`check_rot` = [`FastChain::check_rotation`]`(R)`) and the
+    /// positions `tp[i][lane]` (m), in lockstep on `level`: the squared position and rotation errors of a tool pose within
+    /// [`CHECK_POSE_BOUND`] of [`FastChain::tool_with_sincos`]'s (not the same bits: only a
+    /// verdict with that much room may rest on them), and the joints' sines and cosines bit
+    /// for bit. Only for a [`FastChain::batchable`] chain (panics otherwise: a programming
+    /// error, the callers check).
+    pub fn check_lanes(
+        &self,
+        q: &[Lanes; MAX_DOF],
+        check_rot: &crate::math::M3,
+        tp: &[Lanes; 3],
+        level: Level,
+    ) -> CheckLanes {
+        assert!(
+            self.batchable(),
+            "check_lanes on a chain it does not apply to"
+        );
+        let m = check_rot;
+        match level {
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx512 if Level::Avx512.available() => {
+                // SAFETY: the CPU has AVX-512F (checked just above).
+                unsafe { self.check_avx512(q, m, tp) }
+            }
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx2 if Level::Avx2.available() => {
+                // SAFETY: the CPU has AVX2 and FMA (checked just above).
+                unsafe { self.check_avx2(q, m, tp) }
+            }
+            #[cfg(target_arch = "x86_64")]
+            _ => {
+                let (s, c) = self.check_sincos(q);
+                let (mut dp2, mut f2) = ([0.0; LANES], [0.0; LANES]);
+                // SAFETY: SSE2 is part of x86-64.
+                unsafe {
+                    self.check_errors::<std::arch::x86_64::__m128d>(
+                        &s, &c, m, tp, &mut dp2, &mut f2,
+                    )
+                };
+                CheckLanes { dp2, f2, s, c }
+            }
+            #[cfg(not(target_arch = "x86_64"))]
+            _ => {
+                let (s, c) = self.check_sincos(q);
+                let tb = self.tool_lanes(q);
+                let (mut dp2, mut f2) = ([0.0; LANES], [0.0; LANES]);
+                for l in 0..LANES {
+                    for i in 0..3 {
+                        let d = tb.pos[i][l] - tp[i][l];
+                        dp2[l] += d * d;
+                        for j in 0..3 {
+                            let d = tb.rot[i][j][l] - (m * self.tail.rot)[(i, j)];
+                            f2[l] += d * d;
+                        }
+                    }
+                }
+                CheckLanes { dp2, f2, s, c }
+            }
+        }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    fn check_avx512(
+        &self,
+        q: &[Lanes; MAX_DOF],
+        m: &crate::math::M3,
+        tp: &[Lanes; 3],
+    ) -> CheckLanes {
+        let (s, c) = self.check_sincos(q);
+        let (mut dp2, mut f2) = ([0.0; LANES], [0.0; LANES]);
+        // SAFETY: the CPU has AVX-512F (this function's own target feature).
+        unsafe {
+            self.check_errors::<std::arch::x86_64::__m512d>(&s, &c, m, tp, &mut dp2, &mut f2)
+        };
+        CheckLanes { dp2, f2, s, c }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn check_avx2(&self, q: &[Lanes; MAX_DOF], m: &crate::math::M3, tp: &[Lanes; 3]) -> CheckLanes {
+        let (s, c) = self.check_sincos(q);
+        let (mut dp2, mut f2) = ([0.0; LANES], [0.0; LANES]);
+        // SAFETY: the CPU has AVX2 (this function's own target feature).
+        unsafe {
+            self.check_errors::<std::arch::x86_64::__m256d>(&s, &c, m, tp, &mut dp2, &mut f2)
+        };
+        CheckLanes { dp2, f2, s, c }
+    }
+}

@@ -587,6 +587,47 @@ impl LimitTable {
     }
 }
 
+/// What the lockstep path IK computes once per tool orientation ([`IkSolver::path_target`]):
+/// the orientation (base frame), the flange's (`rot · tool⁻¹`), the offset from the tool tip
+/// to the flange origin (m), and the rotation the FK re-check compares against
+/// ([`fk::FastChain::check_rotation`]).
+#[derive(Clone, Copy, Debug)]
+pub struct PathTarget {
+    rot: M3,
+    frot: M3,
+    off: V3,
+    check_rot: M3,
+}
+
+/// [`IkSolver::continuing_lanes`]' answer.
+#[derive(Clone, Copy, Debug)]
+pub struct Continuing {
+    /// How many leading lanes are taken.
+    pub taken: usize,
+    /// Their answers joint by joint (rad): `q[j][lane]`.
+    pub q: [[f64; crate::simd::LANES]; 6],
+    /// [`opw::Prepared::branch_of`] of the last taken answer, bit for bit (the batch's
+    /// branch when none is taken).
+    pub branch_after: Branch,
+}
+
+impl Continuing {
+    /// None taken yet.
+    pub fn new() -> Continuing {
+        Continuing {
+            taken: 0,
+            q: [[0.0; crate::simd::LANES]; 6],
+            branch_after: Branch::ALL[0],
+        }
+    }
+}
+
+impl Default for Continuing {
+    fn default() -> Self {
+        Continuing::new()
+    }
+}
+
 /// One inverse-kinematics answer, already checked by forward kinematics and within limits.
 #[derive(Clone, Copy, Debug)]
 pub struct Solution {
@@ -1032,22 +1073,47 @@ impl<'a> IkSolver<'a> {
         q_prev: &[f64],
         level: crate::simd::Level,
     ) -> Option<opw::BranchBatch> {
+        self.solve_near_batch_at(&self.path_target(rot), tips, q_prev, None, level)
+    }
+
+    /// What the lockstep path IK ([`IkSolver::solve_near_batch_at`],
+    /// [`IkSolver::check_lanes`]) computes once per tool orientation `rot` (base frame).
+    pub fn path_target(&self, rot: &M3) -> PathTarget {
+        PathTarget {
+            rot: *rot,
+            frot: rot * self.tool_inv.rot,
+            off: rot * self.tool_inv.pos,
+            check_rot: self.chain.check_rotation(rot),
+        }
+    }
+
+    /// [`IkSolver::solve_near_batch`] for the orientation of `target`
+    /// ([`IkSolver::path_target`]) and with the branch of `q_prev` when the caller knows it
+    /// (`branch`: exactly [`opw::Prepared::branch_of`]`(q_prev)`, e.g.
+    /// [`Continuing::branch_after`]); `None` computes it.
+    pub fn solve_near_batch_at(
+        &self,
+        target: &PathTarget,
+        tips: &[V3],
+        q_prev: &[f64],
+        branch: Option<Branch>,
+        level: crate::simd::Level,
+    ) -> Option<opw::BranchBatch> {
         use crate::simd::LANES;
         let (p, k) = match (&self.model.opw, &self.opw_k) {
             (Some(p), Some(k)) if q_prev.len() == self.model.dof() => (p, k),
             _ => return None,
         };
         // flange_target of each tip: rot · tool_inv.rot and rot · tool_inv.pos + tip.
-        let frot = rot * self.tool_inv.rot;
-        let off = rot * self.tool_inv.pos;
+        let off = target.off;
         let mut pos = [[0.0; LANES]; 3];
         for (l, t) in tips.iter().take(LANES).enumerate() {
             pos[0][l] = off.x + t.x;
             pos[1][l] = off.y + t.y;
             pos[2][l] = off.z + t.z;
         }
-        let branch = k.branch_of(p, q_prev);
-        let mut b = opw::solve_branch_batch(p, k, &frot, &pos, branch, level);
+        let branch = branch.unwrap_or_else(|| k.branch_of(p, q_prev));
+        let mut b = opw::solve_branch_batch(p, k, &target.frot, &pos, branch, level);
         if q_prev.len() == 6 {
             b.prev.copy_from_slice(q_prev);
         }
@@ -1111,17 +1177,18 @@ impl<'a> IkSolver<'a> {
 
     /// How many leading lanes (of the first `count`) of `batch` (from
     /// [`IkSolver::solve_near_batch`] with `q_prev`) path tracking can take at once, decided in
-    /// lockstep, and their answers (rad; lane `l` at `[l]`): lane `l` continues lane `l − 1`'s
-    /// answer (lane 0 `q_prev`), and for each taken lane the answer is provably
-    /// [`IkSolver::take_near`]'s, bit for bit, and its step from the previous answer is within
-    /// `max_step` (rad per joint; not checked at lane 0 unless `step_at_first`). The
-    /// conditions: the lane is `ok`; its branch is the batch's (lane 0: `q_prev` is the
-    /// batch's own; later lanes: [`opw::BranchBatch::next_branch`], or `branch_of` of the
-    /// previous fitted answer in lockstep where the fit moved a joint it reads); the limit
-    /// fit of the lane's wrist variant ([`LimitTable::fit`], in lockstep, its 2π shifts
-    /// included) accepts it; and either `|sin q5| >` [`NEAR_WRIST_SINGULARITY`] or the
-    /// flipped variant cannot be nearer ([`FLIP_CANNOT_WIN_RAD`]), so `take_near` returns this
-    /// one. Every lane from the first that fails a condition is for `take_near`.
+    /// lockstep, with their answers, into `out`: lane `l` continues lane `l − 1`'s answer (lane 0
+    /// `q_prev`), and for each taken lane the answer is provably [`IkSolver::take_near`]'s,
+    /// bit for bit, and its step from the previous answer is within `max_step` (rad per
+    /// joint; not checked at lane 0 unless `step_at_first`). The conditions: the lane is
+    /// `ok`; its branch is the batch's (lane 0: `q_prev` is the batch's own; later lanes:
+    /// [`opw::BranchBatch::next_branch`], or `branch_of` of the previous fitted answer in
+    /// lockstep where the fit moved a joint it reads); the limit fit of the lane's wrist
+    /// variant ([`LimitTable::fit`], in lockstep, its 2π shifts included) accepts it; and
+    /// either `|sin q5| >` [`NEAR_WRIST_SINGULARITY`] or the flipped variant cannot be nearer
+    /// ([`FLIP_CANNOT_WIN_RAD`]), so `take_near` returns this one. Every lane from the first
+    /// that fails a condition is for `take_near`.
+    #[allow(clippy::too_many_arguments)]
     pub fn continuing_lanes(
         &self,
         batch: &opw::BranchBatch,
@@ -1130,32 +1197,34 @@ impl<'a> IkSolver<'a> {
         max_step: &[f64; MAX_DOF],
         step_at_first: bool,
         level: crate::simd::Level,
-    ) -> (usize, [[f64; 6]; crate::simd::LANES]) {
+        out: &mut Continuing,
+    ) {
         use crate::simd::{Level, LANES};
-        let none = (0, [[0.0; 6]; LANES]);
+        out.taken = 0;
+        out.branch_after = batch.branch;
         if self.model.dof() != 6 || self.limits.n != 6 || q_prev.len() != 6 {
-            return none;
+            return;
         }
         // Lane 0 continues q_prev only if the batch was solved from it (bit for bit).
         if batch.known_branch(0, q_prev) != Some(batch.branch) {
-            return none;
+            return;
         }
-        let (ok, q) = match level {
+        let count = count.min(LANES);
+        match level {
             #[cfg(target_arch = "x86_64")]
             Level::Avx512 if Level::Avx512.available() => {
                 // SAFETY: the CPU has AVX-512F (checked just above).
-                unsafe { self.continuing_avx512(batch, q_prev, max_step, step_at_first) }
+                unsafe {
+                    self.continuing_avx512(batch, count, q_prev, max_step, step_at_first, out)
+                }
             }
             #[cfg(target_arch = "x86_64")]
             Level::Avx2 if Level::Avx2.available() => {
                 // SAFETY: the CPU has AVX2 and FMA (checked just above).
-                unsafe { self.continuing_avx2(batch, q_prev, max_step, step_at_first) }
+                unsafe { self.continuing_avx2(batch, count, q_prev, max_step, step_at_first, out) }
             }
-            _ => self.continuing_body(batch, q_prev, max_step, step_at_first),
-        };
-        let count = count.min(LANES);
-        let taken = ok[..count].iter().take_while(|&&o| o).count();
-        (taken, q)
+            _ => self.continuing_body(batch, count, q_prev, max_step, step_at_first, out),
+        }
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -1163,11 +1232,13 @@ impl<'a> IkSolver<'a> {
     fn continuing_avx512(
         &self,
         batch: &opw::BranchBatch,
+        count: usize,
         q_prev: &[f64],
         max_step: &[f64; MAX_DOF],
         step_at_first: bool,
-    ) -> ([bool; crate::simd::LANES], [[f64; 6]; crate::simd::LANES]) {
-        self.continuing_body(batch, q_prev, max_step, step_at_first)
+        out: &mut Continuing,
+    ) {
+        self.continuing_body(batch, count, q_prev, max_step, step_at_first, out)
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -1175,117 +1246,132 @@ impl<'a> IkSolver<'a> {
     fn continuing_avx2(
         &self,
         batch: &opw::BranchBatch,
+        count: usize,
         q_prev: &[f64],
         max_step: &[f64; MAX_DOF],
         step_at_first: bool,
-    ) -> ([bool; crate::simd::LANES], [[f64; 6]; crate::simd::LANES]) {
-        self.continuing_body(batch, q_prev, max_step, step_at_first)
+        out: &mut Continuing,
+    ) {
+        self.continuing_body(batch, count, q_prev, max_step, step_at_first, out)
     }
 
-    /// The per-lane verdicts of [`IkSolver::continuing_lanes`] (6 joints) and the answers,
-    /// in lockstep.
+    /// The per-lane verdicts of [`IkSolver::continuing_lanes`] (6 joints), the answers joint
+    /// by joint, and the branch of each lane's answer, in lockstep.
     #[allow(clippy::needless_range_loop)] // lanes of parallel fixed arrays
     #[allow(clippy::neg_cmp_op_on_partial_ord)] // `!(d > max)`: NaN is no excess
     #[inline(always)]
     fn continuing_body(
         &self,
         batch: &opw::BranchBatch,
+        count: usize,
         q_prev: &[f64],
         max_step: &[f64; MAX_DOF],
         step_at_first: bool,
-    ) -> ([bool; crate::simd::LANES], [[f64; 6]; crate::simd::LANES]) {
+        out: &mut Continuing,
+    ) {
         use crate::simd::LANES;
+        let fitted = &mut out.q;
         let t = &self.limits;
         let mut ok = [0u64; LANES];
         for l in 0..LANES {
             ok[l] = u64::from(batch.ok[l]);
         }
+        let mut step = [1u64; LANES];
         let mut dist = [0.0f64; LANES];
-        let mut fitted = [[0.0; LANES]; 6];
         let mut shifted = 0u64;
         for j in 0..6 {
-            let mut v = [0.0; LANES];
-            for l in 0..LANES {
-                v[l] = batch.q[l][j];
-            }
+            let v = batch.qj[j];
             // Each lane's fit is centred on the previous lane's fitted answer (lane 0:
             // q_prev). Where every lane takes the fit's fast path (the common case) that is
             // the previous lane's value as it is.
-            let mut centre = [q_prev[j]; LANES];
-            centre[1..].copy_from_slice(&v[..LANES - 1]);
+            let mut centre = [0.0; LANES];
+            for l in 0..LANES {
+                centre[l] = if l == 0 { q_prev[j] } else { v[l - 1] };
+            }
             let (lo, hi) = (t.lower[j], t.upper[j]);
             let mut slow = u64::from(!t.revolute[j]);
             for l in 0..LANES {
                 let x = v[l];
                 slow |= u64::from(!((x >= lo) & (x <= hi) & ((x - centre[l]).abs() < PI)));
             }
-            let (fb, okb) = if slow == 0 {
-                (v, [1u64; LANES])
+            let fb = if slow == 0 {
+                v
             } else {
                 // Guess the centres by fitting every lane about q_prev (a), fit again about
                 // the guesses (b): where the two agree bit for bit along the lanes, (b) is
                 // the chained fit.
                 let (fa, oka) = t.fit_lanes(j, &v, &[q_prev[j]; LANES]);
-                centre[1..].copy_from_slice(&fa[..LANES - 1]);
-                let (fb, okb) = t.fit_lanes(j, &v, &centre);
-                let mut okc = [0u64; LANES];
                 for l in 0..LANES {
-                    okc[l] = oka[l] & okb[l] & u64::from(fa[l].to_bits() == fb[l].to_bits());
+                    centre[l] = if l == 0 { q_prev[j] } else { fa[l - 1] };
                 }
-                (fb, okc)
+                let (fb, okb) = t.fit_lanes(j, &v, &centre);
+                for l in 0..LANES {
+                    ok[l] &= oka[l] & okb[l] & u64::from(fa[l].to_bits() == fb[l].to_bits());
+                    // branch_of reads joints 2, 3 and 5 only (OPW q2, q3, q5).
+                    shifted |= u64::from(matches!(j, 1 | 2 | 4))
+                        & u64::from(fb[l].to_bits() != v[l].to_bits());
+                }
+                fb
             };
             let ms = max_step[j];
-            // branch_of reads joints 2, 3 and 5 only (OPW q2, q3, q5).
-            let reads = u64::from(matches!(j, 1 | 2 | 4));
             for l in 0..LANES {
                 let d = (fb[l] - centre[l]).abs();
                 // No step over max_step (as track's jump test: NaN is none).
-                let free = u64::from((l == 0) & !step_at_first);
-                let step_ok = u64::from(!(d > ms)) | free;
-                ok[l] &= okb[l] & step_ok;
+                step[l] &= u64::from(!(d > ms));
                 // take_near's distance: the largest |step| (f64::max, from 0).
                 dist[l] = dist[l].max(d);
-                shifted |= reads & slow & u64::from(fb[l].to_bits() != v[l].to_bits());
             }
             fitted[j] = fb;
         }
-        let mut q = [[0.0; 6]; LANES];
-        for l in 0..LANES {
-            for j in 0..6 {
-                q[l][j] = fitted[j][l];
-            }
+        if !step_at_first {
+            step[0] = 1;
         }
-        // The branch each lane continues: branch_of of the previous lane's answer, as the
-        // batch computed it of the unfitted answers (the same bits where the fit moved none
-        // of the joints branch_of reads), or again of the fitted ones.
+        // The branch of each lane's answer: the batch's of the unfitted answers (the same
+        // bits where the fit moved none of the joints branch_of reads), or again of the
+        // fitted ones.
         let next = match (&self.model.opw, &self.opw_k) {
-            (Some(p), Some(k)) if shifted != 0 => opw::branch_of_lanes(p, k, &q),
+            (Some(p), Some(k)) if shifted != 0 => {
+                let mut q = [[0.0; 6]; LANES];
+                for l in 0..LANES {
+                    for j in 0..6 {
+                        q[l][j] = fitted[j][l];
+                    }
+                }
+                opw::branch_of_lanes(p, k, &q)
+            }
             _ => batch.next_branch,
         };
         let flip_bound = u64::from(self.flip_bound);
-        let mut out = [false; LANES];
+        let mut taken = [false; LANES];
         for l in 0..LANES {
             let wrist_ok = u64::from(batch.s5[l] > NEAR_WRIST_SINGULARITY)
                 | (flip_bound & u64::from(dist[l] <= FLIP_CANNOT_WIN_RAD));
             let branch_ok = l == 0 || next[l - 1] == batch.branch;
-            out[l] = (ok[l] & wrist_ok) != 0 && branch_ok;
+            taken[l] = (ok[l] & step[l] & wrist_ok) != 0 && branch_ok;
         }
-        (out, q)
+        let mut t = 0;
+        while t < count && taken[t] {
+            t += 1;
+        }
+        out.taken = t;
+        if t > 0 {
+            out.branch_after = next[t - 1];
+        }
     }
 
     /// The FK re-check of `count ≤` [`crate::simd::LANES`] answers in lockstep, all for tool
-    /// poses of the orientation `rot` (base frame): lane `l` is the joint vector `q[j][l]`
-    /// (rad) for the tip `tips[l]` (m); the sines then the cosines of each answer go to
-    /// `sincos[l · 2 dof ..]` (as [`IkSolver::solve_near_with_sincos`] writes them). The
-    /// verdicts and the sines are [`IkSolver::check_with_sincos`]'s, bit for bit, as
-    /// [`IkSolver::check_batch`] gives them. Errors with the first failing lane. Only for a
-    /// [`IkSolver::batch_checkable`] solver.
+    /// poses of `target`'s orientation ([`IkSolver::path_target`]): lane `l` is the joint
+    /// vector `q[j][l]` (rad) for the tip `tips[l]` (m); the sines then the cosines of each
+    /// answer go to `sincos[l · 2 dof ..]` (as [`IkSolver::solve_near_with_sincos`] writes
+    /// them). The verdicts, errors and sines are [`IkSolver::check_with_sincos`]'s, bit for
+    /// bit. Errors with the first failing lane. Only for a [`IkSolver::batch_checkable`]
+    /// solver.
     #[allow(clippy::needless_range_loop)] // lanes of parallel fixed arrays
     pub fn check_lanes(
         &self,
         count: usize,
         q: &[[f64; crate::simd::LANES]; MAX_DOF],
-        rot: &M3,
+        target: &PathTarget,
         tips: &[V3],
         sincos: &mut [f64],
         level: crate::simd::Level,
@@ -1293,49 +1379,52 @@ impl<'a> IkSolver<'a> {
         use crate::simd::LANES;
         let n = self.model.dof();
         let count = count.min(LANES).min(tips.len());
-        let tb = self.chain.tool_batch(q, level);
-        // As check_batch: the lanes that pass with room to spare decided in lockstep, every
-        // other lane (and NaN) by check_pose itself.
+        // The lanes that pass with room to spare are decided in lockstep on a pose within
+        // fk::CHECK_POSE_BOUND of the exact one: position error below tol/2 − that bound,
+        // orientation measure of rotation_distance_fast below min(1e-8, tol/2)/2 − the
+        // bound (its small-angle branch), where the exact pose passes check_pose for sure.
+        // Every other lane (and NaN) goes through the per-sample check itself, on the exact
+        // pose: the same verdicts and errors as check_with_sincos.
         let mut tp = [[0.0; LANES]; 3];
         for (l, t) in tips.iter().take(count).enumerate() {
             for i in 0..3 {
                 tp[i][l] = t[i];
             }
         }
-        let dp_max = 0.5 * self.check_position_m;
+        let cl = self.chain.check_lanes(q, &target.check_rot, &tp, level);
+        let bound = fk::CHECK_POSE_BOUND;
+        let dp_max = 0.5 * self.check_position_m - bound;
         let dp2_max = dp_max * dp_max;
-        let h_max = 0.5 * (1e-8f64).min(0.5 * self.check_orientation_rad);
+        let h_max = 0.5 * (1e-8f64).min(0.5 * self.check_orientation_rad) - bound;
         let f2_max = 8.0 * h_max * h_max;
-        let mut clear = [false; LANES];
-        for (l, c) in clear.iter_mut().enumerate() {
-            let mut dp2 = 0.0;
-            for i in 0..3 {
-                let d = tb.pos[i][l] - tp[i][l];
-                dp2 += d * d;
-            }
-            let mut f2 = 0.0;
-            for i in 0..9 {
-                // Column-major, as M3::iter.
-                let d = tb.rot[i % 3][i / 3][l] - rot[i];
-                f2 += d * d;
-            }
-            *c = dp_max > 0.0 && h_max > 0.0 && dp2 < dp2_max && f2 < f2_max;
+        let room = dp_max > 0.0 && h_max > 0.0;
+        let mut clear = [0u64; LANES];
+        for l in 0..LANES {
+            clear[l] = u64::from((cl.dp2[l] < dp2_max) & (cl.f2[l] < f2_max));
         }
         for l in 0..count {
-            if !clear[l] {
-                self.check_pose(
+            if !(room && clear[l] != 0) {
+                let mut ql = [0.0; MAX_DOF];
+                for (j, v) in ql.iter_mut().enumerate().take(n) {
+                    *v = q[j][l];
+                }
+                let mut sc = [0.0; 2 * MAX_DOF];
+                self.check_with_sincos(
                     &Frame {
-                        rot: *rot,
+                        rot: target.rot,
                         pos: tips[l],
                     },
-                    &tb.frame(l),
+                    &ql[..n],
+                    &mut sc[..2 * n],
                 )
                 .map_err(|e| (l, e))?;
             }
-            let out = &mut sincos[l * 2 * n..(l + 1) * 2 * n];
+        }
+        for (l, out) in sincos.chunks_exact_mut(2 * n).take(count).enumerate() {
+            let (so, co) = out.split_at_mut(n);
             for j in 0..n {
-                out[j] = tb.s[j][l];
-                out[n + j] = tb.c[j][l];
+                so[j] = cl.s[j][l];
+                co[j] = cl.c[j][l];
             }
         }
         Ok(())

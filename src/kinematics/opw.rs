@@ -420,6 +420,8 @@ pub struct BranchBatch {
     pub branch: Branch,
     /// URDF angles (rad, not wrapped) per lane, as [`solve_branch_prepared`] gives them.
     pub q: [[f64; 6]; crate::simd::LANES],
+    /// The same angles joint by joint: `qj[j][lane] == q[lane][j]` (the same bits).
+    pub qj: [Lanes; 6],
     /// OPW angles per lane before the wrist variant is applied (`q1 … q6` with the wrist's
     /// `atan2` results), for [`BranchBatch::variant`].
     pub o: [[f64; 6]; crate::simd::LANES],
@@ -542,15 +544,30 @@ fn solve_branch_lanes(
     let q6 = atan2_lanes(&r21, &mr20);
     let mut q = [[0.0; 6]; LANES];
     let mut o = [[0.0; 6]; LANES];
+    // variant() joint by joint: the wrist variant, then (o + offset) · sign.
+    let mut qj = [[0.0; LANES]; 6];
+    for l in 0..LANES {
+        let wr = match branch.wrist {
+            Wrist::NoFlip => [q4[l], q5[l], q6[l]],
+            Wrist::Flip => [q4[l] + PI, -q5[l], q6[l] + PI],
+        };
+        let ol = [q1[l], q2[l], q3[l], wr[0], wr[1], wr[2]];
+        for j in 0..6 {
+            qj[j][l] = (ol[j] + p.offsets[j]) * p.signs[j];
+        }
+    }
     for l in 0..LANES {
         o[l] = [q1[l], q2[l], q3[l], q4[l], q5[l], q6[l]];
-        q[l] = variant(p, &o[l], branch.wrist);
+        for j in 0..6 {
+            q[l][j] = qj[j][l];
+        }
         ok[l] &= q[l].iter().all(|v| v.is_finite());
     }
     let next_branch = branch_of_lanes(p, k, &q);
     BranchBatch {
         branch,
         q,
+        qj,
         o,
         s5,
         ok,

@@ -223,6 +223,7 @@ pub fn track(
             reason,
         }
     };
+    let path_target = solver.path_target(&rot);
     // Check the samples not yet checked, below `upto`.
     let check_pending = |qs: &[f64], tcp: &[V3], sincos: &mut Vec<f64>, upto: usize| {
         let mut k0 = sincos.len() / (2 * n);
@@ -239,7 +240,7 @@ pub fn track(
                 .check_lanes(
                     count,
                     &qb,
-                    &rot,
+                    &path_target,
                     &tcp[k0..k0 + count],
                     &mut sincos[k0 * 2 * n..],
                     level,
@@ -342,34 +343,45 @@ pub fn track(
     sincos.reserve(len * 2 * n);
     let mut tips = [V3::zeros(); LANES];
     let mut k0 = 0;
+    // The branch of prev, when the last batch's lanes all continued one another.
+    let mut known: Option<crate::kinematics::Branch> = None;
+    let mut cont = crate::kinematics::Continuing::new();
     while k0 < len {
         let count = LANES.min(len - k0);
         for (t, pk) in tips.iter_mut().zip(&motion.p[k0..k0 + count]) {
             *t = part_to_base.apply(pk);
         }
-        let chunk = solver.solve_near_batch(&rot, &tips[..count], &prev, level);
-        let (taken, fitted) = chunk.as_ref().map_or((0, [[0.0; 6]; LANES]), |b| {
-            solver.continuing_lanes(b, count, &prev, &max_step, k0 > 0, level)
-        });
+        let chunk =
+            solver.solve_near_batch_at(&path_target, &tips[..count], &prev, known.take(), level);
+        cont.taken = 0;
+        if let Some(b) = &chunk {
+            solver.continuing_lanes(b, count, &prev, &max_step, k0 > 0, level, &mut cont);
+        }
+        let taken = cont.taken;
         if taken > 0 {
-            for q in &fitted[..taken] {
-                qs.extend_from_slice(&q[..n]);
+            let c = &cont;
+            let mut rows = [0.0; 6 * LANES];
+            for (l, row) in rows.chunks_exact_mut(6).enumerate() {
+                for (v, qj) in row.iter_mut().zip(&c.q) {
+                    *v = qj[l];
+                }
             }
+            qs.extend_from_slice(&rows[..taken * 6]);
             tcp.extend_from_slice(&tips[..taken]);
-            prev = JointVec::from_slice(&fitted[taken - 1]);
+            let mut last = JointVec::zeros(n);
+            for (j, v) in last.iter_mut().enumerate() {
+                *v = c.q[j][taken - 1];
+            }
+            prev = last;
             if taken == count && sincos.len() == k0 * 2 * n {
                 let mut qb = [[0.0; LANES]; crate::kinematics::MAX_DOF];
-                for (j, lanes) in qb.iter_mut().enumerate().take(n) {
-                    for l in 0..count {
-                        lanes[l] = fitted[l][j];
-                    }
-                }
+                qb[..6].copy_from_slice(&c.q);
                 sincos.resize((k0 + count) * 2 * n, 0.0);
                 solver
                     .check_lanes(
                         count,
                         &qb,
-                        &rot,
+                        &path_target,
                         &tips[..count],
                         &mut sincos[k0 * 2 * n..],
                         level,
@@ -378,6 +390,7 @@ pub fn track(
                         sincos.truncate(k0 * 2 * n);
                         unreachable(k0 + l, tips[l], reason)
                     })?;
+                known = Some(c.branch_after);
                 k0 += count;
                 continue;
             }
