@@ -606,6 +606,10 @@ fn the_prefiltered_collision_check_and_the_shortcut_poses_equal_the_plain_ones_o
     // Every outcome is exercised, and many boundaries between them.
     assert!(outcomes.iter().all(|&c| c > 50), "{outcomes:?}");
     assert!(near > 300, "{near} boundaries");
+    eprintln!(
+        "largest bed clearance difference: {:e} m",
+        f64::from_bits(WORST_CLEARANCE.load(std::sync::atomic::Ordering::Relaxed))
+    );
 }
 
 #[test]
@@ -685,5 +689,378 @@ fn the_prefiltered_collision_check_and_the_shortcut_poses_equal_the_plain_ones_a
     assert!(
         samples > 60_000 && outcomes[0] > 1000 && outcomes[1] > 1000 && outcomes[2] > 1000,
         "{samples} samples, {outcomes:?}"
+    );
+}
+
+/// Largest entry of `|a − b|` over the translations (m) and over the rotation matrices.
+fn pose_gap(a: &Isometry<f64>, b: &Isometry<f64>) -> (f64, f64) {
+    let dt = (a.translation.vector - b.translation.vector).abs().max();
+    let (ra, rb) = (
+        a.rotation.to_rotation_matrix(),
+        b.rotation.to_rotation_matrix(),
+    );
+    let dr = (ra.matrix() - rb.matrix()).abs().max();
+    (dt, dr)
+}
+
+/// The shipped robots and the test's URDF arm with boxes, cylinders, spheres, a hull and a
+/// tilted axis ([`mixed_arm`]).
+fn all_robots(tag: &str) -> Vec<printwatt::robot::RobotModel> {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let dir = tmpdir(tag);
+    let mut robots: Vec<printwatt::robot::RobotModel> = [
+        "abb_irb6700_200_260",
+        "abb_irb4600_40_255",
+        "ur10e",
+        "staubli_tx200",
+        "puma560",
+    ]
+    .iter()
+    .map(|r| load(&root.join("robots").join(r)).unwrap())
+    .collect();
+    robots.push(load(&mixed_arm(&dir)).unwrap());
+    robots
+}
+
+/// The joints' sines then cosines of `q`, as the IK's FK re-check leaves them.
+fn shared_sines(q: &[f64]) -> Vec<f64> {
+    let (s, c): (Vec<f64>, Vec<f64>) = q.iter().map(|&x| printwatt::fastmath::sin_cos(x)).unzip();
+    [s, c].concat()
+}
+
+#[test]
+fn poses_from_the_shared_sines_agree_with_poses_by_fk_within_the_stated_bound() {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(9);
+    let (mut worst_t, mut worst_r) = (0.0f64, 0.0f64);
+    for model in &all_robots("bound") {
+        let rs = RobotShapes::new(
+            model,
+            printwatt::placement::feasibility::reach_m(model),
+            &LinkRadii::default(),
+        );
+        for _ in 0..2000 {
+            let q: Vec<f64> = model
+                .joints
+                .iter()
+                .map(|j| rng.gen_range(j.lower.max(-6.0)..j.upper.min(6.0)))
+                .collect();
+            // The robot base anywhere within 3 m of the part frame's origin, turned any way.
+            let world = Frame::from_xyz_rpy(
+                [
+                    rng.gen_range(-3.0..3.0),
+                    rng.gen_range(-3.0..3.0),
+                    rng.gen_range(-1.0..1.0),
+                ],
+                [
+                    rng.gen_range(-3.2..3.2),
+                    rng.gen_range(-1.5..1.5),
+                    rng.gen_range(-3.2..3.2),
+                ],
+            );
+            let sc = shared_sines(&q);
+            let shared = rs.body_frames(&q, Some(&sc), &world);
+            // Without the shared sines the same numbers (they are computed the same way).
+            let own = rs.body_frames(&q, None, &world);
+            for b in 0..model.dof() + 2 {
+                assert_eq!(shared.body(b), own.body(b), "{q:?} body {b}");
+            }
+            let plain = rs.poses_by_fk(model, &q, &collision::iso(&world));
+            for (a, b) in rs.poses_of(&shared).iter().zip(&plain) {
+                let (dt, dr) = pose_gap(a, b);
+                worst_t = worst_t.max(dt);
+                worst_r = worst_r.max(dr);
+                assert!(
+                    dt <= collision::POSE_BOUND && dr <= collision::POSE_BOUND,
+                    "q {q:?}: {dt:e} m, {dr:e} (bound {:e})",
+                    collision::POSE_BOUND
+                );
+            }
+        }
+    }
+    eprintln!("largest pose difference: {worst_t:e} m, rotation entries {worst_r:e}");
+}
+
+/// A check's answer: why a sample fails, and the message.
+type Verdict = Option<(Reason, String)>;
+
+/// The largest difference of bed clearances [`both_checks`] saw (bits of a positive f64, m).
+static WORST_CLEARANCE: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
+
+/// The check from the bodies' frames (shared sines) and the plain one (libm's sines,
+/// `poses_by_fk`, `check_unfiltered`) at `q`: their verdicts and messages, and both running bed
+/// clearances (both continue from `clear`; the first's is kept).
+#[allow(clippy::too_many_arguments)]
+fn both_checks(
+    model: &printwatt::robot::RobotModel,
+    rs: &RobotShapes,
+    world: &Frame,
+    q: &[f64],
+    bed: &Bed,
+    beads: &Beads,
+    laid: usize,
+    clear: &mut Option<f64>,
+) -> (Verdict, Verdict) {
+    let bodies = rs.body_frames(q, Some(&shared_sines(q)), world);
+    let (mut c_new, mut c_plain) = (*clear, *clear);
+    let mut isos = Vec::new();
+    let new = collision::check_bodies(rs, &bodies, bed, beads, laid, &mut c_new, &mut isos);
+    let plain = rs.poses_by_fk(model, q, &collision::iso(world));
+    let old = collision::check_unfiltered(rs, &plain, bed, beads, laid, &mut c_plain);
+    // The clearances within the bound whenever both checks reached the same shapes and every
+    // shape's clearance is the closed form (a capsule above the bed); where parry's GJK gives
+    // it, its own error dominates (see collision::CLEARANCE_BOUND).
+    let closed = rs
+        .shapes
+        .iter()
+        .zip(&plain)
+        .all(|(s, p)| s.role == Role::Head || bed.capsule_above(p, &s.shape).is_some());
+    if closed && new.as_ref().map(|h| h.0) == old.as_ref().map(|h| h.0) {
+        match (c_new, c_plain) {
+            (Some(a), Some(b)) => {
+                let d = (a - b).abs();
+                WORST_CLEARANCE.fetch_max(d.to_bits(), std::sync::atomic::Ordering::Relaxed);
+                assert!(
+                    d <= collision::CLEARANCE_BOUND,
+                    "{} q {q:?}: clearance {a} vs {b}",
+                    model.name(),
+                )
+            }
+            (a, b) => assert_eq!(a, b, "q {q:?}"),
+        }
+    }
+    *clear = c_new;
+    (new, old)
+}
+
+#[test]
+fn the_collision_check_from_shared_sines_gives_the_plain_checks_verdicts_messages_and_clearance_off_the_boundaries(
+) {
+    use rand::{Rng, SeedableRng};
+    let robots = all_robots("verdicts");
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(10);
+    let mut p = Vec::new();
+    for layer in 0..40 {
+        for k in 0..100 {
+            let a = std::f64::consts::TAU * k as f64 / 100.0;
+            p.push(V3::new(
+                0.8 * a.cos(),
+                0.8 * a.sin(),
+                0.02 * (layer + 1) as f64,
+            ));
+        }
+    }
+    let beads = Beads::new(&p, &vec![true; p.len()], 5, collision::BEAD_RADIUS_M);
+    let (mut outcomes, mut near) = ([0usize; 4], 0usize);
+    for model in &robots {
+        let rs = RobotShapes::new(
+            model,
+            printwatt::placement::feasibility::reach_m(model),
+            &LinkRadii::default(),
+        );
+        let n = model.dof();
+        let q_at = |u: &[f64]| -> Vec<f64> {
+            model
+                .joints
+                .iter()
+                .zip(u)
+                .map(|(j, u)| {
+                    let (lo, hi) = (j.lower.max(-3.2), j.upper.min(3.2));
+                    lo + u * (hi - lo)
+                })
+                .collect()
+        };
+        for round in 0..400 {
+            let top = rng.gen_range(-0.6..0.3);
+            let bed = Bed::new(&V3::new(0.2, -1.5, top - 0.5), &V3::new(2.0, 1.5, top));
+            let world = Frame::from_xyz_rpy(
+                [0.0, 0.0, rng.gen_range(-0.2..0.2)],
+                [0.0, 0.0, rng.gen_range(-0.3..0.3)],
+            );
+            let laid = rng.gen_range(0..=beads.len());
+            let mut clear = (round % 2 == 0).then(|| rng.gen_range(0.0..0.5));
+            let u: Vec<f64> = (0..n).map(|_| rng.gen::<f64>()).collect();
+            let (o, old) = both_checks(
+                model,
+                &rs,
+                &world,
+                &q_at(&u),
+                &bed,
+                &beads,
+                laid,
+                &mut clear,
+            );
+            // A random configuration is not within 1e-13 m of a boundary: the same answer.
+            assert_eq!(o, old, "{} at {:?}", model.name(), q_at(&u));
+            outcomes[match o.as_ref().map(|h| h.0) {
+                None => 0,
+                Some(Reason::CollisionBed) => 1,
+                Some(Reason::CollisionPart) => 2,
+                _ => 3,
+            }] += 1;
+            // Near contact: bisect towards a configuration with another outcome; 1e-4 of the
+            // way on either side of the boundary the answers agree. (Closer they may not: a
+            // link that grazes the bed tangentially is within t² of it, and parry's GJK
+            // decides a touch within its own tolerance, where the last bits of a pose can flip
+            // its answer.)
+            let v: Vec<f64> = (0..n).map(|_| rng.gen::<f64>()).collect();
+            let mid =
+                |t: f64| -> Vec<f64> { u.iter().zip(&v).map(|(a, b)| a + t * (b - a)).collect() };
+            let verdict = |t: f64| {
+                let mut c = None;
+                both_checks(
+                    model,
+                    &rs,
+                    &world,
+                    &q_at(&mid(t)),
+                    &bed,
+                    &beads,
+                    laid,
+                    &mut c,
+                )
+                .0
+                .map(|h| h.0)
+            };
+            let va = verdict(0.0);
+            if va == verdict(1.0) {
+                continue;
+            }
+            let (mut a, mut b) = (0.0f64, 1.0f64);
+            while b - a > 1e-12 {
+                let m = 0.5 * (a + b);
+                if verdict(m) == va {
+                    a = m
+                } else {
+                    b = m
+                }
+            }
+            for t in [a - 1e-4, b + 1e-4] {
+                let mut c = clear;
+                let q = q_at(&mid(t.clamp(0.0, 1.0)));
+                let (o, old) = both_checks(model, &rs, &world, &q, &bed, &beads, laid, &mut c);
+                assert_eq!(o, old, "{} at {q:?}", model.name());
+            }
+            near += 1;
+        }
+    }
+    assert!(outcomes.iter().all(|&c| c > 50), "{outcomes:?}");
+    assert!(near > 300, "{near} boundaries");
+    eprintln!(
+        "largest bed clearance difference: {:e} m",
+        f64::from_bits(WORST_CLEARANCE.load(std::sync::atomic::Ordering::Relaxed))
+    );
+}
+
+#[test]
+fn the_first_infeasible_sample_and_its_reason_are_those_of_the_plain_checks_on_colliding_placements(
+) {
+    use printwatt::placement::feasibility::{
+        check_sample_by_fk, FeasibilityOptions, Margins, Scene, World,
+    };
+    use printwatt::placement::margins::check_joint_sample;
+    use printwatt::placement::{Evaluator, Objective};
+    let model = common::robot("abb_irb6700_200_260");
+    let tp = common::path("default.gcode");
+    let job = common::default_job(&model, &tp);
+    // Fatter links than the default ones, so that the grid meets the bed, the part and itself.
+    let mut o = FeasibilityOptions::default();
+    o.radii.arm *= 2.0;
+    o.radii.wrist *= 3.0;
+    let ev = Evaluator::new(&job, o, Objective::Supply);
+    let mut sc = ev.scratch().unwrap();
+    let rs = RobotShapes::new(
+        &model,
+        printwatt::placement::feasibility::reach_m(&model),
+        &o.radii,
+    );
+    let (mut lo, mut hi) = (V3::repeat(f64::INFINITY), V3::repeat(f64::NEG_INFINITY));
+    for p in &job.plan.motion.p {
+        lo = lo.inf(p);
+        hi = hi.sup(p);
+    }
+    let mut seen = std::collections::BTreeMap::new();
+    let grid = printwatt::placement::optimise::default_grid(
+        printwatt::placement::feasibility::reach_m(&model),
+    )
+    .placements();
+    for at in grid.iter().step_by(7) {
+        let at = *at;
+        let got = ev.evaluate(&mut sc, &at).outcome;
+        let Ok(timed) = ev.timed(&mut sc, &at) else {
+            continue;
+        };
+        // The plain checks, sample by sample, as the evaluation runs them.
+        let world = World::new(&at.frame(), (lo, hi), &o);
+        let motion = &*timed.motion;
+        let beads = Beads::new(
+            &motion.p,
+            &motion.print,
+            o.check_every,
+            collision::BEAD_RADIUS_M,
+        );
+        let tr = &timed.traj;
+        let m = tr.len();
+        let mut margins = Margins::default();
+        let mut want = None;
+        for k in 0..m {
+            let jc = check_joint_sample(&model, &o, tr.q(k), tr.qd(k), tr.qdd(k), &mut margins);
+            if k % o.check_every == 0 || k + 1 == m || jc.is_some() {
+                let scene = Scene {
+                    world: &world,
+                    shapes: &rs,
+                    beads: &beads,
+                };
+                if let Some(f) = jc.or_else(|| {
+                    check_sample_by_fk(&model, &o, scene, tr.q(k), beads.laid_at(k), &mut margins)
+                }) {
+                    want = Some((k, f));
+                    break;
+                }
+            }
+        }
+        match (&got, want) {
+            (Err(inf), Some((k, (reason, detail)))) => {
+                assert_eq!(
+                    (inf.sample, inf.reason, &inf.detail),
+                    (Some(k), reason, &detail),
+                    "at {at:?}"
+                );
+                *seen.entry(reason.name()).or_insert(0) += 1;
+            }
+            (Ok(f), None) => {
+                let g = &f.margins;
+                assert_eq!(
+                    (
+                        g.wrist,
+                        g.elbow,
+                        g.shoulder_m,
+                        g.joint_limit_rad,
+                        g.wrist_rate
+                    ),
+                    (
+                        margins.wrist,
+                        margins.elbow,
+                        margins.shoulder_m,
+                        margins.joint_limit_rad,
+                        margins.wrist_rate
+                    ),
+                    "at {at:?}"
+                );
+                let (a, b) = (g.bed_clearance_m.unwrap(), margins.bed_clearance_m.unwrap());
+                assert!(
+                    (a - b).abs() <= collision::CLEARANCE_BOUND,
+                    "at {at:?}: {a} vs {b}"
+                );
+                *seen.entry("feasible").or_insert(0) += 1;
+            }
+            (got, want) => panic!("at {at:?}: {got:?} vs the plain checks' {want:?}"),
+        }
+    }
+    eprintln!("{seen:?}");
+    assert!(seen.get("feasible").is_some_and(|&c| c > 0), "{seen:?}");
+    assert!(
+        seen.keys()
+            .any(|r| r.starts_with("collision") || *r == "self_collision"),
+        "{seen:?}"
     );
 }

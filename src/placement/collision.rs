@@ -68,6 +68,12 @@ pub struct BodyShape {
     pub at_origin: bool,
     /// The shape when it is a capsule (its axis in the shape's frame, m).
     pub capsule: Option<Capsule>,
+    /// `local` as a rotation matrix and a translation (m).
+    local_frame: Frame,
+    /// A capsule's axis ends in the body frame (`local` applied, m) and its radius, m.
+    axis_body: Option<(V3, V3, f64)>,
+    /// The bounding sphere's centre in the body frame (`local` applied, m).
+    centre_body: V3,
 }
 
 impl BodyShape {
@@ -80,6 +86,18 @@ impl BodyShape {
     ) -> Self {
         let b = shape.compute_local_bounding_sphere();
         let capsule = shape.as_capsule().copied();
+        let at_origin = local == Isometry::identity();
+        let local_frame = Frame {
+            rot: *local.rotation.to_rotation_matrix().matrix(),
+            pos: local.translation.vector,
+        };
+        let in_body = |p: &Point<f64>| {
+            if at_origin {
+                p.coords
+            } else {
+                (local * p).coords
+            }
+        };
         BodyShape {
             body,
             local,
@@ -87,8 +105,11 @@ impl BodyShape {
             role,
             label,
             bound: (b.center, b.radius),
-            at_origin: local == Isometry::identity(),
+            at_origin,
             capsule,
+            local_frame,
+            axis_body: capsule.map(|c| (in_body(&c.segment.a), in_body(&c.segment.b), c.radius)),
+            centre_body: in_body(&b.center),
         }
     }
 }
@@ -102,7 +123,149 @@ pub struct RobotShapes {
     pub pairs: Vec<(usize, usize)>,
     /// Number of links whose URDF collision geometry is used (the rest are capsules).
     pub links_with_urdf_geometry: usize,
+    /// The chain of the model given to [`RobotShapes::new`], for [`RobotShapes::body_frames`].
+    chain: Chain,
 }
+
+/// How a joint of [`Chain`] moves its child frame.
+#[derive(Clone, Copy, Debug)]
+enum Turn {
+    /// Revolute about ±x, ±y, ±z exactly (the sign).
+    X(f64),
+    Y(f64),
+    Z(f64),
+    /// Revolute about another unit axis.
+    General(V3),
+    /// Prismatic along the unit axis.
+    Slide(V3),
+}
+
+/// One joint of [`Chain`]: its origin (translation, m; rotation unless the identity) and turn.
+#[derive(Clone, Copy, Debug)]
+struct ChainJoint {
+    pos: V3,
+    rot: Option<crate::math::M3>,
+    turn: Turn,
+}
+
+/// The model's chain pre-processed for [`RobotShapes::body_frames`] (as
+/// [`crate::kinematics::fk::FastChain`] does for the tool pose): identity origin rotations
+/// skipped, a turn about a coordinate axis applied to two columns. At most
+/// [`crate::kinematics::MAX_DOF`] joints.
+#[derive(Clone, Debug, Default)]
+struct Chain {
+    joints: Vec<ChainJoint>,
+    /// Flange in the last joint's frame.
+    flange: Frame,
+    /// The OPW elbow's `(a2, c3)` (m) and from them `ψ3 = atan2(a2, c3)` (rad) and
+    /// `√(a2² + c3²)` (m), for the singularity measures ([`RobotShapes::elbow_terms`]).
+    elbow: Option<[f64; 4]>,
+}
+
+impl Chain {
+    fn new(model: &RobotModel) -> Self {
+        use crate::robot::JointKind;
+        let n = model.joints.len().min(crate::kinematics::MAX_DOF);
+        let joints = model.joints[..n]
+            .iter()
+            .map(|j| {
+                let exact = |a: f64, b: f64, c: f64| a.abs() == 1.0 && b == 0.0 && c == 0.0;
+                let (x, y, z) = (j.axis.x, j.axis.y, j.axis.z);
+                let turn = if j.kind == JointKind::Prismatic {
+                    Turn::Slide(j.axis)
+                } else if exact(x, y, z) {
+                    Turn::X(x)
+                } else if exact(y, x, z) {
+                    Turn::Y(y)
+                } else if exact(z, x, y) {
+                    Turn::Z(z)
+                } else {
+                    Turn::General(j.axis)
+                };
+                ChainJoint {
+                    pos: j.origin.pos,
+                    rot: (j.origin.rot != crate::math::M3::identity()).then_some(j.origin.rot),
+                    turn,
+                }
+            })
+            .collect();
+        Chain {
+            joints,
+            flange: model.flange,
+            elbow: model.opw.as_ref().map(|p| {
+                let (psi3, k) = elbow_terms(p);
+                [p.a2, p.c3, psi3, k]
+            }),
+        }
+    }
+}
+
+/// `(atan2(a2, c3), √(a2² + c3²))` of `p` (rad, m), as [`crate::kinematics::opw`]'s singularity
+/// measures compute them.
+fn elbow_terms(p: &crate::robot::OpwParams) -> (f64, f64) {
+    (
+        crate::fastmath::atan2(p.a2, p.c3),
+        (p.a2 * p.a2 + p.c3 * p.c3).sqrt(),
+    )
+}
+
+/// Rotate columns `a` and `b` of `r` by the angle of sine `s` and cosine `c` (post-multiply by
+/// a rotation about the third coordinate axis).
+#[inline(always)]
+fn rot_cols(r: &mut crate::math::M3, a: usize, b: usize, s: f64, c: f64) {
+    for i in 0..3 {
+        let ra = r[(i, a)];
+        let rb = r[(i, b)];
+        r[(i, a)] = ra * c + rb * s;
+        r[(i, b)] = rb * c - ra * s;
+    }
+}
+
+/// The frames of the arm's bodies at one joint vector, in the frame the chain was started in
+/// (the part frame in a placement evaluation): body 0 the robot base, body `i + 1` the link
+/// of joint `i`, body `n + 1` the flange (see [`RobotShapes::body_frames`]).
+#[derive(Clone, Copy, Debug)]
+pub struct BodyFrames {
+    /// Number of joints.
+    n: usize,
+    frames: [Frame; crate::kinematics::MAX_DOF + 2],
+}
+
+impl BodyFrames {
+    /// The frame of body `b` (0 = base, `i + 1` = link of joint `i`, beyond: the flange).
+    #[inline]
+    pub fn body(&self, b: usize) -> &Frame {
+        &self.frames[b.min(self.n + 1)]
+    }
+
+    /// The pose of shape `s` (its body's frame composed with its own pose), as a parry
+    /// isometry (m).
+    pub fn shape_pose(&self, s: &BodyShape) -> Isometry<f64> {
+        let f = self.body(s.body);
+        if s.at_origin {
+            iso(f)
+        } else {
+            iso(&f.compose(&s.local_frame))
+        }
+    }
+}
+
+/// Largest difference between a shape pose of [`RobotShapes::body_frames`] and
+/// [`RobotShapes::poses_by_fk`]'s at the same joint vector, stated (tested: translation, m, and
+/// rotation angle, rad, on random configurations of every shipped robot and a URDF arm with
+/// general shapes, world poses up to 3 m from the origin): the two differ only by rounding,
+/// the sines (the shared polynomial ones, [`crate::fastmath::sin_cos`], within 2 ulp of
+/// libm's) and the order of the products (matrices instead of quaternions).
+pub const POSE_BOUND: f64 = 1e-13;
+
+/// Largest difference between the bed clearance of [`check_bodies`] (poses from
+/// [`RobotShapes::body_frames`]) and [`check_unfiltered`]'s on [`RobotShapes::poses_by_fk`]'s
+/// poses, m, stated for a clearance in closed form (every capsule's axis above the bed's top
+/// face: tested on random and near-contact configurations). Where parry's GJK distance gives
+/// a clearance (a shape other than a capsule, or a capsule reaching beyond the bed's top
+/// face) the GJK's own error dominates: on a hose 5.5e-6 m from the bed's corner, parry said
+/// 5.3e-4 m for one of two poses that differ in their last bits and 5.5e-6 m for the other.
+pub const CLEARANCE_BOUND: f64 = 1e-12;
 
 /// Convert a frame (rotation matrix + position) to a parry isometry.
 pub fn iso(f: &Frame) -> Isometry<f64> {
@@ -273,6 +436,7 @@ impl RobotShapes {
             shapes,
             pairs: Vec::new(),
             links_with_urdf_geometry: with_urdf,
+            chain: Chain::new(model),
         };
         let home = rs.poses(model, &vec![0.0; n], &Isometry::identity());
         for i in 0..rs.shapes.len() {
@@ -340,6 +504,95 @@ impl RobotShapes {
             let b = &bodies[s.body.min(n + 1)];
             out.push(if s.at_origin { *b } else { b * s.local });
         }
+    }
+
+    /// The bodies' frames at `q` (rad / m) in the frame in which the robot base stands at
+    /// `world` (for a placement, the part frame: [`super::feasibility::World::base_to_part`]),
+    /// as rotation matrices composed along the chain from `world` on: no quaternion, no
+    /// product with the world pose per body. `sincos`, when given (`2 n` values: the sines of
+    /// `q`, then the cosines, as the IK's FK re-check leaves them in
+    /// [`crate::timing::joint::Buffers::sincos`]), supplies the revolute joints' sines and
+    /// cosines; otherwise they are computed here with [`crate::fastmath::sin_cos`], which gives
+    /// the same numbers. For the chain of the model given to [`RobotShapes::new`]; joints
+    /// missing from `q` are at 0.
+    ///
+    /// Each shape's pose ([`BodyFrames::shape_pose`]) agrees with [`Self::poses_by_fk`]'s
+    /// within [`POSE_BOUND`] (not to the bit: the sines are the shared polynomial ones and
+    /// the products are in another order).
+    pub fn body_frames(&self, q: &[f64], sincos: Option<&[f64]>, world: &Frame) -> BodyFrames {
+        let mut out = BodyFrames {
+            n: 0,
+            frames: [Frame::identity(); crate::kinematics::MAX_DOF + 2],
+        };
+        self.body_frames_into(q, sincos, world, &mut out);
+        out
+    }
+
+    /// [`Self::body_frames`] into `out` (overwritten).
+    #[inline]
+    pub fn body_frames_into(
+        &self,
+        q: &[f64],
+        sincos: Option<&[f64]>,
+        world: &Frame,
+        out: &mut BodyFrames,
+    ) {
+        let n = self.chain.joints.len();
+        out.n = n;
+        let sc = sincos.filter(|sc| sc.len() == 2 * q.len() && q.len() == n);
+        let (mut r, mut p) = (world.rot, world.pos);
+        out.frames[0] = *world;
+        for (i, j) in self.chain.joints.iter().enumerate() {
+            let qi = q.get(i).copied().unwrap_or(0.0);
+            p += r * j.pos;
+            if let Some(o) = &j.rot {
+                r *= o;
+            }
+            let (s, c) = match (j.turn, sc) {
+                (Turn::Slide(a), _) => {
+                    p += r * (a * qi);
+                    out.frames[i + 1] = Frame { rot: r, pos: p };
+                    continue;
+                }
+                (_, Some(sc)) => (sc[i], sc[n + i]),
+                _ => crate::fastmath::sin_cos(qi),
+            };
+            match j.turn {
+                Turn::X(sg) => rot_cols(&mut r, 1, 2, sg * s, c),
+                Turn::Y(sg) => rot_cols(&mut r, 2, 0, sg * s, c),
+                Turn::Z(sg) => rot_cols(&mut r, 0, 1, sg * s, c),
+                Turn::General(a) => r *= crate::math::rot_axis_sc(&a, s, c),
+                Turn::Slide(_) => {}
+            }
+            out.frames[i + 1] = Frame { rot: r, pos: p };
+        }
+        let fl = &self.chain.flange;
+        out.frames[n + 1] = Frame {
+            rot: r * fl.rot,
+            pos: r * fl.pos + p,
+        };
+    }
+
+    /// `(ψ3, k) = (atan2(a2, c3), √(a2² + c3²))` of `p` (rad, m): the terms of the elbow and
+    /// shoulder singularity measures that depend on the robot only, made once by
+    /// [`RobotShapes::new`] (again here for parameters other than its model's). The same
+    /// numbers as computing them anew.
+    #[inline]
+    pub fn elbow_terms(&self, p: &crate::robot::OpwParams) -> (f64, f64) {
+        match self.chain.elbow {
+            Some([a2, c3, psi3, k])
+                if a2 == p.a2 && c3 == p.c3 && !crate::fastmath::libm_selected() =>
+            {
+                (psi3, k)
+            }
+            _ => elbow_terms(p),
+        }
+    }
+
+    /// Every shape's pose from `bodies` ([`BodyFrames::shape_pose`]; for tests and
+    /// comparisons, the check itself makes only those it needs).
+    pub fn poses_of(&self, bodies: &BodyFrames) -> Vec<Isometry<f64>> {
+        self.shapes.iter().map(|s| bodies.shape_pose(s)).collect()
     }
 
     /// [`Self::poses_into`] the plain way: [`fk`] for every frame, each shape's pose the
@@ -706,26 +959,153 @@ pub fn check(
     laid: usize,
     clearance: &mut Option<f64>,
 ) -> Option<(Reason, String)> {
-    const ON_STACK: usize = 16;
     let n = rs.shapes.len().min(poses.len());
-    let none = Aabb::new_invalid();
-    if n <= ON_STACK {
-        let (mut boxes, mut exact) = ([none; ON_STACK], [false; ON_STACK]);
+    with_boxes(n, |boxes, exact| {
         check_with(
             rs,
-            poses,
+            &mut Isos(poses),
+            n,
             bed,
             beads,
             laid,
             clearance,
-            &mut boxes[..n],
-            &mut exact[..n],
+            boxes,
+            exact,
         )
+    })
+}
+
+/// [`check`] of the shapes placed by `bodies` ([`RobotShapes::body_frames`]): the same tests,
+/// with each capsule's axis and the print head's bounding sphere placed straight from its
+/// body's frame, and a shape's parry isometry ([`BodyFrames::shape_pose`]) made only for the
+/// queries that need one (a shape other than a capsule, a capsule not wholly above the bed,
+/// a self pair whose boxes meet). `isos`: scratch for those isometries (resized here).
+///
+/// Its answer is [`check_unfiltered`]'s on the poses of [`BodyFrames::shape_pose`]; against
+/// [`RobotShapes::poses_by_fk`]'s poses it differs only through the poses' rounding
+/// ([`POSE_BOUND`]): the bed clearance by at most about as much, the verdict only for a
+/// configuration that close to a boundary between outcomes.
+pub fn check_bodies(
+    rs: &RobotShapes,
+    bodies: &BodyFrames,
+    bed: &Bed,
+    beads: &Beads,
+    laid: usize,
+    clearance: &mut Option<f64>,
+    isos: &mut Vec<Isometry<f64>>,
+) -> Option<(Reason, String)> {
+    let n = rs.shapes.len();
+    if isos.len() < n {
+        isos.resize(n, Isometry::identity());
+    }
+    with_boxes(n, |boxes, exact| {
+        check_with(
+            rs,
+            &mut Placed {
+                bodies,
+                isos,
+                made: 0,
+            },
+            n,
+            bed,
+            beads,
+            laid,
+            clearance,
+            boxes,
+            exact,
+        )
+    })
+}
+
+/// `f(boxes, exact)` with `n` scratch boxes and flags (on the stack for up to 16 shapes).
+#[inline(always)]
+fn with_boxes<R>(n: usize, f: impl FnOnce(&mut [Aabb], &mut [bool]) -> R) -> R {
+    const ON_STACK: usize = 16;
+    let none = Aabb::new_invalid();
+    if n <= ON_STACK {
+        let (mut boxes, mut exact) = ([none; ON_STACK], [false; ON_STACK]);
+        f(&mut boxes[..n], &mut exact[..n])
     } else {
         let (mut boxes, mut exact) = (vec![none; n], vec![false; n]);
-        check_with(
-            rs, poses, bed, beads, laid, clearance, &mut boxes, &mut exact,
-        )
+        f(&mut boxes, &mut exact)
+    }
+}
+
+impl Default for BodyFrames {
+    fn default() -> Self {
+        BodyFrames {
+            n: 0,
+            frames: [Frame::identity(); crate::kinematics::MAX_DOF + 2],
+        }
+    }
+}
+
+/// Where [`check_with`] takes the shapes' placement from.
+trait ShapePoses {
+    /// A capsule's axis ends at its pose (m) and its radius (m); `None` for other shapes.
+    fn axis(&self, i: usize, s: &BodyShape) -> Option<(Point<f64>, Point<f64>, f64)>;
+    /// The centre of the shape's bounding sphere at its pose (m).
+    fn centre(&self, i: usize, s: &BodyShape) -> Point<f64>;
+    /// The shape's pose.
+    fn iso(&mut self, i: usize, s: &BodyShape) -> Isometry<f64>;
+}
+
+/// Poses given as isometries ([`check`]).
+struct Isos<'a>(&'a [Isometry<f64>]);
+
+impl ShapePoses for Isos<'_> {
+    #[inline(always)]
+    fn axis(&self, i: usize, s: &BodyShape) -> Option<(Point<f64>, Point<f64>, f64)> {
+        let p = &self.0[i];
+        s.capsule
+            .map(|c| (p * c.segment.a, p * c.segment.b, c.radius))
+    }
+    #[inline(always)]
+    fn centre(&self, i: usize, s: &BodyShape) -> Point<f64> {
+        self.0[i] * s.bound.0
+    }
+    #[inline(always)]
+    fn iso(&mut self, i: usize, _: &BodyShape) -> Isometry<f64> {
+        self.0[i]
+    }
+}
+
+/// Poses from the bodies' frames, isometries made on demand ([`check_bodies`]).
+struct Placed<'a> {
+    bodies: &'a BodyFrames,
+    isos: &'a mut [Isometry<f64>],
+    /// Bit `i`: `isos[i]` made (shapes beyond 64 are made at every use).
+    made: u64,
+}
+
+impl ShapePoses for Placed<'_> {
+    #[inline(always)]
+    fn axis(&self, _: usize, s: &BodyShape) -> Option<(Point<f64>, Point<f64>, f64)> {
+        let f = self.bodies.body(s.body);
+        s.axis_body.map(|(a, b, r)| {
+            (
+                Point::from(f.rot * a + f.pos),
+                Point::from(f.rot * b + f.pos),
+                r,
+            )
+        })
+    }
+    #[inline(always)]
+    fn centre(&self, _: usize, s: &BodyShape) -> Point<f64> {
+        let f = self.bodies.body(s.body);
+        Point::from(f.rot * s.centre_body + f.pos)
+    }
+    #[inline]
+    fn iso(&mut self, i: usize, s: &BodyShape) -> Isometry<f64> {
+        if i < 64 && self.made & (1 << i) != 0 {
+            return self.isos[i];
+        }
+        let p = self.bodies.shape_pose(s);
+        if i < 64 {
+            self.isos[i] = p;
+            self.made |= 1 << i;
+        }
+        p
     }
 }
 
@@ -733,12 +1113,14 @@ pub fn check(
 /// (against rounding in the sphere's centre; a larger box only makes the test looser).
 pub const SPHERE_MARGIN_M: f64 = 1e-6;
 
-/// [`check`] with `boxes` and `exact` (one per shape) as scratch for the shapes' boxes: the
-/// AABB (`exact`), or a box that holds it.
+/// [`check`] of the first `n` shapes placed by `at`, with `boxes` and `exact` (one per shape)
+/// as scratch for the shapes' boxes: the AABB (`exact`), or a box that holds it.
 #[allow(clippy::too_many_arguments)]
+#[inline(always)]
 fn check_with(
     rs: &RobotShapes,
-    poses: &[Isometry<f64>],
+    at: &mut impl ShapePoses,
+    n: usize,
     bed: &Bed,
     beads: &Beads,
     laid: usize,
@@ -746,22 +1128,20 @@ fn check_with(
     boxes: &mut [Aabb],
     exact: &mut [bool],
 ) -> Option<(Reason, String)> {
-    for (i, (s, p)) in rs.shapes.iter().zip(poses).enumerate() {
+    let ident = Isometry::identity();
+    for (i, s) in rs.shapes.iter().enumerate().take(n) {
         if s.role == Role::Head {
-            let (c, r) = s.bound;
-            let (c, r) = (p * c, r + SPHERE_MARGIN_M);
+            let (c, r) = (at.centre(i, s), s.bound.1 + SPHERE_MARGIN_M);
             boxes[i] = Aabb::new(c - Vector::repeat(r), c + Vector::repeat(r));
             exact[i] = false;
             continue;
         }
         // A capsule's axis at its pose, once for its AABB (as parry makes it), the bed and the
         // beads.
-        let cap = s
-            .capsule
-            .map(|c| (p * c.segment.a, p * c.segment.b, c.radius));
+        let cap = at.axis(i, s);
         let a = match &cap {
             Some((ea, eb, r)) => Capsule::new(*ea, *eb, *r).local_aabb(),
-            None => s.shape.compute_aabb(p),
+            None => s.shape.compute_aabb(&at.iso(i, s)),
         };
         (boxes[i], exact[i]) = (a, true);
         // Bed: broad phase on the AABB gap, exact distance only when it could lower the margin.
@@ -773,7 +1153,8 @@ fn check_with(
             };
             let d = match above {
                 Some(d) => d,
-                None => query::distance(p, s.shape.as_ref(), &bed.pose, &bed.cuboid).unwrap_or(gap),
+                None => query::distance(&at.iso(i, s), s.shape.as_ref(), &bed.pose, &bed.cuboid)
+                    .unwrap_or(gap),
             };
             *clearance = Some(clearance.map_or(d, |c| c.min(d)));
             if d <= 0.0 {
@@ -783,7 +1164,9 @@ fn check_with(
                 ));
             }
         }
-        if let Some(b) = beads.hit_placed(p, &s.shape, &a, cap, laid) {
+        // The pose only for a shape other than a capsule (a capsule goes by its axis).
+        let p = if cap.is_some() { ident } else { at.iso(i, s) };
+        if let Some(b) = beads.hit_placed(&p, &s.shape, &a, cap, laid) {
             return Some((
                 Reason::CollisionPart,
                 format!(
@@ -797,12 +1180,13 @@ fn check_with(
     // bounding sphere (it holds the AABB: when it misses the other shape's box, so would the
     // AABB); only when it meets one is the AABB computed.
     for &(i, j) in &rs.pairs {
-        if !boxes[i].intersects(&boxes[j]) {
+        if i >= n || j >= n || !boxes[i].intersects(&boxes[j]) {
             continue;
         }
         for k in [i, j] {
             if !exact[k] {
-                boxes[k] = rs.shapes[k].shape.compute_aabb(&poses[k]);
+                let s = &rs.shapes[k];
+                boxes[k] = s.shape.compute_aabb(&at.iso(k, s));
                 exact[k] = true;
             }
         }
@@ -810,9 +1194,8 @@ fn check_with(
             continue;
         }
         let (a, b) = (&rs.shapes[i], &rs.shapes[j]);
-        if query::intersection_test(&poses[i], a.shape.as_ref(), &poses[j], b.shape.as_ref())
-            .unwrap_or(false)
-        {
+        let (pi, pj) = (at.iso(i, a), at.iso(j, b));
+        if query::intersection_test(&pi, a.shape.as_ref(), &pj, b.shape.as_ref()).unwrap_or(false) {
             return Some((
                 Reason::SelfCollision,
                 format!("{} and {} collide", a.label, b.label),

@@ -309,7 +309,7 @@ pub struct Scene<'a> {
 
 /// Check one joint vector `q` (rad) against singularity margins and collisions; `laid` is the
 /// number of beads of `scene.beads` printed so far. Updates `margins`. Returns the reason
-/// and a detail on failure.
+/// and a detail on failure. `poses`: scratch. As [`check_sample_with`] without shared sines.
 pub fn check_sample(
     model: &RobotModel,
     o: &FeasibilityOptions,
@@ -319,29 +319,45 @@ pub fn check_sample(
     poses: &mut Vec<Isometry<f64>>,
     margins: &mut Margins,
 ) -> Option<(Reason, String)> {
+    check_sample_with(model, o, scene, q, None, laid, poses, margins)
+}
+
+/// [`check_sample`] with, when known, the sines and cosines of `q` (`2 n` values, the sines
+/// then the cosines, as the IK's FK re-check leaves them; see
+/// [`RobotShapes::body_frames`]): the links' frames are composed from them in the part frame
+/// ([`RobotShapes::body_frames`] from [`World::base_to_part`]) and checked by
+/// [`collision::check_bodies`]. Without them the sines are computed with
+/// [`crate::fastmath::sin_cos`], which gives the same numbers, so the answer does not depend
+/// on whether they are given.
+///
+/// The singularity measures are [`opw::wrist_singularity`], [`opw::elbow_singularity`] and
+/// [`opw::shoulder_singularity`] to the bit (their robot-only terms made once,
+/// [`RobotShapes::elbow_terms`]). The collision verdict, reason and message, and the bed
+/// clearance, are those of the reference [`check_sample_by_fk`] except through the shape
+/// poses' rounding ([`collision::POSE_BOUND`]).
+#[allow(clippy::too_many_arguments)]
+pub fn check_sample_with(
+    model: &RobotModel,
+    o: &FeasibilityOptions,
+    scene: Scene<'_>,
+    q: &[f64],
+    sincos: Option<&[f64]>,
+    laid: usize,
+    poses: &mut Vec<Isometry<f64>>,
+    margins: &mut Margins,
+) -> Option<(Reason, String)> {
     if let Some(p) = model.opw.as_ref().filter(|_| q.len() >= 6) {
-        let w = opw::wrist_singularity(p, q);
-        let e = opw::elbow_singularity(p, q);
-        let s = opw::shoulder_singularity(p, q);
-        let upd = |m: &mut Option<f64>, v: f64| *m = Some(m.map_or(v, |x: f64| x.min(v)));
-        upd(&mut margins.wrist, w);
-        upd(&mut margins.elbow, e);
-        upd(&mut margins.shoulder_m, s);
-        // The wrist rule needs joint speeds: see super::margins::check_joint_sample.
-        if e < o.elbow_min {
-            return Some((
-                Reason::ElbowSingularity,
-                format!("elbow measure {e:.4} < {:.4}", o.elbow_min),
-            ));
-        }
-        if s < o.shoulder_min_m {
-            return Some((
-                Reason::ShoulderSingularity,
-                format!(
-                    "wrist centre {s:.3} m from axis 1 < {:.3} m",
-                    o.shoulder_min_m
-                ),
-            ));
+        // opw::{wrist,elbow,shoulder}_singularity's operations, the OPW angles once.
+        let (psi3, k) = scene.shapes.elbow_terms(p);
+        let mut a = [0.0; 6];
+        a.copy_from_slice(&q[..6]);
+        let oa = p.to_opw(&a);
+        let sin = crate::fastmath::sin;
+        let w = sin(oa[4]).abs();
+        let e = sin(oa[2] + psi3).abs();
+        let s = (p.c2 * sin(oa[1]) + k * sin(oa[1] + oa[2] + psi3) + p.a1).abs();
+        if let Some(f) = singular(o, margins, w, e, s) {
+            return Some(f);
         }
     }
     if !o.collisions {
@@ -352,10 +368,83 @@ pub fn check_sample(
         shapes,
         beads,
     } = scene;
-    shapes.poses_into(model, q, &world.base_iso, poses);
-    collision::check(
+    let mut bodies = collision::BodyFrames::default();
+    shapes.body_frames_into(q, sincos, &world.base_to_part, &mut bodies);
+    collision::check_bodies(
         shapes,
+        &bodies,
+        &world.bed,
+        beads,
+        laid,
+        &mut margins.bed_clearance_m,
         poses,
+    )
+}
+
+/// Record the singularity measures `w`, `e`, `s` in `margins`; the elbow or shoulder failure.
+fn singular(
+    o: &FeasibilityOptions,
+    margins: &mut Margins,
+    w: f64,
+    e: f64,
+    s: f64,
+) -> Option<(Reason, String)> {
+    let upd = |m: &mut Option<f64>, v: f64| *m = Some(m.map_or(v, |x: f64| x.min(v)));
+    upd(&mut margins.wrist, w);
+    upd(&mut margins.elbow, e);
+    upd(&mut margins.shoulder_m, s);
+    // The wrist rule needs joint speeds: see super::margins::check_joint_sample.
+    if e < o.elbow_min {
+        return Some((
+            Reason::ElbowSingularity,
+            format!("elbow measure {e:.4} < {:.4}", o.elbow_min),
+        ));
+    }
+    if s < o.shoulder_min_m {
+        return Some((
+            Reason::ShoulderSingularity,
+            format!(
+                "wrist centre {s:.3} m from axis 1 < {:.3} m",
+                o.shoulder_min_m
+            ),
+        ));
+    }
+    None
+}
+
+/// [`check_sample`] the plain way, as it was before the shared sines: the singularity
+/// measures from [`opw`], the shapes' poses by [`RobotShapes::poses_by_fk`] (libm's sines,
+/// parry's quaternions) and [`collision::check_unfiltered`]. The reference that
+/// [`check_sample_with`] is tested against (same arguments, units and result).
+#[doc(hidden)]
+pub fn check_sample_by_fk(
+    model: &RobotModel,
+    o: &FeasibilityOptions,
+    scene: Scene<'_>,
+    q: &[f64],
+    laid: usize,
+    margins: &mut Margins,
+) -> Option<(Reason, String)> {
+    if let Some(p) = model.opw.as_ref().filter(|_| q.len() >= 6) {
+        let w = opw::wrist_singularity(p, q);
+        let e = opw::elbow_singularity(p, q);
+        let s = opw::shoulder_singularity(p, q);
+        if let Some(f) = singular(o, margins, w, e, s) {
+            return Some(f);
+        }
+    }
+    if !o.collisions {
+        return None;
+    }
+    let Scene {
+        world,
+        shapes,
+        beads,
+    } = scene;
+    let poses = shapes.poses_by_fk(model, q, &world.base_iso);
+    collision::check_unfiltered(
+        shapes,
+        &poses,
         &world.bed,
         beads,
         laid,

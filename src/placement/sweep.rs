@@ -567,7 +567,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                 if k % every == 0 || k + 1 == m || joint_check.is_some() {
                     let q = timed.traj.q(k);
                     if let Some((reason, detail)) = joint_check.or_else(|| {
-                        feasibility::check_sample(
+                        feasibility::check_sample_with(
                             model,
                             o,
                             feasibility::Scene {
@@ -576,6 +576,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                                 beads,
                             },
                             q,
+                            sincos,
                             beads.laid_at(k),
                             poses,
                             &mut margins,
