@@ -373,6 +373,8 @@ impl JointChecks {
 /// The body of [`JointChecks::screen`]: whether every entry keeps its margin
 /// (`min(q − lower, upper − q) ≥ margin`, false for a NaN), and the smallest such distance.
 /// Comparisons, selects and minima only, so every level gives the same answer.
+// `!(d >= margin)`: the negated comparison is the NaN rule (a NaN fails the screen).
+#[allow(clippy::neg_cmp_op_on_partial_ord)]
 #[inline(always)]
 fn screen_entries(t: &ScreenTable, q: &[f64; SCREEN_ENTRIES]) -> (bool, f64) {
     const W: usize = crate::simd::LANES;
