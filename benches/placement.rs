@@ -271,19 +271,25 @@ fn main() {
         let reps = 5;
         let mut out = [SamplePower::default(); LANES];
         let mut lanes = energy::PowerLanes::default();
+        let mut inputs = energy::LaneInputs::default();
         let t0 = thread_ns();
         for _ in 0..reps {
             for k0 in (0..m).step_by(LANES) {
                 if level != Level::Scalar {
-                    // What the sweep runs: the structure-of-arrays pass.
-                    energy::eval_lanes_with_sincos(
+                    // What the sweep runs: the structure-of-arrays pass over the trajectory's
+                    // rows (without the integration's sums).
+                    let rows = energy::Rows {
+                        q: &tr.q[k0 * n..],
+                        sincos: Some(&sincos[k0 * 2 * n..]),
+                        qd: &tr.qd[k0 * n..],
+                        qdd: &tr.qdd[k0 * n..],
+                    };
+                    energy::eval_rows(
                         &job.energy,
                         &mut data2,
                         LANES.min(m - k0),
-                        |l| tr.q(k0 + l),
-                        |l| sc(k0 + l),
-                        |l| tr.qd(k0 + l),
-                        |l| tr.qdd(k0 + l),
+                        &rows,
+                        &mut inputs,
                         &mut lanes,
                         level,
                     )

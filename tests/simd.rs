@@ -597,6 +597,7 @@ fn lockstep_friction_motor_and_supply_stages_equal_the_per_sample_path_near_velo
             assert!(desc.contains(e), "{e} is in the model: {desc}");
         }
         let mut data = em.data();
+        let mut inputs = vec![energy::LaneInputs::default(); 4];
         for chunk in st.chunks(LANES) {
             let mut want = vec![SamplePower::default(); chunk.len()];
             for ((q, sc, qd, qdd), w) in chunk.iter().zip(want.iter_mut()) {
@@ -623,7 +624,125 @@ fn lockstep_friction_motor_and_supply_stages_equal_the_per_sample_path_near_velo
                         "{regeneration:?}, {level:?}, lane {l}"
                     );
                 }
+                // The row-major pass of the sweep (eval_rows), its inputs carried over from
+                // the chunk before (a short last chunk keeps stale lanes).
+                let (mut q, mut sc, mut qd, mut qdd) = (vec![], vec![], vec![], vec![]);
+                for (a, b, c, d) in chunk {
+                    q.extend_from_slice(a);
+                    sc.extend_from_slice(b);
+                    qd.extend_from_slice(c);
+                    qdd.extend_from_slice(d);
+                }
+                let rows = energy::Rows {
+                    q: &q,
+                    sincos: Some(&sc),
+                    qd: &qd,
+                    qdd: &qdd,
+                };
+                let x = &mut inputs[level as usize];
+                energy::eval_rows(&em, &mut data, chunk.len(), &rows, x, &mut out, level).unwrap();
+                for (l, w) in want.iter().enumerate() {
+                    assert_eq!(
+                        format!("{:?}", out.sample(l)),
+                        format!("{w:?}"),
+                        "rows: {regeneration:?}, {level:?}, lane {l}"
+                    );
+                }
             }
+        }
+    }
+}
+
+#[test]
+fn the_row_major_lockstep_pass_carries_its_inputs_across_batches_and_its_sums_equal_the_per_sample_path_bit_for_bit(
+) {
+    // energy::eval_rows (the sweep's energy pass: rows of the trajectory transposed into lanes,
+    // RNEA and the tail compiled together per level, inputs and RNEA intermediates kept from
+    // batch to batch, nothing cleared) against the per-sample path, with the sines given and
+    // computed, over batches of 8, 8 and 3 samples, and the energy sums it adds in the same
+    // pass (eval_rows_summed) equal the per-sample path's; short slices are an error, not a
+    // panic.
+    let model = common::robot("abb_irb6700_200_260");
+    let n = model.dof();
+    let em = EnergyModel::new(&model).unwrap();
+    let mut data = em.data();
+    let mut u = uniform(31);
+    let m = 2 * LANES + 3;
+    let q: Vec<f64> = (0..m * n).map(|_| 6.0 * u() - 3.0).collect();
+    let qd: Vec<f64> = (0..m * n)
+        .map(|i| {
+            if i % 4 == 0 {
+                0.01 * u()
+            } else {
+                2.0 * u() - 1.0
+            }
+        })
+        .collect();
+    let qdd: Vec<f64> = (0..m * n).map(|_| 20.0 * u() - 10.0).collect();
+    let mut sc = vec![0.0; m * 2 * n];
+    for k in 0..m {
+        for j in 0..n {
+            (sc[k * 2 * n + j], sc[k * 2 * n + n + j]) = fastmath::sin_cos(q[k * n + j]);
+        }
+    }
+    let mut want = vec![SamplePower::default(); m];
+    for (k, w) in want.iter_mut().enumerate() {
+        let r = |a: &[f64]| a[k * n..(k + 1) * n].to_vec();
+        energy::eval_sample(&em, &mut data, &r(&q), &r(&qd), &r(&qdd), w).unwrap();
+    }
+    // The sums of the per-sample path (energy::EnergySums::add_sample, trapezoid weights).
+    let weight = |k: usize| printwatt::numerics::trapezoid_weight(k, m, 0.004);
+    let mut want_sums = energy::EnergySums::default();
+    for (k, w) in want.iter().enumerate() {
+        want_sums.add_sample(k, w, weight(k), n);
+    }
+    for level in levels() {
+        for given in [true, false] {
+            let mut x = energy::LaneInputs::default();
+            let mut out = energy::PowerLanes::default();
+            let (mut xs, mut outs) = (energy::LaneInputs::default(), energy::PowerLanes::default());
+            let mut sums = energy::EnergySums::default();
+            for k0 in (0..m).step_by(LANES) {
+                let count = LANES.min(m - k0);
+                let rows = energy::Rows {
+                    q: &q[k0 * n..],
+                    sincos: given.then(|| &sc[k0 * 2 * n..]),
+                    qd: &qd[k0 * n..],
+                    qdd: &qdd[k0 * n..],
+                };
+                let mut w = [0.0; LANES];
+                for (l, w) in w.iter_mut().enumerate().take(count) {
+                    *w = weight(k0 + l);
+                }
+                energy::eval_rows_summed(
+                    &em, &mut data, count, &rows, &mut xs, &mut outs, &mut sums, &w, level,
+                )
+                .unwrap();
+                energy::eval_rows(&em, &mut data, count, &rows, &mut x, &mut out, level).unwrap();
+                for l in 0..count {
+                    assert_eq!(
+                        format!("{:?}", out.sample(l)),
+                        format!("{:?}", want[k0 + l]),
+                        "{level:?}, sines given {given}, sample {}",
+                        k0 + l
+                    );
+                }
+            }
+            assert_eq!(
+                format!("{sums:?}"),
+                format!("{want_sums:?}"),
+                "summed in the pass: {level:?}, sines given {given}"
+            );
+            let short = energy::Rows {
+                q: &q[..n],
+                sincos: None,
+                qd: &qd,
+                qdd: &qdd,
+            };
+            assert!(
+                energy::eval_rows(&em, &mut data, 2, &short, &mut x, &mut out, level).is_err(),
+                "{level:?}"
+            );
         }
     }
 }

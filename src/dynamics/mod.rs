@@ -24,6 +24,7 @@ mod derivatives;
 mod rnea;
 
 pub use batch::{rnea_batch, Lanes, StateBatch};
+pub(crate) use batch::{rnea_lanes, RneaScratch};
 
 pub use derivatives::{complete_derivatives, fill_derivatives};
 pub use rnea::{

@@ -158,8 +158,9 @@ impl Balancer {
 
     /// [`Balancer::joint_torque`] at [`crate::simd::LANES`] angles at once (rad → N·m), lane by
     /// lane bit-identical (the same operations; the sines by
-    /// [`crate::fastmath::sin_cos_lanes`]).
-    #[inline]
+    /// [`crate::fastmath::sin_cos_lanes`]). Inlined into the caller, so it runs on the caller's
+    /// instruction set ([`crate::simd`]).
+    #[inline(always)]
     pub fn joint_torque_lanes(&self, q: &[f64; crate::simd::LANES]) -> [f64; crate::simd::LANES] {
         use crate::simd::LANES;
         let mut x = [0.0; LANES];

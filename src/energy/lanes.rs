@@ -185,6 +185,32 @@ impl LaneEffect {
     }
 }
 
+/// A whole-lane expression (plain lane arithmetic, which vectorises).
+macro_rules! each {
+    ($l:ident => $e:expr) => {{
+        let mut r = [0.0f64; LANES];
+        for $l in 0..LANES {
+            r[$l] = $e;
+        }
+        r
+    }};
+}
+
+/// The joints whose angles the lockstep effects `e` read (the balancer's joint; every joint
+/// for an effect called per lane): only these are transposed into lanes when the sines are
+/// given.
+pub(super) fn angles_read(e: &[(LaneEffect, EnergyClass)], n: usize) -> [bool; MAX_DOF] {
+    let mut read = [false; MAX_DOF];
+    for (e, _) in e {
+        match e {
+            LaneEffect::Balancer(b) if b.joint < MAX_DOF => read[b.joint] = true,
+            LaneEffect::Other(_) => read[..n.min(MAX_DOF)].fill(true),
+            _ => {}
+        }
+    }
+    read
+}
+
 /// The inputs of the lockstep pass: joint angles (rad), their sines and cosines, velocities
 /// (rad/s), accelerations (rad/s²), joint-major.
 struct Inputs<'b> {
@@ -196,7 +222,10 @@ struct Inputs<'b> {
 /// rigid-body torques.
 #[inline(always)]
 #[allow(clippy::needless_range_loop)] // parallel fixed arrays indexed by joint and lane
-fn tail_lanes(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
+/// With `ALL` false only what the integration reads is written (`tau_rb`, `tau_friction`,
+/// `tau_balancer`, `p_mech`, `p_friction`, `p_gear`, `p_copper`, `p_el` and the supply lanes);
+/// `tau`, `p_rigid_body`, `p_balancer`, `current` and `voltage` are left as they were.
+fn tail_lanes<const ALL: bool>(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
     let n = model.n;
     let (qd, qdd) = (&x.b.qd, &x.b.qdd);
     for j in 0..MAX_DOF {
@@ -211,24 +240,21 @@ fn tail_lanes(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
         };
         match e {
             LaneEffect::Viscous(fv) => {
-                for (j, f) in fv.iter().enumerate().take(n) {
-                    for l in 0..LANES {
-                        dst[j][l] += f * qd[j][l];
-                    }
+                for (j, &f) in fv.iter().enumerate().take(n) {
+                    let (d, v) = (dst[j], qd[j]);
+                    dst[j] = each!(l => d[l] + f * v[l]);
                 }
             }
             LaneEffect::Armature(ia) => {
-                for (j, i) in ia.iter().enumerate().take(n) {
-                    for l in 0..LANES {
-                        dst[j][l] += i * qdd[j][l];
-                    }
+                for (j, &i) in ia.iter().enumerate().take(n) {
+                    let (d, a) = (dst[j], qdd[j]);
+                    dst[j] = each!(l => d[l] + i * a[l]);
                 }
             }
             LaneEffect::Offset(t0) => {
-                for (j, o) in t0.iter().enumerate().take(n) {
-                    for l in 0..LANES {
-                        dst[j][l] += o;
-                    }
+                for (j, &o) in t0.iter().enumerate().take(n) {
+                    let d = dst[j];
+                    dst[j] = each!(l => d[l] + o);
                 }
             }
             LaneEffect::Coulomb(c) => {
@@ -245,15 +271,10 @@ fn tail_lanes(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
                         }
                         continue;
                     }
-                    let mut v = [0.0; LANES];
-                    for l in 0..LANES {
-                        v[l] = qd[j][l] / c.velocity_scale;
-                    }
+                    let (d, w) = (dst[j], qd[j]);
+                    let v = each!(l => w[l] / c.velocity_scale);
                     let s = crate::fastmath::tanh_lanes(&v);
-                    for l in 0..LANES {
-                        let t = if s[l] >= 0.0 { p * s[l] } else { m * s[l] };
-                        dst[j][l] += t;
-                    }
+                    dst[j] = each!(l => d[l] + if s[l] >= 0.0 { p * s[l] } else { m * s[l] });
                 }
             }
             LaneEffect::Stribeck(s) => {
@@ -307,46 +328,54 @@ fn tail_lanes(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
             }
         }
     }
-    // super::power_sample, lane by lane.
+    // super::power_sample, lane by lane: whole-lane expressions (which vectorise), the
+    // per-sample formulas' operations in their order.
     for j in 0..n {
-        let ax = &model.axes[j];
-        for l in 0..LANES {
-            let v = qd[j][l];
-            let tf = out.tau_friction[j][l];
-            let tb = out.tau_balancer[j][l];
-            let trb = out.tau_rb[j][l];
-            let tau = trb + tf + tb;
-            out.tau[j][l] = tau;
-            let pm = tau * v;
-            out.p_mech[j][l] = pm;
-            out.p_rigid_body[j][l] = trb * v;
-            out.p_friction[j][l] = tf * v;
-            out.p_balancer[j][l] = tb * v;
-            if model.has_drive {
-                // super::motor, the branch as a select.
-                let drive = tau / (ax.gear * ax.eta);
-                let back = tau * ax.eta / ax.gear;
-                let tm = if tau * v >= 0.0 { drive } else { back };
-                let wm = ax.gear * v;
-                let i = tm / ax.kt;
-                let shaft = tm * wm;
-                let copper = ax.r * i * i;
-                out.current[j][l] = i;
-                out.voltage[j][l] = ax.r * i + ax.kt * wm;
-                out.p_copper[j][l] = copper;
-                out.p_gear[j][l] = shaft - pm;
-                out.p_el[j][l] = shaft + copper;
-            } else {
-                out.current[j][l] = 0.0;
-                out.voltage[j][l] = 0.0;
-                out.p_copper[j][l] = 0.0;
-                out.p_gear[j][l] = 0.0;
-                out.p_el[j][l] = pm;
+        let ax = model.axes[j];
+        let v = qd[j];
+        let (tf, tb, trb) = (out.tau_friction[j], out.tau_balancer[j], out.tau_rb[j]);
+        let tau = each!(l => trb[l] + tf[l] + tb[l]);
+        let pm = each!(l => tau[l] * v[l]);
+        if ALL {
+            out.tau[j] = tau;
+        }
+        out.p_mech[j] = pm;
+        if ALL {
+            out.p_rigid_body[j] = each!(l => trb[l] * v[l]);
+        }
+        out.p_friction[j] = each!(l => tf[l] * v[l]);
+        if ALL {
+            out.p_balancer[j] = each!(l => tb[l] * v[l]);
+        }
+        if model.has_drive {
+            // super::motor, the branch as a select.
+            let ge = ax.gear * ax.eta;
+            let tm = each!(l => {
+                let drive = tau[l] / ge;
+                let back = tau[l] * ax.eta / ax.gear;
+                if tau[l] * v[l] >= 0.0 { drive } else { back }
+            });
+            let wm = each!(l => ax.gear * v[l]);
+            let i = each!(l => tm[l] / ax.kt);
+            let shaft = each!(l => tm[l] * wm[l]);
+            let copper = each!(l => ax.r * i[l] * i[l]);
+            if ALL {
+                out.current[j] = i;
+                out.voltage[j] = each!(l => ax.r * i[l] + ax.kt * wm[l]);
             }
+            out.p_copper[j] = copper;
+            out.p_gear[j] = each!(l => shaft[l] - pm[l]);
+            out.p_el[j] = each!(l => shaft[l] + copper[l]);
+        } else {
+            if ALL {
+                out.current[j] = [0.0; LANES];
+                out.voltage[j] = [0.0; LANES];
+            }
+            out.p_copper[j] = [0.0; LANES];
+            out.p_gear[j] = [0.0; LANES];
+            out.p_el[j] = pm;
         }
     }
-    // super::supply_power, lane by lane: the sums in joint order from the neutral element of
-    // `Iterator::sum` (whatever this toolchain's is), as the per-sample code sums.
     // Joint by joint over all lanes (each lane's sums still in joint order).
     let zero: f64 = std::iter::empty::<f64>().sum();
     let (rho, p0) = (model.recovered_fraction, model.standby_w);
@@ -374,19 +403,286 @@ fn tail_lanes(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
 }
 
 fn tail_sse2(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
-    tail_lanes(model, x, out)
+    tail_lanes::<true>(model, x, out)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 fn tail_avx2(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
-    tail_lanes(model, x, out)
+    tail_lanes::<true>(model, x, out)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
 fn tail_avx512(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
-    tail_lanes(model, x, out)
+    tail_lanes::<true>(model, x, out)
+}
+
+/// Consecutive samples, row-major (`n` values a sample; the sines then the cosines, `2 n` a
+/// sample, for `sincos`), as [`eval_rows`] takes them.
+#[derive(Clone, Copy)]
+pub struct Rows<'r> {
+    /// Joint angles, rad.
+    pub q: &'r [f64],
+    /// Their sines and cosines, when known (else computed here by
+    /// [`crate::fastmath::sin_cos_lanes`], bit for bit [`crate::fastmath::sin_cos`]).
+    pub sincos: Option<&'r [f64]>,
+    /// Velocities, rad/s.
+    pub qd: &'r [f64],
+    /// Accelerations, rad/s².
+    pub qdd: &'r [f64],
+}
+
+/// The lockstep inputs of [`eval_rows`], kept from batch to batch (made once: nothing is
+/// cleared per batch; lanes beyond a short batch's samples keep the batch before's values,
+/// which are not read).
+#[derive(Clone, Copy, Debug, Default)]
+pub struct LaneInputs {
+    b: StateBatch,
+    q: [Lanes; MAX_DOF],
+    rnea: crate::dynamics::RneaScratch,
+}
+
+/// Rows `0..count` of `r` into the lanes of `x`, and their sines where `r` has none.
+#[inline(always)]
+fn transpose(n: usize, count: usize, r: &Rows<'_>, angles: &[bool; MAX_DOF], x: &mut LaneInputs) {
+    if n == 6 && count == LANES {
+        // The six-joint arm, a full batch: fixed sizes (unrolled, no bounds checks per value);
+        // the angles only of the joints that need them (all when the sines are computed here).
+        let all = [true; MAX_DOF];
+        transpose_full::<6>(r, x, if r.sincos.is_some() { angles } else { &all });
+    } else {
+        transpose_rows(n, count, r, x);
+    }
+    if r.sincos.is_none() {
+        for j in 0..n {
+            let (s, c) = crate::fastmath::sin_cos_lanes(&x.q[j]);
+            x.b.s[j] = s;
+            x.b.c[j] = c;
+        }
+    }
+}
+
+/// [`transpose`] of [`LANES`] rows of `N` joints.
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // parallel fixed arrays indexed by joint and lane
+fn transpose_full<const N: usize>(r: &Rows<'_>, x: &mut LaneInputs, angles: &[bool; MAX_DOF]) {
+    let (q, qd, qdd) = (&r.q[..LANES * N], &r.qd[..LANES * N], &r.qdd[..LANES * N]);
+    for l in 0..LANES {
+        for j in 0..N {
+            x.b.qd[j][l] = qd[l * N + j];
+            x.b.qdd[j][l] = qdd[l * N + j];
+        }
+    }
+    for j in 0..N {
+        if angles[j] {
+            for l in 0..LANES {
+                x.q[j][l] = q[l * N + j];
+            }
+        }
+    }
+    if let Some(sc) = r.sincos {
+        let sc = &sc[..LANES * 2 * N];
+        for l in 0..LANES {
+            for j in 0..N {
+                x.b.s[j][l] = sc[l * 2 * N + j];
+                x.b.c[j][l] = sc[l * 2 * N + N + j];
+            }
+        }
+    }
+}
+
+/// [`transpose`] of any rows.
+#[inline(always)]
+fn transpose_rows(n: usize, count: usize, r: &Rows<'_>, x: &mut LaneInputs) {
+    for l in 0..count {
+        let (q, v, w) = (
+            &r.q[l * n..][..n],
+            &r.qd[l * n..][..n],
+            &r.qdd[l * n..][..n],
+        );
+        for j in 0..n {
+            x.q[j][l] = q[j];
+            x.b.qd[j][l] = v[j];
+            x.b.qdd[j][l] = w[j];
+        }
+        if let Some(sc) = r.sincos {
+            let sc = &sc[l * 2 * n..][..2 * n];
+            for j in 0..n {
+                x.b.s[j][l] = sc[j];
+                x.b.c[j][l] = sc[n + j];
+            }
+        }
+    }
+}
+
+/// The whole lockstep pass of one batch, inlined into one function per level.
+#[inline(always)]
+fn pass_lanes(
+    model: &EnergyModel,
+    count: usize,
+    r: &Rows<'_>,
+    x: &mut LaneInputs,
+    out: &mut PowerLanes,
+    sum: Option<(&mut EnergySums, &Lanes)>,
+) {
+    transpose(model.n, count, r, &model.lane_angles, x);
+    crate::dynamics::rnea_lanes(&model.dynamics, &x.b, &mut out.tau_rb, &mut x.rnea);
+    let x = Inputs { q: &x.q, b: &x.b };
+    match &sum {
+        Some(_) => tail_lanes::<false>(model, &x, out),
+        None => tail_lanes::<true>(model, &x, out),
+    }
+    if let Some((s, w)) = sum {
+        if count == LANES {
+            sums_lanes(s, out, w, model.n);
+        } else {
+            s.add_partial(out, w, count, model.n);
+        }
+    }
+}
+
+fn pass_sse2(
+    model: &EnergyModel,
+    count: usize,
+    r: &Rows<'_>,
+    x: &mut LaneInputs,
+    out: &mut PowerLanes,
+    sum: Option<(&mut EnergySums, &Lanes)>,
+) {
+    pass_lanes(model, count, r, x, out, sum)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn pass_avx2(
+    model: &EnergyModel,
+    count: usize,
+    r: &Rows<'_>,
+    x: &mut LaneInputs,
+    out: &mut PowerLanes,
+    sum: Option<(&mut EnergySums, &Lanes)>,
+) {
+    pass_lanes(model, count, r, x, out, sum)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn pass_avx512(
+    model: &EnergyModel,
+    count: usize,
+    r: &Rows<'_>,
+    x: &mut LaneInputs,
+    out: &mut PowerLanes,
+    sum: Option<(&mut EnergySums, &Lanes)>,
+) {
+    pass_lanes(model, count, r, x, out, sum)
+}
+
+/// [`eval_lanes_with_sincos`] of `count ≤` [`LANES`] consecutive samples held row-major in
+/// `r` ([`Rows`]: `count · n` angles (rad), velocities (rad/s), accelerations (rad/s²) and,
+/// when known, `count · 2n` sines and cosines), into lanes `0..count` of `out` (W, N·m, A,
+/// V); `x` carries the lockstep inputs from batch to batch. The same results, lane by lane
+/// bit for bit, as [`eval_lanes_with_sincos`] (and so as the per-sample path), with the
+/// transposition, RNEA and the rest compiled together for `level`. With [`Level::Scalar`] or
+/// a model that is not [`EnergyModel::batchable`] each sample goes through the per-sample
+/// path. Error: [`Error::SizeMismatch`] when a slice is shorter than `count` samples.
+pub fn eval_rows(
+    model: &EnergyModel,
+    data: &mut crate::dynamics::DynData,
+    count: usize,
+    r: &Rows<'_>,
+    x: &mut LaneInputs,
+    out: &mut PowerLanes,
+    level: Level,
+) -> Result<()> {
+    eval_rows_with(model, data, count, r, x, out, None, level)
+}
+
+/// [`eval_rows`], then the batch's powers added into `sums` with trapezoid weights `w` (s per
+/// lane; [`EnergySums::add_lanes`]) in the same compiled pass: the sweep's integration step.
+/// Only what the sums read is written into `out` on the lockstep levels: `tau`,
+/// `p_rigid_body`, `p_balancer`, `current` and `voltage` are left as they were there.
+#[allow(clippy::too_many_arguments)]
+pub fn eval_rows_summed(
+    model: &EnergyModel,
+    data: &mut crate::dynamics::DynData,
+    count: usize,
+    r: &Rows<'_>,
+    x: &mut LaneInputs,
+    out: &mut PowerLanes,
+    sums: &mut EnergySums,
+    w: &Lanes,
+    level: Level,
+) -> Result<()> {
+    eval_rows_with(model, data, count, r, x, out, Some((sums, w)), level)
+}
+
+#[allow(clippy::too_many_arguments)]
+fn eval_rows_with(
+    model: &EnergyModel,
+    data: &mut crate::dynamics::DynData,
+    count: usize,
+    r: &Rows<'_>,
+    x: &mut LaneInputs,
+    out: &mut PowerLanes,
+    sum: Option<(&mut EnergySums, &Lanes)>,
+    level: Level,
+) -> Result<()> {
+    let n = model.n;
+    let count = count.min(LANES);
+    let short = r.q.len() < count * n
+        || r.qd.len() < count * n
+        || r.qdd.len() < count * n
+        || r.sincos.is_some_and(|s| s.len() < count * 2 * n);
+    if short {
+        return Err(Error::SizeMismatch {
+            what: "eval_rows: q, qd, qdd (n a sample), sincos (2 n a sample)".into(),
+            got: r.q.len().min(r.qd.len()).min(r.qdd.len()),
+            expected: count * n,
+        });
+    }
+    if level == Level::Scalar || !model.batchable() {
+        let mut sp = SamplePower::default();
+        for l in 0..count {
+            let (q, v, w) = (
+                &r.q[l * n..][..n],
+                &r.qd[l * n..][..n],
+                &r.qdd[l * n..][..n],
+            );
+            match r.sincos {
+                Some(sc) => super::eval_sample_with_sincos(
+                    model,
+                    data,
+                    q,
+                    &sc[l * 2 * n..][..2 * n],
+                    v,
+                    w,
+                    &mut sp,
+                )?,
+                None => super::eval_sample(model, data, q, v, w, &mut sp)?,
+            };
+            out.set_sample(l, &sp);
+        }
+        if let Some((s, w)) = sum {
+            s.add_lanes(out, w, count, n, level);
+        }
+        return Ok(());
+    }
+    match level {
+        #[cfg(target_arch = "x86_64")]
+        Level::Avx512 if Level::Avx512.available() => {
+            // SAFETY: the CPU has AVX-512F (checked just above).
+            unsafe { pass_avx512(model, count, r, x, out, sum) }
+        }
+        #[cfg(target_arch = "x86_64")]
+        Level::Avx2 if Level::Avx2.available() => {
+            // SAFETY: the CPU has AVX2 and FMA (checked just above).
+            unsafe { pass_avx2(model, count, r, x, out, sum) }
+        }
+        _ => pass_sse2(model, count, r, x, out, sum),
+    }
+    Ok(())
 }
 
 /// [`super::eval_sample_with_sincos`] of `count ≤` [`LANES`] samples at once into the lanes
@@ -553,22 +849,7 @@ impl EnergySums {
     pub fn add_lanes(&mut self, pl: &PowerLanes, w: &Lanes, count: usize, n: usize, level: Level) {
         let n = n.min(MAX_DOF);
         if count < LANES {
-            for l in 0..count {
-                add_lane!(
-                    self,
-                    l,
-                    w[l],
-                    n,
-                    pl.p_supply[l],
-                    pl.p_drives[l],
-                    pl.p_regeneration_lost[l],
-                    |j| pl.p_mech[j][l],
-                    pl.p_el[j][l],
-                    pl.p_friction[j][l],
-                    pl.p_gear[j][l],
-                    pl.p_copper[j][l]
-                );
-            }
+            self.add_partial(pl, w, count, n);
             return;
         }
         match level {
@@ -583,6 +864,28 @@ impl EnergySums {
                 unsafe { sums_avx2(self, pl, w, n) }
             }
             _ => sums_lanes(self, pl, w, n),
+        }
+    }
+
+    /// Lanes `0..count` of `pl`, one by one ([`EnergySums::add_sample`]'s operations).
+    #[inline(always)]
+    fn add_partial(&mut self, pl: &PowerLanes, w: &Lanes, count: usize, n: usize) {
+        let n = n.min(MAX_DOF);
+        for l in 0..count.min(LANES) {
+            add_lane!(
+                self,
+                l,
+                w[l],
+                n,
+                pl.p_supply[l],
+                pl.p_drives[l],
+                pl.p_regeneration_lost[l],
+                |j| pl.p_mech[j][l],
+                pl.p_el[j][l],
+                pl.p_friction[j][l],
+                pl.p_gear[j][l],
+                pl.p_copper[j][l]
+            );
         }
     }
 

@@ -39,7 +39,9 @@
 mod lanes;
 mod report;
 
-pub use lanes::{eval_lanes_with_sincos, EnergySums, PowerLanes};
+pub use lanes::{
+    eval_lanes_with_sincos, eval_rows, eval_rows_summed, EnergySums, LaneInputs, PowerLanes, Rows,
+};
 pub use report::{EnergyReport, JointEnergy, SampleSeries, TotalEnergy};
 
 use crate::dynamics::{rnea, rnea_with_sincos, DynData, DynModel, DynOptions, MAX_DOF};
@@ -99,6 +101,8 @@ pub struct EnergyModel {
     torque: Vec<(Arc<dyn Effect>, EnergyClass)>,
     /// The same effects in the form the lockstep pass evaluates ([`lanes`]).
     lane_effects: Vec<(lanes::LaneEffect, EnergyClass)>,
+    /// The joints whose angles (not only their sines) the lockstep effects read.
+    lane_angles: [bool; MAX_DOF],
     /// Names of the effects in the model (folded or per sample), for the description.
     in_model: Vec<String>,
     calibration: Option<String>,
@@ -241,10 +245,11 @@ impl EnergyModel {
         if let Some(r) = options.regeneration {
             regeneration = r;
         }
-        let lane_effects = torque
+        let lane_effects: Vec<_> = torque
             .iter()
             .map(|(e, c)| (lanes::LaneEffect::of(e, n), *c))
             .collect();
+        let lane_angles = lanes::angles_read(&lane_effects, n);
         Ok(EnergyModel {
             dynamics,
             n,
@@ -252,6 +257,7 @@ impl EnergyModel {
             axes,
             torque,
             lane_effects,
+            lane_angles,
             in_model,
             regeneration,
             recovered_fraction: if has_drive { rho } else { 0.0 },

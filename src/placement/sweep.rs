@@ -738,47 +738,40 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             // bit fastmath::sin_cos.
             _ if level != crate::simd::Level::Scalar && self.job.energy.batchable() => {
                 let tr = &timed.traj;
-                let mut own = [[0.0; 2 * crate::dynamics::MAX_DOF]; LANES];
                 let mut pl = energy::PowerLanes::default();
+                let mut inputs = energy::LaneInputs::default();
                 for k0 in (0..m).step_by(LANES) {
                     if stopped() {
                         return Err(abandoned());
                     }
                     let count = LANES.min(m - k0);
-                    if sincos.is_none() {
-                        for j in 0..n {
-                            let mut x = [0.0; LANES];
-                            for (l, v) in x.iter_mut().enumerate().take(count) {
-                                *v = tr.q(k0 + l)[j];
-                            }
-                            let (sj, cj) = crate::fastmath::sin_cos_lanes(&x);
-                            for (l, row) in own.iter_mut().enumerate() {
-                                row[j] = sj[l];
-                                row[n + j] = cj[l];
-                            }
+                    let r = energy::Rows {
+                        q: tr.q.get(k0 * n..).unwrap_or(&[]),
+                        sincos: sincos.map(|s| s.get(k0 * 2 * n..).unwrap_or(&[])),
+                        qd: tr.qd.get(k0 * n..).unwrap_or(&[]),
+                        qdd: tr.qdd.get(k0 * n..).unwrap_or(&[]),
+                    };
+                    // Inside the path every weight is dt (what trapezoid_weight gives there).
+                    let mut w = [dt; LANES];
+                    if k0 == 0 || k0 + LANES >= m {
+                        w = [0.0; LANES];
+                        for (l, w) in w.iter_mut().enumerate().take(count) {
+                            *w = crate::numerics::trapezoid_weight(k0 + l, m, dt);
                         }
                     }
-                    let sc = |l: usize| match sincos {
-                        Some(s) => &s[(k0 + l) * 2 * n..(k0 + l + 1) * 2 * n],
-                        None => &own[l][..2 * n],
-                    };
-                    energy::eval_lanes_with_sincos(
+                    // The batch's powers, then added into the sums, in one compiled pass.
+                    energy::eval_rows_summed(
                         &self.job.energy,
                         data,
                         count,
-                        |l| tr.q(k0 + l),
-                        sc,
-                        |l| tr.qd(k0 + l),
-                        |l| tr.qdd(k0 + l),
+                        &r,
+                        &mut inputs,
                         &mut pl,
+                        &mut sums,
+                        &w,
                         level,
                     )
                     .map_err(|e| model_error(k0, e))?;
-                    let mut w = [0.0; LANES];
-                    for (l, w) in w.iter_mut().enumerate().take(count) {
-                        *w = crate::numerics::trapezoid_weight(k0 + l, m, dt);
-                    }
-                    sums.add_lanes(&pl, &w, count, n, level);
                 }
             }
             _ => {
