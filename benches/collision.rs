@@ -92,6 +92,26 @@ fn main() {
             ))
         })
     });
+    // As a placement evaluation runs it since session 9: the links' frames from the FK
+    // re-check's shared sines (computed here once, outside the timed loop, as the evaluation
+    // has them), composed in the part frame, and the check from those frames.
+    let q = tr.q(k);
+    let sincos: Vec<f64> = {
+        let (s, c): (Vec<f64>, Vec<f64>) =
+            q.iter().map(|&x| printwatt::fastmath::sin_cos(x)).unzip();
+        [s, c].concat()
+    };
+    let mut bodies = collision::BodyFrames::default();
+    let mut isos = Vec::new();
+    c.bench_function("collision_check_one_sample_shared_sines", |b| {
+        b.iter(|| {
+            shapes.body_frames_into(q, Some(&sincos), &world.base_to_part, &mut bodies);
+            let mut clear = clear0;
+            black_box(collision::check_bodies(
+                &shapes, &bodies, &world.bed, &beads, laid, &mut clear, &mut isos,
+            ))
+        })
+    });
     c.bench_function("bead_bvh_build_per_placement", |b| {
         b.iter(|| black_box(Beads::new(&motion.p, &motion.print, every, BEAD_RADIUS_M)))
     });
@@ -100,9 +120,15 @@ fn main() {
     let dir = root.join("target/criterion");
     if let (Some(r), Some(ch), Some(bv)) = (
         estimate_ns(&dir, "rnea_one_sample"),
-        estimate_ns(&dir, "collision_check_one_sample"),
+        estimate_ns(&dir, "collision_check_one_sample_shared_sines"),
         estimate_ns(&dir, "bead_bvh_build_per_placement"),
     ) {
+        if let Some(plain) = estimate_ns(&dir, "collision_check_one_sample") {
+            println!(
+                "  poses by libm sines and quaternions + check (before session 9): {plain:9.1} ns; from the shared sines: {ch:9.1} ns ({:.2}x)",
+                ch / plain
+            );
+        }
         let per_sample = ch / every as f64;
         println!(
             "collision feasibility ({} shapes, {} self pairs, {} beads, {m} samples, check every {every}):",

@@ -787,6 +787,17 @@ impl Beads {
         }
     }
 
+    /// Whether [`Beads::hit_placed`] with `aabb` and `laid` goes past the hierarchy's root
+    /// (some bead laid and the root's box meets `aabb`): when not, it finds nothing.
+    #[inline(always)]
+    fn root_meets(&self, aabb: &Aabb, laid: usize) -> bool {
+        laid > 0
+            && self
+                .nodes
+                .first()
+                .is_some_and(|r| (r.start as usize) < laid && r.aabb.intersects(aabb))
+    }
+
     /// Number of beads finished at or before sample `k`.
     pub fn laid_at(&self, k: usize) -> usize {
         self.done_at.partition_point(|&d| d <= k)
@@ -1083,11 +1094,13 @@ impl ShapePoses for Placed<'_> {
     fn axis(&self, _: usize, s: &BodyShape) -> Option<(Point<f64>, Point<f64>, f64)> {
         let f = self.bodies.body(s.body);
         s.axis_body.map(|(a, b, r)| {
-            (
-                Point::from(f.rot * a + f.pos),
-                Point::from(f.rot * b + f.pos),
-                r,
-            )
+            // The fallback capsules start at their body's origin.
+            let pa = if a == V3::zeros() {
+                f.pos
+            } else {
+                f.rot * a + f.pos
+            };
+            (Point::from(pa), Point::from(f.rot * b + f.pos), r)
         })
     }
     #[inline(always)]
@@ -1164,7 +1177,11 @@ fn check_with(
                 ));
             }
         }
-        // The pose only for a shape other than a capsule (a capsule goes by its axis).
+        // The hierarchy's root first, here (most shapes miss the part's box); the pose only
+        // for a shape other than a capsule (a capsule goes by its axis).
+        if !beads.root_meets(&a, laid) {
+            continue;
+        }
         let p = if cap.is_some() { ident } else { at.iso(i, s) };
         if let Some(b) = beads.hit_placed(&p, &s.shape, &a, cap, laid) {
             return Some((

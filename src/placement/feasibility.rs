@@ -353,9 +353,23 @@ pub fn check_sample_with(
         a.copy_from_slice(&q[..6]);
         let oa = p.to_opw(&a);
         let sin = crate::fastmath::sin;
-        let w = sin(oa[4]).abs();
+        // sin(q·σ − 0) = σ·sin q to the bit for σ = ±1 on the fast path (odd kernels, a
+        // symmetric reduction): the shared sine where it is that one.
+        let shared =
+            sincos.filter(|sc| sc.len() == 2 * q.len() && !crate::fastmath::libm_selected());
+        let sin_o = |j: usize| match shared {
+            Some(sc)
+                if p.offsets[j] == 0.0
+                    && p.signs[j].abs() == 1.0
+                    && q[j].abs() <= crate::fastmath::SIN_COS_MAX =>
+            {
+                p.signs[j] * sc[j]
+            }
+            _ => sin(oa[j]),
+        };
+        let w = sin_o(4).abs();
         let e = sin(oa[2] + psi3).abs();
-        let s = (p.c2 * sin(oa[1]) + k * sin(oa[1] + oa[2] + psi3) + p.a1).abs();
+        let s = (p.c2 * sin_o(1) + k * sin(oa[1] + oa[2] + psi3) + p.a1).abs();
         if let Some(f) = singular(o, margins, w, e, s) {
             return Some(f);
         }

@@ -146,6 +146,28 @@ pub struct JointChecks {
     limits: Vec<(usize, f64, f64, f64)>,
     /// OPW joint-5 sign and offset when the robot has OPW parameters (the wrist measure).
     wrist: Option<(f64, f64)>,
+    /// [`JointChecks::screen`]'s tables over a block of [`crate::simd::LANES`] samples,
+    /// row-major as the trajectory (entry `k n + j`): lower and upper limits and margins
+    /// (rad); a joint without finite revolute limits has `−∞`, `+∞`, `−∞` (it always passes).
+    /// `None` for an arm of other than [`SCREEN_DOF`] joints.
+    table: Option<Box<ScreenTable>>,
+    /// Velocity (rad/s) and acceleration (rad/s²) limits of joints 4 and 6 (the wrist rule),
+    /// for robots with 6 joints or more.
+    wrist_limits: Option<[(f64, f64); 2]>,
+}
+
+/// Joints of the arms [`JointChecks::screen`] takes in lockstep (every shipped arm).
+const SCREEN_DOF: usize = 6;
+
+/// Entries of one [`JointChecks::screen`] block.
+const SCREEN_ENTRIES: usize = crate::simd::LANES * SCREEN_DOF;
+
+/// See [`JointChecks::table`].
+#[derive(Clone, Debug)]
+struct ScreenTable {
+    lower: [f64; SCREEN_ENTRIES],
+    upper: [f64; SCREEN_ENTRIES],
+    margin: [f64; SCREEN_ENTRIES],
 }
 
 impl JointChecks {
@@ -159,10 +181,31 @@ impl JointChecks {
                 jt.kind == JointKind::Revolute && jt.lower.is_finite() && jt.upper.is_finite()
             })
             .map(|(j, jt)| (j, jt.lower, jt.upper, joint_margin(model, o, j)))
-            .collect();
+            .collect::<Vec<_>>();
+        let n = model.joints.len();
+        let table = (n == SCREEN_DOF).then(|| {
+            let mut t = Box::new(ScreenTable {
+                lower: [f64::NEG_INFINITY; SCREEN_ENTRIES],
+                upper: [f64::INFINITY; SCREEN_ENTRIES],
+                margin: [f64::NEG_INFINITY; SCREEN_ENTRIES],
+            });
+            for k in 0..crate::simd::LANES {
+                for &(j, lower, upper, m) in &limits {
+                    let i = k * n + j;
+                    (t.lower[i], t.upper[i], t.margin[i]) = (lower, upper, m);
+                }
+            }
+            t
+        });
+        let lim = |j: usize| {
+            let jt = &model.joints[j];
+            (jt.velocity_limit, jt.acceleration_limit)
+        };
         JointChecks {
             limits,
             wrist: model.opw.as_ref().map(|p| (p.signs[4], p.offsets[4])),
+            table,
+            wrist_limits: (n >= 6).then(|| [lim(3), lim(5)]),
         }
     }
 
@@ -208,6 +251,163 @@ impl JointChecks {
     }
 }
 
+impl JointChecks {
+    /// [`JointChecks::check`] of `count` consecutive samples at once, for the case that
+    /// dominates a feasible placement: `true` when every one of them would pass (no joint
+    /// within its margin, none near the wrist singularity), and then `margins` is left
+    /// exactly as the per-sample checks leave it. `false` when some sample needs the
+    /// per-sample checks (a failure, the wrist rule, a NaN): `margins` is then untouched, and
+    /// the caller runs [`JointChecks::check`] on each sample in turn, which reports the first
+    /// failure at its own sample as before.
+    ///
+    /// `qs`, `qds`, `qdds`: the samples' joint positions (rad), velocities (rad/s) and
+    /// accelerations (rad/s²), row-major, `n` per sample; `sincos`: their sines then cosines,
+    /// `2 n` per sample, when known (see [`JointChecks::check`]). The screen takes the
+    /// smallest distance from a limit over the block in lockstep (comparisons and minima
+    /// only, exact) and updates `margins.joint_limit_rad` sample by sample, as the per-sample
+    /// checks do, only when that smallest distance is below the running one; a sample near
+    /// the wrist singularity gets the wrist rule's ratios as [`check_joint_sample_with`]
+    /// computes them (`margins.wrist_rate` the same).
+    #[allow(clippy::too_many_arguments)]
+    pub fn screen(
+        &self,
+        o: &FeasibilityOptions,
+        n: usize,
+        count: usize,
+        qs: &[f64],
+        qds: &[f64],
+        qdds: &[f64],
+        sincos: Option<&[f64]>,
+        margins: &mut Margins,
+    ) -> bool {
+        let Some(t) = self.table.as_deref() else {
+            return false;
+        };
+        if count > crate::simd::LANES
+            || qs.len() < count * n
+            || qds.len() < count * n
+            || qdds.len() < count * n
+            || self.limits.iter().any(|l| l.0 >= n)
+        {
+            return false;
+        }
+        // The wrist measure as `check` takes it: shared sines and joint 5's OPW offset 0.
+        let wrist = match (self.wrist, sincos) {
+            (None, _) => None,
+            _ if n < 6 => None,
+            (Some((sign, off)), Some(sc)) if off == 0.0 && sc.len() >= count * 2 * n => {
+                Some((sign, sc))
+            }
+            _ => return false,
+        };
+        // The wrist rule where a sample comes near the singularity, as
+        // check_joint_sample_with applies it (its margin kept aside until the block passes).
+        let mut wrist_rate = margins.wrist_rate;
+        if let Some((sign, sc)) = wrist {
+            let Some(wl) = self.wrist_limits else {
+                return false;
+            };
+            for k in 0..count {
+                let w = (sign * sc[k * 2 * n + 4]).abs();
+                if w >= o.wrist_min {
+                    continue;
+                }
+                let mut worst = 0.0f64;
+                for (j, (vl, al)) in [(3usize, wl[0]), (5, wl[1])] {
+                    for (v, lim) in [(qds[k * n + j], vl), (qdds[k * n + j], al)] {
+                        if lim.is_finite() && lim > 0.0 {
+                            let r = v.abs() / lim;
+                            if r > worst {
+                                worst = r;
+                            }
+                        }
+                    }
+                }
+                if wrist_rate.is_none_or(|r| worst > r) {
+                    wrist_rate = Some(worst);
+                }
+                if worst > o.wrist_rate_max {
+                    return false;
+                }
+            }
+        }
+        // Full blocks of six-joint arms in lockstep; anything else goes the per-sample way.
+        let Some(q) = (n == SCREEN_DOF && count == crate::simd::LANES)
+            .then(|| qs[..SCREEN_ENTRIES].try_into().ok())
+            .flatten()
+        else {
+            return false;
+        };
+        let (pass, lowest) = match crate::simd::level() {
+            #[cfg(target_arch = "x86_64")]
+            crate::simd::Level::Avx512 if crate::simd::Level::Avx512.available() => {
+                // SAFETY: the CPU has AVX-512F (checked just above).
+                unsafe { screen_avx512(t, q) }
+            }
+            #[cfg(target_arch = "x86_64")]
+            crate::simd::Level::Avx2 if crate::simd::Level::Avx2.available() => {
+                // SAFETY: the CPU has AVX2 and FMA (checked just above).
+                unsafe { screen_avx2(t, q) }
+            }
+            _ => screen_entries(t, q),
+        };
+        if !pass {
+            return false;
+        }
+        margins.wrist_rate = wrist_rate;
+        if margins.joint_limit_rad.is_none_or(|(_, x)| lowest < x) {
+            for k in 0..count {
+                let q = &qs[k * n..(k + 1) * n];
+                for &(j, lower, upper, _) in &self.limits {
+                    let d = (q[j] - lower).min(upper - q[j]);
+                    if margins.joint_limit_rad.is_none_or(|(_, x)| d < x) {
+                        margins.joint_limit_rad = Some((j + 1, d));
+                    }
+                }
+            }
+        }
+        true
+    }
+}
+
+/// The body of [`JointChecks::screen`]: whether every entry keeps its margin
+/// (`min(q − lower, upper − q) ≥ margin`, false for a NaN), and the smallest such distance.
+/// Comparisons, selects and minima only, so every level gives the same answer.
+// `!(d >= margin)`: the negated comparison is the NaN rule (a NaN fails the screen).
+#[allow(clippy::neg_cmp_op_on_partial_ord)]
+#[inline(always)]
+fn screen_entries(t: &ScreenTable, q: &[f64; SCREEN_ENTRIES]) -> (bool, f64) {
+    const W: usize = crate::simd::LANES;
+    // Per-lane accumulators (vertical minima and or-ed failures: they vectorise).
+    let mut low = [f64::INFINITY; W];
+    let mut bad = [0u64; W];
+    for c in 0..SCREEN_ENTRIES / W {
+        for l in 0..W {
+            let i = c * W + l;
+            let (a, b) = (q[i] - t.lower[i], t.upper[i] - q[i]);
+            let d = if a < b { a } else { b };
+            bad[l] |= (!(d >= t.margin[i])) as u64;
+            low[l] = if d < low[l] { d } else { low[l] };
+        }
+    }
+    let lowest = low
+        .iter()
+        .fold(f64::INFINITY, |m, &x| if x < m { x } else { m });
+    (bad.iter().all(|&b| b == 0), lowest)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn screen_avx512(t: &ScreenTable, q: &[f64; SCREEN_ENTRIES]) -> (bool, f64) {
+    screen_entries(t, q)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn screen_avx2(t: &ScreenTable, q: &[f64; SCREEN_ENTRIES]) -> (bool, f64) {
+    screen_entries(t, q)
+}
+
 /// How close to its joint-limit margin a placement's closest joint comes: the margin is met
 /// "on" the margin when the joint's smallest distance from a limit is within this of it, rad
 /// (0.01°): the answer then sits on the margin the way an optimum can sit on a search bound.
@@ -232,4 +432,111 @@ pub fn margin_statement(
         ),
         on,
     ))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use rand::{Rng, SeedableRng};
+
+    #[test]
+    fn screening_a_block_of_joint_checks_passes_only_blocks_the_per_sample_checks_pass_and_leaves_the_same_margins(
+    ) {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("robots");
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(31);
+        for name in ["abb_irb6700_200_260", "ur10e", "staubli_tx200", "puma560"] {
+            let model = crate::robot::load(&root.join(name)).unwrap();
+            let n = model.dof();
+            let o = FeasibilityOptions::default();
+            let checks = JointChecks::new(&model, &o);
+            let (mut screened, mut handed_on) = (0, 0);
+            let mut running = Margins::default();
+            for block in 0..3000 {
+                if block % 50 == 0 {
+                    // A fresh evaluation: the first block sets the closest approach.
+                    running = Margins::default();
+                }
+                // Mostly full blocks (what the screen takes), now and then a short one (handed
+                // on: the last block of a path).
+                let count = if block % 8 == 0 {
+                    rng.gen_range(1..=crate::simd::LANES)
+                } else {
+                    crate::simd::LANES
+                };
+                // Mostly well inside the limits; now and then a joint within its margin, joint
+                // 5 near 0 (the wrist rule), a NaN, or a new closest approach to a limit.
+                let mut qs = Vec::new();
+                for _ in 0..count {
+                    for (j, jt) in model.joints.iter().enumerate() {
+                        let (lo, hi) = (jt.lower.max(-4.0), jt.upper.min(4.0));
+                        let mut v = lo + (hi - lo) * rng.gen_range(0.1..0.9);
+                        match rng.gen_range(0..200) {
+                            0 => v = lo + rng.gen_range(0.0..0.06),
+                            1..=4 if j == 4 => v = rng.gen_range(-0.04..0.04),
+                            2 if block % 7 == 0 => v = f64::NAN,
+                            5 => v = hi - rng.gen_range(0.052..0.2),
+                            _ => {}
+                        }
+                        qs.push(v);
+                    }
+                }
+                let mut sc = vec![0.0; count * 2 * n];
+                for k in 0..count {
+                    for j in 0..n {
+                        (sc[k * 2 * n + j], sc[k * 2 * n + n + j]) =
+                            crate::fastmath::sin_cos(qs[k * n + j]);
+                    }
+                }
+                let sincos = (block % 11 != 0).then_some(&sc[..]);
+                // Joint speeds up to 0.8 of the limits: near the wrist singularity the rule
+                // passes or fails (and a NaN now and then).
+                let mut rate = |lim: f64| {
+                    let l = if lim.is_finite() { lim } else { 1.0 };
+                    l * rng.gen_range(-0.8..0.8)
+                };
+                let mut qds = Vec::new();
+                let mut qdds = Vec::new();
+                for _ in 0..count {
+                    for jt in &model.joints {
+                        qds.push(rate(jt.velocity_limit));
+                        qdds.push(rate(jt.acceleration_limit));
+                    }
+                }
+                if block % 13 == 0 {
+                    qds[rng.gen_range(0..count * n)] = f64::NAN;
+                }
+                // The per-sample checks.
+                let mut want = running;
+                let mut all_pass = true;
+                for k in 0..count {
+                    let s = sincos.map(|sc| &sc[k * 2 * n..(k + 1) * 2 * n]);
+                    let r = k * n..(k + 1) * n;
+                    let (q, qd, qdd) = (&qs[r.clone()], &qds[r.clone()], &qdds[r]);
+                    all_pass &= checks.check(&model, &o, q, s, qd, qdd, &mut want).is_none();
+                }
+                let mut got = running;
+                if checks.screen(&o, n, count, &qs, &qds, &qdds, sincos, &mut got) {
+                    assert!(all_pass, "{name} block {block}: screened a failing block");
+                    assert_eq!(
+                        format!("{got:?}"),
+                        format!("{want:?}"),
+                        "{name} block {block}"
+                    );
+                    screened += 1;
+                } else {
+                    assert_eq!(
+                        format!("{got:?}"),
+                        format!("{running:?}"),
+                        "{name} block {block}"
+                    );
+                    handed_on += 1;
+                }
+                running = want;
+            }
+            assert!(
+                screened > 1000 && handed_on > 100,
+                "{name}: {screened} screened, {handed_on} handed on"
+            );
+        }
+    }
 }

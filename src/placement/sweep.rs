@@ -549,52 +549,100 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         let joint_checks = super::margins::JointChecks::new(model, o);
         let checks = || -> std::result::Result<Margins, Infeasible> {
             let mut margins = Margins::default();
-            for k in 0..m {
-                if k % 64 == 0 && cancelled() {
-                    // Abandoned: the result is not read.
-                    return Err(abandoned());
-                }
-                let sincos = shared.then(|| &sincos_all[k * 2 * n..(k + 1) * 2 * n]);
-                let joint_check = joint_checks.check(
-                    model,
-                    o,
-                    timed.traj.q(k),
-                    sincos,
-                    timed.traj.qd(k),
-                    timed.traj.qdd(k),
-                    &mut margins,
-                );
-                if k % every == 0 || k + 1 == m || joint_check.is_some() {
-                    let q = timed.traj.q(k);
-                    if let Some((reason, detail)) = joint_check.or_else(|| {
-                        feasibility::check_sample_with(
-                            model,
-                            o,
-                            feasibility::Scene {
-                                world: &world,
-                                shapes: &self.shapes,
-                                beads,
-                            },
-                            q,
-                            sincos,
-                            beads.laid_at(k),
-                            poses,
-                            &mut margins,
-                        )
-                    }) {
+            let poses = &mut *poses;
+            let tr = &timed.traj;
+            let sincos_of = |k: usize| shared.then(|| &sincos_all[k * 2 * n..(k + 1) * 2 * n]);
+            // Sample `k`'s singularity and collision checks after its joint checks gave
+            // `joint_check`, and where it fails.
+            let mut full_check = |k: usize,
+                                  joint_check: Option<(Reason, String)>,
+                                  margins: &mut Margins|
+             -> std::result::Result<(), Infeasible> {
+                let found = joint_check.or_else(|| {
+                    feasibility::check_sample_with(
+                        model,
+                        o,
+                        feasibility::Scene {
+                            world: &world,
+                            shapes: &self.shapes,
+                            beads,
+                        },
+                        tr.q(k),
+                        sincos_of(k),
+                        beads.laid_at(k),
+                        poses,
+                        margins,
+                    )
+                });
+                match found {
+                    None => Ok(()),
+                    Some((reason, detail)) => {
                         failed.store(true, Ordering::Relaxed);
                         let mi = self.job.pieces[motion.piece[k]].move_index;
                         let tip = frame.apply(&motion.p[k]);
-                        return Err(Infeasible {
+                        Err(Infeasible {
                             reason,
                             sample: Some(k),
                             t_s: Some(k as f64 * dt),
                             line: Some(self.job.line_of(mi)),
                             point_m: Some([tip.x, tip.y, tip.z]),
                             detail,
-                        });
+                        })
                     }
                 }
+            };
+            // The joint checks of LANES samples at once where they all pass (JointChecks::
+            // screen: the same margins), else sample by sample as the scalar path runs them;
+            // the first failure is reported at its own sample either way.
+            let blocks = crate::simd::level() != crate::simd::Level::Scalar;
+            let mut k0 = 0;
+            while k0 < m {
+                if k0 % 64 == 0 && cancelled() {
+                    // Abandoned: the result is not read.
+                    return Err(abandoned());
+                }
+                let count = if blocks {
+                    crate::simd::LANES.min(m - k0).min(64 - k0 % 64)
+                } else {
+                    1
+                };
+                let screened = blocks
+                    && joint_checks.screen(
+                        o,
+                        n,
+                        count,
+                        &tr.q[k0 * n..(k0 + count) * n],
+                        &tr.qd[k0 * n..(k0 + count) * n],
+                        &tr.qdd[k0 * n..(k0 + count) * n],
+                        shared.then(|| &sincos_all[k0 * 2 * n..(k0 + count) * 2 * n]),
+                        &mut margins,
+                    );
+                if screened {
+                    // Every joint check passed: the checked samples of the block.
+                    let first = k0.div_ceil(every) * every;
+                    for k in (first..k0 + count).step_by(every) {
+                        full_check(k, None, &mut margins)?;
+                    }
+                    if k0 + count == m && (m - 1) % every != 0 {
+                        full_check(m - 1, None, &mut margins)?;
+                    }
+                } else {
+                    for k in k0..k0 + count {
+                        let joint_check = joint_checks.check(
+                            model,
+                            o,
+                            tr.q(k),
+                            sincos_of(k),
+                            tr.qd(k),
+                            tr.qdd(k),
+                            &mut margins,
+                        );
+                        if k % every == 0 || k + 1 == m || joint_check.is_some() {
+                            full_check(k, joint_check, &mut margins)?;
+                        }
+                    }
+                }
+                k0 += count;
             }
             Ok(margins)
         };
