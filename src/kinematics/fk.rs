@@ -156,13 +156,42 @@ pub fn joint_vec(q: &[f64]) -> JointVec {
     JointVec::from_slice(q)
 }
 
-/// Joint axis, specialised when it is a coordinate axis.
+/// A revolute joint's unit axis (in its joint frame), specialised when it is a coordinate
+/// axis exactly: `X(±1)`, `Y(±1)`, `Z(±1)` hold the sign.
 #[derive(Clone, Copy, Debug)]
-enum Axis {
+pub(crate) enum Axis {
     X(f64),
     Y(f64),
     Z(f64),
     General(V3),
+}
+
+impl Axis {
+    /// The specialised form of the unit axis `a`.
+    pub(crate) fn of(a: &V3) -> Axis {
+        let exact = |a: f64, b: f64, c: f64| a.abs() == 1.0 && b == 0.0 && c == 0.0;
+        let (x, y, z) = (a.x, a.y, a.z);
+        if exact(x, y, z) {
+            Axis::X(x)
+        } else if exact(y, x, z) {
+            Axis::Y(y)
+        } else if exact(z, x, y) {
+            Axis::Z(z)
+        } else {
+            Axis::General(*a)
+        }
+    }
+
+    /// `r ← r · R(axis, q)` for the joint angle `q` given by its sine `s` and cosine `c`.
+    #[inline(always)]
+    pub(crate) fn rotate(self, r: &mut crate::math::M3, s: f64, c: f64) {
+        match self {
+            Axis::X(sg) => rot_cols(r, 1, 2, sg * s, c),
+            Axis::Y(sg) => rot_cols(r, 2, 0, sg * s, c),
+            Axis::Z(sg) => rot_cols(r, 0, 1, sg * s, c),
+            Axis::General(a) => *r *= crate::math::rot_axis_sc(&a, s, c),
+        }
+    }
 }
 
 #[derive(Clone, Copy, Debug)]
@@ -212,17 +241,7 @@ impl FastChain {
         let mut joints = [blank; MAX_DOF];
         let n = model.dof().min(MAX_DOF);
         for (i, j) in model.joints.iter().take(n).enumerate() {
-            let exact = |a: f64, b: f64, c: f64| a.abs() == 1.0 && b == 0.0 && c == 0.0;
-            let (x, y, z) = (j.axis.x, j.axis.y, j.axis.z);
-            let axis = if exact(x, y, z) {
-                Axis::X(x)
-            } else if exact(y, x, z) {
-                Axis::Y(y)
-            } else if exact(z, x, y) {
-                Axis::Z(z)
-            } else {
-                Axis::General(j.axis)
-            };
+            let axis = Axis::of(&j.axis);
             let is_id = j.origin.rot == crate::math::M3::identity();
             joints[i] = FastJoint {
                 rot: (!is_id).then_some(j.origin.rot),
@@ -264,12 +283,7 @@ impl FastChain {
             }
             let (s, c) = crate::fastmath::sin_cos(qi);
             record(i, s, c);
-            match j.axis {
-                Axis::X(sg) => rot_cols(&mut r, 1, 2, sg * s, c),
-                Axis::Y(sg) => rot_cols(&mut r, 2, 0, sg * s, c),
-                Axis::Z(sg) => rot_cols(&mut r, 0, 1, sg * s, c),
-                Axis::General(a) => r *= crate::math::rot_axis_sc(&a, s, c),
-            }
+            j.axis.rotate(&mut r, s, c);
         }
         Frame { rot: r, pos: p }
     }

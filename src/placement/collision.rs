@@ -25,7 +25,7 @@
 //! Every test has an AABB broad phase before the exact parry query.
 
 use super::feasibility::{LinkRadii, Reason};
-use crate::kinematics::fk::fk;
+use crate::kinematics::fk::{fk, Axis};
 use crate::math::{Frame, V3};
 use crate::robot::{GeomShape, RobotModel};
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
@@ -130,12 +130,8 @@ pub struct RobotShapes {
 /// How a joint of [`Chain`] moves its child frame.
 #[derive(Clone, Copy, Debug)]
 enum Turn {
-    /// Revolute about ±x, ±y, ±z exactly (the sign).
-    X(f64),
-    Y(f64),
-    Z(f64),
-    /// Revolute about another unit axis.
-    General(V3),
+    /// Revolute about the unit axis (specialised as FK's [`Axis`]).
+    Revolute(Axis),
     /// Prismatic along the unit axis.
     Slide(V3),
 }
@@ -169,18 +165,10 @@ impl Chain {
         let joints = model.joints[..n]
             .iter()
             .map(|j| {
-                let exact = |a: f64, b: f64, c: f64| a.abs() == 1.0 && b == 0.0 && c == 0.0;
-                let (x, y, z) = (j.axis.x, j.axis.y, j.axis.z);
                 let turn = if j.kind == JointKind::Prismatic {
                     Turn::Slide(j.axis)
-                } else if exact(x, y, z) {
-                    Turn::X(x)
-                } else if exact(y, x, z) {
-                    Turn::Y(y)
-                } else if exact(z, x, y) {
-                    Turn::Z(z)
                 } else {
-                    Turn::General(j.axis)
+                    Turn::Revolute(Axis::of(&j.axis))
                 };
                 ChainJoint {
                     pos: j.origin.pos,
@@ -207,18 +195,6 @@ fn elbow_terms(p: &crate::robot::OpwParams) -> (f64, f64) {
         crate::fastmath::atan2(p.a2, p.c3),
         (p.a2 * p.a2 + p.c3 * p.c3).sqrt(),
     )
-}
-
-/// Rotate columns `a` and `b` of `r` by the angle of sine `s` and cosine `c` (post-multiply by
-/// a rotation about the third coordinate axis).
-#[inline(always)]
-fn rot_cols(r: &mut crate::math::M3, a: usize, b: usize, s: f64, c: f64) {
-    for i in 0..3 {
-        let ra = r[(i, a)];
-        let rb = r[(i, b)];
-        r[(i, a)] = ra * c + rb * s;
-        r[(i, b)] = rb * c - ra * s;
-    }
 }
 
 /// The frames of the arm's bodies at one joint vector, in the frame the chain was started in
@@ -548,21 +524,15 @@ impl RobotShapes {
             if let Some(o) = &j.rot {
                 r *= o;
             }
-            let (s, c) = match (j.turn, sc) {
-                (Turn::Slide(a), _) => {
-                    p += r * (a * qi);
-                    out.frames[i + 1] = Frame { rot: r, pos: p };
-                    continue;
-                }
-                (_, Some(sc)) => (sc[i], sc[n + i]),
-                _ => crate::fastmath::sin_cos(qi),
-            };
             match j.turn {
-                Turn::X(sg) => rot_cols(&mut r, 1, 2, sg * s, c),
-                Turn::Y(sg) => rot_cols(&mut r, 2, 0, sg * s, c),
-                Turn::Z(sg) => rot_cols(&mut r, 0, 1, sg * s, c),
-                Turn::General(a) => r *= crate::math::rot_axis_sc(&a, s, c),
-                Turn::Slide(_) => {}
+                Turn::Slide(a) => p += r * (a * qi),
+                Turn::Revolute(axis) => {
+                    let (s, c) = match sc {
+                        Some(sc) => (sc[i], sc[n + i]),
+                        None => crate::fastmath::sin_cos(qi),
+                    };
+                    axis.rotate(&mut r, s, c);
+                }
             }
             out.frames[i + 1] = Frame { rot: r, pos: p };
         }
