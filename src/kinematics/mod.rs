@@ -1130,10 +1130,27 @@ impl<'a> IkSolver<'a> {
         branch: Option<Branch>,
         level: crate::simd::Level,
     ) -> Option<opw::BranchBatch> {
+        let mut b = opw::BranchBatch::default();
+        self.solve_near_batch_into(target, tips, q_prev, branch, level, &mut b)
+            .then_some(b)
+    }
+
+    /// [`IkSolver::solve_near_batch_at`] into `batch` (overwritten): `true` with the same
+    /// batch, bit for bit, where that gives `Some`; `false` (and `batch` untouched) where it
+    /// gives `None`. For callers that keep one batch across a path.
+    pub fn solve_near_batch_into(
+        &self,
+        target: &PathTarget,
+        tips: &[V3],
+        q_prev: &[f64],
+        branch: Option<Branch>,
+        level: crate::simd::Level,
+        batch: &mut opw::BranchBatch,
+    ) -> bool {
         use crate::simd::LANES;
         let (p, k) = match (&self.model.opw, &self.opw_k) {
             (Some(p), Some(k)) if q_prev.len() == self.model.dof() => (p, k),
-            _ => return None,
+            _ => return false,
         };
         // flange_target of each tip: rot · tool_inv.rot and rot · tool_inv.pos + tip.
         let off = target.off;
@@ -1144,11 +1161,11 @@ impl<'a> IkSolver<'a> {
             pos[2][l] = off.z + t.z;
         }
         let branch = branch.unwrap_or_else(|| k.branch_of(p, q_prev));
-        let mut b = opw::solve_branch_batch(p, k, &target.frot, &pos, branch, level);
+        opw::solve_branch_batch_into(p, k, &target.frot, &pos, branch, level, batch);
         if q_prev.len() == 6 {
-            b.prev.copy_from_slice(q_prev);
+            batch.prev.copy_from_slice(q_prev);
         }
-        Some(b)
+        true
     }
 
     /// The answer of lane `lane` of `batch` for `tool_target` (its tip and orientation must be
@@ -1361,15 +1378,7 @@ impl<'a> IkSolver<'a> {
         // bits where the fit moved none of the joints branch_of reads), or again of the
         // fitted ones.
         let next = match (&self.model.opw, &self.opw_k) {
-            (Some(p), Some(k)) if shifted != 0 => {
-                let mut q = [[0.0; 6]; LANES];
-                for l in 0..LANES {
-                    for j in 0..6 {
-                        q[l][j] = fitted[j][l];
-                    }
-                }
-                opw::branch_of_lanes(p, k, &q)
-            }
+            (Some(p), Some(k)) if shifted != 0 => opw::branch_of_joints(p, k, fitted),
             _ => batch.next_branch,
         };
         let flip_bound = u64::from(self.flip_bound);
@@ -1397,7 +1406,6 @@ impl<'a> IkSolver<'a> {
     /// them). The verdicts, errors and sines are [`IkSolver::check_with_sincos`]'s, bit for
     /// bit. Errors with the first failing lane. Only for a [`IkSolver::batch_checkable`]
     /// solver.
-    #[allow(clippy::needless_range_loop)] // lanes of parallel fixed arrays
     pub fn check_lanes(
         &self,
         count: usize,
@@ -1406,6 +1414,67 @@ impl<'a> IkSolver<'a> {
         tips: &[V3],
         sincos: &mut [f64],
         level: crate::simd::Level,
+    ) -> Result<(), (usize, IkFailure)> {
+        use crate::simd::Level;
+        assert!(
+            self.chain.batchable(),
+            "check_lanes on a chain it does not apply to"
+        );
+        match level {
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx512 if Level::Avx512.available() => {
+                // SAFETY: the CPU has AVX-512F (checked just above).
+                unsafe { self.check_lanes_avx512(count, q, target, tips, sincos) }
+            }
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx2 if Level::Avx2.available() => {
+                // SAFETY: the CPU has AVX2 and FMA (checked just above).
+                unsafe { self.check_lanes_avx2(count, q, target, tips, sincos) }
+            }
+            // SAFETY: the baseline instruction set.
+            _ => unsafe { self.check_lanes_with::<fk::Sse2>(count, q, target, tips, sincos) },
+        }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    fn check_lanes_avx512(
+        &self,
+        count: usize,
+        q: &[[f64; crate::simd::LANES]; MAX_DOF],
+        target: &PathTarget,
+        tips: &[V3],
+        sincos: &mut [f64],
+    ) -> Result<(), (usize, IkFailure)> {
+        // SAFETY: the CPU has AVX-512F (this function's own target feature).
+        unsafe { self.check_lanes_with::<fk::Avx512>(count, q, target, tips, sincos) }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn check_lanes_avx2(
+        &self,
+        count: usize,
+        q: &[[f64; crate::simd::LANES]; MAX_DOF],
+        target: &PathTarget,
+        tips: &[V3],
+        sincos: &mut [f64],
+    ) -> Result<(), (usize, IkFailure)> {
+        // SAFETY: the CPU has AVX2 and FMA (this function's own target feature).
+        unsafe { self.check_lanes_with::<fk::Avx2>(count, q, target, tips, sincos) }
+    }
+
+    /// The body of [`IkSolver::check_lanes`] with the measurement `M` inlined (the caller is
+    /// compiled for `M`'s instruction set, which the CPU has).
+    #[allow(clippy::needless_range_loop)] // lanes of parallel fixed arrays
+    #[inline(always)]
+    unsafe fn check_lanes_with<M: fk::Measure>(
+        &self,
+        count: usize,
+        q: &[[f64; crate::simd::LANES]; MAX_DOF],
+        target: &PathTarget,
+        tips: &[V3],
+        sincos: &mut [f64],
     ) -> Result<(), (usize, IkFailure)> {
         use crate::simd::LANES;
         let n = self.model.dof();
@@ -1422,43 +1491,46 @@ impl<'a> IkSolver<'a> {
                 tp[i][l] = t[i];
             }
         }
-        let cl = self.chain.check_lanes(q, &target.check_rot, &tp, level);
         let bound = fk::CHECK_POSE_BOUND;
         let dp_max = 0.5 * self.check_position_m - bound;
         let dp2_max = dp_max * dp_max;
         let h_max = 0.5 * (1e-8f64).min(0.5 * self.check_orientation_rad) - bound;
         let f2_max = 8.0 * h_max * h_max;
         let room = dp_max > 0.0 && h_max > 0.0;
-        let mut clear = [0u64; LANES];
-        for l in 0..LANES {
-            clear[l] = u64::from((cl.dp2[l] < dp2_max) & (cl.f2[l] < f2_max));
-        }
-        for l in 0..count {
-            if !(room && clear[l] != 0) {
-                let mut ql = [0.0; MAX_DOF];
-                for (j, v) in ql.iter_mut().enumerate().take(n) {
-                    *v = q[j][l];
+        let judge = |cl: &fk::CheckLanes| {
+            let mut clear = [0u64; LANES];
+            for l in 0..LANES {
+                clear[l] = u64::from((cl.dp2[l] < dp2_max) & (cl.f2[l] < f2_max));
+            }
+            for l in 0..count {
+                if !(room && clear[l] != 0) {
+                    let mut ql = [0.0; MAX_DOF];
+                    for (j, v) in ql.iter_mut().enumerate().take(n) {
+                        *v = q[j][l];
+                    }
+                    let mut sc = [0.0; 2 * MAX_DOF];
+                    self.check_with_sincos(
+                        &Frame {
+                            rot: target.rot,
+                            pos: tips[l],
+                        },
+                        &ql[..n],
+                        &mut sc[..2 * n],
+                    )
+                    .map_err(|e| (l, e))?;
                 }
-                let mut sc = [0.0; 2 * MAX_DOF];
-                self.check_with_sincos(
-                    &Frame {
-                        rot: target.rot,
-                        pos: tips[l],
-                    },
-                    &ql[..n],
-                    &mut sc[..2 * n],
-                )
-                .map_err(|e| (l, e))?;
             }
-        }
-        for (l, out) in sincos.chunks_exact_mut(2 * n).take(count).enumerate() {
-            let (so, co) = out.split_at_mut(n);
-            for j in 0..n {
-                so[j] = cl.s[j][l];
-                co[j] = cl.c[j][l];
+            for (l, out) in sincos.chunks_exact_mut(2 * n).take(count).enumerate() {
+                let (so, co) = out.split_at_mut(n);
+                for j in 0..n {
+                    so[j] = cl.s[j][l];
+                    co[j] = cl.c[j][l];
+                }
             }
-        }
-        Ok(())
+            Ok(())
+        };
+        // SAFETY: the caller's contract (M's instruction set).
+        unsafe { M::measure_then(&self.chain, q, &target.check_rot, &tp, judge) }
     }
 
     /// The FK re-check of `count ≤` [`crate::simd::LANES`] answers in lockstep: lane `l` is the
