@@ -1306,7 +1306,6 @@ impl<'a> IkSolver<'a> {
     /// The per-lane verdicts of [`IkSolver::continuing_lanes`] (6 joints), the answers joint
     /// by joint, and the branch of each lane's answer, in lockstep.
     #[allow(clippy::needless_range_loop)] // lanes of parallel fixed arrays
-    #[allow(clippy::neg_cmp_op_on_partial_ord)] // `!(d > max)`: NaN is no excess
     #[inline(always)]
     fn continuing_body(
         &self,
@@ -1318,81 +1317,87 @@ impl<'a> IkSolver<'a> {
         out: &mut Continuing,
     ) {
         use crate::simd::LANES;
+        // Per-lane verdicts as bit masks (bit l: lane l), combined in scalar registers.
+        const ALL: u32 = (1 << LANES) - 1;
         let fitted = &mut out.q;
         let t = &self.limits;
-        let mut ok = [0u64; LANES];
+        let mut ok = 0u32;
         for l in 0..LANES {
-            ok[l] = u64::from(batch.ok[l]);
+            ok |= u32::from(batch.ok[l]) << l;
         }
-        let mut step = [1u64; LANES];
+        // Lanes with a step over max_step (as track's jump test: NaN is none).
+        let mut over = 0u32;
         let mut dist = [0.0f64; LANES];
-        let mut shifted = 0u64;
+        let mut shifted = false;
         for j in 0..6 {
-            let v = batch.qj[j];
+            let v = &batch.qj[j];
             // Each lane's fit is centred on the previous lane's fitted answer (lane 0:
             // q_prev). Where every lane takes the fit's fast path (the common case) that is
             // the previous lane's value as it is.
             let mut centre = [0.0; LANES];
-            for l in 0..LANES {
-                centre[l] = if l == 0 { q_prev[j] } else { v[l - 1] };
-            }
+            centre[0] = q_prev[j];
+            centre[1..].copy_from_slice(&v[..LANES - 1]);
             let (lo, hi) = (t.lower[j], t.upper[j]);
-            let mut slow = u64::from(!t.revolute[j]);
+            let mut inside = 0u32;
             for l in 0..LANES {
                 let x = v[l];
-                slow |= u64::from(!((x >= lo) & (x <= hi) & ((x - centre[l]).abs() < PI)));
+                inside |= u32::from((x >= lo) & (x <= hi) & ((x - centre[l]).abs() < PI)) << l;
             }
-            let fb = if slow == 0 {
-                v
+            let fb = if t.revolute[j] && inside == ALL {
+                *v
             } else {
                 // Guess the centres by fitting every lane about q_prev (a), fit again about
                 // the guesses (b): where the two agree bit for bit along the lanes, (b) is
                 // the chained fit.
-                let (fa, oka) = t.fit_lanes(j, &v, &[q_prev[j]; LANES]);
+                let (fa, oka) = t.fit_lanes(j, v, &[q_prev[j]; LANES]);
+                centre[1..].copy_from_slice(&fa[..LANES - 1]);
+                let (fb, okb) = t.fit_lanes(j, v, &centre);
+                let mut agree = 0u32;
+                let mut moved = 0u32;
                 for l in 0..LANES {
-                    centre[l] = if l == 0 { q_prev[j] } else { fa[l - 1] };
+                    let same = fa[l].to_bits() == fb[l].to_bits();
+                    agree |= u32::from((oka[l] & okb[l] != 0) & same) << l;
+                    moved |= u32::from(fb[l].to_bits() != v[l].to_bits()) << l;
                 }
-                let (fb, okb) = t.fit_lanes(j, &v, &centre);
-                for l in 0..LANES {
-                    ok[l] &= oka[l] & okb[l] & u64::from(fa[l].to_bits() == fb[l].to_bits());
-                    // branch_of reads joints 2, 3 and 5 only (OPW q2, q3, q5).
-                    shifted |= u64::from(matches!(j, 1 | 2 | 4))
-                        & u64::from(fb[l].to_bits() != v[l].to_bits());
-                }
+                ok &= agree;
+                // branch_of reads joints 2, 3 and 5 only (OPW q2, q3, q5).
+                shifted |= matches!(j, 1 | 2 | 4) && moved != 0;
                 fb
             };
             let ms = max_step[j];
             for l in 0..LANES {
                 let d = (fb[l] - centre[l]).abs();
-                // No step over max_step (as track's jump test: NaN is none).
-                step[l] &= u64::from(!(d > ms));
+                over |= u32::from(d > ms) << l;
                 // take_near's distance: the largest |step| (f64::max, from 0).
                 dist[l] = dist[l].max(d);
             }
             fitted[j] = fb;
         }
+        let mut step = !over;
         if !step_at_first {
-            step[0] = 1;
+            step |= 1;
         }
         // The branch of each lane's answer: the batch's of the unfitted answers (the same
         // bits where the fit moved none of the joints branch_of reads), or again of the
         // fitted ones.
         let next = match (&self.model.opw, &self.opw_k) {
-            (Some(p), Some(k)) if shifted != 0 => opw::branch_of_joints(p, k, fitted),
+            (Some(p), Some(k)) if shifted => opw::branch_of_joints(p, k, fitted),
             _ => batch.next_branch,
         };
-        let flip_bound = u64::from(self.flip_bound);
-        let mut taken = [false; LANES];
+        let flip_bound = self.flip_bound;
+        let mut wrist_ok = 0u32;
+        let mut branch_ok = 1u32;
         for l in 0..LANES {
-            let wrist_ok = u64::from(batch.s5[l] > NEAR_WRIST_SINGULARITY)
-                | (flip_bound & u64::from(dist[l] <= FLIP_CANNOT_WIN_RAD));
-            let branch_ok = l == 0 || next[l - 1] == batch.branch;
-            taken[l] = (ok[l] & step[l] & wrist_ok) != 0 && branch_ok;
+            let w = (batch.s5[l] > NEAR_WRIST_SINGULARITY)
+                | (flip_bound & (dist[l] <= FLIP_CANNOT_WIN_RAD));
+            wrist_ok |= u32::from(w) << l;
         }
-        let mut t = 0;
-        while t < count && taken[t] {
-            t += 1;
+        for l in 1..LANES {
+            branch_ok |= u32::from(next[l - 1] == batch.branch) << l;
         }
+        let taken = ok & step & wrist_ok & branch_ok;
+        // The leading taken lanes, at most count.
+        let t = ((!taken).trailing_zeros() as usize).min(count);
         out.taken = t;
         if t > 0 {
             out.branch_after = next[t - 1];

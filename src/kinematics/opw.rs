@@ -617,23 +617,39 @@ fn solve_branch_lanes(
     // `out` row by row (a whole-array move is a kilobyte memcpy).
     (out.oj[0], out.oj[1], out.oj[2]) = (q1, q2, q3);
     (out.oj[3], out.oj[4], out.oj[5]) = (q4, q5, q6);
-    let mut finite = [true; LANES];
-    for j in 0..6 {
-        let o = &out.oj[j];
-        let mut qr = [0.0; LANES];
-        for l in 0..LANES {
-            let w = match (j, branch.wrist) {
-                (3 | 5, Wrist::Flip) => o[l] + PI,
-                (4, Wrist::Flip) => -o[l],
-                _ => o[l],
-            };
-            qr[l] = (w + p.offsets[j]) * p.signs[j];
-            finite[l] &= qr[l].is_finite();
+    // (w + offset) · sign of the wrist variant's angle w: o as it is, o + π, or −o.
+    #[inline(always)]
+    fn urdf(o: &Lanes, wr: impl Fn(f64) -> f64, off: f64, sign: f64) -> Lanes {
+        let mut r = [0.0; crate::simd::LANES];
+        for (r, o) in r.iter_mut().zip(o) {
+            *r = (wr(*o) + off) * sign;
         }
-        out.qj[j] = qr;
+        r
     }
+    let (off, sg) = (&p.offsets, &p.signs);
+    out.qj[0] = urdf(&q1, |o| o, off[0], sg[0]);
+    out.qj[1] = urdf(&q2, |o| o, off[1], sg[1]);
+    out.qj[2] = urdf(&q3, |o| o, off[2], sg[2]);
+    match branch.wrist {
+        Wrist::NoFlip => {
+            out.qj[3] = urdf(&q4, |o| o, off[3], sg[3]);
+            out.qj[4] = urdf(&q5, |o| o, off[4], sg[4]);
+            out.qj[5] = urdf(&q6, |o| o, off[5], sg[5]);
+        }
+        Wrist::Flip => {
+            out.qj[3] = urdf(&q4, |o| o + PI, off[3], sg[3]);
+            out.qj[4] = urdf(&q5, |o| -o, off[4], sg[4]);
+            out.qj[5] = urdf(&q6, |o| o + PI, off[5], sg[5]);
+        }
+    }
+    let qj = &out.qj;
     for l in 0..LANES {
-        ok[l] &= finite[l];
+        ok[l] &= qj[0][l].is_finite()
+            & qj[1][l].is_finite()
+            & qj[2][l].is_finite()
+            & qj[3][l].is_finite()
+            & qj[4][l].is_finite()
+            & qj[5][l].is_finite();
     }
     out.next_branch = branch_of_joints(p, k, &out.qj);
     out.branch = branch;
