@@ -776,9 +776,8 @@ fn the_branch_a_closed_form_batch_hands_on_equals_branch_of_its_answers_bit_for_
                 let mut b = solve_branch_batch(&p, &k, &rot, &pos, branch, level);
                 for l in 0..LANES {
                     // The lane's vector is the joint-by-joint answer continuing_lanes reads.
-                    let ql = b.q(l);
-                    for j in 0..6 {
-                        assert_eq!(b.qj[j][l].to_bits(), ql[j].to_bits(), "{name}");
+                    for (qj, v) in b.qj.iter().zip(b.q(l)) {
+                        assert_eq!(qj[l].to_bits(), v.to_bits(), "{name}");
                     }
                 }
                 for l in 0..LANES {
