@@ -275,6 +275,8 @@ impl JointChecks {
     /// the wrist singularity gets the wrist rule's ratios as [`check_joint_sample_with`]
     /// computes them (`margins.wrist_rate` the same).
     #[allow(clippy::too_many_arguments)]
+    // `!(w >= wrist_min)`: the negated comparison is the NaN rule (a NaN is near).
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
     pub fn screen(
         &self,
         o: &FeasibilityOptions,
