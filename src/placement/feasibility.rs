@@ -536,12 +536,7 @@ impl CheckedLanes {
                 return Some(f);
             }
         }
-        if !o.collisions
-            || (self.collide
-                && self
-                    .coll
-                    .replay(scene.shapes, l, &mut margins.bed_clearance_m))
-        {
+        if !o.collisions || (self.collide && self.coll.replay(l, &mut margins.bed_clearance_m)) {
             self.answered += 1;
             return None;
         }

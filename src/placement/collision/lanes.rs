@@ -26,13 +26,6 @@ pub const MAX_SHAPES: usize = 16;
 /// One value per lane.
 type L = [f64; LANES];
 
-/// A frame per lane: the rotation's entries row-major (`rot[3 r + c]`) and the position.
-#[derive(Clone, Copy)]
-struct FrameLanes {
-    rot: [L; 9],
-    pos: [L; 3],
-}
-
 /// The results of [`CollisionLanes::compute`] for up to [`LANES`] samples.
 #[derive(Clone)]
 pub struct CollisionLanes {
@@ -44,10 +37,13 @@ pub struct CollisionLanes {
     above: [u32; MAX_SHAPES],
     /// Per shape, bit `l`: lane `l`'s box meets the root of the beads' hierarchy.
     root: [u32; MAX_SHAPES],
-    /// Bit `l`: some self pair's boxes meet in lane `l`, or lane `l` holds a NaN.
+    /// Bit `l`: some self pair's boxes meet in lane `l`, some shape's box meets the beads'
+    /// root, or lane `l` holds a NaN.
     exact: u32,
-    /// Scratch: the bodies' frames and every shape's box (corners, m) per lane.
-    frames: [FrameLanes; MAX_DOF + 2],
+    /// The shapes checked against the bed and the part (all but the print head), in order.
+    order: [u8; MAX_SHAPES],
+    count: usize,
+    /// Scratch: every shape's box (corners, m) per lane.
     lo: [[L; 3]; MAX_SHAPES],
     hi: [[L; 3]; MAX_SHAPES],
 }
@@ -60,10 +56,8 @@ impl Default for CollisionLanes {
             above: [0; MAX_SHAPES],
             root: [0; MAX_SHAPES],
             exact: 0,
-            frames: [FrameLanes {
-                rot: [[0.0; LANES]; 9],
-                pos: [[0.0; LANES]; 3],
-            }; MAX_DOF + 2],
+            order: [0; MAX_SHAPES],
+            count: 0,
             lo: [[[0.0; LANES]; 3]; MAX_SHAPES],
             hi: [[[0.0; LANES]; 3]; MAX_SHAPES],
         }
@@ -87,6 +81,15 @@ impl RobotShapes {
                 .iter()
                 .all(|s| s.role == Role::Head || s.axis_body.is_some())
     }
+}
+
+/// What a shape's box is tested against ([`CollisionLanes::place`]).
+struct Around<'a> {
+    bed: &'a Bed,
+    /// The corners of the beads' root box (m).
+    root: (crate::math::V3, crate::math::V3),
+    /// Bit `l`: some bead is laid at lane `l`'s sample.
+    laid_any: u32,
 }
 
 /// `m · v` per lane, in nalgebra's order (`(m₀ v₀ + m₁ v₁) + m₂ v₂` per row), plus `p`.
@@ -125,8 +128,24 @@ impl CollisionLanes {
                 nan[l] |= v[l].is_nan();
             }
         }
-        // The bodies' frames (body_frames_into's operations).
-        let frames = &mut self.frames;
+        // Beads::root_meets: some bead laid and the root's box meets the shape's.
+        let (rlo, rhi, laid_any) = match beads.nodes.first() {
+            Some(r) => {
+                let mut any = 0u32;
+                for (l, &n) in laid.iter().enumerate() {
+                    any |= u32::from(n > 0 && (r.start as usize) < n) << l;
+                }
+                (r.aabb.mins.coords, r.aabb.maxs.coords, any)
+            }
+            None => (Default::default(), Default::default(), 0),
+        };
+        let at = Around {
+            bed,
+            root: (rlo, rhi),
+            laid_any,
+        };
+        // The bodies' frames (body_frames_into's operations), each body's shapes placed as
+        // its frame is made.
         let mut r = [[0.0; LANES]; 9];
         for (i, e) in r.iter_mut().enumerate() {
             *e = [world.rot[(i / 3, i % 3)]; LANES];
@@ -135,7 +154,7 @@ impl CollisionLanes {
         for (i, e) in p.iter_mut().enumerate() {
             *e = [world.pos[i]; LANES];
         }
-        frames[0] = FrameLanes { rot: r, pos: p };
+        self.place(rs, 0, &r, &p, &at);
         for (i, j) in rs.chain.joints.iter().enumerate() {
             p = mul_add(&r, &j.pos, &p);
             if let Some(o) = &j.rot {
@@ -166,7 +185,7 @@ impl CollisionLanes {
                     r[3 * row + b][l] = rb * c[l] - ra * s;
                 }
             }
-            frames[i + 1] = FrameLanes { rot: r, pos: p };
+            self.place(rs, i + 1, &r, &p, &at);
         }
         let fl = &rs.chain.flange;
         let mut fr = [[0.0; LANES]; 9];
@@ -179,34 +198,59 @@ impl CollisionLanes {
                 }
             }
         }
-        frames[n + 1] = FrameLanes {
-            rot: fr,
-            pos: mul_add(&r, &fl.pos, &p),
-        };
-        // Each shape's box (a capsule's from its axis, the print head's from its bounding
-        // sphere), the bed and the beads' root.
-        let (lo, hi) = (&mut self.lo, &mut self.hi);
-        let (blo, bhi) = (&bed.aabb.mins, &bed.aabb.maxs);
-        // Beads::root_meets: some bead laid and the root's box meets the shape's.
-        let (rlo, rhi, laid_any) = match beads.nodes.first() {
-            Some(r) => {
-                let mut any = 0u32;
-                for (l, &n) in laid.iter().enumerate() {
-                    any |= u32::from(n > 0 && (r.start as usize) < n) << l;
+        self.place(rs, n + 1, &fr, &mul_add(&r, &fl.pos, &p), &at);
+        let (lo, hi) = (&self.lo, &self.hi);
+        // Self pairs' boxes.
+        let mut exact = 0u32;
+        for l in 0..LANES {
+            exact |= u32::from(nan[l]) << l;
+        }
+        let mut hits = [0u64; LANES];
+        for &(i, j) in &rs.pairs {
+            let mut hit = [1u64; LANES];
+            for k in 0..3 {
+                for l in 0..LANES {
+                    hit[l] &=
+                        (lo[i][k][l] <= hi[j][k][l]) as u64 & (hi[i][k][l] >= lo[j][k][l]) as u64;
                 }
-                (r.aabb.mins, r.aabb.maxs, any)
             }
-            None => (Default::default(), Default::default(), 0),
-        };
+            for l in 0..LANES {
+                hits[l] |= hit[l];
+            }
+        }
+        for l in 0..LANES {
+            exact |= (hits[l] as u32) << l;
+        }
+        self.count = 0;
         for (i, s) in rs.shapes.iter().enumerate() {
-            let f = &frames[s.body.min(n + 1)];
+            if s.role != Role::Head {
+                exact |= self.root[i];
+                self.order[self.count] = i as u8;
+                self.count += 1;
+            }
+        }
+        self.exact = exact;
+    }
+
+    /// The boxes, bed gaps, closed-form clearances and root tests of the shapes on body `b`
+    /// (its frame per lane: `rot`, `pos`), as [`CollisionLanes::compute`] describes.
+    #[inline(always)]
+    #[allow(clippy::needless_range_loop)] // parallel fixed arrays indexed by lane
+    fn place(&mut self, rs: &RobotShapes, b: usize, rot: &[L; 9], pos: &[L; 3], at: &Around) {
+        let last = rs.chain.joints.len() + 1;
+        let (blo, bhi) = (&at.bed.aabb.mins, &at.bed.aabb.maxs);
+        let (rlo, rhi) = &at.root;
+        for (i, s) in rs.shapes.iter().enumerate() {
+            if s.body.min(last) != b {
+                continue;
+            }
             if s.role == Role::Head {
-                let c = mul_add(&f.rot, &s.centre_body, &f.pos);
+                let c = mul_add(rot, &s.centre_body, pos);
                 let rad = s.bound.1 + SPHERE_MARGIN_M;
                 for k in 0..3 {
                     for l in 0..LANES {
-                        lo[i][k][l] = c[k][l] - rad;
-                        hi[i][k][l] = c[k][l] + rad;
+                        self.lo[i][k][l] = c[k][l] - rad;
+                        self.hi[i][k][l] = c[k][l] + rad;
                     }
                 }
                 continue;
@@ -215,14 +259,14 @@ impl CollisionLanes {
                 continue;
             };
             let pa = if a == crate::math::V3::zeros() {
-                f.pos
+                *pos
             } else {
-                mul_add(&f.rot, &a, &f.pos)
+                mul_add(rot, &a, pos)
             };
-            let pb = mul_add(&f.rot, &b, &f.pos);
+            let pb = mul_add(rot, &b, pos);
             let mut gap2 = [0.0; LANES];
-            // All-ones per lane while the test holds (masks vectorise where bools do not).
-            let (mut inside, mut meets) = ([!0u64; LANES], [!0u64; LANES]);
+            // 1 per lane while the test holds (integer masks vectorise where bools do not).
+            let (mut inside, mut meets) = ([1u64; LANES], [1u64; LANES]);
             for k in 0..3 {
                 let (mut mn, mut mx) = ([0.0; LANES], [0.0; LANES]);
                 for l in 0..LANES {
@@ -231,8 +275,8 @@ impl CollisionLanes {
                     mn[l] = (if x <= y { x } else { y }) - rad;
                     mx[l] = (if x >= y { x } else { y }) + rad;
                 }
-                lo[i][k] = mn;
-                hi[i][k] = mx;
+                self.lo[i][k] = mn;
+                self.hi[i][k] = mx;
                 for l in 0..LANES {
                     // aabb_gap's terms, added in axis order.
                     let d = (blo[k] - mx[l]).max(mn[l] - bhi[k]).max(0.0);
@@ -241,14 +285,15 @@ impl CollisionLanes {
                 for l in 0..LANES {
                     let (x, y) = (pa[k][l], pb[k][l]);
                     // Bed::axis_above's footprint test.
-                    let t = if k < 2 {
-                        (x >= blo[k]) & (x <= bhi[k]) & (y >= blo[k]) & (y <= bhi[k])
+                    inside[l] &= if k < 2 {
+                        (x >= blo[k]) as u64
+                            & (x <= bhi[k]) as u64
+                            & (y >= blo[k]) as u64
+                            & (y <= bhi[k]) as u64
                     } else {
-                        (x >= bhi[k]) & (y >= bhi[k])
+                        (x >= bhi[k]) as u64 & (y >= bhi[k]) as u64
                     };
-                    inside[l] &= (t as u64).wrapping_neg();
-                    let t = (mn[l] <= rhi[k]) & (mx[l] >= rlo[k]);
-                    meets[l] &= (t as u64).wrapping_neg();
+                    meets[l] &= (mn[l] <= rhi[k]) as u64 & (mx[l] >= rlo[k]) as u64;
                 }
             }
             let (mut above, mut at_root) = (0u32, 0u32);
@@ -257,48 +302,24 @@ impl CollisionLanes {
                 self.clear[i][l] = (pa[2][l].min(pb[2][l]) - bhi[2] - rad).max(0.0);
             }
             for l in 0..LANES {
-                above |= ((inside[l] & 1) as u32) << l;
-                at_root |= ((meets[l] & 1) as u32) << l;
+                above |= (inside[l] as u32) << l;
+                at_root |= (meets[l] as u32) << l;
             }
-            (self.above[i], self.root[i]) = (above, at_root & laid_any);
+            (self.above[i], self.root[i]) = (above, at_root & at.laid_any);
         }
-        // Self pairs' boxes.
-        let mut exact = 0u32;
-        for l in 0..LANES {
-            exact |= u32::from(nan[l]) << l;
-        }
-        let mut hits = [0u64; LANES];
-        for &(i, j) in &rs.pairs {
-            let mut hit = [!0u64; LANES];
-            for k in 0..3 {
-                for l in 0..LANES {
-                    let t = (lo[i][k][l] <= hi[j][k][l]) & (hi[i][k][l] >= lo[j][k][l]);
-                    hit[l] &= (t as u64).wrapping_neg();
-                }
-            }
-            for l in 0..LANES {
-                hits[l] |= hit[l];
-            }
-        }
-        for l in 0..LANES {
-            exact |= ((hits[l] & 1) as u32) << l;
-        }
-        self.exact = exact;
     }
 
     /// Lane `l` through the per-sample check's steps from the running bed clearance
     /// `clearance` (m): `true` when the per-sample check would find nothing and leave
     /// `clearance` as it is left here; `false` (and `clearance` untouched) when the lane
     /// needs the per-sample check (see the module docs).
-    pub fn replay(&self, rs: &RobotShapes, l: usize, clearance: &mut Option<f64>) -> bool {
+    pub fn replay(&self, l: usize, clearance: &mut Option<f64>) -> bool {
         if self.exact >> l & 1 != 0 {
             return false;
         }
         let mut c = *clearance;
-        for (i, s) in rs.shapes.iter().enumerate() {
-            if s.role == Role::Head {
-                continue;
-            }
+        for &i in &self.order[..self.count] {
+            let i = i as usize;
             if self.gap[i][l] <= c.unwrap_or(f64::INFINITY) {
                 if self.above[i] >> l & 1 == 0 {
                     return false;
@@ -308,9 +329,6 @@ impl CollisionLanes {
                 if d <= 0.0 {
                     return false;
                 }
-            }
-            if self.root[i] >> l & 1 != 0 {
-                return false;
             }
         }
         *clearance = c;
