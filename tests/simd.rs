@@ -1562,3 +1562,123 @@ fn the_prunes_reach_test_in_lockstep_rejects_the_same_first_sample_with_the_same
         "{unreachable} unreachable, {other} other"
     );
 }
+
+#[test]
+fn continuing_lanes_verdict_masks_give_the_same_lanes_on_every_level_and_take_nears_answers() {
+    // IkSolver::continuing_lanes decides its lanes with vector compares and movemask on AVX2
+    // and AVX-512 (lane_ops::Avx2) and with lane loops on the scalar level (lane_ops::Plain).
+    // On batches with steps around max_step, 2π-shifted and narrowed wrist limits (the fit's
+    // slow path), lanes out of reach or NaN, and poses near the wrist singularity: the same
+    // taken count, answers and branch on every level, and each taken lane is take_near's
+    // answer continuing the previous one, bit for bit.
+    use printwatt::kinematics::{nozzle_target, Continuing, IkSolver, MAX_DOF};
+    use std::f64::consts::PI;
+    let mut u = uniform(41);
+    let (mut taken_total, mut partial, mut slow) = (0usize, 0usize, 0usize);
+    for name in ["abb_irb6700_200_260", "abb_irb4600_40_255", "staubli_tx200"] {
+        for limits in 0..3 {
+            let mut model = common::robot(name);
+            for j in [3, 5] {
+                let jt = &mut model.joints[j];
+                match limits {
+                    1 => (jt.lower, jt.upper) = (0.0, 2.0 * PI + 1.0),
+                    2 => (jt.lower, jt.upper) = (-2.0, 2.0),
+                    _ => {}
+                }
+            }
+            let solver = IkSolver::new(&model).unwrap();
+            let reach = printwatt::placement::feasibility::reach_m(&model);
+            for case in 0..60 {
+                // The nozzle points down, or sideways (near the wrist singularity for some
+                // tips), spun about its axis.
+                let spin = PI * u();
+                let mut rot = nozzle_target(&nalgebra::Vector3::zeros(), spin).rot;
+                if case % 3 == 1 {
+                    rot = nalgebra::Rotation3::from_axis_angle(&nalgebra::Vector3::y_axis(), 1.3)
+                        .into_inner()
+                        * rot;
+                }
+                let start = nalgebra::Vector3::new(
+                    reach * (0.45 + 0.2 * u()),
+                    reach * 0.3 * u(),
+                    reach * 0.3 * u(),
+                );
+                // Steps of 0.1 mm to 20 cm; now and then one far out of reach or NaN.
+                let step =
+                    nalgebra::Vector3::new(u(), u(), u()) * 10f64.powf(-4.0 + 3.3 * u().abs());
+                let mut tips = Vec::new();
+                for l in 0..LANES {
+                    let mut t = start + step * (l as f64 + 1.0);
+                    match (case % 7, l) {
+                        (5, 4) => t.x = 10.0 * reach,
+                        (6, 6) => t.y = f64::NAN,
+                        _ => {}
+                    }
+                    tips.push(t);
+                }
+                let target = |t: &nalgebra::Vector3<f64>| printwatt::math::Frame { rot, pos: *t };
+                let Ok(starts) = solver.solve_all(&target(&start)) else {
+                    continue;
+                };
+                let max_step = {
+                    let mut m = [f64::INFINITY; MAX_DOF];
+                    for v in m.iter_mut().take(6) {
+                        *v = [0.01, 0.05, 0.3, f64::INFINITY][case % 4];
+                    }
+                    m
+                };
+                for s in starts.iter().take(4) {
+                    let q_prev = s.q.to_vec();
+                    let mut want: Option<(usize, Vec<u64>, _)> = None;
+                    for level in levels() {
+                        let Some(b) = solver.solve_near_batch(&rot, &tips, &q_prev, level) else {
+                            continue;
+                        };
+                        let mut c = Continuing::new();
+                        solver.continuing_lanes(
+                            &b,
+                            LANES,
+                            &q_prev,
+                            &max_step,
+                            case % 2 == 0,
+                            level,
+                            &mut c,
+                        );
+                        let bits: Vec<u64> = (0..c.taken)
+                            .flat_map(|l| c.q.iter().map(move |qj| qj[l].to_bits()))
+                            .collect();
+                        // Each taken lane is take_near's answer from the previous one.
+                        let mut prev = q_prev.clone();
+                        for l in 0..c.taken {
+                            let q = solver.take_near(&b, l, &target(&tips[l]), &prev).unwrap();
+                            for (j, v) in q.iter().enumerate() {
+                                assert_eq!(
+                                    v.to_bits(),
+                                    c.q[j][l].to_bits(),
+                                    "{name} {level:?} lane {l}"
+                                );
+                            }
+                            prev = q.to_vec();
+                        }
+                        let got = (c.taken, bits, c.branch_after);
+                        match &want {
+                            None => want = Some(got),
+                            Some(w) => {
+                                assert_eq!(&got, w, "{name} limits {limits} case {case} {level:?}")
+                            }
+                        }
+                    }
+                    if let Some((t, _, _)) = want {
+                        taken_total += t;
+                        partial += usize::from(t > 0 && t < LANES);
+                        slow += usize::from(limits > 0 && t > 0);
+                    }
+                }
+            }
+        }
+    }
+    assert!(
+        taken_total > 1000 && partial > 30 && slow > 30,
+        "{taken_total} taken, {partial} partial batches, {slow} through the fit"
+    );
+}
