@@ -1682,3 +1682,86 @@ fn continuing_lanes_verdict_masks_give_the_same_lanes_on_every_level_and_take_ne
         "{taken_total} taken, {partial} partial batches, {slow} through the fit"
     );
 }
+
+#[test]
+fn next_branch_taken_without_branch_of_equals_branch_of_at_the_branch_boundaries() {
+    // solve_branch_batch hands on the batch's own branch as next_branch where every lane is
+    // ok and far (opw::NEXT_BRANCH_MARGIN_*) from the boundaries branch_of reads: the wrist
+    // centre on the axis of joint 1 (ρ), the stretched or folded elbow (t3 at 0 or π) and q5
+    // at 0 or π. Poses swept across those boundaries and their margins, every branch, every
+    // level: next_branch equals Prepared::branch_of of each lane's answer, ok or not.
+    use printwatt::kinematics::opw::{solve_branch_batch, Branch, Prepared};
+    use std::f64::consts::PI;
+    let mut u = uniform(43);
+    let mut lanes = 0usize;
+    for name in ["abb_irb6700_200_260", "abb_irb4600_40_255", "staubli_tx200"] {
+        let model = common::robot(name);
+        let Some(p) = model.opw else {
+            continue;
+        };
+        let k = Prepared::new(&p);
+        let psi3 = k.psi3();
+        let kappa = (p.a2 * p.a2 + p.c3 * p.c3).sqrt();
+        let reach = p.c2.abs() + kappa;
+        // q2 (OPW) that puts c2 sin q2 + κ sin(q2 + q3 + ψ3) + a1 (±ρ) at `target`, by
+        // bisection on a bracket (None without one).
+        let q2_for = |q3: f64, target: f64| {
+            let f = |q2: f64| p.c2 * q2.sin() + kappa * (q2 + q3 + psi3).sin() + p.a1 - target;
+            let (mut a, mut b) = (-PI, 0.0);
+            if f(a).signum() == f(b).signum() {
+                (a, b) = (0.0, PI);
+                if f(a).signum() == f(b).signum() {
+                    return None;
+                }
+            }
+            for _ in 0..200 {
+                let m = 0.5 * (a + b);
+                if f(m).signum() == f(a).signum() {
+                    a = m;
+                } else {
+                    b = m;
+                }
+            }
+            Some(0.5 * (a + b))
+        };
+        let eps = [0.0, 1e-12, 1e-9, 1e-7, 1e-6, 2e-6, 1e-5, 1e-3, 0.1];
+        for (case, &e) in eps.iter().chain(eps.iter()).enumerate() {
+            let sgn = if case < eps.len() { 1.0 } else { -1.0 };
+            for anchor in 0..4 {
+                // t3 near 0 or π; q5 near 0 or π; ρ near 0 or near its margin.
+                let q3 = if anchor % 2 == 0 {
+                    -psi3 + sgn * e
+                } else {
+                    PI - psi3 - sgn * e
+                };
+                let q5 = if anchor < 2 { sgn * e } else { PI - sgn * e };
+                let rho =
+                    [sgn * e * reach, 0.01 * reach * (1.0 + sgn * e.min(0.5))][(case + anchor) % 2];
+                let q2 = q2_for(q3, rho).unwrap_or(0.3 * u());
+                let o = [PI * u(), q2, q3, PI * u(), q5, PI * u()];
+                let f = p.forward(&p.from_opw(&o));
+                let dir = nalgebra::Vector3::new(u(), u(), u());
+                let mut pos = [[0.0; LANES]; 3];
+                for l in 0..LANES {
+                    let d = [0.0, 1e-12, -1e-9, 1e-7, -1e-5, 1e-4, -1e-3, 1e-2][l];
+                    let t = f.pos + dir * d;
+                    (pos[0][l], pos[1][l], pos[2][l]) = (t.x, t.y, t.z);
+                }
+                for branch in Branch::ALL {
+                    for level in levels() {
+                        let b = solve_branch_batch(&p, &k, &f.rot, &pos, branch, level);
+                        for l in 0..LANES {
+                            assert_eq!(
+                                b.next_branch[l],
+                                k.branch_of(&p, &b.q(l)),
+                                "{name} case {case} anchor {anchor} {branch:?} {level:?} lane {l}"
+                            );
+                            lanes += 1;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    assert!(lanes > 10_000, "{lanes} lanes");
+}
