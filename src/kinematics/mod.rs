@@ -599,13 +599,20 @@ pub struct PathTarget {
     check_rot: M3,
 }
 
+/// Where [`IkSolver::check_lanes`]' sines and cosines go: into a slice, or appended.
+enum Out<'a> {
+    Slice(&'a mut [f64]),
+    Push(&'a mut Vec<f64>),
+}
+
 /// [`IkSolver::continuing_lanes`]' answer.
 #[derive(Clone, Copy, Debug)]
 pub struct Continuing {
     /// How many leading lanes are taken.
     pub taken: usize,
-    /// Their answers joint by joint (rad): `q[j][lane]`.
-    pub q: [[f64; crate::simd::LANES]; 6],
+    /// Their answers joint by joint (rad): `q[j][lane]` for the 6 joints (the rows beyond
+    /// stay 0: the layout [`IkSolver::check_lanes`] reads).
+    pub q: [[f64; crate::simd::LANES]; MAX_DOF],
     /// [`opw::Prepared::branch_of`] of the last taken answer, bit for bit (the batch's
     /// branch when none is taken).
     pub branch_after: Branch,
@@ -616,7 +623,7 @@ impl Continuing {
     pub fn new() -> Continuing {
         Continuing {
             taken: 0,
-            q: [[0.0; crate::simd::LANES]; 6],
+            q: [[0.0; crate::simd::LANES]; MAX_DOF],
             branch_after: Branch::ALL[0],
         }
     }
@@ -1349,7 +1356,8 @@ impl<'a> IkSolver<'a> {
         use crate::simd::LANES;
         // Per-lane verdicts as bit masks (bit l: lane l), combined in scalar registers.
         const ALL: u32 = (1 << LANES) - 1;
-        let fitted = &mut out.q;
+        let fitted: &mut [[f64; LANES]; 6] =
+            (&mut out.q[..6]).try_into().expect("6 of MAX_DOF rows");
         let t = &self.limits;
         let mut ok = 0u32;
         for l in 0..LANES {
@@ -1445,15 +1453,51 @@ impl<'a> IkSolver<'a> {
             #[cfg(target_arch = "x86_64")]
             Level::Avx512 if Level::Avx512.available() => {
                 // SAFETY: the CPU has AVX-512F (checked just above).
-                unsafe { self.check_lanes_avx512(count, q, target, tips, sincos) }
+                unsafe { self.check_lanes_avx512(count, q, target, tips, Out::Slice(sincos)) }
             }
             #[cfg(target_arch = "x86_64")]
             Level::Avx2 if Level::Avx2.available() => {
                 // SAFETY: the CPU has AVX2 and FMA (checked just above).
-                unsafe { self.check_lanes_avx2(count, q, target, tips, sincos) }
+                unsafe { self.check_lanes_avx2(count, q, target, tips, Out::Slice(sincos)) }
             }
             // SAFETY: the baseline instruction set.
-            _ => unsafe { self.check_lanes_with::<fk::Sse2>(count, q, target, tips, sincos) },
+            _ => unsafe {
+                self.check_lanes_with::<fk::Sse2>(count, q, target, tips, Out::Slice(sincos))
+            },
+        }
+    }
+
+    /// [`IkSolver::check_lanes`] that appends the sines and cosines of the `count` answers
+    /// to `sincos` (`count · 2 dof` values, the same as `check_lanes` writes) when all pass,
+    /// and leaves it as it was on an error: no zero fill ahead of the values.
+    pub fn check_lanes_push(
+        &self,
+        count: usize,
+        q: &[[f64; crate::simd::LANES]; MAX_DOF],
+        target: &PathTarget,
+        tips: &[V3],
+        sincos: &mut Vec<f64>,
+        level: crate::simd::Level,
+    ) -> Result<(), (usize, IkFailure)> {
+        use crate::simd::Level;
+        assert!(
+            self.chain.batchable(),
+            "check_lanes on a chain it does not apply to"
+        );
+        let out = Out::Push(sincos);
+        match level {
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx512 if Level::Avx512.available() => {
+                // SAFETY: the CPU has AVX-512F (checked just above).
+                unsafe { self.check_lanes_avx512(count, q, target, tips, out) }
+            }
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx2 if Level::Avx2.available() => {
+                // SAFETY: the CPU has AVX2 and FMA (checked just above).
+                unsafe { self.check_lanes_avx2(count, q, target, tips, out) }
+            }
+            // SAFETY: the baseline instruction set.
+            _ => unsafe { self.check_lanes_with::<fk::Sse2>(count, q, target, tips, out) },
         }
     }
 
@@ -1465,7 +1509,7 @@ impl<'a> IkSolver<'a> {
         q: &[[f64; crate::simd::LANES]; MAX_DOF],
         target: &PathTarget,
         tips: &[V3],
-        sincos: &mut [f64],
+        sincos: Out<'_>,
     ) -> Result<(), (usize, IkFailure)> {
         // SAFETY: the CPU has AVX-512F (this function's own target feature).
         unsafe { self.check_lanes_with::<fk::Avx512>(count, q, target, tips, sincos) }
@@ -1479,7 +1523,7 @@ impl<'a> IkSolver<'a> {
         q: &[[f64; crate::simd::LANES]; MAX_DOF],
         target: &PathTarget,
         tips: &[V3],
-        sincos: &mut [f64],
+        sincos: Out<'_>,
     ) -> Result<(), (usize, IkFailure)> {
         // SAFETY: the CPU has AVX2 and FMA (this function's own target feature).
         unsafe { self.check_lanes_with::<fk::Avx2>(count, q, target, tips, sincos) }
@@ -1495,7 +1539,7 @@ impl<'a> IkSolver<'a> {
         q: &[[f64; crate::simd::LANES]; MAX_DOF],
         target: &PathTarget,
         tips: &[V3],
-        sincos: &mut [f64],
+        sincos: Out<'_>,
     ) -> Result<(), (usize, IkFailure)> {
         use crate::simd::LANES;
         let n = self.model.dof();
@@ -1541,11 +1585,31 @@ impl<'a> IkSolver<'a> {
                     .map_err(|e| (l, e))?;
                 }
             }
-            for (l, out) in sincos.chunks_exact_mut(2 * n).take(count).enumerate() {
-                let (so, co) = out.split_at_mut(n);
-                for j in 0..n {
-                    so[j] = cl.s[j][l];
-                    co[j] = cl.c[j][l];
+            match sincos {
+                Out::Slice(sincos) => {
+                    for (l, out) in sincos.chunks_exact_mut(2 * n).take(count).enumerate() {
+                        let (so, co) = out.split_at_mut(n);
+                        for j in 0..n {
+                            so[j] = cl.s[j][l];
+                            co[j] = cl.c[j][l];
+                        }
+                    }
+                }
+                Out::Push(sincos) => {
+                    // Written into the spare capacity, then the length set: no zero fill.
+                    let len = sincos.len();
+                    sincos.reserve(count * 2 * n);
+                    let spare = &mut sincos.spare_capacity_mut()[..count * 2 * n];
+                    for (l, out) in spare.chunks_exact_mut(2 * n).enumerate() {
+                        let (so, co) = out.split_at_mut(n);
+                        for j in 0..n {
+                            so[j].write(cl.s[j][l]);
+                            co[j].write(cl.c[j][l]);
+                        }
+                    }
+                    // SAFETY: the `count · 2 n` values past `len` were written just above
+                    // (`chunks_exact_mut` of exactly that length, every entry of each chunk).
+                    unsafe { sincos.set_len(len + count * 2 * n) };
                 }
             }
             Ok(())
