@@ -1388,7 +1388,8 @@ fn skipping_the_flipped_wrist_fit_where_it_cannot_be_nearer_gives_solve_nears_an
 }
 
 #[test]
-fn the_lockstep_fk_recheck_measures_within_its_bound_and_gives_the_per_sample_verdicts() {
+fn the_lockstep_fk_recheck_measures_within_its_bound_and_gives_the_per_sample_verdicts_written_or_appended(
+) {
     // FastChain::check_lanes measures the errors on a pose within fk::CHECK_POSE_BOUND of the
     // exact FK (not the same bits) and gives the joints' sines bit for bit; IkSolver::check_lanes
     // decides only the lanes with room to spare on it and hands every other lane to the
@@ -1467,6 +1468,22 @@ fn the_lockstep_fk_recheck_measures_within_its_bound_and_gives_the_per_sample_ve
                 }
                 let mut out = vec![0.0; LANES * 2 * n];
                 let got = solver.check_lanes(LANES, &qb, &target, &tips, &mut out, level);
+                // check_lanes_push (track's batches): the same verdict, the same values
+                // appended after what the vector held, nothing appended on an error.
+                let mut pushed = vec![1.5, -2.5];
+                let got_push =
+                    solver.check_lanes_push(LANES, &qb, &target, &tips, &mut pushed, level);
+                assert_eq!(
+                    format!("{got_push:?}"),
+                    format!("{got:?}"),
+                    "{name} {level:?}"
+                );
+                assert_eq!(bits(&pushed[..2]), bits(&[1.5, -2.5]), "{name}");
+                if got.is_ok() {
+                    assert_eq!(bits(&pushed[2..]), bits(&out), "{name} {level:?}");
+                } else {
+                    assert_eq!(pushed.len(), 2, "{name} {level:?}");
+                }
                 let first = want.iter().position(|(r, _)| r.is_err());
                 match (&got, first) {
                     (Ok(()), None) => {}
