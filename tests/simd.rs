@@ -1666,8 +1666,8 @@ fn continuing_lanes_verdict_masks_give_the_same_lanes_on_every_level_and_take_ne
                             .collect();
                         // Each taken lane is take_near's answer from the previous one.
                         let mut prev = q_prev.clone();
-                        for l in 0..c.taken {
-                            let q = solver.take_near(&b, l, &target(&tips[l]), &prev).unwrap();
+                        for (l, tip) in tips.iter().enumerate().take(c.taken) {
+                            let q = solver.take_near(&b, l, &target(tip), &prev).unwrap();
                             for (j, v) in q.iter().enumerate() {
                                 assert_eq!(
                                     v.to_bits(),
