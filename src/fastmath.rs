@@ -340,13 +340,15 @@ pub fn atan2_lanes(
 /// [`acos`] of [`crate::simd::LANES`] values at once, lane by lane bit-identical to
 /// [`acos`] (`atan2(√((1−x)(1+x)), x)`; lanes with `|x| > 1`, NaN or the libm switch on go
 /// through [`acos`]).
+#[allow(clippy::neg_cmp_op_on_partial_ord)] // `!(|x| <= 1)`: NaN is special
 #[inline(always)]
 pub fn acos_lanes(x: &[f64; crate::simd::LANES]) -> [f64; crate::simd::LANES] {
     use crate::simd::LANES;
     let mut y = [0.0; LANES];
     let mut special = false;
     for l in 0..LANES {
-        special |= x[l].is_nan() || x[l].abs() > 1.0;
+        // `|`, not `||`: one vector compare for all lanes (NaN fails `<=`: special).
+        special |= !(x[l].abs() <= 1.0);
         y[l] = ((1.0 - x[l]) * (1.0 + x[l])).sqrt();
     }
     let mut out = atan2_lanes(&y, x);

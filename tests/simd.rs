@@ -502,7 +502,7 @@ fn the_closed_form_of_eight_samples_equals_the_per_sample_closed_form_on_every_b
                             let want = solve_branch_prepared(&p, &k, &flange, branch, None);
                             if b.ok[l] {
                                 let (q, s5) = want.expect("an ok lane has an answer");
-                                for (got, want) in b.q[l].iter().zip(&q) {
+                                for (got, want) in b.q(l).iter().zip(&q) {
                                     assert_eq!(got.to_bits(), want.to_bits(), "{name}");
                                 }
                                 assert_eq!(b.s5[l].to_bits(), s5.to_bits());
@@ -834,15 +834,15 @@ fn the_branch_a_closed_form_batch_hands_on_equals_branch_of_its_answers_bit_for_
             for level in levels().into_iter().filter(|l| *l != Level::Scalar) {
                 let mut b = solve_branch_batch(&p, &k, &rot, &pos, branch, level);
                 for l in 0..LANES {
-                    for j in 0..6 {
-                        // The joint-by-joint copy continuing_lanes reads.
-                        assert_eq!(b.qj[j][l].to_bits(), b.q[l][j].to_bits(), "{name}");
+                    // The lane's vector is the joint-by-joint answer continuing_lanes reads.
+                    for (qj, v) in b.qj.iter().zip(b.q(l)) {
+                        assert_eq!(qj[l].to_bits(), v.to_bits(), "{name}");
                     }
                 }
                 for l in 0..LANES {
                     assert_eq!(
                         b.next_branch[l],
-                        k.branch_of(&p, &b.q[l]),
+                        k.branch_of(&p, &b.q(l)),
                         "{name} lane {l}"
                     );
                 }
@@ -870,7 +870,7 @@ fn the_branch_a_closed_form_batch_hands_on_equals_branch_of_its_answers_bit_for_
                     }
                 }
                 // A joint vector other than the previous lane's answer is not known.
-                let mut other = b.q[2];
+                let mut other = b.q(2);
                 other[0] += 1e-12;
                 assert_eq!(b.known_branch(3, &other), None);
                 assert_eq!(b.known_branch(0, &other), None, "prev not set: NaN");

@@ -678,6 +678,7 @@ impl FastChain {
     }
 
     /// The body of [`FastChain::check_lanes`] on the caller's instruction set.
+    #[cfg(not(target_arch = "x86_64"))]
     #[inline(always)]
     fn check_sincos(&self, q: &[Lanes; MAX_DOF]) -> ([Lanes; MAX_DOF], [Lanes; MAX_DOF]) {
         let mut s_out = [[0.0; LANES]; MAX_DOF];
@@ -726,17 +727,8 @@ impl FastChain {
                 unsafe { self.check_avx2(q, m, tp) }
             }
             #[cfg(target_arch = "x86_64")]
-            _ => {
-                let (s, c) = self.check_sincos(q);
-                let (mut dp2, mut f2) = ([0.0; LANES], [0.0; LANES]);
-                // SAFETY: SSE2 is part of x86-64.
-                unsafe {
-                    self.check_errors::<std::arch::x86_64::__m128d>(
-                        &s, &c, m, tp, &mut dp2, &mut f2,
-                    )
-                };
-                CheckLanes { dp2, f2, s, c }
-            }
+            // SAFETY: SSE2 is part of x86-64.
+            _ => unsafe { <Sse2 as Measure>::measure(self, q, m, tp) },
             #[cfg(not(target_arch = "x86_64"))]
             _ => {
                 let (s, c) = self.check_sincos(q);
@@ -765,24 +757,116 @@ impl FastChain {
         m: &crate::math::M3,
         tp: &[Lanes; 3],
     ) -> CheckLanes {
-        let (s, c) = self.check_sincos(q);
-        let (mut dp2, mut f2) = ([0.0; LANES], [0.0; LANES]);
         // SAFETY: the CPU has AVX-512F (this function's own target feature).
-        unsafe {
-            self.check_errors::<std::arch::x86_64::__m512d>(&s, &c, m, tp, &mut dp2, &mut f2)
-        };
-        CheckLanes { dp2, f2, s, c }
+        unsafe { <Avx512 as Measure>::measure(self, q, m, tp) }
     }
 
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "avx2,fma")]
     fn check_avx2(&self, q: &[Lanes; MAX_DOF], m: &crate::math::M3, tp: &[Lanes; 3]) -> CheckLanes {
-        let (s, c) = self.check_sincos(q);
-        let (mut dp2, mut f2) = ([0.0; LANES], [0.0; LANES]);
         // SAFETY: the CPU has AVX2 (this function's own target feature).
-        unsafe {
-            self.check_errors::<std::arch::x86_64::__m256d>(&s, &c, m, tp, &mut dp2, &mut f2)
-        };
-        CheckLanes { dp2, f2, s, c }
+        unsafe { <Avx2 as Measure>::measure(self, q, m, tp) }
+    }
+}
+
+/// [`FastChain::check_lanes`]' measurement on one instruction set, inlined into a caller
+/// compiled for it (so that its answer is built in the caller's frame, not returned by
+/// copy): [`Sse2`], [`Avx2`], [`Avx512`]. The same operations and bits as `check_lanes` on
+/// the matching [`Level`].
+pub(crate) trait Measure {
+    /// [`FastChain::check_lanes`] of `q` against `check_rot` and `tp`.
+    ///
+    /// # Safety
+    /// The CPU must have the implementor's instruction set, and the caller must be compiled
+    /// for it (`#[target_feature]`) for the body to be inlined.
+    #[inline(always)]
+    unsafe fn measure(
+        chain: &FastChain,
+        q: &[Lanes; MAX_DOF],
+        check_rot: &crate::math::M3,
+        tp: &[Lanes; 3],
+    ) -> CheckLanes {
+        // SAFETY: the caller's contract.
+        unsafe { Self::measure_then(chain, q, check_rot, tp, |c| *c) }
+    }
+
+    /// [`Measure::measure`] handed to `then` in place (a returned [`CheckLanes`] is copied
+    /// even when inlined: a kilobyte per call).
+    ///
+    /// # Safety
+    /// As [`Measure::measure`].
+    unsafe fn measure_then<R>(
+        chain: &FastChain,
+        q: &[Lanes; MAX_DOF],
+        check_rot: &crate::math::M3,
+        tp: &[Lanes; 3],
+        then: impl FnOnce(&CheckLanes) -> R,
+    ) -> R;
+}
+
+/// [`Measure`] on the baseline instruction set (SSE2 on x86-64; plain lanes elsewhere).
+pub(crate) struct Sse2;
+/// [`Measure`] on AVX2 + FMA ([`Level::Avx2`]).
+#[cfg(target_arch = "x86_64")]
+pub(crate) struct Avx2;
+/// [`Measure`] on AVX-512F ([`Level::Avx512`]).
+#[cfg(target_arch = "x86_64")]
+pub(crate) struct Avx512;
+
+#[cfg(target_arch = "x86_64")]
+macro_rules! measure_impl {
+    ($t:ty, $reg:ty) => {
+        impl Measure for $t {
+            #[inline(always)]
+            unsafe fn measure_then<R>(
+                chain: &FastChain,
+                q: &[Lanes; MAX_DOF],
+                check_rot: &crate::math::M3,
+                tp: &[Lanes; 3],
+                then: impl FnOnce(&CheckLanes) -> R,
+            ) -> R {
+                let mut out = CheckLanes {
+                    dp2: [0.0; LANES],
+                    f2: [0.0; LANES],
+                    s: [[0.0; LANES]; MAX_DOF],
+                    c: [[1.0; LANES]; MAX_DOF],
+                };
+                for i in 0..chain.n {
+                    (out.s[i], out.c[i]) = crate::fastmath::sin_cos_lanes_with_zeros(&q[i]);
+                }
+                // SAFETY: the caller's contract (this instruction set).
+                unsafe {
+                    chain.check_errors::<$reg>(
+                        &out.s,
+                        &out.c,
+                        check_rot,
+                        tp,
+                        &mut out.dp2,
+                        &mut out.f2,
+                    )
+                };
+                then(&out)
+            }
+        }
+    };
+}
+#[cfg(target_arch = "x86_64")]
+measure_impl!(Sse2, std::arch::x86_64::__m128d);
+#[cfg(target_arch = "x86_64")]
+measure_impl!(Avx2, std::arch::x86_64::__m256d);
+#[cfg(target_arch = "x86_64")]
+measure_impl!(Avx512, std::arch::x86_64::__m512d);
+
+#[cfg(not(target_arch = "x86_64"))]
+impl Measure for Sse2 {
+    #[inline(always)]
+    unsafe fn measure_then<R>(
+        chain: &FastChain,
+        q: &[Lanes; MAX_DOF],
+        check_rot: &crate::math::M3,
+        tp: &[Lanes; 3],
+        then: impl FnOnce(&CheckLanes) -> R,
+    ) -> R {
+        then(&chain.check_lanes(q, check_rot, tp, Level::Scalar))
     }
 }

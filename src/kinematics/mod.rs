@@ -1130,10 +1130,27 @@ impl<'a> IkSolver<'a> {
         branch: Option<Branch>,
         level: crate::simd::Level,
     ) -> Option<opw::BranchBatch> {
+        let mut b = opw::BranchBatch::default();
+        self.solve_near_batch_into(target, tips, q_prev, branch, level, &mut b)
+            .then_some(b)
+    }
+
+    /// [`IkSolver::solve_near_batch_at`] into `batch` (overwritten): `true` with the same
+    /// batch, bit for bit, where that gives `Some`; `false` (and `batch` untouched) where it
+    /// gives `None`. For callers that keep one batch across a path.
+    pub fn solve_near_batch_into(
+        &self,
+        target: &PathTarget,
+        tips: &[V3],
+        q_prev: &[f64],
+        branch: Option<Branch>,
+        level: crate::simd::Level,
+        batch: &mut opw::BranchBatch,
+    ) -> bool {
         use crate::simd::LANES;
         let (p, k) = match (&self.model.opw, &self.opw_k) {
             (Some(p), Some(k)) if q_prev.len() == self.model.dof() => (p, k),
-            _ => return None,
+            _ => return false,
         };
         // flange_target of each tip: rot · tool_inv.rot and rot · tool_inv.pos + tip.
         let off = target.off;
@@ -1144,11 +1161,11 @@ impl<'a> IkSolver<'a> {
             pos[2][l] = off.z + t.z;
         }
         let branch = branch.unwrap_or_else(|| k.branch_of(p, q_prev));
-        let mut b = opw::solve_branch_batch(p, k, &target.frot, &pos, branch, level);
+        opw::solve_branch_batch_into(p, k, &target.frot, &pos, branch, level, batch);
         if q_prev.len() == 6 {
-            b.prev.copy_from_slice(q_prev);
+            batch.prev.copy_from_slice(q_prev);
         }
-        Some(b)
+        true
     }
 
     /// The answer of lane `lane` of `batch` for `tool_target` (its tip and orientation must be
@@ -1289,7 +1306,6 @@ impl<'a> IkSolver<'a> {
     /// The per-lane verdicts of [`IkSolver::continuing_lanes`] (6 joints), the answers joint
     /// by joint, and the branch of each lane's answer, in lockstep.
     #[allow(clippy::needless_range_loop)] // lanes of parallel fixed arrays
-    #[allow(clippy::neg_cmp_op_on_partial_ord)] // `!(d > max)`: NaN is no excess
     #[inline(always)]
     fn continuing_body(
         &self,
@@ -1301,89 +1317,87 @@ impl<'a> IkSolver<'a> {
         out: &mut Continuing,
     ) {
         use crate::simd::LANES;
+        // Per-lane verdicts as bit masks (bit l: lane l), combined in scalar registers.
+        const ALL: u32 = (1 << LANES) - 1;
         let fitted = &mut out.q;
         let t = &self.limits;
-        let mut ok = [0u64; LANES];
+        let mut ok = 0u32;
         for l in 0..LANES {
-            ok[l] = u64::from(batch.ok[l]);
+            ok |= u32::from(batch.ok[l]) << l;
         }
-        let mut step = [1u64; LANES];
+        // Lanes with a step over max_step (as track's jump test: NaN is none).
+        let mut over = 0u32;
         let mut dist = [0.0f64; LANES];
-        let mut shifted = 0u64;
+        let mut shifted = false;
         for j in 0..6 {
-            let v = batch.qj[j];
+            let v = &batch.qj[j];
             // Each lane's fit is centred on the previous lane's fitted answer (lane 0:
             // q_prev). Where every lane takes the fit's fast path (the common case) that is
             // the previous lane's value as it is.
             let mut centre = [0.0; LANES];
-            for l in 0..LANES {
-                centre[l] = if l == 0 { q_prev[j] } else { v[l - 1] };
-            }
+            centre[0] = q_prev[j];
+            centre[1..].copy_from_slice(&v[..LANES - 1]);
             let (lo, hi) = (t.lower[j], t.upper[j]);
-            let mut slow = u64::from(!t.revolute[j]);
+            let mut inside = 0u32;
             for l in 0..LANES {
                 let x = v[l];
-                slow |= u64::from(!((x >= lo) & (x <= hi) & ((x - centre[l]).abs() < PI)));
+                inside |= u32::from((x >= lo) & (x <= hi) & ((x - centre[l]).abs() < PI)) << l;
             }
-            let fb = if slow == 0 {
-                v
+            let fb = if t.revolute[j] && inside == ALL {
+                *v
             } else {
                 // Guess the centres by fitting every lane about q_prev (a), fit again about
                 // the guesses (b): where the two agree bit for bit along the lanes, (b) is
                 // the chained fit.
-                let (fa, oka) = t.fit_lanes(j, &v, &[q_prev[j]; LANES]);
+                let (fa, oka) = t.fit_lanes(j, v, &[q_prev[j]; LANES]);
+                centre[1..].copy_from_slice(&fa[..LANES - 1]);
+                let (fb, okb) = t.fit_lanes(j, v, &centre);
+                let mut agree = 0u32;
+                let mut moved = 0u32;
                 for l in 0..LANES {
-                    centre[l] = if l == 0 { q_prev[j] } else { fa[l - 1] };
+                    let same = fa[l].to_bits() == fb[l].to_bits();
+                    agree |= u32::from((oka[l] & okb[l] != 0) & same) << l;
+                    moved |= u32::from(fb[l].to_bits() != v[l].to_bits()) << l;
                 }
-                let (fb, okb) = t.fit_lanes(j, &v, &centre);
-                for l in 0..LANES {
-                    ok[l] &= oka[l] & okb[l] & u64::from(fa[l].to_bits() == fb[l].to_bits());
-                    // branch_of reads joints 2, 3 and 5 only (OPW q2, q3, q5).
-                    shifted |= u64::from(matches!(j, 1 | 2 | 4))
-                        & u64::from(fb[l].to_bits() != v[l].to_bits());
-                }
+                ok &= agree;
+                // branch_of reads joints 2, 3 and 5 only (OPW q2, q3, q5).
+                shifted |= matches!(j, 1 | 2 | 4) && moved != 0;
                 fb
             };
             let ms = max_step[j];
             for l in 0..LANES {
                 let d = (fb[l] - centre[l]).abs();
-                // No step over max_step (as track's jump test: NaN is none).
-                step[l] &= u64::from(!(d > ms));
+                over |= u32::from(d > ms) << l;
                 // take_near's distance: the largest |step| (f64::max, from 0).
                 dist[l] = dist[l].max(d);
             }
             fitted[j] = fb;
         }
+        let mut step = !over;
         if !step_at_first {
-            step[0] = 1;
+            step |= 1;
         }
         // The branch of each lane's answer: the batch's of the unfitted answers (the same
         // bits where the fit moved none of the joints branch_of reads), or again of the
         // fitted ones.
         let next = match (&self.model.opw, &self.opw_k) {
-            (Some(p), Some(k)) if shifted != 0 => {
-                let mut q = [[0.0; 6]; LANES];
-                for l in 0..LANES {
-                    for j in 0..6 {
-                        q[l][j] = fitted[j][l];
-                    }
-                }
-                opw::branch_of_lanes(p, k, &q)
-            }
+            (Some(p), Some(k)) if shifted => opw::branch_of_joints(p, k, fitted),
             _ => batch.next_branch,
         };
-        let flip_bound = u64::from(self.flip_bound);
-        let mut taken = [false; LANES];
+        let flip_bound = self.flip_bound;
+        let mut wrist_ok = 0u32;
+        let mut branch_ok = 1u32;
         for l in 0..LANES {
-            let wrist_ok = u64::from(batch.s5[l] > NEAR_WRIST_SINGULARITY)
-                | (flip_bound & u64::from(dist[l] <= FLIP_CANNOT_WIN_RAD));
-            let branch_ok = l == 0 || next[l - 1] == batch.branch;
-            taken[l] = (ok[l] & step[l] & wrist_ok) != 0 && branch_ok;
+            let w = (batch.s5[l] > NEAR_WRIST_SINGULARITY)
+                | (flip_bound & (dist[l] <= FLIP_CANNOT_WIN_RAD));
+            wrist_ok |= u32::from(w) << l;
         }
-        let mut t = 0;
-        while t < count && taken[t] {
-            t += 1;
+        for l in 1..LANES {
+            branch_ok |= u32::from(next[l - 1] == batch.branch) << l;
         }
+        let taken = ok & step & wrist_ok & branch_ok;
+        // The leading taken lanes, at most count.
+        let t = ((!taken).trailing_zeros() as usize).min(count);
         out.taken = t;
         if t > 0 {
             out.branch_after = next[t - 1];
@@ -1397,7 +1411,6 @@ impl<'a> IkSolver<'a> {
     /// them). The verdicts, errors and sines are [`IkSolver::check_with_sincos`]'s, bit for
     /// bit. Errors with the first failing lane. Only for a [`IkSolver::batch_checkable`]
     /// solver.
-    #[allow(clippy::needless_range_loop)] // lanes of parallel fixed arrays
     pub fn check_lanes(
         &self,
         count: usize,
@@ -1406,6 +1419,67 @@ impl<'a> IkSolver<'a> {
         tips: &[V3],
         sincos: &mut [f64],
         level: crate::simd::Level,
+    ) -> Result<(), (usize, IkFailure)> {
+        use crate::simd::Level;
+        assert!(
+            self.chain.batchable(),
+            "check_lanes on a chain it does not apply to"
+        );
+        match level {
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx512 if Level::Avx512.available() => {
+                // SAFETY: the CPU has AVX-512F (checked just above).
+                unsafe { self.check_lanes_avx512(count, q, target, tips, sincos) }
+            }
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx2 if Level::Avx2.available() => {
+                // SAFETY: the CPU has AVX2 and FMA (checked just above).
+                unsafe { self.check_lanes_avx2(count, q, target, tips, sincos) }
+            }
+            // SAFETY: the baseline instruction set.
+            _ => unsafe { self.check_lanes_with::<fk::Sse2>(count, q, target, tips, sincos) },
+        }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    fn check_lanes_avx512(
+        &self,
+        count: usize,
+        q: &[[f64; crate::simd::LANES]; MAX_DOF],
+        target: &PathTarget,
+        tips: &[V3],
+        sincos: &mut [f64],
+    ) -> Result<(), (usize, IkFailure)> {
+        // SAFETY: the CPU has AVX-512F (this function's own target feature).
+        unsafe { self.check_lanes_with::<fk::Avx512>(count, q, target, tips, sincos) }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn check_lanes_avx2(
+        &self,
+        count: usize,
+        q: &[[f64; crate::simd::LANES]; MAX_DOF],
+        target: &PathTarget,
+        tips: &[V3],
+        sincos: &mut [f64],
+    ) -> Result<(), (usize, IkFailure)> {
+        // SAFETY: the CPU has AVX2 and FMA (this function's own target feature).
+        unsafe { self.check_lanes_with::<fk::Avx2>(count, q, target, tips, sincos) }
+    }
+
+    /// The body of [`IkSolver::check_lanes`] with the measurement `M` inlined (the caller is
+    /// compiled for `M`'s instruction set, which the CPU has).
+    #[allow(clippy::needless_range_loop)] // lanes of parallel fixed arrays
+    #[inline(always)]
+    unsafe fn check_lanes_with<M: fk::Measure>(
+        &self,
+        count: usize,
+        q: &[[f64; crate::simd::LANES]; MAX_DOF],
+        target: &PathTarget,
+        tips: &[V3],
+        sincos: &mut [f64],
     ) -> Result<(), (usize, IkFailure)> {
         use crate::simd::LANES;
         let n = self.model.dof();
@@ -1422,43 +1496,46 @@ impl<'a> IkSolver<'a> {
                 tp[i][l] = t[i];
             }
         }
-        let cl = self.chain.check_lanes(q, &target.check_rot, &tp, level);
         let bound = fk::CHECK_POSE_BOUND;
         let dp_max = 0.5 * self.check_position_m - bound;
         let dp2_max = dp_max * dp_max;
         let h_max = 0.5 * (1e-8f64).min(0.5 * self.check_orientation_rad) - bound;
         let f2_max = 8.0 * h_max * h_max;
         let room = dp_max > 0.0 && h_max > 0.0;
-        let mut clear = [0u64; LANES];
-        for l in 0..LANES {
-            clear[l] = u64::from((cl.dp2[l] < dp2_max) & (cl.f2[l] < f2_max));
-        }
-        for l in 0..count {
-            if !(room && clear[l] != 0) {
-                let mut ql = [0.0; MAX_DOF];
-                for (j, v) in ql.iter_mut().enumerate().take(n) {
-                    *v = q[j][l];
+        let judge = |cl: &fk::CheckLanes| {
+            let mut clear = [0u64; LANES];
+            for l in 0..LANES {
+                clear[l] = u64::from((cl.dp2[l] < dp2_max) & (cl.f2[l] < f2_max));
+            }
+            for l in 0..count {
+                if !(room && clear[l] != 0) {
+                    let mut ql = [0.0; MAX_DOF];
+                    for (j, v) in ql.iter_mut().enumerate().take(n) {
+                        *v = q[j][l];
+                    }
+                    let mut sc = [0.0; 2 * MAX_DOF];
+                    self.check_with_sincos(
+                        &Frame {
+                            rot: target.rot,
+                            pos: tips[l],
+                        },
+                        &ql[..n],
+                        &mut sc[..2 * n],
+                    )
+                    .map_err(|e| (l, e))?;
                 }
-                let mut sc = [0.0; 2 * MAX_DOF];
-                self.check_with_sincos(
-                    &Frame {
-                        rot: target.rot,
-                        pos: tips[l],
-                    },
-                    &ql[..n],
-                    &mut sc[..2 * n],
-                )
-                .map_err(|e| (l, e))?;
             }
-        }
-        for (l, out) in sincos.chunks_exact_mut(2 * n).take(count).enumerate() {
-            let (so, co) = out.split_at_mut(n);
-            for j in 0..n {
-                so[j] = cl.s[j][l];
-                co[j] = cl.c[j][l];
+            for (l, out) in sincos.chunks_exact_mut(2 * n).take(count).enumerate() {
+                let (so, co) = out.split_at_mut(n);
+                for j in 0..n {
+                    so[j] = cl.s[j][l];
+                    co[j] = cl.c[j][l];
+                }
             }
-        }
-        Ok(())
+            Ok(())
+        };
+        // SAFETY: the caller's contract (M's instruction set).
+        unsafe { M::measure_then(&self.chain, q, &target.check_rot, &tp, judge) }
     }
 
     /// The FK re-check of `count ≤` [`crate::simd::LANES`] answers in lockstep: lane `l` is the

@@ -468,31 +468,46 @@ fn wrist(r: &M3, arm: &[f64; 3], sc1: (f64, f64), w: Wrist, q4_ref: f64) -> ([f6
 type Lanes = [f64; crate::simd::LANES];
 
 /// Closed-form answers of [`crate::simd::LANES`] flange poses sharing one orientation, in
-/// lockstep; see [`solve_branch_batch`].
+/// lockstep; see [`solve_branch_batch`]. Joint-major only (a lane's vector is
+/// [`BranchBatch::q`]): the lockstep callers read the answers joint by joint.
 #[derive(Clone, Copy, Debug)]
 pub struct BranchBatch {
     /// The branch every lane was solved for.
     pub branch: Branch,
-    /// URDF angles (rad, not wrapped) per lane, as [`solve_branch_prepared`] gives them.
-    pub q: [[f64; 6]; crate::simd::LANES],
-    /// The same angles joint by joint: `qj[j][lane] == q[lane][j]` (the same bits).
+    /// URDF angles (rad, not wrapped) joint by joint, as [`solve_branch_prepared`] gives
+    /// them: `qj[j][lane]`.
     pub qj: [Lanes; 6],
-    /// OPW angles per lane before the wrist variant is applied (`q1 … q6` with the wrist's
-    /// `atan2` results), for [`BranchBatch::variant`].
-    pub o: [[f64; 6]; crate::simd::LANES],
+    /// OPW angles joint by joint before the wrist variant is applied (`q1 … q6` with the
+    /// wrist's `atan2` results), for [`BranchBatch::variant`]: `oj[j][lane]`.
+    pub oj: [Lanes; 6],
     /// `|sin q5|` per lane (the same for both wrist variants).
     pub s5: Lanes,
     /// Whether the lane holds [`solve_branch_prepared`]'s answer; `false` where it errs or
     /// the lane needs `q_ref` (the wrist singularity) or a degenerate case (wrist centre on
     /// the axis of joint 1): such lanes are to be solved one by one.
     pub ok: [bool; crate::simd::LANES],
-    /// Per lane, [`Prepared::branch_of`] of the lane's answer `q[lane]`, bit for bit (the same
-    /// operations, in lockstep): the branch the next sample continues when it continues from
-    /// that answer unchanged ([`BranchBatch::known_branch`]).
+    /// Per lane, [`Prepared::branch_of`] of the lane's answer [`BranchBatch::q`], bit for bit
+    /// (the same operations, in lockstep): the branch the next sample continues when it
+    /// continues from that answer unchanged ([`BranchBatch::known_branch`]).
     pub next_branch: [Branch; crate::simd::LANES],
     /// The joint vector the batch's branch was taken from (rad; [`Prepared::branch_of`] of it
     /// is `branch`), when the caller set it; NaN otherwise.
     pub prev: [f64; 6],
+}
+
+impl Default for BranchBatch {
+    /// A batch of no answers (every lane not `ok`), to be filled by [`solve_branch_batch_into`].
+    fn default() -> Self {
+        BranchBatch {
+            branch: Branch::ALL[0],
+            qj: [[0.0; crate::simd::LANES]; 6],
+            oj: [[0.0; crate::simd::LANES]; 6],
+            s5: [0.0; crate::simd::LANES],
+            ok: [false; crate::simd::LANES],
+            next_branch: [Branch::ALL[0]; crate::simd::LANES],
+            prev: [f64::NAN; 6],
+        }
+    }
 }
 
 /// The body of [`solve_branch_batch`]: [`solve_branch_prepared`]'s operations per lane, in
@@ -504,7 +519,8 @@ fn solve_branch_lanes(
     rot: &M3,
     pos: &[Lanes; 3],
     branch: Branch,
-) -> BranchBatch {
+    out: &mut BranchBatch,
+) {
     use crate::fastmath::{acos_lanes, atan2_lanes, sin_cos_lanes};
     use crate::simd::LANES;
     let mut ok = [true; LANES];
@@ -597,38 +613,49 @@ fn solve_branch_lanes(
     let q4 = atan2_lanes(&r12, &r02);
     let q5 = atan2_lanes(&s5, &r22);
     let q6 = atan2_lanes(&r21, &mr20);
-    let mut q = [[0.0; 6]; LANES];
-    let mut o = [[0.0; 6]; LANES];
-    // variant() joint by joint: the wrist variant, then (o + offset) · sign.
-    let mut qj = [[0.0; LANES]; 6];
-    for l in 0..LANES {
-        let wr = match branch.wrist {
-            Wrist::NoFlip => [q4[l], q5[l], q6[l]],
-            Wrist::Flip => [q4[l] + PI, -q5[l], q6[l] + PI],
-        };
-        let ol = [q1[l], q2[l], q3[l], wr[0], wr[1], wr[2]];
-        for j in 0..6 {
-            qj[j][l] = (ol[j] + p.offsets[j]) * p.signs[j];
+    // variant() joint by joint: the wrist variant, then (o + offset) · sign. Written into
+    // `out` row by row (a whole-array move is a kilobyte memcpy).
+    (out.oj[0], out.oj[1], out.oj[2]) = (q1, q2, q3);
+    (out.oj[3], out.oj[4], out.oj[5]) = (q4, q5, q6);
+    // (w + offset) · sign of the wrist variant's angle w: o as it is, o + π, or −o.
+    #[inline(always)]
+    fn urdf(o: &Lanes, wr: impl Fn(f64) -> f64, off: f64, sign: f64) -> Lanes {
+        let mut r = [0.0; crate::simd::LANES];
+        for (r, o) in r.iter_mut().zip(o) {
+            *r = (wr(*o) + off) * sign;
+        }
+        r
+    }
+    let (off, sg) = (&p.offsets, &p.signs);
+    out.qj[0] = urdf(&q1, |o| o, off[0], sg[0]);
+    out.qj[1] = urdf(&q2, |o| o, off[1], sg[1]);
+    out.qj[2] = urdf(&q3, |o| o, off[2], sg[2]);
+    match branch.wrist {
+        Wrist::NoFlip => {
+            out.qj[3] = urdf(&q4, |o| o, off[3], sg[3]);
+            out.qj[4] = urdf(&q5, |o| o, off[4], sg[4]);
+            out.qj[5] = urdf(&q6, |o| o, off[5], sg[5]);
+        }
+        Wrist::Flip => {
+            out.qj[3] = urdf(&q4, |o| o + PI, off[3], sg[3]);
+            out.qj[4] = urdf(&q5, |o| -o, off[4], sg[4]);
+            out.qj[5] = urdf(&q6, |o| o + PI, off[5], sg[5]);
         }
     }
+    let qj = &out.qj;
     for l in 0..LANES {
-        o[l] = [q1[l], q2[l], q3[l], q4[l], q5[l], q6[l]];
-        for j in 0..6 {
-            q[l][j] = qj[j][l];
-        }
-        ok[l] &= q[l].iter().all(|v| v.is_finite());
+        ok[l] &= qj[0][l].is_finite()
+            & qj[1][l].is_finite()
+            & qj[2][l].is_finite()
+            & qj[3][l].is_finite()
+            & qj[4][l].is_finite()
+            & qj[5][l].is_finite();
     }
-    let next_branch = branch_of_lanes(p, k, &q);
-    BranchBatch {
-        branch,
-        q,
-        qj,
-        o,
-        s5,
-        ok,
-        next_branch,
-        prev: [f64::NAN; 6],
-    }
+    out.next_branch = branch_of_joints(p, k, &out.qj);
+    out.branch = branch;
+    out.s5 = s5;
+    out.ok = ok;
+    out.prev = [f64::NAN; 6];
 }
 
 /// [`Prepared::branch_of`] of [`crate::simd::LANES`] joint vectors (URDF angles, rad), lane by
@@ -651,6 +678,25 @@ pub(crate) fn branch_of_lanes(
     k: &Prepared,
     q: &[[f64; 6]; crate::simd::LANES],
 ) -> [Branch; crate::simd::LANES] {
+    let mut qj = [[0.0; crate::simd::LANES]; 6];
+    for (l, ql) in q.iter().enumerate() {
+        for j in 0..6 {
+            qj[j][l] = ql[j];
+        }
+    }
+    branch_of_joints(p, k, &qj)
+}
+
+/// [`branch_of_lanes`] of joint vectors given joint by joint (`qj[j][lane]`, URDF angles,
+/// rad): the same operations on the same values, lane by lane bit-identical to
+/// [`Prepared::branch_of`].
+#[allow(clippy::needless_range_loop)] // lanes of parallel fixed arrays
+#[inline(always)]
+pub(crate) fn branch_of_joints(
+    p: &OpwParams,
+    k: &Prepared,
+    qj: &[[f64; crate::simd::LANES]; 6],
+) -> [Branch; crate::simd::LANES] {
     use crate::simd::LANES;
     let wrap = |a: f64| {
         let w = a - (2.0 * PI) * ((a + PI) / (2.0 * PI)).floor();
@@ -662,11 +708,13 @@ pub(crate) fn branch_of_lanes(
     };
     let (mut o1, mut o1e, mut e, mut o4) = ([0.0; LANES], [0.0; LANES], [0.0; LANES], [0.0; LANES]);
     for l in 0..LANES {
-        let o = p.to_opw(&q[l]);
-        o1[l] = o[1];
-        e[l] = o[2] + k.psi3;
-        o1e[l] = o[1] + e[l];
-        o4[l] = o[4];
+        // OpwParams::to_opw of joints 2, 3 and 5: q · sign − offset.
+        let o_1 = qj[1][l] * p.signs[1] - p.offsets[1];
+        let o_2 = qj[2][l] * p.signs[2] - p.offsets[2];
+        o1[l] = o_1;
+        e[l] = o_2 + k.psi3;
+        o1e[l] = o_1 + e[l];
+        o4[l] = qj[4][l] * p.signs[4] - p.offsets[4];
     }
     let (s1, _) = crate::fastmath::sin_cos_lanes(&o1);
     let (s1e, _) = crate::fastmath::sin_cos_lanes(&o1e);
@@ -679,19 +727,23 @@ pub(crate) fn branch_of_lanes(
         up[l] = wrap(e[l]) >= 0.0;
         noflip[l] = wrap(o4[l]) >= 0.0;
     }
-    std::array::from_fn(|l| Branch {
-        shoulder: if front[l] {
-            Shoulder::Front
-        } else {
-            Shoulder::Back
-        },
-        elbow: if up[l] { Elbow::Up } else { Elbow::Down },
-        wrist: if noflip[l] {
-            Wrist::NoFlip
-        } else {
-            Wrist::Flip
-        },
-    })
+    let mut out = [Branch::ALL[0]; LANES];
+    for l in 0..LANES {
+        out[l] = Branch {
+            shoulder: if front[l] {
+                Shoulder::Front
+            } else {
+                Shoulder::Back
+            },
+            elbow: if up[l] { Elbow::Up } else { Elbow::Down },
+            wrist: if noflip[l] {
+                Wrist::NoFlip
+            } else {
+                Wrist::Flip
+            },
+        };
+    }
+    out
 }
 
 /// URDF angles of the wrist variant `w` of the OPW angles `o` (the wrist's `atan2` results
@@ -706,28 +758,49 @@ fn variant(p: &OpwParams, o: &[f64; 6], w: Wrist) -> [f64; 6] {
 }
 
 impl BranchBatch {
+    /// Lane `lane`'s URDF angles (rad, not wrapped): `qj[j][lane]` for the joints `j`.
+    #[inline]
+    pub fn q(&self, lane: usize) -> [f64; 6] {
+        let mut q = [0.0; 6];
+        for (v, qj) in q.iter_mut().zip(&self.qj) {
+            *v = qj[lane];
+        }
+        q
+    }
+
     /// Lane `lane`'s URDF angles (rad, not wrapped) for the wrist variant `w` of the batch's
     /// shoulder and elbow: [`solve_branch_prepared`]'s answer for that branch, bit for bit,
     /// when the lane is `ok`.
     pub fn variant(&self, p: &OpwParams, lane: usize, w: Wrist) -> [f64; 6] {
-        variant(p, &self.o[lane], w)
+        let mut o = [0.0; 6];
+        for (v, oj) in o.iter_mut().zip(&self.oj) {
+            *v = oj[lane];
+        }
+        variant(p, &o, w)
     }
 
     /// [`Prepared::branch_of`]`(q_prev)` without computing it, when the batch knows it: at
     /// lane 0 for the joint vector the batch was solved from ([`BranchBatch::prev`]), at a
-    /// later lane for the previous lane's answer `q[lane − 1]` (both compared bit for bit).
-    /// `None` otherwise (compute it).
+    /// later lane for the previous lane's answer [`BranchBatch::q`]`(lane − 1)` (both
+    /// compared bit for bit). `None` otherwise (compute it).
     #[inline]
     pub fn known_branch(&self, lane: usize, q_prev: &[f64]) -> Option<Branch> {
-        let same = |a: &[f64; 6]| {
-            q_prev.len() == 6
-                && a.iter()
-                    .zip(q_prev)
-                    .all(|(x, y)| x.to_bits() == y.to_bits())
-        };
+        if q_prev.len() != 6 {
+            return None;
+        }
         match lane {
-            0 => same(&self.prev).then_some(self.branch),
-            l if l < crate::simd::LANES => same(&self.q[l - 1]).then_some(self.next_branch[l - 1]),
+            0 => self
+                .prev
+                .iter()
+                .zip(q_prev)
+                .all(|(x, y)| x.to_bits() == y.to_bits())
+                .then_some(self.branch),
+            l if l < crate::simd::LANES => self
+                .qj
+                .iter()
+                .zip(q_prev)
+                .all(|(x, y)| x[l - 1].to_bits() == y.to_bits())
+                .then_some(self.next_branch[l - 1]),
             _ => None,
         }
     }
@@ -746,19 +819,35 @@ pub fn solve_branch_batch(
     branch: Branch,
     level: crate::simd::Level,
 ) -> BranchBatch {
+    let mut out = BranchBatch::default();
+    solve_branch_batch_into(p, k, rot, pos, branch, level, &mut out);
+    out
+}
+
+/// [`solve_branch_batch`] into `out` (every field written; [`BranchBatch::prev`] NaN): the
+/// same answers, bit for bit, without moving the batch.
+pub fn solve_branch_batch_into(
+    p: &OpwParams,
+    k: &Prepared,
+    rot: &M3,
+    pos: &[Lanes; 3],
+    branch: Branch,
+    level: crate::simd::Level,
+    out: &mut BranchBatch,
+) {
     use crate::simd::Level;
     match level {
         #[cfg(target_arch = "x86_64")]
         Level::Avx512 if Level::Avx512.available() => {
             // SAFETY: the CPU has AVX-512F (checked just above).
-            unsafe { solve_branch_avx512(p, k, rot, pos, branch) }
+            unsafe { solve_branch_avx512(p, k, rot, pos, branch, out) }
         }
         #[cfg(target_arch = "x86_64")]
         Level::Avx2 if Level::Avx2.available() => {
             // SAFETY: the CPU has AVX2 and FMA (checked just above).
-            unsafe { solve_branch_avx2(p, k, rot, pos, branch) }
+            unsafe { solve_branch_avx2(p, k, rot, pos, branch, out) }
         }
-        _ => solve_branch_lanes(p, k, rot, pos, branch),
+        _ => solve_branch_lanes(p, k, rot, pos, branch, out),
     }
 }
 
@@ -770,8 +859,9 @@ fn solve_branch_avx512(
     rot: &M3,
     pos: &[Lanes; 3],
     branch: Branch,
-) -> BranchBatch {
-    solve_branch_lanes(p, k, rot, pos, branch)
+    out: &mut BranchBatch,
+) {
+    solve_branch_lanes(p, k, rot, pos, branch, out)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -782,8 +872,9 @@ fn solve_branch_avx2(
     rot: &M3,
     pos: &[Lanes; 3],
     branch: Branch,
-) -> BranchBatch {
-    solve_branch_lanes(p, k, rot, pos, branch)
+    out: &mut BranchBatch,
+) {
+    solve_branch_lanes(p, k, rot, pos, branch, out)
 }
 
 /// Joint angles (URDF convention, rad, wrapped to (−π, π]) of one branch for the flange pose

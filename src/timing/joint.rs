@@ -346,15 +346,24 @@ pub fn track(
     // The branch of prev, when the last batch's lanes all continued one another.
     let mut known: Option<crate::kinematics::Branch> = None;
     let mut cont = crate::kinematics::Continuing::new();
+    // One batch for the whole path, overwritten batch by batch (not moved).
+    let mut batch = crate::kinematics::opw::BranchBatch::default();
     while k0 < len {
         let count = LANES.min(len - k0);
         for (t, pk) in tips.iter_mut().zip(&motion.p[k0..k0 + count]) {
             *t = part_to_base.apply(pk);
         }
-        let chunk =
-            solver.solve_near_batch_at(&path_target, &tips[..count], &prev, known.take(), level);
+        let solved = solver.solve_near_batch_into(
+            &path_target,
+            &tips[..count],
+            &prev,
+            known.take(),
+            level,
+            &mut batch,
+        );
+        let chunk = solved.then_some(&batch);
         cont.taken = 0;
-        if let Some(b) = &chunk {
+        if let Some(b) = chunk {
             solver.continuing_lanes(b, count, &prev, &max_step, k0 > 0, level, &mut cont);
         }
         let taken = cont.taken;
@@ -396,7 +405,7 @@ pub fn track(
             }
         }
         for (l, &tip) in tips.iter().enumerate().take(count).skip(taken) {
-            sample(k0 + l, tip, chunk.as_ref(), &mut prev, qs, tcp, sincos)?;
+            sample(k0 + l, tip, chunk, &mut prev, qs, tcp, sincos)?;
         }
         check_pending(qs, tcp, sincos, tcp.len())?;
         k0 += count;
