@@ -284,7 +284,8 @@ impl DynModel {
 }
 
 /// Per-thread workspace for the algorithms of this module: fixed-size arrays, no heap.
-/// Holds the last call's joint transforms, link forces and composite inertias.
+/// Holds intermediate joint transforms, link forces and composite inertias (RNEA of a
+/// revolute model runs the lockstep kernel on one lane and leaves it untouched).
 #[derive(Clone, Debug)]
 pub struct DynData {
     r: [M3; MAX_DOF],
@@ -544,7 +545,9 @@ pub fn rnea_regressor(
 /// gravity applied as the base acceleration `−g` (Featherstone 2008, table 5.1).
 ///
 /// `q` rad (m), `qd` rad/s, `qdd` rad/s², all of length `model.dof()`; writes `tau` (N·m or N,
-/// length `dof`). No allocation. Error: [`Error::SizeMismatch`] on a wrong slice length.
+/// length `dof`). No allocation. A model whose joints are all revolute runs the lockstep
+/// kernel of [`super::rnea_batch`] on one lane (the same bits as every SIMD level). Error:
+/// [`Error::SizeMismatch`] on a wrong slice length.
 pub fn rnea(
     model: &DynModel,
     data: &mut DynData,
