@@ -1064,3 +1064,220 @@ fn the_first_infeasible_sample_and_its_reason_are_those_of_the_plain_checks_on_c
         "{seen:?}"
     );
 }
+
+#[test]
+fn the_checked_samples_in_lockstep_give_check_sample_with_answers_messages_and_margins_sample_by_sample(
+) {
+    use printwatt::placement::feasibility::{
+        check_sample_with, CheckedLanes, FeasibilityOptions, Margins, Scene, World,
+    };
+    use printwatt::simd::{self, Level};
+    use rand::{Rng, SeedableRng};
+    let robots = all_robots("lockstep");
+    // A round wall, 40 layers, printed from the first sample on.
+    let mut wall = Vec::new();
+    for layer in 0..40 {
+        for k in 0..100 {
+            let a = std::f64::consts::TAU * k as f64 / 100.0;
+            wall.push(V3::new(
+                0.4 * a.cos(),
+                0.4 * a.sin(),
+                0.02 * (layer + 1) as f64,
+            ));
+        }
+    }
+    let (mut outcomes, mut lockstep_robots) = (std::collections::BTreeMap::new(), 0);
+    let mut answered = 0;
+    for level in [Level::Sse2, Level::Avx2, Level::Avx512] {
+        if !simd::set_level(level) {
+            continue;
+        }
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(12);
+        for model in &robots {
+            let n = model.dof();
+            let o = FeasibilityOptions {
+                check_every: rng.gen_range(1..=12),
+                ..Default::default()
+            };
+            let rs = RobotShapes::new(
+                model,
+                printwatt::placement::feasibility::reach_m(model),
+                &o.radii,
+            );
+            let Some(mut lanes) = CheckedLanes::new(model, &o, &rs) else {
+                // The scalar level or an arm the lockstep path does not take.
+                continue;
+            };
+            lockstep_robots += usize::from(rs.lockstep());
+            for round in 0..12 {
+                // The robot base beside the wall, a little above or below the bed's top.
+                let base_to_part = Frame::from_xyz_rpy(
+                    [
+                        rng.gen_range(0.6..1.4),
+                        rng.gen_range(-0.4..0.4),
+                        rng.gen_range(-0.3..0.3),
+                    ],
+                    [0.0, 0.0, rng.gen_range(2.5..3.8)],
+                );
+                let m = 3000;
+                let p = &wall[..m.min(wall.len())];
+                let world = World::new(
+                    &base_to_part.inverse(),
+                    (V3::new(-0.5, -0.5, 0.0), V3::new(0.5, 0.5, 0.8)),
+                    &o,
+                );
+                let beads = Beads::new(p, &vec![true; p.len()], o.check_every, 0.02);
+                let scene = Scene {
+                    world: &world,
+                    shapes: &rs,
+                    beads: &beads,
+                };
+                // A random walk through the joint space with jumps now and then: the bed, the
+                // part, the arm itself, the singularities, parry's GJK, angles beyond the fast
+                // sines' domain and NaNs.
+                let mut q: Vec<f64> = model
+                    .joints
+                    .iter()
+                    .map(|j| rng.gen_range(j.lower.max(-3.0)..j.upper.min(3.0)))
+                    .collect();
+                let (mut qs, mut sincos) = (Vec::new(), Vec::new());
+                for _ in 0..m {
+                    match rng.gen_range(0..400) {
+                        0..=3 => {
+                            for (v, j) in q.iter_mut().zip(&model.joints) {
+                                *v = rng.gen_range(j.lower.max(-3.0)..j.upper.min(3.0));
+                            }
+                        }
+                        4 if round % 3 == 0 => q[rng.gen_range(0..n)] = f64::NAN,
+                        5 if round % 4 == 1 => q[rng.gen_range(0..n)] = 70.0,
+                        _ => {
+                            for (v, j) in q.iter_mut().zip(&model.joints) {
+                                if v.is_nan() || v.abs() > 10.0 {
+                                    *v = 0.5 * (j.lower.max(-3.0) + j.upper.min(3.0));
+                                }
+                                *v = (*v + rng.gen_range(-0.03..0.03))
+                                    .clamp(j.lower.max(-3.0), j.upper.min(3.0));
+                            }
+                        }
+                    }
+                    qs.extend_from_slice(&q);
+                    sincos.extend(shared_sines(&q));
+                }
+                let every = o.check_every;
+                let mut want_margins = Margins::default();
+                let mut got_margins = Margins::default();
+                let mut poses = Vec::new();
+                for k in (0..m).filter(|k| k % every == 0 || k + 1 == m) {
+                    let (qk, sk) = (&qs[k * n..(k + 1) * n], &sincos[k * 2 * n..(k + 1) * 2 * n]);
+                    let want = check_sample_with(
+                        model,
+                        &o,
+                        scene,
+                        qk,
+                        Some(sk),
+                        beads.laid_at(k),
+                        &mut poses,
+                        &mut want_margins,
+                    );
+                    let got = lanes.check(
+                        model,
+                        &o,
+                        scene,
+                        k,
+                        every,
+                        &qs,
+                        &sincos,
+                        &mut poses,
+                        &mut got_margins,
+                    );
+                    assert_eq!(got, want, "{} {level:?} sample {k}", model.name());
+                    assert_eq!(
+                        format!("{got_margins:?}"),
+                        format!("{want_margins:?}"),
+                        "{} {level:?} sample {k}",
+                        model.name()
+                    );
+                    let name = want.as_ref().map_or("none", |f| f.0.name());
+                    *outcomes.entry(name).or_insert(0usize) += 1;
+                }
+            }
+            answered += lanes.answered();
+        }
+    }
+    simd::set_level(simd::detected());
+    eprintln!("{outcomes:?}, {answered} answered from the lanes alone");
+    if lockstep_robots == 0 {
+        // The scalar level only: nothing to compare.
+        return;
+    }
+    for r in [
+        "none",
+        "collision_bed",
+        "collision_part",
+        "self_collision",
+        "elbow_singularity",
+        "shoulder_singularity",
+    ] {
+        assert!(
+            outcomes.get(r).is_some_and(|&c| c > 20),
+            "{r}: {outcomes:?}"
+        );
+    }
+    // Both ways are taken: passing samples answered by the lanes alone (a placement's usual
+    // case), and the rest (here, with the arm reaching into the wall, most) the per-sample way.
+    assert!(
+        answered > 10_000 && answered < outcomes["none"],
+        "{answered} of {} passing samples",
+        outcomes["none"]
+    );
+}
+
+#[test]
+fn evaluations_report_the_same_first_infeasible_sample_and_margins_on_every_level_as_the_scalar_path(
+) {
+    use printwatt::placement::feasibility::FeasibilityOptions;
+    use printwatt::placement::{Evaluator, Objective};
+    use printwatt::simd::{self, Level};
+    let model = common::robot("abb_irb6700_200_260");
+    let tp = common::path("default.gcode");
+    let job = common::default_job(&model, &tp);
+    // The default links (mostly feasible) and fatter ones (the bed, the part and the arm
+    // itself get in the way), every 10th and every 3rd sample checked.
+    let mut fat = FeasibilityOptions::default();
+    fat.radii.arm *= 2.0;
+    fat.radii.wrist *= 3.0;
+    let dense = FeasibilityOptions {
+        check_every: 3,
+        ..fat
+    };
+    let grid = printwatt::placement::optimise::default_grid(
+        printwatt::placement::feasibility::reach_m(&model),
+    )
+    .placements();
+    let mut seen = std::collections::BTreeMap::new();
+    for (o, step) in [(FeasibilityOptions::default(), 11), (fat, 7), (dense, 13)] {
+        let ev = Evaluator::new(&job, o, Objective::Supply);
+        let mut sc = ev.scratch().unwrap();
+        let mut outcome = |level: Level, at| {
+            assert!(simd::set_level(level) || level != Level::Scalar);
+            match ev.evaluate(&mut sc, at).outcome {
+                Ok(f) => format!("feasible {:?}", f.margins),
+                Err(e) => format!("{:?} at {:?}: {}", e.reason, e.sample, e.detail),
+            }
+        };
+        for at in grid.iter().step_by(step) {
+            let want = outcome(Level::Scalar, at);
+            for level in [Level::Sse2, Level::Avx2, Level::Avx512] {
+                if level.available() {
+                    assert_eq!(outcome(level, at), want, "{level:?} at {at:?}");
+                }
+            }
+            let key = want.split(' ').next().unwrap_or("").to_string();
+            *seen.entry(key).or_insert(0) += 1;
+        }
+    }
+    simd::set_level(simd::detected());
+    eprintln!("{seen:?}");
+    assert!(seen.get("feasible").is_some_and(|&c| c > 2), "{seen:?}");
+    assert!(seen.len() >= 4, "{seen:?}");
+}

@@ -34,6 +34,8 @@ use parry3d_f64::na::{Rotation3, UnitQuaternion};
 use parry3d_f64::query;
 use parry3d_f64::shape::{Capsule, Cuboid, Cylinder, Segment, SharedShape};
 
+pub mod lanes;
+
 /// Bead radius of the printed part, m (ESTIMATE: a 40 mm wide concrete bead, typical of 3DCP).
 pub const BEAD_RADIUS_M: f64 = 0.02;
 

@@ -377,6 +377,19 @@ pub fn check_sample_with(
     if !o.collisions {
         return None;
     }
+    collisions_with(scene, q, sincos, laid, poses, margins)
+}
+
+/// The collision part of [`check_sample_with`] (with `o.collisions` set).
+#[inline]
+fn collisions_with(
+    scene: Scene<'_>,
+    q: &[f64],
+    sincos: Option<&[f64]>,
+    laid: usize,
+    poses: &mut Vec<Isometry<f64>>,
+    margins: &mut Margins,
+) -> Option<(Reason, String)> {
     let Scene {
         world,
         shapes,
@@ -393,6 +406,290 @@ pub fn check_sample_with(
         &mut margins.bed_clearance_m,
         poses,
     )
+}
+
+/// One value per lane.
+type Lanes = [f64; crate::simd::LANES];
+
+/// [`check_sample_with`] of a path's checked samples (every `every`-th sample and the last),
+/// [`crate::simd::LANES`] of them computed at once: when sample `k` is asked for and is not
+/// in the batch in hand, the batch becomes `k` and the next checked samples after it, and
+/// their singularity measures (the same sines as lane arithmetic, [`crate::fastmath::
+/// sin_cos_lanes`]) and collision geometry ([`collision::lanes::CollisionLanes`]) are
+/// computed in lockstep. Each sample is then answered in turn: the measures are the
+/// per-sample ones bit for bit and go through the same rule; the collision verdict comes
+/// from the lanes only where they show that the per-sample check finds nothing (then the
+/// bed clearance is updated as it does), and every other sample (a GJK distance, a box
+/// meeting another shape's or the part's, an angle off the fast sines' domain, a NaN) goes
+/// through [`check_sample_with`] itself. So every answer, message and margin is
+/// [`check_sample_with`]'s, and asking in order gives the same first failure; computing a
+/// batch has no effect on `margins`, so a batch cut short by a failure changes nothing.
+pub struct CheckedLanes {
+    /// The samples of the batch in hand (`len` of them) and the next lane to answer.
+    ks: [usize; crate::simd::LANES],
+    len: usize,
+    next: usize,
+    /// Per lane: the wrist, elbow and shoulder measures (see [`check_sample_with`]).
+    w: Lanes,
+    e: Lanes,
+    s: Lanes,
+    /// Bit `l`: lane `l` goes through [`check_sample_with`].
+    special: u32,
+    /// The arm has OPW parameters (the singularity measures are checked).
+    opw: bool,
+    /// The collision geometry is taken in lockstep ([`RobotShapes::lockstep`]).
+    collide: bool,
+    coll: collision::lanes::CollisionLanes,
+    /// Samples answered from the lanes alone (for tests).
+    answered: usize,
+}
+
+impl CheckedLanes {
+    /// For `model` and `shapes` under `o`: `None` where the lockstep answer is not taken
+    /// (the scalar level, libm's sines, an arm of more than [`crate::kinematics::MAX_DOF`]
+    /// joints, OPW signs other than ±1 or offsets other than 0 on joints 2 and 5).
+    pub fn new(model: &RobotModel, o: &FeasibilityOptions, shapes: &RobotShapes) -> Option<Self> {
+        let n = model.dof();
+        if crate::simd::level() == crate::simd::Level::Scalar
+            || crate::fastmath::libm_selected()
+            || n > crate::kinematics::MAX_DOF
+        {
+            return None;
+        }
+        let opw = match model.opw.as_ref().filter(|_| n >= 6) {
+            Some(p) => {
+                let unit = |j: usize| p.offsets[j] == 0.0 && p.signs[j].abs() == 1.0;
+                if !(unit(1) && unit(4)) {
+                    return None;
+                }
+                true
+            }
+            None => false,
+        };
+        Some(CheckedLanes {
+            ks: [0; crate::simd::LANES],
+            len: 0,
+            next: 0,
+            w: [0.0; crate::simd::LANES],
+            e: [0.0; crate::simd::LANES],
+            s: [0.0; crate::simd::LANES],
+            special: 0,
+            opw,
+            collide: o.collisions && shapes.lockstep(),
+            coll: Default::default(),
+            answered: 0,
+        })
+    }
+
+    /// How many samples [`CheckedLanes::check`] answered from the lanes alone, without
+    /// [`check_sample_with`]'s collision check (for tests).
+    #[doc(hidden)]
+    pub fn answered(&self) -> usize {
+        self.answered
+    }
+
+    /// [`check_sample_with`]`(model, o, scene, q, sincos, scene.beads.laid_at(k), poses,
+    /// margins)` of sample `k` of a path of `m` samples whose checked samples are every
+    /// `every`-th and the last; `qs` and `sincos`: every sample's joint positions (rad, `n`
+    /// per sample) and their sines then cosines (`2 n` per sample), row-major. The same
+    /// `model`, `o` and shapes as [`CheckedLanes::new`]'s.
+    #[allow(clippy::too_many_arguments)]
+    pub fn check(
+        &mut self,
+        model: &RobotModel,
+        o: &FeasibilityOptions,
+        scene: Scene<'_>,
+        k: usize,
+        every: usize,
+        qs: &[f64],
+        sincos: &[f64],
+        poses: &mut Vec<Isometry<f64>>,
+        margins: &mut Margins,
+    ) -> Option<(Reason, String)> {
+        let n = model.dof();
+        let m = qs.len() / n.max(1);
+        let q = &qs[k * n..(k + 1) * n];
+        let sc = &sincos[k * 2 * n..(k + 1) * 2 * n];
+        if sincos.len() != 2 * qs.len() || k >= m {
+            return check_sample_with(
+                model,
+                o,
+                scene,
+                q,
+                Some(sc),
+                scene.beads.laid_at(k),
+                poses,
+                margins,
+            );
+        }
+        if !(self.next < self.len && self.ks[self.next] == k) {
+            self.fill(model, o, scene, k, every.max(1), m, qs, sincos);
+        }
+        let l = self.next;
+        self.next += 1;
+        if self.special >> l & 1 != 0 {
+            let laid = scene.beads.laid_at(k);
+            return check_sample_with(model, o, scene, q, Some(sc), laid, poses, margins);
+        }
+        if self.opw {
+            if let Some(f) = singular(o, margins, self.w[l], self.e[l], self.s[l]) {
+                return Some(f);
+            }
+        }
+        if !o.collisions
+            || (self.collide
+                && self
+                    .coll
+                    .replay(scene.shapes, l, &mut margins.bed_clearance_m))
+        {
+            self.answered += 1;
+            return None;
+        }
+        let laid = scene.beads.laid_at(k);
+        collisions_with(scene, q, Some(sc), laid, poses, margins)
+    }
+
+    /// The batch from sample `k` on (see [`CheckedLanes`]).
+    #[allow(clippy::too_many_arguments)]
+    fn fill(
+        &mut self,
+        model: &RobotModel,
+        o: &FeasibilityOptions,
+        scene: Scene<'_>,
+        k: usize,
+        every: usize,
+        m: usize,
+        qs: &[f64],
+        sincos: &[f64],
+    ) {
+        const W: usize = crate::simd::LANES;
+        let n = model.dof();
+        let mut len = 1;
+        self.ks[0] = k;
+        while len < W && self.ks[len - 1] + 1 < m {
+            self.ks[len] = (self.ks[len - 1] + every).min(m - 1);
+            len += 1;
+        }
+        for l in len..W {
+            self.ks[l] = self.ks[len - 1];
+        }
+        (self.len, self.next) = (len, 0);
+        // The lanes' inputs: angles, sines and cosines joint by joint; beads laid.
+        let mut q = [[0.0; W]; crate::kinematics::MAX_DOF];
+        let mut sc = [[0.0; W]; 2 * crate::kinematics::MAX_DOF];
+        let mut laid = [0usize; W];
+        for l in 0..W {
+            let kl = self.ks[l];
+            for j in 0..n {
+                q[j][l] = qs[kl * n + j];
+            }
+            for (j, v) in sincos[kl * 2 * n..(kl + 1) * 2 * n].iter().enumerate() {
+                sc[j][l] = *v;
+            }
+            laid[l] = if l > 0 && kl == self.ks[l - 1] {
+                laid[l - 1]
+            } else {
+                scene.beads.laid_at(kl)
+            };
+        }
+        let terms = model
+            .opw
+            .as_ref()
+            .filter(|_| self.opw)
+            .map(|p| (p, scene.shapes.elbow_terms(p)));
+        let inputs = LaneInputs {
+            n,
+            q: &q,
+            sc: &sc,
+            laid: &laid,
+            terms,
+            scene,
+            collide: self.collide && o.collisions,
+        };
+        match crate::simd::level() {
+            #[cfg(target_arch = "x86_64")]
+            crate::simd::Level::Avx512 if crate::simd::Level::Avx512.available() => {
+                // SAFETY: the CPU has AVX-512F (checked just above).
+                unsafe { fill_avx512(self, &inputs) }
+            }
+            #[cfg(target_arch = "x86_64")]
+            crate::simd::Level::Avx2 if crate::simd::Level::Avx2.available() => {
+                // SAFETY: the CPU has AVX2 and FMA (checked just above).
+                unsafe { fill_avx2(self, &inputs) }
+            }
+            _ => fill_lanes(self, &inputs),
+        }
+    }
+}
+
+/// What [`fill_lanes`] computes from.
+struct LaneInputs<'a> {
+    n: usize,
+    q: &'a [Lanes; crate::kinematics::MAX_DOF],
+    sc: &'a [Lanes; 2 * crate::kinematics::MAX_DOF],
+    laid: &'a [usize; crate::simd::LANES],
+    /// The OPW parameters and [`RobotShapes::elbow_terms`] when the measures are checked.
+    terms: Option<(&'a crate::robot::OpwParams, (f64, f64))>,
+    scene: Scene<'a>,
+    collide: bool,
+}
+
+/// The numbers of [`CheckedLanes::fill`]: [`check_sample_with`]'s singularity measures
+/// lane by lane with its operations (`sin` of the OPW angles by
+/// [`crate::fastmath::sin_cos_lanes`], bit-identical to [`crate::fastmath::sin`]), and the
+/// collision lanes.
+#[inline(always)]
+fn fill_lanes(c: &mut CheckedLanes, x: &LaneInputs<'_>) {
+    const W: usize = crate::simd::LANES;
+    let mut special = 0u32;
+    if let Some((p, (psi3, k))) = x.terms {
+        let (q1, q2, q4) = (&x.q[1], &x.q[2], &x.q[4]);
+        let (mut ae, mut ash) = ([0.0; W], [0.0; W]);
+        for l in 0..W {
+            let (o1, o2) = (
+                q1[l] * p.signs[1] - p.offsets[1],
+                q2[l] * p.signs[2] - p.offsets[2],
+            );
+            ae[l] = o2 + psi3;
+            ash[l] = o1 + o2 + psi3;
+        }
+        let (se, _) = crate::fastmath::sin_cos_lanes(&ae);
+        let (ssh, _) = crate::fastmath::sin_cos_lanes(&ash);
+        let (s1, s4) = (&x.sc[1], &x.sc[4]);
+        for l in 0..W {
+            // check_sample_with's shared sines hold on the fast sines' domain only.
+            let off = !(q1[l].abs() <= crate::fastmath::SIN_COS_MAX
+                && q4[l].abs() <= crate::fastmath::SIN_COS_MAX);
+            special |= u32::from(off) << l;
+            c.w[l] = (p.signs[4] * s4[l]).abs();
+            c.e[l] = se[l].abs();
+            c.s[l] = (p.c2 * (p.signs[1] * s1[l]) + k * ssh[l] + p.a1).abs();
+        }
+    }
+    c.special = special;
+    if x.collide {
+        let world = x.scene.world;
+        c.coll.compute(
+            x.scene.shapes,
+            &x.sc[..2 * x.n],
+            &world.base_to_part,
+            &world.bed,
+            x.scene.beads,
+            x.laid,
+        );
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn fill_avx512(c: &mut CheckedLanes, x: &LaneInputs<'_>) {
+    fill_lanes(c, x)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn fill_avx2(c: &mut CheckedLanes, x: &LaneInputs<'_>) {
+    fill_lanes(c, x)
 }
 
 /// Record the singularity measures `w`, `e`, `s` in `margins`; the elbow or shoulder failure.

@@ -154,6 +154,9 @@ pub struct JointChecks {
     /// Velocity (rad/s) and acceleration (rad/s²) limits of joints 4 and 6 (the wrist rule),
     /// for robots with 6 joints or more.
     wrist_limits: Option<[(f64, f64); 2]>,
+    /// The instruction-set level [`JointChecks::screen`] runs on (the level in force when
+    /// made, where the CPU has it; every level gives the same answer).
+    level: crate::simd::Level,
 }
 
 /// Joints of the arms [`JointChecks::screen`] takes in lockstep (every shipped arm).
@@ -206,6 +209,9 @@ impl JointChecks {
             wrist: model.opw.as_ref().map(|p| (p.signs[4], p.offsets[4])),
             table,
             wrist_limits: (n >= 6).then(|| [lim(3), lim(5)]),
+            level: Some(crate::simd::level())
+                .filter(|l| l.available())
+                .unwrap_or(crate::simd::Level::Scalar),
         }
     }
 
@@ -269,6 +275,8 @@ impl JointChecks {
     /// the wrist singularity gets the wrist rule's ratios as [`check_joint_sample_with`]
     /// computes them (`margins.wrist_rate` the same).
     #[allow(clippy::too_many_arguments)]
+    // `!(w >= wrist_min)`: the negated comparison is the NaN rule (a NaN is near).
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
     pub fn screen(
         &self,
         o: &FeasibilityOptions,
@@ -303,7 +311,15 @@ impl JointChecks {
         // The wrist rule where a sample comes near the singularity, as
         // check_joint_sample_with applies it (its margin kept aside until the block passes).
         let mut wrist_rate = margins.wrist_rate;
-        if let Some((sign, sc)) = wrist {
+        // Most blocks have no sample near it (a NaN counts as near): one test for all.
+        let near = wrist.is_some_and(|(sign, sc)| {
+            let mut near = false;
+            for k in 0..count {
+                near |= !((sign * sc[k * 2 * n + 4]).abs() >= o.wrist_min);
+            }
+            near
+        });
+        if let Some((sign, sc)) = wrist.filter(|_| near) {
             let Some(wl) = self.wrist_limits else {
                 return false;
             };
@@ -338,15 +354,16 @@ impl JointChecks {
         else {
             return false;
         };
-        let (pass, lowest) = match crate::simd::level() {
+        let (pass, lowest, first) = match self.level {
             #[cfg(target_arch = "x86_64")]
-            crate::simd::Level::Avx512 if crate::simd::Level::Avx512.available() => {
-                // SAFETY: the CPU has AVX-512F (checked just above).
+            crate::simd::Level::Avx512 => {
+                // SAFETY: the CPU has AVX-512F (JointChecks::new keeps only an available level).
                 unsafe { screen_avx512(t, q) }
             }
             #[cfg(target_arch = "x86_64")]
-            crate::simd::Level::Avx2 if crate::simd::Level::Avx2.available() => {
-                // SAFETY: the CPU has AVX2 and FMA (checked just above).
+            crate::simd::Level::Avx2 => {
+                // SAFETY: the CPU has AVX2 and FMA (JointChecks::new keeps only an available
+                // level).
                 unsafe { screen_avx2(t, q) }
             }
             _ => screen_entries(t, q),
@@ -355,31 +372,31 @@ impl JointChecks {
             return false;
         }
         margins.wrist_rate = wrist_rate;
-        if margins.joint_limit_rad.is_none_or(|(_, x)| lowest < x) {
-            for k in 0..count {
-                let q = &qs[k * n..(k + 1) * n];
-                for &(j, lower, upper, _) in &self.limits {
-                    let d = (q[j] - lower).min(upper - q[j]);
-                    if margins.joint_limit_rad.is_none_or(|(_, x)| d < x) {
-                        margins.joint_limit_rad = Some((j + 1, d));
-                    }
-                }
-            }
+        if !self.limits.is_empty() && margins.joint_limit_rad.is_none_or(|(_, x)| lowest < x) {
+            // The per-sample checks lower the running minimum at each new smallest distance
+            // and so end on the first entry (sample by sample, joint by joint) at the block's
+            // smallest (no NaN in a passing block), with its distance as they compute it.
+            let (v, lower, upper) = (q[first], t.lower[first], t.upper[first]);
+            let d = (v - lower).min(upper - v);
+            margins.joint_limit_rad = Some((first % SCREEN_DOF + 1, d));
         }
         true
     }
 }
 
 /// The body of [`JointChecks::screen`]: whether every entry keeps its margin
-/// (`min(q − lower, upper − q) ≥ margin`, false for a NaN), and the smallest such distance.
-/// Comparisons, selects and minima only, so every level gives the same answer.
+/// (`min(q − lower, upper − q) ≥ margin`, false for a NaN), the smallest such distance, and
+/// the first entry at it. Comparisons, selects and minima only, so every level gives the
+/// same answer.
 // `!(d >= margin)`: the negated comparison is the NaN rule (a NaN fails the screen).
 #[allow(clippy::neg_cmp_op_on_partial_ord)]
 #[inline(always)]
-fn screen_entries(t: &ScreenTable, q: &[f64; SCREEN_ENTRIES]) -> (bool, f64) {
+fn screen_entries(t: &ScreenTable, q: &[f64; SCREEN_ENTRIES]) -> (bool, f64, usize) {
     const W: usize = crate::simd::LANES;
-    // Per-lane accumulators (vertical minima and or-ed failures: they vectorise).
+    // Per-lane accumulators (vertical minima, the chunk of each lane's first minimum, and
+    // or-ed failures: they vectorise).
     let mut low = [f64::INFINITY; W];
+    let mut at = [0u64; W];
     let mut bad = [0u64; W];
     for c in 0..SCREEN_ENTRIES / W {
         for l in 0..W {
@@ -387,24 +404,36 @@ fn screen_entries(t: &ScreenTable, q: &[f64; SCREEN_ENTRIES]) -> (bool, f64) {
             let (a, b) = (q[i] - t.lower[i], t.upper[i] - q[i]);
             let d = if a < b { a } else { b };
             bad[l] |= (!(d >= t.margin[i])) as u64;
+            at[l] = if d < low[l] { c as u64 } else { at[l] };
             low[l] = if d < low[l] { d } else { low[l] };
         }
     }
     let lowest = low
         .iter()
         .fold(f64::INFINITY, |m, &x| if x < m { x } else { m });
-    (bad.iter().all(|&b| b == 0), lowest)
+    // The first entry at the smallest distance: the least index among the lanes at it.
+    let mut first = usize::MAX;
+    for l in 0..W {
+        if low[l] == lowest {
+            first = first.min(at[l] as usize * W + l);
+        }
+    }
+    (
+        bad.iter().all(|&b| b == 0),
+        lowest,
+        first.min(SCREEN_ENTRIES - 1),
+    )
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
-fn screen_avx512(t: &ScreenTable, q: &[f64; SCREEN_ENTRIES]) -> (bool, f64) {
+fn screen_avx512(t: &ScreenTable, q: &[f64; SCREEN_ENTRIES]) -> (bool, f64, usize) {
     screen_entries(t, q)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-fn screen_avx2(t: &ScreenTable, q: &[f64; SCREEN_ENTRIES]) -> (bool, f64) {
+fn screen_avx2(t: &ScreenTable, q: &[f64; SCREEN_ENTRIES]) -> (bool, f64, usize) {
     screen_entries(t, q)
 }
 

@@ -552,6 +552,11 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             let poses = &mut *poses;
             let tr = &timed.traj;
             let sincos_of = |k: usize| shared.then(|| &sincos_all[k * 2 * n..(k + 1) * 2 * n]);
+            // The checked samples' singularity and collision checks LANES at a time where
+            // they apply (feasibility::CheckedLanes: check_sample_with's answers).
+            let mut lanes = shared
+                .then(|| feasibility::CheckedLanes::new(model, o, &self.shapes))
+                .flatten();
             // Sample `k`'s singularity and collision checks after its joint checks gave
             // `joint_check`, and where it fails.
             let mut full_check = |k: usize,
@@ -559,20 +564,34 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                                   margins: &mut Margins|
              -> std::result::Result<(), Infeasible> {
                 let found = joint_check.or_else(|| {
-                    feasibility::check_sample_with(
-                        model,
-                        o,
-                        feasibility::Scene {
-                            world: &world,
-                            shapes: &self.shapes,
-                            beads,
-                        },
-                        tr.q(k),
-                        sincos_of(k),
-                        beads.laid_at(k),
-                        poses,
-                        margins,
-                    )
+                    let scene = feasibility::Scene {
+                        world: &world,
+                        shapes: &self.shapes,
+                        beads,
+                    };
+                    match lanes.as_mut() {
+                        Some(lanes) => lanes.check(
+                            model,
+                            o,
+                            scene,
+                            k,
+                            every,
+                            &tr.q[..m * n],
+                            sincos_all,
+                            poses,
+                            margins,
+                        ),
+                        None => feasibility::check_sample_with(
+                            model,
+                            o,
+                            scene,
+                            tr.q(k),
+                            sincos_of(k),
+                            beads.laid_at(k),
+                            poses,
+                            margins,
+                        ),
+                    }
                 });
                 match found {
                     None => Ok(()),
