@@ -1447,7 +1447,8 @@ fn skipping_the_flipped_wrist_fit_where_it_cannot_be_nearer_gives_solve_nears_an
 }
 
 #[test]
-fn the_lockstep_fk_recheck_measures_within_its_bound_and_gives_the_per_sample_verdicts() {
+fn the_lockstep_fk_recheck_measures_within_its_bound_and_gives_the_per_sample_verdicts_written_or_appended(
+) {
     // FastChain::check_lanes measures the errors on a pose within fk::CHECK_POSE_BOUND of the
     // exact FK (not the same bits) and gives the joints' sines bit for bit; IkSolver::check_lanes
     // decides only the lanes with room to spare on it and hands every other lane to the
@@ -1526,6 +1527,22 @@ fn the_lockstep_fk_recheck_measures_within_its_bound_and_gives_the_per_sample_ve
                 }
                 let mut out = vec![0.0; LANES * 2 * n];
                 let got = solver.check_lanes(LANES, &qb, &target, &tips, &mut out, level);
+                // check_lanes_push (track's batches): the same verdict, the same values
+                // appended after what the vector held, nothing appended on an error.
+                let mut pushed = vec![1.5, -2.5];
+                let got_push =
+                    solver.check_lanes_push(LANES, &qb, &target, &tips, &mut pushed, level);
+                assert_eq!(
+                    format!("{got_push:?}"),
+                    format!("{got:?}"),
+                    "{name} {level:?}"
+                );
+                assert_eq!(bits(&pushed[..2]), bits(&[1.5, -2.5]), "{name}");
+                if got.is_ok() {
+                    assert_eq!(bits(&pushed[2..]), bits(&out), "{name} {level:?}");
+                } else {
+                    assert_eq!(pushed.len(), 2, "{name} {level:?}");
+                }
                 let first = want.iter().position(|(r, _)| r.is_err());
                 match (&got, first) {
                     (Ok(()), None) => {}
@@ -1620,4 +1637,207 @@ fn the_prunes_reach_test_in_lockstep_rejects_the_same_first_sample_with_the_same
         unreachable >= 5 && other >= 5,
         "{unreachable} unreachable, {other} other"
     );
+}
+
+#[test]
+fn continuing_lanes_verdict_masks_give_the_same_lanes_on_every_level_and_take_nears_answers() {
+    // IkSolver::continuing_lanes decides its lanes with vector compares and movemask on AVX2
+    // and AVX-512 (lane_ops::Avx2) and with lane loops on the scalar level (lane_ops::Plain).
+    // On batches with steps around max_step, 2π-shifted and narrowed wrist limits (the fit's
+    // slow path), lanes out of reach or NaN, and poses near the wrist singularity: the same
+    // taken count, answers and branch on every level, and each taken lane is take_near's
+    // answer continuing the previous one, bit for bit.
+    use printwatt::kinematics::{nozzle_target, Continuing, IkSolver, MAX_DOF};
+    use std::f64::consts::PI;
+    let mut u = uniform(41);
+    let (mut taken_total, mut partial, mut slow) = (0usize, 0usize, 0usize);
+    for name in ["abb_irb6700_200_260", "abb_irb4600_40_255", "staubli_tx200"] {
+        for limits in 0..3 {
+            let mut model = common::robot(name);
+            for j in [3, 5] {
+                let jt = &mut model.joints[j];
+                match limits {
+                    1 => (jt.lower, jt.upper) = (0.0, 2.0 * PI + 1.0),
+                    2 => (jt.lower, jt.upper) = (-2.0, 2.0),
+                    _ => {}
+                }
+            }
+            let solver = IkSolver::new(&model).unwrap();
+            let reach = printwatt::placement::feasibility::reach_m(&model);
+            for case in 0..60 {
+                // The nozzle points down, or sideways (near the wrist singularity for some
+                // tips), spun about its axis.
+                let spin = PI * u();
+                let mut rot = nozzle_target(&nalgebra::Vector3::zeros(), spin).rot;
+                if case % 3 == 1 {
+                    rot = nalgebra::Rotation3::from_axis_angle(&nalgebra::Vector3::y_axis(), 1.3)
+                        .into_inner()
+                        * rot;
+                }
+                let start = nalgebra::Vector3::new(
+                    reach * (0.45 + 0.2 * u()),
+                    reach * 0.3 * u(),
+                    reach * 0.3 * u(),
+                );
+                // Steps of 0.1 mm to 20 cm; now and then one far out of reach or NaN.
+                let step =
+                    nalgebra::Vector3::new(u(), u(), u()) * 10f64.powf(-4.0 + 3.3 * u().abs());
+                let mut tips = Vec::new();
+                for l in 0..LANES {
+                    let mut t = start + step * (l as f64 + 1.0);
+                    match (case % 7, l) {
+                        (5, 4) => t.x = 10.0 * reach,
+                        (6, 6) => t.y = f64::NAN,
+                        _ => {}
+                    }
+                    tips.push(t);
+                }
+                let target = |t: &nalgebra::Vector3<f64>| printwatt::math::Frame { rot, pos: *t };
+                let Ok(starts) = solver.solve_all(&target(&start)) else {
+                    continue;
+                };
+                let max_step = {
+                    let mut m = [f64::INFINITY; MAX_DOF];
+                    for v in m.iter_mut().take(6) {
+                        *v = [0.01, 0.05, 0.3, f64::INFINITY][case % 4];
+                    }
+                    m
+                };
+                for s in starts.iter().take(4) {
+                    let q_prev = s.q.to_vec();
+                    let mut want: Option<(usize, Vec<u64>, _)> = None;
+                    for level in levels() {
+                        let Some(b) = solver.solve_near_batch(&rot, &tips, &q_prev, level) else {
+                            continue;
+                        };
+                        let mut c = Continuing::new();
+                        solver.continuing_lanes(
+                            &b,
+                            LANES,
+                            &q_prev,
+                            &max_step,
+                            case % 2 == 0,
+                            level,
+                            &mut c,
+                        );
+                        let bits: Vec<u64> = (0..c.taken)
+                            .flat_map(|l| c.q.iter().map(move |qj| qj[l].to_bits()))
+                            .collect();
+                        // Each taken lane is take_near's answer from the previous one.
+                        let mut prev = q_prev.clone();
+                        for (l, tip) in tips.iter().enumerate().take(c.taken) {
+                            let q = solver.take_near(&b, l, &target(tip), &prev).unwrap();
+                            for (j, v) in q.iter().enumerate() {
+                                assert_eq!(
+                                    v.to_bits(),
+                                    c.q[j][l].to_bits(),
+                                    "{name} {level:?} lane {l}"
+                                );
+                            }
+                            prev = q.to_vec();
+                        }
+                        let got = (c.taken, bits, c.branch_after);
+                        match &want {
+                            None => want = Some(got),
+                            Some(w) => {
+                                assert_eq!(&got, w, "{name} limits {limits} case {case} {level:?}")
+                            }
+                        }
+                    }
+                    if let Some((t, _, _)) = want {
+                        taken_total += t;
+                        partial += usize::from(t > 0 && t < LANES);
+                        slow += usize::from(limits > 0 && t > 0);
+                    }
+                }
+            }
+        }
+    }
+    assert!(
+        taken_total > 1000 && partial > 30 && slow > 30,
+        "{taken_total} taken, {partial} partial batches, {slow} through the fit"
+    );
+}
+
+#[test]
+fn next_branch_taken_without_branch_of_equals_branch_of_at_the_branch_boundaries() {
+    // solve_branch_batch hands on the batch's own branch as next_branch where every lane is
+    // ok and far (opw::NEXT_BRANCH_MARGIN_*) from the boundaries branch_of reads: the wrist
+    // centre on the axis of joint 1 (ρ), the stretched or folded elbow (t3 at 0 or π) and q5
+    // at 0 or π. Poses swept across those boundaries and their margins, every branch, every
+    // level: next_branch equals Prepared::branch_of of each lane's answer, ok or not.
+    use printwatt::kinematics::opw::{solve_branch_batch, Branch, Prepared};
+    use std::f64::consts::PI;
+    let mut u = uniform(43);
+    let mut lanes = 0usize;
+    for name in ["abb_irb6700_200_260", "abb_irb4600_40_255", "staubli_tx200"] {
+        let model = common::robot(name);
+        let Some(p) = model.opw else {
+            continue;
+        };
+        let k = Prepared::new(&p);
+        let psi3 = k.psi3();
+        let kappa = (p.a2 * p.a2 + p.c3 * p.c3).sqrt();
+        let reach = p.c2.abs() + kappa;
+        // q2 (OPW) that puts c2 sin q2 + κ sin(q2 + q3 + ψ3) + a1 (±ρ) at `target`, by
+        // bisection on a bracket (None without one).
+        let q2_for = |q3: f64, target: f64| {
+            let f = |q2: f64| p.c2 * q2.sin() + kappa * (q2 + q3 + psi3).sin() + p.a1 - target;
+            let (mut a, mut b) = (-PI, 0.0);
+            if f(a).signum() == f(b).signum() {
+                (a, b) = (0.0, PI);
+                if f(a).signum() == f(b).signum() {
+                    return None;
+                }
+            }
+            for _ in 0..200 {
+                let m = 0.5 * (a + b);
+                if f(m).signum() == f(a).signum() {
+                    a = m;
+                } else {
+                    b = m;
+                }
+            }
+            Some(0.5 * (a + b))
+        };
+        let eps = [0.0, 1e-12, 1e-9, 1e-7, 1e-6, 2e-6, 1e-5, 1e-3, 0.1];
+        for (case, &e) in eps.iter().chain(eps.iter()).enumerate() {
+            let sgn = if case < eps.len() { 1.0 } else { -1.0 };
+            for anchor in 0..4 {
+                // t3 near 0 or π; q5 near 0 or π; ρ near 0 or near its margin.
+                let q3 = if anchor % 2 == 0 {
+                    -psi3 + sgn * e
+                } else {
+                    PI - psi3 - sgn * e
+                };
+                let q5 = if anchor < 2 { sgn * e } else { PI - sgn * e };
+                let rho =
+                    [sgn * e * reach, 0.01 * reach * (1.0 + sgn * e.min(0.5))][(case + anchor) % 2];
+                let q2 = q2_for(q3, rho).unwrap_or(0.3 * u());
+                let o = [PI * u(), q2, q3, PI * u(), q5, PI * u()];
+                let f = p.forward(&p.from_opw(&o));
+                let dir = nalgebra::Vector3::new(u(), u(), u());
+                let mut pos = [[0.0; LANES]; 3];
+                for l in 0..LANES {
+                    let d = [0.0, 1e-12, -1e-9, 1e-7, -1e-5, 1e-4, -1e-3, 1e-2][l];
+                    let t = f.pos + dir * d;
+                    (pos[0][l], pos[1][l], pos[2][l]) = (t.x, t.y, t.z);
+                }
+                for branch in Branch::ALL {
+                    for level in levels() {
+                        let b = solve_branch_batch(&p, &k, &f.rot, &pos, branch, level);
+                        for l in 0..LANES {
+                            assert_eq!(
+                                b.next_branch[l],
+                                k.branch_of(&p, &b.q(l)),
+                                "{name} case {case} anchor {anchor} {branch:?} {level:?} lane {l}"
+                            );
+                            lanes += 1;
+                        }
+                    }
+                }
+            }
+        }
+    }
+    assert!(lanes > 10_000, "{lanes} lanes");
 }

@@ -599,13 +599,20 @@ pub struct PathTarget {
     check_rot: M3,
 }
 
+/// Where [`IkSolver::check_lanes`]' sines and cosines go: into a slice, or appended.
+enum Out<'a> {
+    Slice(&'a mut [f64]),
+    Push(&'a mut Vec<f64>),
+}
+
 /// [`IkSolver::continuing_lanes`]' answer.
 #[derive(Clone, Copy, Debug)]
 pub struct Continuing {
     /// How many leading lanes are taken.
     pub taken: usize,
-    /// Their answers joint by joint (rad): `q[j][lane]`.
-    pub q: [[f64; crate::simd::LANES]; 6],
+    /// Their answers joint by joint (rad): `q[j][lane]` for the 6 joints (the rows beyond
+    /// stay 0: the layout [`IkSolver::check_lanes`] reads).
+    pub q: [[f64; crate::simd::LANES]; MAX_DOF],
     /// [`opw::Prepared::branch_of`] of the last taken answer, bit for bit (the batch's
     /// branch when none is taken).
     pub branch_after: Branch,
@@ -616,7 +623,7 @@ impl Continuing {
     pub fn new() -> Continuing {
         Continuing {
             taken: 0,
-            q: [[0.0; crate::simd::LANES]; 6],
+            q: [[0.0; crate::simd::LANES]; MAX_DOF],
             branch_after: Branch::ALL[0],
         }
     }
@@ -1271,7 +1278,17 @@ impl<'a> IkSolver<'a> {
                 // SAFETY: the CPU has AVX2 and FMA (checked just above).
                 unsafe { self.continuing_avx2(batch, count, q_prev, max_step, step_at_first, out) }
             }
-            _ => self.continuing_body(batch, count, q_prev, max_step, step_at_first, out),
+            // SAFETY: plain lane loops need no instruction set.
+            _ => unsafe {
+                self.continuing_body::<lane_ops::Plain>(
+                    batch,
+                    count,
+                    q_prev,
+                    max_step,
+                    step_at_first,
+                    out,
+                )
+            },
         }
     }
 
@@ -1286,7 +1303,17 @@ impl<'a> IkSolver<'a> {
         step_at_first: bool,
         out: &mut Continuing,
     ) {
-        self.continuing_body(batch, count, q_prev, max_step, step_at_first, out)
+        // SAFETY: AVX-512F implies AVX2 (this function's own target feature).
+        unsafe {
+            self.continuing_body::<lane_ops::Avx2>(
+                batch,
+                count,
+                q_prev,
+                max_step,
+                step_at_first,
+                out,
+            )
+        }
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -1300,14 +1327,24 @@ impl<'a> IkSolver<'a> {
         step_at_first: bool,
         out: &mut Continuing,
     ) {
-        self.continuing_body(batch, count, q_prev, max_step, step_at_first, out)
+        // SAFETY: the CPU has AVX2 (this function's own target feature).
+        unsafe {
+            self.continuing_body::<lane_ops::Avx2>(
+                batch,
+                count,
+                q_prev,
+                max_step,
+                step_at_first,
+                out,
+            )
+        }
     }
 
     /// The per-lane verdicts of [`IkSolver::continuing_lanes`] (6 joints), the answers joint
     /// by joint, and the branch of each lane's answer, in lockstep.
     #[allow(clippy::needless_range_loop)] // lanes of parallel fixed arrays
     #[inline(always)]
-    fn continuing_body(
+    unsafe fn continuing_body<M: lane_ops::LaneOps>(
         &self,
         batch: &opw::BranchBatch,
         count: usize,
@@ -1319,7 +1356,8 @@ impl<'a> IkSolver<'a> {
         use crate::simd::LANES;
         // Per-lane verdicts as bit masks (bit l: lane l), combined in scalar registers.
         const ALL: u32 = (1 << LANES) - 1;
-        let fitted = &mut out.q;
+        let fitted: &mut [[f64; LANES]; 6] =
+            (&mut out.q[..6]).try_into().expect("6 of MAX_DOF rows");
         let t = &self.limits;
         let mut ok = 0u32;
         for l in 0..LANES {
@@ -1337,12 +1375,8 @@ impl<'a> IkSolver<'a> {
             let mut centre = [0.0; LANES];
             centre[0] = q_prev[j];
             centre[1..].copy_from_slice(&v[..LANES - 1]);
-            let (lo, hi) = (t.lower[j], t.upper[j]);
-            let mut inside = 0u32;
-            for l in 0..LANES {
-                let x = v[l];
-                inside |= u32::from((x >= lo) & (x <= hi) & ((x - centre[l]).abs() < PI)) << l;
-            }
+            // SAFETY: the caller's contract (M's instruction set).
+            let inside = unsafe { M::inside(v, &centre, t.lower[j], t.upper[j]) };
             let fb = if t.revolute[j] && inside == ALL {
                 *v
             } else {
@@ -1364,13 +1398,8 @@ impl<'a> IkSolver<'a> {
                 shifted |= matches!(j, 1 | 2 | 4) && moved != 0;
                 fb
             };
-            let ms = max_step[j];
-            for l in 0..LANES {
-                let d = (fb[l] - centre[l]).abs();
-                over |= u32::from(d > ms) << l;
-                // take_near's distance: the largest |step| (f64::max, from 0).
-                dist[l] = dist[l].max(d);
-            }
+            // SAFETY: the caller's contract (M's instruction set).
+            over |= unsafe { M::step(&fb, &centre, max_step[j], &mut dist) };
             fitted[j] = fb;
         }
         let mut step = !over;
@@ -1384,14 +1413,9 @@ impl<'a> IkSolver<'a> {
             (Some(p), Some(k)) if shifted => opw::branch_of_joints(p, k, fitted),
             _ => batch.next_branch,
         };
-        let flip_bound = self.flip_bound;
-        let mut wrist_ok = 0u32;
+        // SAFETY: the caller's contract (M's instruction set).
+        let wrist_ok = unsafe { M::wrist_ok(&batch.s5, &dist, self.flip_bound) };
         let mut branch_ok = 1u32;
-        for l in 0..LANES {
-            let w = (batch.s5[l] > NEAR_WRIST_SINGULARITY)
-                | (flip_bound & (dist[l] <= FLIP_CANNOT_WIN_RAD));
-            wrist_ok |= u32::from(w) << l;
-        }
         for l in 1..LANES {
             branch_ok |= u32::from(next[l - 1] == batch.branch) << l;
         }
@@ -1429,15 +1453,51 @@ impl<'a> IkSolver<'a> {
             #[cfg(target_arch = "x86_64")]
             Level::Avx512 if Level::Avx512.available() => {
                 // SAFETY: the CPU has AVX-512F (checked just above).
-                unsafe { self.check_lanes_avx512(count, q, target, tips, sincos) }
+                unsafe { self.check_lanes_avx512(count, q, target, tips, Out::Slice(sincos)) }
             }
             #[cfg(target_arch = "x86_64")]
             Level::Avx2 if Level::Avx2.available() => {
                 // SAFETY: the CPU has AVX2 and FMA (checked just above).
-                unsafe { self.check_lanes_avx2(count, q, target, tips, sincos) }
+                unsafe { self.check_lanes_avx2(count, q, target, tips, Out::Slice(sincos)) }
             }
             // SAFETY: the baseline instruction set.
-            _ => unsafe { self.check_lanes_with::<fk::Sse2>(count, q, target, tips, sincos) },
+            _ => unsafe {
+                self.check_lanes_with::<fk::Sse2>(count, q, target, tips, Out::Slice(sincos))
+            },
+        }
+    }
+
+    /// [`IkSolver::check_lanes`] that appends the sines and cosines of the `count` answers
+    /// to `sincos` (`count · 2 dof` values, the same as `check_lanes` writes) when all pass,
+    /// and leaves it as it was on an error: no zero fill ahead of the values.
+    pub fn check_lanes_push(
+        &self,
+        count: usize,
+        q: &[[f64; crate::simd::LANES]; MAX_DOF],
+        target: &PathTarget,
+        tips: &[V3],
+        sincos: &mut Vec<f64>,
+        level: crate::simd::Level,
+    ) -> Result<(), (usize, IkFailure)> {
+        use crate::simd::Level;
+        assert!(
+            self.chain.batchable(),
+            "check_lanes on a chain it does not apply to"
+        );
+        let out = Out::Push(sincos);
+        match level {
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx512 if Level::Avx512.available() => {
+                // SAFETY: the CPU has AVX-512F (checked just above).
+                unsafe { self.check_lanes_avx512(count, q, target, tips, out) }
+            }
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx2 if Level::Avx2.available() => {
+                // SAFETY: the CPU has AVX2 and FMA (checked just above).
+                unsafe { self.check_lanes_avx2(count, q, target, tips, out) }
+            }
+            // SAFETY: the baseline instruction set.
+            _ => unsafe { self.check_lanes_with::<fk::Sse2>(count, q, target, tips, out) },
         }
     }
 
@@ -1449,7 +1509,7 @@ impl<'a> IkSolver<'a> {
         q: &[[f64; crate::simd::LANES]; MAX_DOF],
         target: &PathTarget,
         tips: &[V3],
-        sincos: &mut [f64],
+        sincos: Out<'_>,
     ) -> Result<(), (usize, IkFailure)> {
         // SAFETY: the CPU has AVX-512F (this function's own target feature).
         unsafe { self.check_lanes_with::<fk::Avx512>(count, q, target, tips, sincos) }
@@ -1463,7 +1523,7 @@ impl<'a> IkSolver<'a> {
         q: &[[f64; crate::simd::LANES]; MAX_DOF],
         target: &PathTarget,
         tips: &[V3],
-        sincos: &mut [f64],
+        sincos: Out<'_>,
     ) -> Result<(), (usize, IkFailure)> {
         // SAFETY: the CPU has AVX2 and FMA (this function's own target feature).
         unsafe { self.check_lanes_with::<fk::Avx2>(count, q, target, tips, sincos) }
@@ -1479,7 +1539,7 @@ impl<'a> IkSolver<'a> {
         q: &[[f64; crate::simd::LANES]; MAX_DOF],
         target: &PathTarget,
         tips: &[V3],
-        sincos: &mut [f64],
+        sincos: Out<'_>,
     ) -> Result<(), (usize, IkFailure)> {
         use crate::simd::LANES;
         let n = self.model.dof();
@@ -1525,11 +1585,31 @@ impl<'a> IkSolver<'a> {
                     .map_err(|e| (l, e))?;
                 }
             }
-            for (l, out) in sincos.chunks_exact_mut(2 * n).take(count).enumerate() {
-                let (so, co) = out.split_at_mut(n);
-                for j in 0..n {
-                    so[j] = cl.s[j][l];
-                    co[j] = cl.c[j][l];
+            match sincos {
+                Out::Slice(sincos) => {
+                    for (l, out) in sincos.chunks_exact_mut(2 * n).take(count).enumerate() {
+                        let (so, co) = out.split_at_mut(n);
+                        for j in 0..n {
+                            so[j] = cl.s[j][l];
+                            co[j] = cl.c[j][l];
+                        }
+                    }
+                }
+                Out::Push(sincos) => {
+                    // Written into the spare capacity, then the length set: no zero fill.
+                    let len = sincos.len();
+                    sincos.reserve(count * 2 * n);
+                    let spare = &mut sincos.spare_capacity_mut()[..count * 2 * n];
+                    for (l, out) in spare.chunks_exact_mut(2 * n).enumerate() {
+                        let (so, co) = out.split_at_mut(n);
+                        for j in 0..n {
+                            so[j].write(cl.s[j][l]);
+                            co[j].write(cl.c[j][l]);
+                        }
+                    }
+                    // SAFETY: the `count · 2 n` values past `len` were written just above
+                    // (`chunks_exact_mut` of exactly that length, every entry of each chunk).
+                    unsafe { sincos.set_len(len + count * 2 * n) };
                 }
             }
             Ok(())
@@ -1783,5 +1863,142 @@ pub fn singularity_measures(model: &RobotModel, q: &[f64]) -> SingularityMeasure
         shoulder_m: p.map(|p| opw::shoulder_singularity(p, q)),
         sigma_min,
         manipulability,
+    }
+}
+
+/// The lane verdicts of [`IkSolver::continuing_lanes`] as bit masks (bit `l`: lane `l`), on
+/// one instruction set: [`lane_ops::Plain`] (lane loops) and, on x86-64, [`lane_ops::Avx2`]
+/// (vector compares and `movemask`). The same comparisons (ordered, quiet: NaN fails
+/// each), so the same verdicts on every level.
+mod lane_ops {
+    use crate::simd::LANES;
+    use std::f64::consts::PI;
+
+    type Lanes = [f64; LANES];
+
+    pub(super) trait LaneOps {
+        /// `(x ≥ lo) ∧ (x ≤ hi) ∧ (|x − c| < π)` per lane (`x` = `v`, `c` = `centre`).
+        ///
+        /// # Safety
+        /// The CPU has the implementor's instruction set and the caller is compiled for it.
+        unsafe fn inside(v: &Lanes, centre: &Lanes, lo: f64, hi: f64) -> u32;
+        /// `|fb − c| > max` per lane (`c` = `centre`), and `dist ← max(dist, |fb − c|)`
+        /// (`f64::max`: a NaN step leaves `dist`).
+        ///
+        /// # Safety
+        /// As [`LaneOps::inside`].
+        unsafe fn step(fb: &Lanes, centre: &Lanes, max: f64, dist: &mut Lanes) -> u32;
+        /// `(s5 > NEAR_WRIST_SINGULARITY) ∨ (flip_bound ∧ dist ≤ FLIP_CANNOT_WIN_RAD)`.
+        ///
+        /// # Safety
+        /// As [`LaneOps::inside`].
+        unsafe fn wrist_ok(s5: &Lanes, dist: &Lanes, flip_bound: bool) -> u32;
+    }
+
+    /// Lane loops (any instruction set).
+    pub(super) struct Plain;
+
+    impl LaneOps for Plain {
+        #[inline(always)]
+        unsafe fn inside(v: &Lanes, centre: &Lanes, lo: f64, hi: f64) -> u32 {
+            let mut m = 0u32;
+            for (l, (x, c)) in v.iter().zip(centre).enumerate() {
+                m |= u32::from((*x >= lo) & (*x <= hi) & ((x - c).abs() < PI)) << l;
+            }
+            m
+        }
+
+        #[inline(always)]
+        unsafe fn step(fb: &Lanes, centre: &Lanes, max: f64, dist: &mut Lanes) -> u32 {
+            let mut m = 0u32;
+            for (l, ((f, c), dl)) in fb.iter().zip(centre).zip(dist.iter_mut()).enumerate() {
+                let d = (f - c).abs();
+                m |= u32::from(d > max) << l;
+                *dl = dl.max(d);
+            }
+            m
+        }
+
+        #[inline(always)]
+        unsafe fn wrist_ok(s5: &Lanes, dist: &Lanes, flip_bound: bool) -> u32 {
+            let mut m = 0u32;
+            for (l, (s, d)) in s5.iter().zip(dist).enumerate() {
+                let w = (*s > super::NEAR_WRIST_SINGULARITY)
+                    | (flip_bound & (*d <= super::FLIP_CANNOT_WIN_RAD));
+                m |= u32::from(w) << l;
+            }
+            m
+        }
+    }
+
+    /// Four lanes per `__m256d` (AVX; also under AVX-512F, which implies it).
+    #[cfg(target_arch = "x86_64")]
+    pub(super) struct Avx2;
+
+    #[cfg(target_arch = "x86_64")]
+    impl LaneOps for Avx2 {
+        #[inline(always)]
+        unsafe fn inside(v: &Lanes, centre: &Lanes, lo: f64, hi: f64) -> u32 {
+            use std::arch::x86_64::*;
+            // SAFETY: the caller's contract (AVX); loads of 4 of the 8 lanes.
+            unsafe {
+                let (lo, hi, pi) = (_mm256_set1_pd(lo), _mm256_set1_pd(hi), _mm256_set1_pd(PI));
+                let sign = _mm256_set1_pd(-0.0);
+                let mut m = 0u32;
+                for h in [0, 4] {
+                    let x = _mm256_loadu_pd(v.as_ptr().add(h));
+                    let c = _mm256_loadu_pd(centre.as_ptr().add(h));
+                    let d = _mm256_andnot_pd(sign, _mm256_sub_pd(x, c));
+                    let ok = _mm256_and_pd(
+                        _mm256_and_pd(
+                            _mm256_cmp_pd::<_CMP_GE_OQ>(x, lo),
+                            _mm256_cmp_pd::<_CMP_LE_OQ>(x, hi),
+                        ),
+                        _mm256_cmp_pd::<_CMP_LT_OQ>(d, pi),
+                    );
+                    m |= (_mm256_movemask_pd(ok) as u32) << h;
+                }
+                m
+            }
+        }
+
+        #[inline(always)]
+        unsafe fn step(fb: &Lanes, centre: &Lanes, max: f64, dist: &mut Lanes) -> u32 {
+            use std::arch::x86_64::*;
+            // SAFETY: the caller's contract (AVX); loads and stores of 4 of the 8 lanes.
+            unsafe {
+                let (max, sign) = (_mm256_set1_pd(max), _mm256_set1_pd(-0.0));
+                let mut m = 0u32;
+                for h in [0, 4] {
+                    let f = _mm256_loadu_pd(fb.as_ptr().add(h));
+                    let c = _mm256_loadu_pd(centre.as_ptr().add(h));
+                    let d = _mm256_andnot_pd(sign, _mm256_sub_pd(f, c));
+                    m |= (_mm256_movemask_pd(_mm256_cmp_pd::<_CMP_GT_OQ>(d, max)) as u32) << h;
+                    // max_pd(d, dist) is dist where d is NaN, as f64::max(dist, d).
+                    let dl = _mm256_loadu_pd(dist.as_ptr().add(h));
+                    _mm256_storeu_pd(dist.as_mut_ptr().add(h), _mm256_max_pd(d, dl));
+                }
+                m
+            }
+        }
+
+        #[inline(always)]
+        unsafe fn wrist_ok(s5: &Lanes, dist: &Lanes, flip_bound: bool) -> u32 {
+            use std::arch::x86_64::*;
+            // SAFETY: the caller's contract (AVX); loads of 4 of the 8 lanes.
+            unsafe {
+                let near = _mm256_set1_pd(super::NEAR_WRIST_SINGULARITY);
+                let flip = _mm256_set1_pd(super::FLIP_CANNOT_WIN_RAD);
+                let mut m = 0u32;
+                for h in [0, 4] {
+                    let s = _mm256_loadu_pd(s5.as_ptr().add(h));
+                    let d = _mm256_loadu_pd(dist.as_ptr().add(h));
+                    let far = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_GT_OQ>(s, near)) as u32;
+                    let near_ok = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_LE_OQ>(d, flip)) as u32;
+                    m |= (far | if flip_bound { near_ok } else { 0 }) << h;
+                }
+                m
+            }
+        }
     }
 }

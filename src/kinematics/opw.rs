@@ -19,6 +19,21 @@ pub const WRIST_SINGULAR_SIN: f64 = 1e-9;
 /// fully stretched or folded arm).
 const ACOS_SLACK: f64 = 1e-10;
 
+/// Margin (rad) from 0 and π of the closed form's elbow angle `t3` and of `q5` beyond which
+/// [`Prepared::branch_of`] of the answer gives the elbow and wrist of the branch it was solved
+/// for, without computing it ([`BranchBatch::next_branch`]): `branch_of` reads the signs of
+/// `q3 + ψ3 = ±t3` and `q5`, wrapped to (−π, π], recomputed from the URDF angles (a few ulp,
+/// ≲ 1e-14 rad, from the conversion); 1e-6 leaves eight orders of magnitude.
+const NEXT_BRANCH_MARGIN_RAD: f64 = 1e-6;
+
+/// Margin, relative to the arm's reach `|c2| + κ`, of the distance `ρ` (m) of the wrist
+/// centre from the axis of joint 1 beyond which `branch_of`'s shoulder is the branch's:
+/// `branch_of` reads the sign of `c2 sin q2 + κ sin(q2 + q3 + ψ3) + a1`, which is `+ρ`
+/// (front) or `−ρ` (back) up to the closed form's `acos` clamping (`ACOS_SLACK` = 1e-10:
+/// angles off by ≤ √(2e-10) ≈ 1.5e-5 rad each, ≤ 3e-5 of the reach) and rounding; 1e-2
+/// leaves a factor of 300.
+const NEXT_BRANCH_MARGIN_REL: f64 = 1e-2;
+
 /// Which side of joint 1 the wrist centre is on.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
 pub enum Shoulder {
@@ -486,9 +501,11 @@ pub struct BranchBatch {
     /// the lane needs `q_ref` (the wrist singularity) or a degenerate case (wrist centre on
     /// the axis of joint 1): such lanes are to be solved one by one.
     pub ok: [bool; crate::simd::LANES],
-    /// Per lane, [`Prepared::branch_of`] of the lane's answer [`BranchBatch::q`], bit for bit
-    /// (the same operations, in lockstep): the branch the next sample continues when it
-    /// continues from that answer unchanged ([`BranchBatch::known_branch`]).
+    /// Per lane, [`Prepared::branch_of`] of the lane's answer [`BranchBatch::q`], exactly:
+    /// the batch's own branch where every lane is provably far from the branch boundaries
+    /// (`NEXT_BRANCH_MARGIN_RAD`, `NEXT_BRANCH_MARGIN_REL`), else the same operations in
+    /// lockstep. The branch the next sample continues when it continues from that answer
+    /// unchanged ([`BranchBatch::known_branch`]).
     pub next_branch: [Branch; crate::simd::LANES],
     /// The joint vector the batch's branch was taken from (rad; [`Prepared::branch_of`] of it
     /// is `branch`), when the caller set it; NaN otherwise.
@@ -536,12 +553,14 @@ fn solve_branch_lanes(
     let (mut s1, mut c1, mut x, mut dz) = ([0.0; LANES], [0.0; LANES], [0.0; LANES], [0.0; LANES]);
     let (mut a2, mut a3) = ([0.0; LANES], [0.0; LANES]);
     let (mut s2v, mut sv) = ([0.0; LANES], [0.0; LANES]);
+    let mut rhov = [0.0; LANES];
     let two_a1 = 2.0 * p.a1;
     let den3 = 2.0 * p.c2 * kappa;
     for l in 0..LANES {
         let rho2 = cx[l] * cx[l] + cy[l] * cy[l] - p.b * p.b;
         ok[l] &= !(rho2.is_nan() || rho2 < 0.0);
         let rho = rho2.sqrt();
+        rhov[l] = rho;
         let nx1 = rho - p.a1;
         dz[l] = cz[l] - p.c1;
         x[l] = match branch.shoulder {
@@ -651,7 +670,26 @@ fn solve_branch_lanes(
             & qj[4][l].is_finite()
             & qj[5][l].is_finite();
     }
-    out.next_branch = branch_of_joints(p, k, &out.qj);
+    // Prepared::branch_of of each answer is the batch's branch where the answer is far from
+    // the branch boundaries (see NEXT_BRANCH_MARGIN_RAD): every lane ok, the wrist centre
+    // off the axis of joint 1 (ρ), the elbow angle t3 and q5 inside (0, π) with margin.
+    // Otherwise it is computed (branch_of_joints, bit for bit branch_of).
+    let m = NEXT_BRANCH_MARGIN_RAD;
+    let rho_min = NEXT_BRANCH_MARGIN_REL * (p.c2.abs() + kappa);
+    let mut certain = true;
+    for l in 0..LANES {
+        certain &= ok[l]
+            & (rhov[l] > rho_min)
+            & (t3[l] > m)
+            & (t3[l] < PI - m)
+            & (q5[l] > m)
+            & (q5[l] < PI - m);
+    }
+    out.next_branch = if certain {
+        [branch; LANES]
+    } else {
+        branch_of_joints(p, k, &out.qj)
+    };
     out.branch = branch;
     out.s5 = s5;
     out.ok = ok;

@@ -369,13 +369,13 @@ pub fn track(
         let taken = cont.taken;
         if taken > 0 {
             let c = &cont;
-            let mut rows = [0.0; 6 * LANES];
-            for (l, row) in rows.chunks_exact_mut(6).enumerate() {
+            for l in 0..taken {
+                let mut row = [0.0; 6];
                 for (v, qj) in row.iter_mut().zip(&c.q) {
                     *v = qj[l];
                 }
+                qs.extend_from_slice(&row);
             }
-            qs.extend_from_slice(&rows[..taken * 6]);
             tcp.extend_from_slice(&tips[..taken]);
             let mut last = JointVec::zeros(n);
             for (j, v) in last.iter_mut().enumerate() {
@@ -383,18 +383,8 @@ pub fn track(
             }
             prev = last;
             if taken == count && sincos.len() == k0 * 2 * n {
-                let mut qb = [[0.0; LANES]; crate::kinematics::MAX_DOF];
-                qb[..6].copy_from_slice(&c.q);
-                sincos.resize((k0 + count) * 2 * n, 0.0);
                 solver
-                    .check_lanes(
-                        count,
-                        &qb,
-                        &path_target,
-                        &tips[..count],
-                        &mut sincos[k0 * 2 * n..],
-                        level,
-                    )
+                    .check_lanes_push(count, &c.q, &path_target, &tips[..count], sincos, level)
                     .map_err(|(l, reason)| {
                         sincos.truncate(k0 * 2 * n);
                         unreachable(k0 + l, tips[l], reason)
