@@ -684,7 +684,7 @@ impl FastChain {
         let mut s_out = [[0.0; LANES]; MAX_DOF];
         let mut c_out = [[1.0; LANES]; MAX_DOF];
         for i in 0..self.n {
-            (s_out[i], c_out[i]) = crate::fastmath::sin_cos_lanes_with_zeros(&q[i]);
+            (s_out[i], c_out[i]) = crate::fastmath::sin_cos_lanes_tiny_in_kernel(&q[i]);
         }
         (s_out, c_out)
     }
@@ -832,7 +832,7 @@ macro_rules! measure_impl {
                     c: [[1.0; LANES]; MAX_DOF],
                 };
                 for i in 0..chain.n {
-                    (out.s[i], out.c[i]) = crate::fastmath::sin_cos_lanes_with_zeros(&q[i]);
+                    (out.s[i], out.c[i]) = crate::fastmath::sin_cos_lanes_tiny_in_kernel(&q[i]);
                 }
                 // SAFETY: the caller's contract (this instruction set).
                 unsafe {
