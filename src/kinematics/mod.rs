@@ -1155,17 +1155,40 @@ impl<'a> IkSolver<'a> {
         batch: &mut opw::BranchBatch,
     ) -> bool {
         use crate::simd::LANES;
+        let mut tp = [[0.0; LANES]; 3];
+        let count = tips.len().min(LANES);
+        for (l, t) in tips.iter().take(LANES).enumerate() {
+            (tp[0][l], tp[1][l], tp[2][l]) = (t.x, t.y, t.z);
+        }
+        self.solve_near_batch_lanes(target, &tp, count, q_prev, branch, level, batch)
+    }
+
+    /// [`IkSolver::solve_near_batch_into`] of the `count` tips given lane by lane
+    /// (`tp[i][lane]`, m; lanes from `count` on are ignored): the same batch, bit for bit.
+    #[allow(clippy::too_many_arguments)]
+    pub fn solve_near_batch_lanes(
+        &self,
+        target: &PathTarget,
+        tp: &[[f64; crate::simd::LANES]; 3],
+        count: usize,
+        q_prev: &[f64],
+        branch: Option<Branch>,
+        level: crate::simd::Level,
+        batch: &mut opw::BranchBatch,
+    ) -> bool {
+        use crate::simd::LANES;
         let (p, k) = match (&self.model.opw, &self.opw_k) {
             (Some(p), Some(k)) if q_prev.len() == self.model.dof() => (p, k),
             _ => return false,
         };
-        // flange_target of each tip: rot · tool_inv.rot and rot · tool_inv.pos + tip.
-        let off = target.off;
+        // flange_target of each tip: rot · tool_inv.rot and rot · tool_inv.pos + tip (lanes
+        // without a tip: 0).
+        let off = [target.off.x, target.off.y, target.off.z];
         let mut pos = [[0.0; LANES]; 3];
-        for (l, t) in tips.iter().take(LANES).enumerate() {
-            pos[0][l] = off.x + t.x;
-            pos[1][l] = off.y + t.y;
-            pos[2][l] = off.z + t.z;
+        for i in 0..3 {
+            for l in 0..LANES {
+                pos[i][l] = if l < count { off[i] + tp[i][l] } else { 0.0 };
+            }
         }
         let branch = branch.unwrap_or_else(|| k.branch_of(p, q_prev));
         opw::solve_branch_batch_into(p, k, &target.frot, &pos, branch, level, batch);
@@ -1453,29 +1476,32 @@ impl<'a> IkSolver<'a> {
             #[cfg(target_arch = "x86_64")]
             Level::Avx512 if Level::Avx512.available() => {
                 // SAFETY: the CPU has AVX-512F (checked just above).
-                unsafe { self.check_lanes_avx512(count, q, target, tips, Out::Slice(sincos)) }
+                unsafe { self.check_lanes_avx512(count, q, target, tips, None, Out::Slice(sincos)) }
             }
             #[cfg(target_arch = "x86_64")]
             Level::Avx2 if Level::Avx2.available() => {
                 // SAFETY: the CPU has AVX2 and FMA (checked just above).
-                unsafe { self.check_lanes_avx2(count, q, target, tips, Out::Slice(sincos)) }
+                unsafe { self.check_lanes_avx2(count, q, target, tips, None, Out::Slice(sincos)) }
             }
             // SAFETY: the baseline instruction set.
             _ => unsafe {
-                self.check_lanes_with::<fk::Sse2>(count, q, target, tips, Out::Slice(sincos))
+                self.check_lanes_with::<fk::Sse2>(count, q, target, tips, None, Out::Slice(sincos))
             },
         }
     }
 
     /// [`IkSolver::check_lanes`] that appends the sines and cosines of the `count` answers
     /// to `sincos` (`count · 2 dof` values, the same as `check_lanes` writes) when all pass,
-    /// and leaves it as it was on an error: no zero fill ahead of the values.
+    /// and leaves it as it was on an error: no zero fill ahead of the values. `tp` holds the
+    /// tips lane by lane (`tp[i][lane] == tips[lane][i]`, m).
+    #[allow(clippy::too_many_arguments)]
     pub fn check_lanes_push(
         &self,
         count: usize,
         q: &[[f64; crate::simd::LANES]; MAX_DOF],
         target: &PathTarget,
         tips: &[V3],
+        tp: &[[f64; crate::simd::LANES]; 3],
         sincos: &mut Vec<f64>,
         level: crate::simd::Level,
     ) -> Result<(), (usize, IkFailure)> {
@@ -1489,15 +1515,17 @@ impl<'a> IkSolver<'a> {
             #[cfg(target_arch = "x86_64")]
             Level::Avx512 if Level::Avx512.available() => {
                 // SAFETY: the CPU has AVX-512F (checked just above).
-                unsafe { self.check_lanes_avx512(count, q, target, tips, out) }
+                unsafe { self.check_lanes_avx512(count, q, target, tips, Some(tp), out) }
             }
             #[cfg(target_arch = "x86_64")]
             Level::Avx2 if Level::Avx2.available() => {
                 // SAFETY: the CPU has AVX2 and FMA (checked just above).
-                unsafe { self.check_lanes_avx2(count, q, target, tips, out) }
+                unsafe { self.check_lanes_avx2(count, q, target, tips, Some(tp), out) }
             }
             // SAFETY: the baseline instruction set.
-            _ => unsafe { self.check_lanes_with::<fk::Sse2>(count, q, target, tips, out) },
+            _ => unsafe {
+                self.check_lanes_with::<fk::Sse2>(count, q, target, tips, Some(tp), out)
+            },
         }
     }
 
@@ -1509,10 +1537,11 @@ impl<'a> IkSolver<'a> {
         q: &[[f64; crate::simd::LANES]; MAX_DOF],
         target: &PathTarget,
         tips: &[V3],
+        tp_in: Option<&[[f64; crate::simd::LANES]; 3]>,
         sincos: Out<'_>,
     ) -> Result<(), (usize, IkFailure)> {
         // SAFETY: the CPU has AVX-512F (this function's own target feature).
-        unsafe { self.check_lanes_with::<fk::Avx512>(count, q, target, tips, sincos) }
+        unsafe { self.check_lanes_with::<fk::Avx512>(count, q, target, tips, tp_in, sincos) }
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -1523,10 +1552,11 @@ impl<'a> IkSolver<'a> {
         q: &[[f64; crate::simd::LANES]; MAX_DOF],
         target: &PathTarget,
         tips: &[V3],
+        tp_in: Option<&[[f64; crate::simd::LANES]; 3]>,
         sincos: Out<'_>,
     ) -> Result<(), (usize, IkFailure)> {
         // SAFETY: the CPU has AVX2 and FMA (this function's own target feature).
-        unsafe { self.check_lanes_with::<fk::Avx2>(count, q, target, tips, sincos) }
+        unsafe { self.check_lanes_with::<fk::Avx2>(count, q, target, tips, tp_in, sincos) }
     }
 
     /// The body of [`IkSolver::check_lanes`] with the measurement `M` inlined (the caller is
@@ -1539,6 +1569,7 @@ impl<'a> IkSolver<'a> {
         q: &[[f64; crate::simd::LANES]; MAX_DOF],
         target: &PathTarget,
         tips: &[V3],
+        tp_in: Option<&[[f64; crate::simd::LANES]; 3]>,
         sincos: Out<'_>,
     ) -> Result<(), (usize, IkFailure)> {
         use crate::simd::LANES;
@@ -1550,12 +1581,18 @@ impl<'a> IkSolver<'a> {
         // bound (its small-angle branch), where the exact pose passes check_pose for sure.
         // Every other lane (and NaN) goes through the per-sample check itself, on the exact
         // pose: the same verdicts and errors as check_with_sincos.
-        let mut tp = [[0.0; LANES]; 3];
-        for (l, t) in tips.iter().take(count).enumerate() {
-            for i in 0..3 {
-                tp[i][l] = t[i];
+        let mut built = [[0.0; LANES]; 3];
+        let tp = match tp_in {
+            Some(tp) => tp,
+            None => {
+                for (l, t) in tips.iter().take(count).enumerate() {
+                    for i in 0..3 {
+                        built[i][l] = t[i];
+                    }
+                }
+                &built
             }
-        }
+        };
         let bound = fk::CHECK_POSE_BOUND;
         let dp_max = 0.5 * self.check_position_m - bound;
         let dp2_max = dp_max * dp_max;
@@ -1615,7 +1652,7 @@ impl<'a> IkSolver<'a> {
             Ok(())
         };
         // SAFETY: the caller's contract (M's instruction set).
-        unsafe { M::measure_then(&self.chain, q, &target.check_rot, &tp, judge) }
+        unsafe { M::measure_then(&self.chain, q, &target.check_rot, tp, judge) }
     }
 
     /// The FK re-check of `count ≤` [`crate::simd::LANES`] answers in lockstep: lane `l` is the
