@@ -774,6 +774,9 @@ impl FastChain {
 /// copy): [`Sse2`], [`Avx2`], [`Avx512`]. The same operations and bits as `check_lanes` on
 /// the matching [`Level`].
 pub(crate) trait Measure {
+    /// Whether the implementor's instruction set has AVX (256-bit `f64` vectors).
+    const AVX: bool = false;
+
     /// [`FastChain::check_lanes`] of `q` against `check_rot` and `tp`.
     ///
     /// # Safety
@@ -815,8 +818,10 @@ pub(crate) struct Avx512;
 
 #[cfg(target_arch = "x86_64")]
 macro_rules! measure_impl {
-    ($t:ty, $reg:ty) => {
+    ($t:ty, $reg:ty, $avx:expr) => {
         impl Measure for $t {
+            const AVX: bool = $avx;
+
             #[inline(always)]
             unsafe fn measure_then<R>(
                 chain: &FastChain,
@@ -851,11 +856,11 @@ macro_rules! measure_impl {
     };
 }
 #[cfg(target_arch = "x86_64")]
-measure_impl!(Sse2, std::arch::x86_64::__m128d);
+measure_impl!(Sse2, std::arch::x86_64::__m128d, false);
 #[cfg(target_arch = "x86_64")]
-measure_impl!(Avx2, std::arch::x86_64::__m256d);
+measure_impl!(Avx2, std::arch::x86_64::__m256d, true);
 #[cfg(target_arch = "x86_64")]
-measure_impl!(Avx512, std::arch::x86_64::__m512d);
+measure_impl!(Avx512, std::arch::x86_64::__m512d, true);
 
 #[cfg(not(target_arch = "x86_64"))]
 impl Measure for Sse2 {

@@ -599,6 +599,53 @@ pub struct PathTarget {
     check_rot: M3,
 }
 
+/// `out[l · 12 + j] = s[j][l]`, `out[l · 12 + 6 + j] = c[j][l]` for the 6 joints and
+/// [`crate::simd::LANES`] lanes (the layout [`IkSolver::check_lanes`] writes), by 4 × 4 block
+/// transposes in AVX registers: the same values, moved.
+///
+/// # Safety
+/// The CPU has AVX and the caller is compiled for it; `out` holds `LANES · 12` values.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn transpose_sincos_avx(
+    s: &[[f64; crate::simd::LANES]; MAX_DOF],
+    c: &[[f64; crate::simd::LANES]; MAX_DOF],
+    out: &mut [std::mem::MaybeUninit<f64>],
+) {
+    use std::arch::x86_64::*;
+    const _: () = assert!(crate::simd::LANES == 8);
+    assert!(out.len() >= crate::simd::LANES * 12);
+    let rows: [&[f64; crate::simd::LANES]; 12] = [
+        &s[0], &s[1], &s[2], &s[3], &s[4], &s[5], &c[0], &c[1], &c[2], &c[3], &c[4], &c[5],
+    ];
+    let o = out.as_mut_ptr() as *mut f64;
+    // SAFETY: the caller's contract (AVX; `out` long enough: the asserted length); the
+    // loads read 4 of a row's 8 lanes.
+    unsafe {
+        for h in [0, 4] {
+            for g in 0..3 {
+                let r0 = _mm256_loadu_pd(rows[4 * g].as_ptr().add(h));
+                let r1 = _mm256_loadu_pd(rows[4 * g + 1].as_ptr().add(h));
+                let r2 = _mm256_loadu_pd(rows[4 * g + 2].as_ptr().add(h));
+                let r3 = _mm256_loadu_pd(rows[4 * g + 3].as_ptr().add(h));
+                let t0 = _mm256_unpacklo_pd(r0, r1);
+                let t1 = _mm256_unpackhi_pd(r0, r1);
+                let t2 = _mm256_unpacklo_pd(r2, r3);
+                let t3 = _mm256_unpackhi_pd(r2, r3);
+                let lanes = [
+                    _mm256_permute2f128_pd::<0x20>(t0, t2),
+                    _mm256_permute2f128_pd::<0x20>(t1, t3),
+                    _mm256_permute2f128_pd::<0x31>(t0, t2),
+                    _mm256_permute2f128_pd::<0x31>(t1, t3),
+                ];
+                for (i, v) in lanes.into_iter().enumerate() {
+                    _mm256_storeu_pd(o.add((h + i) * 12 + 4 * g), v);
+                }
+            }
+        }
+    }
+}
+
 /// Where [`IkSolver::check_lanes`]' sines and cosines go: into a slice, or appended.
 enum Out<'a> {
     Slice(&'a mut [f64]),
@@ -1637,6 +1684,15 @@ impl<'a> IkSolver<'a> {
                     let len = sincos.len();
                     sincos.reserve(count * 2 * n);
                     let spare = &mut sincos.spare_capacity_mut()[..count * 2 * n];
+                    #[cfg(target_arch = "x86_64")]
+                    if M::AVX && n == 6 && count == LANES {
+                        // SAFETY: M's instruction set has AVX (the caller's contract);
+                        // `spare` holds LANES · 12 values.
+                        unsafe { transpose_sincos_avx(&cl.s, &cl.c, spare) };
+                        // SAFETY: all LANES · 12 values past `len` were written just above.
+                        unsafe { sincos.set_len(len + count * 2 * n) };
+                        return Ok(());
+                    }
                     for (l, out) in spare.chunks_exact_mut(2 * n).enumerate() {
                         let (so, co) = out.split_at_mut(n);
                         for j in 0..n {
