@@ -11,8 +11,9 @@
 //!
 //! Internally every joint frame is re-oriented by a constant rotation `A_i` so that the joint
 //! axis is its local +z (`A_i e_z = axis_i`). A revolute transform then reads
-//! `R = C_i Rz(q)` with a constant `C_i = A_{i-1}ᵀ R_origin A_i`, which costs two columns
-//! of a 3×3 product; link inertias are stored about the joint origin (first moment `m c` and
+//! `R = C_i Rz(q)` with a constant `C_i = A_{i-1}ᵀ R_origin A_i` (snapped onto the signed
+//! permutation it is within 1e-14 of, if any: RNEA then applies it by relabelling, see
+//! `batch.rs`); link inertias are stored about the joint origin (first moment `m c` and
 //! `I_O = I_c + m([c]ᵀ[c])`). Quantities reported to the caller are joint-space only, so the
 //! re-orientation is invisible.
 //!

@@ -35,6 +35,9 @@ pub(super) struct Link {
     pub(super) io: M3,
     /// Reflected rotor inertia G²J_m, kg·m² (revolute) or kg (prismatic).
     pub(super) armature: f64,
+    /// `c` as an index into [`super::batch::PERMS`] when it is a signed permutation (the
+    /// lockstep kernel then applies it by relabelling), else `None`.
+    pub(super) perm: Option<u8>,
 }
 
 impl Default for Link {
@@ -47,7 +50,34 @@ impl Default for Link {
             h: V3::zeros(),
             io: M3::zeros(),
             armature: 0.0,
+            perm: super::batch::perm_of(&M3::identity()),
         }
+    }
+}
+
+/// Entries of a fixed rotation within this of 0 or ±1, all of them, make it the signed
+/// permutation they round to (`cos(π/2)` of a URDF's `rpy` or of the re-orientation is
+/// 6.1e-17, not 0).
+const SNAP_TO_PERMUTATION: f64 = 1e-14;
+
+/// `c` rounded onto the signed permutation it is within [`SNAP_TO_PERMUTATION`] of, entry
+/// by entry; else `c` unchanged.
+fn snap_to_permutation(c: &M3) -> M3 {
+    let r = c.map(|x| {
+        if x.abs() <= SNAP_TO_PERMUTATION {
+            0.0
+        } else if (x - 1.0).abs() <= SNAP_TO_PERMUTATION {
+            1.0
+        } else if (x + 1.0).abs() <= SNAP_TO_PERMUTATION {
+            -1.0
+        } else {
+            x
+        }
+    });
+    if super::batch::perm_of(&r).is_some() {
+        r
+    } else {
+        *c
     }
 }
 
@@ -59,6 +89,9 @@ pub struct DynModel {
     pub(super) links: [Link; MAX_DOF],
     /// Base acceleration that models gravity: `a_0 = −g`, m/s², base frame.
     pub(super) a0: V3,
+    /// `C_0ᵀ a_0` (m/s²): the base acceleration in link 0's frame at `q_0 = 0`, as the
+    /// lockstep kernel's first link reads it.
+    pub(super) a0_local: V3,
     gravity: V3,
     has_armature: bool,
     options: DynOptions,
@@ -120,7 +153,7 @@ impl DynModel {
                 )));
             }
             let a = z_to_axis(&j.axis);
-            let c = a_prev.transpose() * j.origin.rot * a;
+            let c = snap_to_permutation(&(a_prev.transpose() * j.origin.rot * a));
             let p = a_prev.transpose() * j.origin.pos;
             // Inertial in the re-oriented frame: com' = Aᵀ com, I' = Aᵀ I A.
             let com = a.transpose() * inert.com;
@@ -133,13 +166,18 @@ impl DynModel {
                 h: com * inert.mass,
                 io: ic + pax(&com) * inert.mass,
                 armature: arm[i],
+                perm: super::batch::perm_of(&c),
             };
             a_prev = a;
         }
+        let a0 = -robot.gravity;
+        let c0 = &links[0].c;
+        let col = |k: usize| (c0[(0, k)] * a0.x + c0[(1, k)] * a0.y) + c0[(2, k)] * a0.z;
         Ok(DynModel {
             n,
             links,
-            a0: -robot.gravity,
+            a0,
+            a0_local: V3::new(col(0), col(1), col(2)),
             gravity: robot.gravity,
             has_armature,
             options,
@@ -246,7 +284,8 @@ impl DynModel {
 }
 
 /// Per-thread workspace for the algorithms of this module: fixed-size arrays, no heap.
-/// Holds the last call's joint transforms, link forces and composite inertias.
+/// Holds intermediate joint transforms, link forces and composite inertias (RNEA of a
+/// revolute model runs the lockstep kernel on one lane and leaves it untouched).
 #[derive(Clone, Debug)]
 pub struct DynData {
     r: [M3; MAX_DOF],
@@ -506,7 +545,9 @@ pub fn rnea_regressor(
 /// gravity applied as the base acceleration `−g` (Featherstone 2008, table 5.1).
 ///
 /// `q` rad (m), `qd` rad/s, `qdd` rad/s², all of length `model.dof()`; writes `tau` (N·m or N,
-/// length `dof`). No allocation. Error: [`Error::SizeMismatch`] on a wrong slice length.
+/// length `dof`). No allocation. A model whose joints are all revolute runs the lockstep
+/// kernel of [`super::rnea_batch`] on one lane (the same bits as every SIMD level). Error:
+/// [`Error::SizeMismatch`] on a wrong slice length.
 pub fn rnea(
     model: &DynModel,
     data: &mut DynData,
@@ -519,6 +560,10 @@ pub fn rnea(
     model.check("rnea: qd", qd.len())?;
     model.check("rnea: qdd", qdd.len())?;
     model.check("rnea: tau", tau.len())?;
+    if model.batchable() {
+        super::batch::rnea_one(model, |i| crate::fastmath::sin_cos(q[i]), qd, qdd, tau);
+        return Ok(());
+    }
     rnea_core(
         model,
         data,
@@ -559,6 +604,10 @@ pub fn rnea_with_sincos(
         });
     }
     let (s, c) = sincos.split_at(n);
+    if model.batchable() {
+        super::batch::rnea_one(model, |i| (s[i], c[i]), qd, qdd, tau);
+        return Ok(());
+    }
     rnea_core(model, data, q, |i| (s[i], c[i]), qd, qdd, model.a0, tau);
     Ok(())
 }
@@ -687,4 +736,140 @@ pub fn potential_energy(model: &DynModel, data: &mut DynData, q: &[f64]) -> Resu
         v -= model.gravity.dot(&(pw * l.mass + rw * l.h));
     }
     Ok(v)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const ROBOTS: [&str; 5] = [
+        "abb_irb6700_200_260",
+        "abb_irb4600_40_255",
+        "staubli_tx200",
+        "ur10e",
+        "puma560",
+    ];
+
+    fn shipped(name: &str) -> RobotModel {
+        let p = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("robots")
+            .join(name);
+        crate::robot::load(&p).unwrap()
+    }
+
+    /// Deterministic states in wide ranges (rad, rad/s, rad/s²), zeros included.
+    fn states(n: usize, count: usize) -> Vec<[Vec<f64>; 3]> {
+        let mut s = 0x9e37_79b9_7f4a_7c15u64;
+        let mut u = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            2.0 * ((s >> 11) as f64 / (1u64 << 53) as f64) - 1.0
+        };
+        (0..count)
+            .map(|k| {
+                let mut q: Vec<f64> = (0..n).map(|_| 3.5 * u()).collect();
+                let mut qd: Vec<f64> = (0..n).map(|_| 3.0 * u()).collect();
+                let qdd: Vec<f64> = (0..n).map(|_| 20.0 * u()).collect();
+                if k % 7 == 0 {
+                    q[k % n] = 0.0;
+                    qd[(k + 1) % n] = 0.0;
+                }
+                [q, qd, qdd]
+            })
+            .collect()
+    }
+
+    fn options() -> [DynOptions; 2] {
+        [
+            DynOptions::default(),
+            DynOptions {
+                payload: true,
+                armature: true,
+            },
+        ]
+    }
+
+    /// The lockstep kernel's formulation (`Cᵀ` by relabelling, link 0 and 1 without their
+    /// zero terms) against the dense one (`rnea_core`: `R = C Rz(q)` built, every product
+    /// taken) on the same model: with every fixed rotation a signed permutation the two make
+    /// the same roundings, so the torques are equal (`==`: a zero's sign may differ).
+    #[test]
+    fn the_lean_rnea_equals_the_dense_formulation_when_the_fixed_rotations_are_signed_permutations()
+    {
+        for name in ROBOTS {
+            let r = shipped(name);
+            for opts in options() {
+                let m = DynModel::new(&r, opts).unwrap();
+                let n = m.n;
+                assert!(
+                    m.links[..n].iter().all(|l| l.perm.is_some()),
+                    "{name}: every fixed rotation is a signed permutation"
+                );
+                let mut d = m.data();
+                let (mut lean, mut dense) = (vec![0.0; n], vec![0.0; n]);
+                for [q, qd, qdd] in states(n, 300) {
+                    rnea(&m, &mut d, &q, &qd, &qdd, &mut lean).unwrap();
+                    let sc = |i: usize| crate::fastmath::sin_cos(q[i]);
+                    rnea_core(&m, &mut d, &q, sc, &qd, &qdd, m.a0, &mut dense);
+                    assert_eq!(lean, dense, "{name} {opts:?} at q {q:?}");
+                }
+            }
+        }
+    }
+
+    /// The fixed rotations as computed (`cos(π/2)` = 6.1e-17 where the URDF means 0), not
+    /// snapped: the snapped model's torques are within 1e-12 · max(1, |τ|) of these (the
+    /// stated bound of the snap: entries move by at most 1e-14, and every product then rounds
+    /// differently, on terms up to ~10⁴ N·m for the large arms; measured 2.4e-13).
+    #[test]
+    fn snapping_the_fixed_rotations_onto_signed_permutations_moves_torques_by_at_most_1e_12_relative(
+    ) {
+        let mut worst = 0.0f64;
+        for name in ROBOTS {
+            let r = shipped(name);
+            for opts in options() {
+                let m = DynModel::new(&r, opts).unwrap();
+                let mut raw = m.clone();
+                let mut a_prev = M3::identity();
+                let mut snapped_any = false;
+                for (i, j) in r.joints.iter().enumerate() {
+                    let a = z_to_axis(&j.axis);
+                    let c = a_prev.transpose() * j.origin.rot * a;
+                    snapped_any |= c != m.links[i].c;
+                    assert!((c - m.links[i].c).amax() <= SNAP_TO_PERMUTATION);
+                    raw.links[i].c = c;
+                    raw.links[i].perm = None;
+                    a_prev = a;
+                }
+                assert!(snapped_any, "{name}: some rotation had rounding to snap");
+                let n = m.n;
+                let mut d = m.data();
+                let (mut t, mut t_raw) = (vec![0.0; n], vec![0.0; n]);
+                for [q, qd, qdd] in states(n, 300) {
+                    rnea(&m, &mut d, &q, &qd, &qdd, &mut t).unwrap();
+                    let sc = |i: usize| crate::fastmath::sin_cos(q[i]);
+                    rnea_core(&raw, &mut d, &q, sc, &qd, &qdd, raw.a0, &mut t_raw);
+                    for j in 0..n {
+                        let e = (t[j] - t_raw[j]).abs() / t_raw[j].abs().max(1.0);
+                        worst = worst.max(e);
+                        assert!(e <= 1e-12, "{name} joint {j}: {} vs {}", t[j], t_raw[j]);
+                    }
+                }
+            }
+        }
+        println!("snapped vs computed fixed rotations: max relative torque change {worst:.2e}");
+    }
+
+    #[test]
+    fn a_rotation_near_but_not_within_the_snap_tolerance_of_a_permutation_stays_dense() {
+        let exact = rot_axis(&V3::x(), std::f64::consts::FRAC_PI_2);
+        assert_ne!(exact[(1, 1)], 0.0, "cos(π/2) rounds to 6.1e-17");
+        let s = snap_to_permutation(&exact);
+        assert_eq!(s, M3::new(1.0, 0.0, 0.0, 0.0, 0.0, -1.0, 0.0, 1.0, 0.0));
+        assert!(super::super::batch::perm_of(&s).is_some());
+        let off = rot_axis(&V3::x(), std::f64::consts::FRAC_PI_2 + 1e-9);
+        assert_eq!(snap_to_permutation(&off), off);
+        assert!(super::super::batch::perm_of(&off).is_none());
+    }
 }

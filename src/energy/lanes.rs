@@ -527,7 +527,16 @@ fn pass_lanes(
     sum: Option<(&mut EnergySums, &Lanes)>,
 ) {
     transpose(model.n, count, r, &model.lane_angles, x);
-    crate::dynamics::rnea_lanes(&model.dynamics, &x.b, &mut out.tau_rb, &mut x.rnea);
+    let b = &x.b;
+    crate::dynamics::rnea_lanes(
+        &model.dynamics,
+        &b.s,
+        &b.c,
+        &b.qd,
+        &b.qdd,
+        &mut out.tau_rb,
+        &mut x.rnea,
+    );
     let x = Inputs { q: &x.q, b: &x.b };
     match &sum {
         Some(_) => tail_lanes::<false>(model, &x, out),
