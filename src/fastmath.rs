@@ -182,6 +182,51 @@ pub fn sin_cos_lanes_with_zeros(
     (s, c)
 }
 
+/// [`sin_cos_lanes_with_zeros`] with the tiny lanes (`|x| < 2⁻²⁷`) through the kernels
+/// themselves: for them the reduction is exact (`k` = 0, `r` = `x`) and the kernels round to
+/// `(x, 1)`, [`sin_cos`]'s answer, save for `−0`, whose sine the kernel makes `+0`: a select
+/// keeps `x` where `x == 0`. Bit for bit the same results as [`sin_cos_lanes_with_zeros`]
+/// (tests/fastmath.rs), without its two selects per lane. Inlined into the caller, so it runs
+/// on the caller's instruction set.
+#[allow(clippy::neg_cmp_op_on_partial_ord)] // `!(|x| <= max)`: NaN is special
+#[inline(always)]
+pub fn sin_cos_lanes_tiny_in_kernel(
+    x: &[f64; crate::simd::LANES],
+) -> ([f64; crate::simd::LANES], [f64; crate::simd::LANES]) {
+    use crate::simd::LANES;
+    let mut s = [0.0; LANES];
+    let mut c = [0.0; LANES];
+    let mut special = false;
+    for l in 0..LANES {
+        // NaN fails the comparison: special.
+        special |= !(x[l].abs() <= SIN_COS_MAX);
+        let t = x[l] * FRAC_2_PI + ROUND_MAGIC;
+        let quadrant = t.to_bits() & 3;
+        let k = t - ROUND_MAGIC;
+        let r = (x[l] - k * PIO2_1) - k * PIO2_1T;
+        let (ks, kc) = (k_sin(r), k_cos(r));
+        let swap = quadrant & 1 == 1;
+        let (a, b) = if swap { (kc, ks) } else { (ks, kc) };
+        // quadrant 0: (s, c); 1: (c, −s); 2: (−s, −c); 3: (−c, s).
+        let sl = if quadrant & 2 != 0 { -a } else { a };
+        s[l] = if x[l] == 0.0 { x[l] } else { sl };
+        c[l] = if (quadrant + 1) & 2 != 0 { -b } else { b };
+    }
+    if special || libm_selected() {
+        for l in 0..LANES {
+            if libm_selected() || !(x[l].abs() <= SIN_COS_MAX) {
+                // As sin_cos_lanes_with_zeros: (x, 1) for the tiny lanes, also with libm.
+                (s[l], c[l]) = if x[l].abs() < 7.450_580_596_923_828e-9 {
+                    (x[l], 1.0)
+                } else {
+                    sin_cos(x[l])
+                };
+            }
+        }
+    }
+    (s, c)
+}
+
 /// `sin x` (rad); see [`sin_cos`].
 #[inline]
 pub fn sin(x: f64) -> f64 {

@@ -352,3 +352,65 @@ fn the_polynomial_tanh_stays_within_four_ulp_of_libm_below_saturation_and_its_la
         }
     }
 }
+
+#[test]
+#[allow(clippy::needless_range_loop)] // lanes of parallel fixed arrays
+fn sin_cos_lanes_with_tiny_lanes_in_the_kernel_equal_sin_cos_bit_for_bit() {
+    use printwatt::simd::LANES;
+    // fastmath::sin_cos_lanes_tiny_in_kernel (the FK re-check's sines) runs |x| < 2⁻²⁷ and
+    // ±0 through the kernels instead of selecting (x, 1): the same bits as sin_cos and as
+    // sin_cos_lanes_with_zeros, on zeros, subnormals, both sides of 2⁻²⁷ and of the fast
+    // path's range, non-finite values and joint angles, with the libm switch off and on.
+    let _g = SWITCH.lock().unwrap_or_else(|e| e.into_inner());
+    let tiny = 7.450_580_596_923_828e-9;
+    let mut xs = vec![
+        0.0,
+        -0.0,
+        f64::from_bits(1),
+        -f64::from_bits(1),
+        f64::MIN_POSITIVE,
+        -f64::MIN_POSITIVE,
+        1e-300,
+        -1e-200,
+        1e-20,
+        -3e-12,
+        tiny,
+        -tiny,
+        f64::from_bits(tiny.to_bits() - 1),
+        -f64::from_bits(tiny.to_bits() - 1),
+        f64::from_bits(tiny.to_bits() + 1),
+        1e-8,
+        fastmath::SIN_COS_MAX,
+        -fastmath::SIN_COS_MAX,
+        f64::from_bits(fastmath::SIN_COS_MAX.to_bits() + 1),
+        1e6,
+        f64::NAN,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+    ];
+    xs.extend(uniform(47, 4000).map(|u| 7.0 * u));
+    xs.extend(uniform(53, 400).map(|u| tiny * 2.0 * u));
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    for libm in [false, true] {
+        fastmath::set_libm(libm);
+        for chunk in xs.chunks(LANES) {
+            let mut x = [0.5; LANES];
+            x[..chunk.len()].copy_from_slice(chunk);
+            let (s, c) = fastmath::sin_cos_lanes_tiny_in_kernel(&x);
+            let (sz, cz) = fastmath::sin_cos_lanes_with_zeros(&x);
+            assert_eq!(bits(&s), bits(&sz), "libm {libm}: {x:?}");
+            assert_eq!(bits(&c), bits(&cz), "libm {libm}: {x:?}");
+            for l in 0..LANES {
+                let (s1, c1) = fastmath::sin_cos(x[l]);
+                let (s1, c1) = if x[l].abs() < tiny {
+                    (x[l], 1.0)
+                } else {
+                    (s1, c1)
+                };
+                assert_eq!(s[l].to_bits(), s1.to_bits(), "libm {libm}: {}", x[l]);
+                assert_eq!(c[l].to_bits(), c1.to_bits(), "libm {libm}: {}", x[l]);
+            }
+        }
+    }
+    fastmath::set_libm(false);
+}

@@ -1530,8 +1530,12 @@ fn the_lockstep_fk_recheck_measures_within_its_bound_and_gives_the_per_sample_ve
                 // check_lanes_push (track's batches): the same verdict, the same values
                 // appended after what the vector held, nothing appended on an error.
                 let mut pushed = vec![1.5, -2.5];
+                let mut tpl = [[0.0; LANES]; 3];
+                for (l, t) in tips.iter().enumerate() {
+                    (tpl[0][l], tpl[1][l], tpl[2][l]) = (t.x, t.y, t.z);
+                }
                 let got_push =
-                    solver.check_lanes_push(LANES, &qb, &target, &tips, &mut pushed, level);
+                    solver.check_lanes_push(LANES, &qb, &target, &tips, &tpl, &mut pushed, level);
                 assert_eq!(
                     format!("{got_push:?}"),
                     format!("{got:?}"),

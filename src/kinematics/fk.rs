@@ -684,7 +684,7 @@ impl FastChain {
         let mut s_out = [[0.0; LANES]; MAX_DOF];
         let mut c_out = [[1.0; LANES]; MAX_DOF];
         for i in 0..self.n {
-            (s_out[i], c_out[i]) = crate::fastmath::sin_cos_lanes_with_zeros(&q[i]);
+            (s_out[i], c_out[i]) = crate::fastmath::sin_cos_lanes_tiny_in_kernel(&q[i]);
         }
         (s_out, c_out)
     }
@@ -774,6 +774,9 @@ impl FastChain {
 /// copy): [`Sse2`], [`Avx2`], [`Avx512`]. The same operations and bits as `check_lanes` on
 /// the matching [`Level`].
 pub(crate) trait Measure {
+    /// Whether the implementor's instruction set has AVX (256-bit `f64` vectors).
+    const AVX: bool = false;
+
     /// [`FastChain::check_lanes`] of `q` against `check_rot` and `tp`.
     ///
     /// # Safety
@@ -815,8 +818,10 @@ pub(crate) struct Avx512;
 
 #[cfg(target_arch = "x86_64")]
 macro_rules! measure_impl {
-    ($t:ty, $reg:ty) => {
+    ($t:ty, $reg:ty, $avx:expr) => {
         impl Measure for $t {
+            const AVX: bool = $avx;
+
             #[inline(always)]
             unsafe fn measure_then<R>(
                 chain: &FastChain,
@@ -832,7 +837,7 @@ macro_rules! measure_impl {
                     c: [[1.0; LANES]; MAX_DOF],
                 };
                 for i in 0..chain.n {
-                    (out.s[i], out.c[i]) = crate::fastmath::sin_cos_lanes_with_zeros(&q[i]);
+                    (out.s[i], out.c[i]) = crate::fastmath::sin_cos_lanes_tiny_in_kernel(&q[i]);
                 }
                 // SAFETY: the caller's contract (this instruction set).
                 unsafe {
@@ -851,11 +856,11 @@ macro_rules! measure_impl {
     };
 }
 #[cfg(target_arch = "x86_64")]
-measure_impl!(Sse2, std::arch::x86_64::__m128d);
+measure_impl!(Sse2, std::arch::x86_64::__m128d, false);
 #[cfg(target_arch = "x86_64")]
-measure_impl!(Avx2, std::arch::x86_64::__m256d);
+measure_impl!(Avx2, std::arch::x86_64::__m256d, true);
 #[cfg(target_arch = "x86_64")]
-measure_impl!(Avx512, std::arch::x86_64::__m512d);
+measure_impl!(Avx512, std::arch::x86_64::__m512d, true);
 
 #[cfg(not(target_arch = "x86_64"))]
 impl Measure for Sse2 {

@@ -599,6 +599,53 @@ pub struct PathTarget {
     check_rot: M3,
 }
 
+/// `out[l · 12 + j] = s[j][l]`, `out[l · 12 + 6 + j] = c[j][l]` for the 6 joints and
+/// [`crate::simd::LANES`] lanes (the layout [`IkSolver::check_lanes`] writes), by 4 × 4 block
+/// transposes in AVX registers: the same values, moved.
+///
+/// # Safety
+/// The CPU has AVX and the caller is compiled for it; `out` holds `LANES · 12` values.
+#[cfg(target_arch = "x86_64")]
+#[inline(always)]
+unsafe fn transpose_sincos_avx(
+    s: &[[f64; crate::simd::LANES]; MAX_DOF],
+    c: &[[f64; crate::simd::LANES]; MAX_DOF],
+    out: &mut [std::mem::MaybeUninit<f64>],
+) {
+    use std::arch::x86_64::*;
+    const _: () = assert!(crate::simd::LANES == 8);
+    assert!(out.len() >= crate::simd::LANES * 12);
+    let rows: [&[f64; crate::simd::LANES]; 12] = [
+        &s[0], &s[1], &s[2], &s[3], &s[4], &s[5], &c[0], &c[1], &c[2], &c[3], &c[4], &c[5],
+    ];
+    let o = out.as_mut_ptr() as *mut f64;
+    // SAFETY: the caller's contract (AVX; `out` long enough: the asserted length); the
+    // loads read 4 of a row's 8 lanes.
+    unsafe {
+        for h in [0, 4] {
+            for g in 0..3 {
+                let r0 = _mm256_loadu_pd(rows[4 * g].as_ptr().add(h));
+                let r1 = _mm256_loadu_pd(rows[4 * g + 1].as_ptr().add(h));
+                let r2 = _mm256_loadu_pd(rows[4 * g + 2].as_ptr().add(h));
+                let r3 = _mm256_loadu_pd(rows[4 * g + 3].as_ptr().add(h));
+                let t0 = _mm256_unpacklo_pd(r0, r1);
+                let t1 = _mm256_unpackhi_pd(r0, r1);
+                let t2 = _mm256_unpacklo_pd(r2, r3);
+                let t3 = _mm256_unpackhi_pd(r2, r3);
+                let lanes = [
+                    _mm256_permute2f128_pd::<0x20>(t0, t2),
+                    _mm256_permute2f128_pd::<0x20>(t1, t3),
+                    _mm256_permute2f128_pd::<0x31>(t0, t2),
+                    _mm256_permute2f128_pd::<0x31>(t1, t3),
+                ];
+                for (i, v) in lanes.into_iter().enumerate() {
+                    _mm256_storeu_pd(o.add((h + i) * 12 + 4 * g), v);
+                }
+            }
+        }
+    }
+}
+
 /// Where [`IkSolver::check_lanes`]' sines and cosines go: into a slice, or appended.
 enum Out<'a> {
     Slice(&'a mut [f64]),
@@ -1155,17 +1202,40 @@ impl<'a> IkSolver<'a> {
         batch: &mut opw::BranchBatch,
     ) -> bool {
         use crate::simd::LANES;
+        let mut tp = [[0.0; LANES]; 3];
+        let count = tips.len().min(LANES);
+        for (l, t) in tips.iter().take(LANES).enumerate() {
+            (tp[0][l], tp[1][l], tp[2][l]) = (t.x, t.y, t.z);
+        }
+        self.solve_near_batch_lanes(target, &tp, count, q_prev, branch, level, batch)
+    }
+
+    /// [`IkSolver::solve_near_batch_into`] of the `count` tips given lane by lane
+    /// (`tp[i][lane]`, m; lanes from `count` on are ignored): the same batch, bit for bit.
+    #[allow(clippy::too_many_arguments)]
+    pub fn solve_near_batch_lanes(
+        &self,
+        target: &PathTarget,
+        tp: &[[f64; crate::simd::LANES]; 3],
+        count: usize,
+        q_prev: &[f64],
+        branch: Option<Branch>,
+        level: crate::simd::Level,
+        batch: &mut opw::BranchBatch,
+    ) -> bool {
+        use crate::simd::LANES;
         let (p, k) = match (&self.model.opw, &self.opw_k) {
             (Some(p), Some(k)) if q_prev.len() == self.model.dof() => (p, k),
             _ => return false,
         };
-        // flange_target of each tip: rot · tool_inv.rot and rot · tool_inv.pos + tip.
-        let off = target.off;
+        // flange_target of each tip: rot · tool_inv.rot and rot · tool_inv.pos + tip (lanes
+        // without a tip: 0).
+        let off = [target.off.x, target.off.y, target.off.z];
         let mut pos = [[0.0; LANES]; 3];
-        for (l, t) in tips.iter().take(LANES).enumerate() {
-            pos[0][l] = off.x + t.x;
-            pos[1][l] = off.y + t.y;
-            pos[2][l] = off.z + t.z;
+        for i in 0..3 {
+            for l in 0..LANES {
+                pos[i][l] = if l < count { off[i] + tp[i][l] } else { 0.0 };
+            }
         }
         let branch = branch.unwrap_or_else(|| k.branch_of(p, q_prev));
         opw::solve_branch_batch_into(p, k, &target.frot, &pos, branch, level, batch);
@@ -1453,29 +1523,32 @@ impl<'a> IkSolver<'a> {
             #[cfg(target_arch = "x86_64")]
             Level::Avx512 if Level::Avx512.available() => {
                 // SAFETY: the CPU has AVX-512F (checked just above).
-                unsafe { self.check_lanes_avx512(count, q, target, tips, Out::Slice(sincos)) }
+                unsafe { self.check_lanes_avx512(count, q, target, tips, None, Out::Slice(sincos)) }
             }
             #[cfg(target_arch = "x86_64")]
             Level::Avx2 if Level::Avx2.available() => {
                 // SAFETY: the CPU has AVX2 and FMA (checked just above).
-                unsafe { self.check_lanes_avx2(count, q, target, tips, Out::Slice(sincos)) }
+                unsafe { self.check_lanes_avx2(count, q, target, tips, None, Out::Slice(sincos)) }
             }
             // SAFETY: the baseline instruction set.
             _ => unsafe {
-                self.check_lanes_with::<fk::Sse2>(count, q, target, tips, Out::Slice(sincos))
+                self.check_lanes_with::<fk::Sse2>(count, q, target, tips, None, Out::Slice(sincos))
             },
         }
     }
 
     /// [`IkSolver::check_lanes`] that appends the sines and cosines of the `count` answers
     /// to `sincos` (`count · 2 dof` values, the same as `check_lanes` writes) when all pass,
-    /// and leaves it as it was on an error: no zero fill ahead of the values.
+    /// and leaves it as it was on an error: no zero fill ahead of the values. `tp` holds the
+    /// tips lane by lane (`tp[i][lane] == tips[lane][i]`, m).
+    #[allow(clippy::too_many_arguments)]
     pub fn check_lanes_push(
         &self,
         count: usize,
         q: &[[f64; crate::simd::LANES]; MAX_DOF],
         target: &PathTarget,
         tips: &[V3],
+        tp: &[[f64; crate::simd::LANES]; 3],
         sincos: &mut Vec<f64>,
         level: crate::simd::Level,
     ) -> Result<(), (usize, IkFailure)> {
@@ -1489,15 +1562,17 @@ impl<'a> IkSolver<'a> {
             #[cfg(target_arch = "x86_64")]
             Level::Avx512 if Level::Avx512.available() => {
                 // SAFETY: the CPU has AVX-512F (checked just above).
-                unsafe { self.check_lanes_avx512(count, q, target, tips, out) }
+                unsafe { self.check_lanes_avx512(count, q, target, tips, Some(tp), out) }
             }
             #[cfg(target_arch = "x86_64")]
             Level::Avx2 if Level::Avx2.available() => {
                 // SAFETY: the CPU has AVX2 and FMA (checked just above).
-                unsafe { self.check_lanes_avx2(count, q, target, tips, out) }
+                unsafe { self.check_lanes_avx2(count, q, target, tips, Some(tp), out) }
             }
             // SAFETY: the baseline instruction set.
-            _ => unsafe { self.check_lanes_with::<fk::Sse2>(count, q, target, tips, out) },
+            _ => unsafe {
+                self.check_lanes_with::<fk::Sse2>(count, q, target, tips, Some(tp), out)
+            },
         }
     }
 
@@ -1509,10 +1584,11 @@ impl<'a> IkSolver<'a> {
         q: &[[f64; crate::simd::LANES]; MAX_DOF],
         target: &PathTarget,
         tips: &[V3],
+        tp_in: Option<&[[f64; crate::simd::LANES]; 3]>,
         sincos: Out<'_>,
     ) -> Result<(), (usize, IkFailure)> {
         // SAFETY: the CPU has AVX-512F (this function's own target feature).
-        unsafe { self.check_lanes_with::<fk::Avx512>(count, q, target, tips, sincos) }
+        unsafe { self.check_lanes_with::<fk::Avx512>(count, q, target, tips, tp_in, sincos) }
     }
 
     #[cfg(target_arch = "x86_64")]
@@ -1523,10 +1599,11 @@ impl<'a> IkSolver<'a> {
         q: &[[f64; crate::simd::LANES]; MAX_DOF],
         target: &PathTarget,
         tips: &[V3],
+        tp_in: Option<&[[f64; crate::simd::LANES]; 3]>,
         sincos: Out<'_>,
     ) -> Result<(), (usize, IkFailure)> {
         // SAFETY: the CPU has AVX2 and FMA (this function's own target feature).
-        unsafe { self.check_lanes_with::<fk::Avx2>(count, q, target, tips, sincos) }
+        unsafe { self.check_lanes_with::<fk::Avx2>(count, q, target, tips, tp_in, sincos) }
     }
 
     /// The body of [`IkSolver::check_lanes`] with the measurement `M` inlined (the caller is
@@ -1539,6 +1616,7 @@ impl<'a> IkSolver<'a> {
         q: &[[f64; crate::simd::LANES]; MAX_DOF],
         target: &PathTarget,
         tips: &[V3],
+        tp_in: Option<&[[f64; crate::simd::LANES]; 3]>,
         sincos: Out<'_>,
     ) -> Result<(), (usize, IkFailure)> {
         use crate::simd::LANES;
@@ -1550,12 +1628,18 @@ impl<'a> IkSolver<'a> {
         // bound (its small-angle branch), where the exact pose passes check_pose for sure.
         // Every other lane (and NaN) goes through the per-sample check itself, on the exact
         // pose: the same verdicts and errors as check_with_sincos.
-        let mut tp = [[0.0; LANES]; 3];
-        for (l, t) in tips.iter().take(count).enumerate() {
-            for i in 0..3 {
-                tp[i][l] = t[i];
+        let mut built = [[0.0; LANES]; 3];
+        let tp = match tp_in {
+            Some(tp) => tp,
+            None => {
+                for (l, t) in tips.iter().take(count).enumerate() {
+                    for i in 0..3 {
+                        built[i][l] = t[i];
+                    }
+                }
+                &built
             }
-        }
+        };
         let bound = fk::CHECK_POSE_BOUND;
         let dp_max = 0.5 * self.check_position_m - bound;
         let dp2_max = dp_max * dp_max;
@@ -1600,6 +1684,15 @@ impl<'a> IkSolver<'a> {
                     let len = sincos.len();
                     sincos.reserve(count * 2 * n);
                     let spare = &mut sincos.spare_capacity_mut()[..count * 2 * n];
+                    #[cfg(target_arch = "x86_64")]
+                    if M::AVX && n == 6 && count == LANES {
+                        // SAFETY: M's instruction set has AVX (the caller's contract);
+                        // `spare` holds LANES · 12 values.
+                        unsafe { transpose_sincos_avx(&cl.s, &cl.c, spare) };
+                        // SAFETY: all LANES · 12 values past `len` were written just above.
+                        unsafe { sincos.set_len(len + count * 2 * n) };
+                        return Ok(());
+                    }
                     for (l, out) in spare.chunks_exact_mut(2 * n).enumerate() {
                         let (so, co) = out.split_at_mut(n);
                         for j in 0..n {
@@ -1615,7 +1708,7 @@ impl<'a> IkSolver<'a> {
             Ok(())
         };
         // SAFETY: the caller's contract (M's instruction set).
-        unsafe { M::measure_then(&self.chain, q, &target.check_rot, &tp, judge) }
+        unsafe { M::measure_then(&self.chain, q, &target.check_rot, tp, judge) }
     }
 
     /// The FK re-check of `count ≤` [`crate::simd::LANES`] answers in lockstep: lane `l` is the

@@ -342,6 +342,8 @@ pub fn track(
     tcp.reserve(len);
     sincos.reserve(len * 2 * n);
     let mut tips = [V3::zeros(); LANES];
+    // The same tips lane by lane (lanes from count on: stale, ignored).
+    let mut tp = [[0.0; LANES]; 3];
     let mut k0 = 0;
     // The branch of prev, when the last batch's lanes all continued one another.
     let mut known: Option<crate::kinematics::Branch> = None;
@@ -350,12 +352,14 @@ pub fn track(
     let mut batch = crate::kinematics::opw::BranchBatch::default();
     while k0 < len {
         let count = LANES.min(len - k0);
-        for (t, pk) in tips.iter_mut().zip(&motion.p[k0..k0 + count]) {
+        for (l, (t, pk)) in tips.iter_mut().zip(&motion.p[k0..k0 + count]).enumerate() {
             *t = part_to_base.apply(pk);
+            (tp[0][l], tp[1][l], tp[2][l]) = (t.x, t.y, t.z);
         }
-        let solved = solver.solve_near_batch_into(
+        let solved = solver.solve_near_batch_lanes(
             &path_target,
-            &tips[..count],
+            &tp,
+            count,
             &prev,
             known.take(),
             level,
@@ -384,7 +388,15 @@ pub fn track(
             prev = last;
             if taken == count && sincos.len() == k0 * 2 * n {
                 solver
-                    .check_lanes_push(count, &c.q, &path_target, &tips[..count], sincos, level)
+                    .check_lanes_push(
+                        count,
+                        &c.q,
+                        &path_target,
+                        &tips[..count],
+                        &tp,
+                        sincos,
+                        level,
+                    )
                     .map_err(|(l, reason)| {
                         sincos.truncate(k0 * 2 * n);
                         unreachable(k0 + l, tips[l], reason)
