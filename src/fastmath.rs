@@ -524,6 +524,36 @@ pub fn tanh_lanes(x: &[f64; crate::simd::LANES]) -> [f64; crate::simd::LANES] {
     r
 }
 
+/// [`tanh_lanes`] of `x / eps` (`x` in any unit, `eps` in the same unit), lane by lane bit for
+/// bit `tanh_lanes(x[l] / eps)`: the smoothed sign `tanh(q̇/ε)` of the friction effects. When
+/// every lane is saturated already by `|x| ≥ 20 ε (1 + 2⁻⁵⁰)` (then `|x/ε| ≥ 20` exactly,
+/// rounding being monotonic, and `x/ε` has the sign of `x` since `ε > 0`) the result is
+/// `±1` with `x`'s sign and the 8 divisions are skipped; otherwise (a slower lane, a NaN, an
+/// `eps` that is not a positive normal number, libm's switch on) it divides and calls
+/// [`tanh_lanes`]. Inlined into the caller, so it runs on the caller's instruction set.
+#[inline(always)]
+pub fn tanh_lanes_of_ratio(x: &[f64; crate::simd::LANES], eps: f64) -> [f64; crate::simd::LANES] {
+    use crate::simd::LANES;
+    // 20 ε rounded up by more than its rounding error (ε normal, so 20 ε is normal or ∞).
+    let fast = eps >= f64::MIN_POSITIVE && eps.is_finite() && !libm_selected();
+    let threshold = (TANH_SATURATED * eps) * (1.0 + 4.0 * f64::EPSILON);
+    let mut saturated = fast;
+    let mut r = [0.0; LANES];
+    for l in 0..LANES {
+        // NaN compares false: not saturated.
+        saturated &= x[l].abs() >= threshold;
+        r[l] = 1.0f64.copysign(x[l]);
+    }
+    if saturated {
+        return r;
+    }
+    let mut v = [0.0; LANES];
+    for l in 0..LANES {
+        v[l] = x[l] / eps;
+    }
+    tanh_lanes(&v)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

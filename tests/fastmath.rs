@@ -414,3 +414,81 @@ fn sin_cos_lanes_with_tiny_lanes_in_the_kernel_equal_sin_cos_bit_for_bit() {
     }
     fastmath::set_libm(false);
 }
+
+#[test]
+#[allow(clippy::needless_range_loop)] // lanes of parallel fixed arrays
+fn tanh_of_a_ratio_skips_the_division_only_where_saturated_and_equals_tanh_of_the_quotient() {
+    // fastmath::tanh_lanes_of_ratio (the Coulomb sign tanh(q̇/ε) of the lockstep pass) returns
+    // ±1 without dividing when every lane has |x| ≥ 20 ε (1 + 2⁻⁵⁰): lane by lane it must give
+    // tanh(x / ε)'s bits, at and around the saturation boundary x = ±20 ε (a few ulp either
+    // side, where the quotient rounds onto 20 or below it), for widths ε in and outside the
+    // identified range, non-positive, subnormal and non-finite ones (which must divide), NaN,
+    // ±0 and ±∞ lanes, with libm's switch off and on.
+    use printwatt::simd::LANES;
+    let _g = SWITCH.lock().unwrap_or_else(|e| e.into_inner());
+    let step = |x: f64, k: i64| f64::from_bits((x.to_bits() as i64 + k) as u64);
+    for libm in [false, true] {
+        fastmath::set_libm(libm);
+        for eps in [
+            1e-3,
+            1e-4,
+            0.2,
+            3e-3,
+            7.3e-5,
+            1.0 / 3.0,
+            f64::MIN_POSITIVE,
+            1e300,
+            5e-324,
+            0.0,
+            -1e-3,
+            f64::NAN,
+            f64::INFINITY,
+        ] {
+            let t = 20.0 * eps;
+            let mut xs: Vec<f64> = Vec::new();
+            if t.is_finite() && t > 0.0 {
+                for k in -12..=12 {
+                    xs.push(step(t, k));
+                }
+            }
+            xs.extend([2.0 * t, 1e3 * t, 19.0 * eps, 21.0 * eps, 0.02, 2.0, 1e-300]);
+            let with_neg: Vec<f64> = xs.iter().flat_map(|&x| [x, -x]).collect();
+            let mut batches: Vec<[f64; LANES]> = Vec::new();
+            // Every value in all lanes (one sign, and both signs), then sliding windows.
+            for &x in &xs {
+                batches.push([x; LANES]);
+                let mut b = [x; LANES];
+                for l in (0..LANES).step_by(2) {
+                    b[l] = -x;
+                }
+                batches.push(b);
+            }
+            for w in with_neg.windows(LANES) {
+                batches.push(w.try_into().unwrap());
+            }
+            let mut special = [t * 3.0; LANES];
+            special[2] = f64::NAN;
+            batches.push(special);
+            special[2] = f64::INFINITY;
+            special[5] = f64::NEG_INFINITY;
+            batches.push(special);
+            special[3] = 0.0;
+            special[4] = -0.0;
+            batches.push(special);
+            for x in &batches {
+                let got = fastmath::tanh_lanes_of_ratio(x, eps);
+                for l in 0..LANES {
+                    let want = fastmath::tanh(x[l] / eps);
+                    assert!(
+                        got[l].to_bits() == want.to_bits() || (got[l].is_nan() && want.is_nan()),
+                        "libm {libm}, eps {eps:e}, lane {l} at {:e}: {} vs {}",
+                        x[l],
+                        got[l],
+                        want
+                    );
+                }
+            }
+        }
+    }
+    fastmath::set_libm(false);
+}

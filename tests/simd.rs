@@ -1845,3 +1845,165 @@ fn next_branch_taken_without_branch_of_equals_branch_of_at_the_branch_boundaries
     }
     assert!(lanes > 10_000, "{lanes} lanes");
 }
+
+#[test]
+fn saturated_coulomb_batches_and_the_one_division_motor_model_equal_the_per_sample_path_bit_for_bit(
+) {
+    // The lockstep pass skips the division q̇/ε of a joint whose lanes are all saturated
+    // (|q̇| ≥ 20 ε (1 + 2⁻⁵⁰), fastmath::tanh_lanes_of_ratio) and takes the motor torque with
+    // one division of a selected dividend and divisor (τ / (G η) driving, (τ η) / G
+    // regenerating): on the default robot, with joints whose lanes are all saturated, all at
+    // the saturation boundary ±20 ε (a few ulp either side), mixed, zero and −0, in both
+    // quadrants of τ q̇, every field of every sample equals the per-sample path's bits on
+    // every level, by eval_lanes_with_sincos and by the row-major eval_rows.
+    let _g = LEVEL_LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    let model = common::robot("abb_irb6700_200_260");
+    let n = model.dof();
+    let em = EnergyModel::new(&model).unwrap();
+    assert!(em.description().contains("coulomb"));
+    let eps = printwatt::effects::COULOMB_VELOCITY_SCALE_RAD_S;
+    let edge = 20.0 * eps;
+    let step = |x: f64, k: i64| f64::from_bits((x.to_bits() as i64 + k) as u64);
+    let mut u = uniform(31);
+    let count = 12 * LANES;
+    let mut quadrants = [0usize; 2];
+    #[allow(clippy::type_complexity)]
+    let st: Vec<(Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>)> = (0..count)
+        .map(|k| {
+            let (batch, lane) = (k / LANES, (k % LANES) as i64);
+            let q: Vec<f64> = (0..n).map(|_| 3.0 * u()).collect();
+            let mut sc = vec![0.0; 2 * n];
+            for j in 0..n {
+                (sc[j], sc[n + j]) = fastmath::sin_cos(q[j]);
+            }
+            let qd = (0..n)
+                .map(|j| {
+                    let sign = if u() < 0.0 { -1.0 } else { 1.0 };
+                    match (batch + j) % 6 {
+                        0 => sign * (0.05 + u().abs()),        // all saturated
+                        1 => sign * step(edge, lane - 4),      // at the boundary
+                        2 => sign * step(edge, 4 * lane - 16), // around it, wider
+                        3 => 0.5 * u(),                        // mixed
+                        4 => sign * step(edge * 1.01, -lane),  // just saturated
+                        _ => [0.0, -0.0][(lane % 2) as usize],
+                    }
+                })
+                .collect();
+            let qdd = (0..n).map(|_| 10.0 * u()).collect();
+            (q, sc, qd, qdd)
+        })
+        .collect();
+    let mut data = em.data();
+    for chunk in st.chunks(LANES) {
+        let mut want = vec![SamplePower::default(); chunk.len()];
+        for ((q, sc, qd, qdd), w) in chunk.iter().zip(want.iter_mut()) {
+            energy::eval_sample_with_sincos(&em, &mut data, q, sc, qd, qdd, w).unwrap();
+            for j in 0..n {
+                quadrants[usize::from(w.tau[j] * qd[j] >= 0.0)] += 1;
+            }
+        }
+        let (mut q, mut sc, mut qd, mut qdd) = (vec![], vec![], vec![], vec![]);
+        for (a, b, c, d) in chunk {
+            q.extend_from_slice(a);
+            sc.extend_from_slice(b);
+            qd.extend_from_slice(c);
+            qdd.extend_from_slice(d);
+        }
+        for level in levels() {
+            let mut out = energy::PowerLanes::default();
+            energy::eval_lanes_with_sincos(
+                &em,
+                &mut data,
+                chunk.len(),
+                |l| &chunk[l].0,
+                |l| &chunk[l].1,
+                |l| &chunk[l].2,
+                |l| &chunk[l].3,
+                &mut out,
+                level,
+            )
+            .unwrap();
+            for (l, w) in want.iter().enumerate() {
+                assert_eq!(
+                    format!("{:?}", out.sample(l)),
+                    format!("{w:?}"),
+                    "{level:?}, lane {l}"
+                );
+            }
+            let rows = energy::Rows {
+                q: &q,
+                sincos: Some(&sc),
+                qd: &qd,
+                qdd: &qdd,
+            };
+            let mut x = energy::LaneInputs::default();
+            let mut out = energy::PowerLanes::default();
+            energy::eval_rows(&em, &mut data, chunk.len(), &rows, &mut x, &mut out, level).unwrap();
+            for (l, w) in want.iter().enumerate() {
+                assert_eq!(
+                    format!("{:?}", out.sample(l)),
+                    format!("{w:?}"),
+                    "rows: {level:?}, lane {l}"
+                );
+            }
+        }
+    }
+    assert!(
+        quadrants[0] > 50 && quadrants[1] > 50,
+        "both quadrants met: {quadrants:?}"
+    );
+}
+
+#[test]
+fn the_row_transposition_in_avx512_registers_puts_every_value_in_its_lane() {
+    // A full batch of the six-joint arm is transposed from rows into lanes by masked row
+    // loads and an 8 × 8 register transpose on AVX-512 (moves only): from slices exactly 8
+    // rows long (nothing to read beyond them) starting at every offset of a buffer, with the
+    // sines given and computed, every field of every lane equals the per-sample path's bits
+    // on every level (the balancer's angle lanes included).
+    let model = common::robot("abb_irb6700_200_260");
+    let n = model.dof();
+    let em = EnergyModel::new(&model).unwrap();
+    assert!(em.description().contains("balancer"));
+    let mut data = em.data();
+    let mut u = uniform(57);
+    let m = LANES + 5;
+    let q: Vec<f64> = (0..m * n).map(|_| 3.0 * u()).collect();
+    let qd: Vec<f64> = (0..m * n)
+        .map(|i| (1.0 + (i % 7) as f64) * 0.1 * u())
+        .collect();
+    let qdd: Vec<f64> = (0..m * n).map(|_| 10.0 * u()).collect();
+    let mut sc = vec![0.0; m * 2 * n];
+    for k in 0..m {
+        for j in 0..n {
+            (sc[k * 2 * n + j], sc[k * 2 * n + n + j]) = fastmath::sin_cos(q[k * n + j]);
+        }
+    }
+    let mut want = vec![SamplePower::default(); m];
+    for (k, w) in want.iter_mut().enumerate() {
+        let r = |a: &[f64]| a[k * n..(k + 1) * n].to_vec();
+        energy::eval_sample(&em, &mut data, &r(&q), &r(&qd), &r(&qdd), w).unwrap();
+    }
+    for level in levels() {
+        for given in [true, false] {
+            for k0 in 0..=m - LANES {
+                let rows = energy::Rows {
+                    q: &q[k0 * n..(k0 + LANES) * n],
+                    sincos: given.then(|| &sc[k0 * 2 * n..(k0 + LANES) * 2 * n]),
+                    qd: &qd[k0 * n..(k0 + LANES) * n],
+                    qdd: &qdd[k0 * n..(k0 + LANES) * n],
+                };
+                let mut x = energy::LaneInputs::default();
+                let mut out = energy::PowerLanes::default();
+                energy::eval_rows(&em, &mut data, LANES, &rows, &mut x, &mut out, level).unwrap();
+                for l in 0..LANES {
+                    assert_eq!(
+                        format!("{:?}", out.sample(l)),
+                        format!("{:?}", want[k0 + l]),
+                        "{level:?}, sines given {given}, rows from {k0}, lane {l}"
+                    );
+                }
+            }
+        }
+    }
+}

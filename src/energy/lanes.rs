@@ -272,8 +272,8 @@ fn tail_lanes<const ALL: bool>(model: &EnergyModel, x: &Inputs<'_>, out: &mut Po
                         continue;
                     }
                     let (d, w) = (dst[j], qd[j]);
-                    let v = each!(l => w[l] / c.velocity_scale);
-                    let s = crate::fastmath::tanh_lanes(&v);
+                    // tanh(q̇/ε), the division skipped where every lane is saturated.
+                    let s = crate::fastmath::tanh_lanes_of_ratio(&w, c.velocity_scale);
                     dst[j] = each!(l => d[l] + if s[l] >= 0.0 { p * s[l] } else { m * s[l] });
                 }
             }
@@ -348,12 +348,14 @@ fn tail_lanes<const ALL: bool>(model: &EnergyModel, x: &Inputs<'_>, out: &mut Po
             out.p_balancer[j] = each!(l => tb[l] * v[l]);
         }
         if model.has_drive {
-            // super::motor, the branch as a select.
+            // super::motor, the branch as a select of the dividend and the divisor: one
+            // division (`τ / (G η)` driving, `(τ η) / G` regenerating), the same bits.
             let ge = ax.gear * ax.eta;
             let tm = each!(l => {
-                let drive = tau[l] / ge;
-                let back = tau[l] * ax.eta / ax.gear;
-                if tau[l] * v[l] >= 0.0 { drive } else { back }
+                let drive = tau[l] * v[l] >= 0.0;
+                let num = if drive { tau[l] } else { tau[l] * ax.eta };
+                let den = if drive { ge } else { ax.gear };
+                num / den
             });
             let wm = each!(l => ax.gear * v[l]);
             let i = each!(l => tm[l] / ax.kt);
@@ -445,7 +447,36 @@ pub struct LaneInputs {
 
 /// Rows `0..count` of `r` into the lanes of `x`, and their sines where `r` has none.
 #[inline(always)]
-fn transpose(n: usize, count: usize, r: &Rows<'_>, angles: &[bool; MAX_DOF], x: &mut LaneInputs) {
+fn transpose<const AVX512: bool>(
+    n: usize,
+    count: usize,
+    r: &Rows<'_>,
+    angles: &[bool; MAX_DOF],
+    x: &mut LaneInputs,
+) {
+    #[cfg(target_arch = "x86_64")]
+    if AVX512 && n == 6 && count == LANES && LANES == 8 {
+        // SAFETY: `AVX512` is true only in `pass_avx512`, which runs on a CPU with AVX-512F.
+        unsafe {
+            transpose_full_avx512(
+                r,
+                x,
+                if r.sincos.is_some() {
+                    angles
+                } else {
+                    &[true; MAX_DOF]
+                },
+            )
+        };
+        if r.sincos.is_none() {
+            for j in 0..n {
+                let (s, c) = crate::fastmath::sin_cos_lanes(&x.q[j]);
+                x.b.s[j] = s;
+                x.b.c[j] = c;
+            }
+        }
+        return;
+    }
     if n == 6 && count == LANES {
         // The six-joint arm, a full batch: fixed sizes (unrolled, no bounds checks per value);
         // the angles only of the joints that need them (all when the sines are computed here).
@@ -492,6 +523,87 @@ fn transpose_full<const N: usize>(r: &Rows<'_>, x: &mut LaneInputs, angles: &[bo
     }
 }
 
+/// Eight rows of `N ≤ 8` consecutive values (`src[l · stride + k]`, `k < N`, row `l < 8`)
+/// into lanes (`dst[k][l]`) in AVX-512 registers: masked row loads, an 8 × 8 transpose
+/// (unpacks of pairs, then 128-bit shuffles, 30 instructions) and whole-vector stores. The
+/// same values as the value-by-value copy (moves only); session 11: the copy's 8 scalar
+/// stores per vector could not be forwarded to the vector loads that read them right after.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+#[inline]
+fn rows_to_lanes_avx512<const N: usize>(src: &[f64], stride: usize, dst: &mut [Lanes; MAX_DOF]) {
+    use std::arch::x86_64::*;
+    assert!(N <= 8 && LANES == 8 && src.len() >= 7 * stride + N);
+    let m = ((1u32 << N) - 1) as __mmask8;
+    let p = src.as_ptr();
+    // SAFETY: each masked load reads elements `l · stride + k`, `k < N`, of `src`, in bounds
+    // (asserted above); the masked-off elements are not accessed.
+    let (r0, r1, r2, r3, r4, r5, r6, r7) = unsafe {
+        (
+            _mm512_maskz_loadu_pd(m, p),
+            _mm512_maskz_loadu_pd(m, p.add(stride)),
+            _mm512_maskz_loadu_pd(m, p.add(2 * stride)),
+            _mm512_maskz_loadu_pd(m, p.add(3 * stride)),
+            _mm512_maskz_loadu_pd(m, p.add(4 * stride)),
+            _mm512_maskz_loadu_pd(m, p.add(5 * stride)),
+            _mm512_maskz_loadu_pd(m, p.add(6 * stride)),
+            _mm512_maskz_loadu_pd(m, p.add(7 * stride)),
+        )
+    };
+    // Pairs: 128-bit chunk c of t_even holds (r_a[2c], r_b[2c]), of t_odd (r_a[2c+1], r_b[2c+1]).
+    // The columns of the row pairs (0,1), (2,3), (4,5), (6,7).
+    macro_rules! cols {
+        ($a:expr, $b:expr, $c:expr, $d:expr $(,)?) => {{
+            let (a, b, c, d) = ($a, $b, $c, $d);
+            let v0 = _mm512_shuffle_f64x2::<0x44>(a, b); // a.c0 a.c1 b.c0 b.c1
+            let v1 = _mm512_shuffle_f64x2::<0xEE>(a, b); // a.c2 a.c3 b.c2 b.c3
+            let w0 = _mm512_shuffle_f64x2::<0x44>(c, d);
+            let w1 = _mm512_shuffle_f64x2::<0xEE>(c, d);
+            [
+                _mm512_shuffle_f64x2::<0x88>(v0, w0), // chunk 0 of each: column 0 (or 1)
+                _mm512_shuffle_f64x2::<0xDD>(v0, w0), // chunk 1: column 2 (3)
+                _mm512_shuffle_f64x2::<0x88>(v1, w1), // chunk 2: column 4 (5)
+                _mm512_shuffle_f64x2::<0xDD>(v1, w1), // chunk 3: column 6 (7)
+            ]
+        }};
+    }
+    let even = cols!(
+        _mm512_unpacklo_pd(r0, r1),
+        _mm512_unpacklo_pd(r2, r3),
+        _mm512_unpacklo_pd(r4, r5),
+        _mm512_unpacklo_pd(r6, r7),
+    );
+    let odd = cols!(
+        _mm512_unpackhi_pd(r0, r1),
+        _mm512_unpackhi_pd(r2, r3),
+        _mm512_unpackhi_pd(r4, r5),
+        _mm512_unpackhi_pd(r6, r7),
+    );
+    for k in 0..N {
+        let v = if k % 2 == 0 { even[k / 2] } else { odd[k / 2] };
+        // SAFETY: `dst[k]` is 8 writable f64 (`LANES == 8`).
+        unsafe { _mm512_storeu_pd(dst[k].as_mut_ptr(), v) };
+    }
+}
+
+/// [`transpose_full`]`::<6>` by [`rows_to_lanes_avx512`]: the same values.
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+#[inline]
+fn transpose_full_avx512(r: &Rows<'_>, x: &mut LaneInputs, angles: &[bool; MAX_DOF]) {
+    const N: usize = 6;
+    rows_to_lanes_avx512::<N>(&r.qd[..LANES * N], N, &mut x.b.qd);
+    rows_to_lanes_avx512::<N>(&r.qdd[..LANES * N], N, &mut x.b.qdd);
+    if angles[..N].iter().any(|&a| a) {
+        rows_to_lanes_avx512::<N>(&r.q[..LANES * N], N, &mut x.q);
+    }
+    if let Some(sc) = r.sincos {
+        let sc = &sc[..LANES * 2 * N];
+        rows_to_lanes_avx512::<N>(sc, 2 * N, &mut x.b.s);
+        rows_to_lanes_avx512::<N>(&sc[N..], 2 * N, &mut x.b.c);
+    }
+}
+
 /// [`transpose`] of any rows.
 #[inline(always)]
 fn transpose_rows(n: usize, count: usize, r: &Rows<'_>, x: &mut LaneInputs) {
@@ -516,9 +628,10 @@ fn transpose_rows(n: usize, count: usize, r: &Rows<'_>, x: &mut LaneInputs) {
     }
 }
 
-/// The whole lockstep pass of one batch, inlined into one function per level.
+/// The whole lockstep pass of one batch, inlined into one function per level (`AVX512`:
+/// the AVX-512 build, which transposes the rows in registers).
 #[inline(always)]
-fn pass_lanes(
+fn pass_lanes<const AVX512: bool>(
     model: &EnergyModel,
     count: usize,
     r: &Rows<'_>,
@@ -526,7 +639,7 @@ fn pass_lanes(
     out: &mut PowerLanes,
     sum: Option<(&mut EnergySums, &Lanes)>,
 ) {
-    transpose(model.n, count, r, &model.lane_angles, x);
+    transpose::<AVX512>(model.n, count, r, &model.lane_angles, x);
     let b = &x.b;
     crate::dynamics::rnea_lanes(
         &model.dynamics,
@@ -559,7 +672,7 @@ fn pass_sse2(
     out: &mut PowerLanes,
     sum: Option<(&mut EnergySums, &Lanes)>,
 ) {
-    pass_lanes(model, count, r, x, out, sum)
+    pass_lanes::<false>(model, count, r, x, out, sum)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -572,7 +685,7 @@ fn pass_avx2(
     out: &mut PowerLanes,
     sum: Option<(&mut EnergySums, &Lanes)>,
 ) {
-    pass_lanes(model, count, r, x, out, sum)
+    pass_lanes::<false>(model, count, r, x, out, sum)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -585,7 +698,7 @@ fn pass_avx512(
     out: &mut PowerLanes,
     sum: Option<(&mut EnergySums, &Lanes)>,
 ) {
-    pass_lanes(model, count, r, x, out, sum)
+    pass_lanes::<true>(model, count, r, x, out, sum)
 }
 
 /// [`eval_lanes_with_sincos`] of `count ≤` [`LANES`] consecutive samples held row-major in
