@@ -458,7 +458,7 @@ fn push_rows6(
     let spare = &mut qs.spare_capacity_mut()[..taken * 6];
     #[cfg(target_arch = "x86_64")]
     if taken == LANES {
-        const _: () = assert!(crate::simd::LANES % 2 == 0);
+        const _: () = assert!(crate::simd::LANES == 8);
         use std::arch::x86_64::{_mm_loadu_pd, _mm_storeu_pd, _mm_unpackhi_pd, _mm_unpacklo_pd};
         let o = spare.as_mut_ptr() as *mut f64;
         for j in (0..6).step_by(2) {
@@ -759,7 +759,7 @@ fn derivatives_and_violations(
 /// everything (−∞, or 0 when only the product underflowed); an overflow (+∞) tests nothing,
 /// rightly (|num| ≤ f64::MAX < limit · den).
 fn jerk_screen_bound(limit: f64, den: f64) -> f64 {
-    if !(den > 0.0 && den.is_normal()) || !(limit > 0.0) {
+    if !(den.is_normal() && den.is_sign_positive() && limit > 0.0) {
         return f64::NEG_INFINITY;
     }
     let t = limit * den;
@@ -2017,8 +2017,8 @@ mod tests {
                         }
                         for k in len..x.len() * crate::simd::LANES {
                             let c = &out[k / crate::simd::LANES];
-                            for i in 0..3 {
-                                assert_eq!(c[i][k % crate::simd::LANES], frame.pos[i]);
+                            for (i, ci) in c.iter().enumerate() {
+                                assert_eq!(ci[k % crate::simd::LANES], frame.pos[i]);
                             }
                         }
                     }
