@@ -1830,6 +1830,92 @@ fn next_branch_taken_without_branch_of_equals_branch_of_at_the_branch_boundaries
 }
 
 #[test]
+fn tracking_with_the_prunes_tips_gives_each_placement_its_own_path_tcp_and_sines_on_every_level() {
+    // time_at_planned maps the plan's points to the base frame once, in its reach prune, and
+    // hands them to tracking's first round. With one set of buffers reused across placements
+    // (feasible ones, a far one the prune rejects, one where no configuration carries the
+    // path), on every level: each placement's joint path, TCP points and sines are the
+    // per-sample path's (scalar, fresh buffers) to the bit, and each failure is the same.
+    // Paths: the default one (9777 samples, not a multiple of 8), a test path, and a short
+    // one of two moves.
+    use printwatt::kinematics::IkSolver;
+    use printwatt::timing::{
+        self, blend_path, Buffers, JointStageOptions, PathTiming, Plan, ProfileOptions,
+    };
+    use printwatt::toolpath::Placement;
+    let _g = LEVEL_LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    let tcp_bits = |v: &[printwatt::math::V3]| {
+        v.iter()
+            .flat_map(|p| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()])
+            .collect::<Vec<_>>()
+    };
+    let model = common::robot("abb_irb6700_200_260");
+    let solver = IkSolver::new(&model).unwrap();
+    let placements = [
+        Placement::new(1.534, -0.121, 0.0, 90f64.to_radians()),
+        Placement::new(1.7, 0.0, 0.0, 90f64.to_radians()),
+        Placement::new(6.0, 0.0, 0.0, 0.0),
+        Placement::new(0.3, 0.0, 1.5, 0.0),
+        Placement::new(1.534, -0.121, 0.0, 90f64.to_radians()),
+    ];
+    let (popts, jopts) = (ProfileOptions::default(), JointStageOptions::default());
+    let (mut ok, mut failed) = (0, 0);
+    for (path, keep) in [
+        ("default.gcode", usize::MAX),
+        ("seed000_test_path.gcode", usize::MAX),
+        ("seed000_test_path.gcode", 2),
+    ] {
+        let tp = common::path(path);
+        let mut moves = timing::moves_from_toolpath(&tp);
+        moves.truncate(keep);
+        let pieces = blend_path(&moves);
+        let plan = Plan::new(&pieces, &popts);
+        let lines = |i: usize| moves[i].line;
+        let job = PathTiming {
+            pieces: &pieces,
+            plan: &plan,
+            moves_line: &lines,
+            profile: &popts,
+            joint: &jopts,
+        };
+        let run = |level: Level, buf: &mut Buffers, at: &Placement| {
+            assert!(simd::set_level(level));
+            let r = timing::time_at_planned(&solver, &job, at, buf);
+            r.map(|t| {
+                let out = (
+                    bits(&t.traj.q),
+                    bits(&t.traj.qd),
+                    tcp_bits(&t.tcp),
+                    bits(&buf.sincos),
+                    t.rounds,
+                );
+                buf.recycle(t);
+                out
+            })
+            .map_err(|e| format!("{e:?}"))
+        };
+        let want: Vec<_> = placements
+            .iter()
+            .map(|at| run(Level::Scalar, &mut Buffers::default(), at))
+            .collect();
+        for level in levels() {
+            let mut buf = Buffers::default();
+            for (at, w) in placements.iter().zip(&want) {
+                let got = run(level, &mut buf, at);
+                assert_eq!(&got, w, "{path} (moves {keep}) at {at:?} {level:?}");
+                match got {
+                    Ok(_) => ok += 1,
+                    Err(_) => failed += 1,
+                }
+            }
+        }
+    }
+    simd::set_level(simd::detected());
+    assert!(ok >= 6 && failed >= 4, "{ok} timed, {failed} failed");
+}
+
+#[test]
 fn saturated_coulomb_batches_and_the_one_division_motor_model_equal_the_per_sample_path_bit_for_bit(
 ) {
     // The lockstep pass skips the division q̇/ε of a joint whose lanes are all saturated
