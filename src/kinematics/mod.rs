@@ -2259,8 +2259,8 @@ mod tests {
                     let mask = table.accepts_lanes(&qj, level);
                     for l in 0..crate::simd::LANES {
                         let mut q = [0.0; 6];
-                        for j in 0..6 {
-                            q[j] = qj[j][l];
+                        for (v, row) in q.iter_mut().zip(&qj) {
+                            *v = row[l];
                         }
                         let ok = table.fit(&model, &mut q, None).is_ok();
                         let got = mask >> l & 1 != 0;
