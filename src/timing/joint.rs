@@ -1667,13 +1667,15 @@ fn time_at_with(
                             *v = tv + di;
                         }
                     }
-                    let front = solver.wrist_centres_reach_front(&c, 1e-9, level);
-                    for (l, &ok) in front.iter().enumerate().take(count) {
-                        if !ok {
-                            let tip = V3::new(t[0][l], t[1][l], t[2][l]);
-                            if let Err(reason) = solver.wrist_centre_reachable(&(tip + d), 1e-9) {
-                                return Err(fail_at(k0 + l, tip, reason));
-                            }
+                    let front = solver.wrist_centres_reach_front_mask(&c, 1e-9, level);
+                    // The lanes it rejects, in order.
+                    let mut missed = !front & ((1u32 << count) - 1);
+                    while missed != 0 {
+                        let l = missed.trailing_zeros() as usize;
+                        missed &= missed - 1;
+                        let tip = V3::new(t[0][l], t[1][l], t[2][l]);
+                        if let Err(reason) = solver.wrist_centre_reachable(&(tip + d), 1e-9) {
+                            return Err(fail_at(k0 + l, tip, reason));
                         }
                     }
                     k0 += count;
