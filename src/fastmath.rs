@@ -524,20 +524,42 @@ pub fn tanh_lanes(x: &[f64; crate::simd::LANES]) -> [f64; crate::simd::LANES] {
     r
 }
 
+/// The saturation threshold of [`tanh_lanes_of_ratio_at`] for the width `eps`:
+/// `20 ε (1 + 2⁻⁵⁰)`, above `20 ε` by more than its rounding error, for a positive normal
+/// finite `eps` with libm's switch off; NaN otherwise (no lane then compares saturated). Made
+/// once per batch, outside the joints' loop.
+#[inline(always)]
+pub fn ratio_saturation_threshold(eps: f64) -> f64 {
+    if eps >= f64::MIN_POSITIVE && eps.is_finite() && !libm_selected() {
+        (TANH_SATURATED * eps) * (1.0 + 4.0 * f64::EPSILON)
+    } else {
+        f64::NAN
+    }
+}
+
 /// [`tanh_lanes`] of `x / eps` (`x` in any unit, `eps` in the same unit), lane by lane bit for
-/// bit `tanh_lanes(x[l] / eps)`: the smoothed sign `tanh(q̇/ε)` of the friction effects. When
-/// every lane is saturated already by `|x| ≥ 20 ε (1 + 2⁻⁵⁰)` (then `|x/ε| ≥ 20` exactly,
-/// rounding being monotonic, and `x/ε` has the sign of `x` since `ε > 0`) the result is
-/// `±1` with `x`'s sign and the 8 divisions are skipped; otherwise (a slower lane, a NaN, an
-/// `eps` that is not a positive normal number, libm's switch on) it divides and calls
-/// [`tanh_lanes`]. Inlined into the caller, so it runs on the caller's instruction set.
+/// bit `tanh(x[l] / eps)`: the smoothed sign `tanh(q̇/ε)` of the friction effects. See
+/// [`tanh_lanes_of_ratio_at`].
 #[inline(always)]
 pub fn tanh_lanes_of_ratio(x: &[f64; crate::simd::LANES], eps: f64) -> [f64; crate::simd::LANES] {
+    tanh_lanes_of_ratio_at(x, eps, ratio_saturation_threshold(eps))
+}
+
+/// [`tanh_lanes_of_ratio`] with its threshold `threshold =`
+/// [`ratio_saturation_threshold`]`(eps)` made by the caller. When every lane has
+/// `|x| ≥ threshold` (then `|x/ε| ≥ 20` exactly, rounding being monotonic, and `x/ε` has the
+/// sign of `x` since `ε > 0`) the result is `±1` with `x`'s sign and the 8 divisions are
+/// skipped; otherwise (a slower lane, a NaN, a NaN threshold) it divides and runs `tanh`'s
+/// kernel on every lane (libm's `tanh` per lane with its switch on), which gives `tanh`'s bits
+/// for saturated lanes too. Inlined into the caller, so it runs on the caller's instruction set.
+#[inline(always)]
+pub fn tanh_lanes_of_ratio_at(
+    x: &[f64; crate::simd::LANES],
+    eps: f64,
+    threshold: f64,
+) -> [f64; crate::simd::LANES] {
     use crate::simd::LANES;
-    // 20 ε rounded up by more than its rounding error (ε normal, so 20 ε is normal or ∞).
-    let fast = eps >= f64::MIN_POSITIVE && eps.is_finite() && !libm_selected();
-    let threshold = (TANH_SATURATED * eps) * (1.0 + 4.0 * f64::EPSILON);
-    let mut saturated = fast;
+    let mut saturated = true;
     let mut r = [0.0; LANES];
     for l in 0..LANES {
         // NaN compares false: not saturated.
@@ -547,11 +569,16 @@ pub fn tanh_lanes_of_ratio(x: &[f64; crate::simd::LANES], eps: f64) -> [f64; cra
     if saturated {
         return r;
     }
-    let mut v = [0.0; LANES];
-    for l in 0..LANES {
-        v[l] = x[l] / eps;
+    if libm_selected() {
+        for l in 0..LANES {
+            r[l] = (x[l] / eps).tanh();
+        }
+        return r;
     }
-    tanh_lanes(&v)
+    for l in 0..LANES {
+        r[l] = tanh_kernel(x[l] / eps);
+    }
+    r
 }
 
 #[cfg(test)]

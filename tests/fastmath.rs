@@ -406,6 +406,8 @@ fn sin_cos_lanes_with_tiny_lanes_in_the_kernel_equal_sin_cos_bit_for_bit() {
 #[test]
 #[allow(clippy::needless_range_loop)] // lanes of parallel fixed arrays
 fn tanh_of_a_ratio_skips_the_division_only_where_saturated_and_equals_tanh_of_the_quotient() {
+    // Also with the threshold made once by the caller (ratio_saturation_threshold, as the
+    // pass does per batch) and with a NaN threshold (the kernel on every lane).
     // fastmath::tanh_lanes_of_ratio (the Coulomb sign tanh(q̇/ε) of the lockstep pass) returns
     // ±1 without dividing when every lane has |x| ≥ 20 ε (1 + 2⁻⁵⁰): lane by lane it must give
     // tanh(x / ε)'s bits, at and around the saturation boundary x = ±20 ε (a few ulp either
@@ -464,16 +466,25 @@ fn tanh_of_a_ratio_skips_the_division_only_where_saturated_and_equals_tanh_of_th
             special[4] = -0.0;
             batches.push(special);
             for x in &batches {
-                let got = fastmath::tanh_lanes_of_ratio(x, eps);
-                for l in 0..LANES {
-                    let want = fastmath::tanh(x[l] / eps);
-                    assert!(
-                        got[l].to_bits() == want.to_bits() || (got[l].is_nan() && want.is_nan()),
-                        "libm {libm}, eps {eps:e}, lane {l} at {:e}: {} vs {}",
-                        x[l],
-                        got[l],
-                        want
-                    );
+                // The threshold made per call, made once (the pass's form), and NaN (every
+                // lane through the division and tanh's kernel, saturated ones included).
+                let threshold = fastmath::ratio_saturation_threshold(eps);
+                for (how, got) in [
+                    ("per call", fastmath::tanh_lanes_of_ratio(x, eps)),
+                    ("given", fastmath::tanh_lanes_of_ratio_at(x, eps, threshold)),
+                    ("NaN", fastmath::tanh_lanes_of_ratio_at(x, eps, f64::NAN)),
+                ] {
+                    for l in 0..LANES {
+                        let want = fastmath::tanh(x[l] / eps);
+                        assert!(
+                            got[l].to_bits() == want.to_bits()
+                                || (got[l].is_nan() && want.is_nan()),
+                            "{how}: libm {libm}, eps {eps:e}, lane {l} at {:e}: {} vs {}",
+                            x[l],
+                            got[l],
+                            want
+                        );
+                    }
                 }
             }
         }

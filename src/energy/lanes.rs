@@ -258,6 +258,7 @@ fn tail_lanes<const ALL: bool>(model: &EnergyModel, x: &Inputs<'_>, out: &mut Po
                 }
             }
             LaneEffect::Coulomb(c) => {
+                let threshold = crate::fastmath::ratio_saturation_threshold(c.velocity_scale);
                 for j in 0..n {
                     let (Some(&p), Some(&m)) = (c.fc_pos.get(j), c.fc_neg.get(j)) else {
                         for l in 0..LANES {
@@ -273,7 +274,8 @@ fn tail_lanes<const ALL: bool>(model: &EnergyModel, x: &Inputs<'_>, out: &mut Po
                     }
                     let (d, w) = (dst[j], qd[j]);
                     // tanh(q̇/ε), the division skipped where every lane is saturated.
-                    let s = crate::fastmath::tanh_lanes_of_ratio(&w, c.velocity_scale);
+                    let s =
+                        crate::fastmath::tanh_lanes_of_ratio_at(&w, c.velocity_scale, threshold);
                     dst[j] = each!(l => d[l] + if s[l] >= 0.0 { p * s[l] } else { m * s[l] });
                 }
             }
