@@ -191,7 +191,22 @@ pub fn differentiate_uniform_into_on(
         return;
     }
     let w = uniform_weights(dt);
-    // The first and last samples (one-sided windows), as fill_derivatives computes them.
+    uniform_end_rows(q, n, &w, qd, qdd);
+    // Interior samples 1 ..= len − 2: entry i from entries i − n, i, i + n.
+    uniform_stencil_entries_on(q, n, w[1], n..(len - 1) * n, qd, qdd, level);
+}
+
+/// The first and last samples of [`differentiate_uniform_into_on`] (one-sided windows, as
+/// `fill_derivatives` computes them): `q` row-major `len × n` with `len ≥ 3`, `w` from
+/// [`uniform_weights`], `qd` and `qdd` of length `len × n` (units of `q` per s, per s²).
+pub(crate) fn uniform_end_rows(
+    q: &[f64],
+    n: usize,
+    w: &[([f64; 3], [f64; 3]); 3],
+    qd: &mut [f64],
+    qdd: &mut [f64],
+) {
+    let len = qd.len() / n;
     for (k, c, (d1, d2)) in [(0, 1, w[0]), (len - 1, len - 2, w[2])] {
         for j in 0..n {
             let f = [q[(c - 1) * n + j], q[c * n + j], q[(c + 1) * n + j]];
@@ -199,13 +214,30 @@ pub fn differentiate_uniform_into_on(
             qdd[k * n + j] = d2[0] * f[0] + d2[1] * f[1] + d2[2] * f[2];
         }
     }
-    // Interior samples 1 ..= len − 2: entry i from entries i − n, i, i + n.
-    let (d1, d2) = w[1];
-    let inner = n..(len - 1) * n;
-    let lo = &q[..(len - 2) * n];
-    let mid = &q[n..(len - 1) * n];
-    let hi = &q[2 * n..];
-    let (od, odd) = (&mut qd[inner.clone()], &mut qdd[inner]);
+}
+
+/// The interior stencil of [`differentiate_uniform_into_on`] over the row-major entries
+/// `range` (all in samples 1 ..= len − 2 of `q`, row-major `len × n`): entry `i` of `qd`
+/// and `qdd` from entries `i − n`, `i`, `i + n` of `q` with the interior weights `(d1, d2)`
+/// of [`uniform_weights`], vectorised for `level`, the same values bit for bit on every
+/// level.
+pub(crate) fn uniform_stencil_entries_on(
+    q: &[f64],
+    n: usize,
+    (d1, d2): ([f64; 3], [f64; 3]),
+    range: std::ops::Range<usize>,
+    qd: &mut [f64],
+    qdd: &mut [f64],
+    level: crate::simd::Level,
+) {
+    let (a, b) = (range.start, range.end);
+    if a >= b {
+        return;
+    }
+    let lo = &q[a - n..b - n];
+    let mid = &q[a..b];
+    let hi = &q[a + n..b + n];
+    let (od, odd) = (&mut qd[a..b], &mut qdd[a..b]);
     match level {
         #[cfg(target_arch = "x86_64")]
         crate::simd::Level::Avx512 if crate::simd::Level::Avx512.available() => {
@@ -289,7 +321,7 @@ fn lagrange_weights(ts: [f64; 3], x: f64) -> ([f64; 3], [f64; 3]) {
 /// On a uniform grid (`dt` s) the weights depend only on where the sample sits in its
 /// window: the first sample, an interior one, the last.
 #[allow(clippy::type_complexity)]
-fn uniform_weights(dt: f64) -> [([f64; 3], [f64; 3]); 3] {
+pub(crate) fn uniform_weights(dt: f64) -> [([f64; 3], [f64; 3]); 3] {
     let ts = [0.0, dt, 2.0 * dt];
     [
         lagrange_weights(ts, 0.0),

@@ -109,6 +109,45 @@ fn tmpdir(tag: &str) -> std::path::PathBuf {
     d
 }
 
+/// A round wall of bead centres about the part frame's z axis: `layers` layers 20 mm apart
+/// (the first at z = 0.02 m), 100 points a layer on a circle of `radius_m` (m).
+fn round_wall(radius_m: f64, layers: usize) -> Vec<V3> {
+    let mut p = Vec::with_capacity(100 * layers);
+    for layer in 0..layers {
+        for k in 0..100 {
+            let a = std::f64::consts::TAU * k as f64 / 100.0;
+            p.push(V3::new(
+                radius_m * a.cos(),
+                radius_m * a.sin(),
+                0.02 * (layer + 1) as f64,
+            ));
+        }
+    }
+    p
+}
+
+/// Joint angles (rad) at fractions `u` ∈ [0, 1] of each joint's range, clipped to ±3.2 rad.
+fn q_in_limits(model: &printwatt::robot::RobotModel, u: &[f64]) -> Vec<f64> {
+    model
+        .joints
+        .iter()
+        .zip(u)
+        .map(|(j, u)| {
+            let (lo, hi) = (j.lower.max(-3.2), j.upper.min(3.2));
+            lo + u * (hi - lo)
+        })
+        .collect()
+}
+
+/// The robot's collision shapes at the feasibility checks' reach and the default link radii.
+fn shapes(model: &printwatt::robot::RobotModel) -> RobotShapes {
+    RobotShapes::new(
+        model,
+        printwatt::placement::feasibility::reach_m(model),
+        &LinkRadii::default(),
+    )
+}
+
 /// Binary STL of an axis-aligned box `[lo, hi]` (12 triangles).
 fn stl_box(lo: [f32; 3], hi: [f32; 3]) -> Vec<u8> {
     let c = |i: usize| {
@@ -470,33 +509,11 @@ fn same_check(
 fn the_prefiltered_collision_check_and_the_shortcut_poses_equal_the_plain_ones_on_random_and_near_contact_configurations(
 ) {
     use rand::{Rng, SeedableRng};
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let dir = tmpdir("mixed");
-    let mut robots: Vec<printwatt::robot::RobotModel> = [
-        "abb_irb6700_200_260",
-        "abb_irb4600_40_255",
-        "ur10e",
-        "staubli_tx200",
-        "puma560",
-    ]
-    .iter()
-    .map(|r| load(&root.join("robots").join(r)).unwrap())
-    .collect();
-    robots.push(load(&mixed_arm(&dir)).unwrap());
+    let robots = all_robots("mixed");
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(8);
     // A round wall of beads about every robot (part frame = base frame, radius 0.8 m, 0.8 m
     // tall), and a bed under it.
-    let mut p = Vec::new();
-    for layer in 0..40 {
-        for k in 0..100 {
-            let a = std::f64::consts::TAU * k as f64 / 100.0;
-            p.push(V3::new(
-                0.8 * a.cos(),
-                0.8 * a.sin(),
-                0.02 * (layer + 1) as f64,
-            ));
-        }
-    }
+    let p = round_wall(0.8, 40);
     let print = vec![true; p.len()];
     let beads = Beads::new(&p, &print, 5, collision::BEAD_RADIUS_M);
     let (mut outcomes, mut near) = ([0usize; 4], 0usize);
@@ -509,23 +526,8 @@ fn the_prefiltered_collision_check_and_the_shortcut_poses_equal_the_plain_ones_o
         }] += 1;
     };
     for model in &robots {
-        let rs = RobotShapes::new(
-            model,
-            printwatt::placement::feasibility::reach_m(model),
-            &LinkRadii::default(),
-        );
+        let rs = shapes(model);
         let n = model.dof();
-        let q_at = |u: &[f64]| -> Vec<f64> {
-            model
-                .joints
-                .iter()
-                .zip(u)
-                .map(|(j, u)| {
-                    let (lo, hi) = (j.lower.max(-3.2), j.upper.min(3.2));
-                    lo + u * (hi - lo)
-                })
-                .collect()
-        };
         for round in 0..400 {
             // The bed's top anywhere from well below the base to above it.
             let top = rng.gen_range(-0.6..0.3);
@@ -538,7 +540,7 @@ fn the_prefiltered_collision_check_and_the_shortcut_poses_equal_the_plain_ones_o
                 model,
                 &rs,
                 &world,
-                &q_at(&u),
+                &q_in_limits(model, &u),
                 &bed,
                 &beads,
                 laid,
@@ -554,7 +556,7 @@ fn the_prefiltered_collision_check_and_the_shortcut_poses_equal_the_plain_ones_o
                 model,
                 &rs,
                 &world,
-                &q_at(&v),
+                &q_in_limits(model, &v),
                 &bed,
                 &beads,
                 laid,
@@ -570,7 +572,7 @@ fn the_prefiltered_collision_check_and_the_shortcut_poses_equal_the_plain_ones_o
                     model,
                     &rs,
                     &world,
-                    &q_at(&mid(t)),
+                    &q_in_limits(model, &mid(t)),
                     &bed,
                     &beads,
                     laid,
@@ -593,7 +595,7 @@ fn the_prefiltered_collision_check_and_the_shortcut_poses_equal_the_plain_ones_o
                     model,
                     &rs,
                     &world,
-                    &q_at(&mid(t.clamp(0.0, 1.0))),
+                    &q_in_limits(model, &mid(t.clamp(0.0, 1.0))),
                     &bed,
                     &beads,
                     laid,
@@ -734,11 +736,7 @@ fn poses_from_the_shared_sines_agree_with_poses_by_fk_within_the_stated_bound() 
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(9);
     let (mut worst_t, mut worst_r) = (0.0f64, 0.0f64);
     for model in &all_robots("bound") {
-        let rs = RobotShapes::new(
-            model,
-            printwatt::placement::feasibility::reach_m(model),
-            &LinkRadii::default(),
-        );
+        let rs = shapes(model);
         for _ in 0..2000 {
             let q: Vec<f64> = model
                 .joints
@@ -839,37 +837,12 @@ fn the_collision_check_from_shared_sines_gives_the_plain_checks_verdicts_message
     use rand::{Rng, SeedableRng};
     let robots = all_robots("verdicts");
     let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(10);
-    let mut p = Vec::new();
-    for layer in 0..40 {
-        for k in 0..100 {
-            let a = std::f64::consts::TAU * k as f64 / 100.0;
-            p.push(V3::new(
-                0.8 * a.cos(),
-                0.8 * a.sin(),
-                0.02 * (layer + 1) as f64,
-            ));
-        }
-    }
+    let p = round_wall(0.8, 40);
     let beads = Beads::new(&p, &vec![true; p.len()], 5, collision::BEAD_RADIUS_M);
     let (mut outcomes, mut near) = ([0usize; 4], 0usize);
     for model in &robots {
-        let rs = RobotShapes::new(
-            model,
-            printwatt::placement::feasibility::reach_m(model),
-            &LinkRadii::default(),
-        );
+        let rs = shapes(model);
         let n = model.dof();
-        let q_at = |u: &[f64]| -> Vec<f64> {
-            model
-                .joints
-                .iter()
-                .zip(u)
-                .map(|(j, u)| {
-                    let (lo, hi) = (j.lower.max(-3.2), j.upper.min(3.2));
-                    lo + u * (hi - lo)
-                })
-                .collect()
-        };
         for round in 0..400 {
             let top = rng.gen_range(-0.6..0.3);
             let bed = Bed::new(&V3::new(0.2, -1.5, top - 0.5), &V3::new(2.0, 1.5, top));
@@ -884,14 +857,14 @@ fn the_collision_check_from_shared_sines_gives_the_plain_checks_verdicts_message
                 model,
                 &rs,
                 &world,
-                &q_at(&u),
+                &q_in_limits(model, &u),
                 &bed,
                 &beads,
                 laid,
                 &mut clear,
             );
             // A random configuration is not within 1e-13 m of a boundary: the same answer.
-            assert_eq!(o, old, "{} at {:?}", model.name(), q_at(&u));
+            assert_eq!(o, old, "{} at {:?}", model.name(), q_in_limits(model, &u));
             outcomes[match o.as_ref().map(|h| h.0) {
                 None => 0,
                 Some(Reason::CollisionBed) => 1,
@@ -912,7 +885,7 @@ fn the_collision_check_from_shared_sines_gives_the_plain_checks_verdicts_message
                     model,
                     &rs,
                     &world,
-                    &q_at(&mid(t)),
+                    &q_in_limits(model, &mid(t)),
                     &bed,
                     &beads,
                     laid,
@@ -936,7 +909,7 @@ fn the_collision_check_from_shared_sines_gives_the_plain_checks_verdicts_message
             }
             for t in [a - 1e-4, b + 1e-4] {
                 let mut c = clear;
-                let q = q_at(&mid(t.clamp(0.0, 1.0)));
+                let q = q_in_limits(model, &mid(t.clamp(0.0, 1.0)));
                 let (o, old) = both_checks(model, &rs, &world, &q, &bed, &beads, laid, &mut c);
                 assert_eq!(o, old, "{} at {q:?}", model.name());
             }
@@ -1075,17 +1048,7 @@ fn the_checked_samples_in_lockstep_give_check_sample_with_answers_messages_and_m
     use rand::{Rng, SeedableRng};
     let robots = all_robots("lockstep");
     // A round wall, 40 layers, printed from the first sample on.
-    let mut wall = Vec::new();
-    for layer in 0..40 {
-        for k in 0..100 {
-            let a = std::f64::consts::TAU * k as f64 / 100.0;
-            wall.push(V3::new(
-                0.4 * a.cos(),
-                0.4 * a.sin(),
-                0.02 * (layer + 1) as f64,
-            ));
-        }
-    }
+    let wall = round_wall(0.4, 40);
     let (mut outcomes, mut lockstep_robots) = (std::collections::BTreeMap::new(), 0);
     let (mut answered, mut lowering) = (0, 0);
     for level in [Level::Sse2, Level::Avx2, Level::Avx512] {

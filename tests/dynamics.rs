@@ -65,14 +65,7 @@ fn rnea_gravity_mass_match_pinocchio_on_every_shipped_robot() {
         let r = robot(name);
         let n = r.dof();
         let bare = DynModel::new(&r, DynOptions::default()).unwrap();
-        let full = DynModel::new(
-            &r,
-            DynOptions {
-                payload: true,
-                armature: true,
-            },
-        )
-        .unwrap();
+        let full = common::dyn_model(&r, true);
         assert!(full.has_armature(), "{name}: drive data expected");
         let mut d = bare.data();
         let (h, rows) = csv(&format!("{name}.csv"));
@@ -135,14 +128,7 @@ fn crba_equals_rnea_columns_and_is_spd() {
     for name in ["abb_irb6700_200_260", "ur10e", "puma560"] {
         let r = robot(name);
         let n = r.dof();
-        let model = DynModel::new(
-            &r,
-            DynOptions {
-                payload: true,
-                armature: true,
-            },
-        )
-        .unwrap();
+        let model = common::dyn_model(&r, true);
         let mut d = model.data();
         let (mut m, mut g, mut col_tau) = (vec![0.0; n * n], vec![0.0; n], vec![0.0; n]);
         for _ in 0..100 {
@@ -180,14 +166,7 @@ fn work_equals_change_of_kinetic_plus_potential_energy() {
     ] {
         let r = robot(name);
         let n = r.dof();
-        let model = DynModel::new(
-            &r,
-            DynOptions {
-                payload: true,
-                armature,
-            },
-        )
-        .unwrap();
+        let model = common::dyn_model(&r, armature);
         let mut d = model.data();
         let sines = Sines::random(n, 7, 0.1..0.5, 0.3..2.0);
         let traj = |t: f64| sines.at(t);
@@ -226,14 +205,7 @@ fn work_equals_change_of_kinetic_plus_potential_energy() {
 fn kinetic_energy_equals_half_qd_m_qd() {
     let r = robot("staubli_tx200");
     let n = r.dof();
-    let model = DynModel::new(
-        &r,
-        DynOptions {
-            payload: true,
-            armature: true,
-        },
-    )
-    .unwrap();
+    let model = common::dyn_model(&r, true);
     let mut d = model.data();
     let mut rng = ChaCha8Rng::seed_from_u64(3);
     let mut m = vec![0.0; n * n];

@@ -38,15 +38,10 @@ fn worst(
     w
 }
 
-/// A deterministic stream of pseudo-random numbers in [0, 1) (xorshift; seeded).
+/// `n` deterministic pseudo-random numbers in [0, 1) (seeded).
 fn uniform(seed: u64, n: usize) -> impl Iterator<Item = f64> {
-    let mut s = seed.max(1);
-    (0..n).map(move |_| {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        (s >> 11) as f64 / (1u64 << 53) as f64
-    })
+    let mut u = common::xorshift(seed);
+    (0..n).map(move |_| u())
 }
 
 /// Dense grid over [-a, a], random points, and points next to every multiple of π/4
@@ -232,18 +227,11 @@ fn the_libm_switch_returns_libms_results() {
 fn the_ik_records_the_sines_of_its_answer_and_rnea_from_them_equals_rnea() {
     let _g = SWITCH.lock().unwrap_or_else(|e| e.into_inner());
     fastmath::set_libm(false);
-    use printwatt::dynamics::{rnea, rnea_with_sincos, DynModel, DynOptions};
+    use printwatt::dynamics::{rnea, rnea_with_sincos};
     use printwatt::kinematics::{nozzle_target, IkSolver};
     let model = common::robot("abb_irb6700_200_260");
     let solver = IkSolver::new(&model).unwrap();
-    let dm = DynModel::new(
-        &model,
-        DynOptions {
-            payload: true,
-            armature: true,
-        },
-    )
-    .unwrap();
+    let dm = common::dyn_model(&model, true);
     let (mut d1, mut d2) = (dm.data(), dm.data());
     let n = model.dof();
     let mut checked = 0;

@@ -7,7 +7,9 @@
 //! relieves the axis-2 gravity torque, checked against a hand-computed static case.
 //! Simulated logs: exciting motion at controller rates (250 Hz) with realistic noise.
 
-use printwatt::dynamics::{rnea, DynModel, DynOptions};
+mod common;
+
+use printwatt::dynamics::rnea;
 use printwatt::identify::{
     log::{parse_log, SignalKind},
     simulate, Model, Prepared,
@@ -98,14 +100,7 @@ fn balancer_of(r: &printwatt::robot::RobotModel) -> printwatt::effects::Balancer
 }
 
 fn static_torque(r: &RobotModel, q: &[f64]) -> Vec<f64> {
-    let m = DynModel::new(
-        r,
-        DynOptions {
-            payload: true,
-            armature: false,
-        },
-    )
-    .unwrap();
+    let m = common::dyn_model(r, false);
     let mut d = m.data();
     let mut tau = vec![0.0; r.dof()];
     let z = vec![0.0; r.dof()];
@@ -902,14 +897,7 @@ fn rnea_regressor_times_link_parameters_equals_rnea() {
     use printwatt::effects::{Effect, RigidBody};
     for name in ["abb_irb4600_40_255", "ur10e", "puma560", "staubli_tx200"] {
         let r = robot::load(&root().join("robots").join(name)).unwrap();
-        let m = DynModel::new(
-            &r,
-            DynOptions {
-                payload: true,
-                armature: false,
-            },
-        )
-        .unwrap();
+        let m = common::dyn_model(&r, false);
         let n = r.dof();
         let pi: Vec<f64> = (0..n).flat_map(|i| m.link_params(i)).collect();
         let mut d = DynData::default();

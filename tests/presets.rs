@@ -3,20 +3,13 @@
 
 mod common;
 
-use printwatt::dynamics::{gravity_torque, DynModel, DynOptions};
+use printwatt::dynamics::gravity_torque;
 use printwatt::kinematics::fk::fk;
 use printwatt::math::V3;
 use printwatt::robot::apply_tool_preset;
 
 fn wrist_gravity_torque(model: &printwatt::robot::RobotModel, q: &[f64]) -> f64 {
-    let dm = DynModel::new(
-        model,
-        DynOptions {
-            payload: true,
-            armature: false,
-        },
-    )
-    .unwrap();
+    let dm = common::dyn_model(model, false);
     let mut data = dm.data();
     let mut tau = vec![0.0; model.dof()];
     gravity_torque(&dm, &mut data, q, &mut tau).unwrap();

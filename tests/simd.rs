@@ -5,7 +5,7 @@
 
 mod common;
 
-use printwatt::dynamics::{rnea_batch, rnea_with_sincos, DynModel, DynOptions, StateBatch};
+use printwatt::dynamics::{rnea_batch, rnea_with_sincos, DynModel, StateBatch};
 use printwatt::energy::{self, EnergyModel, SamplePower};
 use printwatt::fastmath;
 use printwatt::simd::{self, Level, LANES};
@@ -14,20 +14,14 @@ use std::sync::Mutex;
 /// The level is process-wide: the tests of this file that set it take turns.
 static LEVEL_LOCK: Mutex<()> = Mutex::new(());
 
-/// A deterministic stream of pseudo-random numbers in [-1, 1) (xorshift; seeded).
+/// A deterministic stream of pseudo-random numbers in [-1, 1) (seeded).
 fn uniform(seed: u64) -> impl FnMut() -> f64 {
-    let mut s = seed.max(1);
-    move || {
-        s ^= s << 13;
-        s ^= s >> 7;
-        s ^= s << 17;
-        2.0 * ((s >> 11) as f64 / (1u64 << 53) as f64) - 1.0
-    }
+    let mut u = common::xorshift(seed);
+    move || 2.0 * u() - 1.0
 }
 
 /// `count` random joint states of an `n`-joint arm: (q, sincos, qd, qdd).
-#[allow(clippy::type_complexity)]
-fn states(seed: u64, n: usize, count: usize) -> Vec<(Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>)> {
+fn states(seed: u64, n: usize, count: usize) -> Vec<State> {
     let mut u = uniform(seed);
     (0..count)
         .map(|_| {
@@ -47,45 +41,58 @@ fn levels() -> Vec<Level> {
     Level::ALL.into_iter().filter(|l| l.available()).collect()
 }
 
+/// One joint state: (q, sincos, qd, qdd) as [`states`] makes them.
+type State = (Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>);
+
+/// The lockstep RNEA of one batch of at most `LANES` states, on every level this CPU runs,
+/// equals the scalar `rnea_with_sincos` bit for bit, lane by lane and joint by joint.
+fn assert_batched_rnea_is_scalar_rnea(
+    dm: &DynModel,
+    data: &mut printwatt::dynamics::DynData,
+    chunk: &[State],
+    label: &str,
+) {
+    let n = dm.dof();
+    let mut b = StateBatch::default();
+    for (l, (_, sc, qd, qdd)) in chunk.iter().enumerate() {
+        b.set(l, n, sc, qd, qdd);
+    }
+    let mut want = vec![0.0; n];
+    for level in levels() {
+        let mut tau = [[f64::NAN; LANES]; printwatt::dynamics::MAX_DOF];
+        rnea_batch(dm, &b, &mut tau, level);
+        for (l, (q, sc, qd, qdd)) in chunk.iter().enumerate() {
+            rnea_with_sincos(dm, data, q, sc, qd, qdd, &mut want).unwrap();
+            for j in 0..n {
+                assert_eq!(
+                    tau[j][l].to_bits(),
+                    want[j].to_bits(),
+                    "{label}, {level:?}, lane {l}, joint {j}: {} vs {}",
+                    tau[j][l],
+                    want[j]
+                );
+            }
+        }
+    }
+}
+
 #[test]
 fn batched_rnea_equals_scalar_rnea_bit_for_bit_on_every_level() {
     for name in ["abb_irb6700_200_260", "ur10e", "staubli_tx200"] {
         let model = common::robot(name);
         for armature in [false, true] {
-            let dm = DynModel::new(
-                &model,
-                DynOptions {
-                    payload: true,
-                    armature,
-                },
-            )
-            .unwrap();
+            let dm = common::dyn_model(&model, armature);
             assert!(dm.batchable(), "{name}: every joint is revolute");
             let n = dm.dof();
             let mut data = dm.data();
             let st = states(7, n, 5 * LANES + 3);
-            let mut want = vec![0.0; n];
             for chunk in st.chunks(LANES) {
-                let mut b = StateBatch::default();
-                for (l, (_, sc, qd, qdd)) in chunk.iter().enumerate() {
-                    b.set(l, n, sc, qd, qdd);
-                }
-                for level in levels() {
-                    let mut tau = [[f64::NAN; LANES]; printwatt::dynamics::MAX_DOF];
-                    rnea_batch(&dm, &b, &mut tau, level);
-                    for (l, (q, sc, qd, qdd)) in chunk.iter().enumerate() {
-                        rnea_with_sincos(&dm, &mut data, q, sc, qd, qdd, &mut want).unwrap();
-                        for j in 0..n {
-                            assert_eq!(
-                                tau[j][l].to_bits(),
-                                want[j].to_bits(),
-                                "{name}, armature {armature}, {level:?}, lane {l}, joint {j}: {} vs {}",
-                                tau[j][l],
-                                want[j]
-                            );
-                        }
-                    }
-                }
+                assert_batched_rnea_is_scalar_rnea(
+                    &dm,
+                    &mut data,
+                    chunk,
+                    &format!("{name}, armature {armature}"),
+                );
             }
         }
     }
@@ -105,38 +112,14 @@ fn batched_rnea_with_tilted_joint_frames_equals_scalar_rnea_and_the_mass_matrix_
         let axis = Vector3::new(0.3, -0.5 + 0.1 * i as f64, 0.8).normalize();
         j.origin.rot *= rot_axis(&axis, 0.2 + 0.15 * i as f64);
     }
-    let dm = DynModel::new(
-        &model,
-        DynOptions {
-            payload: true,
-            armature: true,
-        },
-    )
-    .unwrap();
+    let dm = common::dyn_model(&model, true);
     let n = dm.dof();
     let mut data = dm.data();
     let st = states(11, n, 3 * LANES + 5);
     let (mut want, mut t0, mut mm) = (vec![0.0; n], vec![0.0; n], vec![0.0; n * n]);
     let zero = vec![0.0; n];
     for chunk in st.chunks(LANES) {
-        let mut b = StateBatch::default();
-        for (l, (_, sc, qd, qdd)) in chunk.iter().enumerate() {
-            b.set(l, n, sc, qd, qdd);
-        }
-        for level in levels() {
-            let mut tau = [[f64::NAN; LANES]; printwatt::dynamics::MAX_DOF];
-            rnea_batch(&dm, &b, &mut tau, level);
-            for (l, (q, sc, qd, qdd)) in chunk.iter().enumerate() {
-                rnea_with_sincos(&dm, &mut data, q, sc, qd, qdd, &mut want).unwrap();
-                for j in 0..n {
-                    assert_eq!(
-                        tau[j][l].to_bits(),
-                        want[j].to_bits(),
-                        "{level:?} lane {l} joint {j}"
-                    );
-                }
-            }
-        }
+        assert_batched_rnea_is_scalar_rnea(&dm, &mut data, chunk, "tilted frames");
         for (q, sc, qd, qdd) in chunk {
             rnea_with_sincos(&dm, &mut data, q, sc, qd, qdd, &mut want).unwrap();
             rnea_with_sincos(&dm, &mut data, q, sc, qd, &zero, &mut t0).unwrap();
@@ -1844,4 +1827,90 @@ fn next_branch_taken_without_branch_of_equals_branch_of_at_the_branch_boundaries
         }
     }
     assert!(lanes > 10_000, "{lanes} lanes");
+}
+
+#[test]
+fn tracking_with_the_prunes_tips_gives_each_placement_its_own_path_tcp_and_sines_on_every_level() {
+    // time_at_planned maps the plan's points to the base frame once, in its reach prune, and
+    // hands them to tracking's first round. With one set of buffers reused across placements
+    // (feasible ones, a far one the prune rejects, one where no configuration carries the
+    // path), on every level: each placement's joint path, TCP points and sines are the
+    // per-sample path's (scalar, fresh buffers) to the bit, and each failure is the same.
+    // Paths: the default one (9777 samples, not a multiple of 8), a test path, and a short
+    // one of two moves.
+    use printwatt::kinematics::IkSolver;
+    use printwatt::timing::{
+        self, blend_path, Buffers, JointStageOptions, PathTiming, Plan, ProfileOptions,
+    };
+    use printwatt::toolpath::Placement;
+    let _g = LEVEL_LOCK.lock().unwrap_or_else(|e| e.into_inner());
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+    let tcp_bits = |v: &[printwatt::math::V3]| {
+        v.iter()
+            .flat_map(|p| [p.x.to_bits(), p.y.to_bits(), p.z.to_bits()])
+            .collect::<Vec<_>>()
+    };
+    let model = common::robot("abb_irb6700_200_260");
+    let solver = IkSolver::new(&model).unwrap();
+    let placements = [
+        Placement::new(1.534, -0.121, 0.0, 90f64.to_radians()),
+        Placement::new(1.7, 0.0, 0.0, 90f64.to_radians()),
+        Placement::new(6.0, 0.0, 0.0, 0.0),
+        Placement::new(0.3, 0.0, 1.5, 0.0),
+        Placement::new(1.534, -0.121, 0.0, 90f64.to_radians()),
+    ];
+    let (popts, jopts) = (ProfileOptions::default(), JointStageOptions::default());
+    let (mut ok, mut failed) = (0, 0);
+    for (path, keep) in [
+        ("default.gcode", usize::MAX),
+        ("seed000_test_path.gcode", usize::MAX),
+        ("seed000_test_path.gcode", 2),
+    ] {
+        let tp = common::path(path);
+        let mut moves = timing::moves_from_toolpath(&tp);
+        moves.truncate(keep);
+        let pieces = blend_path(&moves);
+        let plan = Plan::new(&pieces, &popts);
+        let lines = |i: usize| moves[i].line;
+        let job = PathTiming {
+            pieces: &pieces,
+            plan: &plan,
+            moves_line: &lines,
+            profile: &popts,
+            joint: &jopts,
+        };
+        let run = |level: Level, buf: &mut Buffers, at: &Placement| {
+            assert!(simd::set_level(level));
+            let r = timing::time_at_planned(&solver, &job, at, buf);
+            r.map(|t| {
+                let out = (
+                    bits(&t.traj.q),
+                    bits(&t.traj.qd),
+                    tcp_bits(&t.tcp),
+                    bits(&buf.sincos),
+                    t.rounds,
+                );
+                buf.recycle(t);
+                out
+            })
+            .map_err(|e| format!("{e:?}"))
+        };
+        let want: Vec<_> = placements
+            .iter()
+            .map(|at| run(Level::Scalar, &mut Buffers::default(), at))
+            .collect();
+        for level in levels() {
+            let mut buf = Buffers::default();
+            for (at, w) in placements.iter().zip(&want) {
+                let got = run(level, &mut buf, at);
+                assert_eq!(&got, w, "{path} (moves {keep}) at {at:?} {level:?}");
+                match got {
+                    Ok(_) => ok += 1,
+                    Err(_) => failed += 1,
+                }
+            }
+        }
+    }
+    simd::set_level(simd::detected());
+    assert!(ok >= 6 && failed >= 4, "{ok} timed, {failed} failed");
 }

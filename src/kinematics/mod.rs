@@ -1234,7 +1234,12 @@ impl<'a> IkSolver<'a> {
         let mut pos = [[0.0; LANES]; 3];
         for i in 0..3 {
             for l in 0..LANES {
-                pos[i][l] = if l < count { off[i] + tp[i][l] } else { 0.0 };
+                pos[i][l] = off[i] + tp[i][l];
+            }
+            // Then the lanes without a tip (the last batch's only), in one go rather than a
+            // select per lane.
+            if count < LANES {
+                pos[i][count..].fill(0.0);
             }
         }
         let branch = branch.unwrap_or_else(|| k.branch_of(p, q_prev));

@@ -55,6 +55,9 @@ pub struct Slowdown {
 /// [`JointStageOptions::prune_stride`]).
 const PRUNE_COARSE_STRIDE: usize = 64;
 
+/// Chunks of [`crate::simd::LANES`] samples the reach prune maps to the base frame at a time.
+const PRUNE_BLOCK: usize = 8;
+
 /// Options of the joint stage.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
 pub struct JointStageOptions {
@@ -184,6 +187,23 @@ pub fn track(
     at: &Placement,
     q0: &[f64],
     buf: &mut Buffers,
+) -> Result<(), TimingFailure> {
+    track_with(solver, pieces, moves_line, motion, at, q0, buf, None)
+}
+
+/// [`track`], with the base-frame tips of `motion` at `at` already computed lane-wise when
+/// `pre` is given ([`TipMap::lanes_of`] of every [`crate::simd::LANES`] samples in order, chunk `c`
+/// holding samples `c · LANES ..`; the same values bit for bit, so the same result).
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn track_with(
+    solver: &IkSolver,
+    pieces: &[Piece],
+    moves_line: &dyn Fn(usize) -> usize,
+    motion: &CartesianMotion,
+    at: &Placement,
+    q0: &[f64],
+    buf: &mut Buffers,
+    pre: Option<&[TipLanes]>,
 ) -> Result<(), TimingFailure> {
     let model = solver.model;
     let n = model.dof();
@@ -341,24 +361,35 @@ pub fn track(
     qs.reserve(len * n);
     tcp.reserve(len);
     sincos.reserve(len * 2 * n);
-    let mut tips = [V3::zeros(); LANES];
-    // The same tips lane by lane (lanes from count on: stale, ignored).
-    let mut tp = [[0.0; LANES]; 3];
+    // The batch's tips lane by lane when computed here (lanes from count on: stale,
+    // ignored).
+    let mut tp_now = [[0.0; LANES]; 3];
     let mut k0 = 0;
     // The branch of prev, when the last batch's lanes all continued one another.
     let mut known: Option<crate::kinematics::Branch> = None;
     let mut cont = crate::kinematics::Continuing::new();
     // One batch for the whole path, overwritten batch by batch (not moved).
     let mut batch = crate::kinematics::opw::BranchBatch::default();
+    // The tips computed before, when they cover the whole path (k0 is a multiple of LANES).
+    let pre = pre.filter(|t| t.len() * LANES >= len);
     while k0 < len {
         let count = LANES.min(len - k0);
-        for (l, (t, pk)) in tips.iter_mut().zip(&motion.p[k0..k0 + count]).enumerate() {
-            *t = part_to_base.apply(pk);
-            (tp[0][l], tp[1][l], tp[2][l]) = (t.x, t.y, t.z);
-        }
+        // The tips lane by lane: the ones computed before (borrowed, not copied), or now.
+        let tp: &TipLanes = match pre {
+            Some(pre) => &pre[k0 / LANES],
+            None => {
+                for (l, pk) in motion.p[k0..k0 + count].iter().enumerate() {
+                    let t = part_to_base.apply(pk);
+                    (tp_now[0][l], tp_now[1][l], tp_now[2][l]) = (t.x, t.y, t.z);
+                }
+                &tp_now
+            }
+        };
+        // Lane l's tip (the same bits as part_to_base.apply).
+        let tip = |l: usize| V3::new(tp[0][l], tp[1][l], tp[2][l]);
         let solved = solver.solve_near_batch_lanes(
             &path_target,
-            &tp,
+            tp,
             count,
             &prev,
             known.take(),
@@ -373,14 +404,10 @@ pub fn track(
         let taken = cont.taken;
         if taken > 0 {
             let c = &cont;
-            for l in 0..taken {
-                let mut row = [0.0; 6];
-                for (v, qj) in row.iter_mut().zip(&c.q) {
-                    *v = qj[l];
-                }
-                qs.extend_from_slice(&row);
-            }
-            tcp.extend_from_slice(&tips[..taken]);
+            // The taken answers row by row (6 joints: continuing_lanes takes lanes of 6-axis
+            // arms only).
+            push_rows6(qs, &c.q, taken);
+            tcp.extend((0..taken).map(tip));
             let mut last = JointVec::zeros(n);
             for (j, v) in last.iter_mut().enumerate() {
                 *v = c.q[j][taken - 1];
@@ -392,27 +419,147 @@ pub fn track(
                         count,
                         &c.q,
                         &path_target,
-                        &tips[..count],
-                        &tp,
+                        // This batch's tips, just appended (every earlier sample taken).
+                        &tcp[k0..k0 + count],
+                        tp,
                         sincos,
                         level,
                     )
                     .map_err(|(l, reason)| {
                         sincos.truncate(k0 * 2 * n);
-                        unreachable(k0 + l, tips[l], reason)
+                        unreachable(k0 + l, tip(l), reason)
                     })?;
                 known = Some(c.branch_after);
                 k0 += count;
                 continue;
             }
         }
-        for (l, &tip) in tips.iter().enumerate().take(count).skip(taken) {
-            sample(k0 + l, tip, chunk, &mut prev, qs, tcp, sincos)?;
+        for l in taken..count {
+            sample(k0 + l, tip(l), chunk, &mut prev, qs, tcp, sincos)?;
         }
         check_pending(qs, tcp, sincos, tcp.len())?;
         k0 += count;
     }
     Ok(())
+}
+
+/// Append the joint vectors of the first `taken` lanes of `q` (`q[j][lane]`, 6 joints, rad)
+/// to `qs` row by row (`taken · 6` values): the same values, moved; a full batch by 2 × 2
+/// block transposes in SSE2 registers, straight into the vector's spare capacity.
+fn push_rows6(
+    qs: &mut Vec<f64>,
+    q: &[[f64; crate::simd::LANES]; crate::kinematics::MAX_DOF],
+    taken: usize,
+) {
+    use crate::simd::LANES;
+    let taken = taken.min(LANES);
+    let len = qs.len();
+    qs.reserve(taken * 6);
+    let spare = &mut qs.spare_capacity_mut()[..taken * 6];
+    #[cfg(target_arch = "x86_64")]
+    if taken == LANES {
+        const _: () = assert!(crate::simd::LANES == 8);
+        use std::arch::x86_64::{_mm_loadu_pd, _mm_storeu_pd, _mm_unpackhi_pd, _mm_unpacklo_pd};
+        let o = spare.as_mut_ptr() as *mut f64;
+        for j in (0..6).step_by(2) {
+            for l in (0..LANES).step_by(2) {
+                // SAFETY: SSE2 is in the x86-64 baseline; the loads read lanes l, l + 1 of
+                // rows j, j + 1 (in bounds), the stores write entries l·6 + j, + 1 and
+                // (l + 1)·6 + j, + 1 of `spare`, which holds LANES · 6 values.
+                unsafe {
+                    let a = _mm_loadu_pd(q[j].as_ptr().add(l));
+                    let b = _mm_loadu_pd(q[j + 1].as_ptr().add(l));
+                    _mm_storeu_pd(o.add(l * 6 + j), _mm_unpacklo_pd(a, b));
+                    _mm_storeu_pd(o.add((l + 1) * 6 + j), _mm_unpackhi_pd(a, b));
+                }
+            }
+        }
+        // SAFETY: all LANES · 6 values past `len` were written just above.
+        unsafe { qs.set_len(len + LANES * 6) };
+        return;
+    }
+    for (l, row) in spare.chunks_exact_mut(6).enumerate() {
+        for (v, qj) in row.iter_mut().zip(q) {
+            v.write(qj[l]);
+        }
+    }
+    // SAFETY: all taken · 6 values past `len` were written just above.
+    unsafe { qs.set_len(len + taken * 6) };
+}
+
+/// Tool-tip points of [`crate::simd::LANES`] path samples in the base frame, lane by lane
+/// (`t[i][l]`: coordinate `i` (x, y, z) of lane `l`, m).
+pub(crate) type TipLanes = [[f64; crate::simd::LANES]; 3];
+
+/// A [`Frame`] (part to base) as [`TipMap::lanes_of`] applies it to points given lane by
+/// lane: rotation row-major, translation.
+#[derive(Clone, Copy)]
+pub(crate) struct TipMap {
+    r: [[f64; 3]; 3],
+    t: [f64; 3],
+}
+
+impl TipMap {
+    pub(crate) fn new(frame: &Frame) -> TipMap {
+        let mut r = [[0.0; 3]; 3];
+        for (i, row) in r.iter_mut().enumerate() {
+            for (j, v) in row.iter_mut().enumerate() {
+                *v = frame.rot[(i, j)];
+            }
+        }
+        TipMap {
+            r,
+            t: [frame.pos.x, frame.pos.y, frame.pos.z],
+        }
+    }
+
+    /// [`Frame::apply`] of the points `x` (part frame, m; chunks of [`point_lanes`]) in
+    /// lockstep, chunk by chunk into `out` (as long as `x`; lanes past the path's end:
+    /// `frame.pos`), vectorised for `level`: each coordinate as
+    /// `((r_i0 x + r_i1 y) + r_i2 z) + t_i`, the operations and order of nalgebra's
+    /// matrix-vector product and sum in [`Frame::apply`] (no fused multiply-add), so every
+    /// lane is that point's [`Frame::apply`] bit for bit (tested).
+    #[inline]
+    pub(crate) fn lanes_of(&self, x: &[TipLanes], out: &mut [TipLanes], level: crate::simd::Level) {
+        match level {
+            #[cfg(target_arch = "x86_64")]
+            crate::simd::Level::Avx512 if crate::simd::Level::Avx512.available() => {
+                // SAFETY: the CPU has AVX-512F (checked just above).
+                unsafe { tip_lanes_of_avx512(self, x, out) }
+            }
+            #[cfg(target_arch = "x86_64")]
+            crate::simd::Level::Avx2 if crate::simd::Level::Avx2.available() => {
+                // SAFETY: the CPU has AVX2 and FMA (checked just above).
+                unsafe { tip_lanes_of_avx2(self, x, out) }
+            }
+            _ => tip_lanes_of_body(self, x, out),
+        }
+    }
+}
+
+/// The body of [`TipMap::lanes_of`].
+#[inline(always)]
+fn tip_lanes_of_body(m: &TipMap, x: &[TipLanes], out: &mut [TipLanes]) {
+    let (r, t) = (&m.r, &m.t);
+    for (x, out) in x.iter().zip(out.iter_mut()) {
+        for (i, o) in out.iter_mut().enumerate() {
+            for (l, v) in o.iter_mut().enumerate() {
+                *v = ((r[i][0] * x[0][l] + r[i][1] * x[1][l]) + r[i][2] * x[2][l]) + t[i];
+            }
+        }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn tip_lanes_of_avx512(m: &TipMap, x: &[TipLanes], out: &mut [TipLanes]) {
+    tip_lanes_of_body(m, x, out)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn tip_lanes_of_avx2(m: &TipMap, x: &[TipLanes], out: &mut [TipLanes]) {
+    tip_lanes_of_body(m, x, out)
 }
 
 /// Derivatives of uniformly sampled positions (row-major `len × n`, rad or m, `dt` s apart):
@@ -511,6 +658,224 @@ fn violations(
         row(k, &mut out);
     }
     out
+}
+
+/// The joint velocities and accelerations of the positions `q` (row-major, `dt` s apart)
+/// into `qd`, `qdd` (reused buffers, as [`crate::numerics::differentiate_uniform_into_on`]
+/// writes them) and the list of [`violations`] of them, in one pass over the samples on a
+/// SIMD level: each block of [`SCREEN_BLOCK`] interior entries is differentiated and screened
+/// together ([`derive_screen`]), the rows of a block with a possible excess checked per
+/// sample after the pass. The same derivatives and the same list (order, ratios) bit for bit
+/// as the two passes ([`crate::simd::Level::Scalar`], and every level: tested).
+fn derivatives_and_violations(
+    model: &RobotModel,
+    q: &[f64],
+    dt: f64,
+    check_jerk: bool,
+    qd: &mut Vec<f64>,
+    qdd: &mut Vec<f64>,
+    level: crate::simd::Level,
+) -> Vec<Violation> {
+    let n = model.dof();
+    let m = q.len().checked_div(n).unwrap_or(0);
+    // The screen needs the jerk's rows 2 ..= m − 3 and a step the stencil takes.
+    let den = 2.0 * dt * dt * dt;
+    if level == crate::simd::Level::Scalar || !check_jerk || m < 5 || !(dt > 0.0 && dt.is_finite())
+    {
+        crate::numerics::differentiate_uniform_into_on(q, n, dt, qd, qdd, level);
+        return violations(model, q, qd, qdd, dt, check_jerk, level);
+    }
+    // Every entry is written below (m ≥ 5, a valid step): a reused buffer is not zeroed.
+    qd.resize(m * n, 0.0);
+    qdd.resize(m * n, 0.0);
+    let w = crate::numerics::uniform_weights(dt);
+    crate::numerics::uniform_end_rows(q, n, &w, qd, qdd);
+    // Row 1: derivatives only (its jerk is clamped, it is checked per sample).
+    crate::numerics::uniform_stencil_entries_on(q, n, w[1], n..2 * n, qd, qdd, level);
+    // Limits per entry of a block (period n), +∞ where the per-sample check skips one (not
+    // finite); the jerk's as a bound on its numerator (jerk_screen_bound).
+    let limits = |f: fn(&crate::robot::Joint) -> f64, bound: &dyn Fn(f64) -> f64| {
+        let lim: Vec<f64> = model
+            .joints
+            .iter()
+            .map(|j| {
+                let l = f(j);
+                if l.is_finite() {
+                    bound(l)
+                } else {
+                    f64::INFINITY
+                }
+            })
+            .collect();
+        (0..n + SCREEN_BLOCK)
+            .map(|t| lim[t % n])
+            .collect::<Vec<f64>>()
+    };
+    let lims = [
+        limits(|j| j.velocity_limit, &|l| l),
+        limits(|j| j.acceleration_limit, &|l| l),
+        limits(|j| j.jerk_limit, &|l| jerk_screen_bound(l, den)),
+    ];
+    let (first, end) = (2 * n, (m - 2) * n);
+    // Blocks with a possible excess (their first entries), in order.
+    let mut flagged: Vec<usize> = Vec::new();
+    let mut i0 = first;
+    while i0 + SCREEN_BLOCK <= end {
+        let o = i0 % n;
+        let lim = [
+            &lims[0][o..o + SCREEN_BLOCK],
+            &lims[1][o..o + SCREEN_BLOCK],
+            &lims[2][o..o + SCREEN_BLOCK],
+        ];
+        if derive_screen_rows(q, qd, qdd, n, w[1], i0, lim, level) {
+            flagged.push(i0);
+        }
+        i0 += SCREEN_BLOCK;
+    }
+    // The rest of the interior (up to row m − 2): derivatives only, checked per sample.
+    crate::numerics::uniform_stencil_entries_on(q, n, w[1], i0..(m - 1) * n, qd, qdd, level);
+    let mut out = Vec::new();
+    let mut row = |k: usize| row_violations(model, q, qd, qdd, dt, check_jerk, k, &mut out);
+    row(0);
+    row(1);
+    let mut next_row = 2;
+    for b0 in flagged {
+        let last = (b0 + SCREEN_BLOCK - 1) / n;
+        for k in next_row.max(b0 / n)..=last {
+            row(k);
+        }
+        next_row = last + 1;
+    }
+    for k in next_row.max(i0 / n)..m {
+        row(k);
+    }
+    out
+}
+
+/// A bound `b` on the jerk's numerator such that `|num| / den > limit` (the per-sample jerk
+/// check, `den = 2 dt³` s³ > 0, a finite `limit` rad/s³) implies `|num| > b`: the screen's
+/// test without a division. `limit · den`, lowered by a few ulps for its rounding; where that
+/// product is not a normal positive number (a limit ≤ 0, an underflow) the screen tests
+/// everything (−∞, or 0 when only the product underflowed); an overflow (+∞) tests nothing,
+/// rightly (|num| ≤ f64::MAX < limit · den).
+fn jerk_screen_bound(limit: f64, den: f64) -> f64 {
+    if !(den.is_normal() && den.is_sign_positive() && limit > 0.0) {
+        return f64::NEG_INFINITY;
+    }
+    let t = limit * den;
+    if t.is_infinite() {
+        f64::INFINITY
+    } else if t.is_normal() {
+        t * (1.0 - 4.0 * f64::EPSILON)
+    } else {
+        0.0
+    }
+}
+
+/// [`screen_rows`] fused with the derivatives: the interior stencil (weights `(d1, d2)`,
+/// [`crate::numerics::uniform_weights`]) of the [`SCREEN_BLOCK`] entries from `i0` (rows
+/// 2 ..= m − 3) written to `qd`, `qdd`, and whether any of them may be over its limit
+/// (`lim`: velocity and acceleration limits, and [`jerk_screen_bound`]s), vectorised for
+/// `level`.
+#[allow(clippy::too_many_arguments)]
+#[inline]
+fn derive_screen_rows(
+    q: &[f64],
+    qd: &mut [f64],
+    qdd: &mut [f64],
+    n: usize,
+    w: ([f64; 3], [f64; 3]),
+    i0: usize,
+    lim: [&[f64]; 3],
+    level: crate::simd::Level,
+) -> bool {
+    let b = SCREEN_BLOCK;
+    let qs = [
+        &q[i0 - 2 * n..][..b],
+        &q[i0 - n..][..b],
+        &q[i0..][..b],
+        &q[i0 + n..][..b],
+        &q[i0 + 2 * n..][..b],
+    ];
+    let (v, a) = (&mut qd[i0..i0 + b], &mut qdd[i0..i0 + b]);
+    match level {
+        #[cfg(target_arch = "x86_64")]
+        crate::simd::Level::Avx512 if crate::simd::Level::Avx512.available() => {
+            // SAFETY: the CPU has AVX-512F (checked just above).
+            unsafe { derive_screen_avx512(qs, w, v, a, lim) }
+        }
+        #[cfg(target_arch = "x86_64")]
+        crate::simd::Level::Avx2 if crate::simd::Level::Avx2.available() => {
+            // SAFETY: the CPU has AVX2 and FMA (checked just above).
+            unsafe { derive_screen_avx2(qs, w, v, a, lim) }
+        }
+        _ => derive_screen(qs, w, v, a, lim),
+    }
+}
+
+/// The body of [`derive_screen_rows`]: `qs` the positions 2 rows before, 1 before, the
+/// entries', 1 after and 2 after; the stencil of numerics (`w0·a + w1·b + w2·c` left to
+/// right) and the jerk's numerator of
+/// [`crate::numerics::third_derivative_uniform_at`], the same operations in the same order.
+#[inline(always)]
+fn derive_screen(
+    qs: [&[f64]; 5],
+    (d1, d2): ([f64; 3], [f64; 3]),
+    v: &mut [f64],
+    a: &mut [f64],
+    lim: [&[f64]; 3],
+) -> bool {
+    fn block(x: &[f64]) -> &[f64; SCREEN_BLOCK] {
+        x[..SCREEN_BLOCK].try_into().expect("a block")
+    }
+    let (qm2, qm1, q0, qp1, qp2) = (
+        block(qs[0]),
+        block(qs[1]),
+        block(qs[2]),
+        block(qs[3]),
+        block(qs[4]),
+    );
+    let v: &mut [f64; SCREEN_BLOCK] = (&mut v[..SCREEN_BLOCK]).try_into().expect("a block");
+    let a: &mut [f64; SCREEN_BLOCK] = (&mut a[..SCREEN_BLOCK]).try_into().expect("a block");
+    let (lv, la, lj) = (block(lim[0]), block(lim[1]), block(lim[2]));
+    // 1 where an entry may be over its limit, or-ed (an integer reduction, so that it
+    // vectorises).
+    let mut over = 0u64;
+    for i in 0..SCREEN_BLOCK {
+        let (f0, f1, f2) = (qm1[i], q0[i], qp1[i]);
+        let vi = d1[0] * f0 + d1[1] * f1 + d1[2] * f2;
+        let ai = d2[0] * f0 + d2[1] * f1 + d2[2] * f2;
+        v[i] = vi;
+        a[i] = ai;
+        let num = qp2[i] - 2.0 * qp1[i] + 2.0 * qm1[i] - qm2[i];
+        let x = (vi.abs() > lv[i]) | (ai.abs() > la[i]) | (num.abs() > lj[i]);
+        over |= x as u64;
+    }
+    over != 0
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn derive_screen_avx512(
+    qs: [&[f64]; 5],
+    w: ([f64; 3], [f64; 3]),
+    v: &mut [f64],
+    a: &mut [f64],
+    lim: [&[f64]; 3],
+) -> bool {
+    derive_screen(qs, w, v, a, lim)
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn derive_screen_avx2(
+    qs: [&[f64]; 5],
+    w: ([f64; 3], [f64; 3]),
+    v: &mut [f64],
+    a: &mut [f64],
+    lim: [&[f64]; 3],
+) -> bool {
+    derive_screen(qs, w, v, a, lim)
 }
 
 /// Entries screened at once by [`screen_rows`].
@@ -851,6 +1216,10 @@ pub struct Plan {
     pub motion: Arc<CartesianMotion>,
     /// Its speed at each node, m/s.
     pub v: Vec<f64>,
+    /// The motion's points (part frame, m) lane by lane, [`crate::simd::LANES`] samples a
+    /// chunk (lanes past the end: 0), with the motion they are of: what the reach prune of
+    /// [`time_at_planned`] maps to the base frame ([`TipMap::lanes_of`]) at every placement.
+    p_lanes: (Arc<CartesianMotion>, Vec<TipLanes>),
 }
 
 impl Plan {
@@ -859,8 +1228,33 @@ impl Plan {
         let nodes = nodes(pieces, popts);
         let v = Slowing::new(nodes.s.len()).speeds(&nodes, popts.accel);
         let motion = Arc::new(plan_at_speeds(pieces, &nodes, &v, popts));
-        Plan { nodes, motion, v }
+        let lanes = point_lanes(&motion.p);
+        Plan {
+            nodes,
+            p_lanes: (Arc::clone(&motion), lanes),
+            motion,
+            v,
+        }
     }
+
+    /// The motion's points lane by lane, when they are of the current `motion` (a caller may
+    /// have replaced it).
+    fn point_lanes(&self) -> Option<&[TipLanes]> {
+        Arc::ptr_eq(&self.p_lanes.0, &self.motion).then_some(&self.p_lanes.1[..])
+    }
+}
+
+/// Points `p` lane by lane, [`crate::simd::LANES`] a chunk (lanes past the end: 0).
+fn point_lanes(p: &[V3]) -> Vec<TipLanes> {
+    p.chunks(crate::simd::LANES)
+        .map(|c| {
+            let mut x = [[0.0; crate::simd::LANES]; 3];
+            for (l, v) in c.iter().enumerate() {
+                (x[0][l], x[1][l], x[2][l]) = (v.x, v.y, v.z);
+            }
+            x
+        })
+        .collect()
 }
 
 /// Buffers reused from one placement to the next (joint positions, their derivatives, TCP
@@ -880,6 +1274,10 @@ pub struct Buffers {
     /// IK's FK re-check and shared with RNEA and the feasibility checks. Left here by
     /// [`time_path_planned`] (it is not part of the [`TimedPath`]).
     pub sincos: Vec<f64>,
+    /// The base-frame tips of the shared plan's samples at the placement being timed, lane by
+    /// lane ([`TipMap::lanes_of`]), computed once by the reach prune of [`time_at_planned`] and used
+    /// again by its tracking's first round (scratch; meaningless between calls).
+    tips: Vec<TipLanes>,
 }
 
 impl Buffers {
@@ -941,6 +1339,20 @@ pub fn time_path_planned(
     q0: &[f64],
     buf: &mut Buffers,
 ) -> Result<TimedPath, TimingFailure> {
+    time_path_rounds(solver, path, at, q0, buf, None)
+}
+
+/// [`time_path_planned`], with the base-frame tips of the shared plan's samples at `at`
+/// already computed when `pre` is given (see [`track_with`]; used in the first round only,
+/// whose motion is the shared plan's).
+fn time_path_rounds(
+    solver: &IkSolver,
+    path: &PathTiming<'_>,
+    at: &Placement,
+    q0: &[f64],
+    buf: &mut Buffers,
+    pre: Option<&[TipLanes]>,
+) -> Result<TimedPath, TimingFailure> {
     let PathTiming {
         pieces,
         plan: shared,
@@ -963,27 +1375,28 @@ pub fn time_path_planned(
         round += 1;
         let motion = next.take().unwrap_or_else(|| Arc::clone(&shared.motion));
         let v_now: &[f64] = if round == 1 { &shared.v } else { &v };
-        if let Err(e) = track(solver, pieces, moves_line, &motion, at, q0, &mut tracked) {
+        let pre = if round == 1 { pre } else { None };
+        if let Err(e) = track_with(
+            solver,
+            pieces,
+            moves_line,
+            &motion,
+            at,
+            q0,
+            &mut tracked,
+            pre,
+        ) {
             *buf = tracked;
             return Err(e);
         }
-        let level = crate::simd::level();
-        crate::numerics::differentiate_uniform_into_on(
-            &tracked.qs,
-            n,
-            motion.dt,
-            &mut tracked.qd,
-            &mut tracked.qdd,
-            level,
-        );
-        let viol = violations(
+        let viol = derivatives_and_violations(
             model,
             &tracked.qs,
-            &tracked.qd,
-            &tracked.qdd,
             motion.dt,
             jopts.check_jerk,
-            level,
+            &mut tracked.qd,
+            &mut tracked.qdd,
+            crate::simd::level(),
         );
         if viol.is_empty() {
             let mut traj = JointTrajectory::new(n);
@@ -1149,6 +1562,22 @@ pub fn time_at_planned(
     at: &Placement,
     buf: &mut Buffers,
 ) -> Result<TimedPath, TimingFailure> {
+    let mut tips = std::mem::take(&mut buf.tips);
+    tips.clear();
+    let r = time_at_with(solver, path, at, buf, &mut tips);
+    buf.tips = tips;
+    r
+}
+
+/// The body of [`time_at_planned`]; `tips` (empty) receives the base-frame tips of the
+/// shared plan's samples lane by lane when the reach prune computes them all.
+fn time_at_with(
+    solver: &IkSolver,
+    path: &PathTiming<'_>,
+    at: &Placement,
+    buf: &mut Buffers,
+    tips_all: &mut Vec<TipLanes>,
+) -> Result<TimedPath, TimingFailure> {
     let PathTiming {
         pieces,
         plan,
@@ -1207,22 +1636,43 @@ pub fn time_at_planned(
                 const LANES: usize = crate::simd::LANES;
                 let level = crate::simd::level();
                 let mut k0 = 0;
+                // The tips lane by lane (TipMap::lanes_of, bit for bit part_to_base.apply), kept for
+                // the second prune and the first round of tracking.
+                let chunks = m.div_ceil(LANES);
+                tips_all.reserve(chunks);
+                let map = TipMap::new(&part_to_base);
+                // The points lane by lane (the plan's, or now), PRUNE_BLOCK chunks mapped at
+                // a time.
+                let own;
+                let x = match plan.point_lanes() {
+                    Some(x) if x.len() == chunks => x,
+                    _ => {
+                        own = point_lanes(&motion0.p);
+                        &own[..]
+                    }
+                };
                 while k0 < m {
                     let count = LANES.min(m - k0);
-                    let mut tips = [V3::zeros(); LANES];
+                    let c0 = k0 / LANES;
+                    if c0 == tips_all.len() {
+                        let b = PRUNE_BLOCK.min(chunks - c0);
+                        tips_all.resize(c0 + b, [[0.0; LANES]; 3]);
+                        map.lanes_of(&x[c0..c0 + b], &mut tips_all[c0..c0 + b], level);
+                    }
+                    let t = &tips_all[c0];
+                    // The wrist centres tip + d, lane by lane (V3's sum per coordinate).
                     let mut c = [[0.0; LANES]; 3];
-                    for (l, t) in tips.iter_mut().enumerate().take(count) {
-                        *t = part_to_base.apply(&motion0.p[k0 + l]);
-                        let w = *t + d;
-                        for i in 0..3 {
-                            c[i][l] = w[i];
+                    for ((ci, ti), di) in c.iter_mut().zip(t).zip(d.iter()) {
+                        for (v, tv) in ci.iter_mut().zip(ti) {
+                            *v = tv + di;
                         }
                     }
                     let front = solver.wrist_centres_reach_front(&c, 1e-9, level);
-                    for (l, tip) in tips.iter().enumerate().take(count) {
-                        if !front[l] {
+                    for (l, &ok) in front.iter().enumerate().take(count) {
+                        if !ok {
+                            let tip = V3::new(t[0][l], t[1][l], t[2][l]);
                             if let Err(reason) = solver.wrist_centre_reachable(&(tip + d), 1e-9) {
-                                return Err(fail_at(k0 + l, *tip, reason));
+                                return Err(fail_at(k0 + l, tip, reason));
                             }
                         }
                     }
@@ -1255,6 +1705,17 @@ pub fn time_at_planned(
         crate::kinematics::limit_margin(model, &b.q)
             .total_cmp(&crate::kinematics::limit_margin(model, &a.q))
     });
+    // The tips of every sample, when the prune computed them (the same values as
+    // part_to_base.apply).
+    let tips_all: Option<&[TipLanes]> =
+        (tips_all.len() * LANES >= motion0.p.len()).then_some(&tips_all[..]);
+    let tip_at = |k: usize| match tips_all {
+        Some(t) => {
+            let c = &t[k / LANES];
+            V3::new(c[0][k % LANES], c[1][k % LANES], c[2][k % LANES])
+        }
+        None => part_to_base.apply(&motion0.p[k]),
+    };
     let progress = |e: &TimingFailure| match e {
         TimingFailure::Unreachable { sample, .. }
         | TimingFailure::ConfigurationChange { sample, .. } => *sample,
@@ -1287,7 +1748,7 @@ pub fn time_at_planned(
         let mut ks = ks.peekable();
         while let Some(k) = ks.next() {
             idx[count] = k;
-            tips[count] = part_to_base.apply(&motion0.p[k]);
+            tips[count] = tip_at(k);
             count += 1;
             if count == LANES || ks.peek().is_none() {
                 let tips = &tips[..count];
@@ -1310,7 +1771,7 @@ pub fn time_at_planned(
                 continue;
             }
         }
-        match time_path_planned(solver, path, at, &c.q, buf) {
+        match time_path_rounds(solver, path, at, &c.q, buf, tips_all) {
             Ok(t) => return Ok(t),
             Err(e) => {
                 if best_err.as_ref().is_none_or(|b| progress(&e) > progress(b)) {
@@ -1362,6 +1823,254 @@ mod tests {
             s ^= s >> 7;
             s ^= s << 17;
             2.0 * ((s >> 11) as f64 / (1u64 << 53) as f64) - 1.0
+        }
+    }
+
+    fn levels() -> Vec<crate::simd::Level> {
+        crate::simd::Level::ALL
+            .into_iter()
+            .filter(|l| l.available())
+            .collect()
+    }
+
+    #[test]
+    fn fused_derivatives_and_screen_equal_the_two_passes_bit_for_bit_on_every_level() {
+        // The one-pass derivatives and screened limit checks against the two passes of the
+        // per-sample path (differentiate_uniform_into_on, then violations, both scalar):
+        // paths of 0 to 40 samples and longer ones (not multiples of 8 or of a block),
+        // positions with NaN and infinities here and there, limits at quantiles of the
+        // demand (and none, NaN, −∞, 0, negative), steps whose jerk denominator underflows
+        // or is huge, into fresh buffers and reused ones holding garbage: the same q̇ and q̈
+        // to the bit, and the same excesses (sample, joint, kind, ratio) in the same order.
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let base = crate::robot::load(&root.join("robots/abb_irb6700_200_260")).unwrap();
+        let n = base.dof();
+        let mut checked = 0;
+        let mut with_excess = 0;
+        let lens: Vec<usize> = (0..=40).chain([63, 64, 65, 150, 1001]).collect();
+        for (t, &m) in lens.iter().enumerate() {
+            for dt in [0.004, 1e-110, 0.25, 1e100] {
+                let mut u = uniform(100 + t as u64);
+                let mut q = vec![0.0; m * n];
+                let mut vel = vec![0.0; n];
+                for k in 0..m {
+                    for j in 0..n {
+                        vel[j] += 0.02 * u();
+                        q[k * n + j] =
+                            if k == 0 { u() } else { q[(k - 1) * n + j] } + vel[j] * 0.004;
+                    }
+                }
+                let mut q_bad = q.clone();
+                if m > 12 {
+                    q_bad[5 * n + 1] = f64::NAN;
+                    q_bad[(m - 4) * n + 3] = f64::INFINITY;
+                    q_bad[9 * n] = f64::NEG_INFINITY;
+                }
+                for q in [&q, &q_bad] {
+                    let (mut d0, mut dd0) = (Vec::new(), Vec::new());
+                    crate::numerics::differentiate_uniform_into_on(
+                        q,
+                        n,
+                        dt,
+                        &mut d0,
+                        &mut dd0,
+                        crate::simd::Level::Scalar,
+                    );
+                    let max_abs = |v: &[f64], j: usize| {
+                        (0..m)
+                            .map(|k| v[k * n + j].abs())
+                            .filter(|x| x.is_finite())
+                            .fold(0.0, f64::max)
+                    };
+                    let jerk: Vec<f64> = crate::numerics::third_derivative_uniform(q, n, dt);
+                    for (case, scale) in [0.5, 0.97, 1.0, 2.0, 0.0, -1.0].iter().enumerate() {
+                        let mut model = base.clone();
+                        for (j, jt) in model.joints.iter_mut().enumerate() {
+                            jt.velocity_limit = scale * max_abs(&d0, j);
+                            jt.acceleration_limit = scale * max_abs(&dd0, j);
+                            jt.jerk_limit = scale * max_abs(&jerk, j);
+                            match (case + j) % 5 {
+                                0 => jt.jerk_limit = f64::INFINITY,
+                                1 => jt.velocity_limit = f64::NAN,
+                                2 => jt.acceleration_limit = f64::NEG_INFINITY,
+                                3 => jt.jerk_limit = f64::MIN_POSITIVE * 0.5,
+                                _ => {}
+                            }
+                        }
+                        for check_jerk in [true, false] {
+                            let want = violations(
+                                &model,
+                                q,
+                                &d0,
+                                &dd0,
+                                dt,
+                                check_jerk,
+                                crate::simd::Level::Scalar,
+                            );
+                            with_excess += usize::from(!want.is_empty());
+                            let key =
+                                |v: &Violation| (v.sample, v.joint, v.kind, v.ratio.to_bits());
+                            let bits =
+                                |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+                            for &level in &levels() {
+                                for garbage in [0, m * n / 2, m * n + 7] {
+                                    let mut d = vec![f64::NAN; garbage];
+                                    let mut dd = vec![-3.0; garbage];
+                                    let got = derivatives_and_violations(
+                                        &model, q, dt, check_jerk, &mut d, &mut dd, level,
+                                    );
+                                    let what = format!(
+                                        "m={m} dt={dt} scale={scale} jerk={check_jerk} {level:?}"
+                                    );
+                                    assert_eq!(bits(&d), bits(&d0), "{what}");
+                                    assert_eq!(bits(&dd), bits(&dd0), "{what}");
+                                    assert_eq!(
+                                        got.iter().map(key).collect::<Vec<_>>(),
+                                        want.iter().map(key).collect::<Vec<_>>(),
+                                        "{what}"
+                                    );
+                                    checked += 1;
+                                }
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(
+            checked > 1000 && with_excess > 100,
+            "{checked} {with_excess}"
+        );
+    }
+
+    #[test]
+    fn the_jerk_screens_bound_never_lets_an_excess_through() {
+        // Wherever the per-sample check finds |num| / den > limit, the screen's division-free
+        // test |num| > bound holds too: numerators around the limit to the last ulp, limits
+        // and steps from tiny to huge (the product under- and overflowing), limits ≤ 0.
+        let mut u = uniform(4242);
+        let mut found = 0;
+        for _ in 0..200_000 {
+            let den = 2.0 * 10f64.powf(-120.0 + 240.0 * (0.5 + 0.5 * u())).powi(3);
+            let limit = match (u() * 8.0) as i32 {
+                0 => 0.0,
+                -1 => -1.0,
+                1 => f64::MIN_POSITIVE * (0.5 + u().abs()),
+                _ => 10f64.powf(300.0 * u()),
+            };
+            let guess = limit * den;
+            let mut num = guess * (1.0 + 1e-15 * u());
+            if !num.is_finite() {
+                num = f64::MAX * u().abs();
+            }
+            for k in -3i64..=3 {
+                let x = f64::from_bits((num.abs().to_bits() as i64 + k).max(0) as u64);
+                if x / den > limit {
+                    found += 1;
+                    assert!(
+                        x > jerk_screen_bound(limit, den),
+                        "num {x:e} den {den:e} limit {limit:e}"
+                    );
+                }
+            }
+        }
+        assert!(found > 100_000, "{found}");
+        assert_eq!(jerk_screen_bound(1.0, 0.0), f64::NEG_INFINITY);
+        assert_eq!(jerk_screen_bound(f64::MAX, 4.0), f64::INFINITY);
+        assert_eq!(jerk_screen_bound(1e-300, 1e-300), 0.0);
+    }
+
+    #[test]
+    fn tips_mapped_lane_by_lane_equal_frame_apply_bit_for_bit_on_every_level() {
+        // Placements with yaws that give exact zeros and signed zeros in the rotation, points
+        // with zeros of both signs and of all sizes, paths of 1 to 17 points: every lane of
+        // every level is Frame::apply of its point, to the bit (and lanes past the end hold
+        // the frame's origin).
+        let mut u = uniform(77);
+        for yaw in [0.0, 90.0, 180.0, -90.0, 33.3, 271.0] {
+            for (x, y, z) in [(1.534, -0.121, 0.0), (0.0, 0.0, 0.0), (-2.0, 1e-9, 0.3)] {
+                let at = Placement::new(x, y, z, f64::to_radians(yaw));
+                let frame = at.frame();
+                let map = TipMap::new(&frame);
+                for len in 1..=17 {
+                    let p: Vec<V3> = (0..len)
+                        .map(|k| match k % 4 {
+                            0 => V3::new(0.0, -0.0, 0.0),
+                            1 => V3::new(-0.0, 1e-300 * u(), -0.0),
+                            _ => V3::new(3.0 * u(), 1e6 * u(), u()),
+                        })
+                        .collect();
+                    let x = point_lanes(&p);
+                    for &level in &levels() {
+                        let mut out = vec![[[f64::NAN; crate::simd::LANES]; 3]; x.len()];
+                        map.lanes_of(&x, &mut out, level);
+                        for (k, pk) in p.iter().enumerate() {
+                            let want = frame.apply(pk);
+                            let c = &out[k / crate::simd::LANES];
+                            for i in 0..3 {
+                                assert_eq!(
+                                    c[i][k % crate::simd::LANES].to_bits(),
+                                    want[i].to_bits(),
+                                    "yaw {yaw} len {len} sample {k} {level:?}"
+                                );
+                            }
+                        }
+                        for k in len..x.len() * crate::simd::LANES {
+                            let c = &out[k / crate::simd::LANES];
+                            for (i, ci) in c.iter().enumerate() {
+                                assert_eq!(ci[k % crate::simd::LANES], frame.pos[i]);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+
+    #[test]
+    fn a_plan_whose_motion_was_replaced_offers_no_stale_points() {
+        // The plan's points lane by lane belong to its own motion: once a caller replaces
+        // the motion, they are not used (the prune computes them from the motion it has).
+        let (pieces, mut plan, popts) = line();
+        let x = plan.point_lanes().expect("the plan's own");
+        assert_eq!(x.len(), plan.motion.p.len().div_ceil(crate::simd::LANES));
+        assert_eq!(point_lanes(&plan.motion.p), x);
+        let other = Plan::new(
+            &pieces[..],
+            &ProfileOptions {
+                dt: popts.dt * 2.0,
+                ..popts
+            },
+        );
+        plan.motion = Arc::clone(&other.motion);
+        assert!(plan.point_lanes().is_none());
+    }
+
+    #[test]
+    fn joint_rows_pushed_from_lanes_equal_the_lanes_joint_vectors() {
+        // A full batch (the block transposes) and every shorter one, appended after rows
+        // already there: row l is lane l's joint vector, the rows before are untouched.
+        let mut q = [[0.0; crate::simd::LANES]; crate::kinematics::MAX_DOF];
+        let mut u = uniform(9);
+        for row in q.iter_mut() {
+            for v in row.iter_mut() {
+                *v = u();
+            }
+        }
+        for taken in 0..=crate::simd::LANES {
+            let mut qs = vec![7.0, -0.0, 1.5];
+            push_rows6(&mut qs, &q, taken);
+            assert_eq!(qs.len(), 3 + taken * 6);
+            assert_eq!(qs[..3], [7.0, -0.0, 1.5]);
+            for l in 0..taken {
+                for j in 0..6 {
+                    assert_eq!(
+                        qs[3 + l * 6 + j].to_bits(),
+                        q[j][l].to_bits(),
+                        "{taken} {l} {j}"
+                    );
+                }
+            }
         }
     }
 

@@ -19,6 +19,30 @@ pub fn robot(name: &str) -> RobotModel {
     load(&root().join("robots").join(name)).unwrap_or_else(|e| panic!("loading {name}: {e}"))
 }
 
+/// The rigid-body model of `model` with its payload, and with the motors' reflected rotor
+/// inertia (armature) when `armature` is set.
+pub fn dyn_model(model: &RobotModel, armature: bool) -> printwatt::dynamics::DynModel {
+    printwatt::dynamics::DynModel::new(
+        model,
+        printwatt::dynamics::DynOptions {
+            payload: true,
+            armature,
+        },
+    )
+    .unwrap_or_else(|e| panic!("dynamic model of {}: {e}", model.name()))
+}
+
+/// A deterministic stream of pseudo-random numbers in [0, 1) (xorshift; seeded).
+pub fn xorshift(seed: u64) -> impl FnMut() -> f64 {
+    let mut s = seed.max(1);
+    move || {
+        s ^= s << 13;
+        s ^= s >> 7;
+        s ^= s << 17;
+        (s >> 11) as f64 / (1u64 << 53) as f64
+    }
+}
+
 /// `|a − b| ≤ rel · max(|a|, |b|, 1)`.
 pub fn close(a: f64, b: f64, rel: f64) -> bool {
     (a - b).abs() <= rel * a.abs().max(b.abs()).max(1.0)
