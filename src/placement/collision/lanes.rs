@@ -110,6 +110,10 @@ struct Around {
 /// (the callers are compiled for it and dispatch on it).
 pub mod reg {
     /// `W` lanes of `f64` in one register.
+    ///
+    /// # Safety
+    /// Every method needs the CPU to have the type's instruction set.
+    #[allow(clippy::missing_safety_doc)] // the trait's: the type's instruction set
     pub trait V: Copy {
         /// Lanes per register.
         const W: usize;
@@ -563,6 +567,7 @@ impl CollisionLanes {
     /// a bead is laid.
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
+    #[allow(clippy::needless_range_loop)] // parallel fixed arrays indexed by axis
     unsafe fn place<T: V>(
         &mut self,
         rs: &RobotShapes,
@@ -637,6 +642,8 @@ impl CollisionLanes {
     /// `clearance` as it is left here; `false` (and `clearance` untouched) when the lane
     /// needs the per-sample check (see the module docs).
     #[inline]
+    // `!(low <= c)`: the negated comparison is the NaN rule (as the per-shape test's).
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
     pub fn replay(&self, l: usize, clearance: &mut Option<f64>) -> bool {
         if self.exact >> l & 1 != 0 {
             return false;
