@@ -520,6 +520,76 @@ impl LimitTable {
         (out, ok)
     }
 
+    /// Per lane (bit `l`) whether [`LimitTable::fit`] without a reference accepts the
+    /// 6-joint vectors `qj[j][lane]` (rad), decided in lockstep on `level` by
+    /// [`LimitTable::fit_lanes`] about 0 (the same comparisons and roundings); levels without
+    /// SSE4.1 rounding (scalar, SSE2) test only fit's fast path (revolute, within the
+    /// limits, less than π from 0), a subset. Only for a table of 6 joints.
+    pub(crate) fn accepts_lanes(
+        &self,
+        qj: &[[f64; crate::simd::LANES]; 6],
+        level: crate::simd::Level,
+    ) -> u32 {
+        use crate::simd::{Level, LANES};
+        match level {
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx512 if Level::Avx512.available() => {
+                // SAFETY: the CPU has AVX-512F (checked just above).
+                unsafe { self.accepts_lanes_avx512(qj) }
+            }
+            #[cfg(target_arch = "x86_64")]
+            Level::Avx2 if Level::Avx2.available() => {
+                // SAFETY: the CPU has AVX2 and FMA (checked just above).
+                unsafe { self.accepts_lanes_avx2(qj) }
+            }
+            _ => {
+                let mut all = [1u64; LANES];
+                for (j, v) in qj.iter().enumerate() {
+                    let (lo, hi) = (self.lower[j], self.upper[j]);
+                    let rev = u64::from(self.revolute[j]);
+                    for (a, &x) in all.iter_mut().zip(v) {
+                        *a &= rev & u64::from((x >= lo) & (x <= hi) & ((x - 0.0).abs() < PI));
+                    }
+                }
+                let mut mask = 0u32;
+                for (l, a) in all.iter().enumerate() {
+                    mask |= u32::from(*a != 0) << l;
+                }
+                mask
+            }
+        }
+    }
+
+    /// The body of [`LimitTable::accepts_lanes`] with rounding instructions.
+    #[inline(always)]
+    fn accepts_lanes_body(&self, qj: &[[f64; crate::simd::LANES]; 6]) -> u32 {
+        use crate::simd::LANES;
+        let mut all = [1u64; LANES];
+        for (j, v) in qj.iter().enumerate() {
+            let (_, ok) = self.fit_lanes(j, v, &[0.0; LANES]);
+            for (a, o) in all.iter_mut().zip(ok) {
+                *a &= o;
+            }
+        }
+        let mut mask = 0u32;
+        for (l, a) in all.iter().enumerate() {
+            mask |= u32::from(*a != 0) << l;
+        }
+        mask
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    fn accepts_lanes_avx512(&self, qj: &[[f64; crate::simd::LANES]; 6]) -> u32 {
+        self.accepts_lanes_body(qj)
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    fn accepts_lanes_avx2(&self, qj: &[[f64; crate::simd::LANES]; 6]) -> u32 {
+        self.accepts_lanes_body(qj)
+    }
+
     #[cfg(target_arch = "x86_64")]
     #[target_feature(enable = "sse4.1")]
     fn fit_sse41(
@@ -941,9 +1011,25 @@ impl<'a> IkSolver<'a> {
         slack: f64,
         level: crate::simd::Level,
     ) -> [bool; crate::simd::LANES] {
-        use crate::simd::{Level, LANES};
+        let mask = self.wrist_centres_reach_front_mask(c, slack, level);
+        let mut ok = [false; crate::simd::LANES];
+        for (l, o) in ok.iter_mut().enumerate() {
+            *o = mask >> l & 1 != 0;
+        }
+        ok
+    }
+
+    /// [`IkSolver::wrist_centres_reach_front`] as a bit mask (bit `l`: lane `l` reached).
+    #[inline]
+    pub fn wrist_centres_reach_front_mask(
+        &self,
+        c: &[[f64; crate::simd::LANES]; 3],
+        slack: f64,
+        level: crate::simd::Level,
+    ) -> u32 {
+        use crate::simd::Level;
         let (Some(p), Some(k)) = (&self.model.opw, &self.opw_k) else {
-            return [false; LANES];
+            return 0;
         };
         let ok = match level {
             #[cfg(target_arch = "x86_64")]
@@ -958,7 +1044,11 @@ impl<'a> IkSolver<'a> {
             }
             _ => opw::arm_reaches_front_lanes(p, k, c, slack),
         };
-        ok.map(|o| o != 0)
+        let mut mask = 0u32;
+        for (l, o) in ok.iter().enumerate() {
+            mask |= u32::from(*o != 0) << l;
+        }
+        mask
     }
 
     /// The closed-form branch [`IkSolver::solve_near`] continues from `q` (OPW arms), else `None`.
@@ -1053,9 +1143,22 @@ impl<'a> IkSolver<'a> {
             Branch::new(shoulder, elbow, Wrist::NoFlip),
             level,
         );
+        // LimitTable::fit's verdict in lockstep on the no-flip answers (qj, the batch being
+        // solved without flip: BranchBatch::variant(NoFlip) bit for bit), about fit's centre
+        // without a reference (0): the lanes it accepts need no per-lane fit; the rest are
+        // fitted per lane (both variants, the error).
+        let mut inside = [false; LANES];
+        if self.model.joints.len() == 6 && self.limits.n == 6 {
+            let mask = self.limits.accepts_lanes(&b.qj, level);
+            for (l, i) in inside.iter_mut().enumerate() {
+                *i = mask >> l & 1 != 0;
+            }
+        }
         for (l, tip) in tips.iter().enumerate() {
             // branch_admits zeroes q4 and q6 below |sin q5| = 1e-6: per sample there.
-            let r = if b.ok[l] && b.s5[l] >= 1e-6 {
+            let r = if b.ok[l] && b.s5[l] >= 1e-6 && inside[l] {
+                Ok(())
+            } else if b.ok[l] && b.s5[l] >= 1e-6 {
                 let fit = |w: Wrist| {
                     let mut q = JointVec::from_slice(&b.variant(p, l, w));
                     self.limits.fit(self.model, &mut q, None)
@@ -2099,4 +2202,87 @@ mod lane_ops {
             }
         }
     }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn lane_wise_limit_verdicts_equal_the_per_vector_fit_on_every_level() {
+        // LimitTable::accepts_lanes (branch_admits_batch's verdict for 8 lanes at once)
+        // against LimitTable::fit without a reference, vector by vector: joint values inside,
+        // at and past the limits (by the tolerance and by whole turns), past ±π, infinite and
+        // NaN, on robots with wide-range joints. With rounding instructions (AVX2, AVX-512)
+        // the same verdict per lane; without (scalar, SSE2) a lane it accepts is one fit
+        // accepts.
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let mut s = 5u64;
+        let mut u = move || {
+            s ^= s << 13;
+            s ^= s >> 7;
+            s ^= s << 17;
+            2.0 * ((s >> 11) as f64 / (1u64 << 53) as f64) - 1.0
+        };
+        let (mut accepted, mut rejected) = (0, 0);
+        for name in ["abb_irb6700_200_260", "staubli_tx200", "ur10e"] {
+            let model = crate::robot::load(&root.join("robots").join(name)).unwrap();
+            let table = LimitTable::new(&model);
+            for case in 0..3000 {
+                let mut qj = [[0.0; crate::simd::LANES]; 6];
+                for (j, row) in qj.iter_mut().enumerate() {
+                    let jt = &model.joints[j];
+                    let (lo, hi) = (jt.lower.max(-10.0), jt.upper.min(10.0));
+                    let (mid, half) = (0.5 * (lo + hi), 0.5 * (hi - lo));
+                    for v in row.iter_mut() {
+                        *v = match (case + j) % 9 {
+                            0..=2 => mid + 0.8 * half * u(),
+                            3 => mid + 1.3 * half * u(),
+                            4 => {
+                                if u() > 0.0 {
+                                    hi + 2e-9 * u()
+                                } else {
+                                    lo + 2e-9 * u()
+                                }
+                            }
+                            5 => mid + 0.9 * half * u() + TAU_TEST * (3.0 * u()).round(),
+                            6 => std::f64::consts::PI * 1.2 * u(),
+                            7 => [f64::NAN, f64::INFINITY, f64::NEG_INFINITY, 0.0][case % 4],
+                            _ => 0.5 * u(),
+                        };
+                    }
+                }
+                for level in crate::simd::Level::ALL
+                    .into_iter()
+                    .filter(|l| l.available())
+                {
+                    let mask = table.accepts_lanes(&qj, level);
+                    for l in 0..crate::simd::LANES {
+                        let mut q = [0.0; 6];
+                        for (v, row) in q.iter_mut().zip(&qj) {
+                            *v = row[l];
+                        }
+                        let ok = table.fit(&model, &mut q, None).is_ok();
+                        let got = mask >> l & 1 != 0;
+                        if matches!(level, crate::simd::Level::Avx2 | crate::simd::Level::Avx512) {
+                            assert_eq!(got, ok, "{name} case {case} lane {l} {level:?}");
+                        } else {
+                            assert!(!got || ok, "{name} case {case} lane {l} {level:?}");
+                        }
+                        if ok {
+                            accepted += 1;
+                        } else {
+                            rejected += 1;
+                        }
+                    }
+                }
+            }
+        }
+        assert!(
+            accepted > 10_000 && rejected > 10_000,
+            "{accepted} {rejected}"
+        );
+    }
+
+    const TAU_TEST: f64 = 2.0 * std::f64::consts::PI;
 }
