@@ -1050,7 +1050,7 @@ fn the_checked_samples_in_lockstep_give_check_sample_with_answers_messages_and_m
     // A round wall, 40 layers, printed from the first sample on.
     let wall = round_wall(0.4, 40);
     let (mut outcomes, mut lockstep_robots) = (std::collections::BTreeMap::new(), 0);
-    let mut answered = 0;
+    let (mut answered, mut lowering) = (0, 0);
     for level in [Level::Sse2, Level::Avx2, Level::Avx512] {
         if !simd::set_level(level) {
             continue;
@@ -1073,20 +1073,29 @@ fn the_checked_samples_in_lockstep_give_check_sample_with_answers_messages_and_m
             };
             lockstep_robots += usize::from(rs.lockstep());
             for round in 0..12 {
-                // The robot base beside the wall, a little above or below the bed's top.
+                // The robot base beside the wall, a little above or below the bed's top; every
+                // third round on a bed that reaches under the base, above its top (the links
+                // wholly above the bed: the bed clearance in closed form, lowered as the arm
+                // comes down).
+                let wide = round % 3 == 2;
                 let base_to_part = Frame::from_xyz_rpy(
                     [
                         rng.gen_range(0.6..1.4),
                         rng.gen_range(-0.4..0.4),
-                        rng.gen_range(-0.3..0.3),
+                        if wide {
+                            rng.gen_range(0.25..0.5)
+                        } else {
+                            rng.gen_range(-0.3..0.3)
+                        },
                     ],
                     [0.0, 0.0, rng.gen_range(2.5..3.8)],
                 );
                 let m = 3000;
                 let p = &wall[..m.min(wall.len())];
+                let half = if wide { 1.6 } else { 0.5 };
                 let world = World::new(
                     &base_to_part.inverse(),
-                    (V3::new(-0.5, -0.5, 0.0), V3::new(0.5, 0.5, 0.8)),
+                    (V3::new(-half, -half, 0.0), V3::new(half, half, 0.8)),
                     &o,
                 );
                 let beads = Beads::new(p, &vec![true; p.len()], o.check_every, 0.02);
@@ -1165,10 +1174,14 @@ fn the_checked_samples_in_lockstep_give_check_sample_with_answers_messages_and_m
                 }
             }
             answered += lanes.answered();
+            lowering += lanes.answered_lowering();
         }
     }
     simd::set_level(simd::detected());
-    eprintln!("{outcomes:?}, {answered} answered from the lanes alone");
+    eprintln!(
+        "{outcomes:?}, {answered} answered from the lanes alone, {lowering} of them lowering the \
+         bed clearance"
+    );
     if lockstep_robots == 0 {
         // The scalar level only: nothing to compare.
         return;
@@ -1193,6 +1206,139 @@ fn the_checked_samples_in_lockstep_give_check_sample_with_answers_messages_and_m
         "{answered} of {} passing samples",
         outcomes["none"]
     );
+    // Of those, most leave the bed clearance as it is (no shape's gap reaches it: one test
+    // per lane) and a few lower it (a new smallest clearance, the capsules' closed form from
+    // the lanes' axis ends, shape by shape; a dozen or so per level on the wide beds).
+    assert!(
+        lowering > 0 && lowering * 4 < answered,
+        "{lowering} of {answered} lowered the clearance"
+    );
+}
+
+#[test]
+fn counting_the_beads_laid_from_an_earlier_count_gives_laid_at() {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(5);
+    for every in [1, 3, 10, 40] {
+        let m = 2000;
+        let p: Vec<V3> = (0..m)
+            .map(|k| V3::new(0.001 * k as f64, 0.0, 0.0))
+            .collect();
+        // Print moves with travel between them.
+        let print: Vec<bool> = (0..m).map(|k| (k / 150) % 3 != 2).collect();
+        let beads = Beads::new(&p, &print, every, 0.02);
+        for _ in 0..3000 {
+            let k = rng.gen_range(0..m + 50);
+            let earlier = rng.gen_range(0..=k);
+            let want = beads.laid_at(k);
+            // From the count at an earlier sample, from 0, and from the count itself.
+            for from in [beads.laid_at(earlier), 0, want] {
+                assert_eq!(beads.laid_at_from(k, from), want, "every {every}, k {k}");
+            }
+        }
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[test]
+fn the_collision_lanes_registers_give_the_scalar_selects_minima_maxima_and_tests_bit_for_bit() {
+    use printwatt::placement::collision::lanes::reg::V;
+    use std::arch::x86_64::{__m128d, __m256d, __m512d};
+    let special = [
+        0.0,
+        -0.0,
+        1.0,
+        -1.0,
+        0.5,
+        f64::INFINITY,
+        f64::NEG_INFINITY,
+        f64::NAN,
+        -f64::NAN,
+        1e-310,
+        -2.5,
+        2.5,
+    ];
+    let mut pairs = Vec::new();
+    for &a in &special {
+        for &b in &special {
+            pairs.push((a, b));
+        }
+    }
+    // Every case in every lane position.
+    while pairs.len() % 8 != 0 {
+        pairs.push((1.0, 2.0));
+    }
+    /// Lane by lane: the register's answers and the scalar ones.
+    unsafe fn check<T: V>(pairs: &[(f64, f64)]) {
+        for chunk in pairs.chunks(T::W) {
+            let a: Vec<f64> = chunk.iter().map(|p| p.0).collect();
+            let b: Vec<f64> = chunk.iter().map(|p| p.1).collect();
+            let (x, y) = unsafe { (T::load(&a), T::load(&b)) };
+            let mut out = vec![0.0; T::W];
+            type Op<T> = (unsafe fn(T, T) -> T, fn(f64, f64) -> f64, &'static str);
+            let ops: [Op<T>; 4] = [
+                (T::inf, |a, b| if a <= b { a } else { b }, "inf"),
+                (T::sup, |a, b| if a >= b { a } else { b }, "sup"),
+                (T::lt_min, |a, b| if a < b { a } else { b }, "lt_min"),
+                (T::max, f64::max, "max"),
+            ];
+            for (op, want, name) in ops {
+                unsafe { op(x, y).store(&mut out) };
+                for l in 0..T::W {
+                    let w = want(a[l], b[l]);
+                    // f64::max leaves the sign of a zero result and a NaN's bits open: only
+                    // the value counts there (its callers square it and compare it).
+                    let same = out[l].to_bits() == w.to_bits()
+                        || (name == "max" && w == 0.0 && out[l] == 0.0)
+                        || (name == "max" && w.is_nan() && out[l].is_nan());
+                    assert!(same, "{name}({}, {}) = {} vs {w}", a[l], b[l], out[l]);
+                }
+            }
+            let bits = unsafe { T::le_ge(x, y, y, T::splat(0.5)) };
+            for l in 0..T::W {
+                let want = a[l] <= b[l] && b[l] >= 0.5;
+                assert_eq!(bits >> l & 1 == 1, want, "le_ge {} {}", a[l], b[l]);
+            }
+            assert_eq!(bits >> T::W, 0);
+            for (op, want) in [
+                (
+                    T::add as unsafe fn(T, T) -> T,
+                    (|a, b| a + b) as fn(f64, f64) -> f64,
+                ),
+                (T::sub, |a, b| a - b),
+                (T::mul, |a, b| a * b),
+            ] {
+                unsafe { op(x, y).store(&mut out) };
+                for l in 0..T::W {
+                    let w = want(a[l], b[l]);
+                    assert!(out[l].to_bits() == w.to_bits() || (w.is_nan() && out[l].is_nan()));
+                }
+            }
+            unsafe { x.sqrt().store(&mut out) };
+            for l in 0..T::W {
+                let w = a[l].sqrt();
+                assert!(out[l].to_bits() == w.to_bits() || (w.is_nan() && out[l].is_nan()));
+            }
+        }
+    }
+    unsafe {
+        check::<f64>(&pairs);
+        check::<__m128d>(&pairs);
+    }
+    if is_x86_feature_detected!("avx2") {
+        #[target_feature(enable = "avx2")]
+        unsafe fn avx2(pairs: &[(f64, f64)]) {
+            unsafe { check::<__m256d>(pairs) }
+        }
+        unsafe { avx2(&pairs) };
+    }
+    if is_x86_feature_detected!("avx512f") {
+        #[target_feature(enable = "avx512f")]
+        unsafe fn avx512(pairs: &[(f64, f64)]) {
+            unsafe { check::<__m512d>(pairs) }
+        }
+        unsafe { avx512(&pairs) };
+    }
 }
 
 #[test]

@@ -775,6 +775,22 @@ impl Beads {
         self.done_at.partition_point(|&d| d <= k)
     }
 
+    /// [`Beads::laid_at`]`(k)` given `from`, the count at an earlier sample (or any number
+    /// not above it): a few steps forward from `from` (the checked samples of a batch lay a
+    /// bead or so each), a binary search beyond. The same number as `laid_at(k)`.
+    #[inline]
+    pub fn laid_at_from(&self, k: usize, from: usize) -> usize {
+        let d = &self.done_at;
+        let mut i = from.min(d.len());
+        for _ in 0..4 {
+            if i == d.len() || d[i] > k {
+                return i;
+            }
+            i += 1;
+        }
+        i + d[i..].partition_point(|&x| x <= k)
+    }
+
     /// Number of beads.
     pub fn len(&self) -> usize {
         self.segs.len()

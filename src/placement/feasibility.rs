@@ -440,8 +440,10 @@ pub struct CheckedLanes {
     /// The collision geometry is taken in lockstep ([`RobotShapes::lockstep`]).
     collide: bool,
     coll: collision::lanes::CollisionLanes,
-    /// Samples answered from the lanes alone (for tests).
+    /// Samples answered from the lanes alone, and of them those whose bed clearance the
+    /// lanes lowered (for tests).
     answered: usize,
+    lowered: usize,
 }
 
 impl CheckedLanes {
@@ -478,6 +480,7 @@ impl CheckedLanes {
             collide: o.collisions && shapes.lockstep(),
             coll: Default::default(),
             answered: 0,
+            lowered: 0,
         })
     }
 
@@ -486,6 +489,13 @@ impl CheckedLanes {
     #[doc(hidden)]
     pub fn answered(&self) -> usize {
         self.answered
+    }
+
+    /// How many of [`CheckedLanes::answered`]'s samples lowered the bed clearance (the lanes'
+    /// closed-form clearance taken; for tests).
+    #[doc(hidden)]
+    pub fn answered_lowering(&self) -> usize {
+        self.lowered
     }
 
     /// [`check_sample_with`]`(model, o, scene, q, sincos, scene.beads.laid_at(k), poses,
@@ -536,8 +546,10 @@ impl CheckedLanes {
                 return Some(f);
             }
         }
+        let before = margins.bed_clearance_m;
         if !o.collisions || (self.collide && self.coll.replay(l, &mut margins.bed_clearance_m)) {
             self.answered += 1;
+            self.lowered += usize::from(margins.bed_clearance_m != before);
             return None;
         }
         let laid = scene.beads.laid_at(k);
@@ -569,23 +581,31 @@ impl CheckedLanes {
             self.ks[l] = self.ks[len - 1];
         }
         (self.len, self.next) = (len, 0);
-        // The lanes' inputs: angles, sines and cosines joint by joint; beads laid.
+        // The lanes' inputs: the angles the measures take (joints 2, 3 and 5), sines and
+        // cosines joint by joint; beads laid.
         let mut q = [[0.0; W]; crate::kinematics::MAX_DOF];
         let mut sc = [[0.0; W]; 2 * crate::kinematics::MAX_DOF];
         let mut laid = [0usize; W];
+        let collide = self.collide && o.collisions;
         for l in 0..W {
             let kl = self.ks[l];
-            for j in 0..n {
-                q[j][l] = qs[kl * n + j];
+            if self.opw {
+                // CheckedLanes::new: `opw` only with 6 joints or more.
+                for j in [1, 2, 4] {
+                    q[j][l] = qs[kl * n + j];
+                }
             }
             for (j, v) in sincos[kl * 2 * n..(kl + 1) * 2 * n].iter().enumerate() {
                 sc[j][l] = *v;
             }
-            laid[l] = if l > 0 && kl == self.ks[l - 1] {
-                laid[l - 1]
-            } else {
-                scene.beads.laid_at(kl)
-            };
+            if collide {
+                // The samples increase: each lane's count from the previous lane's on.
+                laid[l] = if l == 0 {
+                    scene.beads.laid_at(kl)
+                } else {
+                    scene.beads.laid_at_from(kl, laid[l - 1])
+                };
+            }
         }
         let terms = model
             .opw
@@ -599,7 +619,7 @@ impl CheckedLanes {
             laid: &laid,
             terms,
             scene,
-            collide: self.collide && o.collisions,
+            collide,
         };
         match crate::simd::level() {
             #[cfg(target_arch = "x86_64")]
@@ -612,7 +632,12 @@ impl CheckedLanes {
                 // SAFETY: the CPU has AVX2 and FMA (checked just above).
                 unsafe { fill_avx2(self, &inputs) }
             }
-            _ => fill_lanes(self, &inputs),
+            #[cfg(target_arch = "x86_64")]
+            // SAFETY: SSE2 is part of x86-64.
+            _ => unsafe { fill_lanes::<std::arch::x86_64::__m128d>(self, &inputs) },
+            #[cfg(not(target_arch = "x86_64"))]
+            // SAFETY: plain f64 arithmetic.
+            _ => unsafe { fill_lanes::<f64>(self, &inputs) },
         }
     }
 }
@@ -633,8 +658,13 @@ struct LaneInputs<'a> {
 /// lane by lane with its operations (`sin` of the OPW angles by
 /// [`crate::fastmath::sin_cos_lanes`], bit-identical to [`crate::fastmath::sin`]), and the
 /// collision lanes.
+/// The collision lanes are taken a register of `T` at a time (every `T` gives the same
+/// numbers).
+///
+/// # Safety
+/// The CPU has `T`'s instruction set.
 #[inline(always)]
-fn fill_lanes(c: &mut CheckedLanes, x: &LaneInputs<'_>) {
+unsafe fn fill_lanes<T: collision::lanes::reg::V>(c: &mut CheckedLanes, x: &LaneInputs<'_>) {
     const W: usize = crate::simd::LANES;
     let mut special = 0u32;
     if let Some((p, (psi3, k))) = x.terms {
@@ -664,27 +694,32 @@ fn fill_lanes(c: &mut CheckedLanes, x: &LaneInputs<'_>) {
     c.special = special;
     if x.collide {
         let world = x.scene.world;
-        c.coll.compute(
-            x.scene.shapes,
-            &x.sc[..2 * x.n],
-            &world.base_to_part,
-            &world.bed,
-            x.scene.beads,
-            x.laid,
-        );
+        // SAFETY: the caller's contract.
+        unsafe {
+            c.coll.compute::<T>(
+                x.scene.shapes,
+                &x.sc[..2 * x.n],
+                &world.base_to_part,
+                &world.bed,
+                x.scene.beads,
+                x.laid,
+            )
+        };
     }
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
 fn fill_avx512(c: &mut CheckedLanes, x: &LaneInputs<'_>) {
-    fill_lanes(c, x)
+    // SAFETY: compiled for AVX-512F, called where the CPU has it.
+    unsafe { fill_lanes::<std::arch::x86_64::__m512d>(c, x) }
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 fn fill_avx2(c: &mut CheckedLanes, x: &LaneInputs<'_>) {
-    fill_lanes(c, x)
+    // SAFETY: compiled for AVX2, called where the CPU has it.
+    unsafe { fill_lanes::<std::arch::x86_64::__m256d>(c, x) }
 }
 
 /// Record the singularity measures `w`, `e`, `s` in `margins`; the elbow or shoulder failure.

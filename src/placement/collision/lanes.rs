@@ -3,16 +3,21 @@
 //! shapes (the print head aside) are capsules.
 //!
 //! The bodies' frames, each capsule's axis at its pose, its box, its gap from the bed's box,
-//! its closed-form bed clearance ([`Bed::axis_above`]), whether its box meets the root of the
-//! beads' hierarchy, and the self pairs' boxes are computed lane by lane with the operations
-//! [`RobotShapes::body_frames_into`] and `check_with` run on one sample, in the same order
-//! (plain IEEE arithmetic, minima and comparisons as nalgebra and parry take them): every
-//! number is the per-sample one, bit for bit. [`CollisionLanes::replay`] then takes one lane
-//! through `check_with`'s steps (the bed clearance in shape order from the running one); a
-//! lane that needs anything more (a GJK distance, a contact, a box meeting the part's or
-//! another shape's box, a NaN) is handed back to the caller, who runs the per-sample check
-//! on it. So the verdict, message and bed clearance are those of the per-sample check, by
-//! construction.
+//! whether its box meets the root of the beads' hierarchy, and the self pairs' boxes are
+//! computed lane by lane with the operations [`RobotShapes::body_frames_into`] and
+//! `check_with` run on one sample, in the same order (plain IEEE arithmetic, minima and
+//! comparisons as nalgebra and parry take them): every number is the per-sample one, bit for
+//! bit. [`CollisionLanes::replay`] then takes one lane through `check_with`'s steps (the bed
+//! clearance in shape order from the running one, the closed-form clearance
+//! [`Bed::axis_above`] from the kept axis ends where a shape's gap reaches it); a lane that
+//! needs anything more (a GJK distance, a contact, a box meeting the part's or another
+//! shape's box, a NaN) is handed back to the caller, who runs the per-sample check on it. So
+//! the verdict, message and bed clearance are those of the per-sample check, by construction.
+//!
+//! The lanes are computed a register's width at a time (`C` lanes: 8 on AVX-512, 4 on AVX2,
+//! 2 otherwise), the frames carried from joint to joint as register values, each body's
+//! shapes placed as its frame is made (session 11: no spills of the frames, no loop over
+//! every shape at every body, no lane-by-lane bit packing; the numbers are the same).
 
 use super::{Beads, Bed, RobotShapes, Role, Turn, SPHERE_MARGIN_M};
 use crate::kinematics::fk::Axis;
@@ -31,15 +36,19 @@ type L = [f64; LANES];
 pub struct CollisionLanes {
     /// Per shape: the gap of its box from the bed's box, m.
     gap: [L; MAX_SHAPES],
-    /// Per shape: its closed-form bed clearance, m, where `above` is set.
-    clear: [L; MAX_SHAPES],
-    /// Per shape, bit `l`: lane `l`'s capsule axis lies above the bed's top face.
-    above: [u32; MAX_SHAPES],
-    /// Per shape, bit `l`: lane `l`'s box meets the root of the beads' hierarchy.
-    root: [u32; MAX_SHAPES],
+    /// Per shape: its capsule axis's ends at its pose (x, y, z of the first end, then of the
+    /// second; part frame, m).
+    ends: [[L; 6]; MAX_SHAPES],
+    /// Per shape: its capsule's radius, m.
+    rad: [f64; MAX_SHAPES],
+    /// Per lane: the smallest gap (m) of the shapes in `order` (`+∞` without any).
+    low: L,
     /// Bit `l`: some self pair's boxes meet in lane `l`, some shape's box meets the beads'
-    /// root, or lane `l` holds a NaN.
+    /// root, or lane `l` holds a NaN (the per-sample way).
     exact: u32,
+    /// The bed's box (part frame, m).
+    bed_lo: [f64; 3],
+    bed_hi: [f64; 3],
     /// The shapes checked against the bed and the part (all but the print head), in order.
     order: [u8; MAX_SHAPES],
     count: usize,
@@ -52,10 +61,12 @@ impl Default for CollisionLanes {
     fn default() -> Self {
         CollisionLanes {
             gap: [[0.0; LANES]; MAX_SHAPES],
-            clear: [[0.0; LANES]; MAX_SHAPES],
-            above: [0; MAX_SHAPES],
-            root: [0; MAX_SHAPES],
+            ends: [[[0.0; LANES]; 6]; MAX_SHAPES],
+            rad: [0.0; MAX_SHAPES],
+            low: [f64::INFINITY; LANES],
             exact: 0,
+            bed_lo: [0.0; 3],
+            bed_hi: [0.0; 3],
             order: [0; MAX_SHAPES],
             count: 0,
             lo: [[[0.0; LANES]; 3]; MAX_SHAPES],
@@ -84,34 +95,356 @@ impl RobotShapes {
 }
 
 /// What a shape's box is tested against ([`CollisionLanes::place`]).
-struct Around<'a> {
-    bed: &'a Bed,
+struct Around {
+    /// The bed's box corners (m).
+    bed: ([f64; 3], [f64; 3]),
     /// The corners of the beads' root box (m).
-    root: (crate::math::V3, crate::math::V3),
+    root: ([f64; 3], [f64; 3]),
     /// Bit `l`: some bead is laid at lane `l`'s sample.
-    laid_any: u32,
+    laid: u32,
 }
+
+/// Registers of `f64` lanes for [`CollisionLanes::compute`]: the operations it takes, each
+/// lane by lane the IEEE operation (or select) the per-sample code runs, so every type gives
+/// the same numbers. The methods are `unsafe`: the CPU must have the type's instruction set
+/// (the callers are compiled for it and dispatch on it).
+pub mod reg {
+    /// `W` lanes of `f64` in one register.
+    ///
+    /// # Safety
+    /// Every method needs the CPU to have the type's instruction set.
+    #[allow(clippy::missing_safety_doc)] // the trait's: the type's instruction set
+    pub trait V: Copy {
+        /// Lanes per register.
+        const W: usize;
+        /// `x` in every lane.
+        unsafe fn splat(x: f64) -> Self;
+        /// The first `W` values of `p` (panics if `p` is shorter).
+        unsafe fn load(p: &[f64]) -> Self;
+        /// Into the first `W` values of `p` (panics if `p` is shorter).
+        unsafe fn store(self, p: &mut [f64]);
+        /// `self + o`.
+        unsafe fn add(self, o: Self) -> Self;
+        /// `self − o`.
+        unsafe fn sub(self, o: Self) -> Self;
+        /// `self · o`.
+        unsafe fn mul(self, o: Self) -> Self;
+        /// `√self`.
+        unsafe fn sqrt(self) -> Self;
+        /// `if self <= o { self } else { o }` (nalgebra's `inf`).
+        unsafe fn inf(self, o: Self) -> Self;
+        /// `if self >= o { self } else { o }` (nalgebra's `sup`).
+        unsafe fn sup(self, o: Self) -> Self;
+        /// `if self < o { self } else { o }`.
+        unsafe fn lt_min(self, o: Self) -> Self;
+        /// `f64::max` (the other operand where one is NaN; the sign of a zero result
+        /// is unspecified, as `f64::max`'s).
+        unsafe fn max(self, o: Self) -> Self;
+        /// Bit `l`: `a ≤ b && c ≥ d` in lane `l` (false with a NaN).
+        unsafe fn le_ge(a: Self, b: Self, c: Self, d: Self) -> u32;
+    }
+
+    /// One lane: the portable fall-back.
+    impl V for f64 {
+        const W: usize = 1;
+        #[inline(always)]
+        unsafe fn splat(x: f64) -> Self {
+            x
+        }
+        #[inline(always)]
+        unsafe fn load(p: &[f64]) -> Self {
+            p[0]
+        }
+        #[inline(always)]
+        unsafe fn store(self, p: &mut [f64]) {
+            p[0] = self
+        }
+        #[inline(always)]
+        unsafe fn add(self, o: Self) -> Self {
+            self + o
+        }
+        #[inline(always)]
+        unsafe fn sub(self, o: Self) -> Self {
+            self - o
+        }
+        #[inline(always)]
+        unsafe fn mul(self, o: Self) -> Self {
+            self * o
+        }
+        #[inline(always)]
+        unsafe fn sqrt(self) -> Self {
+            self.sqrt()
+        }
+        #[inline(always)]
+        unsafe fn inf(self, o: Self) -> Self {
+            if self <= o {
+                self
+            } else {
+                o
+            }
+        }
+        #[inline(always)]
+        unsafe fn sup(self, o: Self) -> Self {
+            if self >= o {
+                self
+            } else {
+                o
+            }
+        }
+        #[inline(always)]
+        unsafe fn lt_min(self, o: Self) -> Self {
+            if self < o {
+                self
+            } else {
+                o
+            }
+        }
+        #[inline(always)]
+        unsafe fn max(self, o: Self) -> Self {
+            f64::max(self, o)
+        }
+        #[inline(always)]
+        unsafe fn le_ge(a: Self, b: Self, c: Self, d: Self) -> u32 {
+            u32::from(a <= b && c >= d)
+        }
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    mod x86 {
+        use super::V;
+        use std::arch::x86_64::*;
+
+        impl V for __m128d {
+            const W: usize = 2;
+            #[inline(always)]
+            unsafe fn splat(x: f64) -> Self {
+                _mm_set1_pd(x)
+            }
+            #[inline(always)]
+            unsafe fn load(p: &[f64]) -> Self {
+                assert!(p.len() >= 2);
+                _mm_loadu_pd(p.as_ptr())
+            }
+            #[inline(always)]
+            unsafe fn store(self, p: &mut [f64]) {
+                assert!(p.len() >= 2);
+                _mm_storeu_pd(p.as_mut_ptr(), self)
+            }
+            #[inline(always)]
+            unsafe fn add(self, o: Self) -> Self {
+                _mm_add_pd(self, o)
+            }
+            #[inline(always)]
+            unsafe fn sub(self, o: Self) -> Self {
+                _mm_sub_pd(self, o)
+            }
+            #[inline(always)]
+            unsafe fn mul(self, o: Self) -> Self {
+                _mm_mul_pd(self, o)
+            }
+            #[inline(always)]
+            unsafe fn sqrt(self) -> Self {
+                _mm_sqrt_pd(self)
+            }
+            #[inline(always)]
+            unsafe fn inf(self, o: Self) -> Self {
+                let m = _mm_cmple_pd(self, o);
+                _mm_or_pd(_mm_and_pd(m, self), _mm_andnot_pd(m, o))
+            }
+            #[inline(always)]
+            unsafe fn sup(self, o: Self) -> Self {
+                let m = _mm_cmpge_pd(self, o);
+                _mm_or_pd(_mm_and_pd(m, self), _mm_andnot_pd(m, o))
+            }
+            #[inline(always)]
+            unsafe fn lt_min(self, o: Self) -> Self {
+                // MINPD: the first operand where it is less, else the second.
+                _mm_min_pd(self, o)
+            }
+            #[inline(always)]
+            unsafe fn max(self, o: Self) -> Self {
+                // MAXPD gives `o` where either is NaN: `self` where `o` is.
+                let m = _mm_max_pd(self, o);
+                let nan = _mm_cmpunord_pd(o, o);
+                _mm_or_pd(_mm_and_pd(nan, self), _mm_andnot_pd(nan, m))
+            }
+            #[inline(always)]
+            unsafe fn le_ge(a: Self, b: Self, c: Self, d: Self) -> u32 {
+                _mm_movemask_pd(_mm_and_pd(_mm_cmple_pd(a, b), _mm_cmpge_pd(c, d))) as u32
+            }
+        }
+
+        impl V for __m256d {
+            const W: usize = 4;
+            #[inline(always)]
+            unsafe fn splat(x: f64) -> Self {
+                _mm256_set1_pd(x)
+            }
+            #[inline(always)]
+            unsafe fn load(p: &[f64]) -> Self {
+                assert!(p.len() >= 4);
+                _mm256_loadu_pd(p.as_ptr())
+            }
+            #[inline(always)]
+            unsafe fn store(self, p: &mut [f64]) {
+                assert!(p.len() >= 4);
+                _mm256_storeu_pd(p.as_mut_ptr(), self)
+            }
+            #[inline(always)]
+            unsafe fn add(self, o: Self) -> Self {
+                _mm256_add_pd(self, o)
+            }
+            #[inline(always)]
+            unsafe fn sub(self, o: Self) -> Self {
+                _mm256_sub_pd(self, o)
+            }
+            #[inline(always)]
+            unsafe fn mul(self, o: Self) -> Self {
+                _mm256_mul_pd(self, o)
+            }
+            #[inline(always)]
+            unsafe fn sqrt(self) -> Self {
+                _mm256_sqrt_pd(self)
+            }
+            #[inline(always)]
+            unsafe fn inf(self, o: Self) -> Self {
+                _mm256_blendv_pd(o, self, _mm256_cmp_pd::<_CMP_LE_OQ>(self, o))
+            }
+            #[inline(always)]
+            unsafe fn sup(self, o: Self) -> Self {
+                _mm256_blendv_pd(o, self, _mm256_cmp_pd::<_CMP_GE_OQ>(self, o))
+            }
+            #[inline(always)]
+            unsafe fn lt_min(self, o: Self) -> Self {
+                _mm256_min_pd(self, o)
+            }
+            #[inline(always)]
+            unsafe fn max(self, o: Self) -> Self {
+                let m = _mm256_max_pd(self, o);
+                _mm256_blendv_pd(m, self, _mm256_cmp_pd::<_CMP_UNORD_Q>(o, o))
+            }
+            #[inline(always)]
+            unsafe fn le_ge(a: Self, b: Self, c: Self, d: Self) -> u32 {
+                let m = _mm256_and_pd(
+                    _mm256_cmp_pd::<_CMP_LE_OQ>(a, b),
+                    _mm256_cmp_pd::<_CMP_GE_OQ>(c, d),
+                );
+                _mm256_movemask_pd(m) as u32
+            }
+        }
+
+        impl V for __m512d {
+            const W: usize = 8;
+            #[inline(always)]
+            unsafe fn splat(x: f64) -> Self {
+                _mm512_set1_pd(x)
+            }
+            #[inline(always)]
+            unsafe fn load(p: &[f64]) -> Self {
+                assert!(p.len() >= 8);
+                _mm512_loadu_pd(p.as_ptr())
+            }
+            #[inline(always)]
+            unsafe fn store(self, p: &mut [f64]) {
+                assert!(p.len() >= 8);
+                _mm512_storeu_pd(p.as_mut_ptr(), self)
+            }
+            #[inline(always)]
+            unsafe fn add(self, o: Self) -> Self {
+                _mm512_add_pd(self, o)
+            }
+            #[inline(always)]
+            unsafe fn sub(self, o: Self) -> Self {
+                _mm512_sub_pd(self, o)
+            }
+            #[inline(always)]
+            unsafe fn mul(self, o: Self) -> Self {
+                _mm512_mul_pd(self, o)
+            }
+            #[inline(always)]
+            unsafe fn sqrt(self) -> Self {
+                _mm512_sqrt_pd(self)
+            }
+            #[inline(always)]
+            unsafe fn inf(self, o: Self) -> Self {
+                _mm512_mask_blend_pd(_mm512_cmp_pd_mask::<_CMP_LE_OQ>(self, o), o, self)
+            }
+            #[inline(always)]
+            unsafe fn sup(self, o: Self) -> Self {
+                _mm512_mask_blend_pd(_mm512_cmp_pd_mask::<_CMP_GE_OQ>(self, o), o, self)
+            }
+            #[inline(always)]
+            unsafe fn lt_min(self, o: Self) -> Self {
+                _mm512_min_pd(self, o)
+            }
+            #[inline(always)]
+            unsafe fn max(self, o: Self) -> Self {
+                let m = _mm512_max_pd(self, o);
+                _mm512_mask_blend_pd(_mm512_cmp_pd_mask::<_CMP_UNORD_Q>(o, o), m, self)
+            }
+            #[inline(always)]
+            unsafe fn le_ge(a: Self, b: Self, c: Self, d: Self) -> u32 {
+                let m = _mm512_cmp_pd_mask::<_CMP_LE_OQ>(a, b);
+                _mm512_mask_cmp_pd_mask::<_CMP_GE_OQ>(m, c, d) as u32
+            }
+        }
+    }
+}
+
+use reg::V;
 
 /// `m · v` per lane, in nalgebra's order (`(m₀ v₀ + m₁ v₁) + m₂ v₂` per row), plus `p`.
 #[inline(always)]
-fn mul_add(rot: &[L; 9], v: &crate::math::V3, p: &[L; 3]) -> [L; 3] {
-    let mut out = [[0.0; LANES]; 3];
-    for (r, o) in out.iter_mut().enumerate() {
-        for l in 0..LANES {
-            let t = rot[3 * r][l] * v.x + rot[3 * r + 1][l] * v.y + rot[3 * r + 2][l] * v.z;
-            o[l] = t + p[r][l];
+unsafe fn mul_add<T: V>(rot: &[T; 9], v: &crate::math::V3, p: &[T; 3]) -> [T; 3] {
+    let (x, y, z) = (T::splat(v.x), T::splat(v.y), T::splat(v.z));
+    let row = |r: usize| {
+        rot[3 * r]
+            .mul(x)
+            .add(rot[3 * r + 1].mul(y))
+            .add(rot[3 * r + 2].mul(z))
+            .add(p[r])
+    };
+    [row(0), row(1), row(2)]
+}
+
+/// `rot · m` per lane (each entry `(r₀ m₀ + r₁ m₁) + r₂ m₂`, as nalgebra multiplies).
+#[inline(always)]
+unsafe fn mul_rot<T: V>(rot: &[T; 9], m: &crate::math::M3) -> [T; 9] {
+    let mut out = *rot;
+    for row in 0..3 {
+        for col in 0..3 {
+            out[3 * row + col] = rot[3 * row]
+                .mul(T::splat(m[(0, col)]))
+                .add(rot[3 * row + 1].mul(T::splat(m[(1, col)])))
+                .add(rot[3 * row + 2].mul(T::splat(m[(2, col)])));
         }
     }
     out
 }
 
+/// Turn columns `A` and `B` of `r` by the angle with sine `sg · s` and cosine `c` per lane
+/// ([`Axis::rotate`]'s operations; the columns as constants, so the frame stays in registers).
+#[inline(always)]
+unsafe fn rot_cols<T: V, const A: usize, const B: usize>(r: &mut [T; 9], s: T, c: T, sg: f64) {
+    let s = T::splat(sg).mul(s);
+    for row in 0..3 {
+        let (ra, rb) = (r[3 * row + A], r[3 * row + B]);
+        r[3 * row + A] = ra.mul(c).add(rb.mul(s));
+        r[3 * row + B] = rb.mul(c).sub(ra.mul(s));
+    }
+}
+
 impl CollisionLanes {
-    /// Every lane's numbers (see the module docs). `sincos[j]` / `sincos[n + j]`: joint `j`'s
-    /// sine / cosine per lane; `world`: the robot base in the part frame; `laid`: the beads
-    /// laid at each lane's sample. For an arm [`RobotShapes::lockstep`] takes.
+    /// Every lane's numbers (see the module docs), a register of `T` at a time (every `T`
+    /// gives the same numbers). `sincos[j]` / `sincos[n + j]`: joint `j`'s sine / cosine per
+    /// lane; `world`: the robot base in the part frame; `laid`: the beads laid at each lane's
+    /// sample. For an arm [`RobotShapes::lockstep`] takes.
+    ///
+    /// # Safety
+    /// The CPU has `T`'s instruction set.
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // parallel fixed arrays indexed by lane
-    pub fn compute(
+    pub unsafe fn compute<T: V>(
         &mut self,
         rs: &RobotShapes,
         sincos: &[L],
@@ -122,136 +455,144 @@ impl CollisionLanes {
     ) {
         let n = rs.chain.joints.len();
         // NaN lanes go the per-sample way.
-        let mut nan = [false; LANES];
+        let mut nan = [0u64; LANES];
         for v in &sincos[..2 * n] {
             for l in 0..LANES {
-                nan[l] |= v[l].is_nan();
+                nan[l] |= v[l].is_nan() as u64;
             }
         }
-        // Beads::root_meets: some bead laid and the root's box meets the shape's.
-        let (rlo, rhi, laid_any) = match beads.nodes.first() {
-            Some(r) => {
-                let mut any = 0u32;
-                for (l, &n) in laid.iter().enumerate() {
-                    any |= u32::from(n > 0 && (r.start as usize) < n) << l;
-                }
-                (r.aabb.mins.coords, r.aabb.maxs.coords, any)
-            }
-            None => (Default::default(), Default::default(), 0),
-        };
-        let at = Around {
-            bed,
-            root: (rlo, rhi),
-            laid_any,
-        };
-        // The bodies' frames (body_frames_into's operations), each body's shapes placed as
-        // its frame is made.
-        let mut r = [[0.0; LANES]; 9];
-        for (i, e) in r.iter_mut().enumerate() {
-            *e = [world.rot[(i / 3, i % 3)]; LANES];
-        }
-        let mut p = [[0.0; LANES]; 3];
-        for (i, e) in p.iter_mut().enumerate() {
-            *e = [world.pos[i]; LANES];
-        }
-        self.place(rs, 0, &r, &p, &at);
-        for (i, j) in rs.chain.joints.iter().enumerate() {
-            p = mul_add(&r, &j.pos, &p);
-            if let Some(o) = &j.rot {
-                let old = r;
-                for row in 0..3 {
-                    for col in 0..3 {
-                        for l in 0..LANES {
-                            r[3 * row + col][l] = old[3 * row][l] * o[(0, col)]
-                                + old[3 * row + 1][l] * o[(1, col)]
-                                + old[3 * row + 2][l] * o[(2, col)];
-                        }
-                    }
-                }
-            }
-            let (a, b, sg) = match j.turn {
-                Turn::Revolute(Axis::X(sg)) => (1, 2, sg),
-                Turn::Revolute(Axis::Y(sg)) => (2, 0, sg),
-                Turn::Revolute(Axis::Z(sg)) => (0, 1, sg),
-                // RobotShapes::lockstep refuses every other joint.
-                _ => (0, 1, f64::NAN),
-            };
-            let (s, c) = (&sincos[i], &sincos[n + i]);
-            for row in 0..3 {
-                for l in 0..LANES {
-                    let s = sg * s[l];
-                    let (ra, rb) = (r[3 * row + a][l], r[3 * row + b][l]);
-                    r[3 * row + a][l] = ra * c[l] + rb * s;
-                    r[3 * row + b][l] = rb * c[l] - ra * s;
-                }
-            }
-            self.place(rs, i + 1, &r, &p, &at);
-        }
-        let fl = &rs.chain.flange;
-        let mut fr = [[0.0; LANES]; 9];
-        for row in 0..3 {
-            for col in 0..3 {
-                for l in 0..LANES {
-                    fr[3 * row + col][l] = r[3 * row][l] * fl.rot[(0, col)]
-                        + r[3 * row + 1][l] * fl.rot[(1, col)]
-                        + r[3 * row + 2][l] * fl.rot[(2, col)];
-                }
-            }
-        }
-        self.place(rs, n + 1, &fr, &mul_add(&r, &fl.pos, &p), &at);
-        let (lo, hi) = (&self.lo, &self.hi);
-        // Self pairs' boxes.
         let mut exact = 0u32;
         for l in 0..LANES {
-            exact |= u32::from(nan[l]) << l;
+            exact |= ((nan[l] != 0) as u32) << l;
         }
-        let mut hits = [0u64; LANES];
-        for &(i, j) in &rs.pairs {
-            let mut hit = [1u64; LANES];
-            for k in 0..3 {
-                for l in 0..LANES {
-                    hit[l] &=
-                        (lo[i][k][l] <= hi[j][k][l]) as u64 & (hi[i][k][l] >= lo[j][k][l]) as u64;
-                }
+        // Beads::root_meets: some bead laid and the root's box meets the shape's.
+        let mut at = Around {
+            bed: (bed.aabb.mins.coords.into(), bed.aabb.maxs.coords.into()),
+            root: ([0.0; 3], [0.0; 3]),
+            laid: 0,
+        };
+        if let Some(r) = beads.nodes.first() {
+            at.root = (r.aabb.mins.coords.into(), r.aabb.maxs.coords.into());
+            for (l, &n) in laid.iter().enumerate() {
+                at.laid |= u32::from(n > 0 && (r.start as usize) < n) << l;
             }
-            for l in 0..LANES {
-                hits[l] |= hit[l];
-            }
         }
-        for l in 0..LANES {
-            exact |= (hits[l] as u32) << l;
-        }
+        (self.bed_lo, self.bed_hi) = at.bed;
+        // Each body's shapes; the order of the bed and part checks.
+        let last = n + 1;
+        let mut on_body = [0u32; MAX_DOF + 2];
         self.count = 0;
-        for (i, s) in rs.shapes.iter().enumerate() {
+        for (i, s) in rs.shapes.iter().enumerate().take(MAX_SHAPES) {
+            on_body[s.body.min(last)] |= 1 << i;
+            self.rad[i] = s.axis_body.map_or(0.0, |a| a.2);
             if s.role != Role::Head {
-                exact |= self.root[i];
                 self.order[self.count] = i as u8;
                 self.count += 1;
             }
         }
+        for off in (0..LANES).step_by(T::W) {
+            // SAFETY: the caller's contract.
+            exact |= unsafe { self.chunk::<T>(rs, off, sincos, world, &at, &on_body) } << off;
+        }
         self.exact = exact;
     }
 
-    /// The boxes, bed gaps, closed-form clearances and root tests of the shapes on body `b`
-    /// (its frame per lane: `rot`, `pos`), as [`CollisionLanes::compute`] describes.
+    /// [`CollisionLanes::compute`] of lanes `off..off + T::W`: the bodies' frames
+    /// ([`RobotShapes::body_frames_into`]'s operations), each body's shapes placed as its
+    /// frame is made, then the self pairs' boxes. Returns bit `l`: lane `off + l` goes the
+    /// per-sample way (a self pair's boxes or a shape's box and the beads' root meet).
     #[inline(always)]
-    #[allow(clippy::needless_range_loop)] // parallel fixed arrays indexed by lane
-    fn place(&mut self, rs: &RobotShapes, b: usize, rot: &[L; 9], pos: &[L; 3], at: &Around) {
-        let last = rs.chain.joints.len() + 1;
-        let (blo, bhi) = (&at.bed.aabb.mins, &at.bed.aabb.maxs);
-        let (rlo, rhi) = &at.root;
-        for (i, s) in rs.shapes.iter().enumerate() {
-            if s.body.min(last) != b {
-                continue;
+    unsafe fn chunk<T: V>(
+        &mut self,
+        rs: &RobotShapes,
+        off: usize,
+        sincos: &[L],
+        world: &Frame,
+        at: &Around,
+        on_body: &[u32; MAX_DOF + 2],
+    ) -> u32 {
+        let n = rs.chain.joints.len();
+        let mut r = [T::splat(0.0); 9];
+        for (i, e) in r.iter_mut().enumerate() {
+            *e = T::splat(world.rot[(i / 3, i % 3)]);
+        }
+        let mut p = [T::splat(0.0); 3];
+        for (i, e) in p.iter_mut().enumerate() {
+            *e = T::splat(world.pos[i]);
+        }
+        let mut low = T::splat(f64::INFINITY);
+        let laid = at.laid >> off;
+        let mut exact = self.place::<T>(rs, on_body[0], off, &r, &p, at, laid, &mut low);
+        for (i, j) in rs.chain.joints.iter().enumerate() {
+            p = mul_add(&r, &j.pos, &p);
+            if let Some(o) = &j.rot {
+                r = mul_rot(&r, o);
             }
+            let (s, c) = (T::load(&sincos[i][off..]), T::load(&sincos[n + i][off..]));
+            match j.turn {
+                Turn::Revolute(Axis::X(sg)) => rot_cols::<T, 1, 2>(&mut r, s, c, sg),
+                Turn::Revolute(Axis::Y(sg)) => rot_cols::<T, 2, 0>(&mut r, s, c, sg),
+                Turn::Revolute(Axis::Z(sg)) => rot_cols::<T, 0, 1>(&mut r, s, c, sg),
+                // RobotShapes::lockstep refuses every other joint.
+                _ => rot_cols::<T, 0, 1>(&mut r, s, c, f64::NAN),
+            }
+            exact |= self.place::<T>(rs, on_body[i + 1], off, &r, &p, at, laid, &mut low);
+        }
+        let fl = &rs.chain.flange;
+        let fp = mul_add(&r, &fl.pos, &p);
+        let fr = mul_rot(&r, &fl.rot);
+        exact |= self.place::<T>(rs, on_body[n + 1], off, &fr, &fp, at, laid, &mut low);
+        low.store(&mut self.low[off..]);
+        // Self pairs' boxes.
+        let (lo, hi) = (&self.lo, &self.hi);
+        for &(i, j) in &rs.pairs {
+            let mut hit = u32::MAX;
+            for k in 0..3 {
+                hit &= T::le_ge(
+                    T::load(&lo[i][k][off..]),
+                    T::load(&hi[j][k][off..]),
+                    T::load(&hi[i][k][off..]),
+                    T::load(&lo[j][k][off..]),
+                );
+            }
+            exact |= hit;
+        }
+        exact & (u32::MAX >> (32 - T::W))
+    }
+
+    /// The boxes, bed gaps, axis ends and root tests of the shapes `mask` (bit `i`: shape
+    /// `i`) on one body (its frame per lane: `rot`, `pos`) for lanes `off..off + T::W`, as
+    /// [`CollisionLanes::compute`] describes; `low` takes the smallest gaps. Returns bit `l`:
+    /// lane `off + l`'s box of some shape meets the beads' root where `laid` (bit `l`) says
+    /// a bead is laid.
+    #[inline(always)]
+    #[allow(clippy::too_many_arguments)]
+    #[allow(clippy::needless_range_loop)] // parallel fixed arrays indexed by axis
+    unsafe fn place<T: V>(
+        &mut self,
+        rs: &RobotShapes,
+        mask: u32,
+        off: usize,
+        rot: &[T; 9],
+        pos: &[T; 3],
+        at: &Around,
+        laid: u32,
+        low: &mut T,
+    ) -> u32 {
+        let (blo, bhi) = &at.bed;
+        let (rlo, rhi) = &at.root;
+        let mut exact = 0;
+        let mut m = mask;
+        while m != 0 {
+            let i = m.trailing_zeros() as usize;
+            m &= m - 1;
+            let s = &rs.shapes[i];
             if s.role == Role::Head {
                 let c = mul_add(rot, &s.centre_body, pos);
-                let rad = s.bound.1 + SPHERE_MARGIN_M;
+                let rad = T::splat(s.bound.1 + SPHERE_MARGIN_M);
                 for k in 0..3 {
-                    for l in 0..LANES {
-                        self.lo[i][k][l] = c[k][l] - rad;
-                        self.hi[i][k][l] = c[k][l] + rad;
-                    }
+                    c[k].sub(rad).store(&mut self.lo[i][k][off..]);
+                    c[k].add(rad).store(&mut self.hi[i][k][off..]);
                 }
                 continue;
             }
@@ -264,67 +605,67 @@ impl CollisionLanes {
                 mul_add(rot, &a, pos)
             };
             let pb = mul_add(rot, &b, pos);
-            let mut gap2 = [0.0; LANES];
-            // 1 per lane while the test holds (integer masks vectorise where bools do not).
-            let (mut inside, mut meets) = ([1u64; LANES], [1u64; LANES]);
+            let rad = T::splat(rad);
+            let zero = T::splat(0.0);
+            let mut gap2 = zero;
+            let mut meets = u32::MAX;
             for k in 0..3 {
-                let (mut mn, mut mx) = ([0.0; LANES], [0.0; LANES]);
-                for l in 0..LANES {
-                    // Capsule::local_aabb (nalgebra's inf / sup: selects).
-                    let (x, y) = (pa[k][l], pb[k][l]);
-                    mn[l] = (if x <= y { x } else { y }) - rad;
-                    mx[l] = (if x >= y { x } else { y }) + rad;
-                }
-                self.lo[i][k] = mn;
-                self.hi[i][k] = mx;
-                for l in 0..LANES {
-                    // aabb_gap's terms, added in axis order.
-                    let d = (blo[k] - mx[l]).max(mn[l] - bhi[k]).max(0.0);
-                    gap2[l] += d * d;
-                }
-                for l in 0..LANES {
-                    let (x, y) = (pa[k][l], pb[k][l]);
-                    // Bed::axis_above's footprint test.
-                    inside[l] &= if k < 2 {
-                        (x >= blo[k]) as u64
-                            & (x <= bhi[k]) as u64
-                            & (y >= blo[k]) as u64
-                            & (y <= bhi[k]) as u64
-                    } else {
-                        (x >= bhi[k]) as u64 & (y >= bhi[k]) as u64
-                    };
-                    meets[l] &= (mn[l] <= rhi[k]) as u64 & (mx[l] >= rlo[k]) as u64;
+                // Capsule::local_aabb (nalgebra's inf / sup: selects).
+                let mn = pa[k].inf(pb[k]).sub(rad);
+                let mx = pa[k].sup(pb[k]).add(rad);
+                mn.store(&mut self.lo[i][k][off..]);
+                mx.store(&mut self.hi[i][k][off..]);
+                pa[k].store(&mut self.ends[i][k][off..]);
+                pb[k].store(&mut self.ends[i][3 + k][off..]);
+                // aabb_gap's terms, added in axis order.
+                let d = T::splat(blo[k])
+                    .sub(mx)
+                    .max(mn.sub(T::splat(bhi[k])))
+                    .max(zero);
+                gap2 = gap2.add(d.mul(d));
+                if laid != 0 {
+                    meets &= T::le_ge(mn, T::splat(rhi[k]), mx, T::splat(rlo[k]));
                 }
             }
-            let (mut above, mut at_root) = (0u32, 0u32);
-            for l in 0..LANES {
-                self.gap[i][l] = gap2[l].sqrt();
-                self.clear[i][l] = (pa[2][l].min(pb[2][l]) - bhi[2] - rad).max(0.0);
+            let g = gap2.sqrt();
+            g.store(&mut self.gap[i][off..]);
+            *low = g.lt_min(*low);
+            if laid != 0 {
+                exact |= meets & laid;
             }
-            for l in 0..LANES {
-                above |= (inside[l] as u32) << l;
-                at_root |= (meets[l] as u32) << l;
-            }
-            (self.above[i], self.root[i]) = (above, at_root & at.laid_any);
         }
+        exact
     }
 
     /// Lane `l` through the per-sample check's steps from the running bed clearance
     /// `clearance` (m): `true` when the per-sample check would find nothing and leave
     /// `clearance` as it is left here; `false` (and `clearance` untouched) when the lane
     /// needs the per-sample check (see the module docs).
+    #[inline]
+    // `!(low <= c)`: the negated comparison is the NaN rule (as the per-shape test's).
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
     pub fn replay(&self, l: usize, clearance: &mut Option<f64>) -> bool {
         if self.exact >> l & 1 != 0 {
             return false;
         }
+        // Most samples: no shape's gap reaches the running clearance, which stays as it is.
+        if !(self.low[l] <= clearance.unwrap_or(f64::INFINITY)) {
+            return true;
+        }
+        let (lo, hi) = (&self.bed_lo, &self.bed_hi);
         let mut c = *clearance;
         for &i in &self.order[..self.count] {
             let i = i as usize;
             if self.gap[i][l] <= c.unwrap_or(f64::INFINITY) {
-                if self.above[i] >> l & 1 == 0 {
+                // Bed::axis_above of the capsule's axis.
+                let e = &self.ends[i];
+                let inside = |x: f64, y: f64, z: f64| {
+                    x >= lo[0] && x <= hi[0] && y >= lo[1] && y <= hi[1] && z >= hi[2]
+                };
+                if !(inside(e[0][l], e[1][l], e[2][l]) && inside(e[3][l], e[4][l], e[5][l])) {
                     return false;
                 }
-                let d = self.clear[i][l];
+                let d = (e[2][l].min(e[5][l]) - hi[2] - self.rad[i]).max(0.0);
                 c = Some(c.map_or(d, |x| x.min(d)));
                 if d <= 0.0 {
                     return false;
