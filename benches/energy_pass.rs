@@ -14,8 +14,12 @@
 //!
 //! Run: `cargo bench --bench energy_pass` (plain main, no criterion: prints a small table).
 
+#[path = "common/clock.rs"]
+mod clock;
 #[path = "../tests/common/mod.rs"]
 mod common;
+
+use clock::{clock_ghz, thread_ns};
 
 use printwatt::dynamics::{rnea_batch, StateBatch, MAX_DOF};
 use printwatt::energy::{self, EnergySums, LaneInputs, PowerLanes, Rows};
@@ -24,39 +28,6 @@ use printwatt::placement::optimise::{default_grid, feasible_centre};
 use printwatt::placement::{Evaluator, Objective};
 use printwatt::simd::{Level, LANES};
 use std::hint::black_box;
-
-/// This thread's time on a CPU, ns.
-fn thread_ns() -> f64 {
-    let mut ts = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: `ts` is a valid, writable timespec; the clock id is a constant the call accepts.
-    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
-    assert_eq!(rc, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID) failed");
-    ts.tv_sec as f64 * 1e9 + ts.tv_nsec as f64
-}
-
-/// The core clock, GHz: a chain of dependent integer adds, one cycle each on x86-64.
-fn clock_ghz() -> f64 {
-    let iters: u64 = 100_000_000;
-    let t0 = thread_ns();
-    let mut x: u64 = black_box(1);
-    #[cfg(target_arch = "x86_64")]
-    for _ in 0..iters / 8 {
-        // SAFETY: register-only arithmetic.
-        unsafe {
-            std::arch::asm!(
-                "add {0}, 1", "add {0}, 1", "add {0}, 1", "add {0}, 1",
-                "add {0}, 1", "add {0}, 1", "add {0}, 1", "add {0}, 1",
-                inout(reg) x,
-                options(nomem, nostack, pure)
-            );
-        }
-    }
-    black_box(x);
-    iters as f64 / (thread_ns() - t0)
-}
 
 fn median(v: &mut [f64]) -> f64 {
     v.sort_by(f64::total_cmp);
@@ -166,7 +137,7 @@ fn main() {
     let mut ghz = Vec::new();
     for r in 0..rounds {
         if r % 10 == 0 {
-            ghz.push(clock_ghz());
+            ghz.push(clock_ghz(100_000_000));
         }
         for (i, &l) in levels.iter().enumerate() {
             let mut best = f64::INFINITY;

@@ -21,8 +21,12 @@
 #[path = "common/pinocchio.rs"]
 mod pinocchio;
 
+#[path = "common/clock.rs"]
+mod clock;
 #[path = "../tests/common/mod.rs"]
 mod common;
+
+use clock::thread_s;
 
 use printwatt::placement::feasibility::{reach_m, FeasibilityOptions};
 use printwatt::placement::optimise::{default_grid, OptimiseOptions};
@@ -30,18 +34,6 @@ use printwatt::placement::search::{self, Bounds, SearchOptions};
 use printwatt::placement::tolerance::Tolerance;
 use printwatt::placement::{Evaluator, Objective};
 use std::time::Instant;
-
-/// This thread's time on a CPU, s (`CLOCK_THREAD_CPUTIME_ID`).
-fn thread_s() -> f64 {
-    let mut ts = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: `ts` is a valid, writable timespec; the clock id is a constant the call accepts.
-    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
-    assert_eq!(rc, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID) failed");
-    ts.tv_sec as f64 + ts.tv_nsec as f64 * 1e-9
-}
 
 fn main() {
     let model = common::robot("abb_irb6700_200_260");

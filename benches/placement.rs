@@ -27,8 +27,12 @@
 #[path = "common/pinocchio.rs"]
 mod pinocchio;
 
+#[path = "common/clock.rs"]
+mod clock;
 #[path = "../tests/common/mod.rs"]
 mod common;
+
+use clock::{clock_ghz, thread_ns};
 
 use printwatt::dynamics::{rnea, rnea_batch, rnea_with_sincos, StateBatch, MAX_DOF};
 use printwatt::energy::{self, EnergyOptions, SamplePower};
@@ -40,20 +44,6 @@ use printwatt::timing::{JointStageOptions, ProfileOptions};
 use printwatt::toolpath::Placement;
 use std::hint::black_box;
 use std::time::Instant;
-
-/// This thread's time on a CPU, ns (`clock_gettime(CLOCK_THREAD_CPUTIME_ID)`), so that the
-/// single-thread figures do not count the time other processes hold the CPU (the scheduler's
-/// `/proc/thread-self/schedstat` is only updated at ticks: too coarse for a few ms).
-fn thread_ns() -> f64 {
-    let mut ts = libc::timespec {
-        tv_sec: 0,
-        tv_nsec: 0,
-    };
-    // SAFETY: `ts` is a valid, writable timespec; the clock id is a constant the call accepts.
-    let rc = unsafe { libc::clock_gettime(libc::CLOCK_THREAD_CPUTIME_ID, &mut ts) };
-    assert_eq!(rc, 0, "clock_gettime(CLOCK_THREAD_CPUTIME_ID) failed");
-    ts.tv_sec as f64 * 1e9 + ts.tv_nsec as f64
-}
 
 /// Flops (one add, subtract or multiply each; no FMA) of one revolute link in the batched
 /// RNEA kernel (`src/dynamics/batch.rs`), counted from its code: joint rotation 18, origin
@@ -75,28 +65,6 @@ const FLOPS_CHECKS: f64 = 50.0;
 /// datapaths): 2 multiply + 2 add pipes x 8 f64 lanes. The floor takes half of it, as the
 /// earlier estimate did.
 const PEAK_FLOPS_PER_CYCLE: f64 = 32.0;
-
-/// The core clock, GHz: a chain of dependent integer adds, one cycle each on x86-64, timed
-/// on this thread's CPU clock.
-fn clock_ghz() -> f64 {
-    let iters: u64 = 200_000_000;
-    let t0 = thread_ns();
-    let mut x: u64 = black_box(1);
-    #[cfg(target_arch = "x86_64")]
-    for _ in 0..iters / 8 {
-        // SAFETY: register-only arithmetic.
-        unsafe {
-            std::arch::asm!(
-                "add {0}, 1", "add {0}, 1", "add {0}, 1", "add {0}, 1",
-                "add {0}, 1", "add {0}, 1", "add {0}, 1", "add {0}, 1",
-                inout(reg) x,
-                options(nomem, nostack, pure)
-            );
-        }
-    }
-    black_box(x);
-    iters as f64 / (thread_ns() - t0)
-}
 
 fn main() {
     let model = common::robot("abb_irb6700_200_260");
@@ -457,7 +425,7 @@ fn main() {
         target * full_ns * 1e-9 / cores as f64
     );
     // The SIMD floor: flops per sample over the attainable vector rate.
-    let ghz = clock_ghz();
+    let ghz = clock_ghz(200_000_000);
     let flops_rnea = RNEA_FLOPS_PER_LINK * n as f64 - RNEA_BACKWARD_FLOPS;
     let flops = flops_rnea + FLOPS_IK + FLOPS_ENERGY + FLOPS_TIMING + FLOPS_CHECKS;
     let per_cycle = 0.5 * PEAK_FLOPS_PER_CYCLE;
