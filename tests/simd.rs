@@ -76,6 +76,63 @@ fn assert_batched_rnea_is_scalar_rnea(
     }
 }
 
+/// The energy of one batch of at most `LANES` states on `level`, by both lockstep passes
+/// (`eval_lanes_with_sincos`, and the sweep's row-major `eval_rows` with its inputs `x`
+/// carried over from the batch before), equals the per-sample path's `want`, field by field
+/// and lane by lane.
+fn assert_energy_lanes_are_per_sample(
+    em: &EnergyModel,
+    data: &mut printwatt::dynamics::DynData,
+    chunk: &[State],
+    want: &[SamplePower],
+    x: &mut energy::LaneInputs,
+    level: Level,
+    label: &str,
+) {
+    let mut out = energy::PowerLanes::default();
+    energy::eval_lanes_with_sincos(
+        em,
+        data,
+        chunk.len(),
+        |l| &chunk[l].0,
+        |l| &chunk[l].1,
+        |l| &chunk[l].2,
+        |l| &chunk[l].3,
+        &mut out,
+        level,
+    )
+    .unwrap();
+    for (l, w) in want.iter().enumerate() {
+        assert_eq!(
+            format!("{:?}", out.sample(l)),
+            format!("{w:?}"),
+            "{label}, {level:?}, lane {l}"
+        );
+    }
+    let (mut q, mut sc, mut qd, mut qdd) = (vec![], vec![], vec![], vec![]);
+    for (a, b, c, d) in chunk {
+        q.extend_from_slice(a);
+        sc.extend_from_slice(b);
+        qd.extend_from_slice(c);
+        qdd.extend_from_slice(d);
+    }
+    let rows = energy::Rows {
+        q: &q,
+        sincos: Some(&sc),
+        qd: &qd,
+        qdd: &qdd,
+    };
+    let mut out = energy::PowerLanes::default();
+    energy::eval_rows(em, data, chunk.len(), &rows, x, &mut out, level).unwrap();
+    for (l, w) in want.iter().enumerate() {
+        assert_eq!(
+            format!("{:?}", out.sample(l)),
+            format!("{w:?}"),
+            "rows: {label}, {level:?}, lane {l}"
+        );
+    }
+}
+
 #[test]
 fn batched_rnea_equals_scalar_rnea_bit_for_bit_on_every_level() {
     for name in ["abb_irb6700_200_260", "ur10e", "staubli_tx200"] {
@@ -646,50 +703,11 @@ fn lockstep_friction_motor_and_supply_stages_equal_the_per_sample_path_near_velo
                 energy::eval_sample_with_sincos(&em, &mut data, q, sc, qd, qdd, w).unwrap();
             }
             for level in levels() {
-                let mut out = energy::PowerLanes::default();
-                energy::eval_lanes_with_sincos(
-                    &em,
-                    &mut data,
-                    chunk.len(),
-                    |l| &chunk[l].0,
-                    |l| &chunk[l].1,
-                    |l| &chunk[l].2,
-                    |l| &chunk[l].3,
-                    &mut out,
-                    level,
-                )
-                .unwrap();
-                for (l, w) in want.iter().enumerate() {
-                    assert_eq!(
-                        format!("{:?}", out.sample(l)),
-                        format!("{w:?}"),
-                        "{regeneration:?}, {level:?}, lane {l}"
-                    );
-                }
-                // The row-major pass of the sweep (eval_rows), its inputs carried over from
-                // the chunk before (a short last chunk keeps stale lanes).
-                let (mut q, mut sc, mut qd, mut qdd) = (vec![], vec![], vec![], vec![]);
-                for (a, b, c, d) in chunk {
-                    q.extend_from_slice(a);
-                    sc.extend_from_slice(b);
-                    qd.extend_from_slice(c);
-                    qdd.extend_from_slice(d);
-                }
-                let rows = energy::Rows {
-                    q: &q,
-                    sincos: Some(&sc),
-                    qd: &qd,
-                    qdd: &qdd,
-                };
+                // The row-major pass' inputs are carried over from the chunk before (a short
+                // last chunk keeps stale lanes).
                 let x = &mut inputs[level as usize];
-                energy::eval_rows(&em, &mut data, chunk.len(), &rows, x, &mut out, level).unwrap();
-                for (l, w) in want.iter().enumerate() {
-                    assert_eq!(
-                        format!("{:?}", out.sample(l)),
-                        format!("{w:?}"),
-                        "rows: {regeneration:?}, {level:?}, lane {l}"
-                    );
-                }
+                let label = format!("{regeneration:?}");
+                assert_energy_lanes_are_per_sample(&em, &mut data, chunk, &want, x, level, &label);
             }
         }
     }
@@ -1971,50 +1989,9 @@ fn saturated_coulomb_batches_and_the_one_division_motor_model_equal_the_per_samp
                 quadrants[usize::from(w.tau[j] * qd[j] >= 0.0)] += 1;
             }
         }
-        let (mut q, mut sc, mut qd, mut qdd) = (vec![], vec![], vec![], vec![]);
-        for (a, b, c, d) in chunk {
-            q.extend_from_slice(a);
-            sc.extend_from_slice(b);
-            qd.extend_from_slice(c);
-            qdd.extend_from_slice(d);
-        }
         for level in levels() {
-            let mut out = energy::PowerLanes::default();
-            energy::eval_lanes_with_sincos(
-                &em,
-                &mut data,
-                chunk.len(),
-                |l| &chunk[l].0,
-                |l| &chunk[l].1,
-                |l| &chunk[l].2,
-                |l| &chunk[l].3,
-                &mut out,
-                level,
-            )
-            .unwrap();
-            for (l, w) in want.iter().enumerate() {
-                assert_eq!(
-                    format!("{:?}", out.sample(l)),
-                    format!("{w:?}"),
-                    "{level:?}, lane {l}"
-                );
-            }
-            let rows = energy::Rows {
-                q: &q,
-                sincos: Some(&sc),
-                qd: &qd,
-                qdd: &qdd,
-            };
             let mut x = energy::LaneInputs::default();
-            let mut out = energy::PowerLanes::default();
-            energy::eval_rows(&em, &mut data, chunk.len(), &rows, &mut x, &mut out, level).unwrap();
-            for (l, w) in want.iter().enumerate() {
-                assert_eq!(
-                    format!("{:?}", out.sample(l)),
-                    format!("{w:?}"),
-                    "rows: {level:?}, lane {l}"
-                );
-            }
+            assert_energy_lanes_are_per_sample(&em, &mut data, chunk, &want, &mut x, level, "");
         }
     }
     assert!(
