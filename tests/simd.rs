@@ -2073,6 +2073,7 @@ fn assert_same_batch(
 }
 
 #[test]
+#[allow(clippy::needless_range_loop)] // lanes of parallel fixed arrays
 fn two_closed_form_batches_in_one_lockstep_pass_equal_two_single_batches_bit_for_bit_on_every_level(
 ) {
     // opw::solve_branch_pair_into (16 lanes in one pass, for path tracking) against two
@@ -2147,6 +2148,7 @@ fn two_closed_form_batches_in_one_lockstep_pass_equal_two_single_batches_bit_for
 }
 
 #[test]
+#[allow(clippy::needless_range_loop)] // lanes of parallel fixed arrays
 fn a_batch_solved_ahead_is_the_batch_solved_then_and_is_solved_afresh_for_another_branch() {
     // IkSolver::solve_near_batch_pair_lanes solves the next batch ahead with the current
     // batch's branch; IkSolver::presolved_or_solve must give exactly
