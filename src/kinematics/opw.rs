@@ -954,7 +954,9 @@ pub const PAIR_LANES: usize = 2 * crate::simd::LANES;
 /// for bit [`solve_branch_batch_into`]'s of its own positions (the same operations per lane);
 /// the pass is cheaper than two: the closed form is one long dependency chain of square
 /// roots, divisions and polynomials, and two independent chains per vector operation keep the
-/// units busy (measured alone on AVX-512: 67–75 instead of 87–95 cycles per sample).
+/// units busy (measured alone on AVX-512: 67–75 instead of 87–95 cycles per sample; on AVX2,
+/// with 16 registers, the spills of 16 lanes cost more than that, and path tracking does not
+/// pair there).
 pub fn solve_branch_pair_into(
     p: &OpwParams,
     k: &Prepared,

@@ -369,11 +369,13 @@ pub(crate) fn track_with(
     let mut known: Option<crate::kinematics::Branch> = None;
     let mut cont = crate::kinematics::Continuing::new();
     // The batches of the path, overwritten batch by batch (not moved): the current one is
-    // batches[cur]; on AVX2 / AVX-512 two are solved in one lockstep pass (cheaper than two,
+    // batches[cur]; on AVX-512 two are solved in one lockstep pass (cheaper than two,
     // opw::solve_branch_pair_into), the second ahead with the first's branch, and taken by
-    // IkSolver::presolved_or_solve (exactly the batch solved then) when its turn comes.
+    // IkSolver::presolved_or_solve (exactly the batch solved then) when its turn comes. Not on
+    // AVX2: 16 lanes are 4 registers of 16 per value there, and the spills cost more than the
+    // overlap gains (placement bench: 140-144 -> 147-149 ns/sample).
     let mut batches = [crate::kinematics::opw::BranchBatch::default(); 2];
-    let pairs = matches!(level, crate::simd::Level::Avx2 | crate::simd::Level::Avx512);
+    let pairs = level == crate::simd::Level::Avx512;
     // Whether batches[1 - cur] holds the next batch, solved ahead.
     let mut ahead = false;
     let mut cur = 0;
