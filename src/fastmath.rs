@@ -129,7 +129,14 @@ pub fn sin_cos(x: f64) -> (f64, f64) {
 pub fn sin_cos_lanes(
     x: &[f64; crate::simd::LANES],
 ) -> ([f64; crate::simd::LANES], [f64; crate::simd::LANES]) {
-    use crate::simd::LANES;
+    sin_cos_lanes_n(x)
+}
+
+/// [`sin_cos_lanes`] of any number `LANES` of angles (rad): the same operations per lane, so
+/// lane by lane bit-identical to [`sin_cos`] (a wider call gives the vector units two or more
+/// independent chains per operation, e.g. [`crate::kinematics::opw::solve_branch_pair_into`]).
+#[inline(always)]
+pub fn sin_cos_lanes_n<const LANES: usize>(x: &[f64; LANES]) -> ([f64; LANES], [f64; LANES]) {
     let mut s = [0.0; LANES];
     let mut c = [0.0; LANES];
     let mut special = false;
@@ -327,7 +334,13 @@ pub fn atan2_lanes(
     y: &[f64; crate::simd::LANES],
     x: &[f64; crate::simd::LANES],
 ) -> [f64; crate::simd::LANES] {
-    use crate::simd::LANES;
+    atan2_lanes_n(y, x)
+}
+
+/// [`atan2_lanes`] of any number `LANES` of pairs: the same operations per lane, so lane by
+/// lane bit-identical to [`atan2`].
+#[inline(always)]
+pub fn atan2_lanes_n<const LANES: usize>(y: &[f64; LANES], x: &[f64; LANES]) -> [f64; LANES] {
     let mut out = [0.0; LANES];
     let mut special = false;
     for l in 0..LANES {
@@ -385,10 +398,16 @@ pub fn atan2_lanes(
 /// [`acos`] of [`crate::simd::LANES`] values at once, lane by lane bit-identical to
 /// [`acos`] (`atan2(√((1−x)(1+x)), x)`; lanes with `|x| > 1`, NaN or the libm switch on go
 /// through [`acos`]).
-#[allow(clippy::neg_cmp_op_on_partial_ord)] // `!(|x| <= 1)`: NaN is special
 #[inline(always)]
 pub fn acos_lanes(x: &[f64; crate::simd::LANES]) -> [f64; crate::simd::LANES] {
-    use crate::simd::LANES;
+    acos_lanes_n(x)
+}
+
+/// [`acos_lanes`] of any number `LANES` of values: the same operations per lane, so lane by
+/// lane bit-identical to [`acos`].
+#[allow(clippy::neg_cmp_op_on_partial_ord)] // `!(|x| <= 1)`: NaN is special
+#[inline(always)]
+pub fn acos_lanes_n<const LANES: usize>(x: &[f64; LANES]) -> [f64; LANES] {
     let mut y = [0.0; LANES];
     let mut special = false;
     for l in 0..LANES {
@@ -396,7 +415,7 @@ pub fn acos_lanes(x: &[f64; crate::simd::LANES]) -> [f64; crate::simd::LANES] {
         special |= !(x[l].abs() <= 1.0);
         y[l] = ((1.0 - x[l]) * (1.0 + x[l])).sqrt();
     }
-    let mut out = atan2_lanes(&y, x);
+    let mut out = atan2_lanes_n(&y, x);
     if special || libm_selected() {
         for l in 0..LANES {
             if libm_selected() || x[l].is_nan() || x[l].abs() > 1.0 {

@@ -76,6 +76,63 @@ fn assert_batched_rnea_is_scalar_rnea(
     }
 }
 
+/// The energy of one batch of at most `LANES` states on `level`, by both lockstep passes
+/// (`eval_lanes_with_sincos`, and the sweep's row-major `eval_rows` with its inputs `x`
+/// carried over from the batch before), equals the per-sample path's `want`, field by field
+/// and lane by lane.
+fn assert_energy_lanes_are_per_sample(
+    em: &EnergyModel,
+    data: &mut printwatt::dynamics::DynData,
+    chunk: &[State],
+    want: &[SamplePower],
+    x: &mut energy::LaneInputs,
+    level: Level,
+    label: &str,
+) {
+    let mut out = energy::PowerLanes::default();
+    energy::eval_lanes_with_sincos(
+        em,
+        data,
+        chunk.len(),
+        |l| &chunk[l].0,
+        |l| &chunk[l].1,
+        |l| &chunk[l].2,
+        |l| &chunk[l].3,
+        &mut out,
+        level,
+    )
+    .unwrap();
+    for (l, w) in want.iter().enumerate() {
+        assert_eq!(
+            format!("{:?}", out.sample(l)),
+            format!("{w:?}"),
+            "{label}, {level:?}, lane {l}"
+        );
+    }
+    let (mut q, mut sc, mut qd, mut qdd) = (vec![], vec![], vec![], vec![]);
+    for (a, b, c, d) in chunk {
+        q.extend_from_slice(a);
+        sc.extend_from_slice(b);
+        qd.extend_from_slice(c);
+        qdd.extend_from_slice(d);
+    }
+    let rows = energy::Rows {
+        q: &q,
+        sincos: Some(&sc),
+        qd: &qd,
+        qdd: &qdd,
+    };
+    let mut out = energy::PowerLanes::default();
+    energy::eval_rows(em, data, chunk.len(), &rows, x, &mut out, level).unwrap();
+    for (l, w) in want.iter().enumerate() {
+        assert_eq!(
+            format!("{:?}", out.sample(l)),
+            format!("{w:?}"),
+            "rows: {label}, {level:?}, lane {l}"
+        );
+    }
+}
+
 #[test]
 fn batched_rnea_equals_scalar_rnea_bit_for_bit_on_every_level() {
     for name in ["abb_irb6700_200_260", "ur10e", "staubli_tx200"] {
@@ -659,50 +716,11 @@ fn lockstep_friction_motor_and_supply_stages_equal_the_per_sample_path_near_velo
                 energy::eval_sample_with_sincos(&em, &mut data, q, sc, qd, qdd, w).unwrap();
             }
             for level in levels() {
-                let mut out = energy::PowerLanes::default();
-                energy::eval_lanes_with_sincos(
-                    &em,
-                    &mut data,
-                    chunk.len(),
-                    |l| &chunk[l].0,
-                    |l| &chunk[l].1,
-                    |l| &chunk[l].2,
-                    |l| &chunk[l].3,
-                    &mut out,
-                    level,
-                )
-                .unwrap();
-                for (l, w) in want.iter().enumerate() {
-                    assert_eq!(
-                        format!("{:?}", out.sample(l)),
-                        format!("{w:?}"),
-                        "{regeneration:?}, {level:?}, lane {l}"
-                    );
-                }
-                // The row-major pass of the sweep (eval_rows), its inputs carried over from
-                // the chunk before (a short last chunk keeps stale lanes).
-                let (mut q, mut sc, mut qd, mut qdd) = (vec![], vec![], vec![], vec![]);
-                for (a, b, c, d) in chunk {
-                    q.extend_from_slice(a);
-                    sc.extend_from_slice(b);
-                    qd.extend_from_slice(c);
-                    qdd.extend_from_slice(d);
-                }
-                let rows = energy::Rows {
-                    q: &q,
-                    sincos: Some(&sc),
-                    qd: &qd,
-                    qdd: &qdd,
-                };
+                // The row-major pass' inputs are carried over from the chunk before (a short
+                // last chunk keeps stale lanes).
                 let x = &mut inputs[level as usize];
-                energy::eval_rows(&em, &mut data, chunk.len(), &rows, x, &mut out, level).unwrap();
-                for (l, w) in want.iter().enumerate() {
-                    assert_eq!(
-                        format!("{:?}", out.sample(l)),
-                        format!("{w:?}"),
-                        "rows: {regeneration:?}, {level:?}, lane {l}"
-                    );
-                }
+                let label = format!("{regeneration:?}");
+                assert_energy_lanes_are_per_sample(&em, &mut data, chunk, &want, x, level, &label);
             }
         }
     }
@@ -1984,50 +2002,9 @@ fn saturated_coulomb_batches_and_the_one_division_motor_model_equal_the_per_samp
                 quadrants[usize::from(w.tau[j] * qd[j] >= 0.0)] += 1;
             }
         }
-        let (mut q, mut sc, mut qd, mut qdd) = (vec![], vec![], vec![], vec![]);
-        for (a, b, c, d) in chunk {
-            q.extend_from_slice(a);
-            sc.extend_from_slice(b);
-            qd.extend_from_slice(c);
-            qdd.extend_from_slice(d);
-        }
         for level in levels() {
-            let mut out = energy::PowerLanes::default();
-            energy::eval_lanes_with_sincos(
-                &em,
-                &mut data,
-                chunk.len(),
-                |l| &chunk[l].0,
-                |l| &chunk[l].1,
-                |l| &chunk[l].2,
-                |l| &chunk[l].3,
-                &mut out,
-                level,
-            )
-            .unwrap();
-            for (l, w) in want.iter().enumerate() {
-                assert_eq!(
-                    format!("{:?}", out.sample(l)),
-                    format!("{w:?}"),
-                    "{level:?}, lane {l}"
-                );
-            }
-            let rows = energy::Rows {
-                q: &q,
-                sincos: Some(&sc),
-                qd: &qd,
-                qdd: &qdd,
-            };
             let mut x = energy::LaneInputs::default();
-            let mut out = energy::PowerLanes::default();
-            energy::eval_rows(&em, &mut data, chunk.len(), &rows, &mut x, &mut out, level).unwrap();
-            for (l, w) in want.iter().enumerate() {
-                assert_eq!(
-                    format!("{:?}", out.sample(l)),
-                    format!("{w:?}"),
-                    "rows: {level:?}, lane {l}"
-                );
-            }
+            assert_energy_lanes_are_per_sample(&em, &mut data, chunk, &want, &mut x, level, "");
         }
     }
     assert!(
@@ -2086,6 +2063,225 @@ fn the_row_transposition_in_avx512_registers_puts_every_value_in_its_lane() {
                     );
                 }
             }
+        }
+    }
+}
+
+/// Every field of two closed-form batches, bit for bit.
+fn assert_same_batch(
+    a: &printwatt::kinematics::opw::BranchBatch,
+    b: &printwatt::kinematics::opw::BranchBatch,
+    what: &str,
+) {
+    let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<u64>>();
+    assert_eq!(a.branch, b.branch, "{what}: branch");
+    for j in 0..6 {
+        assert_eq!(bits(&a.qj[j]), bits(&b.qj[j]), "{what}: qj[{j}]");
+        assert_eq!(bits(&a.oj[j]), bits(&b.oj[j]), "{what}: oj[{j}]");
+    }
+    assert_eq!(bits(&a.s5), bits(&b.s5), "{what}: s5");
+    assert_eq!(a.ok, b.ok, "{what}: ok");
+    assert_eq!(a.next_branch, b.next_branch, "{what}: next_branch");
+    assert_eq!(bits(&a.prev), bits(&b.prev), "{what}: prev");
+}
+
+#[test]
+#[allow(clippy::needless_range_loop)] // lanes of parallel fixed arrays
+fn two_closed_form_batches_in_one_lockstep_pass_equal_two_single_batches_bit_for_bit_on_every_level(
+) {
+    // opw::solve_branch_pair_into (16 lanes in one pass, for path tracking) against two
+    // solve_branch_batch_into calls: reachable and unreachable tips, a NaN, the wrist centre on
+    // the axis of joint 1, lanes without a tip (0), every branch, every level.
+    use printwatt::kinematics::nozzle_target;
+    use printwatt::kinematics::opw::{
+        solve_branch_batch_into, solve_branch_pair_into, Branch, BranchBatch, Prepared, PAIR_LANES,
+    };
+    let mut u = uniform(71);
+    let mut ok_lanes = 0;
+    for name in ["abb_irb6700_200_260", "abb_irb4600_40_255", "staubli_tx200"] {
+        let model = common::robot(name);
+        let Some(p) = model.opw else {
+            continue;
+        };
+        let k = Prepared::new(&p);
+        let reach = printwatt::placement::feasibility::reach_m(&model);
+        for spin in [0.0, 0.7, -2.0] {
+            let rot = nozzle_target(&nalgebra::Vector3::zeros(), spin).rot;
+            for case in 0..6 {
+                let mut pos = [[0.0; PAIR_LANES]; 3];
+                for l in 0..PAIR_LANES {
+                    let t = match (case, l) {
+                        (1, 3) => [f64::NAN, 0.2, 0.3],
+                        (2, 5) => [5.0 * reach, 0.0, 0.0],
+                        (3, 9) => [0.0, 0.0, 0.5 * reach],
+                        (4, l) if l >= 13 => [0.0; 3],
+                        _ => [
+                            reach * (0.6 + 0.3 * u()),
+                            reach * 0.5 * u(),
+                            reach * 0.4 * u(),
+                        ],
+                    };
+                    for i in 0..3 {
+                        pos[i][l] = t[i];
+                    }
+                }
+                for branch in Branch::ALL {
+                    for level in levels() {
+                        let mut pair = [BranchBatch::default(); 2];
+                        let (a, b) = pair.split_at_mut(1);
+                        solve_branch_pair_into(
+                            &p,
+                            &k,
+                            &rot,
+                            &pos,
+                            branch,
+                            level,
+                            [&mut a[0], &mut b[0]],
+                        );
+                        for (g, got) in pair.iter().enumerate() {
+                            let mut half = [[0.0; LANES]; 3];
+                            for i in 0..3 {
+                                half[i].copy_from_slice(&pos[i][g * LANES..(g + 1) * LANES]);
+                            }
+                            let mut want = BranchBatch::default();
+                            solve_branch_batch_into(&p, &k, &rot, &half, branch, level, &mut want);
+                            assert_same_batch(
+                                got,
+                                &want,
+                                &format!("{name} spin {spin} case {case} {branch:?} {level:?} {g}"),
+                            );
+                            ok_lanes += want.ok.iter().filter(|o| **o).count();
+                        }
+                    }
+                }
+            }
+        }
+    }
+    assert!(ok_lanes > 1000, "only {ok_lanes} ok lanes");
+}
+
+#[test]
+#[allow(clippy::needless_range_loop)] // lanes of parallel fixed arrays
+fn a_batch_solved_ahead_is_the_batch_solved_then_and_is_solved_afresh_for_another_branch() {
+    // IkSolver::solve_near_batch_pair_lanes solves the next batch ahead with the current
+    // batch's branch; IkSolver::presolved_or_solve must give exactly
+    // solve_near_batch_lanes' batch for that q_prev: taken as it is when branch_of(q_prev)
+    // (or the branch given) is the one it was solved for, solved afresh otherwise.
+    use printwatt::kinematics::opw::BranchBatch;
+    use printwatt::kinematics::{nozzle_target, IkSolver};
+    let model = common::robot("abb_irb6700_200_260");
+    let solver = IkSolver::new(&model).unwrap();
+    let p = model.opw.unwrap();
+    let k = printwatt::kinematics::opw::Prepared::new(&p);
+    let rot = nozzle_target(&nalgebra::Vector3::zeros(), 0.4).rot;
+    let target = solver.path_target(&rot);
+    let mut u = uniform(5);
+    let mut tips = [[[0.0; LANES]; 3]; 2];
+    for g in 0..2 {
+        for l in 0..LANES {
+            let t = [1.6 + 0.3 * u(), 0.5 * u(), 0.4 + 0.3 * u()];
+            for i in 0..3 {
+                tips[g][i][l] = t[i];
+            }
+        }
+    }
+    // Joint vectors of two branches (the wrist flipped) to continue from.
+    let q_front = [0.1, 0.2, 0.1, 0.3, 0.8, -0.2];
+    let q_back = [0.1, 0.2, 0.1, 0.3, -0.8, -0.2];
+    assert_ne!(k.branch_of(&p, &q_front), k.branch_of(&p, &q_back));
+    for level in levels() {
+        for counts in [[LANES, LANES], [LANES, 5]] {
+            for (q0, q1, given) in [
+                (q_front, q_front, None),
+                (q_front, q_back, None),
+                (q_back, q_front, Some(k.branch_of(&p, &q_front))),
+                (q_front, q_front, Some(k.branch_of(&p, &q_back))),
+            ] {
+                let mut pair = [BranchBatch::default(); 2];
+                let (a, b) = pair.split_at_mut(1);
+                assert!(solver.solve_near_batch_pair_lanes(
+                    &target,
+                    [&tips[0], &tips[1]],
+                    counts,
+                    &q0,
+                    None,
+                    level,
+                    [&mut a[0], &mut b[0]],
+                ));
+                let mut want0 = BranchBatch::default();
+                assert!(solver.solve_near_batch_lanes(
+                    &target, &tips[0], counts[0], &q0, None, level, &mut want0
+                ));
+                assert_same_batch(&pair[0], &want0, &format!("{level:?} first"));
+                let mut ahead = pair[1];
+                assert!(solver.presolved_or_solve(
+                    &target, &tips[1], counts[1], &q1, given, level, &mut ahead
+                ));
+                let mut want1 = BranchBatch::default();
+                assert!(solver.solve_near_batch_lanes(
+                    &target, &tips[1], counts[1], &q1, given, level, &mut want1
+                ));
+                assert_same_batch(&ahead, &want1, &format!("{level:?} second {given:?}"));
+            }
+        }
+    }
+}
+
+#[test]
+fn sines_and_arctangents_of_any_lane_count_equal_the_scalar_functions_bit_for_bit() {
+    // fastmath::{sin_cos, atan2, acos}_lanes_n (the wider calls of the paired closed form)
+    // against the scalar functions, special values included.
+    let mut u = uniform(9);
+    let special = [
+        0.0,
+        -0.0,
+        1e-300,
+        -3e-9,
+        1.0,
+        -1.0,
+        f64::NAN,
+        1e301,
+        f64::INFINITY,
+        70.0,
+    ];
+    let mut xs = [0.0; 24];
+    let mut ys = [0.0; 24];
+    for round in 0..200 {
+        for l in 0..24 {
+            xs[l] = if round % 7 == 0 && l < special.len() {
+                special[l]
+            } else {
+                4.0 * u()
+            };
+            ys[l] = if round % 5 == 0 && l < special.len() {
+                special[(l + 3) % special.len()]
+            } else {
+                4.0 * u()
+            };
+        }
+        let (s, c) = fastmath::sin_cos_lanes_n(&xs);
+        let a = fastmath::atan2_lanes_n(&ys, &xs);
+        let half: [f64; 16] = std::array::from_fn(|l| 0.5 * xs[l]);
+        let ac = fastmath::acos_lanes_n(&half);
+        for l in 0..24 {
+            let (ws, wc) = fastmath::sin_cos(xs[l]);
+            assert_eq!(s[l].to_bits(), ws.to_bits(), "sin {}", xs[l]);
+            assert_eq!(c[l].to_bits(), wc.to_bits(), "cos {}", xs[l]);
+            assert_eq!(
+                a[l].to_bits(),
+                fastmath::atan2(ys[l], xs[l]).to_bits(),
+                "atan2 {} {}",
+                ys[l],
+                xs[l]
+            );
+        }
+        for l in 0..16 {
+            assert_eq!(
+                ac[l].to_bits(),
+                fastmath::acos(half[l]).to_bits(),
+                "acos {}",
+                half[l]
+            );
         }
     }
 }

@@ -1353,6 +1353,92 @@ impl<'a> IkSolver<'a> {
         true
     }
 
+    /// [`IkSolver::solve_near_batch_lanes`] of two consecutive batches at once
+    /// ([`opw::solve_branch_pair_into`]): `batches[0]` for the tips `tp[0]` (its first
+    /// `counts[0]` lanes) exactly as `solve_near_batch_lanes(target, tp[0], counts[0], q_prev,
+    /// branch, level, ..)` makes it, and `batches[1]` solved ahead for the tips `tp[1]` (first
+    /// `counts[1]` lanes) with the same branch, for [`IkSolver::presolved_or_solve`] to take
+    /// once its `q_prev` is known. `false` (batches untouched) where `solve_near_batch_lanes`
+    /// gives `false`.
+    #[allow(clippy::too_many_arguments)]
+    pub fn solve_near_batch_pair_lanes(
+        &self,
+        target: &PathTarget,
+        tp: [&[[f64; crate::simd::LANES]; 3]; 2],
+        counts: [usize; 2],
+        q_prev: &[f64],
+        branch: Option<Branch>,
+        level: crate::simd::Level,
+        batches: [&mut opw::BranchBatch; 2],
+    ) -> bool {
+        use crate::simd::LANES;
+        let (p, k) = match (&self.model.opw, &self.opw_k) {
+            (Some(p), Some(k)) if q_prev.len() == self.model.dof() => (p, k),
+            _ => return false,
+        };
+        // As solve_near_batch_lanes, batch by batch: off + tip, the lanes without a tip 0.
+        let off = [target.off.x, target.off.y, target.off.z];
+        let mut pos = [[0.0; opw::PAIR_LANES]; 3];
+        for (g, (tp, &count)) in tp.iter().zip(&counts).enumerate() {
+            for i in 0..3 {
+                let row = &mut pos[i][g * LANES..(g + 1) * LANES];
+                for l in 0..LANES {
+                    row[l] = off[i] + tp[i][l];
+                }
+                if count < LANES {
+                    row[count..].fill(0.0);
+                }
+            }
+        }
+        let branch = branch.unwrap_or_else(|| k.branch_of(p, q_prev));
+        let [b0, b1] = batches;
+        opw::solve_branch_pair_into(p, k, &target.frot, &pos, branch, level, [&mut *b0, b1]);
+        if q_prev.len() == 6 {
+            b0.prev.copy_from_slice(q_prev);
+        }
+        true
+    }
+
+    /// [`IkSolver::solve_near_batch_lanes`]`(target, tp, count, q_prev, branch, level, batch)`
+    /// for a `batch` that [`IkSolver::solve_near_batch_pair_lanes`] solved ahead (as its second
+    /// batch) for these tips: where the branch `solve_near_batch_lanes` would take (`branch`,
+    /// else [`opw::Prepared::branch_of`]`(q_prev)`) is the one it was solved for, the batch is
+    /// that answer already, bit for bit (no lane depends on `q_prev`), and only its
+    /// [`opw::BranchBatch::prev`] is set; otherwise it is solved afresh for that branch.
+    #[allow(clippy::too_many_arguments)]
+    pub fn presolved_or_solve(
+        &self,
+        target: &PathTarget,
+        tp: &[[f64; crate::simd::LANES]; 3],
+        count: usize,
+        q_prev: &[f64],
+        branch: Option<Branch>,
+        level: crate::simd::Level,
+        batch: &mut opw::BranchBatch,
+    ) -> bool {
+        let (p, k) = match (&self.model.opw, &self.opw_k) {
+            (Some(p), Some(k)) if q_prev.len() == self.model.dof() => (p, k),
+            _ => return false,
+        };
+        let branch = branch.unwrap_or_else(|| k.branch_of(p, q_prev));
+        if batch.branch != branch {
+            return self.solve_near_batch_lanes(
+                target,
+                tp,
+                count,
+                q_prev,
+                Some(branch),
+                level,
+                batch,
+            );
+        }
+        batch.prev = [f64::NAN; 6];
+        if q_prev.len() == 6 {
+            batch.prev.copy_from_slice(q_prev);
+        }
+        true
+    }
+
     /// The answer of lane `lane` of `batch` for `tool_target` (its tip and orientation must be
     /// the ones [`IkSolver::solve_near_batch`] was given), continuing `q_prev`: exactly
     /// [`IkSolver::solve_near_unchecked`]`(tool_target, q_prev)`. The lane's closed form (both

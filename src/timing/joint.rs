@@ -368,8 +368,16 @@ pub(crate) fn track_with(
     // The branch of prev, when the last batch's lanes all continued one another.
     let mut known: Option<crate::kinematics::Branch> = None;
     let mut cont = crate::kinematics::Continuing::new();
-    // One batch for the whole path, overwritten batch by batch (not moved).
-    let mut batch = crate::kinematics::opw::BranchBatch::default();
+    // The batches of the path, overwritten batch by batch (not moved): the current one is
+    // batches[cur]; on AVX2 / AVX-512 two are solved in one lockstep pass (cheaper than two,
+    // opw::solve_branch_pair_into), the second ahead with the first's branch, and taken by
+    // IkSolver::presolved_or_solve (exactly the batch solved then) when its turn comes.
+    let mut batches = [crate::kinematics::opw::BranchBatch::default(); 2];
+    let pairs = matches!(level, crate::simd::Level::Avx2 | crate::simd::Level::Avx512);
+    // Whether batches[1 - cur] holds the next batch, solved ahead.
+    let mut ahead = false;
+    let mut cur = 0;
+    let mut tp_next = [[0.0; LANES]; 3];
     // The tips computed before, when they cover the whole path (k0 is a multiple of LANES).
     let pre = pre.filter(|t| t.len() * LANES >= len);
     while k0 < len {
@@ -387,16 +395,60 @@ pub(crate) fn track_with(
         };
         // Lane l's tip (the same bits as part_to_base.apply).
         let tip = |l: usize| V3::new(tp[0][l], tp[1][l], tp[2][l]);
-        let solved = solver.solve_near_batch_lanes(
-            &path_target,
-            tp,
-            count,
-            &prev,
-            known.take(),
-            level,
-            &mut batch,
-        );
-        let chunk = solved.then_some(&batch);
+        let solved = if ahead {
+            ahead = false;
+            cur = 1 - cur;
+            solver.presolved_or_solve(
+                &path_target,
+                tp,
+                count,
+                &prev,
+                known.take(),
+                level,
+                &mut batches[cur],
+            )
+        } else if pairs && k0 + LANES < len {
+            let count_next = LANES.min(len - k0 - LANES);
+            let tp_b: &TipLanes = match pre {
+                Some(pre) => &pre[k0 / LANES + 1],
+                None => {
+                    let k1 = k0 + LANES;
+                    for (l, pk) in motion.p[k1..k1 + count_next].iter().enumerate() {
+                        let t = part_to_base.apply(pk);
+                        (tp_next[0][l], tp_next[1][l], tp_next[2][l]) = (t.x, t.y, t.z);
+                    }
+                    &tp_next
+                }
+            };
+            let (b0, b1) = batches.split_at_mut(1);
+            let pair = if cur == 0 {
+                [&mut b0[0], &mut b1[0]]
+            } else {
+                [&mut b1[0], &mut b0[0]]
+            };
+            ahead = solver.solve_near_batch_pair_lanes(
+                &path_target,
+                [tp, tp_b],
+                [count, count_next],
+                &prev,
+                known.take(),
+                level,
+                pair,
+            );
+            ahead
+        } else {
+            solver.solve_near_batch_lanes(
+                &path_target,
+                tp,
+                count,
+                &prev,
+                known.take(),
+                level,
+                &mut batches[cur],
+            )
+        };
+        let batch = &batches[cur];
+        let chunk = solved.then_some(batch);
         cont.taken = 0;
         if let Some(b) = chunk {
             solver.continuing_lanes(b, count, &prev, &max_step, k0 > 0, level, &mut cont);
