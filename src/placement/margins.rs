@@ -288,91 +288,68 @@ impl JointChecks {
         sincos: Option<&[f64]>,
         margins: &mut Margins,
     ) -> bool {
+        const W: usize = crate::simd::LANES;
+        // Full blocks of six-joint arms only (the table exists for those); anything else goes
+        // the per-sample way, `margins` untouched. With the table the arm has SCREEN_DOF
+        // joints, so every checked joint's index is below `n`.
+        if n != SCREEN_DOF || count != W {
+            return false;
+        }
         let Some(t) = self.table.as_deref() else {
             return false;
         };
-        if count > crate::simd::LANES
-            || qs.len() < count * n
-            || qds.len() < count * n
-            || qdds.len() < count * n
-            || self.limits.iter().any(|l| l.0 >= n)
-        {
+        let (Some(q), Some(qd), Some(qdd)) = (
+            qs.first_chunk::<SCREEN_ENTRIES>(),
+            qds.first_chunk::<SCREEN_ENTRIES>(),
+            qdds.first_chunk::<SCREEN_ENTRIES>(),
+        ) else {
             return false;
-        }
+        };
         // The wrist measure as `check` takes it: shared sines and joint 5's OPW offset 0.
         let wrist = match (self.wrist, sincos) {
             (None, _) => None,
-            _ if n < 6 => None,
-            (Some((sign, off)), Some(sc)) if off == 0.0 && sc.len() >= count * 2 * n => {
-                Some((sign, sc))
-            }
+            (Some((sign, 0.0)), Some(sc)) => match sc.first_chunk::<{ 2 * SCREEN_ENTRIES }>() {
+                Some(sc) => Some((sign, sc)),
+                None => return false,
+            },
             _ => return false,
         };
         // The wrist rule where a sample comes near the singularity, as
         // check_joint_sample_with applies it (its margin kept aside until the block passes).
         let mut wrist_rate = margins.wrist_rate;
-        // Most blocks have no sample near it (a NaN counts as near): one test for all.
-        let near = wrist.is_some_and(|(sign, sc)| {
+        if let Some((sign, sc)) = wrist {
+            // Most blocks have no sample near it (a NaN counts as near): one test for all.
             let mut near = false;
-            for k in 0..count {
-                near |= !((sign * sc[k * 2 * n + 4]).abs() >= o.wrist_min);
+            for k in 0..W {
+                near |= !((sign * sc[k * 2 * SCREEN_DOF + 4]).abs() >= o.wrist_min);
             }
-            near
-        });
-        if let Some((sign, sc)) = wrist.filter(|_| near) {
-            let Some(wl) = self.wrist_limits else {
+            if near && !self.wrist_rule(o, sign, sc, qd, qdd, &mut wrist_rate) {
                 return false;
-            };
-            for k in 0..count {
-                let w = (sign * sc[k * 2 * n + 4]).abs();
-                if w >= o.wrist_min {
-                    continue;
-                }
-                let mut worst = 0.0f64;
-                for (j, (vl, al)) in [(3usize, wl[0]), (5, wl[1])] {
-                    for (v, lim) in [(qds[k * n + j], vl), (qdds[k * n + j], al)] {
-                        if lim.is_finite() && lim > 0.0 {
-                            let r = v.abs() / lim;
-                            if r > worst {
-                                worst = r;
-                            }
-                        }
-                    }
-                }
-                if wrist_rate.is_none_or(|r| worst > r) {
-                    wrist_rate = Some(worst);
-                }
-                if worst > o.wrist_rate_max {
-                    return false;
-                }
             }
         }
-        // Full blocks of six-joint arms in lockstep; anything else goes the per-sample way.
-        let Some(q) = (n == SCREEN_DOF && count == crate::simd::LANES)
-            .then(|| qs[..SCREEN_ENTRIES].try_into().ok())
-            .flatten()
-        else {
-            return false;
-        };
-        let (pass, lowest, first) = match self.level {
+        // The entry at the block's smallest distance is sought only where that distance
+        // beats the running one (about a quarter of the blocks of a feasible placement, as
+        // the arm keeps nearing a limit); never without a checked joint.
+        let running = (!self.limits.is_empty()).then_some(margins.joint_limit_rad.map(|m| m.1));
+        let (pass, first) = match self.level {
             #[cfg(target_arch = "x86_64")]
             crate::simd::Level::Avx512 => {
                 // SAFETY: the CPU has AVX-512F (JointChecks::new keeps only an available level).
-                unsafe { screen_avx512(t, q) }
+                unsafe { screen_avx512(t, q, running) }
             }
             #[cfg(target_arch = "x86_64")]
             crate::simd::Level::Avx2 => {
                 // SAFETY: the CPU has AVX2 and FMA (JointChecks::new keeps only an available
                 // level).
-                unsafe { screen_avx2(t, q) }
+                unsafe { screen_avx2(t, q, running) }
             }
-            _ => screen_entries(t, q),
+            _ => screen_entries(t, q, running),
         };
         if !pass {
             return false;
         }
         margins.wrist_rate = wrist_rate;
-        if !self.limits.is_empty() && margins.joint_limit_rad.is_none_or(|(_, x)| lowest < x) {
+        if let Some(first) = first {
             // The per-sample checks lower the running minimum at each new smallest distance
             // and so end on the first entry (sample by sample, joint by joint) at the block's
             // smallest (no NaN in a passing block), with its distance as they compute it.
@@ -382,59 +359,219 @@ impl JointChecks {
         }
         true
     }
+
+    /// [`JointChecks::screen`]'s wrist rule on a block with a sample near the singularity
+    /// (`sign`: joint 5's OPW sign; `sc`, `qd`, `qdd` the block's sines and cosines,
+    /// velocities and accelerations): `false` where a sample fails it (or the arm has no wrist
+    /// limits), else `true` with `wrist_rate` lowered as [`check_joint_sample_with`] lowers
+    /// it.
+    #[cold]
+    #[inline(never)]
+    fn wrist_rule(
+        &self,
+        o: &FeasibilityOptions,
+        sign: f64,
+        sc: &[f64; 2 * SCREEN_ENTRIES],
+        qd: &[f64; SCREEN_ENTRIES],
+        qdd: &[f64; SCREEN_ENTRIES],
+        wrist_rate: &mut Option<f64>,
+    ) -> bool {
+        let Some(wl) = self.wrist_limits else {
+            return false;
+        };
+        let n = SCREEN_DOF;
+        for k in 0..crate::simd::LANES {
+            let w = (sign * sc[k * 2 * n + 4]).abs();
+            if w >= o.wrist_min {
+                continue;
+            }
+            let mut worst = 0.0f64;
+            for (j, (vl, al)) in [(3usize, wl[0]), (5, wl[1])] {
+                for (v, lim) in [(qd[k * n + j], vl), (qdd[k * n + j], al)] {
+                    if lim.is_finite() && lim > 0.0 {
+                        let r = v.abs() / lim;
+                        if r > worst {
+                            worst = r;
+                        }
+                    }
+                }
+            }
+            if wrist_rate.is_none_or(|r| worst > r) {
+                *wrist_rate = Some(worst);
+            }
+            if worst > o.wrist_rate_max {
+                return false;
+            }
+        }
+        true
+    }
 }
 
 /// The body of [`JointChecks::screen`]: whether every entry keeps its margin
-/// (`min(q − lower, upper − q) ≥ margin`, false for a NaN), the smallest such distance, and
-/// the first entry at it. Comparisons, selects and minima only, so every level gives the
-/// same answer.
+/// (`min(q − lower, upper − q) ≥ margin`, false for a NaN), and, where the block passes and
+/// its smallest such distance is below `running` (`Some(None)`: no running minimum yet;
+/// `None`: never), the first entry at the smallest distance (sample by sample, joint by
+/// joint). The margin test and the minimum in vertical minima and or-ed failures; the
+/// entry, where sought, chunk by chunk by equality with the smallest. Comparisons, selects
+/// and minima only, so every level gives the same answer.
 // `!(d >= margin)`: the negated comparison is the NaN rule (a NaN fails the screen).
 #[allow(clippy::neg_cmp_op_on_partial_ord)]
 #[inline(always)]
-fn screen_entries(t: &ScreenTable, q: &[f64; SCREEN_ENTRIES]) -> (bool, f64, usize) {
+fn screen_entries(
+    t: &ScreenTable,
+    q: &[f64; SCREEN_ENTRIES],
+    running: Option<Option<f64>>,
+) -> (bool, Option<usize>) {
     const W: usize = crate::simd::LANES;
-    // Per-lane accumulators (vertical minima, the chunk of each lane's first minimum, and
-    // or-ed failures: they vectorise).
     let mut low = [f64::INFINITY; W];
-    let mut at = [0u64; W];
-    let mut bad = [0u64; W];
+    let mut bad = [false; W];
     for c in 0..SCREEN_ENTRIES / W {
         for l in 0..W {
             let i = c * W + l;
-            let (a, b) = (q[i] - t.lower[i], t.upper[i] - q[i]);
-            let d = if a < b { a } else { b };
-            bad[l] |= (!(d >= t.margin[i])) as u64;
-            at[l] = if d < low[l] { c as u64 } else { at[l] };
+            let d = distance(t, q, i);
+            bad[l] |= !(d >= t.margin[i]);
             low[l] = if d < low[l] { d } else { low[l] };
         }
     }
-    let lowest = low
-        .iter()
-        .fold(f64::INFINITY, |m, &x| if x < m { x } else { m });
-    // The first entry at the smallest distance: the least index among the lanes at it.
-    let mut first = usize::MAX;
+    let mut lowest = f64::INFINITY;
+    let mut any_bad = false;
     for l in 0..W {
-        if low[l] == lowest {
-            first = first.min(at[l] as usize * W + l);
+        lowest = if low[l] < lowest { low[l] } else { lowest };
+        any_bad |= bad[l];
+    }
+    if any_bad {
+        return (false, None);
+    }
+    let Some(running) = running else {
+        return (true, None);
+    };
+    if !running.is_none_or(|x| lowest < x) {
+        return (true, None);
+    }
+    for c in 0..SCREEN_ENTRIES / W {
+        let mut at = 0u32;
+        for l in 0..W {
+            at |= u32::from(distance(t, q, c * W + l) == lowest) << l;
+        }
+        if at != 0 {
+            return (true, Some(c * W + at.trailing_zeros() as usize));
         }
     }
-    (
-        bad.iter().all(|&b| b == 0),
-        lowest,
-        first.min(SCREEN_ENTRIES - 1),
-    )
+    // Not reached: some lane holds the smallest (no NaN in a passing block).
+    (true, Some(SCREEN_ENTRIES - 1))
 }
 
+/// Entry `i`'s distance from its nearer limit as [`screen_entries`] takes it, rad.
+#[inline(always)]
+fn distance(t: &ScreenTable, q: &[f64; SCREEN_ENTRIES], i: usize) -> f64 {
+    let (a, b) = (q[i] - t.lower[i], t.upper[i] - q[i]);
+    if a < b {
+        a
+    } else {
+        b
+    }
+}
+
+/// [`screen_entries`] in `__m512d` registers (8 entries each): the same comparisons,
+/// selects and minima (`vminpd(a, b)` is `if a < b { a } else { b }`), the distances kept
+/// in registers for the search of the first entry at the smallest (one mask of all 48).
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
-fn screen_avx512(t: &ScreenTable, q: &[f64; SCREEN_ENTRIES]) -> (bool, f64, usize) {
-    screen_entries(t, q)
+fn screen_avx512(
+    t: &ScreenTable,
+    q: &[f64; SCREEN_ENTRIES],
+    running: Option<Option<f64>>,
+) -> (bool, Option<usize>) {
+    use std::arch::x86_64::*;
+    const V: usize = 8;
+    const _: () = assert!(SCREEN_ENTRIES.is_multiple_of(V));
+    let mut d = [_mm512_setzero_pd(); SCREEN_ENTRIES / V];
+    let mut bad: __mmask8 = 0;
+    let mut low = _mm512_set1_pd(f64::INFINITY);
+    for (c, dc) in d.iter_mut().enumerate() {
+        // SAFETY: AVX-512F (this function's own target feature); unaligned loads of entries
+        // c V .. (c + 1) V of 48.
+        unsafe {
+            let x = _mm512_loadu_pd(q.as_ptr().add(c * V));
+            let a = _mm512_sub_pd(x, _mm512_loadu_pd(t.lower.as_ptr().add(c * V)));
+            let b = _mm512_sub_pd(_mm512_loadu_pd(t.upper.as_ptr().add(c * V)), x);
+            *dc = _mm512_min_pd(a, b);
+            let m = _mm512_loadu_pd(t.margin.as_ptr().add(c * V));
+            // !(d >= margin): true for a NaN.
+            bad |= _mm512_cmp_pd_mask::<_CMP_NGE_UQ>(*dc, m);
+            low = _mm512_min_pd(*dc, low);
+        }
+    }
+    if bad != 0 {
+        return (false, None);
+    }
+    // No NaN in a passing block: the order of the minima does not matter.
+    let lowest = _mm512_reduce_min_pd(low);
+    match running {
+        Some(r) if r.is_none_or(|x| lowest < x) => {
+            let l = _mm512_set1_pd(lowest);
+            let mut at = 0u64;
+            for (c, dc) in d.iter().enumerate() {
+                at |= u64::from(_mm512_cmp_pd_mask::<_CMP_EQ_OQ>(*dc, l)) << (c * V);
+            }
+            (
+                true,
+                Some((at.trailing_zeros() as usize).min(SCREEN_ENTRIES - 1)),
+            )
+        }
+        _ => (true, None),
+    }
 }
 
+/// [`screen_entries`] in `__m256d` registers (4 entries each), as [`screen_avx512`].
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-fn screen_avx2(t: &ScreenTable, q: &[f64; SCREEN_ENTRIES]) -> (bool, f64, usize) {
-    screen_entries(t, q)
+fn screen_avx2(
+    t: &ScreenTable,
+    q: &[f64; SCREEN_ENTRIES],
+    running: Option<Option<f64>>,
+) -> (bool, Option<usize>) {
+    use std::arch::x86_64::*;
+    const V: usize = 4;
+    const _: () = assert!(SCREEN_ENTRIES.is_multiple_of(V));
+    let mut d = [_mm256_setzero_pd(); SCREEN_ENTRIES / V];
+    let mut bad = _mm256_setzero_pd();
+    let mut low = _mm256_set1_pd(f64::INFINITY);
+    for (c, dc) in d.iter_mut().enumerate() {
+        // SAFETY: AVX (this function's own target feature); unaligned loads of entries
+        // c V .. (c + 1) V of 48.
+        unsafe {
+            let x = _mm256_loadu_pd(q.as_ptr().add(c * V));
+            let a = _mm256_sub_pd(x, _mm256_loadu_pd(t.lower.as_ptr().add(c * V)));
+            let b = _mm256_sub_pd(_mm256_loadu_pd(t.upper.as_ptr().add(c * V)), x);
+            *dc = _mm256_min_pd(a, b);
+            let m = _mm256_loadu_pd(t.margin.as_ptr().add(c * V));
+            // !(d >= margin): true for a NaN.
+            bad = _mm256_or_pd(bad, _mm256_cmp_pd::<_CMP_NGE_UQ>(*dc, m));
+            low = _mm256_min_pd(*dc, low);
+        }
+    }
+    if _mm256_movemask_pd(bad) != 0 {
+        return (false, None);
+    }
+    // No NaN in a passing block: the order of the minima does not matter.
+    let h = _mm_min_pd(_mm256_castpd256_pd128(low), _mm256_extractf128_pd::<1>(low));
+    let lowest = _mm_cvtsd_f64(_mm_min_sd(h, _mm_unpackhi_pd(h, h)));
+    match running {
+        Some(r) if r.is_none_or(|x| lowest < x) => {
+            let l = _mm256_set1_pd(lowest);
+            let mut at = 0u64;
+            for (c, dc) in d.iter().enumerate() {
+                let eq = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_EQ_OQ>(*dc, l)) as u64;
+                at |= eq << (c * V);
+            }
+            (
+                true,
+                Some((at.trailing_zeros() as usize).min(SCREEN_ENTRIES - 1)),
+            )
+        }
+        _ => (true, None),
+    }
 }
 
 /// How close to its joint-limit margin a placement's closest joint comes: the margin is met
@@ -567,5 +704,144 @@ mod tests {
                 "{name}: {screened} screened, {handed_on} handed on"
             );
         }
+    }
+
+    #[test]
+    fn the_screen_names_the_first_sample_and_joint_at_a_tied_smallest_distance_on_every_level() {
+        // The screen finds the entry at a block's smallest distance only where that distance
+        // beats the running one, by a scan in entry order (sample by sample, joint by joint).
+        // Ties are where that order matters: an arm standing still (the same row repeated,
+        // the tie then across lanes and chunks of the lockstep kernel), two joints at the
+        // same distance in one sample, a running minimum equal to the block's. On every
+        // level: the margins of the per-sample checks, bit for bit.
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("robots");
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(12);
+        let mut checked = 0;
+        for name in ["abb_irb6700_200_260", "staubli_tx200"] {
+            let model = crate::robot::load(&root.join(name)).unwrap();
+            let n = model.dof();
+            assert_eq!(n, SCREEN_DOF);
+            let o = FeasibilityOptions::default();
+            let base = JointChecks::new(&model, &o);
+            let levels = crate::simd::Level::ALL
+                .into_iter()
+                .filter(|l| l.available());
+            for level in levels {
+                let checks = JointChecks {
+                    level,
+                    ..base.clone()
+                };
+                for block in 0..400 {
+                    // Well inside the limits; joint 5 away from 0 (no wrist rule).
+                    let row = |rng: &mut rand_chacha::ChaCha8Rng| {
+                        let mut r = Vec::new();
+                        for (j, jt) in model.joints.iter().enumerate() {
+                            let (lo, hi) = (jt.lower.max(-4.0), jt.upper.min(4.0));
+                            let v = lo + (hi - lo) * rng.gen_range(0.2..0.8);
+                            r.push(if j == 4 && v.abs() < 0.3 { 0.5 } else { v });
+                        }
+                        r
+                    };
+                    let mut rows: Vec<Vec<f64>> =
+                        (0..crate::simd::LANES).map(|_| row(&mut rng)).collect();
+                    match block % 4 {
+                        // Standing still: every row the same.
+                        0 => {
+                            for k in 1..rows.len() {
+                                rows[k] = rows[0].clone();
+                            }
+                        }
+                        // Some rows repeated at random places.
+                        1 => {
+                            for _ in 0..3 {
+                                let (a, b) = (rng.gen_range(0..8), rng.gen_range(0..8));
+                                rows[b] = rows[a].clone();
+                            }
+                        }
+                        // Joints 1 and 3 of a row at the same distance (the same offset
+                        // from both lower limits, where it is exact).
+                        2 => {
+                            let k = rng.gen_range(0..8);
+                            let (l1, l3) = (model.joints[0].lower, model.joints[2].lower);
+                            let d = rng.gen_range(0.06..0.3);
+                            rows[k][0] = l1 + d;
+                            rows[k][2] = l3 + d;
+                            if (rows[k][0] - l1).to_bits() != (rows[k][2] - l3).to_bits() {
+                                rows[k][2] = rows[k][0] - l1 + l3;
+                            }
+                        }
+                        _ => {}
+                    }
+                    let qs: Vec<f64> = rows.concat();
+                    let mut sc = vec![0.0; crate::simd::LANES * 2 * n];
+                    for k in 0..crate::simd::LANES {
+                        for j in 0..n {
+                            (sc[k * 2 * n + j], sc[k * 2 * n + n + j]) =
+                                crate::fastmath::sin_cos(qs[k * n + j]);
+                        }
+                    }
+                    let zeros = vec![0.0; qs.len()];
+                    // A fresh evaluation, or a running minimum at, above or below the block's.
+                    let mut fresh = Margins::default();
+                    let mut first_pass = fresh;
+                    for k in 0..crate::simd::LANES {
+                        let r = k * n..(k + 1) * n;
+                        let s = &sc[k * 2 * n..(k + 1) * 2 * n];
+                        checks.check(
+                            &model,
+                            &o,
+                            &qs[r],
+                            Some(s),
+                            &zeros[..n],
+                            &zeros[..n],
+                            &mut first_pass,
+                        );
+                    }
+                    let (_, lowest) = first_pass.joint_limit_rad.unwrap();
+                    let runs = [
+                        None,
+                        Some((6, lowest)),
+                        Some((2, lowest * (1.0 + 1e-12))),
+                        Some((4, lowest * (1.0 - 1e-12))),
+                    ];
+                    for run in runs {
+                        fresh.joint_limit_rad = run;
+                        let mut want = fresh;
+                        for k in 0..crate::simd::LANES {
+                            let r = k * n..(k + 1) * n;
+                            let s = &sc[k * 2 * n..(k + 1) * 2 * n];
+                            let f = checks.check(
+                                &model,
+                                &o,
+                                &qs[r],
+                                Some(s),
+                                &zeros[..n],
+                                &zeros[..n],
+                                &mut want,
+                            );
+                            assert!(f.is_none(), "{name} block {block}: {f:?}");
+                        }
+                        let mut got = fresh;
+                        assert!(checks.screen(
+                            &o,
+                            n,
+                            crate::simd::LANES,
+                            &qs,
+                            &zeros,
+                            &zeros,
+                            Some(&sc),
+                            &mut got
+                        ));
+                        assert_eq!(
+                            format!("{got:?}"),
+                            format!("{want:?}"),
+                            "{name} {level:?} block {block} running {run:?}"
+                        );
+                        checked += 1;
+                    }
+                }
+            }
+        }
+        assert!(checked >= 2 * 2 * 400 * 4, "{checked} blocks");
     }
 }

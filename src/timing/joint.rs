@@ -1688,11 +1688,15 @@ fn time_at_with(
                         return Err(fail_at(k, tip, reason));
                     }
                 }
-                // Every sample, LANES at a time: the front shoulder's reach test in lockstep
-                // (IkSolver::wrist_centres_reach_front, the same operations); a lane it
-                // rejects is asked per sample (the back shoulder, and the error), in order.
+                // Every sample, LANES at a time: the front shoulder's reach in lockstep,
+                // conservatively (reach::FrontReach: a lane it passes, the exact test
+                // passes); a lane it does not pass is asked per sample (the exact test, the
+                // back shoulder, and the error), in order: the exact test's outcome.
                 const LANES: usize = crate::simd::LANES;
                 let level = crate::simd::level();
+                let front_reach = solver.model.opw.as_ref().map(super::reach::FrontReach::new);
+                // The block's masks (chunk front_at + i at i).
+                let (mut front, mut front_at) = ([0u32; PRUNE_BLOCK], 0);
                 let mut k0 = 0;
                 // The tips lane by lane (TipMap::lanes_of, bit for bit part_to_base.apply), kept for
                 // the second prune and the first round of tracking.
@@ -1716,18 +1720,23 @@ fn time_at_with(
                         let b = PRUNE_BLOCK.min(chunks - c0);
                         tips_all.resize(c0 + b, [[0.0; LANES]; 3]);
                         map.lanes_of(&x[c0..c0 + b], &mut tips_all[c0..c0 + b], level);
-                    }
-                    let t = &tips_all[c0];
-                    // The wrist centres tip + d, lane by lane (V3's sum per coordinate).
-                    let mut c = [[0.0; LANES]; 3];
-                    for ((ci, ti), di) in c.iter_mut().zip(t).zip(d.iter()) {
-                        for (v, tv) in ci.iter_mut().zip(ti) {
-                            *v = tv + di;
+                        // The wrist centres tip + d of the block (V3's sum per coordinate)
+                        // the screen passes.
+                        front_at = c0;
+                        match &front_reach {
+                            Some(r) => r.masks(
+                                &tips_all[c0..c0 + b],
+                                [d.x, d.y, d.z],
+                                1e-9,
+                                &mut front[..b],
+                                level,
+                            ),
+                            None => front.fill(0),
                         }
                     }
-                    let front = solver.wrist_centres_reach_front_mask(&c, 1e-9, level);
-                    // The lanes it rejects, in order.
-                    let mut missed = !front & ((1u32 << count) - 1);
+                    let t = &tips_all[c0];
+                    // The lanes it does not pass, in order.
+                    let mut missed = !front[c0 - front_at] & ((1u32 << count) - 1);
                     while missed != 0 {
                         let l = missed.trailing_zeros() as usize;
                         missed &= missed - 1;

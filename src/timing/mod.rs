@@ -4,6 +4,7 @@ pub mod budget;
 pub mod geometry;
 pub mod joint;
 pub mod profile;
+mod reach;
 
 pub use geometry::{blend_path, blend_path_with_dwells, Move, Piece, Prim};
 pub use joint::{
