@@ -594,14 +594,17 @@ fn energy_of_a_timed_path_is_the_same_on_the_scalar_and_every_simd_path() {
     simd::set_level(simd::detected());
 }
 
-#[test]
-fn lockstep_friction_motor_and_supply_stages_equal_the_per_sample_path_near_velocity_reversals() {
-    // Every torque effect the lockstep pass knows (viscous, Coulomb, Stribeck, armature,
-    // offset, balancer) and one it calls per lane (rigid_body), on every regeneration policy,
-    // at velocities around zero where the smoothed Coulomb sign is not saturated (libm's tanh
-    // per lane) mixed with saturated ones, exact zeros and −0 included: every field of every
-    // sample bit for bit.
-    use printwatt::robot::Regeneration;
+/// The default robot with every torque effect the lockstep pass knows (viscous, Coulomb,
+/// Stribeck, armature, offset, balancer) and one it calls per lane (rigid_body), and `count`
+/// states (rad, sines and cosines, rad/s, rad/s²) whose velocities sit around zero where the
+/// smoothed Coulomb sign is not saturated, mixed with saturated ones, exact zeros and −0.
+#[allow(clippy::type_complexity)]
+fn every_effect_robot_and_states(
+    count: usize,
+) -> (
+    printwatt::robot::RobotModel,
+    Vec<(Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>)>,
+) {
     let mut model = common::robot("abb_irb6700_200_260");
     let n = model.dof();
     let t = &mut model.effects.table;
@@ -648,9 +651,7 @@ fn lockstep_friction_motor_and_supply_stages_equal_the_per_sample_path_near_velo
     );
     model.effects.table.values = Some(values);
     let mut u = uniform(23);
-    let count = 6 * LANES + 3;
-    #[allow(clippy::type_complexity)]
-    let st: Vec<(Vec<f64>, Vec<f64>, Vec<f64>, Vec<f64>)> = (0..count)
+    let st = (0..count)
         .map(|k| {
             let q: Vec<f64> = (0..n).map(|_| 3.0 * u()).collect();
             let mut sc = vec![0.0; 2 * n];
@@ -670,6 +671,18 @@ fn lockstep_friction_motor_and_supply_stages_equal_the_per_sample_path_near_velo
             (q, sc, qd, qdd)
         })
         .collect();
+    (model, st)
+}
+
+#[test]
+fn lockstep_friction_motor_and_supply_stages_equal_the_per_sample_path_near_velocity_reversals() {
+    // Every torque effect the lockstep pass knows (viscous, Coulomb, Stribeck, armature,
+    // offset, balancer) and one it calls per lane (rigid_body), on every regeneration policy,
+    // at velocities around zero where the smoothed Coulomb sign is not saturated (libm's tanh
+    // per lane) mixed with saturated ones, exact zeros and −0 included: every field of every
+    // sample bit for bit.
+    use printwatt::robot::Regeneration;
+    let (model, st) = every_effect_robot_and_states(6 * LANES + 3);
     for regeneration in [
         Regeneration::None,
         Regeneration::PerAxis,
@@ -2269,6 +2282,87 @@ fn sines_and_arctangents_of_any_lane_count_equal_the_scalar_functions_bit_for_bi
                 "acos {}",
                 half[l]
             );
+        }
+    }
+}
+
+#[test]
+fn the_fused_summed_pass_adds_the_per_sample_paths_sums_bit_for_bit_with_every_effect_regeneration_and_without_a_drive(
+) {
+    // eval_rows_summed takes a full batch's powers straight into the sums (session 12: the
+    // effects into local torques, then joint by joint the motor model, the sums and the
+    // supply, nothing written into PowerLanes and read back); a short batch goes through
+    // PowerLanes. With every torque effect (rigid_body per lane), on every regeneration policy
+    // and without a drive, over full and short batches, the sums equal the per-sample path's
+    // (EnergySums::add_sample with trapezoid weights) bit for bit on every level.
+    use printwatt::robot::Regeneration;
+    let (model, st) = every_effect_robot_and_states(5 * LANES + 3);
+    let n = model.dof();
+    let mut no_drive = model.clone();
+    no_drive.drive = None;
+    let m = st.len();
+    let weight = |k: usize| printwatt::numerics::trapezoid_weight(k, m, 0.004);
+    let (mut q, mut sc, mut qd, mut qdd) = (vec![], vec![], vec![], vec![]);
+    for (a, b, c, d) in &st {
+        q.extend_from_slice(a);
+        sc.extend_from_slice(b);
+        qd.extend_from_slice(c);
+        qdd.extend_from_slice(d);
+    }
+    let models = [
+        (&model, Regeneration::None),
+        (&model, Regeneration::PerAxis),
+        (&model, Regeneration::DcBus),
+        (&model, Regeneration::Grid),
+        (&no_drive, Regeneration::DcBus),
+    ];
+    for (robot, regeneration) in models {
+        let em = EnergyModel::with_options(
+            robot,
+            energy::EnergyOptions {
+                regeneration: Some(regeneration),
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        assert!(em.description().contains("rigid_body"));
+        assert_eq!(em.has_drive(), robot.drive.is_some());
+        let mut data = em.data();
+        let mut want = energy::EnergySums::default();
+        let mut sp = SamplePower::default();
+        for (k, (a, b, c, d)) in st.iter().enumerate() {
+            energy::eval_sample_with_sincos(&em, &mut data, a, b, c, d, &mut sp).unwrap();
+            want.add_sample(k, &sp, weight(k), n);
+        }
+        for level in levels() {
+            for given in [true, false] {
+                let mut sums = energy::EnergySums::default();
+                let mut x = energy::LaneInputs::default();
+                let mut out = energy::PowerLanes::default();
+                for k0 in (0..m).step_by(LANES) {
+                    let count = LANES.min(m - k0);
+                    let rows = energy::Rows {
+                        q: &q[k0 * n..],
+                        sincos: given.then(|| &sc[k0 * 2 * n..]),
+                        qd: &qd[k0 * n..],
+                        qdd: &qdd[k0 * n..],
+                    };
+                    let mut w = [0.0; LANES];
+                    for (l, w) in w.iter_mut().enumerate().take(count) {
+                        *w = weight(k0 + l);
+                    }
+                    energy::eval_rows_summed(
+                        &em, &mut data, count, &rows, &mut x, &mut out, &mut sums, &w, level,
+                    )
+                    .unwrap();
+                }
+                assert_eq!(
+                    format!("{sums:?}"),
+                    format!("{want:?}"),
+                    "{regeneration:?}, drive {}, {level:?}, sines given {given}",
+                    em.has_drive()
+                );
+            }
         }
     }
 }

@@ -568,22 +568,25 @@ pub(crate) fn rnea_lanes<const W: usize>(
             });
         }
         // Backward: the torque of joint i, then its force and moment into the parent's frame
-        // (`R v = C (Rz v)`); into link 0 only the moment's z component.
+        // (`R v = C (Rz v)`); into link 0 only the moment's z component. The running force and
+        // moment stay in registers (session 12): link i − 1's total is its own (from the
+        // forward pass) plus its child's, the same addition as accumulating into its slot,
+        // without storing it to read it back.
+        let (mut fi, mut ni) = (f[n - 1], nn[n - 1]);
         for i in (1..n).rev() {
             let lk = &m.links[i];
             let arm = lk.armature;
-            let (t, a) = (&nn[i].z, &qdd[i]);
+            let (t, a) = (&ni.z, &qdd[i]);
             tau[i] = lanes!(l => t[l] + arm * a[l]);
             let (si, ci) = (&s[i], &c[i]);
-            let (fi, ni) = (f[i], nn[i]);
             let (fp, np) = with_fixed!(lk, |fx| {
                 let fp = fx.c(&rz(si, ci, &fi));
                 let np = fx.c(&rz(si, ci, &ni)).add(&VL::c_cross(&lk.p, &fp));
                 (fp, np)
             });
             if i > 1 {
-                f[i - 1] = f[i - 1].add(&fp);
-                nn[i - 1] = nn[i - 1].add(&np);
+                fi = f[i - 1].add(&fp);
+                ni = nn[i - 1].add(&np);
             } else {
                 nz0 = lanes!(l => nz0[l] + np.z[l]);
             }

@@ -218,25 +218,28 @@ struct Inputs<'b> {
     b: &'b StateBatch,
 }
 
-/// Everything after RNEA, lane by lane (see the module docs); `out.tau_rb` holds the
-/// rigid-body torques.
+/// The torque effects of [`tail_lanes`], lane by lane: into `tau_rb` (holding RNEA's torques),
+/// `tau_friction` and `tau_balancer` (set to zero first) by energy class, N·m.
 #[inline(always)]
 #[allow(clippy::needless_range_loop)] // parallel fixed arrays indexed by joint and lane
-/// With `ALL` false only what the integration reads is written (`tau_rb`, `tau_friction`,
-/// `tau_balancer`, `p_mech`, `p_friction`, `p_gear`, `p_copper`, `p_el` and the supply lanes);
-/// `tau`, `p_rigid_body`, `p_balancer`, `current` and `voltage` are left as they were.
-fn tail_lanes<const ALL: bool>(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
+fn effects_lanes(
+    model: &EnergyModel,
+    x: &Inputs<'_>,
+    tau_rb: &mut [Lanes; MAX_DOF],
+    tau_friction: &mut [Lanes; MAX_DOF],
+    tau_balancer: &mut [Lanes; MAX_DOF],
+) {
     let n = model.n;
     let (qd, qdd) = (&x.b.qd, &x.b.qdd);
     for j in 0..MAX_DOF {
-        out.tau_balancer[j] = [0.0; LANES];
-        out.tau_friction[j] = [0.0; LANES];
+        tau_balancer[j] = [0.0; LANES];
+        tau_friction[j] = [0.0; LANES];
     }
     for (e, class) in &model.lane_effects {
         let dst = match class {
-            EnergyClass::RigidBody => &mut out.tau_rb,
-            EnergyClass::Friction => &mut out.tau_friction,
-            EnergyClass::Balancer => &mut out.tau_balancer,
+            EnergyClass::RigidBody => &mut *tau_rb,
+            EnergyClass::Friction => &mut *tau_friction,
+            EnergyClass::Balancer => &mut *tau_balancer,
         };
         match e {
             LaneEffect::Viscous(fv) => {
@@ -330,6 +333,25 @@ fn tail_lanes<const ALL: bool>(model: &EnergyModel, x: &Inputs<'_>, out: &mut Po
             }
         }
     }
+}
+
+/// Everything after RNEA, lane by lane (see the module docs); `out.tau_rb` holds the
+/// rigid-body torques.
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // parallel fixed arrays indexed by joint and lane
+/// With `ALL` false only what the integration reads is written (`tau_rb`, `tau_friction`,
+/// `tau_balancer`, `p_mech`, `p_friction`, `p_gear`, `p_copper`, `p_el` and the supply lanes);
+/// `tau`, `p_rigid_body`, `p_balancer`, `current` and `voltage` are left as they were.
+fn tail_lanes<const ALL: bool>(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
+    let n = model.n;
+    let qd = &x.b.qd;
+    effects_lanes(
+        model,
+        x,
+        &mut out.tau_rb,
+        &mut out.tau_friction,
+        &mut out.tau_balancer,
+    );
     // super::power_sample, lane by lane: whole-lane expressions (which vectorise), the
     // per-sample formulas' operations in their order.
     for j in 0..n {
@@ -403,6 +425,114 @@ fn tail_lanes<const ALL: bool>(model: &EnergyModel, x: &Inputs<'_>, out: &mut Po
         out.p_drives[l] = drives;
         out.p_regeneration_lost[l] = drives - sum;
         out.p_supply[l] = drives + p0;
+    }
+}
+
+/// [`tail_lanes`]`::<false>` then [`sums_lanes`] of a full batch, fused (session 12): the
+/// effects into local torques, then joint by joint the motor model, the sums and the
+/// supply's running sums with the joint's powers in registers. Nothing is written into
+/// [`PowerLanes`] to be read back by the sums (the supply's reads of each joint's `p_el` had
+/// been narrower loads of wider stores). Every lane performs the same operations in the same
+/// order as there (each sum its own additions), so the bits are the same. `tau_rb` holds
+/// RNEA's torques (N·m; the rigid-body effects are added into it), `w` the trapezoid weights
+/// (s).
+#[inline(always)]
+#[allow(clippy::needless_range_loop)] // parallel fixed arrays indexed by joint and lane
+fn tail_summed(
+    model: &EnergyModel,
+    x: &Inputs<'_>,
+    tau_rb: &mut [Lanes; MAX_DOF],
+    s: &mut EnergySums,
+    w: &Lanes,
+) {
+    let zero: f64 = std::iter::empty::<f64>().sum();
+    let mut sum = [zero; LANES];
+    let mut pos = [zero; LANES];
+    let mut tf = [[0.0; LANES]; MAX_DOF];
+    let mut tb = [[0.0; LANES]; MAX_DOF];
+    effects_lanes(model, x, tau_rb, &mut tf, &mut tb);
+    for j in 0..model.n {
+        joint_summed(
+            model, j, &x.b.qd[j], &tau_rb[j], &tf[j], &tb[j], s, w, &mut sum, &mut pos,
+        );
+    }
+    supply_summed(model, &sum, &pos, s, w);
+}
+
+/// Joint `j`'s powers (its velocity `v` rad/s; torques `trb`, `tf`, `tb` N·m by class) added
+/// into the sums `s` with weights `w` (s), and its electrical power into the supply's running
+/// `sum` and `pos` (W): [`tail_lanes`]`::<false>`'s and [`sums_lanes`]' operations.
+#[inline(always)]
+#[allow(clippy::too_many_arguments)]
+fn joint_summed(
+    model: &EnergyModel,
+    j: usize,
+    v: &Lanes,
+    trb: &Lanes,
+    tf: &Lanes,
+    tb: &Lanes,
+    s: &mut EnergySums,
+    w: &Lanes,
+    sum: &mut Lanes,
+    pos: &mut Lanes,
+) {
+    // super::power_sample and the motor model (tail_lanes' operations).
+    let ax = model.axes[j];
+    let tau = each!(l => trb[l] + tf[l] + tb[l]);
+    let pm = each!(l => tau[l] * v[l]);
+    let pf = each!(l => tf[l] * v[l]);
+    let (pg, pc, pel) = if model.has_drive {
+        let ge = ax.gear * ax.eta;
+        let tm = each!(l => {
+            let drive = tau[l] * v[l] >= 0.0;
+            let num = if drive { tau[l] } else { tau[l] * ax.eta };
+            let den = if drive { ge } else { ax.gear };
+            num / den
+        });
+        let wm = each!(l => ax.gear * v[l]);
+        let i = each!(l => tm[l] / ax.kt);
+        let shaft = each!(l => tm[l] * wm[l]);
+        let copper = each!(l => ax.r * i[l] * i[l]);
+        (
+            each!(l => shaft[l] - pm[l]),
+            copper,
+            each!(l => shaft[l] + copper[l]),
+        )
+    } else {
+        ([0.0; LANES], [0.0; LANES], pm)
+    };
+    // sums_lanes' additions of this joint, and its share of the supply.
+    for l in 0..LANES {
+        s.mech[j][l] += w[l] * pm[l];
+        s.mech_abs[j][l] += w[l] * pm[l].abs();
+        s.mech_pos[j][l] += w[l] * pm[l].max(0.0);
+        s.el[j][l] += w[l] * pel[l];
+        s.friction[j][l] += w[l] * pf[l];
+        s.gear[j][l] += w[l] * pg[l];
+        s.copper[j][l] += w[l] * pc[l];
+        sum[l] += pel[l];
+        pos[l] += pel[l].max(0.0);
+    }
+}
+
+/// The supply of the batch from the running `sum` and `pos` of the joints' electrical
+/// powers (W), added into `s` with weights `w` (s): [`tail_lanes`]' and [`sums_lanes`]'
+/// operations.
+#[inline(always)]
+fn supply_summed(model: &EnergyModel, sum: &Lanes, pos: &Lanes, s: &mut EnergySums, w: &Lanes) {
+    let (rho, p0) = (model.recovered_fraction, model.standby_w);
+    // The regeneration's choice made once for all lanes (a select per lane would not
+    // vectorise).
+    let draw = match model.regeneration {
+        Regeneration::None | Regeneration::PerAxis => *pos,
+        Regeneration::DcBus => each!(l => sum[l].max(0.0)),
+        Regeneration::Grid => *sum,
+    };
+    for l in 0..LANES {
+        let drives = draw[l] - rho * (draw[l] - sum[l]);
+        s.supply[l] += w[l] * (drives + p0);
+        s.drives[l] += w[l] * drives;
+        s.regeneration_lost[l] += w[l] * (drives - sum[l]);
     }
 }
 
@@ -653,17 +783,16 @@ fn pass_lanes<const AVX512: bool>(
         &mut x.rnea,
     );
     let x = Inputs { q: &x.q, b: &x.b };
-    match &sum {
-        Some(_) => tail_lanes::<false>(model, &x, out),
-        None => tail_lanes::<true>(model, &x, out),
-    }
     if let Some((s, w)) = sum {
         if count == LANES {
-            sums_lanes(s, out, w, model.n);
+            tail_summed(model, &x, &mut out.tau_rb, s, w);
         } else {
+            tail_lanes::<false>(model, &x, out);
             s.add_partial(out, w, count, model.n);
         }
+        return;
     }
+    tail_lanes::<true>(model, &x, out);
 }
 
 fn pass_sse2(
@@ -725,8 +854,8 @@ pub fn eval_rows(
 
 /// [`eval_rows`], then the batch's powers added into `sums` with trapezoid weights `w` (s per
 /// lane; [`EnergySums::add_lanes`]) in the same compiled pass: the sweep's integration step.
-/// Only what the sums read is written into `out` on the lockstep levels: `tau`,
-/// `p_rigid_body`, `p_balancer`, `current` and `voltage` are left as they were there.
+/// What `out` holds afterwards is not specified: on the lockstep levels a full batch's powers go
+/// straight into the sums (only `tau_rb` is written), a short batch writes what the sums read.
 #[allow(clippy::too_many_arguments)]
 pub fn eval_rows_summed(
     model: &EnergyModel,
