@@ -87,7 +87,9 @@ impl Level {
         }
     }
 
-    /// Whether this CPU can run the level.
+    /// Whether this CPU can run the level. Inlined: the dispatches ask it once per batch, and
+    /// as a call it cost about 20 instructions each time (about 5 per sample on AVX2).
+    #[inline]
     pub fn available(self) -> bool {
         match self {
             Level::Scalar | Level::Sse2 => true,
