@@ -346,13 +346,27 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
             b.cost()
         );
     }
+    let base_tol = rep
+        .optimise
+        .as_ref()
+        .and_then(|o| o.baseline_tolerance.as_ref());
+    if let (Some(_), Some(c)) = (&rep.baseline, base_tol) {
+        println!(
+            "baseline tolerance: {}",
+            printwatt::report::placement::baseline_tolerance_text(c)
+        );
+    }
     if let Some(sv) = rep.optimise.as_ref().and_then(|o| o.savings.as_ref()) {
         let t = |(j, pct): (f64, f64)| printwatt::report::placement::saving_text(j, pct);
         println!(
-            "saving vs baseline: supply {}, drives {}, standby {}",
+            "saving vs baseline: supply {}, drives {}, standby {}{}",
             t(sv.supply),
             t(sv.drives),
-            t(sv.standby)
+            t(sv.standby),
+            base_tol.map_or(
+                String::new(),
+                printwatt::report::placement::baseline_saving_caveat
+            )
         );
     }
     if let Some(si) = rep.optimise.as_ref().and_then(|o| o.search.as_ref()) {
@@ -545,6 +559,14 @@ pub fn compute(
     };
     if let Some((_, b)) = &baseline {
         res.savings = optimise::Savings::of(&res.best, b);
+        // The baseline is checked against the tolerance the answer holds (every corner, so
+        // the report can say how many fail), in the run's pool.
+        if res.search.is_some() && !tol.is_zero() && b.cost().is_finite() {
+            res.baseline_tolerance =
+                Some(pool.install(|| {
+                    printwatt::placement::tolerance::check_all(&ev, &b.placement, &tol)
+                })?);
+        }
     }
     if let Some(n) = a.uncertainty {
         if n == 0 || n > 100_000 {
@@ -603,8 +625,13 @@ pub fn compute(
         .collect()
     };
     // Every evaluation the answer needed: grid, refinement, tolerance checks (with the
-    // bisection and spin points) and the 4 sensitivity points.
-    let n_eval = ps.len() + res.evals + res.search.as_ref().map_or(0, |si| si.tolerance_evals) + 4;
+    // bisection and spin points; the baseline's corners) and the 4 sensitivity points.
+    let base_corners = res.baseline_tolerance.as_ref().map_or(0, |c| c.corners);
+    let n_eval = ps.len()
+        + res.evals
+        + res.search.as_ref().map_or(0, |si| si.tolerance_evals)
+        + base_corners
+        + 4;
     let mut m = meta(l, ev.nominal_samples());
     m.extend(super::sweep::evaluation_line(&ev));
     m.push(("seed".into(), a.seed.to_string()));
@@ -634,12 +661,23 @@ pub fn compute(
         }
         m.push((
             "evaluations".into(),
-            format!(
-                "grid {}, refinement {}, tolerance corners {}",
-                ps.len(),
-                res.evals,
-                si.tolerance_evals
-            ),
+            if base_corners > 0 {
+                format!(
+                    "grid {}, refinement {}, tolerance corners {} (the answer's search {}, the baseline {})",
+                    ps.len(),
+                    res.evals,
+                    si.tolerance_evals + base_corners,
+                    si.tolerance_evals,
+                    base_corners
+                )
+            } else {
+                format!(
+                    "grid {}, refinement {}, tolerance corners {}",
+                    ps.len(),
+                    res.evals,
+                    si.tolerance_evals
+                )
+            },
         ));
         if let Some(om) = &si.on_margin {
             m.push((

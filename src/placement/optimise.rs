@@ -97,6 +97,11 @@ pub struct OptimiseResult {
     pub search: Option<super::search::SearchInfo>,
     /// Savings against the baseline in supply, drives and the objective (set by the caller).
     pub savings: Option<Savings>,
+    /// The baseline's placement tolerance: the same tolerance the answer must hold, checked at
+    /// all 16 corners of the baseline's box ([`super::tolerance::check_all`]; set by the
+    /// caller). `None` when there is no baseline, it is infeasible, the tolerance is zero or
+    /// the answer's tolerance is not checked (the pattern search).
+    pub baseline_tolerance: Option<super::tolerance::ToleranceCheck>,
     /// The uncertainty study of the answer (`optimise --uncertainty N`, set by the caller).
     pub uncertainty: Option<super::uncertainty::Study>,
     /// With the path reduction on: the answer's full evaluation beside its estimate (set by
@@ -258,6 +263,7 @@ pub fn refine(ev: &Evaluator, start: Evaluated, opts: &OptimiseOptions) -> Resul
         sensitivity,
         search: None,
         savings: None,
+        baseline_tolerance: None,
         uncertainty: None,
         path_reduction: None,
     })

@@ -579,6 +579,7 @@ fn refine_with(
             sensitivity: sens,
             search: None,
             savings: None,
+            baseline_tolerance: None,
             uncertainty: None,
             path_reduction: None,
         },

@@ -142,6 +142,18 @@ pub fn check(ev: &Evaluator, at: &Placement, tol: &Tolerance) -> Result<Toleranc
     Ok(summarise(tol, &r))
 }
 
+/// Re-evaluate `at` at every one of the 16 corners of `tol` (in one parallel sweep, results in
+/// corner order; deterministic, independent of the thread count), without stopping at the first
+/// infeasible one: for a placement reported beside the answer (the baseline), whose check
+/// says how many corners fail. A zero tolerance evaluates nothing and holds.
+pub fn check_all(ev: &Evaluator, at: &Placement, tol: &Tolerance) -> Result<ToleranceCheck> {
+    if tol.is_zero() {
+        return Ok(summarise(tol, &[]));
+    }
+    let r = ev.sweep(&tol.corners(at), &|_, _| {})?;
+    Ok(summarise(tol, &r))
+}
+
 /// Summarise evaluated corners (a check holds when all 16 were evaluated and are feasible, or
 /// the tolerance is zero).
 pub fn summarise(tol: &Tolerance, r: &[Evaluated]) -> ToleranceCheck {

@@ -669,11 +669,22 @@ impl RunReport {
                 facts.push((k.to_string(), v.to_string()));
             }
         }
+        let base_tol = self
+            .optimise
+            .as_ref()
+            .and_then(|o| o.baseline_tolerance.as_ref());
         if let Some((how, b)) = &self.baseline {
             facts.push((format!("baseline ({how})"), describe(b)));
+            if let Some(c) = base_tol {
+                facts.push(("baseline tolerance".into(), baseline_tolerance_text(c)));
+            }
         }
         if let Some((j, pct)) = self.saving() {
-            facts.push(("saving vs baseline".into(), saving_text(j, pct)));
+            let mut t = saving_text(j, pct);
+            if let Some(c) = base_tol.filter(|c| !c.holds) {
+                t.push_str(&baseline_saving_caveat(c));
+            }
+            facts.push(("saving vs baseline".into(), t));
         }
         if let Some(s) = self.spread_pct() {
             facts.push((
@@ -1005,6 +1016,43 @@ pub fn uncertainty_lines(u: &crate::placement::uncertainty::Study) -> Vec<String
         ));
     }
     v
+}
+
+/// The baseline's tolerance check in words: "holds ±20 mm in x and y, …: all 16 corners
+/// feasible, energy a…b J" or "does NOT hold …: k of the 16 corners infeasible (first: why)"
+/// (energies in J).
+pub fn baseline_tolerance_text(c: &crate::placement::tolerance::ToleranceCheck) -> String {
+    if c.holds {
+        format!(
+            "holds {}: all {} corners feasible, energy {:.1}…{:.1} J",
+            c.tolerance.describe(),
+            c.corners,
+            c.best_j.unwrap_or(f64::NAN),
+            c.worst_j.unwrap_or(f64::NAN)
+        )
+    } else {
+        format!(
+            "does NOT hold {}: {} of the {} corners infeasible (first: {})",
+            c.tolerance.describe(),
+            c.failures.len(),
+            c.corners,
+            c.failures.first().map_or("", String::as_str)
+        )
+    }
+}
+
+/// What a saving against a baseline that does not hold the placement tolerance (`c`) is
+/// measured against, appended to the saving: empty when the baseline holds it.
+pub fn baseline_saving_caveat(c: &crate::placement::tolerance::ToleranceCheck) -> String {
+    if c.holds {
+        String::new()
+    } else {
+        format!(
+            "; measured against a baseline that does NOT hold the placement tolerance ({} of its {} corners infeasible): a placement a site could not rely on",
+            c.failures.len(),
+            c.corners
+        )
+    }
 }
 
 /// A saving as people read it: `"819.8 J (6.00 %)"`, or `"no difference"` when the saving is
