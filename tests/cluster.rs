@@ -322,3 +322,215 @@ fn uncertainty_study_shards_merge_to_the_single_run_files_bit_for_bit() {
     assert!(e.contains("--uncertainty"), "{e}");
     let _ = std::fs::remove_dir_all(&d);
 }
+
+/// A design study over the scratch directory's wall: two robots, a cell in reach and one out
+/// of reach of both (its cases have no answer), the options of every case small.
+const STUDY: &str = r#"
+[study]
+name = "two-arms"
+options = ["--max-evals", "12", "--seed", "3"]
+
+[[robot]]
+name = "big"
+robot = "abb_irb6700_200_260"
+
+[[robot]]
+name = "small"
+robot = "abb_irb4600_40_255"
+
+[[cell]]
+name = "near"
+x = "1.3:1.7:0.2"
+y = "-0.25:0.25:0.25"
+yaw = 90
+
+[[cell]]
+name = "far"
+x = 4.5
+y = 0
+yaw = "0,90"
+
+[[path]]
+name = "wall"
+file = "wall.gcode"
+"#;
+
+#[test]
+fn design_study_shards_merge_to_the_single_run_files_bit_for_bit() {
+    // Issue 12 item 6: design studies split by case, merged into the single run's directory.
+    let d = scratch("design");
+    std::fs::write(d.join("study.toml"), STUDY).unwrap();
+    let single = ok(&printwatt(
+        &["study", "study.toml", "--out", "single", "--threads", "2"],
+        &d,
+        &[],
+    ));
+    // Shard 1 from a Kubernetes Indexed Job's index, shard 0 from a Slurm array, one thread.
+    let o = ok(&printwatt(
+        &["study", "study.toml", "--shard", "auto/2", "--out", "parts"],
+        &d,
+        &[("JOB_COMPLETION_INDEX", "1")],
+    ));
+    assert!(
+        o.contains("shard 1 of 2 (from the Kubernetes Indexed Job)"),
+        "{o}"
+    );
+    let o = ok(&printwatt(
+        &[
+            "study",
+            "study.toml",
+            "--shard",
+            "auto",
+            "--out",
+            "parts",
+            "--threads",
+            "1",
+        ],
+        &d,
+        &[
+            ("SLURM_ARRAY_TASK_ID", "0"),
+            ("SLURM_ARRAY_TASK_MIN", "0"),
+            ("SLURM_ARRAY_TASK_MAX", "1"),
+        ],
+    ));
+    assert!(o.contains("shard 0 of 2 (from the Slurm job array)"), "{o}");
+    assert!(o.contains("2 of 4 cases"), "{o}");
+    let elsewhere = d.join("elsewhere");
+    std::fs::create_dir_all(&elsewhere).unwrap();
+    let merged = ok(&printwatt(
+        &["merge", "../parts", "--out", "../merged"],
+        &elsewhere,
+        &[],
+    ));
+    let answer = |s: &str| -> Vec<String> {
+        s.lines()
+            .filter(|l| !l.starts_with("report:"))
+            .map(str::to_string)
+            .collect()
+    };
+    assert_eq!(
+        answer(&single),
+        answer(&merged),
+        "the terminal answers differ"
+    );
+    let files = |dir: &str| -> Vec<String> {
+        let mut v: Vec<String> = std::fs::read_dir(d.join(dir))
+            .unwrap()
+            .map(|e| e.unwrap().file_name().to_string_lossy().into_owned())
+            .filter(|f| !f.starts_with('.') && f != "run.json")
+            .collect();
+        v.sort();
+        v
+    };
+    assert_eq!(files("single"), files("merged"));
+    // Two answered cases, each with its report page; the far cell's cases have none.
+    assert_eq!(
+        files("single"),
+        [
+            "case-0-big-near-wall.html",
+            "case-2-small-near-wall.html",
+            "report.html",
+            "study.csv",
+            "summary.json"
+        ]
+    );
+    for f in files("single") {
+        let a = std::fs::read(d.join("single").join(&f)).unwrap();
+        let b = std::fs::read(d.join("merged").join(&f)).unwrap();
+        assert!(a == b, "{f} differs between the single run and the merge");
+    }
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("single/summary.json")).unwrap())
+            .unwrap();
+    let cases = s["cases"].as_array().unwrap();
+    assert_eq!(cases.len(), 4);
+    assert_eq!(cases[0]["status"], "feasible");
+    assert_eq!(cases[1]["status"], "no answer");
+    assert!(
+        cases[1]["reason"].as_str().unwrap().contains("reach"),
+        "{}",
+        cases[1]["reason"]
+    );
+    // The cheaper arm prints the wall; the combinations that print it come first.
+    let best = &s["best_per_path"][0];
+    let e0 = cases[0]["outcome"]["energy_j"].as_f64().unwrap();
+    let e2 = cases[2]["outcome"]["energy_j"].as_f64().unwrap();
+    assert_eq!(best["energy_j"].as_f64().unwrap(), e0.min(e2));
+    assert_eq!(s["combinations"][0]["feasible"], 1);
+    assert_eq!(s["combinations"][3]["feasible"], 0);
+    let facts: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("merged/run.json")).unwrap()).unwrap();
+    assert_eq!(facts["cases"], 4);
+    assert_eq!(facts["shards"], 2);
+    // The single run's directory is not replaced without --force.
+    let e = err(&printwatt(
+        &["study", "study.toml", "--out", "single"],
+        &d,
+        &[],
+    ));
+    assert!(e.contains("exists"), "{e}");
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn merge_refuses_study_shards_whose_study_file_changed_since_they_ran() {
+    let d = scratch("design-changed");
+    std::fs::write(d.join("study.toml"), STUDY).unwrap();
+    for k in 0..2 {
+        ok(&printwatt(
+            &[
+                "study",
+                "study.toml",
+                "--shard",
+                &format!("{k}/2"),
+                "--out",
+                "parts",
+            ],
+            &d,
+            &[],
+        ));
+    }
+    std::fs::write(d.join("study.toml"), STUDY.replace("\"12\"", "\"13\"")).unwrap();
+    let e = err(&printwatt(&["merge", "parts", "--out", "merged"], &d, &[]));
+    assert!(e.contains("study.toml changed since the shards ran"), "{e}");
+    assert!(!d.join("merged").exists());
+    let _ = std::fs::remove_dir_all(&d);
+}
+
+#[test]
+fn a_study_names_the_case_or_entry_at_fault_before_any_work() {
+    let d = scratch("design-errors");
+    let run = |text: &str| {
+        std::fs::write(d.join("s.toml"), text).unwrap();
+        err(&printwatt(&["study", "s.toml", "--out", "out"], &d, &[]))
+    };
+    // A path that is not there: the case is named, nothing is written.
+    let e = run(&STUDY.replace("wall.gcode", "wal.gcode"));
+    assert!(e.contains("case 0 (big / near / wall)"), "{e}");
+    assert!(e.contains("wal.gcode"), "{e}");
+    assert!(!d.join("out").exists());
+    // Options the study owns, and the objective anywhere but [study].
+    let e = run(&STUDY.replace("\"--seed\", \"3\"", "\"--out\", \"x\""));
+    assert!(
+        e.contains("[study] options: `--out` is not an option of a study case"),
+        "{e}"
+    );
+    let e = run(&STUDY.replace(
+        "name = \"small\"",
+        "name = \"small\"\noptions = [\"--objective\", \"drives\"]",
+    ));
+    assert!(
+        e.contains("robot `small` options: `--objective` belongs in [study] options"),
+        "{e}"
+    );
+    // An option that does not parse names the case; a TOML error names the line.
+    let e = run(&STUDY.replace("\"--seed\", \"3\"", "\"--sed\", \"3\""));
+    assert!(
+        e.contains("case 0 (big / near / wall): its options do not parse"),
+        "{e}"
+    );
+    let e = run(&STUDY.replace("yaw = 90", "yaw = [90]"));
+    assert!(e.contains("s.toml (line "), "{e}");
+    assert!(!d.join("out").exists());
+    let _ = std::fs::remove_dir_all(&d);
+}

@@ -1,6 +1,7 @@
-//! `printwatt merge`: put the shards of a split sweep or uncertainty study together into the files a single run
-//! writes (`summary.json`, `placements.csv`, `report.html`), bit for bit; `run.json` says how
-//! the merged run was made.
+//! `printwatt merge`: put the shards of a split sweep, uncertainty study or design study
+//! together into the files a single run writes (`summary.json`, `placements.csv`,
+//! `report.html`; a study's directory), bit for bit; `run.json` says how the merged run was
+//! made.
 
 use anyhow::{bail, Context, Result};
 use clap::Parser;
@@ -54,6 +55,16 @@ pub fn run(m: MergeArgs) -> Result<()> {
         std::iter::once("printwatt".to_string()).chain(h.args.iter().cloned()),
     )
     .context("the shards' command line")?;
+    if h.kind == shard::KIND_STUDY {
+        let super::Command::Study(sa) = cli.command else {
+            bail!("the shards hold study cases but were not written by `printwatt study`");
+        };
+        let (facts, extra) = merged_facts(&merged, &dirs, "cases", t0);
+        let shard::MergedRows::Study(results) = merged.rows else {
+            bail!("the shards hold placements or draws, not study cases");
+        };
+        return super::study::merge(sa, h, results, out, &m.out, (facts, extra), &here);
+    }
     if h.kind == shard::KIND_UNCERTAINTY {
         let super::Command::Optimise(oa) = cli.command else {
             bail!("the shards hold uncertainty draws but were not written by `printwatt optimise`");

@@ -16,6 +16,7 @@ mod optimise;
 mod robots;
 mod simulate;
 mod stations;
+mod study;
 mod sweep;
 
 /// `printwatt --version`: the package version and the git commit it was built from (build.rs).
@@ -41,10 +42,13 @@ pub enum Command {
     Robots(RobotsArgs),
     /// Evaluate placements of a path (grid, named set or list) in parallel: energy or why not.
     Sweep(sweep::SweepArgs),
-    /// Put the shards of a split run (`sweep --shard`, `optimise --uncertainty N --shard`) together: the files of a single run.
+    /// Put the shards of a split run (`sweep --shard`, `optimise --uncertainty N --shard`, `study --shard`) together: the files of a single run.
     Merge(merge::MergeArgs),
     /// Find the minimum-energy placement (grid, then seeded pattern search) and write a report.
     Optimise(optimise::OptimiseArgs),
+    /// Design study: optimise every path of a study file on each of its robots and cells, and
+    /// say which robot and cell prints each path, and all of them, for the least energy.
+    Study(study::StudyArgs),
     /// Plan stations for a path larger than one placement's reach: where the arm stands, where
     /// the path is split, least energy plus a stated cost per relocation.
     Stations(stations::StationsArgs),
@@ -279,10 +283,17 @@ pub fn parse_warning(file: &str, w: &str) -> Warning {
 }
 
 /// Show a reader's warnings: each goes to stderr now (`warning: file:line: message`) and is
-/// kept for the `warnings` of a `--json` output.
+/// kept for the `warnings` of a `--json` output. A warning already noted in this run (the same
+/// file read again, e.g. by each case of a study) is not repeated.
 pub fn note_warnings(file: &str, ws: &[String]) {
     for w in ws {
         let w = parse_warning(file, w);
+        if let Ok(mut g) = WARNINGS.lock() {
+            if g.contains(&w) {
+                continue;
+            }
+            g.push(w.clone());
+        }
         match w.line {
             Some(l) => eprintln!(
                 "warning: {}:{l}: {}",
@@ -294,11 +305,6 @@ pub fn note_warnings(file: &str, ws: &[String]) {
                 w.file,
                 printwatt::error::clip(&w.message)
             ),
-        }
-        if let Ok(mut g) = WARNINGS.lock() {
-            if !g.contains(&w) {
-                g.push(w);
-            }
         }
     }
 }
@@ -361,6 +367,7 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Energy(a) => energy::run(a),
         Command::Sweep(a) => sweep::run(a),
         Command::Merge(a) => merge::run(a),
+        Command::Study(a) => study::run(a),
         Command::Optimise(a) => optimise::run(a),
         Command::Stations(a) => stations::run(a),
         Command::Compare(a) => compare::run(a),

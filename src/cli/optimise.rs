@@ -213,229 +213,19 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
         p.run_dir(&l, Some("optimise"))?
     };
     let job = l.job()?;
-    let ev = l.evaluator(&job, &p.evaluation)?;
-    let (ps, names, grid) = p.placements(Some(l.default_grid()))?;
-    let baseline_given = match &a.baseline {
-        Some(s) => Some(parse_placement(s).context("--baseline")?),
-        None => None,
-    };
     let pool = p.pool()?;
-    let t0 = std::time::Instant::now();
-    let rows = run_sweep(&ev, &ps, &pool)?;
-    if !rows.iter().any(|r| r.cost().is_finite()) {
-        anyhow::bail!(
-            "{}",
-            printwatt::placement::advice::nothing_feasible_named(
-                &rows,
-                &l.robot,
-                &super::sweep::knob_flag
-            )
-            .trim_end()
-        );
-    }
-    let step = grid.as_ref().and_then(|g| g.step_xy_m()).unwrap_or(0.1);
-    let opts = OptimiseOptions {
-        seed: a.seed,
-        max_evals: a.max_evals,
-        step_xy_m: step / 2.0,
-        yaw: !a.fixed_yaw,
-        spin: !a.fixed_spin,
-        ..Default::default()
-    };
-    let tol = parse_tolerance(&a.tolerance)?;
-    let bounds = search_bounds(&ps, a.z_bounds.as_deref())?;
-    let mut res = match a.search.as_str() {
-        "nelder-mead" | "nelder_mead" | "nm" => {
-            let so = SearchOptions::new(bounds, tol);
-            let bar = std::io::stderr().is_terminal().then(|| {
-                let b = indicatif::ProgressBar::new(opts.max_evals as u64);
-                b.set_style(
-                    indicatif::ProgressStyle::with_template(
-                        "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} refinement evaluations {msg}",
-                    )
-                    .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-                );
-                b
-            });
-            let b2 = bar.clone();
-            let progress: search::Progress = std::sync::Arc::new(move |_it, n, best| {
-                if let Some(b) = &b2 {
-                    b.set_position(n as u64);
-                    b.set_message(format!("best {best:.1} J"));
-                }
-            });
-            let (mut r, info) =
-                pool.install(|| search::refine(&ev, &rows, &opts, &so, progress))?;
-            if let Some(b) = bar {
-                b.finish_and_clear();
-            }
-            r.search = Some(info);
-            r
-        }
-        "pattern" => pool.install(|| optimise::optimise(&ev, &rows, &opts))?,
-        s => anyhow::bail!("--search `{s}`: expected nelder-mead or pattern"),
-    };
-    // The answer of a reduced evaluation is always re-evaluated in full; the report shows
-    // both figures.
-    if let Some((full, chk)) = pool.install(|| reduce::confirm(&ev, &res.best))? {
-        if let Err(why) = &full.outcome {
-            anyhow::bail!(
-                "the placement chosen on representative layers (x = {:.3} m, y = {:.3} m, z = {:.3} m, yaw = {:.1}°) is infeasible when every sample is evaluated: {why}; run again with --evaluation full",
-                full.placement.x,
-                full.placement.y,
-                full.placement.z,
-                full.placement.yaw.to_degrees()
-            );
-        }
-        res.best = full;
-        res.path_reduction = Some(chk);
-    }
-    let baseline = match baseline_given {
-        Some(b) => {
-            let r = pool.install(|| ev.sweep(&[b], &|_, _| {}))?;
-            r.into_iter().next().map(|e| ("given".to_string(), e))
-        }
-        None => feasible_centre(&rows)
-            .map(|e| ("centre of the feasible grid region".to_string(), e.clone())),
-    };
-    if let Some((_, b)) = &baseline {
-        res.savings = optimise::Savings::of(&res.best, b);
-    }
-    if let Some(n) = a.uncertainty {
-        if n == 0 || n > 100_000 {
-            anyhow::bail!("--uncertainty {n}: expected 1 to 100000 draws");
-        }
-        // Candidates: the answer first, then every feasible grid cell that is not nominally
-        // better than it (a cheaper cell is one the search rejected because it does not hold
-        // the placement tolerance: not a candidate a site could use).
-        let mut cands = vec![res.best.clone()];
-        cands.extend(
-            rows.iter()
-                .filter(|r| {
-                    r.cost().is_finite()
-                        && r.cost() >= res.best.cost()
-                        && r.placement != res.best.placement
-                })
-                .cloned(),
-        );
-        let setup = printwatt::placement::uncertainty::StudySetup::new(
-            &ev,
-            &cands,
-            baseline.as_ref().map(|b| &b.1),
-            n,
-            a.seed,
-            None,
-        )?;
-        if let Some((sh, source, rd)) = shard_out.take() {
-            return write_study_shard(&a, &l, &setup, (sh, source, rd), t0);
-        }
-        let study = match &merged {
-            Some(m) => setup.reduce(&m.draws)?,
-            None => {
-                let all: Vec<usize> = (0..n).collect();
-                let per = pool.install(|| setup.draws(&all))?;
-                setup.reduce(&per)?
-            }
-        };
-        res.uncertainty = Some(study);
-    }
-    let secs = t0.elapsed().as_secs_f64();
-    // The placements shown in detail (series for the report), evaluated in parallel.
-    let mut wanted = vec![("best", &res.best)];
-    wanted.extend(worst_of(&rows).map(|w| ("worst", w)));
-    wanted.extend(baseline.as_ref().map(|(_, b)| ("baseline", b)));
-    let details: Vec<_> = {
-        use rayon::prelude::*;
-        pool.install(|| {
-            wanted
-                .par_iter()
-                .map(|(label, e)| detail(&job, label, e))
-                .collect::<Result<Vec<_>>>()
-        })?
-        .into_iter()
-        .flatten()
-        .collect()
-    };
-    // Every evaluation the answer needed: grid, refinement, tolerance checks (with the
-    // bisection and spin points) and the 4 sensitivity points.
-    let n_eval = ps.len() + res.evals + res.search.as_ref().map_or(0, |si| si.tolerance_evals) + 4;
-    let mut m = meta(&l, ev.nominal_samples());
-    m.extend(super::sweep::evaluation_line(&ev));
-    m.push(("seed".into(), a.seed.to_string()));
-    if let Some(si) = &res.search {
-        m.push(("search".into(), si.method.clone()));
-        m.push(("tolerance".into(), tolerance_line(&si.tolerance)));
-        m.push((
-            "search bounds".into(),
-            format!(
-                "x {:.3}…{:.3} m, y {:.3}…{:.3} m, z {:.3}…{:.3} m",
-                si.bounds.x[0],
-                si.bounds.x[1],
-                si.bounds.y[0],
-                si.bounds.y[1],
-                si.bounds.z[0],
-                si.bounds.z[1]
-            ),
-        ));
-        if !si.on_bounds.is_empty() {
-            m.push((
-                "optimum on a search bound".into(),
-                format!("{}: widen the range there", si.on_bounds.join(", ")),
-            ));
-        }
-        if let Some(jm) = &si.joint_margin {
-            m.push(("joint-limit margin kept".into(), jm.clone()));
-        }
-        m.push((
-            "evaluations".into(),
-            format!(
-                "grid {}, refinement {}, tolerance corners {}",
-                ps.len(),
-                res.evals,
-                si.tolerance_evals
-            ),
-        ));
-        if let Some(om) = &si.on_margin {
-            m.push((
-                "optimum on a joint-limit margin".into(),
-                format!("{om}: the margin, not the energy, stops the search here (--joint-margin)"),
-            ));
-        }
-        if let Some(sk) = &si.spin_kept {
-            m.push(("nozzle spin".into(), sk.clone()));
-        }
-        if let Some(b) = &si.budget_spent {
-            m.push(("search stopped".into(), b.clone()));
-        }
-        if let Some(pm) = &si.polished {
-            m.push(("polish".into(), pm.clone()));
-        }
-        for l in &si.lower_neighbours {
-            m.push(("cheaper neighbour not taken".into(), l.clone()));
-        }
-    }
-    let site = printwatt::report::site::SiteGeometry::new(
-        &l.robot,
+    let Some(Computed { rep, secs, n_eval }) = compute(
+        &a,
+        &l,
         &job,
-        res.best.placement.z,
-        &l.path_file,
-        names.as_deref(),
-    );
-    let rep = RunReport {
-        title: format!(
-            "printwatt optimise: {} on {}",
-            l.path_file.display(),
-            l.robot.name()
-        ),
-        meta: m,
-        rows,
-        names,
-        grid,
-        optimise: Some(res),
-        baseline,
-        site: Some(site),
-        details,
-        electrical: l.robot.drive.is_some(),
+        &pool,
+        merged.as_ref().map(|m| m.draws.as_slice()),
+        &mut shard_out,
+        std::io::stderr().is_terminal(),
+    )?
+    else {
+        // A shard of the uncertainty study: written.
+        return Ok(());
     };
     let mut written = None;
     if let Some(mut rd) = run_dir.take() {
@@ -638,6 +428,262 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
         println!("report: {}", dir.join("report.html").display());
     }
     Ok(())
+}
+
+/// An optimisation's answer: the report (every figure of the run's files) and the facts of
+/// the run (wall time of the work, s; evaluations).
+pub struct Computed {
+    /// The report of the run.
+    pub rep: RunReport,
+    /// Wall time of the grid, the refinement and the study, s.
+    pub secs: f64,
+    /// Every evaluation the answer needed.
+    pub n_eval: usize,
+}
+
+/// The work of `printwatt optimise` on a loaded job: grid, refinement, full re-evaluation of
+/// a reduced answer, baseline, uncertainty study (its draws from `merged_draws` when given),
+/// detailed placements; the report. With `shard_out` (an uncertainty study's shard) the shard
+/// is written and `None` returned. `progress`: show the refinement's progress bar.
+pub fn compute(
+    a: &OptimiseArgs,
+    l: &super::sweep::Loaded,
+    job: &printwatt::placement::PathJob,
+    pool: &rayon::ThreadPool,
+    merged_draws: Option<&[printwatt::placement::uncertainty::Draw]>,
+    shard_out: &mut Option<(
+        printwatt::placement::shard::Shard,
+        printwatt::placement::shard::ShardSource,
+        printwatt::output::RunDir,
+    )>,
+    progress: bool,
+) -> Result<Option<Computed>> {
+    let p = &a.p;
+    let ev = l.evaluator(job, &p.evaluation)?;
+    let (ps, names, grid) = p.placements(Some(l.default_grid()))?;
+    let baseline_given = match &a.baseline {
+        Some(s) => Some(parse_placement(s).context("--baseline")?),
+        None => None,
+    };
+    let t0 = std::time::Instant::now();
+    let rows = run_sweep(&ev, &ps, &pool)?;
+    if !rows.iter().any(|r| r.cost().is_finite()) {
+        anyhow::bail!(
+            "{}",
+            printwatt::placement::advice::nothing_feasible_named(
+                &rows,
+                &l.robot,
+                &super::sweep::knob_flag
+            )
+            .trim_end()
+        );
+    }
+    let step = grid.as_ref().and_then(|g| g.step_xy_m()).unwrap_or(0.1);
+    let opts = OptimiseOptions {
+        seed: a.seed,
+        max_evals: a.max_evals,
+        step_xy_m: step / 2.0,
+        yaw: !a.fixed_yaw,
+        spin: !a.fixed_spin,
+        ..Default::default()
+    };
+    let tol = parse_tolerance(&a.tolerance)?;
+    let bounds = search_bounds(&ps, a.z_bounds.as_deref())?;
+    let mut res = match a.search.as_str() {
+        "nelder-mead" | "nelder_mead" | "nm" => {
+            let so = SearchOptions::new(bounds, tol);
+            let bar = progress.then(|| {
+                let b = indicatif::ProgressBar::new(opts.max_evals as u64);
+                b.set_style(
+                    indicatif::ProgressStyle::with_template(
+                        "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} refinement evaluations {msg}",
+                    )
+                    .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+                );
+                b
+            });
+            let b2 = bar.clone();
+            let progress: search::Progress = std::sync::Arc::new(move |_it, n, best| {
+                if let Some(b) = &b2 {
+                    b.set_position(n as u64);
+                    b.set_message(format!("best {best:.1} J"));
+                }
+            });
+            let (mut r, info) =
+                pool.install(|| search::refine(&ev, &rows, &opts, &so, progress))?;
+            if let Some(b) = bar {
+                b.finish_and_clear();
+            }
+            r.search = Some(info);
+            r
+        }
+        "pattern" => pool.install(|| optimise::optimise(&ev, &rows, &opts))?,
+        s => anyhow::bail!("--search `{s}`: expected nelder-mead or pattern"),
+    };
+    // The answer of a reduced evaluation is always re-evaluated in full; the report shows
+    // both figures.
+    if let Some((full, chk)) = pool.install(|| reduce::confirm(&ev, &res.best))? {
+        if let Err(why) = &full.outcome {
+            anyhow::bail!(
+                "the placement chosen on representative layers (x = {:.3} m, y = {:.3} m, z = {:.3} m, yaw = {:.1}°) is infeasible when every sample is evaluated: {why}; run again with --evaluation full",
+                full.placement.x,
+                full.placement.y,
+                full.placement.z,
+                full.placement.yaw.to_degrees()
+            );
+        }
+        res.best = full;
+        res.path_reduction = Some(chk);
+    }
+    let baseline = match baseline_given {
+        Some(b) => {
+            let r = pool.install(|| ev.sweep(&[b], &|_, _| {}))?;
+            r.into_iter().next().map(|e| ("given".to_string(), e))
+        }
+        None => feasible_centre(&rows)
+            .map(|e| ("centre of the feasible grid region".to_string(), e.clone())),
+    };
+    if let Some((_, b)) = &baseline {
+        res.savings = optimise::Savings::of(&res.best, b);
+    }
+    if let Some(n) = a.uncertainty {
+        if n == 0 || n > 100_000 {
+            anyhow::bail!("--uncertainty {n}: expected 1 to 100000 draws");
+        }
+        // Candidates: the answer first, then every feasible grid cell that is not nominally
+        // better than it (a cheaper cell is one the search rejected because it does not hold
+        // the placement tolerance: not a candidate a site could use).
+        let mut cands = vec![res.best.clone()];
+        cands.extend(
+            rows.iter()
+                .filter(|r| {
+                    r.cost().is_finite()
+                        && r.cost() >= res.best.cost()
+                        && r.placement != res.best.placement
+                })
+                .cloned(),
+        );
+        let setup = printwatt::placement::uncertainty::StudySetup::new(
+            &ev,
+            &cands,
+            baseline.as_ref().map(|b| &b.1),
+            n,
+            a.seed,
+            None,
+        )?;
+        if let Some((sh, source, rd)) = shard_out.take() {
+            write_study_shard(a, l, &setup, (sh, source, rd), t0)?;
+            return Ok(None);
+        }
+        let study = match merged_draws {
+            Some(d) => setup.reduce(d)?,
+            None => {
+                let all: Vec<usize> = (0..n).collect();
+                let per = pool.install(|| setup.draws(&all))?;
+                setup.reduce(&per)?
+            }
+        };
+        res.uncertainty = Some(study);
+    }
+    let secs = t0.elapsed().as_secs_f64();
+    // The placements shown in detail (series for the report), evaluated in parallel.
+    let mut wanted = vec![("best", &res.best)];
+    wanted.extend(worst_of(&rows).map(|w| ("worst", w)));
+    wanted.extend(baseline.as_ref().map(|(_, b)| ("baseline", b)));
+    let details: Vec<_> = {
+        use rayon::prelude::*;
+        pool.install(|| {
+            wanted
+                .par_iter()
+                .map(|(label, e)| detail(job, label, e))
+                .collect::<Result<Vec<_>>>()
+        })?
+        .into_iter()
+        .flatten()
+        .collect()
+    };
+    // Every evaluation the answer needed: grid, refinement, tolerance checks (with the
+    // bisection and spin points) and the 4 sensitivity points.
+    let n_eval = ps.len() + res.evals + res.search.as_ref().map_or(0, |si| si.tolerance_evals) + 4;
+    let mut m = meta(&l, ev.nominal_samples());
+    m.extend(super::sweep::evaluation_line(&ev));
+    m.push(("seed".into(), a.seed.to_string()));
+    if let Some(si) = &res.search {
+        m.push(("search".into(), si.method.clone()));
+        m.push(("tolerance".into(), tolerance_line(&si.tolerance)));
+        m.push((
+            "search bounds".into(),
+            format!(
+                "x {:.3}…{:.3} m, y {:.3}…{:.3} m, z {:.3}…{:.3} m",
+                si.bounds.x[0],
+                si.bounds.x[1],
+                si.bounds.y[0],
+                si.bounds.y[1],
+                si.bounds.z[0],
+                si.bounds.z[1]
+            ),
+        ));
+        if !si.on_bounds.is_empty() {
+            m.push((
+                "optimum on a search bound".into(),
+                format!("{}: widen the range there", si.on_bounds.join(", ")),
+            ));
+        }
+        if let Some(jm) = &si.joint_margin {
+            m.push(("joint-limit margin kept".into(), jm.clone()));
+        }
+        m.push((
+            "evaluations".into(),
+            format!(
+                "grid {}, refinement {}, tolerance corners {}",
+                ps.len(),
+                res.evals,
+                si.tolerance_evals
+            ),
+        ));
+        if let Some(om) = &si.on_margin {
+            m.push((
+                "optimum on a joint-limit margin".into(),
+                format!("{om}: the margin, not the energy, stops the search here (--joint-margin)"),
+            ));
+        }
+        if let Some(sk) = &si.spin_kept {
+            m.push(("nozzle spin".into(), sk.clone()));
+        }
+        if let Some(b) = &si.budget_spent {
+            m.push(("search stopped".into(), b.clone()));
+        }
+        if let Some(pm) = &si.polished {
+            m.push(("polish".into(), pm.clone()));
+        }
+        for l in &si.lower_neighbours {
+            m.push(("cheaper neighbour not taken".into(), l.clone()));
+        }
+    }
+    let site = printwatt::report::site::SiteGeometry::new(
+        &l.robot,
+        &job,
+        res.best.placement.z,
+        &l.path_file,
+        names.as_deref(),
+    );
+    let rep = RunReport {
+        title: format!(
+            "printwatt optimise: {} on {}",
+            l.path_file.display(),
+            l.robot.name()
+        ),
+        meta: m,
+        rows,
+        names,
+        grid,
+        optimise: Some(res),
+        baseline,
+        site: Some(site),
+        details,
+        electrical: l.robot.drive.is_some(),
+    };
+    Ok(Some(Computed { rep, secs, n_eval }))
 }
 
 /// `optimise --uncertainty N --shard SPEC`: this shard's draws of the study, written as the

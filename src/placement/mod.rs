@@ -14,6 +14,7 @@ pub mod reduce;
 pub mod search;
 pub mod shard;
 pub mod stations;
+pub mod study;
 pub mod sweep;
 pub mod tolerance;
 pub mod uncertainty;

@@ -3,7 +3,9 @@
 //!
 //! The same holds for the draws of an uncertainty study ([`KIND_UNCERTAINTY`]): draw `d` owns
 //! its own random stream, so shard `index` computes the draws `d mod count = index` and
-//! [`merge`] returns them in draw order ([`MergedRows::Draws`]).
+//! [`merge`] returns them in draw order ([`MergedRows::Draws`]); and for the cases of a design
+//! study ([`KIND_STUDY`]): each case is optimised from its own inputs alone, and [`merge`]
+//! returns the cases' results in study order ([`MergedRows::Study`]).
 //!
 //! A sweep of `total` placements is split into `count` shards; shard `index` (0-based) owns the
 //! placements `i` with `i mod count = index`. Interleaving keeps the shards' costs alike: a
@@ -20,6 +22,7 @@
 //! and names which.
 
 use super::feasibility::Infeasible;
+use super::study::CaseResult;
 use super::sweep::{Evaluated, Feasible};
 use super::uncertainty::Draw;
 use crate::error::{Error, Result};
@@ -38,6 +41,8 @@ pub const SCHEMA_VERSION: u32 = 1;
 pub const KIND_SWEEP: &str = "printwatt-sweep-shard";
 /// `kind` of a shard of an `optimise --uncertainty` study (its rows are draws).
 pub const KIND_UNCERTAINTY: &str = "printwatt-optimise-uncertainty-shard";
+/// `kind` of a shard of a design study (its rows are cases, [`super::study`]).
+pub const KIND_STUDY: &str = "printwatt-study-shard";
 
 /// One shard of a split run: `index` (0-based) of `count`.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
@@ -181,11 +186,12 @@ impl Shard {
 pub struct ShardHeader {
     /// [`SCHEMA_VERSION`].
     pub schema_version: u32,
-    /// What kind of run was split ([`KIND_SWEEP`], [`KIND_UNCERTAINTY`]).
+    /// What kind of run was split ([`KIND_SWEEP`], [`KIND_UNCERTAINTY`], [`KIND_STUDY`]).
     pub kind: String,
     /// This shard.
     pub shard: Shard,
-    /// Items in the whole run: placements (a sweep) or draws (an uncertainty study).
+    /// Items in the whole run: placements (a sweep), draws (an uncertainty study) or cases (a
+    /// design study).
     pub total: usize,
     /// Items (rows) in this shard.
     pub rows: usize,
@@ -272,6 +278,17 @@ pub fn encode_draws(rows: &[(usize, Draw)]) -> Result<Vec<u8>> {
     postcard::to_stdvec(rows).map_err(|e| Error::Invalid(format!("encoding shard draws: {e}")))
 }
 
+/// Encode a shard's cases of a design study (case index, result).
+pub fn encode_cases(rows: &[(usize, CaseResult)]) -> Result<Vec<u8>> {
+    postcard::to_stdvec(rows).map_err(|e| Error::Invalid(format!("encoding shard cases: {e}")))
+}
+
+/// Decode a shard's cases (what [`encode_cases`] wrote); `what` names the file in errors.
+pub fn decode_cases(bytes: &[u8], what: &str) -> Result<Vec<(usize, CaseResult)>> {
+    postcard::from_bytes(bytes)
+        .map_err(|e| Error::Invalid(format!("{what}: not a printwatt shard cases file ({e})")))
+}
+
 /// Decode a shard's draws (what [`encode_draws`] wrote); `what` names the file in errors.
 pub fn decode_draws(bytes: &[u8], what: &str) -> Result<Vec<(usize, Draw)>> {
     postcard::from_bytes(bytes)
@@ -285,6 +302,8 @@ pub enum ShardRows {
     Sweep(Vec<(usize, Evaluated)>),
     /// An uncertainty study's draws: (draw index, draw).
     Draws(Vec<(usize, Draw)>),
+    /// A design study's cases: (case index, result).
+    Study(Vec<(usize, CaseResult)>),
 }
 
 impl ShardRows {
@@ -293,6 +312,7 @@ impl ShardRows {
         match self {
             ShardRows::Sweep(r) => r.iter().map(|(i, _)| *i).collect(),
             ShardRows::Draws(r) => r.iter().map(|(i, _)| *i).collect(),
+            ShardRows::Study(r) => r.iter().map(|(i, _)| *i).collect(),
         }
     }
 }
@@ -304,6 +324,8 @@ pub enum MergedRows {
     Sweep(Vec<Evaluated>),
     /// Every draw, in draw order.
     Draws(Vec<Draw>),
+    /// Every case's result, in study order.
+    Study(Vec<CaseResult>),
 }
 
 /// A shard read from its directory.
@@ -349,6 +371,7 @@ pub fn read_shard(dir: &Path) -> Result<ShardData> {
     let rows = match header.kind.as_str() {
         KIND_SWEEP => ShardRows::Sweep(decode_rows(&bytes, &what)?),
         KIND_UNCERTAINTY => ShardRows::Draws(decode_draws(&bytes, &what)?),
+        KIND_STUDY => ShardRows::Study(decode_cases(&bytes, &what)?),
         k => {
             return Err(Error::Invalid(format!(
                 "{}: a shard of kind `{k}`, which this printwatt does not know",
@@ -516,28 +539,38 @@ pub fn merge(shards: Vec<ShardData>) -> Result<Merged> {
         }
         rows.into_iter().flatten().collect()
     }
-    let rows = if h0.kind == KIND_SWEEP {
-        MergedRows::Sweep(place(
+    // Every shard is of kind h0.kind (checked above), so each holds rows of that kind.
+    let rows = match h0.kind.as_str() {
+        KIND_SWEEP => MergedRows::Sweep(place(
             h0.total,
             shards
                 .iter()
                 .filter_map(|s| match &s.rows {
                     ShardRows::Sweep(r) => Some(r.as_slice()),
-                    ShardRows::Draws(_) => None,
+                    _ => None,
                 })
                 .collect(),
-        ))
-    } else {
-        MergedRows::Draws(place(
+        )),
+        KIND_STUDY => MergedRows::Study(place(
+            h0.total,
+            shards
+                .iter()
+                .filter_map(|s| match &s.rows {
+                    ShardRows::Study(r) => Some(r.as_slice()),
+                    _ => None,
+                })
+                .collect(),
+        )),
+        _ => MergedRows::Draws(place(
             h0.total,
             shards
                 .iter()
                 .filter_map(|s| match &s.rows {
                     ShardRows::Draws(r) => Some(r.as_slice()),
-                    ShardRows::Sweep(_) => None,
+                    _ => None,
                 })
                 .collect(),
-        ))
+        )),
     };
     let header = slot[0].map(|s| s.header.clone()).unwrap_or(h0);
     Ok(Merged {

@@ -75,6 +75,13 @@ impl Page {
         );
         self
     }
+    /// Already well-formed XHTML, inserted as it is (e.g. a table whose cells hold links, made
+    /// with [`super::svg::esc`] on every text).
+    pub fn raw(&mut self, xhtml: &str) -> &mut Self {
+        self.body.push_str(xhtml);
+        self.body.push('\n');
+        self
+    }
     /// Preformatted text (escaped).
     pub fn pre(&mut self, text: &str) -> &mut Self {
         let _ = writeln!(self.body, "<pre>{}</pre>", esc(text));

@@ -6,4 +6,5 @@ pub mod html;
 pub mod placement;
 pub mod site;
 pub mod stations;
+pub mod study;
 pub mod svg;

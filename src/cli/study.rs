@@ -1,0 +1,510 @@
+//! `printwatt study`: a design study, every path of a building on several robots and cells
+//! (a study file, docs/study.md), each case optimised as `printwatt optimise` does, the answers
+//! side by side in one directory. Splits into shards by case for a cluster (`--shard`), put
+//! back together by `printwatt merge` bit for bit.
+
+use super::optimise::{compute, tolerance_line, OptimiseArgs};
+use anyhow::{bail, Context, Result};
+use clap::Parser;
+use printwatt::placement::study::{CaseBest, CaseResult, Study};
+use std::path::PathBuf;
+
+/// `printwatt study` arguments.
+#[derive(clap::Args, Debug, Clone)]
+pub struct StudyArgs {
+    /// Study file (TOML, docs/study.md): the robots, the cells (where the part may be placed),
+    /// the paths, and the cases (default: every robot × cell × path).
+    #[arg(value_name = "FILE")]
+    pub study: PathBuf,
+    /// Worker threads for each case's evaluations (default: all cores).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Run one shard of the cases, for a cluster run: `K/N` (shard K, 0-based, of N owns cases
+    /// K, K+N, …), `auto` (index and count from a Slurm job array) or `auto/N` (Slurm, or a
+    /// Kubernetes Indexed Job's JOB_COMPLETION_INDEX). Writes `<--out>/shard-K-of-N/`;
+    /// `printwatt merge` puts the shards together into the study directory of a single run,
+    /// bit for bit (docs/cluster.md).
+    #[arg(long, value_name = "K/N")]
+    pub shard: Option<String>,
+    /// Parent directory of the default study directory `<DIR>/runs/study-<name>-<UTC time>`.
+    #[arg(long, value_name = "DIR", default_value = "results")]
+    pub results_dir: PathBuf,
+    /// --out: the study directory (summary.json, study.csv, report.html, one report page per
+    /// case, run.json).
+    #[command(flatten)]
+    pub out: super::args::OutputArgs,
+}
+
+/// Options a study's `options` lists may not hold: the study file says which robot, tool and
+/// path each case runs, and the study command says where the output goes and how it runs.
+const NOT_IN_A_STUDY: [&str; 12] = [
+    "--robot",
+    "--tool",
+    "--path",
+    "--out",
+    "--run",
+    "--results-dir",
+    "--json",
+    "--force",
+    "--threads",
+    "--shard",
+    "--export",
+    "--no-report",
+];
+
+/// The objective is set once for the whole study: energies of different objectives cannot be
+/// compared.
+const STUDY_LEVEL_ONLY: [&str; 1] = ["--objective"];
+
+/// The job of a study in a normalised form (shards of one study agree on it): the study file
+/// as named; its content and every file it names are hashed as inputs.
+pub fn job_key(a: &StudyArgs) -> String {
+    format!("study {}", a.study.display())
+}
+
+/// Refuse an option that a study's `options` list (`where_`: which entry) may not hold.
+fn check_options(options: &[String], where_: &str, study_level: bool) -> Result<()> {
+    for o in options {
+        let flag = o.split('=').next().unwrap_or(o);
+        if NOT_IN_A_STUDY.contains(&flag) {
+            bail!("{where_}: `{o}` is not an option of a study case (the study file names each case's robot, tool and path; `printwatt study` says where the output goes)");
+        }
+        if !study_level && STUDY_LEVEL_ONLY.contains(&flag) {
+            bail!("{where_}: `{o}` belongs in [study] options: every case minimises the same objective, or their energies could not be compared");
+        }
+    }
+    Ok(())
+}
+
+/// Every case's `optimise` arguments, in case order: the robot, tool and path of the case,
+/// the cell's placement options, then the options of the study, the robot, the cell and the
+/// path, in that order (a later one wins where an option takes one value).
+pub fn case_args(study: &Study, threads: Option<usize>) -> Result<Vec<OptimiseArgs>> {
+    let f = study.file.display();
+    check_options(&study.options, &format!("{f}: [study] options"), true)?;
+    for r in &study.robots {
+        check_options(
+            &r.options,
+            &format!("{f}: robot `{}` options", r.name),
+            false,
+        )?;
+    }
+    for c in &study.cells {
+        check_options(
+            &c.options,
+            &format!("{f}: cell `{}` options", c.name),
+            false,
+        )?;
+    }
+    for p in &study.paths {
+        check_options(
+            &p.options,
+            &format!("{f}: path `{}` options", p.name),
+            false,
+        )?;
+    }
+    study
+        .cases
+        .iter()
+        .map(|c| {
+            let (r, ce, p) = (
+                &study.robots[c.robot],
+                &study.cells[c.cell],
+                &study.paths[c.path],
+            );
+            let mut v: Vec<String> = vec!["printwatt".into(), "optimise".into()];
+            v.push(format!("--robot={}", r.robot.display()));
+            if let Some(t) = &r.tool {
+                v.push(format!("--tool={}", t.display()));
+            }
+            v.push(format!("--path={}", p.file.display()));
+            for (k, val) in &ce.placement {
+                v.push(format!("--{k}={val}"));
+            }
+            v.extend(study.options.iter().cloned());
+            v.extend(r.options.iter().cloned());
+            v.extend(ce.options.iter().cloned());
+            v.extend(p.options.iter().cloned());
+            v.push("--no-report".into());
+            let cli = super::Cli::try_parse_from(&v).map_err(|e| {
+                let text = e.render().to_string();
+                anyhow::anyhow!(
+                    "{f}: case {} ({}): its options do not parse: {}",
+                    c.index,
+                    study.case_name(c),
+                    text.lines()
+                        .next()
+                        .unwrap_or("")
+                        .trim_start_matches("error: ")
+                )
+            })?;
+            let super::Command::Optimise(mut oa) = cli.command else {
+                bail!("case {}: not an optimise command line", c.index);
+            };
+            oa.p.threads = threads;
+            Ok(oa)
+        })
+        .collect()
+}
+
+/// Load every case (robot, tool, path, options) before any work, so that a typo in the last
+/// case fails the study at once; returns every input file (the study file, then each case's
+/// robot files, path, set and tool).
+fn check_cases(study: &Study, args: &[OptimiseArgs]) -> Result<printwatt::output::Inputs> {
+    let mut inputs = printwatt::output::Inputs::new();
+    inputs.add(&study.file);
+    let mut seen = std::collections::BTreeSet::new();
+    for (c, a) in study.cases.iter().zip(args) {
+        let l =
+            a.p.load()
+                .with_context(|| format!("case {} ({})", c.index, study.case_name(c)))?;
+        for p in a.p.inputs(&l).paths() {
+            if seen.insert(p.clone()) {
+                inputs.add(p);
+            }
+        }
+    }
+    Ok(inputs)
+}
+
+/// The name of an objective as the command line spells it.
+fn objective_name(o: printwatt::placement::sweep::Objective) -> String {
+    printwatt::placement::sweep::Objective::ALL
+        .iter()
+        .find(|(_, x)| *x == o)
+        .map_or_else(|| format!("{o:?}"), |(n, _)| (*n).to_string())
+}
+
+/// Optimise one case. An error of the optimisation (no feasible placement, a reduced answer
+/// infeasible in full, …) is the case's answer, in words; an error loading its inputs is the
+/// study's.
+fn run_case(a: &OptimiseArgs, pool: &rayon::ThreadPool) -> Result<CaseResult> {
+    let l = a.p.load()?;
+    let objective = objective_name(l.objective);
+    let job = l.job()?;
+    let (ps, _, _) = a.p.placements(Some(l.default_grid()))?;
+    let r = match compute(a, &l, &job, pool, None, &mut None, false) {
+        Ok(Some(c)) => {
+            let rep = &c.rep;
+            let best = rep
+                .best()
+                .context("the optimisation returned no placement")?;
+            let f = best
+                .feasible()
+                .context("the optimisation's answer is infeasible")?;
+            let p = &best.placement;
+            let si = rep.optimise.as_ref().and_then(|o| o.search.as_ref());
+            let mut notes = Vec::new();
+            if let Some(si) = si {
+                if !si.tolerance.holds && si.tolerance.corners > 0 {
+                    notes.push(format!("tolerance {}", tolerance_line(&si.tolerance)));
+                }
+                if !si.on_bounds.is_empty() {
+                    notes.push(format!(
+                        "optimum on a search bound: {}",
+                        si.on_bounds.join(", ")
+                    ));
+                }
+                if let Some(om) = &si.on_margin {
+                    notes.push(format!("optimum on a joint-limit margin: {om}"));
+                }
+                if let Some(b) = &si.budget_spent {
+                    notes.push(format!("search stopped: {b}"));
+                }
+            }
+            CaseResult {
+                objective,
+                outcome: Ok(CaseBest {
+                    placement: [p.x, p.y, p.z, p.yaw, p.nozzle_spin],
+                    feasible: f.clone(),
+                    baseline_j: rep
+                        .baseline
+                        .as_ref()
+                        .map(|(_, b)| b.cost())
+                        .filter(|c| c.is_finite()),
+                    tolerance: si.map(|si| tolerance_line(&si.tolerance)),
+                    notes,
+                }),
+                grid: rep.rows.len(),
+                grid_feasible: rep.rows.iter().filter(|r| r.cost().is_finite()).count(),
+                evaluations: c.n_eval,
+                report_html: Some(rep.html()),
+            }
+        }
+        Ok(None) => bail!("a study case wrote a shard"),
+        Err(e) => CaseResult {
+            objective,
+            outcome: Err(format!("{e:#}")),
+            grid: ps.len(),
+            grid_feasible: 0,
+            evaluations: ps.len(),
+            report_html: None,
+        },
+    };
+    // Exactly what a shard carries, so that a single run and a merge write the same files.
+    Ok(r.as_stored()?)
+}
+
+/// One line on a case's answer.
+fn case_line(study: &Study, k: usize, r: &CaseResult, secs: f64) -> String {
+    let c = &study.cases[k];
+    let head = format!(
+        "case {} of {} ({}):",
+        k + 1,
+        study.cases.len(),
+        study.case_name(c)
+    );
+    match &r.outcome {
+        Ok(b) => format!(
+            "{head} {:.1} J ({}) at x = {:.3} m, y = {:.3} m, z = {:.3} m, yaw = {:.1}°; {:.2} s",
+            b.feasible.energy_j,
+            r.objective,
+            b.placement[0],
+            b.placement[1],
+            b.placement[2],
+            b.placement[3].to_degrees(),
+            secs
+        ),
+        Err(why) => format!(
+            "{head} no feasible placement: {}",
+            why.lines().next().unwrap_or("")
+        ),
+    }
+}
+
+/// Run the cases `indices` (in order), each on `pool`; a line per case on stderr unless
+/// `quiet`.
+fn run_cases(
+    study: &Study,
+    args: &[OptimiseArgs],
+    indices: &[usize],
+    pool: &rayon::ThreadPool,
+    quiet: bool,
+) -> Result<Vec<CaseResult>> {
+    let mut out = Vec::with_capacity(indices.len());
+    for &k in indices {
+        let t = std::time::Instant::now();
+        let r = run_case(&args[k], pool)
+            .with_context(|| format!("case {k} ({})", study.case_name(&study.cases[k])))?;
+        if !quiet {
+            eprintln!("{}", case_line(study, k, &r, t.elapsed().as_secs_f64()));
+        }
+        out.push(r);
+    }
+    Ok(out)
+}
+
+/// `printwatt study`.
+pub fn run(a: StudyArgs) -> Result<()> {
+    let study = Study::read(&a.study)?;
+    let args = case_args(&study, a.threads)?;
+    let inputs = check_cases(&study, &args)?;
+    let pool = match args.first() {
+        Some(c) => c.p.pool()?,
+        None => bail!("the study has no case"),
+    };
+    if let Some(spec) = &a.shard {
+        return run_shard(&a, &study, &args, &inputs, &pool, spec);
+    }
+    let dir = match &a.out.out {
+        Some(d) => d.clone(),
+        None => {
+            let now = std::time::SystemTime::now()
+                .duration_since(std::time::UNIX_EPOCH)
+                .map(|d| d.as_secs())
+                .unwrap_or(0);
+            let base = format!("study-{}-{}", study.name, printwatt::output::utc_stamp(now));
+            let parent = a.results_dir.join("runs");
+            let mut dir = parent.join(&base);
+            let mut k = 2;
+            while dir.exists() {
+                dir = parent.join(format!("{base}-{k}"));
+                k += 1;
+            }
+            dir
+        }
+    };
+    // Taken before the work: an occupied directory or one that is an input fails now.
+    let rd = printwatt::output::RunDir::begin_at(
+        &dir,
+        &inputs,
+        printwatt::output::Existing::Force(a.out.force),
+    )?;
+    let t0 = std::time::Instant::now();
+    let all: Vec<usize> = (0..study.cases.len()).collect();
+    let results = run_cases(&study, &args, &all, &pool, a.out.json)?;
+    let secs = t0.elapsed().as_secs_f64();
+    let evals: usize = results.iter().map(|r| r.evaluations).sum();
+    let facts = super::sweep::run_facts(pool.current_num_threads(), secs, evals);
+    finish(&study, results, rd, (facts, Vec::new()), a.out.json)
+}
+
+/// `printwatt study --shard`: this shard's cases, written as `<--out>/shard-K-of-N/`.
+fn run_shard(
+    a: &StudyArgs,
+    study: &Study,
+    args: &[OptimiseArgs],
+    inputs: &printwatt::output::Inputs,
+    pool: &rayon::ThreadPool,
+    spec: &str,
+) -> Result<()> {
+    use printwatt::placement::shard::{self, Shard};
+    let (sh, source) = Shard::parse(spec, &|k| std::env::var(k).ok())?;
+    let Some(parent) = a.out.out.clone() else {
+        bail!("--shard writes a shard directory: give --out DIR (every shard of the study writes DIR/shard-K-of-N/, and `printwatt merge DIR` puts them together)");
+    };
+    let rd = printwatt::output::RunDir::begin_at(
+        &parent.join(sh.dir_name()),
+        inputs,
+        printwatt::output::Existing::Force(a.out.force),
+    )?;
+    let idx = sh.indices(study.cases.len());
+    let t0 = std::time::Instant::now();
+    let results = run_cases(study, args, &idx, pool, a.out.json)?;
+    let secs = t0.elapsed().as_secs_f64();
+    let answered = results.iter().filter(|r| r.outcome.is_ok()).count();
+    let rows: Vec<(usize, CaseResult)> = idx.into_iter().zip(results).collect();
+    let bytes = shard::encode_cases(&rows)?;
+    let done = format!(
+        "{} of {} cases optimised ({answered} with a feasible placement) in {secs:.2} s",
+        rows.len(),
+        study.cases.len()
+    );
+    super::sweep::write_shard(
+        rd,
+        super::sweep::ShardOut {
+            kind: shard::KIND_STUDY,
+            shard: sh,
+            source,
+            total: study.cases.len(),
+            rows: rows.len(),
+            job: job_key(a),
+            inputs: super::sweep::hash_inputs(inputs)?,
+            bytes,
+            wall_time_s: secs,
+        },
+        a.out.json,
+        &done,
+    )
+}
+
+/// Merge the shards of `printwatt study --shard …`: the study file is read again (from the
+/// directory the shards ran in; unchanged, as every input), the cases' results come from the
+/// shards, and the study directory is the one a single run writes.
+pub fn merge(
+    a: StudyArgs,
+    h: &printwatt::placement::shard::ShardHeader,
+    results: Vec<CaseResult>,
+    out: Option<PathBuf>,
+    o: &super::args::OutputArgs,
+    facts: (serde_json::Value, Vec<(&'static str, serde_json::Value)>),
+    here: &std::path::Path,
+) -> Result<()> {
+    let Some(out) = out else {
+        bail!("merging a study writes its study directory: give --out DIR");
+    };
+    if job_key(&a) != h.job {
+        bail!("this printwatt reads the shards' command line as a different job than the one they ran");
+    }
+    let study = Study::read(&a.study)?;
+    if study.cases.len() != results.len() {
+        bail!(
+            "the study file has {} cases, the shards hold {}",
+            study.cases.len(),
+            results.len()
+        );
+    }
+    let args = case_args(&study, a.threads)?;
+    let inputs = check_cases(&study, &args)?;
+    let now = super::sweep::hash_inputs(&inputs)?;
+    for (f, sha) in &h.inputs {
+        if now.get(f) != Some(sha) {
+            bail!("{f} changed since the shards ran (SHA-256 differs): the shards are results of the old file; re-run them");
+        }
+    }
+    let rd = printwatt::output::RunDir::begin_at(
+        &out,
+        &inputs,
+        printwatt::output::Existing::Force(o.force),
+    )?;
+    std::env::set_current_dir(here).ok();
+    finish(&study, results, rd, facts, o.json)
+}
+
+/// Write the study directory (shared by a single run and `merge`): `summary.json`,
+/// `study.csv`, `report.html`, each answered case's report page and `run.json`; then the
+/// answer on the terminal, or the summary as JSON.
+pub fn finish(
+    study: &Study,
+    results: Vec<CaseResult>,
+    mut rd: printwatt::output::RunDir,
+    facts: (serde_json::Value, Vec<(&str, serde_json::Value)>),
+    json: bool,
+) -> Result<()> {
+    let summary = study.summary(&results)?;
+    let summary_text = printwatt::output::json_text(&summary)?;
+    rd.write("summary.json", summary_text.as_bytes())?;
+    rd.write("study.csv", study.csv(&results)?.as_bytes())?;
+    rd.write(
+        "report.html",
+        printwatt::report::study::html(study, &results)?.as_bytes(),
+    )?;
+    for (c, r) in study.cases.iter().zip(&results) {
+        if let Some(h) = &r.report_html {
+            rd.write(&study.case_file(c), h.as_bytes())?;
+        }
+    }
+    super::sweep::write_run_facts(&mut rd, facts.0, &facts.1)?;
+    let dir = rd.commit()?;
+    if json {
+        return super::print_json_text(&summary_text);
+    }
+    let t = study.tables(&results)?;
+    let objective = results.first().map_or("", |r| r.objective.as_str());
+    println!(
+        "{:<16} {:<16} {:<16} {:>12}  next cheapest",
+        "path", "robot", "cell", "energy[J]"
+    );
+    for p in &t.paths {
+        match (&p.best, p.energy_j) {
+            (Some((r, c)), Some(e)) => println!(
+                "{:<16} {:<16} {:<16} {:>12.1}  {}",
+                p.path,
+                r,
+                c,
+                e,
+                p.runner_up.map_or("-".into(), |(i, dj, pct)| {
+                    let k = &study.cases[i];
+                    format!(
+                        "{} / {}: +{dj:.1} J (+{pct:.1} %)",
+                        study.robots[k.robot].name, study.cells[k.cell].name
+                    )
+                })
+            ),
+            _ => println!(
+                "{:<16} {:<16} {:<16} {:>12}  no robot and cell of the study prints it",
+                p.path, "-", "-", "-"
+            ),
+        }
+    }
+    for c in &t.combinations {
+        if c.feasible == c.paths {
+            println!(
+                "{} / {}: every path ({}), {:.1} J ({objective}), print time {:.1} s",
+                c.robot, c.cell, c.paths, c.energy_j, c.duration_s
+            );
+        } else {
+            println!(
+                "{} / {}: {} of {} paths ({:.1} J); no feasible placement for {}",
+                c.robot,
+                c.cell,
+                c.feasible,
+                c.paths,
+                c.energy_j,
+                c.infeasible.join(", ")
+            );
+        }
+    }
+    println!("report: {}", dir.join("report.html").display());
+    Ok(())
+}

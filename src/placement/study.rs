@@ -1,0 +1,948 @@
+//! Design studies: every toolpath of a building (walls, columns, floors) on several robots and
+//! in several cells, each case optimised on its own, and the answers put side by side: which
+//! robot and cell prints each path for the least energy, and which robot-and-cell combination
+//! prints all of them.
+//!
+//! A study is read from a TOML file ([`Study::read`]; the format is in `docs/study.md`):
+//!
+//! ```toml
+//! [study]
+//! name = "house-a"
+//!
+//! [[robot]]
+//! name = "irb6700"
+//! robot = "abb_irb6700_200_260"      # a shipped robot's name or a path
+//!
+//! [[cell]]
+//! name = "bay"
+//! x = "0.9:2.5:0.1"                  # where the part may go, m (the command line's syntax)
+//! y = "-1.5:1.5:0.1"
+//! yaw = "0,90"                       # deg
+//!
+//! [[path]]
+//! name = "wall-1"
+//! file = "../paths/default.gcode"    # relative to the study file
+//! ```
+//!
+//! The cases are every robot × cell × path, in that nesting order (robot slowest), unless
+//! `[[case]]` entries list them. A case's answer ([`CaseResult`]) depends on its inputs alone,
+//! so a study splits into shards by case index ([`super::shard`]) and merges bit for bit.
+//!
+//! Units: positions m, angles in the file's text as the command line takes them (deg); every
+//! number of a result is SI (m, rad, J, s) unless its name says otherwise.
+
+use super::sweep::Feasible;
+use crate::error::{Error, Result};
+use serde::{Deserialize, Serialize};
+use std::path::{Path, PathBuf};
+
+/// Most cases a study may hold.
+pub const MAX_CASES: usize = 10_000;
+
+/// A number or a text in the study file (a cell's `x = 1.5` or `x = "0.9:2.5:0.1"`), kept as
+/// the text the command line would take.
+#[derive(Clone, Debug, Deserialize)]
+#[serde(untagged)]
+enum Spec {
+    Int(i64),
+    Num(f64),
+    Text(String),
+}
+
+impl Spec {
+    fn text(&self) -> String {
+        match self {
+            Spec::Int(i) => i.to_string(),
+            Spec::Num(v) => v.to_string(),
+            Spec::Text(s) => s.clone(),
+        }
+    }
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct FileToml {
+    study: HeaderToml,
+    #[serde(default)]
+    robot: Vec<RobotToml>,
+    #[serde(default)]
+    cell: Vec<CellToml>,
+    #[serde(default)]
+    path: Vec<PathToml>,
+    #[serde(default)]
+    case: Vec<CaseToml>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct HeaderToml {
+    name: String,
+    #[serde(default)]
+    description: Option<String>,
+    #[serde(default)]
+    options: Vec<String>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct RobotToml {
+    name: String,
+    robot: String,
+    #[serde(default)]
+    tool: Option<String>,
+    #[serde(default)]
+    options: Vec<String>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CellToml {
+    name: String,
+    #[serde(default)]
+    x: Option<Spec>,
+    #[serde(default)]
+    y: Option<Spec>,
+    #[serde(default)]
+    z: Option<Spec>,
+    #[serde(default)]
+    yaw: Option<Spec>,
+    #[serde(default)]
+    spin: Option<Spec>,
+    #[serde(default)]
+    z_bounds: Option<String>,
+    #[serde(default)]
+    baseline: Option<String>,
+    #[serde(default)]
+    set: Option<String>,
+    #[serde(default)]
+    options: Vec<String>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PathToml {
+    name: String,
+    file: String,
+    #[serde(default)]
+    options: Vec<String>,
+}
+
+#[derive(Deserialize)]
+#[serde(deny_unknown_fields)]
+struct CaseToml {
+    robot: String,
+    cell: String,
+    path: String,
+}
+
+/// A robot of the study.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StudyRobot {
+    /// Its name in the study (letters, digits, `-`, `_`, `.`).
+    pub name: String,
+    /// The robot: a path (resolved against the study file's directory when it exists there)
+    /// or a shipped robot's name, as given.
+    pub robot: PathBuf,
+    /// Tool preset file (resolved against the study file's directory).
+    pub tool: Option<PathBuf>,
+    /// Further options of this robot's cases (the optimise command line's syntax).
+    pub options: Vec<String>,
+}
+
+/// A cell: where in the robot's workspace the part may be placed, and how the search runs
+/// there. Every field is optional and in the command line's syntax (`x`, `y`, `z`: m; `yaw`,
+/// `spin`: deg; `z_bounds`: `min:max` m; `baseline`: `x,y,z,yaw`; `set`: a named placements
+/// CSV); a missing one takes the command's default.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct StudyCell {
+    /// Its name in the study.
+    pub name: String,
+    /// `(option, value)` pairs, in a fixed order: `x`, `y`, `z`, `yaw`, `spin`, `z-bounds`,
+    /// `baseline`, `set`.
+    pub placement: Vec<(&'static str, String)>,
+    /// Further options of this cell's cases.
+    pub options: Vec<String>,
+}
+
+/// A toolpath of the study.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StudyPath {
+    /// Its name in the study.
+    pub name: String,
+    /// The path file (resolved against the study file's directory).
+    pub file: PathBuf,
+    /// Further options of this path's cases (e.g. its corner zone, timing).
+    pub options: Vec<String>,
+}
+
+/// One case: a robot, a cell and a path of the study (indices into its lists).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Case {
+    /// Index of the case in the study (0-based), the order of every table.
+    pub index: usize,
+    /// Index into [`Study::robots`].
+    pub robot: usize,
+    /// Index into [`Study::cells`].
+    pub cell: usize,
+    /// Index into [`Study::paths`].
+    pub path: usize,
+}
+
+/// A design study read from its file.
+#[derive(Clone, Debug, PartialEq)]
+pub struct Study {
+    /// The study's name.
+    pub name: String,
+    /// Free text shown in the report.
+    pub description: Option<String>,
+    /// The study file, as named.
+    pub file: PathBuf,
+    /// Options of every case (e.g. `--objective`, `--max-evals`).
+    pub options: Vec<String>,
+    /// The robots.
+    pub robots: Vec<StudyRobot>,
+    /// The cells.
+    pub cells: Vec<StudyCell>,
+    /// The paths.
+    pub paths: Vec<StudyPath>,
+    /// The cases, in study order.
+    pub cases: Vec<Case>,
+}
+
+/// A name in a study: 1 to 40 characters, letters, digits, `-`, `_`, `.`, starting with a
+/// letter or digit (it becomes part of a file name).
+fn check_name(what: &str, name: &str) -> Result<()> {
+    let ok = !name.is_empty()
+        && name.len() <= 40
+        && name
+            .chars()
+            .next()
+            .is_some_and(|c| c.is_ascii_alphanumeric())
+        && name
+            .chars()
+            .all(|c| c.is_ascii_alphanumeric() || matches!(c, '-' | '_' | '.'));
+    if ok {
+        Ok(())
+    } else {
+        Err(Error::Invalid(format!(
+            "{what} name `{name}`: use 1 to 40 letters, digits, `-`, `_` or `.`, starting with a letter or digit (it becomes part of a file name)"
+        )))
+    }
+}
+
+impl Study {
+    /// Read and check a study file: every name well-formed and unique within its kind, every
+    /// case's names defined, no case listed twice, at least one case, at most [`MAX_CASES`].
+    /// Files are resolved against the study file's directory (a robot that is not a file or
+    /// directory there is taken as a shipped robot's name). Errors name the file (and the
+    /// line, for TOML errors) and the entry at fault.
+    pub fn read(file: &Path) -> Result<Study> {
+        let text = std::fs::read_to_string(file).map_err(|e| Error::io(file, e))?;
+        Study::parse(&text, file)
+    }
+
+    /// [`Study::read`] of a study file's text; `file` names it and anchors relative paths.
+    pub fn parse(text: &str, file: &Path) -> Result<Study> {
+        let f = file.display();
+        let t: FileToml = toml::from_str(text).map_err(|e| {
+            let at = e
+                .span()
+                .map(|s| format!(" (line {})", text[..s.start].lines().count().max(1)))
+                .unwrap_or_default();
+            Error::Invalid(format!(
+                "{f}{at}: not a printwatt study file: {}",
+                e.message()
+            ))
+        })?;
+        let dir = match file.parent() {
+            Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
+            _ => PathBuf::new(),
+        };
+        let rel = |s: &str| -> PathBuf {
+            let p = Path::new(s);
+            if p.is_absolute() {
+                p.to_path_buf()
+            } else {
+                dir.join(p)
+            }
+        };
+        let err = |m: String| Error::Invalid(format!("{f}: {m}"));
+        check_name("study", &t.study.name).map_err(|e| err(e.to_string()))?;
+        for (kind, names) in [
+            ("robot", t.robot.iter().map(|r| &r.name).collect::<Vec<_>>()),
+            ("cell", t.cell.iter().map(|c| &c.name).collect()),
+            ("path", t.path.iter().map(|p| &p.name).collect()),
+        ] {
+            if names.is_empty() {
+                return Err(err(format!(
+                    "no [[{kind}]] entry: a study needs at least one robot, one cell and one path"
+                )));
+            }
+            for (i, n) in names.iter().enumerate() {
+                check_name(kind, n).map_err(|e| err(e.to_string()))?;
+                if names[..i].contains(n) {
+                    return Err(err(format!("{kind} `{n}` is defined twice")));
+                }
+            }
+        }
+        let robots: Vec<StudyRobot> = t
+            .robot
+            .into_iter()
+            .map(|r| {
+                let local = rel(&r.robot);
+                StudyRobot {
+                    robot: if local.exists() {
+                        local
+                    } else {
+                        PathBuf::from(&r.robot)
+                    },
+                    tool: r.tool.as_deref().map(rel),
+                    name: r.name,
+                    options: r.options,
+                }
+            })
+            .collect();
+        let cells: Vec<StudyCell> = t
+            .cell
+            .into_iter()
+            .map(|c| {
+                let mut placement = Vec::new();
+                for (k, v) in [
+                    ("x", c.x.as_ref().map(Spec::text)),
+                    ("y", c.y.as_ref().map(Spec::text)),
+                    ("z", c.z.as_ref().map(Spec::text)),
+                    ("yaw", c.yaw.as_ref().map(Spec::text)),
+                    ("spin", c.spin.as_ref().map(Spec::text)),
+                    ("z-bounds", c.z_bounds.clone()),
+                    ("baseline", c.baseline.clone()),
+                    (
+                        "set",
+                        c.set.as_deref().map(|s| rel(s).display().to_string()),
+                    ),
+                ] {
+                    if let Some(v) = v {
+                        placement.push((k, v));
+                    }
+                }
+                StudyCell {
+                    name: c.name,
+                    placement,
+                    options: c.options,
+                }
+            })
+            .collect();
+        let paths: Vec<StudyPath> = t
+            .path
+            .into_iter()
+            .map(|p| StudyPath {
+                file: rel(&p.file),
+                name: p.name,
+                options: p.options,
+            })
+            .collect();
+        let mut cases = Vec::new();
+        if t.case.is_empty() {
+            for r in 0..robots.len() {
+                for c in 0..cells.len() {
+                    for p in 0..paths.len() {
+                        cases.push((r, c, p));
+                    }
+                }
+            }
+        } else {
+            for (k, c) in t.case.iter().enumerate() {
+                let find = |kind: &str, names: Vec<&String>, n: &str| {
+                    names.iter().position(|m| *m == n).ok_or_else(|| {
+                        err(format!(
+                            "[[case]] {} names {kind} `{n}`, which no [[{kind}]] defines (defined: {})",
+                            k + 1,
+                            names.iter().map(|s| s.as_str()).collect::<Vec<_>>().join(", ")
+                        ))
+                    })
+                };
+                let r = find("robot", robots.iter().map(|r| &r.name).collect(), &c.robot)?;
+                let ce = find("cell", cells.iter().map(|c| &c.name).collect(), &c.cell)?;
+                let p = find("path", paths.iter().map(|p| &p.name).collect(), &c.path)?;
+                if let Some(j) = cases.iter().position(|x| *x == (r, ce, p)) {
+                    return Err(err(format!(
+                        "[[case]] {} ({} / {} / {}) repeats [[case]] {}",
+                        k + 1,
+                        c.robot,
+                        c.cell,
+                        c.path,
+                        j + 1
+                    )));
+                }
+                cases.push((r, ce, p));
+            }
+        }
+        if cases.len() > MAX_CASES {
+            return Err(err(format!(
+                "{} cases: at most {MAX_CASES}; split the study",
+                cases.len()
+            )));
+        }
+        Ok(Study {
+            name: t.study.name,
+            description: t.study.description,
+            file: file.to_path_buf(),
+            options: t.study.options,
+            robots,
+            cells,
+            paths,
+            cases: cases
+                .into_iter()
+                .enumerate()
+                .map(|(index, (robot, cell, path))| Case {
+                    index,
+                    robot,
+                    cell,
+                    path,
+                })
+                .collect(),
+        })
+    }
+
+    /// A case's name: `robot / cell / path`.
+    pub fn case_name(&self, c: &Case) -> String {
+        format!(
+            "{} / {} / {}",
+            self.robots[c.robot].name, self.cells[c.cell].name, self.paths[c.path].name
+        )
+    }
+
+    /// The file name of a case's report in the study directory:
+    /// `case-<index>-<robot>-<cell>-<path>.html` (index zero-padded to the study's width).
+    pub fn case_file(&self, c: &Case) -> String {
+        let w = self.cases.len().saturating_sub(1).to_string().len();
+        format!(
+            "case-{:0w$}-{}-{}-{}.html",
+            c.index, self.robots[c.robot].name, self.cells[c.cell].name, self.paths[c.path].name
+        )
+    }
+}
+
+/// The answer of one case.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CaseResult {
+    /// The objective minimised (its command-line name, e.g. `supply`).
+    pub objective: String,
+    /// The chosen placement, or why there is none (the case's error, in words).
+    pub outcome: std::result::Result<CaseBest, String>,
+    /// Placements on the case's grid (or set).
+    pub grid: usize,
+    /// Feasible placements among them.
+    pub grid_feasible: usize,
+    /// Evaluations the answer needed (grid, refinement, tolerance corners, sensitivity).
+    pub evaluations: usize,
+    /// The case's optimise report page (self-contained HTML), when the case has an answer.
+    pub report_html: Option<String>,
+}
+
+/// A case's chosen placement and its figures.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CaseBest {
+    /// x, y, z of the part origin (m), part yaw and nozzle spin (rad).
+    pub placement: [f64; 5],
+    /// The figures at the chosen placement (evaluated in full).
+    pub feasible: Feasible,
+    /// The objective's energy at the case's baseline placement, J, when there is one.
+    pub baseline_j: Option<f64>,
+    /// The placement tolerance check, in words.
+    pub tolerance: Option<String>,
+    /// Notes on the answer: an optimum on a search bound or a joint-limit margin, a search
+    /// stopped by its budget.
+    pub notes: Vec<String>,
+}
+
+impl CaseResult {
+    /// The objective's energy at the chosen placement, J; `None` without an answer.
+    pub fn energy_j(&self) -> Option<f64> {
+        self.outcome.as_ref().ok().map(|b| b.feasible.energy_j)
+    }
+
+    /// The same result as written to and read back from a shard (postcard): every number
+    /// bit for bit, and only what a shard carries. A single run passes its results through
+    /// this too, so that it and a merge of shards write the same files by construction.
+    pub fn as_stored(&self) -> Result<CaseResult> {
+        let bytes = postcard::to_stdvec(self)
+            .map_err(|e| Error::Invalid(format!("encoding a case result: {e}")))?;
+        postcard::from_bytes(&bytes)
+            .map_err(|e| Error::Invalid(format!("decoding a case result: {e}")))
+    }
+}
+
+/// The cheapest case of one path over every robot and cell it was tried on.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct PathBest {
+    /// The path's name.
+    pub path: String,
+    /// Cases of this path.
+    pub cases: usize,
+    /// Cases with an answer.
+    pub feasible: usize,
+    /// Index of the cheapest case, when any has an answer.
+    pub best_case: Option<usize>,
+    /// Its robot and cell.
+    pub best: Option<(String, String)>,
+    /// Its energy, J.
+    pub energy_j: Option<f64>,
+    /// How much more the second-cheapest case needs, J and % of the cheapest.
+    pub runner_up: Option<(usize, f64, f64)>,
+}
+
+/// One robot in one cell over every path of the study it was given.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Combination {
+    /// Robot name.
+    pub robot: String,
+    /// Cell name.
+    pub cell: String,
+    /// Paths tried.
+    pub paths: usize,
+    /// Paths with an answer.
+    pub feasible: usize,
+    /// Names of the paths without an answer.
+    pub infeasible: Vec<String>,
+    /// Sum of the objective's energy over the paths with an answer, J.
+    pub energy_j: f64,
+    /// Sum of their print times, s.
+    pub duration_s: f64,
+    /// Sum of their supply energy, J.
+    pub supply_j: f64,
+}
+
+/// The study's answers put together.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StudyTables {
+    /// Per path: the cheapest robot and cell.
+    pub paths: Vec<PathBest>,
+    /// Per robot and cell (in study order of first appearance): totals over its paths,
+    /// complete ones (every path feasible) ranked first by energy.
+    pub combinations: Vec<Combination>,
+}
+
+impl Study {
+    /// Check that `results` (one per case, in case order) belong to this study and share one
+    /// objective.
+    pub fn check_results(&self, results: &[CaseResult]) -> Result<()> {
+        if results.len() != self.cases.len() {
+            return Err(Error::Invalid(format!(
+                "{} results for {} cases",
+                results.len(),
+                self.cases.len()
+            )));
+        }
+        if let Some((k, r)) = results
+            .iter()
+            .enumerate()
+            .find(|(_, r)| r.objective != results[0].objective)
+        {
+            return Err(Error::Invalid(format!(
+                "case {} ({}) minimises `{}`, case 0 ({}) `{}`: energies of different objectives cannot be compared; set the objective once, in [study] options",
+                k,
+                self.case_name(&self.cases[k]),
+                r.objective,
+                self.case_name(&self.cases[0]),
+                results[0].objective
+            )));
+        }
+        Ok(())
+    }
+
+    /// The per-path and per-combination tables of `results` (one per case, in case order).
+    /// Ties are broken by case order, so the tables are deterministic.
+    pub fn tables(&self, results: &[CaseResult]) -> Result<StudyTables> {
+        self.check_results(results)?;
+        let mut paths = Vec::new();
+        for (pi, p) in self.paths.iter().enumerate() {
+            let mine: Vec<(&Case, &CaseResult)> = self
+                .cases
+                .iter()
+                .zip(results)
+                .filter(|(c, _)| c.path == pi)
+                .collect();
+            if mine.is_empty() {
+                continue;
+            }
+            let mut ok: Vec<(usize, f64)> = mine
+                .iter()
+                .filter_map(|(c, r)| r.energy_j().map(|e| (c.index, e)))
+                .collect();
+            // Stable: equal energies keep case order.
+            ok.sort_by(|a, b| a.1.total_cmp(&b.1));
+            let best = ok.first().copied();
+            paths.push(PathBest {
+                path: p.name.clone(),
+                cases: mine.len(),
+                feasible: ok.len(),
+                best_case: best.map(|b| b.0),
+                best: best.map(|(i, _)| {
+                    let c = &self.cases[i];
+                    (
+                        self.robots[c.robot].name.clone(),
+                        self.cells[c.cell].name.clone(),
+                    )
+                }),
+                energy_j: best.map(|b| b.1),
+                runner_up: match (best, ok.get(1)) {
+                    (Some((_, e0)), Some(&(i1, e1))) => {
+                        Some((i1, e1 - e0, 100.0 * (e1 - e0) / e0.abs().max(1e-12)))
+                    }
+                    _ => None,
+                },
+            });
+        }
+        let mut combos: Vec<Combination> = Vec::new();
+        let mut keys: Vec<(usize, usize)> = Vec::new();
+        for (c, r) in self.cases.iter().zip(results) {
+            let k = match keys.iter().position(|k| *k == (c.robot, c.cell)) {
+                Some(k) => k,
+                None => {
+                    keys.push((c.robot, c.cell));
+                    combos.push(Combination {
+                        robot: self.robots[c.robot].name.clone(),
+                        cell: self.cells[c.cell].name.clone(),
+                        paths: 0,
+                        feasible: 0,
+                        infeasible: Vec::new(),
+                        energy_j: 0.0,
+                        duration_s: 0.0,
+                        supply_j: 0.0,
+                    });
+                    keys.len() - 1
+                }
+            };
+            let m = &mut combos[k];
+            m.paths += 1;
+            match &r.outcome {
+                Ok(b) => {
+                    m.feasible += 1;
+                    m.energy_j += b.feasible.energy_j;
+                    m.duration_s += b.feasible.duration_s;
+                    m.supply_j += b.feasible.supply_j;
+                }
+                Err(_) => m.infeasible.push(self.paths[c.path].name.clone()),
+            }
+        }
+        // Complete combinations first (fewest paths without an answer), then by energy; the
+        // sort is stable, so ties keep study order.
+        combos.sort_by(|a, b| {
+            (a.paths - a.feasible)
+                .cmp(&(b.paths - b.feasible))
+                .then(a.energy_j.total_cmp(&b.energy_j))
+        });
+        Ok(StudyTables {
+            paths,
+            combinations: combos,
+        })
+    }
+
+    /// `study.csv`: one row per case (SI units in the header; angles in deg as labelled).
+    pub fn csv(&self, results: &[CaseResult]) -> Result<String> {
+        self.check_results(results)?;
+        let mut s = String::from(
+            "case,robot,cell,path,status,x_m,y_m,z_m,yaw_deg,spin_deg,energy_j,supply_j,drives_j,standby_j,duration_s,baseline_j,saving_pct,grid,grid_feasible,evaluations,report,note\n",
+        );
+        let q = |t: &str| {
+            if t.contains([',', '"', '\n']) {
+                format!("\"{}\"", t.replace('"', "\"\""))
+            } else {
+                t.to_string()
+            }
+        };
+        for (c, r) in self.cases.iter().zip(results) {
+            let head = format!(
+                "{},{},{},{}",
+                c.index,
+                q(&self.robots[c.robot].name),
+                q(&self.cells[c.cell].name),
+                q(&self.paths[c.path].name)
+            );
+            let tail = format!("{},{},{}", r.grid, r.grid_feasible, r.evaluations);
+            match &r.outcome {
+                Ok(b) => {
+                    let [x, y, z, yaw, spin] = b.placement;
+                    let f = &b.feasible;
+                    let (bj, sv) = match b.baseline_j {
+                        Some(bj) => (
+                            bj.to_string(),
+                            (100.0 * (bj - f.energy_j) / bj.abs().max(1e-12)).to_string(),
+                        ),
+                        None => (String::new(), String::new()),
+                    };
+                    s.push_str(&format!(
+                        "{head},feasible,{x},{y},{z},{},{},{},{},{},{},{},{bj},{sv},{tail},{},{}\n",
+                        yaw.to_degrees(),
+                        spin.to_degrees(),
+                        f.energy_j,
+                        f.supply_j,
+                        f.drives_j,
+                        f.standby_j,
+                        f.duration_s,
+                        q(&self.case_file(c)),
+                        q(&b.notes.join("; "))
+                    ));
+                }
+                Err(why) => s.push_str(&format!(
+                    "{head},no answer,,,,,,,,,,,,,{tail},,{}\n",
+                    q(why)
+                )),
+            }
+        }
+        Ok(s)
+    }
+
+    /// `summary.json`'s value: the study, every case's answer (without its report page), the
+    /// per-path and per-combination tables.
+    pub fn summary(&self, results: &[CaseResult]) -> Result<serde_json::Value> {
+        let t = self.tables(results)?;
+        let cases: Vec<serde_json::Value> = self
+            .cases
+            .iter()
+            .zip(results)
+            .map(|(c, r)| {
+                let mut v = serde_json::json!({
+                    "case": c.index,
+                    "robot": self.robots[c.robot].name,
+                    "cell": self.cells[c.cell].name,
+                    "path": self.paths[c.path].name,
+                    "grid": r.grid,
+                    "grid_feasible": r.grid_feasible,
+                    "evaluations": r.evaluations,
+                });
+                match &r.outcome {
+                    Ok(b) => {
+                        let [x, y, z, yaw, spin] = b.placement;
+                        v["status"] = "feasible".into();
+                        v["placement"] = serde_json::json!({
+                            "x_m": x, "y_m": y, "z_m": z,
+                            "yaw_deg": yaw.to_degrees(), "spin_deg": spin.to_degrees(),
+                        });
+                        v["outcome"] = serde_json::to_value(&b.feasible).unwrap_or_default();
+                        v["baseline_j"] = serde_json::json!(b.baseline_j);
+                        v["tolerance"] = serde_json::json!(b.tolerance);
+                        v["notes"] = serde_json::json!(b.notes);
+                        v["report"] = self.case_file(c).into();
+                    }
+                    Err(why) => {
+                        v["status"] = "no answer".into();
+                        v["reason"] = why.clone().into();
+                    }
+                }
+                v
+            })
+            .collect();
+        Ok(serde_json::json!({
+            "kind": "printwatt-study",
+            "study": self.name,
+            "description": self.description,
+            "objective": results.first().map(|r| r.objective.clone()),
+            "robots": self.robots.iter().map(|r| serde_json::json!({
+                "name": r.name,
+                "robot": r.robot.display().to_string(),
+                "tool": r.tool.as_ref().map(|t| t.display().to_string()),
+            })).collect::<Vec<_>>(),
+            "cells": self.cells.iter().map(|c| serde_json::json!({
+                "name": c.name,
+                "placement": c.placement.iter().map(|(k, v)| (k.to_string(), serde_json::Value::from(v.clone()))).collect::<serde_json::Map<_, _>>(),
+                "options": c.options,
+            })).collect::<Vec<_>>(),
+            "paths": self.paths.iter().map(|p| serde_json::json!({
+                "name": p.name,
+                "file": p.file.display().to_string(),
+            })).collect::<Vec<_>>(),
+            "cases": cases,
+            "best_per_path": t.paths,
+            "combinations": t.combinations,
+        }))
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const STUDY: &str = r#"
+[study]
+name = "house-a"
+options = ["--max-evals", "20"]
+
+[[robot]]
+name = "big"
+robot = "abb_irb6700_200_260"
+
+[[robot]]
+name = "small"
+robot = "abb_irb4600_40_255"
+
+[[cell]]
+name = "bay"
+x = "0.9:2.5:0.4"
+y = 0
+yaw = 90.5
+
+[[path]]
+name = "wall-1"
+file = "../paths/default.gcode"
+
+[[path]]
+name = "column"
+file = "/abs/column.gcode"
+"#;
+
+    #[test]
+    fn study_cases_are_every_robot_cell_and_path_in_nesting_order() {
+        let s = Study::parse(STUDY, Path::new("studies/house.toml")).unwrap();
+        let names: Vec<String> = s.cases.iter().map(|c| s.case_name(c)).collect();
+        assert_eq!(
+            names,
+            [
+                "big / bay / wall-1",
+                "big / bay / column",
+                "small / bay / wall-1",
+                "small / bay / column"
+            ]
+        );
+        assert_eq!(s.paths[0].file, Path::new("studies/../paths/default.gcode"));
+        assert_eq!(s.paths[1].file, Path::new("/abs/column.gcode"));
+        // A shipped robot's name is kept as a name (no such path beside the study).
+        assert_eq!(s.robots[0].robot, Path::new("abb_irb6700_200_260"));
+        assert_eq!(
+            s.cells[0].placement,
+            vec![
+                ("x", "0.9:2.5:0.4".to_string()),
+                ("y", "0".to_string()),
+                ("yaw", "90.5".to_string())
+            ]
+        );
+        assert_eq!(s.case_file(&s.cases[3]), "case-3-small-bay-column.html");
+    }
+
+    #[test]
+    fn study_file_errors_name_the_line_or_the_entry_at_fault() {
+        let f = Path::new("s.toml");
+        let e = Study::parse("[study]\nname = \"a\"\n[[robot]]\nnme = \"x\"\n", f)
+            .unwrap_err()
+            .to_string();
+        assert!(
+            e.contains("s.toml (line 3") || e.contains("s.toml (line 4"),
+            "{e}"
+        );
+        let dup = STUDY.replace("name = \"column\"", "name = \"wall-1\"");
+        let e = Study::parse(&dup, f).unwrap_err().to_string();
+        assert!(e.contains("path `wall-1` is defined twice"), "{e}");
+        let bad = STUDY.replace("name = \"bay\"", "name = \"bay/1\"");
+        let e = Study::parse(&bad, f).unwrap_err().to_string();
+        assert!(e.contains("cell name `bay/1`"), "{e}");
+        let case =
+            format!("{STUDY}\n[[case]]\nrobot = \"big\"\ncell = \"bay\"\npath = \"wal-1\"\n");
+        let e = Study::parse(&case, f).unwrap_err().to_string();
+        assert!(
+            e.contains("[[case]] 1 names path `wal-1`, which no [[path]] defines (defined: wall-1, column)"),
+            "{e}"
+        );
+        let twice = format!(
+            "{STUDY}\n[[case]]\nrobot = \"big\"\ncell = \"bay\"\npath = \"column\"\n[[case]]\nrobot = \"big\"\ncell = \"bay\"\npath = \"column\"\n"
+        );
+        let e = Study::parse(&twice, f).unwrap_err().to_string();
+        assert!(
+            e.contains("[[case]] 2 (big / bay / column) repeats [[case]] 1"),
+            "{e}"
+        );
+        let none = "[study]\nname = \"a\"\n[[robot]]\nname = \"r\"\nrobot = \"x\"\n";
+        let e = Study::parse(none, f).unwrap_err().to_string();
+        assert!(e.contains("no [[cell]] entry"), "{e}");
+    }
+
+    #[test]
+    fn listed_cases_are_kept_in_the_order_given() {
+        let s = Study::parse(
+            &format!(
+                "{STUDY}\n[[case]]\nrobot = \"small\"\ncell = \"bay\"\npath = \"column\"\n[[case]]\nrobot = \"big\"\ncell = \"bay\"\npath = \"wall-1\"\n"
+            ),
+            Path::new("s.toml"),
+        )
+        .unwrap();
+        let names: Vec<String> = s.cases.iter().map(|c| s.case_name(c)).collect();
+        assert_eq!(names, ["small / bay / column", "big / bay / wall-1"]);
+    }
+
+    fn result(e: Option<f64>) -> CaseResult {
+        CaseResult {
+            objective: "supply".into(),
+            outcome: match e {
+                Some(e) => Ok(CaseBest {
+                    placement: [1.0, 0.0, 0.0, 0.0, 0.0],
+                    feasible: Feasible {
+                        energy_j: e,
+                        supply_j: e,
+                        drives_j: e,
+                        standby_j: 0.0,
+                        mechanical_j: e,
+                        mechanical_positive_j: e,
+                        mechanical_abs_j: e,
+                        electrical_j: e,
+                        losses: Default::default(),
+                        duration_s: 10.0,
+                        samples: 2500,
+                        rounds: 1,
+                        joint_mechanical_j: vec![e / 6.0; 6],
+                        joint_mechanical_abs_j: vec![e / 6.0; 6],
+                        joint_electrical_j: vec![e / 6.0; 6],
+                        margins: Default::default(),
+                        path_reduction: None,
+                    },
+                    baseline_j: Some(e * 1.1),
+                    tolerance: None,
+                    notes: vec![],
+                }),
+                None => Err("unreachable".into()),
+            },
+            grid: 4,
+            grid_feasible: 2,
+            evaluations: 30,
+            report_html: None,
+        }
+    }
+
+    #[test]
+    fn study_tables_rank_the_cheapest_robot_per_path_and_complete_combinations_first() {
+        let s = Study::parse(STUDY, Path::new("s.toml")).unwrap();
+        // big: wall 100, column none; small: wall 120, column 50.
+        let r = vec![
+            result(Some(100.0)),
+            result(None),
+            result(Some(120.0)),
+            result(Some(50.0)),
+        ];
+        let t = s.tables(&r).unwrap();
+        assert_eq!(t.paths[0].best, Some(("big".into(), "bay".into())));
+        assert_eq!(t.paths[0].runner_up, Some((2, 20.0, 20.0)));
+        assert_eq!(t.paths[1].best_case, Some(3));
+        assert_eq!(t.paths[1].feasible, 1);
+        assert_eq!(t.paths[1].runner_up, None);
+        // small prints everything (170 J); big leaves the column out and comes second even
+        // though its sum (100 J) is lower.
+        assert_eq!(t.combinations[0].robot, "small");
+        assert_eq!(t.combinations[0].energy_j, 170.0);
+        assert_eq!(t.combinations[1].infeasible, vec!["column".to_string()]);
+        let csv = s.csv(&r).unwrap();
+        assert_eq!(csv.lines().count(), 5);
+        assert!(csv.lines().nth(2).unwrap().contains(",no answer,"), "{csv}");
+        let mut mixed = r.clone();
+        mixed[2].objective = "drives".into();
+        let e = s.tables(&mixed).unwrap_err().to_string();
+        assert!(
+            e.contains("case 2 (small / bay / wall-1) minimises `drives`"),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn a_stored_case_result_is_the_result_bit_for_bit() {
+        let mut r = result(Some(0.1 + 0.2));
+        r.report_html = Some("<html/>".into());
+        assert_eq!(r.as_stored().unwrap(), r);
+    }
+}
