@@ -726,6 +726,9 @@ fn lockstep_friction_motor_and_supply_stages_equal_the_per_sample_path_near_velo
     }
 }
 
+/// What [`summed_pass`] runs after every batch: `(data, k0, count, rows)`.
+type BatchHook<'h> = dyn FnMut(&mut DynData, usize, usize, &energy::Rows) + 'h;
+
 /// The sums of the summed pass (energy::eval_rows_summed) over the row-major trajectory
 /// `[q, sincos, qd, qdd]` (`n` joints a sample; the sines then the cosines, `2 n` a sample)
 /// in batches of LANES samples from the first (the last batch short), with the weights
@@ -740,7 +743,7 @@ fn summed_pass(
     given: bool,
     weight: &dyn Fn(usize) -> f64,
     level: Level,
-    mut each: Option<&mut dyn FnMut(&mut DynData, usize, usize, &energy::Rows)>,
+    mut each: Option<&mut BatchHook>,
 ) -> energy::EnergySums {
     let m = q.len() / n;
     let mut x = energy::LaneInputs::default();
