@@ -91,6 +91,17 @@ const CASES: &[Case] = &[
         files: &[],
     },
     Case {
+        name: "study_two_arms",
+        args: "study {TMP}/study.toml --out {TMP}/study",
+        files: &[
+            ("study_wall.gcode", include_str!("../paths/default.gcode")),
+            (
+                "study.toml",
+                "[study]\nname = \"two-arms\"\noptions = [\"--max-evals\", \"12\"]\n\n[[robot]]\nname = \"big\"\nrobot = \"abb_irb6700_200_260\"\n\n[[robot]]\nname = \"small\"\nrobot = \"abb_irb4600_40_255\"\n\n[[cell]]\nname = \"near\"\nx = \"1.3:1.7:0.2\"\ny = \"-0.25:0.25:0.25\"\nyaw = 90\n\n[[cell]]\nname = \"far\"\nx = 4.5\ny = 0\nyaw = \"0,90\"\n\n[[path]]\nname = \"wall\"\nfile = \"study_wall.gcode\"\n",
+            ),
+        ],
+    },
+    Case {
         name: "error_robot_name_typo",
         args: "energy --robot abb_irb670 --path {ROOT}/paths/default.gcode --at 1.7,0,0,90 --no-csv",
         files: &[],
@@ -218,10 +229,12 @@ fn normalise(s: &str, root: &Path, tmp: &Path) -> String {
                 }
             }
             l = mask_number_before(&l, " placements/s", "<RATE>");
-            // Wall times: the tail of `optimise` and `sweep` summaries, `merge`'s report.
+            // Wall times: the tail of `optimise` and `sweep` summaries, `merge`'s report,
+            // `study`'s line per case.
             if ["refinement", "wall", "merged", "shard"]
                 .iter()
                 .any(|k| l.contains(k))
+                || l.starts_with("case ")
             {
                 l = mask_number_before(&l, " s", "<SECONDS>");
             }

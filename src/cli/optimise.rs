@@ -466,7 +466,7 @@ pub fn compute(
         None => None,
     };
     let t0 = std::time::Instant::now();
-    let rows = run_sweep(&ev, &ps, &pool)?;
+    let rows = run_sweep(&ev, &ps, pool)?;
     if !rows.iter().any(|r| r.cost().is_finite()) {
         anyhow::bail!(
             "{}",
@@ -605,7 +605,7 @@ pub fn compute(
     // Every evaluation the answer needed: grid, refinement, tolerance checks (with the
     // bisection and spin points) and the 4 sensitivity points.
     let n_eval = ps.len() + res.evals + res.search.as_ref().map_or(0, |si| si.tolerance_evals) + 4;
-    let mut m = meta(&l, ev.nominal_samples());
+    let mut m = meta(l, ev.nominal_samples());
     m.extend(super::sweep::evaluation_line(&ev));
     m.push(("seed".into(), a.seed.to_string()));
     if let Some(si) = &res.search {
@@ -662,7 +662,7 @@ pub fn compute(
     }
     let site = printwatt::report::site::SiteGeometry::new(
         &l.robot,
-        &job,
+        job,
         res.best.placement.z,
         &l.path_file,
         names.as_deref(),

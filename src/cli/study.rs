@@ -245,7 +245,8 @@ fn run_case(a: &OptimiseArgs, pool: &rayon::ThreadPool) -> Result<CaseResult> {
     Ok(r.as_stored()?)
 }
 
-/// One line on a case's answer.
+/// A case's answer in a few lines: the placement and energy, or why there is none (the
+/// reason's lines joined), then its notes, one per line.
 fn case_line(study: &Study, k: usize, r: &CaseResult, secs: f64) -> String {
     let c = &study.cases[k];
     let head = format!(
@@ -255,19 +256,25 @@ fn case_line(study: &Study, k: usize, r: &CaseResult, secs: f64) -> String {
         study.case_name(c)
     );
     match &r.outcome {
-        Ok(b) => format!(
-            "{head} {:.1} J ({}) at x = {:.3} m, y = {:.3} m, z = {:.3} m, yaw = {:.1}°; {:.2} s",
-            b.feasible.energy_j,
-            r.objective,
-            b.placement[0],
-            b.placement[1],
-            b.placement[2],
-            b.placement[3].to_degrees(),
-            secs
-        ),
+        Ok(b) => {
+            let mut s = format!(
+                "{head} {:.1} J ({}) at x = {:.3} m, y = {:.3} m, z = {:.3} m, yaw = {:.1}°; {:.2} s",
+                b.feasible.energy_j,
+                r.objective,
+                b.placement[0],
+                b.placement[1],
+                b.placement[2],
+                b.placement[3].to_degrees(),
+                secs
+            );
+            for n in &b.notes {
+                s.push_str(&format!("\n  note: {n}"));
+            }
+            s
+        }
         Err(why) => format!(
             "{head} no feasible placement: {}",
-            why.lines().next().unwrap_or("")
+            why.split_whitespace().collect::<Vec<_>>().join(" ")
         ),
     }
 }

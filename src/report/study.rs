@@ -82,37 +82,49 @@ pub fn html(study: &Study, results: &[CaseResult]) -> Result<String> {
 
     pg.h2("Robot and cell over every path");
     pg.p("Totals over the paths each robot-and-cell combination was given; combinations that print every path come first, by energy. A total over fewer paths is not comparable with a complete one.");
+    // The supply column only where the objective is not the supply energy itself.
+    let supply_col = objective != "supply";
     let rows: Vec<Vec<String>> = t
         .combinations
         .iter()
         .map(|c| {
-            vec![
+            let sum = |v: f64, d: usize| {
+                if c.feasible == 0 {
+                    "-".to_string()
+                } else {
+                    format!("{v:.d$}")
+                }
+            };
+            let mut r = vec![
                 c.robot.clone(),
                 c.cell.clone(),
                 format!("{} of {}", c.feasible, c.paths),
-                format!("{:.1}", c.energy_j),
-                format!("{:.1}", c.supply_j),
-                format!("{:.1}", c.duration_s),
-                if c.infeasible.is_empty() {
-                    "-".into()
-                } else {
-                    c.infeasible.join(", ")
-                },
-            ]
+                sum(c.energy_j, 1),
+            ];
+            if supply_col {
+                r.push(sum(c.supply_j, 1));
+            }
+            r.push(sum(c.duration_s, 1));
+            r.push(if c.infeasible.is_empty() {
+                "-".into()
+            } else {
+                c.infeasible.join(", ")
+            });
+            r
         })
         .collect();
-    pg.table(
-        &[
-            "robot".into(),
-            "cell".into(),
-            "paths feasible".into(),
-            format!("{objective} energy [J]"),
-            "supply [J]".into(),
-            "print time [s]".into(),
-            "paths without a feasible placement".into(),
-        ],
-        &rows,
-    );
+    let mut header = vec![
+        "robot".to_string(),
+        "cell".into(),
+        "paths feasible".into(),
+        format!("{objective} energy [J]"),
+    ];
+    if supply_col {
+        header.push("supply [J]".into());
+    }
+    header.push("print time [s]".into());
+    header.push("paths without a feasible placement".into());
+    pg.table(&header, &rows);
     let complete: Vec<_> = t
         .combinations
         .iter()
@@ -125,68 +137,75 @@ pub fn html(study: &Study, results: &[CaseResult]) -> Result<String> {
             .iter()
             .map(|c| format!("{} / {}", c.robot, c.cell))
             .collect();
-        let vals: Vec<f64> = complete.iter().map(|c| c.energy_j).collect();
+        // The differences decide, not the totals (often within a few %): bars from the
+        // cheapest.
+        let least = complete[0].energy_j;
+        let vals: Vec<f64> = complete.iter().map(|c| c.energy_j - least).collect();
         pg.figure(
             "combinations",
             &svg::bar_chart(
                 &Frame::new(
-                    "Total energy of the combinations that print every path",
+                    &format!(
+                        "Extra energy over the cheapest combination that prints every path ({} / {}, {least:.1} J)",
+                        complete[0].robot, complete[0].cell
+                    ),
                     "robot / cell",
-                    &format!("{objective} energy [J]"),
+                    &format!("extra {objective} energy [J]"),
                 )
                 .size(760.0, 360.0),
                 &cats,
                 &[(objective.clone(), vals)],
             ),
-            "Sum over the paths of each case's energy at its optimised placement.",
+            "Sum over the paths of each case's energy at its optimised placement, minus the cheapest combination's.",
         );
     }
 
-    // Energy per path, one bar per robot and cell (missing: no feasible placement).
+    // Energy per path above the path's cheapest case, one bar per robot and cell (missing:
+    // no feasible placement).
     let mut combos: Vec<(usize, usize)> = Vec::new();
     for c in &study.cases {
         if !combos.contains(&(c.robot, c.cell)) {
             combos.push((c.robot, c.cell));
         }
     }
-    let paths: Vec<usize> = (0..study.paths.len())
-        .filter(|p| study.cases.iter().any(|c| c.path == *p))
-        .collect();
+    let cats: Vec<String> = t.paths.iter().map(|p| p.path.clone()).collect();
     let groups: Vec<(String, Vec<f64>)> = combos
         .iter()
         .map(|&(r, ce)| {
             (
                 format!("{} / {}", study.robots[r].name, study.cells[ce].name),
-                paths
+                t.paths
                     .iter()
-                    .map(|&p| {
+                    .map(|pb| {
                         study
                             .cases
                             .iter()
                             .zip(results)
-                            .find(|(c, _)| c.robot == r && c.cell == ce && c.path == p)
+                            .find(|(c, _)| {
+                                c.robot == r && c.cell == ce && study.paths[c.path].name == pb.path
+                            })
                             .and_then(|(_, res)| res.energy_j())
-                            .unwrap_or(f64::NAN)
+                            .zip(pb.energy_j)
+                            .map_or(f64::NAN, |(e, least)| e - least)
                     })
                     .collect(),
             )
         })
         .collect();
-    let cats: Vec<String> = paths.iter().map(|&p| study.paths[p].name.clone()).collect();
     pg.figure(
         "per-path",
         &svg::bar_chart(
             &Frame::new(
-                "Energy per path at each case's optimised placement",
+                "Extra energy per path over its cheapest robot and cell",
                 "path",
-                &format!("{objective} energy [J]"),
+                &format!("extra {objective} energy [J]"),
             )
             .size(900.0, 400.0)
             .missing("none"),
             &cats,
             &groups,
         ),
-        "\"none\": no feasible placement of that path for that robot in that cell (the case table says why).",
+        "Each case's energy at its optimised placement minus the cheapest case of the same path (0: the cheapest); \"none\": no feasible placement of that path for that robot in that cell (the case table says why).",
     );
 
     pg.h2("Every case");
@@ -205,6 +224,7 @@ pub fn html(study: &Study, results: &[CaseResult]) -> Result<String> {
         "print time [s]",
         "vs baseline",
         "report / why not",
+        "notes",
     ] {
         let _ = write!(tb, "<th>{}</th>", esc(h));
     }
@@ -235,22 +255,18 @@ pub fn html(study: &Study, results: &[CaseResult]) -> Result<String> {
                     esc(&saving)
                 );
                 let file = study.case_file(c);
-                let notes = if b.notes.is_empty() {
-                    String::new()
-                } else {
-                    format!(" ({})", esc(&b.notes.join("; ")))
-                };
                 let _ = write!(
                     tb,
-                    "<td class=\"t\"><a href=\"{}\">{}</a>{notes}</td></tr>",
+                    "<td class=\"t\"><a href=\"{}\">{}</a></td><td class=\"t\" style=\"font-size:0.85em\">{}</td></tr>",
                     esc(&file),
-                    esc(&file)
+                    esc(&file),
+                    esc(&b.notes.join("; "))
                 );
             }
             Err(why) => {
                 let _ = write!(
                     tb,
-                    "<td colspan=\"8\" class=\"t\">no feasible placement</td><td class=\"t\">{}</td></tr>",
+                    "<td colspan=\"8\" class=\"t\">no feasible placement</td><td colspan=\"2\" class=\"t\">{}</td></tr>",
                     esc(why)
                 );
             }
