@@ -5,7 +5,7 @@
 
 mod common;
 
-use printwatt::dynamics::{rnea_batch, rnea_with_sincos, DynModel, StateBatch};
+use printwatt::dynamics::{rnea_batch, rnea_with_sincos, DynData, DynModel, StateBatch};
 use printwatt::energy::{self, EnergyModel, SamplePower};
 use printwatt::fastmath;
 use printwatt::simd::{self, Level, LANES};
@@ -726,6 +726,52 @@ fn lockstep_friction_motor_and_supply_stages_equal_the_per_sample_path_near_velo
     }
 }
 
+/// What [`summed_pass`] runs after every batch: `(data, k0, count, rows)`.
+type BatchHook<'h> = dyn FnMut(&mut DynData, usize, usize, &energy::Rows) + 'h;
+
+/// The sums of the summed pass (energy::eval_rows_summed) over the row-major trajectory
+/// `[q, sincos, qd, qdd]` (`n` joints a sample; the sines then the cosines, `2 n` a sample)
+/// in batches of LANES samples from the first (the last batch short), with the weights
+/// `weight(k)` (s), the sines given or computed, on `level`. `each(data, k0, count, rows)`,
+/// where given, runs after every batch (its `count` samples from `k0`) on the same `data`.
+#[allow(clippy::too_many_arguments)]
+fn summed_pass(
+    em: &EnergyModel,
+    data: &mut DynData,
+    n: usize,
+    [q, sc, qd, qdd]: [&[f64]; 4],
+    given: bool,
+    weight: &dyn Fn(usize) -> f64,
+    level: Level,
+    mut each: Option<&mut BatchHook>,
+) -> energy::EnergySums {
+    let m = q.len() / n;
+    let mut x = energy::LaneInputs::default();
+    let mut out = energy::PowerLanes::default();
+    let mut sums = energy::EnergySums::default();
+    for k0 in (0..m).step_by(LANES) {
+        let count = LANES.min(m - k0);
+        let rows = energy::Rows {
+            q: &q[k0 * n..],
+            sincos: given.then(|| &sc[k0 * 2 * n..]),
+            qd: &qd[k0 * n..],
+            qdd: &qdd[k0 * n..],
+        };
+        let mut w = [0.0; LANES];
+        for (l, w) in w.iter_mut().enumerate().take(count) {
+            *w = weight(k0 + l);
+        }
+        energy::eval_rows_summed(
+            em, data, count, &rows, &mut x, &mut out, &mut sums, &w, level,
+        )
+        .unwrap();
+        if let Some(each) = each.as_mut() {
+            each(data, k0, count, &rows);
+        }
+    }
+    sums
+}
+
 #[test]
 fn the_row_major_lockstep_pass_carries_its_inputs_across_batches_and_its_sums_equal_the_per_sample_path_bit_for_bit(
 ) {
@@ -769,38 +815,34 @@ fn the_row_major_lockstep_pass_carries_its_inputs_across_batches_and_its_sums_eq
     for (k, w) in want.iter().enumerate() {
         want_sums.add_sample(k, w, weight(k), n);
     }
+    let traj = [&q[..], &sc, &qd, &qdd];
     for level in levels() {
         for given in [true, false] {
             let mut x = energy::LaneInputs::default();
             let mut out = energy::PowerLanes::default();
-            let (mut xs, mut outs) = (energy::LaneInputs::default(), energy::PowerLanes::default());
-            let mut sums = energy::EnergySums::default();
-            for k0 in (0..m).step_by(LANES) {
-                let count = LANES.min(m - k0);
-                let rows = energy::Rows {
-                    q: &q[k0 * n..],
-                    sincos: given.then(|| &sc[k0 * 2 * n..]),
-                    qd: &qd[k0 * n..],
-                    qdd: &qdd[k0 * n..],
+            // eval_rows on the same data after every summed batch: neither disturbs the other.
+            let mut rows_pass =
+                |data: &mut DynData, k0: usize, count: usize, rows: &energy::Rows| {
+                    energy::eval_rows(&em, data, count, rows, &mut x, &mut out, level).unwrap();
+                    for l in 0..count {
+                        assert_eq!(
+                            format!("{:?}", out.sample(l)),
+                            format!("{:?}", want[k0 + l]),
+                            "{level:?}, sines given {given}, sample {}",
+                            k0 + l
+                        );
+                    }
                 };
-                let mut w = [0.0; LANES];
-                for (l, w) in w.iter_mut().enumerate().take(count) {
-                    *w = weight(k0 + l);
-                }
-                energy::eval_rows_summed(
-                    &em, &mut data, count, &rows, &mut xs, &mut outs, &mut sums, &w, level,
-                )
-                .unwrap();
-                energy::eval_rows(&em, &mut data, count, &rows, &mut x, &mut out, level).unwrap();
-                for l in 0..count {
-                    assert_eq!(
-                        format!("{:?}", out.sample(l)),
-                        format!("{:?}", want[k0 + l]),
-                        "{level:?}, sines given {given}, sample {}",
-                        k0 + l
-                    );
-                }
-            }
+            let sums = summed_pass(
+                &em,
+                &mut data,
+                n,
+                traj,
+                given,
+                &weight,
+                level,
+                Some(&mut rows_pass),
+            );
             assert_eq!(
                 format!("{sums:?}"),
                 format!("{want_sums:?}"),
@@ -2334,28 +2376,10 @@ fn the_fused_summed_pass_adds_the_per_sample_paths_sums_bit_for_bit_with_every_e
             energy::eval_sample_with_sincos(&em, &mut data, a, b, c, d, &mut sp).unwrap();
             want.add_sample(k, &sp, weight(k), n);
         }
+        let traj = [&q[..], &sc, &qd, &qdd];
         for level in levels() {
             for given in [true, false] {
-                let mut sums = energy::EnergySums::default();
-                let mut x = energy::LaneInputs::default();
-                let mut out = energy::PowerLanes::default();
-                for k0 in (0..m).step_by(LANES) {
-                    let count = LANES.min(m - k0);
-                    let rows = energy::Rows {
-                        q: &q[k0 * n..],
-                        sincos: given.then(|| &sc[k0 * 2 * n..]),
-                        qd: &qd[k0 * n..],
-                        qdd: &qdd[k0 * n..],
-                    };
-                    let mut w = [0.0; LANES];
-                    for (l, w) in w.iter_mut().enumerate().take(count) {
-                        *w = weight(k0 + l);
-                    }
-                    energy::eval_rows_summed(
-                        &em, &mut data, count, &rows, &mut x, &mut out, &mut sums, &w, level,
-                    )
-                    .unwrap();
-                }
+                let sums = summed_pass(&em, &mut data, n, traj, given, &weight, level, None);
                 assert_eq!(
                     format!("{sums:?}"),
                     format!("{want:?}"),

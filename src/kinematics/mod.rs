@@ -1313,6 +1313,43 @@ impl<'a> IkSolver<'a> {
         self.solve_near_batch_lanes(target, &tp, count, q_prev, branch, level, batch)
     }
 
+    /// The closed form's parameters for the lockstep path IK continuing `q_prev` (rad);
+    /// `None` for a robot without closed form or a `q_prev` of the wrong length.
+    #[inline]
+    fn opw_continuing(&self, q_prev: &[f64]) -> Option<(&crate::robot::OpwParams, &opw::Prepared)> {
+        match (&self.model.opw, &self.opw_k) {
+            (Some(p), Some(k)) if q_prev.len() == self.model.dof() => Some((p, k)),
+            _ => None,
+        }
+    }
+
+    /// The flange positions of one batch's tips `tp[i][lane]` (base frame, m) into the block
+    /// of [`crate::simd::LANES`] lanes of `pos` from lane `at`: `off + tip` (`off`: the
+    /// target's `rot · tool_inv.pos`, m; the `flange_target` of each tip), and 0 in the
+    /// block's lanes from `count` on (no tip).
+    #[inline(always)]
+    fn flange_block<const W: usize>(
+        pos: &mut [[f64; W]; 3],
+        at: usize,
+        off: &V3,
+        tp: &[[f64; crate::simd::LANES]; 3],
+        count: usize,
+    ) {
+        use crate::simd::LANES;
+        let off = [off.x, off.y, off.z];
+        for i in 0..3 {
+            let row = &mut pos[i][at..at + LANES];
+            for l in 0..LANES {
+                row[l] = off[i] + tp[i][l];
+            }
+            // Then the lanes without a tip (the last batch's only), in one go rather than a
+            // select per lane.
+            if count < LANES {
+                row[count..].fill(0.0);
+            }
+        }
+    }
+
     /// [`IkSolver::solve_near_batch_into`] of the `count` tips given lane by lane
     /// (`tp[i][lane]`, m; lanes from `count` on are ignored): the same batch, bit for bit.
     #[allow(clippy::too_many_arguments)]
@@ -1326,25 +1363,11 @@ impl<'a> IkSolver<'a> {
         level: crate::simd::Level,
         batch: &mut opw::BranchBatch,
     ) -> bool {
-        use crate::simd::LANES;
-        let (p, k) = match (&self.model.opw, &self.opw_k) {
-            (Some(p), Some(k)) if q_prev.len() == self.model.dof() => (p, k),
-            _ => return false,
+        let Some((p, k)) = self.opw_continuing(q_prev) else {
+            return false;
         };
-        // flange_target of each tip: rot · tool_inv.rot and rot · tool_inv.pos + tip (lanes
-        // without a tip: 0).
-        let off = [target.off.x, target.off.y, target.off.z];
-        let mut pos = [[0.0; LANES]; 3];
-        for i in 0..3 {
-            for l in 0..LANES {
-                pos[i][l] = off[i] + tp[i][l];
-            }
-            // Then the lanes without a tip (the last batch's only), in one go rather than a
-            // select per lane.
-            if count < LANES {
-                pos[i][count..].fill(0.0);
-            }
-        }
+        let mut pos = [[0.0; crate::simd::LANES]; 3];
+        Self::flange_block(&mut pos, 0, &target.off, tp, count);
         let branch = branch.unwrap_or_else(|| k.branch_of(p, q_prev));
         opw::solve_branch_batch_into(p, k, &target.frot, &pos, branch, level, batch);
         if q_prev.len() == 6 {
@@ -1371,24 +1394,13 @@ impl<'a> IkSolver<'a> {
         level: crate::simd::Level,
         batches: [&mut opw::BranchBatch; 2],
     ) -> bool {
-        use crate::simd::LANES;
-        let (p, k) = match (&self.model.opw, &self.opw_k) {
-            (Some(p), Some(k)) if q_prev.len() == self.model.dof() => (p, k),
-            _ => return false,
+        let Some((p, k)) = self.opw_continuing(q_prev) else {
+            return false;
         };
-        // As solve_near_batch_lanes, batch by batch: off + tip, the lanes without a tip 0.
-        let off = [target.off.x, target.off.y, target.off.z];
+        // As solve_near_batch_lanes, batch by batch.
         let mut pos = [[0.0; opw::PAIR_LANES]; 3];
         for (g, (tp, &count)) in tp.iter().zip(&counts).enumerate() {
-            for i in 0..3 {
-                let row = &mut pos[i][g * LANES..(g + 1) * LANES];
-                for l in 0..LANES {
-                    row[l] = off[i] + tp[i][l];
-                }
-                if count < LANES {
-                    row[count..].fill(0.0);
-                }
-            }
+            Self::flange_block(&mut pos, g * crate::simd::LANES, &target.off, tp, count);
         }
         let branch = branch.unwrap_or_else(|| k.branch_of(p, q_prev));
         let [b0, b1] = batches;
@@ -1416,9 +1428,8 @@ impl<'a> IkSolver<'a> {
         level: crate::simd::Level,
         batch: &mut opw::BranchBatch,
     ) -> bool {
-        let (p, k) = match (&self.model.opw, &self.opw_k) {
-            (Some(p), Some(k)) if q_prev.len() == self.model.dof() => (p, k),
-            _ => return false,
+        let Some((p, k)) = self.opw_continuing(q_prev) else {
+            return false;
         };
         let branch = branch.unwrap_or_else(|| k.branch_of(p, q_prev));
         if batch.branch != branch {
