@@ -10,7 +10,7 @@ fn main() {
     if let Err(e) = cli::run(cli) {
         eprintln!(
             "error: {}{}",
-            printwatt::error::clip(&format!("{e:#}")),
+            printwatt::error::clip(&cli::error_text(&e)),
             hint(&e)
         );
         std::process::exit(1);
@@ -38,6 +38,20 @@ fn hint(e: &anyhow::Error) -> &'static str {
 
 #[cfg(test)]
 mod tests {
+    #[test]
+    fn an_io_error_says_what_the_system_said_once() {
+        let e = anyhow::Error::from(printwatt::Error::io(
+            "wall.gcode",
+            std::io::Error::from(std::io::ErrorKind::NotFound),
+        ))
+        .context("loading path wall.gcode");
+        let t = super::cli::error_text(&e);
+        assert_eq!(t, "loading path wall.gcode: wall.gcode: entity not found");
+        // A cause that adds something is kept.
+        let e = anyhow::anyhow!("inner").context("outer");
+        assert_eq!(super::cli::error_text(&e), "outer: inner");
+    }
+
     #[test]
     fn clap_definition_is_consistent() {
         use clap::CommandFactory;

@@ -534,3 +534,41 @@ fn a_study_names_the_case_or_entry_at_fault_before_any_work() {
     assert!(!d.join("out").exists());
     let _ = std::fs::remove_dir_all(&d);
 }
+
+#[test]
+fn merge_refuses_a_study_shard_whose_case_page_was_damaged() {
+    let d = scratch("design-page");
+    std::fs::write(d.join("study.toml"), STUDY).unwrap();
+    for k in 0..2 {
+        ok(&printwatt(
+            &[
+                "study",
+                "study.toml",
+                "--shard",
+                &format!("{k}/2"),
+                "--out",
+                "parts",
+            ],
+            &d,
+            &[],
+        ));
+    }
+    // Case 2 (small / near / wall) is shard 0's second case; its page sits beside the rows.
+    let page = d.join("parts/shard-0-of-2/case-2-small-near-wall.html");
+    let mut text = std::fs::read_to_string(&page).unwrap();
+    text.push_str("<!-- edited -->");
+    std::fs::write(&page, text).unwrap();
+    let e = err(&printwatt(&["merge", "parts", "--out", "merged"], &d, &[]));
+    assert!(
+        e.contains("case-2-small-near-wall.html: damaged or replaced"),
+        "{e}"
+    );
+    assert!(!d.join("merged").exists());
+    std::fs::remove_file(&page).unwrap();
+    let e = err(&printwatt(&["merge", "parts", "--out", "merged"], &d, &[]));
+    assert!(
+        e.contains("case 2 (small / near / wall): its report page"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}

@@ -28,6 +28,16 @@ pub fn run(m: MergeArgs) -> Result<()> {
     for d in &dirs {
         data.push(shard::read_shard(d)?);
     }
+    // Absolute: the merge runs the job in the directory the shards ran in.
+    let shard_dirs: Vec<(usize, PathBuf)> = data
+        .iter()
+        .map(|s| {
+            (
+                s.header.shard.index,
+                std::path::absolute(&s.dir).unwrap_or_else(|_| s.dir.clone()),
+            )
+        })
+        .collect();
     let merged = shard::merge(data)?;
     let h = &merged.header;
     if h.version != super::VERSION {
@@ -63,7 +73,16 @@ pub fn run(m: MergeArgs) -> Result<()> {
         let shard::MergedRows::Study(results) = merged.rows else {
             bail!("the shards hold placements or draws, not study cases");
         };
-        return super::study::merge(sa, h, results, out, &m.out, (facts, extra), &here);
+        return super::study::merge(
+            sa,
+            h,
+            results,
+            &shard_dirs,
+            out,
+            &m.out,
+            (facts, extra),
+            &here,
+        );
     }
     if h.kind == shard::KIND_UNCERTAINTY {
         let super::Command::Optimise(oa) = cli.command else {

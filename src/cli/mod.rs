@@ -35,6 +35,23 @@ pub struct Cli {
     pub command: Command,
 }
 
+/// An error and its causes on one line, `outer: inner: …`, without repeating a cause whose
+/// text already ends the line (a library error that quotes its source, e.g. an I/O error
+/// naming its file and what the system said, is not followed by the system's words again).
+pub fn error_text(e: &anyhow::Error) -> String {
+    let mut s = String::new();
+    for c in e.chain() {
+        let t = c.to_string();
+        if s.is_empty() {
+            s = t;
+        } else if !s.ends_with(&t) {
+            s.push_str(": ");
+            s.push_str(&t);
+        }
+    }
+    s
+}
+
 /// The commands.
 #[derive(Subcommand, Debug)]
 pub enum Command {

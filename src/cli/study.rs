@@ -175,14 +175,15 @@ fn objective_name(o: printwatt::placement::sweep::Objective) -> String {
         .map_or_else(|| format!("{o:?}"), |(n, _)| (*n).to_string())
 }
 
-/// Optimise one case. An error of the optimisation (no feasible placement, a reduced answer
-/// infeasible in full, …) is the case's answer, in words; an error loading its inputs is the
-/// study's.
-fn run_case(a: &OptimiseArgs, pool: &rayon::ThreadPool) -> Result<CaseResult> {
+/// Optimise one case: its result and its report page (when it has an answer). An error of the
+/// optimisation (no feasible placement, a reduced answer infeasible in full, …) is the case's
+/// answer, in words; an error loading its inputs is the study's.
+fn run_case(a: &OptimiseArgs, pool: &rayon::ThreadPool) -> Result<(CaseResult, Option<String>)> {
     let l = a.p.load()?;
     let objective = objective_name(l.objective);
     let job = l.job()?;
     let (ps, _, _) = a.p.placements(Some(l.default_grid()))?;
+    let mut page = None;
     let r = match compute(a, &l, &job, pool, None, &mut None, false) {
         Ok(Some(c)) => {
             let rep = &c.rep;
@@ -228,21 +229,23 @@ fn run_case(a: &OptimiseArgs, pool: &rayon::ThreadPool) -> Result<CaseResult> {
                 grid: rep.rows.len(),
                 grid_feasible: rep.rows.iter().filter(|r| r.cost().is_finite()).count(),
                 evaluations: c.n_eval,
-                report_html: Some(rep.html()),
+                report_sha256: Some(printwatt::output::sha256_hex(
+                    page.insert(rep.html()).as_bytes(),
+                )),
             }
         }
         Ok(None) => bail!("a study case wrote a shard"),
         Err(e) => CaseResult {
             objective,
-            outcome: Err(format!("{e:#}")),
+            outcome: Err(super::error_text(&e)),
             grid: ps.len(),
             grid_feasible: 0,
             evaluations: ps.len(),
-            report_html: None,
+            report_sha256: None,
         },
     };
     // Exactly what a shard carries, so that a single run and a merge write the same files.
-    Ok(r.as_stored()?)
+    Ok((r.as_stored()?, page))
 }
 
 /// A case's answer in a few lines: the placement and energy, or why there is none (the
@@ -279,20 +282,25 @@ fn case_line(study: &Study, k: usize, r: &CaseResult, secs: f64) -> String {
     }
 }
 
-/// Run the cases `indices` (in order), each on `pool`; a line per case on stderr unless
-/// `quiet`.
+/// Run the cases `indices` (in order), each on `pool`, writing each answered case's report
+/// page into `rd` as soon as it is made; a line per case on stderr unless `quiet`.
 fn run_cases(
     study: &Study,
     args: &[OptimiseArgs],
     indices: &[usize],
     pool: &rayon::ThreadPool,
+    rd: &mut printwatt::output::RunDir,
     quiet: bool,
 ) -> Result<Vec<CaseResult>> {
     let mut out = Vec::with_capacity(indices.len());
     for &k in indices {
         let t = std::time::Instant::now();
-        let r = run_case(&args[k], pool)
-            .with_context(|| format!("case {k} ({})", study.case_name(&study.cases[k])))?;
+        let c = &study.cases[k];
+        let (r, page) = run_case(&args[k], pool)
+            .with_context(|| format!("case {k} ({})", study.case_name(c)))?;
+        if let Some(page) = page {
+            rd.write(&study.case_file(c), page.as_bytes())?;
+        }
         if !quiet {
             eprintln!("{}", case_line(study, k, &r, t.elapsed().as_secs_f64()));
         }
@@ -301,9 +309,21 @@ fn run_cases(
     Ok(out)
 }
 
+/// The study file: as given, or, for a relative path that is not there, the one shipped in the
+/// source tree (`studies/example.toml` from any directory), as `--path paths/…` resolves.
+pub fn study_file(a: &StudyArgs) -> PathBuf {
+    if a.study.is_relative() && !a.study.exists() {
+        let shipped = super::sweep::shipped(&a.study.to_string_lossy());
+        if shipped.exists() {
+            return shipped;
+        }
+    }
+    a.study.clone()
+}
+
 /// `printwatt study`.
 pub fn run(a: StudyArgs) -> Result<()> {
-    let study = Study::read(&a.study)?;
+    let study = Study::read(&study_file(&a))?;
     let args = case_args(&study, a.threads)?;
     let inputs = check_cases(&study, &args)?;
     let pool = match args.first() {
@@ -332,14 +352,14 @@ pub fn run(a: StudyArgs) -> Result<()> {
         }
     };
     // Taken before the work: an occupied directory or one that is an input fails now.
-    let rd = printwatt::output::RunDir::begin_at(
+    let mut rd = printwatt::output::RunDir::begin_at(
         &dir,
         &inputs,
         printwatt::output::Existing::Force(a.out.force),
     )?;
     let t0 = std::time::Instant::now();
     let all: Vec<usize> = (0..study.cases.len()).collect();
-    let results = run_cases(&study, &args, &all, &pool, a.out.json)?;
+    let results = run_cases(&study, &args, &all, &pool, &mut rd, a.out.json)?;
     let secs = t0.elapsed().as_secs_f64();
     let evals: usize = results.iter().map(|r| r.evaluations).sum();
     let facts = super::sweep::run_facts(pool.current_num_threads(), secs, evals);
@@ -360,14 +380,15 @@ fn run_shard(
     let Some(parent) = a.out.out.clone() else {
         bail!("--shard writes a shard directory: give --out DIR (every shard of the study writes DIR/shard-K-of-N/, and `printwatt merge DIR` puts them together)");
     };
-    let rd = printwatt::output::RunDir::begin_at(
+    let mut rd = printwatt::output::RunDir::begin_at(
         &parent.join(sh.dir_name()),
         inputs,
         printwatt::output::Existing::Force(a.out.force),
     )?;
     let idx = sh.indices(study.cases.len());
     let t0 = std::time::Instant::now();
-    let results = run_cases(study, args, &idx, pool, a.out.json)?;
+    // The shard directory holds its cases' report pages beside its rows.
+    let results = run_cases(study, args, &idx, pool, &mut rd, a.out.json)?;
     let secs = t0.elapsed().as_secs_f64();
     let answered = results.iter().filter(|r| r.outcome.is_ok()).count();
     let rows: Vec<(usize, CaseResult)> = idx.into_iter().zip(results).collect();
@@ -397,11 +418,15 @@ fn run_shard(
 
 /// Merge the shards of `printwatt study --shard …`: the study file is read again (from the
 /// directory the shards ran in; unchanged, as every input), the cases' results come from the
-/// shards, and the study directory is the one a single run writes.
+/// shards and their report pages from the shard directories (`shard_dirs`: shard index →
+/// directory; each page checked against the SHA-256 its case recorded), and the study
+/// directory is the one a single run writes.
+#[allow(clippy::too_many_arguments)]
 pub fn merge(
     a: StudyArgs,
     h: &printwatt::placement::shard::ShardHeader,
     results: Vec<CaseResult>,
+    shard_dirs: &[(usize, PathBuf)],
     out: Option<PathBuf>,
     o: &super::args::OutputArgs,
     facts: (serde_json::Value, Vec<(&'static str, serde_json::Value)>),
@@ -413,7 +438,7 @@ pub fn merge(
     if job_key(&a) != h.job {
         bail!("this printwatt reads the shards' command line as a different job than the one they ran");
     }
-    let study = Study::read(&a.study)?;
+    let study = Study::read(&study_file(&a))?;
     if study.cases.len() != results.len() {
         bail!(
             "the study file has {} cases, the shards hold {}",
@@ -429,17 +454,46 @@ pub fn merge(
             bail!("{f} changed since the shards ran (SHA-256 differs): the shards are results of the old file; re-run them");
         }
     }
-    let rd = printwatt::output::RunDir::begin_at(
+    let mut rd = printwatt::output::RunDir::begin_at(
         &out,
         &inputs,
         printwatt::output::Existing::Force(o.force),
     )?;
+    for (c, r) in study.cases.iter().zip(&results) {
+        let Some(sha) = &r.report_sha256 else {
+            continue;
+        };
+        let owner = c.index % h.shard.count;
+        let Some((_, dir)) = shard_dirs.iter().find(|(i, _)| *i == owner) else {
+            bail!(
+                "no directory for shard {owner}, which holds case {}",
+                c.index
+            );
+        };
+        let f = dir.join(study.case_file(c));
+        let page = std::fs::read(&f).with_context(|| {
+            format!(
+                "case {} ({}): its report page {}",
+                c.index,
+                study.case_name(c),
+                f.display()
+            )
+        })?;
+        if &printwatt::output::sha256_hex(&page) != sha {
+            bail!(
+                "{}: damaged or replaced (its SHA-256 is not the one case {} recorded)",
+                f.display(),
+                c.index
+            );
+        }
+        rd.write(&study.case_file(c), &page)?;
+    }
     std::env::set_current_dir(here).ok();
     finish(&study, results, rd, facts, o.json)
 }
 
-/// Write the study directory (shared by a single run and `merge`): `summary.json`,
-/// `study.csv`, `report.html`, each answered case's report page and `run.json`; then the
+/// Finish the study directory (shared by a single run and `merge`; each answered case's report
+/// page is in it already): `summary.json`, `study.csv`, `report.html` and `run.json`; then the
 /// answer on the terminal, or the summary as JSON.
 pub fn finish(
     study: &Study,
@@ -456,11 +510,6 @@ pub fn finish(
         "report.html",
         printwatt::report::study::html(study, &results)?.as_bytes(),
     )?;
-    for (c, r) in study.cases.iter().zip(&results) {
-        if let Some(h) = &r.report_html {
-            rd.write(&study.case_file(c), h.as_bytes())?;
-        }
-    }
     super::sweep::write_run_facts(&mut rd, facts.0, &facts.1)?;
     let dir = rd.commit()?;
     if json {

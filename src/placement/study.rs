@@ -435,8 +435,10 @@ pub struct CaseResult {
     pub grid_feasible: usize,
     /// Evaluations the answer needed (grid, refinement, tolerance corners, sensitivity).
     pub evaluations: usize,
-    /// The case's optimise report page (self-contained HTML), when the case has an answer.
-    pub report_html: Option<String>,
+    /// SHA-256 (hex) of the case's optimise report page (self-contained HTML), when the case
+    /// has an answer; the page itself is written beside the results as it is made
+    /// ([`Study::case_file`]), so that a study holds one page in memory at a time.
+    pub report_sha256: Option<String>,
 }
 
 /// A case's chosen placement and its figures.
@@ -902,7 +904,7 @@ file = "/abs/column.gcode"
             grid: 4,
             grid_feasible: 2,
             evaluations: 30,
-            report_html: None,
+            report_sha256: None,
         }
     }
 
@@ -942,7 +944,7 @@ file = "/abs/column.gcode"
     #[test]
     fn a_stored_case_result_is_the_result_bit_for_bit() {
         let mut r = result(Some(0.1 + 0.2));
-        r.report_html = Some("<html/>".into());
+        r.report_sha256 = Some(crate::output::sha256_hex(b"<html/>"));
         assert_eq!(r.as_stored().unwrap(), r);
     }
 }
