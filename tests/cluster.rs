@@ -472,24 +472,23 @@ fn design_study_shards_merge_to_the_single_run_files_bit_for_bit() {
     let _ = std::fs::remove_dir_all(&d);
 }
 
-#[test]
-fn merge_refuses_study_shards_whose_study_file_changed_since_they_ran() {
-    let d = scratch("design-changed");
+/// Write [`STUDY`] into `d` and run it as `n` shards into `d/parts`.
+fn study_shards(d: &Path, n: usize) {
     std::fs::write(d.join("study.toml"), STUDY).unwrap();
-    for k in 0..2 {
+    for k in 0..n {
+        let spec = format!("{k}/{n}");
         ok(&printwatt(
-            &[
-                "study",
-                "study.toml",
-                "--shard",
-                &format!("{k}/2"),
-                "--out",
-                "parts",
-            ],
-            &d,
+            &["study", "study.toml", "--shard", &spec, "--out", "parts"],
+            d,
             &[],
         ));
     }
+}
+
+#[test]
+fn merge_refuses_study_shards_whose_study_file_changed_since_they_ran() {
+    let d = scratch("design-changed");
+    study_shards(&d, 2);
     std::fs::write(d.join("study.toml"), STUDY.replace("\"12\"", "\"13\"")).unwrap();
     let e = err(&printwatt(&["merge", "parts", "--out", "merged"], &d, &[]));
     assert!(e.contains("study.toml changed since the shards ran"), "{e}");
@@ -538,21 +537,7 @@ fn a_study_names_the_case_or_entry_at_fault_before_any_work() {
 #[test]
 fn merge_refuses_a_study_shard_whose_case_page_was_damaged() {
     let d = scratch("design-page");
-    std::fs::write(d.join("study.toml"), STUDY).unwrap();
-    for k in 0..2 {
-        ok(&printwatt(
-            &[
-                "study",
-                "study.toml",
-                "--shard",
-                &format!("{k}/2"),
-                "--out",
-                "parts",
-            ],
-            &d,
-            &[],
-        ));
-    }
+    study_shards(&d, 2);
     // Case 2 (small / near / wall) is shard 0's second case; its page sits beside the rows.
     let page = d.join("parts/shard-0-of-2/case-2-small-near-wall.html");
     let mut text = std::fs::read_to_string(&page).unwrap();
