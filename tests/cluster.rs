@@ -462,6 +462,15 @@ fn design_study_shards_merge_to_the_single_run_files_bit_for_bit() {
         serde_json::from_str(&std::fs::read_to_string(d.join("merged/run.json")).unwrap()).unwrap();
     assert_eq!(facts["cases"], 4);
     assert_eq!(facts["shards"], 2);
+    // A JSON run without --out writes nothing but the JSON (the same summary).
+    let j: serde_json::Value = serde_json::from_str(&ok(&printwatt(
+        &["study", "study.toml", "--json", "--threads", "1"],
+        &d,
+        &[],
+    )))
+    .unwrap();
+    assert_eq!(j["cases"], s["cases"]);
+    assert!(!d.join("results").exists(), "a JSON run wrote files");
     // The single run's directory is not replaced without --force.
     let e = err(&printwatt(
         &["study", "study.toml", "--out", "single"],

@@ -239,8 +239,9 @@ impl EnergyArgs {
 pub struct OutputArgs {
     /// Directory for every file this command writes (created if missing; never an input's
     /// place). Default: the current directory for `energy`, `simulate` and `identify`; a new
-    /// `results/runs/optimise-<robot>-<path>-<UTC time>/` for `optimise`; no files for
-    /// `sweep`, `compare` and `diagnose`. With --json and no --out, nothing but the JSON is
+    /// `results/runs/optimise-<robot>-<path>-<UTC time>/` for `optimise` and
+    /// `results/runs/study-<name>-<UTC time>/` for `study`; no files for `sweep`, `compare`
+    /// and `diagnose`. With --json and no --out, nothing but the JSON is
     /// written (except `identify`'s calibrated robot, its result).
     #[arg(long, value_name = "DIR")]
     pub out: Option<PathBuf>,

@@ -213,6 +213,18 @@ fn run_case(a: &OptimiseArgs, pool: &rayon::ThreadPool) -> Result<(CaseResult, O
                     notes.push(format!("search stopped: {b}"));
                 }
             }
+            if let Some(t) = rep
+                .optimise
+                .as_ref()
+                .and_then(|o| o.baseline_tolerance.as_ref())
+                .filter(|t| t.corners > 0 && !t.holds)
+            {
+                notes.push(format!(
+                    "the baseline does not hold the tolerance ({} of its {} corners infeasible): the saving is measured against a placement a site could not rely on",
+                    t.failures.len(),
+                    t.corners
+                ));
+            }
             CaseResult {
                 objective,
                 outcome: Ok(CaseBest {
@@ -223,6 +235,12 @@ fn run_case(a: &OptimiseArgs, pool: &rayon::ThreadPool) -> Result<(CaseResult, O
                         .as_ref()
                         .map(|(_, b)| b.cost())
                         .filter(|c| c.is_finite()),
+                    baseline_holds_tolerance: rep
+                        .optimise
+                        .as_ref()
+                        .and_then(|o| o.baseline_tolerance.as_ref())
+                        .filter(|t| t.corners > 0)
+                        .map(|t| t.holds),
                     tolerance: si.map(|si| tolerance_line(&si.tolerance)),
                     notes,
                 }),
@@ -283,13 +301,14 @@ fn case_line(study: &Study, k: usize, r: &CaseResult, secs: f64) -> String {
 }
 
 /// Run the cases `indices` (in order), each on `pool`, writing each answered case's report
-/// page into `rd` as soon as it is made; a line per case on stderr unless `quiet`.
+/// page into `rd` (when given) as soon as it is made; a line per case on stderr unless
+/// `quiet`.
 fn run_cases(
     study: &Study,
     args: &[OptimiseArgs],
     indices: &[usize],
     pool: &rayon::ThreadPool,
-    rd: &mut printwatt::output::RunDir,
+    mut rd: Option<&mut printwatt::output::RunDir>,
     quiet: bool,
 ) -> Result<Vec<CaseResult>> {
     let mut out = Vec::with_capacity(indices.len());
@@ -298,7 +317,7 @@ fn run_cases(
         let c = &study.cases[k];
         let (r, page) = run_case(&args[k], pool)
             .with_context(|| format!("case {k} ({})", study.case_name(c)))?;
-        if let Some(page) = page {
+        if let (Some(page), Some(rd)) = (page, rd.as_deref_mut()) {
             rd.write(&study.case_file(c), page.as_bytes())?;
         }
         if !quiet {
@@ -333,8 +352,10 @@ pub fn run(a: StudyArgs) -> Result<()> {
     if let Some(spec) = &a.shard {
         return run_shard(&a, &study, &args, &inputs, &pool, spec);
     }
+    // A JSON run writes nothing but the JSON unless --out is given.
     let dir = match &a.out.out {
-        Some(d) => d.clone(),
+        Some(d) => Some(d.clone()),
+        None if a.out.json => None,
         None => {
             let now = std::time::SystemTime::now()
                 .duration_since(std::time::UNIX_EPOCH)
@@ -348,18 +369,21 @@ pub fn run(a: StudyArgs) -> Result<()> {
                 dir = parent.join(format!("{base}-{k}"));
                 k += 1;
             }
-            dir
+            Some(dir)
         }
     };
     // Taken before the work: an occupied directory or one that is an input fails now.
-    let mut rd = printwatt::output::RunDir::begin_at(
-        &dir,
-        &inputs,
-        printwatt::output::Existing::Force(a.out.force),
-    )?;
+    let mut rd = match &dir {
+        Some(dir) => Some(printwatt::output::RunDir::begin_at(
+            dir,
+            &inputs,
+            printwatt::output::Existing::Force(a.out.force),
+        )?),
+        None => None,
+    };
     let t0 = std::time::Instant::now();
     let all: Vec<usize> = (0..study.cases.len()).collect();
-    let results = run_cases(&study, &args, &all, &pool, &mut rd, a.out.json)?;
+    let results = run_cases(&study, &args, &all, &pool, rd.as_mut(), a.out.json)?;
     let secs = t0.elapsed().as_secs_f64();
     let evals: usize = results.iter().map(|r| r.evaluations).sum();
     let facts = super::sweep::run_facts(pool.current_num_threads(), secs, evals);
@@ -388,7 +412,7 @@ fn run_shard(
     let idx = sh.indices(study.cases.len());
     let t0 = std::time::Instant::now();
     // The shard directory holds its cases' report pages beside its rows.
-    let results = run_cases(study, args, &idx, pool, &mut rd, a.out.json)?;
+    let results = run_cases(study, args, &idx, pool, Some(&mut rd), a.out.json)?;
     let secs = t0.elapsed().as_secs_f64();
     let answered = results.iter().filter(|r| r.outcome.is_ok()).count();
     let rows: Vec<(usize, CaseResult)> = idx.into_iter().zip(results).collect();
@@ -489,29 +513,33 @@ pub fn merge(
         rd.write(&study.case_file(c), &page)?;
     }
     std::env::set_current_dir(here).ok();
-    finish(&study, results, rd, facts, o.json)
+    finish(&study, results, Some(rd), facts, o.json)
 }
 
 /// Finish the study directory (shared by a single run and `merge`; each answered case's report
 /// page is in it already): `summary.json`, `study.csv`, `report.html` and `run.json`; then the
-/// answer on the terminal, or the summary as JSON.
+/// answer on the terminal, or the summary as JSON. Without `rd` (a JSON run without --out)
+/// nothing is written.
 pub fn finish(
     study: &Study,
     results: Vec<CaseResult>,
-    mut rd: printwatt::output::RunDir,
+    rd: Option<printwatt::output::RunDir>,
     facts: (serde_json::Value, Vec<(&str, serde_json::Value)>),
     json: bool,
 ) -> Result<()> {
     let summary = study.summary(&results)?;
     let summary_text = printwatt::output::json_text(&summary)?;
-    rd.write("summary.json", summary_text.as_bytes())?;
-    rd.write("study.csv", study.csv(&results)?.as_bytes())?;
-    rd.write(
-        "report.html",
-        printwatt::report::study::html(study, &results)?.as_bytes(),
-    )?;
-    super::sweep::write_run_facts(&mut rd, facts.0, &facts.1)?;
-    let dir = rd.commit()?;
+    let mut dir = None;
+    if let Some(mut rd) = rd {
+        rd.write("summary.json", summary_text.as_bytes())?;
+        rd.write("study.csv", study.csv(&results)?.as_bytes())?;
+        rd.write(
+            "report.html",
+            printwatt::report::study::html(study, &results)?.as_bytes(),
+        )?;
+        super::sweep::write_run_facts(&mut rd, facts.0, &facts.1)?;
+        dir = Some(rd.commit()?);
+    }
     if json {
         return super::print_json_text(&summary_text);
     }
@@ -561,6 +589,8 @@ pub fn finish(
             );
         }
     }
-    println!("report: {}", dir.join("report.html").display());
+    if let Some(dir) = dir {
+        println!("report: {}", dir.join("report.html").display());
+    }
     Ok(())
 }

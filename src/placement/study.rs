@@ -450,6 +450,10 @@ pub struct CaseBest {
     pub feasible: Feasible,
     /// The objective's energy at the case's baseline placement, J, when there is one.
     pub baseline_j: Option<f64>,
+    /// Whether the baseline holds the placement tolerance the answer holds (`None`: not
+    /// checked, e.g. a zero tolerance). A saving against a baseline that does not hold it is
+    /// measured against a placement a site could not rely on.
+    pub baseline_holds_tolerance: Option<bool>,
     /// The placement tolerance check, in words.
     pub tolerance: Option<String>,
     /// Notes on the answer: an optimum on a search bound or a joint-limit margin, a search
@@ -644,7 +648,7 @@ impl Study {
     pub fn csv(&self, results: &[CaseResult]) -> Result<String> {
         self.check_results(results)?;
         let mut s = String::from(
-            "case,robot,cell,path,status,x_m,y_m,z_m,yaw_deg,spin_deg,energy_j,supply_j,drives_j,standby_j,duration_s,baseline_j,saving_pct,grid,grid_feasible,evaluations,report,note\n",
+            "case,robot,cell,path,status,x_m,y_m,z_m,yaw_deg,spin_deg,energy_j,supply_j,drives_j,standby_j,duration_s,baseline_j,saving_pct,baseline_holds_tolerance,grid,grid_feasible,evaluations,report,note\n",
         );
         let q = |t: &str| {
             if t.contains([',', '"', '\n']) {
@@ -673,8 +677,11 @@ impl Study {
                         ),
                         None => (String::new(), String::new()),
                     };
+                    let bt = b
+                        .baseline_holds_tolerance
+                        .map_or(String::new(), |h| h.to_string());
                     s.push_str(&format!(
-                        "{head},feasible,{x},{y},{z},{},{},{},{},{},{},{},{bj},{sv},{tail},{},{}\n",
+                        "{head},feasible,{x},{y},{z},{},{},{},{},{},{},{},{bj},{sv},{bt},{tail},{},{}\n",
                         yaw.to_degrees(),
                         spin.to_degrees(),
                         f.energy_j,
@@ -687,7 +694,7 @@ impl Study {
                     ));
                 }
                 Err(why) => s.push_str(&format!(
-                    "{head},no answer,,,,,,,,,,,,,{tail},,{}\n",
+                    "{head},no answer,,,,,,,,,,,,,,{tail},,{}\n",
                     q(why)
                 )),
             }
@@ -723,6 +730,8 @@ impl Study {
                         });
                         v["outcome"] = serde_json::to_value(&b.feasible).unwrap_or_default();
                         v["baseline_j"] = serde_json::json!(b.baseline_j);
+                        v["baseline_holds_tolerance"] =
+                            serde_json::json!(b.baseline_holds_tolerance);
                         v["tolerance"] = serde_json::json!(b.tolerance);
                         v["notes"] = serde_json::json!(b.notes);
                         v["report"] = self.case_file(c).into();
@@ -896,6 +905,7 @@ file = "/abs/column.gcode"
                         path_reduction: None,
                     },
                     baseline_j: Some(e * 1.1),
+                    baseline_holds_tolerance: Some(false),
                     tolerance: None,
                     notes: vec![],
                 }),

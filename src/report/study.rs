@@ -243,7 +243,13 @@ pub fn html(study: &Study, results: &[CaseResult]) -> Result<String> {
                 let [x, y, z, yaw, spin] = b.placement;
                 let f = &b.feasible;
                 let saving = b.baseline_j.map_or("-".to_string(), |bj| {
-                    format!("{:.1} %", 100.0 * (bj - f.energy_j) / bj.abs().max(1e-12))
+                    let pct = 100.0 * (bj - f.energy_j) / bj.abs().max(1e-12);
+                    match b.baseline_holds_tolerance {
+                        Some(false) => {
+                            format!("{pct:.1} % (the baseline does not hold the tolerance)")
+                        }
+                        _ => format!("{pct:.1} %"),
+                    }
                 });
                 let _ = write!(
                     tb,
