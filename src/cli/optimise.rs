@@ -74,24 +74,15 @@ pub struct OptimiseArgs {
 
 /// What the tolerance check says, in one line.
 pub fn tolerance_line(c: &printwatt::placement::tolerance::ToleranceCheck) -> String {
+    use printwatt::report::placement::tolerance_text;
     if c.corners == 0 {
-        return "not checked (--tolerance 0,0)".into();
-    }
-    if c.holds {
-        format!(
-            "holds {}: all {} corners feasible, energy {:.1}…{:.1} J",
-            c.tolerance.describe(),
-            c.corners,
-            c.best_j.unwrap_or(f64::NAN),
-            c.worst_j.unwrap_or(f64::NAN)
-        )
+        "not checked (--tolerance 0,0)".into()
+    } else if c.holds {
+        tolerance_text(c, true)
     } else {
         format!(
-            "does NOT hold {}: {} of the {} corners checked infeasible (first: {}); no grid cell near the optimum holds it",
-            c.tolerance.describe(),
-            c.failures.len(),
-            c.corners,
-            c.failures.first().map_or("", String::as_str)
+            "{}; no grid cell near the optimum holds it",
+            tolerance_text(c, true)
         )
     }
 }

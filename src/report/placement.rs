@@ -1022,6 +1022,14 @@ pub fn uncertainty_lines(u: &crate::placement::uncertainty::Study) -> Vec<String
 /// feasible, energy a…b J" or "does NOT hold …: k of the 16 corners infeasible (first: why)"
 /// (energies in J).
 pub fn baseline_tolerance_text(c: &crate::placement::tolerance::ToleranceCheck) -> String {
+    tolerance_text(c, false)
+}
+
+/// A tolerance check in words: "holds ±20 mm in x and y, …: all 16 corners feasible, energy
+/// a…b J" or "does NOT hold …: k of the n corners infeasible (first: why)"; `checked` says
+/// "corners checked infeasible" (a check that stops after the first batch with an infeasible
+/// corner has not evaluated them all). Energies in J.
+pub fn tolerance_text(c: &crate::placement::tolerance::ToleranceCheck, checked: bool) -> String {
     if c.holds {
         format!(
             "holds {}: all {} corners feasible, energy {:.1}…{:.1} J",
@@ -1032,10 +1040,11 @@ pub fn baseline_tolerance_text(c: &crate::placement::tolerance::ToleranceCheck) 
         )
     } else {
         format!(
-            "does NOT hold {}: {} of the {} corners infeasible (first: {})",
+            "does NOT hold {}: {} of the {} corners {}infeasible (first: {})",
             c.tolerance.describe(),
             c.failures.len(),
             c.corners,
+            if checked { "checked " } else { "" },
             c.failures.first().map_or("", String::as_str)
         )
     }
