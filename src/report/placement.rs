@@ -1074,3 +1074,43 @@ pub fn saving_text(j: f64, pct: f64) -> String {
         format!("{j:.1} J ({pct:.2} %)")
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::placement::tolerance::{Tolerance, ToleranceCheck};
+
+    #[test]
+    fn a_tolerance_check_in_words_names_the_corners_and_the_first_failure() {
+        let tolerance = Tolerance {
+            xy_m: 0.02,
+            z_m: 0.02,
+            yaw_rad: 1f64.to_radians(),
+        };
+        let failed = ToleranceCheck {
+            tolerance,
+            corners: 8,
+            failures: vec!["joint 3 near its limit".into(), "reach".into()],
+            holds: false,
+            worst_j: Some(12.0),
+            best_j: Some(10.0),
+        };
+        let t = tolerance_text(&failed, true);
+        assert!(t.starts_with("does NOT hold ±20 mm"), "{t}");
+        assert!(
+            t.ends_with(": 2 of the 8 corners checked infeasible (first: joint 3 near its limit)"),
+            "{t}"
+        );
+        assert!(baseline_tolerance_text(&failed)
+            .ends_with(": 2 of the 8 corners infeasible (first: joint 3 near its limit)"));
+        let held = ToleranceCheck {
+            corners: 16,
+            failures: vec![],
+            holds: true,
+            ..failed
+        };
+        assert!(
+            tolerance_text(&held, true).ends_with(": all 16 corners feasible, energy 10.0…12.0 J")
+        );
+    }
+}
