@@ -195,7 +195,7 @@ fn merge_study(
 }
 
 /// Every input the shards hashed is unchanged now (`now`: the same inputs hashed again).
-fn unchanged_inputs(
+pub(super) fn unchanged_inputs(
     h: &shard::ShardHeader,
     now: &std::collections::BTreeMap<String, String>,
 ) -> Result<()> {

@@ -167,20 +167,12 @@ fn check_cases(study: &Study, args: &[OptimiseArgs]) -> Result<printwatt::output
     Ok(inputs)
 }
 
-/// The name of an objective as the command line spells it.
-fn objective_name(o: printwatt::placement::sweep::Objective) -> String {
-    printwatt::placement::sweep::Objective::ALL
-        .iter()
-        .find(|(_, x)| *x == o)
-        .map_or_else(|| format!("{o:?}"), |(n, _)| (*n).to_string())
-}
-
 /// Optimise one case: its result and its report page (when it has an answer). An error of the
 /// optimisation (no feasible placement, a reduced answer infeasible in full, …) is the case's
 /// answer, in words; an error loading its inputs is the study's.
 fn run_case(a: &OptimiseArgs, pool: &rayon::ThreadPool) -> Result<(CaseResult, Option<String>)> {
     let l = a.p.load()?;
-    let objective = objective_name(l.objective);
+    let objective = l.objective.name().to_string();
     let job = l.job()?;
     let (ps, _, _) = a.p.placements(Some(l.default_grid()))?;
     let mut page = None;
@@ -356,21 +348,9 @@ pub fn run(a: StudyArgs) -> Result<()> {
     let dir = match &a.out.out {
         Some(d) => Some(d.clone()),
         None if a.out.json => None,
-        None => {
-            let now = std::time::SystemTime::now()
-                .duration_since(std::time::UNIX_EPOCH)
-                .map(|d| d.as_secs())
-                .unwrap_or(0);
-            let base = format!("study-{}-{}", study.name, printwatt::output::utc_stamp(now));
-            let parent = a.results_dir.join("runs");
-            let mut dir = parent.join(&base);
-            let mut k = 2;
-            while dir.exists() {
-                dir = parent.join(format!("{base}-{k}"));
-                k += 1;
-            }
-            Some(dir)
-        }
+        None => Some(super::sweep::fresh_run_dir(&a.results_dir, |now| {
+            format!("study-{}-{}", study.name, printwatt::output::utc_stamp(now))
+        })),
     };
     // Taken before the work: an occupied directory or one that is an input fails now.
     let mut rd = match &dir {
@@ -472,12 +452,7 @@ pub fn merge(
     }
     let args = case_args(&study, a.threads)?;
     let inputs = check_cases(&study, &args)?;
-    let now = super::sweep::hash_inputs(&inputs)?;
-    for (f, sha) in &h.inputs {
-        if now.get(f) != Some(sha) {
-            bail!("{f} changed since the shards ran (SHA-256 differs): the shards are results of the old file; re-run them");
-        }
-    }
+    super::merge::unchanged_inputs(h, &super::sweep::hash_inputs(&inputs)?)?;
     let mut rd = printwatt::output::RunDir::begin_at(
         &out,
         &inputs,

@@ -467,18 +467,9 @@ impl PlacementArgs {
         let Some(cmd) = default_for else {
             return Ok(None);
         };
-        let now = std::time::SystemTime::now()
-            .duration_since(std::time::UNIX_EPOCH)
-            .map(|d| d.as_secs())
-            .unwrap_or(0);
-        let base = default_run_name(cmd, &self.robot.robot, &l.path_file, now);
-        let parent = self.results_dir.join("runs");
-        let mut dir = parent.join(&base);
-        let mut k = 2;
-        while dir.exists() {
-            dir = parent.join(format!("{base}-{k}"));
-            k += 1;
-        }
+        let dir = fresh_run_dir(&self.results_dir, |now| {
+            default_run_name(cmd, &self.robot.robot, &l.path_file, now)
+        });
         Ok(Some(printwatt::output::RunDir::begin_at(
             &dir,
             &self.inputs(l),
@@ -597,6 +588,24 @@ pub fn meta(l: &Loaded, samples: usize) -> Vec<(String, String)> {
 }
 
 /// How a run was executed, for `run.json` (changes from run to run; no result depends on it):
+/// A run directory not taken yet: `<results_dir>/runs/<name(now)>` (`now`: Unix time, s),
+/// suffixed `-2`, `-3`, … when taken.
+pub fn fresh_run_dir(results_dir: &Path, name: impl FnOnce(u64) -> String) -> PathBuf {
+    let now = std::time::SystemTime::now()
+        .duration_since(std::time::UNIX_EPOCH)
+        .map(|d| d.as_secs())
+        .unwrap_or(0);
+    let base = name(now);
+    let parent = results_dir.join("runs");
+    let mut dir = parent.join(&base);
+    let mut k = 2;
+    while dir.exists() {
+        dir = parent.join(format!("{base}-{k}"));
+        k += 1;
+    }
+    dir
+}
+
 /// printwatt build, command line, worker threads, wall time (s) and evaluations.
 pub fn run_facts(threads: usize, secs: f64, evaluations: usize) -> serde_json::Value {
     serde_json::json!({
