@@ -21,19 +21,22 @@ fn main() {
         _ => match git(&["rev-parse", "--short", "HEAD"]) {
             Some(c) => {
                 // Rebuild when HEAD moves: HEAD itself, the branch it names and packed refs.
+                // Only files that exist are declared: cargo takes a missing file for a changed
+                // one, and every build would then recompile the crate.
+                let watch = |p: PathBuf| {
+                    if p.is_file() {
+                        println!("cargo:rerun-if-changed={}", p.display());
+                    }
+                };
                 if let Some(dir) = git(&["rev-parse", "--git-dir"]) {
-                    let dir = PathBuf::from(dir);
-                    println!("cargo:rerun-if-changed={}", dir.join("HEAD").display());
+                    watch(PathBuf::from(dir).join("HEAD"));
                     if let (Some(common), Some(r)) = (
                         git(&["rev-parse", "--git-common-dir"]),
                         git(&["symbolic-ref", "-q", "HEAD"]),
                     ) {
                         let common = PathBuf::from(common);
-                        println!("cargo:rerun-if-changed={}", common.join(r).display());
-                        println!(
-                            "cargo:rerun-if-changed={}",
-                            common.join("packed-refs").display()
-                        );
+                        watch(common.join(r));
+                        watch(common.join("packed-refs"));
                     }
                 }
                 c

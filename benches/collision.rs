@@ -12,9 +12,9 @@ mod common;
 
 use criterion::{black_box, Criterion};
 use printwatt::dynamics::rnea;
+use printwatt::evaluate::feasibility::collision::{self, Beads, RobotShapes, BEAD_RADIUS_M};
+use printwatt::evaluate::feasibility::{reach_m, FeasibilityOptions, World};
 use printwatt::math::V3;
-use printwatt::placement::collision::{self, Beads, RobotShapes, BEAD_RADIUS_M};
-use printwatt::placement::feasibility::{reach_m, FeasibilityOptions, World};
 use printwatt::toolpath::Placement;
 use std::path::Path;
 use std::time::Duration;

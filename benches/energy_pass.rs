@@ -23,9 +23,9 @@ use clock::{clock_ghz, thread_ns};
 
 use printwatt::dynamics::{rnea_batch, StateBatch, MAX_DOF};
 use printwatt::energy::{self, EnergySums, LaneInputs, PowerLanes, Rows};
-use printwatt::placement::feasibility::FeasibilityOptions;
-use printwatt::placement::optimise::{default_grid, feasible_centre};
-use printwatt::placement::{Evaluator, Objective};
+use printwatt::evaluate::feasibility::FeasibilityOptions;
+use printwatt::evaluate::{Evaluator, Objective};
+use printwatt::search::optimise::{default_grid, feasible_centre};
 use printwatt::simd::{Level, LANES};
 use std::hint::black_box;
 
@@ -43,7 +43,7 @@ fn main() {
         Ok(s) => printwatt::toolpath::Placement::parse(&s).expect("x,y,z,yaw"),
         Err(_) => {
             let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
-            let ps = default_grid(printwatt::placement::feasibility::reach_m(&model)).placements();
+            let ps = default_grid(printwatt::evaluate::feasibility::reach_m(&model)).placements();
             let grid = ev.sweep(&ps, &|_, _| {}).unwrap();
             feasible_centre(&grid)
                 .expect("a feasible grid cell")

@@ -7,7 +7,7 @@
 //! retract, 10 mm z hop and travel between layers), 300 layers of 4 mm (1.2 m tall). The
 //! optimisation is the CLI's: the default grid (1536 placements), Nelder–Mead refinement
 //! (120 evaluations) with the default 20 mm / 1° tolerance, then the answer re-evaluated in
-//! full ([`printwatt::placement::reduce::confirm`]).
+//! full ([`printwatt::evaluate::reduce::confirm`]).
 //!
 //! Prints: samples, the wall time of the optimisation on 2 threads (grid, refinement, full
 //! re-evaluation), the time of one full and one reduced evaluation of the chosen placement on
@@ -27,12 +27,12 @@ mod wall;
 #[path = "../tests/common/mod.rs"]
 mod common;
 
-use printwatt::placement::feasibility::{reach_m, FeasibilityOptions};
-use printwatt::placement::optimise::{default_grid, OptimiseOptions};
-use printwatt::placement::reduce::{self, ReduceOptions, Reduction};
-use printwatt::placement::search::{self, Bounds, SearchOptions};
-use printwatt::placement::tolerance::Tolerance;
-use printwatt::placement::{Evaluator, Objective};
+use printwatt::evaluate::feasibility::{reach_m, FeasibilityOptions};
+use printwatt::evaluate::reduce::{self, ReduceOptions, Reduction};
+use printwatt::evaluate::{Evaluator, Objective};
+use printwatt::search::optimise::{default_grid, OptimiseOptions};
+use printwatt::search::refine::{self, Bounds, SearchOptions};
+use printwatt::search::tolerance::Tolerance;
 use printwatt::toolpath::{self, ReadOptions};
 use std::time::Instant;
 
@@ -143,7 +143,7 @@ fn main() {
     let rows = pool.install(|| ev.sweep(&ps, &|_, _| {})).unwrap();
     let t_grid = t.elapsed().as_secs_f64();
     let feasible = rows.iter().filter(|r| r.cost().is_finite()).count();
-    let span = |f: &dyn Fn(&printwatt::placement::Placement) -> f64| {
+    let span = |f: &dyn Fn(&printwatt::frame::Placement) -> f64| {
         ps.iter()
             .map(f)
             .fold([f64::INFINITY, f64::NEG_INFINITY], |r, v| {
@@ -167,7 +167,7 @@ fn main() {
         max_start_cells: 20,
     };
     let (res, info) = pool
-        .install(|| search::refine(&ev, &rows, &opts, &so, std::sync::Arc::new(|_, _, _| {})))
+        .install(|| refine::refine(&ev, &rows, &opts, &so, std::sync::Arc::new(|_, _, _| {})))
         .unwrap();
     let t_search = t.elapsed().as_secs_f64();
     let est = res.best.clone();

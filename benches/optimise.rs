@@ -28,11 +28,11 @@ mod common;
 
 use clock::thread_s;
 
-use printwatt::placement::feasibility::{reach_m, FeasibilityOptions};
-use printwatt::placement::optimise::{default_grid, OptimiseOptions};
-use printwatt::placement::search::{self, Bounds, SearchOptions};
-use printwatt::placement::tolerance::Tolerance;
-use printwatt::placement::{Evaluator, Objective};
+use printwatt::evaluate::feasibility::{reach_m, FeasibilityOptions};
+use printwatt::evaluate::{Evaluator, Objective};
+use printwatt::search::optimise::{default_grid, OptimiseOptions};
+use printwatt::search::refine::{self, Bounds, SearchOptions};
+use printwatt::search::tolerance::Tolerance;
 use std::time::Instant;
 
 fn main() {
@@ -59,7 +59,7 @@ fn main() {
         step_xy_m: (g.xs[1] - g.xs[0]).min(g.ys[1] - g.ys[0]) / 2.0,
         ..Default::default()
     };
-    let quiet = || std::sync::Arc::new(|_, _, _| {}) as search::Progress;
+    let quiet = || std::sync::Arc::new(|_, _, _| {}) as refine::Progress;
 
     // The grid, on all cores.
     let t = Instant::now();
@@ -84,11 +84,11 @@ fn main() {
     let mut plain = None;
     for _ in 0..rounds {
         let t = Instant::now();
-        let r = search::refine(&ev, &grid, &opts, &so, quiet()).unwrap();
+        let r = refine::refine(&ev, &grid, &opts, &so, quiet()).unwrap();
         t_fast.push(t.elapsed().as_secs_f64());
         fast = Some(r);
         let t = Instant::now();
-        let r = search::refine_plain(&ev, &grid, &opts, &so, quiet()).unwrap();
+        let r = refine::refine_plain(&ev, &grid, &opts, &so, quiet()).unwrap();
         t_plain.push(t.elapsed().as_secs_f64());
         plain = Some(r);
     }

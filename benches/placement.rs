@@ -36,9 +36,9 @@ use clock::{clock_ghz, thread_ns};
 
 use printwatt::dynamics::{rnea, rnea_batch, rnea_with_sincos, StateBatch, MAX_DOF};
 use printwatt::energy::{self, EnergyOptions, SamplePower};
-use printwatt::placement::feasibility::FeasibilityOptions;
-use printwatt::placement::optimise::default_grid;
-use printwatt::placement::{Evaluator, Objective, PathJob};
+use printwatt::evaluate::feasibility::FeasibilityOptions;
+use printwatt::evaluate::{Evaluator, Objective, PathJob};
+use printwatt::search::optimise::default_grid;
 use printwatt::simd::{self, Level, LANES};
 use printwatt::timing::{JointStageOptions, ProfileOptions};
 use printwatt::toolpath::Placement;
@@ -75,10 +75,10 @@ fn main() {
     // A feasible placement: the centre of the default grid's feasible region.
     let grid0 = {
         let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
-        let ps = default_grid(printwatt::placement::feasibility::reach_m(&model)).placements();
+        let ps = default_grid(printwatt::evaluate::feasibility::reach_m(&model)).placements();
         ev.sweep(&ps, &|_, _| {}).unwrap()
     };
-    let at = printwatt::placement::optimise::feasible_centre(&grid0)
+    let at = printwatt::search::optimise::feasible_centre(&grid0)
         .expect("a feasible grid cell")
         .placement;
     let full = job.evaluate(&at).unwrap().unwrap();
@@ -320,7 +320,7 @@ fn main() {
 
     // Throughput on the default workspace grid (mixed feasible / infeasible placements).
     let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
-    let ps = default_grid(printwatt::placement::feasibility::reach_m(&model)).placements();
+    let ps = default_grid(printwatt::evaluate::feasibility::reach_m(&model)).placements();
     let rate = |pool: &rayon::ThreadPool| {
         let t0 = Instant::now();
         let r = pool.install(|| ev.sweep(&ps, &|_, _| {})).unwrap();

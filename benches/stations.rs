@@ -11,8 +11,8 @@
 mod common;
 
 use printwatt::energy::EnergyOptions;
-use printwatt::placement::stations::{self, Candidates, Headings, StationsProblem};
-use printwatt::placement::{Evaluator, FeasibilityOptions, Objective};
+use printwatt::evaluate::{Evaluator, FeasibilityOptions, Objective};
+use printwatt::stations::{self, Candidates, Headings, StationsProblem};
 use printwatt::timing::{JointStageOptions, ProfileOptions};
 use printwatt::toolpath::{self, ReadOptions};
 use std::path::Path;
@@ -26,7 +26,7 @@ fn main() {
         &ReadOptions::default(),
     )
     .unwrap();
-    let reach = printwatt::placement::feasibility::reach_m(&model);
+    let reach = printwatt::evaluate::feasibility::reach_m(&model);
     let problem = StationsProblem {
         robot: &model,
         path: &path,

@@ -8,9 +8,9 @@
 //! the grid sweep that finds the placement included, cancels out). valgrind runs the AVX2
 //! path (it has no AVX-512). `PRINTWATT_PLACEMENT=x,y,z,yaw` skips the grid sweep.
 
-use printwatt::placement::feasibility::FeasibilityOptions;
-use printwatt::placement::optimise::{default_grid, feasible_centre};
-use printwatt::placement::{Evaluator, Objective, PathJob};
+use printwatt::evaluate::feasibility::FeasibilityOptions;
+use printwatt::evaluate::{Evaluator, Objective, PathJob};
+use printwatt::search::optimise::{default_grid, feasible_centre};
 use printwatt::timing::{JointStageOptions, ProfileOptions};
 use printwatt::toolpath::{self, Placement, ReadOptions};
 use printwatt::{robot, EnergyOptions};
@@ -33,7 +33,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let at = match std::env::var("PRINTWATT_PLACEMENT") {
         Ok(s) => Placement::parse(&s)?,
         Err(_) => {
-            let ps = default_grid(printwatt::placement::feasibility::reach_m(&model)).placements();
+            let ps = default_grid(printwatt::evaluate::feasibility::reach_m(&model)).placements();
             let grid = ev.sweep(&ps, &|_, _| {})?;
             feasible_centre(&grid)
                 .ok_or("no feasible grid cell")?

@@ -2,8 +2,9 @@
 //!
 //! `cargo run --release --example sweep`
 
-use printwatt::placement::feasibility::FeasibilityOptions;
-use printwatt::placement::sweep::{Evaluator, Grid, Objective};
+use printwatt::evaluate::evaluator::{Evaluator, Objective};
+use printwatt::evaluate::feasibility::FeasibilityOptions;
+use printwatt::search::Grid;
 use printwatt::timing::{JointStageOptions, ProfileOptions};
 use printwatt::{EnergyOptions, PathJob, ReadOptions};
 use std::path::Path;
@@ -36,7 +37,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
             Err(why) => println!("x {:.1} m, y {:+.1} m: {}", p.x, p.y, why.reason.name()),
         }
     }
-    let best = printwatt::placement::optimise::best_of(&rows).ok_or("no feasible placement")?;
+    let best = printwatt::search::optimise::best_of(&rows).ok_or("no feasible placement")?;
     println!(
         "best: x {:.1} m, y {:+.1} m, {:.1} J supply",
         best.placement.x,

@@ -31,20 +31,25 @@
 //! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
+pub mod campaign;
 pub mod dynamics;
 pub mod effects;
 pub mod energy;
 pub mod error;
+pub mod evaluate;
+pub mod export;
 pub mod fastmath;
+pub mod frame;
 pub mod identify;
 pub mod kinematics;
 pub mod math;
 pub mod numerics;
 pub mod output;
-pub mod placement;
 pub mod report;
 pub mod robot;
+pub mod search;
 pub mod simd;
+pub mod stations;
 pub mod table;
 pub mod timing;
 pub mod toolpath;
@@ -58,6 +63,7 @@ pub use nalgebra;
 
 // The main job in one line each (see `examples/`).
 pub use energy::{EnergyModel, EnergyOptions, EnergyReport};
-pub use placement::{PathJob, Placement};
+pub use evaluate::PathJob;
+pub use frame::Placement;
 pub use robot::{load as load_robot, RobotModel};
 pub use toolpath::{load as load_path, ReadOptions, Toolpath};

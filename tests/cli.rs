@@ -728,7 +728,8 @@ fn every_command_answers_json_with_schema_version_and_no_rust_wrappers() {
 /// spin) or dropping it would disagree.
 #[test]
 fn placement_spin_means_the_same_in_every_command() {
-    use printwatt::placement::{PathJob, Placement};
+    use printwatt::evaluate::PathJob;
+    use printwatt::frame::Placement;
     let tool = "presets/seed001_spindle.toml";
     let (x, y, z, yaw, spin) = (1.6, 0.0, 0.2, 90.0_f64, 30.0_f64);
     let at5 = format!("{x},{y},{z},{yaw},{spin}");

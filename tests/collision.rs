@@ -7,9 +7,9 @@ mod common;
 use parry3d_f64::math::{Isometry, Point, Vector};
 use parry3d_f64::query;
 use parry3d_f64::shape::{Ball, Capsule, Cuboid, Cylinder, SharedShape};
+use printwatt::evaluate::feasibility::collision::{self, Beads, Bed, RobotShapes, Role};
+use printwatt::evaluate::feasibility::{LinkRadii, Reason};
 use printwatt::math::{Frame, V3};
-use printwatt::placement::collision::{self, Beads, Bed, RobotShapes, Role};
-use printwatt::placement::feasibility::{LinkRadii, Reason};
 use printwatt::robot::load;
 use std::path::Path;
 
@@ -143,7 +143,7 @@ fn q_in_limits(model: &printwatt::robot::RobotModel, u: &[f64]) -> Vec<f64> {
 fn shapes(model: &printwatt::robot::RobotModel) -> RobotShapes {
     RobotShapes::new(
         model,
-        printwatt::placement::feasibility::reach_m(model),
+        printwatt::evaluate::feasibility::reach_m(model),
         &LinkRadii::default(),
     )
 }
@@ -616,13 +616,13 @@ fn the_prefiltered_collision_check_and_the_shortcut_poses_equal_the_plain_ones_o
 
 #[test]
 fn the_prefiltered_collision_check_and_the_shortcut_poses_equal_the_plain_ones_along_real_paths() {
-    use printwatt::placement::feasibility::{reach_m, FeasibilityOptions, World};
+    use printwatt::evaluate::feasibility::{reach_m, FeasibilityOptions, World};
     use printwatt::timing::{JointStageOptions, ProfileOptions};
     use printwatt::toolpath::{self, Placement, ReadOptions};
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let model = load(&root.join("robots/abb_irb6700_200_260")).unwrap();
     let tp = toolpath::load(&root.join("paths/default.gcode"), &ReadOptions::default()).unwrap();
-    let job = printwatt::placement::PathJob::new(
+    let job = printwatt::evaluate::PathJob::new(
         &model,
         &tp,
         printwatt::energy::EnergyOptions::default(),
@@ -927,11 +927,11 @@ fn the_collision_check_from_shared_sines_gives_the_plain_checks_verdicts_message
 #[test]
 fn the_first_infeasible_sample_and_its_reason_are_those_of_the_plain_checks_on_colliding_placements(
 ) {
-    use printwatt::placement::feasibility::{
+    use printwatt::evaluate::feasibility::margins::check_joint_sample;
+    use printwatt::evaluate::feasibility::{
         check_sample_by_fk, FeasibilityOptions, Margins, Scene, World,
     };
-    use printwatt::placement::margins::check_joint_sample;
-    use printwatt::placement::{Evaluator, Objective};
+    use printwatt::evaluate::{Evaluator, Objective};
     let model = common::robot("abb_irb6700_200_260");
     let tp = common::path("default.gcode");
     let job = common::default_job(&model, &tp);
@@ -943,7 +943,7 @@ fn the_first_infeasible_sample_and_its_reason_are_those_of_the_plain_checks_on_c
     let mut sc = ev.scratch().unwrap();
     let rs = RobotShapes::new(
         &model,
-        printwatt::placement::feasibility::reach_m(&model),
+        printwatt::evaluate::feasibility::reach_m(&model),
         &o.radii,
     );
     let (mut lo, mut hi) = (V3::repeat(f64::INFINITY), V3::repeat(f64::NEG_INFINITY));
@@ -952,8 +952,8 @@ fn the_first_infeasible_sample_and_its_reason_are_those_of_the_plain_checks_on_c
         hi = hi.sup(p);
     }
     let mut seen = std::collections::BTreeMap::new();
-    let grid = printwatt::placement::optimise::default_grid(
-        printwatt::placement::feasibility::reach_m(&model),
+    let grid = printwatt::search::optimise::default_grid(
+        printwatt::evaluate::feasibility::reach_m(&model),
     )
     .placements();
     for at in grid.iter().step_by(7) {
@@ -1041,7 +1041,7 @@ fn the_first_infeasible_sample_and_its_reason_are_those_of_the_plain_checks_on_c
 #[test]
 fn the_checked_samples_in_lockstep_give_check_sample_with_answers_messages_and_margins_sample_by_sample(
 ) {
-    use printwatt::placement::feasibility::{
+    use printwatt::evaluate::feasibility::{
         check_sample_with, CheckedLanes, FeasibilityOptions, Margins, Scene, World,
     };
     use printwatt::simd::{self, Level};
@@ -1064,7 +1064,7 @@ fn the_checked_samples_in_lockstep_give_check_sample_with_answers_messages_and_m
             };
             let rs = RobotShapes::new(
                 model,
-                printwatt::placement::feasibility::reach_m(model),
+                printwatt::evaluate::feasibility::reach_m(model),
                 &o.radii,
             );
             let Some(mut lanes) = CheckedLanes::new(model, &o, &rs) else {
@@ -1242,7 +1242,7 @@ fn counting_the_beads_laid_from_an_earlier_count_gives_laid_at() {
 #[cfg(target_arch = "x86_64")]
 #[test]
 fn the_collision_lanes_registers_give_the_scalar_selects_minima_maxima_and_tests_bit_for_bit() {
-    use printwatt::placement::collision::lanes::reg::V;
+    use printwatt::evaluate::feasibility::collision::lanes::reg::V;
     use std::arch::x86_64::{__m128d, __m256d, __m512d};
     let special = [
         0.0,
@@ -1344,8 +1344,8 @@ fn the_collision_lanes_registers_give_the_scalar_selects_minima_maxima_and_tests
 #[test]
 fn evaluations_report_the_same_first_infeasible_sample_and_margins_on_every_level_as_the_scalar_path(
 ) {
-    use printwatt::placement::feasibility::FeasibilityOptions;
-    use printwatt::placement::{Evaluator, Objective};
+    use printwatt::evaluate::feasibility::FeasibilityOptions;
+    use printwatt::evaluate::{Evaluator, Objective};
     use printwatt::simd::{self, Level};
     let model = common::robot("abb_irb6700_200_260");
     let tp = common::path("default.gcode");
@@ -1359,8 +1359,8 @@ fn evaluations_report_the_same_first_infeasible_sample_and_margins_on_every_leve
         check_every: 3,
         ..fat
     };
-    let grid = printwatt::placement::optimise::default_grid(
-        printwatt::placement::feasibility::reach_m(&model),
+    let grid = printwatt::search::optimise::default_grid(
+        printwatt::evaluate::feasibility::reach_m(&model),
     )
     .placements();
     let mut seen = std::collections::BTreeMap::new();

@@ -268,8 +268,9 @@ fn a_placements_energies_summed_in_lane_interleaved_partial_sums_stay_within_rou
     // level; against an exactly rounded (Neumaier-compensated) sum of the same per-sample
     // powers, each total stays within the recursive summation bound
     // (m/LANES + LANES + n) ε Σ|w p|, and the lockstep and per-sample paths give the same bits.
-    use printwatt::placement::feasibility::FeasibilityOptions;
-    use printwatt::placement::{Evaluator, Objective, Placement};
+    use printwatt::evaluate::feasibility::FeasibilityOptions;
+    use printwatt::evaluate::{Evaluator, Objective};
+    use printwatt::frame::Placement;
     use printwatt::simd::{self, Level, LANES};
     let model = robot("abb_irb6700_200_260");
     let job = common::default_job(&model, &common::path("seed000_test_path.gcode"));

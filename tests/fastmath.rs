@@ -269,8 +269,9 @@ fn the_ik_records_the_sines_of_its_answer_and_rnea_from_them_equals_rnea() {
 fn a_placement_evaluated_with_shared_sines_equals_its_energy_computed_afresh() {
     let _g = SWITCH.lock().unwrap_or_else(|e| e.into_inner());
     fastmath::set_libm(false);
-    use printwatt::placement::feasibility::FeasibilityOptions;
-    use printwatt::placement::{Evaluator, Objective, Placement};
+    use printwatt::evaluate::feasibility::FeasibilityOptions;
+    use printwatt::evaluate::{Evaluator, Objective};
+    use printwatt::frame::Placement;
     let model = common::robot("abb_irb6700_200_260");
     let job = common::default_job(&model, &common::path("seed000_test_path.gcode"));
     let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);

@@ -257,8 +257,8 @@ fn library_errors_never_name_command_line_flags() {
     );
 
     // The rendered advice and the errors that once named flags.
-    use printwatt::placement::advice::what_to_try;
-    use printwatt::placement::Reason;
+    use printwatt::evaluate::Reason;
+    use printwatt::search::advice::what_to_try;
     for r in [
         Reason::Unreachable,
         Reason::ConfigurationChange,

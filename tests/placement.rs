@@ -3,7 +3,7 @@
 mod common;
 use common::{bin, root};
 
-use printwatt::placement::{Evaluator, FeasibilityOptions, Objective};
+use printwatt::evaluate::{Evaluator, FeasibilityOptions, Objective};
 use printwatt::robot;
 use printwatt::toolpath::{self, Placement, ReadOptions};
 
@@ -45,8 +45,8 @@ fn fast_evaluation_matches_full_evaluation() {
     assert_eq!(f.samples, full.timed.traj.len());
 }
 
-use printwatt::placement::optimise::{self, OptimiseOptions};
-use printwatt::placement::{Evaluated, Reason};
+use printwatt::evaluate::{Evaluated, Reason};
+use printwatt::search::optimise::{self, OptimiseOptions};
 
 const YAW90: f64 = std::f64::consts::FRAC_PI_2;
 
@@ -131,8 +131,8 @@ fn bed_collision_is_reported_with_where() {
     );
 }
 
-fn small_grid() -> printwatt::placement::Grid {
-    printwatt::placement::Grid {
+fn small_grid() -> printwatt::search::Grid {
+    printwatt::search::Grid {
         xs: vec![1.4, 1.5, 1.6],
         ys: vec![-0.1, 0.0, 0.1],
         zs: vec![0.5],
@@ -349,7 +349,7 @@ fn cli_bad_input_fails_clearly() {
 
 #[test]
 fn parse_range_values_and_errors() {
-    use printwatt::placement::parse_range;
+    use printwatt::search::parse_range;
     assert_eq!(parse_range("x", "1:1.2:0.1").unwrap().len(), 3);
     assert_eq!(parse_range("x", "0.5").unwrap(), vec![0.5]);
     assert_eq!(parse_range("x", "1,2,3").unwrap(), vec![1.0, 2.0, 3.0]);

@@ -3,10 +3,11 @@
 mod common;
 use common::bin;
 
-use printwatt::placement::optimise::{OptimiseOptions, Savings};
-use printwatt::placement::search::{self, Bounds, SearchOptions};
-use printwatt::placement::tolerance::{self, Tolerance};
-use printwatt::placement::{Evaluator, FeasibilityOptions, Grid, Objective};
+use printwatt::evaluate::{Evaluator, FeasibilityOptions, Objective};
+use printwatt::search::optimise::{OptimiseOptions, Savings};
+use printwatt::search::refine::{self, Bounds, SearchOptions};
+use printwatt::search::tolerance::{self, Tolerance};
+use printwatt::search::Grid;
 use printwatt::toolpath::{self, ReadOptions};
 
 const YAW90: f64 = std::f64::consts::FRAC_PI_2;
@@ -46,7 +47,7 @@ fn optimum_respects_joint_margins_and_holds_its_tolerance() {
         ..Default::default()
     };
     let (res, info) =
-        search::refine(&ev, &grid, &opts, &so, std::sync::Arc::new(|_, _, _| {})).unwrap();
+        refine::refine(&ev, &grid, &opts, &so, std::sync::Arc::new(|_, _, _| {})).unwrap();
     assert!(res.evals <= 16);
     assert!(info.tolerance.holds, "{:?}", info.tolerance);
     let f = res.best.feasible().unwrap();
@@ -84,7 +85,7 @@ fn joint_margin_rejects_a_placement_that_ends_at_a_stop() {
     let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
     let e = ev.sweep(&[at], &|_, _| {}).unwrap().remove(0);
     let err = e.outcome.unwrap_err();
-    assert_eq!(err.reason, printwatt::placement::Reason::JointLimitMargin);
+    assert_eq!(err.reason, printwatt::evaluate::Reason::JointLimitMargin);
     assert!(err.detail.contains("joint 3"), "{err}");
     let none = FeasibilityOptions {
         joint_margin_rad: [0.0; 8],
@@ -244,7 +245,7 @@ fn urdf_without_nozzle_gets_counts_per_reason_and_the_no_tool_offset_hint() {
 
 #[test]
 fn exported_wobjdata_and_frame_put_the_nozzle_where_the_placement_says() {
-    use printwatt::placement::export;
+    use printwatt::export;
     let model = common::robot("abb_irb6700_200_260");
     let tp = common::path("default.gcode");
     let job = common::default_job(&model, &tp);
@@ -294,8 +295,8 @@ fn exported_wobjdata_and_frame_put_the_nozzle_where_the_placement_says() {
 
 #[test]
 fn an_optimum_on_the_joint_limit_margin_is_flagged_and_the_margin_stated() {
-    use printwatt::placement::feasibility::Margins;
-    use printwatt::placement::margins::margin_statement;
+    use printwatt::evaluate::feasibility::margins::margin_statement;
+    use printwatt::evaluate::feasibility::Margins;
     let model = common::robot("abb_irb6700_200_260");
     let o = FeasibilityOptions::default();
     let margin = 3f64.to_radians();
@@ -321,8 +322,8 @@ fn an_optimum_on_the_joint_limit_margin_is_flagged_and_the_margin_stated() {
 
 #[test]
 fn exported_base_frame_path_puts_the_nozzle_where_the_placement_says() {
+    use printwatt::export;
     use printwatt::kinematics::{nozzle_target, IkSolver};
-    use printwatt::placement::export;
     let model = common::robot("abb_irb6700_200_260");
     let tp = common::path("default.gcode");
     let job = common::default_job(&model, &tp);

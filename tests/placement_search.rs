@@ -3,12 +3,13 @@
 
 use argmin::core::{CostFunction, Executor, IterState, Problem, State};
 use printwatt::energy::EnergyOptions;
-use printwatt::placement::neldermead::{BatchCost, SpeculativeNelderMead};
-use printwatt::placement::optimise::{default_grid, OptimiseOptions};
-use printwatt::placement::search::{self, Bounds, SearchOptions};
-use printwatt::placement::tolerance::Tolerance;
-use printwatt::placement::{Evaluated, Evaluator, FeasibilityOptions, Grid, Objective, PathJob};
+use printwatt::evaluate::{Evaluated, Evaluator, FeasibilityOptions, Objective, PathJob};
 use printwatt::robot::{self, RobotModel};
+use printwatt::search::neldermead::{BatchCost, SpeculativeNelderMead};
+use printwatt::search::optimise::{default_grid, OptimiseOptions};
+use printwatt::search::refine::{self, Bounds, SearchOptions};
+use printwatt::search::tolerance::Tolerance;
+use printwatt::search::Grid;
 use printwatt::timing::{JointStageOptions, ProfileOptions};
 use printwatt::toolpath::{self, Placement, ReadOptions, Toolpath};
 use std::cell::RefCell;
@@ -83,7 +84,7 @@ fn same_with_and_without_pruning(robot_id: &str, path: &str, ps: &[Placement]) -
 fn pruned_and_unpruned_evaluation_agree_on_shipped_examples() {
     // The main job's default grid (every other of its 1536 placements; 38 are feasible).
     let (model, _) = load("abb_irb6700_200_260", "default.gcode");
-    let ps: Vec<Placement> = default_grid(printwatt::placement::feasibility::reach_m(&model))
+    let ps: Vec<Placement> = default_grid(printwatt::evaluate::feasibility::reach_m(&model))
         .placements()
         .into_iter()
         .step_by(2)
@@ -253,7 +254,7 @@ fn argmin_search_is_bit_identical_with_one_and_two_threads() {
     };
     let run = |n: usize| {
         pool(n).install(|| {
-            search::refine(&ev, &grid, &opts, &so, std::sync::Arc::new(|_, _, _| {})).unwrap()
+            refine::refine(&ev, &grid, &opts, &so, std::sync::Arc::new(|_, _, _| {})).unwrap()
         })
     };
     let (a, ia) = run(1);
@@ -364,7 +365,7 @@ fn an_evaluation_beside_a_guess_is_the_plain_evaluation_and_an_unwanted_guess_is
         .into_iter()
         .find(|e| {
             e.outcome.as_ref().err().map(|x| x.reason)
-                == Some(printwatt::placement::feasibility::Reason::JointLimitMargin)
+                == Some(printwatt::evaluate::feasibility::Reason::JointLimitMargin)
         })
         .expect("a corner on the joint-limit margin")
         .placement;
@@ -459,7 +460,7 @@ fn a_sweep_until_the_first_infeasible_placement_gives_every_evaluation_up_to_it_
 
 /// The main job's search options: the default grid's box, z from 0 to R/2, ±20 mm / ±1°.
 fn default_search(model: &RobotModel) -> (Grid, SearchOptions, OptimiseOptions) {
-    let g = default_grid(printwatt::placement::feasibility::reach_m(model));
+    let g = default_grid(printwatt::evaluate::feasibility::reach_m(model));
     let span = |v: &[f64]| [v[0], v[v.len() - 1]];
     let so = SearchOptions {
         bounds: Bounds {
@@ -493,9 +494,9 @@ fn the_faster_optimise_finds_the_same_placement_as_the_exhaustive_refinement() {
     let ev = Evaluator::new(&j, FeasibilityOptions::default(), Objective::Supply);
     let (g, so, opts) = default_search(&model);
     let grid = pool(2).install(|| ev.sweep(&g.placements(), &|_, _| {}).unwrap());
-    let quiet = || std::sync::Arc::new(|_, _, _| {}) as search::Progress;
+    let quiet = || std::sync::Arc::new(|_, _, _| {}) as refine::Progress;
     let (plain, plain_info) = pool(2)
-        .install(|| search::refine_plain(&ev, &grid, &opts, &so, quiet()))
+        .install(|| refine::refine_plain(&ev, &grid, &opts, &so, quiet()))
         .unwrap();
     assert!(
         plain_info.grid_cells_tried > 1,
@@ -513,7 +514,7 @@ fn the_faster_optimise_finds_the_same_placement_as_the_exhaustive_refinement() {
     );
     for threads in [1, 2] {
         let (fast, info) = pool(threads)
-            .install(|| search::refine(&ev, &grid, &opts, &so, quiet()))
+            .install(|| refine::refine(&ev, &grid, &opts, &so, quiet()))
             .unwrap();
         assert_eq!(
             fast.best.placement, plain.best.placement,
@@ -567,7 +568,7 @@ fn a_tolerance_check_stopped_at_the_first_infeasible_corner_agrees_with_all_sixt
         .collect();
     let run = |threads: usize| {
         pool(threads).install(|| {
-            let c = printwatt::placement::tolerance::Checker::new(&ev, tol);
+            let c = printwatt::search::tolerance::Checker::new(&ev, tol);
             let r: Vec<_> = ps.iter().map(|p| c.check(p).unwrap()).collect();
             (r, c.evaluations())
         })
@@ -604,9 +605,10 @@ fn a_tolerance_check_stopped_at_the_first_infeasible_corner_agrees_with_all_sixt
 
 #[test]
 fn the_search_box_step_and_tolerance_limits_are_set_once_for_the_cli_and_python() {
-    use printwatt::placement::search::{Bounds, SearchOptions};
-    use printwatt::placement::tolerance::Tolerance;
-    use printwatt::placement::{Grid, Placement};
+    use printwatt::frame::Placement;
+    use printwatt::search::refine::{Bounds, SearchOptions};
+    use printwatt::search::tolerance::Tolerance;
+    use printwatt::search::Grid;
     let g = Grid {
         xs: vec![1.0, 1.4, 1.8],
         ys: vec![-0.3, 0.0],
@@ -670,7 +672,7 @@ fn optimise_says_when_its_evaluation_budget_not_convergence_ended_the_search() {
                 spin: false,
                 ..Default::default()
             };
-            search::refine(ev, grid, &opts, so, std::sync::Arc::new(|_, _, _| {})).unwrap()
+            refine::refine(ev, grid, &opts, so, std::sync::Arc::new(|_, _, _| {})).unwrap()
         };
         let (short, info) = run(8);
         assert_eq!(short.evals, 8);
@@ -727,18 +729,18 @@ fn no_printed_neighbour_is_cheaper_than_the_answer_and_holds_the_tolerance_unexp
                 ..Default::default()
             };
             let (res, info) =
-                search::refine(ev, grid, &opts, so, std::sync::Arc::new(|_, _, _| {})).unwrap();
+                refine::refine(ev, grid, &opts, so, std::sync::Arc::new(|_, _, _| {})).unwrap();
             assert!(info.tolerance.holds, "{max_evals}: {:?}", info.tolerance);
             let e0 = res.best.cost();
             let h = opts.sensitivity_m;
             let again = ev
                 .sweep(
-                    &printwatt::placement::optimise::probes(&res.best.placement, h),
+                    &printwatt::search::optimise::probes(&res.best.placement, h),
                     &|_, _| {},
                 )
                 .unwrap();
             for (k, e) in again.iter().enumerate() {
-                let name = printwatt::placement::optimise::PROBE_NAMES[k];
+                let name = printwatt::search::optimise::PROBE_NAMES[k];
                 assert_eq!(e.cost().to_bits(), {
                     res.sensitivity.e_j[k].unwrap_or(f64::INFINITY).to_bits()
                 });
@@ -753,7 +755,7 @@ fn no_printed_neighbour_is_cheaper_than_the_answer_and_holds_the_tolerance_unexp
                         panic!("{max_evals}: E({name}) {} < {e0} J not named", e.cost())
                     });
                 let in_box = so.bounds.contains(&e.placement);
-                let holds = printwatt::placement::tolerance::check(ev, &e.placement, &so.tolerance)
+                let holds = printwatt::search::tolerance::check(ev, &e.placement, &so.tolerance)
                     .unwrap()
                     .holds;
                 assert!(
@@ -790,14 +792,14 @@ fn the_polish_moving_to_a_probe_it_reuses_gives_the_answer_of_evaluating_it_agai
             spin: false,
             ..Default::default()
         };
-        let quiet = || std::sync::Arc::new(|_, _, _| {}) as search::Progress;
+        let quiet = || std::sync::Arc::new(|_, _, _| {}) as refine::Progress;
         let (plain, plain_info) = pool(1)
-            .install(|| search::refine_plain(ev, grid, &opts, so, quiet()))
+            .install(|| refine::refine_plain(ev, grid, &opts, so, quiet()))
             .unwrap();
         assert!(plain_info.polished.is_some(), "the polish moved the answer");
         for threads in [1, 2] {
             let (fast, info) = pool(threads)
-                .install(|| search::refine(ev, grid, &opts, so, quiet()))
+                .install(|| refine::refine(ev, grid, &opts, so, quiet()))
                 .unwrap();
             assert_eq!(fast.best, plain.best, "{threads} threads");
             assert_eq!(fast.best.cost().to_bits(), plain.best.cost().to_bits());
@@ -819,7 +821,7 @@ fn a_checker_counts_an_adopted_evaluation_once_and_never_makes_it_again() {
     with_small_search(|ev, grid, _so| {
         let e = grid.iter().find(|e| e.cost().is_finite()).unwrap();
         pool(1).install(|| {
-            let c = printwatt::placement::tolerance::Checker::new(ev, Tolerance::default());
+            let c = printwatt::search::tolerance::Checker::new(ev, Tolerance::default());
             let a = c.adopt(e).unwrap();
             assert_eq!(&a, e);
             assert_eq!((c.evaluations(), c.speculative()), (1, 0));

@@ -3,9 +3,10 @@
 mod common;
 use common::root;
 
-use printwatt::placement::uncertainty::{self, Ranges};
-use printwatt::placement::{Evaluator, FeasibilityOptions, Grid, Objective};
+use printwatt::evaluate::{Evaluator, FeasibilityOptions, Objective};
 use printwatt::robot;
+use printwatt::search::uncertainty::{self, Ranges};
+use printwatt::search::Grid;
 
 /// Every range zero: a draw is the nominal robot but for what a calibrated robot identified.
 fn zero_ranges() -> Ranges {

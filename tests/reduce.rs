@@ -6,8 +6,9 @@ mod common;
 #[path = "common/wall.rs"]
 mod wall;
 
-use printwatt::placement::reduce::{NotReduced, ReduceOptions, Reduction};
-use printwatt::placement::{Evaluator, FeasibilityOptions, Objective, Placement};
+use printwatt::evaluate::reduce::{NotReduced, ReduceOptions, Reduction};
+use printwatt::evaluate::{Evaluator, FeasibilityOptions, Objective};
+use printwatt::frame::Placement;
 use printwatt::toolpath::repeat;
 use printwatt::toolpath::{self, ReadOptions, Toolpath};
 
@@ -52,7 +53,7 @@ fn forced() -> ReduceOptions {
 }
 
 fn evaluators<'j, 'a>(
-    job: &'j printwatt::placement::PathJob<'a>,
+    job: &'j printwatt::evaluate::PathJob<'a>,
     tp: &Toolpath,
     o: ReduceOptions,
 ) -> (Evaluator<'j, 'a>, Evaluator<'j, 'a>) {
@@ -191,7 +192,7 @@ fn an_estimate_from_every_layer_is_within_its_stated_error_of_the_full_evaluatio
             est.layers_evaluated, est.layers,
             "{at:?}: every layer evaluated"
         );
-        let (_, chk) = printwatt::placement::reduce::confirm(&ev, &best)
+        let (_, chk) = printwatt::evaluate::reduce::confirm(&ev, &best)
             .unwrap()
             .expect("an estimate is confirmed");
         assert!(

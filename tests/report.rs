@@ -7,10 +7,11 @@
 mod common;
 use common::root;
 
-use printwatt::placement::optimise::{self, OptimiseOptions};
-use printwatt::placement::{Evaluator, FeasibilityOptions, Grid, Objective};
+use printwatt::evaluate::{Evaluator, FeasibilityOptions, Objective};
 use printwatt::report::placement::{Detail, RunReport};
 use printwatt::report::site::SiteGeometry;
+use printwatt::search::optimise::{self, OptimiseOptions};
+use printwatt::search::Grid;
 
 /// A report over a small grid with two bed heights (some cells infeasible), optimised, with
 /// the site geometry; built once for the tests of this file.

@@ -254,8 +254,9 @@ fn a_batch_with_a_wrong_slice_length_is_an_error_not_a_panic() {
 
 #[test]
 fn forcing_the_scalar_path_gives_the_same_placement_ranking() {
-    use printwatt::placement::feasibility::FeasibilityOptions;
-    use printwatt::placement::{Evaluator, Objective, Placement};
+    use printwatt::evaluate::feasibility::FeasibilityOptions;
+    use printwatt::evaluate::{Evaluator, Objective};
+    use printwatt::frame::Placement;
     let model = common::robot("abb_irb6700_200_260");
     let job = common::default_job(&model, &common::path("seed000_test_path.gcode"));
     let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
@@ -282,7 +283,7 @@ fn forcing_the_scalar_path_gives_the_same_placement_ranking() {
         scalar.iter().filter(|e| e.cost().is_finite()).count() >= 3,
         "too few feasible placements to rank"
     );
-    let rank = |r: &[printwatt::placement::Evaluated]| {
+    let rank = |r: &[printwatt::evaluate::Evaluated]| {
         let mut ix: Vec<usize> = (0..r.len()).collect();
         ix.sort_by(|&a, &b| r[a].cost().total_cmp(&r[b].cost()));
         ix
@@ -385,8 +386,8 @@ fn batched_tool_poses_equal_the_scalar_fk_recheck_bit_for_bit_on_every_level() {
 
 #[test]
 fn a_failing_fk_recheck_is_reported_at_the_same_sample_when_the_checks_run_in_batches() {
+    use printwatt::frame::Placement;
     use printwatt::kinematics::{nozzle_target, IkSolver};
-    use printwatt::placement::Placement;
     use printwatt::timing::{self, blend_path, JointStageOptions, ProfileOptions};
     let _g = LEVEL_LOCK.lock().unwrap_or_else(|e| e.into_inner());
     let model = common::robot("abb_irb6700_200_260");
@@ -516,7 +517,7 @@ fn the_closed_form_of_eight_samples_equals_the_per_sample_closed_form_on_every_b
         };
         let k = Prepared::new(&p);
         let mut u = uniform(23);
-        let reach = printwatt::placement::feasibility::reach_m(&model);
+        let reach = printwatt::evaluate::feasibility::reach_m(&model);
         for spin in [0.0, 0.7, -2.0] {
             // Flange poses with one orientation, tips spread over the workspace.
             let rot = nozzle_target(&nalgebra::Vector3::zeros(), spin).rot;
@@ -573,8 +574,9 @@ fn the_closed_form_of_eight_samples_equals_the_per_sample_closed_form_on_every_b
 #[test]
 fn energy_of_a_timed_path_is_the_same_on_the_scalar_and_every_simd_path() {
     // energy_of (the uncertainty draws' re-evaluation) computes the sines itself.
-    use printwatt::placement::feasibility::FeasibilityOptions;
-    use printwatt::placement::{Evaluator, Objective, Placement};
+    use printwatt::evaluate::feasibility::FeasibilityOptions;
+    use printwatt::evaluate::{Evaluator, Objective};
+    use printwatt::frame::Placement;
     let _g = LEVEL_LOCK.lock().unwrap_or_else(|e| e.into_inner());
     let model = common::robot("abb_irb6700_200_260");
     let job = common::default_job(&model, &common::path("seed000_test_path.gcode"));
@@ -878,7 +880,7 @@ fn the_branch_a_closed_form_batch_hands_on_equals_branch_of_its_answers_bit_for_
         };
         let k = Prepared::new(&p);
         let mut u = uniform(29);
-        let reach = printwatt::placement::feasibility::reach_m(&model);
+        let reach = printwatt::evaluate::feasibility::reach_m(&model);
         let rot = nozzle_target(&nalgebra::Vector3::zeros(), 0.3).rot;
         let mut pos = [[0.0; LANES]; 3];
         for (i, scale) in [(0.6, 0.3), (0.0, 0.5), (0.0, 0.4)].into_iter().enumerate() {
@@ -1007,8 +1009,8 @@ fn fk_recheck_verdicts_in_lockstep_equal_the_per_sample_check_around_the_toleran
 
 #[test]
 fn precomputed_joint_checks_equal_the_per_sample_joint_check_and_leave_the_same_margins() {
-    use printwatt::placement::feasibility::{FeasibilityOptions, Margins};
-    use printwatt::placement::margins::{check_joint_sample_with, JointChecks};
+    use printwatt::evaluate::feasibility::margins::{check_joint_sample_with, JointChecks};
+    use printwatt::evaluate::feasibility::{FeasibilityOptions, Margins};
     for name in ["abb_irb6700_200_260", "ur10e", "staubli_tx200"] {
         let model = common::robot(name);
         let n = model.dof();
@@ -1235,7 +1237,7 @@ fn the_prunes_branch_check_in_lockstep_rejects_the_same_first_sample_with_the_sa
             }
         }
         let solver = IkSolver::new(&model).unwrap();
-        let reach = printwatt::placement::feasibility::reach_m(&model);
+        let reach = printwatt::evaluate::feasibility::reach_m(&model);
         let mut u = uniform(31);
         let mut batches: Vec<(nalgebra::Matrix3<f64>, Vec<V3>)> = Vec::new();
         for spin in [0.0, 0.7, -2.0, 3.1] {
@@ -1723,7 +1725,7 @@ fn continuing_lanes_verdict_masks_give_the_same_lanes_on_every_level_and_take_ne
                 }
             }
             let solver = IkSolver::new(&model).unwrap();
-            let reach = printwatt::placement::feasibility::reach_m(&model);
+            let reach = printwatt::evaluate::feasibility::reach_m(&model);
             for case in 0..60 {
                 // The nozzle points down, or sideways (near the wrist singularity for some
                 // tips), spun about its axis.
@@ -2146,7 +2148,7 @@ fn two_closed_form_batches_in_one_lockstep_pass_equal_two_single_batches_bit_for
             continue;
         };
         let k = Prepared::new(&p);
-        let reach = printwatt::placement::feasibility::reach_m(&model);
+        let reach = printwatt::evaluate::feasibility::reach_m(&model);
         for spin in [0.0, 0.7, -2.0] {
             let rot = nozzle_target(&nalgebra::Vector3::zeros(), spin).rot;
             for case in 0..6 {

@@ -8,11 +8,9 @@ mod common;
 use common::{bin, root};
 
 use printwatt::energy::EnergyOptions;
-use printwatt::placement::stations::{
-    self, split_units, Candidates, Headings, Plan, StationsProblem,
-};
-use printwatt::placement::{Evaluator, FeasibilityOptions, Objective, PathJob};
+use printwatt::evaluate::{Evaluator, FeasibilityOptions, Objective, PathJob};
 use printwatt::robot::RobotModel;
+use printwatt::stations::{self, split_units, Candidates, Headings, Plan, StationsProblem};
 use printwatt::timing::{JointStageOptions, ProfileOptions};
 use printwatt::toolpath::{self, ReadOptions, Toolpath};
 
@@ -332,7 +330,8 @@ fn fixed_headings_along_a_track_are_kept_and_stations_stay_on_the_track() {
 
 #[test]
 fn walls_printed_before_a_segment_are_in_its_collision_scene() {
-    use printwatt::placement::{Placement, Reason};
+    use printwatt::evaluate::Reason;
+    use printwatt::frame::Placement;
     let model = robot();
     let path =
         toolpath::load(&root().join("paths/default.gcode"), &ReadOptions::default()).unwrap();
@@ -408,7 +407,7 @@ fn to_segment(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
 }
 
 fn grid_problem<'a>(model: &'a RobotModel, path: &'a Toolpath, step: f64) -> StationsProblem<'a> {
-    let reach = printwatt::placement::feasibility::reach_m(model);
+    let reach = printwatt::evaluate::feasibility::reach_m(model);
     let mut p = problem(model, path, 20_000.0);
     p.candidates = Candidates::grid(path, step, reach, Headings::Auto).unwrap();
     p
@@ -444,7 +443,7 @@ fn a_station_plan_never_stands_on_or_drives_across_a_printed_wall() {
 /// `footprint` m) allows: checked on wall points every 10 mm, independently of the planner.
 fn assert_clear_of_walls(plan: &Plan, path: &Toolpath, footprint: f64) {
     assert_eq!(plan.ways.len(), plan.segments.len() - 1);
-    let clear = footprint + printwatt::placement::collision::BEAD_RADIUS_M;
+    let clear = footprint + printwatt::evaluate::feasibility::collision::BEAD_RADIUS_M;
     let tol = 0.006;
     for (k, s) in plan.segments.iter().enumerate() {
         let at = [s.station.x_m, s.station.y_m];
@@ -552,9 +551,9 @@ fn a_crawler_goes_around_a_printed_wall_through_its_door_and_never_through_a_nar
     // crosses the wall; the way found goes through the door, every leg clear of the wall (checked on wall points every
     // 10 mm, independently of the router). With a 0.8 m gap, narrower than the disc, and with
     // no gap, there is no way.
-    use printwatt::placement::stations::floor::{wall_chords, Floor, Router};
+    use printwatt::stations::floor::{wall_chords, Floor, Router};
     let r = 0.5;
-    let clear = r + printwatt::placement::collision::BEAD_RADIUS_M;
+    let clear = r + printwatt::evaluate::feasibility::collision::BEAD_RADIUS_M;
     let (a, b) = ([-1.0, -2.0], [-1.0, 2.0]);
     let wall = |gap: Option<(f64, f64)>| {
         let mut pieces: Vec<[f64; 4]> = vec![

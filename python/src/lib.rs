@@ -9,14 +9,15 @@
 use numpy::ndarray::Array2;
 use numpy::{IntoPyArray, PyArray1, PyArray2, PyReadonlyArray2};
 use printwatt::energy::EnergyOptions;
+use printwatt::evaluate::evaluator::{Evaluated, Evaluator, Objective};
+use printwatt::evaluate::feasibility::{self, FeasibilityOptions};
 use printwatt::identify::{self as pid, metrics, Log, Model, Prepared};
 use printwatt::nalgebra::Vector3;
-use printwatt::placement::feasibility::{self, FeasibilityOptions};
-use printwatt::placement::optimise::{self as popt, OptimiseOptions};
-use printwatt::placement::search::{self, Bounds, SearchOptions};
-use printwatt::placement::sweep::{Evaluated, Evaluator, Grid, Objective};
-use printwatt::placement::tolerance::Tolerance;
 use printwatt::robot::{Regeneration, RobotModel};
+use printwatt::search::optimise::{self as popt, OptimiseOptions};
+use printwatt::search::refine::{self, Bounds, SearchOptions};
+use printwatt::search::tolerance::Tolerance;
+use printwatt::search::Grid;
 use printwatt::timing::{JointStageOptions, ProfileOptions};
 use printwatt::toolpath::{ReadOptions, Toolpath, Zone};
 use printwatt::{PathJob, Placement};
@@ -905,12 +906,12 @@ fn optimise<'py>(
         let ev = Evaluator::new(&job, feas, obj);
         let rows = ev.sweep(&ps, &|_, _| {})?;
         if !rows.iter().any(|r| r.cost().is_finite()) {
-            return Ok(Err(printwatt::placement::advice::nothing_feasible(
+            return Ok(Err(printwatt::search::advice::nothing_feasible(
                 &rows, model,
             )));
         }
-        let progress: search::Progress = std::sync::Arc::new(|_, _, _| {});
-        let (mut res, info) = search::refine(&ev, &rows, &opts, &so, progress)?;
+        let progress: refine::Progress = std::sync::Arc::new(|_, _, _| {});
+        let (mut res, info) = refine::refine(&ev, &rows, &opts, &so, progress)?;
         res.search = Some(info);
         Ok(Ok((rows, res)))
     });
@@ -1178,7 +1179,7 @@ fn stations<'py>(
     collisions: bool,
     check_every: usize,
 ) -> PyRes<Bound<'py, PyAny>> {
-    use printwatt::placement::stations::{self as pst, Candidates, Headings, StationsProblem};
+    use printwatt::stations::{self as pst, Candidates, Headings, StationsProblem};
     let robot = robot.hold()?;
     let path = path.hold()?;
     let model: &RobotModel = &robot;

@@ -187,12 +187,12 @@ pub struct EvaluationArgs {
 
 impl EvaluationArgs {
     /// The reduction options, or `None` for `full`. Error: an unknown mode.
-    pub fn reduce_options(&self) -> Result<Option<printwatt::placement::reduce::ReduceOptions>> {
-        let d = printwatt::placement::reduce::ReduceOptions::default();
+    pub fn reduce_options(&self) -> Result<Option<printwatt::evaluate::reduce::ReduceOptions>> {
+        let d = printwatt::evaluate::reduce::ReduceOptions::default();
         match self.evaluation.trim() {
             "auto" => Ok(Some(d)),
             "full" => Ok(None),
-            "reduced" => Ok(Some(printwatt::placement::reduce::ReduceOptions {
+            "reduced" => Ok(Some(printwatt::evaluate::reduce::ReduceOptions {
                 min_samples: 0,
                 ..d
             })),

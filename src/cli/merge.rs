@@ -5,7 +5,7 @@
 
 use anyhow::{bail, Context, Result};
 use clap::Parser;
-use printwatt::placement::shard;
+use printwatt::campaign::shard;
 use std::path::PathBuf;
 
 /// `printwatt merge` arguments.

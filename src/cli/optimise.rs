@@ -3,11 +3,11 @@
 
 use super::sweep::{detail, meta, parse_placement, run_sweep, PlacementArgs};
 use anyhow::{Context, Result};
-use printwatt::placement::optimise::{self, feasible_centre, worst_of, OptimiseOptions};
-use printwatt::placement::reduce;
-use printwatt::placement::search::{self, Bounds, SearchOptions};
-use printwatt::placement::tolerance::Tolerance;
+use printwatt::evaluate::reduce;
 use printwatt::report::placement::RunReport;
+use printwatt::search::optimise::{self, feasible_centre, worst_of, OptimiseOptions};
+use printwatt::search::refine::{self, Bounds, SearchOptions};
+use printwatt::search::tolerance::Tolerance;
 use printwatt::toolpath::Placement;
 use std::io::IsTerminal;
 
@@ -73,7 +73,7 @@ pub struct OptimiseArgs {
 }
 
 /// What the tolerance check says, in one line.
-pub fn tolerance_line(c: &printwatt::placement::tolerance::ToleranceCheck) -> String {
+pub fn tolerance_line(c: &printwatt::search::tolerance::ToleranceCheck) -> String {
     use printwatt::report::placement::tolerance_text;
     if c.corners == 0 {
         "not checked (--tolerance 0,0)".into()
@@ -137,7 +137,7 @@ pub fn search_bounds(ps: &[Placement], z_bounds: Option<&str>) -> Result<Bounds>
 /// merge`), with the facts of the merged run for `run.json`.
 pub struct MergedDraws {
     /// Every draw, in draw order.
-    pub draws: Vec<printwatt::placement::uncertainty::Draw>,
+    pub draws: Vec<printwatt::search::uncertainty::Draw>,
     /// `run.json` of the merged run ([`super::sweep::run_facts`]) and its extra fields.
     pub facts: (serde_json::Value, Vec<(&'static str, serde_json::Value)>),
 }
@@ -178,7 +178,7 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
     // taken before the work, as a run directory is.
     let mut shard_out = None;
     if let Some(spec) = &a.shard {
-        use printwatt::placement::shard::Shard;
+        use printwatt::campaign::shard::Shard;
         let (sh, source) = Shard::parse(spec, &|k| std::env::var(k).ok())?;
         let Some(parent) = p.out.out.clone() else {
             anyhow::bail!("--shard writes a shard directory: give --out DIR (every shard of the run writes DIR/shard-K-of-N/, and `printwatt merge DIR` puts them together)");
@@ -255,27 +255,25 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
                 ex.join("wobj_print.mod"),
                 format!(
                     "MODULE printwatt_placement\n{}ENDMODULE\n",
-                    printwatt::placement::export::wobjdata("wobjPrint", &b.placement)
+                    printwatt::export::wobjdata("wobjPrint", &b.placement)
                 ),
             ),
             (
                 ex.join("frame.json"),
-                serde_json::to_string_pretty(&printwatt::placement::export::compas_frame(
-                    &b.placement,
-                ))?,
+                serde_json::to_string_pretty(&printwatt::export::compas_frame(&b.placement))?,
             ),
             (
                 ex.join("path_base.gcode"),
-                printwatt::placement::export::gcode_base(
-                    &printwatt::placement::export::base_frame_path(&job.moves, &b.placement),
+                printwatt::export::gcode_base(
+                    &printwatt::export::base_frame_path(&job.moves, &b.placement),
                     &b.placement,
                     l.robot.name(),
                 ),
             ),
             (
                 ex.join("path_base.mod"),
-                printwatt::placement::export::rapid_base(
-                    &printwatt::placement::export::base_frame_path(&job.moves, &b.placement),
+                printwatt::export::rapid_base(
+                    &printwatt::export::base_frame_path(&job.moves, &b.placement),
                     &b.placement,
                     &l.robot,
                 ),
@@ -453,12 +451,12 @@ pub struct Computed {
 pub fn compute(
     a: &OptimiseArgs,
     l: &super::sweep::Loaded,
-    job: &printwatt::placement::PathJob,
+    job: &printwatt::evaluate::PathJob,
     pool: &rayon::ThreadPool,
-    merged_draws: Option<&[printwatt::placement::uncertainty::Draw]>,
+    merged_draws: Option<&[printwatt::search::uncertainty::Draw]>,
     shard_out: &mut Option<(
-        printwatt::placement::shard::Shard,
-        printwatt::placement::shard::ShardSource,
+        printwatt::campaign::shard::Shard,
+        printwatt::campaign::shard::ShardSource,
         printwatt::output::RunDir,
     )>,
     progress: bool,
@@ -475,7 +473,7 @@ pub fn compute(
     if !rows.iter().any(|r| r.cost().is_finite()) {
         anyhow::bail!(
             "{}",
-            printwatt::placement::advice::nothing_feasible_named(
+            printwatt::search::advice::nothing_feasible_named(
                 &rows,
                 &l.robot,
                 &super::sweep::knob_flag
@@ -508,14 +506,14 @@ pub fn compute(
                 b
             });
             let b2 = bar.clone();
-            let progress: search::Progress = std::sync::Arc::new(move |_it, n, best| {
+            let progress: refine::Progress = std::sync::Arc::new(move |_it, n, best| {
                 if let Some(b) = &b2 {
                     b.set_position(n as u64);
                     b.set_message(format!("best {best:.1} J"));
                 }
             });
             let (mut r, info) =
-                pool.install(|| search::refine(&ev, &rows, &opts, &so, progress))?;
+                pool.install(|| refine::refine(&ev, &rows, &opts, &so, progress))?;
             if let Some(b) = bar {
                 b.finish_and_clear();
             }
@@ -555,7 +553,7 @@ pub fn compute(
         if res.search.is_some() && !tol.is_zero() && b.cost().is_finite() {
             res.baseline_tolerance =
                 Some(pool.install(|| {
-                    printwatt::placement::tolerance::check_all(&ev, &b.placement, &tol)
+                    printwatt::search::tolerance::check_all(&ev, &b.placement, &tol)
                 })?);
         }
     }
@@ -576,7 +574,7 @@ pub fn compute(
                 })
                 .cloned(),
         );
-        let setup = printwatt::placement::uncertainty::StudySetup::new(
+        let setup = printwatt::search::uncertainty::StudySetup::new(
             &ev,
             &cands,
             baseline.as_ref().map(|b| &b.1),
@@ -720,22 +718,22 @@ pub fn compute(
 fn write_study_shard(
     a: &OptimiseArgs,
     l: &super::sweep::Loaded,
-    setup: &printwatt::placement::uncertainty::StudySetup,
+    setup: &printwatt::search::uncertainty::StudySetup,
     (sh, source, rd): (
-        printwatt::placement::shard::Shard,
-        printwatt::placement::shard::ShardSource,
+        printwatt::campaign::shard::Shard,
+        printwatt::campaign::shard::ShardSource,
         printwatt::output::RunDir,
     ),
     t0: std::time::Instant,
 ) -> Result<()> {
-    use printwatt::placement::shard;
+    use printwatt::campaign::shard;
     let p = &a.p;
     let idx = sh.indices(setup.len());
     let pool = p.pool()?;
     let t1 = std::time::Instant::now();
     let draws = pool.install(|| setup.draws(&idx))?;
     let draw_s = t1.elapsed().as_secs_f64();
-    let rows: Vec<(usize, printwatt::placement::uncertainty::Draw)> =
+    let rows: Vec<(usize, printwatt::search::uncertainty::Draw)> =
         idx.into_iter().zip(draws).collect();
     let bytes = shard::encode_draws(&rows)?;
     let wall_time_s = t0.elapsed().as_secs_f64();

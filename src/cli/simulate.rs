@@ -67,7 +67,7 @@ pub fn run(a: super::SimulateArgs) -> Result<()> {
         (Some(p), None, None) => {
             let pl = placement.context("--path needs --at x,y,z,yaw")?;
             let tp = super::load_path(p, &a.timing.read_options()?)?;
-            let job = printwatt::placement::PathJob::new(
+            let job = printwatt::evaluate::PathJob::new(
                 &robot,
                 &tp,
                 printwatt::energy::EnergyOptions::default(),

@@ -1,10 +1,10 @@
 //! `printwatt stations`: a multi-station plan for a path larger than one placement's reach
-//! (library: [`printwatt::placement::stations`]; report: [`printwatt::report::stations`]).
+//! (library: [`printwatt::stations`]; report: [`printwatt::report::stations`]).
 
 use super::sweep::{meta, PlacementArgs};
 use anyhow::{bail, Context, Result};
-use printwatt::placement::stations::{self, Candidates, Headings, StationsProblem};
 use printwatt::report::stations::StationsReport;
+use printwatt::stations::{self, Candidates, Headings, StationsProblem};
 use printwatt::timing::JointStageOptions;
 use std::io::IsTerminal;
 
@@ -86,7 +86,7 @@ pub fn run(a: StationsArgs) -> Result<()> {
     let l = p.load()?;
     let z = match &p.z {
         Some(s) => {
-            let v = printwatt::placement::parse_range("z", s)?;
+            let v = printwatt::search::parse_range("z", s)?;
             if v.len() != 1 {
                 bail!("--z `{s}`: `stations` takes one height (m)");
             }
@@ -108,13 +108,13 @@ pub fn run(a: StationsArgs) -> Result<()> {
         Headings::Auto
     } else {
         Headings::Fixed(
-            printwatt::placement::parse_range("heading", &a.heading)?
+            printwatt::search::parse_range("heading", &a.heading)?
                 .into_iter()
                 .map(f64::to_radians)
                 .collect(),
         )
     };
-    let reach = printwatt::placement::feasibility::reach_m(&l.robot);
+    let reach = printwatt::evaluate::feasibility::reach_m(&l.robot);
     let candidates = match &a.track {
         Some(t) => {
             let (s0, s1) = t

@@ -6,7 +6,7 @@
 use super::optimise::{compute, tolerance_line, OptimiseArgs};
 use anyhow::{bail, Context, Result};
 use clap::Parser;
-use printwatt::placement::study::{CaseBest, CaseResult, Study};
+use printwatt::campaign::study::{CaseBest, CaseResult, Study};
 use std::path::PathBuf;
 
 /// `printwatt study` arguments.
@@ -379,7 +379,7 @@ fn run_shard(
     pool: &rayon::ThreadPool,
     spec: &str,
 ) -> Result<()> {
-    use printwatt::placement::shard::{self, Shard};
+    use printwatt::campaign::shard::{self, Shard};
     let (sh, source) = Shard::parse(spec, &|k| std::env::var(k).ok())?;
     let Some(parent) = a.out.out.clone() else {
         bail!("--shard writes a shard directory: give --out DIR (every shard of the study writes DIR/shard-K-of-N/, and `printwatt merge DIR` puts them together)");
@@ -428,7 +428,7 @@ fn run_shard(
 #[allow(clippy::too_many_arguments)]
 pub fn merge(
     a: StudyArgs,
-    h: &printwatt::placement::shard::ShardHeader,
+    h: &printwatt::campaign::shard::ShardHeader,
     results: Vec<CaseResult>,
     shard_dirs: &[(usize, PathBuf)],
     out: Option<PathBuf>,

@@ -2,11 +2,12 @@
 
 use anyhow::{bail, Context, Result};
 use printwatt::energy::EnergyOptions;
-use printwatt::placement::feasibility::FeasibilityOptions;
-use printwatt::placement::optimise::{best_of, worst_of};
-use printwatt::placement::sweep::{parse_range, Evaluated, Evaluator, Grid, Objective};
-use printwatt::placement::PathJob;
+use printwatt::evaluate::evaluator::{Evaluated, Evaluator, Objective};
+use printwatt::evaluate::feasibility::FeasibilityOptions;
+use printwatt::evaluate::PathJob;
 use printwatt::report::placement::{Detail, RunReport};
+use printwatt::search::optimise::{best_of, worst_of};
+use printwatt::search::{parse_range, Grid};
 use printwatt::timing::{JointStageOptions, ProfileOptions};
 use printwatt::toolpath::{self, Placement};
 use std::io::IsTerminal;
@@ -62,7 +63,7 @@ pub struct PlacementArgs {
     pub wrist_min: f64,
     /// Largest share of the joint 4/6 velocity or acceleration limit near the wrist
     /// singularity (0.5 = half).
-    #[arg(long, default_value_t = printwatt::placement::margins::DEFAULT_WRIST_RATE_MAX)]
+    #[arg(long, default_value_t = printwatt::evaluate::feasibility::margins::DEFAULT_WRIST_RATE_MAX)]
     pub wrist_rate_max: f64,
     /// Margin kept from every joint's position limits, deg: one value for all joints or a
     /// comma list per joint (the drive file's `limit_margin_rad` takes precedence).
@@ -156,7 +157,7 @@ impl Loaded {
     ) -> Result<Evaluator<'j, 'a>> {
         let ev = Evaluator::new(job, self.feas, self.objective);
         Ok(match evaluation.reduce_options()? {
-            Some(o) => match printwatt::placement::reduce::Reduction::plan(job, &self.path, o) {
+            Some(o) => match printwatt::evaluate::reduce::Reduction::plan(job, &self.path, o) {
                 Ok(r) => ev.with_reduction(r),
                 Err(_) => ev,
             },
@@ -166,7 +167,7 @@ impl Loaded {
 
     /// The workspace grid used when the command line names no placements.
     pub fn default_grid(&self) -> Grid {
-        printwatt::placement::optimise::default_grid(printwatt::placement::feasibility::reach_m(
+        printwatt::search::optimise::default_grid(printwatt::evaluate::feasibility::reach_m(
             &self.robot,
         ))
     }
@@ -572,7 +573,7 @@ pub fn meta(l: &Loaded, samples: usize) -> Vec<(String, String)> {
                 (0..l.robot.dof())
                     .map(|j| format!(
                         "{:.1}",
-                        printwatt::placement::margins::joint_margin(&l.robot, &l.feas, j).to_degrees()
+                        printwatt::evaluate::feasibility::margins::joint_margin(&l.robot, &l.feas, j).to_degrees()
                     ))
                     .collect::<Vec<_>>()
                     .join("/"),
@@ -778,9 +779,7 @@ pub fn finish(
         if rep.best().is_none() {
             print!(
                 "{}",
-                printwatt::placement::advice::nothing_feasible_named(
-                    &rep.rows, &l.robot, &knob_flag
-                )
+                printwatt::search::advice::nothing_feasible_named(&rep.rows, &l.robot, &knob_flag)
             );
         }
         if let Some(s) = rep.spread_pct() {
@@ -794,8 +793,8 @@ pub fn finish(
 }
 
 /// The command-line option for a setting the library's advice names.
-pub fn knob_flag(k: printwatt::placement::advice::Knob) -> String {
-    use printwatt::placement::advice::Knob;
+pub fn knob_flag(k: printwatt::search::advice::Knob) -> String {
+    use printwatt::search::advice::Knob;
     match k {
         Knob::X => "--x",
         Knob::Y => "--y",
@@ -846,7 +845,7 @@ pub fn hash_inputs(
 /// `printwatt sweep --shard`: evaluate this shard's placements and write them as the shard
 /// directory `<--out>/shard-K-of-N/` (header and rows, docs/cluster.md).
 fn run_shard(a: &PlacementArgs, spec: &str) -> Result<()> {
-    use printwatt::placement::shard::{self, Shard};
+    use printwatt::campaign::shard::{self, Shard};
     let (sh, source) = Shard::parse(spec, &|k| std::env::var(k).ok())?;
     let Some(parent) = a.out.out.clone() else {
         bail!("--shard writes a shard directory: give --out DIR (every shard of the run writes DIR/shard-K-of-N/, and `printwatt merge DIR` puts them together)");
@@ -898,12 +897,12 @@ fn run_shard(a: &PlacementArgs, spec: &str) -> Result<()> {
 
 /// A shard's rows and what its header says of them ([`write_shard`]).
 pub struct ShardOut {
-    /// [`printwatt::placement::shard::KIND_SWEEP`] or `KIND_UNCERTAINTY`.
+    /// [`printwatt::campaign::shard::KIND_SWEEP`] or `KIND_UNCERTAINTY`.
     pub kind: &'static str,
     /// This shard.
-    pub shard: printwatt::placement::shard::Shard,
+    pub shard: printwatt::campaign::shard::Shard,
     /// Where its index came from (for the message).
-    pub source: printwatt::placement::shard::ShardSource,
+    pub source: printwatt::campaign::shard::ShardSource,
     /// Items of the whole run.
     pub total: usize,
     /// Items in this shard.
@@ -926,7 +925,7 @@ pub fn write_shard(
     json: bool,
     done: &str,
 ) -> Result<()> {
-    use printwatt::placement::shard::{self, ShardHeader, ShardSource};
+    use printwatt::campaign::shard::{self, ShardHeader, ShardSource};
     let header = ShardHeader {
         schema_version: shard::SCHEMA_VERSION,
         kind: o.kind.into(),

@@ -18,9 +18,10 @@ use super::site::SiteGeometry;
 use super::svg::{self, CellMark, Heatmap, MapPoint, Series, TopView};
 use crate::energy::EnergyReport;
 use crate::error::{Error, Result};
+use crate::evaluate::evaluator::{Evaluated, PlacementRow};
 use crate::output::{Existing, Inputs, RunDir};
-use crate::placement::optimise::OptimiseResult;
-use crate::placement::sweep::{Evaluated, Grid, PlacementRow};
+use crate::search::optimise::OptimiseResult;
+use crate::search::Grid;
 use serde::Serialize;
 use std::path::Path;
 
@@ -110,7 +111,7 @@ impl RunReport {
         self.optimise
             .as_ref()
             .map(|o| &o.best)
-            .or_else(|| crate::placement::optimise::best_of(&self.rows))
+            .or_else(|| crate::search::optimise::best_of(&self.rows))
     }
 
     /// Saving of the best against the baseline, (J, %).
@@ -127,15 +128,15 @@ impl RunReport {
 
     /// Spread (max − min) / min over feasible rows, %.
     pub fn spread_pct(&self) -> Option<f64> {
-        let lo = crate::placement::optimise::best_of(&self.rows)?.cost();
-        let hi = crate::placement::optimise::worst_of(&self.rows)?.cost();
+        let lo = crate::search::optimise::best_of(&self.rows)?.cost();
+        let hi = crate::search::optimise::worst_of(&self.rows)?.cost();
         (lo > 0.0).then(|| crate::numerics::difference(hi, lo) / lo * 100.0)
     }
 
     /// Reduction (max − min) / max over feasible rows, % (seed 000's 53.72 % definition).
     pub fn reduction_pct(&self) -> Option<f64> {
-        let lo = crate::placement::optimise::best_of(&self.rows)?.cost();
-        let hi = crate::placement::optimise::worst_of(&self.rows)?.cost();
+        let lo = crate::search::optimise::best_of(&self.rows)?.cost();
+        let hi = crate::search::optimise::worst_of(&self.rows)?.cost();
         (hi > 0.0).then(|| crate::numerics::relative_difference_pct(hi, lo))
     }
 
@@ -186,7 +187,7 @@ impl RunReport {
             feasible: self.rows.iter().filter(|r| r.cost().is_finite()).count(),
             infeasible_by_reason: reasons,
             best: self.best(),
-            worst: crate::placement::optimise::worst_of(&self.rows),
+            worst: crate::search::optimise::worst_of(&self.rows),
             spread_pct: self.spread_pct(),
             reduction_pct: self.reduction_pct(),
             baseline: self.baseline.as_ref().map(|(s, e)| (s.as_str(), e)),
@@ -262,7 +263,7 @@ impl RunReport {
         if self.rows.len() != g.len() {
             return None;
         }
-        let b = crate::placement::optimise::best_of(&self.rows)?;
+        let b = crate::search::optimise::best_of(&self.rows)?;
         let near = |v: &[f64], x: f64| {
             v.iter()
                 .enumerate()
@@ -556,7 +557,7 @@ impl RunReport {
                     v.push(o.sensitivity.e_j[k].unwrap_or(f64::NAN));
                 }
             }
-            if let Some(w) = crate::placement::optimise::worst_of(&self.rows) {
+            if let Some(w) = crate::search::optimise::worst_of(&self.rows) {
                 c.push("worst grid".into());
                 v.push(w.cost());
             }
@@ -951,7 +952,7 @@ fn csv_cell(s: &str) -> String {
 /// One line comparing the reduced estimate of an optimisation's answer with its full
 /// evaluation: "energy at the answer: full evaluation … J; estimate from … of … layers … J ±
 /// … J (… %)".
-pub fn full_check_line(c: &crate::placement::reduce::FullCheck) -> String {
+pub fn full_check_line(c: &crate::evaluate::reduce::FullCheck) -> String {
     format!(
         "energy at the answer: full evaluation {:.1} J; estimate from {} of {} layers {:.1} J ± {:.1} J ({:+.3} % from the full figure, {} the stated error)",
         c.full_j,
@@ -965,8 +966,8 @@ pub fn full_check_line(c: &crate::placement::reduce::FullCheck) -> String {
 }
 
 /// The uncertainty study in a few lines "what: value" (terminal and report).
-pub fn uncertainty_lines(u: &crate::placement::uncertainty::Study) -> Vec<String> {
-    use crate::placement::uncertainty::Source;
+pub fn uncertainty_lines(u: &crate::search::uncertainty::Study) -> Vec<String> {
+    use crate::search::uncertainty::Source;
     let src = match &u.source {
         Source::DriveFile(f) => format!("ranges of {f} [uncertainty]"),
         Source::Default => {
@@ -1021,7 +1022,7 @@ pub fn uncertainty_lines(u: &crate::placement::uncertainty::Study) -> Vec<String
 /// The baseline's tolerance check in words: "holds ±20 mm in x and y, …: all 16 corners
 /// feasible, energy a…b J" or "does NOT hold …: k of the 16 corners infeasible (first: why)"
 /// (energies in J).
-pub fn baseline_tolerance_text(c: &crate::placement::tolerance::ToleranceCheck) -> String {
+pub fn baseline_tolerance_text(c: &crate::search::tolerance::ToleranceCheck) -> String {
     tolerance_text(c, false)
 }
 
@@ -1029,7 +1030,7 @@ pub fn baseline_tolerance_text(c: &crate::placement::tolerance::ToleranceCheck) 
 /// a…b J" or "does NOT hold …: k of the n corners infeasible (first: why)"; `checked` says
 /// "corners checked infeasible" (a check that stops after the first batch with an infeasible
 /// corner has not evaluated them all). Energies in J.
-pub fn tolerance_text(c: &crate::placement::tolerance::ToleranceCheck, checked: bool) -> String {
+pub fn tolerance_text(c: &crate::search::tolerance::ToleranceCheck, checked: bool) -> String {
     if c.holds {
         format!(
             "holds {}: all {} corners feasible, energy {:.1}…{:.1} J",
@@ -1052,7 +1053,7 @@ pub fn tolerance_text(c: &crate::placement::tolerance::ToleranceCheck, checked: 
 
 /// What a saving against a baseline that does not hold the placement tolerance (`c`) is
 /// measured against, appended to the saving: empty when the baseline holds it.
-pub fn baseline_saving_caveat(c: &crate::placement::tolerance::ToleranceCheck) -> String {
+pub fn baseline_saving_caveat(c: &crate::search::tolerance::ToleranceCheck) -> String {
     if c.holds {
         String::new()
     } else {
@@ -1078,7 +1079,7 @@ pub fn saving_text(j: f64, pct: f64) -> String {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::placement::tolerance::{Tolerance, ToleranceCheck};
+    use crate::search::tolerance::{Tolerance, ToleranceCheck};
 
     #[test]
     fn a_tolerance_check_in_words_names_the_corners_and_the_first_failure() {

@@ -2,9 +2,9 @@
 //! the bed height, the part's outline, and, for the seed-000 reproduction, the paper's P1–P5
 //! values to show beside ours.
 
+use crate::evaluate::PathJob;
 use crate::kinematics::IkSolver;
 use crate::math::{rot_x, Frame, V3};
-use crate::placement::PathJob;
 use crate::robot::RobotModel;
 use std::path::Path;
 
@@ -88,7 +88,7 @@ impl SiteGeometry {
 /// from axis 1 on the +x axis, sampled every 1 % of the reach up to 120 %.
 pub fn annulus(model: &RobotModel, z: f64) -> Option<(f64, f64)> {
     let solver = IkSolver::new(model).ok()?;
-    let reach = crate::placement::feasibility::reach_m(model);
+    let reach = crate::evaluate::feasibility::reach_m(model);
     let down = rot_x(std::f64::consts::PI);
     let mut lo: Option<f64> = None;
     let mut hi: Option<f64> = None;

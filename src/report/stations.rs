@@ -1,13 +1,13 @@
-//! The report of a multi-station plan ([`crate::placement::stations`]): `summary.json`,
+//! The report of a multi-station plan ([`crate::stations`]): `summary.json`,
 //! `stations.csv` (one row per segment) and a self-contained `report.html` with the plan on
 //! the top view (the path coloured by station, station markers with their heading, reach
 //! circles) and the energy per segment. No physics here: every number arrives computed.
 
 use super::svg::{self, colour, esc, fmt_num, ticks, Frame};
 use crate::error::Result;
+use crate::evaluate::evaluator::PlacementRow;
 use crate::output::RunDir;
-use crate::placement::stations::Plan;
-use crate::placement::sweep::PlacementRow;
+use crate::stations::Plan;
 use crate::toolpath::Toolpath;
 use serde::Serialize;
 use std::fmt::Write as _;
@@ -67,9 +67,9 @@ struct Summary<'a> {
     energy_j: f64,
     total_j: f64,
     segments: Vec<SegmentRow>,
-    units: &'a [crate::placement::stations::Unit],
-    ways: &'a [crate::placement::stations::floor::Way],
-    stats: &'a crate::placement::stations::PlanStats,
+    units: &'a [crate::stations::Unit],
+    ways: &'a [crate::stations::floor::Way],
+    stats: &'a crate::stations::PlanStats,
 }
 
 impl StationsReport<'_> {

@@ -1,12 +1,12 @@
-//! The report page of a design study ([`crate::placement::study`]): which robot and cell
+//! The report page of a design study ([`crate::campaign::study`]): which robot and cell
 //! prints each path for the least energy, the robot-and-cell combinations over every path,
 //! and every case with a link to its own optimise report. Energies in J, times in s,
 //! positions in m, angles in deg (as labelled).
 
 use super::html::Page;
 use super::svg::{self, esc, Frame};
+use crate::campaign::study::{CaseResult, Study};
 use crate::error::Result;
-use crate::placement::study::{CaseResult, Study};
 use std::fmt::Write as _;
 
 /// The study's report page (self-contained XHTML), from its results (one per case, in case

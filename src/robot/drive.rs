@@ -109,7 +109,7 @@ pub(crate) struct DriveFile {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub calibration: Option<Calibration>,
     /// Optional `[uncertainty]` table: ranges of the estimated numbers, read by the
-    /// placement's uncertainty study (`crate::placement::uncertainty::Ranges`), kept as written.
+    /// placement's uncertainty study (`crate::search::uncertainty::Ranges`), kept as written.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub uncertainty: Option<toml::Value>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]

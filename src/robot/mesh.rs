@@ -1,7 +1,7 @@
 //! Vertices of STL (binary or ASCII) and Wavefront OBJ meshes, for collision hulls.
 //!
 //! Only the vertex positions are read: a link's mesh is used as its convex hull (see
-//! [`crate::placement::collision`]), so faces, normals and materials do not matter. Units are
+//! [`crate::evaluate::feasibility::collision`]), so faces, normals and materials do not matter. Units are
 //! the file's (URDF meshes are in metres unless a `scale` says otherwise).
 
 use crate::error::{Error, Result};

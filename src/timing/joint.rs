@@ -7,9 +7,9 @@
 
 use super::geometry::Piece;
 use super::profile::{nodes, plan_at_speeds, CartesianMotion, Nodes, ProfileOptions};
+use crate::frame::Placement;
 use crate::kinematics::{nozzle_target, IkFailure, IkSolver, JointVec};
 use crate::math::{Frame, V3};
-use crate::placement::Placement;
 use crate::robot::RobotModel;
 use crate::trajectory::JointTrajectory;
 use serde::Serialize;
@@ -1346,7 +1346,7 @@ impl Buffers {
 }
 
 /// The placement-independent side of timing a path, borrowed from whoever owns it (a
-/// [`crate::placement::PathJob`], a test): the blended path, its shared first [`Plan`], the
+/// [`crate::evaluate::PathJob`], a test): the blended path, its shared first [`Plan`], the
 /// source line of each move, and the options. Built once, used for every placement.
 #[derive(Clone, Copy)]
 pub struct PathTiming<'a> {

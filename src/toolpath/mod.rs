@@ -22,9 +22,9 @@ use crate::error::{read_text, Error, Result};
 use crate::math::{rot_axis, V3};
 
 pub use self::csv::{parse_csv, parse_placements};
-/// The placement value lives in [`crate::placement::value`]; re-exported here for code that
+/// The placement value lives in [`crate::frame`]; re-exported here for code that
 /// names it beside the readers.
-pub use crate::placement::value::{NamedPlacement, Placement, PlacementParseError};
+pub use crate::frame::{NamedPlacement, Placement, PlacementParseError};
 
 /// The field separator of a CSV from its header line: `;` for a European spreadsheet export
 /// (header with semicolons and no commas; numbers then have a decimal comma), else `,`.

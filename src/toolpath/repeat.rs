@@ -191,7 +191,7 @@ fn same_shifted(path: &Toolpath, a: &Unit, b: &Unit, tol: f64) -> bool {
 /// The longest run of units that repeat up to a shift in z, trying periods 1 to
 /// [`MAX_PERIOD`] (the shortest period wins a tie). `None` when no unit repeats, or when the
 /// layer heights within a class do not increase strictly (z is the interpolation abscissa of
-/// [`crate::placement::reduce`]). `tol` in m (see [`REPEAT_TOLERANCE_M`]).
+/// [`crate::evaluate::reduce`]). `tol` in m (see [`REPEAT_TOLERANCE_M`]).
 pub fn repetition(path: &Toolpath, tol: f64) -> Option<Repetition> {
     let units = layers(path, tol);
     let mut best: Option<(usize, Range<usize>)> = None;

@@ -129,8 +129,8 @@ pub fn path(name: &str) -> printwatt::toolpath::Toolpath {
 pub fn default_job<'a>(
     model: &'a RobotModel,
     path: &printwatt::toolpath::Toolpath,
-) -> printwatt::placement::PathJob<'a> {
-    printwatt::placement::PathJob::new(
+) -> printwatt::evaluate::PathJob<'a> {
+    printwatt::evaluate::PathJob::new(
         model,
         path,
         printwatt::energy::EnergyOptions::default(),

@@ -1,7 +1,7 @@
 //! When no placement is feasible: how many failed for each reason, and what to try.
 
-use super::feasibility::Reason;
-use super::sweep::Evaluated;
+use crate::evaluate::evaluator::Evaluated;
+use crate::evaluate::feasibility::Reason;
 use crate::robot::RobotModel;
 use std::collections::BTreeMap;
 

@@ -1,9 +1,9 @@
 //! Where a station stands and the way between stations, against the walls on the floor.
 //!
-//! A station occupies a disc of the floor ([`super::StationsProblem::footprint_m`]: the robot's
+//! A station occupies a disc of the floor ([`crate::stations::StationsProblem::footprint_m`]: the robot's
 //! foot plus its track carriage or crawler). Walls are the beads the path lays, seen from above
 //! (nozzle-tip chords widened by the bead's half-width,
-//! [`crate::placement::collision::BEAD_RADIUS_M`]): a wall stands on the floor from the moment
+//! [`crate::evaluate::feasibility::collision::BEAD_RADIUS_M`]): a wall stands on the floor from the moment
 //! it is printed, whatever its height, so every check is in the floor plane.
 //!
 //! - A station may not stand on a wall printed before or by its own segment (the disc must be
@@ -13,8 +13,8 @@
 //!   around the walls ([`Router`]).
 //! - A track's rail, the whole line between its ends, may not lie under any wall.
 
+use crate::evaluate::feasibility::collision::BEAD_RADIUS_M;
 use crate::math::V3;
-use crate::placement::collision::BEAD_RADIUS_M;
 use crate::toolpath::{MoveKind, Toolpath};
 use serde::Serialize;
 
@@ -68,7 +68,7 @@ fn point_segment_distance(p: [f64; 2], a: [f64; 2], b: [f64; 2]) -> f64 {
 
 /// The walls each move of `path` lays, in path order (one entry per move, empty for a travel
 /// move): nozzle-tip chords in the part frame, m, lines whole and arcs in chords of at most
-/// 5°. The stations' collision scene ([`crate::placement::Evaluator::with_prior_walls`]) and
+/// 5°. The stations' collision scene ([`crate::evaluate::Evaluator::with_prior_walls`]) and
 /// the plan view ([`Floor`]) are both made of them.
 pub fn wall_chords(path: &Toolpath) -> Vec<Vec<(V3, V3)>> {
     path.segments()

@@ -7,9 +7,10 @@
 //! The search starts from the best grid cell and only accepts strict improvements, so its
 //! answer is never worse than the best grid cell.
 
-use super::sweep::{Evaluated, Evaluator, Grid};
 use crate::error::{Error, Result};
-use crate::placement::Placement;
+use crate::evaluate::evaluator::{Evaluated, Evaluator};
+use crate::frame::Placement;
+use crate::search::Grid;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
 use serde::Serialize;
@@ -94,21 +95,21 @@ pub struct OptimiseResult {
     pub sensitivity: Sensitivity,
     /// The argmin search's method, the tolerance the answer holds and the bounds it lies on
     /// (`None` for the pattern search).
-    pub search: Option<super::search::SearchInfo>,
+    pub search: Option<crate::search::refine::SearchInfo>,
     /// Savings against the baseline in supply, drives and the objective (set by the caller).
     pub savings: Option<Savings>,
     /// The baseline's placement tolerance: the same tolerance the answer must hold, checked at
-    /// all 16 corners of the baseline's box ([`super::tolerance::check_all`]; set by the
+    /// all 16 corners of the baseline's box ([`crate::search::tolerance::check_all`]; set by the
     /// caller). `None` when there is no baseline, it is infeasible, the tolerance is zero or
     /// the answer's tolerance is not checked (the pattern search).
-    pub baseline_tolerance: Option<super::tolerance::ToleranceCheck>,
+    pub baseline_tolerance: Option<crate::search::tolerance::ToleranceCheck>,
     /// The uncertainty study of the answer (`optimise --uncertainty N`, set by the caller).
-    pub uncertainty: Option<super::uncertainty::Study>,
+    pub uncertainty: Option<crate::search::uncertainty::Study>,
     /// With the path reduction on: the answer's full evaluation beside its estimate (set by
-    /// the caller with [`super::reduce::confirm`]; `best` then holds the full evaluation).
+    /// the caller with [`crate::evaluate::reduce::confirm`]; `best` then holds the full evaluation).
     /// JSON: omitted when `None`.
     #[serde(skip_serializing_if = "Option::is_none")]
-    pub path_reduction: Option<super::reduce::FullCheck>,
+    pub path_reduction: Option<crate::evaluate::reduce::FullCheck>,
 }
 
 /// Savings of the best placement against a baseline, each as (J, % of the baseline).

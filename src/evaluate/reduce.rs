@@ -3,7 +3,7 @@
 //! layers, and the energy of the others is interpolated over z.
 //!
 //! # What is evaluated, and how
-//! The job's Cartesian plan (placement-independent, [`super::PathJob::plan`]) is cut into
+//! The job's Cartesian plan (placement-independent, [`crate::evaluate::PathJob::plan`]) is cut into
 //! *units*, one per layer with the travel that leads to it, as sample ranges of the one plan:
 //! a unit's samples are those of its moves, the corner blend into the next unit included. At
 //! a placement:
@@ -77,12 +77,12 @@
 //! above. The answer of an optimisation is therefore always re-evaluated in full
 //! ([`confirm`]).
 
-use super::feasibility::{self, Infeasible, Margins, Reason, World};
-use super::sweep::{Evaluated, Evaluator, Feasible, Losses, Objective, Scratch};
 use crate::energy;
+use crate::evaluate::evaluator::{Evaluated, Evaluator, Feasible, Losses, Objective, Scratch};
+use crate::evaluate::feasibility::{self, Infeasible, Margins, Reason, World};
+use crate::frame::Placement;
 use crate::kinematics::{nozzle_target, opw, IkFailure, JointVec};
 use crate::math::{Frame, V3};
-use crate::placement::Placement;
 use crate::timing::profile::CartesianMotion;
 use crate::toolpath::repeat::{self, Repetition};
 use crate::toolpath::Toolpath;
@@ -240,7 +240,7 @@ impl Reduction {
     /// Plan the reduction of `job`'s path (`path` is the toolpath the job was built from).
     /// Errors say why the path is evaluated in full.
     pub fn plan(
-        job: &super::PathJob<'_>,
+        job: &crate::evaluate::PathJob<'_>,
         path: &Toolpath,
         options: ReduceOptions,
     ) -> std::result::Result<Reduction, NotReduced> {
@@ -713,7 +713,7 @@ fn reduced<'a>(
                 near_wrist[u] = true;
             }
         }
-        let fail = super::margins::check_joint_sample(
+        let fail = crate::evaluate::feasibility::margins::check_joint_sample(
             model,
             o,
             q,
@@ -1247,7 +1247,7 @@ fn check(
     let beads = &ev.beads;
     for i in idx {
         let q = &qs[i * n..(i + 1) * n];
-        let jc = super::margins::check_joint_sample(
+        let jc = crate::evaluate::feasibility::margins::check_joint_sample(
             model,
             o,
             q,

@@ -4,7 +4,7 @@
 //! printed, or the arm itself.
 //!
 //! # Collision model
-//! See [`super::collision`]: parry3d shapes from the URDF's `<collision>` elements (capsules
+//! See [`crate::evaluate::feasibility::collision`]: parry3d shapes from the URDF's `<collision>` elements (capsules
 //! sized by [`LinkRadii`] where a link has none), the print head and hose from the drive file,
 //! the bed as a cuboid, and the printed part as bead capsules in a BVH.
 //!
@@ -14,7 +14,10 @@
 //! Singularity margins use the closed-form (OPW) measures and are skipped for robots without
 //! OPW parameters (documented limitation).
 
-use super::collision::{self, Beads, Bed, RobotShapes};
+pub mod collision;
+pub mod margins;
+
+use self::collision::{Beads, Bed, RobotShapes};
 use crate::kinematics::fk::fk;
 use crate::kinematics::opw;
 use crate::math::{Frame, V3};
@@ -27,7 +30,7 @@ use serde::{Deserialize, Serialize};
 pub struct FeasibilityOptions {
     /// `|sin q5|` below which a sample counts as near the wrist singularity (dimensionless;
     /// 0.05 ≈ 2.9°). Near it, joints 4 and 6 may use at most [`Self::wrist_rate_max`] of their
-    /// velocity and acceleration limits (see [`super::margins`]).
+    /// velocity and acceleration limits (see [`crate::evaluate::feasibility::margins`]).
     pub wrist_min: f64,
     /// Largest share of joint 4/6 velocity or acceleration limit accepted near the wrist
     /// singularity (dimensionless, 0.5 = half the limit).
@@ -55,9 +58,9 @@ impl Default for FeasibilityOptions {
     fn default() -> Self {
         FeasibilityOptions {
             wrist_min: 0.05,
-            wrist_rate_max: super::margins::DEFAULT_WRIST_RATE_MAX,
-            joint_margin_rad: [super::margins::DEFAULT_JOINT_MARGIN_DEG.to_radians();
-                crate::kinematics::MAX_DOF],
+            wrist_rate_max: crate::evaluate::feasibility::margins::DEFAULT_WRIST_RATE_MAX,
+            joint_margin_rad: [crate::evaluate::feasibility::margins::DEFAULT_JOINT_MARGIN_DEG
+                .to_radians(); crate::kinematics::MAX_DOF],
             elbow_min: 0.05,
             shoulder_min_m: 0.10,
             collisions: true,
@@ -734,7 +737,7 @@ fn singular(
     upd(&mut margins.wrist, w);
     upd(&mut margins.elbow, e);
     upd(&mut margins.shoulder_m, s);
-    // The wrist rule needs joint speeds: see super::margins::check_joint_sample.
+    // The wrist rule needs joint speeds: see crate::evaluate::feasibility::margins::check_joint_sample.
     if e < o.elbow_min {
         return Some((
             Reason::ElbowSingularity,

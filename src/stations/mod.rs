@@ -25,11 +25,11 @@
 //!   ([`StationsProblem::relocation_j`] + [`StationsProblem::relocation_j_per_m`] × the
 //!   distance between the stations). printwatt does not model the move of the arm itself.
 //! - Each segment is timed and its energy computed **from rest to rest at its station**, with
-//!   [`crate::placement::Evaluator`] on the sub-path: the same timing, dynamics, losses and
+//!   [`crate::evaluate::Evaluator`] on the sub-path: the same timing, dynamics, losses and
 //!   feasibility (reach with one arm configuration, joint limits and margins, singularity
 //!   margins, collisions with the bed under the segment, with the beads the segment lays
 //!   itself and with the walls the segments before it printed,
-//!   [`crate::placement::Evaluator::with_prior_walls`]) as `sweep` and `optimise`.
+//!   [`crate::evaluate::Evaluator::with_prior_walls`]) as `sweep` and `optimise`.
 //! - Where a station stands and the way between stations are checked against the walls in
 //!   plan view ([`floor`]): a station's floor disc ([`StationsProblem::footprint_m`], the
 //!   robot's foot with its carriage or crawler) may not stand on a wall printed before or by
@@ -56,8 +56,9 @@ pub use solve::{solve, Plan, PlanStats, Segment};
 
 use crate::energy::EnergyOptions;
 use crate::error::{Error, Result};
+use crate::evaluate::{FeasibilityOptions, Objective};
+use crate::frame::Placement;
 use crate::math::V3;
-use crate::placement::{FeasibilityOptions, Objective, Placement};
 use crate::robot::RobotModel;
 use crate::timing::{JointStageOptions, ProfileOptions};
 use crate::toolpath::{Dwell, Toolpath};
@@ -75,7 +76,7 @@ pub const PREFILTER_SAMPLE_M: f64 = 0.05;
 pub const LEVEL_TOLERANCE_M: f64 = 1e-6;
 
 /// A station's floor disc radius when none is given, as a share of the arm's reach
-/// ([`crate::placement::feasibility::reach_m`]), dimensionless. ESTIMATE: the IRB 6640 family's
+/// ([`crate::evaluate::feasibility::reach_m`]), dimensionless. ESTIMATE: the IRB 6640 family's
 /// foot is 1107 × 720 mm at a working radius of 3.2 m (`../shared/reference/robots.md`,
 /// [3rd] Joseph, *Mastering ROS for Robotics Programming*): a circumscribed radius of 0.66 m,
 /// 0.21 of the reach. A track carriage or crawler is often larger: give its radius.
@@ -83,7 +84,7 @@ pub const FOOTPRINT_PER_REACH: f64 = 0.2;
 
 /// The default floor disc radius of a station for `model`, m ([`FOOTPRINT_PER_REACH`] × reach).
 pub fn default_footprint_m(model: &RobotModel) -> f64 {
-    FOOTPRINT_PER_REACH * crate::placement::feasibility::reach_m(model)
+    FOOTPRINT_PER_REACH * crate::evaluate::feasibility::reach_m(model)
 }
 
 /// The largest number of candidate station positions accepted (a finer grid is refused with
@@ -405,7 +406,7 @@ impl StationsProblem<'_> {
 /// sampled every 1 % of the reach up to 120 %, over all `zs`. `None`: nothing reachable.
 pub fn reach_annulus(model: &RobotModel, zs: &[f64]) -> Option<(f64, f64)> {
     let solver = crate::kinematics::IkSolver::new(model).ok()?;
-    let reach = crate::placement::feasibility::reach_m(model);
+    let reach = crate::evaluate::feasibility::reach_m(model);
     let mut lo: Option<f64> = None;
     let mut hi: Option<f64> = None;
     for &z in zs {

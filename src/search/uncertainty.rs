@@ -21,10 +21,10 @@
 //! (`seed`, stream `d`), and every reduction runs in draw order, so the study is identical for
 //! any thread count.
 
-use super::sweep::{Evaluated, Evaluator};
-use super::PathJob;
 use crate::energy::EnergyModel;
 use crate::error::{Error, Result};
+use crate::evaluate::evaluator::{Evaluated, Evaluator};
+use crate::evaluate::PathJob;
 use crate::robot::RobotModel;
 use rand::{Rng, SeedableRng};
 use rand_chacha::ChaCha8Rng;
@@ -453,7 +453,7 @@ pub fn study_with(
 /// candidate order: the recommended placement first, the baseline last when there is one;
 /// `inf` where a candidate's energy could not be evaluated) and the values drawn (name, value
 /// in the parameter's own scale). Serialisable, so that draws computed on several machines
-/// ([`crate::placement::shard`]) reduce to the same study as one run.
+/// ([`crate::campaign::shard`]) reduce to the same study as one run.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Draw {
     /// Energy of each candidate under this draw's robot, J.

@@ -10,12 +10,12 @@
 //! Evaluations are sequential on one thread (the tolerance corners in parallel), and
 //! Nelder–Mead is deterministic, so the answer does not depend on the thread count.
 
-use super::neldermead::{BatchCost, SpeculativeNelderMead};
-use super::optimise::{sensitivity_with_probes, OptimiseOptions, OptimiseResult};
-use super::sweep::{Evaluated, Evaluator, Scratch};
-use super::tolerance::{Checker, Tolerance, ToleranceCheck};
 use crate::error::{Error, Result};
-use crate::placement::Placement;
+use crate::evaluate::evaluator::{Evaluated, Evaluator, Scratch};
+use crate::frame::Placement;
+use crate::search::neldermead::{BatchCost, SpeculativeNelderMead};
+use crate::search::optimise::{sensitivity_with_probes, OptimiseOptions, OptimiseResult};
+use crate::search::tolerance::{Checker, Tolerance, ToleranceCheck};
 use argmin::core::observers::{Observe, ObserverMode};
 use argmin::core::{Executor, IterState, State, KV};
 use serde::Serialize;
@@ -563,9 +563,13 @@ fn refine_with(
     let speculative = *problem.speculative.borrow() + checker.speculative();
     let tol_evals = checker.evaluations();
     let on_bounds = so.bounds.on_bounds(&best.placement, 0.005);
-    let stmt = best
-        .feasible()
-        .and_then(|f| super::margins::margin_statement(ev.job.robot, &ev.feasibility, &f.margins));
+    let stmt = best.feasible().and_then(|f| {
+        crate::evaluate::feasibility::margins::margin_statement(
+            ev.job.robot,
+            &ev.feasibility,
+            &f.margins,
+        )
+    });
     let joint_margin = stmt.as_ref().map(|s| s.0.clone());
     let on_margin = stmt.filter(|s| s.1).map(|s| s.0);
     let history = problem.history.borrow().clone();
@@ -610,7 +614,7 @@ struct Polish {
     lower: Vec<String>,
 }
 
-/// The answer's own sensitivity probes ([`super::optimise::probes`], ±h in x and y) as a last
+/// The answer's own sensitivity probes ([`crate::search::optimise::probes`], ±h in x and y) as a last
 /// compass step: a probe that costs less than the answer, lies in the search box and holds
 /// the tolerance is a better answer, so the answer moves there and is probed again (at most
 /// [`POLISH_STEPS`] times). A cheaper probe that does not hold the tolerance, or lies outside
@@ -626,10 +630,10 @@ fn polish(
 ) -> Result<(
     Evaluated,
     ToleranceCheck,
-    super::optimise::Sensitivity,
+    crate::search::optimise::Sensitivity,
     Polish,
 )> {
-    use super::optimise::{probes, PROBE_NAMES};
+    use crate::search::optimise::{probes, PROBE_NAMES};
     let h = opts.sensitivity_m;
     let (mut best, mut chk) = start;
     let e_stop = best.cost();

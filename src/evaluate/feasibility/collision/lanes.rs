@@ -1,4 +1,4 @@
-//! [`check_bodies`](super::check_bodies) of [`LANES`] samples in lockstep, for the case that
+//! [`check_bodies`](crate::evaluate::feasibility::collision::check_bodies) of [`LANES`] samples in lockstep, for the case that
 //! dominates a placement evaluation: an arm whose joints turn about coordinate axes and whose
 //! shapes (the print head aside) are capsules.
 //!
@@ -19,7 +19,9 @@
 //! shapes placed as its frame is made (session 11: no spills of the frames, no loop over
 //! every shape at every body, no lane-by-lane bit packing; the numbers are the same).
 
-use super::{Beads, Bed, RobotShapes, Role, Turn, SPHERE_MARGIN_M};
+use crate::evaluate::feasibility::collision::{
+    Beads, Bed, RobotShapes, Role, Turn, SPHERE_MARGIN_M,
+};
 use crate::kinematics::fk::Axis;
 use crate::kinematics::MAX_DOF;
 use crate::math::Frame;

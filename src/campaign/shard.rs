@@ -21,12 +21,12 @@
 //! inputs or printwatt builds, a shard given twice, a missing shard and a damaged rows file,
 //! and names which.
 
-use super::feasibility::Infeasible;
-use super::study::CaseResult;
-use super::sweep::{Evaluated, Feasible};
-use super::uncertainty::Draw;
+use crate::campaign::study::CaseResult;
 use crate::error::{Error, Result};
-use crate::placement::Placement;
+use crate::evaluate::evaluator::{Evaluated, Feasible};
+use crate::evaluate::feasibility::Infeasible;
+use crate::frame::Placement;
+use crate::search::uncertainty::Draw;
 use serde::{Deserialize, Serialize};
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
@@ -41,7 +41,7 @@ pub const SCHEMA_VERSION: u32 = 1;
 pub const KIND_SWEEP: &str = "printwatt-sweep-shard";
 /// `kind` of a shard of an `optimise --uncertainty` study (its rows are draws).
 pub const KIND_UNCERTAINTY: &str = "printwatt-optimise-uncertainty-shard";
-/// `kind` of a shard of a design study (its rows are cases, [`super::study`]).
+/// `kind` of a shard of a design study (its rows are cases, [`crate::campaign::study`]).
 pub const KIND_STUDY: &str = "printwatt-study-shard";
 
 /// One shard of a split run: `index` (0-based) of `count`.
@@ -221,7 +221,7 @@ struct Row {
     placement: [f64; 5],
     outcome: std::result::Result<Feasible, Infeasible>,
     /// The outcome's path-reduction estimate (not part of `Feasible`'s own serialisation).
-    path_reduction: Option<super::reduce::Estimate>,
+    path_reduction: Option<crate::evaluate::reduce::Estimate>,
 }
 
 /// Encode a shard's rows (index in sweep order, evaluation).
@@ -651,7 +651,7 @@ mod tests {
 
     #[test]
     fn shard_rows_keep_every_bit_including_non_finite_numbers() {
-        use crate::placement::feasibility::Reason;
+        use crate::evaluate::feasibility::Reason;
         let inf = Evaluated {
             placement: Placement {
                 x: 0.1 + 0.2,

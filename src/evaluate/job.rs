@@ -4,8 +4,8 @@
 
 use crate::energy::{self, EnergyModel, EnergyOptions, EnergyReport};
 use crate::error::Result;
+use crate::frame::Placement;
 use crate::kinematics::IkSolver;
-use crate::placement::Placement;
 use crate::robot::RobotModel;
 use crate::timing::{
     self, Buffers, JointStageOptions, Piece, Plan, ProfileOptions, TimedPath, TimingFailure,

@@ -12,7 +12,7 @@
 //!   of `hose_radius_m` from `hose_from_m` to `hose_to_m`. Without the table the head is a
 //!   capsule of radius `nozzle × R` from the flange to the tip and there is no hose. The head is
 //!   exempt from the bed and part checks (it prints on them).
-//! - **Bed**: a cuboid under the path (see [`super::feasibility::World`]).
+//! - **Bed**: a cuboid under the path (see [`crate::evaluate::feasibility::World`]).
 //! - **Part**: the beads laid so far, capsules of [`BEAD_RADIUS_M`] around the nozzle-tip path
 //!   (centre one bead radius below the tip) between checked print samples, in a bounding-volume
 //!   hierarchy over the order they are laid in ([`Beads`]), built once per job (and again for a
@@ -24,7 +24,7 @@
 //!
 //! Every test has an AABB broad phase before the exact parry query.
 
-use super::feasibility::{LinkRadii, Reason};
+use crate::evaluate::feasibility::{LinkRadii, Reason};
 use crate::kinematics::fk::{fk, Axis};
 use crate::math::{Frame, V3};
 use crate::robot::{GeomShape, RobotModel};
@@ -485,7 +485,7 @@ impl RobotShapes {
     }
 
     /// The bodies' frames at `q` (rad / m) in the frame in which the robot base stands at
-    /// `world` (for a placement, the part frame: [`super::feasibility::World::base_to_part`]),
+    /// `world` (for a placement, the part frame: [`crate::evaluate::feasibility::World::base_to_part`]),
     /// as rotation matrices composed along the chain from `world` on: no quaternion, no
     /// product with the world pose per body. `sincos`, when given (`2 n` values: the sines of
     /// `q`, then the cosines, as the IK's FK re-check leaves them in

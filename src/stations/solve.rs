@@ -1,15 +1,15 @@
-//! The solver of [`super::StationsProblem`]: candidate runs and stations, their evaluation in
+//! The solver of [`crate::stations::StationsProblem`]: candidate runs and stations, their evaluation in
 //! parallel, and the dynamic programme over the split points (see the module documentation
 //! of [`super`]).
 
-use super::floor::{self, Floor, Router, Way};
-use super::{
+use crate::error::{Error, Result};
+use crate::evaluate::evaluator::{Evaluated, Evaluator, Feasible};
+use crate::evaluate::PathJob;
+use crate::stations::floor::{self, Floor, Router, Way};
+use crate::stations::{
     reach_annulus, segment_moves, split_units, sub_path, Headings, Station, StationsProblem, Unit,
     PREFILTER_SAMPLE_M, PREFILTER_SLACK_REACH,
 };
-use crate::error::{Error, Result};
-use crate::placement::sweep::{Evaluated, Evaluator, Feasible};
-use crate::placement::PathJob;
 use rayon::prelude::*;
 use serde::Serialize;
 use std::collections::BTreeMap;
@@ -111,7 +111,7 @@ pub fn solve(p: &StationsProblem, progress: &(dyn Fn(usize, usize) + Sync)) -> R
     let units = split_units(path)?;
     let n_units = units.len();
     let positions = &p.candidates.positions;
-    let reach = crate::placement::feasibility::reach_m(p.robot);
+    let reach = crate::evaluate::feasibility::reach_m(p.robot);
     // Heights of the path in the base frame.
     let (lo, hi) = path
         .bounding_box()

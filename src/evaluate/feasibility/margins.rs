@@ -12,7 +12,7 @@
 //!   acceleration limit there. A `q5` passing 0 while `q4` stays still is harmless and
 //!   accepted.
 
-use super::feasibility::{FeasibilityOptions, Margins, Reason};
+use crate::evaluate::feasibility::{FeasibilityOptions, Margins, Reason};
 use crate::kinematics::opw;
 use crate::robot::{JointKind, RobotModel};
 

@@ -8,9 +8,9 @@
 //! last, evaluates as many corners at once as the pool has threads, and never evaluates a
 //! placement twice. What it reports does not depend on the thread count.
 
-use super::sweep::{Evaluated, Evaluator};
 use crate::error::Result;
-use crate::placement::Placement;
+use crate::evaluate::evaluator::{Evaluated, Evaluator};
+use crate::frame::Placement;
 use serde::Serialize;
 use std::cell::{Cell, RefCell};
 use std::collections::{HashMap, HashSet};

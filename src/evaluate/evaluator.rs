@@ -7,19 +7,19 @@
 //! from [`energy::eval_sample`] per sample with no per-sample allocation and no series stored;
 //! call [`crate::energy::evaluate`] (via [`PathJob::evaluate`]) only for placements reported in
 //! detail. Feasibility (singularity margins, collisions) is checked on every
-//! `check_every`-th sample, see [`super::feasibility`].
+//! `check_every`-th sample, see [`crate::evaluate::feasibility`].
 //!
 //! Sweeps run the placements in parallel with rayon (outermost loop only); results are
 //! collected in input order, so they are bit-identical for any thread count.
 
-use super::eval::PathJob;
-use super::feasibility::{self, FeasibilityOptions, Infeasible, Margins, Reason, World};
 use crate::dynamics::DynData;
 use crate::energy::{self, SamplePower};
 use crate::error::{Error, Result};
+use crate::evaluate::feasibility::{self, FeasibilityOptions, Infeasible, Margins, Reason, World};
+use crate::evaluate::job::PathJob;
+use crate::frame::Placement;
 use crate::kinematics::IkSolver;
 use crate::math::V3;
-use crate::placement::Placement;
 use crate::simd::LANES;
 use crate::timing::profile::Nodes;
 use crate::timing::{self, Buffers, TimedPath, TimingFailure};
@@ -145,7 +145,7 @@ pub struct Feasible {
     /// placement's outcome, omitted when `None` (see `ser_outcome`; the positional shard
     /// files carry it in their own field).
     #[serde(skip)]
-    pub path_reduction: Option<super::reduce::Estimate>,
+    pub path_reduction: Option<crate::evaluate::reduce::Estimate>,
 }
 
 /// Drive losses by kind over the print, J.
@@ -196,7 +196,7 @@ fn ser_outcome<S: serde::Serializer>(
         #[serde(flatten)]
         f: &'a Feasible,
         #[serde(skip_serializing_if = "Option::is_none")]
-        path_reduction: Option<&'a super::reduce::Estimate>,
+        path_reduction: Option<&'a crate::evaluate::reduce::Estimate>,
     }
     #[derive(Serialize)]
     #[serde(tag = "status", rename_all = "snake_case")]
@@ -269,7 +269,7 @@ pub struct Scratch<'a> {
     buf: Buffers,
     pub(super) poses: Vec<parry3d_f64::math::Isometry<f64>>,
     pub(super) sp: SamplePower,
-    pub(super) red: super::reduce::Buffers,
+    pub(super) red: crate::evaluate::reduce::Buffers,
 }
 
 /// The fast objective over one job: immutable, shared by all threads.
@@ -280,16 +280,16 @@ pub struct Evaluator<'j, 'a> {
     pub feasibility: FeasibilityOptions,
     /// What is minimised.
     pub objective: Objective,
-    pub(super) shapes: crate::placement::collision::RobotShapes,
+    pub(super) shapes: crate::evaluate::feasibility::collision::RobotShapes,
     /// Beads of the unslowed plan (shared by every placement whose timing did not re-plan).
-    pub(super) beads: crate::placement::collision::Beads,
+    pub(super) beads: crate::evaluate::feasibility::collision::Beads,
     pub(super) bbox_all: (V3, V3),
     lines: Vec<usize>,
     /// Walls printed before this path (nozzle-tip segments, part frame, m), in every
     /// placement's collision scene ([`Evaluator::with_prior_walls`]).
     prior: Vec<(V3, V3)>,
     /// The path reduction for long repetitive prints, when on.
-    reduction: Option<super::reduce::Reduction>,
+    reduction: Option<crate::evaluate::reduce::Reduction>,
     /// Scratch spaces of earlier [`Evaluator::sweep`] calls, reused by the next ones: a fresh
     /// scratch's first evaluation costs ~20 % more (its buffers are allocated and faulted in
     /// anew), and a search sweeps a few placements at a time hundreds of times. At most one
@@ -351,16 +351,16 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             job,
             feasibility,
             objective,
-            shapes: crate::placement::collision::RobotShapes::new(
+            shapes: crate::evaluate::feasibility::collision::RobotShapes::new(
                 job.robot,
                 feasibility::reach_m(job.robot),
                 &feasibility.radii,
             ),
-            beads: crate::placement::collision::Beads::new(
+            beads: crate::evaluate::feasibility::collision::Beads::new(
                 &motion0.p,
                 &motion0.print,
                 feasibility.check_every,
-                crate::placement::collision::BEAD_RADIUS_M,
+                crate::evaluate::feasibility::collision::BEAD_RADIUS_M,
             ),
             bbox_all: all,
             lines: job.moves.iter().map(|m| m.line).collect(),
@@ -384,15 +384,15 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         }
     }
 
-    /// Evaluate placements with the path reduction `r` ([`super::reduce`]): estimates with a
+    /// Evaluate placements with the path reduction `r` ([`crate::evaluate::reduce`]): estimates with a
     /// stated error instead of full evaluations. Built from this evaluator's job.
-    pub fn with_reduction(mut self, r: super::reduce::Reduction) -> Self {
+    pub fn with_reduction(mut self, r: crate::evaluate::reduce::Reduction) -> Self {
         self.reduction = Some(r);
         self
     }
 
     /// The path reduction in use, if any.
-    pub fn reduction(&self) -> Option<&super::reduce::Reduction> {
+    pub fn reduction(&self) -> Option<&crate::evaluate::reduce::Reduction> {
         self.reduction.as_ref()
     }
 
@@ -409,12 +409,12 @@ impl<'j, 'a> Evaluator<'j, 'a> {
     /// sample on (a multi-station plan's earlier segments).
     pub fn with_prior_walls(mut self, prior: Vec<(V3, V3)>) -> Self {
         let motion0 = &self.job.plan.motion;
-        self.beads = crate::placement::collision::Beads::with_prior(
+        self.beads = crate::evaluate::feasibility::collision::Beads::with_prior(
             &prior,
             &motion0.p,
             &motion0.print,
             self.feasibility.check_every,
-            crate::placement::collision::BEAD_RADIUS_M,
+            crate::evaluate::feasibility::collision::BEAD_RADIUS_M,
         );
         self.prior = prior;
         self
@@ -470,7 +470,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         at: &Placement,
     ) -> std::result::Result<Feasible, Infeasible> {
         match &self.reduction {
-            Some(r) => super::reduce::evaluate(self, r, sc, at),
+            Some(r) => crate::evaluate::reduce::evaluate(self, r, sc, at),
             None => self.evaluate_full_inner(sc, at),
         }
     }
@@ -521,12 +521,12 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         let beads = if std::sync::Arc::ptr_eq(&timed.motion, &self.job.plan.motion) {
             &self.beads
         } else {
-            replanned = crate::placement::collision::Beads::with_prior(
+            replanned = crate::evaluate::feasibility::collision::Beads::with_prior(
                 &self.prior,
                 &motion.p,
                 &motion.print,
                 every,
-                crate::placement::collision::BEAD_RADIUS_M,
+                crate::evaluate::feasibility::collision::BEAD_RADIUS_M,
             );
             &replanned
         };
@@ -546,7 +546,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         // energy does not depend on the checks: the outcome is that of checking first and
         // integrating after, bit for bit. A failed check tells the integration to stop.
         let failed = AtomicBool::new(false);
-        let joint_checks = super::margins::JointChecks::new(model, o);
+        let joint_checks = crate::evaluate::feasibility::margins::JointChecks::new(model, o);
         let checks = || -> std::result::Result<Margins, Infeasible> {
             let mut margins = Margins::default();
             let poses = &mut *poses;
@@ -1060,118 +1060,5 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             )
             .collect();
         Ok(out)
-    }
-}
-
-/// A regular grid of placements. Order of [`Grid::placements`]: z, yaw, spin, y, x (x fastest).
-#[derive(Clone, Debug, PartialEq, Serialize)]
-pub struct Grid {
-    /// x values, m.
-    pub xs: Vec<f64>,
-    /// y values, m.
-    pub ys: Vec<f64>,
-    /// z values, m.
-    pub zs: Vec<f64>,
-    /// Part yaws, rad.
-    pub yaws: Vec<f64>,
-    /// Nozzle spins, rad.
-    pub spins: Vec<f64>,
-}
-
-impl Grid {
-    /// The finer of the x and y spacings (the first two values of each axis), m; `None` when
-    /// both axes have a single value. `optimise` starts its simplex at half of it.
-    pub fn step_xy_m(&self) -> Option<f64> {
-        let d = |v: &[f64]| (v.len() > 1).then(|| (v[1] - v[0]).abs());
-        match (d(&self.xs), d(&self.ys)) {
-            (Some(a), Some(b)) => Some(a.min(b)),
-            (a, b) => a.or(b),
-        }
-    }
-
-    /// Number of placements.
-    pub fn len(&self) -> usize {
-        self.xs.len() * self.ys.len() * self.zs.len() * self.yaws.len() * self.spins.len()
-    }
-    /// True if the grid has no placements.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-    /// Flat index of `(ix, iy, iz, iyaw, ispin)`.
-    pub fn index(&self, ix: usize, iy: usize, iz: usize, iyaw: usize, ispin: usize) -> usize {
-        (((iz * self.yaws.len() + iyaw) * self.spins.len() + ispin) * self.ys.len() + iy)
-            * self.xs.len()
-            + ix
-    }
-    /// All placements, x fastest.
-    pub fn placements(&self) -> Vec<Placement> {
-        let mut v = Vec::with_capacity(self.len());
-        for &z in &self.zs {
-            for &yaw in &self.yaws {
-                for &spin in &self.spins {
-                    for &y in &self.ys {
-                        for &x in &self.xs {
-                            v.push(Placement {
-                                x,
-                                y,
-                                z,
-                                yaw,
-                                nozzle_spin: spin,
-                            });
-                        }
-                    }
-                }
-            }
-        }
-        v
-    }
-}
-
-/// Parse `min:max:step` (or a single value, or a comma list) into values. Units are the
-/// caller's (m on the command line). Errors name the text.
-pub fn parse_range(what: &str, s: &str) -> Result<Vec<f64>> {
-    let bad = |m: &str| Error::Invalid(format!("--{what} `{s}`: {m}"));
-    let num = |t: &str| {
-        t.trim()
-            .parse::<f64>()
-            .ok()
-            .filter(|v| v.is_finite())
-            .ok_or_else(|| bad(&format!("`{t}` is not a number")))
-    };
-    if s.contains(':') {
-        let p: Vec<&str> = s.split(':').collect();
-        if p.len() != 3 {
-            return Err(bad("expected min:max:step"));
-        }
-        let (a, b, st) = (num(p[0])?, num(p[1])?, num(p[2])?);
-        if st <= 0.0 {
-            return Err(bad("step must be > 0"));
-        }
-        if b < a {
-            return Err(bad("max < min"));
-        }
-        let n = ((b - a) / st + 1e-9).floor() as usize + 1;
-        if n > 100_000 {
-            return Err(bad("more than 100000 values"));
-        }
-        Ok((0..n).map(|i| a + st * i as f64).collect())
-    } else {
-        // An empty item (`1,,2`) is an error, not skipped: it is a typo.
-        let v: Result<Vec<f64>> = s
-            .split(',')
-            .enumerate()
-            .map(|(i, t)| {
-                if t.trim().is_empty() {
-                    Err(bad(&format!("item {} is empty", i + 1)))
-                } else {
-                    num(t)
-                }
-            })
-            .collect();
-        let v = v?;
-        if v.is_empty() {
-            return Err(bad("no values"));
-        }
-        Ok(v)
     }
 }

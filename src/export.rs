@@ -7,8 +7,8 @@
 //! frame, as G-code ([`gcode_base`]) and as an ABB RAPID module of `MoveL`s in `wobj0`
 //! ([`rapid_base`]), for controllers and slicers that take the path in base coordinates.
 
+use crate::frame::Placement;
 use crate::math::V3;
-use crate::placement::Placement;
 use crate::robot::RobotModel;
 use crate::timing::{Move, Prim};
 

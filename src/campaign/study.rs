@@ -26,13 +26,13 @@
 //!
 //! The cases are every robot × cell × path, in that nesting order (robot slowest), unless
 //! `[[case]]` entries list them. A case's answer ([`CaseResult`]) depends on its inputs alone,
-//! so a study splits into shards by case index ([`super::shard`]) and merges bit for bit.
+//! so a study splits into shards by case index ([`crate::campaign::shard`]) and merges bit for bit.
 //!
 //! Units: positions m, angles in the file's text as the command line takes them (deg); every
 //! number of a result is SI (m, rad, J, s) unless its name says otherwise.
 
-use super::sweep::Feasible;
 use crate::error::{Error, Result};
+use crate::evaluate::evaluator::Feasible;
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 

@@ -1,0 +1,14 @@
+//! The minimum-energy search over placements: the candidate grid, the refinement (Nelder–Mead
+//! or pattern search, through argmin's problem/solver/observer split), the placement
+//! tolerance a site can hold, the uncertainty study over what the drive data do not know, and
+//! the advice printed when nothing is feasible.
+
+pub mod advice;
+pub mod grid;
+pub mod neldermead;
+pub mod optimise;
+pub mod refine;
+pub mod tolerance;
+pub mod uncertainty;
+
+pub use grid::{parse_range, Grid};
