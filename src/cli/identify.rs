@@ -62,6 +62,24 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
     let id = plan.fit(&mut model, (&log, &prep), vlog.as_ref().zip(vprep.as_ref()))?;
     // The last check before anything leaves: the calibrated robot, the files, the JSON.
     printwatt::output::check_finite_json("identify", &id)?;
+    if !id.implausible.is_empty() {
+        // Reported, never written as the calibrated robot.
+        if a.out.json {
+            let v = serde_json::json!({
+                "schema_version": 1,
+                "identification": id,
+                "drive_file": null,
+                "calibrated_robot": null,
+            });
+            super::print_json(&v)?;
+        } else {
+            print!("{}", ladder_table(&id, log.kind.unit()));
+        }
+        anyhow::bail!(
+            "the fit is not physically plausible, so no calibrated robot was written: {}",
+            id.implausible.join("; ")
+        );
+    }
     let drive_src = identify::model::drive_file_of(&resolved);
     let installed = super::default_robots_dir();
     identify::calibrate::write_calibrated(
@@ -133,6 +151,12 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
     }
     for h in &id.held_at_prior {
         println!("held at its prior value: {} ({})", h.name, h.reason);
+    }
+    for b in &id.at_bound {
+        println!(
+            "at a bound of its range: {b} (the fit wanted to go further: another effect may be missing; try it jointly, e.g. --effects {},<next candidate>)",
+            id.ladder.last().map(|s| s.fitted.join(",")).unwrap_or_default()
+        );
     }
     println!("identified parameters (changed ones):");
     for p in &id.params {

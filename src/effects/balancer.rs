@@ -7,7 +7,8 @@
 //! `q_up`, the pose where the arm stands upright and its own weight has no lever. Length
 //! `L(q) = √(a² + b² − 2ab cos(q − q_up))`, `dL/dq = a b sin(q − q_up) / L`.
 //!
-//! Force: a tension `F = F0 + k (L − L_min)` (preload `F0 ≥ 0` N at the shortest length,
+//! Force: a tension `F = F0 + k (L − L_min)` (preload `F0` N at the shortest length, of
+//! either sign: negative for a cylinder that pushes near its shortest length;
 //! stiffness `k ≥ 0` N/m), pulling the arm back towards upright. Its potential `V(L)` has its
 //! minimum at `q_up`, where gravity's potential has its maximum, so it relieves gravity on both
 //! sides of upright. The torque the motor must add to hold it is
@@ -37,7 +38,7 @@ pub struct Balancer {
     pub b: f64,
     /// Joint angle at which the cylinder is shortest (arm upright), rad.
     pub upright: f64,
-    /// Preload (tension at the shortest length) `F0`, N (≥ 0).
+    /// Preload (tension at the shortest length) `F0`, N (either sign: negative pushes).
     pub preload: f64,
     /// Stiffness `k`, N/m (≥ 0).
     pub stiffness: f64,
@@ -188,7 +189,7 @@ impl Effect for Balancer {
             ParamSpec {
                 name: "F0".into(),
                 unit: "N",
-                lower: 0.0,
+                lower: f64::NEG_INFINITY,
                 upper: f64::INFINITY,
             },
             ParamSpec {

@@ -1,45 +1,74 @@
 //! `payload`: an error in the payload at the flange (extruder, hose and material): its mass
-//! `Δm` and its first moment of mass `Δh = Δ(m c)` (flange frame), so that both the mass and
-//! the centre of mass of a load are identified. RNEA is linear in the inertial parameters
-//! (mass, first moment, inertia), so the torque is
-//! `τ = Δm · U(c₀) + Σᵢ Δhᵢ · ∂U/∂cᵢ(c₀)`, where `U(c)` is the inverse dynamics (gravity and
-//! inertial) of a 1 kg point mass at `c` in the flange frame and `c₀` the nominal payload's
-//! centre of mass (the flange origin when the robot has no payload). The derivative is the
-//! central difference `(U(c₀ + s eᵢ) − U(c₀ − s eᵢ)) / 2s`, exact for the gravity and
-//! first-moment terms (the point mass's inertia about the flange is even in `s`). Regressor
-//! `[U(c₀), ∂U/∂c]` (N·m/kg, N·m/(kg·m)).
+//! `Δm` (at the nominal centre of mass `c₀`), its first moment of mass `Δh` and its inertia
+//! about the flange origin `ΔI_o` (flange frame), so that the mass, the centre of mass and the
+//! rotational inertia of a load are identified. RNEA is linear in a body's standard inertial
+//! parameters `(m, h = m c, I_o)` (mass, first moment, inertia about the frame origin), so the
+//! torque is exactly
+//! `τ = Δm · U(c₀) + Σᵢ Δhᵢ · ∂U/∂cᵢ(c₀) + Σ_k ΔI_k · J_k`,
+//! where `U(c)` is the inverse dynamics (gravity and inertial) of a 1 kg point mass at `c` in
+//! the flange frame, `∂U/∂cᵢ` its central difference `(U(c₀ + s eᵢ) − U(c₀ − s eᵢ)) / 2s`
+//! (exact: `U` is quadratic in `c`) and `J_k` the torque of a massless body whose inertia about
+//! the flange origin is the `k`-th basis tensor (`xx, yy, zz, xy, xz, yz`). Regressor
+//! `[U(c₀), ∂U/∂c, J]` (N·m/kg, N·m/(kg·m), N·m/(kg·m²)). Moving first moment `Δh` carries the
+//! point-mass inertia with it to first order, so that with `ΔI_o = 0` the load keeps its own
+//! inertia about its centre of mass up to `−|Δh|²/m`.
 //!
-//! The identified payload is `m = m₀ + Δm`, `c = c₀ + Δh / m` (its inertia about its
-//! centre of mass is kept); [`Effect::fold_into`] writes it into the robot for the energy
-//! model, and `identify` into the calibrated robot's `[payload]` table.
+//! With `P(c) = |c|² 1 − c cᵀ` (a unit point mass's inertia about the origin), the identified
+//! payload has `m = m₀ + Δm`, `h = (m₀ + Δm) c₀ + Δh`,
+//! `I_o = I_c,0 + (m₀ + Δm) P(c₀) + 2 (c₀·Δh) 1 − (Δh c₀ᵀ + c₀ Δhᵀ) + ΔI_o`; its centre of mass
+//! is `c = h / m` and its inertia about that centre `I_c = I_o − m P(c)`. [`Effect::fold_into`] writes
+//! exactly that body into the robot, so the energy model, `compare` and the calibrated robot
+//! `identify` writes evaluate the same torque the fit scored (to rounding).
 
 use super::{check_values, BuildContext, Effect, ParamSpec};
 use crate::dynamics::{rnea, DynData, DynModel, DynOptions, MAX_DOF};
 use crate::error::Result;
-use crate::math::V3;
+use crate::math::{M3, V3};
 use crate::robot::{Inertial, RobotModel};
 use std::sync::{Arc, Mutex};
 
-/// Step `s` of the central difference in the CoM, m (the result does not depend on it up to
-/// rounding).
+/// Step `s` of the central difference of the first moment, m (the result does not depend on
+/// it up to rounding).
 const COM_STEP_M: f64 = 0.1;
 /// Bound on each component of the first-moment error `|Δh|`, kg·m.
 pub const PAYLOAD_MOMENT_MAX_KG_M: f64 = 1e3;
+/// Bound on each component of the inertia error `|ΔI_o|`, kg·m².
+pub const PAYLOAD_INERTIA_MAX_KG_M2: f64 = 1e3;
+/// Number of parameters: `Δm`, `Δh` (3), `ΔI_o` (6).
+pub const PAYLOAD_PARAMS: usize = 10;
+/// Names of the inertia components, in parameter order.
+pub const PAYLOAD_INERTIA_NAMES: [&str; 6] = ["xx", "yy", "zz", "xy", "xz", "yz"];
 
-/// Payload error at the flange: mass and first moment.
+/// Payload error at the flange: mass, first moment and inertia about the flange origin.
 #[derive(Debug, Clone)]
 pub struct Payload {
-    /// Mass error `Δm`, kg (≥ −nominal mass).
+    /// Mass error `Δm`, kg (≥ −nominal mass), placed at the nominal centre of mass `c₀`.
     pub dm: f64,
     /// First-moment error `Δh = Δ(m c)`, kg·m, flange frame.
     pub dh: [f64; 3],
+    /// Inertia error about the flange origin `ΔI_o` (`xx, yy, zz, xy, xz, yz`), kg·m², flange
+    /// frame.
+    pub di: [f64; 6],
     /// Nominal payload mass, kg (lower bound of `Δm` is its negative).
     pub nominal_mass: f64,
     /// Nominal payload centre of mass `c₀`, m, flange frame.
     pub nominal_com: [f64; 3],
-    /// Unit point-mass models at `c₀`, `c₀ ± s eᵢ` (index 0, then `1 + 2i` and `2 + 2i`).
+    /// Nominal payload inertia about its centre of mass, kg·m², flange axes.
+    pub nominal_inertia: M3,
+    /// Unit models: a point mass at `c₀` (index 0), at `c₀ ± s eᵢ` (`1 + 2i`, `2 + 2i`), a massless
+    /// body with basis inertia `k` about the origin (`7 + k`).
     units: Arc<Vec<DynModel>>,
     data: Arc<Mutex<DynData>>,
+}
+
+/// Symmetric tensor from `xx, yy, zz, xy, xz, yz`.
+pub fn sym_from6(v: &[f64; 6]) -> M3 {
+    M3::new(v[0], v[3], v[4], v[3], v[1], v[5], v[4], v[5], v[2])
+}
+
+/// `|c|² 1 − c cᵀ`: the inertia of a unit point mass at `c` about the origin.
+fn point_inertia(c: &V3) -> M3 {
+    M3::identity() * c.dot(c) - c * c.transpose()
 }
 
 /// Registry entry: `Δm` from `[effects] payload_mass_error_kg` (0 by default, ≥ −nominal mass).
@@ -69,19 +98,30 @@ impl Payload {
             *l = Some(Inertial::zero());
         }
         let com = robot.payload.map(|p| p.com).unwrap_or_else(V3::zeros);
-        let mut units = Vec::with_capacity(7);
-        let mut deltas = vec![V3::zeros()];
+        let mut bodies = Vec::with_capacity(13);
+        let point = |c: V3| {
+            let mut u = Inertial::zero();
+            u.mass = 1.0;
+            u.com = c;
+            u
+        };
+        bodies.push(point(com));
         for i in 0..3 {
             let mut d = V3::zeros();
             d[i] = COM_STEP_M;
-            deltas.push(d);
-            deltas.push(-d);
+            bodies.push(point(com + d));
+            bodies.push(point(com - d));
         }
-        for d in deltas {
-            let mut unit = Inertial::zero();
-            unit.mass = 1.0;
-            unit.com = com + d;
-            r.payload = Some(unit);
+        for k in 0..6 {
+            let mut e = [0.0; 6];
+            e[k] = 1.0;
+            let mut u = Inertial::zero();
+            u.inertia = sym_from6(&e);
+            bodies.push(u);
+        }
+        let mut units = Vec::with_capacity(bodies.len());
+        for b in bodies {
+            r.payload = Some(b);
             units.push(DynModel::new(
                 &r,
                 DynOptions {
@@ -94,15 +134,16 @@ impl Payload {
         Ok(Payload {
             dm: 0.0,
             dh: [0.0; 3],
+            di: [0.0; 6],
             nominal_mass: robot.payload.map_or(0.0, |p| p.mass),
             nominal_com: [com.x, com.y, com.z],
+            nominal_inertia: robot.payload.map_or_else(M3::zeros, |p| p.inertia),
             units: Arc::new(units),
             data: Arc::new(Mutex::new(data)),
         })
     }
 
-    /// Torque of unit point-mass model `k` (0: at `c₀`; `1 + 2i`/`2 + 2i`: at `c₀ ± s eᵢ`),
-    /// N·m per kg, into `out`.
+    /// Torque of unit model `k` (see the field `units`) into `out`.
     fn unit_at(&self, k: usize, q: &[f64], qd: &[f64], qdd: &[f64], out: &mut [f64]) {
         out.iter_mut().for_each(|v| *v = 0.0);
         if let Ok(mut d) = self.data.lock() {
@@ -115,18 +156,46 @@ impl Payload {
         self.unit_at(0, q, qd, qdd, out);
     }
 
-    /// The identified payload mass `m = m₀ + Δm`, kg, and centre of mass
-    /// `c₀ + Δh / m`, m (flange frame; the mass error sits at `c₀`, the first-moment error
-    /// moves it; `c₀` when the mass is zero).
-    pub fn identified(&self) -> (f64, [f64; 3]) {
+    /// The identified payload in standard inertial parameters: mass `m` (kg), first moment
+    /// `h = m c` (kg·m) and inertia about the flange origin `I_o` (kg·m²), flange frame.
+    pub fn standard(&self) -> (f64, V3, M3) {
+        let c0 = V3::from(self.nominal_com);
         let m = self.nominal_mass + self.dm;
-        let mut c = self.nominal_com;
-        if m.abs() > 1e-9 {
-            for (i, ci) in c.iter_mut().enumerate() {
-                *ci = (m * self.nominal_com[i] + self.dh[i]) / m;
-            }
+        let dh = V3::from(self.dh);
+        let h = c0 * m + dh;
+        let io = self.nominal_inertia
+            + point_inertia(&c0) * m
+            + M3::identity() * (2.0 * c0.dot(&dh))
+            - (dh * c0.transpose() + c0 * dh.transpose())
+            + sym_from6(&self.di);
+        (m, h, io)
+    }
+
+    /// The identified payload mass `m`, kg, and centre of mass `h / m`, m (flange frame; `c₀`
+    /// when the mass is zero).
+    pub fn identified(&self) -> (f64, [f64; 3]) {
+        let b = self.body();
+        (b.mass, [b.com.x, b.com.y, b.com.z])
+    }
+
+    /// The identified payload as a body: mass, centre of mass and inertia about the centre of
+    /// mass (flange frame). A body of zero (or negative) mass keeps its inertia about the
+    /// flange origin with the centre of mass at the origin (as [`Inertial::merged`] does).
+    pub fn body(&self) -> Inertial {
+        let (m, h, io) = self.standard();
+        if m.abs() <= 1e-12 {
+            return Inertial {
+                mass: 0.0,
+                com: V3::zeros(),
+                inertia: io,
+            };
         }
-        (m, c)
+        let c = h / m;
+        Inertial {
+            mass: m,
+            com: c,
+            inertia: io - point_inertia(&c) * m,
+        }
     }
 }
 
@@ -149,21 +218,35 @@ impl Effect for Payload {
                 upper: PAYLOAD_MOMENT_MAX_KG_M,
             });
         }
+        for a in PAYLOAD_INERTIA_NAMES {
+            p.push(ParamSpec {
+                name: format!("dI_{a}"),
+                unit: "kg·m²",
+                lower: -PAYLOAD_INERTIA_MAX_KG_M2,
+                upper: PAYLOAD_INERTIA_MAX_KG_M2,
+            });
+        }
         p
     }
     fn values(&self) -> Vec<f64> {
-        vec![self.dm, self.dh[0], self.dh[1], self.dh[2]]
+        let mut v = vec![self.dm, self.dh[0], self.dh[1], self.dh[2]];
+        v.extend_from_slice(&self.di);
+        v
     }
-    /// Accepts 4 values (`Δm`, `Δh`) or 1 (`Δm` only, as older files wrote; `Δh` = 0).
+    /// Accepts 10 values (`Δm`, `Δh`, `ΔI_o`), 4 (`Δm`, `Δh`; `ΔI_o` = 0) or 1 (`Δm` only, as
+    /// older files wrote; `Δh` = `ΔI_o` = 0).
     fn set_values(&mut self, values: &[f64]) -> Result<()> {
-        let full = if values.len() == 1 {
-            vec![values[0], 0.0, 0.0, 0.0]
-        } else {
-            values.to_vec()
-        };
+        let mut full = vec![0.0; PAYLOAD_PARAMS];
+        for (f, v) in full.iter_mut().zip(values) {
+            *f = *v;
+        }
+        if ![1, 4, PAYLOAD_PARAMS].contains(&values.len()) {
+            full = values.to_vec();
+        }
         check_values(self.name(), &self.params(), &full)?;
         self.dm = full[0];
         self.dh = [full[1], full[2], full[3]];
+        self.di.copy_from_slice(&full[4..10]);
         Ok(())
     }
     fn clone_box(&self) -> Box<dyn Effect> {
@@ -176,17 +259,13 @@ impl Effect for Payload {
         true
     }
     fn is_null(&self) -> bool {
-        self.dm == 0.0 && self.dh == [0.0; 3]
+        self.dm == 0.0 && self.dh == [0.0; 3] && self.di == [0.0; 6]
     }
     fn fold_into(&self, robot: &mut RobotModel) -> bool {
         if self.is_null() {
             return true;
         }
-        let (m, c) = self.identified();
-        let mut p = robot.payload.unwrap_or_else(Inertial::zero);
-        p.mass = m;
-        p.com = V3::new(c[0], c[1], c[2]);
-        robot.payload = Some(p);
+        robot.payload = Some(self.body());
         true
     }
     fn add_torque(&self, q: &[f64], qd: &[f64], qdd: &[f64], tau: &mut [f64]) {
@@ -194,27 +273,36 @@ impl Effect for Payload {
             return;
         }
         let n = tau.len().min(MAX_DOF);
-        let mut y = [0.0; 4 * MAX_DOF];
-        self.regressor(q, qd, qdd, &mut y[..4 * n]);
+        let mut y = [0.0; PAYLOAD_PARAMS * MAX_DOF];
+        self.regressor(q, qd, qdd, &mut y[..PAYLOAD_PARAMS * n]);
         let v = self.values();
         for (j, t) in tau.iter_mut().enumerate().take(n) {
-            *t += (0..4).map(|k| y[j * 4 + k] * v[k]).sum::<f64>();
+            *t += (0..PAYLOAD_PARAMS)
+                .map(|k| y[j * PAYLOAD_PARAMS + k] * v[k])
+                .sum::<f64>();
         }
     }
     fn regressor(&self, q: &[f64], qd: &[f64], qdd: &[f64], y: &mut [f64]) -> bool {
-        let n = y.len() / 4;
+        const P: usize = PAYLOAD_PARAMS;
+        let n = y.len() / P;
         let mut u = [0.0; MAX_DOF];
         let mut up = [0.0; MAX_DOF];
         let mut um = [0.0; MAX_DOF];
         self.unit_at(0, q, qd, qdd, &mut u[..n]);
         for j in 0..n {
-            y[j * 4] = u[j];
+            y[j * P] = u[j];
         }
         for i in 0..3 {
             self.unit_at(1 + 2 * i, q, qd, qdd, &mut up[..n]);
             self.unit_at(2 + 2 * i, q, qd, qdd, &mut um[..n]);
             for j in 0..n {
-                y[j * 4 + 1 + i] = (up[j] - um[j]) / (2.0 * COM_STEP_M);
+                y[j * P + 1 + i] = (up[j] - um[j]) / (2.0 * COM_STEP_M);
+            }
+        }
+        for k in 0..6 {
+            self.unit_at(7 + k, q, qd, qdd, &mut u[..n]);
+            for j in 0..n {
+                y[j * P + 4 + k] = u[j];
             }
         }
         true

@@ -213,21 +213,38 @@ pub fn calibrated_text(inp: &CalibrationInput, dst: &Path) -> Result<String> {
             values.remove(e);
         }
     }
-    // The payload is written as the robot's payload (mass and centre of mass).
+    // The payload is written as the robot's payload: mass, centre of mass and inertia about
+    // the centre of mass, in the flange frame (named in the description), exactly the body
+    // the fit scored.
     let payload = model.effect("payload")?;
     if model.is_enabled("payload") && !payload.is_null() {
-        let pv = payload.values();
-        let mut folded = robot.clone();
-        payload.fold_into(&mut folded);
-        if let Some(p) = folded.payload {
-            let inertia = f.payload.as_ref().map_or([0.0; 6], |t| t.inertia_kg_m2);
+        if let Some(p) = payload.as_any().downcast_ref::<crate::effects::Payload>() {
+            let pv = payload.values();
+            let (b, lift) = crate::identify::plausible::payload_written(p);
+            let i = b.inertia;
             f.payload = Some(PayloadTable {
-                mass_kg: p.mass,
-                com_m: [p.com.x, p.com.y, p.com.z],
-                inertia_kg_m2: inertia,
+                mass_kg: b.mass,
+                com_m: [b.com.x, b.com.y, b.com.z],
+                inertia_kg_m2: [
+                    i[(0, 0)],
+                    i[(1, 1)],
+                    i[(2, 2)],
+                    i[(0, 1)],
+                    i[(0, 2)],
+                    i[(1, 2)],
+                ],
                 description: Some(format!(
-                    "payload identified by printwatt identify (mass error {:+.4} kg, first moment error [{:+.4}, {:+.4}, {:+.4}] kg·m)",
-                    pv[0], pv[1], pv[2], pv[3]
+                    "payload identified by printwatt identify; centre of mass and inertia (about the centre of mass) in the frame of flange link `{}` (mass error {:+.4} kg, first moment error [{:+.4}, {:+.4}, {:+.4}] kg·m{})",
+                    model.flange_link,
+                    pv[0],
+                    pv[1],
+                    pv[2],
+                    pv[3],
+                    if lift > 0.0 {
+                        format!("; inertia raised by {lift:.2e} kg·m² to a rigid body's")
+                    } else {
+                        String::new()
+                    }
                 )),
             });
         }

@@ -17,7 +17,8 @@
 //! - its BIC `m ln(SSR/m) + P ln m` beats the current model's by more than [`MIN_DELTA_BIC`],
 //! - it is material: on some channel, the held-out RMS it explains reaches the channel's noise
 //!   floor and [`MIN_MATERIAL`] of the channel's measured RMS (a log with only 1 % parameter errors has nothing missing), and
-//! - its fitted values are physically plausible ([`crate::effects::Effect::implausible_fit`]:
+//! - its fitted values are physically plausible ([`crate::identify::plausible`]: e.g. a payload
+//!   of 16 g whose centre of mass lies metres from the flange;
 //!   e.g. a `rigid_body` fit no physical robot has is named, with the reason, but not claimed).
 //!
 //! When none is, the diagnosis says nothing significant is missing; when structure beyond the
@@ -237,7 +238,7 @@ pub fn diagnose_with_progress(
         // Plausibility of the robot (e.g. no balancer declared) and of the fitted values
         // (e.g. no negative link mass), judged on the whole-log fit.
         let std_errors: Vec<Option<f64>> = full.params.iter().map(|p| p.std_error).collect();
-        let implausible = model.implausible_fit(name, &std_errors);
+        let implausible = crate::identify::plausible::implausible_fit(model, name, &std_errors);
         model.restore(&base_state);
         // Joints it acts on: channels whose prediction moved by more than 10 % of the largest
         // move, or per-joint parameters that moved by more than two standard errors.

@@ -180,15 +180,19 @@ pub struct FittedParam {
     pub nominal: f64,
     /// Fitted value.
     pub value: f64,
-    /// Standard error from the LS covariance `σ² (JᵀJ)⁻¹` (same unit); `None` when not
-    /// identifiable.
+    /// Standard error (same unit): the larger of the least-squares one `σ² (JᵀJ)⁻¹` and the
+    /// autocorrelation-consistent one (overlapping-block sandwich
+    /// `(JᵀJ)⁻¹ Ω (JᵀJ)⁻¹`, blocks several residual correlation times long; docs/identify.md);
+    /// `None` when not identifiable or held.
     pub std_error: Option<f64>,
 }
 
 /// Parameters the data cannot tell apart.
 #[derive(Clone, Debug, Serialize)]
 pub struct IllConditioning {
-    /// Condition number of the column-normalised Jacobian (∞ when a column is zero).
+    /// Condition number of the column-normalised Jacobian (∞ when a column is zero; `null`
+    /// in JSON).
+    #[serde(serialize_with = "finite_or_null")]
     pub condition_number: f64,
     /// Groups of parameters spanning the near-null space (one group per direction); a group
     /// of one is a parameter the motion does not excite at all.
@@ -228,10 +232,44 @@ pub struct FitResult {
     pub ssr: f64,
     /// Number of residuals (rows × channels).
     pub residuals: usize,
-    /// Condition number of the column-normalised Jacobian.
+    /// Condition number of the column-normalised Jacobian (`null` in JSON when infinite).
+    #[serde(serialize_with = "finite_or_null")]
     pub condition_number: f64,
     /// Set when some parameters cannot be told apart.
     pub ill_conditioned: Option<IllConditioning>,
+    /// Fitted (not held) parameters that ended at a bound of their range (`effect.param`,
+    /// e.g. `coulomb.f_c+[2]`): the fit wanted to go further, so another effect may be
+    /// missing or soaked up.
+    pub at_bound: Vec<String>,
+    /// Rows per block of the autocorrelation-consistent standard errors (at least a few
+    /// residual correlation times).
+    pub hac_block_rows: usize,
+}
+
+/// A number, or `null` when it is not finite (an infinite condition number).
+pub fn finite_or_null<S: serde::Serializer>(v: &f64, s: S) -> std::result::Result<S::Ok, S::Error> {
+    if v.is_finite() {
+        s.serialize_f64(*v)
+    } else {
+        s.serialize_none()
+    }
+}
+
+/// Blocks of the autocorrelation-consistent standard errors are this many residual
+/// correlation times long (at least).
+pub const HAC_BLOCK_CORRELATION_TIMES: f64 = 8.0;
+
+/// Block length (rows) for the autocorrelation-consistent covariance of a row-major residual
+/// `r` with `ch` channels: [`HAC_BLOCK_CORRELATION_TIMES`] times the longest channel's
+/// correlation time in rows, at least 1 and at most a fifth of the rows.
+pub fn hac_block_rows(r: &[f64], ch: usize) -> usize {
+    let t = r.len() / ch.max(1);
+    let tau = (0..ch)
+        .map(|c| crate::identify::structure::correlation_time(r, ch, c, 1.0))
+        .fold(1.0f64, f64::max);
+    ((HAC_BLOCK_CORRELATION_TIMES * tau).ceil() as usize)
+        .max(1)
+        .min((t / 5).max(1))
 }
 
 /// Residuals `prediction − measurement` at `rows`.
@@ -330,11 +368,58 @@ fn fit_core(
     }
     let nominal = theta.clone();
     let p = theta.len();
+    // Symmetric Coulomb (the default): `f_c−[j]` follows `f_c+[j]` (one level per joint).
+    let ties: Vec<(usize, usize)> = if model.coulomb_directional {
+        Vec::new()
+    } else {
+        let find = |e: &str, n: &str| lay.names.iter().position(|x| x.0 == e && x.1 == n);
+        (1..=model.n)
+            .filter_map(|j| {
+                Some((
+                    find("coulomb", &format!("f_c+[{j}]"))?,
+                    find("coulomb", &format!("f_c-[{j}]"))?,
+                ))
+            })
+            .collect()
+    };
     let held: Vec<bool> = lay
         .names
         .iter()
-        .map(|(e, n, _)| hold.iter().any(|h| *h == format!("{e}.{n}")))
+        .enumerate()
+        .map(|(i, (e, n, _))| {
+            hold.iter().any(|h| *h == format!("{e}.{n}")) || ties.iter().any(|t| t.1 == i)
+        })
         .collect();
+    // Tied pairs start from their mean (unless one of them is held, which then leads).
+    let mut tie_ok = Vec::new();
+    for &(a, b) in &ties {
+        let ha = hold.iter().any(|h| *h == format!("{}.{}", lay.names[a].0, lay.names[a].1));
+        if ha {
+            theta[b] = theta[a];
+        } else {
+            let v = 0.5 * (theta[a] + theta[b]);
+            theta[a] = v;
+            theta[b] = v;
+        }
+        tie_ok.push((a, b));
+    }
+    let ties = tie_ok;
+    let tie_cols = |jac: &mut [f64], rows_m: usize| {
+        for r in 0..rows_m {
+            for &(a, b) in &ties {
+                jac[r * p + a] += jac[r * p + b];
+                jac[r * p + b] = 0.0;
+            }
+        }
+    };
+    let follow = |th: &mut [f64]| {
+        for &(a, b) in &ties {
+            th[b] = th[a];
+        }
+    };
+    if !ties.is_empty() {
+        set_all(model, &lay, &theta)?;
+    }
     let mut r = Vec::new();
     residuals(prep, model, rows, &mut r);
     let m = r.len();
@@ -353,6 +438,7 @@ fn fit_core(
             break;
         }
         jacobian(prep, model, &lay, &theta, rows, &mut jac)?;
+        tie_cols(&mut jac, m);
         let jm = nalgebra::DMatrix::from_row_slice(m, p, &jac);
         let jtj = jm.transpose() * &jm;
         let mut g = jm.transpose() * nalgebra::DVector::from_column_slice(&r);
@@ -388,6 +474,7 @@ fn fit_core(
             };
             let mut th: Vec<f64> = theta.iter().zip(step.iter()).map(|(a, b)| a + b).collect();
             clamp(&mut th);
+            follow(&mut th);
             set_all(model, &lay, &th)?;
             residuals(prep, model, rows, &mut rp);
             let s = ssr_of(&rp);
@@ -409,10 +496,12 @@ fn fit_core(
     }
     // Covariance and conditioning at the solution.
     let mut se = vec![None; p];
+    let mut hac_rows = 1;
     let mut cond = 1.0;
     let mut ill = None;
     if p > 0 {
         jacobian(prep, model, &lay, &theta, rows, &mut jac)?;
+        tie_cols(&mut jac, m);
         let jm = nalgebra::DMatrix::from_row_slice(m, p, &jac);
         let jtj = jm.transpose() * &jm;
         // A column whose effect on the signal is below 1e-6 of the signal's RMS (for the
@@ -500,10 +589,44 @@ fn fit_core(
                 cov += (v * v.transpose()) / ev;
             }
         }
+        // Autocorrelation-consistent (sandwich) covariance: the scores `g_t = J_tᵀ r_t` of
+        // each row (normalised active columns) summed over overlapping blocks of
+        // `hac_rows` rows, `Ω = (T / B) · mean_s(G_s G_sᵀ)`, `Cov = S⁺ Ω S⁺`.
+        hac_rows = hac_block_rows(&r, ch);
+        let t_rows = m / ch.max(1);
+        let mut prefix = vec![nalgebra::DVector::<f64>::zeros(pa); t_rows + 1];
+        for t in 0..t_rows {
+            let mut g = prefix[t].clone();
+            for c in 0..ch {
+                let row = t * ch + c;
+                let res = r[row];
+                for (ii, &i) in act.iter().enumerate() {
+                    if norms[i] > 0.0 {
+                        g[ii] += jac[row * p + i] / norms[i] * res;
+                    }
+                }
+            }
+            prefix[t + 1] = g;
+        }
+        let b = hac_rows.min(t_rows.max(1));
+        let windows = t_rows + 1 - b.min(t_rows);
+        let mut omega = nalgebra::DMatrix::<f64>::zeros(pa, pa);
+        if windows > 0 && t_rows > 0 {
+            for s0 in 0..windows {
+                let d = &prefix[s0 + b] - &prefix[s0];
+                omega += &d * d.transpose();
+            }
+            omega *= t_rows as f64 / b as f64 / windows as f64;
+        }
+        let hac = &cov * omega * &cov;
         for (ii, &i) in act.iter().enumerate() {
             if !weak[i] && norms[i] > 0.0 {
-                se[i] = Some((sigma2 * cov[(ii, ii)]).max(0.0).sqrt() / norms[i]);
+                let v = (sigma2 * cov[(ii, ii)]).max(hac[(ii, ii)]).max(0.0);
+                se[i] = Some(v.sqrt() / norms[i]);
             }
+        }
+        for &(a, bb) in &ties {
+            se[bb] = se[a];
         }
         if !groups.is_empty() {
             ill = Some(IllConditioning {
@@ -512,6 +635,18 @@ fn fit_core(
             });
         }
     }
+    let at_bound: Vec<String> = (0..p)
+        .filter(|&i| !held[i] && !hold.iter().any(|h| *h == format!("{}.{}", lay.names[i].0, lay.names[i].1)))
+        .filter(|&i| {
+            let span = (lay.upper[i] - lay.lower[i]).abs();
+            let tol = 1e-9 * theta[i].abs().max(1.0).min(if span.is_finite() { span } else { f64::INFINITY });
+            (theta[i] - lay.lower[i]).abs() <= tol || (lay.upper[i] - theta[i]).abs() <= tol
+        })
+        // A parameter whose prior already sat at the bound (a joint without this effect)
+        // is not news.
+        .filter(|&i| (theta[i] - nominal[i]).abs() > 0.0 || se[i].is_some())
+        .map(|i| format!("{}.{}", lay.names[i].0, lay.names[i].1))
+        .collect();
     let params = (0..p)
         .map(|i| FittedParam {
             effect: lay.names[i].0.clone(),
@@ -536,5 +671,7 @@ fn fit_core(
         residuals: m,
         condition_number: cond,
         ill_conditioned: ill,
+        at_bound,
+        hac_block_rows: hac_rows,
     })
 }

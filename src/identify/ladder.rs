@@ -42,6 +42,14 @@ pub struct Identification {
     /// Parameters held at their prior values because the motion does not excite them or
     /// cannot tell them apart; the others are fitted.
     pub held_at_prior: Vec<HeldParam>,
+    /// Fitted parameters of the final fit that sit at a bound of their range: the fit wanted
+    /// to go further (another effect may be missing, or soaked up by this one).
+    pub at_bound: Vec<String>,
+    /// Effects whose final fitted values are not physically plausible, with the reason
+    /// ([`crate::identify::plausible`]); such a fit is not written as the calibrated robot.
+    pub implausible: Vec<String>,
+    /// Rows per block of the autocorrelation-consistent standard errors of the final fit.
+    pub hac_block_rows: usize,
 }
 
 /// A parameter held at its prior value, and why.
@@ -173,12 +181,35 @@ pub fn identify_holding(
         ladder.push(step(model, format!("+{}", effects[i]), &effects[..=i]));
         last = Some(r);
     }
-    let params = last.map(|r| r.params).unwrap_or_default();
+    let (params, at_bound, hac_block_rows) = last
+        .map(|r| (r.params, r.at_bound, r.hac_block_rows))
+        .unwrap_or_default();
+    let mut implausible = Vec::new();
+    for e in effects {
+        let se: Vec<Option<f64>> = params
+            .iter()
+            .filter(|p| p.effect == *e)
+            .map(|p| {
+                let key = format!("{}.{}", p.effect, p.name);
+                if held.iter().any(|h| h.name == key) {
+                    None
+                } else {
+                    p.std_error
+                }
+            })
+            .collect();
+        if let Some(w) = crate::identify::plausible::implausible_fit(model, e, &se) {
+            implausible.push(format!("{e}: {w}"));
+        }
+    }
     Ok(Identification {
         validation,
         ladder,
         params,
         ill_conditioned: first_ill,
         held_at_prior: held,
+        at_bound,
+        implausible,
+        hac_block_rows,
     })
 }

@@ -11,6 +11,7 @@ pub mod ladder;
 pub mod log;
 pub mod metrics;
 pub mod model;
+pub mod plausible;
 pub mod profiles;
 pub mod round;
 pub mod simulate;

@@ -48,8 +48,28 @@ pub struct Model {
     pub has_drive: bool,
     /// The effects with their switches (the same set the energy model builds).
     pub effects: EffectSet,
+    /// Whether `coulomb` is fitted per direction (`f_c+[j]`, `f_c−[j]` free; the candidate
+    /// [`DIRECTIONAL_COULOMB`]); by default both directions share one level per joint.
+    pub coulomb_directional: bool,
+    /// The robot's rated payload, kg (drive file `[robot] rated_payload_kg`), if stated.
+    pub rated_payload_kg: Option<f64>,
+    /// Total mass of the moving links, kg.
+    pub moving_mass_kg: f64,
+    /// Name of the flange link: the frame of the payload's centre of mass and inertia.
+    pub flange_link: String,
     motor: MotorCache,
     dynamics: DynModel,
+}
+
+/// The per-direction Coulomb candidate: `coulomb` with `f_c+[j]` and `f_c−[j]` fitted
+/// separately (claimed by `diagnose` only when it beats the symmetric `coulomb` significantly).
+pub const DIRECTIONAL_COULOMB: &str = "coulomb_directional";
+
+/// Whether an effect list (`coulomb_directional,payload`) asks for per-direction Coulomb.
+pub fn asks_directional_coulomb(s: &str) -> bool {
+    s.split(',')
+        .map(|w| w.trim().split('[').next().unwrap_or("").trim())
+        .any(|w| w == DIRECTIONAL_COULOMB)
 }
 
 /// Parse a comma-separated effect list.
@@ -78,6 +98,11 @@ pub fn parse_effect_subsets(s: &str, n: usize) -> Result<Vec<EffectSubset>> {
     let mut out: Vec<EffectSubset> = Vec::new();
     for w in s.split(',').map(str::trim).filter(|w| !w.is_empty()) {
         let (name, joint) = crate::identify::simulate::split_joint(w)?;
+        let name = if name == DIRECTIONAL_COULOMB {
+            "coulomb"
+        } else {
+            name
+        };
         let e = cat[catalogue_index(name)?];
         if let Some(k) = joint.filter(|&k| k > n) {
             return Err(Error::Invalid(format!(
@@ -145,6 +170,10 @@ impl Model {
             policy: d.map_or(Regeneration::None, |d| d.regeneration),
             has_drive: d.is_some(),
             effects: EffectSet::of_robot(robot)?,
+            coulomb_directional: false,
+            rated_payload_kg: robot.info.rated_payload_kg,
+            moving_mass_kg: robot.moving_mass(),
+            flange_link: robot.flange_link.clone(),
             motor: MotorCache::default(),
             dynamics,
         };

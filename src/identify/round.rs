@@ -67,6 +67,9 @@ pub struct RoundPlan {
     pub carried: Vec<&'static str>,
     /// Parameters held at their prior values (outside an `effect[j]` subset), with the reason.
     pub hold: Vec<HeldParam>,
+    /// Whether Coulomb friction is fitted per direction (`coulomb_directional` asked for);
+    /// symmetric otherwise.
+    pub directional_coulomb: bool,
 }
 
 impl RoundPlan {
@@ -119,6 +122,7 @@ impl RoundPlan {
             effects,
             carried,
             hold,
+            directional_coulomb: crate::identify::model::asks_directional_coulomb(fit),
         })
     }
 
@@ -133,6 +137,7 @@ impl RoundPlan {
         validation: Option<(&Log, &Prepared)>,
     ) -> Result<Identification> {
         let (l, prep) = log;
+        model.coulomb_directional = self.directional_coulomb;
         match validation {
             Some((v, vprep)) => {
                 let tr: Vec<usize> = (0..l.len()).collect();
