@@ -163,11 +163,10 @@ impl Payload {
         let m = self.nominal_mass + self.dm;
         let dh = V3::from(self.dh);
         let h = c0 * m + dh;
-        let io = self.nominal_inertia
-            + point_inertia(&c0) * m
-            + M3::identity() * (2.0 * c0.dot(&dh))
-            - (dh * c0.transpose() + c0 * dh.transpose())
-            + sym_from6(&self.di);
+        let io =
+            self.nominal_inertia + point_inertia(&c0) * m + M3::identity() * (2.0 * c0.dot(&dh))
+                - (dh * c0.transpose() + c0 * dh.transpose())
+                + sym_from6(&self.di);
         (m, h, io)
     }
 

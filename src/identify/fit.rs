@@ -393,7 +393,9 @@ fn fit_core(
     // Tied pairs start from their mean (unless one of them is held, which then leads).
     let mut tie_ok = Vec::new();
     for &(a, b) in &ties {
-        let ha = hold.iter().any(|h| *h == format!("{}.{}", lay.names[a].0, lay.names[a].1));
+        let ha = hold
+            .iter()
+            .any(|h| *h == format!("{}.{}", lay.names[a].0, lay.names[a].1));
         if ha {
             theta[b] = theta[a];
         } else {
@@ -636,10 +638,20 @@ fn fit_core(
         }
     }
     let at_bound: Vec<String> = (0..p)
-        .filter(|&i| !held[i] && !hold.iter().any(|h| *h == format!("{}.{}", lay.names[i].0, lay.names[i].1)))
+        .filter(|&i| {
+            !held[i]
+                && !hold
+                    .iter()
+                    .any(|h| *h == format!("{}.{}", lay.names[i].0, lay.names[i].1))
+        })
         .filter(|&i| {
             let span = (lay.upper[i] - lay.lower[i]).abs();
-            let tol = 1e-9 * theta[i].abs().max(1.0).min(if span.is_finite() { span } else { f64::INFINITY });
+            let tol = 1e-9
+                * theta[i].abs().max(1.0).min(if span.is_finite() {
+                    span
+                } else {
+                    f64::INFINITY
+                });
             (theta[i] - lay.lower[i]).abs() <= tol || (lay.upper[i] - theta[i]).abs() <= tol
         })
         // A parameter whose prior already sat at the bound (a joint without this effect)

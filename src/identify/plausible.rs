@@ -43,7 +43,11 @@ pub fn payload_mass_limit(model: &Model) -> f64 {
 pub fn inertia_violation(b: &Inertial, tol: f64) -> Option<String> {
     let i = b.inertia;
     let eig = i.symmetric_eigen();
-    let emin = eig.eigenvalues.iter().cloned().fold(f64::INFINITY, f64::min);
+    let emin = eig
+        .eigenvalues
+        .iter()
+        .cloned()
+        .fold(f64::INFINITY, f64::min);
     let (a, bb, c) = (i[(0, 0)], i[(1, 1)], i[(2, 2)]);
     let tri = (a + bb - c).min(a + c - bb).min(bb + c - a);
     if emin < -tol || tri < -tol {
@@ -62,7 +66,11 @@ pub fn inertia_violation(b: &Inertial, tol: f64) -> Option<String> {
 pub fn payload_written(p: &Payload) -> (Inertial, f64) {
     let mut b = p.body();
     let eig = b.inertia.symmetric_eigen();
-    let emin = eig.eigenvalues.iter().cloned().fold(f64::INFINITY, f64::min);
+    let emin = eig
+        .eigenvalues
+        .iter()
+        .cloned()
+        .fold(f64::INFINITY, f64::min);
     let (a, bb, c) = (b.inertia[(0, 0)], b.inertia[(1, 1)], b.inertia[(2, 2)]);
     let tri = (a + bb - c).min(a + c - bb).min(bb + c - a);
     let lift = (-emin).max(-tri).max(0.0);
@@ -114,8 +122,7 @@ pub fn implausible_fit(model: &Model, name: &str, std_errors: &[Option<f64>]) ->
                 ));
             }
             let sh = (1..4).map(|i| se(std_errors, i)).fold(0.0, f64::max);
-            if h.norm() > m.max(0.0) * PAYLOAD_MAX_COM_M + PLAUSIBILITY_SIGMAS * sh * 3f64.sqrt()
-            {
+            if h.norm() > m.max(0.0) * PAYLOAD_MAX_COM_M + PLAUSIBILITY_SIGMAS * sh * 3f64.sqrt() {
                 let b = p.body();
                 why.push(format!(
                     "its centre of mass lies {:.2} m from the flange origin (first moment {:.3} kg·m for {m:.3} kg; at most {PAYLOAD_MAX_COM_M} m)",
@@ -138,7 +145,11 @@ pub fn implausible_fit(model: &Model, name: &str, std_errors: &[Option<f64>]) ->
                 }
             }
             if name == "stribeck" {
-                if let Some((s, x)) = specs.iter().zip(&v).find(|(s, _)| s.name.starts_with("v_s")) {
+                if let Some((s, x)) = specs
+                    .iter()
+                    .zip(&v)
+                    .find(|(s, _)| s.name.starts_with("v_s"))
+                {
                     if *x <= 0.0 {
                         why.push(format!("{} = {x} {} is not > 0", s.name, s.unit));
                     }

@@ -354,6 +354,23 @@ pub fn parse_urdf(text: &str, file: &str, tool_link: Option<&str>) -> Result<Rob
         } else if kind == "revolute" || kind == "prismatic" {
             return Err(cx.err(j, format!("joint `{name}`: a {kind} joint needs <limit>")));
         }
+        if velocity == 0.0 && kind != "fixed" {
+            // Hand-written and textbook URDFs write `velocity="0"` for "not given": read as
+            // unknown (as if omitted), with a warning; the commands that need a speed limit
+            // say so where they need it.
+            warnings.push(format!(
+                "joint `{name}`: velocity=\"0\" read as no velocity limit given (commands that only evaluate logs never use it)"
+            ));
+            velocity = f64::INFINITY;
+        }
+        if effort == 0.0
+            && kind != "fixed"
+            && child(j, "limit").is_some_and(|l| l.attribute("effort").is_some())
+        {
+            warnings.push(format!(
+                "joint `{name}`: effort=\"0\" read as no effort limit given"
+            ));
+        }
         if velocity <= 0.0 && kind != "fixed" {
             let l = child(j, "limit").unwrap_or(j);
             return Err(cx.err(
