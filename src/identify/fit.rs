@@ -620,7 +620,14 @@ fn fit_core(
             }
             omega *= t_rows as f64 / b as f64 / windows as f64;
         }
-        let hac = &cov * omega * &cov;
+        // The block estimate of Ω has about 1.5 T/B degrees of freedom (overlapping batch
+        // means): the standard error is widened by t(ν)/z so that ±1.96 SE is a 95 % interval.
+        let nu = (1.5 * t_rows as f64 / b.max(1) as f64).max(1.0);
+        let z = 1.959_964f64;
+        let t975 = z
+            + (z.powi(3) + z) / (4.0 * nu)
+            + (5.0 * z.powi(5) + 16.0 * z.powi(3) + 3.0 * z) / (96.0 * nu * nu);
+        let hac = (&cov * omega * &cov) * (t975 / z).powi(2);
         for (ii, &i) in act.iter().enumerate() {
             if !weak[i] && norms[i] > 0.0 {
                 let v = (sigma2 * cov[(ii, ii)]).max(hac[(ii, ii)]).max(0.0);
