@@ -605,15 +605,15 @@ fn each_new_effect_hidden_alone_is_ranked_first_and_its_error_falls_80_percent()
             "offset=15",
             (1..=6).map(|j| (format!("tau0[{j}]"), 15.0)).collect(),
         ),
+        // `coulomb` is symmetric (one level per joint): it finds the mean of the two
+        // directions; the per-direction form is `coulomb_directional`.
         (
             "coulomb",
             "coulomb=25:5",
             (1..=3)
                 .flat_map(|j| {
-                    [
-                        (format!("f_c+[{j}]"), fc[j - 1] + 25.0),
-                        (format!("f_c-[{j}]"), fc[6 + j - 1] + 5.0),
-                    ]
+                    let level = 0.5 * (fc[j - 1] + 25.0 + fc[6 + j - 1] + 5.0);
+                    [(format!("f_c+[{j}]"), level), (format!("f_c-[{j}]"), level)]
                 })
                 .collect(),
         ),

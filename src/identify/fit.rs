@@ -257,11 +257,11 @@ pub fn finite_or_null<S: serde::Serializer>(v: &f64, s: S) -> std::result::Resul
 
 /// Blocks of the autocorrelation-consistent standard errors are this many residual
 /// correlation times long (at least).
-pub const HAC_BLOCK_CORRELATION_TIMES: f64 = 8.0;
+pub const HAC_BLOCK_CORRELATION_TIMES: f64 = 16.0;
 
 /// Block length (rows) for the autocorrelation-consistent covariance of a row-major residual
 /// `r` with `ch` channels: [`HAC_BLOCK_CORRELATION_TIMES`] times the longest channel's
-/// correlation time in rows, at least 1 and at most a fifth of the rows.
+/// correlation time in rows, at least 1 and at most a quarter of the rows.
 pub fn hac_block_rows(r: &[f64], ch: usize) -> usize {
     let t = r.len() / ch.max(1);
     let tau = (0..ch)
@@ -269,7 +269,7 @@ pub fn hac_block_rows(r: &[f64], ch: usize) -> usize {
         .fold(1.0f64, f64::max);
     ((HAC_BLOCK_CORRELATION_TIMES * tau).ceil() as usize)
         .max(1)
-        .min((t / 5).max(1))
+        .min((t / 4).max(1))
 }
 
 /// Residuals `prediction − measurement` at `rows`.
@@ -387,7 +387,9 @@ fn fit_core(
         .iter()
         .enumerate()
         .map(|(i, (e, n, _))| {
-            hold.iter().any(|h| *h == format!("{e}.{n}")) || ties.iter().any(|t| t.1 == i)
+            hold.iter().any(|h| *h == format!("{e}.{n}"))
+                || ties.iter().any(|t| t.1 == i)
+                || (e == "payload" && n.starts_with("dI_") && !model.payload_inertia)
         })
         .collect();
     // Tied pairs start from their mean (unless one of them is held, which then leads).
@@ -618,7 +620,11 @@ fn fit_core(
                 let d = &prefix[s0 + b] - &prefix[s0];
                 omega += &d * d.transpose();
             }
-            omega *= t_rows as f64 / b as f64 / windows as f64;
+            // At the least-squares solution the scores sum to zero, so block sums are
+            // negatively correlated: the batch-means estimate is low by the factor
+            // `1 − B/T`, corrected here.
+            let frac = (b as f64 / t_rows as f64).min(0.5);
+            omega *= t_rows as f64 / b as f64 / windows as f64 / (1.0 - frac);
         }
         // The block estimate of Ω has about 1.5 T/B degrees of freedom (overlapping batch
         // means): the standard error is widened by t(ν)/z so that ±1.96 SE is a 95 % interval.

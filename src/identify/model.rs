@@ -51,6 +51,10 @@ pub struct Model {
     /// Whether `coulomb` is fitted per direction (`f_c+[j]`, `f_c−[j]` free; the candidate
     /// [`DIRECTIONAL_COULOMB`]); by default both directions share one level per joint.
     pub coulomb_directional: bool,
+    /// Whether the payload's inertia about the flange (`dI_*`) is fitted (the candidate
+    /// [`PAYLOAD_WITH_INERTIA`]); by default it is held at its prior and the mass and centre of
+    /// mass are fitted.
+    pub payload_inertia: bool,
     /// The robot's rated payload, kg (drive file `[robot] rated_payload_kg`), if stated.
     pub rated_payload_kg: Option<f64>,
     /// Total mass of the moving links, kg.
@@ -64,6 +68,16 @@ pub struct Model {
 /// The per-direction Coulomb candidate: `coulomb` with `f_c+[j]` and `f_c−[j]` fitted
 /// separately (claimed by `diagnose` only when it beats the symmetric `coulomb` significantly).
 pub const DIRECTIONAL_COULOMB: &str = "coulomb_directional";
+
+/// The payload with its own inertia: `payload` with `dI_*` fitted too.
+pub const PAYLOAD_WITH_INERTIA: &str = "payload_inertia";
+
+/// Whether an effect list asks for the payload's inertia.
+pub fn asks_payload_inertia(s: &str) -> bool {
+    s.split(',')
+        .map(|w| w.trim().split('[').next().unwrap_or("").trim())
+        .any(|w| w == PAYLOAD_WITH_INERTIA)
+}
 
 /// Whether an effect list (`coulomb_directional,payload`) asks for per-direction Coulomb.
 pub fn asks_directional_coulomb(s: &str) -> bool {
@@ -98,10 +112,10 @@ pub fn parse_effect_subsets(s: &str, n: usize) -> Result<Vec<EffectSubset>> {
     let mut out: Vec<EffectSubset> = Vec::new();
     for w in s.split(',').map(str::trim).filter(|w| !w.is_empty()) {
         let (name, joint) = crate::identify::simulate::split_joint(w)?;
-        let name = if name == DIRECTIONAL_COULOMB {
-            "coulomb"
-        } else {
-            name
+        let name = match name {
+            DIRECTIONAL_COULOMB => "coulomb",
+            PAYLOAD_WITH_INERTIA => "payload",
+            n => n,
         };
         let e = cat[catalogue_index(name)?];
         if let Some(k) = joint.filter(|&k| k > n) {
@@ -171,6 +185,7 @@ impl Model {
             has_drive: d.is_some(),
             effects: EffectSet::of_robot(robot)?,
             coulomb_directional: false,
+            payload_inertia: false,
             rated_payload_kg: robot.info.rated_payload_kg,
             moving_mass_kg: robot.moving_mass(),
             flange_link: robot.flange_link.clone(),

@@ -70,6 +70,8 @@ pub struct RoundPlan {
     /// Whether Coulomb friction is fitted per direction (`coulomb_directional` asked for);
     /// symmetric otherwise.
     pub directional_coulomb: bool,
+    /// Whether the payload's inertia is fitted (`payload_inertia` asked for).
+    pub payload_inertia: bool,
 }
 
 impl RoundPlan {
@@ -123,6 +125,7 @@ impl RoundPlan {
             carried,
             hold,
             directional_coulomb: crate::identify::model::asks_directional_coulomb(fit),
+            payload_inertia: crate::identify::model::asks_payload_inertia(fit),
         })
     }
 
@@ -138,6 +141,7 @@ impl RoundPlan {
     ) -> Result<Identification> {
         let (l, prep) = log;
         model.coulomb_directional = self.directional_coulomb;
+        model.payload_inertia = self.payload_inertia;
         match validation {
             Some((v, vprep)) => {
                 let tr: Vec<usize> = (0..l.len()).collect();
