@@ -53,6 +53,90 @@ struct PendingMove {
     feed: Option<f64>,
 }
 
+/// The number of a word whose letter is at `from - 1`: its value and the index after it.
+fn lex_number(
+    file: &str,
+    lineno: usize,
+    chars: &[char],
+    from: usize,
+    letter: char,
+) -> Result<(f64, usize)> {
+    let mut j = from;
+    while j < chars.len() && (chars[j] == ' ' || chars[j] == '\t') {
+        j += 1;
+    }
+    let num_start = j;
+    if j < chars.len() && (chars[j] == '+' || chars[j] == '-') {
+        j += 1;
+    }
+    let mut digits = 0;
+    while j < chars.len() && chars[j].is_ascii_digit() {
+        j += 1;
+        digits += 1;
+    }
+    if j < chars.len() && chars[j] == '.' {
+        j += 1;
+        while j < chars.len() && chars[j].is_ascii_digit() {
+            j += 1;
+            digits += 1;
+        }
+    }
+    if digits == 0 {
+        let found: String = chars[num_start..]
+            .iter()
+            .take_while(|x| !x.is_whitespace() && **x != ';' && **x != '(')
+            .take(12)
+            .collect();
+        let found = if found.is_empty() {
+            "end of line".to_string()
+        } else {
+            format!("'{found}'")
+        };
+        return Err(perr(
+            file,
+            lineno,
+            num_start + 1,
+            format!("expected a number after '{letter}', found {found}"),
+        ));
+    }
+    let text: String = chars[num_start..j].iter().collect();
+    let value: f64 = text.parse().unwrap_or(f64::NAN);
+    if !value.is_finite() {
+        return Err(perr(
+            file,
+            lineno,
+            num_start + 1,
+            format!("expected a finite number after '{letter}', found '{text}'"),
+        ));
+    }
+    Ok((value, j))
+}
+
+/// An extended command (`SET_FAN_SPEED …`, `EXCLUDE_OBJECT_DEFINE …`) starting at `i`: its
+/// first word; `Gnan`/`Xinf` are refused as words whose number is not a number.
+fn extended_command(file: &str, lineno: usize, chars: &[char], i: usize) -> Result<String> {
+    let c = chars[i];
+    let cmd: String = chars[i..]
+        .iter()
+        .take_while(|x| !x.is_whitespace())
+        .collect();
+    // `Gnan`, `Xinf`: a word whose number is not a number, not an extended command.
+    let tail = cmd[c.len_utf8()..].to_ascii_lowercase();
+    if tail.starts_with("nan") || tail.starts_with("inf") {
+        return Err(perr(
+            file,
+            lineno,
+            i + 2,
+            format!(
+                "expected a number after '{}', found '{}'",
+                c.to_ascii_uppercase(),
+                crate::error::clip(&cmd[c.len_utf8()..])
+            ),
+        ));
+    }
+    Ok(cmd)
+}
+
 /// Split one line into words, comments and an optional extended command.
 #[allow(clippy::type_complexity)]
 fn lex_line(
@@ -94,75 +178,11 @@ fn lex_line(
         } else if c.is_ascii_alphabetic() {
             let next = chars.get(i + 1).copied().unwrap_or(' ');
             if words.is_empty() && (next.is_ascii_alphabetic() || next == '_') {
-                let cmd: String = chars[i..]
-                    .iter()
-                    .take_while(|x| !x.is_whitespace())
-                    .collect();
-                // `Gnan`, `Xinf`: a word whose number is not a number, not an extended command.
-                let tail = cmd[c.len_utf8()..].to_ascii_lowercase();
-                if tail.starts_with("nan") || tail.starts_with("inf") {
-                    return Err(perr(
-                        file,
-                        lineno,
-                        i + 2,
-                        format!(
-                            "expected a number after '{}', found '{}'",
-                            c.to_ascii_uppercase(),
-                            crate::error::clip(&cmd[c.len_utf8()..])
-                        ),
-                    ));
-                }
+                let cmd = extended_command(file, lineno, &chars, i)?;
                 return Ok((words, comments, Some(cmd)));
             }
             let letter = c.to_ascii_uppercase();
-            let mut j = i + 1;
-            while j < chars.len() && (chars[j] == ' ' || chars[j] == '\t') {
-                j += 1;
-            }
-            let num_start = j;
-            if j < chars.len() && (chars[j] == '+' || chars[j] == '-') {
-                j += 1;
-            }
-            let mut digits = 0;
-            while j < chars.len() && chars[j].is_ascii_digit() {
-                j += 1;
-                digits += 1;
-            }
-            if j < chars.len() && chars[j] == '.' {
-                j += 1;
-                while j < chars.len() && chars[j].is_ascii_digit() {
-                    j += 1;
-                    digits += 1;
-                }
-            }
-            if digits == 0 {
-                let found: String = chars[num_start..]
-                    .iter()
-                    .take_while(|x| !x.is_whitespace() && **x != ';' && **x != '(')
-                    .take(12)
-                    .collect();
-                let found = if found.is_empty() {
-                    "end of line".to_string()
-                } else {
-                    format!("'{found}'")
-                };
-                return Err(perr(
-                    file,
-                    lineno,
-                    num_start + 1,
-                    format!("expected a number after '{letter}', found {found}"),
-                ));
-            }
-            let text: String = chars[num_start..j].iter().collect();
-            let value: f64 = text.parse().unwrap_or(f64::NAN);
-            if !value.is_finite() {
-                return Err(perr(
-                    file,
-                    lineno,
-                    num_start + 1,
-                    format!("expected a finite number after '{letter}', found '{text}'"),
-                ));
-            }
+            let (value, j) = lex_number(file, lineno, &chars, i + 1, letter)?;
             words.push(Word {
                 letter,
                 value,
@@ -524,16 +544,7 @@ impl<'a> Reader<'a> {
                 "coordinates without a motion mode: expected G0, G1, G2 or G3 first",
             ));
         };
-        let mut target = self.pos;
-        for (k, a) in lw.axis.iter().enumerate() {
-            if let Some(v) = a {
-                target[k] = if self.abs {
-                    v * self.unit + self.offset[k]
-                } else {
-                    self.pos[k] + v * self.unit
-                };
-            }
-        }
+        let target = self.target(lw);
         if let Some(f) = f_here {
             self.feed = Some(f);
         }
@@ -585,6 +596,21 @@ impl<'a> Reader<'a> {
             self.pos = target;
         }
         Ok(())
+    }
+
+    /// Where a line's axis words move to (m; absolute or relative, with the G92 offset).
+    fn target(&self, lw: &LineWords) -> V3 {
+        let mut target = self.pos;
+        for (k, a) in lw.axis.iter().enumerate() {
+            if let Some(v) = a {
+                target[k] = if self.abs {
+                    v * self.unit + self.offset[k]
+                } else {
+                    self.pos[k] + v * self.unit
+                };
+            }
+        }
+        target
     }
 
     /// The moves with their print flags and speeds, and the reader's warnings.
@@ -678,12 +704,10 @@ fn gname(g: i64) -> String {
     format!("G{}", fmt_code(g))
 }
 
-/// Geometry of a G17 arc from `p0` to `p1` (m). `ijr` holds I, J in file units and R in m.
+/// The centre of a G17 arc (m), from I/J (offset or absolute) or R (the short arc unless R < 0).
 #[allow(clippy::too_many_arguments)]
-fn arc_kind(
-    file: &str,
-    line: usize,
-    col: usize,
+fn arc_centre(
+    at: (&str, usize, usize, &str),
     clockwise: bool,
     p0: &V3,
     p1: &V3,
@@ -691,12 +715,11 @@ fn arc_kind(
     unit: f64,
     ij_abs: bool,
     offset: &V3,
-) -> Result<MoveKind> {
-    let gword = if clockwise { "G2" } else { "G3" };
-    let normal = if clockwise { -V3::z() } else { V3::z() };
+) -> Result<V3> {
+    let (file, line, col, gword) = at;
     let (wi, wj, wr) = ijr;
     let same_xy = (p1.x - p0.x).hypot(p1.y - p0.y) < 1e-9;
-    let centre = match (wi.is_some() || wj.is_some(), wr) {
+    Ok(match (wi.is_some() || wj.is_some(), wr) {
         (true, Some((_, rcol))) => {
             return Err(perr(
                 file,
@@ -755,7 +778,37 @@ fn arc_kind(
             let mid = V3::new((p0.x + p1.x) / 2.0, (p0.y + p1.y) / 2.0, p0.z);
             mid + left * (side * h)
         }
-    };
+    })
+}
+
+/// Geometry of a G17 arc from `p0` to `p1` (m). `ijr` holds I, J in file units and R in m.
+#[allow(clippy::too_many_arguments)]
+fn arc_kind(
+    file: &str,
+    line: usize,
+    col: usize,
+    clockwise: bool,
+    p0: &V3,
+    p1: &V3,
+    ijr: (Option<f64>, Option<f64>, Option<(f64, usize)>),
+    unit: f64,
+    ij_abs: bool,
+    offset: &V3,
+) -> Result<MoveKind> {
+    let gword = if clockwise { "G2" } else { "G3" };
+    let normal = if clockwise { -V3::z() } else { V3::z() };
+    let (wi, wj, wr) = ijr;
+    let same_xy = (p1.x - p0.x).hypot(p1.y - p0.y) < 1e-9;
+    let centre = arc_centre(
+        (file, line, col, gword),
+        clockwise,
+        p0,
+        p1,
+        (wi, wj, wr),
+        unit,
+        ij_abs,
+        offset,
+    )?;
     let v0 = V3::new(p0.x - centre.x, p0.y - centre.y, 0.0);
     let v1 = V3::new(p1.x - centre.x, p1.y - centre.y, 0.0);
     let r0 = v0.norm();
