@@ -111,7 +111,7 @@ fn drive_file_doc_example_loads() {
         let model = printwatt::load_robot(&given).unwrap_or_else(|e| panic!("{at}: {e}"));
         printwatt::effects::EffectSet::of_robot(&model)
             .unwrap_or_else(|e| panic!("{at}: the [effects] table: {e}"));
-        let ranges = printwatt::placement::uncertainty::Ranges::of_robot(&model)
+        let ranges = printwatt::search::uncertainty::Ranges::of_robot(&model)
             .unwrap_or_else(|e| panic!("{at}: the [uncertainty] table: {e}"));
         assert_eq!(
             ranges.is_some(),
