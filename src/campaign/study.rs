@@ -552,7 +552,13 @@ pub fn run(
                 study.cases.len()
             ))
         })?;
-        let in_case = |e: Error| Error::Invalid(format!("case {k} ({}): {}", study.case_name(c), error_text(&e)));
+        let in_case = |e: Error| {
+            Error::Invalid(format!(
+                "case {k} ({}): {}",
+                study.case_name(c),
+                error_text(&e)
+            ))
+        };
         let cfg = config_of(c).map_err(in_case)?;
         let grid = cfg.placement_set().placements.len();
         let outcome = crate::search::run(&cfg, observer);

@@ -486,7 +486,6 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
     Ok(())
 }
 
-
 /// `optimise --uncertainty N --shard SPEC`: this shard's draws of the study, written as the
 /// shard directory `<--out>/shard-K-of-N/` (docs/cluster.md).
 fn write_study_shard(
