@@ -61,9 +61,20 @@ fn library_optimise_matches_cli() {
         "{}",
         String::from_utf8_lossy(&cli.stderr)
     );
-    let cli: serde_json::Value = serde_json::from_slice(&cli.stdout).unwrap();
+    let mut cli: serde_json::Value = serde_json::from_slice(&cli.stdout).unwrap();
+    // The reader's warnings are the front end's notes (stderr and `warnings`), not the answer.
+    if let Some(o) = cli.as_object_mut() {
+        o.remove("warnings");
+    }
+    let differ: Vec<&String> = cli
+        .as_object()
+        .unwrap()
+        .iter()
+        .filter(|(k, v)| lib.get(k.as_str()) != Some(v))
+        .map(|(k, _)| k)
+        .collect();
+    assert!(differ.is_empty(), "the library's answer differs in {differ:?}");
     assert_eq!(lib, cli, "the library's answer is not the command line's");
-    assert!(lib["optimise"]["best"]["placement"].is_object() || lib["optimise"].is_object());
 }
 
 #[derive(Default)]
