@@ -32,7 +32,9 @@
 //! number of a result is SI (m, rad, J, s) unless its name says otherwise.
 
 use crate::error::{Error, Result};
-use crate::evaluate::evaluator::Feasible;
+use crate::evaluate::evaluator::{Feasible, Objective};
+use crate::search::run::{error_text, tolerance_line};
+use crate::search::{Observer, OptimiseConfig, OptimiseOutcome};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -439,6 +441,132 @@ pub struct CaseResult {
     /// has an answer; the page itself is written beside the results as it is made
     /// ([`Study::case_file`]), so that a study holds one page in memory at a time.
     pub report_sha256: Option<String>,
+}
+
+impl CaseResult {
+    /// The result of a case from its optimisation (`grid`: placements of the case's grid):
+    /// the answer, or the optimisation's error in words (no feasible placement, a reduced
+    /// answer infeasible in full, …), with the case's report page when it has an answer. The
+    /// result is the one a shard carries ([`CaseResult::as_stored`]).
+    pub fn of(
+        objective: Objective,
+        grid: usize,
+        outcome: Result<OptimiseOutcome>,
+    ) -> Result<(CaseResult, Option<String>)> {
+        let objective = objective.name().to_string();
+        let mut page = None;
+        let r = match outcome {
+            Ok(c) => {
+                let rep = &c.report;
+                let best = rep.best().ok_or_else(|| {
+                    Error::Invalid("the optimisation returned no placement".into())
+                })?;
+                let f = best.feasible().ok_or_else(|| {
+                    Error::Invalid("the optimisation's answer is infeasible".into())
+                })?;
+                let p = &best.placement;
+                let si = rep.optimise.as_ref().and_then(|o| o.search.as_ref());
+                let mut notes = Vec::new();
+                if let Some(si) = si {
+                    if !si.tolerance.holds && si.tolerance.corners > 0 {
+                        notes.push(format!("tolerance {}", tolerance_line(&si.tolerance)));
+                    }
+                    if !si.on_bounds.is_empty() {
+                        notes.push(format!(
+                            "optimum on a search bound: {}",
+                            si.on_bounds.join(", ")
+                        ));
+                    }
+                    if let Some(om) = &si.on_margin {
+                        notes.push(format!("optimum on a joint-limit margin: {om}"));
+                    }
+                    if let Some(b) = &si.budget_spent {
+                        notes.push(format!("search stopped: {b}"));
+                    }
+                }
+                let base_tol = rep
+                    .optimise
+                    .as_ref()
+                    .and_then(|o| o.baseline_tolerance.as_ref())
+                    .filter(|t| t.corners > 0);
+                if let Some(t) = base_tol.filter(|t| !t.holds) {
+                    notes.push(format!(
+                        "the baseline does not hold the tolerance ({} of its {} corners infeasible): the saving is measured against a placement a site could not rely on",
+                        t.failures.len(),
+                        t.corners
+                    ));
+                }
+                CaseResult {
+                    objective,
+                    outcome: Ok(CaseBest {
+                        placement: [p.x, p.y, p.z, p.yaw, p.nozzle_spin],
+                        feasible: f.clone(),
+                        baseline_j: rep
+                            .baseline
+                            .as_ref()
+                            .map(|(_, b)| b.cost())
+                            .filter(|c| c.is_finite()),
+                        baseline_holds_tolerance: base_tol.map(|t| t.holds),
+                        tolerance: si.map(|si| tolerance_line(&si.tolerance)),
+                        notes,
+                    }),
+                    grid: rep.rows.len(),
+                    grid_feasible: rep.rows.iter().filter(|r| r.cost().is_finite()).count(),
+                    evaluations: c.evaluations,
+                    report_sha256: Some(crate::output::sha256_hex(
+                        page.insert(rep.html()).as_bytes(),
+                    )),
+                }
+            }
+            Err(e) => CaseResult {
+                objective,
+                outcome: Err(error_text(&e)),
+                grid,
+                grid_feasible: 0,
+                evaluations: grid,
+                report_sha256: None,
+            },
+        };
+        // Exactly what a shard carries, so that a single run and a merge write the same files.
+        Ok((r.as_stored()?, page))
+    }
+}
+
+/// Run the cases `indices` of a study (in order), each optimised as its config says
+/// (`config_of`: the case's job; an error there is the study's, an error of the optimisation
+/// is the case's answer), in the caller's rayon pool. `done` receives each case as it is
+/// answered, with its report page (when it has an answer) and its wall time (s).
+pub fn run(
+    study: &Study,
+    indices: &[usize],
+    config_of: &dyn Fn(&Case) -> Result<OptimiseConfig>,
+    observer: &dyn Observer,
+    done: &mut dyn FnMut(&Case, &CaseResult, Option<String>, f64) -> Result<()>,
+) -> Result<Vec<CaseResult>> {
+    let mut out = Vec::with_capacity(indices.len());
+    for &k in indices {
+        let t = std::time::Instant::now();
+        let c = study.cases.get(k).ok_or_else(|| {
+            Error::Invalid(format!(
+                "case {k} of a study of {} cases",
+                study.cases.len()
+            ))
+        })?;
+        let in_case = |e: Error| {
+            Error::Invalid(format!(
+                "case {k} ({}): {}",
+                study.case_name(c),
+                error_text(&e)
+            ))
+        };
+        let cfg = config_of(c).map_err(in_case)?;
+        let grid = cfg.placement_set().placements.len();
+        let outcome = crate::search::run(&cfg, observer);
+        let (r, page) = CaseResult::of(cfg.settings.objective, grid, outcome).map_err(in_case)?;
+        done(c, &r, page, t.elapsed().as_secs_f64())?;
+        out.push(r);
+    }
+    Ok(out)
 }
 
 /// A case's chosen placement and its figures.
