@@ -1746,31 +1746,12 @@ impl<'a> IkSolver<'a> {
                     }
                 }
                 Out::Push(sincos) => {
-                    // Written into the spare capacity, then the length set: no zero fill.
-                    let len = sincos.len();
-                    sincos.reserve(count * 2 * n);
-                    let spare = &mut sincos.spare_capacity_mut()[..count * 2 * n];
-                    if n == 6 && count == LANES {
-                        let rows: [&[f64; LANES]; 12] = [
-                            &cl.s[0], &cl.s[1], &cl.s[2], &cl.s[3], &cl.s[4], &cl.s[5], &cl.c[0],
-                            &cl.c[1], &cl.c[2], &cl.c[3], &cl.c[4], &cl.c[5],
-                        ];
-                        if R::transpose_8x12(&rows, spare) {
-                            // SAFETY: all LANES · 12 values past `len` were written just above.
-                            unsafe { sincos.set_len(len + count * 2 * n) };
-                            return Ok(());
-                        }
+                    // Appended sample by sample: the sines, then the cosines.
+                    let mut rows = [&cl.s[0]; 2 * MAX_DOF];
+                    for j in 0..n {
+                        (rows[j], rows[n + j]) = (&cl.s[j], &cl.c[j]);
                     }
-                    for (l, out) in spare.chunks_exact_mut(2 * n).enumerate() {
-                        let (so, co) = out.split_at_mut(n);
-                        for j in 0..n {
-                            so[j].write(cl.s[j][l]);
-                            co[j].write(cl.c[j][l]);
-                        }
-                    }
-                    // SAFETY: the `count · 2 n` values past `len` were written just above
-                    // (`chunks_exact_mut` of exactly that length, every entry of each chunk).
-                    unsafe { sincos.set_len(len + count * 2 * n) };
+                    crate::simd::push_transposed::<R>(sincos, &rows[..2 * n], count);
                 }
             }
             Ok(())

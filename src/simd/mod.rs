@@ -88,9 +88,11 @@
 
 mod dispatch;
 mod reg;
+mod transpose;
 
 pub(crate) use dispatch::{dispatch, run, with_rounding, Kernel};
 pub(crate) use reg::F64s;
+pub(crate) use transpose::push_transposed;
 pub use reg::V;
 
 use std::sync::atomic::{AtomicU8, Ordering};
