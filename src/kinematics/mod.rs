@@ -1158,10 +1158,19 @@ impl<'a> IkSolver<'a> {
         q_prev: &[f64],
         level: crate::simd::Level,
     ) -> Option<opw::BranchBatch> {
-        self.solve_near_batch_at(&self.path_target(rot), tips, q_prev, None, level)
+        use crate::simd::LANES;
+        let mut tp = [[0.0; LANES]; 3];
+        let count = tips.len().min(LANES);
+        for (l, t) in tips.iter().take(LANES).enumerate() {
+            (tp[0][l], tp[1][l], tp[2][l]) = (t.x, t.y, t.z);
+        }
+        let mut b = opw::BranchBatch::default();
+        let target = self.path_target(rot);
+        self.solve_near_batch_lanes(&target, &tp, count, q_prev, None, level, &mut b)
+            .then_some(b)
     }
 
-    /// What the lockstep path IK ([`IkSolver::solve_near_batch_at`],
+    /// What the lockstep path IK ([`IkSolver::solve_near_batch_lanes`],
     /// [`IkSolver::check_lanes`]) computes once per tool orientation `rot` (base frame).
     pub fn path_target(&self, rot: &M3) -> PathTarget {
         PathTarget {
@@ -1170,44 +1179,6 @@ impl<'a> IkSolver<'a> {
             off: rot * self.tool_inv.pos,
             check_rot: self.chain.check_rotation(rot),
         }
-    }
-
-    /// [`IkSolver::solve_near_batch`] for the orientation of `target`
-    /// ([`IkSolver::path_target`]) and with the branch of `q_prev` when the caller knows it
-    /// (`branch`: exactly [`opw::Prepared::branch_of`]`(q_prev)`, e.g.
-    /// [`Continuing::branch_after`]); `None` computes it.
-    pub fn solve_near_batch_at(
-        &self,
-        target: &PathTarget,
-        tips: &[V3],
-        q_prev: &[f64],
-        branch: Option<Branch>,
-        level: crate::simd::Level,
-    ) -> Option<opw::BranchBatch> {
-        let mut b = opw::BranchBatch::default();
-        self.solve_near_batch_into(target, tips, q_prev, branch, level, &mut b)
-            .then_some(b)
-    }
-
-    /// [`IkSolver::solve_near_batch_at`] into `batch` (overwritten): `true` with the same
-    /// batch, bit for bit, where that gives `Some`; `false` (and `batch` untouched) where it
-    /// gives `None`. For callers that keep one batch across a path.
-    pub fn solve_near_batch_into(
-        &self,
-        target: &PathTarget,
-        tips: &[V3],
-        q_prev: &[f64],
-        branch: Option<Branch>,
-        level: crate::simd::Level,
-        batch: &mut opw::BranchBatch,
-    ) -> bool {
-        use crate::simd::LANES;
-        let mut tp = [[0.0; LANES]; 3];
-        let count = tips.len().min(LANES);
-        for (l, t) in tips.iter().take(LANES).enumerate() {
-            (tp[0][l], tp[1][l], tp[2][l]) = (t.x, t.y, t.z);
-        }
-        self.solve_near_batch_lanes(target, &tp, count, q_prev, branch, level, batch)
     }
 
     /// The closed form's parameters for the lockstep path IK continuing `q_prev` (rad);
@@ -1247,8 +1218,15 @@ impl<'a> IkSolver<'a> {
         }
     }
 
-    /// [`IkSolver::solve_near_batch_into`] of the `count` tips given lane by lane
-    /// (`tp[i][lane]`, m; lanes from `count` on are ignored): the same batch, bit for bit.
+    /// The closed form of the `count` tips given lane by lane (`tp[i][lane]`, base frame, m;
+    /// lanes from `count` on are ignored) with the orientation of `target`
+    /// ([`IkSolver::path_target`]), in lockstep on `level`, into `batch` (overwritten), for
+    /// the branch that continues `q_prev` (rad): `branch` when the caller knows it (exactly
+    /// [`opw::Prepared::branch_of`]`(q_prev)`, e.g. [`Continuing::branch_after`]), else
+    /// computed. `false` (and `batch` untouched) for a robot without closed form or a
+    /// `q_prev` of the wrong length. Each sample's answer is then taken with
+    /// [`IkSolver::take_near`]. [`IkSolver::solve_near_batch`] is the same for tips given
+    /// sample by sample.
     #[allow(clippy::too_many_arguments)]
     pub fn solve_near_batch_lanes(
         &self,
