@@ -602,7 +602,8 @@ impl FastChain {
             type Out = CheckLanes;
             #[inline(always)]
             fn run<R: F64s>(self) -> CheckLanes {
-                self.chain.measure_then::<R, _>(self.q, self.m, self.tp, |c| *c)
+                self.chain
+                    .measure_then::<R, _>(self.q, self.m, self.tp, |c| *c)
             }
         }
         crate::simd::dispatch(

@@ -92,8 +92,8 @@ mod transpose;
 
 pub(crate) use dispatch::{dispatch, run, with_rounding, Kernel};
 pub(crate) use reg::F64s;
-pub(crate) use transpose::push_transposed;
 pub use reg::V;
+pub(crate) use transpose::push_transposed;
 
 use std::sync::atomic::{AtomicU8, Ordering};
 

@@ -40,7 +40,7 @@ fn full_batch<R: F64s>(rows: &[&[f64; LANES]], spare: &mut [MaybeUninit<f64>]) -
         }
     }
     #[cfg(target_arch = "x86_64")]
-    if rows.len() % 2 == 0 {
+    if rows.len().is_multiple_of(2) {
         use std::arch::x86_64::{_mm_loadu_pd, _mm_storeu_pd, _mm_unpackhi_pd, _mm_unpacklo_pd};
         let k = rows.len();
         assert!(spare.len() >= LANES * k);
