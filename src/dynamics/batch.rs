@@ -625,64 +625,26 @@ pub(super) fn rnea_one(
     }
 }
 
-fn rnea_sse2(m: &DynModel, b: &StateBatch, tau: &mut [Lanes; MAX_DOF]) {
-    rnea_lanes(
-        m,
-        &b.s,
-        &b.c,
-        &b.qd,
-        &b.qdd,
-        tau,
-        &mut RneaScratch::default(),
-    )
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-fn rnea_avx2(m: &DynModel, b: &StateBatch, tau: &mut [Lanes; MAX_DOF]) {
-    rnea_lanes(
-        m,
-        &b.s,
-        &b.c,
-        &b.qd,
-        &b.qdd,
-        tau,
-        &mut RneaScratch::default(),
-    )
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-fn rnea_avx512(m: &DynModel, b: &StateBatch, tau: &mut [Lanes; MAX_DOF]) {
-    rnea_lanes(
-        m,
-        &b.s,
-        &b.c,
-        &b.qd,
-        &b.qdd,
-        tau,
-        &mut RneaScratch::default(),
-    )
-}
-
 /// Joint torques `tau[j][lane]` (N·m) of the [`LANES`] samples of `b` by RNEA
 /// (`τ = M(q) q̈ + C(q, q̇) q̇ + G(q)`, plus the armature when the model has it), with the
-/// instruction set `level` ([`Level::Scalar`] runs the baseline build of the same kernel).
-/// Bit-identical, lane by lane, to [`super::rnea_with_sincos`] of each sample. A `level`
-/// this CPU lacks runs the baseline build. Only for a [`DynModel::batchable`] model
+/// instruction set `level` ([`crate::simd::run`]; [`Level::Scalar`] and a level this CPU
+/// lacks run the baseline build of the same kernel). Bit-identical, lane by lane, to
+/// [`super::rnea_with_sincos`] of each sample. Only for a [`DynModel::batchable`] model
 /// (revolute joints); for others the result is unspecified.
 pub fn rnea_batch(m: &DynModel, b: &StateBatch, tau: &mut [Lanes; MAX_DOF], level: Level) {
-    match level {
-        #[cfg(target_arch = "x86_64")]
-        Level::Avx512 if Level::Avx512.available() => {
-            // SAFETY: the CPU has AVX-512F (checked just above).
-            unsafe { rnea_avx512(m, b, tau) }
-        }
-        #[cfg(target_arch = "x86_64")]
-        Level::Avx2 if Level::Avx2.available() => {
-            // SAFETY: the CPU has AVX2 and FMA (checked just above).
-            unsafe { rnea_avx2(m, b, tau) }
-        }
-        _ => rnea_sse2(m, b, tau),
-    }
+    crate::simd::run(
+        level,
+        #[inline(always)]
+        || {
+            rnea_lanes(
+                m,
+                &b.s,
+                &b.c,
+                &b.qd,
+                &b.qdd,
+                tau,
+                &mut RneaScratch::default(),
+            )
+        },
+    )
 }
