@@ -306,13 +306,16 @@ fn draw_robot(
         drawn.push(("standby power".into(), sb));
     }
     let t = &mut m.effects.table;
-    let declared = t.balancer_lever_m.is_some() && t.balancer_base_m.is_some();
+    let declared = crate::effects::balancer_declared_in(t);
     // A calibrated robot keeps the balancer in `[effects.values]` (which wins over the keys).
     let (p0, k0) = match t.values.as_ref().and_then(|v| v.get("balancer")) {
         Some(b) if b.len() >= 2 => (b[0], b[1]),
         _ => (
-            t.balancer_preload_n.unwrap_or(0.0),
-            t.balancer_stiffness_n_per_m.unwrap_or(0.0),
+            t.number("balancer_preload_n").ok().flatten().unwrap_or(0.0),
+            t.number("balancer_stiffness_n_per_m")
+                .ok()
+                .flatten()
+                .unwrap_or(0.0),
         ),
     };
     if declared || p0 != 0.0 || k0 != 0.0 {
@@ -329,8 +332,8 @@ fn draw_robot(
             }
         };
         let (f0, k) = if present { (f0, k) } else { (0.0, 0.0) };
-        t.balancer_preload_n = Some(f0);
-        t.balancer_stiffness_n_per_m = Some(k);
+        t.set_number("balancer_preload_n", f0);
+        t.set_number("balancer_stiffness_n_per_m", k);
         // A calibrated robot keeps the balancer in `[effects.values]`, which wins.
         if let Some(b) = t.values.as_mut().and_then(|v| v.get_mut("balancer")) {
             if b.len() >= 2 {
