@@ -23,6 +23,7 @@ fn zero_ranges() -> Ranges {
         standby_power_rel: 0.0,
         balancer_absent_probability: 0.0,
         balancer_force_rel: 0.0,
+        effects: Default::default(),
     }
 }
 

@@ -227,6 +227,10 @@ impl Effect for Balancer {
     fn is_null(&self) -> bool {
         self.preload == 0.0 && self.stiffness == 0.0
     }
+    /// On when the drive file declares it and gives it a force.
+    fn on_by_default(&self, _has_drive: bool) -> bool {
+        self.implausible().is_none() && !self.is_null()
+    }
     fn implausible(&self) -> Option<String> {
         (!self.declared).then(|| {
             "the robot declares no balancer (drive file [effects] balancer_lever_m, balancer_base_m): \

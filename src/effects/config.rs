@@ -108,10 +108,11 @@ impl EffectSet {
         s
     }
 
-    /// Every effect of the catalogue ([`super::REGISTRY`]) for `robot`:
-    /// [`EffectSet::of_robot_with`] the built-in registry.
+    /// Every effect of the process's registry ([`EffectRegistry::current`]: the catalogue,
+    /// [`super::REGISTRY`], unless a program installed its own) for `robot`:
+    /// [`EffectSet::of_robot_with`].
     pub fn of_robot(robot: &RobotModel) -> Result<Self> {
-        Self::of_robot_with(robot, &EffectRegistry::builtin())
+        Self::of_robot_with(robot, &EffectRegistry::current())
     }
 
     /// Every effect of `registry` for `robot`, built from its drive data and drive-file
@@ -181,14 +182,7 @@ impl EffectSet {
                 }
                 m
             }
-            None => entries
-                .iter()
-                .zip(&effects)
-                .map(|(r, e)| {
-                    (has_drive && DEFAULT_EFFECTS.contains(&r.name))
-                        || (r.name == "balancer" && e.implausible().is_none() && !e.is_null())
-                })
-                .collect(),
+            None => effects.iter().map(|e| e.on_by_default(has_drive)).collect(),
         };
         Ok(EffectSet {
             effects,

@@ -126,6 +126,21 @@ impl EnergyClass {
     }
 }
 
+/// A range of an effect's estimated parameters, drawn by the placement's uncertainty study
+/// ([`crate::search::uncertainty`]): the drive file's `[uncertainty] <key>` (a half-width of a
+/// uniform range, relative), else `default`. A draw multiplies each of `params` (indices into
+/// [`Effect::params`]) by `1 + r u`, one `u` uniform in [−1, 1] for the range, and the drawn
+/// robot carries them in `[effects.values]`.
+#[derive(Clone, Debug, PartialEq)]
+pub struct UncertaintyRange {
+    /// The `[uncertainty]` key, e.g. `nozzle_heater_rel`.
+    pub key: &'static str,
+    /// Half-width when the drive file gives none (dimensionless).
+    pub default: f64,
+    /// The parameters it scales.
+    pub params: Vec<usize>,
+}
+
 /// One named parameter of an effect.
 #[derive(Clone, Debug, PartialEq, serde::Serialize)]
 pub struct ParamSpec {
@@ -210,6 +225,19 @@ pub trait Effect: AsAny + Send + Sync + std::fmt::Debug {
     fn write_calibrated(&self, enabled: bool, w: &mut CalibratedDrive<'_>) -> Result<()> {
         w.write_values(self.name(), self.values(), enabled);
         Ok(())
+    }
+    /// Whether it is switched on when the drive file's `[effects]` names no `enabled` list
+    /// (`has_drive`: the robot has drive data). Default: the catalogue's [`DEFAULT_EFFECTS`]
+    /// when the robot has drive data.
+    fn on_by_default(&self, has_drive: bool) -> bool {
+        has_drive && DEFAULT_EFFECTS.contains(&self.name())
+    }
+    /// The ranges the uncertainty study draws its parameters from ([`UncertaintyRange`]).
+    /// Default: none. The catalogue's drive-data effects (friction, motor constants, standby,
+    /// payload, balancer) are drawn by the study itself on the robot's drive data, in a fixed
+    /// order that makes every study's draw stream ([`crate::search::uncertainty::Ranges`]).
+    fn uncertainty(&self) -> Vec<UncertaintyRange> {
+        Vec::new()
     }
     /// Whether it contributes nothing with its current values (skipped by the energy model).
     fn is_null(&self) -> bool {

@@ -49,6 +49,10 @@ pub static REGISTRY: &[Registration] = &[
     Registration { name: "standby", stage: Stage::Supply(S::ConstantPower), keys: &[], build: super::electrical::build_standby },
 ];
 
+/// The registry installed for the process ([`EffectRegistry::install`]).
+static INSTALLED: std::sync::RwLock<Option<std::sync::Arc<EffectRegistry>>> =
+    std::sync::RwLock::new(None);
+
 /// Keys of the `[effects]` table that belong to no effect (the switches and the values).
 const TABLE_KEYS: [&str; 2] = ["enabled", "values"];
 
@@ -104,6 +108,24 @@ impl EffectRegistry {
         }
         self.entries.push(r);
         Ok(self)
+    }
+
+    /// Make this registry the one every model of the process builds its effects from
+    /// ([`super::EffectSet::of_robot`], [`crate::energy::EnergyModel::new`], identification,
+    /// the calibrated drive file, the uncertainty study): how a program registers its own
+    /// effects once, at start-up.
+    pub fn install(self) {
+        let mut g = INSTALLED.write().unwrap_or_else(|e| e.into_inner());
+        *g = Some(std::sync::Arc::new(self));
+    }
+
+    /// The installed registry ([`EffectRegistry::install`]), else the catalogue.
+    pub fn current() -> std::sync::Arc<EffectRegistry> {
+        let g = INSTALLED.read().unwrap_or_else(|e| e.into_inner());
+        match g.as_ref() {
+            Some(r) => std::sync::Arc::clone(r),
+            None => std::sync::Arc::new(Self::builtin()),
+        }
     }
 
     /// The registrations, in catalogue order.

@@ -167,7 +167,7 @@ impl EnergyModel {
     /// The model with explicit options. Errors: as [`DynModel::new`]; an invalid Coulomb
     /// velocity scale; a drive whose joint count differs from the robot's.
     pub fn with_options(robot: &RobotModel, options: EnergyOptions) -> Result<Self> {
-        Self::with_registry(robot, options, &EffectRegistry::builtin())
+        Self::with_registry(robot, options, &EffectRegistry::current())
     }
 
     /// [`EnergyModel::with_options`] with the effects of `registry` (the catalogue plus

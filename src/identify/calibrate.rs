@@ -9,7 +9,7 @@ use crate::error::{Error, Result};
 use crate::identify::ladder::Identification;
 use crate::identify::model::Model;
 use crate::identify::Log;
-use crate::effects::CalibratedDrive;
+use crate::effects::{CalibratedDrive, EffectSet};
 use crate::robot::drive::{parse_drive_file, DriveFile};
 use crate::robot::RobotModel;
 use crate::robot::{CalibratedParam, Calibration, CalibrationRound};
@@ -141,26 +141,7 @@ pub fn calibrated_text(inp: &CalibrationInput, dst: &Path) -> Result<String> {
     if f.robot.name.is_none() {
         f.robot.name = Some(robot.name().to_string());
     }
-    // Each effect keeps its identified values where it reads them (its drive keys, the
-    // robot's payload, or `[effects.values]`, which wins over its `[effects]` keys).
-    let mut effects = f.effects.take().unwrap_or_default();
-    let mut values = effects.values.take().unwrap_or_default();
-    let mut enabled = model.enabled_names();
-    for (e, on) in model.effects.iter() {
-        let keys = model.effects.keys_of(e.name());
-        let mut w = CalibratedDrive {
-            file: &mut f,
-            table: &mut effects,
-            values: &mut values,
-            enabled: &mut enabled,
-            robot,
-            keys,
-        };
-        e.write_calibrated(on, &mut w)?;
-    }
-    effects.enabled = Some(enabled.iter().map(|s| s.to_string()).collect());
-    effects.values = (!values.is_empty()).then_some(values);
-    f.effects = Some(effects);
+    write_effects(&mut f, robot, &model.effects)?;
     // Calibration record: earlier rounds carried over, this round appended.
     let mut cal = robot.effects.calibration.clone().unwrap_or(Calibration {
         base_robot: inp.robot_arg.to_string(),
@@ -230,6 +211,44 @@ pub fn calibrated_text(inp: &CalibrationInput, dst: &Path) -> Result<String> {
 # standard error, the round, log and date it came from.\n{body}",
         inp.date, inp.log.file
     ))
+}
+
+/// Each effect of `set` keeps its values where it reads them (its drive keys, the robot's
+/// payload, or `[effects.values]`, which wins over its `[effects]` keys):
+/// [`crate::effects::Effect::write_calibrated`]; `[effects] enabled` lists the effects on.
+fn write_effects(f: &mut DriveFile, robot: &RobotModel, set: &EffectSet) -> Result<()> {
+    let mut effects = f.effects.take().unwrap_or_default();
+    let mut values = effects.values.take().unwrap_or_default();
+    let mut enabled = set.enabled_names();
+    for (e, on) in set.iter() {
+        let mut w = CalibratedDrive {
+            file: &mut *f,
+            table: &mut effects,
+            values: &mut values,
+            enabled: &mut enabled,
+            robot,
+            keys: set.keys_of(e.name()),
+        };
+        e.write_calibrated(on, &mut w)?;
+    }
+    effects.enabled = Some(enabled.iter().map(|s| s.to_string()).collect());
+    effects.values = (!values.is_empty()).then_some(values);
+    f.effects = Some(effects);
+    Ok(())
+}
+
+/// The drive file `drive_file` of `robot` with the effects of `set` written into it as a
+/// calibrated robot keeps them ([`crate::effects::Effect::write_calibrated`]), as TOML text.
+/// The part of [`calibrated_text`] that the effects own, for a set built or changed by hand.
+pub fn drive_text_with_effects(
+    robot: &RobotModel,
+    drive_file: &Path,
+    set: &EffectSet,
+) -> Result<String> {
+    let text = crate::error::read_text(drive_file)?;
+    let mut f = parse_drive_file(&text, &drive_file.display().to_string())?;
+    write_effects(&mut f, robot, set)?;
+    f.to_toml()
 }
 
 /// Write the calibrated robot to `dst`. Refuses: the input drive file or URDF itself, a file
