@@ -41,7 +41,9 @@ impl Effect for NozzleHeater {
                 self.power = *p;
                 Ok(())
             }
-            _ => Err(Error::Invalid(format!("nozzle_heater: P_h {v:?} outside [0, 1e4] W"))),
+            _ => Err(Error::Invalid(format!(
+                "nozzle_heater: P_h {v:?} outside [0, 1e4] W"
+            ))),
         }
     }
     fn clone_box(&self) -> Box<dyn Effect> {
@@ -94,7 +96,10 @@ fn registry() -> EffectRegistry {
 /// directory.
 fn robot_with(dir_name: &str, extra: &str) -> std::path::PathBuf {
     let src = root().join("robots/abb_irb4600_40_255");
-    let dir = std::env::temp_dir().join(format!("printwatt_plugin_{}_{dir_name}", std::process::id()));
+    let dir = std::env::temp_dir().join(format!(
+        "printwatt_plugin_{}_{dir_name}",
+        std::process::id()
+    ));
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
     for f in ["robot.urdf", "README.md"] {
@@ -123,8 +128,14 @@ fn registration_is_checked() {
         keys: &["balancer_lever_m"],
         build,
     };
-    let e = EffectRegistry::builtin().with(taken_key).unwrap_err().to_string();
-    assert!(e.contains("balancer_lever_m") && e.contains("balancer"), "{e}");
+    let e = EffectRegistry::builtin()
+        .with(taken_key)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("balancer_lever_m") && e.contains("balancer"),
+        "{e}"
+    );
     assert!(registry()
         .with(Registration {
             name: "nozzle_heater",
@@ -147,13 +158,19 @@ fn a_registered_effect_reads_its_key_reports_its_energy_writes_itself_and_is_dra
     let e = EffectSet::of_robot_with(&robot, &EffectRegistry::builtin())
         .unwrap_err()
         .to_string();
-    assert!(e.contains("drive.toml") && e.contains("nozzle_heater_w"), "{e}");
+    assert!(
+        e.contains("drive.toml") && e.contains("nozzle_heater_w"),
+        "{e}"
+    );
     // A bad value is an error naming the file and the key.
     let bad = robot_with("bad", "nozzle_heater_w = -3.0");
     let e = EffectSet::of_robot(&printwatt::robot::load(&bad).unwrap())
         .unwrap_err()
         .to_string();
-    assert!(e.contains("drive.toml") && e.contains("nozzle_heater_w"), "{e}");
+    assert!(
+        e.contains("drive.toml") && e.contains("nozzle_heater_w"),
+        "{e}"
+    );
 
     // Its energy is in the breakdown under its name: P_h × duration, and in the supply.
     let traj = common::Sines::random(robot.dof(), 3, 0.05..0.3, 0.5..2.0).trajectory(2.0, 201);
@@ -174,7 +191,10 @@ fn a_registered_effect_reads_its_key_reports_its_energy_writes_itself_and_is_dra
 
     // Written into a calibrated drive file: `[effects.values]` (its key removed), read back.
     let mut cal = set.clone();
-    cal.get_mut("nozzle_heater").unwrap().set_values(&[55.0]).unwrap();
+    cal.get_mut("nozzle_heater")
+        .unwrap()
+        .set_values(&[55.0])
+        .unwrap();
     let text = printwatt::identify::calibrate::drive_text_with_effects(
         &robot,
         &dir.join("drive.toml"),

@@ -5,8 +5,8 @@ use super::{
     check_values, diagonal_regressor, on_level, per_joint, BuildContext, Effect, LaneState, Lanes,
     ParamSpec,
 };
-use crate::simd::{Level, LANES};
 use crate::error::Result;
+use crate::simd::{Level, LANES};
 
 /// Reflected rotor inertia per joint `I_a = G² J_m`, kg·m².
 #[derive(Clone, Debug, PartialEq)]
@@ -61,7 +61,12 @@ impl Effect for Armature {
             .as_ref()
             .map(|d| d.joints.iter().map(|j| j.gear_ratio).collect())
             .unwrap_or_default();
-        let jm: Vec<f64> = self.ia.iter().zip(&gear).map(|(i, g)| i / (g * g)).collect();
+        let jm: Vec<f64> = self
+            .ia
+            .iter()
+            .zip(&gear)
+            .map(|(i, g)| i / (g * g))
+            .collect();
         w.set_joint_key("rotor_inertia_kg_m2", &jm)?;
         w.remove_values(self.name());
         Ok(())

@@ -15,9 +15,11 @@
 //! when the arm leans out, and linear in (`F0`, `k`) (regressor
 //! `[dL/dq, (L − L_min) dL/dq]`, m and m²).
 
-use super::{check_values, on_level, BuildContext, Effect, EnergyClass, LaneState, Lanes, ParamSpec};
-use crate::simd::{Level, LANES};
+use super::{
+    check_values, on_level, BuildContext, Effect, EnergyClass, LaneState, Lanes, ParamSpec,
+};
 use crate::error::Result;
+use crate::simd::{Level, LANES};
 
 /// Default lever of the moving end on link 2, m (ESTIMATE used when a drive file names no
 /// geometry; see docs/effects.md).
@@ -68,7 +70,10 @@ pub fn declared_in(table: &crate::robot::EffectsTable) -> bool {
 pub(crate) fn build(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
     let dof = ctx.dof();
     let mut b = Balancer::zero();
-    let (lever, base) = (ctx.number("balancer_lever_m")?, ctx.number("balancer_base_m")?);
+    let (lever, base) = (
+        ctx.number("balancer_lever_m")?,
+        ctx.number("balancer_base_m")?,
+    );
     if let Some(j) = ctx.integer("balancer_joint")? {
         if j == 0 || j > dof {
             return Err(ctx.bad(
@@ -78,10 +83,7 @@ pub(crate) fn build(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
         }
         b.joint = j - 1;
     }
-    for (key, v) in [
-        ("balancer_lever_m", lever),
-        ("balancer_base_m", base),
-    ] {
+    for (key, v) in [("balancer_lever_m", lever), ("balancer_base_m", base)] {
         if let Some(x) = v {
             if !(x.is_finite() && x > 0.0) {
                 return Err(ctx.bad(key, format!("must be finite and > 0 m, got {x}")));

@@ -358,7 +358,11 @@ impl CalibratedDrive<'_> {
     /// Write the robot's `[payload]`: mass (kg), centre of mass (m, flange frame) and a
     /// description; the inertia as the file had it.
     pub fn set_payload(&mut self, mass: f64, com: [f64; 3], description: String) {
-        let inertia = self.file.payload.as_ref().map_or([0.0; 6], |t| t.inertia_kg_m2);
+        let inertia = self
+            .file
+            .payload
+            .as_ref()
+            .map_or([0.0; 6], |t| t.inertia_kg_m2);
         self.file.payload = Some(crate::robot::drive::PayloadTable {
             mass_kg: mass,
             com_m: com,

@@ -10,8 +10,8 @@ use super::{
     check_values, on_level, per_joint, BuildContext, Effect, EnergyClass, LaneState, Lanes,
     ParamSpec,
 };
-use crate::simd::{Level, LANES};
 use crate::error::{Error, Result};
+use crate::simd::{Level, LANES};
 
 /// Default transition width ε of the smoothed sign, rad/s: at |q̇| = 3ε the friction reaches
 /// 99.5 % of `f_c`. Small against path speeds (≥ 0.01 rad/s in printing), large enough to keep

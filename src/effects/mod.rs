@@ -32,8 +32,7 @@ mod viscous;
 
 pub use armature::Armature;
 pub use balancer::{
-    declared_in as balancer_declared_in, Balancer, BALANCER_A_M, BALANCER_B_M,
-    BALANCER_UPRIGHT_RAD,
+    declared_in as balancer_declared_in, Balancer, BALANCER_A_M, BALANCER_B_M, BALANCER_UPRIGHT_RAD,
 };
 pub use config::{BuildContext, CalibratedDrive, EffectSet, DEFAULT_EFFECTS};
 pub use coulomb::{Coulomb, COULOMB_VELOCITY_SCALE_RAD_S};
@@ -93,7 +92,10 @@ impl Stage {
     /// Whether at most one effect may act in this stage (a term of the motor model, the
     /// recovered fraction); torque effects and constant draws add up.
     pub fn is_single(self) -> bool {
-        !matches!(self, Stage::Torque | Stage::Supply(SupplyTerm::ConstantPower))
+        !matches!(
+            self,
+            Stage::Torque | Stage::Supply(SupplyTerm::ConstantPower)
+        )
     }
 }
 

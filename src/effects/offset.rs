@@ -2,11 +2,11 @@
 //! or a cable pull that does not change over the motion. Linear: regressor `Y = I`.
 
 use super::{
-    check_values, diagonal_regressor, on_level, per_joint_bounded, BuildContext, Effect,
-    LaneState, Lanes, ParamSpec,
+    check_values, diagonal_regressor, on_level, per_joint_bounded, BuildContext, Effect, LaneState,
+    Lanes, ParamSpec,
 };
-use crate::simd::{Level, LANES};
 use crate::error::Result;
+use crate::simd::{Level, LANES};
 
 /// Bound on `|τ_0|`, N·m: an offset larger than this is not an offset.
 pub const OFFSET_MAX_NM: f64 = 1e4;

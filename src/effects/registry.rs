@@ -84,7 +84,12 @@ impl EffectRegistry {
     /// single-valued stage another effect already fills.
     pub fn with(mut self, r: Registration) -> Result<Self> {
         let bad = |msg: String| Error::Invalid(format!("registering effect `{}`: {msg}", r.name));
-        if r.name.is_empty() || !r.name.chars().all(|c| c.is_ascii_lowercase() || c == '_' || c.is_ascii_digit()) {
+        if r.name.is_empty()
+            || !r
+                .name
+                .chars()
+                .all(|c| c.is_ascii_lowercase() || c == '_' || c.is_ascii_digit())
+        {
             return Err(bad("a name is lower-case letters, digits and `_`".into()));
         }
         if self.entries.iter().any(|e| e.name == r.name) {
@@ -95,7 +100,10 @@ impl EffectRegistry {
                 return Err(bad(format!("`{k}` is a key of the [effects] table itself")));
             }
             if let Some(o) = self.entries.iter().find(|e| e.keys.contains(k)) {
-                return Err(bad(format!("drive-file key `{k}` belongs to effect `{}`", o.name)));
+                return Err(bad(format!(
+                    "drive-file key `{k}` belongs to effect `{}`",
+                    o.name
+                )));
             }
         }
         if r.stage.is_single() {

@@ -7,8 +7,8 @@ use super::{
     check_values, on_level, BuildContext, Effect, EnergyClass, LaneState, Lanes, ParamSpec,
     COULOMB_VELOCITY_SCALE_RAD_S,
 };
-use crate::simd::{Level, LANES};
 use crate::error::Result;
+use crate::simd::{Level, LANES};
 
 /// Default Stribeck velocity `v_s`, rad/s.
 pub const STRIBECK_VELOCITY_RAD_S: f64 = 0.05;

@@ -4,8 +4,8 @@ use super::{
     check_values, diagonal_regressor, on_level, per_joint, BuildContext, Effect, EnergyClass,
     LaneState, Lanes, ParamSpec,
 };
-use crate::simd::{Level, LANES};
 use crate::error::Result;
+use crate::simd::{Level, LANES};
 
 /// Viscous friction per joint, `f_v` in N·m·s/rad (joint side).
 #[derive(Clone, Debug, PartialEq)]

@@ -5,11 +5,11 @@
 //! identified values go to the drive keys), without them and for URDF-only robots (they go
 //! to `[effects.values]`). Every command takes the written file as `--robot`.
 
+use crate::effects::{CalibratedDrive, EffectSet};
 use crate::error::{Error, Result};
 use crate::identify::ladder::Identification;
 use crate::identify::model::Model;
 use crate::identify::Log;
-use crate::effects::{CalibratedDrive, EffectSet};
 use crate::robot::drive::{parse_drive_file, DriveFile};
 use crate::robot::RobotModel;
 use crate::robot::{CalibratedParam, Calibration, CalibrationRound};
