@@ -177,6 +177,7 @@ impl Effect for Coulomb {
     /// [`crate::fastmath::tanh_lanes_of_ratio_at`] (±1 by select where every lane is
     /// saturated, else the polynomial of every lane in lockstep, bit for bit the one-sample
     /// path's); a joint without friction adds `+0.0` as the one-sample path does.
+    #[allow(clippy::needless_range_loop)] // parallel lanes, indexed by joint and lane
     fn add_torque_lanes(&self, x: &LaneState<'_>, tau: &mut [Lanes], level: Level) {
         on_level(level, || {
             let threshold = crate::fastmath::ratio_saturation_threshold(self.velocity_scale);

@@ -31,6 +31,7 @@ pub struct LaneState<'a> {
 }
 
 /// The default of [`Effect::add_torque_lanes`]: [`Effect::add_torque`] sample by sample.
+#[allow(clippy::needless_range_loop)] // parallel lanes, indexed by joint and lane
 pub(crate) fn add_torque_per_lane<E: Effect + ?Sized>(e: &E, x: &LaneState<'_>, tau: &mut [Lanes]) {
     const M: usize = crate::dynamics::MAX_DOF;
     let n = x.n.min(M);
