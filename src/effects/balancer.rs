@@ -15,8 +15,11 @@
 //! when the arm leans out, and linear in (`F0`, `k`) (regressor
 //! `[dL/dq, (L − L_min) dL/dq]`, m and m²).
 
-use super::{check_values, BuildContext, Effect, EnergyClass, ParamSpec};
+use super::{
+    check_values, on_level, BuildContext, Effect, EnergyClass, LaneState, Lanes, ParamSpec,
+};
 use crate::error::Result;
+use crate::simd::{Level, LANES};
 
 /// Default lever of the moving end on link 2, m (ESTIMATE used when a drive file names no
 /// geometry; see docs/effects.md).
@@ -46,14 +49,32 @@ pub struct Balancer {
     pub declared: bool,
 }
 
+/// The `[effects]` keys `balancer` reads.
+pub(crate) const KEYS: &[&str] = &[
+    "balancer_preload_n",
+    "balancer_stiffness_n_per_m",
+    "balancer_joint",
+    "balancer_lever_m",
+    "balancer_base_m",
+    "balancer_upright_rad",
+];
+
+/// Whether a drive file's `[effects]` table declares a balancer (gives its lever and base).
+pub fn declared_in(table: &crate::robot::EffectsTable) -> bool {
+    table.keys.contains_key("balancer_lever_m") && table.keys.contains_key("balancer_base_m")
+}
+
 /// Registry entry: geometry, preload and stiffness from the `[effects]` keys
 /// (`balancer_joint`, `balancer_lever_m`, `balancer_base_m`, `balancer_upright_rad`,
 /// `balancer_preload_n`, `balancer_stiffness_n_per_m`; errors name the key).
 pub(crate) fn build(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
-    let t = ctx.table;
     let dof = ctx.dof();
     let mut b = Balancer::zero();
-    if let Some(j) = t.balancer_joint {
+    let (lever, base) = (
+        ctx.number("balancer_lever_m")?,
+        ctx.number("balancer_base_m")?,
+    );
+    if let Some(j) = ctx.integer("balancer_joint")? {
         if j == 0 || j > dof {
             return Err(ctx.bad(
                 "balancer_joint",
@@ -62,20 +83,17 @@ pub(crate) fn build(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
         }
         b.joint = j - 1;
     }
-    for (key, v) in [
-        ("balancer_lever_m", t.balancer_lever_m),
-        ("balancer_base_m", t.balancer_base_m),
-    ] {
+    for (key, v) in [("balancer_lever_m", lever), ("balancer_base_m", base)] {
         if let Some(x) = v {
             if !(x.is_finite() && x > 0.0) {
                 return Err(ctx.bad(key, format!("must be finite and > 0 m, got {x}")));
             }
         }
     }
-    if let Some(x) = t.balancer_lever_m {
+    if let Some(x) = lever {
         b.a = x;
     }
-    if let Some(x) = t.balancer_base_m {
+    if let Some(x) = base {
         b.b = x;
     }
     if (b.a - b.b).abs() < 1e-6 {
@@ -87,21 +105,15 @@ pub(crate) fn build(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
             ),
         ));
     }
-    if let Some(x) = t.balancer_upright_rad {
+    if let Some(x) = ctx.number("balancer_upright_rad")? {
         if !x.is_finite() {
             return Err(ctx.bad("balancer_upright_rad", format!("must be finite, got {x}")));
         }
         b.upright = x;
     }
-    b.declared = t.balancer_lever_m.is_some() && t.balancer_base_m.is_some();
-    for (key, v, idx) in [
-        ("balancer_preload_n", t.balancer_preload_n, 0),
-        (
-            "balancer_stiffness_n_per_m",
-            t.balancer_stiffness_n_per_m,
-            1,
-        ),
-    ] {
+    b.declared = lever.is_some() && base.is_some();
+    for (key, idx) in [("balancer_preload_n", 0), ("balancer_stiffness_n_per_m", 1)] {
+        let v = ctx.number(key)?;
         if let Some(x) = v {
             let mut vals = b.values();
             vals[idx] = x;
@@ -217,6 +229,10 @@ impl Effect for Balancer {
     fn is_null(&self) -> bool {
         self.preload == 0.0 && self.stiffness == 0.0
     }
+    /// On when the drive file declares it and gives it a force.
+    fn on_by_default(&self, _has_drive: bool) -> bool {
+        self.implausible().is_none() && !self.is_null()
+    }
     fn implausible(&self) -> Option<String> {
         (!self.declared).then(|| {
             "the robot declares no balancer (drive file [effects] balancer_lever_m, balancer_base_m): \
@@ -227,6 +243,23 @@ a gravity error here is a link or payload error"
     fn add_torque(&self, q: &[f64], _qd: &[f64], _qdd: &[f64], tau: &mut [f64]) {
         if let (Some(q), Some(t)) = (q.get(self.joint), tau.get_mut(self.joint)) {
             *t += self.joint_torque(*q);
+        }
+    }
+    fn add_torque_lanes(&self, x: &LaneState<'_>, tau: &mut [Lanes], level: Level) {
+        let j = self.joint;
+        if j >= x.n {
+            return;
+        }
+        on_level(level, || {
+            let t = self.joint_torque_lanes(&x.q[j]);
+            for l in 0..LANES {
+                tau[j][l] += t[l];
+            }
+        })
+    }
+    fn angles_read(&self, read: &mut [bool]) {
+        if let Some(r) = read.get_mut(self.joint) {
+            *r = true;
         }
     }
     fn regressor(&self, q: &[f64], _qd: &[f64], _qdd: &[f64], y: &mut [f64]) -> bool {
