@@ -615,6 +615,7 @@ impl RunDir {
     /// printwatt's own) is moved aside, the staging directory renamed to the target, the earlier
     /// run removed, the lock released. Returns the target.
     pub fn commit(mut self) -> Result<PathBuf> {
+        test_delay("PRINTWATT_TEST_COMMIT_DELAY_MS");
         self.wait_for_syncs()?;
         let m = Manifest {
             writer: "printwatt".into(),

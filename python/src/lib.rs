@@ -40,6 +40,15 @@ fn err(e: impl std::fmt::Display) -> PyErr {
     PrintwattError::new_err(e.to_string())
 }
 
+/// An integer argument within `min..=max`: a negative or out-of-range one raises
+/// PrintwattError naming the argument (taken as `i64`, so that -1 is not an OverflowError).
+fn int_arg<T: TryFrom<i64>>(name: &str, v: i64, min: i64, max: i64) -> PyRes<T> {
+    if v < min || v > max {
+        return Err(err(format!("{name} = {v}: expected an integer from {min} to {max}")));
+    }
+    T::try_from(v).map_err(|_| err(format!("{name} = {v}: out of range")))
+}
+
 type PyRes<T> = PyResult<T>;
 
 // ---------------------------------------------------------------------------------------------
@@ -285,6 +294,13 @@ fn path_from_points(
 /// An (N, 3) array-like of floats (m) as points; errors name the argument.
 fn points_array(py: Python<'_>, points: &Bound<'_, PyAny>, what: &str) -> PyRes<Vec<Vector3<f64>>> {
     let np = py.import("numpy")?;
+    // A complex array is refused: converting it to floats would drop its imaginary part.
+    let complex: bool = np.call_method1("iscomplexobj", (points,))?.extract()?;
+    if complex {
+        return Err(err(format!(
+            "{what}: complex numbers given; expected an (N, 3) array of real floats (m)"
+        )));
+    }
     let arr = np
         .call_method1("asarray", (points, "float64"))
         .map_err(|e| {
@@ -428,16 +444,14 @@ fn placement_tuple(p: &Placement) -> (f64, f64, f64, f64, f64) {
 fn feasibility_options(
     joint_margin: f64,
     collisions: bool,
-    check_every: usize,
+    check_every: i64,
 ) -> PyRes<FeasibilityOptions> {
     if !(joint_margin.is_finite() && (0.0..=std::f64::consts::FRAC_PI_2).contains(&joint_margin)) {
         return Err(err(format!(
             "joint_margin = {joint_margin}: expected a margin in [0, π/2] rad"
         )));
     }
-    if check_every == 0 {
-        return Err(err("check_every must be at least 1"));
-    }
+    let check_every: usize = int_arg("check_every", check_every, 1, 1_000_000)?;
     Ok(FeasibilityOptions {
         joint_margin_rad: [joint_margin; printwatt::kinematics::MAX_DOF],
         collisions,
@@ -750,7 +764,7 @@ fn sweep<'py>(
     friction: bool,
     joint_margin: f64,
     collisions: bool,
-    check_every: usize,
+    check_every: i64,
 ) -> PyRes<Bound<'py, PyDict>> {
     let robot = robot.hold()?;
     let path = path.hold()?;
@@ -853,8 +867,8 @@ fn optimise<'py>(
     objective: String,
     tolerance: (f64, f64, f64),
     z_bounds: Option<(f64, f64)>,
-    max_evals: usize,
-    seed: u64,
+    max_evals: i64,
+    seed: i64,
     fixed_yaw: bool,
     fixed_spin: bool,
     period: f64,
@@ -865,7 +879,7 @@ fn optimise<'py>(
     friction: bool,
     joint_margin: f64,
     collisions: bool,
-    check_every: usize,
+    check_every: i64,
 ) -> PyRes<Bound<'py, PyDict>> {
     let robot = robot.hold()?;
     let path = path.hold()?;
@@ -893,8 +907,8 @@ fn optimise<'py>(
     let ps = grid.placements();
     let bounds = Bounds::over(&ps, z_bounds.map(|(a, b)| [a, b])).map_err(err)?;
     let opts = OptimiseOptions {
-        seed,
-        max_evals,
+        seed: int_arg("seed", seed, 0, i64::MAX)?,
+        max_evals: int_arg("max_evals", max_evals, 0, 100_000_000)?,
         step_xy_m: grid.step_xy_m().unwrap_or(0.1) / 2.0,
         yaw: !fixed_yaw,
         spin: !fixed_spin,
@@ -1030,11 +1044,12 @@ fn diagnose<'py>(
     py: Python<'py>,
     robot: RobotArg<'py>,
     log: PathBuf,
-    folds: usize,
+    folds: i64,
     effects: Option<String>,
     without: Option<String>,
     columns: Option<String>,
 ) -> PyRes<Bound<'py, PyAny>> {
+    let folds: usize = int_arg("folds", folds, 2, 100)?;
     let robot = robot.hold()?;
     let (mut model, l) = load_log_model(
         &robot,
@@ -1177,7 +1192,7 @@ fn stations<'py>(
     friction: bool,
     joint_margin: f64,
     collisions: bool,
-    check_every: usize,
+    check_every: i64,
 ) -> PyRes<Bound<'py, PyAny>> {
     use printwatt::stations::{self as pst, Candidates, Headings, StationsProblem};
     let robot = robot.hold()?;

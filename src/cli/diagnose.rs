@@ -3,6 +3,17 @@
 use anyhow::Result;
 use printwatt::identify::{self, diagnose};
 
+/// Say that fewer folds were used than asked for (a warning, in `--json` too).
+fn note_folds(a: &super::DiagnoseArgs, used: usize) {
+    super::note_warnings(
+        &a.log.log.display().to_string(),
+        &[format!(
+            "--folds {}: {used} folds used, blocks shorter than the residual's correlation time would not be independent",
+            a.folds
+        )],
+    );
+}
+
 /// `printwatt diagnose`: rank the effects by the share of the residual they explain.
 pub fn run(a: super::DiagnoseArgs) -> Result<()> {
     let (robot, mut model, log) = super::compare::load(&a.log)?;
@@ -10,6 +21,9 @@ pub fn run(a: super::DiagnoseArgs) -> Result<()> {
     let prep = identify::Prepared::with_progress(&model, &log, &bar)?;
     let mut d = diagnose::diagnose_with_progress(&prep, &mut model, a.folds, &bar)?;
     drop(bar);
+    if d.folds != a.folds {
+        note_folds(&a, d.folds);
+    }
     d.calibration = robot.effects.calibration_summary();
     // The last check before anything leaves (the JSON or the printed ranking).
     printwatt::output::check_finite_json("diagnose", &d)?;

@@ -136,8 +136,9 @@ pub struct CompareArgs {
 pub struct DiagnoseArgs {
     #[command(flatten)]
     pub log: LogArgs,
-    /// Number of time-block folds.
-    #[arg(long, default_value_t = 5)]
+    /// Number of time-block folds, 2 to 100 (fewer are used, with a warning, when the
+    /// residual's correlation time makes blocks that short dependent).
+    #[arg(long, default_value_t = 5, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(2..=100))]
     pub folds: usize,
     /// --out: diagnose.json.
     #[command(flatten)]
