@@ -44,8 +44,8 @@ fn study_cells_with_values_a_case_would_refuse_fail_the_study_naming_file_and_ke
     }
     // Study, robot and path options too.
     let e = Study::parse(
-        &HEAD.replace("name = \"s\"", "name = \"s\"\noptions = [\"--z-bounds\", \"0:nan\"]")
-            + "[[cell]]\nname = \"c\"\nx = 1.5\n",
+        &(HEAD.replace("name = \"s\"", "name = \"s\"\noptions = [\"--z-bounds\", \"0:nan\"]")
+            + "[[cell]]\nname = \"c\"\nx = 1.5\n"),
         Path::new("study.toml"),
     )
     .unwrap_err()
