@@ -293,3 +293,40 @@ fn a_lock_left_by_a_killed_run_or_naming_a_reused_pid_does_not_block() {
     assert!(o.status.success(), "{}", stderr(&o));
     assert!(!staging.exists(), "the killed run's staging directory is removed");
 }
+
+#[test]
+fn an_input_without_end_stops_at_the_stated_size_naming_the_file() {
+    let d = scratch("urandom");
+    let t = Instant::now();
+    let o = bin()
+        .args([
+            "compare",
+            "--robot",
+            "abb_irb4600_40_255",
+            "--log",
+            "/dev/urandom",
+        ])
+        .current_dir(&d)
+        .env("PRINTWATT_MAX_INPUT_BYTES", "10000000")
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    let e = stderr(&o);
+    assert!(e.contains("/dev/urandom") && e.contains("longer than 10000000 bytes"), "{e}");
+    assert!(t.elapsed() < Duration::from_secs(60));
+    // Path and study readers too.
+    for args in [
+        vec!["energy", "--robot", "abb_irb4600_40_255", "--path", "/dev/zero", "--at", "1.5,0,0.3,0"],
+        vec!["study", "/dev/zero"],
+    ] {
+        let o = bin()
+            .args(&args)
+            .current_dir(&d)
+            .env("PRINTWATT_MAX_INPUT_BYTES", "1000000")
+            .output()
+            .unwrap();
+        assert!(!o.status.success());
+        let e = stderr(&o);
+        assert!(e.contains("/dev/zero") && e.contains("longer than 1000000 bytes"), "{args:?}: {e}");
+    }
+}

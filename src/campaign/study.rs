@@ -271,7 +271,7 @@ impl Study {
     /// directory there is taken as a shipped robot's name). Errors name the file (and the
     /// line, for TOML errors) and the entry at fault.
     pub fn read(file: &Path) -> Result<Study> {
-        let text = std::fs::read_to_string(file).map_err(|e| Error::io(file, e))?;
+        let text = crate::error::read_text(file)?;
         Study::parse(&text, file)
     }
 
