@@ -55,7 +55,10 @@ fn main() {
         }
     };
     if let Err(e) = result {
-        if let Some(f) = e.chain().find_map(|c| c.downcast_ref::<cli::StdoutFailed>()) {
+        if let Some(f) = e
+            .chain()
+            .find_map(|c| c.downcast_ref::<cli::StdoutFailed>())
+        {
             if f.closed_pipe() {
                 std::process::exit(CLOSED_PIPE_STATUS);
             }

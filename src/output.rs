@@ -520,17 +520,12 @@ impl RunDir {
                 let f = e.file_name().to_string_lossy().into_owned();
                 if f.starts_with(&format!(".{name}.printwatt-tmp-")) && tmp_pid(&f).is_some() {
                     let _ = std::fs::remove_dir_all(e.path());
-                } else if f.starts_with(&format!(".{name}.printwatt-old-"))
-                    && tmp_pid(&f).is_some()
+                } else if f.starts_with(&format!(".{name}.printwatt-old-")) && tmp_pid(&f).is_some()
                 {
                     olds.push(e.path());
                 }
             }
-            olds.sort_by_key(|p| {
-                std::fs::metadata(p)
-                    .and_then(|m| m.modified())
-                    .ok()
-            });
+            olds.sort_by_key(|p| std::fs::metadata(p).and_then(|m| m.modified()).ok());
             for old in olds.into_iter().rev() {
                 if !target.exists() && std::fs::rename(&old, target).is_ok() {
                     rd.restored = Some(old);

@@ -94,8 +94,16 @@ fn a_closed_pipe_on_stdout_ends_every_command_quietly() {
             .unwrap();
         let e = stderr(&o);
         assert!(!e.contains("panicked"), "{args:?}: {e}");
-        assert!(!e.contains("error"), "{args:?}: a closed pipe is not an error to tell: {e}");
-        assert_eq!(o.status.code(), Some(141), "{args:?}: status {:?}: {e}", o.status);
+        assert!(
+            !e.contains("error"),
+            "{args:?}: a closed pipe is not an error to tell: {e}"
+        );
+        assert_eq!(
+            o.status.code(),
+            Some(141),
+            "{args:?}: status {:?}: {e}",
+            o.status
+        );
     }
 }
 
@@ -122,7 +130,11 @@ fn a_full_disk_on_stdout_is_a_one_line_error_in_every_command() {
             last.starts_with("error: writing to standard output:") && last.contains("No space"),
             "{args:?}: {e}"
         );
-        assert_eq!(e.lines().filter(|l| l.starts_with("error")).count(), 1, "{e}");
+        assert_eq!(
+            e.lines().filter(|l| l.starts_with("error")).count(),
+            1,
+            "{e}"
+        );
     }
 }
 
@@ -147,7 +159,12 @@ fn merge_refuses_an_output_equal_to_or_inside_a_shard_with_or_without_force() {
         v
     };
     let before = snapshot(&d);
-    for out in ["sh/shard-0-of-2", "sh/shard-0-of-2/merged", "sh", "./sh/../sh/shard-1-of-2"] {
+    for out in [
+        "sh/shard-0-of-2",
+        "sh/shard-0-of-2/merged",
+        "sh",
+        "./sh/../sh/shard-1-of-2",
+    ] {
         for force in [false, true] {
             let mut a = vec!["merge", "sh", "--out", out];
             if force {
@@ -155,8 +172,14 @@ fn merge_refuses_an_output_equal_to_or_inside_a_shard_with_or_without_force() {
             }
             let o = bin().args(&a).current_dir(&d).output().unwrap();
             let e = stderr(&o);
-            assert!(!o.status.success(), "merge --out {out} (force {force}) must fail");
-            assert!(e.contains("refusing to write") && e.contains("input"), "{e}");
+            assert!(
+                !o.status.success(),
+                "merge --out {out} (force {force}) must fail"
+            );
+            assert!(
+                e.contains("refusing to write") && e.contains("input"),
+                "{e}"
+            );
         }
     }
     assert_eq!(snapshot(&d), before, "the shards are untouched");
@@ -188,7 +211,13 @@ fn two_runs_writing_one_new_file_at_once_fail_the_second() {
     let b = spawn();
     let (oa, ob) = (a.wait_with_output().unwrap(), b.wait_with_output().unwrap());
     let wins = [&oa, &ob].iter().filter(|o| o.status.success()).count();
-    assert_eq!(wins, 1, "exactly one writes: {} / {}", stderr(&oa), stderr(&ob));
+    assert_eq!(
+        wins,
+        1,
+        "exactly one writes: {} / {}",
+        stderr(&oa),
+        stderr(&ob)
+    );
     let loser = if oa.status.success() { &ob } else { &oa };
     assert!(stderr(loser).contains("exists"), "{}", stderr(loser));
     // No temporary file is left.
@@ -203,7 +232,10 @@ fn two_runs_writing_one_new_file_at_once_fail_the_second() {
 fn wait_for(what: &str, mut f: impl FnMut() -> bool) {
     let t = Instant::now();
     while !f() {
-        assert!(t.elapsed() < Duration::from_secs(120), "waited too long for {what}");
+        assert!(
+            t.elapsed() < Duration::from_secs(120),
+            "waited too long for {what}"
+        );
         std::thread::sleep(Duration::from_millis(20));
     }
 }
@@ -252,7 +284,11 @@ fn a_killed_force_replacement_is_restored_on_the_next_run() {
     let o = bin().args(&a).current_dir(&d).output().unwrap();
     assert!(!o.status.success());
     assert!(stderr(&o).contains("exists"), "{}", stderr(&o));
-    assert_eq!(run_files(&d.join("run")), before, "the earlier run is back, unchanged");
+    assert_eq!(
+        run_files(&d.join("run")),
+        before,
+        "the earlier run is back, unchanged"
+    );
     assert!(!old.exists());
 }
 
@@ -291,7 +327,10 @@ fn a_lock_left_by_a_killed_run_or_naming_a_reused_pid_does_not_block() {
     child.wait().unwrap();
     let o = bin().args(&f).current_dir(&d).output().unwrap();
     assert!(o.status.success(), "{}", stderr(&o));
-    assert!(!staging.exists(), "the killed run's staging directory is removed");
+    assert!(
+        !staging.exists(),
+        "the killed run's staging directory is removed"
+    );
 }
 
 #[test]
@@ -312,11 +351,22 @@ fn an_input_without_end_stops_at_the_stated_size_naming_the_file() {
         .unwrap();
     assert!(!o.status.success());
     let e = stderr(&o);
-    assert!(e.contains("/dev/urandom") && e.contains("longer than 10000000 bytes"), "{e}");
+    assert!(
+        e.contains("/dev/urandom") && e.contains("longer than 10000000 bytes"),
+        "{e}"
+    );
     assert!(t.elapsed() < Duration::from_secs(60));
     // Path and study readers too.
     for args in [
-        vec!["energy", "--robot", "abb_irb4600_40_255", "--path", "/dev/zero", "--at", "1.5,0,0.3,0"],
+        vec![
+            "energy",
+            "--robot",
+            "abb_irb4600_40_255",
+            "--path",
+            "/dev/zero",
+            "--at",
+            "1.5,0,0.3,0",
+        ],
         vec!["study", "/dev/zero"],
     ] {
         let o = bin()
@@ -327,6 +377,9 @@ fn an_input_without_end_stops_at_the_stated_size_naming_the_file() {
             .unwrap();
         assert!(!o.status.success());
         let e = stderr(&o);
-        assert!(e.contains("/dev/zero") && e.contains("longer than 1000000 bytes"), "{args:?}: {e}");
+        assert!(
+            e.contains("/dev/zero") && e.contains("longer than 1000000 bytes"),
+            "{args:?}: {e}"
+        );
     }
 }

@@ -22,7 +22,8 @@ file = "wall.gcode"
 "#;
 
 fn parse(extra: &str) -> Result<Study, String> {
-    Study::parse(&format!("{HEAD}\n{extra}"), Path::new("dir/study.toml")).map_err(|e| e.to_string())
+    Study::parse(&format!("{HEAD}\n{extra}"), Path::new("dir/study.toml"))
+        .map_err(|e| e.to_string())
 }
 
 #[test]
@@ -35,17 +36,22 @@ fn study_cells_with_values_a_case_would_refuse_fail_the_study_naming_file_and_ke
         (r#"options = ["--tolerance", "nan,1"]"#, "options", "nan"),
         (r#"options = ["--tolerance=1,inf"]"#, "options", "inf"),
     ] {
-        let e = parse(&format!("[[cell]]\nname = \"c\"\nx = 1.5\ny = 0\n{cell}\n"))
-            .expect_err(cell);
+        let e =
+            parse(&format!("[[cell]]\nname = \"c\"\nx = 1.5\ny = 0\n{cell}\n")).expect_err(cell);
         assert!(
-            e.contains("dir/study.toml") && e.contains("cell `c`") && e.contains(key) && e.contains(bad),
+            e.contains("dir/study.toml")
+                && e.contains("cell `c`")
+                && e.contains(key)
+                && e.contains(bad),
             "{cell}: {e}"
         );
     }
     // Study, robot and path options too.
     let e = Study::parse(
-        &(HEAD.replace("name = \"s\"", "name = \"s\"\noptions = [\"--z-bounds\", \"0:nan\"]")
-            + "[[cell]]\nname = \"c\"\nx = 1.5\n"),
+        &(HEAD.replace(
+            "name = \"s\"",
+            "name = \"s\"\noptions = [\"--z-bounds\", \"0:nan\"]",
+        ) + "[[cell]]\nname = \"c\"\nx = 1.5\n"),
         Path::new("study.toml"),
     )
     .unwrap_err()
@@ -63,7 +69,9 @@ fn a_study_too_large_is_refused_before_its_cases_are_built() {
     let n = 10_000;
     let mut t = String::from("[study]\nname = \"big\"\n");
     for i in 0..n {
-        t.push_str(&format!("[[robot]]\nname = \"r{i}\"\nrobot = \"abb_irb4600_40_255\"\n"));
+        t.push_str(&format!(
+            "[[robot]]\nname = \"r{i}\"\nrobot = \"abb_irb4600_40_255\"\n"
+        ));
     }
     for i in 0..n {
         t.push_str(&format!("[[cell]]\nname = \"c{i}\"\nx = 1.5\n"));
@@ -72,8 +80,13 @@ fn a_study_too_large_is_refused_before_its_cases_are_built() {
         t.push_str(&format!("[[path]]\nname = \"p{i}\"\nfile = \"w.gcode\"\n"));
     }
     let t0 = Instant::now();
-    let e = Study::parse(&t, Path::new("big.toml")).unwrap_err().to_string();
-    assert!(e.contains("1000000000000 cases") && e.contains(&MAX_CASES.to_string()), "{e}");
+    let e = Study::parse(&t, Path::new("big.toml"))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("1000000000000 cases") && e.contains(&MAX_CASES.to_string()),
+        "{e}"
+    );
     assert!(t0.elapsed().as_secs_f64() < 30.0, "{:?}", t0.elapsed());
 }
 
@@ -83,13 +96,17 @@ fn explicit_cases_are_checked_for_repeats_in_linear_time() {
     let n = 100;
     let mut t = String::from("[study]\nname = \"many\"\n[[cell]]\nname = \"c\"\nx = 1.5\n");
     for i in 0..n {
-        t.push_str(&format!("[[robot]]\nname = \"r{i}\"\nrobot = \"abb_irb4600_40_255\"\n"));
+        t.push_str(&format!(
+            "[[robot]]\nname = \"r{i}\"\nrobot = \"abb_irb4600_40_255\"\n"
+        ));
         t.push_str(&format!("[[path]]\nname = \"p{i}\"\nfile = \"w.gcode\"\n"));
     }
     let mut cases = String::new();
     for r in 0..n {
         for p in 0..n {
-            cases.push_str(&format!("[[case]]\nrobot = \"r{r}\"\ncell = \"c\"\npath = \"p{p}\"\n"));
+            cases.push_str(&format!(
+                "[[case]]\nrobot = \"r{r}\"\ncell = \"c\"\npath = \"p{p}\"\n"
+            ));
         }
     }
     let t0 = Instant::now();
@@ -98,10 +115,11 @@ fn explicit_cases_are_checked_for_repeats_in_linear_time() {
     assert!(t0.elapsed().as_secs_f64() < 10.0, "{:?}", t0.elapsed());
     // A repeat is named, at the end of the list.
     let e = Study::parse(
-        &(t.clone() + &cases.replace(
-            "[[case]]\nrobot = \"r99\"\ncell = \"c\"\npath = \"p99\"\n",
-            "[[case]]\nrobot = \"r0\"\ncell = \"c\"\npath = \"p0\"\n",
-        )),
+        &(t.clone()
+            + &cases.replace(
+                "[[case]]\nrobot = \"r99\"\ncell = \"c\"\npath = \"p99\"\n",
+                "[[case]]\nrobot = \"r0\"\ncell = \"c\"\npath = \"p0\"\n",
+            )),
         Path::new("many.toml"),
     )
     .unwrap_err()
@@ -113,7 +131,9 @@ fn explicit_cases_are_checked_for_repeats_in_linear_time() {
         big.push_str(&cases);
     }
     let t0 = Instant::now();
-    let e = Study::parse(&big, Path::new("many.toml")).unwrap_err().to_string();
+    let e = Study::parse(&big, Path::new("many.toml"))
+        .unwrap_err()
+        .to_string();
     assert!(e.contains("200000 cases"), "{e}");
     assert!(t0.elapsed().as_secs_f64() < 30.0, "{:?}", t0.elapsed());
 }
@@ -136,7 +156,10 @@ fn diagnose_refuses_folds_outside_two_to_one_hundred() {
         );
         assert!(!o.status.success());
         let e = common::stderr_of(&o);
-        assert!(e.contains("--folds") && e.contains(f) && e.contains("2..=100"), "{e}");
+        assert!(
+            e.contains("--folds") && e.contains(f) && e.contains("2..=100"),
+            "{e}"
+        );
     }
 }
 
@@ -155,7 +178,12 @@ fn robot_with(dir: &Path, from: &str, to: &str) -> std::path::PathBuf {
 #[test]
 fn drive_values_outside_physical_ranges_are_refused_naming_the_drive_file_and_key() {
     for (name, from, to, key) in [
-        ("base", "balancer_base_m = 0.42", "balancer_base_m = 1e308", "balancer_base_m"),
+        (
+            "base",
+            "balancer_base_m = 0.42",
+            "balancer_base_m = 1e308",
+            "balancer_base_m",
+        ),
         (
             "kt",
             "torque_constant_nm_per_a = 2.0",
@@ -174,10 +202,22 @@ fn drive_values_outside_physical_ranges_are_refused_naming_the_drive_file_and_ke
         .expect_err(name);
         assert!(e.contains("drive.toml") && e.contains(key), "{name}: {e}");
         // Through the command line: the drive file is blamed, not the trajectory.
-        std::fs::write(d.join("p.gcode"), "G21\nG90\nG0 X0 Y0 Z20 F6000\nG1 X100 E1 F9000\n")
-            .unwrap();
+        std::fs::write(
+            d.join("p.gcode"),
+            "G21\nG90\nG0 X0 Y0 Z20 F6000\nG1 X100 E1 F9000\n",
+        )
+        .unwrap();
         let o = common::run(
-            &["energy", "--robot", "rob", "--path", "p.gcode", "--at", "1.5,0,0.3,0", "--no-csv"],
+            &[
+                "energy",
+                "--robot",
+                "rob",
+                "--path",
+                "p.gcode",
+                "--at",
+                "1.5,0,0.3,0",
+                "--no-csv",
+            ],
             &d,
         );
         assert!(!o.status.success());

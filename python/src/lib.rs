@@ -44,7 +44,9 @@ fn err(e: impl std::fmt::Display) -> PyErr {
 /// PrintwattError naming the argument (taken as `i64`, so that -1 is not an OverflowError).
 fn int_arg<T: TryFrom<i64>>(name: &str, v: i64, min: i64, max: i64) -> PyRes<T> {
     if v < min || v > max {
-        return Err(err(format!("{name} = {v}: expected an integer from {min} to {max}")));
+        return Err(err(format!(
+            "{name} = {v}: expected an integer from {min} to {max}"
+        )));
     }
     T::try_from(v).map_err(|_| err(format!("{name} = {v}: out of range")))
 }

@@ -343,8 +343,7 @@ impl Study {
             check_option_numbers(&c.options, &at("options")).map_err(err)?;
         }
         for p in &t.path {
-            check_option_numbers(&p.options, &format!("path `{}` options", p.name))
-                .map_err(err)?;
+            check_option_numbers(&p.options, &format!("path `{}` options", p.name)).map_err(err)?;
         }
         // The number of cases before any is built: a study of 10⁴ robots, cells and paths is
         // refused without building 10¹² cases.
@@ -363,7 +362,9 @@ impl Study {
             } else {
                 n_cases.to_string()
             };
-            return Err(err(format!("{n} cases: at most {MAX_CASES}; split the study")));
+            return Err(err(format!(
+                "{n} cases: at most {MAX_CASES}; split the study"
+            )));
         }
         let robots: Vec<StudyRobot> = t
             .robot

@@ -167,7 +167,13 @@ pub fn run(a: super::CompareArgs) -> Result<()> {
     );
     outln!(
         "{:<10} {:>12} {:>12} {:>12} {:>12} {:>9} {:>9}",
-        "channel", "rmse", "meas_rms", "E_meas_J", "E_model_J", "dE_%", "acc_%"
+        "channel",
+        "rmse",
+        "meas_rms",
+        "E_meas_J",
+        "E_model_J",
+        "dE_%",
+        "acc_%"
     );
     for c in cmp.channels.iter().chain(std::iter::once(&cmp.total)) {
         outln!(
@@ -185,7 +191,10 @@ pub fn run(a: super::CompareArgs) -> Result<()> {
     for w in &cmp.worst_windows {
         outln!(
             "  {:>8.2}–{:<8.2} s  rmse {:.4} (mostly {})",
-            w.t_start, w.t_end, w.rmse, w.worst_channel
+            w.t_start,
+            w.t_end,
+            w.rmse,
+            w.worst_channel
         );
     }
     print_failures(&cmp)?;
@@ -212,13 +221,16 @@ fn print_failures(cmp: &metrics::Comparison) -> Result<()> {
             f.channel, f.joint, f.structure, f.explained_rms, f.ratio_to_noise, f.explained_pct
         );
     }
-    outln!(
-        "direction step of the residual at q̇ = 0 (friction; mean just above minus just below):"
-    );
+    outln!("direction step of the residual at q̇ = 0 (friction; mean just above minus just below):");
     for p in &cmp.profiles {
         outln!(
             "  {:<8} joint {}: {:+.4} ± {:.4} {unit} (band ±{:.3}), noise floor {:.4} {unit}",
-            p.channel, p.joint, p.direction_step, p.direction_step_se, p.step_band, p.noise_floor
+            p.channel,
+            p.joint,
+            p.direction_step,
+            p.direction_step_se,
+            p.step_band,
+            p.noise_floor
         );
     }
     Ok(())

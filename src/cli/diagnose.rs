@@ -68,7 +68,14 @@ pub fn run(a: super::DiagnoseArgs) -> Result<()> {
     );
     outln!(
         "{:<4} {:<16} {:>8} {:>12} {:>8} {:>8} {:>10} {:>5}  joints",
-        "rank", "effect", "status", "val_rmse", "cut_%", "t", "dBIC", "sig"
+        "rank",
+        "effect",
+        "status",
+        "val_rmse",
+        "cut_%",
+        "t",
+        "dBIC",
+        "sig"
     );
     for (i, c) in d.candidates.iter().enumerate() {
         outln!(
@@ -98,7 +105,11 @@ pub fn run(a: super::DiagnoseArgs) -> Result<()> {
                     match p.std_error {
                         Some(se) => outln!(
                             "       {} = {:.4} ± {:.4} {} (was {:.4})",
-                            p.name, p.value, se, p.unit, p.nominal
+                            p.name,
+                            p.value,
+                            se,
+                            p.unit,
+                            p.nominal
                         ),
                         None => outln!("       {} = not identifiable", p.name),
                     }

@@ -221,7 +221,11 @@ fn print_summary(s: &Summary, model: &printwatt::robot::RobotModel) -> Result<()
     if let Some(p) = &s.placement {
         outln!(
             "placement  x {:.3} m, y {:.3} m, z {:.3} m, yaw {:.1} deg, nozzle spin {:.1} deg",
-            p.x_m, p.y_m, p.z_m, p.yaw_deg, p.nozzle_spin_deg
+            p.x_m,
+            p.y_m,
+            p.z_m,
+            p.yaw_deg,
+            p.nozzle_spin_deg
         );
     }
     outln!("model      {}", r.model);
@@ -240,7 +244,13 @@ fn print_summary(s: &Summary, model: &printwatt::robot::RobotModel) -> Result<()
     outln!();
     outln!(
         "{:<10} {:>12} {:>12} {:>12} {:>12} {:>12} {:>10}",
-        "joint", "mech [J]", "friction [J]", "copper [J]", "elec [J]", "peak P [W]", "rms τ [Nm]"
+        "joint",
+        "mech [J]",
+        "friction [J]",
+        "copper [J]",
+        "elec [J]",
+        "peak P [W]",
+        "rms τ [Nm]"
     );
     for (j, je) in r.joints.iter().enumerate() {
         let name = model
@@ -261,7 +271,11 @@ fn print_summary(s: &Summary, model: &printwatt::robot::RobotModel) -> Result<()
     let t = &r.total;
     outln!(
         "{:<10} {:>12.1} {:>12.1} {:>12.1} {:>12.1}",
-        "total", t.mechanical_j, t.friction_j, t.copper_j, t.electrical_j
+        "total",
+        t.mechanical_j,
+        t.friction_j,
+        t.copper_j,
+        t.electrical_j
     );
     outln!();
     // One decimal; a value that rounds to zero is printed 0.0, not -0.0 (the signed

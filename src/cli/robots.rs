@@ -64,7 +64,14 @@ pub fn run(a: RobotsArgs) -> Result<()> {
         .max(4);
     outln!(
         "{:<wi$} {:<wn$} {:>6} {:>8} {:>11} {:>10} {:>4} {:>5}",
-        "id", "name", "joints", "reach_m", "payload_kg", "mass_kg", "opw", "drive"
+        "id",
+        "name",
+        "joints",
+        "reach_m",
+        "payload_kg",
+        "mass_kg",
+        "opw",
+        "drive"
     );
     for r in &rows {
         let o = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.2}"));

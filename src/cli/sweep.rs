@@ -639,7 +639,14 @@ pub fn write_run_facts(
 pub fn print_rows(rows: &[Evaluated], names: Option<&[String]>) -> Result<()> {
     outln!(
         "{:>8} {:>8} {:>8} {:>8} {:>7} {:>7}  {:>12} {:>9}  note",
-        "name", "x[m]", "y[m]", "z[m]", "yaw[°]", "spin[°]", "energy[J]", "time[s]"
+        "name",
+        "x[m]",
+        "y[m]",
+        "z[m]",
+        "yaw[°]",
+        "spin[°]",
+        "energy[J]",
+        "time[s]"
     );
     for (i, r) in rows.iter().enumerate() {
         let p = &r.placement;
@@ -955,7 +962,8 @@ pub fn write_shard(
         };
         outln!(
             "shard {} of {} ({from}): {done}",
-            o.shard.index, o.shard.count
+            o.shard.index,
+            o.shard.count
         );
         outln!("wrote {}", dir.display());
     }
