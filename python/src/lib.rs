@@ -39,6 +39,17 @@ fn err(e: impl std::fmt::Display) -> PyErr {
     PrintwattError::new_err(e.to_string())
 }
 
+/// An integer argument within `min..=max`: a negative or out-of-range one raises
+/// PrintwattError naming the argument (taken as `i64`, so that -1 is not an OverflowError).
+fn int_arg<T: TryFrom<i64>>(name: &str, v: i64, min: i64, max: i64) -> PyRes<T> {
+    if v < min || v > max {
+        return Err(err(format!(
+            "{name} = {v}: expected an integer from {min} to {max}"
+        )));
+    }
+    T::try_from(v).map_err(|_| err(format!("{name} = {v}: out of range")))
+}
+
 type PyRes<T> = PyResult<T>;
 
 // ---------------------------------------------------------------------------------------------
@@ -284,6 +295,13 @@ fn path_from_points(
 /// An (N, 3) array-like of floats (m) as points; errors name the argument.
 fn points_array(py: Python<'_>, points: &Bound<'_, PyAny>, what: &str) -> PyRes<Vec<Vector3<f64>>> {
     let np = py.import("numpy")?;
+    // A complex array is refused: converting it to floats would drop its imaginary part.
+    let complex: bool = np.call_method1("iscomplexobj", (points,))?.extract()?;
+    if complex {
+        return Err(err(format!(
+            "{what}: complex numbers given; expected an (N, 3) array of real floats (m)"
+        )));
+    }
     let arr = np
         .call_method1("asarray", (points, "float64"))
         .map_err(|e| {
@@ -427,16 +445,14 @@ fn placement_tuple(p: &Placement) -> (f64, f64, f64, f64, f64) {
 fn feasibility_options(
     joint_margin: f64,
     collisions: bool,
-    check_every: usize,
+    check_every: i64,
 ) -> PyRes<FeasibilityOptions> {
     if !(joint_margin.is_finite() && (0.0..=std::f64::consts::FRAC_PI_2).contains(&joint_margin)) {
         return Err(err(format!(
             "joint_margin = {joint_margin}: expected a margin in [0, π/2] rad"
         )));
     }
-    if check_every == 0 {
-        return Err(err("check_every must be at least 1"));
-    }
+    let check_every: usize = int_arg("check_every", check_every, 1, 1_000_000)?;
     Ok(FeasibilityOptions {
         joint_margin_rad: [joint_margin; printwatt::kinematics::MAX_DOF],
         collisions,
@@ -749,7 +765,7 @@ fn sweep<'py>(
     friction: bool,
     joint_margin: f64,
     collisions: bool,
-    check_every: usize,
+    check_every: i64,
 ) -> PyRes<Bound<'py, PyDict>> {
     let robot = robot.hold()?;
     let path = path.hold()?;
@@ -842,8 +858,8 @@ fn sweep<'py>(
 #[pyfunction]
 #[pyo3(signature = (robot, path, *, xs = None, ys = None, zs = None, yaws = None,
     spins = None, objective = "supply".to_string(), tolerance = None, z_bounds = None,
-    max_evals = printwatt::search::job::DEFAULT_MAX_EVALS,
-    seed = printwatt::search::job::DEFAULT_SEED, fixed_yaw = false, fixed_spin = false,
+    max_evals = printwatt::search::job::DEFAULT_MAX_EVALS as i64,
+    seed = printwatt::search::job::DEFAULT_SEED as i64, fixed_yaw = false, fixed_spin = false,
     search = "nelder-mead".to_string(), evaluation = "auto".to_string(), baseline = None,
     uncertainty = None, period = 0.004, accel = 1.0, jerk = 10.0, regeneration = None,
     payload = true, friction = true, joint_margin = 3f64.to_radians(), collisions = true,
@@ -861,8 +877,8 @@ fn optimise<'py>(
     objective: String,
     tolerance: Option<(f64, f64, f64)>,
     z_bounds: Option<(f64, f64)>,
-    max_evals: usize,
-    seed: u64,
+    max_evals: i64,
+    seed: i64,
     fixed_yaw: bool,
     fixed_spin: bool,
     search: String,
@@ -877,7 +893,7 @@ fn optimise<'py>(
     friction: bool,
     joint_margin: f64,
     collisions: bool,
-    check_every: usize,
+    check_every: i64,
 ) -> PyRes<Bound<'py, PyDict>> {
     let robot = robot.hold()?;
     let path = path.hold()?;
@@ -899,8 +915,8 @@ fn optimise<'py>(
             profile: profile(period, accel, jerk)?,
             evaluation: evaluation.parse().map_err(err)?,
             baseline: baseline.as_deref().map(placement).transpose()?,
-            seed,
-            max_evals,
+            seed: int_arg("seed", seed, 0, i64::MAX)?,
+            max_evals: int_arg("max_evals", max_evals, 0, 100_000_000)?,
             fixed_yaw,
             fixed_spin,
             search: search.parse().map_err(err)?,
@@ -1043,11 +1059,12 @@ fn diagnose<'py>(
     py: Python<'py>,
     robot: RobotArg<'py>,
     log: PathBuf,
-    folds: usize,
+    folds: i64,
     effects: Option<String>,
     without: Option<String>,
     columns: Option<String>,
 ) -> PyRes<Bound<'py, PyAny>> {
+    let folds: usize = int_arg("folds", folds, 2, 100)?;
     let robot = robot.hold()?;
     let (mut model, l) = load_log_model(
         &robot,
@@ -1203,7 +1220,7 @@ fn stations<'py>(
     friction: bool,
     joint_margin: f64,
     collisions: bool,
-    check_every: usize,
+    check_every: i64,
 ) -> PyRes<Bound<'py, PyAny>> {
     use printwatt::stations::{self as pst, Candidates, Headings, StationsProblem};
     let robot = robot.hold()?;

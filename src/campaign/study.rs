@@ -213,6 +213,40 @@ pub struct Study {
 
 /// A name in a study: 1 to 40 characters, letters, digits, `-`, `_`, `.`, starting with a
 /// letter or digit (it becomes part of a file name).
+/// A cell's `z_bounds`: `min:max` in m, finite, min <= max (as `optimise --z-bounds`).
+fn check_z_bounds(s: &str) -> std::result::Result<(), String> {
+    let v: Option<Vec<f64>> = s
+        .split(':')
+        .map(|t| t.trim().parse::<f64>().ok().filter(|v| v.is_finite()))
+        .collect();
+    match v.as_deref() {
+        Some([a, b]) if a <= b => Ok(()),
+        Some([_, _]) => Err(format!("`{s}`: expected min:max with min <= max (m)")),
+        _ => Err(format!("`{s}`: expected min:max, two finite numbers in m")),
+    }
+}
+
+/// An `options` list (`what`: which entry's) holding a number that is not finite (`nan`,
+/// `inf`, alone or in a list such as `--tolerance nan,1`): no option of a case takes one.
+fn check_option_numbers(options: &[String], what: &str) -> std::result::Result<(), String> {
+    for o in options {
+        let value = match o.split_once('=') {
+            Some((flag, v)) if flag.starts_with("--") => v,
+            _ if o.starts_with("--") => continue,
+            _ => o.as_str(),
+        };
+        for t in value.split([',', ':']) {
+            if t.trim().parse::<f64>().is_ok_and(|v| !v.is_finite()) {
+                return Err(format!(
+                    "{what}: `{o}`: `{}` is not a finite number",
+                    t.trim()
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 fn check_name(what: &str, name: &str) -> Result<()> {
     let ok = !name.is_empty()
         && name.len() <= 40
@@ -239,7 +273,7 @@ impl Study {
     /// directory there is taken as a shipped robot's name). Errors name the file (and the
     /// line, for TOML errors) and the entry at fault.
     pub fn read(file: &Path) -> Result<Study> {
-        let text = std::fs::read_to_string(file).map_err(|e| Error::io(file, e))?;
+        let text = crate::error::read_text(file)?;
         Study::parse(&text, file)
     }
 
@@ -280,12 +314,59 @@ impl Study {
                     "no [[{kind}]] entry: a study needs at least one robot, one cell and one path"
                 )));
             }
-            for (i, n) in names.iter().enumerate() {
+            let mut seen = std::collections::HashSet::new();
+            for n in &names {
                 check_name(kind, n).map_err(|e| err(e.to_string()))?;
-                if names[..i].contains(n) {
+                if !seen.insert(*n) {
                     return Err(err(format!("{kind} `{n}` is defined twice")));
                 }
             }
+        }
+        // Values the cases' command lines would refuse fail the study here, before any work,
+        // naming the file, the entry and the key (a case that cannot run is not an answer).
+        check_option_numbers(&t.study.options, "[study] options").map_err(err)?;
+        for r in &t.robot {
+            check_option_numbers(&r.options, &format!("robot `{}` options", r.name))
+                .map_err(err)?;
+        }
+        for c in &t.cell {
+            let at = |key: &str| format!("cell `{}` {key}", c.name);
+            if let Some(z) = &c.z_bounds {
+                check_z_bounds(z).map_err(|m| err(format!("{}: {m}", at("z_bounds"))))?;
+            }
+            if let Some(b) = &c.baseline {
+                crate::frame::Placement::parse(b).map_err(|e| {
+                    err(format!(
+                        "{} `{b}`: {e} (expected x,y,z,yaw[,spin] in m and deg)",
+                        at("baseline")
+                    ))
+                })?;
+            }
+            check_option_numbers(&c.options, &at("options")).map_err(err)?;
+        }
+        for p in &t.path {
+            check_option_numbers(&p.options, &format!("path `{}` options", p.name)).map_err(err)?;
+        }
+        // The number of cases before any is built: a study of 10⁴ robots, cells and paths is
+        // refused without building 10¹² cases.
+        let n_cases = if t.case.is_empty() {
+            t.robot
+                .len()
+                .checked_mul(t.cell.len())
+                .and_then(|n| n.checked_mul(t.path.len()))
+                .unwrap_or(usize::MAX)
+        } else {
+            t.case.len()
+        };
+        if n_cases > MAX_CASES {
+            let n = if n_cases == usize::MAX {
+                "more than 2^64".to_string()
+            } else {
+                n_cases.to_string()
+            };
+            return Err(err(format!(
+                "{n} cases: at most {MAX_CASES}; split the study"
+            )));
         }
         let robots: Vec<StudyRobot> = t
             .robot
@@ -352,9 +433,23 @@ impl Study {
                 }
             }
         } else {
+            let index = |names: Vec<&String>| -> std::collections::HashMap<String, usize> {
+                names
+                    .into_iter()
+                    .enumerate()
+                    .map(|(i, n)| (n.clone(), i))
+                    .collect()
+            };
+            let robot_ix = index(robots.iter().map(|r| &r.name).collect());
+            let cell_ix = index(cells.iter().map(|c| &c.name).collect());
+            let path_ix = index(paths.iter().map(|p| &p.name).collect());
+            let mut seen = std::collections::HashMap::new();
             for (k, c) in t.case.iter().enumerate() {
-                let find = |kind: &str, names: Vec<&String>, n: &str| {
-                    names.iter().position(|m| *m == n).ok_or_else(|| {
+                let find = |kind: &str,
+                            ix: &std::collections::HashMap<String, usize>,
+                            names: Vec<&String>,
+                            n: &str| {
+                    ix.get(n).copied().ok_or_else(|| {
                         err(format!(
                             "[[case]] {} names {kind} `{n}`, which no [[{kind}]] defines (defined: {})",
                             k + 1,
@@ -362,10 +457,25 @@ impl Study {
                         ))
                     })
                 };
-                let r = find("robot", robots.iter().map(|r| &r.name).collect(), &c.robot)?;
-                let ce = find("cell", cells.iter().map(|c| &c.name).collect(), &c.cell)?;
-                let p = find("path", paths.iter().map(|p| &p.name).collect(), &c.path)?;
-                if let Some(j) = cases.iter().position(|x| *x == (r, ce, p)) {
+                let r = find(
+                    "robot",
+                    &robot_ix,
+                    robots.iter().map(|r| &r.name).collect(),
+                    &c.robot,
+                )?;
+                let ce = find(
+                    "cell",
+                    &cell_ix,
+                    cells.iter().map(|c| &c.name).collect(),
+                    &c.cell,
+                )?;
+                let p = find(
+                    "path",
+                    &path_ix,
+                    paths.iter().map(|p| &p.name).collect(),
+                    &c.path,
+                )?;
+                if let Some(j) = seen.insert((r, ce, p), k) {
                     return Err(err(format!(
                         "[[case]] {} ({} / {} / {}) repeats [[case]] {}",
                         k + 1,

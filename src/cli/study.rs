@@ -157,9 +157,13 @@ fn check_cases(study: &Study, args: &[OptimiseArgs]) -> Result<printwatt::output
     inputs.add(&study.file);
     let mut seen = std::collections::BTreeSet::new();
     for (c, a) in study.cases.iter().zip(args) {
-        let l =
-            a.p.load()
-                .with_context(|| format!("case {} ({})", c.index, study.case_name(c)))?;
+        let case = || format!("case {} ({})", c.index, study.case_name(c));
+        if let Some(b) = &a.baseline {
+            super::sweep::parse_placement(b)
+                .context("--baseline")
+                .with_context(case)?;
+        }
+        let l = a.p.load().with_context(case)?;
         for p in a.p.inputs(&l).paths() {
             if seen.insert(p.clone()) {
                 inputs.add(p);

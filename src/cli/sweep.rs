@@ -572,10 +572,17 @@ pub fn write_run_facts(
 }
 
 /// Print a one-line-per-placement table.
-pub fn print_rows(rows: &[Evaluated], names: Option<&[String]>) {
-    println!(
+pub fn print_rows(rows: &[Evaluated], names: Option<&[String]>) -> Result<()> {
+    outln!(
         "{:>8} {:>8} {:>8} {:>8} {:>7} {:>7}  {:>12} {:>9}  note",
-        "name", "x[m]", "y[m]", "z[m]", "yaw[°]", "spin[°]", "energy[J]", "time[s]"
+        "name",
+        "x[m]",
+        "y[m]",
+        "z[m]",
+        "yaw[°]",
+        "spin[°]",
+        "energy[J]",
+        "time[s]"
     );
     for (i, r) in rows.iter().enumerate() {
         let p = &r.placement;
@@ -590,7 +597,7 @@ pub fn print_rows(rows: &[Evaluated], names: Option<&[String]>) {
             ),
             Err(x) => ("-".into(), "-".into(), x.to_string()),
         };
-        println!(
+        outln!(
             "{name:>8} {:>8.3} {:>8.3} {:>8.3} {:>7.1} {:>7.1}  {e:>12} {t:>9}  {note}",
             p.x,
             p.y,
@@ -599,6 +606,7 @@ pub fn print_rows(rows: &[Evaluated], names: Option<&[String]>) {
             p.nozzle_spin.to_degrees()
         );
     }
+    Ok(())
 }
 
 /// `printwatt sweep`.
@@ -699,10 +707,10 @@ pub fn finish(
     if a.out.json {
         super::print_json_text(&rep.summary_json(true)?)?;
     } else {
-        print_rows(&rep.rows, rep.names.as_deref());
+        print_rows(&rep.rows, rep.names.as_deref())?;
         if let Some(b) = rep.best() {
             let p = &b.placement;
-            println!(
+            outln!(
                 "best: x = {:.3} m, y = {:.3} m, z = {:.3} m, yaw = {:.1}°, spin = {:.1}°: {:.1} J",
                 p.x,
                 p.y,
@@ -713,16 +721,16 @@ pub fn finish(
             );
         }
         if rep.best().is_none() {
-            print!(
+            out!(
                 "{}",
                 printwatt::search::advice::nothing_feasible_named(&rep.rows, &l.robot, &knob_flag)
             );
         }
         if let Some(s) = rep.spread_pct() {
-            println!("spread (max-min)/min: {s:.2} %");
+            outln!("spread (max-min)/min: {s:.2} %");
         }
         if let Some(s) = rep.reduction_pct() {
-            println!("reduction (max-min)/max: {s:.2} %");
+            outln!("reduction (max-min)/max: {s:.2} %");
         }
     }
     Ok(())
@@ -881,18 +889,19 @@ pub fn write_shard(
     rd.write(shard::HEADER, text.as_bytes())?;
     let dir = rd.commit()?;
     if json {
-        println!("{text}");
+        outln!("{text}");
     } else {
         let from = match o.source {
             ShardSource::Given => "as given",
             ShardSource::Slurm => "from the Slurm job array",
             ShardSource::Kubernetes => "from the Kubernetes Indexed Job",
         };
-        println!(
+        outln!(
             "shard {} of {} ({from}): {done}",
-            o.shard.index, o.shard.count
+            o.shard.index,
+            o.shard.count
         );
-        println!("wrote {}", dir.display());
+        outln!("wrote {}", dir.display());
     }
     Ok(())
 }
