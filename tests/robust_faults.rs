@@ -76,6 +76,21 @@ fn printing_commands() -> Vec<Vec<&'static str>> {
     let mut g = GRID.to_vec();
     g.push("--json");
     v.push(g);
+    // A command whose text still goes through `println!` (the safety net).
+    v.push(vec![
+        "optimise",
+        "--path",
+        "p.gcode",
+        "--max-evals",
+        "5",
+        "--x",
+        "1.5",
+        "--y",
+        "0",
+        "--yaw",
+        "90",
+        "--no-report",
+    ]);
     v
 }
 
