@@ -7,7 +7,7 @@
 //! It also measures, in the same run, the default grid with and without the prune before
 //! tracking (`JointStageOptions::prune_stride`), per feasible and per infeasible placement.
 //!
-//! Before/after of the fast elementary functions (`printwatt::fastmath`, issue 12 item 2) in
+//! Before/after of the fast elementary functions (`printwatt::fastmath`) in
 //! the same run: every per-sample figure is measured with libm's functions
 //! (`fastmath::set_libm(true)`; the sines computed once per sample and the reused buffers
 //! apply to both) and with the fast path, interleaved round by round so that a load
@@ -52,7 +52,7 @@ use std::time::Instant;
 const RNEA_FLOPS_PER_LINK: f64 = 18.0 + 33.0 + 16.0 + 23.0 + 15.0 + 15.0 + 36.0 + 39.0 + 2.0 + 48.0;
 /// Of which the backward propagation to the parent, which the first link does not do.
 const RNEA_BACKWARD_FLOPS: f64 = 48.0;
-/// The earlier estimate's other terms (README, issue 12 item 2): IK closed form and FK
+/// The earlier estimate's other terms (README): IK closed form and FK
 /// re-check, energy terms, timing, per-sample checks, flops per sample.
 const FLOPS_IK: f64 = 650.0;
 /// See [`FLOPS_IK`].
@@ -329,7 +329,7 @@ fn main() {
     let (rate1, feasible) = rate(&one);
     let (rate_all, _) = rate(&all);
 
-    // Prune before tracking (issue 12 item 1): the same grid with and without pruning, one
+    // Prune before tracking: the same grid with and without pruning, one
     // thread, each placement timed alone and booked as feasible or infeasible.
     let job_unpruned = PathJob::new(
         &model,
@@ -492,7 +492,7 @@ fn main() {
         (uf + ui) / (pf + pi),
         ui / pi
     );
-    // The reference of issue 12: Pinocchio's RNEA on the same robot, timed now.
+    // The reference: Pinocchio's RNEA on the same robot, timed now.
     let urdf = common::root()
         .join("robots")
         .join("abb_irb6700_200_260")

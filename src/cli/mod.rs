@@ -79,7 +79,7 @@ pub enum Command {
     Sweep(sweep::SweepArgs),
     /// Put the shards of a split run (`sweep --shard`, `optimise --uncertainty N --shard`, `study --shard`) together: the files of a single run.
     Merge(merge::MergeArgs),
-    /// Find the minimum-energy placement (grid, then seeded pattern search) and write a report.
+    /// Find the minimum-energy placement (grid, then a seeded Nelder–Mead refinement or pattern search) and write a report.
     Optimise(optimise::OptimiseArgs),
     /// Design study: optimise every path of a study file on each of its robots and cells, and
     /// say which robot and cell prints each path, and all of them, for the least energy.

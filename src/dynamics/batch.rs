@@ -1,4 +1,4 @@
-//! RNEA of [`LANES`] samples in lockstep, structure of arrays (issue 12 item 3).
+//! RNEA of [`LANES`] samples in lockstep, structure of arrays.
 //!
 //! One kernel, [`rnea_lanes`], generic over the number of lanes `W`: the lockstep levels run
 //! it with `W =` [`LANES`], and the scalar reference ([`super::rnea_with_sincos`], [`super::rnea`]
@@ -7,7 +7,7 @@
 //! the torques are bit-identical on every [`crate::simd::Level`]; the lanes only change how
 //! many samples one instruction serves.
 //!
-//! # Formulation (session 10)
+//! # Formulation
 //!
 //! The joint rotation is `R_i = C_i Rz(q_i)` with a constant `C_i` ([`super::DynModel`]).
 //! `Rᵢᵀ v` is taken as `Rz(q)ᵀ (Cᵀ v)` and `R v` as `C (Rz(q) v)`: `Rz` costs four products
@@ -569,7 +569,7 @@ pub(crate) fn rnea_lanes<const W: usize>(
         }
         // Backward: the torque of joint i, then its force and moment into the parent's frame
         // (`R v = C (Rz v)`); into link 0 only the moment's z component. The running force and
-        // moment stay in registers (session 12): link i − 1's total is its own (from the
+        // moment stay in registers: link i − 1's total is its own (from the
         // forward pass) plus its child's, the same addition as accumulating into its slot,
         // without storing it to read it back.
         let (mut fi, mut ni) = (f[n - 1], nn[n - 1]);

@@ -16,7 +16,7 @@
 //!
 //! The lanes are computed a register's width at a time (`C` lanes: 8 on AVX-512, 4 on AVX2,
 //! 2 otherwise), the frames carried from joint to joint as register values, each body's
-//! shapes placed as its frame is made (session 11: no spills of the frames, no loop over
+//! shapes placed as its frame is made (no spills of the frames, no loop over
 //! every shape at every body, no lane-by-lane bit packing; the numbers are the same).
 
 use crate::evaluate::feasibility::collision::{
