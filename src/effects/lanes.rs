@@ -4,8 +4,8 @@
 //! [`LANES`] samples sit side by side, joint-major (`q[j][lane]`). An effect that overrides
 //! [`Effect::add_torque_lanes`] writes plain `[f64; LANES]` loops performing, lane by lane,
 //! exactly the operations of its [`Effect::add_torque`] in the same order (branches become
-//! selects), so every lane is bit-identical to the one-sample path ([`on_level`] is the hook
-//! for the instruction set the pass runs on, [`crate::simd`]). An effect that does not
+//! selects), so every lane is bit-identical to the one-sample path; [`on_level`] compiles such
+//! a body for the instruction set the pass runs on ([`crate::simd`]). An effect that does not
 //! override it is called sample by sample (the default), which is bit-identical by
 //! construction.
 
@@ -50,13 +50,34 @@ pub(crate) fn add_torque_per_lane<E: Effect + ?Sized>(e: &E, x: &LaneState<'_>, 
     }
 }
 
-/// Run an effect's batched loops `f` for the instruction set `level` the energy pass runs on.
-/// Today `f` runs as compiled for the baseline (the same bits on every level: no
-/// contraction); generic `#[target_feature]` wrappers around the closure made the release
-/// build's test binaries fail to link (duplicate symbols of its monomorphised iterators), so
-/// the level is the hook for per-level code, not yet used.
+/// Run `f` compiled for `level` (AVX2 + FMA, AVX-512F, else the baseline): the batched
+/// torque of an effect is called through the trait, out of the pass's own compiled body, and
+/// gets its instruction set here. The same bits on every level (no contraction).
 #[inline(always)]
 pub fn on_level(level: Level, f: impl FnOnce()) {
-    let _ = level;
+    match level {
+        #[cfg(target_arch = "x86_64")]
+        Level::Avx512 if Level::Avx512.available() => {
+            // SAFETY: the CPU has AVX-512F (checked just above).
+            unsafe { run_avx512(f) }
+        }
+        #[cfg(target_arch = "x86_64")]
+        Level::Avx2 if Level::Avx2.available() => {
+            // SAFETY: the CPU has AVX2 and FMA (checked just above).
+            unsafe { run_avx2(f) }
+        }
+        _ => f(),
+    }
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+fn run_avx2(f: impl FnOnce()) {
+    f()
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+fn run_avx512(f: impl FnOnce()) {
     f()
 }
