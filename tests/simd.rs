@@ -629,11 +629,10 @@ fn every_effect_robot_and_states(
         .map(|s| s.to_string())
         .collect(),
     );
-    t.set_numbers(
-        "stribeck_nm",
-        &(0..n)
+    t.stribeck_nm = Some(
+        (0..n)
             .map(|j| if j == 2 { 0.0 } else { 5.0 + j as f64 })
-            .collect::<Vec<_>>(),
+            .collect(),
     );
     let mut values = t.values.clone().unwrap_or_default();
     values.insert(

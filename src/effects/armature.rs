@@ -1,12 +1,8 @@
 //! `armature`: reflected rotor inertia `τ = G² J_m q̈` (joint side; the rotor's kinetic energy
 //! `½ J_m (G q̇)²`).
 
-use super::{
-    check_values, diagonal_regressor, on_level, per_joint, BuildContext, Effect, LaneState, Lanes,
-    ParamSpec,
-};
+use super::{check_values, diagonal_regressor, per_joint, BuildContext, Effect, ParamSpec};
 use crate::error::Result;
-use crate::simd::{Level, LANES};
 
 /// Reflected rotor inertia per joint `I_a = G² J_m`, kg·m².
 #[derive(Clone, Debug, PartialEq)]
@@ -49,28 +45,6 @@ impl Effect for Armature {
     fn clone_box(&self) -> Box<dyn Effect> {
         Box::new(self.clone())
     }
-    /// With drive tables: `[[joints]] rotor_inertia_kg_m2` (`G² J_m / G²`), not in `[effects.values]`.
-    fn write_calibrated(&self, enabled: bool, w: &mut super::CalibratedDrive<'_>) -> Result<()> {
-        if !w.has_drive_tables() {
-            w.write_values(self.name(), self.values(), enabled);
-            return Ok(());
-        }
-        let gear: Vec<f64> = w
-            .robot()
-            .drive
-            .as_ref()
-            .map(|d| d.joints.iter().map(|j| j.gear_ratio).collect())
-            .unwrap_or_default();
-        let jm: Vec<f64> = self
-            .ia
-            .iter()
-            .zip(&gear)
-            .map(|(i, g)| i / (g * g))
-            .collect();
-        w.set_joint_key("rotor_inertia_kg_m2", &jm)?;
-        w.remove_values(self.name());
-        Ok(())
-    }
     fn is_null(&self) -> bool {
         self.ia.iter().all(|f| *f == 0.0)
     }
@@ -82,17 +56,6 @@ impl Effect for Armature {
             *t += i * a;
         }
     }
-    fn add_torque_lanes(&self, x: &LaneState<'_>, tau: &mut [Lanes], level: Level) {
-        on_level(level, || {
-            for (j, &i) in self.ia.iter().enumerate().take(x.n) {
-                let (d, a) = (tau[j], x.qdd[j]);
-                for l in 0..LANES {
-                    tau[j][l] = d[l] + i * a[l];
-                }
-            }
-        })
-    }
-    fn angles_read(&self, _read: &mut [bool]) {}
     fn regressor(&self, _q: &[f64], _qd: &[f64], qdd: &[f64], y: &mut [f64]) -> bool {
         diagonal_regressor(self.ia.len(), y, |j| qdd.get(j).copied().unwrap_or(0.0));
         true

@@ -15,11 +15,8 @@
 //! when the arm leans out, and linear in (`F0`, `k`) (regressor
 //! `[dL/dq, (L − L_min) dL/dq]`, m and m²).
 
-use super::{
-    check_values, on_level, BuildContext, Effect, EnergyClass, LaneState, Lanes, ParamSpec,
-};
+use super::{check_values, BuildContext, Effect, EnergyClass, ParamSpec};
 use crate::error::Result;
-use crate::simd::{Level, LANES};
 
 /// Default lever of the moving end on link 2, m (ESTIMATE used when a drive file names no
 /// geometry; see docs/effects.md).
@@ -49,32 +46,14 @@ pub struct Balancer {
     pub declared: bool,
 }
 
-/// The `[effects]` keys `balancer` reads.
-pub(crate) const KEYS: &[&str] = &[
-    "balancer_preload_n",
-    "balancer_stiffness_n_per_m",
-    "balancer_joint",
-    "balancer_lever_m",
-    "balancer_base_m",
-    "balancer_upright_rad",
-];
-
-/// Whether a drive file's `[effects]` table declares a balancer (gives its lever and base).
-pub fn declared_in(table: &crate::robot::EffectsTable) -> bool {
-    table.keys.contains_key("balancer_lever_m") && table.keys.contains_key("balancer_base_m")
-}
-
 /// Registry entry: geometry, preload and stiffness from the `[effects]` keys
 /// (`balancer_joint`, `balancer_lever_m`, `balancer_base_m`, `balancer_upright_rad`,
 /// `balancer_preload_n`, `balancer_stiffness_n_per_m`; errors name the key).
 pub(crate) fn build(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
+    let t = ctx.table;
     let dof = ctx.dof();
     let mut b = Balancer::zero();
-    let (lever, base) = (
-        ctx.number("balancer_lever_m")?,
-        ctx.number("balancer_base_m")?,
-    );
-    if let Some(j) = ctx.integer("balancer_joint")? {
+    if let Some(j) = t.balancer_joint {
         if j == 0 || j > dof {
             return Err(ctx.bad(
                 "balancer_joint",
@@ -83,7 +62,10 @@ pub(crate) fn build(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
         }
         b.joint = j - 1;
     }
-    for (key, v) in [("balancer_lever_m", lever), ("balancer_base_m", base)] {
+    for (key, v) in [
+        ("balancer_lever_m", t.balancer_lever_m),
+        ("balancer_base_m", t.balancer_base_m),
+    ] {
         if let Some(x) = v {
             // A spring balancer's lever and base are parts of the arm: a few tenths of a
             // metre, never more than the arm (10 m bounds every robot printwatt models).
@@ -92,10 +74,10 @@ pub(crate) fn build(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
             }
         }
     }
-    if let Some(x) = lever {
+    if let Some(x) = t.balancer_lever_m {
         b.a = x;
     }
-    if let Some(x) = base {
+    if let Some(x) = t.balancer_base_m {
         b.b = x;
     }
     if (b.a - b.b).abs() < 1e-6 {
@@ -107,15 +89,21 @@ pub(crate) fn build(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
             ),
         ));
     }
-    if let Some(x) = ctx.number("balancer_upright_rad")? {
+    if let Some(x) = t.balancer_upright_rad {
         if !x.is_finite() {
             return Err(ctx.bad("balancer_upright_rad", format!("must be finite, got {x}")));
         }
         b.upright = x;
     }
-    b.declared = lever.is_some() && base.is_some();
-    for (key, idx) in [("balancer_preload_n", 0), ("balancer_stiffness_n_per_m", 1)] {
-        let v = ctx.number(key)?;
+    b.declared = t.balancer_lever_m.is_some() && t.balancer_base_m.is_some();
+    for (key, v, idx) in [
+        ("balancer_preload_n", t.balancer_preload_n, 0),
+        (
+            "balancer_stiffness_n_per_m",
+            t.balancer_stiffness_n_per_m,
+            1,
+        ),
+    ] {
         if let Some(x) = v {
             let mut vals = b.values();
             vals[idx] = x;
@@ -231,10 +219,6 @@ impl Effect for Balancer {
     fn is_null(&self) -> bool {
         self.preload == 0.0 && self.stiffness == 0.0
     }
-    /// On when the drive file declares it and gives it a force.
-    fn on_by_default(&self, _has_drive: bool) -> bool {
-        self.implausible().is_none() && !self.is_null()
-    }
     fn implausible(&self) -> Option<String> {
         (!self.declared).then(|| {
             "the robot declares no balancer (drive file [effects] balancer_lever_m, balancer_base_m): \
@@ -245,23 +229,6 @@ a gravity error here is a link or payload error"
     fn add_torque(&self, q: &[f64], _qd: &[f64], _qdd: &[f64], tau: &mut [f64]) {
         if let (Some(q), Some(t)) = (q.get(self.joint), tau.get_mut(self.joint)) {
             *t += self.joint_torque(*q);
-        }
-    }
-    fn add_torque_lanes(&self, x: &LaneState<'_>, tau: &mut [Lanes], level: Level) {
-        let j = self.joint;
-        if j >= x.n {
-            return;
-        }
-        on_level(level, || {
-            let t = self.joint_torque_lanes(&x.q[j]);
-            for l in 0..LANES {
-                tau[j][l] += t[l];
-            }
-        })
-    }
-    fn angles_read(&self, read: &mut [bool]) {
-        if let Some(r) = read.get_mut(self.joint) {
-            *r = true;
         }
     }
     fn regressor(&self, q: &[f64], _qd: &[f64], _qdd: &[f64], y: &mut [f64]) -> bool {

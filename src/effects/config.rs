@@ -1,17 +1,18 @@
 //! Building the effects of a robot from its drive file, and the set of effects with their
 //! switches that energy and identification share.
 //!
-//! The drive file's `[effects]` table holds `enabled = [...]` (catalogue names; replaces
-//! [`DEFAULT_EFFECTS`]), `[effects.values]` (effect name → parameter values in the effect's
-//! order; wins over the other keys; this is where `identify` writes what no other key holds),
-//! and the effects' own keys: each registered effect names the keys it reads
-//! ([`super::Registration::keys`]) and reads and validates them in its `build` function
-//! ([`BuildContext::number`] and friends: errors name the file and `effects.<key>`, values
-//! are checked against the effects' bounds, [`super::ParamSpec`]). A key no registered effect
-//! reads is an error naming it. docs/effects.md.
+//! Keys of the drive file's `[effects]` table (all optional, SI; unknown keys are errors
+//! naming the key, values are checked against the effects' bounds ([`super::ParamSpec`])):
+//! `enabled = [...]` (catalogue names; replaces [`DEFAULT_EFFECTS`]), `stribeck_nm`,
+//! `stribeck_velocity_rad_s`, `payload_mass_error_kg`, `balancer_preload_n`,
+//! `balancer_stiffness_n_per_m`, balancer geometry `balancer_joint` (1-based),
+//! `balancer_lever_m`, `balancer_base_m`, `balancer_upright_rad` (a drive file that gives the
+//! lever and the base declares that the robot has a balancer), `regeneration_recovered_fraction`,
+//! and `[effects.values]`: effect name → parameter values in the effect's order (wins over
+//! the other keys; this is where `identify` writes what no other key holds). docs/effects.md.
 
-use super::registry::{EffectId, EffectRegistry};
-use super::{Effect, EnergyClass, Stage};
+use super::registry::{EffectId, REGISTRY};
+use super::{Effect, Stage};
 use crate::error::{Error, Result};
 use crate::robot::{EffectsTable, RobotModel};
 
@@ -51,19 +52,6 @@ impl BuildContext<'_> {
             msg: msg.into(),
         }
     }
-    /// The number under `[effects] <key>` (`None` when absent; error naming the key when it
-    /// is not a number).
-    pub fn number(&self, key: &str) -> Result<Option<f64>> {
-        self.table.number(key).map_err(|m| self.bad(key, m))
-    }
-    /// The list of numbers under `[effects] <key>`.
-    pub fn numbers(&self, key: &str) -> Result<Option<Vec<f64>>> {
-        self.table.numbers(key).map_err(|m| self.bad(key, m))
-    }
-    /// The non-negative integer under `[effects] <key>`.
-    pub fn integer(&self, key: &str) -> Result<Option<usize>> {
-        self.table.integer(key).map_err(|m| self.bad(key, m))
-    }
     /// Per-joint values from the drive's `[[joints]]` (`dflt` per joint without drive data).
     pub fn per_joint(&self, f: impl Fn(&crate::robot::JointDrive) -> f64, dflt: f64) -> Vec<f64> {
         match &self.robot.drive {
@@ -81,13 +69,11 @@ impl BuildContext<'_> {
     }
 }
 
-/// Every registered effect of a robot with its switch, in catalogue order.
+/// Every registered effect of a robot with its switch, indexed by [`EffectId`].
 #[derive(Debug, Clone, Default)]
 pub struct EffectSet {
     effects: Vec<Box<dyn Effect>>,
     enabled: Vec<bool>,
-    /// The `[effects]` keys each effect reads (empty for hand-pushed effects).
-    keys: Vec<&'static [&'static str]>,
 }
 
 impl EffectSet {
@@ -108,20 +94,11 @@ impl EffectSet {
         s
     }
 
-    /// Every effect of the process's registry ([`EffectRegistry::current`]: the catalogue,
-    /// [`super::REGISTRY`], unless a program installed its own) for `robot`:
-    /// [`EffectSet::of_robot_with`].
+    /// Every registered effect of `robot`, built from its drive data and drive-file tables,
+    /// with the switches of `[effects] enabled` ([`DEFAULT_EFFECTS`] when the robot has drive
+    /// data and the table names none, plus a declared balancer with a force; nothing without
+    /// drive data). Errors ([`Error::Field`]) name the file and `effects.<key>`.
     pub fn of_robot(robot: &RobotModel) -> Result<Self> {
-        Self::of_robot_with(robot, &EffectRegistry::current())
-    }
-
-    /// Every effect of `registry` for `robot`, built from its drive data and drive-file
-    /// tables, with the switches of `[effects] enabled` ([`DEFAULT_EFFECTS`] when the robot
-    /// has drive data and the table names none, plus a declared balancer with a force;
-    /// nothing without drive data). Errors ([`Error::Field`]) name the file and
-    /// `effects.<key>`: a key no effect reads, a bad value, an unknown effect name; an effect
-    /// whose stage is not the one it was registered with.
-    pub fn of_robot_with(robot: &RobotModel, registry: &EffectRegistry) -> Result<Self> {
         let table = &robot.effects.table;
         let file = robot
             .effects
@@ -133,74 +110,43 @@ impl EffectSet {
             table,
             file: &file,
         };
-        for key in table.keys.keys() {
-            registry
-                .owner_of_key(key)
-                .map_err(|e| ctx.bad(key, e.to_string()))?;
-        }
         if let Some(v) = &table.values {
             for name in v.keys() {
-                registry
-                    .index(name)
-                    .map_err(|e| ctx.bad("values", e.to_string()))?;
+                EffectId::of(name).map_err(|e| ctx.bad("values", e.to_string()))?;
             }
         }
-        let entries = registry.entries();
-        let mut effects = Vec::with_capacity(entries.len());
-        for r in entries {
+        let mut effects = Vec::with_capacity(REGISTRY.len());
+        for r in REGISTRY {
             let mut e = (r.build)(&ctx)?;
-            let torque_line = matches!(e.energy_class(), EnergyClass::Line(_));
-            if torque_line == (e.stage() == Stage::Torque) {
-                return Err(Error::Invalid(format!(
-                    "effect `{}`: a torque effect is booked to rigid_body, friction or balancer, \
-                     a motor or supply effect to a line of its own ({:?})",
-                    r.name,
-                    e.energy_class()
-                )));
-            }
-            if e.name() != r.name || e.stage() != r.stage {
-                return Err(Error::Invalid(format!(
-                    "effect registered as `{}` ({:?}) builds `{}` ({:?})",
-                    r.name,
-                    r.stage,
-                    e.name(),
-                    e.stage()
-                )));
-            }
             ctx.apply_values(e.as_mut())?;
             effects.push(e);
         }
         let has_drive = robot.drive.is_some();
         let enabled = match &table.enabled {
             Some(list) => {
-                let mut m = vec![false; entries.len()];
+                let mut m = vec![false; REGISTRY.len()];
                 for s in list {
-                    let i = registry
-                        .index(s)
-                        .map_err(|e| ctx.bad("enabled", e.to_string()))?;
-                    m[i] = true;
+                    let i = EffectId::of(s).map_err(|e| ctx.bad("enabled", e.to_string()))?;
+                    m[i.0] = true;
                 }
                 m
             }
-            None => effects.iter().map(|e| e.on_by_default(has_drive)).collect(),
+            None => REGISTRY
+                .iter()
+                .zip(&effects)
+                .map(|(r, e)| {
+                    (has_drive && DEFAULT_EFFECTS.contains(&r.name))
+                        || (r.name == "balancer" && e.implausible().is_none() && !e.is_null())
+                })
+                .collect(),
         };
-        Ok(EffectSet {
-            effects,
-            enabled,
-            keys: entries.iter().map(|r| r.keys).collect(),
-        })
+        Ok(EffectSet { effects, enabled })
     }
 
     /// Add an effect, switched on.
     pub fn push(&mut self, effect: Box<dyn Effect>) {
         self.effects.push(effect);
         self.enabled.push(true);
-        self.keys.push(&[]);
-    }
-
-    /// The `[effects]` keys the effect called `name` reads (empty when unknown).
-    pub fn keys_of(&self, name: &str) -> &'static [&'static str] {
-        self.position(name).map_or(&[], |i| self.keys[i])
     }
 
     /// The position of the effect called `name` in this set.
@@ -299,90 +245,6 @@ impl EffectSet {
             if on {
                 e.add_torque(q, qd, qdd, tau);
             }
-        }
-    }
-}
-
-/// A calibrated drive file being written (`printwatt identify`'s output, which every command
-/// reads back): what an effect's [`Effect::write_calibrated`] may change. Each effect keeps its
-/// identified values where it reads them: in its drive keys (`[[joints]]`, `[cabinet]`, the
-/// robot's `[payload]`) or in `[effects.values]`, which wins over its `[effects]` keys.
-#[derive(Debug)]
-pub struct CalibratedDrive<'a> {
-    pub(crate) file: &'a mut crate::robot::drive::DriveFile,
-    pub(crate) table: &'a mut EffectsTable,
-    pub(crate) values: &'a mut std::collections::BTreeMap<String, Vec<f64>>,
-    pub(crate) enabled: &'a mut Vec<&'static str>,
-    pub(crate) robot: &'a RobotModel,
-    /// The `[effects]` keys of the effect being written.
-    pub(crate) keys: &'static [&'static str],
-}
-
-impl CalibratedDrive<'_> {
-    /// The robot as loaded (before identification).
-    pub fn robot(&self) -> &RobotModel {
-        self.robot
-    }
-    /// Whether the file has per-joint drive tables (`[[joints]]` with drive keys).
-    pub fn has_drive_tables(&self) -> bool {
-        self.robot.drive.is_some()
-    }
-    /// `[effects.values].<name> = v`.
-    pub fn set_values(&mut self, name: &str, v: Vec<f64>) {
-        self.values.insert(name.to_string(), v);
-    }
-    /// Remove `[effects.values].<name>`.
-    pub fn remove_values(&mut self, name: &str) {
-        self.values.remove(name);
-    }
-    /// Remove the written effect's own `[effects]` keys (its values now live elsewhere).
-    pub fn remove_own_keys(&mut self) {
-        for k in self.keys {
-            self.table.keys.remove(*k);
-        }
-    }
-    /// Set the `[[joints]]` drive key `key` (e.g. `viscous_nm_s_per_rad`) of joint `j` to
-    /// `v[j]`, for every joint table. Error: not a drive key of `[[joints]]`.
-    pub fn set_joint_key(&mut self, key: &str, v: &[f64]) -> Result<()> {
-        for (jt, x) in self.file.joints.iter_mut().zip(v) {
-            jt.set_drive_key(key, *x)?;
-        }
-        Ok(())
-    }
-    /// Set `[cabinet] standby_power_w` (when the file has a `[cabinet]` table), W.
-    pub fn set_standby_power(&mut self, w: f64) {
-        if let Some(c) = self.file.cabinet.as_mut() {
-            c.standby_power_w = w;
-        }
-    }
-    /// Write the robot's `[payload]`: mass (kg), centre of mass (m, flange frame) and a
-    /// description; the inertia as the file had it.
-    pub fn set_payload(&mut self, mass: f64, com: [f64; 3], description: String) {
-        let inertia = self
-            .file
-            .payload
-            .as_ref()
-            .map_or([0.0; 6], |t| t.inertia_kg_m2);
-        self.file.payload = Some(crate::robot::drive::PayloadTable {
-            mass_kg: mass,
-            com_m: com,
-            inertia_kg_m2: inertia,
-            description: Some(description),
-        });
-    }
-    /// Leave the effect called `name` out of `[effects] enabled` (its values were folded into
-    /// the robot).
-    pub fn drop_from_enabled(&mut self, name: &str) {
-        self.enabled.retain(|e| *e != name);
-    }
-    /// The default of [`Effect::write_calibrated`]: an enabled effect's values in
-    /// `[effects.values]` (its own keys removed), a disabled effect's removed.
-    pub fn write_values(&mut self, name: &str, values: Vec<f64>, enabled: bool) {
-        if enabled {
-            self.set_values(name, values);
-            self.remove_own_keys();
-        } else {
-            self.remove_values(name);
         }
     }
 }

@@ -6,12 +6,8 @@
 //! smoothly over `|q̇| ≲ 3ε`. Linear in `f_c±` for a fixed `ε`; with `ε` a parameter the effect
 //! is fitted by the bounded nonlinear fit ([`Effect::regressor`] returns `false`).
 
-use super::{
-    check_values, on_level, per_joint, BuildContext, Effect, EnergyClass, LaneState, Lanes,
-    ParamSpec,
-};
+use super::{check_values, per_joint, BuildContext, Effect, EnergyClass, ParamSpec};
 use crate::error::{Error, Result};
-use crate::simd::{Level, LANES};
 
 /// Default transition width ε of the smoothed sign, rad/s: at |q̇| = 3ε the friction reaches
 /// 99.5 % of `f_c`. Small against path speeds (≥ 0.01 rad/s in printing), large enough to keep
@@ -143,22 +139,6 @@ impl Effect for Coulomb {
     fn clone_box(&self) -> Box<dyn Effect> {
         Box::new(self.clone())
     }
-    /// With drive tables: `[[joints]] coulomb_nm` holds the mean of both directions (the drive
-    /// key is symmetric); the values per direction with the transition width go to
-    /// `[effects.values]` too (which wins) when the effect is on.
-    fn write_calibrated(&self, enabled: bool, w: &mut super::CalibratedDrive<'_>) -> Result<()> {
-        if w.has_drive_tables() {
-            let mean: Vec<f64> = self
-                .fc_pos
-                .iter()
-                .zip(&self.fc_neg)
-                .map(|(p, n)| 0.5 * (p + n))
-                .collect();
-            w.set_joint_key("coulomb_nm", &mean)?;
-        }
-        w.write_values(self.name(), self.values(), enabled);
-        Ok(())
-    }
     fn energy_class(&self) -> EnergyClass {
         EnergyClass::Friction
     }
@@ -173,35 +153,4 @@ impl Effect for Coulomb {
             *t += self.joint_torque(j, *v);
         }
     }
-    /// [`Coulomb::joint_torque`] lane by lane: the smoothed sign by
-    /// [`crate::fastmath::tanh_lanes_of_ratio_at`] (±1 by select where every lane is
-    /// saturated, else the polynomial of every lane in lockstep, bit for bit the one-sample
-    /// path's); a joint without friction adds `+0.0` as the one-sample path does.
-    #[allow(clippy::needless_range_loop)] // parallel lanes, indexed by joint and lane
-    fn add_torque_lanes(&self, x: &LaneState<'_>, tau: &mut [Lanes], level: Level) {
-        on_level(level, || {
-            let threshold = crate::fastmath::ratio_saturation_threshold(self.velocity_scale);
-            for j in 0..x.n {
-                let (Some(&p), Some(&m)) = (self.fc_pos.get(j), self.fc_neg.get(j)) else {
-                    for l in 0..LANES {
-                        tau[j][l] += 0.0;
-                    }
-                    continue;
-                };
-                if p == 0.0 && m == 0.0 {
-                    for l in 0..LANES {
-                        tau[j][l] += 0.0;
-                    }
-                    continue;
-                }
-                let (d, w) = (tau[j], x.qd[j]);
-                // tanh(q̇/ε), the division skipped where every lane is saturated.
-                let s = crate::fastmath::tanh_lanes_of_ratio_at(&w, self.velocity_scale, threshold);
-                for l in 0..LANES {
-                    tau[j][l] = d[l] + if s[l] >= 0.0 { p * s[l] } else { m * s[l] };
-                }
-            }
-        })
-    }
-    fn angles_read(&self, _read: &mut [bool]) {}
 }

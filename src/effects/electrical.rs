@@ -5,10 +5,7 @@
 //! motor torque `τ_m = τ/(G η)` when driving and `τ η / G` when back-driven, current
 //! `i = τ_m / K_t`, electrical power `P = τ_m G q̇ + R i²`.
 
-use super::{
-    check_values, per_joint, BuildContext, Effect, EnergyClass, MotorTerm, ParamSpec, Stage,
-    SupplyTerm,
-};
+use super::{check_values, per_joint, BuildContext, Effect, ParamSpec, Stage};
 use crate::error::Result;
 
 /// `copper`: winding resistance per axis `R`, Ω; loss `R i²` (W).
@@ -59,21 +56,8 @@ impl Effect for Copper {
     fn clone_box(&self) -> Box<dyn Effect> {
         Box::new(self.clone())
     }
-    /// With drive tables: `[[joints]] winding_resistance_ohm`, not in `[effects.values]`.
-    fn write_calibrated(&self, enabled: bool, w: &mut super::CalibratedDrive<'_>) -> Result<()> {
-        if !w.has_drive_tables() {
-            w.write_values(self.name(), self.values(), enabled);
-            return Ok(());
-        }
-        w.set_joint_key("winding_resistance_ohm", &self.r)?;
-        w.remove_values(self.name());
-        Ok(())
-    }
     fn stage(&self) -> Stage {
-        Stage::Motor(MotorTerm::WindingResistance)
-    }
-    fn energy_class(&self) -> EnergyClass {
-        EnergyClass::Line("copper")
+        Stage::Motor
     }
 }
 
@@ -102,21 +86,8 @@ impl Effect for GearEfficiency {
     fn clone_box(&self) -> Box<dyn Effect> {
         Box::new(self.clone())
     }
-    /// With drive tables: `[[joints]] gear_efficiency`, not in `[effects.values]`.
-    fn write_calibrated(&self, enabled: bool, w: &mut super::CalibratedDrive<'_>) -> Result<()> {
-        if !w.has_drive_tables() {
-            w.write_values(self.name(), self.values(), enabled);
-            return Ok(());
-        }
-        w.set_joint_key("gear_efficiency", &self.eta)?;
-        w.remove_values(self.name());
-        Ok(())
-    }
     fn stage(&self) -> Stage {
-        Stage::Motor(MotorTerm::GearEfficiency)
-    }
-    fn energy_class(&self) -> EnergyClass {
-        EnergyClass::Line("gear")
+        Stage::Motor
     }
 }
 
@@ -144,10 +115,7 @@ impl Effect for Regeneration {
         Box::new(self.clone())
     }
     fn stage(&self) -> Stage {
-        Stage::Supply(SupplyTerm::RecoveredFraction)
-    }
-    fn energy_class(&self) -> EnergyClass {
-        EnergyClass::Line("regeneration_lost")
+        Stage::Supply
     }
 }
 
@@ -174,21 +142,8 @@ impl Effect for Standby {
     fn clone_box(&self) -> Box<dyn Effect> {
         Box::new(self.clone())
     }
-    /// With drive tables: `[cabinet] standby_power_w`, not in `[effects.values]`.
-    fn write_calibrated(&self, enabled: bool, w: &mut super::CalibratedDrive<'_>) -> Result<()> {
-        if !w.has_drive_tables() {
-            w.write_values(self.name(), self.values(), enabled);
-            return Ok(());
-        }
-        w.set_standby_power(self.power);
-        w.remove_values(self.name());
-        Ok(())
-    }
     fn stage(&self) -> Stage {
-        Stage::Supply(SupplyTerm::ConstantPower)
-    }
-    fn energy_class(&self) -> EnergyClass {
-        EnergyClass::Line("standby")
+        Stage::Supply
     }
 }
 
@@ -206,13 +161,10 @@ pub(crate) fn build_gear_efficiency(ctx: &BuildContext) -> Result<Box<dyn Effect
     }))
 }
 
-/// The `[effects]` keys `regeneration` reads.
-pub(crate) const REGENERATION_KEYS: &[&str] = &["regeneration_recovered_fraction"];
-
 /// Registry entry: `ρ` from `[effects] regeneration_recovered_fraction` (0 by default).
 pub(crate) fn build_regeneration(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
     let mut r = Regeneration { recovered: 0.0 };
-    if let Some(rho) = ctx.number("regeneration_recovered_fraction")? {
+    if let Some(rho) = ctx.table.regeneration_recovered_fraction {
         r.set_values(&[rho])
             .map_err(|e| ctx.bad("regeneration_recovered_fraction", e.to_string()))?;
     }

@@ -22,7 +22,6 @@ mod balancer;
 mod config;
 mod coulomb;
 mod electrical;
-pub mod lanes;
 mod offset;
 mod payload;
 pub mod registry;
@@ -31,16 +30,13 @@ mod stribeck;
 mod viscous;
 
 pub use armature::Armature;
-pub use balancer::{
-    declared_in as balancer_declared_in, Balancer, BALANCER_A_M, BALANCER_B_M, BALANCER_UPRIGHT_RAD,
-};
-pub use config::{BuildContext, CalibratedDrive, EffectSet, DEFAULT_EFFECTS};
+pub use balancer::{Balancer, BALANCER_A_M, BALANCER_B_M, BALANCER_UPRIGHT_RAD};
+pub use config::{BuildContext, EffectSet, DEFAULT_EFFECTS};
 pub use coulomb::{Coulomb, COULOMB_VELOCITY_SCALE_RAD_S};
 pub use electrical::{Copper, GearEfficiency, Regeneration, Standby};
-pub use lanes::{on_level, LaneState, Lanes};
 pub use offset::Offset;
 pub use payload::Payload;
-pub use registry::{catalogue, catalogue_index, EffectId, EffectRegistry, Registration, REGISTRY};
+pub use registry::{catalogue, catalogue_index, EffectId, Registration, REGISTRY};
 pub use rigid_body::RigidBody;
 pub use stribeck::{Stribeck, STRIBECK_VELOCITY_RAD_S};
 pub use viscous::Viscous;
@@ -54,93 +50,27 @@ pub use self::Effect as TorqueEffect;
 use crate::error::{Error, Result};
 use crate::robot::RobotModel;
 
-/// Where in the chain an effect acts, and what it sets there.
+/// Where in the chain an effect acts.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
 #[serde(rename_all = "snake_case")]
 pub enum Stage {
     /// Joint-side torque added to the rigid body (`τ = τ_rb + Σ τ_effect`).
     Torque,
-    /// A term of each axis's motor model (values: one per axis).
-    Motor(MotorTerm),
-    /// A term of the supply (values: one).
-    Supply(SupplyTerm),
+    /// Motor model of each axis (`copper`, `gear_efficiency`).
+    Motor,
+    /// Supply side (`regeneration`, `standby`).
+    Supply,
 }
 
-/// The terms of the motor model an effect of [`Stage::Motor`] sets (one effect each).
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum MotorTerm {
-    /// Winding resistance `R` per axis, Ω: copper loss `R i²` (`copper`).
-    WindingResistance,
-    /// Gearbox efficiency `η` per axis (`gear_efficiency`).
-    GearEfficiency,
-}
-
-/// The terms of the supply an effect of [`Stage::Supply`] sets.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum SupplyTerm {
-    /// The recovered fraction `ρ` of what the regeneration policy burns (`regeneration`;
-    /// one effect).
-    RecoveredFraction,
-    /// A constant draw `P`, W, added to the supply (`standby`; any number of effects, each
-    /// its own line `<line>_j = P × duration` of the energy breakdown).
-    ConstantPower,
-}
-
-impl Stage {
-    /// Whether at most one effect may act in this stage (a term of the motor model, the
-    /// recovered fraction); torque effects and constant draws add up.
-    pub fn is_single(self) -> bool {
-        !matches!(
-            self,
-            Stage::Torque | Stage::Supply(SupplyTerm::ConstantPower)
-        )
-    }
-}
-
-/// How an effect's energy is reported: which line of the energy breakdown
-/// ([`crate::energy::EnergyReport`]) it is booked to, `<line>_j` in the JSON.
+/// Which part of the energy breakdown a torque effect's power `τ_effect q̇` is booked to.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum EnergyClass {
-    /// A torque effect's power `τ_effect q̇` booked with the rigid body (`rigid_body`:
-    /// inertial errors, armature, offset torques).
+    /// Rigid body (inertial errors, armature, offset torques).
     RigidBody,
-    /// A torque effect's power booked as friction (`friction`, dissipative).
+    /// Friction (dissipative).
     Friction,
-    /// A torque effect's power booked to the balancer (`balancer`: a spring, stored and
-    /// released).
+    /// Balancer (a spring: stored and released).
     Balancer,
-    /// A motor or supply effect's own line of the breakdown, named here (`copper`, `gear`,
-    /// `regeneration_lost`, `standby`, or a new effect's name).
-    Line(&'static str),
-}
-
-impl EnergyClass {
-    /// The breakdown line it is booked to (`rigid_body`, `friction`, `balancer` or its own).
-    pub fn line(self) -> &'static str {
-        match self {
-            EnergyClass::RigidBody => "rigid_body",
-            EnergyClass::Friction => "friction",
-            EnergyClass::Balancer => "balancer",
-            EnergyClass::Line(l) => l,
-        }
-    }
-}
-
-/// A range of an effect's estimated parameters, drawn by the placement's uncertainty study
-/// ([`crate::search::uncertainty`]): the drive file's `[uncertainty] <key>` (a half-width of a
-/// uniform range, relative), else `default`. A draw multiplies each of `params` (indices into
-/// [`Effect::params`]) by `1 + r u`, one `u` uniform in [−1, 1] for the range, and the drawn
-/// robot carries them in `[effects.values]`.
-#[derive(Clone, Debug, PartialEq)]
-pub struct UncertaintyRange {
-    /// The `[uncertainty]` key, e.g. `nozzle_heater_rel`.
-    pub key: &'static str,
-    /// Half-width when the drive file gives none (dimensionless).
-    pub default: f64,
-    /// The parameters it scales.
-    pub params: Vec<usize>,
 }
 
 /// One named parameter of an effect.
@@ -186,7 +116,7 @@ pub trait Effect: AsAny + Send + Sync + std::fmt::Debug {
     fn stage(&self) -> Stage {
         Stage::Torque
     }
-    /// How its energy is reported (default: a torque booked with the rigid body).
+    /// The energy-breakdown class of its torque (default: rigid body).
     fn energy_class(&self) -> EnergyClass {
         EnergyClass::RigidBody
     }
@@ -194,21 +124,6 @@ pub trait Effect: AsAny + Send + Sync + std::fmt::Debug {
     /// (`q` rad, `qd` rad/s, `qdd` rad/s², each of length `dof`) to `tau`. Default: nothing
     /// (effects after the torque).
     fn add_torque(&self, _q: &[f64], _qd: &[f64], _qdd: &[f64], _tau: &mut [f64]) {}
-    /// [`Effect::add_torque`] of [`crate::simd::LANES`] samples at once ([`lanes`]): added to
-    /// `tau` (N·m, joint-major `tau[j][lane]`), every lane bit-identical to
-    /// [`Effect::add_torque`] of its sample; `level` is the instruction set the caller runs
-    /// on (an override compiles its loops for it with [`on_level`]). Default: [`Effect::add_torque`]
-    /// sample by sample.
-    fn add_torque_lanes(&self, x: &LaneState<'_>, tau: &mut [Lanes], level: crate::simd::Level) {
-        let _ = level;
-        lanes::add_torque_per_lane(self, x, tau)
-    }
-    /// Mark in `read` (one flag a joint) the joints whose angles
-    /// [`Effect::add_torque_lanes`] reads (only those are put into lanes). Default: every
-    /// joint.
-    fn angles_read(&self, read: &mut [bool]) {
-        read.fill(true)
-    }
     /// Fill the regressor `Y` (row-major, `dof × params().len()`) with
     /// `τ_effect = Y · values()`, and return `true`; return `false` (leaving `y` untouched)
     /// if the effect is not linear in its parameters (default).
@@ -219,27 +134,6 @@ pub trait Effect: AsAny + Send + Sync + std::fmt::Debug {
     /// identification then caches its regressor once per log. Default `false`.
     fn costly(&self) -> bool {
         false
-    }
-    /// Write its current (identified) values into the calibrated drive file `w`, switched on
-    /// or off by `enabled`. Default: [`CalibratedDrive::write_values`] (an enabled effect's
-    /// values in `[effects.values]`, which wins over its own keys; a disabled effect's
-    /// removed). Effects with drive keys write those.
-    fn write_calibrated(&self, enabled: bool, w: &mut CalibratedDrive<'_>) -> Result<()> {
-        w.write_values(self.name(), self.values(), enabled);
-        Ok(())
-    }
-    /// Whether it is switched on when the drive file's `[effects]` names no `enabled` list
-    /// (`has_drive`: the robot has drive data). Default: the catalogue's [`DEFAULT_EFFECTS`]
-    /// when the robot has drive data.
-    fn on_by_default(&self, has_drive: bool) -> bool {
-        has_drive && DEFAULT_EFFECTS.contains(&self.name())
-    }
-    /// The ranges the uncertainty study draws its parameters from ([`UncertaintyRange`]).
-    /// Default: none. The catalogue's drive-data effects (friction, motor constants, standby,
-    /// payload, balancer) are drawn by the study itself on the robot's drive data, in a fixed
-    /// order that makes every study's draw stream ([`crate::search::uncertainty::Ranges`]).
-    fn uncertainty(&self) -> Vec<UncertaintyRange> {
-        Vec::new()
     }
     /// Whether it contributes nothing with its current values (skipped by the energy model).
     fn is_null(&self) -> bool {

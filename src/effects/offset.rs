@@ -1,12 +1,8 @@
 //! `offset`: a constant torque per joint, `τ = τ_0` (N·m): a torque-sensor or current offset,
 //! or a cable pull that does not change over the motion. Linear: regressor `Y = I`.
 
-use super::{
-    check_values, diagonal_regressor, on_level, per_joint_bounded, BuildContext, Effect, LaneState,
-    Lanes, ParamSpec,
-};
+use super::{check_values, diagonal_regressor, per_joint_bounded, BuildContext, Effect, ParamSpec};
 use crate::error::Result;
-use crate::simd::{Level, LANES};
 
 /// Bound on `|τ_0|`, N·m: an offset larger than this is not an offset.
 pub const OFFSET_MAX_NM: f64 = 1e4;
@@ -57,17 +53,6 @@ impl Effect for Offset {
             *t += o;
         }
     }
-    fn add_torque_lanes(&self, x: &LaneState<'_>, tau: &mut [Lanes], level: Level) {
-        on_level(level, || {
-            for (j, &o) in self.tau0.iter().enumerate().take(x.n) {
-                let d = tau[j];
-                for l in 0..LANES {
-                    tau[j][l] = d[l] + o;
-                }
-            }
-        })
-    }
-    fn angles_read(&self, _read: &mut [bool]) {}
     fn regressor(&self, _q: &[f64], _qd: &[f64], _qdd: &[f64], y: &mut [f64]) -> bool {
         diagonal_regressor(self.tau0.len(), y, |_| 1.0);
         true

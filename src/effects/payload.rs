@@ -42,13 +42,10 @@ pub struct Payload {
     data: Arc<Mutex<DynData>>,
 }
 
-/// The `[effects]` keys `payload` reads.
-pub(crate) const KEYS: &[&str] = &["payload_mass_error_kg"];
-
 /// Registry entry: `Δm` from `[effects] payload_mass_error_kg` (0 by default, ≥ −nominal mass).
 pub(crate) fn build(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
     let mut p = Payload::new(ctx.robot)?;
-    if let Some(dm) = ctx.number("payload_mass_error_kg")? {
+    if let Some(dm) = ctx.table.payload_mass_error_kg {
         if !(dm.is_finite() && dm >= -p.nominal_mass) {
             return Err(ctx.bad(
                 "payload_mass_error_kg",
@@ -177,28 +174,6 @@ impl Effect for Payload {
     }
     fn costly(&self) -> bool {
         true
-    }
-    /// Written as the robot's `[payload]` (mass `m₀ + Δm`, centre of mass `c₀ + Δh / m`) when
-    /// on and not null; never in `[effects]` (folded into the robot, so left out of `enabled`).
-    fn write_calibrated(&self, enabled: bool, w: &mut super::CalibratedDrive<'_>) -> Result<()> {
-        if enabled && !self.is_null() {
-            let mut folded = w.robot().clone();
-            self.fold_into(&mut folded);
-            if let Some(p) = folded.payload {
-                w.set_payload(
-                    p.mass,
-                    [p.com.x, p.com.y, p.com.z],
-                    format!(
-                        "payload identified by printwatt identify (mass error {:+.4} kg, first moment error [{:+.4}, {:+.4}, {:+.4}] kg·m)",
-                        self.dm, self.dh[0], self.dh[1], self.dh[2]
-                    ),
-                );
-            }
-        }
-        w.drop_from_enabled(self.name());
-        w.remove_values(self.name());
-        w.remove_own_keys();
-        Ok(())
     }
     fn is_null(&self) -> bool {
         self.dm == 0.0 && self.dh == [0.0; 3]

@@ -4,11 +4,9 @@
 //! returns `false` and identification uses the bounded nonlinear fit.
 
 use super::{
-    check_values, on_level, BuildContext, Effect, EnergyClass, LaneState, Lanes, ParamSpec,
-    COULOMB_VELOCITY_SCALE_RAD_S,
+    check_values, BuildContext, Effect, EnergyClass, ParamSpec, COULOMB_VELOCITY_SCALE_RAD_S,
 };
 use crate::error::Result;
-use crate::simd::{Level, LANES};
 
 /// Default Stribeck velocity `v_s`, rad/s.
 pub const STRIBECK_VELOCITY_RAD_S: f64 = 0.05;
@@ -22,15 +20,13 @@ pub struct Stribeck {
     pub vs: f64,
 }
 
-/// The `[effects]` keys `stribeck` reads.
-pub(crate) const KEYS: &[&str] = &["stribeck_nm", "stribeck_velocity_rad_s"];
-
 /// Registry entry: `f_s` from `[effects] stribeck_nm` (one per joint), `v_s` from
 /// `stribeck_velocity_rad_s` (errors name the key).
 pub(crate) fn build(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
     let n = ctx.dof();
+    let t = ctx.table;
     let mut s = Stribeck::zero(n);
-    if let Some(fs) = &ctx.numbers("stribeck_nm")? {
+    if let Some(fs) = &t.stribeck_nm {
         if fs.len() != n {
             return Err(ctx.bad(
                 "stribeck_nm",
@@ -42,7 +38,7 @@ pub(crate) fn build(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
         s.set_values(&v)
             .map_err(|e| ctx.bad("stribeck_nm", e.to_string()))?;
     }
-    if let Some(vs) = ctx.number("stribeck_velocity_rad_s")? {
+    if let Some(vs) = t.stribeck_velocity_rad_s {
         let mut v = s.values();
         v[n] = vs;
         s.set_values(&v)
@@ -116,33 +112,4 @@ impl Effect for Stribeck {
             *t += self.joint_torque(j, *v);
         }
     }
-    /// [`Stribeck::joint_torque`] lane by lane: the smoothed sign by
-    /// [`crate::fastmath::tanh_lanes`], the `exp` libm's per lane.
-    #[allow(clippy::needless_range_loop)] // parallel lanes
-    fn add_torque_lanes(&self, x: &LaneState<'_>, tau: &mut [Lanes], level: Level) {
-        on_level(level, || {
-            for j in 0..x.n {
-                match self.fs.get(j) {
-                    Some(&f) if f != 0.0 => {
-                        let qd = &x.qd[j];
-                        let mut v = [0.0; LANES];
-                        for l in 0..LANES {
-                            v[l] = qd[l] / COULOMB_VELOCITY_SCALE_RAD_S;
-                        }
-                        let th = crate::fastmath::tanh_lanes(&v);
-                        for l in 0..LANES {
-                            let e = (-(qd[l] / self.vs).powi(2)).exp();
-                            tau[j][l] += f * (e * th[l]);
-                        }
-                    }
-                    _ => {
-                        for l in 0..LANES {
-                            tau[j][l] += 0.0;
-                        }
-                    }
-                }
-            }
-        })
-    }
-    fn angles_read(&self, _read: &mut [bool]) {}
 }

@@ -1,11 +1,9 @@
 //! `viscous`: joint-side viscous friction `τ = f_v q̇` (seed 000, eq. 2, first term).
 
 use super::{
-    check_values, diagonal_regressor, on_level, per_joint, BuildContext, Effect, EnergyClass,
-    LaneState, Lanes, ParamSpec,
+    check_values, diagonal_regressor, per_joint, BuildContext, Effect, EnergyClass, ParamSpec,
 };
 use crate::error::Result;
-use crate::simd::{Level, LANES};
 
 /// Viscous friction per joint, `f_v` in N·m·s/rad (joint side).
 #[derive(Clone, Debug, PartialEq)]
@@ -54,16 +52,6 @@ impl Effect for Viscous {
     fn clone_box(&self) -> Box<dyn Effect> {
         Box::new(self.clone())
     }
-    /// With drive tables: `[[joints]] viscous_nm_s_per_rad`, not in `[effects.values]`.
-    fn write_calibrated(&self, enabled: bool, w: &mut super::CalibratedDrive<'_>) -> Result<()> {
-        if !w.has_drive_tables() {
-            w.write_values(self.name(), self.values(), enabled);
-            return Ok(());
-        }
-        w.set_joint_key("viscous_nm_s_per_rad", &self.fv)?;
-        w.remove_values(self.name());
-        Ok(())
-    }
     fn energy_class(&self) -> EnergyClass {
         EnergyClass::Friction
     }
@@ -78,17 +66,6 @@ impl Effect for Viscous {
             *t += f * v;
         }
     }
-    fn add_torque_lanes(&self, x: &LaneState<'_>, tau: &mut [Lanes], level: Level) {
-        on_level(level, || {
-            for (j, &f) in self.fv.iter().enumerate().take(x.n) {
-                let (d, v) = (tau[j], x.qd[j]);
-                for l in 0..LANES {
-                    tau[j][l] = d[l] + f * v[l];
-                }
-            }
-        })
-    }
-    fn angles_read(&self, _read: &mut [bool]) {}
     fn regressor(&self, _q: &[f64], qd: &[f64], _qdd: &[f64], y: &mut [f64]) -> bool {
         diagonal_regressor(self.fv.len(), y, |j| qd.get(j).copied().unwrap_or(0.0));
         true

@@ -5,14 +5,19 @@
 //!
 //! Every lane performs the operations of [`super::eval_sample_with_sincos`] in the same order
 //! (branches become selects: both sides computed, one kept), so each lane is **bit-identical**
-//! to the per-sample path (tested: `tests/simd.rs`). The torque effects are called through
-//! the trait, [`Effect::add_torque_lanes`]: each effect's own batched torque (compiled for
-//! the pass's level by [`crate::effects::on_level`]), or its one-sample torque lane by lane
-//! when it has none.
+//! to the per-sample path (tested: `tests/simd.rs`). The smoothed Coulomb sign is
+//! [`crate::fastmath::tanh_lanes`]: ±1 by select for `|q̇/ε| ≥ 20`, and where a lane is
+//! slower than that (20 ε, 0.02 rad/s by default: reversals and standstills) the polynomial
+//! [`crate::fastmath::tanh`] of every lane in lockstep, bit for bit the per-sample path's.
+//! The Stribeck term's `exp` is libm's per lane. An effect the pass does not know ([`LaneEffect::Other`]) is called per lane
+//! through [`Effect::add_torque`].
 
 use super::{EnergyModel, SamplePower};
 use crate::dynamics::{rnea_batch, Lanes, StateBatch, MAX_DOF};
-use crate::effects::{Effect, EnergyClass, LaneState};
+use crate::effects::{
+    Armature, Balancer, Coulomb, Effect, EnergyClass, Offset, Stribeck, Viscous,
+    COULOMB_VELOCITY_SCALE_RAD_S,
+};
 use crate::error::{Error, Result};
 use crate::robot::Regeneration;
 use crate::simd::{Level, LANES};
@@ -137,6 +142,49 @@ impl PowerLanes {
     }
 }
 
+/// A per-sample torque effect as the lockstep pass evaluates it: the effects it knows with
+/// their parameters, anything else called lane by lane.
+#[derive(Clone, Debug)]
+pub(super) enum LaneEffect {
+    /// [`Viscous`]: `τ_j += f_v,j q̇_j` (N·m·s/rad per joint).
+    Viscous(Vec<f64>),
+    /// [`Armature`]: `τ_j += I_a,j q̈_j` (kg·m² per joint).
+    Armature(Vec<f64>),
+    /// [`Offset`]: `τ_j += τ_0,j` (N·m per joint).
+    Offset(Vec<f64>),
+    /// [`Coulomb`].
+    Coulomb(Coulomb),
+    /// [`Stribeck`].
+    Stribeck(Stribeck),
+    /// [`Balancer`] (on a joint of the model).
+    Balancer(Balancer),
+    /// Any other effect, through [`Effect::add_torque`] per lane.
+    Other(Arc<dyn Effect>),
+}
+
+impl LaneEffect {
+    /// The lockstep form of `e` on a model of `n` joints.
+    pub(super) fn of(e: &Arc<dyn Effect>, n: usize) -> LaneEffect {
+        let a = e.as_any();
+        if let Some(v) = a.downcast_ref::<Viscous>() {
+            LaneEffect::Viscous(v.fv.clone())
+        } else if let Some(v) = a.downcast_ref::<Armature>() {
+            LaneEffect::Armature(v.ia.clone())
+        } else if let Some(v) = a.downcast_ref::<Offset>() {
+            LaneEffect::Offset(v.tau0.clone())
+        } else if let Some(c) = a.downcast_ref::<Coulomb>() {
+            LaneEffect::Coulomb(c.clone())
+        } else if let Some(s) = a.downcast_ref::<Stribeck>() {
+            LaneEffect::Stribeck(s.clone())
+        } else {
+            match a.downcast_ref::<Balancer>() {
+                Some(b) if b.joint < n => LaneEffect::Balancer(b.clone()),
+                _ => LaneEffect::Other(Arc::clone(e)),
+            }
+        }
+    }
+}
+
 /// A whole-lane expression (plain lane arithmetic, which vectorises).
 macro_rules! each {
     ($l:ident => $e:expr) => {{
@@ -148,12 +196,17 @@ macro_rules! each {
     }};
 }
 
-/// The joints whose angles the torque effects `e` read in lanes ([`Effect::angles_read`]):
-/// only these are transposed into lanes when the sines are given.
-pub(super) fn angles_read(e: &[(Arc<dyn Effect>, EnergyClass)], n: usize) -> [bool; MAX_DOF] {
+/// The joints whose angles the lockstep effects `e` read (the balancer's joint; every joint
+/// for an effect called per lane): only these are transposed into lanes when the sines are
+/// given.
+pub(super) fn angles_read(e: &[(LaneEffect, EnergyClass)], n: usize) -> [bool; MAX_DOF] {
     let mut read = [false; MAX_DOF];
     for (e, _) in e {
-        e.angles_read(&mut read[..n.min(MAX_DOF)]);
+        match e {
+            LaneEffect::Balancer(b) if b.joint < MAX_DOF => read[b.joint] = true,
+            LaneEffect::Other(_) => read[..n.min(MAX_DOF)].fill(true),
+            _ => {}
+        }
     }
     read
 }
@@ -175,7 +228,6 @@ fn effects_lanes(
     tau_rb: &mut [Lanes; MAX_DOF],
     tau_friction: &mut [Lanes; MAX_DOF],
     tau_balancer: &mut [Lanes; MAX_DOF],
-    level: Level,
 ) {
     let n = model.n;
     let (qd, qdd) = (&x.b.qd, &x.b.qdd);
@@ -183,21 +235,103 @@ fn effects_lanes(
         tau_balancer[j] = [0.0; LANES];
         tau_friction[j] = [0.0; LANES];
     }
-    let state = LaneState {
-        n,
-        q: &x.q[..],
-        qd: &qd[..],
-        qdd: &qdd[..],
-    };
-    for (e, class) in &model.torque {
+    for (e, class) in &model.lane_effects {
         let dst = match class {
-            // (A torque effect is never booked to a `Line` of its own: checked when the
-            // effect set is built.)
-            EnergyClass::RigidBody | EnergyClass::Line(_) => &mut *tau_rb,
+            EnergyClass::RigidBody => &mut *tau_rb,
             EnergyClass::Friction => &mut *tau_friction,
             EnergyClass::Balancer => &mut *tau_balancer,
         };
-        e.add_torque_lanes(&state, &mut dst[..], level);
+        match e {
+            LaneEffect::Viscous(fv) => {
+                for (j, &f) in fv.iter().enumerate().take(n) {
+                    let (d, v) = (dst[j], qd[j]);
+                    dst[j] = each!(l => d[l] + f * v[l]);
+                }
+            }
+            LaneEffect::Armature(ia) => {
+                for (j, &i) in ia.iter().enumerate().take(n) {
+                    let (d, a) = (dst[j], qdd[j]);
+                    dst[j] = each!(l => d[l] + i * a[l]);
+                }
+            }
+            LaneEffect::Offset(t0) => {
+                for (j, &o) in t0.iter().enumerate().take(n) {
+                    let d = dst[j];
+                    dst[j] = each!(l => d[l] + o);
+                }
+            }
+            LaneEffect::Coulomb(c) => {
+                let threshold = crate::fastmath::ratio_saturation_threshold(c.velocity_scale);
+                for j in 0..n {
+                    let (Some(&p), Some(&m)) = (c.fc_pos.get(j), c.fc_neg.get(j)) else {
+                        for l in 0..LANES {
+                            dst[j][l] += 0.0;
+                        }
+                        continue;
+                    };
+                    if p == 0.0 && m == 0.0 {
+                        for l in 0..LANES {
+                            dst[j][l] += 0.0;
+                        }
+                        continue;
+                    }
+                    let (d, w) = (dst[j], qd[j]);
+                    // tanh(q̇/ε), the division skipped where every lane is saturated.
+                    let s =
+                        crate::fastmath::tanh_lanes_of_ratio_at(&w, c.velocity_scale, threshold);
+                    dst[j] = each!(l => d[l] + if s[l] >= 0.0 { p * s[l] } else { m * s[l] });
+                }
+            }
+            LaneEffect::Stribeck(s) => {
+                for j in 0..n {
+                    match s.fs.get(j) {
+                        Some(&f) if f != 0.0 => {
+                            let mut v = [0.0; LANES];
+                            for l in 0..LANES {
+                                v[l] = qd[j][l] / COULOMB_VELOCITY_SCALE_RAD_S;
+                            }
+                            let th = crate::fastmath::tanh_lanes(&v);
+                            for l in 0..LANES {
+                                let e = (-(qd[j][l] / s.vs).powi(2)).exp();
+                                dst[j][l] += f * (e * th[l]);
+                            }
+                        }
+                        _ => {
+                            for l in 0..LANES {
+                                dst[j][l] += 0.0;
+                            }
+                        }
+                    }
+                }
+            }
+            LaneEffect::Balancer(bal) => {
+                let j = bal.joint;
+                let t = bal.joint_torque_lanes(&x.q[j]);
+                for l in 0..LANES {
+                    dst[j][l] += t[l];
+                }
+            }
+            LaneEffect::Other(e) => {
+                for l in 0..LANES {
+                    let (mut a, mut v, mut w, mut t) = (
+                        [0.0; MAX_DOF],
+                        [0.0; MAX_DOF],
+                        [0.0; MAX_DOF],
+                        [0.0; MAX_DOF],
+                    );
+                    for j in 0..n {
+                        a[j] = x.q[j][l];
+                        v[j] = qd[j][l];
+                        w[j] = qdd[j][l];
+                        t[j] = dst[j][l];
+                    }
+                    e.add_torque(&a[..n], &v[..n], &w[..n], &mut t[..n]);
+                    for j in 0..n {
+                        dst[j][l] = t[j];
+                    }
+                }
+            }
+        }
     }
 }
 
@@ -208,12 +342,7 @@ fn effects_lanes(
 /// With `ALL` false only what the integration reads is written (`tau_rb`, `tau_friction`,
 /// `tau_balancer`, `p_mech`, `p_friction`, `p_gear`, `p_copper`, `p_el` and the supply lanes);
 /// `tau`, `p_rigid_body`, `p_balancer`, `current` and `voltage` are left as they were.
-fn tail_lanes<const ALL: bool>(
-    model: &EnergyModel,
-    x: &Inputs<'_>,
-    out: &mut PowerLanes,
-    level: Level,
-) {
+fn tail_lanes<const ALL: bool>(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
     let n = model.n;
     let qd = &x.b.qd;
     effects_lanes(
@@ -222,7 +351,6 @@ fn tail_lanes<const ALL: bool>(
         &mut out.tau_rb,
         &mut out.tau_friction,
         &mut out.tau_balancer,
-        level,
     );
     // super::power_sample, lane by lane: whole-lane expressions (which vectorise), the
     // per-sample formulas' operations in their order.
@@ -316,14 +444,13 @@ fn tail_summed(
     tau_rb: &mut [Lanes; MAX_DOF],
     s: &mut EnergySums,
     w: &Lanes,
-    level: Level,
 ) {
     let zero: f64 = std::iter::empty::<f64>().sum();
     let mut sum = [zero; LANES];
     let mut pos = [zero; LANES];
     let mut tf = [[0.0; LANES]; MAX_DOF];
     let mut tb = [[0.0; LANES]; MAX_DOF];
-    effects_lanes(model, x, tau_rb, &mut tf, &mut tb, level);
+    effects_lanes(model, x, tau_rb, &mut tf, &mut tb);
     for j in 0..model.n {
         joint_summed(
             model, j, &x.b.qd[j], &tau_rb[j], &tf[j], &tb[j], s, w, &mut sum, &mut pos,
@@ -410,19 +537,19 @@ fn supply_summed(model: &EnergyModel, sum: &Lanes, pos: &Lanes, s: &mut EnergySu
 }
 
 fn tail_sse2(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
-    tail_lanes::<true>(model, x, out, Level::Sse2)
+    tail_lanes::<true>(model, x, out)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
 fn tail_avx2(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
-    tail_lanes::<true>(model, x, out, Level::Avx2)
+    tail_lanes::<true>(model, x, out)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]
 fn tail_avx512(model: &EnergyModel, x: &Inputs<'_>, out: &mut PowerLanes) {
-    tail_lanes::<true>(model, x, out, Level::Avx512)
+    tail_lanes::<true>(model, x, out)
 }
 
 /// Consecutive samples, row-major (`n` values a sample; the sines then the cosines, `2 n` a
@@ -643,7 +770,6 @@ fn pass_lanes<const AVX512: bool>(
     x: &mut LaneInputs,
     out: &mut PowerLanes,
     sum: Option<(&mut EnergySums, &Lanes)>,
-    level: Level,
 ) {
     transpose::<AVX512>(model.n, count, r, &model.lane_angles, x);
     let b = &x.b;
@@ -659,14 +785,14 @@ fn pass_lanes<const AVX512: bool>(
     let x = Inputs { q: &x.q, b: &x.b };
     if let Some((s, w)) = sum {
         if count == LANES {
-            tail_summed(model, &x, &mut out.tau_rb, s, w, level);
+            tail_summed(model, &x, &mut out.tau_rb, s, w);
         } else {
-            tail_lanes::<false>(model, &x, out, level);
+            tail_lanes::<false>(model, &x, out);
             s.add_partial(out, w, count, model.n);
         }
         return;
     }
-    tail_lanes::<true>(model, &x, out, level);
+    tail_lanes::<true>(model, &x, out);
 }
 
 fn pass_sse2(
@@ -677,7 +803,7 @@ fn pass_sse2(
     out: &mut PowerLanes,
     sum: Option<(&mut EnergySums, &Lanes)>,
 ) {
-    pass_lanes::<false>(model, count, r, x, out, sum, Level::Sse2)
+    pass_lanes::<false>(model, count, r, x, out, sum)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -690,7 +816,7 @@ fn pass_avx2(
     out: &mut PowerLanes,
     sum: Option<(&mut EnergySums, &Lanes)>,
 ) {
-    pass_lanes::<false>(model, count, r, x, out, sum, Level::Avx2)
+    pass_lanes::<false>(model, count, r, x, out, sum)
 }
 
 #[cfg(target_arch = "x86_64")]
@@ -703,7 +829,7 @@ fn pass_avx512(
     out: &mut PowerLanes,
     sum: Option<(&mut EnergySums, &Lanes)>,
 ) {
-    pass_lanes::<true>(model, count, r, x, out, sum, Level::Avx512)
+    pass_lanes::<true>(model, count, r, x, out, sum)
 }
 
 /// [`eval_lanes_with_sincos`] of `count ≤` [`LANES`] consecutive samples held row-major in

@@ -28,8 +28,7 @@
 //!
 //! Energies are trapezoidal integrals `E = ∫ P dt` (seed 000, eq. 7). The breakdown closes:
 //! `E_supply = E_rigid_body + E_balancer + E_friction + E_gear + E_copper
-//! + E_regeneration_lost + E_standby + Σ E_line` (one further line per constant-power supply
-//! effect, [`TotalEnergy::breakdown`]).
+//! + E_regeneration_lost + E_standby`.
 //!
 //! Without drive data the model is the rigid body only (payload, no armature, no friction):
 //! electrical power is taken equal to mechanical power, negative power is lost per axis
@@ -43,13 +42,10 @@ mod report;
 pub use lanes::{
     eval_lanes_with_sincos, eval_rows, eval_rows_summed, EnergySums, LaneInputs, PowerLanes, Rows,
 };
-pub use report::{Breakdown, EnergyReport, JointEnergy, SampleSeries, TotalEnergy};
+pub use report::{EnergyReport, JointEnergy, SampleSeries, TotalEnergy};
 
 use crate::dynamics::{rnea, rnea_with_sincos, DynData, DynModel, DynOptions, MAX_DOF};
-use crate::effects::{
-    Effect, EffectRegistry, EffectSet, EnergyClass, MotorTerm, Stage, SupplyTerm,
-    COULOMB_VELOCITY_SCALE_RAD_S,
-};
+use crate::effects::{Effect, EffectSet, EnergyClass, Stage, COULOMB_VELOCITY_SCALE_RAD_S};
 use crate::error::{Error, Result};
 use crate::robot::{Regeneration, RobotModel};
 use crate::simd::{Level, LANES};
@@ -103,6 +99,8 @@ pub struct EnergyModel {
     axes: [Axis; MAX_DOF],
     /// Enabled, non-null torque effects added per sample, with their energy class.
     torque: Vec<(Arc<dyn Effect>, EnergyClass)>,
+    /// The same effects in the form the lockstep pass evaluates ([`lanes`]).
+    lane_effects: Vec<(lanes::LaneEffect, EnergyClass)>,
     /// The joints whose angles (not only their sines) the lockstep effects read.
     lane_angles: [bool; MAX_DOF],
     /// Names of the effects in the model (folded or per sample), for the description.
@@ -111,8 +109,6 @@ pub struct EnergyModel {
     regeneration: Regeneration,
     recovered_fraction: f64,
     standby_w: f64,
-    /// The constant supply draws by breakdown line (`standby`, …), W; `standby_w` is their sum.
-    constant_lines: Vec<(&'static str, f64)>,
     joint_names: Vec<String>,
     robot_name: String,
     options: EnergyOptions,
@@ -167,16 +163,6 @@ impl EnergyModel {
     /// The model with explicit options. Errors: as [`DynModel::new`]; an invalid Coulomb
     /// velocity scale; a drive whose joint count differs from the robot's.
     pub fn with_options(robot: &RobotModel, options: EnergyOptions) -> Result<Self> {
-        Self::with_registry(robot, options, &EffectRegistry::current())
-    }
-
-    /// [`EnergyModel::with_options`] with the effects of `registry` (the catalogue plus
-    /// effects registered from outside the crate, [`EffectRegistry::with`]).
-    pub fn with_registry(
-        robot: &RobotModel,
-        options: EnergyOptions,
-        registry: &EffectRegistry,
-    ) -> Result<Self> {
         let n = robot.dof();
         let has_drive = robot.drive.is_some();
         if !(options.coulomb_velocity_scale.is_finite() && options.coulomb_velocity_scale > 0.0) {
@@ -185,7 +171,7 @@ impl EnergyModel {
                 options.coulomb_velocity_scale
             )));
         }
-        let mut set = EffectSet::of_robot_with(robot, registry)?;
+        let mut set = EffectSet::of_robot(robot)?;
         if options.coulomb_velocity_scale != COULOMB_VELOCITY_SCALE_RAD_S
             && set.is_enabled("coulomb")
         {
@@ -203,8 +189,7 @@ impl EnergyModel {
         let mut torque = Vec::new();
         let mut in_model = Vec::new();
         let mut motor: [Option<Vec<f64>>; 2] = [None, None];
-        let mut rho = 0.0;
-        let mut constant: Vec<(&'static str, f64)> = Vec::new();
+        let (mut rho, mut p0) = (0.0, 0.0);
         for (e, on) in set.iter() {
             if !on {
                 continue;
@@ -224,12 +209,14 @@ impl EnergyModel {
                         torque.push((Arc::from(e.clone_box()), class));
                     }
                 }
-                Stage::Motor(MotorTerm::WindingResistance) => motor[0] = Some(e.values()),
-                Stage::Motor(MotorTerm::GearEfficiency) => motor[1] = Some(e.values()),
-                Stage::Supply(SupplyTerm::RecoveredFraction) => rho = e.values()[0],
-                Stage::Supply(SupplyTerm::ConstantPower) => {
-                    constant.push((e.energy_class().line(), e.values()[0]))
-                }
+                Stage::Motor => match e.name() {
+                    "copper" => motor[0] = Some(e.values()),
+                    _ => motor[1] = Some(e.values()),
+                },
+                Stage::Supply => match e.name() {
+                    "regeneration" => rho = e.values()[0],
+                    _ => p0 = e.values()[0],
+                },
             }
         }
         let dynamics = DynModel::new(
@@ -242,7 +229,6 @@ impl EnergyModel {
         let mut axes = [Axis::default(); MAX_DOF];
         let mut regeneration = Regeneration::None;
         let mut standby_w = 0.0;
-        let mut constant_lines = Vec::new();
         if let Some(d) = &robot.drive {
             robot.check_len("drive joints", d.joints.len())?;
             for (j, (a, jd)) in axes.iter_mut().zip(&d.joints).enumerate() {
@@ -254,25 +240,28 @@ impl EnergyModel {
                 };
             }
             regeneration = d.regeneration;
-            standby_w = constant.iter().fold(0.0, |a, c| a + c.1);
-            constant_lines = constant;
+            standby_w = p0;
         }
         if let Some(r) = options.regeneration {
             regeneration = r;
         }
-        let lane_angles = lanes::angles_read(&torque, n);
+        let lane_effects: Vec<_> = torque
+            .iter()
+            .map(|(e, c)| (lanes::LaneEffect::of(e, n), *c))
+            .collect();
+        let lane_angles = lanes::angles_read(&lane_effects, n);
         Ok(EnergyModel {
             dynamics,
             n,
             has_drive,
             axes,
             torque,
+            lane_effects,
             lane_angles,
             in_model,
             regeneration,
             recovered_fraction: if has_drive { rho } else { 0.0 },
             standby_w,
-            constant_lines,
             joint_names: robot.joints.iter().map(|j| j.name.clone()).collect(),
             robot_name: robot.name().to_string(),
             calibration: robot.effects.calibration_summary(),
@@ -300,7 +289,7 @@ impl EnergyModel {
         self.regeneration
     }
 
-    /// The supply's constant draw (standby and every other constant-power effect), W.
+    /// Standby power, W.
     pub fn standby_power(&self) -> f64 {
         self.standby_w
     }
@@ -550,9 +539,7 @@ fn finish_sample(
     out.tau_friction = [0.0; MAX_DOF];
     for (e, class) in &model.torque {
         let dst = match class {
-            // (A torque effect is never booked to a `Line` of its own: checked when the
-            // effect set is built.)
-            EnergyClass::RigidBody | EnergyClass::Line(_) => &mut out.tau_rb,
+            EnergyClass::RigidBody => &mut out.tau_rb,
             EnergyClass::Friction => &mut out.tau_friction,
             EnergyClass::Balancer => &mut out.tau_balancer,
         };
@@ -702,15 +689,6 @@ pub fn evaluate(model: &EnergyModel, traj: &JointTrajectory) -> Result<EnergyRep
     let sum = |f: fn(&JointEnergy) -> f64| joints.iter().map(f).sum::<f64>();
     let duration = traj.duration();
     let supply_j = crate::numerics::trapezoid(t, &series.p_supply);
-    // A constant draw's line, J (the standby's with its power; 0 when absent).
-    let line_j = |line: &str| -> f64 {
-        let p = model
-            .constant_lines
-            .iter()
-            .filter(|(l, _)| *l == line)
-            .fold(0.0, |a, c| a + c.1);
-        p * duration
-    };
     let total = TotalEnergy {
         mechanical_j: sum(|j| j.mechanical_j),
         rigid_body_j: sum(|j| j.rigid_body_j),
@@ -721,15 +699,7 @@ pub fn evaluate(model: &EnergyModel, traj: &JointTrajectory) -> Result<EnergyRep
         electrical_j: sum(|j| j.electrical_j),
         drives_j: crate::numerics::trapezoid(t, &drives),
         regeneration_lost_j: crate::numerics::trapezoid(t, &lost),
-        standby_j: line_j("standby"),
-        lines: report::Breakdown(
-            model
-                .constant_lines
-                .iter()
-                .filter(|(l, _)| *l != "standby")
-                .map(|(l, _)| (l.to_string(), line_j(l)))
-                .collect(),
-        ),
+        standby_j: model.standby_w * duration,
         supply_j,
         peak_supply_power_w: if len > 0 {
             series

@@ -36,8 +36,7 @@ pub struct JointEnergy {
 }
 
 /// Totals over all joints, J (W for powers). The breakdown closes:
-/// `supply = rigid_body + balancer + friction + gear + copper + regeneration_lost + standby`
-/// `+ Σ lines` ([`TotalEnergy::breakdown`]).
+/// `supply = rigid_body + balancer + friction + gear + copper + regeneration_lost + standby`.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct TotalEnergy {
     /// Σ joints `∫ τ q̇ dt`, J.
@@ -60,11 +59,6 @@ pub struct TotalEnergy {
     pub regeneration_lost_j: f64,
     /// Standby power × duration, J.
     pub standby_j: f64,
-    /// Further lines of the breakdown, one per constant-power supply effect registered besides
-    /// `standby`, by its line name (`<line>_j` in the JSON, after `standby_j`), J. Empty for
-    /// the catalogue's effects.
-    #[serde(flatten)]
-    pub lines: Breakdown,
     /// Energy from the supply (drives + standby), J.
     pub supply_j: f64,
     /// Peak supply power, W.
@@ -168,50 +162,4 @@ pub struct EnergyReport {
     pub total: TotalEnergy,
     /// Per-sample series.
     pub series: SampleSeries,
-}
-
-/// Lines of the energy breakdown by name, in order, J; serialised as `<name>_j` keys.
-#[derive(Clone, Debug, Default, PartialEq)]
-pub struct Breakdown(pub Vec<(String, f64)>);
-
-impl Serialize for Breakdown {
-    fn serialize<S: serde::Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
-        use serde::ser::SerializeMap;
-        let mut m = s.serialize_map(Some(self.0.len()))?;
-        for (k, v) in &self.0 {
-            m.serialize_entry(&format!("{k}_j"), v)?;
-        }
-        m.end()
-    }
-}
-
-impl TotalEnergy {
-    /// Every line of the breakdown by name, in the JSON's order (`rigid_body`, `balancer`,
-    /// `friction`, `gear`, `copper`, `regeneration_lost`, `standby`, then the further lines
-    /// of [`TotalEnergy::lines`]), J. The lines are the effects' energy classes
-    /// ([`crate::effects::EnergyClass::line`]).
-    pub fn breakdown(&self) -> Vec<(String, f64)> {
-        let mut v: Vec<(String, f64)> = [
-            ("rigid_body", self.rigid_body_j),
-            ("balancer", self.balancer_j),
-            ("friction", self.friction_j),
-            ("gear", self.gear_j),
-            ("copper", self.copper_j),
-            ("regeneration_lost", self.regeneration_lost_j),
-            ("standby", self.standby_j),
-        ]
-        .into_iter()
-        .map(|(k, x)| (k.to_string(), x))
-        .collect();
-        v.extend(self.lines.0.iter().cloned());
-        v
-    }
-
-    /// The line called `name` of the breakdown, J (`None` when there is none).
-    pub fn line(&self, name: &str) -> Option<f64> {
-        self.breakdown()
-            .into_iter()
-            .find(|(k, _)| k == name)
-            .map(|(_, x)| x)
-    }
 }

@@ -5,15 +5,29 @@
 //! identified values go to the drive keys), without them and for URDF-only robots (they go
 //! to `[effects.values]`). Every command takes the written file as `--robot`.
 
-use crate::effects::{CalibratedDrive, EffectSet};
 use crate::error::{Error, Result};
 use crate::identify::ladder::Identification;
 use crate::identify::model::Model;
 use crate::identify::Log;
-use crate::robot::drive::{parse_drive_file, DriveFile};
+use crate::robot::drive::{parse_drive_file, DriveFile, PayloadTable};
 use crate::robot::RobotModel;
 use crate::robot::{CalibratedParam, Calibration, CalibrationRound};
 use std::path::{Component, Path, PathBuf};
+
+/// Effects whose parameters a drive file with per-joint drive tables keeps in its drive keys.
+const DRIVE_KEY_EFFECTS: [&str; 6] = [
+    "viscous",
+    "coulomb",
+    "armature",
+    "copper",
+    "gear_efficiency",
+    "standby",
+];
+
+/// Drive-key effects whose identified values do not fit their drive key and are also written
+/// to `[effects.values]` (which wins when the robot is loaded): `coulomb`'s drive key holds one
+/// value per joint, the identified effect one per direction and its transition width.
+const VALUES_TOO: [&str; 1] = ["coulomb"];
 
 /// What [`write_calibrated`] needs.
 #[derive(Debug)]
@@ -141,7 +155,89 @@ pub fn calibrated_text(inp: &CalibrationInput, dst: &Path) -> Result<String> {
     if f.robot.name.is_none() {
         f.robot.name = Some(robot.name().to_string());
     }
-    write_effects(&mut f, robot, &model.effects)?;
+    let has_drive = robot.drive.is_some();
+    let mut effects = f.effects.take().unwrap_or_default();
+    let mut values = effects.values.take().unwrap_or_default();
+    let val = |name: &str| model.values(name);
+    if has_drive {
+        // Effects with drive keys keep their values there.
+        let fv = val("viscous")?;
+        let ia = val("armature")?;
+        let r = val("copper")?;
+        let eta = val("gear_efficiency")?;
+        let fc = val("coulomb")?;
+        let n = model.n;
+        for (j, jt) in f.joints.iter_mut().enumerate().take(n) {
+            jt.viscous_nm_s_per_rad = Some(fv[j]);
+            // The drive key is symmetric: the mean of both directions (the values in
+            // `[effects.values]`, per direction and with the transition width, win).
+            jt.coulomb_nm = Some(0.5 * (fc[j] + fc[n + j]));
+            let g = model.gear[j];
+            jt.rotor_inertia_kg_m2 = Some(ia[j] / (g * g));
+            jt.winding_resistance_ohm = Some(r[j]);
+            jt.gear_efficiency = Some(eta[j]);
+        }
+        if let Some(c) = f.cabinet.as_mut() {
+            c.standby_power_w = val("standby")?[0];
+        }
+        for e in DRIVE_KEY_EFFECTS {
+            if !VALUES_TOO.contains(&e) {
+                values.remove(e);
+            }
+        }
+    }
+    // Every other enabled effect (and, without drive tables, every enabled one) keeps its
+    // values in `[effects.values]`, which wins over the older per-effect keys.
+    let mut enabled = model.enabled_names();
+    for e in crate::effects::catalogue() {
+        if e == "payload"
+            || (has_drive && DRIVE_KEY_EFFECTS.contains(&e) && !VALUES_TOO.contains(&e))
+        {
+            continue;
+        }
+        if model.is_enabled(e) {
+            values.insert(e.to_string(), val(e)?);
+            match e {
+                "stribeck" => {
+                    effects.stribeck_nm = None;
+                    effects.stribeck_velocity_rad_s = None;
+                }
+                "balancer" => {
+                    effects.balancer_preload_n = None;
+                    effects.balancer_stiffness_n_per_m = None;
+                }
+                "regeneration" => effects.regeneration_recovered_fraction = None,
+                _ => {}
+            }
+        } else {
+            values.remove(e);
+        }
+    }
+    // The payload is written as the robot's payload (mass and centre of mass).
+    let payload = model.effect("payload")?;
+    if model.is_enabled("payload") && !payload.is_null() {
+        let pv = payload.values();
+        let mut folded = robot.clone();
+        payload.fold_into(&mut folded);
+        if let Some(p) = folded.payload {
+            let inertia = f.payload.as_ref().map_or([0.0; 6], |t| t.inertia_kg_m2);
+            f.payload = Some(PayloadTable {
+                mass_kg: p.mass,
+                com_m: [p.com.x, p.com.y, p.com.z],
+                inertia_kg_m2: inertia,
+                description: Some(format!(
+                    "payload identified by printwatt identify (mass error {:+.4} kg, first moment error [{:+.4}, {:+.4}, {:+.4}] kg·m)",
+                    pv[0], pv[1], pv[2], pv[3]
+                )),
+            });
+        }
+    }
+    enabled.retain(|e| *e != "payload");
+    values.remove("payload");
+    effects.payload_mass_error_kg = None;
+    effects.enabled = Some(enabled.iter().map(|s| s.to_string()).collect());
+    effects.values = (!values.is_empty()).then_some(values);
+    f.effects = Some(effects);
     // Calibration record: earlier rounds carried over, this round appended.
     let mut cal = robot.effects.calibration.clone().unwrap_or(Calibration {
         base_robot: inp.robot_arg.to_string(),
@@ -211,44 +307,6 @@ pub fn calibrated_text(inp: &CalibrationInput, dst: &Path) -> Result<String> {
 # standard error, the round, log and date it came from.\n{body}",
         inp.date, inp.log.file
     ))
-}
-
-/// Each effect of `set` keeps its values where it reads them (its drive keys, the robot's
-/// payload, or `[effects.values]`, which wins over its `[effects]` keys):
-/// [`crate::effects::Effect::write_calibrated`]; `[effects] enabled` lists the effects on.
-fn write_effects(f: &mut DriveFile, robot: &RobotModel, set: &EffectSet) -> Result<()> {
-    let mut effects = f.effects.take().unwrap_or_default();
-    let mut values = effects.values.take().unwrap_or_default();
-    let mut enabled = set.enabled_names();
-    for (e, on) in set.iter() {
-        let mut w = CalibratedDrive {
-            file: &mut *f,
-            table: &mut effects,
-            values: &mut values,
-            enabled: &mut enabled,
-            robot,
-            keys: set.keys_of(e.name()),
-        };
-        e.write_calibrated(on, &mut w)?;
-    }
-    effects.enabled = Some(enabled.iter().map(|s| s.to_string()).collect());
-    effects.values = (!values.is_empty()).then_some(values);
-    f.effects = Some(effects);
-    Ok(())
-}
-
-/// The drive file `drive_file` of `robot` with the effects of `set` written into it as a
-/// calibrated robot keeps them ([`crate::effects::Effect::write_calibrated`]), as TOML text.
-/// The part of [`calibrated_text`] that the effects own, for a set built or changed by hand.
-pub fn drive_text_with_effects(
-    robot: &RobotModel,
-    drive_file: &Path,
-    set: &EffectSet,
-) -> Result<String> {
-    let text = crate::error::read_text(drive_file)?;
-    let mut f = parse_drive_file(&text, &drive_file.display().to_string())?;
-    write_effects(&mut f, robot, set)?;
-    f.to_toml()
 }
 
 /// Write the calibrated robot to `dst`. Refuses: the input drive file or URDF itself, a file

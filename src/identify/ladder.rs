@@ -57,8 +57,8 @@ pub struct HeldParam {
 /// encoder quantisation of a joint held by its brake or servo give less).
 pub const STILL_RMS_VELOCITY_RAD_S: f64 = 1e-3;
 
-/// Parameters of velocity- and acceleration-driven per-joint effects
-/// ([`crate::effects::Effect::driven_by_motion`]: `viscous`, `coulomb`, `stribeck`, `armature`) on joints that do not move in `rows` of the log.
+/// Parameters of velocity- and acceleration-driven per-joint effects (`viscous`, `coulomb`,
+/// `stribeck`, `armature`) on joints that do not move in `rows` of the log.
 pub fn still_joint_params(
     model: &Model,
     prep: &Prepared,
@@ -78,7 +78,7 @@ pub fn still_joint_params(
             continue;
         }
         for e in effects {
-            if !model.effect(e).is_ok_and(|x| x.driven_by_motion()) {
+            if !matches!(*e, "viscous" | "coulomb" | "stribeck" | "armature") {
                 continue;
             }
             for p in model.params(e).unwrap_or_default() {

@@ -9,7 +9,7 @@
 //! `R = 0`, `ρ = 0`, `P_0 = 0`.
 
 use crate::dynamics::{rnea, DynModel, DynOptions, MAX_DOF};
-use crate::effects::{catalogue, Effect, EffectSet, MotorTerm, ParamSpec, Stage, SupplyTerm};
+use crate::effects::{catalogue, Effect, EffectSet, ParamSpec, Stage};
 pub use crate::effects::{catalogue_index, DEFAULT_EFFECTS};
 use crate::error::{Error, Result};
 use crate::identify::log::{Log, SignalKind};
@@ -155,20 +155,13 @@ impl Model {
     fn refresh(&mut self) {
         let n = self.n;
         let e = &self.effects;
-        // The motor and supply terms by the stage the effects act in (not by name).
-        let term = |st: Stage| {
-            e.iter()
-                .find(|(x, on)| *on && x.stage() == st)
-                .map(|(x, _)| x.values())
-        };
         self.motor = MotorCache {
-            r: term(Stage::Motor(MotorTerm::WindingResistance)).unwrap_or_else(|| vec![0.0; n]),
-            eta: term(Stage::Motor(MotorTerm::GearEfficiency)).unwrap_or_else(|| vec![1.0; n]),
-            rho: term(Stage::Supply(SupplyTerm::RecoveredFraction)).map_or(0.0, |v| v[0]),
-            p0: e
-                .iter()
-                .filter(|(x, on)| *on && x.stage() == Stage::Supply(SupplyTerm::ConstantPower))
-                .fold(0.0, |a, (x, _)| a + x.values()[0]),
+            r: e.enabled_values("copper").unwrap_or_else(|| vec![0.0; n]),
+            eta: e
+                .enabled_values("gear_efficiency")
+                .unwrap_or_else(|| vec![1.0; n]),
+            rho: e.enabled_values("regeneration").map_or(0.0, |v| v[0]),
+            p0: e.enabled_values("standby").map_or(0.0, |v| v[0]),
         };
     }
 
@@ -270,18 +263,10 @@ impl Model {
     /// log; `copper` and `gear_efficiency` in power logs (`gear_efficiency` also in current
     /// logs); `regeneration` and `standby` only in `p_total` logs.
     pub fn observable(name: &str, kind: SignalKind) -> bool {
-        let registry = crate::effects::EffectRegistry::current();
-        let stage = registry
-            .entries()
-            .iter()
-            .find(|r| r.name == name)
-            .map(|r| r.stage);
-        match stage {
-            Some(Stage::Motor(MotorTerm::WindingResistance)) => {
-                matches!(kind, SignalKind::AxisPower | SignalKind::TotalPower)
-            }
-            Some(Stage::Motor(MotorTerm::GearEfficiency)) => kind != SignalKind::Torque,
-            Some(Stage::Supply(_)) => kind == SignalKind::TotalPower,
+        match name {
+            "copper" => matches!(kind, SignalKind::AxisPower | SignalKind::TotalPower),
+            "gear_efficiency" => kind != SignalKind::Torque,
+            "regeneration" | "standby" => kind == SignalKind::TotalPower,
             _ => true,
         }
     }

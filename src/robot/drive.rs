@@ -116,70 +116,49 @@ pub(crate) struct DriveFile {
     pub joints: Vec<JointTable>,
 }
 
-/// The drive file's `[effects]` table as written. The robot description carries it as data
-/// ([`crate::robot::RobotModel::effects`]); every other key belongs to an effect, which reads
-/// and validates it when a model is built (`crate::effects::EffectSet::of_robot`: a key no
-/// registered effect reads is an error naming the file and the key). The robot does not know
-/// the effects. Keys: docs/effects.md.
+/// The drive file's `[effects]` table as written (strict: unknown keys are errors). The robot
+/// description carries it as data ([`crate::robot::RobotModel::effects`]); the effects
+/// themselves read and validate their keys when a model is built (the robot does not know the
+/// effects). Keys: docs/effects.md.
 #[derive(Deserialize, Serialize, Debug, Default, Clone, PartialEq)]
+#[serde(deny_unknown_fields)]
 pub struct EffectsTable {
     /// Catalogue names switched on (replaces the default switches).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub enabled: Option<Vec<String>>,
-    /// The effects' own keys (e.g. `stribeck_nm`, `balancer_lever_m`), as written.
-    #[serde(flatten)]
-    pub keys: toml::Table,
+    /// `stribeck`: `f_s` per joint, N·m.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stribeck_nm: Option<Vec<f64>>,
+    /// `stribeck`: `v_s`, rad/s.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub stribeck_velocity_rad_s: Option<f64>,
+    /// `payload`: mass error `Δm`, kg.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub payload_mass_error_kg: Option<f64>,
+    /// `balancer`: preload `F0`, N.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub balancer_preload_n: Option<f64>,
+    /// `balancer`: stiffness `k`, N/m.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub balancer_stiffness_n_per_m: Option<f64>,
+    /// `balancer`: joint it acts on (1-based).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub balancer_joint: Option<usize>,
+    /// `balancer`: lever `a` on the moving link, m.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub balancer_lever_m: Option<f64>,
+    /// `balancer`: distance `b` of the fixed end, m.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub balancer_base_m: Option<f64>,
+    /// `balancer`: upright angle `q_up`, rad.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub balancer_upright_rad: Option<f64>,
+    /// `regeneration`: recovered fraction `ρ`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub regeneration_recovered_fraction: Option<f64>,
     /// Effect name → parameter values in the order of the effect's parameters (SI).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub values: Option<std::collections::BTreeMap<String, Vec<f64>>>,
-}
-
-impl EffectsTable {
-    /// The number under `key` (an integer is read as a number), `Ok(None)` when absent;
-    /// error (the message) when it is not a number.
-    pub fn number(&self, key: &str) -> std::result::Result<Option<f64>, String> {
-        match self.keys.get(key) {
-            None => Ok(None),
-            Some(toml::Value::Float(x)) => Ok(Some(*x)),
-            Some(toml::Value::Integer(i)) => Ok(Some(*i as f64)),
-            Some(v) => Err(format!("must be a number, got {v}")),
-        }
-    }
-    /// The list of numbers under `key`, `Ok(None)` when absent.
-    pub fn numbers(&self, key: &str) -> std::result::Result<Option<Vec<f64>>, String> {
-        match self.keys.get(key) {
-            None => Ok(None),
-            Some(toml::Value::Array(a)) => a
-                .iter()
-                .map(|v| match v {
-                    toml::Value::Float(x) => Ok(*x),
-                    toml::Value::Integer(i) => Ok(*i as f64),
-                    v => Err(format!("must be a list of numbers, got {v}")),
-                })
-                .collect::<std::result::Result<Vec<f64>, String>>()
-                .map(Some),
-            Some(v) => Err(format!("must be a list of numbers, got {v}")),
-        }
-    }
-    /// The non-negative integer under `key`, `Ok(None)` when absent.
-    pub fn integer(&self, key: &str) -> std::result::Result<Option<usize>, String> {
-        match self.keys.get(key) {
-            None => Ok(None),
-            Some(toml::Value::Integer(i)) if *i >= 0 => Ok(Some(*i as usize)),
-            Some(v) => Err(format!("must be an integer >= 0, got {v}")),
-        }
-    }
-    /// Set `key` to the number `x`.
-    pub fn set_number(&mut self, key: &str, x: f64) {
-        self.keys.insert(key.to_string(), toml::Value::Float(x));
-    }
-    /// Set `key` to the list of numbers `x`.
-    pub fn set_numbers(&mut self, key: &str, x: &[f64]) {
-        self.keys.insert(
-            key.to_string(),
-            toml::Value::Array(x.iter().map(|v| toml::Value::Float(*v)).collect()),
-        );
-    }
 }
 
 /// What a robot's drive file says about the effects, kept as data: the file, its `[effects]`
@@ -443,27 +422,6 @@ impl KinematicsTable {
 }
 
 impl JointTable {
-    /// Set the drive key `key` (as written in the file, e.g. `coulomb_nm`) to `x`. Error: not
-    /// a drive key.
-    pub(crate) fn set_drive_key(&mut self, key: &str, x: f64) -> Result<()> {
-        let slot = match key {
-            "gear_ratio" => &mut self.gear_ratio,
-            "torque_constant_nm_per_a" => &mut self.torque_constant_nm_per_a,
-            "winding_resistance_ohm" => &mut self.winding_resistance_ohm,
-            "rotor_inertia_kg_m2" => &mut self.rotor_inertia_kg_m2,
-            "viscous_nm_s_per_rad" => &mut self.viscous_nm_s_per_rad,
-            "coulomb_nm" => &mut self.coulomb_nm,
-            "gear_efficiency" => &mut self.gear_efficiency,
-            _ => {
-                return Err(Error::Invalid(format!(
-                    "`{key}` is not a drive key of [[joints]]"
-                )))
-            }
-        };
-        *slot = Some(x);
-        Ok(())
-    }
-
     /// The drive data of this joint, or `None` if the table gives no drive numbers at all.
     /// A table that gives some but not all of them is an error naming the missing field.
     pub(crate) fn drive(&self, file: &str, idx: usize) -> Result<Option<JointDrive>> {

@@ -33,7 +33,8 @@ use serde::{Deserialize, Serialize};
 
 /// The `[uncertainty]` table of a drive file: half-widths of uniform ranges (dimensionless
 /// fractions of the nominal value, except where the key names a unit).
-#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
 pub struct Ranges {
     /// Link masses, ± fraction.
     pub link_mass_rel: f64,
@@ -61,10 +62,6 @@ pub struct Ranges {
     /// Balancer preload and stiffness, ± fraction (one factor for both).
     #[serde(default)]
     pub balancer_force_rel: f64,
-    /// Ranges the effects declare ([`crate::effects::Effect::uncertainty`]) by key; a key
-    /// absent takes the effect's default. Any other key is an error naming it.
-    #[serde(flatten)]
-    pub effects: std::collections::BTreeMap<String, f64>,
 }
 
 impl Default for Ranges {
@@ -86,7 +83,6 @@ impl Default for Ranges {
             standby_power_rel: 0.3,
             balancer_absent_probability: 0.2,
             balancer_force_rel: 0.3,
-            effects: Default::default(),
         }
     }
 }
@@ -121,29 +117,11 @@ impl Ranges {
             toml::from_str(&text).map_err(|e| Error::Invalid(format!("{file}: {e}")))?;
         match v.get("uncertainty") {
             None => Ok(None),
-            Some(t) => {
-                let r = t
-                    .clone()
-                    .try_into::<Ranges>()
-                    .map_err(|e| Error::Invalid(format!("{file}: [uncertainty]: {e}")))?;
-                // The keys beyond the fields: each a range an effect declares.
-                let declared: Vec<&str> = crate::effects::EffectSet::of_robot(model)
-                    .map(|s| {
-                        s.iter()
-                            .flat_map(|(e, _)| e.uncertainty())
-                            .map(|u| u.key)
-                            .collect()
-                    })
-                    .unwrap_or_default();
-                if let Some(k) = r.effects.keys().find(|k| !declared.contains(&k.as_str())) {
-                    return Err(Error::Field {
-                        file: file.clone(),
-                        field: format!("uncertainty.{k}"),
-                        msg: "unknown key (no effect declares this range)".into(),
-                    });
-                }
-                Ok(Some((r, file.clone())))
-            }
+            Some(t) => t
+                .clone()
+                .try_into::<Ranges>()
+                .map(|r| Some((r, file.clone())))
+                .map_err(|e| Error::Invalid(format!("{file}: [uncertainty]: {e}"))),
         }
     }
 }
@@ -328,16 +306,13 @@ fn draw_robot(
         drawn.push(("standby power".into(), sb));
     }
     let t = &mut m.effects.table;
-    let declared = crate::effects::balancer_declared_in(t);
+    let declared = t.balancer_lever_m.is_some() && t.balancer_base_m.is_some();
     // A calibrated robot keeps the balancer in `[effects.values]` (which wins over the keys).
     let (p0, k0) = match t.values.as_ref().and_then(|v| v.get("balancer")) {
         Some(b) if b.len() >= 2 => (b[0], b[1]),
         _ => (
-            t.number("balancer_preload_n").ok().flatten().unwrap_or(0.0),
-            t.number("balancer_stiffness_n_per_m")
-                .ok()
-                .flatten()
-                .unwrap_or(0.0),
+            t.balancer_preload_n.unwrap_or(0.0),
+            t.balancer_stiffness_n_per_m.unwrap_or(0.0),
         ),
     };
     if declared || p0 != 0.0 || k0 != 0.0 {
@@ -354,8 +329,8 @@ fn draw_robot(
             }
         };
         let (f0, k) = if present { (f0, k) } else { (0.0, 0.0) };
-        t.set_number("balancer_preload_n", f0);
-        t.set_number("balancer_stiffness_n_per_m", k);
+        t.balancer_preload_n = Some(f0);
+        t.balancer_stiffness_n_per_m = Some(k);
         // A calibrated robot keeps the balancer in `[effects.values]`, which wins.
         if let Some(b) = t.values.as_mut().and_then(|v| v.get_mut("balancer")) {
             if b.len() >= 2 {
@@ -389,34 +364,6 @@ fn draw_robot(
             v[i] = x;
             drawn.push((format!("{effect} {name}"), x - value));
             note(name);
-        }
-    }
-    // The ranges the effects declare ([`crate::effects::Effect::uncertainty`]), after every
-    // draw above (whose stream they leave as it was): each scales its parameters by
-    // `1 + r u`, carried in `[effects.values]`.
-    if let Ok(set) = crate::effects::EffectSet::of_robot(nominal) {
-        for (e, on) in set.iter() {
-            let ranges = e.uncertainty();
-            if !on || ranges.is_empty() {
-                continue;
-            }
-            let mut v = e.values();
-            for range in ranges {
-                let half = r.effects.get(range.key).copied().unwrap_or(range.default);
-                let f = 1.0 + half * u(rng);
-                let ps = e.params();
-                for &i in &range.params {
-                    if let (Some(x), Some(p)) = (v.get_mut(i), ps.get(i)) {
-                        *x = (*x * f).clamp(p.lower, p.upper);
-                    }
-                }
-                drawn.push((format!("{} {}", e.name(), range.key), f));
-            }
-            m.effects
-                .table
-                .values
-                .get_or_insert_with(Default::default)
-                .insert(e.name().to_string(), v);
         }
     }
     (m, drawn, used.into_inner())
