@@ -274,7 +274,7 @@ pub fn refuse_overlap(out: &Path, inputs: &[PathBuf]) -> Result<()> {
             continue;
         };
         return Err(Error::Invalid(format!(
-            "refusing to write {}: {why} {}, an input of this command (with or without --force); choose an output outside every input",
+            "refusing to write {}: {why} {}, an input of this command (whether or not replacing is allowed); choose an output outside every input",
             out.display(),
             i.display()
         )));

@@ -44,7 +44,7 @@ impl FromStr for SearchMethod {
             "nelder-mead" | "nelder_mead" | "nm" => Ok(SearchMethod::NelderMead),
             "pattern" => Ok(SearchMethod::Pattern),
             s => Err(Error::Invalid(format!(
-                "--search `{s}`: expected nelder-mead or pattern"
+                "search method `{s}`: expected nelder-mead or pattern"
             ))),
         }
     }
@@ -96,7 +96,7 @@ impl FromStr for EvaluationMode {
             "full" => Ok(EvaluationMode::Full),
             "reduced" => Ok(EvaluationMode::Reduced),
             m => Err(Error::Invalid(format!(
-                "--evaluation `{m}`: expected auto, full or reduced"
+                "evaluation `{m}`: expected auto, full or reduced"
             ))),
         }
     }
@@ -125,7 +125,7 @@ impl FromStr for Tolerance {
                     .filter(|v| v.is_finite() && *v >= 0.0)
                     .ok_or_else(|| {
                         Error::Invalid(format!(
-                            "--tolerance `{s}`: `{}` is not a number >= 0",
+                            "tolerance `{s}`: `{}` is not a number >= 0",
                             t.trim()
                         ))
                     })
@@ -136,13 +136,13 @@ impl FromStr for Tolerance {
             [xy, z, yaw] => (*xy, *z, *yaw),
             _ => {
                 return Err(Error::Invalid(format!(
-                    "--tolerance `{s}`: expected XY_MM,YAW_DEG or XY_MM,Z_MM,YAW_DEG"
+                    "tolerance `{s}`: expected XY_MM,YAW_DEG or XY_MM,Z_MM,YAW_DEG"
                 )))
             }
         };
         if xy > 500.0 || z > 500.0 || yaw > 45.0 {
             return Err(Error::Invalid(format!(
-                "--tolerance `{s}`: at most 500 mm and 45°"
+                "tolerance `{s}`: at most 500 mm and 45°"
             )));
         }
         Ok(Tolerance {
@@ -172,11 +172,11 @@ pub fn parse_z_bounds(s: &str) -> Result<[f64; 2]> {
         .split(':')
         .map(|t| t.trim().parse::<f64>().ok().filter(|v| v.is_finite()))
         .collect::<Option<_>>()
-        .ok_or_else(|| Error::Invalid(format!("--z-bounds `{s}`: expected min:max in m")))?;
+        .ok_or_else(|| Error::Invalid(format!("z bounds `{s}`: expected min:max in m")))?;
     match v.as_slice() {
         [a, b] if a <= b => Ok([*a, *b]),
         _ => Err(Error::Invalid(format!(
-            "--z-bounds `{s}`: expected min:max with min <= max (m)"
+            "z bounds `{s}`: expected min:max with min <= max (m)"
         ))),
     }
 }
@@ -267,7 +267,7 @@ impl OptimiseSettings {
         if let Some(n) = self.uncertainty {
             if n == 0 || n > MAX_UNCERTAINTY_DRAWS {
                 return Err(Error::Invalid(format!(
-                    "--uncertainty {n}: expected 1 to 100000 draws"
+                    "uncertainty study of {n} draws: expected 1 to 100000 draws"
                 )));
             }
         }
@@ -279,7 +279,9 @@ impl OptimiseSettings {
             }
         }
         if self.feasibility.check_every == 0 {
-            return Err(Error::Invalid("--check-every must be at least 1".into()));
+            return Err(Error::Invalid(
+                "the collision check interval must be at least 1 sample".into(),
+            ));
         }
         Ok(())
     }

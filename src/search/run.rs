@@ -259,7 +259,7 @@ fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Resul
     if let Some((full, chk)) = reduce::confirm(&ev, &res.best)? {
         if let Err(why) = &full.outcome {
             return Err(Error::Invalid(format!(
-                "the placement chosen on representative layers (x = {:.3} m, y = {:.3} m, z = {:.3} m, yaw = {:.1}°) is infeasible when every sample is evaluated: {why}; run again with --evaluation full",
+                "the placement chosen on representative layers (x = {:.3} m, y = {:.3} m, z = {:.3} m, yaw = {:.1}°) is infeasible when every sample is evaluated: {why}; evaluate every sample instead (full evaluation)",
                 full.placement.x,
                 full.placement.y,
                 full.placement.z,
@@ -411,7 +411,9 @@ fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Resul
         if let Some(om) = &si.on_margin {
             m.push((
                 "optimum on a joint-limit margin".into(),
-                format!("{om}: the margin, not the energy, stops the search here (--joint-margin)"),
+                format!(
+                    "{om}: the margin, not the energy, stops the search here (the joint margin)"
+                ),
             ));
         }
         if let Some(sk) = &si.spin_kept {
@@ -461,7 +463,7 @@ fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Resul
 pub fn tolerance_line(c: &ToleranceCheck) -> String {
     use crate::report::placement::tolerance_text;
     if c.corners == 0 {
-        "not checked (--tolerance 0,0)".into()
+        "not checked (tolerance 0,0)".into()
     } else if c.holds {
         tolerance_text(c, true)
     } else {
@@ -494,7 +496,7 @@ pub fn evaluation_line(ev: &Evaluator) -> Option<(String, String)> {
     Some((
         "evaluation".into(),
         format!(
-            "reduced: {} layers, {} repeating with period {}, {} samples; each placement evaluated on representative layers, the others interpolated over z (each feasible placement states its error); --evaluation full evaluates every sample",
+            "reduced: {} layers, {} repeating with period {}, {} samples; each placement evaluated on representative layers, the others interpolated over z (each feasible placement states its error); a full evaluation evaluates every sample",
             s.layers, s.repeating_layers, s.period, s.samples
         ),
     ))

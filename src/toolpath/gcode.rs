@@ -182,6 +182,19 @@ fn lex_line(
                 return Ok((words, comments, Some(cmd)));
             }
             let letter = c.to_ascii_uppercase();
+            // `G28 X Y`, `G28 W` (Prusa: home without mesh levelling): bare letters are flags of
+            // the homing command, not words.
+            let homing = words
+                .first()
+                .is_some_and(|w: &Word| w.letter == 'G' && w.value == 28.0);
+            if homing
+                && chars
+                    .get(i + 1)
+                    .is_none_or(|x| x.is_whitespace() || *x == ';')
+            {
+                i += 1;
+                continue;
+            }
             let (value, j) = lex_number(file, lineno, &chars, i + 1, letter)?;
             words.push(Word {
                 letter,
