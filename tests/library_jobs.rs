@@ -73,7 +73,10 @@ fn library_optimise_matches_cli() {
         .filter(|(k, v)| lib.get(k.as_str()) != Some(v))
         .map(|(k, _)| k)
         .collect();
-    assert!(differ.is_empty(), "the library's answer differs in {differ:?}");
+    assert!(
+        differ.is_empty(),
+        "the library's answer differs in {differ:?}"
+    );
     assert_eq!(lib, cli, "the library's answer is not the command line's");
 }
 
