@@ -642,6 +642,10 @@ impl CaseResult {
     }
 }
 
+/// What a front end does with each answered case: the case, its result, its report page (when
+/// it has an answer) and its wall time, s.
+pub type CaseDone<'a> = dyn FnMut(&Case, &CaseResult, Option<String>, f64) -> Result<()> + 'a;
+
 /// Run the cases `indices` of a study (in order), each optimised as its config says
 /// (`config_of`: the case's job; an error there is the study's, an error of the optimisation
 /// is the case's answer), in the caller's rayon pool. `done` receives each case as it is
@@ -651,7 +655,7 @@ pub fn run(
     indices: &[usize],
     config_of: &dyn Fn(&Case) -> Result<OptimiseConfig>,
     observer: &dyn Observer,
-    done: &mut dyn FnMut(&Case, &CaseResult, Option<String>, f64) -> Result<()>,
+    done: &mut CaseDone<'_>,
 ) -> Result<Vec<CaseResult>> {
     let mut out = Vec::with_capacity(indices.len());
     for &k in indices {

@@ -101,7 +101,7 @@ enum Draws<'d> {
 }
 
 enum Answer {
-    Report(OptimiseOutcome),
+    Report(Box<OptimiseOutcome>),
     Shard(ShardDraws),
 }
 
@@ -111,7 +111,7 @@ enum Answer {
 /// observer), a reduced answer infeasible in full, a model error.
 pub fn run(config: &OptimiseConfig, observer: &dyn Observer) -> Result<OptimiseOutcome> {
     match work(config, Draws::All, observer)? {
-        Answer::Report(o) => Ok(o),
+        Answer::Report(o) => Ok(*o),
         Answer::Shard(_) => unreachable!("no shard asked for"),
     }
 }
@@ -124,7 +124,7 @@ pub fn run_merged(
     observer: &dyn Observer,
 ) -> Result<OptimiseOutcome> {
     match work(config, Draws::Given(draws), observer)? {
-        Answer::Report(o) => Ok(o),
+        Answer::Report(o) => Ok(*o),
         Answer::Shard(_) => unreachable!("no shard asked for"),
     }
 }
@@ -452,11 +452,11 @@ fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Resul
         details,
         electrical: config.robot.drive.is_some(),
     };
-    Ok(Answer::Report(OptimiseOutcome {
+    Ok(Answer::Report(Box::new(OptimiseOutcome {
         report,
         secs,
         evaluations: n_eval,
-    }))
+    })))
 }
 
 /// What the tolerance check says, in one line.
