@@ -634,8 +634,8 @@ impl FastChain {
             s: [[0.0; LANES]; MAX_DOF],
             c: [[1.0; LANES]; MAX_DOF],
         };
-        for i in 0..self.n {
-            (out.s[i], out.c[i]) = crate::fastmath::sin_cos_lanes_tiny_in_kernel(&q[i]);
+        for (i, qi) in q.iter().enumerate().take(self.n) {
+            (out.s[i], out.c[i]) = crate::fastmath::sin_cos_lanes_tiny_in_kernel(qi);
         }
         self.check_errors::<R>(&out.s, &out.c, check_rot, tp, &mut out.dp2, &mut out.f2);
         then(&out)
