@@ -1557,41 +1557,7 @@ impl<'a> IkSolver<'a> {
             self.chain.batchable(),
             "check_lanes on a chain it does not apply to"
         );
-        struct K<'a, 's, 'o> {
-            solver: &'a IkSolver<'s>,
-            count: usize,
-            q: &'a [[f64; crate::simd::LANES]; MAX_DOF],
-            target: &'a PathTarget,
-            tips: &'a [V3],
-            tp: Option<&'a [[f64; crate::simd::LANES]; 3]>,
-            out: Out<'o>,
-        }
-        impl crate::simd::Kernel for K<'_, '_, '_> {
-            type Out = Result<(), (usize, IkFailure)>;
-            #[inline(always)]
-            fn run<R: crate::simd::F64s>(self) -> Self::Out {
-                self.solver.check_lanes_with::<R>(
-                    self.count,
-                    self.q,
-                    self.target,
-                    self.tips,
-                    self.tp,
-                    self.out,
-                )
-            }
-        }
-        crate::simd::dispatch(
-            level,
-            K {
-                solver: self,
-                count,
-                q,
-                target,
-                tips,
-                tp: None,
-                out: Out::Slice(sincos),
-            },
-        )
+        self.check_lanes_dispatch(count, q, target, tips, None, Out::Slice(sincos), level)
     }
 
     /// [`IkSolver::check_lanes`] that appends the sines and cosines of the `count` answers
@@ -1613,6 +1579,22 @@ impl<'a> IkSolver<'a> {
             self.chain.batchable(),
             "check_lanes on a chain it does not apply to"
         );
+        self.check_lanes_dispatch(count, q, target, tips, Some(tp), Out::Push(sincos), level)
+    }
+
+    /// [`IkSolver::check_lanes_with`] at the register width of `level`: the one kernel behind
+    /// [`IkSolver::check_lanes`] and [`IkSolver::check_lanes_push`].
+    #[allow(clippy::too_many_arguments)]
+    fn check_lanes_dispatch(
+        &self,
+        count: usize,
+        q: &[[f64; crate::simd::LANES]; MAX_DOF],
+        target: &PathTarget,
+        tips: &[V3],
+        tp: Option<&[[f64; crate::simd::LANES]; 3]>,
+        out: Out<'_>,
+        level: crate::simd::Level,
+    ) -> Result<(), (usize, IkFailure)> {
         struct K<'a, 's, 'o> {
             solver: &'a IkSolver<'s>,
             count: usize,
@@ -1644,8 +1626,8 @@ impl<'a> IkSolver<'a> {
                 q,
                 target,
                 tips,
-                tp: Some(tp),
-                out: Out::Push(sincos),
+                tp,
+                out,
             },
         )
     }
