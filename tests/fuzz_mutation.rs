@@ -291,7 +291,6 @@ enum Reader {
     Placements,
     Trajectory,
     Log,
-    Study,
 }
 
 fn seeds(r: Reader) -> Vec<PathBuf> {
@@ -324,7 +323,6 @@ fn seeds(r: Reader) -> Vec<PathBuf> {
         Reader::Placements => list("paths/placements", "csv"),
         Reader::Trajectory => list("tests/data/traj", "csv"),
         Reader::Log => list("tests/data/logs", "csv"),
-        Reader::Study => list("studies", "toml"),
     }
 }
 
@@ -349,7 +347,6 @@ fn read(r: Reader, path: &Path) -> Result<String, Error> {
             "{:?}",
             printwatt::identify::log::read_log(path, 6, None).map(|l| (l.traj, l.y))?
         ),
-        Reader::Study => format!("{:?}", printwatt::campaign::study::Study::read(path)?),
     })
 }
 
@@ -432,7 +429,6 @@ fn every_reader_survives_seeded_mutations_with_located_errors_and_finite_results
         Reader::Placements,
         Reader::Trajectory,
         Reader::Log,
-        Reader::Study,
     ];
     for r in readers {
         let t = std::time::Instant::now();
