@@ -363,14 +363,8 @@ pub fn parse_urdf(text: &str, file: &str, tool_link: Option<&str>) -> Result<Rob
             ));
             velocity = f64::INFINITY;
         }
-        if effort == 0.0
-            && kind != "fixed"
-            && child(j, "limit").is_some_and(|l| l.attribute("effort").is_some())
-        {
-            warnings.push(format!(
-                "joint `{name}`: effort=\"0\" read as no effort limit given"
-            ));
-        }
+        // `effort="0"` (ROS-Industrial's URDFs write it) reads as no effort limit given: the
+        // drive file's torque limits apply, and nothing else uses the URDF's effort.
         if velocity <= 0.0 && kind != "fixed" {
             let l = child(j, "limit").unwrap_or(j);
             return Err(cx.err(
