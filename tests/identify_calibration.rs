@@ -139,7 +139,7 @@ fn the_written_robot_reproduces_the_ladders_validation_rmse_for_every_effect() {
 }
 
 #[test]
-fn a_payload_of_16_g_with_its_centre_of_mass_13_m_from_the_flange_is_implausible_and_not_claimed() {
+fn a_payload_with_its_centre_of_mass_metres_from_the_flange_is_implausible_and_not_claimed() {
     let (r, mut m) = nominal();
     m.set_enabled("payload", true).unwrap();
     // Nominal 30 kg at (0, 0, 0.15): take it to 16 g with the centre of mass 13 m out.
@@ -155,16 +155,10 @@ fn a_payload_of_16_g_with_its_centre_of_mass_13_m_from_the_flange_is_implausible
     m.set_values("payload", &[170.0]).unwrap();
     let why = plausible::implausible_fit(&m, "payload", &[Some(1e-3); 10]).unwrap();
     assert!(why.contains("above 80.0 kg"), "{why}");
-    // A log whose truth is such a payload: identify names it implausible (the CLI writes
+    // A log whose truth is such a payload (1 kg, its centre of mass 3 m out; it keeps its
+    // inertia about its centre of mass): identify names it implausible (the CLI writes
     // nothing) and diagnose does not claim it.
-    let log = sim_with(
-        "payload=-29.984:0.208",
-        SignalKind::Torque,
-        1.0,
-        5,
-        8.0,
-        &[],
-    );
+    let log = sim_with("payload=-29:3", SignalKind::Torque, 1.0, 5, 8.0, &[]);
     let (_, id) = identify(&r, &log, "payload");
     assert!(
         id.implausible.iter().any(|w| w.starts_with("payload:")),

@@ -229,7 +229,7 @@ fn a_calibrated_robots_uncertainty_draws_vary_the_parameters_it_identified() {
     // effect, so every draw was the nominal robot), and the calibrated file must keep it (it
     // kept the mean of both directions only).
     let d = std::env::temp_dir().join(format!("printwatt-unc-cal-{}", std::process::id()));
-    let (cal, log) = calibrate(&d, "tau", "coulomb=60:20", "1", "coulomb");
+    let (cal, log) = calibrate(&d, "tau", "coulomb=60:20", "1", "coulomb_directional");
     // The calibrated robot reproduces the log as well as the fit did (noise 1 N·m).
     let cmp: serde_json::Value = serde_json::from_str(&run_cli(&[
         "compare",

@@ -10,8 +10,9 @@
 //! (exact: `U` is quadratic in `c`) and `J_k` the torque of a massless body whose inertia about
 //! the flange origin is the `k`-th basis tensor (`xx, yy, zz, xy, xz, yz`). Regressor
 //! `[U(c₀), ∂U/∂c, J]` (N·m/kg, N·m/(kg·m), N·m/(kg·m²)). Moving first moment `Δh` carries the
-//! point-mass inertia with it to first order, so that with `ΔI_o = 0` the load keeps its own
-//! inertia about its centre of mass up to `−|Δh|²/m`.
+//! point-mass inertia with it to first order; when only the mass and the centre of mass are
+//! fitted, `ΔI_o` follows them as `P(Δh)/m` ([`Payload::held_inertia_error`]), so the load keeps
+//! its own inertia about its centre of mass exactly.
 //!
 //! With `P(c) = |c|² 1 − c cᵀ` (a unit point mass's inertia about the origin), the identified
 //! payload has `m = m₀ + Δm`, `h = (m₀ + Δm) c₀ + Δh`,
@@ -170,6 +171,27 @@ impl Payload {
         (m, h, io)
     }
 
+    /// The inertia error `ΔI_o` that keeps the load's inertia about its own centre of mass at
+    /// the nominal one for a mass error `dm` and first-moment error `dh`: `P(Δh) / m`, with
+    /// `m = m₀ + Δm` (zero when the mass is zero). With it, [`Payload::body`] writes the
+    /// nominal inertia about the centre of mass: what "the payload's inertia is held" means
+    /// when only the mass and the centre of mass are fitted.
+    pub fn held_inertia_error(&self, dm: f64, dh: [f64; 3]) -> [f64; 6] {
+        let m = self.nominal_mass + dm;
+        if m.abs() <= 1e-12 {
+            return [0.0; 6];
+        }
+        let p = point_inertia(&V3::from(dh)) / m;
+        [
+            p[(0, 0)],
+            p[(1, 1)],
+            p[(2, 2)],
+            p[(0, 1)],
+            p[(0, 2)],
+            p[(1, 2)],
+        ]
+    }
+
     /// The identified payload mass `m`, kg, and centre of mass `h / m`, m (flange frame; `c₀`
     /// when the mass is zero).
     pub fn identified(&self) -> (f64, [f64; 3]) {
@@ -232,8 +254,9 @@ impl Effect for Payload {
         v.extend_from_slice(&self.di);
         v
     }
-    /// Accepts 10 values (`Δm`, `Δh`, `ΔI_o`), 4 (`Δm`, `Δh`; `ΔI_o` = 0) or 1 (`Δm` only, as
-    /// older files wrote; `Δh` = `ΔI_o` = 0).
+    /// Accepts 10 values (`Δm`, `Δh`, `ΔI_o`), 4 (`Δm`, `Δh`) or 1 (`Δm` only, as older files
+    /// wrote; `Δh` = 0). With 4 or 1, `ΔI_o` follows so that the load keeps its inertia about
+    /// its own centre of mass ([`Payload::held_inertia_error`]).
     fn set_values(&mut self, values: &[f64]) -> Result<()> {
         let mut full = vec![0.0; PAYLOAD_PARAMS];
         for (f, v) in full.iter_mut().zip(values) {
@@ -241,6 +264,12 @@ impl Effect for Payload {
         }
         if ![1, 4, PAYLOAD_PARAMS].contains(&values.len()) {
             full = values.to_vec();
+        }
+        if [1, 4].contains(&values.len()) {
+            // Mass (and first moment) only: the load keeps its inertia about its own centre
+            // of mass, as when `identify` fits the mass and the centre of mass.
+            let d = self.held_inertia_error(full[0], [full[1], full[2], full[3]]);
+            full[4..10].copy_from_slice(&d);
         }
         check_values(self.name(), &self.params(), &full)?;
         self.dm = full[0];

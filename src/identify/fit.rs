@@ -416,12 +416,85 @@ fn fit_core(
             }
         }
     };
+    // The payload's inertia held (only its mass and centre of mass fitted): its inertia about
+    // its own centre of mass stays the prior's, so `dI_*` follow `dm` and `dh_*`.
+    let payload_held = if model.payload_inertia {
+        None
+    } else {
+        let find = |n: &str| lay.names.iter().position(|x| x.0 == "payload" && x.1 == n);
+        match (
+            model.effects.typed::<crate::effects::Payload>("payload"),
+            find("dm"),
+            find("dI_xx"),
+        ) {
+            (Some(pl), Some(dm), Some(di)) => Some((pl.clone(), dm, di)),
+            _ => None,
+        }
+    };
     let follow = |th: &mut [f64]| {
         for &(a, b) in &ties {
             th[b] = th[a];
         }
+        if let Some((pl, dm, di)) = &payload_held {
+            let d = pl.held_inertia_error(th[*dm], [th[dm + 1], th[dm + 2], th[dm + 3]]);
+            th[*di..di + 6].copy_from_slice(&d);
+        }
     };
-    if !ties.is_empty() {
+    if payload_held.is_some() {
+        follow(&mut theta);
+    }
+    // The chain rule through `dI = P(Δh)/m` (`P(d) = |d|² 1 − d dᵀ`, `m = m₀ + Δm`): the
+    // columns of `dm` and `dh_*` gain the held inertia's columns times its derivatives (near a
+    // light load the inertia follows the first moment strongly).
+    let payload_chain = |jac: &mut [f64], rows_m: usize, th: &[f64]| {
+        let Some((pl, dm, di)) = &payload_held else {
+            return;
+        };
+        let (dm, di) = (*dm, *di);
+        let mass = pl.nominal_mass + th[dm];
+        if mass.abs() <= 1e-12 {
+            return;
+        }
+        let d = [th[dm + 1], th[dm + 2], th[dm + 3]];
+        let sym6 = |m: [[f64; 3]; 3]| [m[0][0], m[1][1], m[2][2], m[0][1], m[0][2], m[1][2]];
+        let pd = |d: [f64; 3]| {
+            let n2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
+            let mut m = [[0.0; 3]; 3];
+            for (a, row) in m.iter_mut().enumerate() {
+                for (b, x) in row.iter_mut().enumerate() {
+                    *x = if a == b { n2 } else { 0.0 } - d[a] * d[b];
+                }
+            }
+            m
+        };
+        // ∂dI/∂Δm = −P(Δh)/m², ∂dI/∂Δh_i = (2 Δh_i 1 − e_i Δhᵀ − Δh e_iᵀ)/m.
+        let mut der = [[0.0; 6]; 4];
+        der[0] = sym6(pd(d)).map(|x| -x / (mass * mass));
+        for i in 0..3 {
+            let mut m = [[0.0; 3]; 3];
+            for (a, row) in m.iter_mut().enumerate() {
+                for (b, x) in row.iter_mut().enumerate() {
+                    let mut v = if a == b { 2.0 * d[i] } else { 0.0 };
+                    if a == i {
+                        v -= d[b];
+                    }
+                    if b == i {
+                        v -= d[a];
+                    }
+                    *x = v / mass;
+                }
+            }
+            der[1 + i] = sym6(m);
+        }
+        for r in 0..rows_m {
+            let row = &mut jac[r * p..(r + 1) * p];
+            for (c, dc) in der.iter().enumerate() {
+                let add: f64 = (0..6).map(|k| row[di + k] * dc[k]).sum();
+                row[dm + c] += add;
+            }
+        }
+    };
+    if !ties.is_empty() || payload_held.is_some() {
         set_all(model, &lay, &theta)?;
     }
     let mut r = Vec::new();
@@ -443,6 +516,7 @@ fn fit_core(
         }
         jacobian(prep, model, &lay, &theta, rows, &mut jac)?;
         tie_cols(&mut jac, m);
+        payload_chain(&mut jac, m, &theta);
         let jm = nalgebra::DMatrix::from_row_slice(m, p, &jac);
         let jtj = jm.transpose() * &jm;
         let mut g = jm.transpose() * nalgebra::DVector::from_column_slice(&r);
@@ -506,6 +580,7 @@ fn fit_core(
     if p > 0 {
         jacobian(prep, model, &lay, &theta, rows, &mut jac)?;
         tie_cols(&mut jac, m);
+        payload_chain(&mut jac, m, &theta);
         let jm = nalgebra::DMatrix::from_row_slice(m, p, &jac);
         let jtj = jm.transpose() * &jm;
         // A column whose effect on the signal is below 1e-6 of the signal's RMS (for the

@@ -124,6 +124,11 @@ pub fn apply_hidden(model: &mut Model, hidden: &[Hidden]) -> Result<()> {
         for (x, s) in v.iter_mut().zip(&specs) {
             *x = x.clamp(s.lower, s.upper);
         }
+        if h.effect == "payload" && h.values.len() <= 4 {
+            // A hidden load (mass and first moment) keeps its inertia about its own centre of
+            // mass, as identify's payload does.
+            v.truncate(4);
+        }
         model.set_values(h.effect, &v)?;
     }
     Ok(())
