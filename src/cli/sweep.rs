@@ -65,6 +65,11 @@ pub struct PlacementArgs {
     /// singularity (0.5 = half).
     #[arg(long, default_value_t = printwatt::evaluate::feasibility::margins::DEFAULT_WRIST_RATE_MAX)]
     pub wrist_rate_max: f64,
+    /// Distance kept from the wrist singularity, deg: on every sample q5 stays at least this
+    /// far from 0 and ±180°. 0 lets the wrist pass through it (a round nozzle whose q6 is
+    /// free); the RAPID export then sets `SingArea \Wrist`.
+    #[arg(long, value_name = "DEG", default_value_t = printwatt::evaluate::feasibility::margins::DEFAULT_WRIST_MARGIN_DEG)]
+    pub wrist_margin: f64,
     /// Margin kept from every joint's position limits, deg: one value for all joints or a
     /// comma list per joint (the drive file's `limit_margin_rad` takes precedence).
     #[arg(long, default_value = "3")]
@@ -215,12 +220,19 @@ impl PlacementArgs {
                 .unwrap_or(0.0)
                 .to_radians();
         }
+        if !(self.wrist_margin.is_finite() && (0.0..=90.0).contains(&self.wrist_margin)) {
+            bail!(
+                "--wrist-margin {}: expected a margin in [0, 90] deg (0 lets the wrist pass through the singularity)",
+                self.wrist_margin
+            );
+        }
         if !(self.wrist_rate_max > 0.0 && self.wrist_rate_max.is_finite()) {
             bail!("--wrist-rate-max must be > 0");
         }
         let feas = FeasibilityOptions {
             wrist_min: self.wrist_min,
             wrist_rate_max: self.wrist_rate_max,
+            wrist_margin_rad: self.wrist_margin.to_radians(),
             joint_margin_rad,
             elbow_min: self.elbow_min,
             shoulder_min_m: self.shoulder_min,
@@ -569,7 +581,7 @@ pub fn meta(l: &Loaded, samples: usize) -> Vec<(String, String)> {
         (
             "feasibility".into(),
             format!(
-                "joint-limit margin {} deg, near the wrist singularity (|sin q5| < {}) joints 4/6 at most {:.0} % of their limits, elbow ≥ {}, shoulder ≥ {} m, collisions {} (every {} samples)",
+                "joint-limit margin {} deg, wrist margin {} deg, near the wrist singularity (|sin q5| < {}) joints 4/6 at most {:.0} % of their limits, elbow ≥ {}, shoulder ≥ {} m, collisions {} (every {} samples)",
                 (0..l.robot.dof())
                     .map(|j| format!(
                         "{:.1}",
@@ -577,6 +589,7 @@ pub fn meta(l: &Loaded, samples: usize) -> Vec<(String, String)> {
                     ))
                     .collect::<Vec<_>>()
                     .join("/"),
+                l.feas.wrist_margin_rad.to_degrees(),
                 l.feas.wrist_min,
                 l.feas.wrist_rate_max * 100.0,
                 l.feas.elbow_min,
