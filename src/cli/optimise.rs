@@ -250,35 +250,11 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
         rep.check_finite()?;
     }
     if let (Some(ex), Some(b)) = (&a.export, rep.best()) {
-        let files = [
-            (
-                ex.join("wobj_print.mod"),
-                format!(
-                    "MODULE printwatt_placement\n{}ENDMODULE\n",
-                    printwatt::export::wobjdata("wobjPrint", &b.placement)
-                ),
-            ),
-            (
-                ex.join("frame.json"),
-                serde_json::to_string_pretty(&printwatt::export::compas_frame(&b.placement))?,
-            ),
-            (
-                ex.join("path_base.gcode"),
-                printwatt::export::gcode_base(
-                    &printwatt::export::base_frame_path(&job.moves, &b.placement),
-                    &b.placement,
-                    l.robot.name(),
-                ),
-            ),
-            (
-                ex.join("path_base.mod"),
-                printwatt::export::rapid_base(
-                    &printwatt::export::base_frame_path(&job.moves, &b.placement),
-                    &b.placement,
-                    &l.robot,
-                ),
-            ),
-        ];
+        let ev = printwatt::evaluate::Evaluator::new(&job, l.feas, l.objective);
+        let files: Vec<(std::path::PathBuf, String)> = printwatt::export::hand_off(&ev, &b.placement, "")?
+            .into_iter()
+            .map(|(name, text)| (ex.join(name), text))
+            .collect();
         for (f, text) in &files {
             if f.exists() && !p.out.force {
                 anyhow::bail!("{} exists: replacing it needs --force", f.display());
