@@ -485,3 +485,50 @@ pub fn compas_frame(p: &Placement) -> serde_json::Value {
         "units": "m",
     })
 }
+
+/// [`hand_off`] for each station of a multi-station plan: one set of files per station,
+/// named `station_<k>_…` (k from 1) with module names `printwatt_station_<k>_…`, each the
+/// station's sub-path (`moves`: first and last move of `path`, inclusive) at its placement.
+#[allow(clippy::too_many_arguments)]
+pub fn stations_hand_off(
+    robot: &RobotModel,
+    path: &crate::toolpath::Toolpath,
+    stations: &[([usize; 2], Placement)],
+    energy: crate::energy::EnergyOptions,
+    profile: crate::timing::ProfileOptions,
+    feasibility: crate::evaluate::feasibility::FeasibilityOptions,
+    objective: crate::evaluate::Objective,
+) -> crate::Result<Vec<(String, String)>> {
+    let mut out = Vec::new();
+    for (k, (moves, at)) in stations.iter().enumerate() {
+        let [a, b] = *moves;
+        let sub = crate::toolpath::Toolpath {
+            source: format!("{} (station {})", path.source, k + 1),
+            start: if a == 0 {
+                path.start
+            } else {
+                path.moves[a - 1].end
+            },
+            moves: path.moves[a..=b.min(path.moves.len().saturating_sub(1))].to_vec(),
+            ..Default::default()
+        };
+        let job = crate::evaluate::PathJob::new(
+            robot,
+            &sub,
+            energy,
+            profile,
+            crate::timing::JointStageOptions::default(),
+        )?;
+        let ev = crate::evaluate::Evaluator::new(&job, feasibility, objective);
+        let prefix = format!("station_{}_", k + 1);
+        for (name, text) in hand_off(&ev, at, &prefix)? {
+            let text = text.replacen(
+                "MODULE printwatt_",
+                &format!("MODULE printwatt_{prefix}"),
+                1,
+            );
+            out.push((name, text));
+        }
+    }
+    Ok(out)
+}

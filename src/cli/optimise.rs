@@ -339,6 +339,9 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
         if let Some(jm) = &si.joint_margin {
             println!("joint-limit margin: {jm}");
         }
+        if let Some(wm) = &si.wrist_margin {
+            println!("wrist margin: {wm}");
+        }
         if let Some(om) = &si.on_margin {
             println!(
                 "optimum on a joint-limit margin: {om} (the margin, not the energy, stops the search here; --joint-margin)"
@@ -623,6 +626,9 @@ pub fn compute(
         }
         if let Some(jm) = &si.joint_margin {
             m.push(("joint-limit margin kept".into(), jm.clone()));
+        }
+        if let Some(wm) = &si.wrist_margin {
+            m.push(("wrist margin kept".into(), wm.clone()));
         }
         m.push((
             "evaluations".into(),
