@@ -227,7 +227,12 @@ fn tooldata(model: &RobotModel) -> String {
                     [p.inertia[(0, 0)], p.inertia[(1, 1)], p.inertia[(2, 2)]],
                 )
             } else {
-                (p.mass, p.com, quat(&axes), [e.eigenvalues[0], e.eigenvalues[1], e.eigenvalues[2]])
+                (
+                    p.mass,
+                    p.com,
+                    quat(&axes),
+                    [e.eigenvalues[0], e.eigenvalues[1], e.eigenvalues[2]],
+                )
             }
         }
         _ => (0.001, V3::zeros(), [1.0, 0.0, 0.0, 0.0], [0.0; 3]),
@@ -296,7 +301,9 @@ fn rapid_module(
             } else {
                 "    SingArea \\Off;\n"
             });
-            s.push_str(&format!("    MoveAbsJ jStart, v100, fine, tNozzle \\WObj:={wobj};\n"));
+            s.push_str(&format!(
+                "    MoveAbsJ jStart, v100, fine, tNozzle \\WObj:={wobj};\n"
+            ));
         }
         None => s.push_str("    ConfL \\Off;\n"),
     }
@@ -428,10 +435,13 @@ pub fn hand_off(
     Ok(vec![
         (
             format!("{prefix}wobj_print.mod"),
-            format!("MODULE printwatt_placement\n{}ENDMODULE\n", wobjdata("wobjPrint", at)
-                .lines()
-                .map(|l| format!("  {l}\n"))
-                .collect::<String>()),
+            format!(
+                "MODULE printwatt_placement\n{}ENDMODULE\n",
+                wobjdata("wobjPrint", at)
+                    .lines()
+                    .map(|l| format!("  {l}\n"))
+                    .collect::<String>()
+            ),
         ),
         (format!("{prefix}frame.json"), json),
         (

@@ -33,7 +33,8 @@ fn the_wrist_margin_rejects_a_placement_whose_wrist_passes_through_the_singulari
     assert_eq!(e.reason, Reason::WristSingularity, "{e}");
     assert!(e.sample.is_some() && e.line.is_some(), "{e}");
     assert!(
-        e.detail.contains("from the wrist singularity (wrist margin 5.00°"),
+        e.detail
+            .contains("from the wrist singularity (wrist margin 5.00°"),
         "{e}"
     );
     // Passing through allowed: feasible, and the closest approach over every sample is stated.
@@ -90,8 +91,8 @@ fn wall_then_bead(layers: usize, beside_mm: f64) -> printwatt::toolpath::Toolpat
 }
 
 #[test]
-fn the_print_head_over_a_tall_wall_beside_a_new_bead_is_infeasible_with_the_reason_and_the_sample(
-) {
+fn the_print_head_over_a_tall_wall_beside_a_new_bead_is_infeasible_with_the_reason_and_the_sample()
+{
     let model = common::robot("abb_irb6700_200_260");
     // 29 layers: a 0.58 m wall.
     let far = wall_then_bead(29, 400.0);
@@ -128,18 +129,23 @@ fn the_print_head_over_a_tall_wall_beside_a_new_bead_is_infeasible_with_the_reas
         assert_eq!(e.reason, Reason::CollisionPart, "beside {beside} mm: {e}");
         assert!(e.detail.contains("print head"), "{e}");
         let k = e.sample.expect("the sample");
-        assert!(k > wall_samples, "{e}: after the wall (sample {wall_samples})");
+        assert!(
+            k > wall_samples,
+            "{e}: after the wall (sample {wall_samples})"
+        );
         let p = e.point_m.unwrap();
         // Below the wall's top, beside it.
         let part = at.frame().inverse().apply(&printwatt::math::V3::from(p));
-        assert!(part.z < 0.58 && (part.y - beside / 1000.0).abs() < 1e-6, "{part:?}");
+        assert!(
+            part.z < 0.58 && (part.y - beside / 1000.0).abs() < 1e-6,
+            "{part:?}"
+        );
         assert!(e.to_string().contains("sample"), "{e}");
     }
 }
 
 #[test]
-fn every_exported_module_reads_back_into_the_exported_path_to_1_um_and_the_planned_configuration(
-) {
+fn every_exported_module_reads_back_into_the_exported_path_to_1_um_and_the_planned_configuration() {
     use printwatt::export;
     use printwatt::toolpath::{parse_rapid, read_program};
     let model = common::robot("abb_irb6700_200_260");
@@ -186,7 +192,12 @@ fn every_exported_module_reads_back_into_the_exported_path_to_1_um_and_the_plann
             for (t, b) in prog.targets.iter().zip(&points) {
                 let p = printwatt::math::V3::from(t.pos_mm) / 1000.0;
                 let base = if part { frame.apply(&p) } else { p };
-                assert!((base - b.p).norm() < 1e-6, "{name} line {}: {base:?} vs {:?}", t.line, b.p);
+                assert!(
+                    (base - b.p).norm() < 1e-6,
+                    "{name} line {}: {base:?} vs {:?}",
+                    t.line,
+                    b.p
+                );
                 assert_eq!(t.wobj, if part { "wobjPrint" } else { "wobj0" });
             }
             let ends: Vec<_> = std::iter::once(path.start)
@@ -194,7 +205,11 @@ fn every_exported_module_reads_back_into_the_exported_path_to_1_um_and_the_plann
                 .collect();
             let mut k = 0;
             for b in &points {
-                let want = if part { frame.inverse().apply(&b.p) } else { b.p };
+                let want = if part {
+                    frame.inverse().apply(&b.p)
+                } else {
+                    b.p
+                };
                 if (ends[k] - want).norm() > 1e-6 {
                     k += 1;
                 }
@@ -231,11 +246,19 @@ fn every_exported_module_reads_back_into_the_exported_path_to_1_um_and_the_plann
                     (r - r.round()).abs() * 90.0 < 0.5
                 }) || q[4].abs() < 1e-3;
                 if !edge {
-                    assert_eq!(t.conf, export::abb_conf(&model, q), "{name} line {}", t.line);
+                    assert_eq!(
+                        t.conf,
+                        export::abb_conf(&model, q),
+                        "{name} line {}",
+                        t.line
+                    );
                     compared += 1;
                 }
             }
-            assert!(compared * 2 > prog.targets.len(), "{name}: {compared} compared");
+            assert!(
+                compared * 2 > prog.targets.len(),
+                "{name}: {compared} compared"
+            );
         }
         assert_eq!(modules, 3);
     }
@@ -247,8 +270,14 @@ fn abb_configuration_of_the_irb_6700_home_pose_and_its_mirror_images() {
     let model = common::robot("abb_irb6700_200_260");
     let d = f64::to_radians;
     // Home with the wrist bent down: in front of axis 1, forward of the lower arm, q5 > 0.
-    assert_eq!(abb_conf(&model, &[0.0, 0.0, 0.0, 0.0, d(30.0), 0.0]), [0, 0, 0, 0]);
-    assert_eq!(abb_conf(&model, &[0.0, 0.0, 0.0, 0.0, d(-30.0), 0.0]), [0, 0, 0, 1]);
+    assert_eq!(
+        abb_conf(&model, &[0.0, 0.0, 0.0, 0.0, d(30.0), 0.0]),
+        [0, 0, 0, 0]
+    );
+    assert_eq!(
+        abb_conf(&model, &[0.0, 0.0, 0.0, 0.0, d(-30.0), 0.0]),
+        [0, 0, 0, 1]
+    );
     // Quadrants of axes 1, 4 and 6.
     assert_eq!(
         abb_conf(&model, &[d(100.0), 0.0, 0.0, d(-10.0), d(30.0), d(185.0)]),

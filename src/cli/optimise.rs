@@ -251,10 +251,11 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
     }
     if let (Some(ex), Some(b)) = (&a.export, rep.best()) {
         let ev = printwatt::evaluate::Evaluator::new(&job, l.feas, l.objective);
-        let files: Vec<(std::path::PathBuf, String)> = printwatt::export::hand_off(&ev, &b.placement, "")?
-            .into_iter()
-            .map(|(name, text)| (ex.join(name), text))
-            .collect();
+        let files: Vec<(std::path::PathBuf, String)> =
+            printwatt::export::hand_off(&ev, &b.placement, "")?
+                .into_iter()
+                .map(|(name, text)| (ex.join(name), text))
+                .collect();
         for (f, text) in &files {
             if f.exists() && !p.out.force {
                 anyhow::bail!("{} exists: replacing it needs --force", f.display());

@@ -288,7 +288,12 @@ pub struct Evaluator<'j, 'a> {
     head: Option<crate::evaluate::feasibility::collision::HeadOverPart>,
     /// Where the head meets the part along the unslowed plan, per nozzle spin (bits of the
     /// spin, rad): placement-independent otherwise, so found once.
-    head_hits: std::sync::Mutex<Vec<(u64, Option<crate::evaluate::feasibility::collision::HeadHit>)>>,
+    head_hits: std::sync::Mutex<
+        Vec<(
+            u64,
+            Option<crate::evaluate::feasibility::collision::HeadHit>,
+        )>,
+    >,
     lines: Vec<usize>,
     /// Walls printed before this path (nozzle-tip segments, part frame, m), in every
     /// placement's collision scene ([`Evaluator::with_prior_walls`]).
@@ -478,7 +483,10 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             reason: Reason::CollisionPart,
             sample: Some(k),
             t_s: Some(k as f64 * motion.dt),
-            line: Some(self.job.line_of(self.job.pieces[motion.piece[k]].move_index)),
+            line: Some(
+                self.job
+                    .line_of(self.job.pieces[motion.piece[k]].move_index),
+            ),
             point_m: Some([tip.x, tip.y, tip.z]),
             detail: hit.detail,
         })

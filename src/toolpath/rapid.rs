@@ -885,8 +885,7 @@ pub fn read_program(text: &str, file: &str) -> Result<RapidProgram> {
                         let (ty, _, _) = p.ident("a data type after CONST/PERS/VAR")?;
                         let (name, _, _) = p.ident("a data name")?;
                         let tyl = ty.to_ascii_lowercase();
-                        if p.is_punct(":=") && matches!(tyl.as_str(), "robtarget" | "jointtarget")
-                        {
+                        if p.is_punct(":=") && matches!(tyl.as_str(), "robtarget" | "jointtarget") {
                             p.next();
                             let v = p.value(0)?;
                             p.expect(";", &format!("';' after the value of {name}"))?;
@@ -898,7 +897,12 @@ pub fn read_program(text: &str, file: &str) -> Result<RapidProgram> {
                                     _ => None,
                                 }
                                 .ok_or_else(|| {
-                                    perr(file, t.line, t.col, "expected a jointtarget [[j1, …], [eax…]]")
+                                    perr(
+                                        file,
+                                        t.line,
+                                        t.col,
+                                        "expected a jointtarget [[j1, …], [eax…]]",
+                                    )
                                 })?;
                                 prog.jointtargets.push((name.to_ascii_lowercase(), axes));
                             }

@@ -79,7 +79,12 @@ pub struct HeadHit {
 impl HeadOverPart {
     /// The head of `model` above `clearance_m` (m) over the nozzle tip; `None` when nothing
     /// of the head is left above it (or the tool has no length).
-    pub fn new(model: &RobotModel, reach: f64, radii: &LinkRadii, clearance_m: f64) -> Option<Self> {
+    pub fn new(
+        model: &RobotModel,
+        reach: f64,
+        radii: &LinkRadii,
+        clearance_m: f64,
+    ) -> Option<Self> {
         let tip = model.tool.pos;
         let len = tip.norm();
         let radius = match &model.tool_geometry {

@@ -269,7 +269,8 @@ impl Margins {
     /// The closest approach of `q5` to the wrist singularity (0 or ±180°) over every sample,
     /// degrees.
     pub fn wrist_deg(&self) -> Option<f64> {
-        self.wrist_every.map(|w| w.clamp(0.0, 1.0).asin().to_degrees())
+        self.wrist_every
+            .map(|w| w.clamp(0.0, 1.0).asin().to_degrees())
     }
 }
 
