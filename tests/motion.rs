@@ -240,23 +240,24 @@ fn every_exported_module_reads_back_into_the_exported_path_to_1_um_and_the_plann
                 if (timed.tcp[k] - b).norm() > 1e-3 {
                     continue;
                 }
+                // Entry by entry, where the joint does not sit on a quadrant boundary (q4 and
+                // q6 of a vertical nozzle often stay at 0) or q5 at 0 (cfx's sign bit).
                 let q = timed.traj.q(k);
-                let edge = [q[0], q[3], q[5]].iter().any(|v| {
+                let want = export::abb_conf(&model, q);
+                let on_edge = |v: f64| {
                     let r = v.to_degrees() / 90.0;
                     (r - r.round()).abs() * 90.0 < 0.5
-                }) || q[4].abs() < 1e-3;
-                if !edge {
-                    assert_eq!(
-                        t.conf,
-                        export::abb_conf(&model, q),
-                        "{name} line {}",
-                        t.line
-                    );
-                    compared += 1;
+                };
+                let skip = [on_edge(q[0]), on_edge(q[3]), on_edge(q[5]), q[4].abs() < 1e-3];
+                for i in 0..4 {
+                    if !skip[i] {
+                        assert_eq!(t.conf[i], want[i], "{name} line {} entry {i}", t.line);
+                        compared += 1;
+                    }
                 }
             }
             assert!(
-                compared * 2 > prog.targets.len(),
+                compared > prog.targets.len(),
                 "{name}: {compared} compared"
             );
         }
