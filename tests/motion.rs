@@ -248,7 +248,12 @@ fn every_exported_module_reads_back_into_the_exported_path_to_1_um_and_the_plann
                     let r = v.to_degrees() / 90.0;
                     (r - r.round()).abs() * 90.0 < 0.5
                 };
-                let skip = [on_edge(q[0]), on_edge(q[3]), on_edge(q[5]), q[4].abs() < 1e-3];
+                let skip = [
+                    on_edge(q[0]),
+                    on_edge(q[3]),
+                    on_edge(q[5]),
+                    q[4].abs() < 1e-3,
+                ];
                 for i in 0..4 {
                     if !skip[i] {
                         assert_eq!(t.conf[i], want[i], "{name} line {} entry {i}", t.line);
@@ -256,10 +261,7 @@ fn every_exported_module_reads_back_into_the_exported_path_to_1_um_and_the_plann
                     }
                 }
             }
-            assert!(
-                compared > prog.targets.len(),
-                "{name}: {compared} compared"
-            );
+            assert!(compared > prog.targets.len(), "{name}: {compared} compared");
         }
         assert_eq!(modules, 3);
     }

@@ -91,7 +91,12 @@ impl HeadOverPart {
             Some(g) => g.head_radius_m,
             None => radii.nozzle * reach,
         };
-        if !(clearance_m >= 0.0) || len - clearance_m < 1e-3 || !(radius > 0.0) {
+        if clearance_m.is_nan()
+            || clearance_m < 0.0
+            || len - clearance_m < 1e-3
+            || radius.is_nan()
+            || radius <= 0.0
+        {
             return None;
         }
         // In the flange frame: from the flange to `clearance` short of the tip.
