@@ -5,10 +5,14 @@
 
 pub mod advice;
 pub mod grid;
+pub mod job;
 pub mod neldermead;
 pub mod optimise;
 pub mod refine;
+pub mod run;
 pub mod tolerance;
 pub mod uncertainty;
 
 pub use grid::{parse_range, Grid};
+pub use job::{EvaluationMode, OptimiseConfig, OptimiseSettings, PlacementSet, SearchMethod};
+pub use run::{run, Observer, OptimiseOutcome, Silent};
