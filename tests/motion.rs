@@ -291,3 +291,31 @@ fn abb_configuration_of_the_irb_6700_home_pose_and_its_mirror_images() {
     let back = abb_conf(&model, &[0.0, d(-80.0), 0.0, 0.0, d(30.0), 0.0]);
     assert_eq!(back, [0, 0, 0, 4]);
 }
+
+#[test]
+fn the_wrist_margin_is_a_checked_library_setting_with_one_default() {
+    use printwatt::search::job::OptimiseSettings;
+    let d = printwatt::evaluate::feasibility::margins::DEFAULT_WRIST_MARGIN_DEG;
+    let o = OptimiseSettings::default();
+    assert_eq!(
+        o.feasibility.wrist_margin_rad,
+        FeasibilityOptions::default().wrist_margin_rad
+    );
+    assert!((o.feasibility.wrist_margin_rad.to_degrees() - d).abs() < 1e-12);
+    assert!(o.check().is_ok());
+    for deg in [0.0, 90.0] {
+        let f = FeasibilityOptions {
+            wrist_margin_rad: f64::to_radians(deg),
+            ..Default::default()
+        };
+        assert!(f.check().is_ok(), "{deg}°");
+    }
+    for bad in [-1.0, 91.0, f64::NAN] {
+        let mut s = OptimiseSettings::default();
+        s.feasibility.wrist_margin_rad = f64::to_radians(bad);
+        let m = s.check().unwrap_err().to_string();
+        // Named as the setting, not as a command-line option.
+        assert!(m.starts_with("wrist margin "), "{m}");
+        assert!(!m.contains("--"), "{m}");
+    }
+}
