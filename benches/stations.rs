@@ -33,7 +33,11 @@ fn main() {
         energy: EnergyOptions::default(),
         profile: ProfileOptions::default(),
         joint: JointStageOptions::default(),
-        feasibility: FeasibilityOptions::default(),
+        // A wrist margin of 0, as README.md runs this plan: its stations pass q5 through 0.
+        feasibility: FeasibilityOptions {
+            wrist_margin_rad: 0.0,
+            ..FeasibilityOptions::default()
+        },
         objective: Objective::Supply,
         candidates: Candidates {
             positions: stations::grid_positions(&path, 0.5, reach).unwrap(),

@@ -238,6 +238,8 @@ fn every_report_renders_in_a_browser_with_data_in_every_chart() {
         "20000",
         "--track",
         "-1,1.5:13,1.5",
+        "--wrist-margin",
+        "0",
         "--out",
         &format!("{t}/stations"),
     ]);

@@ -558,9 +558,11 @@ fn energy_json_writes_nothing_but_the_json() {
 #[test]
 fn sweep_runs_at_the_timing_energy_was_checked_at() {
     let d = tmpdir("timing");
+    // The bed 0.3 m up: at z = 0 this placement takes the wrist through q5 = 0, which the default
+    // wrist margin rejects.
     let args = [
         "--at",
-        "1.7,0,0,90",
+        "1.7,0,0.3,90",
         "--period",
         "8",
         "--accel",
@@ -582,7 +584,7 @@ fn sweep_runs_at_the_timing_energy_was_checked_at() {
     let t_s = s["best"]["outcome"]["duration_s"].as_f64().unwrap();
     assert_eq!(t_e, t_s);
     // 8 ms samples: the path takes the same time as at 4 ms, with half the samples.
-    let o = printwatt(&["energy", "--at", "1.7,0,0,90", "--json"], &d);
+    let o = printwatt(&["energy", "--at", "1.7,0,0.3,90", "--json"], &d);
     let e4: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
     let n8 = e["energy"]["samples"].as_u64().unwrap();
     let n4 = e4["energy"]["samples"].as_u64().unwrap();
@@ -660,7 +662,7 @@ fn every_command_answers_json_with_schema_version_and_no_rust_wrappers() {
     let runs: Vec<(&str, Vec<&str>)> = vec![
         ("robots", vec!["robots"]),
         ("energy", vec!["energy", "--at", "1.7,0,0,90"]),
-        ("sweep", vec!["sweep", "--at", "1.7,0,0,90;3,0,0,0"]),
+        ("sweep", vec!["sweep", "--at", "1.7,0,0.3,90;3,0,0,0"]),
         (
             "optimise",
             vec![
@@ -675,6 +677,9 @@ fn every_command_answers_json_with_schema_version_and_no_rust_wrappers() {
                 "5",
                 "--tolerance",
                 "0,0",
+                // At z = 0 both cells take the wrist through q5 = 0.
+                "--wrist-margin",
+                "0",
             ],
         ),
         ("compare", [&["compare"][..], &r].concat()),

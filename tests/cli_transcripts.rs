@@ -52,7 +52,7 @@ const CASES: &[Case] = &[
     },
     Case {
         name: "stations_track",
-        args: "stations --path {ROOT}/paths/floor_four_rooms.gcode --relocation-cost 20000 --track -1,1.5:13,1.5 --out {TMP}/stations",
+        args: "stations --path {ROOT}/paths/floor_four_rooms.gcode --relocation-cost 20000 --track -1,1.5:13,1.5 --wrist-margin 0 --out {TMP}/stations",
         files: &[],
     },
     Case {

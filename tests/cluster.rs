@@ -52,8 +52,9 @@ fn scratch(name: &str) -> PathBuf {
     d
 }
 
-/// A small grid over the default robot with feasible and infeasible cells.
-const GRID: [&str; 8] = [
+/// A small grid over the default robot with feasible and infeasible cells (at z = 0, where
+/// the wrist passes through q5 = 0: a wrist margin of 0 lets it).
+const GRID: [&str; 10] = [
     "--x",
     "1.5:1.9:0.1",
     "--y",
@@ -62,6 +63,8 @@ const GRID: [&str; 8] = [
     "90,80",
     "--path",
     "wall.gcode",
+    "--wrist-margin",
+    "0",
 ];
 
 fn sweep(extra: &[&str], cwd: &Path, env: &[(&str, &str)]) -> Output {
@@ -252,6 +255,8 @@ fn uncertainty_study_shards_merge_to_the_single_run_files_bit_for_bit() {
         "90",
         "--path",
         "wall.gcode",
+        "--wrist-margin",
+        "0",
         "--max-evals",
         "12",
         "--uncertainty",
@@ -328,7 +333,7 @@ fn uncertainty_study_shards_merge_to_the_single_run_files_bit_for_bit() {
 const STUDY: &str = r#"
 [study]
 name = "two-arms"
-options = ["--max-evals", "12", "--seed", "3"]
+options = ["--max-evals", "12", "--seed", "3", "--wrist-margin", "0"]
 
 [[robot]]
 name = "big"

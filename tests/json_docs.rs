@@ -293,6 +293,8 @@ fn json_path_reduction_of_optimise_matches_docs_json_md() {
             "0,0",
             "--evaluation",
             "reduced",
+            "--wrist-margin",
+            "0",
             "--json",
         ],
     );
@@ -323,6 +325,8 @@ fn json_output_of_stations_matches_docs_json_md() {
             "5000",
             "--track",
             "-0.5,-1.2:3.5,-1.2",
+            "--wrist-margin",
+            "0",
             "--json",
         ],
     );

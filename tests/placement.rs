@@ -17,8 +17,10 @@ fn load(robot_id: &str, path: &str) -> (robot::RobotModel, toolpath::Toolpath) {
 fn fast_evaluation_matches_full_evaluation() {
     let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
     let job = common::default_job(&model, &tp);
+    // The wrist checks off (this placement passes near the wrist singularity).
     let feas = FeasibilityOptions {
         wrist_min: 0.0,
+        wrist_margin_rad: 0.0,
         ..Default::default()
     };
     let ev = Evaluator::new(&job, feas, Objective::Supply);
@@ -76,8 +78,13 @@ fn wrist_passing_through_zero_with_joint_4_still_is_feasible() {
     let job = common::default_job(&model, &tp);
     let at = Placement::new(1.7, 0.0, 0.0, YAW90);
     // Reachable and timed (see tests/timing.rs); passes within 2.9° of the wrist singularity
-    // (|sin q5| < 0.05) with joints 4 and 6 slow: harmless with a vertical nozzle, accepted.
-    let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
+    // (|sin q5| < 0.05) with joints 4 and 6 slow: accepted by the rate rule where passing
+    // through is allowed (wrist margin 0; the default margin keeps 5° from it).
+    let through = FeasibilityOptions {
+        wrist_margin_rad: 0.0,
+        ..Default::default()
+    };
+    let ev = Evaluator::new(&job, through, Objective::Supply);
     let f = one(&ev, at).outcome.unwrap_or_else(|e| panic!("{e}"));
     assert!(f.margins.wrist.unwrap() < 0.05, "{:?}", f.margins);
     let rate = f
@@ -89,7 +96,7 @@ fn wrist_passing_through_zero_with_joint_4_still_is_feasible() {
     // placement fails as a wrist singularity, naming the joint and where.
     let strict = FeasibilityOptions {
         wrist_rate_max: rate / 2.0,
-        ..Default::default()
+        ..through
     };
     let ev = Evaluator::new(&job, strict, Objective::Supply);
     let e = one(&ev, at).outcome.unwrap_err();

@@ -19,6 +19,16 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
+/// The feasibility checks of these tests: the default ones with a wrist margin of 0. Their
+/// placements (chosen on the default job at z = 0, where the wrist passes through q5 = 0) are
+/// about pruning and the search's bookkeeping, not about that margin (tests/motion.rs is).
+fn feasibility() -> FeasibilityOptions {
+    FeasibilityOptions {
+        wrist_margin_rad: 0.0,
+        ..FeasibilityOptions::default()
+    }
+}
+
 fn load(robot_id: &str, path: &str) -> (RobotModel, Toolpath) {
     let model = robot::load(&root().join("robots").join(robot_id)).unwrap();
     let tp = toolpath::load(&root().join("paths").join(path), &ReadOptions::default()).unwrap();
@@ -52,7 +62,7 @@ fn pool(n: usize) -> rayon::ThreadPool {
 fn same_with_and_without_pruning(robot_id: &str, path: &str, ps: &[Placement]) -> (usize, usize) {
     let (model, tp) = load(robot_id, path);
     let (jp, ju) = (job(&model, &tp, 8), job(&model, &tp, 0));
-    let feas = FeasibilityOptions::default();
+    let feas = feasibility();
     let pruned = Evaluator::new(&jp, feas, Objective::Supply)
         .sweep(ps, &|_, _| {})
         .unwrap();
@@ -228,7 +238,7 @@ fn speculative_nelder_mead_takes_the_steps_of_argmins_nelder_mead() {
 fn argmin_search_is_bit_identical_with_one_and_two_threads() {
     let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
     let j = job(&model, &tp, 8);
-    let ev = Evaluator::new(&j, FeasibilityOptions::default(), Objective::Supply);
+    let ev = Evaluator::new(&j, feasibility(), Objective::Supply);
     let g = Grid {
         xs: vec![1.4, 1.5, 1.6],
         ys: vec![-0.1, 0.1],
@@ -356,7 +366,7 @@ fn an_evaluation_beside_a_guess_is_the_plain_evaluation_and_an_unwanted_guess_is
     // timing (a joint-limit margin) and unreachable placements.
     let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
     let j = job(&model, &tp, 8);
-    let ev = Evaluator::new(&j, FeasibilityOptions::default(), Objective::Supply);
+    let ev = Evaluator::new(&j, feasibility(), Objective::Supply);
     let y90 = std::f64::consts::FRAC_PI_2;
     // A tolerance corner of the grid cell beside the answer fails on the joint-3 margin.
     let corners = Tolerance::default().corners(&Placement::new(1.43, 0.121, 0.0, y90));
@@ -409,7 +419,7 @@ fn a_sweep_until_the_first_infeasible_placement_gives_every_evaluation_up_to_it_
     // evaluation too; with none accepted, every entry is there.
     let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
     let j = job(&model, &tp, 8);
-    let ev = Evaluator::new(&j, FeasibilityOptions::default(), Objective::Supply);
+    let ev = Evaluator::new(&j, feasibility(), Objective::Supply);
     let y90 = std::f64::consts::FRAC_PI_2;
     let feasible = [
         Placement::new(1.534, 0.121, 0.0, y90),
@@ -491,7 +501,7 @@ fn the_faster_optimise_finds_the_same_placement_as_the_exhaustive_refinement() {
     // answer of the plain checks bit for bit, with fewer evaluations, on 1 and 2 threads.
     let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
     let j = job(&model, &tp, 8);
-    let ev = Evaluator::new(&j, FeasibilityOptions::default(), Objective::Supply);
+    let ev = Evaluator::new(&j, feasibility(), Objective::Supply);
     let (g, so, opts) = default_search(&model);
     let grid = pool(2).install(|| ev.sweep(&g.placements(), &|_, _| {}).unwrap());
     let quiet = || std::sync::Arc::new(|_, _, _| {}) as refine::Progress;
@@ -552,7 +562,7 @@ fn a_tolerance_check_stopped_at_the_first_infeasible_corner_agrees_with_all_sixt
     // and counts are the same on 1 and 2 threads.
     let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
     let j = job(&model, &tp, 8);
-    let ev = Evaluator::new(&j, FeasibilityOptions::default(), Objective::Supply);
+    let ev = Evaluator::new(&j, feasibility(), Objective::Supply);
     let tol = Tolerance::default();
     let y90 = std::f64::consts::FRAC_PI_2;
     let ps = [
@@ -698,7 +708,7 @@ fn optimise_says_when_its_evaluation_budget_not_convergence_ended_the_search() {
 fn with_small_search(f: impl FnOnce(&Evaluator, &[Evaluated], &SearchOptions)) {
     let (model, tp) = load("abb_irb6700_200_260", "default.gcode");
     let j = job(&model, &tp, 8);
-    let ev = Evaluator::new(&j, FeasibilityOptions::default(), Objective::Supply);
+    let ev = Evaluator::new(&j, feasibility(), Objective::Supply);
     let g = Grid {
         xs: vec![1.4, 1.5, 1.6],
         ys: vec![-0.1, 0.1],

@@ -14,6 +14,17 @@ use printwatt::stations::{self, split_units, Candidates, Headings, Plan, Station
 use printwatt::timing::{JointStageOptions, ProfileOptions};
 use printwatt::toolpath::{self, ReadOptions, Toolpath};
 
+/// The feasibility checks of these tests: the default ones with a wrist margin of 0. Printing a
+/// straight wall from a track beside it, part origin below the base, takes `q5` through 0 near
+/// the station's foot; the plans here are about stations, not about that margin
+/// (tests/motion.rs is).
+fn feasibility() -> FeasibilityOptions {
+    FeasibilityOptions {
+        wrist_margin_rad: 0.0,
+        ..FeasibilityOptions::default()
+    }
+}
+
 fn robot() -> RobotModel {
     common::robot("abb_irb6700_200_260")
 }
@@ -50,7 +61,7 @@ fn problem<'a>(
         energy: EnergyOptions::default(),
         profile: ProfileOptions::default(),
         joint: JointStageOptions::default(),
-        feasibility: FeasibilityOptions::default(),
+        feasibility: feasibility(),
         objective: Objective::Supply,
         candidates: Candidates {
             positions: stations::track_positions([lo.x - 0.5, -1.2], [hi.x + 0.5, -1.2], 0.5)
@@ -119,7 +130,7 @@ fn a_path_within_one_reach_gets_one_station_and_the_energy_of_that_placement() {
         JointStageOptions::default(),
     )
     .unwrap();
-    let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
+    let ev = Evaluator::new(&job, feasibility(), Objective::Supply);
     let whole = ev.sweep(&[seg.station.placement], &|_, _| {}).unwrap();
     let e = whole[0].cost();
     assert!(
@@ -182,7 +193,7 @@ fn a_long_path_gets_several_stations_and_every_segment_is_feasible_from_its_own(
             JointStageOptions::default(),
         )
         .unwrap();
-        let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
+        let ev = Evaluator::new(&job, feasibility(), Objective::Supply);
         let r = ev.sweep(&[s.station.placement], &|_, _| {}).unwrap();
         let f = r[0]
             .feasible()
@@ -277,6 +288,8 @@ fn stations_refuses_to_overwrite_an_existing_run_without_force() {
             "5000".into(),
             "--track".into(),
             "-0.5,-1.2:3.5,-1.2".into(),
+            "--wrist-margin".into(),
+            "0".into(),
             "--out".into(),
             out.display().to_string(),
         ];
@@ -344,7 +357,7 @@ fn walls_printed_before_a_segment_are_in_its_collision_scene() {
     )
     .unwrap();
     let at = Placement::new(1.7, 0.0, 0.0, std::f64::consts::FRAC_PI_2);
-    let free = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
+    let free = Evaluator::new(&job, feasibility(), Objective::Supply);
     let e = free.sweep(&[at], &|_, _| {}).unwrap();
     assert!(e[0].cost().is_finite(), "{:?}", e[0].outcome);
     // A 3 m column printed earlier halfway between the robot base and the part origin: the
@@ -355,8 +368,7 @@ fn walls_printed_before_a_segment_are_in_its_collision_scene() {
         printwatt::math::V3::new(mid.x, mid.y, 0.0),
         printwatt::math::V3::new(mid.x, mid.y, 3.0),
     )];
-    let walled = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply)
-        .with_prior_walls(column);
+    let walled = Evaluator::new(&job, feasibility(), Objective::Supply).with_prior_walls(column);
     let e = walled.sweep(&[at], &|_, _| {}).unwrap();
     let why = e[0].outcome.as_ref().expect_err("the column is in the way");
     assert_eq!(why.reason, Reason::CollisionPart, "{why}");

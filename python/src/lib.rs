@@ -444,6 +444,7 @@ fn placement_tuple(p: &Placement) -> (f64, f64, f64, f64, f64) {
 
 fn feasibility_options(
     joint_margin: f64,
+    wrist_margin: f64,
     collisions: bool,
     check_every: i64,
 ) -> PyRes<FeasibilityOptions> {
@@ -453,12 +454,15 @@ fn feasibility_options(
         )));
     }
     let check_every: usize = int_arg("check_every", check_every, 1, 1_000_000)?;
-    Ok(FeasibilityOptions {
+    let o = FeasibilityOptions {
         joint_margin_rad: [joint_margin; printwatt::kinematics::MAX_DOF],
+        wrist_margin_rad: wrist_margin,
         collisions,
         check_every,
         ..Default::default()
-    })
+    };
+    o.check().map_err(err)?;
+    Ok(o)
 }
 
 // ---------------------------------------------------------------------------------------------
@@ -734,7 +738,9 @@ fn axis(name: &str, v: Vec<f64>) -> PyRes<Vec<f64>> {
 /// frame's origin in the robot base frame) at bed height `z` (m), part yaw `yaw` (rad) and
 /// nozzle spin `spin` (rad), in parallel. Each cell is timed and checked for feasibility
 /// (reach with one arm configuration, joint limits and `joint_margin` (rad, default 3°),
-/// singularity margins, collisions with bed, part and itself every `check_every` samples).
+/// `wrist_margin` (rad, default 5°: q5 kept that far from 0 and ±π on every sample; 0 lets the
+/// wrist pass through the singularity), the other singularity margins, collisions with bed,
+/// part and itself every `check_every` samples).
 /// objective: supply, drives, mechanical, mechanical_positive or mechanical_abs (J).
 ///
 /// Returns a dict: `xs` (nx,) and `ys` (ny,) m; `energy_j` (nx, ny) float64, the objective in
@@ -745,6 +751,7 @@ fn axis(name: &str, v: Vec<f64>) -> PyRes<Vec<f64>> {
 #[pyo3(signature = (robot, path, xs, ys, *, z = 0.0, yaw = 0.0, spin = 0.0,
     objective = "supply".to_string(), period = 0.004, accel = 1.0, jerk = 10.0,
     regeneration = None, payload = true, friction = true, joint_margin = 3f64.to_radians(),
+    wrist_margin = FeasibilityOptions::default().wrist_margin_rad,
     collisions = true, check_every = 10))]
 #[allow(clippy::too_many_arguments)]
 fn sweep<'py>(
@@ -764,6 +771,7 @@ fn sweep<'py>(
     payload: bool,
     friction: bool,
     joint_margin: f64,
+    wrist_margin: f64,
     collisions: bool,
     check_every: i64,
 ) -> PyRes<Bound<'py, PyDict>> {
@@ -779,7 +787,7 @@ fn sweep<'py>(
     let obj = self::objective(&objective)?;
     let prof = profile(period, accel, jerk)?;
     let opts = energy_options(regeneration.as_deref(), payload, friction)?;
-    let feas = feasibility_options(joint_margin, collisions, check_every)?;
+    let feas = feasibility_options(joint_margin, wrist_margin, collisions, check_every)?;
     let model: &RobotModel = &robot;
     let tp: &Toolpath = &path;
     let ps = grid.placements();
@@ -850,7 +858,7 @@ fn sweep<'py>(
 /// objective, J); `supply_j` (J); `duration_s` (s); `best` and `best_grid` (evaluated
 /// placements as in `optimise --json`); `evaluations` (grid, refinement); `feasible` and
 /// `placements` (grid counts); `infeasible_by_reason` (name → count over the grid);
-/// `search` (method, tolerance check, bounds, `on_bounds`, joint margin kept);
+/// `search` (method, tolerance check, bounds, `on_bounds`, joint and wrist margins kept);
 /// `summary` (the document `printwatt optimise --json` prints: baseline, savings, the
 /// baseline's tolerance check, the full check of a reduced answer, the uncertainty study).
 /// Raises PrintwattError when no grid placement is feasible, with how many failed for each
@@ -862,7 +870,8 @@ fn sweep<'py>(
     seed = printwatt::search::job::DEFAULT_SEED as i64, fixed_yaw = false, fixed_spin = false,
     search = "nelder-mead".to_string(), evaluation = "auto".to_string(), baseline = None,
     uncertainty = None, period = 0.004, accel = 1.0, jerk = 10.0, regeneration = None,
-    payload = true, friction = true, joint_margin = 3f64.to_radians(), collisions = true,
+    payload = true, friction = true, joint_margin = 3f64.to_radians(),
+    wrist_margin = FeasibilityOptions::default().wrist_margin_rad, collisions = true,
     check_every = 10))]
 #[allow(clippy::too_many_arguments)]
 fn optimise<'py>(
@@ -892,6 +901,7 @@ fn optimise<'py>(
     payload: bool,
     friction: bool,
     joint_margin: f64,
+    wrist_margin: f64,
     collisions: bool,
     check_every: i64,
 ) -> PyRes<Bound<'py, PyDict>> {
@@ -910,7 +920,7 @@ fn optimise<'py>(
     let settings =
         OptimiseSettings {
             objective: self::objective(&objective)?,
-            feasibility: feasibility_options(joint_margin, collisions, check_every)?,
+            feasibility: feasibility_options(joint_margin, wrist_margin, collisions, check_every)?,
             energy: energy_options(regeneration.as_deref(), payload, friction)?,
             profile: profile(period, accel, jerk)?,
             evaluation: evaluation.parse().map_err(err)?,
@@ -1197,6 +1207,7 @@ fn identify<'py>(
     station_step = 0.5, track = None, headings = None, z = -0.5, spin = 0.0, footprint = None,
     objective = "supply".to_string(), period = 0.004, accel = 1.0, jerk = 10.0,
     regeneration = None, payload = true, friction = true, joint_margin = 3f64.to_radians(),
+    wrist_margin = FeasibilityOptions::default().wrist_margin_rad,
     collisions = true, check_every = 10))]
 #[allow(clippy::too_many_arguments)]
 fn stations<'py>(
@@ -1219,6 +1230,7 @@ fn stations<'py>(
     payload: bool,
     friction: bool,
     joint_margin: f64,
+    wrist_margin: f64,
     collisions: bool,
     check_every: i64,
 ) -> PyRes<Bound<'py, PyAny>> {
@@ -1242,7 +1254,7 @@ fn stations<'py>(
         energy: energy_options(regeneration.as_deref(), payload, friction)?,
         profile: profile(period, accel, jerk)?,
         joint: JointStageOptions::default(),
-        feasibility: feasibility_options(joint_margin, collisions, check_every)?,
+        feasibility: feasibility_options(joint_margin, wrist_margin, collisions, check_every)?,
         objective: self::objective(&objective)?,
         candidates,
         z_m: z,

@@ -152,7 +152,11 @@ def test_bad_input_raises_printwatt_error_with_the_library_message(robot, tmp_pa
 
 def test_sweep_returns_a_grid_of_energies_equal_to_single_evaluations(robot, path):
     xs, ys = [1.4, 1.6, 1.7, 9.0], [-0.2, 0.2]
-    s = pw.sweep(robot, path, xs, ys, yaw=math.pi / 2)
+    # At z = 0 the wrist passes through q5 = 0 at 1.6 and 1.7 m: the default wrist margin (5°)
+    # rejects them, a margin of 0 (rad) lets the wrist pass, as --wrist-margin 0 does.
+    d = pw.sweep(robot, path, [1.7], [0.2], yaw=math.pi / 2)
+    assert d["reason"][0] == ["wrist_singularity"]
+    s = pw.sweep(robot, path, xs, ys, yaw=math.pi / 2, wrist_margin=0.0)
     assert s["energy_j"].shape == (4, 2) and s["energy_j"].dtype == np.float64
     assert s["xs"].tolist() == xs and s["ys"].tolist() == ys
     # 1.4 m keeps joint 3 too near its limit, 9 m is out of reach: NaN with the reason.
@@ -170,13 +174,17 @@ def test_sweep_returns_a_grid_of_energies_equal_to_single_evaluations(robot, pat
 def test_optimise_returns_the_best_placement_its_energy_and_the_reasons(robot):
     wall = pw.path_from_points([[0, 0, 0], [0.6, 0, 0], [0.6, 0.3, 0], [0, 0.3, 0]], 0.1)
     xs, ys = [1.0, 1.4, 1.8, 9.0], [-0.3, 0.0, 0.3]
-    o = pw.optimise(robot, wall, xs=xs, ys=ys, zs=[0.0], yaws=[0.0], max_evals=20)
+    # A wrist margin of 0: near the base at z = 0 the wrist passes through q5 = 0, and the best
+    # grid cell would fail its tolerance box under the default margin.
+    o = pw.optimise(robot, wall, xs=xs, ys=ys, zs=[0.0], yaws=[0.0], max_evals=20,
+                    wrist_margin=0.0)
     x, y, z, yaw, spin = o["placement"]
     assert 1.0 <= x <= 9.0 and -0.3 <= y <= 0.3 and z == 0.0
     # The answer is that placement's energy, and no worse than the grid cell it started from.
     assert o["energy_j"] == pytest.approx(pw.energy(robot, wall, o["placement"])["supply_j"], rel=1e-9)
     assert o["energy_j"] <= o["best_grid"]["outcome"]["energy_j"] * (1 + 1e-9)
     assert o["placements"] == 12 and o["infeasible_by_reason"]["unreachable"] == 3
+    assert "passing through it is allowed" in o["search"]["wrist_margin"]
     assert o["feasible"] + sum(o["infeasible_by_reason"].values()) == 12
     assert o["search"]["method"].startswith("nelder-mead")
     # Bad search settings: the library's messages.
@@ -253,10 +261,11 @@ def test_stations_plans_a_floor_as_the_cli_does(robot, tmp_path):
     g = tmp_path / "wall.gcode"
     g.write_text("G21\nG90\nG0 X0 Y0 Z20 F12000\nM3\nG1 X1500 Y0 F9000\nM5\nG0 Z70\n"
                  "G0 X1500\nG0 Z20\nM3\nG1 X3000\nM5\n")
+    # From a track beside a straight wall the wrist passes through q5 = 0: a wrist margin of 0.
     p = pw.stations(robot, pw.load_path(g), relocation_cost=5000.0,
-                    track=((-0.5, -1.2), (3.5, -1.2)))
+                    track=((-0.5, -1.2), (3.5, -1.2)), wrist_margin=0.0)
     doc = cli("stations", "--path", str(g), "--relocation-cost", "5000",
-              "--track=-0.5,-1.2:3.5,-1.2")
+              "--track=-0.5,-1.2:3.5,-1.2", "--wrist-margin", "0")
     assert len(p["segments"]) == doc["stations"] and p["relocations"] == doc["relocations"]
     assert rounds_to(p["total_j"], doc["total_j"]) and rounds_to(p["energy_j"], doc["energy_j"])
     for mine, theirs, at in zip(p["segments"], doc["segments"], p["at"]):

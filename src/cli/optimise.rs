@@ -296,42 +296,11 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
         rep.check_finite()?;
     }
     if let (Some(ex), Some(b)) = (&a.export, rep.best()) {
-        let job = printwatt::evaluate::PathJob::new(
-            &cfg.robot,
-            &cfg.path,
-            cfg.settings.energy,
-            cfg.settings.profile,
-            printwatt::timing::JointStageOptions::default(),
-        )?;
-        let files = [
-            (
-                ex.join("wobj_print.mod"),
-                format!(
-                    "MODULE printwatt_placement\n{}ENDMODULE\n",
-                    printwatt::export::wobjdata("wobjPrint", &b.placement)
-                ),
-            ),
-            (
-                ex.join("frame.json"),
-                serde_json::to_string_pretty(&printwatt::export::compas_frame(&b.placement))?,
-            ),
-            (
-                ex.join("path_base.gcode"),
-                printwatt::export::gcode_base(
-                    &printwatt::export::base_frame_path(&job.moves, &b.placement),
-                    &b.placement,
-                    cfg.robot.name(),
-                ),
-            ),
-            (
-                ex.join("path_base.mod"),
-                printwatt::export::rapid_base(
-                    &printwatt::export::base_frame_path(&job.moves, &b.placement),
-                    &b.placement,
-                    &cfg.robot,
-                ),
-            ),
-        ];
+        let files: Vec<(std::path::PathBuf, String)> =
+            printwatt::search::run::hand_off(&cfg, &b.placement)?
+                .into_iter()
+                .map(|(name, text)| (ex.join(name), text))
+                .collect();
         for (f, text) in &files {
             if f.exists() && !p.out.force {
                 anyhow::bail!("{} exists: replacing it needs --force", f.display());
@@ -415,6 +384,9 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
         println!("tolerance: {}", tolerance_line(&si.tolerance));
         if let Some(jm) = &si.joint_margin {
             println!("joint-limit margin: {jm}");
+        }
+        if let Some(wm) = &si.wrist_margin {
+            println!("wrist margin: {wm}");
         }
         if let Some(om) = &si.on_margin {
             println!(

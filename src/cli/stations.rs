@@ -51,6 +51,11 @@ pub struct StationsArgs {
     /// from the IRB 6640 family's foot; give your carriage's or crawler's).
     #[arg(long, value_name = "M")]
     pub footprint: Option<f64>,
+    /// Write the hand-off of every station into DIR: per station the work object, the path
+    /// in the base frame (G-code, RAPID) and a RAPID module printing in `wobjPrint`, each with
+    /// the planned arm configuration (`station_<k>_…`).
+    #[arg(long, value_name = "DIR")]
+    pub export: Option<std::path::PathBuf>,
 }
 
 /// Height of the part origin above a station's base frame when --z is not given, m: the base
@@ -227,6 +232,31 @@ pub fn run(a: StationsArgs) -> Result<()> {
             &[],
         )?;
         written = Some(rd.commit()?);
+    }
+    if let Some(ex) = &a.export {
+        let stations: Vec<_> = plan
+            .segments
+            .iter()
+            .map(|s| (s.moves, s.station.placement))
+            .collect();
+        let files = printwatt::export::stations_hand_off(
+            &l.robot,
+            &l.path,
+            &stations,
+            l.energy,
+            l.profile,
+            l.feas,
+            l.objective,
+        )?;
+        std::fs::create_dir_all(ex)?;
+        for (name, text) in &files {
+            let f = ex.join(name);
+            if f.exists() && !p.out.force {
+                bail!("{} exists: replacing it needs --force", f.display());
+            }
+            printwatt::output::guard_inputs(&f, &[l.path_file.as_path()])?;
+            printwatt::output::write_atomic(&f, text.as_bytes())?;
+        }
     }
     if p.out.json {
         super::print_json_text(&rep.summary_json()?)?;

@@ -65,6 +65,11 @@ pub struct PlacementArgs {
     /// singularity (0.5 = half).
     #[arg(long, default_value_t = printwatt::evaluate::feasibility::margins::DEFAULT_WRIST_RATE_MAX)]
     pub wrist_rate_max: f64,
+    /// Distance kept from the wrist singularity, deg: on every sample q5 stays at least this
+    /// far from 0 and ±180°. 0 lets the wrist pass through it (a round nozzle whose q6 is
+    /// free); the RAPID export then sets `SingArea \Wrist`.
+    #[arg(long, value_name = "DEG", default_value_t = printwatt::evaluate::feasibility::margins::DEFAULT_WRIST_MARGIN_DEG)]
+    pub wrist_margin: f64,
     /// Margin kept from every joint's position limits, deg: one value for all joints or a
     /// comma list per joint (the drive file's `limit_margin_rad` takes precedence).
     #[arg(long, default_value = "3")]
@@ -220,6 +225,7 @@ impl PlacementArgs {
         let feas = FeasibilityOptions {
             wrist_min: self.wrist_min,
             wrist_rate_max: self.wrist_rate_max,
+            wrist_margin_rad: self.wrist_margin.to_radians(),
             joint_margin_rad,
             elbow_min: self.elbow_min,
             shoulder_min_m: self.shoulder_min,
@@ -227,6 +233,7 @@ impl PlacementArgs {
             check_every: self.check_every,
             ..Default::default()
         };
+        feas.check()?;
         Ok(Loaded {
             robot,
             path,
@@ -747,6 +754,7 @@ pub fn knob_flag(k: printwatt::search::advice::Knob) -> String {
         Knob::Spin => "--spin",
         Knob::JointMargin => "--joint-margin",
         Knob::WristRateMax => "--wrist-rate-max",
+        Knob::WristMargin => "--wrist-margin",
         Knob::ElbowMin => "--elbow-min",
         Knob::ShoulderMin => "--shoulder-min",
         _ => k.words(),

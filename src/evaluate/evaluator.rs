@@ -284,6 +284,16 @@ pub struct Evaluator<'j, 'a> {
     /// Beads of the unslowed plan (shared by every placement whose timing did not re-plan).
     pub(super) beads: crate::evaluate::feasibility::collision::Beads,
     pub(super) bbox_all: (V3, V3),
+    /// The print head above its clearance, checked against the printed part.
+    head: Option<crate::evaluate::feasibility::collision::HeadOverPart>,
+    /// Where the head meets the part along the unslowed plan, per nozzle spin (bits of the
+    /// spin, rad): placement-independent otherwise, so found once.
+    head_hits: std::sync::Mutex<
+        Vec<(
+            u64,
+            Option<crate::evaluate::feasibility::collision::HeadHit>,
+        )>,
+    >,
     lines: Vec<usize>,
     /// Walls printed before this path (nozzle-tip segments, part frame, m), in every
     /// placement's collision scene ([`Evaluator::with_prior_walls`]).
@@ -363,6 +373,18 @@ impl<'j, 'a> Evaluator<'j, 'a> {
                 crate::evaluate::feasibility::collision::BEAD_RADIUS_M,
             ),
             bbox_all: all,
+            head: feasibility
+                .collisions
+                .then(|| {
+                    crate::evaluate::feasibility::collision::HeadOverPart::new(
+                        job.robot,
+                        feasibility::reach_m(job.robot),
+                        &feasibility.radii,
+                        feasibility.head_clearance_m,
+                    )
+                })
+                .flatten(),
+            head_hits: std::sync::Mutex::new(Vec::new()),
             lines: job.moves.iter().map(|m| m.line).collect(),
             prior: Vec::new(),
             reduction: None,
@@ -417,7 +439,57 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             crate::evaluate::feasibility::collision::BEAD_RADIUS_M,
         );
         self.prior = prior;
+        if let Ok(mut h) = self.head_hits.lock() {
+            h.clear();
+        }
         self
+    }
+
+    /// Where the print head meets the part printed so far along `motion` (whose beads are
+    /// `beads`) at `at`, as an infeasible outcome: every sample checked
+    /// ([`crate::evaluate::feasibility::collision::HeadOverPart`]). For the unslowed plan the
+    /// answer is found once per nozzle spin.
+    pub(super) fn head_infeasible(
+        &self,
+        motion: &std::sync::Arc<crate::timing::profile::CartesianMotion>,
+        beads: &crate::evaluate::feasibility::collision::Beads,
+        at: &Placement,
+    ) -> Option<Infeasible> {
+        let head = self.head.as_ref()?;
+        let spin = at.nozzle_spin;
+        let hit = if std::sync::Arc::ptr_eq(motion, &self.job.plan.motion) {
+            let key = spin.to_bits();
+            let known = self
+                .head_hits
+                .lock()
+                .ok()
+                .and_then(|h| h.iter().find(|e| e.0 == key).map(|e| e.1.clone()));
+            match known {
+                Some(h) => h,
+                None => {
+                    let h = head.first_hit(beads, &motion.p, spin);
+                    if let Ok(mut all) = self.head_hits.lock() {
+                        all.push((key, h.clone()));
+                    }
+                    h
+                }
+            }
+        } else {
+            head.first_hit(beads, &motion.p, spin)
+        }?;
+        let k = hit.sample;
+        let tip = at.frame().apply(&motion.p[k]);
+        Some(Infeasible {
+            reason: Reason::CollisionPart,
+            sample: Some(k),
+            t_s: Some(k as f64 * motion.dt),
+            line: Some(
+                self.job
+                    .line_of(self.job.pieces[motion.piece[k]].move_index),
+            ),
+            point_m: Some([tip.x, tip.y, tip.z]),
+            detail: hit.detail,
+        })
     }
 
     /// Samples of the unslowed plan (a lower bound of every placement's sample count).
@@ -677,6 +749,12 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             )
         };
         let (checked, integrated) = rayon::join(checks, energy);
+        // The print head against the part, every sample: the first failure in sample order.
+        let checked = match (checked, self.head_infeasible(&timed.motion, beads, at)) {
+            (Err(e), Some(h)) if h.sample < e.sample => Err(h),
+            (Ok(_), Some(h)) => Err(h),
+            (c, _) => c,
+        };
         let r = checked.and_then(|margins| integrated.map(|f| Feasible { margins, ..f }));
         buf.recycle(timed); // keep the buffers for the next placement
         (!cancelled()).then_some(r)

@@ -595,6 +595,11 @@ fn reduced<'a>(
         let tip = frame.apply(&motion.p[k]);
         (Frame { rot, pos: tip }, tip)
     };
+    // The print head against the part printed so far, every sample of the plan (found once
+    // per nozzle spin: it does not depend on where the robot stands).
+    if let Some(e) = ev.head_infeasible(&job.plan.motion, &ev.beads, at) {
+        return Outcome::Infeasible(e);
+    }
     // 2. Configuration tracked on every stride-th sample, candidates as the full evaluation
     // orders them.
     let (t0, tip0) = target(0);
@@ -708,7 +713,10 @@ fn reduced<'a>(
         let q = &sc.red.thin[i * n..(i + 1) * n];
         let opw_p = model.opw.as_ref().filter(|_| n >= 6);
         if let (Some(p), Some(u)) = (opw_p, unit_of(k)) {
-            if opw::wrist_singularity(p, q) < 2.0 * o.wrist_min {
+            let near = o
+                .wrist_min
+                .max(crate::evaluate::feasibility::margins::wrist_floor(o));
+            if opw::wrist_singularity(p, q) < 2.0 * near {
                 near_wrist[u] = true;
             }
         }

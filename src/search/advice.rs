@@ -40,6 +40,8 @@ pub enum Knob {
     JointMargin,
     /// The share of the joint 4/6 rate limits allowed near the wrist singularity.
     WristRateMax,
+    /// The distance kept from the wrist singularity (deg).
+    WristMargin,
     /// The smallest elbow measure accepted (dimensionless).
     ElbowMin,
     /// The smallest wrist-centre distance from axis 1 accepted (m).
@@ -57,6 +59,7 @@ impl Knob {
             Knob::Spin => "spin",
             Knob::JointMargin => "the joint-limit margin",
             Knob::WristRateMax => "the wrist rate share",
+            Knob::WristMargin => "the wrist margin",
             Knob::ElbowMin => "the elbow minimum",
             Knob::ShoulderMin => "the shoulder minimum",
         }
@@ -114,8 +117,8 @@ pub fn what_to_try(reason: Reason) -> Advice {
             &[JointMargin],
         ),
         Reason::WristSingularity => (
-            "try other nozzle spins ({} 0,45,90) or yaws; {} raises the accepted joint 4/6 speed",
-            &[Spin, WristRateMax],
+            "try other nozzle spins ({} 0,45,90) or yaws; {} raises the accepted joint 4/6 speed; {} 0 lets the wrist pass through the singularity",
+            &[Spin, WristRateMax, WristMargin],
         ),
         Reason::ElbowSingularity => (
             "bring the grid nearer the robot ({}) or lower {}",

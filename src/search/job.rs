@@ -278,12 +278,7 @@ impl OptimiseSettings {
                 )));
             }
         }
-        if self.feasibility.check_every == 0 {
-            return Err(Error::Invalid(
-                "the collision check interval must be at least 1 sample".into(),
-            ));
-        }
-        Ok(())
+        self.feasibility.check()
     }
 }
 

@@ -285,6 +285,10 @@ pub struct SearchInfo {
     /// The joint-limit margin the answer keeps, in words (closest joint, its distance from a
     /// limit and the margin).
     pub joint_margin: Option<String>,
+    /// The wrist margin the answer keeps, in words (its closest approach of q5 to the wrist
+    /// singularity over every sample and the margin; or that passing through is allowed).
+    #[serde(default)]
+    pub wrist_margin: Option<String>,
     /// The answer lies on a joint-limit margin (within 0.01°): named like a search bound.
     pub on_margin: Option<String>,
     /// Set when the energy does not depend on the nozzle spin at the answer (no difference at
@@ -571,6 +575,9 @@ fn refine_with(
         )
     });
     let joint_margin = stmt.as_ref().map(|s| s.0.clone());
+    let wrist_margin = best.feasible().and_then(|f| {
+        crate::evaluate::feasibility::margins::wrist_statement(&ev.feasibility, &f.margins)
+    });
     let on_margin = stmt.filter(|s| s.1).map(|s| s.0);
     let history = problem.history.borrow().clone();
     Ok((
@@ -596,6 +603,7 @@ fn refine_with(
             grid_cells_tried: tried,
             speculative_evals: speculative,
             joint_margin,
+            wrist_margin,
             on_margin,
             spin_kept,
             budget_spent,

@@ -388,6 +388,9 @@ fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Resul
         if let Some(jm) = &si.joint_margin {
             m.push(("joint-limit margin kept".into(), jm.clone()));
         }
+        if let Some(wm) = &si.wrist_margin {
+            m.push(("wrist margin kept".into(), wm.clone()));
+        }
         m.push((
             "evaluations".into(),
             if base_corners > 0 {
@@ -457,6 +460,27 @@ fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Resul
         secs,
         evaluations: n_eval,
     })))
+}
+
+/// The hand-off of an optimisation's answer `at` for the controller
+/// ([`crate::export::hand_off`]: work object, COMPAS frame, base-frame G-code and RAPID, a
+/// part-frame RAPID module in `wobjPrint`, each with the planned arm configuration), as
+/// `(file name, text)`; the job's feasibility settings (the wrist margin among them) decide
+/// the export's `SingArea`.
+pub fn hand_off(
+    config: &OptimiseConfig,
+    at: &crate::toolpath::Placement,
+) -> Result<Vec<(String, String)>> {
+    let s = &config.settings;
+    let job = PathJob::new(
+        &config.robot,
+        &config.path,
+        s.energy,
+        s.profile,
+        JointStageOptions::default(),
+    )?;
+    let ev = Evaluator::new(&job, s.feasibility, s.objective);
+    crate::export::hand_off(&ev, at, "")
 }
 
 /// What the tolerance check says, in one line.
@@ -532,7 +556,7 @@ pub fn meta(
         (
             "feasibility".into(),
             format!(
-                "joint-limit margin {} deg, near the wrist singularity (|sin q5| < {}) joints 4/6 at most {:.0} % of their limits, elbow ≥ {}, shoulder ≥ {} m, collisions {} (every {} samples)",
+                "joint-limit margin {} deg, wrist margin {} deg, near the wrist singularity (|sin q5| < {}) joints 4/6 at most {:.0} % of their limits, elbow ≥ {}, shoulder ≥ {} m, collisions {} (every {} samples)",
                 (0..robot.dof())
                     .map(|j| format!(
                         "{:.1}",
@@ -540,6 +564,7 @@ pub fn meta(
                     ))
                     .collect::<Vec<_>>()
                     .join("/"),
+                feas.wrist_margin_rad.to_degrees(),
                 feas.wrist_min,
                 feas.wrist_rate_max * 100.0,
                 feas.elbow_min,

@@ -32,7 +32,7 @@ pub fn csv_separator(header: &str) -> char {
     crate::table::separator(header)
 }
 pub use self::gcode::parse_gcode;
-pub use self::rapid::parse_rapid;
+pub use self::rapid::{parse_rapid, read_program, RapidProgram, RapidTarget};
 
 /// Corner blending at the end of a move.
 #[derive(Clone, Copy, Debug, PartialEq)]

@@ -787,3 +787,188 @@ pub fn parse_rapid(text: &str, file: &str, _opts: &ReadOptions) -> Result<Toolpa
     tp.warnings.extend(notes);
     Ok(tp)
 }
+
+/// One move of a RAPID module as a controller takes it: the instruction, the robtarget's
+/// position (mm), orientation quaternion `[q1, q2, q3, q4]`, configuration
+/// `[cf1, cf4, cf6, cfx]`, the work object named by `\WObj` and the source line.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RapidTarget {
+    /// `MoveL`, `MoveJ` or `MoveC` (as written).
+    pub instr: String,
+    /// Position, mm, in the move's work object.
+    pub pos_mm: [f64; 3],
+    /// Orientation quaternion `[q1, q2, q3, q4]` = `[w, x, y, z]`.
+    pub quat: [f64; 4],
+    /// Configuration data `[cf1, cf4, cf6, cfx]`.
+    pub conf: [i32; 4],
+    /// The `\WObj` argument's name (`wobj0` when none is given).
+    pub wobj: String,
+    /// Source line.
+    pub line: usize,
+}
+
+/// What a RAPID module hands a controller beyond the path ([`parse_rapid`] reads the path):
+/// module names, inline robtargets of the moves with their configuration, the declared
+/// `jointtarget`s (deg), the `MoveAbsJ` targets, and the last `ConfL` and `SingArea` switches.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct RapidProgram {
+    /// `MODULE` names, in order.
+    pub modules: Vec<String>,
+    /// Moves with inline or declared robtargets, in file order.
+    pub targets: Vec<RapidTarget>,
+    /// Declared `jointtarget`s: name (lower case) and robot axes, deg.
+    pub jointtargets: Vec<(String, Vec<f64>)>,
+    /// Targets of `MoveAbsJ`, in order (names, lower case).
+    pub abs_moves: Vec<String>,
+    /// `ConfL \On` (true) or `\Off` (false), the last one given.
+    pub conf_l: Option<bool>,
+    /// The last `SingArea` switch (`wrist`, `off`, …, lower case).
+    pub sing_area: Option<String>,
+    /// Comment lines (`!`) before the first `MODULE` (a controller refuses them there).
+    pub comments_before_module: usize,
+}
+
+fn nums_of(v: &Value) -> Option<Vec<f64>> {
+    match v {
+        Value::Agg(items, _, _) => items.iter().map(num_of).collect(),
+        _ => None,
+    }
+}
+
+fn target_parts(v: &Value) -> Option<([f64; 3], [f64; 4], [i32; 4])> {
+    let Value::Agg(items, _, _) = v else {
+        return None;
+    };
+    let p = nums_of(items.first()?)?;
+    let q = nums_of(items.get(1)?)?;
+    let c = nums_of(items.get(2)?)?;
+    if p.len() != 3 || q.len() != 4 || c.len() != 4 {
+        return None;
+    }
+    Some((
+        [p[0], p[1], p[2]],
+        [q[0], q[1], q[2], q[3]],
+        [c[0] as i32, c[1] as i32, c[2] as i32, c[3] as i32],
+    ))
+}
+
+/// Read a RAPID module for what a controller needs (see [`RapidProgram`]); `file` names the
+/// source in messages. Errors where the module does not parse (as [`parse_rapid`]) or a move's
+/// robtarget is not `[[x, y, z], [q1, q2, q3, q4], [cf1, cf4, cf6, cfx], [eax…]]`.
+pub fn read_program(text: &str, file: &str) -> Result<RapidProgram> {
+    let toks = lex(file, text)?;
+    let mut prog = RapidProgram::default();
+    for l in text.lines() {
+        let t = l.trim_start();
+        if t.to_ascii_lowercase().starts_with("module") {
+            break;
+        }
+        prog.comments_before_module += usize::from(t.starts_with('!'));
+    }
+    let mut p = Parser { file, toks, i: 0 };
+    let mut robtargets: HashMap<String, Value> = HashMap::new();
+    loop {
+        let t = p.peek().clone();
+        match &t.tok {
+            Tok::Eof => break,
+            Tok::Ident(word) => {
+                let w = word.to_ascii_lowercase();
+                match w.as_str() {
+                    "module" => {
+                        p.next();
+                        let (name, _, _) = p.ident("a module name")?;
+                        prog.modules.push(name);
+                        p.skip_line(t.line);
+                    }
+                    "const" | "pers" | "var" => {
+                        p.next();
+                        let (ty, _, _) = p.ident("a data type after CONST/PERS/VAR")?;
+                        let (name, _, _) = p.ident("a data name")?;
+                        let tyl = ty.to_ascii_lowercase();
+                        if p.is_punct(":=") && matches!(tyl.as_str(), "robtarget" | "jointtarget") {
+                            p.next();
+                            let v = p.value(0)?;
+                            p.expect(";", &format!("';' after the value of {name}"))?;
+                            if tyl == "robtarget" {
+                                robtargets.insert(name.to_ascii_lowercase(), v);
+                            } else {
+                                let axes = match &v {
+                                    Value::Agg(items, _, _) => items.first().and_then(nums_of),
+                                    _ => None,
+                                }
+                                .ok_or_else(|| {
+                                    perr(
+                                        file,
+                                        t.line,
+                                        t.col,
+                                        "expected a jointtarget [[j1, …], [eax…]]",
+                                    )
+                                })?;
+                                prog.jointtargets.push((name.to_ascii_lowercase(), axes));
+                            }
+                        } else {
+                            p.skip_statement();
+                        }
+                    }
+                    "movel" | "movej" | "movec" | "moveabsj" => {
+                        p.next();
+                        let m = p.move_stmt(word.clone(), t.line, t.col)?;
+                        if w == "moveabsj" {
+                            if let Some(Value::Ident(n, _, _)) = m.args.first().map(|a| &a.value) {
+                                prog.abs_moves.push(n.to_ascii_lowercase());
+                            }
+                            continue;
+                        }
+                        let k = usize::from(w == "movec");
+                        let v = m.args.get(k).map(|a| &a.value);
+                        let v = match v {
+                            Some(Value::Ident(n, _, _)) => robtargets.get(&n.to_ascii_lowercase()),
+                            other => other,
+                        };
+                        let (pos_mm, quat, conf) = v.and_then(target_parts).ok_or_else(|| {
+                            perr(
+                                file,
+                                m.line,
+                                m.col,
+                                "expected a robtarget [[x,y,z],[q1,q2,q3,q4],[cf1,cf4,cf6,cfx],[eax…]]",
+                            )
+                        })?;
+                        let wobj = match m.opts.get("wobj") {
+                            Some(Some(Value::Ident(n, _, _))) => n.clone(),
+                            _ => "wobj0".into(),
+                        };
+                        prog.targets.push(RapidTarget {
+                            instr: m.instr.clone(),
+                            pos_mm,
+                            quat,
+                            conf,
+                            wobj,
+                            line: m.line,
+                        });
+                    }
+                    "confl" | "singarea" => {
+                        p.next();
+                        let mut opts = HashMap::new();
+                        p.switches(&mut opts)?;
+                        p.expect(";", &format!("';' after {word}"))?;
+                        let on = opts.keys().next().cloned().unwrap_or_default();
+                        if w == "confl" {
+                            prog.conf_l = Some(on == "on");
+                        } else {
+                            prog.sing_area = Some(on);
+                        }
+                    }
+                    "proc" | "endproc" | "endmodule" => {
+                        p.skip_line(t.line);
+                    }
+                    "local" | "task" => {
+                        p.next();
+                    }
+                    _ => p.skip_statement(),
+                }
+            }
+            _ => p.skip_statement(),
+        }
+    }
+    Ok(prog)
+}

@@ -10,8 +10,11 @@
 //! - **Print head and hose**: from the drive file's `[tool.geometry]` table (flange frame):
 //!   a cylinder of `head_radius_m` around the flange → nozzle-tip axis, and a straight capsule
 //!   of `hose_radius_m` from `hose_from_m` to `hose_to_m`. Without the table the head is a
-//!   capsule of radius `nozzle × R` from the flange to the tip and there is no hose. The head is
-//!   exempt from the bed and part checks (it prints on them).
+//!   capsule of radius `nozzle × R` from the flange to the tip and there is no hose. The head
+//!   prints on the bed and the part, so the head shape is exempt from the bed and part checks
+//!   of [`check`]; instead [`HeadOverPart`] checks the head above a stated clearance over the
+//!   nozzle tip ([`FeasibilityOptions::head_clearance_m`](crate::evaluate::feasibility::FeasibilityOptions::head_clearance_m))
+//!   against the beads laid so far, on every sample.
 //! - **Bed**: a cuboid under the path (see [`crate::evaluate::feasibility::World`]).
 //! - **Part**: the beads laid so far, capsules of [`BEAD_RADIUS_M`] around the nozzle-tip path
 //!   (centre one bead radius below the tip) between checked print samples, in a bounding-volume
@@ -38,6 +41,106 @@ pub mod lanes;
 
 /// Bead radius of the printed part, m (ESTIMATE: a 40 mm wide concrete bead, typical of 3DCP).
 pub const BEAD_RADIUS_M: f64 = 0.02;
+
+/// Default clearance above the nozzle tip from which up the print head is checked against the
+/// printed part, m (ESTIMATE: the free nozzle length of a 3DCP head, about two 15 mm layers;
+/// the head body above it must not meet any bead laid so far).
+pub const HEAD_CLEARANCE_M: f64 = 0.03;
+
+/// The print head above the layer being printed, against the printed part: the head's
+/// cylinder (or the fallback nozzle capsule's radius) from `clearance` above the nozzle tip
+/// up to the flange, checked on every sample against the beads laid so far (parry, as the
+/// links). The nozzle itself, below the clearance, lays the bead and is not checked.
+///
+/// The nozzle is vertical and its spin relative to the part is fixed along a path, so the
+/// head's pose in the part frame at a sample is the nozzle-tip point with one rotation
+/// (that of [`crate::kinematics::nozzle_target`] at the nozzle spin): whether the head meets
+/// the part depends on the path, the head and the spin, not on where the robot stands.
+#[derive(Clone)]
+pub struct HeadOverPart {
+    /// The head above the clearance, in the nozzle-tip frame.
+    local: Isometry<f64>,
+    shape: SharedShape,
+    /// Clearance above the nozzle tip, m.
+    pub clearance_m: f64,
+}
+
+/// Where the print head meets the printed part: the sample, the bead and the words.
+#[derive(Clone, Debug, PartialEq)]
+pub struct HeadHit {
+    /// Sample index of the motion checked.
+    pub sample: usize,
+    /// Index of the bead met (in the order laid).
+    pub bead: usize,
+    /// What happened, in words.
+    pub detail: String,
+}
+
+impl HeadOverPart {
+    /// The head of `model` above `clearance_m` (m) over the nozzle tip; `None` when nothing
+    /// of the head is left above it (or the tool has no length).
+    pub fn new(
+        model: &RobotModel,
+        reach: f64,
+        radii: &LinkRadii,
+        clearance_m: f64,
+    ) -> Option<Self> {
+        let tip = model.tool.pos;
+        let len = tip.norm();
+        let radius = match &model.tool_geometry {
+            Some(g) => g.head_radius_m,
+            None => radii.nozzle * reach,
+        };
+        if clearance_m.is_nan()
+            || clearance_m < 0.0
+            || len - clearance_m < 1e-3
+            || radius.is_nan()
+            || radius <= 0.0
+        {
+            return None;
+        }
+        // In the flange frame: from the flange to `clearance` short of the tip.
+        let low = tip * ((len - clearance_m) / len);
+        let (l, shape) = cylinder_between(&V3::zeros(), &low, radius)?;
+        // Flange frame → tip frame.
+        let to_tip = iso(&model.tool.inverse());
+        Some(HeadOverPart {
+            local: to_tip * l,
+            shape,
+            clearance_m,
+        })
+    }
+
+    /// The first sample of the nozzle-tip points `p` (part frame, m) at which the head, the
+    /// nozzle spun by `spin` (rad) relative to the part, comes within the bead radius of a
+    /// bead of `beads` laid by then: every sample is checked.
+    pub fn first_hit(&self, beads: &Beads, p: &[V3], spin: f64) -> Option<HeadHit> {
+        if beads.is_empty() {
+            return None;
+        }
+        let rot = crate::kinematics::nozzle_target(&V3::zeros(), spin).rot;
+        let mut laid = 0;
+        for (k, tip) in p.iter().enumerate() {
+            laid = beads.laid_at_from(k, laid);
+            if laid == 0 {
+                continue;
+            }
+            let pose = iso(&Frame { rot, pos: *tip }) * self.local;
+            if let Some(b) = beads.hit(&pose, &self.shape, laid) {
+                return Some(HeadHit {
+                    sample: k,
+                    bead: b,
+                    detail: format!(
+                        "print head ({:.0} mm and more above the nozzle tip) comes within {:.3} m of printed bead {b}",
+                        self.clearance_m * 1000.0,
+                        beads.radius_m
+                    ),
+                });
+            }
+        }
+        None
+    }
+}
 
 /// What a shape stands for.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]

@@ -11,6 +11,12 @@
 //!   joint 4 or 6 uses more than [`FeasibilityOptions::wrist_rate_max`] of its velocity or
 //!   acceleration limit there. A `q5` passing 0 while `q4` stays still is harmless and
 //!   accepted.
+//! - **Wrist margin**: on every sample the OPW `q5` keeps at least
+//!   [`FeasibilityOptions::wrist_margin_rad`] (default [`DEFAULT_WRIST_MARGIN_DEG`]) from 0 and
+//!   ±180°, i.e. `|sin q5| ≥ sin margin`: at the singularity axes 4 and 6 align and a real
+//!   controller may stop or flip the wrist however slowly joint 4 moves. A margin of 0 lets
+//!   the wrist pass through (the rate rule above still applies; the export then asks the
+//!   controller for `SingArea \Wrist`).
 
 use crate::evaluate::feasibility::{FeasibilityOptions, Margins, Reason};
 use crate::kinematics::opw;
@@ -22,6 +28,27 @@ pub const DEFAULT_JOINT_MARGIN_DEG: f64 = 3.0;
 /// Default largest share of joint 4/6 velocity or acceleration limit accepted near the wrist
 /// singularity (dimensionless).
 pub const DEFAULT_WRIST_RATE_MAX: f64 = 0.5;
+
+/// Default distance kept from the wrist singularity (`q5` from 0 and ±180°), degrees.
+pub const DEFAULT_WRIST_MARGIN_DEG: f64 = 5.0;
+
+/// The smallest `|sin q5|` the wrist margin accepts: `sin` of the margin (0 for a margin of
+/// 0; the margin is taken in [0°, 90°]).
+#[inline]
+pub fn wrist_floor(o: &FeasibilityOptions) -> f64 {
+    let m = o.wrist_margin_rad;
+    if m > 0.0 {
+        m.min(std::f64::consts::FRAC_PI_2).sin()
+    } else {
+        0.0
+    }
+}
+
+/// Lower the running minimum `m` by `v` (the first value taken as it is).
+#[inline(always)]
+fn lower(m: &mut Option<f64>, v: f64) {
+    *m = Some(m.map_or(v, |x: f64| x.min(v)));
+}
 
 /// The position margin of joint `j`, rad: the drive file's per-joint value, else the option's.
 pub fn joint_margin(model: &RobotModel, o: &FeasibilityOptions, j: usize) -> f64 {
@@ -99,6 +126,19 @@ pub fn check_joint_sample_with(
         }
         _ => opw::wrist_singularity(p, q),
     };
+    lower(&mut margins.wrist_every, w);
+    let floor = wrist_floor(o);
+    if w < floor {
+        return Some((
+            Reason::WristSingularity,
+            format!(
+                "q5 at {:.2}° is {:.2}° from the wrist singularity (wrist margin {:.2}°; a wrist margin of 0 lets the wrist pass through)",
+                q[4].to_degrees(),
+                w.clamp(0.0, 1.0).asin().to_degrees(),
+                o.wrist_margin_rad.to_degrees()
+            ),
+        ));
+    }
     if w >= o.wrist_min {
         return None;
     }
@@ -242,18 +282,26 @@ impl JointChecks {
         // The wrist measure as check_joint_sample_with takes it, for the common case (shared
         // sines, joint 5's OPW offset 0); anything else goes the long way.
         let clear_of_wrist = match (self.wrist, sincos) {
-            (None, _) => true,
-            _ if q.len() < 6 => true,
+            (None, _) => Some(None),
+            _ if q.len() < 6 => Some(None),
             (Some((sign, off)), Some(sc)) if off == 0.0 && sc.len() == 2 * q.len() => {
-                (sign * sc[4]).abs() >= o.wrist_min
+                let w = (sign * sc[4]).abs();
+                (w >= o.wrist_min && w >= wrist_floor(o)).then_some(Some(w))
             }
-            _ => false,
+            _ => None,
         };
-        if fails || !clear_of_wrist {
-            margins.joint_limit_rad = before;
-            return check_joint_sample_with(model, o, q, sincos, qd, qdd, margins);
+        match clear_of_wrist {
+            Some(w) if !fails => {
+                if let Some(w) = w {
+                    lower(&mut margins.wrist_every, w);
+                }
+                None
+            }
+            _ => {
+                margins.joint_limit_rad = before;
+                check_joint_sample_with(model, o, q, sincos, qd, qdd, margins)
+            }
         }
-        None
     }
 }
 
@@ -317,15 +365,27 @@ impl JointChecks {
         // The wrist rule where a sample comes near the singularity, as
         // check_joint_sample_with applies it (its margin kept aside until the block passes).
         let mut wrist_rate = margins.wrist_rate;
+        let mut wrist_every = margins.wrist_every;
         if let Some((sign, sc)) = wrist {
-            // Most blocks have no sample near it (a NaN counts as near): one test for all.
+            // Most blocks have no sample near it (a NaN counts as near): one test for all. A
+            // sample within the wrist margin (or a NaN) goes the per-sample way.
+            let floor = wrist_floor(o);
             let mut near = false;
+            let mut within = false;
+            let mut low = f64::INFINITY;
             for k in 0..W {
-                near |= !((sign * sc[k * 2 * SCREEN_DOF + 4]).abs() >= o.wrist_min);
+                let w = (sign * sc[k * 2 * SCREEN_DOF + 4]).abs();
+                near |= !(w >= o.wrist_min);
+                within |= !(w >= floor);
+                low = low.min(w);
+            }
+            if within {
+                return false;
             }
             if near && !self.wrist_rule(o, sign, sc, qd, qdd, &mut wrist_rate) {
                 return false;
             }
+            lower(&mut wrist_every, low);
         }
         // The entry at the block's smallest distance is sought only where that distance
         // beats the running one (about a quarter of the blocks of a feasible placement, as
@@ -348,6 +408,7 @@ impl JointChecks {
             return false;
         }
         margins.wrist_rate = wrist_rate;
+        margins.wrist_every = wrist_every;
         if let Some(first) = first {
             // The per-sample checks lower the running minimum at each new smallest distance
             // and so end on the first entry (sample by sample, joint by joint) at the block's
@@ -489,6 +550,23 @@ pub fn margin_statement(
         ),
         on,
     ))
+}
+
+/// The wrist margin a feasible placement keeps, in words: e.g. "q5 keeps 7.12° from the
+/// wrist singularity (wrist margin 5.00°)", or, where the margin is 0, that the wrist may pass
+/// through it and the export asks for `SingArea \Wrist`. `None` without OPW parameters.
+pub fn wrist_statement(o: &FeasibilityOptions, m: &Margins) -> Option<String> {
+    let d = m.wrist_deg()?;
+    Some(if wrist_floor(o) > 0.0 {
+        format!(
+            "q5 keeps {d:.2}° from the wrist singularity (wrist margin {:.2}°)",
+            o.wrist_margin_rad.to_degrees()
+        )
+    } else {
+        format!(
+            "q5 comes within {d:.2}° of the wrist singularity: passing through it is allowed (wrist margin 0°), the RAPID export sets SingArea \\Wrist"
+        )
+    })
 }
 
 #[cfg(test)]

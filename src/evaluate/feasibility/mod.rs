@@ -35,6 +35,12 @@ pub struct FeasibilityOptions {
     /// Largest share of joint 4/6 velocity or acceleration limit accepted near the wrist
     /// singularity (dimensionless, 0.5 = half the limit).
     pub wrist_rate_max: f64,
+    /// Distance kept from the wrist singularity, rad: on every sample the OPW `q5` stays at
+    /// least this far from 0 and ±180° (`|sin q5| ≥ sin margin`), as the joint-limit margins
+    /// are kept (see [`crate::evaluate::feasibility::margins`]). 0 lets the wrist pass through
+    /// the singularity (a round nozzle whose `q6` is free; the exported program then carries
+    /// `SingArea \Wrist`), leaving only the rate rule of [`Self::wrist_min`].
+    pub wrist_margin_rad: f64,
     /// Position margin from each joint's limits, rad (per joint; the drive file's
     /// `limit_margin_rad` takes precedence).
     pub joint_margin_rad: [f64; crate::kinematics::MAX_DOF],
@@ -52,6 +58,10 @@ pub struct FeasibilityOptions {
     pub bed_margin_m: f64,
     /// Bed (table) thickness below the lowest path point, m.
     pub bed_depth_m: f64,
+    /// Clearance above the nozzle tip from which up the print head is checked against the
+    /// part printed so far, m (every sample; [`collision::HeadOverPart`]). Below it the nozzle
+    /// lays the bead of the layer being printed.
+    pub head_clearance_m: f64,
 }
 
 impl Default for FeasibilityOptions {
@@ -59,6 +69,8 @@ impl Default for FeasibilityOptions {
         FeasibilityOptions {
             wrist_min: 0.05,
             wrist_rate_max: crate::evaluate::feasibility::margins::DEFAULT_WRIST_RATE_MAX,
+            wrist_margin_rad: crate::evaluate::feasibility::margins::DEFAULT_WRIST_MARGIN_DEG
+                .to_radians(),
             joint_margin_rad: [crate::evaluate::feasibility::margins::DEFAULT_JOINT_MARGIN_DEG
                 .to_radians(); crate::kinematics::MAX_DOF],
             elbow_min: 0.05,
@@ -68,7 +80,29 @@ impl Default for FeasibilityOptions {
             radii: LinkRadii::default(),
             bed_margin_m: 0.10,
             bed_depth_m: 0.50,
+            head_clearance_m: collision::HEAD_CLEARANCE_M,
         }
+    }
+}
+
+impl FeasibilityOptions {
+    /// Refuse options no check could use (named as settings, not as a front end's options).
+    pub fn check(&self) -> crate::Result<()> {
+        // In degrees, as the margin is given (90° converted to radians and back is 90° within
+        // rounding).
+        let m = self.wrist_margin_rad;
+        if !(m.is_finite() && m >= 0.0 && m.to_degrees() <= 90.0 + 1e-9) {
+            return Err(crate::error::Error::Invalid(format!(
+                "wrist margin {}°: expected a margin in [0, 90]° (0 lets the wrist pass through the singularity)",
+                m.to_degrees()
+            )));
+        }
+        if self.check_every == 0 {
+            return Err(crate::error::Error::Invalid(
+                "the collision check interval must be at least 1 sample".into(),
+            ));
+        }
+        Ok(())
     }
 }
 
@@ -238,6 +272,11 @@ pub struct Margins {
     pub wrist_rate: Option<f64>,
     /// Closest approach to a position limit: (joint, 1-based; distance, rad), every sample.
     pub joint_limit_rad: Option<(usize, f64)>,
+    /// Smallest `|sin q5|` over every sample (dimensionless; the wrist margin's measure, see
+    /// [`Margins::wrist_deg`]); `None` without OPW parameters. [`Margins::wrist`] is the same
+    /// measure on the checked samples only.
+    #[serde(default)]
+    pub wrist_every: Option<f64>,
     /// Smallest elbow measure (dimensionless).
     pub elbow: Option<f64>,
     /// Smallest wrist-centre distance from the axis of joint 1, m.
@@ -245,6 +284,15 @@ pub struct Margins {
     /// Smallest distance between an arm shape (not the print head) and the bed, m (parry's
     /// exact distance, evaluated where the AABB broad phase says it could be the smallest).
     pub bed_clearance_m: Option<f64>,
+}
+
+impl Margins {
+    /// The closest approach of `q5` to the wrist singularity (0 or ±180°) over every sample,
+    /// degrees.
+    pub fn wrist_deg(&self) -> Option<f64> {
+        self.wrist_every
+            .map(|w| w.clamp(0.0, 1.0).asin().to_degrees())
+    }
 }
 
 /// Reach used to scale the link radii, m.
