@@ -64,6 +64,17 @@ pub struct OptimiseArgs {
     /// files of a single run, bit for bit.
     #[arg(long, value_name = "SPEC", requires = "uncertainty")]
     pub shard: Option<String>,
+    /// With --uncertainty: the robust choice minimises the expected energy over the draws
+    /// (`expected`, default) or the worst-case regret (`regret`), over the answer, its
+    /// tolerance corners, a local stencil and each drawn robot's own optimum.
+    #[arg(long, default_value = "expected", value_name = "CRITERION")]
+    pub robust: String,
+    /// Prints a year, for the yearly figures of the robust choice and the value of measuring.
+    #[arg(long, default_value_t = 1000.0)]
+    pub prints_per_year: f64,
+    /// Grid carbon intensity for the yearly CO₂ figure, kg CO₂ per kWh.
+    #[arg(long, default_value_t = 0.4)]
+    pub grid_kg_co2_per_kwh: f64,
     /// Write the chosen placement for the robot into this directory: `wobj_print.mod` (ABB RAPID
     /// wobjdata), `frame.json` (COMPAS frame), and the path re-expressed in the robot base
     /// frame as `path_base.gcode` and `path_base.mod` (RAPID MoveL in wobj0). Existing files
@@ -161,7 +172,23 @@ pub fn job_key(a: &OptimiseArgs) -> String {
         n.tolerance,
         n.z_bounds,
         n.uncertainty
-    )
+    ) + &robust_key(&n)
+}
+
+/// The robust choice's options in the job key (only when they differ from the defaults, so
+/// that the key of a run without them is unchanged).
+fn robust_key(n: &OptimiseArgs) -> String {
+    let mut k = String::new();
+    if n.robust != "expected" {
+        k += &format!(" robust={}", n.robust);
+    }
+    if n.prints_per_year != 1000.0 || n.grid_kg_co2_per_kwh != 0.4 {
+        k += &format!(
+            " prints_per_year={} grid_kg_co2_per_kwh={}",
+            n.prints_per_year, n.grid_kg_co2_per_kwh
+        );
+    }
+    k
 }
 
 /// `printwatt optimise`.
@@ -389,6 +416,14 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
             println!("{l}");
         }
     }
+    if let Some(d) = rep.optimise.as_ref().and_then(|o| o.decision.as_ref()) {
+        for b in &d.bound_steps {
+            println!("{}", printwatt::search::robust::bound_line(b));
+        }
+        for l in d.robust.iter().flat_map(printwatt::search::robust::lines) {
+            println!("{l}");
+        }
+    }
     if let Some(o) = &rep.optimise {
         let s = &o.sensitivity;
         // A value with its unit, or why there is none.
@@ -595,6 +630,35 @@ pub fn compute(
             }
         };
         res.uncertainty = Some(study);
+        if res.search.is_some() {
+            let ro = printwatt::search::robust::RobustOptions {
+                draws: n,
+                seed: a.seed,
+                criterion: printwatt::search::robust::Criterion::parse(&a.robust)?,
+                prints_per_year: a.prints_per_year,
+                grid_kg_co2_per_kwh: a.grid_kg_co2_per_kwh,
+                ..Default::default()
+            };
+            let so = SearchOptions::new(bounds, tol);
+            let r = pool
+                .install(|| printwatt::search::robust::robust(&ev, &res.best, &opts, &so, &ro))?;
+            res.decision.get_or_insert_with(Default::default).robust = Some(r);
+        }
+    }
+    if let Some(si) = &res.search {
+        if !si.on_bounds.is_empty() {
+            let steps = pool.install(|| {
+                printwatt::search::robust::bound_steps(
+                    &ev,
+                    &res.best,
+                    &si.bounds,
+                    &printwatt::search::robust::BOUND_STEPS_M,
+                )
+            })?;
+            res.decision
+                .get_or_insert_with(Default::default)
+                .bound_steps = steps;
+        }
     }
     let secs = t0.elapsed().as_secs_f64();
     // The placements shown in detail (series for the report), evaluated in parallel.

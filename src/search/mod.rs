@@ -8,7 +8,9 @@ pub mod grid;
 pub mod neldermead;
 pub mod optimise;
 pub mod refine;
+pub mod robust;
 pub mod tolerance;
 pub mod uncertainty;
+pub mod value_of_information;
 
 pub use grid::{parse_range, Grid};
