@@ -223,6 +223,8 @@ pub struct Robust {
     pub yearly_kg_co2: f64,
     /// Per draw, per candidate: energy (objective), J.
     pub energy_j: Vec<Vec<f64>>,
+    /// Per draw: the drives' energy of the best candidate, J (the "within 1 %" reference).
+    pub best_drives_j: Vec<f64>,
     /// Per draw: the parameters drawn (name, value), the first draw's names.
     pub parameters: Vec<String>,
     /// Per draw, the drawn values in the order of `parameters`.
@@ -562,6 +564,7 @@ pub fn robust(
         yearly_kwh,
         yearly_kg_co2: yearly_kwh * o.grid_kg_co2_per_kwh,
         energy_j,
+        best_drives_j: best.iter().map(|b| b.1).collect(),
         parameters,
         drawn,
         evaluations,
