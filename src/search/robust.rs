@@ -449,7 +449,29 @@ pub fn robust(
                 .collect())
         })
         .collect();
-    let per: Vec<Vec<[f64; 3]>> = per.into_iter().collect::<Result<_>>()?;
+    let mut per: Vec<Vec<[f64; 3]>> = per.into_iter().collect::<Result<_>>()?;
+    // A candidate whose energy some drawn robot cannot give (a model error) is left out; the
+    // nominal answer must have them all.
+    let whole: Vec<bool> = (0..keep.len())
+        .map(|c| per.iter().all(|e| e[c].iter().all(|v| v.is_finite())))
+        .collect();
+    if !whole[0] {
+        return Err(Error::Invalid(
+            "robust choice: a drawn robot cannot give the nominal answer's energy".into(),
+        ));
+    }
+    let mut i = 0;
+    keep.retain(|_| {
+        i += 1;
+        whole[i - 1]
+    });
+    for e in &mut per {
+        let mut i = 0;
+        e.retain(|_| {
+            i += 1;
+            whole[i - 1]
+        });
+    }
     let k = keep.len();
     let n = o.draws;
     let nf = n as f64;
