@@ -149,13 +149,15 @@ fn value_of_measuring_a_parameter_that_does_not_move_the_decision_is_about_zero(
         energy.push(vec![a, b]);
     }
     let names = vec!["balancer force".to_string(), "standby power".to_string()];
-    // The recommendation by expected energy: either (they tie in expectation); take A.
-    let v = value_of_information::rank(&names, &drawn, &energy, 0, 0, 1000.0);
+    // The recommendation by expected energy (they nearly tie in expectation).
+    let mean = |c: usize| energy.iter().map(|e| e[c]).sum::<f64>() / n as f64;
+    let rec = if mean(0) <= mean(1) { 0 } else { 1 };
+    let v = value_of_information::rank(&names, &drawn, &energy, rec, rec, 1000.0);
     let get = |k: &str| v.iter().find(|p| p.name == k).unwrap();
     let (bal, sb) = (get("balancer force"), get("standby power"));
-    // With the balancer known: regret 2000·|bal − 1| when bal < 1, i.e. E = 2000·E[(1−bal)+]
-    // = 2000 · 0.125 = 250 J.
-    assert!((bal.value_j - 250.0).abs() < 40.0, "{bal:?}");
+    // With the balancer known: regret 2000·|bal − 1| on the side where the recommendation
+    // loses, i.e. 2000·E[(1−bal)+] = 2000 · 0.125 = 250 J (within the sampling error).
+    assert!((bal.value_j - 250.0).abs() < 60.0, "{bal:?}");
     assert!(sb.value_j < 0.02 * bal.value_j, "{sb:?}");
     assert_eq!(v[0].name, "balancer force");
     assert!((bal.value_kwh_per_year - bal.value_j * 1000.0 / 3.6e6).abs() < 1e-12);

@@ -14,7 +14,8 @@
 //! joint torques with respect to each parameter (the identify model's effects, relative to
 //! the parameter's magnitude), stacked over the samples and joints. The targets'
 //! information given the nuisance parameters is the Schur complement `I_tt − I_tn I_nn⁻¹ I_nt`;
-//! the design maximises its log-determinant by a seeded random search with local refinement,
+//! the design minimises its condition number (then maximises its log-determinant) by a seeded
+//! random search with local refinement that starts from the sine sweep,
 //! and reports its condition number beside that of a naive sine sweep (one sine of period `T`
 //! per joint at the same limits).
 
@@ -230,7 +231,7 @@ fn scale_to_limits(robot: &RobotModel, d: &mut Design, o: &ExciteOptions, pos_sc
     let n = d.centre.len();
     let dur = duration(o);
     let m = (dur * 50.0).round() as usize + 1;
-    for j in 0..n {
+    for (j, &ps) in pos_scale.iter().enumerate().take(n) {
         let (_, half, v, a) = joint_limits(robot, j);
         let (mut mf, mut mfd, mut mfdd) = (0.0f64, 0.0f64, 0.0f64);
         for k in 0..m {
@@ -242,7 +243,7 @@ fn scale_to_limits(robot: &RobotModel, d: &mut Design, o: &ExciteOptions, pos_sc
         }
         // 2 % below the share: the grid may miss a peak between its points.
         let s = 0.98 * o.limit_share;
-        let k = (s * half * pos_scale[j] / mf.max(1e-12))
+        let k = (s * half * ps / mf.max(1e-12))
             .min(s * v / mfd.max(1e-12))
             .min(s * a / mfdd.max(1e-12));
         for x in d.a[j].iter_mut().chain(d.b[j].iter_mut()) {
@@ -479,6 +480,9 @@ pub fn design(robot: &RobotModel, o: &ExciteOptions) -> Result<Excitation> {
     let score = |tr: &JointTrajectory| -> Result<(f64, f64)> {
         Ok(targeted(&information(&model, &all, tr, 1)?, t))
     };
+    // What the search maximises: a small condition number first, then a large
+    // log-determinant (per target).
+    let merit = |(ld, cond): (f64, f64)| -cond.ln() + 0.1 * ld / t as f64;
     let n = robot.dof();
     let mut rng = ChaCha8Rng::seed_from_u64(o.seed);
     let mut designs = 0;
@@ -499,16 +503,20 @@ pub fn design(robot: &RobotModel, o: &ExciteOptions) -> Result<Excitation> {
             })
             .collect(),
     };
-    let mut best: Option<(Design, f64)> = None;
+    // The naive sine sweep is the first design: the search never returns a worse one.
+    let mut best: Option<(Design, f64)> = match fit_design(robot, &naive(robot, o), o) {
+        Some((x, tr)) => Some((x, merit(score(&tr)?))),
+        None => None,
+    };
     for _ in 0..o.tries {
         let d = random(&mut rng);
         designs += 1;
         let Some((x, tr)) = fit_design(robot, &d, o) else {
             continue;
         };
-        let (ld, _) = score(&tr)?;
-        if best.as_ref().is_none_or(|b| ld > b.1) {
-            best = Some((x, ld));
+        let m = merit(score(&tr)?);
+        if best.as_ref().is_none_or(|b| m > b.1) {
+            best = Some((x, m));
         }
     }
     // Local refinement: perturb the best design's coefficients, shrinking the step.
@@ -532,10 +540,10 @@ pub fn design(robot: &RobotModel, o: &ExciteOptions) -> Result<Excitation> {
                 step *= 0.9;
                 continue;
             };
-            let (ld, _) = score(&tr)?;
-            if ld > ld0 {
+            let m = merit(score(&tr)?);
+            if m > ld0 {
                 cur = x;
-                ld0 = ld;
+                ld0 = m;
             } else {
                 step *= 0.95;
             }

@@ -29,7 +29,7 @@ fn fit(x: &[f64], y: &[f64]) -> Option<(f64, f64, f64, f64)> {
         sxy += (a - mx) * (b - my);
         syy += (b - my) * (b - my);
     }
-    if !(sxx > 0.0) {
+    if sxx.is_nan() || sxx <= 0.0 {
         return None;
     }
     let b = sxy / sxx;
