@@ -92,7 +92,7 @@ fn main() {
             ))
         })
     });
-    // As a placement evaluation runs it since session 9: the links' frames from the FK
+    // As a placement evaluation runs it: the links' frames from the FK
     // re-check's shared sines (computed here once, outside the timed loop, as the evaluation
     // has them), composed in the part frame, and the check from those frames.
     let q = tr.q(k);
@@ -125,7 +125,7 @@ fn main() {
     ) {
         if let Some(plain) = estimate_ns(&dir, "collision_check_one_sample") {
             println!(
-                "  poses by libm sines and quaternions + check (before session 9): {plain:9.1} ns; from the shared sines: {ch:9.1} ns ({:.2}x)",
+                "  poses by libm sines and quaternions + check (plain): {plain:9.1} ns; from the shared sines: {ch:9.1} ns ({:.2}x)",
                 ch / plain
             );
         }

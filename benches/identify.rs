@@ -1,4 +1,4 @@
-//! Criterion benchmarks of the measurement loop's linearity (issue 8, item 8): `compare` and
+//! Criterion benchmarks of the measurement loop's linearity: `compare` and
 //! `diagnose` on simulated torque logs (ABB IRB 4600, 250 Hz, Coulomb friction hidden) at two
 //! log lengths, four times apart. Criterion reports throughput in rows per second
 //! (`Throughput::Elements`); the loop is linear in the log length when the two lengths give

@@ -1,5 +1,5 @@
 #!/usr/bin/env bash
-# Issue 12's target "`printwatt optimise` on the default job at least 3x faster than b5bfebb,
+# The target "`printwatt optimise` on the default job at least 3x faster than b5bfebb,
 # same answer", measured end to end the way a user runs it: the release binary of this
 # checkout against the release binary of a reference commit, each run `printwatt optimise`
 # (the shipped default robot and path, the report and the run directory written), in rounds

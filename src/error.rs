@@ -110,8 +110,38 @@ impl Error {
 /// people's tools (see [`decode_text`]): a UTF-8 byte-order mark is dropped, CR-only and CRLF
 /// line endings become LF, and invalid UTF-8 is an error naming the line and byte.
 pub fn read_text(path: &std::path::Path) -> Result<String> {
-    let bytes = std::fs::read(path).map_err(|e| Error::io(path, e))?;
+    let bytes = read_capped(path)?;
     decode_text(&bytes, &path.display().to_string())
+}
+
+/// Most bytes read from one input file: 1 GiB (a 1,000,000-row log is about 150 MB), or
+/// `PRINTWATT_MAX_INPUT_BYTES`. A larger input, or one without end (`/dev/urandom`, a FIFO),
+/// stops there with an error naming the file.
+pub fn max_input_bytes() -> u64 {
+    std::env::var("PRINTWATT_MAX_INPUT_BYTES")
+        .ok()
+        .and_then(|v| v.trim().parse::<u64>().ok())
+        .filter(|&n| n > 0)
+        .unwrap_or(1 << 30)
+}
+
+/// Read a whole file, at most [`max_input_bytes`]: a longer one is an error naming it and the
+/// limit (nothing beyond the limit is read).
+pub fn read_capped(path: &std::path::Path) -> Result<Vec<u8>> {
+    use std::io::Read;
+    let max = max_input_bytes();
+    let f = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let mut bytes = Vec::new();
+    f.take(max + 1)
+        .read_to_end(&mut bytes)
+        .map_err(|e| Error::io(path, e))?;
+    if bytes.len() as u64 > max {
+        return Err(Error::Invalid(format!(
+            "{}: longer than {max} bytes, the most printwatt reads from one input (PRINTWATT_MAX_INPUT_BYTES); is it the file meant?",
+            path.display()
+        )));
+    }
+    Ok(bytes)
 }
 
 /// Decode the bytes of a text file: UTF-8, with an optional byte-order mark (Excel's "CSV

@@ -238,19 +238,11 @@ pub(crate) fn uniform_stencil_entries_on(
     let mid = &q[a..b];
     let hi = &q[a + n..b + n];
     let (od, odd) = (&mut qd[a..b], &mut qdd[a..b]);
-    match level {
-        #[cfg(target_arch = "x86_64")]
-        crate::simd::Level::Avx512 if crate::simd::Level::Avx512.available() => {
-            // SAFETY: the CPU has AVX-512F (checked just above).
-            unsafe { stencil3_avx512(lo, mid, hi, d1, d2, od, odd) }
-        }
-        #[cfg(target_arch = "x86_64")]
-        crate::simd::Level::Avx2 if crate::simd::Level::Avx2.available() => {
-            // SAFETY: the CPU has AVX2 and FMA (checked just above).
-            unsafe { stencil3_avx2(lo, mid, hi, d1, d2, od, odd) }
-        }
-        _ => stencil3(lo, mid, hi, d1, d2, od, odd),
-    }
+    crate::simd::run(
+        level,
+        #[inline(always)]
+        || stencil3(lo, mid, hi, d1, d2, od, odd),
+    )
 }
 
 /// `od[i] = d1·(lo, mid, hi)[i]` and `odd[i] = d2·(…)[i]`, each as `w0·a + w1·b + w2·c`
@@ -273,34 +265,6 @@ fn stencil3(
         *v = d1[0] * f0 + d1[1] * f1 + d1[2] * f2;
         *a = d2[0] * f0 + d2[1] * f1 + d2[2] * f2;
     }
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-fn stencil3_avx512(
-    lo: &[f64],
-    mid: &[f64],
-    hi: &[f64],
-    d1: [f64; 3],
-    d2: [f64; 3],
-    od: &mut [f64],
-    odd: &mut [f64],
-) {
-    stencil3(lo, mid, hi, d1, d2, od, odd)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-fn stencil3_avx2(
-    lo: &[f64],
-    mid: &[f64],
-    hi: &[f64],
-    d1: [f64; 3],
-    d2: [f64; 3],
-    od: &mut [f64],
-    odd: &mut [f64],
-) {
-    stencil3(lo, mid, hi, d1, d2, od, odd)
 }
 
 /// Lagrange basis derivatives at `x` for the nodes `ts`: `d1` (first), `d2` (second,

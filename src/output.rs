@@ -178,7 +178,11 @@ pub enum Existing {
 /// `existing`, if it exists; then written atomically (see [`write_atomic`]).
 pub fn write_file(path: &Path, contents: &[u8], inputs: &Inputs, existing: Existing) -> Result<()> {
     check_file(path, inputs, existing)?;
-    write_atomic(path, contents)
+    if existing == Existing::Force(false) {
+        write_new_atomic(path, contents)
+    } else {
+        write_atomic(path, contents)
+    }
 }
 
 /// The checks of [`write_file`] without writing: call it for every output of a command before
@@ -216,6 +220,63 @@ pub fn check_dir(dir: &Path, inputs: &Inputs) -> Result<()> {
         return Err(Error::Invalid(format!(
             "{} exists and is not a directory: choose another output directory",
             dir.display()
+        )));
+    }
+    Ok(())
+}
+
+/// `p` made absolute with every existing part resolved (symbolic links, `..`): the deepest
+/// existing ancestor canonicalised, the rest appended, `.` dropped and `..` taken lexically.
+pub fn resolve_lenient(p: &Path) -> PathBuf {
+    let abs = std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
+    let mut norm = PathBuf::new();
+    for c in abs.components() {
+        match c {
+            Component::ParentDir => {
+                norm.pop();
+            }
+            Component::CurDir => {}
+            other => norm.push(other.as_os_str()),
+        }
+    }
+    let mut base = norm.clone();
+    let mut rest = Vec::new();
+    loop {
+        if let Ok(mut c) = std::fs::canonicalize(&base) {
+            for part in rest.iter().rev() {
+                c.push(part);
+            }
+            return c;
+        }
+        match (base.file_name().map(|n| n.to_os_string()), base.parent()) {
+            (Some(n), Some(parent)) => {
+                rest.push(n);
+                base = parent.to_path_buf();
+            }
+            _ => return norm,
+        }
+    }
+}
+
+/// Refuse an output directory `out` that is one of `inputs`, lies inside one, or holds one:
+/// writing it (with or without `--force`) would replace or change that input.
+pub fn refuse_overlap(out: &Path, inputs: &[PathBuf]) -> Result<()> {
+    let o = resolve_lenient(out);
+    for i in inputs {
+        let c = resolve_lenient(i);
+        let why = if o == c {
+            "it is"
+        } else if o.starts_with(&c) {
+            "it lies inside"
+        } else if c.starts_with(&o) {
+            "it holds"
+        } else {
+            continue;
+        };
+        return Err(Error::Invalid(format!(
+            "refusing to write {}: {why} {}, an input of this command (whether or not replacing is allowed); choose an output outside every input",
+            out.display(),
+            i.display()
         )));
     }
     Ok(())
@@ -303,6 +364,55 @@ pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<()> {
     Ok(())
 }
 
+/// [`write_atomic`] for a file that must not exist: the temporary file is put in place by a
+/// hard link, which fails if `path` exists, so of two runs writing the same new file at once
+/// the second fails ([`Error::OutputExists`]) instead of replacing the first's. On a file
+/// system without hard links, an existence check and a rename.
+pub fn write_new_atomic(path: &Path, contents: &[u8]) -> Result<()> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    }
+    clean_stale_temps(path);
+    let tmp: PathBuf = {
+        let mut s = path.as_os_str().to_owned();
+        s.push(format!(".tmp-{}", std::process::id()));
+        s.into()
+    };
+    let res = (|| {
+        let mut f = std::fs::File::create(&tmp)?;
+        f.write_all(contents)?;
+        f.sync_all()?;
+        test_delay("PRINTWATT_TEST_WRITE_DELAY_MS");
+        match std::fs::hard_link(&tmp, path) {
+            Ok(()) => std::fs::remove_file(&tmp),
+            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => Err(e),
+            Err(_) if !path.exists() => std::fs::rename(&tmp, path),
+            Err(_) => Err(std::io::ErrorKind::AlreadyExists.into()),
+        }
+    })();
+    match res {
+        Ok(()) => Ok(()),
+        Err(e) => {
+            let _ = std::fs::remove_file(&tmp);
+            if e.kind() == std::io::ErrorKind::AlreadyExists {
+                Err(Error::OutputExists {
+                    path: path.to_path_buf(),
+                })
+            } else {
+                Err(Error::io(path, e))
+            }
+        }
+    }
+}
+
+/// A pause of `$var` milliseconds where a test needs a window to interrupt a write (to kill
+/// it, or to start a second run); none when the variable is not set.
+fn test_delay(var: &str) {
+    if let Some(ms) = std::env::var(var).ok().and_then(|v| v.parse::<u64>().ok()) {
+        std::thread::sleep(std::time::Duration::from_millis(ms));
+    }
+}
+
 /// Check a `--run` name: one or more plain relative path components (no `..`, `.`, root or
 /// drive prefix), so that the run directory stays inside `--results-dir`.
 pub fn run_name(run: &str) -> Result<PathBuf> {
@@ -346,7 +456,12 @@ pub struct RunDir {
     target: PathBuf,
     staging: PathBuf,
     lock: PathBuf,
+    /// The lock file, open and locked (`flock`) for as long as this run writes: the lock
+    /// ends with the process, whatever ends it, so a lock is never stale.
+    lock_file: Option<std::fs::File>,
     files: BTreeMap<String, String>,
+    /// An earlier run put back at the target when this run began (see [`RunDir::restored`]).
+    restored: Option<PathBuf>,
     /// The syncs under way: the file's path and the thread syncing it.
     syncing: Vec<(PathBuf, std::thread::JoinHandle<std::io::Result<()>>)>,
     done: bool,
@@ -383,28 +498,40 @@ impl RunDir {
         inputs.check(target)?;
         std::fs::create_dir_all(&parent).map_err(|e| Error::io(&parent, e))?;
         let lock = parent.join(format!(".{name}.printwatt-lock"));
-        take_lock(&lock, target)?;
+        let lock_file = take_lock(&lock, target)?;
         let mut rd = RunDir {
             target: target.to_path_buf(),
             staging: parent.join(format!(".{name}.printwatt-tmp-{}", std::process::id())),
             lock,
+            lock_file: Some(lock_file),
+            restored: None,
             files: BTreeMap::new(),
             syncing: Vec::new(),
             done: false,
         };
-        // Stale staging and old directories of dead processes.
+        // Staging and old directories of other runs: with the lock held, their writers are
+        // gone (a PID reused since does not matter). A staging directory is removed; an old
+        // run moved aside by a replacement that was interrupted before the new run was in
+        // place is put back (the earlier result is never lost); one whose replacement
+        // completed is removed.
         if let Ok(entries) = std::fs::read_dir(&parent) {
+            let mut olds = Vec::new();
             for e in entries.flatten() {
                 let f = e.file_name().to_string_lossy().into_owned();
-                let ours = f.starts_with(&format!(".{name}.printwatt-tmp-"))
-                    || f.starts_with(&format!(".{name}.printwatt-old-"));
-                if ours {
-                    if let Some(pid) = tmp_pid(&f) {
-                        if !process_alive(pid) || pid == std::process::id() {
-                            let _ = std::fs::remove_dir_all(e.path());
-                        }
-                    }
+                if f.starts_with(&format!(".{name}.printwatt-tmp-")) && tmp_pid(&f).is_some() {
+                    let _ = std::fs::remove_dir_all(e.path());
+                } else if f.starts_with(&format!(".{name}.printwatt-old-")) && tmp_pid(&f).is_some()
+                {
+                    olds.push(e.path());
                 }
+            }
+            olds.sort_by_key(|p| std::fs::metadata(p).and_then(|m| m.modified()).ok());
+            for old in olds.into_iter().rev() {
+                if !target.exists() && std::fs::rename(&old, target).is_ok() {
+                    rd.restored = Some(old);
+                    continue;
+                }
+                let _ = std::fs::remove_dir_all(&old);
             }
         }
         if target.exists() {
@@ -425,6 +552,12 @@ impl RunDir {
         std::fs::create_dir_all(&rd.staging).map_err(|e| Error::io(&rd.staging, e))?;
         rd.done = false;
         Ok(rd)
+    }
+
+    /// Where an earlier run was found moved aside by an interrupted replacement (killed
+    /// between moving it aside and moving the new run in) and put back at the target.
+    pub fn restored(&self) -> Option<&Path> {
+        self.restored.as_deref()
     }
 
     /// The directory the run will be in once committed.
@@ -477,6 +610,7 @@ impl RunDir {
     /// printwatt's own) is moved aside, the staging directory renamed to the target, the earlier
     /// run removed, the lock released. Returns the target.
     pub fn commit(mut self) -> Result<PathBuf> {
+        test_delay("PRINTWATT_TEST_COMMIT_DELAY_MS");
         self.wait_for_syncs()?;
         let m = Manifest {
             writer: "printwatt".into(),
@@ -498,6 +632,7 @@ impl RunDir {
         if had_old {
             check_ours(&self.target)?;
             std::fs::rename(&self.target, &old).map_err(|e| Error::io(&self.target, e))?;
+            test_delay("PRINTWATT_TEST_REPLACE_DELAY_MS");
         }
         if let Err(e) = std::fs::rename(&self.staging, &self.target) {
             if had_old {
@@ -508,7 +643,7 @@ impl RunDir {
         if had_old {
             let _ = std::fs::remove_dir_all(&old);
         }
-        let _ = std::fs::remove_file(&self.lock);
+        self.release_lock();
         self.done = true;
         Ok(self.target.clone())
     }
@@ -519,56 +654,59 @@ impl Drop for RunDir {
         let _ = self.wait_for_syncs();
         if !self.done {
             let _ = std::fs::remove_dir_all(&self.staging);
-            let _ = std::fs::remove_file(&self.lock);
+            self.release_lock();
         }
     }
 }
 
-/// Take the lock file `lock` (holding our PID) for `target`; a lock of a dead process is
-/// replaced, one of a running process is an error naming it.
-fn take_lock(lock: &Path, target: &Path) -> Result<()> {
-    for _ in 0..3 {
-        match std::fs::OpenOptions::new()
+impl RunDir {
+    /// Remove the lock file, then unlock it (a run that opened it meanwhile finds it gone
+    /// and opens the new one: see [`take_lock`]).
+    fn release_lock(&mut self) {
+        if let Some(f) = self.lock_file.take() {
+            let _ = std::fs::remove_file(&self.lock);
+            drop(f);
+        }
+    }
+}
+
+/// Take the lock of `target`: the file `lock`, locked with `flock` (held until the returned
+/// file is closed, which the system does when the process ends, however it ends) and holding
+/// our PID to name us. A lock held by a running printwatt is an error naming its PID; a lock
+/// file left by a killed run is not locked, so it is simply taken (a PID reused since by
+/// another process plays no part).
+fn take_lock(lock: &Path, target: &Path) -> Result<std::fs::File> {
+    for _ in 0..20 {
+        let mut f = std::fs::OpenOptions::new()
+            .read(true)
             .write(true)
-            .create_new(true)
+            .create(true)
+            .truncate(false)
             .open(lock)
-        {
-            Ok(mut f) => {
+            .map_err(|e| Error::io(lock, e))?;
+        match f.try_lock() {
+            Ok(()) => {
+                // The file may have been removed by its previous owner between our open and
+                // our lock: only the file at the path is the lock.
+                if !same_file(&f, lock) {
+                    continue;
+                }
+                let _ = f.set_len(0);
                 let _ = writeln!(f, "{}", std::process::id());
-                return Ok(());
+                return Ok(f);
             }
-            Err(e) if e.kind() == std::io::ErrorKind::AlreadyExists => {
+            Err(std::fs::TryLockError::WouldBlock) => {
                 let pid = std::fs::read_to_string(lock)
                     .ok()
                     .and_then(|s| s.trim().parse::<u32>().ok());
-                match pid {
-                    Some(p) if process_alive(p) => {
-                        return Err(Error::Invalid(format!(
-                            "{} is being written by another printwatt run (PID {p}, lock {}): wait for it to finish, or choose another run name",
-                            target.display(),
-                            lock.display()
-                        )))
-                    }
-                    Some(_) => {
-                        let _ = std::fs::remove_file(lock);
-                    }
-                    None => {
-                        // Being written this instant, or garbage: a fresh lock is left alone;
-                        // an old one (> 10 s) is removed.
-                        let old = std::fs::metadata(lock)
-                            .and_then(|m| m.modified())
-                            .ok()
-                            .and_then(|t| t.elapsed().ok())
-                            .is_some_and(|d| d.as_secs() > 10);
-                        if old {
-                            let _ = std::fs::remove_file(lock);
-                        } else {
-                            std::thread::sleep(std::time::Duration::from_millis(50));
-                        }
-                    }
-                }
+                let who = pid.map_or_else(|| "PID unknown".to_string(), |p| format!("PID {p}"));
+                return Err(Error::Invalid(format!(
+                    "{} is being written by another printwatt run ({who}, lock {}): wait for it to finish, or choose another run name",
+                    target.display(),
+                    lock.display()
+                )));
             }
-            Err(e) => return Err(Error::io(lock, e)),
+            Err(std::fs::TryLockError::Error(e)) => return Err(Error::io(lock, e)),
         }
     }
     Err(Error::Invalid(format!(
@@ -576,6 +714,23 @@ fn take_lock(lock: &Path, target: &Path) -> Result<()> {
         target.display(),
         lock.display()
     )))
+}
+
+/// Whether the open file `f` is the file at `p` (same device and inode).
+fn same_file(f: &std::fs::File, p: &Path) -> bool {
+    #[cfg(unix)]
+    {
+        use std::os::unix::fs::MetadataExt;
+        match (f.metadata(), std::fs::metadata(p)) {
+            (Ok(a), Ok(b)) => a.dev() == b.dev() && a.ino() == b.ino(),
+            _ => false,
+        }
+    }
+    #[cfg(not(unix))]
+    {
+        let _ = f;
+        p.exists()
+    }
 }
 
 /// Error unless every entry of the existing directory `dir` was written by printwatt and is

@@ -1,5 +1,5 @@
 //! `printwatt optimise` checks its baseline against the placement tolerance the answer must
-//! hold (session 13): a negative "saving vs baseline" against a baseline a site could not rely
+//! hold: a negative "saving vs baseline" against a baseline a site could not rely
 //! on is reported as such, in the terminal, `--json` / `summary.json` and the HTML report.
 //!
 //! The case: the IRB 4600-40/2.55 on the default path over a 182-cell grid, seed 7. The

@@ -240,7 +240,7 @@ fn copy_dir(from: &Path, to: &Path) {
 
 #[test]
 fn uncertainty_study_shards_merge_to_the_single_run_files_bit_for_bit() {
-    // Issue 12 item 6: `optimise --uncertainty N` split over its draws.
+    // `optimise --uncertainty N` split over its draws.
     let d = scratch("study");
     let job = [
         "optimise",
@@ -357,7 +357,7 @@ file = "wall.gcode"
 
 #[test]
 fn design_study_shards_merge_to_the_single_run_files_bit_for_bit() {
-    // Issue 12 item 6: design studies split by case, merged into the single run's directory.
+    // Design studies split by case, merged into the single run's directory.
     let d = scratch("design");
     std::fs::write(d.join("study.toml"), STUDY).unwrap();
     let single = ok(&printwatt(

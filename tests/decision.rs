@@ -10,7 +10,8 @@ use printwatt::frame::Placement;
 use printwatt::identify::excite::{self, ExciteOptions};
 use printwatt::search::optimise::OptimiseOptions;
 use printwatt::search::refine::{self, Bounds, SearchOptions};
-use printwatt::search::robust::{self, Criterion, RobustOptions};
+use printwatt::search::job::RobustObjective;
+use printwatt::search::robust::{self, RobustOptions};
 use printwatt::search::tolerance::Tolerance;
 use printwatt::search::uncertainty::Ranges;
 use printwatt::search::value_of_information;
@@ -116,7 +117,7 @@ fn robust_choice_beats_the_nominal_answers_expected_energy_and_states_within_1pc
         &OptimiseOptions::default(),
         &so,
         &RobustOptions {
-            criterion: Criterion::Regret,
+            criterion: RobustObjective::Regret,
             ..o
         },
     )

@@ -1,4 +1,4 @@
-//! The issue's target against an expert's model (issue 8, "Target"): the classical
+//! The issue's target against an expert's model ("Target"): the classical
 //! identification model of an industrial arm — the rigid body's base parameters (the linear
 //! regressor reduced by QR, [`printwatt::effects::RigidBody`]) plus, per joint, viscous and
 //! Coulomb friction, a torque offset and the rotor (armature) inertia, all fitted at once by
@@ -6,7 +6,7 @@
 //! Khalil 1990) — is compared with what the loop reaches (diagnose → identify the best
 //! significant effect → again, until nothing is claimed) on a held-out log of other motion.
 //!
-//! No real robot logs exist in this repository or ../shared, and no public log with a clear
+//! No real robot logs exist in this repository, and no public log with a clear
 //! licence was found in the time given (README): the logs are simulated (ABB IRB 4600-40/2.55,
 //! 250 Hz, 2 N·m torque noise) from a true robot with two hidden effects: link 3 10 % heavier
 //! and 30 N·m more Coulomb friction on every joint.

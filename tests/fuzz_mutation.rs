@@ -1,4 +1,4 @@
-//! Seeded mutation test of every reader (issue 10, "nothing crashes"). The shipped files
+//! Seeded mutation test of every reader ("nothing crashes"). The shipped files
 //! (robots/*, paths/*, paths/placements/*, tests/data/*) are the seeds; each is mutated
 //! (byte flips, deletions, duplications, numbers swapped for nasty ones, empty fields, a BOM,
 //! CR-only line endings, deep nesting) and read by the library inside `catch_unwind`.

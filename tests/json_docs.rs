@@ -1,4 +1,4 @@
-//! Stable JSON (issue 8, item 9): the `--json` output of `simulate`, `compare`, `diagnose` and
+//! Stable JSON: the `--json` output of `simulate`, `compare`, `diagnose` and
 //! `identify` against the field lists of docs/json.md (the ```` ```fields <command> ```` blocks),
 //! both ways, so that the documentation and the output cannot drift apart: every field the
 //! output has is documented, and every documented field is present wherever its parent is

@@ -1,4 +1,4 @@
-//! The pieces that used to live in the CLI and are now library functions (issue 11, item 1):
+//! The pieces that used to live in the CLI and are now library functions:
 //! one placement parser, derivative completion, the train/validation split. None of their
 //! errors names a command-line flag.
 

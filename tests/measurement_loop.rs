@@ -1,9 +1,9 @@
-//! The measurement loop as a user walks it (issue 8, "What was seen"): a calibrated robot is
+//! The measurement loop as a user walks it: a calibrated robot is
 //! always written (URDF-only robots, drive files without per-joint tables), never into the
 //! installed robots folder and without growing names; a still joint does not block the others;
 //! power logs work without drive data and a current log says what is missing; two hidden
 //! effects are found in two rounds, the second on the calibrated robot of the first; every
-//! command names the calibration it used. Plus the balancer's physics (issue 9, item 2): it
+//! command names the calibration it used. Plus the balancer's physics: it
 //! relieves the axis-2 gravity torque, checked against a hand-computed static case.
 //! Simulated logs: exciting motion at controller rates (250 Hz) with realistic noise.
 
@@ -87,7 +87,7 @@ fn ur10e_urdf() -> PathBuf {
     root().join("robots/ur10e/robot.urdf")
 }
 
-// ---- balancer physics (issue 9, item 2) -------------------------------------------------------
+// ---- balancer physics -------------------------------------------------------
 
 /// Static torque (q̇ = q̈ = 0) of the rigid body with the nominal payload, N·m.
 /// The robot's `balancer` effect as built by the registry.
@@ -587,7 +587,7 @@ fn out_of_catalogue_ripple_is_reported_as_unexplained_structure_on_its_joint() {
     assert!(d.unexplained.iter().all(|u| u.joint == 3), "{}", d.verdict);
 }
 
-// ---- the richer catalogue (issue 8, item 6) ----------------------------------------------------
+// ---- the richer catalogue ----------------------------------------------------
 
 /// Each new effect hidden alone (`offset`; `coulomb` per direction; `coulomb`'s transition
 /// width; `payload`'s centre of mass) is ranked first, is significant, and its parameter error

@@ -1,4 +1,4 @@
-//! Issue 9 (placement half): margins, tolerance, objectives, spins, run names, advice.
+//! Placement: margins, tolerance, objectives, spins, run names, advice.
 
 mod common;
 use common::bin;

@@ -1,4 +1,4 @@
-//! Issue 12 item 1 (prune before tracking) and issue 9 items 1 and 6 (the argmin search runs
+//! Prune before tracking, and the argmin search (it runs
 //! its evaluations in parallel and stays deterministic).
 
 use argmin::core::{CostFunction, Executor, IterState, Problem, State};
@@ -456,7 +456,7 @@ fn a_sweep_until_the_first_infeasible_placement_gives_every_evaluation_up_to_it_
     }
 }
 
-// --- Fast tolerance checks (issue 12: `optimise` faster, same answer) ----------------------
+// --- Fast tolerance checks (`optimise` faster, same answer) ----------------------
 
 /// The main job's search options: the default grid's box, z from 0 to R/2, ±20 mm / ±1°.
 fn default_search(model: &RobotModel) -> (Grid, SearchOptions, OptimiseOptions) {

@@ -1,4 +1,4 @@
-//! Issue 9 item 4: how much to trust the answer (`optimise --uncertainty N`).
+//! How much to trust the answer (`optimise --uncertainty N`).
 
 mod common;
 use common::root;
@@ -174,7 +174,7 @@ fn every_shipped_drive_file_gives_ranges_for_its_estimates() {
 
 #[test]
 fn uncertainty_draws_computed_in_interleaved_shards_reduce_to_the_single_run_study() {
-    // Issue 12 item 6: a study's draws split as shards split them (draw d on shard d mod 3),
+    // A study's draws split as shards split them (draw d on shard d mod 3),
     // serialised and read back as a merge reads them, give the single run's study bit for bit.
     let model = common::robot("abb_irb4600_40_255");
     let tp = common::path("seed000_test_path.gcode");

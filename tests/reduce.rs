@@ -469,7 +469,7 @@ fn a_ramp_binding_limit_is_replanned_on_its_layers_and_the_estimate_matches_the_
     // A 12-layer wall (1.8 × 0.6 m, 4 mm layers, 1.2·10⁵ samples) with the bed 0.65 m up,
     // close to the IRB 6700: joint 3's jerk limit binds at the corners again where the speed
     // is already capped, so the controller lowers the acceleration of those ramps. Until
-    // 2026-11-26 it lowered the acceleration of the whole path there, which the reduction
+    // Earlier it lowered the acceleration of the whole path there, which the reduction
     // could not re-plan layer by layer: the placement was evaluated in full. The slow-down is
     // local now, and the layers where it binds are re-planned on their own.
     let model = common::robot("abb_irb6700_200_260");

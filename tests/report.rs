@@ -2,7 +2,7 @@
 //! expected figures; `summary.json` and `placements.csv` parse. The `compare` report of the
 //! identification commands is drawn by the same chart module and checked the same way.
 //! The top view and the infeasible summary are checked against what a designer was shown
-//! before (issue 9). Rendering in a browser: tests/browser.rs.
+//! before. Rendering in a browser: tests/browser.rs.
 
 mod common;
 use common::root;
@@ -190,7 +190,7 @@ fn compare_report_has_every_chart_and_stays_small() {
         .filter(|n| n.has_tag_name("svg"))
         .collect();
     // 5 charts per joint plus its binned residual against velocity, position and time
-    // (where the model fails, issue 8 item 7).
+    // (where the model fails).
     for j in 1..=6 {
         for what in ["velocity", "position", "time"] {
             let want = format!("joint_{j}-profile-{what}-q{j}");

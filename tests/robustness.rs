@@ -1,4 +1,4 @@
-//! Nothing lost, nothing crashes: one regression test per defect of issue 10, named after what
+//! Nothing lost, nothing crashes: one regression test per defect, named after what
 //! it guards. Each runs the binary (or the library) the way a user would and checks the exit,
 //! the message (file, line or field, what to do) and that no input was touched.
 
@@ -886,7 +886,7 @@ fn gcode_dwell_is_timed_as_a_hold_at_the_point() {
     );
 }
 
-/// Issue 10: the shared last check before any result leaves printwatt. serde_json writes NaN
+/// The shared last check before any result leaves printwatt. serde_json writes NaN
 /// and infinities as `null`, so the check walks the typed value; the error names the JSON path
 /// of the first non-finite number (a time series' index is its sample).
 #[test]

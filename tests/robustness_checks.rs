@@ -1,5 +1,5 @@
 //! Named regression tests for the physical checks of loaded models (`robot::validate`, the URDF
-//! reader) and two reader behaviours that had none (issue 10). Each edits one value of a copy
+//! reader) and two reader behaviours that had none. Each edits one value of a copy
 //! of a shipped robot and asserts the error (or warning) that names the file and the field; each
 //! fails if its check is removed (the load would then succeed or the message would be missing).
 

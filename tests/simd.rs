@@ -1,4 +1,4 @@
-//! The lockstep (SIMD) batches of issue 12 item 3 against the per-sample scalar path: the
+//! The lockstep (SIMD) batches against the per-sample scalar path: the
 //! batched RNEA and energy of every instruction-set level this CPU runs give the scalar
 //! results bit for bit (the stated tolerance is 0: same operations, same order, no fused
 //! multiply-add), and a sweep forced onto the scalar path ranks the placements the same.
@@ -2333,7 +2333,7 @@ fn sines_and_arctangents_of_any_lane_count_equal_the_scalar_functions_bit_for_bi
 #[test]
 fn the_fused_summed_pass_adds_the_per_sample_paths_sums_bit_for_bit_with_every_effect_regeneration_and_without_a_drive(
 ) {
-    // eval_rows_summed takes a full batch's powers straight into the sums (session 12: the
+    // eval_rows_summed takes a full batch's powers straight into the sums (the
     // effects into local torques, then joint by joint the motor model, the sums and the
     // supply, nothing written into PowerLanes and read back); a short batch goes through
     // PowerLanes. With every torque effect (rigid_body per lane), on every regeneration policy

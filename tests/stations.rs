@@ -1,4 +1,4 @@
-//! Multi-station plans (issue 12 item 5): where the path is split, one station for a path within
+//! Multi-station plans: where the path is split, one station for a path within
 //! reach with the energy of the single placement, several stations for a long path with every
 //! segment feasible from its own (re-evaluated here), relocation cost and station count, the
 //! error for a path no station covers, thread-count determinism, and the command's output

@@ -490,3 +490,26 @@ fn from_points_builds_the_csv_readers_path_and_names_a_bad_row() {
     assert!(bad(&[pts[1], pts[2]], 0.1, Zone::Fine).contains("all at the same place"));
     assert!(bad(&[], 0.1, Zone::Fine).contains("no points"));
 }
+
+/// Slicer start code (PrusaSlicer, Cura, Bambu Studio): the letters of an M-code are its
+/// parameters (`M201 X1000 Y1000 Z500 E5000` sets accelerations), not coordinates, an
+/// extrusion or a feed; the path starts at the first move and prints where E increases.
+#[test]
+fn slicer_mcode_parameters_are_not_coordinates() {
+    let t = g(
+        "M201 X1000 Y1000 Z500 E5000 ; sets maximum accelerations, mm/sec^2\n\
+               M203 X500 Y500 Z12 E120 ; sets maximum feedrates, mm/sec\n\
+               M204 P1000 R1250 T1000\n\
+               M205 X8.00 Y8.00 Z0.40 E4.50\n\
+               M104 S215\nM140 S60\nM190 S60\nM109 S215\n\
+               G21 ; set units to millimeters\nG90\nM82\nG28 W\nG92 E0\n\
+               ;LAYER_CHANGE\n;Z:0.2\nG1 Z0.2 F720\nG1 X10 Y10 F3000\n\
+               ;TYPE:Perimeter\nG1 X30 Y10 E1.2 F1200\nG1 X30 Y30 E2.4\nM107\n",
+    );
+    assert_eq!(t.moves.len(), 3, "{:?}", t.moves);
+    assert!(close(t.start.z, 0.0002, 1e-12), "start {:?}", t.start);
+    assert!(!t.moves[0].print && t.moves[1].print && t.moves[2].print);
+    assert!(close(t.moves[2].end.x, 0.030, 1e-12) && close(t.moves[2].end.y, 0.030, 1e-12));
+    // F1200 mm/min = 0.02 m/s, modal on the next line.
+    assert!(close(t.moves[2].speed, 0.02, 1e-12));
+}

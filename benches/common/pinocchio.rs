@@ -1,4 +1,4 @@
-//! Pinocchio 4.1's C++ RNEA as the same-run reference of the benches (issue 12: "the
+//! Pinocchio 4.1's C++ RNEA as the same-run reference of the benches ("the
 //! pinocchio ratio in the same run"), timed by the harness `../shared/bench/pinocchio-rnea/
 //! run.sh` beside the checkout (its README says how; the first run builds it, ~45 s).
 //! `PRINTWATT_PINOCCHIO_RUN` names another copy of the harness. Shared by

@@ -14,10 +14,9 @@ use printwatt::evaluate::feasibility::{self, FeasibilityOptions};
 use printwatt::identify::{self as pid, metrics, Log, Model, Prepared};
 use printwatt::nalgebra::Vector3;
 use printwatt::robot::{Regeneration, RobotModel};
-use printwatt::search::optimise::{self as popt, OptimiseOptions};
-use printwatt::search::refine::{self, Bounds, SearchOptions};
+use printwatt::search::optimise as popt;
 use printwatt::search::tolerance::Tolerance;
-use printwatt::search::Grid;
+use printwatt::search::{Grid, OptimiseConfig, OptimiseSettings, PlacementSet};
 use printwatt::timing::{JointStageOptions, ProfileOptions};
 use printwatt::toolpath::{ReadOptions, Toolpath, Zone};
 use printwatt::{PathJob, Placement};
@@ -38,6 +37,17 @@ field), an infeasible placement, or a model error. The message is the library's.
 /// A library (or any displayable) error as a Python `PrintwattError`.
 fn err(e: impl std::fmt::Display) -> PyErr {
     PrintwattError::new_err(e.to_string())
+}
+
+/// An integer argument within `min..=max`: a negative or out-of-range one raises
+/// PrintwattError naming the argument (taken as `i64`, so that -1 is not an OverflowError).
+fn int_arg<T: TryFrom<i64>>(name: &str, v: i64, min: i64, max: i64) -> PyRes<T> {
+    if v < min || v > max {
+        return Err(err(format!(
+            "{name} = {v}: expected an integer from {min} to {max}"
+        )));
+    }
+    T::try_from(v).map_err(|_| err(format!("{name} = {v}: out of range")))
 }
 
 type PyRes<T> = PyResult<T>;
@@ -285,6 +295,13 @@ fn path_from_points(
 /// An (N, 3) array-like of floats (m) as points; errors name the argument.
 fn points_array(py: Python<'_>, points: &Bound<'_, PyAny>, what: &str) -> PyRes<Vec<Vector3<f64>>> {
     let np = py.import("numpy")?;
+    // A complex array is refused: converting it to floats would drop its imaginary part.
+    let complex: bool = np.call_method1("iscomplexobj", (points,))?.extract()?;
+    if complex {
+        return Err(err(format!(
+            "{what}: complex numbers given; expected an (N, 3) array of real floats (m)"
+        )));
+    }
     let arr = np
         .call_method1("asarray", (points, "float64"))
         .map_err(|e| {
@@ -428,16 +445,14 @@ fn placement_tuple(p: &Placement) -> (f64, f64, f64, f64, f64) {
 fn feasibility_options(
     joint_margin: f64,
     collisions: bool,
-    check_every: usize,
+    check_every: i64,
 ) -> PyRes<FeasibilityOptions> {
     if !(joint_margin.is_finite() && (0.0..=std::f64::consts::FRAC_PI_2).contains(&joint_margin)) {
         return Err(err(format!(
             "joint_margin = {joint_margin}: expected a margin in [0, π/2] rad"
         )));
     }
-    if check_every == 0 {
-        return Err(err("check_every must be at least 1"));
-    }
+    let check_every: usize = int_arg("check_every", check_every, 1, 1_000_000)?;
     Ok(FeasibilityOptions {
         joint_margin_rad: [joint_margin; printwatt::kinematics::MAX_DOF],
         collisions,
@@ -750,7 +765,7 @@ fn sweep<'py>(
     friction: bool,
     joint_margin: f64,
     collisions: bool,
-    check_every: usize,
+    check_every: i64,
 ) -> PyRes<Bound<'py, PyDict>> {
     let robot = robot.hold()?;
     let path = path.hold()?;
@@ -818,28 +833,44 @@ fn sweep<'py>(
     Ok(d)
 }
 
-/// The minimum-energy placement of `path`, as `printwatt optimise` finds it: a grid (`xs`,
-/// `ys`, `zs` in m, `yaws` and `spins` in rad; each defaults to the command's grid: 16 cells
-/// over the reach in x and y, bed heights 0, R/4, R/2, yaws 0 and π/2), then a Nelder–Mead
-/// refinement (argmin) from the best grid cell over x, y, z (within `z_bounds` (min, max) m,
-/// default the grid's z range), yaw and spin, within `max_evals` evaluations, seeded by
-/// `seed`. The answer must hold `tolerance` (±xy m, ±z m, ±yaw rad; every corner of that box
-/// re-evaluated; (0, 0, 0) switches it off). Options as in `sweep`.
+/// The minimum-energy placement of `path`, as `printwatt optimise` finds it (the same library
+/// job, the same defaults): a grid (`xs`, `ys`, `zs` in m, `yaws` and `spins` in rad; each
+/// defaults to the command's grid: 16 cells over the reach in x and y, bed heights 0, R/4,
+/// R/2, yaws 0 and π/2, spin 0), then the refinement `search` (`nelder-mead`: argmin over x,
+/// y, z (within `z_bounds` (min, max) m, default the grid's z range), yaw and spin; or
+/// `pattern`) within `max_evals` evaluations, seeded by `seed`. The answer must hold
+/// `tolerance` (±xy m, ±z m, ±yaw rad; every corner of that box re-evaluated; (0, 0, 0)
+/// switches it off; default ±20 mm, ±1°). `evaluation`: `auto` (a long repeating path is
+/// evaluated on representative layers and the answer re-evaluated in full), `full` or
+/// `reduced`. `baseline`: (x, y, z, yaw[, spin]) m and rad, compared with the answer
+/// (default: the feasible grid cell nearest the centre of the feasible region);
+/// `uncertainty`: draws of the uncertainty study (seeded by `seed`); with it, the robust
+/// choice minimises `robust` over the drawn robots (`expected`: the expected energy, default;
+/// `regret`: the worst-case regret), with yearly figures at `prints_per_year` and
+/// `grid_kg_co2_per_kwh` (kg CO₂ per kWh). Options as in `sweep`.
 ///
 /// Returns a dict: `placement` (x, y, z, yaw, spin) in m, m, m, rad, rad; `energy_j` (the
 /// objective, J); `supply_j` (J); `duration_s` (s); `best` and `best_grid` (evaluated
 /// placements as in `optimise --json`); `evaluations` (grid, refinement); `feasible` and
 /// `placements` (grid counts); `infeasible_by_reason` (name → count over the grid);
-/// `search` (method, tolerance check, bounds, `on_bounds`, joint margin kept). Raises
-/// PrintwattError when no grid placement is feasible, with how many failed for each reason
-/// and what to try.
+/// `search` (method, tolerance check, bounds, `on_bounds`, joint margin kept);
+/// `summary` (the document `printwatt optimise --json` prints: baseline, savings, the
+/// baseline's tolerance check, the full check of a reduced answer, the uncertainty study and
+/// the decision: the robust choice, the value of measuring each parameter, bound steps).
+/// Raises PrintwattError when no grid placement is feasible, with how many failed for each
+/// reason and what to try.
 #[pyfunction]
 #[pyo3(signature = (robot, path, *, xs = None, ys = None, zs = None, yaws = None,
-    spins = vec![0.0], objective = "supply".to_string(),
-    tolerance = (0.02, 0.02, 1f64.to_radians()), z_bounds = None, max_evals = 120, seed = 42,
-    fixed_yaw = false, fixed_spin = false, period = 0.004, accel = 1.0, jerk = 10.0,
-    regeneration = None, payload = true, friction = true, joint_margin = 3f64.to_radians(),
-    collisions = true, check_every = 10))]
+    spins = None, objective = "supply".to_string(), tolerance = None, z_bounds = None,
+    max_evals = printwatt::search::job::DEFAULT_MAX_EVALS as i64,
+    seed = printwatt::search::job::DEFAULT_SEED as i64, fixed_yaw = false, fixed_spin = false,
+    search = "nelder-mead".to_string(), evaluation = "auto".to_string(), baseline = None,
+    uncertainty = None, robust = "expected".to_string(),
+    prints_per_year = printwatt::search::job::DEFAULT_PRINTS_PER_YEAR,
+    grid_kg_co2_per_kwh = printwatt::search::job::DEFAULT_GRID_KG_CO2_PER_KWH,
+    period = 0.004, accel = 1.0, jerk = 10.0, regeneration = None,
+    payload = true, friction = true, joint_margin = 3f64.to_radians(), collisions = true,
+    check_every = 10))]
 #[allow(clippy::too_many_arguments)]
 fn optimise<'py>(
     py: Python<'py>,
@@ -849,14 +880,21 @@ fn optimise<'py>(
     ys: Option<Vec<f64>>,
     zs: Option<Vec<f64>>,
     yaws: Option<Vec<f64>>,
-    spins: Vec<f64>,
+    spins: Option<Vec<f64>>,
     objective: String,
-    tolerance: (f64, f64, f64),
+    tolerance: Option<(f64, f64, f64)>,
     z_bounds: Option<(f64, f64)>,
-    max_evals: usize,
-    seed: u64,
+    max_evals: i64,
+    seed: i64,
     fixed_yaw: bool,
     fixed_spin: bool,
+    search: String,
+    evaluation: String,
+    baseline: Option<Vec<f64>>,
+    uncertainty: Option<usize>,
+    robust: String,
+    prints_per_year: f64,
+    grid_kg_co2_per_kwh: f64,
     period: f64,
     accel: f64,
     jerk: f64,
@@ -865,7 +903,7 @@ fn optimise<'py>(
     friction: bool,
     joint_margin: f64,
     collisions: bool,
-    check_every: usize,
+    check_every: i64,
 ) -> PyRes<Bound<'py, PyDict>> {
     let robot = robot.hold()?;
     let path = path.hold()?;
@@ -877,52 +915,53 @@ fn optimise<'py>(
         ys: axis("ys", ys.unwrap_or(def.ys))?,
         zs: axis("zs", zs.unwrap_or(def.zs))?,
         yaws: axis("yaws", yaws.unwrap_or(def.yaws))?,
-        spins: axis("spins", spins)?,
+        spins: axis("spins", spins.unwrap_or(def.spins))?,
     };
-    let obj = self::objective(&objective)?;
-    let prof = profile(period, accel, jerk)?;
-    let eopts = energy_options(regeneration.as_deref(), payload, friction)?;
-    let feas = feasibility_options(joint_margin, collisions, check_every)?;
-    let (txy, tz, tyaw) = tolerance;
-    let tolerance = Tolerance {
-        xy_m: txy,
-        z_m: tz,
-        yaw_rad: tyaw,
+    let settings =
+        OptimiseSettings {
+            objective: self::objective(&objective)?,
+            feasibility: feasibility_options(joint_margin, collisions, check_every)?,
+            energy: energy_options(regeneration.as_deref(), payload, friction)?,
+            profile: profile(period, accel, jerk)?,
+            evaluation: evaluation.parse().map_err(err)?,
+            baseline: baseline.as_deref().map(placement).transpose()?,
+            seed: int_arg("seed", seed, 0, i64::MAX)?,
+            max_evals: int_arg("max_evals", max_evals, 0, 100_000_000)?,
+            fixed_yaw,
+            fixed_spin,
+            search: search.parse().map_err(err)?,
+            tolerance: tolerance.map_or_else(Tolerance::default, |(xy_m, z_m, yaw_rad)| {
+                Tolerance { xy_m, z_m, yaw_rad }
+            }),
+            z_bounds: z_bounds.map(|(a, b)| [a, b]),
+            uncertainty,
+            robust: robust.parse().map_err(err)?,
+            prints_per_year,
+            grid_kg_co2_per_kwh,
+        };
+    settings.check().map_err(err)?;
+    let cfg = OptimiseConfig {
+        robot: model.clone(),
+        path: tp.clone(),
+        path_file: PathBuf::from(&tp.source),
+        placements: Some(PlacementSet::grid(grid)),
+        settings,
     };
-    tolerance.check().map_err(err)?;
-    let ps = grid.placements();
-    let bounds = Bounds::over(&ps, z_bounds.map(|(a, b)| [a, b])).map_err(err)?;
-    let opts = OptimiseOptions {
-        seed,
-        max_evals,
-        step_xy_m: grid.step_xy_m().unwrap_or(0.1) / 2.0,
-        yaw: !fixed_yaw,
-        spin: !fixed_spin,
-        ..Default::default()
-    };
-    let so = SearchOptions::new(bounds, tolerance);
-    let out = py.detach(|| -> printwatt::Result<_> {
-        let job = PathJob::new(model, tp, eopts, prof, JointStageOptions::default())?;
-        let ev = Evaluator::new(&job, feas, obj);
-        let rows = ev.sweep(&ps, &|_, _| {})?;
-        if !rows.iter().any(|r| r.cost().is_finite()) {
-            return Ok(Err(printwatt::search::advice::nothing_feasible(
-                &rows, model,
-            )));
-        }
-        let progress: refine::Progress = std::sync::Arc::new(|_, _, _| {});
-        let (mut res, info) = refine::refine(&ev, &rows, &opts, &so, progress)?;
-        res.search = Some(info);
-        Ok(Ok((rows, res)))
-    });
-    let (rows_ev, res) = out.map_err(err)?.map_err(|advice| err(advice.trim_end()))?;
+    let out = py
+        .detach(|| printwatt::search::run(&cfg, &printwatt::search::Silent))
+        .map_err(err)?;
+    let rep = &out.report;
+    let res = rep
+        .optimise
+        .as_ref()
+        .ok_or_else(|| err("optimise: no answer"))?;
     let best = res
         .best
         .feasible()
         .ok_or_else(|| err("optimise: the answer is infeasible"))?;
     let d = PyDict::new(py);
     d.set_item("schema_version", printwatt::output::JSON_SCHEMA_VERSION)?;
-    d.set_item("objective", obj.name())?;
+    d.set_item("objective", cfg.settings.objective.name())?;
     d.set_item("placement", placement_tuple(&res.best.placement))?;
     d.set_item("energy_j", best.energy_j)?;
     d.set_item("supply_j", best.supply_j)?;
@@ -932,15 +971,15 @@ fn optimise<'py>(
         "best_grid",
         json_part(py, "optimise: best_grid", &res.best_grid)?,
     )?;
-    d.set_item("evaluations", (ps.len(), res.evals))?;
-    d.set_item("placements", ps.len())?;
+    d.set_item("evaluations", (rep.rows.len(), res.evals))?;
+    d.set_item("placements", rep.rows.len())?;
     d.set_item(
         "feasible",
-        rows_ev.iter().filter(|r| r.cost().is_finite()).count(),
+        rep.rows.iter().filter(|r| r.cost().is_finite()).count(),
     )?;
     d.set_item(
         "infeasible_by_reason",
-        json_part(py, "optimise: reasons", &reason_counts(&rows_ev))?,
+        json_part(py, "optimise: reasons", &reason_counts(&rep.rows))?,
     )?;
     d.set_item(
         "search",
@@ -950,6 +989,9 @@ fn optimise<'py>(
         },
     )?;
     d.set_item("history_j", PyArray1::from_vec(py, res.history_j.clone()))?;
+    let summary: serde_json::Value =
+        serde_json::from_str(&rep.summary_json(false).map_err(err)?).map_err(err)?;
+    d.set_item("summary", value_to_py(py, &summary)?)?;
     Ok(d)
 }
 
@@ -1030,11 +1072,12 @@ fn diagnose<'py>(
     py: Python<'py>,
     robot: RobotArg<'py>,
     log: PathBuf,
-    folds: usize,
+    folds: i64,
     effects: Option<String>,
     without: Option<String>,
     columns: Option<String>,
 ) -> PyRes<Bound<'py, PyAny>> {
+    let folds: usize = int_arg("folds", folds, 2, 100)?;
     let robot = robot.hold()?;
     let (mut model, l) = load_log_model(
         &robot,
@@ -1059,11 +1102,12 @@ fn diagnose<'py>(
 /// the robot came from). Fit the parameters of `effects` (comma list of catalogue names, in ladder order, e.g.
 /// "coulomb,balancer"; `viscous[2]`: joint 2 only) on `log`, validated on `validate_log` or
 /// the last 25 % of `log`. A calibrated robot's earlier effects are re-fitted jointly.
-/// drive_out: write the calibrated robot (a drive .toml) there (an existing file is replaced
-/// only with `force`); without it nothing is written. Returns a dict mirroring `printwatt
-/// identify --json` (`identification` with the ladder (RMSE in the signal's unit, energy
-/// error in %) and the parameters with their units; `calibrated_robot`: the file written or
-/// None).
+/// The calibrated robot (a drive .toml) is always written, as `printwatt identify` writes it:
+/// to `drive_out`, else `<name>.calibrated.toml` in the current directory (an existing file is
+/// replaced only with `force`; never into the shipped robots). Returns a dict mirroring
+/// `printwatt identify --json` (`identification` with the ladder (RMSE in the signal's unit,
+/// energy error in %) and the parameters with their units; `calibrated_robot`: the file
+/// written).
 #[pyfunction]
 #[pyo3(signature = (robot, log, effects, *, validate_log = None, drive_out = None,
     force = false, columns = None))]
@@ -1082,6 +1126,18 @@ fn identify<'py>(
     let rm = load_robot_model(&robot, None)?;
     let (mut model, l) = load_log_model(&rm, &log, None, None, columns.as_deref())?;
     let plan = pid::RoundPlan::new(&rm, &model, &effects, l.kind).map_err(err)?;
+    // Where the calibrated robot goes, checked against every input before any work.
+    let dst = drive_out
+        .clone()
+        .unwrap_or_else(|| PathBuf::from(".").join(pid::calibrate::default_file_name(&resolved)));
+    let mut inputs = printwatt::output::Inputs::new();
+    inputs.add_robot(&resolved, Some(&rm));
+    inputs.add(&log);
+    if let Some(v) = &validate_log {
+        inputs.add(v);
+    }
+    printwatt::output::check_file(&dst, &inputs, printwatt::output::Existing::Force(force))
+        .map_err(err)?;
     let vlog = match &validate_log {
         Some(p) => Some(pid::read_log_for(&rm, p, columns.as_deref()).map_err(err)?),
         None => None,
@@ -1097,7 +1153,7 @@ fn identify<'py>(
         })
         .map_err(err)?;
     printwatt::output::check_finite_json("identify", &id).map_err(err)?;
-    if let Some(dst) = &drive_out {
+    {
         let drive_src = pid::model::drive_file_of(&resolved);
         pid::calibrate::write_calibrated(
             &pid::calibrate::CalibrationInput {
@@ -1109,7 +1165,7 @@ fn identify<'py>(
                 log: &l,
                 date: pid::calibrate::utc_date_today(),
             },
-            dst,
+            &dst,
             Some(&robots_dir()),
             force,
         )
@@ -1118,7 +1174,7 @@ fn identify<'py>(
     let doc = serde_json::json!({
         "schema_version": printwatt::output::JSON_SCHEMA_VERSION,
         "identification": serde_json::to_value(&id).map_err(err)?,
-        "calibrated_robot": drive_out.as_ref().map(|p| p.display().to_string()),
+        "calibrated_robot": dst.display().to_string(),
         "started_from": rm.effects.calibration_summary(),
         "refitted_from_earlier_rounds": plan.carried,
     });
@@ -1177,7 +1233,7 @@ fn stations<'py>(
     friction: bool,
     joint_margin: f64,
     collisions: bool,
-    check_every: usize,
+    check_every: i64,
 ) -> PyRes<Bound<'py, PyAny>> {
     use printwatt::stations::{self as pst, Candidates, Headings, StationsProblem};
     let robot = robot.hold()?;

@@ -189,7 +189,7 @@ def test_optimise_returns_the_best_placement_its_energy_and_the_reasons(robot):
         pw.optimise(robot, wall, xs=[9.0], ys=[0.0], zs=[0.0], yaws=[0.0])
 
 
-def test_compare_diagnose_identify_mirror_the_cli_json(tmp_path):
+def test_compare_diagnose_identify_mirror_the_cli_json(tmp_path, monkeypatch):
     robot = "abb_irb4600_40_255"
     subprocess.run(
         [str(ROOT / "target" / "release" / "printwatt"), "simulate", "--robot", robot,
@@ -203,8 +203,13 @@ def test_compare_diagnose_identify_mirror_the_cli_json(tmp_path):
     assert_same_numbers(d, cli("diagnose", "--robot", robot, "--log", str(log)))
     assert d["best"] == "coulomb"
     out = tmp_path / "id"
+    # The calibrated robot is written as the command line writes it: here, by default.
+    here = tmp_path / "here"
+    here.mkdir()
+    monkeypatch.chdir(here)
     i = pw.identify(robot, log, "coulomb")
-    assert i["calibrated_robot"] is None and not out.exists()  # nothing written unless asked
+    assert i["calibrated_robot"].endswith(".calibrated.toml")
+    assert (here / i["calibrated_robot"]).is_file() and not out.exists()
     doc = cli("identify", "--robot", robot, "--log", str(log), "--effects", "coulomb",
               "--out", str(out))
     assert_same_numbers(i["identification"], doc["identification"], "identification")
@@ -218,7 +223,7 @@ def test_compare_diagnose_identify_mirror_the_cli_json(tmp_path):
         pw.identify(robot, log, "coulomb", drive_out=cal)
 
 
-def test_per_joint_effect_subsets_mean_what_they_mean_in_the_cli(tmp_path):
+def test_per_joint_effect_subsets_mean_what_they_mean_in_the_cli(tmp_path, monkeypatch):
     """`viscous[2]` in identify (joint 2 fitted, the others held at their prior) and in
     compare (the effect on joint 2 only), as the binary takes them."""
     robot = "abb_irb4600_40_255"
@@ -229,6 +234,7 @@ def test_per_joint_effect_subsets_mean_what_they_mean_in_the_cli(tmp_path):
         check=True, capture_output=True,
     )
     log = tmp_path / "log.csv"
+    monkeypatch.chdir(tmp_path)  # identify writes the calibrated robot here
     i = pw.identify(robot, log, "viscous[2]")
     doc = cli("identify", "--robot", robot, "--log", str(log), "--effects", "viscous[2]",
               "--out", str(tmp_path / "id"))

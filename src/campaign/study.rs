@@ -32,7 +32,9 @@
 //! number of a result is SI (m, rad, J, s) unless its name says otherwise.
 
 use crate::error::{Error, Result};
-use crate::evaluate::evaluator::Feasible;
+use crate::evaluate::evaluator::{Feasible, Objective};
+use crate::search::run::{error_text, tolerance_line};
+use crate::search::{Observer, OptimiseConfig, OptimiseOutcome};
 use serde::{Deserialize, Serialize};
 use std::path::{Path, PathBuf};
 
@@ -211,6 +213,40 @@ pub struct Study {
 
 /// A name in a study: 1 to 40 characters, letters, digits, `-`, `_`, `.`, starting with a
 /// letter or digit (it becomes part of a file name).
+/// A cell's `z_bounds`: `min:max` in m, finite, min <= max (as `optimise --z-bounds`).
+fn check_z_bounds(s: &str) -> std::result::Result<(), String> {
+    let v: Option<Vec<f64>> = s
+        .split(':')
+        .map(|t| t.trim().parse::<f64>().ok().filter(|v| v.is_finite()))
+        .collect();
+    match v.as_deref() {
+        Some([a, b]) if a <= b => Ok(()),
+        Some([_, _]) => Err(format!("`{s}`: expected min:max with min <= max (m)")),
+        _ => Err(format!("`{s}`: expected min:max, two finite numbers in m")),
+    }
+}
+
+/// An `options` list (`what`: which entry's) holding a number that is not finite (`nan`,
+/// `inf`, alone or in a list such as `--tolerance nan,1`): no option of a case takes one.
+fn check_option_numbers(options: &[String], what: &str) -> std::result::Result<(), String> {
+    for o in options {
+        let value = match o.split_once('=') {
+            Some((flag, v)) if flag.starts_with("--") => v,
+            _ if o.starts_with("--") => continue,
+            _ => o.as_str(),
+        };
+        for t in value.split([',', ':']) {
+            if t.trim().parse::<f64>().is_ok_and(|v| !v.is_finite()) {
+                return Err(format!(
+                    "{what}: `{o}`: `{}` is not a finite number",
+                    t.trim()
+                ));
+            }
+        }
+    }
+    Ok(())
+}
+
 fn check_name(what: &str, name: &str) -> Result<()> {
     let ok = !name.is_empty()
         && name.len() <= 40
@@ -237,7 +273,7 @@ impl Study {
     /// directory there is taken as a shipped robot's name). Errors name the file (and the
     /// line, for TOML errors) and the entry at fault.
     pub fn read(file: &Path) -> Result<Study> {
-        let text = std::fs::read_to_string(file).map_err(|e| Error::io(file, e))?;
+        let text = crate::error::read_text(file)?;
         Study::parse(&text, file)
     }
 
@@ -278,12 +314,59 @@ impl Study {
                     "no [[{kind}]] entry: a study needs at least one robot, one cell and one path"
                 )));
             }
-            for (i, n) in names.iter().enumerate() {
+            let mut seen = std::collections::HashSet::new();
+            for n in &names {
                 check_name(kind, n).map_err(|e| err(e.to_string()))?;
-                if names[..i].contains(n) {
+                if !seen.insert(*n) {
                     return Err(err(format!("{kind} `{n}` is defined twice")));
                 }
             }
+        }
+        // Values the cases' command lines would refuse fail the study here, before any work,
+        // naming the file, the entry and the key (a case that cannot run is not an answer).
+        check_option_numbers(&t.study.options, "[study] options").map_err(err)?;
+        for r in &t.robot {
+            check_option_numbers(&r.options, &format!("robot `{}` options", r.name))
+                .map_err(err)?;
+        }
+        for c in &t.cell {
+            let at = |key: &str| format!("cell `{}` {key}", c.name);
+            if let Some(z) = &c.z_bounds {
+                check_z_bounds(z).map_err(|m| err(format!("{}: {m}", at("z_bounds"))))?;
+            }
+            if let Some(b) = &c.baseline {
+                crate::frame::Placement::parse(b).map_err(|e| {
+                    err(format!(
+                        "{} `{b}`: {e} (expected x,y,z,yaw[,spin] in m and deg)",
+                        at("baseline")
+                    ))
+                })?;
+            }
+            check_option_numbers(&c.options, &at("options")).map_err(err)?;
+        }
+        for p in &t.path {
+            check_option_numbers(&p.options, &format!("path `{}` options", p.name)).map_err(err)?;
+        }
+        // The number of cases before any is built: a study of 10⁴ robots, cells and paths is
+        // refused without building 10¹² cases.
+        let n_cases = if t.case.is_empty() {
+            t.robot
+                .len()
+                .checked_mul(t.cell.len())
+                .and_then(|n| n.checked_mul(t.path.len()))
+                .unwrap_or(usize::MAX)
+        } else {
+            t.case.len()
+        };
+        if n_cases > MAX_CASES {
+            let n = if n_cases == usize::MAX {
+                "more than 2^64".to_string()
+            } else {
+                n_cases.to_string()
+            };
+            return Err(err(format!(
+                "{n} cases: at most {MAX_CASES}; split the study"
+            )));
         }
         let robots: Vec<StudyRobot> = t
             .robot
@@ -350,9 +433,23 @@ impl Study {
                 }
             }
         } else {
+            let index = |names: Vec<&String>| -> std::collections::HashMap<String, usize> {
+                names
+                    .into_iter()
+                    .enumerate()
+                    .map(|(i, n)| (n.clone(), i))
+                    .collect()
+            };
+            let robot_ix = index(robots.iter().map(|r| &r.name).collect());
+            let cell_ix = index(cells.iter().map(|c| &c.name).collect());
+            let path_ix = index(paths.iter().map(|p| &p.name).collect());
+            let mut seen = std::collections::HashMap::new();
             for (k, c) in t.case.iter().enumerate() {
-                let find = |kind: &str, names: Vec<&String>, n: &str| {
-                    names.iter().position(|m| *m == n).ok_or_else(|| {
+                let find = |kind: &str,
+                            ix: &std::collections::HashMap<String, usize>,
+                            names: Vec<&String>,
+                            n: &str| {
+                    ix.get(n).copied().ok_or_else(|| {
                         err(format!(
                             "[[case]] {} names {kind} `{n}`, which no [[{kind}]] defines (defined: {})",
                             k + 1,
@@ -360,10 +457,25 @@ impl Study {
                         ))
                     })
                 };
-                let r = find("robot", robots.iter().map(|r| &r.name).collect(), &c.robot)?;
-                let ce = find("cell", cells.iter().map(|c| &c.name).collect(), &c.cell)?;
-                let p = find("path", paths.iter().map(|p| &p.name).collect(), &c.path)?;
-                if let Some(j) = cases.iter().position(|x| *x == (r, ce, p)) {
+                let r = find(
+                    "robot",
+                    &robot_ix,
+                    robots.iter().map(|r| &r.name).collect(),
+                    &c.robot,
+                )?;
+                let ce = find(
+                    "cell",
+                    &cell_ix,
+                    cells.iter().map(|c| &c.name).collect(),
+                    &c.cell,
+                )?;
+                let p = find(
+                    "path",
+                    &path_ix,
+                    paths.iter().map(|p| &p.name).collect(),
+                    &c.path,
+                )?;
+                if let Some(j) = seen.insert((r, ce, p), k) {
                     return Err(err(format!(
                         "[[case]] {} ({} / {} / {}) repeats [[case]] {}",
                         k + 1,
@@ -439,6 +551,136 @@ pub struct CaseResult {
     /// has an answer; the page itself is written beside the results as it is made
     /// ([`Study::case_file`]), so that a study holds one page in memory at a time.
     pub report_sha256: Option<String>,
+}
+
+impl CaseResult {
+    /// The result of a case from its optimisation (`grid`: placements of the case's grid):
+    /// the answer, or the optimisation's error in words (no feasible placement, a reduced
+    /// answer infeasible in full, …), with the case's report page when it has an answer. The
+    /// result is the one a shard carries ([`CaseResult::as_stored`]).
+    pub fn of(
+        objective: Objective,
+        grid: usize,
+        outcome: Result<OptimiseOutcome>,
+    ) -> Result<(CaseResult, Option<String>)> {
+        let objective = objective.name().to_string();
+        let mut page = None;
+        let r = match outcome {
+            Ok(c) => {
+                let rep = &c.report;
+                let best = rep.best().ok_or_else(|| {
+                    Error::Invalid("the optimisation returned no placement".into())
+                })?;
+                let f = best.feasible().ok_or_else(|| {
+                    Error::Invalid("the optimisation's answer is infeasible".into())
+                })?;
+                let p = &best.placement;
+                let si = rep.optimise.as_ref().and_then(|o| o.search.as_ref());
+                let mut notes = Vec::new();
+                if let Some(si) = si {
+                    if !si.tolerance.holds && si.tolerance.corners > 0 {
+                        notes.push(format!("tolerance {}", tolerance_line(&si.tolerance)));
+                    }
+                    if !si.on_bounds.is_empty() {
+                        notes.push(format!(
+                            "optimum on a search bound: {}",
+                            si.on_bounds.join(", ")
+                        ));
+                    }
+                    if let Some(om) = &si.on_margin {
+                        notes.push(format!("optimum on a joint-limit margin: {om}"));
+                    }
+                    if let Some(b) = &si.budget_spent {
+                        notes.push(format!("search stopped: {b}"));
+                    }
+                }
+                let base_tol = rep
+                    .optimise
+                    .as_ref()
+                    .and_then(|o| o.baseline_tolerance.as_ref())
+                    .filter(|t| t.corners > 0);
+                if let Some(t) = base_tol.filter(|t| !t.holds) {
+                    notes.push(format!(
+                        "the baseline does not hold the tolerance ({} of its {} corners infeasible): the saving is measured against a placement a site could not rely on",
+                        t.failures.len(),
+                        t.corners
+                    ));
+                }
+                CaseResult {
+                    objective,
+                    outcome: Ok(CaseBest {
+                        placement: [p.x, p.y, p.z, p.yaw, p.nozzle_spin],
+                        feasible: f.clone(),
+                        baseline_j: rep
+                            .baseline
+                            .as_ref()
+                            .map(|(_, b)| b.cost())
+                            .filter(|c| c.is_finite()),
+                        baseline_holds_tolerance: base_tol.map(|t| t.holds),
+                        tolerance: si.map(|si| tolerance_line(&si.tolerance)),
+                        notes,
+                    }),
+                    grid: rep.rows.len(),
+                    grid_feasible: rep.rows.iter().filter(|r| r.cost().is_finite()).count(),
+                    evaluations: c.evaluations,
+                    report_sha256: Some(crate::output::sha256_hex(
+                        page.insert(rep.html()).as_bytes(),
+                    )),
+                }
+            }
+            Err(e) => CaseResult {
+                objective,
+                outcome: Err(error_text(&e)),
+                grid,
+                grid_feasible: 0,
+                evaluations: grid,
+                report_sha256: None,
+            },
+        };
+        // Exactly what a shard carries, so that a single run and a merge write the same files.
+        Ok((r.as_stored()?, page))
+    }
+}
+
+/// What a front end does with each answered case: the case, its result, its report page (when
+/// it has an answer) and its wall time, s.
+pub type CaseDone<'a> = dyn FnMut(&Case, &CaseResult, Option<String>, f64) -> Result<()> + 'a;
+
+/// Run the cases `indices` of a study (in order), each optimised as its config says
+/// (`config_of`: the case's job; an error there is the study's, an error of the optimisation
+/// is the case's answer), in the caller's rayon pool. `done` receives each case as it is
+/// answered, with its report page (when it has an answer) and its wall time (s).
+pub fn run(
+    study: &Study,
+    indices: &[usize],
+    config_of: &dyn Fn(&Case) -> Result<OptimiseConfig>,
+    observer: &dyn Observer,
+    done: &mut CaseDone<'_>,
+) -> Result<Vec<CaseResult>> {
+    let mut out = Vec::with_capacity(indices.len());
+    for &k in indices {
+        let t = std::time::Instant::now();
+        let c = study.cases.get(k).ok_or_else(|| {
+            Error::Invalid(format!(
+                "case {k} of a study of {} cases",
+                study.cases.len()
+            ))
+        })?;
+        let in_case = |e: Error| {
+            Error::Invalid(format!(
+                "case {k} ({}): {}",
+                study.case_name(c),
+                error_text(&e)
+            ))
+        };
+        let cfg = config_of(c).map_err(in_case)?;
+        let grid = cfg.placement_set().placements.len();
+        let outcome = crate::search::run(&cfg, observer);
+        let (r, page) = CaseResult::of(cfg.settings.objective, grid, outcome).map_err(in_case)?;
+        done(c, &r, page, t.elapsed().as_secs_f64())?;
+        out.push(r);
+    }
+    Ok(out)
 }
 
 /// A case's chosen placement and its figures.

@@ -174,7 +174,7 @@ impl TimingArgs {
     }
 }
 
-/// How each placement is evaluated.
+/// How each placement is evaluated (parsed into [`printwatt::search::EvaluationMode`]).
 #[derive(clap::Args, Debug, Clone)]
 pub struct EvaluationArgs {
     /// `auto`: a long path (at least 200,000 samples) whose layers repeat up to a shift in z
@@ -183,22 +183,6 @@ pub struct EvaluationArgs {
     /// placement; `reduced`: the reduction whenever layers repeat, whatever the length.
     #[arg(long, value_name = "MODE", default_value = "auto")]
     pub evaluation: String,
-}
-
-impl EvaluationArgs {
-    /// The reduction options, or `None` for `full`. Error: an unknown mode.
-    pub fn reduce_options(&self) -> Result<Option<printwatt::evaluate::reduce::ReduceOptions>> {
-        let d = printwatt::evaluate::reduce::ReduceOptions::default();
-        match self.evaluation.trim() {
-            "auto" => Ok(Some(d)),
-            "full" => Ok(None),
-            "reduced" => Ok(Some(printwatt::evaluate::reduce::ReduceOptions {
-                min_samples: 0,
-                ..d
-            })),
-            m => bail!("--evaluation `{m}`: expected auto, full or reduced"),
-        }
-    }
 }
 
 /// What the energy model includes.

@@ -150,13 +150,13 @@ pub fn run(a: super::CompareArgs) -> Result<()> {
         super::print_json(&cmp)?;
         return Ok(());
     }
-    println!(
+    outln!(
         "robot: {}",
         cmp.calibration
             .clone()
             .unwrap_or_else(|| format!("{} (nominal, not calibrated)", robot.name()))
     );
-    println!(
+    outln!(
         "log {} ({} samples, {:.2} s, signal `{}` [{}]); model: {}",
         cmp.log,
         cmp.samples,
@@ -165,12 +165,18 @@ pub fn run(a: super::CompareArgs) -> Result<()> {
         cmp.unit,
         cmp.effects.join(", ")
     );
-    println!(
+    outln!(
         "{:<10} {:>12} {:>12} {:>12} {:>12} {:>9} {:>9}",
-        "channel", "rmse", "meas_rms", "E_meas_J", "E_model_J", "dE_%", "acc_%"
+        "channel",
+        "rmse",
+        "meas_rms",
+        "E_meas_J",
+        "E_model_J",
+        "dE_%",
+        "acc_%"
     );
     for c in cmp.channels.iter().chain(std::iter::once(&cmp.total)) {
-        println!(
+        outln!(
             "{:<10} {:>12.4} {:>12.4} {:>12.1} {:>12.1} {:>9.2} {:>9.2}",
             c.name,
             c.rmse,
@@ -181,22 +187,25 @@ pub fn run(a: super::CompareArgs) -> Result<()> {
             c.accuracy_pct
         );
     }
-    println!("worst windows:");
+    outln!("worst windows:");
     for w in &cmp.worst_windows {
-        println!(
+        outln!(
             "  {:>8.2}–{:<8.2} s  rmse {:.4} (mostly {})",
-            w.t_start, w.t_end, w.rmse, w.worst_channel
+            w.t_start,
+            w.t_end,
+            w.rmse,
+            w.worst_channel
         );
     }
-    print_failures(&cmp);
+    print_failures(&cmp)?;
     Ok(())
 }
 
 /// Where the model fails: the ranked structures above the noise floor, and the direction step
 /// at q̇ = 0 per joint (friction).
-fn print_failures(cmp: &metrics::Comparison) {
+fn print_failures(cmp: &metrics::Comparison) -> Result<()> {
     let unit = &cmp.unit;
-    println!("where the model fails (residual RMS a structure explains beyond the noise floor):");
+    outln!("where the model fails (residual RMS a structure explains beyond the noise floor):");
     let shown: Vec<_> = cmp
         .failures
         .iter()
@@ -204,23 +213,27 @@ fn print_failures(cmp: &metrics::Comparison) {
         .take(10)
         .collect();
     if shown.is_empty() {
-        println!("  nothing beyond the noise floor");
+        outln!("  nothing beyond the noise floor");
     }
     for f in shown {
-        println!(
+        outln!(
             "  {:<8} against joint {} {:<12} {:>10.4} {unit} ({:6.1} × noise floor, {:5.1} % of its residual variance)",
             f.channel, f.joint, f.structure, f.explained_rms, f.ratio_to_noise, f.explained_pct
         );
     }
-    println!(
-        "direction step of the residual at q̇ = 0 (friction; mean just above minus just below):"
-    );
+    outln!("direction step of the residual at q̇ = 0 (friction; mean just above minus just below):");
     for p in &cmp.profiles {
-        println!(
+        outln!(
             "  {:<8} joint {}: {:+.4} ± {:.4} {unit} (band ±{:.3}), noise floor {:.4} {unit}",
-            p.channel, p.joint, p.direction_step, p.direction_step_se, p.step_band, p.noise_floor
+            p.channel,
+            p.joint,
+            p.direction_step,
+            p.direction_step_se,
+            p.step_band,
+            p.noise_floor
         );
     }
+    Ok(())
 }
 
 /// The report's "where the model fails" section: the ranked structures as a table and, per

@@ -3,6 +3,17 @@
 use anyhow::Result;
 use printwatt::identify::{self, diagnose};
 
+/// Say that fewer folds were used than asked for (a warning, in `--json` too).
+fn note_folds(a: &super::DiagnoseArgs, used: usize) {
+    super::note_warnings(
+        &a.log.log.display().to_string(),
+        &[format!(
+            "--folds {}: {used} folds used, blocks shorter than the residual's correlation time would not be independent",
+            a.folds
+        )],
+    );
+}
+
 /// `printwatt diagnose`: rank the effects by the share of the residual they explain.
 pub fn run(a: super::DiagnoseArgs) -> Result<()> {
     let (robot, mut model, log) = super::compare::load(&a.log)?;
@@ -10,6 +21,9 @@ pub fn run(a: super::DiagnoseArgs) -> Result<()> {
     let prep = identify::Prepared::with_progress(&model, &log, &bar)?;
     let mut d = diagnose::diagnose_with_progress(&prep, &mut model, a.folds, &bar)?;
     drop(bar);
+    if d.folds != a.folds {
+        note_folds(&a, d.folds);
+    }
     d.calibration = robot.effects.calibration_summary();
     // The last check before anything leaves (the JSON or the printed ranking).
     printwatt::output::check_finite_json("diagnose", &d)?;
@@ -32,32 +46,39 @@ pub fn run(a: super::DiagnoseArgs) -> Result<()> {
         super::print_json(&d)?;
         return Ok(());
     }
-    println!(
+    outln!(
         "robot: {}",
         d.calibration
             .clone()
             .unwrap_or_else(|| format!("{} (nominal, not calibrated)", robot.name()))
     );
-    println!(
+    outln!(
         "model: {}; RMSE {:.4} {}; {}-fold time blocks",
         d.model_effects.join(", "),
         d.base_rmse,
         log.kind.unit(),
         d.folds
     );
-    println!(
+    outln!(
         "noise floor (estimated from the data) {:.4} {}; residual correlation time {:.3} s; blocks of {:.2} s",
         d.noise_floor,
         log.kind.unit(),
         d.correlation_time_s,
         d.block_length_s
     );
-    println!(
+    outln!(
         "{:<4} {:<16} {:>8} {:>12} {:>8} {:>8} {:>10} {:>5}  joints",
-        "rank", "effect", "status", "val_rmse", "cut_%", "t", "dBIC", "sig"
+        "rank",
+        "effect",
+        "status",
+        "val_rmse",
+        "cut_%",
+        "t",
+        "dBIC",
+        "sig"
     );
     for (i, c) in d.candidates.iter().enumerate() {
-        println!(
+        outln!(
             "{:<4} {:<16} {:>8} {:>12.4} {:>8.1} {:>8.1} {:>10.1} {:>5}  {:?}",
             i + 1,
             c.effect,
@@ -76,35 +97,39 @@ pub fn run(a: super::DiagnoseArgs) -> Result<()> {
             c.joints
         );
         if let Some(w) = &c.implausible {
-            println!("       not plausible for this robot: {w}");
+            outln!("       not plausible for this robot: {w}");
         }
         if i < 3 && c.significant {
             for p in &c.params {
                 if p.value != p.nominal {
                     match p.std_error {
-                        Some(se) => println!(
+                        Some(se) => outln!(
                             "       {} = {:.4} ± {:.4} {} (was {:.4})",
-                            p.name, p.value, se, p.unit, p.nominal
+                            p.name,
+                            p.value,
+                            se,
+                            p.unit,
+                            p.nominal
                         ),
-                        None => println!("       {} = not identifiable", p.name),
+                        None => outln!("       {} = not identifiable", p.name),
                     }
                 }
             }
             if let Some(n) = &c.note {
-                println!("       {n}");
+                outln!("       {n}");
             }
         }
     }
     if !d.not_observable.is_empty() {
-        println!(
+        outln!(
             "not observable in a `{}` log: {}",
             log.kind.prefix(),
             d.not_observable.join(", ")
         );
     }
     for u in &d.unexplained {
-        println!("unexplained: {u}");
+        outln!("unexplained: {u}");
     }
-    println!("{}", d.verdict);
+    outln!("{}", d.verdict);
     Ok(())
 }

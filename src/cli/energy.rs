@@ -137,7 +137,7 @@ pub fn run(a: EnergyCmd) -> Result<()> {
         }
         super::print_json(&v)?;
     } else {
-        print_summary(&summary, &model);
+        print_summary(&summary, &model)?;
     }
     Ok(())
 }
@@ -214,40 +214,50 @@ fn default_out(input: &Path) -> PathBuf {
     PathBuf::from(format!("{stem}.energy.csv"))
 }
 
-fn print_summary(s: &Summary, model: &printwatt::robot::RobotModel) {
+fn print_summary(s: &Summary, model: &printwatt::robot::RobotModel) -> Result<()> {
     let r = s.energy;
-    println!("robot      {}", s.robot);
-    println!("input      {}", s.input);
+    outln!("robot      {}", s.robot);
+    outln!("input      {}", s.input);
     if let Some(p) = &s.placement {
-        println!(
+        outln!(
             "placement  x {:.3} m, y {:.3} m, z {:.3} m, yaw {:.1} deg, nozzle spin {:.1} deg",
-            p.x_m, p.y_m, p.z_m, p.yaw_deg, p.nozzle_spin_deg
+            p.x_m,
+            p.y_m,
+            p.z_m,
+            p.yaw_deg,
+            p.nozzle_spin_deg
         );
     }
-    println!("model      {}", r.model);
-    println!("time       {:.2} s ({} samples)", r.duration_s, r.samples);
+    outln!("model      {}", r.model);
+    outln!("time       {:.2} s ({} samples)", r.duration_s, r.samples);
     for sd in s.slowdowns {
         let ramp = if sd.accel_factor < 1.0 {
             format!(", ramp acceleration x{:.2}", sd.accel_factor)
         } else {
             String::new()
         };
-        println!(
+        outln!(
             "slow-down  joint {} {:?} limit at t = {:.2} s (path {:.3} m, move {}): demand {:.2}x the limit, speed x{:.2}{ramp}",
             sd.joint + 1, sd.kind, sd.t, sd.s, sd.move_index + 1, sd.ratio, sd.speed_factor
         );
     }
-    println!();
-    println!(
+    outln!();
+    outln!(
         "{:<10} {:>12} {:>12} {:>12} {:>12} {:>12} {:>10}",
-        "joint", "mech [J]", "friction [J]", "copper [J]", "elec [J]", "peak P [W]", "rms τ [Nm]"
+        "joint",
+        "mech [J]",
+        "friction [J]",
+        "copper [J]",
+        "elec [J]",
+        "peak P [W]",
+        "rms τ [Nm]"
     );
     for (j, je) in r.joints.iter().enumerate() {
         let name = model
             .joints
             .get(j)
             .map_or(je.name.as_str(), |x| x.name.as_str());
-        println!(
+        outln!(
             "{:<10} {:>12.1} {:>12.1} {:>12.1} {:>12.1} {:>12.1} {:>10.1}",
             name,
             je.mechanical_j,
@@ -259,11 +269,15 @@ fn print_summary(s: &Summary, model: &printwatt::robot::RobotModel) {
         );
     }
     let t = &r.total;
-    println!(
+    outln!(
         "{:<10} {:>12.1} {:>12.1} {:>12.1} {:>12.1}",
-        "total", t.mechanical_j, t.friction_j, t.copper_j, t.electrical_j
+        "total",
+        t.mechanical_j,
+        t.friction_j,
+        t.copper_j,
+        t.electrical_j
     );
-    println!();
+    outln!();
     // One decimal; a value that rounds to zero is printed 0.0, not -0.0 (the signed
     // rigid-body and balancer work of a closed print cycle is near zero).
     let j1 = |x: f64| {
@@ -274,7 +288,7 @@ fn print_summary(s: &Summary, model: &printwatt::robot::RobotModel) {
             s
         }
     };
-    println!(
+    outln!(
         "supply energy {} J = rigid body {}{} + friction {} + gear {} + copper {} + regeneration lost {} + standby {}",
         j1(t.supply_j),
         j1(t.rigid_body_j),
@@ -290,6 +304,7 @@ fn print_summary(s: &Summary, model: &printwatt::robot::RobotModel) {
         j1(t.standby_j)
     );
     if let Some(o) = &s.output_csv {
-        println!("per-sample torque and power written to {o}");
+        outln!("per-sample torque and power written to {o}");
     }
+    Ok(())
 }

@@ -117,24 +117,24 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
         super::print_json(&v)?;
         return Ok(());
     }
-    println!("{}", id.validation);
-    print!("{}", ladder_table(&id, log.kind.unit()));
+    outln!("{}", id.validation);
+    out!("{}", ladder_table(&id, log.kind.unit()));
     if let Some(c) = robot.effects.calibration_summary() {
-        println!("started from {c}");
+        outln!("started from {c}");
     }
     if !plan.carried.is_empty() {
-        println!(
+        outln!(
             "re-fitted jointly with this round: {} (from earlier rounds)",
             plan.carried.join(", ")
         );
     }
     if let Some(ill) = &id.ill_conditioned {
-        println!("{ill}");
+        outln!("{ill}");
     }
     for h in &id.held_at_prior {
-        println!("held at its prior value: {} ({})", h.name, h.reason);
+        outln!("held at its prior value: {} ({})", h.name, h.reason);
     }
-    println!("identified parameters (changed ones):");
+    outln!("identified parameters (changed ones):");
     for p in &id.params {
         if (p.value - p.nominal).abs() > 1e-12 {
             if id
@@ -144,7 +144,7 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
             {
                 continue;
             }
-            println!(
+            outln!(
                 "  {:<16} {:<10} {:>12.4} ± {:<10.4} {} (was {:.4})",
                 p.effect,
                 p.name,
@@ -156,7 +156,7 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
         }
     }
     if let Some(w) = written {
-        println!("wrote {}", w.display());
+        outln!("wrote {}", w.display());
     }
     Ok(())
 }

@@ -24,6 +24,12 @@ pub struct MergeArgs {
 pub fn run(m: MergeArgs) -> Result<()> {
     let t0 = std::time::Instant::now();
     let dirs = shard::find_shards(&m.shards)?;
+    // The merged run must not replace or change a shard: an output equal to, inside or
+    // holding any input is refused, with or without --force.
+    if let Some(o) = &m.out.out {
+        let inputs: Vec<PathBuf> = m.shards.iter().chain(&dirs).cloned().collect();
+        printwatt::output::refuse_overlap(o, &inputs)?;
+    }
     let mut data = Vec::with_capacity(dirs.len());
     for d in &dirs {
         data.push(shard::read_shard(d)?);

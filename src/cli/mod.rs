@@ -6,6 +6,24 @@ use clap::{Parser, Subcommand};
 use printwatt::robot;
 use std::path::{Path, PathBuf};
 
+/// `println!` for results: the write's error is returned with `?` (a closed pipe or a full
+/// disk ends the command through its error path, see [`StdoutFailed`]), never a panic.
+macro_rules! outln {
+    () => {
+        $crate::cli::out_line(format_args!(""))?
+    };
+    ($($t:tt)*) => {
+        $crate::cli::out_line(format_args!($($t)*))?
+    };
+}
+
+/// `print!` for results, as [`outln!`].
+macro_rules! out {
+    ($($t:tt)*) => {
+        $crate::cli::out_text(format_args!($($t)*))?
+    };
+}
+
 pub mod args;
 mod compare;
 mod diagnose;
@@ -62,7 +80,7 @@ pub enum Command {
     Sweep(sweep::SweepArgs),
     /// Put the shards of a split run (`sweep --shard`, `optimise --uncertainty N --shard`, `study --shard`) together: the files of a single run.
     Merge(merge::MergeArgs),
-    /// Find the minimum-energy placement (grid, then seeded pattern search) and write a report.
+    /// Find the minimum-energy placement (grid, then a seeded Nelder–Mead refinement or pattern search) and write a report.
     Optimise(optimise::OptimiseArgs),
     /// Design study: optimise every path of a study file on each of its robots and cells, and
     /// say which robot and cell prints each path, and all of them, for the least energy.
@@ -122,8 +140,9 @@ pub struct CompareArgs {
 pub struct DiagnoseArgs {
     #[command(flatten)]
     pub log: LogArgs,
-    /// Number of time-block folds.
-    #[arg(long, default_value_t = 5)]
+    /// Number of time-block folds, 2 to 100 (fewer are used, with a warning, when the
+    /// residual's correlation time makes blocks that short dependent).
+    #[arg(long, default_value_t = 5, value_parser = clap::builder::RangedU64ValueParser::<usize>::new().range(2..=100))]
     pub folds: usize,
     /// --out: diagnose.json.
     #[command(flatten)]
@@ -335,6 +354,55 @@ pub fn warnings() -> Vec<Warning> {
     WARNINGS.lock().map(|g| g.clone()).unwrap_or_default()
 }
 
+/// Writing a result to standard output failed: the reader closed the pipe (`| head`), or the
+/// disk it goes to is full (`> /dev/full`). The command stops through its error path (run
+/// directories not committed are removed); `main` ends quietly with the conventional status of
+/// a closed pipe (141), or with one line naming what the system said.
+#[derive(Debug)]
+pub struct StdoutFailed(pub std::io::Error);
+
+impl std::fmt::Display for StdoutFailed {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(f, "writing to standard output: {}", self.0)
+    }
+}
+
+impl std::error::Error for StdoutFailed {}
+
+impl StdoutFailed {
+    /// The reader went away (a closed pipe): nothing to tell anyone.
+    pub fn closed_pipe(&self) -> bool {
+        self.0.kind() == std::io::ErrorKind::BrokenPipe
+    }
+}
+
+/// Write `args` and a newline to standard output; its error as [`StdoutFailed`].
+pub fn out_line(args: std::fmt::Arguments) -> Result<()> {
+    use std::io::Write;
+    let mut o = std::io::stdout().lock();
+    o.write_fmt(args)
+        .and_then(|()| o.write_all(b"\n"))
+        .map_err(|e| StdoutFailed(e).into())
+}
+
+/// Write `args` to standard output (no newline); its error as [`StdoutFailed`].
+pub fn out_text(args: std::fmt::Arguments) -> Result<()> {
+    use std::io::Write;
+    std::io::stdout()
+        .lock()
+        .write_fmt(args)
+        .map_err(|e| StdoutFailed(e).into())
+}
+
+/// Flush standard output at the end of a command (text written without a final newline is
+/// still buffered); its error as [`StdoutFailed`].
+pub fn flush_stdout() -> Result<()> {
+    use std::io::Write;
+    std::io::stdout()
+        .flush()
+        .map_err(|e| StdoutFailed(e).into())
+}
+
 /// Print a `--json` answer: numbers rounded and `schema_version` added
 /// ([`printwatt::output::finish_json`]), the warnings noted so far added as `warnings` (an
 /// object's key; other values are wrapped as `{"schema_version": …, "result": …, "warnings":
@@ -345,7 +413,7 @@ pub fn print_json<T: serde::Serialize>(v: &T) -> Result<()> {
     let mut v = serde_json::to_value(v)?;
     printwatt::output::finish_json(&mut v);
     add_warnings(&mut v);
-    println!("{}", serde_json::to_string_pretty(&v)?);
+    outln!("{}", serde_json::to_string_pretty(&v)?);
     Ok(())
 }
 

@@ -1,14 +1,11 @@
 //! `printwatt optimise`: coarse grid sweep, seeded pattern-search refinement, baseline
 //! comparison, sensitivity within ±50 mm, and the run report under `results/<run>/`.
 
-use super::sweep::{detail, meta, parse_placement, run_sweep, PlacementArgs};
+use super::sweep::{parse_placement, Loaded, PlacementArgs};
 use anyhow::{Context, Result};
-use printwatt::evaluate::reduce;
-use printwatt::report::placement::RunReport;
-use printwatt::search::optimise::{self, feasible_centre, worst_of, OptimiseOptions};
-use printwatt::search::refine::{self, Bounds, SearchOptions};
-use printwatt::search::tolerance::Tolerance;
-use printwatt::toolpath::Placement;
+use printwatt::search::job::parse_z_bounds;
+use printwatt::search::run::{Progress, Stage};
+use printwatt::search::{Observer, OptimiseConfig, OptimiseSettings, PlacementSet};
 use std::io::IsTerminal;
 
 /// `printwatt optimise` arguments. With none, runs the shipped default robot and path on a
@@ -70,10 +67,10 @@ pub struct OptimiseArgs {
     #[arg(long, default_value = "expected", value_name = "CRITERION")]
     pub robust: String,
     /// Prints a year, for the yearly figures of the robust choice and the value of measuring.
-    #[arg(long, default_value_t = 1000.0)]
+    #[arg(long, default_value_t = printwatt::search::job::DEFAULT_PRINTS_PER_YEAR)]
     pub prints_per_year: f64,
     /// Grid carbon intensity for the yearly CO₂ figure, kg CO₂ per kWh.
-    #[arg(long, default_value_t = 0.4)]
+    #[arg(long, default_value_t = printwatt::search::job::DEFAULT_GRID_KG_CO2_PER_KWH)]
     pub grid_kg_co2_per_kwh: f64,
     /// Write the chosen placement for the robot into this directory: `wobj_print.mod` (ABB RAPID
     /// wobjdata), `frame.json` (COMPAS frame), and the path re-expressed in the robot base
@@ -83,65 +80,113 @@ pub struct OptimiseArgs {
     pub export: Option<std::path::PathBuf>,
 }
 
-/// What the tolerance check says, in one line.
-pub fn tolerance_line(c: &printwatt::search::tolerance::ToleranceCheck) -> String {
-    use printwatt::report::placement::tolerance_text;
-    if c.corners == 0 {
-        "not checked (--tolerance 0,0)".into()
-    } else if c.holds {
-        tolerance_text(c, true)
-    } else {
-        format!(
-            "{}; no grid cell near the optimum holds it",
-            tolerance_text(c, true)
-        )
+/// What the tolerance check says, in one line ([`printwatt::search::run::tolerance_line`]).
+pub use printwatt::search::run::tolerance_line;
+
+/// The progress bars of an optimisation on a terminal: the grid's (more than one placement)
+/// and the refinement's, each shown only when asked for.
+pub struct Bars {
+    /// Show the grid's bar.
+    pub grid: bool,
+    /// Show the refinement's bar.
+    pub refine: bool,
+    bar: std::sync::Mutex<Option<indicatif::ProgressBar>>,
+}
+
+impl Bars {
+    /// Bars for the stages asked for.
+    pub fn new(grid: bool, refine: bool) -> Bars {
+        Bars {
+            grid,
+            refine,
+            bar: std::sync::Mutex::new(None),
+        }
     }
 }
 
-/// Parse `--tolerance`: `XY_MM,YAW_DEG` or `XY_MM,Z_MM,YAW_DEG`.
-pub fn parse_tolerance(s: &str) -> Result<Tolerance> {
-    let v: Vec<f64> = s
-        .split(',')
-        .map(|t| {
-            t.trim()
-                .parse::<f64>()
-                .ok()
-                .filter(|v| v.is_finite() && *v >= 0.0)
-                .with_context(|| format!("--tolerance `{s}`: `{}` is not a number >= 0", t.trim()))
-        })
-        .collect::<Result<_>>()?;
-    let (xy, z, yaw) = match v.as_slice() {
-        [xy, yaw] => (*xy, *xy, *yaw),
-        [xy, z, yaw] => (*xy, *z, *yaw),
-        _ => anyhow::bail!("--tolerance `{s}`: expected XY_MM,YAW_DEG or XY_MM,Z_MM,YAW_DEG"),
-    };
-    if xy > 500.0 || z > 500.0 || yaw > 45.0 {
-        anyhow::bail!("--tolerance `{s}`: at most 500 mm and 45°");
+impl Observer for Bars {
+    fn begin(&self, stage: Stage, total: usize) {
+        let template = match stage {
+            Stage::Grid if self.grid && total > 1 => {
+                "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} placements ({per_sec}, eta {eta})"
+            }
+            Stage::Refinement if self.refine => {
+                "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} refinement evaluations {msg}"
+            }
+            _ => return,
+        };
+        let b = indicatif::ProgressBar::new(total as u64);
+        b.set_style(
+            indicatif::ProgressStyle::with_template(template)
+                .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
+        );
+        if let Ok(mut g) = self.bar.lock() {
+            *g = Some(b);
+        }
     }
-    Ok(Tolerance {
-        xy_m: xy / 1000.0,
-        z_m: z / 1000.0,
-        yaw_rad: yaw.to_radians(),
-    })
-}
-
-/// The search box: x and y over the placements asked for, z over `--z-bounds` or them.
-pub fn search_bounds(ps: &[Placement], z_bounds: Option<&str>) -> Result<Bounds> {
-    let z = match z_bounds {
-        Some(s) => {
-            let v: Vec<f64> = s
-                .split(':')
-                .map(|t| t.trim().parse::<f64>().ok().filter(|v| v.is_finite()))
-                .collect::<Option<_>>()
-                .with_context(|| format!("--z-bounds `{s}`: expected min:max in m"))?;
-            match v.as_slice() {
-                [a, b] if a <= b => Some([*a, *b]),
-                _ => anyhow::bail!("--z-bounds `{s}`: expected min:max with min <= max (m)"),
+    fn progress(&self, p: Progress) {
+        if let Ok(g) = self.bar.lock() {
+            if let Some(b) = g.as_ref() {
+                b.set_position(p.done as u64);
+                if let Some(best) = p.best_j {
+                    b.set_message(format!("best {best:.1} J"));
+                }
             }
         }
-        None => None,
-    };
-    Ok(Bounds::over(ps, z)?)
+    }
+    fn end(&self, _stage: Stage) {
+        if let Ok(mut g) = self.bar.lock() {
+            if let Some(b) = g.take() {
+                b.finish_and_clear();
+            }
+        }
+    }
+    fn setting_name(&self, k: printwatt::search::advice::Knob) -> String {
+        super::sweep::knob_flag(k)
+    }
+}
+
+impl OptimiseArgs {
+    /// The job these arguments ask for, with the robot and path loaded (`l`): every option
+    /// parsed into its typed value here, and only here.
+    pub fn config(&self, l: Loaded) -> Result<OptimiseConfig> {
+        let (placements, names, grid) = self.p.placements(Some(l.default_grid()))?;
+        let baseline = match &self.baseline {
+            Some(s) => Some(parse_placement(s).context("--baseline")?),
+            None => None,
+        };
+        let settings = OptimiseSettings {
+            objective: l.objective,
+            feasibility: l.feas,
+            energy: l.energy,
+            profile: l.profile,
+            evaluation: self.p.evaluation.evaluation.parse()?,
+            baseline,
+            seed: self.seed,
+            max_evals: self.max_evals,
+            fixed_yaw: self.fixed_yaw,
+            fixed_spin: self.fixed_spin,
+            search: self.search.parse()?,
+            tolerance: self.tolerance.parse()?,
+            z_bounds: self.z_bounds.as_deref().map(parse_z_bounds).transpose()?,
+            uncertainty: self.uncertainty,
+            robust: self.robust.parse()?,
+            prints_per_year: self.prints_per_year,
+            grid_kg_co2_per_kwh: self.grid_kg_co2_per_kwh,
+        };
+        settings.check()?;
+        Ok(OptimiseConfig {
+            robot: l.robot,
+            path: l.path,
+            path_file: l.path_file,
+            placements: Some(PlacementSet {
+                placements,
+                names,
+                grid,
+            }),
+            settings,
+        })
+    }
 }
 
 /// An uncertainty study's draws computed elsewhere (the shards put together by `printwatt
@@ -178,11 +223,18 @@ pub fn job_key(a: &OptimiseArgs) -> String {
 /// The robust choice's options in the job key (only when they differ from the defaults, so
 /// that the key of a run without them is unchanged).
 fn robust_key(n: &OptimiseArgs) -> String {
+    use printwatt::search::job::{
+        RobustObjective, DEFAULT_GRID_KG_CO2_PER_KWH, DEFAULT_PRINTS_PER_YEAR,
+    };
     let mut k = String::new();
-    if n.robust != "expected" {
-        k += &format!(" robust={}", n.robust);
+    match n.robust.parse::<RobustObjective>() {
+        Ok(o) if o == RobustObjective::default() => {}
+        Ok(o) => k += &format!(" robust={o}"),
+        Err(_) => k += &format!(" robust={}", n.robust),
     }
-    if n.prints_per_year != 1000.0 || n.grid_kg_co2_per_kwh != 0.4 {
+    if n.prints_per_year != DEFAULT_PRINTS_PER_YEAR
+        || n.grid_kg_co2_per_kwh != DEFAULT_GRID_KG_CO2_PER_KWH
+    {
         k += &format!(
             " prints_per_year={} grid_kg_co2_per_kwh={}",
             n.prints_per_year, n.grid_kg_co2_per_kwh
@@ -201,6 +253,7 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
 pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
     let p = &a.p;
     let l = p.load()?;
+    let inputs = p.inputs(&l);
     // A shard of the uncertainty study writes its shard directory and nothing else; it is
     // taken before the work, as a run directory is.
     let mut shard_out = None;
@@ -217,7 +270,7 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
         }
         let rd = printwatt::output::RunDir::begin_at(
             &parent.join(sh.dir_name()),
-            &p.inputs(&l),
+            &inputs,
             printwatt::output::Existing::Force(p.out.force),
         )?;
         shard_out = Some((sh, source, rd));
@@ -230,20 +283,23 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
     } else {
         p.run_dir(&l, Some("optimise"))?
     };
-    let job = l.job()?;
     let pool = p.pool()?;
-    let Some(Computed { rep, secs, n_eval }) = compute(
-        &a,
-        &l,
-        &job,
-        &pool,
-        merged.as_ref().map(|m| m.draws.as_slice()),
-        &mut shard_out,
-        std::io::stderr().is_terminal(),
-    )?
-    else {
-        // A shard of the uncertainty study: written.
-        return Ok(());
+    let cfg = a.config(l)?;
+    let term = std::io::stderr().is_terminal();
+    let bars = Bars::new(term, term);
+    if let Some(sh) = shard_out.take() {
+        let n = cfg.settings.uncertainty.unwrap_or(0);
+        let idx = sh.0.indices(n);
+        let d = pool.install(|| printwatt::search::run::run_shard(&cfg, &idx, &bars))?;
+        return write_study_shard(&a, &inputs, d, sh);
+    }
+    let printwatt::search::OptimiseOutcome {
+        report: rep,
+        secs,
+        evaluations: n_eval,
+    } = match &merged {
+        Some(m) => pool.install(|| printwatt::search::run::run_merged(&cfg, &m.draws, &bars))?,
+        None => pool.install(|| printwatt::search::run(&cfg, &bars))?,
     };
     let mut written = None;
     if let Some(mut rd) = run_dir.take() {
@@ -277,6 +333,13 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
         rep.check_finite()?;
     }
     if let (Some(ex), Some(b)) = (&a.export, rep.best()) {
+        let job = printwatt::evaluate::PathJob::new(
+            &cfg.robot,
+            &cfg.path,
+            cfg.settings.energy,
+            cfg.settings.profile,
+            printwatt::timing::JointStageOptions::default(),
+        )?;
         let files = [
             (
                 ex.join("wobj_print.mod"),
@@ -294,7 +357,7 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
                 printwatt::export::gcode_base(
                     &printwatt::export::base_frame_path(&job.moves, &b.placement),
                     &b.placement,
-                    l.robot.name(),
+                    cfg.robot.name(),
                 ),
             ),
             (
@@ -302,7 +365,7 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
                 printwatt::export::rapid_base(
                     &printwatt::export::base_frame_path(&job.moves, &b.placement),
                     &b.placement,
-                    &l.robot,
+                    &cfg.robot,
                 ),
             ),
         ];
@@ -310,7 +373,7 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
             if f.exists() && !p.out.force {
                 anyhow::bail!("{} exists: replacing it needs --force", f.display());
             }
-            printwatt::output::guard_inputs(f, &[l.path_file.as_path()])?;
+            printwatt::output::guard_inputs(f, &[cfg.path_file.as_path()])?;
             printwatt::output::write_atomic(f, text.as_bytes())?;
         }
     }
@@ -332,7 +395,7 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
     println!(
         "energy {:.1} J ({}), print time {:.2} s",
         f.energy_j,
-        l.objective.describe(),
+        cfg.settings.objective.describe(),
         f.duration_s
     );
     println!(
@@ -468,344 +531,26 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
     Ok(())
 }
 
-/// An optimisation's answer: the report (every figure of the run's files) and the facts of
-/// the run (wall time of the work, s; evaluations).
-pub struct Computed {
-    /// The report of the run.
-    pub rep: RunReport,
-    /// Wall time of the grid, the refinement and the study, s.
-    pub secs: f64,
-    /// Every evaluation the answer needed.
-    pub n_eval: usize,
-}
-
-/// The work of `printwatt optimise` on a loaded job: grid, refinement, full re-evaluation of
-/// a reduced answer, baseline, uncertainty study (its draws from `merged_draws` when given),
-/// detailed placements; the report. With `shard_out` (an uncertainty study's shard) the shard
-/// is written and `None` returned. `progress`: show the refinement's progress bar.
-pub fn compute(
-    a: &OptimiseArgs,
-    l: &super::sweep::Loaded,
-    job: &printwatt::evaluate::PathJob,
-    pool: &rayon::ThreadPool,
-    merged_draws: Option<&[printwatt::search::uncertainty::Draw]>,
-    shard_out: &mut Option<(
-        printwatt::campaign::shard::Shard,
-        printwatt::campaign::shard::ShardSource,
-        printwatt::output::RunDir,
-    )>,
-    progress: bool,
-) -> Result<Option<Computed>> {
-    let p = &a.p;
-    let ev = l.evaluator(job, &p.evaluation)?;
-    let (ps, names, grid) = p.placements(Some(l.default_grid()))?;
-    let baseline_given = match &a.baseline {
-        Some(s) => Some(parse_placement(s).context("--baseline")?),
-        None => None,
-    };
-    let t0 = std::time::Instant::now();
-    let rows = run_sweep(&ev, &ps, pool)?;
-    if !rows.iter().any(|r| r.cost().is_finite()) {
-        anyhow::bail!(
-            "{}",
-            printwatt::search::advice::nothing_feasible_named(
-                &rows,
-                &l.robot,
-                &super::sweep::knob_flag
-            )
-            .trim_end()
-        );
-    }
-    let step = grid.as_ref().and_then(|g| g.step_xy_m()).unwrap_or(0.1);
-    let opts = OptimiseOptions {
-        seed: a.seed,
-        max_evals: a.max_evals,
-        step_xy_m: step / 2.0,
-        yaw: !a.fixed_yaw,
-        spin: !a.fixed_spin,
-        ..Default::default()
-    };
-    let tol = parse_tolerance(&a.tolerance)?;
-    let bounds = search_bounds(&ps, a.z_bounds.as_deref())?;
-    let mut res = match a.search.as_str() {
-        "nelder-mead" | "nelder_mead" | "nm" => {
-            let so = SearchOptions::new(bounds, tol);
-            let bar = progress.then(|| {
-                let b = indicatif::ProgressBar::new(opts.max_evals as u64);
-                b.set_style(
-                    indicatif::ProgressStyle::with_template(
-                        "{spinner} [{elapsed_precise}] {wide_bar} {pos}/{len} refinement evaluations {msg}",
-                    )
-                    .unwrap_or_else(|_| indicatif::ProgressStyle::default_bar()),
-                );
-                b
-            });
-            let b2 = bar.clone();
-            let progress: refine::Progress = std::sync::Arc::new(move |_it, n, best| {
-                if let Some(b) = &b2 {
-                    b.set_position(n as u64);
-                    b.set_message(format!("best {best:.1} J"));
-                }
-            });
-            let (mut r, info) =
-                pool.install(|| refine::refine(&ev, &rows, &opts, &so, progress))?;
-            if let Some(b) = bar {
-                b.finish_and_clear();
-            }
-            r.search = Some(info);
-            r
-        }
-        "pattern" => pool.install(|| optimise::optimise(&ev, &rows, &opts))?,
-        s => anyhow::bail!("--search `{s}`: expected nelder-mead or pattern"),
-    };
-    // The answer of a reduced evaluation is always re-evaluated in full; the report shows
-    // both figures.
-    if let Some((full, chk)) = pool.install(|| reduce::confirm(&ev, &res.best))? {
-        if let Err(why) = &full.outcome {
-            anyhow::bail!(
-                "the placement chosen on representative layers (x = {:.3} m, y = {:.3} m, z = {:.3} m, yaw = {:.1}°) is infeasible when every sample is evaluated: {why}; run again with --evaluation full",
-                full.placement.x,
-                full.placement.y,
-                full.placement.z,
-                full.placement.yaw.to_degrees()
-            );
-        }
-        res.best = full;
-        res.path_reduction = Some(chk);
-    }
-    let baseline = match baseline_given {
-        Some(b) => {
-            let r = pool.install(|| ev.sweep(&[b], &|_, _| {}))?;
-            r.into_iter().next().map(|e| ("given".to_string(), e))
-        }
-        None => feasible_centre(&rows)
-            .map(|e| ("centre of the feasible grid region".to_string(), e.clone())),
-    };
-    if let Some((_, b)) = &baseline {
-        res.savings = optimise::Savings::of(&res.best, b);
-        // The baseline is checked against the tolerance the answer holds (every corner, so
-        // the report can say how many fail), in the run's pool.
-        if res.search.is_some() && !tol.is_zero() && b.cost().is_finite() {
-            res.baseline_tolerance =
-                Some(pool.install(|| {
-                    printwatt::search::tolerance::check_all(&ev, &b.placement, &tol)
-                })?);
-        }
-    }
-    if let Some(n) = a.uncertainty {
-        if n == 0 || n > 100_000 {
-            anyhow::bail!("--uncertainty {n}: expected 1 to 100000 draws");
-        }
-        // Candidates: the answer first, then every feasible grid cell that is not nominally
-        // better than it (a cheaper cell is one the search rejected because it does not hold
-        // the placement tolerance: not a candidate a site could use).
-        let mut cands = vec![res.best.clone()];
-        cands.extend(
-            rows.iter()
-                .filter(|r| {
-                    r.cost().is_finite()
-                        && r.cost() >= res.best.cost()
-                        && r.placement != res.best.placement
-                })
-                .cloned(),
-        );
-        let setup = printwatt::search::uncertainty::StudySetup::new(
-            &ev,
-            &cands,
-            baseline.as_ref().map(|b| &b.1),
-            n,
-            a.seed,
-            None,
-        )?;
-        if let Some((sh, source, rd)) = shard_out.take() {
-            write_study_shard(a, l, &setup, (sh, source, rd), t0)?;
-            return Ok(None);
-        }
-        let study = match merged_draws {
-            Some(d) => setup.reduce(d)?,
-            None => {
-                let all: Vec<usize> = (0..n).collect();
-                let per = pool.install(|| setup.draws(&all))?;
-                setup.reduce(&per)?
-            }
-        };
-        res.uncertainty = Some(study);
-        if res.search.is_some() {
-            let ro = printwatt::search::robust::RobustOptions {
-                draws: n,
-                seed: a.seed,
-                criterion: printwatt::search::robust::Criterion::parse(&a.robust)?,
-                prints_per_year: a.prints_per_year,
-                grid_kg_co2_per_kwh: a.grid_kg_co2_per_kwh,
-                ..Default::default()
-            };
-            let so = SearchOptions::new(bounds, tol);
-            let r = pool
-                .install(|| printwatt::search::robust::robust(&ev, &res.best, &opts, &so, &ro))?;
-            res.decision.get_or_insert_with(Default::default).robust = Some(r);
-        }
-    }
-    if let Some(si) = &res.search {
-        if !si.on_bounds.is_empty() {
-            let steps = pool.install(|| {
-                printwatt::search::robust::bound_steps(
-                    &ev,
-                    &res.best,
-                    &si.bounds,
-                    &printwatt::search::robust::BOUND_STEPS_M,
-                )
-            })?;
-            res.decision
-                .get_or_insert_with(Default::default)
-                .bound_steps = steps;
-        }
-    }
-    let secs = t0.elapsed().as_secs_f64();
-    // The placements shown in detail (series for the report), evaluated in parallel.
-    let mut wanted = vec![("best", &res.best)];
-    wanted.extend(worst_of(&rows).map(|w| ("worst", w)));
-    wanted.extend(baseline.as_ref().map(|(_, b)| ("baseline", b)));
-    let details: Vec<_> = {
-        use rayon::prelude::*;
-        pool.install(|| {
-            wanted
-                .par_iter()
-                .map(|(label, e)| detail(job, label, e))
-                .collect::<Result<Vec<_>>>()
-        })?
-        .into_iter()
-        .flatten()
-        .collect()
-    };
-    // Every evaluation the answer needed: grid, refinement, tolerance checks (with the
-    // bisection and spin points; the baseline's corners) and the 4 sensitivity points.
-    let base_corners = res.baseline_tolerance.as_ref().map_or(0, |c| c.corners);
-    let n_eval = ps.len()
-        + res.evals
-        + res.search.as_ref().map_or(0, |si| si.tolerance_evals)
-        + base_corners
-        + 4;
-    let mut m = meta(l, ev.nominal_samples());
-    m.extend(super::sweep::evaluation_line(&ev));
-    m.push(("seed".into(), a.seed.to_string()));
-    if let Some(si) = &res.search {
-        m.push(("search".into(), si.method.clone()));
-        m.push(("tolerance".into(), tolerance_line(&si.tolerance)));
-        m.push((
-            "search bounds".into(),
-            format!(
-                "x {:.3}…{:.3} m, y {:.3}…{:.3} m, z {:.3}…{:.3} m",
-                si.bounds.x[0],
-                si.bounds.x[1],
-                si.bounds.y[0],
-                si.bounds.y[1],
-                si.bounds.z[0],
-                si.bounds.z[1]
-            ),
-        ));
-        if !si.on_bounds.is_empty() {
-            m.push((
-                "optimum on a search bound".into(),
-                format!("{}: widen the range there", si.on_bounds.join(", ")),
-            ));
-        }
-        if let Some(jm) = &si.joint_margin {
-            m.push(("joint-limit margin kept".into(), jm.clone()));
-        }
-        m.push((
-            "evaluations".into(),
-            if base_corners > 0 {
-                format!(
-                    "grid {}, refinement {}, tolerance corners {} (the answer's search {}, the baseline {})",
-                    ps.len(),
-                    res.evals,
-                    si.tolerance_evals + base_corners,
-                    si.tolerance_evals,
-                    base_corners
-                )
-            } else {
-                format!(
-                    "grid {}, refinement {}, tolerance corners {}",
-                    ps.len(),
-                    res.evals,
-                    si.tolerance_evals
-                )
-            },
-        ));
-        if let Some(om) = &si.on_margin {
-            m.push((
-                "optimum on a joint-limit margin".into(),
-                format!("{om}: the margin, not the energy, stops the search here (--joint-margin)"),
-            ));
-        }
-        if let Some(sk) = &si.spin_kept {
-            m.push(("nozzle spin".into(), sk.clone()));
-        }
-        if let Some(b) = &si.budget_spent {
-            m.push(("search stopped".into(), b.clone()));
-        }
-        if let Some(pm) = &si.polished {
-            m.push(("polish".into(), pm.clone()));
-        }
-        for l in &si.lower_neighbours {
-            m.push(("cheaper neighbour not taken".into(), l.clone()));
-        }
-    }
-    let site = printwatt::report::site::SiteGeometry::new(
-        &l.robot,
-        job,
-        res.best.placement.z,
-        &l.path_file,
-        names.as_deref(),
-    );
-    let rep = RunReport {
-        title: format!(
-            "printwatt optimise: {} on {}",
-            l.path_file.display(),
-            l.robot.name()
-        ),
-        meta: m,
-        rows,
-        names,
-        grid,
-        optimise: Some(res),
-        baseline,
-        site: Some(site),
-        details,
-        electrical: l.robot.drive.is_some(),
-    };
-    Ok(Some(Computed { rep, secs, n_eval }))
-}
-
 /// `optimise --uncertainty N --shard SPEC`: this shard's draws of the study, written as the
 /// shard directory `<--out>/shard-K-of-N/` (docs/cluster.md).
 fn write_study_shard(
     a: &OptimiseArgs,
-    l: &super::sweep::Loaded,
-    setup: &printwatt::search::uncertainty::StudySetup,
+    inputs: &printwatt::output::Inputs,
+    d: printwatt::search::run::ShardDraws,
     (sh, source, rd): (
         printwatt::campaign::shard::Shard,
         printwatt::campaign::shard::ShardSource,
         printwatt::output::RunDir,
     ),
-    t0: std::time::Instant,
 ) -> Result<()> {
     use printwatt::campaign::shard;
-    let p = &a.p;
-    let idx = sh.indices(setup.len());
-    let pool = p.pool()?;
-    let t1 = std::time::Instant::now();
-    let draws = pool.install(|| setup.draws(&idx))?;
-    let draw_s = t1.elapsed().as_secs_f64();
-    let rows: Vec<(usize, printwatt::search::uncertainty::Draw)> =
-        idx.into_iter().zip(draws).collect();
-    let bytes = shard::encode_draws(&rows)?;
-    let wall_time_s = t0.elapsed().as_secs_f64();
+    let bytes = shard::encode_draws(&d.rows)?;
     let done = format!(
-        "{} of {} uncertainty draws in {draw_s:.2} s (grid and refinement {:.2} s)",
-        rows.len(),
-        setup.len(),
-        wall_time_s - draw_s
+        "{} of {} uncertainty draws in {:.2} s (grid and refinement {:.2} s)",
+        d.rows.len(),
+        d.total,
+        d.draw_s,
+        d.secs - d.draw_s
     );
     super::sweep::write_shard(
         rd,
@@ -813,14 +558,14 @@ fn write_study_shard(
             kind: shard::KIND_UNCERTAINTY,
             shard: sh,
             source,
-            total: setup.len(),
-            rows: rows.len(),
+            total: d.total,
+            rows: d.rows.len(),
             job: job_key(a),
-            inputs: super::sweep::hash_inputs(&p.inputs(l))?,
+            inputs: super::sweep::hash_inputs(inputs)?,
             bytes,
-            wall_time_s,
+            wall_time_s: d.secs,
         },
-        p.out.json,
+        a.p.out.json,
         &done,
     )
 }

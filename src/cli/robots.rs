@@ -62,13 +62,20 @@ pub fn run(a: RobotsArgs) -> Result<()> {
         .max()
         .unwrap_or(0)
         .max(4);
-    println!(
+    outln!(
         "{:<wi$} {:<wn$} {:>6} {:>8} {:>11} {:>10} {:>4} {:>5}",
-        "id", "name", "joints", "reach_m", "payload_kg", "mass_kg", "opw", "drive"
+        "id",
+        "name",
+        "joints",
+        "reach_m",
+        "payload_kg",
+        "mass_kg",
+        "opw",
+        "drive"
     );
     for r in &rows {
         let o = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.2}"));
-        println!(
+        outln!(
             "{:<wi$} {:<wn$} {:>6} {:>8} {:>11} {:>10.1} {:>4} {:>5}",
             r.id,
             r.name,
@@ -80,9 +87,9 @@ pub fn run(a: RobotsArgs) -> Result<()> {
             if r.drive_data { "yes" } else { "no" }
         );
     }
-    println!();
+    outln!();
     for r in &rows {
-        println!("{}: {}", r.id, r.provenance);
+        outln!("{}: {}", r.id, r.provenance);
     }
     Ok(())
 }

@@ -3,10 +3,12 @@
 //! side by side in one directory. Splits into shards by case for a cluster (`--shard`), put
 //! back together by `printwatt merge` bit for bit.
 
-use super::optimise::{compute, tolerance_line, OptimiseArgs};
+use super::optimise::OptimiseArgs;
 use anyhow::{bail, Context, Result};
 use clap::Parser;
-use printwatt::campaign::study::{CaseBest, CaseResult, Study};
+use printwatt::campaign::study::{CaseResult, Study};
+use printwatt::search::OptimiseConfig;
+use std::io::IsTerminal;
 use std::path::PathBuf;
 
 /// `printwatt study` arguments.
@@ -155,107 +157,28 @@ fn check_cases(study: &Study, args: &[OptimiseArgs]) -> Result<printwatt::output
     inputs.add(&study.file);
     let mut seen = std::collections::BTreeSet::new();
     for (c, a) in study.cases.iter().zip(args) {
-        let l =
-            a.p.load()
-                .with_context(|| format!("case {} ({})", c.index, study.case_name(c)))?;
+        let case = || format!("case {} ({})", c.index, study.case_name(c));
+        if let Some(b) = &a.baseline {
+            super::sweep::parse_placement(b)
+                .context("--baseline")
+                .with_context(case)?;
+        }
+        let l = a.p.load().with_context(case)?;
         for p in a.p.inputs(&l).paths() {
             if seen.insert(p.clone()) {
                 inputs.add(p);
             }
         }
+        // Every option parsed before any work, as the inputs are loaded.
+        a.config(l)
+            .with_context(|| format!("case {} ({})", c.index, study.case_name(c)))?;
     }
     Ok(inputs)
 }
 
-/// Optimise one case: its result and its report page (when it has an answer). An error of the
-/// optimisation (no feasible placement, a reduced answer infeasible in full, …) is the case's
-/// answer, in words; an error loading its inputs is the study's.
-fn run_case(a: &OptimiseArgs, pool: &rayon::ThreadPool) -> Result<(CaseResult, Option<String>)> {
-    let l = a.p.load()?;
-    let objective = l.objective.name().to_string();
-    let job = l.job()?;
-    let (ps, _, _) = a.p.placements(Some(l.default_grid()))?;
-    let mut page = None;
-    let r = match compute(a, &l, &job, pool, None, &mut None, false) {
-        Ok(Some(c)) => {
-            let rep = &c.rep;
-            let best = rep
-                .best()
-                .context("the optimisation returned no placement")?;
-            let f = best
-                .feasible()
-                .context("the optimisation's answer is infeasible")?;
-            let p = &best.placement;
-            let si = rep.optimise.as_ref().and_then(|o| o.search.as_ref());
-            let mut notes = Vec::new();
-            if let Some(si) = si {
-                if !si.tolerance.holds && si.tolerance.corners > 0 {
-                    notes.push(format!("tolerance {}", tolerance_line(&si.tolerance)));
-                }
-                if !si.on_bounds.is_empty() {
-                    notes.push(format!(
-                        "optimum on a search bound: {}",
-                        si.on_bounds.join(", ")
-                    ));
-                }
-                if let Some(om) = &si.on_margin {
-                    notes.push(format!("optimum on a joint-limit margin: {om}"));
-                }
-                if let Some(b) = &si.budget_spent {
-                    notes.push(format!("search stopped: {b}"));
-                }
-            }
-            if let Some(t) = rep
-                .optimise
-                .as_ref()
-                .and_then(|o| o.baseline_tolerance.as_ref())
-                .filter(|t| t.corners > 0 && !t.holds)
-            {
-                notes.push(format!(
-                    "the baseline does not hold the tolerance ({} of its {} corners infeasible): the saving is measured against a placement a site could not rely on",
-                    t.failures.len(),
-                    t.corners
-                ));
-            }
-            CaseResult {
-                objective,
-                outcome: Ok(CaseBest {
-                    placement: [p.x, p.y, p.z, p.yaw, p.nozzle_spin],
-                    feasible: f.clone(),
-                    baseline_j: rep
-                        .baseline
-                        .as_ref()
-                        .map(|(_, b)| b.cost())
-                        .filter(|c| c.is_finite()),
-                    baseline_holds_tolerance: rep
-                        .optimise
-                        .as_ref()
-                        .and_then(|o| o.baseline_tolerance.as_ref())
-                        .filter(|t| t.corners > 0)
-                        .map(|t| t.holds),
-                    tolerance: si.map(|si| tolerance_line(&si.tolerance)),
-                    notes,
-                }),
-                grid: rep.rows.len(),
-                grid_feasible: rep.rows.iter().filter(|r| r.cost().is_finite()).count(),
-                evaluations: c.n_eval,
-                report_sha256: Some(printwatt::output::sha256_hex(
-                    page.insert(rep.html()).as_bytes(),
-                )),
-            }
-        }
-        Ok(None) => bail!("a study case wrote a shard"),
-        Err(e) => CaseResult {
-            objective,
-            outcome: Err(super::error_text(&e)),
-            grid: ps.len(),
-            grid_feasible: 0,
-            evaluations: ps.len(),
-            report_sha256: None,
-        },
-    };
-    // Exactly what a shard carries, so that a single run and a merge write the same files.
-    Ok((r.as_stored()?, page))
+/// The job of a case: its arguments with the robot and path loaded.
+fn case_config(a: &OptimiseArgs) -> Result<OptimiseConfig> {
+    a.config(a.p.load()?)
 }
 
 /// A case's answer in a few lines: the placement and energy, or why there is none (the
@@ -292,9 +215,9 @@ fn case_line(study: &Study, k: usize, r: &CaseResult, secs: f64) -> String {
     }
 }
 
-/// Run the cases `indices` (in order), each on `pool`, writing each answered case's report
-/// page into `rd` (when given) as soon as it is made; a line per case on stderr unless
-/// `quiet`.
+/// Run the cases `indices` (in order), each on `pool` ([`printwatt::campaign::study::run`]),
+/// writing each answered case's report page into `rd` (when given) as soon as it is made; a
+/// line per case on stderr unless `quiet`.
 fn run_cases(
     study: &Study,
     args: &[OptimiseArgs],
@@ -303,21 +226,26 @@ fn run_cases(
     mut rd: Option<&mut printwatt::output::RunDir>,
     quiet: bool,
 ) -> Result<Vec<CaseResult>> {
-    let mut out = Vec::with_capacity(indices.len());
-    for &k in indices {
-        let t = std::time::Instant::now();
-        let c = &study.cases[k];
-        let (r, page) = run_case(&args[k], pool)
-            .with_context(|| format!("case {k} ({})", study.case_name(c)))?;
+    let bars = super::optimise::Bars::new(std::io::stderr().is_terminal(), false);
+    let config_of = |c: &printwatt::campaign::study::Case| {
+        case_config(&args[c.index]).map_err(|e| printwatt::Error::Invalid(super::error_text(&e)))
+    };
+    let mut done = |c: &printwatt::campaign::study::Case,
+                    r: &CaseResult,
+                    page: Option<String>,
+                    secs: f64|
+     -> printwatt::Result<()> {
         if let (Some(page), Some(rd)) = (page, rd.as_deref_mut()) {
             rd.write(&study.case_file(c), page.as_bytes())?;
         }
         if !quiet {
-            eprintln!("{}", case_line(study, k, &r, t.elapsed().as_secs_f64()));
+            eprintln!("{}", case_line(study, c.index, r, secs));
         }
-        out.push(r);
-    }
-    Ok(out)
+        Ok(())
+    };
+    Ok(pool.install(|| {
+        printwatt::campaign::study::run(study, indices, &config_of, &bars, &mut done)
+    })?)
 }
 
 /// The study file: as given, or, for a relative path that is not there, the one shipped in the

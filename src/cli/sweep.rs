@@ -5,7 +5,7 @@ use printwatt::energy::EnergyOptions;
 use printwatt::evaluate::evaluator::{Evaluated, Evaluator, Objective};
 use printwatt::evaluate::feasibility::FeasibilityOptions;
 use printwatt::evaluate::PathJob;
-use printwatt::report::placement::{Detail, RunReport};
+use printwatt::report::placement::RunReport;
 use printwatt::search::optimise::{best_of, worst_of};
 use printwatt::search::{parse_range, Grid};
 use printwatt::timing::{JointStageOptions, ProfileOptions};
@@ -155,14 +155,13 @@ impl Loaded {
         job: &'j PathJob<'a>,
         evaluation: &super::args::EvaluationArgs,
     ) -> Result<Evaluator<'j, 'a>> {
-        let ev = Evaluator::new(job, self.feas, self.objective);
-        Ok(match evaluation.reduce_options()? {
-            Some(o) => match printwatt::evaluate::reduce::Reduction::plan(job, &self.path, o) {
-                Ok(r) => ev.with_reduction(r),
-                Err(_) => ev,
-            },
-            None => ev,
-        })
+        Ok(printwatt::search::run::evaluator(
+            job,
+            &self.path,
+            self.feas,
+            self.objective,
+            evaluation.evaluation.parse()?,
+        ))
     }
 
     /// The workspace grid used when the command line names no placements.
@@ -518,74 +517,11 @@ pub fn run_sweep(
     Ok(r)
 }
 
-/// Full energy report of one placement (for the detailed figures).
-pub fn detail(job: &PathJob, label: &str, e: &Evaluated) -> Result<Option<Detail>> {
-    if !e.cost().is_finite() {
-        return Ok(None);
-    }
-    match job.evaluate(&e.placement)? {
-        Ok(pe) => Ok(Some(Detail {
-            label: label.into(),
-            eval: e.clone(),
-            energy: pe.energy,
-        })),
-        Err(_) => Ok(None),
-    }
-}
+pub use printwatt::search::run::{detail, evaluation_line};
 
-/// The report line saying how placements were evaluated, when the path reduction is on.
-pub fn evaluation_line(ev: &Evaluator) -> Option<(String, String)> {
-    let s = &ev.reduction()?.summary;
-    Some((
-        "evaluation".into(),
-        format!(
-            "reduced: {} layers, {} repeating with period {}, {} samples; each placement evaluated on representative layers, the others interpolated over z (each feasible placement states its error); --evaluation full evaluates every sample",
-            s.layers, s.repeating_layers, s.period, s.samples
-        ),
-    ))
-}
-
-/// Facts about the job shown in reports and `summary.json` (`meta`). Only what determines the
-/// results: how this run was executed (threads, wall time, command line) goes to `run.json`
-/// ([`run_facts`]), so that the same job gives the same `summary.json`, `placements.csv` and
-/// `report.html` bit for bit, on one machine or merged from shards.
+/// Facts about the job shown in reports and `summary.json` ([`printwatt::search::run::meta`]).
 pub fn meta(l: &Loaded, samples: usize) -> Vec<(String, String)> {
-    vec![
-        ("robot".into(), l.robot.name().to_string()),
-        (
-            "calibration".into(),
-            l.robot
-                .effects
-                .calibration_summary()
-                .unwrap_or_else(|| "none (nominal robot)".into()),
-        ),
-        ("path".into(), l.path_file.display().to_string()),
-        (
-            "objective".into(),
-            // The name the command line takes (`mechanical_abs`), not the Rust variant.
-            format!("{}: {}", l.objective.name(), l.objective.describe()),
-        ),
-        ("nominal path samples".into(), samples.to_string()),
-        (
-            "feasibility".into(),
-            format!(
-                "joint-limit margin {} deg, near the wrist singularity (|sin q5| < {}) joints 4/6 at most {:.0} % of their limits, elbow ≥ {}, shoulder ≥ {} m, collisions {} (every {} samples)",
-                (0..l.robot.dof())
-                    .map(|j| format!(
-                        "{:.1}",
-                        printwatt::evaluate::feasibility::margins::joint_margin(&l.robot, &l.feas, j).to_degrees()
-                    ))
-                    .collect::<Vec<_>>()
-                    .join("/"),
-                l.feas.wrist_min,
-                l.feas.wrist_rate_max * 100.0,
-                l.feas.elbow_min,
-                l.feas.shoulder_min_m,
-                if l.feas.collisions { "on" } else { "off" },
-                l.feas.check_every
-            ),
-        ),
-    ]
+    printwatt::search::run::meta(&l.robot, &l.path_file, l.objective, &l.feas, samples)
 }
 
 /// How a run was executed, for `run.json` (changes from run to run; no result depends on it):
@@ -636,10 +572,17 @@ pub fn write_run_facts(
 }
 
 /// Print a one-line-per-placement table.
-pub fn print_rows(rows: &[Evaluated], names: Option<&[String]>) {
-    println!(
+pub fn print_rows(rows: &[Evaluated], names: Option<&[String]>) -> Result<()> {
+    outln!(
         "{:>8} {:>8} {:>8} {:>8} {:>7} {:>7}  {:>12} {:>9}  note",
-        "name", "x[m]", "y[m]", "z[m]", "yaw[°]", "spin[°]", "energy[J]", "time[s]"
+        "name",
+        "x[m]",
+        "y[m]",
+        "z[m]",
+        "yaw[°]",
+        "spin[°]",
+        "energy[J]",
+        "time[s]"
     );
     for (i, r) in rows.iter().enumerate() {
         let p = &r.placement;
@@ -654,7 +597,7 @@ pub fn print_rows(rows: &[Evaluated], names: Option<&[String]>) {
             ),
             Err(x) => ("-".into(), "-".into(), x.to_string()),
         };
-        println!(
+        outln!(
             "{name:>8} {:>8.3} {:>8.3} {:>8.3} {:>7.1} {:>7.1}  {e:>12} {t:>9}  {note}",
             p.x,
             p.y,
@@ -663,6 +606,7 @@ pub fn print_rows(rows: &[Evaluated], names: Option<&[String]>) {
             p.nozzle_spin.to_degrees()
         );
     }
+    Ok(())
 }
 
 /// `printwatt sweep`.
@@ -763,10 +707,10 @@ pub fn finish(
     if a.out.json {
         super::print_json_text(&rep.summary_json(true)?)?;
     } else {
-        print_rows(&rep.rows, rep.names.as_deref());
+        print_rows(&rep.rows, rep.names.as_deref())?;
         if let Some(b) = rep.best() {
             let p = &b.placement;
-            println!(
+            outln!(
                 "best: x = {:.3} m, y = {:.3} m, z = {:.3} m, yaw = {:.1}°, spin = {:.1}°: {:.1} J",
                 p.x,
                 p.y,
@@ -777,16 +721,16 @@ pub fn finish(
             );
         }
         if rep.best().is_none() {
-            print!(
+            out!(
                 "{}",
                 printwatt::search::advice::nothing_feasible_named(&rep.rows, &l.robot, &knob_flag)
             );
         }
         if let Some(s) = rep.spread_pct() {
-            println!("spread (max-min)/min: {s:.2} %");
+            outln!("spread (max-min)/min: {s:.2} %");
         }
         if let Some(s) = rep.reduction_pct() {
-            println!("reduction (max-min)/max: {s:.2} %");
+            outln!("reduction (max-min)/max: {s:.2} %");
         }
     }
     Ok(())
@@ -945,18 +889,19 @@ pub fn write_shard(
     rd.write(shard::HEADER, text.as_bytes())?;
     let dir = rd.commit()?;
     if json {
-        println!("{text}");
+        outln!("{text}");
     } else {
         let from = match o.source {
             ShardSource::Given => "as given",
             ShardSource::Slurm => "from the Slurm job array",
             ShardSource::Kubernetes => "from the Kubernetes Indexed Job",
         };
-        println!(
+        outln!(
             "shard {} of {} ({from}): {done}",
-            o.shard.index, o.shard.count
+            o.shard.index,
+            o.shard.count
         );
-        println!("wrote {}", dir.display());
+        outln!("wrote {}", dir.display());
     }
     Ok(())
 }

@@ -1,4 +1,4 @@
-//! RNEA of [`LANES`] samples in lockstep, structure of arrays (issue 12 item 3).
+//! RNEA of [`LANES`] samples in lockstep, structure of arrays.
 //!
 //! One kernel, [`rnea_lanes`], generic over the number of lanes `W`: the lockstep levels run
 //! it with `W =` [`LANES`], and the scalar reference ([`super::rnea_with_sincos`], [`super::rnea`]
@@ -7,7 +7,7 @@
 //! the torques are bit-identical on every [`crate::simd::Level`]; the lanes only change how
 //! many samples one instruction serves.
 //!
-//! # Formulation (session 10)
+//! # Formulation
 //!
 //! The joint rotation is `R_i = C_i Rz(q_i)` with a constant `C_i` ([`super::DynModel`]).
 //! `Rᵢᵀ v` is taken as `Rz(q)ᵀ (Cᵀ v)` and `R v` as `C (Rz(q) v)`: `Rz` costs four products
@@ -569,7 +569,7 @@ pub(crate) fn rnea_lanes<const W: usize>(
         }
         // Backward: the torque of joint i, then its force and moment into the parent's frame
         // (`R v = C (Rz v)`); into link 0 only the moment's z component. The running force and
-        // moment stay in registers (session 12): link i − 1's total is its own (from the
+        // moment stay in registers: link i − 1's total is its own (from the
         // forward pass) plus its child's, the same addition as accumulating into its slot,
         // without storing it to read it back.
         let (mut fi, mut ni) = (f[n - 1], nn[n - 1]);
@@ -625,64 +625,26 @@ pub(super) fn rnea_one(
     }
 }
 
-fn rnea_sse2(m: &DynModel, b: &StateBatch, tau: &mut [Lanes; MAX_DOF]) {
-    rnea_lanes(
-        m,
-        &b.s,
-        &b.c,
-        &b.qd,
-        &b.qdd,
-        tau,
-        &mut RneaScratch::default(),
-    )
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-fn rnea_avx2(m: &DynModel, b: &StateBatch, tau: &mut [Lanes; MAX_DOF]) {
-    rnea_lanes(
-        m,
-        &b.s,
-        &b.c,
-        &b.qd,
-        &b.qdd,
-        tau,
-        &mut RneaScratch::default(),
-    )
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-fn rnea_avx512(m: &DynModel, b: &StateBatch, tau: &mut [Lanes; MAX_DOF]) {
-    rnea_lanes(
-        m,
-        &b.s,
-        &b.c,
-        &b.qd,
-        &b.qdd,
-        tau,
-        &mut RneaScratch::default(),
-    )
-}
-
 /// Joint torques `tau[j][lane]` (N·m) of the [`LANES`] samples of `b` by RNEA
 /// (`τ = M(q) q̈ + C(q, q̇) q̇ + G(q)`, plus the armature when the model has it), with the
-/// instruction set `level` ([`Level::Scalar`] runs the baseline build of the same kernel).
-/// Bit-identical, lane by lane, to [`super::rnea_with_sincos`] of each sample. A `level`
-/// this CPU lacks runs the baseline build. Only for a [`DynModel::batchable`] model
+/// instruction set `level` ([`crate::simd::run`]; [`Level::Scalar`] and a level this CPU
+/// lacks run the baseline build of the same kernel). Bit-identical, lane by lane, to
+/// [`super::rnea_with_sincos`] of each sample. Only for a [`DynModel::batchable`] model
 /// (revolute joints); for others the result is unspecified.
 pub fn rnea_batch(m: &DynModel, b: &StateBatch, tau: &mut [Lanes; MAX_DOF], level: Level) {
-    match level {
-        #[cfg(target_arch = "x86_64")]
-        Level::Avx512 if Level::Avx512.available() => {
-            // SAFETY: the CPU has AVX-512F (checked just above).
-            unsafe { rnea_avx512(m, b, tau) }
-        }
-        #[cfg(target_arch = "x86_64")]
-        Level::Avx2 if Level::Avx2.available() => {
-            // SAFETY: the CPU has AVX2 and FMA (checked just above).
-            unsafe { rnea_avx2(m, b, tau) }
-        }
-        _ => rnea_sse2(m, b, tau),
-    }
+    crate::simd::run(
+        level,
+        #[inline(always)]
+        || {
+            rnea_lanes(
+                m,
+                &b.s,
+                &b.c,
+                &b.qd,
+                &b.qdd,
+                tau,
+                &mut RneaScratch::default(),
+            )
+        },
+    )
 }

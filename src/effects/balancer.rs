@@ -67,8 +67,10 @@ pub(crate) fn build(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
         ("balancer_base_m", t.balancer_base_m),
     ] {
         if let Some(x) = v {
-            if !(x.is_finite() && x > 0.0) {
-                return Err(ctx.bad(key, format!("must be finite and > 0 m, got {x}")));
+            // A spring balancer's lever and base are parts of the arm: a few tenths of a
+            // metre, never more than the arm (10 m bounds every robot printwatt models).
+            if !(x.is_finite() && x > 0.0 && x <= 10.0) {
+                return Err(ctx.bad(key, format!("must be finite and in (0, 10] m, got {x}")));
             }
         }
     }

@@ -1,4 +1,4 @@
-//! The energy pass of [`LANES`] samples in lockstep, structure of arrays (issue 12 item 3):
+//! The energy pass of [`LANES`] samples in lockstep, structure of arrays:
 //! RNEA ([`crate::dynamics::rnea_batch`]), then the torque effects, the motor model and the
 //! supply lane by lane in plain `[f64; LANES]` loops compiled for the level in force
 //! ([`crate::simd`]), so that they vectorise like RNEA does.
@@ -428,7 +428,7 @@ fn tail_lanes<const ALL: bool>(model: &EnergyModel, x: &Inputs<'_>, out: &mut Po
     }
 }
 
-/// [`tail_lanes`]`::<false>` then [`sums_lanes`] of a full batch, fused (session 12): the
+/// [`tail_lanes`]`::<false>` then [`sums_lanes`] of a full batch, fused: the
 /// effects into local torques, then joint by joint the motor model, the sums and the
 /// supply's running sums with the joint's powers in registers. Nothing is written into
 /// [`PowerLanes`] to be read back by the sums (the supply's reads of each joint's `p_el` had
@@ -658,7 +658,7 @@ fn transpose_full<const N: usize>(r: &Rows<'_>, x: &mut LaneInputs, angles: &[bo
 /// Eight rows of `N ≤ 8` consecutive values (`src[l · stride + k]`, `k < N`, row `l < 8`)
 /// into lanes (`dst[k][l]`) in AVX-512 registers: masked row loads, an 8 × 8 transpose
 /// (unpacks of pairs, then 128-bit shuffles, 30 instructions) and whole-vector stores. The
-/// same values as the value-by-value copy (moves only); session 11: the copy's 8 scalar
+/// same values as the value-by-value copy (moves only); the copy's 8 scalar
 /// stores per vector could not be forwarded to the vector loads that read them right after.
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx512f")]

@@ -61,10 +61,9 @@
 //!
 //! # When the full evaluation is used instead
 //! The placement is evaluated in full (and the estimate records why) when the stated error is
-//! still above [`ReduceOptions::max_rel_error`] with the most nodes. (Until 2026-11-26 also
-//! where a ramp made a limit bind again: the controller's model then lowered the acceleration
-//! of the whole path, which re-planning a layer on its own cannot reproduce; it now lowers it
-//! over that ramp only.)
+//! still above [`ReduceOptions::max_rel_error`] with the most nodes.
+//! (A ramp where a limit binds again lowers the acceleration over that ramp only, which
+//! re-planning a layer on its own reproduces.)
 //! The wrist rule (near the wrist singularity, joints 4 and 6 within a share of their limits)
 //! needs joint rates: units where a tracked sample comes within twice `wrist_min` of the
 //! wrist singularity are evaluated sample by sample unless the evaluated units come near it

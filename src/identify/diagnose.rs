@@ -37,7 +37,7 @@ pub const MIN_GAIN: f64 = 0.05;
 pub const MIN_DELTA_BIC: f64 = 10.0;
 /// Materiality: on some channel, the held-out RMS a significant candidate explains must reach
 /// both that channel's noise floor and this fraction of its measured RMS. An effect smaller than 1 % of the signal moves the energy by about 1 % or less,
-/// the accuracy the loop is asked to reach (issue 8 target: ≥ 99 %); a log whose only errors
+/// the accuracy the loop is asked to reach (target: ≥ 99 %); a log whose only errors
 /// are that small (e.g. 1 % link-mass and inertia errors) has nothing missing.
 pub const MIN_MATERIAL: f64 = 0.01;
 

@@ -1,4 +1,4 @@
-//! Where the model fails, in the ways a person reads a residual (issue 8, item 7): per joint,
+//! Where the model fails, in the ways a person reads a residual: per joint,
 //! the residual (model − measured) binned against the joint's velocity (friction shows as a
 //! step at q̇ = 0), position (gravity and balancer errors) and time (drift), and a ranking of
 //! the structures that explain the residual beyond the noise floor.

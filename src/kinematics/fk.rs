@@ -6,7 +6,7 @@
 use super::{JointVec, MAX_DOF};
 use crate::math::{Frame, V3};
 use crate::robot::{JointKind, RobotModel};
-use crate::simd::{Level, LANES};
+use crate::simd::{F64s, Level, LANES};
 
 /// Every frame of the chain at one joint vector, base frame, m / rad.
 #[derive(Clone, Copy, Debug)]
@@ -456,31 +456,11 @@ impl FastChain {
             self.batchable(),
             "tool_batch on a chain it does not apply to"
         );
-        match level {
-            #[cfg(target_arch = "x86_64")]
-            Level::Avx512 if Level::Avx512.available() => {
-                // SAFETY: the CPU has AVX-512F (checked just above).
-                unsafe { self.tool_avx512(q) }
-            }
-            #[cfg(target_arch = "x86_64")]
-            Level::Avx2 if Level::Avx2.available() => {
-                // SAFETY: the CPU has AVX2 and FMA (checked just above).
-                unsafe { self.tool_avx2(q) }
-            }
-            _ => self.tool_lanes(q),
-        }
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx512f")]
-    fn tool_avx512(&self, q: &[Lanes; MAX_DOF]) -> ToolBatch {
-        self.tool_lanes(q)
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    fn tool_avx2(&self, q: &[Lanes; MAX_DOF]) -> ToolBatch {
-        self.tool_lanes(q)
+        crate::simd::run(
+            level,
+            #[inline(always)]
+            || self.tool_lanes(q),
+        )
     }
 }
 
@@ -506,113 +486,23 @@ pub struct CheckLanes {
     pub c: [Lanes; MAX_DOF],
 }
 
-/// Vector registers of `f64` for [`FastChain::check_lanes`]'s products: the rotation and
-/// position of a chunk of lanes are carried from joint to joint as register values (plain
-/// per-lane arrays are spilled to memory between the joints of a runtime loop).
-#[cfg(target_arch = "x86_64")]
-mod reg {
-    use std::arch::x86_64::*;
-
-    /// `W` lanes of `f64` in one register. The methods are `unsafe`: the CPU must have the
-    /// instruction set of the type (the callers are compiled for it and dispatch on it).
-    pub(super) trait V: Copy {
-        const W: usize;
-        unsafe fn splat(x: f64) -> Self;
-        unsafe fn load(p: &[f64]) -> Self;
-        unsafe fn store(self, p: &mut [f64]);
-        unsafe fn add(self, o: Self) -> Self;
-        unsafe fn sub(self, o: Self) -> Self;
-        unsafe fn mul(self, o: Self) -> Self;
-    }
-
-    macro_rules! reg {
-        ($t:ty, $w:expr, $set:ident, $ld:ident, $st:ident, $add:ident, $sub:ident, $mul:ident) => {
-            impl V for $t {
-                const W: usize = $w;
-                #[inline(always)]
-                unsafe fn splat(x: f64) -> Self {
-                    $set(x)
-                }
-                #[inline(always)]
-                unsafe fn load(p: &[f64]) -> Self {
-                    assert!(p.len() >= $w);
-                    $ld(p.as_ptr())
-                }
-                #[inline(always)]
-                unsafe fn store(self, p: &mut [f64]) {
-                    assert!(p.len() >= $w);
-                    $st(p.as_mut_ptr(), self)
-                }
-                #[inline(always)]
-                unsafe fn add(self, o: Self) -> Self {
-                    $add(self, o)
-                }
-                #[inline(always)]
-                unsafe fn sub(self, o: Self) -> Self {
-                    $sub(self, o)
-                }
-                #[inline(always)]
-                unsafe fn mul(self, o: Self) -> Self {
-                    $mul(self, o)
-                }
-            }
-        };
-    }
-    reg!(
-        __m128d,
-        2,
-        _mm_set1_pd,
-        _mm_loadu_pd,
-        _mm_storeu_pd,
-        _mm_add_pd,
-        _mm_sub_pd,
-        _mm_mul_pd
-    );
-    reg!(
-        __m256d,
-        4,
-        _mm256_set1_pd,
-        _mm256_loadu_pd,
-        _mm256_storeu_pd,
-        _mm256_add_pd,
-        _mm256_sub_pd,
-        _mm256_mul_pd
-    );
-    reg!(
-        __m512d,
-        8,
-        _mm512_set1_pd,
-        _mm512_loadu_pd,
-        _mm512_storeu_pd,
-        _mm512_add_pd,
-        _mm512_sub_pd,
-        _mm512_mul_pd
-    );
-
-    /// Rotate columns `A` and `B` of `r` by the angle with sine `sg · s` and cosine `c`
-    /// ([`super::rot_cols`] in registers).
-    #[inline(always)]
-    pub(super) unsafe fn rot_cols<T: V, const A: usize, const B: usize>(
-        r: &mut [[T; 3]; 3],
-        s: T,
-        c: T,
-        sg: f64,
-    ) {
-        let ss = T::splat(sg).mul(s);
-        for row in r.iter_mut() {
-            let (ra, rb) = (row[A], row[B]);
-            row[A] = ra.mul(c).add(rb.mul(ss));
-            row[B] = rb.mul(c).sub(ra.mul(ss));
-        }
+/// Rotate columns `A` and `B` of `r` by the angle with sine `sg · s` and cosine `c`
+/// ([`rot_cols`] in registers).
+#[inline(always)]
+fn rot_cols_reg<R: F64s, const A: usize, const B: usize>(r: &mut [[R; 3]; 3], s: R, c: R, sg: f64) {
+    let ss = R::splat(sg).mul(s);
+    for row in r.iter_mut() {
+        let (ra, rb) = (row[A], row[B]);
+        row[A] = ra.mul(c).add(rb.mul(ss));
+        row[B] = rb.mul(c).sub(ra.mul(ss));
     }
 }
 
 impl FastChain {
     /// The position and rotation errors of [`FastChain::check_lanes`] in registers of `T`,
     /// chunk by chunk of the lanes.
-    #[cfg(target_arch = "x86_64")]
     #[inline(always)]
-    unsafe fn check_errors<T: reg::V>(
+    fn check_errors<T: F64s>(
         &self,
         s: &[Lanes; MAX_DOF],
         c: &[Lanes; MAX_DOF],
@@ -650,9 +540,9 @@ impl FastChain {
                 }
                 let (sv, cv) = (T::load(&s[i][h..]), T::load(&c[i][h..]));
                 match j.axis {
-                    Axis::X(sg) => reg::rot_cols::<T, 1, 2>(&mut r, sv, cv, sg),
-                    Axis::Y(sg) => reg::rot_cols::<T, 2, 0>(&mut r, sv, cv, sg),
-                    Axis::Z(sg) => reg::rot_cols::<T, 0, 1>(&mut r, sv, cv, sg),
+                    Axis::X(sg) => rot_cols_reg::<T, 1, 2>(&mut r, sv, cv, sg),
+                    Axis::Y(sg) => rot_cols_reg::<T, 2, 0>(&mut r, sv, cv, sg),
+                    Axis::Z(sg) => rot_cols_reg::<T, 0, 1>(&mut r, sv, cv, sg),
                     Axis::General(_) => unreachable!("FastChain::batchable excludes general axes"),
                 }
             }
@@ -675,18 +565,6 @@ impl FastChain {
             d2.store(&mut dp2[h..]);
             e2.store(&mut f2[h..]);
         }
-    }
-
-    /// The body of [`FastChain::check_lanes`] on the caller's instruction set.
-    #[cfg(not(target_arch = "x86_64"))]
-    #[inline(always)]
-    fn check_sincos(&self, q: &[Lanes; MAX_DOF]) -> ([Lanes; MAX_DOF], [Lanes; MAX_DOF]) {
-        let mut s_out = [[0.0; LANES]; MAX_DOF];
-        let mut c_out = [[1.0; LANES]; MAX_DOF];
-        for i in 0..self.n {
-            (s_out[i], c_out[i]) = crate::fastmath::sin_cos_lanes_tiny_in_kernel(&q[i]);
-        }
-        (s_out, c_out)
     }
 
     /// The rotation [`FastChain::check_lanes`] compares against for tool poses of the
@@ -714,164 +592,52 @@ impl FastChain {
             self.batchable(),
             "check_lanes on a chain it does not apply to"
         );
-        let m = check_rot;
-        match level {
-            #[cfg(target_arch = "x86_64")]
-            Level::Avx512 if Level::Avx512.available() => {
-                // SAFETY: the CPU has AVX-512F (checked just above).
-                unsafe { self.check_avx512(q, m, tp) }
-            }
-            #[cfg(target_arch = "x86_64")]
-            Level::Avx2 if Level::Avx2.available() => {
-                // SAFETY: the CPU has AVX2 and FMA (checked just above).
-                unsafe { self.check_avx2(q, m, tp) }
-            }
-            #[cfg(target_arch = "x86_64")]
-            // SAFETY: SSE2 is part of x86-64.
-            _ => unsafe { <Sse2 as Measure>::measure(self, q, m, tp) },
-            #[cfg(not(target_arch = "x86_64"))]
-            _ => {
-                let (s, c) = self.check_sincos(q);
-                let tb = self.tool_lanes(q);
-                let (mut dp2, mut f2) = ([0.0; LANES], [0.0; LANES]);
-                for l in 0..LANES {
-                    for i in 0..3 {
-                        let d = tb.pos[i][l] - tp[i][l];
-                        dp2[l] += d * d;
-                        for j in 0..3 {
-                            let d = tb.rot[i][j][l] - (m * self.tail.rot)[(i, j)];
-                            f2[l] += d * d;
-                        }
-                    }
-                }
-                CheckLanes { dp2, f2, s, c }
+        struct K<'a> {
+            chain: &'a FastChain,
+            q: &'a [Lanes; MAX_DOF],
+            m: &'a crate::math::M3,
+            tp: &'a [Lanes; 3],
+        }
+        impl crate::simd::Kernel for K<'_> {
+            type Out = CheckLanes;
+            #[inline(always)]
+            fn run<R: F64s>(self) -> CheckLanes {
+                self.chain
+                    .measure_then::<R, _>(self.q, self.m, self.tp, |c| *c)
             }
         }
+        crate::simd::dispatch(
+            level,
+            K {
+                chain: self,
+                q,
+                m: check_rot,
+                tp,
+            },
+        )
     }
 
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx512f")]
-    fn check_avx512(
+    /// [`FastChain::check_lanes`] on the registers `R`, handed to `then` in place (a
+    /// returned [`CheckLanes`] is copied even when inlined: a kilobyte per call). Inlined into
+    /// the caller's kernel, so it runs on the caller's instruction set.
+    #[inline(always)]
+    pub(crate) fn measure_then<R: F64s, T>(
         &self,
         q: &[Lanes; MAX_DOF],
-        m: &crate::math::M3,
-        tp: &[Lanes; 3],
-    ) -> CheckLanes {
-        // SAFETY: the CPU has AVX-512F (this function's own target feature).
-        unsafe { <Avx512 as Measure>::measure(self, q, m, tp) }
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    fn check_avx2(&self, q: &[Lanes; MAX_DOF], m: &crate::math::M3, tp: &[Lanes; 3]) -> CheckLanes {
-        // SAFETY: the CPU has AVX2 (this function's own target feature).
-        unsafe { <Avx2 as Measure>::measure(self, q, m, tp) }
-    }
-}
-
-/// [`FastChain::check_lanes`]' measurement on one instruction set, inlined into a caller
-/// compiled for it (so that its answer is built in the caller's frame, not returned by
-/// copy): [`Sse2`], [`Avx2`], [`Avx512`]. The same operations and bits as `check_lanes` on
-/// the matching [`Level`].
-pub(crate) trait Measure {
-    /// Whether the implementor's instruction set has AVX (256-bit `f64` vectors).
-    const AVX: bool = false;
-
-    /// [`FastChain::check_lanes`] of `q` against `check_rot` and `tp`.
-    ///
-    /// # Safety
-    /// The CPU must have the implementor's instruction set, and the caller must be compiled
-    /// for it (`#[target_feature]`) for the body to be inlined.
-    #[inline(always)]
-    unsafe fn measure(
-        chain: &FastChain,
-        q: &[Lanes; MAX_DOF],
         check_rot: &crate::math::M3,
         tp: &[Lanes; 3],
-    ) -> CheckLanes {
-        // SAFETY: the caller's contract.
-        unsafe { Self::measure_then(chain, q, check_rot, tp, |c| *c) }
-    }
-
-    /// [`Measure::measure`] handed to `then` in place (a returned [`CheckLanes`] is copied
-    /// even when inlined: a kilobyte per call).
-    ///
-    /// # Safety
-    /// As [`Measure::measure`].
-    unsafe fn measure_then<R>(
-        chain: &FastChain,
-        q: &[Lanes; MAX_DOF],
-        check_rot: &crate::math::M3,
-        tp: &[Lanes; 3],
-        then: impl FnOnce(&CheckLanes) -> R,
-    ) -> R;
-}
-
-/// [`Measure`] on the baseline instruction set (SSE2 on x86-64; plain lanes elsewhere).
-pub(crate) struct Sse2;
-/// [`Measure`] on AVX2 + FMA ([`Level::Avx2`]).
-#[cfg(target_arch = "x86_64")]
-pub(crate) struct Avx2;
-/// [`Measure`] on AVX-512F ([`Level::Avx512`]).
-#[cfg(target_arch = "x86_64")]
-pub(crate) struct Avx512;
-
-#[cfg(target_arch = "x86_64")]
-macro_rules! measure_impl {
-    ($t:ty, $reg:ty, $avx:expr) => {
-        impl Measure for $t {
-            const AVX: bool = $avx;
-
-            #[inline(always)]
-            unsafe fn measure_then<R>(
-                chain: &FastChain,
-                q: &[Lanes; MAX_DOF],
-                check_rot: &crate::math::M3,
-                tp: &[Lanes; 3],
-                then: impl FnOnce(&CheckLanes) -> R,
-            ) -> R {
-                let mut out = CheckLanes {
-                    dp2: [0.0; LANES],
-                    f2: [0.0; LANES],
-                    s: [[0.0; LANES]; MAX_DOF],
-                    c: [[1.0; LANES]; MAX_DOF],
-                };
-                for i in 0..chain.n {
-                    (out.s[i], out.c[i]) = crate::fastmath::sin_cos_lanes_tiny_in_kernel(&q[i]);
-                }
-                // SAFETY: the caller's contract (this instruction set).
-                unsafe {
-                    chain.check_errors::<$reg>(
-                        &out.s,
-                        &out.c,
-                        check_rot,
-                        tp,
-                        &mut out.dp2,
-                        &mut out.f2,
-                    )
-                };
-                then(&out)
-            }
+        then: impl FnOnce(&CheckLanes) -> T,
+    ) -> T {
+        let mut out = CheckLanes {
+            dp2: [0.0; LANES],
+            f2: [0.0; LANES],
+            s: [[0.0; LANES]; MAX_DOF],
+            c: [[1.0; LANES]; MAX_DOF],
+        };
+        for (i, qi) in q.iter().enumerate().take(self.n) {
+            (out.s[i], out.c[i]) = crate::fastmath::sin_cos_lanes_tiny_in_kernel(qi);
         }
-    };
-}
-#[cfg(target_arch = "x86_64")]
-measure_impl!(Sse2, std::arch::x86_64::__m128d, false);
-#[cfg(target_arch = "x86_64")]
-measure_impl!(Avx2, std::arch::x86_64::__m256d, true);
-#[cfg(target_arch = "x86_64")]
-measure_impl!(Avx512, std::arch::x86_64::__m512d, true);
-
-#[cfg(not(target_arch = "x86_64"))]
-impl Measure for Sse2 {
-    #[inline(always)]
-    unsafe fn measure_then<R>(
-        chain: &FastChain,
-        q: &[Lanes; MAX_DOF],
-        check_rot: &crate::math::M3,
-        tp: &[Lanes; 3],
-        then: impl FnOnce(&CheckLanes) -> R,
-    ) -> R {
-        then(&chain.check_lanes(q, check_rot, tp, Level::Scalar))
+        self.check_errors::<R>(&out.s, &out.c, check_rot, tp, &mut out.dp2, &mut out.f2);
+        then(&out)
     }
 }

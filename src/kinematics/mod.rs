@@ -321,22 +321,10 @@ pub fn fit_limits(
     // `floor`, `ceil` and `round` are exact, so every build gives the same answer; with SSE4.1
     // they are instructions instead of libm calls (a wide-range joint continuing past ±π takes
     // them on every sample).
-    #[cfg(target_arch = "x86_64")]
-    if std::is_x86_feature_detected!("sse4.1") {
-        // SAFETY: the CPU has SSE4.1 (checked just above).
-        return unsafe { fit_limits_sse41(model, q, q_ref) };
-    }
-    fit_limits_body(model, q, q_ref)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "sse4.1")]
-fn fit_limits_sse41(
-    model: &RobotModel,
-    q: &mut [f64],
-    q_ref: Option<&[f64]>,
-) -> Result<(), IkFailure> {
-    fit_limits_body(model, q, q_ref)
+    crate::simd::with_rounding(
+        #[inline(always)]
+        || fit_limits_body(model, q, q_ref),
+    )
 }
 
 #[inline(always)]
@@ -395,7 +383,7 @@ fn fit_limits_body(
 /// The joint limits [`fit_limits`] reads, gathered once per solver (a robot's joints are
 /// large records; the per-sample fit of path IK reads six of their numbers): per joint the
 /// limits, the limits widened by the fit's tolerance (`lower − 1e-9`, `upper + 1e-9`, the
-/// same sums `fit_limits` forms per call) and the kind, and whether the CPU has SSE4.1.
+/// same sums `fit_limits` forms per call) and the kind.
 /// [`LimitTable::fit`] is [`fit_limits`], bit for bit.
 #[derive(Clone, Debug)]
 pub struct LimitTable {
@@ -405,7 +393,6 @@ pub struct LimitTable {
     lower_tol: [f64; MAX_DOF],
     upper_tol: [f64; MAX_DOF],
     revolute: [bool; MAX_DOF],
-    sse41: bool,
 }
 
 /// Tolerance of [`fit_limits`]' limit checks, rad (m).
@@ -421,10 +408,6 @@ impl LimitTable {
             lower_tol: [0.0; MAX_DOF],
             upper_tol: [0.0; MAX_DOF],
             revolute: [false; MAX_DOF],
-            #[cfg(target_arch = "x86_64")]
-            sse41: std::is_x86_feature_detected!("sse4.1"),
-            #[cfg(not(target_arch = "x86_64"))]
-            sse41: false,
         };
         for (i, j) in model.joints.iter().take(MAX_DOF).enumerate() {
             t.lower[i] = j.lower;
@@ -475,12 +458,10 @@ impl LimitTable {
         if inside {
             return Ok(());
         }
-        #[cfg(target_arch = "x86_64")]
-        if self.sse41 {
-            // SAFETY: the CPU has SSE4.1 (detected when the table was made).
-            return unsafe { self.fit_sse41(model, q, q_ref) };
-        }
-        self.fit_joints(model, q, q_ref)
+        crate::simd::with_rounding(
+            #[inline(always)]
+            || self.fit_joints(model, q, q_ref),
+        )
     }
 
     /// [`LimitTable::fit`] of joint `j` (revolute) over [`crate::simd::LANES`] values `v` (rad)
@@ -532,16 +513,11 @@ impl LimitTable {
     ) -> u32 {
         use crate::simd::{Level, LANES};
         match level {
-            #[cfg(target_arch = "x86_64")]
-            Level::Avx512 if Level::Avx512.available() => {
-                // SAFETY: the CPU has AVX-512F (checked just above).
-                unsafe { self.accepts_lanes_avx512(qj) }
-            }
-            #[cfg(target_arch = "x86_64")]
-            Level::Avx2 if Level::Avx2.available() => {
-                // SAFETY: the CPU has AVX2 and FMA (checked just above).
-                unsafe { self.accepts_lanes_avx2(qj) }
-            }
+            Level::Avx512 | Level::Avx2 if level.available() => crate::simd::run(
+                level,
+                #[inline(always)]
+                || self.accepts_lanes_body(qj),
+            ),
             _ => {
                 let mut all = [1u64; LANES];
                 for (j, v) in qj.iter().enumerate() {
@@ -576,29 +552,6 @@ impl LimitTable {
             mask |= u32::from(*a != 0) << l;
         }
         mask
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx512f")]
-    fn accepts_lanes_avx512(&self, qj: &[[f64; crate::simd::LANES]; 6]) -> u32 {
-        self.accepts_lanes_body(qj)
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    fn accepts_lanes_avx2(&self, qj: &[[f64; crate::simd::LANES]; 6]) -> u32 {
-        self.accepts_lanes_body(qj)
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "sse4.1")]
-    fn fit_sse41(
-        &self,
-        model: &RobotModel,
-        q: &mut [f64],
-        q_ref: Option<&[f64]>,
-    ) -> Result<(), IkFailure> {
-        self.fit_joints(model, q, q_ref)
     }
 
     /// fit_limits_body with the table's numbers: the same operations in the same order.
@@ -667,53 +620,6 @@ pub struct PathTarget {
     frot: M3,
     off: V3,
     check_rot: M3,
-}
-
-/// `out[l · 12 + j] = s[j][l]`, `out[l · 12 + 6 + j] = c[j][l]` for the 6 joints and
-/// [`crate::simd::LANES`] lanes (the layout [`IkSolver::check_lanes`] writes), by 4 × 4 block
-/// transposes in AVX registers: the same values, moved.
-///
-/// # Safety
-/// The CPU has AVX and the caller is compiled for it; `out` holds `LANES · 12` values.
-#[cfg(target_arch = "x86_64")]
-#[inline(always)]
-unsafe fn transpose_sincos_avx(
-    s: &[[f64; crate::simd::LANES]; MAX_DOF],
-    c: &[[f64; crate::simd::LANES]; MAX_DOF],
-    out: &mut [std::mem::MaybeUninit<f64>],
-) {
-    use std::arch::x86_64::*;
-    const _: () = assert!(crate::simd::LANES == 8);
-    assert!(out.len() >= crate::simd::LANES * 12);
-    let rows: [&[f64; crate::simd::LANES]; 12] = [
-        &s[0], &s[1], &s[2], &s[3], &s[4], &s[5], &c[0], &c[1], &c[2], &c[3], &c[4], &c[5],
-    ];
-    let o = out.as_mut_ptr() as *mut f64;
-    // SAFETY: the caller's contract (AVX; `out` long enough: the asserted length); the
-    // loads read 4 of a row's 8 lanes.
-    unsafe {
-        for h in [0, 4] {
-            for g in 0..3 {
-                let r0 = _mm256_loadu_pd(rows[4 * g].as_ptr().add(h));
-                let r1 = _mm256_loadu_pd(rows[4 * g + 1].as_ptr().add(h));
-                let r2 = _mm256_loadu_pd(rows[4 * g + 2].as_ptr().add(h));
-                let r3 = _mm256_loadu_pd(rows[4 * g + 3].as_ptr().add(h));
-                let t0 = _mm256_unpacklo_pd(r0, r1);
-                let t1 = _mm256_unpackhi_pd(r0, r1);
-                let t2 = _mm256_unpacklo_pd(r2, r3);
-                let t3 = _mm256_unpackhi_pd(r2, r3);
-                let lanes = [
-                    _mm256_permute2f128_pd::<0x20>(t0, t2),
-                    _mm256_permute2f128_pd::<0x20>(t1, t3),
-                    _mm256_permute2f128_pd::<0x31>(t0, t2),
-                    _mm256_permute2f128_pd::<0x31>(t1, t3),
-                ];
-                for (i, v) in lanes.into_iter().enumerate() {
-                    _mm256_storeu_pd(o.add((h + i) * 12 + 4 * g), v);
-                }
-            }
-        }
-    }
 }
 
 /// Where [`IkSolver::check_lanes`]' sines and cosines go: into a slice, or appended.
@@ -1027,23 +933,14 @@ impl<'a> IkSolver<'a> {
         slack: f64,
         level: crate::simd::Level,
     ) -> u32 {
-        use crate::simd::Level;
         let (Some(p), Some(k)) = (&self.model.opw, &self.opw_k) else {
             return 0;
         };
-        let ok = match level {
-            #[cfg(target_arch = "x86_64")]
-            Level::Avx512 if Level::Avx512.available() => {
-                // SAFETY: the CPU has AVX-512F (checked just above).
-                unsafe { opw::arm_reaches_front_avx512(p, k, c, slack) }
-            }
-            #[cfg(target_arch = "x86_64")]
-            Level::Avx2 if Level::Avx2.available() => {
-                // SAFETY: the CPU has AVX2 and FMA (checked just above).
-                unsafe { opw::arm_reaches_front_avx2(p, k, c, slack) }
-            }
-            _ => opw::arm_reaches_front_lanes(p, k, c, slack),
-        };
+        let ok = crate::simd::run(
+            level,
+            #[inline(always)]
+            || opw::arm_reaches_front_lanes(p, k, c, slack),
+        );
         let mut mask = 0u32;
         for (l, o) in ok.iter().enumerate() {
             mask |= u32::from(*o != 0) << l;
@@ -1261,10 +1158,19 @@ impl<'a> IkSolver<'a> {
         q_prev: &[f64],
         level: crate::simd::Level,
     ) -> Option<opw::BranchBatch> {
-        self.solve_near_batch_at(&self.path_target(rot), tips, q_prev, None, level)
+        use crate::simd::LANES;
+        let mut tp = [[0.0; LANES]; 3];
+        let count = tips.len().min(LANES);
+        for (l, t) in tips.iter().take(LANES).enumerate() {
+            (tp[0][l], tp[1][l], tp[2][l]) = (t.x, t.y, t.z);
+        }
+        let mut b = opw::BranchBatch::default();
+        let target = self.path_target(rot);
+        self.solve_near_batch_lanes(&target, &tp, count, q_prev, None, level, &mut b)
+            .then_some(b)
     }
 
-    /// What the lockstep path IK ([`IkSolver::solve_near_batch_at`],
+    /// What the lockstep path IK ([`IkSolver::solve_near_batch_lanes`],
     /// [`IkSolver::check_lanes`]) computes once per tool orientation `rot` (base frame).
     pub fn path_target(&self, rot: &M3) -> PathTarget {
         PathTarget {
@@ -1273,44 +1179,6 @@ impl<'a> IkSolver<'a> {
             off: rot * self.tool_inv.pos,
             check_rot: self.chain.check_rotation(rot),
         }
-    }
-
-    /// [`IkSolver::solve_near_batch`] for the orientation of `target`
-    /// ([`IkSolver::path_target`]) and with the branch of `q_prev` when the caller knows it
-    /// (`branch`: exactly [`opw::Prepared::branch_of`]`(q_prev)`, e.g.
-    /// [`Continuing::branch_after`]); `None` computes it.
-    pub fn solve_near_batch_at(
-        &self,
-        target: &PathTarget,
-        tips: &[V3],
-        q_prev: &[f64],
-        branch: Option<Branch>,
-        level: crate::simd::Level,
-    ) -> Option<opw::BranchBatch> {
-        let mut b = opw::BranchBatch::default();
-        self.solve_near_batch_into(target, tips, q_prev, branch, level, &mut b)
-            .then_some(b)
-    }
-
-    /// [`IkSolver::solve_near_batch_at`] into `batch` (overwritten): `true` with the same
-    /// batch, bit for bit, where that gives `Some`; `false` (and `batch` untouched) where it
-    /// gives `None`. For callers that keep one batch across a path.
-    pub fn solve_near_batch_into(
-        &self,
-        target: &PathTarget,
-        tips: &[V3],
-        q_prev: &[f64],
-        branch: Option<Branch>,
-        level: crate::simd::Level,
-        batch: &mut opw::BranchBatch,
-    ) -> bool {
-        use crate::simd::LANES;
-        let mut tp = [[0.0; LANES]; 3];
-        let count = tips.len().min(LANES);
-        for (l, t) in tips.iter().take(LANES).enumerate() {
-            (tp[0][l], tp[1][l], tp[2][l]) = (t.x, t.y, t.z);
-        }
-        self.solve_near_batch_lanes(target, &tp, count, q_prev, branch, level, batch)
     }
 
     /// The closed form's parameters for the lockstep path IK continuing `q_prev` (rad);
@@ -1350,8 +1218,15 @@ impl<'a> IkSolver<'a> {
         }
     }
 
-    /// [`IkSolver::solve_near_batch_into`] of the `count` tips given lane by lane
-    /// (`tp[i][lane]`, m; lanes from `count` on are ignored): the same batch, bit for bit.
+    /// The closed form of the `count` tips given lane by lane (`tp[i][lane]`, base frame, m;
+    /// lanes from `count` on are ignored) with the orientation of `target`
+    /// ([`IkSolver::path_target`]), in lockstep on `level`, into `batch` (overwritten), for
+    /// the branch that continues `q_prev` (rad): `branch` when the caller knows it (exactly
+    /// [`opw::Prepared::branch_of`]`(q_prev)`, e.g. [`Continuing::branch_after`]), else
+    /// computed. `false` (and `batch` untouched) for a robot without closed form or a
+    /// `q_prev` of the wrong length. Each sample's answer is then taken with
+    /// [`IkSolver::take_near`]. [`IkSolver::solve_near_batch`] is the same for tips given
+    /// sample by sample.
     #[allow(clippy::too_many_arguments)]
     pub fn solve_near_batch_lanes(
         &self,
@@ -1529,7 +1404,7 @@ impl<'a> IkSolver<'a> {
         level: crate::simd::Level,
         out: &mut Continuing,
     ) {
-        use crate::simd::{Level, LANES};
+        use crate::simd::LANES;
         out.taken = 0;
         out.branch_after = batch.branch;
         if self.model.dof() != 6 || self.limits.n != 6 || q_prev.len() != 6 {
@@ -1540,86 +1415,48 @@ impl<'a> IkSolver<'a> {
             return;
         }
         let count = count.min(LANES);
-        match level {
-            #[cfg(target_arch = "x86_64")]
-            Level::Avx512 if Level::Avx512.available() => {
-                // SAFETY: the CPU has AVX-512F (checked just above).
-                unsafe {
-                    self.continuing_avx512(batch, count, q_prev, max_step, step_at_first, out)
-                }
-            }
-            #[cfg(target_arch = "x86_64")]
-            Level::Avx2 if Level::Avx2.available() => {
-                // SAFETY: the CPU has AVX2 and FMA (checked just above).
-                unsafe { self.continuing_avx2(batch, count, q_prev, max_step, step_at_first, out) }
-            }
-            // SAFETY: plain lane loops need no instruction set.
-            _ => unsafe {
-                self.continuing_body::<lane_ops::Plain>(
-                    batch,
-                    count,
-                    q_prev,
-                    max_step,
-                    step_at_first,
-                    out,
+        struct K<'a, 's> {
+            solver: &'a IkSolver<'s>,
+            batch: &'a opw::BranchBatch,
+            count: usize,
+            q_prev: &'a [f64],
+            max_step: &'a [f64; MAX_DOF],
+            step_at_first: bool,
+            out: &'a mut Continuing,
+        }
+        impl crate::simd::Kernel for K<'_, '_> {
+            type Out = ();
+            #[inline(always)]
+            fn run<R: crate::simd::F64s>(self) {
+                self.solver.continuing_body::<R>(
+                    self.batch,
+                    self.count,
+                    self.q_prev,
+                    self.max_step,
+                    self.step_at_first,
+                    self.out,
                 )
+            }
+        }
+        crate::simd::dispatch(
+            level,
+            K {
+                solver: self,
+                batch,
+                count,
+                q_prev,
+                max_step,
+                step_at_first,
+                out,
             },
-        }
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx512f")]
-    fn continuing_avx512(
-        &self,
-        batch: &opw::BranchBatch,
-        count: usize,
-        q_prev: &[f64],
-        max_step: &[f64; MAX_DOF],
-        step_at_first: bool,
-        out: &mut Continuing,
-    ) {
-        // SAFETY: AVX-512F implies AVX2 (this function's own target feature).
-        unsafe {
-            self.continuing_body::<lane_ops::Avx2>(
-                batch,
-                count,
-                q_prev,
-                max_step,
-                step_at_first,
-                out,
-            )
-        }
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    fn continuing_avx2(
-        &self,
-        batch: &opw::BranchBatch,
-        count: usize,
-        q_prev: &[f64],
-        max_step: &[f64; MAX_DOF],
-        step_at_first: bool,
-        out: &mut Continuing,
-    ) {
-        // SAFETY: the CPU has AVX2 (this function's own target feature).
-        unsafe {
-            self.continuing_body::<lane_ops::Avx2>(
-                batch,
-                count,
-                q_prev,
-                max_step,
-                step_at_first,
-                out,
-            )
-        }
+        )
     }
 
     /// The per-lane verdicts of [`IkSolver::continuing_lanes`] (6 joints), the answers joint
     /// by joint, and the branch of each lane's answer, in lockstep.
     #[allow(clippy::needless_range_loop)] // lanes of parallel fixed arrays
     #[inline(always)]
-    unsafe fn continuing_body<M: lane_ops::LaneOps>(
+    fn continuing_body<R: crate::simd::F64s>(
         &self,
         batch: &opw::BranchBatch,
         count: usize,
@@ -1650,8 +1487,7 @@ impl<'a> IkSolver<'a> {
             let mut centre = [0.0; LANES];
             centre[0] = q_prev[j];
             centre[1..].copy_from_slice(&v[..LANES - 1]);
-            // SAFETY: the caller's contract (M's instruction set).
-            let inside = unsafe { M::inside(v, &centre, t.lower[j], t.upper[j]) };
+            let inside = lane_ops::inside::<R>(v, &centre, t.lower[j], t.upper[j]);
             let fb = if t.revolute[j] && inside == ALL {
                 *v
             } else {
@@ -1673,8 +1509,7 @@ impl<'a> IkSolver<'a> {
                 shifted |= matches!(j, 1 | 2 | 4) && moved != 0;
                 fb
             };
-            // SAFETY: the caller's contract (M's instruction set).
-            over |= unsafe { M::step(&fb, &centre, max_step[j], &mut dist) };
+            over |= lane_ops::step::<R>(&fb, &centre, max_step[j], &mut dist);
             fitted[j] = fb;
         }
         let mut step = !over;
@@ -1688,8 +1523,7 @@ impl<'a> IkSolver<'a> {
             (Some(p), Some(k)) if shifted => opw::branch_of_joints(p, k, fitted),
             _ => batch.next_branch,
         };
-        // SAFETY: the caller's contract (M's instruction set).
-        let wrist_ok = unsafe { M::wrist_ok(&batch.s5, &dist, self.flip_bound) };
+        let wrist_ok = lane_ops::wrist_ok::<R>(&batch.s5, &dist, self.flip_bound);
         let mut branch_ok = 1u32;
         for l in 1..LANES {
             branch_ok |= u32::from(next[l - 1] == batch.branch) << l;
@@ -1719,27 +1553,11 @@ impl<'a> IkSolver<'a> {
         sincos: &mut [f64],
         level: crate::simd::Level,
     ) -> Result<(), (usize, IkFailure)> {
-        use crate::simd::Level;
         assert!(
             self.chain.batchable(),
             "check_lanes on a chain it does not apply to"
         );
-        match level {
-            #[cfg(target_arch = "x86_64")]
-            Level::Avx512 if Level::Avx512.available() => {
-                // SAFETY: the CPU has AVX-512F (checked just above).
-                unsafe { self.check_lanes_avx512(count, q, target, tips, None, Out::Slice(sincos)) }
-            }
-            #[cfg(target_arch = "x86_64")]
-            Level::Avx2 if Level::Avx2.available() => {
-                // SAFETY: the CPU has AVX2 and FMA (checked just above).
-                unsafe { self.check_lanes_avx2(count, q, target, tips, None, Out::Slice(sincos)) }
-            }
-            // SAFETY: the baseline instruction set.
-            _ => unsafe {
-                self.check_lanes_with::<fk::Sse2>(count, q, target, tips, None, Out::Slice(sincos))
-            },
-        }
+        self.check_lanes_dispatch(count, q, target, tips, None, Out::Slice(sincos), level)
     }
 
     /// [`IkSolver::check_lanes`] that appends the sines and cosines of the `count` answers
@@ -1757,65 +1575,68 @@ impl<'a> IkSolver<'a> {
         sincos: &mut Vec<f64>,
         level: crate::simd::Level,
     ) -> Result<(), (usize, IkFailure)> {
-        use crate::simd::Level;
         assert!(
             self.chain.batchable(),
             "check_lanes on a chain it does not apply to"
         );
-        let out = Out::Push(sincos);
-        match level {
-            #[cfg(target_arch = "x86_64")]
-            Level::Avx512 if Level::Avx512.available() => {
-                // SAFETY: the CPU has AVX-512F (checked just above).
-                unsafe { self.check_lanes_avx512(count, q, target, tips, Some(tp), out) }
-            }
-            #[cfg(target_arch = "x86_64")]
-            Level::Avx2 if Level::Avx2.available() => {
-                // SAFETY: the CPU has AVX2 and FMA (checked just above).
-                unsafe { self.check_lanes_avx2(count, q, target, tips, Some(tp), out) }
-            }
-            // SAFETY: the baseline instruction set.
-            _ => unsafe {
-                self.check_lanes_with::<fk::Sse2>(count, q, target, tips, Some(tp), out)
-            },
+        self.check_lanes_dispatch(count, q, target, tips, Some(tp), Out::Push(sincos), level)
+    }
+
+    /// [`IkSolver::check_lanes_with`] at the register width of `level`: the one kernel behind
+    /// [`IkSolver::check_lanes`] and [`IkSolver::check_lanes_push`].
+    #[allow(clippy::too_many_arguments)]
+    fn check_lanes_dispatch(
+        &self,
+        count: usize,
+        q: &[[f64; crate::simd::LANES]; MAX_DOF],
+        target: &PathTarget,
+        tips: &[V3],
+        tp: Option<&[[f64; crate::simd::LANES]; 3]>,
+        out: Out<'_>,
+        level: crate::simd::Level,
+    ) -> Result<(), (usize, IkFailure)> {
+        struct K<'a, 's, 'o> {
+            solver: &'a IkSolver<'s>,
+            count: usize,
+            q: &'a [[f64; crate::simd::LANES]; MAX_DOF],
+            target: &'a PathTarget,
+            tips: &'a [V3],
+            tp: Option<&'a [[f64; crate::simd::LANES]; 3]>,
+            out: Out<'o>,
         }
+        impl crate::simd::Kernel for K<'_, '_, '_> {
+            type Out = Result<(), (usize, IkFailure)>;
+            #[inline(always)]
+            fn run<R: crate::simd::F64s>(self) -> Self::Out {
+                self.solver.check_lanes_with::<R>(
+                    self.count,
+                    self.q,
+                    self.target,
+                    self.tips,
+                    self.tp,
+                    self.out,
+                )
+            }
+        }
+        crate::simd::dispatch(
+            level,
+            K {
+                solver: self,
+                count,
+                q,
+                target,
+                tips,
+                tp,
+                out,
+            },
+        )
     }
 
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx512f")]
-    fn check_lanes_avx512(
-        &self,
-        count: usize,
-        q: &[[f64; crate::simd::LANES]; MAX_DOF],
-        target: &PathTarget,
-        tips: &[V3],
-        tp_in: Option<&[[f64; crate::simd::LANES]; 3]>,
-        sincos: Out<'_>,
-    ) -> Result<(), (usize, IkFailure)> {
-        // SAFETY: the CPU has AVX-512F (this function's own target feature).
-        unsafe { self.check_lanes_with::<fk::Avx512>(count, q, target, tips, tp_in, sincos) }
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    fn check_lanes_avx2(
-        &self,
-        count: usize,
-        q: &[[f64; crate::simd::LANES]; MAX_DOF],
-        target: &PathTarget,
-        tips: &[V3],
-        tp_in: Option<&[[f64; crate::simd::LANES]; 3]>,
-        sincos: Out<'_>,
-    ) -> Result<(), (usize, IkFailure)> {
-        // SAFETY: the CPU has AVX2 and FMA (this function's own target feature).
-        unsafe { self.check_lanes_with::<fk::Avx2>(count, q, target, tips, tp_in, sincos) }
-    }
-
-    /// The body of [`IkSolver::check_lanes`] with the measurement `M` inlined (the caller is
-    /// compiled for `M`'s instruction set, which the CPU has).
+    /// The body of [`IkSolver::check_lanes`] on the registers `R` (inlined into the dispatch,
+    /// so compiled for their instruction set).
     #[allow(clippy::needless_range_loop)] // lanes of parallel fixed arrays
     #[inline(always)]
-    unsafe fn check_lanes_with<M: fk::Measure>(
+    fn check_lanes_with<R: crate::simd::F64s>(
         &self,
         count: usize,
         q: &[[f64; crate::simd::LANES]; MAX_DOF],
@@ -1885,35 +1706,18 @@ impl<'a> IkSolver<'a> {
                     }
                 }
                 Out::Push(sincos) => {
-                    // Written into the spare capacity, then the length set: no zero fill.
-                    let len = sincos.len();
-                    sincos.reserve(count * 2 * n);
-                    let spare = &mut sincos.spare_capacity_mut()[..count * 2 * n];
-                    #[cfg(target_arch = "x86_64")]
-                    if M::AVX && n == 6 && count == LANES {
-                        // SAFETY: M's instruction set has AVX (the caller's contract);
-                        // `spare` holds LANES · 12 values.
-                        unsafe { transpose_sincos_avx(&cl.s, &cl.c, spare) };
-                        // SAFETY: all LANES · 12 values past `len` were written just above.
-                        unsafe { sincos.set_len(len + count * 2 * n) };
-                        return Ok(());
+                    // Appended sample by sample: the sines, then the cosines.
+                    let mut rows = [&cl.s[0]; 2 * MAX_DOF];
+                    for j in 0..n {
+                        (rows[j], rows[n + j]) = (&cl.s[j], &cl.c[j]);
                     }
-                    for (l, out) in spare.chunks_exact_mut(2 * n).enumerate() {
-                        let (so, co) = out.split_at_mut(n);
-                        for j in 0..n {
-                            so[j].write(cl.s[j][l]);
-                            co[j].write(cl.c[j][l]);
-                        }
-                    }
-                    // SAFETY: the `count · 2 n` values past `len` were written just above
-                    // (`chunks_exact_mut` of exactly that length, every entry of each chunk).
-                    unsafe { sincos.set_len(len + count * 2 * n) };
+                    crate::simd::push_transposed::<R>(sincos, &rows[..2 * n], count);
                 }
             }
             Ok(())
         };
-        // SAFETY: the caller's contract (M's instruction set).
-        unsafe { M::measure_then(&self.chain, q, &target.check_rot, tp, judge) }
+        self.chain
+            .measure_then::<R, _>(q, &target.check_rot, tp, judge)
     }
 
     /// The FK re-check of `count ≤` [`crate::simd::LANES`] answers in lockstep: lane `l` is the
@@ -2164,140 +1968,54 @@ pub fn singularity_measures(model: &RobotModel, q: &[f64]) -> SingularityMeasure
     }
 }
 
-/// The lane verdicts of [`IkSolver::continuing_lanes`] as bit masks (bit `l`: lane `l`), on
-/// one instruction set: [`lane_ops::Plain`] (lane loops) and, on x86-64, [`lane_ops::Avx2`]
-/// (vector compares and `movemask`). The same comparisons (ordered, quiet: NaN fails
-/// each), so the same verdicts on every level.
+/// The lane verdicts of [`IkSolver::continuing_lanes`] as bit masks (bit `l`: lane `l`), a
+/// register of `R` at a time: compares straight to masks. The same comparisons (ordered,
+/// quiet: NaN fails each) on every register type, so the same verdicts on every level.
 mod lane_ops {
-    use crate::simd::LANES;
+    use crate::simd::{F64s, LANES};
     use std::f64::consts::PI;
 
     type Lanes = [f64; LANES];
 
-    pub(super) trait LaneOps {
-        /// `(x ≥ lo) ∧ (x ≤ hi) ∧ (|x − c| < π)` per lane (`x` = `v`, `c` = `centre`).
-        ///
-        /// # Safety
-        /// The CPU has the implementor's instruction set and the caller is compiled for it.
-        unsafe fn inside(v: &Lanes, centre: &Lanes, lo: f64, hi: f64) -> u32;
-        /// `|fb − c| > max` per lane (`c` = `centre`), and `dist ← max(dist, |fb − c|)`
-        /// (`f64::max`: a NaN step leaves `dist`).
-        ///
-        /// # Safety
-        /// As [`LaneOps::inside`].
-        unsafe fn step(fb: &Lanes, centre: &Lanes, max: f64, dist: &mut Lanes) -> u32;
-        /// `(s5 > NEAR_WRIST_SINGULARITY) ∨ (flip_bound ∧ dist ≤ FLIP_CANNOT_WIN_RAD)`.
-        ///
-        /// # Safety
-        /// As [`LaneOps::inside`].
-        unsafe fn wrist_ok(s5: &Lanes, dist: &Lanes, flip_bound: bool) -> u32;
+    /// `(x ≥ lo) ∧ (x ≤ hi) ∧ (|x − c| < π)` per lane (`x` = `v`, `c` = `centre`).
+    #[inline(always)]
+    pub(super) fn inside<R: F64s>(v: &Lanes, centre: &Lanes, lo: f64, hi: f64) -> u32 {
+        let (lo, hi, pi) = (R::splat(lo), R::splat(hi), R::splat(PI));
+        let mut m = 0u32;
+        for h in (0..LANES).step_by(R::W) {
+            let x = R::load(&v[h..]);
+            let d = x.sub(R::load(&centre[h..])).abs();
+            m |= (x.ge(lo) & x.le(hi) & d.lt(pi)) << h;
+        }
+        m
     }
 
-    /// Lane loops (any instruction set).
-    pub(super) struct Plain;
-
-    impl LaneOps for Plain {
-        #[inline(always)]
-        unsafe fn inside(v: &Lanes, centre: &Lanes, lo: f64, hi: f64) -> u32 {
-            let mut m = 0u32;
-            for (l, (x, c)) in v.iter().zip(centre).enumerate() {
-                m |= u32::from((*x >= lo) & (*x <= hi) & ((x - c).abs() < PI)) << l;
-            }
-            m
+    /// `|fb − c| > max` per lane (`c` = `centre`), and `dist ← max(dist, |fb − c|)`
+    /// (`f64::max`: a NaN step leaves `dist`).
+    #[inline(always)]
+    pub(super) fn step<R: F64s>(fb: &Lanes, centre: &Lanes, max: f64, dist: &mut Lanes) -> u32 {
+        let max = R::splat(max);
+        let mut m = 0u32;
+        for h in (0..LANES).step_by(R::W) {
+            let d = R::load(&fb[h..]).sub(R::load(&centre[h..])).abs();
+            m |= d.gt(max) << h;
+            R::load(&dist[h..]).max(d).store(&mut dist[h..]);
         }
-
-        #[inline(always)]
-        unsafe fn step(fb: &Lanes, centre: &Lanes, max: f64, dist: &mut Lanes) -> u32 {
-            let mut m = 0u32;
-            for (l, ((f, c), dl)) in fb.iter().zip(centre).zip(dist.iter_mut()).enumerate() {
-                let d = (f - c).abs();
-                m |= u32::from(d > max) << l;
-                *dl = dl.max(d);
-            }
-            m
-        }
-
-        #[inline(always)]
-        unsafe fn wrist_ok(s5: &Lanes, dist: &Lanes, flip_bound: bool) -> u32 {
-            let mut m = 0u32;
-            for (l, (s, d)) in s5.iter().zip(dist).enumerate() {
-                let w = (*s > super::NEAR_WRIST_SINGULARITY)
-                    | (flip_bound & (*d <= super::FLIP_CANNOT_WIN_RAD));
-                m |= u32::from(w) << l;
-            }
-            m
-        }
+        m
     }
 
-    /// Four lanes per `__m256d` (AVX; also under AVX-512F, which implies it).
-    #[cfg(target_arch = "x86_64")]
-    pub(super) struct Avx2;
-
-    #[cfg(target_arch = "x86_64")]
-    impl LaneOps for Avx2 {
-        #[inline(always)]
-        unsafe fn inside(v: &Lanes, centre: &Lanes, lo: f64, hi: f64) -> u32 {
-            use std::arch::x86_64::*;
-            // SAFETY: the caller's contract (AVX); loads of 4 of the 8 lanes.
-            unsafe {
-                let (lo, hi, pi) = (_mm256_set1_pd(lo), _mm256_set1_pd(hi), _mm256_set1_pd(PI));
-                let sign = _mm256_set1_pd(-0.0);
-                let mut m = 0u32;
-                for h in [0, 4] {
-                    let x = _mm256_loadu_pd(v.as_ptr().add(h));
-                    let c = _mm256_loadu_pd(centre.as_ptr().add(h));
-                    let d = _mm256_andnot_pd(sign, _mm256_sub_pd(x, c));
-                    let ok = _mm256_and_pd(
-                        _mm256_and_pd(
-                            _mm256_cmp_pd::<_CMP_GE_OQ>(x, lo),
-                            _mm256_cmp_pd::<_CMP_LE_OQ>(x, hi),
-                        ),
-                        _mm256_cmp_pd::<_CMP_LT_OQ>(d, pi),
-                    );
-                    m |= (_mm256_movemask_pd(ok) as u32) << h;
-                }
-                m
-            }
+    /// `(s5 > NEAR_WRIST_SINGULARITY) ∨ (flip_bound ∧ dist ≤ FLIP_CANNOT_WIN_RAD)`.
+    #[inline(always)]
+    pub(super) fn wrist_ok<R: F64s>(s5: &Lanes, dist: &Lanes, flip_bound: bool) -> u32 {
+        let near = R::splat(super::NEAR_WRIST_SINGULARITY);
+        let flip = R::splat(super::FLIP_CANNOT_WIN_RAD);
+        let mut m = 0u32;
+        for h in (0..LANES).step_by(R::W) {
+            let far = R::load(&s5[h..]).gt(near);
+            let near_ok = R::load(&dist[h..]).le(flip);
+            m |= (far | if flip_bound { near_ok } else { 0 }) << h;
         }
-
-        #[inline(always)]
-        unsafe fn step(fb: &Lanes, centre: &Lanes, max: f64, dist: &mut Lanes) -> u32 {
-            use std::arch::x86_64::*;
-            // SAFETY: the caller's contract (AVX); loads and stores of 4 of the 8 lanes.
-            unsafe {
-                let (max, sign) = (_mm256_set1_pd(max), _mm256_set1_pd(-0.0));
-                let mut m = 0u32;
-                for h in [0, 4] {
-                    let f = _mm256_loadu_pd(fb.as_ptr().add(h));
-                    let c = _mm256_loadu_pd(centre.as_ptr().add(h));
-                    let d = _mm256_andnot_pd(sign, _mm256_sub_pd(f, c));
-                    m |= (_mm256_movemask_pd(_mm256_cmp_pd::<_CMP_GT_OQ>(d, max)) as u32) << h;
-                    // max_pd(d, dist) is dist where d is NaN, as f64::max(dist, d).
-                    let dl = _mm256_loadu_pd(dist.as_ptr().add(h));
-                    _mm256_storeu_pd(dist.as_mut_ptr().add(h), _mm256_max_pd(d, dl));
-                }
-                m
-            }
-        }
-
-        #[inline(always)]
-        unsafe fn wrist_ok(s5: &Lanes, dist: &Lanes, flip_bound: bool) -> u32 {
-            use std::arch::x86_64::*;
-            // SAFETY: the caller's contract (AVX); loads of 4 of the 8 lanes.
-            unsafe {
-                let near = _mm256_set1_pd(super::NEAR_WRIST_SINGULARITY);
-                let flip = _mm256_set1_pd(super::FLIP_CANNOT_WIN_RAD);
-                let mut m = 0u32;
-                for h in [0, 4] {
-                    let s = _mm256_loadu_pd(s5.as_ptr().add(h));
-                    let d = _mm256_loadu_pd(dist.as_ptr().add(h));
-                    let far = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_GT_OQ>(s, near)) as u32;
-                    let near_ok = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_LE_OQ>(d, flip)) as u32;
-                    m |= (far | if flip_bound { near_ok } else { 0 }) << h;
-                }
-                m
-            }
-        }
+        m
     }
 }
 

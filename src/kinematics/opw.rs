@@ -334,28 +334,6 @@ pub(crate) fn arm_reaches_front_lanes(
     ok
 }
 
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-pub(crate) fn arm_reaches_front_avx512(
-    p: &OpwParams,
-    k: &Prepared,
-    c: &[[f64; crate::simd::LANES]; 3],
-    slack: f64,
-) -> [u64; crate::simd::LANES] {
-    arm_reaches_front_lanes(p, k, c, slack)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-pub(crate) fn arm_reaches_front_avx2(
-    p: &OpwParams,
-    k: &Prepared,
-    c: &[[f64; crate::simd::LANES]; 3],
-    slack: f64,
-) -> [u64; crate::simd::LANES] {
-    arm_reaches_front_lanes(p, k, c, slack)
-}
-
 /// Arm part (joints 1–3, OPW angles) of one shoulder/elbow branch, or why it has none.
 #[inline]
 fn arm(
@@ -903,46 +881,11 @@ pub fn solve_branch_batch_into(
     level: crate::simd::Level,
     out: &mut BranchBatch,
 ) {
-    use crate::simd::Level;
-    match level {
-        #[cfg(target_arch = "x86_64")]
-        Level::Avx512 if Level::Avx512.available() => {
-            // SAFETY: the CPU has AVX-512F (checked just above).
-            unsafe { solve_branch_avx512(p, k, rot, pos, branch, out) }
-        }
-        #[cfg(target_arch = "x86_64")]
-        Level::Avx2 if Level::Avx2.available() => {
-            // SAFETY: the CPU has AVX2 and FMA (checked just above).
-            unsafe { solve_branch_avx2(p, k, rot, pos, branch, out) }
-        }
-        _ => solve_branch_lanes(p, k, rot, pos, branch, out),
-    }
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-fn solve_branch_avx512(
-    p: &OpwParams,
-    k: &Prepared,
-    rot: &M3,
-    pos: &[Lanes; 3],
-    branch: Branch,
-    out: &mut BranchBatch,
-) {
-    solve_branch_lanes(p, k, rot, pos, branch, out)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-fn solve_branch_avx2(
-    p: &OpwParams,
-    k: &Prepared,
-    rot: &M3,
-    pos: &[Lanes; 3],
-    branch: Branch,
-    out: &mut BranchBatch,
-) {
-    solve_branch_lanes(p, k, rot, pos, branch, out)
+    crate::simd::run(
+        level,
+        #[inline(always)]
+        || solve_branch_lanes(p, k, rot, pos, branch, out),
+    )
 }
 
 /// Lanes of [`solve_branch_pair_into`]: two batches of [`crate::simd::LANES`].
@@ -966,46 +909,11 @@ pub fn solve_branch_pair_into(
     level: crate::simd::Level,
     out: [&mut BranchBatch; 2],
 ) {
-    use crate::simd::Level;
-    match level {
-        #[cfg(target_arch = "x86_64")]
-        Level::Avx512 if Level::Avx512.available() => {
-            // SAFETY: the CPU has AVX-512F (checked just above).
-            unsafe { solve_pair_avx512(p, k, rot, pos, branch, out) }
-        }
-        #[cfg(target_arch = "x86_64")]
-        Level::Avx2 if Level::Avx2.available() => {
-            // SAFETY: the CPU has AVX2 and FMA (checked just above).
-            unsafe { solve_pair_avx2(p, k, rot, pos, branch, out) }
-        }
-        _ => solve_branch_lanes_n(p, k, rot, pos, branch, out),
-    }
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-fn solve_pair_avx512(
-    p: &OpwParams,
-    k: &Prepared,
-    rot: &M3,
-    pos: &[[f64; PAIR_LANES]; 3],
-    branch: Branch,
-    out: [&mut BranchBatch; 2],
-) {
-    solve_branch_lanes_n(p, k, rot, pos, branch, out)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-fn solve_pair_avx2(
-    p: &OpwParams,
-    k: &Prepared,
-    rot: &M3,
-    pos: &[[f64; PAIR_LANES]; 3],
-    branch: Branch,
-    out: [&mut BranchBatch; 2],
-) {
-    solve_branch_lanes_n(p, k, rot, pos, branch, out)
+    crate::simd::run(
+        level,
+        #[inline(always)]
+        || solve_branch_lanes_n(p, k, rot, pos, branch, out),
+    )
 }
 
 /// Joint angles (URDF convention, rad, wrapped to (−π, π]) of one branch for the flange pose

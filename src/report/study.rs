@@ -5,7 +5,7 @@
 
 use super::html::Page;
 use super::svg::{self, esc, Frame};
-use crate::campaign::study::{CaseResult, Study};
+use crate::campaign::study::{CaseResult, Study, StudyTables};
 use crate::error::Result;
 use std::fmt::Write as _;
 
@@ -16,11 +16,22 @@ pub fn html(study: &Study, results: &[CaseResult]) -> Result<String> {
     let objective = results
         .first()
         .map_or_else(String::new, |r| r.objective.clone());
+    let mut pg = facts(study, results, &objective);
+    per_path_section(&mut pg, study, &t, &objective);
+    combinations_section(&mut pg, &t, &objective);
+    per_path_chart(&mut pg, study, results, &t, &objective);
+    pg.h2("Every case");
+    pg.raw(&case_table(study, results));
+    Ok(pg.finish())
+}
+
+/// The page with its title and the study's facts (file, objective, cases).
+fn facts(study: &Study, results: &[CaseResult], objective: &str) -> Page {
     let mut pg = Page::new(&format!("printwatt study: {}", study.name));
     let answered = results.iter().filter(|r| r.outcome.is_ok()).count();
     let mut facts = vec![
         ("study file".to_string(), study.file.display().to_string()),
-        ("objective minimised".into(), objective.clone()),
+        ("objective minimised".into(), objective.to_string()),
         (
             "cases".into(),
             format!(
@@ -42,6 +53,11 @@ pub fn html(study: &Study, results: &[CaseResult]) -> Result<String> {
     }
     pg.kv(&facts);
 
+    pg
+}
+
+/// The cheapest robot and cell of each path, and the next cheapest.
+fn per_path_section(pg: &mut Page, study: &Study, t: &StudyTables, objective: &str) {
     pg.h2("Which robot and cell for each path");
     pg.p(&format!(
         "The cheapest case of each path ({objective} energy at its optimised placement) and how much more the next cheapest needs."
@@ -79,7 +95,11 @@ pub fn html(study: &Study, results: &[CaseResult]) -> Result<String> {
         ],
         &rows,
     );
+}
 
+/// Totals of each robot-and-cell combination over the paths, and the chart of the extra
+/// energy over the cheapest complete one.
+fn combinations_section(pg: &mut Page, t: &StudyTables, objective: &str) {
     pg.h2("Robot and cell over every path");
     pg.p("Totals over the paths each robot-and-cell combination was given; combinations that print every path come first, by energy. A total over fewer paths is not comparable with a complete one.");
     // The supply column only where the objective is not the supply energy itself.
@@ -125,6 +145,11 @@ pub fn html(study: &Study, results: &[CaseResult]) -> Result<String> {
     header.push("print time [s]".into());
     header.push("paths without a feasible placement".into());
     pg.table(&header, &rows);
+    combinations_chart(pg, t, objective);
+}
+
+/// The extra energy of each combination that prints every path over the cheapest one.
+fn combinations_chart(pg: &mut Page, t: &StudyTables, objective: &str) {
     let complete: Vec<_> = t
         .combinations
         .iter()
@@ -154,14 +179,22 @@ pub fn html(study: &Study, results: &[CaseResult]) -> Result<String> {
                 )
                 .size(760.0, 360.0),
                 &cats,
-                &[(objective.clone(), vals)],
+                &[(objective.to_string(), vals)],
             ),
             "Sum over the paths of each case's energy at its optimised placement, minus the cheapest combination's.",
         );
     }
+}
 
-    // Energy per path above the path's cheapest case, one bar per robot and cell (missing:
-    // no feasible placement).
+/// Energy per path above the path's cheapest case, one bar per robot and cell (missing: no
+/// feasible placement).
+fn per_path_chart(
+    pg: &mut Page,
+    study: &Study,
+    results: &[CaseResult],
+    t: &StudyTables,
+    objective: &str,
+) {
     let mut combos: Vec<(usize, usize)> = Vec::new();
     for c in &study.cases {
         if !combos.contains(&(c.robot, c.cell)) {
@@ -207,8 +240,10 @@ pub fn html(study: &Study, results: &[CaseResult]) -> Result<String> {
         ),
         "Each case's energy at its optimised placement minus the cheapest case of the same path (0: the cheapest); \"none\": no feasible placement of that path for that robot in that cell (the case table says why).",
     );
+}
 
-    pg.h2("Every case");
+/// The table of every case: placement, energy, saving, its report or why it has none.
+fn case_table(study: &Study, results: &[CaseResult]) -> String {
     let mut tb = String::from("<table><thead><tr>");
     for h in [
         "case",
@@ -279,6 +314,5 @@ pub fn html(study: &Study, results: &[CaseResult]) -> Result<String> {
         }
     }
     tb.push_str("</tbody></table>");
-    pg.raw(&tb);
-    Ok(pg.finish())
+    tb
 }

@@ -2,7 +2,7 @@
 //! ratios, motor constants, friction, gearbox efficiency, the cabinet's standby power and
 //! regeneration policy, the default payload and the tool (nozzle) transform, plus the
 //! closed-form kinematic parameters. Every key carries its unit in its name; values are SI.
-//! The schema is documented in `robots/README.md`.
+//! The schema is documented in `docs/drive-file.md`.
 
 use crate::error::{Error, Result};
 use crate::robot::opw::OpwParams;
@@ -308,7 +308,7 @@ pub(crate) struct ToolTable {
     pub xyz_m: [f64; 3],
     #[serde(default)]
     pub rpy_rad: [f64; 3],
-    /// `[tool.geometry]`: print head and hose for collision checks (issue 9; see
+    /// `[tool.geometry]`: print head and hose for collision checks (see
     /// [`crate::robot::ToolGeometry`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub geometry: Option<ToolGeometryTable>,
@@ -357,7 +357,7 @@ pub(crate) struct JointTable {
     pub velocity_limit_rad_s: Option<f64>,
     pub position_min_rad: Option<f64>,
     pub position_max_rad: Option<f64>,
-    /// Position margin from the limits kept by placement searches, rad (issue 9).
+    /// Position margin from the limits kept by placement searches, rad.
     pub limit_margin_rad: Option<f64>,
     pub gear_ratio: Option<f64>,
     pub torque_constant_nm_per_a: Option<f64>,

@@ -10,7 +10,7 @@
 //!   mass finite; inertia finite, symmetric and positive semi-definite; the payload's inertia
 //!   also satisfies the triangle inequality (a link's violation is a warning: the published
 //!   PUMA 560 data violate it); a moving link with zero mass and zero inertia is an error;
-//! - drive: gear ratio, torque constant in (0, 1e5]; resistance, rotor inertia, viscous and
+//! - drive: gear ratio in (0, [`MAX_DRIVE_VALUE`]], torque constant in [[`MIN_TORQUE_CONSTANT`], [`MAX_DRIVE_VALUE`]]; resistance, rotor inertia, viscous and
 //!   Coulomb friction finite, >= 0 and below [`MAX_DRIVE_VALUE`]; gear efficiency in
 //!   [[`MIN_EFFICIENCY`], 1]; standby power finite >= 0;
 //! - tool transform and OPW parameters finite, lengths below [`MAX_LENGTH_M`].
@@ -30,6 +30,10 @@ pub const MAX_LENGTH_M: f64 = 100.0;
 pub const MAX_INERTIA: f64 = 1e6;
 /// Largest drive value accepted (gear ratio, K_t, R, rotor inertia, friction), SI.
 pub const MAX_DRIVE_VALUE: f64 = 1e7;
+
+/// Smallest motor torque constant accepted, N·m/A: servo motors of robot arms have 0.05 to a
+/// few N·m/A; a value far below turns any torque into an unbounded current.
+pub const MIN_TORQUE_CONSTANT: f64 = 1e-3;
 /// Smallest gear efficiency accepted (a gearbox below 1 % does not move an arm).
 pub const MIN_EFFICIENCY: f64 = 0.01;
 
@@ -327,8 +331,8 @@ pub fn validate(model: &mut RobotModel, src: &Sources) -> Result<()> {
                 (
                     "torque_constant_nm_per_a",
                     jd.torque_constant,
-                    0.0,
-                    false,
+                    MIN_TORQUE_CONSTANT,
+                    true,
                     MAX_DRIVE_VALUE,
                 ),
                 (

@@ -12,7 +12,7 @@
 //!
 //! Regret of a candidate in a draw: its energy (the objective) minus the lowest energy of any
 //! candidate in that draw, J. The recommendation minimises the expected energy over the draws
-//! ([`Criterion::Expected`]) or the largest regret ([`Criterion::Regret`]) among the candidates
+//! ([`RobustObjective::Expected`]) or the largest regret ([`RobustObjective::Regret`]) among the candidates
 //! whose tolerance box holds under the nominal robot. "Within 1 %" is against the energy a
 //! placement can change, the drives' energy of the draw's best candidate (standby, which no
 //! placement changes but through the print time, is reported separately).
@@ -41,28 +41,7 @@ use crate::search::uncertainty::{self, Ranges, Source};
 use rayon::prelude::*;
 use serde::Serialize;
 
-/// What the robust choice minimises.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
-#[serde(rename_all = "snake_case")]
-pub enum Criterion {
-    /// The expected energy over the draws (default).
-    Expected,
-    /// The worst regret over the draws.
-    Regret,
-}
-
-impl Criterion {
-    /// `expected` or `regret`. Error: anything else.
-    pub fn parse(s: &str) -> Result<Criterion> {
-        match s.trim() {
-            "expected" | "expected-energy" | "mean" => Ok(Criterion::Expected),
-            "regret" | "worst-regret" | "minimax" => Ok(Criterion::Regret),
-            o => Err(Error::Invalid(format!(
-                "--robust `{o}`: expected `expected` (expected energy) or `regret` (worst-case regret)"
-            ))),
-        }
-    }
-}
+use crate::search::job::RobustObjective;
 
 /// Options of [`robust`].
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
@@ -72,7 +51,7 @@ pub struct RobustOptions {
     /// Seed of the draws (draw `d`: ChaCha8 stream `d`).
     pub seed: u64,
     /// What the recommendation minimises.
-    pub criterion: Criterion,
+    pub criterion: RobustObjective,
     /// Ranges to draw from (`None`: the drive file's, else the defaults).
     #[serde(skip)]
     pub ranges: Option<Ranges>,
@@ -96,15 +75,15 @@ impl Default for RobustOptions {
     fn default() -> Self {
         RobustOptions {
             draws: 20,
-            seed: 42,
-            criterion: Criterion::Expected,
+            seed: crate::search::job::DEFAULT_SEED,
+            criterion: RobustObjective::Expected,
             ranges: None,
             stencil_m: 0.05,
             stencil_yaw_rad: 5f64.to_radians(),
             draw_optima: true,
             draw_evals: 40,
-            prints_per_year: 1000.0,
-            grid_kg_co2_per_kwh: 0.4,
+            prints_per_year: crate::search::job::DEFAULT_PRINTS_PER_YEAR,
+            grid_kg_co2_per_kwh: crate::search::job::DEFAULT_GRID_KG_CO2_PER_KWH,
         }
     }
 }
@@ -189,7 +168,7 @@ pub struct BoundStep {
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct Robust {
     /// What was minimised.
-    pub criterion: Criterion,
+    pub criterion: RobustObjective,
     /// Draws.
     pub draws: usize,
     /// Seed of the draws.
@@ -517,8 +496,8 @@ pub fn robust(
     // The recommendation: the best by the criterion whose tolerance box holds (nominal
     // robot), checked in order of the criterion; the nominal answer holds it.
     let score = |c: &Candidate| match o.criterion {
-        Criterion::Expected => c.expected_j,
-        Criterion::Regret => c.max_regret_j,
+        RobustObjective::Expected => c.expected_j,
+        RobustObjective::Regret => c.max_regret_j,
     };
     let mut order: Vec<usize> = (0..k).collect();
     order.sort_by(|&x, &y| {
@@ -656,8 +635,8 @@ pub fn lines(r: &Robust) -> Vec<String> {
     let nom = r.nominal();
     let p = &rec.placement;
     let crit = match r.criterion {
-        Criterion::Expected => "lowest expected energy",
-        Criterion::Regret => "lowest worst-case regret",
+        RobustObjective::Expected => "lowest expected energy",
+        RobustObjective::Regret => "lowest worst-case regret",
     };
     let mut v = vec![
         format!(

@@ -77,7 +77,7 @@ pub const LEVEL_TOLERANCE_M: f64 = 1e-6;
 
 /// A station's floor disc radius when none is given, as a share of the arm's reach
 /// ([`crate::evaluate::feasibility::reach_m`]), dimensionless. ESTIMATE: the IRB 6640 family's
-/// foot is 1107 × 720 mm at a working radius of 3.2 m (`../shared/reference/robots.md`,
+/// foot is 1107 × 720 mm at a working radius of 3.2 m (ABB product specification IRB 6640;
 /// [3rd] Joseph, *Mastering ROS for Robotics Programming*): a circumscribed radius of 0.66 m,
 /// 0.21 of the reach. A track carriage or crawler is often larger: give its radius.
 pub const FOOTPRINT_PER_REACH: f64 = 0.2;

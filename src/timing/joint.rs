@@ -498,47 +498,15 @@ pub(crate) fn track_with(
 }
 
 /// Append the joint vectors of the first `taken` lanes of `q` (`q[j][lane]`, 6 joints, rad)
-/// to `qs` row by row (`taken · 6` values): the same values, moved; a full batch by 2 × 2
-/// block transposes in SSE2 registers, straight into the vector's spare capacity.
+/// to `qs` row by row (`taken · 6` values): the same values, moved
+/// ([`crate::simd::push_transposed`]).
 fn push_rows6(
     qs: &mut Vec<f64>,
     q: &[[f64; crate::simd::LANES]; crate::kinematics::MAX_DOF],
     taken: usize,
 ) {
-    use crate::simd::LANES;
-    let taken = taken.min(LANES);
-    let len = qs.len();
-    qs.reserve(taken * 6);
-    let spare = &mut qs.spare_capacity_mut()[..taken * 6];
-    #[cfg(target_arch = "x86_64")]
-    if taken == LANES {
-        const _: () = assert!(crate::simd::LANES == 8);
-        use std::arch::x86_64::{_mm_loadu_pd, _mm_storeu_pd, _mm_unpackhi_pd, _mm_unpacklo_pd};
-        let o = spare.as_mut_ptr() as *mut f64;
-        for j in (0..6).step_by(2) {
-            for l in (0..LANES).step_by(2) {
-                // SAFETY: SSE2 is in the x86-64 baseline; the loads read lanes l, l + 1 of
-                // rows j, j + 1 (in bounds), the stores write entries l·6 + j, + 1 and
-                // (l + 1)·6 + j, + 1 of `spare`, which holds LANES · 6 values.
-                unsafe {
-                    let a = _mm_loadu_pd(q[j].as_ptr().add(l));
-                    let b = _mm_loadu_pd(q[j + 1].as_ptr().add(l));
-                    _mm_storeu_pd(o.add(l * 6 + j), _mm_unpacklo_pd(a, b));
-                    _mm_storeu_pd(o.add((l + 1) * 6 + j), _mm_unpackhi_pd(a, b));
-                }
-            }
-        }
-        // SAFETY: all LANES · 6 values past `len` were written just above.
-        unsafe { qs.set_len(len + LANES * 6) };
-        return;
-    }
-    for (l, row) in spare.chunks_exact_mut(6).enumerate() {
-        for (v, qj) in row.iter_mut().zip(q) {
-            v.write(qj[l]);
-        }
-    }
-    // SAFETY: all taken · 6 values past `len` were written just above.
-    unsafe { qs.set_len(len + taken * 6) };
+    let rows = [&q[0], &q[1], &q[2], &q[3], &q[4], &q[5]];
+    crate::simd::push_transposed::<f64>(qs, &rows, taken)
 }
 
 /// Tool-tip points of [`crate::simd::LANES`] path samples in the base frame, lane by lane
@@ -575,19 +543,11 @@ impl TipMap {
     /// lane is that point's [`Frame::apply`] bit for bit (tested).
     #[inline]
     pub(crate) fn lanes_of(&self, x: &[TipLanes], out: &mut [TipLanes], level: crate::simd::Level) {
-        match level {
-            #[cfg(target_arch = "x86_64")]
-            crate::simd::Level::Avx512 if crate::simd::Level::Avx512.available() => {
-                // SAFETY: the CPU has AVX-512F (checked just above).
-                unsafe { tip_lanes_of_avx512(self, x, out) }
-            }
-            #[cfg(target_arch = "x86_64")]
-            crate::simd::Level::Avx2 if crate::simd::Level::Avx2.available() => {
-                // SAFETY: the CPU has AVX2 and FMA (checked just above).
-                unsafe { tip_lanes_of_avx2(self, x, out) }
-            }
-            _ => tip_lanes_of_body(self, x, out),
-        }
+        crate::simd::run(
+            level,
+            #[inline(always)]
+            || tip_lanes_of_body(self, x, out),
+        )
     }
 }
 
@@ -602,18 +562,6 @@ fn tip_lanes_of_body(m: &TipMap, x: &[TipLanes], out: &mut [TipLanes]) {
             }
         }
     }
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-fn tip_lanes_of_avx512(m: &TipMap, x: &[TipLanes], out: &mut [TipLanes]) {
-    tip_lanes_of_body(m, x, out)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-fn tip_lanes_of_avx2(m: &TipMap, x: &[TipLanes], out: &mut [TipLanes]) {
-    tip_lanes_of_body(m, x, out)
 }
 
 /// Derivatives of uniformly sampled positions (row-major `len × n`, rad or m, `dt` s apart):
@@ -852,19 +800,11 @@ fn derive_screen_rows(
         &q[i0 + 2 * n..][..b],
     ];
     let (v, a) = (&mut qd[i0..i0 + b], &mut qdd[i0..i0 + b]);
-    match level {
-        #[cfg(target_arch = "x86_64")]
-        crate::simd::Level::Avx512 if crate::simd::Level::Avx512.available() => {
-            // SAFETY: the CPU has AVX-512F (checked just above).
-            unsafe { derive_screen_avx512(qs, w, v, a, lim) }
-        }
-        #[cfg(target_arch = "x86_64")]
-        crate::simd::Level::Avx2 if crate::simd::Level::Avx2.available() => {
-            // SAFETY: the CPU has AVX2 and FMA (checked just above).
-            unsafe { derive_screen_avx2(qs, w, v, a, lim) }
-        }
-        _ => derive_screen(qs, w, v, a, lim),
-    }
+    crate::simd::run(
+        level,
+        #[inline(always)]
+        || derive_screen(qs, w, v, a, lim),
+    )
 }
 
 /// The body of [`derive_screen_rows`]: `qs` the positions 2 rows before, 1 before, the
@@ -906,30 +846,6 @@ fn derive_screen(
         over |= x as u64;
     }
     over != 0
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-fn derive_screen_avx512(
-    qs: [&[f64]; 5],
-    w: ([f64; 3], [f64; 3]),
-    v: &mut [f64],
-    a: &mut [f64],
-    lim: [&[f64]; 3],
-) -> bool {
-    derive_screen(qs, w, v, a, lim)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-fn derive_screen_avx2(
-    qs: [&[f64]; 5],
-    w: ([f64; 3], [f64; 3]),
-    v: &mut [f64],
-    a: &mut [f64],
-    lim: [&[f64]; 3],
-) -> bool {
-    derive_screen(qs, w, v, a, lim)
 }
 
 /// Entries screened at once by [`screen_rows`] and [`derive_screen_rows`] (128: the calls'
@@ -1014,19 +930,11 @@ fn screen_rows(
         &q[i0 + 2 * n..][..b],
     ];
     let (v, a) = (&qd[i0..i0 + b], &qdd[i0..i0 + b]);
-    match level {
-        #[cfg(target_arch = "x86_64")]
-        crate::simd::Level::Avx512 if crate::simd::Level::Avx512.available() => {
-            // SAFETY: the CPU has AVX-512F (checked just above).
-            unsafe { screen_avx512(qs, v, a, dt, lim) }
-        }
-        #[cfg(target_arch = "x86_64")]
-        crate::simd::Level::Avx2 if crate::simd::Level::Avx2.available() => {
-            // SAFETY: the CPU has AVX2 and FMA (checked just above).
-            unsafe { screen_avx2(qs, v, a, dt, lim) }
-        }
-        _ => screen(qs, v, a, dt, lim),
-    }
+    crate::simd::run(
+        level,
+        #[inline(always)]
+        || screen(qs, v, a, dt, lim),
+    )
 }
 
 /// The body of [`screen_rows`]: `qs` the positions 2 rows before, 1 before, 1 after and 2
@@ -1049,18 +957,6 @@ fn screen(qs: [&[f64]; 4], v: &[f64], a: &[f64], dt: f64, lim: [&[f64]; 3]) -> b
         over |= x as u64;
     }
     over != 0
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-fn screen_avx512(qs: [&[f64]; 4], v: &[f64], a: &[f64], dt: f64, lim: [&[f64]; 3]) -> bool {
-    screen(qs, v, a, dt, lim)
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-fn screen_avx2(qs: [&[f64]; 4], v: &[f64], a: &[f64], dt: f64, lim: [&[f64]; 3]) -> bool {
-    screen(qs, v, a, dt, lim)
 }
 
 /// Rates of the (filtered) arc length `s` (m, `dt` s apart) at sample `k`: (ṡ m/s, s̈ m/s²,

@@ -5,7 +5,7 @@
 //! first unreachable sample and its error are the exact test's.
 
 use crate::robot::opw::OpwParams;
-use crate::simd::LANES;
+use crate::simd::{F64s, LANES};
 
 use super::joint::TipLanes;
 
@@ -72,137 +72,62 @@ impl FrontReach {
         masks: &mut [u32],
         level: crate::simd::Level,
     ) {
-        match level {
-            #[cfg(target_arch = "x86_64")]
-            crate::simd::Level::Avx512 if crate::simd::Level::Avx512.available() => {
-                // SAFETY: the CPU has AVX-512F (checked just above).
-                unsafe { masks_avx512(self, tips, d, slack, masks) }
-            }
-            #[cfg(target_arch = "x86_64")]
-            crate::simd::Level::Avx2 if crate::simd::Level::Avx2.available() => {
-                // SAFETY: the CPU has AVX2 and FMA (checked just above).
-                unsafe { masks_avx2(self, tips, d, slack, masks) }
-            }
-            _ => masks_body(self, tips, d, slack, masks),
+        struct K<'a> {
+            fr: &'a FrontReach,
+            tips: &'a [TipLanes],
+            d: [f64; 3],
+            slack: f64,
+            masks: &'a mut [u32],
         }
+        impl crate::simd::Kernel for K<'_> {
+            type Out = ();
+            #[inline(always)]
+            fn run<R: F64s>(self) {
+                masks_with::<R>(self.fr, self.tips, self.d, self.slack, self.masks)
+            }
+        }
+        crate::simd::dispatch(
+            level,
+            K {
+                fr: self,
+                tips,
+                d,
+                slack,
+                masks,
+            },
+        )
     }
 }
 
-/// The body of [`FrontReach::masks`] on any instruction set: lane loops.
-#[allow(clippy::needless_range_loop)] // lanes of parallel fixed arrays
+/// The body of [`FrontReach::masks`] in registers of `R` (`f64`: the scalar reference): per
+/// lane the operations of `arm_reaches`' `s²`, so the same masks on every register type.
 #[inline(always)]
-fn masks_body(fr: &FrontReach, tips: &[TipLanes], d: [f64; 3], slack: f64, masks: &mut [u32]) {
+fn masks_with<R: F64s>(
+    fr: &FrontReach,
+    tips: &[TipLanes],
+    d: [f64; 3],
+    slack: f64,
+    masks: &mut [u32],
+) {
+    let (d0, d1, d2) = (R::splat(d[0]), R::splat(d[1]), R::splat(d[2]));
+    let (b2, a1, c1) = (R::splat(fr.b2), R::splat(fr.a1), R::splat(fr.c1));
+    let (lo, hi, near) = (R::splat(fr.lo), R::splat(fr.hi), R::splat(-slack));
+    let zero = R::splat(0.0);
     for (t, mask) in tips.iter().zip(masks.iter_mut()) {
         let mut m = 0u32;
-        for l in 0..LANES {
+        for h in (0..LANES).step_by(R::W) {
             // The wrist centre and arm_reaches' s², with the same operations.
-            let (cx, cy, cz) = (t[0][l] + d[0], t[1][l] + d[1], t[2][l] + d[2]);
-            let rho2 = cx * cx + cy * cy - fr.b2;
-            let rho = (if rho2 > 0.0 { rho2 } else { 0.0 }).sqrt();
-            let x = rho - fr.a1;
-            let dz = cz - fr.c1;
-            let s2 = x * x + dz * dz;
+            let cx = R::load(&t[0][h..]).add(d0);
+            let cy = R::load(&t[1][h..]).add(d1);
+            let cz = R::load(&t[2][h..]).add(d2);
+            let rho2 = cx.mul(cx).add(cy.mul(cy)).sub(b2);
+            // `rho2` where positive, else 0 (a NaN stays NaN: its lane fails below anyway).
+            let rho = zero.sup(rho2).sqrt();
+            let x = rho.sub(a1);
+            let dz = cz.sub(c1);
+            let s2 = x.mul(x).add(dz.mul(dz));
             // arm_reaches' first test as it is (false for NaN), then the annulus.
-            m |= u32::from((rho2 >= -slack) & (s2 >= fr.lo) & (s2 <= fr.hi)) << l;
-        }
-        *mask = m;
-    }
-}
-
-/// [`masks_body`] in `__m512d` registers (8 lanes): the same operations, so the same masks.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-fn masks_avx512(fr: &FrontReach, tips: &[TipLanes], d: [f64; 3], slack: f64, masks: &mut [u32]) {
-    use std::arch::x86_64::*;
-    const _: () = assert!(LANES == 8);
-    let (d0, d1, d2) = (
-        _mm512_set1_pd(d[0]),
-        _mm512_set1_pd(d[1]),
-        _mm512_set1_pd(d[2]),
-    );
-    let (b2, a1, c1) = (
-        _mm512_set1_pd(fr.b2),
-        _mm512_set1_pd(fr.a1),
-        _mm512_set1_pd(fr.c1),
-    );
-    let (lo, hi, near) = (
-        _mm512_set1_pd(fr.lo),
-        _mm512_set1_pd(fr.hi),
-        _mm512_set1_pd(-slack),
-    );
-    for (t, mask) in tips.iter().zip(masks.iter_mut()) {
-        // SAFETY: AVX-512F (this function's own target feature); unaligned loads of the 8
-        // lanes of a coordinate.
-        unsafe {
-            let cx = _mm512_add_pd(_mm512_loadu_pd(t[0].as_ptr()), d0);
-            let cy = _mm512_add_pd(_mm512_loadu_pd(t[1].as_ptr()), d1);
-            let cz = _mm512_add_pd(_mm512_loadu_pd(t[2].as_ptr()), d2);
-            let rho2 = _mm512_sub_pd(
-                _mm512_add_pd(_mm512_mul_pd(cx, cx), _mm512_mul_pd(cy, cy)),
-                b2,
-            );
-            let pos = _mm512_cmp_pd_mask::<_CMP_GT_OQ>(rho2, _mm512_setzero_pd());
-            let rho = _mm512_sqrt_pd(_mm512_maskz_mov_pd(pos, rho2));
-            let x = _mm512_sub_pd(rho, a1);
-            let dz = _mm512_sub_pd(cz, c1);
-            let s2 = _mm512_add_pd(_mm512_mul_pd(x, x), _mm512_mul_pd(dz, dz));
-            let ok = _mm512_cmp_pd_mask::<_CMP_GE_OQ>(rho2, near)
-                & _mm512_cmp_pd_mask::<_CMP_GE_OQ>(s2, lo)
-                & _mm512_cmp_pd_mask::<_CMP_LE_OQ>(s2, hi);
-            *mask = u32::from(ok);
-        }
-    }
-}
-
-/// [`masks_body`] in `__m256d` registers (4 lanes each): the same operations, so the same
-/// masks.
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-fn masks_avx2(fr: &FrontReach, tips: &[TipLanes], d: [f64; 3], slack: f64, masks: &mut [u32]) {
-    use std::arch::x86_64::*;
-    const _: () = assert!(LANES == 8);
-    let (d0, d1, d2) = (
-        _mm256_set1_pd(d[0]),
-        _mm256_set1_pd(d[1]),
-        _mm256_set1_pd(d[2]),
-    );
-    let (b2, a1, c1) = (
-        _mm256_set1_pd(fr.b2),
-        _mm256_set1_pd(fr.a1),
-        _mm256_set1_pd(fr.c1),
-    );
-    let (lo, hi, near) = (
-        _mm256_set1_pd(fr.lo),
-        _mm256_set1_pd(fr.hi),
-        _mm256_set1_pd(-slack),
-    );
-    for (t, mask) in tips.iter().zip(masks.iter_mut()) {
-        let mut m = 0u32;
-        for h in [0, 4] {
-            // SAFETY: AVX (this function's own target feature); unaligned loads of 4 of the
-            // 8 lanes of a coordinate.
-            unsafe {
-                let cx = _mm256_add_pd(_mm256_loadu_pd(t[0].as_ptr().add(h)), d0);
-                let cy = _mm256_add_pd(_mm256_loadu_pd(t[1].as_ptr().add(h)), d1);
-                let cz = _mm256_add_pd(_mm256_loadu_pd(t[2].as_ptr().add(h)), d2);
-                let rho2 = _mm256_sub_pd(
-                    _mm256_add_pd(_mm256_mul_pd(cx, cx), _mm256_mul_pd(cy, cy)),
-                    b2,
-                );
-                let pos = _mm256_cmp_pd::<_CMP_GT_OQ>(rho2, _mm256_setzero_pd());
-                let rho = _mm256_sqrt_pd(_mm256_and_pd(pos, rho2));
-                let x = _mm256_sub_pd(rho, a1);
-                let dz = _mm256_sub_pd(cz, c1);
-                let s2 = _mm256_add_pd(_mm256_mul_pd(x, x), _mm256_mul_pd(dz, dz));
-                let ok = _mm256_and_pd(
-                    _mm256_and_pd(
-                        _mm256_cmp_pd::<_CMP_GE_OQ>(rho2, near),
-                        _mm256_cmp_pd::<_CMP_GE_OQ>(s2, lo),
-                    ),
-                    _mm256_cmp_pd::<_CMP_LE_OQ>(s2, hi),
-                );
-                m |= (_mm256_movemask_pd(ok) as u32) << h;
-            }
+            m |= (rho2.ge(near) & s2.ge(lo) & s2.le(hi)) << h;
         }
         *mask = m;
     }
@@ -218,7 +143,7 @@ mod tests {
     /// The masks of `tips` on every available level, checked equal.
     fn masks_on_every_level(fr: &FrontReach, tips: &[TipLanes], slack: f64) -> Vec<u32> {
         let mut want = vec![0u32; tips.len()];
-        masks_body(fr, tips, [0.0; 3], slack, &mut want);
+        masks_with::<f64>(fr, tips, [0.0; 3], slack, &mut want);
         for level in crate::simd::Level::ALL
             .into_iter()
             .filter(|l| l.available())

@@ -331,20 +331,19 @@ impl JointChecks {
         // beats the running one (about a quarter of the blocks of a feasible placement, as
         // the arm keeps nearing a limit); never without a checked joint.
         let running = (!self.limits.is_empty()).then_some(margins.joint_limit_rad.map(|m| m.1));
-        let (pass, first) = match self.level {
-            #[cfg(target_arch = "x86_64")]
-            crate::simd::Level::Avx512 => {
-                // SAFETY: the CPU has AVX-512F (JointChecks::new keeps only an available level).
-                unsafe { screen_avx512(t, q, running) }
+        struct K<'a> {
+            t: &'a ScreenTable,
+            q: &'a [f64; SCREEN_ENTRIES],
+            running: Option<Option<f64>>,
+        }
+        impl crate::simd::Kernel for K<'_> {
+            type Out = (bool, Option<usize>);
+            #[inline(always)]
+            fn run<R: crate::simd::F64s>(self) -> Self::Out {
+                screen_entries::<R>(self.t, self.q, self.running)
             }
-            #[cfg(target_arch = "x86_64")]
-            crate::simd::Level::Avx2 => {
-                // SAFETY: the CPU has AVX2 and FMA (JointChecks::new keeps only an available
-                // level).
-                unsafe { screen_avx2(t, q, running) }
-            }
-            _ => screen_entries(t, q, running),
-        };
+        }
+        let (pass, first) = crate::simd::dispatch(self.level, K { t, q, running });
         if !pass {
             return false;
         }
@@ -415,160 +414,52 @@ impl JointChecks {
 /// entry, where sought, chunk by chunk by equality with the smallest. Comparisons, selects
 /// and minima only, so every level gives the same answer.
 // `!(d >= margin)`: the negated comparison is the NaN rule (a NaN fails the screen).
-#[allow(clippy::neg_cmp_op_on_partial_ord)]
 #[inline(always)]
-fn screen_entries(
+fn screen_entries<R: crate::simd::F64s>(
     t: &ScreenTable,
     q: &[f64; SCREEN_ENTRIES],
     running: Option<Option<f64>>,
 ) -> (bool, Option<usize>) {
-    const W: usize = crate::simd::LANES;
-    let mut low = [f64::INFINITY; W];
-    let mut bad = [false; W];
-    for c in 0..SCREEN_ENTRIES / W {
-        for l in 0..W {
-            let i = c * W + l;
-            let d = distance(t, q, i);
-            bad[l] |= !(d >= t.margin[i]);
-            low[l] = if d < low[l] { d } else { low[l] };
-        }
-    }
-    let mut lowest = f64::INFINITY;
-    let mut any_bad = false;
-    for l in 0..W {
-        lowest = if low[l] < lowest { low[l] } else { lowest };
-        any_bad |= bad[l];
-    }
-    if any_bad {
-        return (false, None);
-    }
-    let Some(running) = running else {
-        return (true, None);
+    const _: () = assert!(SCREEN_ENTRIES.is_multiple_of(crate::simd::LANES));
+    // Entries c W .. (c + 1) W: `min(q − lower, upper − q)` (`if a < b { a } else { b }`).
+    let distance = |c: usize| {
+        let x = R::load(&q[c * R::W..]);
+        let a = x.sub(R::load(&t.lower[c * R::W..]));
+        let b = R::load(&t.upper[c * R::W..]).sub(x);
+        a.lt_min(b)
     };
-    if !running.is_none_or(|x| lowest < x) {
-        return (true, None);
-    }
-    for c in 0..SCREEN_ENTRIES / W {
-        let mut at = 0u32;
-        for l in 0..W {
-            at |= u32::from(distance(t, q, c * W + l) == lowest) << l;
-        }
-        if at != 0 {
-            return (true, Some(c * W + at.trailing_zeros() as usize));
-        }
-    }
-    // Not reached: some lane holds the smallest (no NaN in a passing block).
-    (true, Some(SCREEN_ENTRIES - 1))
-}
-
-/// Entry `i`'s distance from its nearer limit as [`screen_entries`] takes it, rad.
-#[inline(always)]
-fn distance(t: &ScreenTable, q: &[f64; SCREEN_ENTRIES], i: usize) -> f64 {
-    let (a, b) = (q[i] - t.lower[i], t.upper[i] - q[i]);
-    if a < b {
-        a
-    } else {
-        b
-    }
-}
-
-/// [`screen_entries`] in `__m512d` registers (8 entries each): the same comparisons,
-/// selects and minima (`vminpd(a, b)` is `if a < b { a } else { b }`), the distances kept
-/// in registers for the search of the first entry at the smallest (one mask of all 48).
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-fn screen_avx512(
-    t: &ScreenTable,
-    q: &[f64; SCREEN_ENTRIES],
-    running: Option<Option<f64>>,
-) -> (bool, Option<usize>) {
-    use std::arch::x86_64::*;
-    const V: usize = 8;
-    const _: () = assert!(SCREEN_ENTRIES.is_multiple_of(V));
-    let mut d = [_mm512_setzero_pd(); SCREEN_ENTRIES / V];
-    let mut bad: __mmask8 = 0;
-    let mut low = _mm512_set1_pd(f64::INFINITY);
-    for (c, dc) in d.iter_mut().enumerate() {
-        // SAFETY: AVX-512F (this function's own target feature); unaligned loads of entries
-        // c V .. (c + 1) V of 48.
-        unsafe {
-            let x = _mm512_loadu_pd(q.as_ptr().add(c * V));
-            let a = _mm512_sub_pd(x, _mm512_loadu_pd(t.lower.as_ptr().add(c * V)));
-            let b = _mm512_sub_pd(_mm512_loadu_pd(t.upper.as_ptr().add(c * V)), x);
-            *dc = _mm512_min_pd(a, b);
-            let m = _mm512_loadu_pd(t.margin.as_ptr().add(c * V));
-            // !(d >= margin): true for a NaN.
-            bad |= _mm512_cmp_pd_mask::<_CMP_NGE_UQ>(*dc, m);
-            low = _mm512_min_pd(*dc, low);
-        }
+    let all = u32::MAX >> (32 - R::W);
+    let mut bad = 0u32;
+    let mut low = R::splat(f64::INFINITY);
+    for c in 0..SCREEN_ENTRIES / R::W {
+        let d = distance(c);
+        // !(d >= margin): true for a NaN.
+        bad |= !d.ge(R::load(&t.margin[c * R::W..])) & all;
+        low = d.lt_min(low);
     }
     if bad != 0 {
         return (false, None);
     }
     // No NaN in a passing block: the order of the minima does not matter.
-    let lowest = _mm512_reduce_min_pd(low);
+    let mut lows = [0.0; crate::simd::LANES];
+    low.store(&mut lows);
+    let mut lowest = f64::INFINITY;
+    for &l in &lows[..R::W] {
+        lowest = if l < lowest { l } else { lowest };
+    }
     match running {
         Some(r) if r.is_none_or(|x| lowest < x) => {
-            let l = _mm512_set1_pd(lowest);
-            let mut at = 0u64;
-            for (c, dc) in d.iter().enumerate() {
-                at |= u64::from(_mm512_cmp_pd_mask::<_CMP_EQ_OQ>(*dc, l)) << (c * V);
+            let l = R::splat(lowest);
+            for c in 0..SCREEN_ENTRIES / R::W {
+                let d = distance(c);
+                // d == lowest (no NaN here).
+                let at = d.le(l) & d.ge(l);
+                if at != 0 {
+                    return (true, Some(c * R::W + at.trailing_zeros() as usize));
+                }
             }
-            (
-                true,
-                Some((at.trailing_zeros() as usize).min(SCREEN_ENTRIES - 1)),
-            )
-        }
-        _ => (true, None),
-    }
-}
-
-/// [`screen_entries`] in `__m256d` registers (4 entries each), as [`screen_avx512`].
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-fn screen_avx2(
-    t: &ScreenTable,
-    q: &[f64; SCREEN_ENTRIES],
-    running: Option<Option<f64>>,
-) -> (bool, Option<usize>) {
-    use std::arch::x86_64::*;
-    const V: usize = 4;
-    const _: () = assert!(SCREEN_ENTRIES.is_multiple_of(V));
-    let mut d = [_mm256_setzero_pd(); SCREEN_ENTRIES / V];
-    let mut bad = _mm256_setzero_pd();
-    let mut low = _mm256_set1_pd(f64::INFINITY);
-    for (c, dc) in d.iter_mut().enumerate() {
-        // SAFETY: AVX (this function's own target feature); unaligned loads of entries
-        // c V .. (c + 1) V of 48.
-        unsafe {
-            let x = _mm256_loadu_pd(q.as_ptr().add(c * V));
-            let a = _mm256_sub_pd(x, _mm256_loadu_pd(t.lower.as_ptr().add(c * V)));
-            let b = _mm256_sub_pd(_mm256_loadu_pd(t.upper.as_ptr().add(c * V)), x);
-            *dc = _mm256_min_pd(a, b);
-            let m = _mm256_loadu_pd(t.margin.as_ptr().add(c * V));
-            // !(d >= margin): true for a NaN.
-            bad = _mm256_or_pd(bad, _mm256_cmp_pd::<_CMP_NGE_UQ>(*dc, m));
-            low = _mm256_min_pd(*dc, low);
-        }
-    }
-    if _mm256_movemask_pd(bad) != 0 {
-        return (false, None);
-    }
-    // No NaN in a passing block: the order of the minima does not matter.
-    let h = _mm_min_pd(_mm256_castpd256_pd128(low), _mm256_extractf128_pd::<1>(low));
-    let lowest = _mm_cvtsd_f64(_mm_min_sd(h, _mm_unpackhi_pd(h, h)));
-    match running {
-        Some(r) if r.is_none_or(|x| lowest < x) => {
-            let l = _mm256_set1_pd(lowest);
-            let mut at = 0u64;
-            for (c, dc) in d.iter().enumerate() {
-                let eq = _mm256_movemask_pd(_mm256_cmp_pd::<_CMP_EQ_OQ>(*dc, l)) as u64;
-                at |= eq << (c * V);
-            }
-            (
-                true,
-                Some((at.trailing_zeros() as usize).min(SCREEN_ENTRIES - 1)),
-            )
+            // Not reached: some entry holds the smallest (no NaN in a passing block).
+            (true, Some(SCREEN_ENTRIES - 1))
         }
         _ => (true, None),
     }

@@ -624,24 +624,24 @@ impl CheckedLanes {
             scene,
             collide,
         };
-        match crate::simd::level() {
-            #[cfg(target_arch = "x86_64")]
-            crate::simd::Level::Avx512 if crate::simd::Level::Avx512.available() => {
-                // SAFETY: the CPU has AVX-512F (checked just above).
-                unsafe { fill_avx512(self, &inputs) }
-            }
-            #[cfg(target_arch = "x86_64")]
-            crate::simd::Level::Avx2 if crate::simd::Level::Avx2.available() => {
-                // SAFETY: the CPU has AVX2 and FMA (checked just above).
-                unsafe { fill_avx2(self, &inputs) }
-            }
-            #[cfg(target_arch = "x86_64")]
-            // SAFETY: SSE2 is part of x86-64.
-            _ => unsafe { fill_lanes::<std::arch::x86_64::__m128d>(self, &inputs) },
-            #[cfg(not(target_arch = "x86_64"))]
-            // SAFETY: plain f64 arithmetic.
-            _ => unsafe { fill_lanes::<f64>(self, &inputs) },
+        struct K<'a, 'b> {
+            c: &'a mut CheckedLanes,
+            x: &'a LaneInputs<'b>,
         }
+        impl crate::simd::Kernel for K<'_, '_> {
+            type Out = ();
+            #[inline(always)]
+            fn run<R: crate::simd::F64s>(self) {
+                fill_lanes::<R>(self.c, self.x)
+            }
+        }
+        crate::simd::dispatch(
+            crate::simd::level(),
+            K {
+                c: self,
+                x: &inputs,
+            },
+        )
     }
 }
 
@@ -663,11 +663,8 @@ struct LaneInputs<'a> {
 /// collision lanes.
 /// The collision lanes are taken a register of `T` at a time (every `T` gives the same
 /// numbers).
-///
-/// # Safety
-/// The CPU has `T`'s instruction set.
 #[inline(always)]
-unsafe fn fill_lanes<T: collision::lanes::reg::V>(c: &mut CheckedLanes, x: &LaneInputs<'_>) {
+fn fill_lanes<T: crate::simd::F64s>(c: &mut CheckedLanes, x: &LaneInputs<'_>) {
     const W: usize = crate::simd::LANES;
     let mut special = 0u32;
     if let Some((p, (psi3, k))) = x.terms {
@@ -697,32 +694,15 @@ unsafe fn fill_lanes<T: collision::lanes::reg::V>(c: &mut CheckedLanes, x: &Lane
     c.special = special;
     if x.collide {
         let world = x.scene.world;
-        // SAFETY: the caller's contract.
-        unsafe {
-            c.coll.compute::<T>(
-                x.scene.shapes,
-                &x.sc[..2 * x.n],
-                &world.base_to_part,
-                &world.bed,
-                x.scene.beads,
-                x.laid,
-            )
-        };
+        c.coll.compute::<T>(
+            x.scene.shapes,
+            &x.sc[..2 * x.n],
+            &world.base_to_part,
+            &world.bed,
+            x.scene.beads,
+            x.laid,
+        );
     }
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx512f")]
-fn fill_avx512(c: &mut CheckedLanes, x: &LaneInputs<'_>) {
-    // SAFETY: compiled for AVX-512F, called where the CPU has it.
-    unsafe { fill_lanes::<std::arch::x86_64::__m512d>(c, x) }
-}
-
-#[cfg(target_arch = "x86_64")]
-#[target_feature(enable = "avx2,fma")]
-fn fill_avx2(c: &mut CheckedLanes, x: &LaneInputs<'_>) {
-    // SAFETY: compiled for AVX2, called where the CPU has it.
-    unsafe { fill_lanes::<std::arch::x86_64::__m256d>(c, x) }
 }
 
 /// Record the singularity measures `w`, `e`, `s` in `margins`; the elbow or shoulder failure.

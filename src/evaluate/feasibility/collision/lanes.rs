@@ -16,7 +16,7 @@
 //!
 //! The lanes are computed a register's width at a time (`C` lanes: 8 on AVX-512, 4 on AVX2,
 //! 2 otherwise), the frames carried from joint to joint as register values, each body's
-//! shapes placed as its frame is made (session 11: no spills of the frames, no loop over
+//! shapes placed as its frame is made (no spills of the frames, no loop over
 //! every shape at every body, no lane-by-lane bit packing; the numbers are the same).
 
 use crate::evaluate::feasibility::collision::{
@@ -106,298 +106,17 @@ struct Around {
     laid: u32,
 }
 
-/// Registers of `f64` lanes for [`CollisionLanes::compute`]: the operations it takes, each
-/// lane by lane the IEEE operation (or select) the per-sample code runs, so every type gives
-/// the same numbers. The methods are `unsafe`: the CPU must have the type's instruction set
-/// (the callers are compiled for it and dispatch on it).
+/// The register types' raw operations ([`crate::simd::V`]), public for the tests that compare
+/// each register type with the scalar operations; the kernels here take [`F64s`].
 pub mod reg {
-    /// `W` lanes of `f64` in one register.
-    ///
-    /// # Safety
-    /// Every method needs the CPU to have the type's instruction set.
-    #[allow(clippy::missing_safety_doc)] // the trait's: the type's instruction set
-    pub trait V: Copy {
-        /// Lanes per register.
-        const W: usize;
-        /// `x` in every lane.
-        unsafe fn splat(x: f64) -> Self;
-        /// The first `W` values of `p` (panics if `p` is shorter).
-        unsafe fn load(p: &[f64]) -> Self;
-        /// Into the first `W` values of `p` (panics if `p` is shorter).
-        unsafe fn store(self, p: &mut [f64]);
-        /// `self + o`.
-        unsafe fn add(self, o: Self) -> Self;
-        /// `self − o`.
-        unsafe fn sub(self, o: Self) -> Self;
-        /// `self · o`.
-        unsafe fn mul(self, o: Self) -> Self;
-        /// `√self`.
-        unsafe fn sqrt(self) -> Self;
-        /// `if self <= o { self } else { o }` (nalgebra's `inf`).
-        unsafe fn inf(self, o: Self) -> Self;
-        /// `if self >= o { self } else { o }` (nalgebra's `sup`).
-        unsafe fn sup(self, o: Self) -> Self;
-        /// `if self < o { self } else { o }`.
-        unsafe fn lt_min(self, o: Self) -> Self;
-        /// `f64::max` (the other operand where one is NaN; the sign of a zero result
-        /// is unspecified, as `f64::max`'s).
-        unsafe fn max(self, o: Self) -> Self;
-        /// Bit `l`: `a ≤ b && c ≥ d` in lane `l` (false with a NaN).
-        unsafe fn le_ge(a: Self, b: Self, c: Self, d: Self) -> u32;
-    }
-
-    /// One lane: the portable fall-back.
-    impl V for f64 {
-        const W: usize = 1;
-        #[inline(always)]
-        unsafe fn splat(x: f64) -> Self {
-            x
-        }
-        #[inline(always)]
-        unsafe fn load(p: &[f64]) -> Self {
-            p[0]
-        }
-        #[inline(always)]
-        unsafe fn store(self, p: &mut [f64]) {
-            p[0] = self
-        }
-        #[inline(always)]
-        unsafe fn add(self, o: Self) -> Self {
-            self + o
-        }
-        #[inline(always)]
-        unsafe fn sub(self, o: Self) -> Self {
-            self - o
-        }
-        #[inline(always)]
-        unsafe fn mul(self, o: Self) -> Self {
-            self * o
-        }
-        #[inline(always)]
-        unsafe fn sqrt(self) -> Self {
-            self.sqrt()
-        }
-        #[inline(always)]
-        unsafe fn inf(self, o: Self) -> Self {
-            if self <= o {
-                self
-            } else {
-                o
-            }
-        }
-        #[inline(always)]
-        unsafe fn sup(self, o: Self) -> Self {
-            if self >= o {
-                self
-            } else {
-                o
-            }
-        }
-        #[inline(always)]
-        unsafe fn lt_min(self, o: Self) -> Self {
-            if self < o {
-                self
-            } else {
-                o
-            }
-        }
-        #[inline(always)]
-        unsafe fn max(self, o: Self) -> Self {
-            f64::max(self, o)
-        }
-        #[inline(always)]
-        unsafe fn le_ge(a: Self, b: Self, c: Self, d: Self) -> u32 {
-            u32::from(a <= b && c >= d)
-        }
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    mod x86 {
-        use super::V;
-        use std::arch::x86_64::*;
-
-        impl V for __m128d {
-            const W: usize = 2;
-            #[inline(always)]
-            unsafe fn splat(x: f64) -> Self {
-                _mm_set1_pd(x)
-            }
-            #[inline(always)]
-            unsafe fn load(p: &[f64]) -> Self {
-                assert!(p.len() >= 2);
-                _mm_loadu_pd(p.as_ptr())
-            }
-            #[inline(always)]
-            unsafe fn store(self, p: &mut [f64]) {
-                assert!(p.len() >= 2);
-                _mm_storeu_pd(p.as_mut_ptr(), self)
-            }
-            #[inline(always)]
-            unsafe fn add(self, o: Self) -> Self {
-                _mm_add_pd(self, o)
-            }
-            #[inline(always)]
-            unsafe fn sub(self, o: Self) -> Self {
-                _mm_sub_pd(self, o)
-            }
-            #[inline(always)]
-            unsafe fn mul(self, o: Self) -> Self {
-                _mm_mul_pd(self, o)
-            }
-            #[inline(always)]
-            unsafe fn sqrt(self) -> Self {
-                _mm_sqrt_pd(self)
-            }
-            #[inline(always)]
-            unsafe fn inf(self, o: Self) -> Self {
-                let m = _mm_cmple_pd(self, o);
-                _mm_or_pd(_mm_and_pd(m, self), _mm_andnot_pd(m, o))
-            }
-            #[inline(always)]
-            unsafe fn sup(self, o: Self) -> Self {
-                let m = _mm_cmpge_pd(self, o);
-                _mm_or_pd(_mm_and_pd(m, self), _mm_andnot_pd(m, o))
-            }
-            #[inline(always)]
-            unsafe fn lt_min(self, o: Self) -> Self {
-                // MINPD: the first operand where it is less, else the second.
-                _mm_min_pd(self, o)
-            }
-            #[inline(always)]
-            unsafe fn max(self, o: Self) -> Self {
-                // MAXPD gives `o` where either is NaN: `self` where `o` is.
-                let m = _mm_max_pd(self, o);
-                let nan = _mm_cmpunord_pd(o, o);
-                _mm_or_pd(_mm_and_pd(nan, self), _mm_andnot_pd(nan, m))
-            }
-            #[inline(always)]
-            unsafe fn le_ge(a: Self, b: Self, c: Self, d: Self) -> u32 {
-                _mm_movemask_pd(_mm_and_pd(_mm_cmple_pd(a, b), _mm_cmpge_pd(c, d))) as u32
-            }
-        }
-
-        impl V for __m256d {
-            const W: usize = 4;
-            #[inline(always)]
-            unsafe fn splat(x: f64) -> Self {
-                _mm256_set1_pd(x)
-            }
-            #[inline(always)]
-            unsafe fn load(p: &[f64]) -> Self {
-                assert!(p.len() >= 4);
-                _mm256_loadu_pd(p.as_ptr())
-            }
-            #[inline(always)]
-            unsafe fn store(self, p: &mut [f64]) {
-                assert!(p.len() >= 4);
-                _mm256_storeu_pd(p.as_mut_ptr(), self)
-            }
-            #[inline(always)]
-            unsafe fn add(self, o: Self) -> Self {
-                _mm256_add_pd(self, o)
-            }
-            #[inline(always)]
-            unsafe fn sub(self, o: Self) -> Self {
-                _mm256_sub_pd(self, o)
-            }
-            #[inline(always)]
-            unsafe fn mul(self, o: Self) -> Self {
-                _mm256_mul_pd(self, o)
-            }
-            #[inline(always)]
-            unsafe fn sqrt(self) -> Self {
-                _mm256_sqrt_pd(self)
-            }
-            #[inline(always)]
-            unsafe fn inf(self, o: Self) -> Self {
-                _mm256_blendv_pd(o, self, _mm256_cmp_pd::<_CMP_LE_OQ>(self, o))
-            }
-            #[inline(always)]
-            unsafe fn sup(self, o: Self) -> Self {
-                _mm256_blendv_pd(o, self, _mm256_cmp_pd::<_CMP_GE_OQ>(self, o))
-            }
-            #[inline(always)]
-            unsafe fn lt_min(self, o: Self) -> Self {
-                _mm256_min_pd(self, o)
-            }
-            #[inline(always)]
-            unsafe fn max(self, o: Self) -> Self {
-                let m = _mm256_max_pd(self, o);
-                _mm256_blendv_pd(m, self, _mm256_cmp_pd::<_CMP_UNORD_Q>(o, o))
-            }
-            #[inline(always)]
-            unsafe fn le_ge(a: Self, b: Self, c: Self, d: Self) -> u32 {
-                let m = _mm256_and_pd(
-                    _mm256_cmp_pd::<_CMP_LE_OQ>(a, b),
-                    _mm256_cmp_pd::<_CMP_GE_OQ>(c, d),
-                );
-                _mm256_movemask_pd(m) as u32
-            }
-        }
-
-        impl V for __m512d {
-            const W: usize = 8;
-            #[inline(always)]
-            unsafe fn splat(x: f64) -> Self {
-                _mm512_set1_pd(x)
-            }
-            #[inline(always)]
-            unsafe fn load(p: &[f64]) -> Self {
-                assert!(p.len() >= 8);
-                _mm512_loadu_pd(p.as_ptr())
-            }
-            #[inline(always)]
-            unsafe fn store(self, p: &mut [f64]) {
-                assert!(p.len() >= 8);
-                _mm512_storeu_pd(p.as_mut_ptr(), self)
-            }
-            #[inline(always)]
-            unsafe fn add(self, o: Self) -> Self {
-                _mm512_add_pd(self, o)
-            }
-            #[inline(always)]
-            unsafe fn sub(self, o: Self) -> Self {
-                _mm512_sub_pd(self, o)
-            }
-            #[inline(always)]
-            unsafe fn mul(self, o: Self) -> Self {
-                _mm512_mul_pd(self, o)
-            }
-            #[inline(always)]
-            unsafe fn sqrt(self) -> Self {
-                _mm512_sqrt_pd(self)
-            }
-            #[inline(always)]
-            unsafe fn inf(self, o: Self) -> Self {
-                _mm512_mask_blend_pd(_mm512_cmp_pd_mask::<_CMP_LE_OQ>(self, o), o, self)
-            }
-            #[inline(always)]
-            unsafe fn sup(self, o: Self) -> Self {
-                _mm512_mask_blend_pd(_mm512_cmp_pd_mask::<_CMP_GE_OQ>(self, o), o, self)
-            }
-            #[inline(always)]
-            unsafe fn lt_min(self, o: Self) -> Self {
-                _mm512_min_pd(self, o)
-            }
-            #[inline(always)]
-            unsafe fn max(self, o: Self) -> Self {
-                let m = _mm512_max_pd(self, o);
-                _mm512_mask_blend_pd(_mm512_cmp_pd_mask::<_CMP_UNORD_Q>(o, o), m, self)
-            }
-            #[inline(always)]
-            unsafe fn le_ge(a: Self, b: Self, c: Self, d: Self) -> u32 {
-                let m = _mm512_cmp_pd_mask::<_CMP_LE_OQ>(a, b);
-                _mm512_mask_cmp_pd_mask::<_CMP_GE_OQ>(m, c, d) as u32
-            }
-        }
-    }
+    pub use crate::simd::V;
 }
 
-use reg::V;
+use crate::simd::F64s;
 
 /// `m · v` per lane, in nalgebra's order (`(m₀ v₀ + m₁ v₁) + m₂ v₂` per row), plus `p`.
 #[inline(always)]
-unsafe fn mul_add<T: V>(rot: &[T; 9], v: &crate::math::V3, p: &[T; 3]) -> [T; 3] {
+fn mul_add<T: F64s>(rot: &[T; 9], v: &crate::math::V3, p: &[T; 3]) -> [T; 3] {
     let (x, y, z) = (T::splat(v.x), T::splat(v.y), T::splat(v.z));
     let row = |r: usize| {
         rot[3 * r]
@@ -411,7 +130,7 @@ unsafe fn mul_add<T: V>(rot: &[T; 9], v: &crate::math::V3, p: &[T; 3]) -> [T; 3]
 
 /// `rot · m` per lane (each entry `(r₀ m₀ + r₁ m₁) + r₂ m₂`, as nalgebra multiplies).
 #[inline(always)]
-unsafe fn mul_rot<T: V>(rot: &[T; 9], m: &crate::math::M3) -> [T; 9] {
+fn mul_rot<T: F64s>(rot: &[T; 9], m: &crate::math::M3) -> [T; 9] {
     let mut out = *rot;
     for row in 0..3 {
         for col in 0..3 {
@@ -427,7 +146,7 @@ unsafe fn mul_rot<T: V>(rot: &[T; 9], m: &crate::math::M3) -> [T; 9] {
 /// Turn columns `A` and `B` of `r` by the angle with sine `sg · s` and cosine `c` per lane
 /// ([`Axis::rotate`]'s operations; the columns as constants, so the frame stays in registers).
 #[inline(always)]
-unsafe fn rot_cols<T: V, const A: usize, const B: usize>(r: &mut [T; 9], s: T, c: T, sg: f64) {
+fn rot_cols<T: F64s, const A: usize, const B: usize>(r: &mut [T; 9], s: T, c: T, sg: f64) {
     let s = T::splat(sg).mul(s);
     for row in 0..3 {
         let (ra, rb) = (r[3 * row + A], r[3 * row + B]);
@@ -441,12 +160,9 @@ impl CollisionLanes {
     /// gives the same numbers). `sincos[j]` / `sincos[n + j]`: joint `j`'s sine / cosine per
     /// lane; `world`: the robot base in the part frame; `laid`: the beads laid at each lane's
     /// sample. For an arm [`RobotShapes::lockstep`] takes.
-    ///
-    /// # Safety
-    /// The CPU has `T`'s instruction set.
     #[inline(always)]
     #[allow(clippy::needless_range_loop)] // parallel fixed arrays indexed by lane
-    pub unsafe fn compute<T: V>(
+    pub(crate) fn compute<T: F64s>(
         &mut self,
         rs: &RobotShapes,
         sincos: &[L],
@@ -493,8 +209,7 @@ impl CollisionLanes {
             }
         }
         for off in (0..LANES).step_by(T::W) {
-            // SAFETY: the caller's contract.
-            exact |= unsafe { self.chunk::<T>(rs, off, sincos, world, &at, &on_body) } << off;
+            exact |= self.chunk::<T>(rs, off, sincos, world, &at, &on_body) << off;
         }
         self.exact = exact;
     }
@@ -504,7 +219,7 @@ impl CollisionLanes {
     /// frame is made, then the self pairs' boxes. Returns bit `l`: lane `off + l` goes the
     /// per-sample way (a self pair's boxes or a shape's box and the beads' root meet).
     #[inline(always)]
-    unsafe fn chunk<T: V>(
+    fn chunk<T: F64s>(
         &mut self,
         rs: &RobotShapes,
         off: usize,
@@ -570,7 +285,7 @@ impl CollisionLanes {
     #[inline(always)]
     #[allow(clippy::too_many_arguments)]
     #[allow(clippy::needless_range_loop)] // parallel fixed arrays indexed by axis
-    unsafe fn place<T: V>(
+    fn place<T: F64s>(
         &mut self,
         rs: &RobotShapes,
         mask: u32,

@@ -1,0 +1,594 @@
+//! Run an optimisation job ([`OptimiseConfig`]) from start to report: the grid, the refinement,
+//! the full re-evaluation of a reduced answer, the baseline and the savings against it, the
+//! baseline's tolerance check, the uncertainty study, the decision (the robust choice over the
+//! drawn robots, the value of measuring each parameter, the search bounds moved outward) and
+//! the detailed placements. Front ends
+//! (the command line, the Python module, a design study) build the config and show the
+//! outcome; progress goes through an [`Observer`] (argmin's problem/solver/observer split: the
+//! library reports, the front end shows).
+//!
+//! Every rayon step runs in the caller's current pool (`pool.install(|| run(..))` to choose
+//! the thread count); the answer does not depend on it.
+
+use crate::error::{Error, Result};
+use crate::evaluate::evaluator::{Evaluated, Evaluator, Objective};
+use crate::evaluate::feasibility::FeasibilityOptions;
+use crate::evaluate::{reduce, PathJob};
+use crate::report::placement::{Detail, RunReport};
+use crate::robot::RobotModel;
+use crate::search::advice::Knob;
+use crate::search::job::{OptimiseConfig, SearchMethod};
+use crate::search::optimise::{self, feasible_centre, worst_of, OptimiseOptions};
+use crate::search::refine::{self, Bounds, SearchOptions};
+use crate::search::robust::{self, RobustOptions};
+use crate::search::tolerance::ToleranceCheck;
+use crate::search::uncertainty::{Draw, StudySetup};
+use crate::timing::JointStageOptions;
+use std::path::Path;
+
+/// A stage of an optimisation that reports progress.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Stage {
+    /// The grid of candidate placements.
+    Grid,
+    /// The refinement from the best grid cell.
+    Refinement,
+}
+
+/// Progress of a stage.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Progress {
+    /// The stage.
+    pub stage: Stage,
+    /// Evaluations done.
+    pub done: usize,
+    /// Evaluations planned (the refinement's budget for [`Stage::Refinement`]).
+    pub total: usize,
+    /// Best objective so far, J (the refinement only).
+    pub best_j: Option<f64>,
+}
+
+/// What a front end does while a job runs: show its progress, name its settings. Every method
+/// has a default that does nothing (or names a setting in words), so `&Silent` runs a job
+/// quietly.
+pub trait Observer: Sync {
+    /// A stage begins (`total` evaluations planned).
+    fn begin(&self, _stage: Stage, _total: usize) {}
+    /// A stage made progress.
+    fn progress(&self, _p: Progress) {}
+    /// A stage ended.
+    fn end(&self, _stage: Stage) {}
+    /// The front end's name for a setting (in the advice when nothing is feasible).
+    fn setting_name(&self, k: Knob) -> String {
+        k.words().to_string()
+    }
+}
+
+/// An observer that shows nothing.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct Silent;
+
+impl Observer for Silent {}
+
+/// An optimisation's answer: the report (every figure of the run's files) and the facts of the
+/// run.
+pub struct OptimiseOutcome {
+    /// The report of the run.
+    pub report: RunReport,
+    /// Wall time of the grid, the refinement and the study, s.
+    pub secs: f64,
+    /// Every evaluation the answer needed.
+    pub evaluations: usize,
+}
+
+/// The draws of one shard of an uncertainty study ([`run_shard`]).
+pub struct ShardDraws {
+    /// `(draw index, draw)`, in the order asked for.
+    pub rows: Vec<(usize, Draw)>,
+    /// Draws of the whole study.
+    pub total: usize,
+    /// Wall time of the draws, s.
+    pub draw_s: f64,
+    /// Wall time of the grid, the refinement and the draws, s.
+    pub secs: f64,
+}
+
+/// Where the uncertainty study's draws come from.
+enum Draws<'d> {
+    /// Computed here, every one.
+    All,
+    /// Computed elsewhere (the shards put together).
+    Given(&'d [Draw]),
+    /// Only these, for a shard.
+    Shard(&'d [usize]),
+}
+
+enum Answer {
+    Report(Box<OptimiseOutcome>),
+    Shard(ShardDraws),
+}
+
+/// Run an optimisation job: grid, refinement, full re-evaluation of a reduced answer, baseline
+/// and savings, the baseline's tolerance check, uncertainty study, detailed placements; the
+/// report. Errors: bad settings, no feasible grid placement (with advice, settings named by the
+/// observer), a reduced answer infeasible in full, a model error.
+pub fn run(config: &OptimiseConfig, observer: &dyn Observer) -> Result<OptimiseOutcome> {
+    match work(config, Draws::All, observer)? {
+        Answer::Report(o) => Ok(*o),
+        Answer::Shard(_) => unreachable!("no shard asked for"),
+    }
+}
+
+/// [`run`] with the uncertainty study's draws given (every draw, in draw order: the shards of
+/// a split run put together) instead of computed.
+pub fn run_merged(
+    config: &OptimiseConfig,
+    draws: &[Draw],
+    observer: &dyn Observer,
+) -> Result<OptimiseOutcome> {
+    match work(config, Draws::Given(draws), observer)? {
+        Answer::Report(o) => Ok(*o),
+        Answer::Shard(_) => unreachable!("no shard asked for"),
+    }
+}
+
+/// One shard of the uncertainty study of a job: the grid and the refinement as [`run`] (the
+/// same answer on every machine), then only the draws `indices`.
+pub fn run_shard(
+    config: &OptimiseConfig,
+    indices: &[usize],
+    observer: &dyn Observer,
+) -> Result<ShardDraws> {
+    if config.settings.uncertainty.is_none() {
+        return Err(Error::Invalid(
+            "a shard of an uncertainty study needs its number of draws".into(),
+        ));
+    }
+    match work(config, Draws::Shard(indices), observer)? {
+        Answer::Shard(s) => Ok(s),
+        Answer::Report(_) => unreachable!("a shard was asked for"),
+    }
+}
+
+/// The placement objective over `job` with the path reduction `mode` asks for (none for a
+/// path that is short or does not repeat).
+pub fn evaluator<'j, 'a>(
+    job: &'j PathJob<'a>,
+    path: &crate::toolpath::Toolpath,
+    feasibility: FeasibilityOptions,
+    objective: Objective,
+    mode: crate::search::job::EvaluationMode,
+) -> Evaluator<'j, 'a> {
+    let ev = Evaluator::new(job, feasibility, objective);
+    match mode.reduce_options() {
+        Some(o) => match reduce::Reduction::plan(job, path, o) {
+            Ok(r) => ev.with_reduction(r),
+            Err(_) => ev,
+        },
+        None => ev,
+    }
+}
+
+/// Run `f` with a refinement progress callback that reports to `observer` (the callback must
+/// own what it holds: it goes to another thread).
+fn with_refine_progress<T>(
+    observer: &dyn Observer,
+    total: usize,
+    f: impl FnOnce(refine::Progress) -> T,
+) -> T {
+    let (tx, rx) = std::sync::mpsc::channel::<(usize, f64)>();
+    std::thread::scope(|s| {
+        s.spawn(move || {
+            for (n, best) in rx {
+                observer.progress(Progress {
+                    stage: Stage::Refinement,
+                    done: n,
+                    total,
+                    best_j: Some(best),
+                });
+            }
+        });
+        let tx = std::sync::Mutex::new(tx);
+        let progress: refine::Progress = std::sync::Arc::new(move |_it, n, best| {
+            if let Ok(t) = tx.lock() {
+                let _ = t.send((n, best));
+            }
+        });
+        f(progress)
+    })
+}
+
+fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Result<Answer> {
+    let s = &config.settings;
+    s.check()?;
+    let job = PathJob::new(
+        &config.robot,
+        &config.path,
+        s.energy,
+        s.profile,
+        JointStageOptions::default(),
+    )?;
+    let ev = evaluator(&job, &config.path, s.feasibility, s.objective, s.evaluation);
+    let set = config.placement_set();
+    let ps = &set.placements;
+    let t0 = std::time::Instant::now();
+    observer.begin(Stage::Grid, ps.len());
+    let rows = ev.sweep(ps, &|done, total| {
+        observer.progress(Progress {
+            stage: Stage::Grid,
+            done,
+            total,
+            best_j: None,
+        })
+    });
+    observer.end(Stage::Grid);
+    let rows = rows?;
+    if !rows.iter().any(|r| r.cost().is_finite()) {
+        return Err(Error::Invalid(
+            crate::search::advice::nothing_feasible_named(&rows, &config.robot, &|k| {
+                observer.setting_name(k)
+            })
+            .trim_end()
+            .to_string(),
+        ));
+    }
+    let step = set.grid.as_ref().and_then(|g| g.step_xy_m()).unwrap_or(0.1);
+    let opts = OptimiseOptions {
+        seed: s.seed,
+        max_evals: s.max_evals,
+        step_xy_m: step / 2.0,
+        yaw: !s.fixed_yaw,
+        spin: !s.fixed_spin,
+        ..Default::default()
+    };
+    let tol = s.tolerance;
+    let bounds = Bounds::over(ps, s.z_bounds)?;
+    let mut res = match s.search {
+        SearchMethod::NelderMead => {
+            let so = SearchOptions::new(bounds, tol);
+            observer.begin(Stage::Refinement, opts.max_evals);
+            let r = with_refine_progress(observer, opts.max_evals, |progress| {
+                refine::refine(&ev, &rows, &opts, &so, progress)
+            });
+            observer.end(Stage::Refinement);
+            let (mut r, info) = r?;
+            r.search = Some(info);
+            r
+        }
+        SearchMethod::Pattern => optimise::optimise(&ev, &rows, &opts)?,
+    };
+    // The answer of a reduced evaluation is always re-evaluated in full; the report shows
+    // both figures.
+    if let Some((full, chk)) = reduce::confirm(&ev, &res.best)? {
+        if let Err(why) = &full.outcome {
+            return Err(Error::Invalid(format!(
+                "the placement chosen on representative layers (x = {:.3} m, y = {:.3} m, z = {:.3} m, yaw = {:.1}°) is infeasible when every sample is evaluated: {why}; evaluate every sample instead (full evaluation)",
+                full.placement.x,
+                full.placement.y,
+                full.placement.z,
+                full.placement.yaw.to_degrees()
+            )));
+        }
+        res.best = full;
+        res.path_reduction = Some(chk);
+    }
+    let baseline = match s.baseline {
+        Some(b) => {
+            let r = ev.sweep(&[b], &|_, _| {})?;
+            r.into_iter().next().map(|e| ("given".to_string(), e))
+        }
+        None => feasible_centre(&rows)
+            .map(|e| ("centre of the feasible grid region".to_string(), e.clone())),
+    };
+    if let Some((_, b)) = &baseline {
+        res.savings = optimise::Savings::of(&res.best, b);
+        // The baseline is checked against the tolerance the answer holds (every corner, so
+        // the report can say how many fail).
+        if res.search.is_some() && !tol.is_zero() && b.cost().is_finite() {
+            res.baseline_tolerance = Some(crate::search::tolerance::check_all(
+                &ev,
+                &b.placement,
+                &tol,
+            )?);
+        }
+    }
+    if let Some(n) = s.uncertainty {
+        // Candidates: the answer first, then every feasible grid cell that is not nominally
+        // better than it (a cheaper cell is one the search rejected because it does not hold
+        // the placement tolerance: not a candidate a site could use).
+        let mut cands = vec![res.best.clone()];
+        cands.extend(
+            rows.iter()
+                .filter(|r| {
+                    r.cost().is_finite()
+                        && r.cost() >= res.best.cost()
+                        && r.placement != res.best.placement
+                })
+                .cloned(),
+        );
+        let setup = StudySetup::new(
+            &ev,
+            &cands,
+            baseline.as_ref().map(|b| &b.1),
+            n,
+            s.seed,
+            None,
+        )?;
+        let study = match draws {
+            Draws::Shard(idx) => {
+                let t1 = std::time::Instant::now();
+                let d = setup.draws(idx)?;
+                let draw_s = t1.elapsed().as_secs_f64();
+                return Ok(Answer::Shard(ShardDraws {
+                    rows: idx.iter().copied().zip(d).collect(),
+                    total: setup.len(),
+                    draw_s,
+                    secs: t0.elapsed().as_secs_f64(),
+                }));
+            }
+            Draws::Given(d) => setup.reduce(d)?,
+            Draws::All => {
+                let all: Vec<usize> = (0..n).collect();
+                let per = setup.draws(&all)?;
+                setup.reduce(&per)?
+            }
+        };
+        res.uncertainty = Some(study);
+        // The decision a site can act on: the robust choice over the drawn robots around the
+        // answer and each drawn robot's own optimum (the refinement run again), with what
+        // measuring each parameter is worth.
+        if res.search.is_some() {
+            let ro = RobustOptions {
+                draws: n,
+                seed: s.seed,
+                criterion: s.robust,
+                prints_per_year: s.prints_per_year,
+                grid_kg_co2_per_kwh: s.grid_kg_co2_per_kwh,
+                ..Default::default()
+            };
+            let so = SearchOptions::new(bounds, tol);
+            let r = robust::robust(&ev, &res.best, &opts, &so, &ro)?;
+            res.decision.get_or_insert_with(Default::default).robust = Some(r);
+        }
+    }
+    // What moving a search bound the answer lies on is worth (a plinth under the robot).
+    if let Some(si) = &res.search {
+        if !si.on_bounds.is_empty() {
+            let steps = robust::bound_steps(&ev, &res.best, &si.bounds, &robust::BOUND_STEPS_M)?;
+            res.decision.get_or_insert_with(Default::default).bound_steps = steps;
+        }
+    }
+    let secs = t0.elapsed().as_secs_f64();
+    // The placements shown in detail (series for the report), evaluated in parallel.
+    let mut wanted = vec![("best", &res.best)];
+    wanted.extend(worst_of(&rows).map(|w| ("worst", w)));
+    wanted.extend(baseline.as_ref().map(|(_, b)| ("baseline", b)));
+    let details: Vec<Detail> = {
+        use rayon::prelude::*;
+        wanted
+            .par_iter()
+            .map(|(label, e)| detail(&job, label, e))
+            .collect::<Result<Vec<_>>>()?
+            .into_iter()
+            .flatten()
+            .collect()
+    };
+    // Every evaluation the answer needed: grid, refinement, tolerance checks (with the
+    // bisection and spin points; the baseline's corners) and the 4 sensitivity points.
+    let base_corners = res.baseline_tolerance.as_ref().map_or(0, |c| c.corners);
+    let n_eval = ps.len()
+        + res.evals
+        + res.search.as_ref().map_or(0, |si| si.tolerance_evals)
+        + base_corners
+        + 4;
+    let mut m = meta(
+        &config.robot,
+        &config.path_file,
+        s.objective,
+        &s.feasibility,
+        ev.nominal_samples(),
+    );
+    m.extend(evaluation_line(&ev));
+    m.push(("seed".into(), s.seed.to_string()));
+    if let Some(si) = &res.search {
+        m.push(("search".into(), si.method.clone()));
+        m.push(("tolerance".into(), tolerance_line(&si.tolerance)));
+        m.push((
+            "search bounds".into(),
+            format!(
+                "x {:.3}…{:.3} m, y {:.3}…{:.3} m, z {:.3}…{:.3} m",
+                si.bounds.x[0],
+                si.bounds.x[1],
+                si.bounds.y[0],
+                si.bounds.y[1],
+                si.bounds.z[0],
+                si.bounds.z[1]
+            ),
+        ));
+        if !si.on_bounds.is_empty() {
+            m.push((
+                "optimum on a search bound".into(),
+                format!("{}: widen the range there", si.on_bounds.join(", ")),
+            ));
+        }
+        if let Some(jm) = &si.joint_margin {
+            m.push(("joint-limit margin kept".into(), jm.clone()));
+        }
+        m.push((
+            "evaluations".into(),
+            if base_corners > 0 {
+                format!(
+                    "grid {}, refinement {}, tolerance corners {} (the answer's search {}, the baseline {})",
+                    ps.len(),
+                    res.evals,
+                    si.tolerance_evals + base_corners,
+                    si.tolerance_evals,
+                    base_corners
+                )
+            } else {
+                format!(
+                    "grid {}, refinement {}, tolerance corners {}",
+                    ps.len(),
+                    res.evals,
+                    si.tolerance_evals
+                )
+            },
+        ));
+        if let Some(om) = &si.on_margin {
+            m.push((
+                "optimum on a joint-limit margin".into(),
+                format!(
+                    "{om}: the margin, not the energy, stops the search here (the joint margin)"
+                ),
+            ));
+        }
+        if let Some(sk) = &si.spin_kept {
+            m.push(("nozzle spin".into(), sk.clone()));
+        }
+        if let Some(b) = &si.budget_spent {
+            m.push(("search stopped".into(), b.clone()));
+        }
+        if let Some(pm) = &si.polished {
+            m.push(("polish".into(), pm.clone()));
+        }
+        for l in &si.lower_neighbours {
+            m.push(("cheaper neighbour not taken".into(), l.clone()));
+        }
+    }
+    let site = crate::report::site::SiteGeometry::new(
+        &config.robot,
+        &job,
+        res.best.placement.z,
+        &config.path_file,
+        set.names.as_deref(),
+    );
+    let report = RunReport {
+        title: format!(
+            "printwatt optimise: {} on {}",
+            config.path_file.display(),
+            config.robot.name()
+        ),
+        meta: m,
+        rows,
+        names: set.names,
+        grid: set.grid,
+        optimise: Some(res),
+        baseline,
+        site: Some(site),
+        details,
+        electrical: config.robot.drive.is_some(),
+    };
+    Ok(Answer::Report(Box::new(OptimiseOutcome {
+        report,
+        secs,
+        evaluations: n_eval,
+    })))
+}
+
+/// What the tolerance check says, in one line.
+pub fn tolerance_line(c: &ToleranceCheck) -> String {
+    use crate::report::placement::tolerance_text;
+    if c.corners == 0 {
+        "not checked (tolerance 0,0)".into()
+    } else if c.holds {
+        tolerance_text(c, true)
+    } else {
+        format!(
+            "{}; no grid cell near the optimum holds it",
+            tolerance_text(c, true)
+        )
+    }
+}
+
+/// Full energy report of one placement (for the detailed figures); `None` for an infeasible
+/// one.
+pub fn detail(job: &PathJob, label: &str, e: &Evaluated) -> Result<Option<Detail>> {
+    if !e.cost().is_finite() {
+        return Ok(None);
+    }
+    match job.evaluate(&e.placement)? {
+        Ok(pe) => Ok(Some(Detail {
+            label: label.into(),
+            eval: e.clone(),
+            energy: pe.energy,
+        })),
+        Err(_) => Ok(None),
+    }
+}
+
+/// The report line saying how placements were evaluated, when the path reduction is on.
+pub fn evaluation_line(ev: &Evaluator) -> Option<(String, String)> {
+    let s = &ev.reduction()?.summary;
+    Some((
+        "evaluation".into(),
+        format!(
+            "reduced: {} layers, {} repeating with period {}, {} samples; each placement evaluated on representative layers, the others interpolated over z (each feasible placement states its error); a full evaluation evaluates every sample",
+            s.layers, s.repeating_layers, s.period, s.samples
+        ),
+    ))
+}
+
+/// Facts about the job shown in reports and `summary.json` (`meta`). Only what determines the
+/// results: how a run was executed (threads, wall time, command line) belongs elsewhere, so
+/// that the same job gives the same `summary.json`, `placements.csv` and `report.html` bit for
+/// bit, on one machine or merged from shards.
+pub fn meta(
+    robot: &RobotModel,
+    path_file: &Path,
+    objective: Objective,
+    feas: &FeasibilityOptions,
+    samples: usize,
+) -> Vec<(String, String)> {
+    vec![
+        ("robot".into(), robot.name().to_string()),
+        (
+            "calibration".into(),
+            robot
+                .effects
+                .calibration_summary()
+                .unwrap_or_else(|| "none (nominal robot)".into()),
+        ),
+        ("path".into(), path_file.display().to_string()),
+        (
+            "objective".into(),
+            // The name the command line takes (`mechanical_abs`), not the Rust variant.
+            format!("{}: {}", objective.name(), objective.describe()),
+        ),
+        ("nominal path samples".into(), samples.to_string()),
+        (
+            "feasibility".into(),
+            format!(
+                "joint-limit margin {} deg, near the wrist singularity (|sin q5| < {}) joints 4/6 at most {:.0} % of their limits, elbow ≥ {}, shoulder ≥ {} m, collisions {} (every {} samples)",
+                (0..robot.dof())
+                    .map(|j| format!(
+                        "{:.1}",
+                        crate::evaluate::feasibility::margins::joint_margin(robot, feas, j).to_degrees()
+                    ))
+                    .collect::<Vec<_>>()
+                    .join("/"),
+                feas.wrist_min,
+                feas.wrist_rate_max * 100.0,
+                feas.elbow_min,
+                feas.shoulder_min_m,
+                if feas.collisions { "on" } else { "off" },
+                feas.check_every
+            ),
+        ),
+    ]
+}
+
+/// An error in words as a front end shows it: the error, then each cause it does not end with
+/// already, joined by `: `.
+pub fn error_text(e: &(dyn std::error::Error + 'static)) -> String {
+    let mut s = e.to_string();
+    let mut cur = e.source();
+    while let Some(c) = cur {
+        let t = c.to_string();
+        if !s.ends_with(&t) {
+            s.push_str(": ");
+            s.push_str(&t);
+        }
+        cur = c.source();
+    }
+    s
+}

@@ -1,0 +1,115 @@
+//! The library runs the jobs: `search::run` on an `OptimiseConfig` gives the command line's
+//! answer bit for bit (the binary only parses its arguments into the config and prints the
+//! outcome), and progress reaches the observer.
+
+use printwatt::robot;
+use printwatt::search::job::{OptimiseConfig, PlacementSet};
+use printwatt::search::run::{Observer, Progress, Silent, Stage};
+use printwatt::search::{self, Grid};
+use printwatt::toolpath::{self, ReadOptions};
+use std::path::PathBuf;
+use std::process::Command;
+use std::sync::Mutex;
+
+fn root() -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+}
+
+/// The small job of the `optimise_small` transcript (18 grid placements) with every other
+/// setting at its default.
+fn small_job() -> OptimiseConfig {
+    let path_file = root().join("paths/default.gcode");
+    let model = robot::load(&root().join("robots/abb_irb6700_200_260")).unwrap();
+    let tp = toolpath::load(&path_file, &ReadOptions::default()).unwrap();
+    let mut cfg = OptimiseConfig::new(model, tp, &path_file);
+    cfg.placements = Some(PlacementSet::grid(Grid {
+        xs: search::parse_range("x", "1.4:1.8:0.2").unwrap(),
+        ys: search::parse_range("y", "-0.2:0.2:0.2").unwrap(),
+        zs: vec![0.2],
+        yaws: vec![0.0, 90f64.to_radians()],
+        spins: vec![0.0],
+    }));
+    cfg
+}
+
+#[test]
+fn library_optimise_matches_cli() {
+    let cfg = small_job();
+    let out = search::run(&cfg, &Silent).unwrap();
+    let lib: serde_json::Value =
+        serde_json::from_str(&out.report.summary_json(false).unwrap()).unwrap();
+    let cli = Command::new(env!("CARGO_BIN_EXE_printwatt"))
+        .args([
+            "optimise",
+            "--path",
+            &cfg.path_file.display().to_string(),
+            "--x",
+            "1.4:1.8:0.2",
+            "--y",
+            "-0.2:0.2:0.2",
+            "--z",
+            "0.2",
+            "--yaw",
+            "0,90",
+            "--json",
+        ])
+        .current_dir(std::env::temp_dir())
+        .output()
+        .unwrap();
+    assert!(
+        cli.status.success(),
+        "{}",
+        String::from_utf8_lossy(&cli.stderr)
+    );
+    let mut cli: serde_json::Value = serde_json::from_slice(&cli.stdout).unwrap();
+    // The reader's warnings are the front end's notes (stderr and `warnings`), not the answer.
+    if let Some(o) = cli.as_object_mut() {
+        o.remove("warnings");
+    }
+    let differ: Vec<&String> = cli
+        .as_object()
+        .unwrap()
+        .iter()
+        .filter(|(k, v)| lib.get(k.as_str()) != Some(v))
+        .map(|(k, _)| k)
+        .collect();
+    assert!(
+        differ.is_empty(),
+        "the library's answer differs in {differ:?}"
+    );
+    assert_eq!(lib, cli, "the library's answer is not the command line's");
+}
+
+#[derive(Default)]
+struct Seen(Mutex<Vec<(Stage, usize)>>);
+
+impl Observer for Seen {
+    fn progress(&self, p: Progress) {
+        self.0.lock().unwrap().push((p.stage, p.done));
+    }
+}
+
+#[test]
+fn progress_reaches_the_observer_and_does_not_change_the_answer() {
+    let mut cfg = small_job();
+    cfg.settings.max_evals = 10;
+    cfg.settings.tolerance = "0,0".parse().unwrap();
+    let seen = Seen::default();
+    let a = search::run(&cfg, &seen).unwrap();
+    let b = search::run(&cfg, &Silent).unwrap();
+    assert_eq!(
+        a.report.summary_json(false).unwrap(),
+        b.report.summary_json(false).unwrap()
+    );
+    let seen = seen.0.into_inner().unwrap();
+    assert!(seen.iter().any(|(s, _)| *s == Stage::Grid));
+    assert!(seen.iter().any(|(s, _)| *s == Stage::Refinement));
+}
+
+#[test]
+fn bad_settings_are_refused_before_any_work() {
+    let mut cfg = small_job();
+    cfg.settings.uncertainty = Some(0);
+    let e = search::run(&cfg, &Silent).err().unwrap().to_string();
+    assert!(e.contains("expected 1 to 100000 draws"), "{e}");
+}
