@@ -65,18 +65,7 @@ fn list(s: &str) -> Vec<String> {
 pub fn run(a: ExciteArgs) -> Result<()> {
     let robot = a.robot.load()?;
     let keep_out = match &a.keep_out {
-        Some(s) => {
-            let v: Vec<f64> = s
-                .split(',')
-                .map(|t| t.trim().parse::<f64>().ok().filter(|v| v.is_finite()))
-                .collect::<Option<_>>()
-                .with_context(|| format!("--keep-out `{s}`: expected six numbers in m"))?;
-            anyhow::ensure!(
-                v.len() == 6 && v[0] <= v[3] && v[1] <= v[4] && v[2] <= v[5],
-                "--keep-out `{s}`: expected xmin,ymin,zmin,xmax,ymax,zmax with min <= max"
-            );
-            Some(([v[0], v[1], v[2]], [v[3], v[4], v[5]]))
-        }
+        Some(s) => Some(excite::parse_keep_out(s).context("--keep-out")?),
         None => None,
     };
     let o = ExciteOptions {
@@ -100,18 +89,7 @@ pub fn run(a: ExciteArgs) -> Result<()> {
     if let Some(d) = &dir {
         super::args::check_out_dir(d)?;
         std::fs::create_dir_all(d)?;
-        let files = [
-            ("excite.csv", excite::csv(&e.trajectory)),
-            (
-                "excite.mod",
-                excite::rapid(&e.trajectory, &name, a.target_rate, a.rate),
-            ),
-            (
-                "excite.script",
-                excite::urscript(&e.trajectory, &name, a.target_rate, a.rate),
-            ),
-            ("excite.json", serde_json::to_string_pretty(&e)?),
-        ];
+        let files = excite::files(&e, &name, a.target_rate)?;
         for (f, text) in &files {
             let p = d.join(f);
             if p.exists() && !a.out.force {

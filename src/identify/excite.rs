@@ -7,15 +7,18 @@
 //! Joint `j` moves as `q_j(t) = c_j + w(t) Σ_l (a_jl sin(l ω t) + b_jl cos(l ω t))` (`L`
 //! harmonics of the base frequency `ω = 2π/T`), with a quintic fade-in and fade-out `w` over
 //! the first and last `fade_s` so that the motion starts and ends at rest at the centre pose.
-//! Each joint's coefficients are scaled so that its position excursion, speed and
-//! acceleration reach at most `limit_share` of the joint's limits (checked on the samples).
+//! Each joint's coefficients are scaled so that its position excursion on either side of the
+//! centre, its speed and its acceleration reach at most `limit_share` of the joint's limits
+//! (the room to the limit on that side, so an asymmetric range is used in full; checked on the
+//! samples).
 //!
 //! The information matrix is that of the identification's regressors: the derivative of the
 //! joint torques with respect to each parameter (the identify model's effects, relative to
 //! the parameter's magnitude), stacked over the samples and joints. The targets'
 //! information given the nuisance parameters is the Schur complement `I_tt − I_tn I_nn⁻¹ I_nt`;
-//! the design minimises its condition number (then maximises its log-determinant) by a seeded
-//! random search with local refinement that starts from the sine sweep,
+//! the design minimises its condition number (then maximises its log-determinant) among the
+//! designs at least as informative as the sine sweep (log-determinant not below it), by a
+//! seeded random search with local refinement that starts from the sine sweep,
 //! and reports its condition number beside that of a naive sine sweep (one sine of period `T`
 //! per joint at the same limits).
 
@@ -42,7 +45,8 @@ pub struct ExciteOptions {
     pub fade_s: f64,
     /// Sample rate of the written trajectory (the rate the controller logs at), Hz.
     pub rate_hz: f64,
-    /// Share of each joint's position half-range, speed and acceleration limit used (0–1).
+    /// Share of each joint's position range on either side of the centre, speed and
+    /// acceleration limit used (0–1).
     pub limit_share: f64,
     /// Effects whose parameters the decision depends on (identify's names).
     pub targets: Vec<String>,
@@ -85,7 +89,7 @@ impl Default for ExciteOptions {
 /// How close the trajectory comes to each limit, as the largest share of it (0–1), per joint.
 #[derive(Clone, Debug, PartialEq, Serialize)]
 pub struct LimitUse {
-    /// Position: largest distance from the centre over the distance to the nearer limit.
+    /// Position: largest distance from the centre over the distance to the limit on that side.
     pub position: Vec<f64>,
     /// Speed over the speed limit.
     pub speed: Vec<f64>,
@@ -197,8 +201,34 @@ fn sample(d: &Design, o: &ExciteOptions, rate: f64) -> JointTrajectory {
     tr
 }
 
-/// Centre and half-range, speed and acceleration limits of joint `j`.
-fn joint_limits(robot: &RobotModel, j: usize) -> (f64, f64, f64, f64) {
+/// Limits of a joint as the excitation uses them.
+#[derive(Clone, Copy, Debug)]
+struct JointRoom {
+    /// Centre of the motion (the home pose 0 when inside the range, else the middle), rad.
+    centre: f64,
+    /// Room from the centre down to the lower limit, rad.
+    below: f64,
+    /// Room from the centre up to the upper limit, rad.
+    above: f64,
+    /// Speed limit, rad/s.
+    speed: f64,
+    /// Acceleration limit, rad/s².
+    acceleration: f64,
+}
+
+impl JointRoom {
+    /// The share of the room on its side that an offset `f` from the centre uses.
+    fn position_share(&self, f: f64) -> f64 {
+        if f >= 0.0 {
+            f / self.above.max(1e-12)
+        } else {
+            -f / self.below.max(1e-12)
+        }
+    }
+}
+
+/// Centre, room to each position limit, speed and acceleration limits of joint `j`.
+fn joint_limits(robot: &RobotModel, j: usize) -> JointRoom {
     let jt = &robot.joints[j];
     let (lo, hi) = if jt.upper > jt.lower {
         (jt.lower, jt.upper)
@@ -211,7 +241,6 @@ fn joint_limits(robot: &RobotModel, j: usize) -> (f64, f64, f64, f64) {
     } else {
         0.5 * (lo + hi)
     };
-    let half = (c - lo).min(hi - c);
     let v = if jt.velocity_limit > 0.0 {
         jt.velocity_limit
     } else {
@@ -222,30 +251,38 @@ fn joint_limits(robot: &RobotModel, j: usize) -> (f64, f64, f64, f64) {
     } else {
         5.0
     };
-    (c, half, v, a)
+    JointRoom {
+        centre: c,
+        below: c - lo,
+        above: hi - c,
+        speed: v,
+        acceleration: a,
+    }
 }
 
 /// Scale each joint's coefficients so that it uses at most `share` of its limits (checked on
-/// a fine grid), times `pos_scale[j]` of its position range.
+/// a fine grid), times `pos_scale[j]` of its position room on either side of the centre.
 fn scale_to_limits(robot: &RobotModel, d: &mut Design, o: &ExciteOptions, pos_scale: &[f64]) {
     let n = d.centre.len();
     let dur = duration(o);
     let m = (dur * 50.0).round() as usize + 1;
     for (j, &ps) in pos_scale.iter().enumerate().take(n) {
-        let (_, half, v, a) = joint_limits(robot, j);
-        let (mut mf, mut mfd, mut mfdd) = (0.0f64, 0.0f64, 0.0f64);
+        let r = joint_limits(robot, j);
+        let (mut up, mut down, mut mfd, mut mfdd) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
         for k in 0..m {
             let t = dur * k as f64 / (m - 1) as f64;
             let (f, fd, fdd) = joint_at(d, j, t, o);
-            mf = mf.max(f.abs());
+            up = up.max(f);
+            down = down.max(-f);
             mfd = mfd.max(fd.abs());
             mfdd = mfdd.max(fdd.abs());
         }
         // 2 % below the share: the grid may miss a peak between its points.
         let s = 0.98 * o.limit_share;
-        let k = (s * half * ps / mf.max(1e-12))
-            .min(s * v / mfd.max(1e-12))
-            .min(s * a / mfdd.max(1e-12));
+        let k = (s * r.above * ps / up.max(1e-12))
+            .min(s * r.below * ps / down.max(1e-12))
+            .min(s * r.speed / mfd.max(1e-12))
+            .min(s * r.acceleration / mfdd.max(1e-12));
         for x in d.a[j].iter_mut().chain(d.b[j].iter_mut()) {
             *x *= k;
         }
@@ -259,10 +296,10 @@ pub fn limit_use(robot: &RobotModel, tr: &JointTrajectory) -> LimitUse {
     let mut lowest = f64::INFINITY;
     for k in 0..tr.len() {
         for j in 0..n {
-            let (c, half, v, al) = joint_limits(robot, j);
-            p[j] = p[j].max((tr.q(k)[j] - c).abs() / half.max(1e-12));
-            s[j] = s[j].max(tr.qd(k)[j].abs() / v);
-            a[j] = a[j].max(tr.qdd(k)[j].abs() / al);
+            let r = joint_limits(robot, j);
+            p[j] = p[j].max(r.position_share(tr.q(k)[j] - r.centre));
+            s[j] = s[j].max(tr.qd(k)[j].abs() / r.speed);
+            a[j] = a[j].max(tr.qdd(k)[j].abs() / r.acceleration);
         }
         lowest = lowest.min(lowest_point(robot, tr.q(k)));
     }
@@ -327,15 +364,16 @@ fn parameters(model: &Model, effects: &[String]) -> Result<Vec<(String, usize, S
     Ok(v)
 }
 
-/// Information matrix `Σ Yᵀ Y` of `params` along `tr` (columns relative to each parameter's
-/// scale): the derivative of the effects' torques, by forward differences of the effect
-/// alone (the effects are linear in most parameters, where this is exact).
-fn information(
+/// The regressor's columns of `params` along `tr` (relative to each parameter's scale; rows
+/// sample by sample, joint by joint): the derivative of the effects' torques, by forward
+/// differences of the effect alone (the effects are linear in most parameters, where this is
+/// exact).
+fn columns(
     model: &Model,
     params: &[(String, usize, String, f64)],
     tr: &JointTrajectory,
     stride: usize,
-) -> Result<DMatrix<f64>> {
+) -> Result<Vec<Vec<f64>>> {
     let n = model.n;
     let p = params.len();
     let mut es = model.effects.clone();
@@ -372,6 +410,18 @@ fn information(
         es.set_enabled(e, false);
         cols.push(col);
     }
+    Ok(cols)
+}
+
+/// Information matrix `Σ Yᵀ Y` of `params` along `tr` ([`columns`]).
+fn information(
+    model: &Model,
+    params: &[(String, usize, String, f64)],
+    tr: &JointTrajectory,
+    stride: usize,
+) -> Result<DMatrix<f64>> {
+    let cols = columns(model, params, tr, stride)?;
+    let p = cols.len();
     let mut m = DMatrix::zeros(p, p);
     for a in 0..p {
         for b in a..p {
@@ -416,7 +466,7 @@ fn targeted(info: &DMatrix<f64>, t: usize) -> (f64, f64) {
 fn naive(robot: &RobotModel, o: &ExciteOptions) -> Design {
     let n = robot.dof();
     let mut d = Design {
-        centre: (0..n).map(|j| joint_limits(robot, j).0).collect(),
+        centre: (0..n).map(|j| joint_limits(robot, j).centre).collect(),
         a: vec![vec![0.0; o.harmonics]; n],
         b: vec![vec![0.0; o.harmonics]; n],
     };
@@ -448,6 +498,24 @@ fn fit_design(
         }
     }
     None
+}
+
+/// The joints whose torque some of `params` acts on along `tr`.
+fn acted_on(
+    model: &Model,
+    params: &[(String, usize, String, f64)],
+    tr: &JointTrajectory,
+) -> Result<Vec<bool>> {
+    let n = model.n;
+    let mut on = vec![false; n];
+    for col in columns(model, params, tr, 1)? {
+        for (i, v) in col.iter().enumerate() {
+            if *v != 0.0 {
+                on[i % n] = true;
+            }
+        }
+    }
+    Ok(on)
 }
 
 /// Design the experiment for `robot`. Errors: an unknown effect, no target parameter, no
@@ -486,27 +554,46 @@ pub fn design(robot: &RobotModel, o: &ExciteOptions) -> Result<Excitation> {
     let n = robot.dof();
     let mut rng = ChaCha8Rng::seed_from_u64(o.seed);
     let mut designs = 0;
-    let random = |rng: &mut ChaCha8Rng| Design {
-        centre: (0..n).map(|j| joint_limits(robot, j).0).collect(),
-        a: (0..n)
-            .map(|_| {
-                (0..o.harmonics)
-                    .map(|l| rng.gen_range(-1.0..1.0) / (l + 1) as f64)
-                    .collect()
-            })
-            .collect(),
-        b: (0..n)
-            .map(|_| {
-                (0..o.harmonics)
-                    .map(|l| rng.gen_range(-1.0..1.0) / (l + 1) as f64)
-                    .collect()
-            })
-            .collect(),
+    let sweep = naive(robot, o);
+    let fitted_sweep = fit_design(robot, &sweep, o);
+    // The search varies the motion of the joints whose torque the targets act on (on the sine
+    // sweep); the other joints keep the sine sweep, which keeps clear. Their nuisance
+    // parameters do not couple with the targets, so their motion cannot make the targets
+    // better identifiable.
+    let active = match &fitted_sweep {
+        Some((_, tr)) => acted_on(&model, &tp, tr)?,
+        None => vec![true; n],
     };
-    // The naive sine sweep is the first design: the search never returns a worse one.
-    let mut best: Option<(Design, f64)> = match fit_design(robot, &naive(robot, o), o) {
-        Some((x, tr)) => Some((x, merit(score(&tr)?))),
+    let random = |rng: &mut ChaCha8Rng| {
+        let mut d = sweep.clone();
+        for j in (0..n).filter(|&j| active[j]) {
+            for x in d.a[j].iter_mut().chain(d.b[j].iter_mut()) {
+                *x = rng.gen_range(-1.0..1.0);
+            }
+            for l in 0..o.harmonics {
+                d.a[j][l] /= (l + 1) as f64;
+                d.b[j][l] /= (l + 1) as f64;
+            }
+        }
+        d
+    };
+    // The naive sine sweep is the first design: the search never returns a worse one, nor
+    // one less informative (a lower log-determinant) than it.
+    let mut floor_ld = f64::NEG_INFINITY;
+    let mut best: Option<(Design, f64)> = match &fitted_sweep {
+        Some((x, tr)) => {
+            let sc = score(tr)?;
+            floor_ld = sc.0;
+            Some((x.clone(), merit(sc)))
+        }
         None => None,
+    };
+    let merit = |sc: (f64, f64)| {
+        if sc.0 >= floor_ld {
+            merit(sc)
+        } else {
+            f64::NEG_INFINITY
+        }
     };
     for _ in 0..o.tries {
         let d = random(&mut rng);
@@ -525,7 +612,7 @@ pub fn design(robot: &RobotModel, o: &ExciteOptions) -> Result<Excitation> {
         let mut step = 0.3;
         for _ in 0..o.tries {
             let mut d = cur.clone();
-            for j in 0..n {
+            for j in (0..n).filter(|&j| active[j]) {
                 let mag = d.a[j]
                     .iter()
                     .chain(&d.b[j])
@@ -558,8 +645,8 @@ pub fn design(robot: &RobotModel, o: &ExciteOptions) -> Result<Excitation> {
     };
     let tr = sample(&d, o, o.rate_hz);
     let (log_det, condition) = score(&tr)?;
-    let (naive_log_det, naive_condition) = match fit_design(robot, &naive(robot, o), o) {
-        Some((x, _)) => score(&sample(&x, o, o.rate_hz))?,
+    let (naive_log_det, naive_condition) = match &fitted_sweep {
+        Some((x, _)) => score(&sample(x, o, o.rate_hz))?,
         None => (f64::NEG_INFINITY, f64::INFINITY),
     };
     let limits = limit_use(robot, &tr);
@@ -575,6 +662,56 @@ pub fn design(robot: &RobotModel, o: &ExciteOptions) -> Result<Excitation> {
         limits,
         options: o.clone(),
     })
+}
+
+/// A keep-out box as `xmin,ymin,zmin,xmax,ymax,zmax` (base frame, m): its min and max
+/// corners ([`ExciteOptions::keep_out`]). Errors: not six finite numbers, a min above its max.
+pub fn parse_keep_out(s: &str) -> Result<([f64; 3], [f64; 3])> {
+    let v: Vec<f64> = s
+        .split(',')
+        .map(|t| t.trim().parse::<f64>().ok().filter(|v| v.is_finite()))
+        .collect::<Option<_>>()
+        .ok_or_else(|| Error::Invalid(format!("keep-out box `{s}`: expected six numbers in m")))?;
+    match v.as_slice() {
+        [x0, y0, z0, x1, y1, z1] if x0 <= x1 && y0 <= y1 && z0 <= z1 => {
+            Ok(([*x0, *y0, *z0], [*x1, *y1, *z1]))
+        }
+        _ => Err(Error::Invalid(format!(
+            "keep-out box `{s}`: expected xmin,ymin,zmin,xmax,ymax,zmax with min <= max"
+        ))),
+    }
+}
+
+/// The experiment's files for `robot_name`, name and text: `excite.csv` (the trajectory
+/// `simulate --trajectory` reads), `excite.mod` (ABB RAPID) and `excite.script` (URScript),
+/// their joint targets every `1 / target_hz` s, and `excite.json` (the design's figures).
+pub fn files(
+    e: &Excitation,
+    robot_name: &str,
+    target_hz: f64,
+) -> Result<Vec<(&'static str, String)>> {
+    if !(target_hz.is_finite() && target_hz > 0.0) {
+        return Err(Error::Invalid(format!(
+            "excite: joint target rate {target_hz} Hz: expected a number > 0"
+        )));
+    }
+    let log_hz = e.options.rate_hz;
+    Ok(vec![
+        ("excite.csv", csv(&e.trajectory)),
+        (
+            "excite.mod",
+            rapid(&e.trajectory, robot_name, target_hz, log_hz),
+        ),
+        (
+            "excite.script",
+            urscript(&e.trajectory, robot_name, target_hz, log_hz),
+        ),
+        (
+            "excite.json",
+            serde_json::to_string_pretty(e)
+                .map_err(|x| Error::Invalid(format!("excite: the design as JSON: {x}")))?,
+        ),
+    ])
 }
 
 /// The trajectory as the CSV `simulate --trajectory` reads: `t[s]`, `q1[rad]…`, `qd1[rad/s]…`,

@@ -355,7 +355,9 @@ fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Resul
     if let Some(si) = &res.search {
         if !si.on_bounds.is_empty() {
             let steps = robust::bound_steps(&ev, &res.best, &si.bounds, &robust::BOUND_STEPS_M)?;
-            res.decision.get_or_insert_with(Default::default).bound_steps = steps;
+            res.decision
+                .get_or_insert_with(Default::default)
+                .bound_steps = steps;
         }
     }
     let secs = t0.elapsed().as_secs_f64();
