@@ -128,6 +128,11 @@ fn robust_choice_beats_the_nominal_answers_expected_energy_and_states_within_1pc
         .map(|c| c.max_regret_j)
         .fold(f64::INFINITY, f64::min);
     assert!(w.recommendation().max_regret_j <= min_max + 1e-9 || w.tolerance_checked > 1);
+    // Knowing one parameter is worth no more than knowing every one.
+    assert!(r
+        .value_of_information
+        .iter()
+        .all(|v| v.value_j >= 0.0 && v.value_j <= r.value_of_everything_j + 1e-9));
     assert!(!robust::lines(&r).is_empty());
 }
 

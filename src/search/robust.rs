@@ -719,7 +719,8 @@ pub fn bound_line(b: &BoundStep) -> String {
 /// What `optimise` reports beside its answer for a site to decide on.
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct Decision {
-    /// The robust choice over the draws (`--uncertainty N`; `None` without it).
+    /// The robust choice over the draws (with an uncertainty study and the Nelder–Mead
+    /// refinement; `None` without them).
     pub robust: Option<Robust>,
     /// Each search bound the answer lies on, moved outward by 0.2 m and 0.4 m.
     pub bound_steps: Vec<BoundStep>,

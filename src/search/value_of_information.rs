@@ -7,8 +7,9 @@
 //! `a_c + b_c·x`; the slope is kept only where the draws support it (|t| ≥ 2; else the fit is
 //! the mean difference, which is >= 0 for a recommendation chosen by expected energy). Knowing
 //! `x`, one would choose the candidate of lowest fitted difference, so the value of knowing
-//! it is the mean over the draws of `max(0, −min_c (a_c + b_c·x_d))`, J per print. A
-//! parameter that does not move the decision has no supported slope and is worth 0.
+//! it is the mean over the draws of `max(0, −min_c (a_c + b_c·x_d))`, J per print, at most the
+//! value of knowing everything (the recommendation's expected regret). A parameter that does
+//! not move the decision has no supported slope and is worth 0.
 //!
 //! How much of the regret a parameter explains: R² of the same linear fit of the nominal
 //! answer's regret on its values.
@@ -83,6 +84,9 @@ pub fn rank(
         .map(|e| ok.iter().map(|&c| e[c]).fold(f64::INFINITY, f64::min))
         .collect();
     let nominal_regret: Vec<f64> = (0..n).map(|d| energy_j[d][nominal] - best[d]).collect();
+    // Knowing every parameter is worth the recommendation's expected regret; knowing one is
+    // worth no more (the linear fits may extrapolate beyond it).
+    let everything = (0..n).map(|d| energy_j[d][rec] - best[d]).sum::<f64>() / n as f64;
     let diffs: Vec<Vec<f64>> = ok
         .iter()
         .filter(|&&c| c != rec)
@@ -120,6 +124,7 @@ pub fn rank(
             })
             .sum::<f64>()
             / n as f64;
+        let value_j = value_j.min(everything);
         out.push(ParameterValue {
             name: name.clone(),
             regret_explained: r2,
