@@ -12,10 +12,12 @@
 //!
 //! Regret of a candidate in a draw: its energy (the objective) minus the lowest energy of any
 //! candidate in that draw, J. The recommendation minimises the expected energy over the draws
-//! ([`RobustObjective::Expected`]) or the largest regret ([`RobustObjective::Regret`]) among the candidates
-//! whose tolerance box holds under the nominal robot. "Within 1 %" is against the energy a
-//! placement can change, the drives' energy of the draw's best candidate (standby, which no
-//! placement changes but through the print time, is reported separately).
+//! ([`RobustObjective::Expected`]) or the largest regret ([`RobustObjective::Regret`]). Only
+//! candidates whose tolerance box holds under the nominal robot take part (a placement a site
+//! cannot hold is no choice, and would make every regret look larger). "Within 1 %" is
+//! against the energy a placement can change, the drives' energy of the draw's best candidate
+//! (standby, which no placement changes but through the print time, is reported
+//! separately).
 //!
 //! Value of measuring a parameter (the expected value of partial perfect information): with
 //! the parameter known, the choice may change. Per candidate, the energy difference to the
@@ -181,7 +183,8 @@ pub struct Robust {
     pub candidates: Vec<Candidate>,
     /// Index of the recommendation in `candidates`.
     pub recommended: usize,
-    /// Candidates whose tolerance box was checked before one held (1: the first held).
+    /// Candidates whose tolerance box was checked under the nominal robot (every one but the
+    /// nominal answer; those where it does not hold are left out of `candidates`).
     pub tolerance_checked: usize,
     /// Expected drives' energy of each draw's best candidate, J (what a placement can change).
     pub drives_j: f64,
@@ -400,6 +403,25 @@ pub fn robust(
             ));
         }
     }
+    // The choice is among placements a site can use: those whose tolerance box holds under
+    // the nominal robot (the nominal answer holds its own; a candidate where it does not is
+    // left out before any draw).
+    let checker = Checker::new(ev, so.tolerance);
+    let mut tolerance_checked = 0;
+    if !so.tolerance.is_zero() {
+        let mut held = Vec::with_capacity(keep.len());
+        for (i, c) in keep.into_iter().enumerate() {
+            if i > 0 {
+                tolerance_checked += 1;
+                if !checker.check(&c.0)?.holds {
+                    continue;
+                }
+            }
+            held.push(c);
+        }
+        keep = held;
+    }
+    evaluations += checker.evaluations();
     let timed: Vec<crate::timing::TimedPath> = {
         let r: Vec<Result<crate::timing::TimedPath>> = keep
             .par_iter()
@@ -493,33 +515,18 @@ pub fn robust(
             }
         })
         .collect();
-    // The recommendation: the best by the criterion whose tolerance box holds (nominal
-    // robot), checked in order of the criterion; the nominal answer holds it.
+    // The recommendation: the best by the criterion (the first of equals).
     let score = |c: &Candidate| match o.criterion {
         RobustObjective::Expected => c.expected_j,
         RobustObjective::Regret => c.max_regret_j,
     };
-    let mut order: Vec<usize> = (0..k).collect();
-    order.sort_by(|&x, &y| {
-        score(&candidates[x])
-            .total_cmp(&score(&candidates[y]))
-            .then(x.cmp(&y))
+    let recommended = (1..k).fold(0, |b, c| {
+        if score(&candidates[c]) < score(&candidates[b]) {
+            c
+        } else {
+            b
+        }
     });
-    let checker = Checker::new(ev, so.tolerance);
-    let mut recommended = 0;
-    let mut tolerance_checked = 0;
-    for &c in &order {
-        if c == 0 {
-            recommended = 0;
-            break;
-        }
-        tolerance_checked += 1;
-        if so.tolerance.is_zero() || checker.check(&candidates[c].placement)?.holds {
-            recommended = c;
-            break;
-        }
-    }
-    evaluations += checker.evaluations();
     // Value of information.
     let parameters: Vec<String> = robots[0].1.iter().map(|(nm, _)| nm.clone()).collect();
     let drawn: Vec<Vec<f64>> = robots
