@@ -676,7 +676,15 @@ pub fn lines(r: &Robust) -> Vec<String> {
             nom.p_within_1pct * 100.0
         ),
     ];
-    if let Some(top) = r.value_of_information.first() {
+    if r.value_of_information
+        .first()
+        .is_some_and(|t| t.value_j <= 0.0)
+    {
+        v.push(format!(
+            "worth measuring: nothing (knowing any one parameter would not change the choice over the draws); knowing everything: {:.1} J per print",
+            r.value_of_everything_j
+        ));
+    } else if let Some(top) = r.value_of_information.first() {
         let more: Vec<String> = r
             .value_of_information
             .iter()

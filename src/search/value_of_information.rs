@@ -124,7 +124,11 @@ pub fn rank(
             })
             .sum::<f64>()
             / n as f64;
-        let value_j = value_j.min(everything);
+        let value_j = if value_j > 0.0 {
+            value_j.min(everything)
+        } else {
+            0.0
+        };
         out.push(ParameterValue {
             name: name.clone(),
             regret_explained: r2,
