@@ -56,6 +56,11 @@ const CASES: &[Case] = &[
         files: &[],
     },
     Case {
+        name: "excite",
+        args: "excite --robot abb_irb6700_200_260 --tries 20 --rate 50 --out {TMP}/excite",
+        files: &[],
+    },
+    Case {
         name: "simulate",
         args: "simulate --robot abb_irb4600_40_255 --excite 8 --hidden coulomb=30 --signal tau --noise 2 --rate 100 --seed 7 --out {TMP}",
         files: &[],

@@ -852,7 +852,10 @@ fn sweep<'py>(
 /// evaluated on representative layers and the answer re-evaluated in full), `full` or
 /// `reduced`. `baseline`: (x, y, z, yaw[, spin]) m and rad, compared with the answer
 /// (default: the feasible grid cell nearest the centre of the feasible region);
-/// `uncertainty`: draws of the uncertainty study (seeded by `seed`). Options as in `sweep`.
+/// `uncertainty`: draws of the uncertainty study (seeded by `seed`); with it, the robust
+/// choice minimises `robust` over the drawn robots (`expected`: the expected energy, default;
+/// `regret`: the worst-case regret), with yearly figures at `prints_per_year` and
+/// `grid_kg_co2_per_kwh` (kg CO₂ per kWh). Options as in `sweep`.
 ///
 /// Returns a dict: `placement` (x, y, z, yaw, spin) in m, m, m, rad, rad; `energy_j` (the
 /// objective, J); `supply_j` (J); `duration_s` (s); `best` and `best_grid` (evaluated
@@ -860,7 +863,8 @@ fn sweep<'py>(
 /// `placements` (grid counts); `infeasible_by_reason` (name → count over the grid);
 /// `search` (method, tolerance check, bounds, `on_bounds`, joint and wrist margins kept);
 /// `summary` (the document `printwatt optimise --json` prints: baseline, savings, the
-/// baseline's tolerance check, the full check of a reduced answer, the uncertainty study).
+/// baseline's tolerance check, the full check of a reduced answer, the uncertainty study and
+/// the decision: the robust choice, the value of measuring each parameter, bound steps).
 /// Raises PrintwattError when no grid placement is feasible, with how many failed for each
 /// reason and what to try.
 #[pyfunction]
@@ -869,7 +873,10 @@ fn sweep<'py>(
     max_evals = printwatt::search::job::DEFAULT_MAX_EVALS as i64,
     seed = printwatt::search::job::DEFAULT_SEED as i64, fixed_yaw = false, fixed_spin = false,
     search = "nelder-mead".to_string(), evaluation = "auto".to_string(), baseline = None,
-    uncertainty = None, period = 0.004, accel = 1.0, jerk = 10.0, regeneration = None,
+    uncertainty = None, robust = "expected".to_string(),
+    prints_per_year = printwatt::search::job::DEFAULT_PRINTS_PER_YEAR,
+    grid_kg_co2_per_kwh = printwatt::search::job::DEFAULT_GRID_KG_CO2_PER_KWH,
+    period = 0.004, accel = 1.0, jerk = 10.0, regeneration = None,
     payload = true, friction = true, joint_margin = 3f64.to_radians(),
     wrist_margin = FeasibilityOptions::default().wrist_margin_rad, collisions = true,
     check_every = 10))]
@@ -894,6 +901,9 @@ fn optimise<'py>(
     evaluation: String,
     baseline: Option<Vec<f64>>,
     uncertainty: Option<usize>,
+    robust: String,
+    prints_per_year: f64,
+    grid_kg_co2_per_kwh: f64,
     period: f64,
     accel: f64,
     jerk: f64,
@@ -935,6 +945,9 @@ fn optimise<'py>(
             }),
             z_bounds: z_bounds.map(|(a, b)| [a, b]),
             uncertainty,
+            robust: robust.parse().map_err(err)?,
+            prints_per_year,
+            grid_kg_co2_per_kwh,
         };
     settings.check().map_err(err)?;
     let cfg = OptimiseConfig {

@@ -28,6 +28,7 @@ pub mod args;
 mod compare;
 mod diagnose;
 mod energy;
+mod excite;
 mod identify;
 mod merge;
 mod optimise;
@@ -97,6 +98,9 @@ pub enum Command {
     Identify(IdentifyArgs),
     /// Write a simulated log from a "true" robot with hidden effects.
     Simulate(SimulateArgs),
+    /// Design an excitation experiment for the parameters the placement decision depends on:
+    /// a trajectory CSV, an ABB RAPID module and a URScript program.
+    Excite(excite::ExciteArgs),
 }
 
 /// Robot, log and model switches shared by compare/diagnose/identify.
@@ -459,5 +463,6 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Diagnose(a) => diagnose::run(a),
         Command::Identify(a) => identify::run(a),
         Command::Simulate(a) => simulate::run(a),
+        Command::Excite(a) => excite::run(a),
     }
 }

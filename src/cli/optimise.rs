@@ -61,6 +61,17 @@ pub struct OptimiseArgs {
     /// files of a single run, bit for bit.
     #[arg(long, value_name = "SPEC", requires = "uncertainty")]
     pub shard: Option<String>,
+    /// With --uncertainty: the robust choice minimises the expected energy over the draws
+    /// (`expected`, default) or the worst-case regret (`regret`), over the answer, its
+    /// tolerance corners, a local stencil and each drawn robot's own optimum.
+    #[arg(long, default_value = "expected", value_name = "CRITERION")]
+    pub robust: String,
+    /// Prints a year, for the yearly figures of the robust choice and the value of measuring.
+    #[arg(long, default_value_t = printwatt::search::job::DEFAULT_PRINTS_PER_YEAR)]
+    pub prints_per_year: f64,
+    /// Grid carbon intensity for the yearly CO₂ figure, kg CO₂ per kWh.
+    #[arg(long, default_value_t = printwatt::search::job::DEFAULT_GRID_KG_CO2_PER_KWH)]
+    pub grid_kg_co2_per_kwh: f64,
     /// Write the chosen placement for the robot into this directory: `wobj_print.mod` (ABB RAPID
     /// wobjdata), `frame.json` (COMPAS frame), and the path re-expressed in the robot base
     /// frame as `path_base.gcode` and `path_base.mod` (RAPID MoveL in wobj0). Existing files
@@ -159,6 +170,9 @@ impl OptimiseArgs {
             tolerance: self.tolerance.parse()?,
             z_bounds: self.z_bounds.as_deref().map(parse_z_bounds).transpose()?,
             uncertainty: self.uncertainty,
+            robust: self.robust.parse()?,
+            prints_per_year: self.prints_per_year,
+            grid_kg_co2_per_kwh: self.grid_kg_co2_per_kwh,
         };
         settings.check()?;
         Ok(OptimiseConfig {
@@ -203,7 +217,30 @@ pub fn job_key(a: &OptimiseArgs) -> String {
         n.tolerance,
         n.z_bounds,
         n.uncertainty
-    )
+    ) + &robust_key(&n)
+}
+
+/// The robust choice's options in the job key (only when they differ from the defaults, so
+/// that the key of a run without them is unchanged).
+fn robust_key(n: &OptimiseArgs) -> String {
+    use printwatt::search::job::{
+        RobustObjective, DEFAULT_GRID_KG_CO2_PER_KWH, DEFAULT_PRINTS_PER_YEAR,
+    };
+    let mut k = String::new();
+    match n.robust.parse::<RobustObjective>() {
+        Ok(o) if o == RobustObjective::default() => {}
+        Ok(o) => k += &format!(" robust={o}"),
+        Err(_) => k += &format!(" robust={}", n.robust),
+    }
+    if n.prints_per_year != DEFAULT_PRINTS_PER_YEAR
+        || n.grid_kg_co2_per_kwh != DEFAULT_GRID_KG_CO2_PER_KWH
+    {
+        k += &format!(
+            " prints_per_year={} grid_kg_co2_per_kwh={}",
+            n.prints_per_year, n.grid_kg_co2_per_kwh
+        );
+    }
+    k
 }
 
 /// `printwatt optimise`.
@@ -411,6 +448,14 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
     }
     if let Some(u) = rep.optimise.as_ref().and_then(|o| o.uncertainty.as_ref()) {
         for l in printwatt::report::placement::uncertainty_lines(u) {
+            println!("{l}");
+        }
+    }
+    if let Some(d) = rep.optimise.as_ref().and_then(|o| o.decision.as_ref()) {
+        for b in &d.bound_steps {
+            println!("{}", printwatt::search::robust::bound_line(b));
+        }
+        for l in d.robust.iter().flat_map(printwatt::search::robust::lines) {
             println!("{l}");
         }
     }

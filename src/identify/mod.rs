@@ -6,6 +6,7 @@
 
 pub mod calibrate;
 pub mod diagnose;
+pub mod excite;
 pub mod fit;
 pub mod ladder;
 pub mod log;

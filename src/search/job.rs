@@ -1,9 +1,10 @@
 //! The job of an optimisation, validated: every option the command line, the Python module and
 //! a design study give, as typed values with their defaults written once
 //! ([`OptimiseSettings::default`]). Raw text becomes a typed value in one place each: the
-//! search method ([`SearchMethod`]), the evaluation mode ([`EvaluationMode`]) and the placement
-//! tolerance ([`Tolerance`], `XY_MM,YAW_DEG` or `XY_MM,Z_MM,YAW_DEG`) parse with [`FromStr`]
-//! and print back with [`Display`](std::fmt::Display). [`crate::search::run`] runs the job.
+//! search method ([`SearchMethod`]), the evaluation mode ([`EvaluationMode`]), the robust
+//! choice's objective ([`RobustObjective`]) and the placement tolerance ([`Tolerance`],
+//! `XY_MM,YAW_DEG` or `XY_MM,Z_MM,YAW_DEG`) parse with [`FromStr`] and print back with
+//! [`Display`](std::fmt::Display). [`crate::search::run`] runs the job.
 
 use crate::energy::EnergyOptions;
 use crate::error::{Error, Result};
@@ -25,6 +26,43 @@ pub const DEFAULT_SEED: u64 = 42;
 pub const DEFAULT_MAX_EVALS: usize = 120;
 /// Most draws an uncertainty study may take.
 pub const MAX_UNCERTAINTY_DRAWS: usize = 100_000;
+/// Prints a year the yearly figures of the robust choice assume.
+pub const DEFAULT_PRINTS_PER_YEAR: f64 = 1000.0;
+/// Grid carbon intensity the yearly CO₂ figure assumes, kg CO₂ per kWh.
+pub const DEFAULT_GRID_KG_CO2_PER_KWH: f64 = 0.4;
+
+/// What the robust choice of an uncertainty study minimises over the drawn robots.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, serde::Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum RobustObjective {
+    /// The expected energy over the draws.
+    #[default]
+    Expected,
+    /// The worst regret over the draws (minimax regret).
+    Regret,
+}
+
+impl FromStr for RobustObjective {
+    type Err = Error;
+    fn from_str(s: &str) -> Result<Self> {
+        match s.trim() {
+            "expected" | "expected-energy" | "mean" => Ok(RobustObjective::Expected),
+            "regret" | "worst-regret" | "minimax" => Ok(RobustObjective::Regret),
+            o => Err(Error::Invalid(format!(
+                "robust objective `{o}`: expected `expected` (expected energy) or `regret` (worst-case regret)"
+            ))),
+        }
+    }
+}
+
+impl fmt::Display for RobustObjective {
+    fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
+        f.write_str(match self {
+            RobustObjective::Expected => "expected",
+            RobustObjective::Regret => "regret",
+        })
+    }
+}
 
 /// The refinement after the grid.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
@@ -237,6 +275,13 @@ pub struct OptimiseSettings {
     pub z_bounds: Option<[f64; 2]>,
     /// Draws of the uncertainty study (`None`: no study).
     pub uncertainty: Option<usize>,
+    /// What the robust choice minimises over the uncertainty study's draws (with
+    /// `uncertainty` and the Nelder–Mead refinement).
+    pub robust: RobustObjective,
+    /// Prints a year, for the yearly figures of the robust choice and the value of measuring.
+    pub prints_per_year: f64,
+    /// Grid carbon intensity for the yearly CO₂ figure, kg CO₂ per kWh.
+    pub grid_kg_co2_per_kwh: f64,
 }
 
 impl Default for OptimiseSettings {
@@ -256,6 +301,9 @@ impl Default for OptimiseSettings {
             tolerance: Tolerance::default(),
             z_bounds: None,
             uncertainty: None,
+            robust: RobustObjective::default(),
+            prints_per_year: DEFAULT_PRINTS_PER_YEAR,
+            grid_kg_co2_per_kwh: DEFAULT_GRID_KG_CO2_PER_KWH,
         }
     }
 }
@@ -277,6 +325,23 @@ impl OptimiseSettings {
                     "z bounds {a}:{b}: expected min:max with min <= max (m)"
                 )));
             }
+        }
+        if !(self.prints_per_year.is_finite() && self.prints_per_year >= 0.0) {
+            return Err(Error::Invalid(format!(
+                "prints per year {}: expected a finite number >= 0",
+                self.prints_per_year
+            )));
+        }
+        if !(self.grid_kg_co2_per_kwh.is_finite() && self.grid_kg_co2_per_kwh >= 0.0) {
+            return Err(Error::Invalid(format!(
+                "grid carbon intensity {} kg CO₂/kWh: expected a finite number >= 0",
+                self.grid_kg_co2_per_kwh
+            )));
+        }
+        if self.feasibility.check_every == 0 {
+            return Err(Error::Invalid(
+                "the collision check interval must be at least 1 sample".into(),
+            ));
         }
         self.feasibility.check()
     }
@@ -338,6 +403,10 @@ mod tests {
         for s in ["auto", "full", "reduced"] {
             assert_eq!(s.parse::<EvaluationMode>().unwrap().to_string(), s);
         }
+        for s in ["expected", "regret"] {
+            assert_eq!(s.parse::<RobustObjective>().unwrap().to_string(), s);
+        }
+        assert!("median".parse::<RobustObjective>().is_err());
         let t: Tolerance = "20,1".parse().unwrap();
         assert_eq!(t, Tolerance::default());
         assert_eq!(t.to_string().parse::<Tolerance>().unwrap(), t);
@@ -353,6 +422,13 @@ mod tests {
         assert_eq!((s.seed, s.max_evals), (42, 120));
         assert_eq!(s.search, SearchMethod::NelderMead);
         assert_eq!(s.evaluation, EvaluationMode::Auto);
+        assert_eq!(s.robust, RobustObjective::Expected);
+        assert_eq!((s.prints_per_year, s.grid_kg_co2_per_kwh), (1000.0, 0.4));
         assert!(s.check().is_ok());
+        let bad = OptimiseSettings {
+            prints_per_year: f64::NAN,
+            ..OptimiseSettings::default()
+        };
+        assert!(bad.check().is_err());
     }
 }

@@ -9,9 +9,11 @@ pub mod job;
 pub mod neldermead;
 pub mod optimise;
 pub mod refine;
+pub mod robust;
 pub mod run;
 pub mod tolerance;
 pub mod uncertainty;
+pub mod value_of_information;
 
 pub use grid::{parse_range, Grid};
 pub use job::{EvaluationMode, OptimiseConfig, OptimiseSettings, PlacementSet, SearchMethod};

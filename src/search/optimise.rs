@@ -103,8 +103,13 @@ pub struct OptimiseResult {
     /// caller). `None` when there is no baseline, it is infeasible, the tolerance is zero or
     /// the answer's tolerance is not checked (the pattern search).
     pub baseline_tolerance: Option<crate::search::tolerance::ToleranceCheck>,
-    /// The uncertainty study of the answer (`optimise --uncertainty N`, set by the caller).
+    /// The uncertainty study of the answer (with an uncertainty study's draws).
     pub uncertainty: Option<crate::search::uncertainty::Study>,
+    /// The decision a site can act on ([`crate::search::run`]): the robust choice, what
+    /// measuring each parameter is worth, what moving a search bound the answer lies on is
+    /// worth. JSON: omitted when `None`.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub decision: Option<crate::search::robust::Decision>,
     /// With the path reduction on: the answer's full evaluation beside its estimate (set by
     /// the caller with [`crate::evaluate::reduce::confirm`]; `best` then holds the full evaluation).
     /// JSON: omitted when `None`.
@@ -266,6 +271,7 @@ pub fn refine(ev: &Evaluator, start: Evaluated, opts: &OptimiseOptions) -> Resul
         savings: None,
         baseline_tolerance: None,
         uncertainty: None,
+        decision: None,
         path_reduction: None,
     })
 }

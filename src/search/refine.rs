@@ -592,6 +592,7 @@ fn refine_with(
             savings: None,
             baseline_tolerance: None,
             uncertainty: None,
+            decision: None,
             path_reduction: None,
         },
         SearchInfo {

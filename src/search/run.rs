@@ -1,6 +1,8 @@
 //! Run an optimisation job ([`OptimiseConfig`]) from start to report: the grid, the refinement,
 //! the full re-evaluation of a reduced answer, the baseline and the savings against it, the
-//! baseline's tolerance check, the uncertainty study and the detailed placements. Front ends
+//! baseline's tolerance check, the uncertainty study, the decision (the robust choice over the
+//! drawn robots, the value of measuring each parameter, the search bounds moved outward) and
+//! the detailed placements. Front ends
 //! (the command line, the Python module, a design study) build the config and show the
 //! outcome; progress goes through an [`Observer`] (argmin's problem/solver/observer split: the
 //! library reports, the front end shows).
@@ -18,6 +20,7 @@ use crate::search::advice::Knob;
 use crate::search::job::{OptimiseConfig, SearchMethod};
 use crate::search::optimise::{self, feasible_centre, worst_of, OptimiseOptions};
 use crate::search::refine::{self, Bounds, SearchOptions};
+use crate::search::robust::{self, RobustOptions};
 use crate::search::tolerance::ToleranceCheck;
 use crate::search::uncertainty::{Draw, StudySetup};
 use crate::timing::JointStageOptions;
@@ -331,6 +334,31 @@ fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Resul
             }
         };
         res.uncertainty = Some(study);
+        // The decision a site can act on: the robust choice over the drawn robots around the
+        // answer and each drawn robot's own optimum (the refinement run again), with what
+        // measuring each parameter is worth.
+        if res.search.is_some() {
+            let ro = RobustOptions {
+                draws: n,
+                seed: s.seed,
+                criterion: s.robust,
+                prints_per_year: s.prints_per_year,
+                grid_kg_co2_per_kwh: s.grid_kg_co2_per_kwh,
+                ..Default::default()
+            };
+            let so = SearchOptions::new(bounds, tol);
+            let r = robust::robust(&ev, &res.best, &opts, &so, &ro)?;
+            res.decision.get_or_insert_with(Default::default).robust = Some(r);
+        }
+    }
+    // What moving a search bound the answer lies on is worth (a plinth under the robot).
+    if let Some(si) = &res.search {
+        if !si.on_bounds.is_empty() {
+            let steps = robust::bound_steps(&ev, &res.best, &si.bounds, &robust::BOUND_STEPS_M)?;
+            res.decision
+                .get_or_insert_with(Default::default)
+                .bound_steps = steps;
+        }
     }
     let secs = t0.elapsed().as_secs_f64();
     // The placements shown in detail (series for the report), evaluated in parallel.

@@ -694,3 +694,36 @@ impl<'s, 'j, 'a> StudySetup<'s, 'j, 'a> {
         })
     }
 }
+
+/// The ranges a study of `model` draws from: `given`, else the drive file's `[uncertainty]`
+/// table, else the built-in defaults, and where they came from.
+pub fn resolve_ranges(model: &RobotModel, given: Option<Ranges>) -> Result<(Ranges, Source)> {
+    Ok(match given {
+        Some(r) => (r, Source::Given),
+        None => match Ranges::of_robot(model)? {
+            Some((r, file)) => (r, Source::DriveFile(file)),
+            None => (Ranges::default(), Source::Default),
+        },
+    })
+}
+
+/// Draw `d` of a study seeded by `seed`: the robot [`StudySetup::draw`] evaluates (the same
+/// ChaCha8 stream) and the values drawn (name, value in the parameter's own scale), for a
+/// caller that evaluates more than a fixed set of candidates under it.
+pub fn drawn_robot(
+    nominal: &RobotModel,
+    ranges: &Ranges,
+    seed: u64,
+    d: usize,
+) -> (RobotModel, Vec<(String, f64)>) {
+    let mut rng = ChaCha8Rng::seed_from_u64(seed);
+    rng.set_stream(d as u64);
+    let (m, drawn, _) = draw_robot(nominal, ranges, &mut rng);
+    (m, drawn)
+}
+
+/// The identified parameters a study of `nominal` draws from their standard errors
+/// (calibrated robots), by name.
+pub fn calibrated_names(nominal: &RobotModel, ranges: &Ranges) -> Vec<String> {
+    draw_robot(nominal, ranges, &mut ChaCha8Rng::seed_from_u64(0)).2
+}
