@@ -317,3 +317,44 @@ fn two_halves_of_a_log_agree_within_their_stated_errors() {
         );
     }
 }
+
+/// Out of the greedy trap: a 3.5 kg load and Coulomb friction read from motor currents.
+/// Fitted alone, friction is the best single candidate and the load ranks fourth; the best
+/// candidate fitted jointly with the next ones finds the pair, the joint fit weighs the load
+/// within 5 %, and the next round has nothing left to claim.
+#[test]
+fn the_swallowed_payload_is_claimed_jointly_with_friction_and_weighed_in_one_round() {
+    let (r, _) = nominal();
+    let log = sim_with(
+        "payload=3.5,coulomb=20",
+        SignalKind::Current,
+        0.3,
+        21,
+        8.0,
+        &[],
+    );
+    let (_, mut base) = nominal();
+    let prep = Prepared::new(&base, &log).unwrap();
+    let d = diagnose(&prep, &mut base, 5).unwrap();
+    let best = d.best.clone().unwrap_or_default();
+    let mut parts: Vec<&str> = best.split(',').collect();
+    parts.sort();
+    assert_eq!(parts, ["coulomb", "payload"], "{}", d.verdict);
+    // The single candidates alone: friction first, the load behind it.
+    let singles: Vec<&str> = d
+        .candidates
+        .iter()
+        .filter(|c| !c.effect.contains(','))
+        .map(|c| c.effect.as_str())
+        .collect();
+    assert_eq!(singles.first(), Some(&"coulomb"), "{singles:?}");
+    let (mut m1, id) = identify(&r, &log, &best);
+    let dm = m1.values("payload").unwrap()[0];
+    assert!(
+        (dm - 3.5).abs() <= 0.05 * 3.5,
+        "load weighed {dm} kg, truth 3.5 kg"
+    );
+    assert!(id.at_bound.is_empty(), "{:?}", id.at_bound);
+    let d2 = diagnose(&prep, &mut m1, 5).unwrap();
+    assert_eq!(d2.best, None, "{}", d2.verdict);
+}

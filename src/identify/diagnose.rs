@@ -21,6 +21,13 @@
 //!   of 16 g whose centre of mass lies metres from the flange;
 //!   e.g. a `rigid_body` fit no physical robot has is named, with the reason, but not claimed).
 //!
+//! The best plausible candidate is also fitted jointly with each of the next ones
+//! ([`PAIR_LEADERS`]): one effect
+//! fitted alone can soak up another (a friction fit that takes a payload's gravity torque ends
+//! with a parameter at a bound, and the next round finds nothing). A pair that cuts the best
+//! single candidate's held-out RMSE by another [`MIN_GAIN`] is a candidate of its own, named
+//! `a,b` (what `identify --effects a,b` fits).
+//!
 //! When none is, the diagnosis says nothing significant is missing; when structure beyond the
 //! noise floor remains that no candidate explains, it says so per joint, with what it
 //! correlates against and its dominant period ([`Diagnosis::unexplained`]).
@@ -45,7 +52,7 @@ pub const MIN_MATERIAL: f64 = 0.01;
 /// One ranked candidate.
 #[derive(Clone, Debug, Serialize)]
 pub struct Candidate {
-    /// Catalogue name.
+    /// Catalogue name, or two names joined by `,` for a pair fitted jointly.
     pub effect: String,
     /// Whether it was already switched on (then the candidate is a re-fit of its parameters).
     pub in_model: bool,
@@ -171,13 +178,25 @@ pub fn diagnose_with_progress(
     let bl = blocks(len, folds.min(max_folds).max(2));
     let r0 = r.clone();
     let chunk = ((tau_c / dt.max(1e-300)).ceil() as usize).clamp(1, len.max(1));
+    let base = Baseline {
+        all: &all,
+        blocks: &bl,
+        r0: &r0,
+        chunk,
+        base_ss: &base_ss,
+        meas_ms: &meas_ms,
+        noise_floor: &nf,
+        bic0,
+        base_rmse,
+        too_short,
+    };
     let mut cands = Vec::new();
     let mut not_obs = Vec::new();
-    let observable = catalogue()
+    let observable: Vec<&'static str> = catalogue()
         .into_iter()
         .filter(|c| Model::observable(c, prep.log.kind))
-        .count();
-    let total = (observable * (bl.len() + 1)) as u64;
+        .collect();
+    let total = (observable.len() * (bl.len() + 1)) as u64;
     let mut done = 0u64;
     progress.update("diagnosing", 0, total);
     for name in catalogue() {
@@ -185,139 +204,33 @@ pub fn diagnose_with_progress(
             not_obs.push(name.to_string());
             continue;
         }
-        let in_model = model.is_enabled(name);
-        let mut sse = 0.0;
-        let mut sse_c = vec![0.0; ch.max(1)];
-        let mut cnt = 0usize;
-        let mut gains = Vec::with_capacity(bl.len());
-        for (bi, b) in bl.iter().enumerate() {
-            // Blocks are contiguous: the training rows are everything outside [lo, hi]
-            // (linear in the log length; `b.contains` per row was quadratic).
-            let (lo, hi) = (
-                b.first().copied().unwrap_or(0),
-                b.last().copied().unwrap_or(0),
-            );
-            let train: Vec<usize> = (0..lo).chain(hi + 1..len).collect();
-            model.restore(&base_state);
-            fit_parameters(prep, model, &[name], &train)?;
-            residuals(prep, model, b, &mut r);
-            let sb = r.iter().map(|x| x * x).sum::<f64>();
-            for (i, x) in r.iter().enumerate() {
-                sse_c[i % ch.max(1)] += x * x;
-            }
-            // Held-out gain per chunk of one correlation time: chunk means of
-            // `|r_before|² − |r_after|²` are close to independent, so their t statistic
-            // measures the gain against noise and autocorrelation.
-            let _ = bi;
-            let mut acc = 0.0;
-            let mut in_chunk = 0usize;
-            for (i, &k) in b.iter().enumerate() {
-                let g: f64 = (0..ch)
-                    .map(|c| r0[k * ch + c].powi(2) - r[i * ch + c].powi(2))
-                    .sum();
-                acc += g;
-                in_chunk += 1;
-                if in_chunk == chunk || i + 1 == b.len() {
-                    gains.push(acc / in_chunk as f64);
-                    acc = 0.0;
-                    in_chunk = 0;
-                }
-            }
-            sse += sb;
-            cnt += r.len();
-            done += 1;
-            progress.update("diagnosing", done, total);
-        }
-        model.restore(&base_state);
-        let full = fit_parameters(prep, model, &[name], &all)?;
-        done += 1;
-        progress.update("diagnosing", done, total);
-        // Its residual over the whole log (the fit may have used a stride of the rows).
-        residuals(prep, model, &all, &mut r);
-        let full_ssr: f64 = r.iter().map(|x| x * x).sum();
-        // Plausibility of the robot (e.g. no balancer declared) and of the fitted values
-        // (e.g. no negative link mass), judged on the whole-log fit.
-        let std_errors: Vec<Option<f64>> = full.params.iter().map(|p| p.std_error).collect();
-        let implausible = crate::identify::plausible::implausible_fit(model, name, &std_errors);
-        model.restore(&base_state);
-        // Joints it acts on: channels whose prediction moved by more than 10 % of the largest
-        // move, or per-joint parameters that moved by more than two standard errors.
-        let mut joints = Vec::new();
-        if ch > 1 {
-            // prediction_after − prediction_before = r_after − r_before.
-            let d: Vec<f64> = (0..ch)
-                .map(|c| {
-                    (0..len)
-                        .map(|k| (r[k * ch + c] - r0[k * ch + c]).powi(2))
-                        .sum::<f64>()
-                })
-                .collect();
-            let dmax = d.iter().cloned().fold(0.0, f64::max);
-            joints = (0..ch)
-                .filter(|&c| dmax > 0.0 && d[c] > 0.01 * dmax)
-                .map(|c| c + 1)
-                .collect();
-        } else {
-            for p in &full.params {
-                if let Some(j) = p
-                    .name
-                    .split_once('[')
-                    .and_then(|(_, r)| r.trim_end_matches(']').parse::<usize>().ok())
-                {
-                    let moved = (p.value - p.nominal).abs();
-                    if moved > 0.0 && p.std_error.is_none_or(|s| moved > 2.0 * s) {
-                        joints.push(j);
-                    }
-                }
+        let tick = |k: u64| progress.update("diagnosing", done + k, total);
+        cands.push(score(prep, model, &base_state, &base, &[name], &tick)?);
+        done += bl.len() as u64 + 1;
+    }
+    // Out of the greedy trap: the best plausible candidate fitted jointly with each of the next
+    // ones. A pair is
+    // claimed when it cuts the held-out RMSE of the best single candidate by at least
+    // [`MIN_GAIN`] (one effect fitted alone can soak up another, or leave a parameter at a
+    // bound of its range, and the next round then finds nothing).
+    cands.sort_by(|a, b| a.validation_rmse.total_cmp(&b.validation_rmse));
+    let lead: Vec<&'static str> = cands
+        .iter()
+        .filter(|c| c.plausible && c.significant)
+        .take(PAIR_LEADERS)
+        .filter_map(|c| observable.iter().copied().find(|o| *o == c.effect))
+        .collect();
+    let best_single = cands
+        .iter()
+        .find(|c| c.plausible && c.significant)
+        .map(|c| c.validation_rmse);
+    if let (Some(single), Some((a, rest))) = (best_single, lead.split_first()) {
+        for b in rest {
+            let c = score(prep, model, &base_state, &base, &[a, b], &|_| {})?;
+            if c.validation_rmse <= single * (1.0 - MIN_GAIN) {
+                cands.push(c);
             }
         }
-        let cv = (sse / cnt.max(1) as f64).sqrt();
-        let cut = if base_rmse > 0.0 {
-            100.0 * (1.0 - cv / base_rmse)
-        } else {
-            0.0
-        };
-        let bic = m * (full_ssr / m).max(1e-300).ln() + full.params.len() as f64 * m.ln();
-        let dbic = bic - bic0;
-        let tstat = paired_t(&gains);
-        let explained_rms = (base_rmse * base_rmse - cv * cv).max(0.0).sqrt();
-        // Materiality on the channel where it is largest (held-out blocks cover every row).
-        // Only channels where it explains at least the noise floor count (a channel with
-        // little signal must not make a small absolute error look large).
-        let explained_pct_of_signal = (0..ch.max(1))
-            .map(|c| {
-                let e = ((base_ss[c] - sse_c[c]) / len.max(1) as f64)
-                    .max(0.0)
-                    .sqrt();
-                if meas_ms[c] > 0.0 && e >= nf[c] {
-                    100.0 * e / meas_ms[c].sqrt()
-                } else {
-                    0.0
-                }
-            })
-            .fold(0.0, f64::max);
-        let material = explained_pct_of_signal >= 100.0 * MIN_MATERIAL;
-        cands.push(Candidate {
-            effect: name.to_string(),
-            in_model,
-            joints,
-            params: full.params,
-            validation_rmse: cv,
-            rmse_cut_pct: cut,
-            delta_bic: dbic,
-            plausible: implausible.is_none(),
-            significant: implausible.is_none()
-                && !too_short
-                && cut >= 100.0 * MIN_GAIN
-                && tstat > t_quantile_95(gains.len().saturating_sub(1))
-                && dbic < -MIN_DELTA_BIC
-                && material,
-            implausible,
-            t_statistic: tstat,
-            explained_rms,
-            explained_pct_of_signal,
-            note: full.ill_conditioned.map(|i| i.to_string()),
-        });
     }
     model.restore(&base_state);
     cands.sort_by(|a, b| a.validation_rmse.total_cmp(&b.validation_rmse));
@@ -330,11 +243,11 @@ pub fn diagnose_with_progress(
         .map(|c| c.effect.clone());
     // What is left after the best claim.
     if let Some(b) = &best {
-        let name = catalogue()
-            .into_iter()
-            .find(|c| c == b)
-            .unwrap_or("viscous");
-        fit_parameters(prep, model, &[name], &all)?;
+        let names: Vec<&'static str> = b
+            .split(',')
+            .filter_map(|w| catalogue().into_iter().find(|c| *c == w))
+            .collect();
+        fit_parameters(prep, model, &names, &all)?;
     }
     residuals(prep, model, &all, &mut r);
     model.restore(&base_state);
@@ -419,6 +332,191 @@ pub fn diagnose_with_progress(
         verdict,
         not_observable: not_obs,
     })
+}
+
+/// The best plausible, significant candidate is also fitted jointly with each of the next
+/// `PAIR_LEADERS − 1`.
+pub const PAIR_LEADERS: usize = 5;
+
+/// The current model's figures every candidate is scored against.
+struct Baseline<'a> {
+    all: &'a [usize],
+    blocks: &'a [Vec<usize>],
+    /// The current model's residual over the whole log.
+    r0: &'a [f64],
+    /// Rows per chunk of one correlation time.
+    chunk: usize,
+    /// Per channel: the current model's squared residual.
+    base_ss: &'a [f64],
+    /// Per channel: the measured signal's mean square.
+    meas_ms: &'a [f64],
+    noise_floor: &'a [f64],
+    bic0: f64,
+    base_rmse: f64,
+    too_short: bool,
+}
+
+/// Score the candidate that fits `names` jointly on top of the current model: k-fold held-out
+/// RMSE, the t statistic of its gain over chunks, BIC, materiality, plausibility (module docs).
+/// `tick(k)`: `k` of its fits are done. The model is restored to `base_state`.
+fn score(
+    prep: &Prepared,
+    model: &mut Model,
+    base_state: &crate::identify::model::ModelState,
+    base: &Baseline,
+    names: &[&'static str],
+    tick: &dyn Fn(u64),
+) -> Result<Candidate> {
+    let len = prep.len();
+    let ch = prep.log.channels;
+    let m = base.r0.len() as f64;
+    let mut r = Vec::new();
+    let mut sse = 0.0;
+    let mut sse_c = vec![0.0; ch.max(1)];
+    let mut cnt = 0usize;
+    let mut gains = Vec::with_capacity(base.blocks.len());
+    for (bi, b) in base.blocks.iter().enumerate() {
+        // Blocks are contiguous: the training rows are everything outside [lo, hi].
+        let (lo, hi) = (
+            b.first().copied().unwrap_or(0),
+            b.last().copied().unwrap_or(0),
+        );
+        let train: Vec<usize> = (0..lo).chain(hi + 1..len).collect();
+        model.restore(base_state);
+        fit_parameters(prep, model, names, &train)?;
+        residuals(prep, model, b, &mut r);
+        sse += r.iter().map(|x| x * x).sum::<f64>();
+        for (i, x) in r.iter().enumerate() {
+            sse_c[i % ch.max(1)] += x * x;
+        }
+        // Held-out gain per chunk of one correlation time: chunk means of
+        // `|r_before|² − |r_after|²` are close to independent, so their t statistic
+        // measures the gain against noise and autocorrelation.
+        let mut acc = 0.0;
+        let mut in_chunk = 0usize;
+        for (i, &k) in b.iter().enumerate() {
+            acc += (0..ch)
+                .map(|c| base.r0[k * ch + c].powi(2) - r[i * ch + c].powi(2))
+                .sum::<f64>();
+            in_chunk += 1;
+            if in_chunk == base.chunk || i + 1 == b.len() {
+                gains.push(acc / in_chunk as f64);
+                acc = 0.0;
+                in_chunk = 0;
+            }
+        }
+        cnt += r.len();
+        tick(bi as u64 + 1);
+    }
+    model.restore(base_state);
+    let full = fit_parameters(prep, model, names, base.all)?;
+    tick(base.blocks.len() as u64 + 1);
+    // Its residual over the whole log (the fit may have used a stride of the rows).
+    residuals(prep, model, base.all, &mut r);
+    let full_ssr: f64 = r.iter().map(|x| x * x).sum();
+    // Plausibility of the robot (e.g. no balancer declared) and of the fitted values (e.g. no
+    // negative link mass), judged on the whole-log fit, effect by effect.
+    let implausible = names
+        .iter()
+        .filter_map(|name| {
+            let std_errors: Vec<Option<f64>> = full
+                .params
+                .iter()
+                .filter(|p| p.effect == *name)
+                .map(|p| p.std_error)
+                .collect();
+            crate::identify::plausible::implausible_fit(model, name, &std_errors)
+        })
+        .reduce(|a, b| format!("{a}; {b}"));
+    model.restore(base_state);
+    let joints = acting_joints(&r, base.r0, ch, len, &full.params);
+    let cv = (sse / cnt.max(1) as f64).sqrt();
+    let cut = if base.base_rmse > 0.0 {
+        100.0 * (1.0 - cv / base.base_rmse)
+    } else {
+        0.0
+    };
+    let bic = m * (full_ssr / m).max(1e-300).ln() + full.params.len() as f64 * m.ln();
+    let dbic = bic - base.bic0;
+    let tstat = paired_t(&gains);
+    let explained_rms = (base.base_rmse * base.base_rmse - cv * cv).max(0.0).sqrt();
+    // Materiality on the channel where it is largest (held-out blocks cover every row). Only
+    // channels where it explains at least the noise floor count (a channel with little
+    // signal must not make a small absolute error look large).
+    let explained_pct_of_signal = (0..ch.max(1))
+        .map(|c| {
+            let e = ((base.base_ss[c] - sse_c[c]) / len.max(1) as f64)
+                .max(0.0)
+                .sqrt();
+            if base.meas_ms[c] > 0.0 && e >= base.noise_floor[c] {
+                100.0 * e / base.meas_ms[c].sqrt()
+            } else {
+                0.0
+            }
+        })
+        .fold(0.0, f64::max);
+    let material = explained_pct_of_signal >= 100.0 * MIN_MATERIAL;
+    Ok(Candidate {
+        effect: names.join(","),
+        in_model: names.iter().any(|n| model.is_enabled(n)),
+        joints,
+        params: full.params,
+        validation_rmse: cv,
+        rmse_cut_pct: cut,
+        delta_bic: dbic,
+        plausible: implausible.is_none(),
+        significant: implausible.is_none()
+            && !base.too_short
+            && cut >= 100.0 * MIN_GAIN
+            && tstat > t_quantile_95(gains.len().saturating_sub(1))
+            && dbic < -MIN_DELTA_BIC
+            && material,
+        implausible,
+        t_statistic: tstat,
+        explained_rms,
+        explained_pct_of_signal,
+        note: full.ill_conditioned.map(|i| i.to_string()),
+    })
+}
+
+/// Joints a candidate acts on: channels whose prediction moved by more than 1 % of the largest
+/// move (`r − r0` is the change of prediction), or, with one channel, per-joint parameters
+/// that moved by more than two standard errors.
+fn acting_joints(
+    r: &[f64],
+    r0: &[f64],
+    ch: usize,
+    len: usize,
+    params: &[FittedParam],
+) -> Vec<usize> {
+    if ch > 1 {
+        let d: Vec<f64> = (0..ch)
+            .map(|c| {
+                (0..len)
+                    .map(|k| (r[k * ch + c] - r0[k * ch + c]).powi(2))
+                    .sum::<f64>()
+            })
+            .collect();
+        let dmax = d.iter().cloned().fold(0.0, f64::max);
+        return (0..ch)
+            .filter(|&c| dmax > 0.0 && d[c] > 0.01 * dmax)
+            .map(|c| c + 1)
+            .collect();
+    }
+    let mut joints = Vec::new();
+    for p in params {
+        if let Some(j) = p
+            .name
+            .split_once('[')
+            .and_then(|(_, r)| r.trim_end_matches(']').parse::<usize>().ok())
+        {
+            let moved = (p.value - p.nominal).abs();
+            if moved > 0.0 && p.std_error.is_none_or(|s| moved > 2.0 * s) && !joints.contains(&j) {
+                joints.push(j);
+            }
+        }
+    }
+    joints
 }
 
 /// t statistic of gains (mean / standard error); +∞ when all gains are equal and positive.
