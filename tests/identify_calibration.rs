@@ -139,7 +139,7 @@ fn the_written_robot_reproduces_the_ladders_validation_rmse_for_every_effect() {
 }
 
 #[test]
-fn a_payload_with_its_centre_of_mass_metres_from_the_flange_is_implausible_and_not_claimed() {
+fn a_payload_of_16_g_13_m_out_or_1_kg_3_m_out_is_implausible_and_not_claimed() {
     let (r, mut m) = nominal();
     m.set_enabled("payload", true).unwrap();
     // Nominal 30 kg at (0, 0, 0.15): take it to 16 g with the centre of mass 13 m out.

@@ -543,6 +543,51 @@ fn balancer_is_never_claimed_on_a_robot_without_one() {
     assert!(d.noise_floor > 0.0 && d.verdict.contains("noise floor"));
 }
 
+/// A bare URDF says nothing about a balancer: on a robot without drive data the balancer is a
+/// candidate with an assumed geometry (said in its note), claimed when a log holds one, and
+/// `identify` fits its preload and stiffness. (A drive file that declares none still rules it
+/// out: the test above.)
+#[test]
+fn a_balancer_is_a_candidate_with_assumed_geometry_on_a_robot_without_drive_data() {
+    let urdf = root().join("robots/abb_irb4600_40_255/robot.urdf");
+    let r = robot::load(&urdf).unwrap();
+    assert!(r.drive.is_none());
+    let text = sim(
+        &r,
+        "balancer=3000:20000",
+        SignalKind::Torque,
+        1.0,
+        33,
+        8.0,
+        None,
+    );
+    let d = diagnose_text(&r, &text);
+    let b = d
+        .candidates
+        .iter()
+        .find(|c| c.effect == "balancer")
+        .unwrap();
+    assert!(b.plausible, "{b:?}");
+    assert!(
+        b.note
+            .as_deref()
+            .is_some_and(|n| n.contains("geometry assumed")),
+        "{b:?}"
+    );
+    assert!(
+        d.best
+            .as_deref()
+            .is_some_and(|e| e.split(',').any(|x| x == "balancer")),
+        "{}",
+        d.verdict
+    );
+    let f0 = b.params.iter().find(|p| p.name == "F0").unwrap().value;
+    assert!(
+        (f0 - 3000.0).abs() < 0.1 * 3000.0,
+        "F0 = {f0} N, truth 3000 N"
+    );
+}
+
 /// "A torque ripple that is in no catalogue entry gets 'the residual looks like noise'": a
 /// position ripple on joint 3 (10 N·m, six periods per turn, 5 × the 2 N·m noise) gets no
 /// confident claim and is reported as unexplained structure on joint 3, against position.

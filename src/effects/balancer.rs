@@ -43,8 +43,13 @@ pub struct Balancer {
     /// Stiffness `k`, N/m (≥ 0).
     pub stiffness: f64,
     /// Whether the robot's drive file declares a balancer (gives `balancer_lever_m` and
-    /// `balancer_base_m`); without one the effect is not physically plausible.
+    /// `balancer_base_m`); a drive file that declares none makes the effect implausible.
     pub declared: bool,
+    /// Whether the geometry is an assumed prior: a robot without drive data (a bare URDF)
+    /// says nothing about a balancer, so the effect is a candidate with the default geometry
+    /// ([`BALANCER_A_M`], [`BALANCER_B_M`], [`BALANCER_UPRIGHT_RAD`]), and a drive file with
+    /// `balancer_lever_m` and `balancer_base_m` gives the real one.
+    pub assumed_geometry: bool,
 }
 
 /// Registry entry: geometry, preload and stiffness from the `[effects]` keys
@@ -97,6 +102,7 @@ pub(crate) fn build(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
         b.upright = x;
     }
     b.declared = t.balancer_lever_m.is_some() && t.balancer_base_m.is_some();
+    b.assumed_geometry = !b.declared && ctx.robot.drive.is_none();
     for (key, v, idx) in [
         ("balancer_preload_n", t.balancer_preload_n, 0),
         (
@@ -126,6 +132,7 @@ impl Balancer {
             preload: 0.0,
             stiffness: 0.0,
             declared: false,
+            assumed_geometry: false,
         }
     }
     /// Cylinder length `L(q)`, m, at joint angle `q` rad.
@@ -221,7 +228,7 @@ impl Effect for Balancer {
         self.preload == 0.0 && self.stiffness == 0.0
     }
     fn implausible(&self) -> Option<String> {
-        (!self.declared).then(|| {
+        (!self.declared && !self.assumed_geometry).then(|| {
             "the robot declares no balancer (drive file [effects] balancer_lever_m, balancer_base_m): \
 a gravity error here is a link or payload error"
                 .to_string()

@@ -8,7 +8,8 @@
 //! 2; no claim at all when the log is shorter than two correlation times). A candidate is
 //! significant when
 //! - it is physically plausible for the robot (no `balancer` on a robot whose drive file
-//!   declares none, such as the UR10e),
+//!   declares none, such as the UR10e; on a robot without drive data it is a candidate with
+//!   an assumed geometry, said in its note),
 //! - it cuts the held-out RMSE by at least [`MIN_GAIN`],
 //! - its held-out gain is beyond noise and autocorrelation: the held-out rows are cut into
 //!   chunks one correlation time long, and the t statistic of the chunk means of
@@ -475,8 +476,30 @@ fn score(
         t_statistic: tstat,
         explained_rms,
         explained_pct_of_signal,
-        note: full.ill_conditioned.map(|i| i.to_string()),
+        note: candidate_note(model, names, full.ill_conditioned.map(|i| i.to_string())),
     })
+}
+
+/// A candidate's note: parameters the motion cannot tell apart, and a balancer's assumed
+/// geometry on a robot without drive data.
+fn candidate_note(model: &Model, names: &[&str], ill: Option<String>) -> Option<String> {
+    let assumed = names.contains(&"balancer")
+        && model
+            .effects
+            .typed::<crate::effects::Balancer>("balancer")
+            .is_some_and(|b| b.assumed_geometry);
+    let geometry = assumed.then(|| {
+        let b = model.effects.typed::<crate::effects::Balancer>("balancer");
+        let (a, bb) = b.map_or((0.0, 0.0), |b| (b.a, b.b));
+        format!(
+            "balancer geometry assumed (lever {a} m, base {bb} m: the robot has no drive data; \
+             give balancer_lever_m and balancer_base_m in a drive file)"
+        )
+    });
+    match (ill, geometry) {
+        (Some(i), Some(g)) => Some(format!("{i}; {g}")),
+        (i, g) => i.or(g),
+    }
 }
 
 /// Joints a candidate acts on: channels whose prediction moved by more than 1 % of the largest
