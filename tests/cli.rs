@@ -1041,3 +1041,28 @@ fn optimise_does_not_report_a_nozzle_spin_the_energy_does_not_depend_on() {
         "{kept}"
     );
 }
+
+#[test]
+fn an_unknown_regeneration_policy_is_refused_with_the_four_policies() {
+    let d = tmpdir("regen");
+    for c in ["energy", "sweep", "optimise"] {
+        fails_with(
+            &[c, "--regeneration", "foo"],
+            &d,
+            &["--regeneration", "`foo`", "none, per_axis, dc_bus or grid"],
+        );
+    }
+    // A known policy is accepted.
+    let o = printwatt(
+        &[
+            "energy",
+            "--regeneration",
+            "grid",
+            "--at",
+            "1.44,0.12,0,93",
+            "--json",
+        ],
+        &root(),
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+}

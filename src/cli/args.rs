@@ -192,7 +192,7 @@ pub struct EnergyArgs {
     /// `per_axis`, `dc_bus` (shared between axes) or `grid` (returned). Default: the drive
     /// file's policy.
     #[arg(long, value_name = "POLICY")]
-    pub regeneration: Option<String>,
+    pub regeneration: Option<Regeneration>,
     /// Leave the payload out.
     #[arg(long)]
     pub no_payload: bool,
@@ -209,11 +209,7 @@ impl EnergyArgs {
             friction: !self.no_friction,
             ..Default::default()
         };
-        if let Some(r) = &self.regeneration {
-            opts.regeneration = Some(Regeneration::parse(r).with_context(|| {
-                format!("--regeneration `{r}`: expected none, per_axis, dc_bus or grid")
-            })?);
-        }
+        opts.regeneration = self.regeneration;
         Ok(opts)
     }
 }

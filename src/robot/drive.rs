@@ -46,6 +46,23 @@ impl Regeneration {
     }
 }
 
+impl std::str::FromStr for Regeneration {
+    type Err = crate::error::Error;
+    fn from_str(s: &str) -> crate::error::Result<Self> {
+        Regeneration::parse(s).ok_or_else(|| {
+            crate::error::Error::Invalid(format!(
+                "regeneration policy `{s}`: expected none, per_axis, dc_bus or grid"
+            ))
+        })
+    }
+}
+
+impl std::fmt::Display for Regeneration {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(self.name())
+    }
+}
+
 /// Drive train of one joint. Motor-side quantities are marked; the rest are joint side.
 #[derive(Clone, Copy, Debug, PartialEq)]
 pub struct JointDrive {
