@@ -513,3 +513,32 @@ fn slicer_mcode_parameters_are_not_coordinates() {
     // F1200 mm/min = 0.02 m/s, modal on the next line.
     assert!(close(t.moves[2].speed, 0.02, 1e-12));
 }
+
+#[test]
+fn a_placement_set_row_no_arm_reaches_is_named_by_file_row_and_column_with_its_unit() {
+    let d = std::env::temp_dir().join(format!("pw_set_far_{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let f = d.join("set.csv");
+    std::fs::write(&f, "name,x,y,z,yaw\nA,1500,100,0,0\nB,1500,400000000,0,0\n").unwrap();
+    let e = printwatt::toolpath::load_placements(&f)
+        .unwrap_err()
+        .to_string();
+    let want = format!("{}:3:8:", f.display());
+    assert!(e.contains(&want), "{e}");
+    assert!(e.contains("y = 400000000 reads as 400000 m"), "{e}");
+    assert!(e.contains("mm, the default"), "{e}");
+    // Metres stated in the header: the same rule, named with the unit.
+    std::fs::write(
+        &f,
+        "name,x[m],y[m],z[m],yaw[deg]\nA,1.5,0.1,0,0\nB,1.5,0.1,60,0\n",
+    )
+    .unwrap();
+    let e = printwatt::toolpath::load_placements(&f)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains(":3:") && e.contains("z = 60 reads as 60 m (column unit m)"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}

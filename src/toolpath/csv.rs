@@ -235,6 +235,28 @@ pub fn parse_placements(text: &str, file: &str) -> Result<Vec<NamedPlacement>> {
                 let mut v = [0.0; 5];
                 for (k, &i) in idx.iter().enumerate().skip(1) {
                     v[k] = value(file, lineno, &cols, &fields, i)?;
+                    // A coordinate no arm reaches is named at its row and column, with the
+                    // column's unit (the set's own, not the command line's metres).
+                    if (1..=3).contains(&k) && v[k].abs() >= crate::frame::MAX_PLAUSIBLE_M {
+                        let f = &fields[i];
+                        return Err(perr(
+                            file,
+                            lineno,
+                            f.col,
+                            format!(
+                                "{} = {} reads as {} m (column unit {}): no robot reaches that \
+                                 far; check the value or the column's unit",
+                                cols[i].name,
+                                f.text,
+                                v[k],
+                                if cols[i].unit.is_empty() {
+                                    "mm, the default"
+                                } else {
+                                    cols[i].unit.as_str()
+                                }
+                            ),
+                        ));
+                    }
                 }
                 let spin = match spin_i {
                     Some(i) => value(file, lineno, &cols, &fields, i)?,
