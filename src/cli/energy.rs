@@ -28,6 +28,10 @@ pub struct EnergyCmd {
     pub timing: args::TimingArgs,
     #[command(flatten)]
     pub energy: args::EnergyArgs,
+    /// The checks an --at placement must pass, as in `sweep` (a placement that fails one is
+    /// an error, exit status 1, with the reason `sweep` gives).
+    #[command(flatten)]
+    pub feasibility: args::FeasibilityArgs,
     /// --out: the per-sample CSV `<input stem>.energy.csv` (t, q, q̇, q̈, torque, mechanical and
     /// electrical power per joint, supply power).
     #[command(flatten)]
@@ -95,10 +99,11 @@ pub fn run(a: EnergyCmd) -> Result<()> {
         (traj, Vec::new(), report)
     } else {
         let placement = placement.context("--at")?;
-        let path = super::load_path(&input, &a.timing.read_options()?)?;
+        let path = super::load_path(&input, &a.path.read_options(&a.timing)?)?;
         let profile = a.timing.profile()?;
         let job = PathJob::new(&model, &path, opts, profile, JointStageOptions::default())?;
-        let ev = job.evaluate(&placement)?.map_err(|e| {
+        let feas = a.feasibility.options(model.dof())?;
+        let ev = job.evaluate_checked(&placement, feas)?.map_err(|e| {
             anyhow::anyhow!(
                 "placement {} is infeasible: {e}",
                 a.at.at.as_deref().unwrap_or_default()

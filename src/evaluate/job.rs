@@ -134,4 +134,25 @@ impl<'a> PathJob<'a> {
             energy,
         }))
     }
+
+    /// [`PathJob::evaluate`] after the feasibility checks a placement sweep applies (`feas`:
+    /// reach, joint-limit, wrist, elbow and shoulder margins, and collisions of the robot
+    /// with the bed, the printed part and itself), evaluated on every sample as
+    /// [`crate::evaluate::Evaluator::evaluate_full`] does. The inner error is the reason a
+    /// sweep gives for the same placement, word for word.
+    pub fn evaluate_checked(
+        &self,
+        at: &Placement,
+        feas: crate::evaluate::FeasibilityOptions,
+    ) -> Result<std::result::Result<PlacementEval, crate::evaluate::Infeasible>> {
+        feas.check()?;
+        let ev = crate::evaluate::Evaluator::new(self, feas, crate::evaluate::Objective::Supply);
+        let mut sc = ev.scratch()?;
+        if let Err(why) = ev.evaluate_full(&mut sc, at).outcome {
+            return Ok(Err(why));
+        }
+        Ok(self
+            .evaluate(at)?
+            .map_err(|e| crate::evaluate::Infeasible::from_timing(&e)))
+    }
 }
