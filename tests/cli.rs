@@ -428,9 +428,37 @@ fn shared_options_read_the_same_in_every_command() {
         .contains("[default: abb_irb6700_200_260]"));
     // Timing options: on every command that times a path, with the same unit and default.
     for opt in [
-        "--zone", "--period", "--accel", "--jerk", "--at", "--spin", "--path",
+        "--zone",
+        "--period",
+        "--accel",
+        "--jerk",
+        "--at",
+        "--spin",
+        "--path",
+        "--path-units",
+        "--scale",
     ] {
         let lines: Vec<_> = ["energy", "sweep", "optimise", "simulate"]
+            .iter()
+            .map(|c| {
+                let h = &helps.iter().find(|(n, _)| n == c).unwrap().1;
+                option_line(h, opt).unwrap_or_else(|| panic!("{c}: no {opt}"))
+            })
+            .collect();
+        assert!(lines.iter().all(|l| l == &lines[0]), "{opt}: {lines:#?}");
+    }
+    // Feasibility checks: the same in `energy --at` as in `sweep` and `optimise`.
+    for opt in [
+        "--no-collisions",
+        "--check-every",
+        "--wrist-min",
+        "--wrist-rate-max",
+        "--wrist-margin",
+        "--joint-margin",
+        "--elbow-min",
+        "--shoulder-min",
+    ] {
+        let lines: Vec<_> = ["energy", "sweep", "optimise"]
             .iter()
             .map(|c| {
                 let h = &helps.iter().find(|(n, _)| n == c).unwrap().1;

@@ -8,23 +8,29 @@
 //! suspicious value is a warning.
 //!
 //! **The estimate.** Each `<collision>` shape of the link (box, cylinder, sphere, readable
-//! mesh as its convex hull) is a solid of [`ESTIMATE_DENSITY_KG_M3`]; a link without any
-//! gets the planner's collision capsule (the segment from its joint origin to the next joint
-//! origin or the flange, radius from
-//! [`LinkRadii`](crate::evaluate::feasibility::LinkRadii) times the reach) as a cylinder of the
-//! capsule's volume. The density is an effective one for hollow cast links carrying motors
-//! and gearboxes, chosen so that the capsules of the shipped ABB IRB 6700-200/2.60 give its
-//! moving mass within a factor of two (tests/robot.rs checks this). It is a rough figure: an
-//! energy computed on it can be off by tens of percent; give the drive file's `[links]`
-//! tables for numbers worth comparing.
+//! mesh as its convex hull) is a solid of [`ESTIMATE_DENSITY_KG_M3`], an effective density
+//! for hollow cast links enveloped by their collision shapes. A link without any gets the
+//! planner's collision capsule (the segment from its joint origin to the next joint origin or
+//! the flange, radius from [`LinkRadii`](crate::evaluate::feasibility::LinkRadii) times the
+//! reach) as a cylinder of the capsule's volume, of [`CAPSULE_DENSITY_KG_M3`]: the capsule is a
+//! clearance radius, thinner than the casting, so its density is calibrated instead, on the
+//! shipped ABB IRB 6700-200/2.60, whose capsules then weigh 751 kg against its 793 kg of
+//! moving links (tests/robot.rs checks 25 %). Either is a rough figure: an energy computed on
+//! it can be off by tens of percent; give the drive file's `[links]` tables for numbers worth
+//! comparing.
 
 use super::model::{GeomShape, Inertial, RobotModel};
 use crate::math::{Frame, M3, V3};
 use serde::Serialize;
 
-/// Effective density of the estimated links, kg/m³: cast iron (7,200 kg/m³) filling about a
-/// sixth of a hollow cast link's outer volume, with motors and gearboxes averaged in.
+/// Effective density of links estimated from their collision shapes, kg/m³: cast iron
+/// (7,200 kg/m³) filling about a sixth of a hollow cast link's outer volume, with motors and
+/// gearboxes averaged in.
 pub const ESTIMATE_DENSITY_KG_M3: f64 = 1_200.0;
+
+/// Effective density of links estimated from the collision capsule, kg/m³: calibrated on the
+/// shipped ABB IRB 6700-200/2.60 (its capsules' volume, 0.150 m³, carrying its moving mass).
+pub const CAPSULE_DENSITY_KG_M3: f64 = 5_000.0;
 
 /// Where a moving link's mass, centre of mass and inertia come from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -169,9 +175,11 @@ pub fn complete(model: &mut RobotModel) {
             // A cylinder of the capsule's volume (πr²L + 4/3 πr³); a zero-length segment
             // (a wrist joint on the previous one's origin) is a sphere of radius r.
             let b = if len > 1e-9 {
-                cylinder(r, len + 4.0 / 3.0 * r, rho).transformed(&segment_frame(&V3::zeros(), &end))
+                cylinder(r, len + 4.0 / 3.0 * r, CAPSULE_DENSITY_KG_M3)
+                    .transformed(&segment_frame(&V3::zeros(), &end))
             } else {
-                solid(&GeomShape::Sphere { radius_m: r }, rho).unwrap_or(Inertial::zero())
+                solid(&GeomShape::Sphere { radius_m: r }, CAPSULE_DENSITY_KG_M3)
+                    .unwrap_or(Inertial::zero())
             };
             body = b;
             InertiaSource::EstimateFromCapsule
@@ -180,17 +188,21 @@ pub fn complete(model: &mut RobotModel) {
             "`{}` {:.1} kg ({})",
             model.link_names[i],
             body.mass,
-            if any { "collision geometry" } else { "capsule" }
+            if any {
+                format!("collision shapes at {ESTIMATE_DENSITY_KG_M3:.0} kg/m³")
+            } else {
+                format!("collision capsule at {CAPSULE_DENSITY_KG_M3:.0} kg/m³")
+            }
         ));
         model.links[i] = Some(body);
         model.info.inertia_sources[i] = source;
     }
     if !estimated.is_empty() {
         model.warnings.push(format!(
-            "ESTIMATE: link inertias missing from the URDF estimated as solids of \
-             {rho:.0} kg/m³ (hollow cast links) from their collision shapes: {}; the energy \
-             is only as good as these; give the real values in the drive file's \
-             [links.<name>] tables (docs/drive-file.md)",
+            "ESTIMATE: link inertias missing from the URDF estimated as solids (hollow cast \
+             links) filling their collision shapes: {}; the energy is only as good as these; \
+             give the real values in the drive file's [links.<name>] tables \
+             (docs/drive-file.md)",
             estimated.join(", ")
         ));
     }
