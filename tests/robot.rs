@@ -193,7 +193,10 @@ fn a_field_urdf_without_inertials_loads_with_estimated_inertias_labelled_estimat
 fn placeholder_inertias_identical_on_every_link_are_warned_about() {
     let m = printwatt::robot::load(&field_robot("kuka_kr120r2500pro.urdf")).unwrap();
     let w = m.warnings.join("\n");
-    assert!(w.contains("same mass, 2 kg") && w.contains("placeholder"), "{w}");
+    assert!(
+        w.contains("same mass, 2 kg") && w.contains("placeholder"),
+        "{w}"
+    );
     assert!(!w.contains("ESTIMATE"), "{w}");
     // With the rated payload stated, the total below it is a second warning.
     let d = std::env::temp_dir().join(format!("printwatt-kr120-{}", std::process::id()));
@@ -210,7 +213,11 @@ fn drive_file_links_tables_give_missing_inertias_and_name_a_bad_key() {
     use printwatt::robot::inertia::InertiaSource;
     let d = std::env::temp_dir().join(format!("printwatt-irb6640-{}", std::process::id()));
     std::fs::create_dir_all(&d).unwrap();
-    std::fs::copy(field_robot("abb_irb6640_185_280.urdf"), d.join("robot.urdf")).unwrap();
+    std::fs::copy(
+        field_robot("abb_irb6640_185_280.urdf"),
+        d.join("robot.urdf"),
+    )
+    .unwrap();
     std::fs::write(
         d.join("drive.toml"),
         "[links.link_2]\nmass_kg = 250.0\ncom_m = [0.0, 0.0, 0.5]\ninertia_kg_m2 = [40.0, 40.0, 5.0, 0.0, 0.0, 0.0]\n",
@@ -218,7 +225,10 @@ fn drive_file_links_tables_give_missing_inertias_and_name_a_bad_key() {
     .unwrap();
     let m = printwatt::robot::load(&d).unwrap();
     assert_eq!(m.info.inertia_sources[1], InertiaSource::DriveFile);
-    assert_eq!(m.info.inertia_sources[0], InertiaSource::EstimateFromCapsule);
+    assert_eq!(
+        m.info.inertia_sources[0],
+        InertiaSource::EstimateFromCapsule
+    );
     let l2 = m.links[1].unwrap();
     assert_eq!(l2.mass, 250.0);
     assert_eq!(l2.com, printwatt::math::V3::new(0.0, 0.0, 0.5));
@@ -230,14 +240,20 @@ fn drive_file_links_tables_give_missing_inertias_and_name_a_bad_key() {
     )
     .unwrap();
     let e = printwatt::robot::load(&d).unwrap_err().to_string();
-    assert!(e.contains("drive.toml") && e.contains("links.link_9") && e.contains("link_6"), "{e}");
+    assert!(
+        e.contains("drive.toml") && e.contains("links.link_9") && e.contains("link_6"),
+        "{e}"
+    );
     std::fs::write(
         d.join("drive.toml"),
         "[links.link_2]\nmass_kg = 250.0\ncom_m = [0.0, 0.0, 0.5]\ninertia_kg_m2 = [1.0, 1.0, 5.0, 0.0, 0.0, 0.0]\n",
     )
     .unwrap();
     let e = printwatt::robot::load(&d).unwrap_err().to_string();
-    assert!(e.contains("links.link_2.inertia_kg_m2") && e.contains("triangle"), "{e}");
+    assert!(
+        e.contains("links.link_2.inertia_kg_m2") && e.contains("triangle"),
+        "{e}"
+    );
 }
 
 #[test]

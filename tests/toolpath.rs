@@ -522,7 +522,10 @@ fn a_csv_path_without_units_says_mm_was_assumed_and_path_units_state_them() {
     let p = parse_csv(text, "p.csv", &ReadOptions::default()).unwrap();
     assert!(close(p.length(), 2.5e-3, 1e-15));
     let w = p.warnings.join("\n");
-    assert!(w.contains("p.csv:1: x, y, z have no unit; mm assumed"), "{w}");
+    assert!(
+        w.contains("p.csv:1: x, y, z have no unit; mm assumed"),
+        "{w}"
+    );
     assert!(w.contains("--path-units"), "{w}");
     assert!(
         w.contains("smaller than 50 mm") && w.contains("read as mm (assumed"),
@@ -585,7 +588,10 @@ fn path_units_are_refused_for_gcode_and_scale_resizes_the_geometry() {
     )
     .unwrap_err()
     .to_string();
-    assert!(e.contains("default.gcode") && e.contains("CSV paths only"), "{e}");
+    assert!(
+        e.contains("default.gcode") && e.contains("CSV paths only"),
+        "{e}"
+    );
     let full = load(&g, &ReadOptions::default()).unwrap();
     let half = load(
         &g,

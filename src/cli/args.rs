@@ -404,7 +404,7 @@ impl FeasibilityArgs {
                 self.joint_margin
             );
         }
-                if margins.len() != 1 && margins.len() != dof {
+        if margins.len() != 1 && margins.len() != dof {
             bail!(
                 "--joint-margin `{}`: give one margin or {dof} (one per joint)",
                 self.joint_margin

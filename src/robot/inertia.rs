@@ -91,7 +91,8 @@ fn solid(shape: &GeomShape, rho: f64) -> Option<Inertial> {
         }
         GeomShape::Hull { points, .. } => {
             use parry3d_f64::shape::Shape;
-            let pts: Vec<parry3d_f64::math::Point<f64>> = points.iter().map(|p| (*p).into()).collect();
+            let pts: Vec<parry3d_f64::math::Point<f64>> =
+                points.iter().map(|p| (*p).into()).collect();
             let hull = parry3d_f64::shape::ConvexPolyhedron::from_convex_hull(&pts)?;
             let mp = hull.mass_properties(rho);
             let m = mp.mass();
@@ -230,7 +231,10 @@ pub fn placeholder_warnings(model: &RobotModel) -> Vec<String> {
         .collect();
     if given.len() >= 3 && given.len() == model.dof() {
         let m0 = given[0].1;
-        if given.iter().all(|(_, m)| (m - m0).abs() <= 1e-9 * m0.abs().max(1.0)) {
+        if given
+            .iter()
+            .all(|(_, m)| (m - m0).abs() <= 1e-9 * m0.abs().max(1.0))
+        {
             out.push(format!(
                 "every moving link has the same mass, {m0} kg: placeholder inertias? The \
                  energy computed on them is not the robot's; give the real values in the drive \

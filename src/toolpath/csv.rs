@@ -20,8 +20,8 @@
 //! mark the last point read.
 
 use super::{
-    extent_warning, perr, Mark, Move, MoveKind, NamedPlacement, PathUnits, Placement,
-    ReadOptions, Toolpath,
+    extent_warning, perr, Mark, Move, MoveKind, NamedPlacement, PathUnits, Placement, ReadOptions,
+    Toolpath,
 };
 use crate::error::Result;
 use crate::math::V3;
