@@ -248,7 +248,11 @@ fn coordinate_units(
         }
     }
     match (unstated, opts.path_units) {
-        (false, _) => format!("read as {} (stated in the header)", stated.join("/")),
+        (false, _) => {
+            let mut units = stated.clone();
+            units.dedup();
+            format!("read as {} (stated in the header)", units.join("/"))
+        }
         (true, Some(u)) => format!("read as {} (the path units given)", u.symbol()),
         (true, None) => {
             warnings.push(format!(
