@@ -164,10 +164,12 @@ pub fn complete(model: &mut RobotModel) {
                 .joints
                 .get(i + 1)
                 .map_or(model.flange.pos, |j| j.origin.pos);
+            // The segment ends at joint i + 1: base up to joint 1, arm up to joint 3.
+            let end_joint = i + 1;
             let r = reach
-                * if i + 1 <= 1 {
+                * if end_joint <= 1 {
                     radii.base
-                } else if i + 1 <= 3 {
+                } else if end_joint <= 3 {
                     radii.arm
                 } else {
                     radii.wrist
