@@ -28,8 +28,9 @@ pub struct EnergyCmd {
     pub timing: args::TimingArgs,
     #[command(flatten)]
     pub energy: args::EnergyArgs,
-    /// The checks an --at placement must pass, as in `sweep` (a placement that fails one is
-    /// an error, exit status 1, with the reason `sweep` gives).
+    /// The checks an --at placement is put through, as in `sweep`: a failed one is stated (in
+    /// the summary, on stderr and in the JSON `feasibility`) with the reason `sweep` gives, and
+    /// the motion is evaluated regardless; a path that cannot be timed there is an error.
     #[command(flatten)]
     pub feasibility: args::FeasibilityArgs,
     /// --out: the per-sample CSV `<input stem>.energy.csv` (t, q, q̇, q̈, torque, mechanical and
