@@ -1154,7 +1154,7 @@ fn path_units_state_a_unitless_csv_path_and_mm_is_never_assumed_silently() {
         "{e}"
     );
     assert!(
-        e.contains("smaller than 50 mm") && e.contains("--path-units"),
+        e.contains("smaller than 50 mm") && e.contains("set the path units to mm or m"),
         "{e}"
     );
     // The notes are in the JSON too.

@@ -526,7 +526,7 @@ fn a_csv_path_without_units_says_mm_was_assumed_and_path_units_state_them() {
         w.contains("p.csv:1: x, y, z have no unit; mm assumed"),
         "{w}"
     );
-    assert!(w.contains("--path-units"), "{w}");
+    assert!(w.contains("set the path units to mm or m"), "{w}");
     assert!(
         w.contains("smaller than 50 mm") && w.contains("read as mm (assumed"),
         "{w}"

@@ -257,7 +257,7 @@ fn coordinate_units(
         (true, None) => {
             warnings.push(format!(
                 "{file}:{lineno}: x, y, z have no unit; mm assumed (state it in the header, \
-                 x[mm],y[mm],z[mm] or x[m],y[m],z[m], or with --path-units mm|m; Python: path_units=)"
+                 x[mm],y[mm],z[mm] or x[m],y[m],z[m], or set the path units to mm or m)"
             ));
             "read as mm (assumed: the header states no unit)".to_string()
         }

@@ -564,7 +564,8 @@ pub fn extent_warning(tp: &mut Toolpath, file: &str, unit: &str, scale: f64) {
     tp.warnings.push(format!(
         "{file}: the path's bounding box spans {} m (diagonal), {what}: implausible for a \
          concrete-printed part; its coordinates were {unit}{scaled}. If that is wrong, state \
-         the unit (CSV: x[m],y[m],z[m] in the header or --path-units) or resize with --scale (Python: path_units=, scale=)",
+         the unit (CSV: x[m],y[m],z[m] in the header, or the path units) or resize with the \
+         scale setting",
         fmt_g(d)
     ));
 }
