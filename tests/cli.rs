@@ -268,7 +268,7 @@ fn bad_robots_name_file_and_line_or_field() {
         &["r1/robot.urdf:", "XML"],
     );
 
-    // A link without inertial, asked for dynamics: names the link; kinematics still load.
+    // A link without inertial, asked for dynamics: estimated, and the warning names the link.
     let r2 = d.join("r2");
     std::fs::create_dir_all(&r2).unwrap();
     let start = urdf.find("<link name=\"link_3\"").unwrap();
@@ -280,11 +280,13 @@ fn bad_robots_name_file_and_line_or_field() {
         &format!("{}{}", &urdf[..i0], &urdf[i1..]),
     );
     write(&r2, "drive.toml", &drive);
-    fails_with(
-        &["energy", "--robot", "r2", "--trajectory", traj],
+    let o = printwatt(
+        &["energy", "--robot", "r2", "--trajectory", traj, "--no-csv"],
         &d,
-        &["link_3", "inertial"],
     );
+    let e = stderr(&o);
+    assert!(o.status.success(), "{e}");
+    assert!(e.contains("ESTIMATE") && e.contains("`link_3`"), "{e}");
     assert!(printwatt::robot::load(&r2).is_ok());
 
     // A drive file with a wrong field value names the field.
@@ -428,9 +430,37 @@ fn shared_options_read_the_same_in_every_command() {
         .contains("[default: abb_irb6700_200_260]"));
     // Timing options: on every command that times a path, with the same unit and default.
     for opt in [
-        "--zone", "--period", "--accel", "--jerk", "--at", "--spin", "--path",
+        "--zone",
+        "--period",
+        "--accel",
+        "--jerk",
+        "--at",
+        "--spin",
+        "--path",
+        "--path-units",
+        "--scale",
     ] {
         let lines: Vec<_> = ["energy", "sweep", "optimise", "simulate"]
+            .iter()
+            .map(|c| {
+                let h = &helps.iter().find(|(n, _)| n == c).unwrap().1;
+                option_line(h, opt).unwrap_or_else(|| panic!("{c}: no {opt}"))
+            })
+            .collect();
+        assert!(lines.iter().all(|l| l == &lines[0]), "{opt}: {lines:#?}");
+    }
+    // Feasibility checks: the same in `energy --at` as in `sweep` and `optimise`.
+    for opt in [
+        "--no-collisions",
+        "--check-every",
+        "--wrist-min",
+        "--wrist-rate-max",
+        "--wrist-margin",
+        "--joint-margin",
+        "--elbow-min",
+        "--shoulder-min",
+    ] {
+        let lines: Vec<_> = ["energy", "sweep", "optimise"]
             .iter()
             .map(|c| {
                 let h = &helps.iter().find(|(n, _)| n == c).unwrap().1;
@@ -1065,4 +1095,188 @@ fn an_unknown_regeneration_policy_is_refused_with_the_four_policies() {
         &root(),
     );
     assert!(o.status.success(), "{}", stderr(&o));
+
+fn energy_at_reports_a_placement_sweep_at_calls_infeasible_with_the_same_reason() {
+    let d = tmpdir("same-checks");
+    let p = root().join("paths/default.gcode");
+    let p = p.to_str().unwrap();
+    // The part high above the base: the upper arm dips into the bed.
+    let at = "1.2,0.5,1.2,90";
+    let s = printwatt(&["sweep", "--path", p, "--at", at], &d);
+    assert!(s.status.success(), "{}", stderr(&s));
+    let out = String::from_utf8_lossy(&s.stdout).into_owned();
+    let row = out
+        .lines()
+        .find(|l| l.trim_start().starts_with("0 "))
+        .unwrap_or_else(|| panic!("no row 0 in {out}"));
+    let note = row[row.find("collision_bed").unwrap_or_else(|| panic!("{row}"))..].trim_end();
+    assert!(note.contains("meets the bed"), "{note}");
+    // energy --at: the motion exists, so it is evaluated, and the failure is stated with the
+    // sweep's reason word for word, on stdout and as a warning.
+    let e = printwatt(&["energy", "--path", p, "--at", at, "--no-csv"], &d);
+    assert!(e.status.success(), "{}", stderr(&e));
+    let text = String::from_utf8_lossy(&e.stdout).into_owned();
+    assert!(
+        text.contains(&format!(
+            "checks     INFEASIBLE (the checks of `sweep`): {note}"
+        )),
+        "sweep: {note}\nenergy: {text}"
+    );
+    assert!(stderr(&e).contains(&format!(
+        "placement {at} is INFEASIBLE as `sweep` checks it: {note}"
+    )));
+    // JSON: `feasibility` as a sweep row's outcome.
+    let j = printwatt(&["energy", "--path", p, "--at", at, "--json"], &d);
+    assert!(j.status.success(), "{}", stderr(&j));
+    let v: serde_json::Value = serde_json::from_slice(&j.stdout).unwrap();
+    assert_eq!(v["feasibility"]["status"], "infeasible");
+    assert_eq!(v["feasibility"]["reason"], "collision_bed");
+    assert!(
+        note.contains(v["feasibility"]["detail"].as_str().unwrap()),
+        "{v}"
+    );
+    // Switching the failing check off, as in sweep, makes it feasible.
+    let ok = printwatt(
+        &[
+            "energy",
+            "--path",
+            p,
+            "--at",
+            at,
+            "--json",
+            "--no-collisions",
+        ],
+        &d,
+    );
+    let v: serde_json::Value = serde_json::from_slice(&ok.stdout).unwrap();
+    assert_eq!(v["feasibility"]["status"], "feasible", "{}", stderr(&ok));
+}
+
+#[test]
+fn path_units_state_a_unitless_csv_path_and_mm_is_never_assumed_silently() {
+    let d = tmpdir("path-units");
+    let csv = write(
+        &d,
+        "square.csv",
+        "x,y,z\n0,0,0\n0.6,0,0\n0.6,0.4,0\n0,0.4,0\n0,0,0\n",
+    );
+    let c = csv.to_str().unwrap();
+    let run = |extra: &[&str]| {
+        let mut a = vec!["energy", "--path", c, "--at", "1.6,0,0.3,90", "--json"];
+        a.extend_from_slice(extra);
+        printwatt(&a, &d)
+    };
+    let m = run(&["--path-units", "m"]);
+    assert!(m.status.success(), "{}", stderr(&m));
+    assert!(!stderr(&m).contains("assumed"), "{}", stderr(&m));
+    let mm = run(&[]);
+    assert!(mm.status.success(), "{}", stderr(&mm));
+    let e = stderr(&mm);
+    assert!(
+        e.contains("square.csv:1: x, y, z have no unit; mm assumed"),
+        "{e}"
+    );
+    assert!(
+        e.contains("smaller than 50 mm") && e.contains("set the path units to mm or m"),
+        "{e}"
+    );
+    // The notes are in the JSON too.
+    let v: serde_json::Value = serde_json::from_slice(&mm.stdout).unwrap();
+    let w = v["warnings"].to_string();
+    assert!(w.contains("mm assumed"), "{w}");
+    // Half size by --scale: a shorter print.
+    let t = |o: &Output| {
+        serde_json::from_slice::<serde_json::Value>(&o.stdout).unwrap()["print_time_s"]
+            .as_f64()
+            .unwrap()
+    };
+    let half = run(&["--path-units", "m", "--scale", "0.5"]);
+    assert!(half.status.success(), "{}", stderr(&half));
+    assert!(t(&half) < 0.6 * t(&m), "{} vs {}", t(&half), t(&m));
+    fails_with(
+        &["energy", "--path-units", "km", "--at", "1.6,0,0.3,90"],
+        &d,
+        &["--path-units `km`", "expected mm or m"],
+    );
+    fails_with(
+        &["energy", "--path-units", "m", "--at", "1.6,0,0.3,90"],
+        &d,
+        &["default.gcode", "CSV paths only"],
+    );
+}
+
+#[test]
+fn energy_runs_on_field_robots_with_missing_or_placeholder_inertias_and_says_so() {
+    let d = tmpdir("field-robots");
+    let csv = write(
+        &d,
+        "square.csv",
+        "x[m],y[m],z[m]\n0,0,0\n0.6,0,0\n0.6,0.4,0\n0,0.4,0\n0,0,0\n",
+    );
+    for (urdf, needles) in [
+        (
+            "abb_irb6640_185_280.urdf",
+            &["ESTIMATE", "`link_1`", "[links.<name>]"][..],
+        ),
+        (
+            "kuka_kr120r2500pro.urdf",
+            &[
+                "same mass, 2 kg",
+                "placeholder",
+                "less than the rated payload of 120 kg",
+            ][..],
+        ),
+    ] {
+        // The URDF as published, with a drive file giving the nozzle and the rated payload.
+        let r = d.join(urdf.trim_end_matches(".urdf"));
+        std::fs::create_dir_all(&r).unwrap();
+        std::fs::copy(
+            root().join("tests/data/field_robots").join(urdf),
+            r.join("robot.urdf"),
+        )
+        .unwrap();
+        std::fs::write(
+            r.join("drive.toml"),
+            "[robot]\nrated_payload_kg = 120.0\n\n[tool]\nxyz_m = [0.0, 0.0, 0.3]\nrpy_rad = [0.0, 0.0, 0.0]\n",
+        )
+        .unwrap();
+        let o = printwatt(
+            &[
+                "energy",
+                "--robot",
+                r.to_str().unwrap(),
+                "--path",
+                csv.to_str().unwrap(),
+                "--at",
+                "1.6,0,0.3,0",
+                "--no-csv",
+            ],
+            &d,
+        );
+        let e = stderr(&o);
+        assert!(o.status.success(), "{urdf}: {e}");
+        assert!(!e.contains("has no <inertial>"), "{e}");
+        for n in needles {
+            assert!(e.contains(n), "{urdf}: `{n}` not in {e}");
+        }
+        assert!(String::from_utf8_lossy(&o.stdout).contains("supply energy"));
+    }
+    // `robots` shows where the inertias come from.
+    let o = printwatt(&["robots", "--dir", d.to_str().unwrap(), "--json"], &d);
+    assert!(o.status.success(), "{}", stderr(&o));
+    let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+    let rows = v["robots"].as_array().unwrap();
+    let abb = rows
+        .iter()
+        .find(|r| r["id"] == "abb_irb6640_185_280")
+        .unwrap();
+    assert_eq!(abb["inertia_sources"][0], "estimate_from_capsule");
+    let kuka = rows
+        .iter()
+        .find(|r| r["id"] == "kuka_kr120r2500pro")
+        .unwrap();
+    assert_eq!(kuka["inertia_sources"][0], "urdf");
+    let t = printwatt(&["robots", "--dir", d.to_str().unwrap()], &d);
+    let out = String::from_utf8_lossy(&t.stdout).into_owned();
+    assert!(out.contains("link_1 ESTIMATE (capsule)"), "{out}");
 }

@@ -160,3 +160,117 @@ fn malformed_urdfs_name_the_line() {
         .to_string();
     assert!(e.starts_with("f.urdf:1:"), "{e}");
 }
+
+fn field_robot(name: &str) -> std::path::PathBuf {
+    std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/field_robots")
+        .join(name)
+}
+
+#[test]
+fn a_field_urdf_without_inertials_loads_with_estimated_inertias_labelled_estimate() {
+    use printwatt::robot::inertia::InertiaSource;
+    let m = printwatt::robot::load(&field_robot("abb_irb6640_185_280.urdf")).unwrap();
+    assert_eq!(m.dof(), 6);
+    assert_eq!(
+        m.info.inertia_sources,
+        vec![InertiaSource::EstimateFromCapsule; 6]
+    );
+    for (i, l) in m.links.iter().enumerate() {
+        let l = l.unwrap_or_else(|| panic!("link {i} left without inertia"));
+        assert!(l.mass.is_finite() && l.mass > 0.0, "link {i}: {l:?}");
+    }
+    let w = m.warnings.join("\n");
+    assert!(
+        w.contains("ESTIMATE") && w.contains("`link_1`") && w.contains("kg/m³"),
+        "{w}"
+    );
+    // The estimate is what dynamics run on: no "has no <inertial>" any more.
+    assert!(DynModel::new(&m, DynOptions::default()).is_ok());
+}
+
+#[test]
+fn placeholder_inertias_identical_on_every_link_are_warned_about() {
+    let m = printwatt::robot::load(&field_robot("kuka_kr120r2500pro.urdf")).unwrap();
+    let w = m.warnings.join("\n");
+    assert!(
+        w.contains("same mass, 2 kg") && w.contains("placeholder"),
+        "{w}"
+    );
+    assert!(!w.contains("ESTIMATE"), "{w}");
+    // With the rated payload stated, the total below it is a second warning.
+    let d = std::env::temp_dir().join(format!("printwatt-kr120-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    std::fs::copy(field_robot("kuka_kr120r2500pro.urdf"), d.join("robot.urdf")).unwrap();
+    std::fs::write(d.join("drive.toml"), "[robot]\nrated_payload_kg = 120.0\n").unwrap();
+    let m = printwatt::robot::load(&d).unwrap();
+    let w = m.warnings.join("\n");
+    assert!(w.contains("less than the rated payload of 120 kg"), "{w}");
+}
+
+#[test]
+fn drive_file_links_tables_give_missing_inertias_and_name_a_bad_key() {
+    use printwatt::robot::inertia::InertiaSource;
+    let d = std::env::temp_dir().join(format!("printwatt-irb6640-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    std::fs::copy(
+        field_robot("abb_irb6640_185_280.urdf"),
+        d.join("robot.urdf"),
+    )
+    .unwrap();
+    std::fs::write(
+        d.join("drive.toml"),
+        "[links.link_2]\nmass_kg = 250.0\ncom_m = [0.0, 0.0, 0.5]\ninertia_kg_m2 = [40.0, 40.0, 5.0, 0.0, 0.0, 0.0]\n",
+    )
+    .unwrap();
+    let m = printwatt::robot::load(&d).unwrap();
+    assert_eq!(m.info.inertia_sources[1], InertiaSource::DriveFile);
+    assert_eq!(
+        m.info.inertia_sources[0],
+        InertiaSource::EstimateFromCapsule
+    );
+    let l2 = m.links[1].unwrap();
+    assert_eq!(l2.mass, 250.0);
+    assert_eq!(l2.com, printwatt::math::V3::new(0.0, 0.0, 0.5));
+    assert_eq!(l2.inertia[(0, 0)], 40.0);
+    assert!(!m.warnings.join("\n").contains("`link_2`"));
+    std::fs::write(
+        d.join("drive.toml"),
+        "[links.link_9]\nmass_kg = 250.0\ncom_m = [0.0, 0.0, 0.5]\ninertia_kg_m2 = [40.0, 40.0, 5.0, 0.0, 0.0, 0.0]\n",
+    )
+    .unwrap();
+    let e = printwatt::robot::load(&d).unwrap_err().to_string();
+    assert!(
+        e.contains("drive.toml") && e.contains("links.link_9") && e.contains("link_6"),
+        "{e}"
+    );
+    std::fs::write(
+        d.join("drive.toml"),
+        "[links.link_2]\nmass_kg = 250.0\ncom_m = [0.0, 0.0, 0.5]\ninertia_kg_m2 = [1.0, 1.0, 5.0, 0.0, 0.0, 0.0]\n",
+    )
+    .unwrap();
+    let e = printwatt::robot::load(&d).unwrap_err().to_string();
+    assert!(
+        e.contains("links.link_2.inertia_kg_m2") && e.contains("triangle"),
+        "{e}"
+    );
+}
+
+#[test]
+fn capsule_estimate_of_the_irb6700_is_within_a_quarter_of_its_moving_mass() {
+    let mut m = printwatt::load_robot(std::path::Path::new(concat!(
+        env!("CARGO_MANIFEST_DIR"),
+        "/robots/abb_irb6700_200_260"
+    )))
+    .unwrap();
+    let truth: f64 = m.links.iter().flatten().map(|l| l.mass).sum();
+    assert!(m.link_collision.iter().all(|c| c.is_empty()));
+    for l in &mut m.links {
+        *l = None;
+    }
+    m.info.inertia_sources.clear();
+    printwatt::robot::inertia::complete(&mut m);
+    let est: f64 = m.links.iter().flatten().map(|l| l.mass).sum();
+    eprintln!("IRB 6700 moving mass: {truth:.1} kg, capsule estimate {est:.1} kg");
+    assert!((est / truth - 1.0).abs() < 0.25, "{est} vs {truth}");
+}

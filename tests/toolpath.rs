@@ -541,4 +541,104 @@ fn a_placement_set_row_no_arm_reaches_is_named_by_file_row_and_column_with_its_u
         "{e}"
     );
     let _ = std::fs::remove_dir_all(&d);
+
+fn a_csv_path_without_units_says_mm_was_assumed_and_path_units_state_them() {
+    use printwatt::toolpath::PathUnits;
+    let text = "x,y,z\n0,0,0\n1.5,0,0\n1.5,1,0\n";
+    // No unit anywhere: mm, said once with the header line, and the 1.8 mm part is implausible.
+    let p = parse_csv(text, "p.csv", &ReadOptions::default()).unwrap();
+    assert!(close(p.length(), 2.5e-3, 1e-15));
+    let w = p.warnings.join("\n");
+    assert!(
+        w.contains("p.csv:1: x, y, z have no unit; mm assumed"),
+        "{w}"
+    );
+    assert!(w.contains("set the path units to mm or m"), "{w}");
+    assert!(
+        w.contains("smaller than 50 mm") && w.contains("read as mm (assumed"),
+        "{w}"
+    );
+    // Stated by the option: metres, no note, a plausible 1.8 m part.
+    let opts = ReadOptions {
+        path_units: Some(PathUnits::M),
+        ..Default::default()
+    };
+    let p = parse_csv(text, "p.csv", &opts).unwrap();
+    assert!(close(p.length(), 2.5, 1e-12));
+    assert!(p.warnings.is_empty(), "{:?}", p.warnings);
+    // Unlabelled speeds follow the path unit per second.
+    let p = parse_csv("x,y,z,speed\n0,0,0,0.2\n1,0,0,0.2\n", "s.csv", &opts).unwrap();
+    assert!(close(p.moves[0].speed, 0.2, 1e-15));
+    // Stated in the header: it wins over the option, which is said.
+    let p = parse_csv("x[mm],y[mm],z[mm]\n0,0,0\n1500,0,0\n", "h.csv", &opts).unwrap();
+    assert!(close(p.length(), 1.5, 1e-12));
+    let w = p.warnings.join("\n");
+    assert!(w.contains("h.csv:1: the header states [mm]"), "{w}");
+    assert!(PathUnits::parse("furlong").is_err());
+}
+
+#[test]
+fn a_path_of_implausible_extent_is_warned_about_naming_the_unit_read() {
+    let d = std::env::temp_dir().join(format!("printwatt-extent-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    // 60 km read from a CSV in metres by its header: too large, the unit named as stated.
+    let big = d.join("big.csv");
+    std::fs::write(&big, "x[m],y[m],z[m]\n0,0,0\n60,0,0\n").unwrap();
+    let p = load(&big, &ReadOptions::default()).unwrap();
+    let w = p.warnings.join("\n");
+    assert!(
+        w.contains("larger than 50 m") && w.contains("read as m (stated in the header)"),
+        "{w}"
+    );
+    assert!(w.contains(&big.display().to_string()), "{w}");
+    // A 10 mm G-code part: too small, read as the file's G21 mm.
+    let small = d.join("small.gcode");
+    std::fs::write(&small, "G21\nG1 X0 Y0 Z0 F600\nG1 X10 Y0 F600\n").unwrap();
+    let p = load(&small, &ReadOptions::default()).unwrap();
+    let w = p.warnings.join("\n");
+    assert!(w.contains("smaller than 50 mm") && w.contains("G21"), "{w}");
+    // The shipped 2 m path is plausible: no such warning.
+    let p = shipped("default.gcode");
+    assert!(!p.warnings.join("\n").contains("implausible"));
+}
+
+#[test]
+fn path_units_are_refused_for_gcode_and_scale_resizes_the_geometry() {
+    use printwatt::toolpath::PathUnits;
+    let g = root("paths/default.gcode");
+    let e = load(
+        &g,
+        &ReadOptions {
+            path_units: Some(PathUnits::M),
+            ..Default::default()
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(
+        e.contains("default.gcode") && e.contains("CSV paths only"),
+        "{e}"
+    );
+    let full = load(&g, &ReadOptions::default()).unwrap();
+    let half = load(
+        &g,
+        &ReadOptions {
+            scale: 0.5,
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert!(close(half.length(), 0.5 * full.length(), 1e-9));
+    assert_eq!(half.moves.len(), full.moves.len());
+    assert_eq!(half.moves[3].speed, full.moves[3].speed);
+    let e = load(
+        &g,
+        &ReadOptions {
+            scale: 0.0,
+            ..Default::default()
+        },
+    )
+    .unwrap_err()
+    .to_string();
+    assert!(e.contains("scale"), "{e}");
 }

@@ -264,11 +264,24 @@ fn read_options(print_speed: f64, travel_speed: f64, zone: f64) -> PyRes<ReadOpt
 /// (`x,y,z[,speed][,print]`, units in the header) or an ABB RAPID module (`.mod`). The file's
 /// units are converted to SI (m, m/s). `print_speed` and `travel_speed` (m/s) apply where the
 /// file gives no speed; `zone` (m) is the corner blend radius where the file gives none.
+/// `path_units` (`"mm"` or `"m"`) is the unit of a CSV path's x, y, z written without one
+/// (default: mm, with a warning in `Toolpath.warnings`); `scale` multiplies the geometry.
 /// Raises PrintwattError naming the file, line and column at fault.
 #[pyfunction]
-#[pyo3(signature = (file, print_speed = 0.1, travel_speed = 0.25, zone = 0.005))]
-fn load_path(file: PathBuf, print_speed: f64, travel_speed: f64, zone: f64) -> PyRes<Toolpath_> {
-    let opts = read_options(print_speed, travel_speed, zone)?;
+#[pyo3(signature = (file, print_speed = 0.1, travel_speed = 0.25, zone = 0.005, path_units = None, scale = 1.0))]
+fn load_path(
+    file: PathBuf,
+    print_speed: f64,
+    travel_speed: f64,
+    zone: f64,
+    path_units: Option<String>,
+    scale: f64,
+) -> PyRes<Toolpath_> {
+    let mut opts = read_options(print_speed, travel_speed, zone)?;
+    if let Some(u) = &path_units {
+        opts.path_units = Some(printwatt::toolpath::PathUnits::parse(u).map_err(err)?);
+    }
+    opts.scale = scale;
     let tp = printwatt::load_path(&file, &opts).map_err(err)?;
     Ok(Toolpath_ { inner: tp })
 }
@@ -341,7 +354,7 @@ impl<'py> PathArg<'py> {
         match self {
             PathArg::Loaded(r) => Ok(PathHold::Ref(r)),
             PathArg::File(f) => Ok(PathHold::Own(Box::new(
-                load_path(f, 0.1, 0.25, 0.005)?.inner,
+                load_path(f, 0.1, 0.25, 0.005, None, 1.0)?.inner,
             ))),
         }
     }

@@ -127,6 +127,20 @@ def test_path_from_points_matches_the_same_path_read_from_a_csv(robot, tmp_path)
     assert pw.path_from_points(pts.astype(np.float32).tolist(), 0.1).moves == 3
 
 
+def test_load_path_states_csv_units_as_the_cli_does(tmp_path):
+    csv = tmp_path / "unitless.csv"
+    csv.write_text("x,y,z\n0,0,0\n0.6,0,0\n0.6,0.4,0\n")
+    mm = pw.load_path(csv)
+    assert any("mm assumed" in w for w in mm.warnings)
+    m = pw.load_path(csv, path_units="m")
+    assert not m.warnings
+    assert abs(m.length_m - 1000.0 * mm.length_m) < 1e-9
+    half = pw.load_path(csv, path_units="m", scale=0.5)
+    assert abs(half.length_m - 0.5 * m.length_m) < 1e-12
+    with pytest.raises(pw.PrintwattError, match="CSV paths only"):
+        pw.load_path(PATH, path_units="m")
+
+
 def test_bad_input_raises_printwatt_error_with_the_library_message(robot, tmp_path):
     bad = tmp_path / "bad.gcode"
     bad.write_text("G21\nG1 X10 Y0 F6000\nG1 X1O Y5\n")

@@ -3,13 +3,17 @@
 //! every command.
 //!
 //! - [`RobotArg`]: `--robot`, `--tool`
+//! - [`PathArg`]: `--path`, `--path-units`, `--scale`
 //! - [`AtArg`]: `--at`, `--spin` (where the path's part frame sits)
 //! - [`TimingArgs`]: `--zone`, `--period`, `--accel`, `--jerk`
+//! - [`FeasibilityArgs`]: `--no-collisions`, `--check-every`, the wrist, joint, elbow and
+//!   shoulder margins
 //! - [`EnergyArgs`]: `--regeneration`, `--no-payload`, `--no-friction`
 //! - [`OutputArgs`]: `--out`, `--json`, `--force`
 
 use anyhow::{bail, Context, Result};
 use printwatt::energy::EnergyOptions;
+use printwatt::evaluate::feasibility::FeasibilityOptions;
 use printwatt::robot::{Regeneration, RobotModel};
 use printwatt::timing::ProfileOptions;
 use printwatt::toolpath::{Placement, ReadOptions, Zone};
@@ -300,13 +304,132 @@ pub struct PathArg {
     /// `paths/default.gcode` (for `simulate`: none; give --path, --trajectory or --excite).
     #[arg(long, value_name = "FILE")]
     pub path: Option<PathBuf>,
+    /// Length unit of a CSV path's x, y, z columns written without one (`x`, not `x[mm]`);
+    /// unlabelled speeds follow it per second. Without it such a file is read in mm, with a
+    /// warning that mm was assumed. A unit in the header wins. G-code and RAPID state their
+    /// own units and refuse it.
+    #[arg(long, value_name = "mm|m")]
+    pub path_units: Option<String>,
+    /// Factor applied to the path's geometry after its units are read (points, arcs; not
+    /// speeds), e.g. 0.5 to print a half-size part.
+    #[arg(long, value_name = "FACTOR", default_value_t = 1.0)]
+    pub scale: f64,
 }
 
 impl PathArg {
+    /// The path reader's options: the timing's (default corner zone) with the path units
+    /// and scale.
+    pub fn read_options(&self, timing: &TimingArgs) -> Result<ReadOptions> {
+        let mut o = timing.read_options()?;
+        if let Some(u) = &self.path_units {
+            o.path_units = Some(
+                printwatt::toolpath::PathUnits::parse(u)
+                    .with_context(|| format!("--path-units `{u}`"))?,
+            );
+        }
+        if !(self.scale.is_finite() && self.scale > 0.0) {
+            bail!("--scale {}: expected a finite factor > 0", self.scale);
+        }
+        o.scale = self.scale;
+        Ok(o)
+    }
+
     /// The path file, the shipped default when none is given.
     pub fn file(&self) -> PathBuf {
         self.path
             .clone()
             .unwrap_or_else(|| super::sweep::shipped("paths/default.gcode"))
+    }
+}
+
+/// Which feasibility checks a placement must pass (the same in `energy --at`, `sweep` and
+/// `optimise`).
+#[derive(clap::Args, Debug, Clone)]
+pub struct FeasibilityArgs {
+    /// Skip collision checks.
+    #[arg(long)]
+    pub no_collisions: bool,
+    /// Check singularities and collisions every k-th sample.
+    #[arg(long, default_value_t = 10)]
+    pub check_every: usize,
+    /// |sin q5| below which a sample is near the wrist singularity; there joints 4 and 6 may
+    /// use at most --wrist-rate-max of their velocity/acceleration limits.
+    #[arg(long, default_value_t = 0.05)]
+    pub wrist_min: f64,
+    /// Largest share of the joint 4/6 velocity or acceleration limit near the wrist
+    /// singularity (0.5 = half).
+    #[arg(long, default_value_t = printwatt::evaluate::feasibility::margins::DEFAULT_WRIST_RATE_MAX)]
+    pub wrist_rate_max: f64,
+    /// Distance kept from the wrist singularity, deg: on every sample q5 stays at least this
+    /// far from 0 and ±180°. 0 lets the wrist pass through it (a round nozzle whose q6 is
+    /// free); the RAPID export then sets `SingArea \Wrist`.
+    #[arg(long, value_name = "DEG", default_value_t = printwatt::evaluate::feasibility::margins::DEFAULT_WRIST_MARGIN_DEG)]
+    pub wrist_margin: f64,
+    /// Margin kept from every joint's position limits, deg: one value for all joints or a
+    /// comma list per joint (the drive file's `limit_margin_rad` takes precedence).
+    #[arg(long, default_value = "3")]
+    pub joint_margin: String,
+    /// Smallest elbow measure accepted, |sin q3'| (dimensionless, 0…1; 0 switches the check
+    /// off): how far the arm is from being stretched straight or folded.
+    #[arg(long, default_value_t = 0.05)]
+    pub elbow_min: f64,
+    /// Smallest wrist-centre distance from axis 1 accepted, m.
+    #[arg(long, default_value_t = 0.10)]
+    pub shoulder_min: f64,
+}
+
+impl FeasibilityArgs {
+    /// The library's feasibility options for a robot of `dof` joints.
+    pub fn options(&self, dof: usize) -> Result<FeasibilityOptions> {
+        for (opt, v) in [
+            ("--wrist-min", self.wrist_min),
+            ("--elbow-min", self.elbow_min),
+            ("--shoulder-min", self.shoulder_min),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                bail!("{opt} {v}: expected a finite margin >= 0 (0 switches the check off)");
+            }
+        }
+        if self.check_every == 0 {
+            bail!("--check-every must be at least 1");
+        }
+        let margins = printwatt::search::parse_range("joint-margin", &self.joint_margin)?;
+        if margins.iter().any(|m| *m < 0.0 || *m > 90.0) {
+            bail!(
+                "--joint-margin `{}`: margins must lie in [0, 90] deg",
+                self.joint_margin
+            );
+        }
+        if margins.len() != 1 && margins.len() != dof {
+            bail!(
+                "--joint-margin `{}`: give one margin or {dof} (one per joint)",
+                self.joint_margin
+            );
+        }
+        let mut joint_margin_rad = [0.0; printwatt::kinematics::MAX_DOF];
+        for (j, m) in joint_margin_rad.iter_mut().enumerate() {
+            *m = margins
+                .get(j)
+                .or(margins.last())
+                .copied()
+                .unwrap_or(0.0)
+                .to_radians();
+        }
+        if !(self.wrist_rate_max > 0.0 && self.wrist_rate_max.is_finite()) {
+            bail!("--wrist-rate-max must be > 0");
+        }
+        let feas = FeasibilityOptions {
+            wrist_min: self.wrist_min,
+            wrist_rate_max: self.wrist_rate_max,
+            wrist_margin_rad: self.wrist_margin.to_radians(),
+            joint_margin_rad,
+            elbow_min: self.elbow_min,
+            shoulder_min_m: self.shoulder_min,
+            collisions: !self.no_collisions,
+            check_every: self.check_every,
+            ..Default::default()
+        };
+        feas.check()?;
+        Ok(feas)
     }
 }

@@ -28,6 +28,11 @@ pub struct EnergyCmd {
     pub timing: args::TimingArgs,
     #[command(flatten)]
     pub energy: args::EnergyArgs,
+    /// The checks an --at placement is put through, as in `sweep`: a failed one is stated (in
+    /// the summary, on stderr and in the JSON `feasibility`) with the reason `sweep` gives, and
+    /// the motion is evaluated regardless; a path that cannot be timed there is an error.
+    #[command(flatten)]
+    pub feasibility: args::FeasibilityArgs,
     /// --out: the per-sample CSV `<input stem>.energy.csv` (t, q, q̇, q̈, torque, mechanical and
     /// electrical power per joint, supply power).
     #[command(flatten)]
@@ -42,10 +47,22 @@ struct Summary<'a> {
     robot: &'a str,
     input: String,
     placement: Option<PlacementOut>,
+    /// The placement checks `sweep` applies (none for a trajectory).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    feasibility: Option<&'a FeasibilityOut>,
     print_time_s: f64,
     slowdowns: &'a [Slowdown],
     output_csv: Option<String>,
     energy: &'a EnergyReport,
+}
+
+/// The placement's checks: `{"status": "feasible"}` or `{"status": "infeasible", "reason": …}`
+/// with the fields of a sweep row's infeasible outcome.
+#[derive(Serialize)]
+#[serde(tag = "status", rename_all = "snake_case")]
+enum FeasibilityOut {
+    Feasible,
+    Infeasible(printwatt::evaluate::Infeasible),
 }
 
 #[derive(Serialize)]
@@ -87,6 +104,7 @@ pub fn run(a: EnergyCmd) -> Result<()> {
     if let Some(o) = &out {
         printwatt::output::check_file(o, &inputs, Existing::Force(a.out.force))?;
     }
+    let mut feasibility = None;
     let (traj, slowdowns, report) = if let Some(tp) = &a.trajectory {
         let (mut traj, sup) = trajectory::read_csv_for(tp, &model)?;
         complete_derivatives(&mut traj, sup)?;
@@ -95,15 +113,30 @@ pub fn run(a: EnergyCmd) -> Result<()> {
         (traj, Vec::new(), report)
     } else {
         let placement = placement.context("--at")?;
-        let path = super::load_path(&input, &a.timing.read_options()?)?;
+        let path = super::load_path(&input, &a.path.read_options(&a.timing)?)?;
         let profile = a.timing.profile()?;
         let job = PathJob::new(&model, &path, opts, profile, JointStageOptions::default())?;
-        let ev = job.evaluate(&placement)?.map_err(|e| {
+        let feas = a.feasibility.options(model.dof())?;
+        let (ev, failed) = job.evaluate_checked(&placement, feas)?.map_err(|e| {
             anyhow::anyhow!(
                 "placement {} is infeasible: {e}",
                 a.at.at.as_deref().unwrap_or_default()
             )
         })?;
+        feasibility = Some(match failed {
+            None => FeasibilityOut::Feasible,
+            Some(why) => {
+                super::note_warnings(
+                    &input.display().to_string(),
+                    &[format!(
+                        "placement {} is INFEASIBLE as `sweep` checks it: {why}; its energy is \
+                         evaluated regardless",
+                        a.at.at.as_deref().unwrap_or_default()
+                    )],
+                );
+                FeasibilityOut::Infeasible(why)
+            }
+        });
         (ev.timed.traj, ev.timed.slowdowns, ev.energy)
     };
     let mut csv = Vec::new();
@@ -125,6 +158,7 @@ pub fn run(a: EnergyCmd) -> Result<()> {
             yaw_deg: p.yaw.to_degrees(),
             nozzle_spin_deg: p.nozzle_spin.to_degrees(),
         }),
+        feasibility: feasibility.as_ref(),
         print_time_s: report.duration_s,
         slowdowns: &slowdowns,
         output_csv: out.as_ref().map(|o| o.display().to_string()),
@@ -227,6 +261,15 @@ fn print_summary(s: &Summary, model: &printwatt::robot::RobotModel) -> Result<()
             p.yaw_deg,
             p.nozzle_spin_deg
         );
+    }
+    match s.feasibility {
+        Some(FeasibilityOut::Feasible) => {
+            outln!("checks     feasible (the checks of `sweep`)")
+        }
+        Some(FeasibilityOut::Infeasible(why)) => {
+            outln!("checks     INFEASIBLE (the checks of `sweep`): {why}; evaluated regardless")
+        }
+        None => {}
     }
     outln!("model      {}", r.model);
     outln!("time       {:.2} s ({} samples)", r.duration_s, r.samples);

@@ -17,6 +17,8 @@ struct RobotRow {
     closed_form_ik: bool,
     drive_data: bool,
     provenance: String,
+    inertia_sources: Vec<robot::inertia::InertiaSource>,
+    link_names: Vec<String>,
 }
 
 /// `printwatt robots`: the shipped robots as a table or JSON.
@@ -43,6 +45,8 @@ pub fn run(a: RobotsArgs) -> Result<()> {
             closed_form_ik: m.opw.is_some(),
             drive_data: m.drive.is_some(),
             provenance: m.info.provenance.clone(),
+            inertia_sources: m.info.inertia_sources.clone(),
+            link_names: m.link_names.clone(),
         });
     }
     if a.json {
@@ -90,6 +94,17 @@ pub fn run(a: RobotsArgs) -> Result<()> {
     outln!();
     for r in &rows {
         outln!("{}: {}", r.id, r.provenance);
+        // Where the link inertias come from, when not all from the URDF.
+        let other: Vec<String> = r
+            .link_names
+            .iter()
+            .zip(&r.inertia_sources)
+            .filter(|(_, s)| **s != robot::inertia::InertiaSource::Urdf)
+            .map(|(l, s)| format!("{l} {}", s.words()))
+            .collect();
+        if !other.is_empty() {
+            outln!("{}: link inertias: {}", r.id, other.join(", "));
+        }
     }
     Ok(())
 }

@@ -66,7 +66,7 @@ pub fn run(a: super::SimulateArgs) -> Result<()> {
     let dense = match (&a.path.path, &a.trajectory, a.excite) {
         (Some(p), None, None) => {
             let pl = placement.context("--path needs --at x,y,z,yaw")?;
-            let tp = super::load_path(p, &a.timing.read_options()?)?;
+            let tp = super::load_path(p, &a.path.read_options(&a.timing)?)?;
             let job = printwatt::evaluate::PathJob::new(
                 &robot,
                 &tp,

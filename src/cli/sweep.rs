@@ -51,36 +51,8 @@ pub struct PlacementArgs {
     /// `mechanical_abs` (Σ∫|τq̇|: braking costed like driving).
     #[arg(long, default_value = "supply")]
     pub objective: String,
-    /// Skip collision checks.
-    #[arg(long)]
-    pub no_collisions: bool,
-    /// Check singularities and collisions every k-th sample.
-    #[arg(long, default_value_t = 10)]
-    pub check_every: usize,
-    /// |sin q5| below which a sample is near the wrist singularity; there joints 4 and 6 may
-    /// use at most --wrist-rate-max of their velocity/acceleration limits.
-    #[arg(long, default_value_t = 0.05)]
-    pub wrist_min: f64,
-    /// Largest share of the joint 4/6 velocity or acceleration limit near the wrist
-    /// singularity (0.5 = half).
-    #[arg(long, default_value_t = printwatt::evaluate::feasibility::margins::DEFAULT_WRIST_RATE_MAX)]
-    pub wrist_rate_max: f64,
-    /// Distance kept from the wrist singularity, deg: on every sample q5 stays at least this
-    /// far from 0 and ±180°. 0 lets the wrist pass through it (a round nozzle whose q6 is
-    /// free); the RAPID export then sets `SingArea \Wrist`.
-    #[arg(long, value_name = "DEG", default_value_t = printwatt::evaluate::feasibility::margins::DEFAULT_WRIST_MARGIN_DEG)]
-    pub wrist_margin: f64,
-    /// Margin kept from every joint's position limits, deg: one value for all joints or a
-    /// comma list per joint (the drive file's `limit_margin_rad` takes precedence).
-    #[arg(long, default_value = "3")]
-    pub joint_margin: String,
-    /// Smallest elbow measure accepted, |sin q3'| (dimensionless, 0…1; 0 switches the check
-    /// off): how far the arm is from being stretched straight or folded.
-    #[arg(long, default_value_t = 0.05)]
-    pub elbow_min: f64,
-    /// Smallest wrist-centre distance from axis 1 accepted, m.
-    #[arg(long, default_value_t = 0.10)]
-    pub shoulder_min: f64,
+    #[command(flatten)]
+    pub feasibility: super::args::FeasibilityArgs,
     /// Worker threads (default: all cores).
     #[arg(long)]
     pub threads: Option<usize>,
@@ -182,58 +154,9 @@ impl PlacementArgs {
     pub fn load(&self) -> Result<Loaded> {
         let robot = self.robot.load()?;
         let path_file = self.path.file();
-        let path = super::load_path(&path_file, &self.timing.read_options()?)?;
-        for (opt, v) in [
-            ("--wrist-min", self.wrist_min),
-            ("--elbow-min", self.elbow_min),
-            ("--shoulder-min", self.shoulder_min),
-        ] {
-            if !(v.is_finite() && v >= 0.0) {
-                bail!("{opt} {v}: expected a finite margin >= 0 (0 switches the check off)");
-            }
-        }
+        let path = super::load_path(&path_file, &self.path.read_options(&self.timing)?)?;
         let objective: Objective = self.objective.parse()?;
-        if self.check_every == 0 {
-            bail!("--check-every must be at least 1");
-        }
-        let margins = parse_range("joint-margin", &self.joint_margin)?;
-        if margins.iter().any(|m| *m < 0.0 || *m > 90.0) {
-            bail!(
-                "--joint-margin `{}`: margins must lie in [0, 90] deg",
-                self.joint_margin
-            );
-        }
-        let dof = robot.dof();
-        if margins.len() != 1 && margins.len() != dof {
-            bail!(
-                "--joint-margin `{}`: give one margin or {dof} (one per joint)",
-                self.joint_margin
-            );
-        }
-        let mut joint_margin_rad = [0.0; printwatt::kinematics::MAX_DOF];
-        for (j, m) in joint_margin_rad.iter_mut().enumerate() {
-            *m = margins
-                .get(j)
-                .or(margins.last())
-                .copied()
-                .unwrap_or(0.0)
-                .to_radians();
-        }
-        if !(self.wrist_rate_max > 0.0 && self.wrist_rate_max.is_finite()) {
-            bail!("--wrist-rate-max must be > 0");
-        }
-        let feas = FeasibilityOptions {
-            wrist_min: self.wrist_min,
-            wrist_rate_max: self.wrist_rate_max,
-            wrist_margin_rad: self.wrist_margin.to_radians(),
-            joint_margin_rad,
-            elbow_min: self.elbow_min,
-            shoulder_min_m: self.shoulder_min,
-            collisions: !self.no_collisions,
-            check_every: self.check_every,
-            ..Default::default()
-        };
-        feas.check()?;
+        let feas = self.feasibility.options(robot.dof())?;
         Ok(Loaded {
             robot,
             path,

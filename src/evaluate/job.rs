@@ -134,4 +134,34 @@ impl<'a> PathJob<'a> {
             energy,
         }))
     }
+
+    /// [`PathJob::evaluate`] with the feasibility checks a placement sweep applies (`feas`:
+    /// reach, joint-limit, wrist, elbow and shoulder margins, and collisions of the robot
+    /// with the bed, the printed part and itself), evaluated on every sample as
+    /// [`crate::evaluate::Evaluator::evaluate_full`] does. The checks' answer is the reason a
+    /// sweep gives for the same placement, word for word.
+    ///
+    /// Outer error: a model error. Middle error: no motion to evaluate (the path cannot be
+    /// timed at the placement: unreachable, a configuration change), with the sweep's
+    /// reason. Otherwise the evaluation and the failed check, if any (the motion exists, so
+    /// its energy is computed regardless; the caller states the failure).
+    pub fn evaluate_checked(
+        &self,
+        at: &Placement,
+        feas: crate::evaluate::FeasibilityOptions,
+    ) -> Result<
+        std::result::Result<
+            (PlacementEval, Option<crate::evaluate::Infeasible>),
+            crate::evaluate::Infeasible,
+        >,
+    > {
+        feas.check()?;
+        let ev = crate::evaluate::Evaluator::new(self, feas, crate::evaluate::Objective::Supply);
+        let mut sc = ev.scratch()?;
+        let checked = ev.evaluate_full(&mut sc, at).outcome.err();
+        Ok(match self.evaluate(at)? {
+            Ok(e) => Ok((e, checked)),
+            Err(t) => Err(checked.unwrap_or_else(|| crate::evaluate::Infeasible::from_timing(&t))),
+        })
+    }
 }

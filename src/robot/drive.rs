@@ -131,6 +131,23 @@ pub(crate) struct DriveFile {
     pub uncertainty: Option<toml::Value>,
     #[serde(default, skip_serializing_if = "Vec::is_empty")]
     pub joints: Vec<JointTable>,
+    /// Optional `[links.<name>]` tables: inertias of moving links, replacing the URDF's (or
+    /// its missing ones), keyed by URDF link name.
+    #[serde(default, skip_serializing_if = "std::collections::BTreeMap::is_empty")]
+    pub links: std::collections::BTreeMap<String, LinkTable>,
+}
+
+/// A drive file's `[links.<name>]` table: the link's rigid body in its URDF link frame.
+#[derive(Deserialize, Serialize, Debug, Clone, PartialEq)]
+#[serde(deny_unknown_fields)]
+pub struct LinkTable {
+    /// Mass, kg.
+    pub mass_kg: f64,
+    /// Centre of mass in the link frame, m.
+    pub com_m: [f64; 3],
+    /// Inertia about the centre of mass, link frame axes, kg·m²: `[ixx, iyy, izz, ixy, ixz,
+    /// iyz]`.
+    pub inertia_kg_m2: [f64; 6],
 }
 
 /// The drive file's `[effects]` table as written (strict: unknown keys are errors). The robot

@@ -5,6 +5,7 @@
 //! whose `[robot] urdf = "..."` names the URDF (relative to the drive file).
 
 pub mod drive;
+pub mod inertia;
 pub mod mesh;
 pub mod model;
 pub mod opw;
@@ -52,6 +53,7 @@ pub fn load(path: &Path) -> Result<RobotModel> {
     if let Some(d) = drive_file {
         apply_drive(&mut model, d, &drive_name)?;
     }
+    inertia::complete(&mut model);
     validate::validate(
         &mut model,
         &validate::Sources {
@@ -226,6 +228,73 @@ fn apply_tool_and_payload(
     Ok(())
 }
 
+/// The drive file's `[links.<name>]` tables: each replaces the inertial of the moving link of
+/// that URDF name (mass kg, centre of mass m and inertia about it kg·m², link frame).
+fn apply_links(
+    model: &mut RobotModel,
+    links: &std::collections::BTreeMap<String, drive::LinkTable>,
+    file: &str,
+) -> Result<()> {
+    let n = model.dof();
+    model
+        .info
+        .inertia_sources
+        .resize(n, inertia::InertiaSource::Urdf);
+    for (name, t) in links {
+        let field = |k: &str| format!("links.{name}.{k}");
+        let Some(i) = model.link_names.iter().position(|l| l == name) else {
+            return Err(Error::Field {
+                file: file.into(),
+                field: format!("links.{name}"),
+                msg: format!(
+                    "`{name}` is not a moving link of the URDF chain (moving links: {})",
+                    model.link_names.join(", ")
+                ),
+            });
+        };
+        if !(t.mass_kg.is_finite() && t.mass_kg > 0.0) {
+            return Err(Error::Field {
+                file: file.into(),
+                field: field("mass_kg"),
+                msg: format!("must be finite and > 0, got {}", t.mass_kg),
+            });
+        }
+        if t.com_m.iter().any(|v| !v.is_finite()) {
+            return Err(Error::Field {
+                file: file.into(),
+                field: field("com_m"),
+                msg: format!("must be finite, got {:?}", t.com_m),
+            });
+        }
+        let [ixx, iyy, izz, ixy, ixz, iyz] = t.inertia_kg_m2;
+        if t.inertia_kg_m2.iter().any(|v| !v.is_finite())
+            || ixx < 0.0
+            || iyy < 0.0
+            || izz < 0.0
+            || ixx + iyy < izz - 1e-12
+            || ixx + izz < iyy - 1e-12
+            || iyy + izz < ixx - 1e-12
+        {
+            return Err(Error::Field {
+                file: file.into(),
+                field: field("inertia_kg_m2"),
+                msg: format!(
+                    "[ixx, iyy, izz, ixy, ixz, iyz] = {:?}: expected finite moments >= 0 that \
+                     meet the triangle inequality (ixx + iyy >= izz, …)",
+                    t.inertia_kg_m2
+                ),
+            });
+        }
+        model.links[i] = Some(Inertial {
+            mass: t.mass_kg,
+            com: V3::from(t.com_m),
+            inertia: M3::new(ixx, ixy, ixz, ixy, iyy, iyz, ixz, iyz, izz),
+        });
+        model.info.inertia_sources[i] = inertia::InertiaSource::DriveFile;
+    }
+    Ok(())
+}
+
 fn apply_drive(model: &mut RobotModel, d: drive::DriveFile, file: &str) -> Result<()> {
     if let Some(n) = d.robot.name {
         model.info.name = n;
@@ -234,6 +303,7 @@ fn apply_drive(model: &mut RobotModel, d: drive::DriveFile, file: &str) -> Resul
     model.info.rated_payload_kg = d.robot.rated_payload_kg;
     model.info.provenance = d.robot.provenance.unwrap_or_default();
     apply_tool_and_payload(model, d.tool, d.payload, file)?;
+    apply_links(model, &d.links, file)?;
     if !d.joints.is_empty() && d.joints.len() != model.dof() {
         return Err(Error::Field {
             file: file.into(),

@@ -142,6 +142,9 @@ pub struct RobotInfo {
     /// Per-joint position margin from the limits for placement searches, rad (drive file
     /// `limit_margin_rad`; `None` = the command's default).
     pub limit_margins_rad: Vec<Option<f64>>,
+    /// Where each moving link's inertia comes from (chain order; filled when the robot is
+    /// loaded, [`crate::robot::inertia::complete`]).
+    pub inertia_sources: Vec<crate::robot::inertia::InertiaSource>,
 }
 
 /// The immutable robot model. Build it with [`crate::robot::load`].

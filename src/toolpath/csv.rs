@@ -5,8 +5,13 @@
 //! other line is the header, comma-separated column names with an optional unit in brackets,
 //! e.g. `x[mm],y[mm],z[mm],speed[mm/s],print`. Names are case-insensitive.
 //!
-//! Units: lengths `mm` (default), `cm`, `m`, `in`; speeds `mm/s` (default), `m/s`,
-//! `mm/min`, `m/min`, `in/min`, `in/s`; angles `deg` (default), `rad`.
+//! Units: lengths `mm`, `cm`, `m`, `in`; speeds `mm/s`, `m/s`, `mm/min`, `m/min`, `in/min`,
+//! `in/s`; angles `deg` (default), `rad`. A path's `x`, `y`, `z` written without a unit are
+//! read in [`ReadOptions::path_units`] (speeds without a unit in that unit per second); when
+//! that is not given either, in mm, and the reader says so in a warning naming the file and
+//! the header line. A unit in the header always wins over [`ReadOptions::path_units`] (a
+//! warning says so when the two differ). A path whose bounding box is implausible for a
+//! printed part (diagonal below 50 mm or above 50 m) gets a warning naming the unit used.
 //!
 //! Path columns: `x`, `y`, `z` (required), `speed` (optional, TCP speed of the move that ends
 //! at this point), `print` (optional, `0`/`1`, default 1). Other columns are ignored with a
@@ -14,7 +19,10 @@
 //! [`ReadOptions::default_zone`]); repeated points are skipped. `# MARK name` comment lines
 //! mark the last point read.
 
-use super::{perr, Mark, Move, MoveKind, NamedPlacement, Placement, ReadOptions, Toolpath};
+use super::{
+    extent_warning, perr, Mark, Move, MoveKind, NamedPlacement, PathUnits, Placement, ReadOptions,
+    Toolpath,
+};
 use crate::error::Result;
 use crate::math::V3;
 use crate::table::{check_count, lines, number, parse_header, Column, ColumnSpec, Dim, Line};
@@ -114,12 +122,15 @@ pub fn parse_csv(text: &str, file: &str, opts: &ReadOptions) -> Result<Toolpath>
     let (mut speed_i, mut print_i) = (None, None);
     let mut have_start = false;
     let mut length = 0.0;
+    let units = opts.path_units.unwrap_or(PathUnits::Mm);
     let kind = |n: &str| match n {
-        "x" | "y" | "z" => Some(ColumnSpec::default_unit(Dim::Length, "mm")),
-        "speed" => Some(ColumnSpec::default_unit(Dim::Speed, "mm/s")),
+        "x" | "y" | "z" => Some(ColumnSpec::default_unit(Dim::Length, units.symbol())),
+        "speed" => Some(ColumnSpec::default_unit(Dim::Speed, units.speed_symbol())),
         "print" => Some(ColumnSpec::si(Dim::Flag)),
         _ => None,
     };
+    // How the coordinates were read, for the extent warning.
+    let mut read_as = String::new();
     for row in lines(text) {
         match row {
             Line::Header(lineno, fields) => {
@@ -127,6 +138,7 @@ pub fn parse_csv(text: &str, file: &str, opts: &ReadOptions) -> Result<Toolpath>
                 idx = require(file, lineno, &cols, &["x", "y", "z"])?;
                 speed_i = cols.iter().position(|c| c.name == "speed");
                 print_i = cols.iter().position(|c| c.name == "print");
+                read_as = coordinate_units(file, lineno, &cols, &idx, opts, &mut tp.warnings);
             }
             Line::Comment(_, c) => {
                 if let Some(rest) = c.strip_prefix("MARK ") {
@@ -205,7 +217,51 @@ pub fn parse_csv(text: &str, file: &str, opts: &ReadOptions) -> Result<Toolpath>
             "expected a header line such as 'x[mm],y[mm],z[mm]', found an empty file",
         ));
     }
+    extent_warning(&mut tp, file, &read_as, opts.scale);
     Ok(tp)
+}
+
+/// Which units the coordinate columns `idx` were read in, as a phrase for the extent warning
+/// ("read as mm (stated in the header)"); pushes the warning that mm was assumed when neither
+/// the header nor [`ReadOptions::path_units`] states a unit, and the one that the header
+/// overrides a different [`ReadOptions::path_units`].
+fn coordinate_units(
+    file: &str,
+    lineno: usize,
+    cols: &[Column],
+    idx: &[usize],
+    opts: &ReadOptions,
+    warnings: &mut Vec<String>,
+) -> String {
+    let stated: Vec<&str> = idx
+        .iter()
+        .map(|&i| cols[i].unit.as_str())
+        .filter(|u| !u.is_empty())
+        .collect();
+    let unstated = stated.len() < idx.len();
+    if let Some(u) = opts.path_units {
+        if let Some(s) = stated.iter().find(|s| !s.eq_ignore_ascii_case(u.symbol())) {
+            warnings.push(format!(
+                "{file}:{lineno}: the header states [{s}]; it wins over the path units {} given",
+                u.symbol()
+            ));
+        }
+    }
+    match (unstated, opts.path_units) {
+        (false, _) => {
+            let mut units = stated.clone();
+            units.dedup();
+            format!("read as {} (stated in the header)", units.join("/"))
+        }
+        (true, Some(u)) => format!("read as {} (the path units given)", u.symbol()),
+        (true, None) => {
+            warnings.push(format!(
+                "{file}:{lineno}: x, y, z have no unit; mm assumed (state it in the header, \
+                 x[mm],y[mm],z[mm] or x[m],y[m],z[m], or set the path units to mm or m)"
+            ));
+            "read as mm (assumed: the header states no unit)".to_string()
+        }
+    }
 }
 
 /// Parse named placements: header `name,x[mm],y[mm],z[mm],yaw[deg]`, optional

@@ -185,6 +185,42 @@ pub struct Dwell {
 pub const LAYER_Z_TOLERANCE_M: f64 = 1e-6;
 
 impl Toolpath {
+    /// Diagonal of the axis-aligned bounding box of the start and every move's end point, m
+    /// (an arc's bulge beyond its end points is left out: the end points bound a printed part
+    /// closely enough for a plausibility check).
+    pub fn extent_diagonal(&self) -> f64 {
+        let (mut lo, mut hi) = (self.start, self.start);
+        for m in &self.moves {
+            lo = lo.inf(&m.end);
+            hi = hi.sup(&m.end);
+        }
+        (hi - lo).norm()
+    }
+
+    /// Multiply the geometry by `k` (points, arc centres, radii and rises, marks and their
+    /// arc lengths); speeds are kept.
+    pub fn scale(&mut self, k: f64) {
+        self.start *= k;
+        for m in &mut self.moves {
+            m.end *= k;
+            if let MoveKind::Arc {
+                centre,
+                radius,
+                axial,
+                ..
+            } = &mut m.kind
+            {
+                *centre *= k;
+                *radius *= k;
+                *axial *= k;
+            }
+        }
+        for mk in &mut self.marks {
+            mk.point *= k;
+            mk.s *= k;
+        }
+    }
+
     /// Start point of move `i` (m): the previous move's end, or [`Toolpath::start`].
     pub fn move_start(&self, i: usize) -> V3 {
         if i == 0 {
@@ -383,10 +419,57 @@ pub struct ReadOptions {
     pub print_on_mcodes: Vec<u32>,
     /// G-code M-codes that switch extrusion off (default `M5`, `M103`).
     pub print_off_mcodes: Vec<u32>,
+    /// Length unit of CSV path columns written without one (`x`, not `x[mm]`); speeds
+    /// without a unit follow it per second. `None`: mm, with a warning that mm was assumed. A
+    /// unit in the header always wins. Formats that define their own units (G-code `G20`/`G21`,
+    /// RAPID mm) refuse it.
+    pub path_units: Option<PathUnits>,
+    /// Factor applied to the path's geometry after its units are read (points, arc centres
+    /// and radii, marks; not speeds). 1 leaves the path as read.
+    pub scale: f64,
+}
+
+/// The length unit of a path file's unlabelled coordinates.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum PathUnits {
+    /// Millimetres.
+    Mm,
+    /// Metres.
+    M,
+}
+
+impl PathUnits {
+    /// `mm` or `m` (case-insensitive); an error naming the accepted values otherwise.
+    pub fn parse(s: &str) -> Result<PathUnits> {
+        match s.trim().to_ascii_lowercase().as_str() {
+            "mm" => Ok(PathUnits::Mm),
+            "m" => Ok(PathUnits::M),
+            other => Err(Error::Invalid(format!(
+                "path units '{other}': expected mm or m"
+            ))),
+        }
+    }
+
+    /// The unit's symbol.
+    pub fn symbol(self) -> &'static str {
+        match self {
+            PathUnits::Mm => "mm",
+            PathUnits::M => "m",
+        }
+    }
+
+    /// The matching speed unit.
+    pub fn speed_symbol(self) -> &'static str {
+        match self {
+            PathUnits::Mm => "mm/s",
+            PathUnits::M => "m/s",
+        }
+    }
 }
 
 impl Default for ReadOptions {
-    /// 0.1 m/s print, 0.25 m/s travel, 5 mm blend radius, M3/M101 on, M5/M103 off.
+    /// 0.1 m/s print, 0.25 m/s travel, 5 mm blend radius, M3/M101 on, M5/M103 off, CSV
+    /// coordinates without a unit in mm (with a warning), scale 1.
     fn default() -> Self {
         ReadOptions {
             default_print_speed: 0.1,
@@ -394,6 +477,8 @@ impl Default for ReadOptions {
             default_zone: Zone::Blend(0.005),
             print_on_mcodes: vec![3, 101],
             print_off_mcodes: vec![5, 103],
+            path_units: None,
+            scale: 1.0,
         }
     }
 }
@@ -418,15 +503,85 @@ pub fn load(path: &Path, opts: &ReadOptions) -> Result<Toolpath> {
             )))
         }
     };
+    if !(opts.scale.is_finite() && opts.scale > 0.0) {
+        return Err(Error::Invalid(format!(
+            "{name}: scale {}: expected a finite factor > 0",
+            opts.scale
+        )));
+    }
+    if let (Some(u), false) = (opts.path_units, ext == "csv") {
+        return Err(Error::Invalid(format!(
+            "{name}: path units '{}' apply to CSV paths only: G-code states its units (G21 mm, \
+             G20 inch) and RAPID is in mm; use a scale factor to resize",
+            u.symbol()
+        )));
+    }
     let text = read_text(path)?;
     let mut tp = parse(&text, &name, opts)?;
+    if opts.scale != 1.0 {
+        tp.scale(opts.scale);
+    }
     check_extent(&tp, &name)?;
+    let unit = match ext.as_str() {
+        "csv" => None,
+        "mod" | "prg" | "modx" => Some("read as mm, RAPID's unit"),
+        _ => Some("read in the file's units, mm (G21) unless it says G20 (inch)"),
+    };
+    if let Some(unit) = unit {
+        extent_warning(&mut tp, &name, unit, opts.scale);
+    }
     warn_slow_moves(
         &mut tp,
         &name,
         matches!(ext.as_str(), "gcode" | "nc" | "ngc" | "g"),
     );
     Ok(tp)
+}
+
+/// Smallest plausible bounding-box diagonal of a 3DCP path, m.
+pub const MIN_PLAUSIBLE_EXTENT_M: f64 = 0.05;
+/// Largest plausible bounding-box diagonal of a 3DCP path, m.
+pub const MAX_PLAUSIBLE_EXTENT_M: f64 = 50.0;
+
+/// Warn when the path's bounding-box diagonal lies outside
+/// [[`MIN_PLAUSIBLE_EXTENT_M`], [`MAX_PLAUSIBLE_EXTENT_M`]]: a unit slip is likely. `unit`
+/// says how the coordinates were read (and how to change that), `scale` the factor applied.
+pub fn extent_warning(tp: &mut Toolpath, file: &str, unit: &str, scale: f64) {
+    let d = tp.extent_diagonal();
+    if (MIN_PLAUSIBLE_EXTENT_M..=MAX_PLAUSIBLE_EXTENT_M).contains(&d) {
+        return;
+    }
+    let what = if d < MIN_PLAUSIBLE_EXTENT_M {
+        "smaller than 50 mm"
+    } else {
+        "larger than 50 m"
+    };
+    let scaled = if scale != 1.0 {
+        format!(", scaled by {scale}")
+    } else {
+        String::new()
+    };
+    tp.warnings.push(format!(
+        "{file}: the path's bounding box spans {} m (diagonal), {what}: implausible for a \
+         concrete-printed part; its coordinates were {unit}{scaled}. If that is wrong, state \
+         the unit (CSV: x[m],y[m],z[m] in the header, or the path units) or resize with the \
+         scale setting",
+        fmt_g(d)
+    ));
+}
+
+/// A length in m to four significant figures, without trailing noise.
+fn fmt_g(x: f64) -> String {
+    if x == 0.0 {
+        return "0".into();
+    }
+    let digits = (3 - x.abs().log10().floor() as i32).max(0) as usize;
+    let s = format!("{x:.digits$}");
+    if s.contains('.') {
+        s.trim_end_matches('0').trim_end_matches('.').to_string()
+    } else {
+        s
+    }
 }
 
 /// Commanded speeds below this are implausible for printing (m/s): 1 mm/s, a sixtieth of the
