@@ -1095,7 +1095,9 @@ fn an_unknown_regeneration_policy_is_refused_with_the_four_policies() {
         &root(),
     );
     assert!(o.status.success(), "{}", stderr(&o));
+}
 
+#[test]
 fn energy_at_reports_a_placement_sweep_at_calls_infeasible_with_the_same_reason() {
     let d = tmpdir("same-checks");
     let p = root().join("paths/default.gcode");

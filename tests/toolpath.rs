@@ -541,7 +541,9 @@ fn a_placement_set_row_no_arm_reaches_is_named_by_file_row_and_column_with_its_u
         "{e}"
     );
     let _ = std::fs::remove_dir_all(&d);
+}
 
+#[test]
 fn a_csv_path_without_units_says_mm_was_assumed_and_path_units_state_them() {
     use printwatt::toolpath::PathUnits;
     let text = "x,y,z\n0,0,0\n1.5,0,0\n1.5,1,0\n";
