@@ -76,7 +76,7 @@ fn printing_commands() -> Vec<Vec<&'static str>> {
     let mut g = GRID.to_vec();
     g.push("--json");
     v.push(g);
-    // A command whose text still goes through `println!` (the safety net).
+    // `optimise` text output.
     v.push(vec![
         "optimise",
         "--path",

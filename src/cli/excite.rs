@@ -110,7 +110,7 @@ pub fn run(a: ExciteArgs) -> Result<()> {
         super::print_json_text(&serde_json::to_string_pretty(&v)?)?;
         return Ok(());
     }
-    println!(
+    outln!(
         "excitation for {name}: {:.1} s at {:.0} Hz, {} harmonics of a {:.1} s period; targets {} (nuisance {})",
         e.trajectory.duration(),
         a.rate,
@@ -119,7 +119,7 @@ pub fn run(a: ExciteArgs) -> Result<()> {
         e.targets.join(", "),
         if e.nuisance.is_empty() { "none".into() } else { e.nuisance.join(", ") }
     );
-    println!(
+    outln!(
         "targets' information given the nuisance: log-det {:.2}, condition number {:.3e} (naive sine sweep: log-det {:.2}, condition number {:.3e}; {:.1}× better)",
         e.log_det,
         e.condition,
@@ -128,7 +128,7 @@ pub fn run(a: ExciteArgs) -> Result<()> {
         e.naive_condition / e.condition
     );
     let mx = |v: &[f64]| v.iter().copied().fold(0.0f64, f64::max) * 100.0;
-    println!(
+    outln!(
         "limits used: position {:.0} %, speed {:.0} %, acceleration {:.0} % (largest over the joints); lowest elbow/wrist/flange point {:.3} m",
         mx(&e.limits.position),
         mx(&e.limits.speed),
@@ -136,7 +136,7 @@ pub fn run(a: ExciteArgs) -> Result<()> {
         e.limits.lowest_z_m
     );
     for p in &written {
-        println!("wrote {}", p.display());
+        outln!("wrote {}", p.display());
     }
     Ok(())
 }

@@ -73,7 +73,7 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
             });
             super::print_json(&v)?;
         } else {
-            print!("{}", ladder_table(&id, log.kind.unit()));
+            out!("{}", ladder_table(&id, log.kind.unit()));
         }
         anyhow::bail!(
             "the fit is not physically plausible, so no calibrated robot was written: {}",

@@ -353,7 +353,7 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
     let best = rep.best().context("no feasible placement")?;
     let bp = &best.placement;
     let f = best.feasible().context("best is infeasible")?;
-    println!(
+    outln!(
         "best placement: x = {:.3} m, y = {:.3} m, z = {:.3} m, yaw = {:.1}°, spin = {:.1}°",
         bp.x,
         bp.y,
@@ -361,13 +361,13 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
         bp.yaw.to_degrees(),
         bp.nozzle_spin.to_degrees()
     );
-    println!(
+    outln!(
         "energy {:.1} J ({}), print time {:.2} s",
         f.energy_j,
         cfg.settings.objective.describe(),
         f.duration_s
     );
-    println!(
+    outln!(
         "supply {:.1} J = standby {:.1} J + drives {:.1} J (friction {:.1} J, gear {:.1} J, copper {:.1} J, regeneration lost {:.1} J)",
         f.supply_j,
         f.standby_j,
@@ -382,10 +382,10 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
         .as_ref()
         .and_then(|o| o.path_reduction.as_ref())
     {
-        println!("{}", printwatt::report::placement::full_check_line(c));
+        outln!("{}", printwatt::report::placement::full_check_line(c));
     }
     if let Some((how, b)) = &rep.baseline {
-        println!(
+        outln!(
             "baseline ({how}): x = {:.3} m, y = {:.3} m, z = {:.3} m, yaw = {:.1}°: {:.1} J",
             b.placement.x,
             b.placement.y,
@@ -399,14 +399,14 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
         .as_ref()
         .and_then(|o| o.baseline_tolerance.as_ref());
     if let (Some(_), Some(c)) = (&rep.baseline, base_tol) {
-        println!(
+        outln!(
             "baseline tolerance: {}",
             printwatt::report::placement::baseline_tolerance_text(c)
         );
     }
     if let Some(sv) = rep.optimise.as_ref().and_then(|o| o.savings.as_ref()) {
         let t = |(j, pct): (f64, f64)| printwatt::report::placement::saving_text(j, pct);
-        println!(
+        outln!(
             "saving vs baseline: supply {}, drives {}, standby {}{}",
             t(sv.supply),
             t(sv.drives),
@@ -418,29 +418,29 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
         );
     }
     if let Some(si) = rep.optimise.as_ref().and_then(|o| o.search.as_ref()) {
-        println!("tolerance: {}", tolerance_line(&si.tolerance));
+        outln!("tolerance: {}", tolerance_line(&si.tolerance));
         if let Some(jm) = &si.joint_margin {
-            println!("joint-limit margin: {jm}");
+            outln!("joint-limit margin: {jm}");
         }
         if let Some(wm) = &si.wrist_margin {
-            println!("wrist margin: {wm}");
+            outln!("wrist margin: {wm}");
         }
         if let Some(om) = &si.on_margin {
-            println!(
+            outln!(
                 "optimum on a joint-limit margin: {om} (the margin, not the energy, stops the search here; --joint-margin)"
             );
         }
         if let Some(sk) = &si.spin_kept {
-            println!("nozzle spin: {sk}");
+            outln!("nozzle spin: {sk}");
         }
         if let Some(b) = &si.budget_spent {
-            println!("search stopped: {b} (--max-evals)");
+            outln!("search stopped: {b} (--max-evals)");
         }
         if let Some(pm) = &si.polished {
-            println!("polish: {pm}");
+            outln!("polish: {pm}");
         }
         if !si.on_bounds.is_empty() {
-            println!(
+            outln!(
                 "optimum on a search bound: {} (widen --x/--y/--z-bounds there)",
                 si.on_bounds.join(", ")
             );
@@ -448,15 +448,15 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
     }
     if let Some(u) = rep.optimise.as_ref().and_then(|o| o.uncertainty.as_ref()) {
         for l in printwatt::report::placement::uncertainty_lines(u) {
-            println!("{l}");
+            outln!("{l}");
         }
     }
     if let Some(d) = rep.optimise.as_ref().and_then(|o| o.decision.as_ref()) {
         for b in &d.bound_steps {
-            println!("{}", printwatt::search::robust::bound_line(b));
+            outln!("{}", printwatt::search::robust::bound_line(b));
         }
         for l in d.robust.iter().flat_map(printwatt::search::robust::lines) {
-            println!("{l}");
+            outln!("{l}");
         }
     }
     if let Some(o) = &rep.optimise {
@@ -467,7 +467,7 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
         };
         let fmt_d =
             |v: Option<f64>, unit: &str| v.map_or("n/a".to_string(), |v| format!("{v:.1} {unit}"));
-        println!(
+        outln!(
             "±{:.0} mm: E(x−) {}, E(x+) {}, E(y−) {}, E(y+) {}; dE/dx {}, dE/dy {}; d²E/dx² {}, d²E/dy² {}",
             s.h_m * 1000.0,
             fmt(s.e_j[0], "J"),
@@ -480,16 +480,16 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
             fmt_d(s.curvature_j_per_m2[1], "J/m²")
         );
         if s.one_sided_j_per_m.iter().any(|v| v.is_some()) {
-            println!(
+            outln!(
                 "one-sided slopes (optimum on the feasibility boundary): dE/dx {}, dE/dy {}",
                 fmt_d(s.one_sided_j_per_m[0], "J/m"),
                 fmt_d(s.one_sided_j_per_m[1], "J/m")
             );
         }
         for l in o.search.iter().flat_map(|si| &si.lower_neighbours) {
-            println!("cheaper neighbour not taken: {l}");
+            outln!("cheaper neighbour not taken: {l}");
         }
-        println!(
+        outln!(
             "grid {} placements ({} feasible), refinement {} evaluations; {:.2} s",
             rep.rows.len(),
             rep.rows.iter().filter(|r| r.cost().is_finite()).count(),
@@ -498,7 +498,7 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
         );
     }
     if let Some(dir) = &written {
-        println!("report: {}", dir.join("report.html").display());
+        outln!("report: {}", dir.join("report.html").display());
     }
     Ok(())
 }

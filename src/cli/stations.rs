@@ -262,7 +262,7 @@ pub fn run(a: StationsArgs) -> Result<()> {
         super::print_json_text(&rep.summary_json()?)?;
         return Ok(());
     }
-    println!(
+    outln!(
         "plan: {} station(s), {} relocation(s) at {} J each + {} J/m ({:.2} m moved)",
         plan.segments.len(),
         plan.relocations,
@@ -270,7 +270,7 @@ pub fn run(a: StationsArgs) -> Result<()> {
         a.relocation_cost_per_m,
         plan.relocation_distance_m
     );
-    println!(
+    outln!(
         "{:>3} {:>8} {:>8} {:>8}  {:<36} {:>7} {:>9} {:>8} {:>10} {:>8}",
         "seg",
         "x[m]",
@@ -285,7 +285,7 @@ pub fn run(a: StationsArgs) -> Result<()> {
     );
     for (k, s) in plan.segments.iter().enumerate() {
         let at = &s.station.placement;
-        println!(
+        outln!(
             "{:>3} {:>8.3} {:>8.3} {:>8.1}  {:<36} {:>7} {:>9} {:>8.2} {:>10.1} {:>8.2}",
             k + 1,
             s.station.x_m,
@@ -306,14 +306,14 @@ pub fn run(a: StationsArgs) -> Result<()> {
             s.eval.duration_s
         );
     }
-    println!(
+    outln!(
         "energy {:.1} J ({}) + relocations {:.1} J = total {:.1} J",
         plan.energy_j,
         l.objective.describe(),
         plan.relocation_j,
         plan.total_j
     );
-    println!(
+    outln!(
         "{} units; {} candidate positions; {} runs of units; {} evaluations of a run from a station ({} feasible); wall time {secs:.2} s",
         plan.stats.units,
         plan.stats.positions,
@@ -322,7 +322,7 @@ pub fn run(a: StationsArgs) -> Result<()> {
         plan.stats.feasible
     );
     if let Some(dir) = &written {
-        println!("report: {}", dir.join("report.html").display());
+        outln!("report: {}", dir.join("report.html").display());
     }
     Ok(())
 }

@@ -448,13 +448,13 @@ pub fn finish(
     }
     let t = study.tables(&results)?;
     let objective = results.first().map_or("", |r| r.objective.as_str());
-    println!(
+    outln!(
         "{:<16} {:<16} {:<16} {:>12}  next cheapest",
         "path", "robot", "cell", "energy[J]"
     );
     for p in &t.paths {
         match (&p.best, p.energy_j) {
-            (Some((r, c)), Some(e)) => println!(
+            (Some((r, c)), Some(e)) => outln!(
                 "{:<16} {:<16} {:<16} {:>12.1}  {}",
                 p.path,
                 r,
@@ -468,7 +468,7 @@ pub fn finish(
                     )
                 })
             ),
-            _ => println!(
+            _ => outln!(
                 "{:<16} {:<16} {:<16} {:>12}  no robot and cell of the study prints it",
                 p.path, "-", "-", "-"
             ),
@@ -476,12 +476,12 @@ pub fn finish(
     }
     for c in &t.combinations {
         if c.feasible == c.paths {
-            println!(
+            outln!(
                 "{} / {}: every path ({}), {:.1} J ({objective}), print time {:.1} s",
                 c.robot, c.cell, c.paths, c.energy_j, c.duration_s
             );
         } else {
-            println!(
+            outln!(
                 "{} / {}: {} of {} paths ({:.1} J); no feasible placement for {}",
                 c.robot,
                 c.cell,
@@ -493,7 +493,7 @@ pub fn finish(
         }
     }
     if let Some(dir) = dir {
-        println!("report: {}", dir.join("report.html").display());
+        outln!("report: {}", dir.join("report.html").display());
     }
     Ok(())
 }
