@@ -450,7 +450,10 @@ pub fn finish(
     let objective = results.first().map_or("", |r| r.objective.as_str());
     outln!(
         "{:<16} {:<16} {:<16} {:>12}  next cheapest",
-        "path", "robot", "cell", "energy[J]"
+        "path",
+        "robot",
+        "cell",
+        "energy[J]"
     );
     for p in &t.paths {
         match (&p.best, p.energy_j) {
@@ -470,7 +473,10 @@ pub fn finish(
             ),
             _ => outln!(
                 "{:<16} {:<16} {:<16} {:>12}  no robot and cell of the study prints it",
-                p.path, "-", "-", "-"
+                p.path,
+                "-",
+                "-",
+                "-"
             ),
         }
     }
@@ -478,7 +484,11 @@ pub fn finish(
         if c.feasible == c.paths {
             outln!(
                 "{} / {}: every path ({}), {:.1} J ({objective}), print time {:.1} s",
-                c.robot, c.cell, c.paths, c.energy_j, c.duration_s
+                c.robot,
+                c.cell,
+                c.paths,
+                c.energy_j,
+                c.duration_s
             );
         } else {
             outln!(
