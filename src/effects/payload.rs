@@ -67,6 +67,18 @@ pub fn sym_from6(v: &[f64; 6]) -> M3 {
     M3::new(v[0], v[3], v[4], v[3], v[1], v[5], v[4], v[5], v[2])
 }
 
+/// `xx, yy, zz, xy, xz, yz` of a symmetric tensor (the inverse of [`sym_from6`]).
+fn six_of(m: &M3) -> [f64; 6] {
+    [
+        m[(0, 0)],
+        m[(1, 1)],
+        m[(2, 2)],
+        m[(0, 1)],
+        m[(0, 2)],
+        m[(1, 2)],
+    ]
+}
+
 /// `|c|² 1 − c cᵀ`: the inertia of a unit point mass at `c` about the origin.
 fn point_inertia(c: &V3) -> M3 {
     M3::identity() * c.dot(c) - c * c.transpose()
@@ -181,15 +193,27 @@ impl Payload {
         if m.abs() <= 1e-12 {
             return [0.0; 6];
         }
-        let p = point_inertia(&V3::from(dh)) / m;
-        [
-            p[(0, 0)],
-            p[(1, 1)],
-            p[(2, 2)],
-            p[(0, 1)],
-            p[(0, 2)],
-            p[(1, 2)],
-        ]
+        six_of(&(point_inertia(&V3::from(dh)) / m))
+    }
+
+    /// Derivatives of [`Payload::held_inertia_error`] with respect to `dm` (index 0) and
+    /// `dh_x`, `dh_y`, `dh_z` (1–3): `−P(Δh)/m²` and `(2 Δhᵢ 1 − eᵢ Δhᵀ − Δh eᵢᵀ)/m` (the chain
+    /// rule of a fit that holds the inertia about the centre of mass). Zeros at zero mass.
+    pub fn held_inertia_derivatives(&self, dm: f64, dh: [f64; 3]) -> [[f64; 6]; 4] {
+        let m = self.nominal_mass + dm;
+        let mut der = [[0.0; 6]; 4];
+        if m.abs() <= 1e-12 {
+            return der;
+        }
+        let d = V3::from(dh);
+        der[0] = six_of(&(point_inertia(&d) / (-m * m)));
+        for (i, row) in der.iter_mut().skip(1).enumerate() {
+            let mut e = V3::zeros();
+            e[i] = 1.0;
+            let dp = M3::identity() * (2.0 * d[i]) - (e * d.transpose() + d * e.transpose());
+            *row = six_of(&(dp / m));
+        }
+        der
     }
 
     /// The identified payload mass `m`, kg, and centre of mass `h / m`, m (flange frame; `c₀`

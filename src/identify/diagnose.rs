@@ -483,19 +483,18 @@ fn score(
 /// A candidate's note: parameters the motion cannot tell apart, and a balancer's assumed
 /// geometry on a robot without drive data.
 fn candidate_note(model: &Model, names: &[&str], ill: Option<String>) -> Option<String> {
-    let assumed = names.contains(&"balancer")
-        && model
-            .effects
-            .typed::<crate::effects::Balancer>("balancer")
-            .is_some_and(|b| b.assumed_geometry);
-    let geometry = assumed.then(|| {
-        let b = model.effects.typed::<crate::effects::Balancer>("balancer");
-        let (a, bb) = b.map_or((0.0, 0.0), |b| (b.a, b.b));
-        format!(
-            "balancer geometry assumed (lever {a} m, base {bb} m: the robot has no drive data; \
-             give balancer_lever_m and balancer_base_m in a drive file)"
-        )
-    });
+    let geometry = names
+        .contains(&"balancer")
+        .then(|| model.effects.typed::<crate::effects::Balancer>("balancer"))
+        .flatten()
+        .filter(|b| b.assumed_geometry)
+        .map(|b| {
+            format!(
+                "balancer geometry assumed (lever {} m, base {} m: the robot has no drive data; \
+                 give balancer_lever_m and balancer_base_m in a drive file)",
+                b.a, b.b
+            )
+        });
     match (ill, geometry) {
         (Some(i), Some(g)) => Some(format!("{i}; {g}")),
         (i, g) => i.or(g),

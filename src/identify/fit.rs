@@ -451,41 +451,7 @@ fn fit_core(
             return;
         };
         let (dm, di) = (*dm, *di);
-        let mass = pl.nominal_mass + th[dm];
-        if mass.abs() <= 1e-12 {
-            return;
-        }
-        let d = [th[dm + 1], th[dm + 2], th[dm + 3]];
-        let sym6 = |m: [[f64; 3]; 3]| [m[0][0], m[1][1], m[2][2], m[0][1], m[0][2], m[1][2]];
-        let pd = |d: [f64; 3]| {
-            let n2 = d[0] * d[0] + d[1] * d[1] + d[2] * d[2];
-            let mut m = [[0.0; 3]; 3];
-            for (a, row) in m.iter_mut().enumerate() {
-                for (b, x) in row.iter_mut().enumerate() {
-                    *x = if a == b { n2 } else { 0.0 } - d[a] * d[b];
-                }
-            }
-            m
-        };
-        // ∂dI/∂Δm = −P(Δh)/m², ∂dI/∂Δh_i = (2 Δh_i 1 − e_i Δhᵀ − Δh e_iᵀ)/m.
-        let mut der = [[0.0; 6]; 4];
-        der[0] = sym6(pd(d)).map(|x| -x / (mass * mass));
-        for i in 0..3 {
-            let mut m = [[0.0; 3]; 3];
-            for (a, row) in m.iter_mut().enumerate() {
-                for (b, x) in row.iter_mut().enumerate() {
-                    let mut v = if a == b { 2.0 * d[i] } else { 0.0 };
-                    if a == i {
-                        v -= d[b];
-                    }
-                    if b == i {
-                        v -= d[a];
-                    }
-                    *x = v / mass;
-                }
-            }
-            der[1 + i] = sym6(m);
-        }
+        let der = pl.held_inertia_derivatives(th[dm], [th[dm + 1], th[dm + 2], th[dm + 3]]);
         for r in 0..rows_m {
             let row = &mut jac[r * p..(r + 1) * p];
             for (c, dc) in der.iter().enumerate() {

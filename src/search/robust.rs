@@ -284,16 +284,6 @@ fn same(a: &Placement, b: &Placement) -> bool {
         && (a.nozzle_spin - b.nozzle_spin).abs() < 1e-3
 }
 
-fn percentile(sorted: &[f64], p: f64) -> f64 {
-    if sorted.is_empty() {
-        return f64::NAN;
-    }
-    let x = p * (sorted.len() - 1) as f64;
-    let (i, f) = (x.floor() as usize, x - x.floor());
-    let j = (i + 1).min(sorted.len() - 1);
-    sorted[i] * (1.0 - f) + sorted[j] * f
-}
-
 /// The robust choice around `answer` (the nominal answer, feasible and holding its
 /// tolerance) over `o.draws` plausible robots. `opts` and `so` are the refinement's (each
 /// draw's optimum is searched with them, `o.draw_evals` evaluations each). Errors: no draw, an
@@ -508,7 +498,7 @@ pub fn robust(
                 expected_drives_j: mean(1),
                 expected_standby_j: mean(2),
                 expected_regret_j: er,
-                p95_regret_j: percentile(&r, 0.95),
+                p95_regret_j: uncertainty::percentile(&r, 0.95),
                 max_regret_j: r[n - 1],
                 p_best: bests as f64 / nf,
                 p_within_1pct: within as f64 / nf,

@@ -113,10 +113,7 @@ enum Answer {
 /// report. Errors: bad settings, no feasible grid placement (with advice, settings named by the
 /// observer), a reduced answer infeasible in full, a model error.
 pub fn run(config: &OptimiseConfig, observer: &dyn Observer) -> Result<OptimiseOutcome> {
-    match work(config, Draws::All, observer)? {
-        Answer::Report(o) => Ok(*o),
-        Answer::Shard(_) => unreachable!("no shard asked for"),
-    }
+    reported(work(config, Draws::All, observer)?)
 }
 
 /// [`run`] with the uncertainty study's draws given (every draw, in draw order: the shards of
@@ -126,7 +123,12 @@ pub fn run_merged(
     draws: &[Draw],
     observer: &dyn Observer,
 ) -> Result<OptimiseOutcome> {
-    match work(config, Draws::Given(draws), observer)? {
+    reported(work(config, Draws::Given(draws), observer)?)
+}
+
+/// The report of a whole run ([`work`] answers with one unless a shard was asked for).
+fn reported(a: Answer) -> Result<OptimiseOutcome> {
+    match a {
         Answer::Report(o) => Ok(*o),
         Answer::Shard(_) => unreachable!("no shard asked for"),
     }

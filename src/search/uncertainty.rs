@@ -408,7 +408,8 @@ pub fn spearman(a: &[f64], b: &[f64]) -> Option<f64> {
     (saa > 0.0 && sbb > 0.0).then(|| sab / (saa * sbb).sqrt())
 }
 
-fn percentile(sorted: &[f64], p: f64) -> f64 {
+/// Linear-interpolated percentile `p` (0–1) of sorted values (NaN when empty).
+pub(crate) fn percentile(sorted: &[f64], p: f64) -> f64 {
     if sorted.is_empty() {
         return f64::NAN;
     }
