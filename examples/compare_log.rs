@@ -6,7 +6,7 @@
 use printwatt::identify::{self, metrics, simulate, Model, Prepared, SignalKind};
 use std::path::Path;
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+pub fn main() -> Result<(), Box<dyn std::error::Error>> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let robot = printwatt::load_robot(&root.join("robots/abb_irb4600_40_255"))?;
     // The log a real robot would give: the nominal robot plus 30 N·m of Coulomb friction,

@@ -10,7 +10,7 @@ use printwatt::timing::{JointStageOptions, ProfileOptions};
 use printwatt::{EnergyOptions, PathJob, Placement, ReadOptions};
 use std::path::Path;
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+pub fn main() -> Result<(), Box<dyn std::error::Error>> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let robot = printwatt::load_robot(&root.join("robots/abb_irb6700_200_260"))?;
     let path = printwatt::load_path(&root.join("paths/default.gcode"), &ReadOptions::default())?;

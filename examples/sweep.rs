@@ -9,7 +9,7 @@ use printwatt::timing::{JointStageOptions, ProfileOptions};
 use printwatt::{EnergyOptions, PathJob, ReadOptions};
 use std::path::Path;
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+pub fn main() -> Result<(), Box<dyn std::error::Error>> {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let robot = printwatt::load_robot(&root.join("robots/abb_irb6700_200_260"))?;
     let path = printwatt::load_path(&root.join("paths/default.gcode"), &ReadOptions::default())?;
@@ -24,7 +24,7 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     let grid = Grid {
         xs: vec![1.4, 1.6, 1.8],
         ys: vec![-0.2, 0.0, 0.2],
-        zs: vec![0.0],
+        zs: vec![0.0, 0.55],
         yaws: vec![90f64.to_radians()],
         spins: vec![0.0],
     };
