@@ -338,6 +338,17 @@ fn closed_loop_on_a_hidden_stronger_balancer_recovers_the_true_robots_optimum() 
         .unwrap();
     assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let cal = printwatt::robot::load(&d.join("id/abb_irb6700_200_260.calibrated.toml")).unwrap();
+    // The calibrated robot carries the fit's covariance: F0 and k, fitted together, with
+    // their correlation (a symmetric matrix with a unit diagonal).
+    let c = cal.effects.calibration.as_ref().unwrap();
+    let round = c.rounds.last().unwrap();
+    assert_eq!(round.correlated, ["balancer.F0", "balancer.k"]);
+    let m = &round.correlation;
+    assert!(
+        m[0][0] == 1.0 && m[1][1] == 1.0 && m[0][1] == m[1][0],
+        "{m:?}"
+    );
+    assert!(m[0][1].abs() > 0.3, "F0 and k fitted together: {m:?}");
     let (p_cal, _, _) = answer(&cal);
     let regret_after = energy_at(&truth, &p_cal) - e_true;
     eprintln!(
@@ -348,6 +359,38 @@ fn closed_loop_on_a_hidden_stronger_balancer_recovers_the_true_robots_optimum() 
         "regret after {regret_after} J"
     );
     assert!(regret_before > regret_after);
+    // The decision with the calibrated robot states the regret before the measurement (the
+    // robot it was calibrated from, over its estimate ranges) and after it (the identified
+    // covariance): the measurement removed most of it.
+    let tp_file = root().join("paths/seed000_test_path.gcode");
+    let tp = common::path("seed000_test_path.gcode");
+    let mut cfg = printwatt::search::job::OptimiseConfig::new(cal.clone(), tp, &tp_file);
+    cfg.placements = Some(printwatt::search::job::PlacementSet::grid(
+        printwatt::search::Grid {
+            xs: vec![1.6, 1.9, 2.2],
+            ys: vec![-0.3, 0.0, 0.3],
+            zs: vec![0.0, 0.4],
+            yaws: vec![0.0],
+            spins: vec![0.0],
+        },
+    ));
+    cfg.settings.uncertainty = Some(6);
+    cfg.settings.max_evals = 60;
+    let out = printwatt::search::run(&cfg, &printwatt::search::run::Silent).unwrap();
+    let w = out
+        .report
+        .optimise
+        .as_ref()
+        .and_then(|o| o.decision.as_ref())
+        .and_then(|d| d.measurement.clone())
+        .expect("a calibrated robot's decision states what the measurement did");
+    eprintln!("{w}");
+    assert_eq!(w.base_robot, "abb_irb6700_200_260");
+    let before = w.before.expect("the base robot is a shipped one");
+    assert!(
+        w.after.expected_regret_j < 0.5 * before.expected_regret_j,
+        "{w}"
+    );
     let tol = Tolerance::default();
     assert!(
         (p_cal.x - p_true.x).abs() <= tol.xy_m + 1e-9
@@ -357,4 +400,74 @@ fn closed_loop_on_a_hidden_stronger_balancer_recovers_the_true_robots_optimum() 
         "{p_cal:?} vs {p_true:?}"
     );
     let _ = std::fs::remove_dir_all(&d);
+}
+
+/// Sample correlation of two series.
+fn corr(a: &[f64], b: &[f64]) -> f64 {
+    let n = a.len() as f64;
+    let (ma, mb) = (a.iter().sum::<f64>() / n, b.iter().sum::<f64>() / n);
+    let cov: f64 = a.iter().zip(b).map(|(x, y)| (x - ma) * (y - mb)).sum();
+    let va: f64 = a.iter().map(|x| (x - ma).powi(2)).sum();
+    let vb: f64 = b.iter().map(|y| (y - mb).powi(2)).sum();
+    cov / (va * vb).sqrt()
+}
+
+#[test]
+fn a_calibrated_robots_draws_follow_the_correlation_its_fit_found() {
+    use printwatt::robot::drive::{CalibratedParam, Calibration, CalibrationRound};
+    let mut cal = common::robot("abb_irb6700_200_260");
+    let f0 = cal.effects.table.balancer_preload_n.unwrap();
+    let k = cal.effects.table.balancer_stiffness_n_per_m.unwrap();
+    let fv = cal.drive.as_ref().unwrap().joints[1].viscous;
+    let param = |effect: &str, name: &str, value: f64, se: f64| CalibratedParam {
+        effect: effect.into(),
+        name: name.into(),
+        unit: String::new(),
+        value,
+        std_error: Some(se),
+        prior: value,
+        round: 1,
+        status: "fitted".into(),
+    };
+    let with = |rho: f64| Calibration {
+        base_robot: "abb_irb6700_200_260".into(),
+        rounds: vec![CalibrationRound {
+            round: 1,
+            correlated: vec![
+                "balancer.F0".into(),
+                "balancer.k".into(),
+                "viscous.f_v[2]".into(),
+            ],
+            correlation: vec![
+                vec![1.0, 0.0, rho],
+                vec![0.0, 1.0, 0.0],
+                vec![rho, 0.0, 1.0],
+            ],
+            ..Default::default()
+        }],
+        params: vec![
+            param("balancer", "F0", f0, 0.05 * f0.abs()),
+            param("balancer", "k", k, 0.05 * k.abs()),
+            param("viscous", "f_v[2]", fv, 0.05 * fv),
+        ],
+    };
+    for rho in [-0.9, 0.0, 0.8] {
+        cal.effects.calibration = Some(with(rho));
+        let (mut a, mut b) = (Vec::new(), Vec::new());
+        for d in 0..400 {
+            let (m, drawn) =
+                printwatt::search::uncertainty::drawn_robot(&cal, &Ranges::default(), 7, d);
+            a.push(m.effects.table.balancer_preload_n.unwrap());
+            b.push(
+                drawn
+                    .iter()
+                    .find(|(n, _)| n == "viscous friction joint 2")
+                    .unwrap()
+                    .1,
+            );
+        }
+        let r = corr(&a, &b);
+        eprintln!("stated correlation {rho}: drawn {r:.3}");
+        assert!((r - rho).abs() < 0.1, "stated {rho}, drawn {r}");
+    }
 }

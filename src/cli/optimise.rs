@@ -458,6 +458,9 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
         for l in d.robust.iter().flat_map(printwatt::search::robust::lines) {
             outln!("{l}");
         }
+        if let Some(m) = &d.measurement {
+            outln!("{m}");
+        }
     }
     if let Some(o) = &rep.optimise {
         let s = &o.sensitivity;

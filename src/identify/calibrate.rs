@@ -268,6 +268,21 @@ pub fn calibrated_text(inp: &CalibrationInput, dst: &Path) -> Result<String> {
             .map_or(f64::NAN, |s| s.validation_rmse),
         inp.id.ladder.last().map_or(f64::NAN, |s| s.validation_rmse),
     );
+    // The correlation of what this round fitted (held parameters keep no standard error).
+    let corr = &inp.id.correlation;
+    let kept: Vec<usize> = (0..corr.params.len())
+        .filter(|&i| {
+            !inp.id
+                .held_at_prior
+                .iter()
+                .any(|h| h.name == corr.params[i])
+        })
+        .filter(|&i| {
+            corr.matrix
+                .get(i)
+                .is_some_and(|r| r.len() == corr.params.len())
+        })
+        .collect();
     cal.rounds.push(CalibrationRound {
         round,
         date: inp.date.clone(),
@@ -282,6 +297,11 @@ pub fn calibrated_text(inp: &CalibrationInput, dst: &Path) -> Result<String> {
         validation: inp.id.validation.clone(),
         validation_rmse_before: before,
         validation_rmse_after: after,
+        correlated: kept.iter().map(|&i| corr.params[i].clone()).collect(),
+        correlation: kept
+            .iter()
+            .map(|&i| kept.iter().map(|&k| corr.matrix[i][k]).collect())
+            .collect(),
     });
     for p in &inp.id.params {
         let key = format!("{}.{}", p.effect, p.name);

@@ -244,6 +244,20 @@ pub struct FitResult {
     /// Rows per block of the autocorrelation-consistent standard errors (at least a few
     /// residual correlation times).
     pub hac_block_rows: usize,
+    /// Correlation of the parameters that have a standard error: the standard errors and
+    /// this matrix together are the fit's covariance, which the uncertainty study draws
+    /// from for a calibrated robot.
+    pub correlation: Correlation,
+}
+
+/// Correlation matrix of some fitted parameters (`effect.param` names, row-major, symmetric,
+/// unit diagonal).
+#[derive(Clone, Debug, Default, PartialEq, Serialize)]
+pub struct Correlation {
+    /// `effect.param` of each row and column.
+    pub params: Vec<String>,
+    /// The matrix, one row per parameter.
+    pub matrix: Vec<Vec<f64>>,
 }
 
 /// A number, or `null` when it is not finite (an infinite condition number).
@@ -543,6 +557,7 @@ fn fit_core(
     let mut hac_rows = 1;
     let mut cond = 1.0;
     let mut ill = None;
+    let mut correlation = Correlation::default();
     if p > 0 {
         jacobian(prep, model, &lay, &theta, rows, &mut jac)?;
         tie_cols(&mut jac, m);
@@ -684,6 +699,48 @@ fn fit_core(
         for &(a, bb) in &ties {
             se[bb] = se[a];
         }
+        // The correlation of the parameters with a standard error, from the covariance whose
+        // diagonal the standard errors came from (the sandwich one when it was estimated; a
+        // tied parameter moves with its twin).
+        let cov_of = |ii: usize, kk: usize| {
+            if windows > 0 && t_rows > 0 {
+                hac[(ii, kk)]
+            } else {
+                sigma2 * cov[(ii, kk)]
+            }
+        };
+        let col = |i: usize| {
+            let i = ties.iter().find(|t| t.1 == i).map_or(i, |t| t.0);
+            act.iter().position(|&a| a == i)
+        };
+        let with_se: Vec<(usize, usize)> = (0..p)
+            .filter(|&i| se[i].is_some())
+            .filter_map(|i| col(i).map(|ii| (i, ii)))
+            .collect();
+        correlation = Correlation {
+            params: with_se
+                .iter()
+                .map(|&(i, _)| format!("{}.{}", lay.names[i].0, lay.names[i].1))
+                .collect(),
+            matrix: with_se
+                .iter()
+                .map(|&(_, ii)| {
+                    with_se
+                        .iter()
+                        .map(|&(_, kk)| {
+                            let d = (cov_of(ii, ii) * cov_of(kk, kk)).sqrt();
+                            if ii == kk {
+                                1.0
+                            } else if d > 0.0 && d.is_finite() {
+                                (0.5 * (cov_of(ii, kk) + cov_of(kk, ii)) / d).clamp(-1.0, 1.0)
+                            } else {
+                                0.0
+                            }
+                        })
+                        .collect()
+                })
+                .collect(),
+        };
         if !groups.is_empty() {
             ill = Some(IllConditioning {
                 condition_number: cond,
@@ -739,5 +796,6 @@ fn fit_core(
         ill_conditioned: ill,
         at_bound,
         hac_block_rows: hac_rows,
+        correlation,
     })
 }

@@ -50,6 +50,8 @@ pub struct Identification {
     pub implausible: Vec<String>,
     /// Rows per block of the autocorrelation-consistent standard errors of the final fit.
     pub hac_block_rows: usize,
+    /// Correlation of the final fit's parameters that have a standard error.
+    pub correlation: crate::identify::fit::Correlation,
 }
 
 /// A parameter held at its prior value, and why.
@@ -181,8 +183,8 @@ pub fn identify_holding(
         ladder.push(step(model, format!("+{}", effects[i]), &effects[..=i]));
         last = Some(r);
     }
-    let (params, at_bound, hac_block_rows) = last
-        .map(|r| (r.params, r.at_bound, r.hac_block_rows))
+    let (params, at_bound, hac_block_rows, correlation) = last
+        .map(|r| (r.params, r.at_bound, r.hac_block_rows, r.correlation))
         .unwrap_or_default();
     let mut implausible = Vec::new();
     for e in effects {
@@ -211,5 +213,6 @@ pub fn identify_holding(
         at_bound,
         implausible,
         hac_block_rows,
+        correlation,
     })
 }

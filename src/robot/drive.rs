@@ -271,6 +271,14 @@ pub struct CalibrationRound {
     pub validation_rmse_before: f64,
     /// Validation RMSE after the round (signal unit).
     pub validation_rmse_after: f64,
+    /// `effect.param` of the parameters this round fitted with a standard error, in the
+    /// order of `correlation`'s rows.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub correlated: Vec<String>,
+    /// Their correlation matrix (one row per parameter; with the standard errors of
+    /// `[[calibration.params]]` it is the fit's covariance).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub correlation: Vec<Vec<f64>>,
 }
 
 /// One identified parameter.

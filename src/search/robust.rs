@@ -729,6 +729,74 @@ pub struct Decision {
     pub robust: Option<Robust>,
     /// Each search bound the answer lies on, moved outward by 0.2 m and 0.4 m.
     pub bound_steps: Vec<BoundStep>,
+    /// With a calibrated robot: the regret before the measurement (the robot it was
+    /// calibrated from, drawn from its ranges) and after it (drawn from the identified
+    /// covariance).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub measurement: Option<MeasurementWorth>,
+}
+
+/// What the measurement behind a calibrated robot did to the decision: the same robust study
+/// on the robot it was calibrated from (its estimate ranges) and on the calibrated robot (the
+/// identified covariance), with the same draws, seed and candidates rule.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct MeasurementWorth {
+    /// The robot the calibration started from, as `identify --robot` was given it.
+    pub base_robot: String,
+    /// `None` when the base robot could not be loaded (then the reason is in `note`).
+    pub before: Option<RegretFigures>,
+    /// The calibrated robot's figures.
+    pub after: RegretFigures,
+    /// Why `before` is missing, if it is.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub note: Option<String>,
+}
+
+/// The recommendation's regret over a study's draws.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
+pub struct RegretFigures {
+    /// The recommended placement (x, y, z m; yaw, spin in degrees).
+    #[serde(serialize_with = "ser_placement")]
+    pub placement: Placement,
+    /// Expected regret, J.
+    pub expected_regret_j: f64,
+    /// 95th-percentile regret, J.
+    pub p95_regret_j: f64,
+    /// Expected drives' energy of each draw's best candidate, J.
+    pub drives_j: f64,
+}
+
+impl RegretFigures {
+    /// The figures of `r`'s recommendation.
+    pub fn of(r: &Robust) -> Self {
+        let c = r.recommendation();
+        RegretFigures {
+            placement: c.placement,
+            expected_regret_j: c.expected_regret_j,
+            p95_regret_j: c.p95_regret_j,
+            drives_j: r.drives_j,
+        }
+    }
+}
+
+impl std::fmt::Display for MeasurementWorth {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let a = &self.after;
+        match &self.before {
+            Some(b) => write!(
+                f,
+                "measurement: expected regret {:.1} J before (robot {}, estimate ranges; 95th percentile {:.1} J), {:.1} J after (identified covariance; 95th percentile {:.1} J)",
+                b.expected_regret_j, self.base_robot, b.p95_regret_j, a.expected_regret_j, a.p95_regret_j
+            ),
+            None => write!(
+                f,
+                "measurement: expected regret {:.1} J after calibration (95th percentile {:.1} J); before: {}",
+                a.expected_regret_j,
+                a.p95_regret_j,
+                self.note.as_deref().unwrap_or("not computed")
+            ),
+        }
+    }
 }
 
 /// The steps a search bound is moved by in [`bound_steps`] for the report, m (a 0.2 m and a

@@ -171,6 +171,60 @@ pub fn evaluator<'j, 'a>(
     }
 }
 
+/// The regret of the decision before the measurement behind a calibrated robot (the robust
+/// study on the robot it was calibrated from, over its estimate ranges, from the calibrated
+/// answer's placement) and after it (`after`). The base robot is resolved as `--robot` is (a
+/// path, or a shipped robot's name); when it cannot be loaded that is said and `before` is
+/// left out.
+fn measurement_worth(
+    config: &OptimiseConfig,
+    base_robot: &str,
+    answer: &Evaluated,
+    opts: &OptimiseOptions,
+    so: &SearchOptions,
+    ro: &RobustOptions,
+    after: &robust::Robust,
+) -> Result<robust::MeasurementWorth> {
+    let mut worth = robust::MeasurementWorth {
+        base_robot: base_robot.to_string(),
+        before: None,
+        after: robust::RegretFigures::of(after),
+        note: None,
+    };
+    let base = crate::robot::shipped::resolve(std::path::Path::new(base_robot))
+        .ok_or_else(|| "not found (neither a path nor a shipped robot)".to_string())
+        .and_then(|p| crate::robot::load(&p).map_err(|e| e.to_string()));
+    let base = match base {
+        Ok(b) => b,
+        Err(why) => {
+            worth.note = Some(format!("base robot {base_robot}: {why}"));
+            return Ok(worth);
+        }
+    };
+    let s = &config.settings;
+    let job = PathJob::new(
+        &base,
+        &config.path,
+        s.energy,
+        s.profile,
+        JointStageOptions::default(),
+    )?;
+    let ev = evaluator(&job, &config.path, s.feasibility, s.objective, s.evaluation);
+    let start = ev.sweep(&[answer.placement], &|_, _| {})?;
+    match start.first().filter(|e| e.feasible().is_some()) {
+        Some(a) => {
+            let r = robust::robust(&ev, a, opts, so, ro)?;
+            worth.before = Some(robust::RegretFigures::of(&r));
+        }
+        None => {
+            worth.note = Some(format!(
+                "base robot {base_robot}: the calibrated answer is infeasible with it"
+            ));
+        }
+    }
+    Ok(worth)
+}
+
 /// Run `f` with a refinement progress callback that reports to `observer` (the callback must
 /// own what it holds: it goes to another thread).
 fn with_refine_progress<T>(
@@ -350,7 +404,21 @@ fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Resul
             };
             let so = SearchOptions::new(bounds, tol);
             let r = robust::robust(&ev, &res.best, &opts, &so, &ro)?;
-            res.decision.get_or_insert_with(Default::default).robust = Some(r);
+            let measurement = match &config.robot.effects.calibration {
+                Some(c) => Some(measurement_worth(
+                    config,
+                    &c.base_robot,
+                    &res.best,
+                    &opts,
+                    &so,
+                    &ro,
+                    &r,
+                )?),
+                None => None,
+            };
+            let d = res.decision.get_or_insert_with(Default::default);
+            d.robust = Some(r);
+            d.measurement = measurement;
         }
     }
     // What moving a search bound the answer lies on is worth (a plinth under the robot).

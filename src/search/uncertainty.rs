@@ -8,8 +8,9 @@
 //! friction and gear efficiency, the cabinet's standby power, and the balancer (absent with
 //! the stated probability, else its preload and stiffness scaled), each independently. A
 //! calibrated robot (a drive file with a `[calibration]` table written by `identify`) draws
-//! every identified parameter from a normal distribution with its identified standard error
-//! instead of its range (an identified balancer is always present; an identified payload
+//! every identified parameter from a normal distribution with its identified standard error,
+//! correlated as the fit of the round that identified it found (the `correlation` of its
+//! `[[calibration.rounds]]`), instead of its range (an identified balancer is always present; an identified payload
 //! draws its mass and first moment, so its centre of mass too; an identified armature, which
 //! has no range, is drawn; an identified winding resistance was fitted with the torque
 //! constant held, so the torque constant is not drawn on top of it); the numbers `identify`
@@ -170,6 +171,70 @@ pub struct Study {
     pub per_draw_j: Vec<[f64; 2]>,
 }
 
+/// The identified parameters of a calibrated robot with a drawn shift each:
+/// `(effect, name, value, se·z)`, where `z` is standard normal and, within the parameters one
+/// round fitted together, correlated as that round's fit (`z = S·n` with `S` the symmetric
+/// square root of the round's correlation matrix, so a singular one draws too). Parameters
+/// without a finite positive standard error are not drawn.
+fn calibrated_shifts(
+    c: &crate::robot::drive::Calibration,
+    rng: &mut ChaCha8Rng,
+    normal: &dyn Fn(&mut ChaCha8Rng) -> f64,
+) -> Vec<(String, String, f64, f64)> {
+    let params: Vec<_> = c
+        .params
+        .iter()
+        .filter_map(|p| {
+            let se = p.std_error.filter(|se| se.is_finite() && *se > 0.0)?;
+            Some((p, se))
+        })
+        .collect();
+    let mut z: Vec<f64> = params.iter().map(|_| normal(rng)).collect();
+    for round in &c.rounds {
+        let n = round.correlated.len();
+        if n < 2 || round.correlation.len() != n || round.correlation.iter().any(|r| r.len() != n) {
+            continue;
+        }
+        // The rows of this round that are still its parameters' latest values.
+        let rows: Vec<(usize, usize)> = (0..n)
+            .filter_map(|r| {
+                let k = params.iter().position(|(p, _)| {
+                    p.round == round.round
+                        && format!("{}.{}", p.effect, p.name) == round.correlated[r]
+                })?;
+                Some((r, k))
+            })
+            .collect();
+        if rows.len() < 2 {
+            continue;
+        }
+        let corr = nalgebra::DMatrix::from_fn(rows.len(), rows.len(), |a, b| {
+            let v = round.correlation[rows[a].0][rows[b].0];
+            if v.is_finite() {
+                v
+            } else {
+                f64::from(u8::from(a == b))
+            }
+        });
+        let eig = corr.symmetric_eigen();
+        let mut root = nalgebra::DMatrix::<f64>::zeros(rows.len(), rows.len());
+        for (i, &ev) in eig.eigenvalues.iter().enumerate() {
+            let v = eig.eigenvectors.column(i);
+            root += (v * v.transpose()) * ev.max(0.0).sqrt();
+        }
+        let n0 = nalgebra::DVector::from_iterator(rows.len(), rows.iter().map(|&(_, k)| z[k]));
+        let zc = root * n0;
+        for (a, &(_, k)) in rows.iter().enumerate() {
+            z[k] = zc[a];
+        }
+    }
+    params
+        .iter()
+        .zip(z)
+        .map(|((p, se), z)| (p.effect.clone(), p.name.clone(), p.value, se * z))
+        .collect()
+}
+
 /// A perturbed robot, the normalised values drawn (name, value in the parameter's own
 /// scale: the multiplier, the shift in m, or 1/0 for the balancer's presence), and the
 /// identified parameters that were drawn with their standard errors (calibrated robots).
@@ -180,20 +245,20 @@ fn draw_robot(
 ) -> (RobotModel, Vec<(String, f64)>, Vec<String>) {
     let mut m = nominal.clone();
     let mut drawn = Vec::new();
-    // Identified parameters (calibrated robot): normal with their standard errors.
+    // Identified parameters (calibrated robot): normal with their standard errors and the
+    // correlation of the round that fitted them (the fit's covariance); each one's shift
+    // `dv = se·z` is drawn up front.
+    let normal = |rng: &mut ChaCha8Rng| {
+        // Box–Muller from two uniforms of the stream.
+        let a: f64 = rng.gen_range(f64::EPSILON..1.0);
+        let b: f64 = rng.gen_range(0.0..1.0);
+        (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos()
+    };
     let cal: Vec<(String, String, f64, f64)> = nominal
         .effects
         .calibration
         .as_ref()
-        .map(|c| {
-            c.params
-                .iter()
-                .filter_map(|p| {
-                    let se = p.std_error.filter(|se| se.is_finite() && *se > 0.0)?;
-                    Some((p.effect.clone(), p.name.clone(), p.value, se))
-                })
-                .collect()
-        })
+        .map(|c| calibrated_shifts(c, rng, &normal))
         .unwrap_or_default();
     let used = std::cell::RefCell::new(Vec::<String>::new());
     let note = |name: &str| {
@@ -202,18 +267,13 @@ fn draw_robot(
             u.push(name.to_string());
         }
     };
+    // (value, drawn shift) of an identified parameter.
     let calibrated = |name: &str| {
         let c = cal.iter().find(|(_, n, _, _)| n == name)?;
         note(name);
         Some((c.2, c.3))
     };
     let u = |rng: &mut ChaCha8Rng| rng.gen_range(-1.0..=1.0);
-    let normal = |rng: &mut ChaCha8Rng| {
-        // Box–Muller from two uniforms of the stream.
-        let a: f64 = rng.gen_range(f64::EPSILON..1.0);
-        let b: f64 = rng.gen_range(0.0..1.0);
-        (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos()
-    };
     for (i, l) in m.links.iter_mut().enumerate() {
         if let Some(l) = l.as_mut() {
             let f = 1.0 + r.link_mass_rel * u(rng);
@@ -232,13 +292,13 @@ fn draw_robot(
         match calibrated("dm") {
             // An identified payload (written as the robot's payload: mass m, centre of mass c):
             // mass and first moment h = m·c drawn with their standard errors.
-            Some((_, se_m)) => {
+            Some((_, dm)) => {
                 let m0 = p.mass;
-                let m1 = (m0 + se_m * normal(rng)).max(1e-3 * m0.abs().max(1e-3));
+                let m1 = (m0 + dm).max(1e-3 * m0.abs().max(1e-3));
                 let f = m1 / m0.abs().max(1e-300);
                 for (k, a) in ["x", "y", "z"].iter().enumerate() {
-                    let h = m0 * p.com[k]
-                        + calibrated(&format!("dh_{a}")).map_or(0.0, |(_, se)| se * normal(rng));
+                    let h =
+                        m0 * p.com[k] + calibrated(&format!("dh_{a}")).map_or(0.0, |(_, dh)| dh);
                     p.com[k] = h / m1;
                 }
                 p.mass = m1;
@@ -266,40 +326,40 @@ fn draw_robot(
                 drawn.push((name("torque constant"), kt));
             }
             let rr = match r_cal {
-                Some((v, se)) => (v + se * normal(rng)).max(0.0) / v.max(1e-300),
+                Some((v, dv)) => (v + dv).max(0.0) / v.max(1e-300),
                 None => 1.0 + r.winding_resistance_rel * u(rng),
             };
             jd.winding_resistance *= rr;
             drawn.push((name("winding resistance"), rr));
             // Armature (gear ratio² × rotor inertia): only an identified one is drawn.
-            if let Some((v, se)) = calibrated(&format!("G2Jm[{}]", j + 1)) {
-                let f = (v + se * normal(rng)).max(0.0) / v.max(1e-300);
+            if let Some((v, dv)) = calibrated(&format!("G2Jm[{}]", j + 1)) {
+                let f = (v + dv).max(0.0) / v.max(1e-300);
                 jd.rotor_inertia *= f;
                 drawn.push((name("armature"), f));
             }
             let fv_name = format!("f_v[{}]", j + 1);
             let fv = match calibrated(&fv_name) {
-                Some((v, se)) => (v + se * normal(rng)).max(0.0) / v.max(1e-300),
+                Some((v, dv)) => (v + dv).max(0.0) / v.max(1e-300),
                 None => 1.0 + r.viscous_rel * u(rng),
             };
             jd.viscous *= fv;
             drawn.push((name("viscous friction"), fv));
             let fc_name = format!("f_c[{}]", j + 1);
             let fc = match calibrated(&fc_name) {
-                Some((v, se)) => (v + se * normal(rng)).max(0.0) / v.max(1e-300),
+                Some((v, dv)) => (v + dv).max(0.0) / v.max(1e-300),
                 None => 1.0 + r.coulomb_rel * u(rng),
             };
             jd.coulomb *= fc;
             drawn.push((name("Coulomb friction"), fc));
             let de = match calibrated(&format!("eta[{}]", j + 1)) {
-                Some((v, se)) => (v + se * normal(rng)).clamp(0.3, 1.0) - jd.gear_efficiency,
+                Some((v, dv)) => (v + dv).clamp(0.3, 1.0) - jd.gear_efficiency,
                 None => r.gear_efficiency_abs * u(rng),
             };
             jd.gear_efficiency = (jd.gear_efficiency + de).clamp(0.3, 1.0);
             drawn.push((name("gear efficiency"), de));
         }
         let sb = match calibrated("P0") {
-            Some((v, se)) => (v + se * normal(rng)).max(0.0) / v.max(1e-300),
+            Some((v, dv)) => (v + dv).max(0.0) / v.max(1e-300),
             None => 1.0 + r.standby_power_rel * u(rng),
         };
         d.standby_power *= sb;
@@ -320,9 +380,7 @@ fn draw_robot(
         let identified = calibrated("F0").is_some() && calibrated("k").is_some();
         let present = rng.gen_range(0.0..1.0) >= r.balancer_absent_probability || identified;
         let (f0, k) = match (calibrated("F0"), calibrated("k")) {
-            (Some((f, sf)), Some((k, sk))) => {
-                (f + sf * normal(rng), (k + sk * normal(rng)).max(0.0))
-            }
+            (Some((f, df)), Some((k, dk))) => (f + df, (k + dk).max(0.0)),
             _ => {
                 let f = 1.0 + r.balancer_force_rel * u(rng);
                 (p0 * f, k0 * f)
@@ -348,8 +406,8 @@ fn draw_robot(
         .then(|| crate::effects::EffectSet::of_robot(nominal).ok())
         .flatten();
     if let (Some(vals), Some(specs)) = (m.effects.table.values.as_mut(), specs.as_ref()) {
-        for (effect, name, value, se) in cal.iter().filter(|c| c.0 != "balancer") {
-            let (value, se) = (*value, *se);
+        for (effect, name, value, dv) in cal.iter().filter(|c| c.0 != "balancer") {
+            let (value, dv) = (*value, *dv);
             let (Some(v), Ok(e)) = (vals.get_mut(effect), specs.get(effect)) else {
                 continue;
             };
@@ -360,7 +418,7 @@ fn draw_robot(
             if i >= v.len() {
                 continue;
             }
-            let x = (value + se * normal(rng)).clamp(ps[i].lower, ps[i].upper);
+            let x = (value + dv).clamp(ps[i].lower, ps[i].upper);
             v[i] = x;
             drawn.push((format!("{effect} {name}"), x - value));
             note(name);
