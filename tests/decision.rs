@@ -386,6 +386,20 @@ fn closed_loop_on_a_hidden_stronger_balancer_recovers_the_true_robots_optimum() 
         .expect("a calibrated robot's decision states what the measurement did");
     eprintln!("{w}");
     assert_eq!(w.base_robot, "abb_irb6700_200_260");
+    // The report states the decision and draws the regret of each candidate.
+    let html = out.report.html();
+    assert!(html.contains("<h2>Decision</h2>") && html.contains("measurement"));
+    let fig = html
+        .split("<figure id=\"regret\">")
+        .nth(1)
+        .expect("the report draws the regret per candidate");
+    let n: usize = fig
+        .split("data-n=\"")
+        .nth(1)
+        .and_then(|t| t.split('"').next())
+        .and_then(|t| t.parse().ok())
+        .unwrap();
+    assert!(n >= 2, "regret chart with {n} data items");
     let before = w.before.expect("the base robot is a shipped one");
     assert!(
         w.after.expected_regret_j < 0.5 * before.expected_regret_j,

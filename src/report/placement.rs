@@ -572,6 +572,73 @@ impl RunReport {
         Some(svg::bar_chart(&f, &cats, &[("energy".into(), vals)]))
     }
 
+    /// The robust choice's regret per candidate (expected and 95th percentile), the
+    /// recommendation, the nominal answer and the candidates of lowest expected regret.
+    fn regret_svg(&self) -> Option<String> {
+        let r = self
+            .optimise
+            .as_ref()
+            .and_then(|o| o.decision.as_ref())
+            .and_then(|d| d.robust.as_ref())?;
+        let mut idx: Vec<usize> = (0..r.candidates.len()).collect();
+        idx.sort_by(|&a, &b| {
+            r.candidates[a]
+                .expected_regret_j
+                .total_cmp(&r.candidates[b].expected_regret_j)
+                .then(a.cmp(&b))
+        });
+        let mut shown: Vec<usize> = vec![r.recommended];
+        if !shown.contains(&0) {
+            shown.push(0);
+        }
+        for i in idx {
+            if shown.len() >= REGRET_BARS {
+                break;
+            }
+            if !shown.contains(&i) {
+                shown.push(i);
+            }
+        }
+        shown.sort_by(|&a, &b| {
+            r.candidates[a]
+                .expected_regret_j
+                .total_cmp(&r.candidates[b].expected_regret_j)
+                .then(a.cmp(&b))
+        });
+        let cats: Vec<String> = shown
+            .iter()
+            .map(|&i| {
+                let tag = if i == r.recommended {
+                    "recommended"
+                } else if i == 0 {
+                    "nominal answer"
+                } else {
+                    "candidate"
+                };
+                format!("#{i} {tag}")
+            })
+            .collect();
+        let groups = vec![
+            (
+                "expected regret".to_string(),
+                shown
+                    .iter()
+                    .map(|&i| r.candidates[i].expected_regret_j)
+                    .collect(),
+            ),
+            (
+                "95th-percentile regret".to_string(),
+                shown
+                    .iter()
+                    .map(|&i| r.candidates[i].p95_regret_j)
+                    .collect(),
+            ),
+        ];
+        let f = svg::Frame::new("Regret per candidate placement", "candidate", "regret [J]")
+            .size(760.0, 360.0);
+        Some(svg::bar_chart(&f, &cats, &groups))
+    }
+
     fn joints_svg(&self) -> Option<String> {
         let d0 = self.details.first()?;
         let cats: Vec<String> = d0.energy.joints.iter().map(|j| j.name.clone()).collect();
@@ -745,6 +812,32 @@ impl RunReport {
             ));
         }
         pg.h2("Summary").kv(&facts);
+        if let Some(d) = self.optimise.as_ref().and_then(|o| o.decision.as_ref()) {
+            let mut lines: Vec<String> = d
+                .bound_steps
+                .iter()
+                .map(crate::search::robust::bound_line)
+                .collect();
+            lines.extend(d.robust.iter().flat_map(crate::search::robust::lines));
+            lines.extend(d.measurement.iter().map(|m| m.to_string()));
+            let kv: Vec<(String, String)> = lines
+                .iter()
+                .map(|l| match l.split_once(": ") {
+                    Some((k, v)) => (k.to_string(), v.to_string()),
+                    None => (String::new(), l.clone()),
+                })
+                .collect();
+            if !kv.is_empty() {
+                pg.h2("Decision").kv(&kv);
+            }
+            if let Some(r) = self.regret_svg() {
+                pg.figure(
+                    "regret",
+                    &r,
+                    "Regret of each candidate placement over the plausible robots: how much more energy than each robot's own best it uses, averaged over the draws and at their 95th percentile (the recommendation, the nominal answer and the candidates of lowest expected regret; #k is the candidate's index in the JSON's decision.robust.candidates).",
+                );
+            }
+        }
         if let Some(h) = self.heatmap_svg() {
             pg.figure(
                 "heatmap",
@@ -964,6 +1057,10 @@ pub fn full_check_line(c: &crate::evaluate::reduce::FullCheck) -> String {
         if c.within_error { "within" } else { "OUTSIDE" }
     )
 }
+
+/// Candidates drawn in the report's regret chart (the recommendation, the nominal answer and
+/// those of lowest expected regret).
+const REGRET_BARS: usize = 12;
 
 /// The uncertainty study in a few lines "what: value" (terminal and report).
 pub fn uncertainty_lines(u: &crate::search::uncertainty::Study) -> Vec<String> {
