@@ -132,3 +132,63 @@ fn readme_says_how_to_put_printwatt_on_the_path() {
         }
     }
 }
+
+/// The ```text blocks of the README's main-job section, in order.
+fn main_job_text_blocks(readme: &str) -> Vec<Vec<String>> {
+    let sec = readme
+        .split("## The main job")
+        .nth(1)
+        .and_then(|s| s.split("\n## ").next())
+        .expect("README has a main-job section");
+    sec.split("```text\n")
+        .skip(1)
+        .map(|b| {
+            b.split("```")
+                .next()
+                .unwrap_or("")
+                .lines()
+                .map(str::to_string)
+                .collect()
+        })
+        .collect()
+}
+
+#[test]
+fn the_readme_main_job_output_is_what_optimise_prints() {
+    // Every line the README shows of the main job (the answer, then the robust choice with
+    // `--uncertainty 20`) must be a line the built binary prints now: a changed default
+    // cannot leave a stale answer on the front page.
+    let readme = std::fs::read_to_string(root().join("README.md")).unwrap();
+    let blocks = main_job_text_blocks(&readme);
+    assert_eq!(blocks.len(), 2, "the answer and the robust choice");
+    let dir = std::env::temp_dir().join(format!("printwatt-readme-main-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    for (k, (block, extra)) in blocks
+        .iter()
+        .zip([&[][..], &["--uncertainty", "20"][..]])
+        .enumerate()
+    {
+        let out = Command::new(env!("CARGO_BIN_EXE_printwatt"))
+            .arg("optimise")
+            .args(extra)
+            .arg("--out")
+            .arg(dir.join(format!("run{k}")))
+            .current_dir(root())
+            .output()
+            .unwrap();
+        assert!(
+            out.status.success(),
+            "{}",
+            String::from_utf8_lossy(&out.stderr)
+        );
+        let printed = String::from_utf8_lossy(&out.stdout);
+        for line in block {
+            assert!(
+                printed.lines().any(|l| l == line),
+                "README main-job line not printed by `printwatt optimise {}`:\n{line}\nprinted:\n{printed}",
+                extra.join(" ")
+            );
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}
