@@ -485,3 +485,54 @@ fn a_calibrated_robots_draws_follow_the_correlation_its_fit_found() {
         assert!((r - rho).abs() < 0.1, "stated {rho}, drawn {r}");
     }
 }
+
+#[test]
+fn a_study_case_run_with_uncertainty_reports_its_robust_choice() {
+    let d = std::env::temp_dir().join(format!("printwatt-study-robust-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    std::fs::copy(
+        root().join("paths/seed000_test_path.gcode"),
+        d.join("part.gcode"),
+    )
+    .unwrap();
+    std::fs::write(
+        d.join("study.toml"),
+        "[study]\nname = \"robust\"\noptions = [\"--max-evals\", \"30\", \"--uncertainty\", \"4\"]\n\n[[robot]]\nname = \"irb6700\"\nrobot = \"abb_irb6700_200_260\"\n\n[[cell]]\nname = \"front\"\nx = \"1.6:2.2:0.3\"\ny = \"-0.3:0.3:0.3\"\nz = \"0,0.4\"\nyaw = 0\n\n[[path]]\nname = \"part\"\nfile = \"part.gcode\"\n",
+    )
+    .unwrap();
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_printwatt"))
+        .args(["study", "study.toml", "--out", "run"])
+        .current_dir(&d)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let csv = std::fs::read_to_string(d.join("run/study.csv")).unwrap();
+    let mut lines = csv.lines();
+    let head: Vec<&str> = lines.next().unwrap().split(',').collect();
+    // The note (last column) is free text, quoted when it holds a comma.
+    let row: Vec<&str> = lines.next().unwrap().splitn(head.len(), ',').collect();
+    assert_eq!(head.len(), row.len(), "{csv}");
+    let col = |name: &str| {
+        let i = head.iter().position(|h| *h == name).unwrap();
+        row[i]
+            .parse::<f64>()
+            .unwrap_or_else(|_| panic!("{name}: {csv}"))
+    };
+    let (rec, nom) = (
+        col("robust_expected_regret_j"),
+        col("nominal_expected_regret_j"),
+    );
+    assert!(rec >= 0.0 && rec <= nom + 1e-9, "{rec} vs {nom}");
+    assert!((0.0..=1.0).contains(&col("robust_p_within_1pct")));
+    let x = col("robust_x_m");
+    assert!((1.0..=2.5).contains(&x), "{x}");
+    let s: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("run/summary.json")).unwrap())
+            .unwrap();
+    let r = &s["cases"][0]["robust"];
+    // summary.json rounds to 9 significant digits.
+    let j = r["expected_regret_j"].as_f64().expect("robust fields in summary.json");
+    assert!((j - rec).abs() <= 1e-6 * rec.abs().max(1.0), "{j} vs {rec}");
+    let _ = std::fs::remove_dir_all(&d);
+}

@@ -619,6 +619,22 @@ impl CaseResult {
                         baseline_holds_tolerance: base_tol.map(|t| t.holds),
                         tolerance: si.map(|si| tolerance_line(&si.tolerance)),
                         notes,
+                        robust: rep
+                            .optimise
+                            .as_ref()
+                            .and_then(|o| o.decision.as_ref())
+                            .and_then(|d| d.robust.as_ref())
+                            .map(|r| {
+                                let c = r.recommendation();
+                                let q = &c.placement;
+                                CaseRobust {
+                                    placement: [q.x, q.y, q.z, q.yaw, q.nozzle_spin],
+                                    expected_regret_j: c.expected_regret_j,
+                                    p95_regret_j: c.p95_regret_j,
+                                    p_within_1pct: c.p_within_1pct,
+                                    nominal_expected_regret_j: r.nominal().expected_regret_j,
+                                }
+                            }),
                     }),
                     grid: rep.rows.len(),
                     grid_feasible: rep.rows.iter().filter(|r| r.cost().is_finite()).count(),
@@ -701,6 +717,23 @@ pub struct CaseBest {
     /// Notes on the answer: an optimum on a search bound or a joint-limit margin, a search
     /// stopped by its budget.
     pub notes: Vec<String>,
+    /// The robust choice (a case run with `--uncertainty N` and the Nelder–Mead search).
+    pub robust: Option<CaseRobust>,
+}
+
+/// A case's robust choice over its plausible robots.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CaseRobust {
+    /// x, y, z (m), yaw and nozzle spin (rad) of the recommended placement.
+    pub placement: [f64; 5],
+    /// Its expected regret over the draws, J.
+    pub expected_regret_j: f64,
+    /// Its 95th-percentile regret, J.
+    pub p95_regret_j: f64,
+    /// Share of the draws in which it is within 1 % of the drives' energy of the draw's best.
+    pub p_within_1pct: f64,
+    /// The nominal answer's expected regret over the same draws, J.
+    pub nominal_expected_regret_j: f64,
 }
 
 impl CaseResult {
@@ -890,7 +923,7 @@ impl Study {
     pub fn csv(&self, results: &[CaseResult]) -> Result<String> {
         self.check_results(results)?;
         let mut s = String::from(
-            "case,robot,cell,path,status,x_m,y_m,z_m,yaw_deg,spin_deg,energy_j,supply_j,drives_j,standby_j,duration_s,baseline_j,saving_pct,baseline_holds_tolerance,grid,grid_feasible,evaluations,report,note\n",
+            "case,robot,cell,path,status,x_m,y_m,z_m,yaw_deg,spin_deg,energy_j,supply_j,drives_j,standby_j,duration_s,baseline_j,saving_pct,baseline_holds_tolerance,grid,grid_feasible,evaluations,report,robust_x_m,robust_y_m,robust_z_m,robust_yaw_deg,robust_spin_deg,robust_expected_regret_j,robust_p95_regret_j,robust_p_within_1pct,nominal_expected_regret_j,note\n",
         );
         let q = |t: &str| {
             if t.contains([',', '"', '\n']) {
@@ -922,8 +955,20 @@ impl Study {
                     let bt = b
                         .baseline_holds_tolerance
                         .map_or(String::new(), |h| h.to_string());
+                    let rb = b.robust.as_ref().map_or(",,,,,,,,".to_string(), |r| {
+                        let [x, y, z, yaw, spin] = r.placement;
+                        format!(
+                            "{x},{y},{z},{},{},{},{},{},{}",
+                            yaw.to_degrees(),
+                            spin.to_degrees(),
+                            r.expected_regret_j,
+                            r.p95_regret_j,
+                            r.p_within_1pct,
+                            r.nominal_expected_regret_j
+                        )
+                    });
                     s.push_str(&format!(
-                        "{head},feasible,{x},{y},{z},{},{},{},{},{},{},{},{bj},{sv},{bt},{tail},{},{}\n",
+                        "{head},feasible,{x},{y},{z},{},{},{},{},{},{},{},{bj},{sv},{bt},{tail},{},{rb},{}\n",
                         yaw.to_degrees(),
                         spin.to_degrees(),
                         f.energy_j,
@@ -936,7 +981,7 @@ impl Study {
                     ));
                 }
                 Err(why) => s.push_str(&format!(
-                    "{head},no answer,,,,,,,,,,,,,,{tail},,{}\n",
+                    "{head},no answer,,,,,,,,,,,,,,{tail},,,,,,,,,,,{}\n",
                     q(why)
                 )),
             }
@@ -976,6 +1021,22 @@ impl Study {
                             serde_json::json!(b.baseline_holds_tolerance);
                         v["tolerance"] = serde_json::json!(b.tolerance);
                         v["notes"] = serde_json::json!(b.notes);
+                        v["robust"] = match &b.robust {
+                            Some(r) => {
+                                let [x, y, z, yaw, spin] = r.placement;
+                                serde_json::json!({
+                                    "placement": {
+                                        "x_m": x, "y_m": y, "z_m": z,
+                                        "yaw_deg": yaw.to_degrees(), "spin_deg": spin.to_degrees(),
+                                    },
+                                    "expected_regret_j": r.expected_regret_j,
+                                    "p95_regret_j": r.p95_regret_j,
+                                    "p_within_1pct": r.p_within_1pct,
+                                    "nominal_expected_regret_j": r.nominal_expected_regret_j,
+                                })
+                            }
+                            None => serde_json::Value::Null,
+                        };
                         v["report"] = self.case_file(c).into();
                     }
                     Err(why) => {
