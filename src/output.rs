@@ -177,11 +177,25 @@ pub enum Existing {
 /// Write one output file: refused if it is an input (see [`Inputs::check`]) or, per
 /// `existing`, if it exists; then written atomically (see [`write_atomic`]).
 pub fn write_file(path: &Path, contents: &[u8], inputs: &Inputs, existing: Existing) -> Result<()> {
+    write_file_with(path, inputs, existing, &mut |w| w.write_all(contents))
+}
+
+/// What streams an output's bytes into its (buffered, temporary) file.
+pub type Fill<'a> = dyn FnMut(&mut dyn Write) -> std::io::Result<()> + 'a;
+
+/// [`write_file`] with the contents streamed by `fill` as they are formatted (a long series
+/// is never held in memory as text); the file still appears whole or not at all.
+pub fn write_file_with(
+    path: &Path,
+    inputs: &Inputs,
+    existing: Existing,
+    fill: &mut Fill<'_>,
+) -> Result<()> {
     check_file(path, inputs, existing)?;
     if existing == Existing::Force(false) {
-        write_new_atomic(path, contents)
+        write_new_atomic_with(path, fill)
     } else {
-        write_atomic(path, contents)
+        write_atomic_with(path, fill)
     }
 }
 
@@ -342,6 +356,19 @@ pub fn clean_stale_temps(path: &Path) -> usize {
 /// then renamed over `path`. Stale temporary files of dead processes are removed first. Checks
 /// nothing about inputs: use [`write_file`] for outputs of commands.
 pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<()> {
+    write_atomic_with(path, &mut |w| w.write_all(contents))
+}
+
+/// The temporary file of `path`, filled by `fill` through a buffer and synced.
+fn fill_temp(tmp: &Path, fill: &mut Fill<'_>) -> std::io::Result<()> {
+    let mut w = std::io::BufWriter::with_capacity(1 << 16, std::fs::File::create(tmp)?);
+    fill(&mut w)?;
+    let f = w.into_inner().map_err(|e| e.into_error())?;
+    f.sync_all()
+}
+
+/// [`write_atomic`] with the contents streamed by `fill`.
+pub fn write_atomic_with(path: &Path, fill: &mut Fill<'_>) -> Result<()> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     }
@@ -351,12 +378,7 @@ pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<()> {
         s.push(format!(".tmp-{}", std::process::id()));
         s.into()
     };
-    let res = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(contents)?;
-        f.sync_all()?;
-        std::fs::rename(&tmp, path)
-    })();
+    let res = fill_temp(&tmp, fill).and_then(|()| std::fs::rename(&tmp, path));
     if let Err(e) = res {
         let _ = std::fs::remove_file(&tmp);
         return Err(Error::io(path, e));
@@ -369,6 +391,11 @@ pub fn write_atomic(path: &Path, contents: &[u8]) -> Result<()> {
 /// the second fails ([`Error::OutputExists`]) instead of replacing the first's. On a file
 /// system without hard links, an existence check and a rename.
 pub fn write_new_atomic(path: &Path, contents: &[u8]) -> Result<()> {
+    write_new_atomic_with(path, &mut |w| w.write_all(contents))
+}
+
+/// [`write_new_atomic`] with the contents streamed by `fill`.
+pub fn write_new_atomic_with(path: &Path, fill: &mut Fill<'_>) -> Result<()> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     }
@@ -379,9 +406,7 @@ pub fn write_new_atomic(path: &Path, contents: &[u8]) -> Result<()> {
         s.into()
     };
     let res = (|| {
-        let mut f = std::fs::File::create(&tmp)?;
-        f.write_all(contents)?;
-        f.sync_all()?;
+        fill_temp(&tmp, fill)?;
         test_delay("PRINTWATT_TEST_WRITE_DELAY_MS");
         match std::fs::hard_link(&tmp, path) {
             Ok(()) => std::fs::remove_file(&tmp),

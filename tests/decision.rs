@@ -532,7 +532,9 @@ fn a_study_case_run_with_uncertainty_reports_its_robust_choice() {
             .unwrap();
     let r = &s["cases"][0]["robust"];
     // summary.json rounds to 9 significant digits.
-    let j = r["expected_regret_j"].as_f64().expect("robust fields in summary.json");
+    let j = r["expected_regret_j"]
+        .as_f64()
+        .expect("robust fields in summary.json");
     assert!((j - rec).abs() <= 1e-6 * rec.abs().max(1.0), "{j} vs {rec}");
     let _ = std::fs::remove_dir_all(&d);
 }

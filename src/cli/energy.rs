@@ -5,7 +5,7 @@ use anyhow::{bail, Context, Result};
 use printwatt::dynamics::complete_derivatives;
 use printwatt::energy::{self, EnergyModel, EnergyReport};
 use printwatt::evaluate::PathJob;
-use printwatt::output::{write_file, Existing};
+use printwatt::output::Existing;
 use printwatt::timing::{JointStageOptions, Slowdown};
 use printwatt::trajectory;
 use serde::Serialize;
@@ -139,14 +139,15 @@ pub fn run(a: EnergyCmd) -> Result<()> {
         });
         (ev.timed.traj, ev.timed.slowdowns, ev.energy)
     };
-    let mut csv = Vec::new();
-    report.series.write_csv(Some(&traj), &mut csv)?;
-    check_report_finite(&report, &csv, &input)?;
+    check_report_finite(&report, &traj, &input)?;
     if let Some(o) = &out {
         if let Some(d) = &out_dir {
             std::fs::create_dir_all(d).map_err(|e| printwatt::Error::io(d, e))?;
         }
-        write_file(o, &csv, &inputs, Existing::Force(a.out.force))?;
+        // Streamed as it is formatted: a long print's series is never held as text.
+        printwatt::output::write_file_with(o, &inputs, Existing::Force(a.out.force), &mut |w| {
+            report.series.write_csv(Some(&traj), w)
+        })?;
     }
     let summary = Summary {
         robot: model.name(),
@@ -178,27 +179,25 @@ pub fn run(a: EnergyCmd) -> Result<()> {
 
 /// The last check before the numbers leave: every per-sample value of the trajectory and of the
 /// energy series, and every total, finite; else an error naming the first sample and quantity.
-fn check_report_finite(report: &EnergyReport, csv: &[u8], input: &Path) -> Result<()> {
+/// The series are scanned where they are (no text is formatted), and only the totals are
+/// turned into a JSON value.
+fn check_report_finite(
+    report: &EnergyReport,
+    traj: &printwatt::trajectory::JointTrajectory,
+    input: &Path,
+) -> Result<()> {
     let what = format!("energy of {}", input.display());
-    let text = String::from_utf8_lossy(csv);
-    let mut lines = text.lines();
-    let header: Vec<String> = lines
-        .next()
-        .unwrap_or_default()
-        .split(',')
-        .map(str::to_string)
-        .collect();
-    for (k, l) in lines.enumerate() {
-        for (j, c) in l.split(',').enumerate() {
-            if matches!(c.trim(), "NaN" | "inf" | "-inf") {
-                bail!(
-                    "{what}: `{}` is {c} at sample {k}: the model produced a number that is not a number; check the robot's drive and inertia data",
-                    header.get(j).map_or("?", String::as_str)
-                );
-            }
-        }
+    if let Some((col, k, v)) = report.series.first_non_finite(Some(traj)) {
+        bail!(
+            "{what}: `{col}` is {v} at sample {k}: the model produced a number that is not a number; check the robot's drive and inertia data"
+        );
     }
-    let v = serde_json::to_value(report)?;
+    let v = serde_json::json!({
+        "duration_s": report.duration_s,
+        "standby_power_w": report.standby_power_w,
+        "joints": report.joints,
+        "total": report.total,
+    });
     // Totals: serde_json writes a non-finite number as null; a null where the report has a
     // number is the same failure.
     fn nulls(v: &serde_json::Value, path: &mut String, out: &mut Option<String>) {

@@ -99,6 +99,45 @@ impl SampleSeries {
         }
     }
 
+    /// The first value of the series (and of `traj`, as [`Self::write_csv`] writes them) that
+    /// is not finite: its CSV column name, sample index and value, scanning sample by sample.
+    pub fn first_non_finite(
+        &self,
+        traj: Option<&crate::trajectory::JointTrajectory>,
+    ) -> Option<(String, usize, f64)> {
+        let n = self.n;
+        for k in 0..self.t.len() {
+            if !self.t[k].is_finite() {
+                return Some(("t[s]".into(), k, self.t[k]));
+            }
+            let mut blocks: Vec<(&str, &str, &[f64])> = Vec::with_capacity(7);
+            if let Some(tr) = traj {
+                blocks.extend([
+                    ("q", "rad", tr.q(k)),
+                    ("qd", "rad/s", tr.qd(k)),
+                    ("qdd", "rad/s^2", tr.qdd(k)),
+                ]);
+            }
+            for (p, u, v) in [
+                ("tau", "Nm", &self.tau),
+                ("p_mech", "W", &self.p_mech),
+                ("p_el", "W", &self.p_el),
+                ("i", "A", &self.current),
+            ] {
+                blocks.push((p, u, &v[k * n..(k + 1) * n]));
+            }
+            for (p, u, b) in blocks {
+                if let Some(j) = b.iter().position(|x| !x.is_finite()) {
+                    return Some((format!("{p}{}[{u}]", j + 1), k, b[j]));
+                }
+            }
+            if !self.p_supply[k].is_finite() {
+                return Some(("p_supply[W]".into(), k, self.p_supply[k]));
+            }
+        }
+        None
+    }
+
     /// Write the series as CSV with units in the headers (the same convention printwatt reads):
     /// `t[s]`, then, when `traj` is given, `q1[rad].., qd1[rad/s].., qdd1[rad/s^2]..`, then
     /// `tau1[Nm].., p_mech1[W].., p_el1[W].., i1[A]..`, `p_supply[W]`.
