@@ -1211,6 +1211,7 @@ file = "/abs/column.gcode"
                     baseline_holds_tolerance: Some(false),
                     tolerance: None,
                     notes: vec![],
+                    robust: None,
                 }),
                 None => Err("unreachable".into()),
             },
