@@ -48,9 +48,11 @@ $B sweep --robot $P --tool presets/seed001_spindle.toml \
 # 5. From the shipped estimate to the paper's model, one assumption at a time (x path, spindle):
 #    (a) the shipped drive file without its balancer; (b) the paper's model with the shipped
 #    motor resistances (no balancer, friction, gear loss). Both written beside this script.
-sed -e '/^balancer_/d' -e 's|^\[robot\]$|[robot]\nurdf = "../../robots/staubli_tx200/robot.urdf"|' \
+sed -e '1i # Written by results/seed001_tx200/regenerate.sh: robots/staubli_tx200/drive.toml without its balancer.' \
+  -e '/^balancer_/d' -e 's|^\[robot\]$|[robot]\nurdf = "../../robots/staubli_tx200/robot.urdf"|' \
   robots/staubli_tx200/drive.toml > "$T/tx200_no_balancer.toml"
-sed -e 's/^winding_resistance_ohm = 22.90 .*/winding_resistance_ohm = 1.3  # the shipped ESTIMATE/' \
+sed -e '1i # Written by results/seed001_tx200/regenerate.sh: presets/seed001_paper_tx200.toml with the shipped resistances.' \
+  -e 's/^winding_resistance_ohm = 22.90 .*/winding_resistance_ohm = 1.3  # the shipped ESTIMATE/' \
   -e 's/^winding_resistance_ohm = 964.95 .*/winding_resistance_ohm = 2.0  # the shipped ESTIMATE/' \
   -e 's/^winding_resistance_ohm = 981.75 .*/winding_resistance_ohm = 3.2  # the shipped ESTIMATE/' \
   -e 's|^urdf = "../robots/|urdf = "../../robots/|' \
