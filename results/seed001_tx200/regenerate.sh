@@ -33,3 +33,39 @@ grep -q '^G1 Y32 F840' "$T/seed001_y2x_r8_slow_y.gcode"
 $B sweep --robot staubli_tx200 --tool presets/seed001_spindle.toml \
   --path "$T/seed001_y2x_r8_slow_y.gcode" --at "1.0,0,0,0,180" \
   --objective supply --results-dir $R --force --run spindle_y2x_r8_slow_y
+# 4. The paper's model (presets/seed001_paper_tx200.toml: no balancer, DC motors of eqs. 2-4,
+#    no friction, gear loss or standby; R of motors 2, 3, 5 fitted to the paper's Sec. 3 power
+#    levels) with the paper's spindle, every path, and the y2x variant with the slow y leg.
+P=presets/seed001_paper_tx200.toml
+for p in x y2x_r8 y2x_r12 y2x2y_r8 y2x2y_r12; do
+  $B sweep --robot $P --tool presets/seed001_spindle.toml \
+    --path paths/seed001_$p.gcode --at "1.0,0,0,0,180" \
+    --objective supply --results-dir $R --force --run paper_$p
+done
+$B sweep --robot $P --tool presets/seed001_spindle.toml \
+  --path "$T/seed001_y2x_r8_slow_y.gcode" --at "1.0,0,0,0,180" \
+  --objective supply --results-dir $R --force --run paper_y2x_r8_slow_y
+# 5. From the shipped estimate to the paper's model, one assumption at a time (x path, spindle):
+#    (a) the shipped drive file without its balancer; (b) the paper's model with the shipped
+#    motor resistances (no balancer, friction, gear loss). Both written beside this script.
+sed -e '1i # Written by results/seed001_tx200/regenerate.sh: robots/staubli_tx200/drive.toml without its balancer.' \
+  -e '/^balancer_/d' -e 's|^\[robot\]$|[robot]\nurdf = "../../robots/staubli_tx200/robot.urdf"|' \
+  robots/staubli_tx200/drive.toml > "$T/tx200_no_balancer.toml"
+sed -e '1i # Written by results/seed001_tx200/regenerate.sh: presets/seed001_paper_tx200.toml with the shipped resistances.' \
+  -e 's/^winding_resistance_ohm = 22.90 .*/winding_resistance_ohm = 1.3  # the shipped ESTIMATE/' \
+  -e 's/^winding_resistance_ohm = 964.95 .*/winding_resistance_ohm = 2.0  # the shipped ESTIMATE/' \
+  -e 's/^winding_resistance_ohm = 981.75 .*/winding_resistance_ohm = 3.2  # the shipped ESTIMATE/' \
+  -e 's|^urdf = "../robots/|urdf = "../../robots/|' \
+  $P > "$T/paper_model_shipped_r.toml"
+test "$(grep -c 'the shipped ESTIMATE$' "$T/paper_model_shipped_r.toml")" = 3
+for v in tx200_no_balancer paper_model_shipped_r; do
+  $B sweep --robot "$T/$v.toml" --tool presets/seed001_spindle.toml \
+    --path paths/seed001_x.gcode --at "1.0,0,0,0,180" \
+    --objective supply --results-dir $R --force --run ladder_${v}_x
+done
+# 6. The fit of the paper model's resistances, recomputed from the x path's per-sample torques
+#    (fails when the preset no longer holds it).
+F=${TMPDIR:-/tmp}/printwatt-seed001-fit
+$B energy --robot $P --tool presets/seed001_spindle.toml --path paths/seed001_x.gcode \
+  --at "1.0,0,0,0,180" --out "$F" --force > /dev/null
+python3 $R/fit_paper_drive.py "$F/seed001_x.energy.csv" $P

@@ -56,3 +56,33 @@ m, sup, t = motors("spindle_y2x_r8_slow_y")
 print(f"| y2x r8, y leg at 14 mm/s / x | | {sum(m) / b['x']:.2f} | {sup / supply('spindle_x'):.2f} | "
       f"{sum(PAPER['y2x_r8']) / sum(PAPER['x']):.2f} |")
 print(f"\n(slow-y run: {t:.2f} s, motors Σ {sum(m):.1f} J, supply {sup:.1f} J)")
+
+
+def signed(v):
+    return f"{v:+.1f} %"
+
+
+print("\nThe paper's model (presets/seed001_paper_tx200.toml, spindle, runs paper_*), per motor "
+      "against Table 1:\n")
+print("| path | time [s] | M1 | M2 | M3 | M4 | M5 | M6 | total | Table 1: M2 / M3 / M5 / total | M2 / M3 / M5 / total vs Table 1 |")
+print("|---|---|---|---|---|---|---|---|---|---|---|")
+for p in PATHS + ["y2x_r8_slow_y"]:
+    m, _, t = motors("paper_" + p)
+    ref = PAPER[p.replace("_slow_y", "")]
+    cells = " | ".join(f"{v:.1f}" for v in m)
+    dev = " / ".join(signed((m[j] / ref[j] - 1) * 100) for j in (1, 2, 4))
+    print(f"| {p.replace('_', ' ')} | {t:.2f} | {cells} | {sum(m):.1f} | "
+          f"{ref[1]:.2f} / {ref[2]:.2f} / {ref[4]:.2f} / {sum(ref):.2f} | "
+          f"{dev} / {signed((sum(m) / sum(ref) - 1) * 100)} |")
+
+print("\nFrom the shipped estimate to the paper's model, x path with the spindle (J):\n")
+print("| model | M2 | M3 | M5 | total (6 motors) |")
+print("|---|---|---|---|---|")
+for run, what in [("spindle_x", "shipped TX200 (balancer, friction, gear loss, estimated motors)"),
+                  ("ladder_tx200_no_balancer_x", "… without the balancer"),
+                  ("ladder_paper_model_shipped_r_x", "… and without friction and gear loss (the paper's model, shipped R)"),
+                  ("paper_x", "… and R fitted to the paper's power levels (the paper's model)")]:
+    m, _, _ = motors(run)
+    print(f"| {what} | {m[1]:.1f} | {m[2]:.1f} | {m[4]:.1f} | {sum(m):.1f} |")
+x = PAPER["x"]
+print(f"| paper, Table 1 | {x[1]:.2f} | {x[2]:.2f} | {x[4]:.2f} | {sum(x):.2f} |")
