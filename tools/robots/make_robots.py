@@ -1171,7 +1171,7 @@ def write_summary(rbs):
           "`printwatt optimise --uncertainty N`. A calibrated robot (written by `identify`) draws its identified "
           "parameters from their standard errors instead.",
           "", "## Collision geometry", "",
-          "None of the reference URDFs these files come from (`../shared/reference/robots/`) has `<collision>` "
+          "None of the reference URDFs these files come from (named in each robot's provenance) has `<collision>` "
           "elements (the vendor meshes are not redistributed with them), so the shipped `robot.urdf` files have none "
           "either and printwatt's collision checks (parry3d-f64) use a capsule per link from its joint origin to the "
           "next, sized as a fraction of the reach (base 0.07 R, arms 0.045 R, wrist 0.025 R: ESTIMATE, rough "
