@@ -13,7 +13,7 @@ pub struct ViewArgs {
     /// Robot, path, grid, feasibility and search options, as `printwatt optimise`.
     #[command(flatten)]
     pub o: OptimiseArgs,
-    /// Port on 127.0.0.1 (0: a free port, printed).
+    /// Port on 127.0.0.1 (0: a free port; the URL is printed).
     #[arg(long, default_value_t = 8765)]
     pub port: u16,
     /// Listen on this address (`IP:PORT`) instead of 127.0.0.1; every request must then carry
@@ -52,7 +52,7 @@ pub fn run(a: ViewArgs) -> Result<()> {
     let addr = a
         .listen
         .unwrap_or_else(|| SocketAddr::from(([127, 0, 0, 1], a.port)));
-    let bound = printwatt::view::server::bind(addr)?;
+    let bound = printwatt::view::server::bind(addr, a.listen.is_some())?;
     let session = printwatt::view::Session::new(&cfg)?;
     outln!("printwatt view: {}", bound.url());
     super::flush_stdout()?;

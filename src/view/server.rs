@@ -2,7 +2,7 @@
 //!
 //! - It binds where it is told: the command line binds 127.0.0.1 unless `--listen` names
 //!   another address, and then every request must carry the random token printed in the URL
-//!   (`?token=…`). On the loopback address a request whose `Host` is not the loopback's is
+//!   (`?token=…`). Without a token a request whose `Host` is not the loopback's is
 //!   refused (a page of another site cannot reach the server through a name that resolves to
 //!   127.0.0.1).
 //! - It serves the page and its scripts from the binary (no file is read from disk) and the
@@ -57,16 +57,16 @@ impl Bound {
     }
 }
 
-/// Bind `addr`. A token is required of every request unless the address is a loopback one.
-/// Errors: the address is taken or cannot be bound (the system's words).
-pub fn bind(addr: SocketAddr) -> Result<Bound> {
+/// Bind `addr`; with `token`, every request must carry a random token (printed in
+/// [`Bound::url`]). Errors: the address is taken or cannot be bound (the system's words).
+pub fn bind(addr: SocketAddr, token: bool) -> Result<Bound> {
     let http = tiny_http::Server::http(addr)
         .map_err(|e| Error::Invalid(format!("cannot listen on {addr}: {e}")))?;
     let bound = http
         .server_addr()
         .to_ip()
         .ok_or_else(|| Error::Invalid(format!("cannot listen on {addr}: not an IP address")))?;
-    let token = (!addr.ip().is_loopback()).then(|| format!("{:032x}", rand::random::<u128>()));
+    let token = token.then(|| format!("{:032x}", rand::random::<u128>()));
     Ok(Bound {
         http,
         addr: bound,
@@ -137,10 +137,8 @@ pub fn serve(bound: Bound, session: &Session) -> Result<()> {
     let index = INDEX_HTML.replace("__TOKEN__", bound.token.as_deref().unwrap_or(""));
     std::thread::scope(|s| {
         s.spawn(|| {
-            let mut sc = match ev.scratch() {
-                Ok(sc) => sc,
-                Err(_) => return,
-            };
+            // A robot without inverse kinematics has no scratch: each request says why.
+            let mut sc = ev.scratch();
             loop {
                 let p = {
                     let Ok(mut g) = slot.pending.lock() else {
@@ -159,8 +157,12 @@ pub fn serve(bound: Bound, session: &Session) -> Result<()> {
                         };
                     }
                 };
-                let answer =
-                    placement_from_json(&p.body).and_then(|at| session.evaluate(&ev, &mut sc, &at));
+                let answer = match &mut sc {
+                    Ok(sc) => {
+                        placement_from_json(&p.body).and_then(|at| session.evaluate(&ev, sc, &at))
+                    }
+                    Err(e) => Err(Error::Invalid(e.to_string())),
+                };
                 let _ = match answer {
                     Ok(mut v) => {
                         v["seq"] = json!(p.seq);

@@ -370,6 +370,22 @@ function animate(now) {
   renderer.render(scene3, camera);
 }
 
+// Where a point of the base frame (m) is on the page, in CSS pixels (for scripted drags).
+view.screenOf = (x, y, z) => {
+  const v = new THREE.Vector3(x, y, z).project(camera);
+  const r = renderer.domElement.getBoundingClientRect();
+  return [r.left + (v.x + 1) / 2 * r.width, r.top + (1 - v.y) / 2 * r.height];
+};
+// The centre of the bed's top face on the page.
+view.bedScreen = () => {
+  const b = bedMesh.geometry.parameters;
+  const c = part.localToWorld(bedMesh.position.clone().add(new THREE.Vector3(0, 0, b.depth / 2)));
+  return view.screenOf(c.x, c.y, c.z);
+};
+// The evaluation shown is of the placement shown and nothing is on its way.
+view.settled = () => !evalQueued && view.applied === view.seq && view.last !== null &&
+  ['x_m', 'y_m', 'z_m', 'yaw_deg'].every((k) => Math.abs(view.last.placement[k] - view.place[k]) < 1e-9);
+
 async function main() {
   const sc = await getJSON('/api/scene');
   view.scene = sc;
