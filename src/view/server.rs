@@ -235,7 +235,7 @@ pub fn serve(bound: Bound, session: &Session) -> Result<()> {
                 }
                 ("/api/playback", _, true) => {
                     let mut req = req;
-                    let r = read_json(&mut req).map_err(|(c, m)| (c, m)).and_then(|b| {
+                    let r = read_json(&mut req).and_then(|b| {
                         let at = placement_from_json(&b).map_err(|e| (400, e.to_string()))?;
                         let frames = b.get("frames").and_then(Value::as_u64).unwrap_or(200);
                         session
@@ -309,20 +309,20 @@ pub fn serve(bound: Bound, session: &Session) -> Result<()> {
                     let v = opt.lock().map(|g| opt_json(&g)).unwrap_or(Value::Null);
                     let _ = req.respond(json_response(200, &v));
                 }
-                (p, _, _)
-                    if matches!(
-                        p,
-                        "/" | "/assets/view.js"
-                            | "/assets/three.module.min.js"
-                            | "/assets/OrbitControls.js"
-                            | "/assets/three-LICENSE"
-                            | "/api/scene"
-                            | "/api/evaluate"
-                            | "/api/playback"
-                            | "/api/export"
-                            | "/api/optimise"
-                    ) =>
-                {
+                (
+                    "/"
+                    | "/assets/view.js"
+                    | "/assets/three.module.min.js"
+                    | "/assets/OrbitControls.js"
+                    | "/assets/three-LICENSE"
+                    | "/api/scene"
+                    | "/api/evaluate"
+                    | "/api/playback"
+                    | "/api/export"
+                    | "/api/optimise",
+                    _,
+                    _,
+                ) => {
                     let _ = req.respond(error_response(405, "method not allowed"));
                 }
                 _ => {

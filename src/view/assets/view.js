@@ -126,8 +126,8 @@ function placePart() {
   drawMap();
 }
 
-// The energy map: the grid's cells at the height nearest the current one, least energy over
-// the yaws (green low, red high, grey infeasible).
+// The energy map on the floor: the grid's cells at the bed height nearest the current one,
+// least energy over the yaws (green low, red high, grey infeasible).
 function drawMap() {
   mapGroup.clear();
   const m = view.scene.map;
@@ -149,8 +149,9 @@ function drawMap() {
   for (const c of cells.values()) {
     const t = isFinite(c.e) ? (hi > lo ? (c.e - lo) / (hi - lo) : 0) : -1;
     const colour = t < 0 ? new THREE.Color(0.75, 0.75, 0.75) : new THREE.Color().setHSL(0.33 * (1 - t), 0.8, 0.5);
-    const q = new THREE.Mesh(geo, new THREE.MeshBasicMaterial({ color: colour, transparent: true, opacity: 0.45, side: THREE.DoubleSide }));
-    q.position.set(c.x, c.y, z - 0.002);
+    const q = new THREE.Mesh(geo, new THREE.MeshBasicMaterial({ color: colour, transparent: true, opacity: 0.75, side: THREE.DoubleSide }));
+    // On the floor, where the part's origin would stand over it.
+    q.position.set(c.x, c.y, 0.002);
     mapGroup.add(q);
   }
 }
@@ -404,7 +405,7 @@ async function main() {
   grid.rotation.x = Math.PI / 2;
   scene3.add(grid);
   scene3.add(new THREE.AxesHelper(0.3 * R));
-  camera.position.set(1.6 * R, -1.9 * R, 1.4 * R);
+  camera.position.set(1.3 * R, -1.6 * R, 1.2 * R);
   controls.target.set(0.35 * R, 0, 0.25 * R);
   resize();
   setPlacement(sc.start);
