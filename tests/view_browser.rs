@@ -439,3 +439,38 @@ fn the_view_on_another_address_needs_its_token() {
     );
     assert_eq!(code, 200, "{body}");
 }
+
+#[test]
+fn the_view_of_a_run_directory_starts_at_its_answer() {
+    let (_view, addr) = start_view(&["--run", "results/optimise-default"]);
+    let (code, body) = http(&addr, "GET", "/api/scene", None, None);
+    assert_eq!(code, 200);
+    let scene: Value = serde_json::from_str(&body).unwrap();
+    let summary: Value = serde_json::from_str(
+        &std::fs::read_to_string(root().join("results/optimise-default/summary.json")).unwrap(),
+    )
+    .unwrap();
+    for k in ["x_m", "y_m", "z_m", "yaw_deg"] {
+        let (a, b) = (
+            scene["start"][k].as_f64().unwrap(),
+            summary["best"]["placement"][k].as_f64().unwrap(),
+        );
+        assert!((a - b).abs() < 1e-9, "{k}: {a} vs {b}");
+    }
+}
+
+#[test]
+fn the_view_of_a_missing_run_says_so() {
+    let o = Command::new(env!("CARGO_BIN_EXE_printwatt"))
+        .args(["view", "--port", "0", "--run", "no-such-run-here"])
+        .current_dir(root())
+        .output()
+        .unwrap();
+    assert!(!o.status.success());
+    let err = String::from_utf8_lossy(&o.stderr);
+    assert!(
+        err.contains("--run no-such-run-here") && err.contains("summary.json"),
+        "{err}"
+    );
+    assert!(!err.contains("panicked"), "{err}");
+}

@@ -6,8 +6,9 @@ use anyhow::{bail, Context, Result};
 use std::net::SocketAddr;
 
 /// `printwatt view` arguments: those of `optimise` (the page's optimise button runs that job;
-/// `--at` is the placement shown first, `--export DIR` where the export button writes) and
-/// where the server listens.
+/// `--at` is the placement shown first, `--run RUN` shows the answer of a run directory of
+/// `optimise` or `sweep` (a directory, or a name under --results-dir) and writes nothing,
+/// `--export DIR` is where the export button writes) and where the server listens.
 #[derive(clap::Args, Debug)]
 pub struct ViewArgs {
     /// Robot, path, grid, feasibility and search options, as `printwatt optimise`.
@@ -32,8 +33,20 @@ pub fn run(a: ViewArgs) -> Result<()> {
         bail!("--uncertainty: the view's optimise button runs no uncertainty study (use `printwatt optimise --uncertainty N`)");
     }
     let mut o = a.o.clone();
-    // --at is where the page starts; the optimisation's grid is the one given, or the default.
-    let start = o.p.at.one()?;
+    // --at is where the page starts, else the answer of the run named by --run; the
+    // optimisation's grid is the one given, or the default.
+    let mut start = o.p.at.one()?;
+    if let Some(run) = o.p.run.take() {
+        let dir = if std::path::Path::new(&run).is_dir() {
+            std::path::PathBuf::from(&run)
+        } else {
+            o.p.results_dir.join(&run)
+        };
+        let at = printwatt::view::placement_of_run(&dir).with_context(|| format!("--run {run}"))?;
+        if start.is_none() {
+            start = Some(at);
+        }
+    }
     o.p.at = super::args::AtArg {
         at: None,
         spin: None,

@@ -420,6 +420,26 @@ pub fn placement_from_json(v: &Value) -> Result<Placement> {
     Ok(p)
 }
 
+/// The answer of a run directory written by `optimise` or `sweep`: the `best` placement of
+/// its `summary.json`. Errors name the file and what is missing.
+pub fn placement_of_run(dir: &std::path::Path) -> Result<Placement> {
+    let f = dir.join("summary.json");
+    let text = std::fs::read_to_string(&f).map_err(|e| Error::io(&f, e))?;
+    let v: Value = serde_json::from_str(&text)
+        .map_err(|e| Error::Invalid(format!("{}: not JSON: {e}", f.display())))?;
+    let p = v
+        .get("best")
+        .and_then(|b| b.get("placement"))
+        .ok_or_else(|| {
+            Error::Invalid(format!(
+                "{}: no `best.placement` (a run of `optimise` or `sweep` has one)",
+                f.display()
+            ))
+        })?;
+    placement_from_json(p)
+        .map_err(|e| Error::Invalid(format!("{}: best.placement: {e}", f.display())))
+}
+
 fn infeasible_json(i: &Infeasible) -> Value {
     json!({
         "reason": i.reason.name(),
