@@ -32,6 +32,9 @@ pub fn run(a: ViewArgs) -> Result<()> {
     if a.o.uncertainty.is_some() {
         bail!("--uncertainty: the view's optimise button runs no uncertainty study (use `printwatt optimise --uncertainty N`)");
     }
+    if a.o.p.out.out.is_some() || a.o.p.out.json {
+        bail!("--out/--json: the view writes no report and prints only its address (the page's export goes to --export DIR)");
+    }
     let mut o = a.o.clone();
     // --at is where the page starts, else the answer of the run named by --run; the
     // optimisation's grid is the one given, or the default.
