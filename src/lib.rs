@@ -54,6 +54,8 @@ pub mod table;
 pub mod timing;
 pub mod toolpath;
 pub mod trajectory;
+#[cfg(feature = "view")]
+pub mod view;
 
 pub use error::{Error, Result};
 

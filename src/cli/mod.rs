@@ -37,6 +37,7 @@ mod simulate;
 mod stations;
 mod study;
 mod sweep;
+mod view;
 
 /// `printwatt --version`: the package version and the git commit it was built from (build.rs).
 pub const VERSION: &str = concat!(
@@ -101,6 +102,9 @@ pub enum Command {
     /// Design an excitation experiment for the parameters the placement decision depends on:
     /// a trajectory CSV, an ABB RAPID module and a URScript program.
     Excite(excite::ExciteArgs),
+    /// A live 3-D view in the browser (local web server): move the part and watch the
+    /// energy, the margins and the feasibility follow; play the arm; optimise and export.
+    View(view::ViewArgs),
 }
 
 /// Robot, log and model switches shared by compare/diagnose/identify.
@@ -464,5 +468,6 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Identify(a) => identify::run(a),
         Command::Simulate(a) => simulate::run(a),
         Command::Excite(a) => excite::run(a),
+        Command::View(a) => view::run(a),
     }
 }

@@ -1,0 +1,434 @@
+//! The view's web server (tiny_http, one dispatching thread and one evaluating thread).
+//!
+//! - It binds where it is told: the command line binds 127.0.0.1 unless `--listen` names
+//!   another address, and then every request must carry the random token printed in the URL
+//!   (`?token=…`). Without a token a request whose `Host` is not the loopback's is
+//!   refused (a page of another site cannot reach the server through a name that resolves to
+//!   127.0.0.1).
+//! - It serves the page and its scripts from the binary (no file is read from disk) and the
+//!   API under `/api/`; nothing else.
+//! - A request body is at most [`MAX_BODY`] bytes (413 beyond).
+//! - Evaluations wait in a slot of one: a newer request answers the waiting one with
+//!   `{"stale": true}` at once, so a fast drag never queues work behind the one evaluation
+//!   running.
+
+use super::{placement_from_json, placement_json, Session};
+use crate::error::{Error, Result};
+use crate::search::run::{Observer, Progress, Stage};
+use serde_json::{json, Value};
+use std::io::Read;
+use std::net::SocketAddr;
+use std::sync::{Condvar, Mutex};
+
+/// Largest request body accepted, bytes.
+pub const MAX_BODY: usize = 64 * 1024;
+
+const INDEX_HTML: &str = include_str!("assets/index.html");
+const VIEW_JS: &[u8] = include_bytes!("assets/view.js");
+const THREE_JS: &[u8] = include_bytes!("assets/three.module.min.js");
+const ORBIT_JS: &[u8] = include_bytes!("assets/OrbitControls.js");
+const THREE_LICENSE: &[u8] = include_bytes!("assets/three-LICENSE");
+
+/// A bound server, not yet serving.
+pub struct Bound {
+    http: tiny_http::Server,
+    /// The address it listens on (the port chosen when 0 was asked for).
+    pub addr: SocketAddr,
+    /// The token every request must carry (`None` on the loopback address).
+    pub token: Option<String>,
+}
+
+impl Bound {
+    /// The page's address, with the token when there is one.
+    pub fn url(&self) -> String {
+        let host = if self.addr.ip().is_unspecified() {
+            "127.0.0.1".to_string()
+        } else {
+            match self.addr {
+                SocketAddr::V4(a) => a.ip().to_string(),
+                SocketAddr::V6(a) => format!("[{}]", a.ip()),
+            }
+        };
+        let mut u = format!("http://{host}:{}/", self.addr.port());
+        if let Some(t) = &self.token {
+            u.push_str(&format!("?token={t}"));
+        }
+        u
+    }
+}
+
+/// Bind `addr`; with `token`, every request must carry a random token (printed in
+/// [`Bound::url`]). Errors: the address is taken or cannot be bound (the system's words).
+pub fn bind(addr: SocketAddr, token: bool) -> Result<Bound> {
+    let http = tiny_http::Server::http(addr)
+        .map_err(|e| Error::Invalid(format!("cannot listen on {addr}: {e}")))?;
+    let bound = http
+        .server_addr()
+        .to_ip()
+        .ok_or_else(|| Error::Invalid(format!("cannot listen on {addr}: not an IP address")))?;
+    let token = token.then(|| format!("{:032x}", rand::random::<u128>()));
+    Ok(Bound {
+        http,
+        addr: bound,
+        token,
+    })
+}
+
+/// Progress and answer of the optimisation run from the page.
+#[derive(Default)]
+struct OptState {
+    state: &'static str,
+    stage: Option<&'static str>,
+    done: usize,
+    total: usize,
+    best_j: Option<f64>,
+    answer: Option<Value>,
+    error: Option<String>,
+    secs: Option<f64>,
+}
+
+struct OptObserver<'a>(&'a Mutex<OptState>);
+
+impl Observer for OptObserver<'_> {
+    fn begin(&self, stage: Stage, total: usize) {
+        if let Ok(mut g) = self.0.lock() {
+            g.stage = Some(match stage {
+                Stage::Grid => "grid",
+                Stage::Refinement => "refinement",
+            });
+            g.done = 0;
+            g.total = total;
+        }
+    }
+    fn progress(&self, p: Progress) {
+        if let Ok(mut g) = self.0.lock() {
+            g.done = p.done;
+            g.total = p.total;
+            if p.best_j.is_some() {
+                g.best_j = p.best_j;
+            }
+        }
+    }
+}
+
+/// An evaluation waiting for the evaluating thread.
+struct Pending {
+    seq: u64,
+    body: Value,
+    req: tiny_http::Request,
+}
+
+#[derive(Default)]
+struct Slot {
+    pending: Mutex<Option<Pending>>,
+    ready: Condvar,
+    /// The listener ended: the evaluating thread ends too.
+    closing: std::sync::atomic::AtomicBool,
+}
+
+/// Serve `session` on `bound` until the listener fails (the process is ended to stop it).
+pub fn serve(bound: Bound, session: &Session) -> Result<()> {
+    let slot = Slot::default();
+    let opt = Mutex::new(OptState {
+        state: "idle",
+        ..Default::default()
+    });
+    let ev = session.evaluator();
+    let index = INDEX_HTML.replace("__TOKEN__", bound.token.as_deref().unwrap_or(""));
+    std::thread::scope(|s| {
+        s.spawn(|| {
+            // A robot without inverse kinematics has no scratch: each request says why.
+            let mut sc = ev.scratch();
+            loop {
+                let p = {
+                    let Ok(mut g) = slot.pending.lock() else {
+                        return;
+                    };
+                    loop {
+                        if let Some(p) = g.take() {
+                            break p;
+                        }
+                        if slot.closing.load(std::sync::atomic::Ordering::Relaxed) {
+                            return;
+                        }
+                        g = match slot.ready.wait(g) {
+                            Ok(g) => g,
+                            Err(_) => return,
+                        };
+                    }
+                };
+                let answer = match &mut sc {
+                    Ok(sc) => {
+                        placement_from_json(&p.body).and_then(|at| session.evaluate(&ev, sc, &at))
+                    }
+                    Err(e) => Err(Error::Invalid(e.to_string())),
+                };
+                let _ = match answer {
+                    Ok(mut v) => {
+                        v["seq"] = json!(p.seq);
+                        p.req.respond(json_response(200, &v))
+                    }
+                    Err(e) => p.req.respond(error_response(400, &e.to_string())),
+                };
+            }
+        });
+        for req in bound.http.incoming_requests() {
+            if let Some(r) = refuse(&bound, &req) {
+                let _ = req.respond(r);
+                continue;
+            }
+            let url = req.url().to_string();
+            let path = url.split('?').next().unwrap_or("").to_string();
+            let get = *req.method() == tiny_http::Method::Get;
+            let post = *req.method() == tiny_http::Method::Post;
+            match (path.as_str(), get, post) {
+                ("/", true, _) => {
+                    let _ =
+                        req.respond(bytes_response(index.as_bytes(), "text/html; charset=utf-8"));
+                }
+                ("/assets/view.js", true, _) => {
+                    let _ = req.respond(bytes_response(VIEW_JS, "text/javascript"));
+                }
+                ("/assets/three.module.min.js", true, _) => {
+                    let _ = req.respond(bytes_response(THREE_JS, "text/javascript"));
+                }
+                ("/assets/OrbitControls.js", true, _) => {
+                    let _ = req.respond(bytes_response(ORBIT_JS, "text/javascript"));
+                }
+                ("/assets/three-LICENSE", true, _) => {
+                    let _ = req.respond(bytes_response(THREE_LICENSE, "text/plain"));
+                }
+                ("/api/scene", true, _) => {
+                    let _ = req.respond(json_response(200, &session.scene()));
+                }
+                ("/api/evaluate", _, true) => {
+                    let mut req = req;
+                    let body = match read_json(&mut req) {
+                        Ok(b) => b,
+                        Err((code, msg)) => {
+                            let _ = req.respond(error_response(code, &msg));
+                            continue;
+                        }
+                    };
+                    let seq = body.get("seq").and_then(Value::as_u64).unwrap_or(0);
+                    let new = Pending { seq, body, req };
+                    let Ok(mut g) = slot.pending.lock() else {
+                        break;
+                    };
+                    let stale = match g.take() {
+                        Some(old) if old.seq > new.seq => {
+                            *g = Some(old);
+                            Some(new)
+                        }
+                        old => {
+                            *g = Some(new);
+                            old
+                        }
+                    };
+                    drop(g);
+                    slot.ready.notify_one();
+                    if let Some(p) = stale {
+                        let _ = p
+                            .req
+                            .respond(json_response(200, &json!({"stale": true, "seq": p.seq})));
+                    }
+                }
+                ("/api/playback", _, true) => {
+                    let mut req = req;
+                    let r = read_json(&mut req).and_then(|b| {
+                        let at = placement_from_json(&b).map_err(|e| (400, e.to_string()))?;
+                        let frames = b.get("frames").and_then(Value::as_u64).unwrap_or(200);
+                        session
+                            .playback(&at, frames as usize)
+                            .map_err(|e| (400, e.to_string()))
+                    });
+                    let _ = req.respond(match r {
+                        Ok(v) => json_response(200, &v),
+                        Err((c, m)) => error_response(c, &m),
+                    });
+                }
+                ("/api/export", _, true) => {
+                    let mut req = req;
+                    let r = read_json(&mut req).and_then(|b| {
+                        let at = placement_from_json(&b).map_err(|e| (400, e.to_string()))?;
+                        session.export(&at).map_err(|e| (409, e.to_string()))
+                    });
+                    let _ = req.respond(match r {
+                        Ok(files) => json_response(
+                            200,
+                            &json!({"written": files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>()}),
+                        ),
+                        Err((c, m)) => error_response(c, &m),
+                    });
+                }
+                ("/api/optimise", true, _) => {
+                    let v = opt.lock().map(|g| opt_json(&g)).unwrap_or(Value::Null);
+                    let _ = req.respond(json_response(200, &v));
+                }
+                ("/api/optimise", _, true) => {
+                    let started = match opt.lock() {
+                        Ok(mut g) if g.state != "running" => {
+                            *g = OptState {
+                                state: "running",
+                                ..Default::default()
+                            };
+                            true
+                        }
+                        _ => false,
+                    };
+                    if started {
+                        let opt = &opt;
+                        s.spawn(move || {
+                            let r =
+                                crate::search::run(&session.config.job, &OptObserver(opt));
+                            if let Ok(mut g) = opt.lock() {
+                                match r {
+                                    Ok(o) => match o.report.best() {
+                                        Some(b) => {
+                                            g.state = "done";
+                                            g.secs = Some(o.secs);
+                                            g.answer = Some(json!({
+                                                "placement": placement_json(&b.placement),
+                                                "energy_j": b.feasible().map(|f| f.energy_j),
+                                                "supply_text": b.feasible().map(|f| super::one_decimal(f.supply_j)),
+                                            }));
+                                        }
+                                        None => {
+                                            g.state = "failed";
+                                            g.error = Some("no feasible placement".into());
+                                        }
+                                    },
+                                    Err(e) => {
+                                        g.state = "failed";
+                                        g.error = Some(e.to_string());
+                                    }
+                                }
+                            }
+                        });
+                    }
+                    let v = opt.lock().map(|g| opt_json(&g)).unwrap_or(Value::Null);
+                    let _ = req.respond(json_response(200, &v));
+                }
+                (
+                    "/"
+                    | "/assets/view.js"
+                    | "/assets/three.module.min.js"
+                    | "/assets/OrbitControls.js"
+                    | "/assets/three-LICENSE"
+                    | "/api/scene"
+                    | "/api/evaluate"
+                    | "/api/playback"
+                    | "/api/export"
+                    | "/api/optimise",
+                    _,
+                    _,
+                ) => {
+                    let _ = req.respond(error_response(405, "method not allowed"));
+                }
+                _ => {
+                    let _ = req.respond(error_response(404, "not found"));
+                }
+            }
+        }
+        // The listener ended: wake the evaluating thread to end too.
+        slot.closing
+            .store(true, std::sync::atomic::Ordering::Relaxed);
+        slot.ready.notify_all();
+        Ok(())
+    })
+}
+
+fn opt_json(g: &OptState) -> Value {
+    json!({
+        "state": g.state, "stage": g.stage, "done": g.done, "total": g.total,
+        "best_j": g.best_j, "answer": g.answer, "error": g.error, "secs": g.secs,
+    })
+}
+
+/// Why a request is refused before it is routed: a missing or wrong token (403), a `Host`
+/// other than the loopback's on a loopback server (403), a body over [`MAX_BODY`] (413).
+fn refuse(
+    bound: &Bound,
+    req: &tiny_http::Request,
+) -> Option<tiny_http::Response<std::io::Cursor<Vec<u8>>>> {
+    if let Some(t) = &bound.token {
+        let query = req.url().split_once('?').map_or("", |(_, q)| q);
+        let ok = query
+            .split('&')
+            .any(|kv| kv.strip_prefix("token=").is_some_and(|v| constant_eq(v, t)));
+        if !ok {
+            return Some(error_response(
+                403,
+                "this server needs the token printed with its URL",
+            ));
+        }
+    } else {
+        let host = req
+            .headers()
+            .iter()
+            .find(|h| h.field.equiv("Host"))
+            .map(|h| h.value.as_str().to_ascii_lowercase());
+        let port = bound.addr.port();
+        let allowed = [
+            format!("127.0.0.1:{port}"),
+            format!("localhost:{port}"),
+            format!("[::1]:{port}"),
+        ];
+        if !host.is_some_and(|h| allowed.contains(&h)) {
+            return Some(error_response(
+                403,
+                "the view answers only on its loopback address",
+            ));
+        }
+    }
+    if req.body_length().is_some_and(|n| n > MAX_BODY) {
+        return Some(error_response(413, "request body too large"));
+    }
+    None
+}
+
+fn constant_eq(a: &str, b: &str) -> bool {
+    a.len() == b.len() && a.bytes().zip(b.bytes()).fold(0u8, |d, (x, y)| d | (x ^ y)) == 0
+}
+
+/// The body as JSON, at most [`MAX_BODY`] bytes: `(status, message)` otherwise.
+fn read_json(req: &mut tiny_http::Request) -> std::result::Result<Value, (u16, String)> {
+    let mut buf = Vec::new();
+    req.as_reader()
+        .take(MAX_BODY as u64 + 1)
+        .read_to_end(&mut buf)
+        .map_err(|e| (400, format!("reading the request: {e}")))?;
+    if buf.len() > MAX_BODY {
+        return Err((413, "request body too large".into()));
+    }
+    serde_json::from_slice(&buf).map_err(|e| (400, format!("the request is not JSON: {e}")))
+}
+
+fn header(k: &str, v: &str) -> Option<tiny_http::Header> {
+    tiny_http::Header::from_bytes(k.as_bytes(), v.as_bytes()).ok()
+}
+
+fn bytes_response(b: &[u8], ctype: &str) -> tiny_http::Response<std::io::Cursor<Vec<u8>>> {
+    let mut r = tiny_http::Response::from_data(b.to_vec());
+    for h in [
+        header("Content-Type", ctype),
+        header("X-Content-Type-Options", "nosniff"),
+        header("Cache-Control", "no-store"),
+    ]
+    .into_iter()
+    .flatten()
+    {
+        r.add_header(h);
+    }
+    r
+}
+
+fn json_response(code: u16, v: &Value) -> tiny_http::Response<std::io::Cursor<Vec<u8>>> {
+    // serde_json writes a non-finite number as null, which the page shows as "n/a".
+    let text = serde_json::to_vec(v).unwrap_or_else(|_| b"null".to_vec());
+    bytes_response(&text, "application/json").with_status_code(code)
+}
+
+fn error_response(code: u16, msg: &str) -> tiny_http::Response<std::io::Cursor<Vec<u8>>> {
+    json_response(code, &json!({ "error": msg }))
+}
