@@ -113,3 +113,19 @@ fn bad_settings_are_refused_before_any_work() {
     let e = search::run(&cfg, &Silent).err().unwrap().to_string();
     assert!(e.contains("expected 1 to 100000 draws"), "{e}");
 }
+
+#[test]
+fn a_search_stopped_by_its_budget_reports_the_iterations_it_made() {
+    let mut cfg = small_job();
+    cfg.settings.max_evals = 20;
+    let out = search::run(&cfg, &Silent).unwrap();
+    let o = out.report.optimise.as_ref().unwrap();
+    let si = o.search.as_ref().unwrap();
+    assert!(si.budget_spent.is_some(), "20 evaluations do not converge");
+    assert!(
+        o.iterations > 0 && o.iterations <= o.evals,
+        "{} iterations, {} evaluations",
+        o.iterations,
+        o.evals
+    );
+}

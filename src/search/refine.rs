@@ -91,6 +91,9 @@ pub type Progress = Arc<dyn Fn(u64, usize, f64) + Send + Sync>;
 struct Obs {
     evals: Arc<Mutex<usize>>,
     report: Progress,
+    /// Iterations completed (kept here: a run stopped by the evaluation budget returns an
+    /// error, not its state).
+    iterations: Arc<Mutex<usize>>,
 }
 
 impl Observe<IterState<Vec<f64>, (), (), (), (), f64>> for Obs {
@@ -100,6 +103,9 @@ impl Observe<IterState<Vec<f64>, (), (), (), (), f64>> for Obs {
         _kv: &KV,
     ) -> std::result::Result<(), argmin::core::Error> {
         let n = self.evals.lock().map(|g| *g).unwrap_or(0);
+        if let Ok(mut it) = self.iterations.lock() {
+            *it = (*it).max(state.get_iter() as usize);
+        }
         (self.report)(state.get_iter(), n, state.get_best_cost());
         Ok(())
     }
@@ -453,9 +459,11 @@ fn refine_with(
     let solver = SpeculativeNelderMead::new(simplex)
         .with_sd_tolerance(1e-6)
         .map_err(|e| Error::Invalid(format!("Nelder–Mead: {e}")))?;
+    let done_iters = Arc::new(Mutex::new(0usize));
     let obs = Obs {
         evals: evals.clone(),
         report: progress,
+        iterations: done_iters.clone(),
     };
     let mut iterations = 0;
     let mut converged = true;
@@ -472,7 +480,10 @@ fn refine_with(
                     Some(argmin::core::TerminationReason::SolverConverged)
                 );
             }
-            Err(e) if e.to_string().contains(BUDGET) => converged = false,
+            Err(e) if e.to_string().contains(BUDGET) => {
+                converged = false;
+                iterations = done_iters.lock().map(|g| *g).unwrap_or(0);
+            }
             Err(e) => return Err(Error::Invalid(format!("Nelder–Mead: {e}"))),
         }
     }
