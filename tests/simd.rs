@@ -1953,6 +1953,7 @@ fn tracking_with_the_prunes_tips_gives_each_placement_its_own_path_tcp_and_sines
             moves_line: &lines,
             profile: &popts,
             joint: &jopts,
+            source: "",
         };
         let run = |level: Level, buf: &mut Buffers, at: &Placement| {
             assert!(simd::set_level(level));

@@ -334,6 +334,7 @@ fn a_line_over_the_axis_of_joint_1_reports_the_configuration_change() {
             line,
             joint,
             jump,
+            ..
         } => {
             // Measured: sample 775 (t = 3.100 s), move on line 33 (the move from x = 0 to
             // x = 10 mm), at (0.0002, 0, 0.8) m; joint 1 jumps 180°.

@@ -29,6 +29,8 @@ pub struct PathJob<'a> {
     pub profile: ProfileOptions,
     /// Joint-stage options.
     pub joint: JointStageOptions,
+    /// Source file of the path (named in timing failures).
+    pub source: String,
 }
 
 /// The result of one placement.
@@ -86,6 +88,7 @@ impl<'a> PathJob<'a> {
             plan,
             profile,
             joint,
+            source: path.source.clone(),
         })
     }
 
@@ -103,6 +106,7 @@ impl<'a> PathJob<'a> {
             moves_line: lines,
             profile: &self.profile,
             joint: &self.joint,
+            source: &self.source,
         }
     }
 

@@ -533,9 +533,9 @@ fn reduced<'a>(
             sample: k,
             t: k as f64 * dt,
             point: tip,
-            move_index: mi,
             line: job.line_of(mi),
             reason,
+            file: std::sync::Arc::new(job.source.clone()),
         })
     };
     if m == 0 {
@@ -652,6 +652,7 @@ fn reduced<'a>(
                         t: k as f64 * dt,
                         point: tip,
                         line: line_at(k),
+                        file: std::sync::Arc::new(job.source.clone()),
                         joint: j,
                         jump: (q[j] - prev[j]).abs(),
                     };
@@ -1400,9 +1401,9 @@ fn window(
                         sample: k,
                         t: k as f64 * dt,
                         point: tip,
-                        move_index: mi,
                         line: job.line_of(mi),
                         reason,
+                        file: std::sync::Arc::new(job.source.clone()),
                     },
                 )));
             }
@@ -1475,6 +1476,8 @@ struct Stretch {
     q_start: JointVec,
     /// Plans made so far.
     rounds: usize,
+    /// Fewest samples over a limit any plan so far left (`usize::MAX` before the first).
+    fewest: usize,
     /// Planned again since its scale or the acceleration changed.
     dirty: bool,
     /// The re-planned segment's additive quantities and samples.
@@ -1560,6 +1563,7 @@ impl Stretch {
             slowing: crate::timing::joint::Slowing::new(nl),
             q_start: JointVec::from_slice(&thin[ti * n..(ti + 1) * n]),
             rounds: 0,
+            fewest: usize::MAX,
             dirty: true,
             result: None,
         }
@@ -1625,9 +1629,9 @@ impl Stretch {
                             sample: k,
                             t: k as f64 * dt,
                             point: tip,
-                            move_index: mi,
                             line: job.line_of(mi),
                             reason,
+                            file: std::sync::Arc::new(job.source.clone()),
                         },
                     )));
                 }
@@ -1788,7 +1792,14 @@ impl Replanner {
                     st.dirty = false;
                     continue;
                 }
-                if st.rounds >= max_rounds {
+                let again = crate::timing::joint::replan_again(
+                    st.rounds,
+                    max_rounds,
+                    pl.viol.len(),
+                    st.fewest,
+                );
+                st.fewest = st.fewest.min(pl.viol.len());
+                if !again {
                     let w = pl
                         .viol
                         .iter()
@@ -1797,23 +1808,27 @@ impl Replanner {
                     let (i, j, kind, ratio) = (w.sample, w.joint, w.kind, w.ratio);
                     let k = Stretch::k_of(motion, &pl.mo, i);
                     let tip = ctx.frame.apply(&pl.mo.p[i]);
+                    let line = job.line_of(job.pieces[motion.piece[k]].move_index);
                     return Err(Outcome::Infeasible(Infeasible {
                         reason: Reason::JointLimits,
                         sample: Some(k),
                         t_s: Some(k as f64 * motion.dt),
-                        line: Some(job.line_of(job.pieces[motion.piece[k]].move_index)),
+                        line: Some(line),
                         point_m: Some([tip.x, tip.y, tip.z]),
                         detail: format!(
-                            "joint {} {kind:?} limit still exceeded ({ratio:.2}x) after re-planning this layer {} times (the reduced evaluation re-plans each evaluated layer where a limit binds on its own)",
+                            "joint {} {kind:?} limit still exceeded ({ratio:.2}x) at path sample {k} (t = {:.3} s, move on line {line} of {}) after re-planning this layer {} times (the reduced evaluation re-plans each evaluated layer where a limit binds on its own)",
                             j + 1,
+                            k as f64 * motion.dt,
+                            job.source,
                             st.rounds - 1,
                         ),
                     }));
                 }
                 // The full evaluation's rule: the speed capped, or the acceleration of a
                 // ramp lowered, around each sample over a limit (both local).
-                st.slowing
-                    .apply(&st.nodes, &pl.v, &pl.mo, &pl.viol, jopts.margin);
+                let margin =
+                    crate::timing::joint::round_margin(jopts.margin, st.rounds, max_rounds);
+                st.slowing.apply(&st.nodes, &pl.v, &pl.mo, &pl.viol, margin);
             }
         }
         Ok(())

@@ -332,6 +332,7 @@ pub fn robust(
                 plan: job.plan.clone(),
                 profile: job.profile,
                 joint: job.joint,
+                source: job.source.clone(),
             })
         })
         .collect::<Result<_>>()?;

@@ -627,6 +627,7 @@ impl<'s, 'j, 'a> StudySetup<'s, 'j, 'a> {
             plan: job.plan.clone(),
             profile: job.profile,
             joint: job.joint,
+            source: job.source.clone(),
         };
         let evd = Evaluator::new(&jd, self.ev.feasibility, self.ev.objective);
         let mut scd = evd.scratch()?;

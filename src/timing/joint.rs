@@ -51,6 +51,35 @@ pub struct Slowdown {
     pub accel_factor: f64,
 }
 
+/// Hard cap on the planning rounds, as a multiple of [`JointStageOptions::max_iterations`]
+/// (see [`replan_again`]).
+pub const EXTRA_ROUNDS_FACTOR: usize = 4;
+
+/// Whether the controller plans again after round `round` (1-based) left `count` samples
+/// over a joint limit, `fewest` being the fewest any earlier round left (`usize::MAX` after
+/// the first). Within `max_rounds` rounds it always does. Past them it goes on while it makes
+/// progress, no round leaving more than 16 times as many samples over a limit as the fewest
+/// before it (the count wanders as excesses move on), up to
+/// [`EXTRA_ROUNDS_FACTOR`] × `max_rounds` rounds: on dense paths (many short moves) each
+/// round's local slow-downs shift a few ramps, which may bind again a little further on, so
+/// the excesses die out over more rounds than a path of long moves needs; from round
+/// `max_rounds` on the rule also aims further below the limits ([`round_margin`]).
+/// With `max_rounds` = 1 no round is added.
+pub fn replan_again(round: usize, max_rounds: usize, count: usize, fewest: usize) -> bool {
+    round < max_rounds
+        || (max_rounds > 1
+            && count <= fewest.saturating_mul(16)
+            && round < EXTRA_ROUNDS_FACTOR * max_rounds)
+}
+
+/// The margin the slow-down rule aims at in round `round` (1-based) of `max_rounds`: `margin`
+/// in the allowed rounds, then `margin²`, `margin³`, … each further `max_rounds` rounds, so
+/// that excesses that keep appearing on a dense path are pushed further below the limit.
+pub fn round_margin(margin: f64, round: usize, max_rounds: usize) -> f64 {
+    let extra = round / max_rounds.max(1);
+    margin.powi(1 + i32::try_from(extra).unwrap_or(i32::MAX).min(8))
+}
+
 /// Sample stride of the first, coarse pass of the reach prune (see
 /// [`JointStageOptions::prune_stride`]).
 const PRUNE_COARSE_STRIDE: usize = 64;
@@ -99,12 +128,12 @@ pub enum TimingFailure {
         t: f64,
         /// TCP in the base frame, m.
         point: V3,
-        /// Programmed move (0-based) and its source line.
-        move_index: usize,
         /// Source line of the move.
         line: usize,
         /// The IK's reason.
         reason: IkFailure,
+        /// Source file of the path (empty when unknown).
+        file: std::sync::Arc<String>,
     },
     /// Holding one configuration needs a jump (wrist flip or branch change) between samples.
     ConfigurationChange {
@@ -120,6 +149,8 @@ pub enum TimingFailure {
         joint: usize,
         /// The jump, rad.
         jump: f64,
+        /// Source file of the path (empty when unknown).
+        file: std::sync::Arc<String>,
     },
     /// Joint limits still exceeded after the allowed re-planning rounds.
     LimitsNotMet {
@@ -131,26 +162,65 @@ pub enum TimingFailure {
         ratio: f64,
         /// Time, s.
         t: f64,
+        /// Sample index of the last plan where the worst excess is.
+        sample: usize,
+        /// Source line of the move there.
+        line: usize,
+        /// Re-planning rounds run.
+        rounds: usize,
+        /// Source file of the path (empty when unknown).
+        file: std::sync::Arc<String>,
     },
+}
+
+/// `line 12 of wall.gcode`, or `line 12` when the file is unknown.
+fn line_in(line: usize, file: &str) -> String {
+    if file.is_empty() {
+        format!("line {line}")
+    } else {
+        format!("line {line} of {file}")
+    }
+}
+
+impl TimingFailure {
+    /// The failure with the path's source file named (kept when one is named already).
+    pub fn in_file(mut self, source: &str) -> TimingFailure {
+        let (TimingFailure::Unreachable { file, .. }
+        | TimingFailure::ConfigurationChange { file, .. }
+        | TimingFailure::LimitsNotMet { file, .. }) = &mut self;
+        if file.is_empty() {
+            *file = std::sync::Arc::new(source.to_string());
+        }
+        self
+    }
+
+    /// Source line of the move where timing failed.
+    pub fn line(&self) -> usize {
+        match self {
+            TimingFailure::Unreachable { line, .. }
+            | TimingFailure::ConfigurationChange { line, .. }
+            | TimingFailure::LimitsNotMet { line, .. } => *line,
+        }
+    }
 }
 
 impl std::fmt::Display for TimingFailure {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
         match self {
-            TimingFailure::Unreachable { sample, t, point, line, reason, .. } => write!(
+            TimingFailure::Unreachable { sample, t, point, line, reason, file, .. } => write!(
                 f,
-                "path sample {sample} (t = {t:.3} s, move on line {line}) at ({:.4}, {:.4}, {:.4}) m is unreachable: {reason}",
-                point.x, point.y, point.z
+                "path sample {sample} (t = {t:.3} s, move on {}) at ({:.4}, {:.4}, {:.4}) m is unreachable: {reason}",
+                line_in(*line, file), point.x, point.y, point.z
             ),
-            TimingFailure::ConfigurationChange { sample, t, point, line, joint, jump } => write!(
+            TimingFailure::ConfigurationChange { sample, t, point, line, joint, jump, file } => write!(
                 f,
-                "holding one arm configuration fails at path sample {sample} (t = {t:.3} s, move on line {line}, ({:.4}, {:.4}, {:.4}) m): joint {} would jump {:.1} deg (wrist flip or branch change)",
-                point.x, point.y, point.z, joint + 1, jump.to_degrees()
+                "holding one arm configuration fails at path sample {sample} (t = {t:.3} s, move on {}, ({:.4}, {:.4}, {:.4}) m): joint {} would jump {:.1} deg (wrist flip or branch change)",
+                line_in(*line, file), point.x, point.y, point.z, joint + 1, jump.to_degrees()
             ),
-            TimingFailure::LimitsNotMet { joint, kind, ratio, t } => write!(
+            TimingFailure::LimitsNotMet { joint, kind, ratio, t, sample, line, rounds, file } => write!(
                 f,
-                "joint {} {kind:?} limit still exceeded ({ratio:.2}x) at t = {t:.3} s after re-planning",
-                joint + 1
+                "joint {} {kind:?} limit still exceeded ({ratio:.2}x) at path sample {sample} (t = {t:.3} s, move on {}) after re-planning {rounds} times",
+                joint + 1, line_in(*line, file)
             ),
         }
     }
@@ -238,9 +308,9 @@ pub(crate) fn track_with(
             sample: k,
             t: k as f64 * motion.dt,
             point: tip,
-            move_index: mi,
             line: moves_line(mi),
             reason,
+            file: std::sync::Arc::default(),
         }
     };
     let path_target = solver.path_target(&rot);
@@ -330,6 +400,7 @@ pub(crate) fn track_with(
                         t: k as f64 * motion.dt,
                         point: tip,
                         line: moves_line(mi),
+                        file: std::sync::Arc::default(),
                         joint: j,
                         jump: d,
                     });
@@ -1256,6 +1327,8 @@ pub struct PathTiming<'a> {
     pub profile: &'a ProfileOptions,
     /// Joint-stage options.
     pub joint: &'a JointStageOptions,
+    /// Source file of the path, named in every [`TimingFailure`] (empty: unknown).
+    pub source: &'a str,
 }
 
 /// Time `pieces` at the placement `at`: Cartesian plan, IK with one configuration from `q0`
@@ -1277,6 +1350,7 @@ pub fn time_path(
         moves_line,
         profile: popts,
         joint: jopts,
+        source: "",
     };
     time_path_planned(solver, &path, at, q0, &mut Buffers::default())
 }
@@ -1290,7 +1364,7 @@ pub fn time_path_planned(
     q0: &[f64],
     buf: &mut Buffers,
 ) -> Result<TimedPath, TimingFailure> {
-    time_path_rounds(solver, path, at, q0, buf, None)
+    time_path_rounds(solver, path, at, q0, buf, None).map_err(|e| e.in_file(path.source))
 }
 
 /// [`time_path_planned`], with the base-frame tips of the shared plan's samples at `at`
@@ -1310,6 +1384,7 @@ fn time_path_rounds(
         moves_line,
         profile: popts,
         joint: jopts,
+        ..
     } = *path;
     let model = solver.model;
     let n = model.dof();
@@ -1321,6 +1396,8 @@ fn time_path_rounds(
     let mut tracked = std::mem::take(buf);
     let max_rounds = jopts.max_iterations.max(1);
     let mut round = 0;
+    // Fewest samples over a limit left by a round so far.
+    let mut fewest = usize::MAX;
     let mut next: Option<Arc<CartesianMotion>> = None;
     loop {
         round += 1;
@@ -1380,9 +1457,15 @@ fn time_path_rounds(
                 kind: w.kind,
                 ratio: w.ratio,
                 t: w.sample as f64 * motion.dt,
+                sample: w.sample,
+                line: moves_line(pieces[motion.piece[w.sample]].move_index),
+                rounds: round,
+                file: std::sync::Arc::default(),
             }
         };
-        if round == max_rounds {
+        let again = replan_again(round, max_rounds, viol.len(), fewest);
+        fewest = fewest.min(viol.len());
+        if !again {
             let e = worst(&viol);
             *buf = tracked;
             return Err(e);
@@ -1414,7 +1497,8 @@ fn time_path_rounds(
                 }
             })
             .collect();
-        let levers = slowing.apply(nodes, v_now, &motion, &excess, jopts.margin);
+        let margin = round_margin(jopts.margin, round, max_rounds);
+        let levers = slowing.apply(nodes, v_now, &motion, &excess, margin);
         for (w, lever) in viol.iter().zip(&levers) {
             let i = nodes
                 .s
@@ -1506,6 +1590,7 @@ pub fn time_at(
         moves_line,
         profile: popts,
         joint: jopts,
+        source: "",
     };
     time_at_planned(solver, &path, at, &mut Buffers::default())
 }
@@ -1522,7 +1607,7 @@ pub fn time_at_planned(
     tips.clear();
     let r = time_at_with(solver, path, at, buf, &mut tips);
     buf.tips = tips;
-    r
+    r.map_err(|e| e.in_file(path.source))
 }
 
 /// The body of [`time_at_planned`]; `tips` (empty) receives the base-frame tips of the
@@ -1551,9 +1636,9 @@ fn time_at_with(
         sample: 0,
         t: 0.0,
         point: tip,
-        move_index: 0,
         line: moves_line(0),
         reason,
+        file: std::sync::Arc::default(),
     };
     let motion0 = &plan.motion;
     let stride = jopts.prune_stride;
@@ -1563,9 +1648,9 @@ fn time_at_with(
             sample: k,
             t: k as f64 * motion0.dt,
             point: tip,
-            move_index: mi,
             line: moves_line(mi),
             reason,
+            file: std::sync::Arc::default(),
         }
     };
     let rot = nozzle_target(&V3::zeros(), at.nozzle_yaw()).rot;

@@ -250,11 +250,13 @@ impl Infeasible {
                 point_m: Some([point.x, point.y, point.z]),
                 detail,
             },
-            T::LimitsNotMet { t, .. } => Infeasible {
+            T::LimitsNotMet {
+                t, sample, line, ..
+            } => Infeasible {
                 reason: Reason::JointLimits,
-                sample: None,
+                sample: Some(*sample),
                 t_s: Some(*t),
-                line: None,
+                line: Some(*line),
                 point_m: None,
                 detail,
             },
