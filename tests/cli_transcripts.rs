@@ -129,6 +129,13 @@ const CASES: &[Case] = &[
         args: "sweep --yaws 0,90",
         files: &[],
     },
+    // The view serves until stopped (tests/view_browser.rs drives it in a browser); here,
+    // what it refuses before it binds.
+    Case {
+        name: "view_refuses_an_uncertainty_study",
+        args: "view --uncertainty 3 --port 0",
+        files: &[],
+    },
 ];
 
 /// The normalised transcript text of one run.
