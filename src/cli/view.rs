@@ -64,6 +64,10 @@ pub fn run(a: ViewArgs) -> Result<()> {
         start,
         export_dir: o.export.clone(),
         force: o.p.out.force,
+        hints: printwatt::view::ViewHints {
+            export_dir: "start the view with --export DIR".into(),
+            force: "--force".into(),
+        },
     };
     let addr = a
         .listen

@@ -42,6 +42,19 @@ pub struct ViewConfig {
     pub export_dir: Option<PathBuf>,
     /// Replace existing export files.
     pub force: bool,
+    /// How the front end names its settings in messages: how to give an export directory
+    /// (e.g. the command line's option) and how to allow replacing files.
+    pub hints: ViewHints,
+}
+
+/// The front end's words for the view's settings, used in its messages (the library names
+/// no command-line option itself).
+#[derive(Clone, Debug, Default)]
+pub struct ViewHints {
+    /// How to give an export directory.
+    pub export_dir: String,
+    /// How to allow replacing existing files.
+    pub force: String,
 }
 
 /// The state the page's requests are answered from: the job built once.
@@ -344,9 +357,10 @@ impl<'c> Session<'c> {
     /// the checks refuse is not exported.
     pub fn export(&self, at: &Placement) -> Result<Vec<PathBuf>> {
         let Some(dir) = &self.config.export_dir else {
-            return Err(Error::Invalid(
-                "no export directory: start the view with --export DIR".into(),
-            ));
+            return Err(Error::Invalid(format!(
+                "no export directory was given ({})",
+                self.config.hints.export_dir
+            )));
         };
         let ev = self.evaluator();
         let mut sc = ev.scratch()?;
@@ -363,8 +377,9 @@ impl<'c> Session<'c> {
         for (f, _) in &files {
             if f.exists() && !self.config.force {
                 return Err(Error::Invalid(format!(
-                    "{} exists: replacing it needs --force",
-                    f.display()
+                    "{} exists: replacing it needs {}",
+                    f.display(),
+                    self.config.hints.force
                 )));
             }
             crate::output::guard_inputs(f, &[cfg.path_file.as_path()])?;
