@@ -129,6 +129,29 @@ const CASES: &[Case] = &[
         args: "sweep --yaws 0,90",
         files: &[],
     },
+    Case {
+        name: "inspect_gcode",
+        args: "inspect {ROOT}/paths/default.gcode",
+        files: &[],
+    },
+    Case {
+        name: "inspect_rapid",
+        args: "inspect {ROOT}/paths/wall_rapid.mod",
+        files: &[],
+    },
+    Case {
+        name: "inspect_csv_in_assumed_mm_json",
+        args: "inspect {TMP}/wall.csv --json",
+        files: &[(
+            "wall.csv",
+            "x,y,z,print\n0,0,20,1\n2000,0,20,1\n2000,1000,20,1\n2000,1000,40,0\n0,0,40,1\n",
+        )],
+    },
+    Case {
+        name: "inspect_refuses_a_robot",
+        args: "inspect {ROOT}/robots/abb_irb6700_200_260",
+        files: &[],
+    },
     // The view serves until stopped (tests/view_browser.rs drives it in a browser); here,
     // what it refuses before it binds.
     Case {

@@ -30,6 +30,7 @@ mod diagnose;
 mod energy;
 mod excite;
 mod identify;
+mod inspect;
 mod merge;
 mod optimise;
 mod robots;
@@ -105,6 +106,9 @@ pub enum Command {
     /// A live 3-D view in the browser (local web server): move the part and watch the
     /// energy, the margins and the feasibility follow; play the arm; optimise and export.
     View(view::ViewArgs),
+    /// How a toolpath was read: format, units, moves, print and travel length, bounding box,
+    /// layers, commanded speeds, the reader's warnings.
+    Inspect(inspect::InspectArgs),
 }
 
 /// Robot, log and model switches shared by compare/diagnose/identify.
@@ -469,5 +473,6 @@ pub fn run(cli: Cli) -> Result<()> {
         Command::Simulate(a) => simulate::run(a),
         Command::Excite(a) => excite::run(a),
         Command::View(a) => view::run(a),
+        Command::Inspect(a) => inspect::run(a),
     }
 }

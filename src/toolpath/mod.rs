@@ -13,6 +13,7 @@
 
 mod csv;
 mod gcode;
+pub mod inspect;
 mod rapid;
 pub mod repeat;
 
