@@ -1,5 +1,5 @@
 #!/bin/sh
-# Issue 9 item 6: the argmin (Nelder–Mead) refinement against the earlier pattern search on the
+# The argmin (Nelder–Mead) refinement against the earlier pattern search on the
 # shipped examples. Default grid, default budget (--max-evals 120), no placement tolerance (the
 # pattern search has none), one thread (so that the Nelder–Mead run makes no speculative
 # evaluations: every evaluation either search makes is counted). Run from the repository root
