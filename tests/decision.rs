@@ -538,3 +538,60 @@ fn a_study_case_run_with_uncertainty_reports_its_robust_choice() {
     assert!((j - rec).abs() <= 1e-6 * rec.abs().max(1.0), "{j} vs {rec}");
     let _ = std::fs::remove_dir_all(&d);
 }
+
+#[test]
+fn pareto_option_times_the_answer_at_each_acceleration_and_marks_the_front() {
+    let tp_file = root().join("paths/seed000_test_path.gcode");
+    let mut cfg = printwatt::search::job::OptimiseConfig::new(
+        common::robot("abb_irb6700_200_260"),
+        common::path("seed000_test_path.gcode"),
+        &tp_file,
+    );
+    cfg.placements = Some(printwatt::search::job::PlacementSet::grid(
+        printwatt::search::Grid {
+            xs: vec![1.6, 1.9],
+            ys: vec![-0.3, 0.0, 0.3],
+            zs: vec![0.0, 0.4],
+            yaws: vec![0.0],
+            spins: vec![0.0],
+        },
+    ));
+    cfg.settings.max_evals = 20;
+    cfg.settings.pareto = true;
+    let out = printwatt::search::run(&cfg, &printwatt::search::run::Silent).unwrap();
+    let o = out.report.optimise.as_ref().unwrap();
+    let best = out.report.best().unwrap().feasible().unwrap().clone();
+    let ps = &o
+        .decision
+        .as_ref()
+        .expect("a decision with --pareto")
+        .pareto;
+    let scales: Vec<f64> = ps.iter().map(|p| p.scale).collect();
+    assert_eq!(scales, printwatt::search::pareto::SCALES);
+    for p in ps {
+        eprintln!(
+            "{}",
+            printwatt::search::pareto::lines(std::slice::from_ref(p))[0]
+        );
+    }
+    // The configured timing (×1) is the answer itself.
+    let one = ps.iter().find(|p| p.scale == 1.0).unwrap();
+    assert!((one.energy_j.unwrap() - best.energy_j).abs() <= 1e-9 * best.energy_j);
+    assert!((one.duration_s.unwrap() - best.duration_s).abs() <= 1e-9);
+    // Higher limits never make the print slower here, and the front is what no other beats.
+    let feas: Vec<_> = ps.iter().filter(|p| p.duration_s.is_some()).collect();
+    for w in feas.windows(2) {
+        assert!(w[1].duration_s.unwrap() <= w[0].duration_s.unwrap() + 1e-9);
+    }
+    assert!(feas.iter().any(|p| p.pareto));
+    for p in &feas {
+        let (t, e) = (p.duration_s.unwrap(), p.energy_j.unwrap());
+        let beaten = feas.iter().any(|q| {
+            let (tq, eq) = (q.duration_s.unwrap(), q.energy_j.unwrap());
+            tq <= t && eq <= e && (tq < t || eq < e)
+        });
+        assert_eq!(p.pareto, !beaten, "{p:?}");
+    }
+    let html = out.report.html();
+    assert!(html.contains("<figure id=\"pareto\">"));
+}

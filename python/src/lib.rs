@@ -961,6 +961,7 @@ fn optimise<'py>(
             robust: robust.parse().map_err(err)?,
             prints_per_year,
             grid_kg_co2_per_kwh,
+            pareto: false,
         };
     settings.check().map_err(err)?;
     let cfg = OptimiseConfig {

@@ -72,6 +72,11 @@ pub struct OptimiseArgs {
     /// Grid carbon intensity for the yearly CO₂ figure, kg CO₂ per kWh.
     #[arg(long, default_value_t = printwatt::search::job::DEFAULT_GRID_KG_CO2_PER_KWH)]
     pub grid_kg_co2_per_kwh: f64,
+    /// Print time against energy: time the answer again with the TCP acceleration and jerk
+    /// limits scaled by 0.5, 0.75, 1, 1.5 and 2 (the controller's AccSet; the print speed stays)
+    /// and mark the settings no other beats in both (the Pareto front), with each one's CO₂.
+    #[arg(long)]
+    pub pareto: bool,
     /// Write the chosen placement for the robot into this directory: `wobj_print.mod` (ABB RAPID
     /// wobjdata), `frame.json` (COMPAS frame), and the path re-expressed in the robot base
     /// frame as `path_base.gcode` and `path_base.mod` (RAPID MoveL in wobj0). Existing files
@@ -173,6 +178,7 @@ impl OptimiseArgs {
             robust: self.robust.parse()?,
             prints_per_year: self.prints_per_year,
             grid_kg_co2_per_kwh: self.grid_kg_co2_per_kwh,
+            pareto: self.pareto,
         };
         settings.check()?;
         Ok(OptimiseConfig {
@@ -239,6 +245,9 @@ fn robust_key(n: &OptimiseArgs) -> String {
             " prints_per_year={} grid_kg_co2_per_kwh={}",
             n.prints_per_year, n.grid_kg_co2_per_kwh
         );
+    }
+    if n.pareto {
+        k += " pareto";
     }
     k
 }
@@ -460,6 +469,9 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
         }
         if let Some(m) = &d.measurement {
             outln!("{m}");
+        }
+        for l in printwatt::search::pareto::lines(&d.pareto) {
+            outln!("{l}");
         }
     }
     if let Some(o) = &rep.optimise {

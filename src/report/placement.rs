@@ -820,6 +820,7 @@ impl RunReport {
                 .collect();
             lines.extend(d.robust.iter().flat_map(crate::search::robust::lines));
             lines.extend(d.measurement.iter().map(|m| m.to_string()));
+            lines.extend(crate::search::pareto::lines(&d.pareto));
             let kv: Vec<(String, String)> = lines
                 .iter()
                 .map(|l| match l.split_once(": ") {
@@ -829,6 +830,13 @@ impl RunReport {
                 .collect();
             if !kv.is_empty() {
                 pg.h2("Decision").kv(&kv);
+            }
+            if let Some(p) = pareto_svg(&d.pareto) {
+                pg.figure(
+                    "pareto",
+                    &p,
+                    "Print time against energy at the answer, with the controller's TCP acceleration and jerk limits scaled (the print speed stays): every feasible setting, and the Pareto front (no other setting is faster and cheaper).",
+                );
             }
             if let Some(r) = self.regret_svg() {
                 pg.figure(
@@ -1056,6 +1064,32 @@ pub fn full_check_line(c: &crate::evaluate::reduce::FullCheck) -> String {
         c.difference_pct,
         if c.within_error { "within" } else { "OUTSIDE" }
     )
+}
+
+/// Print time against energy of the timing settings at the answer, the Pareto front apart.
+fn pareto_svg(ps: &[crate::search::pareto::TimingPoint]) -> Option<String> {
+    let pick = |front: bool| -> (Vec<f64>, Vec<f64>) {
+        ps.iter()
+            .filter(|p| p.pareto == front)
+            .filter_map(|p| p.duration_s.zip(p.energy_j))
+            .unzip()
+    };
+    let (ft, fe) = pick(true);
+    if ft.is_empty() {
+        return None;
+    }
+    let (ot, oe) = pick(false);
+    let mut series = vec![svg::Series::new("Pareto front", &ft, &fe)];
+    if !ot.is_empty() {
+        series.push(svg::Series::new("dominated", &ot, &oe));
+    }
+    let f = svg::Frame::new(
+        "Print time against energy (acceleration and jerk scaled)",
+        "print time [s]",
+        "energy [J]",
+    )
+    .size(760.0, 360.0);
+    Some(svg::scatter(&f, &series))
 }
 
 /// Candidates drawn in the report's regret chart (the recommendation, the nominal answer and

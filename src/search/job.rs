@@ -282,6 +282,9 @@ pub struct OptimiseSettings {
     pub prints_per_year: f64,
     /// Grid carbon intensity for the yearly CO₂ figure, kg CO₂ per kWh.
     pub grid_kg_co2_per_kwh: f64,
+    /// Time the answer again with the acceleration and jerk limits scaled
+    /// ([`crate::search::pareto`]): print time against energy.
+    pub pareto: bool,
 }
 
 impl Default for OptimiseSettings {
@@ -304,6 +307,7 @@ impl Default for OptimiseSettings {
             robust: RobustObjective::default(),
             prints_per_year: DEFAULT_PRINTS_PER_YEAR,
             grid_kg_co2_per_kwh: DEFAULT_GRID_KG_CO2_PER_KWH,
+            pareto: false,
         }
     }
 }

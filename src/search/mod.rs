@@ -8,6 +8,7 @@ pub mod grid;
 pub mod job;
 pub mod neldermead;
 pub mod optimise;
+pub mod pareto;
 pub mod refine;
 pub mod robust;
 pub mod run;

@@ -735,6 +735,9 @@ pub struct Decision {
     /// covariance).
     #[serde(skip_serializing_if = "Option::is_none")]
     pub measurement: Option<MeasurementWorth>,
+    /// With the Pareto option: the answer timed with the acceleration and jerk limits scaled.
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub pareto: Vec<crate::search::pareto::TimingPoint>,
 }
 
 /// What the measurement behind a calibrated robot did to the decision: the same robust study

@@ -430,6 +430,11 @@ fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Resul
                 .bound_steps = steps;
         }
     }
+    // Print time against energy at the answer (the controller's acceleration and jerk).
+    if s.pareto {
+        let pts = crate::search::pareto::time_energy(config, &res.best.placement)?;
+        res.decision.get_or_insert_with(Default::default).pareto = pts;
+    }
     let secs = t0.elapsed().as_secs_f64();
     // The placements shown in detail (series for the report), evaluated in parallel.
     let mut wanted = vec![("best", &res.best)];
