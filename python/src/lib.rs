@@ -877,7 +877,8 @@ fn sweep<'py>(
 /// `search` (method, tolerance check, bounds, `on_bounds`, joint and wrist margins kept);
 /// `summary` (the document `printwatt optimise --json` prints: baseline, savings, the
 /// baseline's tolerance check, the full check of a reduced answer, the uncertainty study and
-/// the decision: the robust choice, the value of measuring each parameter, bound steps).
+/// the decision: the robust choice, the value of measuring each parameter, bound steps, and
+/// with `pareto=True` print time against energy over the acceleration and jerk limits).
 /// Raises PrintwattError when no grid placement is feasible, with how many failed for each
 /// reason and what to try.
 #[pyfunction]
@@ -889,7 +890,7 @@ fn sweep<'py>(
     uncertainty = None, robust = "expected".to_string(),
     prints_per_year = printwatt::search::job::DEFAULT_PRINTS_PER_YEAR,
     grid_kg_co2_per_kwh = printwatt::search::job::DEFAULT_GRID_KG_CO2_PER_KWH,
-    period = 0.004, accel = 1.0, jerk = 10.0, regeneration = None,
+    pareto = false, period = 0.004, accel = 1.0, jerk = 10.0, regeneration = None,
     payload = true, friction = true, joint_margin = 3f64.to_radians(),
     wrist_margin = FeasibilityOptions::default().wrist_margin_rad, collisions = true,
     check_every = 10))]
@@ -917,6 +918,7 @@ fn optimise<'py>(
     robust: String,
     prints_per_year: f64,
     grid_kg_co2_per_kwh: f64,
+    pareto: bool,
     period: f64,
     accel: f64,
     jerk: f64,
@@ -961,7 +963,7 @@ fn optimise<'py>(
             robust: robust.parse().map_err(err)?,
             prints_per_year,
             grid_kg_co2_per_kwh,
-            pareto: false,
+            pareto,
         };
     settings.check().map_err(err)?;
     let cfg = OptimiseConfig {

@@ -116,6 +116,15 @@ def test_optimise_uncertainty_study_is_the_cli_answer():
     assert py["summary"]["optimise"]["uncertainty"] is not None
 
 
+def test_optimise_pareto_is_the_cli_answer():
+    py = pw.optimise(ROBOT, str(PATH), **py_grid(), max_evals=10, pareto=True)
+    doc = cli("optimise", *grid_flags(), "--max-evals", "10", "--pareto")
+    same_optimisation(py, doc)
+    pts = py["summary"]["optimise"]["decision"]["pareto"]
+    assert [p["scale"] for p in pts] == [0.5, 0.75, 1.0, 1.5, 2.0]
+    assert any(p["pareto"] for p in pts)
+
+
 def test_energy_is_the_cli_answer():
     at = (1.7, 0.0, 0.0, math.radians(90.0))
     py = pw.energy(ROBOT, str(PATH), at)
