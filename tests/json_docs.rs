@@ -332,3 +332,18 @@ fn json_output_of_stations_matches_docs_json_md() {
     );
     check("stations", &[&out]);
 }
+
+#[test]
+fn json_output_of_inspect_matches_docs_json_md() {
+    let d = tmp("inspect");
+    std::fs::write(
+        d.join("p.csv"),
+        "x,y,z,print\n0,0,20,1\n500,0,20,1\n500,0,40,0\n",
+    )
+    .unwrap();
+    let g = root().join("paths/default.gcode");
+    let a = run(&d, &["inspect", g.to_str().unwrap(), "--json"]);
+    let b = run(&d, &["inspect", "p.csv", "--json"]);
+    check("inspect", &[&a, &b]);
+    let _ = std::fs::remove_dir_all(&d);
+}

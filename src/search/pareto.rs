@@ -6,10 +6,9 @@
 //! Each point's CO₂ follows from the stated grid intensity.
 
 use crate::error::Result;
-use crate::evaluate::{Evaluator, PathJob};
+use crate::evaluate::Evaluator;
 use crate::frame::Placement;
 use crate::search::job::OptimiseConfig;
-use crate::timing::JointStageOptions;
 use serde::Serialize;
 
 /// Factors applied to the TCP acceleration (tangential and lateral) and jerk limits.
@@ -50,13 +49,7 @@ pub fn time_energy(config: &OptimiseConfig, at: &Placement) -> Result<Vec<Timing
         profile.accel *= k;
         profile.lateral_accel *= k;
         profile.jerk *= k;
-        let job = PathJob::new(
-            &config.robot,
-            &config.path,
-            s.energy,
-            profile,
-            JointStageOptions::default(),
-        )?;
+        let job = crate::search::run::job_with(config, &config.robot, profile)?;
         let ev = Evaluator::new(&job, s.feasibility, s.objective);
         let e = ev
             .sweep(&[*at], &|_, _| {})?

@@ -171,6 +171,22 @@ pub fn evaluator<'j, 'a>(
     }
 }
 
+/// The path job of `config` for `robot` (the config's own or another) timed with `profile`
+/// (the config's, or scaled), with the config's energy options.
+pub fn job_with<'a>(
+    config: &'a OptimiseConfig,
+    robot: &'a crate::robot::RobotModel,
+    profile: crate::timing::ProfileOptions,
+) -> Result<PathJob<'a>> {
+    PathJob::new(
+        robot,
+        &config.path,
+        config.settings.energy,
+        profile,
+        JointStageOptions::default(),
+    )
+}
+
 /// The regret of the decision before the measurement behind a calibrated robot (the robust
 /// study on the robot it was calibrated from, over its estimate ranges, from the calibrated
 /// answer's placement) and after it (`after`). The base robot is resolved as `--robot` is (a
@@ -202,13 +218,7 @@ fn measurement_worth(
         }
     };
     let s = &config.settings;
-    let job = PathJob::new(
-        &base,
-        &config.path,
-        s.energy,
-        s.profile,
-        JointStageOptions::default(),
-    )?;
+    let job = job_with(config, &base, s.profile)?;
     let ev = evaluator(&job, &config.path, s.feasibility, s.objective, s.evaluation);
     let start = ev.sweep(&[answer.placement], &|_, _| {})?;
     match start.first().filter(|e| e.feasible().is_some()) {
@@ -257,13 +267,7 @@ fn with_refine_progress<T>(
 fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Result<Answer> {
     let s = &config.settings;
     s.check()?;
-    let job = PathJob::new(
-        &config.robot,
-        &config.path,
-        s.energy,
-        s.profile,
-        JointStageOptions::default(),
-    )?;
+    let job = job_with(config, &config.robot, s.profile)?;
     let ev = evaluator(&job, &config.path, s.feasibility, s.objective, s.evaluation);
     let set = config.placement_set();
     let ps = &set.placements;
