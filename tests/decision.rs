@@ -16,23 +16,6 @@ use printwatt::search::tolerance::Tolerance;
 use printwatt::search::uncertainty::Ranges;
 use printwatt::search::value_of_information;
 
-fn zero_ranges() -> Ranges {
-    Ranges {
-        link_mass_rel: 0.0,
-        link_com_m: 0.0,
-        link_inertia_rel: 0.0,
-        payload_mass_rel: 0.0,
-        torque_constant_rel: 0.0,
-        winding_resistance_rel: 0.0,
-        viscous_rel: 0.0,
-        coulomb_rel: 0.0,
-        gear_efficiency_abs: 0.0,
-        standby_power_rel: 0.0,
-        balancer_absent_probability: 0.0,
-        balancer_force_rel: 0.0,
-    }
-}
-
 fn quiet() -> refine::Progress {
     std::sync::Arc::new(|_, _, _| {})
 }
@@ -73,7 +56,7 @@ fn robust_choice_beats_the_nominal_answers_expected_energy_and_states_within_1pc
         balancer_absent_probability: 0.3,
         balancer_force_rel: 0.5,
         standby_power_rel: 0.5,
-        ..zero_ranges()
+        ..common::zero_ranges()
     };
     let o = RobustOptions {
         draws: 12,

@@ -8,24 +8,6 @@ use printwatt::robot;
 use printwatt::search::uncertainty::{self, Ranges};
 use printwatt::search::Grid;
 
-/// Every range zero: a draw is the nominal robot but for what a calibrated robot identified.
-fn zero_ranges() -> Ranges {
-    Ranges {
-        link_mass_rel: 0.0,
-        link_com_m: 0.0,
-        link_inertia_rel: 0.0,
-        payload_mass_rel: 0.0,
-        torque_constant_rel: 0.0,
-        winding_resistance_rel: 0.0,
-        viscous_rel: 0.0,
-        coulomb_rel: 0.0,
-        gear_efficiency_abs: 0.0,
-        standby_power_rel: 0.0,
-        balancer_absent_probability: 0.0,
-        balancer_force_rel: 0.0,
-    }
-}
-
 /// Run the CLI from the repository root; its stdout. Panics (with stderr) on failure.
 fn run_cli(args: &[&str]) -> String {
     let o = std::process::Command::new(env!("CARGO_BIN_EXE_printwatt"))
@@ -136,7 +118,7 @@ fn uncertainty_study_is_deterministic_for_a_seed_and_thread_count() {
     assert!(!a.depends_on.is_empty());
     // With every range zero, each draw is the nominal robot: the candidates' energies are
     // exactly the nominal ones and the best candidate is the best in every draw.
-    let zero = zero_ranges();
+    let zero = common::zero_ranges();
     let mut ranked = feasible.clone();
     ranked.sort_by(|x, y| x.cost().total_cmp(&y.cost()));
     let z = uncertainty::study_with(&job, &ev, &ranked, Some(&base), 3, 1, Some(zero)).unwrap();
@@ -264,7 +246,7 @@ fn a_calibrated_robots_uncertainty_draws_vary_the_parameters_it_identified() {
         .cloned()
         .collect();
     assert!(!feasible.is_empty());
-    let zero = zero_ranges();
+    let zero = common::zero_ranges();
     let st = uncertainty::study_with(&job, &ev, &feasible, None, 4, 3, Some(zero)).unwrap();
     let e0 = feasible[0].cost();
     assert!(
@@ -328,7 +310,7 @@ fn a_calibrated_robots_identified_armature_copper_gear_efficiency_and_payload_ar
         winding_resistance_rel: 0.5,
         gear_efficiency_abs: 0.2,
         payload_mass_rel: 0.3,
-        ..zero_ranges()
+        ..common::zero_ranges()
     };
     let n = 60;
     let setup = uncertainty::StudySetup::new(&ev, &rows, None, n, 7, Some(ranges)).unwrap();

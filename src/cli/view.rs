@@ -73,7 +73,7 @@ pub fn run(a: ViewArgs) -> Result<()> {
         .listen
         .unwrap_or_else(|| SocketAddr::from(([127, 0, 0, 1], a.port)));
     let bound = printwatt::view::server::bind(addr, a.listen.is_some())?;
-    let session = printwatt::view::Session::new(&cfg)?;
+    let state = printwatt::view::ViewState::new(&cfg)?;
     outln!("printwatt view: {}", bound.url());
     super::flush_stdout()?;
     eprintln!(
@@ -81,6 +81,6 @@ pub fn run(a: ViewArgs) -> Result<()> {
         cfg.job.robot.name(),
         bound.addr
     );
-    printwatt::view::server::serve(bound, &session)?;
+    printwatt::view::server::serve(bound, &state)?;
     Ok(())
 }

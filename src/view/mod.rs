@@ -4,7 +4,7 @@
 //! job's own [`Evaluator`] (the evaluator and the options of an optimisation run); the page
 //! plays the arm along the timed path, runs the optimisation and writes its hand-off.
 //!
-//! This module holds what the page asks for as plain functions of a [`Session`] (each answer
+//! This module holds what the page asks for as plain functions of a [`ViewState`] (each answer
 //! a JSON value); [`server`] routes requests to them, drops superseded evaluations and keeps
 //! the server to its address, its token and its size limits. Units: SI inside, metres and
 //! degrees in the JSON (the names say which).
@@ -58,7 +58,7 @@ pub struct ViewHints {
 }
 
 /// The state the page's requests are answered from: the job built once.
-pub struct Session<'c> {
+pub struct ViewState<'c> {
     /// The configuration.
     pub config: &'c ViewConfig,
     /// The job's placement-independent side.
@@ -71,7 +71,7 @@ pub struct Session<'c> {
     pub start: Placement,
 }
 
-impl<'c> Session<'c> {
+impl<'c> ViewState<'c> {
     /// Build the job and evaluate its grid (the energy map). Errors: the job's own (a robot
     /// without dynamics, an empty path, settings no check can use).
     pub fn new(config: &'c ViewConfig) -> Result<Self> {
@@ -105,7 +105,7 @@ impl<'c> Session<'c> {
             .or_else(|| crate::search::optimise::feasible_centre(&grid).map(|e| e.placement))
             .or_else(|| grid_placements.first().copied())
             .unwrap_or_default();
-        Ok(Session {
+        Ok(ViewState {
             config,
             job,
             shapes,
@@ -287,7 +287,7 @@ impl<'c> Session<'c> {
     }
 
     /// The arm along the timed path at `at`: `frames` evenly spaced samples (each shape's
-    /// pose, base frame, see [`Session::scene`]'s `shapes`), the nozzle tip per frame, and
+    /// pose, base frame, see [`ViewState::scene`]'s `shapes`), the nozzle tip per frame, and
     /// the supply power trace. A path that cannot be timed there answers with the reason.
     pub fn playback(&self, at: &Placement, frames: usize) -> Result<Value> {
         at.check_metres()

@@ -12,7 +12,7 @@
 //!   `{"stale": true}` at once, so a fast drag never queues work behind the one evaluation
 //!   running.
 
-use super::{placement_from_json, placement_json, Session};
+use super::{placement_from_json, placement_json, ViewState};
 use crate::error::{Error, Result};
 use crate::search::run::{Observer, Progress, Stage};
 use serde_json::{json, Value};
@@ -126,14 +126,14 @@ struct Slot {
     closing: std::sync::atomic::AtomicBool,
 }
 
-/// Serve `session` on `bound` until the listener fails (the process is ended to stop it).
-pub fn serve(bound: Bound, session: &Session) -> Result<()> {
+/// Serve `state` on `bound` until the listener fails (the process is ended to stop it).
+pub fn serve(bound: Bound, state: &ViewState) -> Result<()> {
     let slot = Slot::default();
     let opt = Mutex::new(OptState {
         state: "idle",
         ..Default::default()
     });
-    let ev = session.evaluator();
+    let ev = state.evaluator();
     let index = INDEX_HTML.replace("__TOKEN__", bound.token.as_deref().unwrap_or(""));
     std::thread::scope(|s| {
         s.spawn(|| {
@@ -159,7 +159,7 @@ pub fn serve(bound: Bound, session: &Session) -> Result<()> {
                 };
                 let answer = match &mut sc {
                     Ok(sc) => {
-                        placement_from_json(&p.body).and_then(|at| session.evaluate(&ev, sc, &at))
+                        placement_from_json(&p.body).and_then(|at| state.evaluate(&ev, sc, &at))
                     }
                     Err(e) => Err(Error::Invalid(e.to_string())),
                 };
@@ -199,7 +199,7 @@ pub fn serve(bound: Bound, session: &Session) -> Result<()> {
                     let _ = req.respond(bytes_response(THREE_LICENSE, "text/plain"));
                 }
                 ("/api/scene", true, _) => {
-                    let _ = req.respond(json_response(200, &session.scene()));
+                    let _ = req.respond(json_response(200, &state.scene()));
                 }
                 ("/api/evaluate", _, true) => {
                     let mut req = req;
@@ -238,7 +238,7 @@ pub fn serve(bound: Bound, session: &Session) -> Result<()> {
                     let r = read_json(&mut req).and_then(|b| {
                         let at = placement_from_json(&b).map_err(|e| (400, e.to_string()))?;
                         let frames = b.get("frames").and_then(Value::as_u64).unwrap_or(200);
-                        session
+                        state
                             .playback(&at, frames as usize)
                             .map_err(|e| (400, e.to_string()))
                     });
@@ -251,7 +251,7 @@ pub fn serve(bound: Bound, session: &Session) -> Result<()> {
                     let mut req = req;
                     let r = read_json(&mut req).and_then(|b| {
                         let at = placement_from_json(&b).map_err(|e| (400, e.to_string()))?;
-                        session.export(&at).map_err(|e| (409, e.to_string()))
+                        state.export(&at).map_err(|e| (409, e.to_string()))
                     });
                     let _ = req.respond(match r {
                         Ok(files) => json_response(
@@ -280,7 +280,7 @@ pub fn serve(bound: Bound, session: &Session) -> Result<()> {
                         let opt = &opt;
                         s.spawn(move || {
                             let r =
-                                crate::search::run(&session.config.job, &OptObserver(opt));
+                                crate::search::run(&state.config.job, &OptObserver(opt));
                             if let Ok(mut g) = opt.lock() {
                                 match r {
                                     Ok(o) => match o.report.best() {

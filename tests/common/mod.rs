@@ -168,3 +168,22 @@ pub fn scratch(prefix: &str, name: &str) -> PathBuf {
 pub fn stderr_of(o: &std::process::Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
+
+/// Every uncertainty range zero: a draw is the nominal robot but for what a calibrated robot
+/// identified.
+pub fn zero_ranges() -> printwatt::search::uncertainty::Ranges {
+    printwatt::search::uncertainty::Ranges {
+        link_mass_rel: 0.0,
+        link_com_m: 0.0,
+        link_inertia_rel: 0.0,
+        payload_mass_rel: 0.0,
+        torque_constant_rel: 0.0,
+        winding_resistance_rel: 0.0,
+        viscous_rel: 0.0,
+        coulomb_rel: 0.0,
+        gear_efficiency_abs: 0.0,
+        standby_power_rel: 0.0,
+        balancer_absent_probability: 0.0,
+        balancer_force_rel: 0.0,
+    }
+}
