@@ -228,6 +228,9 @@ pub struct RobotShapes {
     pub pairs: Vec<(usize, usize)>,
     /// Number of links whose URDF collision geometry is used (the rest are capsules).
     pub links_with_urdf_geometry: usize,
+    /// Depth of the floor below the base frame's origin, m (the pedestal's height; 0 = the
+    /// base stands on the floor): see [`Floor`].
+    pub floor_below_base_m: f64,
     /// The chain of the model given to [`RobotShapes::new`], for [`RobotShapes::body_frames`].
     chain: Chain,
 }
@@ -512,11 +515,26 @@ impl RobotShapes {
                 }
             }
         }
+        // The pedestal: a fixed body under the base, a cylinder about the base's z axis from
+        // the floor up to the base frame's origin.
+        let (ph, pr) = (model.info.pedestal_height_m, model.info.pedestal_radius_m);
+        if ph > 0.0 && pr > 0.0 {
+            if let Some((l, s)) = cylinder_between(&V3::new(0.0, 0.0, -ph), &V3::zeros(), pr) {
+                shapes.push(BodyShape::new(
+                    0,
+                    l,
+                    s,
+                    Role::Link,
+                    format!("pedestal ({ph} m high, radius {pr} m)"),
+                ));
+            }
+        }
         // Allowed-collision matrix at the home pose.
         let mut rs = RobotShapes {
             shapes,
             pairs: Vec::new(),
             links_with_urdf_geometry: with_urdf,
+            floor_below_base_m: ph.max(0.0),
             chain: Chain::new(model),
         };
         let home = rs.poses(model, &vec![0.0; n], &Isometry::identity());
@@ -1009,6 +1027,69 @@ pub struct Bed {
     pub cuboid: Cuboid,
     /// Its AABB.
     pub aabb: Aabb,
+    /// The floor, when checked ([`crate::evaluate::feasibility::World::with_floor`]).
+    pub floor: Option<Floor>,
+}
+
+/// The floor: the plane the robot (or its pedestal) stands on, `normal · x = height` in the
+/// part frame with `normal` the base frame's z axis. It lies [`RobotShapes::floor_below_base_m`]
+/// below the base frame's origin, or at the bed's top where the path lies lower (a part in a
+/// pit, or an arm on a raised track: the floor is then taken down to the bed's top). The
+/// links and the hose must stay above it; the fixed base and pedestal stand on it and the
+/// print head, which prints on the bed, is exempt as it is from the bed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Floor {
+    /// Upward unit normal (the base's z axis in the part frame).
+    pub normal: V3,
+    /// `normal · x` on the floor, m.
+    pub height: f64,
+}
+
+impl Floor {
+    /// The floor of `rs` with the base at `base` (part frame) over the bed `bed`.
+    pub fn of(rs: &RobotShapes, base: &Frame, bed: &Bed) -> Floor {
+        let normal = base.rot.column(2).into_owned();
+        let under_base = normal.dot(&base.pos) - rs.floor_below_base_m;
+        let bed_top = normal.dot(&V3::new(
+            bed.aabb.center().x,
+            bed.aabb.center().y,
+            bed.aabb.maxs.z,
+        ));
+        Floor {
+            normal,
+            height: under_base.min(bed_top),
+        }
+    }
+
+    /// Height of the lowest point of `shape` at `pose` above the floor, m (negative: below).
+    pub fn clearance(&self, pose: &Isometry<f64>, shape: &SharedShape) -> Option<f64> {
+        let down = -Vector::from(self.normal);
+        let p = shape.as_support_map()?.support_point(pose, &down);
+        Some(self.normal.dot(&p.coords) - self.height)
+    }
+
+    /// [`Floor::clearance`] of the capsule around `a`–`b` (part frame, m) of radius `r`, m.
+    pub fn axis_clearance(&self, a: &Point<f64>, b: &Point<f64>, r: f64) -> f64 {
+        self.normal.dot(&a.coords).min(self.normal.dot(&b.coords)) - r - self.height
+    }
+}
+
+/// Whether shape `s` is checked against the floor (the links and the hose, not the fixed
+/// base and pedestal nor the print head).
+#[inline(always)]
+pub fn on_floor_check(s: &BodyShape) -> bool {
+    s.body > 0 && s.role != Role::Head
+}
+
+fn floor_message(s: &BodyShape, i: usize, c: f64) -> (Reason, String) {
+    (
+        Reason::CollisionFloor,
+        format!(
+            "{} (shape {i}) reaches {:.3} m below the floor",
+            s.label,
+            (-c).max(0.0)
+        ),
+    )
 }
 
 impl Bed {
@@ -1039,6 +1120,7 @@ impl Bed {
             pose: Isometry::translation(c.x, c.y, c.z),
             cuboid: Cuboid::new((hi - lo) * 0.5),
             aabb: Aabb::new(Point::from(*lo), Point::from(*hi)),
+            floor: None,
         }
     }
 }
@@ -1248,6 +1330,16 @@ fn check_with(
             None => s.shape.compute_aabb(&at.iso(i, s)),
         };
         (boxes[i], exact[i]) = (a, true);
+        // Floor: the links and the hose stay above it.
+        if let Some(f) = bed.floor.as_ref().filter(|_| on_floor_check(s)) {
+            let c = match &cap {
+                Some((ea, eb, r)) => Some(f.axis_clearance(ea, eb, *r)),
+                None => f.clearance(&at.iso(i, s), &s.shape),
+            };
+            if let Some(c) = c.filter(|c| *c < 0.0) {
+                return Some(floor_message(s, i, c));
+            }
+        }
         // Bed: broad phase on the AABB gap, exact distance only when it could lower the margin.
         let gap = aabb_gap(&a, &bed.aabb);
         if gap <= clearance.unwrap_or(f64::INFINITY) {
@@ -1334,6 +1426,15 @@ pub fn check_unfiltered(
             continue;
         }
         let a = &aabbs[i];
+        if let Some(f) = bed.floor.as_ref().filter(|_| on_floor_check(s)) {
+            let c = match s.shape.as_capsule() {
+                Some(k) => Some(f.axis_clearance(&(p * k.segment.a), &(p * k.segment.b), k.radius)),
+                None => f.clearance(p, &s.shape),
+            };
+            if let Some(c) = c.filter(|c| *c < 0.0) {
+                return Some(floor_message(s, i, c));
+            }
+        }
         // Bed: broad phase on the AABB gap, exact distance only when it could lower the margin.
         let gap = aabb_gap(a, &bed.aabb);
         if gap <= clearance.unwrap_or(f64::INFINITY) {

@@ -1,0 +1,205 @@
+//! The shipped arms' published collision hulls, the pedestal under the base and the floor.
+
+mod common;
+
+use parry3d_f64::bounding_volume::Aabb;
+use parry3d_f64::math::{Isometry, Point};
+use parry3d_f64::query;
+use parry3d_f64::shape::Ball;
+use printwatt::evaluate::feasibility::collision::{self, Beads, RobotShapes};
+use printwatt::evaluate::feasibility::{reach_m, LinkRadii, Reason, World};
+use printwatt::math::{Frame, V3};
+use printwatt::robot::RobotModel;
+
+fn shapes(model: &RobotModel) -> RobotShapes {
+    RobotShapes::new(model, reach_m(model), &LinkRadii::default())
+}
+
+/// The base's shapes' box at the home pose (base frame, m).
+fn base_box(rs: &RobotShapes) -> Aabb {
+    let mut b = Aabb::new_invalid();
+    for s in rs.shapes.iter().filter(|s| s.body == 0) {
+        b.merge(&s.shape.compute_aabb(&s.local));
+    }
+    b
+}
+
+#[test]
+fn the_shipped_arms_collide_with_their_published_hulls() {
+    for name in ["abb_irb6700_200_260", "abb_irb4600_40_255", "ur10e"] {
+        let model = common::robot(name);
+        let rs = shapes(&model);
+        // Every link and the base: URDF geometry, no capsule stands in.
+        assert_eq!(rs.links_with_urdf_geometry, model.dof(), "{name}");
+        assert!(
+            rs.shapes
+                .iter()
+                .filter(|s| s.role == collision::Role::Link)
+                .all(|s| s.label.contains("URDF mesh hull")),
+            "{name}: {:?}",
+            rs.shapes.iter().map(|s| &s.label).collect::<Vec<_>>()
+        );
+        // The hulls are small: at most 64 vertices each.
+        for s in &rs.shapes {
+            if let Some(h) = s.shape.as_convex_polyhedron() {
+                assert!(h.points().len() <= 64, "{name} {}", s.label);
+            }
+        }
+        // At home, with nothing around, the arm meets nothing (no self-collision).
+        let q = vec![0.0; model.dof()];
+        let world = World::new(
+            &Frame::identity(),
+            (V3::new(-9.0, -0.5, 0.0), V3::new(-8.0, 0.5, 0.1)),
+            &Default::default(),
+        )
+        .with_floor(&rs);
+        let poses = rs.poses(&model, &q, &world.base_iso);
+        let beads = Beads::new(&[], &[], 1, 0.02);
+        assert_eq!(
+            collision::check(&rs, &poses, &world.bed, &beads, 0, &mut None),
+            None,
+            "{name}"
+        );
+    }
+    // The IRB 6700's foot: the published base reaches 0.6 m behind the axis of joint 1 and
+    // 0.36 m to each side, far beyond the 0.18 m capsule that stood in for it; a ball 0.3 m
+    // behind the axis, 0.2 m up, meets the base.
+    let model = common::robot("abb_irb6700_200_260");
+    let rs = shapes(&model);
+    let b = base_box(&rs);
+    assert!(b.mins.x < -0.6 && b.maxs.y > 0.35 && b.mins.y < -0.35, "{b:?}");
+    assert!(-b.mins.x > 0.18 + 0.4, "{b:?}");
+    let base = rs.shapes.iter().find(|s| s.body == 0).unwrap();
+    let ball = Ball::new(0.05);
+    assert!(query::intersection_test(
+        &base.local,
+        base.shape.as_ref(),
+        &Isometry::translation(-0.3, 0.0, 0.2),
+        &ball
+    )
+    .unwrap());
+}
+
+/// The IRB 6700 with the upper arm tilted 85° forward and the forearm level with it: the
+/// wrist reaches about 0.26 m below the base frame's origin.
+const DIVE: [f64; 6] = [0.0, 1.48, 0.0, 0.0, 0.0, 0.0];
+
+/// The first collision of `model` at `q` with a bed far behind the arm (its top at z = 0, the
+/// part frame the base frame), the floor under the base: by [`collision::check`] on the poses
+/// and by [`collision::check_bodies`] on the bodies' frames.
+fn verdicts(model: &RobotModel, q: &[f64]) -> [Option<(Reason, String)>; 2] {
+    let rs = shapes(model);
+    let world = World::new(
+        &Frame::identity(),
+        (V3::new(-9.0, -0.5, 0.0), V3::new(-8.0, 0.5, 0.1)),
+        &Default::default(),
+    )
+    .with_floor(&rs);
+    let beads = Beads::new(&[], &[], 1, 0.02);
+    let poses = rs.poses(model, q, &world.base_iso);
+    let a = collision::check(&rs, &poses, &world.bed, &beads, 0, &mut None);
+    let bodies = rs.body_frames(q, None, &world.base_to_part);
+    let mut isos = Vec::new();
+    let b = collision::check_bodies(&rs, &bodies, &world.bed, &beads, 0, &mut None, &mut isos);
+    [a, b]
+}
+
+#[test]
+fn a_link_below_the_floor_is_infeasible_with_the_reason() {
+    let model = common::robot("abb_irb6700_200_260");
+    for v in verdicts(&model, &DIVE) {
+        let (reason, detail) = v.expect("the wrist dives below the floor");
+        assert_eq!(reason, Reason::CollisionFloor, "{detail}");
+        assert_eq!(reason.name(), "collision_floor");
+        assert!(detail.contains("below the floor"), "{detail}");
+        assert!(detail.contains("link_"), "{detail}");
+    }
+    // Raised (upper arm 40° forward) it stays above the floor.
+    let up = [0.0, 0.7, 0.0, 0.0, 0.0, 0.0];
+    assert_eq!(verdicts(&model, &up), [None, None]);
+    // The capsule arms (no published meshes) as well: the PUMA 560's forearm down.
+    let puma = common::robot("puma560");
+    let q = [0.0, 0.0, 0.0, 0.0, 0.0, 0.0];
+    let [a, b] = verdicts(&puma, &q);
+    assert_eq!(a, b);
+}
+
+#[test]
+fn the_pedestal_raises_the_robot_and_is_a_fixed_body() {
+    // From the drive file's [robot] table.
+    let dir = common::scratch("geometry", "pedestal");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(dir.join("collision")).unwrap();
+    let src = common::root().join("robots/abb_irb6700_200_260");
+    for f in ["robot.urdf", "README.md"] {
+        std::fs::copy(src.join(f), dir.join(f)).unwrap();
+    }
+    for e in std::fs::read_dir(src.join("collision")).unwrap() {
+        let e = e.unwrap();
+        std::fs::copy(e.path(), dir.join("collision").join(e.file_name())).unwrap();
+    }
+    let drive = std::fs::read_to_string(src.join("drive.toml")).unwrap();
+    let with = |keys: &str| drive.replacen("[robot]\n", &format!("[robot]\n{keys}\n"), 1);
+    std::fs::write(
+        dir.join("drive.toml"),
+        with("pedestal_height_m = 0.8\npedestal_radius_m = 0.5"),
+    )
+    .unwrap();
+    let model = printwatt::robot::load(&dir).unwrap();
+    assert_eq!(model.info.pedestal_height_m, 0.8);
+    assert_eq!(model.info.pedestal_radius_m, 0.5);
+    let rs = shapes(&model);
+    assert_eq!(rs.floor_below_base_m, 0.8);
+    // The pedestal: a fixed body (body 0, as the base) from the floor to the base, 0.5 m round.
+    let ped: Vec<_> = rs
+        .shapes
+        .iter()
+        .enumerate()
+        .filter(|(_, s)| s.label.starts_with("pedestal"))
+        .collect();
+    assert_eq!(ped.len(), 1);
+    let (pi, p) = ped[0];
+    assert_eq!(p.body, 0);
+    let b = p.shape.compute_aabb(&p.local);
+    assert!((b.mins.z + 0.8).abs() < 1e-9 && b.maxs.z.abs() < 1e-9, "{b:?}");
+    assert!((b.maxs.x - 0.5).abs() < 1e-9 && (b.mins.y + 0.5).abs() < 1e-9, "{b:?}");
+    // It is checked against the links far enough along the chain (as the base is).
+    assert!(rs.pairs.iter().any(|&(i, j)| (i == pi || j == pi)));
+    // Standing on it, the arm's dive stays 0.5 m above the floor.
+    assert_eq!(verdicts(&model, &DIVE), [None, None]);
+    // A pedestal of a negative height or without its radius is refused, naming the key.
+    for (keys, key) in [
+        ("pedestal_height_m = -1.0\npedestal_radius_m = 0.5", "pedestal_height_m"),
+        ("pedestal_height_m = 0.5", "pedestal_radius_m"),
+    ] {
+        std::fs::write(dir.join("drive.toml"), with(keys)).unwrap();
+        let e = printwatt::robot::load(&dir).unwrap_err().to_string();
+        assert!(e.contains(key) && e.contains("drive.toml"), "{e}");
+    }
+}
+
+#[test]
+fn every_shipped_collision_hull_is_convex_and_holds_its_vertices() {
+    // The committed hulls are the decimated, conservative hulls (their containment of the
+    // source meshes is checked by `tools/robots/collision_hulls.py --check` against the
+    // sources): each file's vertices are its own convex hull's (nothing lost in reading), at
+    // most 64 of them, in metres (within 1.5 m of the link origin).
+    for name in ["abb_irb6700_200_260", "abb_irb4600_40_255", "ur10e"] {
+        let dir = common::root().join("robots").join(name).join("collision");
+        let mut n = 0;
+        for e in std::fs::read_dir(&dir).unwrap() {
+            let p = e.unwrap().path();
+            if p.extension().is_none_or(|x| x != "obj") {
+                continue;
+            }
+            n += 1;
+            let v = printwatt::robot::mesh::read_vertices(&p).unwrap();
+            assert!(v.len() <= 64 && v.len() >= 4, "{}", p.display());
+            let pts: Vec<Point<f64>> = v.iter().map(|p| Point::from(*p)).collect();
+            let hull = parry3d_f64::shape::ConvexPolyhedron::from_convex_hull(&pts).unwrap();
+            assert_eq!(hull.points().len(), v.len(), "{}", p.display());
+            assert!(v.iter().all(|p| p.norm() < 1.5), "{}", p.display());
+        }
+        assert_eq!(n, 7, "{name}: base and six links");
+    }
+}
