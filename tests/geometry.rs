@@ -2,7 +2,7 @@
 
 mod common;
 
-use parry3d_f64::bounding_volume::Aabb;
+use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::math::{Isometry, Point};
 use parry3d_f64::query;
 use parry3d_f64::shape::Ball;
@@ -67,7 +67,10 @@ fn the_shipped_arms_collide_with_their_published_hulls() {
     let model = common::robot("abb_irb6700_200_260");
     let rs = shapes(&model);
     let b = base_box(&rs);
-    assert!(b.mins.x < -0.6 && b.maxs.y > 0.35 && b.mins.y < -0.35, "{b:?}");
+    assert!(
+        b.mins.x < -0.6 && b.maxs.y > 0.35 && b.mins.y < -0.35,
+        "{b:?}"
+    );
     assert!(-b.mins.x > 0.18 + 0.4, "{b:?}");
     let base = rs.shapes.iter().find(|s| s.body == 0).unwrap();
     let ball = Ball::new(0.05);
@@ -161,15 +164,24 @@ fn the_pedestal_raises_the_robot_and_is_a_fixed_body() {
     let (pi, p) = ped[0];
     assert_eq!(p.body, 0);
     let b = p.shape.compute_aabb(&p.local);
-    assert!((b.mins.z + 0.8).abs() < 1e-9 && b.maxs.z.abs() < 1e-9, "{b:?}");
-    assert!((b.maxs.x - 0.5).abs() < 1e-9 && (b.mins.y + 0.5).abs() < 1e-9, "{b:?}");
+    assert!(
+        (b.mins.z + 0.8).abs() < 1e-9 && b.maxs.z.abs() < 1e-9,
+        "{b:?}"
+    );
+    assert!(
+        (b.maxs.x - 0.5).abs() < 1e-9 && (b.mins.y + 0.5).abs() < 1e-9,
+        "{b:?}"
+    );
     // It is checked against the links far enough along the chain (as the base is).
-    assert!(rs.pairs.iter().any(|&(i, j)| (i == pi || j == pi)));
+    assert!(rs.pairs.iter().any(|&(i, j)| i == pi || j == pi));
     // Standing on it, the arm's dive stays 0.5 m above the floor.
     assert_eq!(verdicts(&model, &DIVE), [None, None]);
     // A pedestal of a negative height or without its radius is refused, naming the key.
     for (keys, key) in [
-        ("pedestal_height_m = -1.0\npedestal_radius_m = 0.5", "pedestal_height_m"),
+        (
+            "pedestal_height_m = -1.0\npedestal_radius_m = 0.5",
+            "pedestal_height_m",
+        ),
         ("pedestal_height_m = 0.5", "pedestal_radius_m"),
     ] {
         std::fs::write(dir.join("drive.toml"), with(keys)).unwrap();
