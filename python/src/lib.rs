@@ -878,7 +878,8 @@ fn sweep<'py>(
 /// `summary` (the document `printwatt optimise --json` prints: baseline, savings, the
 /// baseline's tolerance check, the full check of a reduced answer, the uncertainty study and
 /// the decision: the robust choice, the value of measuring each parameter, bound steps, and
-/// with `pareto=True` print time against energy over the acceleration and jerk limits).
+/// with `pareto=True` print time against energy over the acceleration and jerk limits, and
+/// unless `margin_trade=False` the answer found again with other joint and wrist margins).
 /// Raises PrintwattError when no grid placement is feasible, with how many failed for each
 /// reason and what to try.
 #[pyfunction]
@@ -890,7 +891,8 @@ fn sweep<'py>(
     uncertainty = None, robust = "expected".to_string(),
     prints_per_year = printwatt::search::job::DEFAULT_PRINTS_PER_YEAR,
     grid_kg_co2_per_kwh = printwatt::search::job::DEFAULT_GRID_KG_CO2_PER_KWH,
-    pareto = false, period = 0.004, accel = 1.0, jerk = 10.0, regeneration = None,
+    pareto = false, margin_trade = true, period = 0.004, accel = 1.0, jerk = 10.0,
+    regeneration = None,
     payload = true, friction = true, joint_margin = 3f64.to_radians(),
     wrist_margin = FeasibilityOptions::default().wrist_margin_rad, collisions = true,
     check_every = 10))]
@@ -919,6 +921,7 @@ fn optimise<'py>(
     prints_per_year: f64,
     grid_kg_co2_per_kwh: f64,
     pareto: bool,
+    margin_trade: bool,
     period: f64,
     accel: f64,
     jerk: f64,
@@ -964,6 +967,7 @@ fn optimise<'py>(
             prints_per_year,
             grid_kg_co2_per_kwh,
             pareto,
+            margin_trade,
         };
     settings.check().map_err(err)?;
     let cfg = OptimiseConfig {
