@@ -190,7 +190,7 @@ fn a_field_urdf_without_inertials_loads_with_estimated_inertias_labelled_estimat
 }
 
 #[test]
-fn placeholder_inertias_identical_on_every_link_are_warned_about() {
+fn placeholder_inertias_are_warned() {
     let m = printwatt::robot::load(&field_robot("kuka_kr120r2500pro.urdf")).unwrap();
     let w = m.warnings.join("\n");
     assert!(
