@@ -208,15 +208,10 @@ class IdentifyResult(TypedDict):
     refitted_from_earlier_rounds: list[str]
 
 class StationsResult(TypedDict):
-    """`stations`' result: the plan as `printwatt stations --json` prints it (docs/json.md)
-    plus `at` and `footprint_m`."""
+    """`stations`' result: the plan of `printwatt stations --json` (docs/json.md; one entry
+    of `segments` per station) plus `at` and `footprint_m`."""
 
     schema_version: int
-    title: str
-    meta: dict[str, Any]
-    relocation_cost_j: float
-    relocation_cost_per_m_j: float
-    stations: int
     relocations: int
     relocation_distance_m: float
     ways: list[dict[str, Any]]

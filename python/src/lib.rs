@@ -1285,7 +1285,13 @@ fn identify<'py>(
     objective = "supply", period = 0.004, accel = 1.0, jerk = 10.0,
     regeneration = None, payload = true, friction = true, joint_margin = 0.05235987755982989,
     wrist_margin = 0.08726646259971647,
-    collisions = true, check_every = 10))]
+    collisions = true, check_every = 10),
+    // Written out: `z`'s default is negative, which the signature above cannot show.
+    text_signature = "(robot, path, *, relocation_cost, relocation_cost_per_m=0.0, \
+    station_step=0.5, track=None, headings=None, z=-0.5, spin=0.0, footprint=None, \
+    objective='supply', period=0.004, accel=1.0, jerk=10.0, regeneration=None, payload=True, \
+    friction=True, joint_margin=0.05235987755982989, wrist_margin=0.08726646259971647, \
+    collisions=True, check_every=10)")]
 #[allow(clippy::too_many_arguments)]
 fn stations<'py>(
     py: Python<'py>,

@@ -89,6 +89,7 @@ def optimise(robot: pw.Robot, path: pw.Toolpath) -> None:
         max_evals=4,
         tolerance=(0.0, 0.0, 0.0),
         search="pattern",
+        wrist_margin=0.0,
     )
     x, y, z, yaw, spin = o["placement"]
     grid_evals, refine_evals = o["evaluations"]

@@ -42,7 +42,14 @@ pub fn run(c: RobotCmd) -> Result<()> {
 }
 
 fn init(a: InitArgs) -> Result<()> {
-    let t = printwatt::robot::template::write_drive_template(&a.urdf, &a.out)?;
+    let t = match printwatt::robot::template::write_drive_template(&a.urdf, &a.out) {
+        // No --force here: a drive file being filled in is never replaced.
+        Err(printwatt::Error::OutputExists { path }) => anyhow::bail!(
+            "{} exists already: `robot init` never replaces a file; choose another --out (or move the file away)",
+            path.display()
+        ),
+        r => r?,
+    };
     super::note_warnings(&a.urdf.display().to_string(), &t.warnings);
     let robot_arg = t.path.display().to_string();
     if a.json {
