@@ -843,7 +843,7 @@ fn sweep<'py>(
         yaws: axis("yaw", vec![yaw])?,
         spins: axis("spin", vec![spin])?,
     };
-    let obj = self::objective(&objective)?;
+    let obj = self::objective(objective)?;
     let prof = profile(period, accel, jerk)?;
     let opts = energy_options(regeneration.as_deref(), payload, friction)?;
     let feas = feasibility_options(joint_margin, wrist_margin, collisions, check_every)?;
@@ -990,7 +990,7 @@ fn optimise<'py>(
     };
     let settings =
         OptimiseSettings {
-            objective: self::objective(&objective)?,
+            objective: self::objective(objective)?,
             feasibility: feasibility_options(joint_margin, wrist_margin, collisions, check_every)?,
             energy: energy_options(regeneration.as_deref(), payload, friction)?,
             profile: profile(period, accel, jerk)?,
@@ -1338,7 +1338,7 @@ fn stations<'py>(
         profile: profile(period, accel, jerk)?,
         joint: JointStageOptions::default(),
         feasibility: feasibility_options(joint_margin, wrist_margin, collisions, check_every)?,
-        objective: self::objective(&objective)?,
+        objective: self::objective(objective)?,
         candidates,
         z_m: z,
         spin_rad: spin,
