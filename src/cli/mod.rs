@@ -33,6 +33,7 @@ mod identify;
 mod inspect;
 mod merge;
 mod optimise;
+mod robot_init;
 mod robots;
 mod simulate;
 mod stations;
@@ -78,6 +79,8 @@ pub fn error_text(e: &anyhow::Error) -> String {
 pub enum Command {
     /// List the shipped robots with reach, payload, joint count and provenance.
     Robots(RobotsArgs),
+    /// Start a robot of your own: `robot init URDF` writes a drive-file template for its joints.
+    Robot(robot_init::RobotCmd),
     /// Evaluate placements of a path (grid, named set or list) in parallel: energy or why not.
     Sweep(sweep::SweepArgs),
     /// Put the shards of a split run (`sweep --shard`, `optimise --uncertainty N --shard`, `study --shard`) together: the files of a single run.
@@ -461,6 +464,7 @@ pub fn finite(opt: &str, v: f64) -> Result<f64> {
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Robots(a) => robots::run(a),
+        Command::Robot(a) => robot_init::run(a),
         Command::Energy(a) => energy::run(a),
         Command::Sweep(a) => sweep::run(a),
         Command::Merge(a) => merge::run(a),
