@@ -38,8 +38,11 @@ fn points_mm(tp: &printwatt::toolpath::Toolpath) -> Vec<[f64; 3]> {
 
 const CALLS: &str = "MODULE Calls
     CONST robtarget p0 := [[0,0,0],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];
+    CONST robtarget p1 := [[100,0,0],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];
+    CONST robtarget p2 := [[200,0,0],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];
+    CONST robtarget p3 := [[300,0,0],[0,0,1,0],[0,0,0,0],[9E9,9E9,9E9,9E9,9E9,9E9]];
     PROC second()
-        MoveL Offs(p0,200,0,0), v100, z1, tool0;
+        MoveL p2, v100, z1, tool0;
         third;
     ENDPROC
     PROC main()
@@ -49,10 +52,10 @@ const CALLS: &str = "MODULE Calls
         MoveL Offs(p0,0,0,50), v100, fine, tool0;
     ENDPROC
     PROC third()
-        MoveL Offs(p0,300,0,0), v100, z1, tool0;
+        MoveL p3, v100, z1, tool0;
     ENDPROC
     PROC first()
-        MoveL Offs(p0,100,0,0), v100, z1, tool0;
+        MoveL p1, v100, z1, tool0;
     ENDPROC
     PROC unused()
         MoveL Offs(p0,900,0,0), v100, z1, tool0;
@@ -64,8 +67,8 @@ ENDMODULE
 fn rapid_main_and_its_calls_are_followed_in_order() {
     let tp = parse_rapid(CALLS, "calls.mod", &ReadOptions::default()).unwrap();
     // main's MoveJ (start), first, second, third (called from second), main's last move; the
-    // unused procedure's move is not read although it comes first in no order at all.
-    assert_eq!(lines(&tp), vec![17, 4, 14, 11]);
+    // unused procedure's move is not read.
+    assert_eq!(lines(&tp), vec![20, 7, 17, 14]);
     assert_eq!(
         points_mm(&tp),
         vec![
@@ -79,10 +82,12 @@ fn rapid_main_and_its_calls_are_followed_in_order() {
     assert_eq!(tp.entry.as_deref(), Some("main"));
     let names: Vec<&str> = tp.procedures.iter().map(|p| p.name.as_str()).collect();
     assert_eq!(names, ["second", "main", "third", "first", "unused"]);
-    // read_program takes the targets in the same order.
-    let prog = read_program(CALLS, "calls.mod").unwrap();
+    // read_program takes the targets in the same order (it reads named and inline
+    // robtargets, not Offs).
+    let named = CALLS.replace("MoveL Offs(p0,0,0,50)", "MoveL p0");
+    let prog = read_program(&named, "calls.mod").unwrap();
     let tl: Vec<usize> = prog.targets.iter().map(|t| t.line).collect();
-    assert_eq!(tl, vec![8, 17, 4, 14, 11]);
+    assert_eq!(tl, vec![11, 20, 7, 17, 14]);
 
     // The real-style module from its print procedure: its own moves, then the procedure it
     // calls (lines 64-70), in that order; nothing from path_inclinado (lines 73-87).
@@ -143,10 +148,10 @@ ENDMODULE
         .to_string();
     assert!(e.contains("no PROC main"), "{e}");
     for p in [
-        "second (line 3",
-        "start (line 7",
-        "third (line 13",
-        "unused (line 19",
+        "second (line 6, 1 moves)",
+        "start (line 10, 2 moves)",
+        "third (line 16, 1 moves)",
+        "unused (line 22, 1 moves)",
     ] {
         assert!(e.contains(p), "{p}: {e}");
     }
@@ -223,9 +228,9 @@ fn rapid_proc_option_chooses_the_entry() {
     let inclinado = load(&f, &entry("PATH_INCLINADO")).unwrap();
     assert_eq!(plano.entry.as_deref(), Some("path_plano"));
     assert_eq!(inclinado.entry.as_deref(), Some("path_inclinado"));
-    // path_inclinado has no rectangle: 11 moves after its start; path_plano 11 + 6.
+    // path_inclinado has no rectangle: 11 moves after its start; path_plano 11 + 7.
     assert_eq!(inclinado.moves.len(), 11);
-    assert_eq!(plano.moves.len(), 17);
+    assert_eq!(plano.moves.len(), 18);
     assert!(lines(&inclinado).iter().all(|l| (73..=87).contains(l)));
     // read_program from the same entry: every move the controller runs, home ones too.
     let text = std::fs::read_to_string(&f).unwrap();
@@ -288,7 +293,7 @@ fn rapid_home_targets_in_wobj0_are_not_part_points() {
     // When the whole print is in wobj0, wobj0 is the part frame: nothing is skipped.
     let wall = Path::new(env!("CARGO_MANIFEST_DIR")).join("paths/wall_rapid.mod");
     let w = load(&wall, &ReadOptions::default()).unwrap();
-    assert_eq!(w.moves.len(), 14);
+    assert_eq!(w.moves.len(), 12);
     assert!(!w.warnings.iter().any(|x| x.contains("not part points")));
 }
 

@@ -93,8 +93,9 @@ fn a_cura_file_reads_with_one_layer_per_layer_marker() {
         }
     }
     assert!(checked > 2000, "{checked}");
-    // The moves before the first marker (start code, prime) belong to no layer.
-    assert_eq!(tp.layer_of(0), None);
+    // The start code makes no move (Cura's prime is E only): the first move opens layer 0.
+    assert_eq!(tp.layer_starts[0], 0);
+    assert_eq!(tp.layer_of(0), Some(0));
     // Cura's ;TYPE: features are kept as boundaries.
     let names: Vec<&str> = tp.features.iter().map(|f| f.name.as_str()).collect();
     for n in ["WALL-OUTER", "WALL-INNER", "SKIN", "FILL"] {

@@ -1724,7 +1724,7 @@ pub fn read_program(text: &str, file: &str) -> Result<RapidProgram> {
 pub fn read_program_entry(text: &str, file: &str, entry: Option<&str>) -> Result<RapidProgram> {
     let module = parse_module(file, text)?;
     let ex = execute(file, &module, entry)?;
-    let mut by_place: HashMap<(usize, usize), RapidTarget> = HashMap::new();
+    let mut by_place: HashMap<(usize, usize), Option<RapidTarget>> = HashMap::new();
     let toks = lex(file, text)?;
     let mut prog = RapidProgram::default();
     for l in text.lines() {
@@ -1794,28 +1794,26 @@ pub fn read_program_entry(text: &str, file: &str, entry: Option<&str>) -> Result
                             Some(Value::Ident(n, _, _)) => robtargets.get(&n.to_ascii_lowercase()),
                             other => other,
                         };
-                        let (pos_mm, quat, conf) = v.and_then(target_parts).ok_or_else(|| {
-                            perr(
-                                file,
-                                m.line,
-                                m.col,
-                                "expected a robtarget [[x,y,z],[q1,q2,q3,q4],[cf1,cf4,cf6,cfx],[eax…]]",
-                            )
-                        })?;
+                        // A move the controller does not run may have any target; one it
+                        // runs must have a full robtarget (checked below).
+                        let Some((pos_mm, quat, conf)) = v.and_then(target_parts) else {
+                            by_place.insert((m.line, m.col), None);
+                            continue;
+                        };
                         let wobj = match m.opts.get("wobj") {
                             Some(Some(Value::Ident(n, _, _))) => n.clone(),
                             _ => "wobj0".into(),
                         };
                         by_place.insert(
                             (m.line, m.col),
-                            RapidTarget {
+                            Some(RapidTarget {
                                 instr: m.instr.clone(),
                                 pos_mm,
                                 quat,
                                 conf,
                                 wobj,
                                 line: m.line,
-                            },
+                            }),
                         );
                     }
                     "confl" | "singarea" => {
@@ -1830,7 +1828,9 @@ pub fn read_program_entry(text: &str, file: &str, entry: Option<&str>) -> Result
                             prog.sing_area = Some(on);
                         }
                     }
-                    "proc" | "endproc" | "endmodule" => {
+                    "proc" | "endproc" | "endmodule" | "func" | "endfunc" | "trap" | "endtrap"
+                    | "if" | "elseif" | "else" | "endif" | "for" | "endfor" | "while"
+                    | "endwhile" | "test" | "case" | "default" | "endtest" => {
                         p.skip_line(t.line);
                     }
                     "local" | "task" => {
@@ -1842,10 +1842,19 @@ pub fn read_program_entry(text: &str, file: &str, entry: Option<&str>) -> Result
             _ => p.skip_statement(),
         }
     }
-    prog.targets = ex
-        .moves
-        .iter()
-        .filter_map(|m| by_place.get(&(m.line, m.col)).cloned())
-        .collect();
+    for m in &ex.moves {
+        match by_place.get(&(m.line, m.col)) {
+            Some(Some(t)) => prog.targets.push(t.clone()),
+            Some(None) => {
+                return Err(perr(
+                    file,
+                    m.line,
+                    m.col,
+                    "expected a robtarget [[x,y,z],[q1,q2,q3,q4],[cf1,cf4,cf6,cfx],[eax…]]",
+                ))
+            }
+            None => {}
+        }
+    }
     Ok(prog)
 }
