@@ -93,7 +93,7 @@ fn rapid_main_and_its_calls_are_followed_in_order() {
     // calls (lines 64-70), in that order; nothing from path_inclinado (lines 73-87).
     let tp = load(&data("two_workobjects.mod"), &entry("path_plano")).unwrap();
     let l = lines(&tp);
-    assert_eq!(l.first(), Some(&50), "{l:?}");
+    assert_eq!(l.first(), Some(&49), "{l:?}");
     assert_eq!(l.last(), Some(&70), "{l:?}");
     assert!(l.windows(2).all(|w| w[0] < w[1]), "{l:?}");
     assert!(l.iter().any(|&x| (64..=70).contains(&x)), "{l:?}");
