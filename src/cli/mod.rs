@@ -266,9 +266,21 @@ pub fn load_path(
     opts: &printwatt::toolpath::ReadOptions,
 ) -> Result<printwatt::toolpath::Toolpath> {
     let tp = printwatt::toolpath::load(p, opts)
+        .map_err(proc_hint)
         .with_context(|| format!("loading path {}", p.display()))?;
     note_warnings(&tp.source, &tp.warnings);
     Ok(tp)
+}
+
+/// A reader error with the command line's hint added where the RAPID reader asks for the entry
+/// procedure to be named.
+pub fn proc_hint(e: printwatt::error::Error) -> anyhow::Error {
+    let msg = e.to_string();
+    if msg.contains("name the procedure to read as the entry") {
+        anyhow::anyhow!("{msg}\nhint: choose it with --proc NAME")
+    } else {
+        anyhow::Error::new(e)
+    }
 }
 
 /// The inputs of a command for the output policy: the robot (every file of its directory, its
