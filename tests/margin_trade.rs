@@ -110,43 +110,30 @@ fn the_wrist_margin_costs_energy_and_its_answer_without_it_passes_near_the_singu
     assert!(why.to_string().contains("wrist"), "{why}");
 }
 
+/// `printwatt optimise` on a small grid with `extra`: its standard output.
+fn small_optimise(extra: &[&str]) -> String {
+    let o = common::bin()
+        .args([
+            "optimise",
+            "--x",
+            "1.4:1.8:0.2",
+            "--y",
+            "-0.2:0.2:0.2",
+            "--z",
+            "0.2,0.5",
+            "--yaw",
+            "0,90",
+            "--no-report",
+        ])
+        .args(extra)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", common::stderr_of(&o));
+    String::from_utf8_lossy(&o.stdout).into_owned()
+}
+
 #[test]
 fn optimise_without_the_margin_trade_prints_no_trade() {
-    let o = common::bin()
-        .args([
-            "optimise",
-            "--x",
-            "1.4:1.8:0.2",
-            "--y",
-            "-0.2:0.2:0.2",
-            "--z",
-            "0.2,0.5",
-            "--yaw",
-            "0,90",
-            "--no-report",
-        ])
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", common::stderr_of(&o));
-    assert!(
-        String::from_utf8_lossy(&o.stdout).contains("margins joint 3°, wrist 5° (the answer's)")
-    );
-    let o = common::bin()
-        .args([
-            "optimise",
-            "--x",
-            "1.4:1.8:0.2",
-            "--y",
-            "-0.2:0.2:0.2",
-            "--z",
-            "0.2,0.5",
-            "--yaw",
-            "0,90",
-            "--no-report",
-            "--no-margin-trade",
-        ])
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", common::stderr_of(&o));
-    assert!(!String::from_utf8_lossy(&o.stdout).contains("margins joint"));
+    assert!(small_optimise(&[]).contains("margins joint 3°, wrist 5° (the answer's)"));
+    assert!(!small_optimise(&["--no-margin-trade"]).contains("margins joint"));
 }
