@@ -583,28 +583,26 @@ pub fn parse_urdf(text: &str, file: &str, tool_link: Option<&str>) -> Result<Rob
         } else {
             // Fixed joint: merge the child link into the current moving link.
             acc = origin_in_last;
-            let moved = collisions
-                .remove(&j.child)
-                .unwrap_or_default()
-                .into_iter()
-                .map(|g| CollisionGeom {
-                    origin: acc.compose(&g.origin),
-                    shape: g.shape,
-                });
+            // The child's shapes, moved into the current link's frame.
+            let moved = |shapes: &mut HashMap<String, Vec<CollisionGeom>>| {
+                shapes
+                    .remove(&j.child)
+                    .unwrap_or_default()
+                    .into_iter()
+                    .map(|g| CollisionGeom {
+                        origin: acc.compose(&g.origin),
+                        shape: g.shape,
+                    })
+                    .collect::<Vec<_>>()
+            };
+            let c = moved(&mut collisions);
             match link_collision.last_mut() {
-                Some(c) => c.extend(moved),
-                None => base_collision.extend(moved),
+                Some(l) => l.extend(c),
+                None => base_collision.extend(c),
             }
-            let moved_visual = visuals
-                .remove(&j.child)
-                .unwrap_or_default()
-                .into_iter()
-                .map(|g| CollisionGeom {
-                    origin: acc.compose(&g.origin),
-                    shape: g.shape,
-                });
-            if let Some(v) = link_visual.last_mut() {
-                v.extend(moved_visual);
+            let v = moved(&mut visuals);
+            if let Some(l) = link_visual.last_mut() {
+                l.extend(v);
             }
             if let Some(cur) = model_links.last_mut() {
                 if let Some(b) = body {
