@@ -1282,3 +1282,219 @@ fn energy_runs_on_field_robots_with_missing_or_placeholder_inertias_and_says_so(
     let out = String::from_utf8_lossy(&t.stdout).into_owned();
     assert!(out.contains("link_1 ESTIMATE (capsule)"), "{out}");
 }
+
+/// Every line of a drive-file template that sets a key explains it in a comment.
+fn assert_every_key_commented(text: &str) {
+    for (i, line) in text.lines().enumerate() {
+        let l = line.trim_start_matches("# ").trim();
+        if l.contains(" = ") && !line.trim_start().starts_with("# ") {
+            assert!(
+                line.contains("  # "),
+                "line {}: `{line}` has no comment",
+                i + 1
+            );
+        }
+    }
+}
+
+#[test]
+fn robot_init_writes_a_drive_file_that_loads() {
+    let d = tmpdir("robot-init");
+    // The URDF in one directory, the drive file in another: `[robot] urdf` is relative.
+    std::fs::create_dir_all(d.join("urdfs")).unwrap();
+    std::fs::copy(
+        root().join("robots/abb_irb6700_200_260/robot.urdf"),
+        d.join("urdfs/arm.urdf"),
+    )
+    .unwrap();
+    let o = printwatt(
+        &[
+            "robot",
+            "init",
+            "urdfs/arm.urdf",
+            "--out",
+            "cell/drive.toml",
+        ],
+        &d,
+    );
+    // The output's directory does not exist yet: it is made, or the refusal says so.
+    if !o.status.success() {
+        assert!(stderr(&o).contains("cell"), "{}", stderr(&o));
+        std::fs::create_dir_all(d.join("cell")).unwrap();
+        let o = printwatt(
+            &[
+                "robot",
+                "init",
+                "urdfs/arm.urdf",
+                "--out",
+                "cell/drive.toml",
+            ],
+            &d,
+        );
+        assert!(o.status.success(), "{}", stderr(&o));
+    }
+    let text = std::fs::read_to_string(d.join("cell/drive.toml")).unwrap();
+    assert!(text.contains("urdf = \"../urdfs/arm.urdf\""), "{text}");
+    assert_eq!(text.matches("[[joints]]").count(), 6, "{text}");
+    for j in 1..=6 {
+        assert!(text.contains(&format!("name = \"joint_{j}\"")), "{text}");
+    }
+    assert!(text.contains("ESTIMATE"), "{text}");
+    assert!(text.contains("tool_link = \"tool0\""), "{text}");
+    assert_every_key_commented(&text);
+    // It loads: `energy` on the drive file with the default path.
+    let o = printwatt(
+        &[
+            "energy",
+            "--robot",
+            "cell/drive.toml",
+            "--at",
+            "1.7,0,0,90",
+            "--no-csv",
+        ],
+        &d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(String::from_utf8_lossy(&o.stdout).contains("supply energy"));
+
+    // A robot directory: robot.urdf + the template as drive.toml.
+    let r = d.join("myarm");
+    std::fs::create_dir_all(&r).unwrap();
+    std::fs::copy(
+        root().join("tests/data/field_robots/abb_irb6640_185_280.urdf"),
+        r.join("robot.urdf"),
+    )
+    .unwrap();
+    let o = printwatt(
+        &[
+            "robot",
+            "init",
+            "myarm/robot.urdf",
+            "--out",
+            "myarm/drive.toml",
+        ],
+        &d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let out = String::from_utf8_lossy(&o.stdout).into_owned();
+    assert!(out.contains("link_1"), "{out}");
+    let text = std::fs::read_to_string(r.join("drive.toml")).unwrap();
+    assert!(text.contains("urdf = \"robot.urdf\""), "{text}");
+    // The links the URDF gives no inertia: a commented table each, with the estimate.
+    assert!(text.contains("# [links.link_1]"), "{text}");
+    assert!(text.contains("# mass_kg = "), "{text}");
+    assert_every_key_commented(&text);
+    let o = printwatt(
+        &[
+            "energy",
+            "--robot",
+            "myarm",
+            "--at",
+            "1.7,0,0,90",
+            "--no-csv",
+        ],
+        &d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    assert!(stderr(&o).contains("ESTIMATE"), "{}", stderr(&o));
+}
+
+#[test]
+fn robot_init_refuses_to_overwrite() {
+    let d = tmpdir("robot-init-exists");
+    std::fs::copy(root().join("robots/ur10e/robot.urdf"), d.join("robot.urdf")).unwrap();
+    std::fs::write(d.join("drive.toml"), "# mine\n").unwrap();
+    // The default output, drive.toml here, exists: refused, untouched.
+    let o = printwatt(&["robot", "init", "robot.urdf"], &d);
+    assert!(!o.status.success());
+    let e = stderr(&o);
+    assert!(e.contains("drive.toml") && e.contains("exists"), "{e}");
+    assert_eq!(
+        std::fs::read_to_string(d.join("drive.toml")).unwrap(),
+        "# mine\n"
+    );
+    // Nor over the URDF itself.
+    let o = printwatt(&["robot", "init", "robot.urdf", "--out", "robot.urdf"], &d);
+    assert!(!o.status.success());
+    assert!(std::fs::read_to_string(d.join("robot.urdf"))
+        .unwrap()
+        .contains("<robot"));
+    // A URDF that is not there: the error names it.
+    let o = printwatt(&["robot", "init", "none.urdf", "--out", "new.toml"], &d);
+    assert!(!o.status.success());
+    assert!(stderr(&o).contains("none.urdf"), "{}", stderr(&o));
+    assert!(!d.join("new.toml").exists());
+}
+
+#[test]
+fn a_urdf_without_inertials_is_estimated_from_its_meshes() {
+    // The ABB IRB 6640-185/2.80 as ROS-Industrial publishes it: no <inertial> anywhere, STL
+    // collision meshes behind package:// (tests/data/ros_industrial/README.md).
+    let urdf =
+        root().join("tests/data/ros_industrial/abb_irb6640_support/urdf/irb6640_185_280.urdf");
+    let d = tmpdir("ros-i-meshes");
+    std::fs::create_dir_all(d.join("cell")).unwrap();
+    let o = printwatt(
+        &[
+            "robot",
+            "init",
+            urdf.to_str().unwrap(),
+            "--out",
+            "cell/drive.toml",
+        ],
+        &d,
+    );
+    assert!(o.status.success(), "{}", stderr(&o));
+    let energy = |robot: &str| {
+        let o = printwatt(
+            &[
+                "energy",
+                "--robot",
+                robot,
+                "--at",
+                "1.7,0,0,90",
+                "--no-csv",
+                "--json",
+            ],
+            &d,
+        );
+        assert!(o.status.success(), "{robot}: {}", stderr(&o));
+        let v: serde_json::Value = serde_json::from_slice(&o.stdout).unwrap();
+        (v, stderr(&o))
+    };
+    let (v, e) = energy("cell/drive.toml");
+    // Every moving link estimated from its mesh hull, labelled, with the stated uncertainty.
+    assert!(e.contains("ESTIMATE"), "{e}");
+    for l in 1..=6 {
+        assert!(
+            e.contains(&format!("`link_{l}`")),
+            "link_{l} not named in {e}"
+        );
+    }
+    assert!(e.contains("collision shapes at 1200 kg/m³"), "{e}");
+    assert!(!e.contains("capsule at"), "a mesh was not read: {e}");
+    assert!(e.contains("uncertain by about ±50 %"), "{e}");
+    assert!(!e.contains("has no <inertial>"), "{e}");
+    // The estimated arm weighs what an arm of its class weighs (the IRB 6640 family weighs
+    // 1,310–1,405 kg with its base; the shipped IRB 6700-200/2.60 model moves 793 kg).
+    let w: Vec<&str> = e.lines().filter(|l| l.contains("kg in all")).collect();
+    assert_eq!(w.len(), 1, "{e}");
+    let total: f64 = w[0]
+        .split("kg in all")
+        .next()
+        .and_then(|s| s.rsplit(' ').nth(1))
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no total in {}", w[0]));
+    assert!((400.0..1400.0).contains(&total), "{total} kg");
+    // Its energy on the default path (rigid body only: the positive mechanical work of each
+    // joint) is that of a robot of its size: within a factor of three of the shipped
+    // IRB 6700-200/2.60's URDF (its published inertias) at the same placement.
+    let supply = |v: &serde_json::Value| v["energy"]["total"]["supply_j"].as_f64().unwrap();
+    let ref_urdf = root().join("robots/abb_irb6700_200_260/robot.urdf");
+    let (ref_v, _) = energy(ref_urdf.to_str().unwrap());
+    assert_eq!(ref_v["energy"]["has_drive"], false);
+    let (mine, theirs) = (supply(&v), supply(&ref_v));
+    assert!(mine.is_finite() && mine > 0.0, "{v}");
+    let ratio = mine / theirs;
+    assert!((1.0 / 3.0..3.0).contains(&ratio), "{mine} J vs {theirs} J");
+}

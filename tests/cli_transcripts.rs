@@ -152,6 +152,17 @@ const CASES: &[Case] = &[
         args: "inspect {ROOT}/robots/abb_irb6700_200_260",
         files: &[],
     },
+    // A drive-file template for a URDF of one's own, then the same again: refused, the file kept.
+    Case {
+        name: "robot_init",
+        args: "robot init {TMP}/arm.urdf --out {TMP}/arm_drive.toml",
+        files: &[("arm.urdf", "<?xml version=\"1.0\"?>\n<robot name=\"three_joint_arm\">\n  <link name=\"base_link\"/>\n  <link name=\"link_1\">\n    <inertial><mass value=\"20\"/><origin xyz=\"0 0 0.2\"/><inertia ixx=\"0.5\" iyy=\"0.5\" izz=\"0.1\"/></inertial>\n  </link>\n  <link name=\"link_2\">\n    <inertial><mass value=\"10\"/><origin xyz=\"0.3 0 0\"/><inertia ixx=\"0.05\" iyy=\"0.3\" izz=\"0.3\"/></inertial>\n  </link>\n  <link name=\"link_3\"/>\n  <link name=\"tool0\"/>\n  <joint name=\"joint_1\" type=\"revolute\">\n    <parent link=\"base_link\"/><child link=\"link_1\"/><origin xyz=\"0 0 0.4\"/><axis xyz=\"0 0 1\"/>\n    <limit lower=\"-3\" upper=\"3\" velocity=\"2\" effort=\"0\"/>\n  </joint>\n  <joint name=\"joint_2\" type=\"revolute\">\n    <parent link=\"link_1\"/><child link=\"link_2\"/><origin xyz=\"0 0 0.4\"/><axis xyz=\"0 1 0\"/>\n    <limit lower=\"-2\" upper=\"2\" velocity=\"2\" effort=\"0\"/>\n  </joint>\n  <joint name=\"joint_3\" type=\"revolute\">\n    <parent link=\"link_2\"/><child link=\"link_3\"/><origin xyz=\"0.6 0 0\"/><axis xyz=\"0 1 0\"/>\n    <limit lower=\"-2\" upper=\"2\" velocity=\"3\" effort=\"0\"/>\n  </joint>\n  <joint name=\"flange\" type=\"fixed\">\n    <parent link=\"link_3\"/><child link=\"tool0\"/><origin xyz=\"0.1 0 0\"/>\n  </joint>\n</robot>\n")],
+    },
+    Case {
+        name: "robot_init_refuses_to_overwrite",
+        args: "robot init {TMP}/arm.urdf --out {TMP}/arm_drive.toml",
+        files: &[],
+    },
     // The view serves until stopped (tests/view_browser.rs drives it in a browser); here,
     // what it refuses before it binds.
     Case {

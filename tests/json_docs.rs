@@ -344,6 +344,17 @@ fn json_output_of_inspect_matches_docs_json_md() {
     let g = root().join("paths/default.gcode");
     let a = run(&d, &["inspect", g.to_str().unwrap(), "--json"]);
     let b = run(&d, &["inspect", "p.csv", "--json"]);
-    check("inspect", &[&a, &b]);
+    let r = root().join("tests/data/rapid/two_workobjects.mod");
+    let c = run(
+        &d,
+        &[
+            "inspect",
+            r.to_str().unwrap(),
+            "--proc",
+            "path_plano",
+            "--json",
+        ],
+    );
+    check("inspect", &[&a, &b, &c]);
     let _ = std::fs::remove_dir_all(&d);
 }

@@ -190,7 +190,7 @@ fn a_field_urdf_without_inertials_loads_with_estimated_inertias_labelled_estimat
 }
 
 #[test]
-fn placeholder_inertias_identical_on_every_link_are_warned_about() {
+fn placeholder_inertias_are_warned() {
     let m = printwatt::robot::load(&field_robot("kuka_kr120r2500pro.urdf")).unwrap();
     let w = m.warnings.join("\n");
     assert!(
@@ -273,4 +273,36 @@ fn capsule_estimate_of_the_irb6700_is_within_a_quarter_of_its_moving_mass() {
     let est: f64 = m.links.iter().flatten().map(|l| l.mass).sum();
     eprintln!("IRB 6700 moving mass: {truth:.1} kg, capsule estimate {est:.1} kg");
     assert!((est / truth - 1.0).abs() < 0.25, "{est} vs {truth}");
+}
+
+#[test]
+fn a_link_without_collision_geometry_is_estimated_from_its_visual_shapes() {
+    use printwatt::robot::inertia::{InertiaSource, ESTIMATE_DENSITY_KG_M3};
+    let urdf = r#"<robot name="vis">
+  <link name="base"/>
+  <link name="l1"><visual><geometry><box size="0.2 0.3 0.5"/></geometry></visual></link>
+  <link name="l2"><collision><geometry><box size="0.1 0.1 0.4"/></geometry></collision>
+    <visual><geometry><box size="1 1 1"/></geometry></visual></link>
+  <joint name="j1" type="revolute"><parent link="base"/><child link="l1"/>
+    <axis xyz="0 0 1"/><limit lower="-3" upper="3" velocity="2"/></joint>
+  <joint name="j2" type="revolute"><parent link="l1"/><child link="l2"/>
+    <origin xyz="0 0 0.5"/><axis xyz="0 1 0"/><limit lower="-2" upper="2" velocity="2"/></joint>
+</robot>"#;
+    let d = std::env::temp_dir().join(format!("printwatt-visual-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    std::fs::write(d.join("robot.urdf"), urdf).unwrap();
+    let m = printwatt::robot::load(&d.join("robot.urdf")).unwrap();
+    assert_eq!(
+        m.info.inertia_sources,
+        vec![
+            InertiaSource::EstimateFromVisual,
+            InertiaSource::EstimateFromGeometry
+        ]
+    );
+    // The visual box for l1; l2's collision box wins over its (larger) visual one.
+    let mass = |i: usize| m.links[i].unwrap().mass;
+    assert!((mass(0) - ESTIMATE_DENSITY_KG_M3 * 0.2 * 0.3 * 0.5).abs() < 1e-9);
+    assert!((mass(1) - ESTIMATE_DENSITY_KG_M3 * 0.1 * 0.1 * 0.4).abs() < 1e-9);
+    let w = m.warnings.join("\n");
+    assert!(w.contains("visual shapes") && w.contains("±50 %"), "{w}");
 }

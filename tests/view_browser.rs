@@ -19,6 +19,7 @@ use std::process::{Child, Command, Stdio};
 use std::time::{Duration, Instant};
 
 /// A child process ended when dropped.
+#[derive(Debug)]
 struct Kill(Child);
 impl Drop for Kill {
     fn drop(&mut self) {
@@ -473,4 +474,206 @@ fn the_view_of_a_missing_run_says_so() {
         "{err}"
     );
     assert!(!err.contains("panicked"), "{err}");
+}
+
+#[test]
+fn the_view_server_answers_a_superseded_evaluation_as_stale_and_the_newest_in_full() {
+    // A 10-layer wall: each evaluation takes milliseconds, so a burst of requests overlaps
+    // the one being evaluated.
+    let (_view, addr) = start_view(&["--path", "paths/wall_multilayer.gcode"]);
+    let n = 24u64;
+    let answers: Vec<(u64, u16, Value)> = std::thread::scope(|s| {
+        let hs: Vec<_> = (1..=n)
+            .map(|seq| {
+                let addr = addr.clone();
+                s.spawn(move || {
+                    let body = json!({"x_m": 1.5, "y_m": 0.0, "z_m": 0.2 + 0.001 * seq as f64, "yaw_deg": 0.0, "seq": seq});
+                    let (code, text) = http(
+                        &addr,
+                        "POST",
+                        "/api/evaluate",
+                        Some(body.to_string().as_bytes()),
+                        None,
+                    );
+                    (seq, code, serde_json::from_str(&text).unwrap_or(Value::Null))
+                })
+            })
+            .collect();
+        hs.into_iter().map(|h| h.join().unwrap()).collect()
+    });
+    // Every request is answered; each answer is either stale (with its own seq) or the
+    // evaluation of its own placement.
+    let stale: Vec<u64> = answers
+        .iter()
+        .filter(|a| a.2.get("stale") == Some(&Value::Bool(true)))
+        .map(|a| a.0)
+        .collect();
+    for (seq, code, v) in &answers {
+        assert_eq!(*code, 200, "seq {seq}: {v}");
+        assert_eq!(v.get("seq").and_then(Value::as_u64), Some(*seq), "{v}");
+    }
+    assert!(
+        !stale.is_empty(),
+        "a burst of {n} overlapping requests dropped none: {answers:?}"
+    );
+    assert!(stale.len() < n as usize, "some requests must be evaluated");
+    // The newest request that arrived last is never dropped for an older one: the largest
+    // seq is evaluated.
+    assert!(!stale.contains(&n), "the newest request was dropped");
+}
+
+/// `printwatt view` with `args`: its address, or its exit and stderr when it refuses.
+fn try_view(args: &[&str]) -> Result<(Kill, String), String> {
+    let mut c = Command::new(env!("CARGO_BIN_EXE_printwatt"))
+        .arg("view")
+        .args(args)
+        .current_dir(root())
+        .stdout(Stdio::piped())
+        .stderr(Stdio::piped())
+        .spawn()
+        .expect("printwatt view starts");
+    let out = c.stdout.take().unwrap();
+    let mut line = String::new();
+    BufReader::new(out).read_line(&mut line).unwrap();
+    match line.split_whitespace().find(|w| w.starts_with("http://")) {
+        Some(url) => Ok((
+            Kill(c),
+            url.trim_start_matches("http://")
+                .trim_end_matches('/')
+                .to_string(),
+        )),
+        None => {
+            let o = c.wait_with_output().unwrap();
+            Err(String::from_utf8_lossy(&o.stderr).into_owned())
+        }
+    }
+}
+
+#[test]
+fn the_view_of_a_stations_run_shows_one_station_with_the_moves_it_prints() {
+    let dir = common::scratch("view", "stations");
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = dir.display().to_string();
+    let o = common::bin()
+        .args([
+            "stations",
+            "--path",
+            "paths/floor_four_rooms.gcode",
+            "--relocation-cost",
+            "20000",
+            "--wrist-margin",
+            "0",
+            "--out",
+            &out,
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", common::stderr_of(&o));
+    let summary: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("summary.json")).unwrap()).unwrap();
+    let segs = summary["segments"].as_array().unwrap();
+    assert!(segs.len() >= 2, "a multi-station plan");
+    let (_view, addr) = try_view(&[
+        "--port",
+        "0",
+        "--path",
+        "paths/floor_four_rooms.gcode",
+        "--wrist-margin",
+        "0",
+        "--run",
+        &out,
+        "--station",
+        "2",
+    ])
+    .unwrap();
+    let (code, body) = http(&addr, "GET", "/api/scene", None, None);
+    assert_eq!(code, 200, "{body}");
+    let scene: Value = serde_json::from_str(&body).unwrap();
+    let at = &segs[1]["at"];
+    for k in ["x_m", "y_m", "z_m", "yaw_deg"] {
+        let (a, b) = (scene["start"][k].as_f64().unwrap(), at[k].as_f64().unwrap());
+        assert!((a - b).abs() < 1e-9, "{k}: view {a}, station {b}");
+    }
+    // Only the station's moves: its first point is the start of its first move.
+    let full = printwatt::toolpath::load(
+        &root().join("paths/floor_four_rooms.gcode"),
+        &printwatt::toolpath::ReadOptions::default(),
+    )
+    .unwrap();
+    let first = segs[1]["moves"][0].as_u64().unwrap() as usize;
+    let p0 = full.move_start(first);
+    let pts = scene["path"]["points_m"].as_array().unwrap();
+    let q0 = [
+        pts[0].as_f64().unwrap(),
+        pts[1].as_f64().unwrap(),
+        pts[2].as_f64().unwrap(),
+    ];
+    assert!(
+        (q0[0] - p0.x).abs() < 1e-9 && (q0[1] - p0.y).abs() < 1e-9,
+        "{q0:?} vs {p0:?}"
+    );
+    // A station the plan does not have is refused with the range.
+    let why = try_view(&[
+        "--port",
+        "0",
+        "--path",
+        "paths/floor_four_rooms.gcode",
+        "--run",
+        &out,
+        "--station",
+        "99",
+    ])
+    .expect_err("station 99 is refused");
+    assert!(why.contains("stations 1 to"), "{why}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn the_view_of_a_study_case_takes_its_robot_path_options_and_answer() {
+    let dir = common::scratch("view", "study");
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let study = dir.join("s.toml");
+    std::fs::write(
+        &study,
+        format!(
+            "[study]\nname = \"tiny\"\noptions = [\"--max-evals\", \"10\", \"--no-margin-trade\"]\n\n[[robot]]\nname = \"ur\"\nrobot = \"ur10e\"\n\n[[cell]]\nname = \"near\"\nx = \"0.6:0.8:0.1\"\ny = \"0\"\nz = \"0,0.1\"\nyaw = \"0,90\"\n\n[[path]]\nname = \"ring\"\nfile = \"{}\"\n",
+            root().join("paths/seed000_test_path.gcode").display()
+        ),
+    )
+    .unwrap();
+    let run = dir.join("run").display().to_string();
+    let o = common::bin()
+        .args(["study", &study.display().to_string(), "--out", &run])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", common::stderr_of(&o));
+    let summary: Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("run/summary.json")).unwrap())
+            .unwrap();
+    let case = &summary["cases"][0];
+    assert_eq!(case["status"], "feasible", "{case}");
+    let (_view, addr) =
+        try_view(&["--port", "0", "--run", &run, "--case", "ur/near/ring"]).unwrap();
+    let (code, body) = http(&addr, "GET", "/api/scene", None, None);
+    assert_eq!(code, 200, "{body}");
+    let scene: Value = serde_json::from_str(&body).unwrap();
+    assert_eq!(scene["robot"], "Universal Robots UR10e");
+    assert!(scene["path_file"]
+        .as_str()
+        .unwrap()
+        .ends_with("seed000_test_path.gcode"));
+    for k in ["x_m", "y_m", "z_m", "yaw_deg"] {
+        let (a, b) = (
+            scene["start"][k].as_f64().unwrap(),
+            case["placement"][k].as_f64().unwrap(),
+        );
+        assert!((a - b).abs() < 1e-9, "{k}: view {a}, case {b}");
+    }
+    // The energy map is the cell's grid: 3 x 1 x 2 x 2 placements.
+    assert_eq!(scene["map"].as_array().unwrap().len(), 12);
+    let why =
+        try_view(&["--port", "0", "--run", &run, "--case", "7"]).expect_err("case 7 is refused");
+    assert!(why.contains("no case `7`"), "{why}");
+    let _ = std::fs::remove_dir_all(&dir);
 }

@@ -16,26 +16,34 @@ nozzle vertical.
 """
 
 import math
+from typing import Any, Optional, Tuple
 
 import numpy as np
+from numpy.typing import ArrayLike, NDArray
 
 import printwatt
 
+Vec3 = Tuple[float, float, float]
+# A plane or frame as plain tuples: (origin, xaxis, yaxis), each three floats (m).
+PlainFrame = Tuple[Vec3, Vec3, Vec3]
+
+_CompasFrame: Optional[Any]
 try:  # COMPAS is optional: accepted and returned when it is importable.
-    from compas.geometry import Frame as _CompasFrame
+    from compas.geometry import Frame as _CompasFrame  # type: ignore[import-not-found, unused-ignore, no-redef]
 except ImportError:  # pragma: no cover - depends on the environment
     _CompasFrame = None
 
 
-def _unit(v, what):
-    v = np.asarray(v, dtype=float)
-    n = np.linalg.norm(v)
-    if v.shape != (3,) or not np.isfinite(v).all() or n < 1e-12:
-        raise ValueError(f"{what}: expected a non-zero 3-vector, got {v!r}")
-    return v / n
+def _unit(v: ArrayLike, what: str) -> NDArray[np.float64]:
+    a: NDArray[np.float64] = np.asarray(v, dtype=float)
+    n = float(np.linalg.norm(a))
+    if a.shape != (3,) or not np.isfinite(a).all() or n < 1e-12:
+        raise ValueError(f"{what}: expected a non-zero 3-vector, got {a!r}")
+    out: NDArray[np.float64] = a / n
+    return out
 
 
-def plane_axes(plane):
+def plane_axes(plane: Any) -> Tuple[NDArray[np.float64], NDArray[np.float64]]:
     """(origin, R) of a plane given as a COMPAS Frame or (origin, xaxis, yaxis) in metres.
 
     R's columns are the plane's x, y and z (= x × y) axes, orthonormalised (the y-axis is made
@@ -54,25 +62,39 @@ def plane_axes(plane):
     if o.shape != (3,) or not np.isfinite(o).all():
         raise ValueError(f"plane origin: expected three finite coordinates (m), got {origin!r}")
     x = _unit(xaxis, "plane xaxis")
-    y = np.asarray(yaxis, dtype=float) - np.dot(yaxis, x) * x
+    y: NDArray[np.float64] = np.asarray(yaxis, dtype=float) - np.dot(yaxis, x) * x
     y = _unit(y, "plane yaxis (parallel to the x-axis?)")
     z = np.cross(x, y)
     return o, np.column_stack([x, y, z])
 
 
-def _frame_out(origin, xaxis, yaxis):
-    o, x, y = (tuple(float(c) for c in v) for v in (origin, xaxis, yaxis))
+def _frame_out(origin: ArrayLike, xaxis: ArrayLike, yaxis: ArrayLike) -> Any:
+    """A COMPAS Frame if COMPAS is importable, else a PlainFrame."""
+    o, x, y = (_vec3(v) for v in (origin, xaxis, yaxis))
     if _CompasFrame is not None:
         return _CompasFrame(o, x, y)
-    return (o, x, y)
+    plain: PlainFrame = (o, x, y)
+    return plain
 
 
-def _rz(a):
+def _vec3(v: ArrayLike) -> Vec3:
+    a = np.asarray(v, dtype=float)
+    return (float(a[0]), float(a[1]), float(a[2]))
+
+
+def _rz(a: float) -> NDArray[np.float64]:
     c, s = math.cos(a), math.sin(a)
     return np.array([[c, -s, 0.0], [s, c, 0.0], [0.0, 0.0, 1.0]])
 
 
-def best_placement(points, plane, robot="abb_irb6700_200_260", speed=0.1, zone=0.005, **search):
+def best_placement(
+    points: ArrayLike,
+    plane: Any,
+    robot: str = "abb_irb6700_200_260",
+    speed: float = 0.1,
+    zone: float = 0.005,
+    **search: Any,
+) -> dict[str, Any]:
     """The minimum-energy placement of a designer's toolpath, in the designer's coordinates.
 
     points: (N, 3) x, y, z in m in the designer's coordinates (+z up), printed in order at
@@ -125,7 +147,7 @@ def best_placement(points, plane, robot="abb_irb6700_200_260", speed=0.1, zone=0
     }
 
 
-def demo_wall():
+def demo_wall() -> Tuple[NDArray[np.float64], PlainFrame]:
     """A 0.8 m × 0.4 m rectangular wall of three 20 mm layers, in a designer's model where the
     bed sits at (10, 5, 0.3) m turned 30° about the vertical. Returns (points, plane)."""
     yaw = math.radians(30.0)
@@ -133,11 +155,11 @@ def demo_wall():
     x, y = np.array([math.cos(yaw), math.sin(yaw), 0.0]), np.array([-math.sin(yaw), math.cos(yaw), 0.0])
     corners = [(0.0, 0.0), (0.8, 0.0), (0.8, 0.4), (0.0, 0.4), (0.0, 0.0)]
     pts = [o + u * x + v * y + np.array([0.0, 0.0, 0.02 * layer]) for layer in range(3) for u, v in corners]
-    return np.array(pts), (tuple(o), tuple(x), tuple(y))
+    return np.array(pts), (_vec3(o), _vec3(x), _vec3(y))
 
 
 # A small search for the demo and CI: 5 × 5 cells, bed on the floor, two yaws, 40 refinement steps.
-DEMO_SEARCH = dict(
+DEMO_SEARCH: dict[str, Any] = dict(
     xs=[1.2, 1.4, 1.6, 1.8, 2.0],
     ys=[-0.6, -0.3, 0.0, 0.3, 0.6],
     zs=[0.0],
@@ -146,7 +168,7 @@ DEMO_SEARCH = dict(
 )
 
 
-def main():
+def main() -> None:
     points, plane = demo_wall()
     best = best_placement(points, plane, **DEMO_SEARCH)
     print(f"energy {best['energy_j']:.1f} J over {best['duration_s']:.1f} s")

@@ -21,7 +21,7 @@ use printwatt::timing::{JointStageOptions, ProfileOptions};
 use printwatt::toolpath::{ReadOptions, Toolpath, Zone};
 use printwatt::{PathJob, Placement};
 use pyo3::create_exception;
-use pyo3::exceptions::PyException;
+use pyo3::exceptions::{PyException, PyTypeError};
 use pyo3::prelude::*;
 use pyo3::types::{PyDict, PyList};
 use std::path::{Path, PathBuf};
@@ -51,6 +51,52 @@ fn int_arg<T: TryFrom<i64>>(name: &str, v: i64, min: i64, max: i64) -> PyRes<T> 
 }
 
 type PyRes<T> = PyResult<T>;
+
+// The defaults in the `#[pyo3(signature = ...)]` attributes are literals, so that Python's
+// `inspect.signature` (and `help`) shows them; these checks keep them equal to the library's.
+const _: () = assert!(printwatt::search::job::DEFAULT_MAX_EVALS == 120);
+const _: () = assert!(printwatt::search::job::DEFAULT_SEED == 42);
+const _: () = assert!(printwatt::search::job::DEFAULT_PRINTS_PER_YEAR == 1000.0);
+const _: () = assert!(printwatt::search::job::DEFAULT_GRID_KG_CO2_PER_KWH == 0.4);
+const _: () = assert!(
+    printwatt::evaluate::feasibility::margins::DEFAULT_WRIST_MARGIN_DEG.to_radians()
+        == 0.08726646259971647
+);
+// The joint margin, 3° (the command line's `--joint-margin` default).
+const _: () = assert!(3f64.to_radians() == 0.05235987755982989);
+
+/// A sequence of numbers for the argument `name` (a list, tuple or 1-D array of floats): a
+/// string, a mapping or anything else raises TypeError naming the argument and the form
+/// expected (`what`), instead of PyO3's generic extraction message.
+fn float_seq(obj: &Bound<'_, PyAny>, name: &str, what: &str) -> PyRes<Vec<f64>> {
+    let kind = || {
+        obj.get_type()
+            .name()
+            .map(|n| n.to_string())
+            .unwrap_or_else(|_| "?".into())
+    };
+    if obj.is_instance_of::<pyo3::types::PyString>()
+        || obj.is_instance_of::<pyo3::types::PyBytes>()
+        || obj.is_instance_of::<PyDict>()
+    {
+        return Err(PyTypeError::new_err(format!(
+            "{name}: expected {what}, got a {} ({})",
+            kind(),
+            obj.repr().map(|r| r.to_string()).unwrap_or_default()
+        )));
+    }
+    obj.extract::<Vec<f64>>().map_err(|_| {
+        PyTypeError::new_err(format!(
+            "{name}: expected {what}, got a {} ({})",
+            kind(),
+            obj.repr().map(|r| r.to_string()).unwrap_or_default()
+        ))
+    })
+}
+
+/// What `at` and `baseline` take.
+const PLACEMENT_FORM: &str =
+    "a sequence (x, y, z, yaw) or (x, y, z, yaw, spin) of numbers in m, m, m, rad, rad";
 
 // ---------------------------------------------------------------------------------------------
 // Robots
@@ -292,16 +338,16 @@ fn load_path(
 /// dropped. Raises PrintwattError for a wrong shape, a non-finite coordinate (naming the row)
 /// or a non-positive speed.
 #[pyfunction]
-#[pyo3(signature = (points, speed, zone = 0.005, name = "points".to_string()))]
+#[pyo3(signature = (points, speed, zone = 0.005, name = "points"))]
 fn path_from_points(
     py: Python<'_>,
     points: &Bound<'_, PyAny>,
     speed: f64,
     zone: f64,
-    name: String,
+    name: &str,
 ) -> PyRes<Toolpath_> {
     let pts = points_array(py, points, "points")?;
-    let tp = Toolpath::from_points(&pts, speed, Zone::Blend(zone), &name).map_err(err)?;
+    let tp = Toolpath::from_points(&pts, speed, Zone::Blend(zone), name).map_err(err)?;
     Ok(Toolpath_ { inner: tp })
 }
 
@@ -589,7 +635,7 @@ fn energy<'py>(
     py: Python<'py>,
     robot: RobotArg<'py>,
     path: PathArg<'py>,
-    at: Vec<f64>,
+    at: &Bound<'py, PyAny>,
     period: f64,
     accel: f64,
     jerk: f64,
@@ -599,7 +645,7 @@ fn energy<'py>(
 ) -> PyRes<Bound<'py, PyDict>> {
     let robot = robot.hold()?;
     let path = path.hold()?;
-    let at = placement(&at)?;
+    let at = placement(&float_seq(at, "at", PLACEMENT_FORM)?)?;
     let prof = profile(period, accel, jerk)?;
     let opts = energy_options(regeneration.as_deref(), payload, friction)?;
     let model: &RobotModel = &robot;
@@ -762,21 +808,21 @@ fn axis(name: &str, v: Vec<f64>) -> PyRes<Vec<f64>> {
 /// count); `rows` (every evaluated placement, as `sweep --json`'s `rows`, x-major).
 #[pyfunction]
 #[pyo3(signature = (robot, path, xs, ys, *, z = 0.0, yaw = 0.0, spin = 0.0,
-    objective = "supply".to_string(), period = 0.004, accel = 1.0, jerk = 10.0,
-    regeneration = None, payload = true, friction = true, joint_margin = 3f64.to_radians(),
-    wrist_margin = FeasibilityOptions::default().wrist_margin_rad,
+    objective = "supply", period = 0.004, accel = 1.0, jerk = 10.0,
+    regeneration = None, payload = true, friction = true, joint_margin = 0.05235987755982989,
+    wrist_margin = 0.08726646259971647,
     collisions = true, check_every = 10))]
 #[allow(clippy::too_many_arguments)]
 fn sweep<'py>(
     py: Python<'py>,
     robot: RobotArg<'py>,
     path: PathArg<'py>,
-    xs: Vec<f64>,
-    ys: Vec<f64>,
+    xs: &Bound<'py, PyAny>,
+    ys: &Bound<'py, PyAny>,
     z: f64,
     yaw: f64,
     spin: f64,
-    objective: String,
+    objective: &str,
     period: f64,
     accel: f64,
     jerk: f64,
@@ -791,13 +837,13 @@ fn sweep<'py>(
     let robot = robot.hold()?;
     let path = path.hold()?;
     let grid = Grid {
-        xs: axis("xs", xs)?,
-        ys: axis("ys", ys)?,
+        xs: axis("xs", float_seq(xs, "xs", "a sequence of numbers (m)")?)?,
+        ys: axis("ys", float_seq(ys, "ys", "a sequence of numbers (m)")?)?,
         zs: axis("z", vec![z])?,
         yaws: axis("yaw", vec![yaw])?,
         spins: axis("spin", vec![spin])?,
     };
-    let obj = self::objective(&objective)?;
+    let obj = self::objective(objective)?;
     let prof = profile(period, accel, jerk)?;
     let opts = energy_options(regeneration.as_deref(), payload, friction)?;
     let feas = feasibility_options(joint_margin, wrist_margin, collisions, check_every)?;
@@ -878,21 +924,22 @@ fn sweep<'py>(
 /// `summary` (the document `printwatt optimise --json` prints: baseline, savings, the
 /// baseline's tolerance check, the full check of a reduced answer, the uncertainty study and
 /// the decision: the robust choice, the value of measuring each parameter, bound steps, and
-/// with `pareto=True` print time against energy over the acceleration and jerk limits).
+/// with `pareto=True` print time against energy over the acceleration and jerk limits, and
+/// unless `margin_trade=False` the answer found again with other joint and wrist margins).
 /// Raises PrintwattError when no grid placement is feasible, with how many failed for each
 /// reason and what to try.
 #[pyfunction]
 #[pyo3(signature = (robot, path, *, xs = None, ys = None, zs = None, yaws = None,
-    spins = None, objective = "supply".to_string(), tolerance = None, z_bounds = None,
-    max_evals = printwatt::search::job::DEFAULT_MAX_EVALS as i64,
-    seed = printwatt::search::job::DEFAULT_SEED as i64, fixed_yaw = false, fixed_spin = false,
-    search = "nelder-mead".to_string(), evaluation = "auto".to_string(), baseline = None,
-    uncertainty = None, robust = "expected".to_string(),
-    prints_per_year = printwatt::search::job::DEFAULT_PRINTS_PER_YEAR,
-    grid_kg_co2_per_kwh = printwatt::search::job::DEFAULT_GRID_KG_CO2_PER_KWH,
-    pareto = false, period = 0.004, accel = 1.0, jerk = 10.0, regeneration = None,
-    payload = true, friction = true, joint_margin = 3f64.to_radians(),
-    wrist_margin = FeasibilityOptions::default().wrist_margin_rad, collisions = true,
+    spins = None, objective = "supply", tolerance = None, z_bounds = None,
+    max_evals = 120,
+    seed = 42, fixed_yaw = false, fixed_spin = false,
+    search = "nelder-mead", evaluation = "auto", baseline = None,
+    uncertainty = None, robust = "expected",
+    prints_per_year = 1000.0,
+    grid_kg_co2_per_kwh = 0.4,
+    pareto = false, margin_trade = true, period = 0.004, accel = 1.0, jerk = 10.0, regeneration = None,
+    payload = true, friction = true, joint_margin = 0.05235987755982989,
+    wrist_margin = 0.08726646259971647, collisions = true,
     check_every = 10))]
 #[allow(clippy::too_many_arguments)]
 fn optimise<'py>(
@@ -904,21 +951,22 @@ fn optimise<'py>(
     zs: Option<Vec<f64>>,
     yaws: Option<Vec<f64>>,
     spins: Option<Vec<f64>>,
-    objective: String,
+    objective: &str,
     tolerance: Option<(f64, f64, f64)>,
     z_bounds: Option<(f64, f64)>,
     max_evals: i64,
     seed: i64,
     fixed_yaw: bool,
     fixed_spin: bool,
-    search: String,
-    evaluation: String,
-    baseline: Option<Vec<f64>>,
+    search: &str,
+    evaluation: &str,
+    baseline: Option<&Bound<'py, PyAny>>,
     uncertainty: Option<usize>,
-    robust: String,
+    robust: &str,
     prints_per_year: f64,
     grid_kg_co2_per_kwh: f64,
     pareto: bool,
+    margin_trade: bool,
     period: f64,
     accel: f64,
     jerk: f64,
@@ -944,12 +992,14 @@ fn optimise<'py>(
     };
     let settings =
         OptimiseSettings {
-            objective: self::objective(&objective)?,
+            objective: self::objective(objective)?,
             feasibility: feasibility_options(joint_margin, wrist_margin, collisions, check_every)?,
             energy: energy_options(regeneration.as_deref(), payload, friction)?,
             profile: profile(period, accel, jerk)?,
             evaluation: evaluation.parse().map_err(err)?,
-            baseline: baseline.as_deref().map(placement).transpose()?,
+            baseline: baseline
+                .map(|b| float_seq(b, "baseline", PLACEMENT_FORM).and_then(|v| placement(&v)))
+                .transpose()?,
             seed: int_arg("seed", seed, 0, i64::MAX)?,
             max_evals: int_arg("max_evals", max_evals, 0, 100_000_000)?,
             fixed_yaw,
@@ -964,6 +1014,7 @@ fn optimise<'py>(
             prints_per_year,
             grid_kg_co2_per_kwh,
             pareto,
+            margin_trade,
         };
     settings.check().map_err(err)?;
     let cfg = OptimiseConfig {
@@ -1234,10 +1285,16 @@ fn identify<'py>(
 #[pyfunction]
 #[pyo3(signature = (robot, path, *, relocation_cost, relocation_cost_per_m = 0.0,
     station_step = 0.5, track = None, headings = None, z = -0.5, spin = 0.0, footprint = None,
-    objective = "supply".to_string(), period = 0.004, accel = 1.0, jerk = 10.0,
-    regeneration = None, payload = true, friction = true, joint_margin = 3f64.to_radians(),
-    wrist_margin = FeasibilityOptions::default().wrist_margin_rad,
-    collisions = true, check_every = 10))]
+    objective = "supply", period = 0.004, accel = 1.0, jerk = 10.0,
+    regeneration = None, payload = true, friction = true, joint_margin = 0.05235987755982989,
+    wrist_margin = 0.08726646259971647,
+    collisions = true, check_every = 10),
+    // Written out: `z`'s default is negative, which the signature above cannot show.
+    text_signature = "(robot, path, *, relocation_cost, relocation_cost_per_m=0.0, \
+    station_step=0.5, track=None, headings=None, z=-0.5, spin=0.0, footprint=None, \
+    objective='supply', period=0.004, accel=1.0, jerk=10.0, regeneration=None, payload=True, \
+    friction=True, joint_margin=0.05235987755982989, wrist_margin=0.08726646259971647, \
+    collisions=True, check_every=10)")]
 #[allow(clippy::too_many_arguments)]
 fn stations<'py>(
     py: Python<'py>,
@@ -1251,7 +1308,7 @@ fn stations<'py>(
     z: f64,
     spin: f64,
     footprint: Option<f64>,
-    objective: String,
+    objective: &str,
     period: f64,
     accel: f64,
     jerk: f64,
@@ -1284,7 +1341,7 @@ fn stations<'py>(
         profile: profile(period, accel, jerk)?,
         joint: JointStageOptions::default(),
         feasibility: feasibility_options(joint_margin, wrist_margin, collisions, check_every)?,
-        objective: self::objective(&objective)?,
+        objective: self::objective(objective)?,
         candidates,
         z_m: z,
         spin_rad: spin,

@@ -1052,10 +1052,12 @@ impl Study {
             "study": self.name,
             "description": self.description,
             "objective": results.first().map(|r| r.objective.clone()),
+            "options": self.options,
             "robots": self.robots.iter().map(|r| serde_json::json!({
                 "name": r.name,
                 "robot": r.robot.display().to_string(),
                 "tool": r.tool.as_ref().map(|t| t.display().to_string()),
+                "options": r.options,
             })).collect::<Vec<_>>(),
             "cells": self.cells.iter().map(|c| serde_json::json!({
                 "name": c.name,
@@ -1065,6 +1067,7 @@ impl Study {
             "paths": self.paths.iter().map(|p| serde_json::json!({
                 "name": p.name,
                 "file": p.file.display().to_string(),
+                "options": p.options,
             })).collect::<Vec<_>>(),
             "cases": cases,
             "best_per_path": t.paths,

@@ -310,6 +310,11 @@ pub struct PathArg {
     /// own units and refuse it.
     #[arg(long, value_name = "mm|m")]
     pub path_units: Option<String>,
+    /// RAPID: the procedure to read as the entry instead of `main`, for a module whose main
+    /// chooses its path at run time (an IF on an input); the reader lists the procedures when
+    /// it cannot decide. Other formats refuse it.
+    #[arg(long = "proc", value_name = "NAME")]
+    pub proc_name: Option<String>,
     /// Factor applied to the path's geometry after its units are read (points, arcs; not
     /// speeds), e.g. 0.5 to print a half-size part.
     #[arg(long, value_name = "FACTOR", default_value_t = 1.0)]
@@ -331,6 +336,7 @@ impl PathArg {
             bail!("--scale {}: expected a finite factor > 0", self.scale);
         }
         o.scale = self.scale;
+        o.proc = self.proc_name.clone();
         Ok(o)
     }
 

@@ -20,6 +20,10 @@ pub struct InspectArgs {
     /// own units and refuse it.
     #[arg(long, value_name = "mm|m")]
     pub path_units: Option<String>,
+    /// RAPID: the procedure to read as the entry instead of `main`, for a module whose main
+    /// chooses its path at run time (an IF on an input). Other formats refuse it.
+    #[arg(long = "proc", value_name = "NAME")]
+    pub proc_name: Option<String>,
     /// Factor applied to the path's geometry after its units are read (points, arcs; not
     /// speeds).
     #[arg(long, value_name = "FACTOR", default_value_t = 1.0)]
@@ -52,6 +56,7 @@ pub fn run(a: InspectArgs) -> Result<()> {
     let path = args::PathArg {
         path: Some(f.clone()),
         path_units: a.path_units.clone(),
+        proc_name: a.proc_name.clone(),
         scale: a.scale,
     };
     let timing = args::TimingArgs {
@@ -62,6 +67,7 @@ pub fn run(a: InspectArgs) -> Result<()> {
     };
     let opts = path.read_options(&timing)?;
     let tp = printwatt::toolpath::load(f, &opts)
+        .map_err(super::proc_hint)
         .with_context(|| format!("loading path {}", f.display()))?;
     let ins = inspect(&tp, f, &opts);
     if a.json {
@@ -130,10 +136,15 @@ fn text(i: &Inspection) -> Result<()> {
         }
         None => outln!("bounding box        none (no moves)"),
     }
-    outln!(
-        "layers              {} (distinct z of print moves)",
-        i.layers
-    );
+    let from = if i.layers_from == "markers" {
+        "the slicer's layer markers"
+    } else {
+        "distinct z of print moves"
+    };
+    outln!("layers              {} ({from})", i.layers);
+    if !i.features.is_empty() {
+        outln!("features            {}", i.features.join(", "));
+    }
     outln!("print speed         {}", speeds(&i.print_speed));
     outln!("travel speed        {}", speeds(&i.travel_speed));
     outln!("dwells              {} ({:.3} s)", i.dwells, i.dwell_s);
@@ -145,6 +156,21 @@ fn text(i: &Inspection) -> Result<()> {
         outln!("marks               none");
     } else {
         outln!("marks               {}", i.marks.join(", "));
+    }
+    if !i.procedures.is_empty() {
+        outln!(
+            "procedures          {} (read from: {})",
+            i.procedures.len(),
+            i.entry_procedure.as_deref().unwrap_or("none")
+        );
+        for p in &i.procedures {
+            let read = if i.entry_procedure.as_deref() == Some(p.name.as_str()) {
+                "  <- read"
+            } else {
+                ""
+            };
+            outln!("  {:<18}line {}, {} moves{read}", p.name, p.line, p.moves);
+        }
     }
     outln!("reader warnings     {}", i.reader_warnings.len());
     for w in &i.reader_warnings {

@@ -33,6 +33,7 @@ mod identify;
 mod inspect;
 mod merge;
 mod optimise;
+mod robot_init;
 mod robots;
 mod simulate;
 mod stations;
@@ -78,6 +79,8 @@ pub fn error_text(e: &anyhow::Error) -> String {
 pub enum Command {
     /// List the shipped robots with reach, payload, joint count and provenance.
     Robots(RobotsArgs),
+    /// Start a robot of your own: `robot init URDF` writes a drive-file template for its joints.
+    Robot(robot_init::RobotCmd),
     /// Evaluate placements of a path (grid, named set or list) in parallel: energy or why not.
     Sweep(sweep::SweepArgs),
     /// Put the shards of a split run (`sweep --shard`, `optimise --uncertainty N --shard`, `study --shard`) together: the files of a single run.
@@ -263,9 +266,21 @@ pub fn load_path(
     opts: &printwatt::toolpath::ReadOptions,
 ) -> Result<printwatt::toolpath::Toolpath> {
     let tp = printwatt::toolpath::load(p, opts)
+        .map_err(proc_hint)
         .with_context(|| format!("loading path {}", p.display()))?;
     note_warnings(&tp.source, &tp.warnings);
     Ok(tp)
+}
+
+/// A reader error with the command line's hint added where the RAPID reader asks for the entry
+/// procedure to be named.
+pub fn proc_hint(e: printwatt::error::Error) -> anyhow::Error {
+    let msg = e.to_string();
+    if msg.contains("name the procedure to read as the entry") {
+        anyhow::anyhow!("{msg}\nhint: choose it with --proc NAME")
+    } else {
+        anyhow::Error::new(e)
+    }
 }
 
 /// The inputs of a command for the output policy: the robot (every file of its directory, its
@@ -461,6 +476,7 @@ pub fn finite(opt: &str, v: f64) -> Result<f64> {
 pub fn run(cli: Cli) -> Result<()> {
     match cli.command {
         Command::Robots(a) => robots::run(a),
+        Command::Robot(a) => robot_init::run(a),
         Command::Energy(a) => energy::run(a),
         Command::Sweep(a) => sweep::run(a),
         Command::Merge(a) => merge::run(a),

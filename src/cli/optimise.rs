@@ -77,10 +77,16 @@ pub struct OptimiseArgs {
     /// and mark the settings no other beats in both (the Pareto front), with each one's CO₂.
     #[arg(long)]
     pub pareto: bool,
-    /// Write the chosen placement for the robot into this directory: `wobj_print.mod` (ABB RAPID
-    /// wobjdata), `frame.json` (COMPAS frame), and the path re-expressed in the robot base
-    /// frame as `path_base.gcode` and `path_base.mod` (RAPID MoveL in wobj0). Existing files
-    /// are replaced only with --force.
+    /// Skip the margin trade: by default the answer is found again with joint-limit margins
+    /// of 3°, 5° and 8° and wrist margins of 0°, 5° and 8° (the others as configured), and
+    /// the report states each one's energy, so a site can choose its margins knowingly.
+    #[arg(long)]
+    pub no_margin_trade: bool,
+    /// Write the chosen placement for the robot into this directory: `frame.json` (COMPAS
+    /// frame) and the path re-expressed in the robot base frame as `path_base.gcode`; then
+    /// `wobj_print.mod` (ABB RAPID wobjdata), `path_base.mod` (RAPID MoveL in wobj0) and
+    /// `path_part.mod` (printing in wobjPrint), or for a Universal Robots arm the URScript
+    /// program `path_base.script`. Existing files are replaced only with --force.
     #[arg(long)]
     pub export: Option<std::path::PathBuf>,
 }
@@ -179,6 +185,7 @@ impl OptimiseArgs {
             prints_per_year: self.prints_per_year,
             grid_kg_co2_per_kwh: self.grid_kg_co2_per_kwh,
             pareto: self.pareto,
+            margin_trade: !self.no_margin_trade,
         };
         settings.check()?;
         Ok(OptimiseConfig {
@@ -248,6 +255,9 @@ fn robust_key(n: &OptimiseArgs) -> String {
     }
     if n.pareto {
         k += " pareto";
+    }
+    if n.no_margin_trade {
+        k += " no_margin_trade";
     }
     k
 }
@@ -471,6 +481,9 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
             outln!("{m}");
         }
         for l in printwatt::search::pareto::lines(&d.pareto) {
+            outln!("{l}");
+        }
+        for l in d.margins.iter().flat_map(printwatt::search::margins::lines) {
             outln!("{l}");
         }
     }

@@ -821,6 +821,7 @@ impl RunReport {
             lines.extend(d.robust.iter().flat_map(crate::search::robust::lines));
             lines.extend(d.measurement.iter().map(|m| m.to_string()));
             lines.extend(crate::search::pareto::lines(&d.pareto));
+            lines.extend(d.margins.iter().flat_map(crate::search::margins::lines));
             let kv: Vec<(String, String)> = lines
                 .iter()
                 .map(|l| match l.split_once(": ") {

@@ -32,6 +32,12 @@ pub const ESTIMATE_DENSITY_KG_M3: f64 = 1_200.0;
 /// shipped ABB IRB 6700-200/2.60 (its capsules' volume, 0.150 m³, carrying its moving mass).
 pub const CAPSULE_DENSITY_KG_M3: f64 = 5_000.0;
 
+/// Stated uncertainty of an estimated link mass, relative (±): the share of a cast link's
+/// outer volume that is metal ranges from about a tenth to a quarter between makers and link
+/// sizes (motors and gearboxes included), so the effective density is known to about ±50 %;
+/// centres of mass and inertias (which also assume the mass spread evenly) are rougher still.
+pub const ESTIMATE_MASS_UNCERTAINTY_REL: f64 = 0.5;
+
 /// Where a moving link's mass, centre of mass and inertia come from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
 #[serde(rename_all = "snake_case")]
@@ -42,6 +48,8 @@ pub enum InertiaSource {
     DriveFile,
     /// ESTIMATE from the link's collision geometry.
     EstimateFromGeometry,
+    /// ESTIMATE from the link's visual geometry (a link without collision geometry).
+    EstimateFromVisual,
     /// ESTIMATE from the collision capsule between the joint origins.
     EstimateFromCapsule,
 }
@@ -53,6 +61,7 @@ impl InertiaSource {
             InertiaSource::Urdf => "URDF",
             InertiaSource::DriveFile => "drive file",
             InertiaSource::EstimateFromGeometry => "ESTIMATE (collision geometry)",
+            InertiaSource::EstimateFromVisual => "ESTIMATE (visual geometry)",
             InertiaSource::EstimateFromCapsule => "ESTIMATE (capsule)",
         }
     }
@@ -61,7 +70,9 @@ impl InertiaSource {
     pub fn is_estimate(self) -> bool {
         matches!(
             self,
-            InertiaSource::EstimateFromGeometry | InertiaSource::EstimateFromCapsule
+            InertiaSource::EstimateFromGeometry
+                | InertiaSource::EstimateFromVisual
+                | InertiaSource::EstimateFromCapsule
         )
     }
 }
@@ -149,13 +160,22 @@ pub fn complete(model: &mut RobotModel) {
         }
         let mut body = Inertial::zero();
         let mut any = false;
-        for g in model.link_collision.get(i).into_iter().flatten() {
-            if let Some(b) = solid(&g.shape, rho) {
-                body = body.merged(&b.transformed(&g.origin));
-                any = true;
+        let mut from_visual = false;
+        for (geoms, visual) in [(&model.link_collision, false), (&model.link_visual, true)] {
+            if any {
+                break;
+            }
+            for g in geoms.get(i).into_iter().flatten() {
+                if let Some(b) = solid(&g.shape, rho) {
+                    body = body.merged(&b.transformed(&g.origin));
+                    any = true;
+                    from_visual = visual;
+                }
             }
         }
-        let source = if any {
+        let source = if any && from_visual {
+            InertiaSource::EstimateFromVisual
+        } else if any {
             InertiaSource::EstimateFromGeometry
         } else {
             // The capsule of the collision model: this joint's origin to the next (or the
@@ -191,7 +211,11 @@ pub fn complete(model: &mut RobotModel) {
             "`{}` {:.1} kg ({})",
             model.link_names[i],
             body.mass,
-            if any {
+            if any && from_visual {
+                format!(
+                    "visual shapes (no collision geometry) at {ESTIMATE_DENSITY_KG_M3:.0} kg/m³"
+                )
+            } else if any {
                 format!("collision shapes at {ESTIMATE_DENSITY_KG_M3:.0} kg/m³")
             } else {
                 format!("collision capsule at {CAPSULE_DENSITY_KG_M3:.0} kg/m³")
@@ -201,12 +225,19 @@ pub fn complete(model: &mut RobotModel) {
         model.info.inertia_sources[i] = source;
     }
     if !estimated.is_empty() {
+        let total: f64 = (0..n)
+            .filter(|&i| model.info.inertia_sources[i].is_estimate())
+            .filter_map(|i| model.links[i].map(|l| l.mass))
+            .sum();
         model.warnings.push(format!(
             "ESTIMATE: link inertias missing from the URDF estimated as solids (hollow cast \
-             links) filling their collision shapes: {}; the energy is only as good as these; \
-             give the real values in the drive file's [links.<name>] tables \
-             (docs/drive-file.md)",
-            estimated.join(", ")
+             links) filling their collision shapes (their convex hulls): {}; {total:.0} kg in \
+             all, uncertain by about ±{:.0} % in mass and more in centre of mass and inertia \
+             (the effective density stands for metal filling a sixth of the outer volume, \
+             motors and gearboxes averaged in); the energy is only as good as these; give the \
+             real values in the drive file's [links.<name>] tables (docs/drive-file.md)",
+            estimated.join(", "),
+            100.0 * ESTIMATE_MASS_UNCERTAINTY_REL
         ));
     }
     let w = placeholder_warnings(model);

@@ -10,6 +10,7 @@ pub mod mesh;
 pub mod model;
 pub mod opw;
 pub mod shipped;
+pub mod template;
 pub mod urdf;
 pub mod validate;
 

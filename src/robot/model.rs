@@ -192,6 +192,9 @@ pub struct RobotModel {
     /// Collision geometry of link `i` (fixed children merged) in the frame of joint `i`; an
     /// empty entry means the URDF gives none for that link (a capsule stands in for it).
     pub link_collision: Vec<Vec<CollisionGeom>>,
+    /// Visual geometry of each moving link that has neither an inertial nor collision geometry
+    /// in the URDF (link frame; empty otherwise): what its inertia is estimated from then.
+    pub link_visual: Vec<Vec<CollisionGeom>>,
     /// Print head and hose from the drive file's `[tool.geometry]`, if given.
     pub tool_geometry: Option<ToolGeometry>,
     /// Things the loader noticed and accepted (ignored meshes, merged passive joints, ...).

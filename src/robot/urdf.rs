@@ -234,6 +234,8 @@ pub fn parse_urdf(text: &str, file: &str, tool_link: Option<&str>) -> Result<Rob
     let mut link_order: Vec<String> = Vec::new();
     let mut warnings = Vec::new();
     let mut collisions: HashMap<String, Vec<CollisionGeom>> = HashMap::new();
+    // Visual geometry of links without any <collision>: only for estimating a missing inertia.
+    let mut visuals: HashMap<String, Vec<CollisionGeom>> = HashMap::new();
     for l in root
         .children()
         .filter(|n| n.is_element() && n.tag_name().name() == "link")
@@ -277,7 +279,12 @@ pub fn parse_urdf(text: &str, file: &str, tool_link: Option<&str>) -> Result<Rob
                 )
             }
         };
-        let geoms = collision_of(&cx, l, &name, &mut warnings)?;
+        let geoms = collision_of(&cx, l, &name, "collision", &mut warnings)?;
+        if geoms.is_empty() && inertial.is_none() {
+            // Meshes a visual cannot give (COLLADA) are no news: the warning is dropped.
+            let v = collision_of(&cx, l, &name, "visual", &mut Vec::new())?;
+            visuals.insert(name.clone(), v);
+        }
         collisions.insert(name.clone(), geoms);
         if links.insert(name.clone(), inertial).is_some() {
             return Err(cx.err(l, format!("link `{name}` is defined twice")));
@@ -525,6 +532,7 @@ pub fn parse_urdf(text: &str, file: &str, tool_link: Option<&str>) -> Result<Rob
     let mut acc = Frame::identity(); // from the last actuated joint's frame (or base) to current link
     let mut base_collision = collisions.remove(&root_link).unwrap_or_default();
     let mut link_collision: Vec<Vec<CollisionGeom>> = Vec::new();
+    let mut link_visual: Vec<Vec<CollisionGeom>> = Vec::new();
     for &k in &path {
         let j = &joints[k];
         let origin_in_last = acc.compose(&j.origin); // child link frame at q=0, in last joint frame
@@ -570,21 +578,31 @@ pub fn parse_urdf(text: &str, file: &str, tool_link: Option<&str>) -> Result<Rob
             model_links.push(body);
             link_names.push(j.child.clone());
             link_collision.push(collisions.remove(&j.child).unwrap_or_default());
+            link_visual.push(visuals.remove(&j.child).unwrap_or_default());
             acc = Frame::identity();
         } else {
             // Fixed joint: merge the child link into the current moving link.
             acc = origin_in_last;
-            let moved = collisions
-                .remove(&j.child)
-                .unwrap_or_default()
-                .into_iter()
-                .map(|g| CollisionGeom {
-                    origin: acc.compose(&g.origin),
-                    shape: g.shape,
-                });
+            // The child's shapes, moved into the current link's frame.
+            let moved = |shapes: &mut HashMap<String, Vec<CollisionGeom>>| {
+                shapes
+                    .remove(&j.child)
+                    .unwrap_or_default()
+                    .into_iter()
+                    .map(|g| CollisionGeom {
+                        origin: acc.compose(&g.origin),
+                        shape: g.shape,
+                    })
+                    .collect::<Vec<_>>()
+            };
+            let c = moved(&mut collisions);
             match link_collision.last_mut() {
-                Some(c) => c.extend(moved),
-                None => base_collision.extend(moved),
+                Some(l) => l.extend(c),
+                None => base_collision.extend(c),
+            }
+            let v = moved(&mut visuals);
+            if let Some(l) = link_visual.last_mut() {
+                l.extend(v);
             }
             if let Some(cur) = model_links.last_mut() {
                 if let Some(b) = body {
@@ -608,7 +626,7 @@ pub fn parse_urdf(text: &str, file: &str, tool_link: Option<&str>) -> Result<Rob
         .count();
     if ignored_meshes > 0 {
         warnings.push(format!(
-            "{ignored_meshes} visual mesh references ignored (only <collision> geometry is used)"
+            "{ignored_meshes} visual mesh references ignored (only <collision> geometry is used, and a link's <visual> for its inertia when it has neither <inertial> nor <collision>)"
         ));
     }
     Ok(RobotModel {
@@ -630,29 +648,31 @@ pub fn parse_urdf(text: &str, file: &str, tool_link: Option<&str>) -> Result<Rob
         opw: None,
         base_collision,
         link_collision,
+        link_visual,
         tool_geometry: None,
         warnings,
     })
 }
 
-/// The `<collision>` elements of one link, in the link frame. Bad sizes are errors; a mesh
-/// that cannot be found or read is a warning (the element is skipped, so a link left without
-/// geometry falls back to a capsule).
+/// The `<collision>` (or, `tag` = `visual`, the `<visual>`) elements of one link, in the link
+/// frame. Bad sizes are errors; a mesh that cannot be found or read is a warning (the element
+/// is skipped, so a link left without geometry falls back to a capsule).
 fn collision_of(
     cx: &Ctx,
     link: roxmltree::Node,
     name: &str,
+    tag: &str,
     warnings: &mut Vec<String>,
 ) -> Result<Vec<CollisionGeom>> {
     let mut out = Vec::new();
     let urdf_dir = Path::new(cx.file).parent().unwrap_or(Path::new("."));
     for c in link
         .children()
-        .filter(|n| n.is_element() && n.tag_name().name() == "collision")
+        .filter(|n| n.is_element() && n.tag_name().name() == tag)
     {
         let origin = cx.origin(c)?;
         let g = child(c, "geometry")
-            .ok_or_else(|| cx.err(c, format!("link `{name}`: <collision> needs <geometry>")))?;
+            .ok_or_else(|| cx.err(c, format!("link `{name}`: <{tag}> needs <geometry>")))?;
         let Some(s) = g.children().find(|n| n.is_element()) else {
             return Err(cx.err(g, format!("link `{name}`: empty <geometry>")));
         };
@@ -662,7 +682,7 @@ fn collision_of(
             } else {
                 Err(cx.err(
                     s,
-                    format!("link `{name}`: collision {what} must be > 0, got {v}"),
+                    format!("link `{name}`: {tag} {what} must be > 0, got {v}"),
                 ))
             }
         };

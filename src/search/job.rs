@@ -285,6 +285,9 @@ pub struct OptimiseSettings {
     /// Time the answer again with the acceleration and jerk limits scaled
     /// ([`crate::search::pareto`]): print time against energy.
     pub pareto: bool,
+    /// Find the answer again with other joint-limit and wrist margins
+    /// ([`crate::search::margins`]) and state what each costs.
+    pub margin_trade: bool,
 }
 
 impl Default for OptimiseSettings {
@@ -308,6 +311,7 @@ impl Default for OptimiseSettings {
             prints_per_year: DEFAULT_PRINTS_PER_YEAR,
             grid_kg_co2_per_kwh: DEFAULT_GRID_KG_CO2_PER_KWH,
             pareto: false,
+            margin_trade: true,
         }
     }
 }

@@ -6,6 +6,7 @@
 pub mod advice;
 pub mod grid;
 pub mod job;
+pub mod margins;
 pub mod neldermead;
 pub mod optimise;
 pub mod pareto;

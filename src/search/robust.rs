@@ -119,7 +119,8 @@ pub struct Candidate {
     pub p_within_1pct: f64,
 }
 
-fn ser_placement<S: serde::Serializer>(
+/// A placement as JSON: x, y, z (m), yaw and spin (degrees).
+pub(crate) fn ser_placement<S: serde::Serializer>(
     p: &Placement,
     s: S,
 ) -> std::result::Result<S::Ok, S::Error> {
@@ -738,6 +739,10 @@ pub struct Decision {
     /// With the Pareto option: the answer timed with the acceleration and jerk limits scaled.
     #[serde(skip_serializing_if = "Vec::is_empty")]
     pub pareto: Vec<crate::search::pareto::TimingPoint>,
+    /// The answer found again with other joint-limit and wrist-singularity margins
+    /// ([`crate::search::margins`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub margins: Option<crate::search::margins::MarginTrade>,
 }
 
 /// What the measurement behind a calibrated robot did to the decision: the same robust study

@@ -264,6 +264,38 @@ fn with_refine_progress<T>(
     })
 }
 
+/// The search from the grid's `rows`: the refinement (Nelder–Mead with the placement
+/// tolerance, or the pattern search), then a reduced answer evaluated in full (the report
+/// shows both figures; an answer infeasible in full is returned as it is, for the caller to
+/// refuse).
+fn find(
+    ev: &Evaluator,
+    rows: &[Evaluated],
+    opts: &OptimiseOptions,
+    so: &SearchOptions,
+    method: SearchMethod,
+    observer: &dyn Observer,
+) -> Result<optimise::OptimiseResult> {
+    let mut res = match method {
+        SearchMethod::NelderMead => {
+            observer.begin(Stage::Refinement, opts.max_evals);
+            let r = with_refine_progress(observer, opts.max_evals, |progress| {
+                refine::refine(ev, rows, opts, so, progress)
+            });
+            observer.end(Stage::Refinement);
+            let (mut r, info) = r?;
+            r.search = Some(info);
+            r
+        }
+        SearchMethod::Pattern => optimise::optimise(ev, rows, opts)?,
+    };
+    if let Some((full, chk)) = reduce::confirm(ev, &res.best)? {
+        res.best = full;
+        res.path_reduction = Some(chk);
+    }
+    Ok(res)
+}
+
 fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Result<Answer> {
     let s = &config.settings;
     s.check()?;
@@ -303,34 +335,66 @@ fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Resul
     };
     let tol = s.tolerance;
     let bounds = Bounds::over(ps, s.z_bounds)?;
-    let mut res = match s.search {
-        SearchMethod::NelderMead => {
-            let so = SearchOptions::new(bounds, tol);
-            observer.begin(Stage::Refinement, opts.max_evals);
-            let r = with_refine_progress(observer, opts.max_evals, |progress| {
-                refine::refine(&ev, &rows, &opts, &so, progress)
-            });
-            observer.end(Stage::Refinement);
-            let (mut r, info) = r?;
-            r.search = Some(info);
-            r
+    let so = SearchOptions::new(bounds, tol);
+    let mut res = find(&ev, &rows, &opts, &so, s.search, observer)?;
+    if let Err(why) = &res.best.outcome {
+        let full = &res.best;
+        return Err(Error::Invalid(format!(
+            "the placement chosen on representative layers (x = {:.3} m, y = {:.3} m, z = {:.3} m, yaw = {:.1}°) is infeasible when every sample is evaluated: {why}; evaluate every sample instead (full evaluation)",
+            full.placement.x,
+            full.placement.y,
+            full.placement.z,
+            full.placement.yaw.to_degrees()
+        )));
+    }
+    // The answer found again with other joint-limit and wrist margins: what each costs. A
+    // stricter setting's answer also keeps the configured margins; when it is cheaper, the
+    // search stopped short of it, and the refinement runs again from it.
+    let mut margin_trade = None;
+    if s.margin_trade {
+        let trade_evals = std::cell::Cell::new(0usize);
+        let find_with =
+            |feas: &FeasibilityOptions| -> Result<std::result::Result<Evaluated, String>> {
+                let ev = evaluator(&job, &config.path, *feas, s.objective, s.evaluation);
+                let rows = ev.sweep(ps, &|_, _| {})?;
+                if !rows.iter().any(|r| r.cost().is_finite()) {
+                    return Ok(Err("no feasible grid placement".into()));
+                }
+                let r = find(&ev, &rows, &opts, &so, s.search, &Silent)?;
+                trade_evals.set(
+                    trade_evals.get()
+                        + rows.len()
+                        + r.evals
+                        + r.search.as_ref().map_or(0, |si| si.tolerance_evals),
+                );
+                Ok(Ok(r.best))
+            };
+        let mut trade = crate::search::margins::trade(&s.feasibility, &res.best, &find_with)?;
+        if let Some(from) = trade.cheaper_stricter().cloned() {
+            let at = from.placement.expect("a feasible setting has a placement");
+            let mut seeded = rows.clone();
+            seeded.extend(ev.sweep(&[at], &|_, _| {})?);
+            let again = find(&ev, &seeded, &opts, &so, s.search, observer)?;
+            if again.best.feasible().is_some() && again.best.cost() < res.best.cost() {
+                // The first refinement's evaluations belong to the trade now.
+                trade_evals.set(
+                    trade_evals.get()
+                        + 1
+                        + res.evals
+                        + res.search.as_ref().map_or(0, |si| si.tolerance_evals),
+                );
+                trade.restart = Some(crate::search::margins::Restart {
+                    joint_margin_deg: from.joint_margin_deg,
+                    wrist_margin_deg: from.wrist_margin_deg,
+                    before_j: res.best.cost(),
+                    after_j: again.best.cost(),
+                });
+                res = again;
+                trade.answer_is(&res.best);
+            }
         }
-        SearchMethod::Pattern => optimise::optimise(&ev, &rows, &opts)?,
-    };
-    // The answer of a reduced evaluation is always re-evaluated in full; the report shows
-    // both figures.
-    if let Some((full, chk)) = reduce::confirm(&ev, &res.best)? {
-        if let Err(why) = &full.outcome {
-            return Err(Error::Invalid(format!(
-                "the placement chosen on representative layers (x = {:.3} m, y = {:.3} m, z = {:.3} m, yaw = {:.1}°) is infeasible when every sample is evaluated: {why}; evaluate every sample instead (full evaluation)",
-                full.placement.x,
-                full.placement.y,
-                full.placement.z,
-                full.placement.yaw.to_degrees()
-            )));
-        }
-        res.best = full;
-        res.path_reduction = Some(chk);
+        trade.evaluations = trade_evals.get();
+        margin_trade = Some(trade);
     }
     let baseline = match s.baseline {
         Some(b) => {
@@ -406,7 +470,6 @@ fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Resul
                 grid_kg_co2_per_kwh: s.grid_kg_co2_per_kwh,
                 ..Default::default()
             };
-            let so = SearchOptions::new(bounds, tol);
             let r = robust::robust(&ev, &res.best, &opts, &so, &ro)?;
             let measurement = match &config.robot.effects.calibration {
                 Some(c) => Some(measurement_worth(
@@ -438,6 +501,9 @@ fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Resul
     if s.pareto {
         let pts = crate::search::pareto::time_energy(config, &res.best.placement)?;
         res.decision.get_or_insert_with(Default::default).pareto = pts;
+    }
+    if let Some(t) = margin_trade {
+        res.decision.get_or_insert_with(Default::default).margins = Some(t);
     }
     let secs = t0.elapsed().as_secs_f64();
     // The placements shown in detail (series for the report), evaluated in parallel.
@@ -498,11 +564,18 @@ fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Resul
         if let Some(wm) = &si.wrist_margin {
             m.push(("wrist margin kept".into(), wm.clone()));
         }
+        let trade_evals = res
+            .decision
+            .as_ref()
+            .and_then(|d| d.margins.as_ref())
+            .map_or(String::new(), |t| {
+                format!(", margin trade {}", t.evaluations)
+            });
         m.push((
             "evaluations".into(),
             if base_corners > 0 {
                 format!(
-                    "grid {}, refinement {}, tolerance corners {} (the answer's search {}, the baseline {})",
+                    "grid {}, refinement {}, tolerance corners {} (the answer's search {}, the baseline {}){trade_evals}",
                     ps.len(),
                     res.evals,
                     si.tolerance_evals + base_corners,
@@ -511,7 +584,7 @@ fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Resul
                 )
             } else {
                 format!(
-                    "grid {}, refinement {}, tolerance corners {}",
+                    "grid {}, refinement {}, tolerance corners {}{trade_evals}",
                     ps.len(),
                     res.evals,
                     si.tolerance_evals

@@ -187,6 +187,7 @@ pub fn sub_path(path: &Toolpath, first: usize, last: usize) -> Toolpath {
         marks: Vec::new(),
         warnings: Vec::new(),
         dwells,
+        ..Default::default()
     }
 }
 

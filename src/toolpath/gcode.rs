@@ -24,14 +24,20 @@
 //! The first `G0`/`G1` sets the start point and makes no move.
 //!
 //! The letters on an M-code line without a G word are the M-code's parameters (`M201 X1000
-//! Y1000`, `M203 …`, `M205 …` in every slicer's start code), never coordinates or extrusion.
+//! Y1000`, `M203 …`, `M205 …` in every slicer's start code), never coordinates or extrusion;
+//! text parameters and bare flags (`M1002 judge_flag …`, `M17 S`) end the line.
+//!
+//! Slicer comments: layer markers (`;LAYER:n` from Cura, `;LAYER_CHANGE` from PrusaSlicer,
+//! `; CHANGE_LAYER` from Bambu Studio; the first kind met counts) become
+//! [`Toolpath::layer_starts`], feature comments (`;TYPE:…`, `; FEATURE: …`)
+//! [`Toolpath::features`].
 //!
 //! Unknown G/M codes and extended commands (`SET_FAN …`) are ignored and listed in one
 //! warning. `G18`/`G19` (other arc planes) are an error. `M117`/`M118` messages are skipped.
 
 use std::collections::BTreeSet;
 
-use super::{ccw_angle, perr, Dwell, Mark, Move, MoveKind, ReadOptions, Toolpath, Zone};
+use super::{ccw_angle, perr, Dwell, Feature, Mark, Move, MoveKind, ReadOptions, Toolpath, Zone};
 use crate::error::Result;
 use crate::math::V3;
 
@@ -195,7 +201,18 @@ fn lex_line(
                 i += 1;
                 continue;
             }
-            let (value, j) = lex_number(file, lineno, &chars, i + 1, letter)?;
+            // An M-code's parameters may be free text or bare flags (Bambu Studio's `M1002
+            // judge_flag …`, `M1002 gcode_claim_action : 2`, `M17 S`, `M620 S0A`): they are
+            // never coordinates, so the rest of such a line is skipped.
+            let m_line = words.first().is_some_and(|w: &Word| w.letter == 'M');
+            let (value, j) = match lex_number(file, lineno, &chars, i + 1, letter) {
+                Ok(v) => v,
+                Err(_) if m_line => break,
+                Err(e) => return Err(e),
+            };
+            if m_line && chars.get(j).is_some_and(|x| x.is_ascii_alphabetic()) {
+                break;
+            }
             words.push(Word {
                 letter,
                 value,
@@ -319,6 +336,44 @@ struct Reader<'a> {
     pending: Vec<PendingMove>,
     marks: Vec<Mark>,
     length: f64,
+    /// The layer marker family the file uses (the first one met): Cura, PrusaSlicer or Bambu.
+    layer_family: Option<LayerMarker>,
+    layer_starts: Vec<usize>,
+    features: Vec<Feature>,
+}
+
+/// A slicer's layer marker comment.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum LayerMarker {
+    /// `;LAYER:n` (Cura).
+    Cura,
+    /// `;LAYER_CHANGE` (PrusaSlicer, Bambu Studio, OrcaSlicer).
+    Prusa,
+    /// `; CHANGE_LAYER` (Bambu Studio).
+    Bambu,
+}
+
+impl LayerMarker {
+    fn of(comment: &str) -> Option<LayerMarker> {
+        let c = comment.trim();
+        if let Some(n) = c.strip_prefix("LAYER:") {
+            return n.trim().parse::<i64>().ok().map(|_| LayerMarker::Cura);
+        }
+        match c {
+            "LAYER_CHANGE" => Some(LayerMarker::Prusa),
+            "CHANGE_LAYER" => Some(LayerMarker::Bambu),
+            _ => None,
+        }
+    }
+}
+
+/// The feature named by a `;TYPE:…` or `; FEATURE: …` comment.
+fn feature_of(comment: &str) -> Option<&str> {
+    let c = comment.trim();
+    c.strip_prefix("TYPE:")
+        .or_else(|| c.strip_prefix("FEATURE:"))
+        .map(str::trim)
+        .filter(|n| !n.is_empty())
 }
 
 /// Parse G-code text; `file` names the source in messages. See the module docs for the dialect.
@@ -358,12 +413,30 @@ impl<'a> Reader<'a> {
             pending: Vec::new(),
             marks: Vec::new(),
             length: 0.0,
+            layer_family: None,
+            layer_starts: Vec::new(),
+            features: Vec::new(),
         }
     }
 
     /// Read one line; true at a program end (`M2`, `M30`).
     fn line(&mut self, lineno: usize, raw: &str) -> Result<bool> {
         let (words, comments, ext) = lex_line(self.file, lineno, raw)?;
+        for c in &comments {
+            let next = self.pending.len();
+            if let Some(m) = LayerMarker::of(c) {
+                if *self.layer_family.get_or_insert(m) == m {
+                    self.layer_starts.push(next);
+                }
+            } else if let Some(name) = feature_of(c) {
+                if self.features.last().is_none_or(|f| f.name != name) {
+                    self.features.push(Feature {
+                        first_move: next,
+                        name: name.to_string(),
+                    });
+                }
+            }
+        }
         if let Some(cmd) = ext {
             self.unknown.insert(cmd);
         }
@@ -457,7 +530,9 @@ impl<'a> Reader<'a> {
                 901 => self.ij_abs = true,
                 911 => self.ij_abs = false,
                 920 => modes.non_motion_axes = Some(920),
-                280 | 100 | 530 => {
+                // Homing, offsets, bed levelling (G29, G29.1, G29.2) and probing moves (G38.2 …
+                // G38.5, Bambu Studio's G380): their axes are not path points.
+                280 | 100 | 530 | 290 | 291 | 292 | 382..=385 | 3800 => {
                     modes.non_motion_axes = Some(g);
                     self.unknown.insert(gname(g));
                 }
@@ -675,6 +750,9 @@ impl<'a> Reader<'a> {
             marks: self.marks,
             warnings,
             dwells: self.dwells,
+            layer_starts: self.layer_starts,
+            features: self.features,
+            ..Default::default()
         }
     }
 }

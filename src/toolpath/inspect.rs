@@ -5,13 +5,14 @@
 //!
 //! Print and travel are the reader's own flags ([`Move::print`]): extrusion (E words or the
 //! extrusion M-codes) in G-code, the `print` column in CSV, every move in RAPID. Layers are
-//! the distinct z levels of the print moves' end points ([`Toolpath::layer_count`]).
+//! the slicer's layer markers where the G-code has them, else the distinct z levels of the
+//! print moves' end points ([`Toolpath::layers`]).
 
 use std::path::Path;
 
 use serde::Serialize;
 
-use super::{Move, MoveKind, ReadOptions, Toolpath};
+use super::{Move, MoveKind, Procedure, ReadOptions, Toolpath};
 
 /// The file format, from the extension as [`super::load`] chooses its reader.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -105,8 +106,15 @@ pub struct Inspection {
     pub travel_length_m: f64,
     /// Bounding box over every move (arcs included); `None` without moves.
     pub bounding_box: Option<BoundingBox>,
-    /// Distinct z levels of the print moves' end points.
+    /// Layers: the slicer's layer markers when the G-code has them, else the distinct z levels
+    /// of the print moves' end points (see `layers_from`).
     pub layers: usize,
+    /// Where `layers` comes from: `markers` (a slicer's `;LAYER:n`, `;LAYER_CHANGE` or
+    /// `; CHANGE_LAYER` comments) or `z_levels`.
+    pub layers_from: &'static str,
+    /// The slicer's feature names (`;TYPE:` / `; FEATURE:` comments), each once, in order of
+    /// first appearance; empty without such comments.
+    pub features: Vec<String>,
     /// Commanded speeds of the print moves; `None` without print moves.
     pub print_speed: Option<SpeedRange>,
     /// Commanded speeds of the travel moves; `None` without travel moves.
@@ -126,6 +134,12 @@ pub struct Inspection {
     pub last_line: Option<usize>,
     /// The reader's warnings (skipped instructions, ignored codes, assumptions), as written.
     pub reader_warnings: Vec<String>,
+    /// RAPID: the module's procedures (name, line, move instructions in the body), in file
+    /// order; empty for other formats.
+    pub procedures: Vec<Procedure>,
+    /// RAPID: the procedure the path was read from (`main` and its calls, the chosen entry,
+    /// or the one procedure with moves); `None` for other formats.
+    pub entry_procedure: Option<String>,
 }
 
 fn range<'a>(moves: impl Iterator<Item = &'a Move>) -> Option<SpeedRange> {
@@ -203,7 +217,18 @@ pub fn inspect(tp: &Toolpath, file: &Path, opts: &ReadOptions) -> Inspection {
         print_length_m,
         travel_length_m,
         bounding_box,
-        layers: tp.layer_count(),
+        layers: tp.layers(),
+        layers_from: if tp.layer_starts.is_empty() {
+            "z_levels"
+        } else {
+            "markers"
+        },
+        features: tp.features.iter().fold(Vec::new(), |mut v, f| {
+            if !v.contains(&f.name) {
+                v.push(f.name.clone());
+            }
+            v
+        }),
         print_speed: range(tp.moves.iter().filter(|m| m.print)),
         travel_speed: range(tp.moves.iter().filter(|m| !m.print)),
         dwells: tp.dwells.len(),
@@ -213,5 +238,7 @@ pub fn inspect(tp: &Toolpath, file: &Path, opts: &ReadOptions) -> Inspection {
         first_line: tp.moves.first().map(|m| m.line),
         last_line: tp.moves.last().map(|m| m.line),
         reader_warnings: tp.warnings.clone(),
+        procedures: tp.procedures.clone(),
+        entry_procedure: tp.entry.clone(),
     }
 }

@@ -33,7 +33,9 @@ pub fn csv_separator(header: &str) -> char {
     crate::table::separator(header)
 }
 pub use self::gcode::parse_gcode;
-pub use self::rapid::{parse_rapid, read_program, RapidProgram, RapidTarget};
+pub use self::rapid::{
+    parse_rapid, read_program, read_program_entry, RapidProgram, RapidTarget, MAX_CALL_DEPTH,
+};
 
 /// Corner blending at the end of a move.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -169,6 +171,39 @@ pub struct Toolpath {
     pub warnings: Vec<String>,
     /// Timed holds at rest (G-code `G4`), in order.
     pub dwells: Vec<Dwell>,
+    /// The procedures of a RAPID module, in file order (empty for other formats).
+    pub procedures: Vec<Procedure>,
+    /// The RAPID procedure the path was read from (`main`, the chosen entry, or the one
+    /// procedure with moves); `None` for other formats.
+    pub entry: Option<String>,
+    /// Layers as a slicer marked them (G-code `;LAYER:n` from Cura, `;LAYER_CHANGE` from
+    /// PrusaSlicer, `; CHANGE_LAYER` from Bambu Studio): the index of the first move after
+    /// each marker, in order (a layer without moves repeats the next index). Empty when the
+    /// file has no markers. See [`Toolpath::layer_of`].
+    pub layer_starts: Vec<usize>,
+    /// Feature boundaries a slicer wrote (`;TYPE:WALL-OUTER`, `; FEATURE: Outer wall`), in
+    /// order: where the kind of extrusion changes.
+    pub features: Vec<Feature>,
+}
+
+/// Where a slicer's feature (`;TYPE:` / `; FEATURE:` comment) starts.
+#[derive(Clone, Debug, PartialEq, Eq)]
+pub struct Feature {
+    /// Index of the first move after the comment.
+    pub first_move: usize,
+    /// The feature as written (`WALL-OUTER`, `Perimeter`, `Outer wall`, …).
+    pub name: String,
+}
+
+/// A procedure of a RAPID module (`PROC`, `FUNC` or `TRAP`).
+#[derive(Clone, Debug, PartialEq, Eq, serde::Serialize)]
+pub struct Procedure {
+    /// Name as written.
+    pub name: String,
+    /// Line of its `PROC`.
+    pub line: usize,
+    /// Move instructions in its body (all branches; calls not followed).
+    pub moves: usize,
 }
 
 /// A hold at rest on the path (G-code `G4 P<ms>` / `G4 S<s>`).
@@ -342,6 +377,24 @@ impl Toolpath {
         n
     }
 
+    /// The slicer layer (0-based, in marker order) of move `i`: the number of layer markers
+    /// before it, less one; `None` before the first marker or when the file has none.
+    pub fn layer_of(&self, i: usize) -> Option<usize> {
+        self.layer_starts
+            .partition_point(|&s| s <= i)
+            .checked_sub(1)
+    }
+
+    /// Layers: the slicer's markers when the file has them ([`Toolpath::layer_starts`]), else
+    /// the distinct z levels of the print moves ([`Toolpath::layer_count`]).
+    pub fn layers(&self) -> usize {
+        if self.layer_starts.is_empty() {
+            self.layer_count()
+        } else {
+            self.layer_starts.len()
+        }
+    }
+
     /// The mark named `name`, if any.
     pub fn mark(&self, name: &str) -> Option<&Mark> {
         self.marks.iter().find(|m| m.name == name)
@@ -428,6 +481,10 @@ pub struct ReadOptions {
     /// Factor applied to the path's geometry after its units are read (points, arc centres
     /// and radii, marks; not speeds). 1 leaves the path as read.
     pub scale: f64,
+    /// RAPID: the procedure to read as the entry instead of `main` (case-insensitive), for
+    /// modules whose `main` chooses its path at run time (an `IF` on an input). Other formats
+    /// refuse it.
+    pub proc: Option<String>,
 }
 
 /// The length unit of a path file's unlabelled coordinates.
@@ -480,6 +537,7 @@ impl Default for ReadOptions {
             print_off_mcodes: vec![5, 103],
             path_units: None,
             scale: 1.0,
+            proc: None,
         }
     }
 }
@@ -515,6 +573,12 @@ pub fn load(path: &Path, opts: &ReadOptions) -> Result<Toolpath> {
             "{name}: path units '{}' apply to CSV paths only: G-code states its units (G21 mm, \
              G20 inch) and RAPID is in mm; use a scale factor to resize",
             u.symbol()
+        )));
+    }
+    if let (Some(p), false) = (&opts.proc, matches!(ext.as_str(), "mod" | "prg" | "modx")) {
+        return Err(Error::Invalid(format!(
+            "{name}: an entry procedure ('{p}') applies to RAPID modules only (.mod, .prg, \
+             .modx)"
         )));
     }
     let text = read_text(path)?;

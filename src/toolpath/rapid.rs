@@ -14,17 +14,32 @@
 //! (ABB's table); `fine` stops exactly.
 //!
 //! Extrusion: `MoveL` and `MoveC` print, `MoveJ` travels. `SetDO`/`SetAO` and all other
-//! instructions are skipped and listed in one warning. Tool and work-object arguments are
-//! accepted and ignored (targets are taken in the work object's frame = the part frame).
-//! Control flow (`IF`, `FOR`, `WHILE`, procedure calls) is not executed: moves are read in file
-//! order. Declarations may appear anywhere in the file. The first move sets the start point.
+//! instructions are skipped and listed in one warning.
+//!
+//! Execution, as the controller runs the module: from `PROC main` (or the procedure named by
+//! [`ReadOptions::proc`]), following its procedure calls (`name;` statements naming a `PROC`
+//! of the module) in order, up to [`MAX_CALL_DEPTH`] deep; a recursive call is an error naming
+//! the chain. `FOR`/`WHILE` bodies are read once (a warning says so). An `IF`/`TEST` whose
+//! branches reach the same moves is read through its first branch; one whose branches reach
+//! different procedures or moves (a choice made at run time, e.g. on a digital input) is an
+//! error listing the procedures and where they are called, unless the entry procedure is
+//! named. A module without `main` is read whole in file order (control flow not executed) when
+//! at most one procedure has moves, and refused listing its procedures otherwise. `ERROR`,
+//! `UNDO` and `BACKWARD` handlers are not run.
+//!
+//! Frames: the part frame is the work object the print moves (`MoveL`, `MoveC`) use most.
+//! Targets in another declared `wobjdata` are put in it through both work objects' uframe and
+//! oframe; moves in `wobj0` while the print uses another work object (a home position) are
+//! not part points: they are skipped with a warning naming their lines. A `tooldata` whose
+//! tool frame is not the identity is noted in the warnings; the robot's nozzle model is kept.
+//! Declarations may appear anywhere in the file. The first move sets the start point.
 //! `MoveAbsJ` (joint targets) is skipped with a warning.
 
 use std::collections::{BTreeSet, HashMap};
 
-use super::{circle_through, perr, Move, MoveKind, ReadOptions, Toolpath, Zone};
+use super::{circle_through, perr, Move, MoveKind, Procedure, ReadOptions, Toolpath, Zone};
 use crate::error::{Error, Result};
-use crate::math::V3;
+use crate::math::{Frame, M3, V3};
 
 const M_PER_MM: f64 = 1e-3;
 /// TCP speed assumed for `vmax`, mm/s.
@@ -538,84 +553,735 @@ fn zone_of(file: &str, data: &Data, v: &Value, at: (usize, usize)) -> Result<Zon
     }
 }
 
-/// Parse a RAPID module; `file` names the source in messages. See the module docs.
-pub fn parse_rapid(text: &str, file: &str, _opts: &ReadOptions) -> Result<Toolpath> {
+/// Deepest chain of procedure calls followed from the entry procedure.
+pub const MAX_CALL_DEPTH: usize = 32;
+
+/// One statement of a routine, as far as the reader needs it.
+enum Stmt {
+    Move(MoveStmt),
+    /// An instruction named by an identifier: a procedure call when it names a PROC of the
+    /// module, another instruction otherwise.
+    Word {
+        name: String,
+        line: usize,
+        col: usize,
+    },
+    /// `IF … ELSEIF … ELSE … ENDIF` or `TEST … CASE … DEFAULT … ENDTEST`; `complete` when an
+    /// `ELSE`/`DEFAULT` arm exists.
+    Branch {
+        kind: &'static str,
+        line: usize,
+        col: usize,
+        arms: Vec<Vec<Stmt>>,
+        complete: bool,
+    },
+    /// `FOR … ENDFOR` or `WHILE … ENDWHILE`.
+    Loop {
+        kind: &'static str,
+        line: usize,
+        body: Vec<Stmt>,
+    },
+}
+
+/// A `PROC` (or `FUNC`/`TRAP`) of the module.
+struct Routine {
+    name: String,
+    line: usize,
+    body: Vec<Stmt>,
+}
+
+type Decl = (String, String, Value, usize, usize);
+
+/// A module as read: declarations, routines, statements outside any routine.
+struct Module {
+    decls: Vec<Decl>,
+    routines: Vec<Routine>,
+    top: Vec<Stmt>,
+    notes: Vec<String>,
+}
+
+fn count_moves(body: &[Stmt]) -> usize {
+    body.iter()
+        .map(|s| match s {
+            Stmt::Move(_) => 1,
+            Stmt::Branch { arms, .. } => arms.iter().map(|a| count_moves(a)).sum(),
+            Stmt::Loop { body, .. } => count_moves(body),
+            Stmt::Word { .. } => 0,
+        })
+        .sum()
+}
+
+impl Parser<'_> {
+    /// Skip tokens up to and including the identifier `word` (e.g. `THEN`, `DO`); an error
+    /// naming `what` when a `;` or the end of the file comes first.
+    fn skip_to_word(&mut self, word: &str, what: &str) -> Result<()> {
+        loop {
+            match &self.peek().tok {
+                Tok::Ident(w) if w.eq_ignore_ascii_case(word) => {
+                    self.next();
+                    return Ok(());
+                }
+                Tok::Eof => return Err(self.err_here(what)),
+                Tok::Punct(p) if p == ";" => return Err(self.err_here(what)),
+                _ => {
+                    self.next();
+                }
+            }
+        }
+    }
+
+    /// A declaration after `CONST`/`PERS`/`VAR` (the keyword not yet consumed).
+    fn decl(&mut self, m: &mut Module) -> Result<()> {
+        self.next();
+        let (ty, _, _) = self.ident("a data type after CONST/PERS/VAR")?;
+        let (name, nl, nc) = self.ident("a data name")?;
+        let tyl = ty.to_ascii_lowercase();
+        if self.is_punct("{") {
+            m.notes.push(format!(
+                "{}:{nl}: array '{name}' skipped (arrays are not read)",
+                self.file
+            ));
+            self.skip_statement();
+            return Ok(());
+        }
+        let wanted = matches!(
+            tyl.as_str(),
+            "robtarget" | "speeddata" | "zonedata" | "wobjdata" | "tooldata"
+        );
+        if self.is_punct(":=") && wanted {
+            self.next();
+            let v = self.value(0)?;
+            self.expect(";", &format!("';' after the value of {name}"))?;
+            m.decls.push((tyl, name.to_ascii_lowercase(), v, nl, nc));
+        } else {
+            self.skip_statement();
+        }
+        Ok(())
+    }
+
+    /// Statements up to one of `ends` (consumed, with an optional `;`); returns them and the
+    /// end word (lower case). `opened` names what is being closed, for the error at the end of
+    /// the file.
+    fn block(
+        &mut self,
+        m: &mut Module,
+        ends: &[&str],
+        opened: (&str, usize),
+        depth: usize,
+    ) -> Result<(Vec<Stmt>, String)> {
+        let mut out = Vec::new();
+        loop {
+            let t = self.peek().clone();
+            match &t.tok {
+                Tok::Eof => {
+                    let want: Vec<String> = ends.iter().map(|e| e.to_uppercase()).collect();
+                    return Err(perr(
+                        self.file,
+                        t.line,
+                        t.col,
+                        format!(
+                            "expected {} to close the {} opened at line {}, found end of file",
+                            want.join(" or "),
+                            opened.0,
+                            opened.1
+                        ),
+                    ));
+                }
+                Tok::Ident(w) => {
+                    let wl = w.to_ascii_lowercase();
+                    if ends.contains(&wl.as_str()) {
+                        self.next();
+                        if self.is_punct(";") {
+                            self.next();
+                        }
+                        return Ok((out, wl));
+                    }
+                    if let Some(s) = self.stmt(m, depth)? {
+                        out.push(s);
+                    }
+                }
+                _ => self.skip_statement(),
+            }
+        }
+    }
+
+    /// One statement starting at an identifier.
+    fn stmt(&mut self, m: &mut Module, depth: usize) -> Result<Option<Stmt>> {
+        let t = self.peek().clone();
+        let Tok::Ident(word) = &t.tok else {
+            self.skip_statement();
+            return Ok(None);
+        };
+        if depth > 64 {
+            return Err(self.err_here("control flow nested less than 64 deep"));
+        }
+        let w = word.to_ascii_lowercase();
+        match w.as_str() {
+            "if" => {
+                self.next();
+                // `IF cond THEN … ENDIF`, or the compact `IF cond instruction;`.
+                loop {
+                    match &self.peek().tok {
+                        Tok::Ident(x) if x.eq_ignore_ascii_case("then") => {
+                            self.next();
+                            break;
+                        }
+                        Tok::Punct(x) if x == ";" => {
+                            self.next();
+                            return Ok(Some(Stmt::Word {
+                                name: "IF (compact, not executed)".into(),
+                                line: t.line,
+                                col: t.col,
+                            }));
+                        }
+                        Tok::Eof => return Err(self.err_here("THEN after the IF condition")),
+                        _ => {
+                            self.next();
+                        }
+                    }
+                }
+                let mut arms = Vec::new();
+                let mut complete = false;
+                let ends = ["elseif", "else", "endif"];
+                let (mut body, mut end) = self.block(m, &ends, ("IF", t.line), depth + 1)?;
+                loop {
+                    arms.push(body);
+                    match end.as_str() {
+                        "elseif" => {
+                            self.skip_to_word("then", "THEN after the ELSEIF condition")?;
+                            (body, end) = self.block(m, &ends, ("IF", t.line), depth + 1)?;
+                        }
+                        "else" => {
+                            complete = true;
+                            (body, end) = self.block(m, &["endif"], ("IF", t.line), depth + 1)?;
+                        }
+                        _ => break,
+                    }
+                }
+                Ok(Some(Stmt::Branch {
+                    kind: "IF",
+                    line: t.line,
+                    col: t.col,
+                    arms,
+                    complete,
+                }))
+            }
+            "test" => {
+                self.next();
+                self.skip_line(t.line);
+                let ends = ["case", "default", "endtest"];
+                let (_, mut end) = self.block(m, &ends, ("TEST", t.line), depth + 1)?;
+                let mut arms = Vec::new();
+                let mut complete = false;
+                while end != "endtest" {
+                    complete |= end == "default";
+                    while !matches!(self.peek().tok, Tok::Eof) && !self.is_punct(":") {
+                        self.next();
+                    }
+                    self.expect(":", "':' after CASE or DEFAULT")?;
+                    let (body, e) = self.block(m, &ends, ("TEST", t.line), depth + 1)?;
+                    arms.push(body);
+                    end = e;
+                }
+                Ok(Some(Stmt::Branch {
+                    kind: "TEST",
+                    line: t.line,
+                    col: t.col,
+                    arms,
+                    complete,
+                }))
+            }
+            "for" | "while" => {
+                self.next();
+                self.skip_to_word("do", &format!("DO after the {} head", w.to_uppercase()))?;
+                let (kind, end) = if w == "for" {
+                    ("FOR", "endfor")
+                } else {
+                    ("WHILE", "endwhile")
+                };
+                let (body, _) = self.block(m, &[end], (kind, t.line), depth + 1)?;
+                Ok(Some(Stmt::Loop {
+                    kind,
+                    line: t.line,
+                    body,
+                }))
+            }
+            "movel" | "movej" | "movec" => {
+                self.next();
+                Ok(Some(Stmt::Move(self.move_stmt(
+                    word.clone(),
+                    t.line,
+                    t.col,
+                )?)))
+            }
+            "const" | "pers" | "var" => {
+                self.decl(m)?;
+                Ok(None)
+            }
+            "local" | "task" => {
+                self.next();
+                Ok(None)
+            }
+            _ => {
+                self.next();
+                // A label `name:`.
+                if self.is_punct(":") {
+                    self.next();
+                    return Ok(None);
+                }
+                self.skip_statement();
+                Ok(Some(Stmt::Word {
+                    name: word.clone(),
+                    line: t.line,
+                    col: t.col,
+                }))
+            }
+        }
+    }
+
+    /// `PROC name(…) … ENDPROC` (also `FUNC type name(…)` and `TRAP name`), the keyword next.
+    fn routine(&mut self, m: &mut Module) -> Result<()> {
+        let t = self.next();
+        let kw = match &t.tok {
+            Tok::Ident(w) => w.to_ascii_lowercase(),
+            _ => unreachable!("routine() is called at PROC, FUNC or TRAP"),
+        };
+        if kw == "func" {
+            self.ident("the return type after FUNC")?;
+        }
+        let (name, line, _) = self.ident(&format!("a name after {}", kw.to_uppercase()))?;
+        if self.is_punct("(") {
+            let mut depth = 0usize;
+            loop {
+                match &self.peek().tok {
+                    Tok::Eof => return Err(self.err_here("')' to close the parameter list")),
+                    Tok::Punct(p) if p == "(" => depth += 1,
+                    Tok::Punct(p) if p == ")" => {
+                        depth -= 1;
+                        if depth == 0 {
+                            self.next();
+                            break;
+                        }
+                    }
+                    _ => {}
+                }
+                self.next();
+            }
+        }
+        let end = format!("end{kw}");
+        let opened = format!("{} {name}", kw.to_uppercase());
+        let ends = [end.as_str(), "error", "undo", "backward"];
+        let (body, mut e) = self.block(m, &ends, (&opened, line), 0)?;
+        // Error, undo and backward handlers are not run on the path.
+        while e != end {
+            (_, e) = self.block(m, &ends, (&opened, line), 0)?;
+        }
+        m.routines.push(Routine { name, line, body });
+        Ok(())
+    }
+}
+
+fn parse_module(file: &str, text: &str) -> Result<Module> {
     let toks = lex(file, text)?;
     let mut p = Parser { file, toks, i: 0 };
-    let mut decls: Vec<(String, String, Value, usize, usize)> = Vec::new();
-    let mut moves: Vec<MoveStmt> = Vec::new();
-    let mut skipped: BTreeSet<String> = BTreeSet::new();
-    let mut notes: Vec<String> = Vec::new();
+    let mut m = Module {
+        decls: Vec::new(),
+        routines: Vec::new(),
+        top: Vec::new(),
+        notes: Vec::new(),
+    };
     loop {
         let t = p.peek().clone();
         match &t.tok {
             Tok::Eof => break,
-            Tok::Ident(word) => {
-                let w = word.to_ascii_lowercase();
-                match w.as_str() {
-                    "module" | "proc" | "func" | "trap" | "record" | "if" | "elseif" | "else"
-                    | "for" | "while" | "test" | "case" | "default" | "endif" | "endfor"
-                    | "endwhile" | "endtest" | "endmodule" | "endproc" | "endfunc" | "endtrap"
-                    | "endrecord" => {
-                        if matches!(w.as_str(), "if" | "for" | "while" | "test") {
-                            skipped.insert(format!(
-                                "{} (control flow not executed)",
-                                w.to_uppercase()
-                            ));
-                        }
-                        p.skip_line(t.line);
-                    }
-                    "local" | "task" => {
-                        p.next();
-                    }
-                    "const" | "pers" | "var" => {
-                        p.next();
-                        let (ty, _, _) = p.ident("a data type after CONST/PERS/VAR")?;
-                        let (name, nl, nc) = p.ident("a data name")?;
-                        let tyl = ty.to_ascii_lowercase();
-                        if p.is_punct("{") {
-                            notes.push(format!(
-                                "{file}:{nl}: array '{name}' skipped (arrays are not read)"
-                            ));
-                            p.skip_statement();
-                            continue;
-                        }
-                        let wanted = matches!(tyl.as_str(), "robtarget" | "speeddata" | "zonedata");
-                        if p.is_punct(":=") && wanted {
-                            p.next();
-                            let v = p.value(0)?;
-                            p.expect(";", &format!("';' after the value of {name}"))?;
-                            decls.push((tyl, name.to_ascii_lowercase(), v, nl, nc));
-                        } else {
-                            p.skip_statement();
-                        }
-                    }
-                    "movel" | "movej" | "movec" => {
-                        p.next();
-                        let m = p.move_stmt(word.clone(), t.line, t.col)?;
-                        moves.push(m);
-                    }
-                    _ => {
-                        skipped.insert(word.clone());
-                        p.skip_statement();
+            Tok::Ident(word) => match word.to_ascii_lowercase().as_str() {
+                "module" | "endmodule" | "endproc" | "endfunc" | "endtrap" | "endif" | "endfor"
+                | "endwhile" | "endtest" | "else" | "elseif" => p.skip_line(t.line),
+                "record" => {
+                    p.next();
+                    p.block(&mut m, &["endrecord"], ("RECORD", t.line), 0)?;
+                }
+                "proc" | "func" | "trap" => p.routine(&mut m)?,
+                _ => {
+                    if let Some(s) = p.stmt(&mut m, 0)? {
+                        m.top.push(s);
                     }
                 }
+            },
+            _ => p.skip_statement(),
+        }
+    }
+    Ok(m)
+}
+
+/// The moves a controller runs, in order, and what the reader noted on the way.
+struct Run<'a> {
+    file: &'a str,
+    routines: HashMap<String, &'a Routine>,
+    moves: Vec<&'a MoveStmt>,
+    stack: Vec<(String, usize)>,
+    skipped: BTreeSet<String>,
+    notes: Vec<String>,
+    loops: BTreeSet<usize>,
+    all: &'a [Routine],
+}
+
+impl<'a> Run<'a> {
+    fn routine(&self, name: &str) -> Option<&'a Routine> {
+        self.routines.get(&name.to_ascii_lowercase()).copied()
+    }
+
+    /// Whether the routine `name` reaches a move (through its calls too).
+    fn reaches_moves(&self, name: &str, seen: &mut Vec<String>) -> bool {
+        let n = name.to_ascii_lowercase();
+        if seen.contains(&n) {
+            return false;
+        }
+        seen.push(n);
+        match self.routine(name) {
+            Some(r) => !self.signature(&r.body, seen).is_empty(),
+            None => false,
+        }
+    }
+
+    /// What a branch arm reaches: its own moves (by line) and the procedures it calls that
+    /// reach moves (with the lines of the calls).
+    fn signature(&self, body: &[Stmt], seen: &mut Vec<String>) -> Vec<(String, usize)> {
+        let mut out = Vec::new();
+        for s in body {
+            match s {
+                Stmt::Move(m) => out.push((format!("a {} at line {}", m.instr, m.line), m.line)),
+                Stmt::Word { name, line, .. } => {
+                    if self.routine(name).is_some() && self.reaches_moves(name, &mut seen.clone()) {
+                        out.push((
+                            self.routine(name).map_or(name.clone(), |r| r.name.clone()),
+                            *line,
+                        ));
+                    }
+                }
+                Stmt::Branch { arms, .. } => {
+                    for a in arms {
+                        out.extend(self.signature(a, seen));
+                    }
+                }
+                Stmt::Loop { body, .. } => out.extend(self.signature(body, seen)),
             }
-            _ => {
-                p.skip_statement();
+        }
+        out
+    }
+
+    fn procedures_list(&self) -> String {
+        self.all
+            .iter()
+            .map(|r| {
+                format!(
+                    "{} (line {}, {} moves)",
+                    r.name,
+                    r.line,
+                    count_moves(&r.body)
+                )
+            })
+            .collect::<Vec<_>>()
+            .join(", ")
+    }
+
+    fn run(&mut self, body: &'a [Stmt]) -> Result<()> {
+        for s in body {
+            match s {
+                Stmt::Move(m) => self.moves.push(m),
+                Stmt::Word { name, line, col } => {
+                    if let Some(r) = self.routine(name) {
+                        self.call(r, *line, *col)?;
+                    } else {
+                        self.skipped.insert(name.clone());
+                    }
+                }
+                Stmt::Loop { kind, line, body } => {
+                    if self.loops.insert(*line) {
+                        self.notes.push(format!(
+                            "{}:{line}: {kind} loop: its body is read once (loops are not repeated)",
+                            self.file
+                        ));
+                    }
+                    self.run(body)?;
+                }
+                Stmt::Branch {
+                    kind,
+                    line,
+                    col,
+                    arms,
+                    complete,
+                } => {
+                    let mut sigs: Vec<Vec<String>> = arms
+                        .iter()
+                        .map(|a| {
+                            self.signature(a, &mut Vec::new())
+                                .into_iter()
+                                .map(|(n, _)| n)
+                                .collect()
+                        })
+                        .collect();
+                    if !complete {
+                        sigs.push(Vec::new());
+                    }
+                    if sigs.iter().all(|s| *s == sigs[0]) {
+                        if let (Some(a), false) = (arms.first(), sigs[0].is_empty()) {
+                            self.run(a)?;
+                        }
+                        continue;
+                    }
+                    let mut reached: Vec<String> = Vec::new();
+                    for a in arms {
+                        for (n, l) in self.signature(a, &mut Vec::new()) {
+                            let item = if n.starts_with("a Move") {
+                                n
+                            } else {
+                                format!("{n} (called at {}:{l})", self.file)
+                            };
+                            if !reached.contains(&item) {
+                                reached.push(item);
+                            }
+                        }
+                    }
+                    if !complete {
+                        reached.push("nothing (no ELSE/DEFAULT)".into());
+                    }
+                    let within = self
+                        .stack
+                        .last()
+                        .map_or(String::new(), |(n, _)| format!(" in {n}"));
+                    return Err(perr(
+                        self.file,
+                        *line,
+                        *col,
+                        format!(
+                            "the {kind}{within} chooses at run time between {}: the reader \
+                             cannot tell which the controller runs; name the procedure to read \
+                             as the entry. Procedures: {}",
+                            reached.join(", "),
+                            self.procedures_list()
+                        ),
+                    ));
+                }
+            }
+        }
+        Ok(())
+    }
+
+    fn call(&mut self, r: &'a Routine, line: usize, col: usize) -> Result<()> {
+        let key = r.name.to_ascii_lowercase();
+        if self.stack.iter().any(|(n, _)| n.eq_ignore_ascii_case(&key)) {
+            let chain: Vec<String> = self
+                .stack
+                .iter()
+                .map(|(n, _)| n.clone())
+                .chain(std::iter::once(r.name.clone()))
+                .collect();
+            return Err(perr(
+                self.file,
+                line,
+                col,
+                format!(
+                    "recursive call of {}: {}; a path reader cannot unroll recursion: expected \
+                     procedures that do not call themselves",
+                    r.name,
+                    chain.join(" → ")
+                ),
+            ));
+        }
+        if self.stack.len() >= MAX_CALL_DEPTH {
+            return Err(perr(
+                self.file,
+                line,
+                col,
+                format!(
+                    "calls nested deeper than {MAX_CALL_DEPTH} procedures (calling {}): expected \
+                     a shallower call chain",
+                    r.name
+                ),
+            ));
+        }
+        self.stack.push((r.name.clone(), line));
+        self.run(&r.body)?;
+        self.stack.pop();
+        Ok(())
+    }
+}
+
+/// Every move of the module in file order, control flow not executed (a module with no main
+/// and one procedure with moves).
+fn flatten<'a>(body: &'a [Stmt], out: &mut Vec<&'a MoveStmt>, skipped: &mut BTreeSet<String>) {
+    for s in body {
+        match s {
+            Stmt::Move(m) => out.push(m),
+            Stmt::Word { name, .. } => {
+                skipped.insert(name.clone());
+            }
+            Stmt::Branch { kind, arms, .. } => {
+                skipped.insert(format!("{kind} (control flow not executed)"));
+                for a in arms {
+                    flatten(a, out, skipped);
+                }
+            }
+            Stmt::Loop { kind, body, .. } => {
+                skipped.insert(format!("{kind} (control flow not executed)"));
+                flatten(body, out, skipped);
             }
         }
     }
+}
+
+/// The moves the controller runs from the entry: `entry` when given, else `main`, else (no
+/// `main`) every move in file order when at most one procedure has moves.
+struct Executed<'a> {
+    moves: Vec<&'a MoveStmt>,
+    entry: Option<String>,
+    skipped: BTreeSet<String>,
+    notes: Vec<String>,
+}
+
+fn execute<'a>(file: &'a str, m: &'a Module, entry: Option<&str>) -> Result<Executed<'a>> {
+    let mut run = Run {
+        file,
+        routines: HashMap::new(),
+        moves: Vec::new(),
+        stack: Vec::new(),
+        skipped: BTreeSet::new(),
+        notes: Vec::new(),
+        loops: BTreeSet::new(),
+        all: &m.routines,
+    };
+    for r in &m.routines {
+        if let Some(first) = run.routines.insert(r.name.to_ascii_lowercase(), r) {
+            return Err(perr(
+                file,
+                r.line,
+                1,
+                format!(
+                    "procedure '{}' is declared twice (first on line {}): rename one",
+                    r.name, first.line
+                ),
+            ));
+        }
+    }
+    let chosen = match entry {
+        Some(name) => match run.routine(name) {
+            Some(r) => Some(r),
+            None => {
+                return Err(Error::Invalid(format!(
+                    "{file}: no procedure named '{name}' to read as the entry: expected one of \
+                     {}",
+                    if m.routines.is_empty() {
+                        "them, but the module has none".to_string()
+                    } else {
+                        run.procedures_list()
+                    }
+                )))
+            }
+        },
+        None => run.routine("main"),
+    };
+    let mut moves = Vec::new();
+    let mut skipped = BTreeSet::new();
+    let entry_name;
+    match chosen {
+        Some(r) => {
+            entry_name = Some(r.name.clone());
+            run.call(r, r.line, 1)?;
+            moves = std::mem::take(&mut run.moves);
+            skipped = std::mem::take(&mut run.skipped);
+        }
+        None => {
+            let with_moves: Vec<&Routine> = m
+                .routines
+                .iter()
+                .filter(|r| count_moves(&r.body) > 0)
+                .collect();
+            if with_moves.len() > 1 {
+                return Err(Error::Invalid(format!(
+                    "{file}: no PROC main and {} procedures with moves: the reader cannot tell \
+                     which the controller runs; name the procedure to read as the entry. \
+                     Procedures: {}",
+                    with_moves.len(),
+                    run.procedures_list()
+                )));
+            }
+            entry_name = with_moves.first().map(|r| r.name.clone());
+            flatten(&m.top, &mut moves, &mut skipped);
+            for r in &m.routines {
+                flatten(&r.body, &mut moves, &mut skipped);
+            }
+            // Calls are not followed in this mode; a name of a routine is not an instruction
+            // skipped.
+            skipped.retain(|s| run.routine(s).is_none());
+        }
+    }
+    Ok(Executed {
+        moves,
+        entry: entry_name,
+        skipped,
+        notes: run.notes,
+    })
+}
+
+/// A pose `[[x, y, z], [q1, q2, q3, q4]]` (mm, quaternion `[w, x, y, z]`) as a frame in m;
+/// `None` when the value is not one or the quaternion is zero.
+fn pose_of(v: &Value) -> Option<Frame> {
+    let Value::Agg(items, _, _) = v else {
+        return None;
+    };
+    let p = nums_of(items.first()?)?;
+    let q = nums_of(items.get(1)?)?;
+    if p.len() != 3 || q.len() != 4 {
+        return None;
+    }
+    let n = (q[0] * q[0] + q[1] * q[1] + q[2] * q[2] + q[3] * q[3]).sqrt();
+    if !(n.is_finite() && n > 1e-9) {
+        return None;
+    }
+    let (w, x, y, z) = (q[0] / n, q[1] / n, q[2] / n, q[3] / n);
+    let rot = M3::new(
+        1.0 - 2.0 * (y * y + z * z),
+        2.0 * (x * y - w * z),
+        2.0 * (x * z + w * y),
+        2.0 * (x * y + w * z),
+        1.0 - 2.0 * (x * x + z * z),
+        2.0 * (y * z - w * x),
+        2.0 * (x * z - w * y),
+        2.0 * (y * z + w * x),
+        1.0 - 2.0 * (x * x + y * y),
+    );
+    Some(Frame::new(rot, V3::new(p[0], p[1], p[2]) * M_PER_MM))
+}
+
+/// The `\WObj` of a move, lower case (`wobj0` when none is given).
+fn wobj_of(m: &MoveStmt) -> String {
+    match m.opts.get("wobj") {
+        Some(Some(Value::Ident(n, _, _))) => n.to_ascii_lowercase(),
+        _ => "wobj0".into(),
+    }
+}
+
+/// Parse a RAPID module; `file` names the source in messages. See the module docs.
+pub fn parse_rapid(text: &str, file: &str, opts: &ReadOptions) -> Result<Toolpath> {
+    let module = parse_module(file, text)?;
+    let ex = execute(file, &module, opts.proc.as_deref())?;
+    let mut skipped = ex.skipped;
+    let mut notes = module.notes.clone();
+    notes.extend(ex.notes);
+    let decls = &module.decls;
 
     let mut data = Data {
         robtargets: HashMap::new(),
         speeds: HashMap::new(),
         zones: HashMap::new(),
     };
+    let mut wobjs: HashMap<String, (Frame, usize)> = HashMap::new();
+    let mut tools: HashMap<String, (Value, usize)> = HashMap::new();
     // A name declared twice is an error naming both lines (RAPID refuses it too).
     {
         let mut seen: HashMap<&str, usize> = HashMap::new();
-        for (_, name, _, l, c) in &decls {
+        for (_, name, _, l, c) in decls {
             if let Some(first) = seen.insert(name.as_str(), *l) {
                 return Err(perr(
                     file,
@@ -627,7 +1293,7 @@ pub fn parse_rapid(text: &str, file: &str, _opts: &ReadOptions) -> Result<Toolpa
         }
     }
     // Robtargets may refer to others (Offs); resolve in declaration order.
-    for (ty, name, v, l, c) in &decls {
+    for (ty, name, v, l, c) in decls {
         match ty.as_str() {
             "robtarget" => {
                 let p = robtarget(file, &data, v, (*l, *c))?;
@@ -637,22 +1303,107 @@ pub fn parse_rapid(text: &str, file: &str, _opts: &ReadOptions) -> Result<Toolpa
                 let s = speed_of(file, &data, v, (*l, *c))?;
                 data.speeds.insert(name.clone(), s / M_PER_MM);
             }
-            _ => {
+            "zonedata" => {
                 let z = zone_of(file, &data, v, (*l, *c))?;
                 data.zones.insert(name.clone(), z);
+            }
+            "wobjdata" => {
+                // [robhold, ufprog, ufmec, uframe, oframe]
+                let frames = match v {
+                    Value::Agg(items, _, _) if items.len() == 5 => {
+                        pose_of(&items[3]).zip(pose_of(&items[4]))
+                    }
+                    _ => None,
+                };
+                let Some((uf, of)) = frames else {
+                    return Err(perr(
+                        file,
+                        *l,
+                        *c,
+                        "expected wobjdata [robhold, ufprog, ufmec, [[x,y,z],[q1,q2,q3,q4]], \
+                         [[x,y,z],[q1,q2,q3,q4]]] (uframe, oframe; a non-zero quaternion)",
+                    ));
+                };
+                wobjs.insert(name.clone(), (uf.compose(&of), *l));
+            }
+            _ => {
+                tools.insert(name.clone(), (v.clone(), *l));
             }
         }
     }
 
+    // The part frame: the work object the print moves (MoveL, MoveC) use most (the first of
+    // equals); all moves when none prints.
+    let mut shown: HashMap<String, String> = HashMap::new();
+    for m in &ex.moves {
+        if let Some(Some(Value::Ident(n, _, _))) = m.opts.get("wobj") {
+            shown
+                .entry(n.to_ascii_lowercase())
+                .or_insert_with(|| n.clone());
+        }
+        let k = usize::from(m.instr.eq_ignore_ascii_case("movec"));
+        if let Some(Value::Ident(n, _, _)) = m.args.get(k + 3).map(|a| &a.value) {
+            shown
+                .entry(n.to_ascii_lowercase())
+                .or_insert_with(|| n.clone());
+        }
+    }
+    let show = |n: &str| shown.get(n).cloned().unwrap_or_else(|| n.to_string());
+    let mut counts: Vec<(String, usize)> = Vec::new();
+    let prints: Vec<&&MoveStmt> = ex
+        .moves
+        .iter()
+        .filter(|m| !m.instr.eq_ignore_ascii_case("movej"))
+        .collect();
+    let pool: Vec<&&MoveStmt> = if prints.is_empty() {
+        ex.moves.iter().collect()
+    } else {
+        prints
+    };
+    for m in pool {
+        let w = wobj_of(m);
+        match counts.iter_mut().find(|(n, _)| *n == w) {
+            Some(c) => c.1 += 1,
+            None => counts.push((w, 1)),
+        }
+    }
+    let part = counts
+        .iter()
+        .fold(None::<&(String, usize)>, |best, c| match best {
+            Some(b) if b.1 >= c.1 => Some(b),
+            _ => Some(c),
+        })
+        .map_or("wobj0".to_string(), |c| c.0.clone());
+    let frame_of = |w: &str| -> Option<Frame> {
+        if w == "wobj0" {
+            Some(Frame::identity())
+        } else {
+            wobjs.get(w).map(|f| f.0)
+        }
+    };
+
     let mut tp = Toolpath {
         source: file.to_string(),
+        procedures: module
+            .routines
+            .iter()
+            .map(|r| Procedure {
+                name: r.name.clone(),
+                line: r.line,
+                moves: count_moves(&r.body),
+            })
+            .collect(),
+        entry: ex.entry.clone(),
         ..Default::default()
     };
     let mut started = false;
     let mut pos = V3::zeros();
     let mut used_vmax = false;
     let mut tool_note = false;
-    for m in &moves {
+    let mut home_lines: Vec<usize> = Vec::new();
+    let mut other_wobjs: BTreeSet<String> = BTreeSet::new();
+    let mut tools_used: Vec<(String, usize)> = Vec::new();
+    for m in &ex.moves {
         let instr = m.instr.to_ascii_lowercase();
         let is_c = instr == "movec";
         let need = if is_c { 5 } else { 4 };
@@ -673,9 +1424,56 @@ pub fn parse_rapid(text: &str, file: &str, _opts: &ReadOptions) -> Result<Toolpa
                 ),
             ));
         }
+        let wobj = wobj_of(m);
+        let to_part = if wobj == part {
+            Frame::identity()
+        } else if wobj == "wobj0" {
+            home_lines.push(m.line);
+            continue;
+        } else {
+            match (frame_of(&part), frame_of(&wobj)) {
+                (Some(p), Some(w)) => {
+                    other_wobjs.insert(wobj.clone());
+                    p.inverse().compose(&w)
+                }
+                (_, None) => {
+                    return Err(perr(
+                        file,
+                        m.line,
+                        m.col,
+                        format!(
+                            "undefined wobjdata '{}': its targets cannot be put in the part \
+                             frame ({}): expected wobj0 or a wobjdata declared in the module",
+                            show(&wobj),
+                            show(&part)
+                        ),
+                    ))
+                }
+                (None, _) => {
+                    return Err(perr(
+                        file,
+                        m.line,
+                        m.col,
+                        format!(
+                            "the move is in work object '{w}' and the print in '{p}', which is \
+                             not declared in the module: expected a wobjdata {p} to put '{w}' \
+                             targets in the part frame",
+                            w = show(&wobj),
+                            p = show(&part)
+                        ),
+                    ))
+                }
+            }
+        };
         let at = (m.line, m.col);
         let k = usize::from(is_c);
-        let to = robtarget(file, &data, &m.args[k].value, at)?;
+        if let Value::Ident(t, _, _) = &m.args[k + 3].value {
+            let t = t.to_ascii_lowercase();
+            if !tools_used.iter().any(|(n, _)| *n == t) {
+                tools_used.push((t, m.line));
+            }
+        }
+        let to = to_part.apply(&robtarget(file, &data, &m.args[k].value, at)?);
         let mut speed = speed_of(file, &data, &m.args[k + 1].value, at)?;
         if matches!(&m.args[k + 1].value, Value::Ident(n, _, _) if n.eq_ignore_ascii_case("vmax")) {
             used_vmax = true;
@@ -732,7 +1530,7 @@ pub fn parse_rapid(text: &str, file: &str, _opts: &ReadOptions) -> Result<Toolpa
             continue;
         }
         let kind = if is_c {
-            let via = robtarget(file, &data, &m.args[0].value, at)?;
+            let via = to_part.apply(&robtarget(file, &data, &m.args[0].value, at)?);
             match circle_through(&pos, &via, &to) {
                 Some((centre, normal, radius, sweep)) => MoveKind::Arc {
                     centre,
@@ -767,11 +1565,69 @@ pub fn parse_rapid(text: &str, file: &str, _opts: &ReadOptions) -> Result<Toolpa
             pos = to;
         }
     }
+    if let Some(e) = &ex.entry {
+        let n = module.routines.len();
+        if n > 1 {
+            tp.warnings.push(format!(
+                "{file}: read from PROC {e} as the controller runs it (its calls followed), \
+                 {n} procedures in the module"
+            ));
+        }
+    }
     if tool_note {
+        let frame = if part == "wobj0" {
+            "the work object's frame (= the part frame)".to_string()
+        } else {
+            format!(
+                "work object {}'s frame (= the part frame, the one the print moves use)",
+                show(&part)
+            )
+        };
         tp.warnings.push(format!(
-            "{file}: tool and work-object arguments ignored: targets taken in the work object's \
-             frame (= the part frame); orientations dropped (vertical nozzle assumed)"
+            "{file}: targets taken in {frame}; orientations dropped (vertical nozzle assumed)"
         ));
+    }
+    if !other_wobjs.is_empty() {
+        tp.warnings.push(format!(
+            "{file}: targets in {} put in the part frame {} through their wobjdata \
+             (uframe·oframe)",
+            other_wobjs
+                .iter()
+                .map(|w| show(w))
+                .collect::<Vec<_>>()
+                .join(", "),
+            show(&part)
+        ));
+    }
+    if !home_lines.is_empty() {
+        let lines: Vec<String> = home_lines.iter().map(|l| l.to_string()).collect();
+        tp.warnings.push(format!(
+            "{file}: line {}: move(s) in wobj0 while the print uses work object {}: not part \
+             points (e.g. a home position), skipped",
+            lines.join(", "),
+            show(&part)
+        ));
+    }
+    for (t, line) in &tools_used {
+        let Some((v, decl_line)) = tools.get(t) else {
+            continue;
+        };
+        let tframe = match v {
+            Value::Agg(items, _, _) => items.get(1).and_then(pose_of),
+            _ => None,
+        };
+        if let Some(f) = tframe {
+            let identity = f.pos.norm() < 1e-9 && (f.rot - M3::identity()).norm() < 1e-9;
+            if !identity {
+                tp.warnings.push(format!(
+                    "{file}:{line}: tool {} (declared on line {decl_line}) has a tool frame \
+                     that is not the identity (offset {:.1} mm from the flange): targets are \
+                     read as the nozzle tip's positions and the robot's own nozzle model is kept",
+                    show(t),
+                    f.pos.norm() / M_PER_MM
+                ));
+            }
+        }
     }
     if used_vmax {
         tp.warnings.push(format!(
@@ -781,7 +1637,10 @@ pub fn parse_rapid(text: &str, file: &str, _opts: &ReadOptions) -> Result<Toolpa
     if !skipped.is_empty() {
         tp.warnings.push(format!(
             "{file}: skipped instructions: {}",
-            skipped.into_iter().collect::<Vec<_>>().join(", ")
+            std::mem::take(&mut skipped)
+                .into_iter()
+                .collect::<Vec<_>>()
+                .join(", ")
         ));
     }
     tp.warnings.extend(notes);
@@ -814,7 +1673,7 @@ pub struct RapidTarget {
 pub struct RapidProgram {
     /// `MODULE` names, in order.
     pub modules: Vec<String>,
-    /// Moves with inline or declared robtargets, in file order.
+    /// Moves with inline or declared robtargets, in the order the controller runs them.
     pub targets: Vec<RapidTarget>,
     /// Declared `jointtarget`s: name (lower case) and robot axes, deg.
     pub jointtargets: Vec<(String, Vec<f64>)>,
@@ -853,9 +1712,19 @@ fn target_parts(v: &Value) -> Option<([f64; 3], [f64; 4], [i32; 4])> {
 }
 
 /// Read a RAPID module for what a controller needs (see [`RapidProgram`]); `file` names the
-/// source in messages. Errors where the module does not parse (as [`parse_rapid`]) or a move's
-/// robtarget is not `[[x, y, z], [q1, q2, q3, q4], [cf1, cf4, cf6, cfx], [eax…]]`.
+/// source in messages. The moves are taken in the order the controller runs them from `main`
+/// (as [`parse_rapid`]; see [`read_program_entry`] to name another entry). Errors where the
+/// module does not parse (as [`parse_rapid`]) or a move's robtarget is not
+/// `[[x, y, z], [q1, q2, q3, q4], [cf1, cf4, cf6, cfx], [eax…]]`.
 pub fn read_program(text: &str, file: &str) -> Result<RapidProgram> {
+    read_program_entry(text, file, None)
+}
+
+/// [`read_program`] from the procedure `entry` instead of `main` (as [`ReadOptions::proc`]).
+pub fn read_program_entry(text: &str, file: &str, entry: Option<&str>) -> Result<RapidProgram> {
+    let module = parse_module(file, text)?;
+    let ex = execute(file, &module, entry)?;
+    let mut by_place: HashMap<(usize, usize), Option<RapidTarget>> = HashMap::new();
     let toks = lex(file, text)?;
     let mut prog = RapidProgram::default();
     for l in text.lines() {
@@ -925,26 +1794,27 @@ pub fn read_program(text: &str, file: &str) -> Result<RapidProgram> {
                             Some(Value::Ident(n, _, _)) => robtargets.get(&n.to_ascii_lowercase()),
                             other => other,
                         };
-                        let (pos_mm, quat, conf) = v.and_then(target_parts).ok_or_else(|| {
-                            perr(
-                                file,
-                                m.line,
-                                m.col,
-                                "expected a robtarget [[x,y,z],[q1,q2,q3,q4],[cf1,cf4,cf6,cfx],[eax…]]",
-                            )
-                        })?;
+                        // A move the controller does not run may have any target; one it
+                        // runs must have a full robtarget (checked below).
+                        let Some((pos_mm, quat, conf)) = v.and_then(target_parts) else {
+                            by_place.insert((m.line, m.col), None);
+                            continue;
+                        };
                         let wobj = match m.opts.get("wobj") {
                             Some(Some(Value::Ident(n, _, _))) => n.clone(),
                             _ => "wobj0".into(),
                         };
-                        prog.targets.push(RapidTarget {
-                            instr: m.instr.clone(),
-                            pos_mm,
-                            quat,
-                            conf,
-                            wobj,
-                            line: m.line,
-                        });
+                        by_place.insert(
+                            (m.line, m.col),
+                            Some(RapidTarget {
+                                instr: m.instr.clone(),
+                                pos_mm,
+                                quat,
+                                conf,
+                                wobj,
+                                line: m.line,
+                            }),
+                        );
                     }
                     "confl" | "singarea" => {
                         p.next();
@@ -958,7 +1828,9 @@ pub fn read_program(text: &str, file: &str) -> Result<RapidProgram> {
                             prog.sing_area = Some(on);
                         }
                     }
-                    "proc" | "endproc" | "endmodule" => {
+                    "proc" | "endproc" | "endmodule" | "func" | "endfunc" | "trap" | "endtrap"
+                    | "if" | "elseif" | "else" | "endif" | "for" | "endfor" | "while"
+                    | "endwhile" | "test" | "case" | "default" | "endtest" => {
                         p.skip_line(t.line);
                     }
                     "local" | "task" => {
@@ -968,6 +1840,20 @@ pub fn read_program(text: &str, file: &str) -> Result<RapidProgram> {
                 }
             }
             _ => p.skip_statement(),
+        }
+    }
+    for m in &ex.moves {
+        match by_place.get(&(m.line, m.col)) {
+            Some(Some(t)) => prog.targets.push(t.clone()),
+            Some(None) => {
+                return Err(perr(
+                    file,
+                    m.line,
+                    m.col,
+                    "expected a robtarget [[x,y,z],[q1,q2,q3,q4],[cf1,cf4,cf6,cfx],[eax…]]",
+                ))
+            }
+            None => {}
         }
     }
     Ok(prog)

@@ -455,6 +455,184 @@ pub fn placement_of_run(dir: &std::path::Path) -> Result<Placement> {
         .map_err(|e| Error::Invalid(format!("{}: best.placement: {e}", f.display())))
 }
 
+fn summary_of(dir: &std::path::Path) -> Result<(PathBuf, Value)> {
+    let f = dir.join("summary.json");
+    let text = std::fs::read_to_string(&f).map_err(|e| Error::io(&f, e))?;
+    let v: Value = serde_json::from_str(&text)
+        .map_err(|e| Error::Invalid(format!("{}: not JSON: {e}", f.display())))?;
+    Ok((f, v))
+}
+
+/// One station of a `stations` run directory: the part's placement in that station's robot
+/// frame and the moves it prints.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StationOfRun {
+    /// The part frame in the station's robot base frame.
+    pub placement: Placement,
+    /// First and last move of the path it prints (0-based, inclusive).
+    pub moves: [usize; 2],
+    /// Stations in the plan.
+    pub stations: usize,
+    /// The path the plan was made for, as its `meta.path` says it.
+    pub path: Option<String>,
+}
+
+/// Station `k` (1-based) of the `stations` run directory `dir` (its `summary.json`).
+/// Errors name the file and what is missing, or the stations there are.
+pub fn station_of_run(dir: &std::path::Path, k: usize) -> Result<StationOfRun> {
+    let (f, v) = summary_of(dir)?;
+    let segs = v.get("segments").and_then(Value::as_array).ok_or_else(|| {
+        Error::Invalid(format!(
+            "{}: no `segments` (a run of `stations` has them)",
+            f.display()
+        ))
+    })?;
+    let seg = k.checked_sub(1).and_then(|i| segs.get(i)).ok_or_else(|| {
+        Error::Invalid(format!(
+            "{}: station {k} does not exist: the plan has stations 1 to {}",
+            f.display(),
+            segs.len()
+        ))
+    })?;
+    let at = seg
+        .get("at")
+        .ok_or_else(|| Error::Invalid(format!("{}: segments[{}]: no `at`", f.display(), k - 1)))?;
+    let placement = placement_from_json(at)
+        .map_err(|e| Error::Invalid(format!("{}: segments[{}].at: {e}", f.display(), k - 1)))?;
+    let moves = seg
+        .get("moves")
+        .and_then(Value::as_array)
+        .and_then(|m| Some([m.first()?.as_u64()? as usize, m.get(1)?.as_u64()? as usize]))
+        .filter(|m| m[0] <= m[1])
+        .ok_or_else(|| {
+            Error::Invalid(format!(
+                "{}: segments[{}]: no `moves` [first, last]",
+                f.display(),
+                k - 1
+            ))
+        })?;
+    Ok(StationOfRun {
+        placement,
+        moves,
+        stations: segs.len(),
+        path: v
+            .get("meta")
+            .and_then(|m| m.get("path"))
+            .and_then(Value::as_str)
+            .map(str::to_string),
+    })
+}
+
+/// One case of a `study` run directory: its robot, tool, path, options and answer.
+#[derive(Clone, Debug, PartialEq)]
+pub struct CaseOfRun {
+    /// The case's index.
+    pub index: usize,
+    /// "robot / cell / path".
+    pub name: String,
+    /// The robot as the study resolved it.
+    pub robot: String,
+    /// The tool drive file, if the study gave one.
+    pub tool: Option<String>,
+    /// The path file.
+    pub path: String,
+    /// The options the case ran with: the study's, its robot's, its cell's, its path's.
+    pub options: Vec<String>,
+    /// The cell's placement fields as the command line takes them (`x`, `y`, `z`, `yaw`, …).
+    pub cell: Vec<(String, String)>,
+    /// The case's answer (`None`: the case has none).
+    pub placement: Option<Placement>,
+}
+
+/// The case `case` (its index, or `robot/cell/path` by names) of the `study` run directory
+/// `dir` (its `summary.json`).
+pub fn case_of_run(dir: &std::path::Path, case: &str) -> Result<CaseOfRun> {
+    let (f, v) = summary_of(dir)?;
+    let bad = |m: String| Error::Invalid(format!("{}: {m}", f.display()));
+    if v.get("kind").and_then(Value::as_str) != Some("printwatt-study") {
+        return Err(bad(
+            "not a study's summary (`kind` is not `printwatt-study`)".into(),
+        ));
+    }
+    let list = |k: &str| {
+        v.get(k)
+            .and_then(Value::as_array)
+            .cloned()
+            .unwrap_or_default()
+    };
+    let cases = list("cases");
+    let name_of = |c: &Value| {
+        format!(
+            "{}/{}/{}",
+            c.get("robot").and_then(Value::as_str).unwrap_or("?"),
+            c.get("cell").and_then(Value::as_str).unwrap_or("?"),
+            c.get("path").and_then(Value::as_str).unwrap_or("?")
+        )
+    };
+    let c = match case.parse::<usize>() {
+        Ok(i) => cases.get(i),
+        Err(_) => cases.iter().find(|c| name_of(c) == case),
+    }
+    .ok_or_else(|| {
+        bad(format!(
+            "no case `{case}`: give an index 0 to {} or robot/cell/path (e.g. `{}`)",
+            cases.len().saturating_sub(1),
+            cases.first().map(name_of).unwrap_or_default()
+        ))
+    })?;
+    let named = |k: &str, name: &str| -> Result<Value> {
+        list(k)
+            .into_iter()
+            .find(|x| x.get("name").and_then(Value::as_str) == Some(name))
+            .ok_or_else(|| bad(format!("{k}: no `{name}`")))
+    };
+    let field = |c: &Value, k: &str| c.get(k).and_then(Value::as_str).unwrap_or("").to_string();
+    let robot = named("robots", &field(c, "robot"))?;
+    let cell = named("cells", &field(c, "cell"))?;
+    let path = named("paths", &field(c, "path"))?;
+    let opts = |x: &Value| -> Vec<String> {
+        x.get("options")
+            .and_then(Value::as_array)
+            .map(|a| {
+                a.iter()
+                    .filter_map(|o| o.as_str().map(str::to_string))
+                    .collect()
+            })
+            .unwrap_or_default()
+    };
+    let mut options = opts(&v);
+    options.extend(opts(&robot));
+    options.extend(opts(&cell));
+    options.extend(opts(&path));
+    let placement = match c.get("placement") {
+        Some(p) if !p.is_null() => {
+            Some(placement_from_json(p).map_err(|e| bad(format!("case {case}: placement: {e}")))?)
+        }
+        _ => None,
+    };
+    Ok(CaseOfRun {
+        index: c.get("case").and_then(Value::as_u64).unwrap_or(0) as usize,
+        name: name_of(c),
+        robot: field(&robot, "robot"),
+        tool: robot
+            .get("tool")
+            .and_then(Value::as_str)
+            .map(str::to_string),
+        path: field(&path, "file"),
+        options,
+        cell: cell
+            .get("placement")
+            .and_then(Value::as_object)
+            .map(|m| {
+                m.iter()
+                    .map(|(k, v)| (k.clone(), v.as_str().map_or(v.to_string(), str::to_string)))
+                    .collect()
+            })
+            .unwrap_or_default(),
+        placement,
+    })
+}
+
 fn infeasible_json(i: &Infeasible) -> Value {
     json!({
         "reason": i.reason.name(),

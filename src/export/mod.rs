@@ -13,7 +13,11 @@
 //! ([`abb_conf`]) with `ConfL \On`, `SingArea \Wrist` where the wrist may pass through its
 //! singularity (a wrist margin of 0; `\Off` otherwise), a part-frame module that prints in
 //! `wobjPrint` ([`rapid_part`]), comments inside the modules. Every module reads back with
-//! printwatt's own RAPID reader ([`crate::toolpath::rapid`]) into the exported path.
+//! printwatt's own RAPID reader ([`crate::toolpath::rapid`]) into the exported path. A
+//! Universal Robots arm gets a URScript program instead of the RAPID modules
+//! ([`urscript`]), read back the same way.
+
+pub mod urscript;
 
 use crate::frame::Placement;
 use crate::math::V3;
@@ -417,11 +421,13 @@ pub fn rapid_part(
     )
 }
 
-/// Every file of the hand-off at `at` for `ev`'s job, as (file name, text): the work object
-/// (`wobj_print.mod`), the COMPAS frame (`frame.json`), the base-frame path as G-code
-/// (`path_base.gcode`) and RAPID with the planned configuration (`path_base.mod`), and the
-/// part-frame RAPID module printing in `wobjPrint` (`path_part.mod`). `prefix` is put before
-/// every file name (e.g. `station_1_` for one module per station).
+/// Every file of the hand-off at `at` for `ev`'s job, as (file name, text): the COMPAS frame
+/// (`frame.json`) and the base-frame path as G-code (`path_base.gcode`) for every arm; then,
+/// for a Universal Robots arm, the URScript program (`path_base.script`, [`urscript`]), and
+/// for the others the RAPID work object (`wobj_print.mod`), the base-frame path with the
+/// planned configuration (`path_base.mod`) and the part-frame module printing in `wobjPrint`
+/// (`path_part.mod`). `prefix` is put before every file name (e.g. `station_1_` for one
+/// program per station).
 pub fn hand_off(
     ev: &crate::evaluate::Evaluator<'_, '_>,
     at: &Placement,
@@ -432,7 +438,22 @@ pub fn hand_off(
     let plan = joint_plan(ev, &points, at)?;
     let json = serde_json::to_string_pretty(&compas_frame(at))
         .map_err(|e| crate::error::Error::Invalid(format!("frame.json: {e}")))?;
-    Ok(vec![
+    let mut out = vec![
+        (format!("{prefix}frame.json"), json),
+        (
+            format!("{prefix}path_base.gcode"),
+            gcode_base(&points, at, model.name()),
+        ),
+    ];
+    if urscript::is_universal_robots(model) {
+        out.push((
+            format!("{prefix}path_base.script"),
+            urscript::urscript(&points, at, model, &plan, ev.job.profile.accel),
+        ));
+        return Ok(out);
+    }
+    out.insert(
+        0,
         (
             format!("{prefix}wobj_print.mod"),
             format!(
@@ -443,20 +464,16 @@ pub fn hand_off(
                     .collect::<String>()
             ),
         ),
-        (format!("{prefix}frame.json"), json),
-        (
-            format!("{prefix}path_base.gcode"),
-            gcode_base(&points, at, model.name()),
-        ),
-        (
-            format!("{prefix}path_base.mod"),
-            rapid_base_planned(&points, at, model, &plan),
-        ),
-        (
-            format!("{prefix}path_part.mod"),
-            rapid_part(&points, at, model, &plan),
-        ),
-    ])
+    );
+    out.push((
+        format!("{prefix}path_base.mod"),
+        rapid_base_planned(&points, at, model, &plan),
+    ));
+    out.push((
+        format!("{prefix}path_part.mod"),
+        rapid_part(&points, at, model, &plan),
+    ));
+    Ok(out)
 }
 
 /// The RAPID declaration `PERS wobjdata <name> := [FALSE, TRUE, "", [[x, y, z], [q1, q2, q3,
@@ -532,11 +549,13 @@ pub fn stations_hand_off(
         let ev = crate::evaluate::Evaluator::new(&job, feasibility, objective);
         let prefix = format!("station_{}_", k + 1);
         for (name, text) in hand_off(&ev, at, &prefix)? {
-            let text = text.replacen(
-                "MODULE printwatt_",
-                &format!("MODULE printwatt_{prefix}"),
-                1,
-            );
+            let text = text
+                .replacen(
+                    "MODULE printwatt_",
+                    &format!("MODULE printwatt_{prefix}"),
+                    1,
+                )
+                .replace("printwatt_path()", &format!("printwatt_{prefix}path()"));
             out.push((name, text));
         }
     }

@@ -1,0 +1,235 @@
+//! Real slicer G-code from Cura and Bambu Studio beside the PrusaSlicer files: each reads, its
+//! layers are the slicer's own markers (`;LAYER:n`, `;LAYER_CHANGE`, `; CHANGE_LAYER`), and
+//! its energy at a placement is finite and plausible. The files and how they were made:
+//! `tests/data/slicer/README.md`.
+
+use std::path::PathBuf;
+use std::process::Command;
+
+use printwatt::toolpath::{load, parse_gcode, ReadOptions, Toolpath};
+
+fn data(name: &str) -> PathBuf {
+    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/slicer")
+        .join(name)
+}
+
+fn read(name: &str) -> (Toolpath, String) {
+    let f = data(name);
+    let tp = load(&f, &ReadOptions::default()).unwrap_or_else(|e| panic!("{name}: {e}"));
+    (tp, std::fs::read_to_string(&f).unwrap())
+}
+
+/// Lines that are exactly the marker (after trimming), or start with it for Cura's `;LAYER:n`.
+fn markers(text: &str, marker: &str) -> usize {
+    text.lines()
+        .filter(|l| {
+            let l = l.trim();
+            if marker == ";LAYER:" {
+                l.strip_prefix(marker)
+                    .is_some_and(|n| n.parse::<i64>().is_ok())
+            } else {
+                l == marker
+            }
+        })
+        .count()
+}
+
+/// `printwatt energy` at a placement: (time s, supply energy J).
+fn energy(name: &str, extra: &[&str]) -> (f64, f64) {
+    let out = Command::new(env!("CARGO_BIN_EXE_printwatt"))
+        .arg("energy")
+        .arg("--path")
+        .arg(data(name))
+        .args(extra)
+        .arg("--no-csv")
+        .output()
+        .expect("run printwatt");
+    let text = String::from_utf8_lossy(&out.stdout).into_owned();
+    assert!(
+        out.status.success(),
+        "{name}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    assert!(text.contains("feasible (the checks"), "{name}: {text}");
+    let num = |prefix: &str| -> f64 {
+        let l = text
+            .lines()
+            .find(|l| l.starts_with(prefix))
+            .unwrap_or_else(|| panic!("no `{prefix}` in {text}"));
+        l[prefix.len()..]
+            .split_whitespace()
+            .next()
+            .and_then(|w| w.parse().ok())
+            .unwrap_or_else(|| panic!("no number in `{l}`"))
+    };
+    (num("time"), num("supply energy"))
+}
+
+#[test]
+fn a_cura_file_reads_with_one_layer_per_layer_marker() {
+    let (tp, text) = read("cura_box_20mm.gcode");
+    // Cura writes ;LAYER_COUNT:67 and ;LAYER:0 … ;LAYER:66.
+    assert!(text.contains(";LAYER_COUNT:67"));
+    assert_eq!(markers(&text, ";LAYER:"), 67);
+    assert_eq!(tp.layer_starts.len(), 67);
+    assert_eq!(tp.layers(), 67);
+    // Every print move lies in its marked layer: layer k at z = 0.3 (k + 1) mm.
+    let mut checked = 0;
+    for (i, m) in tp.moves.iter().enumerate() {
+        let layer = tp.layer_of(i);
+        if i > 0 {
+            assert!(layer >= tp.layer_of(i - 1), "move {i}");
+        }
+        if let (true, Some(k)) = (m.print, layer) {
+            let z = 0.3e-3 * (k + 1) as f64;
+            assert!(
+                (m.end.z - z).abs() < 1e-7,
+                "line {}: z {} in layer {k}",
+                m.line,
+                m.end.z
+            );
+            checked += 1;
+        }
+    }
+    assert!(checked > 2000, "{checked}");
+    // The start code makes no move (Cura's prime is E only): the first move opens layer 0.
+    assert_eq!(tp.layer_starts[0], 0);
+    assert_eq!(tp.layer_of(0), Some(0));
+    // Cura's ;TYPE: features are kept as boundaries.
+    let names: Vec<&str> = tp.features.iter().map(|f| f.name.as_str()).collect();
+    for n in ["WALL-OUTER", "WALL-INNER", "SKIN", "FILL"] {
+        assert!(names.contains(&n), "{n}: {names:?}");
+    }
+    assert!(tp
+        .features
+        .windows(2)
+        .all(|w| w[0].first_move <= w[1].first_move));
+}
+
+#[test]
+fn a_bambu_studio_file_reads_with_its_change_layer_marker_and_text_m_codes() {
+    let (tp, text) = read("bambustudio_plate_1layer.gcode");
+    assert!(text.contains("; BambuStudio 02.04.00.70"));
+    assert!(text.contains("M1002 gcode_claim_action : 2"));
+    assert!(text.contains("G380 S2 Z30 F1200"));
+    assert_eq!(markers(&text, "; CHANGE_LAYER"), 1);
+    assert_eq!(tp.layer_starts.len(), 1);
+    assert_eq!(tp.layers(), 1);
+    let names: Vec<&str> = tp.features.iter().map(|f| f.name.as_str()).collect();
+    assert!(names.contains(&"Outer wall"), "{names:?}");
+    assert!(names.contains(&"Bottom surface"), "{names:?}");
+    // Bambu's probing move G380 and bed levelling G29.x are not path points.
+    let w = tp.warnings.join("\n");
+    assert!(w.contains("G380") && w.contains("G29.1"), "{w}");
+}
+
+#[test]
+fn bambu_m201_accelerations_are_not_read_as_coordinates() {
+    // The real file sets `M201 X20000 Y20000 Z1500 E5000` in its start code (line 508).
+    let (tp, text) = read("bambustudio_plate_1layer.gcode");
+    assert_eq!(
+        text.lines().nth(507),
+        Some("M201 X20000 Y20000 Z1500 E5000")
+    );
+    let (_, hi) = tp.bounding_box().unwrap();
+    assert!(hi.x < 0.3 && hi.y < 0.3 && hi.z < 0.2, "{hi:?}");
+    // And on its own, before any move: no move, no extrusion.
+    let t = parse_gcode(
+        "M201 X1000 Y1000 Z500 E5000\nG1 X0 Y0 Z0.2 F600\nG1 X10 E1\n",
+        "m.gcode",
+        &ReadOptions::default(),
+    )
+    .unwrap();
+    assert_eq!(t.moves.len(), 1);
+    assert!((t.start.x).abs() < 1e-12 && (t.moves[0].end.x - 0.01).abs() < 1e-12);
+}
+
+#[test]
+fn prusaslicer_layer_change_markers_are_the_layers() {
+    for (name, n) in [
+        ("prusaslicer_box_20mm.gcode", 66),
+        ("prusaslicer_ring_20mm.gcode", 4),
+    ] {
+        let (tp, text) = read(name);
+        assert_eq!(markers(&text, ";LAYER_CHANGE"), n, "{name}");
+        assert_eq!(tp.layer_starts.len(), n, "{name}");
+    }
+}
+
+#[test]
+fn layer_markers_win_over_z_levels_and_only_the_first_kind_counts() {
+    // Bambu Studio's layer change block, three layers, the second with a z-hopped print move
+    // (two z levels in one marked layer), and a PrusaSlicer-style marker that does not count
+    // once Bambu's kind was met.
+    let text = "M83\nG1 X0 Y0 Z0.2 F600\n\
+        ; CHANGE_LAYER\n; Z_HEIGHT: 0.2\nG1 X10 E1\nG1 X10 Y10 E1\n\
+        ; CHANGE_LAYER\n; Z_HEIGHT: 0.4\n;LAYER_CHANGE\nG1 Z0.4\nG1 X0 E1\nG1 Z0.45 Y0 E1\n\
+        ; CHANGE_LAYER\n; Z_HEIGHT: 0.6\nG1 Z0.6\n; FEATURE: Outer wall\nG1 X10 E1\n";
+    let tp = parse_gcode(text, "b.gcode", &ReadOptions::default()).unwrap();
+    assert_eq!(tp.layer_starts, vec![0, 2, 5]);
+    assert_eq!(tp.layers(), 3);
+    assert_eq!(tp.layer_count(), 4);
+    let per_move: Vec<Option<usize>> = (0..tp.moves.len()).map(|i| tp.layer_of(i)).collect();
+    assert_eq!(
+        per_move,
+        vec![
+            Some(0),
+            Some(0),
+            Some(1),
+            Some(1),
+            Some(1),
+            Some(2),
+            Some(2)
+        ]
+    );
+    assert_eq!(tp.features.len(), 1);
+    assert_eq!(tp.features[0].first_move, 6);
+    // A file without markers counts z levels, as before.
+    let plain = parse_gcode(
+        "G1 X0 Y0 Z0.2\nG1 X10 E1\nG1 Z0.4\nG1 X0 E2\n",
+        "p.gcode",
+        &ReadOptions::default(),
+    )
+    .unwrap();
+    assert!(plain.layer_starts.is_empty());
+    assert_eq!(plain.layers(), 2);
+}
+
+#[test]
+fn inspect_counts_layers_from_the_slicer_markers() {
+    let out = Command::new(env!("CARGO_BIN_EXE_printwatt"))
+        .arg("inspect")
+        .arg(data("cura_box_20mm.gcode"))
+        .arg("--json")
+        .output()
+        .unwrap();
+    assert!(out.status.success());
+    let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
+    assert_eq!(v["layers"], 67);
+    assert_eq!(v["layers_from"], "markers");
+    assert_eq!(v["features"][0], "WALL-INNER");
+}
+
+#[test]
+fn a_cura_box_at_its_own_millimetre_scale_has_a_plausible_energy() {
+    let (t, e) = energy("cura_box_20mm.gcode", &["--at", "1.7,0,0.5,0"]);
+    // Cura's own estimate is 1071 s at its 30-60 mm/s; the arm's acceleration limits add to it.
+    assert!(t > 1000.0 && t < 2500.0, "{t} s");
+    // At least the standby (250 W), at most 1 kW on average for a 20 mm part moved slowly.
+    assert!(
+        e.is_finite() && e > 250.0 * t && e < 1000.0 * t,
+        "{e} J over {t} s"
+    );
+}
+
+#[test]
+fn a_bambu_studio_plate_has_a_plausible_energy() {
+    let (t, e) = energy("bambustudio_plate_1layer.gcode", &["--at", "1.7,0,0.5,0"]);
+    // Mostly the start code's travel (4.9 m, wipes and purges) at up to 700 mm/s.
+    assert!(t > 30.0 && t < 600.0, "{t} s");
+    assert!(
+        e.is_finite() && e > 250.0 * t && e < 1500.0 * t,
+        "{e} J over {t} s"
+    );
+}
