@@ -212,6 +212,98 @@ fn every_shipped_collision_hull_is_convex_and_holds_its_vertices() {
             assert_eq!(hull.points().len(), v.len(), "{}", p.display());
             assert!(v.iter().all(|p| p.norm() < 1.5), "{}", p.display());
         }
-        assert_eq!(n, 7, "{name}: base and six links");
+        assert!(n >= 7, "{name}: base and six links, a piece or more each");
+        // Every link and the base have a piece, named `<link>-<k>.obj` with k from 1.
+        for link in ["base_link", "link_1", "link_2", "link_3", "link_4", "link_5", "link_6"] {
+            assert!(dir.join(format!("{link}-1.obj")).exists(), "{name} {link}");
+        }
     }
+}
+
+/// The convex pieces of link `link` (0-based joint index + 1 = body) of `rs`, in the link frame.
+fn pieces(rs: &RobotShapes, body: usize) -> Vec<&collision::BodyShape> {
+    rs.shapes
+        .iter()
+        .filter(|s| s.body == body && s.role == collision::Role::Link)
+        .collect()
+}
+
+/// Whether a ball of radius `r` at `p` (link frame of `body`, m) meets one of its pieces.
+fn meets(rs: &RobotShapes, body: usize, p: V3, r: f64) -> bool {
+    let ball = Ball::new(r);
+    pieces(rs, body).iter().any(|s| {
+        query::intersection_test(
+            &s.local,
+            s.shape.as_ref(),
+            &Isometry::translation(p.x, p.y, p.z),
+            &ball,
+        )
+        .unwrap()
+    })
+}
+
+#[test]
+fn the_forearm_fork_is_open_in_the_collision_geometry() {
+    // The ABB forearms (link_4) end in a fork around the wrist: the collision geometry is
+    // several convex pieces, the tube and the two prongs, with the wrist's axis (joint 5's
+    // origin) between the prongs free; the tube is solid. One convex hull of all the pieces
+    // would close the fork (as the published collision mesh, a convex hull, does).
+    for name in ["abb_irb6700_200_260", "abb_irb4600_40_255"] {
+        let model = common::robot(name);
+        let rs = shapes(&model);
+        let body = 4; // link_4
+        let ps = pieces(&rs, body);
+        assert!(ps.len() >= 3, "{name}: {} pieces", ps.len());
+        let wrist = model.joints[4].origin.pos; // joint 5 in the link_4 frame
+        assert!(wrist.x > 1.0 && wrist.y == 0.0 && wrist.z == 0.0, "{name} {wrist:?}");
+        // Between the prongs, on the wrist's axis: free (a 10 mm ball, and one a little
+        // above and below the axis).
+        for dz in [-0.03, 0.0, 0.03] {
+            let p = wrist + V3::new(0.0, 0.0, dz);
+            assert!(!meets(&rs, body, p, 0.01), "{name}: the fork is closed at {p:?}");
+        }
+        // In the tube, half way to the wrist: solid.
+        assert!(meets(&rs, body, wrist * 0.4, 0.01), "{name}: the tube is open");
+        // The prongs: either side of the wrist, beyond its housing.
+        let side = |y: f64| meets(&rs, body, wrist + V3::new(0.0, y, 0.0), 0.005);
+        assert!(
+            (0..40).any(|k| side(0.06 + 0.005 * k as f64))
+                && (0..40).any(|k| side(-0.06 - 0.005 * k as f64)),
+            "{name}: no prong beside the wrist"
+        );
+        // One hull of all the pieces would hold the wrist's axis.
+        let mut all: Vec<Point<f64>> = Vec::new();
+        for s in &ps {
+            let h = s.shape.as_convex_polyhedron().unwrap();
+            all.extend(h.points().iter().map(|p| s.local * p));
+        }
+        let one = parry3d_f64::shape::ConvexPolyhedron::from_convex_hull(&all).unwrap();
+        assert!(query::intersection_test(
+            &Isometry::identity(),
+            &one,
+            &Isometry::translation(wrist.x, wrist.y, wrist.z),
+            &Ball::new(0.01)
+        )
+        .unwrap());
+    }
+}
+
+#[test]
+fn a_capsule_through_the_fork_meets_only_the_tube() {
+    // A 10 mm rod along the wrist's axis of bending (y, joint 5's axis) at the wrist, 60 mm
+    // long: it lies in the fork's opening and meets no piece of the forearm; the same rod
+    // through the tube meets it. (The hose of [tool.geometry] passes there when the wrist
+    // bends.)
+    use parry3d_f64::shape::Capsule;
+    let model = common::robot("abb_irb6700_200_260");
+    let rs = shapes(&model);
+    let wrist = model.joints[4].origin.pos;
+    let rod = |x: f64, z: f64| Capsule::new(Point::new(x, -0.03, z), Point::new(x, 0.03, z), 0.01);
+    let hits = |c: &Capsule| {
+        pieces(&rs, 4).iter().any(|s| {
+            query::intersection_test(&s.local, s.shape.as_ref(), &Isometry::identity(), c).unwrap()
+        })
+    };
+    assert!(!hits(&rod(wrist.x, 0.0)), "the rod at the wrist's axis");
+    assert!(hits(&rod(0.3, 0.0)), "the rod through the tube");
 }

@@ -1,5 +1,7 @@
 #!/usr/bin/env python3
-"""Compute the shipped arms' collision hulls once, from the published collision meshes.
+"""Compute the shipped arms' collision geometry once, from the published meshes: a few convex
+pieces per link where one convex hull would fill a real opening (the forearm's fork), one hull
+elsewhere.
 
     python3 tools/robots/collision_hulls.py --abb ABB_GIT_DIR --ur UR_GIT_DIR          # write
     python3 tools/robots/collision_hulls.py --abb ABB_GIT_DIR --ur UR_GIT_DIR --check  # verify only
@@ -9,22 +11,33 @@ https://github.com/ros-industrial/abb_experimental and
 https://github.com/UniversalRobots/Universal_Robots_ROS2_Description; the files are read at the
 pinned commits below with `git show`, so nothing else of the clone matters.
 
-For every link: the source mesh's vertices, placed in the link frame of printwatt's URDF by the
-source's `<collision><origin>` (and, for the UR10e base, the fixed base_link -> base_link_inertia
-turn), then their convex hull (scipy), then decimated to at most MAX_VERTICES vertices while
-staying CONSERVATIVE: the hull of a greedy subset of the hull's vertices (each step adds the
-vertex farthest outside), then scaled about its centroid by the smallest factor that puts every
-source vertex inside (plus 0.1 mm). So the written hull contains the source mesh; how much larger
-it is (the scale factor, the largest outward offset) is printed and written to the README.
+The sources' `collision` meshes are convex hulls already (each fills its hull: volume ratio 1.00),
+so the forearm's fork is closed in them. The shape of a link is its `visual` mesh (same origin as
+the collision mesh in the source xacro, checked: every visual vertex lies inside the published
+collision hull within 5 mm). For every link:
+
+1. the visual mesh's vertices, placed in the link frame of printwatt's URDF by the source's
+   `<visual><origin>` (and, for the UR10e base, the fixed base_link -> base_link_inertia turn);
+2. an approximate convex decomposition of the visual mesh (CoACD, Wei et al. 2022, PyPI `coacd`,
+   concavity threshold CONCAVITY, at most MAX_PIECES pieces, fixed seed);
+3. the decomposition is kept when its pieces' volume is at most KEEP_RATIO of the single hull's
+   (one hull would fill a real gap); otherwise the link is one hull of the visual mesh;
+4. every visual vertex outside all pieces is given to the piece it is least outside of, and each
+   piece is then the convex hull of its points, decimated to at most MAX_VERTICES vertices while
+   staying CONSERVATIVE: the hull of a greedy subset of the hull's vertices (each step adds the
+   vertex farthest outside), scaled about its centroid by the smallest factor that puts every one
+   of its points inside (plus 0.1 mm). So the union of the written pieces contains the visual
+   mesh; how much larger each piece is (scale factor, largest outward offset) is printed and
+   written to the README.
 
 The link frames: the joint origins of robots/<name>/robot.urdf are compared with the source's
 (SOURCE_JOINTS below, transcribed from the source xacro / yaml at the pinned commit); they must
 agree to 1e-9 m / rad (for the UR10e our joint_1 origin folds base_link -> base_link_inertia,
 yaw pi, into it, so link_1.. are the source's shoulder_link.. frames).
 
-Writes robots/<name>/collision/<link>.obj (vertices and triangles of the decimated hull, m, link
-frame). tools/robots/make_robots.py adds the <collision> elements that name them.
-Needs numpy and scipy.
+Writes robots/<name>/collision/<link>-<k>.obj (vertices and triangles of piece k, m, link frame)
+and the README there. tools/robots/make_robots.py adds one <collision> element per piece.
+Needs numpy, scipy, trimesh, pycollada (the UR and IRB 4600 visual meshes are COLLADA) and coacd.
 """
 import math
 import os
@@ -32,12 +45,19 @@ import struct
 import subprocess
 import sys
 
+import io
+
 import numpy as np
 from scipy.spatial import ConvexHull
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 MAX_VERTICES = 64
 PAD_M = 1e-4
+CONCAVITY = 0.05
+MAX_PIECES = 8
+KEEP_RATIO = 0.85
+SEED = 1
+VISUAL_IN_COLLISION_M = 5e-3
 
 ABB_URL = "https://github.com/ros-industrial/abb_experimental"
 ABB_COMMIT = "20b9cf86ad274e4f98540b9c9efe59f94245d2d1"
@@ -52,6 +72,7 @@ UR = "meshes/ur10e/collision/"
 ROBOTS = {
     "abb_irb6700_200_260": dict(
         repo="abb", url=ABB_URL, commit=ABB_COMMIT, licence="Apache-2.0 (repository LICENSE; package.xml: Apache 2.0)",
+        visual_ext=".stl", decompose=["link_4"],
         xacro="abb_irb6700_support/urdf/irb6700_200_260_macro.xacro",
         links=[("base_link", ABB6700 + "irb6700/collision/base_link.stl", (0, 0, 0), (0, 0, 0)),
                ("link_1", ABB6700 + "irb6700/collision/link_1.stl", (0, 0, 0), (0, 0, 0)),
@@ -65,6 +86,7 @@ ROBOTS = {
         note="The balancer's `cylinder` and `piston` links (mimic joints of joint_2) are not modelled."),
     "abb_irb4600_40_255": dict(
         repo="abb", url=ABB_URL, commit=ABB_COMMIT, licence="Apache-2.0 (repository LICENSE; package.xml: Apache2)",
+        visual_ext=".dae", decompose=["link_4"],
         xacro="abb_irb4600_support/urdf/irb4600_40_255_macro.xacro",
         links=[("base_link", ABB4600 + "irb4600/collision/base_link.stl", (0, 0, 0), (0, 0, 0)),
                ("link_1", ABB4600 + "irb4600/collision/link_1.stl", (0, 0, 0), (0, 0, 0)),
@@ -77,7 +99,7 @@ ROBOTS = {
                 ((0, 0, 0.175), (0, 0, 0)), ((1.27, 0, 0), (0, 0, 0)), ((0.135, 0, 0), (0, 0, 0))],
         note=""),
     "ur10e": dict(
-        repo="ur", url=UR_URL, commit=UR_COMMIT,
+        repo="ur", url=UR_URL, commit=UR_COMMIT, visual_ext=".dae", decompose=[],
         licence=("BSD-3-Clause (repository LICENSE; the README states that only the UR20 and UR30 meshes fall under "
                  "UR's Terms and Conditions for Use of Graphical Documentation and that all other content is BSD-3-Clause)"),
         xacro="urdf/ur_macro.xacro + config/ur10e/{default_kinematics,visual_parameters,physical_parameters}.yaml",
@@ -194,6 +216,42 @@ def our_joint_origins(name):
     return out
 
 
+def visual_of(src, ext):
+    """The source's visual mesh of the link whose collision mesh is `src` (same folder layout)."""
+    return src.replace("/collision/", "/visual/").rsplit(".", 1)[0] + ext
+
+
+def mesh_of(b, ext):
+    import trimesh
+    m = trimesh.load(io.BytesIO(b), file_type=ext.lstrip("."), force="mesh")
+    m.merge_vertices()
+    return np.asarray(m.vertices, float), np.asarray(m.faces, np.int64)
+
+
+def decompose(v, f):
+    """CoACD pieces of the mesh (v, f): a list of vertex arrays."""
+    import coacd
+    coacd.set_log_level("error")
+    parts = coacd.run_coacd(coacd.Mesh(v, f), threshold=CONCAVITY, max_convex_hull=MAX_PIECES,
+                            preprocess_mode="auto", resolution=1000, mcts_iterations=30, mcts_max_depth=2,
+                            mcts_nodes=10, seed=SEED)
+    return [np.asarray(p[0], float) for p in parts]
+
+
+def fill_ratio(v, f):
+    """Volume of the closed mesh (v, f) over its convex hull's; None for an open mesh."""
+    import trimesh
+    m = trimesh.Trimesh(v, f, process=False)
+    return float(m.volume / m.convex_hull.volume) if m.is_watertight else None
+
+
+def least_outside(hulls, pts):
+    """For each point: (index of the piece it is least outside of, that distance; <= 0 inside)."""
+    o = np.stack([outside(h, pts) for h in hulls], axis=1)
+    k = o.argmin(axis=1)
+    return k, o[np.arange(len(pts)), k]
+
+
 def main():
     args = sys.argv[1:]
     check = "--check" in args
@@ -211,30 +269,70 @@ def main():
         os.makedirs(out_dir, exist_ok=True)
         rows = []
         for link, src, xyz, rpy in spec["links"]:
-            raw = stl_vertices(git_bytes(dirs[spec["repo"]], spec["commit"], src))
-            pts = raw @ rpy_matrix(*rpy).T + np.array(xyz, float)
-            path = os.path.join(out_dir, link + ".obj")
+            place = lambda p: p @ rpy_matrix(*rpy).T + np.array(xyz, float)
+            cpts = place(stl_vertices(git_bytes(dirs[spec["repo"]], spec["commit"], src)))
+            vsrc = visual_of(src, spec["visual_ext"])
+            v, f = mesh_of(git_bytes(dirs[spec["repo"]], spec["commit"], vsrc), spec["visual_ext"])
+            v = place(v)
+            # The visual mesh is the collision mesh's shape: inside its (convex) hull.
+            chull = ConvexHull(cpts)
+            vin = float(outside(chull, v).max())
+            if vin > VISUAL_IN_COLLISION_M:
+                print("%s %s: visual mesh reaches %.1f mm outside the published collision mesh" % (
+                    name, link, vin * 1000))
+                bad += 1
+            # How much of its hull the link fills (closed visual meshes only).
+            fill = fill_ratio(v, f)
+            split = link in spec["decompose"]
+            files = sorted(x for x in os.listdir(out_dir) if x.startswith(link + "-") and x.endswith(".obj"))
+            src_pts = v if split else cpts
             if check:
-                got = read_obj(path)
-                o = outside(ConvexHull(got), pts).max()
-                ok = o <= 1e-3
-                print("%s %s: %d source vertices, largest outside the hull %.2e m %s" % (
-                    name, link, len(pts), max(o, 0.0), "ok" if ok else "FAIL"))
+                hulls = [ConvexHull(read_obj(os.path.join(out_dir, x))) for x in files]
+                _, o = least_outside(hulls, src_pts)
+                ok = len(hulls) > 0 and o.max() <= 1e-3
+                print("%s %s: %d pieces, %d source vertices, largest outside the pieces %.2e m %s" % (
+                    name, link, len(hulls), len(src_pts), max(o.max(), 0.0), "ok" if ok else "FAIL"))
                 bad += not ok
                 continue
-            out, hull, s, full = decimate(pts)
-            grow = float(np.max(outside(full, out)))
-            nv = write_obj(path, out, hull, [
-                "printwatt collision hull of %s `%s` (link frame, m), by tools/robots/collision_hulls.py" % (name, link),
-                "source: %s @ %s : %s (%s)" % (spec["url"], spec["commit"], src, spec["licence"].split(" (")[0]),
-                "convex hull of the source's vertices, decimated to %d vertices and scaled by %.4f about its centroid"
-                % (len(out), s),
-                "so that every source vertex is inside (largest outward offset from the source hull %.1f mm)"
-                % (grow * 1000)])
-            lo, hi = pts.min(axis=0), pts.max(axis=0)
-            rows.append((link, src, len(raw), len(full.vertices), nv, s, grow, lo, hi))
-            print("%s %s: %d source vertices, hull %d -> %d, scale %.4f, +%.1f mm, bbox %s .. %s" % (
-                name, link, len(raw), len(full.vertices), nv, s, grow * 1000, np.round(lo, 3), np.round(hi, 3)))
+            for x in files:
+                os.remove(os.path.join(out_dir, x))
+            old = os.path.join(out_dir, link + ".obj")
+            if os.path.exists(old):
+                os.remove(old)
+            if split:
+                parts = decompose(v, f)
+                hulls = [ConvexHull(p) for p in parts]
+                k, _ = least_outside(hulls, v)
+                groups = [np.vstack([parts[j], v[k == j]]) for j in range(len(parts))]
+                one = ConvexHull(v)
+                used = vsrc
+            else:
+                groups = [cpts]
+                one = chull
+                used = src
+            written = []
+            for j, pts in enumerate(groups):
+                out, hull, sc, full = decimate(pts)
+                grow = float(np.max(outside(full, out)))
+                path = os.path.join(out_dir, "%s-%d.obj" % (link, j + 1))
+                nv = write_obj(path, out, hull, [
+                    "printwatt collision piece %d of %d of %s `%s` (link frame, m), by tools/robots/collision_hulls.py"
+                    % (j + 1, len(groups), name, link),
+                    "source: %s @ %s : %s (%s)" % (spec["url"], spec["commit"], used, spec["licence"].split(" (")[0]),
+                    "convex hull of the piece's points, decimated to %d vertices and scaled by %.4f about its centroid"
+                    % (len(out), sc),
+                    "so that every point is inside (largest outward offset from the piece's hull %.1f mm)"
+                    % (grow * 1000)])
+                lo, hi = out.min(axis=0), out.max(axis=0)
+                written.append((j + 1, nv, sc, grow, hull.volume, lo, hi))
+            vol = sum(w[4] for w in written)
+            rows.append((link, used, len(src_pts), fill, written, vol / one.volume, vin))
+            print("%s %s: fill %s, %s, written %d pieces (%.2f of the hull)" % (
+                name, link, "%.2f" % fill if fill else "open mesh", "decomposed" if split else "one hull",
+                len(written), vol / one.volume))
+            for w in written:
+                print("   piece %d: %d vertices, scale %.4f, +%.1f mm, box %s .. %s" % (
+                    w[0], w[1], w[2], w[3] * 1000, np.round(w[5], 3), np.round(w[6], 3)), flush=True)
         if not check:
             write_readme(name, spec, rows, out_dir)
     if bad:
@@ -242,26 +340,39 @@ def main():
 
 
 def write_readme(name, spec, rows, out_dir):
-    L = ["# Collision hulls of `%s`" % name, "",
-         "Generated by `tools/robots/collision_hulls.py`; do not edit. One convex hull per link, in the link frame "
-         "of `../robot.urdf` (m), as Wavefront OBJ (vertices and outward triangles). `tools/robots/make_robots.py` "
-         "names them in the URDF's `<collision>` elements.", "",
-         "- Source: %s at commit `%s`, the collision meshes named below (the source's `<collision>` origins from "
-         "`%s` applied)." % (spec["url"], spec["commit"], spec["xacro"]),
-         "- Licence: %s. The hulls are derived from those meshes; the licence text is `LICENSE` here." % spec["licence"],
+    L = ["# Collision geometry of `%s`" % name, "",
+         "Generated by `tools/robots/collision_hulls.py`; do not edit. Each link is one or a few convex pieces "
+         "(`<link>-<k>.obj`), in the link frame of `../robot.urdf` (m), as Wavefront OBJ (vertices and outward "
+         "triangles). `tools/robots/make_robots.py` names each piece in its own `<collision>` element.", "",
+         "- Source: %s at commit `%s`, the meshes named below (their `<collision>` / `<visual>` origins from `%s` "
+         "applied; the two are the same there)." % (spec["url"], spec["commit"], spec["xacro"]),
+         "- Licence: %s. The pieces are derived from those meshes; the licence text is `LICENSE` here." % spec["licence"],
          "- Frames: the source's joint origins agree with `../robot.urdf` (checked by the script), so the source's "
          "link frames are ours.",
-         "- Decimation: convex hull of the mesh's vertices (scipy), at most %d vertices (a greedy subset, each step "
-         "the vertex farthest outside), then scaled about its centroid by the smallest factor that puts every source "
-         "vertex inside plus %.1f mm: conservative, each hull contains its source mesh (`--check` verifies within "
-         "1 mm)." % (MAX_VERTICES, PAD_M * 1000)]
+         "- The source's collision meshes are convex hulls of its visual meshes (every visual vertex lies inside the "
+         "published collision hull; the largest excess is in the table). One hull per link would close the "
+         "forearm's fork around the wrist, through which the hose passes.",
+         "- Decomposed links (%s): an approximate convex decomposition of the visual mesh (CoACD, Wei et al. 2022, "
+         "concavity threshold %.2f, at most %d pieces, seed %d); every visual vertex outside all pieces joins the "
+         "piece it is least outside of." % (", ".join("`%s`" % l for l in spec["decompose"]) or "none",
+                                          CONCAVITY, MAX_PIECES, SEED),
+         "- Other links: one convex hull of the published collision mesh. The fill column says how much of its hull "
+         "the link's closed visual mesh fills (open meshes: not computed): a low fill is a housing whose hull is "
+         "larger than the housing, conservative.",
+         "- Each piece: the convex hull of its points, at most %d vertices (a greedy subset, each step the vertex "
+         "farthest outside), scaled about its centroid by the smallest factor that puts every point inside plus "
+         "%.1f mm. So the pieces together contain the source mesh (`--check` verifies within 1 mm)."
+         % (MAX_VERTICES, PAD_M * 1000)]
     if spec["note"]:
         L.append("- " + spec["note"])
-    L += ["", "| Link | Source file | Source vertices | Hull vertices | Written | Scale | Largest growth (mm) | "
-          "Bounding box (m) |", "|---|---|---|---|---|---|---|---|"]
-    for link, src, nraw, nfull, nv, s, grow, lo, hi in rows:
-        L.append("| `%s` | `%s` | %d | %d | %d | %.4f | %.1f | (%.3f, %.3f, %.3f) .. (%.3f, %.3f, %.3f) |" % (
-            link, src, nraw, nfull, nv, s, grow * 1000, *lo, *hi))
+    L += ["", "| Link | Mesh used | Vertices | Visual fill of its hull | Visual outside the published hull (mm) "
+          "| Pieces (volume / hull) | Piece: vertices, scale, largest growth (mm), box (m) |",
+          "|---|---|---|---|---|---|---|"]
+    for link, used, nv, fill, written, wr, vin in rows:
+        ps = "<br>".join("%d: %d, %.4f, %.1f, (%.3f, %.3f, %.3f) .. (%.3f, %.3f, %.3f)" % (
+            w[0], w[1], w[2], w[3] * 1000, *w[5], *w[6]) for w in written)
+        L.append("| `%s` | `%s` | %d | %s | %.1f | %d (%.2f) | %s |" % (
+            link, used, nv, "%.2f" % fill if fill else "open mesh", max(vin, 0.0) * 1000, len(written), wr, ps))
     with open(os.path.join(out_dir, "README.md"), "w") as f:
         f.write("\n".join(L) + "\n")
 

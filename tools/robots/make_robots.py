@@ -681,17 +681,24 @@ def v3(v):
 
 
 def collision_elements(rb, link, urdf_path):
-    """The link's <collision> element when tools/robots/collision_hulls.py wrote its hull (a
-    committed file next to the URDF, robots/<name>/collision/<link>.obj); nothing otherwise."""
-    rel = "collision/%s.obj" % link
-    if not os.path.exists(os.path.join(os.path.dirname(urdf_path), rel)):
+    """The link's <collision> elements, one per convex piece that tools/robots/collision_hulls.py
+    wrote (committed files next to the URDF, robots/<name>/collision/<link>-<k>.obj); nothing
+    otherwise."""
+    d = os.path.join(os.path.dirname(urdf_path), "collision")
+    if not os.path.isdir(d):
         return []
-    return ["    <!-- collision: convex hull of the published collision mesh (conservative, at most 64 vertices); "
-            "source, commit and licence in collision/README.md -->",
-            "    <collision>",
-            '      <origin xyz="0.0 0.0 0.0" rpy="0.0 0.0 0.0"/>',
-            '      <geometry><mesh filename="%s"/></geometry>' % rel,
-            "    </collision>"]
+    pieces = sorted((f for f in os.listdir(d) if f.startswith(link + "-") and f.endswith(".obj")),
+                    key=lambda f: int(f[len(link) + 1:-4]))
+    if not pieces:
+        return []
+    L = ["    <!-- collision: %d convex piece(s) of the published visual mesh (conservative, at most 64 vertices "
+         "each); source, commit and licence in collision/README.md -->" % len(pieces)]
+    for f in pieces:
+        L += ["    <collision>",
+              '      <origin xyz="0.0 0.0 0.0" rpy="0.0 0.0 0.0"/>',
+              '      <geometry><mesh filename="collision/%s"/></geometry>' % f,
+              "    </collision>"]
+    return L
 
 
 def write_urdf(rb, path):
@@ -1186,11 +1193,13 @@ def write_summary(rbs):
           "`printwatt optimise --uncertainty N`. A calibrated robot (written by `identify`) draws its identified "
           "parameters from their standard errors instead.",
           "", "## Collision geometry", "",
-          "The IRB 6700, IRB 4600 and UR10e have a `<collision>` mesh on the base and every link: the convex hull "
-          "of the published collision mesh (ros-industrial/abb_experimental, Apache-2.0; "
-          "UniversalRobots/Universal_Robots_ROS2_Description, BSD-3-Clause), decimated to at most 64 vertices and "
-          "scaled so that it contains the source mesh, in `collision/` with a README naming source, commit and "
-          "licence (made once by `tools/robots/collision_hulls.py`, which `--check` verifies against the sources). "
+          "The IRB 6700, IRB 4600 and UR10e have `<collision>` meshes on the base and every link: convex pieces of "
+          "the published visual mesh (ros-industrial/abb_experimental, Apache-2.0; "
+          "UniversalRobots/Universal_Robots_ROS2_Description, BSD-3-Clause), one hull per link where that is faithful "
+          "and a convex decomposition where one hull would fill a real opening (the ABB forearms' fork around the "
+          "wrist), each piece at most 64 vertices and scaled so that together they contain the visual mesh, in "
+          "`collision/` with a README naming source, commit and licence (made once by "
+          "`tools/robots/collision_hulls.py`, which `--check` verifies against the sources). "
           "The IRB 6700's balancer cylinder and piston (mimic links) are not modelled. "
           "The TX200 and PUMA 560 have no published meshes under a licence that allows shipping them: their links are "
           "capsules from each joint origin to the next, sized as a fraction of the reach (base 0.07 R, arms 0.045 R, "
