@@ -127,11 +127,10 @@ fn a_link_below_the_floor_is_infeasible_with_the_reason() {
     assert_eq!(a, b);
 }
 
-#[test]
-fn the_pedestal_raises_the_robot_and_is_a_fixed_body() {
-    // From the drive file's [robot] table.
-    let dir = common::scratch("geometry", "pedestal");
-    let _ = std::fs::remove_dir_all(&dir);
+/// A copy of the shipped IRB 6700 in a scratch directory, and a function giving its drive
+/// file with `keys` added to the `[robot]` table.
+fn irb6700_copy(name: &str) -> (std::path::PathBuf, impl Fn(&str) -> String) {
+    let dir = common::scratch("geometry", name);
     std::fs::create_dir_all(dir.join("collision")).unwrap();
     let src = common::root().join("robots/abb_irb6700_200_260");
     for f in ["robot.urdf", "README.md"] {
@@ -142,7 +141,87 @@ fn the_pedestal_raises_the_robot_and_is_a_fixed_body() {
         std::fs::copy(e.path(), dir.join("collision").join(e.file_name())).unwrap();
     }
     let drive = std::fs::read_to_string(src.join("drive.toml")).unwrap();
-    let with = |keys: &str| drive.replacen("[robot]\n", &format!("[robot]\n{keys}\n"), 1);
+    let with =
+        move |keys: &str| drive.replacen("[robot]\n", &format!("[robot]\n{keys}\n"), 1);
+    (dir, with)
+}
+
+#[test]
+fn the_report_top_view_draws_the_base_footprint_and_the_pedestal_to_scale() {
+    // The base's footprint is its collision geometry seen from above: the IRB 6700's foot
+    // reaches 0.63 m behind axis 1 and 0.36 m to each side.
+    let model = common::robot("abb_irb6700_200_260");
+    let f = printwatt::report::site::base_footprint(&model);
+    let (mut x0, mut x1, mut y0, mut y1) = (f64::MAX, f64::MIN, f64::MAX, f64::MIN);
+    for &(x, y) in &f {
+        (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
+    }
+    assert!(f.len() >= 3, "{f:?}");
+    assert!(x0 < -0.6 && x0 > -0.7 && x1 > 0.35 && y1 > 0.35 && y0 < -0.35, "{f:?}");
+    // A capsule arm has none (the report marks axis 1 instead).
+    assert!(printwatt::report::site::base_footprint(&common::robot("puma560")).is_empty());
+    // A sweep's report draws the footprint and the pedestal (1.2 m round: larger than the
+    // foot) at the scale of the metre axes.
+    let (dir, with) = irb6700_copy("pedestal-report");
+    std::fs::write(
+        dir.join("drive.toml"),
+        with("pedestal_height_m = 0.5\npedestal_radius_m = 0.6"),
+    )
+    .unwrap();
+    let out = dir.join("run");
+    let o = common::run(
+        &[
+            "sweep",
+            "--robot",
+            dir.to_str().unwrap(),
+            "--path",
+            common::root().join("paths/default.gcode").to_str().unwrap(),
+            "--x",
+            "1.4:1.6:0.2",
+            "--y",
+            "-0.1:0.1:0.2",
+            "--z",
+            "0",
+            "--yaw",
+            "90",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+        &dir,
+    );
+    assert!(o.status.success(), "{}", common::stderr_of(&o));
+    let html = std::fs::read_to_string(out.join("report.html")).unwrap();
+    let foot = html
+        .split(r#"<path class="base" d=""#)
+        .nth(1)
+        .expect("no base footprint");
+    let xs: Vec<f64> = foot
+        .split('"')
+        .next()
+        .unwrap()
+        .split(|c| c == ' ' || c == 'M' || c == 'L' || c == 'Z')
+        .filter_map(|p| p.split(',').next()?.parse().ok())
+        .collect();
+    let wide_px = xs.iter().cloned().fold(f64::MIN, f64::max) - xs.iter().cloned().fold(f64::MAX, f64::min);
+    let ped = html
+        .split(r#"<circle class="pedestal""#)
+        .nth(1)
+        .expect("no pedestal circle");
+    assert!(ped.contains("pedestal (0.5 m high, radius 0.6 m)"), "{}", &ped[..200]);
+    let r: f64 = ped.split(r#"r=""#).nth(1).unwrap().split('"').next().unwrap().parse().unwrap();
+    // To scale: the foot's width over the pedestal's radius, in pixels as in metres.
+    let ratio = wide_px / r;
+    assert!(
+        (ratio - (x1 - x0) / 0.6).abs() < 0.03 * ratio,
+        "foot {wide_px} px, pedestal radius {r} px, foot {} m",
+        x1 - x0
+    );
+}
+
+#[test]
+fn the_pedestal_raises_the_robot_and_is_a_fixed_body() {
+    // From the drive file's [robot] table.
+    let (dir, with) = irb6700_copy("pedestal");
     std::fs::write(
         dir.join("drive.toml"),
         with("pedestal_height_m = 0.8\npedestal_radius_m = 0.5"),

@@ -52,6 +52,9 @@ from scipy.spatial import ConvexHull
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 MAX_VERTICES = 64
+# A decomposed link's pieces are long and thin (the prongs): more vertices keep the
+# conservative scaling (about the centroid, which lengthens a thin piece) to a few mm.
+PIECE_MAX_VERTICES = 128
 PAD_M = 1e-4
 CONCAVITY = 0.05
 MAX_PIECES = 8
@@ -149,10 +152,10 @@ def outside(hull, pts):
     return (pts @ eq[:, :3].T + eq[:, 3]).max(axis=1)
 
 
-def decimate(pts):
+def decimate(pts, max_vertices=MAX_VERTICES):
     full = ConvexHull(pts)
     hv = pts[full.vertices]
-    if len(hv) <= MAX_VERTICES:
+    if len(hv) <= max_vertices:
         sub = hv
     else:
         # Start with the extremes along 13 directions, then greedily the farthest outside.
@@ -164,7 +167,7 @@ def decimate(pts):
             idx.add(int(s.argmax()))
             idx.add(int(s.argmin()))
         idx = sorted(idx)
-        while len(idx) < MAX_VERTICES:
+        while len(idx) < max_vertices:
             h = ConvexHull(hv[idx])
             o = outside(h, hv)
             k = int(o.argmax())
@@ -312,7 +315,7 @@ def main():
                 used = src
             written = []
             for j, pts in enumerate(groups):
-                out, hull, sc, full = decimate(pts)
+                out, hull, sc, full = decimate(pts, PIECE_MAX_VERTICES if split else MAX_VERTICES)
                 grow = float(np.max(outside(full, out)))
                 path = os.path.join(out_dir, "%s-%d.obj" % (link, j + 1))
                 nv = write_obj(path, out, hull, [
@@ -359,10 +362,11 @@ def write_readme(name, spec, rows, out_dir):
          "- Other links: one convex hull of the published collision mesh. The fill column says how much of its hull "
          "the link's closed visual mesh fills (open meshes: not computed): a low fill is a housing whose hull is "
          "larger than the housing, conservative.",
-         "- Each piece: the convex hull of its points, at most %d vertices (a greedy subset, each step the vertex "
+         "- Each piece: the convex hull of its points, at most %d vertices (%d for a decomposed link's pieces, "
+         "whose thin prongs the scaling below would otherwise lengthen by centimetres; a greedy subset, each step the vertex "
          "farthest outside), scaled about its centroid by the smallest factor that puts every point inside plus "
          "%.1f mm. So the pieces together contain the source mesh (`--check` verifies within 1 mm)."
-         % (MAX_VERTICES, PAD_M * 1000)]
+         % (MAX_VERTICES, PIECE_MAX_VERTICES, PAD_M * 1000)]
     if spec["note"]:
         L.append("- " + spec["note"])
     L += ["", "| Link | Mesh used | Vertices | Visual fill of its hull | Visual outside the published hull (mm) "
