@@ -15,8 +15,11 @@ set -euo pipefail
 cd "$(dirname "$0")/../.."
 OLD=e39ee20
 OUT=results/geometry_comparison
-BIN=target/release/printwatt
-cargo build --release --quiet
+# BIN: the printwatt binary to run (default: build and run target/release/printwatt).
+if [ -z "${BIN:-}" ]; then
+  cargo build --release --quiet
+  BIN=target/release/printwatt
+fi
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
 git archive "$OLD" robots | tar -x -C "$tmp"

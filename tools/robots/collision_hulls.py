@@ -5,6 +5,7 @@ elsewhere.
 
     python3 tools/robots/collision_hulls.py --abb ABB_GIT_DIR --ur UR_GIT_DIR          # write
     python3 tools/robots/collision_hulls.py --abb ABB_GIT_DIR --ur UR_GIT_DIR --check  # verify only
+    ... --only abb_irb6700_200_260,abb_irb4600_40_255                                  # those robots only
 
 ABB_GIT_DIR / UR_GIT_DIR: git directories (a clone or a bare mirror) of
 https://github.com/ros-industrial/abb_experimental and
@@ -23,10 +24,11 @@ collision hull within 5 mm). For every link:
 3. the decomposition is kept when its pieces' volume is at most KEEP_RATIO of the single hull's
    (one hull would fill a real gap); otherwise the link is one hull of the visual mesh;
 4. every visual vertex outside all pieces is given to the piece it is least outside of, and each
-   piece is then the convex hull of its points, decimated to at most MAX_VERTICES vertices while
-   staying CONSERVATIVE: the hull of a greedy subset of the hull's vertices (each step adds the
-   vertex farthest outside), scaled about its centroid by the smallest factor that puts every one
-   of its points inside (plus 0.1 mm). So the union of the written pieces contains the visual
+   piece is then the convex hull of its points, decimated while staying CONSERVATIVE: the hull
+   of a greedy subset of the hull's vertices (each step adds the vertex farthest outside), each
+   facet moved out by the farthest point beyond it (plus 0.1 mm). A link kept whole is one hull
+   of its published collision mesh, the greedy subset (MAX_VERTICES) scaled about its centroid
+   by the smallest factor that puts every point inside (plus 0.1 mm). So the union of the written pieces contains the visual
    mesh; how much larger each piece is (scale factor, largest outward offset) is printed and
    written to the README.
 
@@ -52,9 +54,8 @@ from scipy.spatial import ConvexHull
 
 ROOT = os.path.abspath(os.path.join(os.path.dirname(__file__), "..", ".."))
 MAX_VERTICES = 64
-# A decomposed link's pieces are long and thin (the prongs): more vertices keep the
-# conservative scaling (about the centroid, which lengthens a thin piece) to a few mm.
-PIECE_MAX_VERTICES = 128
+# A decomposed link's pieces: the greedy subset's size before its facets are moved out.
+PIECE_MAX_VERTICES = 64
 PAD_M = 1e-4
 CONCAVITY = 0.05
 MAX_PIECES = 8
@@ -152,7 +153,7 @@ def outside(hull, pts):
     return (pts @ eq[:, :3].T + eq[:, 3]).max(axis=1)
 
 
-def decimate(pts, max_vertices=MAX_VERTICES):
+def decimate(pts, max_vertices=MAX_VERTICES, offset=False):
     full = ConvexHull(pts)
     hv = pts[full.vertices]
     if len(hv) <= max_vertices:
@@ -175,16 +176,29 @@ def decimate(pts, max_vertices=MAX_VERTICES):
                 break
             idx.append(k)
         sub = hv[idx]
-    # Scale about the centroid until every source vertex is inside, plus PAD_M.
-    c = sub.mean(axis=0)
+    if not offset:
+        # Scale about the centroid until every source vertex is inside, plus PAD_M.
+        c = sub.mean(axis=0)
+        h = ConvexHull(sub)
+        n, d = h.equations[:, :3], h.equations[:, 3]
+        b = -(d + n @ c)  # distance of each facet from c (> 0)
+        ratio = ((pts - c) @ n.T + PAD_M) / b
+        s = max(1.0, float(ratio.max()))
+        out = c + (sub - c) * s
+        hull = ConvexHull(out)
+        return out, hull, s, full
+    # Move each facet of the subset's hull out by the farthest any point lies beyond it, plus
+    # PAD_M (a thin piece grows by that, not by a scale along its length); the vertices are
+    # the halfspaces' intersection.
+    from scipy.spatial import HalfspaceIntersection
     h = ConvexHull(sub)
-    n, d = h.equations[:, :3], h.equations[:, 3]
-    b = -(d + n @ c)  # distance of each facet from c (> 0)
-    ratio = ((pts - c) @ n.T + PAD_M) / b
-    s = max(1.0, float(ratio.max()))
-    out = c + (sub - c) * s
+    eq = h.equations.copy()
+    eq[:, 3] -= np.maximum((pts @ eq[:, :3].T + eq[:, 3]).max(axis=0), 0.0) + PAD_M
+    out = HalfspaceIntersection(eq, sub.mean(axis=0)).intersections
     hull = ConvexHull(out)
-    return out, hull, s, full
+    out = out[hull.vertices]
+    hull = ConvexHull(out)
+    return out, hull, 1.0, full
 
 
 def write_obj(path, pts, hull, header):
@@ -260,7 +274,10 @@ def main():
     check = "--check" in args
     dirs = {"abb": args[args.index("--abb") + 1], "ur": args[args.index("--ur") + 1]}
     bad = 0
+    only = args[args.index("--only") + 1].split(",") if "--only" in args else list(ROBOTS)
     for name, spec in ROBOTS.items():
+        if name not in only:
+            continue
         # The link frames: our joint origins are the source's.
         for i, ((p0, r0), (p1, r1)) in enumerate(zip(spec["joints"], our_joint_origins(name))):
             T0 = rpy_matrix(*r0)
@@ -315,7 +332,7 @@ def main():
                 used = src
             written = []
             for j, pts in enumerate(groups):
-                out, hull, sc, full = decimate(pts, PIECE_MAX_VERTICES if split else MAX_VERTICES)
+                out, hull, sc, full = decimate(pts, PIECE_MAX_VERTICES if split else MAX_VERTICES, offset=split)
                 grow = float(np.max(outside(full, out)))
                 path = os.path.join(out_dir, "%s-%d.obj" % (link, j + 1))
                 nv = write_obj(path, out, hull, [
@@ -362,11 +379,14 @@ def write_readme(name, spec, rows, out_dir):
          "- Other links: one convex hull of the published collision mesh. The fill column says how much of its hull "
          "the link's closed visual mesh fills (open meshes: not computed): a low fill is a housing whose hull is "
          "larger than the housing, conservative.",
-         "- Each piece: the convex hull of its points, at most %d vertices (%d for a decomposed link's pieces, "
-         "whose thin prongs the scaling below would otherwise lengthen by centimetres; a greedy subset, each step the vertex "
-         "farthest outside), scaled about its centroid by the smallest factor that puts every point inside plus "
-         "%.1f mm. So the pieces together contain the source mesh (`--check` verifies within 1 mm)."
-         % (MAX_VERTICES, PIECE_MAX_VERTICES, PAD_M * 1000)]
+         "- Each piece: the convex hull of its points, reduced to a greedy subset of at most %d vertices (each step "
+         "the vertex farthest outside), made CONSERVATIVE again: a one-hull link's subset is scaled about its centroid "
+         "by the smallest factor that puts every point inside plus %.1f mm; a decomposed link's piece (thin prongs, "
+         "which a scale would lengthen by centimetres) has each facet of the subset moved out by the farthest point "
+         "beyond it plus %.1f mm, its vertices the intersection of those halfspaces (a few hundred). So the pieces "
+         "together contain the source mesh (`--check` verifies within 1 mm); the largest growth over the source's "
+         "hull is in the table."
+         % (MAX_VERTICES, PAD_M * 1000, PAD_M * 1000)]
     if spec["note"]:
         L.append("- " + spec["note"])
     L += ["", "| Link | Mesh used | Vertices | Visual fill of its hull | Visual outside the published hull (mm) "

@@ -691,8 +691,8 @@ def collision_elements(rb, link, urdf_path):
                     key=lambda f: int(f[len(link) + 1:-4]))
     if not pieces:
         return []
-    L = ["    <!-- collision: %d convex piece(s) of the published visual mesh (conservative, at most 64 vertices "
-         "each); source, commit and licence in collision/README.md -->" % len(pieces)]
+    L = ["    <!-- collision: %d convex piece(s) from the published meshes (conservative); source, commit, "
+         "method and licence in collision/README.md -->" % len(pieces)]
     for f in pieces:
         L += ["    <collision>",
               '      <origin xyz="0.0 0.0 0.0" rpy="0.0 0.0 0.0"/>',
@@ -1193,11 +1193,12 @@ def write_summary(rbs):
           "`printwatt optimise --uncertainty N`. A calibrated robot (written by `identify`) draws its identified "
           "parameters from their standard errors instead.",
           "", "## Collision geometry", "",
-          "The IRB 6700, IRB 4600 and UR10e have `<collision>` meshes on the base and every link: convex pieces of "
-          "the published visual mesh (ros-industrial/abb_experimental, Apache-2.0; "
-          "UniversalRobots/Universal_Robots_ROS2_Description, BSD-3-Clause), one hull per link where that is faithful "
-          "and a convex decomposition where one hull would fill a real opening (the ABB forearms' fork around the "
-          "wrist), each piece at most 64 vertices and scaled so that together they contain the visual mesh, in "
+          "The IRB 6700, IRB 4600 and UR10e have `<collision>` meshes on the base and every link: convex pieces made "
+          "from the published meshes (ros-industrial/abb_experimental, Apache-2.0; "
+          "UniversalRobots/Universal_Robots_ROS2_Description, BSD-3-Clause): one hull of the published collision mesh "
+          "per link (at most 64 vertices), and for the ABB forearms, whose end forks around the wrist, a convex "
+          "decomposition of the published visual mesh (4 pieces on the IRB 6700, 8 on the IRB 4600), so the fork is "
+          "open; each piece grown so that together they contain the source mesh, in "
           "`collision/` with a README naming source, commit and licence (made once by "
           "`tools/robots/collision_hulls.py`, which `--check` verifies against the sources). "
           "The IRB 6700's balancer cylinder and piston (mimic links) are not modelled. "

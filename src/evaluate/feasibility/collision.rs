@@ -1201,10 +1201,11 @@ pub fn check_bodies(
     })
 }
 
-/// `f(boxes, exact)` with `n` scratch boxes and flags (on the stack for up to 16 shapes).
+/// `f(boxes, exact)` with `n` scratch boxes and flags (on the stack for up to 32 shapes: an arm
+/// with a link in several convex pieces has more than 16).
 #[inline(always)]
 fn with_boxes<R>(n: usize, f: impl FnOnce(&mut [Aabb], &mut [bool]) -> R) -> R {
-    const ON_STACK: usize = 16;
+    const ON_STACK: usize = 32;
     let none = Aabb::new_invalid();
     if n <= ON_STACK {
         let (mut boxes, mut exact) = ([none; ON_STACK], [false; ON_STACK]);
