@@ -61,6 +61,9 @@ CONCAVITY = 0.05
 MAX_PIECES = 8
 KEEP_RATIO = 0.85
 SEED = 1
+# An open visual mesh (the IRB 4600's COLLADA) is remeshed closed first (CoACD's manifold step) on a
+# grid of this many cells across: fine enough that the prongs keep their shape.
+PREPROCESS_RESOLUTION = 120
 VISUAL_IN_COLLISION_M = 5e-3
 
 ABB_URL = "https://github.com/ros-industrial/abb_experimental"
@@ -250,7 +253,7 @@ def decompose(v, f):
     import coacd
     coacd.set_log_level("error")
     parts = coacd.run_coacd(coacd.Mesh(v, f), threshold=CONCAVITY, max_convex_hull=MAX_PIECES,
-                            preprocess_mode="auto", resolution=1000, mcts_iterations=30, mcts_max_depth=2,
+                            preprocess_mode="auto", preprocess_resolution=PREPROCESS_RESOLUTION, resolution=1000, mcts_iterations=30, mcts_max_depth=2,
                             mcts_nodes=10, seed=SEED)
     return [np.asarray(p[0], float) for p in parts]
 
@@ -373,9 +376,10 @@ def write_readme(name, spec, rows, out_dir):
          "published collision hull; the largest excess is in the table). One hull per link would close the "
          "forearm's fork around the wrist, through which the hose passes.",
          "- Decomposed links (%s): an approximate convex decomposition of the visual mesh (CoACD, Wei et al. 2022, "
-         "concavity threshold %.2f, at most %d pieces, seed %d); every visual vertex outside all pieces joins the "
-         "piece it is least outside of." % (", ".join("`%s`" % l for l in spec["decompose"]) or "none",
-                                          CONCAVITY, MAX_PIECES, SEED),
+         "concavity threshold %.2f, at most %d pieces, seed %d; an open mesh is first remeshed closed on a %d-cell "
+         "grid); every visual vertex outside all pieces joins the piece it is least outside of." % (
+             ", ".join("`%s`" % l for l in spec["decompose"]) or "none", CONCAVITY, MAX_PIECES, SEED,
+             PREPROCESS_RESOLUTION),
          "- Other links: one convex hull of the published collision mesh. The fill column says how much of its hull "
          "the link's closed visual mesh fills (open meshes: not computed): a low fill is a housing whose hull is "
          "larger than the housing, conservative.",

@@ -179,6 +179,10 @@ pub struct BodyShape {
     axis_body: Option<(V3, V3, f64)>,
     /// The bounding sphere's centre in the body frame (`local` applied, m).
     centre_body: V3,
+    /// A mesh piece's box in its own frame (centre, half extents, m): its world box at a pose
+    /// is that box turned (a box that holds the piece's AABB, in O(1) instead of one transform
+    /// per vertex: the broad phase of a piece with a few hundred vertices).
+    local_box: Option<(Vector<f64>, Vector<f64>)>,
 }
 
 impl BodyShape {
@@ -191,6 +195,10 @@ impl BodyShape {
     ) -> Self {
         let b = shape.compute_local_bounding_sphere();
         let capsule = shape.as_capsule().copied();
+        let local_box = shape.as_convex_polyhedron().map(|h| {
+            let a = h.local_aabb();
+            (a.center().coords, a.half_extents())
+        });
         let at_origin = local == Isometry::identity();
         let local_frame = Frame {
             rot: *local.rotation.to_rotation_matrix().matrix(),
@@ -215,6 +223,7 @@ impl BodyShape {
             local_frame,
             axis_body: capsule.map(|c| (in_body(&c.segment.a), in_body(&c.segment.b), c.radius)),
             centre_body: in_body(&b.center),
+            local_box,
         }
     }
 }
@@ -1326,11 +1335,21 @@ fn check_with(
         // A capsule's axis at its pose, once for its AABB (as parry makes it), the bed and the
         // beads.
         let cap = at.axis(i, s);
-        let a = match &cap {
-            Some((ea, eb, r)) => Capsule::new(*ea, *eb, *r).local_aabb(),
-            None => s.shape.compute_aabb(&at.iso(i, s)),
+        let (a, ex) = match (&cap, &s.local_box) {
+            (Some((ea, eb, r)), _) => (Capsule::new(*ea, *eb, *r).local_aabb(), true),
+            // A mesh piece: its own box turned (holds the AABB; the self pairs make the exact
+            // AABB only where these boxes meet).
+            (None, Some((c, h))) => {
+                let p = at.iso(i, s);
+                let rot = p.rotation.to_rotation_matrix();
+                let m = rot.matrix();
+                let half = m.abs() * h;
+                let centre = p * Point::from(*c);
+                (Aabb::new(centre - half, centre + half), false)
+            }
+            (None, None) => (s.shape.compute_aabb(&at.iso(i, s)), true),
         };
-        (boxes[i], exact[i]) = (a, true);
+        (boxes[i], exact[i]) = (a, ex);
         // Floor: the links and the hose stay above it.
         if let Some(f) = bed.floor.as_ref().filter(|_| on_floor_check(s)) {
             let c = match &cap {
