@@ -43,7 +43,12 @@ fn the_shipped_arms_collide_with_their_published_hulls() {
         // a piece of a decomposed link.
         for s in &rs.shapes {
             if let Some(h) = s.shape.as_convex_polyhedron() {
-                let whole = rs.shapes.iter().filter(|t| t.body == s.body && t.role == s.role).count() == 1;
+                let whole = rs
+                    .shapes
+                    .iter()
+                    .filter(|t| t.body == s.body && t.role == s.role)
+                    .count()
+                    == 1;
                 let most = if whole { 64 } else { 400 };
                 assert!(h.points().len() <= most, "{name} {}", s.label);
             }
@@ -144,8 +149,7 @@ fn irb6700_copy(name: &str) -> (std::path::PathBuf, impl Fn(&str) -> String) {
         std::fs::copy(e.path(), dir.join("collision").join(e.file_name())).unwrap();
     }
     let drive = std::fs::read_to_string(src.join("drive.toml")).unwrap();
-    let with =
-        move |keys: &str| drive.replacen("[robot]\n", &format!("[robot]\n{keys}\n"), 1);
+    let with = move |keys: &str| drive.replacen("[robot]\n", &format!("[robot]\n{keys}\n"), 1);
     (dir, with)
 }
 
@@ -160,7 +164,10 @@ fn the_report_top_view_draws_the_base_footprint_and_the_pedestal_to_scale() {
         (x0, x1, y0, y1) = (x0.min(x), x1.max(x), y0.min(y), y1.max(y));
     }
     assert!(f.len() >= 3, "{f:?}");
-    assert!(x0 < -0.6 && x0 > -0.7 && x1 > 0.35 && y1 > 0.35 && y0 < -0.35, "{f:?}");
+    assert!(
+        x0 < -0.6 && x0 > -0.7 && x1 > 0.35 && y1 > 0.35 && y0 < -0.35,
+        "{f:?}"
+    );
     // A capsule arm has none (the report marks axis 1 instead).
     assert!(printwatt::report::site::base_footprint(&common::robot("puma560")).is_empty());
     // A sweep's report draws the footprint and the pedestal (1.2 m round: larger than the
@@ -205,13 +212,26 @@ fn the_report_top_view_draws_the_base_footprint_and_the_pedestal_to_scale() {
         .split(|c| c == ' ' || c == 'M' || c == 'L' || c == 'Z')
         .filter_map(|p| p.split(',').next()?.parse().ok())
         .collect();
-    let wide_px = xs.iter().cloned().fold(f64::MIN, f64::max) - xs.iter().cloned().fold(f64::MAX, f64::min);
+    let wide_px =
+        xs.iter().cloned().fold(f64::MIN, f64::max) - xs.iter().cloned().fold(f64::MAX, f64::min);
     let ped = html
         .split(r#"<circle class="pedestal""#)
         .nth(1)
         .expect("no pedestal circle");
-    assert!(ped.contains("pedestal (0.5 m high, radius 0.6 m)"), "{}", &ped[..200]);
-    let r: f64 = ped.split(r#"r=""#).nth(1).unwrap().split('"').next().unwrap().parse().unwrap();
+    assert!(
+        ped.contains("pedestal (0.5 m high, radius 0.6 m)"),
+        "{}",
+        &ped[..200]
+    );
+    let r: f64 = ped
+        .split(r#"r=""#)
+        .nth(1)
+        .unwrap()
+        .split('"')
+        .next()
+        .unwrap()
+        .parse()
+        .unwrap();
     // To scale: the foot's width over the pedestal's radius, in pixels as in metres.
     let ratio = wide_px / r;
     assert!(
@@ -301,7 +321,15 @@ fn every_shipped_collision_hull_is_convex_and_holds_its_vertices() {
         }
         assert!(n >= 7, "{name}: base and six links, a piece or more each");
         // Every link and the base have a piece, named `<link>-<k>.obj` with k from 1.
-        for link in ["base_link", "link_1", "link_2", "link_3", "link_4", "link_5", "link_6"] {
+        for link in [
+            "base_link",
+            "link_1",
+            "link_2",
+            "link_3",
+            "link_4",
+            "link_5",
+            "link_6",
+        ] {
             assert!(dir.join(format!("{link}-1.obj")).exists(), "{name} {link}");
         }
     }
@@ -342,15 +370,24 @@ fn the_forearm_fork_is_open_in_the_collision_geometry() {
         let ps = pieces(&rs, body);
         assert!(ps.len() >= 3, "{name}: {} pieces", ps.len());
         let wrist = model.joints[4].origin.pos; // joint 5 in the link_4 frame
-        assert!(wrist.x > 1.0 && wrist.y == 0.0 && wrist.z == 0.0, "{name} {wrist:?}");
+        assert!(
+            wrist.x > 1.0 && wrist.y == 0.0 && wrist.z == 0.0,
+            "{name} {wrist:?}"
+        );
         // Between the prongs, on the wrist's axis: free (a 10 mm ball, and one a little
         // above and below the axis).
         for dz in [-0.03, 0.0, 0.03] {
             let p = wrist + V3::new(0.0, 0.0, dz);
-            assert!(!meets(&rs, body, p, 0.01), "{name}: the fork is closed at {p:?}");
+            assert!(
+                !meets(&rs, body, p, 0.01),
+                "{name}: the fork is closed at {p:?}"
+            );
         }
         // In the tube, half way to the wrist: solid.
-        assert!(meets(&rs, body, wrist * 0.4, 0.01), "{name}: the tube is open");
+        assert!(
+            meets(&rs, body, wrist * 0.4, 0.01),
+            "{name}: the tube is open"
+        );
         // The prongs: either side of the wrist, beyond its housing.
         let side = |y: f64| meets(&rs, body, wrist + V3::new(0.0, y, 0.0), 0.005);
         assert!(

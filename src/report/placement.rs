@@ -402,8 +402,11 @@ impl RunReport {
             ));
         }
         if footprint.len() >= 3 {
-            v.footprints
-                .push(("base".into(), "robot base (collision geometry from above)".into(), footprint));
+            v.footprints.push((
+                "base".into(),
+                "robot base (collision geometry from above)".into(),
+                footprint,
+            ));
         } else {
             v.circles
                 .push((0.0, 0.0, 0.12, "base".into(), "robot base (axis 1)".into()));

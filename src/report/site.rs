@@ -111,7 +111,9 @@ pub fn base_footprint(model: &RobotModel) -> Vec<(f64, f64)> {
                     })
                     .collect()
             }
-            GeomShape::Cylinder { radius_m, length_m } => ring(*radius_m, &[-0.5 * length_m, 0.5 * length_m]),
+            GeomShape::Cylinder { radius_m, length_m } => {
+                ring(*radius_m, &[-0.5 * length_m, 0.5 * length_m])
+            }
             GeomShape::Sphere { radius_m } => ring(*radius_m, &[0.0])
                 .into_iter()
                 .chain([V3::new(0.0, 0.0, *radius_m), V3::new(0.0, 0.0, -radius_m)])
