@@ -387,6 +387,8 @@ view.screenOf = (x, y, z) => {
   return [r.left + (v.x + 1) / 2 * r.width, r.top + (1 - v.y) / 2 * r.height];
 };
 // The centre of the bed's top face on the page.
+// The drawn mesh pieces of the links (a link may be several convex pieces), for tests.
+view.hullPieces = () => shapeObjs.filter((o) => o.children.some((c) => c.userData.hull)).length;
 view.bedScreen = () => {
   const b = bedMesh.geometry.parameters;
   const c = part.localToWorld(bedMesh.position.clone().add(new THREE.Vector3(0, 0, b.depth / 2)));
