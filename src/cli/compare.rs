@@ -125,7 +125,10 @@ pub fn run(a: super::CompareArgs) -> Result<()> {
     let (mut cmp, pred) = metrics::compare(&prep, &model);
     cmp.calibration = robot.effects.calibration_summary();
     // The last check before anything leaves: the JSON, the report and the printed table.
-    printwatt::output::check_finite_json("compare", &cmp)?;
+    printwatt::output::check_finite_json(
+        &format!("compare of the log {}", a.log.log.display()),
+        &cmp,
+    )?;
     if let Some(dir) = &a.out.out {
         // The report plots the model's prediction, sample by sample.
         let ch = log.channels.max(1);

@@ -61,7 +61,10 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
     };
     let id = plan.fit(&mut model, (&log, &prep), vlog.as_ref().zip(vprep.as_ref()))?;
     // The last check before anything leaves: the calibrated robot, the files, the JSON.
-    printwatt::output::check_finite_json("identify", &id)?;
+    printwatt::output::check_finite_json(
+        &format!("identify of the log {}", a.log.log.display()),
+        &id,
+    )?;
     if !id.implausible.is_empty() {
         // Reported, never written as the calibrated robot.
         if a.out.json {
