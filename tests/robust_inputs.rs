@@ -289,3 +289,33 @@ fn huge_numbers_in_messages_are_written_in_scientific_notation() {
     assert_eq!(printwatt::table::show(1.25), "1.25");
     assert_eq!(printwatt::table::show(0.0), "0");
 }
+
+#[test]
+fn an_infinity_or_nan_in_a_drive_file_is_refused_naming_its_key() {
+    for (name, from, to, key) in [
+        ("reach", "reach_m = 2.55", "reach_m = inf", "robot.reach_m"),
+        (
+            "kt",
+            "torque_constant_nm_per_a = 2.0",
+            "torque_constant_nm_per_a = nan",
+            "torque_constant_nm_per_a",
+        ),
+        (
+            "big",
+            "balancer_base_m = 0.42",
+            "balancer_base_m = -inf",
+            "balancer_base_m",
+        ),
+    ] {
+        let d = common::scratch("inputs", &format!("drive-{name}"));
+        let r = robot_with(&d, from, to);
+        let e = printwatt::robot::load(&r)
+            .map(|_| ())
+            .expect_err(name)
+            .to_string();
+        assert!(
+            e.contains("drive.toml") && e.contains(key) && e.contains("finite"),
+            "{name}: {e}"
+        );
+    }
+}
