@@ -45,7 +45,9 @@ pub use lanes::{
 pub use report::{EnergyReport, JointEnergy, SampleSeries, TotalEnergy};
 
 use crate::dynamics::{rnea, rnea_with_sincos, DynData, DynModel, DynOptions, MAX_DOF};
-use crate::effects::{Effect, EffectSet, EnergyClass, Stage, COULOMB_VELOCITY_SCALE_RAD_S};
+use crate::effects::{
+    Effect, EffectSet, EnergyClass, MotorTerm, Stage, SupplyTerm, COULOMB_VELOCITY_SCALE_RAD_S,
+};
 use crate::error::{Error, Result};
 use crate::robot::{Regeneration, RobotModel};
 use crate::simd::{Level, LANES};
@@ -163,6 +165,18 @@ impl EnergyModel {
     /// The model with explicit options. Errors: as [`DynModel::new`]; an invalid Coulomb
     /// velocity scale; a drive whose joint count differs from the robot's.
     pub fn with_options(robot: &RobotModel, options: EnergyOptions) -> Result<Self> {
+        Self::with_effects(robot, options, EffectSet::of_robot(robot)?)
+    }
+
+    /// The model with explicit options and effects (the robot's own are
+    /// [`EffectSet::of_robot`]): each enabled effect acts at its [`Stage`], a motor or supply
+    /// effect by the term it names, so an effect defined outside printwatt enters like a
+    /// registered one. Errors: as [`EnergyModel::with_options`].
+    pub fn with_effects(
+        robot: &RobotModel,
+        options: EnergyOptions,
+        mut set: EffectSet,
+    ) -> Result<Self> {
         let n = robot.dof();
         let has_drive = robot.drive.is_some();
         if !(options.coulomb_velocity_scale.is_finite() && options.coulomb_velocity_scale > 0.0) {
@@ -171,7 +185,6 @@ impl EnergyModel {
                 options.coulomb_velocity_scale
             )));
         }
-        let mut set = EffectSet::of_robot(robot)?;
         if options.coulomb_velocity_scale != COULOMB_VELOCITY_SCALE_RAD_S
             && set.is_enabled("coulomb")
         {
@@ -209,14 +222,10 @@ impl EnergyModel {
                         torque.push((Arc::from(e.clone_box()), class));
                     }
                 }
-                Stage::Motor => match e.name() {
-                    "copper" => motor[0] = Some(e.values()),
-                    _ => motor[1] = Some(e.values()),
-                },
-                Stage::Supply => match e.name() {
-                    "regeneration" => rho = e.values()[0],
-                    _ => p0 = e.values()[0],
-                },
+                Stage::Motor(MotorTerm::WindingResistance) => motor[0] = Some(e.values()),
+                Stage::Motor(MotorTerm::GearEfficiency) => motor[1] = Some(e.values()),
+                Stage::Supply(SupplyTerm::Regeneration) => rho = e.values()[0],
+                Stage::Supply(SupplyTerm::Standby) => p0 = e.values()[0],
             }
         }
         let dynamics = DynModel::new(
