@@ -302,6 +302,16 @@ fn apply_drive(model: &mut RobotModel, d: drive::DriveFile, file: &str) -> Resul
     }
     model.info.reach_m = d.robot.reach_m;
     model.info.rated_payload_kg = d.robot.rated_payload_kg;
+    if let Some(m) = d.robot.mass_kg {
+        if !(m.is_finite() && m > 0.0) {
+            return Err(Error::Field {
+                file: file.into(),
+                field: "robot.mass_kg".into(),
+                msg: format!("must be finite and > 0, got {m}"),
+            });
+        }
+    }
+    model.info.mass_kg = d.robot.mass_kg;
     model.info.provenance = d.robot.provenance.unwrap_or_default();
     apply_tool_and_payload(model, d.tool, d.payload, file)?;
     apply_links(model, &d.links, file)?;

@@ -135,6 +135,10 @@ pub struct RobotInfo {
     pub reach_m: Option<f64>,
     /// Rated payload, kg.
     pub rated_payload_kg: Option<f64>,
+    /// The robot's mass as its datasheet states it (base and arm, without payload), kg; the
+    /// link masses estimated from geometry are scaled to it
+    /// ([`crate::robot::inertia::complete`]).
+    pub mass_kg: Option<f64>,
     /// One line on where the numbers come from.
     pub provenance: String,
     /// What the default payload is (extruder, hose, material), from the drive file.
