@@ -149,6 +149,13 @@ pub struct RobotInfo {
     /// Where each moving link's inertia comes from (chain order; filled when the robot is
     /// loaded, [`crate::robot::inertia::complete`]).
     pub inertia_sources: Vec<crate::robot::inertia::InertiaSource>,
+    /// The drive file the robot was loaded with, if any.
+    pub drive_file: Option<std::path::PathBuf>,
+    /// How many of the drive file's drive-train and cabinet values (`[[joints]]` gear ratio,
+    /// torque constant, winding resistance, rotor inertia, friction, gear efficiency;
+    /// `[cabinet]` standby power) are marked `ESTIMATE` in their comments, of how many given:
+    /// `(estimated, given)`.
+    pub drive_estimates: Option<(usize, usize)>,
 }
 
 /// The immutable robot model. Build it with [`crate::robot::load`].
