@@ -442,7 +442,7 @@ impl RunReport {
                     feasible.len(),
                     y.len(),
                     feasible.first().map_or(String::new(), |&k| format!(
-                        ", {} {unit}: {:.1} J",
+                        ", {}{unit}: {:.1} J",
                         svg::fmt_num(at[k]),
                         y[k]
                     ))
@@ -451,7 +451,7 @@ impl RunReport {
         };
         if g.zs.len() > 1 {
             let y: Vec<f64> = (0..g.zs.len()).map(|k| val(k, iyaw)).collect();
-            if let Some(n) = lone("bed height", &g.zs, &y, "m") {
+            if let Some(n) = lone("bed height", &g.zs, &y, " m") {
                 notes.push(n);
             } else {
             let f = svg::Frame::new(

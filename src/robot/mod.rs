@@ -78,6 +78,12 @@ pub fn drive_data_status(model: &RobotModel) -> String {
         return "none: no drive train, so the energies are the joints' mechanical work, not a supply's draw".into();
     }
     let calibrated = model.effects.calibration_summary();
+    if let (Some(c), Some((0, n))) = (&calibrated, model.info.drive_estimates) {
+        // A calibrated robot's file carries no ESTIMATE marks of its own.
+        return format!(
+            "calibrated: {c}; the {n} drive-train and cabinet values not identified from a log are those of the robot it started from (ESTIMATE where its drive file says so)"
+        );
+    }
     match model.info.drive_estimates {
         Some((e, n)) if e > 0 => format!(
             "ESTIMATE: {e} of the drive file's {n} drive-train and cabinet values are marked ESTIMATE (not published, not measured){}: the energies rank placements and paths, they are not calibrated predictions",
