@@ -488,12 +488,20 @@ fn identify_writes_report_html_listing_every_fitted_parameter() {
             .unwrap_or_else(|| panic!("{e}.{n} not listed"));
         if let Some(se) = p["std_error"].as_f64() {
             let shown: f64 = row[5].parse().unwrap();
-            assert!((shown - se).abs() <= 1e-6 * se.abs().max(1.0), "{row:?} vs {se}");
+            assert!(
+                (shown - se).abs() <= 1e-6 * se.abs().max(1.0),
+                "{row:?} vs {se}"
+            );
         }
         assert!(row[7] == "yes" || !row[7].is_empty(), "{row:?}");
     }
     // The rounds, the error per joint before and after (6 joints and the total), the ladder.
-    for h in ["Rounds", "Fitted parameters", "Error per joint, before and after the fit", "Error ladder"] {
+    for h in [
+        "Rounds",
+        "Fitted parameters",
+        "Error per joint, before and after the fit",
+        "Error ladder",
+    ] {
         assert!(html.contains(&format!("<h2>{h}</h2>")), "{h}");
     }
     let per_joint: Vec<&Vec<String>> = rows
@@ -512,6 +520,9 @@ fn identify_writes_report_html_listing_every_fitted_parameter() {
         .collect();
     assert_eq!(figs, ["per-joint", "ladder"]);
     // The drive data's status is stated.
-    assert!(html.contains("<dt>drive data</dt><dd>ESTIMATE: "), "drive data status");
+    assert!(
+        html.contains("<dt>drive data</dt><dd>ESTIMATE: "),
+        "drive data status"
+    );
     let _ = std::fs::remove_dir_all(&d);
 }

@@ -469,7 +469,12 @@ fn energy_bars_start_above_zero_when_the_standby_dominates() {
     let rep = report();
     // The standby (cabinet × print time) is most of the supply here.
     let f = rep.best().unwrap().feasible().unwrap();
-    assert!(f.standby_j > f.drives_j, "{} vs {}", f.standby_j, f.drives_j);
+    assert!(
+        f.standby_j > f.drives_j,
+        "{} vs {}",
+        f.standby_j,
+        f.drives_j
+    );
     let html = rep.html();
     let svg = figure_svg(&html, "bars").expect("bars figure");
     let doc = roxmltree::Document::parse(&svg).unwrap();
@@ -491,7 +496,10 @@ fn energy_bars_start_above_zero_when_the_standby_dominates() {
         .filter_map(|r| r.feasible())
         .map(|f| f.standby_j)
         .fold(f64::INFINITY, f64::min);
-    assert!(base > 0.5 * standby && base <= standby && base < lowest, "{base} {standby} {lowest}");
+    assert!(
+        base > 0.5 * standby && base <= standby && base < lowest,
+        "{base} {standby} {lowest}"
+    );
     // The lowest y tick is not 0 either: the axis starts at the standby.
     let ticks: Vec<f64> = elements(&doc, "text")
         .iter()
@@ -500,7 +508,8 @@ fn energy_bars_start_above_zero_when_the_standby_dominates() {
         .collect();
     assert!(ticks.iter().all(|t| *t >= base), "{ticks:?} from {base}");
     let caption = &html[html.find("<figure id=\"bars\">").unwrap()..];
-    let caption = &caption[caption.find("<figcaption>").unwrap()..caption.find("</figcaption>").unwrap()];
+    let caption =
+        &caption[caption.find("<figcaption>").unwrap()..caption.find("</figcaption>").unwrap()];
     assert!(caption.contains("standby"), "{caption}");
 }
 
@@ -511,13 +520,19 @@ fn a_sweep_report_caption_describes_only_what_its_top_view_draws() {
     rep.baseline = None;
     let html = rep.html();
     let svg = figure_svg(&html, "heatmap").unwrap();
-    assert!(!svg.contains("mark-optimum"), "a sweep has no refined optimum");
+    assert!(
+        !svg.contains("mark-optimum"),
+        "a sweep has no refined optimum"
+    );
     let i = html.find("<figure id=\"heatmap\">").unwrap();
     let cap = &html[i..];
     let cap = &cap[cap.find("<figcaption>").unwrap()..cap.find("</figcaption>").unwrap()];
     assert!(!cap.contains("refined optimum"), "{cap}");
     assert!(!cap.contains("optimum"), "{cap}");
-    assert!(cap.contains("the ring marks the best placement of the sweep"), "{cap}");
+    assert!(
+        cap.contains("the ring marks the best placement of the sweep"),
+        "{cap}"
+    );
     // No answer card without an optimisation; the optimise report has one.
     assert!(!html.contains("id=\"answer\""));
     assert!(report().html().contains("<section id=\"answer\""));
@@ -551,7 +566,9 @@ fn a_yaw_slice_with_one_feasible_point_is_said_in_words_not_drawn() {
     let html = rep.html();
     assert!(figure_svg(&html, "slice-yaw").is_none());
     assert!(
-        html.contains("Energy against yaw through the best grid cell: only 1 of the 2 yaws is feasible, 90°:"),
+        html.contains(
+            "Energy against yaw through the best grid cell: only 1 of the 2 yaws is feasible, 90°:"
+        ),
         "no words for the lone point"
     );
 }
@@ -585,7 +602,10 @@ fn top_view_stacks_labels_at_one_spot_and_draws_infeasible_points_with_their_own
     assert_eq!(labels.len(), 3);
     for i in 0..3 {
         for j in 0..i {
-            assert!((labels[i].1 - labels[j].1).abs() >= 11.0, "overprinted: {labels:?}");
+            assert!(
+                (labels[i].1 - labels[j].1).abs() >= 11.0,
+                "overprinted: {labels:?}"
+            );
         }
     }
     // The infeasible one: a cross (no circle, unlike the inner reach's hollow circle), and the
@@ -605,8 +625,20 @@ fn the_answer_card_states_the_energy_the_cli_prints_and_the_uncertainty_is_drawn
     let _ = std::fs::remove_dir_all(&d);
     let o = common::bin()
         .args([
-            "optimise", "--x", "1.3,1.5,3", "--y", "-0.1,0.1,3", "--z", "0.5", "--yaw", "90",
-            "--max-evals", "10", "--uncertainty", "6", "--out",
+            "optimise",
+            "--x",
+            "1.3,1.5,3",
+            "--y",
+            "-0.1,0.1,3",
+            "--z",
+            "0.5",
+            "--yaw",
+            "90",
+            "--max-evals",
+            "10",
+            "--uncertainty",
+            "6",
+            "--out",
         ])
         .arg(&d)
         .output()
@@ -640,7 +672,10 @@ fn the_answer_card_states_the_energy_the_cli_prints_and_the_uncertainty_is_drawn
         .filter_map(|n| n.text())
         .collect::<Vec<_>>()
         .join(" ");
-    assert!(text.contains(&format!("energy {energy} J")), "{energy} not in {text}");
+    assert!(
+        text.contains(&format!("energy {energy} J")),
+        "{energy} not in {text}"
+    );
     for want in [
         "drives ",
         "standby ",

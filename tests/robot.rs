@@ -375,7 +375,10 @@ fn a_robot_mass_below_the_links_given_is_not_applied_and_a_bad_one_is_refused() 
         "mass_kg = 100.0\n\n[links.link_2]\nmass_kg = 250.0\ncom_m = [0.0, 0.0, 0.5]\ninertia_kg_m2 = [40.0, 40.0, 5.0, 0.0, 0.0, 0.0]\n",
     );
     let w = m.warnings.join("\n");
-    assert!(w.contains("not scaled to the drive file's [robot] mass_kg"), "{w}");
+    assert!(
+        w.contains("not scaled to the drive file's [robot] mass_kg"),
+        "{w}"
+    );
     assert!(w.contains("250 kg, not less than the stated 100 kg"), "{w}");
     let urdf = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
         .join("tests/data/ros_industrial/abb_irb6640_support/urdf/irb6640_185_280.urdf");
@@ -384,10 +387,16 @@ fn a_robot_mass_below_the_links_given_is_not_applied_and_a_bad_one_is_refused() 
     let f = d.join("drive.toml");
     std::fs::write(
         &f,
-        format!("[robot]\nurdf = {:?}\nmass_kg = -5.0\n", urdf.to_str().unwrap()),
+        format!(
+            "[robot]\nurdf = {:?}\nmass_kg = -5.0\n",
+            urdf.to_str().unwrap()
+        ),
     )
     .unwrap();
     let e = printwatt::robot::load(&f).unwrap_err().to_string();
-    assert!(e.contains("drive.toml") && e.contains("robot.mass_kg"), "{e}");
+    assert!(
+        e.contains("drive.toml") && e.contains("robot.mass_kg"),
+        "{e}"
+    );
     let _ = std::fs::remove_dir_all(&d);
 }

@@ -131,8 +131,7 @@ impl IdentifyReport<'_> {
                     p.unit.clone(),
                     format!("{:.6}", p.nominal),
                     format!("{:.6}", p.value),
-                    p.std_error
-                        .map_or("-".into(), |e| format!("{e:.6}")),
+                    p.std_error.map_or("-".into(), |e| format!("{e:.6}")),
                     p.std_error
                         .filter(|e| p.value != 0.0 && e.is_finite())
                         .map_or("-".into(), |e| format!("{:.1}", 100.0 * e / p.value.abs())),

@@ -454,22 +454,23 @@ impl RunReport {
             if let Some(n) = lone("bed height", &g.zs, &y, " m") {
                 notes.push(n);
             } else {
-            let f = svg::Frame::new(
-                &format!(
-                    "Energy against bed height at x = {} m, y = {} m, yaw = {}°",
-                    svg::fmt_num(g.xs[ix]),
-                    svg::fmt_num(g.ys[iy]),
-                    svg::fmt_num(g.yaws[iyaw].to_degrees())
-                ),
-                "bed height z [m]",
-                "energy [J]",
-            )
-            .size(440.0, 300.0);
-            out.push((
-                "slice-z".into(),
-                svg::scatter(&f, &[Series::new("energy", &g.zs, &y)]),
-                "Energy against bed height through the best grid cell (gaps: infeasible).".into(),
-            ));
+                let f = svg::Frame::new(
+                    &format!(
+                        "Energy against bed height at x = {} m, y = {} m, yaw = {}°",
+                        svg::fmt_num(g.xs[ix]),
+                        svg::fmt_num(g.ys[iy]),
+                        svg::fmt_num(g.yaws[iyaw].to_degrees())
+                    ),
+                    "bed height z [m]",
+                    "energy [J]",
+                )
+                .size(440.0, 300.0);
+                out.push((
+                    "slice-z".into(),
+                    svg::scatter(&f, &[Series::new("energy", &g.zs, &y)]),
+                    "Energy against bed height through the best grid cell (gaps: infeasible)."
+                        .into(),
+                ));
             }
         }
         if g.yaws.len() > 1 {
@@ -680,7 +681,10 @@ impl RunReport {
         {
             return None;
         }
-        let lo = feas.iter().map(|f| f.standby_j).fold(f64::INFINITY, f64::min);
+        let lo = feas
+            .iter()
+            .map(|f| f.standby_j)
+            .fold(f64::INFINITY, f64::min);
         let hi = feas.iter().map(|f| f.standby_j).fold(0.0, f64::max);
         let vmin = vals
             .iter()
