@@ -321,6 +321,8 @@ pub(crate) struct RobotTable {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub rated_payload_kg: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
+    pub mass_kg: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub provenance: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub tool_link: Option<String>,

@@ -535,6 +535,7 @@ fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Resul
         &s.feasibility,
         ev.nominal_samples(),
     );
+    m.push(("print speed".into(), print_speed_text(&config.path)));
     m.extend(evaluation_line(&ev));
     m.push(("seed".into(), s.seed.to_string()));
     if let Some(si) = &res.search {
@@ -720,6 +721,14 @@ pub fn meta(
     vec![
         ("robot".into(), robot.name().to_string()),
         (
+            "robot file".into(),
+            crate::robot::robot_file_display(robot),
+        ),
+        (
+            "drive data".into(),
+            crate::robot::drive_data_status(robot),
+        ),
+        (
             "calibration".into(),
             robot
                 .effects
@@ -754,6 +763,32 @@ pub fn meta(
             ),
         ),
     ]
+}
+
+/// The commanded TCP speed of a path's printing moves in words: one speed, or the range and
+/// the length-weighted mean, with the printed length ("150 mm/s over 5.71 m of printing").
+pub fn print_speed_text(tp: &crate::toolpath::Toolpath) -> String {
+    let (mut lo, mut hi, mut len, mut wsum) = (f64::INFINITY, 0.0f64, 0.0, 0.0);
+    for (start, mv) in tp.segments().filter(|(_, m)| m.print) {
+        let l = mv.length(&start);
+        lo = lo.min(mv.speed);
+        hi = hi.max(mv.speed);
+        len += l;
+        wsum += l * mv.speed;
+    }
+    if len <= 0.0 {
+        return "no printing moves".into();
+    }
+    if hi - lo <= 1e-9 * hi {
+        format!("{:.0} mm/s over {len:.2} m of printing", hi * 1000.0)
+    } else {
+        format!(
+            "{:.0}–{:.0} mm/s ({:.0} mm/s length-weighted) over {len:.2} m of printing",
+            lo * 1000.0,
+            hi * 1000.0,
+            wsum / len * 1000.0
+        )
+    }
 }
 
 /// An error in words as a front end shows it: the error, then each cause it does not end with
