@@ -1359,7 +1359,9 @@ mod pretty {
         if items.is_empty() {
             return "[]".into();
         }
-        let mut s = String::from("[");
+        let size: usize = items.iter().map(|it| it.len() + 2 * depth + 4).sum();
+        let mut s = String::with_capacity(size + 2 * depth + 4);
+        s.push('[');
         for (i, it) in items.iter().enumerate() {
             s.push_str(if i == 0 { "\n" } else { ",\n" });
             indent(&mut s, depth + 1);
@@ -1376,7 +1378,12 @@ mod pretty {
         if members.is_empty() {
             return "{}".into();
         }
-        let mut s = String::from("{");
+        let size: usize = members
+            .iter()
+            .map(|(k, v)| k.len() + v.len() + 2 * depth + 10)
+            .sum();
+        let mut s = String::with_capacity(size + 2 * depth + 4);
+        s.push('{');
         for (i, (k, v)) in members.iter().enumerate() {
             s.push_str(if i == 0 { "\n" } else { ",\n" });
             indent(&mut s, depth + 1);

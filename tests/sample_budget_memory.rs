@@ -50,7 +50,9 @@ fn the_sample_budget_states_the_memory_it_measures() {
     let samples = v["energy"]["samples"].as_u64().unwrap() as f64;
     let measured = children_max_rss() as f64 / samples;
     let stated = printwatt::timing::budget::bytes_per_sample(6) as f64;
-    eprintln!("energy on {samples} samples: {measured:.0} bytes a sample; the budget states {stated:.0}");
+    eprintln!(
+        "energy on {samples} samples: {measured:.0} bytes a sample; the budget states {stated:.0}"
+    );
     assert!(samples > 3e5, "{samples}");
     // True: not below what a sample costs, and not more than a third above it.
     assert!(
@@ -59,7 +61,9 @@ fn the_sample_budget_states_the_memory_it_measures() {
     );
     // The refusal states the estimate: its samples times the bytes a sample (plus the nodes).
     let num = |before: &str| -> f64 {
-        let i = msg.find(before).unwrap_or_else(|| panic!("`{before}` in: {msg}"));
+        let i = msg
+            .find(before)
+            .unwrap_or_else(|| panic!("`{before}` in: {msg}"));
         let head = &msg[..i];
         let start = head
             .rfind(|c: char| c == ' ' || c == '(' || c == '~')
