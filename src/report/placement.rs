@@ -28,15 +28,106 @@ use std::path::Path;
 /// Files this module writes in a run directory; any other file there is "foreign".
 pub const OUR_FILES: [&str; 3] = ["summary.json", "placements.csv", "report.html"];
 
-/// A placement reported in detail (full energy report with per-sample series).
+/// A placement reported in detail: its energy report and what the charts draw of its series.
 #[derive(Clone, Debug)]
 pub struct Detail {
     /// Label (e.g. "best", "worst", "baseline", "P1").
     pub label: String,
     /// The placement's sweep entry.
     pub eval: Evaluated,
-    /// Its full energy report.
+    /// Its energy report (the per-sample series may be left empty when `charts` is given).
     pub energy: EnergyReport,
+    /// The power and cumulative-energy charts' series taken in sample by sample
+    /// ([`DetailCharts`]); `None`: the charts are drawn from `energy.series`.
+    pub charts: Option<DetailCharts>,
+}
+
+/// The series the report's power and cumulative-energy charts of a detailed placement draw,
+/// taken in sample by sample as the energy is evaluated
+/// ([`crate::energy::evaluate_streaming`]): the charts' decimated points only, so a placement
+/// reported in detail holds no per-sample series. The charts are those drawn from the whole
+/// series, byte for byte.
+#[derive(Clone, Debug)]
+pub struct DetailCharts {
+    /// Drawn with electrical (true) or mechanical (false) power.
+    pub electrical: bool,
+    n: usize,
+    power: Vec<svg::StreamedSeries>,
+    cumulative: Vec<svg::StreamedSeries>,
+    /// Running integrals (supply first when electrical, then the joints) and the previous
+    /// sample's time and values.
+    acc: Vec<f64>,
+    prev: Option<(f64, Vec<f64>)>,
+    now: Vec<f64>,
+}
+
+impl DetailCharts {
+    /// Charts of `samples` samples of a robot with joints `names`, with electrical or
+    /// mechanical power (the report's choice, [`RunReport::electrical`]).
+    pub fn new(names: &[String], samples: usize, electrical: bool) -> Self {
+        let joint_names: Vec<&str> = names.iter().map(|s| s.as_str()).collect();
+        let pf = svg::Frame::new("", "", "").size(760.0, 360.0);
+        let pb = svg::line_buckets(&pf, &joint_names);
+        let mut cum_names = Vec::new();
+        if electrical {
+            cum_names.push("supply");
+        }
+        cum_names.extend(joint_names.iter().copied());
+        let cf = svg::Frame::new("", "", "").size(760.0, 320.0);
+        let cb = svg::line_buckets(&cf, &cum_names);
+        DetailCharts {
+            electrical,
+            n: names.len(),
+            power: joint_names
+                .iter()
+                .map(|n| svg::StreamedSeries::new(n, samples, pb))
+                .collect(),
+            cumulative: cum_names
+                .iter()
+                .map(|n| svg::StreamedSeries::new(n, samples, cb))
+                .collect(),
+            acc: vec![0.0; cum_names.len()],
+            prev: None,
+            now: vec![0.0; cum_names.len()],
+        }
+    }
+
+    /// The next sample at time `t`, s.
+    pub fn push(&mut self, t: f64, s: &crate::energy::SamplePower) {
+        let n = self.n;
+        let p = if self.electrical { &s.p_el } else { &s.p_mech };
+        for j in 0..n {
+            self.power[j].push(t, p[j]);
+        }
+        let off = usize::from(self.electrical);
+        if self.electrical {
+            self.now[0] = s.p_supply;
+        }
+        self.now[off..off + n].copy_from_slice(&p[..n]);
+        // crate::numerics::cumulative_trapezoid, one sample at a time.
+        if let Some((t0, y0)) = &self.prev {
+            for (i, a) in self.acc.iter_mut().enumerate() {
+                *a += 0.5 * (self.now[i] + y0[i]) * (t - t0);
+            }
+        }
+        for (c, a) in self.cumulative.iter_mut().zip(&self.acc) {
+            c.push(t, *a);
+        }
+        match &mut self.prev {
+            Some((t0, y0)) => {
+                *t0 = t;
+                y0.copy_from_slice(&self.now);
+            }
+            None => self.prev = Some((t, self.now.clone())),
+        }
+    }
+
+    /// Every sample is in.
+    pub fn finish(&mut self) {
+        for s in self.power.iter_mut().chain(self.cumulative.iter_mut()) {
+            s.finish();
+        }
+    }
 }
 
 /// Everything a run report shows.
@@ -143,6 +234,17 @@ impl RunReport {
     /// `summary.json`: counts, best/worst, spread, baseline and saving, search result and
     /// sensitivity, per-joint energies of the detailed placements; every row with `with_rows`.
     pub fn summary_json(&self, with_rows: bool) -> Result<String> {
+        self.summary_json_with(with_rows, &[])
+    }
+
+    /// [`RunReport::summary_json`] with `extra` top-level fields (a command's `warnings`),
+    /// written straight from the report ([`crate::output::json_text_with`]): no JSON value
+    /// tree of the rows is built.
+    pub fn summary_json_with(
+        &self,
+        with_rows: bool,
+        extra: &[(&str, serde_json::Value)],
+    ) -> Result<String> {
         let mut reasons = std::collections::BTreeMap::new();
         for r in &self.rows {
             if let Err(e) = &r.outcome {
@@ -201,7 +303,7 @@ impl RunReport {
                 .map(|n| n.iter().cloned().zip(self.rows.iter()).collect()),
             rows: with_rows.then_some(self.rows.as_slice()),
         };
-        crate::output::json_text(&s)
+        crate::output::json_text_with(&s, extra)
     }
 
     fn joint_value(&self, j: &crate::energy::JointEnergy) -> f64 {
@@ -572,6 +674,19 @@ impl RunReport {
 
     /// Cumulative energy over time at a detailed placement: supply (with drives) and per joint.
     fn cumulative_svg(&self, d: &Detail) -> String {
+        if let Some(c) = d
+            .charts
+            .as_ref()
+            .filter(|c| c.electrical == self.electrical)
+        {
+            let f = svg::Frame::new(
+                &format!("Cumulative energy at the {} placement", d.label),
+                "time [s]",
+                "energy [J]",
+            )
+            .size(760.0, 320.0);
+            return svg::line_chart_streamed(&f, &c.cumulative);
+        }
         let s = &d.energy.series;
         let n = d.energy.joints.len();
         let p = if self.electrical { &s.p_el } else { &s.p_mech };
@@ -844,15 +959,6 @@ impl RunReport {
     }
 
     fn power_svg(&self, d: &Detail) -> String {
-        let s = &d.energy.series;
-        let n = d.energy.joints.len();
-        let p = if self.electrical { &s.p_el } else { &s.p_mech };
-        let series: Vec<Series> = (0..n)
-            .map(|j| {
-                let y: Vec<f64> = (0..s.t.len()).map(|k| p[k * n + j]).collect();
-                Series::new(&d.energy.joints[j].name, &s.t, &y)
-            })
-            .collect();
         let what = if self.electrical {
             "electrical"
         } else {
@@ -864,6 +970,22 @@ impl RunReport {
             "power [W]",
         )
         .size(760.0, 360.0);
+        if let Some(c) = d
+            .charts
+            .as_ref()
+            .filter(|c| c.electrical == self.electrical)
+        {
+            return svg::line_chart_streamed(&f, &c.power);
+        }
+        let s = &d.energy.series;
+        let n = d.energy.joints.len();
+        let p = if self.electrical { &s.p_el } else { &s.p_mech };
+        let series: Vec<Series> = (0..n)
+            .map(|j| {
+                let y: Vec<f64> = (0..s.t.len()).map(|k| p[k * n + j]).collect();
+                Series::new(&d.energy.joints[j].name, &s.t, &y)
+            })
+            .collect();
         svg::line_chart(&f, &series)
     }
 

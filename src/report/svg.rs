@@ -363,6 +363,161 @@ pub fn line_chart(f: &Frame, series: &[Series]) -> String {
     finish(s, n)
 }
 
+/// Buckets of [`line_chart`]'s decimation for a chart in frame `f` whose series are named
+/// `names` (one bucket per two pixel columns of the plot area, which the legend narrows).
+pub fn line_buckets(f: &Frame, names: &[&str]) -> usize {
+    let legend: &[&str] = if names.len() > 1 { names } else { &[] };
+    let a = Axes::new(f, (0.0, 1.0), (0.0, 1.0));
+    ((a.px1 - legend_width(legend) - a.px0) / 2.0)
+        .ceil()
+        .max(1.0) as usize
+}
+
+/// A series of [`line_chart`] taken in sample by sample, holding only what the chart draws:
+/// the decimated points (each bucket's minimum and maximum, [`line_chart`]'s own decimation),
+/// the ranges of x and y and the number of finite points. [`line_chart_streamed`] draws the
+/// same SVG from these as [`line_chart`] from the whole series.
+#[derive(Clone, Debug)]
+pub struct StreamedSeries {
+    /// Legend name.
+    pub name: String,
+    /// Points per bucket (0: every point is kept, the series being short).
+    per: usize,
+    kept: Vec<(f64, f64)>,
+    in_chunk: usize,
+    lo: Option<(f64, f64)>,
+    hi: Option<(f64, f64)>,
+    x: (f64, f64),
+    y: (f64, f64),
+    finite: usize,
+}
+
+impl StreamedSeries {
+    /// A series of `len` points to be drawn with `buckets` buckets ([`line_buckets`]).
+    pub fn new(name: &str, len: usize, buckets: usize) -> Self {
+        let per = if len <= 2 * buckets {
+            0
+        } else {
+            len.div_ceil(buckets)
+        };
+        StreamedSeries {
+            name: name.into(),
+            per,
+            kept: Vec::with_capacity(2 * buckets + 2),
+            in_chunk: 0,
+            lo: None,
+            hi: None,
+            x: (f64::INFINITY, f64::NEG_INFINITY),
+            y: (f64::INFINITY, f64::NEG_INFINITY),
+            finite: 0,
+        }
+    }
+
+    /// The next point.
+    pub fn push(&mut self, x: f64, y: f64) {
+        if x.is_finite() {
+            self.x = (self.x.0.min(x), self.x.1.max(x));
+        }
+        if y.is_finite() {
+            self.y = (self.y.0.min(y), self.y.1.max(y));
+        }
+        if x.is_finite() && y.is_finite() {
+            self.finite += 1;
+        }
+        if self.per == 0 {
+            self.kept.push((x, y));
+            return;
+        }
+        if y.is_finite() {
+            // min_by keeps the first of equal minima, max_by the last of equal maxima.
+            if self.lo.is_none_or(|l| y.total_cmp(&l.1).is_lt()) {
+                self.lo = Some((x, y));
+            }
+            if self.hi.is_none_or(|h| !y.total_cmp(&h.1).is_lt()) {
+                self.hi = Some((x, y));
+            }
+        }
+        self.in_chunk += 1;
+        if self.in_chunk == self.per {
+            self.close_chunk();
+        }
+    }
+
+    fn close_chunk(&mut self) {
+        match (self.lo.take(), self.hi.take()) {
+            (Some(l), Some(h)) => {
+                if l.0 <= h.0 {
+                    self.kept.push(l);
+                    self.kept.push(h);
+                } else {
+                    self.kept.push(h);
+                    self.kept.push(l);
+                }
+            }
+            _ => self.kept.push((f64::NAN, f64::NAN)),
+        }
+        self.in_chunk = 0;
+    }
+
+    /// The series is complete (a last, shorter bucket is closed).
+    pub fn finish(&mut self) {
+        if self.per > 0 && self.in_chunk > 0 {
+            self.close_chunk();
+        }
+    }
+}
+
+/// [`line_chart`] of series taken in with [`StreamedSeries`] (each finished): the same SVG,
+/// byte for byte, as [`line_chart`] over the whole series.
+pub fn line_chart_streamed(f: &Frame, series: &[StreamedSeries]) -> String {
+    let names: Vec<&str> = if series.len() > 1 {
+        series.iter().map(|s| s.name.as_str()).collect()
+    } else {
+        Vec::new()
+    };
+    let range = |r: &mut dyn Iterator<Item = (f64, f64)>| {
+        let (lo, hi) = r.fold((f64::INFINITY, f64::NEG_INFINITY), |a, b| {
+            (a.0.min(b.0), a.1.max(b.1))
+        });
+        // finite_range over the two ends found (finite values only): the same range.
+        finite_range([lo, hi].into_iter().filter(|v| v.is_finite()))
+    };
+    let xr = range(&mut series.iter().map(|s| s.x)).unwrap_or((0.0, 1.0));
+    let yr = range(&mut series.iter().map(|s| s.y)).unwrap_or((0.0, 1.0));
+    let pad = (yr.1 - yr.0) * 0.05;
+    let mut a = Axes::new(f, xr, (yr.0 - pad, yr.1 + pad));
+    a.px1 -= legend_width(&names);
+    let mut s = open(f);
+    y_axis(&mut s, &a, true);
+    x_axis(&mut s, &a);
+    for (i, se) in series.iter().enumerate() {
+        let mut d = String::new();
+        let mut pen_up = true;
+        for &(x, y) in &se.kept {
+            if !(x.is_finite() && y.is_finite()) {
+                pen_up = true;
+                continue;
+            }
+            let _ = write!(
+                d,
+                "{}{:.1},{:.1}",
+                if pen_up { "M" } else { " " },
+                a.x(x),
+                a.y(y)
+            );
+            pen_up = false;
+        }
+        let _ = write!(
+            s,
+            r#"<path d="{d}" fill="none" stroke="{}" stroke-width="1.2"/>"#,
+            colour(i)
+        );
+    }
+    legend(&mut s, f, &names);
+    axis_labels(&mut s, f);
+    finish(s, series.iter().map(|se| se.finite).sum())
+}
+
 fn decimate(p: &[(f64, f64)], buckets: usize) -> Vec<(f64, f64)> {
     if p.len() <= 2 * buckets {
         return p.to_vec();

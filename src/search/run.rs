@@ -685,14 +685,28 @@ pub fn detail(job: &PathJob, label: &str, e: &Evaluated) -> Result<Option<Detail
     if !e.cost().is_finite() {
         return Ok(None);
     }
-    match job.evaluate(&e.placement)? {
-        Ok(pe) => Ok(Some(Detail {
-            label: label.into(),
-            eval: e.clone(),
-            energy: pe.energy,
-        })),
-        Err(_) => Ok(None),
-    }
+    // The energy integrated sample by sample into the report's figures and charts: no
+    // per-sample series is kept (a long print's would be hundreds of bytes a sample).
+    let solver = crate::kinematics::IkSolver::new(job.robot)?;
+    let Ok(timed) = job.time(&solver, &e.placement) else {
+        return Ok(None);
+    };
+    let mut charts = crate::report::placement::DetailCharts::new(
+        job.energy.joint_names(),
+        timed.traj.len(),
+        job.robot.drive.is_some(),
+    );
+    let t = &timed.traj.t;
+    let energy = crate::energy::evaluate_streaming(&job.energy, &timed.traj, &mut |k, s| {
+        charts.push(t[k], s)
+    })?;
+    charts.finish();
+    Ok(Some(Detail {
+        label: label.into(),
+        eval: e.clone(),
+        energy,
+        charts: Some(charts),
+    }))
 }
 
 /// The report line saying how placements were evaluated, when the path reduction is on.
