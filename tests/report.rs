@@ -56,6 +56,7 @@ fn build_report() -> RunReport {
             label: label.into(),
             eval: e.clone(),
             energy: full.energy,
+            charts: None,
         });
     }
     let baseline = optimise::feasible_centre(&rows).unwrap().clone();

@@ -66,7 +66,7 @@ fn the_sample_budget_states_the_memory_it_measures() {
             .unwrap_or_else(|| panic!("`{before}` in: {msg}"));
         let head = &msg[..i];
         let start = head
-            .rfind(|c: char| c == ' ' || c == '(' || c == '~')
+            .rfind([' ', '(', '~'])
             .map_or(0, |k| k + 1);
         head[start..].trim().parse().unwrap()
     };

@@ -709,8 +709,8 @@ pub fn evaluate_streaming(
             acc.drives += trap(prev.p_drives, s.p_drives);
             acc.lost += trap(prev.p_regeneration_lost, s.p_regeneration_lost);
         } else {
-            for j in 0..n {
-                first_tau2[j] = s.tau[j].powi(2);
+            for (f, t) in first_tau2.iter_mut().zip(&s.tau[..n]) {
+                *f = t.powi(2);
             }
         }
         for j in 0..n {

@@ -25,6 +25,10 @@ use crate::search::Grid;
 use serde::Serialize;
 use std::path::Path;
 
+/// Where the energy bars start when they start at the standby: (floor, lowest standby,
+/// highest standby), J.
+type BarsFloor = (f64, f64, f64);
+
 /// Files this module writes in a run directory; any other file there is "foreign".
 pub const OUR_FILES: [&str; 3] = ["summary.json", "placements.csv", "report.html"];
 
@@ -96,8 +100,8 @@ impl DetailCharts {
     pub fn push(&mut self, t: f64, s: &crate::energy::SamplePower) {
         let n = self.n;
         let p = if self.electrical { &s.p_el } else { &s.p_mech };
-        for j in 0..n {
-            self.power[j].push(t, p[j]);
+        for (series, &v) in self.power.iter_mut().zip(&p[..n]) {
+            series.push(t, v);
         }
         let off = usize::from(self.electrical);
         if self.electrical {
@@ -716,7 +720,7 @@ impl RunReport {
 
     /// The energy per placement, with where its bars start when they start at the standby
     /// ([`Self::standby_floor`]).
-    fn bars_svg(&self) -> Option<(String, Option<(f64, f64, f64)>)> {
+    fn bars_svg(&self) -> Option<(String, Option<BarsFloor>)> {
         let (cats, vals): (Vec<String>, Vec<f64>) = if let Some(n) = &self.names {
             n.iter()
                 .cloned()
@@ -781,7 +785,7 @@ impl RunReport {
     /// print time's change): a round value at or below the smallest standby of the feasible
     /// rows, below every bar; with the standby's range `(floor, min, max)`, J. `None` when the
     /// objective does not include the standby or it is 0.
-    fn standby_floor(&self, vals: &[f64]) -> Option<(f64, f64, f64)> {
+    fn standby_floor(&self, vals: &[f64]) -> Option<BarsFloor> {
         let feas: Vec<&crate::evaluate::evaluator::Feasible> = self
             .rows
             .iter()
