@@ -65,9 +65,7 @@ fn the_sample_budget_states_the_memory_it_measures() {
             .find(before)
             .unwrap_or_else(|| panic!("`{before}` in: {msg}"));
         let head = &msg[..i];
-        let start = head
-            .rfind([' ', '(', '~'])
-            .map_or(0, |k| k + 1);
+        let start = head.rfind([' ', '(', '~']).map_or(0, |k| k + 1);
         head[start..].trim().parse().unwrap()
     };
     let est_samples = num(" samples at");
