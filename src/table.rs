@@ -337,6 +337,15 @@ pub fn parse_header(
     fields: &[Cell],
     spec: &dyn Fn(&str) -> Option<ColumnSpec>,
 ) -> Result<Vec<Column>> {
+    // A file without a header starts with data: say so before any check of its "names".
+    if !fields.is_empty() && fields.iter().all(|c| c.text.parse::<f64>().is_ok()) {
+        return Err(parse_err(
+            file,
+            line,
+            1,
+            "expected a header row of column names, found numbers",
+        ));
+    }
     let mut cols: Vec<Column> = Vec::with_capacity(fields.len());
     for Cell { col, text: field } in fields {
         let col = *col;

@@ -319,3 +319,45 @@ fn an_infinity_or_nan_in_a_drive_file_is_refused_naming_its_key() {
         );
     }
 }
+
+#[test]
+fn a_log_without_a_header_row_suggests_naming_its_columns() {
+    let d = common::scratch("inputs", "log-no-header");
+    let rows: Vec<String> = (0..80)
+        .map(|k| {
+            let t = k as f64 * 0.01;
+            format!("{t},{},0.5,-0.8,0.1,0.6,0.2,10,-900,-300,2,-20,1", 0.3 * t)
+        })
+        .collect();
+    std::fs::write(d.join("raw.csv"), rows.join("\n") + "\n").unwrap();
+    let o = common::run(
+        &[
+            "compare",
+            "--robot",
+            "abb_irb4600_40_255",
+            "--log",
+            "raw.csv",
+        ],
+        &d,
+    );
+    assert!(!o.status.success());
+    let e = common::stderr_of(&o);
+    assert!(
+        e.contains("raw.csv:1:1") && e.contains("--columns") && e.contains("measurement-logs.md"),
+        "{e}"
+    );
+    // With the columns named, the same file reads.
+    let o = common::run(
+        &[
+            "compare",
+            "--robot",
+            "abb_irb4600_40_255",
+            "--log",
+            "raw.csv",
+            "--columns",
+            "t, q1..q6, tau1..tau6",
+        ],
+        &d,
+    );
+    assert!(o.status.success(), "{}", common::stderr_of(&o));
+}
