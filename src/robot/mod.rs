@@ -100,6 +100,18 @@ pub fn drive_data_status(model: &RobotModel) -> String {
 /// directory when it lies under it (so that a report is the same on every machine).
 pub fn robot_file_display(model: &RobotModel) -> String {
     let f = model.info.drive_file.as_deref().unwrap_or(&model.source);
+    // A shipped robot is named the same from every working directory (`robots/<name>/…`), so
+    // that one job gives one report wherever it runs; another file as it was given.
+    let canon = |p: &Path| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_path_buf());
+    let file = canon(f);
+    for dir in [
+        shipped::robots_dir(),
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("robots"),
+    ] {
+        if let Ok(rel) = file.strip_prefix(canon(&dir)) {
+            return Path::new("robots").join(rel).display().to_string();
+        }
+    }
     std::env::current_dir()
         .ok()
         .and_then(|d| f.strip_prefix(d).ok().map(|p| p.display().to_string()))
