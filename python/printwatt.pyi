@@ -282,8 +282,10 @@ def load_path(
     zone: float = 0.005,
     path_units: Optional[Literal["mm", "m"]] = None,
     scale: float = 1.0,
+    proc: Optional[str] = None,
 ) -> Toolpath:
-    """Read a G-code, CSV or RAPID toolpath (speeds m/s, zone m)."""
+    """Read a G-code, CSV or RAPID toolpath (speeds m/s, zone m); `proc`: the RAPID
+    procedure to read instead of `main`."""
 
 def path_from_points(
     points: ArrayLike, speed: float, zone: float = 0.005, name: str = "points"
@@ -301,6 +303,7 @@ def energy(
     regeneration: Optional[Regeneration] = None,
     payload: bool = True,
     friction: bool = True,
+    proc: Optional[str] = None,
 ) -> EnergyResult:
     """The energy of `path` printed at placement `at` (x, y, z, yaw[, spin]) m and rad."""
 
@@ -324,6 +327,7 @@ def sweep(
     wrist_margin: float = 0.08726646259971647,
     collisions: bool = True,
     check_every: int = 10,
+    proc: Optional[str] = None,
 ) -> SweepResult:
     """Evaluate the placements of `path` on the grid `xs` × `ys` (m)."""
 
@@ -362,6 +366,7 @@ def optimise(
     wrist_margin: float = 0.08726646259971647,
     collisions: bool = True,
     check_every: int = 10,
+    proc: Optional[str] = None,
 ) -> OptimiseResult:
     """The minimum-energy placement of `path`, as `printwatt optimise` finds it."""
 
@@ -421,5 +426,6 @@ def stations(
     wrist_margin: float = 0.08726646259971647,
     collisions: bool = True,
     check_every: int = 10,
+    proc: Optional[str] = None,
 ) -> StationsResult:
     """A multi-station plan for a path larger than one placement's reach."""

@@ -1265,7 +1265,548 @@ pub fn finish_json(v: &mut serde_json::Value) {
 
 /// A serialisable value as finished, pretty JSON text ([`finish_json`]).
 pub fn json_text<T: serde::Serialize + ?Sized>(value: &T) -> Result<String> {
-    let mut v = serde_json::to_value(value).map_err(|e| Error::Invalid(e.to_string()))?;
-    finish_json(&mut v);
-    serde_json::to_string_pretty(&v).map_err(|e| Error::Invalid(e.to_string()))
+    json_text_with(value, &[])
+}
+
+/// [`json_text`] with `extra` top-level fields (an object's keys, replacing any of the same
+/// name): the finished pretty JSON text written straight from `value`'s own
+/// [`serde::Serialize`] output, numbers rounded ([`round_significant`]) as they are written,
+/// with no `serde_json::Value` tree of the document in between. The text is byte for byte
+/// what [`finish_json`] and `serde_json::to_string_pretty` give for the same value (keys in
+/// sorted order, `schema_version` added to an object that has none, non-finite numbers as
+/// `null`).
+pub fn json_text_with<T: serde::Serialize + ?Sized>(
+    value: &T,
+    extra: &[(&str, serde_json::Value)],
+) -> Result<String> {
+    let r = value
+        .serialize(pretty::Render {
+            depth: 0,
+            top: Some(extra),
+        })
+        .map_err(|e| Error::Invalid(e.to_string()))?;
+    Ok(r.text)
+}
+
+/// The writer behind [`json_text_with`]: a [`serde::Serializer`] that renders each value as
+/// its pretty-printed text at its depth. An object's members are rendered one by one and kept
+/// (as text) until the object ends, because `serde_json`'s map orders keys: the memory held is
+/// that of the text, never a tree of values.
+mod pretty {
+    use serde::ser::{self, Serialize};
+    use std::collections::BTreeMap;
+    use std::fmt::Write as _;
+
+    #[derive(Debug)]
+    pub struct Error(String);
+
+    impl std::fmt::Display for Error {
+        fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+            f.write_str(&self.0)
+        }
+    }
+    impl std::error::Error for Error {}
+    impl ser::Error for Error {
+        fn custom<T: std::fmt::Display>(msg: T) -> Self {
+            Error(msg.to_string())
+        }
+    }
+
+    /// A rendered value.
+    pub struct Out {
+        pub text: String,
+    }
+
+    fn out(text: String) -> Result<Out, Error> {
+        Ok(Out { text })
+    }
+
+    /// Renders one value at `depth` (indentation of its closing bracket). `top`: the document
+    /// itself (an object gets `schema_version` and the extra fields).
+    #[derive(Clone, Copy)]
+    pub struct Render<'e> {
+        pub depth: usize,
+        pub top: Option<&'e [(&'e str, serde_json::Value)]>,
+    }
+
+    fn child(depth: usize) -> Render<'static> {
+        Render {
+            depth: depth + 1,
+            top: None,
+        }
+    }
+
+    fn string(s: &str) -> String {
+        serde_json::to_string(s).unwrap_or_default()
+    }
+
+    fn float(x: f64) -> String {
+        let r = super::round_significant(x, super::JSON_SIGNIFICANT_DIGITS);
+        match serde_json::Number::from_f64(r) {
+            Some(n) => n.to_string(),
+            None => "null".into(),
+        }
+    }
+
+    fn indent(s: &mut String, depth: usize) {
+        for _ in 0..depth {
+            s.push_str("  ");
+        }
+    }
+
+    /// `[` items `]` as serde_json's pretty printer writes them.
+    fn array(items: &[String], depth: usize) -> String {
+        if items.is_empty() {
+            return "[]".into();
+        }
+        let size: usize = items.iter().map(|it| it.len() + 2 * depth + 4).sum();
+        let mut s = String::with_capacity(size + 2 * depth + 4);
+        s.push('[');
+        for (i, it) in items.iter().enumerate() {
+            s.push_str(if i == 0 { "\n" } else { ",\n" });
+            indent(&mut s, depth + 1);
+            s.push_str(it);
+        }
+        s.push('\n');
+        indent(&mut s, depth);
+        s.push(']');
+        s
+    }
+
+    /// `{` members `}` in key order.
+    fn object(members: &BTreeMap<String, String>, depth: usize) -> String {
+        if members.is_empty() {
+            return "{}".into();
+        }
+        let size: usize = members
+            .iter()
+            .map(|(k, v)| k.len() + v.len() + 2 * depth + 10)
+            .sum();
+        let mut s = String::with_capacity(size + 2 * depth + 4);
+        s.push('{');
+        for (i, (k, v)) in members.iter().enumerate() {
+            s.push_str(if i == 0 { "\n" } else { ",\n" });
+            indent(&mut s, depth + 1);
+            s.push_str(&string(k));
+            s.push_str(": ");
+            s.push_str(v);
+        }
+        s.push('\n');
+        indent(&mut s, depth);
+        s.push('}');
+        s
+    }
+
+    /// `{"variant": value}`.
+    fn tagged(variant: &str, value: String, depth: usize) -> String {
+        let mut m = BTreeMap::new();
+        m.insert(variant.to_string(), value);
+        object(&m, depth)
+    }
+
+    pub struct Seq<'e> {
+        r: Render<'e>,
+        items: Vec<String>,
+        variant: Option<&'static str>,
+    }
+
+    pub struct Map<'e> {
+        r: Render<'e>,
+        members: BTreeMap<String, String>,
+        key: Option<String>,
+        variant: Option<&'static str>,
+    }
+
+    impl<'e> Seq<'e> {
+        fn new(r: Render<'e>, variant: Option<&'static str>, len: Option<usize>) -> Self {
+            Seq {
+                r,
+                items: Vec::with_capacity(len.unwrap_or(0).min(4096)),
+                variant,
+            }
+        }
+        fn push<T: Serialize + ?Sized>(&mut self, v: &T) -> Result<(), Error> {
+            // Inside a tagged variant the array sits one level deeper.
+            let d = self.r.depth + usize::from(self.variant.is_some());
+            self.items.push(v.serialize(child(d))?.text);
+            Ok(())
+        }
+        fn done(self) -> Result<Out, Error> {
+            match self.variant {
+                None => out(array(&self.items, self.r.depth)),
+                Some(v) => out(tagged(
+                    v,
+                    array(&self.items, self.r.depth + 1),
+                    self.r.depth,
+                )),
+            }
+        }
+    }
+
+    impl<'e> Map<'e> {
+        fn new(r: Render<'e>, variant: Option<&'static str>) -> Self {
+            Map {
+                r,
+                members: BTreeMap::new(),
+                key: None,
+                variant,
+            }
+        }
+        fn depth(&self) -> usize {
+            self.r.depth + usize::from(self.variant.is_some())
+        }
+        fn field<T: Serialize + ?Sized>(&mut self, key: &str, v: &T) -> Result<(), Error> {
+            let text = v.serialize(child(self.depth()))?.text;
+            self.members.insert(key.to_string(), text);
+            Ok(())
+        }
+        fn done(mut self) -> Result<Out, Error> {
+            if let Some(extra) = self.r.top {
+                if !self.members.contains_key("schema_version") {
+                    self.members.insert(
+                        "schema_version".into(),
+                        super::JSON_SCHEMA_VERSION.to_string(),
+                    );
+                }
+                for (k, v) in extra {
+                    let text = v.serialize(child(self.r.depth))?.text;
+                    self.members.insert(k.to_string(), text);
+                }
+            }
+            match self.variant {
+                None => out(object(&self.members, self.r.depth)),
+                Some(v) => out(tagged(
+                    v,
+                    object(&self.members, self.r.depth + 1),
+                    self.r.depth,
+                )),
+            }
+        }
+    }
+
+    macro_rules! int {
+        ($($f:ident: $t:ty),*) => {$(
+            fn $f(self, v: $t) -> Result<Out, Error> {
+                out(v.to_string())
+            }
+        )*};
+    }
+
+    impl<'e> ser::Serializer for Render<'e> {
+        type Ok = Out;
+        type Error = Error;
+        type SerializeSeq = Seq<'e>;
+        type SerializeTuple = Seq<'e>;
+        type SerializeTupleStruct = Seq<'e>;
+        type SerializeTupleVariant = Seq<'e>;
+        type SerializeMap = Map<'e>;
+        type SerializeStruct = Map<'e>;
+        type SerializeStructVariant = Map<'e>;
+
+        int!(serialize_i8: i8, serialize_i16: i16, serialize_i32: i32, serialize_i64: i64,
+             serialize_u8: u8, serialize_u16: u16, serialize_u32: u32, serialize_u64: u64);
+
+        fn serialize_i128(self, v: i128) -> Result<Out, Error> {
+            match (i64::try_from(v), u64::try_from(v)) {
+                (Ok(_), _) | (_, Ok(_)) => out(v.to_string()),
+                _ => Err(Error("number out of range".into())),
+            }
+        }
+        fn serialize_u128(self, v: u128) -> Result<Out, Error> {
+            match u64::try_from(v) {
+                Ok(_) => out(v.to_string()),
+                Err(_) => Err(Error("number out of range".into())),
+            }
+        }
+        fn serialize_bool(self, v: bool) -> Result<Out, Error> {
+            out(v.to_string())
+        }
+        fn serialize_f32(self, v: f32) -> Result<Out, Error> {
+            out(float(f64::from(v)))
+        }
+        fn serialize_f64(self, v: f64) -> Result<Out, Error> {
+            out(float(v))
+        }
+        fn serialize_char(self, v: char) -> Result<Out, Error> {
+            out(string(v.encode_utf8(&mut [0; 4])))
+        }
+        fn serialize_str(self, v: &str) -> Result<Out, Error> {
+            out(string(v))
+        }
+        fn serialize_bytes(self, v: &[u8]) -> Result<Out, Error> {
+            let items: Vec<String> = v.iter().map(|b| b.to_string()).collect();
+            out(array(&items, self.depth))
+        }
+        fn serialize_none(self) -> Result<Out, Error> {
+            out("null".into())
+        }
+        fn serialize_some<T: Serialize + ?Sized>(self, v: &T) -> Result<Out, Error> {
+            v.serialize(self)
+        }
+        fn serialize_unit(self) -> Result<Out, Error> {
+            out("null".into())
+        }
+        fn serialize_unit_struct(self, _: &'static str) -> Result<Out, Error> {
+            out("null".into())
+        }
+        fn serialize_unit_variant(
+            self,
+            _: &'static str,
+            _: u32,
+            variant: &'static str,
+        ) -> Result<Out, Error> {
+            out(string(variant))
+        }
+        fn serialize_newtype_struct<T: Serialize + ?Sized>(
+            self,
+            _: &'static str,
+            v: &T,
+        ) -> Result<Out, Error> {
+            v.serialize(self)
+        }
+        fn serialize_newtype_variant<T: Serialize + ?Sized>(
+            self,
+            _: &'static str,
+            _: u32,
+            variant: &'static str,
+            v: &T,
+        ) -> Result<Out, Error> {
+            let inner = v.serialize(child(self.depth))?.text;
+            out(tagged(variant, inner, self.depth))
+        }
+        fn serialize_seq(self, len: Option<usize>) -> Result<Seq<'e>, Error> {
+            Ok(Seq::new(self, None, len))
+        }
+        fn serialize_tuple(self, len: usize) -> Result<Seq<'e>, Error> {
+            Ok(Seq::new(self, None, Some(len)))
+        }
+        fn serialize_tuple_struct(self, _: &'static str, len: usize) -> Result<Seq<'e>, Error> {
+            Ok(Seq::new(self, None, Some(len)))
+        }
+        fn serialize_tuple_variant(
+            self,
+            _: &'static str,
+            _: u32,
+            variant: &'static str,
+            len: usize,
+        ) -> Result<Seq<'e>, Error> {
+            Ok(Seq::new(self, Some(variant), Some(len)))
+        }
+        fn serialize_map(self, _: Option<usize>) -> Result<Map<'e>, Error> {
+            Ok(Map::new(self, None))
+        }
+        fn serialize_struct(self, _: &'static str, _: usize) -> Result<Map<'e>, Error> {
+            Ok(Map::new(self, None))
+        }
+        fn serialize_struct_variant(
+            self,
+            _: &'static str,
+            _: u32,
+            variant: &'static str,
+            _: usize,
+        ) -> Result<Map<'e>, Error> {
+            Ok(Map::new(self, Some(variant)))
+        }
+        fn collect_str<T: std::fmt::Display + ?Sized>(self, v: &T) -> Result<Out, Error> {
+            let mut s = String::new();
+            let _ = write!(s, "{v}");
+            out(string(&s))
+        }
+    }
+
+    macro_rules! seq_impl {
+        ($($tr:ident :: $m:ident),*) => {$(
+            impl ser::$tr for Seq<'_> {
+                type Ok = Out;
+                type Error = Error;
+                fn $m<T: Serialize + ?Sized>(&mut self, v: &T) -> Result<(), Error> {
+                    self.push(v)
+                }
+                fn end(self) -> Result<Out, Error> {
+                    self.done()
+                }
+            }
+        )*};
+    }
+    seq_impl!(
+        SerializeSeq::serialize_element,
+        SerializeTuple::serialize_element,
+        SerializeTupleStruct::serialize_field,
+        SerializeTupleVariant::serialize_field
+    );
+
+    impl ser::SerializeMap for Map<'_> {
+        type Ok = Out;
+        type Error = Error;
+        fn serialize_key<T: Serialize + ?Sized>(&mut self, k: &T) -> Result<(), Error> {
+            self.key = Some(k.serialize(Key)?);
+            Ok(())
+        }
+        fn serialize_value<T: Serialize + ?Sized>(&mut self, v: &T) -> Result<(), Error> {
+            let k = self
+                .key
+                .take()
+                .ok_or_else(|| Error("a map value without its key".into()))?;
+            self.field(&k, v)
+        }
+        fn end(self) -> Result<Out, Error> {
+            self.done()
+        }
+    }
+
+    impl ser::SerializeStruct for Map<'_> {
+        type Ok = Out;
+        type Error = Error;
+        fn serialize_field<T: Serialize + ?Sized>(
+            &mut self,
+            key: &'static str,
+            v: &T,
+        ) -> Result<(), Error> {
+            self.field(key, v)
+        }
+        fn end(self) -> Result<Out, Error> {
+            self.done()
+        }
+    }
+
+    impl ser::SerializeStructVariant for Map<'_> {
+        type Ok = Out;
+        type Error = Error;
+        fn serialize_field<T: Serialize + ?Sized>(
+            &mut self,
+            key: &'static str,
+            v: &T,
+        ) -> Result<(), Error> {
+            self.field(key, v)
+        }
+        fn end(self) -> Result<Out, Error> {
+            self.done()
+        }
+    }
+
+    /// A map key as serde_json's value serialiser takes it: a string, or a number, a boolean
+    /// or a character written as one.
+    struct Key;
+
+    fn key_error() -> Error {
+        Error("key must be a string".into())
+    }
+
+    macro_rules! key_display {
+        ($($f:ident: $t:ty),*) => {$(
+            fn $f(self, v: $t) -> Result<String, Error> {
+                Ok(v.to_string())
+            }
+        )*};
+    }
+
+    impl ser::Serializer for Key {
+        type Ok = String;
+        type Error = Error;
+        type SerializeSeq = ser::Impossible<String, Error>;
+        type SerializeTuple = ser::Impossible<String, Error>;
+        type SerializeTupleStruct = ser::Impossible<String, Error>;
+        type SerializeTupleVariant = ser::Impossible<String, Error>;
+        type SerializeMap = ser::Impossible<String, Error>;
+        type SerializeStruct = ser::Impossible<String, Error>;
+        type SerializeStructVariant = ser::Impossible<String, Error>;
+
+        key_display!(serialize_i8: i8, serialize_i16: i16, serialize_i32: i32,
+            serialize_i64: i64, serialize_i128: i128, serialize_u8: u8, serialize_u16: u16,
+            serialize_u32: u32, serialize_u64: u64, serialize_u128: u128,
+            serialize_bool: bool, serialize_char: char, serialize_str: &str);
+
+        fn serialize_f32(self, v: f32) -> Result<String, Error> {
+            self.serialize_f64(f64::from(v))
+        }
+        fn serialize_f64(self, v: f64) -> Result<String, Error> {
+            if v.is_finite() {
+                Ok(serde_json::Number::from_f64(v)
+                    .map(|n| n.to_string())
+                    .unwrap_or_default())
+            } else {
+                Err(Error("float key must be finite".into()))
+            }
+        }
+        fn serialize_bytes(self, _: &[u8]) -> Result<String, Error> {
+            Err(key_error())
+        }
+        fn serialize_none(self) -> Result<String, Error> {
+            Err(key_error())
+        }
+        fn serialize_some<T: Serialize + ?Sized>(self, _: &T) -> Result<String, Error> {
+            Err(key_error())
+        }
+        fn serialize_unit(self) -> Result<String, Error> {
+            Err(key_error())
+        }
+        fn serialize_unit_struct(self, _: &'static str) -> Result<String, Error> {
+            Err(key_error())
+        }
+        fn serialize_unit_variant(
+            self,
+            _: &'static str,
+            _: u32,
+            variant: &'static str,
+        ) -> Result<String, Error> {
+            Ok(variant.to_string())
+        }
+        fn serialize_newtype_struct<T: Serialize + ?Sized>(
+            self,
+            _: &'static str,
+            v: &T,
+        ) -> Result<String, Error> {
+            v.serialize(self)
+        }
+        fn serialize_newtype_variant<T: Serialize + ?Sized>(
+            self,
+            _: &'static str,
+            _: u32,
+            _: &'static str,
+            _: &T,
+        ) -> Result<String, Error> {
+            Err(key_error())
+        }
+        fn serialize_seq(self, _: Option<usize>) -> Result<Self::SerializeSeq, Error> {
+            Err(key_error())
+        }
+        fn serialize_tuple(self, _: usize) -> Result<Self::SerializeTuple, Error> {
+            Err(key_error())
+        }
+        fn serialize_tuple_struct(
+            self,
+            _: &'static str,
+            _: usize,
+        ) -> Result<Self::SerializeTupleStruct, Error> {
+            Err(key_error())
+        }
+        fn serialize_tuple_variant(
+            self,
+            _: &'static str,
+            _: u32,
+            _: &'static str,
+            _: usize,
+        ) -> Result<Self::SerializeTupleVariant, Error> {
+            Err(key_error())
+        }
+        fn serialize_map(self, _: Option<usize>) -> Result<Self::SerializeMap, Error> {
+            Err(key_error())
+        }
+        fn serialize_struct(
+            self,
+            _: &'static str,
+            _: usize,
+        ) -> Result<Self::SerializeStruct, Error> {
+            Err(key_error())
+        }
+        fn serialize_struct_variant(
+            self,
+            _: &'static str,
+            _: u32,
+            _: &'static str,
+            _: usize,
+        ) -> Result<Self::SerializeStructVariant, Error> {
+            Err(key_error())
+        }
+    }
 }

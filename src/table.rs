@@ -337,6 +337,15 @@ pub fn parse_header(
     fields: &[Cell],
     spec: &dyn Fn(&str) -> Option<ColumnSpec>,
 ) -> Result<Vec<Column>> {
+    // A file without a header starts with data: say so before any check of its "names".
+    if !fields.is_empty() && fields.iter().all(|c| c.text.parse::<f64>().is_ok()) {
+        return Err(parse_err(
+            file,
+            line,
+            1,
+            "expected a header row of column names, found numbers",
+        ));
+    }
     let mut cols: Vec<Column> = Vec::with_capacity(fields.len());
     for Cell { col, text: field } in fields {
         let col = *col;
@@ -443,6 +452,66 @@ pub fn number(file: &str, line: usize, col: usize, name: &str, text: &str) -> Re
     }
 }
 
+/// The largest magnitude (SI) a value of `dim` can have in any robot's data: far beyond every
+/// real robot, low enough that squares and sums of many samples stay finite. `None` for
+/// dimensions without one (plain numbers, flags, text).
+///
+/// Time 1e10 s (Unix timestamps fit), joint position 1e4 rad or m, joint velocity 1e4 rad/s,
+/// joint acceleration 1e6 rad/s², torque 1e7 N·m, current 1e5 A, power 1e8 W, length 1e4 m,
+/// speed 1e3 m/s, rotation 1e4 rad.
+pub fn physical_bound(dim: Dim) -> Option<(f64, &'static str)> {
+    Some(match dim {
+        Dim::Time => (1e10, "s"),
+        Dim::Angle => (1e4, "rad (or m)"),
+        Dim::AngularVelocity => (1e4, "rad/s (or m/s)"),
+        Dim::AngularAcceleration => (1e6, "rad/s^2 (or m/s^2)"),
+        Dim::Torque => (1e7, "N·m"),
+        Dim::Current => (1e5, "A"),
+        Dim::Power => (1e8, "W"),
+        Dim::Length => (1e4, "m"),
+        Dim::Speed => (1e3, "m/s"),
+        Dim::Rotation => (1e4, "rad"),
+        Dim::Number | Dim::Flag | Dim::Text => return None,
+    })
+}
+
+/// A number for a message: plain when it reads well, in scientific notation when it is very
+/// large or very small (`1e308`, not 309 digits).
+pub fn show(v: f64) -> String {
+    let a = v.abs();
+    if a != 0.0 && !(1e-4..1e9).contains(&a) {
+        format!("{v:e}")
+    } else {
+        format!("{v}")
+    }
+}
+
+/// `v` (SI, of dimension `dim`, read at `file:line:col` in column `name`) within
+/// [`physical_bound`], or an error naming the place, the value and the bound.
+pub fn check_physical(
+    file: &str,
+    line: usize,
+    col: usize,
+    name: &str,
+    dim: Dim,
+    v: f64,
+) -> Result<f64> {
+    match physical_bound(dim) {
+        Some((bound, unit)) if v.abs() > bound => Err(parse_err(
+            file,
+            line,
+            col,
+            format!(
+                "'{name}' = {} {unit} is outside any physical range (|value| <= {} {unit}): \
+                 check the value or the column's unit",
+                show(v),
+                show(bound)
+            ),
+        )),
+        _ => Ok(v),
+    }
+}
+
 /// A data row must have one field per header column: the error points at the first extra
 /// field, or at the end of the line when fields are missing.
 pub fn check_count(file: &str, line: usize, fields: &[Cell], n: usize, eol: usize) -> Result<()> {
@@ -477,6 +546,7 @@ impl Table {
             ..Default::default()
         };
         let mut factors: Vec<f64> = Vec::new();
+        let mut dims: Vec<Option<Dim>> = Vec::new();
         for l in lines(text) {
             match l {
                 Line::Comment(_, c) => {
@@ -491,6 +561,7 @@ impl Table {
                     t.header_line = ln;
                     for c in parse_header(file, ln, &fields, &|n| dim_of(n).map(ColumnSpec::si))? {
                         factors.push(c.factor.unwrap_or(1.0));
+                        dims.push(dim_of(&c.name));
                         t.names.push(c.name);
                         t.units.push(c.unit);
                     }
@@ -499,7 +570,11 @@ impl Table {
                     check_count(file, ln, &fields, t.names.len(), eol)?;
                     let mut row = Vec::with_capacity(fields.len());
                     for (k, f) in fields.iter().enumerate() {
-                        row.push(number(file, ln, f.col, &t.names[k], &f.text)? * factors[k]);
+                        let v = number(file, ln, f.col, &t.names[k], &f.text)? * factors[k];
+                        row.push(match dims[k] {
+                            Some(d) => check_physical(file, ln, f.col, &t.names[k], d, v)?,
+                            None => v,
+                        });
                     }
                     t.rows.push(row);
                     t.lines.push(ln);

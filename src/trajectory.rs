@@ -271,7 +271,8 @@ pub fn from_table(table: &crate::table::Table, n: usize) -> Result<(JointTraject
                     column: 1,
                     msg: format!(
                         "time `t` = {} s is not after the previous sample's {} s",
-                        row[tcol], prev
+                        crate::table::show(row[tcol]),
+                        crate::table::show(*prev)
                     ),
                 });
             }

@@ -444,3 +444,83 @@ fn the_lazy_rigid_body_base_equals_the_eager_one() {
         assert_eq!(bits(&ta), bits(&tb), "{name}");
     }
 }
+
+/// A supply effect defined here, outside the library: it names the term it supplies.
+#[derive(Clone, Debug)]
+struct SiteSupply {
+    term: printwatt::effects::SupplyTerm,
+    value: f64,
+}
+
+impl printwatt::effects::Effect for SiteSupply {
+    fn name(&self) -> &'static str {
+        "site_supply"
+    }
+    fn params(&self) -> Vec<printwatt::effects::ParamSpec> {
+        vec![printwatt::effects::ParamSpec {
+            name: "value".into(),
+            unit: "1",
+            lower: 0.0,
+            upper: f64::INFINITY,
+        }]
+    }
+    fn values(&self) -> Vec<f64> {
+        vec![self.value]
+    }
+    fn set_values(&mut self, v: &[f64]) -> printwatt::error::Result<()> {
+        self.value = v[0];
+        Ok(())
+    }
+    fn clone_box(&self) -> Box<dyn printwatt::effects::Effect> {
+        Box::new(self.clone())
+    }
+    fn stage(&self) -> printwatt::effects::Stage {
+        printwatt::effects::Stage::Supply(self.term)
+    }
+}
+
+#[test]
+fn a_supply_effect_defined_outside_the_library_acts_by_the_term_it_names() {
+    use printwatt::effects::SupplyTerm;
+    let r = default_robot();
+    let tr = sines(6, 4.0, 800);
+    // The same physics through the registered effect and through one defined here: a
+    // regeneration term (once taken as the standby power because it was not called
+    // "regeneration") and a standby term.
+    for (builtin, term, value) in [
+        ("regeneration", SupplyTerm::Regeneration, 0.6),
+        ("standby", SupplyTerm::Standby, 123.0),
+    ] {
+        let mut reference = EffectSet::of_robot(&r).unwrap();
+        reference.set_enabled(builtin, true);
+        reference
+            .get_mut(builtin)
+            .unwrap()
+            .set_values(&[value])
+            .unwrap();
+        let want = evaluate(
+            &EnergyModel::with_effects(&r, Default::default(), reference).unwrap(),
+            &tr,
+        )
+        .unwrap();
+        let mut set = EffectSet::of_robot(&r).unwrap();
+        set.set_enabled(builtin, false);
+        set.push(Box::new(SiteSupply { term, value }));
+        let got = evaluate(
+            &EnergyModel::with_effects(&r, Default::default(), set).unwrap(),
+            &tr,
+        )
+        .unwrap();
+        for (a, b, what) in [
+            (got.total.supply_j, want.total.supply_j, "supply"),
+            (got.total.standby_j, want.total.standby_j, "standby"),
+            (
+                got.total.regeneration_lost_j,
+                want.total.regeneration_lost_j,
+                "regeneration lost",
+            ),
+        ] {
+            assert!(close(a, b, 1e-12), "{builtin}: {what} {a} J vs {b} J");
+        }
+    }
+}

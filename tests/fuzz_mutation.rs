@@ -15,7 +15,7 @@
 //!   `±inf` in the joint-limit fields, where the model documents it as "no limit".
 //!
 //! Mutations per reader: `PRINTWATT_MUTATIONS` (default 40; the README's 10,000-input figures
-//! come from `PRINTWATT_MUTATIONS=1250`, 8 readers). Seeded with ChaCha8 (seed 10), so a
+//! come from `PRINTWATT_MUTATIONS=1000`, 11 readers). Seeded with ChaCha8 (seed 10), so a
 //! failure is reproducible; the failing input is written beside the message.
 
 use printwatt::error::Error;
@@ -291,6 +291,45 @@ enum Reader {
     Placements,
     Trajectory,
     Log,
+    /// A design study file (`studies/*.toml`).
+    Study,
+    /// A shard's header (`shard.json`), read and merged with the run's other shard.
+    ShardHeader,
+    /// A shard's rows (`rows.postcard`, its header's SHA-256 made to match), read and merged.
+    ShardRows,
+}
+
+/// A two-shard sweep of the default robot, computed once by the binary: the seed of the
+/// shard readers.
+fn shard_set() -> &'static PathBuf {
+    static SET: std::sync::OnceLock<PathBuf> = std::sync::OnceLock::new();
+    SET.get_or_init(|| {
+        let d =
+            std::env::temp_dir().join(format!("printwatt-fuzzmut-shards-{}", std::process::id()));
+        let _ = std::fs::remove_dir_all(&d);
+        std::fs::create_dir_all(&d).unwrap();
+        for k in 0..2 {
+            let o = std::process::Command::new(env!("CARGO_BIN_EXE_printwatt"))
+                .args([
+                    "sweep",
+                    "--x",
+                    "1.5:1.9:0.2",
+                    "--y",
+                    "-0.4:0.4:0.4",
+                    "--yaw",
+                    "90",
+                    "--shard",
+                    &format!("{k}/2"),
+                    "--out",
+                    "parts",
+                ])
+                .current_dir(&d)
+                .output()
+                .unwrap();
+            assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+        }
+        d.join("parts")
+    })
 }
 
 fn seeds(r: Reader) -> Vec<PathBuf> {
@@ -323,7 +362,19 @@ fn seeds(r: Reader) -> Vec<PathBuf> {
         Reader::Placements => list("paths/placements", "csv"),
         Reader::Trajectory => list("tests/data/traj", "csv"),
         Reader::Log => list("tests/data/logs", "csv"),
+        Reader::Study => list("studies", "toml"),
+        Reader::ShardHeader => vec![shard_set().join("shard-0-of-2/shard.json")],
+        Reader::ShardRows => vec![shard_set().join("shard-0-of-2/rows.postcard")],
     }
+}
+
+/// Read a mutated shard file: its directory (the mutated file beside an intact copy of the
+/// other) is read and merged with the set's other shard.
+fn read_shard(path: &Path) -> Result<String, Error> {
+    use printwatt::campaign::shard::{merge, read_shard};
+    let data = read_shard(path.parent().unwrap())?;
+    let other = read_shard(&shard_set().join("shard-1-of-2"))?;
+    Ok(format!("{:?}", merge(vec![data, other])?.rows))
 }
 
 /// Read `path` (a mutated copy) with the reader; `Ok(debug text)` or the error.
@@ -347,6 +398,8 @@ fn read(r: Reader, path: &Path) -> Result<String, Error> {
             "{:?}",
             printwatt::identify::log::read_log(path, 6, None).map(|l| (l.traj, l.y))?
         ),
+        Reader::Study => format!("{:?}", printwatt::campaign::study::Study::read(path)?),
+        Reader::ShardHeader | Reader::ShardRows => read_shard(path)?,
     })
 }
 
@@ -371,6 +424,26 @@ fn run_reader(r: Reader, n: usize, tally: &mut Tally) {
             }
             names = vec!["robot.urdf".into(), "drive.toml".into()];
         }
+        let target = if matches!(r, Reader::ShardHeader | Reader::ShardRows) {
+            // The shard directory keeps its name, so that a message naming it is located.
+            let sd = dir.join("shard-0-of-2");
+            std::fs::create_dir_all(&sd).unwrap();
+            for f in ["shard.json", "rows.postcard"] {
+                std::fs::copy(seed.parent().unwrap().join(f), sd.join(f)).unwrap();
+            }
+            names = vec!["shard-0-of-2".into()];
+            let t = sd.join(&file_name);
+            if matches!(r, Reader::ShardRows) {
+                // The header is made to match the mutated rows, so that the rows are decoded.
+                let h = std::fs::read_to_string(sd.join("shard.json")).unwrap();
+                let old = printwatt::output::sha256_hex(&bytes);
+                let new = printwatt::output::sha256_hex(&mutated);
+                std::fs::write(sd.join("shard.json"), h.replace(&old, &new)).unwrap();
+            }
+            t
+        } else {
+            target
+        };
         std::fs::write(&target, &mutated).unwrap();
         tally.inputs += 1;
         let what = format!("{r:?} #{k} from {}", seed.display());
@@ -401,7 +474,20 @@ fn run_reader(r: Reader, n: usize, tally: &mut Tally) {
             Ok(Err(e)) => {
                 tally.errors += 1;
                 let refs: Vec<&str> = names.iter().map(|s| s.as_str()).collect();
-                if let Some(t) = unlocated(&e, &refs) {
+                // A shard's files are JSON and binary: naming the shard directory (and, for
+                // the header, JSON's line and column) locates the fault.
+                let located = match r {
+                    Reader::ShardRows => {
+                        let t = e.to_string();
+                        (!t.contains("shard-0-of-2/rows.postcard")).then_some(t)
+                    }
+                    Reader::ShardHeader => {
+                        let t = e.to_string();
+                        (!t.contains("shard-0-of-2")).then_some(t)
+                    }
+                    _ => unlocated(&e, &refs),
+                };
+                if let Some(t) = located {
                     tally
                         .unlocated
                         .push(format!("{what}: {t} (input {})", keep("unlocated")));
@@ -429,6 +515,9 @@ fn every_reader_survives_seeded_mutations_with_located_errors_and_finite_results
         Reader::Placements,
         Reader::Trajectory,
         Reader::Log,
+        Reader::Study,
+        Reader::ShardHeader,
+        Reader::ShardRows,
     ];
     for r in readers {
         let t = std::time::Instant::now();

@@ -434,3 +434,95 @@ fn rigid_body_with_a_negative_link_mass_is_not_claimed() {
         "{why}"
     );
 }
+
+#[test]
+fn identify_writes_report_html_listing_every_fitted_parameter() {
+    // The worked example's log (results/identify_example/), round 1: the balancer.
+    let d = std::env::temp_dir().join(format!("printwatt-identify-report-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    let root = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let o = std::process::Command::new(env!("CARGO_BIN_EXE_printwatt"))
+        .current_dir(&root)
+        .args(["identify", "--robot", "abb_irb4600_40_255", "--log"])
+        .arg(root.join("results/identify_example/log.csv"))
+        .args(["--effects", "balancer", "--out"])
+        .arg(d.join("out"))
+        .arg("--drive-out")
+        .arg(d.join("robot.calibrated.toml"))
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let html = std::fs::read_to_string(d.join("out/report.html")).expect("report.html written");
+    assert!(d.join("out/ladder.svg").is_file());
+    let doc = roxmltree::Document::parse_with_options(
+        &html,
+        roxmltree::ParsingOptions {
+            allow_dtd: true,
+            ..Default::default()
+        },
+    )
+    .expect("report.html is well-formed XML");
+    let id: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(d.join("out/identify.json")).unwrap())
+            .unwrap();
+    // Every fitted parameter is a row of the parameters' table, with its standard error and
+    // plausibility.
+    let rows: Vec<Vec<String>> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("tr"))
+        .map(|tr| {
+            tr.children()
+                .filter(|c| c.has_tag_name("td"))
+                .map(|c| c.text().unwrap_or("").to_string())
+                .collect()
+        })
+        .collect();
+    let params = id["params"].as_array().unwrap();
+    assert!(!params.is_empty());
+    for p in params {
+        let (e, n) = (p["effect"].as_str().unwrap(), p["name"].as_str().unwrap());
+        let row = rows
+            .iter()
+            .find(|r| r.len() == 8 && r[0] == e && r[1] == n)
+            .unwrap_or_else(|| panic!("{e}.{n} not listed"));
+        if let Some(se) = p["std_error"].as_f64() {
+            let shown: f64 = row[5].parse().unwrap();
+            assert!(
+                (shown - se).abs() <= 1e-6 * se.abs().max(1.0),
+                "{row:?} vs {se}"
+            );
+        }
+        assert!(row[7] == "yes" || !row[7].is_empty(), "{row:?}");
+    }
+    // The rounds, the error per joint before and after (6 joints and the total), the ladder.
+    for h in [
+        "Rounds",
+        "Fitted parameters",
+        "Error per joint, before and after the fit",
+        "Error ladder",
+    ] {
+        assert!(html.contains(&format!("<h2>{h}</h2>")), "{h}");
+    }
+    let per_joint: Vec<&Vec<String>> = rows
+        .iter()
+        .filter(|r| r.len() == 5 && r[0].starts_with("joint_"))
+        .collect();
+    assert_eq!(per_joint.len(), 6, "{rows:?}");
+    // The balancer cuts the error of joint 2 (the balanced axis).
+    let j2 = per_joint.iter().find(|r| r[0] == "joint_2").unwrap();
+    let (before, after): (f64, f64) = (j2[1].parse().unwrap(), j2[2].parse().unwrap());
+    assert!(after < before, "{j2:?}");
+    let figs: Vec<&str> = doc
+        .descendants()
+        .filter(|n| n.has_tag_name("figure"))
+        .filter_map(|n| n.attribute("id"))
+        .collect();
+    assert_eq!(figs, ["per-joint", "ladder"]);
+    // The drive data's status is stated.
+    assert!(
+        html.contains("<dt>drive data</dt><dd>ESTIMATE: "),
+        "drive data status"
+    );
+    let _ = std::fs::remove_dir_all(&d);
+}

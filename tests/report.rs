@@ -56,6 +56,7 @@ fn build_report() -> RunReport {
             label: label.into(),
             eval: e.clone(),
             energy: full.energy,
+            charts: None,
         });
     }
     let baseline = optimise::feasible_centre(&rows).unwrap().clone();
@@ -453,4 +454,252 @@ fn the_report_files_made_at_once_are_those_made_one_by_one() {
         assert_eq!(read("report.html"), rep.html(), "{threads}");
         let _ = std::fs::remove_dir_all(&dir);
     }
+}
+
+/// The figure `id` of a page and its SVG (as text).
+fn figure_svg(html: &str, id: &str) -> Option<String> {
+    let i = html.find(&format!("<figure id=\"{id}\">"))?;
+    let rest = &html[i..];
+    let a = rest.find("<svg")?;
+    let b = rest.find("</svg>")?;
+    Some(rest[a..b + 6].to_string())
+}
+
+#[test]
+fn energy_bars_start_above_zero_when_the_standby_dominates() {
+    let rep = report();
+    // The standby (cabinet × print time) is most of the supply here.
+    let f = rep.best().unwrap().feasible().unwrap();
+    assert!(
+        f.standby_j > f.drives_j,
+        "{} vs {}",
+        f.standby_j,
+        f.drives_j
+    );
+    let html = rep.html();
+    let svg = figure_svg(&html, "bars").expect("bars figure");
+    let doc = roxmltree::Document::parse(&svg).unwrap();
+    let from = elements(&doc, "text")
+        .into_iter()
+        .find(|t| t.attribute("class") == Some("axis-from"))
+        .expect("the chart says where its bars start");
+    let base = attr(&from, "data-baseline");
+    // Not zero, below every bar, and within the standby every placement draws.
+    let lowest = rep
+        .rows
+        .iter()
+        .map(|r| r.cost())
+        .filter(|c| c.is_finite())
+        .fold(f64::INFINITY, f64::min);
+    let standby = rep
+        .rows
+        .iter()
+        .filter_map(|r| r.feasible())
+        .map(|f| f.standby_j)
+        .fold(f64::INFINITY, f64::min);
+    assert!(
+        base > 0.5 * standby && base <= standby && base < lowest,
+        "{base} {standby} {lowest}"
+    );
+    // The lowest y tick is not 0 either: the axis starts at the standby.
+    let ticks: Vec<f64> = elements(&doc, "text")
+        .iter()
+        .filter(|t| t.attribute("text-anchor") == Some("end"))
+        .filter_map(|t| t.text()?.parse().ok())
+        .collect();
+    assert!(ticks.iter().all(|t| *t >= base), "{ticks:?} from {base}");
+    let caption = &html[html.find("<figure id=\"bars\">").unwrap()..];
+    let caption =
+        &caption[caption.find("<figcaption>").unwrap()..caption.find("</figcaption>").unwrap()];
+    assert!(caption.contains("standby"), "{caption}");
+}
+
+#[test]
+fn a_sweep_report_caption_describes_only_what_its_top_view_draws() {
+    let mut rep = report().clone();
+    rep.optimise = None;
+    rep.baseline = None;
+    let html = rep.html();
+    let svg = figure_svg(&html, "heatmap").unwrap();
+    assert!(
+        !svg.contains("mark-optimum"),
+        "a sweep has no refined optimum"
+    );
+    let i = html.find("<figure id=\"heatmap\">").unwrap();
+    let cap = &html[i..];
+    let cap = &cap[cap.find("<figcaption>").unwrap()..cap.find("</figcaption>").unwrap()];
+    assert!(!cap.contains("refined optimum"), "{cap}");
+    assert!(!cap.contains("optimum"), "{cap}");
+    assert!(
+        cap.contains("the ring marks the best placement of the sweep"),
+        "{cap}"
+    );
+    // No answer card without an optimisation; the optimise report has one.
+    assert!(!html.contains("id=\"answer\""));
+    assert!(report().html().contains("<section id=\"answer\""));
+}
+
+#[test]
+fn a_yaw_slice_with_one_feasible_point_is_said_in_words_not_drawn() {
+    // The report's 24 rows read as a grid of 4 × 3 × 1 bed heights × 2 yaws, every row of the
+    // second yaw made infeasible.
+    let mut rep = report().clone();
+    let g = Grid {
+        xs: vec![1.2, 1.3, 1.4, 1.5],
+        ys: vec![-0.1, 0.0, 0.1],
+        zs: vec![0.5],
+        yaws: vec![std::f64::consts::FRAC_PI_2, std::f64::consts::PI],
+        spins: vec![0.0],
+    };
+    let bad = rep
+        .rows
+        .iter()
+        .find(|r| r.outcome.is_err())
+        .unwrap()
+        .outcome
+        .clone();
+    for ix in 0..4 {
+        for iy in 0..3 {
+            rep.rows[g.index(ix, iy, 0, 1, 0)].outcome = bad.clone();
+        }
+    }
+    rep.grid = Some(g);
+    let html = rep.html();
+    assert!(figure_svg(&html, "slice-yaw").is_none());
+    assert!(
+        html.contains(
+            "Energy against yaw through the best grid cell: only 1 of the 2 yaws is feasible, 90°:"
+        ),
+        "no words for the lone point"
+    );
+}
+
+#[test]
+fn top_view_stacks_labels_at_one_spot_and_draws_infeasible_points_with_their_own_symbol() {
+    use printwatt::report::svg::{self, MapPoint, TopView};
+    let p = |label: &str, value: f64| MapPoint {
+        x: 1.5,
+        y: 0.0,
+        label: label.into(),
+        value,
+        class: "named".into(),
+    };
+    let v = TopView {
+        points: vec![p("P1@0°", 100.0), p("P1@45°", 110.0), p("P1@90°", f64::NAN)],
+        circles: vec![
+            (0.0, 0.0, 2.6, "reach".into(), "reach 0.8–2.6 m".into()),
+            (0.0, 0.0, 0.8, "reach-inner".into(), "inner reach".into()),
+        ],
+        value_label: "energy [J]".into(),
+        ..Default::default()
+    };
+    let s = svg::top_view(&svg::Frame::new("t", "x", "y").size(900.0, 640.0), &v);
+    let doc = roxmltree::Document::parse(&s).unwrap();
+    let labels: Vec<(String, f64)> = elements(&doc, "text")
+        .iter()
+        .filter(|t| t.text().is_some_and(|x| x.starts_with("P1@")))
+        .map(|t| (t.text().unwrap().to_string(), attr(t, "y")))
+        .collect();
+    assert_eq!(labels.len(), 3);
+    for i in 0..3 {
+        for j in 0..i {
+            assert!(
+                (labels[i].1 - labels[j].1).abs() >= 11.0,
+                "overprinted: {labels:?}"
+            );
+        }
+    }
+    // The infeasible one: a cross (no circle, unlike the inner reach's hollow circle), and the
+    // legend names it.
+    let g = doc
+        .descendants()
+        .find(|n| n.attribute("data-infeasible") == Some("1"))
+        .expect("an infeasible mark");
+    assert!(g.descendants().all(|n| !n.has_tag_name("circle")));
+    assert!(g.descendants().any(|n| n.has_tag_name("path")));
+    assert!(s.contains(">infeasible placement</text>"));
+}
+
+#[test]
+fn the_answer_card_states_the_energy_the_cli_prints_and_the_uncertainty_is_drawn() {
+    let d = std::env::temp_dir().join(format!("pw-answer-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    let o = common::bin()
+        .args([
+            "optimise",
+            "--x",
+            "1.3,1.5,3",
+            "--y",
+            "-0.1,0.1,3",
+            "--z",
+            "0.5",
+            "--yaw",
+            "90",
+            "--max-evals",
+            "10",
+            "--uncertainty",
+            "6",
+            "--out",
+        ])
+        .arg(&d)
+        .output()
+        .unwrap();
+    let out = String::from_utf8_lossy(&o.stdout);
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let energy = out
+        .lines()
+        .find_map(|l| l.strip_prefix("energy "))
+        .and_then(|l| l.split(" J").next())
+        .unwrap_or_else(|| panic!("no energy line in {out}"))
+        .to_string();
+    let html = std::fs::read_to_string(d.join("report.html")).unwrap();
+    let doc = parse_xhtml(&html);
+    let card = doc
+        .descendants()
+        .find(|n| n.attribute("id") == Some("answer"))
+        .expect("an answer card");
+    // First on the page, after the title.
+    let first = doc
+        .descendants()
+        .find(|n| n.has_tag_name("body"))
+        .unwrap()
+        .children()
+        .filter(|n| n.is_element())
+        .nth(1)
+        .unwrap();
+    assert_eq!(first.attribute("id"), Some("answer"));
+    let text: String = card
+        .descendants()
+        .filter_map(|n| n.text())
+        .collect::<Vec<_>>()
+        .join(" ");
+    assert!(
+        text.contains(&format!("energy {energy} J")),
+        "{energy} not in {text}"
+    );
+    for want in [
+        "drives ",
+        "standby ",
+        "against the baseline",
+        "placement tolerance: holds",
+        "over 6 robots drawn",
+        "expected regret",
+        "robot file: robots/abb_irb6700_200_260/drive.toml",
+        "drive data: ESTIMATE: ",
+        "margins: joint-limit margin",
+        "path: paths/default.gcode",
+        "print speed: 150 mm/s",
+    ] {
+        assert!(text.contains(want), "{want} not in {text}");
+    }
+    // The uncertainty study as a chart: one bar per band of regret, the draws counted.
+    let svg = figure_svg(&html, "uncertainty").expect("uncertainty chart");
+    let u = roxmltree::Document::parse(&svg).unwrap();
+    let counted: f64 = elements(&u, "rect")
+        .iter()
+        .filter_map(|r| r.children().find(|c| c.has_tag_name("title")))
+        .filter_map(|t| t.text()?.rsplit(": ").next()?.parse::<f64>().ok())
+        .sum();
+    assert_eq!(counted, 6.0, "{svg}");
+    let _ = std::fs::remove_dir_all(&d);
 }

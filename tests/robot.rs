@@ -1,6 +1,8 @@
 //! Loading users' URDFs: meshes ignored, fixed joints merged (checked through the dynamics),
 //! passive/mimic side branches frozen and merged, continuous joints, and clear errors.
 
+mod common;
+
 use printwatt::dynamics::{rnea, DynModel, DynOptions};
 use printwatt::robot::urdf::parse_urdf;
 
@@ -92,18 +94,28 @@ fn fixed_children_are_merged_exactly() {
 }
 
 #[test]
-fn passive_mimic_branches_are_frozen_and_merged_with_a_warning() {
+fn passive_mimic_branches_are_frozen_and_merged_with_a_warning_and_massless_ones_left_quietly() {
     let massless = r#"
   <joint name="cyl" type="revolute"><parent link="l1"/><child link="cylinder"/><origin xyz="0.1 0 0"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" velocity="1" effort="0"/><mimic joint="j2" multiplier="-0.25"/></joint>
   <link name="cylinder"/>"#;
     let m = parse_urdf(&arm(SPLIT, massless), "m.urdf", None).unwrap();
     assert_eq!(m.dof(), 2);
+    // A massless passive branch changes no torque: no warning (the shipped IRB 6700's
+    // balancer cylinder and piston would otherwise be warned about in every command).
     assert!(
-        m.warnings
-            .iter()
-            .any(|w| w.contains("cyl") && w.contains("massless")),
+        !m.warnings.iter().any(|w| w.contains("cyl")),
         "{:?}",
         m.warnings
+    );
+    let shipped =
+        printwatt::robot::load(&common::root().join("robots/abb_irb6700_200_260")).unwrap();
+    assert!(
+        !shipped
+            .warnings
+            .iter()
+            .any(|w| w.contains("cylinder_joint")),
+        "{:?}",
+        shipped.warnings
     );
     let heavy = r#"
   <joint name="cyl" type="revolute"><parent link="l1"/><child link="cylinder"/><origin xyz="0.1 0 0"/><axis xyz="0 1 0"/><limit lower="-1" upper="1" velocity="1" effort="0"/><mimic joint="j2" multiplier="-0.25"/></joint>
@@ -305,4 +317,98 @@ fn a_link_without_collision_geometry_is_estimated_from_its_visual_shapes() {
     assert!((mass(1) - ESTIMATE_DENSITY_KG_M3 * 0.1 * 0.1 * 0.4).abs() < 1e-9);
     let w = m.warnings.join("\n");
     assert!(w.contains("visual shapes") && w.contains("±50 %"), "{w}");
+}
+
+/// The ROS-Industrial IRB 6640-185/2.80 (no `<inertial>`, collision meshes) loaded through a
+/// drive file in a temporary directory with the given `[robot]` keys.
+fn ros_i_irb6640(tag: &str, robot_keys: &str) -> printwatt::robot::RobotModel {
+    let urdf = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/ros_industrial/abb_irb6640_support/urdf/irb6640_185_280.urdf");
+    let d = std::env::temp_dir().join(format!("printwatt-mass-{tag}-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let f = d.join("drive.toml");
+    std::fs::write(
+        &f,
+        format!("[robot]\nurdf = {:?}\n{robot_keys}", urdf.to_str().unwrap()),
+    )
+    .unwrap();
+    let m = printwatt::robot::load(&f).unwrap_or_else(|e| panic!("{e}"));
+    let _ = std::fs::remove_dir_all(&d);
+    m
+}
+
+#[test]
+fn estimated_link_masses_are_scaled_to_the_drive_files_robot_mass() {
+    // ABB's data sheet of the IRB 6640: 1,310 kg for the 2.55–2.80 m variants (the
+    // 185/2.80 among them), 1,405 kg for the 130/3.20.
+    let plain = ros_i_irb6640("plain", "");
+    let scaled = ros_i_irb6640("scaled", "mass_kg = 1310.0\n");
+    let w = scaled.warnings.join("\n");
+    assert!(w.contains("[robot] mass_kg = 1310 kg"), "{w}");
+    // Without the key the warning says what it would do; with it, no ±50 % on the total.
+    assert!(plain.warnings.join("\n").contains("mass_kg"));
+    assert!(plain.warnings.join("\n").contains("±50 %"));
+    let f: f64 = w
+        .split("scaled by ")
+        .nth(1)
+        .and_then(|s| s.split_whitespace().next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no factor in {w}"));
+    let base: f64 = w
+        .split("estimated the same way (")
+        .nth(1)
+        .and_then(|s| s.split_whitespace().next())
+        .and_then(|s| s.parse().ok())
+        .unwrap_or_else(|| panic!("no base mass in {w}"));
+    // The hulls at 1,200 kg/m³ weigh less than the datasheet's robot: scaled up.
+    assert!(f > 1.0 && f < 3.0, "{f}");
+    let mut moving = 0.0;
+    for i in 0..6 {
+        let (a, b) = (plain.links[i].unwrap(), scaled.links[i].unwrap());
+        // Every link by the same factor, its inertia with it, its centre of mass kept.
+        let k = b.mass / a.mass;
+        assert!((k - f).abs() < 0.5e-3 * f, "link {i}: {k} vs {f}");
+        assert!((b.inertia[(0, 0)] / a.inertia[(0, 0)] - k).abs() < 1e-9 * k);
+        assert!((b.inertia[(1, 2)] - k * a.inertia[(1, 2)]).abs() < 1e-9 * a.inertia.norm());
+        assert_eq!(a.com, b.com);
+        moving += b.mass;
+    }
+    // Links and base (scaled alike) weigh the stated mass, to the warning's rounding.
+    let total = moving + base * moving / plain.links.iter().flatten().map(|l| l.mass).sum::<f64>();
+    assert!((total - 1310.0).abs() < 2.0, "{total} kg");
+    // The energy follows the heavier links.
+    assert!(scaled.links[1].unwrap().mass > plain.links[1].unwrap().mass);
+}
+
+#[test]
+fn a_robot_mass_below_the_links_given_is_not_applied_and_a_bad_one_is_refused() {
+    let m = ros_i_irb6640(
+        "light",
+        "mass_kg = 100.0\n\n[links.link_2]\nmass_kg = 250.0\ncom_m = [0.0, 0.0, 0.5]\ninertia_kg_m2 = [40.0, 40.0, 5.0, 0.0, 0.0, 0.0]\n",
+    );
+    let w = m.warnings.join("\n");
+    assert!(
+        w.contains("not scaled to the drive file's [robot] mass_kg"),
+        "{w}"
+    );
+    assert!(w.contains("250 kg, not less than the stated 100 kg"), "{w}");
+    let urdf = std::path::PathBuf::from(env!("CARGO_MANIFEST_DIR"))
+        .join("tests/data/ros_industrial/abb_irb6640_support/urdf/irb6640_185_280.urdf");
+    let d = std::env::temp_dir().join(format!("printwatt-mass-bad-{}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    let f = d.join("drive.toml");
+    std::fs::write(
+        &f,
+        format!(
+            "[robot]\nurdf = {:?}\nmass_kg = -5.0\n",
+            urdf.to_str().unwrap()
+        ),
+    )
+    .unwrap();
+    let e = printwatt::robot::load(&f).unwrap_err().to_string();
+    assert!(
+        e.contains("drive.toml") && e.contains("robot.mass_kg"),
+        "{e}"
+    );
+    let _ = std::fs::remove_dir_all(&d);
 }

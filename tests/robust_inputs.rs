@@ -225,3 +225,139 @@ fn drive_values_outside_physical_ranges_are_refused_naming_the_drive_file_and_ke
         assert!(e.contains("drive.toml") && e.contains(key), "{name}: {e}");
     }
 }
+
+#[test]
+fn log_values_outside_physical_ranges_are_refused_naming_the_log_row_and_column() {
+    let d = common::scratch("inputs", "log-range");
+    // A valid short log of the default robot, then one huge value per case.
+    let mut rows = vec!["t,q1,q2,q3,q4,q5,q6,tau1,tau2,tau3,tau4,tau5,tau6".to_string()];
+    for k in 0..40 {
+        let t = k as f64 * 0.01;
+        rows.push(format!(
+            "{t},{a},0.5,-0.8,0.1,0.6,0.2,10,-900,-300,2,-20,1",
+            a = 0.3 * t
+        ));
+    }
+    for (name, row, col, value, what) in [
+        ("tau", 12usize, 8usize, "1e308", "'tau2' = 1e308 N·m"),
+        ("q", 20, 3, "-1e308", "'q3' = -1e308 rad"),
+        ("t", 30, 0, "1e300", "'t' = 1e300 s"),
+    ] {
+        let mut r = rows.clone();
+        let mut cells: Vec<String> = r[row].split(',').map(String::from).collect();
+        cells[col] = value.to_string();
+        r[row] = cells.join(",");
+        let file = d.join(format!("{name}.csv"));
+        std::fs::write(&file, r.join("\n") + "\n").unwrap();
+        // The reader refuses it with file, line and column (the header is line 1).
+        let e = printwatt::identify::log::read_log(&file, 6, None)
+            .map(|_| ())
+            .expect_err(name)
+            .to_string();
+        let at = format!("{name}.csv:{}:", row + 1);
+        assert!(
+            e.contains(&at) && e.contains(what) && e.contains("outside any physical range"),
+            "{name}: {e}"
+        );
+        // And every command of the measurement loop says so, not "rmse is inf".
+        for cmd in ["compare", "diagnose"] {
+            let o = common::run(
+                &[
+                    cmd,
+                    "--robot",
+                    "abb_irb4600_40_255",
+                    "--log",
+                    &format!("{name}.csv"),
+                ],
+                &d,
+            );
+            assert!(!o.status.success(), "{cmd} {name}");
+            let e = common::stderr_of(&o);
+            assert!(e.contains(&at) && e.contains(what), "{cmd} {name}: {e}");
+            assert!(
+                !e.contains("inf") && !e.contains("NaN"),
+                "{cmd} {name}: {e}"
+            );
+        }
+    }
+}
+
+#[test]
+fn huge_numbers_in_messages_are_written_in_scientific_notation() {
+    assert_eq!(printwatt::table::show(1e308), "1e308");
+    assert_eq!(printwatt::table::show(-2.5e-9), "-2.5e-9");
+    assert_eq!(printwatt::table::show(1.25), "1.25");
+    assert_eq!(printwatt::table::show(0.0), "0");
+}
+
+#[test]
+fn an_infinity_or_nan_in_a_drive_file_is_refused_naming_its_key() {
+    for (name, from, to, key) in [
+        ("reach", "reach_m = 2.55", "reach_m = inf", "robot.reach_m"),
+        (
+            "kt",
+            "torque_constant_nm_per_a = 2.0",
+            "torque_constant_nm_per_a = nan",
+            "torque_constant_nm_per_a",
+        ),
+        (
+            "big",
+            "balancer_base_m = 0.42",
+            "balancer_base_m = -inf",
+            "balancer_base_m",
+        ),
+    ] {
+        let d = common::scratch("inputs", &format!("drive-{name}"));
+        let r = robot_with(&d, from, to);
+        let e = printwatt::robot::load(&r)
+            .map(|_| ())
+            .expect_err(name)
+            .to_string();
+        assert!(
+            e.contains("drive.toml") && e.contains(key) && e.contains("finite"),
+            "{name}: {e}"
+        );
+    }
+}
+
+#[test]
+fn a_log_without_a_header_row_suggests_naming_its_columns() {
+    let d = common::scratch("inputs", "log-no-header");
+    let rows: Vec<String> = (0..80)
+        .map(|k| {
+            let t = k as f64 * 0.01;
+            format!("{t},{},0.5,-0.8,0.1,0.6,0.2,10,-900,-300,2,-20,1", 0.3 * t)
+        })
+        .collect();
+    std::fs::write(d.join("raw.csv"), rows.join("\n") + "\n").unwrap();
+    let o = common::run(
+        &[
+            "compare",
+            "--robot",
+            "abb_irb4600_40_255",
+            "--log",
+            "raw.csv",
+        ],
+        &d,
+    );
+    assert!(!o.status.success());
+    let e = common::stderr_of(&o);
+    assert!(
+        e.contains("raw.csv:1:1") && e.contains("--columns") && e.contains("measurement-logs.md"),
+        "{e}"
+    );
+    // With the columns named, the same file reads.
+    let o = common::run(
+        &[
+            "compare",
+            "--robot",
+            "abb_irb4600_40_255",
+            "--log",
+            "raw.csv",
+            "--columns",
+            "t, q1..q6, tau1..tau6",
+        ],
+        &d,
+    );
+    assert!(o.status.success(), "{}", common::stderr_of(&o));
+}

@@ -233,3 +233,41 @@ fn a_bambu_studio_plate_has_a_plausible_energy() {
         "{e} J over {t} s"
     );
 }
+
+#[test]
+fn a_concrete_printer_file_from_amworkflow_reads_and_has_a_plausible_energy() {
+    // BAM's amworkflow, "Standard: ConcretePrinter": a 150 mm zig-zag cube, 11 mm lines, 3 mm
+    // layers, F3465 (57.75 mm/s), absolute extrusion (M82), no G21 (the file's mm).
+    let (tp, text) = read("amworkflow_cube_zigzag_150mm.gcode");
+    assert!(text.contains("; Standard: ConcretePrinter"));
+    assert_eq!(tp.moves.len(), 272);
+    assert_eq!(tp.moves.iter().filter(|m| m.print).count(), 256);
+    // 16 layers of 3 mm (the file holds the first 16 of the header's 50).
+    assert_eq!(tp.layers(), 16);
+    for m in tp.moves.iter().filter(|m| m.print) {
+        assert!((m.speed - 0.05775).abs() < 1e-9, "{}", m.speed);
+        let k = m.end.z / 0.003;
+        assert!((k - k.round()).abs() < 1e-9 && (1.0..=16.0).contains(&k.round()));
+    }
+    assert!(
+        (tp.print_length() - 14.4445).abs() < 1e-3,
+        "{}",
+        tp.print_length()
+    );
+    // At its own scale: 14.4 m at 57.75 mm/s is 250 s at speed; the supply is at least the
+    // standby (250 W) and at most 1 kW on average for a small part moved slowly.
+    let (t, e) = energy(
+        "amworkflow_cube_zigzag_150mm.gcode",
+        &["--at", "1.7,0,0.5,0"],
+    );
+    assert!(t > 240.0 && t < 300.0, "{t} s");
+    assert!(e > 250.0 * t && e < 1000.0 * t, "{e} J over {t} s");
+    // Scaled to a 0.7 m element (15 mm layers, the same speed): five times the time, and the
+    // energy with it.
+    let (t5, e5) = energy(
+        "amworkflow_cube_zigzag_150mm.gcode",
+        &["--scale", "5", "--at", "1.4,-0.35,0.3,0"],
+    );
+    assert!(t5 > 4.8 * t && t5 < 5.3 * t, "{t5} s vs {t} s");
+    assert!(e5 > 250.0 * t5 && e5 < 1000.0 * t5, "{e5} J over {t5} s");
+}

@@ -312,9 +312,11 @@ fn read_options(print_speed: f64, travel_speed: f64, zone: f64) -> PyRes<ReadOpt
 /// file gives no speed; `zone` (m) is the corner blend radius where the file gives none.
 /// `path_units` (`"mm"` or `"m"`) is the unit of a CSV path's x, y, z written without one
 /// (default: mm, with a warning in `Toolpath.warnings`); `scale` multiplies the geometry.
+/// `proc` names the procedure of a RAPID module to read instead of `main` (case-insensitive),
+/// for modules whose `main` chooses its path at run time; other formats refuse it.
 /// Raises PrintwattError naming the file, line and column at fault.
 #[pyfunction]
-#[pyo3(signature = (file, print_speed = 0.1, travel_speed = 0.25, zone = 0.005, path_units = None, scale = 1.0))]
+#[pyo3(signature = (file, print_speed = 0.1, travel_speed = 0.25, zone = 0.005, path_units = None, scale = 1.0, proc = None))]
 fn load_path(
     file: PathBuf,
     print_speed: f64,
@@ -322,12 +324,14 @@ fn load_path(
     zone: f64,
     path_units: Option<String>,
     scale: f64,
+    proc: Option<String>,
 ) -> PyRes<Toolpath_> {
     let mut opts = read_options(print_speed, travel_speed, zone)?;
     if let Some(u) = &path_units {
         opts.path_units = Some(printwatt::toolpath::PathUnits::parse(u).map_err(err)?);
     }
     opts.scale = scale;
+    opts.proc = proc;
     let tp = printwatt::load_path(&file, &opts).map_err(err)?;
     Ok(Toolpath_ { inner: tp })
 }
@@ -396,11 +400,20 @@ enum PathHold<'py> {
 }
 
 impl<'py> PathArg<'py> {
-    fn hold(self) -> PyRes<PathHold<'py>> {
+    /// The path, loaded with the default options when it is a file; `proc` chooses the RAPID
+    /// procedure of a file (a loaded `Toolpath` has its procedure already: `proc` is refused).
+    fn hold(self, proc: Option<String>) -> PyRes<PathHold<'py>> {
         match self {
-            PathArg::Loaded(r) => Ok(PathHold::Ref(r)),
+            PathArg::Loaded(r) => match proc {
+                None => Ok(PathHold::Ref(r)),
+                Some(p) => Err(err(format!(
+                    "proc = {p:?}: applies to a path given as a file; this Toolpath was \
+                     already read (from {}): pass proc to load_path instead",
+                    r.inner.source
+                ))),
+            },
             PathArg::File(f) => Ok(PathHold::Own(Box::new(
-                load_path(f, 0.1, 0.25, 0.005, None, 1.0)?.inner,
+                load_path(f, 0.1, 0.25, 0.005, None, 1.0, proc)?.inner,
             ))),
         }
     }
@@ -629,7 +642,7 @@ fn rows(v: Vec<f64>, n: usize) -> Array2<f64> {
 /// infeasible placement (with the reason, sample, time and source line).
 #[pyfunction]
 #[pyo3(signature = (robot, path, at, *, period = 0.004, accel = 1.0, jerk = 10.0,
-    regeneration = None, payload = true, friction = true))]
+    regeneration = None, payload = true, friction = true, proc = None))]
 #[allow(clippy::too_many_arguments)]
 fn energy<'py>(
     py: Python<'py>,
@@ -642,9 +655,10 @@ fn energy<'py>(
     regeneration: Option<String>,
     payload: bool,
     friction: bool,
+    proc: Option<String>,
 ) -> PyRes<Bound<'py, PyDict>> {
     let robot = robot.hold()?;
-    let path = path.hold()?;
+    let path = path.hold(proc)?;
     let at = placement(&float_seq(at, "at", PLACEMENT_FORM)?)?;
     let prof = profile(period, accel, jerk)?;
     let opts = energy_options(regeneration.as_deref(), payload, friction)?;
@@ -811,7 +825,7 @@ fn axis(name: &str, v: Vec<f64>) -> PyRes<Vec<f64>> {
     objective = "supply", period = 0.004, accel = 1.0, jerk = 10.0,
     regeneration = None, payload = true, friction = true, joint_margin = 0.05235987755982989,
     wrist_margin = 0.08726646259971647,
-    collisions = true, check_every = 10))]
+    collisions = true, check_every = 10, proc = None))]
 #[allow(clippy::too_many_arguments)]
 fn sweep<'py>(
     py: Python<'py>,
@@ -833,9 +847,10 @@ fn sweep<'py>(
     wrist_margin: f64,
     collisions: bool,
     check_every: i64,
+    proc: Option<String>,
 ) -> PyRes<Bound<'py, PyDict>> {
     let robot = robot.hold()?;
-    let path = path.hold()?;
+    let path = path.hold(proc)?;
     let grid = Grid {
         xs: axis("xs", float_seq(xs, "xs", "a sequence of numbers (m)")?)?,
         ys: axis("ys", float_seq(ys, "ys", "a sequence of numbers (m)")?)?,
@@ -940,7 +955,7 @@ fn sweep<'py>(
     pareto = false, margin_trade = true, period = 0.004, accel = 1.0, jerk = 10.0, regeneration = None,
     payload = true, friction = true, joint_margin = 0.05235987755982989,
     wrist_margin = 0.08726646259971647, collisions = true,
-    check_every = 10))]
+    check_every = 10, proc = None))]
 #[allow(clippy::too_many_arguments)]
 fn optimise<'py>(
     py: Python<'py>,
@@ -977,9 +992,10 @@ fn optimise<'py>(
     wrist_margin: f64,
     collisions: bool,
     check_every: i64,
+    proc: Option<String>,
 ) -> PyRes<Bound<'py, PyDict>> {
     let robot = robot.hold()?;
-    let path = path.hold()?;
+    let path = path.hold(proc)?;
     let model: &RobotModel = &robot;
     let tp: &Toolpath = &path;
     let def = popt::default_grid(feasibility::reach_m(model));
@@ -1288,13 +1304,13 @@ fn identify<'py>(
     objective = "supply", period = 0.004, accel = 1.0, jerk = 10.0,
     regeneration = None, payload = true, friction = true, joint_margin = 0.05235987755982989,
     wrist_margin = 0.08726646259971647,
-    collisions = true, check_every = 10),
+    collisions = true, check_every = 10, proc = None),
     // Written out: `z`'s default is negative, which the signature above cannot show.
     text_signature = "(robot, path, *, relocation_cost, relocation_cost_per_m=0.0, \
     station_step=0.5, track=None, headings=None, z=-0.5, spin=0.0, footprint=None, \
     objective='supply', period=0.004, accel=1.0, jerk=10.0, regeneration=None, payload=True, \
     friction=True, joint_margin=0.05235987755982989, wrist_margin=0.08726646259971647, \
-    collisions=True, check_every=10)")]
+    collisions=True, check_every=10, proc=None)")]
 #[allow(clippy::too_many_arguments)]
 fn stations<'py>(
     py: Python<'py>,
@@ -1319,10 +1335,11 @@ fn stations<'py>(
     wrist_margin: f64,
     collisions: bool,
     check_every: i64,
+    proc: Option<String>,
 ) -> PyRes<Bound<'py, PyAny>> {
     use printwatt::stations::{self as pst, Candidates, Headings, StationsProblem};
     let robot = robot.hold()?;
-    let path = path.hold()?;
+    let path = path.hold(proc)?;
     let model: &RobotModel = &robot;
     let tp: &Toolpath = &path;
     let headings = match headings {

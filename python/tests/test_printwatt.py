@@ -324,3 +324,37 @@ def test_readme_python_block_runs(capsys, monkeypatch):
     exec(compile(code, "README.md (python block)", "exec"), {})
     out = capsys.readouterr().out
     assert " J over " in out and "tau (" in out
+
+
+RAPID = ROOT / "tests" / "data" / "rapid" / "two_workobjects.mod"
+RAPID_AT_DEG = (1.6, 0.0, 0.5, 0.0)
+RAPID_AT = (1.6, 0.0, 0.5, 0.0)
+
+
+def test_load_path_proc_chooses_the_rapid_procedure_as_the_cli_does(robot):
+    """`proc=` reads the named RAPID procedure instead of `main`, as `--proc` does; every
+    path-taking function accepts it for a path given as a file, and refuses it for a path
+    already loaded."""
+    # The module's main chooses its path at run time: no entry without proc.
+    with pytest.raises(pw.PrintwattError, match="rectangulo_mesa"):
+        pw.load_path(RAPID)
+    plano = pw.load_path(RAPID, proc="path_plano")
+    inclinado = pw.load_path(RAPID, proc="PATH_INCLINADO")  # case-insensitive, as in RAPID
+    assert plano.moves > 0 and inclinado.moves > 0
+    assert plano.length_m != pytest.approx(inclinado.length_m)
+    doc = cli(
+        "energy", "--robot", ROBOT, "--path", str(RAPID), "--proc", "path_plano",
+        "--at", ",".join(str(v) for v in RAPID_AT_DEG),
+    )
+    e_loaded = pw.energy(robot, plano, RAPID_AT)
+    e_file = pw.energy(robot, RAPID, RAPID_AT, proc="path_plano")
+    assert e_loaded["energy"]["total"]["supply_j"] == doc["energy"]["total"]["supply_j"]
+    assert e_file["supply_j"] == e_loaded["supply_j"]
+    with pytest.raises(pw.PrintwattError, match="no procedure named 'nope'"):
+        pw.load_path(RAPID, proc="nope")
+    with pytest.raises(pw.PrintwattError, match="RAPID modules only"):
+        pw.load_path(PATH, proc="main")
+    with pytest.raises(pw.PrintwattError, match="already read"):
+        pw.energy(robot, plano, RAPID_AT, proc="path_plano")
+    s = pw.sweep(robot, RAPID, [1.5, 1.6], [0.0], z=0.5, proc="path_plano")
+    assert np.isfinite(s["energy_j"]).any()

@@ -357,6 +357,9 @@ pub fn read_shard(dir: &Path) -> Result<ShardData> {
             header.schema_version
         )));
     }
+    // A header edited by hand (or damaged) must not hold a shard no run writes.
+    Shard::new(header.shard.index, header.shard.count)
+        .map_err(|e| Error::Invalid(format!("{}: `shard`: {e}", hp.display())))?;
     let rp = dir.join(ROWS);
     let bytes = std::fs::read(&rp).map_err(|e| Error::Invalid(format!("{}: {e}", rp.display())))?;
     let sha = crate::output::sha256_hex(&bytes);

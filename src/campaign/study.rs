@@ -311,7 +311,7 @@ impl Study {
         ] {
             if names.is_empty() {
                 return Err(err(format!(
-                    "no [[{kind}]] entry: a study needs at least one robot, one cell and one path"
+                    "no `[[{kind}]]` entry: a study needs at least one robot, one cell and one path"
                 )));
             }
             let mut seen = std::collections::HashSet::new();
@@ -1169,7 +1169,7 @@ file = "/abs/column.gcode"
         );
         let none = "[study]\nname = \"a\"\n[[robot]]\nname = \"r\"\nrobot = \"x\"\n";
         let e = Study::parse(none, f).unwrap_err().to_string();
-        assert!(e.contains("no [[cell]] entry"), "{e}");
+        assert!(e.contains("no `[[cell]]` entry"), "{e}");
     }
 
     #[test]

@@ -58,8 +58,16 @@ pub(crate) fn load(a: &LogArgs) -> Result<(printwatt::robot::RobotModel, Model, 
         .with_context(|| format!("--effects `{}`", a.effects.as_deref().unwrap_or("")))?;
     identify::switch_effects(&mut model, robot.dof(), None, a.without.as_deref())
         .with_context(|| format!("--without `{}`", a.without.as_deref().unwrap_or("")))?;
-    let log = identify::read_log_for(&robot, &a.log, a.columns.as_deref())
-        .with_context(|| format!("reading log {}", a.log.display()))?;
+    let log = identify::read_log_for(&robot, &a.log, a.columns.as_deref()).map_err(|e| {
+        // A controller's export often has no header: say how to name its columns.
+        let hint = if a.columns.is_none() && e.to_string().contains("found numbers") {
+            "; a log without a header row needs --columns, e.g. --columns 't, q1..q6, tau1..tau6' \
+             (docs/measurement-logs.md)"
+        } else {
+            ""
+        };
+        anyhow::anyhow!("reading log {}: {e}{hint}", a.log.display())
+    })?;
     super::note_warnings(&log.file, &log.warnings);
     check_log_robot(&log, &robot);
     Ok((robot, model, log))
@@ -125,7 +133,10 @@ pub fn run(a: super::CompareArgs) -> Result<()> {
     let (mut cmp, pred) = metrics::compare(&prep, &model);
     cmp.calibration = robot.effects.calibration_summary();
     // The last check before anything leaves: the JSON, the report and the printed table.
-    printwatt::output::check_finite_json("compare", &cmp)?;
+    printwatt::output::check_finite_json(
+        &format!("compare of the log {}", a.log.log.display()),
+        &cmp,
+    )?;
     if let Some(dir) = &a.out.out {
         // The report plots the model's prediction, sample by sample.
         let ch = log.channels.max(1);

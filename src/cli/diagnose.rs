@@ -26,7 +26,10 @@ pub fn run(a: super::DiagnoseArgs) -> Result<()> {
     }
     d.calibration = robot.effects.calibration_summary();
     // The last check before anything leaves (the JSON or the printed ranking).
-    printwatt::output::check_finite_json("diagnose", &d)?;
+    printwatt::output::check_finite_json(
+        &format!("diagnose of the log {}", a.log.log.display()),
+        &d,
+    )?;
     if let Some(dir) = &a.out.out {
         let inputs = super::inputs(
             &a.log.robot.robot,

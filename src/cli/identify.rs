@@ -2,7 +2,6 @@
 
 use anyhow::{Context, Result};
 use printwatt::identify::{self, ladder};
-use printwatt::report::svg;
 
 /// `printwatt identify`: fit the listed effects in turn, report the ladder, write the
 /// calibrated robot (`<name>.calibrated.toml` in --out or the current directory).
@@ -59,9 +58,18 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
         Some(v) => Some(identify::Prepared::new(&model, v)?),
         None => None,
     };
+    // The error per joint before the fit (on the validation log when there is one), for the
+    // report written with --out.
+    let before = a.out.out.as_ref().map(|_| match &vprep {
+        Some(v) => identify::metrics::compare(v, &model).0,
+        None => identify::metrics::compare(&prep, &model).0,
+    });
     let id = plan.fit(&mut model, (&log, &prep), vlog.as_ref().zip(vprep.as_ref()))?;
     // The last check before anything leaves: the calibrated robot, the files, the JSON.
-    printwatt::output::check_finite_json("identify", &id)?;
+    printwatt::output::check_finite_json(
+        &format!("identify of the log {}", a.log.log.display()),
+        &id,
+    )?;
     if !id.implausible.is_empty() {
         // Reported, never written as the calibrated robot.
         if a.out.json {
@@ -99,21 +107,48 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
     let written = Some(dst);
     if let Some(dir) = &a.out.out {
         std::fs::create_dir_all(dir).map_err(|e| printwatt::Error::io(dir, e))?;
-        let labels: Vec<String> = id.ladder.iter().map(|s| s.step.clone()).collect();
-        let vals: Vec<f64> = id.ladder.iter().map(|s| s.validation_rmse).collect();
-        printwatt::output::write_atomic(
-            &dir.join("ladder.svg"),
-            svg::bar_chart(
-                &svg::Frame::new(
-                    "Error ladder: validation RMSE per step",
-                    "ladder step (effects added cumulatively)",
-                    &format!("validation RMSE [{}]", log.kind.unit()),
+        let after = match &vprep {
+            Some(v) => identify::metrics::compare(v, &model).0,
+            None => identify::metrics::compare(&prep, &model).0,
+        };
+        let on = match &vlog {
+            Some(v) => format!("the validation log {}", v.file),
+            None => format!("the log fitted, {}", log.file),
+        };
+        let earlier = robot
+            .effects
+            .calibration
+            .as_ref()
+            .map_or(&[][..], |c| c.rounds.as_slice());
+        let report = printwatt::report::identify::IdentifyReport {
+            title: format!("printwatt identify: {} on {}", log.file, robot.name()),
+            facts: vec![
+                ("robot".into(), robot.name().to_string()),
+                (
+                    "robot file".into(),
+                    printwatt::robot::robot_file_display(&robot),
                 ),
-                &labels,
-                &[("validation RMSE".into(), vals)],
-            )
-            .as_bytes(),
-        )?;
+                (
+                    "drive data".into(),
+                    printwatt::robot::drive_data_status(&robot),
+                ),
+                ("log".into(), log.file.clone()),
+                ("signal unit".into(), log.kind.unit().to_string()),
+                ("validated on".into(), id.validation.clone()),
+                (
+                    "calibrated robot".into(),
+                    written
+                        .as_ref()
+                        .map_or(String::new(), |w| w.display().to_string()),
+                ),
+            ],
+            earlier_rounds: earlier,
+            id: &id,
+            unit: log.kind.unit().to_string(),
+            before_after: before.as_ref().map(|b| (b, &after, on)),
+        };
+        printwatt::output::write_atomic(&dir.join("ladder.svg"), report.ladder_svg().as_bytes())?;
+        printwatt::output::write_atomic(&dir.join("report.html"), report.html().as_bytes())?;
         printwatt::output::write_atomic(
             &dir.join("ladder.md"),
             ladder_table(&id, log.kind.unit()).as_bytes(),

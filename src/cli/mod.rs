@@ -446,6 +446,19 @@ pub fn print_json_text(text: &str) -> Result<()> {
     print_json(&v)
 }
 
+/// Print a run report's `summary.json` as the `--json` answer (with the warnings noted so far):
+/// the text [`print_json_text`] gives for it, written straight from the report without a JSON
+/// value tree of its rows.
+pub fn print_report_json(
+    rep: &printwatt::report::placement::RunReport,
+    with_rows: bool,
+) -> Result<()> {
+    let ws = serde_json::to_value(warnings()).unwrap_or_default();
+    let text = rep.summary_json_with(with_rows, &[("warnings", ws)])?;
+    outln!("{text}");
+    Ok(())
+}
+
 fn add_warnings(v: &mut serde_json::Value) {
     let ws = serde_json::to_value(warnings()).unwrap_or_default();
     match v {

@@ -366,7 +366,7 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
         }
     }
     if p.out.json {
-        super::print_json_text(&rep.summary_json(false)?)?;
+        super::print_report_json(&rep, false)?;
         return Ok(());
     }
     let best = rep.best().context("no feasible placement")?;

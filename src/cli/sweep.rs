@@ -635,7 +635,7 @@ pub fn finish(
         rep.check_finite()?;
     }
     if a.out.json {
-        super::print_json_text(&rep.summary_json(true)?)?;
+        super::print_report_json(&rep, true)?;
     } else {
         print_rows(&rep.rows, rep.names.as_deref())?;
         if let Some(b) = rep.best() {

@@ -5,7 +5,9 @@
 //! motor torque `τ_m = τ/(G η)` when driving and `τ η / G` when back-driven, current
 //! `i = τ_m / K_t`, electrical power `P = τ_m G q̇ + R i²`.
 
-use super::{check_values, per_joint, BuildContext, Effect, ParamSpec, Stage};
+use super::{
+    check_values, per_joint, BuildContext, Effect, MotorTerm, ParamSpec, Stage, SupplyTerm,
+};
 use crate::error::Result;
 
 /// `copper`: winding resistance per axis `R`, Ω; loss `R i²` (W).
@@ -57,7 +59,7 @@ impl Effect for Copper {
         Box::new(self.clone())
     }
     fn stage(&self) -> Stage {
-        Stage::Motor
+        Stage::Motor(MotorTerm::WindingResistance)
     }
 }
 
@@ -87,7 +89,7 @@ impl Effect for GearEfficiency {
         Box::new(self.clone())
     }
     fn stage(&self) -> Stage {
-        Stage::Motor
+        Stage::Motor(MotorTerm::GearEfficiency)
     }
 }
 
@@ -115,7 +117,7 @@ impl Effect for Regeneration {
         Box::new(self.clone())
     }
     fn stage(&self) -> Stage {
-        Stage::Supply
+        Stage::Supply(SupplyTerm::Regeneration)
     }
 }
 
@@ -143,7 +145,7 @@ impl Effect for Standby {
         Box::new(self.clone())
     }
     fn stage(&self) -> Stage {
-        Stage::Supply
+        Stage::Supply(SupplyTerm::Standby)
     }
 }
 

@@ -50,16 +50,35 @@ pub use self::Effect as TorqueEffect;
 use crate::error::{Error, Result};
 use crate::robot::RobotModel;
 
-/// Where in the chain an effect acts.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
-#[serde(rename_all = "snake_case")]
+/// Where in the chain an effect acts. A motor or supply effect names the term of the motor
+/// model it supplies, so the energy model takes each by its role, never by its name: a new
+/// motor or supply term is a new variant the compiler makes every stage handle.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Stage {
     /// Joint-side torque added to the rigid body (`τ = τ_rb + Σ τ_effect`).
     Torque,
-    /// Motor model of each axis (`copper`, `gear_efficiency`).
-    Motor,
-    /// Supply side (`regeneration`, `standby`).
-    Supply,
+    /// A term of each axis's motor model.
+    Motor(MotorTerm),
+    /// A term of the supply side.
+    Supply(SupplyTerm),
+}
+
+/// The motor-model term a [`Stage::Motor`] effect supplies (one value per joint).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum MotorTerm {
+    /// Winding resistance `R` (Ω): copper loss `R i²` with `i = τ_m / k_t`.
+    WindingResistance,
+    /// Gear efficiency `η` (1): loss in the gear, in the direction of the power flow.
+    GearEfficiency,
+}
+
+/// The supply term a [`Stage::Supply`] effect supplies (one value).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum SupplyTerm {
+    /// Share `ρ` of braking power recovered.
+    Regeneration,
+    /// Standby power `P0` (W) drawn while the arm is on.
+    Standby,
 }
 
 /// Which part of the energy breakdown a torque effect's power `τ_effect q̇` is booked to.

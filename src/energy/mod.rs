@@ -45,7 +45,9 @@ pub use lanes::{
 pub use report::{EnergyReport, JointEnergy, SampleSeries, TotalEnergy};
 
 use crate::dynamics::{rnea, rnea_with_sincos, DynData, DynModel, DynOptions, MAX_DOF};
-use crate::effects::{Effect, EffectSet, EnergyClass, Stage, COULOMB_VELOCITY_SCALE_RAD_S};
+use crate::effects::{
+    Effect, EffectSet, EnergyClass, MotorTerm, Stage, SupplyTerm, COULOMB_VELOCITY_SCALE_RAD_S,
+};
 use crate::error::{Error, Result};
 use crate::robot::{Regeneration, RobotModel};
 use crate::simd::{Level, LANES};
@@ -163,6 +165,18 @@ impl EnergyModel {
     /// The model with explicit options. Errors: as [`DynModel::new`]; an invalid Coulomb
     /// velocity scale; a drive whose joint count differs from the robot's.
     pub fn with_options(robot: &RobotModel, options: EnergyOptions) -> Result<Self> {
+        Self::with_effects(robot, options, EffectSet::of_robot(robot)?)
+    }
+
+    /// The model with explicit options and effects (the robot's own are
+    /// [`EffectSet::of_robot`]): each enabled effect acts at its [`Stage`], a motor or supply
+    /// effect by the term it names, so an effect defined outside printwatt enters like a
+    /// registered one. Errors: as [`EnergyModel::with_options`].
+    pub fn with_effects(
+        robot: &RobotModel,
+        options: EnergyOptions,
+        mut set: EffectSet,
+    ) -> Result<Self> {
         let n = robot.dof();
         let has_drive = robot.drive.is_some();
         if !(options.coulomb_velocity_scale.is_finite() && options.coulomb_velocity_scale > 0.0) {
@@ -171,7 +185,6 @@ impl EnergyModel {
                 options.coulomb_velocity_scale
             )));
         }
-        let mut set = EffectSet::of_robot(robot)?;
         if options.coulomb_velocity_scale != COULOMB_VELOCITY_SCALE_RAD_S
             && set.is_enabled("coulomb")
         {
@@ -209,14 +222,10 @@ impl EnergyModel {
                         torque.push((Arc::from(e.clone_box()), class));
                     }
                 }
-                Stage::Motor => match e.name() {
-                    "copper" => motor[0] = Some(e.values()),
-                    _ => motor[1] = Some(e.values()),
-                },
-                Stage::Supply => match e.name() {
-                    "regeneration" => rho = e.values()[0],
-                    _ => p0 = e.values()[0],
-                },
+                Stage::Motor(MotorTerm::WindingResistance) => motor[0] = Some(e.values()),
+                Stage::Motor(MotorTerm::GearEfficiency) => motor[1] = Some(e.values()),
+                Stage::Supply(SupplyTerm::Regeneration) => rho = e.values()[0],
+                Stage::Supply(SupplyTerm::Standby) => p0 = e.values()[0],
             }
         }
         let dynamics = DynModel::new(
@@ -594,6 +603,13 @@ fn power_sample(model: &EnergyModel, qd: &[f64], out: &mut SamplePower) -> f64 {
     out.p_supply
 }
 
+impl EnergyModel {
+    /// The names of the joints the model covers, in chain order.
+    pub fn joint_names(&self) -> &[String] {
+        &self.joint_names
+    }
+}
+
 /// Evaluate a whole trajectory (velocities and accelerations must be filled; see
 /// [`crate::dynamics::fill_derivatives`]) into an [`EnergyReport`] with per-joint and total
 /// energies (trapezoidal, seed 000 eq. 7), peaks, RMS torques and the per-sample series.
@@ -601,6 +617,31 @@ fn power_sample(model: &EnergyModel, qd: &[f64], out: &mut SamplePower) -> f64 {
 /// Errors: a joint count different from the model's; a trajectory with missing `qd`/`qdd`
 /// or non-increasing times (via [`JointTrajectory::validate`]).
 pub fn evaluate(model: &EnergyModel, traj: &JointTrajectory) -> Result<EnergyReport> {
+    let n = model.n;
+    let len = traj.len();
+    let mut series = SampleSeries::with_capacity(n, len.min(traj.q.len() / n.max(1)));
+    let mut report = evaluate_streaming(model, traj, &mut |k, s| {
+        series.t.push(traj.t[k]);
+        series.tau.extend_from_slice(&s.tau[..n]);
+        series.p_mech.extend_from_slice(&s.p_mech[..n]);
+        series.p_el.extend_from_slice(&s.p_el[..n]);
+        series.current.extend_from_slice(&s.current[..n]);
+        series.p_supply.push(s.p_supply);
+    })?;
+    report.series = series;
+    Ok(report)
+}
+
+/// [`evaluate`] without the per-sample series: every figure of the report integrated sample by
+/// sample as the samples are evaluated (the same sums in the same order, so the same bits),
+/// each sample's powers handed to `on_sample(k, powers)` and then dropped. The report's
+/// `series` is left empty: memory does not grow with the trajectory beyond the trajectory
+/// itself. `on_sample` may keep what it needs (a chart's decimated envelope, a CSV row).
+pub fn evaluate_streaming(
+    model: &EnergyModel,
+    traj: &JointTrajectory,
+    on_sample: &mut dyn FnMut(usize, &SamplePower),
+) -> Result<EnergyReport> {
     let n = model.n;
     if traj.n != n {
         return Err(Error::SizeMismatch {
@@ -624,71 +665,93 @@ pub fn evaluate(model: &EnergyModel, traj: &JointTrajectory) -> Result<EnergyRep
     traj.validate("trajectory")?;
     let mut data = model.data();
     let mut s = SamplePower::default();
-    let mut series = SampleSeries::with_capacity(n, len);
-    let mut lost = Vec::with_capacity(len);
-    let mut drives = Vec::with_capacity(len);
-    let mut rb = Vec::with_capacity(len * n);
-    let mut fr = Vec::with_capacity(len * n);
-    let mut bal = Vec::with_capacity(len * n);
-    let mut gear = Vec::with_capacity(len * n);
-    let mut cu = Vec::with_capacity(len * n);
+    let mut prev = SamplePower::default();
+    // The trapezoid sums as crate::numerics::trapezoid forms them: Σ_k ½ (t_k − t_{k−1})
+    // (y_{k−1} + y_k), added in sample order from the empty sum.
+    let zero: f64 = std::iter::empty::<f64>().sum();
+    let mut acc = Streamed {
+        mech: [zero; MAX_DOF],
+        rb: [zero; MAX_DOF],
+        bal: [zero; MAX_DOF],
+        fr: [zero; MAX_DOF],
+        gear: [zero; MAX_DOF],
+        cu: [zero; MAX_DOF],
+        el: [zero; MAX_DOF],
+        el_pos: [zero; MAX_DOF],
+        tau2: [zero; MAX_DOF],
+        peak_mech: [f64::NEG_INFINITY; MAX_DOF],
+        peak_el: [f64::NEG_INFINITY; MAX_DOF],
+        max_abs_tau: [0.0; MAX_DOF],
+        supply: zero,
+        drives: zero,
+        lost: zero,
+        peak_supply: f64::NEG_INFINITY,
+    };
+    let mut first_tau2 = [0.0; MAX_DOF];
+    let t = &traj.t;
     for k in 0..len {
         eval_sample(model, &mut data, traj.q(k), traj.qd(k), traj.qdd(k), &mut s)?;
-        series.t.push(traj.t[k]);
-        series.tau.extend_from_slice(&s.tau[..n]);
-        series.p_mech.extend_from_slice(&s.p_mech[..n]);
-        series.p_el.extend_from_slice(&s.p_el[..n]);
-        series.current.extend_from_slice(&s.current[..n]);
-        series.p_supply.push(s.p_supply);
-        rb.extend_from_slice(&s.p_rigid_body[..n]);
-        fr.extend_from_slice(&s.p_friction[..n]);
-        bal.extend_from_slice(&s.p_balancer[..n]);
-        gear.extend_from_slice(&s.p_gear[..n]);
-        cu.extend_from_slice(&s.p_copper[..n]);
-        lost.push(s.p_regeneration_lost);
-        drives.push(s.p_drives);
+        if k > 0 {
+            let h = t[k] - t[k - 1];
+            let trap = |a: f64, b: f64| 0.5 * h * (a + b);
+            for j in 0..n {
+                acc.mech[j] += trap(prev.p_mech[j], s.p_mech[j]);
+                acc.rb[j] += trap(prev.p_rigid_body[j], s.p_rigid_body[j]);
+                acc.bal[j] += trap(prev.p_balancer[j], s.p_balancer[j]);
+                acc.fr[j] += trap(prev.p_friction[j], s.p_friction[j]);
+                acc.gear[j] += trap(prev.p_gear[j], s.p_gear[j]);
+                acc.cu[j] += trap(prev.p_copper[j], s.p_copper[j]);
+                acc.el[j] += trap(prev.p_el[j], s.p_el[j]);
+                acc.el_pos[j] += trap(prev.p_el[j].max(0.0), s.p_el[j].max(0.0));
+                acc.tau2[j] += trap(prev.tau[j].powi(2), s.tau[j].powi(2));
+            }
+            acc.supply += trap(prev.p_supply, s.p_supply);
+            acc.drives += trap(prev.p_drives, s.p_drives);
+            acc.lost += trap(prev.p_regeneration_lost, s.p_regeneration_lost);
+        } else {
+            for (f, t) in first_tau2.iter_mut().zip(&s.tau[..n]) {
+                *f = t.powi(2);
+            }
+        }
+        for j in 0..n {
+            acc.peak_mech[j] = acc.peak_mech[j].max(s.p_mech[j]);
+            acc.peak_el[j] = acc.peak_el[j].max(s.p_el[j]);
+            acc.max_abs_tau[j] = acc.max_abs_tau[j].max(s.tau[j].abs());
+        }
+        acc.peak_supply = acc.peak_supply.max(s.p_supply);
+        on_sample(k, &s);
+        prev = s;
     }
-    let t = &traj.t;
+    let dur = traj.duration();
     let joints: Vec<JointEnergy> = (0..n)
         .map(|j| {
-            let col = |v: &[f64]| crate::numerics::trapezoid_column(t, v, n, j);
-            let peak = |v: &[f64]| {
-                (0..len)
-                    .map(|k| v[k * n + j])
-                    .fold(f64::NEG_INFINITY, f64::max)
-            };
-            let tau2: Vec<f64> = (0..len).map(|k| series.tau[k * n + j].powi(2)).collect();
-            let dur = traj.duration();
             let rms = if dur > 0.0 {
-                (crate::numerics::trapezoid(t, &tau2) / dur).sqrt()
+                (acc.tau2[j] / dur).sqrt()
+            } else if len > 0 {
+                first_tau2[j].sqrt()
             } else {
-                tau2.first().map_or(0.0, |x| x.sqrt())
+                0.0
             };
             JointEnergy {
                 name: model.joint_names[j].clone(),
-                mechanical_j: col(&series.p_mech),
-                rigid_body_j: col(&rb),
-                balancer_j: col(&bal),
-                friction_j: col(&fr),
-                gear_j: col(&gear),
-                copper_j: col(&cu),
-                electrical_j: col(&series.p_el),
-                electrical_positive_j: {
-                    let pos: Vec<f64> = (0..len).map(|k| series.p_el[k * n + j].max(0.0)).collect();
-                    crate::numerics::trapezoid(t, &pos)
-                },
-                peak_mechanical_power_w: if len > 0 { peak(&series.p_mech) } else { 0.0 },
-                peak_electrical_power_w: if len > 0 { peak(&series.p_el) } else { 0.0 },
+                mechanical_j: acc.mech[j],
+                rigid_body_j: acc.rb[j],
+                balancer_j: acc.bal[j],
+                friction_j: acc.fr[j],
+                gear_j: acc.gear[j],
+                copper_j: acc.cu[j],
+                electrical_j: acc.el[j],
+                electrical_positive_j: acc.el_pos[j],
+                peak_mechanical_power_w: if len > 0 { acc.peak_mech[j] } else { 0.0 },
+                peak_electrical_power_w: if len > 0 { acc.peak_el[j] } else { 0.0 },
                 rms_torque_nm: rms,
-                max_abs_torque_nm: (0..len)
-                    .map(|k| series.tau[k * n + j].abs())
-                    .fold(0.0, f64::max),
+                max_abs_torque_nm: acc.max_abs_tau[j],
             }
         })
         .collect();
     let sum = |f: fn(&JointEnergy) -> f64| joints.iter().map(f).sum::<f64>();
-    let duration = traj.duration();
-    let supply_j = crate::numerics::trapezoid(t, &series.p_supply);
+    let duration = dur;
+    let supply_j = acc.supply;
     let total = TotalEnergy {
         mechanical_j: sum(|j| j.mechanical_j),
         rigid_body_j: sum(|j| j.rigid_body_j),
@@ -697,19 +760,11 @@ pub fn evaluate(model: &EnergyModel, traj: &JointTrajectory) -> Result<EnergyRep
         gear_j: sum(|j| j.gear_j),
         copper_j: sum(|j| j.copper_j),
         electrical_j: sum(|j| j.electrical_j),
-        drives_j: crate::numerics::trapezoid(t, &drives),
-        regeneration_lost_j: crate::numerics::trapezoid(t, &lost),
+        drives_j: acc.drives,
+        regeneration_lost_j: acc.lost,
         standby_j: model.standby_w * duration,
         supply_j,
-        peak_supply_power_w: if len > 0 {
-            series
-                .p_supply
-                .iter()
-                .copied()
-                .fold(f64::NEG_INFINITY, f64::max)
-        } else {
-            0.0
-        },
+        peak_supply_power_w: if len > 0 { acc.peak_supply } else { 0.0 },
         mean_supply_power_w: if duration > 0.0 {
             supply_j / duration
         } else {
@@ -726,6 +781,29 @@ pub fn evaluate(model: &EnergyModel, traj: &JointTrajectory) -> Result<EnergyRep
         samples: len,
         joints,
         total,
-        series,
+        series: SampleSeries {
+            n,
+            ..Default::default()
+        },
     })
+}
+
+/// The running sums and extremes of [`evaluate_streaming`], per joint where indexed.
+struct Streamed {
+    mech: [f64; MAX_DOF],
+    rb: [f64; MAX_DOF],
+    bal: [f64; MAX_DOF],
+    fr: [f64; MAX_DOF],
+    gear: [f64; MAX_DOF],
+    cu: [f64; MAX_DOF],
+    el: [f64; MAX_DOF],
+    el_pos: [f64; MAX_DOF],
+    tau2: [f64; MAX_DOF],
+    peak_mech: [f64; MAX_DOF],
+    peak_el: [f64; MAX_DOF],
+    max_abs_tau: [f64; MAX_DOF],
+    supply: f64,
+    drives: f64,
+    lost: f64,
+    peak_supply: f64,
 }

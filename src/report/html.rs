@@ -101,7 +101,8 @@ const CSS: &str = "body{font-family:sans-serif;max-width:1100px;margin:1em auto;
 table{border-collapse:collapse;margin:0.5em 0}td,th{border:1px solid #ccc;padding:2px 8px;text-align:right}\
 th{background:#f3f3f3}td.t{text-align:left}figure{margin:1em 0}figcaption{font-size:0.9em;color:#555}\
 dl{display:grid;grid-template-columns:max-content auto;gap:2px 12px}dt{font-weight:bold}dd{margin:0}\
-.row{display:flex;flex-wrap:wrap;gap:0 12px}.row figure{margin:0.5em 0}svg{max-width:100%;height:auto}";
+.row{display:flex;flex-wrap:wrap;gap:0 12px}.row figure{margin:0.5em 0}svg{max-width:100%;height:auto}\
+.answer{border:2px solid #0072B2;background:#f5faff;padding:0 1em 0.5em;margin:1em 0}.answer ul{margin:0;padding-left:1.2em}";
 
 /// An HTML table (escaped cells).
 pub fn table(header: &[String], rows: &[Vec<String>]) -> String {

@@ -25,18 +25,113 @@ use crate::search::Grid;
 use serde::Serialize;
 use std::path::Path;
 
+/// Where the energy bars start when they start at the standby: (floor, lowest standby,
+/// highest standby), J.
+type BarsFloor = (f64, f64, f64);
+
 /// Files this module writes in a run directory; any other file there is "foreign".
 pub const OUR_FILES: [&str; 3] = ["summary.json", "placements.csv", "report.html"];
 
-/// A placement reported in detail (full energy report with per-sample series).
+/// A placement reported in detail: its energy report and what the charts draw of its series.
 #[derive(Clone, Debug)]
 pub struct Detail {
     /// Label (e.g. "best", "worst", "baseline", "P1").
     pub label: String,
     /// The placement's sweep entry.
     pub eval: Evaluated,
-    /// Its full energy report.
+    /// Its energy report (the per-sample series may be left empty when `charts` is given).
     pub energy: EnergyReport,
+    /// The power and cumulative-energy charts' series taken in sample by sample
+    /// ([`DetailCharts`]); `None`: the charts are drawn from `energy.series`.
+    pub charts: Option<DetailCharts>,
+}
+
+/// The series the report's power and cumulative-energy charts of a detailed placement draw,
+/// taken in sample by sample as the energy is evaluated
+/// ([`crate::energy::evaluate_streaming`]): the charts' decimated points only, so a placement
+/// reported in detail holds no per-sample series. The charts are those drawn from the whole
+/// series, byte for byte.
+#[derive(Clone, Debug)]
+pub struct DetailCharts {
+    /// Drawn with electrical (true) or mechanical (false) power.
+    pub electrical: bool,
+    n: usize,
+    power: Vec<svg::StreamedSeries>,
+    cumulative: Vec<svg::StreamedSeries>,
+    /// Running integrals (supply first when electrical, then the joints) and the previous
+    /// sample's time and values.
+    acc: Vec<f64>,
+    prev: Option<(f64, Vec<f64>)>,
+    now: Vec<f64>,
+}
+
+impl DetailCharts {
+    /// Charts of `samples` samples of a robot with joints `names`, with electrical or
+    /// mechanical power (the report's choice, [`RunReport::electrical`]).
+    pub fn new(names: &[String], samples: usize, electrical: bool) -> Self {
+        let joint_names: Vec<&str> = names.iter().map(|s| s.as_str()).collect();
+        let pf = svg::Frame::new("", "", "").size(760.0, 360.0);
+        let pb = svg::line_buckets(&pf, &joint_names);
+        let mut cum_names = Vec::new();
+        if electrical {
+            cum_names.push("supply");
+        }
+        cum_names.extend(joint_names.iter().copied());
+        let cf = svg::Frame::new("", "", "").size(760.0, 320.0);
+        let cb = svg::line_buckets(&cf, &cum_names);
+        DetailCharts {
+            electrical,
+            n: names.len(),
+            power: joint_names
+                .iter()
+                .map(|n| svg::StreamedSeries::new(n, samples, pb))
+                .collect(),
+            cumulative: cum_names
+                .iter()
+                .map(|n| svg::StreamedSeries::new(n, samples, cb))
+                .collect(),
+            acc: vec![0.0; cum_names.len()],
+            prev: None,
+            now: vec![0.0; cum_names.len()],
+        }
+    }
+
+    /// The next sample at time `t`, s.
+    pub fn push(&mut self, t: f64, s: &crate::energy::SamplePower) {
+        let n = self.n;
+        let p = if self.electrical { &s.p_el } else { &s.p_mech };
+        for (series, &v) in self.power.iter_mut().zip(&p[..n]) {
+            series.push(t, v);
+        }
+        let off = usize::from(self.electrical);
+        if self.electrical {
+            self.now[0] = s.p_supply;
+        }
+        self.now[off..off + n].copy_from_slice(&p[..n]);
+        // crate::numerics::cumulative_trapezoid, one sample at a time.
+        if let Some((t0, y0)) = &self.prev {
+            for (i, a) in self.acc.iter_mut().enumerate() {
+                *a += 0.5 * (self.now[i] + y0[i]) * (t - t0);
+            }
+        }
+        for (c, a) in self.cumulative.iter_mut().zip(&self.acc) {
+            c.push(t, *a);
+        }
+        match &mut self.prev {
+            Some((t0, y0)) => {
+                *t0 = t;
+                y0.copy_from_slice(&self.now);
+            }
+            None => self.prev = Some((t, self.now.clone())),
+        }
+    }
+
+    /// Every sample is in.
+    pub fn finish(&mut self) {
+        for s in self.power.iter_mut().chain(self.cumulative.iter_mut()) {
+            s.finish();
+        }
+    }
 }
 
 /// Everything a run report shows.
@@ -143,6 +238,17 @@ impl RunReport {
     /// `summary.json`: counts, best/worst, spread, baseline and saving, search result and
     /// sensitivity, per-joint energies of the detailed placements; every row with `with_rows`.
     pub fn summary_json(&self, with_rows: bool) -> Result<String> {
+        self.summary_json_with(with_rows, &[])
+    }
+
+    /// [`RunReport::summary_json`] with `extra` top-level fields (a command's `warnings`),
+    /// written straight from the report ([`crate::output::json_text_with`]): no JSON value
+    /// tree of the rows is built.
+    pub fn summary_json_with(
+        &self,
+        with_rows: bool,
+        extra: &[(&str, serde_json::Value)],
+    ) -> Result<String> {
         let mut reasons = std::collections::BTreeMap::new();
         for r in &self.rows {
             if let Err(e) = &r.outcome {
@@ -201,7 +307,7 @@ impl RunReport {
                 .map(|n| n.iter().cloned().zip(self.rows.iter()).collect()),
             rows: with_rows.then_some(self.rows.as_slice()),
         };
-        crate::output::json_text(&s)
+        crate::output::json_text_with(&s, extra)
     }
 
     fn joint_value(&self, j: &crate::energy::JointEnergy) -> f64 {
@@ -371,7 +477,8 @@ impl RunReport {
         }
         let best = self.best().filter(|b| b.cost().is_finite());
         if let Some(b) = best {
-            if self.grid.is_some() {
+            // The refined optimum: only an optimisation has one off the grid.
+            if self.grid.is_some() && self.optimise.is_some() {
                 v.points.push(MapPoint {
                     x: b.placement.x,
                     y: b.placement.y,
@@ -435,7 +542,12 @@ impl RunReport {
                         (p.x, p.y)
                     })
                     .collect();
-                v.lines.push(("part at the optimum".into(), pts));
+                let what = if self.optimise.is_some() {
+                    "part at the optimum"
+                } else {
+                    "part at the best placement"
+                };
+                v.lines.push((what.into(), pts));
             }
         }
         let f =
@@ -445,37 +557,63 @@ impl RunReport {
 
     /// Energy against bed height and against yaw through the best grid cell (other variables
     /// at the best cell's values; minimum over spin). `None` where the grid has one value.
-    fn slices_svg(&self) -> Vec<(String, String, String)> {
+    fn slices_svg(&self) -> (Vec<(String, String, String)>, Vec<String>) {
         let mut out = Vec::new();
+        let mut notes = Vec::new();
         let Some(g) = self.grid.as_ref() else {
-            return out;
+            return (out, notes);
         };
         let Some([ix, iy, iz, iyaw]) = self.best_cell(g) else {
-            return out;
+            return (out, notes);
         };
         let val = |iz, iyaw| self.cell(g, ix, iy, iz, iyaw).unwrap_or(f64::NAN);
+        // A slice with one feasible point is no curve: said in words instead of drawn.
+        let lone = |what: &str, at: &[f64], y: &[f64], unit: &str| -> Option<String> {
+            let feasible: Vec<usize> = (0..y.len()).filter(|&k| y[k].is_finite()).collect();
+            (feasible.len() < 2).then(|| {
+                format!(
+                    "Energy against {what} through the best grid cell: only {} of the {} {what}s is feasible{} (no curve to draw).",
+                    feasible.len(),
+                    y.len(),
+                    feasible.first().map_or(String::new(), |&k| format!(
+                        ", {}{unit}: {:.1} J",
+                        svg::fmt_num(at[k]),
+                        y[k]
+                    ))
+                )
+            })
+        };
         if g.zs.len() > 1 {
             let y: Vec<f64> = (0..g.zs.len()).map(|k| val(k, iyaw)).collect();
-            let f = svg::Frame::new(
-                &format!(
-                    "Energy against bed height at x = {} m, y = {} m, yaw = {}°",
-                    svg::fmt_num(g.xs[ix]),
-                    svg::fmt_num(g.ys[iy]),
-                    svg::fmt_num(g.yaws[iyaw].to_degrees())
-                ),
-                "bed height z [m]",
-                "energy [J]",
-            )
-            .size(440.0, 300.0);
-            out.push((
-                "slice-z".into(),
-                svg::scatter(&f, &[Series::new("energy", &g.zs, &y)]),
-                "Energy against bed height through the best grid cell (gaps: infeasible).".into(),
-            ));
+            if let Some(n) = lone("bed height", &g.zs, &y, " m") {
+                notes.push(n);
+            } else {
+                let f = svg::Frame::new(
+                    &format!(
+                        "Energy against bed height at x = {} m, y = {} m, yaw = {}°",
+                        svg::fmt_num(g.xs[ix]),
+                        svg::fmt_num(g.ys[iy]),
+                        svg::fmt_num(g.yaws[iyaw].to_degrees())
+                    ),
+                    "bed height z [m]",
+                    "energy [J]",
+                )
+                .size(440.0, 300.0);
+                out.push((
+                    "slice-z".into(),
+                    svg::scatter(&f, &[Series::new("energy", &g.zs, &y)]),
+                    "Energy against bed height through the best grid cell (gaps: infeasible)."
+                        .into(),
+                ));
+            }
         }
         if g.yaws.len() > 1 {
             let yaws: Vec<f64> = g.yaws.iter().map(|a| a.to_degrees()).collect();
             let y: Vec<f64> = (0..g.yaws.len()).map(|k| val(iz, k)).collect();
+            if let Some(n) = lone("yaw", &yaws, &y, "°") {
+                notes.push(n);
+                return (out, notes);
+            }
             let f = svg::Frame::new(
                 &format!(
                     "Energy against yaw at x = {} m, y = {} m, z = {} m",
@@ -493,7 +631,50 @@ impl RunReport {
                 "Energy against part yaw through the best grid cell (gaps: infeasible).".into(),
             ));
         }
-        out
+        (out, notes)
+    }
+
+    /// The top view's caption, naming only what is drawn in it.
+    fn heatmap_caption(&self, svg_text: &str) -> String {
+        let mut parts = vec![
+            "Top view drawn to scale (1 m is as long on both axes): the robot base".to_string(),
+        ];
+        let site = self.site.as_ref();
+        if site.and_then(|s| s.annulus_m).is_some() {
+            parts.push("the reach of a downward nozzle at the bed height (dashed)".into());
+        }
+        if svg_text.contains("class=\"part at the") {
+            parts.push(if self.optimise.is_some() {
+                "the part outline at the optimum (red)".into()
+            } else {
+                "the part outline at the best placement (red)".into()
+            });
+        }
+        let mut s = parts.join(", ");
+        if svg_text.contains("<rect") && self.grid.is_some() && svg_text.contains("<title>(") {
+            s.push_str("; cells: energy at the best cell's bed height and yaw (a slice, not a minimum over them)");
+            if svg_text.contains("<g class=\"mark-") && svg_text.contains("stroke-width=\"1.3\"") {
+                s.push_str(", crosses mark infeasible cells by reason");
+            }
+        }
+        if self.names.is_some() && self.grid.is_none() {
+            s.push_str("; the named placements coloured by their energy (labels of placements at the same spot stacked)");
+            if svg_text.contains("data-infeasible") {
+                s.push_str(", a red cross marks an infeasible one");
+            }
+        }
+        if svg_text.contains("mark-best-cell") {
+            s.push_str(if self.optimise.is_some() {
+                "; the ring marks the best grid cell"
+            } else {
+                "; the ring marks the best placement of the sweep"
+            });
+        }
+        if svg_text.contains("mark-optimum") {
+            s.push_str(", the dot the refined optimum");
+        }
+        s.push('.');
+        s
     }
 
     /// Supply energy of the detailed placements, stacked: standby, motion work (rigid body and
@@ -525,6 +706,19 @@ impl RunReport {
 
     /// Cumulative energy over time at a detailed placement: supply (with drives) and per joint.
     fn cumulative_svg(&self, d: &Detail) -> String {
+        if let Some(c) = d
+            .charts
+            .as_ref()
+            .filter(|c| c.electrical == self.electrical)
+        {
+            let f = svg::Frame::new(
+                &format!("Cumulative energy at the {} placement", d.label),
+                "time [s]",
+                "energy [J]",
+            )
+            .size(760.0, 320.0);
+            return svg::line_chart_streamed(&f, &c.cumulative);
+        }
         let s = &d.energy.series;
         let n = d.energy.joints.len();
         let p = if self.electrical { &s.p_el } else { &s.p_mech };
@@ -552,7 +746,9 @@ impl RunReport {
         svg::line_chart(&f, &series)
     }
 
-    fn bars_svg(&self) -> Option<String> {
+    /// The energy per placement, with where its bars start when they start at the standby
+    /// ([`Self::standby_floor`]).
+    fn bars_svg(&self) -> Option<(String, Option<BarsFloor>)> {
         let (cats, vals): (Vec<String>, Vec<f64>) = if let Some(n) = &self.names {
             n.iter()
                 .cloned()
@@ -594,10 +790,110 @@ impl RunReport {
         if cats.is_empty() {
             return None;
         }
-        let f = svg::Frame::new("Energy per placement", "placement", "energy [J]")
-            .size(760.0, 360.0)
-            .missing("infeasible");
-        Some(svg::bar_chart(&f, &cats, &[("energy".into(), vals)]))
+        let floor = self.standby_floor(&vals);
+        let mut f = svg::Frame::new(
+            if floor.is_some() {
+                "Energy per placement above the standby every placement draws"
+            } else {
+                "Energy per placement"
+            },
+            "placement",
+            "energy [J]",
+        )
+        .size(760.0, 360.0)
+        .missing("infeasible");
+        if let Some((base, _, _)) = floor {
+            f = f.baseline(base);
+        }
+        Some((svg::bar_chart(&f, &cats, &[("energy".into(), vals)]), floor))
+    }
+
+    /// Where the bars of the energy per placement start when the objective includes the
+    /// standby (the cabinet at rest for the print time, the same at every placement up to the
+    /// print time's change): a round value at or below the smallest standby of the feasible
+    /// rows, below every bar; with the standby's range `(floor, min, max)`, J. `None` when the
+    /// objective does not include the standby or it is 0.
+    fn standby_floor(&self, vals: &[f64]) -> Option<BarsFloor> {
+        let feas: Vec<&crate::evaluate::evaluator::Feasible> = self
+            .rows
+            .iter()
+            .chain(self.optimise.as_ref().map(|o| &o.best))
+            .chain(self.baseline.as_ref().map(|b| &b.1))
+            .filter_map(|r| r.feasible())
+            .collect();
+        if feas.is_empty()
+            || !feas
+                .iter()
+                .all(|f| (f.energy_j - f.supply_j).abs() <= 1e-9 * f.supply_j.abs().max(1.0))
+        {
+            return None;
+        }
+        let lo = feas
+            .iter()
+            .map(|f| f.standby_j)
+            .fold(f64::INFINITY, f64::min);
+        let hi = feas.iter().map(|f| f.standby_j).fold(0.0, f64::max);
+        let vmin = vals
+            .iter()
+            .copied()
+            .filter(|v| v.is_finite())
+            .fold(f64::INFINITY, f64::min);
+        if !(lo > 0.0 && lo.is_finite() && vmin.is_finite()) {
+            return None;
+        }
+        // Two significant digits, rounded down: a round number below every bar.
+        let top = lo.min(0.98 * vmin);
+        let mag = 10f64.powf(top.log10().floor() - 1.0);
+        let base = (top / mag).floor() * mag;
+        (base > 0.0).then_some((base, lo, hi))
+    }
+
+    /// The regret of the recommended placement across the drawn robots: how many draws fall in
+    /// each band of regret (its energy minus the best candidate's in that draw).
+    fn uncertainty_svg(&self) -> Option<String> {
+        let u = self.optimise.as_ref()?.uncertainty.as_ref()?;
+        let regret: Vec<f64> = u
+            .per_draw_j
+            .iter()
+            .map(|d| (d[0] - d[1]).max(0.0))
+            .filter(|r| r.is_finite())
+            .collect();
+        if regret.is_empty() {
+            return None;
+        }
+        let hi = regret.iter().copied().fold(0.0, f64::max);
+        let bins = 10usize;
+        let (cats, counts): (Vec<String>, Vec<f64>) = if hi <= 0.0 {
+            (vec!["0 J".into()], vec![regret.len() as f64])
+        } else {
+            let w = hi / bins as f64;
+            let mut c = vec![0.0; bins];
+            for r in &regret {
+                c[((r / w) as usize).min(bins - 1)] += 1.0;
+            }
+            (
+                (0..bins)
+                    .map(|k| {
+                        format!(
+                            "{}–{}",
+                            svg::fmt_num(w * k as f64),
+                            svg::fmt_num(w * (k + 1) as f64)
+                        )
+                    })
+                    .collect(),
+                c,
+            )
+        };
+        let f = svg::Frame::new(
+            &format!(
+                "Regret of the recommended placement over {} drawn robots",
+                regret.len()
+            ),
+            "regret: its energy minus the best candidate's in the same draw [J]",
+            "draws",
+        )
+        .size(760.0, 340.0);
+        Some(svg::bar_chart(&f, &cats, &[("draws".into(), counts)]))
     }
 
     /// The robust choice's regret per candidate (expected and 95th percentile), the
@@ -695,15 +991,6 @@ impl RunReport {
     }
 
     fn power_svg(&self, d: &Detail) -> String {
-        let s = &d.energy.series;
-        let n = d.energy.joints.len();
-        let p = if self.electrical { &s.p_el } else { &s.p_mech };
-        let series: Vec<Series> = (0..n)
-            .map(|j| {
-                let y: Vec<f64> = (0..s.t.len()).map(|k| p[k * n + j]).collect();
-                Series::new(&d.energy.joints[j].name, &s.t, &y)
-            })
-            .collect();
         let what = if self.electrical {
             "electrical"
         } else {
@@ -715,6 +1002,22 @@ impl RunReport {
             "power [W]",
         )
         .size(760.0, 360.0);
+        if let Some(c) = d
+            .charts
+            .as_ref()
+            .filter(|c| c.electrical == self.electrical)
+        {
+            return svg::line_chart_streamed(&f, &c.power);
+        }
+        let s = &d.energy.series;
+        let n = d.energy.joints.len();
+        let p = if self.electrical { &s.p_el } else { &s.p_mech };
+        let series: Vec<Series> = (0..n)
+            .map(|j| {
+                let y: Vec<f64> = (0..s.t.len()).map(|k| p[k * n + j]).collect();
+                Series::new(&d.energy.joints[j].name, &s.t, &y)
+            })
+            .collect();
         svg::line_chart(&f, &series)
     }
 
@@ -744,9 +1047,140 @@ impl RunReport {
         )
     }
 
+    /// The answer card of an optimisation, the first thing on its page: where to put the part,
+    /// how much it draws (drives and standby apart) and saves against the baseline, how sure
+    /// the answer is (the tolerance box, the uncertainty study when it ran) and what it
+    /// assumes (robot file, drive data status, margins, path, print speed). Well-formed XHTML;
+    /// `None` without an optimisation.
+    pub fn answer_card(&self) -> Option<String> {
+        let o = self.optimise.as_ref()?;
+        let b = &o.best;
+        let f = b.feasible()?;
+        let p = PlacementRow::from(&b.placement);
+        let meta = |k: &str| {
+            self.meta
+                .iter()
+                .find(|(key, _)| key == k)
+                .map(|(_, v)| v.clone())
+        };
+        let mut items: Vec<(&str, String)> = vec![(
+            "where",
+            format!(
+                "x = {:.3} m, y = {:.3} m, z = {:.3} m, yaw = {:.1}° (nozzle spin {:.1}°), in the robot base frame",
+                p.x_m, p.y_m, p.z_m, p.yaw_deg, p.spin_deg
+            ),
+        )];
+        let objective = meta("objective")
+            .map(|o| o.split(':').next().unwrap_or("").to_string())
+            .unwrap_or_default();
+        items.push((
+            "how much",
+            format!(
+                "energy {:.1} J{}, print time {:.2} s: drives {:.1} J, standby {:.1} J (the cabinet at rest for the print time)",
+                f.energy_j,
+                if objective.is_empty() {
+                    String::new()
+                } else {
+                    format!(" ({objective})")
+                },
+                f.duration_s,
+                f.drives_j,
+                f.standby_j
+            ),
+        ));
+        if let (Some(sv), Some((how, base))) = (&o.savings, &self.baseline) {
+            let t = |x: (f64, f64)| saving_text(x.0, x.1);
+            let mut line = format!(
+                "supply {}, drives {}, standby {} against the baseline ({how}: {:.1} J)",
+                t(sv.supply),
+                t(sv.drives),
+                t(sv.standby),
+                base.cost()
+            );
+            if let Some(c) = o.baseline_tolerance.as_ref().filter(|c| !c.holds) {
+                line.push_str(&baseline_saving_caveat(c));
+            }
+            items.push(("saving", line));
+        }
+        let mut sure = Vec::new();
+        if let Some(si) = &o.search {
+            sure.push(format!(
+                "placement tolerance: {}",
+                tolerance_text(&si.tolerance, true)
+            ));
+        }
+        match &o.uncertainty {
+            Some(u) => {
+                let mut t = format!(
+                    "over {} robots drawn from the drive data's ranges, the recommended placement is the best candidate in {:.0} % of them and within 1 % of each one's best in {:.0} %",
+                    u.draws,
+                    u.p_best * 100.0,
+                    u.p_within_1pct * 100.0
+                );
+                if let Some(r) = o
+                    .decision
+                    .as_ref()
+                    .and_then(|d| d.robust.as_ref())
+                    .and_then(|r| r.candidates.get(r.recommended))
+                {
+                    t.push_str(&format!(
+                        "; expected regret {:.1} J, 95th percentile {:.1} J",
+                        r.expected_regret_j, r.p95_regret_j
+                    ));
+                }
+                if let Some(sp) = u.saving_pct {
+                    t.push_str(&format!(
+                        "; saving against the baseline {:.2} % expected, 90 % interval {:.2} … {:.2} %",
+                        sp[0], sp[1], sp[2]
+                    ));
+                }
+                sure.push(t);
+            }
+            None => sure.push(
+                "uncertainty study not run: the figures are those of the nominal robot (the study draws plausible robots from the drive data's ranges and says how often this placement stays the best)".into(),
+            ),
+        }
+        items.push(("how sure", sure.join("; ")));
+        let mut assumes = Vec::new();
+        for (k, label) in [
+            ("robot", "robot"),
+            ("robot file", "robot file"),
+            ("drive data", "drive data"),
+            ("feasibility", "margins"),
+            ("path", "path"),
+            ("print speed", "print speed"),
+        ] {
+            if let Some(v) = meta(k) {
+                assumes.push(format!("{label}: {v}"));
+            }
+        }
+        let mut h = String::from("<section id=\"answer\" class=\"answer\"><h2>The answer</h2><dl>");
+        for (k, v) in &items {
+            h.push_str(&format!(
+                "<dt>{}</dt><dd class=\"answer-{}\">{}</dd>",
+                svg::esc(k),
+                k.replace(' ', "-"),
+                svg::esc(v)
+            ));
+        }
+        h.push_str("<dt>what it assumes</dt><dd class=\"answer-assumes\"><ul>");
+        for a in &assumes {
+            h.push_str(&format!("<li>{}</li>", svg::esc(a)));
+        }
+        h.push_str("</ul></dd></dl></section>");
+        Some(h)
+    }
+
     /// The HTML page.
     pub fn html(&self) -> String {
         let mut pg = Page::new(&self.title);
+        if let Some(card) = self.answer_card() {
+            pg.raw(&card);
+        }
+        if !self.meta.iter().any(|(k, _)| k == "drive data") {
+            // Every report states the status of its drive data (estimated or not).
+            pg.p("drive data: not stated by the caller");
+        }
         pg.kv(&self.meta);
         let feasible = self.rows.iter().filter(|r| r.cost().is_finite()).count();
         let mut facts = vec![(
@@ -876,15 +1310,14 @@ impl RunReport {
             }
         }
         if let Some(h) = self.heatmap_svg() {
-            pg.figure(
-                "heatmap",
-                &h,
-                "Top view drawn to scale (1 m is as long on both axes): the robot base, the reach of a downward nozzle at the bed height (dashed), the part outline at the optimum (red); cells: energy at the best cell's bed height and yaw, crosses mark infeasible cells by reason; the ring marks the best grid cell, the dot the refined optimum.",
-            );
+            pg.figure("heatmap", &h, &self.heatmap_caption(&h));
         }
-        let slices = self.slices_svg();
+        let (slices, notes) = self.slices_svg();
         if !slices.is_empty() {
             pg.figure_row(&slices);
+        }
+        for n in notes {
+            pg.p(&n);
         }
         if let Some(rows) = self.reference_rows() {
             pg.h2("Ours beside the paper");
@@ -897,11 +1330,23 @@ impl RunReport {
                 pg.p(&format!("Paper values: {src}."));
             }
         }
-        if let Some(b) = self.bars_svg() {
+        if let Some((b, floor)) = self.bars_svg() {
+            let caption = match floor {
+                Some((base, lo, hi)) if b.contains("axis-from") => format!(
+                    "Energy per placement, the bars starting at {} J: every placement draws the standby (the cabinet at rest for the print time, {:.1}…{:.1} J here) below it, so the bars show what the placement changes, the drives' energy and the standby's change with the print time (missing bars: infeasible).",
+                    svg::fmt_num(base),
+                    lo,
+                    hi
+                ),
+                _ => "Energy per placement (missing bars: infeasible).".into(),
+            };
+            pg.figure("bars", &b, &caption);
+        }
+        if let Some(u) = self.uncertainty_svg() {
             pg.figure(
-                "bars",
-                &b,
-                "Energy per placement (missing bars: infeasible).",
+                "uncertainty",
+                &u,
+                "The uncertainty study: for each robot drawn from the drive data's ranges, how much more energy the recommended placement needs than the best of the candidates in that robot (0: it is the best there); the number of draws in each band of regret.",
             );
         }
         if let Some(j) = self.joints_svg() {

@@ -51,6 +51,15 @@ fn facts(study: &Study, results: &[CaseResult], objective: &str) -> Page {
     if let Some(d) = &study.description {
         facts.insert(0, ("description".into(), d.clone()));
     }
+    // The drive data of every robot: estimated or given (each case's report says it too).
+    for r in &study.robots {
+        let file = crate::robot::shipped::resolve(&r.robot).unwrap_or_else(|| r.robot.clone());
+        let status = match crate::robot::load(&file) {
+            Ok(m) => crate::robot::drive_data_status(&m),
+            Err(e) => format!("not read here ({e})"),
+        };
+        facts.push((format!("drive data of {}", r.name), status));
+    }
     pg.kv(&facts);
 
     pg

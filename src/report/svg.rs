@@ -49,6 +49,9 @@ pub struct Frame {
     pub height: f64,
     /// Text written where a bar has no (finite) value, e.g. "infeasible".
     pub missing: String,
+    /// Value the bars of a [`bar_chart`] start from (the y axis starts there, said in the
+    /// chart), when the part below is common to every bar; `None`: 0.
+    pub baseline: Option<f64>,
 }
 
 impl Frame {
@@ -61,6 +64,7 @@ impl Frame {
             width: 640.0,
             height: 360.0,
             missing: "n/a".into(),
+            baseline: None,
         }
     }
     /// Same frame with another size (px).
@@ -72,6 +76,11 @@ impl Frame {
     /// Same frame with another text for bars without a value.
     pub fn missing(mut self, text: &str) -> Self {
         self.missing = text.into();
+        self
+    }
+    /// Same frame with the bars starting from `v` instead of 0 ([`Frame::baseline`]).
+    pub fn baseline(mut self, v: f64) -> Self {
+        self.baseline = v.is_finite().then_some(v);
         self
     }
 }
@@ -354,6 +363,161 @@ pub fn line_chart(f: &Frame, series: &[Series]) -> String {
     finish(s, n)
 }
 
+/// Buckets of [`line_chart`]'s decimation for a chart in frame `f` whose series are named
+/// `names` (one bucket per two pixel columns of the plot area, which the legend narrows).
+pub fn line_buckets(f: &Frame, names: &[&str]) -> usize {
+    let legend: &[&str] = if names.len() > 1 { names } else { &[] };
+    let a = Axes::new(f, (0.0, 1.0), (0.0, 1.0));
+    ((a.px1 - legend_width(legend) - a.px0) / 2.0)
+        .ceil()
+        .max(1.0) as usize
+}
+
+/// A series of [`line_chart`] taken in sample by sample, holding only what the chart draws:
+/// the decimated points (each bucket's minimum and maximum, [`line_chart`]'s own decimation),
+/// the ranges of x and y and the number of finite points. [`line_chart_streamed`] draws the
+/// same SVG from these as [`line_chart`] from the whole series.
+#[derive(Clone, Debug)]
+pub struct StreamedSeries {
+    /// Legend name.
+    pub name: String,
+    /// Points per bucket (0: every point is kept, the series being short).
+    per: usize,
+    kept: Vec<(f64, f64)>,
+    in_chunk: usize,
+    lo: Option<(f64, f64)>,
+    hi: Option<(f64, f64)>,
+    x: (f64, f64),
+    y: (f64, f64),
+    finite: usize,
+}
+
+impl StreamedSeries {
+    /// A series of `len` points to be drawn with `buckets` buckets ([`line_buckets`]).
+    pub fn new(name: &str, len: usize, buckets: usize) -> Self {
+        let per = if len <= 2 * buckets {
+            0
+        } else {
+            len.div_ceil(buckets)
+        };
+        StreamedSeries {
+            name: name.into(),
+            per,
+            kept: Vec::with_capacity(2 * buckets + 2),
+            in_chunk: 0,
+            lo: None,
+            hi: None,
+            x: (f64::INFINITY, f64::NEG_INFINITY),
+            y: (f64::INFINITY, f64::NEG_INFINITY),
+            finite: 0,
+        }
+    }
+
+    /// The next point.
+    pub fn push(&mut self, x: f64, y: f64) {
+        if x.is_finite() {
+            self.x = (self.x.0.min(x), self.x.1.max(x));
+        }
+        if y.is_finite() {
+            self.y = (self.y.0.min(y), self.y.1.max(y));
+        }
+        if x.is_finite() && y.is_finite() {
+            self.finite += 1;
+        }
+        if self.per == 0 {
+            self.kept.push((x, y));
+            return;
+        }
+        if y.is_finite() {
+            // min_by keeps the first of equal minima, max_by the last of equal maxima.
+            if self.lo.is_none_or(|l| y.total_cmp(&l.1).is_lt()) {
+                self.lo = Some((x, y));
+            }
+            if self.hi.is_none_or(|h| !y.total_cmp(&h.1).is_lt()) {
+                self.hi = Some((x, y));
+            }
+        }
+        self.in_chunk += 1;
+        if self.in_chunk == self.per {
+            self.close_chunk();
+        }
+    }
+
+    fn close_chunk(&mut self) {
+        match (self.lo.take(), self.hi.take()) {
+            (Some(l), Some(h)) => {
+                if l.0 <= h.0 {
+                    self.kept.push(l);
+                    self.kept.push(h);
+                } else {
+                    self.kept.push(h);
+                    self.kept.push(l);
+                }
+            }
+            _ => self.kept.push((f64::NAN, f64::NAN)),
+        }
+        self.in_chunk = 0;
+    }
+
+    /// The series is complete (a last, shorter bucket is closed).
+    pub fn finish(&mut self) {
+        if self.per > 0 && self.in_chunk > 0 {
+            self.close_chunk();
+        }
+    }
+}
+
+/// [`line_chart`] of series taken in with [`StreamedSeries`] (each finished): the same SVG,
+/// byte for byte, as [`line_chart`] over the whole series.
+pub fn line_chart_streamed(f: &Frame, series: &[StreamedSeries]) -> String {
+    let names: Vec<&str> = if series.len() > 1 {
+        series.iter().map(|s| s.name.as_str()).collect()
+    } else {
+        Vec::new()
+    };
+    let range = |r: &mut dyn Iterator<Item = (f64, f64)>| {
+        let (lo, hi) = r.fold((f64::INFINITY, f64::NEG_INFINITY), |a, b| {
+            (a.0.min(b.0), a.1.max(b.1))
+        });
+        // finite_range over the two ends found (finite values only): the same range.
+        finite_range([lo, hi].into_iter().filter(|v| v.is_finite()))
+    };
+    let xr = range(&mut series.iter().map(|s| s.x)).unwrap_or((0.0, 1.0));
+    let yr = range(&mut series.iter().map(|s| s.y)).unwrap_or((0.0, 1.0));
+    let pad = (yr.1 - yr.0) * 0.05;
+    let mut a = Axes::new(f, xr, (yr.0 - pad, yr.1 + pad));
+    a.px1 -= legend_width(&names);
+    let mut s = open(f);
+    y_axis(&mut s, &a, true);
+    x_axis(&mut s, &a);
+    for (i, se) in series.iter().enumerate() {
+        let mut d = String::new();
+        let mut pen_up = true;
+        for &(x, y) in &se.kept {
+            if !(x.is_finite() && y.is_finite()) {
+                pen_up = true;
+                continue;
+            }
+            let _ = write!(
+                d,
+                "{}{:.1},{:.1}",
+                if pen_up { "M" } else { " " },
+                a.x(x),
+                a.y(y)
+            );
+            pen_up = false;
+        }
+        let _ = write!(
+            s,
+            r#"<path d="{d}" fill="none" stroke="{}" stroke-width="1.2"/>"#,
+            colour(i)
+        );
+    }
+    legend(&mut s, f, &names);
+    axis_labels(&mut s, f);
+    finish(s, series.iter().map(|se| se.finite).sum())
+}
+
 fn decimate(p: &[(f64, f64)], buckets: usize) -> Vec<(f64, f64)> {
     if p.len() <= 2 * buckets {
         return p.to_vec();
@@ -456,7 +620,18 @@ pub fn scatter(f: &Frame, series: &[Series]) -> String {
 /// The y axis starts at 0 (or below, for negative values).
 pub fn bar_chart(f: &Frame, categories: &[String], groups: &[(String, Vec<f64>)]) -> String {
     let all = groups.iter().flat_map(|g| g.1.iter().copied());
-    let (lo, hi) = finite_range(all.chain([0.0])).unwrap_or((0.0, 1.0));
+    // The bars start at the baseline (0 unless the frame gives one below every value).
+    let base = f
+        .baseline
+        .filter(|b| {
+            groups
+                .iter()
+                .flat_map(|g| g.1.iter())
+                .filter(|v| v.is_finite())
+                .all(|v| v > b)
+        })
+        .unwrap_or(0.0);
+    let (lo, hi) = finite_range(all.chain([base])).unwrap_or((0.0, 1.0));
     let names: Vec<&str> = if groups.len() > 1 {
         groups.iter().map(|g| g.0.as_str()).collect()
     } else {
@@ -511,7 +686,7 @@ pub fn bar_chart(f: &Frame, categories: &[String], groups: &[(String, Vec<f64>)]
         for (g, (_, vals)) in groups.iter().enumerate() {
             let v = vals.get(c).copied().unwrap_or(f64::NAN);
             let cx = x0 + bw * (g as f64 + 0.5);
-            let (ya, yb) = (a.y(0.0), a.y(if v.is_finite() { v } else { 0.0 }));
+            let (ya, yb) = (a.y(base), a.y(if v.is_finite() { v } else { base }));
             if v.is_finite() {
                 let _ = write!(
                     s,
@@ -552,6 +727,18 @@ pub fn bar_chart(f: &Frame, categories: &[String], groups: &[(String, Vec<f64>)]
             a.px0 + slot * (c as f64 + 0.5),
             a.py0 + 16.0,
             esc(name)
+        );
+    }
+    if base != 0.0 {
+        // Said in the chart, and the axis broken: the bars do not start at 0.
+        let _ = write!(
+            s,
+            r##"<path d="M{:.1},{:.1} l-6,4 l12,4 l-6,4" fill="white" stroke="#333"/><text class="axis-from" data-baseline="{base}" x="{:.1}" y="{:.1}" font-size="11" fill="#555">bars start at {} (not 0)</text>"##,
+            a.px0,
+            a.py0 - 14.0,
+            a.px0 + 8.0,
+            a.py0 - 4.0,
+            fmt_num(base)
         );
     }
     legend(&mut s, f, &names);
@@ -1015,8 +1202,44 @@ pub fn top_view(f: &Frame, v: &TopView) -> String {
         );
     }
     s.push_str("</g>");
+    // Labels of points drawn at the same spot (a named placement at several yaws) are stacked
+    // one below the other instead of printed over each other.
+    let mut placed: Vec<(f64, f64, usize)> = Vec::new();
+    let mut any_infeasible = false;
     for p in &v.points {
         let (px, py) = (a.x(p.x), a.y(p.y));
+        let stack = match placed
+            .iter_mut()
+            .find(|q| (q.0 - px).abs() < 8.0 && (q.1 - py).abs() < 8.0)
+        {
+            Some(q) => {
+                q.2 += 1;
+                q.2 - 1
+            }
+            None => {
+                placed.push((px, py, 1));
+                0
+            }
+        };
+        let label_y = py - 6.0 + 13.0 * stack as f64;
+        if !p.value.is_finite() && p.class != "best-cell" {
+            // An infeasible placement: a cross of its own (the legend names it), not a hollow
+            // circle like the reach circles'.
+            any_infeasible = true;
+            let _ = write!(
+                s,
+                r##"<g class="mark-{}" data-infeasible="1"><path d="M{:.1},{:.1} l10,10 m0,-10 l-10,10" stroke="white" stroke-width="4"/><path d="M{:.1},{:.1} l10,10 m0,-10 l-10,10" stroke="#d62728" stroke-width="2"><title>{}: infeasible</title></path><text x="{:.1}" y="{label_y:.1}" font-size="11" font-weight="bold">{}</text></g>"##,
+                esc(&p.class),
+                px - 5.0,
+                py - 5.0,
+                px - 5.0,
+                py - 5.0,
+                esc(&p.label),
+                px + 8.0,
+                esc(&p.label)
+            );
+            continue;
+        }
         let fill = if p.value.is_finite() {
             n += 1;
             ramp((p.value - vlo) / (vhi - vlo))
@@ -1024,6 +1247,7 @@ pub fn top_view(f: &Frame, v: &TopView) -> String {
             "white".into()
         };
         let r = if p.class == "best-cell" { 9.0 } else { 6.0 };
+        let label_y = if stack == 0 { py - r } else { label_y };
         let _ = write!(
             s,
             r##"<g class="mark-{}"><circle cx="{px:.1}" cy="{py:.1}" r="{r}" fill="none" stroke="white" stroke-width="3"/><circle cx="{px:.1}" cy="{py:.1}" r="{r}" fill="{fill}" fill-opacity="{}" stroke="black" stroke-width="1.5"><title>{}: {}</title></circle><text x="{:.1}" y="{:.1}" font-size="11" font-weight="bold">{}</text></g>"##,
@@ -1036,7 +1260,7 @@ pub fn top_view(f: &Frame, v: &TopView) -> String {
                 "infeasible".into()
             },
             px + r + 2.0,
-            py - r,
+            label_y,
             esc(&p.label)
         );
     }
@@ -1119,6 +1343,15 @@ pub fn top_view(f: &Frame, v: &TopView) -> String {
             esc(class)
         );
         y += 16.0;
+    }
+    if any_infeasible {
+        let _ = write!(
+            s,
+            r##"<path class="legend-infeasible" d="M{},{:.1} l10,10 m0,-10 l-10,10" stroke="#d62728" stroke-width="2"/><text x="{}" y="{y:.1}" font-size="11">infeasible placement</text>"##,
+            bx + 1.0,
+            y - 9.0,
+            bx + 16.0
+        );
     }
     axis_labels(&mut s, &f2);
     finish(s, n)

@@ -321,6 +321,8 @@ pub(crate) struct RobotTable {
     #[serde(skip_serializing_if = "Option::is_none")]
     pub rated_payload_kg: Option<f64>,
     #[serde(skip_serializing_if = "Option::is_none")]
+    pub mass_kg: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
     pub provenance: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub tool_link: Option<String>,
@@ -416,7 +418,7 @@ pub(crate) struct JointTable {
 
 /// Parse the TOML text; syntax and schema errors name the file, line and column.
 pub(crate) fn parse_drive_file(text: &str, file: &str) -> Result<DriveFile> {
-    toml::from_str::<DriveFile>(text).map_err(|e| {
+    let df = toml::from_str::<DriveFile>(text).map_err(|e| {
         let (line, column) = e.span().map(|s| line_col(text, s.start)).unwrap_or((0, 0));
         Error::Parse {
             file: file.to_string(),
@@ -424,7 +426,39 @@ pub(crate) fn parse_drive_file(text: &str, file: &str) -> Result<DriveFile> {
             column,
             msg: e.message().to_string(),
         }
-    })
+    })?;
+    // TOML writes `inf` and `nan` (and reads 1e309 as infinity): no number of a robot is
+    // either, so the first one is refused naming its key.
+    if let Ok(v) = text.parse::<toml::Table>() {
+        if let Some(key) = first_non_finite(&toml::Value::Table(v), "") {
+            return Err(Error::Field {
+                file: file.to_string(),
+                field: key,
+                msg: "expected a finite number, found an infinity or NaN".into(),
+            });
+        }
+    }
+    Ok(df)
+}
+
+/// The key path (`tool.geometry.hose_to_m[1]`) of the first non-finite float in `v`.
+fn first_non_finite(v: &toml::Value, path: &str) -> Option<String> {
+    match v {
+        toml::Value::Float(x) if !x.is_finite() => Some(path.to_string()),
+        toml::Value::Table(t) => t.iter().find_map(|(k, v)| {
+            let p = if path.is_empty() {
+                k.clone()
+            } else {
+                format!("{path}.{k}")
+            };
+            first_non_finite(v, &p)
+        }),
+        toml::Value::Array(a) => a
+            .iter()
+            .enumerate()
+            .find_map(|(i, v)| first_non_finite(v, &format!("{path}[{i}]"))),
+        _ => None,
+    }
 }
 
 /// 1-based line and column of a byte offset.

@@ -229,19 +229,109 @@ pub fn complete(model: &mut RobotModel) {
             .filter(|&i| model.info.inertia_sources[i].is_estimate())
             .filter_map(|i| model.links[i].map(|l| l.mass))
             .sum();
+        let scaled = model
+            .info
+            .mass_kg
+            .map(|m| scale_to_stated_mass(model, m, total));
+        let uncertainty = match &scaled {
+            Some(Ok(s)) => format!(
+                "{total:.0} kg in all before scaling, scaled by {:.3} to {:.0} kg so that, with \
+                 the fixed base estimated the same way ({:.0} kg before scaling){}, the robot \
+                 weighs the drive file's [robot] mass_kg = {} kg (the datasheet's mass): the \
+                 total is the datasheet's, its split between the links and the centres of mass \
+                 and inertias remain ESTIMATEs (the inertias scaled with the masses)",
+                s.factor,
+                s.factor * total,
+                s.base_kg,
+                if s.given_kg > 0.0 {
+                    format!(" and the links given ({:.0} kg)", s.given_kg)
+                } else {
+                    String::new()
+                },
+                s.stated_kg
+            ),
+            Some(Err(why)) => format!(
+                "{total:.0} kg in all, not scaled to the drive file's [robot] mass_kg ({why}), \
+                 uncertain by about ±{:.0} % in mass and more in centre of mass and inertia",
+                100.0 * ESTIMATE_MASS_UNCERTAINTY_REL
+            ),
+            None => format!(
+                "{total:.0} kg in all, uncertain by about ±{:.0} % in mass and more in centre \
+                 of mass and inertia (the effective density stands for metal filling a sixth of \
+                 the outer volume, motors and gearboxes averaged in; the drive file's [robot] \
+                 mass_kg, the datasheet's mass, would scale them to it)",
+                100.0 * ESTIMATE_MASS_UNCERTAINTY_REL
+            ),
+        };
         model.warnings.push(format!(
             "ESTIMATE: link inertias missing from the URDF estimated as solids (hollow cast \
-             links) filling their collision shapes (their convex hulls): {}; {total:.0} kg in \
-             all, uncertain by about ±{:.0} % in mass and more in centre of mass and inertia \
-             (the effective density stands for metal filling a sixth of the outer volume, \
-             motors and gearboxes averaged in); the energy is only as good as these; give the \
-             real values in the drive file's [links.<name>] tables (docs/drive-file.md)",
+             links) filling their collision shapes (their convex hulls): {}; {uncertainty}; the \
+             energy is only as good as these; give the real values in the drive file's \
+             [links.<name>] tables (docs/drive-file.md)",
             estimated.join(", "),
-            100.0 * ESTIMATE_MASS_UNCERTAINTY_REL
         ));
     }
     let w = placeholder_warnings(model);
     model.warnings.extend(w);
+}
+
+/// How the estimated link masses were scaled to the robot's stated mass.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MassScaling {
+    /// The factor applied to every estimated link's mass and inertia.
+    pub factor: f64,
+    /// The fixed base's mass estimated from its collision (else visual) shapes, before
+    /// scaling, kg (0 when it has none).
+    pub base_kg: f64,
+    /// The moving links given by the URDF or the drive file, kg.
+    pub given_kg: f64,
+    /// The robot's stated mass, kg.
+    pub stated_kg: f64,
+}
+
+/// Scale the estimated moving links (mass and inertia; centres of mass kept) so that they,
+/// the fixed base estimated the same way and the links given weigh `stated_kg`. The factor is
+/// `(stated − given) / (estimated links + estimated base)`. `Err` (nothing changed) when the
+/// links given already weigh the stated mass or more.
+fn scale_to_stated_mass(
+    model: &mut RobotModel,
+    stated_kg: f64,
+    estimated_kg: f64,
+) -> std::result::Result<MassScaling, String> {
+    let n = model.dof();
+    let est = |i: usize| model.info.inertia_sources[i].is_estimate();
+    let given_kg: f64 = (0..n)
+        .filter(|&i| !est(i))
+        .filter_map(|i| model.links[i].map(|l| l.mass))
+        .sum();
+    let mut base_kg: f64 = model
+        .base_collision
+        .iter()
+        .filter_map(|g| solid(&g.shape, ESTIMATE_DENSITY_KG_M3).map(|b| b.mass))
+        .sum();
+    if !base_kg.is_finite() {
+        base_kg = 0.0;
+    }
+    let factor = (stated_kg - given_kg) / (estimated_kg + base_kg);
+    if !(factor.is_finite() && factor > 0.0) {
+        return Err(format!(
+            "the links given weigh {given_kg:.0} kg, not less than the stated {stated_kg} kg"
+        ));
+    }
+    for i in 0..n {
+        if est(i) {
+            if let Some(l) = model.links[i].as_mut() {
+                l.mass *= factor;
+                l.inertia *= factor;
+            }
+        }
+    }
+    Ok(MassScaling {
+        factor,
+        base_kg,
+        given_kg,
+        stated_kg,
+    })
 }
 
 /// Warnings for link inertias that look like placeholders: the same mass on every moving

@@ -27,6 +27,97 @@ use crate::error::{read_text, Error, Result};
 use crate::math::{rotation_distance, Frame, M3, V3};
 use std::path::{Path, PathBuf};
 
+/// Keys of the drive data proper: the drive train of each joint and the cabinet's standby.
+const DRIVE_DATA_KEYS: [&str; 8] = [
+    "gear_ratio",
+    "torque_constant_nm_per_a",
+    "winding_resistance_ohm",
+    "rotor_inertia_kg_m2",
+    "viscous_nm_s_per_rad",
+    "coulomb_nm",
+    "gear_efficiency",
+    "standby_power_w",
+];
+
+/// `(estimated, given)`: the drive-data values of a drive file's text ([`DRIVE_DATA_KEYS`] in
+/// `[[joints]]` and `[cabinet]`), and how many of them carry `ESTIMATE` in their comment or in
+/// their table's header comment.
+fn drive_estimate_count(text: &str) -> (usize, usize) {
+    let (mut est, mut given) = (0, 0);
+    let mut in_drive = false;
+    let mut table_estimate = false;
+    for line in text.lines() {
+        let l = line.trim();
+        if l.starts_with('[') {
+            let head = l.split('#').next().unwrap_or("").trim();
+            in_drive = head == "[[joints]]" || head == "[cabinet]";
+            table_estimate = l.contains("ESTIMATE");
+            continue;
+        }
+        if !in_drive || l.starts_with('#') {
+            continue;
+        }
+        let Some((key, rest)) = l.split_once('=') else {
+            continue;
+        };
+        if DRIVE_DATA_KEYS.contains(&key.trim()) {
+            given += 1;
+            let comment = rest.split_once('#').map_or("", |c| c.1);
+            if table_estimate || comment.contains("ESTIMATE") {
+                est += 1;
+            }
+        }
+    }
+    (est, given)
+}
+
+/// The status of the robot's drive data in one line, for every report: estimated (how many
+/// values of the drive file are marked ESTIMATE), given, or absent (mechanical energy only).
+pub fn drive_data_status(model: &RobotModel) -> String {
+    if model.drive.is_none() {
+        return "none: no drive train, so the energies are the joints' mechanical work, not a supply's draw".into();
+    }
+    let calibrated = model.effects.calibration_summary();
+    if let (Some(c), Some((0, n))) = (&calibrated, model.info.drive_estimates) {
+        // A calibrated robot's file carries no ESTIMATE marks of its own.
+        return format!(
+            "calibrated: {c}; the {n} drive-train and cabinet values not identified from a log are those of the robot it started from (ESTIMATE where its drive file says so)"
+        );
+    }
+    match model.info.drive_estimates {
+        Some((e, n)) if e > 0 => format!(
+            "ESTIMATE: {e} of the drive file's {n} drive-train and cabinet values are marked ESTIMATE (not published, not measured){}: the energies rank placements and paths, they are not calibrated predictions",
+            calibrated.map_or_else(String::new, |c| format!("; calibrated since: {c}"))
+        ),
+        Some((_, n)) => format!(
+            "given: none of the drive file's {n} drive-train and cabinet values is marked ESTIMATE"
+        ),
+        None => "given".into(),
+    }
+}
+
+/// The file a robot was loaded from (its drive file, else its URDF), relative to the working
+/// directory when it lies under it (so that a report is the same on every machine).
+pub fn robot_file_display(model: &RobotModel) -> String {
+    let f = model.info.drive_file.as_deref().unwrap_or(&model.source);
+    // A shipped robot is named the same from every working directory (`robots/<name>/…`), so
+    // that one job gives one report wherever it runs; another file as it was given.
+    let canon = |p: &Path| std::fs::canonicalize(p).unwrap_or_else(|_| p.to_path_buf());
+    let file = canon(f);
+    for dir in [
+        shipped::robots_dir(),
+        Path::new(env!("CARGO_MANIFEST_DIR")).join("robots"),
+    ] {
+        if let Ok(rel) = file.strip_prefix(canon(&dir)) {
+            return Path::new("robots").join(rel).display().to_string();
+        }
+    }
+    std::env::current_dir()
+        .ok()
+        .and_then(|d| f.strip_prefix(d).ok().map(|p| p.display().to_string()))
+        .unwrap_or_else(|| f.display().to_string())
+}
+
 /// Tolerances for the load-time check of closed-form parameters against the URDF chain.
 const OPW_CHECK_POSITION_M: f64 = 1e-6;
 const OPW_CHECK_ANGLE_RAD: f64 = 1e-6;
@@ -54,6 +145,8 @@ pub fn load(path: &Path) -> Result<RobotModel> {
     if let Some(d) = drive_file {
         apply_drive(&mut model, d, &drive_name)?;
     }
+    model.info.drive_file = drive_path.clone();
+    model.info.drive_estimates = drive_text.as_deref().map(drive_estimate_count);
     inertia::complete(&mut model);
     validate::validate(
         &mut model,
@@ -326,6 +419,16 @@ fn apply_drive(model: &mut RobotModel, d: drive::DriveFile, file: &str) -> Resul
         });
     }
     model.info.rated_payload_kg = d.robot.rated_payload_kg;
+    if let Some(m) = d.robot.mass_kg {
+        if !(m.is_finite() && m > 0.0) {
+            return Err(Error::Field {
+                file: file.into(),
+                field: "robot.mass_kg".into(),
+                msg: format!("must be finite and > 0, got {m}"),
+            });
+        }
+    }
+    model.info.mass_kg = d.robot.mass_kg;
     model.info.provenance = d.robot.provenance.unwrap_or_default();
     apply_tool_and_payload(model, d.tool, d.payload, file)?;
     apply_links(model, &d.links, file)?;

@@ -135,6 +135,10 @@ pub struct RobotInfo {
     pub reach_m: Option<f64>,
     /// Rated payload, kg.
     pub rated_payload_kg: Option<f64>,
+    /// The robot's mass as its datasheet states it (base and arm, without payload), kg; the
+    /// link masses estimated from geometry are scaled to it
+    /// ([`crate::robot::inertia::complete`]).
+    pub mass_kg: Option<f64>,
     /// One line on where the numbers come from.
     pub provenance: String,
     /// What the default payload is (extruder, hose, material), from the drive file.
@@ -152,6 +156,13 @@ pub struct RobotInfo {
     /// Where each moving link's inertia comes from (chain order; filled when the robot is
     /// loaded, [`crate::robot::inertia::complete`]).
     pub inertia_sources: Vec<crate::robot::inertia::InertiaSource>,
+    /// The drive file the robot was loaded with, if any.
+    pub drive_file: Option<std::path::PathBuf>,
+    /// How many of the drive file's drive-train and cabinet values (`[[joints]]` gear ratio,
+    /// torque constant, winding resistance, rotor inertia, friction, gear efficiency;
+    /// `[cabinet]` standby power) are marked `ESTIMATE` in their comments, of how many given:
+    /// `(estimated, given)`.
+    pub drive_estimates: Option<(usize, usize)>,
 }
 
 /// The immutable robot model. Build it with [`crate::robot::load`].

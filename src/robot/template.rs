@@ -191,6 +191,10 @@ fn template_text(m: &RobotModel, urdf: &Path, rel: &str) -> String {
     );
     let _ = writeln!(
         w,
+        "# mass_kg = 0.0  # the robot's mass from the datasheet (base and arm, no payload), kg: link masses estimated from geometry are scaled to it"
+    );
+    let _ = writeln!(
+        w,
         "provenance = \"kinematics, position and velocity limits from {file_name}; tool, acceleration and jerk limits ESTIMATE (template)\"  # where the numbers come from, shown with the robots"
     );
     let _ = writeln!(w);

@@ -540,17 +540,13 @@ pub fn parse_urdf(text: &str, file: &str, tool_link: Option<&str>) -> Result<Rob
         let mut moving = Vec::new();
         let side = subtree(&j.child, &joints, &links, &on_path, &mut moving);
         let side_has_mass = side.mass > 0.0 || side.inertia.norm() > 0.0;
-        if !moving.is_empty() {
-            if side_has_mass {
-                warnings.push(format!(
-                    "passive/mimic joints {moving:?} carry mass: frozen at their zero position and merged into link `{}`",
-                    j.child
-                ));
-            } else {
-                warnings.push(format!(
-                    "passive/mimic joints {moving:?} are massless: ignored for dynamics"
-                ));
-            }
+        // Massless passive or mimic joints (a balancer's cylinder drawn for show) change no
+        // torque: they are left out without a word. Ones with mass are frozen, and said.
+        if !moving.is_empty() && side_has_mass {
+            warnings.push(format!(
+                "passive/mimic joints {moving:?} carry mass: frozen at their zero position and merged into link `{}`",
+                j.child
+            ));
         }
         let body = match own {
             Some(b) => Some(b.merged(&side)),

@@ -535,6 +535,7 @@ fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Resul
         &s.feasibility,
         ev.nominal_samples(),
     );
+    m.push(("print speed".into(), print_speed_text(&config.path)));
     m.extend(evaluation_line(&ev));
     m.push(("seed".into(), s.seed.to_string()));
     if let Some(si) = &res.search {
@@ -684,14 +685,28 @@ pub fn detail(job: &PathJob, label: &str, e: &Evaluated) -> Result<Option<Detail
     if !e.cost().is_finite() {
         return Ok(None);
     }
-    match job.evaluate(&e.placement)? {
-        Ok(pe) => Ok(Some(Detail {
-            label: label.into(),
-            eval: e.clone(),
-            energy: pe.energy,
-        })),
-        Err(_) => Ok(None),
-    }
+    // The energy integrated sample by sample into the report's figures and charts: no
+    // per-sample series is kept (a long print's would be hundreds of bytes a sample).
+    let solver = crate::kinematics::IkSolver::new(job.robot)?;
+    let Ok(timed) = job.time(&solver, &e.placement) else {
+        return Ok(None);
+    };
+    let mut charts = crate::report::placement::DetailCharts::new(
+        job.energy.joint_names(),
+        timed.traj.len(),
+        job.robot.drive.is_some(),
+    );
+    let t = &timed.traj.t;
+    let energy = crate::energy::evaluate_streaming(&job.energy, &timed.traj, &mut |k, s| {
+        charts.push(t[k], s)
+    })?;
+    charts.finish();
+    Ok(Some(Detail {
+        label: label.into(),
+        eval: e.clone(),
+        energy,
+        charts: Some(charts),
+    }))
 }
 
 /// The report line saying how placements were evaluated, when the path reduction is on.
@@ -719,6 +734,14 @@ pub fn meta(
 ) -> Vec<(String, String)> {
     vec![
         ("robot".into(), robot.name().to_string()),
+        (
+            "robot file".into(),
+            crate::robot::robot_file_display(robot),
+        ),
+        (
+            "drive data".into(),
+            crate::robot::drive_data_status(robot),
+        ),
         (
             "calibration".into(),
             robot
@@ -754,6 +777,32 @@ pub fn meta(
             ),
         ),
     ]
+}
+
+/// The commanded TCP speed of a path's printing moves in words: one speed, or the range and
+/// the length-weighted mean, with the printed length ("150 mm/s over 5.71 m of printing").
+pub fn print_speed_text(tp: &crate::toolpath::Toolpath) -> String {
+    let (mut lo, mut hi, mut len, mut wsum) = (f64::INFINITY, 0.0f64, 0.0, 0.0);
+    for (start, mv) in tp.segments().filter(|(_, m)| m.print) {
+        let l = mv.length(&start);
+        lo = lo.min(mv.speed);
+        hi = hi.max(mv.speed);
+        len += l;
+        wsum += l * mv.speed;
+    }
+    if len <= 0.0 {
+        return "no printing moves".into();
+    }
+    if hi - lo <= 1e-9 * hi {
+        format!("{:.0} mm/s over {len:.2} m of printing", hi * 1000.0)
+    } else {
+        format!(
+            "{:.0}–{:.0} mm/s ({:.0} mm/s length-weighted) over {len:.2} m of printing",
+            lo * 1000.0,
+            hi * 1000.0,
+            wsum / len * 1000.0
+        )
+    }
 }
 
 /// An error in words as a front end shows it: the error, then each cause it does not end with

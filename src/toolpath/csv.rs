@@ -304,7 +304,7 @@ pub fn parse_placements(text: &str, file: &str) -> Result<Vec<NamedPlacement>> {
                                  far; check the value or the column's unit",
                                 cols[i].name,
                                 f.text,
-                                v[k],
+                                crate::table::show(v[k]),
                                 if cols[i].unit.is_empty() {
                                     "mm, the default"
                                 } else {
