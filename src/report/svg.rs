@@ -1001,12 +1001,15 @@ pub struct TopView {
     pub lines: Vec<(String, Vec<(f64, f64)>)>,
     /// Filled closed outlines `(class, label, points)`, m, drawn to scale and always inside the
     /// drawn extent: the robot base's footprint.
-    pub footprints: Vec<(String, String, Vec<(f64, f64)>)>,
+    pub footprints: Vec<Footprint>,
     /// Named points.
     pub points: Vec<MapPoint>,
     /// Unit of the colour scale.
     pub value_label: String,
 }
+
+/// A filled closed outline on a [`TopView`]: `(class, label, points)`, m.
+pub type Footprint = (String, String, Vec<(f64, f64)>);
 
 /// Top view with equal axis scales: energy cells (colour bar covering every cell and point
 /// value, so an optimum found off the grid is on the scale), infeasible cells crossed by
