@@ -273,7 +273,9 @@ def cylinder_payload(mass, r, L, desc, src):
 # Collision geometry of the print head and hose ([tool.geometry], flange frame). ESTIMATE: the head is the
 # payload's cylinder (radius r) from the flange to the nozzle tip; the hose is a straight piece of a 2-inch
 # concrete hose (60 mm outer diameter; 20 mm for the lab-scale extruders) running up the side of the head
-# from 0.8 L below the flange to 5 cm behind it, where it is clamped to the wrist.
+# from 0.8 L below the flange to the flange plane, where it is clamped to the head's mounting plate; above the
+# clamp the hose is free and routed clear of the wrist (not modelled: a rigid piece behind the flange would
+# run into the forearm's fork, which no site rigs).
 def tool_geometry(rb):
     P = rb["payload"]
     if "r" not in P:
@@ -281,9 +283,9 @@ def tool_geometry(rb):
     r, L = P["r"], P["L"]
     hose_r = 0.03 if P["mass"] >= 20 else 0.01
     x = round(r + hose_r, 4)
-    return dict(head=r, hose=hose_r, hose_from=[x, 0.0, round(0.8 * L, 4)], hose_to=[x, 0.0, -0.05],
+    return dict(head=r, hose=hose_r, hose_from=[x, 0.0, round(0.8 * L, 4)], hose_to=[x, 0.0, 0.0],
                 src="ESTIMATE: head = the payload's cylinder (r = %s m) from the flange to the nozzle tip; hose = "
-                    "%s m radius (%s), straight up the side of the head from 0.8 L below the flange to 5 cm behind it"
+                    "%s m radius (%s), straight up the side of the head from 0.8 L below the flange to the flange plane (clamped to the head's mounting plate; the free hose above is routed clear of the wrist)"
                     % (fmt(r), fmt(hose_r), "2-inch concrete hose, 60 mm OD" if hose_r >= 0.03 else "lab-scale feed hose, 20 mm OD"))
 
 
