@@ -4,16 +4,15 @@
 #   results/geometry_comparison/regenerate.sh        (from the repository root)
 #
 # For each robot and path of studies/example.toml, `printwatt sweep` over the default grid
-# (1536 placements) twice with the same binary: once with the shipped robots as they were
-# before the published geometry (robot files of commit OLD, a capsule per link sized from the
-# reach; PRINTWATT_ROBOTS points at them) and once with robots/ (convex pieces per link). Both
-# runs check the floor. The run directories go to a temporary folder (removed at the end);
+# (1536 placements) twice with the same binary: once with the shipped robots without their
+# `<collision>` elements (a capsule per link sized from the reach; PRINTWATT_ROBOTS points at
+# these copies; drive files, print head and hose the same) and once with robots/ (convex pieces
+# per link). Both runs check the floor. The run directories go to a temporary folder (removed at the end);
 # this writes changes.csv (per robot and path: placements, feasible before/after, verdicts
 # changed, how, and which shapes met in the changed verdicts) and prints the README's table
 # and each sweep's wall time.
 set -euo pipefail
 cd "$(dirname "$0")/../.."
-OLD=e39ee20
 OUT=results/geometry_comparison
 # BIN: the printwatt binary to run (default: build and run target/release/printwatt).
 if [ -z "${BIN:-}" ]; then
@@ -22,7 +21,16 @@ if [ -z "${BIN:-}" ]; then
 fi
 tmp=$(mktemp -d)
 trap 'rm -rf "$tmp"' EXIT
-git archive "$OLD" robots | tar -x -C "$tmp"
+mkdir -p "$tmp/robots"
+for robot in abb_irb6700_200_260 abb_irb4600_40_255; do
+  mkdir -p "$tmp/robots/$robot"
+  cp "robots/$robot/drive.toml" "$tmp/robots/$robot/"
+  python3 - "robots/$robot/robot.urdf" "$tmp/robots/$robot/robot.urdf" <<'PY'
+import re, sys
+text = open(sys.argv[1]).read()
+open(sys.argv[2], "w").write(re.sub(r"\s*<collision>.*?</collision>", "", text, flags=re.S))
+PY
+done
 for robot in abb_irb6700_200_260 abb_irb4600_40_255; do
   for path in default.gcode column_arcs.gcode wall_rapid.mod; do
     name="$robot-${path%.*}"
