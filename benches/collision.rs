@@ -4,7 +4,11 @@
 //! self pairs), the amortised cost per sample with the default `check_every`, and the bead
 //! BVH build (once per job; again only for placements whose timing re-planned the motion).
 //!
-//! Run: `cargo bench --bench collision` (criterion, ~20 s); the ratios are printed at the end
+//! The same check with the arm's published geometry (convex pieces per link, as shipped) and
+//! with a capsule per link (the URDF's collision elements dropped, as for an arm without
+//! meshes), so the cost of the meshes is measured against the capsules in the same run.
+//!
+//! Run: `cargo bench --bench collision` (criterion, ~30 s); the ratios are printed at the end
 //! from criterion's own estimates.
 
 #[path = "../tests/common/mod.rs"]
@@ -112,6 +116,33 @@ fn main() {
             ))
         })
     });
+    // The same arm with a capsule per link (its URDF collision elements dropped).
+    let mut capsule_model = model.clone();
+    capsule_model.base_collision.clear();
+    capsule_model.link_collision.iter_mut().for_each(Vec::clear);
+    let capsules = RobotShapes::new(&capsule_model, reach_m(&capsule_model), &o.radii);
+    let mut clear_c = None;
+    for j in (0..k).step_by(every) {
+        capsules.body_frames_into(tr.q(j), None, &world.base_to_part, &mut bodies);
+        collision::check_bodies(
+            &capsules,
+            &bodies,
+            &world.bed,
+            &beads,
+            beads.laid_at(j),
+            &mut clear_c,
+            &mut isos,
+        );
+    }
+    c.bench_function("collision_check_one_sample_shared_sines_capsules", |b| {
+        b.iter(|| {
+            capsules.body_frames_into(q, Some(&sincos), &world.base_to_part, &mut bodies);
+            let mut clear = clear_c;
+            black_box(collision::check_bodies(
+                &capsules, &bodies, &world.bed, &beads, laid, &mut clear, &mut isos,
+            ))
+        })
+    });
     c.bench_function("bead_bvh_build_per_placement", |b| {
         b.iter(|| black_box(Beads::new(&motion.p, &motion.print, every, BEAD_RADIUS_M)))
     });
@@ -123,6 +154,16 @@ fn main() {
         estimate_ns(&dir, "collision_check_one_sample_shared_sines"),
         estimate_ns(&dir, "bead_bvh_build_per_placement"),
     ) {
+        if let Some(cap) = estimate_ns(&dir, "collision_check_one_sample_shared_sines_capsules") {
+            println!(
+                "  published geometry ({} shapes, {} self pairs): {ch:9.1} ns; capsules ({} shapes, {} self pairs): {cap:9.1} ns ({:.2}x)",
+                shapes.shapes.len(),
+                shapes.pairs.len(),
+                capsules.shapes.len(),
+                capsules.pairs.len(),
+                ch / cap
+            );
+        }
         if let Some(plain) = estimate_ns(&dir, "collision_check_one_sample") {
             println!(
                 "  poses by libm sines and quaternions + check (plain): {plain:9.1} ns; from the shared sines: {ch:9.1} ns ({:.2}x)",

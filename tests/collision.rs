@@ -1200,9 +1200,11 @@ fn the_checked_samples_in_lockstep_give_check_sample_with_answers_messages_and_m
         );
     }
     // Both ways are taken: passing samples answered by the lanes alone (a placement's usual
-    // case), and the rest (here, with the arm reaching into the wall, most) the per-sample way.
+    // case for an arm of capsules; an arm with mesh pieces, the shipped ABB arms and the
+    // UR10e, goes the per-sample way wherever a piece's box nears something), and the rest
+    // (here, with the arm reaching into the wall, most) the per-sample way.
     assert!(
-        answered > 10_000 && answered < outcomes["none"],
+        answered > 2_000 && answered < outcomes["none"],
         "{answered} of {} passing samples",
         outcomes["none"]
     );

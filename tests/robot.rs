@@ -276,7 +276,11 @@ fn capsule_estimate_of_the_irb6700_is_within_a_quarter_of_its_moving_mass() {
     )))
     .unwrap();
     let truth: f64 = m.links.iter().flatten().map(|l| l.mass).sum();
-    assert!(m.link_collision.iter().all(|c| c.is_empty()));
+    // The shipped arm has published collision hulls: without them, the capsules stand in.
+    assert!(m.link_collision.iter().any(|c| !c.is_empty()));
+    for c in &mut m.link_collision {
+        c.clear();
+    }
     for l in &mut m.links {
         *l = None;
     }

@@ -20,8 +20,15 @@ fn err(o: &Output) -> String {
 fn robot_copy(dir: &Path) -> PathBuf {
     let r = dir.join("rob");
     std::fs::create_dir_all(&r).unwrap();
+    let src = root().join("robots/abb_irb4600_40_255");
     for f in ["robot.urdf", "drive.toml"] {
-        std::fs::copy(root().join("robots/abb_irb4600_40_255").join(f), r.join(f)).unwrap();
+        std::fs::copy(src.join(f), r.join(f)).unwrap();
+    }
+    // The collision meshes the URDF names (without them each link warns and a capsule stands in).
+    std::fs::create_dir_all(r.join("collision")).unwrap();
+    for e in std::fs::read_dir(src.join("collision")).unwrap() {
+        let e = e.unwrap().path();
+        std::fs::copy(&e, r.join("collision").join(e.file_name().unwrap())).unwrap();
     }
     r
 }

@@ -372,7 +372,9 @@ fn walls_printed_before_a_segment_are_in_its_collision_scene() {
     let e = walled.sweep(&[at], &|_, _| {}).unwrap();
     let why = e[0].outcome.as_ref().expect_err("the column is in the way");
     assert_eq!(why.reason, Reason::CollisionPart, "{why}");
-    assert_eq!(why.sample, Some(0), "laid before the first sample: {why}");
+    // Bead 0 is the column: walls printed earlier are indexed before the path's own beads and
+    // stand from sample 0 on (where the arm first meets it depends on the links' shapes).
+    assert!(why.detail.contains("printed bead 0"), "the column: {why}");
 }
 
 /// One layer (z = 20 mm) of straight wall pieces (mm, part frame) printed one after the

@@ -306,6 +306,17 @@ fn the_view_follows_a_drag_with_the_energy_of_energy_at_shows_why_not_and_export
         "the canvas is (nearly) blank: {colours} colours"
     );
 
+    // The arm is drawn with its collision pieces to scale: every mesh piece of the scene,
+    // the IRB 6700's forearm in four of them (its fork open).
+    let hulls = d.js(
+        "return [window.pwView.scene.shapes.filter(s => s.kind === 'hull').length, \
+         window.pwView.scene.shapes.filter(s => s.kind === 'hull' && s.label.includes('link_4')).length, \
+         window.pwView.hullPieces()];",
+    );
+    assert!(hulls[0].as_u64().unwrap() >= 10, "{hulls}");
+    assert_eq!(hulls[1], 4, "the forearm's pieces: {hulls}");
+    assert_eq!(hulls[2], hulls[0], "every mesh piece drawn: {hulls}");
+
     // A scripted drag of the bed with the mouse moves the part and re-evaluates it.
     let xy = d.js("return window.pwView.bedScreen();");
     let (x, y) = (

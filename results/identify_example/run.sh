@@ -7,7 +7,7 @@ set -e
 B=${PRINTWATT:-target/release/printwatt}
 D=results/identify_example
 R=$D/robot
-rm -rf $R $D/identify $D/identify_1 && mkdir -p $R && cp robots/abb_irb4600_40_255/* $R/
+rm -rf $R $D/identify $D/identify_1 && mkdir -p $R && cp -r robots/abb_irb4600_40_255/. $R/
 $B simulate --robot $R --excite 20 --hidden coulomb=30,balancer=3000:20000 --signal tau --noise 2 --rate 250 --seed 7 --out $D --force
 $B compare --robot $R --log $D/log.csv --out $D/compare --force > $D/compare.txt
 $B diagnose --robot $R --log $D/log.csv > $D/diagnose_1.txt

@@ -586,7 +586,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         let frame = at.frame();
         // Feasibility on every k-th sample.
         let o = &self.feasibility;
-        let world = World::new(&frame, self.bbox_all, o);
+        let world = World::new(&frame, self.bbox_all, o).with_floor(&self.shapes);
         let every = o.check_every.max(1);
         // The printed beads: the job's when this placement kept the planned motion, else anew.
         let replanned;

@@ -780,7 +780,7 @@ fn reduced<'a>(
     // Where a joint rate limit binds (the first such sample), and the re-planned outcome.
     let mut binds: Vec<Option<String>> = vec![None; nseg];
     let mut delta: Vec<Option<Replanned>> = vec![None; nseg];
-    let world = World::new(&frame, ev.bbox_all, o);
+    let world = World::new(&frame, ev.bbox_all, o).with_floor(&ev.shapes);
     let mut done = vec![false; nu];
     let mut samples_evaluated = 0;
     let mut first_pass = true;

@@ -488,8 +488,36 @@ impl RunReport {
                 });
             }
         }
-        v.circles
-            .push((0.0, 0.0, 0.12, "base".into(), "robot base (axis 1)".into()));
+        // The robot base to scale: the pedestal under it, the base's own footprint (its
+        // collision geometry from above), or a marker at axis 1 when the robot file has none.
+        let footprint = self
+            .site
+            .as_ref()
+            .map(|s| s.base_footprint_m.clone())
+            .unwrap_or_default();
+        if let Some((h, r)) = self.site.as_ref().and_then(|s| s.pedestal_m) {
+            v.circles.push((
+                0.0,
+                0.0,
+                r,
+                "pedestal".into(),
+                format!(
+                    "pedestal ({} m high, radius {} m)",
+                    svg::fmt_num(h),
+                    svg::fmt_num(r)
+                ),
+            ));
+        }
+        if footprint.len() >= 3 {
+            v.footprints.push((
+                "base".into(),
+                "robot base (collision geometry from above)".into(),
+                footprint,
+            ));
+        } else {
+            v.circles
+                .push((0.0, 0.0, 0.12, "base".into(), "robot base (axis 1)".into()));
+        }
         if let Some(site) = &self.site {
             if let Some((lo, hi)) = site.annulus_m {
                 v.circles.push((

@@ -31,6 +31,12 @@ pub struct SiteGeometry {
     pub annulus_m: Option<(f64, f64)>,
     /// The print moves' nozzle-tip path in the part frame (x, y), m, thinned to ≤ 1500 points.
     pub part_xy_m: Vec<(f64, f64)>,
+    /// The robot base's footprint seen from above (base frame x, y, m): the outline (convex,
+    /// counter-clockwise) of the fixed base's collision geometry; empty when the robot file
+    /// gives none.
+    pub base_footprint_m: Vec<(f64, f64)>,
+    /// The pedestal under the base, `(height, radius)`, m, when the drive file states one.
+    pub pedestal_m: Option<(f64, f64)>,
     /// Published values to show beside ours, by placement name, J (seed 000's P1–P5 when the
     /// run is that reproduction), with where they come from.
     pub reference: Option<(String, Vec<Reference>)>,
@@ -79,9 +85,88 @@ impl SiteGeometry {
             z_m,
             annulus_m: annulus(model, z_m),
             part_xy_m,
+            base_footprint_m: base_footprint(model),
+            pedestal_m: (model.info.pedestal_height_m > 0.0 && model.info.pedestal_radius_m > 0.0)
+                .then_some((model.info.pedestal_height_m, model.info.pedestal_radius_m)),
             reference,
         }
     }
+}
+
+/// The outline seen from above (x, y, m, base frame; convex, counter-clockwise) of the fixed
+/// base's collision geometry: mesh pieces by their vertices, boxes by their corners, cylinders
+/// and spheres by 24 points around them. Empty when the model has none.
+pub fn base_footprint(model: &RobotModel) -> Vec<(f64, f64)> {
+    use crate::robot::GeomShape;
+    let mut pts: Vec<(f64, f64)> = Vec::new();
+    for g in &model.base_collision {
+        let local: Vec<V3> = match &g.shape {
+            GeomShape::Hull { points, .. } => points.clone(),
+            GeomShape::Box { size_m } => {
+                let h = V3::from(*size_m) * 0.5;
+                (0..8)
+                    .map(|i| {
+                        let s = |b: usize| if i & b == 0 { -1.0 } else { 1.0 };
+                        V3::new(s(1) * h.x, s(2) * h.y, s(4) * h.z)
+                    })
+                    .collect()
+            }
+            GeomShape::Cylinder { radius_m, length_m } => {
+                ring(*radius_m, &[-0.5 * length_m, 0.5 * length_m])
+            }
+            GeomShape::Sphere { radius_m } => ring(*radius_m, &[0.0])
+                .into_iter()
+                .chain([V3::new(0.0, 0.0, *radius_m), V3::new(0.0, 0.0, -radius_m)])
+                .collect(),
+        };
+        pts.extend(local.iter().map(|p| {
+            let w = g.origin.apply(p);
+            (w.x, w.y)
+        }));
+    }
+    convex_hull_2d(pts)
+}
+
+/// Points around a z-axis circle of radius `r` at the heights `zs`.
+fn ring(r: f64, zs: &[f64]) -> Vec<V3> {
+    zs.iter()
+        .flat_map(|&z| {
+            (0..24).map(move |i| {
+                let a = std::f64::consts::TAU * i as f64 / 24.0;
+                V3::new(r * a.cos(), r * a.sin(), z)
+            })
+        })
+        .collect()
+}
+
+/// Convex hull of 2-D points (Andrew's monotone chain), counter-clockwise, no repeated point.
+pub fn convex_hull_2d(mut p: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
+    p.retain(|(x, y)| x.is_finite() && y.is_finite());
+    p.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
+    p.dedup();
+    if p.len() < 3 {
+        return p;
+    }
+    let cross = |o: (f64, f64), a: (f64, f64), b: (f64, f64)| {
+        (a.0 - o.0) * (b.1 - o.1) - (a.1 - o.1) * (b.0 - o.0)
+    };
+    let mut h: Vec<(f64, f64)> = Vec::with_capacity(2 * p.len());
+    for pass in 0..2 {
+        let start = h.len();
+        let it: Box<dyn Iterator<Item = &(f64, f64)>> = if pass == 0 {
+            Box::new(p.iter())
+        } else {
+            Box::new(p.iter().rev())
+        };
+        for &q in it {
+            while h.len() >= start + 2 && cross(h[h.len() - 2], h[h.len() - 1], q) <= 0.0 {
+                h.pop();
+            }
+            h.push(q);
+        }
+        h.pop();
+    }
+    h
 }
 
 /// Radial reach of a downward nozzle at height `z` (m): smallest and largest reachable distance

@@ -999,11 +999,17 @@ pub struct TopView {
     pub circles: Vec<(f64, f64, f64, String, String)>,
     /// Polylines `(class, points)`, m: the part outline at the optimum.
     pub lines: Vec<(String, Vec<(f64, f64)>)>,
+    /// Filled closed outlines `(class, label, points)`, m, drawn to scale and always inside the
+    /// drawn extent: the robot base's footprint.
+    pub footprints: Vec<Footprint>,
     /// Named points.
     pub points: Vec<MapPoint>,
     /// Unit of the colour scale.
     pub value_label: String,
 }
+
+/// A filled closed outline on a [`TopView`]: `(class, label, points)`, m.
+pub type Footprint = (String, String, Vec<(f64, f64)>);
 
 /// Top view with equal axis scales: energy cells (colour bar covering every cell and point
 /// value, so an optimum found off the grid is on the scale), infeasible cells crossed by
@@ -1050,9 +1056,14 @@ pub fn top_view(f: &Frame, v: &TopView) -> String {
         }
     }
     for (cx, cy, r, class, _) in &v.circles {
-        if class == "base" {
+        if class == "base" || class == "pedestal" {
             grow(cx - r, cy - r);
             grow(cx + r, cy + r);
+        }
+    }
+    for (_, _, l) in &v.footprints {
+        for &(x, y) in l {
+            grow(x, y);
         }
     }
     let pad = 0.05 * (x1 - x0).max(y1 - y0).max(0.1);
@@ -1139,7 +1150,9 @@ pub fn top_view(f: &Frame, v: &TopView) -> String {
         }
     }
     for (cx, cy, r, class, label) in &v.circles {
-        let (dash, fill) = if class == "base" {
+        let (dash, fill) = if class == "pedestal" {
+            ("", "#999")
+        } else if class == "base" {
             ("", "#555")
         } else {
             (r#" stroke-dasharray="6 4""#, "none")
@@ -1151,6 +1164,25 @@ pub fn top_view(f: &Frame, v: &TopView) -> String {
             a.x(*cx),
             a.y(*cy),
             r * k,
+            esc(label)
+        );
+    }
+    for (class, label, l) in &v.footprints {
+        let mut d = String::new();
+        for (i, &(x, y)) in l.iter().enumerate() {
+            let _ = write!(
+                d,
+                "{}{:.1},{:.1}",
+                if i == 0 { "M" } else { " L" },
+                a.x(x),
+                a.y(y)
+            );
+        }
+        n += l.len();
+        let _ = write!(
+            s,
+            r##"<path class="{}" d="{d} Z" fill="#555" fill-opacity="0.6" stroke="#333" stroke-width="1.2"><title>{}</title></path>"##,
+            esc(class),
             esc(label)
         );
     }

@@ -328,6 +328,10 @@ pub(crate) struct RobotTable {
     pub tool_link: Option<String>,
     #[serde(skip_serializing_if = "Option::is_none")]
     pub urdf: Option<String>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pedestal_height_m: Option<f64>,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub pedestal_radius_m: Option<f64>,
 }
 
 #[derive(Deserialize, Serialize, Debug, Clone)]

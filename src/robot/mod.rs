@@ -394,6 +394,30 @@ fn apply_drive(model: &mut RobotModel, d: drive::DriveFile, file: &str) -> Resul
         model.info.name = n;
     }
     model.info.reach_m = d.robot.reach_m;
+    for (key, v) in [
+        ("pedestal_height_m", d.robot.pedestal_height_m),
+        ("pedestal_radius_m", d.robot.pedestal_radius_m),
+    ] {
+        if let Some(v) = v.filter(|v| !(v.is_finite() && *v >= 0.0)) {
+            return Err(Error::Field {
+                file: file.into(),
+                field: format!("robot.{key}"),
+                msg: format!("{v}: expected a length ≥ 0 m"),
+            });
+        }
+    }
+    model.info.pedestal_height_m = d.robot.pedestal_height_m.unwrap_or(0.0);
+    model.info.pedestal_radius_m = d.robot.pedestal_radius_m.unwrap_or(0.0);
+    if model.info.pedestal_height_m > 0.0 && model.info.pedestal_radius_m == 0.0 {
+        return Err(Error::Field {
+            file: file.into(),
+            field: "robot.pedestal_radius_m".into(),
+            msg: format!(
+                "a pedestal of height {} m needs its radius (the footprint, m)",
+                model.info.pedestal_height_m
+            ),
+        });
+    }
     model.info.rated_payload_kg = d.robot.rated_payload_kg;
     if let Some(m) = d.robot.mass_kg {
         if !(m.is_finite() && m > 0.0) {

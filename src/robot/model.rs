@@ -146,6 +146,13 @@ pub struct RobotInfo {
     /// Per-joint position margin from the limits for placement searches, rad (drive file
     /// `limit_margin_rad`; `None` = the command's default).
     pub limit_margins_rad: Vec<Option<f64>>,
+    /// Height of the pedestal (plinth) the base stands on, m (drive file
+    /// `pedestal_height_m`; 0 = the base stands on the floor). The floor is this far below the
+    /// base frame's origin.
+    pub pedestal_height_m: f64,
+    /// Radius of the pedestal, a cylinder about the base frame's z axis, m (drive file
+    /// `pedestal_radius_m`).
+    pub pedestal_radius_m: f64,
     /// Where each moving link's inertia comes from (chain order; filled when the robot is
     /// loaded, [`crate::robot::inertia::complete`]).
     pub inertia_sources: Vec<crate::robot::inertia::InertiaSource>,

@@ -132,6 +132,10 @@ pub fn what_to_try(reason: Reason) -> Advice {
             "raise the bed ({}), move the part outward ({}), or check the nozzle length in the drive file's [tool]",
             &[Z, X],
         ),
+        Reason::CollisionFloor => (
+            "raise the bed ({}), move the part outward ({}), or stand the robot on a pedestal (the drive file's [robot] pedestal_height_m)",
+            &[Z, X],
+        ),
         Reason::SelfCollision => ("move the part outward ({}) or try other yaws", &[X]),
         Reason::ModelError => (
             "check the robot files (a model error is not a placement problem)",

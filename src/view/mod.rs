@@ -166,8 +166,9 @@ impl<'c> ViewState<'c> {
     }
 
     /// Each shape in its own frame: `capsule` (axis ends and radius), `box` (half extents),
-    /// `ball` (radius), `cylinder` (along y: half height and radius), otherwise its
-    /// bounding `ball`; with its role.
+    /// `ball` (radius), `cylinder` (along y: half height and radius), `hull` (a convex piece of
+    /// a link: vertices, m, and outward triangles as vertex indices), otherwise its bounding
+    /// `ball`; with its role.
     fn shape_geometry(&self) -> Vec<Value> {
         self.shapes
             .shapes
@@ -189,6 +190,10 @@ impl<'c> ViewState<'c> {
                     json!({"kind": "ball", "centre_m": [0.0, 0.0, 0.0], "radius_m": b.radius})
                 } else if let Some(cy) = sh.as_cylinder() {
                     json!({"kind": "cylinder", "half_height_m": cy.half_height, "radius_m": cy.radius})
+                } else if let Some(h) = sh.as_convex_polyhedron() {
+                    let (v, t) = h.to_trimesh();
+                    let v: Vec<[f64; 3]> = v.iter().map(|p| [p.x, p.y, p.z]).collect();
+                    json!({"kind": "hull", "vertices_m": v, "triangles": t})
                 } else {
                     let (c, r) = s.bound;
                     json!({"kind": "ball", "centre_m": [c.x, c.y, c.z], "radius_m": r})

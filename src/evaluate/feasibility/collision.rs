@@ -33,7 +33,7 @@ use crate::math::{Frame, V3};
 use crate::robot::{GeomShape, RobotModel};
 use parry3d_f64::bounding_volume::{Aabb, BoundingVolume};
 use parry3d_f64::math::{Isometry, Point, Translation, Vector};
-use parry3d_f64::na::{Rotation3, UnitQuaternion};
+use parry3d_f64::na::{Matrix3, Rotation3, UnitQuaternion};
 use parry3d_f64::query;
 use parry3d_f64::shape::{Capsule, Cuboid, Cylinder, Segment, SharedShape};
 
@@ -179,6 +179,12 @@ pub struct BodyShape {
     axis_body: Option<(V3, V3, f64)>,
     /// The bounding sphere's centre in the body frame (`local` applied, m).
     centre_body: V3,
+    /// A mesh piece's box in its own frame (centre, half extents, m): its world box at a pose
+    /// is that box turned (a box that holds the piece's AABB, in O(1) instead of one transform
+    /// per vertex: the broad phase of a piece with a few hundred vertices).
+    local_box: Option<(Vector<f64>, Vector<f64>)>,
+    /// A mesh piece's AABB in its own frame (the prefilter of its exact distance to a bead).
+    local_aabb: Option<Aabb>,
 }
 
 impl BodyShape {
@@ -191,6 +197,8 @@ impl BodyShape {
     ) -> Self {
         let b = shape.compute_local_bounding_sphere();
         let capsule = shape.as_capsule().copied();
+        let local_aabb = shape.as_convex_polyhedron().map(|h| h.local_aabb());
+        let local_box = local_aabb.map(|a| (a.center().coords, a.half_extents()));
         let at_origin = local == Isometry::identity();
         let local_frame = Frame {
             rot: *local.rotation.to_rotation_matrix().matrix(),
@@ -215,6 +223,8 @@ impl BodyShape {
             local_frame,
             axis_body: capsule.map(|c| (in_body(&c.segment.a), in_body(&c.segment.b), c.radius)),
             centre_body: in_body(&b.center),
+            local_box,
+            local_aabb,
         }
     }
 }
@@ -228,6 +238,9 @@ pub struct RobotShapes {
     pub pairs: Vec<(usize, usize)>,
     /// Number of links whose URDF collision geometry is used (the rest are capsules).
     pub links_with_urdf_geometry: usize,
+    /// Depth of the floor below the base frame's origin, m (the pedestal's height; 0 = the
+    /// base stands on the floor): see [`Floor`].
+    pub floor_below_base_m: f64,
     /// The chain of the model given to [`RobotShapes::new`], for [`RobotShapes::body_frames`].
     chain: Chain,
 }
@@ -512,11 +525,26 @@ impl RobotShapes {
                 }
             }
         }
+        // The pedestal: a fixed body under the base, a cylinder about the base's z axis from
+        // the floor up to the base frame's origin.
+        let (ph, pr) = (model.info.pedestal_height_m, model.info.pedestal_radius_m);
+        if ph > 0.0 && pr > 0.0 {
+            if let Some((l, s)) = cylinder_between(&V3::new(0.0, 0.0, -ph), &V3::zeros(), pr) {
+                shapes.push(BodyShape::new(
+                    0,
+                    l,
+                    s,
+                    Role::Link,
+                    format!("pedestal ({ph} m high, radius {pr} m)"),
+                ));
+            }
+        }
         // Allowed-collision matrix at the home pose.
         let mut rs = RobotShapes {
             shapes,
             pairs: Vec::new(),
             links_with_urdf_geometry: with_urdf,
+            floor_below_base_m: ph.max(0.0),
             chain: Chain::new(model),
         };
         let home = rs.poses(model, &vec![0.0; n], &Isometry::identity());
@@ -928,17 +956,25 @@ impl Beads {
         let cap = shape
             .as_capsule()
             .map(|c| (pose * c.segment.a, pose * c.segment.b, c.radius));
-        self.hit_placed(pose, shape, aabb, cap, laid)
+        let local = if shape.as_convex_polyhedron().is_some() {
+            None
+        } else {
+            Some(shape.compute_local_aabb())
+        };
+        self.hit_placed(pose, shape, aabb, cap, local.as_ref(), laid)
     }
 
     /// [`Beads::hit_within`] with, for a capsule, its axis's ends at `pose` and its radius
-    /// already known (`cap`: `pose * a`, `pose * b`, part frame, m; radius, m).
+    /// already known (`cap`: `pose * a`, `pose * b`, part frame, m; radius, m), and for another
+    /// shape its AABB in its own frame where known (`local`: a bead whose segment's box in that
+    /// frame lies a bead radius or more from it cannot touch, and skips the exact distance).
     fn hit_placed(
         &self,
         pose: &Isometry<f64>,
         shape: &SharedShape,
         aabb: &Aabb,
         cap: Option<(Point<f64>, Point<f64>, f64)>,
+        local: Option<&Aabb>,
         laid: usize,
     ) -> Option<usize> {
         if laid == 0 || self.nodes.is_empty() {
@@ -962,6 +998,16 @@ impl Beads {
                     ((pa - pb).norm() - r).max(0.0)
                 }
                 None => {
+                    if let Some(l) = local {
+                        let (a, b) = (
+                            pose.inverse_transform_point(&seg.a),
+                            pose.inverse_transform_point(&seg.b),
+                        );
+                        let sb = Aabb::new(a.inf(&b), a.sup(&b));
+                        if aabb_gap(&sb, l) >= self.radius_m {
+                            return false;
+                        }
+                    }
                     query::distance(pose, shape.as_ref(), &cap_id, seg).unwrap_or(f64::INFINITY)
                 }
             };
@@ -1009,6 +1055,76 @@ pub struct Bed {
     pub cuboid: Cuboid,
     /// Its AABB.
     pub aabb: Aabb,
+    /// The floor, when checked ([`crate::evaluate::feasibility::World::with_floor`]).
+    pub floor: Option<Floor>,
+}
+
+/// The floor: the plane the robot (or its pedestal) stands on, `normal · x = height` in the
+/// part frame with `normal` the base frame's z axis. It lies [`RobotShapes::floor_below_base_m`]
+/// below the base frame's origin, or at the bed's top where the path lies lower (a part in a
+/// pit, or an arm on a raised track: the floor is then taken down to the bed's top). The
+/// links and the hose must stay above it; the fixed base and pedestal stand on it and the
+/// print head, which prints on the bed, is exempt as it is from the bed.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Floor {
+    /// Upward unit normal (the base's z axis in the part frame).
+    pub normal: V3,
+    /// `normal · x` on the floor, m.
+    pub height: f64,
+}
+
+impl Floor {
+    /// The floor of `rs` with the base at `base` (part frame) over the bed `bed`.
+    pub fn of(rs: &RobotShapes, base: &Frame, bed: &Bed) -> Floor {
+        let normal = base.rot.column(2).into_owned();
+        let under_base = normal.dot(&base.pos) - rs.floor_below_base_m;
+        let bed_top = normal.dot(&V3::new(
+            bed.aabb.center().x,
+            bed.aabb.center().y,
+            bed.aabb.maxs.z,
+        ));
+        Floor {
+            normal,
+            height: under_base.min(bed_top),
+        }
+    }
+
+    /// Height of the lowest point of `shape` at `pose` above the floor, m (negative: below).
+    pub fn clearance(&self, pose: &Isometry<f64>, shape: &SharedShape) -> Option<f64> {
+        let down = -Vector::from(self.normal);
+        let p = shape.as_support_map()?.support_point(pose, &down);
+        Some(self.normal.dot(&p.coords) - self.height)
+    }
+
+    /// Height of the lowest corner of `b` (part frame, m) above the floor, m: at most the
+    /// [`Floor::clearance`] of any shape inside it.
+    pub fn box_clearance(&self, b: &Aabb) -> f64 {
+        let (c, h) = (b.center().coords, b.half_extents());
+        self.normal.dot(&c) - self.normal.abs().dot(&h) - self.height
+    }
+
+    /// [`Floor::clearance`] of the capsule around `a`–`b` (part frame, m) of radius `r`, m.
+    pub fn axis_clearance(&self, a: &Point<f64>, b: &Point<f64>, r: f64) -> f64 {
+        self.normal.dot(&a.coords).min(self.normal.dot(&b.coords)) - r - self.height
+    }
+}
+
+/// Whether shape `s` is checked against the floor (the links and the hose, not the fixed
+/// base and pedestal nor the print head).
+#[inline(always)]
+pub fn on_floor_check(s: &BodyShape) -> bool {
+    s.body > 0 && s.role != Role::Head
+}
+
+fn floor_message(s: &BodyShape, i: usize, c: f64) -> (Reason, String) {
+    (
+        Reason::CollisionFloor,
+        format!(
+            "{} (shape {i}) reaches {:.3} m below the floor",
+            s.label,
+            (-c).max(0.0)
+        ),
+    )
 }
 
 impl Bed {
@@ -1039,6 +1155,7 @@ impl Bed {
             pose: Isometry::translation(c.x, c.y, c.z),
             cuboid: Cuboid::new((hi - lo) * 0.5),
             aabb: Aabb::new(Point::from(*lo), Point::from(*hi)),
+            floor: None,
         }
     }
 }
@@ -1119,10 +1236,11 @@ pub fn check_bodies(
     })
 }
 
-/// `f(boxes, exact)` with `n` scratch boxes and flags (on the stack for up to 16 shapes).
+/// `f(boxes, exact)` with `n` scratch boxes and flags (on the stack for up to 32 shapes: an arm
+/// with a link in several convex pieces has more than 16).
 #[inline(always)]
 fn with_boxes<R>(n: usize, f: impl FnOnce(&mut [Aabb], &mut [bool]) -> R) -> R {
-    const ON_STACK: usize = 16;
+    const ON_STACK: usize = 32;
     let none = Aabb::new_invalid();
     if n <= ON_STACK {
         let (mut boxes, mut exact) = ([none; ON_STACK], [false; ON_STACK]);
@@ -1243,11 +1361,34 @@ fn check_with(
         // A capsule's axis at its pose, once for its AABB (as parry makes it), the bed and the
         // beads.
         let cap = at.axis(i, s);
-        let a = match &cap {
-            Some((ea, eb, r)) => Capsule::new(*ea, *eb, *r).local_aabb(),
-            None => s.shape.compute_aabb(&at.iso(i, s)),
+        let (a, ex) = match (&cap, &s.local_box) {
+            (Some((ea, eb, r)), _) => (Capsule::new(*ea, *eb, *r).local_aabb(), true),
+            // A mesh piece: its own box turned (holds the AABB; the self pairs make the exact
+            // AABB only where these boxes meet).
+            (None, Some((c, h))) => {
+                let p = at.iso(i, s);
+                let rot = p.rotation.to_rotation_matrix();
+                let m = rot.matrix();
+                let half = m.abs() * h;
+                let centre = p * Point::from(*c);
+                (Aabb::new(centre - half, centre + half), false)
+            }
+            (None, None) => (s.shape.compute_aabb(&at.iso(i, s)), true),
         };
-        (boxes[i], exact[i]) = (a, true);
+        (boxes[i], exact[i]) = (a, ex);
+        // Floor: the links and the hose stay above it.
+        if let Some(f) = bed.floor.as_ref().filter(|_| on_floor_check(s)) {
+            let c = match &cap {
+                Some((ea, eb, r)) => Some(f.axis_clearance(ea, eb, *r)),
+                // The box first: most samples keep it above the floor.
+                None => Some(f.box_clearance(&a))
+                    .filter(|c| *c >= 0.0)
+                    .or_else(|| f.clearance(&at.iso(i, s), &s.shape)),
+            };
+            if let Some(c) = c.filter(|c| *c < 0.0) {
+                return Some(floor_message(s, i, c));
+            }
+        }
         // Bed: broad phase on the AABB gap, exact distance only when it could lower the margin.
         let gap = aabb_gap(&a, &bed.aabb);
         if gap <= clearance.unwrap_or(f64::INFINITY) {
@@ -1274,7 +1415,7 @@ fn check_with(
             continue;
         }
         let p = if cap.is_some() { ident } else { at.iso(i, s) };
-        if let Some(b) = beads.hit_placed(&p, &s.shape, &a, cap, laid) {
+        if let Some(b) = beads.hit_placed(&p, &s.shape, &a, cap, s.local_aabb.as_ref(), laid) {
             return Some((
                 Reason::CollisionPart,
                 format!(
@@ -1291,8 +1432,27 @@ fn check_with(
         if i >= n || j >= n || !boxes[i].intersects(&boxes[j]) {
             continue;
         }
+        // Mesh pieces: their own boxes turned (a separating-axis test), not their AABBs (one
+        // transform per vertex).
+        if rs.shapes[i].local_box.is_some() || rs.shapes[j].local_box.is_some() {
+            let ob = |k: usize, at: &mut dyn ShapePoses| match rs.shapes[k].local_box {
+                Some((c, h)) => {
+                    let p = at.iso(k, &rs.shapes[k]);
+                    let m = *p.rotation.to_rotation_matrix().matrix();
+                    ((p * Point::from(c)).coords, m, h)
+                }
+                None => (
+                    boxes[k].center().coords,
+                    Matrix3::identity(),
+                    boxes[k].half_extents(),
+                ),
+            };
+            if obb_separated(&ob(i, at), &ob(j, at)) {
+                continue;
+            }
+        }
         for k in [i, j] {
-            if !exact[k] {
+            if !exact[k] && rs.shapes[k].local_box.is_none() {
                 let s = &rs.shapes[k];
                 boxes[k] = s.shape.compute_aabb(&at.iso(k, s));
                 exact[k] = true;
@@ -1334,6 +1494,15 @@ pub fn check_unfiltered(
             continue;
         }
         let a = &aabbs[i];
+        if let Some(f) = bed.floor.as_ref().filter(|_| on_floor_check(s)) {
+            let c = match s.shape.as_capsule() {
+                Some(k) => Some(f.axis_clearance(&(p * k.segment.a), &(p * k.segment.b), k.radius)),
+                None => f.clearance(p, &s.shape),
+            };
+            if let Some(c) = c.filter(|c| *c < 0.0) {
+                return Some(floor_message(s, i, c));
+            }
+        }
         // Bed: broad phase on the AABB gap, exact distance only when it could lower the margin.
         let gap = aabb_gap(a, &bed.aabb);
         if gap <= clearance.unwrap_or(f64::INFINITY) {
@@ -1374,6 +1543,47 @@ pub fn check_unfiltered(
         }
     }
     None
+}
+
+/// Whether two oriented boxes (centre, axes as the columns of a rotation, half extents; m)
+/// are apart, by the separating-axis test over their 15 axes (Gottschalk, Lin and Manocha,
+/// "OBBTree", SIGGRAPH 1996), with a small tolerance so that a near touch counts as meeting.
+fn obb_separated(
+    a: &(Vector<f64>, Matrix3<f64>, Vector<f64>),
+    b: &(Vector<f64>, Matrix3<f64>, Vector<f64>),
+) -> bool {
+    const EPS: f64 = 1e-9;
+    let (ca, ra, ha) = a;
+    let (cb, rb, hb) = b;
+    let r = ra.transpose() * rb;
+    let t = ra.transpose() * (cb - ca);
+    let ar = r.abs().add_scalar(EPS);
+    for i in 0..3 {
+        let s = hb[0] * ar[(i, 0)] + hb[1] * ar[(i, 1)] + hb[2] * ar[(i, 2)];
+        if t[i].abs() > ha[i] + s + EPS {
+            return true;
+        }
+    }
+    for j in 0..3 {
+        let s = ha[0] * ar[(0, j)] + ha[1] * ar[(1, j)] + ha[2] * ar[(2, j)];
+        let d = t[0] * r[(0, j)] + t[1] * r[(1, j)] + t[2] * r[(2, j)];
+        if d.abs() > s + hb[j] + EPS {
+            return true;
+        }
+    }
+    for i in 0..3 {
+        let (i1, i2) = ((i + 1) % 3, (i + 2) % 3);
+        for j in 0..3 {
+            let (j1, j2) = ((j + 1) % 3, (j + 2) % 3);
+            let sa = ha[i1] * ar[(i2, j)] + ha[i2] * ar[(i1, j)];
+            let sb = hb[j1] * ar[(i, j2)] + hb[j2] * ar[(i, j1)];
+            let d = t[i2] * r[(i1, j)] - t[i1] * r[(i2, j)];
+            if d.abs() > sa + sb + EPS {
+                return true;
+            }
+        }
+    }
+    false
 }
 
 /// Distance between two AABBs, m (0 when they overlap).
@@ -1467,5 +1677,53 @@ mod tests {
         // No beads at all: nothing to hit, whatever `laid` says.
         let none = Beads::new(&p[..10], &[false; 10], 5, BEAD_RADIUS_M);
         assert_eq!(none.hit(&Isometry::identity(), &shapes[0], 3), None);
+    }
+
+    /// The oriented-box prefilter of the self pairs never calls two meeting boxes apart, and
+    /// calls most apart boxes apart: against parry's exact cuboid test on random boxes.
+    #[test]
+    fn the_oriented_box_test_never_separates_boxes_that_meet() {
+        let mut rng = rand::rngs::StdRng::seed_from_u64(7);
+        let (mut apart, mut called_apart) = (0, 0);
+        for _ in 0..20_000 {
+            let mut obb = || {
+                let h = Vector::new(
+                    rng.gen_range(0.01..0.5),
+                    rng.gen_range(0.01..0.5),
+                    rng.gen_range(0.01..0.5),
+                );
+                let c = Vector::new(
+                    rng.gen_range(-0.8..0.8),
+                    rng.gen_range(-0.8..0.8),
+                    rng.gen_range(-0.8..0.8),
+                );
+                let r = UnitQuaternion::from_euler_angles(
+                    rng.gen_range(-3.2..3.2),
+                    rng.gen_range(-1.6..1.6),
+                    rng.gen_range(-3.2..3.2),
+                );
+                (Isometry::from_parts(Translation::from(c), r), h)
+            };
+            let ((pa, ha), (pb, hb)) = (obb(), obb());
+            let boxed = |p: &Isometry<f64>, h: Vector<f64>| {
+                (
+                    p.translation.vector,
+                    *p.rotation.to_rotation_matrix().matrix(),
+                    h,
+                )
+            };
+            let sep = obb_separated(&boxed(&pa, ha), &boxed(&pb, hb));
+            let meet =
+                query::intersection_test(&pa, &Cuboid::new(ha), &pb, &Cuboid::new(hb)).unwrap();
+            assert!(
+                !(meet && sep),
+                "boxes that meet called apart: {pa:?} {ha:?} {pb:?} {hb:?}"
+            );
+            apart += usize::from(!meet);
+            called_apart += usize::from(sep);
+        }
+        // The 15 axes decide exactly for boxes: every pair apart is found apart.
+        assert!(apart > 1000, "{apart}");
+        assert_eq!(called_apart, apart);
     }
 }

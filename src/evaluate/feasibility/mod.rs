@@ -152,6 +152,8 @@ pub enum Reason {
     ShoulderSingularity,
     /// A link hits the print bed.
     CollisionBed,
+    /// A link (or the hose) reaches below the floor the robot or its pedestal stands on.
+    CollisionFloor,
     /// A link hits the part being printed.
     CollisionPart,
     /// Two links of the arm collide.
@@ -172,6 +174,7 @@ impl Reason {
             Reason::ElbowSingularity => "elbow_singularity",
             Reason::ShoulderSingularity => "shoulder_singularity",
             Reason::CollisionBed => "collision_bed",
+            Reason::CollisionFloor => "collision_floor",
             Reason::CollisionPart => "collision_part",
             Reason::SelfCollision => "self_collision",
             Reason::ModelError => "model_error",
@@ -345,6 +348,13 @@ impl World {
             bed_hi,
             bed: Bed::new(&bed_lo, &bed_hi),
         }
+    }
+
+    /// This world with the floor under the arm of `shapes` (see [`collision::Floor`]): the
+    /// links and the hose must stay above it.
+    pub fn with_floor(mut self, shapes: &RobotShapes) -> Self {
+        self.bed.floor = Some(collision::Floor::of(shapes, &self.base_to_part, &self.bed));
+        self
     }
 }
 

@@ -64,6 +64,15 @@ function shapeMesh(s) {
     g.add(new THREE.Mesh(new THREE.BoxGeometry(2 * s.half_m[0], 2 * s.half_m[1], 2 * s.half_m[2]), mat));
   } else if (s.kind === 'cylinder') {
     g.add(new THREE.Mesh(new THREE.CylinderGeometry(s.radius_m, s.radius_m, 2 * s.half_height_m, 20), mat));
+  } else if (s.kind === 'hull') {
+    // A convex piece of a link (a link may have several): its own triangles, to scale.
+    const geo = new THREE.BufferGeometry();
+    geo.setAttribute('position', new THREE.Float32BufferAttribute(s.vertices_m.flat(), 3));
+    geo.setIndex(s.triangles.flat());
+    geo.computeVertexNormals();
+    const m = new THREE.Mesh(geo, mat);
+    m.userData.hull = true;
+    g.add(m);
   } else {
     const m = new THREE.Mesh(new THREE.SphereGeometry(s.radius_m, 16, 12), mat);
     m.position.set(...s.centre_m);
@@ -378,6 +387,8 @@ view.screenOf = (x, y, z) => {
   return [r.left + (v.x + 1) / 2 * r.width, r.top + (1 - v.y) / 2 * r.height];
 };
 // The centre of the bed's top face on the page.
+// The drawn mesh pieces of the links (a link may be several convex pieces), for tests.
+view.hullPieces = () => shapeObjs.filter((o) => o.children.some((c) => c.userData.hull)).length;
 view.bedScreen = () => {
   const b = bedMesh.geometry.parameters;
   const c = part.localToWorld(bedMesh.position.clone().add(new THREE.Vector3(0, 0, b.depth / 2)));

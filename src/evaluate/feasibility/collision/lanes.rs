@@ -20,7 +20,7 @@
 //! every shape at every body, no lane-by-lane bit packing; the numbers are the same).
 
 use crate::evaluate::feasibility::collision::{
-    Beads, Bed, RobotShapes, Role, Turn, SPHERE_MARGIN_M,
+    on_floor_check, Beads, Bed, Floor, RobotShapes, Role, Turn, SPHERE_MARGIN_M,
 };
 use crate::kinematics::fk::Axis;
 use crate::kinematics::MAX_DOF;
@@ -54,6 +54,9 @@ pub struct CollisionLanes {
     /// The shapes checked against the bed and the part (all but the print head), in order.
     order: [u8; MAX_SHAPES],
     count: usize,
+    /// The floor ([`Bed::floor`]) and the shapes checked against it (bit `i`: shape `i`).
+    floor: Option<Floor>,
+    on_floor: u32,
     /// Scratch: every shape's box (corners, m) per lane.
     lo: [[L; 3]; MAX_SHAPES],
     hi: [[L; 3]; MAX_SHAPES],
@@ -71,6 +74,8 @@ impl Default for CollisionLanes {
             bed_hi: [0.0; 3],
             order: [0; MAX_SHAPES],
             count: 0,
+            floor: None,
+            on_floor: 0,
             lo: [[[0.0; LANES]; 3]; MAX_SHAPES],
             hi: [[[0.0; LANES]; 3]; MAX_SHAPES],
         }
@@ -200,7 +205,10 @@ impl CollisionLanes {
         let last = n + 1;
         let mut on_body = [0u32; MAX_DOF + 2];
         self.count = 0;
+        self.floor = bed.floor;
+        self.on_floor = 0;
         for (i, s) in rs.shapes.iter().enumerate().take(MAX_SHAPES) {
+            self.on_floor |= u32::from(on_floor_check(s)) << i;
             on_body[s.body.min(last)] |= 1 << i;
             self.rad[i] = s.axis_body.map_or(0.0, |a| a.2);
             if s.role != Role::Head {
@@ -364,6 +372,20 @@ impl CollisionLanes {
     pub fn replay(&self, l: usize, clearance: &mut Option<f64>) -> bool {
         if self.exact >> l & 1 != 0 {
             return false;
+        }
+        // The floor, as the per-sample check takes it (a shape below it goes that way).
+        if let Some(f) = &self.floor {
+            for &i in &self.order[..self.count] {
+                let i = i as usize;
+                if self.on_floor >> i & 1 != 0 {
+                    let e = &self.ends[i];
+                    let a = parry3d_f64::math::Point::new(e[0][l], e[1][l], e[2][l]);
+                    let b = parry3d_f64::math::Point::new(e[3][l], e[4][l], e[5][l]);
+                    if !(f.axis_clearance(&a, &b, self.rad[i]) >= 0.0) {
+                        return false;
+                    }
+                }
+            }
         }
         // Most samples: no shape's gap reaches the running clearance, which stays as it is.
         if !(self.low[l] <= clearance.unwrap_or(f64::INFINITY)) {
