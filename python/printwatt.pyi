@@ -400,8 +400,10 @@ def identify(
     drive_out: Optional[StrPath] = None,
     force: bool = False,
     columns: Optional[str] = None,
+    out: Optional[StrPath] = None,
 ) -> IdentifyResult:
-    """Fit the parameters of `effects` on `log` and write the calibrated robot."""
+    """Fit the parameters of `effects` on `log` and write the calibrated robot (and, with
+    `out`, the round's report); a physically implausible fit raises PrintwattError."""
 
 def stations(
     robot: Union[Robot, StrPath],

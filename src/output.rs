@@ -1256,6 +1256,12 @@ pub fn round_json(v: &mut serde_json::Value) {
 /// object, `schema_version` ([`JSON_SCHEMA_VERSION`]) added when it has none.
 pub fn finish_json(v: &mut serde_json::Value) {
     round_json(v);
+    stamp_json(v);
+}
+
+/// For an object, `schema_version` ([`JSON_SCHEMA_VERSION`]) added when it has none; numbers
+/// left at full precision (the Python dictionaries that mirror a JSON document).
+pub fn stamp_json(v: &mut serde_json::Value) {
     if let serde_json::Value::Object(o) = v {
         if !o.contains_key("schema_version") {
             o.insert("schema_version".into(), JSON_SCHEMA_VERSION.into());

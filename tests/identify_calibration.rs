@@ -358,3 +358,55 @@ fn the_swallowed_payload_is_claimed_jointly_with_friction_and_weighed_in_one_rou
     let d2 = diagnose(&prep, &mut m1, 5).unwrap();
     assert_eq!(d2.best, None, "{}", d2.verdict);
 }
+
+/// The library's round job, which the binary and Python both run: an implausible fit (a 1 kg
+/// payload 3 m out) writes neither the calibrated robot nor the report and says why; a
+/// plausible one writes both.
+#[test]
+fn the_round_job_writes_no_calibrated_robot_for_an_implausible_fit() {
+    use printwatt::identify::{run_round, NoProgress, RoundJob};
+    let dir = std::env::temp_dir().join(format!("pw-round-{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    std::fs::create_dir_all(&dir).unwrap();
+    let (r, _) = nominal();
+    let mut inputs = printwatt::output::Inputs::new();
+    inputs.add_robot(&robot_dir(), Some(&r));
+    for (hidden, effects, plausible) in [
+        ("payload=-29:3", "payload", false),
+        ("coulomb=30", "coulomb", true),
+    ] {
+        let log = sim_with(hidden, SignalKind::Torque, 1.0, 5, 8.0, &[]);
+        let mut model = Model::new(&r).unwrap();
+        let plan = RoundPlan::new(&r, &model, effects, log.kind).unwrap();
+        let (dst, report) = (dir.join(format!("{effects}.toml")), dir.join(effects));
+        let job = RoundJob {
+            robot: &r,
+            robot_arg: "abb_irb4600_40_255",
+            resolved: &robot_dir(),
+            log: &log,
+            validation: None,
+            plan: &plan,
+            calibrated_to: &dst,
+            installed: None,
+            force: false,
+            report_dir: Some(&report),
+            inputs: &inputs,
+        };
+        let round = run_round(&job, &mut model, &NoProgress).unwrap();
+        assert_eq!(round.written.is_some(), plausible, "{hidden}");
+        assert_eq!(dst.exists(), plausible, "{hidden}");
+        assert_eq!(report.join("report.html").exists(), plausible, "{hidden}");
+        match round.refusal() {
+            Some(e) => {
+                assert!(!plausible);
+                let e = e.to_string();
+                assert!(
+                    e.contains("not physically plausible") && e.contains("payload:"),
+                    "{e}"
+                );
+            }
+            None => assert!(plausible, "{hidden}: not refused"),
+        }
+    }
+    let _ = std::fs::remove_dir_all(&dir);
+}

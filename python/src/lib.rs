@@ -540,8 +540,9 @@ fn feasibility_options(
 // ---------------------------------------------------------------------------------------------
 // JSON-mirroring dictionaries
 
-/// A serialisable value as the Python object of its `--json` form: checked finite, numbers
-/// rounded to 9 significant digits, `schema_version` added to an object (docs/json.md).
+/// A serialisable value as the Python object of its `--json` form: checked finite, numbers at
+/// full precision (the JSON rounds them to 9 significant digits), `schema_version` added to
+/// an object (docs/json.md).
 fn json_obj<'py, T: serde::Serialize + ?Sized>(
     py: Python<'py>,
     what: &str,
@@ -549,7 +550,7 @@ fn json_obj<'py, T: serde::Serialize + ?Sized>(
 ) -> PyRes<Bound<'py, PyAny>> {
     printwatt::output::check_finite_json(what, v).map_err(err)?;
     let mut j = serde_json::to_value(v).map_err(err)?;
-    printwatt::output::finish_json(&mut j);
+    printwatt::output::stamp_json(&mut j);
     value_to_py(py, &j)
 }
 
@@ -560,8 +561,7 @@ fn json_part<'py, T: serde::Serialize + ?Sized>(
     v: &T,
 ) -> PyRes<Bound<'py, PyAny>> {
     printwatt::output::check_finite_json(what, v).map_err(err)?;
-    let mut j = serde_json::to_value(v).map_err(err)?;
-    printwatt::output::round_json(&mut j);
+    let j = serde_json::to_value(v).map_err(err)?;
     value_to_py(py, &j)
 }
 
@@ -678,7 +678,7 @@ fn energy<'py>(
         })?;
     let e = &ev.energy;
     check_series(e, &ev.timed.traj)?;
-    // The `energy --json` document (numbers rounded as there), the report without its
+    // The `energy --json` document (numbers at full precision), the report without its
     // per-sample series (they are the arrays below). Checked finite on the typed values:
     // serde_json would turn a NaN into null.
     printwatt::output::check_finite_json("energy", e).map_err(err)?;
@@ -709,7 +709,7 @@ fn energy<'py>(
     doc.insert("output_csv".into(), serde_json::Value::Null);
     doc.insert("energy".into(), rep);
     let mut doc = serde_json::Value::Object(doc);
-    printwatt::output::finish_json(&mut doc);
+    printwatt::output::stamp_json(&mut doc);
     let d = value_to_py(py, &doc)?.cast_into::<PyDict>()?;
     d.set_item(
         "warnings",
@@ -1196,14 +1196,17 @@ fn diagnose<'py>(
 /// "coulomb,balancer"; `viscous[2]`: joint 2 only) on `log`, validated on `validate_log` or
 /// the last 25 % of `log`. A calibrated robot's earlier effects are re-fitted jointly.
 /// The calibrated robot (a drive .toml) is always written, as `printwatt identify` writes it:
-/// to `drive_out`, else `<name>.calibrated.toml` in the current directory (an existing file is
-/// replaced only with `force`; never into the shipped robots). Returns a dict mirroring
+/// to `drive_out`, else `<name>.calibrated.toml` in `out` or the current directory (an existing
+/// file is replaced only with `force`; never into the shipped robots); a fit that is not
+/// physically plausible writes nothing and raises `PrintwattError` naming the parameters.
+/// `out`: a directory for the round's report (`report.html`, `ladder.svg`, `ladder.md`,
+/// `identify.json`), as `printwatt identify --out` writes it. Returns a dict mirroring
 /// `printwatt identify --json` (`identification` with the ladder (RMSE in the signal's unit,
 /// energy error in %) and the parameters with their units; `calibrated_robot`: the file
 /// written).
 #[pyfunction]
 #[pyo3(signature = (robot, log, effects, *, validate_log = None, drive_out = None,
-    force = false, columns = None))]
+    force = false, columns = None, out = None))]
 #[allow(clippy::too_many_arguments)]
 fn identify<'py>(
     py: Python<'py>,
@@ -1214,56 +1217,49 @@ fn identify<'py>(
     drive_out: Option<PathBuf>,
     force: bool,
     columns: Option<String>,
+    out: Option<PathBuf>,
 ) -> PyRes<Bound<'py, PyAny>> {
     let resolved = printwatt::robot::shipped::resolve(&robot).unwrap_or_else(|| robot.clone());
     let rm = load_robot_model(&robot, None)?;
     let (mut model, l) = load_log_model(&rm, &log, None, None, columns.as_deref())?;
     let plan = pid::RoundPlan::new(&rm, &model, &effects, l.kind).map_err(err)?;
-    // Where the calibrated robot goes, checked against every input before any work.
-    let dst = drive_out
-        .clone()
-        .unwrap_or_else(|| PathBuf::from(".").join(pid::calibrate::default_file_name(&resolved)));
+    // Where the calibrated robot goes (checked against every input by the round, first).
+    let dst = drive_out.clone().unwrap_or_else(|| {
+        out.clone()
+            .unwrap_or_else(|| PathBuf::from("."))
+            .join(pid::calibrate::default_file_name(&resolved))
+    });
     let mut inputs = printwatt::output::Inputs::new();
     inputs.add_robot(&resolved, Some(&rm));
     inputs.add(&log);
     if let Some(v) = &validate_log {
         inputs.add(v);
     }
-    printwatt::output::check_file(&dst, &inputs, printwatt::output::Existing::Force(force))
-        .map_err(err)?;
     let vlog = match &validate_log {
         Some(p) => Some(pid::read_log_for(&rm, p, columns.as_deref()).map_err(err)?),
         None => None,
     };
-    let id = py
-        .detach(|| -> printwatt::Result<_> {
-            let prep = Prepared::new(&model, &l)?;
-            let vprep = match &vlog {
-                Some(v) => Some(Prepared::new(&model, v)?),
-                None => None,
-            };
-            plan.fit(&mut model, (&l, &prep), vlog.as_ref().zip(vprep.as_ref()))
-        })
+    let installed = robots_dir();
+    let job = pid::RoundJob {
+        robot: &rm,
+        robot_arg: &robot.display().to_string(),
+        resolved: &resolved,
+        log: &l,
+        validation: vlog.as_ref(),
+        plan: &plan,
+        calibrated_to: &dst,
+        installed: Some(&installed),
+        force,
+        report_dir: out.as_deref(),
+        inputs: &inputs,
+    };
+    let round = py
+        .detach(|| pid::run_round(&job, &mut model, &pid::NoProgress))
         .map_err(err)?;
-    printwatt::output::check_finite_json("identify", &id).map_err(err)?;
-    {
-        let drive_src = pid::model::drive_file_of(&resolved);
-        pid::calibrate::write_calibrated(
-            &pid::calibrate::CalibrationInput {
-                robot: &rm,
-                drive_file: drive_src.as_deref(),
-                robot_arg: &robot.display().to_string(),
-                model: &model,
-                id: &id,
-                log: &l,
-                date: pid::calibrate::utc_date_today(),
-            },
-            &dst,
-            Some(&robots_dir()),
-            force,
-        )
-        .map_err(err)?;
+    if let Some(refused) = round.refusal() {
+        return Err(err(refused));
     }
+    let id = round.id;
     let doc = serde_json::json!({
         "schema_version": printwatt::output::JSON_SCHEMA_VERSION,
         "identification": serde_json::to_value(&id).map_err(err)?,

@@ -2,7 +2,8 @@
 
 Figures are checked against the command-line binary (`target/release/printwatt`, built by
 `cargo test --release` before this runs; `PRINTWATT_BIN` overrides the path) on the same
-inputs: both call the same library, so they agree to the JSON's 9 significant digits.
+inputs: both call the same library, so the Python figures (full precision) round to the
+JSON's (9 significant digits) digit for digit.
 """
 
 import json
@@ -45,9 +46,9 @@ def rounds_to(exact, shown):
 
 
 def assert_same_numbers(py, js, where=""):
-    """Every field of the CLI's JSON `js` is in `py` with the same value: the numbers of both
-    are rounded to 9 significant digits by the same library function, so they are identical
-    (a difference of one unit in the 9th digit would fail)."""
+    """Every field of the CLI's JSON `js` is in `py` with the same value: a Python number, at
+    full precision, rounds to the JSON's 9 significant digits exactly (a difference of one
+    unit in the 9th digit would fail)."""
     if isinstance(js, dict):
         for k, v in js.items():
             if k == "warnings":
@@ -58,8 +59,10 @@ def assert_same_numbers(py, js, where=""):
         assert len(py) == len(js), where
         for i, (a, b) in enumerate(zip(py, js)):
             assert_same_numbers(a, b, f"{where}[{i}]")
-    elif isinstance(js, float) or (isinstance(js, int) and not isinstance(js, bool)):
-        assert float(py) == float(js), f"{where}: Python {py!r} vs CLI {js!r}"
+    elif isinstance(js, int) and not isinstance(js, bool) and isinstance(py, int):
+        assert py == js, f"{where}: Python {py!r} vs CLI {js!r}"
+    elif isinstance(js, (int, float)) and not isinstance(js, bool):
+        assert rounds_to(float(py), float(js)), f"{where}: Python {py!r} vs CLI {js!r}"
     else:
         assert py == js, f"{where}: Python {py!r} vs CLI {js!r}"
 
@@ -91,11 +94,34 @@ def test_energy_at_a_placement_equals_the_cli_total_to_1e9(at_readme):
     # CLI's, and the dict's rounded figure must be the CLI's, digit for digit.
     assert rounds_to(at_readme["supply_j"], total_cli), (at_readme["supply_j"], total_cli)
     assert abs(at_readme["supply_j"] - total_cli) <= 5e-9 * total_cli
-    assert at_readme["energy"]["total"]["supply_j"] == total_cli
+    assert rounds_to(at_readme["energy"]["total"]["supply_j"], total_cli)
     # The dict mirrors the JSON document: every field, every number.
     assert_same_numbers(at_readme["energy"], doc["energy"], "energy")
     assert at_readme["print_time_s"] == doc["print_time_s"]
     assert at_readme["placement"] == pytest.approx(doc["placement"], rel=1e-15, abs=1e-12)
+
+
+def test_result_dictionaries_keep_full_precision(at_readme):
+    """The dictionaries that mirror a JSON document are not rounded to its 9 digits: the
+    total in the document part is the exact figure, and the figures carry more digits than
+    the JSON shows."""
+    total = at_readme["energy"]["total"]["supply_j"]
+    assert total == at_readme["supply_j"]
+    numbers = []
+
+    def walk(v):
+        if isinstance(v, dict):
+            for x in v.values():
+                walk(x)
+        elif isinstance(v, list):
+            for x in v:
+                walk(x)
+        elif isinstance(v, float) and v != 0.0:
+            numbers.append(v)
+
+    walk(at_readme["energy"])
+    finer = [v for v in numbers if float(f"{v:.8e}") != v]
+    assert len(finer) > len(numbers) // 2, (len(finer), len(numbers))
 
 
 def test_energy_arrays_have_numpy_shapes_and_dtypes(at_readme, robot):
@@ -245,6 +271,46 @@ def test_compare_diagnose_identify_mirror_the_cli_json(tmp_path, monkeypatch):
         pw.identify(robot, log, "coulomb", drive_out=cal)
 
 
+def test_identify_runs_the_cli_round_refusing_an_implausible_fit_and_writing_its_report(
+        tmp_path, monkeypatch):
+    """Python's identify is the CLI's round: a fit that is not physically plausible (a 1 kg
+    payload 3 m out) raises and writes nothing, as `printwatt identify` refuses it; `out`
+    writes the round's report as `--out` does."""
+    robot = "abb_irb4600_40_255"
+    exe = str(ROOT / "target" / "release" / "printwatt")
+    subprocess.run(
+        [exe, "simulate", "--robot", robot, "--excite", "8", "--hidden", "payload=-29:3",
+         "--signal", "tau", "--noise", "1", "--rate", "250", "--seed", "5",
+         "--out", str(tmp_path / "p")],
+        check=True, capture_output=True,
+    )
+    monkeypatch.chdir(tmp_path)
+    with pytest.raises(pw.PrintwattError, match="not physically plausible.*payload:"):
+        pw.identify(robot, tmp_path / "p" / "log.csv", "payload")
+    assert not list(tmp_path.glob("*.calibrated.toml")), "nothing written"
+    cli_out = subprocess.run(
+        [exe, "identify", "--robot", robot, "--log", str(tmp_path / "p" / "log.csv"),
+         "--effects", "payload", "--out", str(tmp_path / "cli")],
+        capture_output=True, text=True,
+    )
+    assert cli_out.returncode == 1 and "not physically plausible" in cli_out.stderr
+    # A plausible round with `out`: the report, the ladder and the calibrated robot there.
+    subprocess.run(
+        [exe, "simulate", "--robot", robot, "--excite", "8", "--hidden", "coulomb=30",
+         "--signal", "tau", "--noise", "2", "--rate", "100", "--seed", "7",
+         "--out", str(tmp_path / "c")],
+        check=True, capture_output=True,
+    )
+    log = tmp_path / "c" / "log.csv"
+    i = pw.identify(robot, log, "coulomb", out=tmp_path / "py")
+    assert i["calibrated_robot"] == str(tmp_path / "py" / "abb_irb4600_40_255.calibrated.toml")
+    cli("identify", "--robot", robot, "--log", str(log), "--effects", "coulomb",
+        "--out", str(tmp_path / "cli2"))
+    for f in ("report.html", "ladder.svg", "identify.json"):
+        assert (tmp_path / "py" / f).is_file(), f
+    assert (tmp_path / "py" / "ladder.md").read_text() == (tmp_path / "cli2" / "ladder.md").read_text()
+
+
 def test_per_joint_effect_subsets_mean_what_they_mean_in_the_cli(tmp_path, monkeypatch):
     """`viscous[2]` in identify (joint 2 fitted, the others held at their prior) and in
     compare (the effect on joint 2 only), as the binary takes them."""
@@ -284,8 +350,8 @@ def test_stations_plans_a_floor_as_the_cli_does(robot, tmp_path):
     assert rounds_to(p["total_j"], doc["total_j"]) and rounds_to(p["energy_j"], doc["energy_j"])
     for mine, theirs, at in zip(p["segments"], doc["segments"], p["at"]):
         assert mine["units"] == theirs["units"]
-        assert mine["station"]["x_m"] == theirs["station"]["x_m"]
-        assert mine["station"]["y_m"] == theirs["station"]["y_m"]
+        assert rounds_to(mine["station"]["x_m"], theirs["station"]["x_m"])
+        assert rounds_to(mine["station"]["y_m"], theirs["station"]["y_m"])
         assert at[0] == pytest.approx(theirs["at"]["x_m"], abs=1e-9)
     assert p["footprint_m"] > 0 and p["stats"]["units"] == 2
     with pytest.raises(pw.PrintwattError, match="lies under the wall"):

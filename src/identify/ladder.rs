@@ -216,3 +216,22 @@ pub fn identify_holding(
         correlation,
     })
 }
+
+/// The ladder as a Markdown table: per step, train and validation RMSE (in the signal's `unit`),
+/// validation energy error and accuracy (%).
+pub fn table(id: &Identification, unit: &str) -> String {
+    let mut s = format!(
+        "| step | train RMSE [{unit}] | validation RMSE [{unit}] | validation energy error [%] | accuracy [%] |\n|---|---|---|---|---|\n"
+    );
+    for r in &id.ladder {
+        s.push_str(&format!(
+            "| {} | {:.4} | {:.4} | {:.2} | {:.2} |\n",
+            r.step,
+            r.train_rmse,
+            r.validation_rmse,
+            r.validation_energy_error_pct,
+            r.validation_accuracy_pct
+        ));
+    }
+    s
+}

@@ -20,7 +20,7 @@ pub mod structure;
 
 pub use log::{read_log, Log, SignalKind};
 pub use model::{Model, Prepared, DEFAULT_EFFECTS};
-pub use round::{read_log_for, switch_effects, RoundPlan};
+pub use round::{read_log_for, run_round, switch_effects, RoundJob, RoundPlan, RoundResult};
 
 /// An observer of a long run's progress (preparing a log, diagnosing): called with the stage
 /// (`"preparing the log"`, `"diagnosing"`), the units of work done and their total (rows, or

@@ -183,3 +183,144 @@ impl RoundPlan {
         }
     }
 }
+
+/// One identification round as a job: the robot and logs, the plan, where the calibrated robot
+/// and the report go. [`run_round`] runs it for the binary and the Python bindings alike.
+pub struct RoundJob<'a> {
+    /// The robot as loaded (a calibrated one: its earlier rounds are in its effects).
+    pub robot: &'a RobotModel,
+    /// The robot as the user named it (a shipped name or a path), recorded in the calibrated
+    /// file.
+    pub robot_arg: &'a str,
+    /// Where the robot was read from (a shipped name resolved to its directory).
+    pub resolved: &'a Path,
+    /// The log fitted.
+    pub log: &'a Log,
+    /// A validation log; without one the last 25 % of `log` validates.
+    pub validation: Option<&'a Log>,
+    /// What the round fits ([`RoundPlan::new`]).
+    pub plan: &'a RoundPlan,
+    /// The calibrated robot's file (drive file format), written unless the fit is implausible.
+    pub calibrated_to: &'a Path,
+    /// The installed robots' directory: the calibrated robot is never written into it.
+    pub installed: Option<&'a Path>,
+    /// Replace an existing calibrated robot or report.
+    pub force: bool,
+    /// A directory for the round's report (`report.html`, `ladder.svg`, `ladder.md`,
+    /// `identify.json`), or none.
+    pub report_dir: Option<&'a Path>,
+    /// Every input file, checked against every output before any work.
+    pub inputs: &'a crate::output::Inputs,
+}
+
+/// What one round found and wrote.
+pub struct RoundResult {
+    /// The identification: ladder, parameters with standard errors, held and implausible ones.
+    pub id: Identification,
+    /// The calibrated robot written; none when the fit is not physically plausible (then
+    /// nothing is written: [`RoundResult::refusal`]).
+    pub written: Option<std::path::PathBuf>,
+}
+
+impl RoundResult {
+    /// For a fit that is not physically plausible, the error that says why no calibrated robot
+    /// was written.
+    pub fn refusal(&self) -> Option<Error> {
+        (!self.id.implausible.is_empty()).then(|| {
+            Error::Invalid(format!(
+                "the fit is not physically plausible, so no calibrated robot was written: {}",
+                self.id.implausible.join("; ")
+            ))
+        })
+    }
+}
+
+/// Run one identification round: check every output against every input, prepare the logs
+/// for `model` (`progress` told how far), fit the plan, and, when the fit is physically
+/// plausible, write the calibrated robot and the report. `model` ends with the fitted values.
+pub fn run_round(
+    job: &RoundJob,
+    model: &mut Model,
+    progress: &dyn crate::identify::Progress,
+) -> Result<RoundResult> {
+    use crate::identify::{calibrate, metrics};
+    use crate::output::{self, Existing};
+    if let Some(dir) = job.report_dir {
+        output::check_dir(dir, job.inputs)?;
+    }
+    output::check_file(job.calibrated_to, job.inputs, Existing::Force(job.force))?;
+    let prep = Prepared::with_progress(model, job.log, progress)?;
+    let vprep = match job.validation {
+        Some(v) => Some(Prepared::new(model, v)?),
+        None => None,
+    };
+    // The error per joint before the fit (on the validation log when there is one).
+    let on = vprep.as_ref().unwrap_or(&prep);
+    let before = job.report_dir.map(|_| metrics::compare(on, model).0);
+    let id = job
+        .plan
+        .fit(model, (job.log, &prep), job.validation.zip(vprep.as_ref()))?;
+    // The last check before anything leaves: the calibrated robot, the files, the JSON.
+    output::check_finite_json(&format!("identify of the log {}", job.log.file), &id)?;
+    if !id.implausible.is_empty() {
+        return Ok(RoundResult { id, written: None });
+    }
+    let drive_src = crate::identify::model::drive_file_of(job.resolved);
+    calibrate::write_calibrated(
+        &calibrate::CalibrationInput {
+            robot: job.robot,
+            drive_file: drive_src.as_deref(),
+            robot_arg: job.robot_arg,
+            model,
+            id: &id,
+            log: job.log,
+            date: calibrate::utc_date_today(),
+        },
+        job.calibrated_to,
+        job.installed,
+        job.force,
+    )?;
+    let written = job.calibrated_to.to_path_buf();
+    if let (Some(dir), Some(before)) = (job.report_dir, before) {
+        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+        let after = metrics::compare(on, model).0;
+        let on = match job.validation {
+            Some(v) => format!("the validation log {}", v.file),
+            None => format!("the log fitted, {}", job.log.file),
+        };
+        let robot = job.robot;
+        let earlier = robot
+            .effects
+            .calibration
+            .as_ref()
+            .map_or(&[][..], |c| c.rounds.as_slice());
+        let unit = job.log.kind.unit();
+        let report = crate::report::identify::IdentifyReport {
+            title: format!("printwatt identify: {} on {}", job.log.file, robot.name()),
+            facts: vec![
+                ("robot".into(), robot.name().to_string()),
+                ("robot file".into(), crate::robot::robot_file_display(robot)),
+                ("drive data".into(), crate::robot::drive_data_status(robot)),
+                ("log".into(), job.log.file.clone()),
+                ("signal unit".into(), unit.to_string()),
+                ("validated on".into(), id.validation.clone()),
+                ("calibrated robot".into(), written.display().to_string()),
+            ],
+            earlier_rounds: earlier,
+            id: &id,
+            unit: unit.to_string(),
+            before_after: Some((&before, &after, on)),
+        };
+        output::write_atomic(&dir.join("ladder.svg"), report.ladder_svg().as_bytes())?;
+        output::write_atomic(&dir.join("report.html"), report.html().as_bytes())?;
+        output::write_atomic(&dir.join("ladder.md"), ladder::table(&id, unit).as_bytes())?;
+        output::write_atomic(
+            &dir.join("identify.json"),
+            output::json_text(&id)?.as_bytes(),
+        )?;
+    }
+    Ok(RoundResult {
+        id,
+        written: Some(written),
+    })
+}
