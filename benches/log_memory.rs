@@ -13,6 +13,7 @@ use std::process::{Command, Stdio};
 use std::time::Instant;
 
 /// Peak resident memory (bytes) and wall time (s) of one command run to its end.
+#[allow(clippy::zombie_processes)] // the child is reaped by `wait4`, which gives its rusage
 fn measured(args: &[&str], log: &Path, scratch: &Path) -> (u64, f64) {
     let bin = env!("CARGO_BIN_EXE_printwatt");
     let out = scratch.join(format!("out-{}", args[0]));

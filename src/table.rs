@@ -10,9 +10,11 @@
 //! 1-based line and column, and the column's name where there is one (a NaN or an infinity is
 //! refused as "expected a finite number for 'q1', found 'NaN'").
 //!
-//! Two levels: [`Table`] reads a whole numeric table (trajectories, logs); [`lines`],
-//! [`parse_header`], [`number`] and [`check_count`] are the pieces it is made of, for readers
-//! with text and flag columns or comments among the rows (toolpath points, placement sets).
+//! Two levels: [`Table`] reads a whole numeric table (trajectories); [`TableReader`] reads one
+//! line at a time and keeps no rows, for readers that keep only some columns of a long file
+//! (measurement logs, with [`for_each_line`]); [`lines`], [`parse_header`], [`number`] and
+//! [`check_count`] are the pieces they are made of, for readers with text and flag columns or
+//! comments among the rows (toolpath points, placement sets).
 
 use crate::error::{read_text, Error, Result};
 use std::path::Path;

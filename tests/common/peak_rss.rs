@@ -25,6 +25,7 @@ pub struct Run {
 /// Run `cmd` to its end and measure its own peak resident memory (`wait4` on it alone, so
 /// that runs measured one after the other do not see each other's peaks). Its output goes
 /// through files in `scratch`, so that a full pipe cannot stall it while it is waited for.
+#[allow(clippy::zombie_processes)] // the child is reaped by `wait4`, which gives its rusage
 pub fn run_measured(cmd: &mut Command, scratch: &std::path::Path) -> Run {
     use std::os::unix::process::ExitStatusExt;
     let out = scratch.join(format!("peak-rss-{}.stdout", std::process::id()));
