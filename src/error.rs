@@ -136,12 +136,17 @@ pub fn read_capped(path: &std::path::Path) -> Result<Vec<u8>> {
         .read_to_end(&mut bytes)
         .map_err(|e| Error::io(path, e))?;
     if bytes.len() as u64 > max {
-        return Err(Error::Invalid(format!(
-            "{}: longer than {max} bytes, the most printwatt reads from one input (PRINTWATT_MAX_INPUT_BYTES); is it the file meant?",
-            path.display()
-        )));
+        return Err(too_long(path, max));
     }
     Ok(bytes)
+}
+
+/// The error of an input longer than `max` bytes (see [`max_input_bytes`]).
+pub(crate) fn too_long(path: &std::path::Path, max: u64) -> Error {
+    Error::Invalid(format!(
+        "{}: longer than {max} bytes, the most printwatt reads from one input (PRINTWATT_MAX_INPUT_BYTES); is it the file meant?",
+        path.display()
+    ))
 }
 
 /// Decode the bytes of a text file: UTF-8, with an optional byte-order mark (Excel's "CSV

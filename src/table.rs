@@ -10,9 +10,11 @@
 //! 1-based line and column, and the column's name where there is one (a NaN or an infinity is
 //! refused as "expected a finite number for 'q1', found 'NaN'").
 //!
-//! Two levels: [`Table`] reads a whole numeric table (trajectories, logs); [`lines`],
-//! [`parse_header`], [`number`] and [`check_count`] are the pieces it is made of, for readers
-//! with text and flag columns or comments among the rows (toolpath points, placement sets).
+//! Two levels: [`Table`] reads a whole numeric table (trajectories); [`TableReader`] reads one
+//! line at a time and keeps no rows, for readers that keep only some columns of a long file
+//! (measurement logs, with [`for_each_line`]); [`lines`], [`parse_header`], [`number`] and
+//! [`check_count`] are the pieces they are made of, for readers with text and flag columns or
+//! comments among the rows (toolpath points, placement sets).
 
 use crate::error::{read_text, Error, Result};
 use std::path::Path;
@@ -530,6 +532,232 @@ pub fn check_count(file: &str, line: usize, fields: &[Cell], n: usize, eol: usiz
     Ok(())
 }
 
+/// An incremental reader of a numeric table: fed one line at a time (1-based line number and
+/// its text), it keeps the header's names, units and metadata and the values of the last data
+/// row read, in SI, never the rows before it. [`Table::parse`] collects its rows; the
+/// measurement-log reader stores only the columns it needs, so that a long file costs no more
+/// than its values.
+pub struct TableReader<'a> {
+    table: Table,
+    dim_of: &'a dyn Fn(&str) -> Option<Dim>,
+    factors: Vec<f64>,
+    dims: Vec<Option<Dim>>,
+    sep: Option<char>,
+    row: Vec<f64>,
+}
+
+impl<'a> TableReader<'a> {
+    /// A reader for `file` (the name used in messages); `dim_of` as for [`Table::read`].
+    pub fn new(file: &str, dim_of: &'a dyn Fn(&str) -> Option<Dim>) -> Self {
+        TableReader {
+            table: Table {
+                file: file.to_string(),
+                ..Default::default()
+            },
+            dim_of,
+            factors: Vec::new(),
+            dims: Vec::new(),
+            sep: None,
+            row: Vec::new(),
+        }
+    }
+
+    /// The header read so far (names, units, metadata, header line; no rows).
+    pub fn header(&self) -> &Table {
+        &self.table
+    }
+
+    /// The values of the data row read by the last [`TableReader::feed`] that returned `true`.
+    pub fn row(&self) -> &[f64] {
+        &self.row
+    }
+
+    /// Read one line (`ln`: its 1-based number): a comment, the header or a data row.
+    /// Returns whether it was a data row (its values are then in [`TableReader::row`]).
+    /// Errors as [`Table::parse`] gives them.
+    pub fn feed(&mut self, ln: usize, raw: &str) -> Result<bool> {
+        let raw = raw.trim_end_matches('\r');
+        let (body, comment) = match raw.find('#') {
+            Some(p) => (&raw[..p], Some(&raw[p + 1..])),
+            None => (raw, None),
+        };
+        if body.trim().is_empty() {
+            if let Some(c) = comment {
+                if self.table.names.is_empty() {
+                    if let Some((k, v)) = c.trim().split_once(':') {
+                        self.table
+                            .metadata
+                            .push((k.trim().to_string(), v.trim().to_string()));
+                    }
+                }
+            }
+            return Ok(false);
+        }
+        let Some(sep) = self.sep else {
+            let s = separator(body);
+            self.sep = Some(s);
+            let file = self.table.file.clone();
+            let fields = cells(body, s, false);
+            self.table.header_line = ln;
+            let dim_of = self.dim_of;
+            for c in parse_header(&file, ln, &fields, &|n| dim_of(n).map(ColumnSpec::si))? {
+                self.factors.push(c.factor.unwrap_or(1.0));
+                self.dims.push(dim_of(&c.name));
+                self.table.names.push(c.name);
+                self.table.units.push(c.unit);
+            }
+            return Ok(false);
+        };
+        let file = &self.table.file;
+        let ncol = self.table.names.len();
+        let decimal_comma = sep == ';';
+        if body.split(sep).count() != ncol {
+            let fields = cells(body, sep, decimal_comma);
+            check_count(file, ln, &fields, ncol, body.trim_end().chars().count() + 1)?;
+        }
+        self.row.clear();
+        let names = &self.table.names;
+        let mut col = 1;
+        for (k, part) in body.split(sep).enumerate() {
+            let t = part.trim();
+            let owned;
+            let text = if decimal_comma && t.contains(',') {
+                owned = t.replace(',', ".");
+                owned.as_str()
+            } else {
+                t
+            };
+            let at = || col + part.chars().take_while(|c| c.is_whitespace()).count();
+            let v = match text.parse::<f64>() {
+                Ok(v) if v.is_finite() => v,
+                _ => number(file, ln, at(), &names[k], text)?,
+            } * self.factors[k];
+            let v = match self.dims[k] {
+                Some(d) if physical_bound(d).is_some_and(|(b, _)| v.abs() > b) => {
+                    check_physical(file, ln, at(), &names[k], d, v)?
+                }
+                _ => v,
+            };
+            self.row.push(v);
+            col += part.chars().count() + 1;
+        }
+        Ok(true)
+    }
+
+    /// The header and metadata read; an error when the text had no header row.
+    pub fn finish(self) -> Result<Table> {
+        if self.table.names.is_empty() {
+            return Err(parse_err(&self.table.file, 1, 1, "no header row found"));
+        }
+        Ok(self.table)
+    }
+}
+
+/// Visit the lines of a text file one at a time, as [`crate::error::read_text`] would give
+/// them (UTF-8, a byte-order mark dropped, CRLF and CR-only line endings counted as one line
+/// break each, at most [`crate::error::max_input_bytes`]), without holding the whole file:
+/// `f` gets each line's 1-based number and text. The file is checked whole (its length and
+/// encoding) before the first line is visited, so that its errors are the same as
+/// [`crate::error::read_text`]'s. Returns the number of lines. Something other than a regular
+/// file (a pipe, a device) is read whole.
+pub fn for_each_line(path: &Path, f: &mut dyn FnMut(usize, &str) -> Result<()>) -> Result<usize> {
+    use std::io::{BufRead, Read};
+    // Read whole: the exact errors of `read_text`, or a file that is not a regular one.
+    let whole = |f: &mut dyn FnMut(usize, &str) -> Result<()>| -> Result<usize> {
+        let text = read_text(path)?;
+        let mut count = 0;
+        for (i, l) in text.lines().enumerate() {
+            count = i + 1;
+            f(i + 1, l)?;
+        }
+        Ok(count)
+    };
+    if !std::fs::metadata(path).is_ok_and(|m| m.is_file()) {
+        return whole(f);
+    }
+    let max = crate::error::max_input_bytes();
+    let open = || std::fs::File::open(path).map_err(|e| Error::io(path, e));
+    let len = std::fs::metadata(path)
+        .map_err(|e| Error::io(path, e))?
+        .len();
+    if len > max {
+        return Err(crate::error::too_long(path, max));
+    }
+    // The whole file first: its length and encoding (an invalid byte is named by
+    // `read_text`, which then reads it whole).
+    {
+        let mut r = open()?.take(max + 1);
+        let mut buf = vec![0u8; 1 << 20];
+        let mut carry: Vec<u8> = Vec::new();
+        let mut total = 0u64;
+        loop {
+            let got = r.read(&mut buf).map_err(|e| Error::io(path, e))?;
+            if got == 0 {
+                break;
+            }
+            total += got as u64;
+            if total > max {
+                return Err(crate::error::too_long(path, max));
+            }
+            carry.extend_from_slice(&buf[..got]);
+            match std::str::from_utf8(&carry) {
+                Ok(_) => carry.clear(),
+                Err(e) if e.error_len().is_none() => {
+                    carry = carry.split_off(e.valid_up_to());
+                }
+                Err(_) => return whole(f),
+            }
+        }
+        if !carry.is_empty() {
+            return whole(f);
+        }
+    }
+    // Then line by line.
+    let mut r = std::io::BufReader::with_capacity(1 << 16, open()?.take(max + 1));
+    let mut buf: Vec<u8> = Vec::new();
+    let mut ln = 0usize;
+    let mut first = true;
+    loop {
+        buf.clear();
+        let got = r
+            .read_until(b'\n', &mut buf)
+            .map_err(|e| Error::io(path, e))?;
+        if got == 0 {
+            break;
+        }
+        let mut bytes = &buf[..];
+        if first {
+            first = false;
+            bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
+        }
+        // Lines end at LF, CRLF or a lone CR.
+        while !bytes.is_empty() {
+            let end = bytes
+                .iter()
+                .position(|&b| b == b'\n' || b == b'\r')
+                .unwrap_or(bytes.len());
+            let Ok(line) = std::str::from_utf8(&bytes[..end]) else {
+                return Err(Error::Invalid(format!(
+                    "{}: changed while it was read",
+                    path.display()
+                )));
+            };
+            ln += 1;
+            f(ln, line)?;
+            let mut next = end;
+            if next < bytes.len() {
+                next += if bytes[next] == b'\r' && bytes.get(next + 1) == Some(&b'\n') {
+                    2
+                } else {
+                    1
+                };
+            }
+            bytes = &bytes[next..];
+        }
+    }
+    Ok(ln)
+}
+
 impl Table {
     /// Read a CSV file. `dim_of` gives the dimension of a column from its name (unit checks;
     /// SI when the header gives no unit), or `None` for a column the caller does not know
@@ -541,49 +769,18 @@ impl Table {
 
     /// Parse CSV text; see [`Table::read`].
     pub fn parse(text: &str, file: &str, dim_of: &dyn Fn(&str) -> Option<Dim>) -> Result<Table> {
-        let mut t = Table {
-            file: file.to_string(),
-            ..Default::default()
-        };
-        let mut factors: Vec<f64> = Vec::new();
-        let mut dims: Vec<Option<Dim>> = Vec::new();
-        for l in lines(text) {
-            match l {
-                Line::Comment(_, c) => {
-                    if t.names.is_empty() {
-                        if let Some((k, v)) = c.split_once(':') {
-                            t.metadata
-                                .push((k.trim().to_string(), v.trim().to_string()));
-                        }
-                    }
-                }
-                Line::Header(ln, fields) => {
-                    t.header_line = ln;
-                    for c in parse_header(file, ln, &fields, &|n| dim_of(n).map(ColumnSpec::si))? {
-                        factors.push(c.factor.unwrap_or(1.0));
-                        dims.push(dim_of(&c.name));
-                        t.names.push(c.name);
-                        t.units.push(c.unit);
-                    }
-                }
-                Line::Data(ln, fields, eol) => {
-                    check_count(file, ln, &fields, t.names.len(), eol)?;
-                    let mut row = Vec::with_capacity(fields.len());
-                    for (k, f) in fields.iter().enumerate() {
-                        let v = number(file, ln, f.col, &t.names[k], &f.text)? * factors[k];
-                        row.push(match dims[k] {
-                            Some(d) => check_physical(file, ln, f.col, &t.names[k], d, v)?,
-                            None => v,
-                        });
-                    }
-                    t.rows.push(row);
-                    t.lines.push(ln);
-                }
+        let mut r = TableReader::new(file, dim_of);
+        let mut rows = Vec::new();
+        let mut lines = Vec::new();
+        for (i, raw) in text.lines().enumerate() {
+            if r.feed(i + 1, raw)? {
+                rows.push(r.row().to_vec());
+                lines.push(i + 1);
             }
         }
-        if t.names.is_empty() {
-            return Err(parse_err(file, 1, 1, "no header row found"));
-        }
+        let mut t = r.finish()?;
+        t.rows = rows;
+        t.lines = lines;
         Ok(t)
     }
     /// Index of a column by its (lower-case) name.

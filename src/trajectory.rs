@@ -206,8 +206,14 @@ pub fn read_csv(path: &std::path::Path, n: usize) -> Result<(JointTrajectory, Su
     from_table(&table, n)
 }
 
-/// Build a trajectory from a parsed table; see [`read_csv`].
-pub fn from_table(table: &crate::table::Table, n: usize) -> Result<(JointTrajectory, Supplied)> {
+/// The columns of a trajectory's header: time, positions, and velocities and accelerations
+/// when given. Errors (naming the file and header line): no `t`, a count of `q`, `qd` or `qdd`
+/// columns other than `n`.
+#[allow(clippy::type_complexity)]
+pub fn columns(
+    table: &crate::table::Table,
+    n: usize,
+) -> Result<(usize, Vec<usize>, Option<Vec<usize>>, Option<Vec<usize>>)> {
     let file = &table.file;
     let tcol = table.col("t").ok_or_else(|| Error::Field {
         file: file.clone(),
@@ -254,6 +260,13 @@ pub fn from_table(table: &crate::table::Table, n: usize) -> Result<(JointTraject
     let qc = cols("q")?.unwrap_or_default();
     let qdc = cols("qd")?;
     let qddc = cols("qdd")?;
+    Ok((tcol, qc, qdc, qddc))
+}
+
+/// Build a trajectory from a parsed table; see [`read_csv`].
+pub fn from_table(table: &crate::table::Table, n: usize) -> Result<(JointTrajectory, Supplied)> {
+    let file = &table.file;
+    let (tcol, qc, qdc, qddc) = columns(table, n)?;
     if table.rows.len() < 3 {
         return Err(Error::Invalid(format!(
             "{file}: {} samples; at least 3 are needed",

@@ -7,19 +7,13 @@
 //! `getrusage(RUSAGE_CHILDREN)`, which is the maximum over every child waited for so far.
 
 mod common;
+#[path = "common/peak_rss.rs"]
+mod peak_rss;
 #[path = "common/wall.rs"]
 mod wall;
 
+use peak_rss::children_max_rss;
 use std::process::Command;
-
-/// Peak resident memory of the children waited for so far, bytes.
-fn children_max_rss() -> u64 {
-    let mut ru: libc::rusage = unsafe { std::mem::zeroed() };
-    // SAFETY: `ru` is a valid, writable rusage for the call to fill.
-    let rc = unsafe { libc::getrusage(libc::RUSAGE_CHILDREN, &mut ru) };
-    assert_eq!(rc, 0, "getrusage");
-    ru.ru_maxrss as u64 * 1024
-}
 
 /// Measured on the release build: about 1.3 KB per sample for the whole `energy` command
 /// (trajectory, torques, powers and the timing's own series); the bound leaves room for the

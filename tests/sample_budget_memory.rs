@@ -7,18 +7,13 @@
 //! `getrusage(RUSAGE_CHILDREN)`, the maximum over every child waited for so far.
 
 mod common;
+#[path = "common/peak_rss.rs"]
+mod peak_rss;
 #[path = "common/wall.rs"]
 mod wall;
 
+use peak_rss::children_max_rss;
 use std::process::Command;
-
-fn children_max_rss() -> u64 {
-    let mut ru: libc::rusage = unsafe { std::mem::zeroed() };
-    // SAFETY: `ru` is a valid, writable rusage for the call to fill.
-    let rc = unsafe { libc::getrusage(libc::RUSAGE_CHILDREN, &mut ru) };
-    assert_eq!(rc, 0, "getrusage");
-    ru.ru_maxrss as u64 * 1024
-}
 
 #[test]
 fn the_sample_budget_states_the_memory_it_measures() {

@@ -121,11 +121,11 @@ pub struct Diagnosis {
     pub not_observable: Vec<String>,
 }
 
-/// Contiguous time blocks.
-pub fn blocks(len: usize, folds: usize) -> Vec<Vec<usize>> {
+/// Contiguous time blocks: the rows of each.
+pub fn blocks(len: usize, folds: usize) -> Vec<std::ops::Range<usize>> {
     let folds = folds.max(2);
     (0..folds)
-        .map(|f| (f * len / folds..(f + 1) * len / folds).collect())
+        .map(|f| f * len / folds..(f + 1) * len / folds)
         .collect()
 }
 
@@ -177,7 +177,7 @@ pub fn diagnose_with_progress(
     };
     let too_short = max_folds < 2;
     let bl = blocks(len, folds.min(max_folds).max(2));
-    let r0 = r.clone();
+    let r0 = std::mem::take(&mut r);
     let chunk = ((tau_c / dt.max(1e-300)).ceil() as usize).clamp(1, len.max(1));
     let base = Baseline {
         all: &all,
@@ -250,6 +250,7 @@ pub fn diagnose_with_progress(
             .collect();
         fit_parameters(prep, model, &names, &all)?;
     }
+    drop(r0);
     residuals(prep, model, &all, &mut r);
     model.restore(&base_state);
     let names = crate::identify::metrics::channel_names(prep);
@@ -342,7 +343,7 @@ pub const PAIR_LEADERS: usize = 5;
 /// The current model's figures every candidate is scored against.
 struct Baseline<'a> {
     all: &'a [usize],
-    blocks: &'a [Vec<usize>],
+    blocks: &'a [std::ops::Range<usize>],
     /// The current model's residual over the whole log.
     r0: &'a [f64],
     /// Rows per chunk of one correlation time.
@@ -372,49 +373,70 @@ fn score(
     let ch = prep.log.channels;
     let m = base.r0.len() as f64;
     let mut r = Vec::new();
+    let mut rows = Vec::new();
     let mut sse = 0.0;
     let mut sse_c = vec![0.0; ch.max(1)];
     let mut cnt = 0usize;
     let mut gains = Vec::with_capacity(base.blocks.len());
     for (bi, b) in base.blocks.iter().enumerate() {
-        // Blocks are contiguous: the training rows are everything outside [lo, hi].
-        let (lo, hi) = (
-            b.first().copied().unwrap_or(0),
-            b.last().copied().unwrap_or(0),
-        );
-        let train: Vec<usize> = (0..lo).chain(hi + 1..len).collect();
+        // Blocks are contiguous: the training rows are everything outside the block.
+        let train: Vec<usize> = (0..b.start).chain(b.end..len).collect();
         model.restore(base_state);
         fit_parameters(prep, model, names, &train)?;
-        residuals(prep, model, b, &mut r);
-        sse += r.iter().map(|x| x * x).sum::<f64>();
-        for (i, x) in r.iter().enumerate() {
-            sse_c[i % ch.max(1)] += x * x;
-        }
+        drop(train);
         // Held-out gain per chunk of one correlation time: chunk means of
         // `|r_before|² − |r_after|²` are close to independent, so their t statistic
-        // measures the gain against noise and autocorrelation.
+        // measures the gain against noise and autocorrelation. The block's residual is
+        // taken a part at a time.
         let mut acc = 0.0;
         let mut in_chunk = 0usize;
-        for (i, &k) in b.iter().enumerate() {
-            acc += (0..ch)
-                .map(|c| base.r0[k * ch + c].powi(2) - r[i * ch + c].powi(2))
-                .sum::<f64>();
-            in_chunk += 1;
-            if in_chunk == base.chunk || i + 1 == b.len() {
-                gains.push(acc / in_chunk as f64);
-                acc = 0.0;
-                in_chunk = 0;
+        let mut block_ss = 0.0;
+        for part in parts(b.clone()) {
+            rows.clear();
+            rows.extend(part);
+            residuals(prep, model, &rows, &mut r);
+            for x in &r {
+                block_ss += x * x;
             }
+            for (i, x) in r.iter().enumerate() {
+                sse_c[i % ch.max(1)] += x * x;
+            }
+            for (i, &k) in rows.iter().enumerate() {
+                acc += (0..ch)
+                    .map(|c| base.r0[k * ch + c].powi(2) - r[i * ch + c].powi(2))
+                    .sum::<f64>();
+                in_chunk += 1;
+                if in_chunk == base.chunk || k + 1 == b.end {
+                    gains.push(acc / in_chunk as f64);
+                    acc = 0.0;
+                    in_chunk = 0;
+                }
+            }
+            cnt += r.len();
         }
-        cnt += r.len();
+        sse += block_ss;
         tick(bi as u64 + 1);
     }
     model.restore(base_state);
     let full = fit_parameters(prep, model, names, base.all)?;
     tick(base.blocks.len() as u64 + 1);
-    // Its residual over the whole log (the fit may have used a stride of the rows).
-    residuals(prep, model, base.all, &mut r);
-    let full_ssr: f64 = r.iter().map(|x| x * x).sum();
+    // Its residual over the whole log (the fit may have used a stride of the rows), a part
+    // at a time: its sum of squares, and per channel how far the prediction moved.
+    let mut full_ssr = 0.0;
+    let mut moved = vec![0.0; ch.max(1)];
+    for part in parts(0..len) {
+        rows.clear();
+        rows.extend(part);
+        residuals(prep, model, &rows, &mut r);
+        for x in &r {
+            full_ssr += x * x;
+        }
+        for (i, &k) in rows.iter().enumerate() {
+            for c in 0..ch {
+                moved[c] += (r[i * ch + c] - base.r0[k * ch + c]).powi(2);
+            }
+        }
+    }
     // Plausibility of the robot (e.g. no balancer declared) and of the fitted values (e.g. no
     // negative link mass), judged on the whole-log fit, effect by effect.
     let implausible = names
@@ -430,7 +452,7 @@ fn score(
         })
         .reduce(|a, b| format!("{a}; {b}"));
     model.restore(base_state);
-    let joints = acting_joints(&r, base.r0, ch, len, &full.params);
+    let joints = acting_joints(&moved, ch, &full.params);
     let cv = (sse / cnt.max(1) as f64).sqrt();
     let cut = if base.base_rmse > 0.0 {
         100.0 * (1.0 - cv / base.base_rmse)
@@ -502,26 +524,13 @@ fn candidate_note(model: &Model, names: &[&str], ill: Option<String>) -> Option<
 }
 
 /// Joints a candidate acts on: channels whose prediction moved by more than 1 % of the largest
-/// move (`r − r0` is the change of prediction), or, with one channel, per-joint parameters
-/// that moved by more than two standard errors.
-fn acting_joints(
-    r: &[f64],
-    r0: &[f64],
-    ch: usize,
-    len: usize,
-    params: &[FittedParam],
-) -> Vec<usize> {
+/// move (`moved[c]`: the sum over rows of the squared change of channel `c`'s prediction), or,
+/// with one channel, per-joint parameters that moved by more than two standard errors.
+fn acting_joints(moved: &[f64], ch: usize, params: &[FittedParam]) -> Vec<usize> {
     if ch > 1 {
-        let d: Vec<f64> = (0..ch)
-            .map(|c| {
-                (0..len)
-                    .map(|k| (r[k * ch + c] - r0[k * ch + c]).powi(2))
-                    .sum::<f64>()
-            })
-            .collect();
-        let dmax = d.iter().cloned().fold(0.0, f64::max);
+        let dmax = moved.iter().cloned().fold(0.0, f64::max);
         return (0..ch)
-            .filter(|&c| dmax > 0.0 && d[c] > 0.01 * dmax)
+            .filter(|&c| dmax > 0.0 && moved[c] > 0.01 * dmax)
             .map(|c| c + 1)
             .collect();
     }
@@ -539,6 +548,16 @@ fn acting_joints(
         }
     }
     joints
+}
+
+/// Rows per part of a pass over many rows: a residual is held for this many rows at a time.
+const PART_ROWS: usize = 1 << 15;
+
+/// `rows` in parts of [`PART_ROWS`].
+fn parts(rows: std::ops::Range<usize>) -> impl Iterator<Item = std::ops::Range<usize>> {
+    let end = rows.end;
+    rows.step_by(PART_ROWS)
+        .map(move |a| a..(a + PART_ROWS).min(end))
 }
 
 /// t statistic of gains (mean / standard error); +∞ when all gains are equal and positive.

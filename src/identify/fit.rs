@@ -125,8 +125,7 @@ fn jacobian(
                 prep.log.traj.qd(k),
                 prep.log.traj.qdd(k),
             );
-            if let Some(yc) = prep.cached_regressor(pos, k, n, pe) {
-                d.copy_from_slice(yc);
+            if prep.regressor_row(model, pos, k, &mut d) {
             } else if linear {
                 eff.regressor(q, qd, qdd, &mut d);
             } else {

@@ -194,62 +194,315 @@ pub fn expand_column_map(map: &str) -> Result<Vec<String>> {
 
 /// Read a log for a robot of `n` joints. `columns`: an optional column map for a file without
 /// a header row. Errors name the file, line and column (see the module docs for the checks).
+///
+/// The file is read line by line and only the columns compared are kept (time, positions,
+/// the signal, and velocities and accelerations when the log gives them), so that reading costs
+/// no more memory than those values.
 pub fn read_log(path: &Path, n: usize, columns: Option<&str>) -> Result<Log> {
-    let text = crate::error::read_text(path)?;
-    parse_log(&text, &path.display().to_string(), n, columns)
+    let file = path.display().to_string();
+    let mut b = Builder::new(&file, n, columns);
+    let lines = crate::table::for_each_line(path, &mut |ln, line| b.feed(ln, line))?;
+    b.finish(lines)
 }
 
 /// Parse log text; see [`read_log`].
 pub fn parse_log(text: &str, file: &str, n: usize, columns: Option<&str>) -> Result<Log> {
-    let table = match columns {
-        None => Table::parse(text, file, &log_dim)?,
-        Some(map) => {
-            let header = expand_column_map(map)?.join(",");
-            // Metadata comments stay before the header; the header goes before the first data
-            // row. Line numbers are those of the file.
-            let mut lines: Vec<&str> = text.lines().collect();
-            let first_data = lines
-                .iter()
-                .position(|l| {
-                    let t = l.trim();
-                    !t.is_empty() && !t.starts_with('#')
-                })
-                .unwrap_or(lines.len());
-            lines.insert(first_data, &header);
-            let joined = lines.join("\n");
-            let mut t = Table::parse(&joined, file, &log_dim).map_err(|e| match e {
-                Error::Parse {
-                    file,
-                    line,
-                    column,
-                    msg,
-                } if line > first_data + 1 => Error::Parse {
-                    file,
-                    line: line - 1,
-                    column,
-                    msg,
-                },
-                Error::Parse {
-                    file, column, msg, ..
-                } => Error::Invalid(format!(
-                    "{file}: column map `{map}` (entry at character {column}): {msg}"
-                )),
-                e => e,
-            })?;
-            for l in t.lines.iter_mut() {
-                *l -= 1;
-            }
-            t
-        }
-    };
-    from_table(table, n)
+    let mut b = Builder::new(file, n, columns);
+    let mut count = 0;
+    for (i, l) in text.lines().enumerate() {
+        count = i + 1;
+        b.feed(i + 1, l)?;
+    }
+    b.finish(count)
 }
 
-fn from_table(table: Table, n: usize) -> Result<Log> {
-    let file = table.file.clone();
-    let mut warnings = Vec::new();
-    let (mut traj, supplied) = crate::trajectory::from_table(&table, n)?;
-    // The signal.
+/// Where the compared columns of a header are.
+struct Columns {
+    t: usize,
+    q: Vec<usize>,
+    qd: Option<Vec<usize>>,
+    qdd: Option<Vec<usize>>,
+    /// The signal's columns, when the header has a signal.
+    y: Option<Vec<usize>>,
+}
+
+/// A log read one line at a time (see [`read_log`]): the table reader's header, the columns
+/// it keeps, and the first time that does not increase. Errors of the header's columns and of
+/// the times are reported after every row is read, as a reader of the whole table reports
+/// them.
+struct Builder<'a> {
+    file: String,
+    n: usize,
+    map: Option<&'a str>,
+    /// The column map's header, once expanded.
+    map_header: Option<String>,
+    /// Whether the column map's header has been read.
+    map_fed: bool,
+    reader: crate::table::TableReader<'static>,
+    /// The compared columns, or the header's error (known once the header is read).
+    cols: Option<Result<Columns>>,
+    rows: usize,
+    first_line: usize,
+    last_line: usize,
+    t: Vec<f64>,
+    q: Vec<f64>,
+    qd: Vec<f64>,
+    qdd: Vec<f64>,
+    y: Vec<f64>,
+    lines: Vec<usize>,
+    not_after: Option<Error>,
+}
+
+impl<'a> Builder<'a> {
+    fn new(file: &str, n: usize, map: Option<&'a str>) -> Self {
+        Builder {
+            file: file.to_string(),
+            n,
+            map,
+            map_header: None,
+            map_fed: false,
+            reader: crate::table::TableReader::new(file, &log_dim),
+            cols: None,
+            rows: 0,
+            first_line: 0,
+            last_line: 0,
+            t: Vec::new(),
+            q: Vec::new(),
+            qd: Vec::new(),
+            qdd: Vec::new(),
+            y: Vec::new(),
+            lines: Vec::new(),
+            not_after: None,
+        }
+    }
+
+    /// Expand the column map (once).
+    fn map_header(&mut self) -> Result<Option<String>> {
+        if let (Some(map), None) = (self.map, &self.map_header) {
+            self.map_header = Some(expand_column_map(map)?.join(","));
+        }
+        Ok(self.map_header.clone())
+    }
+
+    /// Read the column map's header as line `ln`; its errors name the map.
+    fn feed_map(&mut self, ln: usize) -> Result<()> {
+        let Some(header) = self.map_header()? else {
+            return Ok(());
+        };
+        self.map_fed = true;
+        let map = self.map.unwrap_or_default();
+        self.reader.feed(ln, &header).map_err(|e| match e {
+            Error::Parse {
+                file, column, msg, ..
+            } => Error::Invalid(format!(
+                "{file}: column map `{map}` (entry at character {column}): {msg}"
+            )),
+            e => e,
+        })?;
+        self.header_read();
+        Ok(())
+    }
+
+    fn feed(&mut self, ln: usize, line: &str) -> Result<()> {
+        if self.map.is_some() && !self.map_fed {
+            self.map_header()?;
+            let l = line.trim();
+            if !l.is_empty() && !l.starts_with('#') {
+                self.feed_map(ln)?;
+            }
+        }
+        let had_header = !self.reader.header().names.is_empty();
+        if !self.reader.feed(ln, line)? {
+            if !had_header && !self.reader.header().names.is_empty() {
+                self.header_read();
+            }
+            return Ok(());
+        }
+        self.rows += 1;
+        if self.first_line == 0 {
+            self.first_line = ln;
+        }
+        self.last_line = ln;
+        let Some(Ok(c)) = &self.cols else {
+            return Ok(());
+        };
+        if self.not_after.is_some() {
+            return Ok(());
+        }
+        let row = self.reader.row();
+        let t = row[c.t];
+        if let Some(prev) = self.t.last() {
+            if t <= *prev {
+                self.not_after = Some(Error::Parse {
+                    file: self.file.clone(),
+                    line: ln,
+                    column: 1,
+                    msg: format!(
+                        "time `t` = {} s is not after the previous sample's {} s",
+                        crate::table::show(t),
+                        crate::table::show(*prev)
+                    ),
+                });
+                return Ok(());
+            }
+        }
+        self.t.push(t);
+        self.q.extend(c.q.iter().map(|&k| row[k]));
+        if let Some(v) = &c.qd {
+            self.qd.extend(v.iter().map(|&k| row[k]));
+        }
+        if let Some(v) = &c.qdd {
+            self.qdd.extend(v.iter().map(|&k| row[k]));
+        }
+        if let Some(v) = &c.y {
+            self.y.extend(v.iter().map(|&k| row[k]));
+        }
+        self.lines.push(ln);
+        Ok(())
+    }
+
+    /// The header is read: find the compared columns.
+    fn header_read(&mut self) {
+        let table = self.reader.header();
+        let n = self.n;
+        self.cols = Some(
+            crate::trajectory::columns(table, n).map(|(t, q, qd, qdd)| Columns {
+                t,
+                q,
+                qd,
+                qdd,
+                y: signal(table, n).ok().map(|(_, cols, _)| cols),
+            }),
+        );
+    }
+
+    fn finish(mut self, lines: usize) -> Result<Log> {
+        if self.map.is_some() && !self.map_fed {
+            self.feed_map(lines + 1)?;
+        }
+        let file = self.file.clone();
+        let n = self.n;
+        let table = self.reader.finish()?;
+        let cols = match self.cols.take() {
+            Some(c) => c?,
+            None => crate::trajectory::columns(&table, n).map(|(t, q, qd, qdd)| Columns {
+                t,
+                q,
+                qd,
+                qdd,
+                y: None,
+            })?,
+        };
+        if self.rows < 3 {
+            return Err(Error::Invalid(format!(
+                "{file}: {} samples; at least 3 are needed",
+                self.rows
+            )));
+        }
+        if let Some(e) = self.not_after.take() {
+            return Err(e);
+        }
+        let mut warnings = Vec::new();
+        let (kind, _, several) = signal(&table, n)?;
+        warnings.extend(several);
+        let channels = kind.channels(n);
+        let len = self.t.len();
+        let mut traj = JointTrajectory {
+            n,
+            t: std::mem::take(&mut self.t),
+            q: std::mem::take(&mut self.q),
+            qd: std::mem::take(&mut self.qd),
+            qdd: std::mem::take(&mut self.qdd),
+        };
+        // Unknown columns: one warning.
+        let known = |name: &str| {
+            name.starts_with("skip~")
+                || log_dim(name).is_some_and(|_| {
+                    let idx = |p: &str| digits_after(name, p).and_then(|d| d.parse::<usize>().ok());
+                    name == "t"
+                        || name == "p_total"
+                        || ["q", "qd", "qdd", "tau", "i", "p"]
+                            .iter()
+                            .any(|p| idx(p).is_some_and(|k| k >= 1 && k <= n))
+                })
+        };
+        let unknown: Vec<&str> = table
+            .names
+            .iter()
+            .map(String::as_str)
+            .filter(|c| !known(c))
+            .collect();
+        if !unknown.is_empty() {
+            warnings.push(format!(
+                "{file}: ignoring unknown columns {}",
+                unknown.join(", ")
+            ));
+        }
+        if len < MIN_SAMPLES {
+            return Err(Error::Invalid(format!(
+                "{file}: {len} samples (lines {}–{}); at least {MIN_SAMPLES} are needed to compare and fit",
+                self.first_line, self.last_line
+            )));
+        }
+        let mut half = None;
+        if cols.qd.is_none() || cols.qdd.is_none() {
+            let rate = (traj.len() - 1) as f64 / traj.duration().max(1e-12);
+            let m = half_window(rate);
+            half = Some(m);
+            let (qd, qdd) = smooth_derivatives(&traj.t, &traj.q, n, m);
+            if cols.qd.is_none() {
+                traj.qd = qd;
+            }
+            if cols.qdd.is_none() {
+                traj.qdd = qdd;
+            }
+        }
+        // A hole in the time axis: name it (energy and RMSE integrate across it).
+        if traj.t.len() > 2 {
+            let mut d: Vec<f64> = traj.t.windows(2).map(|w| w[1] - w[0]).collect();
+            let mid = d.len() / 2;
+            let median = *d.select_nth_unstable_by(mid, f64::total_cmp).1;
+            drop(d);
+            if let Some(k) = traj
+                .t
+                .windows(2)
+                .map(|w| w[1] - w[0])
+                .position(|x| x > 10.0 * median && x > median + 0.05)
+            {
+                warnings.push(format!(
+                    "{file}:{}: time jumps by {:.3} s from the previous sample (the log's usual step is {:.4} s): a hole in the log; energies and errors are integrated across it",
+                    self.lines.get(k + 1).copied().unwrap_or(0),
+                    traj.t[k + 1] - traj.t[k],
+                    median
+                ));
+            }
+        }
+        Ok(Log {
+            units: table
+                .names
+                .iter()
+                .cloned()
+                .zip(table.units.iter().cloned())
+                .collect(),
+            header_line: table.header_line,
+            file,
+            traj,
+            kind,
+            y: std::mem::take(&mut self.y),
+            channels,
+            metadata: table.metadata,
+            warnings,
+            lines: std::mem::take(&mut self.lines),
+            derivative_half_window: half,
+        })
+    }
+}
+
+/// The compared signal of a header: its kind, its columns, and a warning when the header has
+/// several. Errors: no signal, or a per-joint signal of another count than `n` (naming the
+/// header line).
+fn signal(table: &Table, n: usize) -> Result<(SignalKind, Vec<usize>, Option<String>)> {
+    let file = &table.file;
     let count = |p: &str| {
         (1..=64)
             .take_while(|k| table.col(&format!("{p}{k}")).is_some())
@@ -271,15 +524,15 @@ fn from_table(table: Table, n: usize) -> Result<Log> {
     }
     let Some(&(kind, k)) = found.first() else {
         return Err(Error::Field {
-            file,
+            file: file.clone(),
             field: "header".into(),
             msg: format!(
                 "no compared signal: expected one of tau1..tau{n}, i1..i{n}, p1..p{n} or p_total"
             ),
         });
     };
-    if found.len() > 1 {
-        warnings.push(format!(
+    let several = (found.len() > 1).then(|| {
+        format!(
             "{file}: several signals ({}); comparing `{}`",
             found
                 .iter()
@@ -287,9 +540,8 @@ fn from_table(table: Table, n: usize) -> Result<Log> {
                 .collect::<Vec<_>>()
                 .join(", "),
             kind.prefix()
-        ));
-    }
-    let channels = kind.channels(n);
+        )
+    });
     if kind != SignalKind::TotalPower && k != n {
         return Err(Error::SizeMismatch {
             what: format!(
@@ -308,91 +560,7 @@ fn from_table(table: Table, n: usize) -> Result<Log> {
             .map(|j| table.col(&format!("{}{j}", kind.prefix())).unwrap_or(0))
             .collect()
     };
-    let mut y = Vec::with_capacity(table.rows.len() * channels);
-    for r in &table.rows {
-        y.extend(cols.iter().map(|&c| r[c]));
-    }
-    // Unknown columns: one warning.
-    let known = |name: &str| {
-        name.starts_with("skip~")
-            || log_dim(name).is_some_and(|_| {
-                let idx = |p: &str| digits_after(name, p).and_then(|d| d.parse::<usize>().ok());
-                name == "t"
-                    || name == "p_total"
-                    || ["q", "qd", "qdd", "tau", "i", "p"]
-                        .iter()
-                        .any(|p| idx(p).is_some_and(|k| k >= 1 && k <= n))
-            })
-    };
-    let unknown: Vec<&str> = table
-        .names
-        .iter()
-        .map(String::as_str)
-        .filter(|c| !known(c))
-        .collect();
-    if !unknown.is_empty() {
-        warnings.push(format!(
-            "{file}: ignoring unknown columns {}",
-            unknown.join(", ")
-        ));
-    }
-    if traj.len() < MIN_SAMPLES {
-        return Err(Error::Invalid(format!(
-            "{file}: {} samples (lines {}–{}); at least {MIN_SAMPLES} are needed to compare and fit",
-            traj.len(),
-            table.lines.first().copied().unwrap_or(0),
-            table.lines.last().copied().unwrap_or(0)
-        )));
-    }
-    let mut half = None;
-    if !supplied.velocities || !supplied.accelerations {
-        let rate = (traj.len() - 1) as f64 / traj.duration().max(1e-12);
-        let m = half_window(rate);
-        half = Some(m);
-        let (qd, qdd) = smooth_derivatives(&traj.t, &traj.q, n, m);
-        if !supplied.velocities {
-            traj.qd = qd;
-        }
-        if !supplied.accelerations {
-            traj.qdd = qdd;
-        }
-    }
-    // A hole in the time axis: name it (energy and RMSE integrate across it).
-    if traj.t.len() > 2 {
-        let mut d: Vec<f64> = traj.t.windows(2).map(|w| w[1] - w[0]).collect();
-        let dt_of = d.clone();
-        d.sort_by(f64::total_cmp);
-        let median = d[d.len() / 2];
-        if let Some(k) = dt_of
-            .iter()
-            .position(|&x| x > 10.0 * median && x > median + 0.05)
-        {
-            warnings.push(format!(
-                "{file}:{}: time jumps by {:.3} s from the previous sample (the log's usual step is {:.4} s): a hole in the log; energies and errors are integrated across it",
-                table.lines.get(k + 1).copied().unwrap_or(0),
-                dt_of[k],
-                median
-            ));
-        }
-    }
-    Ok(Log {
-        units: table
-            .names
-            .iter()
-            .cloned()
-            .zip(table.units.iter().cloned())
-            .collect(),
-        header_line: table.header_line,
-        file,
-        traj,
-        kind,
-        y,
-        channels,
-        metadata: table.metadata,
-        warnings,
-        lines: table.lines,
-        derivative_half_window: half,
-    })
+    Ok((kind, cols, several))
 }
 
 /// Half-width `m` of the derivative window for a sample rate in Hz: about 25 ms each side,

@@ -228,27 +228,28 @@ pub fn compare(prep: &Prepared, model: &Model) -> (Comparison, Vec<f64>) {
     }
     windows.sort_by(|a, b| b.rmse.total_cmp(&a.rmse));
     windows.truncate(5);
-    // Regimes per joint.
+    // Regimes per joint (each sample's squared residual and motion read where they are).
     let mut regimes_all = Vec::new();
+    let r2 = |k: usize, c: usize| (pred[k * ch + c] - log.y[k * ch + c]).powi(2);
     for j in 0..n {
         let c = if ch == 1 { 0 } else { j };
-        let r2: Vec<f64> = (0..len)
-            .map(|k| (pred[k * ch + c] - log.y[k * ch + c]).powi(2))
-            .collect();
-        let tot: f64 = r2.iter().sum::<f64>().max(1e-300);
-        let qd: Vec<f64> = (0..len).map(|k| log.traj.qd(k)[j]).collect();
-        let qdd: Vec<f64> = (0..len).map(|k| log.traj.qdd(k)[j].abs()).collect();
-        let q: Vec<f64> = (0..len).map(|k| log.traj.q(k)[j]).collect();
-        let vmax = qd.iter().fold(0.0f64, |a, b| a.max(b.abs()));
+        let mut tot = 0.0;
+        for k in 0..len {
+            tot += r2(k, c);
+        }
+        let tot = tot.max(1e-300);
+        let qd = |k: usize| log.traj.qd(k)[j];
+        let q = |k: usize| log.traj.q(k)[j];
+        let vmax = (0..len).fold(0.0f64, |a, k| a.max(qd(k).abs()));
         let v0 = (0.05 * vmax).max(0.005);
-        let mut sorted = qdd.clone();
-        sorted.sort_by(f64::total_cmp);
-        let a80 = sorted[(0.8 * (len - 1) as f64) as usize];
-        let (qmin, qmax) = q
-            .iter()
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), x| {
-                (a.min(*x), b.max(*x))
-            });
+        let a80 = {
+            let mut qdd: Vec<f64> = (0..len).map(|k| log.traj.qdd(k)[j].abs()).collect();
+            let at = (0.8 * (len - 1) as f64) as usize;
+            *qdd.select_nth_unstable_by(at, f64::total_cmp).1
+        };
+        let (qmin, qmax) = (0..len).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), k| {
+            (a.min(q(k)), b.max(q(k)))
+        });
         let bin = |x: f64| {
             if qmax > qmin {
                 (((x - qmin) / (qmax - qmin) * 4.0) as usize).min(3)
@@ -260,7 +261,7 @@ pub fn compare(prep: &Prepared, model: &Model) -> (Comparison, Vec<f64>) {
             let (mut s, mut cnt) = (0.0, 0usize);
             for k in 0..len {
                 if f(k) {
-                    s += r2[k];
+                    s += r2(k, c);
                     cnt += 1;
                 }
             }
@@ -271,12 +272,14 @@ pub fn compare(prep: &Prepared, model: &Model) -> (Comparison, Vec<f64>) {
                 residual_pct: 100.0 * s / tot,
             });
         };
-        push("positive_speed".into(), &|k| qd[k] > v0);
-        push("negative_speed".into(), &|k| qd[k] < -v0);
-        push("near_zero_speed".into(), &|k| qd[k].abs() <= v0);
-        push("high_acceleration".into(), &|k| qdd[k] >= a80 && a80 > 0.0);
+        push("positive_speed".into(), &|k| qd(k) > v0);
+        push("negative_speed".into(), &|k| qd(k) < -v0);
+        push("near_zero_speed".into(), &|k| qd(k).abs() <= v0);
+        push("high_acceleration".into(), &|k| {
+            log.traj.qdd(k)[j].abs() >= a80 && a80 > 0.0
+        });
         for b in 0..4 {
-            push(format!("pose_bin_{}_of_4", b + 1), &|k| bin(q[k]) == b);
+            push(format!("pose_bin_{}_of_4", b + 1), &|k| bin(q(k)) == b);
         }
     }
     let mut regimes: Vec<Regime> = regimes_all
@@ -288,10 +291,10 @@ pub fn compare(prep: &Prepared, model: &Model) -> (Comparison, Vec<f64>) {
         (b.residual_pct / b.samples_pct).total_cmp(&(a.residual_pct / a.samples_pct))
     });
     regimes.truncate(12);
-    let res: Vec<f64> = pred.iter().zip(&log.y).map(|(p, y)| p - y).collect();
     let prismatic: Vec<bool> = (0..n).map(|j| model.dynamics().is_prismatic(j)).collect();
     let (profiles, failures) = crate::identify::profiles::analyse(
-        &res,
+        &|k, c| pred[k * ch + c] - log.y[k * ch + c],
+        len,
         &names,
         n,
         t,

@@ -375,6 +375,21 @@ impl Model {
     }
 }
 
+/// Rows of a log up to which the regressors of the costly effects are computed once for
+/// every row; a longer log keeps them for at most this many rows, those the fits ask for
+/// ([`Prepared::regressor_row`]), and evaluates them where it needs them elsewhere, so that its
+/// memory does not grow with the log's length.
+pub const REGRESSOR_CACHE_ROWS: usize = 5 * crate::identify::fit::FIT_ROWS_MAX;
+
+/// The regressor of one costly effect: of every row, or of the rows asked for so far.
+#[derive(Debug)]
+enum Regressors {
+    /// `len × n × P`, row-major.
+    Every(Vec<f64>),
+    /// Row → its `n × P` values, at most [`REGRESSOR_CACHE_ROWS`] rows.
+    Some(std::sync::Mutex<std::collections::HashMap<usize, Box<[f64]>>>),
+}
+
 /// A log prepared for repeated prediction: rigid-body torques and the regressors of the
 /// linear torque effects computed once.
 #[derive(Debug)]
@@ -385,8 +400,11 @@ pub struct Prepared<'a> {
     pub tau_rb: Vec<f64>,
     /// Regressors of the costly linear torque effects ([`Effect::costly`]: those that need
     /// inverse-dynamics passes) by position in the model's effect set (`None` for the others,
-    /// which are evaluated directly): `len × n × P` each.
-    regs: Vec<Option<Vec<f64>>>,
+    /// which are evaluated directly): `n × P` per row, of every row of a log of at most
+    /// [`REGRESSOR_CACHE_ROWS`] rows.
+    regs: Vec<Option<Regressors>>,
+    /// The costly effects' parameter counts, by position (0 for the others).
+    reg_params: Vec<usize>,
 }
 
 impl<'a> Prepared<'a> {
@@ -424,11 +442,16 @@ log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, 
             )));
         }
         let len = log.len();
-        let passes = 1 + model
-            .effects
-            .iter()
-            .filter(|(e, _)| e.stage() == Stage::Torque && e.costly())
-            .count();
+        let every = len <= REGRESSOR_CACHE_ROWS;
+        let passes = 1 + if every {
+            model
+                .effects
+                .iter()
+                .filter(|(e, _)| e.stage() == Stage::Torque && e.costly())
+                .count()
+        } else {
+            0
+        };
         let total = (passes * len) as u64;
         let step = (len / 100).max(1);
         let stage = "preparing the log";
@@ -447,34 +470,44 @@ log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, 
                 &mut tau_rb[k * n..(k + 1) * n],
             )?;
         }
-        let mut regs: Vec<Option<Vec<f64>>> = Vec::new();
+        let mut regs: Vec<Option<Regressors>> = Vec::new();
+        let mut reg_params = Vec::new();
         let mut pass = 1;
         for (e, _) in model.effects.iter() {
             regs.push(None);
+            reg_params.push(0);
             if e.stage() != Stage::Torque || !e.costly() {
                 continue;
             }
             let i = regs.len() - 1;
             let p = e.params().len();
+            let mut y = vec![0.0; n * p];
+            if len == 0 || !e.regressor(log.traj.q(0), log.traj.qd(0), log.traj.qdd(0), &mut y) {
+                continue;
+            }
+            reg_params[i] = p;
+            if !every {
+                regs[i] = Some(Regressors::Some(Default::default()));
+                continue;
+            }
             let mut all = vec![0.0; len * n * p];
-            let mut linear = true;
             for k in 0..len {
                 if k % step == 0 {
                     progress.update(stage, (pass * len + k) as u64, total);
                 }
                 let y = &mut all[k * n * p..(k + 1) * n * p];
-                if !e.regressor(log.traj.q(k), log.traj.qd(k), log.traj.qdd(k), y) {
-                    linear = false;
-                    break;
-                }
+                e.regressor(log.traj.q(k), log.traj.qd(k), log.traj.qdd(k), y);
             }
-            if linear {
-                regs[i] = Some(all);
-            }
+            regs[i] = Some(Regressors::Every(all));
             pass += 1;
         }
         progress.update(stage, total, total);
-        Ok(Prepared { log, tau_rb, regs })
+        Ok(Prepared {
+            log,
+            tau_rb,
+            regs,
+            reg_params,
+        })
     }
 
     /// Number of samples.
@@ -497,32 +530,95 @@ log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, 
             self.log.traj.qd(k),
             self.log.traj.qdd(k),
         );
+        let mut buf = [0.0; MAX_REGRESSOR];
         for (i, (e, on)) in model.effects.iter().enumerate() {
             if !on || e.stage() != Stage::Torque || skip.contains(&i) {
                 continue;
             }
-            match &self.regs[i] {
-                Some(y) => {
-                    let vals = e.values();
-                    let p = vals.len();
-                    let yk = &y[k * n * p..(k + 1) * n * p];
-                    for (j, t) in tau[..n].iter_mut().enumerate() {
-                        let row = &yk[j * p..(j + 1) * p];
-                        *t += row.iter().zip(&vals).map(|(a, b)| a * b).sum::<f64>();
+            let p = self.reg_params.get(i).copied().unwrap_or(0);
+            let yk: &[f64] = match self.regs.get(i) {
+                Some(Some(Regressors::Every(y))) => &y[k * n * p..(k + 1) * n * p],
+                Some(Some(Regressors::Some(_))) if n * p <= MAX_REGRESSOR => {
+                    let y = &mut buf[..n * p];
+                    if !self.cached_regressor(i, k, n, p, y) {
+                        e.regressor(q, qd, qdd, y);
                     }
+                    y
                 }
-                None => e.add_torque(q, qd, qdd, &mut tau[..n]),
+                _ => {
+                    e.add_torque(q, qd, qdd, &mut tau[..n]);
+                    continue;
+                }
+            };
+            let vals = e.values();
+            for (j, t) in tau[..n].iter_mut().enumerate() {
+                let row = &yk[j * p..(j + 1) * p];
+                *t += row.iter().zip(&vals).map(|(a, b)| a * b).sum::<f64>();
             }
         }
     }
 
     /// The cached regressor of the effect at position `i` of the model's set at sample `k`
-    /// (`n × P`, row-major), if cached.
-    pub fn cached_regressor(&self, i: usize, k: usize, n: usize, p: usize) -> Option<&[f64]> {
-        self.regs
-            .get(i)?
-            .as_ref()
-            .map(|y| &y[k * n * p..(k + 1) * n * p])
+    /// (`n × P`, row-major) into `out`, if it is cached; `false` (leaving `out` untouched)
+    /// otherwise.
+    pub fn cached_regressor(
+        &self,
+        i: usize,
+        k: usize,
+        n: usize,
+        p: usize,
+        out: &mut [f64],
+    ) -> bool {
+        match self.regs.get(i) {
+            Some(Some(Regressors::Every(y))) => {
+                out.copy_from_slice(&y[k * n * p..(k + 1) * n * p]);
+                true
+            }
+            Some(Some(Regressors::Some(m))) => {
+                let m = m.lock().unwrap_or_else(|e| e.into_inner());
+                match m.get(&k) {
+                    Some(y) => {
+                        out.copy_from_slice(y);
+                        true
+                    }
+                    None => false,
+                }
+            }
+            _ => false,
+        }
+    }
+
+    /// The regressor of the effect at position `i` of the model's set at sample `k` into
+    /// `out` (`n × P`, row-major): the cached one, or computed and kept for the next call while
+    /// fewer than [`REGRESSOR_CACHE_ROWS`] rows are kept (the rows a fit asks for again and
+    /// again). `false` when the effect has no regressor.
+    pub fn regressor_row(&self, model: &Model, i: usize, k: usize, out: &mut [f64]) -> bool {
+        let n = model.n;
+        let p = self.reg_params.get(i).copied().unwrap_or(0);
+        if p == 0 || out.len() != n * p {
+            return false;
+        }
+        if self.cached_regressor(i, k, n, p, out) {
+            return true;
+        }
+        let Some((e, _)) = model.effects.iter().nth(i) else {
+            return false;
+        };
+        let (q, qd, qdd) = (
+            self.log.traj.q(k),
+            self.log.traj.qd(k),
+            self.log.traj.qdd(k),
+        );
+        if !e.regressor(q, qd, qdd, out) {
+            return false;
+        }
+        if let Some(Some(Regressors::Some(m))) = self.regs.get(i) {
+            let mut m = m.lock().unwrap_or_else(|e| e.into_inner());
+            if m.len() < REGRESSOR_CACHE_ROWS {
+                m.insert(k, out.to_vec().into_boxed_slice());
+            }
+        }
+        true
     }
 
     /// Model prediction of the logged signal at the samples `rows`, row-major
@@ -544,6 +640,9 @@ log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, 
         }
     }
 }
+
+/// The largest regressor of one row evaluated without a heap allocation (`n × P` values).
+const MAX_REGRESSOR: usize = MAX_DOF * 16;
 
 /// A saved copy of a model's switches and parameter values.
 #[derive(Clone, Debug)]

@@ -211,13 +211,15 @@ fn direction_explained(qd: &[f64], r: &[f64], still: f64, sigma: f64) -> f64 {
 
 /// Profiles and ranked structures of a residual.
 ///
-/// `res` is row-major `len × channels` (model − measured); `names` the channel names;
+/// `res(k, c)` is the residual (model − measured) of channel `c` at sample `k`, for `len`
+/// samples; `names` the channel names;
 /// `q`, `qd`, `qdd` give joint `j`'s value at sample `k`; `t` the times (s); `prismatic[j]`
 /// whether joint `j` is prismatic (units). A supply-power log (one channel, several joints) is
 /// read against every joint's motion.
 #[allow(clippy::too_many_arguments)]
 pub fn analyse(
-    res: &[f64],
+    res: &dyn Fn(usize, usize) -> f64,
+    len: usize,
     names: &[String],
     n: usize,
     t: &[f64],
@@ -227,7 +229,6 @@ pub fn analyse(
     prismatic: &[bool],
 ) -> (Vec<JointProfiles>, Vec<Failure>) {
     let ch = names.len().max(1);
-    let len = res.len() / ch;
     let mut profiles = Vec::new();
     let mut failures = Vec::new();
     for j in 0..n {
@@ -235,8 +236,8 @@ pub fn analyse(
         if c >= ch {
             break;
         }
-        let r: Vec<f64> = (0..len).map(|k| res[k * ch + c]).collect();
-        let sigma = crate::identify::structure::noise_floor(res, ch, c);
+        let r: Vec<f64> = (0..len).map(|k| res(k, c)).collect();
+        let sigma = crate::identify::structure::noise_floor(&r, 1, 0);
         let var = {
             let m = r.iter().sum::<f64>() / len.max(1) as f64;
             r.iter().map(|v| (v - m).powi(2)).sum::<f64>() / len.max(1) as f64
