@@ -756,7 +756,9 @@ fn link_pieces(drawn: &Value) -> usize {
 
 #[test]
 fn the_view_of_the_ur10e_draws_its_collision_pieces_and_the_energy_of_energy_at() {
-    let Some(drawn) = check_robot_page(&["--robot", "ur10e", "--path", "paths/wall_multilayer.gcode"]) else {
+    let Some(drawn) =
+        check_robot_page(&["--robot", "ur10e", "--path", "paths/wall_multilayer.gcode"])
+    else {
         return;
     };
     // The shipped arms have no <visual>: every link drawn from its collision pieces.
@@ -765,12 +767,14 @@ fn the_view_of_the_ur10e_draws_its_collision_pieces_and_the_energy_of_energy_at(
     let n = link_pieces(&drawn);
     assert!(n >= 7, "{drawn}");
     assert_eq!(drawn["collision"], n, "{drawn}");
-    assert_eq!(drawn["hulls"], n, "every collision mesh piece drawn: {drawn}");
+    assert_eq!(
+        drawn["hulls"], n,
+        "every collision mesh piece drawn: {drawn}"
+    );
     assert!(
-        drawn["line"]
-            .as_str()
-            .unwrap()
-            .contains(&format!("0 visual element(s) (0 mesh(es)) and {n} collision shape(s)")),
+        drawn["line"].as_str().unwrap().contains(&format!(
+            "0 visual element(s) (0 mesh(es)) and {n} collision shape(s)"
+        )),
         "{drawn}"
     );
 }
@@ -849,11 +853,17 @@ fn irb6640_with_visuals(name: &str) -> (PathBuf, PathBuf) {
     std::fs::write(meshes.join("visual/link_5.obj"), BOX_OBJ).unwrap();
     std::fs::write(meshes.join("visual/base_link.dae"), "not a COLLADA file").unwrap();
     std::fs::write(d.join("outside.stl"), "solid outside\nendsolid outside\n").unwrap();
-    let mut urdf =
-        std::fs::read_to_string(src.join("urdf/irb6640_185_280.urdf")).unwrap();
+    let mut urdf = std::fs::read_to_string(src.join("urdf/irb6640_185_280.urdf")).unwrap();
     let v = "package://abb_irb6640_support/meshes/irb6640_185_280/visual/";
     let c = "package://abb_irb6640_support/meshes/irb6640_185_280/collision/";
-    for l in ["link_1", "link_2", "link_3", "link_4", "cylinder_link", "piston_link"] {
+    for l in [
+        "link_1",
+        "link_2",
+        "link_3",
+        "link_4",
+        "cylinder_link",
+        "piston_link",
+    ] {
         urdf = urdf.replace(&format!("{v}{l}.dae"), &format!("{c}{l}.stl"));
     }
     urdf = urdf.replace(&format!("{v}link_5.dae"), &format!("{v}link_5.obj"));
@@ -913,17 +923,28 @@ fn the_view_of_a_user_robot_draws_its_visual_meshes_in_metres_and_falls_back_whe
     }
     let (dir, drive) = irb6640_with_visuals("irb6640-page");
     let drive_arg = drive.display().to_string();
-    let drawn = check_robot_page(&["--robot", &drive_arg, "--path", "paths/wall_multilayer.gcode"])
-        .unwrap();
+    let drawn = check_robot_page(&[
+        "--robot",
+        &drive_arg,
+        "--path",
+        "paths/wall_multilayer.gcode",
+    ])
+    .unwrap();
     // Links 1 to 6 from their visual meshes (four STL, one OBJ, one COLLADA); the base's
     // COLLADA file does not load: the base is drawn from its collision hull, and said.
     assert_eq!(drawn["visual"], 6, "{drawn}");
     assert_eq!(drawn["visualBodies"], json!([1, 2, 3, 4, 5, 6]), "{drawn}");
-    assert_eq!(drawn["collision"], 1, "only the base from collision shapes: {drawn}");
+    assert_eq!(
+        drawn["collision"], 1,
+        "only the base from collision shapes: {drawn}"
+    );
     assert_eq!(drawn["hulls"], 1, "{drawn}");
     let failed = drawn["failed"].as_array().unwrap();
     assert_eq!(failed.len(), 1, "{drawn}");
-    assert!(failed[0].as_str().unwrap().contains("base_link.dae"), "{drawn}");
+    assert!(
+        failed[0].as_str().unwrap().contains("base_link.dae"),
+        "{drawn}"
+    );
     let status = drawn["status"].as_str().unwrap();
     assert!(
         status.contains("failed to load") && status.contains("base_link"),
@@ -934,7 +955,10 @@ fn the_view_of_a_user_robot_draws_its_visual_meshes_in_metres_and_falls_back_whe
         line.contains("6 visual element(s) (6 mesh(es)) and 1 collision shape(s)"),
         "{line}"
     );
-    assert!(line.contains("outside.stl"), "the files not drawn are named: {line}");
+    assert!(
+        line.contains("outside.stl"),
+        "the files not drawn are named: {line}"
+    );
     // Each mesh in metres in its link's frame: the STLs as their vertices, the OBJ at its
     // origin 0.1 m up, the millimetre Z-up COLLADA cube standing on the link's origin.
     let boxes = drawn["boxes"].as_array().unwrap();
@@ -986,10 +1010,18 @@ fn the_view_serves_only_the_visual_meshes_the_urdf_references_by_index() {
     let meshes = scene["meshes"].as_array().unwrap();
     let files: Vec<&str> = meshes.iter().map(|m| m["file"].as_str().unwrap()).collect();
     assert_eq!(meshes.len(), 7, "{files:?}");
-    assert!(files.iter().all(|f| !f.contains("outside") && !f.contains("piston") && !f.contains("cylinder")), "{files:?}");
+    assert!(
+        files
+            .iter()
+            .all(|f| !f.contains("outside") && !f.contains("piston") && !f.contains("cylinder")),
+        "{files:?}"
+    );
     let skipped = scene["visuals_skipped"].as_array().unwrap();
     assert_eq!(
-        skipped.iter().filter(|s| s.as_str().unwrap().contains("outside.stl")).count(),
+        skipped
+            .iter()
+            .filter(|s| s.as_str().unwrap().contains("outside.stl"))
+            .count(),
         2,
         "{skipped:?}"
     );
@@ -1001,10 +1033,19 @@ fn the_view_serves_only_the_visual_meshes_the_urdf_references_by_index() {
         let f = m["file"].as_str().unwrap();
         let rel = f.strip_prefix("package://abb_irb6640_support/").unwrap();
         let want = std::fs::read(pkg.join(rel)).unwrap();
-        assert!(body == String::from_utf8_lossy(&want), "mesh {k}: not the bytes of {f}");
+        assert!(
+            body == String::from_utf8_lossy(&want),
+            "mesh {k}: not the bytes of {f}"
+        );
     }
     // An index out of range is not found; anything but an index is a bad request.
-    let (code, _) = http(&addr, "GET", &format!("/api/mesh/{}", meshes.len()), None, None);
+    let (code, _) = http(
+        &addr,
+        "GET",
+        &format!("/api/mesh/{}", meshes.len()),
+        None,
+        None,
+    );
     assert_eq!(code, 404);
     for p in [
         "/api/mesh/-1",

@@ -726,7 +726,7 @@ fn visuals_of(
                     let scale = cx
                         .floats::<3>(s, "scale", Some([1.0; 3]))
                         .map_err(|e| e.to_string())?;
-                    if scale.iter().any(|x| *x == 0.0) {
+                    if scale.contains(&0.0) {
                         return Err(format!("mesh `{f}`: a zero scale"));
                     }
                     let (path, format) = super::mesh::visual_mesh_file(f, urdf_dir)

@@ -257,12 +257,8 @@ impl<'c> ViewState<'c> {
     /// (`radius_m`) or `mesh` (`mesh`: its index in `meshes`, `format`, `scale`).
     fn visual_geometry(&self) -> Vec<Value> {
         let v = &self.config.job.robot.visuals;
-        let bodies = std::iter::once((0, &v.base)).chain(
-            v.links
-                .iter()
-                .enumerate()
-                .map(|(i, l)| (i + 1, l)),
-        );
+        let bodies = std::iter::once((0, &v.base))
+            .chain(v.links.iter().enumerate().map(|(i, l)| (i + 1, l)));
         let mut out = Vec::new();
         for (body, geoms) in bodies {
             for g in geoms {

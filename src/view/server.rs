@@ -73,7 +73,10 @@ fn mesh_response(state: &ViewState, k: &str) -> tiny_http::Response<std::io::Cur
     match state.mesh(k) {
         None => error_response(
             404,
-            &format!("no mesh {k}: the robot has {} visual meshes", state.meshes.len()),
+            &format!(
+                "no mesh {k}: the robot has {} visual meshes",
+                state.meshes.len()
+            ),
         ),
         Some(Err(e)) => error_response(500, &e.to_string()),
         Some(Ok((b, ctype))) => bytes_response(&b, ctype),
