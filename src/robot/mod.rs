@@ -20,7 +20,6 @@ pub use drive::{
 };
 pub use model::{
     CollisionGeom, GeomShape, Inertial, Joint, JointKind, RobotInfo, RobotModel, ToolGeometry,
-    VisualGeom, VisualShape, Visuals,
 };
 pub use opw::OpwParams;
 
