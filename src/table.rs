@@ -272,16 +272,22 @@ fn cells(line: &str, sep: char, decimal_comma: bool) -> Vec<Cell> {
     out
 }
 
+/// A line without its line end split at its first `#`: the body before it and the comment
+/// after it, if any.
+fn split_comment(raw: &str) -> (&str, Option<&str>) {
+    let raw = raw.trim_end_matches('\r');
+    match raw.find('#') {
+        Some(p) => (&raw[..p], Some(&raw[p + 1..])),
+        None => (raw, None),
+    }
+}
+
 /// Split CSV text into comment, header and data lines (see the module docs).
 pub fn lines(text: &str) -> Vec<Line> {
     let mut out = Vec::new();
     let mut sep = None;
     for (i, raw) in text.lines().enumerate() {
-        let raw = raw.trim_end_matches('\r');
-        let (body, comment) = match raw.find('#') {
-            Some(p) => (&raw[..p], Some(&raw[p + 1..])),
-            None => (raw, None),
-        };
+        let (body, comment) = split_comment(raw);
         if body.trim().is_empty() {
             if let Some(c) = comment {
                 out.push(Line::Comment(i + 1, c.trim().to_string()));
@@ -576,11 +582,7 @@ impl<'a> TableReader<'a> {
     /// Returns whether it was a data row (its values are then in [`TableReader::row`]).
     /// Errors as [`Table::parse`] gives them.
     pub fn feed(&mut self, ln: usize, raw: &str) -> Result<bool> {
-        let raw = raw.trim_end_matches('\r');
-        let (body, comment) = match raw.find('#') {
-            Some(p) => (&raw[..p], Some(&raw[p + 1..])),
-            None => (raw, None),
-        };
+        let (body, comment) = split_comment(raw);
         if body.trim().is_empty() {
             if let Some(c) = comment {
                 if self.table.names.is_empty() {
