@@ -144,8 +144,14 @@ fn start_view(extra: &[&str]) -> (Kill, String) {
 
 /// `printwatt energy --at` for `at`: its `supply energy … J` figure, or its error text.
 fn energy_at(at: &str) -> Result<String, String> {
+    energy_at_with(at, &[])
+}
+
+/// [`energy_at`] with `extra` arguments (another robot).
+fn energy_at_with(at: &str, extra: &[&str]) -> Result<String, String> {
     let o = Command::new(env!("CARGO_BIN_EXE_printwatt"))
         .args(["energy", "--no-csv", "--at", at])
+        .args(extra)
         .current_dir(root())
         .output()
         .unwrap();
@@ -686,5 +692,376 @@ fn the_view_of_a_study_case_takes_its_robot_path_options_and_answer() {
     let why =
         try_view(&["--port", "0", "--run", &run, "--case", "7"]).expect_err("case 7 is refused");
     assert!(why.contains("no case `7`"), "{why}");
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The page of `printwatt view` with `args` (robot and path) loads, renders a canvas that is
+/// not blank, shows the start placement's supply energy as `printwatt energy --at` with the
+/// same `args` prints it, and reports what it drew the robot from: `window.pwView.drawn` with
+/// the visual boxes (`boxes`) and the collision mesh pieces drawn (`hulls`).
+fn check_robot_page(args: &[&str]) -> Option<Value> {
+    let (chromium, driver) = browser_or_skip()?;
+    let (_view, addr) = start_view(args);
+    let (_drv, d) = start_driver(&chromium, &driver);
+    d.call("POST", "/url", json!({"url": format!("http://{addr}/")}));
+    let first = d.settled();
+    let colours = d.js(
+        "const c = document.querySelector('#scene canvas'); const s = document.createElement('canvas'); \
+         s.width = 200; s.height = 120; const g = s.getContext('2d'); g.drawImage(c, 0, 0, 200, 120); \
+         const px = g.getImageData(0, 0, 200, 120).data; const set = new Set(); \
+         for (let i = 0; i < px.length; i += 4) set.add(px[i] << 16 | px[i+1] << 8 | px[i+2]); return set.size;",
+    );
+    assert!(
+        colours.as_u64().unwrap() > 50,
+        "the canvas is (nearly) blank: {colours} colours"
+    );
+    let at = at_text(&first["place"]);
+    match energy_at_with(&at, args) {
+        Ok(supply) if first["status"].as_str().unwrap().starts_with("feasible") => {
+            assert_eq!(first["supply"], supply.as_str(), "at {at}")
+        }
+        other => panic!("the page starts at {at}, shown as {first}; energy --at: {other:?}"),
+    }
+    // The arm is posed (a playback arrived) before its pieces are counted.
+    d.wait(
+        "the arm drawn",
+        "return window.pwView.playback !== null && document.body.dataset.drawn === 'yes' ? true : null",
+    );
+    let drawn = d.js(
+        "return Object.assign({}, window.pwView.drawn, {boxes: window.pwView.visualBoxes(), \
+         hulls: window.pwView.hullPieces(), status: document.getElementById('status').textContent, \
+         line: document.getElementById('drawn').textContent, scene_visuals: window.pwView.scene.visuals.length, \
+         shapes: window.pwView.scene.shapes});",
+    );
+    let _ = http(
+        &d.addr,
+        "DELETE",
+        &format!("/session/{}", d.session),
+        None,
+        None,
+    );
+    Some(drawn)
+}
+
+/// The collision mesh pieces of the links in `drawn`'s scene (the pedestal, head and hose
+/// are not links).
+fn link_pieces(drawn: &Value) -> usize {
+    drawn["shapes"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .filter(|s| s["role"] == "link" && s["pedestal"] == false)
+        .count()
+}
+
+#[test]
+fn the_view_of_the_ur10e_draws_its_collision_pieces_and_the_energy_of_energy_at() {
+    let Some(drawn) =
+        check_robot_page(&["--robot", "ur10e", "--path", "paths/wall_multilayer.gcode"])
+    else {
+        return;
+    };
+    // The shipped arms have no <visual>: every link drawn from its collision pieces.
+    assert_eq!(drawn["scene_visuals"], 0, "{drawn}");
+    assert_eq!(drawn["visual"], 0, "{drawn}");
+    let n = link_pieces(&drawn);
+    assert!(n >= 7, "{drawn}");
+    assert_eq!(drawn["collision"], n, "{drawn}");
+    assert_eq!(
+        drawn["hulls"], n,
+        "every collision mesh piece drawn: {drawn}"
+    );
+    assert!(
+        drawn["line"].as_str().unwrap().contains(&format!(
+            "0 visual element(s) (0 mesh(es)) and {n} collision shape(s)"
+        )),
+        "{drawn}"
+    );
+}
+
+#[test]
+fn the_view_of_the_irb4600_draws_its_collision_pieces_and_the_energy_of_energy_at() {
+    let Some(drawn) = check_robot_page(&[
+        "--robot",
+        "abb_irb4600_40_255",
+        "--path",
+        "paths/wall_multilayer.gcode",
+    ]) else {
+        return;
+    };
+    assert_eq!(drawn["scene_visuals"], 0, "{drawn}");
+    assert_eq!(drawn["visual"], 0, "{drawn}");
+    let n = link_pieces(&drawn);
+    // Its forearm is several convex pieces (collision/README.md).
+    assert!(n >= 10, "{drawn}");
+    assert_eq!(drawn["collision"], n, "{drawn}");
+    assert_eq!(drawn["hulls"], n, "{drawn}");
+}
+
+/// A COLLADA cube of edge 100 mm standing on its link's origin, in millimetres
+/// (`<unit meter="0.001">`) with `<up_axis>Z_UP`: in the link frame, x and y in ±0.05 m and
+/// z in 0..0.1 m.
+const CUBE_DAE: &str = r##"<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+  <asset><unit name="millimeter" meter="0.001"/><up_axis>Z_UP</up_axis></asset>
+  <library_geometries>
+    <geometry id="cube" name="cube"><mesh>
+      <source id="cube-pos">
+        <float_array id="cube-pos-array" count="24">-50 -50 0 50 -50 0 50 50 0 -50 50 0 -50 -50 100 50 -50 100 50 50 100 -50 50 100</float_array>
+        <technique_common><accessor source="#cube-pos-array" count="8" stride="3">
+          <param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/>
+        </accessor></technique_common>
+      </source>
+      <vertices id="cube-vtx"><input semantic="POSITION" source="#cube-pos"/></vertices>
+      <triangles count="12"><input semantic="VERTEX" source="#cube-vtx" offset="0"/>
+        <p>0 2 1 0 3 2 4 5 6 4 6 7 0 1 5 0 5 4 1 2 6 1 6 5 2 3 7 2 7 6 3 0 4 3 4 7</p>
+      </triangles>
+    </mesh></geometry>
+  </library_geometries>
+  <library_visual_scenes>
+    <visual_scene id="scene"><node id="cube-node"><instance_geometry url="#cube"/></node></visual_scene>
+  </library_visual_scenes>
+  <scene><instance_visual_scene url="#scene"/></scene>
+</COLLADA>
+"##;
+
+/// A Wavefront box 0.2 × 0.1 × 0.06 m about its origin.
+const BOX_OBJ: &str = "v -0.1 -0.05 -0.03\nv 0.1 -0.05 -0.03\nv 0.1 0.05 -0.03\nv -0.1 0.05 -0.03\n\
+v -0.1 -0.05 0.03\nv 0.1 -0.05 0.03\nv 0.1 0.05 0.03\nv -0.1 0.05 0.03\n\
+f 1 3 2\nf 1 4 3\nf 5 6 7\nf 5 7 8\nf 1 2 6\nf 1 6 5\nf 2 3 7\nf 2 7 6\nf 3 4 8\nf 3 8 7\nf 4 1 5\nf 4 5 8\n";
+
+/// A user's robot directory: the ROS-Industrial IRB 6640 package (tests/data/ros_industrial)
+/// copied with a URDF whose `<visual>` elements name meshes the test can check: the published
+/// collision STLs for links 1 to 4, an OBJ box for link 5 (at an origin 0.1 m up z), a
+/// millimetre Z-up COLLADA cube for link 6, and for the base a `.dae` that is no COLLADA (its
+/// load fails: the base keeps its collision hull). Link 3 also names two files outside the
+/// package (not drawn, not served). The drive file is `robot init`'s. Returns the directory
+/// and the drive file.
+fn irb6640_with_visuals(name: &str) -> (PathBuf, PathBuf) {
+    let d = common::scratch("view", name);
+    let src = root().join("tests/data/ros_industrial/abb_irb6640_support");
+    let pkg = d.join("abb_irb6640_support");
+    let meshes = pkg.join("meshes/irb6640_185_280");
+    std::fs::create_dir_all(meshes.join("collision")).unwrap();
+    std::fs::create_dir_all(meshes.join("visual")).unwrap();
+    std::fs::create_dir_all(pkg.join("urdf")).unwrap();
+    for e in std::fs::read_dir(src.join("meshes/irb6640_185_280/collision")).unwrap() {
+        let e = e.unwrap();
+        std::fs::copy(e.path(), meshes.join("collision").join(e.file_name())).unwrap();
+    }
+    std::fs::write(meshes.join("visual/link_6.dae"), CUBE_DAE).unwrap();
+    std::fs::write(meshes.join("visual/link_5.obj"), BOX_OBJ).unwrap();
+    std::fs::write(meshes.join("visual/base_link.dae"), "not a COLLADA file").unwrap();
+    std::fs::write(d.join("outside.stl"), "solid outside\nendsolid outside\n").unwrap();
+    let mut urdf = std::fs::read_to_string(src.join("urdf/irb6640_185_280.urdf")).unwrap();
+    let v = "package://abb_irb6640_support/meshes/irb6640_185_280/visual/";
+    let c = "package://abb_irb6640_support/meshes/irb6640_185_280/collision/";
+    for l in [
+        "link_1",
+        "link_2",
+        "link_3",
+        "link_4",
+        "cylinder_link",
+        "piston_link",
+    ] {
+        urdf = urdf.replace(&format!("{v}{l}.dae"), &format!("{c}{l}.stl"));
+    }
+    urdf = urdf.replace(&format!("{v}link_5.dae"), &format!("{v}link_5.obj"));
+    let link5 = format!("<mesh filename=\"{v}link_5.obj\"/>");
+    let at = urdf.find(&link5).expect("link_5's visual");
+    let open = urdf[..at].rfind("<visual").unwrap();
+    let head_end = open + urdf[open..].find('>').unwrap() + 1;
+    urdf.insert_str(head_end, "<origin xyz=\"0 0 0.1\" rpy=\"0 0 0\"/>");
+    let link3 = format!("<mesh filename=\"{c}link_3.stl\"/>");
+    let at = urdf.find(&link3).expect("link_3's visual");
+    let end = at + urdf[at..].find("</visual>").unwrap() + "</visual>".len();
+    urdf.insert_str(
+        end,
+        "\n    <visual><geometry><mesh filename=\"package://abb_irb6640_support/../outside.stl\"/></geometry></visual>\
+         \n    <visual><geometry><mesh filename=\"../../outside.stl\"/></geometry></visual>",
+    );
+    let file = pkg.join("urdf/irb6640_185_280.urdf");
+    std::fs::write(&file, urdf).unwrap();
+    std::fs::create_dir_all(d.join("cell")).unwrap();
+    let drive = d.join("cell/drive.toml");
+    let o = common::bin()
+        .args([
+            "robot",
+            "init",
+            file.to_str().unwrap(),
+            "--out",
+            drive.to_str().unwrap(),
+        ])
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", common::stderr_of(&o));
+    (d, drive)
+}
+
+/// The box of an STL file's vertices (m): min and max.
+fn stl_box(p: &Path) -> ([f64; 3], [f64; 3]) {
+    let v = printwatt::robot::mesh::read_vertices(p).unwrap();
+    let mut lo = [f64::INFINITY; 3];
+    let mut hi = [f64::NEG_INFINITY; 3];
+    for p in v {
+        for k in 0..3 {
+            lo[k] = lo[k].min(p[k]);
+            hi[k] = hi[k].max(p[k]);
+        }
+    }
+    (lo, hi)
+}
+
+fn close3(a: &Value, b: [f64; 3], tol: f64) -> bool {
+    (0..3).all(|k| (a[k].as_f64().unwrap() - b[k]).abs() < tol)
+}
+
+#[test]
+fn the_view_of_a_user_robot_draws_its_visual_meshes_in_metres_and_falls_back_where_one_fails() {
+    if browser_or_skip().is_none() {
+        return;
+    }
+    let (dir, drive) = irb6640_with_visuals("irb6640-page");
+    let drive_arg = drive.display().to_string();
+    let drawn = check_robot_page(&[
+        "--robot",
+        &drive_arg,
+        "--path",
+        "paths/wall_multilayer.gcode",
+    ])
+    .unwrap();
+    // Links 1 to 6 from their visual meshes (four STL, one OBJ, one COLLADA); the base's
+    // COLLADA file does not load: the base is drawn from its collision hull, and said.
+    assert_eq!(drawn["visual"], 6, "{drawn}");
+    assert_eq!(drawn["visualBodies"], json!([1, 2, 3, 4, 5, 6]), "{drawn}");
+    assert_eq!(
+        drawn["collision"], 1,
+        "only the base from collision shapes: {drawn}"
+    );
+    assert_eq!(drawn["hulls"], 1, "{drawn}");
+    let failed = drawn["failed"].as_array().unwrap();
+    assert_eq!(failed.len(), 1, "{drawn}");
+    assert!(
+        failed[0].as_str().unwrap().contains("base_link.dae"),
+        "{drawn}"
+    );
+    let status = drawn["status"].as_str().unwrap();
+    assert!(
+        status.contains("failed to load") && status.contains("base_link"),
+        "the status line names the fallback: {status}"
+    );
+    let line = drawn["line"].as_str().unwrap();
+    assert!(
+        line.contains("6 visual element(s) (6 mesh(es)) and 1 collision shape(s)"),
+        "{line}"
+    );
+    assert!(
+        line.contains("outside.stl"),
+        "the files not drawn are named: {line}"
+    );
+    // Each mesh in metres in its link's frame: the STLs as their vertices, the OBJ at its
+    // origin 0.1 m up, the millimetre Z-up COLLADA cube standing on the link's origin.
+    let boxes = drawn["boxes"].as_array().unwrap();
+    let of = |l: &str| {
+        boxes
+            .iter()
+            .find(|b| b["link"] == l)
+            .unwrap_or_else(|| panic!("no visual of {l}: {drawn}"))
+    };
+    let col = dir.join("abb_irb6640_support/meshes/irb6640_185_280/collision");
+    for l in ["link_1", "link_2", "link_3", "link_4"] {
+        let (lo, hi) = stl_box(&col.join(format!("{l}.stl")));
+        let b = of(l);
+        assert!(
+            close3(&b["min"], lo, 1e-4) && close3(&b["max"], hi, 1e-4),
+            "{l}: drawn {b}, file {lo:?}..{hi:?}"
+        );
+    }
+    let b = of("link_5");
+    assert!(
+        close3(&b["min"], [-0.1, -0.05, 0.07], 1e-6) && close3(&b["max"], [0.1, 0.05, 0.13], 1e-6),
+        "link_5's OBJ box at its origin: {b}"
+    );
+    let b = of("link_6");
+    assert_eq!(b["kind"], "mesh");
+    assert!(
+        close3(&b["min"], [-0.05, -0.05, 0.0], 1e-6) && close3(&b["max"], [0.05, 0.05, 0.1], 1e-6),
+        "link_6's COLLADA cube in metres, z up: {b}"
+    );
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn the_view_serves_only_the_visual_meshes_the_urdf_references_by_index() {
+    let (dir, drive) = irb6640_with_visuals("irb6640-server");
+    let drive_arg = drive.display().to_string();
+    let (_view, addr) = start_view(&[
+        "--robot",
+        &drive_arg,
+        "--path",
+        "paths/wall_multilayer.gcode",
+    ]);
+    let (code, body) = http(&addr, "GET", "/api/scene", None, None);
+    assert_eq!(code, 200, "{body}");
+    let scene: Value = serde_json::from_str(&body).unwrap();
+    // The chain's visual meshes, each once: base (the failing .dae), links 1 to 6; the
+    // balancer's links are no part of the chain, and the files outside the package are not
+    // served.
+    let meshes = scene["meshes"].as_array().unwrap();
+    let files: Vec<&str> = meshes.iter().map(|m| m["file"].as_str().unwrap()).collect();
+    assert_eq!(meshes.len(), 7, "{files:?}");
+    assert!(
+        files
+            .iter()
+            .all(|f| !f.contains("outside") && !f.contains("piston") && !f.contains("cylinder")),
+        "{files:?}"
+    );
+    let skipped = scene["visuals_skipped"].as_array().unwrap();
+    assert_eq!(
+        skipped
+            .iter()
+            .filter(|s| s.as_str().unwrap().contains("outside.stl"))
+            .count(),
+        2,
+        "{skipped:?}"
+    );
+    let pkg = dir.join("abb_irb6640_support");
+    for (k, m) in meshes.iter().enumerate() {
+        assert_eq!(m["index"], k);
+        let (code, body) = http(&addr, "GET", &format!("/api/mesh/{k}"), None, None);
+        assert_eq!(code, 200, "mesh {k}");
+        let f = m["file"].as_str().unwrap();
+        let rel = f.strip_prefix("package://abb_irb6640_support/").unwrap();
+        let want = std::fs::read(pkg.join(rel)).unwrap();
+        assert!(
+            body == String::from_utf8_lossy(&want),
+            "mesh {k}: not the bytes of {f}"
+        );
+    }
+    // An index out of range is not found; anything but an index is a bad request.
+    let (code, _) = http(
+        &addr,
+        "GET",
+        &format!("/api/mesh/{}", meshes.len()),
+        None,
+        None,
+    );
+    assert_eq!(code, 404);
+    for p in [
+        "/api/mesh/-1",
+        "/api/mesh/",
+        "/api/mesh/0x1",
+        "/api/mesh/..%2F..%2Foutside.stl",
+        "/api/mesh/../../outside.stl",
+        "/api/mesh/0/../1",
+        "/api/mesh/abb_irb6640_support/meshes/irb6640_185_280/collision/link_1.stl",
+        "/api/mesh/99999999999999999999",
+    ] {
+        let (code, body) = http(&addr, "GET", p, None, None);
+        assert!(code == 400 || code == 404, "{p}: {code} {body}");
+        assert!(!body.contains("solid"), "{p}: a file's bytes: {body}");
+    }
+    let (code, _) = http(&addr, "POST", "/api/mesh/0", Some(b"{}"), None);
+    assert_eq!(code, 405);
     let _ = std::fs::remove_dir_all(&dir);
 }

@@ -102,6 +102,12 @@ fn parse3<'a>(it: &mut impl Iterator<Item = &'a str>, name: &str, line: usize) -
 /// directory; `package://pkg/rest` against a directory named `pkg` found in `ROS_PACKAGE_PATH`
 /// or among the URDF's ancestors (or their children), else `None`.
 pub fn resolve_mesh_path(filename: &str, urdf_dir: &Path) -> Option<PathBuf> {
+    resolve_mesh_path_in(filename, urdf_dir).map(|(p, _)| p)
+}
+
+/// [`resolve_mesh_path`] with the directory the name is relative to: the package's directory
+/// for `package://`, else the URDF's directory (also for an absolute path).
+pub fn resolve_mesh_path_in(filename: &str, urdf_dir: &Path) -> Option<(PathBuf, PathBuf)> {
     if let Some(rest) = filename.strip_prefix("package://") {
         let (pkg, rel) = rest.split_once('/')?;
         let mut roots: Vec<PathBuf> = std::env::var_os("ROS_PACKAGE_PATH")
@@ -113,7 +119,7 @@ pub fn resolve_mesh_path(filename: &str, urdf_dir: &Path) -> Option<PathBuf> {
                 if cand.file_name().is_some_and(|n| n == pkg) {
                     let p = cand.join(rel);
                     if p.is_file() {
-                        return Some(p);
+                        return Some((p, cand));
                     }
                 }
             }
@@ -122,9 +128,48 @@ pub fn resolve_mesh_path(filename: &str, urdf_dir: &Path) -> Option<PathBuf> {
     }
     let f = filename.strip_prefix("file://").unwrap_or(filename);
     let p = Path::new(f);
-    Some(if p.is_absolute() {
-        p.to_path_buf()
-    } else {
-        urdf_dir.join(p)
-    })
+    Some((
+        if p.is_absolute() {
+            p.to_path_buf()
+        } else {
+            urdf_dir.join(p)
+        },
+        urdf_dir.to_path_buf(),
+    ))
+}
+
+/// Formats of visual meshes the view draws (lower-case extensions).
+pub const VISUAL_FORMATS: [&str; 3] = ["stl", "dae", "obj"];
+
+/// A visual mesh `filename` of the URDF in `urdf_dir`: the file (canonical) and its format,
+/// only when it is a file of [`VISUAL_FORMATS`] that lies inside the directory its name is
+/// relative to (see [`resolve_mesh_path_in`]); otherwise why not.
+pub fn visual_mesh_file(
+    filename: &str,
+    urdf_dir: &Path,
+) -> std::result::Result<(PathBuf, String), String> {
+    let (p, root) = resolve_mesh_path_in(filename, urdf_dir)
+        .ok_or_else(|| {
+            "not found (a package:// file is looked for in ROS_PACKAGE_PATH and among the URDF's ancestors)"
+                .to_string()
+        })?;
+    let ext = p
+        .extension()
+        .map(|e| e.to_string_lossy().to_ascii_lowercase())
+        .unwrap_or_default();
+    if !VISUAL_FORMATS.contains(&ext.as_str()) {
+        return Err(format!(
+            "format `.{ext}` is not drawn (STL, COLLADA .dae and OBJ are)"
+        ));
+    }
+    let file = std::fs::canonicalize(&p).map_err(|e| format!("{}: {e}", p.display()))?;
+    let root = std::fs::canonicalize(&root).map_err(|e| format!("{}: {e}", root.display()))?;
+    if !file.starts_with(&root) || !file.is_file() {
+        return Err(format!(
+            "{} is not a file inside {}",
+            file.display(),
+            root.display()
+        ));
+    }
+    Ok((file, ext))
 }

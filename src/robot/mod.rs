@@ -20,6 +20,7 @@ pub use drive::{
 };
 pub use model::{
     CollisionGeom, GeomShape, Inertial, Joint, JointKind, RobotInfo, RobotModel, ToolGeometry,
+    VisualGeom, VisualShape, Visuals,
 };
 pub use opw::OpwParams;
 

@@ -206,6 +206,8 @@ pub struct RobotModel {
     /// Visual geometry of each moving link that has neither an inertial nor collision geometry
     /// in the URDF (link frame; empty otherwise): what its inertia is estimated from then.
     pub link_visual: Vec<Vec<CollisionGeom>>,
+    /// What the URDF's `<visual>` elements draw, for the view (the planner never uses them).
+    pub visuals: Visuals,
     /// Print head and hose from the drive file's `[tool.geometry]`, if given.
     pub tool_geometry: Option<ToolGeometry>,
     /// Things the loader noticed and accepted (ignored meshes, merged passive joints, ...).
@@ -247,6 +249,64 @@ pub enum GeomShape {
         points: Vec<V3>,
         /// The mesh file it came from.
         source: String,
+    },
+}
+
+/// The URDF's `<visual>` elements of the chain's bodies, for drawing only: the fixed base
+/// (the root link and links fixed to it, base frame) and each moving link (fixed children
+/// merged, frame of its joint). Mesh files are found the way collision meshes are but not read.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub struct Visuals {
+    /// Visual elements of the fixed base, base frame.
+    pub base: Vec<VisualGeom>,
+    /// Visual elements of link `i`, frame of joint `i` (empty: the link has none).
+    pub links: Vec<Vec<VisualGeom>>,
+    /// Visual elements left out, and why (a mesh not found, a format not drawn, bad sizes).
+    pub skipped: Vec<String>,
+}
+
+/// One `<visual>` element of a URDF link.
+#[derive(Clone, Debug, PartialEq)]
+pub struct VisualGeom {
+    /// Pose of the geometry in its body frame.
+    pub origin: Frame,
+    /// The geometry.
+    pub shape: VisualShape,
+    /// The URDF link it belongs to.
+    pub link: String,
+}
+
+/// The geometry of a `<visual>` element (URDF conventions: boxes centred, cylinders along z).
+#[derive(Clone, Debug, PartialEq)]
+pub enum VisualShape {
+    /// Box with the given full edge lengths, m.
+    Box {
+        /// Edge lengths along x, y, z, m.
+        size_m: [f64; 3],
+    },
+    /// Cylinder along z, centred.
+    Cylinder {
+        /// Radius, m.
+        radius_m: f64,
+        /// Length along z, m.
+        length_m: f64,
+    },
+    /// Sphere, centred.
+    Sphere {
+        /// Radius, m.
+        radius_m: f64,
+    },
+    /// A mesh file (STL, COLLADA `.dae` or Wavefront OBJ) found inside the URDF's directory or
+    /// inside the ROS package a `package://` name points into.
+    Mesh {
+        /// The `filename` as the URDF writes it.
+        filename: String,
+        /// The file, canonical.
+        path: PathBuf,
+        /// `stl`, `dae` or `obj`.
+        format: String,
+        /// The URDF's `scale`.
+        scale: [f64; 3],
     },
 }
 

@@ -2,7 +2,9 @@
 //! cylinders, spheres, and STL/OBJ meshes whose vertices become convex hulls; mesh paths are
 //! relative to the URDF, `package://` is looked up in `ROS_PACKAGE_PATH` and the URDF's
 //! ancestors, a mesh that cannot be read is a warning and its link falls back to a capsule),
-//! and `<joint>` origins, axes, limits and mimic tags; visual geometry is ignored.
+//! and `<joint>` origins, axes, limits and mimic tags. `<visual>` elements are kept for drawing
+//! only ([`crate::robot::Visuals`]: their mesh files found, not read), and used for a link's
+//! inertia only when it has neither `<inertial>` nor `<collision>`.
 //!
 //! What it does with the tree:
 //! - the arm chain runs from the root link to `tool_link` (or, when none is named, to the leaf
@@ -20,7 +22,8 @@
 use crate::error::{Error, Result};
 use crate::math::{Frame, M3, V3};
 use crate::robot::model::{
-    CollisionGeom, GeomShape, Inertial, Joint, JointKind, RobotInfo, RobotModel,
+    CollisionGeom, GeomShape, Inertial, Joint, JointKind, RobotInfo, RobotModel, VisualGeom,
+    VisualShape, Visuals,
 };
 use std::collections::HashMap;
 use std::path::Path;
@@ -236,6 +239,9 @@ pub fn parse_urdf(text: &str, file: &str, tool_link: Option<&str>) -> Result<Rob
     let mut collisions: HashMap<String, Vec<CollisionGeom>> = HashMap::new();
     // Visual geometry of links without any <collision>: only for estimating a missing inertia.
     let mut visuals: HashMap<String, Vec<CollisionGeom>> = HashMap::new();
+    // Every link's <visual> elements, for drawing.
+    let mut drawn: HashMap<String, Vec<VisualGeom>> = HashMap::new();
+    let mut drawn_skipped = Vec::new();
     for l in root
         .children()
         .filter(|n| n.is_element() && n.tag_name().name() == "link")
@@ -286,6 +292,7 @@ pub fn parse_urdf(text: &str, file: &str, tool_link: Option<&str>) -> Result<Rob
             visuals.insert(name.clone(), v);
         }
         collisions.insert(name.clone(), geoms);
+        drawn.insert(name.clone(), visuals_of(&cx, l, &name, &mut drawn_skipped));
         if links.insert(name.clone(), inertial).is_some() {
             return Err(cx.err(l, format!("link `{name}` is defined twice")));
         }
@@ -533,6 +540,8 @@ pub fn parse_urdf(text: &str, file: &str, tool_link: Option<&str>) -> Result<Rob
     let mut base_collision = collisions.remove(&root_link).unwrap_or_default();
     let mut link_collision: Vec<Vec<CollisionGeom>> = Vec::new();
     let mut link_visual: Vec<Vec<CollisionGeom>> = Vec::new();
+    let mut drawn_base = drawn.remove(&root_link).unwrap_or_default();
+    let mut drawn_links: Vec<Vec<VisualGeom>> = Vec::new();
     for &k in &path {
         let j = &joints[k];
         let origin_in_last = acc.compose(&j.origin); // child link frame at q=0, in last joint frame
@@ -575,6 +584,7 @@ pub fn parse_urdf(text: &str, file: &str, tool_link: Option<&str>) -> Result<Rob
             link_names.push(j.child.clone());
             link_collision.push(collisions.remove(&j.child).unwrap_or_default());
             link_visual.push(visuals.remove(&j.child).unwrap_or_default());
+            drawn_links.push(drawn.remove(&j.child).unwrap_or_default());
             acc = Frame::identity();
         } else {
             // Fixed joint: merge the child link into the current moving link.
@@ -600,6 +610,18 @@ pub fn parse_urdf(text: &str, file: &str, tool_link: Option<&str>) -> Result<Rob
             if let Some(l) = link_visual.last_mut() {
                 l.extend(v);
             }
+            let d = drawn
+                .remove(&j.child)
+                .unwrap_or_default()
+                .into_iter()
+                .map(|g| VisualGeom {
+                    origin: acc.compose(&g.origin),
+                    ..g
+                });
+            match drawn_links.last_mut() {
+                Some(l) => l.extend(d),
+                None => drawn_base.extend(d),
+            }
             if let Some(cur) = model_links.last_mut() {
                 if let Some(b) = body {
                     let b = b.transformed(&acc);
@@ -622,7 +644,7 @@ pub fn parse_urdf(text: &str, file: &str, tool_link: Option<&str>) -> Result<Rob
         .count();
     if ignored_meshes > 0 {
         warnings.push(format!(
-            "{ignored_meshes} visual mesh references ignored (only <collision> geometry is used, and a link's <visual> for its inertia when it has neither <inertial> nor <collision>)"
+            "{ignored_meshes} visual mesh references used for drawing only (the checks use <collision> geometry, and a link's <visual> for its inertia when it has neither <inertial> nor <collision>)"
         ));
     }
     Ok(RobotModel {
@@ -645,9 +667,91 @@ pub fn parse_urdf(text: &str, file: &str, tool_link: Option<&str>) -> Result<Rob
         base_collision,
         link_collision,
         link_visual,
+        visuals: Visuals {
+            base: drawn_base,
+            links: drawn_links,
+            skipped: drawn_skipped,
+        },
         tool_geometry: None,
         warnings,
     })
+}
+
+/// The `<visual>` elements of one link, in the link frame, for drawing: an element that
+/// cannot be drawn (bad numbers, a mesh not found, outside its directory or of another format)
+/// is left out and said in `skipped`; a URDF is never refused for its visual elements.
+fn visuals_of(
+    cx: &Ctx,
+    link: roxmltree::Node,
+    name: &str,
+    skipped: &mut Vec<String>,
+) -> Vec<VisualGeom> {
+    let mut out = Vec::new();
+    let urdf_dir = Path::new(cx.file).parent().unwrap_or(Path::new("."));
+    for v in link
+        .children()
+        .filter(|n| n.is_element() && n.tag_name().name() == "visual")
+    {
+        let shape = (|| -> std::result::Result<VisualShape, String> {
+            let g = child(v, "geometry").ok_or("no <geometry>")?;
+            let s = g
+                .children()
+                .find(|n| n.is_element())
+                .ok_or("empty <geometry>")?;
+            let pos = |v: f64, what: &str| {
+                if v.is_finite() && v > 0.0 {
+                    Ok(v)
+                } else {
+                    Err(format!("{what} must be > 0, got {v}"))
+                }
+            };
+            let num = |a: &str| cx.float(s, a, None).map_err(|e| e.to_string());
+            Ok(match s.tag_name().name() {
+                "box" => {
+                    let size = cx.floats::<3>(s, "size", None).map_err(|e| e.to_string())?;
+                    for x in size {
+                        pos(x, "box size")?;
+                    }
+                    VisualShape::Box { size_m: size }
+                }
+                "cylinder" => VisualShape::Cylinder {
+                    radius_m: pos(num("radius")?, "cylinder radius")?,
+                    length_m: pos(num("length")?, "cylinder length")?,
+                },
+                "sphere" => VisualShape::Sphere {
+                    radius_m: pos(num("radius")?, "sphere radius")?,
+                },
+                "mesh" => {
+                    let f = s.attribute("filename").ok_or("<mesh> without `filename`")?;
+                    let scale = cx
+                        .floats::<3>(s, "scale", Some([1.0; 3]))
+                        .map_err(|e| e.to_string())?;
+                    if scale.contains(&0.0) {
+                        return Err(format!("mesh `{f}`: a zero scale"));
+                    }
+                    let (path, format) = super::mesh::visual_mesh_file(f, urdf_dir)
+                        .map_err(|e| format!("mesh `{f}`: {e}"))?;
+                    VisualShape::Mesh {
+                        filename: f.to_string(),
+                        path,
+                        format,
+                        scale,
+                    }
+                }
+                other => return Err(format!("<{other}> is not drawn")),
+            })
+        })();
+        match (shape, cx.origin(v)) {
+            (Ok(shape), Ok(origin)) => out.push(VisualGeom {
+                origin,
+                shape,
+                link: name.to_string(),
+            }),
+            (Err(e), _) => skipped.push(format!("link `{name}`: visual {e}")),
+            (_, Err(e)) => skipped.push(format!("link `{name}`: visual {e}")),
+        }
+    }
+    out
 }
 
 /// The `<collision>` (or, `tag` = `visual`, the `<visual>`) elements of one link, in the link

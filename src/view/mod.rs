@@ -1,5 +1,6 @@
 //! The live view: a local web server ([`server`]) and one page showing the robot (the
-//! collision shapes the feasibility checks use), the bed, the part at a placement, the reach
+//! URDF's visual geometry where a link has it, else the collision shapes the feasibility
+//! checks use), the bed, the part at a placement, the reach
 //! and the energy map of the job's grid. Moving the part re-evaluates the placement with the
 //! job's own [`Evaluator`] (the evaluator and the options of an optimisation run); the page
 //! plays the arm along the timed path, runs the optimisation and writes its hand-off.
@@ -18,6 +19,7 @@ use crate::evaluate::feasibility::{self, Infeasible};
 use crate::evaluate::PathJob;
 use crate::frame::Placement;
 use crate::math::{Frame, V3};
+use crate::robot::VisualShape;
 use crate::search::job::OptimiseConfig;
 use crate::timing::JointStageOptions;
 use serde_json::{json, Value};
@@ -29,6 +31,19 @@ pub const MAX_SCENE_POINTS: usize = 20_000;
 pub const MAX_FRAMES: usize = 600;
 /// Points of the power trace sent with a playback.
 pub const TRACE_POINTS: usize = 800;
+/// Largest visual mesh file the server sends, bytes.
+pub const MAX_MESH_BYTES: u64 = 64 << 20;
+
+/// A visual mesh file the page may ask for, by its index in [`ViewState::meshes`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct MeshFile {
+    /// The file (canonical; checked inside its directory when the robot was loaded).
+    pub path: PathBuf,
+    /// `stl`, `dae` or `obj`.
+    pub format: String,
+    /// The name the URDF gives it.
+    pub filename: String,
+}
 
 /// What the view serves: the optimisation job (robot, path, grid, every setting), the first
 /// placement shown and where the page's export goes.
@@ -65,6 +80,8 @@ pub struct ViewState<'c> {
     pub job: PathJob<'c>,
     /// The robot's shapes (those of the feasibility checks), for drawing.
     shapes: RobotShapes,
+    /// The visual mesh files of the robot's URDF, each once: all the server sends of them.
+    pub meshes: Vec<MeshFile>,
     /// The grid evaluated once (the energy map), in the grid's order.
     pub grid: Vec<Evaluated>,
     /// The placement shown first.
@@ -105,10 +122,30 @@ impl<'c> ViewState<'c> {
             .or_else(|| crate::search::optimise::feasible_centre(&grid).map(|e| e.placement))
             .or_else(|| grid_placements.first().copied())
             .unwrap_or_default();
+        let mut meshes: Vec<MeshFile> = Vec::new();
+        let v = &c.robot.visuals;
+        for g in v.base.iter().chain(v.links.iter().flatten()) {
+            if let VisualShape::Mesh {
+                path,
+                format,
+                filename,
+                ..
+            } = &g.shape
+            {
+                if !meshes.iter().any(|m| &m.path == path) {
+                    meshes.push(MeshFile {
+                        path: path.clone(),
+                        format: format.clone(),
+                        filename: filename.clone(),
+                    });
+                }
+            }
+        }
         Ok(ViewState {
             config,
             job,
             shapes,
+            meshes,
             grid,
             start,
         })
@@ -157,6 +194,11 @@ impl<'c> ViewState<'c> {
             "dof": c.robot.dof(),
             "joints": c.robot.joints.iter().map(|j| j.name.clone()).collect::<Vec<_>>(),
             "shapes": self.shape_geometry(),
+            "visuals": self.visual_geometry(),
+            "meshes": self.meshes.iter().enumerate().map(|(k, m)| json!({
+                "index": k, "file": m.filename, "format": m.format,
+            })).collect::<Vec<_>>(),
+            "visuals_skipped": c.robot.visuals.skipped,
             "path": { "points_m": pts, "print": print, "samples": motion.p.len() },
             "bed": { "lo_m": [w.bed_lo.x, w.bed_lo.y, w.bed_lo.z], "hi_m": [w.bed_hi.x, w.bed_hi.y, w.bed_hi.z] },
             "map": map,
@@ -201,13 +243,95 @@ impl<'c> ViewState<'c> {
                 let mut g = g;
                 g["role"] = json!(role);
                 g["label"] = json!(s.label);
+                g["body"] = json!(s.body);
+                // The pedestal is no link of the URDF: a visual never stands in for it.
+                g["pedestal"] = json!(s.body == 0 && s.label.starts_with("pedestal"));
                 g
             })
             .collect()
     }
 
-    /// Every shape's pose (base frame: position, m, and quaternion `x, y, z, w`) at `q`.
-    fn poses(&self, q: &[f64]) -> Vec<f64> {
+    /// The URDF's visual elements: `body` (0 the fixed base, `i` the link of joint `i`), the
+    /// URDF `link`, the pose in the body frame (`xyz_m`, quaternion `quat_xyzw`) and the
+    /// geometry: `box` (`size_m`), `cylinder` along z (`radius_m`, `length_m`), `sphere`
+    /// (`radius_m`) or `mesh` (`mesh`: its index in `meshes`, `format`, `scale`).
+    fn visual_geometry(&self) -> Vec<Value> {
+        let v = &self.config.job.robot.visuals;
+        let bodies = std::iter::once((0, &v.base))
+            .chain(v.links.iter().enumerate().map(|(i, l)| (i + 1, l)));
+        let mut out = Vec::new();
+        for (body, geoms) in bodies {
+            for g in geoms {
+                let q = quat_xyzw(&g.origin);
+                let p = g.origin.pos;
+                let mut j = match &g.shape {
+                    VisualShape::Box { size_m } => json!({"kind": "box", "size_m": size_m}),
+                    VisualShape::Cylinder { radius_m, length_m } => {
+                        json!({"kind": "cylinder", "radius_m": radius_m, "length_m": length_m})
+                    }
+                    VisualShape::Sphere { radius_m } => {
+                        json!({"kind": "sphere", "radius_m": radius_m})
+                    }
+                    VisualShape::Mesh {
+                        path,
+                        format,
+                        scale,
+                        ..
+                    } => json!({
+                        "kind": "mesh",
+                        "mesh": self.meshes.iter().position(|m| &m.path == path),
+                        "format": format,
+                        "scale": scale,
+                    }),
+                };
+                j["body"] = json!(body);
+                j["link"] = json!(g.link);
+                j["xyz_m"] = json!([p.x, p.y, p.z]);
+                j["quat_xyzw"] = json!(q);
+                out.push(j);
+            }
+        }
+        out
+    }
+
+    /// The bytes of visual mesh `k` and its content type; `None` when there is no mesh `k`.
+    /// Only files of [`ViewState::meshes`] are read, each checked again to be the file found
+    /// when the robot was loaded (its canonical path unchanged) and at most
+    /// [`MAX_MESH_BYTES`] long.
+    pub fn mesh(&self, k: usize) -> Option<Result<(Vec<u8>, &'static str)>> {
+        let m = self.meshes.get(k)?;
+        let read = || -> Result<(Vec<u8>, &'static str)> {
+            let canon = std::fs::canonicalize(&m.path).map_err(|e| Error::io(&m.path, e))?;
+            if canon != m.path {
+                return Err(Error::Invalid(format!(
+                    "{}: the file moved since the robot was loaded",
+                    m.path.display()
+                )));
+            }
+            let len = std::fs::metadata(&m.path)
+                .map_err(|e| Error::io(&m.path, e))?
+                .len();
+            if len > MAX_MESH_BYTES {
+                return Err(Error::Invalid(format!(
+                    "{}: {len} bytes, more than the {MAX_MESH_BYTES} sent",
+                    m.path.display()
+                )));
+            }
+            let b = std::fs::read(&m.path).map_err(|e| Error::io(&m.path, e))?;
+            let ctype = match m.format.as_str() {
+                "dae" => "model/vnd.collada+xml",
+                "obj" => "text/plain",
+                _ => "application/octet-stream",
+            };
+            Ok((b, ctype))
+        };
+        Some(read())
+    }
+
+    /// Every shape's pose and every body's frame (base frame: position, m, and quaternion
+    /// `x, y, z, w`) at `q`: shapes in the order of `shapes`, bodies 0 (the fixed base) to
+    /// the last link.
+    fn poses(&self, q: &[f64]) -> (Vec<f64>, Vec<f64>) {
         let bodies = self.shapes.body_frames(q, None, &Frame::identity());
         let mut out = Vec::with_capacity(self.shapes.shapes.len() * 7);
         for s in &self.shapes.shapes {
@@ -216,7 +340,14 @@ impl<'c> ViewState<'c> {
             let r = iso.rotation.coords;
             out.extend([t.x, t.y, t.z, r.x, r.y, r.z, r.w]);
         }
-        out
+        let n = self.config.job.robot.dof();
+        let mut b = Vec::with_capacity((n + 1) * 7);
+        for k in 0..=n {
+            let f = bodies.body(k);
+            let [x, y, z, w] = quat_xyzw(f);
+            b.extend([f.pos.x, f.pos.y, f.pos.z, x, y, z, w]);
+        }
+        (out, b)
     }
 
     /// Evaluate one placement with the job's evaluator: energies, per-joint energy, the
@@ -323,11 +454,14 @@ impl<'c> ViewState<'c> {
         };
         let mut t = Vec::with_capacity(frames);
         let mut poses = Vec::with_capacity(frames);
+        let mut bodies = Vec::with_capacity(frames);
         let mut tip = Vec::with_capacity(frames * 3);
         for k in 0..frames.min(len) {
             let i = pick(k, frames.min(len));
             t.push(traj.t[i]);
-            poses.push(self.poses(&traj.q[i * n..(i + 1) * n]));
+            let (p, b) = self.poses(&traj.q[i * n..(i + 1) * n]);
+            poses.push(p);
+            bodies.push(b);
             if let Some(p) = pe.timed.tcp.get(i) {
                 tip.extend([p.x, p.y, p.z]);
             }
@@ -351,6 +485,7 @@ impl<'c> ViewState<'c> {
             "duration_s": pe.energy.duration_s,
             "t_s": t,
             "poses": poses,
+            "bodies": bodies,
             "tip_m": tip,
             "power": { "t_s": trace_t, "supply_w": trace_p },
             "supply_text": one_decimal(pe.energy.total.supply_j),
@@ -394,6 +529,14 @@ impl<'c> ViewState<'c> {
         }
         Ok(files.into_iter().map(|(f, _)| f).collect())
     }
+}
+
+/// The rotation of `f` as a unit quaternion `[x, y, z, w]`.
+fn quat_xyzw(f: &Frame) -> [f64; 4] {
+    let r = nalgebra::Rotation3::from_matrix(&f.rot);
+    let q = nalgebra::UnitQuaternion::from_rotation_matrix(&r);
+    let c = q.coords;
+    [c.x, c.y, c.z, c.w]
 }
 
 /// `x` to one decimal as the command line prints energies (a value that rounds to zero is

@@ -5,8 +5,10 @@
 //!   (`?token=…`). Without a token a request whose `Host` is not the loopback's is
 //!   refused (a page of another site cannot reach the server through a name that resolves to
 //!   127.0.0.1).
-//! - It serves the page and its scripts from the binary (no file is read from disk) and the
-//!   API under `/api/`; nothing else.
+//! - It serves the page and its scripts from the binary and the API under `/api/`; the only
+//!   files it reads from disk are the robot's visual meshes ([`ViewState::mesh`]), asked for
+//!   by index (`/api/mesh/<k>`), never by a path: the files the URDF's `<visual>` elements
+//!   name, found inside the URDF's directory or the ROS package they point into.
 //! - A request body is at most [`MAX_BODY`] bytes (413 beyond).
 //! - Evaluations wait in a slot of one: a newer request answers the waiting one with
 //!   `{"stale": true}` at once, so a fast drag never queues work behind the one evaluation
@@ -28,6 +30,58 @@ const VIEW_JS: &[u8] = include_bytes!("assets/view.js");
 const THREE_JS: &[u8] = include_bytes!("assets/three.module.min.js");
 const ORBIT_JS: &[u8] = include_bytes!("assets/OrbitControls.js");
 const THREE_LICENSE: &[u8] = include_bytes!("assets/three-LICENSE");
+
+/// The page's scripts and the three.js licence: path, bytes, content type. The loaders are
+/// three.js 0.160.1's `examples/jsm/loaders/` files, unchanged (the COLLADA loader imports
+/// the TGA one).
+const ASSETS: [(&str, &[u8], &str); 8] = [
+    ("/assets/view.js", VIEW_JS, "text/javascript"),
+    ("/assets/three.module.min.js", THREE_JS, "text/javascript"),
+    ("/assets/OrbitControls.js", ORBIT_JS, "text/javascript"),
+    (
+        "/assets/loaders/STLLoader.js",
+        include_bytes!("assets/loaders/STLLoader.js"),
+        "text/javascript",
+    ),
+    (
+        "/assets/loaders/ColladaLoader.js",
+        include_bytes!("assets/loaders/ColladaLoader.js"),
+        "text/javascript",
+    ),
+    (
+        "/assets/loaders/OBJLoader.js",
+        include_bytes!("assets/loaders/OBJLoader.js"),
+        "text/javascript",
+    ),
+    (
+        "/assets/loaders/TGALoader.js",
+        include_bytes!("assets/loaders/TGALoader.js"),
+        "text/javascript",
+    ),
+    ("/assets/three-LICENSE", THREE_LICENSE, "text/plain"),
+];
+
+/// The answer to `GET /api/mesh/<k>`: the mesh's bytes, 400 for anything but a decimal
+/// index, 404 for an index the robot has no mesh of, 500 when the file cannot be read.
+fn mesh_response(state: &ViewState, k: &str) -> tiny_http::Response<std::io::Cursor<Vec<u8>>> {
+    if k.is_empty() || k.len() > 9 || !k.bytes().all(|b| b.is_ascii_digit()) {
+        return error_response(400, "a mesh is asked for by its index, /api/mesh/<k>");
+    }
+    let Ok(k) = k.parse::<usize>() else {
+        return error_response(400, "a mesh is asked for by its index, /api/mesh/<k>");
+    };
+    match state.mesh(k) {
+        None => error_response(
+            404,
+            &format!(
+                "no mesh {k}: the robot has {} visual meshes",
+                state.meshes.len()
+            ),
+        ),
+        Some(Err(e)) => error_response(500, &e.to_string()),
+        Some(Ok((b, ctype))) => bytes_response(&b, ctype),
+    }
+}
 
 /// A bound server, not yet serving.
 pub struct Bound {
@@ -186,17 +240,14 @@ pub fn serve(bound: Bound, state: &ViewState) -> Result<()> {
                     let _ =
                         req.respond(bytes_response(index.as_bytes(), "text/html; charset=utf-8"));
                 }
-                ("/assets/view.js", true, _) => {
-                    let _ = req.respond(bytes_response(VIEW_JS, "text/javascript"));
+                (p, true, _) if ASSETS.iter().any(|a| a.0 == p) => {
+                    if let Some((_, b, ctype)) = ASSETS.iter().find(|a| a.0 == p) {
+                        let _ = req.respond(bytes_response(b, ctype));
+                    }
                 }
-                ("/assets/three.module.min.js", true, _) => {
-                    let _ = req.respond(bytes_response(THREE_JS, "text/javascript"));
-                }
-                ("/assets/OrbitControls.js", true, _) => {
-                    let _ = req.respond(bytes_response(ORBIT_JS, "text/javascript"));
-                }
-                ("/assets/three-LICENSE", true, _) => {
-                    let _ = req.respond(bytes_response(THREE_LICENSE, "text/plain"));
+                (p, true, _) if p.starts_with("/api/mesh/") => {
+                    let k = &p["/api/mesh/".len()..];
+                    let _ = req.respond(mesh_response(state, k));
                 }
                 ("/api/scene", true, _) => {
                     let _ = req.respond(json_response(200, &state.scene()));
@@ -310,19 +361,14 @@ pub fn serve(bound: Bound, state: &ViewState) -> Result<()> {
                     let _ = req.respond(json_response(200, &v));
                 }
                 (
-                    "/"
-                    | "/assets/view.js"
-                    | "/assets/three.module.min.js"
-                    | "/assets/OrbitControls.js"
-                    | "/assets/three-LICENSE"
-                    | "/api/scene"
-                    | "/api/evaluate"
-                    | "/api/playback"
-                    | "/api/export"
+                    "/" | "/api/scene" | "/api/evaluate" | "/api/playback" | "/api/export"
                     | "/api/optimise",
                     _,
                     _,
                 ) => {
+                    let _ = req.respond(error_response(405, "method not allowed"));
+                }
+                (p, _, _) if ASSETS.iter().any(|a| a.0 == p) || p.starts_with("/api/mesh/") => {
                     let _ = req.respond(error_response(405, "method not allowed"));
                 }
                 _ => {

@@ -1,6 +1,9 @@
 // printwatt view: the page's script. Talks to the server under /api/ (docs/view.md).
 import * as THREE from 'three';
 import { OrbitControls } from 'three/addons/OrbitControls.js';
+import { STLLoader } from 'three/addons/loaders/STLLoader.js';
+import { ColladaLoader } from 'three/addons/loaders/ColladaLoader.js';
+import { OBJLoader } from 'three/addons/loaders/OBJLoader.js';
 
 const token = new URLSearchParams(location.search).get('token') || '';
 const api = (p) => p + (token ? '?token=' + encodeURIComponent(token) : '');
@@ -44,11 +47,19 @@ function resize() {
 }
 window.addEventListener('resize', resize);
 
-// ---- robot: one group per collision shape, posed from the server's frames ----
+// ---- robot: the URDF's visual geometry where a link has it, else its collision shapes ----
+// One group per collision shape (posed from the server's shape poses) and one per body
+// (0 the fixed base, i the link of joint i; posed from the server's body frames) holding
+// that body's visual elements at their URDF origins.
 const robot = new THREE.Group();
 scene3.add(robot);
 const shapeObjs = [];
+const bodyObjs = [];
+const visualObjs = [];
 const colours = { link: 0xe07b24, head: 0x8a8f98, hose: 0x333333 };
+const visualMat = new THREE.MeshStandardMaterial({ color: 0xe8a33d, roughness: 0.55, metalness: 0.15 });
+// What the robot is drawn from (for the page's line and for tests).
+view.drawn = { visual: 0, collision: 0, failed: [], visualBodies: [] };
 
 function shapeMesh(s) {
   const mat = new THREE.MeshStandardMaterial({ color: colours[s.role] || 0xe07b24, roughness: 0.6, metalness: 0.1 });
@@ -81,13 +92,120 @@ function shapeMesh(s) {
   return g;
 }
 
-function poseArm(poses) {
+// A visual mesh file's object in its file's frame and units, turned into the link frame's
+// metres: STL and OBJ as they are; COLLADA scaled by its <unit meter> (the loader does that)
+// with its <up_axis> taken as the link's z (the loader turns Z_UP files to three.js's Y up,
+// undone here; Y_UP and X_UP files are turned so that their up axis is z).
+function meshObject(format, data) {
+  if (format === 'stl') {
+    const geo = new STLLoader().parse(data);
+    geo.computeVertexNormals();
+    return new THREE.Mesh(geo, visualMat);
+  }
+  if (format === 'obj') {
+    const g = new OBJLoader().parse(new TextDecoder().decode(data));
+    g.traverse((m) => { if (m.isMesh) m.material = visualMat; });
+    return g;
+  }
+  const text = new TextDecoder().decode(data);
+  // No texture is fetched: the server serves meshes only.
+  const manager = new THREE.LoadingManager();
+  manager.setURLModifier(() => 'data:,');
+  const dae = new ColladaLoader(manager).parse(text, '');
+  if (!dae || !dae.scene) throw new Error('not a COLLADA file');
+  const up = (text.match(/<up_axis>\s*([XYZ]_UP)\s*<\/up_axis>/) || [null, 'Y_UP'])[1];
+  const sc = dae.scene;
+  sc.rotation.set(0, 0, 0);
+  if (up === 'Y_UP') sc.rotation.set(Math.PI / 2, 0, 0);
+  if (up === 'X_UP') sc.rotation.set(0, -Math.PI / 2, 0);
+  let meshes = 0;
+  sc.traverse((m) => { if (m.isMesh) { m.material = visualMat; meshes++; } });
+  if (!meshes) throw new Error('no geometry in the COLLADA file');
+  return sc;
+}
+
+const meshCache = new Map();
+function loadMesh(k, format) {
+  if (!meshCache.has(k)) {
+    meshCache.set(k, fetch(api('/api/mesh/' + k)).then(async (r) => {
+      if (!r.ok) throw new Error('HTTP ' + r.status);
+      return meshObject(format, await r.arrayBuffer());
+    }));
+  }
+  return meshCache.get(k).then((o) => o.clone());
+}
+
+function visualPrimitive(v) {
+  if (v.kind === 'box') return new THREE.Mesh(new THREE.BoxGeometry(...v.size_m), visualMat);
+  if (v.kind === 'sphere') return new THREE.Mesh(new THREE.SphereGeometry(v.radius_m, 24, 16), visualMat);
+  // URDF cylinders run along z, three.js's along y.
+  const m = new THREE.Mesh(new THREE.CylinderGeometry(v.radius_m, v.radius_m, v.length_m, 24), visualMat);
+  m.rotation.set(Math.PI / 2, 0, 0);
+  return m;
+}
+
+// Build every visual element; a body whose elements all load is drawn from them and its
+// collision shapes are hidden; a body with an element that fails keeps its collision shapes.
+async function buildVisuals(sc) {
+  const nBodies = sc.dof + 1;
+  for (let b = 0; b < nBodies; b++) {
+    const g = new THREE.Group();
+    bodyObjs.push(g);
+    robot.add(g);
+  }
+  const results = await Promise.all(sc.visuals.map(async (v) => {
+    try {
+      const obj = v.kind === 'mesh' ? await loadMesh(v.mesh, v.format) : visualPrimitive(v);
+      const holder = new THREE.Group();
+      holder.position.set(...v.xyz_m);
+      holder.quaternion.set(...v.quat_xyzw);
+      if (v.kind === 'mesh') holder.scale.set(...v.scale);
+      holder.add(obj);
+      return { v, holder, error: null };
+    } catch (e) {
+      return { v, holder: null, error: String(e && e.message || e) };
+    }
+  }));
+  const failedBodies = new Set(results.filter((r) => r.error).map((r) => r.v.body));
+  const withVisual = new Set(results.map((r) => r.v.body));
+  for (const r of results) {
+    if (r.error) {
+      const file = r.v.kind === 'mesh' ? sc.meshes[r.v.mesh].file : r.v.kind;
+      view.drawn.failed.push(`link ${r.v.link}: ${file} did not load (${r.error})`);
+      continue;
+    }
+    if (failedBodies.has(r.v.body)) continue;
+    bodyObjs[r.v.body].add(r.holder);
+    visualObjs.push({ link: r.v.link, body: r.v.body, kind: r.v.kind, mesh: r.v.mesh, obj: r.holder });
+  }
+  const drawnBodies = [...withVisual].filter((b) => !failedBodies.has(b));
+  view.drawn.visualBodies = drawnBodies.sort((a, b) => a - b);
+  shapeObjs.forEach((o, i) => {
+    const s = sc.shapes[i];
+    o.userData.replaced = s.role === 'link' && !s.pedestal && drawnBodies.includes(s.body);
+    o.visible = !o.userData.replaced;
+  });
+  view.drawn.visual = visualObjs.length;
+  view.drawn.collision = shapeObjs.filter((o, i) => sc.shapes[i].role === 'link' && !o.userData.replaced).length;
+  const what = `robot drawn from ${view.drawn.visual} visual element(s) (${visualObjs.filter((v) => v.kind === 'mesh').length} mesh(es)) and ${view.drawn.collision} collision shape(s)`;
+  $('drawn').textContent = what + (view.drawn.failed.length ? '; collision shapes instead where a mesh failed: ' + view.drawn.failed.join('; ') : '') +
+    (sc.visuals_skipped.length ? '; not drawn: ' + sc.visuals_skipped.join('; ') : '');
+  document.body.dataset.drawn = 'yes';
+}
+
+function poseArm(poses, bodies) {
   if (!poses) { robot.visible = false; return; }
   robot.visible = true;
   shapeObjs.forEach((o, i) => {
     const k = 7 * i;
     o.position.set(poses[k], poses[k + 1], poses[k + 2]);
     o.quaternion.set(poses[k + 3], poses[k + 4], poses[k + 5], poses[k + 6]);
+  });
+  if (!bodies) return;
+  bodyObjs.forEach((o, i) => {
+    const k = 7 * i;
+    o.position.set(bodies[k], bodies[k + 1], bodies[k + 2]);
+    o.quaternion.set(bodies[k + 3], bodies[k + 4], bodies[k + 5], bodies[k + 6]);
   });
 }
 
@@ -213,6 +331,9 @@ async function sendEval() {
   playbackTimer = setTimeout(() => loadPlayback(seq), 250);
 }
 
+// The status line's word on meshes that failed to load (their links drawn from collision shapes).
+const drawnNote = () => view.drawn.failed.length ? ` (${view.drawn.failed.length} visual mesh(es) failed to load: collision shapes drawn for ${[...new Set(view.drawn.failed.map((f) => f.split(':')[0]))].join(', ')})` : '';
+
 function showEval(v, seq) {
   $('evalms').textContent = fmt(v.evaluation_s * 1000, 2);
   if (v.feasible) {
@@ -220,7 +341,7 @@ function showEval(v, seq) {
     $('drives').textContent = v.drives_text;
     $('standby').textContent = fmt(v.standby_j, 1);
     $('duration').textContent = fmt(v.duration_s, 2);
-    $('status').textContent = 'feasible';
+    $('status').textContent = 'feasible' + drawnNote();
     $('status').className = 'ok';
     $('reason').textContent = '';
     const mx = Math.max(...v.joints.map((j) => Math.abs(j.electrical_j || 0)), 1e-9);
@@ -239,7 +360,7 @@ function showEval(v, seq) {
     $('drives').textContent = '—';
     $('standby').textContent = '—';
     $('duration').textContent = '—';
-    $('status').textContent = 'INFEASIBLE: ' + i.reason;
+    $('status').textContent = 'INFEASIBLE: ' + i.reason + drawnNote();
     $('status').className = 'bad';
     $('reason').textContent = i.text;
     $('bars').innerHTML = '';
@@ -270,7 +391,7 @@ function showFrame(k) {
   const pb = view.playback;
   if (!pb) return;
   frame = k;
-  poseArm(pb.poses[k]);
+  poseArm(pb.poses[k], pb.bodies && pb.bodies[k]);
   $('frame').value = String(k);
   $('ptime').textContent = 't = ' + fmt(pb.t_s[k], 1) + ' s of ' + fmt(pb.duration_s, 1) + ' s';
   drawTrace();
@@ -387,8 +508,21 @@ view.screenOf = (x, y, z) => {
   return [r.left + (v.x + 1) / 2 * r.width, r.top + (1 - v.y) / 2 * r.height];
 };
 // The centre of the bed's top face on the page.
-// The drawn mesh pieces of the links (a link may be several convex pieces), for tests.
-view.hullPieces = () => shapeObjs.filter((o) => o.children.some((c) => c.userData.hull)).length;
+// The drawn collision mesh pieces of the links (a link may be several convex pieces), for tests.
+view.hullPieces = () => shapeObjs.filter((o) => !o.userData.replaced && o.children.some((c) => c.userData.hull)).length;
+// Each visual element drawn: its link, body, kind and box in its body's frame (m), for tests.
+view.visualBoxes = () => visualObjs.map((v) => {
+  const body = bodyObjs[v.body];
+  robot.updateMatrixWorld(true);
+  const inv = body.matrixWorld.clone().invert();
+  const box = new THREE.Box3();
+  v.obj.traverse((m) => {
+    if (!m.isMesh) return;
+    m.geometry.computeBoundingBox();
+    box.union(m.geometry.boundingBox.clone().applyMatrix4(inv.clone().multiply(m.matrixWorld)));
+  });
+  return { link: v.link, body: v.body, kind: v.kind, mesh: v.mesh, min: box.min.toArray(), max: box.max.toArray() };
+});
 view.bedScreen = () => {
   const b = bedMesh.geometry.parameters;
   const c = part.localToWorld(bedMesh.position.clone().add(new THREE.Vector3(0, 0, b.depth / 2)));
@@ -408,6 +542,7 @@ async function main() {
     robot.add(o);
   }
   robot.visible = false;
+  await buildVisuals(sc);
   buildPart(sc);
   const R = sc.reach_m;
   for (const k of ['x', 'y']) { $('sl-' + k).min = -R; $('sl-' + k).max = R; }
