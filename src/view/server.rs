@@ -1,4 +1,6 @@
-//! The view's web server (tiny_http, one dispatching thread and one evaluating thread).
+//! The view's web server: axum on a one-thread tokio runtime takes the connections (any
+//! number, kept alive as long as the browser likes) and hands each request to one
+//! dispatching thread; evaluations go on to one evaluating thread.
 //!
 //! - It binds where it is told: the command line binds 127.0.0.1 unless `--listen` names
 //!   another address, and then every request must carry the random token printed in the URL
@@ -18,9 +20,8 @@ use super::{placement_from_json, placement_json, ViewState};
 use crate::error::{Error, Result};
 use crate::search::run::{Observer, Progress, Stage};
 use serde_json::{json, Value};
-use std::io::Read;
 use std::net::SocketAddr;
-use std::sync::{Condvar, Mutex};
+use std::sync::{mpsc, Condvar, Mutex};
 
 /// Largest request body accepted, bytes.
 pub const MAX_BODY: usize = 64 * 1024;
@@ -63,7 +64,7 @@ const ASSETS: [(&str, &[u8], &str); 8] = [
 
 /// The answer to `GET /api/mesh/<k>`: the mesh's bytes, 400 for anything but a decimal
 /// index, 404 for an index the robot has no mesh of, 500 when the file cannot be read.
-fn mesh_response(state: &ViewState, k: &str) -> tiny_http::Response<std::io::Cursor<Vec<u8>>> {
+fn mesh_response(state: &ViewState, k: &str) -> Answer {
     if k.is_empty() || k.len() > 9 || !k.bytes().all(|b| b.is_ascii_digit()) {
         return error_response(400, "a mesh is asked for by its index, /api/mesh/<k>");
     }
@@ -83,9 +84,62 @@ fn mesh_response(state: &ViewState, k: &str) -> tiny_http::Response<std::io::Cur
     }
 }
 
+/// An answer to a request: status, content type and body.
+struct Answer {
+    code: u16,
+    ctype: &'static str,
+    body: Vec<u8>,
+}
+
+impl Answer {
+    fn with_status_code(mut self, code: u16) -> Self {
+        self.code = code;
+        self
+    }
+
+    fn into_response(self) -> axum::response::Response {
+        let mut r = axum::response::Response::new(axum::body::Body::from(self.body));
+        *r.status_mut() = axum::http::StatusCode::from_u16(self.code)
+            .unwrap_or(axum::http::StatusCode::INTERNAL_SERVER_ERROR);
+        let h = r.headers_mut();
+        use axum::http::header::{
+            HeaderValue, CACHE_CONTROL, CONTENT_TYPE, X_CONTENT_TYPE_OPTIONS,
+        };
+        h.insert(CONTENT_TYPE, HeaderValue::from_static(self.ctype));
+        h.insert(X_CONTENT_TYPE_OPTIONS, HeaderValue::from_static("nosniff"));
+        h.insert(CACHE_CONTROL, HeaderValue::from_static("no-store"));
+        r
+    }
+}
+
+/// A request handed from the connections to the dispatching thread, with the channel its
+/// answer goes back on.
+struct Request {
+    get: bool,
+    post: bool,
+    /// Path and query.
+    url: String,
+    host: Option<String>,
+    body: Vec<u8>,
+    /// The body was longer than [`MAX_BODY`] (and was not read further).
+    too_large: bool,
+    reply: tokio::sync::oneshot::Sender<Answer>,
+}
+
+impl Request {
+    fn url(&self) -> &str {
+        &self.url
+    }
+
+    /// Send the answer; a browser that left meanwhile is no error.
+    fn respond(self, a: Answer) -> std::result::Result<(), Answer> {
+        self.reply.send(a)
+    }
+}
+
 /// A bound server, not yet serving.
 pub struct Bound {
-    http: tiny_http::Server,
+    listener: std::net::TcpListener,
     /// The address it listens on (the port chosen when 0 was asked for).
     pub addr: SocketAddr,
     /// The token every request must carry (`None` on the loopback address).
@@ -114,15 +168,13 @@ impl Bound {
 /// Bind `addr`; with `token`, every request must carry a random token (printed in
 /// [`Bound::url`]). Errors: the address is taken or cannot be bound (the system's words).
 pub fn bind(addr: SocketAddr, token: bool) -> Result<Bound> {
-    let http = tiny_http::Server::http(addr)
-        .map_err(|e| Error::Invalid(format!("cannot listen on {addr}: {e}")))?;
-    let bound = http
-        .server_addr()
-        .to_ip()
-        .ok_or_else(|| Error::Invalid(format!("cannot listen on {addr}: not an IP address")))?;
+    let cannot = |e: std::io::Error| Error::Invalid(format!("cannot listen on {addr}: {e}"));
+    let listener = std::net::TcpListener::bind(addr).map_err(cannot)?;
+    let bound = listener.local_addr().map_err(cannot)?;
+    listener.set_nonblocking(true).map_err(cannot)?;
     let token = token.then(|| format!("{:032x}", rand::random::<u128>()));
     Ok(Bound {
-        http,
+        listener,
         addr: bound,
         token,
     })
@@ -169,7 +221,7 @@ impl Observer for OptObserver<'_> {
 struct Pending {
     seq: u64,
     body: Value,
-    req: tiny_http::Request,
+    req: Request,
 }
 
 #[derive(Default)]
@@ -189,7 +241,27 @@ pub fn serve(bound: Bound, state: &ViewState) -> Result<()> {
     });
     let ev = state.evaluator();
     let index = INDEX_HTML.replace("__TOKEN__", bound.token.as_deref().unwrap_or(""));
+    let runtime = tokio::runtime::Builder::new_current_thread()
+        .enable_io()
+        .build()
+        .map_err(|e| Error::Invalid(format!("cannot start the web server: {e}")))?;
+    let listener = bound
+        .listener
+        .try_clone()
+        .map_err(|e| Error::Invalid(format!("cannot start the web server: {e}")))?;
+    let (tx, rx) = mpsc::channel::<Request>();
     std::thread::scope(|s| {
+        // The connections: axum on the one-thread runtime. When it ends (the listener
+        // failed), the channel closes and so does the dispatching loop below.
+        s.spawn(move || {
+            runtime.block_on(async move {
+                let Ok(listener) = tokio::net::TcpListener::from_std(listener) else {
+                    return;
+                };
+                let app = axum::Router::new().fallback(receive).with_state(tx);
+                let _ = axum::serve(listener, app).await;
+            })
+        });
         s.spawn(|| {
             // A robot without inverse kinematics has no scratch: each request says why.
             let mut sc = ev.scratch();
@@ -226,15 +298,14 @@ pub fn serve(bound: Bound, state: &ViewState) -> Result<()> {
                 };
             }
         });
-        for req in bound.http.incoming_requests() {
+        for req in rx.iter() {
             if let Some(r) = refuse(&bound, &req) {
                 let _ = req.respond(r);
                 continue;
             }
             let url = req.url().to_string();
             let path = url.split('?').next().unwrap_or("").to_string();
-            let get = *req.method() == tiny_http::Method::Get;
-            let post = *req.method() == tiny_http::Method::Post;
+            let (get, post) = (req.get, req.post);
             match (path.as_str(), get, post) {
                 ("/", true, _) => {
                     let _ =
@@ -393,10 +464,7 @@ fn opt_json(g: &OptState) -> Value {
 
 /// Why a request is refused before it is routed: a missing or wrong token (403), a `Host`
 /// other than the loopback's on a loopback server (403), a body over [`MAX_BODY`] (413).
-fn refuse(
-    bound: &Bound,
-    req: &tiny_http::Request,
-) -> Option<tiny_http::Response<std::io::Cursor<Vec<u8>>>> {
+fn refuse(bound: &Bound, req: &Request) -> Option<Answer> {
     if let Some(t) = &bound.token {
         let query = req.url().split_once('?').map_or("", |(_, q)| q);
         let ok = query
@@ -409,11 +477,7 @@ fn refuse(
             ));
         }
     } else {
-        let host = req
-            .headers()
-            .iter()
-            .find(|h| h.field.equiv("Host"))
-            .map(|h| h.value.as_str().to_ascii_lowercase());
+        let host = req.host.as_deref().map(str::to_ascii_lowercase);
         let port = bound.addr.port();
         let allowed = [
             format!("127.0.0.1:{port}"),
@@ -427,7 +491,7 @@ fn refuse(
             ));
         }
     }
-    if req.body_length().is_some_and(|n| n > MAX_BODY) {
+    if req.too_large {
         return Some(error_response(413, "request body too large"));
     }
     None
@@ -437,44 +501,64 @@ fn constant_eq(a: &str, b: &str) -> bool {
     a.len() == b.len() && a.bytes().zip(b.bytes()).fold(0u8, |d, (x, y)| d | (x ^ y)) == 0
 }
 
-/// The body as JSON, at most [`MAX_BODY`] bytes: `(status, message)` otherwise.
-fn read_json(req: &mut tiny_http::Request) -> std::result::Result<Value, (u16, String)> {
-    let mut buf = Vec::new();
-    req.as_reader()
-        .take(MAX_BODY as u64 + 1)
-        .read_to_end(&mut buf)
-        .map_err(|e| (400, format!("reading the request: {e}")))?;
-    if buf.len() > MAX_BODY {
-        return Err((413, "request body too large".into()));
+/// The body as JSON (at most [`MAX_BODY`] bytes, checked by [`refuse`]): `(status,
+/// message)` otherwise.
+fn read_json(req: &mut Request) -> std::result::Result<Value, (u16, String)> {
+    serde_json::from_slice(&req.body).map_err(|e| (400, format!("the request is not JSON: {e}")))
+}
+
+fn bytes_response(b: &[u8], ctype: &'static str) -> Answer {
+    Answer {
+        code: 200,
+        ctype,
+        body: b.to_vec(),
     }
-    serde_json::from_slice(&buf).map_err(|e| (400, format!("the request is not JSON: {e}")))
 }
 
-fn header(k: &str, v: &str) -> Option<tiny_http::Header> {
-    tiny_http::Header::from_bytes(k.as_bytes(), v.as_bytes()).ok()
-}
-
-fn bytes_response(b: &[u8], ctype: &str) -> tiny_http::Response<std::io::Cursor<Vec<u8>>> {
-    let mut r = tiny_http::Response::from_data(b.to_vec());
-    for h in [
-        header("Content-Type", ctype),
-        header("X-Content-Type-Options", "nosniff"),
-        header("Cache-Control", "no-store"),
-    ]
-    .into_iter()
-    .flatten()
-    {
-        r.add_header(h);
+/// Take a request off a connection: its body up to [`MAX_BODY`] bytes, handed to the
+/// dispatching thread, whose answer is sent back.
+async fn receive(
+    axum::extract::State(tx): axum::extract::State<mpsc::Sender<Request>>,
+    req: axum::extract::Request,
+) -> axum::response::Response {
+    let (parts, body) = req.into_parts();
+    let (body, too_large) = match axum::body::to_bytes(body, MAX_BODY).await {
+        Ok(b) => (b.to_vec(), false),
+        Err(_) => (Vec::new(), true),
+    };
+    let (reply, answer) = tokio::sync::oneshot::channel();
+    let req = Request {
+        get: parts.method == axum::http::Method::GET,
+        post: parts.method == axum::http::Method::POST,
+        url: parts
+            .uri
+            .path_and_query()
+            .map_or_else(|| parts.uri.path().to_string(), |p| p.as_str().to_string()),
+        host: parts
+            .headers
+            .get(axum::http::header::HOST)
+            .and_then(|v| v.to_str().ok())
+            .map(str::to_string),
+        body,
+        too_large,
+        reply,
+    };
+    if tx.send(req).is_err() {
+        return error_response(503, "the view is ending").into_response();
     }
-    r
+    match answer.await {
+        Ok(a) => a,
+        Err(_) => error_response(500, "no answer"),
+    }
+    .into_response()
 }
 
-fn json_response(code: u16, v: &Value) -> tiny_http::Response<std::io::Cursor<Vec<u8>>> {
+fn json_response(code: u16, v: &Value) -> Answer {
     // serde_json writes a non-finite number as null, which the page shows as "n/a".
     let text = serde_json::to_vec(v).unwrap_or_else(|_| b"null".to_vec());
     bytes_response(&text, "application/json").with_status_code(code)
 }
 
-fn error_response(code: u16, msg: &str) -> tiny_http::Response<std::io::Cursor<Vec<u8>>> {
+fn error_response(code: u16, msg: &str) -> Answer {
     json_response(code, &json!({ "error": msg }))
 }

@@ -10,14 +10,23 @@ const api = (p) => p + (token ? '?token=' + encodeURIComponent(token) : '');
 const $ = (id) => document.getElementById(id);
 const fmt = (v, d) => (v === null || v === undefined || !isFinite(v)) ? 'n/a' : Number(v).toFixed(d);
 
+// The scene is drawn when something may have changed (an answer from the server, an input, a
+// camera move, playback), never in an idle loop: an idle view costs no processor time.
+let drawQueued = false;
+function requestDraw() {
+  if (!drawQueued) { drawQueued = true; requestAnimationFrame(draw); }
+}
 async function getJSON(path) {
   const r = await fetch(api(path));
-  return r.json();
+  const v = await r.json();
+  requestDraw();
+  return v;
 }
 async function postJSON(path, body) {
   const r = await fetch(api(path), { method: 'POST', headers: { 'Content-Type': 'application/json' }, body: JSON.stringify(body) });
   const v = await r.json();
   if (!r.ok && !v.error) v.error = 'HTTP ' + r.status;
+  requestDraw();
   return v;
 }
 
@@ -34,6 +43,10 @@ host.appendChild(renderer.domElement);
 const scene3 = new THREE.Scene();
 const camera = new THREE.PerspectiveCamera(45, 1, 0.01, 100);
 const controls = new OrbitControls(camera, renderer.domElement);
+controls.addEventListener('change', requestDraw);
+for (const ev of ['input', 'change', 'click', 'keyup', 'pointermove', 'pointerup', 'wheel']) {
+  document.addEventListener(ev, requestDraw, { passive: true });
+}
 scene3.add(new THREE.HemisphereLight(0xffffff, 0x667788, 2.0));
 const sun = new THREE.DirectionalLight(0xffffff, 1.5);
 sun.position.set(3, -4, 6);
@@ -44,6 +57,7 @@ function resize() {
   renderer.setSize(w, h, false);
   camera.aspect = w / h;
   camera.updateProjectionMatrix();
+  requestDraw();
 }
 window.addEventListener('resize', resize);
 
@@ -490,12 +504,13 @@ const endDrag = () => { drag = null; controls.enabled = true; };
 renderer.domElement.addEventListener('pointerup', endDrag);
 renderer.domElement.addEventListener('pointercancel', endDrag);
 
-function animate(now) {
-  requestAnimationFrame(animate);
+function draw(now) {
+  drawQueued = false;
   if (playing && view.playback) {
     const n = view.playback.t_s.length;
     const k = Math.floor((now - playStart) / 40) % n;
     if (k !== frame) showFrame(k);
+    requestDraw();
   }
   controls.update();
   renderer.render(scene3, camera);
@@ -557,6 +572,6 @@ async function main() {
   setPlacement(sc.start);
   view.ready = true;
   document.body.dataset.ready = 'yes';
-  requestAnimationFrame(animate);
+  requestDraw();
 }
 main().catch((e) => { $('status').textContent = 'error: ' + e; $('status').className = 'bad'; });
