@@ -1,6 +1,7 @@
-//! Real slicer G-code from Cura and Bambu Studio beside the PrusaSlicer files: each reads, its
-//! layers are the slicer's own markers (`;LAYER:n`, `;LAYER_CHANGE`, `; CHANGE_LAYER`), and
-//! its energy at a placement is finite and plausible. The files and how they were made:
+//! Real slicer G-code from Cura and Bambu Studio (a one-layer plate and a printed 50-layer
+//! cube) beside the PrusaSlicer files: each reads, its layers are the slicer's own markers
+//! (`;LAYER:n`, `;LAYER_CHANGE`, `; CHANGE_LAYER`), and its energy at a placement is finite
+//! and plausible. The files and how they were made:
 //! `tests/data/slicer/README.md`.
 
 use std::path::PathBuf;
@@ -122,6 +123,75 @@ fn a_bambu_studio_file_reads_with_its_change_layer_marker_and_text_m_codes() {
     // Bambu's probing move G380 and bed levelling G29.x are not path points.
     let w = tp.warnings.join("\n");
     assert!(w.contains("G380") && w.contains("G29.1"), "{w}");
+}
+
+#[test]
+fn a_printed_bambu_studio_cube_reads_as_fifty_layers_of_extruded_moves_and_arcs() {
+    let (tp, text) = read("bambustudio_a1mini_cube_50layers.gcode");
+    assert!(text.contains("; BambuStudio 02.01.01.52"));
+    assert!(text.contains("; enable_arc_fitting = 1"));
+    assert_eq!(markers(&text, "; CHANGE_LAYER"), 50);
+    assert_eq!(tp.layer_starts.len(), 50);
+    assert_eq!(tp.layers(), 50);
+    // Relative extrusion (M83) with real E words: the part's moves are print moves, layer k
+    // printed at z = 0.2 (k + 1) mm, in layer order.
+    let mut printed = vec![0usize; 50];
+    for (i, m) in tp.moves.iter().enumerate() {
+        let Some(k) = tp.layer_of(i) else { continue };
+        if i > 0 && tp.layer_of(i - 1).is_some() {
+            assert!(k >= tp.layer_of(i - 1).unwrap(), "move {i}");
+        }
+        if m.print {
+            let z = 0.2e-3 * (k + 1) as f64;
+            assert!(
+                (m.end.z - z).abs() < 1e-6,
+                "line {}: z {} in layer {k}",
+                m.line,
+                m.end.z
+            );
+            printed[k] += 1;
+        }
+    }
+    assert!(printed.iter().all(|&n| n > 0), "{printed:?}");
+    assert!(printed.iter().sum::<usize>() > 1500, "{printed:?}");
+    // Arc fitting is on: the G2/G3 moves are read as arcs, not chords.
+    let arcs = tp
+        .moves
+        .iter()
+        .filter(|m| matches!(m.kind, printwatt::toolpath::MoveKind::Arc { .. }))
+        .count();
+    let g23 = text
+        .lines()
+        .filter(|l| l.starts_with("G2 ") || l.starts_with("G3 "))
+        .count();
+    assert!(
+        g23 > 400 && arcs == g23,
+        "{arcs} arcs read of {g23} G2/G3 lines"
+    );
+    let names: Vec<&str> = tp.features.iter().map(|f| f.name.as_str()).collect();
+    for n in [
+        "Outer wall",
+        "Inner wall",
+        "Sparse infill",
+        "Bridge",
+        "Top surface",
+    ] {
+        assert!(names.contains(&n), "{n}: {names:?}");
+    }
+}
+
+#[test]
+fn a_printed_bambu_studio_cube_has_a_plausible_energy_at_its_scale_and_scaled_to_a_metre() {
+    let name = "bambustudio_a1mini_cube_50layers.gcode";
+    let (t, e) = energy(name, &["--at", "1.7,0,0.5,0"]);
+    // Every move at its commanded speed takes 448 s (`printwatt inspect`); the arm's
+    // acceleration and jerk limits add to it.
+    assert!(t > 448.0 && t < 1000.0, "{t} s");
+    assert!(e > 250.0 * t && e < 1000.0 * t, "{e} J over {t} s");
+    // Scaled by 5 (a 1 m plate, 1 mm layers) at the speeds as written: longer, still feasible.
+    let (t5, e5) = energy(name, &["--scale", "5", "--at", "1.2,-0.5,0.3,0"]);
+    assert!(t5 > 3.0 * t && t5 < 6.0 * t, "{t5} s vs {t} s");
+    assert!(e5 > 250.0 * t5 && e5 < 1000.0 * t5, "{e5} J over {t5} s");
 }
 
 #[test]
