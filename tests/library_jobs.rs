@@ -129,3 +129,66 @@ fn a_search_stopped_by_its_budget_reports_the_iterations_it_made() {
         o.evals
     );
 }
+
+/// `stations::run` on a `StationsJob` gives `printwatt stations --json`'s plan bit for bit, and
+/// the facts it states about the job are the command's (the binary only parses its arguments
+/// into the job and prints the outcome).
+#[test]
+fn library_stations_matches_cli() {
+    use printwatt::report::stations::StationsReport;
+    use printwatt::stations::{self, Sites, StationsJob};
+    let path_file = root().join("paths/floor_four_rooms.gcode");
+    let model = robot::load(&root().join("robots/abb_irb6700_200_260")).unwrap();
+    let tp = toolpath::load(&path_file, &ReadOptions::default()).unwrap();
+    let mut job = StationsJob::new(&model, &tp, 20000.0);
+    job.sites = Sites::Track {
+        from: [-1.0, 1.5],
+        to: [13.0, 1.5],
+        step_m: 0.5,
+    };
+    job.feasibility.wrist_margin_rad = 0.0;
+    let out = stations::run(&job, &|_, _| {}).unwrap();
+    let facts = out.facts(&job);
+    let rep = StationsReport {
+        title: String::new(),
+        meta: facts.clone(),
+        plan: &out.plan,
+        path: &tp,
+        relocation_cost_j: job.relocation_j,
+        relocation_cost_per_m_j: job.relocation_j_per_m,
+    };
+    let mut lib: serde_json::Value = serde_json::from_str(&rep.summary_json().unwrap()).unwrap();
+    let cli = Command::new(env!("CARGO_BIN_EXE_printwatt"))
+        .args([
+            "stations",
+            "--path",
+            path_file.to_str().unwrap(),
+            "--relocation-cost",
+            "20000",
+            "--track",
+            "-1,1.5:13,1.5",
+            "--wrist-margin",
+            "0",
+            "--json",
+        ])
+        .output()
+        .unwrap();
+    assert!(
+        cli.status.success(),
+        "{}",
+        String::from_utf8_lossy(&cli.stderr)
+    );
+    let mut cli: serde_json::Value = serde_json::from_slice(&cli.stdout).unwrap();
+    let cli_meta = cli["meta"].clone();
+    for (k, v) in &facts {
+        assert_eq!(cli_meta[k.as_str()], v.as_str(), "{k}");
+    }
+    for d in [&mut lib, &mut cli] {
+        let o = d.as_object_mut().unwrap();
+        for k in ["title", "meta", "schema_version", "warnings"] {
+            o.remove(k);
+        }
+    }
+    assert_eq!(lib, cli);
+    assert_eq!(out.plan.segments.len(), 5);
+}

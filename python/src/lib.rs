@@ -1333,38 +1333,35 @@ fn stations<'py>(
     check_every: i64,
     proc: Option<String>,
 ) -> PyRes<Bound<'py, PyAny>> {
-    use printwatt::stations::{self as pst, Candidates, Headings, StationsProblem};
+    use printwatt::stations::{self as pst, Headings, Sites, StationsJob};
     let robot = robot.hold()?;
     let path = path.hold(proc)?;
     let model: &RobotModel = &robot;
     let tp: &Toolpath = &path;
-    let headings = match headings {
-        None => Headings::Auto,
-        Some(h) => Headings::Fixed(h),
-    };
-    let candidates = match track {
-        Some((a, b)) => Candidates::track(a, b, station_step, headings),
-        None => Candidates::grid(tp, station_step, feasibility::reach_m(model), headings),
-    }
-    .map_err(err)?;
-    let problem = StationsProblem {
-        robot: model,
-        path: tp,
+    let job = StationsJob {
         energy: energy_options(regeneration.as_deref(), payload, friction)?,
         profile: profile(period, accel, jerk)?,
-        joint: JointStageOptions::default(),
         feasibility: feasibility_options(joint_margin, wrist_margin, collisions, check_every)?,
         objective: self::objective(objective)?,
-        candidates,
+        sites: match track {
+            Some((from, to)) => Sites::Track {
+                from,
+                to,
+                step_m: station_step,
+            },
+            None => Sites::Grid {
+                step_m: station_step,
+            },
+        },
+        headings: headings.map_or(Headings::Auto, Headings::Fixed),
         z_m: z,
         spin_rad: spin,
-        relocation_j: relocation_cost,
         relocation_j_per_m: relocation_cost_per_m,
-        footprint_m: footprint.unwrap_or_else(|| pst::default_footprint_m(model)),
+        footprint_m: footprint,
+        ..StationsJob::new(model, tp, relocation_cost)
     };
-    let plan = py
-        .detach(|| pst::solve(&problem, &|_, _| {}))
-        .map_err(err)?;
+    let outcome = py.detach(|| pst::run(&job, &|_, _| {})).map_err(err)?;
+    let plan = outcome.plan;
     let d = json_obj(py, "stations", &plan)?;
     let at: Vec<_> = plan
         .segments
@@ -1372,7 +1369,7 @@ fn stations<'py>(
         .map(|s| placement_tuple(&s.station.placement))
         .collect();
     d.set_item("at", at)?;
-    d.set_item("footprint_m", problem.footprint_m)?;
+    d.set_item("footprint_m", outcome.footprint_m)?;
     Ok(d)
 }
 

@@ -4,7 +4,7 @@
 use super::sweep::{meta, PlacementArgs};
 use anyhow::{bail, Context, Result};
 use printwatt::report::stations::StationsReport;
-use printwatt::stations::{self, Candidates, Headings, StationsProblem};
+use printwatt::stations::{self, Headings, Sites, StationsJob};
 use printwatt::timing::JointStageOptions;
 use std::io::IsTerminal;
 
@@ -58,10 +58,6 @@ pub struct StationsArgs {
     pub export: Option<std::path::PathBuf>,
 }
 
-/// Height of the part origin above a station's base frame when --z is not given, m: the base
-/// 0.5 m above the floor printed on (a track carriage or crawler).
-pub const DEFAULT_Z_M: f64 = -0.5;
-
 fn parse_xy(s: &str, what: &str) -> Result<[f64; 2]> {
     let v: Vec<f64> = s
         .split(',')
@@ -97,7 +93,7 @@ pub fn run(a: StationsArgs) -> Result<()> {
             }
             v[0]
         }
-        None => DEFAULT_Z_M,
+        None => stations::DEFAULT_Z_M,
     };
     let spin = match &p.at.spin {
         Some(s) => s
@@ -119,40 +115,40 @@ pub fn run(a: StationsArgs) -> Result<()> {
                 .collect(),
         )
     };
-    let reach = printwatt::evaluate::feasibility::reach_m(&l.robot);
-    let candidates = match &a.track {
+    let sites = match &a.track {
         Some(t) => {
             let (s0, s1) = t
                 .split_once(':')
                 .with_context(|| format!("--track `{t}`: expected X0,Y0:X1,Y1 (m)"))?;
-            Candidates::track(parse_xy(s0, t)?, parse_xy(s1, t)?, a.station_step, headings)?
+            Sites::Track {
+                from: parse_xy(s0, t)?,
+                to: parse_xy(s1, t)?,
+                step_m: a.station_step,
+            }
         }
-        None => Candidates::grid(&l.path, a.station_step, reach, headings)?,
+        None => Sites::Grid {
+            step_m: a.station_step,
+        },
     };
-    let description = candidates.description.clone();
-    let footprint = a
-        .footprint
-        .unwrap_or_else(|| stations::default_footprint_m(&l.robot));
-    let json_only = p.out.json && p.out.out.is_none() && p.run.is_none();
-    let mut run_dir = if json_only {
-        None
-    } else {
-        p.run_dir(&l, Some("stations"))?
-    };
-    let problem = StationsProblem {
-        robot: &l.robot,
-        path: &l.path,
+    let job = StationsJob {
         energy: l.energy,
         profile: l.profile,
         joint: JointStageOptions::default(),
         feasibility: l.feas,
         objective: l.objective,
-        candidates,
+        sites,
+        headings,
         z_m: z,
         spin_rad: spin,
-        relocation_j: a.relocation_cost,
         relocation_j_per_m: a.relocation_cost_per_m,
-        footprint_m: footprint,
+        footprint_m: a.footprint,
+        ..StationsJob::new(&l.robot, &l.path, a.relocation_cost)
+    };
+    let json_only = p.out.json && p.out.out.is_none() && p.run.is_none();
+    let mut run_dir = if json_only {
+        None
+    } else {
+        p.run_dir(&l, Some("stations"))?
     };
     let pool = p.pool()?;
     let bar = std::io::stderr().is_terminal().then(|| {
@@ -171,46 +167,15 @@ pub fn run(a: StationsArgs) -> Result<()> {
             b.set_position(done as u64);
         }
     };
-    let t0 = std::time::Instant::now();
-    let plan = pool.install(|| stations::solve(&problem, &cb));
+    let outcome = pool.install(|| stations::run(&job, &cb));
     if let Some(b) = &bar {
         b.finish_and_clear();
     }
-    let plan = plan?;
-    let secs = t0.elapsed().as_secs_f64();
+    let outcome = outcome?;
+    let (plan, secs) = (&outcome.plan, outcome.secs);
     let mut m = meta(&l, 0);
     m.retain(|(k, _)| k != "nominal path samples");
-    m.push(("stations".into(), description));
-    m.push((
-        "station height and spin".into(),
-        format!(
-            "part origin {z:.3} m above the base frame; nozzle spin {:.1}° (part frame); heading {}",
-            spin.to_degrees(),
-            a.heading.trim()
-        ),
-    ));
-    m.push((
-        "station footprint".into(),
-        format!(
-            "floor disc of radius {footprint:.3} m ({}): stations stand on no wall printed before or by their segment and the way between stations crosses none ({}; {} positions on walls dropped, {} moves with no clear way refused, {} moves around walls)",
-            if a.footprint.is_some() { "given" } else { "estimate: 0.2 × reach" },
-            if a.track.is_some() {
-                "on the track: the straight way along the rail"
-            } else {
-                "a crawler: the shortest way around the walls printed so far"
-            },
-            plan.stats.footprint_on_wall,
-            plan.stats.way_blocked,
-            plan.stats.detoured
-        ),
-    ));
-    m.push((
-        "relocation cost".into(),
-        format!(
-            "{} J per relocation + {} J/m (given)",
-            a.relocation_cost, a.relocation_cost_per_m
-        ),
-    ));
+    m.extend(outcome.facts(&job));
     let rep = StationsReport {
         title: format!(
             "printwatt stations: {} on {}",
@@ -218,7 +183,7 @@ pub fn run(a: StationsArgs) -> Result<()> {
             l.robot.name()
         ),
         meta: m,
-        plan: &plan,
+        plan,
         path: &l.path,
         relocation_cost_j: a.relocation_cost,
         relocation_cost_per_m_j: a.relocation_cost_per_m,

@@ -50,8 +50,10 @@
 //! for any thread count.
 
 pub mod floor;
+mod run;
 mod solve;
 
+pub use run::{run, Sites, StationsJob, StationsOutcome, DEFAULT_Z_M};
 pub use solve::{solve, Plan, PlanStats, Segment};
 
 use crate::energy::EnergyOptions;
