@@ -230,6 +230,19 @@ impl Driver {
             std::thread::sleep(Duration::from_millis(100));
         }
     }
+    /// The scene renders: the WebGL canvas holds many colours, not a blank fill.
+    fn assert_scene_drawn(&self) {
+        let colours = self.js(
+            "const c = document.querySelector('#scene canvas'); const s = document.createElement('canvas'); \
+             s.width = 200; s.height = 120; const g = s.getContext('2d'); g.drawImage(c, 0, 0, 200, 120); \
+             const px = g.getImageData(0, 0, 200, 120).data; const set = new Set(); \
+             for (let i = 0; i < px.length; i += 4) set.add(px[i] << 16 | px[i+1] << 8 | px[i+2]); return set.size;",
+        );
+        assert!(
+            colours.as_u64().unwrap() > 50,
+            "the canvas is (nearly) blank: {colours} colours"
+        );
+    }
     fn settled(&self) -> Value {
         self.wait(
             "the evaluation of the placement shown",
@@ -329,17 +342,7 @@ fn the_view_follows_a_drag_with_the_energy_of_energy_at_shows_why_not_and_export
     let first = d.settled();
     assert_eq!(first["status"], "feasible", "the start placement: {first}");
 
-    // The scene renders: the WebGL canvas holds many colours, not a blank fill.
-    let colours = d.js(
-        "const c = document.querySelector('#scene canvas'); const s = document.createElement('canvas'); \
-         s.width = 200; s.height = 120; const g = s.getContext('2d'); g.drawImage(c, 0, 0, 200, 120); \
-         const px = g.getImageData(0, 0, 200, 120).data; const set = new Set(); \
-         for (let i = 0; i < px.length; i += 4) set.add(px[i] << 16 | px[i+1] << 8 | px[i+2]); return set.size;",
-    );
-    assert!(
-        colours.as_u64().unwrap() > 50,
-        "the canvas is (nearly) blank: {colours} colours"
-    );
+    d.assert_scene_drawn();
 
     // The arm is drawn with its collision pieces to scale: every mesh piece of the scene,
     // the IRB 6700's forearm in four of them (its fork open).
@@ -812,16 +815,7 @@ fn check_robot_page(args: &[&str]) -> Option<Value> {
     let d = start_driver(&chromium, &driver);
     d.call("POST", "/url", json!({"url": format!("http://{addr}/")}));
     let first = d.settled();
-    let colours = d.js(
-        "const c = document.querySelector('#scene canvas'); const s = document.createElement('canvas'); \
-         s.width = 200; s.height = 120; const g = s.getContext('2d'); g.drawImage(c, 0, 0, 200, 120); \
-         const px = g.getImageData(0, 0, 200, 120).data; const set = new Set(); \
-         for (let i = 0; i < px.length; i += 4) set.add(px[i] << 16 | px[i+1] << 8 | px[i+2]); return set.size;",
-    );
-    assert!(
-        colours.as_u64().unwrap() > 50,
-        "the canvas is (nearly) blank: {colours} colours"
-    );
+    d.assert_scene_drawn();
     let at = at_text(&first["place"]);
     match energy_at_with(&at, args) {
         Ok(supply) if first["status"].as_str().unwrap().starts_with("feasible") => {
