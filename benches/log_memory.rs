@@ -7,18 +7,20 @@
 //! `PRINTWATT_LOG_MEMORY_ROWS=200000,1000000` sets the lengths, `PRINTWATT_LOG_MEMORY_COMMANDS=
 //! compare,identify` the commands.
 
-use std::io::{BufRead, Write};
+#[path = "../tests/common/long_log.rs"]
+mod long_log;
+#[path = "../tests/common/peak_rss.rs"]
+mod peak_rss;
+
 use std::path::{Path, PathBuf};
-use std::process::{Command, Stdio};
+use std::process::Command;
 use std::time::Instant;
 
 /// Peak resident memory (bytes) and wall time (s) of one command run to its end.
-#[allow(clippy::zombie_processes)] // the child is reaped by `wait4`, which gives its rusage
 fn measured(args: &[&str], log: &Path, scratch: &Path) -> (u64, f64) {
-    let bin = env!("CARGO_BIN_EXE_printwatt");
     let out = scratch.join(format!("out-{}", args[0]));
     let _ = std::fs::remove_dir_all(&out);
-    let mut c = Command::new(bin);
+    let mut c = Command::new(env!("CARGO_BIN_EXE_printwatt"));
     c.args(args)
         .arg("--log")
         .arg(log)
@@ -27,49 +29,21 @@ fn measured(args: &[&str], log: &Path, scratch: &Path) -> (u64, f64) {
         c.arg("--out").arg(&out);
     }
     let t = Instant::now();
-    let child = c
-        .stdin(Stdio::null())
-        .stdout(Stdio::null())
-        .stderr(Stdio::null())
-        .spawn()
-        .expect("spawn printwatt");
-    let mut status = 0;
-    let mut ru: libc::rusage = unsafe { std::mem::zeroed() };
-    // SAFETY: the child's pid is ours to wait for; `status` and `ru` are valid and writable.
-    let pid = unsafe { libc::wait4(child.id() as libc::pid_t, &mut status, 0, &mut ru) };
+    let run = peak_rss::run_measured(&mut c, scratch);
     let wall = t.elapsed().as_secs_f64();
-    assert_eq!(pid, child.id() as libc::pid_t, "wait4");
     assert!(
-        libc::WIFEXITED(status) && libc::WEXITSTATUS(status) == 0,
-        "{args:?} on {} failed",
-        log.display()
+        run.status.success(),
+        "{args:?} on {} failed: {}",
+        log.display(),
+        run.stderr
     );
-    (ru.ru_maxrss as u64 * 1024, wall)
+    (run.peak_rss, wall)
 }
 
 fn load_average() -> String {
     std::fs::read_to_string("/proc/loadavg")
         .map(|s| s.split_whitespace().take(3).collect::<Vec<_>>().join(" "))
         .unwrap_or_else(|_| "unknown".into())
-}
-
-/// The first `rows` data rows of `log`, with its comments and header.
-fn cut(log: &Path, rows: usize, to: &Path) {
-    let r = std::io::BufReader::new(std::fs::File::open(log).expect("log"));
-    let mut w = std::io::BufWriter::new(std::fs::File::create(to).expect("cut log"));
-    let (mut n, mut header) = (0, false);
-    for line in r.lines() {
-        let line = line.expect("line");
-        let data = !line.starts_with('#');
-        if data && header {
-            n += 1;
-            if n > rows {
-                break;
-            }
-        }
-        header |= data;
-        writeln!(w, "{line}").expect("write");
-    }
 }
 
 fn main() {
@@ -110,7 +84,7 @@ fn main() {
         for &n in &rows {
             let log = dir.join(format!("log{n}.csv"));
             if !log.exists() {
-                cut(&full, n, &log);
+                long_log::cut(&full, n, &log);
             }
             let (peak, wall) = measured(&args, &log, &dir);
             println!(

@@ -7,10 +7,11 @@
 //! One test in its own binary: each child's own peak resident memory is read with `wait4`
 //! (tests/common/peak_rss.rs).
 
+#[path = "common/long_log.rs"]
+mod long_log;
 #[path = "common/peak_rss.rs"]
 mod peak_rss;
 
-use std::io::{BufRead, Write};
 use std::process::Command;
 
 /// Rows of the long log (250 Hz: 4,000 s of exciting motion) and of its cut.
@@ -44,24 +45,7 @@ fn a_long_log_costs_memory_for_its_compared_values_not_its_text() {
     let long = d.join("log.csv");
     // The first SHORT_ROWS rows, with the same comments and header.
     let short = d.join("short.csv");
-    {
-        let r = std::io::BufReader::new(std::fs::File::open(&long).unwrap());
-        let mut w = std::io::BufWriter::new(std::fs::File::create(&short).unwrap());
-        let mut rows = 0;
-        let mut header = false;
-        for line in r.lines() {
-            let line = line.unwrap();
-            let data = !line.starts_with('#');
-            if data && header {
-                rows += 1;
-                if rows > SHORT_ROWS {
-                    break;
-                }
-            }
-            header |= data;
-            writeln!(w, "{line}").unwrap();
-        }
-    }
+    long_log::cut(&long, SHORT_ROWS, &short);
     let measure = |args: &[&str], log: &std::path::Path| {
         let out = d.join(format!("out-{}", args[0]));
         let _ = std::fs::remove_dir_all(&out);
