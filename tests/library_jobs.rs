@@ -15,6 +15,21 @@ fn root() -> PathBuf {
     PathBuf::from(env!("CARGO_MANIFEST_DIR"))
 }
 
+/// `printwatt ARGS` (with `--json` among them) run in the temporary directory: its JSON.
+fn cli_json(args: &[&str]) -> serde_json::Value {
+    let out = Command::new(env!("CARGO_BIN_EXE_printwatt"))
+        .args(args)
+        .current_dir(std::env::temp_dir())
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    serde_json::from_slice(&out.stdout).unwrap()
+}
+
 /// The small job of the `optimise_small` transcript (18 grid placements) with every other
 /// setting at its default.
 fn small_job() -> OptimiseConfig {
@@ -38,30 +53,20 @@ fn library_optimise_matches_cli() {
     let out = search::run(&cfg, &Silent).unwrap();
     let lib: serde_json::Value =
         serde_json::from_str(&out.report.summary_json(false).unwrap()).unwrap();
-    let cli = Command::new(env!("CARGO_BIN_EXE_printwatt"))
-        .args([
-            "optimise",
-            "--path",
-            &cfg.path_file.display().to_string(),
-            "--x",
-            "1.4:1.8:0.2",
-            "--y",
-            "-0.2:0.2:0.2",
-            "--z",
-            "0.2",
-            "--yaw",
-            "0,90",
-            "--json",
-        ])
-        .current_dir(std::env::temp_dir())
-        .output()
-        .unwrap();
-    assert!(
-        cli.status.success(),
-        "{}",
-        String::from_utf8_lossy(&cli.stderr)
-    );
-    let mut cli: serde_json::Value = serde_json::from_slice(&cli.stdout).unwrap();
+    let mut cli = cli_json(&[
+        "optimise",
+        "--path",
+        &cfg.path_file.display().to_string(),
+        "--x",
+        "1.4:1.8:0.2",
+        "--y",
+        "-0.2:0.2:0.2",
+        "--z",
+        "0.2",
+        "--yaw",
+        "0,90",
+        "--json",
+    ]);
     // The reader's warnings are the front end's notes (stderr and `warnings`), not the answer.
     if let Some(o) = cli.as_object_mut() {
         o.remove("warnings");
@@ -158,27 +163,18 @@ fn library_stations_matches_cli() {
         relocation_cost_per_m_j: job.relocation_j_per_m,
     };
     let mut lib: serde_json::Value = serde_json::from_str(&rep.summary_json().unwrap()).unwrap();
-    let cli = Command::new(env!("CARGO_BIN_EXE_printwatt"))
-        .args([
-            "stations",
-            "--path",
-            path_file.to_str().unwrap(),
-            "--relocation-cost",
-            "20000",
-            "--track",
-            "-1,1.5:13,1.5",
-            "--wrist-margin",
-            "0",
-            "--json",
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        cli.status.success(),
-        "{}",
-        String::from_utf8_lossy(&cli.stderr)
-    );
-    let mut cli: serde_json::Value = serde_json::from_slice(&cli.stdout).unwrap();
+    let mut cli = cli_json(&[
+        "stations",
+        "--path",
+        path_file.to_str().unwrap(),
+        "--relocation-cost",
+        "20000",
+        "--track",
+        "-1,1.5:13,1.5",
+        "--wrist-margin",
+        "0",
+        "--json",
+    ]);
     let cli_meta = cli["meta"].clone();
     for (k, v) in &facts {
         assert_eq!(cli_meta[k.as_str()], v.as_str(), "{k}");
