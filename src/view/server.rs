@@ -324,8 +324,7 @@ pub fn serve(bound: Bound, state: &ViewState) -> Result<()> {
                     let _ = req.respond(json_response(200, &state.scene()));
                 }
                 ("/api/evaluate", _, true) => {
-                    let mut req = req;
-                    let body = match read_json(&mut req) {
+                    let body = match read_json(&req) {
                         Ok(b) => b,
                         Err((code, msg)) => {
                             let _ = req.respond(error_response(code, &msg));
@@ -356,8 +355,7 @@ pub fn serve(bound: Bound, state: &ViewState) -> Result<()> {
                     }
                 }
                 ("/api/playback", _, true) => {
-                    let mut req = req;
-                    let r = read_json(&mut req).and_then(|b| {
+                    let r = read_json(&req).and_then(|b| {
                         let at = placement_from_json(&b).map_err(|e| (400, e.to_string()))?;
                         let frames = b.get("frames").and_then(Value::as_u64).unwrap_or(200);
                         state
@@ -370,8 +368,7 @@ pub fn serve(bound: Bound, state: &ViewState) -> Result<()> {
                     });
                 }
                 ("/api/export", _, true) => {
-                    let mut req = req;
-                    let r = read_json(&mut req).and_then(|b| {
+                    let r = read_json(&req).and_then(|b| {
                         let at = placement_from_json(&b).map_err(|e| (400, e.to_string()))?;
                         state.export(&at).map_err(|e| (409, e.to_string()))
                     });
@@ -503,7 +500,7 @@ fn constant_eq(a: &str, b: &str) -> bool {
 
 /// The body as JSON (at most [`MAX_BODY`] bytes, checked by [`refuse`]): `(status,
 /// message)` otherwise.
-fn read_json(req: &mut Request) -> std::result::Result<Value, (u16, String)> {
+fn read_json(req: &Request) -> std::result::Result<Value, (u16, String)> {
     serde_json::from_slice(&req.body).map_err(|e| (400, format!("the request is not JSON: {e}")))
 }
 
