@@ -27,6 +27,13 @@ use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use std::sync::atomic::{AtomicBool, AtomicUsize, Ordering};
 
+/// Samples from which a full evaluation keeps no per-sample sines and cosines of the joint
+/// positions (96 bytes a sample for a six-axis arm, a third of what a timed sample holds):
+/// its feasibility checks and energy compute them again where they need them, with the same
+/// function (the same values), at some cost in time that only a long print's one-off full
+/// evaluations pay.
+pub const LEAN_SAMPLES: usize = 200_000;
+
 /// Which energy the search minimises (all in J over the whole print).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Default)]
 #[serde(rename_all = "snake_case")]
@@ -571,7 +578,13 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         if cancelled() {
             return None;
         }
-        let timed = match self.time(sc, at) {
+        // A long path keeps no per-sample sines and cosines: the checks and the energy take
+        // them again where they need them (the same values, bit for bit).
+        let keep = sc.buf.transient_sincos;
+        sc.buf.transient_sincos = self.job.plan.motion.p.len() >= LEAN_SAMPLES;
+        let timed = self.time(sc, at);
+        sc.buf.transient_sincos = keep;
+        let timed = match timed {
             Ok(t) => t,
             Err(e) => return Some(Err(Infeasible::from_timing(&e))),
         };

@@ -117,7 +117,10 @@ impl<'a> PathJob<'a> {
         at: &Placement,
     ) -> std::result::Result<TimedPath, TimingFailure> {
         let lines = |i: usize| self.line_of(i);
-        timing::time_at_planned(solver, &self.timing(&lines), at, &mut Buffers::default())
+        // Nobody reads the sines and cosines of the buffers dropped here: none are kept.
+        let mut buf = Buffers::default();
+        buf.transient_sincos = true;
+        timing::time_at_planned(solver, &self.timing(&lines), at, &mut buf)
     }
 
     /// Time the path and compute its energy at a placement. The outer error is a model error;

@@ -11,7 +11,7 @@
 //! the thread count); the answer does not depend on it.
 
 use crate::error::{Error, Result};
-use crate::evaluate::evaluator::{Evaluated, Evaluator, Objective};
+use crate::evaluate::evaluator::{Evaluated, Evaluator, Objective, LEAN_SAMPLES};
 use crate::evaluate::feasibility::FeasibilityOptions;
 use crate::evaluate::{reduce, PathJob};
 use crate::report::placement::{Detail, RunReport};
@@ -510,15 +510,17 @@ fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Resul
     let mut wanted = vec![("best", &res.best)];
     wanted.extend(worst_of(&rows).map(|w| ("worst", w)));
     wanted.extend(baseline.as_ref().map(|(_, b)| ("baseline", b)));
+    // A long print's one at a time: each holds its whole timed path (about 200 bytes a
+    // sample), and two at once would double the run's peak memory for little time.
     let details: Vec<Detail> = {
         use rayon::prelude::*;
-        wanted
-            .par_iter()
-            .map(|(label, e)| detail(&job, label, e))
-            .collect::<Result<Vec<_>>>()?
-            .into_iter()
-            .flatten()
-            .collect()
+        let each = |(label, e): &(&str, &Evaluated)| detail(&job, label, e);
+        let all: Vec<Option<Detail>> = if job.plan.motion.p.len() >= LEAN_SAMPLES {
+            wanted.iter().map(each).collect::<Result<_>>()?
+        } else {
+            wanted.par_iter().map(each).collect::<Result<_>>()?
+        };
+        all.into_iter().flatten().collect()
     };
     // Every evaluation the answer needed: grid, refinement, tolerance checks (with the
     // bisection and spin points; the baseline's corners) and the 4 sensitivity points.

@@ -279,11 +279,19 @@ pub(crate) fn track_with(
     let n = model.dof();
     let part_to_base = at.frame();
     let Buffers {
-        qs, tcp, sincos, ..
+        qs,
+        tcp,
+        sincos,
+        transient_sincos,
+        ..
     } = buf;
+    let transient = *transient_sincos;
     qs.clear();
     tcp.clear();
     sincos.clear();
+    // The sample `sincos` starts at (every sample before it checked and its sines dropped,
+    // with `transient`).
+    let mut base = 0usize;
     let mut sc = [0.0; 2 * crate::kinematics::MAX_DOF];
     let mut prev = JointVec::from_slice(q0);
     // A step larger than this cannot be a continuous motion of one configuration.
@@ -315,34 +323,35 @@ pub(crate) fn track_with(
     };
     let path_target = solver.path_target(&rot);
     // Check the samples not yet checked, below `upto`.
-    let check_pending = |qs: &[f64], tcp: &[V3], sincos: &mut Vec<f64>, upto: usize| {
-        let mut k0 = sincos.len() / (2 * n);
-        while k0 < upto {
-            let count = crate::simd::LANES.min(upto - k0);
-            let mut qb = [[0.0; crate::simd::LANES]; crate::kinematics::MAX_DOF];
-            for l in 0..count {
-                for (lanes, v) in qb.iter_mut().zip(&qs[(k0 + l) * n..(k0 + l + 1) * n]) {
-                    lanes[l] = *v;
+    let check_pending =
+        |qs: &[f64], tcp: &[V3], sincos: &mut Vec<f64>, base: usize, upto: usize| {
+            let mut k0 = base + sincos.len() / (2 * n);
+            while k0 < upto {
+                let count = crate::simd::LANES.min(upto - k0);
+                let mut qb = [[0.0; crate::simd::LANES]; crate::kinematics::MAX_DOF];
+                for l in 0..count {
+                    for (lanes, v) in qb.iter_mut().zip(&qs[(k0 + l) * n..(k0 + l + 1) * n]) {
+                        lanes[l] = *v;
+                    }
                 }
+                sincos.resize((k0 + count - base) * 2 * n, 0.0);
+                solver
+                    .check_lanes(
+                        count,
+                        &qb,
+                        &path_target,
+                        &tcp[k0..k0 + count],
+                        &mut sincos[(k0 - base) * 2 * n..],
+                        level,
+                    )
+                    .map_err(|(l, reason)| {
+                        sincos.truncate((k0 - base) * 2 * n);
+                        unreachable(k0 + l, tcp[k0 + l], reason)
+                    })?;
+                k0 += count;
             }
-            sincos.resize((k0 + count) * 2 * n, 0.0);
-            solver
-                .check_lanes(
-                    count,
-                    &qb,
-                    &path_target,
-                    &tcp[k0..k0 + count],
-                    &mut sincos[k0 * 2 * n..],
-                    level,
-                )
-                .map_err(|(l, reason)| {
-                    sincos.truncate(k0 * 2 * n);
-                    unreachable(k0 + l, tcp[k0 + l], reason)
-                })?;
-            k0 += count;
-        }
-        Ok::<(), TimingFailure>(())
-    };
+            Ok::<(), TimingFailure>(())
+        };
     // One sample's answer by IkSolver::take_near from the batch `chunk` (batched) or solved
     // with its check (per sample), its step checked; appended to the buffers.
     let mut sample = |k: usize,
@@ -351,7 +360,8 @@ pub(crate) fn track_with(
                       prev: &mut JointVec,
                       qs: &mut Vec<f64>,
                       tcp: &mut Vec<V3>,
-                      sincos: &mut Vec<f64>|
+                      sincos: &mut Vec<f64>,
+                      base: usize|
      -> Result<(), TimingFailure> {
         let target = Frame { rot, pos: tip };
         let mi = pieces[motion.piece[k]].move_index;
@@ -367,7 +377,7 @@ pub(crate) fn track_with(
             Ok(q) => q,
             Err(reason) => {
                 if batched {
-                    check_pending(qs, tcp, sincos, k)?;
+                    check_pending(qs, tcp, sincos, base, k)?;
                 }
                 return Err(unreachable(k, tip, reason));
             }
@@ -390,7 +400,7 @@ pub(crate) fn track_with(
                 if d > max_step[j] {
                     if batched {
                         // The per-sample path checked this sample's answer before its step.
-                        check_pending(qs, tcp, sincos, k)?;
+                        check_pending(qs, tcp, sincos, base, k)?;
                         solver
                             .check_with_sincos(&target, &q, &mut sc[..2 * n])
                             .map_err(|reason| unreachable(k, tip, reason))?;
@@ -410,14 +420,23 @@ pub(crate) fn track_with(
         qs.extend_from_slice(&q[..n]);
         tcp.push(tip);
         *prev = q;
-        if !batched {
+        if !batched && !transient {
             sincos.extend_from_slice(&sc[..2 * n]);
         }
         Ok(())
     };
     if !batched {
         for (k, p) in motion.p.iter().enumerate() {
-            sample(k, part_to_base.apply(p), None, &mut prev, qs, tcp, sincos)?;
+            sample(
+                k,
+                part_to_base.apply(p),
+                None,
+                &mut prev,
+                qs,
+                tcp,
+                sincos,
+                0,
+            )?;
         }
         return Ok(());
     }
@@ -431,7 +450,9 @@ pub(crate) fn track_with(
     let len = motion.p.len();
     qs.reserve(len * n);
     tcp.reserve(len);
-    sincos.reserve(len * 2 * n);
+    if !transient {
+        sincos.reserve(len * 2 * n);
+    }
     // The batch's tips lane by lane when computed here (lanes from count on: stale,
     // ignored).
     let mut tp_now = [[0.0; LANES]; 3];
@@ -538,7 +559,7 @@ pub(crate) fn track_with(
                 *v = c.q[j][taken - 1];
             }
             prev = last;
-            if taken == count && sincos.len() == k0 * 2 * n {
+            if taken == count && sincos.len() == (k0 - base) * 2 * n {
                 solver
                     .check_lanes_push(
                         count,
@@ -551,19 +572,28 @@ pub(crate) fn track_with(
                         level,
                     )
                     .map_err(|(l, reason)| {
-                        sincos.truncate(k0 * 2 * n);
+                        sincos.truncate((k0 - base) * 2 * n);
                         unreachable(k0 + l, tip(l), reason)
                     })?;
                 known = Some(c.branch_after);
                 k0 += count;
+                if transient {
+                    sincos.clear();
+                    base = k0;
+                }
                 continue;
             }
         }
         for l in taken..count {
-            sample(k0 + l, tip(l), chunk, &mut prev, qs, tcp, sincos)?;
+            sample(k0 + l, tip(l), chunk, &mut prev, qs, tcp, sincos, base)?;
         }
-        check_pending(qs, tcp, sincos, tcp.len())?;
+        check_pending(qs, tcp, sincos, base, tcp.len())?;
         k0 += count;
+        if transient {
+            // Every sample so far checked: its sines are not kept.
+            sincos.clear();
+            base = k0;
+        }
     }
     Ok(())
 }
@@ -1296,6 +1326,11 @@ pub struct Buffers {
     /// IK's FK re-check and shared with RNEA and the feasibility checks. Left here by
     /// [`time_path_planned`] (it is not part of the [`TimedPath`]).
     pub sincos: Vec<f64>,
+    /// Keep no sines and cosines past the batch whose FK re-check needs them: `sincos` is left
+    /// empty (a long path's full evaluation: `2 n` values a sample, 96 bytes for a six-axis
+    /// arm, that its consumers compute again with the same function, bit for bit, where they
+    /// need them). Off by default.
+    pub transient_sincos: bool,
     /// The base-frame tips of the shared plan's samples at the placement being timed, lane by
     /// lane ([`TipMap::lanes_of`]), computed once by the reach prune of [`time_at_planned`] and used
     /// again by its tracking's first round (scratch; meaningless between calls).
@@ -1438,6 +1473,7 @@ fn time_path_rounds(
             traj.qd = tracked.qd;
             traj.qdd = tracked.qdd;
             buf.sincos = tracked.sincos;
+            buf.transient_sincos = tracked.transient_sincos;
             return Ok(TimedPath {
                 traj,
                 motion,

@@ -1018,13 +1018,22 @@ impl Beads {
         if root.start as usize >= laid || !root.aabb.intersects(&aabb) {
             return None;
         }
+        // A shape with a box of its own (a mesh piece) is held by that box turned to `pose`;
+        // a node whose box lies apart from it along one of its axes holds no bead within
+        // reach (the node's box holds every point within the bead radius of its beads).
+        let turned = local
+            .filter(|_| cap.is_none())
+            .map(|l| Turned::new(pose, l));
         // Depth-first, lower indices first: the first bead found is the first laid.
         let mut stack = [0u32; 64];
         let mut top = 1;
         while top > 0 {
             top -= 1;
             let nd = &self.nodes[stack[top] as usize];
-            if nd.start as usize >= laid || !nd.aabb.intersects(&aabb) {
+            if nd.start as usize >= laid
+                || !nd.aabb.intersects(&aabb)
+                || turned.as_ref().is_some_and(|t| t.apart(&nd.aabb))
+            {
                 continue;
             }
             if nd.left == 0 {
@@ -1587,6 +1596,41 @@ fn obb_separated(
 }
 
 /// Distance between two AABBs, m (0 when they overlap).
+/// A box of a shape's own frame turned to a pose (part frame): centre, axes and half extents.
+struct Turned {
+    centre: Vector<f64>,
+    axes: [Vector<f64>; 3],
+    half: Vector<f64>,
+}
+
+impl Turned {
+    fn new(pose: &Isometry<f64>, local: &Aabb) -> Self {
+        let r = pose.rotation.to_rotation_matrix();
+        let m = r.matrix();
+        Turned {
+            centre: (pose * local.center()).coords,
+            axes: [
+                m.column(0).into_owned(),
+                m.column(1).into_owned(),
+                m.column(2).into_owned(),
+            ],
+            half: local.half_extents(),
+        }
+    }
+
+    /// The turned box and `b` lie apart along one of the turned box's axes (a separating
+    /// axis: no point is in both). `false` when they may meet.
+    #[inline(always)]
+    fn apart(&self, b: &Aabb) -> bool {
+        let (c, h) = (b.center().coords, b.half_extents());
+        let d = self.centre - c;
+        self.axes.iter().zip(self.half.iter()).any(|(u, e)| {
+            let reach = h.x * u.x.abs() + h.y * u.y.abs() + h.z * u.z.abs();
+            u.dot(&d).abs() > e + reach
+        })
+    }
+}
+
 fn aabb_gap(a: &Aabb, b: &Aabb) -> f64 {
     let mut s = 0.0;
     for k in 0..3 {
