@@ -313,6 +313,9 @@ pub struct Evaluator<'j, 'a> {
     /// per thread that ever ran a sweep at the same time. Results do not depend on which
     /// scratch an evaluation gets (the buffers are overwritten, never read first).
     pool: std::sync::Mutex<Vec<Scratch<'a>>>,
+    /// Samples from which a full evaluation is lean ([`LEAN_SAMPLES`]; other values in
+    /// tests, to compare both ways on one path).
+    pub(crate) lean_from: usize,
 }
 
 /// A scratch taken from [`Evaluator`]'s pool (or made) for one rayon job of a sweep, given
@@ -396,6 +399,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             prior: Vec::new(),
             reduction: None,
             pool: std::sync::Mutex::new(Vec::new()),
+            lean_from: LEAN_SAMPLES,
         }
     }
 
@@ -579,17 +583,27 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             return None;
         }
         // A long path keeps no per-sample sines and cosines: the checks and the energy take
-        // them again where they need them (the same values, bit for bit).
+        // them again where they need them (the same values, bit for bit); and its buffers
+        // are freed after, not kept for a next placement.
+        let lean = self.job.plan.motion.p.len() >= self.lean_from;
         let keep = sc.buf.transient_sincos;
-        sc.buf.transient_sincos = self.job.plan.motion.p.len() >= LEAN_SAMPLES;
+        sc.buf.transient_sincos = lean;
         let timed = self.time(sc, at);
         sc.buf.transient_sincos = keep;
+        let done_with = |buf: &mut Buffers, timed: Option<TimedPath>| match timed {
+            Some(t) if !lean => buf.recycle(t),
+            _ if lean => buf.release(),
+            _ => {}
+        };
         let timed = match timed {
             Ok(t) => t,
-            Err(e) => return Some(Err(Infeasible::from_timing(&e))),
+            Err(e) => {
+                done_with(&mut sc.buf, None);
+                return Some(Err(Infeasible::from_timing(&e)));
+            }
         };
         if cancelled() {
-            sc.buf.recycle(timed);
+            done_with(&mut sc.buf, Some(timed));
             return None;
         }
         let motion = &*timed.motion;
@@ -769,7 +783,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             (c, _) => c,
         };
         let r = checked.and_then(|margins| integrated.map(|f| Feasible { margins, ..f }));
-        buf.recycle(timed); // keep the buffers for the next placement
+        done_with(buf, Some(timed)); // the buffers kept for the next placement, or freed
         (!cancelled()).then_some(r)
     }
 

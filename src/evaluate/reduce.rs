@@ -1316,31 +1316,12 @@ fn integrate(
     let n = job.robot.dof();
     let dim = FIXED + 3 * n;
     let dt = job.plan.motion.dt;
-    for i in idx {
-        let p = match energy::eval_sample(
-            &job.energy,
-            data,
-            &qs[i * n..(i + 1) * n],
-            &qd[i * n..(i + 1) * n],
-            &qdd[i * n..(i + 1) * n],
-            sp,
-        ) {
-            Ok(p) => p,
-            Err(e) => {
-                let k = at_sample(i);
-                return Err(Outcome::Infeasible(Infeasible {
-                    reason: Reason::ModelError,
-                    sample: Some(k),
-                    t_s: Some(k as f64 * dt),
-                    line: None,
-                    point_m: None,
-                    detail: e.to_string(),
-                }));
-            }
-        };
+    // Sample i's powers added into its unit's sums, in sample order (the same sums, bit for
+    // bit, however the powers were computed).
+    let mut add = |i: usize, sp: &crate::energy::SamplePower| {
         let w = w(i);
         let acc = acc[dest(i)].get_or_insert_with(|| vec![0.0; dim]);
-        acc[SUPPLY] += w * p;
+        acc[SUPPLY] += w * sp.p_supply;
         acc[DRIVES] += w * sp.p_drives;
         acc[REGEN] += w * sp.p_regeneration_lost;
         for j in 0..n {
@@ -1352,6 +1333,78 @@ fn integrate(
             acc[FRICTION] += w * sp.p_friction[j];
             acc[GEAR] += w * sp.p_gear[j];
             acc[COPPER] += w * sp.p_copper[j];
+        }
+    };
+    let one = |i: usize,
+               data: &mut crate::dynamics::DynData,
+               sp: &mut crate::energy::SamplePower|
+     -> std::result::Result<(), Outcome> {
+        energy::eval_sample(
+            &job.energy,
+            data,
+            &qs[i * n..(i + 1) * n],
+            &qd[i * n..(i + 1) * n],
+            &qdd[i * n..(i + 1) * n],
+            sp,
+        )
+        .map(|_| ())
+        .map_err(|e| {
+            let k = at_sample(i);
+            Outcome::Infeasible(Infeasible {
+                reason: Reason::ModelError,
+                sample: Some(k),
+                t_s: Some(k as f64 * dt),
+                line: None,
+                point_m: None,
+                detail: e.to_string(),
+            })
+        })
+    };
+    let level = crate::simd::level();
+    if level == crate::simd::Level::Scalar || !job.energy.batchable() {
+        for i in idx {
+            one(i, data, sp)?;
+            add(i, sp);
+        }
+        return Ok(());
+    }
+    // Runs of up to LANES consecutive samples in lockstep (energy::eval_rows: each sample's
+    // powers bit for bit the per-sample path's), added sample by sample as above.
+    let mut lanes = energy::PowerLanes::default();
+    let mut inputs = energy::LaneInputs::default();
+    let mut idx = idx.peekable();
+    while let Some(i0) = idx.next() {
+        let mut count = 1;
+        while count < crate::simd::LANES && idx.peek() == Some(&(i0 + count)) {
+            idx.next();
+            count += 1;
+        }
+        let rows = energy::Rows {
+            q: &qs[i0 * n..],
+            sincos: None,
+            qd: &qd[i0 * n..],
+            qdd: &qdd[i0 * n..],
+        };
+        if energy::eval_rows(
+            &job.energy,
+            data,
+            count,
+            &rows,
+            &mut inputs,
+            &mut lanes,
+            level,
+        )
+        .is_ok()
+        {
+            for l in 0..count {
+                add(i0 + l, &lanes.sample(l));
+            }
+        } else {
+            // The error at its own sample, as the per-sample path reports it.
+            for i in i0..i0 + count {
+                one(i, data, sp)?;
+                add(i, sp);
+            }
         }
     }
     Ok(())

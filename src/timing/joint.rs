@@ -1338,6 +1338,16 @@ pub struct Buffers {
 }
 
 impl Buffers {
+    /// Free every vector, keeping the settings (a long path's buffers, hundreds of megabytes,
+    /// are not worth keeping for a next placement).
+    pub fn release(&mut self) {
+        let transient_sincos = self.transient_sincos;
+        *self = Buffers {
+            transient_sincos,
+            ..Buffers::default()
+        };
+    }
+
     /// Take back the vectors of a timed path for reuse.
     pub fn recycle(&mut self, t: TimedPath) {
         self.qs = t.traj.q;
