@@ -156,6 +156,13 @@ pub fn differentiate_uniform_into(
     differentiate_uniform_into_on(q, n, dt, qd, qdd, crate::simd::level());
 }
 
+/// `v` resized to `len` (new entries 0) with its capacity grown to `len` exactly, not
+/// doubled: per-sample buffers of a long path are hundreds of megabytes.
+pub fn resize_exact(v: &mut Vec<f64>, len: usize) {
+    v.reserve_exact(len.saturating_sub(v.len()));
+    v.resize(len, 0.0);
+}
+
 /// [`differentiate_uniform_into`] on the instruction-set level `level`
 /// ([`crate::simd::Level`]): [`crate::simd::Level::Scalar`] runs the per-sample formulas
 /// sample by sample and channel by channel (the reference); every other level computes the
@@ -173,8 +180,10 @@ pub fn differentiate_uniform_into_on(
     level: crate::simd::Level,
 ) {
     let len = q.len().checked_div(n).unwrap_or(0);
-    qd.resize(len * n, 0.0);
-    qdd.resize(len * n, 0.0);
+    // Exactly what is needed: a reused buffer a little short (a re-planned, longer path)
+    // would otherwise double.
+    resize_exact(qd, len * n);
+    resize_exact(qdd, len * n);
     let q = &q[..len * n];
     let valid = dt > 0.0 && dt.is_finite();
     if !valid || len < 3 {

@@ -214,3 +214,57 @@ fn sweep_json_is_written_without_a_value_tree() {
         text.len()
     );
 }
+
+#[test]
+fn a_long_prints_full_evaluation_holds_its_timed_path_and_no_per_sample_sines() {
+    // A wall of more than LEAN_SAMPLES samples evaluated in full (the answer's confirmation,
+    // a reduced evaluation's fallback): the timed path (positions, velocities, accelerations,
+    // TCP points, times: about 176 bytes a sample for a six-axis arm, and the tips mapped to
+    // the base frame while it is tracked, 24) is what it holds; the sines and cosines of every
+    // sample (96 bytes more) are not kept, and the scratch is left without buffers.
+    let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|p| p.into_inner());
+    let model = common::robot("abb_irb6700_200_260");
+    let text = wall::wall_gcode(1800.0, 600.0, 4.0, 24);
+    let tp = printwatt::toolpath::parse_gcode(
+        &text,
+        "wall24.gcode",
+        &printwatt::toolpath::ReadOptions::default(),
+    )
+    .unwrap();
+    let job = common::default_job(&model, &tp);
+    let samples = job.plan.motion.p.len();
+    assert!(
+        samples >= printwatt::evaluate::evaluator::LEAN_SAMPLES,
+        "{samples}"
+    );
+    let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
+    // The first feasible placement of a few in front of the robot, each evaluated with a
+    // fresh scratch.
+    let (e, peak, kept, sc) = [(1.6, 0.0, 0.0), (1.4, 0.0, 0.5), (1.2, 0.0, 1.0)]
+        .iter()
+        .map(|&(x, y, z)| {
+            let at = Placement::new(x, y, z, 94f64.to_radians());
+            let mut sc = ev.scratch().unwrap();
+            let before = LIVE.load(Ordering::Relaxed);
+            let (e, peak) = peak_of(|| ev.evaluate_full(&mut sc, &at));
+            let kept = LIVE.load(Ordering::Relaxed).saturating_sub(before);
+            (e, peak, kept, sc)
+        })
+        .find(|r| r.0.feasible().is_some())
+        .expect("the wall is feasible in front of the robot");
+    let f = e.feasible().unwrap();
+    assert_eq!(f.samples, samples);
+    let per = peak as f64 / samples as f64;
+    eprintln!("{samples} samples: a full evaluation peaks at {per:.0} bytes a sample");
+    assert!(
+        per < 240.0,
+        "a full evaluation of a long print holds {per:.0} bytes a sample (the timed path is about 200)"
+    );
+    // Nothing is left in the scratch for a next placement (a short path's scratch keeps its
+    // buffers: here they would be tens of megabytes).
+    assert!(
+        kept < 1 << 20,
+        "the scratch keeps {kept} bytes after a long print's full evaluation"
+    );
+    drop(sc);
+}

@@ -1167,3 +1167,60 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         Ok(out)
     }
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn a_lean_full_evaluation_gives_the_same_outcome_bit_for_bit() {
+        // The multi-layer wall with the IRB 6700 at placements around it, feasible and not
+        // (reach, joint and wrist margins, collisions): evaluated in full keeping the
+        // per-sample sines (the short path's way) and without them (a long print's way),
+        // every outcome is the same, numbers and reasons.
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let model = crate::robot::load(&root.join("robots/abb_irb6700_200_260")).unwrap();
+        let path = crate::toolpath::load(
+            &root.join("paths/wall_multilayer.gcode"),
+            &crate::toolpath::ReadOptions::default(),
+        )
+        .unwrap();
+        let job = PathJob::new(
+            &model,
+            &path,
+            crate::energy::EnergyOptions::default(),
+            crate::timing::ProfileOptions::default(),
+            crate::timing::JointStageOptions::default(),
+        )
+        .unwrap();
+        let mut kept = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
+        kept.lean_from = usize::MAX;
+        let mut lean = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
+        lean.lean_from = 0;
+        let (mut sk, mut sl) = (kept.scratch().unwrap(), lean.scratch().unwrap());
+        let mut reasons = std::collections::BTreeSet::new();
+        let mut feasible = 0;
+        for x in [0.8, 1.1, 1.4, 1.7, 2.0, 2.4] {
+            for y in [-0.6, 0.0, 0.5] {
+                for z in [-0.4, 0.0, 0.6] {
+                    for yaw in [0.0f64, 90.0, 200.0] {
+                        let at = Placement::new(x, y, z, yaw.to_radians());
+                        let a = kept.evaluate_full(&mut sk, &at);
+                        let b = lean.evaluate_full(&mut sl, &at);
+                        assert_eq!(a, b, "at {at:?}");
+                        // The lean scratch keeps no sines and no buffers.
+                        assert!(sl.buf.sincos.is_empty() && sl.buf.qs.capacity() == 0);
+                        match &a.outcome {
+                            Ok(_) => feasible += 1,
+                            Err(i) => {
+                                reasons.insert(i.reason);
+                            }
+                        }
+                    }
+                }
+            }
+        }
+        assert!(feasible >= 5, "{feasible} feasible placements");
+        assert!(reasons.len() >= 3, "too few kinds of failure: {reasons:?}");
+    }
+}

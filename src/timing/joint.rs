@@ -448,10 +448,11 @@ pub(crate) fn track_with(
     // once), so a failing check is reported at its sample ahead of any later failure.
     use crate::simd::LANES;
     let len = motion.p.len();
-    qs.reserve(len * n);
-    tcp.reserve(len);
+    // Exactly: a re-planned, longer path's buffers would otherwise double.
+    qs.reserve_exact(len * n);
+    tcp.reserve_exact(len);
     if !transient {
-        sincos.reserve(len * 2 * n);
+        sincos.reserve_exact(len * 2 * n);
     }
     // The batch's tips lane by lane when computed here (lanes from count on: stale,
     // ignored).
@@ -789,8 +790,8 @@ fn derivatives_and_violations(
         return violations(model, q, qd, qdd, dt, check_jerk, level);
     }
     // Every entry is written below (m ≥ 5, a valid step): a reused buffer is not zeroed.
-    qd.resize(m * n, 0.0);
-    qdd.resize(m * n, 0.0);
+    crate::numerics::resize_exact(qd, m * n);
+    crate::numerics::resize_exact(qdd, m * n);
     let w = crate::numerics::uniform_weights(dt);
     crate::numerics::uniform_end_rows(q, n, &w, qd, qdd);
     // Row 1: derivatives only (its jerk is clamped, it is checked per sample).
