@@ -272,7 +272,7 @@ fn an_effect_defined_in_one_file_outside_the_crate_is_fitted_by_identify_and_wri
     truth.set_values("hose_pull", &PULL).unwrap();
     let tr = simulate::resample(&simulate::excitation(&without, 8.0, 1000.0, 5), 250.0);
     let opt = simulate::SensorOptions {
-        kind: SignalKind::Tau,
+        kind: SignalKind::Torque,
         noise: 0.5,
         noise_q: 1e-6,
         current_quantum: 0.01,
