@@ -147,7 +147,11 @@ fn drive_file(dir: &Path, pull: Option<[f64; 6]>) -> PathBuf {
     if let Some(c) = pull {
         out.push_str(&format!("\n[effects.values]\nhose_pull = {c:?}\n"));
     }
-    let path = dir.join(if pull.is_some() { "pull.toml" } else { "plain.toml" });
+    let path = dir.join(if pull.is_some() {
+        "pull.toml"
+    } else {
+        "plain.toml"
+    });
     std::fs::write(&path, out).unwrap();
     path
 }
@@ -228,8 +232,16 @@ fn an_effect_defined_in_one_file_outside_the_crate_is_drawn_in_the_uncertainty_s
     let (m2, drawn2) = drawn_robot(&with, &ranges, 11, 3);
     assert_eq!(drawn, drawn2, "the same seed and draw give the same robot");
     assert_eq!(
-        EffectSet::of_robot(&m2).unwrap().get("hose_pull").unwrap().values(),
-        EffectSet::of_robot(&m).unwrap().get("hose_pull").unwrap().values()
+        EffectSet::of_robot(&m2)
+            .unwrap()
+            .get("hose_pull")
+            .unwrap()
+            .values(),
+        EffectSet::of_robot(&m)
+            .unwrap()
+            .get("hose_pull")
+            .unwrap()
+            .values()
     );
     // Its draws come last (after the built-in effects', whose order a seed keeps).
     let pulls: Vec<&(String, f64)> = drawn
@@ -246,7 +258,10 @@ fn an_effect_defined_in_one_file_outside_the_crate_is_drawn_in_the_uncertainty_s
     let mut moved = false;
     for j in 0..6 {
         let f = pulls[j].1;
-        assert!((1.0 - HOSE_PULL_REL..=1.0 + HOSE_PULL_REL).contains(&f), "{f}");
+        assert!(
+            (1.0 - HOSE_PULL_REL..=1.0 + HOSE_PULL_REL).contains(&f),
+            "{f}"
+        );
         assert_eq!(got[j], PULL[j] * f, "joint {}", j + 1);
         moved |= PULL[j] != 0.0 && f != 1.0;
     }

@@ -3,9 +3,8 @@
 
 use super::uncertain::at;
 use super::{
-    check_values, diagonal_regressor, per_joint, BuildContext, DrawPhase, DriveKeysMut, DriveKept,
-    Drawing, Effect,
-    ParamSpec, Uncertainty,
+    check_values, diagonal_regressor, per_joint, BuildContext, DrawPhase, Drawing, DriveKept,
+    DriveKeysMut, Effect, ParamSpec, Uncertainty,
 };
 use crate::error::Result;
 

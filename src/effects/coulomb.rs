@@ -8,8 +8,8 @@
 
 use super::uncertain::at;
 use super::{
-    check_values, per_joint, BuildContext, DrawPhase, DriveKeysMut, DriveKept, Drawing, Effect, EnergyClass, ParamSpec,
-    Uncertainty,
+    check_values, per_joint, BuildContext, DrawPhase, Drawing, DriveKept, DriveKeysMut, Effect,
+    EnergyClass, ParamSpec, Uncertainty,
 };
 use crate::error::{Error, Result};
 

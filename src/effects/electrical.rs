@@ -7,7 +7,8 @@
 
 use super::uncertain::at;
 use super::{
-    check_values, DrawPhase, DriveKeysMut, DriveKept, Drawing, Uncertainty, per_joint, BuildContext, Effect, MotorTerm, ParamSpec, Stage, SupplyTerm,
+    check_values, per_joint, BuildContext, DrawPhase, Drawing, DriveKept, DriveKeysMut, Effect,
+    MotorTerm, ParamSpec, Stage, SupplyTerm, Uncertainty,
 };
 use crate::error::Result;
 

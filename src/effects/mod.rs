@@ -50,7 +50,7 @@ pub use uncertain::{DrawPhase, Drawing, Uncertainty};
 pub use viscous::Viscous;
 
 pub use crate::robot::drive::{
-    CalibratedParam, Calibration, CalibrationRound, DriveKeysMut, DriveKept,
+    CalibratedParam, Calibration, CalibrationRound, DriveKept, DriveKeysMut,
 };
 
 /// The same trait as [`Effect`] under its former name (torque effects implement

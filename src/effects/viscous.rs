@@ -2,7 +2,8 @@
 
 use super::uncertain::at;
 use super::{
-    check_values, DrawPhase, DriveKeysMut, DriveKept, Drawing, Uncertainty, diagonal_regressor, per_joint, BuildContext, Effect, EnergyClass, ParamSpec,
+    check_values, diagonal_regressor, per_joint, BuildContext, DrawPhase, Drawing, DriveKept,
+    DriveKeysMut, Effect, EnergyClass, ParamSpec, Uncertainty,
 };
 use crate::error::Result;
 

@@ -9,7 +9,7 @@ use crate::error::{Error, Result};
 use crate::identify::ladder::Identification;
 use crate::identify::model::Model;
 use crate::identify::Log;
-use crate::robot::drive::{parse_drive_file, DriveFile, DriveKeysMut, DriveKept, PayloadTable};
+use crate::robot::drive::{parse_drive_file, DriveFile, DriveKept, DriveKeysMut, PayloadTable};
 use crate::robot::RobotModel;
 use crate::robot::{CalibratedParam, Calibration, CalibrationRound};
 use std::path::{Component, Path, PathBuf};

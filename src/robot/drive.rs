@@ -638,7 +638,9 @@ impl<'a> DriveKeysMut<'a> {
                 }
                 Ok(())
             }
-            _ => Err(Error::Invalid(format!("drive file: no key `cabinet.{key}`"))),
+            _ => Err(Error::Invalid(format!(
+                "drive file: no key `cabinet.{key}`"
+            ))),
         }
     }
 }
@@ -660,9 +662,7 @@ impl JointTable {
 
     /// Whether `key` is a numeric per-joint drive key (error naming it if not).
     fn check_key(key: &str) -> Result<()> {
-        JointTable::default()
-        .key_mut(key)
-        .map(|_| ())
+        JointTable::default().key_mut(key).map(|_| ())
     }
 }
 
@@ -681,7 +681,11 @@ impl EffectsTable {
             "balancer_base_m" => self.balancer_base_m = None,
             "balancer_upright_rad" => self.balancer_upright_rad = None,
             "regeneration_recovered_fraction" => self.regeneration_recovered_fraction = None,
-            _ => return Err(Error::Invalid(format!("drive file: no key `effects.{key}`"))),
+            _ => {
+                return Err(Error::Invalid(format!(
+                    "drive file: no key `effects.{key}`"
+                )))
+            }
         }
         Ok(())
     }
