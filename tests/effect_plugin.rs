@@ -4,6 +4,8 @@
 //! identification and written to the calibrated robot, and draws its own range in the
 //! placement's uncertainty study.
 
+#![allow(clippy::needless_range_loop)]
+
 mod common;
 use common::{close, root, scratch, Sines};
 use printwatt::effects::{
