@@ -1,7 +1,11 @@
 //! `armature`: reflected rotor inertia `τ = G² J_m q̈` (joint side; the rotor's kinetic energy
 //! `½ J_m (G q̇)²`).
 
-use super::{check_values, diagonal_regressor, per_joint, BuildContext, Effect, ParamSpec};
+use super::uncertain::at;
+use super::{
+    check_values, diagonal_regressor, per_joint, BuildContext, DrawPhase, Drawing, DriveKept,
+    DriveKeysMut, Effect, ParamSpec, Uncertainty,
+};
 use crate::error::Result;
 
 /// Reflected rotor inertia per joint `I_a = G² J_m`, kg·m².
@@ -30,6 +34,31 @@ impl Armature {
 impl Effect for Armature {
     fn name(&self) -> &'static str {
         "armature"
+    }
+    /// `[[joints]] rotor_inertia_kg_m2` (= `G² J_m / G²`).
+    fn write_drive_keys(&self, keys: &mut DriveKeysMut<'_>) -> Result<DriveKept> {
+        let jm: Vec<f64> = self
+            .ia
+            .iter()
+            .zip(keys.gear_ratios())
+            .map(|(ia, g)| ia / (g * g))
+            .collect();
+        keys.set_joints("rotor_inertia_kg_m2", &jm)?;
+        Ok(DriveKept::Keys)
+    }
+    fn uncertainty(&self) -> Option<Uncertainty> {
+        at(DrawPhase::Joint, 1)
+    }
+    /// Only an identified armature is drawn (normal with its standard error, as the rotor
+    /// inertia); a nominal one has no range.
+    fn draw(&self, d: &mut Drawing<'_>, joint: Option<usize>) {
+        let Some(j) = joint else { return };
+        if let Some(f) = d.identified_factor(&format!("G2Jm[{}]", j + 1)) {
+            if let Some(jd) = d.joint(j) {
+                jd.rotor_inertia *= f;
+            }
+            d.record(format!("armature joint {}", j + 1), f);
+        }
     }
     fn params(&self) -> Vec<ParamSpec> {
         per_joint("G2Jm", "kg·m²", self.ia.len())

@@ -16,7 +16,9 @@
 //! when the arm leans out, and linear in (`F0`, `k`) (regressor
 //! `[dL/dq, (L − L_min) dL/dq]`, m and m²).
 
-use super::{check_values, BuildContext, Effect, EnergyClass, ParamSpec};
+use super::{
+    check_values, BuildContext, DrawPhase, Drawing, Effect, EnergyClass, ParamSpec, Uncertainty,
+};
 use crate::error::Result;
 
 /// Default lever of the moving end on link 2, m (ESTIMATE used when a drive file names no
@@ -192,6 +194,57 @@ impl Balancer {
 impl Effect for Balancer {
     fn name(&self) -> &'static str {
         "balancer"
+    }
+    /// Its force; the geometry keys stay.
+    fn effects_keys(&self) -> &'static [&'static str] {
+        &["balancer_preload_n", "balancer_stiffness_n_per_m"]
+    }
+    fn uncertainty(&self) -> Option<Uncertainty> {
+        Some(Uncertainty {
+            phase: DrawPhase::Effects,
+            rank: 0,
+            draws_identified: true,
+        })
+    }
+    /// A robot with a balancer (declared, or with a force): absent with probability
+    /// `balancer_absent_probability`, else its preload and stiffness scaled by one factor
+    /// (± `balancer_force_rel`). An identified balancer is there: its `F0` and `k` are drawn
+    /// with their standard errors.
+    fn draw(&self, d: &mut Drawing<'_>, _joint: Option<usize>) {
+        let t = &d.robot.effects.table;
+        let declared = t.balancer_lever_m.is_some() && t.balancer_base_m.is_some();
+        // A calibrated robot keeps the balancer in `[effects.values]` (which wins over the keys).
+        let (p0, k0) = match t.values.as_ref().and_then(|v| v.get("balancer")) {
+            Some(b) if b.len() >= 2 => (b[0], b[1]),
+            _ => (
+                t.balancer_preload_n.unwrap_or(0.0),
+                t.balancer_stiffness_n_per_m.unwrap_or(0.0),
+            ),
+        };
+        if !(declared || p0 != 0.0 || k0 != 0.0) {
+            return;
+        }
+        let identified = d.identified("F0").is_some() && d.identified("k").is_some();
+        let present = d.unit() >= d.ranges.balancer_absent_probability || identified;
+        let (f0, k) = match (d.identified("F0"), d.identified("k")) {
+            (Some((f, df)), Some((k, dk))) => (f + df, (k + dk).max(0.0)),
+            _ => {
+                let f = 1.0 + d.ranges.balancer_force_rel * d.uniform();
+                (p0 * f, k0 * f)
+            }
+        };
+        let (f0, k) = if present { (f0, k) } else { (0.0, 0.0) };
+        let t = &mut d.robot.effects.table;
+        t.balancer_preload_n = Some(f0);
+        t.balancer_stiffness_n_per_m = Some(k);
+        // A calibrated robot keeps the balancer in `[effects.values]`, which wins.
+        if let Some(b) = t.values.as_mut().and_then(|v| v.get_mut("balancer")) {
+            if b.len() >= 2 {
+                b[0] = f0;
+                b[1] = k;
+            }
+        }
+        d.record("balancer present", if present { 1.0 } else { 0.0 });
     }
     fn params(&self) -> Vec<ParamSpec> {
         vec![

@@ -11,7 +11,7 @@
 //! and `[effects.values]`: effect name → parameter values in the effect's order (wins over
 //! the other keys; this is where `identify` writes what no other key holds). docs/effects.md.
 
-use super::registry::{EffectId, REGISTRY};
+use super::registry::{registrations, EffectId};
 use super::{Effect, Stage};
 use crate::error::{Error, Result};
 use crate::robot::{EffectsTable, RobotModel};
@@ -57,6 +57,24 @@ impl BuildContext<'_> {
         match &self.robot.drive {
             Some(d) => d.joints.iter().map(f).collect(),
             None => vec![dflt; self.dof()],
+        }
+    }
+    /// Per-joint values of the drive file's `[[joints]]` key `key` (`dflt` per joint without
+    /// drive data). Error: a key the drive train does not have.
+    pub fn joint_key(&self, key: &str, dflt: f64) -> Result<Vec<f64>> {
+        match &self.robot.drive {
+            Some(d) => d
+                .joints
+                .iter()
+                .map(|j| {
+                    j.key(key).ok_or_else(|| Error::Field {
+                        file: self.file.to_string(),
+                        field: format!("joints.{key}"),
+                        msg: "not a drive key of the joint tables".into(),
+                    })
+                })
+                .collect(),
+            None => Ok(vec![dflt; self.dof()]),
         }
     }
     /// Apply `[effects.values].<name>` to `e` if the table has it (error naming the key).
@@ -115,8 +133,9 @@ impl EffectSet {
                 EffectId::of(name).map_err(|e| ctx.bad("values", e.to_string()))?;
             }
         }
-        let mut effects = Vec::with_capacity(REGISTRY.len());
-        for r in REGISTRY {
+        let registry = registrations();
+        let mut effects = Vec::with_capacity(registry.len());
+        for r in &registry {
             let mut e = (r.build)(&ctx)?;
             ctx.apply_values(e.as_mut())?;
             effects.push(e);
@@ -124,14 +143,14 @@ impl EffectSet {
         let has_drive = robot.drive.is_some();
         let enabled = match &table.enabled {
             Some(list) => {
-                let mut m = vec![false; REGISTRY.len()];
+                let mut m = vec![false; registry.len()];
                 for s in list {
                     let i = EffectId::of(s).map_err(|e| ctx.bad("enabled", e.to_string()))?;
                     m[i.0] = true;
                 }
                 m
             }
-            None => REGISTRY
+            None => registry
                 .iter()
                 .zip(&effects)
                 .map(|(r, e)| {

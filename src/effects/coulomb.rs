@@ -6,8 +6,16 @@
 //! smoothly over `|q̇| ≲ 3ε`. Linear in `f_c±` for a fixed `ε`; with `ε` a parameter the effect
 //! is fitted by the bounded nonlinear fit ([`Effect::regressor`] returns `false`).
 
-use super::{check_values, per_joint, BuildContext, Effect, EnergyClass, ParamSpec};
+use super::uncertain::at;
+use super::{
+    check_values, per_joint, BuildContext, DrawPhase, Drawing, DriveKept, DriveKeysMut, Effect,
+    EnergyClass, ParamSpec, Uncertainty,
+};
 use crate::error::{Error, Result};
+
+/// The drive file's `[[joints]]` key holding `f_c` (N·m, both directions), read and written
+/// here.
+const DRIVE_KEY: &str = "coulomb_nm";
 
 /// Default transition width ε of the smoothed sign, rad/s: at |q̇| = 3ε the friction reaches
 /// 99.5 % of `f_c`. Small against path speeds (≥ 0.01 rad/s in printing), large enough to keep
@@ -30,7 +38,7 @@ pub struct Coulomb {
 /// Registry entry: `f_c+ = f_c− = coulomb_nm` from the drive file (zeros without drive
 /// data), ε = [`COULOMB_VELOCITY_SCALE_RAD_S`].
 pub(crate) fn build(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
-    let fc = ctx.per_joint(|j| j.coulomb, 0.0);
+    let fc = ctx.joint_key(DRIVE_KEY, 0.0)?;
     Ok(Box::new(Coulomb::symmetric(
         fc,
         COULOMB_VELOCITY_SCALE_RAD_S,
@@ -98,6 +106,35 @@ impl Coulomb {
 impl Effect for Coulomb {
     fn name(&self) -> &'static str {
         "coulomb"
+    }
+    /// `[[joints]] coulomb_nm` holds one value per joint: the mean of both directions; the
+    /// values per direction and the transition width go to `[effects.values]` too (which
+    /// wins).
+    fn write_drive_keys(&self, keys: &mut DriveKeysMut<'_>) -> Result<DriveKept> {
+        let fc: Vec<f64> = self
+            .fc_pos
+            .iter()
+            .zip(&self.fc_neg)
+            .map(|(p, n)| 0.5 * (p + n))
+            .collect();
+        keys.set_joints(DRIVE_KEY, &fc)?;
+        Ok(DriveKept::KeysAndValues)
+    }
+    fn uncertainty(&self) -> Option<Uncertainty> {
+        at(DrawPhase::Joint, 3)
+    }
+    /// `coulomb_nm` of the joint: ± `coulomb_rel` (an identified `f_c±` lives in
+    /// `[effects.values]` and is drawn there).
+    fn draw(&self, d: &mut Drawing<'_>, joint: Option<usize>) {
+        let Some(j) = joint else { return };
+        let fc = match d.identified_factor(&format!("f_c[{}]", j + 1)) {
+            Some(f) => f,
+            None => 1.0 + d.ranges.coulomb_rel * d.uniform(),
+        };
+        if let Some(jd) = d.joint(j) {
+            jd.coulomb *= fc;
+        }
+        d.record(format!("Coulomb friction joint {}", j + 1), fc);
     }
     fn params(&self) -> Vec<ParamSpec> {
         let n = self.fc_pos.len();

@@ -5,10 +5,17 @@
 //! motor torque `τ_m = τ/(G η)` when driving and `τ η / G` when back-driven, current
 //! `i = τ_m / K_t`, electrical power `P = τ_m G q̇ + R i²`.
 
+use super::uncertain::at;
 use super::{
-    check_values, per_joint, BuildContext, Effect, MotorTerm, ParamSpec, Stage, SupplyTerm,
+    check_values, per_joint, BuildContext, DrawPhase, Drawing, DriveKept, DriveKeysMut, Effect,
+    MotorTerm, ParamSpec, Stage, SupplyTerm, Uncertainty,
 };
 use crate::error::Result;
+
+/// The drive file's `[[joints]]` key holding `R` (Ω), read and written by `copper`.
+const COPPER_DRIVE_KEY: &str = "winding_resistance_ohm";
+/// The drive file's `[[joints]]` key holding `η`, read and written by `gear_efficiency`.
+const GEAR_EFFICIENCY_DRIVE_KEY: &str = "gear_efficiency";
 
 /// `copper`: winding resistance per axis `R`, Ω; loss `R i²` (W).
 #[derive(Clone, Debug, PartialEq)]
@@ -44,6 +51,37 @@ impl Effect for Copper {
     fn name(&self) -> &'static str {
         "copper"
     }
+    /// `[[joints]] winding_resistance_ohm`.
+    fn write_drive_keys(&self, keys: &mut DriveKeysMut<'_>) -> Result<DriveKept> {
+        keys.set_joints(COPPER_DRIVE_KEY, &self.r)?;
+        Ok(DriveKept::Keys)
+    }
+    fn uncertainty(&self) -> Option<Uncertainty> {
+        at(DrawPhase::Joint, 0)
+    }
+    /// The joint's torque constant (± `torque_constant_rel`) and winding resistance
+    /// (± `winding_resistance_rel`). An identified `R` was fitted with the torque constant
+    /// held: what the log determines is `R/k_t²` (the copper loss `R (τ/k_t)²`), drawn with
+    /// its standard error; `k_t` is then not drawn again.
+    fn draw(&self, d: &mut Drawing<'_>, joint: Option<usize>) {
+        let Some(j) = joint else { return };
+        let r_cal = d.identified_factor(&format!("R[{}]", j + 1));
+        if r_cal.is_none() {
+            let kt = 1.0 + d.ranges.torque_constant_rel * d.uniform();
+            if let Some(jd) = d.joint(j) {
+                jd.torque_constant *= kt;
+            }
+            d.record(format!("torque constant joint {}", j + 1), kt);
+        }
+        let rr = match r_cal {
+            Some(f) => f,
+            None => 1.0 + d.ranges.winding_resistance_rel * d.uniform(),
+        };
+        if let Some(jd) = d.joint(j) {
+            jd.winding_resistance *= rr;
+        }
+        d.record(format!("winding resistance joint {}", j + 1), rr);
+    }
     fn params(&self) -> Vec<ParamSpec> {
         per_joint("R", "Ω", self.r.len())
     }
@@ -66,6 +104,30 @@ impl Effect for Copper {
 impl Effect for GearEfficiency {
     fn name(&self) -> &'static str {
         "gear_efficiency"
+    }
+    /// `[[joints]] gear_efficiency`.
+    fn write_drive_keys(&self, keys: &mut DriveKeysMut<'_>) -> Result<DriveKept> {
+        keys.set_joints(GEAR_EFFICIENCY_DRIVE_KEY, &self.eta)?;
+        Ok(DriveKept::Keys)
+    }
+    fn uncertainty(&self) -> Option<Uncertainty> {
+        at(DrawPhase::Joint, 4)
+    }
+    /// The joint's gear efficiency: identified, normal with its standard error; else
+    /// ± `gear_efficiency_abs` (absolute); kept within [0.3, 1].
+    fn draw(&self, d: &mut Drawing<'_>, joint: Option<usize>) {
+        let Some(j) = joint else { return };
+        let Some(eta) = d.joint(j).map(|jd| jd.gear_efficiency) else {
+            return;
+        };
+        let de = match d.identified(&format!("eta[{}]", j + 1)) {
+            Some((v, dv)) => (v + dv).clamp(0.3, 1.0) - eta,
+            None => d.ranges.gear_efficiency_abs * d.uniform(),
+        };
+        if let Some(jd) = d.joint(j) {
+            jd.gear_efficiency = (jd.gear_efficiency + de).clamp(0.3, 1.0);
+        }
+        d.record(format!("gear efficiency joint {}", j + 1), de);
     }
     fn params(&self) -> Vec<ParamSpec> {
         per_joint("eta", "1", self.eta.len())
@@ -97,6 +159,9 @@ impl Effect for Regeneration {
     fn name(&self) -> &'static str {
         "regeneration"
     }
+    fn effects_keys(&self) -> &'static [&'static str] {
+        &["regeneration_recovered_fraction"]
+    }
     fn params(&self) -> Vec<ParamSpec> {
         vec![ParamSpec {
             name: "rho".into(),
@@ -125,6 +190,26 @@ impl Effect for Standby {
     fn name(&self) -> &'static str {
         "standby"
     }
+    /// `[cabinet] standby_power_w` (when the file has a `[cabinet]` table).
+    fn write_drive_keys(&self, keys: &mut DriveKeysMut<'_>) -> Result<DriveKept> {
+        keys.set_cabinet("standby_power_w", self.power)?;
+        Ok(DriveKept::Keys)
+    }
+    fn uncertainty(&self) -> Option<Uncertainty> {
+        at(DrawPhase::Cabinet, 0)
+    }
+    /// The cabinet's standby power: identified, normal with its standard error; else
+    /// ± `standby_power_rel`.
+    fn draw(&self, d: &mut Drawing<'_>, _joint: Option<usize>) {
+        let sb = match d.identified_factor("P0") {
+            Some(f) => f,
+            None => 1.0 + d.ranges.standby_power_rel * d.uniform(),
+        };
+        if let Some(dr) = d.robot.drive.as_mut() {
+            dr.standby_power *= sb;
+        }
+        d.record("standby power", sb);
+    }
     fn params(&self) -> Vec<ParamSpec> {
         vec![ParamSpec {
             name: "P0".into(),
@@ -152,14 +237,14 @@ impl Effect for Standby {
 /// Registry entry: `R` from the drive file's `winding_resistance_ohm` (zeros without drive data).
 pub(crate) fn build_copper(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
     Ok(Box::new(Copper {
-        r: ctx.per_joint(|j| j.winding_resistance, 0.0),
+        r: ctx.joint_key(COPPER_DRIVE_KEY, 0.0)?,
     }))
 }
 
 /// Registry entry: `η` from the drive file's `gear_efficiency` (1 without drive data).
 pub(crate) fn build_gear_efficiency(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
     Ok(Box::new(GearEfficiency {
-        eta: ctx.per_joint(|j| j.gear_efficiency, 1.0),
+        eta: ctx.joint_key(GEAR_EFFICIENCY_DRIVE_KEY, 1.0)?,
     }))
 }
 

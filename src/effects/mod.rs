@@ -11,7 +11,11 @@
 //! (seed 001, eqs. 2–4) from their values.
 //!
 //! **Adding an effect** = one file here implementing [`Effect`] with a `build` function, plus
-//! one line in [`registry::REGISTRY`]. [`EffectSet::of_robot`] builds every registered effect
+//! one line in [`registry::REGISTRY`] (an effect defined outside the crate: one call of
+//! [`register`]). The file also states the drive-file keys it reads ([`BuildContext`]) and
+//! writes when `identify` writes a calibrated robot ([`Effect::write_drive_keys`],
+//! [`Effect::effects_keys`]), and what it draws in the placement's uncertainty study
+//! ([`Effect::uncertainty`], [`Effect::draw`]). [`EffectSet::of_robot`] builds every registered effect
 //! from the robot's drive file (`[[joints]]`, `[effects]`, `[effects.values]`); energy
 //! ([`crate::energy`]), identification, diagnosis and comparison ([`crate::identify`]) all walk
 //! that set, so they see the same effects with the same parameters. The robot description
@@ -27,6 +31,7 @@ mod payload;
 pub mod registry;
 mod rigid_body;
 mod stribeck;
+mod uncertain;
 mod viscous;
 
 pub use armature::Armature;
@@ -36,12 +41,17 @@ pub use coulomb::{Coulomb, COULOMB_VELOCITY_SCALE_RAD_S};
 pub use electrical::{Copper, GearEfficiency, Regeneration, Standby};
 pub use offset::Offset;
 pub use payload::Payload;
-pub use registry::{catalogue, catalogue_index, EffectId, Registration, REGISTRY};
+pub use registry::{
+    catalogue, catalogue_index, register, registrations, EffectId, Registration, REGISTRY,
+};
 pub use rigid_body::RigidBody;
 pub use stribeck::{Stribeck, STRIBECK_VELOCITY_RAD_S};
+pub use uncertain::{DrawPhase, Drawing, Uncertainty};
 pub use viscous::Viscous;
 
-pub use crate::robot::drive::{CalibratedParam, Calibration, CalibrationRound};
+pub use crate::robot::drive::{
+    CalibratedParam, Calibration, CalibrationRound, DriveKept, DriveKeysMut,
+};
 
 /// The same trait as [`Effect`] under its former name (torque effects implement
 /// [`Effect::add_torque`] and [`Effect::regressor`]).
@@ -182,6 +192,25 @@ pub trait Effect: AsAny + Send + Sync + std::fmt::Debug {
     fn driven_by_motion(&self) -> bool {
         false
     }
+    /// What it draws in the placement's uncertainty study, or `None` (default: nothing).
+    fn uncertainty(&self) -> Option<Uncertainty> {
+        None
+    }
+    /// Draw its numbers of the robot in `d` (`joint`: the joint, 0-based, in
+    /// [`DrawPhase::Joint`]; `None` in the other phases), recording each drawn value. Default:
+    /// nothing.
+    fn draw(&self, _d: &mut Drawing<'_>, _joint: Option<usize>) {}
+    /// Write its current values into the drive keys it owns (`identify` writing a calibrated
+    /// drive file with per-joint drive tables) and say where the file then keeps them.
+    /// Default: no drive key, the values go to `[effects.values]`.
+    fn write_drive_keys(&self, _keys: &mut DriveKeysMut<'_>) -> Result<DriveKept> {
+        Ok(DriveKept::Values)
+    }
+    /// The `[effects]` keys it is built from that its values in `[effects.values]` replace
+    /// (cleared when `identify` writes them there). Default: none.
+    fn effects_keys(&self) -> &'static [&'static str] {
+        &[]
+    }
 }
 
 impl Clone for Box<dyn Effect> {
@@ -190,8 +219,9 @@ impl Clone for Box<dyn Effect> {
     }
 }
 
-/// Check a new parameter vector against the specs.
-pub(crate) fn check_values(effect: &str, specs: &[ParamSpec], values: &[f64]) -> Result<()> {
+/// Check a new parameter vector of effect `effect` against its specs (count and bounds), for
+/// [`Effect::set_values`].
+pub fn check_values(effect: &str, specs: &[ParamSpec], values: &[f64]) -> Result<()> {
     if values.len() != specs.len() {
         return Err(Error::SizeMismatch {
             what: format!("parameters of effect `{effect}`"),

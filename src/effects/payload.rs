@@ -21,7 +21,8 @@
 //! exactly that body into the robot, so the energy model, `compare` and the calibrated robot
 //! `identify` writes evaluate the same torque the fit scored (to rounding).
 
-use super::{check_values, BuildContext, Effect, ParamSpec};
+use super::uncertain::at;
+use super::{check_values, BuildContext, DrawPhase, Drawing, Effect, ParamSpec, Uncertainty};
 use crate::dynamics::{rnea, DynData, DynModel, DynOptions, MAX_DOF};
 use crate::error::Result;
 use crate::math::{M3, V3};
@@ -247,6 +248,51 @@ impl Payload {
 impl Effect for Payload {
     fn name(&self) -> &'static str {
         "payload"
+    }
+    fn effects_keys(&self) -> &'static [&'static str] {
+        &["payload_mass_error_kg"]
+    }
+    fn uncertainty(&self) -> Option<Uncertainty> {
+        at(DrawPhase::Robot, 1)
+    }
+    /// The robot's payload mass (inertia scaled with it), ± `payload_mass_rel`. An identified
+    /// payload (written as the robot's payload: mass `m`, centre of mass `c`) draws its mass
+    /// and first moment `h = m c` with their standard errors.
+    fn draw(&self, d: &mut Drawing<'_>, _joint: Option<usize>) {
+        if d.robot.payload.is_none() {
+            return;
+        }
+        let f = match d.identified("dm") {
+            Some((_, dm)) => {
+                let Some(p) = d.robot.payload.as_ref() else {
+                    return;
+                };
+                let (m0, com) = (p.mass, p.com);
+                let m1 = (m0 + dm).max(1e-3 * m0.abs().max(1e-3));
+                let f = m1 / m0.abs().max(1e-300);
+                let mut c = com;
+                for (k, a) in ["x", "y", "z"].iter().enumerate() {
+                    let h =
+                        m0 * com[k] + d.identified(&format!("dh_{a}")).map_or(0.0, |(_, dh)| dh);
+                    c[k] = h / m1;
+                }
+                if let Some(p) = d.robot.payload.as_mut() {
+                    p.com = c;
+                    p.mass = m1;
+                    p.inertia *= f;
+                }
+                f
+            }
+            None => {
+                let f = 1.0 + d.ranges.payload_mass_rel * d.uniform();
+                if let Some(p) = d.robot.payload.as_mut() {
+                    p.mass *= f;
+                    p.inertia *= f;
+                }
+                f
+            }
+        };
+        d.record("payload mass", f);
     }
     fn params(&self) -> Vec<ParamSpec> {
         let mut p = vec![ParamSpec {

@@ -1,8 +1,10 @@
 //! The one list of effects. Each line registers an effect by its stable name and the
 //! function that builds it from a robot (drive data, `[effects]` keys, `[effects.values]`);
 //! the order is the catalogue order used in reports. Energy, identify, diagnose and compare
-//! all walk [`REGISTRY`] through [`super::EffectSet`]: a new effect is its own file plus one
-//! line here.
+//! all walk the registered effects through [`super::EffectSet`]: a new effect is its own file
+//! plus one line here. An effect defined outside the crate is its own file plus one call of
+//! [`register`] before the first robot is built; it then follows the built-in ones in the
+//! catalogue.
 
 use super::config::BuildContext;
 use super::Effect;
@@ -23,7 +25,7 @@ impl std::fmt::Debug for Registration {
     }
 }
 
-/// The catalogue, in report order. One line per effect.
+/// The built-in catalogue, in report order. One line per effect.
 #[rustfmt::skip]
 pub static REGISTRY: &[Registration] = &[
     Registration { name: "viscous", build: super::viscous::build },
@@ -40,14 +42,53 @@ pub static REGISTRY: &[Registration] = &[
     Registration { name: "standby", build: super::electrical::build_standby },
 ];
 
-/// Identity of a registered effect: its position in [`REGISTRY`].
+/// Effects registered with [`register`] (defined outside the crate), after [`REGISTRY`].
+static REGISTERED: std::sync::RwLock<Vec<Registration>> = std::sync::RwLock::new(Vec::new());
+
+/// Every registered effect, in catalogue order: [`REGISTRY`], then those added by [`register`].
+pub fn registrations() -> Vec<Registration> {
+    let extra = REGISTERED.read().unwrap_or_else(|e| e.into_inner());
+    REGISTRY.iter().chain(extra.iter()).copied().collect()
+}
+
+/// Register an effect defined outside the crate (its own file implementing
+/// [`super::Effect`] and a `build` function), after the built-in catalogue; robots built from
+/// then on carry it. Registering the same registration again is a no-op. Error: another
+/// effect already has the name, or the name is empty or not lowercase letters, digits and
+/// `_`.
+pub fn register(registration: Registration) -> Result<EffectId> {
+    let name = registration.name;
+    if name.is_empty()
+        || !name
+            .chars()
+            .all(|c| c.is_ascii_lowercase() || c.is_ascii_digit() || c == '_')
+    {
+        return Err(Error::Invalid(format!(
+            "effect name `{name}`: expected lowercase letters, digits and `_`"
+        )));
+    }
+    let mut extra = REGISTERED.write().unwrap_or_else(|e| e.into_inner());
+    let all: Vec<Registration> = REGISTRY.iter().chain(extra.iter()).copied().collect();
+    if let Some(i) = all.iter().position(|r| r.name == name) {
+        if i >= REGISTRY.len() && std::ptr::fn_addr_eq(all[i].build, registration.build) {
+            return Ok(EffectId(i));
+        }
+        return Err(Error::Invalid(format!(
+            "effect `{name}` is already registered"
+        )));
+    }
+    extra.push(registration);
+    Ok(EffectId(all.len()))
+}
+
+/// Identity of a registered effect: its position in the catalogue ([`registrations`]).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord)]
 pub struct EffectId(pub(crate) usize);
 
 impl EffectId {
     /// The effect called `name`. Error: unknown name, listing the catalogue.
     pub fn of(name: &str) -> Result<EffectId> {
-        REGISTRY
+        registrations()
             .iter()
             .position(|r| r.name == name)
             .map(EffectId)
@@ -60,7 +101,7 @@ impl EffectId {
     }
     /// Its stable name.
     pub fn name(self) -> &'static str {
-        REGISTRY[self.0].name
+        registrations()[self.0].name
     }
     /// Its position in the catalogue (0-based).
     pub fn index(self) -> usize {
@@ -68,13 +109,13 @@ impl EffectId {
     }
     /// Every registered effect, in catalogue order.
     pub fn all() -> impl Iterator<Item = EffectId> {
-        (0..REGISTRY.len()).map(EffectId)
+        (0..registrations().len()).map(EffectId)
     }
 }
 
 /// The stable names of the catalogue, in order.
 pub fn catalogue() -> Vec<&'static str> {
-    REGISTRY.iter().map(|r| r.name).collect()
+    registrations().iter().map(|r| r.name).collect()
 }
 
 /// Index of a catalogue name, or an error listing the names.

@@ -22,7 +22,8 @@
 //! So a wrong link mass or centre of mass is named as such and not absorbed by `balancer` or
 //! `payload`.
 
-use super::{check_values, BuildContext, Effect, ParamSpec};
+use super::uncertain::at;
+use super::{check_values, BuildContext, DrawPhase, Drawing, Effect, ParamSpec, Uncertainty};
 use crate::dynamics::{rnea, rnea_regressor, DynData, DynModel, DynOptions, MAX_DOF};
 use crate::error::Result;
 use rand::{Rng, SeedableRng};
@@ -453,6 +454,34 @@ impl RigidBody {
 impl Effect for RigidBody {
     fn name(&self) -> &'static str {
         "rigid_body"
+    }
+    fn uncertainty(&self) -> Option<Uncertainty> {
+        at(DrawPhase::Robot, 0)
+    }
+    /// Every link's mass (± `link_mass_rel`), centre of mass (± `link_com_m` along each axis
+    /// of the link frame) and inertia tensor (± `link_inertia_rel`, scaled as a whole).
+    fn draw(&self, d: &mut Drawing<'_>, _joint: Option<usize>) {
+        for i in 0..d.robot.links.len() {
+            if d.robot.links[i].is_none() {
+                continue;
+            }
+            let f = 1.0 + d.ranges.link_mass_rel * d.uniform();
+            if let Some(l) = d.robot.links[i].as_mut() {
+                l.mass *= f;
+            }
+            d.record(format!("link {} mass", i + 1), f);
+            for k in 0..3 {
+                let s = d.ranges.link_com_m * d.uniform();
+                if let Some(l) = d.robot.links[i].as_mut() {
+                    l.com[k] += s;
+                }
+            }
+            let g = 1.0 + d.ranges.link_inertia_rel * d.uniform();
+            if let Some(l) = d.robot.links[i].as_mut() {
+                l.inertia *= g;
+            }
+            d.record(format!("link {} inertia", i + 1), g);
+        }
     }
     fn params(&self) -> Vec<ParamSpec> {
         self.base()

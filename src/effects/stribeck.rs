@@ -73,6 +73,9 @@ impl Effect for Stribeck {
     fn name(&self) -> &'static str {
         "stribeck"
     }
+    fn effects_keys(&self) -> &'static [&'static str] {
+        &["stribeck_nm", "stribeck_velocity_rad_s"]
+    }
     fn params(&self) -> Vec<ParamSpec> {
         let mut p = super::per_joint("f_s", "N·m", self.fs.len());
         p.push(ParamSpec {

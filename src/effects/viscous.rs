@@ -1,9 +1,14 @@
 //! `viscous`: joint-side viscous friction `τ = f_v q̇` (seed 000, eq. 2, first term).
 
+use super::uncertain::at;
 use super::{
-    check_values, diagonal_regressor, per_joint, BuildContext, Effect, EnergyClass, ParamSpec,
+    check_values, diagonal_regressor, per_joint, BuildContext, DrawPhase, Drawing, DriveKept,
+    DriveKeysMut, Effect, EnergyClass, ParamSpec, Uncertainty,
 };
 use crate::error::Result;
+
+/// The drive file's `[[joints]]` key holding `f_v` (N·m·s/rad), read and written here.
+const DRIVE_KEY: &str = "viscous_nm_s_per_rad";
 
 /// Viscous friction per joint, `f_v` in N·m·s/rad (joint side).
 #[derive(Clone, Debug, PartialEq)]
@@ -15,7 +20,7 @@ pub struct Viscous {
 /// Registry entry: `f_v` from the drive file's `viscous_nm_s_per_rad` (zeros without drive data).
 pub(crate) fn build(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
     Ok(Box::new(Viscous {
-        fv: ctx.per_joint(|j| j.viscous, 0.0),
+        fv: ctx.joint_key(DRIVE_KEY, 0.0)?,
     }))
 }
 
@@ -37,6 +42,27 @@ impl Viscous {
 impl Effect for Viscous {
     fn name(&self) -> &'static str {
         "viscous"
+    }
+    /// `[[joints]] viscous_nm_s_per_rad`.
+    fn write_drive_keys(&self, keys: &mut DriveKeysMut<'_>) -> Result<DriveKept> {
+        keys.set_joints(DRIVE_KEY, &self.fv)?;
+        Ok(DriveKept::Keys)
+    }
+    fn uncertainty(&self) -> Option<Uncertainty> {
+        at(DrawPhase::Joint, 2)
+    }
+    /// `viscous_nm_s_per_rad` of the joint: identified, normal with its standard error;
+    /// else ± `viscous_rel`.
+    fn draw(&self, d: &mut Drawing<'_>, joint: Option<usize>) {
+        let Some(j) = joint else { return };
+        let fv = match d.identified_factor(&format!("f_v[{}]", j + 1)) {
+            Some(f) => f,
+            None => 1.0 + d.ranges.viscous_rel * d.uniform(),
+        };
+        if let Some(jd) = d.joint(j) {
+            jd.viscous *= fv;
+        }
+        d.record(format!("viscous friction joint {}", j + 1), fv);
     }
     fn params(&self) -> Vec<ParamSpec> {
         per_joint("f_v", "N·m·s/rad", self.fv.len())

@@ -9,25 +9,10 @@ use crate::error::{Error, Result};
 use crate::identify::ladder::Identification;
 use crate::identify::model::Model;
 use crate::identify::Log;
-use crate::robot::drive::{parse_drive_file, DriveFile, PayloadTable};
+use crate::robot::drive::{parse_drive_file, DriveFile, DriveKept, DriveKeysMut, PayloadTable};
 use crate::robot::RobotModel;
 use crate::robot::{CalibratedParam, Calibration, CalibrationRound};
 use std::path::{Component, Path, PathBuf};
-
-/// Effects whose parameters a drive file with per-joint drive tables keeps in its drive keys.
-const DRIVE_KEY_EFFECTS: [&str; 6] = [
-    "viscous",
-    "coulomb",
-    "armature",
-    "copper",
-    "gear_efficiency",
-    "standby",
-];
-
-/// Drive-key effects whose identified values do not fit their drive key and are also written
-/// to `[effects.values]` (which wins when the robot is loaded): `coulomb`'s drive key holds one
-/// value per joint, the identified effect one per direction and its transition width.
-const VALUES_TOO: [&str; 1] = ["coulomb"];
 
 /// What [`write_calibrated`] needs.
 #[derive(Debug)]
@@ -158,59 +143,29 @@ pub fn calibrated_text(inp: &CalibrationInput, dst: &Path) -> Result<String> {
     let has_drive = robot.drive.is_some();
     let mut effects = f.effects.take().unwrap_or_default();
     let mut values = effects.values.take().unwrap_or_default();
-    let val = |name: &str| model.values(name);
-    if has_drive {
-        // Effects with drive keys keep their values there.
-        let fv = val("viscous")?;
-        let ia = val("armature")?;
-        let r = val("copper")?;
-        let eta = val("gear_efficiency")?;
-        let fc = val("coulomb")?;
-        let n = model.n;
-        for (j, jt) in f.joints.iter_mut().enumerate().take(n) {
-            jt.viscous_nm_s_per_rad = Some(fv[j]);
-            // The drive key is symmetric: the mean of both directions (the values in
-            // `[effects.values]`, per direction and with the transition width, win).
-            jt.coulomb_nm = Some(0.5 * (fc[j] + fc[n + j]));
-            let g = model.gear[j];
-            jt.rotor_inertia_kg_m2 = Some(ia[j] / (g * g));
-            jt.winding_resistance_ohm = Some(r[j]);
-            jt.gear_efficiency = Some(eta[j]);
-        }
-        if let Some(c) = f.cabinet.as_mut() {
-            c.standby_power_w = val("standby")?[0];
-        }
-        for e in DRIVE_KEY_EFFECTS {
-            if !VALUES_TOO.contains(&e) {
-                values.remove(e);
-            }
-        }
-    }
-    // Every other enabled effect (and, without drive tables, every enabled one) keeps its
-    // values in `[effects.values]`, which wins over the older per-effect keys.
+    // Each effect writes its values to the drive keys it owns (per-joint drive tables only);
+    // every other enabled effect (and, without drive tables, every enabled one) keeps its
+    // values in `[effects.values]`, which wins over the `[effects]` keys they replace.
     let mut enabled = model.enabled_names();
-    for e in crate::effects::catalogue() {
-        if e == "payload"
-            || (has_drive && DRIVE_KEY_EFFECTS.contains(&e) && !VALUES_TOO.contains(&e))
-        {
+    for name in crate::effects::catalogue() {
+        let e = model.effect(name)?;
+        let kept = if has_drive {
+            e.write_drive_keys(&mut DriveKeysMut::new(&mut f, &model.gear))?
+        } else {
+            DriveKept::Values
+        };
+        // The payload is written as the robot's payload (below).
+        if kept == DriveKept::Keys || name == "payload" {
+            values.remove(name);
             continue;
         }
-        if model.is_enabled(e) {
-            values.insert(e.to_string(), val(e)?);
-            match e {
-                "stribeck" => {
-                    effects.stribeck_nm = None;
-                    effects.stribeck_velocity_rad_s = None;
-                }
-                "balancer" => {
-                    effects.balancer_preload_n = None;
-                    effects.balancer_stiffness_n_per_m = None;
-                }
-                "regeneration" => effects.regeneration_recovered_fraction = None,
-                _ => {}
+        if model.is_enabled(name) {
+            values.insert(name.to_string(), e.values());
+            for key in e.effects_keys() {
+                effects.clear_key(key)?;
             }
         } else {
-            values.remove(e);
+            values.remove(name);
         }
     }
     // The payload is written as the robot's payload: mass, centre of mass and inertia about
@@ -250,7 +205,6 @@ pub fn calibrated_text(inp: &CalibrationInput, dst: &Path) -> Result<String> {
         }
     }
     enabled.retain(|e| *e != "payload");
-    values.remove("payload");
     effects.payload_mass_error_kg = None;
     effects.enabled = Some(enabled.iter().map(|s| s.to_string()).collect());
     effects.values = (!values.is_empty()).then_some(values);

@@ -83,6 +83,21 @@ pub struct JointDrive {
 }
 
 impl JointDrive {
+    /// The value of the drive file's per-joint key `key` (SI, as in `[[joints]]`), or `None`
+    /// for a key the drive train does not have.
+    pub fn key(&self, key: &str) -> Option<f64> {
+        Some(match key {
+            "gear_ratio" => self.gear_ratio,
+            "torque_constant_nm_per_a" => self.torque_constant,
+            "winding_resistance_ohm" => self.winding_resistance,
+            "rotor_inertia_kg_m2" => self.rotor_inertia,
+            "viscous_nm_s_per_rad" => self.viscous,
+            "coulomb_nm" => self.coulomb,
+            "gear_efficiency" => self.gear_efficiency,
+            _ => return None,
+        })
+    }
+
     /// Reflected rotor inertia G²·J_m, kg·m² (joint side).
     pub fn armature(&self) -> f64 {
         self.gear_ratio * self.gear_ratio * self.rotor_inertia
@@ -396,7 +411,7 @@ pub(crate) struct CabinetTable {
     pub regeneration: Option<Regeneration>,
 }
 
-#[derive(Deserialize, Serialize, Debug, Clone)]
+#[derive(Deserialize, Serialize, Debug, Clone, Default)]
 #[serde(deny_unknown_fields)]
 pub(crate) struct JointTable {
     pub name: String,
@@ -564,5 +579,114 @@ impl JointTable {
             ));
         }
         Ok(Some(jd))
+    }
+}
+
+// ---- keys effects write ------------------------------------------------------------------------
+
+/// Where a calibrated drive file keeps an effect's identified values (written by `identify`
+/// in a drive file with per-joint drive tables, [`crate::effects::Effect::write_drive_keys`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum DriveKept {
+    /// In `[effects.values]` (the effect has no drive key).
+    Values,
+    /// In its drive keys, which hold them all (`[effects.values]` does not repeat them).
+    Keys,
+    /// In its drive keys as far as they go, and in full in `[effects.values]`, which wins
+    /// when the robot is loaded.
+    KeysAndValues,
+}
+
+/// The drive keys of a calibrated drive file being written, as the effects set them: the
+/// per-joint keys of `[[joints]]` and the keys of `[cabinet]` (docs/drive-file.md).
+#[derive(Debug)]
+pub struct DriveKeysMut<'a> {
+    file: &'a mut DriveFile,
+    gear: &'a [f64],
+}
+
+impl<'a> DriveKeysMut<'a> {
+    /// The keys of `file`, whose joints have gear ratios `gear`.
+    pub(crate) fn new(file: &'a mut DriveFile, gear: &'a [f64]) -> Self {
+        DriveKeysMut { file, gear }
+    }
+
+    /// Gear ratio of each joint (motor turns per joint turn).
+    pub fn gear_ratios(&self) -> &[f64] {
+        self.gear
+    }
+
+    /// Set the per-joint key `key` of the first `values.len()` `[[joints]]` tables. Error: a
+    /// key the drive file's joint tables do not have.
+    pub fn set_joints(&mut self, key: &str, values: &[f64]) -> Result<()> {
+        for (jt, v) in self.file.joints.iter_mut().zip(values) {
+            *jt.key_mut(key)? = Some(*v);
+        }
+        if self.file.joints.is_empty() {
+            JointTable::check_key(key)?;
+        }
+        Ok(())
+    }
+
+    /// Set `[cabinet] key` when the file has a `[cabinet]` table. Error: a key the table does
+    /// not have.
+    pub fn set_cabinet(&mut self, key: &str, value: f64) -> Result<()> {
+        match key {
+            "standby_power_w" => {
+                if let Some(c) = self.file.cabinet.as_mut() {
+                    c.standby_power_w = value;
+                }
+                Ok(())
+            }
+            _ => Err(Error::Invalid(format!(
+                "drive file: no key `cabinet.{key}`"
+            ))),
+        }
+    }
+}
+
+impl JointTable {
+    /// The numeric per-joint drive key `key`.
+    fn key_mut(&mut self, key: &str) -> Result<&mut Option<f64>> {
+        Ok(match key {
+            "gear_ratio" => &mut self.gear_ratio,
+            "torque_constant_nm_per_a" => &mut self.torque_constant_nm_per_a,
+            "winding_resistance_ohm" => &mut self.winding_resistance_ohm,
+            "rotor_inertia_kg_m2" => &mut self.rotor_inertia_kg_m2,
+            "viscous_nm_s_per_rad" => &mut self.viscous_nm_s_per_rad,
+            "coulomb_nm" => &mut self.coulomb_nm,
+            "gear_efficiency" => &mut self.gear_efficiency,
+            _ => return Err(Error::Invalid(format!("drive file: no key `joints.{key}`"))),
+        })
+    }
+
+    /// Whether `key` is a numeric per-joint drive key (error naming it if not).
+    fn check_key(key: &str) -> Result<()> {
+        JointTable::default().key_mut(key).map(|_| ())
+    }
+}
+
+impl EffectsTable {
+    /// Clear the `[effects]` key `key` (an effect's values now in `[effects.values]`, which
+    /// replace it). Error: a key the table does not have.
+    pub fn clear_key(&mut self, key: &str) -> Result<()> {
+        match key {
+            "stribeck_nm" => self.stribeck_nm = None,
+            "stribeck_velocity_rad_s" => self.stribeck_velocity_rad_s = None,
+            "payload_mass_error_kg" => self.payload_mass_error_kg = None,
+            "balancer_preload_n" => self.balancer_preload_n = None,
+            "balancer_stiffness_n_per_m" => self.balancer_stiffness_n_per_m = None,
+            "balancer_joint" => self.balancer_joint = None,
+            "balancer_lever_m" => self.balancer_lever_m = None,
+            "balancer_base_m" => self.balancer_base_m = None,
+            "balancer_upright_rad" => self.balancer_upright_rad = None,
+            "regeneration_recovered_fraction" => self.regeneration_recovered_fraction = None,
+            _ => {
+                return Err(Error::Invalid(format!(
+                    "drive file: no key `effects.{key}`"
+                )))
+            }
+        }
+        Ok(())
     }
 }

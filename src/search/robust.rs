@@ -307,11 +307,12 @@ pub fn robust(
     let nominal = ev.job.robot;
     let (ranges, source) = uncertainty::resolve_ranges(nominal, o.ranges)?;
     let calibrated = uncertainty::calibrated_names(nominal, &ranges);
+    let effects = crate::effects::EffectSet::of_robot(nominal)?;
     let p0 = balancer_preload(nominal).filter(|f| *f != 0.0);
     // The drawn robots, in draw order.
     let robots: Vec<(RobotModel, Vec<(String, f64)>)> = (0..o.draws)
         .map(|d| {
-            let (m, mut drawn) = uncertainty::drawn_robot(nominal, &ranges, o.seed, d);
+            let (m, mut drawn) = uncertainty::drawn_robot_of(nominal, &effects, &ranges, o.seed, d);
             if let Some(p0) = p0 {
                 drawn.push((
                     "balancer force".into(),

@@ -3,7 +3,8 @@
 //!
 //! Every estimated number of a shipped robot carries a range in its drive file's
 //! `[uncertainty]` table (uniform, ± relative to the nominal value unless the key says
-//! otherwise; [`Ranges`]). A draw perturbs every link's mass, centre of mass and inertia, the
+//! otherwise; [`Ranges`]). Each effect draws its own numbers ([`crate::effects::Effect::draw`],
+//! in the order of [`crate::effects::Uncertainty`]). A draw perturbs every link's mass, centre of mass and inertia, the
 //! payload's mass, every joint's torque constant, winding resistance, viscous and Coulomb
 //! friction and gear efficiency, the cabinet's standby power, and the balancer (absent with
 //! the stated probability, else its preload and stiffness scaled), each independently. A
@@ -22,6 +23,7 @@
 //! (`seed`, stream `d`), and every reduction runs in draw order, so the study is identical for
 //! any thread count.
 
+use crate::effects::{DrawPhase, Drawing, Effect, EffectSet, Uncertainty};
 use crate::energy::EnergyModel;
 use crate::error::{Error, Result};
 use crate::evaluate::evaluator::{Evaluated, Evaluator};
@@ -238,8 +240,12 @@ fn calibrated_shifts(
 /// A perturbed robot, the normalised values drawn (name, value in the parameter's own
 /// scale: the multiplier, the shift in m, or 1/0 for the balancer's presence), and the
 /// identified parameters that were drawn with their standard errors (calibrated robots).
+/// `effects` are the nominal robot's effects ([`EffectSet::of_robot`]); each draws its own
+/// numbers ([`crate::effects::Effect::draw`]) in the order of their
+/// [`crate::effects::Uncertainty`].
 fn draw_robot(
     nominal: &RobotModel,
+    effects: &EffectSet,
     r: &Ranges,
     rng: &mut ChaCha8Rng,
 ) -> (RobotModel, Vec<(String, f64)>, Vec<String>) {
@@ -260,155 +266,55 @@ fn draw_robot(
         .as_ref()
         .map(|c| calibrated_shifts(c, rng, &normal))
         .unwrap_or_default();
-    let used = std::cell::RefCell::new(Vec::<String>::new());
-    let note = |name: &str| {
-        let mut u = used.borrow_mut();
-        if !u.iter().any(|n| n == name) {
-            u.push(name.to_string());
-        }
-    };
-    // (value, drawn shift) of an identified parameter.
-    let calibrated = |name: &str| {
-        let c = cal.iter().find(|(_, n, _, _)| n == name)?;
-        note(name);
-        Some((c.2, c.3))
-    };
-    let u = |rng: &mut ChaCha8Rng| rng.gen_range(-1.0..=1.0);
-    for (i, l) in m.links.iter_mut().enumerate() {
-        if let Some(l) = l.as_mut() {
-            let f = 1.0 + r.link_mass_rel * u(rng);
-            l.mass *= f;
-            drawn.push((format!("link {} mass", i + 1), f));
-            for k in 0..3 {
-                let d = r.link_com_m * u(rng);
-                l.com[k] += d;
-            }
-            let g = 1.0 + r.link_inertia_rel * u(rng);
-            l.inertia *= g;
-            drawn.push((format!("link {} inertia", i + 1), g));
-        }
-    }
-    if let Some(p) = m.payload.as_mut() {
-        match calibrated("dm") {
-            // An identified payload (written as the robot's payload: mass m, centre of mass c):
-            // mass and first moment h = m·c drawn with their standard errors.
-            Some((_, dm)) => {
-                let m0 = p.mass;
-                let m1 = (m0 + dm).max(1e-3 * m0.abs().max(1e-3));
-                let f = m1 / m0.abs().max(1e-300);
-                for (k, a) in ["x", "y", "z"].iter().enumerate() {
-                    let h =
-                        m0 * p.com[k] + calibrated(&format!("dh_{a}")).map_or(0.0, |(_, dh)| dh);
-                    p.com[k] = h / m1;
+    let mut used = Vec::<String>::new();
+    // The effects that draw, in the order of their draws.
+    let mut drawing: Vec<(Uncertainty, &dyn Effect)> = effects
+        .iter()
+        .filter_map(|(e, _)| Some((e.uncertainty()?, e)))
+        .collect();
+    drawing.sort_by_key(|(u, _)| (u.phase, u.rank));
+    let dof = nominal.drive.as_ref().map_or(0, |d| d.joints.len());
+    {
+        let mut d = Drawing::new(&mut m, r, rng, &mut drawn, &cal, &mut used);
+        for phase in [
+            DrawPhase::Robot,
+            DrawPhase::Joint,
+            DrawPhase::Cabinet,
+            DrawPhase::Effects,
+        ] {
+            let of_phase = drawing.iter().filter(|(u, _)| u.phase == phase);
+            match phase {
+                // Per joint of the drive, every effect of the phase for joint 1, then 2, ….
+                DrawPhase::Joint => {
+                    for j in 0..dof {
+                        for (_, e) in of_phase.clone() {
+                            e.draw(&mut d, Some(j));
+                        }
+                    }
                 }
-                p.mass = m1;
-                p.inertia *= f;
-                drawn.push(("payload mass".into(), f));
-            }
-            None => {
-                let f = 1.0 + r.payload_mass_rel * u(rng);
-                p.mass *= f;
-                p.inertia *= f;
-                drawn.push(("payload mass".into(), f));
+                DrawPhase::Cabinet if nominal.drive.is_none() => {}
+                _ => {
+                    for (_, e) in of_phase {
+                        e.draw(&mut d, None);
+                    }
+                }
             }
         }
-    }
-    if let Some(d) = m.drive.as_mut() {
-        for (j, jd) in d.joints.iter_mut().enumerate() {
-            let name = |s: &str| format!("{s} joint {}", j + 1);
-            let r_cal = calibrated(&format!("R[{}]", j + 1));
-            // An identified winding resistance was fitted with the torque constant held: what
-            // the log determines is R/k_t² (the copper loss R·(τ/k_t)²), drawn with its
-            // standard error; k_t is then not drawn again.
-            if r_cal.is_none() {
-                let kt = 1.0 + r.torque_constant_rel * u(rng);
-                jd.torque_constant *= kt;
-                drawn.push((name("torque constant"), kt));
-            }
-            let rr = match r_cal {
-                Some((v, dv)) => (v + dv).max(0.0) / v.max(1e-300),
-                None => 1.0 + r.winding_resistance_rel * u(rng),
-            };
-            jd.winding_resistance *= rr;
-            drawn.push((name("winding resistance"), rr));
-            // Armature (gear ratio² × rotor inertia): only an identified one is drawn.
-            if let Some((v, dv)) = calibrated(&format!("G2Jm[{}]", j + 1)) {
-                let f = (v + dv).max(0.0) / v.max(1e-300);
-                jd.rotor_inertia *= f;
-                drawn.push((name("armature"), f));
-            }
-            let fv_name = format!("f_v[{}]", j + 1);
-            let fv = match calibrated(&fv_name) {
-                Some((v, dv)) => (v + dv).max(0.0) / v.max(1e-300),
-                None => 1.0 + r.viscous_rel * u(rng),
-            };
-            jd.viscous *= fv;
-            drawn.push((name("viscous friction"), fv));
-            let fc_name = format!("f_c[{}]", j + 1);
-            let fc = match calibrated(&fc_name) {
-                Some((v, dv)) => (v + dv).max(0.0) / v.max(1e-300),
-                None => 1.0 + r.coulomb_rel * u(rng),
-            };
-            jd.coulomb *= fc;
-            drawn.push((name("Coulomb friction"), fc));
-            let de = match calibrated(&format!("eta[{}]", j + 1)) {
-                Some((v, dv)) => (v + dv).clamp(0.3, 1.0) - jd.gear_efficiency,
-                None => r.gear_efficiency_abs * u(rng),
-            };
-            jd.gear_efficiency = (jd.gear_efficiency + de).clamp(0.3, 1.0);
-            drawn.push((name("gear efficiency"), de));
-        }
-        let sb = match calibrated("P0") {
-            Some((v, dv)) => (v + dv).max(0.0) / v.max(1e-300),
-            None => 1.0 + r.standby_power_rel * u(rng),
-        };
-        d.standby_power *= sb;
-        drawn.push(("standby power".into(), sb));
-    }
-    let t = &mut m.effects.table;
-    let declared = t.balancer_lever_m.is_some() && t.balancer_base_m.is_some();
-    // A calibrated robot keeps the balancer in `[effects.values]` (which wins over the keys).
-    let (p0, k0) = match t.values.as_ref().and_then(|v| v.get("balancer")) {
-        Some(b) if b.len() >= 2 => (b[0], b[1]),
-        _ => (
-            t.balancer_preload_n.unwrap_or(0.0),
-            t.balancer_stiffness_n_per_m.unwrap_or(0.0),
-        ),
-    };
-    if declared || p0 != 0.0 || k0 != 0.0 {
-        // An identified balancer is there: only its force is uncertain.
-        let identified = calibrated("F0").is_some() && calibrated("k").is_some();
-        let present = rng.gen_range(0.0..1.0) >= r.balancer_absent_probability || identified;
-        let (f0, k) = match (calibrated("F0"), calibrated("k")) {
-            (Some((f, df)), Some((k, dk))) => (f + df, (k + dk).max(0.0)),
-            _ => {
-                let f = 1.0 + r.balancer_force_rel * u(rng);
-                (p0 * f, k0 * f)
-            }
-        };
-        let (f0, k) = if present { (f0, k) } else { (0.0, 0.0) };
-        t.balancer_preload_n = Some(f0);
-        t.balancer_stiffness_n_per_m = Some(k);
-        // A calibrated robot keeps the balancer in `[effects.values]`, which wins.
-        if let Some(b) = t.values.as_mut().and_then(|v| v.get_mut("balancer")) {
-            if b.len() >= 2 {
-                b[0] = f0;
-                b[1] = k;
-            }
-        }
-        drawn.push(("balancer present".into(), if present { 1.0 } else { 0.0 }));
     }
     // Every other identified parameter that a calibrated robot keeps in `[effects.values]`
     // (which wins over the drive keys drawn above: coulomb per direction, offset, stribeck,
-    // rigid_body, …): normal with its standard error, within the parameter's bounds.
+    // rigid_body, …): normal with its standard error, within the parameter's bounds. Effects
+    // whose own draw takes their identified values are left to it.
+    let own: Vec<&str> = drawing
+        .iter()
+        .filter(|(u, _)| u.draws_identified)
+        .map(|(_, e)| e.name())
+        .collect();
     let with_values = m.effects.table.values.is_some() && !cal.is_empty();
-    let specs = with_values
-        .then(|| crate::effects::EffectSet::of_robot(nominal).ok())
-        .flatten();
-    if let (Some(vals), Some(specs)) = (m.effects.table.values.as_mut(), specs.as_ref()) {
-        for (effect, name, value, dv) in cal.iter().filter(|c| c.0 != "balancer") {
+    if let (Some(vals), true) = (m.effects.table.values.as_mut(), with_values) {
+        for (effect, name, value, dv) in cal.iter().filter(|c| !own.contains(&c.0.as_str())) {
             let (value, dv) = (*value, *dv);
-            let (Some(v), Ok(e)) = (vals.get_mut(effect), specs.get(effect)) else {
+            let (Some(v), Ok(e)) = (vals.get_mut(effect), effects.get(effect)) else {
                 continue;
             };
             let ps = e.params();
@@ -421,10 +327,12 @@ fn draw_robot(
             let x = (value + dv).clamp(ps[i].lower, ps[i].upper);
             v[i] = x;
             drawn.push((format!("{effect} {name}"), x - value));
-            note(name);
+            if !used.iter().any(|n| n == name) {
+                used.push(name.clone());
+            }
         }
     }
-    (m, drawn, used.into_inner())
+    (m, drawn, used)
 }
 
 /// Average ranks (1-based, ties share their mean rank).
@@ -534,6 +442,8 @@ pub struct StudySetup<'s, 'j, 'a> {
     source: Source,
     draws: usize,
     seed: u64,
+    /// The nominal robot's effects, which draw their own numbers.
+    effects: EffectSet,
 }
 
 impl<'s, 'j, 'a> StudySetup<'s, 'j, 'a> {
@@ -584,7 +494,9 @@ impl<'s, 'j, 'a> StudySetup<'s, 'j, 'a> {
             timed.push(t);
         }
         let nominal: Vec<f64> = cands.iter().map(|c| c.cost()).collect();
+        let effects = EffectSet::of_robot(ev.job.robot)?;
         Ok(StudySetup {
+            effects,
             ev,
             timed,
             nominal,
@@ -618,7 +530,7 @@ impl<'s, 'j, 'a> StudySetup<'s, 'j, 'a> {
         let job = self.ev.job;
         let mut rng = ChaCha8Rng::seed_from_u64(self.seed);
         rng.set_stream(d as u64);
-        let (m, drawn, _) = draw_robot(job.robot, &self.ranges, &mut rng);
+        let (m, drawn, _) = draw_robot(job.robot, &self.effects, &self.ranges, &mut rng);
         let jd = PathJob {
             robot: &m,
             energy: EnergyModel::with_options(&m, job.energy.options())?,
@@ -736,6 +648,7 @@ impl<'s, 'j, 'a> StudySetup<'s, 'j, 'a> {
         // every draw: which parameters, not their values, depend on the robot alone).
         let (_, _, calibrated) = draw_robot(
             self.ev.job.robot,
+            &self.effects,
             &self.ranges,
             &mut ChaCha8Rng::seed_from_u64(self.seed),
         );
@@ -776,14 +689,28 @@ pub fn drawn_robot(
     seed: u64,
     d: usize,
 ) -> (RobotModel, Vec<(String, f64)>) {
+    let effects = EffectSet::of_robot(nominal).unwrap_or_default();
+    drawn_robot_of(nominal, &effects, ranges, seed, d)
+}
+
+/// [`drawn_robot`] with the nominal robot's effects built once ([`EffectSet::of_robot`]), for
+/// a caller that draws many robots.
+pub fn drawn_robot_of(
+    nominal: &RobotModel,
+    effects: &EffectSet,
+    ranges: &Ranges,
+    seed: u64,
+    d: usize,
+) -> (RobotModel, Vec<(String, f64)>) {
     let mut rng = ChaCha8Rng::seed_from_u64(seed);
     rng.set_stream(d as u64);
-    let (m, drawn, _) = draw_robot(nominal, ranges, &mut rng);
+    let (m, drawn, _) = draw_robot(nominal, effects, ranges, &mut rng);
     (m, drawn)
 }
 
 /// The identified parameters a study of `nominal` draws from their standard errors
 /// (calibrated robots), by name.
 pub fn calibrated_names(nominal: &RobotModel, ranges: &Ranges) -> Vec<String> {
-    draw_robot(nominal, ranges, &mut ChaCha8Rng::seed_from_u64(0)).2
+    let effects = EffectSet::of_robot(nominal).unwrap_or_default();
+    draw_robot(nominal, &effects, ranges, &mut ChaCha8Rng::seed_from_u64(0)).2
 }
