@@ -52,6 +52,11 @@ impl Columns {
         self.len
     }
 
+    /// Channels.
+    pub fn width(&self) -> usize {
+        self.width
+    }
+
     /// Whether there are no rows.
     pub fn is_empty(&self) -> bool {
         self.len == 0

@@ -792,8 +792,17 @@ fn fit_core(
     let (ssr, m) = if rows.len() == all_rows.len() || !full_ssr {
         (ssr, m)
     } else {
-        residuals(prep, model, all_rows, &mut r);
-        (r.iter().map(|x| x * x).sum::<f64>(), r.len())
+        // A block of rows at a time; the sum adds the same terms in the same order.
+        let mut ssr: f64 = std::iter::empty::<f64>().sum();
+        let mut m = 0;
+        for block in all_rows.chunks(crate::identify::columns::BLOCK_ROWS) {
+            residuals(prep, model, block, &mut r);
+            for x in &r {
+                ssr += x * x;
+            }
+            m += r.len();
+        }
+        (ssr, m)
     };
     Ok(FitResult {
         params,

@@ -112,12 +112,6 @@ pub fn channel_names(prep: &Prepared) -> Vec<String> {
     }
 }
 
-/// Power series (W) of channel `c` from signal values `y` (row-major over `rows`).
-fn power(prep: &Prepared, model: &Model, rows: &[usize], y: &[f64], c: usize) -> Vec<f64> {
-    let ch = prep.log.channels;
-    power_by(prep, model, rows.len(), |r| rows[r], |r| y[r * ch + c], c)
-}
-
 /// Power series (W) of channel `c` over `m` samples: sample `r` is row `row(r)` of the log
 /// with signal value `v(r)`.
 fn power_by(
@@ -129,35 +123,59 @@ fn power_by(
     c: usize,
 ) -> Vec<f64> {
     (0..m)
-        .map(|r| {
-            let v = v(r);
-            let qd = prep.log.traj.qd(row(r))[c.min(prep.log.traj.n - 1)];
-            match prep.log.kind {
-                SignalKind::Torque => (v * qd).max(0.0),
-                SignalKind::Current => (v * model.kt[c] * model.gear[c] * qd).max(0.0),
-                _ => v,
-            }
-        })
+        .map(|r| power_at(prep, model, row(r), v(r), c))
         .collect()
 }
 
-/// RMSE and energies on a subset of rows: (rmse, measured J, model J).
+/// Power (W) of channel `c` at row `k` of the log with signal value `v`.
+fn power_at(prep: &Prepared, model: &Model, k: usize, v: f64, c: usize) -> f64 {
+    let qd = prep.log.traj.qd(k)[c.min(prep.log.traj.n - 1)];
+    match prep.log.kind {
+        SignalKind::Torque => (v * qd).max(0.0),
+        SignalKind::Current => (v * model.kt[c] * model.gear[c] * qd).max(0.0),
+        _ => v,
+    }
+}
+
+/// RMSE and energies on a subset of rows: (rmse, measured J, model J). The rows are predicted
+/// a block at a time; each sum adds the same terms in the same order as over whole columns.
 pub fn evaluate_rows(prep: &Prepared, model: &Model, rows: &[usize]) -> (f64, f64, f64) {
-    let mut pred = Vec::new();
-    prep.predict(model, rows, &mut pred);
     let ch = prep.log.channels;
-    let meas: Vec<f64> = rows
-        .iter()
-        .flat_map(|&k| prep.log.y[k * ch..(k + 1) * ch].iter().copied())
-        .collect();
-    let ssr: f64 = pred.iter().zip(&meas).map(|(a, b)| (a - b).powi(2)).sum();
-    let t: Vec<f64> = rows.iter().map(|&k| prep.log.traj.t[k]).collect();
+    let y = &prep.log.y;
+    let t = &prep.log.traj.t;
+    // What a sum of no terms is: each sum below continues from it, as `Iterator::sum` does.
+    let empty: f64 = std::iter::empty::<f64>().sum();
+    let mut ssr = empty;
+    // Per channel: the trapezoid sums of the measured and the modelled power, and the
+    // previous sample's (time, measured power, modelled power).
+    let mut em_c = vec![empty; ch];
+    let mut ep_c = vec![empty; ch];
+    let mut prev: Vec<Option<(f64, f64, f64)>> = vec![None; ch];
+    let mut pred = Vec::new();
+    for block in rows.chunks(crate::identify::columns::BLOCK_ROWS) {
+        prep.predict(model, block, &mut pred);
+        for (r, &k) in block.iter().enumerate() {
+            for c in 0..ch {
+                let (a, b) = (pred[r * ch + c], y[k * ch + c]);
+                ssr += (a - b).powi(2);
+                let (pm, pp) = (
+                    power_at(prep, model, k, b, c),
+                    power_at(prep, model, k, a, c),
+                );
+                if let Some((t0, m0, p0)) = prev[c] {
+                    em_c[c] += 0.5 * (t[k] - t0) * (m0 + pm);
+                    ep_c[c] += 0.5 * (t[k] - t0) * (p0 + pp);
+                }
+                prev[c] = Some((t[k], pm, pp));
+            }
+        }
+    }
     let (mut em, mut ep) = (0.0, 0.0);
     for c in 0..ch {
-        em += integrate(&t, &power(prep, model, rows, &meas, c));
-        ep += integrate(&t, &power(prep, model, rows, &pred, c));
+        em += em_c[c];
+        ep += ep_c[c];
     }
-    ((ssr / pred.len().max(1) as f64).sqrt(), em, ep)
+    ((ssr / (rows.len() * ch).max(1) as f64).sqrt(), em, ep)
 }
 
 /// Relative error in %, guarded against a zero reference.
