@@ -104,8 +104,7 @@ impl Columns {
                 let mut f = f;
                 let mut bytes = vec![0u8; out.len().min(BLOCK_ROWS) * 8];
                 let mut done = 0;
-                f.seek(SeekFrom::Start((at * 8) as u64))
-                    .map_err(io_error)?;
+                f.seek(SeekFrom::Start((at * 8) as u64)).map_err(io_error)?;
                 while done < out.len() {
                     let m = (out.len() - done).min(BLOCK_ROWS);
                     f.read_exact(&mut bytes[..m * 8]).map_err(io_error)?;
@@ -222,7 +221,12 @@ mod tests {
                 .all(|(k, v)| v.to_bits() == block[k * w + 2].to_bits()));
             let mut part = vec![0.0; 5];
             c.read(1, 40_000, &mut part).unwrap();
-            assert_eq!(part, (0..5).map(|r| block[(40_000 + r) * w + 1]).collect::<Vec<_>>());
+            assert_eq!(
+                part,
+                (0..5)
+                    .map(|r| block[(40_000 + r) * w + 1])
+                    .collect::<Vec<_>>()
+            );
         }
     }
 }

@@ -401,7 +401,7 @@ enum RigidTorques {
 }
 
 /// Values of some rows of a log, `width` a row, kept as the fits ask for them: per row of the
-/// log the slot holding its values (`u32::MAX`: none), and [`REGRESSOR_CACHE_ROWS`] slots.
+/// log the slot holding its values plus one (0: none), and [`REGRESSOR_CACHE_ROWS`] slots.
 /// Reading takes no lock (the fits read the same rows many times over, from several threads).
 #[derive(Debug)]
 struct KeptRows {
@@ -417,13 +417,9 @@ impl KeptRows {
         use std::sync::atomic::{AtomicU32, AtomicU64, AtomicUsize};
         KeptRows {
             width,
-            slot_of: std::iter::repeat_with(|| AtomicU32::new(u32::MAX))
-                .take(len)
-                .collect(),
+            slot_of: zeroed_atomics::<AtomicU32, u32>(len),
             used: AtomicUsize::new(0),
-            values: std::iter::repeat_with(|| AtomicU64::new(0))
-                .take(REGRESSOR_CACHE_ROWS * width)
-                .collect(),
+            values: zeroed_atomics::<AtomicU64, u64>(REGRESSOR_CACHE_ROWS * width),
         }
     }
 
@@ -431,9 +427,10 @@ impl KeptRows {
     fn get(&self, k: usize, out: &mut [f64]) -> bool {
         use std::sync::atomic::Ordering;
         let s = self.slot_of[k].load(Ordering::Acquire);
-        if s == u32::MAX {
+        if s == 0 {
             return false;
         }
+        let s = s - 1;
         let w = self.width;
         let vals = &self.values[s as usize * w..(s as usize + 1) * w];
         for (o, v) in out[..w].iter_mut().zip(vals) {
@@ -445,7 +442,7 @@ impl KeptRows {
     /// Keep `vals` (`width` values) as row `k`'s while there are free slots.
     fn put(&self, k: usize, vals: &[f64]) {
         use std::sync::atomic::Ordering;
-        if self.slot_of[k].load(Ordering::Acquire) != u32::MAX {
+        if self.slot_of[k].load(Ordering::Acquire) != 0 {
             return;
         }
         let s = self.used.fetch_add(1, Ordering::Relaxed);
@@ -456,8 +453,20 @@ impl KeptRows {
         for (v, x) in self.values[s * w..(s + 1) * w].iter().zip(&vals[..w]) {
             v.store(x.to_bits(), Ordering::Relaxed);
         }
-        self.slot_of[k].store(s as u32, Ordering::Release);
+        self.slot_of[k].store(s as u32 + 1, Ordering::Release);
     }
+}
+
+/// `len` atomics holding zero, in memory the system zeroes on first touch: the slots never
+/// used cost no resident memory.
+fn zeroed_atomics<A, T: Copy + Default>(len: usize) -> Vec<A> {
+    const { assert!(std::mem::size_of::<A>() == std::mem::size_of::<T>()) };
+    const { assert!(std::mem::align_of::<A>() == std::mem::align_of::<T>()) };
+    let mut v = std::mem::ManuallyDrop::new(vec![T::default(); len]);
+    // SAFETY: `A` is `AtomicU32`/`AtomicU64` for `T` = `u32`/`u64`: the same size, alignment
+    // (checked above) and bit validity, so the allocation and its zeroed values are valid as
+    // `A`s and are freed with the same layout.
+    unsafe { Vec::from_raw_parts(v.as_mut_ptr().cast::<A>(), v.len(), v.capacity()) }
 }
 
 /// A log prepared for repeated prediction: rigid-body torques and the regressors of the
