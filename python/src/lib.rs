@@ -1133,7 +1133,7 @@ fn compare<'py>(
     let mut cmp = py
         .detach(|| -> printwatt::Result<_> {
             let prep = Prepared::new(&model, &l)?;
-            Ok(metrics::compare(&prep, &model).0)
+            Ok(metrics::compare_metrics(&prep, &model))
         })
         .map_err(err)?;
     cmp.calibration = robot.effects.calibration_summary();

@@ -130,7 +130,12 @@ pub fn run(a: super::CompareArgs) -> Result<()> {
     let bar = Bar::new();
     let prep = identify::Prepared::with_progress(&model, &log, &bar)?;
     drop(bar);
-    let (mut cmp, pred) = metrics::compare(&prep, &model);
+    // The prediction is kept only for the report.
+    let (mut cmp, pred) = if a.out.out.is_some() {
+        metrics::compare(&prep, &model)
+    } else {
+        (metrics::compare_metrics(&prep, &model), Vec::new())
+    };
     cmp.calibration = robot.effects.calibration_summary();
     // The last check before anything leaves: the JSON, the report and the printed table.
     printwatt::output::check_finite_json(

@@ -35,6 +35,7 @@
 
 use crate::effects::catalogue;
 use crate::error::Result;
+use crate::identify::columns::Columns;
 use crate::identify::fit::{fit_parameters, residuals, FittedParam};
 use crate::identify::model::{Model, Prepared};
 use crate::identify::structure::{self, Unexplained};
@@ -145,30 +146,38 @@ pub fn diagnose_with_progress(
     let len = prep.len();
     let all: Vec<usize> = (0..len).collect();
     let base_state = model.state();
-    let mut r = Vec::new();
-    residuals(prep, model, &all, &mut r);
-    let m = r.len() as f64;
-    let ssr0: f64 = r.iter().map(|x| x * x).sum();
+    let ch = prep.log.channels;
+    // The current model's residual over the whole log, kept channel by channel outside
+    // memory: its sum of squares, in total and per channel.
+    let mut ssr0: f64 = std::iter::empty::<f64>().sum();
+    let mut base_ss = vec![0.0; ch.max(1)];
+    let r0 = residual_columns(prep, model, &mut |r| {
+        for x in r {
+            ssr0 += x * x;
+        }
+        for (i, v) in r.iter().enumerate() {
+            base_ss[i % ch.max(1)] += v * v;
+        }
+    })?;
+    let m = (len * ch) as f64;
     let base_rmse = (ssr0 / m).sqrt();
     let bic0 = m * (ssr0 / m).max(1e-300).ln();
-    let ch = prep.log.channels;
-    // Per channel: the measured signal's mean square and the model's squared residual.
+    // Per channel: the measured signal's mean square.
     let mut meas_ms = vec![0.0; ch.max(1)];
-    let mut base_ss = vec![0.0; ch.max(1)];
     for (i, v) in prep.log.y.iter().enumerate() {
         meas_ms[i % ch.max(1)] += v * v / len.max(1) as f64;
-    }
-    for (i, v) in r.iter().enumerate() {
-        base_ss[i % ch.max(1)] += v * v;
     }
     let t = &prep.log.traj.t;
     let dur = t.last().copied().unwrap_or(0.0) - t.first().copied().unwrap_or(0.0);
     let dt = dur / (len.max(2) - 1) as f64;
-    let nf: Vec<f64> = (0..ch).map(|c| structure::noise_floor(&r, ch, c)).collect();
+    let mut nf = Vec::with_capacity(ch);
+    let mut tau_c = 0.0;
+    for c in 0..ch {
+        let col = r0.column(c)?;
+        nf.push(structure::noise_floor(&col, 1, 0));
+        tau_c = f64::max(tau_c, structure::correlation_time(&col, 1, 0, dt));
+    }
     let noise = (nf.iter().map(|v| v * v).sum::<f64>() / ch.max(1) as f64).sqrt();
-    let tau_c = (0..ch)
-        .map(|c| structure::correlation_time(&r, ch, c, dt))
-        .fold(0.0, f64::max);
     // Blocks at least one correlation time long.
     let max_folds = if tau_c > 0.0 {
         (dur / tau_c).floor() as usize
@@ -177,7 +186,6 @@ pub fn diagnose_with_progress(
     };
     let too_short = max_folds < 2;
     let bl = blocks(len, folds.min(max_folds).max(2));
-    let r0 = std::mem::take(&mut r);
     let chunk = ((tau_c / dt.max(1e-300)).ceil() as usize).clamp(1, len.max(1));
     let base = Baseline {
         all: &all,
@@ -251,17 +259,19 @@ pub fn diagnose_with_progress(
         fit_parameters(prep, model, &names, &all)?;
     }
     drop(r0);
-    residuals(prep, model, &all, &mut r);
+    // What is left, kept channel by channel as the current model's residual was.
+    let left_r = residual_columns(prep, model, &mut |_| {})?;
     model.restore(&base_state);
     let names = crate::identify::metrics::channel_names(prep);
-    let unexplained = structure::unexplained(
-        &r,
+    let unexplained = structure::unexplained_columns(
+        &|c| left_r.column(c),
         &names,
         model.n,
         t,
         &|k, j| prep.log.traj.q(k)[j],
         &|k, j| prep.log.traj.qd(k)[j],
-    );
+    )?;
+    drop(left_r);
     let left = if unexplained.is_empty() {
         String::new()
     } else {
@@ -344,8 +354,8 @@ pub const PAIR_LEADERS: usize = 5;
 struct Baseline<'a> {
     all: &'a [usize],
     blocks: &'a [std::ops::Range<usize>],
-    /// The current model's residual over the whole log.
-    r0: &'a [f64],
+    /// The current model's residual over the whole log, channel by channel.
+    r0: &'a Columns,
     /// Rows per chunk of one correlation time.
     chunk: usize,
     /// Per channel: the current model's squared residual.
@@ -371,9 +381,11 @@ fn score(
 ) -> Result<Candidate> {
     let len = prep.len();
     let ch = prep.log.channels;
-    let m = base.r0.len() as f64;
+    let m = (base.r0.len() * ch) as f64;
     let mut r = Vec::new();
     let mut rows = Vec::new();
+    // The current model's residual at the rows of a part, channel by channel.
+    let mut r0 = Vec::new();
     let mut sse = 0.0;
     let mut sse_c = vec![0.0; ch.max(1)];
     let mut cnt = 0usize;
@@ -393,8 +405,9 @@ fn score(
         let mut block_ss = 0.0;
         for part in parts(b.clone()) {
             rows.clear();
-            rows.extend(part);
+            rows.extend(part.clone());
             residuals(prep, model, &rows, &mut r);
+            base_part(base.r0, &part, &mut r0)?;
             for x in &r {
                 block_ss += x * x;
             }
@@ -403,7 +416,7 @@ fn score(
             }
             for (i, &k) in rows.iter().enumerate() {
                 acc += (0..ch)
-                    .map(|c| base.r0[k * ch + c].powi(2) - r[i * ch + c].powi(2))
+                    .map(|c| r0[c * rows.len() + i].powi(2) - r[i * ch + c].powi(2))
                     .sum::<f64>();
                 in_chunk += 1;
                 if in_chunk == base.chunk || k + 1 == b.end {
@@ -426,14 +439,15 @@ fn score(
     let mut moved = vec![0.0; ch.max(1)];
     for part in parts(0..len) {
         rows.clear();
-        rows.extend(part);
+        rows.extend(part.clone());
         residuals(prep, model, &rows, &mut r);
+        base_part(base.r0, &part, &mut r0)?;
         for x in &r {
             full_ssr += x * x;
         }
-        for (i, &k) in rows.iter().enumerate() {
+        for i in 0..rows.len() {
             for c in 0..ch {
-                moved[c] += (r[i * ch + c] - base.r0[k * ch + c]).powi(2);
+                moved[c] += (r[i * ch + c] - r0[c * rows.len() + i]).powi(2);
             }
         }
     }
@@ -548,6 +562,49 @@ fn acting_joints(moved: &[f64], ch: usize, params: &[FittedParam]) -> Vec<usize>
         }
     }
     joints
+}
+
+/// The rows `part` of `cols` into `out`, channel by channel (`ch × part.len()`).
+fn base_part(cols: &Columns, part: &std::ops::Range<usize>, out: &mut Vec<f64>) -> Result<()> {
+    let m = part.len();
+    let ch = cols.width();
+    out.resize(ch * m, 0.0);
+    for c in 0..ch {
+        cols.read(c, part.start, &mut out[c * m..(c + 1) * m])?;
+    }
+    Ok(())
+}
+
+/// The residual of `model` over every row of the log, a part of [`PART_ROWS`] rows at a time,
+/// kept channel by channel ([`Columns`]): in a temporary file, or in memory when the file
+/// fails. `each` sees each part's residual (row-major) once, in order.
+fn residual_columns(
+    prep: &Prepared,
+    model: &Model,
+    each: &mut dyn FnMut(&[f64]),
+) -> Result<Columns> {
+    let (len, ch) = (prep.len(), prep.log.channels);
+    let mut cols = Columns::new(len, ch);
+    let (mut r, mut rows) = (Vec::new(), Vec::new());
+    let mut memory = false;
+    for part in parts(0..len) {
+        rows.clear();
+        rows.extend(part.clone());
+        residuals(prep, model, &rows, &mut r);
+        each(&r);
+        if !memory && cols.write_rows(part.start, &r).is_err() {
+            // The file failed: the parts so far again, in memory.
+            memory = true;
+            cols = Columns::in_memory(len, ch);
+            for earlier in parts(0..part.end) {
+                rows.clear();
+                rows.extend(earlier.clone());
+                residuals(prep, model, &rows, &mut r);
+                cols.write_rows(earlier.start, &r)?;
+            }
+        }
+    }
+    Ok(cols)
 }
 
 /// Rows per part of a pass over many rows: a residual is held for this many rows at a time.

@@ -48,7 +48,7 @@ fn jacobian(
     let mut tau = vec![0.0; rows.len() * n];
     let mut sig = vec![0.0; m];
     for (r, &k) in rows.iter().enumerate() {
-        prep.torque_row(model, k, &[], &mut tau[r * n..(r + 1) * n]);
+        prep.torque_row_kept(model, k, &[], &mut tau[r * n..(r + 1) * n]);
         model.signal_from_torque(
             kind,
             &tau[r * n..(r + 1) * n],
@@ -496,9 +496,14 @@ fn fit_core(
         jacobian(prep, model, &lay, &theta, rows, &mut jac)?;
         tie_cols(&mut jac, m);
         payload_chain(&mut jac, m, &theta);
-        let jm = nalgebra::DMatrix::from_row_slice(m, p, &jac);
-        let jtj = jm.transpose() * &jm;
-        let mut g = jm.transpose() * nalgebra::DVector::from_column_slice(&r);
+        // The row-major Jacobian is its transpose, column-major: no copy.
+        let jt = nalgebra::DMatrix::from_vec(p, m, std::mem::take(&mut jac));
+        let jtj = {
+            let jm = jt.transpose();
+            &jt * &jm
+        };
+        let mut g = &jt * nalgebra::DVector::from_column_slice(&r);
+        jac = jt.data.into();
         let maxdiag = (0..p).map(|i| jtj[(i, i)]).fold(0.0, f64::max);
         // Columns with no excitation stay where they are.
         let frozen: Vec<bool> = (0..p)
@@ -561,8 +566,12 @@ fn fit_core(
         jacobian(prep, model, &lay, &theta, rows, &mut jac)?;
         tie_cols(&mut jac, m);
         payload_chain(&mut jac, m, &theta);
-        let jm = nalgebra::DMatrix::from_row_slice(m, p, &jac);
-        let jtj = jm.transpose() * &jm;
+        let jt = nalgebra::DMatrix::from_vec(p, m, std::mem::take(&mut jac));
+        let jtj = {
+            let jm = jt.transpose();
+            &jt * &jm
+        };
+        jac = jt.data.into();
         // A column whose effect on the signal is below 1e-6 of the signal's RMS (for the
         // parameter at max(|θ|, 1)) is not excited: treated as zero.
         let ch = prep.log.channels;
@@ -783,8 +792,17 @@ fn fit_core(
     let (ssr, m) = if rows.len() == all_rows.len() || !full_ssr {
         (ssr, m)
     } else {
-        residuals(prep, model, all_rows, &mut r);
-        (r.iter().map(|x| x * x).sum::<f64>(), r.len())
+        // A block of rows at a time; the sum adds the same terms in the same order.
+        let mut ssr: f64 = std::iter::empty::<f64>().sum();
+        let mut m = 0;
+        for block in all_rows.chunks(crate::identify::columns::BLOCK_ROWS) {
+            residuals(prep, model, block, &mut r);
+            for x in &r {
+                ssr += x * x;
+            }
+            m += r.len();
+        }
+        (ssr, m)
     };
     Ok(FitResult {
         params,

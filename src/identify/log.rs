@@ -90,8 +90,8 @@ pub struct Log {
     pub units: Vec<(String, String)>,
     /// 1-based line of the header row (0 for a column map).
     pub header_line: usize,
-    /// Source line of each sample.
-    pub lines: Vec<usize>,
+    /// Source line of each sample (4 bytes a sample: a log of more lines is refused).
+    pub lines: Vec<u32>,
     /// Half-width `m` of the derivative window when velocities/accelerations were derived.
     pub derivative_half_window: Option<usize>,
 }
@@ -249,7 +249,7 @@ struct Builder<'a> {
     qd: Vec<f64>,
     qdd: Vec<f64>,
     y: Vec<f64>,
-    lines: Vec<usize>,
+    lines: Vec<u32>,
     not_after: Option<Error>,
 }
 
@@ -357,7 +357,12 @@ impl<'a> Builder<'a> {
         if let Some(v) = &c.y {
             self.y.extend(v.iter().map(|&k| row[k]));
         }
-        self.lines.push(ln);
+        self.lines.push(u32::try_from(ln).map_err(|_| Error::Parse {
+            file: self.file.clone(),
+            line: ln,
+            column: 1,
+            msg: format!("a log of more than {} lines cannot be read", u32::MAX),
+        })?);
         Ok(())
     }
 

@@ -112,40 +112,70 @@ pub fn channel_names(prep: &Prepared) -> Vec<String> {
     }
 }
 
-/// Power series (W) of channel `c` from signal values `y` (row-major over `rows`).
-fn power(prep: &Prepared, model: &Model, rows: &[usize], y: &[f64], c: usize) -> Vec<f64> {
-    let ch = prep.log.channels;
-    rows.iter()
-        .enumerate()
-        .map(|(r, &k)| {
-            let v = y[r * ch + c];
-            let qd = prep.log.traj.qd(k)[c.min(prep.log.traj.n - 1)];
-            match prep.log.kind {
-                SignalKind::Torque => (v * qd).max(0.0),
-                SignalKind::Current => (v * model.kt[c] * model.gear[c] * qd).max(0.0),
-                _ => v,
-            }
-        })
+/// Power series (W) of channel `c` over `m` samples: sample `r` is row `row(r)` of the log
+/// with signal value `v(r)`.
+fn power_by(
+    prep: &Prepared,
+    model: &Model,
+    m: usize,
+    row: impl Fn(usize) -> usize,
+    v: impl Fn(usize) -> f64,
+    c: usize,
+) -> Vec<f64> {
+    (0..m)
+        .map(|r| power_at(prep, model, row(r), v(r), c))
         .collect()
 }
 
-/// RMSE and energies on a subset of rows: (rmse, measured J, model J).
+/// Power (W) of channel `c` at row `k` of the log with signal value `v`.
+fn power_at(prep: &Prepared, model: &Model, k: usize, v: f64, c: usize) -> f64 {
+    let qd = prep.log.traj.qd(k)[c.min(prep.log.traj.n - 1)];
+    match prep.log.kind {
+        SignalKind::Torque => (v * qd).max(0.0),
+        SignalKind::Current => (v * model.kt[c] * model.gear[c] * qd).max(0.0),
+        _ => v,
+    }
+}
+
+/// RMSE and energies on a subset of rows: (rmse, measured J, model J). The rows are predicted
+/// a block at a time; each sum adds the same terms in the same order as over whole columns.
 pub fn evaluate_rows(prep: &Prepared, model: &Model, rows: &[usize]) -> (f64, f64, f64) {
-    let mut pred = Vec::new();
-    prep.predict(model, rows, &mut pred);
     let ch = prep.log.channels;
-    let meas: Vec<f64> = rows
-        .iter()
-        .flat_map(|&k| prep.log.y[k * ch..(k + 1) * ch].iter().copied())
-        .collect();
-    let ssr: f64 = pred.iter().zip(&meas).map(|(a, b)| (a - b).powi(2)).sum();
-    let t: Vec<f64> = rows.iter().map(|&k| prep.log.traj.t[k]).collect();
+    let y = &prep.log.y;
+    let t = &prep.log.traj.t;
+    // What a sum of no terms is: each sum below continues from it, as `Iterator::sum` does.
+    let empty: f64 = std::iter::empty::<f64>().sum();
+    let mut ssr = empty;
+    // Per channel: the trapezoid sums of the measured and the modelled power, and the
+    // previous sample's (time, measured power, modelled power).
+    let mut em_c = vec![empty; ch];
+    let mut ep_c = vec![empty; ch];
+    let mut prev: Vec<Option<(f64, f64, f64)>> = vec![None; ch];
+    let mut pred = Vec::new();
+    for block in rows.chunks(crate::identify::columns::BLOCK_ROWS) {
+        prep.predict(model, block, &mut pred);
+        for (r, &k) in block.iter().enumerate() {
+            for c in 0..ch {
+                let (a, b) = (pred[r * ch + c], y[k * ch + c]);
+                ssr += (a - b).powi(2);
+                let (pm, pp) = (
+                    power_at(prep, model, k, b, c),
+                    power_at(prep, model, k, a, c),
+                );
+                if let Some((t0, m0, p0)) = prev[c] {
+                    em_c[c] += 0.5 * (t[k] - t0) * (m0 + pm);
+                    ep_c[c] += 0.5 * (t[k] - t0) * (p0 + pp);
+                }
+                prev[c] = Some((t[k], pm, pp));
+            }
+        }
+    }
     let (mut em, mut ep) = (0.0, 0.0);
     for c in 0..ch {
-        em += integrate(&t, &power(prep, model, rows, &meas, c));
-        ep += integrate(&t, &power(prep, model, rows, &pred, c));
+        em += em_c[c];
+        ep += ep_c[c];
     }
-    ((ssr / pred.len().max(1) as f64).sqrt(), em, ep)
+    ((ssr / (rows.len() * ch).max(1) as f64).sqrt(), em, ep)
 }
 
 /// Relative error in %, guarded against a zero reference.
@@ -162,29 +192,85 @@ pub fn rel_pct(model: f64, measured: f64) -> f64 {
 /// Compare the model with the whole log. Returns the metrics and the prediction
 /// (row-major `len × channels`).
 pub fn compare(prep: &Prepared, model: &Model) -> (Comparison, Vec<f64>) {
+    let (cmp, pred) = compare_with(prep, model, true);
+    (cmp, pred.unwrap_or_default())
+}
+
+/// [`compare`] without the prediction: the metrics only. The prediction of a long log is
+/// kept outside memory while the metrics pass over it ([`crate::identify::columns`]), so that
+/// the memory holds the log and one channel at a time.
+pub fn compare_metrics(prep: &Prepared, model: &Model) -> Comparison {
+    compare_with(prep, model, false).0
+}
+
+/// The comparison, and the prediction when `want_pred`: with the prediction in a temporary
+/// file, or in memory when the file fails (the same numbers either way).
+fn compare_with(prep: &Prepared, model: &Model, want_pred: bool) -> (Comparison, Option<Vec<f64>>) {
+    let ch = prep.log.channels;
+    let len = prep.log.len();
+    let filed = predicted(prep, model, crate::identify::columns::Columns::new(len, ch))
+        .and_then(|pred| compare_columns(prep, model, &pred, want_pred));
+    match filed {
+        Ok(r) => r,
+        Err(_) => {
+            let pred = crate::identify::columns::Columns::in_memory(len, ch);
+            let pred = predicted(prep, model, pred).expect("in-memory columns do not fail");
+            compare_columns(prep, model, &pred, want_pred).expect("in-memory columns do not fail")
+        }
+    }
+}
+
+/// The model's prediction of every row into `out`, a block of rows at a time.
+fn predicted(
+    prep: &Prepared,
+    model: &Model,
+    mut out: crate::identify::columns::Columns,
+) -> crate::error::Result<crate::identify::columns::Columns> {
+    let len = prep.log.len();
+    let block = crate::identify::columns::BLOCK_ROWS;
+    let mut rows = Vec::with_capacity(block.min(len));
+    let mut pred = Vec::new();
+    let mut k0 = 0;
+    while k0 < len {
+        let k1 = (k0 + block).min(len);
+        rows.clear();
+        rows.extend(k0..k1);
+        prep.predict(model, &rows, &mut pred);
+        out.write_rows(k0, &pred)?;
+        k0 = k1;
+    }
+    Ok(out)
+}
+
+/// [`compare`] of the prediction `pred` (channel by channel).
+fn compare_columns(
+    prep: &Prepared,
+    model: &Model,
+    pred: &crate::identify::columns::Columns,
+    want_pred: bool,
+) -> crate::error::Result<(Comparison, Option<Vec<f64>>)> {
     let log = prep.log;
     let len = log.len();
     let ch = log.channels;
     let n = log.traj.n;
-    let rows: Vec<usize> = (0..len).collect();
-    let mut pred = Vec::new();
-    prep.predict(model, &rows, &mut pred);
     let names = channel_names(prep);
     let t = &log.traj.t;
-    let metrics = |name: String, cs: &[usize]| {
+    let y = |k: usize, c: usize| log.y[k * ch + c];
+    let metrics = |name: String, cs: &[usize]| -> crate::error::Result<ChannelMetrics> {
         let (mut ssr, mut sm, mut cnt) = (0.0, 0.0, 0usize);
         let (mut em, mut ep) = (0.0, 0.0);
         for &c in cs {
+            let p = pred.column(c)?;
             for k in 0..len {
-                ssr += (pred[k * ch + c] - log.y[k * ch + c]).powi(2);
-                sm += log.y[k * ch + c].powi(2);
+                ssr += (p[k] - y(k, c)).powi(2);
+                sm += y(k, c).powi(2);
                 cnt += 1;
             }
-            em += integrate(t, &power(prep, model, &rows, &log.y, c));
-            ep += integrate(t, &power(prep, model, &rows, &pred, c));
+            em += integrate(t, &power_by(prep, model, len, |k| k, |k| y(k, c), c));
+            ep += integrate(t, &power_by(prep, model, len, |k| k, |k| p[k], c));
         }
         let e = rel_pct(ep, em);
-        ChannelMetrics {
+        Ok(ChannelMetrics {
             name,
             rmse: (ssr / cnt.max(1) as f64).sqrt(),
             measured_rms: (sm / cnt.max(1) as f64).sqrt(),
@@ -192,15 +278,25 @@ pub fn compare(prep: &Prepared, model: &Model) -> (Comparison, Vec<f64>) {
             energy_model_j: ep,
             energy_error_pct: e,
             accuracy_pct: 100.0 - e.abs(),
-        }
+        })
     };
-    let channels: Vec<ChannelMetrics> = (0..ch).map(|c| metrics(names[c].clone(), &[c])).collect();
+    let channels = (0..ch)
+        .map(|c| metrics(names[c].clone(), &[c]))
+        .collect::<crate::error::Result<Vec<ChannelMetrics>>>()?;
     let all: Vec<usize> = (0..ch).collect();
-    let total = metrics("total".into(), &all);
-    // Worst windows.
+    let total = metrics("total".into(), &all)?;
+    // The residual of channel `c`, every row.
+    let residual = |c: usize| -> crate::error::Result<Vec<f64>> {
+        let mut r = pred.column(c)?;
+        for (k, v) in r.iter_mut().enumerate() {
+            *v -= y(k, c);
+        }
+        Ok(r)
+    };
+    // Worst windows: each window's squared residual per channel, a channel at a time.
     let dur = log.traj.duration();
     let wlen = (dur / 20.0).clamp(0.2, 1.0);
-    let mut windows = Vec::new();
+    let mut spans = Vec::new();
     let mut start = 0;
     while start < len {
         let t0 = t[start];
@@ -208,34 +304,46 @@ pub fn compare(prep: &Prepared, model: &Model) -> (Comparison, Vec<f64>) {
         while end < len && t[end] < t0 + wlen {
             end += 1;
         }
-        let mut per = vec![0.0; ch];
-        for k in start..end {
-            for (c, p) in per.iter_mut().enumerate() {
-                *p += (pred[k * ch + c] - log.y[k * ch + c]).powi(2);
+        spans.push((start, end));
+        start = end.max(start + 1);
+    }
+    let mut per = vec![0.0; spans.len() * ch];
+    for c in 0..ch {
+        let r = residual(c)?;
+        for (w, &(start, end)) in spans.iter().enumerate() {
+            let p = &mut per[w * ch + c];
+            for v in &r[start..end] {
+                *p += v.powi(2);
             }
         }
+    }
+    let mut windows = Vec::new();
+    for (w, &(start, end)) in spans.iter().enumerate() {
+        let per = &per[w * ch..(w + 1) * ch];
         let cnt = ((end - start) * ch).max(1) as f64;
         let worst = (0..ch)
             .max_by(|a, b| per[*a].total_cmp(&per[*b]))
             .unwrap_or(0);
         windows.push(Window {
-            t_start: t0,
+            t_start: t[start],
             t_end: t[end.min(len) - 1],
             rmse: (per.iter().sum::<f64>() / cnt).sqrt(),
             worst_channel: names[worst].clone(),
         });
-        start = end.max(start + 1);
     }
+    drop(per);
+    drop(spans);
     windows.sort_by(|a, b| b.rmse.total_cmp(&a.rmse));
     windows.truncate(5);
     // Regimes per joint (each sample's squared residual and motion read where they are).
     let mut regimes_all = Vec::new();
-    let r2 = |k: usize, c: usize| (pred[k * ch + c] - log.y[k * ch + c]).powi(2);
     for j in 0..n {
         let c = if ch == 1 { 0 } else { j };
+        let res = residual(c)?;
+        let r2 = |k: usize| res[k].powi(2);
         let mut tot = 0.0;
         for k in 0..len {
-            tot += r2(k, c);
+            tot += r2(k);
         }
         let tot = tot.max(1e-300);
         let qd = |k: usize| log.traj.qd(k)[j];
@@ -261,7 +369,7 @@ pub fn compare(prep: &Prepared, model: &Model) -> (Comparison, Vec<f64>) {
             let (mut s, mut cnt) = (0.0, 0usize);
             for k in 0..len {
                 if f(k) {
-                    s += r2(k, c);
+                    s += r2(k);
                     cnt += 1;
                 }
             }
@@ -292,8 +400,8 @@ pub fn compare(prep: &Prepared, model: &Model) -> (Comparison, Vec<f64>) {
     });
     regimes.truncate(12);
     let prismatic: Vec<bool> = (0..n).map(|j| model.dynamics().is_prismatic(j)).collect();
-    let (profiles, failures) = crate::identify::profiles::analyse(
-        &|k, c| pred[k * ch + c] - log.y[k * ch + c],
+    let (profiles, failures) = crate::identify::profiles::analyse_columns(
+        &residual,
         len,
         &names,
         n,
@@ -302,8 +410,9 @@ pub fn compare(prep: &Prepared, model: &Model) -> (Comparison, Vec<f64>) {
         &|k, j| log.traj.qd(k)[j],
         &|k, j| log.traj.qdd(k)[j],
         &prismatic,
-    );
-    (
+    )?;
+    let pred = if want_pred { Some(pred.rows()?) } else { None };
+    Ok((
         Comparison {
             schema_version: crate::identify::JSON_SCHEMA_VERSION,
             calibration: None,
@@ -327,5 +436,5 @@ pub fn compare(prep: &Prepared, model: &Model) -> (Comparison, Vec<f64>) {
             warnings: log.warnings.clone(),
         },
         pred,
-    )
+    ))
 }

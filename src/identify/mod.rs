@@ -5,6 +5,7 @@
 //! robot ([`simulate`]). Charts are drawn by [`crate::report::svg`].
 
 pub mod calibrate;
+pub mod columns;
 pub mod diagnose;
 pub mod excite;
 pub mod fit;

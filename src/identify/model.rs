@@ -390,14 +390,95 @@ enum Regressors {
     Some(std::sync::Mutex<std::collections::HashMap<usize, Box<[f64]>>>),
 }
 
+/// The rigid-body torques of a log: of every row, or of the rows the fits asked for so far.
+#[derive(Debug)]
+enum RigidTorques {
+    /// `len × n`, row-major, N·m.
+    Every(Vec<f64>),
+    /// The torques of at most [`REGRESSOR_CACHE_ROWS`] rows (those the fits use again and
+    /// again); every other row's are computed where they are needed.
+    Some(KeptRows),
+}
+
+/// Values of some rows of a log, `width` a row, kept as the fits ask for them: per row of the
+/// log the slot holding its values plus one (0: none), and [`REGRESSOR_CACHE_ROWS`] slots.
+/// Reading takes no lock (the fits read the same rows many times over, from several threads).
+#[derive(Debug)]
+struct KeptRows {
+    width: usize,
+    slot_of: Vec<std::sync::atomic::AtomicU32>,
+    used: std::sync::atomic::AtomicUsize,
+    /// The values' bits, slot by slot.
+    values: Vec<std::sync::atomic::AtomicU64>,
+}
+
+impl KeptRows {
+    fn new(len: usize, width: usize) -> Self {
+        use std::sync::atomic::{AtomicU32, AtomicU64, AtomicUsize};
+        KeptRows {
+            width,
+            slot_of: zeroed_atomics::<AtomicU32, u32>(len),
+            used: AtomicUsize::new(0),
+            values: zeroed_atomics::<AtomicU64, u64>(REGRESSOR_CACHE_ROWS * width),
+        }
+    }
+
+    /// The values of row `k` into `out[..width]`, if kept.
+    fn get(&self, k: usize, out: &mut [f64]) -> bool {
+        use std::sync::atomic::Ordering;
+        let s = self.slot_of[k].load(Ordering::Acquire);
+        if s == 0 {
+            return false;
+        }
+        let s = s - 1;
+        let w = self.width;
+        let vals = &self.values[s as usize * w..(s as usize + 1) * w];
+        for (o, v) in out[..w].iter_mut().zip(vals) {
+            *o = f64::from_bits(v.load(Ordering::Relaxed));
+        }
+        true
+    }
+
+    /// Keep `vals` (`width` values) as row `k`'s while there are free slots.
+    fn put(&self, k: usize, vals: &[f64]) {
+        use std::sync::atomic::Ordering;
+        if self.slot_of[k].load(Ordering::Acquire) != 0 {
+            return;
+        }
+        let s = self.used.fetch_add(1, Ordering::Relaxed);
+        if s >= REGRESSOR_CACHE_ROWS {
+            return;
+        }
+        let w = self.width;
+        for (v, x) in self.values[s * w..(s + 1) * w].iter().zip(&vals[..w]) {
+            v.store(x.to_bits(), Ordering::Relaxed);
+        }
+        self.slot_of[k].store(s as u32 + 1, Ordering::Release);
+    }
+}
+
+/// `len` atomics holding zero, in memory the system zeroes on first touch: the slots never
+/// used cost no resident memory.
+fn zeroed_atomics<A, T: Copy + Default>(len: usize) -> Vec<A> {
+    const { assert!(std::mem::size_of::<A>() == std::mem::size_of::<T>()) };
+    const { assert!(std::mem::align_of::<A>() == std::mem::align_of::<T>()) };
+    let mut v = std::mem::ManuallyDrop::new(vec![T::default(); len]);
+    // SAFETY: `A` is `AtomicU32`/`AtomicU64` for `T` = `u32`/`u64`: the same size, alignment
+    // (checked above) and bit validity, so the allocation and its zeroed values are valid as
+    // `A`s and are freed with the same layout.
+    unsafe { Vec::from_raw_parts(v.as_mut_ptr().cast::<A>(), v.len(), v.capacity()) }
+}
+
 /// A log prepared for repeated prediction: rigid-body torques and the regressors of the
-/// linear torque effects computed once.
+/// linear torque effects computed once (of every row of a log of at most
+/// [`REGRESSOR_CACHE_ROWS`] rows; of a longer log, of the rows the fits use, so that its
+/// memory does not grow with the log's length).
 #[derive(Debug)]
 pub struct Prepared<'a> {
     /// The log.
     pub log: &'a Log,
-    /// Rigid-body torque per sample, row-major `len × n`, N·m.
-    pub tau_rb: Vec<f64>,
+    /// Rigid-body torque per sample (N·m).
+    tau_rb: RigidTorques,
     /// Regressors of the costly linear torque effects ([`Effect::costly`]: those that need
     /// inverse-dynamics passes) by position in the model's effect set (`None` for the others,
     /// which are evaluated directly): `n × P` per row, of every row of a log of at most
@@ -443,8 +524,8 @@ log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, 
         }
         let len = log.len();
         let every = len <= REGRESSOR_CACHE_ROWS;
-        let passes = 1 + if every {
-            model
+        let passes = if every {
+            1 + model
                 .effects
                 .iter()
                 .filter(|(e, _)| e.stage() == Stage::Torque && e.costly())
@@ -455,21 +536,26 @@ log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, 
         let total = (passes * len) as u64;
         let step = (len / 100).max(1);
         let stage = "preparing the log";
-        let mut data = model.dynamics.data();
-        let mut tau_rb = vec![0.0; len * n];
-        for k in 0..len {
-            if k % step == 0 {
-                progress.update(stage, k as u64, total);
+        let tau_rb = if every {
+            let mut data = model.dynamics.data();
+            let mut tau_rb = vec![0.0; len * n];
+            for k in 0..len {
+                if k % step == 0 {
+                    progress.update(stage, k as u64, total);
+                }
+                rnea(
+                    &model.dynamics,
+                    &mut data,
+                    log.traj.q(k),
+                    log.traj.qd(k),
+                    log.traj.qdd(k),
+                    &mut tau_rb[k * n..(k + 1) * n],
+                )?;
             }
-            rnea(
-                &model.dynamics,
-                &mut data,
-                log.traj.q(k),
-                log.traj.qd(k),
-                log.traj.qdd(k),
-                &mut tau_rb[k * n..(k + 1) * n],
-            )?;
-        }
+            RigidTorques::Every(tau_rb)
+        } else {
+            RigidTorques::Some(KeptRows::new(len, n))
+        };
         let mut regs: Vec<Option<Regressors>> = Vec::new();
         let mut reg_params = Vec::new();
         let mut pass = 1;
@@ -523,8 +609,54 @@ log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, 
     /// Joint torque of `model` at sample `k` (N·m) into `tau` (length `n`), skipping the
     /// effects whose position in the model's set is in `skip`.
     pub fn torque_row(&self, model: &Model, k: usize, skip: &[usize], tau: &mut [f64]) {
+        self.rigid_row(model, k, false, &mut None, tau);
+        self.effects_row(model, k, skip, tau);
+    }
+
+    /// [`Prepared::torque_row`] at a row a fit uses again and again: its rigid-body torque is
+    /// kept for the next call (while fewer than [`REGRESSOR_CACHE_ROWS`] rows are kept).
+    pub fn torque_row_kept(&self, model: &Model, k: usize, skip: &[usize], tau: &mut [f64]) {
+        self.rigid_row(model, k, true, &mut None, tau);
+        self.effects_row(model, k, skip, tau);
+    }
+
+    /// The rigid-body torque at sample `k` into `tau[..n]`: kept, or computed (and kept when
+    /// `keep` and there is room); `data` is the inverse dynamics' workspace, made when first
+    /// needed.
+    fn rigid_row(
+        &self,
+        model: &Model,
+        k: usize,
+        keep: bool,
+        data: &mut Option<crate::dynamics::DynData>,
+        tau: &mut [f64],
+    ) {
         let n = model.n;
-        tau[..n].copy_from_slice(&self.tau_rb[k * n..(k + 1) * n]);
+        match &self.tau_rb {
+            RigidTorques::Every(v) => tau[..n].copy_from_slice(&v[k * n..(k + 1) * n]),
+            RigidTorques::Some(m) => {
+                if m.get(k, tau) {
+                    return;
+                }
+                let data = data.get_or_insert_with(|| model.dynamics.data());
+                let (q, qd, qdd) = (
+                    self.log.traj.q(k),
+                    self.log.traj.qd(k),
+                    self.log.traj.qdd(k),
+                );
+                // The joint counts were checked when the log was prepared.
+                let _ = rnea(&model.dynamics, data, q, qd, qdd, &mut tau[..n]);
+                if keep {
+                    m.put(k, tau);
+                }
+            }
+        }
+    }
+
+    /// Add the torque effects of `model` at sample `k` to `tau[..n]`, skipping those at the
+    /// positions in `skip`.
+    fn effects_row(&self, model: &Model, k: usize, skip: &[usize], tau: &mut [f64]) {
+        let n = model.n;
         let (q, qd, qdd) = (
             self.log.traj.q(k),
             self.log.traj.qd(k),
@@ -629,8 +761,10 @@ log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, 
         out.clear();
         out.resize(rows.len() * ch, 0.0);
         let mut tau = [0.0; MAX_DOF];
+        let mut data = None;
         for (r, &k) in rows.iter().enumerate() {
-            self.torque_row(model, k, &[], &mut tau);
+            self.rigid_row(model, k, false, &mut data, &mut tau);
+            self.effects_row(model, k, &[], &mut tau);
             model.signal_from_torque(
                 self.log.kind,
                 &tau[..n],

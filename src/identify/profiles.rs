@@ -228,6 +228,28 @@ pub fn analyse(
     qdd: &dyn Fn(usize, usize) -> f64,
     prismatic: &[bool],
 ) -> (Vec<JointProfiles>, Vec<Failure>) {
+    let column = |c: usize| Ok((0..len).map(|k| res(k, c)).collect());
+    match analyse_columns(&column, len, names, n, t, q, qd, qdd, prismatic) {
+        Ok(r) => r,
+        Err(e) => unreachable!("{e}"),
+    }
+}
+
+/// [`analyse`] with the residual given a channel at a time: `res(c)` is channel `c`'s
+/// residual at every sample (it may fail, e.g. reading it from a file). One channel and one
+/// joint's motion are held at a time.
+#[allow(clippy::too_many_arguments)]
+pub fn analyse_columns(
+    res: &dyn Fn(usize) -> crate::error::Result<Vec<f64>>,
+    len: usize,
+    names: &[String],
+    n: usize,
+    t: &[f64],
+    q: &dyn Fn(usize, usize) -> f64,
+    qd: &dyn Fn(usize, usize) -> f64,
+    qdd: &dyn Fn(usize, usize) -> f64,
+    prismatic: &[bool],
+) -> crate::error::Result<(Vec<JointProfiles>, Vec<Failure>)> {
     let ch = names.len().max(1);
     let mut profiles = Vec::new();
     let mut failures = Vec::new();
@@ -236,29 +258,33 @@ pub fn analyse(
         if c >= ch {
             break;
         }
-        let r: Vec<f64> = (0..len).map(|k| res(k, c)).collect();
+        let r: Vec<f64> = res(c)?;
         let sigma = crate::identify::structure::noise_floor(&r, 1, 0);
         let var = {
             let m = r.iter().sum::<f64>() / len.max(1) as f64;
             r.iter().map(|v| (v - m).powi(2)).sum::<f64>() / len.max(1) as f64
         };
-        let xq: Vec<f64> = (0..len).map(|k| q(k, j)).collect();
-        let xqd: Vec<f64> = (0..len).map(|k| qd(k, j)).collect();
-        let xqdd: Vec<f64> = (0..len).map(|k| qdd(k, j)).collect();
         let p = prismatic.get(j).copied().unwrap_or(false);
         let (u_q, u_qd, u_qdd) = if p {
             ("m", "m/s", "m/s²")
         } else {
             ("rad", "rad/s", "rad/s²")
         };
+        // One joint column at a time.
+        let xqd: Vec<f64> = (0..len).map(|k| qd(k, j)).collect();
         let vmax = xqd.iter().fold(0.0f64, |a, b| a.max(b.abs()));
         let band = (STEP_BAND * vmax).max(STEP_BAND_MIN_RAD_S);
         let (step, se) = direction_step(&xqd, &r, band);
         let vel = profile("velocity", u_qd, &xqd, &r, sigma);
-        let pos = profile("position", u_q, &xq, &r, sigma);
-        let time = profile("time", "s", &t[..len.min(t.len())], &r, sigma);
-        let acc = profile("acceleration", u_qdd, &xqdd, &r, sigma);
         let dir = direction_explained(&xqd, &r, 0.01 * vmax, sigma);
+        drop(xqd);
+        let xq: Vec<f64> = (0..len).map(|k| q(k, j)).collect();
+        let pos = profile("position", u_q, &xq, &r, sigma);
+        drop(xq);
+        let time = profile("time", "s", &t[..len.min(t.len())], &r, sigma);
+        let xqdd: Vec<f64> = (0..len).map(|k| qdd(k, j)).collect();
+        let acc = profile("acceleration", u_qdd, &xqdd, &r, sigma);
+        drop(xqdd);
         let channel = names[c].clone();
         for (structure, e) in [
             ("direction", dir),
@@ -294,5 +320,5 @@ pub fn analyse(
     }
     // Largest explained first.
     failures.sort_by(|a, b| b.explained_rms.total_cmp(&a.explained_rms));
-    (profiles, failures)
+    Ok((profiles, failures))
 }

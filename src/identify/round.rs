@@ -256,7 +256,7 @@ pub fn run_round(
     };
     // The error per joint before the fit (on the validation log when there is one).
     let on = vprep.as_ref().unwrap_or(&prep);
-    let before = job.report_dir.map(|_| metrics::compare(on, model).0);
+    let before = job.report_dir.map(|_| metrics::compare_metrics(on, model));
     let id = job
         .plan
         .fit(model, (job.log, &prep), job.validation.zip(vprep.as_ref()))?;
@@ -283,7 +283,7 @@ pub fn run_round(
     let written = job.calibrated_to.to_path_buf();
     if let (Some(dir), Some(before)) = (job.report_dir, before) {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-        let after = metrics::compare(on, model).0;
+        let after = metrics::compare_metrics(on, model);
         let on = match job.validation {
             Some(v) => format!("the validation log {}", v.file),
             None => format!("the log fitted, {}", job.log.file),

@@ -195,11 +195,30 @@ pub fn unexplained(
 ) -> Vec<Unexplained> {
     let ch = names.len();
     let len = t.len();
+    let column = |c: usize| Ok((0..len).map(|k| r[k * ch + c]).collect());
+    match unexplained_columns(&column, names, n_joints, t, q, qd) {
+        Ok(u) => u,
+        Err(e) => unreachable!("{e}"),
+    }
+}
+
+/// [`unexplained`] with the residual given a channel at a time: `res(c)` is channel `c`'s
+/// residual at every sample (it may fail, e.g. reading it from a file).
+pub fn unexplained_columns(
+    res: &dyn Fn(usize) -> crate::error::Result<Vec<f64>>,
+    names: &[String],
+    n_joints: usize,
+    t: &[f64],
+    q: &dyn Fn(usize, usize) -> f64,
+    qd: &dyn Fn(usize, usize) -> f64,
+) -> crate::error::Result<Vec<Unexplained>> {
+    let ch = names.len();
+    let len = t.len();
     let mut out = Vec::new();
     for (c, name) in names.iter().enumerate() {
-        let y: Vec<f64> = (0..len).map(|k| r[k * ch + c]).collect();
+        let y: Vec<f64> = res(c)?;
         let rms = (y.iter().map(|v| v * v).sum::<f64>() / len.max(1) as f64).sqrt();
-        let nf = noise_floor(r, ch, c);
+        let nf = noise_floor(&y, 1, 0);
         if rms.is_nan() || rms <= STRUCTURE_RATIO * nf {
             continue;
         }
@@ -238,5 +257,5 @@ pub fn unexplained(
             dominant_period_s: dominant_period(t, &y),
         });
     }
-    out
+    Ok(out)
 }
