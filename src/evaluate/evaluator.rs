@@ -847,14 +847,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         // lane k mod LANES; energy::EnergySums), the same bits from the lockstep and the
         // per-sample paths; no allocation per sample.
         let mut sums = energy::EnergySums::default();
-        let model_error = |k: usize, e: crate::error::Error| Infeasible {
-            reason: Reason::ModelError,
-            sample: Some(k),
-            t_s: Some(k as f64 * dt),
-            line: None,
-            point_m: None,
-            detail: e.to_string(),
-        };
+        let model_error = |k: usize, e: crate::error::Error| Infeasible::model_error(k, dt, &e);
         let level = crate::simd::level();
         match sincos {
             // Lockstep batches of LANES samples (bit-identical to the per-sample path). The

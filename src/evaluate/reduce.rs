@@ -1348,17 +1348,7 @@ fn integrate(
             sp,
         )
         .map(|_| ())
-        .map_err(|e| {
-            let k = at_sample(i);
-            Outcome::Infeasible(Infeasible {
-                reason: Reason::ModelError,
-                sample: Some(k),
-                t_s: Some(k as f64 * dt),
-                line: None,
-                point_m: None,
-                detail: e.to_string(),
-            })
-        })
+        .map_err(|e| Outcome::Infeasible(Infeasible::model_error(at_sample(i), dt, &e)))
     };
     let level = crate::simd::level();
     if level == crate::simd::Level::Scalar || !job.energy.batchable() {

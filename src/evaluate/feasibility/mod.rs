@@ -220,6 +220,18 @@ impl std::fmt::Display for Infeasible {
 }
 
 impl Infeasible {
+    /// The energy model failed at sample `k` of a path sampled every `dt` s.
+    pub fn model_error(k: usize, dt: f64, e: &crate::error::Error) -> Self {
+        Infeasible {
+            reason: Reason::ModelError,
+            sample: Some(k),
+            t_s: Some(k as f64 * dt),
+            line: None,
+            point_m: None,
+            detail: e.to_string(),
+        }
+    }
+
     /// From a timing failure.
     pub fn from_timing(e: &crate::timing::TimingFailure) -> Self {
         use crate::timing::TimingFailure as T;
