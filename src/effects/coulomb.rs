@@ -127,14 +127,12 @@ impl Effect for Coulomb {
     /// `[effects.values]` and is drawn there).
     fn draw(&self, d: &mut Drawing<'_>, joint: Option<usize>) {
         let Some(j) = joint else { return };
-        let fc = match d.identified_factor(&format!("f_c[{}]", j + 1)) {
-            Some(f) => f,
-            None => 1.0 + d.ranges.coulomb_rel * d.uniform(),
-        };
+        let rel = d.ranges.coulomb_rel;
+        let label = format!("Coulomb friction joint {}", j + 1);
+        let fc = d.factor(&format!("f_c[{}]", j + 1), rel, label);
         if let Some(jd) = d.joint(j) {
             jd.coulomb *= fc;
         }
-        d.record(format!("Coulomb friction joint {}", j + 1), fc);
     }
     fn params(&self) -> Vec<ParamSpec> {
         let n = self.fc_pos.len();

@@ -201,14 +201,11 @@ impl Effect for Standby {
     /// The cabinet's standby power: identified, normal with its standard error; else
     /// ± `standby_power_rel`.
     fn draw(&self, d: &mut Drawing<'_>, _joint: Option<usize>) {
-        let sb = match d.identified_factor("P0") {
-            Some(f) => f,
-            None => 1.0 + d.ranges.standby_power_rel * d.uniform(),
-        };
+        let rel = d.ranges.standby_power_rel;
+        let sb = d.factor("P0", rel, "standby power");
         if let Some(dr) = d.robot.drive.as_mut() {
             dr.standby_power *= sb;
         }
-        d.record("standby power", sb);
     }
     fn params(&self) -> Vec<ParamSpec> {
         vec![ParamSpec {

@@ -122,6 +122,17 @@ impl Drawing<'_> {
         self.identified(name)
             .map(|(v, dv)| (v + dv).max(0.0) / v.max(1e-300))
     }
+
+    /// The multiplier of parameter `name`: identified ([`Drawing::identified_factor`]), else
+    /// uniform in `1 ± rel`; recorded as `label`.
+    pub fn factor(&mut self, name: &str, rel: f64, label: impl Into<String>) -> f64 {
+        let f = match self.identified_factor(name) {
+            Some(f) => f,
+            None => 1.0 + rel * self.uniform(),
+        };
+        self.record(label, f);
+        f
+    }
 }
 
 /// An [`Uncertainty`] in `phase` at `rank` that leaves identified values to the study.

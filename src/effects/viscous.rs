@@ -55,14 +55,12 @@ impl Effect for Viscous {
     /// else ± `viscous_rel`.
     fn draw(&self, d: &mut Drawing<'_>, joint: Option<usize>) {
         let Some(j) = joint else { return };
-        let fv = match d.identified_factor(&format!("f_v[{}]", j + 1)) {
-            Some(f) => f,
-            None => 1.0 + d.ranges.viscous_rel * d.uniform(),
-        };
+        let rel = d.ranges.viscous_rel;
+        let label = format!("viscous friction joint {}", j + 1);
+        let fv = d.factor(&format!("f_v[{}]", j + 1), rel, label);
         if let Some(jd) = d.joint(j) {
             jd.viscous *= fv;
         }
-        d.record(format!("viscous friction joint {}", j + 1), fv);
     }
     fn params(&self) -> Vec<ParamSpec> {
         per_joint("f_v", "N·m·s/rad", self.fv.len())

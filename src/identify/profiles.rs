@@ -211,33 +211,11 @@ fn direction_explained(qd: &[f64], r: &[f64], still: f64, sigma: f64) -> f64 {
 
 /// Profiles and ranked structures of a residual.
 ///
-/// `res(k, c)` is the residual (model − measured) of channel `c` at sample `k`, for `len`
-/// samples; `names` the channel names;
-/// `q`, `qd`, `qdd` give joint `j`'s value at sample `k`; `t` the times (s); `prismatic[j]`
-/// whether joint `j` is prismatic (units). A supply-power log (one channel, several joints) is
-/// read against every joint's motion.
-#[allow(clippy::too_many_arguments)]
-pub fn analyse(
-    res: &dyn Fn(usize, usize) -> f64,
-    len: usize,
-    names: &[String],
-    n: usize,
-    t: &[f64],
-    q: &dyn Fn(usize, usize) -> f64,
-    qd: &dyn Fn(usize, usize) -> f64,
-    qdd: &dyn Fn(usize, usize) -> f64,
-    prismatic: &[bool],
-) -> (Vec<JointProfiles>, Vec<Failure>) {
-    let column = |c: usize| Ok((0..len).map(|k| res(k, c)).collect());
-    match analyse_columns(&column, len, names, n, t, q, qd, qdd, prismatic) {
-        Ok(r) => r,
-        Err(e) => unreachable!("{e}"),
-    }
-}
-
-/// [`analyse`] with the residual given a channel at a time: `res(c)` is channel `c`'s
-/// residual at every sample (it may fail, e.g. reading it from a file). One channel and one
-/// joint's motion are held at a time.
+/// `res(c)` is channel `c`'s residual (model − measured) at every one of the `len` samples
+/// (it may fail, e.g. reading it from a file); `names` the channel names; `q`, `qd`, `qdd`
+/// give joint `j`'s value at sample `k`; `t` the times (s); `prismatic[j]` whether joint `j`
+/// is prismatic (units). A supply-power log (one channel, several joints) is read against
+/// every joint's motion. One channel and one joint's motion are held at a time.
 #[allow(clippy::too_many_arguments)]
 pub fn analyse_columns(
     res: &dyn Fn(usize) -> crate::error::Result<Vec<f64>>,
