@@ -4,7 +4,7 @@
 //! are kept for the rows the fits use; the whole-log prediction and residuals are kept in a
 //! temporary file and read a channel at a time. `compare` and `identify` of a 1,000,000-row
 //! log stay within a stated margin above the same commands on its first 200,000 rows;
-//! `compare` of it within 250 MB, `identify` within 270 MB, `diagnose` within 360 MB.
+//! `compare` of it within 250 MB, `identify` within 270 MB, `diagnose` within 320 MB.
 //!
 //! One binary: each child's own peak resident memory is read with `wait4`
 //! (tests/common/peak_rss.rs).
@@ -34,9 +34,10 @@ const MAX_PEAK_LONG: u64 = 250_000_000;
 /// The most `identify --effects coulomb` may hold of it, bytes (measured: 249–254 MB).
 const MAX_PEAK_LONG_IDENTIFY: u64 = 270_000_000;
 
-/// The most `diagnose` may hold of it, bytes (measured: about 343 MB; its fits' share, about
-/// 110 MB, does not grow with the log).
-const MAX_PEAK_LONG_DIAGNOSE: u64 = 360_000_000;
+/// The most `diagnose` may hold of it, bytes (measured: about 300 MB; its fits' share, about
+/// 70 MB, does not grow with the log; the fit's `JᵀJ` takes no transposed copy of the
+/// Jacobian, 35 MB).
+const MAX_PEAK_LONG_DIAGNOSE: u64 = 320_000_000;
 
 /// The simulated 1,000,000-row log and its first 200,000 rows, in a scratch directory.
 struct Logs {
@@ -133,7 +134,7 @@ fn a_long_log_costs_memory_for_its_compared_values_not_its_text() {
 }
 
 #[test]
-fn a_million_row_log_is_compared_in_under_250_mb_identified_in_under_270_mb_and_diagnosed_in_under_360_mb(
+fn a_million_row_log_is_compared_in_under_250_mb_identified_in_under_270_mb_and_diagnosed_in_under_320_mb(
 ) {
     let logs = Logs::new("abs");
     for args in [

@@ -349,6 +349,17 @@ pub fn fit_parameters(
     fit_core(prep, model, effects, rows, &[], false)
 }
 
+/// `Jᵀ J` of the Jacobian `J` (`m × p`) held as its transpose `jt` (`p × m`, column-major:
+/// `J`'s row-major data). The second factor is a strided view of the same data, not a
+/// transposed copy (`m × p` values less at the peak of a fit); the product is the same
+/// matrixmultiply `gemm` over the same values (it packs its operands whatever their strides), so
+/// the same bits as multiplying by an owned transpose.
+fn gram(jt: &nalgebra::DMatrix<f64>) -> nalgebra::DMatrix<f64> {
+    let (p, m) = jt.shape();
+    let j = nalgebra::DMatrixView::from_slice_with_strides(jt.as_slice(), m, p, p, 1);
+    jt * j
+}
+
 fn fit_core(
     prep: &Prepared,
     model: &mut Model,
@@ -498,10 +509,7 @@ fn fit_core(
         payload_chain(&mut jac, m, &theta);
         // The row-major Jacobian is its transpose, column-major: no copy.
         let jt = nalgebra::DMatrix::from_vec(p, m, std::mem::take(&mut jac));
-        let jtj = {
-            let jm = jt.transpose();
-            &jt * &jm
-        };
+        let jtj = gram(&jt);
         let mut g = &jt * nalgebra::DVector::from_column_slice(&r);
         jac = jt.data.into();
         let maxdiag = (0..p).map(|i| jtj[(i, i)]).fold(0.0, f64::max);
@@ -567,10 +575,7 @@ fn fit_core(
         tie_cols(&mut jac, m);
         payload_chain(&mut jac, m, &theta);
         let jt = nalgebra::DMatrix::from_vec(p, m, std::mem::take(&mut jac));
-        let jtj = {
-            let jm = jt.transpose();
-            &jt * &jm
-        };
+        let jtj = gram(&jt);
         jac = jt.data.into();
         // A column whose effect on the signal is below 1e-6 of the signal's RMS (for the
         // parameter at max(|θ|, 1)) is not excited: treated as zero.
@@ -815,4 +820,29 @@ fn fit_core(
         hac_block_rows: hac_rows,
         correlation,
     })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::gram;
+
+    /// `JᵀJ` from the strided view equals `JᵀJ` from an owned transpose bit for bit, on small
+    /// (nalgebra's own loops) and large (matrixmultiply's packed `gemm`) Jacobians.
+    #[test]
+    fn the_normal_equations_from_a_strided_view_equal_those_of_a_transposed_copy_bit_for_bit() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(3);
+        for (m, p) in [(0, 3), (1, 1), (5, 3), (40, 7), (1200, 36), (4999, 13)] {
+            let rows: Vec<f64> = (0..m * p)
+                .map(|_| rng.gen_range(-1.0..1.0) * 10f64.powi(rng.gen_range(-6..6)))
+                .collect();
+            let jt = nalgebra::DMatrix::from_vec(p, m, rows);
+            let want = &jt * jt.transpose();
+            let got = gram(&jt);
+            assert_eq!(got.shape(), (p, p));
+            for (a, b) in got.iter().zip(want.iter()) {
+                assert_eq!(a.to_bits(), b.to_bits(), "{m} × {p}");
+            }
+        }
+    }
 }
