@@ -127,7 +127,7 @@ pub fn max_input_bytes() -> u64 {
 
 /// Read a whole file, at most [`max_input_bytes`]: a longer one is an error naming it and the
 /// limit (nothing beyond the limit is read).
-pub fn read_capped(path: &std::path::Path) -> Result<Vec<u8>> {
+pub(crate) fn read_capped(path: &std::path::Path) -> Result<Vec<u8>> {
     use std::io::Read;
     let max = max_input_bytes();
     let f = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;

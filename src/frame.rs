@@ -7,7 +7,7 @@ use crate::math::{rot_z, Frame, V3};
 
 /// A coordinate at least this far from the base (m) is taken for millimetres by
 /// [`Placement::check_metres`]: no arm reaches 50 m.
-pub const MAX_PLAUSIBLE_M: f64 = 50.0;
+pub(crate) const MAX_PLAUSIBLE_M: f64 = 50.0;
 
 /// A placement coordinate no arm reaches, as [`Placement::check_metres`] finds it.
 #[derive(Clone, Debug, PartialEq, thiserror::Error)]

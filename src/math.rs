@@ -72,19 +72,19 @@ impl Frame {
 }
 
 /// Rotation about x by `a` rad.
-pub fn rot_x(a: f64) -> M3 {
+pub(crate) fn rot_x(a: f64) -> M3 {
     let (s, c) = a.sin_cos();
     M3::new(1.0, 0.0, 0.0, 0.0, c, -s, 0.0, s, c)
 }
 
 /// Rotation about y by `a` rad.
-pub fn rot_y(a: f64) -> M3 {
+pub(crate) fn rot_y(a: f64) -> M3 {
     let (s, c) = a.sin_cos();
     M3::new(c, 0.0, s, 0.0, 1.0, 0.0, -s, 0.0, c)
 }
 
 /// Rotation about z by `a` rad.
-pub fn rot_z(a: f64) -> M3 {
+pub(crate) fn rot_z(a: f64) -> M3 {
     let (s, c) = a.sin_cos();
     M3::new(c, -s, 0.0, s, c, 0.0, 0.0, 0.0, 1.0)
 }
@@ -103,7 +103,7 @@ pub fn rot_axis(axis: &V3, angle: f64) -> M3 {
 
 /// [`rot_axis`] from the angle's sine `s` and cosine `c`.
 #[inline]
-pub fn rot_axis_sc(axis: &V3, s: f64, c: f64) -> M3 {
+pub(crate) fn rot_axis_sc(axis: &V3, s: f64, c: f64) -> M3 {
     let t = 1.0 - c;
     let (x, y, z) = (axis.x, axis.y, axis.z);
     M3::new(
@@ -124,16 +124,8 @@ pub fn skew(v: &V3) -> M3 {
     M3::new(0.0, -v.z, v.y, v.z, 0.0, -v.x, -v.y, v.x, 0.0)
 }
 
-/// Roll, pitch, yaw (rad) of a rotation matrix, inverse of [`rot_rpy`].
-pub fn rpy_of(r: &M3) -> [f64; 3] {
-    let pitch = (-r[(2, 0)]).clamp(-1.0, 1.0).asin();
-    let roll = r[(2, 1)].atan2(r[(2, 2)]);
-    let yaw = r[(1, 0)].atan2(r[(0, 0)]);
-    [roll, pitch, yaw]
-}
-
 /// Angle (rad) of the rotation `a^T b`, i.e. the geodesic distance between two rotations.
-pub fn rotation_distance(a: &M3, b: &M3) -> f64 {
+pub(crate) fn rotation_distance(a: &M3, b: &M3) -> f64 {
     let r = a.transpose() * b;
     ((r.trace() - 1.0) * 0.5).clamp(-1.0, 1.0).acos()
 }
@@ -149,6 +141,14 @@ mod tests {
             assert!((rot_axis(&V3::y(), a) - rot_y(a)).norm() < 1e-15);
             assert!((rot_axis(&V3::z(), a) - rot_z(a)).norm() < 1e-15);
         }
+    }
+
+    /// Roll, pitch, yaw (rad) of a rotation matrix, inverse of [`rot_rpy`].
+    fn rpy_of(r: &M3) -> [f64; 3] {
+        let pitch = (-r[(2, 0)]).clamp(-1.0, 1.0).asin();
+        let roll = r[(2, 1)].atan2(r[(2, 2)]);
+        let yaw = r[(1, 0)].atan2(r[(0, 0)]);
+        [roll, pitch, yaw]
     }
 
     #[test]

@@ -158,7 +158,7 @@ pub fn differentiate_uniform_into(
 
 /// `v` resized to `len` (new entries 0) with its capacity grown to `len` exactly, not
 /// doubled: per-sample buffers of a long path are hundreds of megabytes.
-pub fn resize_exact(v: &mut Vec<f64>, len: usize) {
+pub(crate) fn resize_exact(v: &mut Vec<f64>, len: usize) {
     v.reserve_exact(len.saturating_sub(v.len()));
     v.resize(len, 0.0);
 }
@@ -436,7 +436,7 @@ pub fn difference(a: f64, b: f64) -> f64 {
 
 /// `(a − b) / a` in % from [`difference`]: 0 where the difference is within rounding, and
 /// where `a` is 0.
-pub fn relative_difference_pct(a: f64, b: f64) -> f64 {
+pub(crate) fn relative_difference_pct(a: f64, b: f64) -> f64 {
     if a == 0.0 {
         0.0
     } else {

@@ -27,7 +27,7 @@ use std::io::Write;
 use std::path::{Component, Path, PathBuf};
 
 /// Name of the manifest file inside a run directory.
-pub const MANIFEST: &str = ".printwatt-manifest.json";
+pub(crate) const MANIFEST: &str = ".printwatt-manifest.json";
 
 /// Every input file of a command. Outputs are checked against them before anything is written.
 #[derive(Clone, Debug, Default)]
@@ -63,14 +63,6 @@ impl Inputs {
     /// Add an input file (or directory).
     pub fn add(&mut self, p: impl AsRef<Path>) -> &mut Self {
         self.files.push(p.as_ref().to_path_buf());
-        self
-    }
-
-    /// Add an optional input.
-    pub fn add_opt(&mut self, p: Option<impl AsRef<Path>>) -> &mut Self {
-        if let Some(p) = p {
-            self.add(p);
-        }
         self
     }
 
@@ -241,7 +233,7 @@ pub fn check_dir(dir: &Path, inputs: &Inputs) -> Result<()> {
 
 /// `p` made absolute with every existing part resolved (symbolic links, `..`): the deepest
 /// existing ancestor canonicalised, the rest appended, `.` dropped and `..` taken lexically.
-pub fn resolve_lenient(p: &Path) -> PathBuf {
+pub(crate) fn resolve_lenient(p: &Path) -> PathBuf {
     let abs = std::path::absolute(p).unwrap_or_else(|_| p.to_path_buf());
     let mut norm = PathBuf::new();
     for c in abs.components() {
@@ -307,7 +299,7 @@ pub fn guard_inputs(out: &Path, inputs: &[&Path]) -> Result<()> {
 }
 
 /// Whether a process with this PID is running (Linux: `/proc/PID`; elsewhere assumed running).
-pub fn process_alive(pid: u32) -> bool {
+pub(crate) fn process_alive(pid: u32) -> bool {
     if pid == std::process::id() {
         return true;
     }
@@ -328,7 +320,7 @@ fn tmp_pid(name: &str) -> Option<u32> {
 
 /// Remove `<name>.tmp-PID` siblings of `path` left by processes that are no longer running
 /// (an interrupted write). Returns how many were removed.
-pub fn clean_stale_temps(path: &Path) -> usize {
+pub(crate) fn clean_stale_temps(path: &Path) -> usize {
     let (Some(dir), Some(name)) = (path.parent(), path.file_name()) else {
         return 0;
     };
@@ -368,7 +360,7 @@ fn fill_temp(tmp: &Path, fill: &mut Fill<'_>) -> std::io::Result<()> {
 }
 
 /// [`write_atomic`] with the contents streamed by `fill`.
-pub fn write_atomic_with(path: &Path, fill: &mut Fill<'_>) -> Result<()> {
+pub(crate) fn write_atomic_with(path: &Path, fill: &mut Fill<'_>) -> Result<()> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     }
@@ -395,7 +387,7 @@ pub fn write_new_atomic(path: &Path, contents: &[u8]) -> Result<()> {
 }
 
 /// [`write_new_atomic`] with the contents streamed by `fill`.
-pub fn write_new_atomic_with(path: &Path, fill: &mut Fill<'_>) -> Result<()> {
+pub(crate) fn write_new_atomic_with(path: &Path, fill: &mut Fill<'_>) -> Result<()> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
     }
@@ -842,7 +834,12 @@ pub fn check_finite<'a>(
 
 /// [`check_finite`] for one row, sample `k` (0-based), for writers that produce rows one at a
 /// time.
-pub fn check_finite_row(what: &str, columns: &[String], k: usize, row: &[f64]) -> Result<()> {
+pub(crate) fn check_finite_row(
+    what: &str,
+    columns: &[String],
+    k: usize,
+    row: &[f64],
+) -> Result<()> {
     if let Some(j) = row.iter().position(|v| !v.is_finite()) {
         let q = columns.get(j).map_or("?", String::as_str);
         return Err(Error::Invalid(format!(
@@ -887,12 +884,12 @@ mod finite {
     use std::fmt;
 
     #[derive(Default)]
-    pub struct Finder {
+    pub(crate) struct Finder {
         path: Vec<String>,
     }
 
     #[derive(Debug)]
-    pub enum Found {
+    pub(crate) enum Found {
         NonFinite { path: String, value: f64 },
         Other(String),
     }
@@ -943,7 +940,7 @@ mod finite {
         }
     }
 
-    pub struct Compound<'a> {
+    pub(crate) struct Compound<'a> {
         f: &'a mut Finder,
         i: usize,
         key: String,
@@ -1181,18 +1178,6 @@ mod finite {
             Ok(Compound::new(self))
         }
     }
-}
-
-/// Format a CSV: header cells then rows of numbers with full round-trip precision.
-pub fn csv_string(header: &[String], rows: impl Iterator<Item = Vec<f64>>) -> String {
-    let mut s = header.join(",");
-    s.push('\n');
-    for r in rows {
-        let cells: Vec<String> = r.iter().map(|v| format!("{v}")).collect();
-        s.push_str(&cells.join(","));
-        s.push('\n');
-    }
-    s
 }
 
 /// UTC time `YYYYmmddTHHMMSSZ` of a Unix time, s (proleptic Gregorian; Howard Hinnant's

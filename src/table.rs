@@ -176,7 +176,7 @@ pub fn joint_unit_is_linear(unit: &str) -> Option<bool> {
 }
 
 /// The units [`si_factor`] accepts for `dim`, for messages.
-pub fn expected_units(dim: Dim) -> &'static str {
+pub(crate) fn expected_units(dim: Dim) -> &'static str {
     match dim {
         Dim::Time => "s, ms, us or min",
         Dim::Angle => "rad or deg (m or mm for a prismatic joint)",
@@ -212,7 +212,7 @@ impl ColumnSpec {
         }
     }
     /// A column in `unit` unless its header says otherwise.
-    pub fn default_unit(dim: Dim, unit: &'static str) -> Self {
+    pub(crate) fn default_unit(dim: Dim, unit: &'static str) -> Self {
         ColumnSpec {
             dim,
             default_unit: unit,
@@ -496,7 +496,7 @@ pub fn show(v: f64) -> String {
 
 /// `v` (SI, of dimension `dim`, read at `file:line:col` in column `name`) within
 /// [`physical_bound`], or an error naming the place, the value and the bound.
-pub fn check_physical(
+pub(crate) fn check_physical(
     file: &str,
     line: usize,
     col: usize,

@@ -105,7 +105,7 @@ pub struct Supplied {
 }
 
 /// Dimension of a trajectory column from its name (`t`, `qK`, `qdK`, `qddK`).
-pub fn trajectory_dim(name: &str) -> Option<crate::table::Dim> {
+pub(crate) fn trajectory_dim(name: &str) -> Option<crate::table::Dim> {
     use crate::table::Dim;
     let digits = |p: &str| {
         name.strip_prefix(p)
@@ -264,7 +264,10 @@ pub fn columns(
 }
 
 /// Build a trajectory from a parsed table; see [`read_csv`].
-pub fn from_table(table: &crate::table::Table, n: usize) -> Result<(JointTrajectory, Supplied)> {
+pub(crate) fn from_table(
+    table: &crate::table::Table,
+    n: usize,
+) -> Result<(JointTrajectory, Supplied)> {
     let file = &table.file;
     let (tcol, qc, qdc, qddc) = columns(table, n)?;
     if table.rows.len() < 3 {

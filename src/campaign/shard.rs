@@ -245,7 +245,7 @@ pub fn encode_rows(rows: &[(usize, Evaluated)]) -> Result<Vec<u8>> {
 }
 
 /// Decode a shard's rows (what [`encode_rows`] wrote); `what` names the file in errors.
-pub fn decode_rows(bytes: &[u8], what: &str) -> Result<Vec<(usize, Evaluated)>> {
+pub(crate) fn decode_rows(bytes: &[u8], what: &str) -> Result<Vec<(usize, Evaluated)>> {
     let rows: Vec<Row> = postcard::from_bytes(bytes)
         .map_err(|e| Error::Invalid(format!("{what}: not a printwatt shard rows file ({e})")))?;
     Ok(rows
@@ -284,13 +284,13 @@ pub fn encode_cases(rows: &[(usize, CaseResult)]) -> Result<Vec<u8>> {
 }
 
 /// Decode a shard's cases (what [`encode_cases`] wrote); `what` names the file in errors.
-pub fn decode_cases(bytes: &[u8], what: &str) -> Result<Vec<(usize, CaseResult)>> {
+pub(crate) fn decode_cases(bytes: &[u8], what: &str) -> Result<Vec<(usize, CaseResult)>> {
     postcard::from_bytes(bytes)
         .map_err(|e| Error::Invalid(format!("{what}: not a printwatt shard cases file ({e})")))
 }
 
 /// Decode a shard's draws (what [`encode_draws`] wrote); `what` names the file in errors.
-pub fn decode_draws(bytes: &[u8], what: &str) -> Result<Vec<(usize, Draw)>> {
+pub(crate) fn decode_draws(bytes: &[u8], what: &str) -> Result<Vec<(usize, Draw)>> {
     postcard::from_bytes(bytes)
         .map_err(|e| Error::Invalid(format!("{what}: not a printwatt shard draws file ({e})")))
 }

@@ -660,7 +660,8 @@ impl CaseResult {
 
 /// What a front end does with each answered case: the case, its result, its report page (when
 /// it has an answer) and its wall time, s.
-pub type CaseDone<'a> = dyn FnMut(&Case, &CaseResult, Option<String>, f64) -> Result<()> + 'a;
+pub(crate) type CaseDone<'a> =
+    dyn FnMut(&Case, &CaseResult, Option<String>, f64) -> Result<()> + 'a;
 
 /// Run the cases `indices` of a study (in order), each optimised as its config says
 /// (`config_of`: the case's job; an error there is the study's, an error of the optimisation
@@ -806,7 +807,7 @@ pub struct StudyTables {
 impl Study {
     /// Check that `results` (one per case, in case order) belong to this study and share one
     /// objective.
-    pub fn check_results(&self, results: &[CaseResult]) -> Result<()> {
+    pub(crate) fn check_results(&self, results: &[CaseResult]) -> Result<()> {
         if results.len() != self.cases.len() {
             return Err(Error::Invalid(format!(
                 "{} results for {} cases",

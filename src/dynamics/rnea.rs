@@ -195,7 +195,7 @@ impl DynModel {
     }
 
     /// Whether joint `i` (0-based) is prismatic (`false` beyond the last joint).
-    pub fn is_prismatic(&self, i: usize) -> bool {
+    pub(crate) fn is_prismatic(&self, i: usize) -> bool {
         i < self.n && self.links[i].prismatic
     }
 

@@ -149,7 +149,7 @@ impl Balancer {
             .sqrt()
     }
     /// Shortest length `L_min = |b − a|`, m.
-    pub fn min_length(&self) -> f64 {
+    pub(crate) fn min_length(&self) -> f64 {
         (self.b - self.a).abs()
     }
     /// The two regressor entries `[dL/dq, (L − L_min) dL/dq]` (m, m²) at joint angle `q` rad.
@@ -173,7 +173,10 @@ impl Balancer {
     /// [`crate::fastmath::sin_cos_lanes`]). Inlined into the caller, so it runs on the caller's
     /// instruction set ([`crate::simd`]).
     #[inline(always)]
-    pub fn joint_torque_lanes(&self, q: &[f64; crate::simd::LANES]) -> [f64; crate::simd::LANES] {
+    pub(crate) fn joint_torque_lanes(
+        &self,
+        q: &[f64; crate::simd::LANES],
+    ) -> [f64; crate::simd::LANES] {
         use crate::simd::LANES;
         let mut x = [0.0; LANES];
         for l in 0..LANES {

@@ -61,7 +61,7 @@ impl BuildContext<'_> {
     }
     /// Per-joint values of the drive file's `[[joints]]` key `key` (`dflt` per joint without
     /// drive data). Error: a key the drive train does not have.
-    pub fn joint_key(&self, key: &str, dflt: f64) -> Result<Vec<f64>> {
+    pub(crate) fn joint_key(&self, key: &str, dflt: f64) -> Result<Vec<f64>> {
         match &self.robot.drive {
             Some(d) => d
                 .joints
@@ -78,7 +78,7 @@ impl BuildContext<'_> {
         }
     }
     /// Apply `[effects.values].<name>` to `e` if the table has it (error naming the key).
-    pub fn apply_values(&self, e: &mut dyn Effect) -> Result<()> {
+    pub(crate) fn apply_values(&self, e: &mut dyn Effect) -> Result<()> {
         if let Some(v) = self.table.values.as_ref().and_then(|m| m.get(e.name())) {
             e.set_values(v)
                 .map_err(|err| self.bad(&format!("values.{}", e.name()), err.to_string()))?;
@@ -247,12 +247,12 @@ impl EffectSet {
     }
 
     /// The torque effects with their switches, in order.
-    pub fn torque_effects(&self) -> impl Iterator<Item = (&dyn Effect, bool)> {
+    pub(crate) fn torque_effects(&self) -> impl Iterator<Item = (&dyn Effect, bool)> {
         self.iter().filter(|(e, _)| e.stage() == Stage::Torque)
     }
 
     /// Values of an enabled effect, or `None` when it is off or absent.
-    pub fn enabled_values(&self, name: &str) -> Option<Vec<f64>> {
+    pub(crate) fn enabled_values(&self, name: &str) -> Option<Vec<f64>> {
         self.position(name)
             .filter(|&i| self.enabled[i])
             .map(|i| self.effects[i].values())

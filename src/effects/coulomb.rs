@@ -11,7 +11,7 @@ use super::{
     check_values, per_joint, BuildContext, DrawPhase, Drawing, DriveKept, DriveKeysMut, Effect,
     EnergyClass, ParamSpec, Uncertainty,
 };
-use crate::error::{Error, Result};
+use crate::error::Result;
 
 /// The drive file's `[[joints]]` key holding `f_c` (N·m, both directions), read and written
 /// here.
@@ -89,17 +89,6 @@ impl Coulomb {
         } else {
             n * s
         }
-    }
-
-    /// Change the velocity scale ε (rad/s, > 0).
-    pub fn set_velocity_scale(&mut self, eps: f64) -> Result<()> {
-        if !(eps.is_finite() && eps > 0.0) {
-            return Err(Error::Invalid(format!(
-                "coulomb velocity scale must be > 0 rad/s, got {eps}"
-            )));
-        }
-        self.velocity_scale = eps;
-        Ok(())
     }
 }
 

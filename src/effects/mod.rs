@@ -28,7 +28,7 @@ mod coulomb;
 mod electrical;
 mod offset;
 mod payload;
-pub mod registry;
+pub(crate) mod registry;
 mod rigid_body;
 mod stribeck;
 mod uncertain;

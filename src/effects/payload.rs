@@ -33,13 +33,13 @@ use std::sync::{Arc, Mutex};
 /// it up to rounding).
 const COM_STEP_M: f64 = 0.1;
 /// Bound on each component of the first-moment error `|Δh|`, kg·m.
-pub const PAYLOAD_MOMENT_MAX_KG_M: f64 = 1e3;
+pub(crate) const PAYLOAD_MOMENT_MAX_KG_M: f64 = 1e3;
 /// Bound on each component of the inertia error `|ΔI_o|`, kg·m².
-pub const PAYLOAD_INERTIA_MAX_KG_M2: f64 = 1e3;
+pub(crate) const PAYLOAD_INERTIA_MAX_KG_M2: f64 = 1e3;
 /// Number of parameters: `Δm`, `Δh` (3), `ΔI_o` (6).
-pub const PAYLOAD_PARAMS: usize = 10;
+pub(crate) const PAYLOAD_PARAMS: usize = 10;
 /// Names of the inertia components, in parameter order.
-pub const PAYLOAD_INERTIA_NAMES: [&str; 6] = ["xx", "yy", "zz", "xy", "xz", "yz"];
+pub(crate) const PAYLOAD_INERTIA_NAMES: [&str; 6] = ["xx", "yy", "zz", "xy", "xz", "yz"];
 
 /// Payload error at the flange: mass, first moment and inertia about the flange origin.
 #[derive(Debug, Clone)]
@@ -165,11 +165,6 @@ impl Payload {
         }
     }
 
-    /// Torque of a 1 kg point mass at the nominal payload CoM (N·m per kg) into `out`.
-    pub fn unit_torque(&self, q: &[f64], qd: &[f64], qdd: &[f64], out: &mut [f64]) {
-        self.unit_at(0, q, qd, qdd, out);
-    }
-
     /// The identified payload in standard inertial parameters: mass `m` (kg), first moment
     /// `h = m c` (kg·m) and inertia about the flange origin `I_o` (kg·m²), flange frame.
     pub fn standard(&self) -> (f64, V3, M3) {
@@ -200,7 +195,7 @@ impl Payload {
     /// Derivatives of [`Payload::held_inertia_error`] with respect to `dm` (index 0) and
     /// `dh_x`, `dh_y`, `dh_z` (1–3): `−P(Δh)/m²` and `(2 Δhᵢ 1 − eᵢ Δhᵀ − Δh eᵢᵀ)/m` (the chain
     /// rule of a fit that holds the inertia about the centre of mass). Zeros at zero mass.
-    pub fn held_inertia_derivatives(&self, dm: f64, dh: [f64; 3]) -> [[f64; 6]; 4] {
+    pub(crate) fn held_inertia_derivatives(&self, dm: f64, dh: [f64; 3]) -> [[f64; 6]; 4] {
         let m = self.nominal_mass + dm;
         let mut der = [[0.0; 6]; 4];
         if m.abs() <= 1e-12 {

@@ -31,7 +31,7 @@ use rand_chacha::ChaCha8Rng;
 use std::sync::Arc;
 
 /// Bound on each base-parameter error, SI (kg, kg·m, kg·m²).
-pub const RIGID_BODY_MAX: f64 = 1e4;
+pub(crate) const RIGID_BODY_MAX: f64 = 1e4;
 /// Largest plausible change of a link's mass by a calibration, as a fraction of its nominal
 /// mass (a stated bound, not a law of physics: CAD link masses are rarely off by more than a
 /// few tens of per cent; a larger change is a different robot or an effect the catalogue
@@ -375,7 +375,7 @@ impl RigidBody {
     /// link's standard parameters (`I` about the joint origin), kg·m²; a physically consistent
     /// link (positive mass, inertia of a real mass distribution: the triangle inequalities
     /// included) has `J ⪰ 0` (Wensing, Kim & Slotine 2017).
-    pub fn pseudo_inertia_min_eigenvalue(p: &[f64; 10]) -> f64 {
+    pub(crate) fn pseudo_inertia_min_eigenvalue(p: &[f64; 10]) -> f64 {
         pseudo_inertia(p).symmetric_eigenvalues().min()
     }
 

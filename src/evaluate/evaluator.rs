@@ -230,7 +230,7 @@ fn ser_placement<S: serde::Serializer>(
 
 /// A placement in JSON/CSV units: m and degrees.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct PlacementRow {
+pub(crate) struct PlacementRow {
     /// m.
     pub x_m: f64,
     /// m.

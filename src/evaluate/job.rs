@@ -61,7 +61,7 @@ impl<'a> PathJob<'a> {
     /// Prepare a job with an energy model built already (of `robot`; many jobs of one robot,
     /// e.g. the segments of a stations plan, share one: building it costs more than a short
     /// path's set-up). Errors: the path has no moves.
-    pub fn with_energy(
+    pub(crate) fn with_energy(
         robot: &'a RobotModel,
         energy: EnergyModel,
         path: &Toolpath,

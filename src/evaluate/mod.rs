@@ -6,7 +6,7 @@
 
 pub mod evaluator;
 pub mod feasibility;
-pub mod job;
+pub(crate) mod job;
 pub mod reduce;
 
 pub use evaluator::{Evaluated, Evaluator, Feasible, Objective};

@@ -46,13 +46,13 @@ fn rot_to_controller(r: &M3) -> M3 {
 }
 
 /// A rotation matrix as a rotation vector (axis × angle, rad).
-pub fn rotation_vector(r: &M3) -> V3 {
+pub(crate) fn rotation_vector(r: &M3) -> V3 {
     let q = nalgebra::UnitQuaternion::from_matrix(r);
     q.scaled_axis()
 }
 
 /// A rotation vector (axis × angle, rad) as a rotation matrix.
-pub fn rotation_of(v: &V3) -> M3 {
+pub(crate) fn rotation_of(v: &V3) -> M3 {
     *nalgebra::Rotation3::new(*v).matrix()
 }
 

@@ -60,7 +60,7 @@ pub fn default_file_name(robot_arg: &Path) -> String {
 }
 
 /// The relative path from directory `from` to `to` (both made absolute), or `to` absolute.
-pub fn relative_path(from: &Path, to: &Path) -> PathBuf {
+pub(crate) fn relative_path(from: &Path, to: &Path) -> PathBuf {
     let abs = |p: &Path| {
         p.canonicalize().unwrap_or_else(|_| {
             std::env::current_dir()
@@ -86,7 +86,7 @@ pub fn relative_path(from: &Path, to: &Path) -> PathBuf {
 }
 
 /// Today's UTC date `YYYY-MM-DD` (civil-from-days, Howard Hinnant's algorithm).
-pub fn utc_date_today() -> String {
+pub(crate) fn utc_date_today() -> String {
     let secs = std::time::SystemTime::now()
         .duration_since(std::time::UNIX_EPOCH)
         .map(|d| d.as_secs() as i64)
@@ -104,7 +104,7 @@ pub fn utc_date_today() -> String {
 }
 
 /// Whether `path` lies inside directory `dir` (both canonicalised where they exist).
-pub fn is_inside(path: &Path, dir: &Path) -> bool {
+pub(crate) fn is_inside(path: &Path, dir: &Path) -> bool {
     let Ok(d) = dir.canonicalize() else {
         return false;
     };

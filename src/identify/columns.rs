@@ -39,7 +39,7 @@ impl Columns {
     }
 
     /// Room for `len` rows of `width` channels in memory.
-    pub fn in_memory(len: usize, width: usize) -> Self {
+    pub(crate) fn in_memory(len: usize, width: usize) -> Self {
         Columns {
             len,
             width,
@@ -57,13 +57,8 @@ impl Columns {
         self.width
     }
 
-    /// Whether there are no rows.
-    pub fn is_empty(&self) -> bool {
-        self.len == 0
-    }
-
     /// Write rows `k0..k0 + block.len() / width` from `block` (row-major, `width` a row).
-    pub fn write_rows(&mut self, k0: usize, block: &[f64]) -> Result<()> {
+    pub(crate) fn write_rows(&mut self, k0: usize, block: &[f64]) -> Result<()> {
         let w = self.width.max(1);
         let rows = block.len() / w;
         let len = self.len;
@@ -154,7 +149,7 @@ impl Drop for Columns {
 }
 
 /// Rows a whole-log pass takes at a time.
-pub const BLOCK_ROWS: usize = 32_768;
+pub(crate) const BLOCK_ROWS: usize = 32_768;
 
 fn io_error(e: std::io::Error) -> Error {
     Error::io(std::env::temp_dir(), e)

@@ -618,7 +618,7 @@ fn parts(rows: std::ops::Range<usize>) -> impl Iterator<Item = std::ops::Range<u
 }
 
 /// t statistic of gains (mean / standard error); +∞ when all gains are equal and positive.
-pub fn paired_t(g: &[f64]) -> f64 {
+pub(crate) fn paired_t(g: &[f64]) -> f64 {
     let b = g.len() as f64;
     if g.len() < 2 {
         return 0.0;
@@ -633,7 +633,7 @@ pub fn paired_t(g: &[f64]) -> f64 {
 
 /// One-sided 95 % quantile of Student's t with `dof` degrees of freedom (table; linear in
 /// between, normal quantile 1.645 beyond 120).
-pub fn t_quantile_95(dof: usize) -> f64 {
+pub(crate) fn t_quantile_95(dof: usize) -> f64 {
     const T: [f64; 10] = [
         6.314, 2.920, 2.353, 2.132, 2.015, 1.943, 1.895, 1.860, 1.833, 1.812,
     ];

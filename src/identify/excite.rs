@@ -290,7 +290,7 @@ fn scale_to_limits(robot: &RobotModel, d: &mut Design, o: &ExciteOptions, pos_sc
 }
 
 /// How close `tr` comes to every limit.
-pub fn limit_use(robot: &RobotModel, tr: &JointTrajectory) -> LimitUse {
+pub(crate) fn limit_use(robot: &RobotModel, tr: &JointTrajectory) -> LimitUse {
     let n = tr.n;
     let (mut p, mut s, mut a) = (vec![0.0f64; n], vec![0.0f64; n], vec![0.0f64; n]);
     let mut lowest = f64::INFINITY;

@@ -164,7 +164,7 @@ fn jacobian(
 }
 
 /// Column-normalised condition number above which a fit is reported as ill-conditioned.
-pub const CONDITION_LIMIT: f64 = 1e4;
+pub(crate) const CONDITION_LIMIT: f64 = 1e4;
 
 /// One fitted parameter.
 #[derive(Clone, Debug, Serialize)]
@@ -260,7 +260,10 @@ pub struct Correlation {
 }
 
 /// A number, or `null` when it is not finite (an infinite condition number).
-pub fn finite_or_null<S: serde::Serializer>(v: &f64, s: S) -> std::result::Result<S::Ok, S::Error> {
+pub(crate) fn finite_or_null<S: serde::Serializer>(
+    v: &f64,
+    s: S,
+) -> std::result::Result<S::Ok, S::Error> {
     if v.is_finite() {
         s.serialize_f64(*v)
     } else {
@@ -275,7 +278,7 @@ pub const HAC_BLOCK_CORRELATION_TIMES: f64 = 16.0;
 /// Block length (rows) for the autocorrelation-consistent covariance of a row-major residual
 /// `r` with `ch` channels: [`HAC_BLOCK_CORRELATION_TIMES`] times the longest channel's
 /// correlation time in rows, at least 1 and at most a quarter of the rows.
-pub fn hac_block_rows(r: &[f64], ch: usize) -> usize {
+pub(crate) fn hac_block_rows(r: &[f64], ch: usize) -> usize {
     let t = r.len() / ch.max(1);
     let tau = (0..ch)
         .map(|c| crate::identify::structure::correlation_time(r, ch, c, 1.0))
@@ -340,7 +343,7 @@ pub fn fit_holding(
 
 /// [`fit`] without the final pass over every row: the returned RMSE and SSR are those of the
 /// rows the fit used ([`fit_rows`]). For callers that evaluate the fitted model themselves.
-pub fn fit_parameters(
+pub(crate) fn fit_parameters(
     prep: &Prepared,
     model: &mut Model,
     effects: &[&'static str],

@@ -65,11 +65,11 @@ pub struct HeldParam {
 
 /// RMS joint velocity below which a joint counts as still, rad/s (0.06 °/s: position noise and
 /// encoder quantisation of a joint held by its brake or servo give less).
-pub const STILL_RMS_VELOCITY_RAD_S: f64 = 1e-3;
+pub(crate) const STILL_RMS_VELOCITY_RAD_S: f64 = 1e-3;
 
 /// Parameters of velocity- and acceleration-driven per-joint effects (`viscous`, `coulomb`,
 /// `stribeck`, `armature`) on joints that do not move in `rows` of the log.
-pub fn still_joint_params(
+pub(crate) fn still_joint_params(
     model: &Model,
     prep: &Prepared,
     rows: &[usize],
@@ -121,7 +121,7 @@ pub fn identify(
 
 /// [`identify`] holding the parameters `hold` at their prior values (`effect.param` with the
 /// reason, e.g. the joints outside a per-joint subset, [`Model::params_outside`]).
-pub fn identify_holding(
+pub(crate) fn identify_holding(
     model: &mut Model,
     train: (&Prepared, &[usize]),
     val: (&Prepared, &[usize]),

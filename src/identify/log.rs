@@ -15,7 +15,7 @@ use crate::trajectory::JointTrajectory;
 use std::path::Path;
 
 /// Minimum number of samples of a log used for fitting.
-pub const MIN_SAMPLES: usize = 50;
+pub(crate) const MIN_SAMPLES: usize = 50;
 
 /// Which signal a log carries.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize)]
@@ -122,7 +122,7 @@ fn digits_after<'a>(name: &'a str, p: &str) -> Option<&'a str> {
 }
 
 /// Dimension of a log column from its name; `None` for unknown columns.
-pub fn log_dim(name: &str) -> Option<Dim> {
+pub(crate) fn log_dim(name: &str) -> Option<Dim> {
     if let Some(d) = crate::trajectory::trajectory_dim(name) {
         return Some(d);
     }
@@ -138,7 +138,7 @@ pub fn log_dim(name: &str) -> Option<Dim> {
 }
 
 /// Expand a column map such as `t, q1..q6[deg], qd1..qd6, i1..i6, skip*12` into header cells.
-pub fn expand_column_map(map: &str) -> Result<Vec<String>> {
+pub(crate) fn expand_column_map(map: &str) -> Result<Vec<String>> {
     let mut out = Vec::new();
     let mut skip = 0usize;
     for raw in map.split(',') {
@@ -570,13 +570,13 @@ fn signal(table: &Table, n: usize) -> Result<(SignalKind, Vec<usize>, Option<Str
 
 /// Half-width `m` of the derivative window for a sample rate in Hz: about 25 ms each side,
 /// `clamp(round(0.025 × rate), 2, 30)`.
-pub fn half_window(rate_hz: f64) -> usize {
+pub(crate) fn half_window(rate_hz: f64) -> usize {
     ((0.025 * rate_hz).round() as usize).clamp(2, 30)
 }
 
 /// Velocities (rad/s) and accelerations (rad/s²) of `q` (row-major `len × n`, rad) at times
 /// `t` (s) by a local cubic least-squares fit over `2m + 1` samples (Savitzky–Golay on
 /// non-uniform time stamps; window shifted inwards at the ends).
-pub fn smooth_derivatives(t: &[f64], q: &[f64], n: usize, m: usize) -> (Vec<f64>, Vec<f64>) {
+pub(crate) fn smooth_derivatives(t: &[f64], q: &[f64], n: usize, m: usize) -> (Vec<f64>, Vec<f64>) {
     crate::numerics::smooth_differentiate(t, q, n, m)
 }

@@ -102,7 +102,7 @@ pub struct Comparison {
 use crate::numerics::trapezoid as integrate;
 
 /// Channel names for a log.
-pub fn channel_names(prep: &Prepared) -> Vec<String> {
+pub(crate) fn channel_names(prep: &Prepared) -> Vec<String> {
     if prep.log.kind == SignalKind::TotalPower {
         vec!["total".into()]
     } else {
@@ -179,7 +179,7 @@ pub fn evaluate_rows(prep: &Prepared, model: &Model, rows: &[usize]) -> (f64, f6
 }
 
 /// Relative error in %, guarded against a zero reference.
-pub fn rel_pct(model: f64, measured: f64) -> f64 {
+pub(crate) fn rel_pct(model: f64, measured: f64) -> f64 {
     if measured.abs() > 1e-12 {
         100.0 * (model - measured) / measured.abs()
     } else if model.abs() > 1e-12 {

@@ -5,7 +5,7 @@
 //! robot ([`simulate`]). Charts are drawn by [`crate::report::svg`].
 
 pub mod calibrate;
-pub mod columns;
+pub(crate) mod columns;
 pub mod diagnose;
 pub mod excite;
 pub mod fit;
@@ -14,10 +14,10 @@ pub mod log;
 pub mod metrics;
 pub mod model;
 pub mod plausible;
-pub mod profiles;
-pub mod round;
+pub(crate) mod profiles;
+pub(crate) mod round;
 pub mod simulate;
-pub mod structure;
+pub(crate) mod structure;
 
 pub use log::{read_log, Log, SignalKind};
 pub use model::{Model, Prepared, DEFAULT_EFFECTS};

@@ -73,30 +73,17 @@ pub const DIRECTIONAL_COULOMB: &str = "coulomb_directional";
 pub const PAYLOAD_WITH_INERTIA: &str = "payload_inertia";
 
 /// Whether an effect list asks for the payload's inertia.
-pub fn asks_payload_inertia(s: &str) -> bool {
+pub(crate) fn asks_payload_inertia(s: &str) -> bool {
     s.split(',')
         .map(|w| w.trim().split('[').next().unwrap_or("").trim())
         .any(|w| w == PAYLOAD_WITH_INERTIA)
 }
 
 /// Whether an effect list (`coulomb_directional,payload`) asks for per-direction Coulomb.
-pub fn asks_directional_coulomb(s: &str) -> bool {
+pub(crate) fn asks_directional_coulomb(s: &str) -> bool {
     s.split(',')
         .map(|w| w.trim().split('[').next().unwrap_or("").trim())
         .any(|w| w == DIRECTIONAL_COULOMB)
-}
-
-/// Parse a comma-separated effect list.
-pub fn parse_effect_list(s: &str) -> Result<Vec<&'static str>> {
-    let cat = catalogue();
-    let mut out = Vec::new();
-    for w in s.split(',').map(str::trim).filter(|w| !w.is_empty()) {
-        let i = catalogue_index(w)?;
-        if !out.contains(&cat[i]) {
-            out.push(cat[i]);
-        }
-    }
-    Ok(out)
 }
 
 /// An effect to fit and, for `effect[j]`, the 1-based joints whose parameters are fitted
@@ -107,7 +94,7 @@ pub type EffectSubset = (&'static str, Option<Vec<usize>>);
 /// `simulate`'s hidden effects take it, [`crate::identify::simulate::split_joint`]) for a robot
 /// of `n` joints. Order kept, duplicates merged; `viscous` and `viscous[2]` together mean every
 /// joint. Errors: an unknown effect, a bad joint or one beyond `n`.
-pub fn parse_effect_subsets(s: &str, n: usize) -> Result<Vec<EffectSubset>> {
+pub(crate) fn parse_effect_subsets(s: &str, n: usize) -> Result<Vec<EffectSubset>> {
     let cat = catalogue();
     let mut out: Vec<EffectSubset> = Vec::new();
     for w in s.split(',').map(str::trim).filter(|w| !w.is_empty()) {
@@ -141,7 +128,7 @@ pub fn parse_effect_subsets(s: &str, n: usize) -> Result<Vec<EffectSubset>> {
 
 /// The drive file a `--robot` argument refers to (directory → `drive.toml`, a `.toml` file →
 /// itself), if any.
-pub fn drive_file_of(robot_arg: &Path) -> Option<PathBuf> {
+pub(crate) fn drive_file_of(robot_arg: &Path) -> Option<PathBuf> {
     if robot_arg.is_dir() {
         let p = robot_arg.join("drive.toml");
         p.is_file().then_some(p)
@@ -615,7 +602,7 @@ log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, 
 
     /// [`Prepared::torque_row`] at a row a fit uses again and again: its rigid-body torque is
     /// kept for the next call (while fewer than [`REGRESSOR_CACHE_ROWS`] rows are kept).
-    pub fn torque_row_kept(&self, model: &Model, k: usize, skip: &[usize], tau: &mut [f64]) {
+    pub(crate) fn torque_row_kept(&self, model: &Model, k: usize, skip: &[usize], tau: &mut [f64]) {
         self.rigid_row(model, k, true, &mut None, tau);
         self.effects_row(model, k, skip, tau);
     }
@@ -693,7 +680,7 @@ log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, 
     /// The cached regressor of the effect at position `i` of the model's set at sample `k`
     /// (`n × P`, row-major) into `out`, if it is cached; `false` (leaving `out` untouched)
     /// otherwise.
-    pub fn cached_regressor(
+    pub(crate) fn cached_regressor(
         &self,
         i: usize,
         k: usize,
@@ -755,7 +742,7 @@ log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, 
 
     /// Model prediction of the logged signal at the samples `rows`, row-major
     /// `rows.len() × channels`, into `out` (resized).
-    pub fn predict(&self, model: &Model, rows: &[usize], out: &mut Vec<f64>) {
+    pub(crate) fn predict(&self, model: &Model, rows: &[usize], out: &mut Vec<f64>) {
         let n = model.n;
         let ch = self.log.channels;
         out.clear();

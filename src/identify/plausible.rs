@@ -29,10 +29,10 @@ pub const PAYLOAD_MAX_COM_M: f64 = 1.0;
 /// Tolerance of the payload inertia's rigid-body conditions, kg·m².
 pub const PAYLOAD_INERTIA_TOL_KG_M2: f64 = 0.01;
 /// Standard errors a value may sit beyond a limit before it is implausible.
-pub const PLAUSIBILITY_SIGMAS: f64 = 3.0;
+pub(crate) const PLAUSIBILITY_SIGMAS: f64 = 3.0;
 
 /// The largest payload mass that is plausible for the robot of `model`, kg.
-pub fn payload_mass_limit(model: &Model) -> f64 {
+pub(crate) fn payload_mass_limit(model: &Model) -> f64 {
     match model.rated_payload_kg {
         Some(r) if r > 0.0 => PAYLOAD_RATED_FACTOR * r,
         _ => PAYLOAD_MOVING_MASS_SHARE * model.moving_mass_kg,
@@ -40,7 +40,7 @@ pub fn payload_mass_limit(model: &Model) -> f64 {
 }
 
 /// Why a body's inertia about its centre of mass is no rigid body's (beyond `tol`), or `None`.
-pub fn inertia_violation(b: &Inertial, tol: f64) -> Option<String> {
+pub(crate) fn inertia_violation(b: &Inertial, tol: f64) -> Option<String> {
     let i = b.inertia;
     let eig = i.symmetric_eigen();
     let emin = eig
@@ -63,7 +63,7 @@ pub fn inertia_violation(b: &Inertial, tol: f64) -> Option<String> {
 /// The payload of `model` as written into the calibrated robot: the identified body, its
 /// inertia raised to the nearest rigid body's when it violates the conditions by less than
 /// the tolerance (the amount, kg·m², is returned; 0 when nothing was changed).
-pub fn payload_written(p: &Payload) -> (Inertial, f64) {
+pub(crate) fn payload_written(p: &Payload) -> (Inertial, f64) {
     let mut b = p.body();
     let eig = b.inertia.symmetric_eigen();
     let emin = eig

@@ -217,7 +217,7 @@ fn direction_explained(qd: &[f64], r: &[f64], still: f64, sigma: f64) -> f64 {
 /// is prismatic (units). A supply-power log (one channel, several joints) is read against
 /// every joint's motion. One channel and one joint's motion are held at a time.
 #[allow(clippy::too_many_arguments)]
-pub fn analyse_columns(
+pub(crate) fn analyse_columns(
     res: &dyn Fn(usize) -> crate::error::Result<Vec<f64>>,
     len: usize,
     names: &[String],

@@ -36,7 +36,7 @@ pub fn noise_floor(r: &[f64], ch: usize, c: usize) -> f64 {
 }
 
 /// Correlation time of one channel, s (`dt` the mean sample period).
-pub fn correlation_time(r: &[f64], ch: usize, c: usize, dt: f64) -> f64 {
+pub(crate) fn correlation_time(r: &[f64], ch: usize, c: usize, dt: f64) -> f64 {
     let len = r.len() / ch.max(1);
     if len < 4 {
         return 0.0;
@@ -59,7 +59,7 @@ pub fn correlation_time(r: &[f64], ch: usize, c: usize, dt: f64) -> f64 {
 }
 
 /// Correlation ratio η² of `y` against `x` ([`BINS`] equal-width bins), in [0, 1].
-pub fn correlation_ratio(x: &[f64], y: &[f64]) -> f64 {
+pub(crate) fn correlation_ratio(x: &[f64], y: &[f64]) -> f64 {
     let n = x.len().min(y.len());
     if n < 2 {
         return 0.0;
@@ -96,7 +96,7 @@ pub fn correlation_ratio(x: &[f64], y: &[f64]) -> f64 {
 /// Dominant period of `y` sampled at times `t` (s), if the periodogram has a clear peak.
 /// At most 20 000 points are used (evenly strided), frequencies from 2/T to a quarter of the
 /// (strided) sample rate.
-pub fn dominant_period(t: &[f64], y: &[f64]) -> Option<f64> {
+pub(crate) fn dominant_period(t: &[f64], y: &[f64]) -> Option<f64> {
     let n = t.len().min(y.len());
     if n < 16 {
         return None;
@@ -183,28 +183,11 @@ impl std::fmt::Display for Unexplained {
     }
 }
 
-/// Channels of the residual `r` (row-major, `names.len()` channels) with structure beyond the
-/// noise floor. `q(k, j)`, `qd(k, j)`: the log's joint positions and velocities; `t`: times.
-pub fn unexplained(
-    r: &[f64],
-    names: &[String],
-    n_joints: usize,
-    t: &[f64],
-    q: &dyn Fn(usize, usize) -> f64,
-    qd: &dyn Fn(usize, usize) -> f64,
-) -> Vec<Unexplained> {
-    let ch = names.len();
-    let len = t.len();
-    let column = |c: usize| Ok((0..len).map(|k| r[k * ch + c]).collect());
-    match unexplained_columns(&column, names, n_joints, t, q, qd) {
-        Ok(u) => u,
-        Err(e) => unreachable!("{e}"),
-    }
-}
-
-/// [`unexplained`] with the residual given a channel at a time: `res(c)` is channel `c`'s
-/// residual at every sample (it may fail, e.g. reading it from a file).
-pub fn unexplained_columns(
+/// Channels of the residual with structure beyond the noise floor, the residual given a
+/// channel at a time: `res(c)` is channel `c`'s residual at every sample (it may fail, e.g.
+/// reading it from a file), `names` the channels. `q(k, j)`, `qd(k, j)`: the log's joint
+/// positions and velocities; `t`: times.
+pub(crate) fn unexplained_columns(
     res: &dyn Fn(usize) -> crate::error::Result<Vec<f64>>,
     names: &[String],
     n_joints: usize,

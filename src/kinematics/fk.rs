@@ -3,7 +3,7 @@
 //! Everything is in the robot's base frame; positions in m, angles in rad (prismatic joint
 //! positions in m).
 
-use super::{JointVec, MAX_DOF};
+use super::MAX_DOF;
 use crate::math::{Frame, V3};
 use crate::robot::{JointKind, RobotModel};
 use crate::simd::{F64s, Level, LANES};
@@ -86,7 +86,7 @@ impl Jacobian {
     }
 
     /// `J · J^T`, 6 × 6 (mixed units: m² in the linear block, 1 in the angular block).
-    pub fn jjt(&self) -> nalgebra::Matrix6<f64> {
+    pub(crate) fn jjt(&self) -> nalgebra::Matrix6<f64> {
         let mut m = nalgebra::Matrix6::zeros();
         for c in &self.cols[..self.n] {
             for r in 0..6 {
@@ -97,15 +97,10 @@ impl Jacobian {
         }
         m
     }
-
-    /// The Jacobian as a dynamically sized nalgebra matrix (allocates).
-    pub fn to_dmatrix(&self) -> nalgebra::DMatrix<f64> {
-        nalgebra::DMatrix::from_fn(6, self.n, |r, c| self.cols[c][r])
-    }
 }
 
 /// Geometric Jacobian of the tool point at `q` (rad / m), together with the frames it used.
-pub fn jacobian_with_frames(model: &RobotModel, q: &[f64]) -> (Jacobian, FkFrames) {
+pub(crate) fn jacobian_with_frames(model: &RobotModel, q: &[f64]) -> (Jacobian, FkFrames) {
     let frames = fk(model, q);
     (jacobian_of_frames(model, &frames), frames)
 }
@@ -116,7 +111,7 @@ pub fn jacobian(model: &RobotModel, q: &[f64]) -> Jacobian {
 }
 
 /// Jacobian from already computed frames.
-pub fn jacobian_of_frames(model: &RobotModel, frames: &FkFrames) -> Jacobian {
+pub(crate) fn jacobian_of_frames(model: &RobotModel, frames: &FkFrames) -> Jacobian {
     let mut cols = [[0.0; 6]; MAX_DOF];
     let p = frames.tool.pos;
     for (i, j) in model.joints.iter().take(frames.n).enumerate() {
@@ -149,11 +144,6 @@ pub fn jacobian_measures(model: &RobotModel, q: &[f64]) -> (f64, f64) {
         .fold(f64::INFINITY, f64::min);
     let det: f64 = eig.eigenvalues.iter().product();
     (min.max(0.0).sqrt(), det.max(0.0).sqrt())
-}
-
-/// Convert a slice to a [`JointVec`] (up to [`MAX_DOF`] entries).
-pub fn joint_vec(q: &[f64]) -> JointVec {
-    JointVec::from_slice(q)
 }
 
 /// A revolute joint's unit axis (in its joint frame), specialised when it is a coordinate

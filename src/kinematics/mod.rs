@@ -281,7 +281,7 @@ pub fn rot_log(r: &M3) -> V3 {
 }
 
 /// 6-D pose error `[p_t − p; log(R_t Rᵀ)]` of `current` towards `target` (m, rad; base frame).
-pub fn pose_error(target: &Frame, current: &Frame) -> Vector6<f64> {
+pub(crate) fn pose_error(target: &Frame, current: &Frame) -> Vector6<f64> {
     let dp = target.pos - current.pos;
     let w = rot_log(&(target.rot * current.rot.transpose()));
     Vector6::new(dp.x, dp.y, dp.z, w.x, w.y, w.z)
@@ -299,7 +299,7 @@ pub fn pose_distance(a: &Frame, b: &Frame) -> (f64, f64) {
 /// `‖Ra − Rb‖_F = 2√2 sin(θ/2)`. Accurate to rounding for small angles (no product of the
 /// matrices, no `atan2`); loses precision only near θ = π. Used by the FK re-check.
 #[inline]
-pub fn rotation_distance_fast(a: &M3, b: &M3) -> f64 {
+pub(crate) fn rotation_distance_fast(a: &M3, b: &M3) -> f64 {
     let f2: f64 = a.iter().zip(b.iter()).map(|(x, y)| (x - y) * (x - y)).sum();
     let h = (f2.sqrt() * (0.125f64).sqrt()).min(1.0);
     // asin h = h (1 + h²/6 + …): below 1e-8 the correction is under half an ulp.
@@ -927,7 +927,7 @@ impl<'a> IkSolver<'a> {
 
     /// [`IkSolver::wrist_centres_reach_front`] as a bit mask (bit `l`: lane `l` reached).
     #[inline]
-    pub fn wrist_centres_reach_front_mask(
+    pub(crate) fn wrist_centres_reach_front_mask(
         &self,
         c: &[[f64; crate::simd::LANES]; 3],
         slack: f64,

@@ -61,7 +61,7 @@ fn err_of(target: &Frame, f: &FkFrames) -> (Vector6<f64>, f64) {
 }
 
 /// Default of [`NumericOptions::restarts`].
-pub const RESTARTS: usize = 8;
+pub(crate) const RESTARTS: usize = 8;
 
 /// Solve from one seed (rad / m, clamped into the limits first). When that attempt stalls in a
 /// local minimum, restart from up to [`NumericOptions::restarts`] deterministic seeds, nearest
@@ -247,7 +247,7 @@ pub fn solve_all(
 }
 
 /// Whether two joint vectors agree within `tol` (rad / m), revolute joints modulo 2π.
-pub fn same_modulo_2pi(model: &RobotModel, a: &[f64], b: &[f64], tol: f64) -> bool {
+pub(crate) fn same_modulo_2pi(model: &RobotModel, a: &[f64], b: &[f64], tol: f64) -> bool {
     model.joints.iter().enumerate().all(|(i, j)| {
         let d = a[i] - b[i];
         match j.kind {

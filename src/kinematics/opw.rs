@@ -13,7 +13,7 @@ use std::f64::consts::PI;
 /// Below this `|sin q5|` the wrist is treated as exactly singular: q4 is kept from the
 /// reference and q6 takes up the whole rotation about the aligned axes (orientation error of
 /// the answer ≤ this value, rad).
-pub const WRIST_SINGULAR_SIN: f64 = 1e-9;
+pub(crate) const WRIST_SINGULAR_SIN: f64 = 1e-9;
 
 /// Tolerance on the cosine arguments before a pose counts as out of reach (rounding of a
 /// fully stretched or folded arm).

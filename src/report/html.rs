@@ -57,7 +57,7 @@ impl Page {
         self
     }
     /// A list of key: value lines.
-    pub fn kv(&mut self, items: &[(String, String)]) -> &mut Self {
+    pub(crate) fn kv(&mut self, items: &[(String, String)]) -> &mut Self {
         self.body.push_str("<dl>");
         for (k, v) in items {
             let _ = write!(self.body, "<dt>{}</dt><dd>{}</dd>", esc(k), esc(v));

@@ -11,7 +11,7 @@ use crate::robot::drive::CalibrationRound;
 
 /// Everything the identification page shows.
 #[derive(Clone, Debug)]
-pub struct IdentifyReport<'a> {
+pub(crate) struct IdentifyReport<'a> {
     /// Title of the page.
     pub title: String,
     /// Facts shown at the top (robot, robot file, drive data, log, signal, validation).
@@ -53,7 +53,7 @@ impl IdentifyReport<'_> {
 
     /// The ladder as a bar chart: the validation RMSE after each step (the `ladder.svg`
     /// written beside the report).
-    pub fn ladder_svg(&self) -> String {
+    pub(crate) fn ladder_svg(&self) -> String {
         let labels: Vec<String> = self.id.ladder.iter().map(|s| s.step.clone()).collect();
         let vals: Vec<f64> = self.id.ladder.iter().map(|s| s.validation_rmse).collect();
         svg::bar_chart(

@@ -3,7 +3,7 @@
 //! No physics here: every number arrives computed.
 
 pub mod html;
-pub mod identify;
+pub(crate) mod identify;
 pub mod placement;
 pub mod site;
 pub mod stations;

@@ -29,9 +29,6 @@ use std::path::Path;
 /// highest standby), J.
 type BarsFloor = (f64, f64, f64);
 
-/// Files this module writes in a run directory; any other file there is "foreign".
-pub const OUR_FILES: [&str; 3] = ["summary.json", "placements.csv", "report.html"];
-
 /// A placement reported in detail: its energy report and what the charts draw of its series.
 #[derive(Clone, Debug)]
 pub struct Detail {
@@ -1022,7 +1019,7 @@ impl RunReport {
     }
 
     /// Rows `placement, ours, paper, ratio` when the run has published values beside it.
-    pub fn reference_rows(&self) -> Option<Vec<Vec<String>>> {
+    pub(crate) fn reference_rows(&self) -> Option<Vec<Vec<String>>> {
         let (_, refs) = self.site.as_ref()?.reference.as_ref()?;
         let names = self.names.as_ref()?;
         Some(
@@ -1052,7 +1049,7 @@ impl RunReport {
     /// the answer is (the tolerance box, the uncertainty study when it ran) and what it
     /// assumes (robot file, drive data status, margins, path, print speed). Well-formed XHTML;
     /// `None` without an optimisation.
-    pub fn answer_card(&self) -> Option<String> {
+    pub(crate) fn answer_card(&self) -> Option<String> {
         let o = self.optimise.as_ref()?;
         let b = &o.best;
         let f = b.feasible()?;
@@ -1635,7 +1632,10 @@ pub fn baseline_tolerance_text(c: &crate::search::tolerance::ToleranceCheck) -> 
 /// a…b J" or "does NOT hold …: k of the n corners infeasible (first: why)"; `checked` says
 /// "corners checked infeasible" (a check that stops after the first batch with an infeasible
 /// corner has not evaluated them all). Energies in J.
-pub fn tolerance_text(c: &crate::search::tolerance::ToleranceCheck, checked: bool) -> String {
+pub(crate) fn tolerance_text(
+    c: &crate::search::tolerance::ToleranceCheck,
+    checked: bool,
+) -> String {
     if c.holds {
         format!(
             "holds {}: all {} corners feasible, energy {:.1}…{:.1} J",

@@ -10,7 +10,7 @@ use std::path::Path;
 
 /// Seed 000 (energy consumption model of a robotic arm in 3DCP), §3.2 and Fig. 4: simulated EC
 /// per printing position, J. P3 is given only as "comparable to P4" (no number).
-pub const SEED000_EC_J: [(&str, Option<f64>); 5] = [
+pub(crate) const SEED000_EC_J: [(&str, Option<f64>); 5] = [
     ("P1", Some(1185.4)),
     ("P2", Some(1151.2)),
     ("P3", None),
@@ -140,7 +140,7 @@ fn ring(r: f64, zs: &[f64]) -> Vec<V3> {
 }
 
 /// Convex hull of 2-D points (Andrew's monotone chain), counter-clockwise, no repeated point.
-pub fn convex_hull_2d(mut p: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
+pub(crate) fn convex_hull_2d(mut p: Vec<(f64, f64)>) -> Vec<(f64, f64)> {
     p.retain(|(x, y)| x.is_finite() && y.is_finite());
     p.sort_by(|a, b| a.partial_cmp(b).unwrap_or(std::cmp::Ordering::Equal));
     p.dedup();

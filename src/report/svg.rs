@@ -1362,7 +1362,11 @@ pub fn top_view(f: &Frame, v: &TopView) -> String {
 
 /// Stacked bars: one bar per category, `parts` (name, one value per category) stacked; positive
 /// parts upward from 0, negative ones downward. A legend names the parts.
-pub fn stacked_bars(f: &Frame, categories: &[String], parts: &[(String, Vec<f64>)]) -> String {
+pub(crate) fn stacked_bars(
+    f: &Frame,
+    categories: &[String],
+    parts: &[(String, Vec<f64>)],
+) -> String {
     let nc = categories.len().max(1);
     let (mut lo, mut hi) = (0.0f64, 0.0f64);
     for c in 0..nc {

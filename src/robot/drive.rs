@@ -612,13 +612,13 @@ impl<'a> DriveKeysMut<'a> {
     }
 
     /// Gear ratio of each joint (motor turns per joint turn).
-    pub fn gear_ratios(&self) -> &[f64] {
+    pub(crate) fn gear_ratios(&self) -> &[f64] {
         self.gear
     }
 
     /// Set the per-joint key `key` of the first `values.len()` `[[joints]]` tables. Error: a
     /// key the drive file's joint tables do not have.
-    pub fn set_joints(&mut self, key: &str, values: &[f64]) -> Result<()> {
+    pub(crate) fn set_joints(&mut self, key: &str, values: &[f64]) -> Result<()> {
         for (jt, v) in self.file.joints.iter_mut().zip(values) {
             *jt.key_mut(key)? = Some(*v);
         }
@@ -630,7 +630,7 @@ impl<'a> DriveKeysMut<'a> {
 
     /// Set `[cabinet] key` when the file has a `[cabinet]` table. Error: a key the table does
     /// not have.
-    pub fn set_cabinet(&mut self, key: &str, value: f64) -> Result<()> {
+    pub(crate) fn set_cabinet(&mut self, key: &str, value: f64) -> Result<()> {
         match key {
             "standby_power_w" => {
                 if let Some(c) = self.file.cabinet.as_mut() {
@@ -669,7 +669,7 @@ impl JointTable {
 impl EffectsTable {
     /// Clear the `[effects]` key `key` (an effect's values now in `[effects.values]`, which
     /// replace it). Error: a key the table does not have.
-    pub fn clear_key(&mut self, key: &str) -> Result<()> {
+    pub(crate) fn clear_key(&mut self, key: &str) -> Result<()> {
         match key {
             "stribeck_nm" => self.stribeck_nm = None,
             "stribeck_velocity_rad_s" => self.stribeck_velocity_rad_s = None,

@@ -36,7 +36,7 @@ pub const CAPSULE_DENSITY_KG_M3: f64 = 5_000.0;
 /// outer volume that is metal ranges from about a tenth to a quarter between makers and link
 /// sizes (motors and gearboxes included), so the effective density is known to about ±50 %;
 /// centres of mass and inertias (which also assume the mass spread evenly) are rougher still.
-pub const ESTIMATE_MASS_UNCERTAINTY_REL: f64 = 0.5;
+pub(crate) const ESTIMATE_MASS_UNCERTAINTY_REL: f64 = 0.5;
 
 /// Where a moving link's mass, centre of mass and inertia come from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
@@ -67,7 +67,7 @@ impl InertiaSource {
     }
 
     /// Whether the value is an estimate.
-    pub fn is_estimate(self) -> bool {
+    pub(crate) fn is_estimate(self) -> bool {
         matches!(
             self,
             InertiaSource::EstimateFromGeometry
@@ -277,7 +277,7 @@ pub fn complete(model: &mut RobotModel) {
 
 /// How the estimated link masses were scaled to the robot's stated mass.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct MassScaling {
+pub(crate) struct MassScaling {
     /// The factor applied to every estimated link's mass and inertia.
     pub factor: f64,
     /// The fixed base's mass estimated from its collision (else visual) shapes, before

@@ -144,7 +144,7 @@ pub const VISUAL_FORMATS: [&str; 3] = ["stl", "dae", "obj"];
 /// A visual mesh `filename` of the URDF in `urdf_dir`: the file (canonical) and its format,
 /// only when it is a file of [`VISUAL_FORMATS`] that lies inside the directory its name is
 /// relative to (see [`resolve_mesh_path_in`]); otherwise why not.
-pub fn visual_mesh_file(
+pub(crate) fn visual_mesh_file(
     filename: &str,
     urdf_dir: &Path,
 ) -> std::result::Result<(PathBuf, String), String> {

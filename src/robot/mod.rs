@@ -7,12 +7,12 @@
 pub mod drive;
 pub mod inertia;
 pub mod mesh;
-pub mod model;
-pub mod opw;
+pub(crate) mod model;
+pub(crate) mod opw;
 pub mod shipped;
 pub mod template;
 pub mod urdf;
-pub mod validate;
+pub(crate) mod validate;
 
 pub use drive::{
     CalibratedParam, Calibration, CalibrationRound, Drive, EffectsData, EffectsTable, JointDrive,
@@ -74,7 +74,7 @@ fn drive_estimate_count(text: &str) -> (usize, usize) {
 
 /// The status of the robot's drive data in one line, for every report: estimated (how many
 /// values of the drive file are marked ESTIMATE), given, or absent (mechanical energy only).
-pub fn drive_data_status(model: &RobotModel) -> String {
+pub(crate) fn drive_data_status(model: &RobotModel) -> String {
     if model.drive.is_none() {
         return "none: no drive train, so the energies are the joints' mechanical work, not a supply's draw".into();
     }
@@ -99,7 +99,7 @@ pub fn drive_data_status(model: &RobotModel) -> String {
 
 /// The file a robot was loaded from (its drive file, else its URDF), relative to the working
 /// directory when it lies under it (so that a report is the same on every machine).
-pub fn robot_file_display(model: &RobotModel) -> String {
+pub(crate) fn robot_file_display(model: &RobotModel) -> String {
     let f = model.info.drive_file.as_deref().unwrap_or(&model.source);
     // A shipped robot is named the same from every working directory (`robots/<name>/…`), so
     // that one job gives one report wherever it runs; another file as it was given.

@@ -90,7 +90,7 @@ impl Inertial {
     }
 
     /// The same body expressed in the parent frame of `f` (`f` maps F to the parent).
-    pub fn transformed(&self, f: &Frame) -> Inertial {
+    pub(crate) fn transformed(&self, f: &Frame) -> Inertial {
         Inertial {
             mass: self.mass,
             com: f.apply(&self.com),
@@ -99,7 +99,7 @@ impl Inertial {
     }
 
     /// Inertia tensor about the frame origin, kg·m² (parallel-axis theorem).
-    pub fn inertia_about_origin(&self) -> M3 {
+    pub(crate) fn inertia_about_origin(&self) -> M3 {
         let c = self.com;
         self.inertia + self.mass * (M3::identity() * c.dot(&c) - c * c.transpose())
     }
@@ -337,7 +337,7 @@ impl RobotModel {
 
     /// The mass properties of every link in its joint frame, with the payload merged into the
     /// last link when `with_payload`, or the error naming the first link without `<inertial>`.
-    pub fn dynamic_links(&self, with_payload: bool) -> crate::Result<Vec<Inertial>> {
+    pub(crate) fn dynamic_links(&self, with_payload: bool) -> crate::Result<Vec<Inertial>> {
         let mut out = Vec::with_capacity(self.links.len());
         for (i, l) in self.links.iter().enumerate() {
             match l {
@@ -363,18 +363,8 @@ impl RobotModel {
         self.links.iter().flatten().map(|l| l.mass).sum()
     }
 
-    /// Joint lower limits, rad (m).
-    pub fn lower_limits(&self) -> Vec<f64> {
-        self.joints.iter().map(|j| j.lower).collect()
-    }
-
-    /// Joint upper limits, rad (m).
-    pub fn upper_limits(&self) -> Vec<f64> {
-        self.joints.iter().map(|j| j.upper).collect()
-    }
-
     /// Check a joint vector's length against the robot, naming `what` in the error.
-    pub fn check_len(&self, what: &str, len: usize) -> crate::Result<()> {
+    pub(crate) fn check_len(&self, what: &str, len: usize) -> crate::Result<()> {
         if len != self.dof() {
             return Err(crate::Error::SizeMismatch {
                 what: format!("{what} for robot `{}`", self.name()),

@@ -18,13 +18,13 @@ use std::path::{Component, Path, PathBuf};
 
 /// Seconds in which a main axis (joints 1–3) reaches its velocity limit, for the placeholder
 /// acceleration limits (a typical industrial arm: 0.3–0.7 s).
-pub const RAMP_MAIN_S: f64 = 0.5;
+pub(crate) const RAMP_MAIN_S: f64 = 0.5;
 /// The same for the wrist axes (joints 4 and up).
-pub const RAMP_WRIST_S: f64 = 0.35;
+pub(crate) const RAMP_WRIST_S: f64 = 0.35;
 /// Seconds in which the acceleration limit builds up, for the placeholder jerk limits.
-pub const JERK_RAMP_S: f64 = 0.1;
+pub(crate) const JERK_RAMP_S: f64 = 0.1;
 /// Placeholder nozzle tip below the flange, m (a 3DCP print head).
-pub const TOOL_LENGTH_M: f64 = 0.3;
+pub(crate) const TOOL_LENGTH_M: f64 = 0.3;
 
 /// What [`write_drive_template`] wrote.
 #[derive(Clone, Debug)]
@@ -48,7 +48,7 @@ pub struct Template {
 
 /// `to` relative to the directory `from_dir`, both made absolute first (`..` where they part);
 /// `/` separated, as a drive file writes paths.
-pub fn relative_path(to: &Path, from_dir: &Path) -> String {
+pub(crate) fn relative_path(to: &Path, from_dir: &Path) -> String {
     let to = output::resolve_lenient(to);
     let from = output::resolve_lenient(from_dir);
     let a: Vec<Component> = to.components().collect();

@@ -118,12 +118,12 @@ impl Ctx<'_> {
 /// Deepest element nesting accepted in a URDF (real ones nest 4 or 5 levels). roxmltree
 /// recurses per level, so a file nested 20,000 levels deep would overflow the stack: it is
 /// refused before parsing.
-pub const MAX_XML_DEPTH: usize = 256;
+pub(crate) const MAX_XML_DEPTH: usize = 256;
 
 /// Refuse XML nested deeper than `max` elements, naming the line where the limit is passed.
 /// A light scan (comments, CDATA, processing instructions, DOCTYPE and quoted attribute values
 /// skipped); well-formedness is left to the parser.
-pub fn check_xml_depth(text: &str, file: &str, max: usize) -> Result<()> {
+pub(crate) fn check_xml_depth(text: &str, file: &str, max: usize) -> Result<()> {
     let b = text.as_bytes();
     let mut depth: usize = 0;
     let mut line = 1;

@@ -27,7 +27,7 @@ pub const MAX_MASS_KG: f64 = 1e5;
 /// Largest length accepted for a tool offset, centre of mass or OPW parameter, m.
 pub const MAX_LENGTH_M: f64 = 100.0;
 /// Largest inertia entry accepted, kg·m².
-pub const MAX_INERTIA: f64 = 1e6;
+pub(crate) const MAX_INERTIA: f64 = 1e6;
 /// Largest drive value accepted (gear ratio, K_t, R, rotor inertia, friction), SI.
 pub const MAX_DRIVE_VALUE: f64 = 1e7;
 

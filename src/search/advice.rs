@@ -6,7 +6,7 @@ use crate::robot::RobotModel;
 use std::collections::BTreeMap;
 
 /// Infeasible placements per reason (reasons in their declared order).
-pub fn counts_by_reason(rows: &[Evaluated]) -> BTreeMap<Reason, usize> {
+pub(crate) fn counts_by_reason(rows: &[Evaluated]) -> BTreeMap<Reason, usize> {
     let mut m = BTreeMap::new();
     for r in rows {
         if let Err(e) = &r.outcome {
@@ -17,7 +17,7 @@ pub fn counts_by_reason(rows: &[Evaluated]) -> BTreeMap<Reason, usize> {
 }
 
 /// True when the robot has no tool offset: the nozzle tip is the flange itself.
-pub fn no_tool_offset(robot: &RobotModel) -> bool {
+pub(crate) fn no_tool_offset(robot: &RobotModel) -> bool {
     robot.tool.pos.norm() < 1e-9
 }
 

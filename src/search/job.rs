@@ -25,7 +25,7 @@ pub const DEFAULT_SEED: u64 = 42;
 /// Largest number of refinement evaluations.
 pub const DEFAULT_MAX_EVALS: usize = 120;
 /// Most draws an uncertainty study may take.
-pub const MAX_UNCERTAINTY_DRAWS: usize = 100_000;
+pub(crate) const MAX_UNCERTAINTY_DRAWS: usize = 100_000;
 /// Prints a year the yearly figures of the robust choice assume.
 pub const DEFAULT_PRINTS_PER_YEAR: f64 = 1000.0;
 /// Grid carbon intensity the yearly CO₂ figure assumes, kg CO₂ per kWh.
@@ -113,7 +113,7 @@ pub enum EvaluationMode {
 
 impl EvaluationMode {
     /// The reduction options, or `None` for [`EvaluationMode::Full`].
-    pub fn reduce_options(self) -> Option<ReduceOptions> {
+    pub(crate) fn reduce_options(self) -> Option<ReduceOptions> {
         let d = ReduceOptions::default();
         match self {
             EvaluationMode::Auto => Some(d),
@@ -384,7 +384,7 @@ impl OptimiseConfig {
     }
 
     /// The placements of the grid stage (the default grid when none are given).
-    pub fn placement_set(&self) -> PlacementSet {
+    pub(crate) fn placement_set(&self) -> PlacementSet {
         match &self.placements {
             Some(p) => p.clone(),
             None => PlacementSet::grid(crate::search::optimise::default_grid(

@@ -91,7 +91,7 @@ fn configured(feas: &FeasibilityOptions) -> (f64, f64) {
 }
 
 /// `feas` with the joint margin `joint_deg` on every joint and the wrist margin `wrist_deg`.
-pub fn with_margins(
+pub(crate) fn with_margins(
     feas: &FeasibilityOptions,
     joint_deg: f64,
     wrist_deg: f64,
@@ -148,7 +148,7 @@ impl MarginTrade {
     }
 
     /// The configured setting's answer replaced by `answer`; the differences follow it.
-    pub fn answer_is(&mut self, answer: &Evaluated) {
+    pub(crate) fn answer_is(&mut self, answer: &Evaluated) {
         let e0 = answer.feasible().map(|f| f.energy_j);
         for p in &mut self.points {
             if p.configured {

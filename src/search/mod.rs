@@ -4,7 +4,7 @@
 //! the advice printed when nothing is feasible.
 
 pub mod advice;
-pub mod grid;
+pub(crate) mod grid;
 pub mod job;
 pub mod margins;
 pub mod neldermead;

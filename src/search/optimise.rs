@@ -166,7 +166,7 @@ pub fn optimise(
 }
 
 /// Index of the lowest finite cost (ties to the first).
-pub fn best_index(v: &[Evaluated]) -> Option<usize> {
+pub(crate) fn best_index(v: &[Evaluated]) -> Option<usize> {
     let mut best: Option<(usize, f64)> = None;
     for (i, e) in v.iter().enumerate() {
         let c = e.cost();
@@ -295,7 +295,7 @@ pub fn sensitivity(ev: &Evaluator, at: &Evaluated, h: f64) -> Result<Sensitivity
 
 /// [`sensitivity`] and the four probes' evaluations it was computed from (in the order of
 /// [`probes`]), for a caller that may move to a probe without evaluating it again.
-pub fn sensitivity_with_probes(
+pub(crate) fn sensitivity_with_probes(
     ev: &Evaluator,
     at: &Evaluated,
     h: f64,

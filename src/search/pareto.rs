@@ -41,7 +41,7 @@ pub struct TimingPoint {
 
 /// The answer `at` of `config` timed with every factor of [`SCALES`] on its acceleration and
 /// jerk limits (in that order), with the Pareto front of (print time, energy) marked.
-pub fn time_energy(config: &OptimiseConfig, at: &Placement) -> Result<Vec<TimingPoint>> {
+pub(crate) fn time_energy(config: &OptimiseConfig, at: &Placement) -> Result<Vec<TimingPoint>> {
     let s = &config.settings;
     let mut out = Vec::with_capacity(SCALES.len());
     for k in SCALES {

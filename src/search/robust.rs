@@ -811,4 +811,4 @@ impl std::fmt::Display for MeasurementWorth {
 
 /// The steps a search bound is moved by in [`bound_steps`] for the report, m (a 0.2 m and a
 /// 0.4 m plinth).
-pub const BOUND_STEPS_M: [f64; 2] = [0.2, 0.4];
+pub(crate) const BOUND_STEPS_M: [f64; 2] = [0.2, 0.4];

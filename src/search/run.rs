@@ -173,7 +173,7 @@ pub fn evaluator<'j, 'a>(
 
 /// The path job of `config` for `robot` (the config's own or another) timed with `profile`
 /// (the config's, or scaled), with the config's energy options.
-pub fn job_with<'a>(
+pub(crate) fn job_with<'a>(
     config: &'a OptimiseConfig,
     robot: &'a crate::robot::RobotModel,
     profile: crate::timing::ProfileOptions,
@@ -783,7 +783,7 @@ pub fn meta(
 
 /// The commanded TCP speed of a path's printing moves in words: one speed, or the range and
 /// the length-weighted mean, with the printed length ("150 mm/s over 5.71 m of printing").
-pub fn print_speed_text(tp: &crate::toolpath::Toolpath) -> String {
+pub(crate) fn print_speed_text(tp: &crate::toolpath::Toolpath) -> String {
     let (mut lo, mut hi, mut len, mut wsum) = (f64::INFINITY, 0.0f64, 0.0, 0.0);
     for (start, mv) in tp.segments().filter(|(_, m)| m.print) {
         let l = mv.length(&start);

@@ -56,7 +56,7 @@ impl Default for Tolerance {
 
 impl Tolerance {
     /// No tolerance: nothing to check.
-    pub fn is_zero(&self) -> bool {
+    pub(crate) fn is_zero(&self) -> bool {
         self.xy_m == 0.0 && self.z_m == 0.0 && self.yaw_rad == 0.0
     }
 
@@ -156,7 +156,7 @@ pub fn check_all(ev: &Evaluator, at: &Placement, tol: &Tolerance) -> Result<Tole
 
 /// Summarise evaluated corners (a check holds when all 16 were evaluated and are feasible, or
 /// the tolerance is zero).
-pub fn summarise(tol: &Tolerance, r: &[Evaluated]) -> ToleranceCheck {
+pub(crate) fn summarise(tol: &Tolerance, r: &[Evaluated]) -> ToleranceCheck {
     let failures: Vec<String> = r
         .iter()
         .filter_map(|e| e.outcome.as_ref().err().map(|x| x.to_string()))

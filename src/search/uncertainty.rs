@@ -357,7 +357,7 @@ fn ranks(v: &[f64]) -> Vec<f64> {
 
 /// Spearman's rank correlation of two equally long series (Pearson on average ranks);
 /// `None` when either has no spread.
-pub fn spearman(a: &[f64], b: &[f64]) -> Option<f64> {
+pub(crate) fn spearman(a: &[f64], b: &[f64]) -> Option<f64> {
     let n = a.len();
     if n < 2 || b.len() != n {
         return None;
@@ -670,7 +670,10 @@ impl<'s, 'j, 'a> StudySetup<'s, 'j, 'a> {
 
 /// The ranges a study of `model` draws from: `given`, else the drive file's `[uncertainty]`
 /// table, else the built-in defaults, and where they came from.
-pub fn resolve_ranges(model: &RobotModel, given: Option<Ranges>) -> Result<(Ranges, Source)> {
+pub(crate) fn resolve_ranges(
+    model: &RobotModel,
+    given: Option<Ranges>,
+) -> Result<(Ranges, Source)> {
     Ok(match given {
         Some(r) => (r, Source::Given),
         None => match Ranges::of_robot(model)? {
@@ -695,7 +698,7 @@ pub fn drawn_robot(
 
 /// [`drawn_robot`] with the nominal robot's effects built once ([`EffectSet::of_robot`]), for
 /// a caller that draws many robots.
-pub fn drawn_robot_of(
+pub(crate) fn drawn_robot_of(
     nominal: &RobotModel,
     effects: &EffectSet,
     ranges: &Ranges,
@@ -710,7 +713,7 @@ pub fn drawn_robot_of(
 
 /// The identified parameters a study of `nominal` draws from their standard errors
 /// (calibrated robots), by name.
-pub fn calibrated_names(nominal: &RobotModel, ranges: &Ranges) -> Vec<String> {
+pub(crate) fn calibrated_names(nominal: &RobotModel, ranges: &Ranges) -> Vec<String> {
     let effects = EffectSet::of_robot(nominal).unwrap_or_default();
     draw_robot(nominal, &effects, ranges, &mut ChaCha8Rng::seed_from_u64(0)).2
 }

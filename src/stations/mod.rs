@@ -75,7 +75,7 @@ pub const PREFILTER_SLACK_REACH: f64 = 0.02;
 pub const PREFILTER_SAMPLE_M: f64 = 0.05;
 
 /// Two z levels closer than this are one layer, m.
-pub const LEVEL_TOLERANCE_M: f64 = 1e-6;
+pub(crate) const LEVEL_TOLERANCE_M: f64 = 1e-6;
 
 /// A station's floor disc radius when none is given, as a share of the arm's reach
 /// ([`crate::evaluate::feasibility::reach_m`]), dimensionless. ESTIMATE: the IRB 6640 family's
@@ -407,7 +407,7 @@ impl StationsProblem<'_> {
 /// Horizontal reach of a downward nozzle over heights `zs` (base frame, m): the smallest and
 /// largest distance from axis 1 at which some nozzle yaw (every 30°) has an IK solution,
 /// sampled every 1 % of the reach up to 120 %, over all `zs`. `None`: nothing reachable.
-pub fn reach_annulus(model: &RobotModel, zs: &[f64]) -> Option<(f64, f64)> {
+pub(crate) fn reach_annulus(model: &RobotModel, zs: &[f64]) -> Option<(f64, f64)> {
     let solver = crate::kinematics::IkSolver::new(model).ok()?;
     let reach = crate::evaluate::feasibility::reach_m(model);
     let mut lo: Option<f64> = None;

@@ -62,7 +62,7 @@ pub fn estimate(moves: &[Move], popts: &ProfileOptions, n: usize) -> Estimate {
 }
 
 /// [`estimate`] with `dwell_s` seconds of dwells (holds at rest) on the path.
-pub fn estimate_with_dwell(
+pub(crate) fn estimate_with_dwell(
     moves: &[Move],
     dwell_s: f64,
     popts: &ProfileOptions,

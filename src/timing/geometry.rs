@@ -4,7 +4,7 @@
 use crate::math::V3;
 
 /// Tangent-angle change (rad) below which a junction counts as smooth (no blend, no stop).
-pub const SMOOTH_JUNCTION_RAD: f64 = 0.5 * std::f64::consts::PI / 180.0;
+pub(crate) const SMOOTH_JUNCTION_RAD: f64 = 0.5 * std::f64::consts::PI / 180.0;
 
 /// One primitive of the geometric path.
 #[derive(Clone, Copy, Debug, PartialEq)]

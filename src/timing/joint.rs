@@ -184,7 +184,7 @@ fn line_in(line: usize, file: &str) -> String {
 
 impl TimingFailure {
     /// The failure with the path's source file named (kept when one is named already).
-    pub fn in_file(mut self, source: &str) -> TimingFailure {
+    pub(crate) fn in_file(mut self, source: &str) -> TimingFailure {
         let (TimingFailure::Unreachable { file, .. }
         | TimingFailure::ConfigurationChange { file, .. }
         | TimingFailure::LimitsNotMet { file, .. }) = &mut self;
@@ -1063,7 +1063,7 @@ fn screen(qs: [&[f64]; 4], v: &[f64], a: &[f64], dt: f64, lim: [&[f64]; 3]) -> b
 
 /// Rates of the (filtered) arc length `s` (m, `dt` s apart) at sample `k`: (ṡ m/s, s̈ m/s²,
 /// s⃛ m/s³), central differences (shifted inwards at the ends).
-pub fn path_rates(s: &[f64], dt: f64, k: usize) -> (f64, f64, f64) {
+pub(crate) fn path_rates(s: &[f64], dt: f64, k: usize) -> (f64, f64, f64) {
     let m = s.len();
     if m < 5 {
         return (0.0, 0.0, 0.0);
@@ -1175,7 +1175,7 @@ impl Slowing {
     }
 
     /// Lowest acceleration factor (1 = none).
-    pub fn min_accel_factor(&self) -> f64 {
+    pub(crate) fn min_accel_factor(&self) -> f64 {
         self.accel_scale.iter().copied().fold(1.0, f64::min)
     }
 

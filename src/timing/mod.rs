@@ -1,7 +1,7 @@
 //! Time parameterisation of a toolpath the way a robot controller runs it.
 
 pub mod budget;
-pub mod geometry;
+pub(crate) mod geometry;
 pub mod joint;
 pub mod profile;
 mod reach;
@@ -14,7 +14,7 @@ pub use joint::{
 pub use profile::{CartesianMotion, ProfileOptions};
 
 /// Moves shorter than this are dropped before timing (extruder-only moves, duplicates), m.
-pub const MIN_MOVE_LENGTH_M: f64 = 1e-7;
+pub(crate) const MIN_MOVE_LENGTH_M: f64 = 1e-7;
 
 /// The programmed moves of a toolpath as timing primitives (part frame, m). Moves of zero
 /// length (extruder-only lines, duplicates) are dropped.
@@ -67,7 +67,7 @@ fn prim_of(path: &crate::toolpath::Toolpath, i: usize) -> Prim {
 /// The dwells of a toolpath as `(timing move index, seconds)` for [`blend_path_with_dwells`]: the index
 /// is that of the timing move (see [`moves_from_toolpath`]) the dwell follows, `None` before
 /// the first one (at the start point). Dwells of zero seconds are dropped.
-pub fn dwells_from_toolpath(path: &crate::toolpath::Toolpath) -> Vec<(Option<usize>, f64)> {
+pub(crate) fn dwells_from_toolpath(path: &crate::toolpath::Toolpath) -> Vec<(Option<usize>, f64)> {
     if path.dwells.is_empty() {
         return Vec::new();
     }

@@ -52,13 +52,13 @@ pub struct Nodes {
 
 impl Nodes {
     /// Total time held at rest at the nodes (dwells), s.
-    pub fn dwell_total(&self) -> f64 {
+    pub(crate) fn dwell_total(&self) -> f64 {
         self.dwell.iter().sum()
     }
 }
 
 /// Start arc length of each piece, m (one more entry: the total length).
-pub fn piece_starts(pieces: &[Piece]) -> Vec<f64> {
+pub(crate) fn piece_starts(pieces: &[Piece]) -> Vec<f64> {
     let mut out = Vec::with_capacity(pieces.len() + 1);
     let mut acc = 0.0;
     out.push(0.0);
@@ -165,7 +165,7 @@ pub fn speed_at_nodes_local(
 
 /// Uniform-time samples of arc length `s(t)` (m) for node speeds `v`, constant acceleration
 /// between nodes, period `dt`. The path is held at rest at node `i` for `nodes.dwell[i]`.
-pub fn sample_arc_length(nodes: &Nodes, v: &[f64], dt: f64) -> Vec<f64> {
+pub(crate) fn sample_arc_length(nodes: &Nodes, v: &[f64], dt: f64) -> Vec<f64> {
     let n = nodes.s.len();
     // Arrival time `ta` and leaving time `tl` at each node (equal without dwells).
     let mut ta = vec![0.0; n];
@@ -218,7 +218,7 @@ pub fn sample_arc_length(nodes: &Nodes, v: &[f64], dt: f64) -> Vec<f64> {
 
 /// Moving average of length `taps` over a padded sequence (the first and last values are
 /// held), output length `len + taps − 1`. Applied to positions, it limits jerk.
-pub fn box_filter<T>(x: &[T], taps: usize) -> Vec<T>
+pub(crate) fn box_filter<T>(x: &[T], taps: usize) -> Vec<T>
 where
     T: Copy
         + std::ops::Add<Output = T>
@@ -302,7 +302,7 @@ pub fn plan(
 
 /// Plan the Cartesian motion along `pieces` through the node speeds `v` (m/s, from
 /// [`speed_at_nodes`] or [`speed_at_nodes_local`]).
-pub fn plan_at_speeds(
+pub(crate) fn plan_at_speeds(
     pieces: &[Piece],
     nodes: &Nodes,
     v: &[f64],

@@ -27,11 +27,6 @@ pub use self::csv::{parse_csv, parse_placements};
 /// names it beside the readers.
 pub use crate::frame::{NamedPlacement, Placement, PlacementParseError};
 
-/// The field separator of a CSV from its header line: `;` for a European spreadsheet export
-/// (header with semicolons and no commas; numbers then have a decimal comma), else `,`.
-pub fn csv_separator(header: &str) -> char {
-    crate::table::separator(header)
-}
 pub use self::gcode::parse_gcode;
 pub use self::rapid::{
     parse_rapid, read_program, read_program_entry, RapidProgram, RapidTarget, MAX_CALL_DEPTH,
@@ -224,7 +219,7 @@ impl Toolpath {
     /// Diagonal of the axis-aligned bounding box of the start and every move's end point, m
     /// (an arc's bulge beyond its end points is left out: the end points bound a printed part
     /// closely enough for a plausibility check).
-    pub fn extent_diagonal(&self) -> f64 {
+    pub(crate) fn extent_diagonal(&self) -> f64 {
         let (mut lo, mut hi) = (self.start, self.start);
         for m in &self.moves {
             lo = lo.inf(&m.end);
@@ -517,7 +512,7 @@ impl PathUnits {
     }
 
     /// The matching speed unit.
-    pub fn speed_symbol(self) -> &'static str {
+    pub(crate) fn speed_symbol(self) -> &'static str {
         match self {
             PathUnits::Mm => "mm/s",
             PathUnits::M => "m/s",
@@ -611,7 +606,7 @@ pub const MAX_PLAUSIBLE_EXTENT_M: f64 = 50.0;
 /// Warn when the path's bounding-box diagonal lies outside
 /// [[`MIN_PLAUSIBLE_EXTENT_M`], [`MAX_PLAUSIBLE_EXTENT_M`]]: a unit slip is likely. `unit`
 /// says how the coordinates were read (and how to change that), `scale` the factor applied.
-pub fn extent_warning(tp: &mut Toolpath, file: &str, unit: &str, scale: f64) {
+pub(crate) fn extent_warning(tp: &mut Toolpath, file: &str, unit: &str, scale: f64) {
     let d = tp.extent_diagonal();
     if (MIN_PLAUSIBLE_EXTENT_M..=MAX_PLAUSIBLE_EXTENT_M).contains(&d) {
         return;
@@ -694,7 +689,7 @@ pub const MAX_EXTENT_M: f64 = 1e5;
 
 /// Refuse a toolpath whose points lie beyond [`MAX_EXTENT_M`] or whose move lengths are not
 /// finite (numbers like `1e308` parse but overflow every later sum), naming the move's line.
-pub fn check_extent(tp: &Toolpath, file: &str) -> Result<()> {
+pub(crate) fn check_extent(tp: &Toolpath, file: &str) -> Result<()> {
     let bad = |p: &V3| p.iter().any(|c| !c.is_finite() || c.abs() > MAX_EXTENT_M);
     if bad(&tp.start) {
         return Err(Error::Field {

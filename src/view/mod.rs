@@ -26,11 +26,11 @@ use serde_json::{json, Value};
 use std::path::PathBuf;
 
 /// Largest number of path points the scene draws (the path is thinned evenly beyond).
-pub const MAX_SCENE_POINTS: usize = 20_000;
+pub(crate) const MAX_SCENE_POINTS: usize = 20_000;
 /// Largest number of arm frames one playback request may ask for.
-pub const MAX_FRAMES: usize = 600;
+pub(crate) const MAX_FRAMES: usize = 600;
 /// Points of the power trace sent with a playback.
-pub const TRACE_POINTS: usize = 800;
+pub(crate) const TRACE_POINTS: usize = 800;
 /// Largest visual mesh file the server sends, bytes.
 pub const MAX_MESH_BYTES: u64 = 64 << 20;
 
@@ -541,7 +541,7 @@ fn quat_xyzw(f: &Frame) -> [f64; 4] {
 
 /// `x` to one decimal as the command line prints energies (a value that rounds to zero is
 /// `0.0`, not `-0.0`).
-pub fn one_decimal(x: f64) -> String {
+pub(crate) fn one_decimal(x: f64) -> String {
     let s = format!("{x:.1}");
     if s == "-0.0" {
         "0.0".into()
@@ -551,7 +551,7 @@ pub fn one_decimal(x: f64) -> String {
 }
 
 /// A placement in the JSON's units (m, deg).
-pub fn placement_json(p: &Placement) -> Value {
+pub(crate) fn placement_json(p: &Placement) -> Value {
     json!({
         "x_m": p.x, "y_m": p.y, "z_m": p.z,
         "yaw_deg": p.yaw.to_degrees(), "spin_deg": p.nozzle_spin.to_degrees(),
@@ -560,7 +560,7 @@ pub fn placement_json(p: &Placement) -> Value {
 
 /// A placement from the JSON's units (m, deg): `x_m`, `y_m`, `z_m`, `yaw_deg`, optional
 /// `spin_deg`. Errors name the missing or non-finite field.
-pub fn placement_from_json(v: &Value) -> Result<Placement> {
+pub(crate) fn placement_from_json(v: &Value) -> Result<Placement> {
     let num = |k: &str, required: bool| -> Result<f64> {
         match v.get(k) {
             Some(x) => x

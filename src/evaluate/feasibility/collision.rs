@@ -45,7 +45,7 @@ pub const BEAD_RADIUS_M: f64 = 0.02;
 /// Default clearance above the nozzle tip from which up the print head is checked against the
 /// printed part, m (ESTIMATE: the free nozzle length of a 3DCP head, about two 15 mm layers;
 /// the head body above it must not meet any bead laid so far).
-pub const HEAD_CLEARANCE_M: f64 = 0.03;
+pub(crate) const HEAD_CLEARANCE_M: f64 = 0.03;
 
 /// The print head above the layer being printed, against the printed part: the head's
 /// cylinder (or the fallback nozzle capsule's radius) from `clearance` above the nozzle tip
@@ -114,7 +114,7 @@ impl HeadOverPart {
     /// The first sample of the nozzle-tip points `p` (part frame, m) at which the head, the
     /// nozzle spun by `spin` (rad) relative to the part, comes within the bead radius of a
     /// bead of `beads` laid by then: every sample is checked.
-    pub fn first_hit(&self, beads: &Beads, p: &[V3], spin: f64) -> Option<HeadHit> {
+    pub(crate) fn first_hit(&self, beads: &Beads, p: &[V3], spin: f64) -> Option<HeadHit> {
         if beads.is_empty() {
             return None;
         }
@@ -841,7 +841,7 @@ impl Beads {
     /// [`Beads::new`] with walls printed before this path starts: `prior` nozzle-tip segments
     /// (part frame, m), laid from sample 0 on and indexed before the path's own beads (a
     /// multi-station plan's earlier segments).
-    pub fn with_prior(
+    pub(crate) fn with_prior(
         prior: &[(V3, V3)],
         p: &[V3],
         print: &[bool],
@@ -1107,13 +1107,13 @@ impl Floor {
 
     /// Height of the lowest corner of `b` (part frame, m) above the floor, m: at most the
     /// [`Floor::clearance`] of any shape inside it.
-    pub fn box_clearance(&self, b: &Aabb) -> f64 {
+    pub(crate) fn box_clearance(&self, b: &Aabb) -> f64 {
         let (c, h) = (b.center().coords, b.half_extents());
         self.normal.dot(&c) - self.normal.abs().dot(&h) - self.height
     }
 
     /// [`Floor::clearance`] of the capsule around `a`–`b` (part frame, m) of radius `r`, m.
-    pub fn axis_clearance(&self, a: &Point<f64>, b: &Point<f64>, r: f64) -> f64 {
+    pub(crate) fn axis_clearance(&self, a: &Point<f64>, b: &Point<f64>, r: f64) -> f64 {
         self.normal.dot(&a.coords).min(self.normal.dot(&b.coords)) - r - self.height
     }
 }
@@ -1121,7 +1121,7 @@ impl Floor {
 /// Whether shape `s` is checked against the floor (the links and the hose, not the fixed
 /// base and pedestal nor the print head).
 #[inline(always)]
-pub fn on_floor_check(s: &BodyShape) -> bool {
+pub(crate) fn on_floor_check(s: &BodyShape) -> bool {
     s.body > 0 && s.role != Role::Head
 }
 
@@ -1342,7 +1342,7 @@ impl ShapePoses for Placed<'_> {
 
 /// Margin added to a bounding sphere's radius before its box stands in for a shape's AABB, m
 /// (against rounding in the sphere's centre; a larger box only makes the test looser).
-pub const SPHERE_MARGIN_M: f64 = 1e-6;
+pub(crate) const SPHERE_MARGIN_M: f64 = 1e-6;
 
 /// [`check`] of the first `n` shapes placed by `at`, with `boxes` and `exact` (one per shape)
 /// as scratch for the shapes' boxes: the AABB (`exact`), or a box that holds it.

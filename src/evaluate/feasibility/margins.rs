@@ -35,7 +35,7 @@ pub const DEFAULT_WRIST_MARGIN_DEG: f64 = 5.0;
 /// The smallest `|sin q5|` the wrist margin accepts: `sin` of the margin (0 for a margin of
 /// 0; the margin is taken in [0°, 90°]).
 #[inline]
-pub fn wrist_floor(o: &FeasibilityOptions) -> f64 {
+pub(crate) fn wrist_floor(o: &FeasibilityOptions) -> f64 {
     let m = o.wrist_margin_rad;
     if m > 0.0 {
         m.min(std::f64::consts::FRAC_PI_2).sin()

@@ -221,7 +221,7 @@ impl std::fmt::Display for Infeasible {
 
 impl Infeasible {
     /// The energy model failed at sample `k` of a path sampled every `dt` s.
-    pub fn model_error(k: usize, dt: f64, e: &crate::error::Error) -> Self {
+    pub(crate) fn model_error(k: usize, dt: f64, e: &crate::error::Error) -> Self {
         Infeasible {
             reason: Reason::ModelError,
             sample: Some(k),
@@ -233,7 +233,7 @@ impl Infeasible {
     }
 
     /// From a timing failure.
-    pub fn from_timing(e: &crate::timing::TimingFailure) -> Self {
+    pub(crate) fn from_timing(e: &crate::timing::TimingFailure) -> Self {
         use crate::timing::TimingFailure as T;
         let detail = e.to_string();
         match e {
