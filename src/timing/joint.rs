@@ -670,8 +670,15 @@ pub fn track_near(
             tips[l] = t;
             (tp[0][l], tp[1][l], tp[2][l]) = (t.x, t.y, t.z);
         }
-        let solved =
-            solver.solve_near_batch_lanes(&target, &tp, count, &prev, known.take(), level, &mut batch);
+        let solved = solver.solve_near_batch_lanes(
+            &target,
+            &tp,
+            count,
+            &prev,
+            known.take(),
+            level,
+            &mut batch,
+        );
         let chunk = solved.then_some(&batch);
         cont.taken = 0;
         if let Some(b) = chunk {
