@@ -689,8 +689,8 @@ pub fn track_near(
         let mut qb = [[0.0; LANES]; MAX_DOF];
         if taken > 0 {
             // continuing_lanes takes lanes of 6-axis arms only.
-            for j in 0..6 {
-                qb[j][..taken].copy_from_slice(&cont.q[j][..taken]);
+            for (row, c) in qb.iter_mut().zip(&cont.q).take(6) {
+                row[..taken].copy_from_slice(&c[..taken]);
             }
             let mut last = JointVec::zeros(n);
             for (j, v) in last.iter_mut().enumerate() {
