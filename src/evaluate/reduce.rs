@@ -1428,31 +1428,30 @@ fn window(
     // Start at the tracked sample at or before `lo`.
     let ti = (lo / ctx.stride).min(ctx.thin_idx.len() - 1);
     let t0 = ctx.thin_idx[ti];
-    let rot = ctx.rot;
-    let mut prev = JointVec::from_slice(&sc.red.thin[ti * n..(ti + 1) * n]);
     let mut qs = std::mem::take(&mut sc.red.qs);
-    qs.clear();
-    for k in t0..hi {
-        let tip = ctx.frame.apply(&motion.p[k]);
-        let q = match sc.solver.solve_near(&Frame { rot, pos: tip }, &prev) {
-            Ok(q) => q,
-            Err(reason) => {
-                sc.red.qs = qs;
-                let mi = job.pieces[motion.piece[k]].move_index;
-                return Err(Outcome::Infeasible(Infeasible::from_timing(
-                    &crate::timing::TimingFailure::Unreachable {
-                        sample: k,
-                        t: k as f64 * dt,
-                        point: tip,
-                        line: job.line_of(mi),
-                        reason,
-                        file: std::sync::Arc::new(job.source.clone()),
-                    },
-                )));
-            }
-        };
-        qs.extend_from_slice(&q[..n]);
-        prev = q;
+    // IK near the previous sample's answer, sample by sample from the tracked one (the
+    // lockstep batches of track_near: the same answers and first failure).
+    if let Err((i, tip, reason)) = crate::timing::joint::track_near(
+        &sc.solver,
+        &ctx.rot,
+        hi - t0,
+        |i| ctx.frame.apply(&motion.p[t0 + i]),
+        &sc.red.thin[ti * n..(ti + 1) * n],
+        &mut qs,
+    ) {
+        sc.red.qs = qs;
+        let k = t0 + i;
+        let mi = job.pieces[motion.piece[k]].move_index;
+        return Err(Outcome::Infeasible(Infeasible::from_timing(
+            &crate::timing::TimingFailure::Unreachable {
+                sample: k,
+                t: k as f64 * dt,
+                point: tip,
+                line: job.line_of(mi),
+                reason,
+                file: std::sync::Arc::new(job.source.clone()),
+            },
+        )));
     }
     let (qd, qdd, qddd) = crate::timing::joint::differentiate(&qs, n, dt);
     let check_jerk = job.joint.check_jerk;
@@ -1650,35 +1649,28 @@ impl Stretch {
             (len + 1).saturating_sub(taps).saturating_sub(4).max(lo)
         };
         let mut qs = Vec::with_capacity(len * n);
-        let mut prev = self.q_start;
-        for (i, p) in mo.p.iter().enumerate() {
-            let tip = ctx.frame.apply(p);
-            match sc.solver.solve_near(
-                &Frame {
-                    rot: ctx.rot,
-                    pos: tip,
+        // IK near the previous sample's answer, sample by sample (the lockstep batches of
+        // track_near: the same answers and first failure).
+        if let Err((i, tip, reason)) = crate::timing::joint::track_near(
+            &sc.solver,
+            &ctx.rot,
+            len,
+            |i| ctx.frame.apply(&mo.p[i]),
+            &self.q_start,
+            &mut qs,
+        ) {
+            let k = Stretch::k_of(motion, &mo, i);
+            let mi = job.pieces[motion.piece[k]].move_index;
+            return Err(Outcome::Infeasible(Infeasible::from_timing(
+                &crate::timing::TimingFailure::Unreachable {
+                    sample: k,
+                    t: k as f64 * dt,
+                    point: tip,
+                    line: job.line_of(mi),
+                    reason,
+                    file: std::sync::Arc::new(job.source.clone()),
                 },
-                &prev,
-            ) {
-                Ok(q) => {
-                    qs.extend_from_slice(&q[..n]);
-                    prev = q;
-                }
-                Err(reason) => {
-                    let k = Stretch::k_of(motion, &mo, i);
-                    let mi = job.pieces[motion.piece[k]].move_index;
-                    return Err(Outcome::Infeasible(Infeasible::from_timing(
-                        &crate::timing::TimingFailure::Unreachable {
-                            sample: k,
-                            t: k as f64 * dt,
-                            point: tip,
-                            line: job.line_of(mi),
-                            reason,
-                            file: std::sync::Arc::new(job.source.clone()),
-                        },
-                    )));
-                }
-            }
+            )));
         }
         let (qd, qdd, qddd) = crate::timing::joint::differentiate(&qs, n, dt);
         let near = |x: f64| x >= self.s_a - 0.5 * red.pad_m && x < self.s_b + 0.5 * red.pad_m;

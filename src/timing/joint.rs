@@ -611,6 +611,139 @@ fn push_rows6(
     crate::simd::push_transposed::<f64>(qs, &rows, taken)
 }
 
+/// IK along `len` tool tips (`tip(i)`, base frame, m) with the nozzle orientation `rot`,
+/// continuing from `q0` (rad / m), with no step check: the joint vectors go to `qs` (cleared;
+/// row-major), exactly as the per-sample loop
+/// `q = solver.solve_near(&Frame { rot, pos: tip(i) }, &prev)?; prev = q` appends them.
+/// The error names the first sample where that loop stops, `(i, its tip, the reason)`, bit
+/// for bit; `qs` then holds no meaningful values.
+///
+/// With SIMD ([`crate::simd::level`] not scalar) and a [`IkSolver::batch_checkable`] solver,
+/// the closed form runs in lockstep batches of [`crate::simd::LANES`] samples
+/// ([`IkSolver::solve_near_batch_lanes`]); the leading lanes that provably continue one
+/// another ([`IkSolver::continuing_lanes`]) are taken at once, the rest with
+/// [`IkSolver::take_near`], and the FK re-check of each batch runs in lockstep
+/// ([`IkSolver::check_lanes`]) before the next batch: a failing check is reported at its
+/// sample ahead of any later failure, as the per-sample check reports it.
+pub fn track_near(
+    solver: &IkSolver,
+    rot: &crate::math::M3,
+    len: usize,
+    tip: impl Fn(usize) -> V3,
+    q0: &[f64],
+    qs: &mut Vec<f64>,
+) -> Result<(), (usize, V3, IkFailure)> {
+    use crate::kinematics::MAX_DOF;
+    use crate::simd::LANES;
+    let n = solver.model.dof();
+    qs.clear();
+    let mut prev = JointVec::from_slice(q0);
+    let level = crate::simd::level();
+    if level == crate::simd::Level::Scalar || !solver.batch_checkable() || q0.len() != n {
+        for i in 0..len {
+            let t = tip(i);
+            let q = solver
+                .solve_near(&Frame { rot: *rot, pos: t }, &prev)
+                .map_err(|r| (i, t, r))?;
+            qs.extend_from_slice(&q[..n]);
+            prev = q;
+        }
+        return Ok(());
+    }
+    qs.reserve(len * n);
+    let target = solver.path_target(rot);
+    // No step limit: every lane's step is within it.
+    let no_step = [f64::INFINITY; MAX_DOF];
+    let mut batch = crate::kinematics::opw::BranchBatch::default();
+    let mut cont = crate::kinematics::Continuing::new();
+    // The branch of prev, when the last batch's lanes all continued one another.
+    let mut known: Option<crate::kinematics::Branch> = None;
+    // Scratch for the re-check's sines and cosines (not kept).
+    let mut sincos = [0.0; LANES * 2 * MAX_DOF];
+    let mut k0 = 0;
+    while k0 < len {
+        let count = LANES.min(len - k0);
+        let mut tips = [V3::zeros(); LANES];
+        let mut tp = [[0.0; LANES]; 3];
+        for l in 0..count {
+            let t = tip(k0 + l);
+            tips[l] = t;
+            (tp[0][l], tp[1][l], tp[2][l]) = (t.x, t.y, t.z);
+        }
+        let solved = solver.solve_near_batch_lanes(
+            &target,
+            &tp,
+            count,
+            &prev,
+            known.take(),
+            level,
+            &mut batch,
+        );
+        let chunk = solved.then_some(&batch);
+        cont.taken = 0;
+        if let Some(b) = chunk {
+            solver.continuing_lanes(b, count, &prev, &no_step, false, level, &mut cont);
+        }
+        let taken = cont.taken;
+        // The batch's answers joint by joint (rows beyond the robot's joints: 0).
+        let mut qb = [[0.0; LANES]; MAX_DOF];
+        if taken > 0 {
+            // continuing_lanes takes lanes of 6-axis arms only.
+            for (row, c) in qb.iter_mut().zip(&cont.q).take(6) {
+                row[..taken].copy_from_slice(&c[..taken]);
+            }
+            let mut last = JointVec::zeros(n);
+            for (j, v) in last.iter_mut().enumerate() {
+                *v = qb[j][taken - 1];
+            }
+            prev = last;
+        }
+        for l in taken..count {
+            let t = Frame {
+                rot: *rot,
+                pos: tips[l],
+            };
+            let solved = match chunk {
+                Some(b) => solver.take_near(b, l, &t, &prev),
+                None => solver.solve_near_unchecked(&t, &prev),
+            };
+            match solved {
+                Ok(q) => {
+                    for j in 0..n {
+                        qb[j][l] = q[j];
+                    }
+                    prev = q;
+                }
+                Err(reason) => {
+                    // The samples before it first: a failing check there stops the
+                    // per-sample loop earlier.
+                    if l > 0 {
+                        solver
+                            .check_lanes(l, &qb, &target, &tips[..l], &mut sincos, level)
+                            .map_err(|(f, r)| (k0 + f, tips[f], r))?;
+                    }
+                    return Err((k0 + l, tips[l], reason));
+                }
+            }
+        }
+        solver
+            .check_lanes(count, &qb, &target, &tips[..count], &mut sincos, level)
+            .map_err(|(f, r)| (k0 + f, tips[f], r))?;
+        if taken == count {
+            known = Some(cont.branch_after);
+        }
+        if n == 6 {
+            push_rows6(qs, &qb, count);
+        } else {
+            for l in 0..count {
+                qs.extend(qb.iter().take(n).map(|row| row[l]));
+            }
+        }
+        k0 += count;
+    }
+    Ok(())
+}
+
 /// Tool-tip points of [`crate::simd::LANES`] path samples in the base frame, lane by lane
 /// (`t[i][l]`: coordinate `i` (x, y, z) of lane `l`, m).
 pub(crate) type TipLanes = [[f64; crate::simd::LANES]; 3];
