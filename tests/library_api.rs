@@ -331,7 +331,10 @@ fn the_public_surface_does_not_grow_past_its_recorded_size() {
     const RECORDED: usize = 1366;
     let n = public_items();
     eprintln!("{n} public items (bound {RECORDED})");
-    assert!(n > 500, "the count found only {n} public items: is src/ where it was?");
+    assert!(
+        n > 500,
+        "the count found only {n} public items: is src/ where it was?"
+    );
     assert!(
         n <= RECORDED,
         "{n} public items, {RECORDED} recorded: make crate-internal items `pub(crate)`"
