@@ -300,9 +300,9 @@ fn public_items() -> usize {
                     .filter(|l| {
                         let l = l.trim_start();
                         l.strip_prefix("pub ").is_some_and(|rest| {
-                            let rest = rest
-                                .trim_start_matches("unsafe ")
-                                .trim_start_matches("const ");
+                            let rest = rest.trim_start_matches("unsafe ");
+                            // `pub const fn` is a function; `pub const X` a constant.
+                            let rest = rest.strip_prefix("const fn ").map_or(rest, |_| "fn ");
                             [
                                 "fn ", "struct ", "enum ", "trait ", "type ", "const ", "static ",
                                 "mod ", "use ",
@@ -328,7 +328,7 @@ fn public_items() -> usize {
 /// item out of public signatures). Raise the bound only for a new public item a user needs.
 #[test]
 fn the_public_surface_does_not_grow_past_its_recorded_size() {
-    const RECORDED: usize = 1366;
+    const RECORDED: usize = 1353;
     let n = public_items();
     eprintln!("{n} public items (bound {RECORDED})");
     assert!(
