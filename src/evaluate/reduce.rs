@@ -527,17 +527,7 @@ fn reduced<'a>(
     let rot = nozzle_target(&V3::zeros(), at.nozzle_yaw()).rot;
     let solver = sc.solver.clone();
     let line_at = |k: usize| job.line_of(job.pieces[motion.piece[k]].move_index);
-    let unreachable = |k: usize, tip: V3, reason: IkFailure| {
-        let mi = job.pieces[motion.piece[k]].move_index;
-        Infeasible::from_timing(&crate::timing::TimingFailure::Unreachable {
-            sample: k,
-            t: k as f64 * dt,
-            point: tip,
-            line: job.line_of(mi),
-            reason,
-            file: std::sync::Arc::new(job.source.clone()),
-        })
-    };
+    let unreachable = |k: usize, tip: V3, reason: IkFailure| unreachable_at(job, k, tip, reason);
     if m == 0 {
         return Outcome::Full("the plan has no samples".into());
     }
@@ -1400,6 +1390,26 @@ fn integrate(
     Ok(())
 }
 
+/// The tool tip `tip` (base frame, m) at sample `k` of the job's plan is out of the arm's
+/// reach: the failure as the timing reports it, naming the path's file and the move's line.
+fn unreachable_at(
+    job: &crate::evaluate::PathJob<'_>,
+    k: usize,
+    tip: V3,
+    reason: IkFailure,
+) -> Infeasible {
+    let motion = &*job.plan.motion;
+    let mi = job.pieces[motion.piece[k]].move_index;
+    Infeasible::from_timing(&crate::timing::TimingFailure::Unreachable {
+        sample: k,
+        t: k as f64 * motion.dt,
+        point: tip,
+        line: job.line_of(mi),
+        reason,
+        file: std::sync::Arc::new(job.source.clone()),
+    })
+}
+
 /// Track, check and integrate the samples `r` of the job's plan (a union of whole segments:
 /// units and the exact stretches). A joint rate limit exceeded on a segment is noted in
 /// `binds` (that segment is then re-planned, see [`replan`]); the feasibility checks go on.
@@ -1440,17 +1450,11 @@ fn window(
         &mut qs,
     ) {
         sc.red.qs = qs;
-        let k = t0 + i;
-        let mi = job.pieces[motion.piece[k]].move_index;
-        return Err(Outcome::Infeasible(Infeasible::from_timing(
-            &crate::timing::TimingFailure::Unreachable {
-                sample: k,
-                t: k as f64 * dt,
-                point: tip,
-                line: job.line_of(mi),
-                reason,
-                file: std::sync::Arc::new(job.source.clone()),
-            },
+        return Err(Outcome::Infeasible(unreachable_at(
+            job,
+            t0 + i,
+            tip,
+            reason,
         )));
     }
     let (qd, qdd, qddd) = crate::timing::joint::differentiate(&qs, n, dt);
@@ -1660,17 +1664,7 @@ impl Stretch {
             &mut qs,
         ) {
             let k = Stretch::k_of(motion, &mo, i);
-            let mi = job.pieces[motion.piece[k]].move_index;
-            return Err(Outcome::Infeasible(Infeasible::from_timing(
-                &crate::timing::TimingFailure::Unreachable {
-                    sample: k,
-                    t: k as f64 * dt,
-                    point: tip,
-                    line: job.line_of(mi),
-                    reason,
-                    file: std::sync::Arc::new(job.source.clone()),
-                },
-            )));
+            return Err(Outcome::Infeasible(unreachable_at(job, k, tip, reason)));
         }
         let (qd, qdd, qddd) = crate::timing::joint::differentiate(&qs, n, dt);
         let near = |x: f64| x >= self.s_a - 0.5 * red.pad_m && x < self.s_b + 0.5 * red.pad_m;
