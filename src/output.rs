@@ -961,50 +961,29 @@ mod finite {
         }
     }
 
-    impl ser::SerializeSeq for Compound<'_> {
-        type Ok = ();
-        type Error = Found;
-        fn serialize_element<T: Serialize + ?Sized>(&mut self, v: &T) -> Result<(), Found> {
-            self.element(v)
-        }
-        fn end(self) -> Result<(), Found> {
-            Ok(())
-        }
+    /// The sequence-like compounds: each element is a path segment `[i]`; a variant's compound
+    /// pops the variant's name at its end.
+    macro_rules! sequence_compound {
+        ($trait:ident, $method:ident, $pop:expr) => {
+            impl ser::$trait for Compound<'_> {
+                type Ok = ();
+                type Error = Found;
+                fn $method<T: Serialize + ?Sized>(&mut self, v: &T) -> Result<(), Found> {
+                    self.element(v)
+                }
+                fn end(self) -> Result<(), Found> {
+                    if $pop {
+                        self.f.path.pop();
+                    }
+                    Ok(())
+                }
+            }
+        };
     }
-
-    impl ser::SerializeTuple for Compound<'_> {
-        type Ok = ();
-        type Error = Found;
-        fn serialize_element<T: Serialize + ?Sized>(&mut self, v: &T) -> Result<(), Found> {
-            self.element(v)
-        }
-        fn end(self) -> Result<(), Found> {
-            Ok(())
-        }
-    }
-
-    impl ser::SerializeTupleStruct for Compound<'_> {
-        type Ok = ();
-        type Error = Found;
-        fn serialize_field<T: Serialize + ?Sized>(&mut self, v: &T) -> Result<(), Found> {
-            self.element(v)
-        }
-        fn end(self) -> Result<(), Found> {
-            Ok(())
-        }
-    }
-
-    impl ser::SerializeTupleVariant for Compound<'_> {
-        type Ok = ();
-        type Error = Found;
-        fn serialize_field<T: Serialize + ?Sized>(&mut self, v: &T) -> Result<(), Found> {
-            self.element(v)
-        }
-        fn end(self) -> Result<(), Found> {
-            self.f.path.pop();
-            Ok(())
-        }
-    }
+    sequence_compound!(SerializeSeq, serialize_element, false);
+    sequence_compound!(SerializeTuple, serialize_element, false);
+    sequence_compound!(SerializeTupleStruct, serialize_field, false);
+    sequence_compound!(SerializeTupleVariant, serialize_field, true);
 
     impl ser::SerializeMap for Compound<'_> {
         type Ok = ();
@@ -1022,37 +1001,40 @@ mod finite {
         }
     }
 
-    impl ser::SerializeStruct for Compound<'_> {
-        type Ok = ();
-        type Error = Found;
-        fn serialize_field<T: Serialize + ?Sized>(
-            &mut self,
-            name: &'static str,
-            v: &T,
-        ) -> Result<(), Found> {
-            self.f.under(format!(".{name}"), v)
-        }
-        fn end(self) -> Result<(), Found> {
-            Ok(())
-        }
+    /// The struct-like compounds: each field is a path segment `.name`; a variant's compound
+    /// pops the variant's name at its end.
+    macro_rules! struct_compound {
+        ($trait:ident, $pop:expr) => {
+            impl ser::$trait for Compound<'_> {
+                type Ok = ();
+                type Error = Found;
+                fn serialize_field<T: Serialize + ?Sized>(
+                    &mut self,
+                    name: &'static str,
+                    v: &T,
+                ) -> Result<(), Found> {
+                    self.f.under(format!(".{name}"), v)
+                }
+                fn end(self) -> Result<(), Found> {
+                    if $pop {
+                        self.f.path.pop();
+                    }
+                    Ok(())
+                }
+            }
+        };
     }
+    struct_compound!(SerializeStruct, false);
+    struct_compound!(SerializeStructVariant, true);
 
-    impl ser::SerializeStructVariant for Compound<'_> {
-        type Ok = ();
-        type Error = Found;
-        fn serialize_field<T: Serialize + ?Sized>(
-            &mut self,
-            name: &'static str,
-            v: &T,
-        ) -> Result<(), Found> {
-            self.f.under(format!(".{name}"), v)
-        }
-        fn end(self) -> Result<(), Found> {
-            self.f.path.pop();
-            Ok(())
-        }
+    /// Values that are never numbers: nothing to check.
+    macro_rules! ignored_values {
+        ($($method:ident: $t:ty),*) => {
+            $(fn $method(self, _: $t) -> Result<(), Found> {
+                Ok(())
+            })*
+        };
     }
-
     impl<'a> ser::Serializer for &'a mut Finder {
         type Ok = ();
         type Error = Found;
@@ -1064,47 +1046,15 @@ mod finite {
         type SerializeStruct = Compound<'a>;
         type SerializeStructVariant = Compound<'a>;
 
-        fn serialize_bool(self, _: bool) -> Result<(), Found> {
-            Ok(())
-        }
-        fn serialize_i8(self, _: i8) -> Result<(), Found> {
-            Ok(())
-        }
-        fn serialize_i16(self, _: i16) -> Result<(), Found> {
-            Ok(())
-        }
-        fn serialize_i32(self, _: i32) -> Result<(), Found> {
-            Ok(())
-        }
-        fn serialize_i64(self, _: i64) -> Result<(), Found> {
-            Ok(())
-        }
-        fn serialize_u8(self, _: u8) -> Result<(), Found> {
-            Ok(())
-        }
-        fn serialize_u16(self, _: u16) -> Result<(), Found> {
-            Ok(())
-        }
-        fn serialize_u32(self, _: u32) -> Result<(), Found> {
-            Ok(())
-        }
-        fn serialize_u64(self, _: u64) -> Result<(), Found> {
-            Ok(())
-        }
+        ignored_values!(serialize_bool: bool, serialize_i8: i8, serialize_i16: i16, serialize_i32: i32,
+            serialize_i64: i64, serialize_u8: u8, serialize_u16: u16, serialize_u32: u32,
+            serialize_u64: u64, serialize_char: char, serialize_str: &str,
+            serialize_bytes: &[u8]);
         fn serialize_f32(self, v: f32) -> Result<(), Found> {
             self.float(f64::from(v))
         }
         fn serialize_f64(self, v: f64) -> Result<(), Found> {
             self.float(v)
-        }
-        fn serialize_char(self, _: char) -> Result<(), Found> {
-            Ok(())
-        }
-        fn serialize_str(self, _: &str) -> Result<(), Found> {
-            Ok(())
-        }
-        fn serialize_bytes(self, _: &[u8]) -> Result<(), Found> {
-            Ok(())
         }
         fn serialize_none(self) -> Result<(), Found> {
             Ok(())
@@ -1645,35 +1595,25 @@ mod pretty {
         }
     }
 
-    impl ser::SerializeStruct for Map<'_> {
-        type Ok = Out;
-        type Error = Error;
-        fn serialize_field<T: Serialize + ?Sized>(
-            &mut self,
-            key: &'static str,
-            v: &T,
-        ) -> Result<(), Error> {
-            self.field(key, v)
-        }
-        fn end(self) -> Result<Out, Error> {
-            self.done()
-        }
+    macro_rules! struct_impl {
+        ($($tr:ident),*) => {$(
+            impl ser::$tr for Map<'_> {
+                type Ok = Out;
+                type Error = Error;
+                fn serialize_field<T: Serialize + ?Sized>(
+                    &mut self,
+                    key: &'static str,
+                    v: &T,
+                ) -> Result<(), Error> {
+                    self.field(key, v)
+                }
+                fn end(self) -> Result<Out, Error> {
+                    self.done()
+                }
+            }
+        )*};
     }
-
-    impl ser::SerializeStructVariant for Map<'_> {
-        type Ok = Out;
-        type Error = Error;
-        fn serialize_field<T: Serialize + ?Sized>(
-            &mut self,
-            key: &'static str,
-            v: &T,
-        ) -> Result<(), Error> {
-            self.field(key, v)
-        }
-        fn end(self) -> Result<Out, Error> {
-            self.done()
-        }
-    }
+    struct_impl!(SerializeStruct, SerializeStructVariant);
 
     /// A map key as serde_json's value serialiser takes it: a string, or a number, a boolean
     /// or a character written as one.

@@ -27,6 +27,33 @@ fn stderr(o: &Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
 }
 
+/// Simulates 8 s of exciting motion of the IRB 4600 at 100 Hz (noise 1 N·m, seed 3) with the
+/// `hidden` effect into `d`, and returns the log's path.
+fn irb4600_log(d: &Path, hidden: &str, extra: &[&str]) -> String {
+    let ds = d.display().to_string();
+    let mut args = vec![
+        "simulate",
+        "--robot",
+        "abb_irb4600_40_255",
+        "--excite",
+        "8",
+        "--hidden",
+        hidden,
+        "--rate",
+        "100",
+        "--noise",
+        "1",
+        "--seed",
+        "3",
+        "--out",
+        &ds,
+    ];
+    args.extend_from_slice(extra);
+    let o = printwatt(&args, &root());
+    assert!(o.status.success(), "{}", stderr(&o));
+    d.join("log.csv").display().to_string()
+}
+
 #[test]
 fn robots_lists_the_shipped_robots() {
     let o = printwatt(&["robots", "--json"], &root());
@@ -838,29 +865,7 @@ fn compare_takes_per_joint_effect_subsets_as_identify_and_simulate_do() {
     // `--effects viscous[2]` / `--without viscous[2]` mean in `compare` what they mean in
     // `identify` and `simulate --hidden`: that effect on (off) joint 2 only.
     let d = tmpdir("compare-subset");
-    let ds = d.display().to_string();
-    let o = printwatt(
-        &[
-            "simulate",
-            "--robot",
-            "abb_irb4600_40_255",
-            "--excite",
-            "8",
-            "--hidden",
-            "viscous=40",
-            "--rate",
-            "100",
-            "--noise",
-            "1",
-            "--seed",
-            "3",
-            "--out",
-            &ds,
-        ],
-        &root(),
-    );
-    assert!(o.status.success(), "{}", stderr(&o));
-    let log = d.join("log.csv").display().to_string();
+    let log = irb4600_log(&d, "viscous=40", &[]);
     let rmse = |extra: &[&str]| -> Vec<f64> {
         let mut args = vec![
             "compare",
@@ -927,31 +932,7 @@ fn compare_takes_per_joint_effect_subsets_as_identify_and_simulate_do() {
 #[test]
 fn identify_accepts_a_per_joint_effect_subset() {
     let d = tmpdir("subset");
-    let ds = d.display().to_string();
-    let o = printwatt(
-        &[
-            "simulate",
-            "--robot",
-            "abb_irb4600_40_255",
-            "--excite",
-            "8",
-            "--hidden",
-            "viscous[2]=40",
-            "--signal",
-            "tau",
-            "--noise",
-            "1",
-            "--rate",
-            "100",
-            "--seed",
-            "3",
-            "--out",
-            &ds,
-        ],
-        &root(),
-    );
-    assert!(o.status.success(), "{}", stderr(&o));
-    let log = d.join("log.csv").display().to_string();
+    let log = irb4600_log(&d, "viscous[2]=40", &["--signal", "tau"]);
     let id_dir = d.join("id").display().to_string();
     let o = printwatt(
         &[

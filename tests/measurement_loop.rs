@@ -83,6 +83,23 @@ fn ok(dir: &Path, args: &[&str]) -> String {
     out
 }
 
+/// `identify --robot <robot> --log log.csv --effects <effects>` in `dir`, which must succeed;
+/// its standard output.
+fn identify_ok(dir: &Path, robot: &str, effects: &str) -> String {
+    ok(
+        dir,
+        &[
+            "identify",
+            "--robot",
+            robot,
+            "--log",
+            "log.csv",
+            "--effects",
+            effects,
+        ],
+    )
+}
+
 fn ur10e_urdf() -> PathBuf {
     root().join("robots/ur10e/robot.urdf")
 }
@@ -246,18 +263,7 @@ fn identify_keeps_friction_of_a_drive_file_without_joint_tables() {
         sim(&r, "coulomb=6", SignalKind::Torque, 0.5, 22, 8.0, None),
     )
     .unwrap();
-    ok(
-        &dir,
-        &[
-            "identify",
-            "--robot",
-            "mine.toml",
-            "--log",
-            "log.csv",
-            "--effects",
-            "coulomb",
-        ],
-    );
+    identify_ok(&dir, "mine.toml", "coulomb");
     let cal = dir.join("mine.calibrated.toml");
     let c = robot::load(&cal).unwrap();
     let fc = &c.effects.table.values.as_ref().unwrap()["coulomb"];
@@ -281,17 +287,10 @@ fn a_still_joint_does_not_block_the_others() {
         sim(&r, "coulomb=30", SignalKind::Torque, 2.0, 23, 8.0, Some(4)),
     )
     .unwrap();
-    let out = ok(
+    let out = identify_ok(
         &dir,
-        &[
-            "identify",
-            "--robot",
-            root().join("robots/abb_irb4600_40_255").to_str().unwrap(),
-            "--log",
-            "log.csv",
-            "--effects",
-            "coulomb",
-        ],
+        root().join("robots/abb_irb4600_40_255").to_str().unwrap(),
+        "coulomb",
     );
     assert!(out.contains("coulomb.f_c+[5]"), "{out}");
     let c = robot::load(&dir.join("abb_irb4600_40_255.calibrated.toml")).unwrap();
@@ -413,18 +412,7 @@ fn two_rounds_on_the_calibrated_robot_never_write_into_robots() {
     );
     let d1: serde_json::Value = serde_json::from_str(&d1).unwrap();
     assert_eq!(d1["best"], "balancer");
-    ok(
-        &dir,
-        &[
-            "identify",
-            "--robot",
-            "abb_irb4600_40_255",
-            "--log",
-            "log.csv",
-            "--effects",
-            "balancer",
-        ],
-    );
+    identify_ok(&dir, "abb_irb4600_40_255", "balancer");
     let round1 = dir.join("abb_irb4600_40_255.calibrated.toml");
     assert!(round1.is_file());
     // Into the installed folder: refused.
@@ -729,18 +717,7 @@ fn a_known_payload_mass_and_centre_of_mass_are_weighed_within_5_percent() {
         sim(&truth, "", SignalKind::Torque, 2.0, 44, 8.0, None),
     )
     .unwrap();
-    let out = ok(
-        &dir,
-        &[
-            "identify",
-            "--robot",
-            "abb_irb4600_40_255",
-            "--log",
-            "log.csv",
-            "--effects",
-            "payload",
-        ],
-    );
+    let out = identify_ok(&dir, "abb_irb4600_40_255", "payload");
     let c = robot::load(&dir.join("abb_irb4600_40_255.calibrated.toml")).unwrap();
     let p = c.payload.unwrap();
     let m_load = p.mass - p0.mass;
@@ -772,18 +749,7 @@ fn calibrate_then_optimise_uses_the_identified_values() {
         sim(&r, "viscous=40", SignalKind::Torque, 2.0, 45, 8.0, None),
     )
     .unwrap();
-    ok(
-        &dir,
-        &[
-            "identify",
-            "--robot",
-            "abb_irb6700_200_260",
-            "--log",
-            "log.csv",
-            "--effects",
-            "viscous",
-        ],
-    );
+    identify_ok(&dir, "abb_irb6700_200_260", "viscous");
     let cal = dir.join("abb_irb6700_200_260.calibrated.toml");
     let c = robot::load(&cal).unwrap();
     let (fv_nom, fv_cal) = (

@@ -617,40 +617,30 @@ fn file_exists_error_names_the_path_and_force_before_anything_is_written() {
     assert!(o.status.success(), "{}", err(&o));
     // --out naming an existing file: refused before anything is computed or written.
     write(&d, "outfile", "x");
-    let o = run(
-        &[
-            "identify",
-            "--robot",
-            "rob",
-            "--log",
-            "log.csv",
-            "--effects",
-            "coulomb",
-            "--out",
-            "outfile",
-        ],
-        &d,
-    );
+    let identify_into = |out: &str| {
+        run(
+            &[
+                "identify",
+                "--robot",
+                "rob",
+                "--log",
+                "log.csv",
+                "--effects",
+                "coulomb",
+                "--out",
+                out,
+            ],
+            &d,
+        )
+    };
+    let o = identify_into("outfile");
     assert!(!o.status.success());
     let e = err(&o);
     assert!(e.contains("outfile exists and is not a directory"), "{e}");
     // An earlier calibrated robot in --out: the message names it and --force.
     std::fs::create_dir_all(d.join("id")).unwrap();
     write(&d, "id/rob.calibrated.toml", "# earlier\n");
-    let o = run(
-        &[
-            "identify",
-            "--robot",
-            "rob",
-            "--log",
-            "log.csv",
-            "--effects",
-            "coulomb",
-            "--out",
-            "id",
-        ],
-        &d,
-    );
+    let o = identify_into("id");
     assert!(!o.status.success());
     let e = err(&o);
     assert!(
