@@ -422,42 +422,7 @@ impl RunReport {
             .as_ref()
             .filter(|g| g.xs.len() >= 2 && g.ys.len() >= 2)
         {
-            let [bx, by, iz, iyaw] = self.best_cell(g)?;
-            let (nx, ny) = (g.xs.len(), g.ys.len());
-            let mut values = vec![f64::NAN; nx * ny];
-            let mut marks = Vec::new();
-            for iy in 0..ny {
-                for ix in 0..nx {
-                    match self.cell(g, ix, iy, iz, iyaw) {
-                        Ok(e) => values[iy * nx + ix] = e,
-                        Err(why) => marks.push(CellMark {
-                            col: ix,
-                            row: iy,
-                            class: why.to_string(),
-                            at: None,
-                        }),
-                    }
-                }
-            }
-            title = format!(
-                "Top view (to scale): energy at bed z = {} m, yaw = {}°",
-                svg::fmt_num(g.zs[iz]),
-                svg::fmt_num(g.yaws[iyaw].to_degrees())
-            );
-            v.points.push(MapPoint {
-                x: g.xs[bx],
-                y: g.ys[by],
-                label: String::new(),
-                value: values[by * nx + bx],
-                class: "best-cell".into(),
-            });
-            v.cells = Some(Heatmap {
-                xs: g.xs.clone(),
-                ys: g.ys.clone(),
-                values,
-                marks,
-                value_label: "energy [J]".into(),
-            });
+            title = self.energy_cells(g, &mut v)?;
         } else if let Some(names) = &self.names {
             for (n, r) in names.iter().zip(&self.rows) {
                 v.points.push(MapPoint {
@@ -485,8 +450,61 @@ impl RunReport {
                 });
             }
         }
-        // The robot base to scale: the pedestal under it, the base's own footprint (its
-        // collision geometry from above), or a marker at axis 1 when the robot file has none.
+        self.base_shapes(&mut v);
+        if let Some(site) = &self.site {
+            self.site_shapes(site, best, &mut v);
+        }
+        let f =
+            svg::Frame::new(&title, "x in the robot base frame [m]", "y [m]").size(900.0, 640.0);
+        Some(svg::top_view(&f, &v))
+    }
+
+    /// Put the energy over (x, y) at the best grid cell's bed height and yaw on the top view,
+    /// infeasible cells marked by reason and the best cell ringed; returns the view's title.
+    fn energy_cells(&self, g: &Grid, v: &mut TopView) -> Option<String> {
+        let [bx, by, iz, iyaw] = self.best_cell(g)?;
+        let (nx, ny) = (g.xs.len(), g.ys.len());
+        let mut values = vec![f64::NAN; nx * ny];
+        let mut marks = Vec::new();
+        for iy in 0..ny {
+            for ix in 0..nx {
+                match self.cell(g, ix, iy, iz, iyaw) {
+                    Ok(e) => values[iy * nx + ix] = e,
+                    Err(why) => marks.push(CellMark {
+                        col: ix,
+                        row: iy,
+                        class: why.to_string(),
+                        at: None,
+                    }),
+                }
+            }
+        }
+        let title = format!(
+            "Top view (to scale): energy at bed z = {} m, yaw = {}°",
+            svg::fmt_num(g.zs[iz]),
+            svg::fmt_num(g.yaws[iyaw].to_degrees())
+        );
+        v.points.push(MapPoint {
+            x: g.xs[bx],
+            y: g.ys[by],
+            label: String::new(),
+            value: values[by * nx + bx],
+            class: "best-cell".into(),
+        });
+        v.cells = Some(Heatmap {
+            xs: g.xs.clone(),
+            ys: g.ys.clone(),
+            values,
+            marks,
+            value_label: "energy [J]".into(),
+        });
+        Some(title)
+    }
+
+    /// Put the robot base on the top view to scale: the pedestal under it, the base's own
+    /// footprint (its collision geometry from above), or a marker at axis 1 when the robot
+    /// file has none.
+    fn base_shapes(&self, v: &mut TopView) {
         let footprint = self
             .site
             .as_ref()
@@ -515,41 +533,41 @@ impl RunReport {
             v.circles
                 .push((0.0, 0.0, 0.12, "base".into(), "robot base (axis 1)".into()));
         }
-        if let Some(site) = &self.site {
-            if let Some((lo, hi)) = site.annulus_m {
-                v.circles.push((
-                    0.0,
-                    0.0,
-                    hi,
-                    "reach".into(),
-                    format!("reach {}–{} m", svg::fmt_num(lo), svg::fmt_num(hi)),
-                ));
-                if lo > 0.0 {
-                    v.circles
-                        .push((0.0, 0.0, lo, "reach-inner".into(), "inner reach".into()));
-                }
-            }
-            if let (Some(b), false) = (best, site.part_xy_m.is_empty()) {
-                let f = b.placement.frame();
-                let pts = site
-                    .part_xy_m
-                    .iter()
-                    .map(|&(x, y)| {
-                        let p = f.apply(&crate::math::V3::new(x, y, 0.0));
-                        (p.x, p.y)
-                    })
-                    .collect();
-                let what = if self.optimise.is_some() {
-                    "part at the optimum"
-                } else {
-                    "part at the best placement"
-                };
-                v.lines.push((what.into(), pts));
+    }
+
+    /// Put the site on the top view: the reach annulus and the part's outline at the best
+    /// placement.
+    fn site_shapes(&self, site: &SiteGeometry, best: Option<&Evaluated>, v: &mut TopView) {
+        if let Some((lo, hi)) = site.annulus_m {
+            v.circles.push((
+                0.0,
+                0.0,
+                hi,
+                "reach".into(),
+                format!("reach {}–{} m", svg::fmt_num(lo), svg::fmt_num(hi)),
+            ));
+            if lo > 0.0 {
+                v.circles
+                    .push((0.0, 0.0, lo, "reach-inner".into(), "inner reach".into()));
             }
         }
-        let f =
-            svg::Frame::new(&title, "x in the robot base frame [m]", "y [m]").size(900.0, 640.0);
-        Some(svg::top_view(&f, &v))
+        if let (Some(b), false) = (best, site.part_xy_m.is_empty()) {
+            let f = b.placement.frame();
+            let pts = site
+                .part_xy_m
+                .iter()
+                .map(|&(x, y)| {
+                    let p = f.apply(&crate::math::V3::new(x, y, 0.0));
+                    (p.x, p.y)
+                })
+                .collect();
+            let what = if self.optimise.is_some() {
+                "part at the optimum"
+            } else {
+                "part at the best placement"
+            };
+            v.lines.push((what.into(), pts));
+        }
     }
 
     /// Energy against bed height and against yaw through the best grid cell (other variables

@@ -619,116 +619,20 @@ pub fn scatter(f: &Frame, series: &[Series]) -> String {
 /// category). A single group is a plain bar chart. Values are printed above the bars.
 /// The y axis starts at 0 (or below, for negative values).
 pub fn bar_chart(f: &Frame, categories: &[String], groups: &[(String, Vec<f64>)]) -> String {
-    let all = groups.iter().flat_map(|g| g.1.iter().copied());
-    // The bars start at the baseline (0 unless the frame gives one below every value).
-    let base = f
-        .baseline
-        .filter(|b| {
-            groups
-                .iter()
-                .flat_map(|g| g.1.iter())
-                .filter(|v| v.is_finite())
-                .all(|v| v > b)
-        })
-        .unwrap_or(0.0);
-    let (lo, hi) = finite_range(all.chain([base])).unwrap_or((0.0, 1.0));
     let names: Vec<&str> = if groups.len() > 1 {
         groups.iter().map(|g| g.0.as_str()).collect()
     } else {
         Vec::new()
     };
-    let ng = groups.len().max(1) as f64;
-    let plot_w = f.width - ML - MR - legend_width(&names);
-    let slot = plot_w / categories.len().max(1) as f64;
-    // At most 80 px per bar, so one or two categories do not turn into slabs.
-    let bw = (slot * 0.8 / ng).min(80.0);
-    // Value labels (font 10, ~5.6 px per character) that do not fit above a bar are turned
-    // upright; leave head room for the longest of them.
-    let label = |v: f64| {
-        if v.is_finite() {
-            fmt_num(v)
-        } else {
-            f.missing.clone()
-        }
-    };
-    let text_w = |t: &str| 5.6 * t.chars().count() as f64 + 4.0;
-    let labelled = groups.len() <= 3;
-    // All value labels upright if any must be (mixed orientations read badly).
-    let any_upright = groups
-        .iter()
-        .flat_map(|g| g.1.iter())
-        .filter(|v| labelled || !v.is_finite())
-        .any(|v| text_w(&label(*v)) > bw);
-    let upright = |_: &str| any_upright;
-    let need = if labelled {
-        groups
-            .iter()
-            .flat_map(|g| g.1.iter())
-            .map(|v| label(*v))
-            .filter(|t| upright(t))
-            .map(|t| text_w(&t))
-            .fold(14.0, f64::max)
-    } else {
-        0.0
-    };
-    let ph = f.height - MT - MB;
-    let top = if hi > 0.0 {
-        hi + (hi - lo) * need / (ph - need).max(ph * 0.3)
-    } else {
-        hi
-    };
-    let mut a = Axes::new(f, (0.0, categories.len().max(1) as f64), (lo, top));
+    let lay = BarLayout::new(f, categories, groups, &names);
+    let mut a = Axes::new(f, (0.0, categories.len().max(1) as f64), (lay.lo, lay.top));
     a.px1 -= legend_width(&names);
     let mut s = open(f);
     y_axis(&mut s, &a, true);
     for (c, name) in categories.iter().enumerate() {
-        let x0 = a.px0 + slot * (c as f64 + 0.5) - bw * ng / 2.0;
-        for (g, (_, vals)) in groups.iter().enumerate() {
-            let v = vals.get(c).copied().unwrap_or(f64::NAN);
-            let cx = x0 + bw * (g as f64 + 0.5);
-            let (ya, yb) = (a.y(base), a.y(if v.is_finite() { v } else { base }));
-            if v.is_finite() {
-                let _ = write!(
-                    s,
-                    r#"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="{:.1}" fill="{}"><title>{}: {}</title></rect>"#,
-                    x0 + bw * g as f64,
-                    ya.min(yb),
-                    bw * 0.95,
-                    (ya - yb).abs(),
-                    colour(g),
-                    esc(name),
-                    fmt_num(v)
-                );
-            }
-            if labelled || !v.is_finite() {
-                let t = label(v);
-                let fill = if v.is_finite() { "#222" } else { "#888" };
-                let y = ya.min(yb) - 3.0;
-                if upright(&t) {
-                    let _ = write!(
-                        s,
-                        r#"<text x="{:.1}" y="{y:.1}" transform="rotate(-90 {:.1} {y:.1})" font-size="10" fill="{fill}">{}</text>"#,
-                        cx + 3.5,
-                        cx + 3.5,
-                        esc(&t)
-                    );
-                } else {
-                    let _ = write!(
-                        s,
-                        r#"<text x="{cx:.1}" y="{y:.1}" text-anchor="middle" font-size="10" fill="{fill}">{}</text>"#,
-                        esc(&t)
-                    );
-                }
-            }
-        }
-        let _ = write!(
-            s,
-            r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">{}</text>"#,
-            a.px0 + slot * (c as f64 + 0.5),
-            a.py0 + 16.0,
-            esc(name)
-        );
+        lay.category(&mut s, &a, (c, name), groups);
     }
+    let base = lay.base;
     if base != 0.0 {
         // Said in the chart, and the axis broken: the bars do not start at 0.
         let _ = write!(
@@ -749,6 +653,163 @@ pub fn bar_chart(f: &Frame, categories: &[String], groups: &[(String, Vec<f64>)]
         .filter(|v| v.is_finite())
         .count();
     finish(s, n)
+}
+
+/// Width of a bar chart's value label `t` (font 10, ~5.6 px per character), px.
+fn text_w(t: &str) -> f64 {
+    5.6 * t.chars().count() as f64 + 4.0
+}
+
+/// Where the bars of a [`bar_chart`] go and how their value labels are written.
+struct BarLayout<'f> {
+    /// The chart's frame (its text for a missing value).
+    f: &'f Frame,
+    /// Value the bars start from.
+    base: f64,
+    /// Bottom of the y axis.
+    lo: f64,
+    /// Top of the y axis, with head room for upright labels.
+    top: f64,
+    /// Width of one category, px.
+    slot: f64,
+    /// Width of one bar, px.
+    bw: f64,
+    /// Number of groups (at least 1).
+    ng: f64,
+    /// Whether every bar is labelled with its value (else only missing ones).
+    labelled: bool,
+    /// Whether the value labels are turned upright.
+    upright: bool,
+}
+
+impl<'f> BarLayout<'f> {
+    /// The layout of `groups` over `categories` in frame `f`, a legend naming `names` beside.
+    fn new(
+        f: &'f Frame,
+        categories: &[String],
+        groups: &[(String, Vec<f64>)],
+        names: &[&str],
+    ) -> Self {
+        let all = groups.iter().flat_map(|g| g.1.iter().copied());
+        // The bars start at the baseline (0 unless the frame gives one below every value).
+        let base = f
+            .baseline
+            .filter(|b| {
+                groups
+                    .iter()
+                    .flat_map(|g| g.1.iter())
+                    .filter(|v| v.is_finite())
+                    .all(|v| v > b)
+            })
+            .unwrap_or(0.0);
+        let (lo, hi) = finite_range(all.chain([base])).unwrap_or((0.0, 1.0));
+        let ng = groups.len().max(1) as f64;
+        let plot_w = f.width - ML - MR - legend_width(names);
+        let slot = plot_w / categories.len().max(1) as f64;
+        // At most 80 px per bar, so one or two categories do not turn into slabs.
+        let bw = (slot * 0.8 / ng).min(80.0);
+        let mut lay = BarLayout {
+            f,
+            base,
+            lo,
+            top: hi,
+            slot,
+            bw,
+            ng,
+            labelled: groups.len() <= 3,
+            upright: false,
+        };
+        // Value labels that do not fit above a bar are turned upright; leave head room for
+        // the longest of them. All upright if any must be (mixed orientations read badly).
+        lay.upright = groups
+            .iter()
+            .flat_map(|g| g.1.iter())
+            .filter(|v| lay.labelled || !v.is_finite())
+            .any(|v| text_w(&lay.label(*v)) > bw);
+        let need = if lay.labelled {
+            groups
+                .iter()
+                .flat_map(|g| g.1.iter())
+                .map(|v| lay.label(*v))
+                .filter(|_| lay.upright)
+                .map(|t| text_w(&t))
+                .fold(14.0, f64::max)
+        } else {
+            0.0
+        };
+        let ph = f.height - MT - MB;
+        if hi > 0.0 {
+            lay.top = hi + (hi - lo) * need / (ph - need).max(ph * 0.3);
+        }
+        lay
+    }
+
+    /// The value label of a bar: its value, or the frame's text for a missing one.
+    fn label(&self, v: f64) -> String {
+        if v.is_finite() {
+            fmt_num(v)
+        } else {
+            self.f.missing.clone()
+        }
+    }
+
+    /// Draw category `c` (named `name`): its bars, one per group, their value labels and its
+    /// name under the axis.
+    fn category(
+        &self,
+        s: &mut String,
+        a: &Axes,
+        (c, name): (usize, &str),
+        groups: &[(String, Vec<f64>)],
+    ) {
+        let (bw, base) = (self.bw, self.base);
+        let x0 = a.px0 + self.slot * (c as f64 + 0.5) - bw * self.ng / 2.0;
+        for (g, (_, vals)) in groups.iter().enumerate() {
+            let v = vals.get(c).copied().unwrap_or(f64::NAN);
+            let cx = x0 + bw * (g as f64 + 0.5);
+            let (ya, yb) = (a.y(base), a.y(if v.is_finite() { v } else { base }));
+            if v.is_finite() {
+                let _ = write!(
+                    s,
+                    r#"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="{:.1}" fill="{}"><title>{}: {}</title></rect>"#,
+                    x0 + bw * g as f64,
+                    ya.min(yb),
+                    bw * 0.95,
+                    (ya - yb).abs(),
+                    colour(g),
+                    esc(name),
+                    fmt_num(v)
+                );
+            }
+            if self.labelled || !v.is_finite() {
+                let t = self.label(v);
+                let fill = if v.is_finite() { "#222" } else { "#888" };
+                let y = ya.min(yb) - 3.0;
+                if self.upright {
+                    let _ = write!(
+                        s,
+                        r#"<text x="{:.1}" y="{y:.1}" transform="rotate(-90 {:.1} {y:.1})" font-size="10" fill="{fill}">{}</text>"#,
+                        cx + 3.5,
+                        cx + 3.5,
+                        esc(&t)
+                    );
+                } else {
+                    let _ = write!(
+                        s,
+                        r#"<text x="{cx:.1}" y="{y:.1}" text-anchor="middle" font-size="10" fill="{fill}">{}</text>"#,
+                        esc(&t)
+                    );
+                }
+            }
+        }
+        let _ = write!(
+            s,
+            r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">{}</text>"#,
+            a.px0 + self.slot * (c as f64 + 0.5),
+            a.py0 + 16.0,
+            esc(name)
+        );
+    }
 }
 
 /// A marked heatmap cell: drawn with a hatch/colour of its class and named in the legend.
