@@ -90,7 +90,7 @@ fn calibrated_path(a: &super::IdentifyArgs, resolved: &std::path::Path) -> std::
             .out
             .clone()
             .unwrap_or_else(|| std::path::PathBuf::from("."))
-            .join(identify::calibrate::default_file_name(&resolved)),
+            .join(identify::calibrate::default_file_name(resolved)),
     }
 }
 
