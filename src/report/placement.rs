@@ -1715,6 +1715,9 @@ fn sensitivity_facts(o: &OptimiseResult) -> Vec<(String, String)> {
     let f = |v: Option<f64>| v.map_or("infeasible".to_string(), |v| format!("{v:.2}"));
     // Derivatives need both neighbours (one for the one-sided slope): "n/a" otherwise.
     let g = |v: Option<f64>| v.map_or("n/a".to_string(), |v| format!("{v:.2}"));
+    let xy = |label: &str, v: [Option<f64>; 2]| {
+        (label.to_string(), format!("{} / {}", g(v[0]), g(v[1])))
+    };
     vec![
         (
             format!("energy at x∓{0:.0} mm, y∓{0:.0} mm [J]", s.h_m * 1000.0),
@@ -1726,29 +1729,11 @@ fn sensitivity_facts(o: &OptimiseResult) -> Vec<(String, String)> {
                 f(s.e_j[3])
             ),
         ),
-        (
-            "gradient dE/dx, dE/dy [J/m]".into(),
-            format!(
-                "{} / {}",
-                g(s.gradient_j_per_m[0]),
-                g(s.gradient_j_per_m[1])
-            ),
-        ),
-        (
-            "curvature d²E/dx², d²E/dy² [J/m²]".into(),
-            format!(
-                "{} / {}",
-                g(s.curvature_j_per_m2[0]),
-                g(s.curvature_j_per_m2[1])
-            ),
-        ),
-        (
-            "one-sided slopes dE/dx, dE/dy [J/m] (one neighbour infeasible)".into(),
-            format!(
-                "{} / {}",
-                g(s.one_sided_j_per_m[0]),
-                g(s.one_sided_j_per_m[1])
-            ),
+        xy("gradient dE/dx, dE/dy [J/m]", s.gradient_j_per_m),
+        xy("curvature d²E/dx², d²E/dy² [J/m²]", s.curvature_j_per_m2),
+        xy(
+            "one-sided slopes dE/dx, dE/dy [J/m] (one neighbour infeasible)",
+            s.one_sided_j_per_m,
         ),
         (
             "search".into(),

@@ -300,10 +300,43 @@ fn xy_axes(f: &Frame, series: &[Series], legend: &[&str]) -> Axes {
         .unwrap_or((0.0, 1.0));
     let yr = finite_range(series.iter().flat_map(|s| s.points.iter().map(|p| p.1)))
         .unwrap_or((0.0, 1.0));
+    padded_axes(f, xr, yr, legend)
+}
+
+/// Axes of an x–y chart over the ranges `xr` and `yr` (the latter padded by 5 % each way),
+/// narrowed by the legend naming `legend`.
+fn padded_axes(f: &Frame, xr: (f64, f64), yr: (f64, f64), legend: &[&str]) -> Axes {
     let pad = (yr.1 - yr.0) * 0.05;
     let mut a = Axes::new(f, xr, (yr.0 - pad, yr.1 + pad));
     a.px1 -= legend_width(legend);
     a
+}
+
+/// Draw series `i` through the points `pts` as one path in its colour; the pen is lifted
+/// over non-finite points.
+fn series_path(s: &mut String, a: &Axes, i: usize, pts: &[(f64, f64)]) {
+    let mut d = String::new();
+    let mut pen_up = true;
+    for &(x, y) in pts {
+        if !(x.is_finite() && y.is_finite()) {
+            pen_up = true;
+            continue;
+        }
+        // After "M", further coordinate pairs are implicit line-tos.
+        let _ = write!(
+            d,
+            "{}{:.1},{:.1}",
+            if pen_up { "M" } else { " " },
+            a.x(x),
+            a.y(y)
+        );
+        pen_up = false;
+    }
+    let _ = write!(
+        s,
+        r#"<path d="{d}" fill="none" stroke="{}" stroke-width="1.2"/>"#,
+        colour(i)
+    );
 }
 
 /// Legend entries of an x–y chart: none for a single unnamed or lone series (the title names it).
@@ -326,28 +359,7 @@ pub fn line_chart(f: &Frame, series: &[Series]) -> String {
     x_axis(&mut s, &a);
     for (i, se) in series.iter().enumerate() {
         let pts = decimate(&se.points, ((a.px1 - a.px0) / 2.0).ceil().max(1.0) as usize);
-        let mut d = String::new();
-        let mut pen_up = true;
-        for &(x, y) in &pts {
-            if !(x.is_finite() && y.is_finite()) {
-                pen_up = true;
-                continue;
-            }
-            // After "M", further coordinate pairs are implicit line-tos.
-            let _ = write!(
-                d,
-                "{}{:.1},{:.1}",
-                if pen_up { "M" } else { " " },
-                a.x(x),
-                a.y(y)
-            );
-            pen_up = false;
-        }
-        let _ = write!(
-            s,
-            r#"<path d="{d}" fill="none" stroke="{}" stroke-width="1.2"/>"#,
-            colour(i)
-        );
+        series_path(&mut s, &a, i, &pts);
     }
     legend(&mut s, f, &names);
     axis_labels(&mut s, f);
@@ -484,34 +496,12 @@ pub fn line_chart_streamed(f: &Frame, series: &[StreamedSeries]) -> String {
     };
     let xr = range(&mut series.iter().map(|s| s.x)).unwrap_or((0.0, 1.0));
     let yr = range(&mut series.iter().map(|s| s.y)).unwrap_or((0.0, 1.0));
-    let pad = (yr.1 - yr.0) * 0.05;
-    let mut a = Axes::new(f, xr, (yr.0 - pad, yr.1 + pad));
-    a.px1 -= legend_width(&names);
+    let a = padded_axes(f, xr, yr, &names);
     let mut s = open(f);
     y_axis(&mut s, &a, true);
     x_axis(&mut s, &a);
     for (i, se) in series.iter().enumerate() {
-        let mut d = String::new();
-        let mut pen_up = true;
-        for &(x, y) in &se.kept {
-            if !(x.is_finite() && y.is_finite()) {
-                pen_up = true;
-                continue;
-            }
-            let _ = write!(
-                d,
-                "{}{:.1},{:.1}",
-                if pen_up { "M" } else { " " },
-                a.x(x),
-                a.y(y)
-            );
-            pen_up = false;
-        }
-        let _ = write!(
-            s,
-            r#"<path d="{d}" fill="none" stroke="{}" stroke-width="1.2"/>"#,
-            colour(i)
-        );
+        series_path(&mut s, &a, i, &se.kept);
     }
     legend(&mut s, f, &names);
     axis_labels(&mut s, f);
