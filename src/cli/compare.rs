@@ -117,16 +117,7 @@ pub fn run(a: super::CompareArgs) -> Result<()> {
         Some(&robot),
         &[Some(a.log.log.as_path())],
     );
-    if let Some(dir) = &a.out.out {
-        printwatt::output::check_dir(dir, &inputs)?;
-        for f in ["compare.json", "report.html"] {
-            printwatt::output::check_file(
-                &dir.join(f),
-                &inputs,
-                printwatt::output::Existing::Force(a.out.force),
-            )?;
-        }
-    }
+    check_outputs(&a, &inputs)?;
     let bar = Bar::new();
     let prep = identify::Prepared::with_progress(&model, &log, &bar)?;
     drop(bar);
@@ -143,29 +134,70 @@ pub fn run(a: super::CompareArgs) -> Result<()> {
         &cmp,
     )?;
     if let Some(dir) = &a.out.out {
-        // The report plots the model's prediction, sample by sample.
-        let ch = log.channels.max(1);
-        let names: Vec<String> = (0..ch)
-            .map(|c| {
-                cmp.channels.get(c).map_or_else(
-                    || format!("channel {}", c + 1),
-                    |x| format!("model {}", x.name),
-                )
-            })
-            .collect();
-        printwatt::output::check_finite("compare: model prediction", &names, pred.chunks(ch))?;
-        printwatt::output::write_file(
-            &dir.join("compare.json"),
-            printwatt::output::json_text(&cmp)?.as_bytes(),
-            &inputs,
-            printwatt::output::Existing::Force(a.out.force),
-        )?;
-        write_report(&dir.join("report.html"), &log, &pred, &cmp)?;
+        write_outputs(dir, &a, &inputs, (&log, &pred), &cmp)?;
     }
     if a.out.json {
         super::print_json(&cmp)?;
         return Ok(());
     }
+    print_comparison(&cmp, &robot, &log)?;
+    print_failures(&cmp)?;
+    Ok(())
+}
+
+/// With `--out DIR`: check `compare.json` and `report.html` there against the inputs before
+/// any work.
+fn check_outputs(a: &super::CompareArgs, inputs: &printwatt::output::Inputs) -> Result<()> {
+    if let Some(dir) = &a.out.out {
+        printwatt::output::check_dir(dir, inputs)?;
+        for f in ["compare.json", "report.html"] {
+            printwatt::output::check_file(
+                &dir.join(f),
+                inputs,
+                printwatt::output::Existing::Force(a.out.force),
+            )?;
+        }
+    }
+    Ok(())
+}
+
+/// Write `compare.json` and `report.html` (the model's prediction `pred` against the log,
+/// checked finite first) into `dir`.
+fn write_outputs(
+    dir: &Path,
+    a: &super::CompareArgs,
+    inputs: &printwatt::output::Inputs,
+    (log, pred): (&Log, &[f64]),
+    cmp: &metrics::Comparison,
+) -> Result<()> {
+    // The report plots the model's prediction, sample by sample.
+    let ch = log.channels.max(1);
+    let names: Vec<String> = (0..ch)
+        .map(|c| {
+            cmp.channels.get(c).map_or_else(
+                || format!("channel {}", c + 1),
+                |x| format!("model {}", x.name),
+            )
+        })
+        .collect();
+    printwatt::output::check_finite("compare: model prediction", &names, pred.chunks(ch))?;
+    printwatt::output::write_file(
+        &dir.join("compare.json"),
+        printwatt::output::json_text(cmp)?.as_bytes(),
+        inputs,
+        printwatt::output::Existing::Force(a.out.force),
+    )?;
+    write_report(&dir.join("report.html"), log, pred, cmp)?;
+    Ok(())
+}
+
+/// Print the comparison: the robot, the log and the model, a table of the channels and the
+/// worst windows.
+fn print_comparison(
+    cmp: &metrics::Comparison,
+    robot: &printwatt::robot::RobotModel,
+    log: &Log,
+) -> Result<()> {
     outln!(
         "robot: {}",
         cmp.calibration
@@ -213,7 +245,6 @@ pub fn run(a: super::CompareArgs) -> Result<()> {
             w.worst_channel
         );
     }
-    print_failures(&cmp)?;
     Ok(())
 }
 
@@ -287,60 +318,65 @@ ranks the structures by the residual RMS they explain beyond the noise floor [{u
         })
         .collect();
     pg.table(&header, &rows);
-    for p in &cmp.profiles {
-        let mut row = Vec::new();
-        for pr in [&p.velocity, &p.position, &p.time] {
-            let (x, y): (Vec<f64>, Vec<f64>) = pr
-                .bins
-                .iter()
-                .filter(|b| b.samples > 0)
-                .map(|b| (b.x, b.mean))
-                .unzip();
-            let fr = svg::Frame::new(
-                &format!(
-                    "{} mean residual vs joint {} {}",
-                    p.channel, p.joint, pr.against
-                ),
-                &format!(
-                    "{} [{}]",
-                    if pr.against == "time" {
-                        "time".to_string()
-                    } else {
-                        format!("joint {} {}", p.joint, pr.against)
-                    },
-                    pr.unit
-                ),
-                &format!("mean residual [{unit}]"),
-            )
-            .size(345.0, 300.0);
-            row.push((
-                format!("{}-profile-{}-q{}", p.channel, pr.against, p.joint),
-                svg::line_chart(&fr, &[Series::new("bin mean", &x, &y)]),
-                format!(
-                    "{}: residual binned against {} (explains {:.4} {unit} beyond noise){}.",
-                    p.channel,
-                    pr.against,
-                    pr.explained_rms,
-                    if pr.against == "velocity" {
-                        format!(
-                            "; step at q̇ = 0: {:+.4} ± {:.4} {unit}",
-                            p.direction_step, p.direction_step_se
-                        )
-                    } else {
-                        String::new()
-                    }
-                ),
-            ));
-        }
-        pg.figure_row(&row);
+    for k in 0..cmp.profiles.len() {
+        pg.figure_row(&profile_row(cmp, k));
     }
+}
+
+/// The binned residual of the `k`-th joint profile against velocity, position and time, as
+/// a row of figures.
+fn profile_row(cmp: &metrics::Comparison, k: usize) -> Vec<(String, String, String)> {
+    let (p, unit) = (&cmp.profiles[k], cmp.unit.as_str());
+    let mut row = Vec::new();
+    for pr in [&p.velocity, &p.position, &p.time] {
+        let (x, y): (Vec<f64>, Vec<f64>) = pr
+            .bins
+            .iter()
+            .filter(|b| b.samples > 0)
+            .map(|b| (b.x, b.mean))
+            .unzip();
+        let fr = svg::Frame::new(
+            &format!(
+                "{} mean residual vs joint {} {}",
+                p.channel, p.joint, pr.against
+            ),
+            &format!(
+                "{} [{}]",
+                if pr.against == "time" {
+                    "time".to_string()
+                } else {
+                    format!("joint {} {}", p.joint, pr.against)
+                },
+                pr.unit
+            ),
+            &format!("mean residual [{unit}]"),
+        )
+        .size(345.0, 300.0);
+        row.push((
+            format!("{}-profile-{}-q{}", p.channel, pr.against, p.joint),
+            svg::line_chart(&fr, &[Series::new("bin mean", &x, &y)]),
+            format!(
+                "{}: residual binned against {} (explains {:.4} {unit} beyond noise){}.",
+                p.channel,
+                pr.against,
+                pr.explained_rms,
+                if pr.against == "velocity" {
+                    format!(
+                        "; step at q̇ = 0: {:+.4} ± {:.4} {unit}",
+                        p.direction_step, p.direction_step_se
+                    )
+                } else {
+                    String::new()
+                }
+            ),
+        ));
+    }
+    row
 }
 
 /// `report.html`: measured vs modelled, residual over time, residual vs q̇, q̈, q per joint.
 fn write_report(path: &Path, log: &Log, pred: &[f64], cmp: &metrics::Comparison) -> Result<()> {
     let ch = log.channels;
-    let n = log.traj.n;
-    let t = &log.traj.t;
     let unit = cmp.unit.as_str();
     let mut pg = Page::new(&format!("Model vs measurement: {}", cmp.log));
     pg.p(&format!(
@@ -382,6 +418,25 @@ energy error {:.2} %, accuracy {:.2} %. Residual = model − measured.",
         .collect();
     pg.table(&header, &rows);
     failure_section(&mut pg, cmp);
+    for c in 0..ch {
+        channel_section(&mut pg, (log, pred), cmp, c);
+    }
+    printwatt::output::write_atomic(path, pg.finish().as_bytes())?;
+    Ok(())
+}
+
+/// The report's section of channel `c`: measured and modelled signal, the residual over time
+/// and, per joint it depends on, the residual against velocity, acceleration and position.
+fn channel_section(
+    pg: &mut Page,
+    (log, pred): (&Log, &[f64]),
+    cmp: &metrics::Comparison,
+    c: usize,
+) {
+    let ch = log.channels;
+    let n = log.traj.n;
+    let t = &log.traj.t;
+    let unit = cmp.unit.as_str();
     let y_label = |what: &str| format!("{what} [{unit}]");
     let signal = match log.kind.prefix() {
         "tau" => "torque τ",
@@ -389,72 +444,81 @@ energy error {:.2} %, accuracy {:.2} %. Residual = model − measured.",
         "p" => "axis power p",
         _ => "supply power p_total",
     };
-    for c in 0..ch {
-        let name = &cmp.channels[c].name;
-        let meas: Vec<f64> = (0..log.len()).map(|k| log.y[k * ch + c]).collect();
-        let model: Vec<f64> = (0..log.len()).map(|k| pred[k * ch + c]).collect();
-        let res: Vec<f64> = model.iter().zip(&meas).map(|(a, b)| a - b).collect();
-        pg.h2(name);
-        let f = svg::Frame::new(
-            &format!("{name}: measured and modelled"),
-            "time [s]",
-            &y_label(signal),
-        )
-        .size(1000.0, 340.0);
-        pg.figure(
-            &format!("{name}-signal"),
-            &svg::line_chart(
-                &f,
-                &[
-                    Series::new("measured", t, &meas),
-                    Series::new("model", t, &model),
-                ],
-            ),
-            &format!("{name}: measured and modelled signal over time."),
-        );
-        let f = svg::Frame::new(
-            &format!("{name}: residual (model − measured)"),
-            "time [s]",
+    let name = &cmp.channels[c].name;
+    let meas: Vec<f64> = (0..log.len()).map(|k| log.y[k * ch + c]).collect();
+    let model: Vec<f64> = (0..log.len()).map(|k| pred[k * ch + c]).collect();
+    let res: Vec<f64> = model.iter().zip(&meas).map(|(a, b)| a - b).collect();
+    pg.h2(name);
+    let f = svg::Frame::new(
+        &format!("{name}: measured and modelled"),
+        "time [s]",
+        &y_label(signal),
+    )
+    .size(1000.0, 340.0);
+    pg.figure(
+        &format!("{name}-signal"),
+        &svg::line_chart(
+            &f,
+            &[
+                Series::new("measured", t, &meas),
+                Series::new("model", t, &model),
+            ],
+        ),
+        &format!("{name}: measured and modelled signal over time."),
+    );
+    let f = svg::Frame::new(
+        &format!("{name}: residual (model − measured)"),
+        "time [s]",
+        &y_label("residual"),
+    )
+    .size(1000.0, 300.0);
+    pg.figure(
+        &format!("{name}-residual"),
+        &svg::line_chart(&f, &[Series::new("residual", t, &res)]),
+        &format!("{name}: residual over time."),
+    );
+    let joints: Vec<usize> = if ch == 1 { (0..n).collect() } else { vec![c] };
+    for j in joints {
+        pg.figure_row(&residual_scatter_row(log, name, j, &res, unit));
+    }
+}
+
+/// Channel `name`'s residual `res` against joint `j`'s velocity, acceleration and position,
+/// as a row of scatter plots.
+fn residual_scatter_row(
+    log: &Log,
+    name: &str,
+    j: usize,
+    res: &[f64],
+    unit: &str,
+) -> Vec<(String, String, String)> {
+    let y_label = |what: &str| format!("{what} [{unit}]");
+    let mut row = Vec::new();
+    for (lab, sym, unit_x, f) in [
+        ("velocity", "q̇", "rad/s", JointTrajSel::Qd),
+        ("acceleration", "q̈", "rad/s²", JointTrajSel::Qdd),
+        ("position", "q", "rad", JointTrajSel::Q),
+    ] {
+        let x: Vec<f64> = (0..log.len())
+            .map(|k| match f {
+                JointTrajSel::Q => log.traj.q(k)[j],
+                JointTrajSel::Qd => log.traj.qd(k)[j],
+                JointTrajSel::Qdd => log.traj.qdd(k)[j],
+            })
+            .collect();
+        let fr = svg::Frame::new(
+            &format!("{name} residual vs joint {} {lab}", j + 1),
+            &format!("joint {} {lab} {sym} [{unit_x}]", j + 1),
             &y_label("residual"),
         )
-        .size(1000.0, 300.0);
-        pg.figure(
-            &format!("{name}-residual"),
-            &svg::line_chart(&f, &[Series::new("residual", t, &res)]),
-            &format!("{name}: residual over time."),
-        );
-        let joints: Vec<usize> = if ch == 1 { (0..n).collect() } else { vec![c] };
-        for j in joints {
-            let mut row = Vec::new();
-            for (lab, sym, unit_x, f) in [
-                ("velocity", "q̇", "rad/s", JointTrajSel::Qd),
-                ("acceleration", "q̈", "rad/s²", JointTrajSel::Qdd),
-                ("position", "q", "rad", JointTrajSel::Q),
-            ] {
-                let x: Vec<f64> = (0..log.len())
-                    .map(|k| match f {
-                        JointTrajSel::Q => log.traj.q(k)[j],
-                        JointTrajSel::Qd => log.traj.qd(k)[j],
-                        JointTrajSel::Qdd => log.traj.qdd(k)[j],
-                    })
-                    .collect();
-                let fr = svg::Frame::new(
-                    &format!("{name} residual vs joint {} {lab}", j + 1),
-                    &format!("joint {} {lab} {sym} [{unit_x}]", j + 1),
-                    &y_label("residual"),
-                )
-                .size(345.0, 300.0);
-                row.push((
-                    format!("{name}-residual-vs-q{}-{lab}", j + 1),
-                    svg::scatter(&fr, &[Series::new("", &x, &res)]),
-                    format!("{name}: residual vs joint {} {lab}.", j + 1),
-                ));
-            }
-            pg.figure_row(&row);
-        }
+        .size(345.0, 300.0);
+        row.push((
+            format!("{name}-residual-vs-q{}-{lab}", j + 1),
+            svg::scatter(&fr, &[Series::new("", &x, res)]),
+            format!("{name}: residual vs joint {} {lab}.", j + 1),
+        ));
     }
-    printwatt::output::write_atomic(path, pg.finish().as_bytes())?;
-    Ok(())
+    row
 }
 
 #[derive(Clone, Copy)]

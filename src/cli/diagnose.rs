@@ -30,21 +30,7 @@ pub fn run(a: super::DiagnoseArgs) -> Result<()> {
         &format!("diagnose of the log {}", a.log.log.display()),
         &d,
     )?;
-    if let Some(dir) = &a.out.out {
-        let inputs = super::inputs(
-            &a.log.robot.robot,
-            Some(&robot),
-            &[Some(a.log.log.as_path())],
-        );
-        printwatt::output::check_dir(dir, &inputs)?;
-        std::fs::create_dir_all(dir).map_err(|e| printwatt::Error::io(dir, e))?;
-        printwatt::output::write_file(
-            &dir.join("diagnose.json"),
-            printwatt::output::json_text(&d)?.as_bytes(),
-            &inputs,
-            printwatt::output::Existing::Force(a.out.force),
-        )?;
-    }
+    write_diagnosis(&a, &robot, &d)?;
     if a.out.json {
         super::print_json(&d)?;
         return Ok(());
@@ -81,47 +67,7 @@ pub fn run(a: super::DiagnoseArgs) -> Result<()> {
         "sig"
     );
     for (i, c) in d.candidates.iter().enumerate() {
-        outln!(
-            "{:<4} {:<16} {:>8} {:>12.4} {:>8.1} {:>8.1} {:>10.1} {:>5}  {:?}",
-            i + 1,
-            c.effect,
-            if c.in_model { "refit" } else { "missing" },
-            c.validation_rmse,
-            c.rmse_cut_pct,
-            c.t_statistic,
-            c.delta_bic,
-            if c.significant {
-                "yes"
-            } else if !c.plausible {
-                "n/a"
-            } else {
-                "no"
-            },
-            c.joints
-        );
-        if let Some(w) = &c.implausible {
-            outln!("       not plausible for this robot: {w}");
-        }
-        if i < 3 && c.significant {
-            for p in &c.params {
-                if p.value != p.nominal {
-                    match p.std_error {
-                        Some(se) => outln!(
-                            "       {} = {:.4} ± {:.4} {} (was {:.4})",
-                            p.name,
-                            p.value,
-                            se,
-                            p.unit,
-                            p.nominal
-                        ),
-                        None => outln!("       {} = not identifiable", p.name),
-                    }
-                }
-            }
-            if let Some(n) = &c.note {
-                outln!("       {n}");
-            }
-        }
+        print_candidate(i, c)?;
     }
     if !d.not_observable.is_empty() {
         outln!(
@@ -134,5 +80,76 @@ pub fn run(a: super::DiagnoseArgs) -> Result<()> {
         outln!("unexplained: {u}");
     }
     outln!("{}", d.verdict);
+    Ok(())
+}
+
+/// With `--out DIR`: write `diagnose.json` there (checked against the inputs first).
+fn write_diagnosis(
+    a: &super::DiagnoseArgs,
+    robot: &printwatt::robot::RobotModel,
+    d: &diagnose::Diagnosis,
+) -> Result<()> {
+    if let Some(dir) = &a.out.out {
+        let inputs = super::inputs(
+            &a.log.robot.robot,
+            Some(robot),
+            &[Some(a.log.log.as_path())],
+        );
+        printwatt::output::check_dir(dir, &inputs)?;
+        std::fs::create_dir_all(dir).map_err(|e| printwatt::Error::io(dir, e))?;
+        printwatt::output::write_file(
+            &dir.join("diagnose.json"),
+            printwatt::output::json_text(d)?.as_bytes(),
+            &inputs,
+            printwatt::output::Existing::Force(a.out.force),
+        )?;
+    }
+    Ok(())
+}
+
+/// Print the effect ranked `i` (from 0): its line of the ranking, why it is not plausible,
+/// and for one of the three first that is significant, its parameters and note.
+fn print_candidate(i: usize, c: &diagnose::Candidate) -> Result<()> {
+    outln!(
+        "{:<4} {:<16} {:>8} {:>12.4} {:>8.1} {:>8.1} {:>10.1} {:>5}  {:?}",
+        i + 1,
+        c.effect,
+        if c.in_model { "refit" } else { "missing" },
+        c.validation_rmse,
+        c.rmse_cut_pct,
+        c.t_statistic,
+        c.delta_bic,
+        if c.significant {
+            "yes"
+        } else if !c.plausible {
+            "n/a"
+        } else {
+            "no"
+        },
+        c.joints
+    );
+    if let Some(w) = &c.implausible {
+        outln!("       not plausible for this robot: {w}");
+    }
+    if i < 3 && c.significant {
+        for p in &c.params {
+            if p.value != p.nominal {
+                match p.std_error {
+                    Some(se) => outln!(
+                        "       {} = {:.4} ± {:.4} {} (was {:.4})",
+                        p.name,
+                        p.value,
+                        se,
+                        p.unit,
+                        p.nominal
+                    ),
+                    None => outln!("       {} = not identifiable", p.name),
+                }
+            }
+        }
+        if let Some(n) = &c.note {
+            outln!("       {n}");
+        }
+    }
     Ok(())
 }

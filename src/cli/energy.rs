@@ -104,40 +104,14 @@ pub fn run(a: EnergyCmd) -> Result<()> {
     if let Some(o) = &out {
         printwatt::output::check_file(o, &inputs, Existing::Force(a.out.force))?;
     }
-    let mut feasibility = None;
-    let (traj, slowdowns, report) = if let Some(tp) = &a.trajectory {
-        let (mut traj, sup) = trajectory::read_csv_for(tp, &model)?;
-        complete_derivatives(&mut traj, sup)?;
-        let em = EnergyModel::with_options(&model, opts)?;
-        let report = energy::evaluate(&em, &traj)?;
-        (traj, Vec::new(), report)
-    } else {
-        let placement = placement.context("--at")?;
-        let path = super::load_path(&input, &a.path.read_options(&a.timing)?)?;
-        let profile = a.timing.profile()?;
-        let job = PathJob::new(&model, &path, opts, profile, JointStageOptions::default())?;
-        let feas = a.feasibility.options(model.dof())?;
-        let (ev, failed) = job.evaluate_checked(&placement, feas)?.map_err(|e| {
-            anyhow::anyhow!(
-                "placement {} is infeasible: {e}",
-                a.at.at.as_deref().unwrap_or_default()
-            )
-        })?;
-        feasibility = Some(match failed {
-            None => FeasibilityOut::Feasible,
-            Some(why) => {
-                super::note_warnings(
-                    &input.display().to_string(),
-                    &[format!(
-                        "placement {} is INFEASIBLE as `sweep` checks it: {why}; its energy is \
-                         evaluated regardless",
-                        a.at.at.as_deref().unwrap_or_default()
-                    )],
-                );
-                FeasibilityOut::Infeasible(why)
-            }
-        });
-        (ev.timed.traj, ev.timed.slowdowns, ev.energy)
+    let Evaluation {
+        traj,
+        slowdowns,
+        report,
+        feasibility,
+    } = match &a.trajectory {
+        Some(tp) => evaluate_trajectory(tp, &model, opts)?,
+        None => evaluate_at(&a, &model, opts, placement, &input)?,
     };
     check_report_finite(&report, &traj, &input)?;
     if let Some(o) = &out {
@@ -175,6 +149,76 @@ pub fn run(a: EnergyCmd) -> Result<()> {
         print_summary(&summary, &model)?;
     }
     Ok(())
+}
+
+/// What `energy` computed: the joint trajectory, where the timing slowed down, the energy
+/// report, and the placement's checks (none for a trajectory).
+struct Evaluation {
+    traj: trajectory::JointTrajectory,
+    slowdowns: Vec<Slowdown>,
+    report: EnergyReport,
+    feasibility: Option<FeasibilityOut>,
+}
+
+/// The joint trajectory file `tp` read for the robot (missing derivatives completed) and
+/// its energy.
+fn evaluate_trajectory(
+    tp: &Path,
+    model: &printwatt::robot::RobotModel,
+    opts: energy::EnergyOptions,
+) -> Result<Evaluation> {
+    let (mut traj, sup) = trajectory::read_csv_for(tp, model)?;
+    complete_derivatives(&mut traj, sup)?;
+    let em = EnergyModel::with_options(model, opts)?;
+    let report = energy::evaluate(&em, &traj)?;
+    Ok(Evaluation {
+        traj,
+        slowdowns: Vec::new(),
+        report,
+        feasibility: None,
+    })
+}
+
+/// The path `input` timed and evaluated at the `--at` placement, put through the checks of
+/// `sweep` (a failed one is stated, and the motion evaluated regardless).
+fn evaluate_at(
+    a: &EnergyCmd,
+    model: &printwatt::robot::RobotModel,
+    opts: energy::EnergyOptions,
+    placement: Option<printwatt::frame::Placement>,
+    input: &Path,
+) -> Result<Evaluation> {
+    let placement = placement.context("--at")?;
+    let path = super::load_path(input, &a.path.read_options(&a.timing)?)?;
+    let profile = a.timing.profile()?;
+    let job = PathJob::new(model, &path, opts, profile, JointStageOptions::default())?;
+    let feas = a.feasibility.options(model.dof())?;
+    let (ev, failed) = job.evaluate_checked(&placement, feas)?.map_err(|e| {
+        anyhow::anyhow!(
+            "placement {} is infeasible: {e}",
+            a.at.at.as_deref().unwrap_or_default()
+        )
+    })?;
+    let feasibility = match failed {
+        None => FeasibilityOut::Feasible,
+        Some(why) => {
+            super::note_warnings(
+                &input.display().to_string(),
+                &[format!(
+                    "placement {} is INFEASIBLE as `sweep` checks it: {why}; its energy is \
+                     evaluated regardless",
+                    a.at.at.as_deref().unwrap_or_default()
+                )],
+            );
+            FeasibilityOut::Infeasible(why)
+        }
+    };
+    Ok(Evaluation {
+        traj: ev.timed.traj,
+        slowdowns: ev.timed.slowdowns,
+        report: ev.energy,
+        feasibility: Some(feasibility),
+    })
 }
 
 /// The last check before the numbers leave: every per-sample value of the trajectory and of the
@@ -284,6 +328,17 @@ fn print_summary(s: &Summary, model: &printwatt::robot::RobotModel) -> Result<()
         );
     }
     outln!();
+    print_joints(r, model)?;
+    outln!();
+    print_supply(&r.total)?;
+    if let Some(o) = &s.output_csv {
+        outln!("per-sample torque and power written to {o}");
+    }
+    Ok(())
+}
+
+/// Print the table of the joints' energies, peak power and RMS torque, with the totals.
+fn print_joints(r: &EnergyReport, model: &printwatt::robot::RobotModel) -> Result<()> {
     outln!(
         "{:<10} {:>12} {:>12} {:>12} {:>12} {:>12} {:>10}",
         "joint",
@@ -319,7 +374,11 @@ fn print_summary(s: &Summary, model: &printwatt::robot::RobotModel) -> Result<()
         t.copper_j,
         t.electrical_j
     );
-    outln!();
+    Ok(())
+}
+
+/// Print the supply energy and its parts.
+fn print_supply(t: &energy::TotalEnergy) -> Result<()> {
     // One decimal; a value that rounds to zero is printed 0.0, not -0.0 (the signed
     // rigid-body and balancer work of a closed print cycle is near zero).
     let j1 = |x: f64| {
@@ -345,8 +404,5 @@ fn print_summary(s: &Summary, model: &printwatt::robot::RobotModel) -> Result<()
         j1(t.regeneration_lost_j),
         j1(t.standby_j)
     );
-    if let Some(o) = &s.output_csv {
-        outln!("per-sample torque and power written to {o}");
-    }
     Ok(())
 }

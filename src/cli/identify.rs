@@ -25,24 +25,8 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
         &[Some(la.log.as_path()), a.validate_log.as_deref()],
     );
     let resolved = super::resolve_robot(&la.robot.robot);
-    let dst = match &a.drive_out {
-        Some(p) => p.clone(),
-        None => a
-            .out
-            .out
-            .clone()
-            .unwrap_or_else(|| std::path::PathBuf::from("."))
-            .join(identify::calibrate::default_file_name(&resolved)),
-    };
-    let vlog = match &a.validate_log {
-        Some(p) => {
-            let v = identify::read_log_for(&robot, p, la.columns.as_deref())
-                .with_context(|| format!("reading validation log {}", p.display()))?;
-            super::note_warnings(&v.file, &v.warnings);
-            Some(v)
-        }
-        None => None,
-    };
+    let dst = calibrated_path(&a, &resolved);
+    let vlog = validation_log(&a, &robot)?;
     let installed = super::default_robots_dir();
     let job = identify::RoundJob {
         robot: &robot,
@@ -89,8 +73,53 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
         super::print_json(&v)?;
         return Ok(());
     }
+    print_round(id, &robot, &plan, log.kind.unit())?;
+    if let Some(w) = written {
+        outln!("wrote {}", w.display());
+    }
+    Ok(())
+}
+
+/// Where the calibrated robot goes: `--drive-out`, else its default name in `--out` (or the
+/// current directory).
+fn calibrated_path(a: &super::IdentifyArgs, resolved: &std::path::Path) -> std::path::PathBuf {
+    match &a.drive_out {
+        Some(p) => p.clone(),
+        None => a
+            .out
+            .out
+            .clone()
+            .unwrap_or_else(|| std::path::PathBuf::from("."))
+            .join(identify::calibrate::default_file_name(resolved)),
+    }
+}
+
+/// The validation log (`--validate-log`), read for the robot with its warnings noted.
+fn validation_log(
+    a: &super::IdentifyArgs,
+    robot: &printwatt::robot::RobotModel,
+) -> Result<Option<identify::Log>> {
+    Ok(match &a.validate_log {
+        Some(p) => {
+            let v = identify::read_log_for(robot, p, a.log.columns.as_deref())
+                .with_context(|| format!("reading validation log {}", p.display()))?;
+            super::note_warnings(&v.file, &v.warnings);
+            Some(v)
+        }
+        None => None,
+    })
+}
+
+/// Print the round: the validation, the ladder, where it started, what was re-fitted, held
+/// or at a bound, and the parameters it changed (`unit`: of the compared signal).
+fn print_round(
+    id: &ladder::Identification,
+    robot: &printwatt::robot::RobotModel,
+    plan: &identify::RoundPlan,
+    unit: &str,
+) -> Result<()> {
     outln!("{}", id.validation);
-    out!("{}", ladder::table(id, log.kind.unit()));
+    out!("{}", ladder::table(id, unit));
     if let Some(c) = robot.effects.calibration_summary() {
         outln!("started from {c}");
     }
@@ -132,9 +161,6 @@ pub fn run(a: super::IdentifyArgs) -> Result<()> {
                 p.nominal
             );
         }
-    }
-    if let Some(w) = written {
-        outln!("wrote {}", w.display());
     }
     Ok(())
 }

@@ -23,36 +23,12 @@ pub struct MergeArgs {
 /// `printwatt merge`.
 pub fn run(m: MergeArgs) -> Result<()> {
     let t0 = std::time::Instant::now();
-    let dirs = shard::find_shards(&m.shards)?;
-    // The merged run must not replace or change a shard: an output equal to, inside or
-    // holding any input is refused, with or without --force.
-    if let Some(o) = &m.out.out {
-        let inputs: Vec<PathBuf> = m.shards.iter().chain(&dirs).cloned().collect();
-        printwatt::output::refuse_overlap(o, &inputs)?;
-    }
-    let mut data = Vec::with_capacity(dirs.len());
-    for d in &dirs {
-        data.push(shard::read_shard(d)?);
-    }
-    // Absolute: the merge runs the job in the directory the shards ran in.
-    let shard_dirs: Vec<(usize, PathBuf)> = data
-        .iter()
-        .map(|s| {
-            (
-                s.header.shard.index,
-                std::path::absolute(&s.dir).unwrap_or_else(|_| s.dir.clone()),
-            )
-        })
-        .collect();
-    let merged = shard::merge(data)?;
+    let Shards {
+        dirs,
+        shard_dirs,
+        merged,
+    } = read_and_merge(&m)?;
     let h = &merged.header;
-    if h.version != super::VERSION {
-        bail!(
-            "the shards were computed by printwatt {}, this is printwatt {}: merge with the build that computed them",
-            h.version,
-            super::VERSION
-        );
-    }
     // The job's relative paths are relative to where the shards ran.
     let out = match &m.out.out {
         Some(o) => Some(std::path::absolute(o).with_context(|| o.display().to_string())?),
@@ -106,6 +82,70 @@ pub fn run(m: MergeArgs) -> Result<()> {
         force: m.out.force,
     };
     a.run = None;
+    merge_sweep(a, merged, &dirs, t0, &here)
+}
+
+/// The shards of a run, read and merged.
+struct Shards {
+    /// The shard directories.
+    dirs: Vec<PathBuf>,
+    /// Each shard's index and its absolute directory.
+    shard_dirs: Vec<(usize, PathBuf)>,
+    /// The merge.
+    merged: shard::Merged,
+}
+
+/// Find and read the shards (an output overlapping any of them refused first) and merge
+/// them, the merge checked to come from this build.
+fn read_and_merge(m: &MergeArgs) -> Result<Shards> {
+    let dirs = shard::find_shards(&m.shards)?;
+    // The merged run must not replace or change a shard: an output equal to, inside or
+    // holding any input is refused, with or without --force.
+    if let Some(o) = &m.out.out {
+        let inputs: Vec<PathBuf> = m.shards.iter().chain(&dirs).cloned().collect();
+        printwatt::output::refuse_overlap(o, &inputs)?;
+    }
+    let mut data = Vec::with_capacity(dirs.len());
+    for d in &dirs {
+        data.push(shard::read_shard(d)?);
+    }
+    // Absolute: the merge runs the job in the directory the shards ran in.
+    let shard_dirs: Vec<(usize, PathBuf)> = data
+        .iter()
+        .map(|s| {
+            (
+                s.header.shard.index,
+                std::path::absolute(&s.dir).unwrap_or_else(|_| s.dir.clone()),
+            )
+        })
+        .collect();
+    let merged = shard::merge(data)?;
+    let h = &merged.header;
+    if h.version != super::VERSION {
+        bail!(
+            "the shards were computed by printwatt {}, this is printwatt {}: merge with the build that computed them",
+            h.version,
+            super::VERSION
+        );
+    }
+    Ok(Shards {
+        dirs,
+        shard_dirs,
+        merged,
+    })
+}
+
+/// Merge the shards of a sweep: the job is loaded again here and checked to be the one the
+/// shards ran (same job, same inputs, the same placements in the same order), then the run
+/// is finished as a single run finishes it.
+fn merge_sweep(
+    a: super::sweep::PlacementArgs,
+    merged: shard::Merged,
+    dirs: &[PathBuf],
+    t0: std::time::Instant,
+    here: &std::path::Path,
+) -> Result<()> {
+    let h = &merged.header;
     if super::sweep::job_key(&a) != h.job {
         bail!("this printwatt reads the shards' command line as a different job than the one they ran");
     }
@@ -134,11 +174,11 @@ pub fn run(m: MergeArgs) -> Result<()> {
     }) {
         bail!("placement {i} of the shards is not placement {i} of the job");
     }
-    let (facts, extra) = merged_facts(&merged, &dirs, "placements", t0);
+    let (facts, extra) = merged_facts(&merged, dirs, "placements", t0);
     let shard::MergedRows::Sweep(rows) = merged.rows else {
         bail!("the shards hold draws, not placements");
     };
-    std::env::set_current_dir(&here).ok();
+    std::env::set_current_dir(here).ok();
     super::sweep::finish(
         &a,
         &l,

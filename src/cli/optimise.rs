@@ -267,6 +267,14 @@ pub fn run(a: OptimiseArgs) -> Result<()> {
     run_with(a, None)
 }
 
+/// A shard of the uncertainty study: which shard, where its number came from, and the shard
+/// directory it writes.
+type StudyShard = (
+    printwatt::campaign::shard::Shard,
+    printwatt::campaign::shard::ShardSource,
+    printwatt::output::RunDir,
+);
+
 /// `printwatt optimise`, with the uncertainty study's draws given (`merged`: a merge of
 /// shards) instead of computed.
 pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
@@ -275,25 +283,7 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
     let inputs = p.inputs(&l);
     // A shard of the uncertainty study writes its shard directory and nothing else; it is
     // taken before the work, as a run directory is.
-    let mut shard_out = None;
-    if let Some(spec) = &a.shard {
-        use printwatt::campaign::shard::Shard;
-        let (sh, source) = Shard::parse(spec, &|k| std::env::var(k).ok())?;
-        let Some(parent) = p.out.out.clone() else {
-            anyhow::bail!("--shard writes a shard directory: give --out DIR (every shard of the run writes DIR/shard-K-of-N/, and `printwatt merge DIR` puts them together)");
-        };
-        if p.run.is_some() {
-            anyhow::bail!(
-                "--shard writes into --out DIR/shard-K-of-N/, not into a --run directory"
-            );
-        }
-        let rd = printwatt::output::RunDir::begin_at(
-            &parent.join(sh.dir_name()),
-            &inputs,
-            printwatt::output::Existing::Force(p.out.force),
-        )?;
-        shard_out = Some((sh, source, rd));
-    }
+    let mut shard_out = take_shard_dir(&a, &inputs)?;
     // Take the run directory before the work: an occupied or locked --run fails now.
     // A JSON run writes nothing but the JSON unless --out (or --run) is given.
     let json_only = p.out.json && p.out.out.is_none() && p.run.is_none();
@@ -312,63 +302,136 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
         let d = pool.install(|| printwatt::search::run::run_shard(&cfg, &idx, &bars))?;
         return write_study_shard(&a, &inputs, d, sh);
     }
-    let printwatt::search::OptimiseOutcome {
-        report: rep,
-        secs,
-        evaluations: n_eval,
-    } = match &merged {
+    let outcome = match &merged {
         Some(m) => pool.install(|| printwatt::search::run::run_merged(&cfg, &m.draws, &bars))?,
         None => pool.install(|| printwatt::search::run(&cfg, &bars))?,
     };
+    let rep = &outcome.report;
     let mut written = None;
-    if let Some(mut rd) = run_dir.take() {
-        // In the run's pool: its threads make the report's files at once.
-        pool.install(|| rep.write_into(&mut rd))?;
-        // Facts of this run, not of its answer: the speculative evaluations of the parallel
-        // refinement depend on the thread count.
-        let spec = rep
-            .optimise
-            .as_ref()
-            .and_then(|o| o.search.as_ref())
-            .map(|si| si.speculative_evals);
-        let spec = ("speculative_evaluations", serde_json::json!(spec));
-        match &merged {
-            Some(m) => {
-                // The merge's own wall time includes the optimisation run again here.
-                let mut f = m.facts.0.clone();
-                f["wall_time_s"] = serde_json::json!(secs);
-                let mut extra = m.facts.1.clone();
-                extra.push(spec);
-                super::sweep::write_run_facts(&mut rd, f, &extra)?
-            }
-            None => super::sweep::write_run_facts(
-                &mut rd,
-                super::sweep::run_facts(pool.current_num_threads(), secs, n_eval),
-                &[spec],
-            )?,
-        }
-        written = Some(rd.commit()?);
+    if let Some(rd) = run_dir.take() {
+        written = Some(write_run(rd, &outcome, merged.as_ref(), &pool)?);
     } else {
         rep.check_finite()?;
     }
-    if let (Some(ex), Some(b)) = (&a.export, rep.best()) {
-        let files: Vec<(std::path::PathBuf, String)> =
-            printwatt::search::run::hand_off(&cfg, &b.placement)?
-                .into_iter()
-                .map(|(name, text)| (ex.join(name), text))
-                .collect();
-        for (f, text) in &files {
-            if f.exists() && !p.out.force {
-                anyhow::bail!("{} exists: replacing it needs --force", f.display());
-            }
-            printwatt::output::guard_inputs(f, &[cfg.path_file.as_path()])?;
-            printwatt::output::write_atomic(f, text.as_bytes())?;
-        }
-    }
+    export_hand_off(&a, &cfg, rep)?;
     if p.out.json {
-        super::print_report_json(&rep, false)?;
+        super::print_report_json(rep, false)?;
         return Ok(());
     }
+    print_answer(rep, &cfg)?;
+    if let Some(si) = rep.optimise.as_ref().and_then(|o| o.search.as_ref()) {
+        print_search_notes(si)?;
+    }
+    if let Some(u) = rep.optimise.as_ref().and_then(|o| o.uncertainty.as_ref()) {
+        for l in printwatt::report::placement::uncertainty_lines(u) {
+            outln!("{l}");
+        }
+    }
+    if let Some(d) = rep.optimise.as_ref().and_then(|o| o.decision.as_ref()) {
+        print_decision(d)?;
+    }
+    if let Some(o) = &rep.optimise {
+        print_sensitivity(rep, o, outcome.secs)?;
+    }
+    if let Some(dir) = &written {
+        outln!("report: {}", dir.join("report.html").display());
+    }
+    Ok(())
+}
+
+/// With `--shard`: take this shard's directory `<--out>/shard-K-of-N/` before the work.
+fn take_shard_dir(
+    a: &OptimiseArgs,
+    inputs: &printwatt::output::Inputs,
+) -> Result<Option<StudyShard>> {
+    let p = &a.p;
+    let Some(spec) = &a.shard else {
+        return Ok(None);
+    };
+    use printwatt::campaign::shard::Shard;
+    let (sh, source) = Shard::parse(spec, &|k| std::env::var(k).ok())?;
+    let Some(parent) = p.out.out.clone() else {
+        anyhow::bail!("--shard writes a shard directory: give --out DIR (every shard of the run writes DIR/shard-K-of-N/, and `printwatt merge DIR` puts them together)");
+    };
+    if p.run.is_some() {
+        anyhow::bail!("--shard writes into --out DIR/shard-K-of-N/, not into a --run directory");
+    }
+    let rd = printwatt::output::RunDir::begin_at(
+        &parent.join(sh.dir_name()),
+        inputs,
+        printwatt::output::Existing::Force(p.out.force),
+    )?;
+    Ok(Some((sh, source, rd)))
+}
+
+/// Write the run's report and its facts into the run directory and commit it; returns the
+/// directory written.
+fn write_run(
+    mut rd: printwatt::output::RunDir,
+    outcome: &printwatt::search::OptimiseOutcome,
+    merged: Option<&MergedDraws>,
+    pool: &rayon::ThreadPool,
+) -> Result<std::path::PathBuf> {
+    let rep = &outcome.report;
+    // In the run's pool: its threads make the report's files at once.
+    pool.install(|| rep.write_into(&mut rd))?;
+    // Facts of this run, not of its answer: the speculative evaluations of the parallel
+    // refinement depend on the thread count.
+    let spec = rep
+        .optimise
+        .as_ref()
+        .and_then(|o| o.search.as_ref())
+        .map(|si| si.speculative_evals);
+    let spec = ("speculative_evaluations", serde_json::json!(spec));
+    match merged {
+        Some(m) => {
+            // The merge's own wall time includes the optimisation run again here.
+            let mut f = m.facts.0.clone();
+            f["wall_time_s"] = serde_json::json!(outcome.secs);
+            let mut extra = m.facts.1.clone();
+            extra.push(spec);
+            super::sweep::write_run_facts(&mut rd, f, &extra)?
+        }
+        None => super::sweep::write_run_facts(
+            &mut rd,
+            super::sweep::run_facts(
+                pool.current_num_threads(),
+                outcome.secs,
+                outcome.evaluations,
+            ),
+            &[spec],
+        )?,
+    }
+    Ok(rd.commit()?)
+}
+
+/// With `--export DIR`: write the robot program files of the best placement there.
+fn export_hand_off(
+    a: &OptimiseArgs,
+    cfg: &OptimiseConfig,
+    rep: &printwatt::report::placement::RunReport,
+) -> Result<()> {
+    let (Some(ex), Some(b)) = (&a.export, rep.best()) else {
+        return Ok(());
+    };
+    let files: Vec<(std::path::PathBuf, String)> =
+        printwatt::search::run::hand_off(cfg, &b.placement)?
+            .into_iter()
+            .map(|(name, text)| (ex.join(name), text))
+            .collect();
+    for (f, text) in &files {
+        if f.exists() && !a.p.out.force {
+            anyhow::bail!("{} exists: replacing it needs --force", f.display());
+        }
+        printwatt::output::guard_inputs(f, &[cfg.path_file.as_path()])?;
+        printwatt::output::write_atomic(f, text.as_bytes())?;
+    }
+    Ok(())
+}
+
+/// Print the answer: the best placement, its energy split, the full-path check, the baseline,
+/// its tolerance and the saving against it.
+fn print_answer(rep: &printwatt::report::placement::RunReport, cfg: &OptimiseConfig) -> Result<()> {
     let best = rep.best().context("no feasible placement")?;
     let bp = &best.placement;
     let f = best.feasible().context("best is infeasible")?;
@@ -403,6 +466,11 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
     {
         outln!("{}", printwatt::report::placement::full_check_line(c));
     }
+    print_baseline(rep)
+}
+
+/// Print the baseline placement, its tolerance and the saving against it.
+fn print_baseline(rep: &printwatt::report::placement::RunReport) -> Result<()> {
     if let Some((how, b)) = &rep.baseline {
         outln!(
             "baseline ({how}): x = {:.3} m, y = {:.3} m, z = {:.3} m, yaw = {:.1}°: {:.1} J",
@@ -436,98 +504,106 @@ pub fn run_with(a: OptimiseArgs, merged: Option<MergedDraws>) -> Result<()> {
             )
         );
     }
-    if let Some(si) = rep.optimise.as_ref().and_then(|o| o.search.as_ref()) {
-        outln!("tolerance: {}", tolerance_line(&si.tolerance));
-        if let Some(jm) = &si.joint_margin {
-            outln!("joint-limit margin: {jm}");
-        }
-        if let Some(wm) = &si.wrist_margin {
-            outln!("wrist margin: {wm}");
-        }
-        if let Some(om) = &si.on_margin {
-            outln!(
-                "optimum on a joint-limit margin: {om} (the margin, not the energy, stops the search here; --joint-margin)"
-            );
-        }
-        if let Some(sk) = &si.spin_kept {
-            outln!("nozzle spin: {sk}");
-        }
-        if let Some(b) = &si.budget_spent {
-            outln!("search stopped: {b} (--max-evals)");
-        }
-        if let Some(pm) = &si.polished {
-            outln!("polish: {pm}");
-        }
-        if !si.on_bounds.is_empty() {
-            outln!(
-                "optimum on a search bound: {} (widen --x/--y/--z-bounds there)",
-                si.on_bounds.join(", ")
-            );
-        }
+    Ok(())
+}
+
+/// Print what the search says about its answer: the tolerance box, the margins it kept, the
+/// nozzle spin, a spent budget, the polish and the bounds it ran into.
+fn print_search_notes(si: &printwatt::search::refine::SearchInfo) -> Result<()> {
+    outln!("tolerance: {}", tolerance_line(&si.tolerance));
+    if let Some(jm) = &si.joint_margin {
+        outln!("joint-limit margin: {jm}");
     }
-    if let Some(u) = rep.optimise.as_ref().and_then(|o| o.uncertainty.as_ref()) {
-        for l in printwatt::report::placement::uncertainty_lines(u) {
-            outln!("{l}");
-        }
+    if let Some(wm) = &si.wrist_margin {
+        outln!("wrist margin: {wm}");
     }
-    if let Some(d) = rep.optimise.as_ref().and_then(|o| o.decision.as_ref()) {
-        for b in &d.bound_steps {
-            outln!("{}", printwatt::search::robust::bound_line(b));
-        }
-        for l in d.robust.iter().flat_map(printwatt::search::robust::lines) {
-            outln!("{l}");
-        }
-        if let Some(m) = &d.measurement {
-            outln!("{m}");
-        }
-        for l in printwatt::search::pareto::lines(&d.pareto) {
-            outln!("{l}");
-        }
-        for l in d.margins.iter().flat_map(printwatt::search::margins::lines) {
-            outln!("{l}");
-        }
-    }
-    if let Some(o) = &rep.optimise {
-        let s = &o.sensitivity;
-        // A value with its unit, or why there is none.
-        let fmt = |v: Option<f64>, unit: &str| {
-            v.map_or("infeasible".to_string(), |v| format!("{v:.1} {unit}"))
-        };
-        let fmt_d =
-            |v: Option<f64>, unit: &str| v.map_or("n/a".to_string(), |v| format!("{v:.1} {unit}"));
+    if let Some(om) = &si.on_margin {
         outln!(
-            "±{:.0} mm: E(x−) {}, E(x+) {}, E(y−) {}, E(y+) {}; dE/dx {}, dE/dy {}; d²E/dx² {}, d²E/dy² {}",
-            s.h_m * 1000.0,
-            fmt(s.e_j[0], "J"),
-            fmt(s.e_j[1], "J"),
-            fmt(s.e_j[2], "J"),
-            fmt(s.e_j[3], "J"),
-            fmt_d(s.gradient_j_per_m[0], "J/m"),
-            fmt_d(s.gradient_j_per_m[1], "J/m"),
-            fmt_d(s.curvature_j_per_m2[0], "J/m²"),
-            fmt_d(s.curvature_j_per_m2[1], "J/m²")
-        );
-        if s.one_sided_j_per_m.iter().any(|v| v.is_some()) {
-            outln!(
-                "one-sided slopes (optimum on the feasibility boundary): dE/dx {}, dE/dy {}",
-                fmt_d(s.one_sided_j_per_m[0], "J/m"),
-                fmt_d(s.one_sided_j_per_m[1], "J/m")
-            );
-        }
-        for l in o.search.iter().flat_map(|si| &si.lower_neighbours) {
-            outln!("cheaper neighbour not taken: {l}");
-        }
-        outln!(
-            "grid {} placements ({} feasible), refinement {} evaluations; {:.2} s",
-            rep.rows.len(),
-            rep.rows.iter().filter(|r| r.cost().is_finite()).count(),
-            o.evals,
-            secs
+            "optimum on a joint-limit margin: {om} (the margin, not the energy, stops the search here; --joint-margin)"
         );
     }
-    if let Some(dir) = &written {
-        outln!("report: {}", dir.join("report.html").display());
+    if let Some(sk) = &si.spin_kept {
+        outln!("nozzle spin: {sk}");
     }
+    if let Some(b) = &si.budget_spent {
+        outln!("search stopped: {b} (--max-evals)");
+    }
+    if let Some(pm) = &si.polished {
+        outln!("polish: {pm}");
+    }
+    if !si.on_bounds.is_empty() {
+        outln!(
+            "optimum on a search bound: {} (widen --x/--y/--z-bounds there)",
+            si.on_bounds.join(", ")
+        );
+    }
+    Ok(())
+}
+
+/// Print the decision: the bound steps, the robust choice, the measurement advice, the Pareto
+/// front and the margins.
+fn print_decision(d: &printwatt::search::robust::Decision) -> Result<()> {
+    for b in &d.bound_steps {
+        outln!("{}", printwatt::search::robust::bound_line(b));
+    }
+    for l in d.robust.iter().flat_map(printwatt::search::robust::lines) {
+        outln!("{l}");
+    }
+    if let Some(m) = &d.measurement {
+        outln!("{m}");
+    }
+    for l in printwatt::search::pareto::lines(&d.pareto) {
+        outln!("{l}");
+    }
+    for l in d.margins.iter().flat_map(printwatt::search::margins::lines) {
+        outln!("{l}");
+    }
+    Ok(())
+}
+
+/// Print the optimum's neighbourhood (energies, derivatives, one-sided slopes, cheaper
+/// neighbours not taken) and the effort of the search, `secs` its wall time.
+fn print_sensitivity(
+    rep: &printwatt::report::placement::RunReport,
+    o: &printwatt::search::optimise::OptimiseResult,
+    secs: f64,
+) -> Result<()> {
+    let s = &o.sensitivity;
+    // A value with its unit, or why there is none.
+    let fmt = |v: Option<f64>, unit: &str| {
+        v.map_or("infeasible".to_string(), |v| format!("{v:.1} {unit}"))
+    };
+    let fmt_d =
+        |v: Option<f64>, unit: &str| v.map_or("n/a".to_string(), |v| format!("{v:.1} {unit}"));
+    outln!(
+        "±{:.0} mm: E(x−) {}, E(x+) {}, E(y−) {}, E(y+) {}; dE/dx {}, dE/dy {}; d²E/dx² {}, d²E/dy² {}",
+        s.h_m * 1000.0,
+        fmt(s.e_j[0], "J"),
+        fmt(s.e_j[1], "J"),
+        fmt(s.e_j[2], "J"),
+        fmt(s.e_j[3], "J"),
+        fmt_d(s.gradient_j_per_m[0], "J/m"),
+        fmt_d(s.gradient_j_per_m[1], "J/m"),
+        fmt_d(s.curvature_j_per_m2[0], "J/m²"),
+        fmt_d(s.curvature_j_per_m2[1], "J/m²")
+    );
+    if s.one_sided_j_per_m.iter().any(|v| v.is_some()) {
+        outln!(
+            "one-sided slopes (optimum on the feasibility boundary): dE/dx {}, dE/dy {}",
+            fmt_d(s.one_sided_j_per_m[0], "J/m"),
+            fmt_d(s.one_sided_j_per_m[1], "J/m")
+        );
+    }
+    for l in o.search.iter().flat_map(|si| &si.lower_neighbours) {
+        outln!("cheaper neighbour not taken: {l}");
+    }
+    outln!(
+        "grid {} placements ({} feasible), refinement {} evaluations; {:.2} s",
+        rep.rows.len(),
+        rep.rows.iter().filter(|r| r.cost().is_finite()).count(),
+        o.evals,
+        secs
+    );
     Ok(())
 }
 

@@ -31,28 +31,40 @@ pub fn run(a: RobotsArgs) -> Result<()> {
     dirs.sort();
     let mut rows = Vec::new();
     for d in dirs {
-        let m = robot::load(&d).with_context(|| format!("loading robot {}", d.display()))?;
-        rows.push(RobotRow {
-            id: d
-                .file_name()
-                .map(|s| s.to_string_lossy().into_owned())
-                .unwrap_or_default(),
-            name: m.info.name.clone(),
-            joints: m.dof(),
-            reach_m: m.info.reach_m,
-            rated_payload_kg: m.info.rated_payload_kg,
-            moving_mass_kg: m.moving_mass(),
-            closed_form_ik: m.opw.is_some(),
-            drive_data: m.drive.is_some(),
-            provenance: m.info.provenance.clone(),
-            inertia_sources: m.info.inertia_sources.clone(),
-            link_names: m.link_names.clone(),
-        });
+        rows.push(robot_row(&d)?);
     }
     if a.json {
         super::print_json(&serde_json::json!({ "robots": rows }))?;
         return Ok(());
     }
+    print_table(&rows)?;
+    Ok(())
+}
+
+/// The table row of the robot in directory `d`.
+fn robot_row(d: &std::path::Path) -> Result<RobotRow> {
+    let m = robot::load(d).with_context(|| format!("loading robot {}", d.display()))?;
+    Ok(RobotRow {
+        id: d
+            .file_name()
+            .map(|s| s.to_string_lossy().into_owned())
+            .unwrap_or_default(),
+        name: m.info.name.clone(),
+        joints: m.dof(),
+        reach_m: m.info.reach_m,
+        rated_payload_kg: m.info.rated_payload_kg,
+        moving_mass_kg: m.moving_mass(),
+        closed_form_ik: m.opw.is_some(),
+        drive_data: m.drive.is_some(),
+        provenance: m.info.provenance.clone(),
+        inertia_sources: m.info.inertia_sources.clone(),
+        link_names: m.link_names.clone(),
+    })
+}
+
+/// Print the robots as a table, then each one's provenance and where its link inertias come
+/// from when not all from the URDF.
+fn print_table(rows: &[RobotRow]) -> Result<()> {
     // Column widths from the longest id and name, so a long name does not shift the row.
     let wi = rows
         .iter()
@@ -77,7 +89,7 @@ pub fn run(a: RobotsArgs) -> Result<()> {
         "opw",
         "drive"
     );
-    for r in &rows {
+    for r in rows {
         let o = |v: Option<f64>| v.map_or("-".to_string(), |v| format!("{v:.2}"));
         outln!(
             "{:<wi$} {:<wn$} {:>6} {:>8} {:>11} {:>10.1} {:>4} {:>5}",
@@ -92,7 +104,7 @@ pub fn run(a: RobotsArgs) -> Result<()> {
         );
     }
     outln!();
-    for r in &rows {
+    for r in rows {
         outln!("{}: {}", r.id, r.provenance);
         // Where the link inertias come from, when not all from the URDF.
         let other: Vec<String> = r

@@ -22,6 +22,90 @@ pub fn run(a: super::SimulateArgs) -> Result<()> {
         super::args::check_out_dir(d)?;
         printwatt::output::check_file(f, &inputs, printwatt::output::Existing::Force(a.out.force))?;
     }
+    check_numbers(&a)?;
+    let mut truth = identify::Model::new(&robot)?;
+    let hidden = simulate::parse_hidden(a.hidden.as_deref().unwrap_or("")).context("--hidden")?;
+    simulate::apply_hidden(&mut truth, &hidden)?;
+    let kind = SignalKind::parse(&a.signal)
+        .with_context(|| format!("--signal `{}`: expected tau, i, p or p_total", a.signal))?;
+    if !(a.rate > 0.0 && a.rate.is_finite()) {
+        bail!("--rate must be > 0 Hz");
+    }
+    let placement = a.at.one()?;
+    let dense = dense_trajectory(&a, &robot, placement)?;
+    let traj = simulate::resample(&dense, a.rate);
+    let noise = a.noise.unwrap_or(match kind {
+        SignalKind::Torque => 2.0,
+        SignalKind::Current => 0.02,
+        SignalKind::AxisPower => 5.0,
+        SignalKind::TotalPower => 20.0,
+    });
+    let opt = simulate::SensorOptions {
+        kind,
+        noise,
+        noise_q: a.noise_q,
+        current_quantum: a.quantum,
+        seed: a.seed,
+    };
+    let meta = log_meta(&a, &robot, kind, noise);
+    let text = simulate::simulate_log(&truth, &traj, &opt, &meta)?;
+    if let (Some(d), Some(f)) = (&out_dir, &out_file) {
+        std::fs::create_dir_all(d).map_err(|e| printwatt::Error::io(d, e))?;
+        printwatt::output::write_file(
+            f,
+            text.as_bytes(),
+            &inputs,
+            printwatt::output::Existing::Force(a.out.force),
+        )?;
+        if !a.out.json {
+            eprintln!(
+                "wrote {} ({} samples at {} Hz)",
+                f.display(),
+                traj.len(),
+                a.rate
+            );
+        }
+    }
+    if a.out.json {
+        let log = Log {
+            robot: &robot,
+            kind,
+            noise,
+            samples: traj.len(),
+            file: out_file.as_deref(),
+        };
+        print_json_summary(&a, &log, &text)?;
+    }
+    Ok(())
+}
+
+/// The metadata lines of the simulated log: robot, sample rate, and how it was simulated.
+fn log_meta(
+    a: &super::SimulateArgs,
+    robot: &printwatt::robot::RobotModel,
+    kind: SignalKind,
+    noise: f64,
+) -> Vec<(String, String)> {
+    vec![
+        ("robot".to_string(), robot.name().to_string()),
+        ("sample_rate_hz".into(), format!("{}", a.rate)),
+        (
+            "description".into(),
+            format!(
+                "simulated by printwatt simulate; hidden: {}; noise {} {} (signal), {} rad (q); seed {}",
+                a.hidden.as_deref().unwrap_or("none"),
+                noise,
+                kind.unit(),
+                a.noise_q,
+                a.seed
+            ),
+        ),
+    ]
+}
+
+/// Refuse non-finite noise, quantum and rate, an excitation over the sample budget and a
+/// rate no controller logs at.
+fn check_numbers(a: &super::SimulateArgs) -> Result<()> {
     for (opt, v) in [
         ("--noise-q", a.noise_q),
         ("--quantum", a.quantum),
@@ -54,21 +138,22 @@ pub fn run(a: super::SimulateArgs) -> Result<()> {
             a.rate / 1000.0
         );
     }
-    let mut truth = identify::Model::new(&robot)?;
-    let hidden = simulate::parse_hidden(a.hidden.as_deref().unwrap_or("")).context("--hidden")?;
-    simulate::apply_hidden(&mut truth, &hidden)?;
-    let kind = SignalKind::parse(&a.signal)
-        .with_context(|| format!("--signal `{}`: expected tau, i, p or p_total", a.signal))?;
-    if !(a.rate > 0.0 && a.rate.is_finite()) {
-        bail!("--rate must be > 0 Hz");
-    }
-    let placement = a.at.one()?;
-    let dense = match (&a.path.path, &a.trajectory, a.excite) {
+    Ok(())
+}
+
+/// The dense joint trajectory to sample: the path timed at the placement, a trajectory file,
+/// or an excitation of the given duration (exactly one of them).
+fn dense_trajectory(
+    a: &super::SimulateArgs,
+    robot: &printwatt::robot::RobotModel,
+    placement: Option<printwatt::frame::Placement>,
+) -> Result<printwatt::trajectory::JointTrajectory> {
+    Ok(match (&a.path.path, &a.trajectory, a.excite) {
         (Some(p), None, None) => {
             let pl = placement.context("--path needs --at x,y,z,yaw")?;
             let tp = super::load_path(p, &a.path.read_options(&a.timing)?)?;
             let job = printwatt::evaluate::PathJob::new(
-                &robot,
+                robot,
                 &tp,
                 printwatt::energy::EnergyOptions::default(),
                 a.timing.profile()?,
@@ -83,82 +168,47 @@ pub fn run(a: super::SimulateArgs) -> Result<()> {
             }
         }
         (None, Some(t), None) => {
-            let (mut tr, sup) = printwatt::trajectory::read_csv_for(t, &robot)?;
+            let (mut tr, sup) = printwatt::trajectory::read_csv_for(t, robot)?;
             printwatt::dynamics::complete_derivatives(&mut tr, sup)?;
             tr
         }
-        (None, None, Some(d)) => simulate::excitation(&robot, d, 1000.0, a.seed),
+        (None, None, Some(d)) => simulate::excitation(robot, d, 1000.0, a.seed),
         _ => bail!("give exactly one of --path P --at …, --trajectory T, --excite SECONDS"),
-    };
-    let traj = simulate::resample(&dense, a.rate);
-    let noise = a.noise.unwrap_or(match kind {
-        SignalKind::Torque => 2.0,
-        SignalKind::Current => 0.02,
-        SignalKind::AxisPower => 5.0,
-        SignalKind::TotalPower => 20.0,
+    })
+}
+
+/// The simulated log as the JSON summary describes it.
+struct Log<'a> {
+    robot: &'a printwatt::robot::RobotModel,
+    kind: SignalKind,
+    noise: f64,
+    samples: usize,
+    file: Option<&'a std::path::Path>,
+}
+
+/// Print the JSON summary of the simulated log `text` (its samples too when no file is
+/// written).
+fn print_json_summary(a: &super::SimulateArgs, log: &Log, text: &str) -> Result<()> {
+    let (columns, rows) = csv_columns_rows(text)?;
+    let mut v = serde_json::json!({
+        "schema_version": identify::JSON_SCHEMA_VERSION,
+        "robot": log.robot.name(),
+        "log": log.file.map(|f| f.display().to_string()),
+        "signal": log.kind.prefix(),
+        "unit": log.kind.unit(),
+        "samples": log.samples,
+        "rate_hz": a.rate,
+        "hidden": a.hidden.as_deref().unwrap_or(""),
+        "noise": log.noise,
+        "noise_q_rad": a.noise_q,
+        "seed": a.seed,
+        "columns": columns,
     });
-    let opt = simulate::SensorOptions {
-        kind,
-        noise,
-        noise_q: a.noise_q,
-        current_quantum: a.quantum,
-        seed: a.seed,
-    };
-    let meta = vec![
-        ("robot".to_string(), robot.name().to_string()),
-        ("sample_rate_hz".into(), format!("{}", a.rate)),
-        (
-            "description".into(),
-            format!(
-                "simulated by printwatt simulate; hidden: {}; noise {} {} (signal), {} rad (q); seed {}",
-                a.hidden.as_deref().unwrap_or("none"),
-                noise,
-                kind.unit(),
-                a.noise_q,
-                a.seed
-            ),
-        ),
-    ];
-    let text = simulate::simulate_log(&truth, &traj, &opt, &meta)?;
-    if let (Some(d), Some(f)) = (&out_dir, &out_file) {
-        std::fs::create_dir_all(d).map_err(|e| printwatt::Error::io(d, e))?;
-        printwatt::output::write_file(
-            f,
-            text.as_bytes(),
-            &inputs,
-            printwatt::output::Existing::Force(a.out.force),
-        )?;
-        if !a.out.json {
-            eprintln!(
-                "wrote {} ({} samples at {} Hz)",
-                f.display(),
-                traj.len(),
-                a.rate
-            );
-        }
+    // A JSON run without --out writes no file: the samples come in the JSON.
+    if log.file.is_none() {
+        v["rows"] = serde_json::json!(rows);
     }
-    if a.out.json {
-        let (columns, rows) = csv_columns_rows(&text)?;
-        let mut v = serde_json::json!({
-            "schema_version": identify::JSON_SCHEMA_VERSION,
-            "robot": robot.name(),
-            "log": out_file.as_ref().map(|f| f.display().to_string()),
-            "signal": kind.prefix(),
-            "unit": kind.unit(),
-            "samples": traj.len(),
-            "rate_hz": a.rate,
-            "hidden": a.hidden.as_deref().unwrap_or(""),
-            "noise": noise,
-            "noise_q_rad": a.noise_q,
-            "seed": a.seed,
-            "columns": columns,
-        });
-        // A JSON run without --out writes no file: the samples come in the JSON.
-        if out_file.is_none() {
-            v["rows"] = serde_json::json!(rows);
-        }
-        super::print_json(&v)?;
-    }
+    super::print_json(&v)?;
     Ok(())
 }
 

@@ -1,7 +1,7 @@
 //! `printwatt stations`: a multi-station plan for a path larger than one placement's reach
 //! (library: [`printwatt::stations`]; report: [`printwatt::report::stations`]).
 
-use super::sweep::{meta, PlacementArgs};
+use super::sweep::{meta, Loaded, PlacementArgs};
 use anyhow::{bail, Context, Result};
 use printwatt::report::stations::StationsReport;
 use printwatt::stations::{self, Headings, Sites, StationsJob};
@@ -73,6 +73,59 @@ fn parse_xy(s: &str, what: &str) -> Result<[f64; 2]> {
 /// `printwatt stations`.
 pub fn run(a: StationsArgs) -> Result<()> {
     let p = &a.p;
+    refuse_placement_options(p)?;
+    let l = p.load()?;
+    let job = job(&a, &l)?;
+    let json_only = p.out.json && p.out.out.is_none() && p.run.is_none();
+    let mut run_dir = if json_only {
+        None
+    } else {
+        p.run_dir(&l, Some("stations"))?
+    };
+    let pool = p.pool()?;
+    let outcome = plan_with_progress(&pool, &job)?;
+    let (plan, secs) = (&outcome.plan, outcome.secs);
+    let mut m = meta(&l, 0);
+    m.retain(|(k, _)| k != "nominal path samples");
+    m.extend(outcome.facts(&job));
+    let rep = StationsReport {
+        title: format!(
+            "printwatt stations: {} on {}",
+            l.path_file.display(),
+            l.robot.name()
+        ),
+        meta: m,
+        plan,
+        path: &l.path,
+        relocation_cost_j: a.relocation_cost,
+        relocation_cost_per_m_j: a.relocation_cost_per_m,
+    };
+    let mut written = None;
+    if let Some(mut rd) = run_dir.take() {
+        rep.write_into(&mut rd)?;
+        super::sweep::write_run_facts(
+            &mut rd,
+            super::sweep::run_facts(pool.current_num_threads(), secs, plan.stats.evaluations),
+            &[],
+        )?;
+        written = Some(rd.commit()?);
+    }
+    if let Some(ex) = &a.export {
+        export_hand_off(ex, p.out.force, &l, plan)?;
+    }
+    if p.out.json {
+        super::print_json_text(&rep.summary_json()?)?;
+        return Ok(());
+    }
+    print_plan(&a, &l, plan, secs)?;
+    if let Some(dir) = &written {
+        outln!("report: {}", dir.join("report.html").display());
+    }
+    Ok(())
+}
+
+/// Refuse the placement options `stations` does not take: it chooses its own stations.
+fn refuse_placement_options(p: &PlacementArgs) -> Result<()> {
     for (given, opt) in [
         (p.x.is_some(), "--x"),
         (p.y.is_some(), "--y"),
@@ -84,7 +137,13 @@ pub fn run(a: StationsArgs) -> Result<()> {
             bail!("{opt}: `stations` chooses its own stations; give --station-step, --track or --heading instead");
         }
     }
-    let l = p.load()?;
+    Ok(())
+}
+
+/// The stations job of the command line: the loaded robot and path, the station height and
+/// nozzle spin, the headings, the candidate sites and the relocation costs.
+fn job<'l>(a: &StationsArgs, l: &'l Loaded) -> Result<StationsJob<'l>> {
+    let p = &a.p;
     let z = match &p.z {
         Some(s) => {
             let v = printwatt::search::parse_range("z", s)?;
@@ -130,7 +189,7 @@ pub fn run(a: StationsArgs) -> Result<()> {
             step_m: a.station_step,
         },
     };
-    let job = StationsJob {
+    Ok(StationsJob {
         energy: l.energy,
         profile: l.profile,
         joint: JointStageOptions::default(),
@@ -143,14 +202,14 @@ pub fn run(a: StationsArgs) -> Result<()> {
         relocation_j_per_m: a.relocation_cost_per_m,
         footprint_m: a.footprint,
         ..StationsJob::new(&l.robot, &l.path, a.relocation_cost)
-    };
-    let json_only = p.out.json && p.out.out.is_none() && p.run.is_none();
-    let mut run_dir = if json_only {
-        None
-    } else {
-        p.run_dir(&l, Some("stations"))?
-    };
-    let pool = p.pool()?;
+    })
+}
+
+/// Plan the stations in `pool`, with a progress bar on a terminal.
+fn plan_with_progress(
+    pool: &rayon::ThreadPool,
+    job: &StationsJob,
+) -> Result<stations::StationsOutcome> {
     let bar = std::io::stderr().is_terminal().then(|| {
         let b = indicatif::ProgressBar::new(0);
         b.set_style(
@@ -167,66 +226,50 @@ pub fn run(a: StationsArgs) -> Result<()> {
             b.set_position(done as u64);
         }
     };
-    let outcome = pool.install(|| stations::run(&job, &cb));
+    let outcome = pool.install(|| stations::run(job, &cb));
     if let Some(b) = &bar {
         b.finish_and_clear();
     }
-    let outcome = outcome?;
-    let (plan, secs) = (&outcome.plan, outcome.secs);
-    let mut m = meta(&l, 0);
-    m.retain(|(k, _)| k != "nominal path samples");
-    m.extend(outcome.facts(&job));
-    let rep = StationsReport {
-        title: format!(
-            "printwatt stations: {} on {}",
-            l.path_file.display(),
-            l.robot.name()
-        ),
-        meta: m,
-        plan,
-        path: &l.path,
-        relocation_cost_j: a.relocation_cost,
-        relocation_cost_per_m_j: a.relocation_cost_per_m,
-    };
-    let mut written = None;
-    if let Some(mut rd) = run_dir.take() {
-        rep.write_into(&mut rd)?;
-        super::sweep::write_run_facts(
-            &mut rd,
-            super::sweep::run_facts(pool.current_num_threads(), secs, plan.stats.evaluations),
-            &[],
-        )?;
-        written = Some(rd.commit()?);
-    }
-    if let Some(ex) = &a.export {
-        let stations: Vec<_> = plan
-            .segments
-            .iter()
-            .map(|s| (s.moves, s.station.placement))
-            .collect();
-        let files = printwatt::export::stations_hand_off(
-            &l.robot,
-            &l.path,
-            &stations,
-            l.energy,
-            l.profile,
-            l.feas,
-            l.objective,
-        )?;
-        std::fs::create_dir_all(ex)?;
-        for (name, text) in &files {
-            let f = ex.join(name);
-            if f.exists() && !p.out.force {
-                bail!("{} exists: replacing it needs --force", f.display());
-            }
-            printwatt::output::guard_inputs(&f, &[l.path_file.as_path()])?;
-            printwatt::output::write_atomic(&f, text.as_bytes())?;
+    Ok(outcome?)
+}
+
+/// With `--export DIR`: write the robot program files of every station there (`force`:
+/// replace existing ones).
+fn export_hand_off(
+    ex: &std::path::Path,
+    force: bool,
+    l: &Loaded,
+    plan: &stations::Plan,
+) -> Result<()> {
+    let stations: Vec<_> = plan
+        .segments
+        .iter()
+        .map(|s| (s.moves, s.station.placement))
+        .collect();
+    let files = printwatt::export::stations_hand_off(
+        &l.robot,
+        &l.path,
+        &stations,
+        l.energy,
+        l.profile,
+        l.feas,
+        l.objective,
+    )?;
+    std::fs::create_dir_all(ex)?;
+    for (name, text) in &files {
+        let f = ex.join(name);
+        if f.exists() && !force {
+            bail!("{} exists: replacing it needs --force", f.display());
         }
+        printwatt::output::guard_inputs(&f, &[l.path_file.as_path()])?;
+        printwatt::output::write_atomic(&f, text.as_bytes())?;
     }
-    if p.out.json {
-        super::print_json_text(&rep.summary_json()?)?;
-        return Ok(());
-    }
+    Ok(())
+}
+
+/// Print the plan: the relocations, one line per segment, the energies and the search's
+/// effort (`secs` its wall time).
+fn print_plan(a: &StationsArgs, l: &Loaded, plan: &stations::Plan, secs: f64) -> Result<()> {
     outln!(
         "plan: {} station(s), {} relocation(s) at {} J each + {} J/m ({:.2} m moved)",
         plan.segments.len(),
@@ -286,8 +329,5 @@ pub fn run(a: StationsArgs) -> Result<()> {
         plan.stats.evaluations,
         plan.stats.feasible
     );
-    if let Some(dir) = &written {
-        outln!("report: {}", dir.join("report.html").display());
-    }
     Ok(())
 }

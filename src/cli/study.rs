@@ -446,7 +446,17 @@ pub fn finish(
     if json {
         return super::print_json_text(&summary_text);
     }
-    let t = study.tables(&results)?;
+    print_tables(study, &results)?;
+    if let Some(dir) = dir {
+        outln!("report: {}", dir.join("report.html").display());
+    }
+    Ok(())
+}
+
+/// Print the study's answer: per path the cheapest robot and cell and the next cheapest, then
+/// per robot and cell the paths it prints and their energy.
+fn print_tables(study: &Study, results: &[CaseResult]) -> Result<()> {
+    let t = study.tables(results)?;
     let objective = results.first().map_or("", |r| r.objective.as_str());
     outln!(
         "{:<16} {:<16} {:<16} {:>12}  next cheapest",
@@ -501,9 +511,6 @@ pub fn finish(
                 c.infeasible.join(", ")
             );
         }
-    }
-    if let Some(dir) = dir {
-        outln!("report: {}", dir.join("report.html").display());
     }
     Ok(())
 }

@@ -637,31 +637,38 @@ pub fn finish(
     if a.out.json {
         super::print_report_json(&rep, true)?;
     } else {
-        print_rows(&rep.rows, rep.names.as_deref())?;
-        if let Some(b) = rep.best() {
-            let p = &b.placement;
-            outln!(
-                "best: x = {:.3} m, y = {:.3} m, z = {:.3} m, yaw = {:.1}°, spin = {:.1}°: {:.1} J",
-                p.x,
-                p.y,
-                p.z,
-                p.yaw.to_degrees(),
-                p.nozzle_spin.to_degrees(),
-                b.cost()
-            );
-        }
-        if rep.best().is_none() {
-            out!(
-                "{}",
-                printwatt::search::advice::nothing_feasible_named(&rep.rows, &l.robot, &knob_flag)
-            );
-        }
-        if let Some(s) = rep.spread_pct() {
-            outln!("spread (max-min)/min: {s:.2} %");
-        }
-        if let Some(s) = rep.reduction_pct() {
-            outln!("reduction (max-min)/max: {s:.2} %");
-        }
+        print_answer(&rep, l)?;
+    }
+    Ok(())
+}
+
+/// Print a sweep's answer: the rows, the best placement (or why none is feasible), the spread
+/// and the reduction.
+fn print_answer(rep: &RunReport, l: &Loaded) -> Result<()> {
+    print_rows(&rep.rows, rep.names.as_deref())?;
+    if let Some(b) = rep.best() {
+        let p = &b.placement;
+        outln!(
+            "best: x = {:.3} m, y = {:.3} m, z = {:.3} m, yaw = {:.1}°, spin = {:.1}°: {:.1} J",
+            p.x,
+            p.y,
+            p.z,
+            p.yaw.to_degrees(),
+            p.nozzle_spin.to_degrees(),
+            b.cost()
+        );
+    }
+    if rep.best().is_none() {
+        out!(
+            "{}",
+            printwatt::search::advice::nothing_feasible_named(&rep.rows, &l.robot, &knob_flag)
+        );
+    }
+    if let Some(s) = rep.spread_pct() {
+        outln!("spread (max-min)/min: {s:.2} %");
+    }
+    if let Some(s) = rep.reduction_pct() {
+        outln!("reduction (max-min)/max: {s:.2} %");
     }
     Ok(())
 }

@@ -90,15 +90,7 @@ fn case_view(a: &ViewArgs, dir: &std::path::Path, case: &str) -> Result<ViewArgs
 /// Run `printwatt view`: bind, evaluate the grid for the energy map, print the URL, serve
 /// until interrupted.
 pub fn run(a: ViewArgs) -> Result<()> {
-    if a.o.shard.is_some() {
-        bail!("--shard: the view runs no shard (use `printwatt optimise --shard`)");
-    }
-    if a.o.uncertainty.is_some() {
-        bail!("--uncertainty: the view's optimise button runs no uncertainty study (use `printwatt optimise --uncertainty N`)");
-    }
-    if a.o.p.out.out.is_some() || a.o.p.out.json {
-        bail!("--out/--json: the view writes no report and prints only its address (the page's export goes to --export DIR)");
-    }
+    refuse_options(&a)?;
     let mut o = a.o.clone();
     // --at is where the page starts, else the answer of the run named by --run; the
     // optimisation's grid is the one given, or the default.
@@ -115,20 +107,7 @@ pub fn run(a: ViewArgs) -> Result<()> {
                 case_view(&a, &dir, case).with_context(|| format!("--run {run} --case {case}"))?;
             return self::run(v);
         }
-        if let Some(k) = a.station {
-            let s = printwatt::view::station_of_run(&dir, k)
-                .with_context(|| format!("--run {run} --station {k}"))?;
-            if start.is_none() {
-                start = Some(s.placement);
-            }
-            station = Some((k, s));
-        } else {
-            let at =
-                printwatt::view::placement_of_run(&dir).with_context(|| format!("--run {run}"))?;
-            if start.is_none() {
-                start = Some(at);
-            }
-        }
+        station = start_from_run(&a, &dir, &run, &mut start)?;
     }
     o.p.at = super::args::AtArg {
         at: None,
@@ -136,31 +115,7 @@ pub fn run(a: ViewArgs) -> Result<()> {
     };
     let mut l = o.p.load()?;
     if let Some((k, s)) = &station {
-        let [first, last] = s.moves;
-        let file = l.path_file.display().to_string();
-        let name = l
-            .path_file
-            .file_name()
-            .map(|n| n.to_string_lossy().into_owned())
-            .unwrap_or_default();
-        if let Some(p) = s
-            .path
-            .as_deref()
-            .filter(|p| !name.is_empty() && !p.contains(&name))
-        {
-            bail!("--station {k}: the stations run was made for the path {p}, not {file}; give its --path");
-        }
-        if last >= l.path.moves.len() {
-            bail!(
-                "--station {k}: the station prints moves {first}..={last}, but {file} has {} moves; give the run's --path",
-                l.path.moves.len()
-            );
-        }
-        l.path = printwatt::stations::sub_path(&l.path, first, last);
-        eprintln!(
-            "station {k} of {}: moves {first}..={last} of {file}",
-            s.stations
-        );
+        station_path(*k, s, &mut l)?;
     }
     let job = o.config(l)?;
     if let Some(d) = &o.export {
@@ -189,5 +144,79 @@ pub fn run(a: ViewArgs) -> Result<()> {
         bound.addr
     );
     printwatt::view::server::serve(bound, &state)?;
+    Ok(())
+}
+
+/// Refuse the `optimise` options the view does not take: shards, the uncertainty study, a
+/// report or JSON.
+fn refuse_options(a: &ViewArgs) -> Result<()> {
+    if a.o.shard.is_some() {
+        bail!("--shard: the view runs no shard (use `printwatt optimise --shard`)");
+    }
+    if a.o.uncertainty.is_some() {
+        bail!("--uncertainty: the view's optimise button runs no uncertainty study (use `printwatt optimise --uncertainty N`)");
+    }
+    if a.o.p.out.out.is_some() || a.o.p.out.json {
+        bail!("--out/--json: the view writes no report and prints only its address (the page's export goes to --export DIR)");
+    }
+    Ok(())
+}
+
+/// Where the page starts with `--run DIR` (unless `--at` set `start`): the placement of
+/// station `--station K` of a stations run, returned with the station, or the run's answer.
+fn start_from_run(
+    a: &ViewArgs,
+    dir: &std::path::Path,
+    run: &str,
+    start: &mut Option<printwatt::frame::Placement>,
+) -> Result<Option<(usize, printwatt::view::StationOfRun)>> {
+    if let Some(k) = a.station {
+        let s = printwatt::view::station_of_run(dir, k)
+            .with_context(|| format!("--run {run} --station {k}"))?;
+        if start.is_none() {
+            *start = Some(s.placement);
+        }
+        return Ok(Some((k, s)));
+    } else {
+        let at = printwatt::view::placement_of_run(dir).with_context(|| format!("--run {run}"))?;
+        if start.is_none() {
+            *start = Some(at);
+        }
+    }
+    Ok(None)
+}
+
+/// Cut the loaded path down to the moves station `k` prints (`s`: the station of the
+/// stations run), refusing a path the run was not made for.
+fn station_path(
+    k: usize,
+    s: &printwatt::view::StationOfRun,
+    l: &mut super::sweep::Loaded,
+) -> Result<()> {
+    let [first, last] = s.moves;
+    let file = l.path_file.display().to_string();
+    let name = l
+        .path_file
+        .file_name()
+        .map(|n| n.to_string_lossy().into_owned())
+        .unwrap_or_default();
+    if let Some(p) = s
+        .path
+        .as_deref()
+        .filter(|p| !name.is_empty() && !p.contains(&name))
+    {
+        bail!("--station {k}: the stations run was made for the path {p}, not {file}; give its --path");
+    }
+    if last >= l.path.moves.len() {
+        bail!(
+            "--station {k}: the station prints moves {first}..={last}, but {file} has {} moves; give the run's --path",
+            l.path.moves.len()
+        );
+    }
+    l.path = printwatt::stations::sub_path(&l.path, first, last);
+    eprintln!(
+        "station {k} of {}: moves {first}..={last} of {file}",
+        s.stations
+    );
     Ok(())
 }

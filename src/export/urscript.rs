@@ -105,26 +105,7 @@ pub fn urscript(
             "  # wrist: axis 5 stays at least {min5:.2} deg from the wrist singularity at the exported points\n"
         ));
     }
-    s.push_str(&format!(
-        "  set_tcp({})\n",
-        pose(&model.tool.pos, &model.tool.rot)
-    ));
-    if let Some(p) = model.payload.filter(|p| p.mass > 0.0) {
-        let i = p.inertia;
-        s.push_str(&format!(
-            "  set_target_payload({:.4}, [{:.6}, {:.6}, {:.6}], [{:.6}, {:.6}, {:.6}, {:.6}, {:.6}, {:.6}])\n",
-            p.mass,
-            p.com.x,
-            p.com.y,
-            p.com.z,
-            i[(0, 0)],
-            i[(1, 1)],
-            i[(2, 2)],
-            i[(0, 1)],
-            i[(0, 2)],
-            i[(1, 2)]
-        ));
-    }
+    tool_lines(&mut s, model);
     let q0: Vec<String> = plan.start.iter().map(|v| format!("{v:.6}")).collect();
     s.push_str(&format!(
         "  # start: the planned first sample's joints (rad)\n  movej([{}], a=1.0, v=0.5)\n",
@@ -148,6 +129,31 @@ pub fn urscript(
     }
     s.push_str("end\nprintwatt_path()\n");
     s
+}
+
+/// Write the program's tool lines: `set_tcp`, and `set_target_payload` when the robot
+/// carries a payload.
+fn tool_lines(s: &mut String, model: &RobotModel) {
+    s.push_str(&format!(
+        "  set_tcp({})\n",
+        pose(&model.tool.pos, &model.tool.rot)
+    ));
+    if let Some(p) = model.payload.filter(|p| p.mass > 0.0) {
+        let i = p.inertia;
+        s.push_str(&format!(
+            "  set_target_payload({:.4}, [{:.6}, {:.6}, {:.6}], [{:.6}, {:.6}, {:.6}, {:.6}, {:.6}, {:.6}])\n",
+            p.mass,
+            p.com.x,
+            p.com.y,
+            p.com.z,
+            i[(0, 0)],
+            i[(1, 1)],
+            i[(2, 2)],
+            i[(0, 1)],
+            i[(0, 2)],
+            i[(1, 2)]
+        ));
+    }
 }
 
 /// One `movel` of a URScript program.
@@ -243,47 +249,7 @@ pub fn read_urscript(text: &str, file: &str) -> Result<UrProgram> {
             .and_then(|r| r.split_once('('))
             .ok_or_else(|| err(n, format!("expected a call `name(…)`, found `{l}`")))?;
         let args = split_args(args).map_err(|m| err(n, m))?;
-        match fname {
-            "set_tcp" => {
-                let [a] = args.as_slice() else {
-                    return Err(err(n, "set_tcp takes one pose".into()));
-                };
-                prog.tcp = Some(pose_arg(a).map_err(|m| err(n, m))?);
-            }
-            "set_target_payload" => {
-                let [m, c, i] = args.as_slice() else {
-                    return Err(err(
-                        n,
-                        "set_target_payload takes mass, centre of gravity and inertia".into(),
-                    ));
-                };
-                prog.payload = Some((
-                    number(m).map_err(|e| err(n, e))?,
-                    list::<3>(c).map_err(|e| err(n, e))?,
-                    list::<6>(i).map_err(|e| err(n, e))?,
-                ));
-            }
-            "movej" => {
-                let (pos, kw) = positional(&args, &["a", "v"]).map_err(|m| err(n, m))?;
-                let _ = kw;
-                prog.movej.push(list::<6>(pos).map_err(|e| err(n, e))?);
-            }
-            "movel" => {
-                let (pos, kw) = positional(&args, &["a", "v", "r"]).map_err(|m| err(n, m))?;
-                let p = pose_arg(pos).map_err(|m| err(n, m))?;
-                let get = |k: &str| kw.iter().find(|(n, _)| *n == k).map(|(_, v)| *v);
-                prog.movel.push(UrMove {
-                    p: V3::new(p[0], p[1], p[2]),
-                    r: V3::new(p[3], p[4], p[5]),
-                    a: get("a").unwrap_or(1.2),
-                    v: get("v").unwrap_or(0.25),
-                    blend: get("r").unwrap_or(0.0),
-                    line: n,
-                });
-            }
-            "textmsg" => {}
-            other => return Err(err(n, format!("unsupported statement `{other}(…)`"))),
-        }
+        read_statement(&mut prog, fname, &args, n).map_err(|m| err(n, m))?;
     }
     if inside {
         return Err(Error::Invalid(format!(
@@ -295,6 +261,51 @@ pub fn read_urscript(text: &str, file: &str) -> Result<UrProgram> {
         return Err(Error::Invalid(format!("{file}: no `def NAME():` found")));
     }
     Ok(prog)
+}
+
+/// Read the statement `fname(args)` at line `line` inside the program's `def` into `prog`;
+/// an error says what is wrong with it.
+fn read_statement(
+    prog: &mut UrProgram,
+    fname: &str,
+    args: &[String],
+    line: usize,
+) -> std::result::Result<(), String> {
+    match fname {
+        "set_tcp" => {
+            let [a] = args else {
+                return Err("set_tcp takes one pose".into());
+            };
+            prog.tcp = Some(pose_arg(a)?);
+        }
+        "set_target_payload" => {
+            let [m, c, i] = args else {
+                return Err("set_target_payload takes mass, centre of gravity and inertia".into());
+            };
+            prog.payload = Some((number(m)?, list::<3>(c)?, list::<6>(i)?));
+        }
+        "movej" => {
+            let (pos, kw) = positional(args, &["a", "v"])?;
+            let _ = kw;
+            prog.movej.push(list::<6>(pos)?);
+        }
+        "movel" => {
+            let (pos, kw) = positional(args, &["a", "v", "r"])?;
+            let p = pose_arg(pos)?;
+            let get = |k: &str| kw.iter().find(|(n, _)| *n == k).map(|(_, v)| *v);
+            prog.movel.push(UrMove {
+                p: V3::new(p[0], p[1], p[2]),
+                r: V3::new(p[3], p[4], p[5]),
+                a: get("a").unwrap_or(1.2),
+                v: get("v").unwrap_or(0.25),
+                blend: get("r").unwrap_or(0.0),
+                line,
+            });
+        }
+        "textmsg" => {}
+        other => return Err(format!("unsupported statement `{other}(…)`")),
+    }
+    Ok(())
 }
 
 /// Split call arguments at top-level commas.

@@ -69,11 +69,20 @@ impl IdentifyReport<'_> {
 
     /// The page (self-contained XHTML).
     pub fn html(&self) -> String {
-        let id = self.id;
         let mut pg = Page::new(&self.title);
         pg.kv(&self.facts);
-        let h = |v: &[&str]| v.iter().map(|s| s.to_string()).collect::<Vec<_>>();
+        self.rounds_section(&mut pg);
+        self.params_section(&mut pg);
+        if let Some((before, after, on)) = &self.before_after {
+            self.per_joint_section(&mut pg, (before, after), on);
+        }
+        self.ladder_section(&mut pg);
+        pg.finish()
+    }
 
+    /// The calibration rounds so far, this one last, and whether its fit is plausible.
+    fn rounds_section(&self, pg: &mut Page) {
+        let id = self.id;
         pg.h2("Rounds");
         let mut rows: Vec<Vec<String>> = self
             .earlier_rounds
@@ -104,7 +113,7 @@ impl IdentifyReport<'_> {
         ]);
         let u = &self.unit;
         pg.table(
-            &h(&[
+            &header(&[
                 "round",
                 "effects fitted",
                 "log (validation)",
@@ -119,7 +128,11 @@ impl IdentifyReport<'_> {
                 id.implausible.join("; ")
             ));
         }
+    }
 
+    /// The fitted parameters: before, fitted, standard error and plausibility.
+    fn params_section(&self, pg: &mut Page) {
+        let id = self.id;
         pg.h2("Fitted parameters");
         let rows: Vec<Vec<String>> = id
             .params
@@ -140,7 +153,7 @@ impl IdentifyReport<'_> {
             })
             .collect();
         pg.table(
-            &h(&[
+            &header(&[
                 "effect",
                 "parameter",
                 "unit",
@@ -155,58 +168,69 @@ impl IdentifyReport<'_> {
         if let Some(ill) = &id.ill_conditioned {
             pg.p(&ill.to_string());
         }
+    }
 
-        if let Some((before, after, on)) = &self.before_after {
-            pg.h2("Error per joint, before and after the fit");
-            pg.p(&format!("On {on}."));
-            let mut rows = Vec::new();
-            let mut cats = Vec::new();
-            let (mut vb, mut va) = (Vec::new(), Vec::new());
-            for (b, a) in before
-                .channels
-                .iter()
-                .chain(std::iter::once(&before.total))
-                .zip(after.channels.iter().chain(std::iter::once(&after.total)))
-            {
-                rows.push(vec![
-                    b.name.clone(),
-                    format!("{:.4}", b.rmse),
-                    format!("{:.4}", a.rmse),
-                    format!("{:.2}", b.energy_error_pct),
-                    format!("{:.2}", a.energy_error_pct),
-                ]);
-                if b.name != before.total.name {
-                    cats.push(b.name.clone());
-                    vb.push(b.rmse);
-                    va.push(a.rmse);
-                }
+    /// The error per joint before and after the fit on the log `on`: a table and a chart.
+    fn per_joint_section(
+        &self,
+        pg: &mut Page,
+        (before, after): (&Comparison, &Comparison),
+        on: &str,
+    ) {
+        let u = &self.unit;
+        pg.h2("Error per joint, before and after the fit");
+        pg.p(&format!("On {on}."));
+        let mut rows = Vec::new();
+        let mut cats = Vec::new();
+        let (mut vb, mut va) = (Vec::new(), Vec::new());
+        for (b, a) in before
+            .channels
+            .iter()
+            .chain(std::iter::once(&before.total))
+            .zip(after.channels.iter().chain(std::iter::once(&after.total)))
+        {
+            rows.push(vec![
+                b.name.clone(),
+                format!("{:.4}", b.rmse),
+                format!("{:.4}", a.rmse),
+                format!("{:.2}", b.energy_error_pct),
+                format!("{:.2}", a.energy_error_pct),
+            ]);
+            if b.name != before.total.name {
+                cats.push(b.name.clone());
+                vb.push(b.rmse);
+                va.push(a.rmse);
             }
-            pg.table(
-                &h(&[
-                    "joint",
-                    &format!("RMSE before [{u}]"),
-                    &format!("RMSE after [{u}]"),
-                    "energy error before [%]",
-                    "energy error after [%]",
-                ]),
-                &rows,
-            );
-            pg.figure(
-                "per-joint",
-                &svg::bar_chart(
-                    &svg::Frame::new(
-                        "Error per joint before and after the fit",
-                        "joint",
-                        &format!("RMSE [{u}]"),
-                    )
-                    .size(760.0, 340.0),
-                    &cats,
-                    &[("before".into(), vb), ("after".into(), va)],
-                ),
-                "RMSE of the modelled signal against the log, per joint, with the model before the fit and with the fitted parameters.",
-            );
         }
+        pg.table(
+            &header(&[
+                "joint",
+                &format!("RMSE before [{u}]"),
+                &format!("RMSE after [{u}]"),
+                "energy error before [%]",
+                "energy error after [%]",
+            ]),
+            &rows,
+        );
+        pg.figure(
+            "per-joint",
+            &svg::bar_chart(
+                &svg::Frame::new(
+                    "Error per joint before and after the fit",
+                    "joint",
+                    &format!("RMSE [{u}]"),
+                )
+                .size(760.0, 340.0),
+                &cats,
+                &[("before".into(), vb), ("after".into(), va)],
+            ),
+            "RMSE of the modelled signal against the log, per joint, with the model before the fit and with the fitted parameters.",
+        );
+    }
 
+    /// The error ladder: a table of the steps and its chart.
+    fn ladder_section(&self, pg: &mut Page) {
+        let (id, u) = (self.id, &self.unit);
         pg.h2("Error ladder");
         let rows: Vec<Vec<String>> = id
             .ladder
@@ -222,7 +246,7 @@ impl IdentifyReport<'_> {
             })
             .collect();
         pg.raw(&table(
-            &h(&[
+            &header(&[
                 "step",
                 &format!("train RMSE [{u}]"),
                 &format!("validation RMSE [{u}]"),
@@ -236,6 +260,10 @@ impl IdentifyReport<'_> {
             &self.ladder_svg(),
             "Validation RMSE after each step of the ladder (effects added one by one, each fitted with those before it).",
         );
-        pg.finish()
     }
+}
+
+/// Column headings as owned strings.
+fn header(v: &[&str]) -> Vec<String> {
+    v.iter().map(|s| s.to_string()).collect()
 }

@@ -422,42 +422,7 @@ impl RunReport {
             .as_ref()
             .filter(|g| g.xs.len() >= 2 && g.ys.len() >= 2)
         {
-            let [bx, by, iz, iyaw] = self.best_cell(g)?;
-            let (nx, ny) = (g.xs.len(), g.ys.len());
-            let mut values = vec![f64::NAN; nx * ny];
-            let mut marks = Vec::new();
-            for iy in 0..ny {
-                for ix in 0..nx {
-                    match self.cell(g, ix, iy, iz, iyaw) {
-                        Ok(e) => values[iy * nx + ix] = e,
-                        Err(why) => marks.push(CellMark {
-                            col: ix,
-                            row: iy,
-                            class: why.to_string(),
-                            at: None,
-                        }),
-                    }
-                }
-            }
-            title = format!(
-                "Top view (to scale): energy at bed z = {} m, yaw = {}°",
-                svg::fmt_num(g.zs[iz]),
-                svg::fmt_num(g.yaws[iyaw].to_degrees())
-            );
-            v.points.push(MapPoint {
-                x: g.xs[bx],
-                y: g.ys[by],
-                label: String::new(),
-                value: values[by * nx + bx],
-                class: "best-cell".into(),
-            });
-            v.cells = Some(Heatmap {
-                xs: g.xs.clone(),
-                ys: g.ys.clone(),
-                values,
-                marks,
-                value_label: "energy [J]".into(),
-            });
+            title = self.energy_cells(g, &mut v)?;
         } else if let Some(names) = &self.names {
             for (n, r) in names.iter().zip(&self.rows) {
                 v.points.push(MapPoint {
@@ -485,8 +450,61 @@ impl RunReport {
                 });
             }
         }
-        // The robot base to scale: the pedestal under it, the base's own footprint (its
-        // collision geometry from above), or a marker at axis 1 when the robot file has none.
+        self.base_shapes(&mut v);
+        if let Some(site) = &self.site {
+            self.site_shapes(site, best, &mut v);
+        }
+        let f =
+            svg::Frame::new(&title, "x in the robot base frame [m]", "y [m]").size(900.0, 640.0);
+        Some(svg::top_view(&f, &v))
+    }
+
+    /// Put the energy over (x, y) at the best grid cell's bed height and yaw on the top view,
+    /// infeasible cells marked by reason and the best cell ringed; returns the view's title.
+    fn energy_cells(&self, g: &Grid, v: &mut TopView) -> Option<String> {
+        let [bx, by, iz, iyaw] = self.best_cell(g)?;
+        let (nx, ny) = (g.xs.len(), g.ys.len());
+        let mut values = vec![f64::NAN; nx * ny];
+        let mut marks = Vec::new();
+        for iy in 0..ny {
+            for ix in 0..nx {
+                match self.cell(g, ix, iy, iz, iyaw) {
+                    Ok(e) => values[iy * nx + ix] = e,
+                    Err(why) => marks.push(CellMark {
+                        col: ix,
+                        row: iy,
+                        class: why.to_string(),
+                        at: None,
+                    }),
+                }
+            }
+        }
+        let title = format!(
+            "Top view (to scale): energy at bed z = {} m, yaw = {}°",
+            svg::fmt_num(g.zs[iz]),
+            svg::fmt_num(g.yaws[iyaw].to_degrees())
+        );
+        v.points.push(MapPoint {
+            x: g.xs[bx],
+            y: g.ys[by],
+            label: String::new(),
+            value: values[by * nx + bx],
+            class: "best-cell".into(),
+        });
+        v.cells = Some(Heatmap {
+            xs: g.xs.clone(),
+            ys: g.ys.clone(),
+            values,
+            marks,
+            value_label: "energy [J]".into(),
+        });
+        Some(title)
+    }
+
+    /// Put the robot base on the top view to scale: the pedestal under it, the base's own
+    /// footprint (its collision geometry from above), or a marker at axis 1 when the robot
+    /// file has none.
+    fn base_shapes(&self, v: &mut TopView) {
         let footprint = self
             .site
             .as_ref()
@@ -515,41 +533,41 @@ impl RunReport {
             v.circles
                 .push((0.0, 0.0, 0.12, "base".into(), "robot base (axis 1)".into()));
         }
-        if let Some(site) = &self.site {
-            if let Some((lo, hi)) = site.annulus_m {
-                v.circles.push((
-                    0.0,
-                    0.0,
-                    hi,
-                    "reach".into(),
-                    format!("reach {}–{} m", svg::fmt_num(lo), svg::fmt_num(hi)),
-                ));
-                if lo > 0.0 {
-                    v.circles
-                        .push((0.0, 0.0, lo, "reach-inner".into(), "inner reach".into()));
-                }
-            }
-            if let (Some(b), false) = (best, site.part_xy_m.is_empty()) {
-                let f = b.placement.frame();
-                let pts = site
-                    .part_xy_m
-                    .iter()
-                    .map(|&(x, y)| {
-                        let p = f.apply(&crate::math::V3::new(x, y, 0.0));
-                        (p.x, p.y)
-                    })
-                    .collect();
-                let what = if self.optimise.is_some() {
-                    "part at the optimum"
-                } else {
-                    "part at the best placement"
-                };
-                v.lines.push((what.into(), pts));
+    }
+
+    /// Put the site on the top view: the reach annulus and the part's outline at the best
+    /// placement.
+    fn site_shapes(&self, site: &SiteGeometry, best: Option<&Evaluated>, v: &mut TopView) {
+        if let Some((lo, hi)) = site.annulus_m {
+            v.circles.push((
+                0.0,
+                0.0,
+                hi,
+                "reach".into(),
+                format!("reach {}–{} m", svg::fmt_num(lo), svg::fmt_num(hi)),
+            ));
+            if lo > 0.0 {
+                v.circles
+                    .push((0.0, 0.0, lo, "reach-inner".into(), "inner reach".into()));
             }
         }
-        let f =
-            svg::Frame::new(&title, "x in the robot base frame [m]", "y [m]").size(900.0, 640.0);
-        Some(svg::top_view(&f, &v))
+        if let (Some(b), false) = (best, site.part_xy_m.is_empty()) {
+            let f = b.placement.frame();
+            let pts = site
+                .part_xy_m
+                .iter()
+                .map(|&(x, y)| {
+                    let p = f.apply(&crate::math::V3::new(x, y, 0.0));
+                    (p.x, p.y)
+                })
+                .collect();
+            let what = if self.optimise.is_some() {
+                "part at the optimum"
+            } else {
+                "part at the best placement"
+            };
+            v.lines.push((what.into(), pts));
+        }
     }
 
     /// Energy against bed height and against yaw through the best grid cell (other variables
@@ -1054,12 +1072,6 @@ impl RunReport {
         let b = &o.best;
         let f = b.feasible()?;
         let p = PlacementRow::from(&b.placement);
-        let meta = |k: &str| {
-            self.meta
-                .iter()
-                .find(|(key, _)| key == k)
-                .map(|(_, v)| v.clone())
-        };
         let mut items: Vec<(&str, String)> = vec![(
             "where",
             format!(
@@ -1067,7 +1079,8 @@ impl RunReport {
                 p.x_m, p.y_m, p.z_m, p.yaw_deg, p.spin_deg
             ),
         )];
-        let objective = meta("objective")
+        let objective = self
+            .meta_value("objective")
             .map(|o| o.split(':').next().unwrap_or("").to_string())
             .unwrap_or_default();
         items.push((
@@ -1099,45 +1112,21 @@ impl RunReport {
             }
             items.push(("saving", line));
         }
-        let mut sure = Vec::new();
-        if let Some(si) = &o.search {
-            sure.push(format!(
-                "placement tolerance: {}",
-                tolerance_text(&si.tolerance, true)
-            ));
-        }
-        match &o.uncertainty {
-            Some(u) => {
-                let mut t = format!(
-                    "over {} robots drawn from the drive data's ranges, the recommended placement is the best candidate in {:.0} % of them and within 1 % of each one's best in {:.0} %",
-                    u.draws,
-                    u.p_best * 100.0,
-                    u.p_within_1pct * 100.0
-                );
-                if let Some(r) = o
-                    .decision
-                    .as_ref()
-                    .and_then(|d| d.robust.as_ref())
-                    .and_then(|r| r.candidates.get(r.recommended))
-                {
-                    t.push_str(&format!(
-                        "; expected regret {:.1} J, 95th percentile {:.1} J",
-                        r.expected_regret_j, r.p95_regret_j
-                    ));
-                }
-                if let Some(sp) = u.saving_pct {
-                    t.push_str(&format!(
-                        "; saving against the baseline {:.2} % expected, 90 % interval {:.2} … {:.2} %",
-                        sp[0], sp[1], sp[2]
-                    ));
-                }
-                sure.push(t);
-            }
-            None => sure.push(
-                "uncertainty study not run: the figures are those of the nominal robot (the study draws plausible robots from the drive data's ranges and says how often this placement stays the best)".into(),
-            ),
-        }
-        items.push(("how sure", sure.join("; ")));
+        items.push(("how sure", answer_how_sure(o)));
+        Some(self.answer_html(&items))
+    }
+
+    /// The value of the run description's entry `k`, if it has one.
+    fn meta_value(&self, k: &str) -> Option<String> {
+        self.meta
+            .iter()
+            .find(|(key, _)| key == k)
+            .map(|(_, v)| v.clone())
+    }
+
+    /// The answer card's XHTML: its items, then what it assumes (robot, robot file, drive
+    /// data, margins, path, print speed, as far as the run description names them).
+    fn answer_html(&self, items: &[(&str, String)]) -> String {
         let mut assumes = Vec::new();
         for (k, label) in [
             ("robot", "robot"),
@@ -1147,12 +1136,12 @@ impl RunReport {
             ("path", "path"),
             ("print speed", "print speed"),
         ] {
-            if let Some(v) = meta(k) {
+            if let Some(v) = self.meta_value(k) {
                 assumes.push(format!("{label}: {v}"));
             }
         }
         let mut h = String::from("<section id=\"answer\" class=\"answer\"><h2>The answer</h2><dl>");
-        for (k, v) in &items {
+        for (k, v) in items {
             h.push_str(&format!(
                 "<dt>{}</dt><dd class=\"answer-{}\">{}</dd>",
                 svg::esc(k),
@@ -1165,7 +1154,7 @@ impl RunReport {
             h.push_str(&format!("<li>{}</li>", svg::esc(a)));
         }
         h.push_str("</ul></dd></dl></section>");
-        Some(h)
+        h
     }
 
     /// The HTML page.
@@ -1179,6 +1168,47 @@ impl RunReport {
             pg.p("drive data: not stated by the caller");
         }
         pg.kv(&self.meta);
+        let mut facts = self.summary_facts();
+        if let Some(o) = &self.optimise {
+            facts.extend(sensitivity_facts(o));
+        }
+        pg.h2("Summary").kv(&facts);
+        self.decision_section(&mut pg);
+        if let Some(h) = self.heatmap_svg() {
+            pg.figure("heatmap", &h, &self.heatmap_caption(&h));
+        }
+        let (slices, notes) = self.slices_svg();
+        if !slices.is_empty() {
+            pg.figure_row(&slices);
+        }
+        for n in notes {
+            pg.p(&n);
+        }
+        self.reference_section(&mut pg);
+        self.bars_figure(&mut pg);
+        if let Some(u) = self.uncertainty_svg() {
+            pg.figure(
+                "uncertainty",
+                &u,
+                "The uncertainty study: for each robot drawn from the drive data's ranges, how much more energy the recommended placement needs than the best of the candidates in that robot (0: it is the best there); the number of draws in each band of regret.",
+            );
+        }
+        self.joints_section(&mut pg);
+        if let Some(sup) = self.supply_svg() {
+            pg.figure(
+                "supply",
+                &sup,
+                "Supply energy of the placements reported in detail, stacked: standby, motion work and the losses by kind (negative parts, e.g. work returned by gravity, below zero; the printed total is the supply energy).",
+            );
+        }
+        self.detail_figures(&mut pg);
+        self.infeasible_section(&mut pg);
+        pg.finish()
+    }
+
+    /// The summary's facts up to the sensitivity: placements, the best, the full-path check,
+    /// the baseline and its tolerance, the saving, the spread and the uncertainty study.
+    fn summary_facts(&self) -> Vec<(String, String)> {
         let feasible = self.rows.iter().filter(|r| r.cost().is_finite()).count();
         let mut facts = vec![(
             "placements".to_string(),
@@ -1226,157 +1256,116 @@ impl RunReport {
                 }
             }
         }
-        if let Some(o) = &self.optimise {
-            let s = &o.sensitivity;
-            let f = |v: Option<f64>| v.map_or("infeasible".to_string(), |v| format!("{v:.2}"));
-            // Derivatives need both neighbours (one for the one-sided slope): "n/a" otherwise.
-            let g = |v: Option<f64>| v.map_or("n/a".to_string(), |v| format!("{v:.2}"));
-            facts.push((
-                format!("energy at x∓{0:.0} mm, y∓{0:.0} mm [J]", s.h_m * 1000.0),
-                format!(
-                    "{} / {} / {} / {}",
-                    f(s.e_j[0]),
-                    f(s.e_j[1]),
-                    f(s.e_j[2]),
-                    f(s.e_j[3])
-                ),
-            ));
-            facts.push((
-                "gradient dE/dx, dE/dy [J/m]".into(),
-                format!(
-                    "{} / {}",
-                    g(s.gradient_j_per_m[0]),
-                    g(s.gradient_j_per_m[1])
-                ),
-            ));
-            facts.push((
-                "curvature d²E/dx², d²E/dy² [J/m²]".into(),
-                format!(
-                    "{} / {}",
-                    g(s.curvature_j_per_m2[0]),
-                    g(s.curvature_j_per_m2[1])
-                ),
-            ));
-            facts.push((
-                "one-sided slopes dE/dx, dE/dy [J/m] (one neighbour infeasible)".into(),
-                format!(
-                    "{} / {}",
-                    g(s.one_sided_j_per_m[0]),
-                    g(s.one_sided_j_per_m[1])
-                ),
-            ));
-            facts.push((
-                "search".into(),
-                format!("{} evaluations, {} iterations", o.evals, o.iterations),
-            ));
+        facts
+    }
+
+    /// The decision section: the bound steps, the robust choice, the measurement advice, the
+    /// Pareto front and the margins as facts, then the Pareto and regret figures.
+    fn decision_section(&self, pg: &mut Page) {
+        let Some(d) = self.optimise.as_ref().and_then(|o| o.decision.as_ref()) else {
+            return;
+        };
+        let mut lines: Vec<String> = d
+            .bound_steps
+            .iter()
+            .map(crate::search::robust::bound_line)
+            .collect();
+        lines.extend(d.robust.iter().flat_map(crate::search::robust::lines));
+        lines.extend(d.measurement.iter().map(|m| m.to_string()));
+        lines.extend(crate::search::pareto::lines(&d.pareto));
+        lines.extend(d.margins.iter().flat_map(crate::search::margins::lines));
+        let kv: Vec<(String, String)> = lines
+            .iter()
+            .map(|l| match l.split_once(": ") {
+                Some((k, v)) => (k.to_string(), v.to_string()),
+                None => (String::new(), l.clone()),
+            })
+            .collect();
+        if !kv.is_empty() {
+            pg.h2("Decision").kv(&kv);
         }
-        pg.h2("Summary").kv(&facts);
-        if let Some(d) = self.optimise.as_ref().and_then(|o| o.decision.as_ref()) {
-            let mut lines: Vec<String> = d
-                .bound_steps
-                .iter()
-                .map(crate::search::robust::bound_line)
-                .collect();
-            lines.extend(d.robust.iter().flat_map(crate::search::robust::lines));
-            lines.extend(d.measurement.iter().map(|m| m.to_string()));
-            lines.extend(crate::search::pareto::lines(&d.pareto));
-            lines.extend(d.margins.iter().flat_map(crate::search::margins::lines));
-            let kv: Vec<(String, String)> = lines
-                .iter()
-                .map(|l| match l.split_once(": ") {
-                    Some((k, v)) => (k.to_string(), v.to_string()),
-                    None => (String::new(), l.clone()),
-                })
-                .collect();
-            if !kv.is_empty() {
-                pg.h2("Decision").kv(&kv);
-            }
-            if let Some(p) = pareto_svg(&d.pareto) {
-                pg.figure(
-                    "pareto",
-                    &p,
-                    "Print time against energy at the answer, with the controller's TCP acceleration and jerk limits scaled (the print speed stays): every feasible setting, and the Pareto front (no other setting is faster and cheaper).",
-                );
-            }
-            if let Some(r) = self.regret_svg() {
-                pg.figure(
-                    "regret",
-                    &r,
-                    "Regret of each candidate placement over the plausible robots: how much more energy than each robot's own best it uses, averaged over the draws and at their 95th percentile (the recommendation, the nominal answer and the candidates of lowest expected regret; #k is the candidate's index in the JSON's decision.robust.candidates).",
-                );
-            }
-        }
-        if let Some(h) = self.heatmap_svg() {
-            pg.figure("heatmap", &h, &self.heatmap_caption(&h));
-        }
-        let (slices, notes) = self.slices_svg();
-        if !slices.is_empty() {
-            pg.figure_row(&slices);
-        }
-        for n in notes {
-            pg.p(&n);
-        }
-        if let Some(rows) = self.reference_rows() {
-            pg.h2("Ours beside the paper");
-            let h: Vec<String> = ["placement", "ours [J]", "paper [J]", "ours / paper"]
-                .iter()
-                .map(|s| s.to_string())
-                .collect();
-            pg.table(&h, &rows);
-            if let Some((src, _)) = self.site.as_ref().and_then(|s| s.reference.as_ref()) {
-                pg.p(&format!("Paper values: {src}."));
-            }
-        }
-        if let Some((b, floor)) = self.bars_svg() {
-            let caption = match floor {
-                Some((base, lo, hi)) if b.contains("axis-from") => format!(
-                    "Energy per placement, the bars starting at {} J: every placement draws the standby (the cabinet at rest for the print time, {:.1}…{:.1} J here) below it, so the bars show what the placement changes, the drives' energy and the standby's change with the print time (missing bars: infeasible).",
-                    svg::fmt_num(base),
-                    lo,
-                    hi
-                ),
-                _ => "Energy per placement (missing bars: infeasible).".into(),
-            };
-            pg.figure("bars", &b, &caption);
-        }
-        if let Some(u) = self.uncertainty_svg() {
+        if let Some(p) = pareto_svg(&d.pareto) {
             pg.figure(
-                "uncertainty",
-                &u,
-                "The uncertainty study: for each robot drawn from the drive data's ranges, how much more energy the recommended placement needs than the best of the candidates in that robot (0: it is the best there); the number of draws in each band of regret.",
+                "pareto",
+                &p,
+                "Print time against energy at the answer, with the controller's TCP acceleration and jerk limits scaled (the print speed stays): every feasible setting, and the Pareto front (no other setting is faster and cheaper).",
             );
         }
-        if let Some(j) = self.joints_svg() {
+        if let Some(r) = self.regret_svg() {
             pg.figure(
-                "joints",
-                &j,
-                "Energy per joint at the placements reported in detail.",
-            );
-            let header: Vec<String> = std::iter::once("joint".to_string())
-                .chain(self.details.iter().map(|d| format!("{} [J]", d.label)))
-                .collect();
-            let n = self.details[0].energy.joints.len();
-            let rows: Vec<Vec<String>> = (0..n)
-                .map(|j| {
-                    std::iter::once(self.details[0].energy.joints[j].name.clone())
-                        .chain(self.details.iter().map(|d| {
-                            d.energy
-                                .joints
-                                .get(j)
-                                .map_or(String::new(), |x| format!("{:.1}", self.joint_value(x)))
-                        }))
-                        .collect()
-                })
-                .collect();
-            pg.table(&header, &rows);
-        }
-        if let Some(sup) = self.supply_svg() {
-            pg.figure(
-                "supply",
-                &sup,
-                "Supply energy of the placements reported in detail, stacked: standby, motion work and the losses by kind (negative parts, e.g. work returned by gravity, below zero; the printed total is the supply energy).",
+                "regret",
+                &r,
+                "Regret of each candidate placement over the plausible robots: how much more energy than each robot's own best it uses, averaged over the draws and at their 95th percentile (the recommendation, the nominal answer and the candidates of lowest expected regret; #k is the candidate's index in the JSON's decision.robust.candidates).",
             );
         }
+    }
+
+    /// Our energies beside the paper's, when the site names a reference.
+    fn reference_section(&self, pg: &mut Page) {
+        let Some(rows) = self.reference_rows() else {
+            return;
+        };
+        pg.h2("Ours beside the paper");
+        let h: Vec<String> = ["placement", "ours [J]", "paper [J]", "ours / paper"]
+            .iter()
+            .map(|s| s.to_string())
+            .collect();
+        pg.table(&h, &rows);
+        if let Some((src, _)) = self.site.as_ref().and_then(|s| s.reference.as_ref()) {
+            pg.p(&format!("Paper values: {src}."));
+        }
+    }
+
+    /// The bar chart of energy per placement, its caption naming the standby floor the bars
+    /// start from when they do.
+    fn bars_figure(&self, pg: &mut Page) {
+        let Some((b, floor)) = self.bars_svg() else {
+            return;
+        };
+        let caption = match floor {
+            Some((base, lo, hi)) if b.contains("axis-from") => format!(
+                "Energy per placement, the bars starting at {} J: every placement draws the standby (the cabinet at rest for the print time, {:.1}…{:.1} J here) below it, so the bars show what the placement changes, the drives' energy and the standby's change with the print time (missing bars: infeasible).",
+                svg::fmt_num(base),
+                lo,
+                hi
+            ),
+            _ => "Energy per placement (missing bars: infeasible).".into(),
+        };
+        pg.figure("bars", &b, &caption);
+    }
+
+    /// The energy per joint at the placements reported in detail: the chart and its table.
+    fn joints_section(&self, pg: &mut Page) {
+        let Some(j) = self.joints_svg() else {
+            return;
+        };
+        pg.figure(
+            "joints",
+            &j,
+            "Energy per joint at the placements reported in detail.",
+        );
+        let header: Vec<String> = std::iter::once("joint".to_string())
+            .chain(self.details.iter().map(|d| format!("{} [J]", d.label)))
+            .collect();
+        let n = self.details[0].energy.joints.len();
+        let rows: Vec<Vec<String>> = (0..n)
+            .map(|j| {
+                std::iter::once(self.details[0].energy.joints[j].name.clone())
+                    .chain(self.details.iter().map(|d| {
+                        d.energy
+                            .joints
+                            .get(j)
+                            .map_or(String::new(), |x| format!("{:.1}", self.joint_value(x)))
+                    }))
+                    .collect()
+            })
+            .collect();
+        pg.table(&header, &rows);
+    }
+
+    /// Power and cumulative energy over time at the best and worst placements (at every
+    /// placement reported in detail when there are two at most).
+    fn detail_figures(&self, pg: &mut Page) {
         for (k, d) in self.details.iter().enumerate() {
             if d.label == "best" || d.label == "worst" || self.details.len() <= 2 {
                 pg.figure(
@@ -1395,6 +1384,11 @@ impl RunReport {
                 );
             }
         }
+    }
+
+    /// The infeasible placements: a table by reason with a first example of each, and the
+    /// first 200 of them in a collapsed table.
+    fn infeasible_section(&self, pg: &mut Page) {
         let mut by_reason: std::collections::BTreeMap<&'static str, (usize, String)> =
             Default::default();
         for r in &self.rows {
@@ -1405,55 +1399,55 @@ impl RunReport {
                 ent.0 += 1;
             }
         }
-        if !by_reason.is_empty() {
-            pg.h2("Infeasible placements by reason");
-            let h: Vec<String> = ["reason", "placements", "first example"]
-                .iter()
-                .map(|s| s.to_string())
-                .collect();
-            let rows: Vec<Vec<String>> = by_reason
-                .iter()
-                .map(|(k, (n, ex))| vec![k.to_string(), n.to_string(), ex.clone()])
-                .collect();
-            pg.table(&h, &rows);
-            let infeasible: Vec<Vec<String>> = self
-                .rows
-                .iter()
-                .filter_map(|r| {
-                    r.outcome.as_ref().err().map(|e| {
-                        let p = PlacementRow::from(&r.placement);
-                        vec![
-                            format!("{:.3}", p.x_m),
-                            format!("{:.3}", p.y_m),
-                            format!("{:.3}", p.z_m),
-                            format!("{:.1}", p.yaw_deg),
-                            format!("{:.1}", p.spin_deg),
-                            e.to_string(),
-                        ]
-                    })
-                })
-                .take(200)
-                .collect();
-            let h: Vec<String> = [
-                "x [m]",
-                "y [m]",
-                "z [m]",
-                "yaw [°]",
-                "spin [°]",
-                "why and where",
-            ]
+        if by_reason.is_empty() {
+            return;
+        }
+        pg.h2("Infeasible placements by reason");
+        let h: Vec<String> = ["reason", "placements", "first example"]
             .iter()
             .map(|s| s.to_string())
             .collect();
-            pg.collapsed(
-                &format!(
-                    "Details of {} infeasible placements (all in placements.csv)",
-                    infeasible.len()
-                ),
-                &super::html::table(&h, &infeasible),
-            );
-        }
-        pg.finish()
+        let rows: Vec<Vec<String>> = by_reason
+            .iter()
+            .map(|(k, (n, ex))| vec![k.to_string(), n.to_string(), ex.clone()])
+            .collect();
+        pg.table(&h, &rows);
+        let infeasible: Vec<Vec<String>> = self
+            .rows
+            .iter()
+            .filter_map(|r| {
+                r.outcome.as_ref().err().map(|e| {
+                    let p = PlacementRow::from(&r.placement);
+                    vec![
+                        format!("{:.3}", p.x_m),
+                        format!("{:.3}", p.y_m),
+                        format!("{:.3}", p.z_m),
+                        format!("{:.1}", p.yaw_deg),
+                        format!("{:.1}", p.spin_deg),
+                        e.to_string(),
+                    ]
+                })
+            })
+            .take(200)
+            .collect();
+        let h: Vec<String> = [
+            "x [m]",
+            "y [m]",
+            "z [m]",
+            "yaw [°]",
+            "spin [°]",
+            "why and where",
+        ]
+        .iter()
+        .map(|s| s.to_string())
+        .collect();
+        pg.collapsed(
+            &format!(
+                "Details of {} infeasible placements (all in placements.csv)",
+                infeasible.len()
+            ),
+            &super::html::table(&h, &infeasible),
+        );
     }
 
     /// Write `summary.json`, `placements.csv` and `report.html` into the directory `dir`
@@ -1668,6 +1662,84 @@ pub fn baseline_saving_caveat(c: &crate::search::tolerance::ToleranceCheck) -> S
             c.corners
         )
     }
+}
+
+/// The answer card's "how sure" item: the placement tolerance box and the uncertainty study's
+/// verdict (or why there is none).
+fn answer_how_sure(o: &OptimiseResult) -> String {
+    let mut sure = Vec::new();
+    if let Some(si) = &o.search {
+        sure.push(format!(
+            "placement tolerance: {}",
+            tolerance_text(&si.tolerance, true)
+        ));
+    }
+    match &o.uncertainty {
+        Some(u) => {
+            let mut t = format!(
+                "over {} robots drawn from the drive data's ranges, the recommended placement is the best candidate in {:.0} % of them and within 1 % of each one's best in {:.0} %",
+                u.draws,
+                u.p_best * 100.0,
+                u.p_within_1pct * 100.0
+            );
+            if let Some(r) = o
+                .decision
+                .as_ref()
+                .and_then(|d| d.robust.as_ref())
+                .and_then(|r| r.candidates.get(r.recommended))
+            {
+                t.push_str(&format!(
+                    "; expected regret {:.1} J, 95th percentile {:.1} J",
+                    r.expected_regret_j, r.p95_regret_j
+                ));
+            }
+            if let Some(sp) = u.saving_pct {
+                t.push_str(&format!(
+                    "; saving against the baseline {:.2} % expected, 90 % interval {:.2} … {:.2} %",
+                    sp[0], sp[1], sp[2]
+                ));
+            }
+            sure.push(t);
+        }
+        None => sure.push(
+            "uncertainty study not run: the figures are those of the nominal robot (the study draws plausible robots from the drive data's ranges and says how often this placement stays the best)".into(),
+        ),
+    }
+    sure.join("; ")
+}
+
+/// The summary's facts on the optimum's neighbourhood (energies of the neighbours, gradient,
+/// curvature, one-sided slopes) and the search's effort.
+fn sensitivity_facts(o: &OptimiseResult) -> Vec<(String, String)> {
+    let s = &o.sensitivity;
+    let f = |v: Option<f64>| v.map_or("infeasible".to_string(), |v| format!("{v:.2}"));
+    // Derivatives need both neighbours (one for the one-sided slope): "n/a" otherwise.
+    let g = |v: Option<f64>| v.map_or("n/a".to_string(), |v| format!("{v:.2}"));
+    let xy = |label: &str, v: [Option<f64>; 2]| {
+        (label.to_string(), format!("{} / {}", g(v[0]), g(v[1])))
+    };
+    vec![
+        (
+            format!("energy at x∓{0:.0} mm, y∓{0:.0} mm [J]", s.h_m * 1000.0),
+            format!(
+                "{} / {} / {} / {}",
+                f(s.e_j[0]),
+                f(s.e_j[1]),
+                f(s.e_j[2]),
+                f(s.e_j[3])
+            ),
+        ),
+        xy("gradient dE/dx, dE/dy [J/m]", s.gradient_j_per_m),
+        xy("curvature d²E/dx², d²E/dy² [J/m²]", s.curvature_j_per_m2),
+        xy(
+            "one-sided slopes dE/dx, dE/dy [J/m] (one neighbour infeasible)",
+            s.one_sided_j_per_m,
+        ),
+        (
+            "search".into(),
+            format!("{} evaluations, {} iterations", o.evals, o.iterations),
+        ),
+    ]
 }
 
 /// A saving as people read it: `"819.8 J (6.00 %)"`, or `"no difference"` when the saving is

@@ -300,10 +300,43 @@ fn xy_axes(f: &Frame, series: &[Series], legend: &[&str]) -> Axes {
         .unwrap_or((0.0, 1.0));
     let yr = finite_range(series.iter().flat_map(|s| s.points.iter().map(|p| p.1)))
         .unwrap_or((0.0, 1.0));
+    padded_axes(f, xr, yr, legend)
+}
+
+/// Axes of an x–y chart over the ranges `xr` and `yr` (the latter padded by 5 % each way),
+/// narrowed by the legend naming `legend`.
+fn padded_axes(f: &Frame, xr: (f64, f64), yr: (f64, f64), legend: &[&str]) -> Axes {
     let pad = (yr.1 - yr.0) * 0.05;
     let mut a = Axes::new(f, xr, (yr.0 - pad, yr.1 + pad));
     a.px1 -= legend_width(legend);
     a
+}
+
+/// Draw series `i` through the points `pts` as one path in its colour; the pen is lifted
+/// over non-finite points.
+fn series_path(s: &mut String, a: &Axes, i: usize, pts: &[(f64, f64)]) {
+    let mut d = String::new();
+    let mut pen_up = true;
+    for &(x, y) in pts {
+        if !(x.is_finite() && y.is_finite()) {
+            pen_up = true;
+            continue;
+        }
+        // After "M", further coordinate pairs are implicit line-tos.
+        let _ = write!(
+            d,
+            "{}{:.1},{:.1}",
+            if pen_up { "M" } else { " " },
+            a.x(x),
+            a.y(y)
+        );
+        pen_up = false;
+    }
+    let _ = write!(
+        s,
+        r#"<path d="{d}" fill="none" stroke="{}" stroke-width="1.2"/>"#,
+        colour(i)
+    );
 }
 
 /// Legend entries of an x–y chart: none for a single unnamed or lone series (the title names it).
@@ -326,28 +359,7 @@ pub fn line_chart(f: &Frame, series: &[Series]) -> String {
     x_axis(&mut s, &a);
     for (i, se) in series.iter().enumerate() {
         let pts = decimate(&se.points, ((a.px1 - a.px0) / 2.0).ceil().max(1.0) as usize);
-        let mut d = String::new();
-        let mut pen_up = true;
-        for &(x, y) in &pts {
-            if !(x.is_finite() && y.is_finite()) {
-                pen_up = true;
-                continue;
-            }
-            // After "M", further coordinate pairs are implicit line-tos.
-            let _ = write!(
-                d,
-                "{}{:.1},{:.1}",
-                if pen_up { "M" } else { " " },
-                a.x(x),
-                a.y(y)
-            );
-            pen_up = false;
-        }
-        let _ = write!(
-            s,
-            r#"<path d="{d}" fill="none" stroke="{}" stroke-width="1.2"/>"#,
-            colour(i)
-        );
+        series_path(&mut s, &a, i, &pts);
     }
     legend(&mut s, f, &names);
     axis_labels(&mut s, f);
@@ -484,34 +496,12 @@ pub fn line_chart_streamed(f: &Frame, series: &[StreamedSeries]) -> String {
     };
     let xr = range(&mut series.iter().map(|s| s.x)).unwrap_or((0.0, 1.0));
     let yr = range(&mut series.iter().map(|s| s.y)).unwrap_or((0.0, 1.0));
-    let pad = (yr.1 - yr.0) * 0.05;
-    let mut a = Axes::new(f, xr, (yr.0 - pad, yr.1 + pad));
-    a.px1 -= legend_width(&names);
+    let a = padded_axes(f, xr, yr, &names);
     let mut s = open(f);
     y_axis(&mut s, &a, true);
     x_axis(&mut s, &a);
     for (i, se) in series.iter().enumerate() {
-        let mut d = String::new();
-        let mut pen_up = true;
-        for &(x, y) in &se.kept {
-            if !(x.is_finite() && y.is_finite()) {
-                pen_up = true;
-                continue;
-            }
-            let _ = write!(
-                d,
-                "{}{:.1},{:.1}",
-                if pen_up { "M" } else { " " },
-                a.x(x),
-                a.y(y)
-            );
-            pen_up = false;
-        }
-        let _ = write!(
-            s,
-            r#"<path d="{d}" fill="none" stroke="{}" stroke-width="1.2"/>"#,
-            colour(i)
-        );
+        series_path(&mut s, &a, i, &se.kept);
     }
     legend(&mut s, f, &names);
     axis_labels(&mut s, f);
@@ -619,116 +609,20 @@ pub fn scatter(f: &Frame, series: &[Series]) -> String {
 /// category). A single group is a plain bar chart. Values are printed above the bars.
 /// The y axis starts at 0 (or below, for negative values).
 pub fn bar_chart(f: &Frame, categories: &[String], groups: &[(String, Vec<f64>)]) -> String {
-    let all = groups.iter().flat_map(|g| g.1.iter().copied());
-    // The bars start at the baseline (0 unless the frame gives one below every value).
-    let base = f
-        .baseline
-        .filter(|b| {
-            groups
-                .iter()
-                .flat_map(|g| g.1.iter())
-                .filter(|v| v.is_finite())
-                .all(|v| v > b)
-        })
-        .unwrap_or(0.0);
-    let (lo, hi) = finite_range(all.chain([base])).unwrap_or((0.0, 1.0));
     let names: Vec<&str> = if groups.len() > 1 {
         groups.iter().map(|g| g.0.as_str()).collect()
     } else {
         Vec::new()
     };
-    let ng = groups.len().max(1) as f64;
-    let plot_w = f.width - ML - MR - legend_width(&names);
-    let slot = plot_w / categories.len().max(1) as f64;
-    // At most 80 px per bar, so one or two categories do not turn into slabs.
-    let bw = (slot * 0.8 / ng).min(80.0);
-    // Value labels (font 10, ~5.6 px per character) that do not fit above a bar are turned
-    // upright; leave head room for the longest of them.
-    let label = |v: f64| {
-        if v.is_finite() {
-            fmt_num(v)
-        } else {
-            f.missing.clone()
-        }
-    };
-    let text_w = |t: &str| 5.6 * t.chars().count() as f64 + 4.0;
-    let labelled = groups.len() <= 3;
-    // All value labels upright if any must be (mixed orientations read badly).
-    let any_upright = groups
-        .iter()
-        .flat_map(|g| g.1.iter())
-        .filter(|v| labelled || !v.is_finite())
-        .any(|v| text_w(&label(*v)) > bw);
-    let upright = |_: &str| any_upright;
-    let need = if labelled {
-        groups
-            .iter()
-            .flat_map(|g| g.1.iter())
-            .map(|v| label(*v))
-            .filter(|t| upright(t))
-            .map(|t| text_w(&t))
-            .fold(14.0, f64::max)
-    } else {
-        0.0
-    };
-    let ph = f.height - MT - MB;
-    let top = if hi > 0.0 {
-        hi + (hi - lo) * need / (ph - need).max(ph * 0.3)
-    } else {
-        hi
-    };
-    let mut a = Axes::new(f, (0.0, categories.len().max(1) as f64), (lo, top));
+    let lay = BarLayout::new(f, categories, groups, &names);
+    let mut a = Axes::new(f, (0.0, categories.len().max(1) as f64), (lay.lo, lay.top));
     a.px1 -= legend_width(&names);
     let mut s = open(f);
     y_axis(&mut s, &a, true);
     for (c, name) in categories.iter().enumerate() {
-        let x0 = a.px0 + slot * (c as f64 + 0.5) - bw * ng / 2.0;
-        for (g, (_, vals)) in groups.iter().enumerate() {
-            let v = vals.get(c).copied().unwrap_or(f64::NAN);
-            let cx = x0 + bw * (g as f64 + 0.5);
-            let (ya, yb) = (a.y(base), a.y(if v.is_finite() { v } else { base }));
-            if v.is_finite() {
-                let _ = write!(
-                    s,
-                    r#"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="{:.1}" fill="{}"><title>{}: {}</title></rect>"#,
-                    x0 + bw * g as f64,
-                    ya.min(yb),
-                    bw * 0.95,
-                    (ya - yb).abs(),
-                    colour(g),
-                    esc(name),
-                    fmt_num(v)
-                );
-            }
-            if labelled || !v.is_finite() {
-                let t = label(v);
-                let fill = if v.is_finite() { "#222" } else { "#888" };
-                let y = ya.min(yb) - 3.0;
-                if upright(&t) {
-                    let _ = write!(
-                        s,
-                        r#"<text x="{:.1}" y="{y:.1}" transform="rotate(-90 {:.1} {y:.1})" font-size="10" fill="{fill}">{}</text>"#,
-                        cx + 3.5,
-                        cx + 3.5,
-                        esc(&t)
-                    );
-                } else {
-                    let _ = write!(
-                        s,
-                        r#"<text x="{cx:.1}" y="{y:.1}" text-anchor="middle" font-size="10" fill="{fill}">{}</text>"#,
-                        esc(&t)
-                    );
-                }
-            }
-        }
-        let _ = write!(
-            s,
-            r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">{}</text>"#,
-            a.px0 + slot * (c as f64 + 0.5),
-            a.py0 + 16.0,
-            esc(name)
-        );
+        lay.category(&mut s, &a, (c, name), groups);
     }
+    let base = lay.base;
     if base != 0.0 {
         // Said in the chart, and the axis broken: the bars do not start at 0.
         let _ = write!(
@@ -749,6 +643,163 @@ pub fn bar_chart(f: &Frame, categories: &[String], groups: &[(String, Vec<f64>)]
         .filter(|v| v.is_finite())
         .count();
     finish(s, n)
+}
+
+/// Width of a bar chart's value label `t` (font 10, ~5.6 px per character), px.
+fn text_w(t: &str) -> f64 {
+    5.6 * t.chars().count() as f64 + 4.0
+}
+
+/// Where the bars of a [`bar_chart`] go and how their value labels are written.
+struct BarLayout<'f> {
+    /// The chart's frame (its text for a missing value).
+    f: &'f Frame,
+    /// Value the bars start from.
+    base: f64,
+    /// Bottom of the y axis.
+    lo: f64,
+    /// Top of the y axis, with head room for upright labels.
+    top: f64,
+    /// Width of one category, px.
+    slot: f64,
+    /// Width of one bar, px.
+    bw: f64,
+    /// Number of groups (at least 1).
+    ng: f64,
+    /// Whether every bar is labelled with its value (else only missing ones).
+    labelled: bool,
+    /// Whether the value labels are turned upright.
+    upright: bool,
+}
+
+impl<'f> BarLayout<'f> {
+    /// The layout of `groups` over `categories` in frame `f`, a legend naming `names` beside.
+    fn new(
+        f: &'f Frame,
+        categories: &[String],
+        groups: &[(String, Vec<f64>)],
+        names: &[&str],
+    ) -> Self {
+        let all = groups.iter().flat_map(|g| g.1.iter().copied());
+        // The bars start at the baseline (0 unless the frame gives one below every value).
+        let base = f
+            .baseline
+            .filter(|b| {
+                groups
+                    .iter()
+                    .flat_map(|g| g.1.iter())
+                    .filter(|v| v.is_finite())
+                    .all(|v| v > b)
+            })
+            .unwrap_or(0.0);
+        let (lo, hi) = finite_range(all.chain([base])).unwrap_or((0.0, 1.0));
+        let ng = groups.len().max(1) as f64;
+        let plot_w = f.width - ML - MR - legend_width(names);
+        let slot = plot_w / categories.len().max(1) as f64;
+        // At most 80 px per bar, so one or two categories do not turn into slabs.
+        let bw = (slot * 0.8 / ng).min(80.0);
+        let mut lay = BarLayout {
+            f,
+            base,
+            lo,
+            top: hi,
+            slot,
+            bw,
+            ng,
+            labelled: groups.len() <= 3,
+            upright: false,
+        };
+        // Value labels that do not fit above a bar are turned upright; leave head room for
+        // the longest of them. All upright if any must be (mixed orientations read badly).
+        lay.upright = groups
+            .iter()
+            .flat_map(|g| g.1.iter())
+            .filter(|v| lay.labelled || !v.is_finite())
+            .any(|v| text_w(&lay.label(*v)) > bw);
+        let need = if lay.labelled {
+            groups
+                .iter()
+                .flat_map(|g| g.1.iter())
+                .map(|v| lay.label(*v))
+                .filter(|_| lay.upright)
+                .map(|t| text_w(&t))
+                .fold(14.0, f64::max)
+        } else {
+            0.0
+        };
+        let ph = f.height - MT - MB;
+        if hi > 0.0 {
+            lay.top = hi + (hi - lo) * need / (ph - need).max(ph * 0.3);
+        }
+        lay
+    }
+
+    /// The value label of a bar: its value, or the frame's text for a missing one.
+    fn label(&self, v: f64) -> String {
+        if v.is_finite() {
+            fmt_num(v)
+        } else {
+            self.f.missing.clone()
+        }
+    }
+
+    /// Draw category `c` (named `name`): its bars, one per group, their value labels and its
+    /// name under the axis.
+    fn category(
+        &self,
+        s: &mut String,
+        a: &Axes,
+        (c, name): (usize, &str),
+        groups: &[(String, Vec<f64>)],
+    ) {
+        let (bw, base) = (self.bw, self.base);
+        let x0 = a.px0 + self.slot * (c as f64 + 0.5) - bw * self.ng / 2.0;
+        for (g, (_, vals)) in groups.iter().enumerate() {
+            let v = vals.get(c).copied().unwrap_or(f64::NAN);
+            let cx = x0 + bw * (g as f64 + 0.5);
+            let (ya, yb) = (a.y(base), a.y(if v.is_finite() { v } else { base }));
+            if v.is_finite() {
+                let _ = write!(
+                    s,
+                    r#"<rect x="{:.1}" y="{:.1}" width="{:.1}" height="{:.1}" fill="{}"><title>{}: {}</title></rect>"#,
+                    x0 + bw * g as f64,
+                    ya.min(yb),
+                    bw * 0.95,
+                    (ya - yb).abs(),
+                    colour(g),
+                    esc(name),
+                    fmt_num(v)
+                );
+            }
+            if self.labelled || !v.is_finite() {
+                let t = self.label(v);
+                let fill = if v.is_finite() { "#222" } else { "#888" };
+                let y = ya.min(yb) - 3.0;
+                if self.upright {
+                    let _ = write!(
+                        s,
+                        r#"<text x="{:.1}" y="{y:.1}" transform="rotate(-90 {:.1} {y:.1})" font-size="10" fill="{fill}">{}</text>"#,
+                        cx + 3.5,
+                        cx + 3.5,
+                        esc(&t)
+                    );
+                } else {
+                    let _ = write!(
+                        s,
+                        r#"<text x="{cx:.1}" y="{y:.1}" text-anchor="middle" font-size="10" fill="{fill}">{}</text>"#,
+                        esc(&t)
+                    );
+                }
+            }
+        }
+        let _ = write!(
+            s,
+            r#"<text x="{:.1}" y="{:.1}" text-anchor="middle">{}</text>"#,
+            a.px0 + self.slot * (c as f64 + 0.5),
+            a.py0 + 16.0,
+            esc(name)
+        );
+    }
 }
 
 /// A marked heatmap cell: drawn with a hatch/colour of its class and named in the legend.
@@ -810,6 +861,58 @@ const MARK_STYLES: [&str; 6] = [
     "#d62728", "#7f7f7f", "#ff7f0e", "#8c564b", "#e377c2", "#17becf",
 ];
 
+/// A vertical colour bar: left edge, top and height (px), and the value range it spans.
+struct ColourBar {
+    bx: f64,
+    top: f64,
+    h: f64,
+    vlo: f64,
+    vhi: f64,
+}
+
+impl ColourBar {
+    /// Height (px) of value `t` on the bar.
+    fn y(&self, t: f64) -> f64 {
+        self.top + self.h * (1.0 - (t - self.vlo) / (self.vhi - self.vlo))
+    }
+
+    /// Draw the colour slices and the ticks (nice values inside the range, and its ends unless
+    /// a tick is within 14 px of them); `tick_attr` is added to each tick's text element.
+    fn draw(&self, s: &mut String, tick_attr: &str) {
+        let (bx, vlo, vhi) = (self.bx, self.vlo, self.vhi);
+        let nb = 40;
+        for i in 0..nb {
+            // Slice i spans [i, i + 1] / nb of the range, so ticks line up with the colours.
+            let (t0, t1) = (i as f64 / nb as f64, (i + 1) as f64 / nb as f64);
+            let _ = write!(
+                s,
+                r#"<rect x="{bx}" y="{:.1}" width="14" height="{:.2}" fill="{}"/>"#,
+                self.top + self.h * (1.0 - t1),
+                self.h / nb as f64 + 0.5,
+                ramp((t0 + t1) / 2.0)
+            );
+        }
+        let mut cb = ticks(vlo, vhi, 4);
+        cb.retain(|t| *t >= vlo - 1e-9 * (vhi - vlo).abs() && *t <= vhi + 1e-9 * (vhi - vlo).abs());
+        for end in [vlo, vhi] {
+            if cb.iter().all(|t| (self.y(*t) - self.y(end)).abs() > 14.0) {
+                cb.push(end);
+            }
+        }
+        for t in cb {
+            let y = self.y(t);
+            let _ = write!(
+                s,
+                r##"<line x1="{bx}" y1="{y:.1}" x2="{}" y2="{y:.1}" stroke="#333"/><text{tick_attr} x="{}" y="{:.1}">{}</text>"##,
+                bx + 17.0,
+                bx + 20.0,
+                y + 4.0,
+                fmt_num(t)
+            );
+        }
+    }
+}
+
 /// Heatmap with a colour bar, marked cells and a legend of mark classes. A class named
 /// `optimum` (or `best`) is drawn as a star-like ring rather than a filled cell.
 pub fn heatmap(f: &Frame, h: &Heatmap) -> String {
@@ -832,8 +935,43 @@ pub fn heatmap(f: &Frame, h: &Heatmap) -> String {
     let a = Axes::new(&f2, (x0, x0 + dx * nx as f64), (y0, y0 + dy * ny as f64));
     let (vlo, vhi) = finite_range(h.values.iter().copied()).unwrap_or((0.0, 1.0));
     let mut s = open(f);
-    let cw = (a.px1 - a.px0) / nx as f64;
-    let ch = (a.py0 - a.py1) / ny as f64;
+    heatmap_cells(&mut s, &a, h, (vlo, vhi));
+    let classes = heatmap_marks(&mut s, &a, h);
+    y_axis(&mut s, &a, false);
+    x_axis(&mut s, &a);
+    let bar = ColourBar {
+        bx: f.width - 110.0,
+        top: a.py1,
+        h: (a.py0 - a.py1) * 0.6,
+        vlo,
+        vhi,
+    };
+    bar.draw(&mut s, "");
+    let _ = write!(
+        s,
+        r#"<text x="{}" y="{:.1}" font-weight="bold">{}</text>"#,
+        bar.bx,
+        a.py1 - 10.0,
+        esc(&h.value_label)
+    );
+    heatmap_legend(&mut s, &bar, &classes);
+    axis_labels(&mut s, &f2);
+    let n = h.values.iter().filter(|v| v.is_finite()).count();
+    finish(s, n)
+}
+
+/// Size `(cw, ch)` of one heatmap cell on axes `a`, px.
+fn heatmap_cell_size(a: &Axes, h: &Heatmap) -> (f64, f64) {
+    let nx = h.xs.len().max(1);
+    let ny = h.ys.len().max(1);
+    ((a.px1 - a.px0) / nx as f64, (a.py0 - a.py1) / ny as f64)
+}
+
+/// Draw the cells of a heatmap, coloured by value over `(vlo, vhi)` (light grey without one).
+fn heatmap_cells(s: &mut String, a: &Axes, h: &Heatmap, (vlo, vhi): (f64, f64)) {
+    let nx = h.xs.len().max(1);
+    let ny = h.ys.len().max(1);
+    let (cw, ch) = heatmap_cell_size(a, h);
     for r in 0..ny {
         for c in 0..nx {
             let v = h.values.get(r * nx + c).copied().unwrap_or(f64::NAN);
@@ -859,6 +997,12 @@ pub fn heatmap(f: &Frame, h: &Heatmap) -> String {
             );
         }
     }
+}
+
+/// Draw the marks of a heatmap: a ring for the optimum, a cross in its class's colour for the
+/// others; returns the classes in order of first appearance (for the legend).
+fn heatmap_marks<'h>(s: &mut String, a: &Axes, h: &'h Heatmap) -> Vec<&'h str> {
+    let (cw, ch) = heatmap_cell_size(a, h);
     let mut classes: Vec<&str> = Vec::new();
     for m in &h.marks {
         if !classes.contains(&m.class.as_str()) {
@@ -883,69 +1027,23 @@ pub fn heatmap(f: &Frame, h: &Heatmap) -> String {
                 (cw.min(ch) * 0.45).max(4.0)
             );
         } else {
-            let _ = write!(
+            cross_mark(
                 s,
-                r#"<g class="mark-{}"><line x1="{:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{c}" stroke-width="1.3"/><line x1="{:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{c}" stroke-width="1.3"/></g>"#,
-                esc(&m.class),
-                cx - cw * 0.35,
-                cy - ch * 0.35,
-                cx + cw * 0.35,
-                cy + ch * 0.35,
-                cx - cw * 0.35,
-                cy + ch * 0.35,
-                cx + cw * 0.35,
-                cy - ch * 0.35,
-                c = MARK_STYLES[k % MARK_STYLES.len()]
+                &m.class,
+                (cx, cy),
+                (cw, ch),
+                MARK_STYLES[k % MARK_STYLES.len()],
             );
         }
     }
-    y_axis(&mut s, &a, false);
-    x_axis(&mut s, &a);
-    // Colour bar.
-    let bx = f.width - 110.0;
-    let nb = 40;
-    let bh = (a.py0 - a.py1) * 0.6;
-    for i in 0..nb {
-        // Slice i spans [i, i + 1] / nb of the range, so ticks line up with the colours.
-        let (t0, t1) = (i as f64 / nb as f64, (i + 1) as f64 / nb as f64);
-        let _ = write!(
-            s,
-            r#"<rect x="{bx}" y="{:.1}" width="14" height="{:.2}" fill="{}"/>"#,
-            a.py1 + bh * (1.0 - t1),
-            bh / nb as f64 + 0.5,
-            ramp((t0 + t1) / 2.0)
-        );
-    }
-    // Colour-bar ticks (nice values inside the range).
-    let mut cb = ticks(vlo, vhi, 4);
-    cb.retain(|t| *t >= vlo - 1e-9 * (vhi - vlo).abs() && *t <= vhi + 1e-9 * (vhi - vlo).abs());
-    // The ends of the range too, unless a tick is within 14 px of them.
-    let px = |t: f64| a.py1 + bh * (1.0 - (t - vlo) / (vhi - vlo));
-    for end in [vlo, vhi] {
-        if cb.iter().all(|t| (px(*t) - px(end)).abs() > 14.0) {
-            cb.push(end);
-        }
-    }
-    for t in cb {
-        let y = px(t);
-        let _ = write!(
-            s,
-            r##"<line x1="{bx}" y1="{y:.1}" x2="{}" y2="{y:.1}" stroke="#333"/><text x="{}" y="{:.1}">{}</text>"##,
-            bx + 17.0,
-            bx + 20.0,
-            y + 4.0,
-            fmt_num(t)
-        );
-    }
-    let _ = write!(
-        s,
-        r#"<text x="{bx}" y="{:.1}" font-weight="bold">{}</text>"#,
-        a.py1 - 10.0,
-        esc(&h.value_label)
-    );
-    // Mark legend.
+    classes
+}
+
+/// Draw the legend of a heatmap's mark classes below its colour bar.
+fn heatmap_legend(s: &mut String, bar: &ColourBar, classes: &[&str]) {
+    let bx = bar.bx;
     for (k, c) in classes.iter().enumerate() {
-        let y = a.py1 + bh + 24.0 + 16.0 * k as f64;
+        let y = bar.top + bar.h + 24.0 + 16.0 * k as f64;
         let sym = if *c == "optimum" || *c == "best" {
             format!(
                 r#"<circle cx="{}" cy="{:.1}" r="5" fill="none" stroke="black" stroke-width="1.5"/>"#,
@@ -969,9 +1067,6 @@ pub fn heatmap(f: &Frame, h: &Heatmap) -> String {
             esc(c)
         );
     }
-    axis_labels(&mut s, &f2);
-    let n = h.values.iter().filter(|v| v.is_finite()).count();
-    finish(s, n)
 }
 
 /// A point drawn on a [`top_view`]: a named position, optionally coloured by its value.
@@ -1011,17 +1106,21 @@ pub struct TopView {
 /// A filled closed outline on a [`TopView`]: `(class, label, points)`, m.
 pub type Footprint = (String, String, Vec<(f64, f64)>);
 
-/// Top view with equal axis scales: energy cells (colour bar covering every cell and point
-/// value, so an optimum found off the grid is on the scale), infeasible cells crossed by
-/// reason, circles (base, reach), outlines (the part) and labelled points. The drawn extent
-/// covers the cells, the points, the outlines and the base; circles are clipped to it.
-pub fn top_view(f: &Frame, v: &TopView) -> String {
-    let bar_w = 170.0;
-    let f2 = Frame {
-        width: f.width - bar_w,
-        ..f.clone()
-    };
-    // Extent in metres.
+/// Width of the column beside a top view that holds its colour bar and legend, px.
+const TOP_VIEW_BAR_W: f64 = 170.0;
+
+/// Distance between neighbouring cell centres along one axis (0.1 for a single cell).
+fn cell_step(c: &[f64]) -> f64 {
+    if c.len() > 1 {
+        (c[c.len() - 1] - c[0]) / (c.len() - 1) as f64
+    } else {
+        0.1
+    }
+}
+
+/// The extent `(x0, x1, y0, y1)` a top view must show, m: the origin, the cells, the points,
+/// the outlines, the base's and pedestal's circles and the footprints.
+fn top_view_extent(v: &TopView) -> (f64, f64, f64, f64) {
     let (mut x0, mut x1, mut y0, mut y1) = (0.0f64, 0.0f64, 0.0f64, 0.0f64);
     let mut grow = |x: f64, y: f64| {
         if x.is_finite() && y.is_finite() {
@@ -1029,13 +1128,6 @@ pub fn top_view(f: &Frame, v: &TopView) -> String {
             x1 = x1.max(x);
             y0 = y0.min(y);
             y1 = y1.max(y);
-        }
-    };
-    let cell_step = |c: &[f64]| {
-        if c.len() > 1 {
-            (c[c.len() - 1] - c[0]) / (c.len() - 1) as f64
-        } else {
-            0.1
         }
     };
     if let Some(h) = &v.cells {
@@ -1066,23 +1158,64 @@ pub fn top_view(f: &Frame, v: &TopView) -> String {
             grow(x, y);
         }
     }
-    let pad = 0.05 * (x1 - x0).max(y1 - y0).max(0.1);
-    let (mut x0, mut x1, mut y0, mut y1) = (x0 - pad, x1 + pad, y0 - pad, y1 + pad);
-    // Equal scales: widen the range of the axis that would otherwise be stretched.
-    let (pw, ph) = (f2.width - ML - MR, f2.height - MT - MB);
+    (x0, x1, y0, y1)
+}
+
+/// Equal scales on a plot area `(pw, ph)` px: the range `(x0, x1, y0, y1)` widened along the
+/// axis that would otherwise be stretched, about its centre, and the scale in px per unit.
+pub(crate) fn equal_scales(
+    (mut x0, mut x1, mut y0, mut y1): (f64, f64, f64, f64),
+    (pw, ph): (f64, f64),
+) -> ((f64, f64, f64, f64), f64) {
     let k = (pw / (x1 - x0)).min(ph / (y1 - y0));
     let (cx, cy) = ((x0 + x1) / 2.0, (y0 + y1) / 2.0);
     x0 = cx - pw / k / 2.0;
     x1 = cx + pw / k / 2.0;
     y0 = cy - ph / k / 2.0;
     y1 = cy + ph / k / 2.0;
-    let a = Axes::new(&f2, (x0, x1), (y0, y1));
-    let vals = v
-        .cells
-        .iter()
-        .flat_map(|h| h.values.iter().copied())
-        .chain(v.points.iter().map(|p| p.value));
-    let (vlo, vhi) = finite_range(vals).unwrap_or((0.0, 1.0));
+    ((x0, x1, y0, y1), k)
+}
+
+/// What every layer of a top view draws with: the axes, their scale (px per metre) and the
+/// range of the colour scale.
+struct TopViewScale {
+    a: Axes,
+    k: f64,
+    vlo: f64,
+    vhi: f64,
+}
+
+impl TopViewScale {
+    /// The padded, equal-scaled axes of a top view in frame `f2` and its colour range, which
+    /// covers every cell and point value.
+    fn new(f2: &Frame, v: &TopView) -> Self {
+        let (x0, x1, y0, y1) = top_view_extent(v);
+        let pad = 0.05 * (x1 - x0).max(y1 - y0).max(0.1);
+        let (pw, ph) = (f2.width - ML - MR, f2.height - MT - MB);
+        let ((x0, x1, y0, y1), k) =
+            equal_scales((x0 - pad, x1 + pad, y0 - pad, y1 + pad), (pw, ph));
+        let a = Axes::new(f2, (x0, x1), (y0, y1));
+        let vals = v
+            .cells
+            .iter()
+            .flat_map(|h| h.values.iter().copied())
+            .chain(v.points.iter().map(|p| p.value));
+        let (vlo, vhi) = finite_range(vals).unwrap_or((0.0, 1.0));
+        TopViewScale { a, k, vlo, vhi }
+    }
+}
+
+/// Top view with equal axis scales: energy cells (colour bar covering every cell and point
+/// value, so an optimum found off the grid is on the scale), infeasible cells crossed by
+/// reason, circles (base, reach), outlines (the part) and labelled points. The drawn extent
+/// covers the cells, the points, the outlines and the base; circles are clipped to it.
+pub fn top_view(f: &Frame, v: &TopView) -> String {
+    let f2 = Frame {
+        width: f.width - TOP_VIEW_BAR_W,
+        ..f.clone()
+    };
+    let sc = TopViewScale::new(&f2, v);
+    let a = &sc.a;
     let mut n = 0usize;
     let mut s = open(f);
     let _ = write!(
@@ -1095,60 +1228,139 @@ pub fn top_view(f: &Frame, v: &TopView) -> String {
     );
     let mut classes: Vec<String> = Vec::new();
     if let Some(h) = &v.cells {
-        let (dx, dy) = (cell_step(&h.xs), cell_step(&h.ys));
-        let (cw, ch) = (dx * k, dy * k);
-        let nx = h.xs.len();
-        for (r, y) in h.ys.iter().enumerate() {
-            for (c, x) in h.xs.iter().enumerate() {
-                let val = h.values.get(r * nx + c).copied().unwrap_or(f64::NAN);
-                let fill = if val.is_finite() {
-                    n += 1;
-                    ramp((val - vlo) / (vhi - vlo))
-                } else {
-                    "#f2f2f2".into()
-                };
-                let _ = write!(
-                    s,
-                    r#"<rect x="{:.1}" y="{:.1}" width="{:.2}" height="{:.2}" fill="{fill}"><title>({}, {}): {}</title></rect>"#,
-                    a.x(x - dx / 2.0),
-                    a.y(y + dy / 2.0),
-                    cw + 0.3,
-                    ch + 0.3,
-                    fmt_num(*x),
-                    fmt_num(*y),
-                    if val.is_finite() {
-                        fmt_num(val)
-                    } else {
-                        "-".into()
-                    }
-                );
-            }
-        }
-        for m in &h.marks {
-            if !classes.contains(&m.class) {
-                classes.push(m.class.clone());
-            }
-            let kk = classes.iter().position(|c| *c == m.class).unwrap_or(0);
-            let (px, py) = (
-                a.x(h.xs.get(m.col).copied().unwrap_or(0.0)),
-                a.y(h.ys.get(m.row).copied().unwrap_or(0.0)),
-            );
+        n += top_view_cells(&mut s, &sc, h);
+        classes = top_view_marks(&mut s, &sc, h);
+    }
+    n += top_view_shapes(&mut s, &sc, v);
+    s.push_str("</g>");
+    let (drawn, any_infeasible) = top_view_points(&mut s, &sc, &v.points);
+    n += drawn;
+    y_axis(&mut s, a, false);
+    x_axis(&mut s, a);
+    let bar = ColourBar {
+        bx: f.width - TOP_VIEW_BAR_W + 10.0,
+        top: a.py1,
+        h: (a.py0 - a.py1) * 0.5,
+        vlo: sc.vlo,
+        vhi: sc.vhi,
+    };
+    bar.draw(&mut s, r#" class="cbar-tick""#);
+    let _ = write!(
+        s,
+        r#"<text x="{}" y="{:.1}" font-weight="bold" data-lo="{}" data-hi="{}" class="cbar">{}</text>"#,
+        bar.bx,
+        a.py1 - 10.0,
+        sc.vlo,
+        sc.vhi,
+        esc(&v.value_label)
+    );
+    top_view_legend(&mut s, &bar, &classes, v, any_infeasible);
+    axis_labels(&mut s, &f2);
+    finish(s, n)
+}
+
+/// Draw the energy cells of a top view, coloured by value (light grey without one); returns
+/// how many have a value.
+fn top_view_cells(s: &mut String, sc: &TopViewScale, h: &Heatmap) -> usize {
+    let (a, k) = (&sc.a, sc.k);
+    let (dx, dy) = (cell_step(&h.xs), cell_step(&h.ys));
+    let (cw, ch) = (dx * k, dy * k);
+    let nx = h.xs.len();
+    let mut n = 0;
+    for (r, y) in h.ys.iter().enumerate() {
+        for (c, x) in h.xs.iter().enumerate() {
+            let val = h.values.get(r * nx + c).copied().unwrap_or(f64::NAN);
+            let fill = if val.is_finite() {
+                n += 1;
+                ramp((val - sc.vlo) / (sc.vhi - sc.vlo))
+            } else {
+                "#f2f2f2".into()
+            };
             let _ = write!(
                 s,
-                r#"<g class="mark-{}"><line x1="{:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{c}" stroke-width="1.3"/><line x1="{:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{c}" stroke-width="1.3"/></g>"#,
-                esc(&m.class),
-                px - cw * 0.35,
-                py - ch * 0.35,
-                px + cw * 0.35,
-                py + ch * 0.35,
-                px - cw * 0.35,
-                py + ch * 0.35,
-                px + cw * 0.35,
-                py - ch * 0.35,
-                c = MARK_STYLES[kk % MARK_STYLES.len()]
+                r#"<rect x="{:.1}" y="{:.1}" width="{:.2}" height="{:.2}" fill="{fill}"><title>({}, {}): {}</title></rect>"#,
+                a.x(x - dx / 2.0),
+                a.y(y + dy / 2.0),
+                cw + 0.3,
+                ch + 0.3,
+                fmt_num(*x),
+                fmt_num(*y),
+                if val.is_finite() {
+                    fmt_num(val)
+                } else {
+                    "-".into()
+                }
             );
         }
     }
+    n
+}
+
+/// Cross the marked cells of a top view in the colour of their class; returns the classes in
+/// order of first appearance (for the legend).
+fn top_view_marks(s: &mut String, sc: &TopViewScale, h: &Heatmap) -> Vec<String> {
+    let a = &sc.a;
+    let (cw, ch) = (cell_step(&h.xs) * sc.k, cell_step(&h.ys) * sc.k);
+    let mut classes: Vec<String> = Vec::new();
+    for m in &h.marks {
+        if !classes.contains(&m.class) {
+            classes.push(m.class.clone());
+        }
+        let kk = classes.iter().position(|c| *c == m.class).unwrap_or(0);
+        let at = (
+            a.x(h.xs.get(m.col).copied().unwrap_or(0.0)),
+            a.y(h.ys.get(m.row).copied().unwrap_or(0.0)),
+        );
+        cross_mark(
+            s,
+            &m.class,
+            at,
+            (cw, ch),
+            MARK_STYLES[kk % MARK_STYLES.len()],
+        );
+    }
+    classes
+}
+
+/// Draw a cell mark of class `class`: a cross of colour `c` over the cell of size `(cw, ch)` px
+/// centred at `(px, py)`.
+fn cross_mark(s: &mut String, class: &str, (px, py): (f64, f64), (cw, ch): (f64, f64), c: &str) {
+    let _ = write!(
+        s,
+        r#"<g class="mark-{}"><line x1="{:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{c}" stroke-width="1.3"/><line x1="{:.1}" y1="{:.1}" x2="{:.1}" y2="{:.1}" stroke="{c}" stroke-width="1.3"/></g>"#,
+        esc(class),
+        px - cw * 0.35,
+        py - ch * 0.35,
+        px + cw * 0.35,
+        py + ch * 0.35,
+        px - cw * 0.35,
+        py + ch * 0.35,
+        px + cw * 0.35,
+        py - ch * 0.35,
+    );
+}
+
+/// The SVG path data through `l` (m) on axes `a`: a move to the first point, then `sep`
+/// before each further one.
+fn path_data(a: &Axes, l: &[(f64, f64)], sep: &str) -> String {
+    let mut d = String::new();
+    for (i, &(x, y)) in l.iter().enumerate() {
+        let _ = write!(
+            d,
+            "{}{:.1},{:.1}",
+            if i == 0 { "M" } else { sep },
+            a.x(x),
+            a.y(y)
+        );
+    }
+    d
+}
+
+/// Draw the circles (base, pedestal, reach), the filled footprints and the outlines of a top
+/// view; returns how many outline and footprint points they draw.
+fn top_view_shapes(s: &mut String, sc: &TopViewScale, v: &TopView) -> usize {
+    let a = &sc.a;
+    let mut n = 0;
     for (cx, cy, r, class, label) in &v.circles {
         let (dash, fill) = if class == "pedestal" {
             ("", "#999")
@@ -1163,21 +1375,12 @@ pub fn top_view(f: &Frame, v: &TopView) -> String {
             esc(class),
             a.x(*cx),
             a.y(*cy),
-            r * k,
+            r * sc.k,
             esc(label)
         );
     }
     for (class, label, l) in &v.footprints {
-        let mut d = String::new();
-        for (i, &(x, y)) in l.iter().enumerate() {
-            let _ = write!(
-                d,
-                "{}{:.1},{:.1}",
-                if i == 0 { "M" } else { " L" },
-                a.x(x),
-                a.y(y)
-            );
-        }
+        let d = path_data(a, l, " L");
         n += l.len();
         let _ = write!(
             s,
@@ -1187,16 +1390,7 @@ pub fn top_view(f: &Frame, v: &TopView) -> String {
         );
     }
     for (class, l) in &v.lines {
-        let mut d = String::new();
-        for (i, &(x, y)) in l.iter().enumerate() {
-            let _ = write!(
-                d,
-                "{}{:.1},{:.1}",
-                if i == 0 { "M" } else { " " },
-                a.x(x),
-                a.y(y)
-            );
-        }
+        let d = path_data(a, l, " ");
         n += l.len();
         let _ = write!(
             s,
@@ -1204,12 +1398,19 @@ pub fn top_view(f: &Frame, v: &TopView) -> String {
             esc(class)
         );
     }
-    s.push_str("</g>");
-    // Labels of points drawn at the same spot (a named placement at several yaws) are stacked
-    // one below the other instead of printed over each other.
+    n
+}
+
+/// Draw the labelled points of a top view: a disc coloured by value, or a red cross for an
+/// infeasible placement. Labels of points at the same spot (a named placement at several
+/// yaws) are stacked one below the other instead of printed over each other. Returns how many
+/// points have a value and whether any placement is infeasible.
+fn top_view_points(s: &mut String, sc: &TopViewScale, points: &[MapPoint]) -> (usize, bool) {
+    let a = &sc.a;
+    let mut n = 0;
     let mut placed: Vec<(f64, f64, usize)> = Vec::new();
     let mut any_infeasible = false;
-    for p in &v.points {
+    for p in points {
         let (px, py) = (a.x(p.x), a.y(p.y));
         let stack = match placed
             .iter_mut()
@@ -1229,23 +1430,12 @@ pub fn top_view(f: &Frame, v: &TopView) -> String {
             // An infeasible placement: a cross of its own (the legend names it), not a hollow
             // circle like the reach circles'.
             any_infeasible = true;
-            let _ = write!(
-                s,
-                r##"<g class="mark-{}" data-infeasible="1"><path d="M{:.1},{:.1} l10,10 m0,-10 l-10,10" stroke="white" stroke-width="4"/><path d="M{:.1},{:.1} l10,10 m0,-10 l-10,10" stroke="#d62728" stroke-width="2"><title>{}: infeasible</title></path><text x="{:.1}" y="{label_y:.1}" font-size="11" font-weight="bold">{}</text></g>"##,
-                esc(&p.class),
-                px - 5.0,
-                py - 5.0,
-                px - 5.0,
-                py - 5.0,
-                esc(&p.label),
-                px + 8.0,
-                esc(&p.label)
-            );
+            infeasible_point(s, p, (px, py), label_y);
             continue;
         }
         let fill = if p.value.is_finite() {
             n += 1;
-            ramp((p.value - vlo) / (vhi - vlo))
+            ramp((p.value - sc.vlo) / (sc.vhi - sc.vlo))
         } else {
             "white".into()
         };
@@ -1267,49 +1457,36 @@ pub fn top_view(f: &Frame, v: &TopView) -> String {
             esc(&p.label)
         );
     }
-    y_axis(&mut s, &a, false);
-    x_axis(&mut s, &a);
-    // Colour bar.
-    let bx = f.width - bar_w + 10.0;
-    let nb = 40;
-    let bh = (a.py0 - a.py1) * 0.5;
-    for i in 0..nb {
-        let (t0, t1) = (i as f64 / nb as f64, (i + 1) as f64 / nb as f64);
-        let _ = write!(
-            s,
-            r#"<rect x="{bx}" y="{:.1}" width="14" height="{:.2}" fill="{}"/>"#,
-            a.py1 + bh * (1.0 - t1),
-            bh / nb as f64 + 0.5,
-            ramp((t0 + t1) / 2.0)
-        );
-    }
-    let px = |t: f64| a.py1 + bh * (1.0 - (t - vlo) / (vhi - vlo));
-    let mut cb = ticks(vlo, vhi, 4);
-    cb.retain(|t| *t >= vlo - 1e-9 * (vhi - vlo).abs() && *t <= vhi + 1e-9 * (vhi - vlo).abs());
-    for end in [vlo, vhi] {
-        if cb.iter().all(|t| (px(*t) - px(end)).abs() > 14.0) {
-            cb.push(end);
-        }
-    }
-    for t in cb {
-        let y = px(t);
-        let _ = write!(
-            s,
-            r##"<line x1="{bx}" y1="{y:.1}" x2="{}" y2="{y:.1}" stroke="#333"/><text class="cbar-tick" x="{}" y="{:.1}">{}</text>"##,
-            bx + 17.0,
-            bx + 20.0,
-            y + 4.0,
-            fmt_num(t)
-        );
-    }
+    (n, any_infeasible)
+}
+
+/// Draw an infeasible placement at `(px, py)`: a red cross with its label at `label_y`.
+fn infeasible_point(s: &mut String, p: &MapPoint, (px, py): (f64, f64), label_y: f64) {
     let _ = write!(
         s,
-        r#"<text x="{bx}" y="{:.1}" font-weight="bold" data-lo="{vlo}" data-hi="{vhi}" class="cbar">{}</text>"#,
-        a.py1 - 10.0,
-        esc(&v.value_label)
+        r##"<g class="mark-{}" data-infeasible="1"><path d="M{:.1},{:.1} l10,10 m0,-10 l-10,10" stroke="white" stroke-width="4"/><path d="M{:.1},{:.1} l10,10 m0,-10 l-10,10" stroke="#d62728" stroke-width="2"><title>{}: infeasible</title></path><text x="{:.1}" y="{label_y:.1}" font-size="11" font-weight="bold">{}</text></g>"##,
+        esc(&p.class),
+        px - 5.0,
+        py - 5.0,
+        px - 5.0,
+        py - 5.0,
+        esc(&p.label),
+        px + 8.0,
+        esc(&p.label)
     );
-    // Legend of marks, circles and lines.
-    let mut y = a.py1 + bh + 24.0;
+}
+
+/// Draw the legend of a top view below its colour bar: the mark classes, the circles, the
+/// outlines and, if any placement is infeasible, its cross.
+fn top_view_legend(
+    s: &mut String,
+    bar: &ColourBar,
+    classes: &[String],
+    v: &TopView,
+    any_infeasible: bool,
+) {
+    let bx = bar.bx;
+    let mut y = bar.top + bar.h + 24.0;
     for (kk, c) in classes.iter().enumerate() {
         let _ = write!(
             s,
@@ -1356,8 +1533,6 @@ pub fn top_view(f: &Frame, v: &TopView) -> String {
             bx + 16.0
         );
     }
-    axis_labels(&mut s, &f2);
-    finish(s, n)
 }
 
 /// Stacked bars: one bar per category, `parts` (name, one value per category) stacked; positive

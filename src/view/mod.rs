@@ -709,23 +709,15 @@ pub fn case_of_run(dir: &std::path::Path, case: &str) -> Result<CaseOfRun> {
             .unwrap_or_default()
     };
     let cases = list("cases");
-    let name_of = |c: &Value| {
-        format!(
-            "{}/{}/{}",
-            c.get("robot").and_then(Value::as_str).unwrap_or("?"),
-            c.get("cell").and_then(Value::as_str).unwrap_or("?"),
-            c.get("path").and_then(Value::as_str).unwrap_or("?")
-        )
-    };
     let c = match case.parse::<usize>() {
         Ok(i) => cases.get(i),
-        Err(_) => cases.iter().find(|c| name_of(c) == case),
+        Err(_) => cases.iter().find(|c| case_name(c) == case),
     }
     .ok_or_else(|| {
         bad(format!(
             "no case `{case}`: give an index 0 to {} or robot/cell/path (e.g. `{}`)",
             cases.len().saturating_sub(1),
-            cases.first().map(name_of).unwrap_or_default()
+            cases.first().map(case_name).unwrap_or_default()
         ))
     })?;
     let named = |k: &str, name: &str| -> Result<Value> {
@@ -738,20 +730,10 @@ pub fn case_of_run(dir: &std::path::Path, case: &str) -> Result<CaseOfRun> {
     let robot = named("robots", &field(c, "robot"))?;
     let cell = named("cells", &field(c, "cell"))?;
     let path = named("paths", &field(c, "path"))?;
-    let opts = |x: &Value| -> Vec<String> {
-        x.get("options")
-            .and_then(Value::as_array)
-            .map(|a| {
-                a.iter()
-                    .filter_map(|o| o.as_str().map(str::to_string))
-                    .collect()
-            })
-            .unwrap_or_default()
-    };
-    let mut options = opts(&v);
-    options.extend(opts(&robot));
-    options.extend(opts(&cell));
-    options.extend(opts(&path));
+    let mut options = options_of(&v);
+    options.extend(options_of(&robot));
+    options.extend(options_of(&cell));
+    options.extend(options_of(&path));
     let placement = match c.get("placement") {
         Some(p) if !p.is_null() => {
             Some(placement_from_json(p).map_err(|e| bad(format!("case {case}: placement: {e}")))?)
@@ -760,7 +742,7 @@ pub fn case_of_run(dir: &std::path::Path, case: &str) -> Result<CaseOfRun> {
     };
     Ok(CaseOfRun {
         index: c.get("case").and_then(Value::as_u64).unwrap_or(0) as usize,
-        name: name_of(c),
+        name: case_name(c),
         robot: field(&robot, "robot"),
         tool: robot
             .get("tool")
@@ -768,17 +750,43 @@ pub fn case_of_run(dir: &std::path::Path, case: &str) -> Result<CaseOfRun> {
             .map(str::to_string),
         path: field(&path, "file"),
         options,
-        cell: cell
-            .get("placement")
-            .and_then(Value::as_object)
-            .map(|m| {
-                m.iter()
-                    .map(|(k, v)| (k.clone(), v.as_str().map_or(v.to_string(), str::to_string)))
-                    .collect()
-            })
-            .unwrap_or_default(),
+        cell: cell_placement(&cell),
         placement,
     })
+}
+
+/// A study case's name: "robot/cell/path" ("?" for a missing part).
+fn case_name(c: &Value) -> String {
+    format!(
+        "{}/{}/{}",
+        c.get("robot").and_then(Value::as_str).unwrap_or("?"),
+        c.get("cell").and_then(Value::as_str).unwrap_or("?"),
+        c.get("path").and_then(Value::as_str).unwrap_or("?")
+    )
+}
+
+/// The command-line options a study entry (the study, a robot, a cell, a path) lists.
+fn options_of(x: &Value) -> Vec<String> {
+    x.get("options")
+        .and_then(Value::as_array)
+        .map(|a| {
+            a.iter()
+                .filter_map(|o| o.as_str().map(str::to_string))
+                .collect()
+        })
+        .unwrap_or_default()
+}
+
+/// A study cell's placement fields as the command line takes them (`x`, `y`, `z`, `yaw`, …).
+fn cell_placement(cell: &Value) -> Vec<(String, String)> {
+    cell.get("placement")
+        .and_then(Value::as_object)
+        .map(|m| {
+            m.iter()
+                .map(|(k, v)| (k.clone(), v.as_str().map_or(v.to_string(), str::to_string)))
+                .collect()
+        })
+        .unwrap_or_default()
 }
 
 fn infeasible_json(i: &Infeasible) -> Value {

@@ -18,6 +18,7 @@
 
 use super::{placement_from_json, placement_json, ViewState};
 use crate::error::{Error, Result};
+use crate::evaluate::evaluator::Evaluator;
 use crate::search::run::{Observer, Progress, Stage};
 use serde_json::{json, Value};
 use std::net::SocketAddr;
@@ -250,6 +251,13 @@ pub fn serve(bound: Bound, state: &ViewState) -> Result<()> {
         .try_clone()
         .map_err(|e| Error::Invalid(format!("cannot start the web server: {e}")))?;
     let (tx, rx) = mpsc::channel::<Request>();
+    let routes = Routes {
+        bound: &bound,
+        state,
+        index: &index,
+        slot: &slot,
+        opt: &opt,
+    };
     std::thread::scope(|s| {
         // The connections: axum on the one-thread runtime. When it ends (the listener
         // failed), the channel closes and so does the dispatching loop below.
@@ -262,186 +270,10 @@ pub fn serve(bound: Bound, state: &ViewState) -> Result<()> {
                 let _ = axum::serve(listener, app).await;
             })
         });
-        s.spawn(|| {
-            // A robot without inverse kinematics has no scratch: each request says why.
-            let mut sc = ev.scratch();
-            loop {
-                let p = {
-                    let Ok(mut g) = slot.pending.lock() else {
-                        return;
-                    };
-                    loop {
-                        if let Some(p) = g.take() {
-                            break p;
-                        }
-                        if slot.closing.load(std::sync::atomic::Ordering::Relaxed) {
-                            return;
-                        }
-                        g = match slot.ready.wait(g) {
-                            Ok(g) => g,
-                            Err(_) => return,
-                        };
-                    }
-                };
-                let answer = match &mut sc {
-                    Ok(sc) => {
-                        placement_from_json(&p.body).and_then(|at| state.evaluate(&ev, sc, &at))
-                    }
-                    Err(e) => Err(Error::Invalid(e.to_string())),
-                };
-                let _ = match answer {
-                    Ok(mut v) => {
-                        v["seq"] = json!(p.seq);
-                        p.req.respond(json_response(200, &v))
-                    }
-                    Err(e) => p.req.respond(error_response(400, &e.to_string())),
-                };
-            }
-        });
+        s.spawn(|| evaluate_waiting(&slot, state, &ev));
         for req in rx.iter() {
-            if let Some(r) = refuse(&bound, &req) {
-                let _ = req.respond(r);
-                continue;
-            }
-            let url = req.url().to_string();
-            let path = url.split('?').next().unwrap_or("").to_string();
-            let (get, post) = (req.get, req.post);
-            match (path.as_str(), get, post) {
-                ("/", true, _) => {
-                    let _ =
-                        req.respond(bytes_response(index.as_bytes(), "text/html; charset=utf-8"));
-                }
-                (p, true, _) if ASSETS.iter().any(|a| a.0 == p) => {
-                    if let Some((_, b, ctype)) = ASSETS.iter().find(|a| a.0 == p) {
-                        let _ = req.respond(bytes_response(b, ctype));
-                    }
-                }
-                (p, true, _) if p.starts_with("/api/mesh/") => {
-                    let k = &p["/api/mesh/".len()..];
-                    let _ = req.respond(mesh_response(state, k));
-                }
-                ("/api/scene", true, _) => {
-                    let _ = req.respond(json_response(200, &state.scene()));
-                }
-                ("/api/evaluate", _, true) => {
-                    let body = match read_json(&req) {
-                        Ok(b) => b,
-                        Err((code, msg)) => {
-                            let _ = req.respond(error_response(code, &msg));
-                            continue;
-                        }
-                    };
-                    let seq = body.get("seq").and_then(Value::as_u64).unwrap_or(0);
-                    let new = Pending { seq, body, req };
-                    let Ok(mut g) = slot.pending.lock() else {
-                        break;
-                    };
-                    let stale = match g.take() {
-                        Some(old) if old.seq > new.seq => {
-                            *g = Some(old);
-                            Some(new)
-                        }
-                        old => {
-                            *g = Some(new);
-                            old
-                        }
-                    };
-                    drop(g);
-                    slot.ready.notify_one();
-                    if let Some(p) = stale {
-                        let _ = p
-                            .req
-                            .respond(json_response(200, &json!({"stale": true, "seq": p.seq})));
-                    }
-                }
-                ("/api/playback", _, true) => {
-                    let r = read_json(&req).and_then(|b| {
-                        let at = placement_from_json(&b).map_err(|e| (400, e.to_string()))?;
-                        let frames = b.get("frames").and_then(Value::as_u64).unwrap_or(200);
-                        state
-                            .playback(&at, frames as usize)
-                            .map_err(|e| (400, e.to_string()))
-                    });
-                    let _ = req.respond(match r {
-                        Ok(v) => json_response(200, &v),
-                        Err((c, m)) => error_response(c, &m),
-                    });
-                }
-                ("/api/export", _, true) => {
-                    let r = read_json(&req).and_then(|b| {
-                        let at = placement_from_json(&b).map_err(|e| (400, e.to_string()))?;
-                        state.export(&at).map_err(|e| (409, e.to_string()))
-                    });
-                    let _ = req.respond(match r {
-                        Ok(files) => json_response(
-                            200,
-                            &json!({"written": files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>()}),
-                        ),
-                        Err((c, m)) => error_response(c, &m),
-                    });
-                }
-                ("/api/optimise", true, _) => {
-                    let v = opt.lock().map(|g| opt_json(&g)).unwrap_or(Value::Null);
-                    let _ = req.respond(json_response(200, &v));
-                }
-                ("/api/optimise", _, true) => {
-                    let started = match opt.lock() {
-                        Ok(mut g) if g.state != "running" => {
-                            *g = OptState {
-                                state: "running",
-                                ..Default::default()
-                            };
-                            true
-                        }
-                        _ => false,
-                    };
-                    if started {
-                        let opt = &opt;
-                        s.spawn(move || {
-                            let r =
-                                crate::search::run(&state.config.job, &OptObserver(opt));
-                            if let Ok(mut g) = opt.lock() {
-                                match r {
-                                    Ok(o) => match o.report.best() {
-                                        Some(b) => {
-                                            g.state = "done";
-                                            g.secs = Some(o.secs);
-                                            g.answer = Some(json!({
-                                                "placement": placement_json(&b.placement),
-                                                "energy_j": b.feasible().map(|f| f.energy_j),
-                                                "supply_text": b.feasible().map(|f| super::one_decimal(f.supply_j)),
-                                            }));
-                                        }
-                                        None => {
-                                            g.state = "failed";
-                                            g.error = Some("no feasible placement".into());
-                                        }
-                                    },
-                                    Err(e) => {
-                                        g.state = "failed";
-                                        g.error = Some(e.to_string());
-                                    }
-                                }
-                            }
-                        });
-                    }
-                    let v = opt.lock().map(|g| opt_json(&g)).unwrap_or(Value::Null);
-                    let _ = req.respond(json_response(200, &v));
-                }
-                (
-                    "/" | "/api/scene" | "/api/evaluate" | "/api/playback" | "/api/export"
-                    | "/api/optimise",
-                    _,
-                    _,
-                ) => {
-                    let _ = req.respond(error_response(405, "method not allowed"));
-                }
-                (p, _, _) if ASSETS.iter().any(|a| a.0 == p) || p.starts_with("/api/mesh/") => {
-                    let _ = req.respond(error_response(405, "method not allowed"));
-                }
-                _ => {
-                    let _ = req.respond(error_response(404, "not found"));
-                }
+            if !routes.handle(s, req) {
+                break;
             }
         }
         // The listener ended: wake the evaluating thread to end too.
@@ -450,6 +282,241 @@ pub fn serve(bound: Bound, state: &ViewState) -> Result<()> {
         slot.ready.notify_all();
         Ok(())
     })
+}
+
+/// The evaluating thread: evaluate the placement waiting in the slot and answer it, until
+/// the listener ends.
+fn evaluate_waiting<'c>(slot: &Slot, state: &ViewState<'c>, ev: &Evaluator<'_, 'c>) {
+    // A robot without inverse kinematics has no scratch: each request says why.
+    let mut sc = ev.scratch();
+    loop {
+        let p = {
+            let Ok(mut g) = slot.pending.lock() else {
+                return;
+            };
+            loop {
+                if let Some(p) = g.take() {
+                    break p;
+                }
+                if slot.closing.load(std::sync::atomic::Ordering::Relaxed) {
+                    return;
+                }
+                g = match slot.ready.wait(g) {
+                    Ok(g) => g,
+                    Err(_) => return,
+                };
+            }
+        };
+        let answer = match &mut sc {
+            Ok(sc) => placement_from_json(&p.body).and_then(|at| state.evaluate(ev, sc, &at)),
+            Err(e) => Err(Error::Invalid(e.to_string())),
+        };
+        let _ = match answer {
+            Ok(mut v) => {
+                v["seq"] = json!(p.seq);
+                p.req.respond(json_response(200, &v))
+            }
+            Err(e) => p.req.respond(error_response(400, &e.to_string())),
+        };
+    }
+}
+
+/// What the dispatching thread routes requests to: the server's binding, the view, the page,
+/// the evaluation slot and the state of the optimisation.
+struct Routes<'a, 'c> {
+    bound: &'a Bound,
+    state: &'a ViewState<'c>,
+    index: &'a str,
+    slot: &'a Slot,
+    opt: &'a Mutex<OptState>,
+}
+
+impl<'a, 'c> Routes<'a, 'c> {
+    /// Answer one request (an evaluation is handed to the evaluating thread, an optimisation
+    /// started on a thread of `s`); `false`: the slot is broken, stop dispatching.
+    fn handle<'scope>(&self, s: &'scope std::thread::Scope<'scope, '_>, req: Request) -> bool
+    where
+        'a: 'scope,
+    {
+        let state = self.state;
+        if let Some(r) = refuse(self.bound, &req) {
+            let _ = req.respond(r);
+            return true;
+        }
+        let url = req.url().to_string();
+        let path = url.split('?').next().unwrap_or("").to_string();
+        let (get, post) = (req.get, req.post);
+        match (path.as_str(), get, post) {
+            ("/", true, _) => {
+                let _ = req.respond(bytes_response(
+                    self.index.as_bytes(),
+                    "text/html; charset=utf-8",
+                ));
+            }
+            (p, true, _) if ASSETS.iter().any(|a| a.0 == p) => {
+                if let Some((_, b, ctype)) = ASSETS.iter().find(|a| a.0 == p) {
+                    let _ = req.respond(bytes_response(b, ctype));
+                }
+            }
+            (p, true, _) if p.starts_with("/api/mesh/") => {
+                let k = &p["/api/mesh/".len()..];
+                let _ = req.respond(mesh_response(state, k));
+            }
+            ("/api/scene", true, _) => {
+                let _ = req.respond(json_response(200, &state.scene()));
+            }
+            ("/api/evaluate", _, true) => return self.queue_evaluation(req),
+            ("/api/playback", _, true) => {
+                let a = playback_answer(state, &req);
+                let _ = req.respond(a);
+            }
+            ("/api/export", _, true) => {
+                let a = export_answer(state, &req);
+                let _ = req.respond(a);
+            }
+            ("/api/optimise", true, _) => {
+                let v = self.opt.lock().map(|g| opt_json(&g)).unwrap_or(Value::Null);
+                let _ = req.respond(json_response(200, &v));
+            }
+            ("/api/optimise", _, true) => {
+                self.start_optimise(s);
+                let v = self.opt.lock().map(|g| opt_json(&g)).unwrap_or(Value::Null);
+                let _ = req.respond(json_response(200, &v));
+            }
+            (
+                "/" | "/api/scene" | "/api/evaluate" | "/api/playback" | "/api/export"
+                | "/api/optimise",
+                _,
+                _,
+            ) => {
+                let _ = req.respond(error_response(405, "method not allowed"));
+            }
+            (p, _, _) if ASSETS.iter().any(|a| a.0 == p) || p.starts_with("/api/mesh/") => {
+                let _ = req.respond(error_response(405, "method not allowed"));
+            }
+            _ => {
+                let _ = req.respond(error_response(404, "not found"));
+            }
+        }
+        true
+    }
+
+    /// Put an evaluation in the slot, answering the one it replaces (or itself, if the
+    /// waiting one is newer) as stale; `false`: the slot is broken.
+    fn queue_evaluation(&self, req: Request) -> bool {
+        let body = match read_json(&req) {
+            Ok(b) => b,
+            Err((code, msg)) => {
+                let _ = req.respond(error_response(code, &msg));
+                return true;
+            }
+        };
+        let seq = body.get("seq").and_then(Value::as_u64).unwrap_or(0);
+        let new = Pending { seq, body, req };
+        let Ok(mut g) = self.slot.pending.lock() else {
+            return false;
+        };
+        let stale = match g.take() {
+            Some(old) if old.seq > new.seq => {
+                *g = Some(old);
+                Some(new)
+            }
+            old => {
+                *g = Some(new);
+                old
+            }
+        };
+        drop(g);
+        self.slot.ready.notify_one();
+        if let Some(p) = stale {
+            let _ = p
+                .req
+                .respond(json_response(200, &json!({"stale": true, "seq": p.seq})));
+        }
+        true
+    }
+
+    /// Start the optimisation on a thread of `s` unless one is running.
+    fn start_optimise<'scope>(&self, s: &'scope std::thread::Scope<'scope, '_>)
+    where
+        'a: 'scope,
+    {
+        let started = match self.opt.lock() {
+            Ok(mut g) if g.state != "running" => {
+                *g = OptState {
+                    state: "running",
+                    ..Default::default()
+                };
+                true
+            }
+            _ => false,
+        };
+        if started {
+            let (opt, state) = (self.opt, self.state);
+            s.spawn(move || {
+                let r = crate::search::run(&state.config.job, &OptObserver(opt));
+                if let Ok(mut g) = opt.lock() {
+                    record_optimise(&mut g, r);
+                }
+            });
+        }
+    }
+}
+
+/// Record the end of the optimisation: its answer, or why it failed.
+fn record_optimise(g: &mut OptState, r: Result<crate::search::OptimiseOutcome>) {
+    match r {
+        Ok(o) => match o.report.best() {
+            Some(b) => {
+                g.state = "done";
+                g.secs = Some(o.secs);
+                g.answer = Some(json!({
+                    "placement": placement_json(&b.placement),
+                    "energy_j": b.feasible().map(|f| f.energy_j),
+                    "supply_text": b.feasible().map(|f| super::one_decimal(f.supply_j)),
+                }));
+            }
+            None => {
+                g.state = "failed";
+                g.error = Some("no feasible placement".into());
+            }
+        },
+        Err(e) => {
+            g.state = "failed";
+            g.error = Some(e.to_string());
+        }
+    }
+}
+
+/// The answer to `/api/playback`: the frames of the print at the placement in the body.
+fn playback_answer(state: &ViewState, req: &Request) -> Answer {
+    let r = read_json(req).and_then(|b| {
+        let at = placement_from_json(&b).map_err(|e| (400, e.to_string()))?;
+        let frames = b.get("frames").and_then(Value::as_u64).unwrap_or(200);
+        state
+            .playback(&at, frames as usize)
+            .map_err(|e| (400, e.to_string()))
+    });
+    match r {
+        Ok(v) => json_response(200, &v),
+        Err((c, m)) => error_response(c, &m),
+    }
+}
+
+/// The answer to `/api/export`: the robot program files written for the placement in the
+/// body.
+fn export_answer(state: &ViewState, req: &Request) -> Answer {
+    let r = read_json(req).and_then(|b| {
+        let at = placement_from_json(&b).map_err(|e| (400, e.to_string()))?;
+        state.export(&at).map_err(|e| (409, e.to_string()))
+    });
+    match r {
+        Ok(files) => json_response(
+            200,
+            &json!({"written": files.iter().map(|f| f.display().to_string()).collect::<Vec<_>>()}),
+        ),
+        Err((c, m)) => error_response(c, &m),
+    }
 }
 
 fn opt_json(g: &OptState) -> Value {
