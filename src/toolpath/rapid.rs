@@ -76,6 +76,28 @@ fn describe(t: &Tok) -> String {
     }
 }
 
+/// Where the number starting at `i` ends: digits and points, then an exponent when one
+/// with digits follows.
+fn number_end(ch: &[char], i: usize) -> usize {
+    let mut j = i;
+    while j < ch.len() && (ch[j].is_ascii_digit() || ch[j] == '.') {
+        j += 1;
+    }
+    if j < ch.len() && (ch[j] == 'e' || ch[j] == 'E') {
+        let mut k = j + 1;
+        if k < ch.len() && (ch[k] == '+' || ch[k] == '-') {
+            k += 1;
+        }
+        if k < ch.len() && ch[k].is_ascii_digit() {
+            while k < ch.len() && ch[k].is_ascii_digit() {
+                k += 1;
+            }
+            j = k;
+        }
+    }
+    j
+}
+
 fn lex(file: &str, text: &str) -> Result<Vec<Token>> {
     let mut out = Vec::new();
     let mut last_line = 1;
@@ -123,22 +145,7 @@ fn lex(file: &str, text: &str) -> Result<Vec<Token>> {
             } else if c.is_ascii_digit()
                 || (c == '.' && ch.get(i + 1).is_some_and(|d| d.is_ascii_digit()))
             {
-                let mut j = i;
-                while j < ch.len() && (ch[j].is_ascii_digit() || ch[j] == '.') {
-                    j += 1;
-                }
-                if j < ch.len() && (ch[j] == 'e' || ch[j] == 'E') {
-                    let mut k = j + 1;
-                    if k < ch.len() && (ch[k] == '+' || ch[k] == '-') {
-                        k += 1;
-                    }
-                    if k < ch.len() && ch[k].is_ascii_digit() {
-                        while k < ch.len() && ch[k].is_ascii_digit() {
-                            k += 1;
-                        }
-                        j = k;
-                    }
-                }
+                let j = number_end(&ch, i);
                 let s: String = ch[i..j].iter().collect();
                 match s.parse::<f64>() {
                     Ok(v) if v.is_finite() => push(Tok::Num(v)),
@@ -717,95 +724,9 @@ impl Parser<'_> {
         }
         let w = word.to_ascii_lowercase();
         match w.as_str() {
-            "if" => {
-                self.next();
-                // `IF cond THEN … ENDIF`, or the compact `IF cond instruction;`.
-                loop {
-                    match &self.peek().tok {
-                        Tok::Ident(x) if x.eq_ignore_ascii_case("then") => {
-                            self.next();
-                            break;
-                        }
-                        Tok::Punct(x) if x == ";" => {
-                            self.next();
-                            return Ok(Some(Stmt::Word {
-                                name: "IF (compact, not executed)".into(),
-                                line: t.line,
-                                col: t.col,
-                            }));
-                        }
-                        Tok::Eof => return Err(self.err_here("THEN after the IF condition")),
-                        _ => {
-                            self.next();
-                        }
-                    }
-                }
-                let mut arms = Vec::new();
-                let mut complete = false;
-                let ends = ["elseif", "else", "endif"];
-                let (mut body, mut end) = self.block(m, &ends, ("IF", t.line), depth + 1)?;
-                loop {
-                    arms.push(body);
-                    match end.as_str() {
-                        "elseif" => {
-                            self.skip_to_word("then", "THEN after the ELSEIF condition")?;
-                            (body, end) = self.block(m, &ends, ("IF", t.line), depth + 1)?;
-                        }
-                        "else" => {
-                            complete = true;
-                            (body, end) = self.block(m, &["endif"], ("IF", t.line), depth + 1)?;
-                        }
-                        _ => break,
-                    }
-                }
-                Ok(Some(Stmt::Branch {
-                    kind: "IF",
-                    line: t.line,
-                    col: t.col,
-                    arms,
-                    complete,
-                }))
-            }
-            "test" => {
-                self.next();
-                self.skip_line(t.line);
-                let ends = ["case", "default", "endtest"];
-                let (_, mut end) = self.block(m, &ends, ("TEST", t.line), depth + 1)?;
-                let mut arms = Vec::new();
-                let mut complete = false;
-                while end != "endtest" {
-                    complete |= end == "default";
-                    while !matches!(self.peek().tok, Tok::Eof) && !self.is_punct(":") {
-                        self.next();
-                    }
-                    self.expect(":", "':' after CASE or DEFAULT")?;
-                    let (body, e) = self.block(m, &ends, ("TEST", t.line), depth + 1)?;
-                    arms.push(body);
-                    end = e;
-                }
-                Ok(Some(Stmt::Branch {
-                    kind: "TEST",
-                    line: t.line,
-                    col: t.col,
-                    arms,
-                    complete,
-                }))
-            }
-            "for" | "while" => {
-                self.next();
-                self.skip_to_word("do", &format!("DO after the {} head", w.to_uppercase()))?;
-                let (kind, end) = if w == "for" {
-                    ("FOR", "endfor")
-                } else {
-                    ("WHILE", "endwhile")
-                };
-                let (body, _) = self.block(m, &[end], (kind, t.line), depth + 1)?;
-                Ok(Some(Stmt::Loop {
-                    kind,
-                    line: t.line,
-                    body,
-                }))
-            }
+            "if" => self.if_stmt(m, &t, depth),
+            "test" => self.test_stmt(m, &t, depth),
+            "for" | "while" => self.loop_stmt(m, &t, &w, depth),
             "movel" | "movej" | "movec" => {
                 self.next();
                 Ok(Some(Stmt::Move(self.move_stmt(
@@ -837,6 +758,107 @@ impl Parser<'_> {
                 }))
             }
         }
+    }
+
+    /// `IF … ENDIF` (its arms) or the compact `IF cond instruction;` (not executed), at `t`.
+    fn if_stmt(&mut self, m: &mut Module, t: &Token, depth: usize) -> Result<Option<Stmt>> {
+        self.next();
+        // `IF cond THEN … ENDIF`, or the compact `IF cond instruction;`.
+        loop {
+            match &self.peek().tok {
+                Tok::Ident(x) if x.eq_ignore_ascii_case("then") => {
+                    self.next();
+                    break;
+                }
+                Tok::Punct(x) if x == ";" => {
+                    self.next();
+                    return Ok(Some(Stmt::Word {
+                        name: "IF (compact, not executed)".into(),
+                        line: t.line,
+                        col: t.col,
+                    }));
+                }
+                Tok::Eof => return Err(self.err_here("THEN after the IF condition")),
+                _ => {
+                    self.next();
+                }
+            }
+        }
+        let mut arms = Vec::new();
+        let mut complete = false;
+        let ends = ["elseif", "else", "endif"];
+        let (mut body, mut end) = self.block(m, &ends, ("IF", t.line), depth + 1)?;
+        loop {
+            arms.push(body);
+            match end.as_str() {
+                "elseif" => {
+                    self.skip_to_word("then", "THEN after the ELSEIF condition")?;
+                    (body, end) = self.block(m, &ends, ("IF", t.line), depth + 1)?;
+                }
+                "else" => {
+                    complete = true;
+                    (body, end) = self.block(m, &["endif"], ("IF", t.line), depth + 1)?;
+                }
+                _ => break,
+            }
+        }
+        Ok(Some(Stmt::Branch {
+            kind: "IF",
+            line: t.line,
+            col: t.col,
+            arms,
+            complete,
+        }))
+    }
+
+    /// `TEST … CASE … DEFAULT … ENDTEST` at `t`: its case arms.
+    fn test_stmt(&mut self, m: &mut Module, t: &Token, depth: usize) -> Result<Option<Stmt>> {
+        self.next();
+        self.skip_line(t.line);
+        let ends = ["case", "default", "endtest"];
+        let (_, mut end) = self.block(m, &ends, ("TEST", t.line), depth + 1)?;
+        let mut arms = Vec::new();
+        let mut complete = false;
+        while end != "endtest" {
+            complete |= end == "default";
+            while !matches!(self.peek().tok, Tok::Eof) && !self.is_punct(":") {
+                self.next();
+            }
+            self.expect(":", "':' after CASE or DEFAULT")?;
+            let (body, e) = self.block(m, &ends, ("TEST", t.line), depth + 1)?;
+            arms.push(body);
+            end = e;
+        }
+        Ok(Some(Stmt::Branch {
+            kind: "TEST",
+            line: t.line,
+            col: t.col,
+            arms,
+            complete,
+        }))
+    }
+
+    /// `FOR … ENDFOR` or `WHILE … ENDWHILE` (`w`, lower case) at `t`.
+    fn loop_stmt(
+        &mut self,
+        m: &mut Module,
+        t: &Token,
+        w: &str,
+        depth: usize,
+    ) -> Result<Option<Stmt>> {
+        self.next();
+        self.skip_to_word("do", &format!("DO after the {} head", w.to_uppercase()))?;
+        let (kind, end) = if w == "for" {
+            ("FOR", "endfor")
+        } else {
+            ("WHILE", "endwhile")
+        };
+        let (body, _) = self.block(m, &[end], (kind, t.line), depth + 1)?;
+        Ok(Some(Stmt::Loop {
+            kind,
+            line: t.line,
+            body,
+        }))
     }
 
     /// `PROC name(…) … ENDPROC` (also `FUNC type name(…)` and `TRAP name`), the keyword next.
@@ -1030,42 +1052,76 @@ impl<'a> Run<'a> {
                         }
                         continue;
                     }
-                    let mut reached: Vec<String> = Vec::new();
-                    for a in arms {
-                        for (n, l) in self.signature(a, &mut Vec::new()) {
-                            let item = if n.starts_with("a Move") {
-                                n
-                            } else {
-                                format!("{n} (called at {}:{l})", self.file)
-                            };
-                            if !reached.contains(&item) {
-                                reached.push(item);
-                            }
-                        }
-                    }
-                    if !complete {
-                        reached.push("nothing (no ELSE/DEFAULT)".into());
-                    }
-                    let within = self
-                        .stack
-                        .last()
-                        .map_or(String::new(), |(n, _)| format!(" in {n}"));
-                    return Err(perr(
-                        self.file,
-                        *line,
-                        *col,
-                        format!(
-                            "the {kind}{within} chooses at run time between {}: the reader \
-                             cannot tell which the controller runs; name the procedure to read \
-                             as the entry. Procedures: {}",
-                            reached.join(", "),
-                            self.procedures_list()
-                        ),
-                    ));
+                    return Err(self.undecidable(kind, (*line, *col), arms, *complete));
                 }
             }
         }
         Ok(())
+    }
+
+    /// The error for a branch whose arms reach different moves or calls: the reader cannot
+    /// tell which one the controller runs.
+    fn undecidable(
+        &self,
+        kind: &str,
+        (line, col): (usize, usize),
+        arms: &[Vec<Stmt>],
+        complete: bool,
+    ) -> Error {
+        let mut reached: Vec<String> = Vec::new();
+        for a in arms {
+            for (n, l) in self.signature(a, &mut Vec::new()) {
+                let item = if n.starts_with("a Move") {
+                    n
+                } else {
+                    format!("{n} (called at {}:{l})", self.file)
+                };
+                if !reached.contains(&item) {
+                    reached.push(item);
+                }
+            }
+        }
+        if !complete {
+            reached.push("nothing (no ELSE/DEFAULT)".into());
+        }
+        let within = self
+            .stack
+            .last()
+            .map_or(String::new(), |(n, _)| format!(" in {n}"));
+        perr(
+            self.file,
+            line,
+            col,
+            format!(
+                "the {kind}{within} chooses at run time between {}: the reader \
+                 cannot tell which the controller runs; name the procedure to read \
+                 as the entry. Procedures: {}",
+                reached.join(", "),
+                self.procedures_list()
+            ),
+        )
+    }
+
+    /// The procedure to run from: `entry` (which must exist) when given, else `main` if any.
+    fn entry_routine(&self, entry: Option<&str>) -> Result<Option<&'a Routine>> {
+        let file = self.file;
+        Ok(match entry {
+            Some(name) => match self.routine(name) {
+                Some(r) => Some(r),
+                None => {
+                    return Err(Error::Invalid(format!(
+                        "{file}: no procedure named '{name}' to read as the entry: expected one of \
+                         {}",
+                        if self.all.is_empty() {
+                            "them, but the module has none".to_string()
+                        } else {
+                            self.procedures_list()
+                        }
+                    )))
+                }
+            },
+            None => self.routine("main"),
+        })
     }
 
     fn call(&mut self, r: &'a Routine, line: usize, col: usize) -> Result<()> {
@@ -1164,23 +1220,7 @@ fn execute<'a>(file: &'a str, m: &'a Module, entry: Option<&str>) -> Result<Exec
             ));
         }
     }
-    let chosen = match entry {
-        Some(name) => match run.routine(name) {
-            Some(r) => Some(r),
-            None => {
-                return Err(Error::Invalid(format!(
-                    "{file}: no procedure named '{name}' to read as the entry: expected one of \
-                     {}",
-                    if m.routines.is_empty() {
-                        "them, but the module has none".to_string()
-                    } else {
-                        run.procedures_list()
-                    }
-                )))
-            }
-        },
-        None => run.routine("main"),
-    };
+    let chosen = run.entry_routine(entry)?;
     let mut moves = Vec::new();
     let mut skipped = BTreeSet::new();
     let entry_name;
@@ -1833,124 +1873,26 @@ pub fn read_program(text: &str, file: &str) -> Result<RapidProgram> {
 pub fn read_program_entry(text: &str, file: &str, entry: Option<&str>) -> Result<RapidProgram> {
     let module = parse_module(file, text)?;
     let ex = execute(file, &module, entry)?;
-    let mut by_place: HashMap<(usize, usize), Option<RapidTarget>> = HashMap::new();
     let toks = lex(file, text)?;
-    let mut prog = RapidProgram::default();
-    for l in text.lines() {
-        let t = l.trim_start();
-        if t.to_ascii_lowercase().starts_with("module") {
-            break;
-        }
-        prog.comments_before_module += usize::from(t.starts_with('!'));
-    }
+    let mut scan = ProgramScan {
+        file,
+        prog: RapidProgram::default(),
+        robtargets: HashMap::new(),
+        by_place: HashMap::new(),
+    };
+    scan.prog.comments_before_module = comments_before_module(text);
     let mut p = Parser { file, toks, i: 0 };
-    let mut robtargets: HashMap<String, Value> = HashMap::new();
     loop {
         let t = p.peek().clone();
         match &t.tok {
             Tok::Eof => break,
-            Tok::Ident(word) => {
-                let w = word.to_ascii_lowercase();
-                match w.as_str() {
-                    "module" => {
-                        p.next();
-                        let (name, _, _) = p.ident("a module name")?;
-                        prog.modules.push(name);
-                        p.skip_line(t.line);
-                    }
-                    "const" | "pers" | "var" => {
-                        p.next();
-                        let (ty, _, _) = p.ident("a data type after CONST/PERS/VAR")?;
-                        let (name, _, _) = p.ident("a data name")?;
-                        let tyl = ty.to_ascii_lowercase();
-                        if p.is_punct(":=") && matches!(tyl.as_str(), "robtarget" | "jointtarget") {
-                            p.next();
-                            let v = p.value(0)?;
-                            p.expect(";", &format!("';' after the value of {name}"))?;
-                            if tyl == "robtarget" {
-                                robtargets.insert(name.to_ascii_lowercase(), v);
-                            } else {
-                                let axes = match &v {
-                                    Value::Agg(items, _, _) => items.first().and_then(nums_of),
-                                    _ => None,
-                                }
-                                .ok_or_else(|| {
-                                    perr(
-                                        file,
-                                        t.line,
-                                        t.col,
-                                        "expected a jointtarget [[j1, …], [eax…]]",
-                                    )
-                                })?;
-                                prog.jointtargets.push((name.to_ascii_lowercase(), axes));
-                            }
-                        } else {
-                            p.skip_statement();
-                        }
-                    }
-                    "movel" | "movej" | "movec" | "moveabsj" => {
-                        p.next();
-                        let m = p.move_stmt(word.clone(), t.line, t.col)?;
-                        if w == "moveabsj" {
-                            if let Some(Value::Ident(n, _, _)) = m.args.first().map(|a| &a.value) {
-                                prog.abs_moves.push(n.to_ascii_lowercase());
-                            }
-                            continue;
-                        }
-                        let k = usize::from(w == "movec");
-                        let v = m.args.get(k).map(|a| &a.value);
-                        let v = match v {
-                            Some(Value::Ident(n, _, _)) => robtargets.get(&n.to_ascii_lowercase()),
-                            other => other,
-                        };
-                        // A move the controller does not run may have any target; one it
-                        // runs must have a full robtarget (checked below).
-                        let Some((pos_mm, quat, conf)) = v.and_then(target_parts) else {
-                            by_place.insert((m.line, m.col), None);
-                            continue;
-                        };
-                        let wobj = match m.opts.get("wobj") {
-                            Some(Some(Value::Ident(n, _, _))) => n.clone(),
-                            _ => "wobj0".into(),
-                        };
-                        by_place.insert(
-                            (m.line, m.col),
-                            Some(RapidTarget {
-                                instr: m.instr.clone(),
-                                pos_mm,
-                                quat,
-                                conf,
-                                wobj,
-                                line: m.line,
-                            }),
-                        );
-                    }
-                    "confl" | "singarea" => {
-                        p.next();
-                        let mut opts = HashMap::new();
-                        p.switches(&mut opts)?;
-                        p.expect(";", &format!("';' after {word}"))?;
-                        let on = opts.keys().next().cloned().unwrap_or_default();
-                        if w == "confl" {
-                            prog.conf_l = Some(on == "on");
-                        } else {
-                            prog.sing_area = Some(on);
-                        }
-                    }
-                    "proc" | "endproc" | "endmodule" | "func" | "endfunc" | "trap" | "endtrap"
-                    | "if" | "elseif" | "else" | "endif" | "for" | "endfor" | "while"
-                    | "endwhile" | "test" | "case" | "default" | "endtest" => {
-                        p.skip_line(t.line);
-                    }
-                    "local" | "task" => {
-                        p.next();
-                    }
-                    _ => p.skip_statement(),
-                }
-            }
+            Tok::Ident(word) => scan.word(&mut p, &t, word)?,
             _ => p.skip_statement(),
         }
     }
+    let ProgramScan {
+        mut prog, by_place, ..
+    } = scan;
     for m in &ex.moves {
         match by_place.get(&(m.line, m.col)) {
             Some(Some(t)) => prog.targets.push(t.clone()),
@@ -1966,4 +1908,142 @@ pub fn read_program_entry(text: &str, file: &str, entry: Option<&str>) -> Result
         }
     }
     Ok(prog)
+}
+
+/// The `!` comment lines before the first MODULE line.
+fn comments_before_module(text: &str) -> usize {
+    let mut n = 0;
+    for l in text.lines() {
+        let t = l.trim_start();
+        if t.to_ascii_lowercase().starts_with("module") {
+            break;
+        }
+        n += usize::from(t.starts_with('!'));
+    }
+    n
+}
+
+/// A pass over a module's text in file order, collecting what a controller needs.
+struct ProgramScan<'a> {
+    file: &'a str,
+    prog: RapidProgram,
+    /// Declared robtarget values, by lower-case name.
+    robtargets: HashMap<String, Value>,
+    /// Each move's target by its place (line, column); None when it is no full robtarget.
+    by_place: HashMap<(usize, usize), Option<RapidTarget>>,
+}
+
+impl ProgramScan<'_> {
+    /// Take the statement starting with the word `word` at token `t`.
+    fn word(&mut self, p: &mut Parser, t: &Token, word: &str) -> Result<()> {
+        let w = word.to_ascii_lowercase();
+        match w.as_str() {
+            "module" => {
+                p.next();
+                let (name, _, _) = p.ident("a module name")?;
+                self.prog.modules.push(name);
+                p.skip_line(t.line);
+            }
+            "const" | "pers" | "var" => {
+                p.next();
+                self.decl(p, t)?;
+            }
+            "movel" | "movej" | "movec" | "moveabsj" => {
+                p.next();
+                let m = p.move_stmt(word.to_string(), t.line, t.col)?;
+                self.move_target(&m, &w);
+            }
+            "confl" | "singarea" => {
+                p.next();
+                let mut opts = HashMap::new();
+                p.switches(&mut opts)?;
+                p.expect(";", &format!("';' after {word}"))?;
+                let on = opts.keys().next().cloned().unwrap_or_default();
+                if w == "confl" {
+                    self.prog.conf_l = Some(on == "on");
+                } else {
+                    self.prog.sing_area = Some(on);
+                }
+            }
+            "proc" | "endproc" | "endmodule" | "func" | "endfunc" | "trap" | "endtrap" | "if"
+            | "elseif" | "else" | "endif" | "for" | "endfor" | "while" | "endwhile" | "test"
+            | "case" | "default" | "endtest" => {
+                p.skip_line(t.line);
+            }
+            "local" | "task" => {
+                p.next();
+            }
+            _ => p.skip_statement(),
+        }
+        Ok(())
+    }
+
+    /// A data declaration after CONST/PERS/VAR: robtargets and jointtargets are kept.
+    fn decl(&mut self, p: &mut Parser, t: &Token) -> Result<()> {
+        let (ty, _, _) = p.ident("a data type after CONST/PERS/VAR")?;
+        let (name, _, _) = p.ident("a data name")?;
+        let tyl = ty.to_ascii_lowercase();
+        if !(p.is_punct(":=") && matches!(tyl.as_str(), "robtarget" | "jointtarget")) {
+            p.skip_statement();
+            return Ok(());
+        }
+        p.next();
+        let v = p.value(0)?;
+        p.expect(";", &format!("';' after the value of {name}"))?;
+        if tyl == "robtarget" {
+            self.robtargets.insert(name.to_ascii_lowercase(), v);
+        } else {
+            let axes = match &v {
+                Value::Agg(items, _, _) => items.first().and_then(nums_of),
+                _ => None,
+            }
+            .ok_or_else(|| {
+                perr(
+                    self.file,
+                    t.line,
+                    t.col,
+                    "expected a jointtarget [[j1, …], [eax…]]",
+                )
+            })?;
+            self.prog.jointtargets.push((name.to_ascii_lowercase(), axes));
+        }
+        Ok(())
+    }
+
+    /// Note a move's target (`w`: the lower-case instruction) by its place.
+    fn move_target(&mut self, m: &MoveStmt, w: &str) {
+        if w == "moveabsj" {
+            if let Some(Value::Ident(n, _, _)) = m.args.first().map(|a| &a.value) {
+                self.prog.abs_moves.push(n.to_ascii_lowercase());
+            }
+            return;
+        }
+        let k = usize::from(w == "movec");
+        let v = m.args.get(k).map(|a| &a.value);
+        let v = match v {
+            Some(Value::Ident(n, _, _)) => self.robtargets.get(&n.to_ascii_lowercase()),
+            other => other,
+        };
+        // A move the controller does not run may have any target; one it
+        // runs must have a full robtarget (checked below).
+        let Some((pos_mm, quat, conf)) = v.and_then(target_parts) else {
+            self.by_place.insert((m.line, m.col), None);
+            return;
+        };
+        let wobj = match m.opts.get("wobj") {
+            Some(Some(Value::Ident(n, _, _))) => n.clone(),
+            _ => "wobj0".into(),
+        };
+        self.by_place.insert(
+            (m.line, m.col),
+            Some(RapidTarget {
+                instr: m.instr.clone(),
+                pos_mm,
+                quat,
+                conf,
+                wobj,
+                line: m.line,
+            }),
+        );
+    }
 }
