@@ -334,8 +334,7 @@ fn read_inertial(
     if mass < 0.0 {
         return Err(cx.err(m, format!("link `{name}`: negative mass {mass}")));
     }
-    let i =
-        child(inn, "inertia").ok_or_else(|| cx.err(inn, "<inertial> needs <inertia .../>"))?;
+    let i = child(inn, "inertia").ok_or_else(|| cx.err(inn, "<inertial> needs <inertia .../>"))?;
     let g = |a: &str| cx.float(i, a, Some(0.0));
     let (ixx, iyy, izz) = (g("ixx")?, g("iyy")?, g("izz")?);
     let (ixy, ixz, iyz) = (g("ixy")?, g("ixz")?, g("iyz")?);
@@ -435,7 +434,8 @@ fn joint_link(
     tag: &str,
     links: &HashMap<String, Option<Inertial>>,
 ) -> Result<String> {
-    let n = child(j, tag).ok_or_else(|| cx.err(j, format!("joint `{name}` needs <{tag} link=...>")))?;
+    let n =
+        child(j, tag).ok_or_else(|| cx.err(j, format!("joint `{name}` needs <{tag} link=...>")))?;
     let l = n
         .attribute("link")
         .ok_or_else(|| cx.err(n, format!("<{tag}> needs `link`")))?;

@@ -1698,7 +1698,9 @@ impl RapidMoves<'_> {
             let frame = if self.part == "wobj0" {
                 "the work object's frame (= the part frame)".to_string()
             } else {
-                format!("work object {part}'s frame (= the part frame, the one the print moves use)")
+                format!(
+                    "work object {part}'s frame (= the part frame, the one the print moves use)"
+                )
             };
             self.tp.warnings.push(format!(
                 "{file}: targets taken in {frame}; orientations dropped (vertical nozzle assumed)"
@@ -2005,7 +2007,9 @@ impl ProgramScan<'_> {
                     "expected a jointtarget [[j1, …], [eax…]]",
                 )
             })?;
-            self.prog.jointtargets.push((name.to_ascii_lowercase(), axes));
+            self.prog
+                .jointtargets
+                .push((name.to_ascii_lowercase(), axes));
         }
         Ok(())
     }
