@@ -33,6 +33,7 @@
 
 use crate::error::{Error, Result};
 use crate::evaluate::evaluator::{Feasible, Objective};
+use crate::report::placement::RunReport;
 use crate::search::run::{error_text, tolerance_line};
 use crate::search::{Observer, OptimiseConfig, OptimiseOutcome};
 use serde::{Deserialize, Serialize};
@@ -619,36 +620,8 @@ impl CaseResult {
                 })?;
                 let p = &best.placement;
                 let si = rep.optimise.as_ref().and_then(|o| o.search.as_ref());
-                let mut notes = Vec::new();
-                if let Some(si) = si {
-                    if !si.tolerance.holds && si.tolerance.corners > 0 {
-                        notes.push(format!("tolerance {}", tolerance_line(&si.tolerance)));
-                    }
-                    if !si.on_bounds.is_empty() {
-                        notes.push(format!(
-                            "optimum on a search bound: {}",
-                            si.on_bounds.join(", ")
-                        ));
-                    }
-                    if let Some(om) = &si.on_margin {
-                        notes.push(format!("optimum on a joint-limit margin: {om}"));
-                    }
-                    if let Some(b) = &si.budget_spent {
-                        notes.push(format!("search stopped: {b}"));
-                    }
-                }
-                let base_tol = rep
-                    .optimise
-                    .as_ref()
-                    .and_then(|o| o.baseline_tolerance.as_ref())
-                    .filter(|t| t.corners > 0);
-                if let Some(t) = base_tol.filter(|t| !t.holds) {
-                    notes.push(format!(
-                        "the baseline does not hold the tolerance ({} of its {} corners infeasible): the saving is measured against a placement a site could not rely on",
-                        t.failures.len(),
-                        t.corners
-                    ));
-                }
+                let base_tol = baseline_tolerance(rep);
+                let notes = answer_notes(rep);
                 CaseResult {
                     objective,
                     outcome: Ok(CaseBest {
@@ -662,22 +635,7 @@ impl CaseResult {
                         baseline_holds_tolerance: base_tol.map(|t| t.holds),
                         tolerance: si.map(|si| tolerance_line(&si.tolerance)),
                         notes,
-                        robust: rep
-                            .optimise
-                            .as_ref()
-                            .and_then(|o| o.decision.as_ref())
-                            .and_then(|d| d.robust.as_ref())
-                            .map(|r| {
-                                let c = r.recommendation();
-                                let q = &c.placement;
-                                CaseRobust {
-                                    placement: [q.x, q.y, q.z, q.yaw, q.nozzle_spin],
-                                    expected_regret_j: c.expected_regret_j,
-                                    p95_regret_j: c.p95_regret_j,
-                                    p_within_1pct: c.p_within_1pct,
-                                    nominal_expected_regret_j: r.nominal().expected_regret_j,
-                                }
-                            }),
+                        robust: case_robust(rep),
                     }),
                     grid: rep.rows.len(),
                     grid_feasible: rep.rows.iter().filter(|r| r.cost().is_finite()).count(),
@@ -699,6 +657,66 @@ impl CaseResult {
         // Exactly what a shard carries, so that a single run and a merge write the same files.
         Ok((r.as_stored()?, page))
     }
+}
+
+/// The answer's notes: a tolerance that does not hold, an optimum on a search bound or a
+/// joint-limit margin, a spent search budget, a baseline that does not hold the tolerance.
+fn answer_notes(rep: &RunReport) -> Vec<String> {
+    let si = rep.optimise.as_ref().and_then(|o| o.search.as_ref());
+    let mut notes = Vec::new();
+    if let Some(si) = si {
+        if !si.tolerance.holds && si.tolerance.corners > 0 {
+            notes.push(format!("tolerance {}", tolerance_line(&si.tolerance)));
+        }
+        if !si.on_bounds.is_empty() {
+            notes.push(format!(
+                "optimum on a search bound: {}",
+                si.on_bounds.join(", ")
+            ));
+        }
+        if let Some(om) = &si.on_margin {
+            notes.push(format!("optimum on a joint-limit margin: {om}"));
+        }
+        if let Some(b) = &si.budget_spent {
+            notes.push(format!("search stopped: {b}"));
+        }
+    }
+    let base_tol = baseline_tolerance(rep);
+    if let Some(t) = base_tol.filter(|t| !t.holds) {
+        notes.push(format!(
+            "the baseline does not hold the tolerance ({} of its {} corners infeasible): the saving is measured against a placement a site could not rely on",
+            t.failures.len(),
+            t.corners
+        ));
+    }
+    notes
+}
+
+/// The baseline's tolerance study, when it has corners.
+fn baseline_tolerance(rep: &RunReport) -> Option<&crate::search::tolerance::ToleranceCheck> {
+    rep.optimise
+        .as_ref()
+        .and_then(|o| o.baseline_tolerance.as_ref())
+        .filter(|t| t.corners > 0)
+}
+
+/// The robust recommendation of the answer, when the run made one.
+fn case_robust(rep: &RunReport) -> Option<CaseRobust> {
+    rep.optimise
+        .as_ref()
+        .and_then(|o| o.decision.as_ref())
+        .and_then(|d| d.robust.as_ref())
+        .map(|r| {
+            let c = r.recommendation();
+            let q = &c.placement;
+            CaseRobust {
+                placement: [q.x, q.y, q.z, q.yaw, q.nozzle_spin],
+                expected_regret_j: c.expected_regret_j,
+                p95_regret_j: c.p95_regret_j,
+                p_within_1pct: c.p_within_1pct,
+                nominal_expected_regret_j: r.nominal().expected_regret_j,
+            }
+        })
 }
 
 /// What a front end does with each answered case: the case, its result, its report page (when
