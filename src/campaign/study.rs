@@ -897,6 +897,16 @@ impl Study {
     /// Ties are broken by case order, so the tables are deterministic.
     pub fn tables(&self, results: &[CaseResult]) -> Result<StudyTables> {
         self.check_results(results)?;
+        let paths = self.path_bests(results);
+        let combos = self.combinations(results);
+        Ok(StudyTables {
+            paths,
+            combinations: combos,
+        })
+    }
+
+    /// The best case of each path (cases answered, the best and the runner-up).
+    fn path_bests(&self, results: &[CaseResult]) -> Vec<PathBest> {
         let mut paths = Vec::new();
         for (pi, p) in self.paths.iter().enumerate() {
             let mine: Vec<(&Case, &CaseResult)> = self
@@ -936,6 +946,12 @@ impl Study {
                 },
             });
         }
+        paths
+    }
+
+    /// The totals of each robot and cell over its paths, complete combinations first, then by
+    /// energy.
+    fn combinations(&self, results: &[CaseResult]) -> Vec<Combination> {
         let mut combos: Vec<Combination> = Vec::new();
         let mut keys: Vec<(usize, usize)> = Vec::new();
         for (c, r) in self.cases.iter().zip(results) {
@@ -975,10 +991,7 @@ impl Study {
                 .cmp(&(b.paths - b.feasible))
                 .then(a.energy_j.total_cmp(&b.energy_j))
         });
-        Ok(StudyTables {
-            paths,
-            combinations: combos,
-        })
+        combos
     }
 
     /// `study.csv`: one row per case (SI units in the header; angles in deg as labelled).
@@ -1051,6 +1064,57 @@ impl Study {
         Ok(s)
     }
 
+    /// One case's entry of `summary.json`: its names, its answer or why there is none.
+    fn case_json(&self, c: &Case, r: &CaseResult) -> serde_json::Value {
+        let mut v = serde_json::json!({
+            "case": c.index,
+            "robot": self.robots[c.robot].name,
+            "cell": self.cells[c.cell].name,
+            "path": self.paths[c.path].name,
+            "grid": r.grid,
+            "grid_feasible": r.grid_feasible,
+            "evaluations": r.evaluations,
+        });
+        match &r.outcome {
+            Ok(b) => {
+                let [x, y, z, yaw, spin] = b.placement;
+                v["status"] = "feasible".into();
+                v["placement"] = serde_json::json!({
+                    "x_m": x, "y_m": y, "z_m": z,
+                    "yaw_deg": yaw.to_degrees(), "spin_deg": spin.to_degrees(),
+                });
+                v["outcome"] = serde_json::to_value(&b.feasible).unwrap_or_default();
+                v["baseline_j"] = serde_json::json!(b.baseline_j);
+                v["baseline_holds_tolerance"] =
+                    serde_json::json!(b.baseline_holds_tolerance);
+                v["tolerance"] = serde_json::json!(b.tolerance);
+                v["notes"] = serde_json::json!(b.notes);
+                v["robust"] = match &b.robust {
+                    Some(r) => {
+                        let [x, y, z, yaw, spin] = r.placement;
+                        serde_json::json!({
+                            "placement": {
+                                "x_m": x, "y_m": y, "z_m": z,
+                                "yaw_deg": yaw.to_degrees(), "spin_deg": spin.to_degrees(),
+                            },
+                            "expected_regret_j": r.expected_regret_j,
+                            "p95_regret_j": r.p95_regret_j,
+                            "p_within_1pct": r.p_within_1pct,
+                            "nominal_expected_regret_j": r.nominal_expected_regret_j,
+                        })
+                    }
+                    None => serde_json::Value::Null,
+                };
+                v["report"] = self.case_file(c).into();
+            }
+            Err(why) => {
+                v["status"] = "no answer".into();
+                v["reason"] = why.clone().into();
+            }
+        }
+        v
+    }
+
     /// `summary.json`'s value: the study, every case's answer (without its report page), the
     /// per-path and per-combination tables.
     pub fn summary(&self, results: &[CaseResult]) -> Result<serde_json::Value> {
@@ -1059,55 +1123,7 @@ impl Study {
             .cases
             .iter()
             .zip(results)
-            .map(|(c, r)| {
-                let mut v = serde_json::json!({
-                    "case": c.index,
-                    "robot": self.robots[c.robot].name,
-                    "cell": self.cells[c.cell].name,
-                    "path": self.paths[c.path].name,
-                    "grid": r.grid,
-                    "grid_feasible": r.grid_feasible,
-                    "evaluations": r.evaluations,
-                });
-                match &r.outcome {
-                    Ok(b) => {
-                        let [x, y, z, yaw, spin] = b.placement;
-                        v["status"] = "feasible".into();
-                        v["placement"] = serde_json::json!({
-                            "x_m": x, "y_m": y, "z_m": z,
-                            "yaw_deg": yaw.to_degrees(), "spin_deg": spin.to_degrees(),
-                        });
-                        v["outcome"] = serde_json::to_value(&b.feasible).unwrap_or_default();
-                        v["baseline_j"] = serde_json::json!(b.baseline_j);
-                        v["baseline_holds_tolerance"] =
-                            serde_json::json!(b.baseline_holds_tolerance);
-                        v["tolerance"] = serde_json::json!(b.tolerance);
-                        v["notes"] = serde_json::json!(b.notes);
-                        v["robust"] = match &b.robust {
-                            Some(r) => {
-                                let [x, y, z, yaw, spin] = r.placement;
-                                serde_json::json!({
-                                    "placement": {
-                                        "x_m": x, "y_m": y, "z_m": z,
-                                        "yaw_deg": yaw.to_degrees(), "spin_deg": spin.to_degrees(),
-                                    },
-                                    "expected_regret_j": r.expected_regret_j,
-                                    "p95_regret_j": r.p95_regret_j,
-                                    "p_within_1pct": r.p_within_1pct,
-                                    "nominal_expected_regret_j": r.nominal_expected_regret_j,
-                                })
-                            }
-                            None => serde_json::Value::Null,
-                        };
-                        v["report"] = self.case_file(c).into();
-                    }
-                    Err(why) => {
-                        v["status"] = "no answer".into();
-                        v["reason"] = why.clone().into();
-                    }
-                }
-                v
-            })
+            .map(|(c, r)| self.case_json(c, r))
             .collect();
         Ok(serde_json::json!({
             "kind": "printwatt-study",
