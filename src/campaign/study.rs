@@ -439,7 +439,11 @@ fn named_cases(
                 err(format!(
                     "[[case]] {} names {kind} `{n}`, which no [[{kind}]] defines (defined: {})",
                     k + 1,
-                    names.iter().map(|s| s.as_str()).collect::<Vec<_>>().join(", ")
+                    names
+                        .iter()
+                        .map(|s| s.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
                 ))
             })
         };
@@ -1085,8 +1089,7 @@ impl Study {
                 });
                 v["outcome"] = serde_json::to_value(&b.feasible).unwrap_or_default();
                 v["baseline_j"] = serde_json::json!(b.baseline_j);
-                v["baseline_holds_tolerance"] =
-                    serde_json::json!(b.baseline_holds_tolerance);
+                v["baseline_holds_tolerance"] = serde_json::json!(b.baseline_holds_tolerance);
                 v["tolerance"] = serde_json::json!(b.tolerance);
                 v["notes"] = serde_json::json!(b.notes);
                 v["robust"] = match &b.robust {
