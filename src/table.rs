@@ -693,7 +693,6 @@ impl<'a> TableReader<'a> {
 /// [`crate::error::read_text`]'s. Returns the number of lines. Something other than a regular
 /// file (a pipe, a device) is read whole.
 pub fn for_each_line(path: &Path, f: &mut dyn FnMut(usize, &str) -> Result<()>) -> Result<usize> {
-    use std::io::{BufRead, Read};
     // Read whole: the exact errors of `read_text`, or a file that is not a regular one.
     let whole = |f: &mut dyn FnMut(usize, &str) -> Result<()>| -> Result<usize> {
         let text = read_text(path)?;
@@ -708,7 +707,6 @@ pub fn for_each_line(path: &Path, f: &mut dyn FnMut(usize, &str) -> Result<()>) 
         return whole(f);
     }
     let max = crate::error::max_input_bytes();
-    let open = || std::fs::File::open(path).map_err(|e| Error::io(path, e));
     let len = std::fs::metadata(path)
         .map_err(|e| Error::io(path, e))?
         .len();
@@ -717,35 +715,54 @@ pub fn for_each_line(path: &Path, f: &mut dyn FnMut(usize, &str) -> Result<()>) 
     }
     // The whole file first: its length and encoding (an invalid byte is named by
     // `read_text`, which then reads it whole).
-    {
-        let mut r = open()?.take(max + 1);
-        let mut buf = vec![0u8; 1 << 20];
-        let mut carry: Vec<u8> = Vec::new();
-        let mut total = 0u64;
-        loop {
-            let got = r.read(&mut buf).map_err(|e| Error::io(path, e))?;
-            if got == 0 {
-                break;
-            }
-            total += got as u64;
-            if total > max {
-                return Err(crate::error::too_long(path, max));
-            }
-            carry.extend_from_slice(&buf[..got]);
-            match std::str::from_utf8(&carry) {
-                Ok(_) => carry.clear(),
-                Err(e) if e.error_len().is_none() => {
-                    carry = carry.split_off(e.valid_up_to());
-                }
-                Err(_) => return whole(f),
-            }
-        }
-        if !carry.is_empty() {
-            return whole(f);
-        }
+    if !is_utf8_within(path, max)? {
+        return whole(f);
     }
     // Then line by line.
-    let mut r = std::io::BufReader::with_capacity(1 << 16, open()?.take(max + 1));
+    stream_lines(path, max, f)
+}
+
+/// Whether the file holds valid UTF-8 (false: read it whole for `read_text`'s error); an
+/// error when it is longer than `max` bytes.
+fn is_utf8_within(path: &Path, max: u64) -> Result<bool> {
+    use std::io::Read;
+    let mut r = std::fs::File::open(path)
+        .map_err(|e| Error::io(path, e))?
+        .take(max + 1);
+    let mut buf = vec![0u8; 1 << 20];
+    let mut carry: Vec<u8> = Vec::new();
+    let mut total = 0u64;
+    loop {
+        let got = r.read(&mut buf).map_err(|e| Error::io(path, e))?;
+        if got == 0 {
+            break;
+        }
+        total += got as u64;
+        if total > max {
+            return Err(crate::error::too_long(path, max));
+        }
+        carry.extend_from_slice(&buf[..got]);
+        match std::str::from_utf8(&carry) {
+            Ok(_) => carry.clear(),
+            Err(e) if e.error_len().is_none() => {
+                carry = carry.split_off(e.valid_up_to());
+            }
+            Err(_) => return Ok(false),
+        }
+    }
+    Ok(carry.is_empty())
+}
+
+/// Visit the lines of a checked file (at most `max` bytes) one at a time: a byte-order mark
+/// dropped, LF, CRLF and lone CR each ending a line. Returns the number of lines.
+fn stream_lines(
+    path: &Path,
+    max: u64,
+    f: &mut dyn FnMut(usize, &str) -> Result<()>,
+) -> Result<usize> {
+    use std::io::{BufRead, Read};
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let mut r = std::io::BufReader::with_capacity(1 << 16, file.take(max + 1));
     let mut buf: Vec<u8> = Vec::new();
     let mut ln = 0usize;
     let mut first = true;
