@@ -425,15 +425,18 @@ fn named_cases(
             .map(|(i, n)| (n.clone(), i))
             .collect()
     };
-    let robot_ix = index(robots.iter().map(|r| &r.name).collect());
-    let cell_ix = index(cells.iter().map(|c| &c.name).collect());
-    let path_ix = index(paths.iter().map(|p| &p.name).collect());
+    let robot_names: Vec<&String> = robots.iter().map(|r| &r.name).collect();
+    let cell_names: Vec<&String> = cells.iter().map(|c| &c.name).collect();
+    let path_names: Vec<&String> = paths.iter().map(|p| &p.name).collect();
+    let robot_ix = index(robot_names.clone());
+    let cell_ix = index(cell_names.clone());
+    let path_ix = index(path_names.clone());
     let mut seen = std::collections::HashMap::new();
     let mut cases = Vec::new();
     for (k, c) in case.iter().enumerate() {
         let find = |kind: &str,
                     ix: &std::collections::HashMap<String, usize>,
-                    names: Vec<&String>,
+                    names: &[&String],
                     n: &str| {
             ix.get(n).copied().ok_or_else(|| {
                 err(format!(
@@ -447,24 +450,9 @@ fn named_cases(
                 ))
             })
         };
-        let r = find(
-            "robot",
-            &robot_ix,
-            robots.iter().map(|r| &r.name).collect(),
-            &c.robot,
-        )?;
-        let ce = find(
-            "cell",
-            &cell_ix,
-            cells.iter().map(|c| &c.name).collect(),
-            &c.cell,
-        )?;
-        let p = find(
-            "path",
-            &path_ix,
-            paths.iter().map(|p| &p.name).collect(),
-            &c.path,
-        )?;
+        let r = find("robot", &robot_ix, &robot_names, &c.robot)?;
+        let ce = find("cell", &cell_ix, &cell_names, &c.cell)?;
+        let p = find("path", &path_ix, &path_names, &c.path)?;
         if let Some(j) = seen.insert((r, ce, p), k) {
             return Err(err(format!(
                 "[[case]] {} ({} / {} / {}) repeats [[case]] {}",
