@@ -1506,7 +1506,7 @@ impl RapidMoves<'_> {
 
     /// The transform from a move's work object into the part frame; None for a wobj0 move
     /// while the print uses another work object (a home position, skipped).
-    fn to_part(&mut self, m: &MoveStmt, wobj: &str) -> Result<Option<Frame>> {
+    fn part_transform(&mut self, m: &MoveStmt, wobj: &str) -> Result<Option<Frame>> {
         if wobj == self.part {
             return Ok(Some(Frame::identity()));
         }
@@ -1553,7 +1553,7 @@ impl RapidMoves<'_> {
         let is_c = instr == "movec";
         check_move_arity(file, m, is_c)?;
         let wobj = wobj_of(m);
-        let Some(to_part) = self.to_part(m, &wobj)? else {
+        let Some(to_part) = self.part_transform(m, &wobj)? else {
             return Ok(());
         };
         let at = (m.line, m.col);
