@@ -81,32 +81,9 @@ pub fn si_factor(dim: Dim, unit: &str) -> Option<f64> {
     }
     let deg = std::f64::consts::PI / 180.0;
     let f = match dim {
-        Dim::Time => match u.as_str() {
-            "s" => 1.0,
-            "ms" => 1e-3,
-            "us" | "µs" => 1e-6,
-            "min" => 60.0,
-            _ => return None,
-        },
-        Dim::Angle => match u.as_str() {
-            "rad" | "m" => 1.0,
-            "deg" | "°" => deg,
-            "mm" => 1e-3,
-            _ => return None,
-        },
-        Dim::AngularVelocity => match u.as_str() {
-            "rad/s" | "m/s" => 1.0,
-            "deg/s" => deg,
-            "mm/s" => 1e-3,
-            "rpm" => 2.0 * std::f64::consts::PI / 60.0,
-            _ => return None,
-        },
-        Dim::AngularAcceleration => match u.as_str() {
-            "rad/s^2" | "rad/s2" | "m/s^2" | "m/s2" => 1.0,
-            "deg/s^2" | "deg/s2" => deg,
-            "mm/s^2" | "mm/s2" => 1e-3,
-            _ => return None,
-        },
+        Dim::Time | Dim::Angle | Dim::AngularVelocity | Dim::AngularAcceleration => {
+            return joint_unit_factor(dim, &u)
+        }
         Dim::Torque => match u.as_str() {
             "nm" | "n" => 1.0,
             "knm" | "kn" => 1e3,
@@ -150,6 +127,42 @@ pub fn si_factor(dim: Dim, unit: &str) -> Option<f64> {
             _ => return None,
         },
         Dim::Flag | Dim::Text => return None,
+    };
+    Some(f)
+}
+
+/// [`si_factor`] of a time or a joint's position, velocity or acceleration (`u`: the unit,
+/// lower case, spaces removed).
+fn joint_unit_factor(dim: Dim, u: &str) -> Option<f64> {
+    let deg = std::f64::consts::PI / 180.0;
+    let f = match dim {
+        Dim::Time => match u {
+            "s" => 1.0,
+            "ms" => 1e-3,
+            "us" | "µs" => 1e-6,
+            "min" => 60.0,
+            _ => return None,
+        },
+        Dim::Angle => match u {
+            "rad" | "m" => 1.0,
+            "deg" | "°" => deg,
+            "mm" => 1e-3,
+            _ => return None,
+        },
+        Dim::AngularVelocity => match u {
+            "rad/s" | "m/s" => 1.0,
+            "deg/s" => deg,
+            "mm/s" => 1e-3,
+            "rpm" => 2.0 * std::f64::consts::PI / 60.0,
+            _ => return None,
+        },
+        Dim::AngularAcceleration => match u {
+            "rad/s^2" | "rad/s2" | "m/s^2" | "m/s2" => 1.0,
+            "deg/s^2" | "deg/s2" => deg,
+            "mm/s^2" | "mm/s2" => 1e-3,
+            _ => return None,
+        },
+        _ => return None,
     };
     Some(f)
 }
@@ -332,6 +345,69 @@ fn parse_err(file: &str, line: usize, column: usize, msg: impl Into<String>) -> 
     }
 }
 
+/// A header field's lower-case column name and its unit (the text in `[...]`, or empty).
+fn name_and_unit(file: &str, line: usize, col: usize, field: &str) -> Result<(String, String)> {
+    Ok(match field.find('[') {
+        Some(p) => {
+            let Some(q) = field[p..].find(']') else {
+                return Err(parse_err(
+                    file,
+                    line,
+                    col + field.chars().count(),
+                    format!("expected ']' to close the unit of column '{}'", &field[..p]),
+                ));
+            };
+            (
+                field[..p].trim().to_ascii_lowercase(),
+                field[p + 1..p + q].trim().to_string(),
+            )
+        }
+        None => (field.to_ascii_lowercase(), String::new()),
+    })
+}
+
+/// The factor to SI of column `name` in `unit` as `spec` reads it (`None`: a column the reader
+/// does not know); errors for a unit on a flag or text column, or an unknown unit.
+fn column_factor(
+    file: &str,
+    line: usize,
+    col: usize,
+    (name, unit): (&str, &str),
+    spec: &dyn Fn(&str) -> Option<ColumnSpec>,
+) -> Result<Option<f64>> {
+    Ok(match spec(name) {
+        None => None,
+        Some(ColumnSpec {
+            dim: Dim::Flag | Dim::Text,
+            ..
+        }) => {
+            if !unit.is_empty() {
+                return Err(parse_err(
+                    file,
+                    line,
+                    col,
+                    format!("column '{name}' takes no unit, found '[{unit}]'"),
+                ));
+            }
+            Some(1.0)
+        }
+        Some(ColumnSpec { dim, default_unit }) => {
+            let u = if unit.is_empty() { default_unit } else { unit };
+            Some(si_factor(dim, u).ok_or_else(|| {
+                parse_err(
+                    file,
+                    line,
+                    col,
+                    format!(
+                        "unknown unit '{u}' for column '{name}': expected {}",
+                        expected_units(dim)
+                    ),
+                )
+            })?)
+        }
+    })
+}
+
 /// Parse a header's fields: each column's name, unit and factor to SI. `spec` says how the
 /// reader wants a (lower-case) column name read, `None` for a column it does not know (kept
 /// with no factor: [`Table`] reads it as a plain number, the toolpath reader ignores it).
@@ -357,23 +433,7 @@ pub fn parse_header(
     let mut cols: Vec<Column> = Vec::with_capacity(fields.len());
     for Cell { col, text: field } in fields {
         let col = *col;
-        let (name, unit) = match field.find('[') {
-            Some(p) => {
-                let Some(q) = field[p..].find(']') else {
-                    return Err(parse_err(
-                        file,
-                        line,
-                        col + field.chars().count(),
-                        format!("expected ']' to close the unit of column '{}'", &field[..p]),
-                    ));
-                };
-                (
-                    field[..p].trim().to_ascii_lowercase(),
-                    field[p + 1..p + q].trim().to_string(),
-                )
-            }
-            None => (field.to_ascii_lowercase(), String::new()),
-        };
+        let (name, unit) = name_and_unit(file, line, col, field)?;
         if name.is_empty() {
             return Err(parse_err(
                 file,
@@ -382,37 +442,7 @@ pub fn parse_header(
                 "expected a column name, found nothing",
             ));
         }
-        let factor = match spec(&name) {
-            None => None,
-            Some(ColumnSpec {
-                dim: Dim::Flag | Dim::Text,
-                ..
-            }) => {
-                if !unit.is_empty() {
-                    return Err(parse_err(
-                        file,
-                        line,
-                        col,
-                        format!("column '{name}' takes no unit, found '[{unit}]'"),
-                    ));
-                }
-                Some(1.0)
-            }
-            Some(ColumnSpec { dim, default_unit }) => {
-                let u = if unit.is_empty() { default_unit } else { &unit };
-                Some(si_factor(dim, u).ok_or_else(|| {
-                    parse_err(
-                        file,
-                        line,
-                        col,
-                        format!(
-                            "unknown unit '{u}' for column '{name}': expected {}",
-                            expected_units(dim)
-                        ),
-                    )
-                })?)
-            }
-        };
+        let factor = column_factor(file, line, col, (&name, &unit), spec)?;
         if cols.iter().any(|c| c.name == name) {
             return Err(parse_err(
                 file,
@@ -663,7 +693,6 @@ impl<'a> TableReader<'a> {
 /// [`crate::error::read_text`]'s. Returns the number of lines. Something other than a regular
 /// file (a pipe, a device) is read whole.
 pub fn for_each_line(path: &Path, f: &mut dyn FnMut(usize, &str) -> Result<()>) -> Result<usize> {
-    use std::io::{BufRead, Read};
     // Read whole: the exact errors of `read_text`, or a file that is not a regular one.
     let whole = |f: &mut dyn FnMut(usize, &str) -> Result<()>| -> Result<usize> {
         let text = read_text(path)?;
@@ -678,7 +707,6 @@ pub fn for_each_line(path: &Path, f: &mut dyn FnMut(usize, &str) -> Result<()>) 
         return whole(f);
     }
     let max = crate::error::max_input_bytes();
-    let open = || std::fs::File::open(path).map_err(|e| Error::io(path, e));
     let len = std::fs::metadata(path)
         .map_err(|e| Error::io(path, e))?
         .len();
@@ -687,35 +715,54 @@ pub fn for_each_line(path: &Path, f: &mut dyn FnMut(usize, &str) -> Result<()>) 
     }
     // The whole file first: its length and encoding (an invalid byte is named by
     // `read_text`, which then reads it whole).
-    {
-        let mut r = open()?.take(max + 1);
-        let mut buf = vec![0u8; 1 << 20];
-        let mut carry: Vec<u8> = Vec::new();
-        let mut total = 0u64;
-        loop {
-            let got = r.read(&mut buf).map_err(|e| Error::io(path, e))?;
-            if got == 0 {
-                break;
-            }
-            total += got as u64;
-            if total > max {
-                return Err(crate::error::too_long(path, max));
-            }
-            carry.extend_from_slice(&buf[..got]);
-            match std::str::from_utf8(&carry) {
-                Ok(_) => carry.clear(),
-                Err(e) if e.error_len().is_none() => {
-                    carry = carry.split_off(e.valid_up_to());
-                }
-                Err(_) => return whole(f),
-            }
-        }
-        if !carry.is_empty() {
-            return whole(f);
-        }
+    if !is_utf8_within(path, max)? {
+        return whole(f);
     }
     // Then line by line.
-    let mut r = std::io::BufReader::with_capacity(1 << 16, open()?.take(max + 1));
+    stream_lines(path, max, f)
+}
+
+/// Whether the file holds valid UTF-8 (false: read it whole for `read_text`'s error); an
+/// error when it is longer than `max` bytes.
+fn is_utf8_within(path: &Path, max: u64) -> Result<bool> {
+    use std::io::Read;
+    let mut r = std::fs::File::open(path)
+        .map_err(|e| Error::io(path, e))?
+        .take(max + 1);
+    let mut buf = vec![0u8; 1 << 20];
+    let mut carry: Vec<u8> = Vec::new();
+    let mut total = 0u64;
+    loop {
+        let got = r.read(&mut buf).map_err(|e| Error::io(path, e))?;
+        if got == 0 {
+            break;
+        }
+        total += got as u64;
+        if total > max {
+            return Err(crate::error::too_long(path, max));
+        }
+        carry.extend_from_slice(&buf[..got]);
+        match std::str::from_utf8(&carry) {
+            Ok(_) => carry.clear(),
+            Err(e) if e.error_len().is_none() => {
+                carry = carry.split_off(e.valid_up_to());
+            }
+            Err(_) => return Ok(false),
+        }
+    }
+    Ok(carry.is_empty())
+}
+
+/// Visit the lines of a checked file (at most `max` bytes) one at a time: a byte-order mark
+/// dropped, LF, CRLF and lone CR each ending a line. Returns the number of lines.
+fn stream_lines(
+    path: &Path,
+    max: u64,
+    f: &mut dyn FnMut(usize, &str) -> Result<()>,
+) -> Result<usize> {
+    use std::io::{BufRead, Read};
+    let file = std::fs::File::open(path).map_err(|e| Error::io(path, e))?;
+    let mut r = std::io::BufReader::with_capacity(1 << 16, file.take(max + 1));
     let mut buf: Vec<u8> = Vec::new();
     let mut ln = 0usize;
     let mut first = true;

@@ -455,60 +455,8 @@ pub fn merge(shards: Vec<ShardData>) -> Result<Merged> {
     for s in &shards {
         let h = &s.header;
         let d = s.dir.display();
-        let differs = |what: &str, a: &dyn std::fmt::Display, b: &dyn std::fmt::Display| {
-            Error::Invalid(format!(
-                "{d} is not a shard of the same run as {d0}: its {what} is {a}, not {b}"
-            ))
-        };
-        if h.kind != h0.kind {
-            return Err(differs("kind", &h.kind, &h0.kind));
-        }
-        if h.version != h0.version {
-            return Err(differs("printwatt build", &h.version, &h0.version));
-        }
-        if h.shard.count != n {
-            return Err(differs("shard count", &h.shard.count, &n));
-        }
-        if h.total != h0.total {
-            return Err(differs("number of items", &h.total, &h0.total));
-        }
-        if h.job != h0.job {
-            return Err(Error::Invalid(format!(
-                "{d} is not a shard of the same run as {d0}: the options differ\n  {d}: {}\n  {d0}: {}",
-                h.args.join(" "),
-                h0.args.join(" ")
-            )));
-        }
-        if h.inputs != h0.inputs {
-            let which: Vec<&str> = h
-                .inputs
-                .iter()
-                .filter(|(k, v)| h0.inputs.get(*k) != Some(v))
-                .map(|(k, _)| k.as_str())
-                .chain(
-                    h0.inputs
-                        .keys()
-                        .filter(|k| !h.inputs.contains_key(*k))
-                        .map(String::as_str),
-                )
-                .collect();
-            return Err(Error::Invalid(format!(
-                "{d} and {d0} were computed from different input files: {} changed between the shards' runs",
-                which.join(", ")
-            )));
-        }
-        let want = h.shard.indices(h.total);
-        let have = s.rows.indices();
-        if have != want || h.rows != want.len() {
-            return Err(Error::Invalid(format!(
-                "{d}: shard {} of {n} should hold items {}, {}, … ({} rows) and holds {} rows",
-                h.shard.index,
-                h.shard.index,
-                h.shard.index + n,
-                want.len(),
-                have.len()
-            )));
-        }
+        check_same_run(s, &h0, &d0)?;
+        check_shard_rows(s, n)?;
         if let Some(prev) = slot[h.shard.index] {
             return Err(Error::Invalid(format!(
                 "shard {} of {n} is given twice: {} and {d}",
@@ -532,48 +480,20 @@ pub fn merge(shards: Vec<ShardData>) -> Result<Merged> {
         )));
     }
     let wall: f64 = shards.iter().map(|s| s.header.wall_time_s).sum();
-    // Every index 0..total is held exactly once (checked above), so each slot is filled.
-    fn place<T: Clone>(total: usize, parts: Vec<&[(usize, T)]>) -> Vec<T> {
-        let mut rows: Vec<Option<T>> = vec![None; total];
-        for part in parts {
-            for (i, e) in part {
-                rows[*i] = Some(e.clone());
-            }
-        }
-        rows.into_iter().flatten().collect()
-    }
     // Every shard is of kind h0.kind (checked above), so each holds rows of that kind.
     let rows = match h0.kind.as_str() {
-        KIND_SWEEP => MergedRows::Sweep(place(
-            h0.total,
-            shards
-                .iter()
-                .filter_map(|s| match &s.rows {
-                    ShardRows::Sweep(r) => Some(r.as_slice()),
-                    _ => None,
-                })
-                .collect(),
-        )),
-        KIND_STUDY => MergedRows::Study(place(
-            h0.total,
-            shards
-                .iter()
-                .filter_map(|s| match &s.rows {
-                    ShardRows::Study(r) => Some(r.as_slice()),
-                    _ => None,
-                })
-                .collect(),
-        )),
-        _ => MergedRows::Draws(place(
-            h0.total,
-            shards
-                .iter()
-                .filter_map(|s| match &s.rows {
-                    ShardRows::Draws(r) => Some(r.as_slice()),
-                    _ => None,
-                })
-                .collect(),
-        )),
+        KIND_SWEEP => MergedRows::Sweep(place(h0.total, &shards, |r| match r {
+            ShardRows::Sweep(r) => Some(r.as_slice()),
+            _ => None,
+        })),
+        KIND_STUDY => MergedRows::Study(place(h0.total, &shards, |r| match r {
+            ShardRows::Study(r) => Some(r.as_slice()),
+            _ => None,
+        })),
+        _ => MergedRows::Draws(place(h0.total, &shards, |r| match r {
+            ShardRows::Draws(r) => Some(r.as_slice()),
+            _ => None,
+        })),
     };
     let header = slot[0].map(|s| s.header.clone()).unwrap_or(h0);
     Ok(Merged {
@@ -581,6 +501,92 @@ pub fn merge(shards: Vec<ShardData>) -> Result<Merged> {
         rows,
         shard_wall_time_s: wall,
     })
+}
+
+/// The rows of every shard (those `pick` finds) put at their indices 0..total. Every index is
+/// held exactly once (checked by [`merge`]), so each slot is filled.
+fn place<'s, T: Clone + 's>(
+    total: usize,
+    shards: &'s [ShardData],
+    pick: impl Fn(&'s ShardRows) -> Option<&'s [(usize, T)]>,
+) -> Vec<T> {
+    let mut rows: Vec<Option<T>> = vec![None; total];
+    for part in shards.iter().filter_map(|s| pick(&s.rows)) {
+        for (i, e) in part {
+            rows[*i] = Some(e.clone());
+        }
+    }
+    rows.into_iter().flatten().collect()
+}
+
+/// Refuse a shard of another run than shard `h0` (directory `d0`): another kind, build,
+/// shard count, number of items, options or input files.
+fn check_same_run(s: &ShardData, h0: &ShardHeader, d0: &str) -> Result<()> {
+    let h = &s.header;
+    let d = s.dir.display();
+    let n = h0.shard.count;
+    let differs = |what: &str, a: &dyn std::fmt::Display, b: &dyn std::fmt::Display| {
+        Error::Invalid(format!(
+            "{d} is not a shard of the same run as {d0}: its {what} is {a}, not {b}"
+        ))
+    };
+    if h.kind != h0.kind {
+        return Err(differs("kind", &h.kind, &h0.kind));
+    }
+    if h.version != h0.version {
+        return Err(differs("printwatt build", &h.version, &h0.version));
+    }
+    if h.shard.count != n {
+        return Err(differs("shard count", &h.shard.count, &n));
+    }
+    if h.total != h0.total {
+        return Err(differs("number of items", &h.total, &h0.total));
+    }
+    if h.job != h0.job {
+        return Err(Error::Invalid(format!(
+            "{d} is not a shard of the same run as {d0}: the options differ\n  {d}: {}\n  {d0}: {}",
+            h.args.join(" "),
+            h0.args.join(" ")
+        )));
+    }
+    if h.inputs != h0.inputs {
+        let which: Vec<&str> = h
+            .inputs
+            .iter()
+            .filter(|(k, v)| h0.inputs.get(*k) != Some(v))
+            .map(|(k, _)| k.as_str())
+            .chain(
+                h0.inputs
+                    .keys()
+                    .filter(|k| !h.inputs.contains_key(*k))
+                    .map(String::as_str),
+            )
+            .collect();
+        return Err(Error::Invalid(format!(
+            "{d} and {d0} were computed from different input files: {} changed between the shards' runs",
+            which.join(", ")
+        )));
+    }
+    Ok(())
+}
+
+/// Refuse a shard that does not hold exactly the rows it owns (`n`: the shard count).
+fn check_shard_rows(s: &ShardData, n: usize) -> Result<()> {
+    let h = &s.header;
+    let d = s.dir.display();
+    let want = h.shard.indices(h.total);
+    let have = s.rows.indices();
+    if have != want || h.rows != want.len() {
+        return Err(Error::Invalid(format!(
+            "{d}: shard {} of {n} should hold items {}, {}, … ({} rows) and holds {} rows",
+            h.shard.index,
+            h.shard.index,
+            h.shard.index + n,
+            want.len(),
+            have.len()
+        )));
+    }
+    Ok(())
 }
 
 #[cfg(test)]

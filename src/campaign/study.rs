@@ -33,6 +33,7 @@
 
 use crate::error::{Error, Result};
 use crate::evaluate::evaluator::{Feasible, Objective};
+use crate::report::placement::RunReport;
 use crate::search::run::{error_text, tolerance_line};
 use crate::search::{Observer, OptimiseConfig, OptimiseOutcome};
 use serde::{Deserialize, Serialize};
@@ -211,8 +212,6 @@ pub struct Study {
     pub cases: Vec<Case>,
 }
 
-/// A name in a study: 1 to 40 characters, letters, digits, `-`, `_`, `.`, starting with a
-/// letter or digit (it becomes part of a file name).
 /// A cell's `z_bounds`: `min:max` in m, finite, min <= max (as `optimise --z-bounds`).
 fn check_z_bounds(s: &str) -> std::result::Result<(), String> {
     let v: Option<Vec<f64>> = s
@@ -247,6 +246,8 @@ fn check_option_numbers(options: &[String], what: &str) -> std::result::Result<(
     Ok(())
 }
 
+/// A name in a study: 1 to 40 characters, letters, digits, `-`, `_`, `.`, starting with a
+/// letter or digit (it becomes part of a file name).
 fn check_name(what: &str, name: &str) -> Result<()> {
     let ok = !name.is_empty()
         && name.len() <= 40
@@ -264,6 +265,207 @@ fn check_name(what: &str, name: &str) -> Result<()> {
             "{what} name `{name}`: use 1 to 40 letters, digits, `-`, `_` or `.`, starting with a letter or digit (it becomes part of a file name)"
         )))
     }
+}
+
+/// A study file's path `s` resolved against the study file's directory `dir`.
+fn resolve(dir: &Path, s: &str) -> PathBuf {
+    let p = Path::new(s);
+    if p.is_absolute() {
+        p.to_path_buf()
+    } else {
+        dir.join(p)
+    }
+}
+
+/// Every name of the study, its robots, cells and paths well-formed, each kind present and
+/// its names unique.
+fn check_names(t: &FileToml, err: &impl Fn(String) -> Error) -> Result<()> {
+    check_name("study", &t.study.name).map_err(|e| err(e.to_string()))?;
+    for (kind, names) in [
+        ("robot", t.robot.iter().map(|r| &r.name).collect::<Vec<_>>()),
+        ("cell", t.cell.iter().map(|c| &c.name).collect()),
+        ("path", t.path.iter().map(|p| &p.name).collect()),
+    ] {
+        if names.is_empty() {
+            return Err(err(format!(
+                "no `[[{kind}]]` entry: a study needs at least one robot, one cell and one path"
+            )));
+        }
+        let mut seen = std::collections::HashSet::new();
+        for n in &names {
+            check_name(kind, n).map_err(|e| err(e.to_string()))?;
+            if !seen.insert(*n) {
+                return Err(err(format!("{kind} `{n}` is defined twice")));
+            }
+        }
+    }
+    Ok(())
+}
+
+/// Values the cases' command lines would refuse fail the study here, before any work,
+/// naming the file, the entry and the key (a case that cannot run is not an answer).
+fn check_values(t: &FileToml, err: &impl Fn(String) -> Error) -> Result<()> {
+    check_option_numbers(&t.study.options, "[study] options").map_err(err)?;
+    for r in &t.robot {
+        check_option_numbers(&r.options, &format!("robot `{}` options", r.name)).map_err(err)?;
+    }
+    for c in &t.cell {
+        let at = |key: &str| format!("cell `{}` {key}", c.name);
+        if let Some(z) = &c.z_bounds {
+            check_z_bounds(z).map_err(|m| err(format!("{}: {m}", at("z_bounds"))))?;
+        }
+        if let Some(b) = &c.baseline {
+            crate::frame::Placement::parse(b).map_err(|e| {
+                err(format!(
+                    "{} `{b}`: {e} (expected x,y,z,yaw[,spin] in m and deg)",
+                    at("baseline")
+                ))
+            })?;
+        }
+        check_option_numbers(&c.options, &at("options")).map_err(err)?;
+    }
+    for p in &t.path {
+        check_option_numbers(&p.options, &format!("path `{}` options", p.name)).map_err(err)?;
+    }
+    Ok(())
+}
+
+/// The number of cases before any is built: a study of 10⁴ robots, cells and paths is
+/// refused without building 10¹² cases.
+fn check_case_count(t: &FileToml, err: &impl Fn(String) -> Error) -> Result<()> {
+    let n_cases = if t.case.is_empty() {
+        t.robot
+            .len()
+            .checked_mul(t.cell.len())
+            .and_then(|n| n.checked_mul(t.path.len()))
+            .unwrap_or(usize::MAX)
+    } else {
+        t.case.len()
+    };
+    if n_cases > MAX_CASES {
+        let n = if n_cases == usize::MAX {
+            "more than 2^64".to_string()
+        } else {
+            n_cases.to_string()
+        };
+        return Err(err(format!(
+            "{n} cases: at most {MAX_CASES}; split the study"
+        )));
+    }
+    Ok(())
+}
+
+/// The study's robots, their files resolved (a robot that is not a file or directory beside
+/// the study is taken as a shipped robot's name).
+fn study_robots(robots: Vec<RobotToml>, dir: &Path) -> Vec<StudyRobot> {
+    robots
+        .into_iter()
+        .map(|r| {
+            let local = resolve(dir, &r.robot);
+            StudyRobot {
+                robot: if local.exists() {
+                    local
+                } else {
+                    PathBuf::from(&r.robot)
+                },
+                tool: r.tool.as_deref().map(|s| resolve(dir, s)),
+                name: r.name,
+                options: r.options,
+            }
+        })
+        .collect()
+}
+
+/// The study's cells, each with its placement options in command-line order.
+fn study_cells(cells: Vec<CellToml>, dir: &Path) -> Vec<StudyCell> {
+    cells
+        .into_iter()
+        .map(|c| {
+            let mut placement = Vec::new();
+            for (k, v) in [
+                ("x", c.x.as_ref().map(Spec::text)),
+                ("y", c.y.as_ref().map(Spec::text)),
+                ("z", c.z.as_ref().map(Spec::text)),
+                ("yaw", c.yaw.as_ref().map(Spec::text)),
+                ("spin", c.spin.as_ref().map(Spec::text)),
+                ("z-bounds", c.z_bounds.clone()),
+                ("baseline", c.baseline.clone()),
+                (
+                    "set",
+                    c.set
+                        .as_deref()
+                        .map(|s| resolve(dir, s).display().to_string()),
+                ),
+            ] {
+                if let Some(v) = v {
+                    placement.push((k, v));
+                }
+            }
+            StudyCell {
+                name: c.name,
+                placement,
+                options: c.options,
+            }
+        })
+        .collect()
+}
+
+/// The `[[case]]` entries as (robot, cell, path) indices: every name defined, no case twice.
+fn named_cases(
+    case: &[CaseToml],
+    robots: &[StudyRobot],
+    cells: &[StudyCell],
+    paths: &[StudyPath],
+    err: &impl Fn(String) -> Error,
+) -> Result<Vec<(usize, usize, usize)>> {
+    let index = |names: Vec<&String>| -> std::collections::HashMap<String, usize> {
+        names
+            .into_iter()
+            .enumerate()
+            .map(|(i, n)| (n.clone(), i))
+            .collect()
+    };
+    let robot_names: Vec<&String> = robots.iter().map(|r| &r.name).collect();
+    let cell_names: Vec<&String> = cells.iter().map(|c| &c.name).collect();
+    let path_names: Vec<&String> = paths.iter().map(|p| &p.name).collect();
+    let robot_ix = index(robot_names.clone());
+    let cell_ix = index(cell_names.clone());
+    let path_ix = index(path_names.clone());
+    let mut seen = std::collections::HashMap::new();
+    let mut cases = Vec::new();
+    for (k, c) in case.iter().enumerate() {
+        let find = |kind: &str,
+                    ix: &std::collections::HashMap<String, usize>,
+                    names: &[&String],
+                    n: &str| {
+            ix.get(n).copied().ok_or_else(|| {
+                err(format!(
+                    "[[case]] {} names {kind} `{n}`, which no [[{kind}]] defines (defined: {})",
+                    k + 1,
+                    names
+                        .iter()
+                        .map(|s| s.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                ))
+            })
+        };
+        let r = find("robot", &robot_ix, &robot_names, &c.robot)?;
+        let ce = find("cell", &cell_ix, &cell_names, &c.cell)?;
+        let p = find("path", &path_ix, &path_names, &c.path)?;
+        if let Some(j) = seen.insert((r, ce, p), k) {
+            return Err(err(format!(
+                "[[case]] {} ({} / {} / {}) repeats [[case]] {}",
+                k + 1,
+                c.robot,
+                c.cell,
+                c.path,
+                j + 1
+            )));
+        }
+        cases.push((r, ce, p));
+    }
+    Ok(cases)
 }
 
 impl Study {
@@ -294,137 +496,23 @@ impl Study {
             Some(p) if !p.as_os_str().is_empty() => p.to_path_buf(),
             _ => PathBuf::new(),
         };
-        let rel = |s: &str| -> PathBuf {
-            let p = Path::new(s);
-            if p.is_absolute() {
-                p.to_path_buf()
-            } else {
-                dir.join(p)
-            }
-        };
         let err = |m: String| Error::Invalid(format!("{f}: {m}"));
-        check_name("study", &t.study.name).map_err(|e| err(e.to_string()))?;
-        for (kind, names) in [
-            ("robot", t.robot.iter().map(|r| &r.name).collect::<Vec<_>>()),
-            ("cell", t.cell.iter().map(|c| &c.name).collect()),
-            ("path", t.path.iter().map(|p| &p.name).collect()),
-        ] {
-            if names.is_empty() {
-                return Err(err(format!(
-                    "no `[[{kind}]]` entry: a study needs at least one robot, one cell and one path"
-                )));
-            }
-            let mut seen = std::collections::HashSet::new();
-            for n in &names {
-                check_name(kind, n).map_err(|e| err(e.to_string()))?;
-                if !seen.insert(*n) {
-                    return Err(err(format!("{kind} `{n}` is defined twice")));
-                }
-            }
-        }
-        // Values the cases' command lines would refuse fail the study here, before any work,
-        // naming the file, the entry and the key (a case that cannot run is not an answer).
-        check_option_numbers(&t.study.options, "[study] options").map_err(err)?;
-        for r in &t.robot {
-            check_option_numbers(&r.options, &format!("robot `{}` options", r.name))
-                .map_err(err)?;
-        }
-        for c in &t.cell {
-            let at = |key: &str| format!("cell `{}` {key}", c.name);
-            if let Some(z) = &c.z_bounds {
-                check_z_bounds(z).map_err(|m| err(format!("{}: {m}", at("z_bounds"))))?;
-            }
-            if let Some(b) = &c.baseline {
-                crate::frame::Placement::parse(b).map_err(|e| {
-                    err(format!(
-                        "{} `{b}`: {e} (expected x,y,z,yaw[,spin] in m and deg)",
-                        at("baseline")
-                    ))
-                })?;
-            }
-            check_option_numbers(&c.options, &at("options")).map_err(err)?;
-        }
-        for p in &t.path {
-            check_option_numbers(&p.options, &format!("path `{}` options", p.name)).map_err(err)?;
-        }
-        // The number of cases before any is built: a study of 10⁴ robots, cells and paths is
-        // refused without building 10¹² cases.
-        let n_cases = if t.case.is_empty() {
-            t.robot
-                .len()
-                .checked_mul(t.cell.len())
-                .and_then(|n| n.checked_mul(t.path.len()))
-                .unwrap_or(usize::MAX)
-        } else {
-            t.case.len()
-        };
-        if n_cases > MAX_CASES {
-            let n = if n_cases == usize::MAX {
-                "more than 2^64".to_string()
-            } else {
-                n_cases.to_string()
-            };
-            return Err(err(format!(
-                "{n} cases: at most {MAX_CASES}; split the study"
-            )));
-        }
-        let robots: Vec<StudyRobot> = t
-            .robot
-            .into_iter()
-            .map(|r| {
-                let local = rel(&r.robot);
-                StudyRobot {
-                    robot: if local.exists() {
-                        local
-                    } else {
-                        PathBuf::from(&r.robot)
-                    },
-                    tool: r.tool.as_deref().map(rel),
-                    name: r.name,
-                    options: r.options,
-                }
-            })
-            .collect();
-        let cells: Vec<StudyCell> = t
-            .cell
-            .into_iter()
-            .map(|c| {
-                let mut placement = Vec::new();
-                for (k, v) in [
-                    ("x", c.x.as_ref().map(Spec::text)),
-                    ("y", c.y.as_ref().map(Spec::text)),
-                    ("z", c.z.as_ref().map(Spec::text)),
-                    ("yaw", c.yaw.as_ref().map(Spec::text)),
-                    ("spin", c.spin.as_ref().map(Spec::text)),
-                    ("z-bounds", c.z_bounds.clone()),
-                    ("baseline", c.baseline.clone()),
-                    (
-                        "set",
-                        c.set.as_deref().map(|s| rel(s).display().to_string()),
-                    ),
-                ] {
-                    if let Some(v) = v {
-                        placement.push((k, v));
-                    }
-                }
-                StudyCell {
-                    name: c.name,
-                    placement,
-                    options: c.options,
-                }
-            })
-            .collect();
+        check_names(&t, &err)?;
+        check_values(&t, &err)?;
+        check_case_count(&t, &err)?;
+        let robots = study_robots(t.robot, &dir);
+        let cells = study_cells(t.cell, &dir);
         let paths: Vec<StudyPath> = t
             .path
             .into_iter()
             .map(|p| StudyPath {
-                file: rel(&p.file),
+                file: resolve(&dir, &p.file),
                 name: p.name,
                 options: p.options,
             })
             .collect();
-        let mut cases = Vec::new();
-        if t.case.is_empty() {
+        let cases = if t.case.is_empty() {
+            let mut cases = Vec::new();
             for r in 0..robots.len() {
                 for c in 0..cells.len() {
                     for p in 0..paths.len() {
@@ -432,62 +520,10 @@ impl Study {
                     }
                 }
             }
+            cases
         } else {
-            let index = |names: Vec<&String>| -> std::collections::HashMap<String, usize> {
-                names
-                    .into_iter()
-                    .enumerate()
-                    .map(|(i, n)| (n.clone(), i))
-                    .collect()
-            };
-            let robot_ix = index(robots.iter().map(|r| &r.name).collect());
-            let cell_ix = index(cells.iter().map(|c| &c.name).collect());
-            let path_ix = index(paths.iter().map(|p| &p.name).collect());
-            let mut seen = std::collections::HashMap::new();
-            for (k, c) in t.case.iter().enumerate() {
-                let find = |kind: &str,
-                            ix: &std::collections::HashMap<String, usize>,
-                            names: Vec<&String>,
-                            n: &str| {
-                    ix.get(n).copied().ok_or_else(|| {
-                        err(format!(
-                            "[[case]] {} names {kind} `{n}`, which no [[{kind}]] defines (defined: {})",
-                            k + 1,
-                            names.iter().map(|s| s.as_str()).collect::<Vec<_>>().join(", ")
-                        ))
-                    })
-                };
-                let r = find(
-                    "robot",
-                    &robot_ix,
-                    robots.iter().map(|r| &r.name).collect(),
-                    &c.robot,
-                )?;
-                let ce = find(
-                    "cell",
-                    &cell_ix,
-                    cells.iter().map(|c| &c.name).collect(),
-                    &c.cell,
-                )?;
-                let p = find(
-                    "path",
-                    &path_ix,
-                    paths.iter().map(|p| &p.name).collect(),
-                    &c.path,
-                )?;
-                if let Some(j) = seen.insert((r, ce, p), k) {
-                    return Err(err(format!(
-                        "[[case]] {} ({} / {} / {}) repeats [[case]] {}",
-                        k + 1,
-                        c.robot,
-                        c.cell,
-                        c.path,
-                        j + 1
-                    )));
-                }
-                cases.push((r, ce, p));
-            }
-        }
+            named_cases(&t.case, &robots, &cells, &paths, &err)?
+        };
         if cases.len() > MAX_CASES {
             return Err(err(format!(
                 "{} cases: at most {MAX_CASES}; split the study",
@@ -576,36 +612,8 @@ impl CaseResult {
                 })?;
                 let p = &best.placement;
                 let si = rep.optimise.as_ref().and_then(|o| o.search.as_ref());
-                let mut notes = Vec::new();
-                if let Some(si) = si {
-                    if !si.tolerance.holds && si.tolerance.corners > 0 {
-                        notes.push(format!("tolerance {}", tolerance_line(&si.tolerance)));
-                    }
-                    if !si.on_bounds.is_empty() {
-                        notes.push(format!(
-                            "optimum on a search bound: {}",
-                            si.on_bounds.join(", ")
-                        ));
-                    }
-                    if let Some(om) = &si.on_margin {
-                        notes.push(format!("optimum on a joint-limit margin: {om}"));
-                    }
-                    if let Some(b) = &si.budget_spent {
-                        notes.push(format!("search stopped: {b}"));
-                    }
-                }
-                let base_tol = rep
-                    .optimise
-                    .as_ref()
-                    .and_then(|o| o.baseline_tolerance.as_ref())
-                    .filter(|t| t.corners > 0);
-                if let Some(t) = base_tol.filter(|t| !t.holds) {
-                    notes.push(format!(
-                        "the baseline does not hold the tolerance ({} of its {} corners infeasible): the saving is measured against a placement a site could not rely on",
-                        t.failures.len(),
-                        t.corners
-                    ));
-                }
+                let base_tol = baseline_tolerance(rep);
+                let notes = answer_notes(rep);
                 CaseResult {
                     objective,
                     outcome: Ok(CaseBest {
@@ -619,22 +627,7 @@ impl CaseResult {
                         baseline_holds_tolerance: base_tol.map(|t| t.holds),
                         tolerance: si.map(|si| tolerance_line(&si.tolerance)),
                         notes,
-                        robust: rep
-                            .optimise
-                            .as_ref()
-                            .and_then(|o| o.decision.as_ref())
-                            .and_then(|d| d.robust.as_ref())
-                            .map(|r| {
-                                let c = r.recommendation();
-                                let q = &c.placement;
-                                CaseRobust {
-                                    placement: [q.x, q.y, q.z, q.yaw, q.nozzle_spin],
-                                    expected_regret_j: c.expected_regret_j,
-                                    p95_regret_j: c.p95_regret_j,
-                                    p_within_1pct: c.p_within_1pct,
-                                    nominal_expected_regret_j: r.nominal().expected_regret_j,
-                                }
-                            }),
+                        robust: case_robust(rep),
                     }),
                     grid: rep.rows.len(),
                     grid_feasible: rep.rows.iter().filter(|r| r.cost().is_finite()).count(),
@@ -656,6 +649,66 @@ impl CaseResult {
         // Exactly what a shard carries, so that a single run and a merge write the same files.
         Ok((r.as_stored()?, page))
     }
+}
+
+/// The answer's notes: a tolerance that does not hold, an optimum on a search bound or a
+/// joint-limit margin, a spent search budget, a baseline that does not hold the tolerance.
+fn answer_notes(rep: &RunReport) -> Vec<String> {
+    let si = rep.optimise.as_ref().and_then(|o| o.search.as_ref());
+    let mut notes = Vec::new();
+    if let Some(si) = si {
+        if !si.tolerance.holds && si.tolerance.corners > 0 {
+            notes.push(format!("tolerance {}", tolerance_line(&si.tolerance)));
+        }
+        if !si.on_bounds.is_empty() {
+            notes.push(format!(
+                "optimum on a search bound: {}",
+                si.on_bounds.join(", ")
+            ));
+        }
+        if let Some(om) = &si.on_margin {
+            notes.push(format!("optimum on a joint-limit margin: {om}"));
+        }
+        if let Some(b) = &si.budget_spent {
+            notes.push(format!("search stopped: {b}"));
+        }
+    }
+    let base_tol = baseline_tolerance(rep);
+    if let Some(t) = base_tol.filter(|t| !t.holds) {
+        notes.push(format!(
+            "the baseline does not hold the tolerance ({} of its {} corners infeasible): the saving is measured against a placement a site could not rely on",
+            t.failures.len(),
+            t.corners
+        ));
+    }
+    notes
+}
+
+/// The baseline's tolerance study, when it has corners.
+fn baseline_tolerance(rep: &RunReport) -> Option<&crate::search::tolerance::ToleranceCheck> {
+    rep.optimise
+        .as_ref()
+        .and_then(|o| o.baseline_tolerance.as_ref())
+        .filter(|t| t.corners > 0)
+}
+
+/// The robust recommendation of the answer, when the run made one.
+fn case_robust(rep: &RunReport) -> Option<CaseRobust> {
+    rep.optimise
+        .as_ref()
+        .and_then(|o| o.decision.as_ref())
+        .and_then(|d| d.robust.as_ref())
+        .map(|r| {
+            let c = r.recommendation();
+            let q = &c.placement;
+            CaseRobust {
+                placement: [q.x, q.y, q.z, q.yaw, q.nozzle_spin],
+                expected_regret_j: c.expected_regret_j,
+                p95_regret_j: c.p95_regret_j,
+                p_within_1pct: c.p_within_1pct,
+                nominal_expected_regret_j: r.nominal().expected_regret_j,
+            }
+        })
 }
 
 /// What a front end does with each answered case: the case, its result, its report page (when
@@ -836,6 +889,16 @@ impl Study {
     /// Ties are broken by case order, so the tables are deterministic.
     pub fn tables(&self, results: &[CaseResult]) -> Result<StudyTables> {
         self.check_results(results)?;
+        let paths = self.path_bests(results);
+        let combos = self.combinations(results);
+        Ok(StudyTables {
+            paths,
+            combinations: combos,
+        })
+    }
+
+    /// The best case of each path (cases answered, the best and the runner-up).
+    fn path_bests(&self, results: &[CaseResult]) -> Vec<PathBest> {
         let mut paths = Vec::new();
         for (pi, p) in self.paths.iter().enumerate() {
             let mine: Vec<(&Case, &CaseResult)> = self
@@ -875,6 +938,12 @@ impl Study {
                 },
             });
         }
+        paths
+    }
+
+    /// The totals of each robot and cell over its paths, complete combinations first, then by
+    /// energy.
+    fn combinations(&self, results: &[CaseResult]) -> Vec<Combination> {
         let mut combos: Vec<Combination> = Vec::new();
         let mut keys: Vec<(usize, usize)> = Vec::new();
         for (c, r) in self.cases.iter().zip(results) {
@@ -914,10 +983,7 @@ impl Study {
                 .cmp(&(b.paths - b.feasible))
                 .then(a.energy_j.total_cmp(&b.energy_j))
         });
-        Ok(StudyTables {
-            paths,
-            combinations: combos,
-        })
+        combos
     }
 
     /// `study.csv`: one row per case (SI units in the header; angles in deg as labelled).
@@ -990,6 +1056,56 @@ impl Study {
         Ok(s)
     }
 
+    /// One case's entry of `summary.json`: its names, its answer or why there is none.
+    fn case_json(&self, c: &Case, r: &CaseResult) -> serde_json::Value {
+        let mut v = serde_json::json!({
+            "case": c.index,
+            "robot": self.robots[c.robot].name,
+            "cell": self.cells[c.cell].name,
+            "path": self.paths[c.path].name,
+            "grid": r.grid,
+            "grid_feasible": r.grid_feasible,
+            "evaluations": r.evaluations,
+        });
+        match &r.outcome {
+            Ok(b) => {
+                let [x, y, z, yaw, spin] = b.placement;
+                v["status"] = "feasible".into();
+                v["placement"] = serde_json::json!({
+                    "x_m": x, "y_m": y, "z_m": z,
+                    "yaw_deg": yaw.to_degrees(), "spin_deg": spin.to_degrees(),
+                });
+                v["outcome"] = serde_json::to_value(&b.feasible).unwrap_or_default();
+                v["baseline_j"] = serde_json::json!(b.baseline_j);
+                v["baseline_holds_tolerance"] = serde_json::json!(b.baseline_holds_tolerance);
+                v["tolerance"] = serde_json::json!(b.tolerance);
+                v["notes"] = serde_json::json!(b.notes);
+                v["robust"] = match &b.robust {
+                    Some(r) => {
+                        let [x, y, z, yaw, spin] = r.placement;
+                        serde_json::json!({
+                            "placement": {
+                                "x_m": x, "y_m": y, "z_m": z,
+                                "yaw_deg": yaw.to_degrees(), "spin_deg": spin.to_degrees(),
+                            },
+                            "expected_regret_j": r.expected_regret_j,
+                            "p95_regret_j": r.p95_regret_j,
+                            "p_within_1pct": r.p_within_1pct,
+                            "nominal_expected_regret_j": r.nominal_expected_regret_j,
+                        })
+                    }
+                    None => serde_json::Value::Null,
+                };
+                v["report"] = self.case_file(c).into();
+            }
+            Err(why) => {
+                v["status"] = "no answer".into();
+                v["reason"] = why.clone().into();
+            }
+        }
+        v
+    }
+
     /// `summary.json`'s value: the study, every case's answer (without its report page), the
     /// per-path and per-combination tables.
     pub fn summary(&self, results: &[CaseResult]) -> Result<serde_json::Value> {
@@ -998,55 +1114,7 @@ impl Study {
             .cases
             .iter()
             .zip(results)
-            .map(|(c, r)| {
-                let mut v = serde_json::json!({
-                    "case": c.index,
-                    "robot": self.robots[c.robot].name,
-                    "cell": self.cells[c.cell].name,
-                    "path": self.paths[c.path].name,
-                    "grid": r.grid,
-                    "grid_feasible": r.grid_feasible,
-                    "evaluations": r.evaluations,
-                });
-                match &r.outcome {
-                    Ok(b) => {
-                        let [x, y, z, yaw, spin] = b.placement;
-                        v["status"] = "feasible".into();
-                        v["placement"] = serde_json::json!({
-                            "x_m": x, "y_m": y, "z_m": z,
-                            "yaw_deg": yaw.to_degrees(), "spin_deg": spin.to_degrees(),
-                        });
-                        v["outcome"] = serde_json::to_value(&b.feasible).unwrap_or_default();
-                        v["baseline_j"] = serde_json::json!(b.baseline_j);
-                        v["baseline_holds_tolerance"] =
-                            serde_json::json!(b.baseline_holds_tolerance);
-                        v["tolerance"] = serde_json::json!(b.tolerance);
-                        v["notes"] = serde_json::json!(b.notes);
-                        v["robust"] = match &b.robust {
-                            Some(r) => {
-                                let [x, y, z, yaw, spin] = r.placement;
-                                serde_json::json!({
-                                    "placement": {
-                                        "x_m": x, "y_m": y, "z_m": z,
-                                        "yaw_deg": yaw.to_degrees(), "spin_deg": spin.to_degrees(),
-                                    },
-                                    "expected_regret_j": r.expected_regret_j,
-                                    "p95_regret_j": r.p95_regret_j,
-                                    "p_within_1pct": r.p_within_1pct,
-                                    "nominal_expected_regret_j": r.nominal_expected_regret_j,
-                                })
-                            }
-                            None => serde_json::Value::Null,
-                        };
-                        v["report"] = self.case_file(c).into();
-                    }
-                    Err(why) => {
-                        v["status"] = "no answer".into();
-                        v["reason"] = why.clone().into();
-                    }
-                }
-                v
-            })
+            .map(|(c, r)| self.case_json(c, r))
             .collect();
         Ok(serde_json::json!({
             "kind": "printwatt-study",

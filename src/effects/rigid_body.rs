@@ -174,6 +174,46 @@ impl Base {
     /// states within `ranges` (one per joint), reduced by QR with column pivoting.
     fn find(nominal: &DynModel, ranges: &[(f64, f64)]) -> Base {
         let n = nominal.dof();
+        let w = Base::sampled_regressor(nominal, ranges);
+        let rows = w.nrows();
+        let norms: Vec<f64> = (0..w.ncols()).map(|c| w.column(c).norm()).collect();
+        let (indep, dep) = Base::pivot_columns(&w, &norms);
+        let (indep, dep) = (indep.as_slice(), dep.as_slice());
+        // K = W₁⁺ W₂ in raw units: base_k = π_k + Σ K_kj π_j.
+        let w1 = nalgebra::DMatrix::from_fn(rows, indep.len(), |i, k| w[(i, indep[k])]);
+        let w2 = nalgebra::DMatrix::from_fn(rows, dep.len(), |i, k| w[(i, dep[k])]);
+        let k = w1
+            .clone()
+            .svd(true, true)
+            .solve(&w2, 1e-12)
+            .unwrap_or_else(|_| nalgebra::DMatrix::zeros(indep.len(), dep.len()));
+        let combination = Base::combination_names(indep, dep, &k);
+        let null_j = Base::null_space_j(&w, &norms, n);
+        let std_value = |c: usize| nominal.link_params(c / 10)[c % 10];
+        let nominal_values: Vec<f64> = indep
+            .iter()
+            .enumerate()
+            .map(|(row, &c)| {
+                std_value(c)
+                    + dep
+                        .iter()
+                        .enumerate()
+                        .map(|(col, &dc)| k[(row, col)] * std_value(dc))
+                        .sum::<f64>()
+            })
+            .collect();
+        Base {
+            independent: indep.iter().map(|&c| (c / 10, c % 10)).collect(),
+            combination,
+            null_j,
+            nominal_values,
+        }
+    }
+
+    /// The regressor W at [`BASE_SAMPLES`] seeded random states within `ranges` (one per
+    /// joint): one row per sample and joint, ten columns per link.
+    fn sampled_regressor(nominal: &DynModel, ranges: &[(f64, f64)]) -> nalgebra::DMatrix<f64> {
+        let n = nominal.dof();
         let ncol = 10 * n;
         // W at seeded random states within the joint limits.
         let mut rng = ChaCha8Rng::seed_from_u64(7);
@@ -198,7 +238,13 @@ impl Base {
                 }
             }
         }
-        let norms: Vec<f64> = (0..ncol).map(|c| w.column(c).norm()).collect();
+        w
+    }
+
+    /// The independent and dependent columns of W (`norms`: its column norms), by QR with
+    /// column pivoting of its normalised non-zero columns.
+    fn pivot_columns(w: &nalgebra::DMatrix<f64>, norms: &[f64]) -> (Vec<usize>, Vec<usize>) {
+        let (rows, ncol) = (w.nrows(), w.ncols());
         let nmax = norms.iter().cloned().fold(0.0, f64::max);
         let nonzero: Vec<usize> = (0..ncol).filter(|&c| norms[c] > 1e-9 * nmax).collect();
         let mut wn = nalgebra::DMatrix::<f64>::zeros(rows, nonzero.len());
@@ -217,15 +263,17 @@ impl Base {
             .map(|k| nonzero[order[(0, k)] as usize])
             .collect();
         let (indep, dep) = pick.split_at(rank);
-        // K = W₁⁺ W₂ in raw units: base_k = π_k + Σ K_kj π_j.
-        let w1 = nalgebra::DMatrix::from_fn(rows, indep.len(), |i, k| w[(i, indep[k])]);
-        let w2 = nalgebra::DMatrix::from_fn(rows, dep.len(), |i, k| w[(i, dep[k])]);
-        let k = w1
-            .clone()
-            .svd(true, true)
-            .solve(&w2, 1e-12)
-            .unwrap_or_else(|_| nalgebra::DMatrix::zeros(indep.len(), dep.len()));
-        let combination = indep
+        (indep.to_vec(), dep.to_vec())
+    }
+
+    /// Each base parameter as a name: its independent standard parameter plus the largest
+    /// terms of the dependent ones (`k`: the combination matrix).
+    fn combination_names(
+        indep: &[usize],
+        dep: &[usize],
+        k: &nalgebra::DMatrix<f64>,
+    ) -> Vec<String> {
+        indep
             .iter()
             .enumerate()
             .map(|(row, &c)| {
@@ -245,7 +293,14 @@ impl Base {
                 }
                 s
             })
-            .collect();
+            .collect()
+    }
+
+    /// The null space of W (`norms`: its column norms) in standard parameters (zero columns
+    /// included), then in pseudo-inertia coordinates, orthonormalised; `n` links.
+    fn null_space_j(w: &nalgebra::DMatrix<f64>, norms: &[f64], n: usize) -> nalgebra::DMatrix<f64> {
+        let (rows, ncol) = (w.nrows(), w.ncols());
+        let nmax = norms.iter().cloned().fold(0.0, f64::max);
         // Null space of W in standard parameters (zero columns included), then in
         // pseudo-inertia coordinates, orthonormalised.
         let scale: Vec<f64> = norms
@@ -277,7 +332,7 @@ impl Base {
                 }
             }
         }
-        let null_j = if nj.ncols() > 0 {
+        if nj.ncols() > 0 {
             let svd = nj.svd(true, false);
             let smax = svd.singular_values.max();
             let keep: Vec<usize> = (0..svd.singular_values.len())
@@ -287,25 +342,6 @@ impl Base {
             nalgebra::DMatrix::from_fn(ncol, keep.len(), |i, k| u[(i, keep[k])])
         } else {
             nj
-        };
-        let std_value = |c: usize| nominal.link_params(c / 10)[c % 10];
-        let nominal_values: Vec<f64> = indep
-            .iter()
-            .enumerate()
-            .map(|(row, &c)| {
-                std_value(c)
-                    + dep
-                        .iter()
-                        .enumerate()
-                        .map(|(col, &dc)| k[(row, col)] * std_value(dc))
-                        .sum::<f64>()
-            })
-            .collect();
-        Base {
-            independent: indep.iter().map(|&c| (c / 10, c % 10)).collect(),
-            combination,
-            null_j,
-            nominal_values,
         }
     }
 }

@@ -152,127 +152,144 @@ pub fn complete(model: &mut RobotModel) {
     model.info.inertia_sources.resize(n, InertiaSource::Urdf);
     let reach = crate::evaluate::feasibility::reach_m(model);
     let radii = crate::evaluate::feasibility::LinkRadii::default();
-    let rho = ESTIMATE_DENSITY_KG_M3;
     let mut estimated = Vec::new();
     for i in 0..n {
         if model.links[i].is_some() {
             continue;
         }
-        let mut body = Inertial::zero();
-        let mut any = false;
-        let mut from_visual = false;
-        for (geoms, visual) in [(&model.link_collision, false), (&model.link_visual, true)] {
-            if any {
-                break;
-            }
-            for g in geoms.get(i).into_iter().flatten() {
-                if let Some(b) = solid(&g.shape, rho) {
-                    body = body.merged(&b.transformed(&g.origin));
-                    any = true;
-                    from_visual = visual;
-                }
-            }
-        }
-        let source = if any && from_visual {
-            InertiaSource::EstimateFromVisual
-        } else if any {
-            InertiaSource::EstimateFromGeometry
-        } else {
-            // The capsule of the collision model: this joint's origin to the next (or the
-            // flange), radius by the index of the joint the segment ends at.
-            let end = model
-                .joints
-                .get(i + 1)
-                .map_or(model.flange.pos, |j| j.origin.pos);
-            // The segment ends at joint i + 1: base up to joint 1, arm up to joint 3.
-            let end_joint = i + 1;
-            let r = reach
-                * if end_joint <= 1 {
-                    radii.base
-                } else if end_joint <= 3 {
-                    radii.arm
-                } else {
-                    radii.wrist
-                };
-            let len = end.norm();
-            // A cylinder of the capsule's volume (πr²L + 4/3 πr³); a zero-length segment
-            // (a wrist joint on the previous one's origin) is a sphere of radius r.
-            let b = if len > 1e-9 {
-                cylinder(r, len + 4.0 / 3.0 * r, CAPSULE_DENSITY_KG_M3)
-                    .transformed(&segment_frame(&V3::zeros(), &end))
-            } else {
-                solid(&GeomShape::Sphere { radius_m: r }, CAPSULE_DENSITY_KG_M3)
-                    .unwrap_or(Inertial::zero())
-            };
-            body = b;
-            InertiaSource::EstimateFromCapsule
-        };
+        let (body, source) = estimate_link(model, i, reach, &radii);
         estimated.push(format!(
             "`{}` {:.1} kg ({})",
             model.link_names[i],
             body.mass,
-            if any && from_visual {
-                format!(
+            match source {
+                InertiaSource::EstimateFromVisual => format!(
                     "visual shapes (no collision geometry) at {ESTIMATE_DENSITY_KG_M3:.0} kg/m³"
-                )
-            } else if any {
-                format!("collision shapes at {ESTIMATE_DENSITY_KG_M3:.0} kg/m³")
-            } else {
-                format!("collision capsule at {CAPSULE_DENSITY_KG_M3:.0} kg/m³")
+                ),
+                InertiaSource::EstimateFromGeometry => {
+                    format!("collision shapes at {ESTIMATE_DENSITY_KG_M3:.0} kg/m³")
+                }
+                _ => format!("collision capsule at {CAPSULE_DENSITY_KG_M3:.0} kg/m³"),
             }
         ));
         model.links[i] = Some(body);
         model.info.inertia_sources[i] = source;
     }
     if !estimated.is_empty() {
-        let total: f64 = (0..n)
-            .filter(|&i| model.info.inertia_sources[i].is_estimate())
-            .filter_map(|i| model.links[i].map(|l| l.mass))
-            .sum();
-        let scaled = model
-            .info
-            .mass_kg
-            .map(|m| scale_to_stated_mass(model, m, total));
-        let uncertainty = match &scaled {
-            Some(Ok(s)) => format!(
-                "{total:.0} kg in all before scaling, scaled by {:.3} to {:.0} kg so that, with \
-                 the fixed base estimated the same way ({:.0} kg before scaling){}, the robot \
-                 weighs the drive file's [robot] mass_kg = {} kg (the datasheet's mass): the \
-                 total is the datasheet's, its split between the links and the centres of mass \
-                 and inertias remain ESTIMATEs (the inertias scaled with the masses)",
-                s.factor,
-                s.factor * total,
-                s.base_kg,
-                if s.given_kg > 0.0 {
-                    format!(" and the links given ({:.0} kg)", s.given_kg)
-                } else {
-                    String::new()
-                },
-                s.stated_kg
-            ),
-            Some(Err(why)) => format!(
-                "{total:.0} kg in all, not scaled to the drive file's [robot] mass_kg ({why}), \
-                 uncertain by about ±{:.0} % in mass and more in centre of mass and inertia",
-                100.0 * ESTIMATE_MASS_UNCERTAINTY_REL
-            ),
-            None => format!(
-                "{total:.0} kg in all, uncertain by about ±{:.0} % in mass and more in centre \
-                 of mass and inertia (the effective density stands for metal filling a sixth of \
-                 the outer volume, motors and gearboxes averaged in; the drive file's [robot] \
-                 mass_kg, the datasheet's mass, would scale them to it)",
-                100.0 * ESTIMATE_MASS_UNCERTAINTY_REL
-            ),
-        };
-        model.warnings.push(format!(
-            "ESTIMATE: link inertias missing from the URDF estimated as solids (hollow cast \
-             links) filling their collision shapes (their convex hulls): {}; {uncertainty}; the \
-             energy is only as good as these; give the real values in the drive file's \
-             [links.<name>] tables (docs/drive-file.md)",
-            estimated.join(", "),
-        ));
+        warn_estimates(model, &estimated);
     }
     let w = placeholder_warnings(model);
     model.warnings.extend(w);
+}
+
+/// The estimate of moving link `i` without an inertial: solids filling its collision shapes,
+/// else its visual shapes, else the collision capsule; with where it came from.
+fn estimate_link(
+    model: &RobotModel,
+    i: usize,
+    reach: f64,
+    radii: &crate::evaluate::feasibility::LinkRadii,
+) -> (Inertial, InertiaSource) {
+    let rho = ESTIMATE_DENSITY_KG_M3;
+    let mut body = Inertial::zero();
+    let mut any = false;
+    let mut from_visual = false;
+    for (geoms, visual) in [(&model.link_collision, false), (&model.link_visual, true)] {
+        if any {
+            break;
+        }
+        for g in geoms.get(i).into_iter().flatten() {
+            if let Some(b) = solid(&g.shape, rho) {
+                body = body.merged(&b.transformed(&g.origin));
+                any = true;
+                from_visual = visual;
+            }
+        }
+    }
+    if any && from_visual {
+        (body, InertiaSource::EstimateFromVisual)
+    } else if any {
+        (body, InertiaSource::EstimateFromGeometry)
+    } else {
+        // The capsule of the collision model: this joint's origin to the next (or the
+        // flange), radius by the index of the joint the segment ends at.
+        let end = model
+            .joints
+            .get(i + 1)
+            .map_or(model.flange.pos, |j| j.origin.pos);
+        // The segment ends at joint i + 1: base up to joint 1, arm up to joint 3.
+        let end_joint = i + 1;
+        let r = reach
+            * if end_joint <= 1 {
+                radii.base
+            } else if end_joint <= 3 {
+                radii.arm
+            } else {
+                radii.wrist
+            };
+        let len = end.norm();
+        // A cylinder of the capsule's volume (πr²L + 4/3 πr³); a zero-length segment
+        // (a wrist joint on the previous one's origin) is a sphere of radius r.
+        let b = if len > 1e-9 {
+            cylinder(r, len + 4.0 / 3.0 * r, CAPSULE_DENSITY_KG_M3)
+                .transformed(&segment_frame(&V3::zeros(), &end))
+        } else {
+            solid(&GeomShape::Sphere { radius_m: r }, CAPSULE_DENSITY_KG_M3)
+                .unwrap_or(Inertial::zero())
+        };
+        (b, InertiaSource::EstimateFromCapsule)
+    }
+}
+
+/// The warning listing the estimated links (`estimated`), their total mass, and how it was
+/// scaled to the robot's stated mass or how uncertain it is.
+fn warn_estimates(model: &mut RobotModel, estimated: &[String]) {
+    let n = model.dof();
+    let total: f64 = (0..n)
+        .filter(|&i| model.info.inertia_sources[i].is_estimate())
+        .filter_map(|i| model.links[i].map(|l| l.mass))
+        .sum();
+    let scaled = model
+        .info
+        .mass_kg
+        .map(|m| scale_to_stated_mass(model, m, total));
+    let uncertainty = match &scaled {
+        Some(Ok(s)) => format!(
+            "{total:.0} kg in all before scaling, scaled by {:.3} to {:.0} kg so that, with \
+             the fixed base estimated the same way ({:.0} kg before scaling){}, the robot \
+             weighs the drive file's [robot] mass_kg = {} kg (the datasheet's mass): the \
+             total is the datasheet's, its split between the links and the centres of mass \
+             and inertias remain ESTIMATEs (the inertias scaled with the masses)",
+            s.factor,
+            s.factor * total,
+            s.base_kg,
+            if s.given_kg > 0.0 {
+                format!(" and the links given ({:.0} kg)", s.given_kg)
+            } else {
+                String::new()
+            },
+            s.stated_kg
+        ),
+        Some(Err(why)) => format!(
+            "{total:.0} kg in all, not scaled to the drive file's [robot] mass_kg ({why}), \
+             uncertain by about ±{:.0} % in mass and more in centre of mass and inertia",
+            100.0 * ESTIMATE_MASS_UNCERTAINTY_REL
+        ),
+        None => format!(
+            "{total:.0} kg in all, uncertain by about ±{:.0} % in mass and more in centre \
+             of mass and inertia (the effective density stands for metal filling a sixth of \
+             the outer volume, motors and gearboxes averaged in; the drive file's [robot] \
+             mass_kg, the datasheet's mass, would scale them to it)",
+            100.0 * ESTIMATE_MASS_UNCERTAINTY_REL
+        ),
+    };
+    model.warnings.push(format!(
+        "ESTIMATE: link inertias missing from the URDF estimated as solids (hollow cast \
+         links) filling their collision shapes (their convex hulls): {}; {uncertainty}; the \
+         energy is only as good as these; give the real values in the drive file's \
+         [links.<name>] tables (docs/drive-file.md)",
+        estimated.join(", "),
+    ));
 }
 
 /// How the estimated link masses were scaled to the robot's stated mass.

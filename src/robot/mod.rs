@@ -391,13 +391,45 @@ fn apply_links(
 }
 
 fn apply_drive(model: &mut RobotModel, d: drive::DriveFile, file: &str) -> Result<()> {
-    if let Some(n) = d.robot.name {
+    apply_robot_table(model, d.robot, file)?;
+    apply_tool_and_payload(model, d.tool, d.payload, file)?;
+    apply_links(model, &d.links, file)?;
+    let drives = apply_joint_tables(model, &d.joints, file)?;
+    apply_drive_trains(model, drives, d.cabinet.as_ref(), file)?;
+    if d.effects.is_some() || d.calibration.is_some() {
+        model.effects = drive::EffectsData {
+            file: Some(file.to_string()),
+            table: d.effects.unwrap_or_default(),
+            calibration: d.calibration,
+        };
+    }
+    if let Some(k) = d.kinematics {
+        if model.dof() != 6 {
+            return Err(Error::Field {
+                file: file.into(),
+                field: "kinematics".into(),
+                msg: format!(
+                    "OPW parameters need a 6-axis arm, the URDF has {} joints",
+                    model.dof()
+                ),
+            });
+        }
+        let p = k.to_params(file)?;
+        check_opw(model, &p, file)?;
+        model.opw = Some(p);
+    }
+    Ok(())
+}
+
+/// The `[robot]` table: name, reach, pedestal, rated payload, mass and provenance.
+fn apply_robot_table(model: &mut RobotModel, robot: drive::RobotTable, file: &str) -> Result<()> {
+    if let Some(n) = robot.name {
         model.info.name = n;
     }
-    model.info.reach_m = d.robot.reach_m;
+    model.info.reach_m = robot.reach_m;
     for (key, v) in [
-        ("pedestal_height_m", d.robot.pedestal_height_m),
-        ("pedestal_radius_m", d.robot.pedestal_radius_m),
+        ("pedestal_height_m", robot.pedestal_height_m),
+        ("pedestal_radius_m", robot.pedestal_radius_m),
     ] {
         if let Some(v) = v.filter(|v| !(v.is_finite() && *v >= 0.0)) {
             return Err(Error::Field {
@@ -407,8 +439,8 @@ fn apply_drive(model: &mut RobotModel, d: drive::DriveFile, file: &str) -> Resul
             });
         }
     }
-    model.info.pedestal_height_m = d.robot.pedestal_height_m.unwrap_or(0.0);
-    model.info.pedestal_radius_m = d.robot.pedestal_radius_m.unwrap_or(0.0);
+    model.info.pedestal_height_m = robot.pedestal_height_m.unwrap_or(0.0);
+    model.info.pedestal_radius_m = robot.pedestal_radius_m.unwrap_or(0.0);
     if model.info.pedestal_height_m > 0.0 && model.info.pedestal_radius_m == 0.0 {
         return Err(Error::Field {
             file: file.into(),
@@ -419,8 +451,8 @@ fn apply_drive(model: &mut RobotModel, d: drive::DriveFile, file: &str) -> Resul
             ),
         });
     }
-    model.info.rated_payload_kg = d.robot.rated_payload_kg;
-    if let Some(m) = d.robot.mass_kg {
+    model.info.rated_payload_kg = robot.rated_payload_kg;
+    if let Some(m) = robot.mass_kg {
         if !(m.is_finite() && m > 0.0) {
             return Err(Error::Field {
                 file: file.into(),
@@ -429,17 +461,25 @@ fn apply_drive(model: &mut RobotModel, d: drive::DriveFile, file: &str) -> Resul
             });
         }
     }
-    model.info.mass_kg = d.robot.mass_kg;
-    model.info.provenance = d.robot.provenance.unwrap_or_default();
-    apply_tool_and_payload(model, d.tool, d.payload, file)?;
-    apply_links(model, &d.links, file)?;
-    if !d.joints.is_empty() && d.joints.len() != model.dof() {
+    model.info.mass_kg = robot.mass_kg;
+    model.info.provenance = robot.provenance.unwrap_or_default();
+    Ok(())
+}
+
+/// The `[[joints]]` tables (one per actuated joint, in chain order): their limits and margins
+/// applied; their drive trains returned, one per joint.
+fn apply_joint_tables(
+    model: &mut RobotModel,
+    tables: &[drive::JointTable],
+    file: &str,
+) -> Result<Vec<Option<JointDrive>>> {
+    if !tables.is_empty() && tables.len() != model.dof() {
         return Err(Error::Field {
             file: file.into(),
             field: "joints".into(),
             msg: format!(
                 "{} [[joints]] tables, but the URDF chain has {} actuated joints ({})",
-                d.joints.len(),
+                tables.len(),
                 model.dof(),
                 model
                     .joints
@@ -451,7 +491,7 @@ fn apply_drive(model: &mut RobotModel, d: drive::DriveFile, file: &str) -> Resul
         });
     }
     let mut drives = Vec::new();
-    for (i, (jt, j)) in d.joints.iter().zip(model.joints.iter_mut()).enumerate() {
+    for (i, (jt, j)) in tables.iter().zip(model.joints.iter_mut()).enumerate() {
         if jt.name != j.name {
             return Err(Error::Field {
                 file: file.into(),
@@ -500,6 +540,16 @@ fn apply_drive(model: &mut RobotModel, d: drive::DriveFile, file: &str) -> Resul
         }
         drives.push(jt.drive(file, i)?);
     }
+    Ok(drives)
+}
+
+/// The model's drive: every joint's drive train (all or none) and the `[cabinet]` table.
+fn apply_drive_trains(
+    model: &mut RobotModel,
+    drives: Vec<Option<JointDrive>>,
+    cabinet: Option<&drive::CabinetTable>,
+    file: &str,
+) -> Result<()> {
     let any = drives.iter().any(|d| d.is_some());
     if any {
         if let Some(i) = drives.iter().position(|d| d.is_none()) {
@@ -509,7 +559,7 @@ fn apply_drive(model: &mut RobotModel, d: drive::DriveFile, file: &str) -> Resul
                 msg: "drive data given for some joints but not this one: give all or none".into(),
             });
         }
-        let cab = d.cabinet.as_ref();
+        let cab = cabinet;
         let standby = cab.map_or(0.0, |c| c.standby_power_w);
         if !(standby.is_finite() && standby >= 0.0) {
             return Err(Error::Field {
@@ -525,28 +575,6 @@ fn apply_drive(model: &mut RobotModel, d: drive::DriveFile, file: &str) -> Resul
                 .and_then(|c| c.regeneration)
                 .unwrap_or(Regeneration::None),
         });
-    }
-    if d.effects.is_some() || d.calibration.is_some() {
-        model.effects = drive::EffectsData {
-            file: Some(file.to_string()),
-            table: d.effects.unwrap_or_default(),
-            calibration: d.calibration,
-        };
-    }
-    if let Some(k) = d.kinematics {
-        if model.dof() != 6 {
-            return Err(Error::Field {
-                file: file.into(),
-                field: "kinematics".into(),
-                msg: format!(
-                    "OPW parameters need a 6-axis arm, the URDF has {} joints",
-                    model.dof()
-                ),
-            });
-        }
-        let p = k.to_params(file)?;
-        check_opw(model, &p, file)?;
-        model.opw = Some(p);
     }
     Ok(())
 }

@@ -10,7 +10,7 @@
 //! train is filled in). [`write_drive_template`] writes it through [`crate::output`], never over
 //! an existing file.
 
-use super::model::{JointKind, RobotModel};
+use super::model::{Joint, JointKind, RobotModel};
 use crate::error::{Error, Result};
 use crate::output::{self, Existing, Inputs};
 use std::fmt::Write as _;
@@ -145,9 +145,21 @@ fn template_text(m: &RobotModel, urdf: &Path, rel: &str) -> String {
         .file_name()
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_default();
-    let reach = crate::evaluate::feasibility::reach_m(m);
     let mut s = String::new();
-    let w = &mut s;
+    write_header(&mut s, m, &file_name);
+    write_robot(&mut s, m, rel, &file_name);
+    write_tool(&mut s);
+    write_payload_and_cabinet(&mut s);
+    write_estimated_links(&mut s, m);
+    let n = m.dof();
+    for (i, j) in m.joints.iter().enumerate() {
+        write_joint(&mut s, i, n, j);
+    }
+    s
+}
+
+/// The template's opening comment: what the file is and how to fill it in.
+fn write_header(w: &mut String, m: &RobotModel, file_name: &str) {
     let _ = writeln!(
         w,
         "# drive.toml of {} -- a template written by printwatt from {file_name}",
@@ -164,6 +176,11 @@ fn template_text(m: &RobotModel, urdf: &Path, rel: &str) -> String {
          # drive train of every joint is filled in)."
     );
     let _ = writeln!(w);
+}
+
+/// The `[robot]` table: the URDF, name, tool link, reach and provenance.
+fn write_robot(w: &mut String, m: &RobotModel, rel: &str, file_name: &str) {
+    let reach = crate::evaluate::feasibility::reach_m(m);
     let _ = writeln!(w, "[robot]");
     let _ = writeln!(
         w,
@@ -198,6 +215,10 @@ fn template_text(m: &RobotModel, urdf: &Path, rel: &str) -> String {
         "provenance = \"kinematics, position and velocity limits from {file_name}; tool, acceleration and jerk limits ESTIMATE (template)\"  # where the numbers come from, shown with the robots"
     );
     let _ = writeln!(w);
+}
+
+/// The `[tool]` table and the commented `[tool.geometry]` one.
+fn write_tool(w: &mut String) {
     let _ = writeln!(
         w,
         "[tool]  # the nozzle tip relative to tool_link, URDF xyz/rpy convention; the nozzle points along the tool frame's +z"
@@ -230,6 +251,10 @@ fn template_text(m: &RobotModel, urdf: &Path, rel: &str) -> String {
     );
     let _ = writeln!(w, "# hose_to_m = [0.15, 0.0, -0.05]  # the other end, m");
     let _ = writeln!(w);
+}
+
+/// The commented `[payload]` and `[cabinet]` tables.
+fn write_payload_and_cabinet(w: &mut String) {
     let _ = writeln!(
         w,
         "# [payload]  # extruder, hose and material rigidly attached to tool_link, carried by the dynamics"
@@ -260,7 +285,10 @@ fn template_text(m: &RobotModel, urdf: &Path, rel: &str) -> String {
         w,
         "# regeneration = \"none\"  # braking energy: \"none\" (lost), \"per_axis\" (burnt per axis), \"dc_bus\" (shared on a DC bus), \"grid\" (returned)"
     );
+}
 
+/// Commented `[links.<name>]` tables with the estimates for links whose inertia the URDF lacks.
+fn write_estimated_links(w: &mut String, m: &RobotModel) {
     // Links whose inertia the URDF lacks: the estimate, as a table to confirm or replace.
     let estimated: Vec<usize> = (0..m.dof())
         .filter(|&i| {
@@ -305,101 +333,110 @@ fn template_text(m: &RobotModel, urdf: &Path, rel: &str) -> String {
             }
         }
     }
+}
 
-    let n = m.dof();
-    for (i, j) in m.joints.iter().enumerate() {
-        let (u, us, us2, us3) = match j.kind {
-            JointKind::Revolute => ("rad", "rad/s", "rad/s^2", "rad/s^3"),
-            JointKind::Prismatic => ("m", "m/s", "m/s^2", "m/s^3"),
-        };
-        let _ = writeln!(w);
-        let _ = writeln!(w, "[[joints]]  # joint {} of {n}", i + 1);
+/// One `[[joints]]` table: joint `i` of `n`, its limits and the drive train keys.
+fn write_joint(w: &mut String, i: usize, n: usize, j: &Joint) {
+    let _ = writeln!(w);
+    let _ = writeln!(w, "[[joints]]  # joint {} of {n}", i + 1);
+    let _ = writeln!(
+        w,
+        "name = {}  # the URDF joint, in chain order",
+        quoted(&j.name)
+    );
+    write_joint_limits(w, i, j);
+    write_drive_train_keys(w);
+}
+
+/// A joint's acceleration, jerk, velocity and position limit keys.
+fn write_joint_limits(w: &mut String, i: usize, j: &Joint) {
+    let (u, us, us2, us3) = match j.kind {
+        JointKind::Revolute => ("rad", "rad/s", "rad/s^2", "rad/s^3"),
+        JointKind::Prismatic => ("m", "m/s", "m/s^2", "m/s^3"),
+    };
+    let ramp = if i < 3 { RAMP_MAIN_S } else { RAMP_WRIST_S };
+    if j.velocity_limit.is_finite() {
+        let a = j.velocity_limit / ramp;
         let _ = writeln!(
             w,
-            "name = {}  # the URDF joint, in chain order",
-            quoted(&j.name)
-        );
-        let ramp = if i < 3 { RAMP_MAIN_S } else { RAMP_WRIST_S };
-        if j.velocity_limit.is_finite() {
-            let a = j.velocity_limit / ramp;
-            let _ = writeln!(
-                w,
-                "acceleration_limit_rad_s2 = {}  # ESTIMATE: the URDF's velocity limit {} {us} reached in {ramp} s ({us2})",
-                num(a),
-                num(j.velocity_limit)
-            );
-            let _ = writeln!(
-                w,
-                "jerk_limit_rad_s3 = {}  # ESTIMATE: the acceleration limit built up in {JERK_RAMP_S} s ({us3})",
-                num(a / JERK_RAMP_S)
-            );
-        } else {
-            let _ = writeln!(
-                w,
-                "# acceleration_limit_rad_s2 = 0.0  # the joint's acceleration limit, {us2} (the URDF gives no velocity limit to estimate it from)"
-            );
-            let _ = writeln!(
-                w,
-                "# jerk_limit_rad_s3 = 0.0  # the joint's jerk limit, {us3}"
-            );
-        }
-        if j.velocity_limit.is_finite() {
-            let _ = writeln!(
-                w,
-                "# velocity_limit_rad_s = {}  # replaces the URDF's velocity limit ({us}; this value is the URDF's)",
-                exact(j.velocity_limit)
-            );
-        } else {
-            let _ = writeln!(
-                w,
-                "# velocity_limit_rad_s = 0.0  # the joint's velocity limit, {us} (the URDF gives none)"
-            );
-        }
-        if j.lower.is_finite() && j.upper.is_finite() {
-            let _ = writeln!(
-                w,
-                "# position_min_rad = {}  # replaces the URDF's lower position limit ({u}; this value is the URDF's)",
-                exact(j.lower)
-            );
-            let _ = writeln!(
-                w,
-                "# position_max_rad = {}  # replaces the URDF's upper position limit ({u})",
-                exact(j.upper)
-            );
-        }
-        let _ = writeln!(
-            w,
-            "# limit_margin_rad = 0.05  # margin from the position limits that placement searches keep for this joint ({u})"
+            "acceleration_limit_rad_s2 = {}  # ESTIMATE: the URDF's velocity limit {} {us} reached in {ramp} s ({us2})",
+            num(a),
+            num(j.velocity_limit)
         );
         let _ = writeln!(
             w,
-            "# The drive train: all seven keys, for every joint, or none (then energy is mechanical power)."
+            "jerk_limit_rad_s3 = {}  # ESTIMATE: the acceleration limit built up in {JERK_RAMP_S} s ({us3})",
+            num(a / JERK_RAMP_S)
         );
-        let _ = writeln!(w, "# gear_ratio = 100.0  # motor turns per joint turn");
+    } else {
         let _ = writeln!(
             w,
-            "# torque_constant_nm_per_a = 1.0  # motor torque constant K_t, N m/A (motor side)"
-        );
-        let _ = writeln!(
-            w,
-            "# winding_resistance_ohm = 1.0  # motor winding resistance R, ohm (copper loss R i^2)"
+            "# acceleration_limit_rad_s2 = 0.0  # the joint's acceleration limit, {us2} (the URDF gives no velocity limit to estimate it from)"
         );
         let _ = writeln!(
             w,
-            "# rotor_inertia_kg_m2 = 0.001  # motor rotor inertia J_m, kg m^2 (motor side; the joint sees G^2 J_m)"
-        );
-        let _ = writeln!(
-            w,
-            "# viscous_nm_s_per_rad = 0.0  # viscous friction f_v, N m s/rad (joint side)"
-        );
-        let _ = writeln!(
-            w,
-            "# coulomb_nm = 0.0  # Coulomb friction f_c, N m (joint side)"
-        );
-        let _ = writeln!(
-            w,
-            "# gear_efficiency = 0.9  # gearbox efficiency, 0 < eta <= 1"
+            "# jerk_limit_rad_s3 = 0.0  # the joint's jerk limit, {us3}"
         );
     }
-    s
+    if j.velocity_limit.is_finite() {
+        let _ = writeln!(
+            w,
+            "# velocity_limit_rad_s = {}  # replaces the URDF's velocity limit ({us}; this value is the URDF's)",
+            exact(j.velocity_limit)
+        );
+    } else {
+        let _ = writeln!(
+            w,
+            "# velocity_limit_rad_s = 0.0  # the joint's velocity limit, {us} (the URDF gives none)"
+        );
+    }
+    if j.lower.is_finite() && j.upper.is_finite() {
+        let _ = writeln!(
+            w,
+            "# position_min_rad = {}  # replaces the URDF's lower position limit ({u}; this value is the URDF's)",
+            exact(j.lower)
+        );
+        let _ = writeln!(
+            w,
+            "# position_max_rad = {}  # replaces the URDF's upper position limit ({u})",
+            exact(j.upper)
+        );
+    }
+    let _ = writeln!(
+        w,
+        "# limit_margin_rad = 0.05  # margin from the position limits that placement searches keep for this joint ({u})"
+    );
+}
+
+/// The commented drive train keys of a joint, to fill in.
+fn write_drive_train_keys(w: &mut String) {
+    let _ = writeln!(
+        w,
+        "# The drive train: all seven keys, for every joint, or none (then energy is mechanical power)."
+    );
+    let _ = writeln!(w, "# gear_ratio = 100.0  # motor turns per joint turn");
+    let _ = writeln!(
+        w,
+        "# torque_constant_nm_per_a = 1.0  # motor torque constant K_t, N m/A (motor side)"
+    );
+    let _ = writeln!(
+        w,
+        "# winding_resistance_ohm = 1.0  # motor winding resistance R, ohm (copper loss R i^2)"
+    );
+    let _ = writeln!(
+        w,
+        "# rotor_inertia_kg_m2 = 0.001  # motor rotor inertia J_m, kg m^2 (motor side; the joint sees G^2 J_m)"
+    );
+    let _ = writeln!(
+        w,
+        "# viscous_nm_s_per_rad = 0.0  # viscous friction f_v, N m s/rad (joint side)"
+    );
+    let _ = writeln!(
+        w,
+        "# coulomb_nm = 0.0  # Coulomb friction f_c, N m (joint side)"
+    );
+    let _ = writeln!(
+        w,
+        "# gear_efficiency = 0.9  # gearbox efficiency, 0 < eta <= 1"
+    );
 }

@@ -15,6 +15,7 @@
 //!   [[`MIN_EFFICIENCY`], 1]; standby power finite >= 0;
 //! - tool transform and OPW parameters finite, lengths below [`MAX_LENGTH_M`].
 
+use super::drive::Drive;
 use super::model::{Inertial, JointKind, RobotModel};
 use crate::error::{Error, Result};
 use crate::math::M3;
@@ -157,7 +158,25 @@ fn check_inertial(
 /// Validate a loaded model (see the module docs). Warnings are appended to `model.warnings`.
 pub fn validate(model: &mut RobotModel, src: &Sources) -> Result<()> {
     let (ufile, utext) = src.urdf;
-    // Joints.
+    check_joint_limits(model, src)?;
+    let warnings: Vec<String> = Vec::new();
+    check_links(model, ufile, utext)?;
+    // Payload, tool, OPW, drive: from the drive file.
+    let (dfile, dtext) = src.drive.unwrap_or((ufile, ""));
+    check_payload_and_tool(model, dfile, dtext)?;
+    check_opw(model, dfile, dtext)?;
+    check_drive(model, dfile, dtext)?;
+    if model.gravity.iter().any(|v| !v.is_finite()) {
+        return Err(err(ufile, None, "gravity", "must be finite".into()));
+    }
+    model.warnings.extend(warnings);
+    Ok(())
+}
+
+/// Each joint's position, velocity, acceleration and jerk limits: ordered, positive and
+/// plausible.
+fn check_joint_limits(model: &RobotModel, src: &Sources) -> Result<()> {
+    let (ufile, utext) = src.urdf;
     for j in &model.joints {
         let jline = line_of(utext, &format!("name=\"{}\"", j.name), Some("<joint"));
         let f = |k: &str| format!("joint `{}` {k}", j.name);
@@ -217,8 +236,11 @@ pub fn validate(model: &mut RobotModel, src: &Sources) -> Result<()> {
             }
         }
     }
-    // Links.
-    let warnings: Vec<String> = Vec::new();
+    Ok(())
+}
+
+/// Each moving link's inertial: finite, plausible, and not all zero.
+fn check_links(model: &RobotModel, ufile: &str, utext: &str) -> Result<()> {
     let actuated_children: Vec<usize> = (0..model.links.len()).collect();
     for k in actuated_children {
         let Some(inertial) = &model.links[k] else {
@@ -245,8 +267,11 @@ pub fn validate(model: &mut RobotModel, src: &Sources) -> Result<()> {
             ));
         }
     }
-    // Payload, tool, OPW, drive: from the drive file.
-    let (dfile, dtext) = src.drive.unwrap_or((ufile, ""));
+    Ok(())
+}
+
+/// The payload's inertial and the tool transform of the drive file.
+fn check_payload_and_tool(model: &RobotModel, dfile: &str, dtext: &str) -> Result<()> {
     let dline = |needle: &str| line_of(dtext, needle, None);
     if let Some(p) = &model.payload {
         match check_inertial("payload", p) {
@@ -283,6 +308,12 @@ pub fn validate(model: &mut RobotModel, src: &Sources) -> Result<()> {
             ),
         ));
     }
+    Ok(())
+}
+
+/// The OPW kinematic parameters of the drive file: finite lengths and offsets.
+fn check_opw(model: &RobotModel, dfile: &str, dtext: &str) -> Result<()> {
+    let dline = |needle: &str| line_of(dtext, needle, None);
     if let Some(o) = &model.opw {
         for (k, v) in [
             ("a1_m", o.a1),
@@ -311,6 +342,12 @@ pub fn validate(model: &mut RobotModel, src: &Sources) -> Result<()> {
             ));
         }
     }
+    Ok(())
+}
+
+/// The drive data: one entry per joint, each in range, and the cabinet's standby power.
+fn check_drive(model: &RobotModel, dfile: &str, dtext: &str) -> Result<()> {
+    let dline = |needle: &str| line_of(dtext, needle, None);
     if let Some(d) = &model.drive {
         if d.joints.len() != model.joints.len() {
             return Err(err(
@@ -324,59 +361,7 @@ pub fn validate(model: &mut RobotModel, src: &Sources) -> Result<()> {
                 ),
             ));
         }
-        for (i, jd) in d.joints.iter().enumerate() {
-            let name = &model.joints[i].name;
-            for (key, v, lo, lo_incl, hi) in [
-                ("gear_ratio", jd.gear_ratio, 0.0, false, MAX_DRIVE_VALUE),
-                (
-                    "torque_constant_nm_per_a",
-                    jd.torque_constant,
-                    MIN_TORQUE_CONSTANT,
-                    true,
-                    MAX_DRIVE_VALUE,
-                ),
-                (
-                    "winding_resistance_ohm",
-                    jd.winding_resistance,
-                    0.0,
-                    true,
-                    MAX_DRIVE_VALUE,
-                ),
-                (
-                    "rotor_inertia_kg_m2",
-                    jd.rotor_inertia,
-                    0.0,
-                    true,
-                    MAX_INERTIA,
-                ),
-                (
-                    "viscous_nm_s_per_rad",
-                    jd.viscous,
-                    0.0,
-                    true,
-                    MAX_DRIVE_VALUE,
-                ),
-                ("coulomb_nm", jd.coulomb, 0.0, true, MAX_DRIVE_VALUE),
-                (
-                    "gear_efficiency",
-                    jd.gear_efficiency,
-                    MIN_EFFICIENCY,
-                    true,
-                    1.0,
-                ),
-            ] {
-                let ok = v.is_finite() && (v > lo || (lo_incl && v == lo)) && v <= hi;
-                if !ok {
-                    let range = format!("{}{lo}, {hi}]", if lo_incl { "[" } else { "(" });
-                    return Err(err(
-                        dfile,
-                        joint_key_line(dtext, i, key),
-                        &format!("joints[{i}] (`{name}`).{key}"),
-                        format!("must be finite and in {range}, got {v}"),
-                    ));
-                }
-            }
-        }
+        check_drive_joints(model, d, dfile, dtext)?;
         if !(d.standby_power.is_finite() && d.standby_power >= 0.0) {
             return Err(err(
                 dfile,
@@ -386,9 +371,63 @@ pub fn validate(model: &mut RobotModel, src: &Sources) -> Result<()> {
             ));
         }
     }
-    if model.gravity.iter().any(|v| !v.is_finite()) {
-        return Err(err(ufile, None, "gravity", "must be finite".into()));
+    Ok(())
+}
+
+/// Each joint's drive train values within their ranges.
+fn check_drive_joints(model: &RobotModel, d: &Drive, dfile: &str, dtext: &str) -> Result<()> {
+    for (i, jd) in d.joints.iter().enumerate() {
+        let name = &model.joints[i].name;
+        for (key, v, lo, lo_incl, hi) in [
+            ("gear_ratio", jd.gear_ratio, 0.0, false, MAX_DRIVE_VALUE),
+            (
+                "torque_constant_nm_per_a",
+                jd.torque_constant,
+                MIN_TORQUE_CONSTANT,
+                true,
+                MAX_DRIVE_VALUE,
+            ),
+            (
+                "winding_resistance_ohm",
+                jd.winding_resistance,
+                0.0,
+                true,
+                MAX_DRIVE_VALUE,
+            ),
+            (
+                "rotor_inertia_kg_m2",
+                jd.rotor_inertia,
+                0.0,
+                true,
+                MAX_INERTIA,
+            ),
+            (
+                "viscous_nm_s_per_rad",
+                jd.viscous,
+                0.0,
+                true,
+                MAX_DRIVE_VALUE,
+            ),
+            ("coulomb_nm", jd.coulomb, 0.0, true, MAX_DRIVE_VALUE),
+            (
+                "gear_efficiency",
+                jd.gear_efficiency,
+                MIN_EFFICIENCY,
+                true,
+                1.0,
+            ),
+        ] {
+            let ok = v.is_finite() && (v > lo || (lo_incl && v == lo)) && v <= hi;
+            if !ok {
+                let range = format!("{}{lo}, {hi}]", if lo_incl { "[" } else { "(" });
+                return Err(err(
+                    dfile,
+                    joint_key_line(dtext, i, key),
+                    &format!("joints[{i}] (`{name}`).{key}"),
+                    format!("must be finite and in {range}, got {v}"),
+                ));
+            }
+        }
     }
-    model.warnings.extend(warnings);
     Ok(())
 }

@@ -5,6 +5,7 @@
 use crate::error::{Error, Result};
 use crate::evaluate::evaluator::{Evaluated, Evaluator, Feasible};
 use crate::evaluate::PathJob;
+use crate::math::V3;
 use crate::stations::floor::{self, Floor, Router, Way};
 use crate::stations::{
     reach_annulus, segment_moves, split_units, sub_path, Headings, Station, StationsProblem, Unit,
@@ -109,8 +110,63 @@ pub fn solve(p: &StationsProblem, progress: &(dyn Fn(usize, usize) + Sync)) -> R
     p.check()?;
     let path = p.path;
     let units = split_units(path)?;
-    let n_units = units.len();
-    let positions = &p.candidates.positions;
+    let (annulus, slack) = prefilter_annulus(p)?;
+    let (rmin, rmax) = ((annulus.0 - slack).max(0.0), annulus.1 + slack);
+
+    // The walls each move lays (collision scene of later segments) and in plan view: a
+    // track's rail may not lie under any.
+    let walls = floor::wall_chords(path);
+    let floor = Floor::from_chords(&walls);
+    if let Some([a, b]) = p.candidates.track {
+        if let Some(mv) = floor.first_blocking(a, b, 0.0, path.moves.len()) {
+            return Err(Error::Invalid(format!(
+                "{}: the track ({:.3}, {:.3}) → ({:.3}, {:.3}) m lies under the wall printed by line {} (move {mv}): move the track off the walls",
+                path.source, a[0], a[1], b[0], b[1], path.moves[mv].line
+            )));
+        }
+    }
+    let runs = Prefilter::new(p, &units, &floor, (rmin, rmax)).runs();
+    let evaluated = evaluate_runs(p, &units, &runs, &walls, progress)?;
+    let search = Search {
+        p,
+        units,
+        runs,
+        evaluated,
+    };
+    let mut ways = Ways {
+        p,
+        floor: &floor,
+        router: Router::new(&floor, p.footprint_m),
+    };
+    let mut chains = Chains::new(&search);
+    chains.link(&search, &mut ways);
+    let stats = PlanStats {
+        units: search.units.len(),
+        positions: p.candidates.positions.len(),
+        runs: search.runs.len(),
+        evaluations: chains.n_eval,
+        feasible: chains.cands.len(),
+        footprint_on_wall: search.runs.iter().map(|r| r.on_wall.0).sum(),
+        way_blocked: chains.way_blocked,
+        detoured: chains.detoured,
+        annulus_m: annulus,
+        slack_m: slack,
+    };
+    let Some(end) = chains.end(search.units.len()) else {
+        return Err(uncovered(
+            p,
+            &search.units,
+            &search.runs,
+            &search.evaluated,
+            &cands_ends(&chains.cands, &search.runs, &chains.best),
+        ));
+    };
+    search.plan(&chains, end, &mut ways, stats)
+}
+
+/// The reach annulus of the pre-filter at the path's heights, and its slack, m.
+fn prefilter_annulus(p: &StationsProblem) -> Result<((f64, f64), f64)> {
+    let path = p.path;
     let reach = crate::evaluate::feasibility::reach_m(p.robot);
     // Heights of the path in the base frame.
     let (lo, hi) = path
@@ -126,132 +182,179 @@ pub fn solve(p: &StationsProblem, progress: &(dyn Fn(usize, usize) + Sync)) -> R
         ))
     })?;
     let slack = PREFILTER_SLACK_REACH * reach + PREFILTER_SAMPLE_M / 2.0;
-    let (rmin, rmax) = ((annulus.0 - slack).max(0.0), annulus.1 + slack);
+    Ok((annulus, slack))
+}
 
-    // The walls each move lays (collision scene of later segments) and in plan view: a
-    // track's rail may not lie under any.
-    let walls = floor::wall_chords(path);
-    let floor = Floor::from_chords(&walls);
-    if let Some([a, b]) = p.candidates.track {
-        if let Some(mv) = floor.first_blocking(a, b, 0.0, path.moves.len()) {
-            return Err(Error::Invalid(format!(
-                "{}: the track ({:.3}, {:.3}) → ({:.3}, {:.3}) m lies under the wall printed by line {} (move {mv}): move the track off the walls",
-                path.source, a[0], a[1], b[0], b[1], path.moves[mv].line
-            )));
-        }
-    }
+/// The pre-filter: which candidate positions can reach every point of a run of units and
+/// do not stand on its walls.
+struct Prefilter<'a> {
+    p: &'a StationsProblem<'a>,
+    units: &'a [Unit],
+    /// Horizontal distance range [min, max] of every move's points from every position.
+    dist: Vec<[f64; 2]>,
+    /// Centroid sums of the extruded points per move (for headings facing the work).
+    centre: Vec<(f64, f64, usize)>,
+    /// The first move whose wall a station's floor disc at each position would stand on.
+    wall_under: Vec<Option<usize>>,
+    /// Distances from a position a run's points must lie within, m.
+    range: (f64, f64),
+}
 
-    // Horizontal distance range of every move's points from every position.
-    let n_pos = positions.len();
-    let mut dist = vec![[f64::INFINITY, f64::NEG_INFINITY]; path.moves.len() * n_pos];
-    // Centroid sums of the extruded points per move (for headings facing the work).
-    let mut centre = vec![(0.0, 0.0, 0usize); path.moves.len()];
-    for (mi, (start, m)) in path.segments().enumerate() {
-        let len = m.length(&start);
-        let n = ((len / PREFILTER_SAMPLE_M).ceil() as usize).max(1);
-        let pts: Vec<(f64, f64)> = (0..=n)
-            .map(|k| {
-                let q = m.point_at(&start, k as f64 / n as f64);
-                (q.x, q.y)
-            })
-            .collect();
-        if m.print {
-            centre[mi] = (
-                pts.iter().map(|q| q.0).sum(),
-                pts.iter().map(|q| q.1).sum(),
-                pts.len(),
-            );
-        }
-        for (s, pos) in positions.iter().enumerate() {
-            let d = &mut dist[mi * n_pos + s];
-            for q in &pts {
-                let r = (q.0 - pos[0]).hypot(q.1 - pos[1]);
-                d[0] = d[0].min(r);
-                d[1] = d[1].max(r);
-            }
-        }
-    }
-
-    // The first move whose wall a station's floor disc at each position would stand on.
-    let wall_under: Vec<Option<usize>> = positions
-        .iter()
-        .map(|&q| floor.first_blocking(q, q, p.footprint_m, path.moves.len()))
-        .collect();
-
-    // Runs of units with the positions passing the pre-filter.
-    let mut runs: Vec<Run> = Vec::new();
-    for i in 0..n_units {
-        let mut acc = vec![[f64::INFINITY, f64::NEG_INFINITY]; n_pos];
-        let mut sums = (0.0, 0.0, 0usize);
-        let first = segment_moves(path, &units, i, i).0;
-        let mut upto = first; // moves first..upto are folded in
-        for j in i..n_units {
-            let last = segment_moves(path, &units, i, j).1;
-            for mi in upto..=last {
-                for (s, a) in acc.iter_mut().enumerate() {
-                    let d = dist[mi * n_pos + s];
-                    a[0] = a[0].min(d[0]);
-                    a[1] = a[1].max(d[1]);
-                }
-                sums.0 += centre[mi].0;
-                sums.1 += centre[mi].1;
-                sums.2 += centre[mi].2;
-            }
-            upto = last + 1;
-            let pass: Vec<usize> = (0..n_pos)
-                .filter(|&s| acc[s][0] >= rmin && acc[s][1] <= rmax)
-                .collect();
-            if pass.is_empty() {
-                break; // a longer run holds these points too
-            }
-            // A station may not stand on a wall printed before or by this run.
-            let mut on_wall = (0, None);
-            let pass: Vec<usize> = pass
-                .into_iter()
-                .filter(|&s| match wall_under[s] {
-                    Some(mv) if mv <= last => {
-                        on_wall.0 += 1;
-                        on_wall.1.get_or_insert((s, mv));
-                        false
-                    }
-                    _ => true,
+impl<'a> Prefilter<'a> {
+    /// Sample every move and measure its distances from every candidate position.
+    fn new(
+        p: &'a StationsProblem<'a>,
+        units: &'a [Unit],
+        floor: &Floor,
+        range: (f64, f64),
+    ) -> Self {
+        let path = p.path;
+        let positions = &p.candidates.positions;
+        let n_pos = positions.len();
+        let mut dist = vec![[f64::INFINITY, f64::NEG_INFINITY]; path.moves.len() * n_pos];
+        let mut centre = vec![(0.0, 0.0, 0usize); path.moves.len()];
+        for (mi, (start, m)) in path.segments().enumerate() {
+            let len = m.length(&start);
+            let n = ((len / PREFILTER_SAMPLE_M).ceil() as usize).max(1);
+            let pts: Vec<(f64, f64)> = (0..=n)
+                .map(|k| {
+                    let q = m.point_at(&start, k as f64 / n as f64);
+                    (q.x, q.y)
                 })
                 .collect();
-            let c = (sums.0 / sums.2.max(1) as f64, sums.1 / sums.2.max(1) as f64);
-            let mut stations = Vec::new();
-            for s in pass {
-                let [x, y] = positions[s];
-                match &p.candidates.headings {
-                    Headings::Auto => {
-                        let h = (c.1 - y).atan2(c.0 - x);
-                        stations.push((s, Station::new(x, y, h, p.z_m, p.spin_rad)));
-                    }
-                    Headings::Fixed(hs) => {
-                        for &h in hs {
-                            stations.push((s, Station::new(x, y, h, p.z_m, p.spin_rad)));
-                        }
-                    }
+            if m.print {
+                centre[mi] = (
+                    pts.iter().map(|q| q.0).sum(),
+                    pts.iter().map(|q| q.1).sum(),
+                    pts.len(),
+                );
+            }
+            for (s, pos) in positions.iter().enumerate() {
+                let d = &mut dist[mi * n_pos + s];
+                for q in &pts {
+                    let r = (q.0 - pos[0]).hypot(q.1 - pos[1]);
+                    d[0] = d[0].min(r);
+                    d[1] = d[1].max(r);
                 }
             }
-            runs.push(Run {
-                i,
-                j,
-                stations,
-                on_wall,
-            });
+        }
+        let wall_under: Vec<Option<usize>> = positions
+            .iter()
+            .map(|&q| floor.first_blocking(q, q, p.footprint_m, path.moves.len()))
+            .collect();
+        Prefilter {
+            p,
+            units,
+            dist,
+            centre,
+            wall_under,
+            range,
         }
     }
 
-    // Evaluate every run from its stations (rayon; collected in run order), the walls of the
-    // units before it in its collision scene.
+    /// Runs of units with the positions passing the pre-filter.
+    fn runs(&self) -> Vec<Run> {
+        let (path, units) = (self.p.path, self.units);
+        let n_units = units.len();
+        let n_pos = self.p.candidates.positions.len();
+        let (rmin, rmax) = self.range;
+        let mut runs: Vec<Run> = Vec::new();
+        for i in 0..n_units {
+            let mut acc = vec![[f64::INFINITY, f64::NEG_INFINITY]; n_pos];
+            let mut sums = (0.0, 0.0, 0usize);
+            let first = segment_moves(path, units, i, i).0;
+            let mut upto = first; // moves first..upto are folded in
+            for j in i..n_units {
+                let last = segment_moves(path, units, i, j).1;
+                for mi in upto..=last {
+                    for (s, a) in acc.iter_mut().enumerate() {
+                        let d = self.dist[mi * n_pos + s];
+                        a[0] = a[0].min(d[0]);
+                        a[1] = a[1].max(d[1]);
+                    }
+                    sums.0 += self.centre[mi].0;
+                    sums.1 += self.centre[mi].1;
+                    sums.2 += self.centre[mi].2;
+                }
+                upto = last + 1;
+                let pass: Vec<usize> = (0..n_pos)
+                    .filter(|&s| acc[s][0] >= rmin && acc[s][1] <= rmax)
+                    .collect();
+                if pass.is_empty() {
+                    break; // a longer run holds these points too
+                }
+                runs.push(self.run(i, j, last, pass, sums));
+            }
+        }
+        runs
+    }
+
+    /// The run of units `i..=j` (its last move `last`) from the positions in reach (`pass`),
+    /// leaving out those standing on its walls; `sums` are its centroid sums.
+    fn run(
+        &self,
+        i: usize,
+        j: usize,
+        last: usize,
+        pass: Vec<usize>,
+        sums: (f64, f64, usize),
+    ) -> Run {
+        let p = self.p;
+        // A station may not stand on a wall printed before or by this run.
+        let mut on_wall = (0, None);
+        let pass: Vec<usize> = pass
+            .into_iter()
+            .filter(|&s| match self.wall_under[s] {
+                Some(mv) if mv <= last => {
+                    on_wall.0 += 1;
+                    on_wall.1.get_or_insert((s, mv));
+                    false
+                }
+                _ => true,
+            })
+            .collect();
+        let c = (sums.0 / sums.2.max(1) as f64, sums.1 / sums.2.max(1) as f64);
+        let mut stations = Vec::new();
+        for s in pass {
+            let [x, y] = p.candidates.positions[s];
+            match &p.candidates.headings {
+                Headings::Auto => {
+                    let h = (c.1 - y).atan2(c.0 - x);
+                    stations.push((s, Station::new(x, y, h, p.z_m, p.spin_rad)));
+                }
+                Headings::Fixed(hs) => {
+                    for &h in hs {
+                        stations.push((s, Station::new(x, y, h, p.z_m, p.spin_rad)));
+                    }
+                }
+            }
+        }
+        Run {
+            i,
+            j,
+            stations,
+            on_wall,
+        }
+    }
+}
+
+/// Evaluate every run from its stations (rayon; collected in run order), the walls of the
+/// units before it in its collision scene.
+fn evaluate_runs(
+    p: &StationsProblem,
+    units: &[Unit],
+    runs: &[Run],
+    walls: &[Vec<(V3, V3)>],
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Vec<Vec<Evaluated>>> {
+    let path = p.path;
     let done = AtomicUsize::new(0);
     let total = runs.len();
     // One energy model for every segment (it depends on the robot only).
     let model = crate::energy::EnergyModel::with_options(p.robot, p.energy)?;
-    let evaluated: Vec<Vec<Evaluated>> = runs
-        .par_iter()
+    runs.par_iter()
         .map(|run| {
-            let (first, last) = segment_moves(path, &units, run.i, run.j);
+            let (first, last) = segment_moves(path, units, run.i, run.j);
             let sub = sub_path(path, first, last);
             let job = PathJob::with_energy(p.robot, model.clone(), &sub, p.profile, p.joint)?;
             let prior: Vec<_> = walls[..first].iter().flatten().copied().collect();
@@ -261,39 +364,24 @@ pub fn solve(p: &StationsProblem, progress: &(dyn Fn(usize, usize) + Sync)) -> R
             progress(done.fetch_add(1, Ordering::Relaxed) + 1, total);
             Ok(rows)
         })
-        .collect::<Result<_>>()?;
+        .collect::<Result<_>>()
+}
 
-    // Flatten the feasible candidates: (run, index in run).
-    let mut cands: Vec<Cand> = Vec::new();
-    let mut n_eval = 0;
-    for (r, rows) in evaluated.iter().enumerate() {
-        n_eval += rows.len();
-        for (k, e) in rows.iter().enumerate() {
-            let c = e.cost();
-            if c.is_finite() {
-                cands.push(Cand { run: r, k, cost: c });
-            }
-        }
-    }
-    // Candidates by their last unit, in run order within it.
-    let mut by_end: Vec<Vec<usize>> = vec![Vec::new(); n_units];
-    for (ci, c) in cands.iter().enumerate() {
-        by_end[runs[c.run].j].push(ci);
-    }
-    let mut best = vec![f64::INFINITY; cands.len()];
-    let mut back: Vec<Option<usize>> = vec![None; cands.len()];
-    // Distance moved so far along the ways, m: of two chains of the same cost (a mirror
-    // station with the same energy, no cost per metre) the one that moves less is kept.
-    let mut moved = vec![0.0; cands.len()];
-    // The way from position `a` to `b` after the walls up to move `last`: its length, or None
-    // when none is clear (cached: it depends on the positions and the split only). On a track
-    // the carriage keeps to the rail: only the straight way counts.
-    let mut router = Router::new(&floor, p.footprint_m);
-    let on_track = p.candidates.track.is_some();
-    let mut way_of = |a: usize, b: usize, last: usize| -> Option<Way> {
-        if on_track {
-            floor
-                .first_blocking(positions[a], positions[b], p.footprint_m, last)
+/// The ways between candidate positions after the walls up to a move.
+struct Ways<'a> {
+    p: &'a StationsProblem<'a>,
+    floor: &'a Floor,
+    router: Router<'a>,
+}
+
+impl Ways<'_> {
+    /// The way from position `a` to `b` after the walls up to move `last`, or None when none
+    /// is clear. On a track the carriage keeps to the rail: only the straight way counts.
+    fn way(&mut self, a: usize, b: usize, last: usize) -> Option<Way> {
+        let positions = &self.p.candidates.positions;
+        if self.p.candidates.track.is_some() {
+            self.floor
+                .first_blocking(positions[a], positions[b], self.p.footprint_m, last)
                 .is_none()
                 .then(|| Way {
                     points: vec![positions[a], positions[b]],
@@ -301,141 +389,202 @@ pub fn solve(p: &StationsProblem, progress: &(dyn Fn(usize, usize) + Sync)) -> R
                         .hypot(positions[a][1] - positions[b][1]),
                 })
         } else {
-            router.way(positions[a], positions[b], last)
+            self.router.way(positions[a], positions[b], last)
         }
-    };
-    let mut ways: std::collections::HashMap<(usize, usize, usize), Option<f64>> =
-        Default::default();
-    let mut way_blocked = 0;
-    let mut detoured = 0;
-    for j in 0..n_units {
-        for &ci in &by_end[j] {
-            let c = &cands[ci];
-            let run = &runs[c.run];
-            let (pos, _) = &run.stations[c.k];
-            if run.i == 0 {
-                best[ci] = c.cost;
-                continue;
+    }
+}
+
+/// The evaluated runs of a stations problem.
+struct Search<'a> {
+    p: &'a StationsProblem<'a>,
+    units: Vec<Unit>,
+    runs: Vec<Run>,
+    evaluated: Vec<Vec<Evaluated>>,
+}
+
+/// The dynamic programme over the feasible candidates: the best chain of segments ending at
+/// each.
+struct Chains {
+    cands: Vec<Cand>,
+    /// Candidates by their last unit, in run order within it.
+    by_end: Vec<Vec<usize>>,
+    best: Vec<f64>,
+    back: Vec<Option<usize>>,
+    /// Distance moved so far along the ways, m: of two chains of the same cost (a mirror
+    /// station with the same energy, no cost per metre) the one that moves less is kept.
+    moved: Vec<f64>,
+    /// Way lengths between positions after the walls up to a move (None: no clear way);
+    /// they depend on the positions and the split only.
+    ways: std::collections::HashMap<(usize, usize, usize), Option<f64>>,
+    n_eval: usize,
+    way_blocked: usize,
+    detoured: usize,
+}
+
+impl Chains {
+    /// Flatten the feasible candidates: (run, index in run), grouped by their last unit.
+    fn new(s: &Search) -> Chains {
+        let mut cands: Vec<Cand> = Vec::new();
+        let mut n_eval = 0;
+        for (r, rows) in s.evaluated.iter().enumerate() {
+            n_eval += rows.len();
+            for (k, e) in rows.iter().enumerate() {
+                let c = e.cost();
+                if c.is_finite() {
+                    cands.push(Cand { run: r, k, cost: c });
+                }
             }
-            let mut b: Option<(usize, f64, f64)> = None;
-            for &pi in &by_end[run.i - 1] {
-                if !best[pi].is_finite() {
+        }
+        let mut by_end: Vec<Vec<usize>> = vec![Vec::new(); s.units.len()];
+        for (ci, c) in cands.iter().enumerate() {
+            by_end[s.runs[c.run].j].push(ci);
+        }
+        Chains {
+            best: vec![f64::INFINITY; cands.len()],
+            back: vec![None; cands.len()],
+            moved: vec![0.0; cands.len()],
+            cands,
+            by_end,
+            ways: Default::default(),
+            n_eval,
+            way_blocked: 0,
+            detoured: 0,
+        }
+    }
+
+    /// Link every candidate to the best chain before it, unit by unit.
+    fn link(&mut self, s: &Search, ways: &mut Ways) {
+        for j in 0..s.units.len() {
+            for x in 0..self.by_end[j].len() {
+                let ci = self.by_end[j][x];
+                let c = &self.cands[ci];
+                if s.runs[c.run].i == 0 {
+                    self.best[ci] = c.cost;
                     continue;
                 }
-                let pc = &cands[pi];
-                let (ppos, _) = &runs[pc.run].stations[pc.k];
-                if ppos == pos {
-                    continue; // the arm would print both as one segment
+                if let Some((pi, v, m)) = self.best_before(ci, s, ways) {
+                    self.best[ci] = v + self.cands[ci].cost;
+                    self.moved[ci] = m;
+                    self.back[ci] = Some(pi);
                 }
-                let last = segment_moves(path, &units, run.i - 1, run.i - 1).1;
-                let way = *ways.entry((*ppos, *pos, last)).or_insert_with(|| {
-                    way_of(*ppos, *pos, last).map(|w| {
-                        if w.points.len() > 2 {
-                            detoured += 1;
-                        }
-                        w.length_m
-                    })
-                });
-                let Some(way_m) = way else {
-                    way_blocked += 1;
-                    continue; // no way to this station is clear of the printed walls
-                };
-                let v = best[pi] + p.relocation_j + p.relocation_j_per_m * way_m;
-                let m = moved[pi] + way_m;
-                if b.is_none_or(|(_, bv, bm)| better(v, m, bv, bm)) {
-                    b = Some((pi, v, m));
-                }
-            }
-            if let Some((pi, v, m)) = b {
-                best[ci] = v + c.cost;
-                moved[ci] = m;
-                back[ci] = Some(pi);
             }
         }
     }
-    let mut end: Option<usize> = None;
-    for &ci in &by_end[n_units - 1] {
-        if best[ci].is_finite()
-            && end.is_none_or(|e| better(best[ci], moved[ci], best[e], moved[e]))
-        {
-            end = Some(ci);
+
+    /// The best chain candidate `ci` can follow: (candidate, cost with the relocation, moved).
+    fn best_before(&mut self, ci: usize, s: &Search, ways: &mut Ways) -> Option<(usize, f64, f64)> {
+        let (p, path) = (s.p, s.p.path);
+        let c = &self.cands[ci];
+        let run = &s.runs[c.run];
+        let (pos, _) = &run.stations[c.k];
+        let mut b: Option<(usize, f64, f64)> = None;
+        for &pi in &self.by_end[run.i - 1] {
+            if !self.best[pi].is_finite() {
+                continue;
+            }
+            let pc = &self.cands[pi];
+            let (ppos, _) = &s.runs[pc.run].stations[pc.k];
+            if ppos == pos {
+                continue; // the arm would print both as one segment
+            }
+            let last = segment_moves(path, &s.units, run.i - 1, run.i - 1).1;
+            let detoured = &mut self.detoured;
+            let way = *self.ways.entry((*ppos, *pos, last)).or_insert_with(|| {
+                ways.way(*ppos, *pos, last).map(|w| {
+                    if w.points.len() > 2 {
+                        *detoured += 1;
+                    }
+                    w.length_m
+                })
+            });
+            let Some(way_m) = way else {
+                self.way_blocked += 1;
+                continue; // no way to this station is clear of the printed walls
+            };
+            let v = self.best[pi] + p.relocation_j + p.relocation_j_per_m * way_m;
+            let m = self.moved[pi] + way_m;
+            if b.is_none_or(|(_, bv, bm)| better(v, m, bv, bm)) {
+                b = Some((pi, v, m));
+            }
         }
+        b
     }
-    let stats = PlanStats {
-        units: n_units,
-        positions: n_pos,
-        runs: runs.len(),
-        evaluations: n_eval,
-        feasible: cands.len(),
-        footprint_on_wall: runs.iter().map(|r| r.on_wall.0).sum(),
-        way_blocked,
-        detoured,
-        annulus_m: annulus,
-        slack_m: slack,
-    };
-    let Some(end) = end else {
-        return Err(uncovered(
-            p,
-            &units,
-            &runs,
-            &evaluated,
-            &cands_ends(&cands, &runs, &best),
-        ));
-    };
-    let mut chain = vec![end];
-    while let Some(b) = back[*chain.last().unwrap_or(&end)] {
-        chain.push(b);
+
+    /// The best complete chain's last candidate, if any chain prints the last unit.
+    fn end(&self, n_units: usize) -> Option<usize> {
+        let (best, moved) = (&self.best, &self.moved);
+        let mut end: Option<usize> = None;
+        for &ci in &self.by_end[n_units - 1] {
+            if best[ci].is_finite()
+                && end.is_none_or(|e| better(best[ci], moved[ci], best[e], moved[e]))
+            {
+                end = Some(ci);
+            }
+        }
+        end
     }
-    chain.reverse();
-    let mut segments = Vec::with_capacity(chain.len());
-    for &ci in &chain {
-        let c = &cands[ci];
-        let run = &runs[c.run];
-        let (first, last) = segment_moves(path, &units, run.i, run.j);
-        let Some(eval) = evaluated[c.run][c.k].feasible().cloned() else {
-            return Err(Error::Invalid(
-                "internal: an infeasible segment in the plan".into(),
-            ));
-        };
-        segments.push(Segment {
-            units: [run.i, run.j],
-            moves: [first, last],
-            lines: [path.moves[first].line, path.moves[last].line],
-            station: run.stations[c.k].1,
-            print_length_m: units[run.i..=run.j].iter().map(|u| u.print_length_m).sum(),
-            eval,
-        });
+}
+
+impl Search<'_> {
+    /// The plan of the chain ending at candidate `end`: its segments, ways and totals.
+    fn plan(self, chains: &Chains, end: usize, ways: &mut Ways, stats: PlanStats) -> Result<Plan> {
+        let (p, path) = (self.p, self.p.path);
+        let (cands, runs, units) = (&chains.cands, &self.runs, &self.units);
+        let mut chain = vec![end];
+        while let Some(b) = chains.back[*chain.last().unwrap_or(&end)] {
+            chain.push(b);
+        }
+        chain.reverse();
+        let mut segments = Vec::with_capacity(chain.len());
+        for &ci in &chain {
+            let c = &cands[ci];
+            let run = &runs[c.run];
+            let (first, last) = segment_moves(path, units, run.i, run.j);
+            let Some(eval) = self.evaluated[c.run][c.k].feasible().cloned() else {
+                return Err(Error::Invalid(
+                    "internal: an infeasible segment in the plan".into(),
+                ));
+            };
+            segments.push(Segment {
+                units: [run.i, run.j],
+                moves: [first, last],
+                lines: [path.moves[first].line, path.moves[last].line],
+                station: run.stations[c.k].1,
+                print_length_m: units[run.i..=run.j].iter().map(|u| u.print_length_m).sum(),
+                eval,
+            });
+        }
+        let mut ways_taken = Vec::with_capacity(chain.len().saturating_sub(1));
+        for w in chain.windows(2) {
+            let pos = |ci: usize| runs[cands[ci].run].stations[cands[ci].k].0;
+            let last = segment_moves(
+                path,
+                units,
+                runs[cands[w[0]].run].j,
+                runs[cands[w[0]].run].j,
+            )
+            .1;
+            ways_taken.push(ways.way(pos(w[0]), pos(w[1]), last).ok_or_else(|| {
+                Error::Invalid("internal: a relocation of the plan has no clear way".into())
+            })?);
+        }
+        let relocation_distance_m: f64 = ways_taken.iter().map(|w| w.length_m).sum();
+        let relocations = segments.len() - 1;
+        let relocation_j =
+            relocations as f64 * p.relocation_j + p.relocation_j_per_m * relocation_distance_m;
+        let energy_j: f64 = segments.iter().map(|s| s.eval.energy_j).sum();
+        Ok(Plan {
+            units: self.units,
+            segments,
+            relocations,
+            relocation_distance_m,
+            ways: ways_taken,
+            relocation_j,
+            energy_j,
+            total_j: energy_j + relocation_j,
+            stats,
+        })
     }
-    let mut ways_taken = Vec::with_capacity(chain.len().saturating_sub(1));
-    for w in chain.windows(2) {
-        let pos = |ci: usize| runs[cands[ci].run].stations[cands[ci].k].0;
-        let last = segment_moves(
-            path,
-            &units,
-            runs[cands[w[0]].run].j,
-            runs[cands[w[0]].run].j,
-        )
-        .1;
-        ways_taken.push(way_of(pos(w[0]), pos(w[1]), last).ok_or_else(|| {
-            Error::Invalid("internal: a relocation of the plan has no clear way".into())
-        })?);
-    }
-    let relocation_distance_m: f64 = ways_taken.iter().map(|w| w.length_m).sum();
-    let relocations = segments.len() - 1;
-    let relocation_j =
-        relocations as f64 * p.relocation_j + p.relocation_j_per_m * relocation_distance_m;
-    let energy_j: f64 = segments.iter().map(|s| s.eval.energy_j).sum();
-    Ok(Plan {
-        units,
-        segments,
-        relocations,
-        relocation_distance_m,
-        ways: ways_taken,
-        relocation_j,
-        energy_j,
-        total_j: energy_j + relocation_j,
-        stats,
-    })
 }
 
 /// Is a chain of cost `v` (J) that moves `m` (m) better than one of `bv`, `bm`? Lower cost;

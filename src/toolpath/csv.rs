@@ -111,15 +111,85 @@ fn value(
     Ok(number(file, lineno, f.col, &cols[i].name, &f.text)? * cols[i].factor.unwrap_or(1.0))
 }
 
+/// The columns of a path CSV as its header names them.
+#[derive(Default)]
+struct PathColumns {
+    cols: Vec<Column>,
+    /// Indices of the x, y, z columns.
+    idx: Vec<usize>,
+    speed_i: Option<usize>,
+    print_i: Option<usize>,
+}
+
+impl PathColumns {
+    /// One data row: its point, whether it prints, and its speed (the default for its kind
+    /// without a speed column).
+    fn row(
+        &self,
+        file: &str,
+        lineno: usize,
+        fields: &[crate::table::Cell],
+        opts: &ReadOptions,
+    ) -> Result<(V3, bool, f64)> {
+        let mut p = V3::zeros();
+        for (k, &i) in self.idx.iter().enumerate() {
+            p[k] = value(file, lineno, &self.cols, fields, i)?;
+        }
+        let print = match self.print_i {
+            Some(i) => match fields[i].text.to_ascii_lowercase().as_str() {
+                "1" | "true" => true,
+                "0" | "false" => false,
+                other => {
+                    return Err(perr(
+                        file,
+                        lineno,
+                        fields[i].col,
+                        format!("expected 0 or 1 for 'print', found '{other}'"),
+                    ))
+                }
+            },
+            None => true,
+        };
+        let speed = match self.speed_i {
+            Some(i) => {
+                let v = value(file, lineno, &self.cols, fields, i)?;
+                if v <= 0.0 {
+                    return Err(perr(
+                        file,
+                        lineno,
+                        fields[i].col,
+                        format!("expected a positive speed, found '{}'", fields[i].text),
+                    ));
+                }
+                v
+            }
+            None if print => opts.default_print_speed,
+            None => opts.default_travel_speed,
+        };
+        Ok((p, print, speed))
+    }
+}
+
+/// A `# MARK name` comment: a mark at the path's end so far (`length` along it, m).
+fn push_mark(tp: &mut Toolpath, comment: &str, length: f64) {
+    if let Some(rest) = comment.strip_prefix("MARK ") {
+        if let Some(name) = rest.split_whitespace().next() {
+            tp.marks.push(Mark {
+                name: name.to_string(),
+                point: tp.end(),
+                s: length,
+            });
+        }
+    }
+}
+
 /// Parse a CSV path; `file` names the source in messages. See the module docs.
 pub fn parse_csv(text: &str, file: &str, opts: &ReadOptions) -> Result<Toolpath> {
     let mut tp = Toolpath {
         source: file.to_string(),
         ..Default::default()
     };
-    let mut cols: Vec<Column> = Vec::new();
-    let mut idx = Vec::new();
-    let (mut speed_i, mut print_i) = (None, None);
+    let mut layout = PathColumns::default();
     let mut have_start = false;
     let mut length = 0.0;
     let units = opts.path_units.unwrap_or(PathUnits::Mm);
@@ -134,60 +204,27 @@ pub fn parse_csv(text: &str, file: &str, opts: &ReadOptions) -> Result<Toolpath>
     for row in lines(text) {
         match row {
             Line::Header(lineno, fields) => {
-                cols = header(file, lineno, &fields, &kind, &mut tp.warnings)?;
-                idx = require(file, lineno, &cols, &["x", "y", "z"])?;
-                speed_i = cols.iter().position(|c| c.name == "speed");
-                print_i = cols.iter().position(|c| c.name == "print");
-                read_as = coordinate_units(file, lineno, &cols, &idx, opts, &mut tp.warnings);
+                let cols = header(file, lineno, &fields, &kind, &mut tp.warnings)?;
+                let idx = require(file, lineno, &cols, &["x", "y", "z"])?;
+                layout = PathColumns {
+                    speed_i: cols.iter().position(|c| c.name == "speed"),
+                    print_i: cols.iter().position(|c| c.name == "print"),
+                    cols,
+                    idx,
+                };
+                read_as = coordinate_units(
+                    file,
+                    lineno,
+                    &layout.cols,
+                    &layout.idx,
+                    opts,
+                    &mut tp.warnings,
+                );
             }
-            Line::Comment(_, c) => {
-                if let Some(rest) = c.strip_prefix("MARK ") {
-                    if let Some(name) = rest.split_whitespace().next() {
-                        tp.marks.push(Mark {
-                            name: name.to_string(),
-                            point: tp.end(),
-                            s: length,
-                        });
-                    }
-                }
-            }
+            Line::Comment(_, c) => push_mark(&mut tp, &c, length),
             Line::Data(lineno, fields, eol) => {
-                check_count(file, lineno, &fields, cols.len(), eol)?;
-                let mut p = V3::zeros();
-                for (k, &i) in idx.iter().enumerate() {
-                    p[k] = value(file, lineno, &cols, &fields, i)?;
-                }
-                let print = match print_i {
-                    Some(i) => match fields[i].text.to_ascii_lowercase().as_str() {
-                        "1" | "true" => true,
-                        "0" | "false" => false,
-                        other => {
-                            return Err(perr(
-                                file,
-                                lineno,
-                                fields[i].col,
-                                format!("expected 0 or 1 for 'print', found '{other}'"),
-                            ))
-                        }
-                    },
-                    None => true,
-                };
-                let speed = match speed_i {
-                    Some(i) => {
-                        let v = value(file, lineno, &cols, &fields, i)?;
-                        if v <= 0.0 {
-                            return Err(perr(
-                                file,
-                                lineno,
-                                fields[i].col,
-                                format!("expected a positive speed, found '{}'", fields[i].text),
-                            ));
-                        }
-                        v
-                    }
-                    None if print => opts.default_print_speed,
-                    None => opts.default_travel_speed,
-                };
+                check_count(file, lineno, &fields, layout.cols.len(), eol)?;
+                let (p, print, speed) = layout.row(file, lineno, &fields, opts)?;
                 if !have_start {
                     have_start = true;
                     tp.start = p;
@@ -209,7 +246,7 @@ pub fn parse_csv(text: &str, file: &str, opts: &ReadOptions) -> Result<Toolpath>
             }
         }
     }
-    if cols.is_empty() {
+    if layout.cols.is_empty() {
         return Err(perr(
             file,
             1,
@@ -264,6 +301,44 @@ fn coordinate_units(
     }
 }
 
+/// The x, y, z and yaw of a placements row (index 0 left for the name), SI; a coordinate no
+/// arm reaches is refused at its row and column.
+fn placement_coords(
+    file: &str,
+    lineno: usize,
+    cols: &[Column],
+    idx: &[usize],
+    fields: &[crate::table::Cell],
+) -> Result<[f64; 5]> {
+    let mut v = [0.0; 5];
+    for (k, &i) in idx.iter().enumerate().skip(1) {
+        v[k] = value(file, lineno, cols, fields, i)?;
+        // A coordinate no arm reaches is named at its row and column, with the
+        // column's unit (the set's own, not the command line's metres).
+        if (1..=3).contains(&k) && v[k].abs() >= crate::frame::MAX_PLAUSIBLE_M {
+            let f = &fields[i];
+            return Err(perr(
+                file,
+                lineno,
+                f.col,
+                format!(
+                    "{} = {} reads as {} m (column unit {}): no robot reaches that \
+                     far; check the value or the column's unit",
+                    cols[i].name,
+                    f.text,
+                    crate::table::show(v[k]),
+                    if cols[i].unit.is_empty() {
+                        "mm, the default"
+                    } else {
+                        cols[i].unit.as_str()
+                    }
+                ),
+            ));
+        }
+    }
+    Ok(v)
+}
+
 /// Parse named placements: header `name,x[mm],y[mm],z[mm],yaw[deg]`, optional
 /// `nozzle_spin[deg]`; lengths default to mm and angles to degrees. Returns m and rad.
 pub fn parse_placements(text: &str, file: &str) -> Result<Vec<NamedPlacement>> {
@@ -288,32 +363,7 @@ pub fn parse_placements(text: &str, file: &str) -> Result<Vec<NamedPlacement>> {
             Line::Comment(..) => {}
             Line::Data(lineno, fields, eol) => {
                 check_count(file, lineno, &fields, cols.len(), eol)?;
-                let mut v = [0.0; 5];
-                for (k, &i) in idx.iter().enumerate().skip(1) {
-                    v[k] = value(file, lineno, &cols, &fields, i)?;
-                    // A coordinate no arm reaches is named at its row and column, with the
-                    // column's unit (the set's own, not the command line's metres).
-                    if (1..=3).contains(&k) && v[k].abs() >= crate::frame::MAX_PLAUSIBLE_M {
-                        let f = &fields[i];
-                        return Err(perr(
-                            file,
-                            lineno,
-                            f.col,
-                            format!(
-                                "{} = {} reads as {} m (column unit {}): no robot reaches that \
-                                 far; check the value or the column's unit",
-                                cols[i].name,
-                                f.text,
-                                crate::table::show(v[k]),
-                                if cols[i].unit.is_empty() {
-                                    "mm, the default"
-                                } else {
-                                    cols[i].unit.as_str()
-                                }
-                            ),
-                        ));
-                    }
-                }
+                let v = placement_coords(file, lineno, &cols, &idx, &fields)?;
                 let spin = match spin_i {
                     Some(i) => value(file, lineno, &cols, &fields, i)?,
                     None => 0.0,

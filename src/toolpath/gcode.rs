@@ -143,6 +143,22 @@ fn extended_command(file: &str, lineno: usize, chars: &[char], i: usize) -> Resu
     Ok(cmd)
 }
 
+/// The `( … )` comment opening at `i`: its text and the index after it.
+fn paren_comment(file: &str, lineno: usize, chars: &[char], i: usize) -> Result<(String, usize)> {
+    match chars[i + 1..].iter().position(|&x| x == ')') {
+        Some(p) => Ok((chars[i + 1..i + 1 + p].iter().collect(), i + p + 2)),
+        None => Err(perr(
+            file,
+            lineno,
+            chars.len() + 1,
+            format!(
+                "expected ')' to close the comment opened at column {}",
+                i + 1
+            ),
+        )),
+    }
+}
+
 /// Split one line into words, comments and an optional extended command.
 #[allow(clippy::type_complexity)]
 fn lex_line(
@@ -164,23 +180,9 @@ fn lex_line(
         } else if c == '*' {
             break;
         } else if c == '(' {
-            match chars[i + 1..].iter().position(|&x| x == ')') {
-                Some(p) => {
-                    comments.push(chars[i + 1..i + 1 + p].iter().collect());
-                    i += p + 2;
-                }
-                None => {
-                    return Err(perr(
-                        file,
-                        lineno,
-                        chars.len() + 1,
-                        format!(
-                            "expected ')' to close the comment opened at column {}",
-                            i + 1
-                        ),
-                    ))
-                }
-            }
+            let (comment, next) = paren_comment(file, lineno, &chars, i)?;
+            comments.push(comment);
+            i = next;
         } else if c.is_ascii_alphabetic() {
             let next = chars.get(i + 1).copied().unwrap_or(' ');
             if words.is_empty() && (next.is_ascii_alphabetic() || next == '_') {

@@ -157,12 +157,9 @@ fn range<'a>(moves: impl Iterator<Item = &'a Move>) -> Option<SpeedRange> {
     })
 }
 
-/// How `tp` was read from `file` with the options `opts` (the ones given to
-/// [`super::load`]): see [`Inspection`].
-pub fn inspect(tp: &Toolpath, file: &Path, opts: &ReadOptions) -> Inspection {
-    let format = Format::of(file);
-    let mm_assumed = format == Format::Csv && tp.warnings.iter().any(|w| w.contains("mm assumed"));
-    let units = match format {
+/// The units the coordinates of a file of `format` were read in, in words.
+fn units_read(format: Format, mm_assumed: bool, opts: &ReadOptions) -> String {
+    match format {
         Format::Gcode => {
             "the file's own: mm (G21) unless it says G20 (inch); F in mm/min (in/min under G20)"
                 .to_string()
@@ -177,7 +174,15 @@ pub fn inspect(tp: &Toolpath, file: &Path, opts: &ReadOptions) -> Inspection {
             None => "as stated in the header".to_string(),
         },
         Format::Other => "m".to_string(),
-    };
+    }
+}
+
+/// How `tp` was read from `file` with the options `opts` (the ones given to
+/// [`super::load`]): see [`Inspection`].
+pub fn inspect(tp: &Toolpath, file: &Path, opts: &ReadOptions) -> Inspection {
+    let format = Format::of(file);
+    let mm_assumed = format == Format::Csv && tp.warnings.iter().any(|w| w.contains("mm assumed"));
+    let units = units_read(format, mm_assumed, opts);
     let (mut print_length_m, mut travel_length_m, mut duration) = (0.0, 0.0, 0.0);
     for (s, m) in tp.segments() {
         let len = m.length(&s);

@@ -76,6 +76,28 @@ fn describe(t: &Tok) -> String {
     }
 }
 
+/// Where the number starting at `i` ends: digits and points, then an exponent when one
+/// with digits follows.
+fn number_end(ch: &[char], i: usize) -> usize {
+    let mut j = i;
+    while j < ch.len() && (ch[j].is_ascii_digit() || ch[j] == '.') {
+        j += 1;
+    }
+    if j < ch.len() && (ch[j] == 'e' || ch[j] == 'E') {
+        let mut k = j + 1;
+        if k < ch.len() && (ch[k] == '+' || ch[k] == '-') {
+            k += 1;
+        }
+        if k < ch.len() && ch[k].is_ascii_digit() {
+            while k < ch.len() && ch[k].is_ascii_digit() {
+                k += 1;
+            }
+            j = k;
+        }
+    }
+    j
+}
+
 fn lex(file: &str, text: &str) -> Result<Vec<Token>> {
     let mut out = Vec::new();
     let mut last_line = 1;
@@ -123,22 +145,7 @@ fn lex(file: &str, text: &str) -> Result<Vec<Token>> {
             } else if c.is_ascii_digit()
                 || (c == '.' && ch.get(i + 1).is_some_and(|d| d.is_ascii_digit()))
             {
-                let mut j = i;
-                while j < ch.len() && (ch[j].is_ascii_digit() || ch[j] == '.') {
-                    j += 1;
-                }
-                if j < ch.len() && (ch[j] == 'e' || ch[j] == 'E') {
-                    let mut k = j + 1;
-                    if k < ch.len() && (ch[k] == '+' || ch[k] == '-') {
-                        k += 1;
-                    }
-                    if k < ch.len() && ch[k].is_ascii_digit() {
-                        while k < ch.len() && ch[k].is_ascii_digit() {
-                            k += 1;
-                        }
-                        j = k;
-                    }
-                }
+                let j = number_end(&ch, i);
                 let s: String = ch[i..j].iter().collect();
                 match s.parse::<f64>() {
                     Ok(v) if v.is_finite() => push(Tok::Num(v)),
@@ -717,95 +724,9 @@ impl Parser<'_> {
         }
         let w = word.to_ascii_lowercase();
         match w.as_str() {
-            "if" => {
-                self.next();
-                // `IF cond THEN … ENDIF`, or the compact `IF cond instruction;`.
-                loop {
-                    match &self.peek().tok {
-                        Tok::Ident(x) if x.eq_ignore_ascii_case("then") => {
-                            self.next();
-                            break;
-                        }
-                        Tok::Punct(x) if x == ";" => {
-                            self.next();
-                            return Ok(Some(Stmt::Word {
-                                name: "IF (compact, not executed)".into(),
-                                line: t.line,
-                                col: t.col,
-                            }));
-                        }
-                        Tok::Eof => return Err(self.err_here("THEN after the IF condition")),
-                        _ => {
-                            self.next();
-                        }
-                    }
-                }
-                let mut arms = Vec::new();
-                let mut complete = false;
-                let ends = ["elseif", "else", "endif"];
-                let (mut body, mut end) = self.block(m, &ends, ("IF", t.line), depth + 1)?;
-                loop {
-                    arms.push(body);
-                    match end.as_str() {
-                        "elseif" => {
-                            self.skip_to_word("then", "THEN after the ELSEIF condition")?;
-                            (body, end) = self.block(m, &ends, ("IF", t.line), depth + 1)?;
-                        }
-                        "else" => {
-                            complete = true;
-                            (body, end) = self.block(m, &["endif"], ("IF", t.line), depth + 1)?;
-                        }
-                        _ => break,
-                    }
-                }
-                Ok(Some(Stmt::Branch {
-                    kind: "IF",
-                    line: t.line,
-                    col: t.col,
-                    arms,
-                    complete,
-                }))
-            }
-            "test" => {
-                self.next();
-                self.skip_line(t.line);
-                let ends = ["case", "default", "endtest"];
-                let (_, mut end) = self.block(m, &ends, ("TEST", t.line), depth + 1)?;
-                let mut arms = Vec::new();
-                let mut complete = false;
-                while end != "endtest" {
-                    complete |= end == "default";
-                    while !matches!(self.peek().tok, Tok::Eof) && !self.is_punct(":") {
-                        self.next();
-                    }
-                    self.expect(":", "':' after CASE or DEFAULT")?;
-                    let (body, e) = self.block(m, &ends, ("TEST", t.line), depth + 1)?;
-                    arms.push(body);
-                    end = e;
-                }
-                Ok(Some(Stmt::Branch {
-                    kind: "TEST",
-                    line: t.line,
-                    col: t.col,
-                    arms,
-                    complete,
-                }))
-            }
-            "for" | "while" => {
-                self.next();
-                self.skip_to_word("do", &format!("DO after the {} head", w.to_uppercase()))?;
-                let (kind, end) = if w == "for" {
-                    ("FOR", "endfor")
-                } else {
-                    ("WHILE", "endwhile")
-                };
-                let (body, _) = self.block(m, &[end], (kind, t.line), depth + 1)?;
-                Ok(Some(Stmt::Loop {
-                    kind,
-                    line: t.line,
-                    body,
-                }))
-            }
+            "if" => self.if_stmt(m, &t, depth),
+            "test" => self.test_stmt(m, &t, depth),
+            "for" | "while" => self.loop_stmt(m, &t, &w, depth),
             "movel" | "movej" | "movec" => {
                 self.next();
                 Ok(Some(Stmt::Move(self.move_stmt(
@@ -837,6 +758,107 @@ impl Parser<'_> {
                 }))
             }
         }
+    }
+
+    /// `IF … ENDIF` (its arms) or the compact `IF cond instruction;` (not executed), at `t`.
+    fn if_stmt(&mut self, m: &mut Module, t: &Token, depth: usize) -> Result<Option<Stmt>> {
+        self.next();
+        // `IF cond THEN … ENDIF`, or the compact `IF cond instruction;`.
+        loop {
+            match &self.peek().tok {
+                Tok::Ident(x) if x.eq_ignore_ascii_case("then") => {
+                    self.next();
+                    break;
+                }
+                Tok::Punct(x) if x == ";" => {
+                    self.next();
+                    return Ok(Some(Stmt::Word {
+                        name: "IF (compact, not executed)".into(),
+                        line: t.line,
+                        col: t.col,
+                    }));
+                }
+                Tok::Eof => return Err(self.err_here("THEN after the IF condition")),
+                _ => {
+                    self.next();
+                }
+            }
+        }
+        let mut arms = Vec::new();
+        let mut complete = false;
+        let ends = ["elseif", "else", "endif"];
+        let (mut body, mut end) = self.block(m, &ends, ("IF", t.line), depth + 1)?;
+        loop {
+            arms.push(body);
+            match end.as_str() {
+                "elseif" => {
+                    self.skip_to_word("then", "THEN after the ELSEIF condition")?;
+                    (body, end) = self.block(m, &ends, ("IF", t.line), depth + 1)?;
+                }
+                "else" => {
+                    complete = true;
+                    (body, end) = self.block(m, &["endif"], ("IF", t.line), depth + 1)?;
+                }
+                _ => break,
+            }
+        }
+        Ok(Some(Stmt::Branch {
+            kind: "IF",
+            line: t.line,
+            col: t.col,
+            arms,
+            complete,
+        }))
+    }
+
+    /// `TEST … CASE … DEFAULT … ENDTEST` at `t`: its case arms.
+    fn test_stmt(&mut self, m: &mut Module, t: &Token, depth: usize) -> Result<Option<Stmt>> {
+        self.next();
+        self.skip_line(t.line);
+        let ends = ["case", "default", "endtest"];
+        let (_, mut end) = self.block(m, &ends, ("TEST", t.line), depth + 1)?;
+        let mut arms = Vec::new();
+        let mut complete = false;
+        while end != "endtest" {
+            complete |= end == "default";
+            while !matches!(self.peek().tok, Tok::Eof) && !self.is_punct(":") {
+                self.next();
+            }
+            self.expect(":", "':' after CASE or DEFAULT")?;
+            let (body, e) = self.block(m, &ends, ("TEST", t.line), depth + 1)?;
+            arms.push(body);
+            end = e;
+        }
+        Ok(Some(Stmt::Branch {
+            kind: "TEST",
+            line: t.line,
+            col: t.col,
+            arms,
+            complete,
+        }))
+    }
+
+    /// `FOR … ENDFOR` or `WHILE … ENDWHILE` (`w`, lower case) at `t`.
+    fn loop_stmt(
+        &mut self,
+        m: &mut Module,
+        t: &Token,
+        w: &str,
+        depth: usize,
+    ) -> Result<Option<Stmt>> {
+        self.next();
+        self.skip_to_word("do", &format!("DO after the {} head", w.to_uppercase()))?;
+        let (kind, end) = if w == "for" {
+            ("FOR", "endfor")
+        } else {
+            ("WHILE", "endwhile")
+        };
+        let (body, _) = self.block(m, &[end], (kind, t.line), depth + 1)?;
+        Ok(Some(Stmt::Loop {
+            kind,
+            line: t.line,
+            body,
+        }))
     }
 
     /// `PROC name(…) … ENDPROC` (also `FUNC type name(…)` and `TRAP name`), the keyword next.
@@ -1030,42 +1052,76 @@ impl<'a> Run<'a> {
                         }
                         continue;
                     }
-                    let mut reached: Vec<String> = Vec::new();
-                    for a in arms {
-                        for (n, l) in self.signature(a, &mut Vec::new()) {
-                            let item = if n.starts_with("a Move") {
-                                n
-                            } else {
-                                format!("{n} (called at {}:{l})", self.file)
-                            };
-                            if !reached.contains(&item) {
-                                reached.push(item);
-                            }
-                        }
-                    }
-                    if !complete {
-                        reached.push("nothing (no ELSE/DEFAULT)".into());
-                    }
-                    let within = self
-                        .stack
-                        .last()
-                        .map_or(String::new(), |(n, _)| format!(" in {n}"));
-                    return Err(perr(
-                        self.file,
-                        *line,
-                        *col,
-                        format!(
-                            "the {kind}{within} chooses at run time between {}: the reader \
-                             cannot tell which the controller runs; name the procedure to read \
-                             as the entry. Procedures: {}",
-                            reached.join(", "),
-                            self.procedures_list()
-                        ),
-                    ));
+                    return Err(self.undecidable(kind, (*line, *col), arms, *complete));
                 }
             }
         }
         Ok(())
+    }
+
+    /// The error for a branch whose arms reach different moves or calls: the reader cannot
+    /// tell which one the controller runs.
+    fn undecidable(
+        &self,
+        kind: &str,
+        (line, col): (usize, usize),
+        arms: &[Vec<Stmt>],
+        complete: bool,
+    ) -> Error {
+        let mut reached: Vec<String> = Vec::new();
+        for a in arms {
+            for (n, l) in self.signature(a, &mut Vec::new()) {
+                let item = if n.starts_with("a Move") {
+                    n
+                } else {
+                    format!("{n} (called at {}:{l})", self.file)
+                };
+                if !reached.contains(&item) {
+                    reached.push(item);
+                }
+            }
+        }
+        if !complete {
+            reached.push("nothing (no ELSE/DEFAULT)".into());
+        }
+        let within = self
+            .stack
+            .last()
+            .map_or(String::new(), |(n, _)| format!(" in {n}"));
+        perr(
+            self.file,
+            line,
+            col,
+            format!(
+                "the {kind}{within} chooses at run time between {}: the reader \
+                 cannot tell which the controller runs; name the procedure to read \
+                 as the entry. Procedures: {}",
+                reached.join(", "),
+                self.procedures_list()
+            ),
+        )
+    }
+
+    /// The procedure to run from: `entry` (which must exist) when given, else `main` if any.
+    fn entry_routine(&self, entry: Option<&str>) -> Result<Option<&'a Routine>> {
+        let file = self.file;
+        Ok(match entry {
+            Some(name) => match self.routine(name) {
+                Some(r) => Some(r),
+                None => {
+                    return Err(Error::Invalid(format!(
+                        "{file}: no procedure named '{name}' to read as the entry: expected one of \
+                         {}",
+                        if self.all.is_empty() {
+                            "them, but the module has none".to_string()
+                        } else {
+                            self.procedures_list()
+                        }
+                    )))
+                }
+            },
+            None => self.routine("main"),
+        })
     }
 
     fn call(&mut self, r: &'a Routine, line: usize, col: usize) -> Result<()> {
@@ -1164,23 +1220,7 @@ fn execute<'a>(file: &'a str, m: &'a Module, entry: Option<&str>) -> Result<Exec
             ));
         }
     }
-    let chosen = match entry {
-        Some(name) => match run.routine(name) {
-            Some(r) => Some(r),
-            None => {
-                return Err(Error::Invalid(format!(
-                    "{file}: no procedure named '{name}' to read as the entry: expected one of \
-                     {}",
-                    if m.routines.is_empty() {
-                        "them, but the module has none".to_string()
-                    } else {
-                        run.procedures_list()
-                    }
-                )))
-            }
-        },
-        None => run.routine("main"),
-    };
+    let chosen = run.entry_routine(entry)?;
     let mut moves = Vec::new();
     let mut skipped = BTreeSet::new();
     let entry_name;
@@ -1266,45 +1306,97 @@ fn wobj_of(m: &MoveStmt) -> String {
 pub fn parse_rapid(text: &str, file: &str, opts: &ReadOptions) -> Result<Toolpath> {
     let module = parse_module(file, text)?;
     let ex = execute(file, &module, opts.proc.as_deref())?;
-    let mut skipped = ex.skipped;
+    let skipped = ex.skipped;
     let mut notes = module.notes.clone();
     notes.extend(ex.notes);
-    let decls = &module.decls;
-
-    let mut data = Data {
-        robtargets: HashMap::new(),
-        speeds: HashMap::new(),
-        zones: HashMap::new(),
+    check_unique_decls(file, &module.decls)?;
+    let decls = read_decls(file, &module.decls)?;
+    let (part, shown) = part_wobj(&ex.moves);
+    let tp = Toolpath {
+        source: file.to_string(),
+        procedures: module
+            .routines
+            .iter()
+            .map(|r| Procedure {
+                name: r.name.clone(),
+                line: r.line,
+                moves: count_moves(&r.body),
+            })
+            .collect(),
+        entry: ex.entry.clone(),
+        ..Default::default()
     };
-    let mut wobjs: HashMap<String, (Frame, usize)> = HashMap::new();
-    let mut tools: HashMap<String, (Value, usize)> = HashMap::new();
-    // A name declared twice is an error naming both lines (RAPID refuses it too).
-    {
-        let mut seen: HashMap<&str, usize> = HashMap::new();
-        for (_, name, _, l, c) in decls {
-            if let Some(first) = seen.insert(name.as_str(), *l) {
-                return Err(perr(
-                    file,
-                    *l,
-                    *c,
-                    format!("'{name}' is declared twice (first on line {first}): rename one"),
-                ));
-            }
+    let mut rd = RapidMoves {
+        file,
+        decls,
+        part,
+        shown,
+        tp,
+        notes,
+        started: false,
+        pos: V3::zeros(),
+        used_vmax: false,
+        tool_note: false,
+        home_lines: Vec::new(),
+        other_wobjs: BTreeSet::new(),
+        tools_used: Vec::new(),
+    };
+    for m in &ex.moves {
+        rd.take_move(m)?;
+    }
+    rd.finish(&ex.entry, module.routines.len(), skipped)
+}
+
+/// Refuse a name declared twice, naming both lines (RAPID refuses it too).
+fn check_unique_decls(file: &str, decls: &[Decl]) -> Result<()> {
+    let mut seen: HashMap<&str, usize> = HashMap::new();
+    for (_, name, _, l, c) in decls {
+        if let Some(first) = seen.insert(name.as_str(), *l) {
+            return Err(perr(
+                file,
+                *l,
+                *c,
+                format!("'{name}' is declared twice (first on line {first}): rename one"),
+            ));
         }
     }
-    // Robtargets may refer to others (Offs); resolve in declaration order.
+    Ok(())
+}
+
+/// The module's declared data: targets, speeds and zones, work objects and tools.
+struct Decls {
+    data: Data,
+    /// Work object frame (uframe·oframe) and declaration line, by lower-case name.
+    wobjs: HashMap<String, (Frame, usize)>,
+    /// Tool data value and declaration line, by name.
+    tools: HashMap<String, (Value, usize)>,
+}
+
+/// Resolve the module's data declarations in declaration order (robtargets may refer to
+/// others through Offs).
+fn read_decls(file: &str, decls: &[Decl]) -> Result<Decls> {
+    let mut out = Decls {
+        data: Data {
+            robtargets: HashMap::new(),
+            speeds: HashMap::new(),
+            zones: HashMap::new(),
+        },
+        wobjs: HashMap::new(),
+        tools: HashMap::new(),
+    };
     for (ty, name, v, l, c) in decls {
+        let data = &mut out.data;
         match ty.as_str() {
             "robtarget" => {
-                let p = robtarget(file, &data, v, (*l, *c))?;
+                let p = robtarget(file, data, v, (*l, *c))?;
                 data.robtargets.insert(name.clone(), p);
             }
             "speeddata" => {
-                let s = speed_of(file, &data, v, (*l, *c))?;
+                let s = speed_of(file, data, v, (*l, *c))?;
                 data.speeds.insert(name.clone(), s / M_PER_MM);
             }
             "zonedata" => {
-                let z = zone_of(file, &data, v, (*l, *c))?;
+                let z = zone_of(file, data, v, (*l, *c))?;
                 data.zones.insert(name.clone(), z);
             }
             "wobjdata" => {
@@ -1324,18 +1416,21 @@ pub fn parse_rapid(text: &str, file: &str, opts: &ReadOptions) -> Result<Toolpat
                          [[x,y,z],[q1,q2,q3,q4]]] (uframe, oframe; a non-zero quaternion)",
                     ));
                 };
-                wobjs.insert(name.clone(), (uf.compose(&of), *l));
+                out.wobjs.insert(name.clone(), (uf.compose(&of), *l));
             }
             _ => {
-                tools.insert(name.clone(), (v.clone(), *l));
+                out.tools.insert(name.clone(), (v.clone(), *l));
             }
         }
     }
+    Ok(out)
+}
 
-    // The part frame: the work object the print moves (MoveL, MoveC) use most (the first of
-    // equals); all moves when none prints.
+/// The part frame: the work object the print moves (MoveL, MoveC) use most (the first of
+/// equals); all moves when none prints. Also each work object's name as first written.
+fn part_wobj(moves: &[&MoveStmt]) -> (String, HashMap<String, String>) {
     let mut shown: HashMap<String, String> = HashMap::new();
-    for m in &ex.moves {
+    for m in moves {
         if let Some(Some(Value::Ident(n, _, _))) = m.opts.get("wobj") {
             shown
                 .entry(n.to_ascii_lowercase())
@@ -1348,15 +1443,13 @@ pub fn parse_rapid(text: &str, file: &str, opts: &ReadOptions) -> Result<Toolpat
                 .or_insert_with(|| n.clone());
         }
     }
-    let show = |n: &str| shown.get(n).cloned().unwrap_or_else(|| n.to_string());
     let mut counts: Vec<(String, usize)> = Vec::new();
-    let prints: Vec<&&MoveStmt> = ex
-        .moves
+    let prints: Vec<&&MoveStmt> = moves
         .iter()
         .filter(|m| !m.instr.eq_ignore_ascii_case("movej"))
         .collect();
     let pool: Vec<&&MoveStmt> = if prints.is_empty() {
-        ex.moves.iter().collect()
+        moves.iter().collect()
     } else {
         prints
     };
@@ -1374,111 +1467,152 @@ pub fn parse_rapid(text: &str, file: &str, opts: &ReadOptions) -> Result<Toolpat
             _ => Some(c),
         })
         .map_or("wobj0".to_string(), |c| c.0.clone());
-    let frame_of = |w: &str| -> Option<Frame> {
+    (part, shown)
+}
+
+/// The executed moves being turned into a toolpath in the part frame.
+struct RapidMoves<'a> {
+    file: &'a str,
+    decls: Decls,
+    /// The part's work object (lower case).
+    part: String,
+    /// Work object names as first written, by lower-case name.
+    shown: HashMap<String, String>,
+    tp: Toolpath,
+    notes: Vec<String>,
+    started: bool,
+    pos: V3,
+    used_vmax: bool,
+    tool_note: bool,
+    home_lines: Vec<usize>,
+    other_wobjs: BTreeSet<String>,
+    tools_used: Vec<(String, usize)>,
+}
+
+impl RapidMoves<'_> {
+    /// A work object's name as the program writes it.
+    fn show(&self, n: &str) -> String {
+        self.shown.get(n).cloned().unwrap_or_else(|| n.to_string())
+    }
+
+    /// A work object's frame (wobj0 is the world).
+    fn frame_of(&self, w: &str) -> Option<Frame> {
         if w == "wobj0" {
             Some(Frame::identity())
         } else {
-            wobjs.get(w).map(|f| f.0)
+            self.decls.wobjs.get(w).map(|f| f.0)
         }
-    };
+    }
 
-    let mut tp = Toolpath {
-        source: file.to_string(),
-        procedures: module
-            .routines
-            .iter()
-            .map(|r| Procedure {
-                name: r.name.clone(),
-                line: r.line,
-                moves: count_moves(&r.body),
-            })
-            .collect(),
-        entry: ex.entry.clone(),
-        ..Default::default()
-    };
-    let mut started = false;
-    let mut pos = V3::zeros();
-    let mut used_vmax = false;
-    let mut tool_note = false;
-    let mut home_lines: Vec<usize> = Vec::new();
-    let mut other_wobjs: BTreeSet<String> = BTreeSet::new();
-    let mut tools_used: Vec<(String, usize)> = Vec::new();
-    for m in &ex.moves {
+    /// The transform from a move's work object into the part frame; None for a wobj0 move
+    /// while the print uses another work object (a home position, skipped).
+    fn part_transform(&mut self, m: &MoveStmt, wobj: &str) -> Result<Option<Frame>> {
+        if wobj == self.part {
+            return Ok(Some(Frame::identity()));
+        }
+        if wobj == "wobj0" {
+            self.home_lines.push(m.line);
+            return Ok(None);
+        }
+        match (self.frame_of(&self.part), self.frame_of(wobj)) {
+            (Some(p), Some(w)) => {
+                self.other_wobjs.insert(wobj.to_string());
+                Ok(Some(p.inverse().compose(&w)))
+            }
+            (_, None) => Err(perr(
+                self.file,
+                m.line,
+                m.col,
+                format!(
+                    "undefined wobjdata '{}': its targets cannot be put in the part \
+                     frame ({}): expected wobj0 or a wobjdata declared in the module",
+                    self.show(wobj),
+                    self.show(&self.part)
+                ),
+            )),
+            (None, _) => Err(perr(
+                self.file,
+                m.line,
+                m.col,
+                format!(
+                    "the move is in work object '{w}' and the print in '{p}', which is \
+                     not declared in the module: expected a wobjdata {p} to put '{w}' \
+                     targets in the part frame",
+                    w = self.show(wobj),
+                    p = self.show(&self.part)
+                ),
+            )),
+        }
+    }
+
+    /// Take one executed move: check its arguments, put its target in the part frame and
+    /// append it to the toolpath (the first one is the start point).
+    fn take_move(&mut self, m: &MoveStmt) -> Result<()> {
+        let file = self.file;
         let instr = m.instr.to_ascii_lowercase();
         let is_c = instr == "movec";
-        let need = if is_c { 5 } else { 4 };
-        if m.args.len() != need {
-            return Err(perr(
-                file,
-                m.end_line,
-                m.end_col,
-                format!(
-                    "{}: expected {need} arguments ({}), found {}",
-                    m.instr,
-                    if is_c {
-                        "CirPoint, ToPoint, Speed, Zone, Tool"
-                    } else {
-                        "ToPoint, Speed, Zone, Tool"
-                    },
-                    m.args.len()
-                ),
-            ));
-        }
+        check_move_arity(file, m, is_c)?;
         let wobj = wobj_of(m);
-        let to_part = if wobj == part {
-            Frame::identity()
-        } else if wobj == "wobj0" {
-            home_lines.push(m.line);
-            continue;
-        } else {
-            match (frame_of(&part), frame_of(&wobj)) {
-                (Some(p), Some(w)) => {
-                    other_wobjs.insert(wobj.clone());
-                    p.inverse().compose(&w)
-                }
-                (_, None) => {
-                    return Err(perr(
-                        file,
-                        m.line,
-                        m.col,
-                        format!(
-                            "undefined wobjdata '{}': its targets cannot be put in the part \
-                             frame ({}): expected wobj0 or a wobjdata declared in the module",
-                            show(&wobj),
-                            show(&part)
-                        ),
-                    ))
-                }
-                (None, _) => {
-                    return Err(perr(
-                        file,
-                        m.line,
-                        m.col,
-                        format!(
-                            "the move is in work object '{w}' and the print in '{p}', which is \
-                             not declared in the module: expected a wobjdata {p} to put '{w}' \
-                             targets in the part frame",
-                            w = show(&wobj),
-                            p = show(&part)
-                        ),
-                    ))
-                }
-            }
+        let Some(to_part) = self.part_transform(m, &wobj)? else {
+            return Ok(());
         };
         let at = (m.line, m.col);
         let k = usize::from(is_c);
         if let Value::Ident(t, _, _) = &m.args[k + 3].value {
             let t = t.to_ascii_lowercase();
-            if !tools_used.iter().any(|(n, _)| *n == t) {
-                tools_used.push((t, m.line));
+            if !self.tools_used.iter().any(|(n, _)| *n == t) {
+                self.tools_used.push((t, m.line));
             }
         }
-        let to = to_part.apply(&robtarget(file, &data, &m.args[k].value, at)?);
-        let mut speed = speed_of(file, &data, &m.args[k + 1].value, at)?;
-        if matches!(&m.args[k + 1].value, Value::Ident(n, _, _) if n.eq_ignore_ascii_case("vmax")) {
-            used_vmax = true;
+        let to = to_part.apply(&robtarget(file, &self.decls.data, &m.args[k].value, at)?);
+        let (speed, zone) = self.speed_and_zone(m, k)?;
+        self.tool_note = true;
+        if !self.started {
+            if is_c {
+                return Err(perr(
+                    file,
+                    m.line,
+                    m.col,
+                    "MoveC cannot be the first move: expected a MoveL or MoveJ to its start point",
+                ));
+            }
+            self.started = true;
+            self.tp.start = to;
+            self.pos = to;
+            return Ok(());
         }
-        let mut zone = zone_of(file, &data, &m.args[k + 2].value, at)?;
+        let kind = if is_c {
+            let via = to_part.apply(&robtarget(file, &self.decls.data, &m.args[0].value, at)?);
+            arc_through(file, m, &self.pos, &via, &to)?
+        } else {
+            MoveKind::Line
+        };
+        let mv = Move {
+            kind,
+            end: to,
+            speed,
+            zone,
+            print: instr != "movej",
+            line: m.line,
+        };
+        if mv.length(&self.pos) > 1e-12 {
+            self.tp.moves.push(mv);
+            self.pos = to;
+        }
+        Ok(())
+    }
+
+    /// A move's speed and zone: its speeddata and zonedata, then its \V, \T, \Z and \Inpos
+    /// switches.
+    fn speed_and_zone(&mut self, m: &MoveStmt, k: usize) -> Result<(f64, Zone)> {
+        let file = self.file;
+        let at = (m.line, m.col);
+        let data = &self.decls.data;
+        let mut speed = speed_of(file, data, &m.args[k + 1].value, at)?;
+        if matches!(&m.args[k + 1].value, Value::Ident(n, _, _) if n.eq_ignore_ascii_case("vmax")) {
+            self.used_vmax = true;
+        }
+        let mut zone = zone_of(file, data, &m.args[k + 2].value, at)?;
         if let Some(Some(v)) = m.opts.get("v") {
             match num_of(v) {
                 Some(s) if s > 0.0 => speed = s * M_PER_MM,
@@ -1493,7 +1627,7 @@ pub fn parse_rapid(text: &str, file: &str, opts: &ReadOptions) -> Result<Toolpat
             }
         }
         if m.opts.contains_key("t") {
-            notes.push(format!(
+            self.notes.push(format!(
                 "{file}:{}: \\T (move time) ignored; speeddata used",
                 m.line
             ));
@@ -1514,137 +1648,154 @@ pub fn parse_rapid(text: &str, file: &str, opts: &ReadOptions) -> Result<Toolpat
         if m.opts.contains_key("inpos") {
             zone = Zone::Fine;
         }
-        tool_note = true;
-        if !started {
-            if is_c {
-                return Err(perr(
-                    file,
-                    m.line,
-                    m.col,
-                    "MoveC cannot be the first move: expected a MoveL or MoveJ to its start point",
+        Ok((speed, zone))
+    }
+
+    /// The toolpath with its warnings: entry, part frame, other work objects, skipped home
+    /// moves, tool frames, vmax, skipped instructions, then the reader's notes.
+    fn finish(
+        mut self,
+        entry: &Option<String>,
+        procedures: usize,
+        mut skipped: BTreeSet<String>,
+    ) -> Result<Toolpath> {
+        let file = self.file;
+        if let Some(e) = entry {
+            let n = procedures;
+            if n > 1 {
+                self.tp.warnings.push(format!(
+                    "{file}: read from PROC {e} as the controller runs it (its calls followed), \
+                     {n} procedures in the module"
                 ));
             }
-            started = true;
-            tp.start = to;
-            pos = to;
-            continue;
         }
-        let kind = if is_c {
-            let via = to_part.apply(&robtarget(file, &data, &m.args[0].value, at)?);
-            match circle_through(&pos, &via, &to) {
-                Some((centre, normal, radius, sweep)) => MoveKind::Arc {
-                    centre,
-                    normal,
-                    radius,
-                    sweep,
-                    axial: 0.0,
-                },
-                None => {
-                    return Err(perr(
-                        file,
-                        m.line,
-                        m.col,
-                        "MoveC: start, circle point and end point are collinear or coincide: \
-                         expected three distinct points on a circle",
-                    ))
-                }
-            }
-        } else {
-            MoveKind::Line
-        };
-        let mv = Move {
-            kind,
-            end: to,
-            speed,
-            zone,
-            print: instr != "movej",
-            line: m.line,
-        };
-        if mv.length(&pos) > 1e-12 {
-            tp.moves.push(mv);
-            pos = to;
+        self.frame_warnings();
+        self.tool_frame_warnings();
+        if self.used_vmax {
+            self.tp.warnings.push(format!(
+                "{file}: vmax taken as {VMAX_MM_S} mm/s; the real value depends on the robot"
+            ));
         }
+        if !skipped.is_empty() {
+            self.tp.warnings.push(format!(
+                "{file}: skipped instructions: {}",
+                std::mem::take(&mut skipped)
+                    .into_iter()
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            ));
+        }
+        self.tp.warnings.extend(self.notes);
+        Ok(self.tp)
     }
-    if let Some(e) = &ex.entry {
-        let n = module.routines.len();
-        if n > 1 {
-            tp.warnings.push(format!(
-                "{file}: read from PROC {e} as the controller runs it (its calls followed), \
-                 {n} procedures in the module"
+
+    /// Say which frame the targets were taken in, which other work objects were moved into
+    /// it, and which wobj0 moves were skipped.
+    fn frame_warnings(&mut self) {
+        let file = self.file;
+        let part = self.show(&self.part);
+        if self.tool_note {
+            let frame = if self.part == "wobj0" {
+                "the work object's frame (= the part frame)".to_string()
+            } else {
+                format!(
+                    "work object {part}'s frame (= the part frame, the one the print moves use)"
+                )
+            };
+            self.tp.warnings.push(format!(
+                "{file}: targets taken in {frame}; orientations dropped (vertical nozzle assumed)"
+            ));
+        }
+        if !self.other_wobjs.is_empty() {
+            let others = self
+                .other_wobjs
+                .iter()
+                .map(|w| self.show(w))
+                .collect::<Vec<_>>()
+                .join(", ");
+            self.tp.warnings.push(format!(
+                "{file}: targets in {others} put in the part frame {part} through their wobjdata \
+                 (uframe·oframe)"
+            ));
+        }
+        if !self.home_lines.is_empty() {
+            let lines: Vec<String> = self.home_lines.iter().map(|l| l.to_string()).collect();
+            self.tp.warnings.push(format!(
+                "{file}: line {}: move(s) in wobj0 while the print uses work object {part}: not part \
+                 points (e.g. a home position), skipped",
+                lines.join(", "),
             ));
         }
     }
-    if tool_note {
-        let frame = if part == "wobj0" {
-            "the work object's frame (= the part frame)".to_string()
-        } else {
-            format!(
-                "work object {}'s frame (= the part frame, the one the print moves use)",
-                show(&part)
-            )
-        };
-        tp.warnings.push(format!(
-            "{file}: targets taken in {frame}; orientations dropped (vertical nozzle assumed)"
-        ));
-    }
-    if !other_wobjs.is_empty() {
-        tp.warnings.push(format!(
-            "{file}: targets in {} put in the part frame {} through their wobjdata \
-             (uframe·oframe)",
-            other_wobjs
-                .iter()
-                .map(|w| show(w))
-                .collect::<Vec<_>>()
-                .join(", "),
-            show(&part)
-        ));
-    }
-    if !home_lines.is_empty() {
-        let lines: Vec<String> = home_lines.iter().map(|l| l.to_string()).collect();
-        tp.warnings.push(format!(
-            "{file}: line {}: move(s) in wobj0 while the print uses work object {}: not part \
-             points (e.g. a home position), skipped",
-            lines.join(", "),
-            show(&part)
-        ));
-    }
-    for (t, line) in &tools_used {
-        let Some((v, decl_line)) = tools.get(t) else {
-            continue;
-        };
-        let tframe = match v {
-            Value::Agg(items, _, _) => items.get(1).and_then(pose_of),
-            _ => None,
-        };
-        if let Some(f) = tframe {
-            let identity = f.pos.norm() < 1e-9 && (f.rot - M3::identity()).norm() < 1e-9;
-            if !identity {
-                tp.warnings.push(format!(
-                    "{file}:{line}: tool {} (declared on line {decl_line}) has a tool frame \
-                     that is not the identity (offset {:.1} mm from the flange): targets are \
-                     read as the nozzle tip's positions and the robot's own nozzle model is kept",
-                    show(t),
-                    f.pos.norm() / M_PER_MM
-                ));
+
+    /// Warn about each used tool whose tool frame is not the identity.
+    fn tool_frame_warnings(&mut self) {
+        let file = self.file;
+        for (t, line) in &self.tools_used {
+            let Some((v, decl_line)) = self.decls.tools.get(t) else {
+                continue;
+            };
+            let tframe = match v {
+                Value::Agg(items, _, _) => items.get(1).and_then(pose_of),
+                _ => None,
+            };
+            if let Some(f) = tframe {
+                let identity = f.pos.norm() < 1e-9 && (f.rot - M3::identity()).norm() < 1e-9;
+                if !identity {
+                    self.tp.warnings.push(format!(
+                        "{file}:{line}: tool {} (declared on line {decl_line}) has a tool frame \
+                         that is not the identity (offset {:.1} mm from the flange): targets are \
+                         read as the nozzle tip's positions and the robot's own nozzle model is kept",
+                        self.show(t),
+                        f.pos.norm() / M_PER_MM
+                    ));
+                }
             }
         }
     }
-    if used_vmax {
-        tp.warnings.push(format!(
-            "{file}: vmax taken as {VMAX_MM_S} mm/s; the real value depends on the robot"
+}
+
+/// Refuse a move whose argument count does not fit its instruction.
+fn check_move_arity(file: &str, m: &MoveStmt, is_c: bool) -> Result<()> {
+    let need = if is_c { 5 } else { 4 };
+    if m.args.len() != need {
+        return Err(perr(
+            file,
+            m.end_line,
+            m.end_col,
+            format!(
+                "{}: expected {need} arguments ({}), found {}",
+                m.instr,
+                if is_c {
+                    "CirPoint, ToPoint, Speed, Zone, Tool"
+                } else {
+                    "ToPoint, Speed, Zone, Tool"
+                },
+                m.args.len()
+            ),
         ));
     }
-    if !skipped.is_empty() {
-        tp.warnings.push(format!(
-            "{file}: skipped instructions: {}",
-            std::mem::take(&mut skipped)
-                .into_iter()
-                .collect::<Vec<_>>()
-                .join(", ")
-        ));
+    Ok(())
+}
+
+/// The arc of a MoveC from `pos` through `via` to `to`.
+fn arc_through(file: &str, m: &MoveStmt, pos: &V3, via: &V3, to: &V3) -> Result<MoveKind> {
+    match circle_through(pos, via, to) {
+        Some((centre, normal, radius, sweep)) => Ok(MoveKind::Arc {
+            centre,
+            normal,
+            radius,
+            sweep,
+            axial: 0.0,
+        }),
+        None => Err(perr(
+            file,
+            m.line,
+            m.col,
+            "MoveC: start, circle point and end point are collinear or coincide: \
+             expected three distinct points on a circle",
+        )),
     }
-    tp.warnings.extend(notes);
-    Ok(tp)
 }
 
 /// One move of a RAPID module as a controller takes it: the instruction, the robtarget's
@@ -1724,124 +1875,26 @@ pub fn read_program(text: &str, file: &str) -> Result<RapidProgram> {
 pub fn read_program_entry(text: &str, file: &str, entry: Option<&str>) -> Result<RapidProgram> {
     let module = parse_module(file, text)?;
     let ex = execute(file, &module, entry)?;
-    let mut by_place: HashMap<(usize, usize), Option<RapidTarget>> = HashMap::new();
     let toks = lex(file, text)?;
-    let mut prog = RapidProgram::default();
-    for l in text.lines() {
-        let t = l.trim_start();
-        if t.to_ascii_lowercase().starts_with("module") {
-            break;
-        }
-        prog.comments_before_module += usize::from(t.starts_with('!'));
-    }
+    let mut scan = ProgramScan {
+        file,
+        prog: RapidProgram::default(),
+        robtargets: HashMap::new(),
+        by_place: HashMap::new(),
+    };
+    scan.prog.comments_before_module = comments_before_module(text);
     let mut p = Parser { file, toks, i: 0 };
-    let mut robtargets: HashMap<String, Value> = HashMap::new();
     loop {
         let t = p.peek().clone();
         match &t.tok {
             Tok::Eof => break,
-            Tok::Ident(word) => {
-                let w = word.to_ascii_lowercase();
-                match w.as_str() {
-                    "module" => {
-                        p.next();
-                        let (name, _, _) = p.ident("a module name")?;
-                        prog.modules.push(name);
-                        p.skip_line(t.line);
-                    }
-                    "const" | "pers" | "var" => {
-                        p.next();
-                        let (ty, _, _) = p.ident("a data type after CONST/PERS/VAR")?;
-                        let (name, _, _) = p.ident("a data name")?;
-                        let tyl = ty.to_ascii_lowercase();
-                        if p.is_punct(":=") && matches!(tyl.as_str(), "robtarget" | "jointtarget") {
-                            p.next();
-                            let v = p.value(0)?;
-                            p.expect(";", &format!("';' after the value of {name}"))?;
-                            if tyl == "robtarget" {
-                                robtargets.insert(name.to_ascii_lowercase(), v);
-                            } else {
-                                let axes = match &v {
-                                    Value::Agg(items, _, _) => items.first().and_then(nums_of),
-                                    _ => None,
-                                }
-                                .ok_or_else(|| {
-                                    perr(
-                                        file,
-                                        t.line,
-                                        t.col,
-                                        "expected a jointtarget [[j1, …], [eax…]]",
-                                    )
-                                })?;
-                                prog.jointtargets.push((name.to_ascii_lowercase(), axes));
-                            }
-                        } else {
-                            p.skip_statement();
-                        }
-                    }
-                    "movel" | "movej" | "movec" | "moveabsj" => {
-                        p.next();
-                        let m = p.move_stmt(word.clone(), t.line, t.col)?;
-                        if w == "moveabsj" {
-                            if let Some(Value::Ident(n, _, _)) = m.args.first().map(|a| &a.value) {
-                                prog.abs_moves.push(n.to_ascii_lowercase());
-                            }
-                            continue;
-                        }
-                        let k = usize::from(w == "movec");
-                        let v = m.args.get(k).map(|a| &a.value);
-                        let v = match v {
-                            Some(Value::Ident(n, _, _)) => robtargets.get(&n.to_ascii_lowercase()),
-                            other => other,
-                        };
-                        // A move the controller does not run may have any target; one it
-                        // runs must have a full robtarget (checked below).
-                        let Some((pos_mm, quat, conf)) = v.and_then(target_parts) else {
-                            by_place.insert((m.line, m.col), None);
-                            continue;
-                        };
-                        let wobj = match m.opts.get("wobj") {
-                            Some(Some(Value::Ident(n, _, _))) => n.clone(),
-                            _ => "wobj0".into(),
-                        };
-                        by_place.insert(
-                            (m.line, m.col),
-                            Some(RapidTarget {
-                                instr: m.instr.clone(),
-                                pos_mm,
-                                quat,
-                                conf,
-                                wobj,
-                                line: m.line,
-                            }),
-                        );
-                    }
-                    "confl" | "singarea" => {
-                        p.next();
-                        let mut opts = HashMap::new();
-                        p.switches(&mut opts)?;
-                        p.expect(";", &format!("';' after {word}"))?;
-                        let on = opts.keys().next().cloned().unwrap_or_default();
-                        if w == "confl" {
-                            prog.conf_l = Some(on == "on");
-                        } else {
-                            prog.sing_area = Some(on);
-                        }
-                    }
-                    "proc" | "endproc" | "endmodule" | "func" | "endfunc" | "trap" | "endtrap"
-                    | "if" | "elseif" | "else" | "endif" | "for" | "endfor" | "while"
-                    | "endwhile" | "test" | "case" | "default" | "endtest" => {
-                        p.skip_line(t.line);
-                    }
-                    "local" | "task" => {
-                        p.next();
-                    }
-                    _ => p.skip_statement(),
-                }
-            }
+            Tok::Ident(word) => scan.word(&mut p, &t, word)?,
             _ => p.skip_statement(),
         }
     }
+    let ProgramScan {
+        mut prog, by_place, ..
+    } = scan;
     for m in &ex.moves {
         match by_place.get(&(m.line, m.col)) {
             Some(Some(t)) => prog.targets.push(t.clone()),
@@ -1857,4 +1910,144 @@ pub fn read_program_entry(text: &str, file: &str, entry: Option<&str>) -> Result
         }
     }
     Ok(prog)
+}
+
+/// The `!` comment lines before the first MODULE line.
+fn comments_before_module(text: &str) -> usize {
+    let mut n = 0;
+    for l in text.lines() {
+        let t = l.trim_start();
+        if t.to_ascii_lowercase().starts_with("module") {
+            break;
+        }
+        n += usize::from(t.starts_with('!'));
+    }
+    n
+}
+
+/// A pass over a module's text in file order, collecting what a controller needs.
+struct ProgramScan<'a> {
+    file: &'a str,
+    prog: RapidProgram,
+    /// Declared robtarget values, by lower-case name.
+    robtargets: HashMap<String, Value>,
+    /// Each move's target by its place (line, column); None when it is no full robtarget.
+    by_place: HashMap<(usize, usize), Option<RapidTarget>>,
+}
+
+impl ProgramScan<'_> {
+    /// Take the statement starting with the word `word` at token `t`.
+    fn word(&mut self, p: &mut Parser, t: &Token, word: &str) -> Result<()> {
+        let w = word.to_ascii_lowercase();
+        match w.as_str() {
+            "module" => {
+                p.next();
+                let (name, _, _) = p.ident("a module name")?;
+                self.prog.modules.push(name);
+                p.skip_line(t.line);
+            }
+            "const" | "pers" | "var" => {
+                p.next();
+                self.decl(p, t)?;
+            }
+            "movel" | "movej" | "movec" | "moveabsj" => {
+                p.next();
+                let m = p.move_stmt(word.to_string(), t.line, t.col)?;
+                self.move_target(&m, &w);
+            }
+            "confl" | "singarea" => {
+                p.next();
+                let mut opts = HashMap::new();
+                p.switches(&mut opts)?;
+                p.expect(";", &format!("';' after {word}"))?;
+                let on = opts.keys().next().cloned().unwrap_or_default();
+                if w == "confl" {
+                    self.prog.conf_l = Some(on == "on");
+                } else {
+                    self.prog.sing_area = Some(on);
+                }
+            }
+            "proc" | "endproc" | "endmodule" | "func" | "endfunc" | "trap" | "endtrap" | "if"
+            | "elseif" | "else" | "endif" | "for" | "endfor" | "while" | "endwhile" | "test"
+            | "case" | "default" | "endtest" => {
+                p.skip_line(t.line);
+            }
+            "local" | "task" => {
+                p.next();
+            }
+            _ => p.skip_statement(),
+        }
+        Ok(())
+    }
+
+    /// A data declaration after CONST/PERS/VAR: robtargets and jointtargets are kept.
+    fn decl(&mut self, p: &mut Parser, t: &Token) -> Result<()> {
+        let (ty, _, _) = p.ident("a data type after CONST/PERS/VAR")?;
+        let (name, _, _) = p.ident("a data name")?;
+        let tyl = ty.to_ascii_lowercase();
+        if !(p.is_punct(":=") && matches!(tyl.as_str(), "robtarget" | "jointtarget")) {
+            p.skip_statement();
+            return Ok(());
+        }
+        p.next();
+        let v = p.value(0)?;
+        p.expect(";", &format!("';' after the value of {name}"))?;
+        if tyl == "robtarget" {
+            self.robtargets.insert(name.to_ascii_lowercase(), v);
+        } else {
+            let axes = match &v {
+                Value::Agg(items, _, _) => items.first().and_then(nums_of),
+                _ => None,
+            }
+            .ok_or_else(|| {
+                perr(
+                    self.file,
+                    t.line,
+                    t.col,
+                    "expected a jointtarget [[j1, …], [eax…]]",
+                )
+            })?;
+            self.prog
+                .jointtargets
+                .push((name.to_ascii_lowercase(), axes));
+        }
+        Ok(())
+    }
+
+    /// Note a move's target (`w`: the lower-case instruction) by its place.
+    fn move_target(&mut self, m: &MoveStmt, w: &str) {
+        if w == "moveabsj" {
+            if let Some(Value::Ident(n, _, _)) = m.args.first().map(|a| &a.value) {
+                self.prog.abs_moves.push(n.to_ascii_lowercase());
+            }
+            return;
+        }
+        let k = usize::from(w == "movec");
+        let v = m.args.get(k).map(|a| &a.value);
+        let v = match v {
+            Some(Value::Ident(n, _, _)) => self.robtargets.get(&n.to_ascii_lowercase()),
+            other => other,
+        };
+        // A move the controller does not run may have any target; one it
+        // runs must have a full robtarget (checked below).
+        let Some((pos_mm, quat, conf)) = v.and_then(target_parts) else {
+            self.by_place.insert((m.line, m.col), None);
+            return;
+        };
+        let wobj = match m.opts.get("wobj") {
+            Some(Some(Value::Ident(n, _, _))) => n.clone(),
+            _ => "wobj0".into(),
+        };
+        self.by_place.insert(
+            (m.line, m.col),
+            Some(RapidTarget {
+                instr: m.instr.clone(),
+                pos_mm,
+                quat,
+                conf,
+                wobj,
+                line: m.line,
+            }),
+        );
+    }
 }
