@@ -276,24 +276,7 @@ pub(crate) fn track_with(
     pre: Option<&[TipLanes]>,
 ) -> Result<(), TimingFailure> {
     let model = solver.model;
-    let n = model.dof();
     let part_to_base = at.frame();
-    let Buffers {
-        qs,
-        tcp,
-        sincos,
-        transient_sincos,
-        ..
-    } = buf;
-    let transient = *transient_sincos;
-    qs.clear();
-    tcp.clear();
-    sincos.clear();
-    // The sample `sincos` starts at (every sample before it checked and its sines dropped,
-    // with `transient`).
-    let mut base = 0usize;
-    let mut sc = [0.0; 2 * crate::kinematics::MAX_DOF];
-    let mut prev = JointVec::from_slice(q0);
     // A step larger than this cannot be a continuous motion of one configuration.
     let mut max_step = [f64::INFINITY; crate::kinematics::MAX_DOF];
     for (m, j) in max_step.iter_mut().zip(&model.joints) {
@@ -309,294 +292,457 @@ pub(crate) fn track_with(
     // LANES samples: the same verdicts and sines bit for bit, and a failing check is reported
     // at its sample ahead of any later failure, exactly as the per-sample check would.
     let level = crate::simd::level();
-    let batched = level != crate::simd::Level::Scalar && solver.batch_checkable();
-    let unreachable = |k: usize, tip: V3, reason| {
-        let mi = pieces[motion.piece[k]].move_index;
+    let mut tr = Tracking {
+        solver,
+        pieces,
+        moves_line,
+        motion,
+        n: model.dof(),
+        rot,
+        path_target: solver.path_target(&rot),
+        max_step,
+        level,
+        batched: level != crate::simd::Level::Scalar && solver.batch_checkable(),
+        transient: buf.transient_sincos,
+        sc: [0.0; 2 * crate::kinematics::MAX_DOF],
+        qs: std::mem::take(&mut buf.qs),
+        tcp: std::mem::take(&mut buf.tcp),
+        sincos: std::mem::take(&mut buf.sincos),
+        base: 0,
+        prev: JointVec::from_slice(q0),
+    };
+    tr.qs.clear();
+    tr.tcp.clear();
+    tr.sincos.clear();
+    let res = if tr.batched {
+        tr.run_batched(&part_to_base, pre)
+    } else {
+        tr.run_per_sample(&part_to_base)
+    };
+    buf.qs = tr.qs;
+    buf.tcp = tr.tcp;
+    buf.sincos = tr.sincos;
+    res
+}
+
+/// The state of [`track_with`] along one path: what holds for every sample, and the buffers
+/// being filled.
+struct Tracking<'t, 's> {
+    solver: &'t IkSolver<'s>,
+    pieces: &'t [Piece],
+    moves_line: &'t dyn Fn(usize) -> usize,
+    motion: &'t CartesianMotion,
+    /// Joints of the arm.
+    n: usize,
+    /// The nozzle's orientation in the base frame (the same at every sample).
+    rot: crate::math::M3,
+    path_target: crate::kinematics::PathTarget,
+    /// Largest step per sample of a continuous motion of one configuration, per joint.
+    max_step: [f64; crate::kinematics::MAX_DOF],
+    level: crate::simd::Level,
+    /// Whether the IK runs in lockstep batches with its FK re-check deferred.
+    batched: bool,
+    /// Keep no sines and cosines past the batch whose FK re-check needs them.
+    transient: bool,
+    /// The sines and cosines of one sample's answer (per-sample path).
+    sc: [f64; 2 * crate::kinematics::MAX_DOF],
+    /// Joint positions, row-major.
+    qs: Vec<f64>,
+    /// Tips in the base frame, m.
+    tcp: Vec<V3>,
+    /// The sines and cosines of the samples checked from `base` on.
+    sincos: Vec<f64>,
+    /// The sample `sincos` starts at (every sample before it checked and its sines dropped,
+    /// with `transient`).
+    base: usize,
+    /// The last sample's answer.
+    prev: JointVec,
+}
+
+/// Lane `l`'s tip of the batch tips `tp` (the same bits as the placement's frame applied).
+#[inline]
+fn lane_tip(tp: &TipLanes, l: usize) -> V3 {
+    V3::new(tp[0][l], tp[1][l], tp[2][l])
+}
+
+/// The base-frame tips of `count` samples of `motion` from `k0`, lane by lane into `out`
+/// (lanes from `count` on left as they were).
+#[inline]
+fn tips_into(
+    motion: &CartesianMotion,
+    part_to_base: &Frame,
+    k0: usize,
+    count: usize,
+    out: &mut TipLanes,
+) {
+    for (l, pk) in motion.p[k0..k0 + count].iter().enumerate() {
+        let t = part_to_base.apply(pk);
+        (out[0][l], out[1][l], out[2][l]) = (t.x, t.y, t.z);
+    }
+}
+
+impl Tracking<'_, '_> {
+    /// The tip `tip` at sample `k` is out of reach: the failure, naming the move's line.
+    fn unreachable(&self, k: usize, tip: V3, reason: IkFailure) -> TimingFailure {
+        let mi = self.pieces[self.motion.piece[k]].move_index;
         TimingFailure::Unreachable {
             sample: k,
-            t: k as f64 * motion.dt,
+            t: k as f64 * self.motion.dt,
             point: tip,
-            line: moves_line(mi),
+            line: (self.moves_line)(mi),
             reason,
             file: std::sync::Arc::default(),
         }
-    };
-    let path_target = solver.path_target(&rot);
-    // Check the samples not yet checked, below `upto`.
-    let check_pending =
-        |qs: &[f64], tcp: &[V3], sincos: &mut Vec<f64>, base: usize, upto: usize| {
-            let mut k0 = base + sincos.len() / (2 * n);
-            while k0 < upto {
-                let count = crate::simd::LANES.min(upto - k0);
-                let mut qb = [[0.0; crate::simd::LANES]; crate::kinematics::MAX_DOF];
-                for l in 0..count {
-                    for (lanes, v) in qb.iter_mut().zip(&qs[(k0 + l) * n..(k0 + l + 1) * n]) {
-                        lanes[l] = *v;
-                    }
+    }
+
+    /// Check the samples not yet checked, below `upto`, in lockstep batches.
+    #[inline]
+    fn check_pending(&mut self, upto: usize) -> Result<(), TimingFailure> {
+        use crate::simd::LANES;
+        let n = self.n;
+        let base = self.base;
+        let mut k0 = base + self.sincos.len() / (2 * n);
+        while k0 < upto {
+            let count = LANES.min(upto - k0);
+            let mut qb = [[0.0; LANES]; crate::kinematics::MAX_DOF];
+            for l in 0..count {
+                for (lanes, v) in qb.iter_mut().zip(&self.qs[(k0 + l) * n..(k0 + l + 1) * n]) {
+                    lanes[l] = *v;
                 }
-                sincos.resize((k0 + count - base) * 2 * n, 0.0);
-                solver
-                    .check_lanes(
-                        count,
-                        &qb,
-                        &path_target,
-                        &tcp[k0..k0 + count],
-                        &mut sincos[(k0 - base) * 2 * n..],
-                        level,
-                    )
-                    .map_err(|(l, reason)| {
-                        sincos.truncate((k0 - base) * 2 * n);
-                        unreachable(k0 + l, tcp[k0 + l], reason)
-                    })?;
-                k0 += count;
             }
-            Ok::<(), TimingFailure>(())
-        };
-    // One sample's answer by IkSolver::take_near from the batch `chunk` (batched) or solved
-    // with its check (per sample), its step checked; appended to the buffers.
-    let mut sample = |k: usize,
-                      tip: V3,
-                      chunk: Option<&crate::kinematics::opw::BranchBatch>,
-                      prev: &mut JointVec,
-                      qs: &mut Vec<f64>,
-                      tcp: &mut Vec<V3>,
-                      sincos: &mut Vec<f64>,
-                      base: usize|
-     -> Result<(), TimingFailure> {
-        let target = Frame { rot, pos: tip };
-        let mi = pieces[motion.piece[k]].move_index;
-        let solved = if batched {
+            self.sincos.resize((k0 + count - base) * 2 * n, 0.0);
+            if let Err((l, reason)) = self.solver.check_lanes(
+                count,
+                &qb,
+                &self.path_target,
+                &self.tcp[k0..k0 + count],
+                &mut self.sincos[(k0 - base) * 2 * n..],
+                self.level,
+            ) {
+                self.sincos.truncate((k0 - base) * 2 * n);
+                return Err(self.unreachable(k0 + l, self.tcp[k0 + l], reason));
+            }
+            k0 += count;
+        }
+        Ok(())
+    }
+
+    /// One sample's answer by IkSolver::take_near from the batch `chunk` (batched) or solved
+    /// with its check (per sample), its step checked; appended to the buffers.
+    #[inline]
+    fn sample(
+        &mut self,
+        k: usize,
+        tip: V3,
+        chunk: Option<&crate::kinematics::opw::BranchBatch>,
+    ) -> Result<(), TimingFailure> {
+        let n = self.n;
+        let target = Frame { rot: self.rot, pos: tip };
+        let solved = if self.batched {
             match chunk {
-                Some(b) => solver.take_near(b, k % crate::simd::LANES, &target, prev),
-                None => solver.solve_near_unchecked(&target, prev),
+                Some(b) => self.solver.take_near(
+                    b,
+                    k % crate::simd::LANES,
+                    &target,
+                    &self.prev,
+                ),
+                None => self.solver.solve_near_unchecked(&target, &self.prev),
             }
         } else {
-            solver.solve_near_with_sincos(&target, prev, &mut sc[..2 * n])
+            self.solver
+                .solve_near_with_sincos(&target, &self.prev, &mut self.sc[..2 * n])
         };
         let q = match solved {
             Ok(q) => q,
             Err(reason) => {
-                if batched {
-                    check_pending(qs, tcp, sincos, base, k)?;
+                if self.batched {
+                    self.check_pending(k)?;
                 }
-                return Err(unreachable(k, tip, reason));
+                return Err(self.unreachable(k, tip, reason));
             }
         };
+        self.check_step(k, &target, &q)?;
+        self.qs.extend_from_slice(&q[..n]);
+        self.tcp.push(tip);
+        self.prev = q;
+        if !self.batched && !self.transient {
+            self.sincos.extend_from_slice(&self.sc[..2 * n]);
+        }
+        Ok(())
+    }
+
+    /// The step from the last answer to `q` at sample `k` (tool target `target`): a joint
+    /// that moves more than its largest step is a configuration change.
+    #[inline]
+    fn check_step(&mut self, k: usize, target: &Frame, q: &JointVec) -> Result<(), TimingFailure> {
+        let n = self.n;
+        let tip = target.pos;
         // The first joint whose step is too large (none: the common case, found in one
         // pass over the joints).
         // All MAX_DOF slots at once: beyond the robot's joints both vectors hold zeros and
         // the step limit is +inf.
         let jump = k > 0 && {
-            let (a, b) = (q.padded(), prev.padded());
+            let (a, b) = (q.padded(), self.prev.padded());
             let mut any = 0u8;
             for j in 0..crate::kinematics::MAX_DOF {
-                any |= u8::from((a[j] - b[j]).abs() > max_step[j]);
+                any |= u8::from((a[j] - b[j]).abs() > self.max_step[j]);
             }
             any != 0
         };
-        if jump {
-            for j in 0..n {
-                let d = (q[j] - prev[j]).abs();
-                if d > max_step[j] {
-                    if batched {
-                        // The per-sample path checked this sample's answer before its step.
-                        check_pending(qs, tcp, sincos, base, k)?;
-                        solver
-                            .check_with_sincos(&target, &q, &mut sc[..2 * n])
-                            .map_err(|reason| unreachable(k, tip, reason))?;
-                    }
-                    return Err(TimingFailure::ConfigurationChange {
-                        sample: k,
-                        t: k as f64 * motion.dt,
-                        point: tip,
-                        line: moves_line(mi),
-                        file: std::sync::Arc::default(),
-                        joint: j,
-                        jump: d,
-                    });
-                }
-            }
+        if !jump {
+            return Ok(());
         }
-        qs.extend_from_slice(&q[..n]);
-        tcp.push(tip);
-        *prev = q;
-        if !batched && !transient {
-            sincos.extend_from_slice(&sc[..2 * n]);
+        for j in 0..n {
+            let d = (q[j] - self.prev[j]).abs();
+            if d > self.max_step[j] {
+                if self.batched {
+                    // The per-sample path checked this sample's answer before its step.
+                    self.check_pending(k)?;
+                    self.solver
+                        .check_with_sincos(target, q, &mut self.sc[..2 * n])
+                        .map_err(|reason| self.unreachable(k, tip, reason))?;
+                }
+                let mi = self.pieces[self.motion.piece[k]].move_index;
+                return Err(TimingFailure::ConfigurationChange {
+                    sample: k,
+                    t: k as f64 * self.motion.dt,
+                    point: tip,
+                    line: (self.moves_line)(mi),
+                    file: std::sync::Arc::default(),
+                    joint: j,
+                    jump: d,
+                });
+            }
         }
         Ok(())
-    };
-    if !batched {
-        for (k, p) in motion.p.iter().enumerate() {
-            sample(
-                k,
-                part_to_base.apply(p),
-                None,
-                &mut prev,
-                qs,
-                tcp,
-                sincos,
-                0,
-            )?;
+    }
+
+    /// Every sample solved with its check, one by one.
+    fn run_per_sample(&mut self, part_to_base: &Frame) -> Result<(), TimingFailure> {
+        for (k, p) in self.motion.p.iter().enumerate() {
+            self.sample(k, part_to_base.apply(p), None)?;
         }
-        return Ok(());
+        Ok(())
     }
-    // Batched: the closed form of the next LANES samples in lockstep; the leading lanes that
-    // provably continue one another unchanged (IkSolver::continuing_lanes: what take_near
-    // would return, within the step limits) are taken at once, the rest one by one with
-    // take_near exactly as solve_near would answer. Every sample of the batch is FK-checked
-    // before the next batch (in lockstep; straight from the lanes when all were taken at
-    // once), so a failing check is reported at its sample ahead of any later failure.
-    use crate::simd::LANES;
-    let len = motion.p.len();
-    // Exactly: a re-planned, longer path's buffers would otherwise double.
-    qs.reserve_exact(len * n);
-    tcp.reserve_exact(len);
-    if !transient {
-        sincos.reserve_exact(len * 2 * n);
-    }
-    // The batch's tips lane by lane when computed here (lanes from count on: stale,
-    // ignored).
-    let mut tp_now = [[0.0; LANES]; 3];
-    let mut k0 = 0;
-    // The branch of prev, when the last batch's lanes all continued one another.
-    let mut known: Option<crate::kinematics::Branch> = None;
-    let mut cont = crate::kinematics::Continuing::new();
-    // The batches of the path, overwritten batch by batch (not moved): the current one is
-    // batches[cur]; on AVX-512 two are solved in one lockstep pass (cheaper than two,
-    // opw::solve_branch_pair_into), the second ahead with the first's branch, and taken by
-    // IkSolver::presolved_or_solve (exactly the batch solved then) when its turn comes. Not on
-    // AVX2: 16 lanes are 4 registers of 16 per value there, and the spills cost more than the
-    // overlap gains (placement bench: 140-144 -> 147-149 ns/sample).
-    let mut batches = [crate::kinematics::opw::BranchBatch::default(); 2];
-    let pairs = level == crate::simd::Level::Avx512;
-    // Whether batches[1 - cur] holds the next batch, solved ahead.
-    let mut ahead = false;
-    let mut cur = 0;
-    let mut tp_next = [[0.0; LANES]; 3];
-    // The tips computed before, when they cover the whole path (k0 is a multiple of LANES).
-    let pre = pre.filter(|t| t.len() * LANES >= len);
-    while k0 < len {
-        let count = LANES.min(len - k0);
-        // The tips lane by lane: the ones computed before (borrowed, not copied), or now.
-        let tp: &TipLanes = match pre {
-            Some(pre) => &pre[k0 / LANES],
-            None => {
-                for (l, pk) in motion.p[k0..k0 + count].iter().enumerate() {
-                    let t = part_to_base.apply(pk);
-                    (tp_now[0][l], tp_now[1][l], tp_now[2][l]) = (t.x, t.y, t.z);
-                }
-                &tp_now
-            }
-        };
-        // Lane l's tip (the same bits as part_to_base.apply).
-        let tip = |l: usize| V3::new(tp[0][l], tp[1][l], tp[2][l]);
-        let solved = if ahead {
-            ahead = false;
-            cur = 1 - cur;
-            solver.presolved_or_solve(
-                &path_target,
-                tp,
-                count,
-                &prev,
-                known.take(),
-                level,
-                &mut batches[cur],
-            )
-        } else if pairs && k0 + LANES < len {
-            let count_next = LANES.min(len - k0 - LANES);
-            let tp_b: &TipLanes = match pre {
-                Some(pre) => &pre[k0 / LANES + 1],
+
+    /// Batched: the closed form of the next LANES samples in lockstep; the leading lanes that
+    /// provably continue one another unchanged (IkSolver::continuing_lanes: what take_near
+    /// would return, within the step limits) are taken at once, the rest one by one with
+    /// take_near exactly as solve_near would answer. Every sample of the batch is FK-checked
+    /// before the next batch (in lockstep; straight from the lanes when all were taken at
+    /// once), so a failing check is reported at its sample ahead of any later failure.
+    fn run_batched(
+        &mut self,
+        part_to_base: &Frame,
+        pre: Option<&[TipLanes]>,
+    ) -> Result<(), TimingFailure> {
+        use crate::simd::LANES;
+        let n = self.n;
+        let len = self.motion.p.len();
+        // Exactly: a re-planned, longer path's buffers would otherwise double.
+        self.qs.reserve_exact(len * n);
+        self.tcp.reserve_exact(len);
+        if !self.transient {
+            self.sincos.reserve_exact(len * 2 * n);
+        }
+        // The batch's tips lane by lane when computed here (lanes from count on: stale,
+        // ignored).
+        let mut tp_now = [[0.0; LANES]; 3];
+        let mut k0 = 0;
+        let mut bt = Batches::new(self.level);
+        // The tips computed before, when they cover the whole path (k0 is a multiple of LANES).
+        let pre = pre.filter(|t| t.len() * LANES >= len);
+        while k0 < len {
+            let count = LANES.min(len - k0);
+            // The tips lane by lane: the ones computed before (borrowed, not copied), or now.
+            let tp: &TipLanes = match pre {
+                Some(pre) => &pre[k0 / LANES],
                 None => {
-                    let k1 = k0 + LANES;
-                    for (l, pk) in motion.p[k1..k1 + count_next].iter().enumerate() {
-                        let t = part_to_base.apply(pk);
-                        (tp_next[0][l], tp_next[1][l], tp_next[2][l]) = (t.x, t.y, t.z);
-                    }
-                    &tp_next
+                    tips_into(self.motion, part_to_base, k0, count, &mut tp_now);
+                    &tp_now
                 }
             };
-            let (b0, b1) = batches.split_at_mut(1);
-            let pair = if cur == 0 {
-                [&mut b0[0], &mut b1[0]]
-            } else {
-                [&mut b1[0], &mut b0[0]]
-            };
-            ahead = solver.solve_near_batch_pair_lanes(
-                &path_target,
-                [tp, tp_b],
-                [count, count_next],
-                &prev,
-                known.take(),
-                level,
-                pair,
-            );
-            ahead
-        } else {
-            solver.solve_near_batch_lanes(
-                &path_target,
-                tp,
-                count,
-                &prev,
-                known.take(),
-                level,
-                &mut batches[cur],
-            )
-        };
-        let batch = &batches[cur];
-        let chunk = solved.then_some(batch);
-        cont.taken = 0;
-        if let Some(b) = chunk {
-            solver.continuing_lanes(b, count, &prev, &max_step, k0 > 0, level, &mut cont);
-        }
-        let taken = cont.taken;
-        if taken > 0 {
-            let c = &cont;
-            // The taken answers row by row (6 joints: continuing_lanes takes lanes of 6-axis
-            // arms only).
-            push_rows6(qs, &c.q, taken);
-            tcp.extend((0..taken).map(tip));
-            let mut last = JointVec::zeros(n);
-            for (j, v) in last.iter_mut().enumerate() {
-                *v = c.q[j][taken - 1];
+            let solved = bt.solve(self, part_to_base, pre, tp, k0, count);
+            let chunk = solved.then_some(&bt.batches[bt.cur]);
+            bt.cont.taken = 0;
+            if let Some(b) = chunk {
+                self.solver.continuing_lanes(
+                    b,
+                    count,
+                    &self.prev,
+                    &self.max_step,
+                    k0 > 0,
+                    self.level,
+                    &mut bt.cont,
+                );
             }
-            prev = last;
-            if taken == count && sincos.len() == (k0 - base) * 2 * n {
-                solver
-                    .check_lanes_push(
-                        count,
-                        &c.q,
-                        &path_target,
-                        // This batch's tips, just appended (every earlier sample taken).
-                        &tcp[k0..k0 + count],
-                        tp,
-                        sincos,
-                        level,
-                    )
-                    .map_err(|(l, reason)| {
-                        sincos.truncate((k0 - base) * 2 * n);
-                        unreachable(k0 + l, tip(l), reason)
-                    })?;
-                known = Some(c.branch_after);
+            let taken = bt.cont.taken;
+            if taken > 0 && self.take_continuing(&bt.cont, tp, k0, count)? {
+                bt.known = Some(bt.cont.branch_after);
                 k0 += count;
-                if transient {
-                    sincos.clear();
-                    base = k0;
+                if self.transient {
+                    self.sincos.clear();
+                    self.base = k0;
                 }
                 continue;
             }
+            for l in taken..count {
+                self.sample(k0 + l, lane_tip(tp, l), chunk)?;
+            }
+            let upto = self.tcp.len();
+            self.check_pending(upto)?;
+            k0 += count;
+            if self.transient {
+                // Every sample so far checked: its sines are not kept.
+                self.sincos.clear();
+                self.base = k0;
+            }
         }
-        for l in taken..count {
-            sample(k0 + l, tip(l), chunk, &mut prev, qs, tcp, sincos, base)?;
+        Ok(())
+    }
+
+    /// The leading lanes `c` of the batch of `count` samples from `k0` (tips `tp`) that
+    /// continue one another, appended; when they are the whole batch and every earlier sample
+    /// is checked, checked in lockstep straight from the lanes (and this says so).
+    fn take_continuing(
+        &mut self,
+        c: &crate::kinematics::Continuing,
+        tp: &TipLanes,
+        k0: usize,
+        count: usize,
+    ) -> Result<bool, TimingFailure> {
+        let n = self.n;
+        let taken = c.taken;
+        // The taken answers row by row (6 joints: continuing_lanes takes lanes of 6-axis
+        // arms only).
+        push_rows6(&mut self.qs, &c.q, taken);
+        self.tcp.extend((0..taken).map(|l| lane_tip(tp, l)));
+        let mut last = JointVec::zeros(n);
+        for (j, v) in last.iter_mut().enumerate() {
+            *v = c.q[j][taken - 1];
         }
-        check_pending(qs, tcp, sincos, base, tcp.len())?;
-        k0 += count;
-        if transient {
-            // Every sample so far checked: its sines are not kept.
-            sincos.clear();
-            base = k0;
+        self.prev = last;
+        if taken != count || self.sincos.len() != (k0 - self.base) * 2 * n {
+            return Ok(false);
+        }
+        let base = self.base;
+        self.solver
+            .check_lanes_push(
+                count,
+                &c.q,
+                &self.path_target,
+                // This batch's tips, just appended (every earlier sample taken).
+                &self.tcp[k0..k0 + count],
+                tp,
+                &mut self.sincos,
+                self.level,
+            )
+            .map_err(|(l, reason)| {
+                self.sincos.truncate((k0 - base) * 2 * n);
+                self.unreachable(k0 + l, lane_tip(tp, l), reason)
+            })?;
+        Ok(true)
+    }
+}
+
+/// The closed-form batches of the batched [`track_with`], overwritten batch by batch (not
+/// moved): the current one is `batches[cur]`; on AVX-512 two are solved in one lockstep pass
+/// (cheaper than two, opw::solve_branch_pair_into), the second ahead with the first's branch,
+/// and taken by IkSolver::presolved_or_solve (exactly the batch solved then) when its turn
+/// comes. Not on AVX2: 16 lanes are 4 registers of 16 per value there, and the spills cost
+/// more than the overlap gains (placement bench: 140-144 -> 147-149 ns/sample).
+struct Batches {
+    batches: [crate::kinematics::opw::BranchBatch; 2],
+    /// Whether two batches are solved in one pass.
+    pairs: bool,
+    /// Whether `batches[1 - cur]` holds the next batch, solved ahead.
+    ahead: bool,
+    cur: usize,
+    /// The next batch's tips lane by lane when computed here.
+    tp_next: TipLanes,
+    /// The branch of the last answer, when the last batch's lanes all continued one another.
+    known: Option<crate::kinematics::Branch>,
+    /// The leading lanes of the current batch that continue one another.
+    cont: crate::kinematics::Continuing,
+}
+
+impl Batches {
+    /// None solved yet, at SIMD level `level`.
+    fn new(level: crate::simd::Level) -> Self {
+        Batches {
+            batches: [crate::kinematics::opw::BranchBatch::default(); 2],
+            pairs: level == crate::simd::Level::Avx512,
+            ahead: false,
+            cur: 0,
+            tp_next: [[0.0; crate::simd::LANES]; 3],
+            known: None,
+            cont: crate::kinematics::Continuing::new(),
         }
     }
-    Ok(())
+
+    /// Solve the batch of `count` samples from `k0` (tips `tp`) into `batches[cur]`: taken
+    /// from the pass that solved it ahead, or solved now (with the next one on AVX-512).
+    /// Whether the closed form holds for the batch.
+    fn solve(
+        &mut self,
+        tr: &Tracking<'_, '_>,
+        part_to_base: &Frame,
+        pre: Option<&[TipLanes]>,
+        tp: &TipLanes,
+        k0: usize,
+        count: usize,
+    ) -> bool {
+        use crate::simd::LANES;
+        let len = tr.motion.p.len();
+        if self.ahead {
+            self.ahead = false;
+            self.cur = 1 - self.cur;
+            return tr.solver.presolved_or_solve(
+                &tr.path_target,
+                tp,
+                count,
+                &tr.prev,
+                self.known.take(),
+                tr.level,
+                &mut self.batches[self.cur],
+            );
+        }
+        if !(self.pairs && k0 + LANES < len) {
+            return tr.solver.solve_near_batch_lanes(
+                &tr.path_target,
+                tp,
+                count,
+                &tr.prev,
+                self.known.take(),
+                tr.level,
+                &mut self.batches[self.cur],
+            );
+        }
+        let count_next = LANES.min(len - k0 - LANES);
+        let tp_b: &TipLanes = match pre {
+            Some(pre) => &pre[k0 / LANES + 1],
+            None => {
+                tips_into(tr.motion, part_to_base, k0 + LANES, count_next, &mut self.tp_next);
+                &self.tp_next
+            }
+        };
+        let (b0, b1) = self.batches.split_at_mut(1);
+        let pair = if self.cur == 0 {
+            [&mut b0[0], &mut b1[0]]
+        } else {
+            [&mut b1[0], &mut b0[0]]
+        };
+        self.ahead = tr.solver.solve_near_batch_pair_lanes(
+            &tr.path_target,
+            [tp, tp_b],
+            [count, count_next],
+            &tr.prev,
+            self.known.take(),
+            tr.level,
+            pair,
+        );
+        self.ahead
+    }
 }
 
 /// Append the joint vectors of the first `taken` lanes of `q` (`q[j][lane]`, 6 joints, rad)
