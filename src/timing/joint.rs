@@ -437,15 +437,15 @@ impl Tracking<'_, '_> {
         chunk: Option<&crate::kinematics::opw::BranchBatch>,
     ) -> Result<(), TimingFailure> {
         let n = self.n;
-        let target = Frame { rot: self.rot, pos: tip };
+        let target = Frame {
+            rot: self.rot,
+            pos: tip,
+        };
         let solved = if self.batched {
             match chunk {
-                Some(b) => self.solver.take_near(
-                    b,
-                    k % crate::simd::LANES,
-                    &target,
-                    &self.prev,
-                ),
+                Some(b) => self
+                    .solver
+                    .take_near(b, k % crate::simd::LANES, &target, &self.prev),
                 None => self.solver.solve_near_unchecked(&target, &self.prev),
             }
         } else {
@@ -722,7 +722,13 @@ impl Batches {
         let tp_b: &TipLanes = match pre {
             Some(pre) => &pre[k0 / LANES + 1],
             None => {
-                tips_into(tr.motion, part_to_base, k0 + LANES, count_next, &mut self.tp_next);
+                tips_into(
+                    tr.motion,
+                    part_to_base,
+                    k0 + LANES,
+                    count_next,
+                    &mut self.tp_next,
+                );
                 &self.tp_next
             }
         };
@@ -779,13 +785,11 @@ pub fn track_near(
     q0: &[f64],
     qs: &mut Vec<f64>,
 ) -> Result<(), (usize, V3, IkFailure)> {
-    use crate::kinematics::MAX_DOF;
-    use crate::simd::LANES;
     let n = solver.model.dof();
     qs.clear();
-    let mut prev = JointVec::from_slice(q0);
     let level = crate::simd::level();
     if level == crate::simd::Level::Scalar || !solver.batch_checkable() || q0.len() != n {
+        let mut prev = JointVec::from_slice(q0);
         for i in 0..len {
             let t = tip(i);
             let q = solver
@@ -797,75 +801,154 @@ pub fn track_near(
         return Ok(());
     }
     qs.reserve(len * n);
-    let target = solver.path_target(rot);
-    // No step limit: every lane's step is within it.
-    let no_step = [f64::INFINITY; MAX_DOF];
-    let mut batch = crate::kinematics::opw::BranchBatch::default();
-    let mut cont = crate::kinematics::Continuing::new();
-    // The branch of prev, when the last batch's lanes all continued one another.
-    let mut known: Option<crate::kinematics::Branch> = None;
-    // Scratch for the re-check's sines and cosines (not kept).
-    let mut sincos = [0.0; LANES * 2 * MAX_DOF];
+    let mut tr = NearTracker {
+        solver,
+        rot: *rot,
+        target: solver.path_target(rot),
+        level,
+        n,
+        prev: JointVec::from_slice(q0),
+        no_step: [f64::INFINITY; crate::kinematics::MAX_DOF],
+        batch: crate::kinematics::opw::BranchBatch::default(),
+        cont: crate::kinematics::Continuing::new(),
+        known: None,
+        sincos: [0.0; crate::simd::LANES * 2 * crate::kinematics::MAX_DOF],
+    };
     let mut k0 = 0;
     while k0 < len {
-        let count = LANES.min(len - k0);
-        let mut tips = [V3::zeros(); LANES];
-        let mut tp = [[0.0; LANES]; 3];
+        let count = crate::simd::LANES.min(len - k0);
+        let mut lanes = NearLanes {
+            tips: [V3::zeros(); crate::simd::LANES],
+            tp: [[0.0; crate::simd::LANES]; 3],
+            qb: [[0.0; crate::simd::LANES]; crate::kinematics::MAX_DOF],
+        };
         for l in 0..count {
             let t = tip(k0 + l);
-            tips[l] = t;
-            (tp[0][l], tp[1][l], tp[2][l]) = (t.x, t.y, t.z);
+            lanes.tips[l] = t;
+            (lanes.tp[0][l], lanes.tp[1][l], lanes.tp[2][l]) = (t.x, t.y, t.z);
         }
+        tr.solve_batch(&mut lanes, k0, count)?;
+        if n == 6 {
+            push_rows6(qs, &lanes.qb, count);
+        } else {
+            for l in 0..count {
+                qs.extend(lanes.qb.iter().take(n).map(|row| row[l]));
+            }
+        }
+        k0 += count;
+    }
+    Ok(())
+}
+
+/// The state of [`track_near`]'s lockstep batches along one path.
+struct NearTracker<'t, 's> {
+    solver: &'t IkSolver<'s>,
+    /// The nozzle's orientation in the base frame.
+    rot: crate::math::M3,
+    target: crate::kinematics::PathTarget,
+    level: crate::simd::Level,
+    /// Joints of the arm.
+    n: usize,
+    /// The last sample's answer.
+    prev: JointVec,
+    /// No step limit: every lane's step is within it.
+    no_step: [f64; crate::kinematics::MAX_DOF],
+    batch: crate::kinematics::opw::BranchBatch,
+    cont: crate::kinematics::Continuing,
+    /// The branch of prev, when the last batch's lanes all continued one another.
+    known: Option<crate::kinematics::Branch>,
+    /// Scratch for the re-check's sines and cosines (not kept).
+    sincos: [f64; crate::simd::LANES * 2 * crate::kinematics::MAX_DOF],
+}
+
+/// One batch of [`track_near`]: its tips (as points and lane by lane) and its answers joint
+/// by joint (rows beyond the robot's joints: 0).
+struct NearLanes {
+    tips: [V3; crate::simd::LANES],
+    tp: TipLanes,
+    qb: [[f64; crate::simd::LANES]; crate::kinematics::MAX_DOF],
+}
+
+/// The first `taken` lanes of `cont`, which continue one another, into `qb` (`n` joints):
+/// the last of them, the answer to continue from.
+fn take_continuing(
+    cont: &crate::kinematics::Continuing,
+    n: usize,
+    qb: &mut [[f64; crate::simd::LANES]; crate::kinematics::MAX_DOF],
+    taken: usize,
+) -> JointVec {
+    // continuing_lanes takes lanes of 6-axis arms only.
+    for (row, c) in qb.iter_mut().zip(&cont.q).take(6) {
+        row[..taken].copy_from_slice(&c[..taken]);
+    }
+    let mut last = JointVec::zeros(n);
+    for (j, v) in last.iter_mut().enumerate() {
+        *v = qb[j][taken - 1];
+    }
+    last
+}
+
+impl NearTracker<'_, '_> {
+    /// Solve the batch of `count` samples from `k0` into `lanes.qb`: the leading lanes that
+    /// continue one another at once, the rest one by one, then the FK re-check in lockstep.
+    /// The error names the first sample where the per-sample loop stops.
+    fn solve_batch(
+        &mut self,
+        lanes: &mut NearLanes,
+        k0: usize,
+        count: usize,
+    ) -> Result<(), (usize, V3, IkFailure)> {
+        let (n, level) = (self.n, self.level);
+        let solver = self.solver;
         let solved = solver.solve_near_batch_lanes(
-            &target,
-            &tp,
+            &self.target,
+            &lanes.tp,
             count,
-            &prev,
-            known.take(),
+            &self.prev,
+            self.known.take(),
             level,
-            &mut batch,
+            &mut self.batch,
         );
-        let chunk = solved.then_some(&batch);
-        cont.taken = 0;
+        let chunk = solved.then_some(&self.batch);
+        self.cont.taken = 0;
         if let Some(b) = chunk {
-            solver.continuing_lanes(b, count, &prev, &no_step, false, level, &mut cont);
+            solver.continuing_lanes(
+                b,
+                count,
+                &self.prev,
+                &self.no_step,
+                false,
+                level,
+                &mut self.cont,
+            );
         }
-        let taken = cont.taken;
-        // The batch's answers joint by joint (rows beyond the robot's joints: 0).
-        let mut qb = [[0.0; LANES]; MAX_DOF];
+        let taken = self.cont.taken;
+        let (tips, qb) = (&lanes.tips, &mut lanes.qb);
         if taken > 0 {
-            // continuing_lanes takes lanes of 6-axis arms only.
-            for (row, c) in qb.iter_mut().zip(&cont.q).take(6) {
-                row[..taken].copy_from_slice(&c[..taken]);
-            }
-            let mut last = JointVec::zeros(n);
-            for (j, v) in last.iter_mut().enumerate() {
-                *v = qb[j][taken - 1];
-            }
-            prev = last;
+            self.prev = take_continuing(&self.cont, self.n, qb, taken);
         }
         for l in taken..count {
             let t = Frame {
-                rot: *rot,
+                rot: self.rot,
                 pos: tips[l],
             };
             let solved = match chunk {
-                Some(b) => solver.take_near(b, l, &t, &prev),
-                None => solver.solve_near_unchecked(&t, &prev),
+                Some(b) => solver.take_near(b, l, &t, &self.prev),
+                None => solver.solve_near_unchecked(&t, &self.prev),
             };
             match solved {
                 Ok(q) => {
                     for j in 0..n {
                         qb[j][l] = q[j];
                     }
-                    prev = q;
+                    self.prev = q;
                 }
                 Err(reason) => {
                     // The samples before it first: a failing check there stops the
                     // per-sample loop earlier.
                     if l > 0 {
                         solver
-                            .check_lanes(l, &qb, &target, &tips[..l], &mut sincos, level)
+                            .check_lanes(l, qb, &self.target, &tips[..l], &mut self.sincos, level)
                             .map_err(|(f, r)| (k0 + f, tips[f], r))?;
                     }
                     return Err((k0 + l, tips[l], reason));
@@ -873,21 +956,20 @@ pub fn track_near(
             }
         }
         solver
-            .check_lanes(count, &qb, &target, &tips[..count], &mut sincos, level)
+            .check_lanes(
+                count,
+                qb,
+                &self.target,
+                &tips[..count],
+                &mut self.sincos,
+                level,
+            )
             .map_err(|(f, r)| (k0 + f, tips[f], r))?;
         if taken == count {
-            known = Some(cont.branch_after);
+            self.known = Some(self.cont.branch_after);
         }
-        if n == 6 {
-            push_rows6(qs, &qb, count);
-        } else {
-            for l in 0..count {
-                qs.extend(qb.iter().take(n).map(|row| row[l]));
-            }
-        }
-        k0 += count;
+        Ok(())
     }
-    Ok(())
 }
 
 /// Tool-tip points of [`crate::simd::LANES`] path samples in the base frame, lane by lane
