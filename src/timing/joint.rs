@@ -1785,36 +1785,27 @@ fn time_path_rounds(
     buf: &mut Buffers,
     pre: Option<&[TipLanes]>,
 ) -> Result<TimedPath, TimingFailure> {
-    let PathTiming {
-        pieces,
-        plan: shared,
-        moves_line,
-        profile: popts,
-        joint: jopts,
-        ..
-    } = *path;
     let model = solver.model;
-    let n = model.dof();
-    let nodes = &shared.nodes;
-    let mut slowing = Slowing::new(nodes.s.len());
-    // Node speeds of the current round's plan (the shared plan's in the first round).
-    let mut v: Vec<f64> = Vec::new();
-    let mut slowdowns: Vec<Slowdown> = Vec::new();
+    let mut rs = Rounds {
+        path,
+        n: model.dof(),
+        slowing: Slowing::new(path.plan.nodes.s.len()),
+        v: Vec::new(),
+        slowdowns: Vec::new(),
+        round: 0,
+        fewest: usize::MAX,
+        max_rounds: path.joint.max_iterations.max(1),
+    };
     let mut tracked = std::mem::take(buf);
-    let max_rounds = jopts.max_iterations.max(1);
-    let mut round = 0;
-    // Fewest samples over a limit left by a round so far.
-    let mut fewest = usize::MAX;
     let mut next: Option<Arc<CartesianMotion>> = None;
     loop {
-        round += 1;
-        let motion = next.take().unwrap_or_else(|| Arc::clone(&shared.motion));
-        let v_now: &[f64] = if round == 1 { &shared.v } else { &v };
-        let pre = if round == 1 { pre } else { None };
+        rs.round += 1;
+        let motion = next.take().unwrap_or_else(|| Arc::clone(&path.plan.motion));
+        let pre = if rs.round == 1 { pre } else { None };
         if let Err(e) = track_with(
             solver,
-            pieces,
-            moves_line,
+            path.pieces,
+            path.moves_line,
             &motion,
             at,
             q0,
@@ -1828,91 +1819,122 @@ fn time_path_rounds(
             model,
             &tracked.qs,
             motion.dt,
-            jopts.check_jerk,
+            path.joint.check_jerk,
             &mut tracked.qd,
             &mut tracked.qdd,
             crate::simd::level(),
         );
         if viol.is_empty() {
-            let mut traj = JointTrajectory::new(n);
-            let len = motion.p.len();
-            traj.t = match i32::try_from(len) {
-                // The same values (k < 2³¹ converts exactly either way), converted in vectors.
-                Ok(len) => (0..len).map(|k| f64::from(k) * motion.dt).collect(),
-                Err(_) => (0..len).map(|k| k as f64 * motion.dt).collect(),
-            };
-            traj.q = tracked.qs;
-            traj.qd = tracked.qd;
-            traj.qdd = tracked.qdd;
-            buf.sincos = tracked.sincos;
-            buf.transient_sincos = tracked.transient_sincos;
-            return Ok(TimedPath {
-                traj,
-                motion,
-                tcp: tracked.tcp,
-                slowdowns,
-                rounds: round,
-                accel_factor: slowing.min_accel_factor(),
-            });
+            return Ok(rs.finish(tracked, buf, motion));
         }
-        let worst = |viol: &[Violation]| {
-            let w = viol
-                .iter()
-                .max_by(|a, b| a.ratio.total_cmp(&b.ratio))
-                .expect("non-empty");
-            TimingFailure::LimitsNotMet {
-                joint: w.joint,
-                kind: w.kind,
-                ratio: w.ratio,
-                t: w.sample as f64 * motion.dt,
-                sample: w.sample,
-                line: moves_line(pieces[motion.piece[w.sample]].move_index),
-                rounds: round,
-                file: std::sync::Arc::default(),
+        match rs.slow_down(&viol, &tracked, &motion) {
+            Ok(m) => next = Some(Arc::new(m)),
+            Err(e) => {
+                *buf = tracked;
+                return Err(e);
             }
-        };
-        let again = replan_again(round, max_rounds, viol.len(), fewest);
-        fewest = fewest.min(viol.len());
-        if !again {
-            let e = worst(&viol);
-            *buf = tracked;
-            return Err(e);
         }
-        // Slow down around every violating sample (see [`Slowing`]); report the worst per
-        // (joint, kind, move).
-        let dt = motion.dt;
-        let excess: Vec<Excess> = viol
+    }
+}
+
+/// The planning rounds of [`time_path_rounds`]: the slow-down so far and what it reports.
+struct Rounds<'p, 'a> {
+    path: &'p PathTiming<'a>,
+    /// Joints of the arm.
+    n: usize,
+    slowing: Slowing,
+    /// Node speeds of the current round's plan (from the second round on; the first is the
+    /// shared plan's).
+    v: Vec<f64>,
+    slowdowns: Vec<Slowdown>,
+    /// Rounds planned so far.
+    round: usize,
+    /// Fewest samples over a limit left by a round so far.
+    fewest: usize,
+    max_rounds: usize,
+}
+
+impl Rounds<'_, '_> {
+    /// The timed path of the round whose tracked samples `tracked` keep every limit (its
+    /// sines and cosines left in `buf`).
+    fn finish(
+        self,
+        tracked: Buffers,
+        buf: &mut Buffers,
+        motion: Arc<CartesianMotion>,
+    ) -> TimedPath {
+        let mut traj = JointTrajectory::new(self.n);
+        let len = motion.p.len();
+        traj.t = match i32::try_from(len) {
+            // The same values (k < 2³¹ converts exactly either way), converted in vectors.
+            Ok(len) => (0..len).map(|k| f64::from(k) * motion.dt).collect(),
+            Err(_) => (0..len).map(|k| k as f64 * motion.dt).collect(),
+        };
+        traj.q = tracked.qs;
+        traj.qd = tracked.qd;
+        traj.qdd = tracked.qdd;
+        buf.sincos = tracked.sincos;
+        buf.transient_sincos = tracked.transient_sincos;
+        TimedPath {
+            traj,
+            motion,
+            tcp: tracked.tcp,
+            slowdowns: self.slowdowns,
+            rounds: self.round,
+            accel_factor: self.slowing.min_accel_factor(),
+        }
+    }
+
+    /// The limits not met: the worst of `viol` (samples of `motion`).
+    fn worst(&self, viol: &[Violation], motion: &CartesianMotion) -> TimingFailure {
+        let w = viol
             .iter()
-            .map(|w| {
-                let (k, j) = (w.sample, w.joint);
-                let jerk = if w.kind == LimitKind::Jerk {
-                    crate::numerics::third_derivative_uniform_at(&tracked.qs, n, dt, k, j)
-                } else {
-                    0.0
-                };
-                Excess {
-                    sample: k,
-                    joint: j,
-                    kind: w.kind,
-                    ratio: w.ratio,
-                    ramp_share: ramp_share(
-                        w.kind,
-                        tracked.qd[k * n + j],
-                        tracked.qdd[k * n + j],
-                        jerk,
-                        path_rates(&motion.s, dt, k),
-                    ),
-                }
-            })
-            .collect();
-        let margin = round_margin(jopts.margin, round, max_rounds);
-        let levers = slowing.apply(nodes, v_now, &motion, &excess, margin);
+            .max_by(|a, b| a.ratio.total_cmp(&b.ratio))
+            .expect("non-empty");
+        TimingFailure::LimitsNotMet {
+            joint: w.joint,
+            kind: w.kind,
+            ratio: w.ratio,
+            t: w.sample as f64 * motion.dt,
+            sample: w.sample,
+            line: (self.path.moves_line)(self.path.pieces[motion.piece[w.sample]].move_index),
+            rounds: self.round,
+            file: std::sync::Arc::default(),
+        }
+    }
+
+    /// After a round whose plan `motion` (tracked: `tracked`) has the violations `viol`: slow
+    /// down around every violating sample (see [`Slowing`]), report the worst per (joint,
+    /// kind, move), and plan the next round; the limits not met when no round may follow.
+    fn slow_down(
+        &mut self,
+        viol: &[Violation],
+        tracked: &Buffers,
+        motion: &CartesianMotion,
+    ) -> Result<CartesianMotion, TimingFailure> {
+        let PathTiming {
+            pieces,
+            plan: shared,
+            profile: popts,
+            joint: jopts,
+            ..
+        } = *self.path;
+        let nodes = &shared.nodes;
+        let again = replan_again(self.round, self.max_rounds, viol.len(), self.fewest);
+        self.fewest = self.fewest.min(viol.len());
+        if !again {
+            return Err(self.worst(viol, motion));
+        }
+        let excess = excesses_of(viol, tracked, motion, self.n);
+        let margin = round_margin(jopts.margin, self.round, self.max_rounds);
+        let v_now: &[f64] = if self.round == 1 { &shared.v } else { &self.v };
+        let levers = self.slowing.apply(nodes, v_now, motion, &excess, margin);
         for (w, lever) in viol.iter().zip(&levers) {
             let i = nodes
                 .s
                 .partition_point(|&x| x < motion.s[w.sample])
                 .min(nodes.s.len() - 1);
-            let (speed, accel) = match *lever {
+            let factors = match *lever {
                 Lever::Speed(f) => {
                     // The new speed there against the unslowed plan's.
                     let v0 = shared.v[i];
@@ -1925,58 +1947,110 @@ fn time_path_rounds(
                         1.0,
                     )
                 }
-                Lever::Accel(g) => (1.0, slowing.accel_scale.get(i).copied().unwrap_or(g)),
+                Lever::Accel(g) => (1.0, self.slowing.accel_scale.get(i).copied().unwrap_or(g)),
             };
             let mi = pieces[motion.piece[w.sample]].move_index;
-            match slowdowns
-                .iter_mut()
-                .find(|s| s.joint == w.joint && s.kind == w.kind && s.move_index == mi)
-            {
-                Some(s) => {
-                    if w.ratio > s.ratio && round == 1 {
-                        s.ratio = w.ratio;
-                        s.t = w.sample as f64 * motion.dt;
-                        s.s = motion.s[w.sample];
-                    }
-                    s.speed_factor = s.speed_factor.min(speed);
-                    s.accel_factor = s.accel_factor.min(accel);
-                }
-                None => slowdowns.push(Slowdown {
-                    joint: w.joint,
-                    kind: w.kind,
-                    t: w.sample as f64 * motion.dt,
-                    s: motion.s[w.sample],
-                    move_index: mi,
-                    ratio: w.ratio,
-                    speed_factor: speed,
-                    accel_factor: accel,
-                }),
-            }
+            record_slowdown(&mut self.slowdowns, w, factors, motion, mi, self.round);
         }
         // The next round's node speeds, once: for its plan, and first for the budget: a
         // slow-down so deep that the re-planned motion would exceed the sample budget (a joint
         // limit of 1e-9 rad/s) is a failure to meet the limits, not an allocation of
         // terabytes.
-        v = slowing.speeds(nodes, popts.accel);
-        let t_est: f64 = (1..v.len())
-            .map(|i| {
-                let vs = v[i] + v[i - 1];
-                if vs > 0.0 {
-                    2.0 * (nodes.s[i] - nodes.s[i - 1]) / vs
-                } else {
-                    0.0
-                }
-            })
-            .sum::<f64>()
-            + nodes.dwell_total();
-        let samples = t_est / popts.dt + popts.accel / popts.jerk / popts.dt;
-        if samples.is_nan() || samples > super::budget::max_samples() as f64 {
-            let e = worst(&viol);
-            *buf = tracked;
-            return Err(e);
+        self.v = self.slowing.speeds(nodes, popts.accel);
+        if over_budget(&self.v, nodes, popts) {
+            return Err(self.worst(viol, motion));
         }
-        next = Some(Arc::new(plan_at_speeds(pieces, nodes, &v, popts)));
+        Ok(plan_at_speeds(pieces, nodes, &self.v, popts))
     }
+}
+
+/// The violations `viol` of the round tracked in `tracked` (plan `motion`, `n` joints) as
+/// excesses, with the share of each that comes from a ramp.
+fn excesses_of(
+    viol: &[Violation],
+    tracked: &Buffers,
+    motion: &CartesianMotion,
+    n: usize,
+) -> Vec<Excess> {
+    let dt = motion.dt;
+    viol.iter()
+        .map(|w| {
+            let (k, j) = (w.sample, w.joint);
+            let jerk = if w.kind == LimitKind::Jerk {
+                crate::numerics::third_derivative_uniform_at(&tracked.qs, n, dt, k, j)
+            } else {
+                0.0
+            };
+            Excess {
+                sample: k,
+                joint: j,
+                kind: w.kind,
+                ratio: w.ratio,
+                ramp_share: ramp_share(
+                    w.kind,
+                    tracked.qd[k * n + j],
+                    tracked.qdd[k * n + j],
+                    jerk,
+                    path_rates(&motion.s, dt, k),
+                ),
+            }
+        })
+        .collect()
+}
+
+/// Violation `w` (a sample of `motion`, on move `mi`) slowed down by the speed and
+/// acceleration `factors` in round `round`, recorded: the worst per (joint, kind, move).
+fn record_slowdown(
+    slowdowns: &mut Vec<Slowdown>,
+    w: &Violation,
+    factors: (f64, f64),
+    motion: &CartesianMotion,
+    mi: usize,
+    round: usize,
+) {
+    let (speed, accel) = factors;
+    match slowdowns
+        .iter_mut()
+        .find(|s| s.joint == w.joint && s.kind == w.kind && s.move_index == mi)
+    {
+        Some(s) => {
+            if w.ratio > s.ratio && round == 1 {
+                s.ratio = w.ratio;
+                s.t = w.sample as f64 * motion.dt;
+                s.s = motion.s[w.sample];
+            }
+            s.speed_factor = s.speed_factor.min(speed);
+            s.accel_factor = s.accel_factor.min(accel);
+        }
+        None => slowdowns.push(Slowdown {
+            joint: w.joint,
+            kind: w.kind,
+            t: w.sample as f64 * motion.dt,
+            s: motion.s[w.sample],
+            move_index: mi,
+            ratio: w.ratio,
+            speed_factor: speed,
+            accel_factor: accel,
+        }),
+    }
+}
+
+/// Whether a plan at node speeds `v` over `nodes` would exceed the sample budget (its
+/// duration estimated from the speeds, the dwells and the jerk filter).
+fn over_budget(v: &[f64], nodes: &Nodes, popts: &ProfileOptions) -> bool {
+    let t_est: f64 = (1..v.len())
+        .map(|i| {
+            let vs = v[i] + v[i - 1];
+            if vs > 0.0 {
+                2.0 * (nodes.s[i] - nodes.s[i - 1]) / vs
+            } else {
+                0.0
+            }
+        })
+        .sum::<f64>()
+        + nodes.dwell_total();
+    let samples = t_est / popts.dt + popts.accel / popts.jerk / popts.dt;
+    samples.is_nan() || samples > super::budget::max_samples() as f64
 }
 
 /// Time a blended path at a placement, choosing the arm configuration: every IK solution at
