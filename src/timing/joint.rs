@@ -384,15 +384,7 @@ fn tips_into(
 impl Tracking<'_, '_> {
     /// The tip `tip` at sample `k` is out of reach: the failure, naming the move's line.
     fn unreachable(&self, k: usize, tip: V3, reason: IkFailure) -> TimingFailure {
-        let mi = self.pieces[self.motion.piece[k]].move_index;
-        TimingFailure::Unreachable {
-            sample: k,
-            t: k as f64 * self.motion.dt,
-            point: tip,
-            line: (self.moves_line)(mi),
-            reason,
-            file: std::sync::Arc::default(),
-        }
+        unreachable_sample(self.pieces, self.moves_line, self.motion, k, tip, reason)
     }
 
     /// Check the samples not yet checked, below `upto`, in lockstep batches.
@@ -2122,114 +2114,17 @@ fn time_at_with(
         reason,
         file: std::sync::Arc::default(),
     };
-    let motion0 = &plan.motion;
     let stride = jopts.prune_stride;
-    let fail_at = |k: usize, tip: V3, reason: IkFailure| {
-        let mi = pieces[motion0.piece[k]].move_index;
-        TimingFailure::Unreachable {
-            sample: k,
-            t: k as f64 * motion0.dt,
-            point: tip,
-            line: moves_line(mi),
-            reason,
-            file: std::sync::Arc::default(),
-        }
-    };
-    let rot = nozzle_target(&V3::zeros(), at.nozzle_yaw()).rot;
-    let target_at = |k: usize| {
-        let tip = part_to_base.apply(&motion0.p[k]);
-        (Frame { rot, pos: tip }, tip)
+    let pl = Pruning {
+        solver,
+        pieces,
+        moves_line,
+        motion0: &plan.motion,
+        part_to_base,
+        rot: nozzle_target(&V3::zeros(), at.nozzle_yaw()).rot,
     };
     if stride > 0 {
-        // Prune 1: every sample's wrist centre within reach (no trigonometry), coarse to fine
-        // so that a path leaving the reachable set is found after a few samples.
-        let m = motion0.p.len();
-        let coarse = (0..m).step_by(PRUNE_COARSE_STRIDE);
-        match solver.wrist_offset(&rot) {
-            Some(d) if crate::simd::level() != crate::simd::Level::Scalar => {
-                for k in coarse {
-                    let tip = part_to_base.apply(&motion0.p[k]);
-                    if let Err(reason) = solver.wrist_centre_reachable(&(tip + d), 1e-9) {
-                        return Err(fail_at(k, tip, reason));
-                    }
-                }
-                // Every sample, LANES at a time: the front shoulder's reach in lockstep,
-                // conservatively (reach::FrontReach: a lane it passes, the exact test
-                // passes); a lane it does not pass is asked per sample (the exact test, the
-                // back shoulder, and the error), in order: the exact test's outcome.
-                const LANES: usize = crate::simd::LANES;
-                let level = crate::simd::level();
-                let front_reach = solver.model.opw.as_ref().map(super::reach::FrontReach::new);
-                // The block's masks (chunk front_at + i at i).
-                let (mut front, mut front_at) = ([0u32; PRUNE_BLOCK], 0);
-                let mut k0 = 0;
-                // The tips lane by lane (TipMap::lanes_of, bit for bit part_to_base.apply), kept for
-                // the second prune and the first round of tracking.
-                let chunks = m.div_ceil(LANES);
-                tips_all.reserve(chunks);
-                let map = TipMap::new(&part_to_base);
-                // The points lane by lane (the plan's, or now), PRUNE_BLOCK chunks mapped at
-                // a time.
-                let own;
-                let x = match plan.point_lanes() {
-                    Some(x) if x.len() == chunks => x,
-                    _ => {
-                        own = point_lanes(&motion0.p);
-                        &own[..]
-                    }
-                };
-                while k0 < m {
-                    let count = LANES.min(m - k0);
-                    let c0 = k0 / LANES;
-                    if c0 == tips_all.len() {
-                        let b = PRUNE_BLOCK.min(chunks - c0);
-                        tips_all.resize(c0 + b, [[0.0; LANES]; 3]);
-                        map.lanes_of(&x[c0..c0 + b], &mut tips_all[c0..c0 + b], level);
-                        // The wrist centres tip + d of the block (V3's sum per coordinate)
-                        // the screen passes.
-                        front_at = c0;
-                        match &front_reach {
-                            Some(r) => r.masks(
-                                &tips_all[c0..c0 + b],
-                                [d.x, d.y, d.z],
-                                1e-9,
-                                &mut front[..b],
-                                level,
-                            ),
-                            None => front.fill(0),
-                        }
-                    }
-                    let t = &tips_all[c0];
-                    // The lanes it does not pass, in order.
-                    let mut missed = !front[c0 - front_at] & ((1u32 << count) - 1);
-                    while missed != 0 {
-                        let l = missed.trailing_zeros() as usize;
-                        missed &= missed - 1;
-                        let tip = V3::new(t[0][l], t[1][l], t[2][l]);
-                        if let Err(reason) = solver.wrist_centre_reachable(&(tip + d), 1e-9) {
-                            return Err(fail_at(k0 + l, tip, reason));
-                        }
-                    }
-                    k0 += count;
-                }
-            }
-            Some(d) => {
-                for k in coarse.chain(0..m) {
-                    let tip = part_to_base.apply(&motion0.p[k]);
-                    if let Err(reason) = solver.wrist_centre_reachable(&(tip + d), 1e-9) {
-                        return Err(fail_at(k, tip, reason));
-                    }
-                }
-            }
-            None => {
-                for k in coarse.chain(0..m) {
-                    let (target, tip) = target_at(k);
-                    if let Err(reason) = solver.reachable(&target) {
-                        return Err(fail_at(k, tip, reason));
-                    }
-                }
-            }
-        }
+        pl.reach(plan, tips_all)?;
     }
     let mut cands = solver
         .solve_all(&nozzle_target(&tip, at.nozzle_yaw()))
@@ -2242,35 +2137,234 @@ fn time_at_with(
     // The tips of every sample, when the prune computed them (the same values as
     // part_to_base.apply).
     let tips_all: Option<&[TipLanes]> =
-        (tips_all.len() * LANES >= motion0.p.len()).then_some(&tips_all[..]);
-    let tip_at = |k: usize| match tips_all {
-        Some(t) => {
-            let c = &t[k / LANES];
-            V3::new(c[0][k % LANES], c[1][k % LANES], c[2][k % LANES])
+        (tips_all.len() * crate::simd::LANES >= pl.motion0.p.len()).then_some(&tips_all[..]);
+    let mut best_err: Option<TimingFailure> = None;
+    let level = crate::simd::level();
+    for c in &cands {
+        if stride > 0 && !pl.motion0.p.is_empty() {
+            if let Err(e) = pl.thinned(&c.q, stride, tips_all, level) {
+                keep_furthest(&mut best_err, e);
+                continue;
+            }
         }
-        None => part_to_base.apply(&motion0.p[k]),
-    };
+        match time_path_rounds(solver, path, at, &c.q, buf, tips_all) {
+            Ok(t) => return Ok(t),
+            Err(e) => keep_furthest(&mut best_err, e),
+        }
+    }
+    Err(best_err.unwrap_or_else(|| {
+        unreachable_at_start(IkFailure::Unsupported(
+            "no IK solution at the first sample".into(),
+        ))
+    }))
+}
+
+/// Keep `e` in `best` when it got further along the path than the failure kept there.
+fn keep_furthest(best: &mut Option<TimingFailure>, e: TimingFailure) {
     let progress = |e: &TimingFailure| match e {
         TimingFailure::Unreachable { sample, .. }
         | TimingFailure::ConfigurationChange { sample, .. } => *sample,
         TimingFailure::LimitsNotMet { .. } => usize::MAX,
     };
-    let mut best_err: Option<TimingFailure> = None;
-    let level = crate::simd::level();
-    const LANES: usize = crate::simd::LANES;
-    // Prune 2: a configuration whose branch cannot reach every stride-th sample within
-    // limits would fail while tracking; skip it (recording where it would fail).
-    let thinned = |q: &[f64]| -> Result<(), TimingFailure> {
+    if best.as_ref().is_none_or(|b| progress(&e) > progress(b)) {
+        *best = Some(e);
+    }
+}
+
+/// The tip `tip` (base frame, m) at sample `k` of `motion` is out of reach (`reason`): the
+/// failure, naming the move's line.
+fn unreachable_sample(
+    pieces: &[Piece],
+    moves_line: &dyn Fn(usize) -> usize,
+    motion: &CartesianMotion,
+    k: usize,
+    tip: V3,
+    reason: IkFailure,
+) -> TimingFailure {
+    let mi = pieces[motion.piece[k]].move_index;
+    TimingFailure::Unreachable {
+        sample: k,
+        t: k as f64 * motion.dt,
+        point: tip,
+        line: moves_line(mi),
+        reason,
+        file: std::sync::Arc::default(),
+    }
+}
+
+/// The cheap tests of [`time_at_with`] at one placement before any configuration is tracked
+/// along the shared plan: every sample within reach, every stride-th sample within a
+/// configuration's branch.
+struct Pruning<'p, 's> {
+    solver: &'p IkSolver<'s>,
+    pieces: &'p [Piece],
+    moves_line: &'p dyn Fn(usize) -> usize,
+    /// The shared plan's motion.
+    motion0: &'p CartesianMotion,
+    part_to_base: Frame,
+    /// The nozzle's orientation in the base frame (the same at every sample).
+    rot: crate::math::M3,
+}
+
+impl Pruning<'_, '_> {
+    /// Sample `k`'s tip out of reach: the failure.
+    fn fail_at(&self, k: usize, tip: V3, reason: IkFailure) -> TimingFailure {
+        unreachable_sample(self.pieces, self.moves_line, self.motion0, k, tip, reason)
+    }
+
+    /// The tool target at sample `k`, and its tip (base frame).
+    fn target_at(&self, k: usize) -> (Frame, V3) {
+        let tip = self.part_to_base.apply(&self.motion0.p[k]);
+        (
+            Frame {
+                rot: self.rot,
+                pos: tip,
+            },
+            tip,
+        )
+    }
+
+    /// Prune 1: every sample's wrist centre within reach (no trigonometry), coarse to fine
+    /// so that a path leaving the reachable set is found after a few samples. With SIMD, the
+    /// tips of every sample lane by lane go to `tips_all`.
+    fn reach(&self, plan: &Plan, tips_all: &mut Vec<TipLanes>) -> Result<(), TimingFailure> {
+        let (solver, motion0) = (self.solver, self.motion0);
+        let m = motion0.p.len();
+        let coarse = (0..m).step_by(PRUNE_COARSE_STRIDE);
+        match solver.wrist_offset(&self.rot) {
+            Some(d) if crate::simd::level() != crate::simd::Level::Scalar => {
+                for k in coarse {
+                    let tip = self.part_to_base.apply(&motion0.p[k]);
+                    if let Err(reason) = solver.wrist_centre_reachable(&(tip + d), 1e-9) {
+                        return Err(self.fail_at(k, tip, reason));
+                    }
+                }
+                self.reach_lanes(plan, d, tips_all)
+            }
+            Some(d) => {
+                for k in coarse.chain(0..m) {
+                    let tip = self.part_to_base.apply(&motion0.p[k]);
+                    if let Err(reason) = solver.wrist_centre_reachable(&(tip + d), 1e-9) {
+                        return Err(self.fail_at(k, tip, reason));
+                    }
+                }
+                Ok(())
+            }
+            None => {
+                for k in coarse.chain(0..m) {
+                    let (target, tip) = self.target_at(k);
+                    if let Err(reason) = solver.reachable(&target) {
+                        return Err(self.fail_at(k, tip, reason));
+                    }
+                }
+                Ok(())
+            }
+        }
+    }
+
+    /// Every sample, LANES at a time: the front shoulder's reach in lockstep, conservatively
+    /// (reach::FrontReach: a lane it passes, the exact test passes); a lane it does not pass
+    /// is asked per sample (the exact test, the back shoulder, and the error), in order: the
+    /// exact test's outcome. `d`: the wrist centre's offset from the tip.
+    fn reach_lanes(
+        &self,
+        plan: &Plan,
+        d: V3,
+        tips_all: &mut Vec<TipLanes>,
+    ) -> Result<(), TimingFailure> {
+        const LANES: usize = crate::simd::LANES;
+        let solver = self.solver;
+        let m = self.motion0.p.len();
+        let level = crate::simd::level();
+        let front_reach = solver.model.opw.as_ref().map(super::reach::FrontReach::new);
+        // The block's masks (chunk front_at + i at i).
+        let (mut front, mut front_at) = ([0u32; PRUNE_BLOCK], 0);
+        let mut k0 = 0;
+        // The tips lane by lane (TipMap::lanes_of, bit for bit part_to_base.apply), kept for
+        // the second prune and the first round of tracking.
+        let chunks = m.div_ceil(LANES);
+        tips_all.reserve(chunks);
+        let map = TipMap::new(&self.part_to_base);
+        // The points lane by lane (the plan's, or now), PRUNE_BLOCK chunks mapped at a time.
+        let own;
+        let x = match plan.point_lanes() {
+            Some(x) if x.len() == chunks => x,
+            _ => {
+                own = point_lanes(&self.motion0.p);
+                &own[..]
+            }
+        };
+        while k0 < m {
+            let count = LANES.min(m - k0);
+            let c0 = k0 / LANES;
+            if c0 == tips_all.len() {
+                let b = PRUNE_BLOCK.min(chunks - c0);
+                tips_all.resize(c0 + b, [[0.0; LANES]; 3]);
+                map.lanes_of(&x[c0..c0 + b], &mut tips_all[c0..c0 + b], level);
+                // The wrist centres tip + d of the block (V3's sum per coordinate) the screen
+                // passes.
+                front_at = c0;
+                match &front_reach {
+                    Some(r) => r.masks(
+                        &tips_all[c0..c0 + b],
+                        [d.x, d.y, d.z],
+                        1e-9,
+                        &mut front[..b],
+                        level,
+                    ),
+                    None => front.fill(0),
+                }
+            }
+            let t = &tips_all[c0];
+            // The lanes it does not pass, in order.
+            let mut missed = !front[c0 - front_at] & ((1u32 << count) - 1);
+            while missed != 0 {
+                let l = missed.trailing_zeros() as usize;
+                missed &= missed - 1;
+                let tip = V3::new(t[0][l], t[1][l], t[2][l]);
+                if let Err(reason) = solver.wrist_centre_reachable(&(tip + d), 1e-9) {
+                    return Err(self.fail_at(k0 + l, tip, reason));
+                }
+            }
+            k0 += count;
+        }
+        Ok(())
+    }
+
+    /// Sample `k`'s tip: from the tips computed lane by lane (`tips_all`), or now.
+    #[inline]
+    fn tip_at(&self, tips_all: Option<&[TipLanes]>, k: usize) -> V3 {
+        const LANES: usize = crate::simd::LANES;
+        match tips_all {
+            Some(t) => {
+                let c = &t[k / LANES];
+                V3::new(c[0][k % LANES], c[1][k % LANES], c[2][k % LANES])
+            }
+            None => self.part_to_base.apply(&self.motion0.p[k]),
+        }
+    }
+
+    /// Prune 2: a configuration `q` whose branch cannot reach every `stride`-th sample
+    /// within limits would fail while tracking; the failure says where.
+    fn thinned(
+        &self,
+        q: &[f64],
+        stride: usize,
+        tips_all: Option<&[TipLanes]>,
+        level: crate::simd::Level,
+    ) -> Result<(), TimingFailure> {
+        const LANES: usize = crate::simd::LANES;
+        let solver = self.solver;
         let Some(b) = solver.branch_of(q) else {
             return Ok(());
         };
-        let m = motion0.p.len();
+        let m = self.motion0.p.len();
         let ks = (stride..m).step_by(stride).chain(std::iter::once(m - 1));
         if level == crate::simd::Level::Scalar {
             for k in ks {
-                let (target, tip) = target_at(k);
+                let (target, tip) = self.target_at(k);
                 if let Err(reason) = solver.branch_admits(&target, b.shoulder, b.elbow) {
-                    return Err(fail_at(k, tip, reason));
+                    return Err(self.fail_at(k, tip, reason));
                 }
             }
             return Ok(());
@@ -2282,43 +2376,20 @@ fn time_at_with(
         let mut ks = ks.peekable();
         while let Some(k) = ks.next() {
             idx[count] = k;
-            tips[count] = tip_at(k);
+            tips[count] = self.tip_at(tips_all, k);
             count += 1;
             if count == LANES || ks.peek().is_none() {
                 let tips = &tips[..count];
                 if let Some((l, reason)) =
-                    solver.branch_admits_batch(&rot, tips, b.shoulder, b.elbow, level)
+                    solver.branch_admits_batch(&self.rot, tips, b.shoulder, b.elbow, level)
                 {
-                    return Err(fail_at(idx[l], tips[l], reason));
+                    return Err(self.fail_at(idx[l], tips[l], reason));
                 }
                 count = 0;
             }
         }
         Ok(())
-    };
-    for c in &cands {
-        if stride > 0 && !motion0.p.is_empty() {
-            if let Err(e) = thinned(&c.q) {
-                if best_err.as_ref().is_none_or(|b| progress(&e) > progress(b)) {
-                    best_err = Some(e);
-                }
-                continue;
-            }
-        }
-        match time_path_rounds(solver, path, at, &c.q, buf, tips_all) {
-            Ok(t) => return Ok(t),
-            Err(e) => {
-                if best_err.as_ref().is_none_or(|b| progress(&e) > progress(b)) {
-                    best_err = Some(e);
-                }
-            }
-        }
     }
-    Err(best_err.unwrap_or_else(|| {
-        unreachable_at_start(IkFailure::Unsupported(
-            "no IK solution at the first sample".into(),
-        ))
-    }))
 }
 
 #[cfg(test)]
