@@ -917,87 +917,128 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         margins: Margins,
         stop: &(dyn Fn() -> bool + Sync),
     ) -> std::result::Result<Feasible, Infeasible> {
-        let n = self.job.robot.dof();
-        let m = timed.traj.len();
-        let stopped = stop;
-        let dt = timed.motion.dt;
         // Energy: trapezoid at uniform dt in LANES interleaved partial sums (sample k into
         // lane k mod LANES; energy::EnergySums), the same bits from the lockstep and the
         // per-sample paths; no allocation per sample.
         let mut sums = energy::EnergySums::default();
-        let model_error = |k: usize, e: crate::error::Error| Infeasible::model_error(k, dt, &e);
         let level = crate::simd::level();
         match sincos {
             // Lockstep batches of LANES samples (bit-identical to the per-sample path). The
             // sines are the shared ones, or (energy_of) computed 8 samples at a time, bit for
             // bit fastmath::sin_cos.
             _ if level != crate::simd::Level::Scalar && self.job.energy.batchable() => {
-                let tr = &timed.traj;
-                let mut pl = energy::PowerLanes::default();
-                let mut inputs = energy::LaneInputs::default();
-                for k0 in (0..m).step_by(LANES) {
-                    if stopped() {
-                        return Err(abandoned());
-                    }
-                    let count = LANES.min(m - k0);
-                    let r = energy::Rows {
-                        q: tr.q.get(k0 * n..).unwrap_or(&[]),
-                        sincos: sincos.map(|s| s.get(k0 * 2 * n..).unwrap_or(&[])),
-                        qd: tr.qd.get(k0 * n..).unwrap_or(&[]),
-                        qdd: tr.qdd.get(k0 * n..).unwrap_or(&[]),
-                    };
-                    // Inside the path every weight is dt (what trapezoid_weight gives there).
-                    let mut w = [dt; LANES];
-                    if k0 == 0 || k0 + LANES >= m {
-                        w = [0.0; LANES];
-                        for (l, w) in w.iter_mut().enumerate().take(count) {
-                            *w = crate::numerics::trapezoid_weight(k0 + l, m, dt);
-                        }
-                    }
-                    // The batch's powers, then added into the sums, in one compiled pass.
-                    energy::eval_rows_summed(
-                        &self.job.energy,
-                        data,
-                        count,
-                        &r,
-                        &mut inputs,
-                        &mut pl,
-                        &mut sums,
-                        &w,
-                        level,
-                    )
-                    .map_err(|e| model_error(k0, e))?;
-                }
+                self.sum_lanes(data, sincos, timed, &mut sums, stop, level)?;
             }
-            _ => {
-                for k in 0..m {
-                    if k % LANES == 0 && stopped() {
-                        return Err(abandoned());
-                    }
-                    let r = match sincos {
-                        Some(s) => energy::eval_sample_with_sincos(
-                            &self.job.energy,
-                            data,
-                            timed.traj.q(k),
-                            &s[k * 2 * n..(k + 1) * 2 * n],
-                            timed.traj.qd(k),
-                            timed.traj.qdd(k),
-                            sp,
-                        ),
-                        None => energy::eval_sample(
-                            &self.job.energy,
-                            data,
-                            timed.traj.q(k),
-                            timed.traj.qd(k),
-                            timed.traj.qdd(k),
-                            sp,
-                        ),
-                    };
-                    r.map_err(|e| model_error(k, e))?;
-                    sums.add_sample(k, sp, crate::numerics::trapezoid_weight(k, m, dt), n);
-                }
-            }
+            _ => self.sum_samples(data, sp, sincos, timed, &mut sums, stop)?,
         }
+        self.feasible_of(&sums, timed, margins)
+    }
+
+    /// Sum the energies of `timed` into `sums` in lockstep batches of LANES samples, at SIMD
+    /// level `level`.
+    fn sum_lanes(
+        &self,
+        data: &mut DynData,
+        sincos: Option<&[f64]>,
+        timed: &TimedPath,
+        sums: &mut energy::EnergySums,
+        stopped: &(dyn Fn() -> bool + Sync),
+        level: crate::simd::Level,
+    ) -> std::result::Result<(), Infeasible> {
+        let n = self.job.robot.dof();
+        let m = timed.traj.len();
+        let dt = timed.motion.dt;
+        let tr = &timed.traj;
+        let mut pl = energy::PowerLanes::default();
+        let mut inputs = energy::LaneInputs::default();
+        for k0 in (0..m).step_by(LANES) {
+            if stopped() {
+                return Err(abandoned());
+            }
+            let count = LANES.min(m - k0);
+            let r = energy::Rows {
+                q: tr.q.get(k0 * n..).unwrap_or(&[]),
+                sincos: sincos.map(|s| s.get(k0 * 2 * n..).unwrap_or(&[])),
+                qd: tr.qd.get(k0 * n..).unwrap_or(&[]),
+                qdd: tr.qdd.get(k0 * n..).unwrap_or(&[]),
+            };
+            // Inside the path every weight is dt (what trapezoid_weight gives there).
+            let mut w = [dt; LANES];
+            if k0 == 0 || k0 + LANES >= m {
+                w = [0.0; LANES];
+                for (l, w) in w.iter_mut().enumerate().take(count) {
+                    *w = crate::numerics::trapezoid_weight(k0 + l, m, dt);
+                }
+            }
+            // The batch's powers, then added into the sums, in one compiled pass.
+            energy::eval_rows_summed(
+                &self.job.energy,
+                data,
+                count,
+                &r,
+                &mut inputs,
+                &mut pl,
+                sums,
+                &w,
+                level,
+            )
+            .map_err(|e| Infeasible::model_error(k0, dt, &e))?;
+        }
+        Ok(())
+    }
+
+    /// Sum the energies of `timed` into `sums` sample by sample.
+    fn sum_samples(
+        &self,
+        data: &mut DynData,
+        sp: &mut SamplePower,
+        sincos: Option<&[f64]>,
+        timed: &TimedPath,
+        sums: &mut energy::EnergySums,
+        stopped: &(dyn Fn() -> bool + Sync),
+    ) -> std::result::Result<(), Infeasible> {
+        let n = self.job.robot.dof();
+        let m = timed.traj.len();
+        let dt = timed.motion.dt;
+        for k in 0..m {
+            if k % LANES == 0 && stopped() {
+                return Err(abandoned());
+            }
+            let r = match sincos {
+                Some(s) => energy::eval_sample_with_sincos(
+                    &self.job.energy,
+                    data,
+                    timed.traj.q(k),
+                    &s[k * 2 * n..(k + 1) * 2 * n],
+                    timed.traj.qd(k),
+                    timed.traj.qdd(k),
+                    sp,
+                ),
+                None => energy::eval_sample(
+                    &self.job.energy,
+                    data,
+                    timed.traj.q(k),
+                    timed.traj.qd(k),
+                    timed.traj.qdd(k),
+                    sp,
+                ),
+            };
+            r.map_err(|e| Infeasible::model_error(k, dt, &e))?;
+            sums.add_sample(k, sp, crate::numerics::trapezoid_weight(k, m, dt), n);
+        }
+        Ok(())
+    }
+
+    /// The energies of `timed` from its summed lanes `sums`, with `margins`.
+    fn feasible_of(
+        &self,
+        sums: &energy::EnergySums,
+        timed: &TimedPath,
+        margins: Margins,
+    ) -> std::result::Result<Feasible, Infeasible> {
+        let n = self.job.robot.dof();
+        let m = timed.traj.len();
+        let dt = timed.motion.dt;
         let total = energy::EnergySums::lanes_total;
         let (mut supply, mut drives) = (total(&sums.supply), total(&sums.drives));
         if m < 2 {
