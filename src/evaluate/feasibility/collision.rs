@@ -410,121 +410,147 @@ fn urdf_shape(s: &GeomShape) -> Option<(Isometry<f64>, SharedShape)> {
     })
 }
 
+/// The URDF collision geometry `geoms` of body `body` (link `name`) added to `shapes`; whether
+/// there was any.
+fn add_urdf(
+    shapes: &mut Vec<BodyShape>,
+    body: usize,
+    name: &str,
+    geoms: &[crate::robot::CollisionGeom],
+) -> bool {
+    let mut any = false;
+    for g in geoms {
+        if let Some((l, s)) = urdf_shape(&g.shape) {
+            let kind = match &g.shape {
+                GeomShape::Box { .. } => "box",
+                GeomShape::Cylinder { .. } => "cylinder",
+                GeomShape::Sphere { .. } => "sphere",
+                GeomShape::Hull { .. } => "mesh hull",
+            };
+            shapes.push(BodyShape::new(
+                body,
+                iso(&g.origin) * l,
+                s,
+                Role::Link,
+                format!("link `{name}` (URDF {kind})"),
+            ));
+            any = true;
+        }
+    }
+    any
+}
+
+/// Capsules where the URDF gives nothing (`base_has`: the base has geometry; `has[i]`: link
+/// `i` has): base → joint 1, joint i → joint i+1 (or flange), radii scaled by `reach`.
+fn add_capsules(
+    shapes: &mut Vec<BodyShape>,
+    model: &RobotModel,
+    reach: f64,
+    radii: &LinkRadii,
+    base_has: bool,
+    has: &[bool],
+) {
+    let radius = |end: usize| {
+        reach
+            * if end <= 1 {
+                radii.base
+            } else if end <= 3 {
+                radii.arm
+            } else {
+                radii.wrist
+            }
+    };
+    if !base_has {
+        if let Some(j0) = model.joints.first() {
+            if let Some(s) = capsule(&V3::zeros(), &j0.origin.pos, radius(0)) {
+                shapes.push(BodyShape::new(
+                    0,
+                    Isometry::identity(),
+                    s,
+                    Role::Link,
+                    "capsule of the base".into(),
+                ));
+            }
+        }
+    }
+    for (i, h) in has.iter().enumerate() {
+        if *h {
+            continue;
+        }
+        let end = model
+            .joints
+            .get(i + 1)
+            .map_or(model.flange.pos, |j| j.origin.pos);
+        if let Some(s) = capsule(&V3::zeros(), &end, radius(i + 1)) {
+            shapes.push(BodyShape::new(
+                i + 1,
+                Isometry::identity(),
+                s,
+                Role::Link,
+                format!(
+                    "capsule of link `{}`",
+                    model.link_names.get(i).map_or("?", String::as_str)
+                ),
+            ));
+        }
+    }
+}
+
+/// The print head and hose (flange frame) added to `shapes`: the tool geometry's, or a
+/// nozzle capsule scaled by `reach`.
+fn add_head(shapes: &mut Vec<BodyShape>, model: &RobotModel, reach: f64, radii: &LinkRadii) {
+    let n = model.joints.len();
+    let tip = model.tool.pos;
+    match &model.tool_geometry {
+        Some(g) => {
+            if let Some((l, s)) = cylinder_between(&V3::zeros(), &tip, g.head_radius_m) {
+                shapes.push(BodyShape::new(n + 1, l, s, Role::Head, "print head".into()));
+            }
+            let (a, b) = (V3::from(g.hose_from_m), V3::from(g.hose_to_m));
+            if let Some(s) = capsule(&a, &b, g.hose_radius_m) {
+                shapes.push(BodyShape::new(
+                    n + 1,
+                    Isometry::identity(),
+                    s,
+                    Role::Hose,
+                    "hose".into(),
+                ));
+            }
+        }
+        None => {
+            if let Some(s) = capsule(&V3::zeros(), &tip, radii.nozzle * reach) {
+                shapes.push(BodyShape::new(
+                    n + 1,
+                    Isometry::identity(),
+                    s,
+                    Role::Head,
+                    "nozzle (capsule)".into(),
+                ));
+            }
+        }
+    }
+}
+
 impl RobotShapes {
     /// Build the shapes of `model`; `reach` scales the fallback capsules and the default head.
     pub fn new(model: &RobotModel, reach: f64, radii: &LinkRadii) -> Self {
         let n = model.joints.len();
         let mut shapes = Vec::new();
         let mut with_urdf = 0;
-        let mut add_urdf = |body: usize, name: &str, geoms: &[crate::robot::CollisionGeom]| {
-            let mut any = false;
-            for g in geoms {
-                if let Some((l, s)) = urdf_shape(&g.shape) {
-                    let kind = match &g.shape {
-                        GeomShape::Box { .. } => "box",
-                        GeomShape::Cylinder { .. } => "cylinder",
-                        GeomShape::Sphere { .. } => "sphere",
-                        GeomShape::Hull { .. } => "mesh hull",
-                    };
-                    shapes.push(BodyShape::new(
-                        body,
-                        iso(&g.origin) * l,
-                        s,
-                        Role::Link,
-                        format!("link `{name}` (URDF {kind})"),
-                    ));
-                    any = true;
-                }
-            }
-            any
-        };
         let base_name = "base".to_string();
-        let base_has = add_urdf(0, &base_name, &model.base_collision);
+        let base_has = add_urdf(&mut shapes, 0, &base_name, &model.base_collision);
         let mut has = vec![false; n];
         for (i, h) in has.iter_mut().enumerate() {
             let name = model.link_names.get(i).map_or("?", String::as_str);
             if let Some(g) = model.link_collision.get(i) {
-                *h = add_urdf(i + 1, name, g);
+                *h = add_urdf(&mut shapes, i + 1, name, g);
                 if *h {
                     with_urdf += 1;
                 }
             }
         }
-        // Capsules where the URDF gives nothing: base → joint 1, joint i → joint i+1 (or flange).
-        let radius = |end: usize| {
-            reach
-                * if end <= 1 {
-                    radii.base
-                } else if end <= 3 {
-                    radii.arm
-                } else {
-                    radii.wrist
-                }
-        };
-        if !base_has {
-            if let Some(j0) = model.joints.first() {
-                if let Some(s) = capsule(&V3::zeros(), &j0.origin.pos, radius(0)) {
-                    shapes.push(BodyShape::new(
-                        0,
-                        Isometry::identity(),
-                        s,
-                        Role::Link,
-                        "capsule of the base".into(),
-                    ));
-                }
-            }
-        }
-        for (i, h) in has.iter().enumerate() {
-            if *h {
-                continue;
-            }
-            let end = model
-                .joints
-                .get(i + 1)
-                .map_or(model.flange.pos, |j| j.origin.pos);
-            if let Some(s) = capsule(&V3::zeros(), &end, radius(i + 1)) {
-                shapes.push(BodyShape::new(
-                    i + 1,
-                    Isometry::identity(),
-                    s,
-                    Role::Link,
-                    format!(
-                        "capsule of link `{}`",
-                        model.link_names.get(i).map_or("?", String::as_str)
-                    ),
-                ));
-            }
-        }
-        // Print head and hose (flange frame).
-        let tip = model.tool.pos;
-        match &model.tool_geometry {
-            Some(g) => {
-                if let Some((l, s)) = cylinder_between(&V3::zeros(), &tip, g.head_radius_m) {
-                    shapes.push(BodyShape::new(n + 1, l, s, Role::Head, "print head".into()));
-                }
-                let (a, b) = (V3::from(g.hose_from_m), V3::from(g.hose_to_m));
-                if let Some(s) = capsule(&a, &b, g.hose_radius_m) {
-                    shapes.push(BodyShape::new(
-                        n + 1,
-                        Isometry::identity(),
-                        s,
-                        Role::Hose,
-                        "hose".into(),
-                    ));
-                }
-            }
-            None => {
-                if let Some(s) = capsule(&V3::zeros(), &tip, radii.nozzle * reach) {
-                    shapes.push(BodyShape::new(
-                        n + 1,
-                        Isometry::identity(),
-                        s,
-                        Role::Head,
-                        "nozzle (capsule)".into(),
-                    ));
-                }
-            }
-        }
+        add_capsules(&mut shapes, model, reach, radii, base_has, &has);
+        add_head(&mut shapes, model, reach, radii);
         // The pedestal: a fixed body under the base, a cylinder about the base's z axis from
         // the floor up to the base frame's origin.
         let (ph, pr) = (model.info.pedestal_height_m, model.info.pedestal_radius_m);
@@ -539,7 +565,6 @@ impl RobotShapes {
                 ));
             }
         }
-        // Allowed-collision matrix at the home pose.
         let mut rs = RobotShapes {
             shapes,
             pairs: Vec::new(),
@@ -547,10 +572,18 @@ impl RobotShapes {
             floor_below_base_m: ph.max(0.0),
             chain: Chain::new(model),
         };
-        let home = rs.poses(model, &vec![0.0; n], &Isometry::identity());
-        for i in 0..rs.shapes.len() {
-            for j in i + 1..rs.shapes.len() {
-                let (a, b) = (&rs.shapes[i], &rs.shapes[j]);
+        rs.allow_home_contacts(model);
+        rs
+    }
+
+    /// The allowed-collision matrix at the home pose: the pairs of shapes checked are those
+    /// of bodies at least three apart that do not touch at home.
+    fn allow_home_contacts(&mut self, model: &RobotModel) {
+        let n = model.joints.len();
+        let home = self.poses(model, &vec![0.0; n], &Isometry::identity());
+        for i in 0..self.shapes.len() {
+            for j in i + 1..self.shapes.len() {
+                let (a, b) = (&self.shapes[i], &self.shapes[j]);
                 if a.body.abs_diff(b.body) < 3 {
                     continue;
                 }
@@ -562,11 +595,10 @@ impl RobotShapes {
                 )
                 .unwrap_or(true);
                 if !touching {
-                    rs.pairs.push((i, j));
+                    self.pairs.push((i, j));
                 }
             }
         }
-        rs
     }
 
     /// World poses of every shape at `q` (rad), with `world` the pose of the robot base.
