@@ -1391,7 +1391,7 @@ fn check_with(
     boxes: &mut [Aabb],
     exact: &mut [bool],
 ) -> Option<(Reason, String)> {
-    let ident = Isometry::identity();
+    let env = Against { bed, beads, laid };
     for (i, s) in rs.shapes.iter().enumerate().take(n) {
         if s.role == Role::Head {
             let (c, r) = (at.centre(i, s), s.bound.1 + SPHERE_MARGIN_M);
@@ -1402,27 +1402,69 @@ fn check_with(
         // A capsule's axis at its pose, once for its AABB (as parry makes it), the bed and the
         // beads.
         let cap = at.axis(i, s);
-        let (a, ex) = match (&cap, &s.local_box) {
-            (Some((ea, eb, r)), _) => (Capsule::new(*ea, *eb, *r).local_aabb(), true),
-            // A mesh piece: its own box turned (holds the AABB; the self pairs make the exact
-            // AABB only where these boxes meet).
-            (None, Some((c, h))) => {
-                let p = at.iso(i, s);
-                let rot = p.rotation.to_rotation_matrix();
-                let m = rot.matrix();
-                let half = m.abs() * h;
-                let centre = p * Point::from(*c);
-                (Aabb::new(centre - half, centre + half), false)
-            }
-            (None, None) => (s.shape.compute_aabb(&at.iso(i, s)), true),
-        };
+        let (a, ex) = shape_box(at, i, s, &cap);
         (boxes[i], exact[i]) = (a, ex);
+        if let Some(hit) = env.shape_meets(at, i, s, cap, &a, clearance) {
+            return Some(hit);
+        }
+    }
+    self_pairs(rs, at, n, boxes, exact)
+}
+
+/// What a robot's shapes are checked against in [`check_with`]: the bed (and the floor), and
+/// the first `laid` beads.
+struct Against<'c> {
+    bed: &'c Bed,
+    beads: &'c Beads,
+    laid: usize,
+}
+
+/// Shape `i` (`s`, a capsule with axis `cap` at its pose, if it is one) placed by `at`: its
+/// box, and whether that is its AABB (else a box that holds it).
+#[inline(always)]
+fn shape_box(
+    at: &mut impl ShapePoses,
+    i: usize,
+    s: &BodyShape,
+    cap: &Option<(Point<f64>, Point<f64>, f64)>,
+) -> (Aabb, bool) {
+    match (cap, &s.local_box) {
+        (Some((ea, eb, r)), _) => (Capsule::new(*ea, *eb, *r).local_aabb(), true),
+        // A mesh piece: its own box turned (holds the AABB; the self pairs make the exact
+        // AABB only where these boxes meet).
+        (None, Some((c, h))) => {
+            let p = at.iso(i, s);
+            let rot = p.rotation.to_rotation_matrix();
+            let m = rot.matrix();
+            let half = m.abs() * h;
+            let centre = p * Point::from(*c);
+            (Aabb::new(centre - half, centre + half), false)
+        }
+        (None, None) => (s.shape.compute_aabb(&at.iso(i, s)), true),
+    }
+}
+
+impl Against<'_> {
+    /// Shape `i` (`s`, placed by `at`; `cap`: its axis when a capsule, `a`: its box) against
+    /// the floor, the bed (lowering `clearance`) and the beads: what it meets first, if
+    /// anything.
+    #[inline(always)]
+    fn shape_meets(
+        &self,
+        at: &mut impl ShapePoses,
+        i: usize,
+        s: &BodyShape,
+        cap: Option<(Point<f64>, Point<f64>, f64)>,
+        a: &Aabb,
+        clearance: &mut Option<f64>,
+    ) -> Option<(Reason, String)> {
+        let (bed, beads, laid) = (self.bed, self.beads, self.laid);
         // Floor: the links and the hose stay above it.
         if let Some(f) = bed.floor.as_ref().filter(|_| on_floor_check(s)) {
             let c = match &cap {
                 Some((ea, eb, r)) => Some(f.axis_clearance(ea, eb, *r)),
                 // The box first: most samples keep it above the floor.
-                None => Some(f.box_clearance(&a))
+                None => Some(f.box_clearance(a))
                     .filter(|c| *c >= 0.0)
                     .or_else(|| f.clearance(&at.iso(i, s), &s.shape)),
             };
@@ -1431,7 +1473,7 @@ fn check_with(
             }
         }
         // Bed: broad phase on the AABB gap, exact distance only when it could lower the margin.
-        let gap = aabb_gap(&a, &bed.aabb);
+        let gap = aabb_gap(a, &bed.aabb);
         if gap <= clearance.unwrap_or(f64::INFINITY) {
             let above = match &cap {
                 Some((ea, eb, r)) => bed.axis_above(ea, eb, *r),
@@ -1452,23 +1494,37 @@ fn check_with(
         }
         // The hierarchy's root first, here (most shapes miss the part's box); the pose only
         // for a shape other than a capsule (a capsule goes by its axis).
-        if !beads.root_meets(&a, laid) {
-            continue;
+        if !beads.root_meets(a, laid) {
+            return None;
         }
-        let p = if cap.is_some() { ident } else { at.iso(i, s) };
-        if let Some(b) = beads.hit_placed(&p, &s.shape, &a, cap, s.local_aabb.as_ref(), laid) {
-            return Some((
-                Reason::CollisionPart,
-                format!(
-                    "{} (shape {i}) comes within {:.3} m of printed bead {b}",
-                    s.label, beads.radius_m
-                ),
-            ));
-        }
+        let p = if cap.is_some() {
+            Isometry::identity()
+        } else {
+            at.iso(i, s)
+        };
+        let b = beads.hit_placed(&p, &s.shape, a, cap, s.local_aabb.as_ref(), laid)?;
+        Some((
+            Reason::CollisionPart,
+            format!(
+                "{} (shape {i}) comes within {:.3} m of printed bead {b}",
+                s.label, beads.radius_m
+            ),
+        ))
     }
-    // Self pairs: boxes first, then the exact test. The print head's box is that of its
-    // bounding sphere (it holds the AABB: when it misses the other shape's box, so would the
-    // AABB); only when it meets one is the AABB computed.
+}
+
+/// The self pairs of [`check_with`] among the first `n` shapes: boxes first, then the exact
+/// test. The print head's box is that of its bounding sphere (it holds the AABB: when it
+/// misses the other shape's box, so would the AABB); only when it meets one is the AABB
+/// computed.
+#[inline(always)]
+fn self_pairs(
+    rs: &RobotShapes,
+    at: &mut impl ShapePoses,
+    n: usize,
+    boxes: &mut [Aabb],
+    exact: &mut [bool],
+) -> Option<(Reason, String)> {
     for &(i, j) in &rs.pairs {
         if i >= n || j >= n || !boxes[i].intersects(&boxes[j]) {
             continue;
