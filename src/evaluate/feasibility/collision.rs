@@ -996,6 +996,49 @@ impl Beads {
         self.hit_placed(pose, shape, aabb, cap, local.as_ref(), laid)
     }
 
+    /// Whether bead `i` comes within the bead radius of `shape` at `pose` (`cap`, `local`: as
+    /// in [`Beads::hit_placed`]). A capsule (every link without URDF geometry) against a bead
+    /// segment in closed form (segment–segment closest points, Ericson's method as parry
+    /// implements it) instead of parry's general GJK dispatch: same distance, a fraction of the
+    /// cost.
+    #[inline]
+    fn touches(
+        &self,
+        i: usize,
+        pose: &Isometry<f64>,
+        shape: &SharedShape,
+        cap: &Option<(Point<f64>, Point<f64>, f64)>,
+        local: Option<&Aabb>,
+    ) -> bool {
+        let cap_id = Isometry::identity();
+        let seg = &self.segs[i];
+        let d = match cap {
+            Some((a, b, r)) => {
+                let (la, lb) = query::details::closest_points_segment_segment_with_locations_nD(
+                    (a, b),
+                    (&seg.a, &seg.b),
+                );
+                let pa = Segment::new(*a, *b).point_at(&la);
+                let pb = seg.point_at(&lb);
+                ((pa - pb).norm() - r).max(0.0)
+            }
+            None => {
+                if let Some(l) = local {
+                    let (a, b) = (
+                        pose.inverse_transform_point(&seg.a),
+                        pose.inverse_transform_point(&seg.b),
+                    );
+                    let sb = Aabb::new(a.inf(&b), a.sup(&b));
+                    if aabb_gap(&sb, l) >= self.radius_m {
+                        return false;
+                    }
+                }
+                query::distance(pose, shape.as_ref(), &cap_id, seg).unwrap_or(f64::INFINITY)
+            }
+        };
+        d < self.radius_m
+    }
+
     /// [`Beads::hit_within`] with, for a capsule, its axis's ends at `pose` and its radius
     /// already known (`cap`: `pose * a`, `pose * b`, part frame, m; radius, m), and for another
     /// shape its AABB in its own frame where known (`local`: a bead whose segment's box in that
@@ -1013,38 +1056,7 @@ impl Beads {
             return None;
         }
         let aabb = *aabb;
-        let cap_id = Isometry::identity();
-        // A capsule (every link without URDF geometry) against a bead segment in closed form
-        // (segment–segment closest points, Ericson's method as parry implements it) instead of
-        // parry's general GJK dispatch: same distance, a fraction of the cost.
-        let touches = |i: usize| {
-            let seg = &self.segs[i];
-            let d = match &cap {
-                Some((a, b, r)) => {
-                    let (la, lb) = query::details::closest_points_segment_segment_with_locations_nD(
-                        (a, b),
-                        (&seg.a, &seg.b),
-                    );
-                    let pa = Segment::new(*a, *b).point_at(&la);
-                    let pb = seg.point_at(&lb);
-                    ((pa - pb).norm() - r).max(0.0)
-                }
-                None => {
-                    if let Some(l) = local {
-                        let (a, b) = (
-                            pose.inverse_transform_point(&seg.a),
-                            pose.inverse_transform_point(&seg.b),
-                        );
-                        let sb = Aabb::new(a.inf(&b), a.sup(&b));
-                        if aabb_gap(&sb, l) >= self.radius_m {
-                            return false;
-                        }
-                    }
-                    query::distance(pose, shape.as_ref(), &cap_id, seg).unwrap_or(f64::INFINITY)
-                }
-            };
-            d < self.radius_m
-        };
+        let touches = |i: usize| self.touches(i, pose, shape, &cap, local);
         // The root first: most shapes (the base, the upper arm) miss the part's box.
         let root = &self.nodes[0];
         if root.start as usize >= laid || !root.aabb.intersects(&aabb) {
