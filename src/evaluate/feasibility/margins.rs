@@ -86,6 +86,46 @@ pub fn check_joint_sample_with(
     qdd: &[f64],
     margins: &mut Margins,
 ) -> Option<(Reason, String)> {
+    let fail = joint_limits_check(model, o, q, margins);
+    if fail.is_some() {
+        return fail;
+    }
+    let p = model.opw.as_ref().filter(|_| q.len() >= 6)?;
+    let w = match sincos {
+        Some(sc) if sc.len() == 2 * q.len() => {
+            let (s, c) = sc.split_at(q.len());
+            opw::wrist_singularity_sincos(p, s[4], c[4])
+        }
+        _ => opw::wrist_singularity(p, q),
+    };
+    lower(&mut margins.wrist_every, w);
+    let floor = wrist_floor(o);
+    if w < floor {
+        return Some((
+            Reason::WristSingularity,
+            format!(
+                "q5 at {:.2}° is {:.2}° from the wrist singularity (wrist margin {:.2}°; a wrist margin of 0 lets the wrist pass through)",
+                q[4].to_degrees(),
+                w.clamp(0.0, 1.0).asin().to_degrees(),
+                o.wrist_margin_rad.to_degrees()
+            ),
+        ));
+    }
+    if w >= o.wrist_min {
+        return None;
+    }
+    wrist_rate_check(model, o, w, qd, qdd, margins)
+}
+
+/// The joint position limits with their margins at `q`, lowering the smallest distance to a
+/// limit in `margins`: the first joint too near its limit, if any.
+#[inline]
+fn joint_limits_check(
+    model: &RobotModel,
+    o: &FeasibilityOptions,
+    q: &[f64],
+    margins: &mut Margins,
+) -> Option<(Reason, String)> {
     let mut fail: Option<(Reason, String)> = None;
     for (j, jt) in model.joints.iter().enumerate().take(q.len()) {
         if jt.kind != JointKind::Revolute || !(jt.lower.is_finite() && jt.upper.is_finite()) {
@@ -115,33 +155,20 @@ pub fn check_joint_sample_with(
             ));
         }
     }
-    if fail.is_some() {
-        return fail;
-    }
-    let p = model.opw.as_ref().filter(|_| q.len() >= 6)?;
-    let w = match sincos {
-        Some(sc) if sc.len() == 2 * q.len() => {
-            let (s, c) = sc.split_at(q.len());
-            opw::wrist_singularity_sincos(p, s[4], c[4])
-        }
-        _ => opw::wrist_singularity(p, q),
-    };
-    lower(&mut margins.wrist_every, w);
-    let floor = wrist_floor(o);
-    if w < floor {
-        return Some((
-            Reason::WristSingularity,
-            format!(
-                "q5 at {:.2}° is {:.2}° from the wrist singularity (wrist margin {:.2}°; a wrist margin of 0 lets the wrist pass through)",
-                q[4].to_degrees(),
-                w.clamp(0.0, 1.0).asin().to_degrees(),
-                o.wrist_margin_rad.to_degrees()
-            ),
-        ));
-    }
-    if w >= o.wrist_min {
-        return None;
-    }
+    fail
+}
+
+/// Near the wrist singularity (wrist measure `w`), joints 4 and 6 within the allowed share of
+/// their velocity and acceleration limits (`qd`, `qdd`), the largest share noted in `margins`.
+#[inline]
+fn wrist_rate_check(
+    model: &RobotModel,
+    o: &FeasibilityOptions,
+    w: f64,
+    qd: &[f64],
+    qdd: &[f64],
+    margins: &mut Margins,
+) -> Option<(Reason, String)> {
     let mut worst = (0.0f64, 0usize, "");
     for j in [3usize, 5] {
         let jt = &model.joints[j];
