@@ -240,6 +240,22 @@ struct ScreenTable {
     margin: [f64; SCREEN_ENTRIES],
 }
 
+/// The lockstep pass of [`JointChecks::screen`] over a block's entries (see
+/// [`screen_entries`]).
+struct ScreenKernel<'a> {
+    t: &'a ScreenTable,
+    q: &'a [f64; SCREEN_ENTRIES],
+    running: Option<Option<f64>>,
+}
+
+impl crate::simd::Kernel for ScreenKernel<'_> {
+    type Out = (bool, Option<usize>);
+    #[inline(always)]
+    fn run<R: crate::simd::F64s>(self) -> Self::Out {
+        screen_entries::<R>(self.t, self.q, self.running)
+    }
+}
+
 impl JointChecks {
     /// The checks of `model` under `o`.
     pub fn new(model: &RobotModel, o: &FeasibilityOptions) -> Self {
@@ -350,8 +366,6 @@ impl JointChecks {
     /// the wrist singularity gets the wrist rule's ratios as [`check_joint_sample_with`]
     /// computes them (`margins.wrist_rate` the same).
     #[allow(clippy::too_many_arguments)]
-    // `!(w >= wrist_min)`: the negated comparison is the NaN rule (a NaN is near).
-    #[allow(clippy::neg_cmp_op_on_partial_ord)]
     pub fn screen(
         &self,
         o: &FeasibilityOptions,
@@ -394,43 +408,16 @@ impl JointChecks {
         let mut wrist_rate = margins.wrist_rate;
         let mut wrist_every = margins.wrist_every;
         if let Some((sign, sc)) = wrist {
-            // Most blocks have no sample near it (a NaN counts as near): one test for all. A
-            // sample within the wrist margin (or a NaN) goes the per-sample way.
-            let floor = wrist_floor(o);
-            let mut near = false;
-            let mut within = false;
-            let mut low = f64::INFINITY;
-            for k in 0..W {
-                let w = (sign * sc[k * 2 * SCREEN_DOF + 4]).abs();
-                near |= !(w >= o.wrist_min);
-                within |= !(w >= floor);
-                low = low.min(w);
-            }
-            if within {
+            let Some(low) = self.screen_wrist(o, sign, sc, qd, qdd, &mut wrist_rate) else {
                 return false;
-            }
-            if near && !self.wrist_rule(o, sign, sc, qd, qdd, &mut wrist_rate) {
-                return false;
-            }
+            };
             lower(&mut wrist_every, low);
         }
         // The entry at the block's smallest distance is sought only where that distance
         // beats the running one (about a quarter of the blocks of a feasible placement, as
         // the arm keeps nearing a limit); never without a checked joint.
         let running = (!self.limits.is_empty()).then_some(margins.joint_limit_rad.map(|m| m.1));
-        struct K<'a> {
-            t: &'a ScreenTable,
-            q: &'a [f64; SCREEN_ENTRIES],
-            running: Option<Option<f64>>,
-        }
-        impl crate::simd::Kernel for K<'_> {
-            type Out = (bool, Option<usize>);
-            #[inline(always)]
-            fn run<R: crate::simd::F64s>(self) -> Self::Out {
-                screen_entries::<R>(self.t, self.q, self.running)
-            }
-        }
-        let (pass, first) = crate::simd::dispatch(self.level, K { t, q, running });
+        let (pass, first) = crate::simd::dispatch(self.level, ScreenKernel { t, q, running });
         if !pass {
             return false;
         }
@@ -445,6 +432,43 @@ impl JointChecks {
             margins.joint_limit_rad = Some((first % SCREEN_DOF + 1, d));
         }
         true
+    }
+
+    /// [`JointChecks::screen`]'s wrist measures of a block (`sign`: joint 5's OPW sign; `sc`,
+    /// `qd`, `qdd` the block's sines and cosines, velocities and accelerations): the smallest,
+    /// with `wrist_rate` lowered by the wrist rule where a sample comes near the singularity;
+    /// `None` where a sample goes the per-sample way.
+    // `!(w >= wrist_min)`: the negated comparison is the NaN rule (a NaN is near).
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    #[inline]
+    fn screen_wrist(
+        &self,
+        o: &FeasibilityOptions,
+        sign: f64,
+        sc: &[f64; 2 * SCREEN_ENTRIES],
+        qd: &[f64; SCREEN_ENTRIES],
+        qdd: &[f64; SCREEN_ENTRIES],
+        wrist_rate: &mut Option<f64>,
+    ) -> Option<f64> {
+        // Most blocks have no sample near it (a NaN counts as near): one test for all. A
+        // sample within the wrist margin (or a NaN) goes the per-sample way.
+        let floor = wrist_floor(o);
+        let mut near = false;
+        let mut within = false;
+        let mut low = f64::INFINITY;
+        for k in 0..crate::simd::LANES {
+            let w = (sign * sc[k * 2 * SCREEN_DOF + 4]).abs();
+            near |= !(w >= o.wrist_min);
+            within |= !(w >= floor);
+            low = low.min(w);
+        }
+        if within {
+            return None;
+        }
+        if near && !self.wrist_rule(o, sign, sc, qd, qdd, wrist_rate) {
+            return None;
+        }
+        Some(low)
     }
 
     /// [`JointChecks::screen`]'s wrist rule on a block with a sample near the singularity
