@@ -1117,6 +1117,35 @@ fn violations(
     out
 }
 
+/// Limits per entry of a block of [`derivatives_and_violations`] (period `n`, the joints):
+/// velocity, acceleration, and the jerk's as a bound on its numerator (jerk_screen_bound,
+/// `den = 2 dt³`); +∞ where the per-sample check skips one (not finite).
+fn block_limits(model: &RobotModel, den: f64) -> [Vec<f64>; 3] {
+    let n = model.dof();
+    let limits = |f: fn(&crate::robot::Joint) -> f64, bound: &dyn Fn(f64) -> f64| {
+        let lim: Vec<f64> = model
+            .joints
+            .iter()
+            .map(|j| {
+                let l = f(j);
+                if l.is_finite() {
+                    bound(l)
+                } else {
+                    f64::INFINITY
+                }
+            })
+            .collect();
+        (0..n + SCREEN_BLOCK)
+            .map(|t| lim[t % n])
+            .collect::<Vec<f64>>()
+    };
+    [
+        limits(|j| j.velocity_limit, &|l| l),
+        limits(|j| j.acceleration_limit, &|l| l),
+        limits(|j| j.jerk_limit, &|l| jerk_screen_bound(l, den)),
+    ]
+}
+
 /// The joint velocities and accelerations of the positions `q` (row-major, `dt` s apart)
 /// into `qd`, `qdd` (reused buffers, as [`crate::numerics::differentiate_uniform_into_on`]
 /// writes them) and the list of [`violations`] of them, in one pass over the samples on a
@@ -1149,30 +1178,7 @@ fn derivatives_and_violations(
     crate::numerics::uniform_end_rows(q, n, &w, qd, qdd);
     // Row 1: derivatives only (its jerk is clamped, it is checked per sample).
     crate::numerics::uniform_stencil_entries_on(q, n, w[1], n..2 * n, qd, qdd, level);
-    // Limits per entry of a block (period n), +∞ where the per-sample check skips one (not
-    // finite); the jerk's as a bound on its numerator (jerk_screen_bound).
-    let limits = |f: fn(&crate::robot::Joint) -> f64, bound: &dyn Fn(f64) -> f64| {
-        let lim: Vec<f64> = model
-            .joints
-            .iter()
-            .map(|j| {
-                let l = f(j);
-                if l.is_finite() {
-                    bound(l)
-                } else {
-                    f64::INFINITY
-                }
-            })
-            .collect();
-        (0..n + SCREEN_BLOCK)
-            .map(|t| lim[t % n])
-            .collect::<Vec<f64>>()
-    };
-    let lims = [
-        limits(|j| j.velocity_limit, &|l| l),
-        limits(|j| j.acceleration_limit, &|l| l),
-        limits(|j| j.jerk_limit, &|l| jerk_screen_bound(l, den)),
-    ];
+    let lims = block_limits(model, den);
     let (first, end) = (2 * n, (m - 2) * n);
     // Blocks with a possible excess (their first entries), in order.
     let mut flagged: Vec<usize> = Vec::new();
