@@ -346,6 +346,182 @@ fn abandoned() -> Infeasible {
     }
 }
 
+/// Done with the buffers of an evaluation that timed `timed` (if it did): kept for the next
+/// placement, or freed when the evaluation was `lean`.
+fn done_with(buf: &mut Buffers, timed: Option<TimedPath>, lean: bool) {
+    match timed {
+        Some(t) if !lean => buf.recycle(t),
+        _ if lean => buf.release(),
+        _ => {}
+    }
+}
+
+/// The feasibility checks of a path timed at one placement, every sample (see
+/// [`Evaluator::evaluate_full_unless`]).
+struct FullChecks<'c, 'j, 'a> {
+    ev: &'c Evaluator<'j, 'a>,
+    timed: &'c TimedPath,
+    world: &'c World,
+    beads: &'c crate::evaluate::feasibility::collision::Beads,
+    /// The part frame in the base frame.
+    frame: &'c crate::math::Frame,
+    /// The joints' sines and cosines of every sample (`2 n` a sample), when `shared`.
+    sincos_all: &'c [f64],
+    shared: bool,
+    /// Singularities and collisions are checked on every `every`-th sample.
+    every: usize,
+    /// Set when a check fails (the integration then stops).
+    failed: &'c AtomicBool,
+    joint_checks: crate::evaluate::feasibility::margins::JointChecks,
+}
+
+impl FullChecks<'_, '_, '_> {
+    /// Sample `k`'s sines and cosines, when shared.
+    #[inline]
+    fn sincos_of(&self, k: usize) -> Option<&[f64]> {
+        let n = self.ev.job.robot.dof();
+        self.shared
+            .then(|| &self.sincos_all[k * 2 * n..(k + 1) * 2 * n])
+    }
+
+    /// Every check in sample order: the margins, or the first failure. The joint checks of
+    /// LANES samples at once where they all pass (JointChecks::screen: the same margins),
+    /// else sample by sample as the scalar path runs them; the first failure is reported at
+    /// its own sample either way. Abandoned once `cancel` is set (looked at every 64 samples).
+    fn run(
+        &self,
+        poses: &mut Vec<parry3d_f64::math::Isometry<f64>>,
+        cancel: Option<&AtomicBool>,
+    ) -> std::result::Result<Margins, Infeasible> {
+        let ev = self.ev;
+        let model = ev.job.robot;
+        let o = &ev.feasibility;
+        let (n, m, every) = (model.dof(), self.timed.traj.len(), self.every);
+        let tr = &self.timed.traj;
+        let mut margins = Margins::default();
+        // The checked samples' singularity and collision checks LANES at a time where they
+        // apply (feasibility::CheckedLanes: check_sample_with's answers).
+        let mut lanes = self
+            .shared
+            .then(|| feasibility::CheckedLanes::new(model, o, &ev.shapes))
+            .flatten();
+        let blocks = crate::simd::level() != crate::simd::Level::Scalar;
+        let mut k0 = 0;
+        while k0 < m {
+            if k0 % 64 == 0 && cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
+                // Abandoned: the result is not read.
+                return Err(abandoned());
+            }
+            let count = if blocks {
+                crate::simd::LANES.min(m - k0).min(64 - k0 % 64)
+            } else {
+                1
+            };
+            let screened = blocks
+                && self.joint_checks.screen(
+                    o,
+                    n,
+                    count,
+                    &tr.q[k0 * n..(k0 + count) * n],
+                    &tr.qd[k0 * n..(k0 + count) * n],
+                    &tr.qdd[k0 * n..(k0 + count) * n],
+                    self.shared
+                        .then(|| &self.sincos_all[k0 * 2 * n..(k0 + count) * 2 * n]),
+                    &mut margins,
+                );
+            if screened {
+                // Every joint check passed: the checked samples of the block.
+                let first = k0.div_ceil(every) * every;
+                for k in (first..k0 + count).step_by(every) {
+                    self.sample(k, None, &mut lanes, poses, &mut margins)?;
+                }
+                if k0 + count == m && (m - 1) % every != 0 {
+                    self.sample(m - 1, None, &mut lanes, poses, &mut margins)?;
+                }
+            } else {
+                for k in k0..k0 + count {
+                    let joint_check = self.joint_checks.check(
+                        model,
+                        o,
+                        tr.q(k),
+                        self.sincos_of(k),
+                        tr.qd(k),
+                        tr.qdd(k),
+                        &mut margins,
+                    );
+                    if k % every == 0 || k + 1 == m || joint_check.is_some() {
+                        self.sample(k, joint_check, &mut lanes, poses, &mut margins)?;
+                    }
+                }
+            }
+            k0 += count;
+        }
+        Ok(margins)
+    }
+
+    /// Sample `k`'s singularity and collision checks after its joint checks gave
+    /// `joint_check`, and where it fails.
+    fn sample(
+        &self,
+        k: usize,
+        joint_check: Option<(Reason, String)>,
+        lanes: &mut Option<feasibility::CheckedLanes>,
+        poses: &mut Vec<parry3d_f64::math::Isometry<f64>>,
+        margins: &mut Margins,
+    ) -> std::result::Result<(), Infeasible> {
+        let ev = self.ev;
+        let model = ev.job.robot;
+        let o = &ev.feasibility;
+        let (n, m) = (model.dof(), self.timed.traj.len());
+        let tr = &self.timed.traj;
+        let found = joint_check.or_else(|| {
+            let scene = feasibility::Scene {
+                world: self.world,
+                shapes: &ev.shapes,
+                beads: self.beads,
+            };
+            match lanes.as_mut() {
+                Some(lanes) => lanes.check(
+                    model,
+                    o,
+                    scene,
+                    k,
+                    self.every,
+                    &tr.q[..m * n],
+                    self.sincos_all,
+                    poses,
+                    margins,
+                ),
+                None => feasibility::check_sample_with(
+                    model,
+                    o,
+                    scene,
+                    tr.q(k),
+                    self.sincos_of(k),
+                    self.beads.laid_at(k),
+                    poses,
+                    margins,
+                ),
+            }
+        });
+        let Some((reason, detail)) = found else {
+            return Ok(());
+        };
+        self.failed.store(true, Ordering::Relaxed);
+        let motion = &*self.timed.motion;
+        let mi = ev.job.pieces[motion.piece[k]].move_index;
+        let tip = self.frame.apply(&motion.p[k]);
+        Err(Infeasible {
+            reason,
+            sample: Some(k),
+            t_s: Some(k as f64 * motion.dt),
+            line: Some(ev.job.line_of(mi)),
+            point_m: Some([tip.x, tip.y, tip.z]),
+            detail,
+        })
+    }
+}
+
 fn bbox<'p>(pts: impl Iterator<Item = &'p V3>) -> Option<(V3, V3)> {
     let mut lo = V3::repeat(f64::INFINITY);
     let mut hi = V3::repeat(f64::NEG_INFINITY);
@@ -590,26 +766,37 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         sc.buf.transient_sincos = lean;
         let timed = self.time(sc, at);
         sc.buf.transient_sincos = keep;
-        let done_with = |buf: &mut Buffers, timed: Option<TimedPath>| match timed {
-            Some(t) if !lean => buf.recycle(t),
-            _ if lean => buf.release(),
-            _ => {}
-        };
         let timed = match timed {
             Ok(t) => t,
             Err(e) => {
-                done_with(&mut sc.buf, None);
+                done_with(&mut sc.buf, None, lean);
                 return Some(Err(Infeasible::from_timing(&e)));
             }
         };
         if cancelled() {
-            done_with(&mut sc.buf, Some(timed));
+            done_with(&mut sc.buf, Some(timed), lean);
             return None;
         }
+        let r = self.check_and_integrate(sc, at, &timed, cancel);
+        done_with(&mut sc.buf, Some(timed), lean); // the buffers kept for the next placement, or freed
+        (!cancelled()).then_some(r)
+    }
+
+    /// The feasibility checks and the energy integration of the path timed at `at`, at once
+    /// where a thread is free (rayon::join: the energy is taken up by an idle thread, else run
+    /// here after the checks). The energy does not depend on the checks: the outcome is that
+    /// of checking first and integrating after, bit for bit. A failed check tells the
+    /// integration to stop.
+    fn check_and_integrate(
+        &self,
+        sc: &mut Scratch<'a>,
+        at: &Placement,
+        timed: &TimedPath,
+        cancel: Option<&AtomicBool>,
+    ) -> std::result::Result<Feasible, Infeasible> {
+        let cancelled = || cancel.is_some_and(|c| c.load(Ordering::Relaxed));
         let motion = &*timed.motion;
-        let model = self.job.robot;
         let m = timed.traj.len();
-        let dt = motion.dt;
         let frame = at.frame();
         // Feasibility on every k-th sample.
         let o = &self.feasibility;
@@ -630,7 +817,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             &replanned
         };
         // The joints' sines and cosines of every sample, from the IK's FK re-check.
-        let n = model.dof();
+        let n = self.job.robot.dof();
         let Scratch {
             data,
             buf,
@@ -640,137 +827,30 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         } = sc;
         let shared = buf.sincos.len() == m * 2 * n;
         let sincos_all = &buf.sincos[..];
-        // The checks and the energy integration, at once where a thread is free (rayon::join:
-        // the energy is taken up by an idle thread, else run here after the checks). The
-        // energy does not depend on the checks: the outcome is that of checking first and
-        // integrating after, bit for bit. A failed check tells the integration to stop.
         let failed = AtomicBool::new(false);
-        let joint_checks = crate::evaluate::feasibility::margins::JointChecks::new(model, o);
-        let checks = || -> std::result::Result<Margins, Infeasible> {
-            let mut margins = Margins::default();
-            let poses = &mut *poses;
-            let tr = &timed.traj;
-            let sincos_of = |k: usize| shared.then(|| &sincos_all[k * 2 * n..(k + 1) * 2 * n]);
-            // The checked samples' singularity and collision checks LANES at a time where
-            // they apply (feasibility::CheckedLanes: check_sample_with's answers).
-            let mut lanes = shared
-                .then(|| feasibility::CheckedLanes::new(model, o, &self.shapes))
-                .flatten();
-            // Sample `k`'s singularity and collision checks after its joint checks gave
-            // `joint_check`, and where it fails.
-            let mut full_check = |k: usize,
-                                  joint_check: Option<(Reason, String)>,
-                                  margins: &mut Margins|
-             -> std::result::Result<(), Infeasible> {
-                let found = joint_check.or_else(|| {
-                    let scene = feasibility::Scene {
-                        world: &world,
-                        shapes: &self.shapes,
-                        beads,
-                    };
-                    match lanes.as_mut() {
-                        Some(lanes) => lanes.check(
-                            model,
-                            o,
-                            scene,
-                            k,
-                            every,
-                            &tr.q[..m * n],
-                            sincos_all,
-                            poses,
-                            margins,
-                        ),
-                        None => feasibility::check_sample_with(
-                            model,
-                            o,
-                            scene,
-                            tr.q(k),
-                            sincos_of(k),
-                            beads.laid_at(k),
-                            poses,
-                            margins,
-                        ),
-                    }
-                });
-                match found {
-                    None => Ok(()),
-                    Some((reason, detail)) => {
-                        failed.store(true, Ordering::Relaxed);
-                        let mi = self.job.pieces[motion.piece[k]].move_index;
-                        let tip = frame.apply(&motion.p[k]);
-                        Err(Infeasible {
-                            reason,
-                            sample: Some(k),
-                            t_s: Some(k as f64 * dt),
-                            line: Some(self.job.line_of(mi)),
-                            point_m: Some([tip.x, tip.y, tip.z]),
-                            detail,
-                        })
-                    }
-                }
-            };
-            // The joint checks of LANES samples at once where they all pass (JointChecks::
-            // screen: the same margins), else sample by sample as the scalar path runs them;
-            // the first failure is reported at its own sample either way.
-            let blocks = crate::simd::level() != crate::simd::Level::Scalar;
-            let mut k0 = 0;
-            while k0 < m {
-                if k0 % 64 == 0 && cancelled() {
-                    // Abandoned: the result is not read.
-                    return Err(abandoned());
-                }
-                let count = if blocks {
-                    crate::simd::LANES.min(m - k0).min(64 - k0 % 64)
-                } else {
-                    1
-                };
-                let screened = blocks
-                    && joint_checks.screen(
-                        o,
-                        n,
-                        count,
-                        &tr.q[k0 * n..(k0 + count) * n],
-                        &tr.qd[k0 * n..(k0 + count) * n],
-                        &tr.qdd[k0 * n..(k0 + count) * n],
-                        shared.then(|| &sincos_all[k0 * 2 * n..(k0 + count) * 2 * n]),
-                        &mut margins,
-                    );
-                if screened {
-                    // Every joint check passed: the checked samples of the block.
-                    let first = k0.div_ceil(every) * every;
-                    for k in (first..k0 + count).step_by(every) {
-                        full_check(k, None, &mut margins)?;
-                    }
-                    if k0 + count == m && (m - 1) % every != 0 {
-                        full_check(m - 1, None, &mut margins)?;
-                    }
-                } else {
-                    for k in k0..k0 + count {
-                        let joint_check = joint_checks.check(
-                            model,
-                            o,
-                            tr.q(k),
-                            sincos_of(k),
-                            tr.qd(k),
-                            tr.qdd(k),
-                            &mut margins,
-                        );
-                        if k % every == 0 || k + 1 == m || joint_check.is_some() {
-                            full_check(k, joint_check, &mut margins)?;
-                        }
-                    }
-                }
-                k0 += count;
-            }
-            Ok(margins)
+        let fc = FullChecks {
+            ev: self,
+            timed,
+            world: &world,
+            beads,
+            frame: &frame,
+            sincos_all,
+            shared,
+            every,
+            failed: &failed,
+            joint_checks: crate::evaluate::feasibility::margins::JointChecks::new(
+                self.job.robot,
+                o,
+            ),
         };
+        let checks = || fc.run(poses, cancel);
         let stop = || failed.load(Ordering::Relaxed) || cancelled();
         let energy = || {
             self.energy_parts(
                 data,
                 sp,
                 shared.then_some(sincos_all),
-                &timed,
+                timed,
                 Margins::default(),
                 &stop,
             )
@@ -782,9 +862,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             (Ok(_), Some(h)) => Err(h),
             (c, _) => c,
         };
-        let r = checked.and_then(|margins| integrated.map(|f| Feasible { margins, ..f }));
-        done_with(buf, Some(timed)); // the buffers kept for the next placement, or freed
-        (!cancelled()).then_some(r)
+        checked.and_then(|margins| integrated.map(|f| Feasible { margins, ..f }))
     }
 
     /// Time the path at `at` with the job's timing (no feasibility checks beyond what timing
@@ -839,87 +917,128 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         margins: Margins,
         stop: &(dyn Fn() -> bool + Sync),
     ) -> std::result::Result<Feasible, Infeasible> {
-        let n = self.job.robot.dof();
-        let m = timed.traj.len();
-        let stopped = stop;
-        let dt = timed.motion.dt;
         // Energy: trapezoid at uniform dt in LANES interleaved partial sums (sample k into
         // lane k mod LANES; energy::EnergySums), the same bits from the lockstep and the
         // per-sample paths; no allocation per sample.
         let mut sums = energy::EnergySums::default();
-        let model_error = |k: usize, e: crate::error::Error| Infeasible::model_error(k, dt, &e);
         let level = crate::simd::level();
         match sincos {
             // Lockstep batches of LANES samples (bit-identical to the per-sample path). The
             // sines are the shared ones, or (energy_of) computed 8 samples at a time, bit for
             // bit fastmath::sin_cos.
             _ if level != crate::simd::Level::Scalar && self.job.energy.batchable() => {
-                let tr = &timed.traj;
-                let mut pl = energy::PowerLanes::default();
-                let mut inputs = energy::LaneInputs::default();
-                for k0 in (0..m).step_by(LANES) {
-                    if stopped() {
-                        return Err(abandoned());
-                    }
-                    let count = LANES.min(m - k0);
-                    let r = energy::Rows {
-                        q: tr.q.get(k0 * n..).unwrap_or(&[]),
-                        sincos: sincos.map(|s| s.get(k0 * 2 * n..).unwrap_or(&[])),
-                        qd: tr.qd.get(k0 * n..).unwrap_or(&[]),
-                        qdd: tr.qdd.get(k0 * n..).unwrap_or(&[]),
-                    };
-                    // Inside the path every weight is dt (what trapezoid_weight gives there).
-                    let mut w = [dt; LANES];
-                    if k0 == 0 || k0 + LANES >= m {
-                        w = [0.0; LANES];
-                        for (l, w) in w.iter_mut().enumerate().take(count) {
-                            *w = crate::numerics::trapezoid_weight(k0 + l, m, dt);
-                        }
-                    }
-                    // The batch's powers, then added into the sums, in one compiled pass.
-                    energy::eval_rows_summed(
-                        &self.job.energy,
-                        data,
-                        count,
-                        &r,
-                        &mut inputs,
-                        &mut pl,
-                        &mut sums,
-                        &w,
-                        level,
-                    )
-                    .map_err(|e| model_error(k0, e))?;
-                }
+                self.sum_lanes(data, sincos, timed, &mut sums, stop, level)?;
             }
-            _ => {
-                for k in 0..m {
-                    if k % LANES == 0 && stopped() {
-                        return Err(abandoned());
-                    }
-                    let r = match sincos {
-                        Some(s) => energy::eval_sample_with_sincos(
-                            &self.job.energy,
-                            data,
-                            timed.traj.q(k),
-                            &s[k * 2 * n..(k + 1) * 2 * n],
-                            timed.traj.qd(k),
-                            timed.traj.qdd(k),
-                            sp,
-                        ),
-                        None => energy::eval_sample(
-                            &self.job.energy,
-                            data,
-                            timed.traj.q(k),
-                            timed.traj.qd(k),
-                            timed.traj.qdd(k),
-                            sp,
-                        ),
-                    };
-                    r.map_err(|e| model_error(k, e))?;
-                    sums.add_sample(k, sp, crate::numerics::trapezoid_weight(k, m, dt), n);
-                }
-            }
+            _ => self.sum_samples(data, sp, sincos, timed, &mut sums, stop)?,
         }
+        self.feasible_of(&sums, timed, margins)
+    }
+
+    /// Sum the energies of `timed` into `sums` in lockstep batches of LANES samples, at SIMD
+    /// level `level`.
+    fn sum_lanes(
+        &self,
+        data: &mut DynData,
+        sincos: Option<&[f64]>,
+        timed: &TimedPath,
+        sums: &mut energy::EnergySums,
+        stopped: &(dyn Fn() -> bool + Sync),
+        level: crate::simd::Level,
+    ) -> std::result::Result<(), Infeasible> {
+        let n = self.job.robot.dof();
+        let m = timed.traj.len();
+        let dt = timed.motion.dt;
+        let tr = &timed.traj;
+        let mut pl = energy::PowerLanes::default();
+        let mut inputs = energy::LaneInputs::default();
+        for k0 in (0..m).step_by(LANES) {
+            if stopped() {
+                return Err(abandoned());
+            }
+            let count = LANES.min(m - k0);
+            let r = energy::Rows {
+                q: tr.q.get(k0 * n..).unwrap_or(&[]),
+                sincos: sincos.map(|s| s.get(k0 * 2 * n..).unwrap_or(&[])),
+                qd: tr.qd.get(k0 * n..).unwrap_or(&[]),
+                qdd: tr.qdd.get(k0 * n..).unwrap_or(&[]),
+            };
+            // Inside the path every weight is dt (what trapezoid_weight gives there).
+            let mut w = [dt; LANES];
+            if k0 == 0 || k0 + LANES >= m {
+                w = [0.0; LANES];
+                for (l, w) in w.iter_mut().enumerate().take(count) {
+                    *w = crate::numerics::trapezoid_weight(k0 + l, m, dt);
+                }
+            }
+            // The batch's powers, then added into the sums, in one compiled pass.
+            energy::eval_rows_summed(
+                &self.job.energy,
+                data,
+                count,
+                &r,
+                &mut inputs,
+                &mut pl,
+                sums,
+                &w,
+                level,
+            )
+            .map_err(|e| Infeasible::model_error(k0, dt, &e))?;
+        }
+        Ok(())
+    }
+
+    /// Sum the energies of `timed` into `sums` sample by sample.
+    fn sum_samples(
+        &self,
+        data: &mut DynData,
+        sp: &mut SamplePower,
+        sincos: Option<&[f64]>,
+        timed: &TimedPath,
+        sums: &mut energy::EnergySums,
+        stopped: &(dyn Fn() -> bool + Sync),
+    ) -> std::result::Result<(), Infeasible> {
+        let n = self.job.robot.dof();
+        let m = timed.traj.len();
+        let dt = timed.motion.dt;
+        for k in 0..m {
+            if k % LANES == 0 && stopped() {
+                return Err(abandoned());
+            }
+            let r = match sincos {
+                Some(s) => energy::eval_sample_with_sincos(
+                    &self.job.energy,
+                    data,
+                    timed.traj.q(k),
+                    &s[k * 2 * n..(k + 1) * 2 * n],
+                    timed.traj.qd(k),
+                    timed.traj.qdd(k),
+                    sp,
+                ),
+                None => energy::eval_sample(
+                    &self.job.energy,
+                    data,
+                    timed.traj.q(k),
+                    timed.traj.qd(k),
+                    timed.traj.qdd(k),
+                    sp,
+                ),
+            };
+            r.map_err(|e| Infeasible::model_error(k, dt, &e))?;
+            sums.add_sample(k, sp, crate::numerics::trapezoid_weight(k, m, dt), n);
+        }
+        Ok(())
+    }
+
+    /// The energies of `timed` from its summed lanes `sums`, with `margins`.
+    fn feasible_of(
+        &self,
+        sums: &energy::EnergySums,
+        timed: &TimedPath,
+        margins: Margins,
+    ) -> std::result::Result<Feasible, Infeasible> {
+        let n = self.job.robot.dof();
+        let m = timed.traj.len();
+        let dt = timed.motion.dt;
         let total = energy::EnergySums::lanes_total;
         let (mut supply, mut drives) = (total(&sums.supply), total(&sums.drives));
         if m < 2 {

@@ -508,6 +508,9 @@ pub(super) fn evaluate<'a>(
     }
 }
 
+/// The reduced evaluation of `at` (see the module docs): every sample's reach, the
+/// configuration tracked and checked on every stride-th sample, then the representative units
+/// evaluated and the others interpolated.
 fn reduced<'a>(
     ev: &Evaluator<'_, 'a>,
     red: &Reduction,
@@ -515,265 +518,46 @@ fn reduced<'a>(
     at: &Placement,
 ) -> Outcome {
     let job = ev.job;
-    let model = job.robot;
-    let n = model.dof();
     let motion = &*job.plan.motion;
     let m = motion.p.len();
-    let dt = motion.dt;
     let o = &ev.feasibility;
     let every = o.check_every.max(1);
     let stride = red.options.stride.max(1).div_ceil(every) * every;
     let frame = at.frame();
     let rot = nozzle_target(&V3::zeros(), at.nozzle_yaw()).rot;
     let solver = sc.solver.clone();
-    let line_at = |k: usize| job.line_of(job.pieces[motion.piece[k]].move_index);
-    let unreachable = |k: usize, tip: V3, reason: IkFailure| unreachable_at(job, k, tip, reason);
     if m == 0 {
         return Outcome::Full("the plan has no samples".into());
     }
-    // 1. Reach of every sample (coarse to fine; the fine pass skips the chunks of samples
-    // whose bounding box is certainly within reach, which gives the same verdict and sample).
-    {
-        let coarse = (0..m).step_by(64);
-        match solver.wrist_offset(&rot) {
-            Some(d) => {
-                let check = |k: usize| {
-                    let tip = frame.apply(&motion.p[k]);
-                    solver
-                        .wrist_centre_reachable(&(tip + d), 1e-9)
-                        .map_err(|r| unreachable(k, tip, r))
-                };
-                for k in coarse {
-                    if let Err(e) = check(k) {
-                        return Outcome::Infeasible(e);
-                    }
-                }
-                // The wrist centre of part-frame point q is R (q + o) in the base frame.
-                let o = frame.rot.transpose() * (frame.pos + d);
-                let boxes = if red.summary.samples == m {
-                    &red.reach_boxes[..]
-                } else {
-                    &[]
-                };
-                for c in 0..m.div_ceil(REACH_CHUNK) {
-                    let clear = model
-                        .opw
-                        .as_ref()
-                        .zip(boxes.get(c))
-                        .is_some_and(|(p, bx)| chunk_reaches(p, &bx[0], &bx[1], &o));
-                    if clear {
-                        continue;
-                    }
-                    for k in c * REACH_CHUNK..((c + 1) * REACH_CHUNK).min(m) {
-                        if let Err(e) = check(k) {
-                            return Outcome::Infeasible(e);
-                        }
-                    }
-                }
-            }
-            None => {
-                for k in coarse.chain(0..m) {
-                    let tip = frame.apply(&motion.p[k]);
-                    if let Err(r) = solver.reachable(&Frame { rot, pos: tip }) {
-                        return Outcome::Infeasible(unreachable(k, tip, r));
-                    }
-                }
-            }
-        }
+    // 1. Reach of every sample.
+    if let Err(e) = reach_every_sample(ev, red, &solver, &frame, &rot) {
+        return Outcome::Infeasible(e);
     }
-    let target = |k: usize| {
-        let tip = frame.apply(&motion.p[k]);
-        (Frame { rot, pos: tip }, tip)
-    };
     // The print head against the part printed so far, every sample of the plan (found once
     // per nozzle spin: it does not depend on where the robot stands).
     if let Some(e) = ev.head_infeasible(&job.plan.motion, &ev.beads, at) {
         return Outcome::Infeasible(e);
     }
     // 2. Configuration tracked on every stride-th sample, candidates as the full evaluation
-    // orders them.
-    let (t0, tip0) = target(0);
-    let mut cands = match solver.solve_all(&t0) {
-        Ok(c) => c,
-        Err(r) => return Outcome::Infeasible(unreachable(0, tip0, r)),
+    // orders them, and the geometric checks on the tracked samples.
+    let thin_idx = thin_indices(m, stride);
+    let tracker = Tracker {
+        ev,
+        solver: &solver,
+        frame: &frame,
+        rot,
+        thin_idx: &thin_idx,
     };
-    cands.sort_by(|a, b| {
-        crate::kinematics::limit_margin(model, &b.q)
-            .total_cmp(&crate::kinematics::limit_margin(model, &a.q))
-    });
-    let max_step: Vec<f64> = model
-        .joints
-        .iter()
-        .map(|j| {
-            if j.velocity_limit.is_finite() {
-                (j.velocity_limit * dt * 4.0).max(0.05)
-            } else {
-                0.5
-            }
-        })
-        .collect();
-    let thin_idx: Vec<usize> = (0..m)
-        .step_by(stride)
-        .chain((!(m - 1).is_multiple_of(stride)).then_some(m - 1))
-        .collect();
-    let mut best_fail: Option<(usize, Infeasible)> = None;
-    let mut chosen = false;
-    let thin = &mut sc.red.thin;
-    for c in &cands {
-        thin.clear();
-        let mut prev = c.q;
-        let mut fail = None;
-        for (i, &k) in thin_idx.iter().enumerate() {
-            let (tg, tip) = target(k);
-            let q = match solver.solve_near(&tg, &prev) {
-                Ok(q) => q,
-                Err(r) => {
-                    fail = Some((k, unreachable(k, tip, r)));
-                    break;
-                }
-            };
-            if i > 0 {
-                let steps = (k - thin_idx[i - 1]) as f64;
-                if let Some(j) =
-                    (0..n).find(|&j| (q[j] - prev[j]).abs() > (max_step[j] * steps).min(1.0))
-                {
-                    let tf = crate::timing::TimingFailure::ConfigurationChange {
-                        sample: k,
-                        t: k as f64 * dt,
-                        point: tip,
-                        line: line_at(k),
-                        file: std::sync::Arc::new(job.source.clone()),
-                        joint: j,
-                        jump: (q[j] - prev[j]).abs(),
-                    };
-                    fail = Some((k, Infeasible::from_timing(&tf)));
-                    break;
-                }
-            }
-            thin.extend_from_slice(&q[..n]);
-            prev = q;
-        }
-        match fail {
-            None => {
-                chosen = true;
-                break;
-            }
-            Some((k, e)) => {
-                if best_fail.as_ref().is_none_or(|b| k > b.0) {
-                    best_fail = Some((k, e));
-                }
-            }
-        }
+    if let Err(e) = tracker.choose(&mut sc.red.thin) {
+        return Outcome::Infeasible(e);
     }
-    if !chosen {
-        return Outcome::Infeasible(best_fail.map(|b| b.1).unwrap_or_else(|| {
-            unreachable(
-                0,
-                tip0,
-                IkFailure::Unsupported("no IK solution at the first sample".into()),
-            )
-        }));
+    let segs = Segments::new(red, m);
+    let mut refine = Refine::new(red);
+    if let Err(e) = tracker.check(&segs, &sc.red.thin, &mut refine.near_wrist) {
+        return Outcome::Infeasible(e);
     }
-    // The units evaluated at the first level, and which samples they cover.
-    let nu = red.units.len();
-    let run = red.units.first().map_or(0, |u| u.start)..red.units.last().map_or(0, |u| u.end);
-    // Interpolation nodes (Chebyshev–Lobatto in each class) and every unit evaluated sample by
-    // sample (the nodes and units near the wrist singularity).
-    let mut evaluated = vec![false; nu];
-    let mut node = vec![false; nu];
-    let mut near_wrist = vec![false; nu];
-    let mut level = 5.min(red.options.max_nodes.max(3));
-    for cl in &red.classes {
-        for i in lobatto(cl.len(), level) {
-            evaluated[cl[i]] = true;
-            node[cl[i]] = true;
-        }
-    }
-    // Geometric checks on the tracked samples; units where the wrist comes near its
-    // singularity are noted (the wrist rule needs joint rates, see below).
-    let mut margins = Margins::default();
-    let unit_of = |k: usize| -> Option<usize> {
-        if !run.contains(&k) {
-            return None;
-        }
-        let i = red.units.partition_point(|u| u.end <= k);
-        (i < nu).then_some(i)
-    };
-    let zeros = [0.0; crate::kinematics::MAX_DOF];
-    for (i, &k) in thin_idx.iter().enumerate() {
-        let q = &sc.red.thin[i * n..(i + 1) * n];
-        let opw_p = model.opw.as_ref().filter(|_| n >= 6);
-        if let (Some(p), Some(u)) = (opw_p, unit_of(k)) {
-            let near = o
-                .wrist_min
-                .max(crate::evaluate::feasibility::margins::wrist_floor(o));
-            if opw::wrist_singularity(p, q) < 2.0 * near {
-                near_wrist[u] = true;
-            }
-        }
-        let fail = crate::evaluate::feasibility::margins::check_joint_sample(
-            model,
-            o,
-            q,
-            &zeros[..n],
-            &zeros[..n],
-            &mut Margins::default(),
-        )
-        .or_else(|| {
-            let p = opw_p?;
-            let e = opw::elbow_singularity(p, q);
-            let s = opw::shoulder_singularity(p, q);
-            if e < o.elbow_min {
-                return Some((
-                    Reason::ElbowSingularity,
-                    format!("elbow measure {e:.4} < {:.4}", o.elbow_min),
-                ));
-            }
-            (s < o.shoulder_min_m).then(|| {
-                (
-                    Reason::ShoulderSingularity,
-                    format!(
-                        "wrist centre {s:.3} m from axis 1 < {:.3} m",
-                        o.shoulder_min_m
-                    ),
-                )
-            })
-        });
-        if let Some((reason, detail)) = fail {
-            let tip = frame.apply(&motion.p[k]);
-            return Outcome::Infeasible(Infeasible {
-                reason,
-                sample: Some(k),
-                t_s: Some(k as f64 * dt),
-                line: Some(line_at(k)),
-                point_m: Some([tip.x, tip.y, tip.z]),
-                detail,
-            });
-        }
-    }
-    // 3. The evaluated units, sample by sample. Segment ids: the units, then the exact
-    // stretches before (`nu`) and after (`nu + 1`) the repeating run.
-    let seg_of =
-        |k: usize| -> usize { unit_of(k).unwrap_or(if k < run.start { nu } else { nu + 1 }) };
-    let seg_range = |g: usize| -> Range<usize> {
-        if g < nu {
-            red.units[g].clone()
-        } else if g == nu {
-            0..run.start
-        } else {
-            run.end..m
-        }
-    };
-    let nseg = nu + 2;
-    let mut unit_e: Vec<Option<Vec<f64>>> = vec![None; nseg];
-    let mut peaks: Vec<Option<Vec<f64>>> = vec![None; nseg];
-    // Where a joint rate limit binds (the first such sample), and the re-planned outcome.
-    let mut binds: Vec<Option<String>> = vec![None; nseg];
-    let mut delta: Vec<Option<Replanned>> = vec![None; nseg];
+    // 3.–5. The evaluated units sample by sample, the rest interpolated.
     let world = World::new(&frame, ev.bbox_all, o).with_floor(&ev.shapes);
-    let mut done = vec![false; nu];
-    let mut samples_evaluated = 0;
-    let mut first_pass = true;
     let ctx = Ctx {
         ev,
         red,
@@ -783,23 +567,461 @@ fn reduced<'a>(
         stride,
         thin_idx: &thin_idx,
     };
-    let mut replanner = Replanner::new(&ctx);
-    loop {
-        // Contiguous sample ranges to evaluate now: the exact rest (first pass) and every unit
-        // marked and not done.
-        let mut ranges: Vec<Range<usize>> = Vec::new();
-        if first_pass {
-            if run.start > 0 {
-                ranges.push(0..run.start);
+    refine.run(&ctx, sc, &segs)
+}
+
+/// Step 1 of the module docs: the reach of every sample, coarse to fine (the fine pass skips
+/// the chunks of samples whose bounding box is certainly within reach, which gives the same
+/// verdict and sample).
+fn reach_every_sample(
+    ev: &Evaluator<'_, '_>,
+    red: &Reduction,
+    solver: &crate::kinematics::IkSolver<'_>,
+    frame: &Frame,
+    rot: &crate::math::M3,
+) -> std::result::Result<(), Infeasible> {
+    let job = ev.job;
+    let model = job.robot;
+    let motion = &*job.plan.motion;
+    let m = motion.p.len();
+    let coarse = (0..m).step_by(64);
+    let Some(d) = solver.wrist_offset(rot) else {
+        for k in coarse.chain(0..m) {
+            let tip = frame.apply(&motion.p[k]);
+            solver
+                .reachable(&Frame {
+                    rot: *rot,
+                    pos: tip,
+                })
+                .map_err(|r| unreachable_at(job, k, tip, r))?;
+        }
+        return Ok(());
+    };
+    let check = |k: usize| {
+        let tip = frame.apply(&motion.p[k]);
+        solver
+            .wrist_centre_reachable(&(tip + d), 1e-9)
+            .map_err(|r| unreachable_at(job, k, tip, r))
+    };
+    for k in coarse {
+        check(k)?;
+    }
+    // The wrist centre of part-frame point q is R (q + o) in the base frame.
+    let o = frame.rot.transpose() * (frame.pos + d);
+    let boxes = if red.summary.samples == m {
+        &red.reach_boxes[..]
+    } else {
+        &[]
+    };
+    for c in 0..m.div_ceil(REACH_CHUNK) {
+        let clear = model
+            .opw
+            .as_ref()
+            .zip(boxes.get(c))
+            .is_some_and(|(p, bx)| chunk_reaches(p, &bx[0], &bx[1], &o));
+        if clear {
+            continue;
+        }
+        for k in c * REACH_CHUNK..((c + 1) * REACH_CHUNK).min(m) {
+            check(k)?;
+        }
+    }
+    Ok(())
+}
+
+/// The tracked samples of a plan of `m` samples: every `stride`-th and the last.
+fn thin_indices(m: usize, stride: usize) -> Vec<usize> {
+    (0..m)
+        .step_by(stride)
+        .chain((!(m - 1).is_multiple_of(stride)).then_some(m - 1))
+        .collect()
+}
+
+/// Step 2 of the module docs at one placement: the arm's configuration tracked on the tracked
+/// samples and checked there.
+struct Tracker<'c, 'j, 'a> {
+    ev: &'c Evaluator<'j, 'a>,
+    solver: &'c crate::kinematics::IkSolver<'a>,
+    frame: &'c Frame,
+    /// The nozzle's orientation in the base frame (the same at every sample).
+    rot: crate::math::M3,
+    thin_idx: &'c [usize],
+}
+
+impl Tracker<'_, '_, '_> {
+    /// The tool target at sample `k` of the job's plan, and its tip (base frame).
+    fn target(&self, k: usize) -> (Frame, V3) {
+        let tip = self.frame.apply(&self.ev.job.plan.motion.p[k]);
+        (
+            Frame {
+                rot: self.rot,
+                pos: tip,
+            },
+            tip,
+        )
+    }
+
+    /// Track the configurations at the first sample in the full evaluation's order until one
+    /// follows every tracked sample (its joint positions left in `thin`, row-major); otherwise
+    /// the failure furthest along the path.
+    fn choose(&self, thin: &mut Vec<f64>) -> std::result::Result<(), Infeasible> {
+        let job = self.ev.job;
+        let model = job.robot;
+        let dt = job.plan.motion.dt;
+        let (t0, tip0) = self.target(0);
+        let mut cands = self
+            .solver
+            .solve_all(&t0)
+            .map_err(|r| unreachable_at(job, 0, tip0, r))?;
+        cands.sort_by(|a, b| {
+            crate::kinematics::limit_margin(model, &b.q)
+                .total_cmp(&crate::kinematics::limit_margin(model, &a.q))
+        });
+        let max_step: Vec<f64> = model
+            .joints
+            .iter()
+            .map(|j| {
+                if j.velocity_limit.is_finite() {
+                    (j.velocity_limit * dt * 4.0).max(0.05)
+                } else {
+                    0.5
+                }
+            })
+            .collect();
+        let mut best_fail: Option<(usize, Infeasible)> = None;
+        for c in &cands {
+            let Some((k, e)) = self.track(c.q, &max_step, thin) else {
+                return Ok(());
+            };
+            if best_fail.as_ref().is_none_or(|b| k > b.0) {
+                best_fail = Some((k, e));
             }
-            if run.end < m {
-                ranges.push(run.end..m);
+        }
+        Err(best_fail.map(|b| b.1).unwrap_or_else(|| {
+            unreachable_at(
+                job,
+                0,
+                tip0,
+                IkFailure::Unsupported("no IK solution at the first sample".into()),
+            )
+        }))
+    }
+
+    /// Track the tracked samples from configuration `q0` at the first, each near the previous
+    /// one's answer, into `thin`: the sample and failure where a sample is out of reach or a
+    /// joint moves more than `max_step` per sample, if any.
+    fn track(
+        &self,
+        q0: JointVec,
+        max_step: &[f64],
+        thin: &mut Vec<f64>,
+    ) -> Option<(usize, Infeasible)> {
+        let job = self.ev.job;
+        let n = job.robot.dof();
+        let dt = job.plan.motion.dt;
+        let motion = &*job.plan.motion;
+        thin.clear();
+        let mut prev = q0;
+        for (i, &k) in self.thin_idx.iter().enumerate() {
+            let (tg, tip) = self.target(k);
+            let q = match self.solver.solve_near(&tg, &prev) {
+                Ok(q) => q,
+                Err(r) => return Some((k, unreachable_at(job, k, tip, r))),
+            };
+            if i > 0 {
+                let steps = (k - self.thin_idx[i - 1]) as f64;
+                if let Some(j) =
+                    (0..n).find(|&j| (q[j] - prev[j]).abs() > (max_step[j] * steps).min(1.0))
+                {
+                    let tf = crate::timing::TimingFailure::ConfigurationChange {
+                        sample: k,
+                        t: k as f64 * dt,
+                        point: tip,
+                        line: job.line_of(job.pieces[motion.piece[k]].move_index),
+                        file: std::sync::Arc::new(job.source.clone()),
+                        joint: j,
+                        jump: (q[j] - prev[j]).abs(),
+                    };
+                    return Some((k, Infeasible::from_timing(&tf)));
+                }
+            }
+            thin.extend_from_slice(&q[..n]);
+            prev = q;
+        }
+        None
+    }
+
+    /// The geometric checks on the tracked samples (`thin`, row-major): joint positions with
+    /// their margins, elbow and shoulder singularities. Units where the wrist comes near its
+    /// singularity are marked in `near_wrist` (the wrist rule needs joint rates).
+    fn check(
+        &self,
+        segs: &Segments<'_>,
+        thin: &[f64],
+        near_wrist: &mut [bool],
+    ) -> std::result::Result<(), Infeasible> {
+        let job = self.ev.job;
+        let model = job.robot;
+        let n = model.dof();
+        let motion = &*job.plan.motion;
+        let o = &self.ev.feasibility;
+        let zeros = [0.0; crate::kinematics::MAX_DOF];
+        for (i, &k) in self.thin_idx.iter().enumerate() {
+            let q = &thin[i * n..(i + 1) * n];
+            let opw_p = model.opw.as_ref().filter(|_| n >= 6);
+            if let (Some(p), Some(u)) = (opw_p, segs.unit_of(k)) {
+                let near = o
+                    .wrist_min
+                    .max(crate::evaluate::feasibility::margins::wrist_floor(o));
+                if opw::wrist_singularity(p, q) < 2.0 * near {
+                    near_wrist[u] = true;
+                }
+            }
+            let fail = crate::evaluate::feasibility::margins::check_joint_sample(
+                model,
+                o,
+                q,
+                &zeros[..n],
+                &zeros[..n],
+                &mut Margins::default(),
+            )
+            .or_else(|| elbow_or_shoulder(o, opw_p?, q));
+            if let Some((reason, detail)) = fail {
+                let tip = self.frame.apply(&motion.p[k]);
+                return Err(Infeasible {
+                    reason,
+                    sample: Some(k),
+                    t_s: Some(k as f64 * motion.dt),
+                    line: Some(job.line_of(job.pieces[motion.piece[k]].move_index)),
+                    point_m: Some([tip.x, tip.y, tip.z]),
+                    detail,
+                });
+            }
+        }
+        Ok(())
+    }
+}
+
+/// The elbow or shoulder singularity margin that joint positions `q` of an OPW arm `p` break,
+/// if any, with its detail.
+fn elbow_or_shoulder(
+    o: &crate::evaluate::feasibility::FeasibilityOptions,
+    p: &crate::robot::opw::OpwParams,
+    q: &[f64],
+) -> Option<(Reason, String)> {
+    let e = opw::elbow_singularity(p, q);
+    let s = opw::shoulder_singularity(p, q);
+    if e < o.elbow_min {
+        return Some((
+            Reason::ElbowSingularity,
+            format!("elbow measure {e:.4} < {:.4}", o.elbow_min),
+        ));
+    }
+    (s < o.shoulder_min_m).then(|| {
+        (
+            Reason::ShoulderSingularity,
+            format!(
+                "wrist centre {s:.3} m from axis 1 < {:.3} m",
+                o.shoulder_min_m
+            ),
+        )
+    })
+}
+
+/// Where the samples of the job's plan belong. Segment ids: the units of the repeating run,
+/// then the exact stretches before (`nu`) and after (`nu + 1`) the run.
+struct Segments<'r> {
+    units: &'r [Range<usize>],
+    /// The samples of the repeating run.
+    run: Range<usize>,
+    /// Samples of the job's plan.
+    m: usize,
+}
+
+impl<'r> Segments<'r> {
+    /// The segments of `red` over a plan of `m` samples.
+    fn new(red: &'r Reduction, m: usize) -> Self {
+        let run = red.units.first().map_or(0, |u| u.start)..red.units.last().map_or(0, |u| u.end);
+        Segments {
+            units: &red.units,
+            run,
+            m,
+        }
+    }
+
+    /// The unit of the repeating run that sample `k` belongs to, if any.
+    #[inline]
+    fn unit_of(&self, k: usize) -> Option<usize> {
+        if !self.run.contains(&k) {
+            return None;
+        }
+        let nu = self.units.len();
+        let i = self.units.partition_point(|u| u.end <= k);
+        (i < nu).then_some(i)
+    }
+
+    /// The segment that sample `k` belongs to.
+    #[inline]
+    fn seg_of(&self, k: usize) -> usize {
+        let nu = self.units.len();
+        self.unit_of(k)
+            .unwrap_or(if k < self.run.start { nu } else { nu + 1 })
+    }
+
+    /// The samples of segment `g`.
+    fn range(&self, g: usize) -> Range<usize> {
+        let nu = self.units.len();
+        if g < nu {
+            self.units[g].clone()
+        } else if g == nu {
+            0..self.run.start
+        } else {
+            self.run.end..self.m
+        }
+    }
+}
+
+/// Steps 3–5 of the module docs at one placement: which units are evaluated sample by sample,
+/// what they gave, and the segments re-planned where a joint rate limit binds.
+struct Refine {
+    /// Units evaluated sample by sample (or due to be).
+    evaluated: Vec<bool>,
+    /// Units that are interpolation nodes (Chebyshev–Lobatto in each class).
+    node: Vec<bool>,
+    /// Units where a tracked sample comes near the wrist singularity.
+    near_wrist: Vec<bool>,
+    /// Units evaluated so far.
+    done: Vec<bool>,
+    /// Interpolation nodes per class.
+    level: usize,
+    margins: Margins,
+    /// Per segment: the additive quantities without slow-down.
+    unit_e: Vec<Option<Vec<f64>>>,
+    /// Per segment: the peak rate demand per joint and channel, as a share of the limit.
+    peaks: Vec<Option<Vec<f64>>>,
+    /// Per segment: where a joint rate limit binds (the first such sample).
+    binds: Vec<Option<String>>,
+    /// Per segment: the re-planned outcome, as a change.
+    delta: Vec<Option<Replanned>>,
+    samples_evaluated: usize,
+    first_pass: bool,
+}
+
+impl Refine {
+    /// Nothing evaluated yet; the first level's nodes marked.
+    fn new(red: &Reduction) -> Self {
+        let nu = red.units.len();
+        let nseg = nu + 2;
+        let mut r = Refine {
+            evaluated: vec![false; nu],
+            node: vec![false; nu],
+            near_wrist: vec![false; nu],
+            done: vec![false; nu],
+            level: 5.min(red.options.max_nodes.max(3)),
+            margins: Margins::default(),
+            unit_e: vec![None; nseg],
+            peaks: vec![None; nseg],
+            binds: vec![None; nseg],
+            delta: vec![None; nseg],
+            samples_evaluated: 0,
+            first_pass: true,
+        };
+        r.mark_nodes(red);
+        r
+    }
+
+    /// Mark the current level's nodes of every class as nodes, to be evaluated.
+    fn mark_nodes(&mut self, red: &Reduction) {
+        for cl in &red.classes {
+            for i in lobatto(cl.len(), self.level) {
+                self.evaluated[cl[i]] = true;
+                self.node[cl[i]] = true;
+            }
+        }
+    }
+
+    /// Go to the next node count where there is one and a class has more members than
+    /// nodes; whether it did.
+    fn raise_level(&mut self, red: &Reduction) -> bool {
+        let next = 2 * self.level - 1;
+        if next <= red.options.max_nodes && red.classes.iter().any(|c| c.len() > self.level) {
+            self.level = next;
+            self.mark_nodes(red);
+            return true;
+        }
+        false
+    }
+
+    /// Evaluate units until the estimate's stated error is small enough: the outcome.
+    fn run(mut self, ctx: &Ctx<'_, '_, '_>, sc: &mut Scratch<'_>, segs: &Segments<'_>) -> Outcome {
+        let red = ctx.red;
+        let ev = ctx.ev;
+        let n = ev.job.robot.dof();
+        let mut replanner = Replanner::new(ctx);
+        loop {
+            // Every window's feasibility first (cheap next to a re-plan), then the re-plans.
+            if let Err(o) = self.evaluate_due(ctx, sc, segs) {
+                return o;
+            }
+            if let Err(o) = self.replan_binding(ctx, sc, segs, &mut replanner) {
+                return o;
+            }
+            // Joint rate demands of the interpolated units, bounded from the evaluated ones:
+            // where a layer in between may bind unlike its evaluated neighbours, more layers
+            // are evaluated (the next node count, then every layer of that stretch).
+            let flagged = rate_bound(
+                red,
+                &self.peaks,
+                &self.evaluated,
+                &self.delta,
+                red.options.headroom,
+            );
+            if !flagged.is_empty() {
+                if !self.raise_level(red) {
+                    for u in flagged {
+                        self.evaluated[u] = true;
+                    }
+                }
+                continue;
+            }
+            if self.wrist_rule_pending(ctx) {
+                continue;
+            }
+            // 4./5. Interpolate per class; refine while the stated error is too large.
+            let est = self.estimate(red, n, ev.objective);
+            let err = est.error_j;
+            let objective = objective_of(&est.total, n, ev.objective).abs();
+            let too_big = err > red.options.rel_tol * objective;
+            if too_big && self.raise_level(red) {
+                continue;
+            }
+            if err > red.options.max_rel_error * objective {
+                return Outcome::Full(format!(
+                    "the estimate's stated error {:.3} % is above the accepted {:.3} %",
+                    err / objective * 100.0,
+                    red.options.max_rel_error * 100.0
+                ));
+            }
+            return self.feasible(ctx, est);
+        }
+    }
+
+    /// The sample ranges due now, contiguous ones merged: the exact stretches (first pass)
+    /// and every unit marked and not done.
+    fn due(&mut self, red: &Reduction, segs: &Segments<'_>) -> Vec<Range<usize>> {
+        let mut ranges: Vec<Range<usize>> = Vec::new();
+        if self.first_pass {
+            if segs.run.start > 0 {
+                ranges.push(0..segs.run.start);
+            }
+            if segs.run.end < segs.m {
+                ranges.push(segs.run.end..segs.m);
             }
         }
         for (u, r) in red.units.iter().enumerate() {
-            if evaluated[u] && !done[u] {
+            if self.evaluated[u] && !self.done[u] {
                 ranges.push(r.clone());
-                done[u] = true;
+                self.done[u] = true;
             }
         }
         ranges.sort_by_key(|r| r.start);
@@ -810,103 +1032,84 @@ fn reduced<'a>(
                 _ => merged.push(r),
             }
         }
-        // Every window's feasibility first (cheap next to a re-plan), then the re-plans.
-        for r in merged {
-            samples_evaluated += r.len();
-            if let Err(o) = window(
-                &ctx,
-                sc,
-                r,
-                &mut margins,
-                &seg_of,
-                &mut unit_e,
-                &mut peaks,
-                &mut binds,
-            ) {
-                return o;
-            }
+        merged
+    }
+
+    /// Step 3: track, check and integrate the samples due, window by window.
+    fn evaluate_due(
+        &mut self,
+        ctx: &Ctx<'_, '_, '_>,
+        sc: &mut Scratch<'_>,
+        segs: &Segments<'_>,
+    ) -> std::result::Result<(), Outcome> {
+        for r in self.due(ctx.red, segs) {
+            self.samples_evaluated += r.len();
+            self.window(ctx, sc, r, segs)?;
         }
-        first_pass = false;
-        // 3b. Segments where a joint rate limit binds are re-planned on their own, as the
-        // controller slows down there (see [`Replanner`]).
-        let binding: Vec<usize> = (0..nseg).filter(|&g| binds[g].is_some()).collect();
-        if !binding.is_empty() {
-            if let Err(o) = replanner.run(&ctx, sc, &binding, &seg_range, &mut margins) {
-                return o;
-            }
-            for st in &replanner.stretches {
-                let (Some(r), Some(e0)) = (&st.result, &unit_e[st.g]) else {
-                    continue;
-                };
-                let mut d = r.clone();
-                for (x, b) in d.e.iter_mut().zip(e0) {
-                    *x -= b;
-                }
-                d.samples -= seg_range(st.g).len() as f64;
-                delta[st.g] = Some(d);
-            }
+        self.first_pass = false;
+        Ok(())
+    }
+
+    /// Step 3b: the segments where a joint rate limit binds re-planned on their own, as the
+    /// controller slows down there (see [`Replanner`]), and each one's change noted.
+    fn replan_binding(
+        &mut self,
+        ctx: &Ctx<'_, '_, '_>,
+        sc: &mut Scratch<'_>,
+        segs: &Segments<'_>,
+        replanner: &mut Replanner,
+    ) -> std::result::Result<(), Outcome> {
+        let nseg = self.binds.len();
+        let binding: Vec<usize> = (0..nseg).filter(|&g| self.binds[g].is_some()).collect();
+        if binding.is_empty() {
+            return Ok(());
         }
-        // Joint rate demands of the interpolated units, bounded from the evaluated ones: where
-        // a layer in between may bind unlike its evaluated neighbours, more layers are
-        // evaluated (the next node count, then every layer of that stretch).
-        let flagged = rate_bound(red, &peaks, &evaluated, &delta, red.options.headroom);
-        if !flagged.is_empty() {
-            let next = 2 * level - 1;
-            if next <= red.options.max_nodes && red.classes.iter().any(|c| c.len() > level) {
-                level = next;
-                for cl in &red.classes {
-                    for i in lobatto(cl.len(), level) {
-                        evaluated[cl[i]] = true;
-                        node[cl[i]] = true;
-                    }
-                }
-            } else {
-                for u in flagged {
-                    evaluated[u] = true;
-                }
+        replanner.run(ctx, sc, &binding, &|g| segs.range(g), &mut self.margins)?;
+        for st in &replanner.stretches {
+            let (Some(r), Some(e0)) = (&st.result, &self.unit_e[st.g]) else {
+                continue;
+            };
+            let mut d = r.clone();
+            for (x, b) in d.e.iter_mut().zip(e0) {
+                *x -= b;
             }
-            continue;
+            d.samples -= segs.range(st.g).len() as f64;
+            self.delta[st.g] = Some(d);
         }
-        // The wrist rule on units not evaluated: accepted when the evaluated units come near
-        // the wrist singularity too and use at most `headroom` of the allowed share there;
-        // otherwise those units are evaluated sample by sample.
-        let wrist_ok = margins
+        Ok(())
+    }
+
+    /// The wrist rule on units not evaluated: accepted when the evaluated units come near the
+    /// wrist singularity too and use at most `headroom` of the allowed share there; otherwise
+    /// those units are marked to be evaluated sample by sample (and this says so).
+    fn wrist_rule_pending(&mut self, ctx: &Ctx<'_, '_, '_>) -> bool {
+        let red = ctx.red;
+        let nu = red.units.len();
+        let wrist_ok = self
+            .margins
             .wrist_rate
-            .is_some_and(|r| r <= red.options.headroom * o.wrist_rate_max);
+            .is_some_and(|r| r <= red.options.headroom * ctx.ev.feasibility.wrist_rate_max);
         let pending: Vec<usize> = (0..nu)
-            .filter(|&u| near_wrist[u] && !evaluated[u])
+            .filter(|&u| self.near_wrist[u] && !self.evaluated[u])
             .collect();
         if !wrist_ok && !pending.is_empty() {
             for u in pending {
-                evaluated[u] = true;
+                self.evaluated[u] = true;
             }
-            continue;
+            return true;
         }
-        // 4./5. Interpolate per class; refine while the stated error is too large.
-        let est = estimate(red, &unit_e, &delta, &evaluated, &node, n, ev.objective);
+        false
+    }
+
+    /// The feasible outcome of the estimate `est`.
+    fn feasible(self, ctx: &Ctx<'_, '_, '_>, est: Sum) -> Outcome {
+        let (ev, red) = (ctx.ev, ctx.red);
+        let n = ev.job.robot.dof();
+        let motion = &*ev.job.plan.motion;
+        let (m, dt) = (motion.p.len(), motion.dt);
         let (total, err) = (&est.total, est.error_j);
-        let objective = objective_of(total, n, ev.objective).abs();
-        let too_big = err > red.options.rel_tol * objective;
-        let next = 2 * level - 1;
-        if too_big && next <= red.options.max_nodes && red.classes.iter().any(|c| c.len() > level) {
-            level = next;
-            for cl in &red.classes {
-                for i in lobatto(cl.len(), level) {
-                    evaluated[cl[i]] = true;
-                    node[cl[i]] = true;
-                }
-            }
-            continue;
-        }
-        if err > red.options.max_rel_error * objective {
-            return Outcome::Full(format!(
-                "the estimate's stated error {:.3} % is above the accepted {:.3} %",
-                err / objective * 100.0,
-                red.options.max_rel_error * 100.0
-            ));
-        }
         let layers_evaluated =
-            evaluated.iter().filter(|e| **e).count() + (red.summary.layers - red.units.len());
+            self.evaluated.iter().filter(|e| **e).count() + (red.summary.layers - red.units.len());
         let v = total;
         let jm = v[FIXED..FIXED + n].to_vec();
         let jabs = v[FIXED + n..FIXED + 2 * n].to_vec();
@@ -916,11 +1119,11 @@ fn reduced<'a>(
             return Outcome::Full("non-finite estimate".into());
         }
         let samples = (m as f64 + est.extra_samples).round().max(1.0) as usize;
-        let replanned = delta.iter().filter(|d| d.is_some()).count();
+        let replanned = self.delta.iter().filter(|d| d.is_some()).count();
         red.stats
             .replanned
             .fetch_add(replanned, std::sync::atomic::Ordering::Relaxed);
-        return Outcome::Done(Box::new(Feasible {
+        Outcome::Done(Box::new(Feasible {
             energy_j,
             supply_j: v[SUPPLY],
             drives_j: v[DRIVES],
@@ -941,16 +1144,16 @@ fn reduced<'a>(
             joint_mechanical_j: jm,
             joint_mechanical_abs_j: jabs,
             joint_electrical_j: jel,
-            margins,
+            margins: self.margins,
             path_reduction: Some(Estimate {
                 error_j: err,
                 layers: red.summary.layers,
                 layers_evaluated,
-                samples_evaluated,
+                samples_evaluated: self.samples_evaluated,
                 layers_replanned: replanned,
                 fallback: None,
             }),
-        }));
+        }))
     }
 }
 
@@ -959,7 +1162,7 @@ fn reduced<'a>(
 /// the limit), the larger of the two neighbours' peaks plus the largest change between
 /// neighbouring evaluated units of the class, against `headroom`. Between two neighbours
 /// that both bound (and were re-planned), the layers are taken to bind too: their slow-down
-/// is interpolated (see [`estimate`]).
+/// is interpolated (see [`Refine::estimate`]).
 fn rate_bound(
     red: &Reduction,
     peaks: &[Option<Vec<f64>>],
@@ -1014,55 +1217,73 @@ struct Sum {
     extra_samples: f64,
 }
 
-/// The estimate (see the module docs): per class, the energy per sample of the node units
-/// without slow-down interpolated over z, plus each unit's slow-down (re-planned minus
-/// unslowed energy and samples) interpolated linearly between its evaluated neighbours.
-fn estimate(
-    red: &Reduction,
-    unit_e: &[Option<Vec<f64>>],
-    delta: &[Option<Replanned>],
-    evaluated: &[bool],
-    node: &[bool],
-    n: usize,
-    obj: Objective,
-) -> Sum {
-    let nu = red.units.len();
-    let dim = unit_e
-        .iter()
-        .flatten()
-        .next()
-        .map_or(FIXED + 3 * n, |v| v.len());
-    let mut total = vec![0.0; dim];
-    let mut err = 0.0;
-    let mut extra = 0.0;
-    let add = |total: &mut Vec<f64>, v: &[f64], w: f64| {
-        for (t, x) in total.iter_mut().zip(v) {
-            *t += w * x;
-        }
-    };
-    // The exact stretches and every evaluated unit: their own numbers.
-    for g in (0..nu).filter(|&u| evaluated[u]).chain([nu, nu + 1]) {
-        if let Some(e) = &unit_e[g] {
-            add(&mut total, e, 1.0);
-        }
-        if let Some(d) = &delta[g] {
-            add(&mut total, &d.e, 1.0);
-            extra += d.samples;
-        }
+/// Add `w` times `v` to `total`, element by element.
+fn add_scaled(total: &mut [f64], v: &[f64], w: f64) {
+    for (t, x) in total.iter_mut().zip(v) {
+        *t += w * x;
     }
-    let len = |u: usize| red.units[u].len() as f64;
-    for cl in &red.classes {
-        let nodes: Vec<usize> = cl.iter().copied().filter(|&u| node[u]).collect();
-        let rest: Vec<usize> = cl.iter().copied().filter(|&u| !evaluated[u]).collect();
-        if rest.is_empty() {
-            continue;
+}
+
+impl Refine {
+    /// The estimate (see the module docs): per class, the energy per sample of the node units
+    /// without slow-down interpolated over z, plus each unit's slow-down (re-planned minus
+    /// unslowed energy and samples) interpolated linearly between its evaluated neighbours.
+    fn estimate(&self, red: &Reduction, n: usize, obj: Objective) -> Sum {
+        let nu = red.units.len();
+        let dim = self
+            .unit_e
+            .iter()
+            .flatten()
+            .next()
+            .map_or(FIXED + 3 * n, |v| v.len());
+        let mut sum = Sum {
+            total: vec![0.0; dim],
+            error_j: 0.0,
+            extra_samples: 0.0,
+        };
+        // The exact stretches and every evaluated unit: their own numbers.
+        for g in (0..nu).filter(|&u| self.evaluated[u]).chain([nu, nu + 1]) {
+            if let Some(e) = &self.unit_e[g] {
+                add_scaled(&mut sum.total, e, 1.0);
+            }
+            if let Some(d) = &self.delta[g] {
+                add_scaled(&mut sum.total, &d.e, 1.0);
+                sum.extra_samples += d.samples;
+            }
         }
-        // Energy per sample of each node unit (no slow-down), over z.
+        for cl in &red.classes {
+            let rest: Vec<usize> = cl.iter().copied().filter(|&u| !self.evaluated[u]).collect();
+            if rest.is_empty() {
+                continue;
+            }
+            self.interpolate_class(red, cl, &rest, n, obj, &mut sum);
+            self.interpolate_slowdowns(red, cl, &rest, n, obj, &mut sum);
+        }
+        self.add_phase_errors(red, n, obj, &mut sum);
+        sum.error_j += summation_rounding(red.summary.samples, &self.unit_e, &sum.total, n, obj);
+        sum
+    }
+
+    /// Class `cl`'s units not evaluated (`rest`): the energy per sample of the node units
+    /// (no slow-down) interpolated over z, times each unit's samples, added to `sum`; its
+    /// error, the nested lower order's difference plus one sample's energy per unit.
+    fn interpolate_class(
+        &self,
+        red: &Reduction,
+        cl: &[usize],
+        rest: &[usize],
+        n: usize,
+        obj: Objective,
+        sum: &mut Sum,
+    ) {
+        let dim = sum.total.len();
+        let len = |u: usize| red.units[u].len() as f64;
+        let nodes: Vec<usize> = cl.iter().copied().filter(|&u| self.node[u]).collect();
         let xs: Vec<f64> = nodes.iter().map(|&u| red.z[u]).collect();
         let ys: Vec<Vec<f64>> = nodes
             .iter()
             .map(|&u| {
-                unit_e[u]
+                self.unit_e[u]
                     .as_ref()
                     .map(|e| e.iter().map(|v| v / len(u)).collect())
                     .unwrap_or_else(|| vec![0.0; dim])
@@ -1078,23 +1299,36 @@ fn estimate(
             let yl: Vec<Vec<f64>> = keep.iter().map(|&i| ys[i].clone()).collect();
             interpolated_sum(&xl, &yl, &at, &wts, dim)
         };
-        add(&mut total, &hi, 1.0);
+        add_scaled(&mut sum.total, &hi, 1.0);
         // One sample's energy per interpolated unit: the phase of unit boundaries.
         let per_sample = ys
             .iter()
             .map(|y| objective_of(y, n, obj).abs())
             .fold(0.0, f64::max);
-        err += (objective_of(&hi, n, obj) - objective_of(&lo, n, obj)).abs()
+        sum.error_j += (objective_of(&hi, n, obj) - objective_of(&lo, n, obj)).abs()
             + rest.len() as f64 * per_sample;
-        // Slow-downs: linear in z between the evaluated neighbours; the error stated per
-        // unit is the larger of their difference and half the larger slow-down.
-        let evs: Vec<usize> = cl.iter().copied().filter(|&u| evaluated[u]).collect();
-        for &u in &rest {
+    }
+
+    /// Class `cl`'s units not evaluated (`rest`): the slow-down linear in z between the
+    /// evaluated neighbours, added to `sum`; the error stated per unit is the larger of their
+    /// difference and half the larger slow-down.
+    fn interpolate_slowdowns(
+        &self,
+        red: &Reduction,
+        cl: &[usize],
+        rest: &[usize],
+        n: usize,
+        obj: Objective,
+        sum: &mut Sum,
+    ) {
+        let dim = sum.total.len();
+        let evs: Vec<usize> = cl.iter().copied().filter(|&u| self.evaluated[u]).collect();
+        for &u in rest {
             let b = evs.partition_point(|&e| red.z[e] < red.z[u]);
             let (Some(&ua), Some(&ub)) = (evs.get(b.wrapping_sub(1)), evs.get(b)) else {
                 continue;
             };
-            let (da, db) = (&delta[ua], &delta[ub]);
+            let (da, db) = (&self.delta[ua], &self.delta[ub]);
             if da.is_none() && db.is_none() {
                 continue;
             }
@@ -1104,34 +1338,33 @@ fn estimate(
                 samples: 0.0,
             };
             let (da, db) = (da.as_ref().unwrap_or(&zero), db.as_ref().unwrap_or(&zero));
-            for ((x, a), b) in total.iter_mut().zip(&da.e).zip(&db.e) {
+            for ((x, a), b) in sum.total.iter_mut().zip(&da.e).zip(&db.e) {
                 *x += (1.0 - t) * a + t * b;
             }
-            extra += (1.0 - t) * da.samples + t * db.samples;
+            sum.extra_samples += (1.0 - t) * da.samples + t * db.samples;
             let (oa, ob) = (objective_of(&da.e, n, obj), objective_of(&db.e, n, obj));
-            err += (oa - ob).abs().max(0.5 * oa.abs().max(ob.abs()));
+            sum.error_j += (oa - ob).abs().max(0.5 * oa.abs().max(ob.abs()));
         }
     }
-    // Every re-planned segment: its phase against the full evaluation, one sample's energy
-    // (the re-planned stretch starts its samples at its own first node; the full evaluation's
-    // samples there are shifted by every slow-down before them).
-    for g in 0..unit_e.len() {
-        if let (Some(_), Some(e)) = (&delta[g], &unit_e[g]) {
-            let samples = if g < nu {
-                red.units[g].len()
-            } else {
-                red.summary
-                    .samples
-                    .saturating_sub(red.units.iter().map(|u| u.len()).sum())
-            };
-            err += objective_of(e, n, obj).abs() / samples.max(1) as f64;
+
+    /// Every re-planned segment: its phase against the full evaluation, one sample's energy
+    /// (the re-planned stretch starts its samples at its own first node; the full
+    /// evaluation's samples there are shifted by every slow-down before them), added to
+    /// `sum`'s error.
+    fn add_phase_errors(&self, red: &Reduction, n: usize, obj: Objective, sum: &mut Sum) {
+        let nu = red.units.len();
+        for g in 0..self.unit_e.len() {
+            if let (Some(_), Some(e)) = (&self.delta[g], &self.unit_e[g]) {
+                let samples = if g < nu {
+                    red.units[g].len()
+                } else {
+                    red.summary
+                        .samples
+                        .saturating_sub(red.units.iter().map(|u| u.len()).sum())
+                };
+                sum.error_j += objective_of(e, n, obj).abs() / samples.max(1) as f64;
+            }
         }
-    }
-    err += summation_rounding(red.summary.samples, unit_e, &total, n, obj);
-    Sum {
-        total,
-        error_j: err,
-        extra_samples: extra,
     }
 }
 
@@ -1225,13 +1458,10 @@ fn rates(
 /// and collisions on every `check_every`-th. `at(i)`: the sample of the job's plan that sample
 /// `i` stands for (its index there, for the beads laid, and the place reported), its
 /// position (part frame) and whether it is checked in full.
-#[allow(clippy::too_many_arguments)]
 fn check(
     ctx: &Ctx<'_, '_, '_>,
     poses: &mut Vec<parry3d_f64::math::Isometry<f64>>,
-    qs: &[f64],
-    qd: &[f64],
-    qdd: &[f64],
+    js: &Joints<'_>,
     idx: impl Iterator<Item = usize>,
     at: &dyn Fn(usize) -> (usize, V3, bool),
     margins: &mut Margins,
@@ -1243,6 +1473,7 @@ fn check(
     let o = &ev.feasibility;
     let motion = &*job.plan.motion;
     let beads = &ev.beads;
+    let (qs, qd, qdd) = (js.qs, js.qd, js.qdd);
     for i in idx {
         let q = &qs[i * n..(i + 1) * n];
         let jc = crate::evaluate::feasibility::margins::check_joint_sample(
@@ -1286,31 +1517,60 @@ fn check(
     Ok(())
 }
 
-/// Energy of the tracked samples `idx` with trapezoid weights `w(i)` (s), added to
-/// `acc[dest(i)]` (every additive quantity).
-#[allow(clippy::too_many_arguments)]
-fn integrate(
-    ctx: &Ctx<'_, '_, '_>,
-    data: &mut crate::dynamics::DynData,
-    sp: &mut crate::energy::SamplePower,
-    qs: &[f64],
-    qd: &[f64],
-    qdd: &[f64],
-    idx: impl Iterator<Item = usize>,
-    w: &dyn Fn(usize) -> f64,
-    dest: &dyn Fn(usize) -> usize,
-    at_sample: &dyn Fn(usize) -> usize,
-    acc: &mut [Option<Vec<f64>>],
-) -> std::result::Result<(), Outcome> {
-    let job = ctx.ev.job;
-    let n = job.robot.dof();
-    let dim = FIXED + 3 * n;
-    let dt = job.plan.motion.dt;
-    // Sample i's powers added into its unit's sums, in sample order (the same sums, bit for
-    // bit, however the powers were computed).
-    let mut add = |i: usize, sp: &crate::energy::SamplePower| {
-        let w = w(i);
-        let acc = acc[dest(i)].get_or_insert_with(|| vec![0.0; dim]);
+/// Joint positions and their first two derivatives of tracked samples (row-major).
+struct Joints<'t> {
+    qs: &'t [f64],
+    qd: &'t [f64],
+    qdd: &'t [f64],
+}
+
+impl Joints<'_> {
+    /// The energy model at sample `i` into `sp`; a model error is the infeasibility at its
+    /// sample of the job's plan, `at_sample(i)`.
+    #[inline]
+    fn eval(
+        &self,
+        job: &crate::evaluate::PathJob<'_>,
+        data: &mut crate::dynamics::DynData,
+        sp: &mut crate::energy::SamplePower,
+        i: usize,
+        at_sample: &dyn Fn(usize) -> usize,
+    ) -> std::result::Result<(), Outcome> {
+        let n = job.robot.dof();
+        let dt = job.plan.motion.dt;
+        energy::eval_sample(
+            &job.energy,
+            data,
+            &self.qs[i * n..(i + 1) * n],
+            &self.qd[i * n..(i + 1) * n],
+            &self.qdd[i * n..(i + 1) * n],
+            sp,
+        )
+        .map(|_| ())
+        .map_err(|e| Outcome::Infeasible(Infeasible::model_error(at_sample(i), dt, &e)))
+    }
+}
+
+/// Where the energy of tracked samples goes (see [`integrate`]).
+struct Sink<'w> {
+    /// Trapezoid weight of sample `i`, s.
+    w: &'w dyn Fn(usize) -> f64,
+    /// The sums that sample `i` is added to (an index into `acc`).
+    dest: &'w dyn Fn(usize) -> usize,
+    /// The sample of the job's plan that sample `i` stands for (errors name it).
+    at_sample: &'w dyn Fn(usize) -> usize,
+    /// The sums (every additive quantity).
+    acc: &'w mut [Option<Vec<f64>>],
+}
+
+impl Sink<'_> {
+    /// Sample `i`'s powers (`n` joints) added into its sums, in a fixed order (the same sums,
+    /// bit for bit, however the powers were computed).
+    #[inline]
+    fn add(&mut self, n: usize, i: usize, sp: &crate::energy::SamplePower) {
+        let dim = FIXED + 3 * n;
+        let w = (self.w)(i);
+        let acc = self.acc[(self.dest)(i)].get_or_insert_with(|| vec![0.0; dim]);
         acc[SUPPLY] += w * sp.p_supply;
         acc[DRIVES] += w * sp.p_drives;
         acc[REGEN] += w * sp.p_regeneration_lost;
@@ -1324,32 +1584,44 @@ fn integrate(
             acc[GEAR] += w * sp.p_gear[j];
             acc[COPPER] += w * sp.p_copper[j];
         }
-    };
-    let one = |i: usize,
-               data: &mut crate::dynamics::DynData,
-               sp: &mut crate::energy::SamplePower|
-     -> std::result::Result<(), Outcome> {
-        energy::eval_sample(
-            &job.energy,
-            data,
-            &qs[i * n..(i + 1) * n],
-            &qd[i * n..(i + 1) * n],
-            &qdd[i * n..(i + 1) * n],
-            sp,
-        )
-        .map(|_| ())
-        .map_err(|e| Outcome::Infeasible(Infeasible::model_error(at_sample(i), dt, &e)))
-    };
+    }
+}
+
+/// Energy of the tracked samples `idx` of `js`, added to `sink` sample by sample in sample
+/// order.
+fn integrate(
+    ctx: &Ctx<'_, '_, '_>,
+    data: &mut crate::dynamics::DynData,
+    sp: &mut crate::energy::SamplePower,
+    js: &Joints<'_>,
+    idx: impl Iterator<Item = usize>,
+    sink: &mut Sink<'_>,
+) -> std::result::Result<(), Outcome> {
+    let job = ctx.ev.job;
+    let n = job.robot.dof();
     let level = crate::simd::level();
     if level == crate::simd::Level::Scalar || !job.energy.batchable() {
         for i in idx {
-            one(i, data, sp)?;
-            add(i, sp);
+            js.eval(job, data, sp, i, sink.at_sample)?;
+            sink.add(n, i, sp);
         }
         return Ok(());
     }
-    // Runs of up to LANES consecutive samples in lockstep (energy::eval_rows: each sample's
-    // powers bit for bit the per-sample path's), added sample by sample as above.
+    integrate_lanes(job, data, sp, js, idx, sink, level)
+}
+
+/// [`integrate`] in runs of up to LANES consecutive samples in lockstep (energy::eval_rows:
+/// each sample's powers bit for bit the per-sample path's), added sample by sample.
+fn integrate_lanes(
+    job: &crate::evaluate::PathJob<'_>,
+    data: &mut crate::dynamics::DynData,
+    sp: &mut crate::energy::SamplePower,
+    js: &Joints<'_>,
+    idx: impl Iterator<Item = usize>,
+    sink: &mut Sink<'_>,
+    level: crate::simd::Level,
+) -> std::result::Result<(), Outcome> {
+    let n = job.robot.dof();
     let mut lanes = energy::PowerLanes::default();
     let mut inputs = energy::LaneInputs::default();
     let mut idx = idx.peekable();
@@ -1360,10 +1632,10 @@ fn integrate(
             count += 1;
         }
         let rows = energy::Rows {
-            q: &qs[i0 * n..],
+            q: &js.qs[i0 * n..],
             sincos: None,
-            qd: &qd[i0 * n..],
-            qdd: &qdd[i0 * n..],
+            qd: &js.qd[i0 * n..],
+            qdd: &js.qdd[i0 * n..],
         };
         if energy::eval_rows(
             &job.energy,
@@ -1377,13 +1649,13 @@ fn integrate(
         .is_ok()
         {
             for l in 0..count {
-                add(i0 + l, &lanes.sample(l));
+                sink.add(n, i0 + l, &lanes.sample(l));
             }
         } else {
             // The error at its own sample, as the per-sample path reports it.
             for i in i0..i0 + count {
-                one(i, data, sp)?;
-                add(i, sp);
+                js.eval(job, data, sp, i, sink.at_sample)?;
+                sink.add(n, i, sp);
             }
         }
     }
@@ -1410,98 +1682,130 @@ fn unreachable_at(
     })
 }
 
-/// Track, check and integrate the samples `r` of the job's plan (a union of whole segments:
-/// units and the exact stretches). A joint rate limit exceeded on a segment is noted in
-/// `binds` (that segment is then re-planned, see [`replan`]); the feasibility checks go on.
-#[allow(clippy::too_many_arguments)]
-fn window(
+/// Track the samples `r` of the job's plan (and a few on each side, for the derivatives)
+/// into `qs`, from the tracked sample at or before them: that sample.
+fn track_window(
     ctx: &Ctx<'_, '_, '_>,
-    sc: &mut Scratch<'_>,
-    r: Range<usize>,
-    margins: &mut Margins,
-    seg_of: &dyn Fn(usize) -> usize,
-    unit_e: &mut [Option<Vec<f64>>],
-    peaks: &mut [Option<Vec<f64>>],
-    binds: &mut [Option<String>],
-) -> std::result::Result<(), Outcome> {
+    sc: &Scratch<'_>,
+    r: &Range<usize>,
+    qs: &mut Vec<f64>,
+) -> std::result::Result<usize, Outcome> {
     const PAD: usize = 4;
-    let ev = ctx.ev;
-    let job = ev.job;
-    let model = job.robot;
-    let n = model.dof();
+    let job = ctx.ev.job;
+    let n = job.robot.dof();
     let motion = &*job.plan.motion;
     let m = motion.p.len();
-    let dt = motion.dt;
-    let every = ev.feasibility.check_every.max(1);
     let lo = r.start.saturating_sub(PAD);
     let hi = (r.end + PAD).min(m);
     // Start at the tracked sample at or before `lo`.
     let ti = (lo / ctx.stride).min(ctx.thin_idx.len() - 1);
     let t0 = ctx.thin_idx[ti];
-    let mut qs = std::mem::take(&mut sc.red.qs);
     // IK near the previous sample's answer, sample by sample from the tracked one (the
     // lockstep batches of track_near: the same answers and first failure).
-    if let Err((i, tip, reason)) = crate::timing::joint::track_near(
+    crate::timing::joint::track_near(
         &sc.solver,
         &ctx.rot,
         hi - t0,
         |i| ctx.frame.apply(&motion.p[t0 + i]),
         &sc.red.thin[ti * n..(ti + 1) * n],
-        &mut qs,
-    ) {
+        qs,
+    )
+    .map_err(|(i, tip, reason)| Outcome::Infeasible(unreachable_at(job, t0 + i, tip, reason)))?;
+    Ok(t0)
+}
+
+impl Refine {
+    /// Track, check and integrate the samples `r` of the job's plan (a union of whole
+    /// segments: units and the exact stretches). A joint rate limit exceeded on a segment is
+    /// noted in `binds` (that segment is then re-planned, see [`Replanner`]); the feasibility
+    /// checks go on.
+    fn window(
+        &mut self,
+        ctx: &Ctx<'_, '_, '_>,
+        sc: &mut Scratch<'_>,
+        r: Range<usize>,
+        segs: &Segments<'_>,
+    ) -> std::result::Result<(), Outcome> {
+        let job = ctx.ev.job;
+        let n = job.robot.dof();
+        let motion = &*job.plan.motion;
+        let m = motion.p.len();
+        let dt = motion.dt;
+        let every = ctx.ev.feasibility.check_every.max(1);
+        let mut qs = std::mem::take(&mut sc.red.qs);
+        let t0 = match track_window(ctx, sc, &r, &mut qs) {
+            Ok(t0) => t0,
+            Err(e) => {
+                sc.red.qs = qs;
+                return Err(e);
+            }
+        };
+        let (qd, qdd, qddd) = crate::timing::joint::differentiate(&qs, n, dt);
+        self.note_rates(ctx, &r, t0, segs, [&qd, &qdd, &qddd]);
+        let js = Joints {
+            qs: &qs,
+            qd: &qd,
+            qdd: &qdd,
+        };
+        let res = check(
+            ctx,
+            &mut sc.poses,
+            &js,
+            (r.start - t0)..(r.end - t0),
+            &|i| {
+                let k = i + t0;
+                (k, motion.p[k], k.is_multiple_of(every) || k + 1 == m)
+            },
+            &mut self.margins,
+        )
+        .and_then(|()| {
+            integrate(
+                ctx,
+                &mut sc.data,
+                &mut sc.sp,
+                &js,
+                (r.start - t0)..(r.end - t0),
+                &mut Sink {
+                    w: &|i| crate::numerics::trapezoid_weight(i + t0, m, dt),
+                    dest: &|i| segs.seg_of(i + t0),
+                    at_sample: &|i| i + t0,
+                    acc: &mut self.unit_e,
+                },
+            )
+        });
         sc.red.qs = qs;
-        return Err(Outcome::Infeasible(unreachable_at(
-            job,
-            t0 + i,
-            tip,
-            reason,
-        )));
+        res
     }
-    let (qd, qdd, qddd) = crate::timing::joint::differentiate(&qs, n, dt);
-    let check_jerk = job.joint.check_jerk;
-    for k in r.clone() {
-        let g = seg_of(k);
-        let peak = peaks[g].get_or_insert_with(|| vec![0.0; 3 * n]);
-        if let Some((j, kind, ratio)) = rates(model, check_jerk, &qd, &qdd, &qddd, k - t0, peak) {
-            if binds[g].is_none() {
-                binds[g] = Some(format!(
-                    "joint {} exceeds its {kind:?} limit ({:.0} %) at sample {k}",
-                    j + 1,
-                    ratio * 100.0
-                ));
+
+    /// The joint rate demands of the samples `r` (derivatives `d` of the samples tracked from
+    /// `t0`: velocity, acceleration, jerk, row-major) into each segment's peaks, and the first
+    /// sample where a limit binds into its `binds`.
+    fn note_rates(
+        &mut self,
+        ctx: &Ctx<'_, '_, '_>,
+        r: &Range<usize>,
+        t0: usize,
+        segs: &Segments<'_>,
+        d: [&[f64]; 3],
+    ) {
+        let model = ctx.ev.job.robot;
+        let n = model.dof();
+        let check_jerk = ctx.ev.job.joint.check_jerk;
+        for k in r.clone() {
+            let g = segs.seg_of(k);
+            let peak = self.peaks[g].get_or_insert_with(|| vec![0.0; 3 * n]);
+            if let Some((j, kind, ratio)) = rates(model, check_jerk, d[0], d[1], d[2], k - t0, peak)
+            {
+                if self.binds[g].is_none() {
+                    self.binds[g] = Some(format!(
+                        "joint {} exceeds its {kind:?} limit ({:.0} %) at sample {k}",
+                        j + 1,
+                        ratio * 100.0
+                    ));
+                }
             }
         }
     }
-    let res = check(
-        ctx,
-        &mut sc.poses,
-        &qs,
-        &qd,
-        &qdd,
-        (r.start - t0)..(r.end - t0),
-        &|i| {
-            let k = i + t0;
-            (k, motion.p[k], k.is_multiple_of(every) || k + 1 == m)
-        },
-        margins,
-    )
-    .and_then(|()| {
-        integrate(
-            ctx,
-            &mut sc.data,
-            &mut sc.sp,
-            &qs,
-            &qd,
-            &qdd,
-            (r.start - t0)..(r.end - t0),
-            &|i| crate::numerics::trapezoid_weight(i + t0, m, dt),
-            &|i| seg_of(i + t0),
-            &|i| i + t0,
-            unit_e,
-        )
-    });
-    sc.red.qs = qs;
-    res
 }
 
 /// One stretch of the path re-planned on its own (see [`Replanner`]): a segment's samples
@@ -1537,7 +1841,7 @@ struct Stretch {
 /// ramp, the ramp's acceleration is lowered ([`crate::timing::joint::Slowing`]), and the
 /// stretch is planned again. A stretch still over a limit after `max_iterations` plans makes
 /// the placement infeasible. Only the evaluated segments are re-planned: the slow-down of the
-/// layers between is interpolated ([`estimate`]).
+/// layers between is interpolated ([`Refine::estimate`]).
 struct Replanner {
     popts: crate::timing::ProfileOptions,
     stretches: Vec<Stretch>,
@@ -1630,15 +1934,12 @@ impl Stretch {
         sc: &mut Scratch<'_>,
         popts: &crate::timing::ProfileOptions,
     ) -> std::result::Result<Planned, Outcome> {
-        use crate::timing::LimitKind as K;
         self.rounds += 1;
-        let red = ctx.red;
         let job = ctx.ev.job;
         let model = job.robot;
         let n = model.dof();
         let motion = &*job.plan.motion;
         let dt = motion.dt;
-        let jopts = &job.joint;
         let last = job.plan.nodes.s.len() - 1;
         let v = self.slowing.speeds(&self.nodes, popts.accel);
         let mo = crate::timing::profile::plan_at_speeds(&job.pieces, &self.nodes, &v, popts);
@@ -1667,9 +1968,38 @@ impl Stretch {
             return Err(Outcome::Infeasible(unreachable_at(job, k, tip, reason)));
         }
         let (qd, qdd, qddd) = crate::timing::joint::differentiate(&qs, n, dt);
+        let viol = self.excesses(ctx, &mo, [&qd, &qdd, &qddd], lo..hi);
+        Ok(Planned {
+            mo,
+            v,
+            qs,
+            qd,
+            qdd,
+            clean: lo..hi,
+            viol,
+        })
+    }
+
+    /// Every limit exceeded on the samples `clean` of plan `mo` near the segment, as the full
+    /// evaluation lists them (derivatives `d`: velocity, acceleration, jerk, row-major).
+    fn excesses(
+        &self,
+        ctx: &Ctx<'_, '_, '_>,
+        mo: &CartesianMotion,
+        d: [&[f64]; 3],
+        clean: Range<usize>,
+    ) -> Vec<crate::timing::joint::Excess> {
+        use crate::timing::LimitKind as K;
+        let red = ctx.red;
+        let job = ctx.ev.job;
+        let model = job.robot;
+        let n = model.dof();
+        let dt = job.plan.motion.dt;
+        let jopts = &job.joint;
+        let [qd, qdd, qddd] = d;
         let near = |x: f64| x >= self.s_a - 0.5 * red.pad_m && x < self.s_b + 0.5 * red.pad_m;
         let mut viol = Vec::new();
-        for i in lo..hi {
+        for i in clean {
             if !near(mo.s[i]) {
                 continue;
             }
@@ -1706,15 +2036,7 @@ impl Stretch {
                 }
             }
         }
-        Ok(Planned {
-            mo,
-            v,
-            qs,
-            qd,
-            qdd,
-            clean: lo..hi,
-            viol,
-        })
+        viol
     }
 
     /// Feasibility and energy of the segment's samples of a plan without violations.
@@ -1737,12 +2059,15 @@ impl Stretch {
         let in_seg = |i: usize| pl.clean.contains(&i) && mo.s[i] >= self.s_a && mo.s[i] < self.s_b;
         let idx = || (0..len).filter(|&i| in_seg(i));
         let k_of = |i: usize| Stretch::k_of(motion, mo, i);
+        let js = Joints {
+            qs: &pl.qs,
+            qd: &pl.qd,
+            qdd: &pl.qdd,
+        };
         check(
             ctx,
             &mut sc.poses,
-            &pl.qs,
-            &pl.qd,
-            &pl.qdd,
+            &js,
             idx(),
             &|i| {
                 (
@@ -1758,20 +2083,20 @@ impl Stretch {
             ctx,
             &mut sc.data,
             &mut sc.sp,
-            &pl.qs,
-            &pl.qd,
-            &pl.qdd,
+            &js,
             idx(),
-            &|i| {
-                if (i == 0 && i0 == 0) || (i + 1 == len && i1 == last) {
-                    0.5 * dt
-                } else {
-                    dt
-                }
+            &mut Sink {
+                w: &|i| {
+                    if (i == 0 && i0 == 0) || (i + 1 == len && i1 == last) {
+                        0.5 * dt
+                    } else {
+                        dt
+                    }
+                },
+                dest: &|_| 0,
+                at_sample: &k_of,
+                acc: &mut acc,
             },
-            &|_| 0,
-            &k_of,
-            &mut acc,
         )?;
         let [e] = acc;
         Ok(Replanned {

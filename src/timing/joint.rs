@@ -276,24 +276,7 @@ pub(crate) fn track_with(
     pre: Option<&[TipLanes]>,
 ) -> Result<(), TimingFailure> {
     let model = solver.model;
-    let n = model.dof();
     let part_to_base = at.frame();
-    let Buffers {
-        qs,
-        tcp,
-        sincos,
-        transient_sincos,
-        ..
-    } = buf;
-    let transient = *transient_sincos;
-    qs.clear();
-    tcp.clear();
-    sincos.clear();
-    // The sample `sincos` starts at (every sample before it checked and its sines dropped,
-    // with `transient`).
-    let mut base = 0usize;
-    let mut sc = [0.0; 2 * crate::kinematics::MAX_DOF];
-    let mut prev = JointVec::from_slice(q0);
     // A step larger than this cannot be a continuous motion of one configuration.
     let mut max_step = [f64::INFINITY; crate::kinematics::MAX_DOF];
     for (m, j) in max_step.iter_mut().zip(&model.joints) {
@@ -309,294 +292,455 @@ pub(crate) fn track_with(
     // LANES samples: the same verdicts and sines bit for bit, and a failing check is reported
     // at its sample ahead of any later failure, exactly as the per-sample check would.
     let level = crate::simd::level();
-    let batched = level != crate::simd::Level::Scalar && solver.batch_checkable();
-    let unreachable = |k: usize, tip: V3, reason| {
-        let mi = pieces[motion.piece[k]].move_index;
-        TimingFailure::Unreachable {
-            sample: k,
-            t: k as f64 * motion.dt,
-            point: tip,
-            line: moves_line(mi),
-            reason,
-            file: std::sync::Arc::default(),
-        }
+    let mut tr = Tracking {
+        solver,
+        pieces,
+        moves_line,
+        motion,
+        n: model.dof(),
+        rot,
+        path_target: solver.path_target(&rot),
+        max_step,
+        level,
+        batched: level != crate::simd::Level::Scalar && solver.batch_checkable(),
+        transient: buf.transient_sincos,
+        sc: [0.0; 2 * crate::kinematics::MAX_DOF],
+        qs: std::mem::take(&mut buf.qs),
+        tcp: std::mem::take(&mut buf.tcp),
+        sincos: std::mem::take(&mut buf.sincos),
+        base: 0,
+        prev: JointVec::from_slice(q0),
     };
-    let path_target = solver.path_target(&rot);
-    // Check the samples not yet checked, below `upto`.
-    let check_pending =
-        |qs: &[f64], tcp: &[V3], sincos: &mut Vec<f64>, base: usize, upto: usize| {
-            let mut k0 = base + sincos.len() / (2 * n);
-            while k0 < upto {
-                let count = crate::simd::LANES.min(upto - k0);
-                let mut qb = [[0.0; crate::simd::LANES]; crate::kinematics::MAX_DOF];
-                for l in 0..count {
-                    for (lanes, v) in qb.iter_mut().zip(&qs[(k0 + l) * n..(k0 + l + 1) * n]) {
-                        lanes[l] = *v;
-                    }
+    tr.qs.clear();
+    tr.tcp.clear();
+    tr.sincos.clear();
+    let res = if tr.batched {
+        tr.run_batched(&part_to_base, pre)
+    } else {
+        tr.run_per_sample(&part_to_base)
+    };
+    buf.qs = tr.qs;
+    buf.tcp = tr.tcp;
+    buf.sincos = tr.sincos;
+    res
+}
+
+/// The state of [`track_with`] along one path: what holds for every sample, and the buffers
+/// being filled.
+struct Tracking<'t, 's> {
+    solver: &'t IkSolver<'s>,
+    pieces: &'t [Piece],
+    moves_line: &'t dyn Fn(usize) -> usize,
+    motion: &'t CartesianMotion,
+    /// Joints of the arm.
+    n: usize,
+    /// The nozzle's orientation in the base frame (the same at every sample).
+    rot: crate::math::M3,
+    path_target: crate::kinematics::PathTarget,
+    /// Largest step per sample of a continuous motion of one configuration, per joint.
+    max_step: [f64; crate::kinematics::MAX_DOF],
+    level: crate::simd::Level,
+    /// Whether the IK runs in lockstep batches with its FK re-check deferred.
+    batched: bool,
+    /// Keep no sines and cosines past the batch whose FK re-check needs them.
+    transient: bool,
+    /// The sines and cosines of one sample's answer (per-sample path).
+    sc: [f64; 2 * crate::kinematics::MAX_DOF],
+    /// Joint positions, row-major.
+    qs: Vec<f64>,
+    /// Tips in the base frame, m.
+    tcp: Vec<V3>,
+    /// The sines and cosines of the samples checked from `base` on.
+    sincos: Vec<f64>,
+    /// The sample `sincos` starts at (every sample before it checked and its sines dropped,
+    /// with `transient`).
+    base: usize,
+    /// The last sample's answer.
+    prev: JointVec,
+}
+
+/// Lane `l`'s tip of the batch tips `tp` (the same bits as the placement's frame applied).
+#[inline]
+fn lane_tip(tp: &TipLanes, l: usize) -> V3 {
+    V3::new(tp[0][l], tp[1][l], tp[2][l])
+}
+
+/// The base-frame tips of `count` samples of `motion` from `k0`, lane by lane into `out`
+/// (lanes from `count` on left as they were).
+#[inline]
+fn tips_into(
+    motion: &CartesianMotion,
+    part_to_base: &Frame,
+    k0: usize,
+    count: usize,
+    out: &mut TipLanes,
+) {
+    for (l, pk) in motion.p[k0..k0 + count].iter().enumerate() {
+        let t = part_to_base.apply(pk);
+        (out[0][l], out[1][l], out[2][l]) = (t.x, t.y, t.z);
+    }
+}
+
+impl Tracking<'_, '_> {
+    /// The tip `tip` at sample `k` is out of reach: the failure, naming the move's line.
+    fn unreachable(&self, k: usize, tip: V3, reason: IkFailure) -> TimingFailure {
+        unreachable_sample(self.pieces, self.moves_line, self.motion, k, tip, reason)
+    }
+
+    /// Check the samples not yet checked, below `upto`, in lockstep batches.
+    #[inline]
+    fn check_pending(&mut self, upto: usize) -> Result<(), TimingFailure> {
+        use crate::simd::LANES;
+        let n = self.n;
+        let base = self.base;
+        let mut k0 = base + self.sincos.len() / (2 * n);
+        while k0 < upto {
+            let count = LANES.min(upto - k0);
+            let mut qb = [[0.0; LANES]; crate::kinematics::MAX_DOF];
+            for l in 0..count {
+                for (lanes, v) in qb.iter_mut().zip(&self.qs[(k0 + l) * n..(k0 + l + 1) * n]) {
+                    lanes[l] = *v;
                 }
-                sincos.resize((k0 + count - base) * 2 * n, 0.0);
-                solver
-                    .check_lanes(
-                        count,
-                        &qb,
-                        &path_target,
-                        &tcp[k0..k0 + count],
-                        &mut sincos[(k0 - base) * 2 * n..],
-                        level,
-                    )
-                    .map_err(|(l, reason)| {
-                        sincos.truncate((k0 - base) * 2 * n);
-                        unreachable(k0 + l, tcp[k0 + l], reason)
-                    })?;
-                k0 += count;
             }
-            Ok::<(), TimingFailure>(())
+            self.sincos.resize((k0 + count - base) * 2 * n, 0.0);
+            if let Err((l, reason)) = self.solver.check_lanes(
+                count,
+                &qb,
+                &self.path_target,
+                &self.tcp[k0..k0 + count],
+                &mut self.sincos[(k0 - base) * 2 * n..],
+                self.level,
+            ) {
+                self.sincos.truncate((k0 - base) * 2 * n);
+                return Err(self.unreachable(k0 + l, self.tcp[k0 + l], reason));
+            }
+            k0 += count;
+        }
+        Ok(())
+    }
+
+    /// One sample's answer by IkSolver::take_near from the batch `chunk` (batched) or solved
+    /// with its check (per sample), its step checked; appended to the buffers.
+    #[inline]
+    fn sample(
+        &mut self,
+        k: usize,
+        tip: V3,
+        chunk: Option<&crate::kinematics::opw::BranchBatch>,
+    ) -> Result<(), TimingFailure> {
+        let n = self.n;
+        let target = Frame {
+            rot: self.rot,
+            pos: tip,
         };
-    // One sample's answer by IkSolver::take_near from the batch `chunk` (batched) or solved
-    // with its check (per sample), its step checked; appended to the buffers.
-    let mut sample = |k: usize,
-                      tip: V3,
-                      chunk: Option<&crate::kinematics::opw::BranchBatch>,
-                      prev: &mut JointVec,
-                      qs: &mut Vec<f64>,
-                      tcp: &mut Vec<V3>,
-                      sincos: &mut Vec<f64>,
-                      base: usize|
-     -> Result<(), TimingFailure> {
-        let target = Frame { rot, pos: tip };
-        let mi = pieces[motion.piece[k]].move_index;
-        let solved = if batched {
+        let solved = if self.batched {
             match chunk {
-                Some(b) => solver.take_near(b, k % crate::simd::LANES, &target, prev),
-                None => solver.solve_near_unchecked(&target, prev),
+                Some(b) => self
+                    .solver
+                    .take_near(b, k % crate::simd::LANES, &target, &self.prev),
+                None => self.solver.solve_near_unchecked(&target, &self.prev),
             }
         } else {
-            solver.solve_near_with_sincos(&target, prev, &mut sc[..2 * n])
+            self.solver
+                .solve_near_with_sincos(&target, &self.prev, &mut self.sc[..2 * n])
         };
         let q = match solved {
             Ok(q) => q,
             Err(reason) => {
-                if batched {
-                    check_pending(qs, tcp, sincos, base, k)?;
+                if self.batched {
+                    self.check_pending(k)?;
                 }
-                return Err(unreachable(k, tip, reason));
+                return Err(self.unreachable(k, tip, reason));
             }
         };
+        self.check_step(k, &target, &q)?;
+        self.qs.extend_from_slice(&q[..n]);
+        self.tcp.push(tip);
+        self.prev = q;
+        if !self.batched && !self.transient {
+            self.sincos.extend_from_slice(&self.sc[..2 * n]);
+        }
+        Ok(())
+    }
+
+    /// The step from the last answer to `q` at sample `k` (tool target `target`): a joint
+    /// that moves more than its largest step is a configuration change.
+    #[inline]
+    fn check_step(&mut self, k: usize, target: &Frame, q: &JointVec) -> Result<(), TimingFailure> {
+        let n = self.n;
+        let tip = target.pos;
         // The first joint whose step is too large (none: the common case, found in one
         // pass over the joints).
         // All MAX_DOF slots at once: beyond the robot's joints both vectors hold zeros and
         // the step limit is +inf.
         let jump = k > 0 && {
-            let (a, b) = (q.padded(), prev.padded());
+            let (a, b) = (q.padded(), self.prev.padded());
             let mut any = 0u8;
             for j in 0..crate::kinematics::MAX_DOF {
-                any |= u8::from((a[j] - b[j]).abs() > max_step[j]);
+                any |= u8::from((a[j] - b[j]).abs() > self.max_step[j]);
             }
             any != 0
         };
-        if jump {
-            for j in 0..n {
-                let d = (q[j] - prev[j]).abs();
-                if d > max_step[j] {
-                    if batched {
-                        // The per-sample path checked this sample's answer before its step.
-                        check_pending(qs, tcp, sincos, base, k)?;
-                        solver
-                            .check_with_sincos(&target, &q, &mut sc[..2 * n])
-                            .map_err(|reason| unreachable(k, tip, reason))?;
-                    }
-                    return Err(TimingFailure::ConfigurationChange {
-                        sample: k,
-                        t: k as f64 * motion.dt,
-                        point: tip,
-                        line: moves_line(mi),
-                        file: std::sync::Arc::default(),
-                        joint: j,
-                        jump: d,
-                    });
-                }
-            }
+        if !jump {
+            return Ok(());
         }
-        qs.extend_from_slice(&q[..n]);
-        tcp.push(tip);
-        *prev = q;
-        if !batched && !transient {
-            sincos.extend_from_slice(&sc[..2 * n]);
+        for j in 0..n {
+            let d = (q[j] - self.prev[j]).abs();
+            if d > self.max_step[j] {
+                if self.batched {
+                    // The per-sample path checked this sample's answer before its step.
+                    self.check_pending(k)?;
+                    self.solver
+                        .check_with_sincos(target, q, &mut self.sc[..2 * n])
+                        .map_err(|reason| self.unreachable(k, tip, reason))?;
+                }
+                let mi = self.pieces[self.motion.piece[k]].move_index;
+                return Err(TimingFailure::ConfigurationChange {
+                    sample: k,
+                    t: k as f64 * self.motion.dt,
+                    point: tip,
+                    line: (self.moves_line)(mi),
+                    file: std::sync::Arc::default(),
+                    joint: j,
+                    jump: d,
+                });
+            }
         }
         Ok(())
-    };
-    if !batched {
-        for (k, p) in motion.p.iter().enumerate() {
-            sample(
-                k,
-                part_to_base.apply(p),
-                None,
-                &mut prev,
-                qs,
-                tcp,
-                sincos,
-                0,
-            )?;
+    }
+
+    /// Every sample solved with its check, one by one.
+    fn run_per_sample(&mut self, part_to_base: &Frame) -> Result<(), TimingFailure> {
+        for (k, p) in self.motion.p.iter().enumerate() {
+            self.sample(k, part_to_base.apply(p), None)?;
         }
-        return Ok(());
+        Ok(())
     }
-    // Batched: the closed form of the next LANES samples in lockstep; the leading lanes that
-    // provably continue one another unchanged (IkSolver::continuing_lanes: what take_near
-    // would return, within the step limits) are taken at once, the rest one by one with
-    // take_near exactly as solve_near would answer. Every sample of the batch is FK-checked
-    // before the next batch (in lockstep; straight from the lanes when all were taken at
-    // once), so a failing check is reported at its sample ahead of any later failure.
-    use crate::simd::LANES;
-    let len = motion.p.len();
-    // Exactly: a re-planned, longer path's buffers would otherwise double.
-    qs.reserve_exact(len * n);
-    tcp.reserve_exact(len);
-    if !transient {
-        sincos.reserve_exact(len * 2 * n);
-    }
-    // The batch's tips lane by lane when computed here (lanes from count on: stale,
-    // ignored).
-    let mut tp_now = [[0.0; LANES]; 3];
-    let mut k0 = 0;
-    // The branch of prev, when the last batch's lanes all continued one another.
-    let mut known: Option<crate::kinematics::Branch> = None;
-    let mut cont = crate::kinematics::Continuing::new();
-    // The batches of the path, overwritten batch by batch (not moved): the current one is
-    // batches[cur]; on AVX-512 two are solved in one lockstep pass (cheaper than two,
-    // opw::solve_branch_pair_into), the second ahead with the first's branch, and taken by
-    // IkSolver::presolved_or_solve (exactly the batch solved then) when its turn comes. Not on
-    // AVX2: 16 lanes are 4 registers of 16 per value there, and the spills cost more than the
-    // overlap gains (placement bench: 140-144 -> 147-149 ns/sample).
-    let mut batches = [crate::kinematics::opw::BranchBatch::default(); 2];
-    let pairs = level == crate::simd::Level::Avx512;
-    // Whether batches[1 - cur] holds the next batch, solved ahead.
-    let mut ahead = false;
-    let mut cur = 0;
-    let mut tp_next = [[0.0; LANES]; 3];
-    // The tips computed before, when they cover the whole path (k0 is a multiple of LANES).
-    let pre = pre.filter(|t| t.len() * LANES >= len);
-    while k0 < len {
-        let count = LANES.min(len - k0);
-        // The tips lane by lane: the ones computed before (borrowed, not copied), or now.
-        let tp: &TipLanes = match pre {
-            Some(pre) => &pre[k0 / LANES],
-            None => {
-                for (l, pk) in motion.p[k0..k0 + count].iter().enumerate() {
-                    let t = part_to_base.apply(pk);
-                    (tp_now[0][l], tp_now[1][l], tp_now[2][l]) = (t.x, t.y, t.z);
-                }
-                &tp_now
-            }
-        };
-        // Lane l's tip (the same bits as part_to_base.apply).
-        let tip = |l: usize| V3::new(tp[0][l], tp[1][l], tp[2][l]);
-        let solved = if ahead {
-            ahead = false;
-            cur = 1 - cur;
-            solver.presolved_or_solve(
-                &path_target,
-                tp,
-                count,
-                &prev,
-                known.take(),
-                level,
-                &mut batches[cur],
-            )
-        } else if pairs && k0 + LANES < len {
-            let count_next = LANES.min(len - k0 - LANES);
-            let tp_b: &TipLanes = match pre {
-                Some(pre) => &pre[k0 / LANES + 1],
+
+    /// Batched: the closed form of the next LANES samples in lockstep; the leading lanes that
+    /// provably continue one another unchanged (IkSolver::continuing_lanes: what take_near
+    /// would return, within the step limits) are taken at once, the rest one by one with
+    /// take_near exactly as solve_near would answer. Every sample of the batch is FK-checked
+    /// before the next batch (in lockstep; straight from the lanes when all were taken at
+    /// once), so a failing check is reported at its sample ahead of any later failure.
+    fn run_batched(
+        &mut self,
+        part_to_base: &Frame,
+        pre: Option<&[TipLanes]>,
+    ) -> Result<(), TimingFailure> {
+        use crate::simd::LANES;
+        let n = self.n;
+        let len = self.motion.p.len();
+        // Exactly: a re-planned, longer path's buffers would otherwise double.
+        self.qs.reserve_exact(len * n);
+        self.tcp.reserve_exact(len);
+        if !self.transient {
+            self.sincos.reserve_exact(len * 2 * n);
+        }
+        // The batch's tips lane by lane when computed here (lanes from count on: stale,
+        // ignored).
+        let mut tp_now = [[0.0; LANES]; 3];
+        let mut k0 = 0;
+        let mut bt = Batches::new(self.level);
+        // The tips computed before, when they cover the whole path (k0 is a multiple of LANES).
+        let pre = pre.filter(|t| t.len() * LANES >= len);
+        while k0 < len {
+            let count = LANES.min(len - k0);
+            // The tips lane by lane: the ones computed before (borrowed, not copied), or now.
+            let tp: &TipLanes = match pre {
+                Some(pre) => &pre[k0 / LANES],
                 None => {
-                    let k1 = k0 + LANES;
-                    for (l, pk) in motion.p[k1..k1 + count_next].iter().enumerate() {
-                        let t = part_to_base.apply(pk);
-                        (tp_next[0][l], tp_next[1][l], tp_next[2][l]) = (t.x, t.y, t.z);
-                    }
-                    &tp_next
+                    tips_into(self.motion, part_to_base, k0, count, &mut tp_now);
+                    &tp_now
                 }
             };
-            let (b0, b1) = batches.split_at_mut(1);
-            let pair = if cur == 0 {
-                [&mut b0[0], &mut b1[0]]
-            } else {
-                [&mut b1[0], &mut b0[0]]
-            };
-            ahead = solver.solve_near_batch_pair_lanes(
-                &path_target,
-                [tp, tp_b],
-                [count, count_next],
-                &prev,
-                known.take(),
-                level,
-                pair,
-            );
-            ahead
-        } else {
-            solver.solve_near_batch_lanes(
-                &path_target,
-                tp,
-                count,
-                &prev,
-                known.take(),
-                level,
-                &mut batches[cur],
-            )
-        };
-        let batch = &batches[cur];
-        let chunk = solved.then_some(batch);
-        cont.taken = 0;
-        if let Some(b) = chunk {
-            solver.continuing_lanes(b, count, &prev, &max_step, k0 > 0, level, &mut cont);
-        }
-        let taken = cont.taken;
-        if taken > 0 {
-            let c = &cont;
-            // The taken answers row by row (6 joints: continuing_lanes takes lanes of 6-axis
-            // arms only).
-            push_rows6(qs, &c.q, taken);
-            tcp.extend((0..taken).map(tip));
-            let mut last = JointVec::zeros(n);
-            for (j, v) in last.iter_mut().enumerate() {
-                *v = c.q[j][taken - 1];
+            let solved = bt.solve(self, part_to_base, pre, tp, k0, count);
+            let chunk = solved.then_some(&bt.batches[bt.cur]);
+            bt.cont.taken = 0;
+            if let Some(b) = chunk {
+                self.solver.continuing_lanes(
+                    b,
+                    count,
+                    &self.prev,
+                    &self.max_step,
+                    k0 > 0,
+                    self.level,
+                    &mut bt.cont,
+                );
             }
-            prev = last;
-            if taken == count && sincos.len() == (k0 - base) * 2 * n {
-                solver
-                    .check_lanes_push(
-                        count,
-                        &c.q,
-                        &path_target,
-                        // This batch's tips, just appended (every earlier sample taken).
-                        &tcp[k0..k0 + count],
-                        tp,
-                        sincos,
-                        level,
-                    )
-                    .map_err(|(l, reason)| {
-                        sincos.truncate((k0 - base) * 2 * n);
-                        unreachable(k0 + l, tip(l), reason)
-                    })?;
-                known = Some(c.branch_after);
+            let taken = bt.cont.taken;
+            if taken > 0 && self.take_continuing(&bt.cont, tp, k0, count)? {
+                bt.known = Some(bt.cont.branch_after);
                 k0 += count;
-                if transient {
-                    sincos.clear();
-                    base = k0;
+                if self.transient {
+                    self.sincos.clear();
+                    self.base = k0;
                 }
                 continue;
             }
+            for l in taken..count {
+                self.sample(k0 + l, lane_tip(tp, l), chunk)?;
+            }
+            let upto = self.tcp.len();
+            self.check_pending(upto)?;
+            k0 += count;
+            if self.transient {
+                // Every sample so far checked: its sines are not kept.
+                self.sincos.clear();
+                self.base = k0;
+            }
         }
-        for l in taken..count {
-            sample(k0 + l, tip(l), chunk, &mut prev, qs, tcp, sincos, base)?;
+        Ok(())
+    }
+
+    /// The leading lanes `c` of the batch of `count` samples from `k0` (tips `tp`) that
+    /// continue one another, appended; when they are the whole batch and every earlier sample
+    /// is checked, checked in lockstep straight from the lanes (and this says so).
+    fn take_continuing(
+        &mut self,
+        c: &crate::kinematics::Continuing,
+        tp: &TipLanes,
+        k0: usize,
+        count: usize,
+    ) -> Result<bool, TimingFailure> {
+        let n = self.n;
+        let taken = c.taken;
+        // The taken answers row by row (6 joints: continuing_lanes takes lanes of 6-axis
+        // arms only).
+        push_rows6(&mut self.qs, &c.q, taken);
+        self.tcp.extend((0..taken).map(|l| lane_tip(tp, l)));
+        let mut last = JointVec::zeros(n);
+        for (j, v) in last.iter_mut().enumerate() {
+            *v = c.q[j][taken - 1];
         }
-        check_pending(qs, tcp, sincos, base, tcp.len())?;
-        k0 += count;
-        if transient {
-            // Every sample so far checked: its sines are not kept.
-            sincos.clear();
-            base = k0;
+        self.prev = last;
+        if taken != count || self.sincos.len() != (k0 - self.base) * 2 * n {
+            return Ok(false);
+        }
+        let base = self.base;
+        self.solver
+            .check_lanes_push(
+                count,
+                &c.q,
+                &self.path_target,
+                // This batch's tips, just appended (every earlier sample taken).
+                &self.tcp[k0..k0 + count],
+                tp,
+                &mut self.sincos,
+                self.level,
+            )
+            .map_err(|(l, reason)| {
+                self.sincos.truncate((k0 - base) * 2 * n);
+                self.unreachable(k0 + l, lane_tip(tp, l), reason)
+            })?;
+        Ok(true)
+    }
+}
+
+/// The closed-form batches of the batched [`track_with`], overwritten batch by batch (not
+/// moved): the current one is `batches[cur]`; on AVX-512 two are solved in one lockstep pass
+/// (cheaper than two, opw::solve_branch_pair_into), the second ahead with the first's branch,
+/// and taken by IkSolver::presolved_or_solve (exactly the batch solved then) when its turn
+/// comes. Not on AVX2: 16 lanes are 4 registers of 16 per value there, and the spills cost
+/// more than the overlap gains (placement bench: 140-144 -> 147-149 ns/sample).
+struct Batches {
+    batches: [crate::kinematics::opw::BranchBatch; 2],
+    /// Whether two batches are solved in one pass.
+    pairs: bool,
+    /// Whether `batches[1 - cur]` holds the next batch, solved ahead.
+    ahead: bool,
+    cur: usize,
+    /// The next batch's tips lane by lane when computed here.
+    tp_next: TipLanes,
+    /// The branch of the last answer, when the last batch's lanes all continued one another.
+    known: Option<crate::kinematics::Branch>,
+    /// The leading lanes of the current batch that continue one another.
+    cont: crate::kinematics::Continuing,
+}
+
+impl Batches {
+    /// None solved yet, at SIMD level `level`.
+    fn new(level: crate::simd::Level) -> Self {
+        Batches {
+            batches: [crate::kinematics::opw::BranchBatch::default(); 2],
+            pairs: level == crate::simd::Level::Avx512,
+            ahead: false,
+            cur: 0,
+            tp_next: [[0.0; crate::simd::LANES]; 3],
+            known: None,
+            cont: crate::kinematics::Continuing::new(),
         }
     }
-    Ok(())
+
+    /// Solve the batch of `count` samples from `k0` (tips `tp`) into `batches[cur]`: taken
+    /// from the pass that solved it ahead, or solved now (with the next one on AVX-512).
+    /// Whether the closed form holds for the batch.
+    fn solve(
+        &mut self,
+        tr: &Tracking<'_, '_>,
+        part_to_base: &Frame,
+        pre: Option<&[TipLanes]>,
+        tp: &TipLanes,
+        k0: usize,
+        count: usize,
+    ) -> bool {
+        use crate::simd::LANES;
+        let len = tr.motion.p.len();
+        if self.ahead {
+            self.ahead = false;
+            self.cur = 1 - self.cur;
+            return tr.solver.presolved_or_solve(
+                &tr.path_target,
+                tp,
+                count,
+                &tr.prev,
+                self.known.take(),
+                tr.level,
+                &mut self.batches[self.cur],
+            );
+        }
+        if !(self.pairs && k0 + LANES < len) {
+            return tr.solver.solve_near_batch_lanes(
+                &tr.path_target,
+                tp,
+                count,
+                &tr.prev,
+                self.known.take(),
+                tr.level,
+                &mut self.batches[self.cur],
+            );
+        }
+        let count_next = LANES.min(len - k0 - LANES);
+        let tp_b: &TipLanes = match pre {
+            Some(pre) => &pre[k0 / LANES + 1],
+            None => {
+                tips_into(
+                    tr.motion,
+                    part_to_base,
+                    k0 + LANES,
+                    count_next,
+                    &mut self.tp_next,
+                );
+                &self.tp_next
+            }
+        };
+        let (b0, b1) = self.batches.split_at_mut(1);
+        let pair = if self.cur == 0 {
+            [&mut b0[0], &mut b1[0]]
+        } else {
+            [&mut b1[0], &mut b0[0]]
+        };
+        self.ahead = tr.solver.solve_near_batch_pair_lanes(
+            &tr.path_target,
+            [tp, tp_b],
+            [count, count_next],
+            &tr.prev,
+            self.known.take(),
+            tr.level,
+            pair,
+        );
+        self.ahead
+    }
 }
 
 /// Append the joint vectors of the first `taken` lanes of `q` (`q[j][lane]`, 6 joints, rad)
@@ -633,13 +777,11 @@ pub fn track_near(
     q0: &[f64],
     qs: &mut Vec<f64>,
 ) -> Result<(), (usize, V3, IkFailure)> {
-    use crate::kinematics::MAX_DOF;
-    use crate::simd::LANES;
     let n = solver.model.dof();
     qs.clear();
-    let mut prev = JointVec::from_slice(q0);
     let level = crate::simd::level();
     if level == crate::simd::Level::Scalar || !solver.batch_checkable() || q0.len() != n {
+        let mut prev = JointVec::from_slice(q0);
         for i in 0..len {
             let t = tip(i);
             let q = solver
@@ -651,75 +793,154 @@ pub fn track_near(
         return Ok(());
     }
     qs.reserve(len * n);
-    let target = solver.path_target(rot);
-    // No step limit: every lane's step is within it.
-    let no_step = [f64::INFINITY; MAX_DOF];
-    let mut batch = crate::kinematics::opw::BranchBatch::default();
-    let mut cont = crate::kinematics::Continuing::new();
-    // The branch of prev, when the last batch's lanes all continued one another.
-    let mut known: Option<crate::kinematics::Branch> = None;
-    // Scratch for the re-check's sines and cosines (not kept).
-    let mut sincos = [0.0; LANES * 2 * MAX_DOF];
+    let mut tr = NearTracker {
+        solver,
+        rot: *rot,
+        target: solver.path_target(rot),
+        level,
+        n,
+        prev: JointVec::from_slice(q0),
+        no_step: [f64::INFINITY; crate::kinematics::MAX_DOF],
+        batch: crate::kinematics::opw::BranchBatch::default(),
+        cont: crate::kinematics::Continuing::new(),
+        known: None,
+        sincos: [0.0; crate::simd::LANES * 2 * crate::kinematics::MAX_DOF],
+    };
     let mut k0 = 0;
     while k0 < len {
-        let count = LANES.min(len - k0);
-        let mut tips = [V3::zeros(); LANES];
-        let mut tp = [[0.0; LANES]; 3];
+        let count = crate::simd::LANES.min(len - k0);
+        let mut lanes = NearLanes {
+            tips: [V3::zeros(); crate::simd::LANES],
+            tp: [[0.0; crate::simd::LANES]; 3],
+            qb: [[0.0; crate::simd::LANES]; crate::kinematics::MAX_DOF],
+        };
         for l in 0..count {
             let t = tip(k0 + l);
-            tips[l] = t;
-            (tp[0][l], tp[1][l], tp[2][l]) = (t.x, t.y, t.z);
+            lanes.tips[l] = t;
+            (lanes.tp[0][l], lanes.tp[1][l], lanes.tp[2][l]) = (t.x, t.y, t.z);
         }
+        tr.solve_batch(&mut lanes, k0, count)?;
+        if n == 6 {
+            push_rows6(qs, &lanes.qb, count);
+        } else {
+            for l in 0..count {
+                qs.extend(lanes.qb.iter().take(n).map(|row| row[l]));
+            }
+        }
+        k0 += count;
+    }
+    Ok(())
+}
+
+/// The state of [`track_near`]'s lockstep batches along one path.
+struct NearTracker<'t, 's> {
+    solver: &'t IkSolver<'s>,
+    /// The nozzle's orientation in the base frame.
+    rot: crate::math::M3,
+    target: crate::kinematics::PathTarget,
+    level: crate::simd::Level,
+    /// Joints of the arm.
+    n: usize,
+    /// The last sample's answer.
+    prev: JointVec,
+    /// No step limit: every lane's step is within it.
+    no_step: [f64; crate::kinematics::MAX_DOF],
+    batch: crate::kinematics::opw::BranchBatch,
+    cont: crate::kinematics::Continuing,
+    /// The branch of prev, when the last batch's lanes all continued one another.
+    known: Option<crate::kinematics::Branch>,
+    /// Scratch for the re-check's sines and cosines (not kept).
+    sincos: [f64; crate::simd::LANES * 2 * crate::kinematics::MAX_DOF],
+}
+
+/// One batch of [`track_near`]: its tips (as points and lane by lane) and its answers joint
+/// by joint (rows beyond the robot's joints: 0).
+struct NearLanes {
+    tips: [V3; crate::simd::LANES],
+    tp: TipLanes,
+    qb: [[f64; crate::simd::LANES]; crate::kinematics::MAX_DOF],
+}
+
+/// The first `taken` lanes of `cont`, which continue one another, into `qb` (`n` joints):
+/// the last of them, the answer to continue from.
+fn take_continuing(
+    cont: &crate::kinematics::Continuing,
+    n: usize,
+    qb: &mut [[f64; crate::simd::LANES]; crate::kinematics::MAX_DOF],
+    taken: usize,
+) -> JointVec {
+    // continuing_lanes takes lanes of 6-axis arms only.
+    for (row, c) in qb.iter_mut().zip(&cont.q).take(6) {
+        row[..taken].copy_from_slice(&c[..taken]);
+    }
+    let mut last = JointVec::zeros(n);
+    for (j, v) in last.iter_mut().enumerate() {
+        *v = qb[j][taken - 1];
+    }
+    last
+}
+
+impl NearTracker<'_, '_> {
+    /// Solve the batch of `count` samples from `k0` into `lanes.qb`: the leading lanes that
+    /// continue one another at once, the rest one by one, then the FK re-check in lockstep.
+    /// The error names the first sample where the per-sample loop stops.
+    fn solve_batch(
+        &mut self,
+        lanes: &mut NearLanes,
+        k0: usize,
+        count: usize,
+    ) -> Result<(), (usize, V3, IkFailure)> {
+        let (n, level) = (self.n, self.level);
+        let solver = self.solver;
         let solved = solver.solve_near_batch_lanes(
-            &target,
-            &tp,
+            &self.target,
+            &lanes.tp,
             count,
-            &prev,
-            known.take(),
+            &self.prev,
+            self.known.take(),
             level,
-            &mut batch,
+            &mut self.batch,
         );
-        let chunk = solved.then_some(&batch);
-        cont.taken = 0;
+        let chunk = solved.then_some(&self.batch);
+        self.cont.taken = 0;
         if let Some(b) = chunk {
-            solver.continuing_lanes(b, count, &prev, &no_step, false, level, &mut cont);
+            solver.continuing_lanes(
+                b,
+                count,
+                &self.prev,
+                &self.no_step,
+                false,
+                level,
+                &mut self.cont,
+            );
         }
-        let taken = cont.taken;
-        // The batch's answers joint by joint (rows beyond the robot's joints: 0).
-        let mut qb = [[0.0; LANES]; MAX_DOF];
+        let taken = self.cont.taken;
+        let (tips, qb) = (&lanes.tips, &mut lanes.qb);
         if taken > 0 {
-            // continuing_lanes takes lanes of 6-axis arms only.
-            for (row, c) in qb.iter_mut().zip(&cont.q).take(6) {
-                row[..taken].copy_from_slice(&c[..taken]);
-            }
-            let mut last = JointVec::zeros(n);
-            for (j, v) in last.iter_mut().enumerate() {
-                *v = qb[j][taken - 1];
-            }
-            prev = last;
+            self.prev = take_continuing(&self.cont, self.n, qb, taken);
         }
         for l in taken..count {
             let t = Frame {
-                rot: *rot,
+                rot: self.rot,
                 pos: tips[l],
             };
             let solved = match chunk {
-                Some(b) => solver.take_near(b, l, &t, &prev),
-                None => solver.solve_near_unchecked(&t, &prev),
+                Some(b) => solver.take_near(b, l, &t, &self.prev),
+                None => solver.solve_near_unchecked(&t, &self.prev),
             };
             match solved {
                 Ok(q) => {
                     for j in 0..n {
                         qb[j][l] = q[j];
                     }
-                    prev = q;
+                    self.prev = q;
                 }
                 Err(reason) => {
                     // The samples before it first: a failing check there stops the
                     // per-sample loop earlier.
                     if l > 0 {
                         solver
-                            .check_lanes(l, &qb, &target, &tips[..l], &mut sincos, level)
+                            .check_lanes(l, qb, &self.target, &tips[..l], &mut self.sincos, level)
                             .map_err(|(f, r)| (k0 + f, tips[f], r))?;
                     }
                     return Err((k0 + l, tips[l], reason));
@@ -727,21 +948,20 @@ pub fn track_near(
             }
         }
         solver
-            .check_lanes(count, &qb, &target, &tips[..count], &mut sincos, level)
+            .check_lanes(
+                count,
+                qb,
+                &self.target,
+                &tips[..count],
+                &mut self.sincos,
+                level,
+            )
             .map_err(|(f, r)| (k0 + f, tips[f], r))?;
         if taken == count {
-            known = Some(cont.branch_after);
+            self.known = Some(self.cont.branch_after);
         }
-        if n == 6 {
-            push_rows6(qs, &qb, count);
-        } else {
-            for l in 0..count {
-                qs.extend(qb.iter().take(n).map(|row| row[l]));
-            }
-        }
-        k0 += count;
+        Ok(())
     }
-    Ok(())
 }
 
 /// Tool-tip points of [`crate::simd::LANES`] path samples in the base frame, lane by lane
@@ -897,6 +1117,35 @@ fn violations(
     out
 }
 
+/// Limits per entry of a block of [`derivatives_and_violations`] (period `n`, the joints):
+/// velocity, acceleration, and the jerk's as a bound on its numerator (jerk_screen_bound,
+/// `den = 2 dt³`); +∞ where the per-sample check skips one (not finite).
+fn block_limits(model: &RobotModel, den: f64) -> [Vec<f64>; 3] {
+    let n = model.dof();
+    let limits = |f: fn(&crate::robot::Joint) -> f64, bound: &dyn Fn(f64) -> f64| {
+        let lim: Vec<f64> = model
+            .joints
+            .iter()
+            .map(|j| {
+                let l = f(j);
+                if l.is_finite() {
+                    bound(l)
+                } else {
+                    f64::INFINITY
+                }
+            })
+            .collect();
+        (0..n + SCREEN_BLOCK)
+            .map(|t| lim[t % n])
+            .collect::<Vec<f64>>()
+    };
+    [
+        limits(|j| j.velocity_limit, &|l| l),
+        limits(|j| j.acceleration_limit, &|l| l),
+        limits(|j| j.jerk_limit, &|l| jerk_screen_bound(l, den)),
+    ]
+}
+
 /// The joint velocities and accelerations of the positions `q` (row-major, `dt` s apart)
 /// into `qd`, `qdd` (reused buffers, as [`crate::numerics::differentiate_uniform_into_on`]
 /// writes them) and the list of [`violations`] of them, in one pass over the samples on a
@@ -929,30 +1178,7 @@ fn derivatives_and_violations(
     crate::numerics::uniform_end_rows(q, n, &w, qd, qdd);
     // Row 1: derivatives only (its jerk is clamped, it is checked per sample).
     crate::numerics::uniform_stencil_entries_on(q, n, w[1], n..2 * n, qd, qdd, level);
-    // Limits per entry of a block (period n), +∞ where the per-sample check skips one (not
-    // finite); the jerk's as a bound on its numerator (jerk_screen_bound).
-    let limits = |f: fn(&crate::robot::Joint) -> f64, bound: &dyn Fn(f64) -> f64| {
-        let lim: Vec<f64> = model
-            .joints
-            .iter()
-            .map(|j| {
-                let l = f(j);
-                if l.is_finite() {
-                    bound(l)
-                } else {
-                    f64::INFINITY
-                }
-            })
-            .collect();
-        (0..n + SCREEN_BLOCK)
-            .map(|t| lim[t % n])
-            .collect::<Vec<f64>>()
-    };
-    let lims = [
-        limits(|j| j.velocity_limit, &|l| l),
-        limits(|j| j.acceleration_limit, &|l| l),
-        limits(|j| j.jerk_limit, &|l| jerk_screen_bound(l, den)),
-    ];
+    let lims = block_limits(model, den);
     let (first, end) = (2 * n, (m - 2) * n);
     // Blocks with a possible excess (their first entries), in order.
     let mut flagged: Vec<usize> = Vec::new();
@@ -1557,36 +1783,27 @@ fn time_path_rounds(
     buf: &mut Buffers,
     pre: Option<&[TipLanes]>,
 ) -> Result<TimedPath, TimingFailure> {
-    let PathTiming {
-        pieces,
-        plan: shared,
-        moves_line,
-        profile: popts,
-        joint: jopts,
-        ..
-    } = *path;
     let model = solver.model;
-    let n = model.dof();
-    let nodes = &shared.nodes;
-    let mut slowing = Slowing::new(nodes.s.len());
-    // Node speeds of the current round's plan (the shared plan's in the first round).
-    let mut v: Vec<f64> = Vec::new();
-    let mut slowdowns: Vec<Slowdown> = Vec::new();
+    let mut rs = Rounds {
+        path,
+        n: model.dof(),
+        slowing: Slowing::new(path.plan.nodes.s.len()),
+        v: Vec::new(),
+        slowdowns: Vec::new(),
+        round: 0,
+        fewest: usize::MAX,
+        max_rounds: path.joint.max_iterations.max(1),
+    };
     let mut tracked = std::mem::take(buf);
-    let max_rounds = jopts.max_iterations.max(1);
-    let mut round = 0;
-    // Fewest samples over a limit left by a round so far.
-    let mut fewest = usize::MAX;
     let mut next: Option<Arc<CartesianMotion>> = None;
     loop {
-        round += 1;
-        let motion = next.take().unwrap_or_else(|| Arc::clone(&shared.motion));
-        let v_now: &[f64] = if round == 1 { &shared.v } else { &v };
-        let pre = if round == 1 { pre } else { None };
+        rs.round += 1;
+        let motion = next.take().unwrap_or_else(|| Arc::clone(&path.plan.motion));
+        let pre = if rs.round == 1 { pre } else { None };
         if let Err(e) = track_with(
             solver,
-            pieces,
-            moves_line,
+            path.pieces,
+            path.moves_line,
             &motion,
             at,
             q0,
@@ -1600,91 +1817,122 @@ fn time_path_rounds(
             model,
             &tracked.qs,
             motion.dt,
-            jopts.check_jerk,
+            path.joint.check_jerk,
             &mut tracked.qd,
             &mut tracked.qdd,
             crate::simd::level(),
         );
         if viol.is_empty() {
-            let mut traj = JointTrajectory::new(n);
-            let len = motion.p.len();
-            traj.t = match i32::try_from(len) {
-                // The same values (k < 2³¹ converts exactly either way), converted in vectors.
-                Ok(len) => (0..len).map(|k| f64::from(k) * motion.dt).collect(),
-                Err(_) => (0..len).map(|k| k as f64 * motion.dt).collect(),
-            };
-            traj.q = tracked.qs;
-            traj.qd = tracked.qd;
-            traj.qdd = tracked.qdd;
-            buf.sincos = tracked.sincos;
-            buf.transient_sincos = tracked.transient_sincos;
-            return Ok(TimedPath {
-                traj,
-                motion,
-                tcp: tracked.tcp,
-                slowdowns,
-                rounds: round,
-                accel_factor: slowing.min_accel_factor(),
-            });
+            return Ok(rs.finish(tracked, buf, motion));
         }
-        let worst = |viol: &[Violation]| {
-            let w = viol
-                .iter()
-                .max_by(|a, b| a.ratio.total_cmp(&b.ratio))
-                .expect("non-empty");
-            TimingFailure::LimitsNotMet {
-                joint: w.joint,
-                kind: w.kind,
-                ratio: w.ratio,
-                t: w.sample as f64 * motion.dt,
-                sample: w.sample,
-                line: moves_line(pieces[motion.piece[w.sample]].move_index),
-                rounds: round,
-                file: std::sync::Arc::default(),
+        match rs.slow_down(&viol, &tracked, &motion) {
+            Ok(m) => next = Some(Arc::new(m)),
+            Err(e) => {
+                *buf = tracked;
+                return Err(e);
             }
-        };
-        let again = replan_again(round, max_rounds, viol.len(), fewest);
-        fewest = fewest.min(viol.len());
-        if !again {
-            let e = worst(&viol);
-            *buf = tracked;
-            return Err(e);
         }
-        // Slow down around every violating sample (see [`Slowing`]); report the worst per
-        // (joint, kind, move).
-        let dt = motion.dt;
-        let excess: Vec<Excess> = viol
+    }
+}
+
+/// The planning rounds of [`time_path_rounds`]: the slow-down so far and what it reports.
+struct Rounds<'p, 'a> {
+    path: &'p PathTiming<'a>,
+    /// Joints of the arm.
+    n: usize,
+    slowing: Slowing,
+    /// Node speeds of the current round's plan (from the second round on; the first is the
+    /// shared plan's).
+    v: Vec<f64>,
+    slowdowns: Vec<Slowdown>,
+    /// Rounds planned so far.
+    round: usize,
+    /// Fewest samples over a limit left by a round so far.
+    fewest: usize,
+    max_rounds: usize,
+}
+
+impl Rounds<'_, '_> {
+    /// The timed path of the round whose tracked samples `tracked` keep every limit (its
+    /// sines and cosines left in `buf`).
+    fn finish(
+        self,
+        tracked: Buffers,
+        buf: &mut Buffers,
+        motion: Arc<CartesianMotion>,
+    ) -> TimedPath {
+        let mut traj = JointTrajectory::new(self.n);
+        let len = motion.p.len();
+        traj.t = match i32::try_from(len) {
+            // The same values (k < 2³¹ converts exactly either way), converted in vectors.
+            Ok(len) => (0..len).map(|k| f64::from(k) * motion.dt).collect(),
+            Err(_) => (0..len).map(|k| k as f64 * motion.dt).collect(),
+        };
+        traj.q = tracked.qs;
+        traj.qd = tracked.qd;
+        traj.qdd = tracked.qdd;
+        buf.sincos = tracked.sincos;
+        buf.transient_sincos = tracked.transient_sincos;
+        TimedPath {
+            traj,
+            motion,
+            tcp: tracked.tcp,
+            slowdowns: self.slowdowns,
+            rounds: self.round,
+            accel_factor: self.slowing.min_accel_factor(),
+        }
+    }
+
+    /// The limits not met: the worst of `viol` (samples of `motion`).
+    fn worst(&self, viol: &[Violation], motion: &CartesianMotion) -> TimingFailure {
+        let w = viol
             .iter()
-            .map(|w| {
-                let (k, j) = (w.sample, w.joint);
-                let jerk = if w.kind == LimitKind::Jerk {
-                    crate::numerics::third_derivative_uniform_at(&tracked.qs, n, dt, k, j)
-                } else {
-                    0.0
-                };
-                Excess {
-                    sample: k,
-                    joint: j,
-                    kind: w.kind,
-                    ratio: w.ratio,
-                    ramp_share: ramp_share(
-                        w.kind,
-                        tracked.qd[k * n + j],
-                        tracked.qdd[k * n + j],
-                        jerk,
-                        path_rates(&motion.s, dt, k),
-                    ),
-                }
-            })
-            .collect();
-        let margin = round_margin(jopts.margin, round, max_rounds);
-        let levers = slowing.apply(nodes, v_now, &motion, &excess, margin);
+            .max_by(|a, b| a.ratio.total_cmp(&b.ratio))
+            .expect("non-empty");
+        TimingFailure::LimitsNotMet {
+            joint: w.joint,
+            kind: w.kind,
+            ratio: w.ratio,
+            t: w.sample as f64 * motion.dt,
+            sample: w.sample,
+            line: (self.path.moves_line)(self.path.pieces[motion.piece[w.sample]].move_index),
+            rounds: self.round,
+            file: std::sync::Arc::default(),
+        }
+    }
+
+    /// After a round whose plan `motion` (tracked: `tracked`) has the violations `viol`: slow
+    /// down around every violating sample (see [`Slowing`]), report the worst per (joint,
+    /// kind, move), and plan the next round; the limits not met when no round may follow.
+    fn slow_down(
+        &mut self,
+        viol: &[Violation],
+        tracked: &Buffers,
+        motion: &CartesianMotion,
+    ) -> Result<CartesianMotion, TimingFailure> {
+        let PathTiming {
+            pieces,
+            plan: shared,
+            profile: popts,
+            joint: jopts,
+            ..
+        } = *self.path;
+        let nodes = &shared.nodes;
+        let again = replan_again(self.round, self.max_rounds, viol.len(), self.fewest);
+        self.fewest = self.fewest.min(viol.len());
+        if !again {
+            return Err(self.worst(viol, motion));
+        }
+        let excess = excesses_of(viol, tracked, motion, self.n);
+        let margin = round_margin(jopts.margin, self.round, self.max_rounds);
+        let v_now: &[f64] = if self.round == 1 { &shared.v } else { &self.v };
+        let levers = self.slowing.apply(nodes, v_now, motion, &excess, margin);
         for (w, lever) in viol.iter().zip(&levers) {
             let i = nodes
                 .s
                 .partition_point(|&x| x < motion.s[w.sample])
                 .min(nodes.s.len() - 1);
-            let (speed, accel) = match *lever {
+            let factors = match *lever {
                 Lever::Speed(f) => {
                     // The new speed there against the unslowed plan's.
                     let v0 = shared.v[i];
@@ -1697,58 +1945,110 @@ fn time_path_rounds(
                         1.0,
                     )
                 }
-                Lever::Accel(g) => (1.0, slowing.accel_scale.get(i).copied().unwrap_or(g)),
+                Lever::Accel(g) => (1.0, self.slowing.accel_scale.get(i).copied().unwrap_or(g)),
             };
             let mi = pieces[motion.piece[w.sample]].move_index;
-            match slowdowns
-                .iter_mut()
-                .find(|s| s.joint == w.joint && s.kind == w.kind && s.move_index == mi)
-            {
-                Some(s) => {
-                    if w.ratio > s.ratio && round == 1 {
-                        s.ratio = w.ratio;
-                        s.t = w.sample as f64 * motion.dt;
-                        s.s = motion.s[w.sample];
-                    }
-                    s.speed_factor = s.speed_factor.min(speed);
-                    s.accel_factor = s.accel_factor.min(accel);
-                }
-                None => slowdowns.push(Slowdown {
-                    joint: w.joint,
-                    kind: w.kind,
-                    t: w.sample as f64 * motion.dt,
-                    s: motion.s[w.sample],
-                    move_index: mi,
-                    ratio: w.ratio,
-                    speed_factor: speed,
-                    accel_factor: accel,
-                }),
-            }
+            record_slowdown(&mut self.slowdowns, w, factors, motion, mi, self.round);
         }
         // The next round's node speeds, once: for its plan, and first for the budget: a
         // slow-down so deep that the re-planned motion would exceed the sample budget (a joint
         // limit of 1e-9 rad/s) is a failure to meet the limits, not an allocation of
         // terabytes.
-        v = slowing.speeds(nodes, popts.accel);
-        let t_est: f64 = (1..v.len())
-            .map(|i| {
-                let vs = v[i] + v[i - 1];
-                if vs > 0.0 {
-                    2.0 * (nodes.s[i] - nodes.s[i - 1]) / vs
-                } else {
-                    0.0
-                }
-            })
-            .sum::<f64>()
-            + nodes.dwell_total();
-        let samples = t_est / popts.dt + popts.accel / popts.jerk / popts.dt;
-        if samples.is_nan() || samples > super::budget::max_samples() as f64 {
-            let e = worst(&viol);
-            *buf = tracked;
-            return Err(e);
+        self.v = self.slowing.speeds(nodes, popts.accel);
+        if over_budget(&self.v, nodes, popts) {
+            return Err(self.worst(viol, motion));
         }
-        next = Some(Arc::new(plan_at_speeds(pieces, nodes, &v, popts)));
+        Ok(plan_at_speeds(pieces, nodes, &self.v, popts))
     }
+}
+
+/// The violations `viol` of the round tracked in `tracked` (plan `motion`, `n` joints) as
+/// excesses, with the share of each that comes from a ramp.
+fn excesses_of(
+    viol: &[Violation],
+    tracked: &Buffers,
+    motion: &CartesianMotion,
+    n: usize,
+) -> Vec<Excess> {
+    let dt = motion.dt;
+    viol.iter()
+        .map(|w| {
+            let (k, j) = (w.sample, w.joint);
+            let jerk = if w.kind == LimitKind::Jerk {
+                crate::numerics::third_derivative_uniform_at(&tracked.qs, n, dt, k, j)
+            } else {
+                0.0
+            };
+            Excess {
+                sample: k,
+                joint: j,
+                kind: w.kind,
+                ratio: w.ratio,
+                ramp_share: ramp_share(
+                    w.kind,
+                    tracked.qd[k * n + j],
+                    tracked.qdd[k * n + j],
+                    jerk,
+                    path_rates(&motion.s, dt, k),
+                ),
+            }
+        })
+        .collect()
+}
+
+/// Violation `w` (a sample of `motion`, on move `mi`) slowed down by the speed and
+/// acceleration `factors` in round `round`, recorded: the worst per (joint, kind, move).
+fn record_slowdown(
+    slowdowns: &mut Vec<Slowdown>,
+    w: &Violation,
+    factors: (f64, f64),
+    motion: &CartesianMotion,
+    mi: usize,
+    round: usize,
+) {
+    let (speed, accel) = factors;
+    match slowdowns
+        .iter_mut()
+        .find(|s| s.joint == w.joint && s.kind == w.kind && s.move_index == mi)
+    {
+        Some(s) => {
+            if w.ratio > s.ratio && round == 1 {
+                s.ratio = w.ratio;
+                s.t = w.sample as f64 * motion.dt;
+                s.s = motion.s[w.sample];
+            }
+            s.speed_factor = s.speed_factor.min(speed);
+            s.accel_factor = s.accel_factor.min(accel);
+        }
+        None => slowdowns.push(Slowdown {
+            joint: w.joint,
+            kind: w.kind,
+            t: w.sample as f64 * motion.dt,
+            s: motion.s[w.sample],
+            move_index: mi,
+            ratio: w.ratio,
+            speed_factor: speed,
+            accel_factor: accel,
+        }),
+    }
+}
+
+/// Whether a plan at node speeds `v` over `nodes` would exceed the sample budget (its
+/// duration estimated from the speeds, the dwells and the jerk filter).
+fn over_budget(v: &[f64], nodes: &Nodes, popts: &ProfileOptions) -> bool {
+    let t_est: f64 = (1..v.len())
+        .map(|i| {
+            let vs = v[i] + v[i - 1];
+            if vs > 0.0 {
+                2.0 * (nodes.s[i] - nodes.s[i - 1]) / vs
+            } else {
+                0.0
+            }
+        })
+        .sum::<f64>()
+        + nodes.dwell_total();
+    let samples = t_est / popts.dt + popts.accel / popts.jerk / popts.dt;
+    samples.is_nan() || samples > super::budget::max_samples() as f64
 }
 
 /// Time a blended path at a placement, choosing the arm configuration: every IK solution at
@@ -1820,114 +2120,17 @@ fn time_at_with(
         reason,
         file: std::sync::Arc::default(),
     };
-    let motion0 = &plan.motion;
     let stride = jopts.prune_stride;
-    let fail_at = |k: usize, tip: V3, reason: IkFailure| {
-        let mi = pieces[motion0.piece[k]].move_index;
-        TimingFailure::Unreachable {
-            sample: k,
-            t: k as f64 * motion0.dt,
-            point: tip,
-            line: moves_line(mi),
-            reason,
-            file: std::sync::Arc::default(),
-        }
-    };
-    let rot = nozzle_target(&V3::zeros(), at.nozzle_yaw()).rot;
-    let target_at = |k: usize| {
-        let tip = part_to_base.apply(&motion0.p[k]);
-        (Frame { rot, pos: tip }, tip)
+    let pl = Pruning {
+        solver,
+        pieces,
+        moves_line,
+        motion0: &plan.motion,
+        part_to_base,
+        rot: nozzle_target(&V3::zeros(), at.nozzle_yaw()).rot,
     };
     if stride > 0 {
-        // Prune 1: every sample's wrist centre within reach (no trigonometry), coarse to fine
-        // so that a path leaving the reachable set is found after a few samples.
-        let m = motion0.p.len();
-        let coarse = (0..m).step_by(PRUNE_COARSE_STRIDE);
-        match solver.wrist_offset(&rot) {
-            Some(d) if crate::simd::level() != crate::simd::Level::Scalar => {
-                for k in coarse {
-                    let tip = part_to_base.apply(&motion0.p[k]);
-                    if let Err(reason) = solver.wrist_centre_reachable(&(tip + d), 1e-9) {
-                        return Err(fail_at(k, tip, reason));
-                    }
-                }
-                // Every sample, LANES at a time: the front shoulder's reach in lockstep,
-                // conservatively (reach::FrontReach: a lane it passes, the exact test
-                // passes); a lane it does not pass is asked per sample (the exact test, the
-                // back shoulder, and the error), in order: the exact test's outcome.
-                const LANES: usize = crate::simd::LANES;
-                let level = crate::simd::level();
-                let front_reach = solver.model.opw.as_ref().map(super::reach::FrontReach::new);
-                // The block's masks (chunk front_at + i at i).
-                let (mut front, mut front_at) = ([0u32; PRUNE_BLOCK], 0);
-                let mut k0 = 0;
-                // The tips lane by lane (TipMap::lanes_of, bit for bit part_to_base.apply), kept for
-                // the second prune and the first round of tracking.
-                let chunks = m.div_ceil(LANES);
-                tips_all.reserve(chunks);
-                let map = TipMap::new(&part_to_base);
-                // The points lane by lane (the plan's, or now), PRUNE_BLOCK chunks mapped at
-                // a time.
-                let own;
-                let x = match plan.point_lanes() {
-                    Some(x) if x.len() == chunks => x,
-                    _ => {
-                        own = point_lanes(&motion0.p);
-                        &own[..]
-                    }
-                };
-                while k0 < m {
-                    let count = LANES.min(m - k0);
-                    let c0 = k0 / LANES;
-                    if c0 == tips_all.len() {
-                        let b = PRUNE_BLOCK.min(chunks - c0);
-                        tips_all.resize(c0 + b, [[0.0; LANES]; 3]);
-                        map.lanes_of(&x[c0..c0 + b], &mut tips_all[c0..c0 + b], level);
-                        // The wrist centres tip + d of the block (V3's sum per coordinate)
-                        // the screen passes.
-                        front_at = c0;
-                        match &front_reach {
-                            Some(r) => r.masks(
-                                &tips_all[c0..c0 + b],
-                                [d.x, d.y, d.z],
-                                1e-9,
-                                &mut front[..b],
-                                level,
-                            ),
-                            None => front.fill(0),
-                        }
-                    }
-                    let t = &tips_all[c0];
-                    // The lanes it does not pass, in order.
-                    let mut missed = !front[c0 - front_at] & ((1u32 << count) - 1);
-                    while missed != 0 {
-                        let l = missed.trailing_zeros() as usize;
-                        missed &= missed - 1;
-                        let tip = V3::new(t[0][l], t[1][l], t[2][l]);
-                        if let Err(reason) = solver.wrist_centre_reachable(&(tip + d), 1e-9) {
-                            return Err(fail_at(k0 + l, tip, reason));
-                        }
-                    }
-                    k0 += count;
-                }
-            }
-            Some(d) => {
-                for k in coarse.chain(0..m) {
-                    let tip = part_to_base.apply(&motion0.p[k]);
-                    if let Err(reason) = solver.wrist_centre_reachable(&(tip + d), 1e-9) {
-                        return Err(fail_at(k, tip, reason));
-                    }
-                }
-            }
-            None => {
-                for k in coarse.chain(0..m) {
-                    let (target, tip) = target_at(k);
-                    if let Err(reason) = solver.reachable(&target) {
-                        return Err(fail_at(k, tip, reason));
-                    }
-                }
-            }
-        }
+        pl.reach(plan, tips_all)?;
     }
     let mut cands = solver
         .solve_all(&nozzle_target(&tip, at.nozzle_yaw()))
@@ -1940,35 +2143,234 @@ fn time_at_with(
     // The tips of every sample, when the prune computed them (the same values as
     // part_to_base.apply).
     let tips_all: Option<&[TipLanes]> =
-        (tips_all.len() * LANES >= motion0.p.len()).then_some(&tips_all[..]);
-    let tip_at = |k: usize| match tips_all {
-        Some(t) => {
-            let c = &t[k / LANES];
-            V3::new(c[0][k % LANES], c[1][k % LANES], c[2][k % LANES])
+        (tips_all.len() * crate::simd::LANES >= pl.motion0.p.len()).then_some(&tips_all[..]);
+    let mut best_err: Option<TimingFailure> = None;
+    let level = crate::simd::level();
+    for c in &cands {
+        if stride > 0 && !pl.motion0.p.is_empty() {
+            if let Err(e) = pl.thinned(&c.q, stride, tips_all, level) {
+                keep_furthest(&mut best_err, e);
+                continue;
+            }
         }
-        None => part_to_base.apply(&motion0.p[k]),
-    };
+        match time_path_rounds(solver, path, at, &c.q, buf, tips_all) {
+            Ok(t) => return Ok(t),
+            Err(e) => keep_furthest(&mut best_err, e),
+        }
+    }
+    Err(best_err.unwrap_or_else(|| {
+        unreachable_at_start(IkFailure::Unsupported(
+            "no IK solution at the first sample".into(),
+        ))
+    }))
+}
+
+/// Keep `e` in `best` when it got further along the path than the failure kept there.
+fn keep_furthest(best: &mut Option<TimingFailure>, e: TimingFailure) {
     let progress = |e: &TimingFailure| match e {
         TimingFailure::Unreachable { sample, .. }
         | TimingFailure::ConfigurationChange { sample, .. } => *sample,
         TimingFailure::LimitsNotMet { .. } => usize::MAX,
     };
-    let mut best_err: Option<TimingFailure> = None;
-    let level = crate::simd::level();
-    const LANES: usize = crate::simd::LANES;
-    // Prune 2: a configuration whose branch cannot reach every stride-th sample within
-    // limits would fail while tracking; skip it (recording where it would fail).
-    let thinned = |q: &[f64]| -> Result<(), TimingFailure> {
+    if best.as_ref().is_none_or(|b| progress(&e) > progress(b)) {
+        *best = Some(e);
+    }
+}
+
+/// The tip `tip` (base frame, m) at sample `k` of `motion` is out of reach (`reason`): the
+/// failure, naming the move's line.
+fn unreachable_sample(
+    pieces: &[Piece],
+    moves_line: &dyn Fn(usize) -> usize,
+    motion: &CartesianMotion,
+    k: usize,
+    tip: V3,
+    reason: IkFailure,
+) -> TimingFailure {
+    let mi = pieces[motion.piece[k]].move_index;
+    TimingFailure::Unreachable {
+        sample: k,
+        t: k as f64 * motion.dt,
+        point: tip,
+        line: moves_line(mi),
+        reason,
+        file: std::sync::Arc::default(),
+    }
+}
+
+/// The cheap tests of [`time_at_with`] at one placement before any configuration is tracked
+/// along the shared plan: every sample within reach, every stride-th sample within a
+/// configuration's branch.
+struct Pruning<'p, 's> {
+    solver: &'p IkSolver<'s>,
+    pieces: &'p [Piece],
+    moves_line: &'p dyn Fn(usize) -> usize,
+    /// The shared plan's motion.
+    motion0: &'p CartesianMotion,
+    part_to_base: Frame,
+    /// The nozzle's orientation in the base frame (the same at every sample).
+    rot: crate::math::M3,
+}
+
+impl Pruning<'_, '_> {
+    /// Sample `k`'s tip out of reach: the failure.
+    fn fail_at(&self, k: usize, tip: V3, reason: IkFailure) -> TimingFailure {
+        unreachable_sample(self.pieces, self.moves_line, self.motion0, k, tip, reason)
+    }
+
+    /// The tool target at sample `k`, and its tip (base frame).
+    fn target_at(&self, k: usize) -> (Frame, V3) {
+        let tip = self.part_to_base.apply(&self.motion0.p[k]);
+        (
+            Frame {
+                rot: self.rot,
+                pos: tip,
+            },
+            tip,
+        )
+    }
+
+    /// Prune 1: every sample's wrist centre within reach (no trigonometry), coarse to fine
+    /// so that a path leaving the reachable set is found after a few samples. With SIMD, the
+    /// tips of every sample lane by lane go to `tips_all`.
+    fn reach(&self, plan: &Plan, tips_all: &mut Vec<TipLanes>) -> Result<(), TimingFailure> {
+        let (solver, motion0) = (self.solver, self.motion0);
+        let m = motion0.p.len();
+        let coarse = (0..m).step_by(PRUNE_COARSE_STRIDE);
+        match solver.wrist_offset(&self.rot) {
+            Some(d) if crate::simd::level() != crate::simd::Level::Scalar => {
+                for k in coarse {
+                    let tip = self.part_to_base.apply(&motion0.p[k]);
+                    if let Err(reason) = solver.wrist_centre_reachable(&(tip + d), 1e-9) {
+                        return Err(self.fail_at(k, tip, reason));
+                    }
+                }
+                self.reach_lanes(plan, d, tips_all)
+            }
+            Some(d) => {
+                for k in coarse.chain(0..m) {
+                    let tip = self.part_to_base.apply(&motion0.p[k]);
+                    if let Err(reason) = solver.wrist_centre_reachable(&(tip + d), 1e-9) {
+                        return Err(self.fail_at(k, tip, reason));
+                    }
+                }
+                Ok(())
+            }
+            None => {
+                for k in coarse.chain(0..m) {
+                    let (target, tip) = self.target_at(k);
+                    if let Err(reason) = solver.reachable(&target) {
+                        return Err(self.fail_at(k, tip, reason));
+                    }
+                }
+                Ok(())
+            }
+        }
+    }
+
+    /// Every sample, LANES at a time: the front shoulder's reach in lockstep, conservatively
+    /// (reach::FrontReach: a lane it passes, the exact test passes); a lane it does not pass
+    /// is asked per sample (the exact test, the back shoulder, and the error), in order: the
+    /// exact test's outcome. `d`: the wrist centre's offset from the tip.
+    fn reach_lanes(
+        &self,
+        plan: &Plan,
+        d: V3,
+        tips_all: &mut Vec<TipLanes>,
+    ) -> Result<(), TimingFailure> {
+        const LANES: usize = crate::simd::LANES;
+        let solver = self.solver;
+        let m = self.motion0.p.len();
+        let level = crate::simd::level();
+        let front_reach = solver.model.opw.as_ref().map(super::reach::FrontReach::new);
+        // The block's masks (chunk front_at + i at i).
+        let (mut front, mut front_at) = ([0u32; PRUNE_BLOCK], 0);
+        let mut k0 = 0;
+        // The tips lane by lane (TipMap::lanes_of, bit for bit part_to_base.apply), kept for
+        // the second prune and the first round of tracking.
+        let chunks = m.div_ceil(LANES);
+        tips_all.reserve(chunks);
+        let map = TipMap::new(&self.part_to_base);
+        // The points lane by lane (the plan's, or now), PRUNE_BLOCK chunks mapped at a time.
+        let own;
+        let x = match plan.point_lanes() {
+            Some(x) if x.len() == chunks => x,
+            _ => {
+                own = point_lanes(&self.motion0.p);
+                &own[..]
+            }
+        };
+        while k0 < m {
+            let count = LANES.min(m - k0);
+            let c0 = k0 / LANES;
+            if c0 == tips_all.len() {
+                let b = PRUNE_BLOCK.min(chunks - c0);
+                tips_all.resize(c0 + b, [[0.0; LANES]; 3]);
+                map.lanes_of(&x[c0..c0 + b], &mut tips_all[c0..c0 + b], level);
+                // The wrist centres tip + d of the block (V3's sum per coordinate) the screen
+                // passes.
+                front_at = c0;
+                match &front_reach {
+                    Some(r) => r.masks(
+                        &tips_all[c0..c0 + b],
+                        [d.x, d.y, d.z],
+                        1e-9,
+                        &mut front[..b],
+                        level,
+                    ),
+                    None => front.fill(0),
+                }
+            }
+            let t = &tips_all[c0];
+            // The lanes it does not pass, in order.
+            let mut missed = !front[c0 - front_at] & ((1u32 << count) - 1);
+            while missed != 0 {
+                let l = missed.trailing_zeros() as usize;
+                missed &= missed - 1;
+                let tip = V3::new(t[0][l], t[1][l], t[2][l]);
+                if let Err(reason) = solver.wrist_centre_reachable(&(tip + d), 1e-9) {
+                    return Err(self.fail_at(k0 + l, tip, reason));
+                }
+            }
+            k0 += count;
+        }
+        Ok(())
+    }
+
+    /// Sample `k`'s tip: from the tips computed lane by lane (`tips_all`), or now.
+    #[inline]
+    fn tip_at(&self, tips_all: Option<&[TipLanes]>, k: usize) -> V3 {
+        const LANES: usize = crate::simd::LANES;
+        match tips_all {
+            Some(t) => {
+                let c = &t[k / LANES];
+                V3::new(c[0][k % LANES], c[1][k % LANES], c[2][k % LANES])
+            }
+            None => self.part_to_base.apply(&self.motion0.p[k]),
+        }
+    }
+
+    /// Prune 2: a configuration `q` whose branch cannot reach every `stride`-th sample
+    /// within limits would fail while tracking; the failure says where.
+    fn thinned(
+        &self,
+        q: &[f64],
+        stride: usize,
+        tips_all: Option<&[TipLanes]>,
+        level: crate::simd::Level,
+    ) -> Result<(), TimingFailure> {
+        const LANES: usize = crate::simd::LANES;
+        let solver = self.solver;
         let Some(b) = solver.branch_of(q) else {
             return Ok(());
         };
-        let m = motion0.p.len();
+        let m = self.motion0.p.len();
         let ks = (stride..m).step_by(stride).chain(std::iter::once(m - 1));
         if level == crate::simd::Level::Scalar {
             for k in ks {
-                let (target, tip) = target_at(k);
+                let (target, tip) = self.target_at(k);
                 if let Err(reason) = solver.branch_admits(&target, b.shoulder, b.elbow) {
-                    return Err(fail_at(k, tip, reason));
+                    return Err(self.fail_at(k, tip, reason));
                 }
             }
             return Ok(());
@@ -1980,43 +2382,20 @@ fn time_at_with(
         let mut ks = ks.peekable();
         while let Some(k) = ks.next() {
             idx[count] = k;
-            tips[count] = tip_at(k);
+            tips[count] = self.tip_at(tips_all, k);
             count += 1;
             if count == LANES || ks.peek().is_none() {
                 let tips = &tips[..count];
                 if let Some((l, reason)) =
-                    solver.branch_admits_batch(&rot, tips, b.shoulder, b.elbow, level)
+                    solver.branch_admits_batch(&self.rot, tips, b.shoulder, b.elbow, level)
                 {
-                    return Err(fail_at(idx[l], tips[l], reason));
+                    return Err(self.fail_at(idx[l], tips[l], reason));
                 }
                 count = 0;
             }
         }
         Ok(())
-    };
-    for c in &cands {
-        if stride > 0 && !motion0.p.is_empty() {
-            if let Err(e) = thinned(&c.q) {
-                if best_err.as_ref().is_none_or(|b| progress(&e) > progress(b)) {
-                    best_err = Some(e);
-                }
-                continue;
-            }
-        }
-        match time_path_rounds(solver, path, at, &c.q, buf, tips_all) {
-            Ok(t) => return Ok(t),
-            Err(e) => {
-                if best_err.as_ref().is_none_or(|b| progress(&e) > progress(b)) {
-                    best_err = Some(e);
-                }
-            }
-        }
     }
-    Err(best_err.unwrap_or_else(|| {
-        unreachable_at_start(IkFailure::Unsupported(
-            "no IK solution at the first sample".into(),
-        ))
-    }))
 }
 
 #[cfg(test)]

@@ -410,121 +410,147 @@ fn urdf_shape(s: &GeomShape) -> Option<(Isometry<f64>, SharedShape)> {
     })
 }
 
+/// The URDF collision geometry `geoms` of body `body` (link `name`) added to `shapes`; whether
+/// there was any.
+fn add_urdf(
+    shapes: &mut Vec<BodyShape>,
+    body: usize,
+    name: &str,
+    geoms: &[crate::robot::CollisionGeom],
+) -> bool {
+    let mut any = false;
+    for g in geoms {
+        if let Some((l, s)) = urdf_shape(&g.shape) {
+            let kind = match &g.shape {
+                GeomShape::Box { .. } => "box",
+                GeomShape::Cylinder { .. } => "cylinder",
+                GeomShape::Sphere { .. } => "sphere",
+                GeomShape::Hull { .. } => "mesh hull",
+            };
+            shapes.push(BodyShape::new(
+                body,
+                iso(&g.origin) * l,
+                s,
+                Role::Link,
+                format!("link `{name}` (URDF {kind})"),
+            ));
+            any = true;
+        }
+    }
+    any
+}
+
+/// Capsules where the URDF gives nothing (`base_has`: the base has geometry; `has[i]`: link
+/// `i` has): base → joint 1, joint i → joint i+1 (or flange), radii scaled by `reach`.
+fn add_capsules(
+    shapes: &mut Vec<BodyShape>,
+    model: &RobotModel,
+    reach: f64,
+    radii: &LinkRadii,
+    base_has: bool,
+    has: &[bool],
+) {
+    let radius = |end: usize| {
+        reach
+            * if end <= 1 {
+                radii.base
+            } else if end <= 3 {
+                radii.arm
+            } else {
+                radii.wrist
+            }
+    };
+    if !base_has {
+        if let Some(j0) = model.joints.first() {
+            if let Some(s) = capsule(&V3::zeros(), &j0.origin.pos, radius(0)) {
+                shapes.push(BodyShape::new(
+                    0,
+                    Isometry::identity(),
+                    s,
+                    Role::Link,
+                    "capsule of the base".into(),
+                ));
+            }
+        }
+    }
+    for (i, h) in has.iter().enumerate() {
+        if *h {
+            continue;
+        }
+        let end = model
+            .joints
+            .get(i + 1)
+            .map_or(model.flange.pos, |j| j.origin.pos);
+        if let Some(s) = capsule(&V3::zeros(), &end, radius(i + 1)) {
+            shapes.push(BodyShape::new(
+                i + 1,
+                Isometry::identity(),
+                s,
+                Role::Link,
+                format!(
+                    "capsule of link `{}`",
+                    model.link_names.get(i).map_or("?", String::as_str)
+                ),
+            ));
+        }
+    }
+}
+
+/// The print head and hose (flange frame) added to `shapes`: the tool geometry's, or a
+/// nozzle capsule scaled by `reach`.
+fn add_head(shapes: &mut Vec<BodyShape>, model: &RobotModel, reach: f64, radii: &LinkRadii) {
+    let n = model.joints.len();
+    let tip = model.tool.pos;
+    match &model.tool_geometry {
+        Some(g) => {
+            if let Some((l, s)) = cylinder_between(&V3::zeros(), &tip, g.head_radius_m) {
+                shapes.push(BodyShape::new(n + 1, l, s, Role::Head, "print head".into()));
+            }
+            let (a, b) = (V3::from(g.hose_from_m), V3::from(g.hose_to_m));
+            if let Some(s) = capsule(&a, &b, g.hose_radius_m) {
+                shapes.push(BodyShape::new(
+                    n + 1,
+                    Isometry::identity(),
+                    s,
+                    Role::Hose,
+                    "hose".into(),
+                ));
+            }
+        }
+        None => {
+            if let Some(s) = capsule(&V3::zeros(), &tip, radii.nozzle * reach) {
+                shapes.push(BodyShape::new(
+                    n + 1,
+                    Isometry::identity(),
+                    s,
+                    Role::Head,
+                    "nozzle (capsule)".into(),
+                ));
+            }
+        }
+    }
+}
+
 impl RobotShapes {
     /// Build the shapes of `model`; `reach` scales the fallback capsules and the default head.
     pub fn new(model: &RobotModel, reach: f64, radii: &LinkRadii) -> Self {
         let n = model.joints.len();
         let mut shapes = Vec::new();
         let mut with_urdf = 0;
-        let mut add_urdf = |body: usize, name: &str, geoms: &[crate::robot::CollisionGeom]| {
-            let mut any = false;
-            for g in geoms {
-                if let Some((l, s)) = urdf_shape(&g.shape) {
-                    let kind = match &g.shape {
-                        GeomShape::Box { .. } => "box",
-                        GeomShape::Cylinder { .. } => "cylinder",
-                        GeomShape::Sphere { .. } => "sphere",
-                        GeomShape::Hull { .. } => "mesh hull",
-                    };
-                    shapes.push(BodyShape::new(
-                        body,
-                        iso(&g.origin) * l,
-                        s,
-                        Role::Link,
-                        format!("link `{name}` (URDF {kind})"),
-                    ));
-                    any = true;
-                }
-            }
-            any
-        };
         let base_name = "base".to_string();
-        let base_has = add_urdf(0, &base_name, &model.base_collision);
+        let base_has = add_urdf(&mut shapes, 0, &base_name, &model.base_collision);
         let mut has = vec![false; n];
         for (i, h) in has.iter_mut().enumerate() {
             let name = model.link_names.get(i).map_or("?", String::as_str);
             if let Some(g) = model.link_collision.get(i) {
-                *h = add_urdf(i + 1, name, g);
+                *h = add_urdf(&mut shapes, i + 1, name, g);
                 if *h {
                     with_urdf += 1;
                 }
             }
         }
-        // Capsules where the URDF gives nothing: base → joint 1, joint i → joint i+1 (or flange).
-        let radius = |end: usize| {
-            reach
-                * if end <= 1 {
-                    radii.base
-                } else if end <= 3 {
-                    radii.arm
-                } else {
-                    radii.wrist
-                }
-        };
-        if !base_has {
-            if let Some(j0) = model.joints.first() {
-                if let Some(s) = capsule(&V3::zeros(), &j0.origin.pos, radius(0)) {
-                    shapes.push(BodyShape::new(
-                        0,
-                        Isometry::identity(),
-                        s,
-                        Role::Link,
-                        "capsule of the base".into(),
-                    ));
-                }
-            }
-        }
-        for (i, h) in has.iter().enumerate() {
-            if *h {
-                continue;
-            }
-            let end = model
-                .joints
-                .get(i + 1)
-                .map_or(model.flange.pos, |j| j.origin.pos);
-            if let Some(s) = capsule(&V3::zeros(), &end, radius(i + 1)) {
-                shapes.push(BodyShape::new(
-                    i + 1,
-                    Isometry::identity(),
-                    s,
-                    Role::Link,
-                    format!(
-                        "capsule of link `{}`",
-                        model.link_names.get(i).map_or("?", String::as_str)
-                    ),
-                ));
-            }
-        }
-        // Print head and hose (flange frame).
-        let tip = model.tool.pos;
-        match &model.tool_geometry {
-            Some(g) => {
-                if let Some((l, s)) = cylinder_between(&V3::zeros(), &tip, g.head_radius_m) {
-                    shapes.push(BodyShape::new(n + 1, l, s, Role::Head, "print head".into()));
-                }
-                let (a, b) = (V3::from(g.hose_from_m), V3::from(g.hose_to_m));
-                if let Some(s) = capsule(&a, &b, g.hose_radius_m) {
-                    shapes.push(BodyShape::new(
-                        n + 1,
-                        Isometry::identity(),
-                        s,
-                        Role::Hose,
-                        "hose".into(),
-                    ));
-                }
-            }
-            None => {
-                if let Some(s) = capsule(&V3::zeros(), &tip, radii.nozzle * reach) {
-                    shapes.push(BodyShape::new(
-                        n + 1,
-                        Isometry::identity(),
-                        s,
-                        Role::Head,
-                        "nozzle (capsule)".into(),
-                    ));
-                }
-            }
-        }
+        add_capsules(&mut shapes, model, reach, radii, base_has, &has);
+        add_head(&mut shapes, model, reach, radii);
         // The pedestal: a fixed body under the base, a cylinder about the base's z axis from
         // the floor up to the base frame's origin.
         let (ph, pr) = (model.info.pedestal_height_m, model.info.pedestal_radius_m);
@@ -539,7 +565,6 @@ impl RobotShapes {
                 ));
             }
         }
-        // Allowed-collision matrix at the home pose.
         let mut rs = RobotShapes {
             shapes,
             pairs: Vec::new(),
@@ -547,10 +572,18 @@ impl RobotShapes {
             floor_below_base_m: ph.max(0.0),
             chain: Chain::new(model),
         };
-        let home = rs.poses(model, &vec![0.0; n], &Isometry::identity());
-        for i in 0..rs.shapes.len() {
-            for j in i + 1..rs.shapes.len() {
-                let (a, b) = (&rs.shapes[i], &rs.shapes[j]);
+        rs.allow_home_contacts(model);
+        rs
+    }
+
+    /// The allowed-collision matrix at the home pose: the pairs of shapes checked are those
+    /// of bodies at least three apart that do not touch at home.
+    fn allow_home_contacts(&mut self, model: &RobotModel) {
+        let n = model.joints.len();
+        let home = self.poses(model, &vec![0.0; n], &Isometry::identity());
+        for i in 0..self.shapes.len() {
+            for j in i + 1..self.shapes.len() {
+                let (a, b) = (&self.shapes[i], &self.shapes[j]);
                 if a.body.abs_diff(b.body) < 3 {
                     continue;
                 }
@@ -562,11 +595,10 @@ impl RobotShapes {
                 )
                 .unwrap_or(true);
                 if !touching {
-                    rs.pairs.push((i, j));
+                    self.pairs.push((i, j));
                 }
             }
         }
-        rs
     }
 
     /// World poses of every shape at `q` (rad), with `world` the pose of the robot base.
@@ -964,6 +996,49 @@ impl Beads {
         self.hit_placed(pose, shape, aabb, cap, local.as_ref(), laid)
     }
 
+    /// Whether bead `i` comes within the bead radius of `shape` at `pose` (`cap`, `local`: as
+    /// in [`Beads::hit_placed`]). A capsule (every link without URDF geometry) against a bead
+    /// segment in closed form (segment–segment closest points, Ericson's method as parry
+    /// implements it) instead of parry's general GJK dispatch: same distance, a fraction of the
+    /// cost.
+    #[inline]
+    fn touches(
+        &self,
+        i: usize,
+        pose: &Isometry<f64>,
+        shape: &SharedShape,
+        cap: &Option<(Point<f64>, Point<f64>, f64)>,
+        local: Option<&Aabb>,
+    ) -> bool {
+        let cap_id = Isometry::identity();
+        let seg = &self.segs[i];
+        let d = match cap {
+            Some((a, b, r)) => {
+                let (la, lb) = query::details::closest_points_segment_segment_with_locations_nD(
+                    (a, b),
+                    (&seg.a, &seg.b),
+                );
+                let pa = Segment::new(*a, *b).point_at(&la);
+                let pb = seg.point_at(&lb);
+                ((pa - pb).norm() - r).max(0.0)
+            }
+            None => {
+                if let Some(l) = local {
+                    let (a, b) = (
+                        pose.inverse_transform_point(&seg.a),
+                        pose.inverse_transform_point(&seg.b),
+                    );
+                    let sb = Aabb::new(a.inf(&b), a.sup(&b));
+                    if aabb_gap(&sb, l) >= self.radius_m {
+                        return false;
+                    }
+                }
+                query::distance(pose, shape.as_ref(), &cap_id, seg).unwrap_or(f64::INFINITY)
+            }
+        };
+        d < self.radius_m
+    }
+
     /// [`Beads::hit_within`] with, for a capsule, its axis's ends at `pose` and its radius
     /// already known (`cap`: `pose * a`, `pose * b`, part frame, m; radius, m), and for another
     /// shape its AABB in its own frame where known (`local`: a bead whose segment's box in that
@@ -981,38 +1056,7 @@ impl Beads {
             return None;
         }
         let aabb = *aabb;
-        let cap_id = Isometry::identity();
-        // A capsule (every link without URDF geometry) against a bead segment in closed form
-        // (segment–segment closest points, Ericson's method as parry implements it) instead of
-        // parry's general GJK dispatch: same distance, a fraction of the cost.
-        let touches = |i: usize| {
-            let seg = &self.segs[i];
-            let d = match &cap {
-                Some((a, b, r)) => {
-                    let (la, lb) = query::details::closest_points_segment_segment_with_locations_nD(
-                        (a, b),
-                        (&seg.a, &seg.b),
-                    );
-                    let pa = Segment::new(*a, *b).point_at(&la);
-                    let pb = seg.point_at(&lb);
-                    ((pa - pb).norm() - r).max(0.0)
-                }
-                None => {
-                    if let Some(l) = local {
-                        let (a, b) = (
-                            pose.inverse_transform_point(&seg.a),
-                            pose.inverse_transform_point(&seg.b),
-                        );
-                        let sb = Aabb::new(a.inf(&b), a.sup(&b));
-                        if aabb_gap(&sb, l) >= self.radius_m {
-                            return false;
-                        }
-                    }
-                    query::distance(pose, shape.as_ref(), &cap_id, seg).unwrap_or(f64::INFINITY)
-                }
-            };
-            d < self.radius_m
-        };
+        let touches = |i: usize| self.touches(i, pose, shape, &cap, local);
         // The root first: most shapes (the base, the upper arm) miss the part's box.
         let root = &self.nodes[0];
         if root.start as usize >= laid || !root.aabb.intersects(&aabb) {
@@ -1359,7 +1403,7 @@ fn check_with(
     boxes: &mut [Aabb],
     exact: &mut [bool],
 ) -> Option<(Reason, String)> {
-    let ident = Isometry::identity();
+    let env = Against { bed, beads, laid };
     for (i, s) in rs.shapes.iter().enumerate().take(n) {
         if s.role == Role::Head {
             let (c, r) = (at.centre(i, s), s.bound.1 + SPHERE_MARGIN_M);
@@ -1370,27 +1414,69 @@ fn check_with(
         // A capsule's axis at its pose, once for its AABB (as parry makes it), the bed and the
         // beads.
         let cap = at.axis(i, s);
-        let (a, ex) = match (&cap, &s.local_box) {
-            (Some((ea, eb, r)), _) => (Capsule::new(*ea, *eb, *r).local_aabb(), true),
-            // A mesh piece: its own box turned (holds the AABB; the self pairs make the exact
-            // AABB only where these boxes meet).
-            (None, Some((c, h))) => {
-                let p = at.iso(i, s);
-                let rot = p.rotation.to_rotation_matrix();
-                let m = rot.matrix();
-                let half = m.abs() * h;
-                let centre = p * Point::from(*c);
-                (Aabb::new(centre - half, centre + half), false)
-            }
-            (None, None) => (s.shape.compute_aabb(&at.iso(i, s)), true),
-        };
+        let (a, ex) = shape_box(at, i, s, &cap);
         (boxes[i], exact[i]) = (a, ex);
+        if let Some(hit) = env.shape_meets(at, i, s, cap, &a, clearance) {
+            return Some(hit);
+        }
+    }
+    self_pairs(rs, at, n, boxes, exact)
+}
+
+/// What a robot's shapes are checked against in [`check_with`]: the bed (and the floor), and
+/// the first `laid` beads.
+struct Against<'c> {
+    bed: &'c Bed,
+    beads: &'c Beads,
+    laid: usize,
+}
+
+/// Shape `i` (`s`, a capsule with axis `cap` at its pose, if it is one) placed by `at`: its
+/// box, and whether that is its AABB (else a box that holds it).
+#[inline(always)]
+fn shape_box(
+    at: &mut impl ShapePoses,
+    i: usize,
+    s: &BodyShape,
+    cap: &Option<(Point<f64>, Point<f64>, f64)>,
+) -> (Aabb, bool) {
+    match (cap, &s.local_box) {
+        (Some((ea, eb, r)), _) => (Capsule::new(*ea, *eb, *r).local_aabb(), true),
+        // A mesh piece: its own box turned (holds the AABB; the self pairs make the exact
+        // AABB only where these boxes meet).
+        (None, Some((c, h))) => {
+            let p = at.iso(i, s);
+            let rot = p.rotation.to_rotation_matrix();
+            let m = rot.matrix();
+            let half = m.abs() * h;
+            let centre = p * Point::from(*c);
+            (Aabb::new(centre - half, centre + half), false)
+        }
+        (None, None) => (s.shape.compute_aabb(&at.iso(i, s)), true),
+    }
+}
+
+impl Against<'_> {
+    /// Shape `i` (`s`, placed by `at`; `cap`: its axis when a capsule, `a`: its box) against
+    /// the floor, the bed (lowering `clearance`) and the beads: what it meets first, if
+    /// anything.
+    #[inline(always)]
+    fn shape_meets(
+        &self,
+        at: &mut impl ShapePoses,
+        i: usize,
+        s: &BodyShape,
+        cap: Option<(Point<f64>, Point<f64>, f64)>,
+        a: &Aabb,
+        clearance: &mut Option<f64>,
+    ) -> Option<(Reason, String)> {
+        let (bed, beads, laid) = (self.bed, self.beads, self.laid);
         // Floor: the links and the hose stay above it.
         if let Some(f) = bed.floor.as_ref().filter(|_| on_floor_check(s)) {
             let c = match &cap {
                 Some((ea, eb, r)) => Some(f.axis_clearance(ea, eb, *r)),
                 // The box first: most samples keep it above the floor.
-                None => Some(f.box_clearance(&a))
+                None => Some(f.box_clearance(a))
                     .filter(|c| *c >= 0.0)
                     .or_else(|| f.clearance(&at.iso(i, s), &s.shape)),
             };
@@ -1399,7 +1485,7 @@ fn check_with(
             }
         }
         // Bed: broad phase on the AABB gap, exact distance only when it could lower the margin.
-        let gap = aabb_gap(&a, &bed.aabb);
+        let gap = aabb_gap(a, &bed.aabb);
         if gap <= clearance.unwrap_or(f64::INFINITY) {
             let above = match &cap {
                 Some((ea, eb, r)) => bed.axis_above(ea, eb, *r),
@@ -1420,23 +1506,37 @@ fn check_with(
         }
         // The hierarchy's root first, here (most shapes miss the part's box); the pose only
         // for a shape other than a capsule (a capsule goes by its axis).
-        if !beads.root_meets(&a, laid) {
-            continue;
+        if !beads.root_meets(a, laid) {
+            return None;
         }
-        let p = if cap.is_some() { ident } else { at.iso(i, s) };
-        if let Some(b) = beads.hit_placed(&p, &s.shape, &a, cap, s.local_aabb.as_ref(), laid) {
-            return Some((
-                Reason::CollisionPart,
-                format!(
-                    "{} (shape {i}) comes within {:.3} m of printed bead {b}",
-                    s.label, beads.radius_m
-                ),
-            ));
-        }
+        let p = if cap.is_some() {
+            Isometry::identity()
+        } else {
+            at.iso(i, s)
+        };
+        let b = beads.hit_placed(&p, &s.shape, a, cap, s.local_aabb.as_ref(), laid)?;
+        Some((
+            Reason::CollisionPart,
+            format!(
+                "{} (shape {i}) comes within {:.3} m of printed bead {b}",
+                s.label, beads.radius_m
+            ),
+        ))
     }
-    // Self pairs: boxes first, then the exact test. The print head's box is that of its
-    // bounding sphere (it holds the AABB: when it misses the other shape's box, so would the
-    // AABB); only when it meets one is the AABB computed.
+}
+
+/// The self pairs of [`check_with`] among the first `n` shapes: boxes first, then the exact
+/// test. The print head's box is that of its bounding sphere (it holds the AABB: when it
+/// misses the other shape's box, so would the AABB); only when it meets one is the AABB
+/// computed.
+#[inline(always)]
+fn self_pairs(
+    rs: &RobotShapes,
+    at: &mut impl ShapePoses,
+    n: usize,
+    boxes: &mut [Aabb],
+    exact: &mut [bool],
+) -> Option<(Reason, String)> {
     for &(i, j) in &rs.pairs {
         if i >= n || j >= n || !boxes[i].intersects(&boxes[j]) {
             continue;

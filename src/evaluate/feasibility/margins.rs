@@ -86,6 +86,46 @@ pub fn check_joint_sample_with(
     qdd: &[f64],
     margins: &mut Margins,
 ) -> Option<(Reason, String)> {
+    let fail = joint_limits_check(model, o, q, margins);
+    if fail.is_some() {
+        return fail;
+    }
+    let p = model.opw.as_ref().filter(|_| q.len() >= 6)?;
+    let w = match sincos {
+        Some(sc) if sc.len() == 2 * q.len() => {
+            let (s, c) = sc.split_at(q.len());
+            opw::wrist_singularity_sincos(p, s[4], c[4])
+        }
+        _ => opw::wrist_singularity(p, q),
+    };
+    lower(&mut margins.wrist_every, w);
+    let floor = wrist_floor(o);
+    if w < floor {
+        return Some((
+            Reason::WristSingularity,
+            format!(
+                "q5 at {:.2}° is {:.2}° from the wrist singularity (wrist margin {:.2}°; a wrist margin of 0 lets the wrist pass through)",
+                q[4].to_degrees(),
+                w.clamp(0.0, 1.0).asin().to_degrees(),
+                o.wrist_margin_rad.to_degrees()
+            ),
+        ));
+    }
+    if w >= o.wrist_min {
+        return None;
+    }
+    wrist_rate_check(model, o, w, qd, qdd, margins)
+}
+
+/// The joint position limits with their margins at `q`, lowering the smallest distance to a
+/// limit in `margins`: the first joint too near its limit, if any.
+#[inline]
+fn joint_limits_check(
+    model: &RobotModel,
+    o: &FeasibilityOptions,
+    q: &[f64],
+    margins: &mut Margins,
+) -> Option<(Reason, String)> {
     let mut fail: Option<(Reason, String)> = None;
     for (j, jt) in model.joints.iter().enumerate().take(q.len()) {
         if jt.kind != JointKind::Revolute || !(jt.lower.is_finite() && jt.upper.is_finite()) {
@@ -115,33 +155,20 @@ pub fn check_joint_sample_with(
             ));
         }
     }
-    if fail.is_some() {
-        return fail;
-    }
-    let p = model.opw.as_ref().filter(|_| q.len() >= 6)?;
-    let w = match sincos {
-        Some(sc) if sc.len() == 2 * q.len() => {
-            let (s, c) = sc.split_at(q.len());
-            opw::wrist_singularity_sincos(p, s[4], c[4])
-        }
-        _ => opw::wrist_singularity(p, q),
-    };
-    lower(&mut margins.wrist_every, w);
-    let floor = wrist_floor(o);
-    if w < floor {
-        return Some((
-            Reason::WristSingularity,
-            format!(
-                "q5 at {:.2}° is {:.2}° from the wrist singularity (wrist margin {:.2}°; a wrist margin of 0 lets the wrist pass through)",
-                q[4].to_degrees(),
-                w.clamp(0.0, 1.0).asin().to_degrees(),
-                o.wrist_margin_rad.to_degrees()
-            ),
-        ));
-    }
-    if w >= o.wrist_min {
-        return None;
-    }
+    fail
+}
+
+/// Near the wrist singularity (wrist measure `w`), joints 4 and 6 within the allowed share of
+/// their velocity and acceleration limits (`qd`, `qdd`), the largest share noted in `margins`.
+#[inline]
+fn wrist_rate_check(
+    model: &RobotModel,
+    o: &FeasibilityOptions,
+    w: f64,
+    qd: &[f64],
+    qdd: &[f64],
+    margins: &mut Margins,
+) -> Option<(Reason, String)> {
     let mut worst = (0.0f64, 0usize, "");
     for j in [3usize, 5] {
         let jt = &model.joints[j];
@@ -211,6 +238,22 @@ struct ScreenTable {
     lower: [f64; SCREEN_ENTRIES],
     upper: [f64; SCREEN_ENTRIES],
     margin: [f64; SCREEN_ENTRIES],
+}
+
+/// The lockstep pass of [`JointChecks::screen`] over a block's entries (see
+/// [`screen_entries`]).
+struct ScreenKernel<'a> {
+    t: &'a ScreenTable,
+    q: &'a [f64; SCREEN_ENTRIES],
+    running: Option<Option<f64>>,
+}
+
+impl crate::simd::Kernel for ScreenKernel<'_> {
+    type Out = (bool, Option<usize>);
+    #[inline(always)]
+    fn run<R: crate::simd::F64s>(self) -> Self::Out {
+        screen_entries::<R>(self.t, self.q, self.running)
+    }
 }
 
 impl JointChecks {
@@ -323,8 +366,6 @@ impl JointChecks {
     /// the wrist singularity gets the wrist rule's ratios as [`check_joint_sample_with`]
     /// computes them (`margins.wrist_rate` the same).
     #[allow(clippy::too_many_arguments)]
-    // `!(w >= wrist_min)`: the negated comparison is the NaN rule (a NaN is near).
-    #[allow(clippy::neg_cmp_op_on_partial_ord)]
     pub fn screen(
         &self,
         o: &FeasibilityOptions,
@@ -367,43 +408,16 @@ impl JointChecks {
         let mut wrist_rate = margins.wrist_rate;
         let mut wrist_every = margins.wrist_every;
         if let Some((sign, sc)) = wrist {
-            // Most blocks have no sample near it (a NaN counts as near): one test for all. A
-            // sample within the wrist margin (or a NaN) goes the per-sample way.
-            let floor = wrist_floor(o);
-            let mut near = false;
-            let mut within = false;
-            let mut low = f64::INFINITY;
-            for k in 0..W {
-                let w = (sign * sc[k * 2 * SCREEN_DOF + 4]).abs();
-                near |= !(w >= o.wrist_min);
-                within |= !(w >= floor);
-                low = low.min(w);
-            }
-            if within {
+            let Some(low) = self.screen_wrist(o, sign, sc, qd, qdd, &mut wrist_rate) else {
                 return false;
-            }
-            if near && !self.wrist_rule(o, sign, sc, qd, qdd, &mut wrist_rate) {
-                return false;
-            }
+            };
             lower(&mut wrist_every, low);
         }
         // The entry at the block's smallest distance is sought only where that distance
         // beats the running one (about a quarter of the blocks of a feasible placement, as
         // the arm keeps nearing a limit); never without a checked joint.
         let running = (!self.limits.is_empty()).then_some(margins.joint_limit_rad.map(|m| m.1));
-        struct K<'a> {
-            t: &'a ScreenTable,
-            q: &'a [f64; SCREEN_ENTRIES],
-            running: Option<Option<f64>>,
-        }
-        impl crate::simd::Kernel for K<'_> {
-            type Out = (bool, Option<usize>);
-            #[inline(always)]
-            fn run<R: crate::simd::F64s>(self) -> Self::Out {
-                screen_entries::<R>(self.t, self.q, self.running)
-            }
-        }
-        let (pass, first) = crate::simd::dispatch(self.level, K { t, q, running });
+        let (pass, first) = crate::simd::dispatch(self.level, ScreenKernel { t, q, running });
         if !pass {
             return false;
         }
@@ -418,6 +432,43 @@ impl JointChecks {
             margins.joint_limit_rad = Some((first % SCREEN_DOF + 1, d));
         }
         true
+    }
+
+    /// [`JointChecks::screen`]'s wrist measures of a block (`sign`: joint 5's OPW sign; `sc`,
+    /// `qd`, `qdd` the block's sines and cosines, velocities and accelerations): the smallest,
+    /// with `wrist_rate` lowered by the wrist rule where a sample comes near the singularity;
+    /// `None` where a sample goes the per-sample way.
+    // `!(w >= wrist_min)`: the negated comparison is the NaN rule (a NaN is near).
+    #[allow(clippy::neg_cmp_op_on_partial_ord)]
+    #[inline]
+    fn screen_wrist(
+        &self,
+        o: &FeasibilityOptions,
+        sign: f64,
+        sc: &[f64; 2 * SCREEN_ENTRIES],
+        qd: &[f64; SCREEN_ENTRIES],
+        qdd: &[f64; SCREEN_ENTRIES],
+        wrist_rate: &mut Option<f64>,
+    ) -> Option<f64> {
+        // Most blocks have no sample near it (a NaN counts as near): one test for all. A
+        // sample within the wrist margin (or a NaN) goes the per-sample way.
+        let floor = wrist_floor(o);
+        let mut near = false;
+        let mut within = false;
+        let mut low = f64::INFINITY;
+        for k in 0..crate::simd::LANES {
+            let w = (sign * sc[k * 2 * SCREEN_DOF + 4]).abs();
+            near |= !(w >= o.wrist_min);
+            within |= !(w >= floor);
+            low = low.min(w);
+        }
+        if within {
+            return None;
+        }
+        if near && !self.wrist_rule(o, sign, sc, qd, qdd, wrist_rate) {
+            return None;
+        }
+        Some(low)
     }
 
     /// [`JointChecks::screen`]'s wrist rule on a block with a sample near the singularity

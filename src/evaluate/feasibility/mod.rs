@@ -696,24 +696,27 @@ impl CheckedLanes {
             scene,
             collide,
         };
-        struct K<'a, 'b> {
-            c: &'a mut CheckedLanes,
-            x: &'a LaneInputs<'b>,
-        }
-        impl crate::simd::Kernel for K<'_, '_> {
-            type Out = ();
-            #[inline(always)]
-            fn run<R: crate::simd::F64s>(self) {
-                fill_lanes::<R>(self.c, self.x)
-            }
-        }
         crate::simd::dispatch(
             crate::simd::level(),
-            K {
+            FillKernel {
                 c: self,
                 x: &inputs,
             },
         )
+    }
+}
+
+/// The lockstep pass of [`CheckedLanes::fill`] (see [`fill_lanes`]).
+struct FillKernel<'a, 'b> {
+    c: &'a mut CheckedLanes,
+    x: &'a LaneInputs<'b>,
+}
+
+impl crate::simd::Kernel for FillKernel<'_, '_> {
+    type Out = ();
+    #[inline(always)]
+    fn run<R: crate::simd::F64s>(self) {
+        fill_lanes::<R>(self.c, self.x)
     }
 }
 
