@@ -108,6 +108,35 @@ pub fn check(
     n: usize,
     source: &str,
 ) -> Result<()> {
+    check_inputs(moves, popts, source)?;
+    let max = max_samples() as f64;
+    let e = estimate_with_dwell(moves, dwell_s, popts, n);
+    if dwell_s / popts.dt > max || dwell_s.is_nan() {
+        return Err(Error::Invalid(format!(
+            "{source}: the dwells (G4) add up to {dwell_s} s: {} samples at the {} s period, \
+             more than the {} samples the planner allows; shorten the dwells",
+            dwell_s / popts.dt,
+            popts.dt,
+            max_samples()
+        )));
+    }
+    if e.samples <= max && e.nodes <= 2.0 * max {
+        return Ok(());
+    }
+    let cause = likely_cause(moves, popts, &e, max, source);
+    Err(Error::Invalid(format!(
+        "{source}: timing this path would take at least {:.3e} s of motion, {:.3e} samples at {} ms (~{:.1} GB), more than the budget of {} samples ({MAX_SAMPLES_ENV}): {cause}",
+        e.duration_s,
+        e.samples,
+        popts.dt * 1e3,
+        e.bytes / 1e9,
+        max as usize
+    )))
+}
+
+/// The interpolation settings and every move's speed must be finite and positive; the error
+/// names `source` (and the move's line).
+fn check_inputs(moves: &[Move], popts: &ProfileOptions, source: &str) -> Result<()> {
     for (what, v, unit) in [
         ("interpolation period", popts.dt, "s"),
         ("TCP acceleration limit", popts.accel, "m/s²"),
@@ -133,20 +162,19 @@ pub fn check(
             )));
         }
     }
-    let max = max_samples() as f64;
-    let e = estimate_with_dwell(moves, dwell_s, popts, n);
-    if dwell_s / popts.dt > max || dwell_s.is_nan() {
-        return Err(Error::Invalid(format!(
-            "{source}: the dwells (G4) add up to {dwell_s} s: {} samples at the {} s period, \
-             more than the {} samples the planner allows; shorten the dwells",
-            dwell_s / popts.dt,
-            popts.dt,
-            max_samples()
-        )));
-    }
-    if e.samples <= max && e.nodes <= 2.0 * max {
-        return Ok(());
-    }
+    Ok(())
+}
+
+/// The likely cause of a path over the sample budget, for the error: a controller period far
+/// too short, a speed slower than any print (a unit slip), a move far too long, a tiny jerk or
+/// acceleration limit, or a path that simply is long. `e` is the path's estimate.
+fn likely_cause(
+    moves: &[Move],
+    popts: &ProfileOptions,
+    e: &Estimate,
+    max: f64,
+    source: &str,
+) -> String {
     let m = &moves[e.slowest.min(moves.len().saturating_sub(1))];
     let len = m.prim.length();
     let v_mm_s = m.speed * 1e3;
@@ -155,7 +183,7 @@ pub fn check(
         .map(|x| x.to_string_lossy().to_ascii_lowercase())
         .unwrap_or_default();
     let gcode = matches!(ext.as_str(), "gcode" | "nc" | "ngc" | "g");
-    let cause = if popts.dt < 1e-4 {
+    if popts.dt < 1e-4 {
         format!(
             "the interpolation period {} ms is far shorter than a controller's (0.5–12 ms)",
             popts.dt * 1e3
@@ -204,15 +232,7 @@ pub fn check(
             len,
             fmt_num(v_mm_s)
         )
-    };
-    Err(Error::Invalid(format!(
-        "{source}: timing this path would take at least {:.3e} s of motion, {:.3e} samples at {} ms (~{:.1} GB), more than the budget of {} samples ({MAX_SAMPLES_ENV}): {cause}",
-        e.duration_s,
-        e.samples,
-        popts.dt * 1e3,
-        e.bytes / 1e9,
-        max as usize
-    )))
+    }
 }
 
 /// A number as a person writes it: up to 6 significant digits, no trailing zeros.
