@@ -40,31 +40,15 @@ fn jacobian(
     rows: &[usize],
     jac: &mut [f64],
 ) -> Result<()> {
-    let n = model.n;
-    let ch = prep.log.channels;
-    let kind = prep.log.kind;
-    let p = theta.len();
-    let m = rows.len() * ch;
-    let mut tau = vec![0.0; rows.len() * n];
-    let mut sig = vec![0.0; m];
-    for (r, &k) in rows.iter().enumerate() {
-        prep.torque_row_kept(model, k, &[], &mut tau[r * n..(r + 1) * n]);
-        model.signal_from_torque(
-            kind,
-            &tau[r * n..(r + 1) * n],
-            prep.log.traj.qd(k),
-            &mut sig[r * ch..(r + 1) * ch],
-        );
-    }
-    let step = |i: usize| {
-        let mut h = 1e-5 * theta[i].abs().max(1e-2);
-        if theta[i] + h > lay.upper[i] {
-            h = -h;
-        }
-        h
+    let (tau, sig) = base_signal(prep, model, rows);
+    let lin = Linearisation {
+        prep,
+        lay,
+        theta,
+        rows,
+        tau,
+        sig,
     };
-    let mut s2 = [0.0; MAX_DOF];
-    let mut t2 = [0.0; MAX_DOF];
     let mut o = 0;
     for (name, &pe) in lay.effects.iter().zip(&lay.sizes) {
         let pos = model
@@ -72,95 +56,218 @@ fn jacobian(
             .ok_or_else(|| Error::Invalid(format!("effect `{name}` is not in the model")))?;
         let vals = model.values(name)?;
         let stage = model.effect(name)?.stage();
+        let block = Block { name, pos, o, pe };
         if stage != Stage::Torque {
-            for li in 0..pe {
-                let i = o + li;
-                let h = step(i);
-                let mut v = vals.clone();
-                v[li] += h;
-                model.set_values(name, &v)?;
-                for (r, &k) in rows.iter().enumerate() {
-                    model.signal_from_torque(
-                        kind,
-                        &tau[r * n..(r + 1) * n],
-                        prep.log.traj.qd(k),
-                        &mut s2[..ch],
-                    );
-                    for c in 0..ch {
-                        jac[(r * ch + c) * p + i] = (s2[c] - sig[r * ch + c]) / h;
-                    }
+            lin.motor_columns(model, &block, &vals, jac)?;
+        } else {
+            lin.torque_columns(model, &block, &vals, jac)?;
+        }
+        o += pe;
+    }
+    Ok(())
+}
+
+/// Torque (row-major `rows.len() × n`) and signal (`rows.len() × channels`) at `rows`.
+fn base_signal(prep: &Prepared, model: &Model, rows: &[usize]) -> (Vec<f64>, Vec<f64>) {
+    let n = model.n;
+    let ch = prep.log.channels;
+    let mut tau = vec![0.0; rows.len() * n];
+    let mut sig = vec![0.0; rows.len() * ch];
+    for (r, &k) in rows.iter().enumerate() {
+        prep.torque_row_kept(model, k, &[], &mut tau[r * n..(r + 1) * n]);
+        model.signal_from_torque(
+            prep.log.kind,
+            &tau[r * n..(r + 1) * n],
+            prep.log.traj.qd(k),
+            &mut sig[r * ch..(r + 1) * ch],
+        );
+    }
+    (tau, sig)
+}
+
+/// One effect's parameters in the Jacobian: its name, position in the model, first column
+/// and parameter count.
+struct Block<'a> {
+    name: &'a str,
+    pos: usize,
+    o: usize,
+    pe: usize,
+}
+
+/// The point a Jacobian is taken at: the torque and signal at the fitted rows.
+struct Linearisation<'a> {
+    prep: &'a Prepared<'a>,
+    lay: &'a Layout,
+    theta: &'a [f64],
+    rows: &'a [usize],
+    tau: Vec<f64>,
+    sig: Vec<f64>,
+}
+
+impl Linearisation<'_> {
+    /// Forward-difference step of parameter `i` (backwards where forwards would leave its
+    /// range).
+    fn step(&self, i: usize) -> f64 {
+        let mut h = 1e-5 * self.theta[i].abs().max(1e-2);
+        if self.theta[i] + h > self.lay.upper[i] {
+            h = -h;
+        }
+        h
+    }
+
+    /// Columns of a motor or supply effect: forward differences of the motor model at the
+    /// same torque.
+    fn motor_columns(
+        &self,
+        model: &mut Model,
+        b: &Block,
+        vals: &[f64],
+        jac: &mut [f64],
+    ) -> Result<()> {
+        let n = model.n;
+        let ch = self.prep.log.channels;
+        let p = self.theta.len();
+        let mut s2 = [0.0; MAX_DOF];
+        for li in 0..b.pe {
+            let i = b.o + li;
+            let h = self.step(i);
+            let mut v = vals.to_vec();
+            v[li] += h;
+            model.set_values(b.name, &v)?;
+            for (r, &k) in self.rows.iter().enumerate() {
+                model.signal_from_torque(
+                    self.prep.log.kind,
+                    &self.tau[r * n..(r + 1) * n],
+                    self.prep.log.traj.qd(k),
+                    &mut s2[..ch],
+                );
+                for c in 0..ch {
+                    jac[(r * ch + c) * p + i] = (s2[c] - self.sig[r * ch + c]) / h;
                 }
-                model.set_values(name, &vals)?;
             }
-            o += pe;
-            continue;
+            model.set_values(b.name, vals)?;
         }
-        let eff = model.effect(name)?;
-        let hs: Vec<f64> = (0..pe).map(|li| step(o + li)).collect();
-        // Perturbed copies for effects without a regressor.
-        let mut y = vec![0.0; n * pe];
-        let linear = rows.first().is_none_or(|&k| {
-            eff.regressor(
-                prep.log.traj.q(k),
-                prep.log.traj.qd(k),
-                prep.log.traj.qdd(k),
-                &mut y,
-            )
-        });
-        let mut copies: Vec<Box<dyn Effect>> = Vec::new();
-        if !linear {
-            for li in 0..pe {
-                let mut c = eff.clone_box();
-                let mut v = vals.clone();
-                v[li] += hs[li];
-                c.set_values(&v)?;
-                copies.push(c);
-            }
-        }
+        Ok(())
+    }
+
+    /// Columns of a torque effect: its torque derivatives, carried to current and power logs
+    /// through a forward difference of the motor model.
+    fn torque_columns(
+        &self,
+        model: &Model,
+        b: &Block,
+        vals: &[f64],
+        jac: &mut [f64],
+    ) -> Result<()> {
+        let n = model.n;
+        let ch = self.prep.log.channels;
+        let kind = self.prep.log.kind;
+        let p = self.theta.len();
+        let pe = b.pe;
+        let td = self.torque_derivative(model.effect(b.name)?, b, vals, n)?;
+        let mut s2 = [0.0; MAX_DOF];
+        let mut t2 = [0.0; MAX_DOF];
         let mut d = vec![0.0; n * pe]; // dτ_j/dθ_li at j * pe + li
-        let mut base = [0.0; MAX_DOF];
-        for (r, &k) in rows.iter().enumerate() {
-            let (q, qd, qdd) = (
-                prep.log.traj.q(k),
-                prep.log.traj.qd(k),
-                prep.log.traj.qdd(k),
-            );
-            if prep.regressor_row(model, pos, k, &mut d) {
-            } else if linear {
-                eff.regressor(q, qd, qdd, &mut d);
-            } else {
-                base[..n].iter_mut().for_each(|v| *v = 0.0);
-                eff.add_torque(q, qd, qdd, &mut base[..n]);
-                for (li, c) in copies.iter().enumerate() {
-                    t2[..n].iter_mut().for_each(|v| *v = 0.0);
-                    c.add_torque(q, qd, qdd, &mut t2[..n]);
-                    for j in 0..n {
-                        d[j * pe + li] = (t2[j] - base[j]) / hs[li];
-                    }
-                }
-            }
-            let tr = &tau[r * n..(r + 1) * n];
+        for (r, &k) in self.rows.iter().enumerate() {
+            td.at(self.prep, model, b.pos, k, &mut d);
+            let tr = &self.tau[r * n..(r + 1) * n];
             for li in 0..pe {
-                let i = o + li;
+                let i = b.o + li;
                 if kind == crate::identify::SignalKind::Torque {
                     for j in 0..n {
                         jac[(r * ch + j) * p + i] = d[j * pe + li];
                     }
                 } else {
-                    let h = hs[li];
+                    let h = td.hs[li];
                     for j in 0..n {
                         t2[j] = tr[j] + h * d[j * pe + li];
                     }
+                    let qd = self.prep.log.traj.qd(k);
                     model.signal_from_torque(kind, &t2[..n], qd, &mut s2[..ch]);
                     for c in 0..ch {
-                        jac[(r * ch + c) * p + i] = (s2[c] - sig[r * ch + c]) / h;
+                        jac[(r * ch + c) * p + i] = (s2[c] - self.sig[r * ch + c]) / h;
                     }
                 }
             }
         }
-        o += pe;
+        Ok(())
     }
-    Ok(())
+
+    /// How a torque effect's torque moves with its parameters: by its regressor when it is
+    /// linear, else through copies with one parameter stepped each.
+    fn torque_derivative<'e>(
+        &self,
+        eff: &'e dyn Effect,
+        b: &Block,
+        vals: &[f64],
+        n: usize,
+    ) -> Result<TorqueDerivative<'e>> {
+        let pe = b.pe;
+        let traj = &self.prep.log.traj;
+        let hs: Vec<f64> = (0..pe).map(|li| self.step(b.o + li)).collect();
+        // Perturbed copies for effects without a regressor.
+        let mut y = vec![0.0; n * pe];
+        let linear = self
+            .rows
+            .first()
+            .is_none_or(|&k| eff.regressor(traj.q(k), traj.qd(k), traj.qdd(k), &mut y));
+        let mut copies: Vec<Box<dyn Effect>> = Vec::new();
+        if !linear {
+            for li in 0..pe {
+                let mut c = eff.clone_box();
+                let mut v = vals.to_vec();
+                v[li] += hs[li];
+                c.set_values(&v)?;
+                copies.push(c);
+            }
+        }
+        Ok(TorqueDerivative {
+            eff,
+            hs,
+            linear,
+            copies,
+        })
+    }
+}
+
+/// A torque effect's torque derivatives: its regressor when linear, else forward differences
+/// through copies with one parameter stepped each.
+struct TorqueDerivative<'e> {
+    eff: &'e dyn Effect,
+    /// Forward-difference step of each parameter.
+    hs: Vec<f64>,
+    linear: bool,
+    copies: Vec<Box<dyn Effect>>,
+}
+
+impl TorqueDerivative<'_> {
+    /// `dτ_j/dθ_li` at sample `k` into `d` (at `j * pe + li`): the prepared regressor row
+    /// where there is one, else the effect's regressor, else forward differences.
+    fn at(&self, prep: &Prepared, model: &Model, pos: usize, k: usize, d: &mut [f64]) {
+        let n = model.n;
+        let pe = self.hs.len();
+        let (q, qd, qdd) = (
+            prep.log.traj.q(k),
+            prep.log.traj.qd(k),
+            prep.log.traj.qdd(k),
+        );
+        if prep.regressor_row(model, pos, k, d) {
+        } else if self.linear {
+            self.eff.regressor(q, qd, qdd, d);
+        } else {
+            let mut base = [0.0; MAX_DOF];
+            let mut t2 = [0.0; MAX_DOF];
+            base[..n].iter_mut().for_each(|v| *v = 0.0);
+            self.eff.add_torque(q, qd, qdd, &mut base[..n]);
+            for (li, c) in self.copies.iter().enumerate() {
+                t2[..n].iter_mut().for_each(|v| *v = 0.0);
+                c.add_torque(q, qd, qdd, &mut t2[..n]);
+                for j in 0..n {
+                    d[j * pe + li] = (t2[j] - base[j]) / self.hs[li];
+                }
+            }
+        }
+    }
 }
 
 /// Column-normalised condition number above which a fit is reported as ill-conditioned.
@@ -656,11 +763,22 @@ impl Problem<'_> {
     fn jacobian_t(&self, model: &mut Model, sol: &mut Solution) -> Result<nalgebra::DMatrix<f64>> {
         let p = sol.theta.len();
         let m = sol.r.len();
-        jacobian(self.prep, model, self.lay, &sol.theta, self.rows, &mut sol.jac)?;
+        jacobian(
+            self.prep,
+            model,
+            self.lay,
+            &sol.theta,
+            self.rows,
+            &mut sol.jac,
+        )?;
         self.cons.tie_cols(&mut sol.jac, m, p);
         self.cons.payload_chain(&mut sol.jac, m, &sol.theta);
         // The row-major Jacobian is its transpose, column-major: no copy.
-        Ok(nalgebra::DMatrix::from_vec(p, m, std::mem::take(&mut sol.jac)))
+        Ok(nalgebra::DMatrix::from_vec(
+            p,
+            m,
+            std::mem::take(&mut sol.jac),
+        ))
     }
 
     /// Levenberg–Marquardt iterations (at most 40) until a step no longer improves the fit;
