@@ -307,37 +307,8 @@ pub fn robust(
     let nominal = ev.job.robot;
     let (ranges, source) = uncertainty::resolve_ranges(nominal, o.ranges)?;
     let calibrated = uncertainty::calibrated_names(nominal, &ranges);
-    let effects = crate::effects::EffectSet::of_robot(nominal)?;
-    let p0 = balancer_preload(nominal).filter(|f| *f != 0.0);
-    // The drawn robots, in draw order.
-    let robots: Vec<(RobotModel, Vec<(String, f64)>)> = (0..o.draws)
-        .map(|d| {
-            let (m, mut drawn) = uncertainty::drawn_robot_of(nominal, &effects, &ranges, o.seed, d);
-            if let Some(p0) = p0 {
-                drawn.push((
-                    "balancer force".into(),
-                    balancer_preload(&m).unwrap_or(0.0) / p0,
-                ));
-            }
-            (m, drawn)
-        })
-        .collect();
-    let job = ev.job;
-    let jobs: Vec<PathJob> = robots
-        .iter()
-        .map(|(m, _)| {
-            Ok(PathJob {
-                robot: m,
-                energy: EnergyModel::with_options(m, job.energy.options())?,
-                moves: job.moves.clone(),
-                pieces: job.pieces.clone(),
-                plan: job.plan.clone(),
-                profile: job.profile,
-                joint: job.joint,
-                source: job.source.clone(),
-            })
-        })
-        .collect::<Result<_>>()?;
+    let robots = drawn_robots(nominal, &ranges, o)?;
+    let jobs = drawn_jobs(ev.job, &robots)?;
     let evs: Vec<Evaluator> = jobs
         .iter()
         .map(|j| Evaluator::new(j, ev.feasibility, ev.objective))
@@ -350,170 +321,22 @@ pub fn robust(
         cands.push((p, why.into()));
     }
     if o.draw_optima {
-        let dopts = OptimiseOptions {
-            max_evals: o.draw_evals,
-            ..*opts
-        };
-        let found: Vec<Result<(Option<Placement>, usize)>> = evs
-            .iter()
-            .map(|evd| {
-                let start = evd.evaluate(&mut evd.scratch()?, &a);
-                if start.feasible().is_none() {
-                    return Ok((None, 1));
-                }
-                let quiet: refine::Progress = std::sync::Arc::new(|_, _, _| {});
-                let (r, si) = refine::refine(evd, &[start], &dopts, so, quiet)?;
-                let n = 1 + r.evals + si.tolerance_evals + 4;
-                Ok((si.tolerance.holds.then_some(r.best.placement), n))
-            })
-            .collect();
-        for (d, f) in found.into_iter().enumerate() {
-            let (p, n) = f?;
-            evaluations += n;
-            if let Some(p) = p {
-                cands.push((p, format!("optimum of draw {d}")));
-            }
-        }
+        evaluations += draw_optima(&evs, &a, opts, so, o, &mut cands)?;
     }
-    // Distinct placements only (the first origin kept).
-    let mut uniq: Vec<(Placement, String)> = Vec::new();
-    for (p, w) in cands {
-        if !uniq.iter().any(|(q, _)| same(q, &p)) {
-            uniq.push((p, w));
-        }
-    }
-    // Feasible under the nominal robot, timed once.
-    let ps: Vec<Placement> = uniq.iter().map(|c| c.0).collect();
-    let nom = ev.sweep(&ps, &|_, _| {})?;
-    evaluations += ps.len();
-    let mut keep: Vec<(Placement, String, f64)> = Vec::new();
-    for ((p, w), e) in uniq.into_iter().zip(&nom) {
-        if e.cost().is_finite() {
-            keep.push((p, w, e.cost()));
-        } else if w == "nominal answer" {
-            return Err(Error::Invalid(
-                "robust choice: the nominal answer is infeasible when evaluated again".into(),
-            ));
-        }
-    }
-    // The choice is among placements a site can use: those whose tolerance box holds under
-    // the nominal robot (the nominal answer holds its own; a candidate where it does not is
-    // left out before any draw).
-    let checker = Checker::new(ev, so.tolerance);
-    let mut tolerance_checked = 0;
-    if !so.tolerance.is_zero() {
-        let mut held = Vec::with_capacity(keep.len());
-        for (i, c) in keep.into_iter().enumerate() {
-            if i > 0 {
-                tolerance_checked += 1;
-                if !checker.check(&c.0)?.holds {
-                    continue;
-                }
-            }
-            held.push(c);
-        }
-        keep = held;
-    }
-    evaluations += checker.evaluations();
-    let timed: Vec<crate::timing::TimedPath> = {
-        let r: Vec<Result<crate::timing::TimedPath>> = keep
-            .par_iter()
-            .map(|(p, _, _)| {
-                let mut sc = ev.scratch()?;
-                ev.timed(&mut sc, p).map_err(|e| {
-                    Error::Invalid(format!("robust choice: re-timing a candidate: {e}"))
-                })
-            })
-            .collect();
-        r.into_iter().collect::<Result<_>>()?
-    };
-    // Energies per draw (objective, drives, standby), in draw order.
-    let per: Vec<Result<Vec<[f64; 3]>>> = evs
-        .par_iter()
-        .map(|evd| {
-            let mut sc = evd.scratch()?;
-            Ok(timed
-                .iter()
-                .map(|t| {
-                    evd.energy_of(&mut sc, t, Default::default())
-                        .map_or([f64::INFINITY; 3], |f| {
-                            [f.energy_j, f.drives_j, f.standby_j]
-                        })
-                })
-                .collect())
-        })
-        .collect();
-    let mut per: Vec<Vec<[f64; 3]>> = per.into_iter().collect::<Result<_>>()?;
-    // A candidate whose energy some drawn robot cannot give (a model error) is left out; the
-    // nominal answer must have them all.
-    let whole: Vec<bool> = (0..keep.len())
-        .map(|c| per.iter().all(|e| e[c].iter().all(|v| v.is_finite())))
-        .collect();
-    if !whole[0] {
-        return Err(Error::Invalid(
-            "robust choice: a drawn robot cannot give the nominal answer's energy".into(),
-        ));
-    }
-    let mut i = 0;
-    keep.retain(|_| {
-        i += 1;
-        whole[i - 1]
-    });
-    for e in &mut per {
-        let mut i = 0;
-        e.retain(|_| {
-            i += 1;
-            whole[i - 1]
-        });
-    }
-    let k = keep.len();
+    let (mut keep, tolerance_checked, n_eval) = usable(ev, so, distinct(cands))?;
+    evaluations += n_eval;
+    let mut per = draw_energies(ev, &evs, &keep)?;
+    keep_whole(&mut keep, &mut per)?;
     let n = o.draws;
     let nf = n as f64;
-    // Per draw: the best candidate and its drives' energy.
-    let best: Vec<(usize, f64)> = per
-        .iter()
-        .map(|e| {
-            let mut b = 0;
-            for c in 1..k {
-                if e[c][0] < e[b][0] {
-                    b = c;
-                }
-            }
-            (b, e[b][1])
-        })
-        .collect();
-    let regret = |c: usize, d: usize| per[d][c][0] - per[d][best[d].0][0];
-    let candidates: Vec<Candidate> = keep
-        .iter()
-        .enumerate()
-        .map(|(c, (p, w, e0))| {
-            let mut r: Vec<f64> = (0..n).map(|d| regret(c, d)).collect();
-            let within = (0..n).filter(|&d| r[d] <= 0.01 * best[d].1.abs()).count();
-            let bests = (0..n).filter(|&d| best[d].0 == c).count();
-            let mean = |i: usize| per.iter().map(|e| e[c][i]).sum::<f64>() / nf;
-            let er = r.iter().sum::<f64>() / nf;
-            r.sort_by(f64::total_cmp);
-            Candidate {
-                placement: *p,
-                origin: w.clone(),
-                nominal_j: *e0,
-                expected_j: mean(0),
-                expected_drives_j: mean(1),
-                expected_standby_j: mean(2),
-                expected_regret_j: er,
-                p95_regret_j: uncertainty::percentile(&r, 0.95),
-                max_regret_j: r[n - 1],
-                p_best: bests as f64 / nf,
-                p_within_1pct: within as f64 / nf,
-            }
-        })
-        .collect();
+    let best = best_per_draw(&per, keep.len());
+    let candidates = compare(&keep, &per, &best);
     // The recommendation: the best by the criterion (the first of equals).
     let score = |c: &Candidate| match o.criterion {
         RobustObjective::Expected => c.expected_j,
         RobustObjective::Regret => c.max_regret_j,
     };
-    let recommended = (1..k).fold(0, |b, c| {
+    let recommended = (1..keep.len()).fold(0, |b, c| {
         if score(&candidates[c]) < score(&candidates[b]) {
             c
         } else {
@@ -521,17 +344,7 @@ pub fn robust(
         }
     });
     // Value of information.
-    let parameters: Vec<String> = robots[0].1.iter().map(|(nm, _)| nm.clone()).collect();
-    let drawn: Vec<Vec<f64>> = robots
-        .iter()
-        .map(|(_, v)| {
-            parameters
-                .iter()
-                .enumerate()
-                .map(|(i, nm)| v.get(i).filter(|x| &x.0 == nm).map_or(f64::NAN, |x| x.1))
-                .collect()
-        })
-        .collect();
+    let (parameters, drawn) = drawn_table(&robots);
     let energy_j: Vec<Vec<f64>> = per
         .iter()
         .map(|e| e.iter().map(|x| x[0]).collect())
@@ -570,6 +383,271 @@ pub fn robust(
         drawn,
         evaluations,
     })
+}
+
+/// A drawn robot with the parameters drawn for it (name, value).
+type DrawnRobot = (RobotModel, Vec<(String, f64)>);
+
+/// A candidate kept for the comparison: placement, origin and nominal energy, J.
+type Kept = (Placement, String, f64);
+
+/// The drawn robots, in draw order (the balancer force drawn as a factor on its preload).
+fn drawn_robots(
+    nominal: &RobotModel,
+    ranges: &uncertainty::Ranges,
+    o: &RobustOptions,
+) -> Result<Vec<DrawnRobot>> {
+    let effects = crate::effects::EffectSet::of_robot(nominal)?;
+    let p0 = balancer_preload(nominal).filter(|f| *f != 0.0);
+    Ok((0..o.draws)
+        .map(|d| {
+            let (m, mut drawn) = uncertainty::drawn_robot_of(nominal, &effects, ranges, o.seed, d);
+            if let Some(p0) = p0 {
+                drawn.push((
+                    "balancer force".into(),
+                    balancer_preload(&m).unwrap_or(0.0) / p0,
+                ));
+            }
+            (m, drawn)
+        })
+        .collect())
+}
+
+/// The path job of each drawn robot: `job` with that robot's energy model.
+fn drawn_jobs<'r>(job: &PathJob<'r>, robots: &'r [DrawnRobot]) -> Result<Vec<PathJob<'r>>> {
+    robots
+        .iter()
+        .map(|(m, _)| {
+            Ok(PathJob {
+                robot: m,
+                energy: EnergyModel::with_options(m, job.energy.options())?,
+                moves: job.moves.clone(),
+                pieces: job.pieces.clone(),
+                plan: job.plan.clone(),
+                profile: job.profile,
+                joint: job.joint,
+                source: job.source.clone(),
+            })
+        })
+        .collect()
+}
+
+/// Each drawn robot's own optimum from the answer `a` (the refinement with `o.draw_evals`
+/// evaluations), added to `cands` where its tolerance holds; the evaluations made.
+fn draw_optima(
+    evs: &[Evaluator],
+    a: &Placement,
+    opts: &OptimiseOptions,
+    so: &SearchOptions,
+    o: &RobustOptions,
+    cands: &mut Vec<(Placement, String)>,
+) -> Result<usize> {
+    let dopts = OptimiseOptions {
+        max_evals: o.draw_evals,
+        ..*opts
+    };
+    let found: Vec<Result<(Option<Placement>, usize)>> = evs
+        .iter()
+        .map(|evd| {
+            let start = evd.evaluate(&mut evd.scratch()?, a);
+            if start.feasible().is_none() {
+                return Ok((None, 1));
+            }
+            let quiet: refine::Progress = std::sync::Arc::new(|_, _, _| {});
+            let (r, si) = refine::refine(evd, &[start], &dopts, so, quiet)?;
+            let n = 1 + r.evals + si.tolerance_evals + 4;
+            Ok((si.tolerance.holds.then_some(r.best.placement), n))
+        })
+        .collect();
+    let mut evaluations = 0;
+    for (d, f) in found.into_iter().enumerate() {
+        let (p, n) = f?;
+        evaluations += n;
+        if let Some(p) = p {
+            cands.push((p, format!("optimum of draw {d}")));
+        }
+    }
+    Ok(evaluations)
+}
+
+/// Distinct placements only (the first origin kept).
+fn distinct(cands: Vec<(Placement, String)>) -> Vec<(Placement, String)> {
+    let mut uniq: Vec<(Placement, String)> = Vec::new();
+    for (p, w) in cands {
+        if !uniq.iter().any(|(q, _)| same(q, &p)) {
+            uniq.push((p, w));
+        }
+    }
+    uniq
+}
+
+/// The candidates a site can use: feasible under the nominal robot (timed once) and holding
+/// their tolerance box there (the nominal answer holds its own; a candidate where it does not
+/// is left out before any draw). With the tolerance boxes checked and the evaluations made.
+fn usable(
+    ev: &Evaluator,
+    so: &SearchOptions,
+    uniq: Vec<(Placement, String)>,
+) -> Result<(Vec<Kept>, usize, usize)> {
+    // Feasible under the nominal robot, timed once.
+    let ps: Vec<Placement> = uniq.iter().map(|c| c.0).collect();
+    let nom = ev.sweep(&ps, &|_, _| {})?;
+    let mut evaluations = ps.len();
+    let mut keep: Vec<Kept> = Vec::new();
+    for ((p, w), e) in uniq.into_iter().zip(&nom) {
+        if e.cost().is_finite() {
+            keep.push((p, w, e.cost()));
+        } else if w == "nominal answer" {
+            return Err(Error::Invalid(
+                "robust choice: the nominal answer is infeasible when evaluated again".into(),
+            ));
+        }
+    }
+    // The choice is among placements a site can use: those whose tolerance box holds under
+    // the nominal robot (the nominal answer holds its own; a candidate where it does not is
+    // left out before any draw).
+    let checker = Checker::new(ev, so.tolerance);
+    let mut tolerance_checked = 0;
+    if !so.tolerance.is_zero() {
+        let mut held = Vec::with_capacity(keep.len());
+        for (i, c) in keep.into_iter().enumerate() {
+            if i > 0 {
+                tolerance_checked += 1;
+                if !checker.check(&c.0)?.holds {
+                    continue;
+                }
+            }
+            held.push(c);
+        }
+        keep = held;
+    }
+    evaluations += checker.evaluations();
+    Ok((keep, tolerance_checked, evaluations))
+}
+
+/// Energies (objective, drives, standby) of each candidate under each drawn robot, in draw
+/// order; infinite where a drawn robot cannot give them. Each candidate is timed once, under
+/// the nominal robot.
+fn draw_energies(ev: &Evaluator, evs: &[Evaluator], keep: &[Kept]) -> Result<Vec<Vec<[f64; 3]>>> {
+    let timed: Vec<crate::timing::TimedPath> = {
+        let r: Vec<Result<crate::timing::TimedPath>> = keep
+            .par_iter()
+            .map(|(p, _, _)| {
+                let mut sc = ev.scratch()?;
+                ev.timed(&mut sc, p).map_err(|e| {
+                    Error::Invalid(format!("robust choice: re-timing a candidate: {e}"))
+                })
+            })
+            .collect();
+        r.into_iter().collect::<Result<_>>()?
+    };
+    // Energies per draw (objective, drives, standby), in draw order.
+    let per: Vec<Result<Vec<[f64; 3]>>> = evs
+        .par_iter()
+        .map(|evd| {
+            let mut sc = evd.scratch()?;
+            Ok(timed
+                .iter()
+                .map(|t| {
+                    evd.energy_of(&mut sc, t, Default::default())
+                        .map_or([f64::INFINITY; 3], |f| {
+                            [f.energy_j, f.drives_j, f.standby_j]
+                        })
+                })
+                .collect())
+        })
+        .collect();
+    per.into_iter().collect::<Result<_>>()
+}
+
+/// A candidate whose energy some drawn robot cannot give (a model error) is left out; the
+/// nominal answer must have them all.
+fn keep_whole(keep: &mut Vec<Kept>, per: &mut [Vec<[f64; 3]>]) -> Result<()> {
+    let whole: Vec<bool> = (0..keep.len())
+        .map(|c| per.iter().all(|e| e[c].iter().all(|v| v.is_finite())))
+        .collect();
+    if !whole[0] {
+        return Err(Error::Invalid(
+            "robust choice: a drawn robot cannot give the nominal answer's energy".into(),
+        ));
+    }
+    let mut i = 0;
+    keep.retain(|_| {
+        i += 1;
+        whole[i - 1]
+    });
+    for e in per.iter_mut() {
+        let mut i = 0;
+        e.retain(|_| {
+            i += 1;
+            whole[i - 1]
+        });
+    }
+    Ok(())
+}
+
+/// Per draw: the best of the `k` candidates and its drives' energy.
+fn best_per_draw(per: &[Vec<[f64; 3]>], k: usize) -> Vec<(usize, f64)> {
+    per.iter()
+        .map(|e| {
+            let mut b = 0;
+            for c in 1..k {
+                if e[c][0] < e[b][0] {
+                    b = c;
+                }
+            }
+            (b, e[b][1])
+        })
+        .collect()
+}
+
+/// Each candidate over the draws: expected energies, regret against each draw's best, how
+/// often it is the best or within 1 % of it.
+fn compare(keep: &[Kept], per: &[Vec<[f64; 3]>], best: &[(usize, f64)]) -> Vec<Candidate> {
+    let n = per.len();
+    let nf = n as f64;
+    let regret = |c: usize, d: usize| per[d][c][0] - per[d][best[d].0][0];
+    keep.iter()
+        .enumerate()
+        .map(|(c, (p, w, e0))| {
+            let mut r: Vec<f64> = (0..n).map(|d| regret(c, d)).collect();
+            let within = (0..n).filter(|&d| r[d] <= 0.01 * best[d].1.abs()).count();
+            let bests = (0..n).filter(|&d| best[d].0 == c).count();
+            let mean = |i: usize| per.iter().map(|e| e[c][i]).sum::<f64>() / nf;
+            let er = r.iter().sum::<f64>() / nf;
+            r.sort_by(f64::total_cmp);
+            Candidate {
+                placement: *p,
+                origin: w.clone(),
+                nominal_j: *e0,
+                expected_j: mean(0),
+                expected_drives_j: mean(1),
+                expected_standby_j: mean(2),
+                expected_regret_j: er,
+                p95_regret_j: uncertainty::percentile(&r, 0.95),
+                max_regret_j: r[n - 1],
+                p_best: bests as f64 / nf,
+                p_within_1pct: within as f64 / nf,
+            }
+        })
+        .collect()
+}
+
+/// The parameters drawn (the first draw's names) and each draw's values in their order (NaN
+/// where a draw lacks one).
+fn drawn_table(robots: &[DrawnRobot]) -> (Vec<String>, Vec<Vec<f64>>) {
+    let parameters: Vec<String> = robots[0].1.iter().map(|(nm, _)| nm.clone()).collect();
+    let drawn: Vec<Vec<f64>> = robots
+        .iter()
+        .map(|(_, v)| {
+            parameters
+                .iter()
+                .enumerate()
+                .map(|(i, nm)| v.get(i).filter(|x| &x.0 == nm).map_or(f64::NAN, |x| x.1))
+                .collect()
+        })
+        .collect();
+    (parameters, drawn)
 }
 
 /// What moving each search bound the answer lies on is worth: the answer's placement with
