@@ -179,55 +179,12 @@ impl EnergyModel {
     ) -> Result<Self> {
         let n = robot.dof();
         let has_drive = robot.drive.is_some();
-        if !(options.coulomb_velocity_scale.is_finite() && options.coulomb_velocity_scale > 0.0) {
-            return Err(Error::Invalid(format!(
-                "coulomb velocity scale must be > 0 rad/s, got {}",
-                options.coulomb_velocity_scale
-            )));
-        }
-        if options.coulomb_velocity_scale != COULOMB_VELOCITY_SCALE_RAD_S
-            && set.is_enabled("coulomb")
-        {
-            let c = set.get_mut("coulomb")?;
-            let mut v = c.values();
-            if let Some(last) = v.last_mut() {
-                *last = options.coulomb_velocity_scale;
-            }
-            c.set_values(&v)?;
-        }
+        set_coulomb_scale(&options, &mut set)?;
         let mut dyn_robot = robot.clone();
         if !options.payload {
             dyn_robot.payload = None;
         }
-        let mut torque = Vec::new();
-        let mut in_model = Vec::new();
-        let mut motor: [Option<Vec<f64>>; 2] = [None, None];
-        let (mut rho, mut p0) = (0.0, 0.0);
-        for (e, on) in set.iter() {
-            if !on {
-                continue;
-            }
-            match e.stage() {
-                Stage::Torque => {
-                    let class = e.energy_class();
-                    let skip = e.is_null()
-                        || (class == EnergyClass::Friction && !options.friction)
-                        || (e.name() == "armature" && !(options.armature && has_drive))
-                        || (e.name() == "payload" && !options.payload);
-                    if skip {
-                        continue;
-                    }
-                    in_model.push(e.name().to_string());
-                    if !e.fold_into(&mut dyn_robot) {
-                        torque.push((Arc::from(e.clone_box()), class));
-                    }
-                }
-                Stage::Motor(MotorTerm::WindingResistance) => motor[0] = Some(e.values()),
-                Stage::Motor(MotorTerm::GearEfficiency) => motor[1] = Some(e.values()),
-                Stage::Supply(SupplyTerm::Regeneration) => rho = e.values()[0],
-                Stage::Supply(SupplyTerm::Standby) => p0 = e.values()[0],
-            }
-        }
+        let staged = Staged::of(&set, &options, has_drive, &mut dyn_robot);
         let dynamics = DynModel::new(
             &dyn_robot,
             DynOptions {
@@ -235,25 +192,11 @@ impl EnergyModel {
                 armature: false,
             },
         )?;
-        let mut axes = [Axis::default(); MAX_DOF];
-        let mut regeneration = Regeneration::None;
-        let mut standby_w = 0.0;
-        if let Some(d) = &robot.drive {
-            robot.check_len("drive joints", d.joints.len())?;
-            for (j, (a, jd)) in axes.iter_mut().zip(&d.joints).enumerate() {
-                *a = Axis {
-                    gear: jd.gear_ratio,
-                    kt: jd.torque_constant,
-                    r: motor[0].as_ref().map_or(0.0, |v| v[j]),
-                    eta: motor[1].as_ref().map_or(1.0, |v| v[j]),
-                };
-            }
-            regeneration = d.regeneration;
-            standby_w = p0;
-        }
+        let (axes, mut regeneration, standby_w) = drive_axes(robot, &staged)?;
         if let Some(r) = options.regeneration {
             regeneration = r;
         }
+        let torque = staged.torque;
         let lane_effects: Vec<_> = torque
             .iter()
             .map(|(e, c)| (lanes::LaneEffect::of(e, n), *c))
@@ -267,9 +210,9 @@ impl EnergyModel {
             torque,
             lane_effects,
             lane_angles,
-            in_model,
+            in_model: staged.in_model,
             regeneration,
-            recovered_fraction: if has_drive { rho } else { 0.0 },
+            recovered_fraction: if has_drive { staged.rho } else { 0.0 },
             standby_w,
             joint_names: robot.joints.iter().map(|j| j.name.clone()).collect(),
             robot_name: robot.name().to_string(),
@@ -360,6 +303,109 @@ impl EnergyModel {
             None => desc,
         }
     }
+}
+
+/// The Coulomb velocity scale of `options` into the Coulomb effect of `set` (when enabled and
+/// not the default). Errors: a scale that is not a positive number.
+fn set_coulomb_scale(options: &EnergyOptions, set: &mut EffectSet) -> Result<()> {
+    if !(options.coulomb_velocity_scale.is_finite() && options.coulomb_velocity_scale > 0.0) {
+        return Err(Error::Invalid(format!(
+            "coulomb velocity scale must be > 0 rad/s, got {}",
+            options.coulomb_velocity_scale
+        )));
+    }
+    if options.coulomb_velocity_scale != COULOMB_VELOCITY_SCALE_RAD_S && set.is_enabled("coulomb") {
+        let c = set.get_mut("coulomb")?;
+        let mut v = c.values();
+        if let Some(last) = v.last_mut() {
+            *last = options.coulomb_velocity_scale;
+        }
+        c.set_values(&v)?;
+    }
+    Ok(())
+}
+
+/// The enabled effects sorted by the stage they act at.
+struct Staged {
+    /// Torque effects that do not fold into the rigid body, with their energy class.
+    torque: Vec<(Arc<dyn Effect>, EnergyClass)>,
+    /// Names of the torque effects in the model.
+    in_model: Vec<String>,
+    /// Motor terms: winding resistance and gear efficiency per joint.
+    motor: [Option<Vec<f64>>; 2],
+    /// Recovered fraction of regenerated power.
+    rho: f64,
+    /// Standby power, W.
+    p0: f64,
+}
+
+impl Staged {
+    /// The enabled effects of `set` that `options` keeps, by stage; torque effects that fold
+    /// into the rigid body go into `dyn_robot`.
+    fn of(
+        set: &EffectSet,
+        options: &EnergyOptions,
+        has_drive: bool,
+        dyn_robot: &mut RobotModel,
+    ) -> Staged {
+        let mut staged = Staged {
+            torque: Vec::new(),
+            in_model: Vec::new(),
+            motor: [None, None],
+            rho: 0.0,
+            p0: 0.0,
+        };
+        for (e, on) in set.iter() {
+            if !on {
+                continue;
+            }
+            match e.stage() {
+                Stage::Torque => {
+                    let class = e.energy_class();
+                    let skip = e.is_null()
+                        || (class == EnergyClass::Friction && !options.friction)
+                        || (e.name() == "armature" && !(options.armature && has_drive))
+                        || (e.name() == "payload" && !options.payload);
+                    if skip {
+                        continue;
+                    }
+                    staged.in_model.push(e.name().to_string());
+                    if !e.fold_into(dyn_robot) {
+                        staged.torque.push((Arc::from(e.clone_box()), class));
+                    }
+                }
+                Stage::Motor(MotorTerm::WindingResistance) => staged.motor[0] = Some(e.values()),
+                Stage::Motor(MotorTerm::GearEfficiency) => staged.motor[1] = Some(e.values()),
+                Stage::Supply(SupplyTerm::Regeneration) => staged.rho = e.values()[0],
+                Stage::Supply(SupplyTerm::Standby) => staged.p0 = e.values()[0],
+            }
+        }
+        staged
+    }
+}
+
+/// Each axis's gear, torque constant and motor terms, the regeneration and the standby power
+/// of the robot's drive (none without one). Errors: a drive whose joint count differs from
+/// the robot's.
+fn drive_axes(robot: &RobotModel, staged: &Staged) -> Result<([Axis; MAX_DOF], Regeneration, f64)> {
+    let motor = &staged.motor;
+    let mut axes = [Axis::default(); MAX_DOF];
+    let mut regeneration = Regeneration::None;
+    let mut standby_w = 0.0;
+    if let Some(d) = &robot.drive {
+        robot.check_len("drive joints", d.joints.len())?;
+        for (j, (a, jd)) in axes.iter_mut().zip(&d.joints).enumerate() {
+            *a = Axis {
+                gear: jd.gear_ratio,
+                kt: jd.torque_constant,
+                r: motor[0].as_ref().map_or(0.0, |v| v[j]),
+                eta: motor[1].as_ref().map_or(1.0, |v| v[j]),
+            };
+        }
+        regeneration = d.regeneration;
+        standby_w = staged.p0;
+    }
+    Ok((axes, regeneration, standby_w))
 }
 
 /// One axis of the motor model at joint torque `tau` (N·m) and velocity `v` (rad/s), see
