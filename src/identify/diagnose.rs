@@ -157,15 +157,7 @@ pub fn diagnose_with_progress(
     let dt = dur / (len.max(2) - 1) as f64;
     let (nf, tau_c) = noise_of(&r0, ch, dt)?;
     let noise = (nf.iter().map(|v| v * v).sum::<f64>() / ch.max(1) as f64).sqrt();
-    // Blocks at least one correlation time long.
-    let max_folds = if tau_c > 0.0 {
-        (dur / tau_c).floor() as usize
-    } else {
-        folds
-    };
-    let too_short = max_folds < 2;
-    let bl = blocks(len, folds.min(max_folds).max(2));
-    let chunk = ((tau_c / dt.max(1e-300)).ceil() as usize).clamp(1, len.max(1));
+    let (too_short, bl, chunk) = fold_plan(len, folds, dur, dt, tau_c);
     let base = Baseline {
         all: &all,
         blocks: &bl,
@@ -191,18 +183,7 @@ pub fn diagnose_with_progress(
         .map(|c| c.effect.clone());
     drop(r0);
     let unexplained = unexplained_after(prep, model, &base_state, &best, &all)?;
-    let left = if unexplained.is_empty() {
-        String::new()
-    } else {
-        format!(
-            "; structure no catalogue effect explains remains: {}",
-            unexplained
-                .iter()
-                .map(|u| u.to_string())
-                .collect::<Vec<_>>()
-                .join("; ")
-        )
-    };
+    let left = left_text(&unexplained);
     let noise_txt = format!(
         "noise floor {noise:.4} (from the data), residual correlation time {tau_c:.3} s, {} blocks of {:.2} s",
         bl.len(),
@@ -229,6 +210,44 @@ pub fn diagnose_with_progress(
         verdict,
         not_observable: not_obs,
     })
+}
+
+/// The held-out blocks, at least one correlation time `tau_c` long each (at most `folds` of
+/// them, at least 2), and the rows per chunk of one correlation time; with whether the log is
+/// shorter than two correlation times.
+fn fold_plan(
+    len: usize,
+    folds: usize,
+    dur: f64,
+    dt: f64,
+    tau_c: f64,
+) -> (bool, Vec<std::ops::Range<usize>>, usize) {
+    // Blocks at least one correlation time long.
+    let max_folds = if tau_c > 0.0 {
+        (dur / tau_c).floor() as usize
+    } else {
+        folds
+    };
+    let too_short = max_folds < 2;
+    let bl = blocks(len, folds.min(max_folds).max(2));
+    let chunk = ((tau_c / dt.max(1e-300)).ceil() as usize).clamp(1, len.max(1));
+    (too_short, bl, chunk)
+}
+
+/// What is left after the best claim, as the verdict's tail (empty when nothing is).
+fn left_text(unexplained: &[Unexplained]) -> String {
+    if unexplained.is_empty() {
+        String::new()
+    } else {
+        format!(
+            "; structure no catalogue effect explains remains: {}",
+            unexplained
+                .iter()
+                .map(|u| u.to_string())
+                .collect::<Vec<_>>()
+                .join("; ")
+        )
+    }
 }
 
 /// The current model's residual over the whole log, kept channel by channel outside memory:

@@ -316,10 +316,7 @@ pub fn robust(
     let mut evaluations = 0usize;
     // Candidates: the answer, its neighbourhood, each draw's optimum.
     let a = answer.placement;
-    let mut cands: Vec<(Placement, String)> = vec![(a, "nominal answer".into())];
-    for (p, why) in neighbourhood(&a, so, o.stencil_m, o.stencil_yaw_rad) {
-        cands.push((p, why.into()));
-    }
+    let mut cands = around(&a, so, o);
     if o.draw_optima {
         evaluations += draw_optima(&evs, &a, opts, so, o, &mut cands)?;
     }
@@ -331,18 +328,7 @@ pub fn robust(
     let nf = n as f64;
     let best = best_per_draw(&per, keep.len());
     let candidates = compare(&keep, &per, &best);
-    // The recommendation: the best by the criterion (the first of equals).
-    let score = |c: &Candidate| match o.criterion {
-        RobustObjective::Expected => c.expected_j,
-        RobustObjective::Regret => c.max_regret_j,
-    };
-    let recommended = (1..keep.len()).fold(0, |b, c| {
-        if score(&candidates[c]) < score(&candidates[b]) {
-            c
-        } else {
-            b
-        }
-    });
+    let recommended = recommendation(&candidates, o.criterion);
     // Value of information.
     let (parameters, drawn) = drawn_table(&robots);
     let energy_j: Vec<Vec<f64>> = per
@@ -382,6 +368,21 @@ pub fn robust(
         parameters,
         drawn,
         evaluations,
+    })
+}
+
+/// The recommendation: the best candidate by the criterion (the first of equals).
+fn recommendation(candidates: &[Candidate], criterion: RobustObjective) -> usize {
+    let score = |c: &Candidate| match criterion {
+        RobustObjective::Expected => c.expected_j,
+        RobustObjective::Regret => c.max_regret_j,
+    };
+    (1..candidates.len()).fold(0, |b, c| {
+        if score(&candidates[c]) < score(&candidates[b]) {
+            c
+        } else {
+            b
+        }
     })
 }
 
@@ -430,6 +431,15 @@ fn drawn_jobs<'r>(job: &PathJob<'r>, robots: &'r [DrawnRobot]) -> Result<Vec<Pat
             })
         })
         .collect()
+}
+
+/// The nominal answer `a` and its neighbourhood, with their origins.
+fn around(a: &Placement, so: &SearchOptions, o: &RobustOptions) -> Vec<(Placement, String)> {
+    let mut cands: Vec<(Placement, String)> = vec![(*a, "nominal answer".into())];
+    for (p, why) in neighbourhood(a, so, o.stencil_m, o.stencil_yaw_rad) {
+        cands.push((p, why.into()));
+    }
+    cands
 }
 
 /// Each drawn robot's own optimum from the answer `a` (the refinement with `o.draw_evals`

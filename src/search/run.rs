@@ -317,15 +317,7 @@ fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Resul
     let ps = &set.placements;
     let t0 = std::time::Instant::now();
     let rows = grid(config, &ev, ps, observer)?;
-    let step = set.grid.as_ref().and_then(|g| g.step_xy_m()).unwrap_or(0.1);
-    let opts = OptimiseOptions {
-        seed: s.seed,
-        max_evals: s.max_evals,
-        step_xy_m: step / 2.0,
-        yaw: !s.fixed_yaw,
-        spin: !s.fixed_spin,
-        ..Default::default()
-    };
+    let opts = optimise_options(s, &set);
     let bounds = Bounds::over(ps, s.z_bounds)?;
     let so = SearchOptions::new(bounds, s.tolerance);
     let run = Run {
@@ -353,14 +345,8 @@ fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Resul
     run.decide(&mut res, margin_trade)?;
     let secs = t0.elapsed().as_secs_f64();
     let details = details(&job, &rows, &res, &baseline)?;
-    // Every evaluation the answer needed: grid, refinement, tolerance checks (with the
-    // bisection and spin points; the baseline's corners) and the 4 sensitivity points.
     let base_corners = res.baseline_tolerance.as_ref().map_or(0, |c| c.corners);
-    let n_eval = ps.len()
-        + res.evals
-        + res.search.as_ref().map_or(0, |si| si.tolerance_evals)
-        + base_corners
-        + 4;
+    let n_eval = evaluations(ps.len(), &res);
     let m = run.meta(&res, base_corners);
     let site = crate::report::site::SiteGeometry::new(
         &config.robot,
@@ -390,6 +376,30 @@ fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Resul
         secs,
         evaluations: n_eval,
     })))
+}
+
+/// The refinement's options from the job's settings: its first step in x and y half the
+/// grid's (or 5 cm).
+fn optimise_options(
+    s: &crate::search::job::OptimiseSettings,
+    set: &crate::search::job::PlacementSet,
+) -> OptimiseOptions {
+    let step = set.grid.as_ref().and_then(|g| g.step_xy_m()).unwrap_or(0.1);
+    OptimiseOptions {
+        seed: s.seed,
+        max_evals: s.max_evals,
+        step_xy_m: step / 2.0,
+        yaw: !s.fixed_yaw,
+        spin: !s.fixed_spin,
+        ..Default::default()
+    }
+}
+
+/// Every evaluation the answer needed: grid, refinement, tolerance checks (with the bisection
+/// and spin points; the baseline's corners) and the 4 sensitivity points.
+fn evaluations(grid_n: usize, res: &optimise::OptimiseResult) -> usize {
+    let base_corners = res.baseline_tolerance.as_ref().map_or(0, |c| c.corners);
+    grid_n + res.evals + res.search.as_ref().map_or(0, |si| si.tolerance_evals) + base_corners + 4
 }
 
 /// The grid of candidate placements evaluated, with progress; an error with advice (settings
