@@ -329,20 +329,9 @@ pub fn robust(
     let best = best_per_draw(&per, keep.len());
     let candidates = compare(&keep, &per, &best);
     let recommended = recommendation(&candidates, o.criterion);
-    // Value of information.
     let (parameters, drawn) = drawn_table(&robots);
-    let energy_j: Vec<Vec<f64>> = per
-        .iter()
-        .map(|e| e.iter().map(|x| x[0]).collect())
-        .collect();
-    let value_of_information = crate::search::value_of_information::rank(
-        &parameters,
-        &drawn,
-        &energy_j,
-        recommended,
-        0,
-        o.prints_per_year,
-    );
+    let (energy_j, value_of_information) =
+        value_of_information(&parameters, &drawn, &per, recommended, o);
     let rec = &candidates[recommended];
     let drives_j = best.iter().map(|b| b.1).sum::<f64>() / nf;
     let yearly_kwh = rec.expected_j * o.prints_per_year / 3.6e6;
@@ -384,6 +373,30 @@ fn recommendation(candidates: &[Candidate], criterion: RobustObjective) -> usize
             b
         }
     })
+}
+
+/// The objective energy per draw and candidate, and from it the value of measuring each drawn
+/// parameter for the recommendation, most valuable first.
+fn value_of_information(
+    parameters: &[String],
+    drawn: &[Vec<f64>],
+    per: &[Vec<[f64; 3]>],
+    recommended: usize,
+    o: &RobustOptions,
+) -> (Vec<Vec<f64>>, Vec<ParameterValue>) {
+    let energy_j: Vec<Vec<f64>> = per
+        .iter()
+        .map(|e| e.iter().map(|x| x[0]).collect())
+        .collect();
+    let value = crate::search::value_of_information::rank(
+        parameters,
+        drawn,
+        &energy_j,
+        recommended,
+        0,
+        o.prints_per_year,
+    );
+    (energy_j, value)
 }
 
 /// A drawn robot with the parameters drawn for it (name, value).
