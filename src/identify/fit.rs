@@ -926,10 +926,14 @@ impl Problem<'_> {
             }
         };
         let correlation = self.correlation(&se, &con.act, &cov_of);
-        let ill = (!con.groups.is_empty()).then(|| IllConditioning {
-            condition_number: con.number,
-            groups: con.groups,
-        });
+        let ill = if con.groups.is_empty() {
+            None
+        } else {
+            Some(IllConditioning {
+                condition_number: con.number,
+                groups: con.groups,
+            })
+        };
         Ok(Spread {
             se,
             hac_rows,
