@@ -179,55 +179,12 @@ impl EnergyModel {
     ) -> Result<Self> {
         let n = robot.dof();
         let has_drive = robot.drive.is_some();
-        if !(options.coulomb_velocity_scale.is_finite() && options.coulomb_velocity_scale > 0.0) {
-            return Err(Error::Invalid(format!(
-                "coulomb velocity scale must be > 0 rad/s, got {}",
-                options.coulomb_velocity_scale
-            )));
-        }
-        if options.coulomb_velocity_scale != COULOMB_VELOCITY_SCALE_RAD_S
-            && set.is_enabled("coulomb")
-        {
-            let c = set.get_mut("coulomb")?;
-            let mut v = c.values();
-            if let Some(last) = v.last_mut() {
-                *last = options.coulomb_velocity_scale;
-            }
-            c.set_values(&v)?;
-        }
+        set_coulomb_scale(&options, &mut set)?;
         let mut dyn_robot = robot.clone();
         if !options.payload {
             dyn_robot.payload = None;
         }
-        let mut torque = Vec::new();
-        let mut in_model = Vec::new();
-        let mut motor: [Option<Vec<f64>>; 2] = [None, None];
-        let (mut rho, mut p0) = (0.0, 0.0);
-        for (e, on) in set.iter() {
-            if !on {
-                continue;
-            }
-            match e.stage() {
-                Stage::Torque => {
-                    let class = e.energy_class();
-                    let skip = e.is_null()
-                        || (class == EnergyClass::Friction && !options.friction)
-                        || (e.name() == "armature" && !(options.armature && has_drive))
-                        || (e.name() == "payload" && !options.payload);
-                    if skip {
-                        continue;
-                    }
-                    in_model.push(e.name().to_string());
-                    if !e.fold_into(&mut dyn_robot) {
-                        torque.push((Arc::from(e.clone_box()), class));
-                    }
-                }
-                Stage::Motor(MotorTerm::WindingResistance) => motor[0] = Some(e.values()),
-                Stage::Motor(MotorTerm::GearEfficiency) => motor[1] = Some(e.values()),
-                Stage::Supply(SupplyTerm::Regeneration) => rho = e.values()[0],
-                Stage::Supply(SupplyTerm::Standby) => p0 = e.values()[0],
-            }
-        }
+        let staged = Staged::of(&set, &options, has_drive, &mut dyn_robot);
         let dynamics = DynModel::new(
             &dyn_robot,
             DynOptions {
@@ -235,25 +192,11 @@ impl EnergyModel {
                 armature: false,
             },
         )?;
-        let mut axes = [Axis::default(); MAX_DOF];
-        let mut regeneration = Regeneration::None;
-        let mut standby_w = 0.0;
-        if let Some(d) = &robot.drive {
-            robot.check_len("drive joints", d.joints.len())?;
-            for (j, (a, jd)) in axes.iter_mut().zip(&d.joints).enumerate() {
-                *a = Axis {
-                    gear: jd.gear_ratio,
-                    kt: jd.torque_constant,
-                    r: motor[0].as_ref().map_or(0.0, |v| v[j]),
-                    eta: motor[1].as_ref().map_or(1.0, |v| v[j]),
-                };
-            }
-            regeneration = d.regeneration;
-            standby_w = p0;
-        }
+        let (axes, mut regeneration, standby_w) = drive_axes(robot, &staged)?;
         if let Some(r) = options.regeneration {
             regeneration = r;
         }
+        let torque = staged.torque;
         let lane_effects: Vec<_> = torque
             .iter()
             .map(|(e, c)| (lanes::LaneEffect::of(e, n), *c))
@@ -267,9 +210,9 @@ impl EnergyModel {
             torque,
             lane_effects,
             lane_angles,
-            in_model,
+            in_model: staged.in_model,
             regeneration,
-            recovered_fraction: if has_drive { rho } else { 0.0 },
+            recovered_fraction: if has_drive { staged.rho } else { 0.0 },
             standby_w,
             joint_names: robot.joints.iter().map(|j| j.name.clone()).collect(),
             robot_name: robot.name().to_string(),
@@ -360,6 +303,109 @@ impl EnergyModel {
             None => desc,
         }
     }
+}
+
+/// The Coulomb velocity scale of `options` into the Coulomb effect of `set` (when enabled and
+/// not the default). Errors: a scale that is not a positive number.
+fn set_coulomb_scale(options: &EnergyOptions, set: &mut EffectSet) -> Result<()> {
+    if !(options.coulomb_velocity_scale.is_finite() && options.coulomb_velocity_scale > 0.0) {
+        return Err(Error::Invalid(format!(
+            "coulomb velocity scale must be > 0 rad/s, got {}",
+            options.coulomb_velocity_scale
+        )));
+    }
+    if options.coulomb_velocity_scale != COULOMB_VELOCITY_SCALE_RAD_S && set.is_enabled("coulomb") {
+        let c = set.get_mut("coulomb")?;
+        let mut v = c.values();
+        if let Some(last) = v.last_mut() {
+            *last = options.coulomb_velocity_scale;
+        }
+        c.set_values(&v)?;
+    }
+    Ok(())
+}
+
+/// The enabled effects sorted by the stage they act at.
+struct Staged {
+    /// Torque effects that do not fold into the rigid body, with their energy class.
+    torque: Vec<(Arc<dyn Effect>, EnergyClass)>,
+    /// Names of the torque effects in the model.
+    in_model: Vec<String>,
+    /// Motor terms: winding resistance and gear efficiency per joint.
+    motor: [Option<Vec<f64>>; 2],
+    /// Recovered fraction of regenerated power.
+    rho: f64,
+    /// Standby power, W.
+    p0: f64,
+}
+
+impl Staged {
+    /// The enabled effects of `set` that `options` keeps, by stage; torque effects that fold
+    /// into the rigid body go into `dyn_robot`.
+    fn of(
+        set: &EffectSet,
+        options: &EnergyOptions,
+        has_drive: bool,
+        dyn_robot: &mut RobotModel,
+    ) -> Staged {
+        let mut staged = Staged {
+            torque: Vec::new(),
+            in_model: Vec::new(),
+            motor: [None, None],
+            rho: 0.0,
+            p0: 0.0,
+        };
+        for (e, on) in set.iter() {
+            if !on {
+                continue;
+            }
+            match e.stage() {
+                Stage::Torque => {
+                    let class = e.energy_class();
+                    let skip = e.is_null()
+                        || (class == EnergyClass::Friction && !options.friction)
+                        || (e.name() == "armature" && !(options.armature && has_drive))
+                        || (e.name() == "payload" && !options.payload);
+                    if skip {
+                        continue;
+                    }
+                    staged.in_model.push(e.name().to_string());
+                    if !e.fold_into(dyn_robot) {
+                        staged.torque.push((Arc::from(e.clone_box()), class));
+                    }
+                }
+                Stage::Motor(MotorTerm::WindingResistance) => staged.motor[0] = Some(e.values()),
+                Stage::Motor(MotorTerm::GearEfficiency) => staged.motor[1] = Some(e.values()),
+                Stage::Supply(SupplyTerm::Regeneration) => staged.rho = e.values()[0],
+                Stage::Supply(SupplyTerm::Standby) => staged.p0 = e.values()[0],
+            }
+        }
+        staged
+    }
+}
+
+/// Each axis's gear, torque constant and motor terms, the regeneration and the standby power
+/// of the robot's drive (none without one). Errors: a drive whose joint count differs from
+/// the robot's.
+fn drive_axes(robot: &RobotModel, staged: &Staged) -> Result<([Axis; MAX_DOF], Regeneration, f64)> {
+    let motor = &staged.motor;
+    let mut axes = [Axis::default(); MAX_DOF];
+    let mut regeneration = Regeneration::None;
+    let mut standby_w = 0.0;
+    if let Some(d) = &robot.drive {
+        robot.check_len("drive joints", d.joints.len())?;
+        for (j, (a, jd)) in axes.iter_mut().zip(&d.joints).enumerate() {
+            *a = Axis {
+                gear: jd.gear_ratio,
+                kt: jd.torque_constant,
+                r: motor[0].as_ref().map_or(0.0, |v| v[j]),
+                eta: motor[1].as_ref().map_or(1.0, |v| v[j]),
+            };
+        }
+        regeneration = d.regeneration;
+        standby_w = staged.p0;
+    }
+    Ok((axes, regeneration, standby_w))
 }
 
 /// One axis of the motor model at joint torque `tau` (N·m) and velocity `v` (rad/s), see
@@ -643,6 +689,51 @@ pub fn evaluate_streaming(
     on_sample: &mut dyn FnMut(usize, &SamplePower),
 ) -> Result<EnergyReport> {
     let n = model.n;
+    check_trajectory(model, traj)?;
+    let len = traj.len();
+    let mut data = model.data();
+    let mut s = SamplePower::default();
+    let mut prev = SamplePower::default();
+    let mut acc = Streamed::new();
+    let mut first_tau2 = [0.0; MAX_DOF];
+    let t = &traj.t;
+    for k in 0..len {
+        eval_sample(model, &mut data, traj.q(k), traj.qd(k), traj.qdd(k), &mut s)?;
+        if k > 0 {
+            acc.add_interval(n, t[k] - t[k - 1], &prev, &s);
+        } else {
+            for (f, t) in first_tau2.iter_mut().zip(&s.tau[..n]) {
+                *f = t.powi(2);
+            }
+        }
+        acc.add_peaks(n, &s);
+        on_sample(k, &s);
+        prev = s;
+    }
+    let dur = traj.duration();
+    let joints = acc.joints(model, dur, len, &first_tau2);
+    let total = acc.total(model, &joints, dur, len);
+    Ok(EnergyReport {
+        robot: model.robot_name.clone(),
+        model: model.description(),
+        has_drive: model.has_drive,
+        regeneration: model.regeneration.name().to_string(),
+        standby_power_w: model.standby_w,
+        duration_s: dur,
+        samples: len,
+        joints,
+        total,
+        series: SampleSeries {
+            n,
+            ..Default::default()
+        },
+    })
+}
+
+/// Errors for a trajectory the model cannot evaluate: another joint count, value arrays of
+/// the wrong length, times that do not increase.
+fn check_trajectory(model: &EnergyModel, traj: &JointTrajectory) -> Result<()> {
+    let n = model.n;
     if traj.n != n {
         return Err(Error::SizeMismatch {
             what: format!("trajectory joints for robot `{}`", model.robot_name),
@@ -662,130 +753,7 @@ pub fn evaluate_streaming(
             });
         }
     }
-    traj.validate("trajectory")?;
-    let mut data = model.data();
-    let mut s = SamplePower::default();
-    let mut prev = SamplePower::default();
-    // The trapezoid sums as crate::numerics::trapezoid forms them: Σ_k ½ (t_k − t_{k−1})
-    // (y_{k−1} + y_k), added in sample order from the empty sum.
-    let zero: f64 = std::iter::empty::<f64>().sum();
-    let mut acc = Streamed {
-        mech: [zero; MAX_DOF],
-        rb: [zero; MAX_DOF],
-        bal: [zero; MAX_DOF],
-        fr: [zero; MAX_DOF],
-        gear: [zero; MAX_DOF],
-        cu: [zero; MAX_DOF],
-        el: [zero; MAX_DOF],
-        el_pos: [zero; MAX_DOF],
-        tau2: [zero; MAX_DOF],
-        peak_mech: [f64::NEG_INFINITY; MAX_DOF],
-        peak_el: [f64::NEG_INFINITY; MAX_DOF],
-        max_abs_tau: [0.0; MAX_DOF],
-        supply: zero,
-        drives: zero,
-        lost: zero,
-        peak_supply: f64::NEG_INFINITY,
-    };
-    let mut first_tau2 = [0.0; MAX_DOF];
-    let t = &traj.t;
-    for k in 0..len {
-        eval_sample(model, &mut data, traj.q(k), traj.qd(k), traj.qdd(k), &mut s)?;
-        if k > 0 {
-            let h = t[k] - t[k - 1];
-            let trap = |a: f64, b: f64| 0.5 * h * (a + b);
-            for j in 0..n {
-                acc.mech[j] += trap(prev.p_mech[j], s.p_mech[j]);
-                acc.rb[j] += trap(prev.p_rigid_body[j], s.p_rigid_body[j]);
-                acc.bal[j] += trap(prev.p_balancer[j], s.p_balancer[j]);
-                acc.fr[j] += trap(prev.p_friction[j], s.p_friction[j]);
-                acc.gear[j] += trap(prev.p_gear[j], s.p_gear[j]);
-                acc.cu[j] += trap(prev.p_copper[j], s.p_copper[j]);
-                acc.el[j] += trap(prev.p_el[j], s.p_el[j]);
-                acc.el_pos[j] += trap(prev.p_el[j].max(0.0), s.p_el[j].max(0.0));
-                acc.tau2[j] += trap(prev.tau[j].powi(2), s.tau[j].powi(2));
-            }
-            acc.supply += trap(prev.p_supply, s.p_supply);
-            acc.drives += trap(prev.p_drives, s.p_drives);
-            acc.lost += trap(prev.p_regeneration_lost, s.p_regeneration_lost);
-        } else {
-            for (f, t) in first_tau2.iter_mut().zip(&s.tau[..n]) {
-                *f = t.powi(2);
-            }
-        }
-        for j in 0..n {
-            acc.peak_mech[j] = acc.peak_mech[j].max(s.p_mech[j]);
-            acc.peak_el[j] = acc.peak_el[j].max(s.p_el[j]);
-            acc.max_abs_tau[j] = acc.max_abs_tau[j].max(s.tau[j].abs());
-        }
-        acc.peak_supply = acc.peak_supply.max(s.p_supply);
-        on_sample(k, &s);
-        prev = s;
-    }
-    let dur = traj.duration();
-    let joints: Vec<JointEnergy> = (0..n)
-        .map(|j| {
-            let rms = if dur > 0.0 {
-                (acc.tau2[j] / dur).sqrt()
-            } else if len > 0 {
-                first_tau2[j].sqrt()
-            } else {
-                0.0
-            };
-            JointEnergy {
-                name: model.joint_names[j].clone(),
-                mechanical_j: acc.mech[j],
-                rigid_body_j: acc.rb[j],
-                balancer_j: acc.bal[j],
-                friction_j: acc.fr[j],
-                gear_j: acc.gear[j],
-                copper_j: acc.cu[j],
-                electrical_j: acc.el[j],
-                electrical_positive_j: acc.el_pos[j],
-                peak_mechanical_power_w: if len > 0 { acc.peak_mech[j] } else { 0.0 },
-                peak_electrical_power_w: if len > 0 { acc.peak_el[j] } else { 0.0 },
-                rms_torque_nm: rms,
-                max_abs_torque_nm: acc.max_abs_tau[j],
-            }
-        })
-        .collect();
-    let sum = |f: fn(&JointEnergy) -> f64| joints.iter().map(f).sum::<f64>();
-    let duration = dur;
-    let supply_j = acc.supply;
-    let total = TotalEnergy {
-        mechanical_j: sum(|j| j.mechanical_j),
-        rigid_body_j: sum(|j| j.rigid_body_j),
-        balancer_j: sum(|j| j.balancer_j),
-        friction_j: sum(|j| j.friction_j),
-        gear_j: sum(|j| j.gear_j),
-        copper_j: sum(|j| j.copper_j),
-        electrical_j: sum(|j| j.electrical_j),
-        drives_j: acc.drives,
-        regeneration_lost_j: acc.lost,
-        standby_j: model.standby_w * duration,
-        supply_j,
-        peak_supply_power_w: if len > 0 { acc.peak_supply } else { 0.0 },
-        mean_supply_power_w: if duration > 0.0 {
-            supply_j / duration
-        } else {
-            0.0
-        },
-    };
-    Ok(EnergyReport {
-        robot: model.robot_name.clone(),
-        model: model.description(),
-        has_drive: model.has_drive,
-        regeneration: model.regeneration.name().to_string(),
-        standby_power_w: model.standby_w,
-        duration_s: duration,
-        samples: len,
-        joints,
-        total,
-        series: SampleSeries {
-            n,
-            ..Default::default()
-        },
-    })
+    traj.validate("trajectory")
 }
 
 /// The running sums and extremes of [`evaluate_streaming`], per joint where indexed.
@@ -806,4 +774,130 @@ struct Streamed {
     drives: f64,
     lost: f64,
     peak_supply: f64,
+}
+
+impl Streamed {
+    /// Empty sums and extremes. The trapezoid sums as crate::numerics::trapezoid forms them:
+    /// Σ_k ½ (t_k − t_{k−1}) (y_{k−1} + y_k), added in sample order from the empty sum.
+    fn new() -> Streamed {
+        let zero: f64 = std::iter::empty::<f64>().sum();
+        Streamed {
+            mech: [zero; MAX_DOF],
+            rb: [zero; MAX_DOF],
+            bal: [zero; MAX_DOF],
+            fr: [zero; MAX_DOF],
+            gear: [zero; MAX_DOF],
+            cu: [zero; MAX_DOF],
+            el: [zero; MAX_DOF],
+            el_pos: [zero; MAX_DOF],
+            tau2: [zero; MAX_DOF],
+            peak_mech: [f64::NEG_INFINITY; MAX_DOF],
+            peak_el: [f64::NEG_INFINITY; MAX_DOF],
+            max_abs_tau: [0.0; MAX_DOF],
+            supply: zero,
+            drives: zero,
+            lost: zero,
+            peak_supply: f64::NEG_INFINITY,
+        }
+    }
+
+    /// The trapezoid of the interval `h` long from sample `prev` to sample `s` added to every
+    /// sum.
+    #[inline(always)]
+    fn add_interval(&mut self, n: usize, h: f64, prev: &SamplePower, s: &SamplePower) {
+        let trap = |a: f64, b: f64| 0.5 * h * (a + b);
+        for j in 0..n {
+            self.mech[j] += trap(prev.p_mech[j], s.p_mech[j]);
+            self.rb[j] += trap(prev.p_rigid_body[j], s.p_rigid_body[j]);
+            self.bal[j] += trap(prev.p_balancer[j], s.p_balancer[j]);
+            self.fr[j] += trap(prev.p_friction[j], s.p_friction[j]);
+            self.gear[j] += trap(prev.p_gear[j], s.p_gear[j]);
+            self.cu[j] += trap(prev.p_copper[j], s.p_copper[j]);
+            self.el[j] += trap(prev.p_el[j], s.p_el[j]);
+            self.el_pos[j] += trap(prev.p_el[j].max(0.0), s.p_el[j].max(0.0));
+            self.tau2[j] += trap(prev.tau[j].powi(2), s.tau[j].powi(2));
+        }
+        self.supply += trap(prev.p_supply, s.p_supply);
+        self.drives += trap(prev.p_drives, s.p_drives);
+        self.lost += trap(prev.p_regeneration_lost, s.p_regeneration_lost);
+    }
+
+    /// Sample `s`'s powers and torques taken into the extremes.
+    #[inline(always)]
+    fn add_peaks(&mut self, n: usize, s: &SamplePower) {
+        for j in 0..n {
+            self.peak_mech[j] = self.peak_mech[j].max(s.p_mech[j]);
+            self.peak_el[j] = self.peak_el[j].max(s.p_el[j]);
+            self.max_abs_tau[j] = self.max_abs_tau[j].max(s.tau[j].abs());
+        }
+        self.peak_supply = self.peak_supply.max(s.p_supply);
+    }
+
+    /// Each joint's energies, peaks and torques over `len` samples lasting `dur` s (the RMS
+    /// torque of a single sample from its squared torque `first_tau2`).
+    fn joints(
+        &self,
+        model: &EnergyModel,
+        dur: f64,
+        len: usize,
+        first_tau2: &[f64; MAX_DOF],
+    ) -> Vec<JointEnergy> {
+        (0..model.n)
+            .map(|j| {
+                let rms = if dur > 0.0 {
+                    (self.tau2[j] / dur).sqrt()
+                } else if len > 0 {
+                    first_tau2[j].sqrt()
+                } else {
+                    0.0
+                };
+                JointEnergy {
+                    name: model.joint_names[j].clone(),
+                    mechanical_j: self.mech[j],
+                    rigid_body_j: self.rb[j],
+                    balancer_j: self.bal[j],
+                    friction_j: self.fr[j],
+                    gear_j: self.gear[j],
+                    copper_j: self.cu[j],
+                    electrical_j: self.el[j],
+                    electrical_positive_j: self.el_pos[j],
+                    peak_mechanical_power_w: if len > 0 { self.peak_mech[j] } else { 0.0 },
+                    peak_electrical_power_w: if len > 0 { self.peak_el[j] } else { 0.0 },
+                    rms_torque_nm: rms,
+                    max_abs_torque_nm: self.max_abs_tau[j],
+                }
+            })
+            .collect()
+    }
+
+    /// The totals: the joints' sums, the drives, the supply and the standby over `duration`.
+    fn total(
+        &self,
+        model: &EnergyModel,
+        joints: &[JointEnergy],
+        duration: f64,
+        len: usize,
+    ) -> TotalEnergy {
+        let sum = |f: fn(&JointEnergy) -> f64| joints.iter().map(f).sum::<f64>();
+        let supply_j = self.supply;
+        TotalEnergy {
+            mechanical_j: sum(|j| j.mechanical_j),
+            rigid_body_j: sum(|j| j.rigid_body_j),
+            balancer_j: sum(|j| j.balancer_j),
+            friction_j: sum(|j| j.friction_j),
+            gear_j: sum(|j| j.gear_j),
+            copper_j: sum(|j| j.copper_j),
+            electrical_j: sum(|j| j.electrical_j),
+            drives_j: self.drives,
+            regeneration_lost_j: self.lost,
+            standby_j: model.standby_w * duration,
+            supply_j,
+            peak_supply_power_w: if len > 0 { self.peak_supply } else { 0.0 },
+            mean_supply_power_w: if duration > 0.0 {
+                supply_j / duration
+            } else {
+                0.0
+            },
+        }
+    }
 }

@@ -119,7 +119,21 @@ pub(crate) fn is_inside(path: &Path, dir: &Path) -> bool {
 
 /// The calibrated drive file's text.
 pub fn calibrated_text(inp: &CalibrationInput, dst: &Path) -> Result<String> {
-    let model = inp.model;
+    let mut f = base_drive_file(inp, dst)?;
+    write_effects(&mut f, inp.model, inp.robot.drive.is_some())?;
+    f.calibration = Some(calibration_record(inp));
+    let body = f.to_toml()?;
+    Ok(format!(
+        "# calibrated robot written by `printwatt identify` on {} from {}; every printwatt command takes it as its robot.\n\
+# All values SI, unit in the key; [calibration] lists every identified parameter with its\n\
+# standard error, the round, log and date it came from.\n{body}",
+        inp.date, inp.log.file
+    ))
+}
+
+/// The drive file the calibrated one starts from (the input's, or an empty one), pointing at
+/// the robot's URDF from `dst`'s folder and naming the robot.
+fn base_drive_file(inp: &CalibrationInput, dst: &Path) -> Result<DriveFile> {
     let robot = inp.robot;
     let mut f: DriveFile = match inp.drive_file {
         Some(p) => {
@@ -140,17 +154,21 @@ pub fn calibrated_text(inp: &CalibrationInput, dst: &Path) -> Result<String> {
     if f.robot.name.is_none() {
         f.robot.name = Some(robot.name().to_string());
     }
-    let has_drive = robot.drive.is_some();
+    Ok(f)
+}
+
+/// The model's effects into `f`: each effect writes its values to the drive keys it owns
+/// (per-joint drive tables only); every other enabled effect (and, without drive tables,
+/// every enabled one) keeps its values in `[effects.values]`, which wins over the `[effects]`
+/// keys they replace. The payload is written as the robot's payload.
+fn write_effects(f: &mut DriveFile, model: &Model, has_drive: bool) -> Result<()> {
     let mut effects = f.effects.take().unwrap_or_default();
     let mut values = effects.values.take().unwrap_or_default();
-    // Each effect writes its values to the drive keys it owns (per-joint drive tables only);
-    // every other enabled effect (and, without drive tables, every enabled one) keeps its
-    // values in `[effects.values]`, which wins over the `[effects]` keys they replace.
     let mut enabled = model.enabled_names();
     for name in crate::effects::catalogue() {
         let e = model.effect(name)?;
         let kept = if has_drive {
-            e.write_drive_keys(&mut DriveKeysMut::new(&mut f, &model.gear))?
+            e.write_drive_keys(&mut DriveKeysMut::new(f, &model.gear))?
         } else {
             DriveKept::Values
         };
@@ -168,95 +186,72 @@ pub fn calibrated_text(inp: &CalibrationInput, dst: &Path) -> Result<String> {
             values.remove(name);
         }
     }
-    // The payload is written as the robot's payload: mass, centre of mass and inertia about
-    // the centre of mass, in the flange frame (named in the description), exactly the body
-    // the fit scored.
-    let payload = model.effect("payload")?;
-    if model.is_enabled("payload") && !payload.is_null() {
-        if let Some(p) = payload.as_any().downcast_ref::<crate::effects::Payload>() {
-            let pv = payload.values();
-            let (b, lift) = crate::identify::plausible::payload_written(p);
-            let i = b.inertia;
-            f.payload = Some(PayloadTable {
-                mass_kg: b.mass,
-                com_m: [b.com.x, b.com.y, b.com.z],
-                inertia_kg_m2: [
-                    i[(0, 0)],
-                    i[(1, 1)],
-                    i[(2, 2)],
-                    i[(0, 1)],
-                    i[(0, 2)],
-                    i[(1, 2)],
-                ],
-                description: Some(format!(
-                    "payload identified by printwatt identify; centre of mass and inertia (about the centre of mass) in the frame of flange link `{}` (mass error {:+.4} kg, first moment error [{:+.4}, {:+.4}, {:+.4}] kg·m{})",
-                    model.flange_link,
-                    pv[0],
-                    pv[1],
-                    pv[2],
-                    pv[3],
-                    if lift > 0.0 {
-                        format!("; inertia raised by {lift:.2e} kg·m² to a rigid body's")
-                    } else {
-                        String::new()
-                    }
-                )),
-            });
-        }
+    if let Some(p) = payload_table(model)? {
+        f.payload = Some(p);
     }
     enabled.retain(|e| *e != "payload");
     effects.payload_mass_error_kg = None;
     effects.enabled = Some(enabled.iter().map(|s| s.to_string()).collect());
     effects.values = (!values.is_empty()).then_some(values);
     f.effects = Some(effects);
-    // Calibration record: earlier rounds carried over, this round appended.
-    let mut cal = robot.effects.calibration.clone().unwrap_or(Calibration {
-        base_robot: inp.robot_arg.to_string(),
-        ..Default::default()
-    });
+    Ok(())
+}
+
+/// The identified payload as the robot's payload: mass, centre of mass and inertia about the
+/// centre of mass, in the flange frame (named in the description), exactly the body the fit
+/// scored. `None` when the payload is off or null.
+fn payload_table(model: &Model) -> Result<Option<PayloadTable>> {
+    let payload = model.effect("payload")?;
+    if !model.is_enabled("payload") || payload.is_null() {
+        return Ok(None);
+    }
+    let Some(p) = payload.as_any().downcast_ref::<crate::effects::Payload>() else {
+        return Ok(None);
+    };
+    let pv = payload.values();
+    let (b, lift) = crate::identify::plausible::payload_written(p);
+    let i = b.inertia;
+    Ok(Some(PayloadTable {
+        mass_kg: b.mass,
+        com_m: [b.com.x, b.com.y, b.com.z],
+        inertia_kg_m2: [
+            i[(0, 0)],
+            i[(1, 1)],
+            i[(2, 2)],
+            i[(0, 1)],
+            i[(0, 2)],
+            i[(1, 2)],
+        ],
+        description: Some(format!(
+            "payload identified by printwatt identify; centre of mass and inertia (about the centre of mass) in the frame of flange link `{}` (mass error {:+.4} kg, first moment error [{:+.4}, {:+.4}, {:+.4}] kg·m{})",
+            model.flange_link,
+            pv[0],
+            pv[1],
+            pv[2],
+            pv[3],
+            if lift > 0.0 {
+                format!("; inertia raised by {lift:.2e} kg·m² to a rigid body's")
+            } else {
+                String::new()
+            }
+        )),
+    }))
+}
+
+/// The calibration record: earlier rounds carried over, this round appended, every
+/// identified parameter with the round it came from.
+fn calibration_record(inp: &CalibrationInput) -> Calibration {
+    let mut cal = inp
+        .robot
+        .effects
+        .calibration
+        .clone()
+        .unwrap_or(Calibration {
+            base_robot: inp.robot_arg.to_string(),
+            ..Default::default()
+        });
     let round = cal.rounds.len() + 1;
-    let (before, after) = (
-        inp.id
-            .ladder
-            .first()
-            .map_or(f64::NAN, |s| s.validation_rmse),
-        inp.id.ladder.last().map_or(f64::NAN, |s| s.validation_rmse),
-    );
-    // The correlation of what this round fitted (held parameters keep no standard error).
-    let corr = &inp.id.correlation;
-    let kept: Vec<usize> = (0..corr.params.len())
-        .filter(|&i| {
-            !inp.id
-                .held_at_prior
-                .iter()
-                .any(|h| h.name == corr.params[i])
-        })
-        .filter(|&i| {
-            corr.matrix
-                .get(i)
-                .is_some_and(|r| r.len() == corr.params.len())
-        })
-        .collect();
-    cal.rounds.push(CalibrationRound {
-        round,
-        date: inp.date.clone(),
-        log: inp.log.file.clone(),
-        signal: inp.log.kind.prefix().to_string(),
-        effects: inp
-            .id
-            .ladder
-            .last()
-            .map(|s| s.fitted.clone())
-            .unwrap_or_default(),
-        validation: inp.id.validation.clone(),
-        validation_rmse_before: before,
-        validation_rmse_after: after,
-        correlated: kept.iter().map(|&i| corr.params[i].clone()).collect(),
-        correlation: kept
-            .iter()
-            .map(|&i| kept.iter().map(|&k| corr.matrix[i][k]).collect())
-            .collect(),
-    });
+    cal.rounds.push(this_round(inp, round));
     for p in &inp.id.params {
         let key = format!("{}.{}", p.effect, p.name);
         let held_reason = inp
@@ -290,14 +285,54 @@ pub fn calibrated_text(inp: &CalibrationInput, dst: &Path) -> Result<String> {
             None => cal.params.push(entry),
         }
     }
-    f.calibration = Some(cal);
-    let body = f.to_toml()?;
-    Ok(format!(
-        "# calibrated robot written by `printwatt identify` on {} from {}; every printwatt command takes it as its robot.\n\
-# All values SI, unit in the key; [calibration] lists every identified parameter with its\n\
-# standard error, the round, log and date it came from.\n{body}",
-        inp.date, inp.log.file
-    ))
+    cal
+}
+
+/// This round of the calibration: its log, effects, validation and the correlation of what it
+/// fitted (held parameters keep no standard error).
+fn this_round(inp: &CalibrationInput, round: usize) -> CalibrationRound {
+    let (before, after) = (
+        inp.id
+            .ladder
+            .first()
+            .map_or(f64::NAN, |s| s.validation_rmse),
+        inp.id.ladder.last().map_or(f64::NAN, |s| s.validation_rmse),
+    );
+    // The correlation of what this round fitted (held parameters keep no standard error).
+    let corr = &inp.id.correlation;
+    let kept: Vec<usize> = (0..corr.params.len())
+        .filter(|&i| {
+            !inp.id
+                .held_at_prior
+                .iter()
+                .any(|h| h.name == corr.params[i])
+        })
+        .filter(|&i| {
+            corr.matrix
+                .get(i)
+                .is_some_and(|r| r.len() == corr.params.len())
+        })
+        .collect();
+    CalibrationRound {
+        round,
+        date: inp.date.clone(),
+        log: inp.log.file.clone(),
+        signal: inp.log.kind.prefix().to_string(),
+        effects: inp
+            .id
+            .ladder
+            .last()
+            .map(|s| s.fitted.clone())
+            .unwrap_or_default(),
+        validation: inp.id.validation.clone(),
+        validation_rmse_before: before,
+        validation_rmse_after: after,
+        correlated: kept.iter().map(|&i| corr.params[i].clone()).collect(),
+        correlation: kept
+            .iter()
+            .map(|&i| kept.iter().map(|&k| corr.matrix[i][k]).collect())
+            .collect(),
+    }
 }
 
 /// Write the calibrated robot to `dst`. Refuses: the input drive file or URDF itself, a file

@@ -147,46 +147,17 @@ pub fn diagnose_with_progress(
     let all: Vec<usize> = (0..len).collect();
     let base_state = model.state();
     let ch = prep.log.channels;
-    // The current model's residual over the whole log, kept channel by channel outside
-    // memory: its sum of squares, in total and per channel.
-    let mut ssr0: f64 = std::iter::empty::<f64>().sum();
-    let mut base_ss = vec![0.0; ch.max(1)];
-    let r0 = residual_columns(prep, model, &mut |r| {
-        for x in r {
-            ssr0 += x * x;
-        }
-        for (i, v) in r.iter().enumerate() {
-            base_ss[i % ch.max(1)] += v * v;
-        }
-    })?;
+    let (r0, ssr0, base_ss) = base_residual(prep, model)?;
     let m = (len * ch) as f64;
     let base_rmse = (ssr0 / m).sqrt();
     let bic0 = m * (ssr0 / m).max(1e-300).ln();
-    // Per channel: the measured signal's mean square.
-    let mut meas_ms = vec![0.0; ch.max(1)];
-    for (i, v) in prep.log.y.iter().enumerate() {
-        meas_ms[i % ch.max(1)] += v * v / len.max(1) as f64;
-    }
+    let meas_ms = measured_mean_square(prep);
     let t = &prep.log.traj.t;
     let dur = t.last().copied().unwrap_or(0.0) - t.first().copied().unwrap_or(0.0);
     let dt = dur / (len.max(2) - 1) as f64;
-    let mut nf = Vec::with_capacity(ch);
-    let mut tau_c = 0.0;
-    for c in 0..ch {
-        let col = r0.column(c)?;
-        nf.push(structure::noise_floor(&col, 1, 0));
-        tau_c = f64::max(tau_c, structure::correlation_time(&col, 1, 0, dt));
-    }
+    let (nf, tau_c) = noise_of(&r0, ch, dt)?;
     let noise = (nf.iter().map(|v| v * v).sum::<f64>() / ch.max(1) as f64).sqrt();
-    // Blocks at least one correlation time long.
-    let max_folds = if tau_c > 0.0 {
-        (dur / tau_c).floor() as usize
-    } else {
-        folds
-    };
-    let too_short = max_folds < 2;
-    let bl = blocks(len, folds.min(max_folds).max(2));
-    let chunk = ((tau_c / dt.max(1e-300)).ceil() as usize).clamp(1, len.max(1));
+    let (too_short, bl, chunk) = fold_plan(len, folds, dur, dt, tau_c);
     let base = Baseline {
         all: &all,
         blocks: &bl,
@@ -199,13 +170,142 @@ pub fn diagnose_with_progress(
         base_rmse,
         too_short,
     };
+    let (mut cands, not_obs, observable) = score_each(prep, model, &base_state, &base, progress)?;
+    score_pairs(prep, model, &base_state, &base, &observable, &mut cands)?;
+    model.restore(&base_state);
+    cands.sort_by(|a, b| a.validation_rmse.total_cmp(&b.validation_rmse));
+    // The best significant candidate (an implausible one ranked above it is named, not
+    // claimed).
+    let best = cands
+        .iter()
+        .find(|c| c.significant || c.plausible)
+        .filter(|c| c.significant)
+        .map(|c| c.effect.clone());
+    drop(r0);
+    let unexplained = unexplained_after(prep, model, &base_state, &best, &all)?;
+    let left = left_text(&unexplained);
+    let noise_txt = format!(
+        "noise floor {noise:.4} (from the data), residual correlation time {tau_c:.3} s, {} blocks of {:.2} s",
+        bl.len(),
+        dur / bl.len() as f64
+    );
+    let verdict = verdict(&best, &cands, base_rmse, too_short, dur, &noise_txt, &left);
+    Ok(Diagnosis {
+        schema_version: crate::identify::JSON_SCHEMA_VERSION,
+        calibration: None,
+        base_rmse,
+        folds: bl.len(),
+        noise_floor: noise,
+        noise_floor_per_channel: nf,
+        correlation_time_s: tau_c,
+        block_length_s: dur / bl.len() as f64,
+        unexplained,
+        model_effects: model
+            .enabled_names()
+            .iter()
+            .map(|s| s.to_string())
+            .collect(),
+        candidates: cands,
+        best,
+        verdict,
+        not_observable: not_obs,
+    })
+}
+
+/// The held-out blocks, at least one correlation time `tau_c` long each (at most `folds` of
+/// them, at least 2), and the rows per chunk of one correlation time; with whether the log is
+/// shorter than two correlation times.
+fn fold_plan(
+    len: usize,
+    folds: usize,
+    dur: f64,
+    dt: f64,
+    tau_c: f64,
+) -> (bool, Vec<std::ops::Range<usize>>, usize) {
+    // Blocks at least one correlation time long.
+    let max_folds = if tau_c > 0.0 {
+        (dur / tau_c).floor() as usize
+    } else {
+        folds
+    };
+    let too_short = max_folds < 2;
+    let bl = blocks(len, folds.min(max_folds).max(2));
+    let chunk = ((tau_c / dt.max(1e-300)).ceil() as usize).clamp(1, len.max(1));
+    (too_short, bl, chunk)
+}
+
+/// What is left after the best claim, as the verdict's tail (empty when nothing is).
+fn left_text(unexplained: &[Unexplained]) -> String {
+    if unexplained.is_empty() {
+        String::new()
+    } else {
+        format!(
+            "; structure no catalogue effect explains remains: {}",
+            unexplained
+                .iter()
+                .map(|u| u.to_string())
+                .collect::<Vec<_>>()
+                .join("; ")
+        )
+    }
+}
+
+/// The current model's residual over the whole log, kept channel by channel outside memory:
+/// with its sum of squares, in total and per channel.
+fn base_residual(prep: &Prepared, model: &Model) -> Result<(Columns, f64, Vec<f64>)> {
+    let ch = prep.log.channels;
+    let mut ssr0: f64 = std::iter::empty::<f64>().sum();
+    let mut base_ss = vec![0.0; ch.max(1)];
+    let r0 = residual_columns(prep, model, &mut |r| {
+        for x in r {
+            ssr0 += x * x;
+        }
+        for (i, v) in r.iter().enumerate() {
+            base_ss[i % ch.max(1)] += v * v;
+        }
+    })?;
+    Ok((r0, ssr0, base_ss))
+}
+
+/// Per channel: the measured signal's mean square.
+fn measured_mean_square(prep: &Prepared) -> Vec<f64> {
+    let (len, ch) = (prep.len(), prep.log.channels);
+    let mut meas_ms = vec![0.0; ch.max(1)];
+    for (i, v) in prep.log.y.iter().enumerate() {
+        meas_ms[i % ch.max(1)] += v * v / len.max(1) as f64;
+    }
+    meas_ms
+}
+
+/// The residual's noise floor per channel and its correlation time (longest over channels),
+/// s, at sample interval `dt`.
+fn noise_of(r0: &Columns, ch: usize, dt: f64) -> Result<(Vec<f64>, f64)> {
+    let mut nf = Vec::with_capacity(ch);
+    let mut tau_c = 0.0;
+    for c in 0..ch {
+        let col = r0.column(c)?;
+        nf.push(structure::noise_floor(&col, 1, 0));
+        tau_c = f64::max(tau_c, structure::correlation_time(&col, 1, 0, dt));
+    }
+    Ok((nf, tau_c))
+}
+
+/// Every observable catalogue effect scored alone, with progress; with the effects not
+/// observable in this kind of log and the observable ones.
+fn score_each(
+    prep: &Prepared,
+    model: &mut Model,
+    base_state: &crate::identify::model::ModelState,
+    base: &Baseline,
+    progress: &dyn crate::identify::Progress,
+) -> Result<(Vec<Candidate>, Vec<String>, Vec<&'static str>)> {
     let mut cands = Vec::new();
     let mut not_obs = Vec::new();
     let observable: Vec<&'static str> = catalogue()
         .into_iter()
         .filter(|c| Model::observable(c, prep.log.kind))
         .collect();
-    let total = (observable.len() * (bl.len() + 1)) as u64;
+    let total = (observable.len() * (base.blocks.len() + 1)) as u64;
     let mut done = 0u64;
     progress.update("diagnosing", 0, total);
     for name in catalogue() {
@@ -214,14 +314,24 @@ pub fn diagnose_with_progress(
             continue;
         }
         let tick = |k: u64| progress.update("diagnosing", done + k, total);
-        cands.push(score(prep, model, &base_state, &base, &[name], &tick)?);
-        done += bl.len() as u64 + 1;
+        cands.push(score(prep, model, base_state, base, &[name], &tick)?);
+        done += base.blocks.len() as u64 + 1;
     }
-    // Out of the greedy trap: the best plausible candidate fitted jointly with each of the next
-    // ones. A pair is
-    // claimed when it cuts the held-out RMSE of the best single candidate by at least
-    // [`MIN_GAIN`] (one effect fitted alone can soak up another, or leave a parameter at a
-    // bound of its range, and the next round then finds nothing).
+    Ok((cands, not_obs, observable))
+}
+
+/// Out of the greedy trap: the best plausible candidate fitted jointly with each of the next
+/// ones. A pair is claimed when it cuts the held-out RMSE of the best single candidate by at
+/// least [`MIN_GAIN`] (one effect fitted alone can soak up another, or leave a parameter at a
+/// bound of its range, and the next round then finds nothing).
+fn score_pairs(
+    prep: &Prepared,
+    model: &mut Model,
+    base_state: &crate::identify::model::ModelState,
+    base: &Baseline,
+    observable: &[&'static str],
+    cands: &mut Vec<Candidate>,
+) -> Result<()> {
     cands.sort_by(|a, b| a.validation_rmse.total_cmp(&b.validation_rmse));
     let lead: Vec<&'static str> = cands
         .iter()
@@ -235,62 +345,57 @@ pub fn diagnose_with_progress(
         .map(|c| c.validation_rmse);
     if let (Some(single), Some((a, rest))) = (best_single, lead.split_first()) {
         for b in rest {
-            let c = score(prep, model, &base_state, &base, &[a, b], &|_| {})?;
+            let c = score(prep, model, base_state, base, &[a, b], &|_| {})?;
             if c.validation_rmse <= single * (1.0 - MIN_GAIN) {
                 cands.push(c);
             }
         }
     }
-    model.restore(&base_state);
-    cands.sort_by(|a, b| a.validation_rmse.total_cmp(&b.validation_rmse));
-    // The best significant candidate (an implausible one ranked above it is named, not
-    // claimed).
-    let best = cands
-        .iter()
-        .find(|c| c.significant || c.plausible)
-        .filter(|c| c.significant)
-        .map(|c| c.effect.clone());
-    // What is left after the best claim.
-    if let Some(b) = &best {
+    Ok(())
+}
+
+/// Structure beyond the noise floor left after the best claim (or in the current model's
+/// residual when there is none), kept channel by channel as the current model's residual
+/// was; the model is restored to `base_state`.
+fn unexplained_after(
+    prep: &Prepared,
+    model: &mut Model,
+    base_state: &crate::identify::model::ModelState,
+    best: &Option<String>,
+    all: &[usize],
+) -> Result<Vec<Unexplained>> {
+    if let Some(b) = best {
         let names: Vec<&'static str> = b
             .split(',')
             .filter_map(|w| catalogue().into_iter().find(|c| *c == w))
             .collect();
-        fit_parameters(prep, model, &names, &all)?;
+        fit_parameters(prep, model, &names, all)?;
     }
-    drop(r0);
     // What is left, kept channel by channel as the current model's residual was.
     let left_r = residual_columns(prep, model, &mut |_| {})?;
-    model.restore(&base_state);
+    model.restore(base_state);
     let names = crate::identify::metrics::channel_names(prep);
-    let unexplained = structure::unexplained_columns(
+    structure::unexplained_columns(
         &|c| left_r.column(c),
         &names,
         model.n,
-        t,
+        &prep.log.traj.t,
         &|k, j| prep.log.traj.q(k)[j],
         &|k, j| prep.log.traj.qd(k)[j],
-    )?;
-    drop(left_r);
-    let left = if unexplained.is_empty() {
-        String::new()
-    } else {
-        format!(
-            "; structure no catalogue effect explains remains: {}",
-            unexplained
-                .iter()
-                .map(|u| u.to_string())
-                .collect::<Vec<_>>()
-                .join("; ")
-        )
-    };
-    let head = cands.first();
-    let noise_txt = format!(
-        "noise floor {noise:.4} (from the data), residual correlation time {tau_c:.3} s, {} blocks of {:.2} s",
-        bl.len(),
-        dur / bl.len() as f64
-    );
-    let verdict = match (&best, head) {
+    )
+}
+
+/// The diagnosis in one sentence: the best claim, or why there is none.
+fn verdict(
+    best: &Option<String>,
+    cands: &[Candidate],
+    base_rmse: f64,
+    too_short: bool,
+    dur: f64,
+    noise_txt: &str,
+    left: &str,
+) -> String {
+    match (best, cands.first()) {
         (Some(b), _) => {
             let c = cands.iter().find(|c| c.effect == *b).expect("best is a candidate");
             format!(
@@ -319,31 +424,11 @@ pub fn diagnose_with_progress(
             if left.is_empty() {
                 "; the residual is at the noise floor".to_string()
             } else {
-                left.clone()
+                left.to_string()
             }
         ),
         _ => "no candidate effect is observable in this log".into(),
-    };
-    Ok(Diagnosis {
-        schema_version: crate::identify::JSON_SCHEMA_VERSION,
-        calibration: None,
-        base_rmse,
-        folds: bl.len(),
-        noise_floor: noise,
-        noise_floor_per_channel: nf,
-        correlation_time_s: tau_c,
-        block_length_s: dur / bl.len() as f64,
-        unexplained,
-        model_effects: model
-            .enabled_names()
-            .iter()
-            .map(|s| s.to_string())
-            .collect(),
-        candidates: cands,
-        best,
-        verdict,
-        not_observable: not_obs,
-    })
+    }
 }
 
 /// The best plausible, significant candidate is also fitted jointly with each of the next
@@ -382,6 +467,87 @@ fn score(
     let len = prep.len();
     let ch = prep.log.channels;
     let m = (base.r0.len() * ch) as f64;
+    let held = held_out(prep, model, base_state, base, names, tick)?;
+    model.restore(base_state);
+    let full = fit_parameters(prep, model, names, base.all)?;
+    tick(base.blocks.len() as u64 + 1);
+    let (full_ssr, moved) = whole_log(prep, model, base)?;
+    let implausible = implausibility(model, names, &full.params);
+    model.restore(base_state);
+    let joints = acting_joints(&moved, ch, &full.params);
+    let cv = (held.sse / held.cnt.max(1) as f64).sqrt();
+    let cut = if base.base_rmse > 0.0 {
+        100.0 * (1.0 - cv / base.base_rmse)
+    } else {
+        0.0
+    };
+    let bic = m * (full_ssr / m).max(1e-300).ln() + full.params.len() as f64 * m.ln();
+    let dbic = bic - base.bic0;
+    let tstat = paired_t(&held.gains);
+    let explained_rms = (base.base_rmse * base.base_rmse - cv * cv).max(0.0).sqrt();
+    // Materiality on the channel where it is largest (held-out blocks cover every row). Only
+    // channels where it explains at least the noise floor count (a channel with little
+    // signal must not make a small absolute error look large).
+    let explained_pct_of_signal = (0..ch.max(1))
+        .map(|c| {
+            let e = ((base.base_ss[c] - held.sse_c[c]) / len.max(1) as f64)
+                .max(0.0)
+                .sqrt();
+            if base.meas_ms[c] > 0.0 && e >= base.noise_floor[c] {
+                100.0 * e / base.meas_ms[c].sqrt()
+            } else {
+                0.0
+            }
+        })
+        .fold(0.0, f64::max);
+    let material = explained_pct_of_signal >= 100.0 * MIN_MATERIAL;
+    Ok(Candidate {
+        effect: names.join(","),
+        in_model: names.iter().any(|n| model.is_enabled(n)),
+        joints,
+        params: full.params,
+        validation_rmse: cv,
+        rmse_cut_pct: cut,
+        delta_bic: dbic,
+        plausible: implausible.is_none(),
+        significant: implausible.is_none()
+            && !base.too_short
+            && cut >= 100.0 * MIN_GAIN
+            && tstat > t_quantile_95(held.gains.len().saturating_sub(1))
+            && dbic < -MIN_DELTA_BIC
+            && material,
+        implausible,
+        t_statistic: tstat,
+        explained_rms,
+        explained_pct_of_signal,
+        note: candidate_note(model, names, full.ill_conditioned.map(|i| i.to_string())),
+    })
+}
+
+/// What a candidate's fits leave in the blocks they held out.
+struct HeldOut {
+    /// Sum of squared held-out residuals.
+    sse: f64,
+    /// The same per channel.
+    sse_c: Vec<f64>,
+    /// Number of held-out residuals.
+    cnt: usize,
+    /// Held-out gain per chunk of one correlation time.
+    gains: Vec<f64>,
+}
+
+/// The k-fold fits of `names` (each on every row outside one block) and what they leave in
+/// the block held out; `tick(k)` after the `k`-th fit.
+fn held_out(
+    prep: &Prepared,
+    model: &mut Model,
+    base_state: &crate::identify::model::ModelState,
+    base: &Baseline,
+    names: &[&'static str],
+    tick: &dyn Fn(u64),
+) -> Result<HeldOut> {
+    let len = prep.len();
+    let ch = prep.log.channels;
     let mut r = Vec::new();
     let mut rows = Vec::new();
     // The current model's residual at the rows of a part, channel by channel.
@@ -430,14 +596,22 @@ fn score(
         sse += block_ss;
         tick(bi as u64 + 1);
     }
-    model.restore(base_state);
-    let full = fit_parameters(prep, model, names, base.all)?;
-    tick(base.blocks.len() as u64 + 1);
-    // Its residual over the whole log (the fit may have used a stride of the rows), a part
-    // at a time: its sum of squares, and per channel how far the prediction moved.
+    Ok(HeldOut {
+        sse,
+        sse_c,
+        cnt,
+        gains,
+    })
+}
+
+/// The fitted model's residual over the whole log (the fit may have used a stride of the
+/// rows), a part at a time: its sum of squares, and per channel how far the prediction moved.
+fn whole_log(prep: &Prepared, model: &Model, base: &Baseline) -> Result<(f64, Vec<f64>)> {
+    let ch = prep.log.channels;
+    let (mut r, mut rows, mut r0) = (Vec::new(), Vec::new(), Vec::new());
     let mut full_ssr = 0.0;
     let mut moved = vec![0.0; ch.max(1)];
-    for part in parts(0..len) {
+    for part in parts(0..prep.len()) {
         rows.clear();
         rows.extend(part.clone());
         residuals(prep, model, &rows, &mut r);
@@ -451,69 +625,23 @@ fn score(
             }
         }
     }
-    // Plausibility of the robot (e.g. no balancer declared) and of the fitted values (e.g. no
-    // negative link mass), judged on the whole-log fit, effect by effect.
-    let implausible = names
+    Ok((full_ssr, moved))
+}
+
+/// Plausibility of the robot (e.g. no balancer declared) and of the fitted values (e.g. no
+/// negative link mass), judged on the whole-log fit, effect by effect: why not, if not.
+fn implausibility(model: &Model, names: &[&'static str], params: &[FittedParam]) -> Option<String> {
+    names
         .iter()
         .filter_map(|name| {
-            let std_errors: Vec<Option<f64>> = full
-                .params
+            let std_errors: Vec<Option<f64>> = params
                 .iter()
                 .filter(|p| p.effect == *name)
                 .map(|p| p.std_error)
                 .collect();
             crate::identify::plausible::implausible_fit(model, name, &std_errors)
         })
-        .reduce(|a, b| format!("{a}; {b}"));
-    model.restore(base_state);
-    let joints = acting_joints(&moved, ch, &full.params);
-    let cv = (sse / cnt.max(1) as f64).sqrt();
-    let cut = if base.base_rmse > 0.0 {
-        100.0 * (1.0 - cv / base.base_rmse)
-    } else {
-        0.0
-    };
-    let bic = m * (full_ssr / m).max(1e-300).ln() + full.params.len() as f64 * m.ln();
-    let dbic = bic - base.bic0;
-    let tstat = paired_t(&gains);
-    let explained_rms = (base.base_rmse * base.base_rmse - cv * cv).max(0.0).sqrt();
-    // Materiality on the channel where it is largest (held-out blocks cover every row). Only
-    // channels where it explains at least the noise floor count (a channel with little
-    // signal must not make a small absolute error look large).
-    let explained_pct_of_signal = (0..ch.max(1))
-        .map(|c| {
-            let e = ((base.base_ss[c] - sse_c[c]) / len.max(1) as f64)
-                .max(0.0)
-                .sqrt();
-            if base.meas_ms[c] > 0.0 && e >= base.noise_floor[c] {
-                100.0 * e / base.meas_ms[c].sqrt()
-            } else {
-                0.0
-            }
-        })
-        .fold(0.0, f64::max);
-    let material = explained_pct_of_signal >= 100.0 * MIN_MATERIAL;
-    Ok(Candidate {
-        effect: names.join(","),
-        in_model: names.iter().any(|n| model.is_enabled(n)),
-        joints,
-        params: full.params,
-        validation_rmse: cv,
-        rmse_cut_pct: cut,
-        delta_bic: dbic,
-        plausible: implausible.is_none(),
-        significant: implausible.is_none()
-            && !base.too_short
-            && cut >= 100.0 * MIN_GAIN
-            && tstat > t_quantile_95(gains.len().saturating_sub(1))
-            && dbic < -MIN_DELTA_BIC
-            && material,
-        implausible,
-        t_statistic: tstat,
-        explained_rms,
-        explained_pct_of_signal,
-        note: candidate_note(model, names, full.ill_conditioned.map(|i| i.to_string())),
-    })
+        .reduce(|a, b| format!("{a}; {b}"))
 }
 
 /// A candidate's note: parameters the motion cannot tell apart, and a balancer's assumed

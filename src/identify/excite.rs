@@ -521,16 +521,7 @@ fn acted_on(
 /// Design the experiment for `robot`. Errors: an unknown effect, no target parameter, no
 /// design that keeps clear, a model error.
 pub fn design(robot: &RobotModel, o: &ExciteOptions) -> Result<Excitation> {
-    if !(o.period_s > 0.0 && o.rate_hz > 0.0 && o.harmonics >= 1 && o.periods >= 1) {
-        return Err(Error::Invalid(
-            "excite: period, rate, harmonics and periods must be > 0".into(),
-        ));
-    }
-    if !(o.limit_share > 0.0 && o.limit_share <= 1.0) {
-        return Err(Error::Invalid(
-            "excite: limit share must be in (0, 1]".into(),
-        ));
-    }
+    check_options(o)?;
     let mut model = Model::new(robot)?;
     for e in o.targets.iter().chain(&o.nuisance) {
         model.set_enabled(e, true)?;
@@ -544,16 +535,8 @@ pub fn design(robot: &RobotModel, o: &ExciteOptions) -> Result<Excitation> {
     }
     let np = parameters(&model, &o.nuisance)?;
     let all: Vec<_> = tp.iter().chain(&np).cloned().collect();
-    let t = tp.len();
-    let score = |tr: &JointTrajectory| -> Result<(f64, f64)> {
-        Ok(targeted(&information(&model, &all, tr, 1)?, t))
-    };
-    // What the search maximises: a small condition number first, then a large
-    // log-determinant (per target).
-    let merit = |(ld, cond): (f64, f64)| -cond.ln() + 0.1 * ld / t as f64;
     let n = robot.dof();
     let mut rng = ChaCha8Rng::seed_from_u64(o.seed);
-    let mut designs = 0;
     let sweep = naive(robot, o);
     let fitted_sweep = fit_design(robot, &sweep, o);
     // The search varies the motion of the joints whose torque the targets act on (on the sine
@@ -564,78 +547,31 @@ pub fn design(robot: &RobotModel, o: &ExciteOptions) -> Result<Excitation> {
         Some((_, tr)) => acted_on(&model, &tp, tr)?,
         None => vec![true; n],
     };
-    let random = |rng: &mut ChaCha8Rng| {
-        let mut d = sweep.clone();
-        for j in (0..n).filter(|&j| active[j]) {
-            for x in d.a[j].iter_mut().chain(d.b[j].iter_mut()) {
-                *x = rng.gen_range(-1.0..1.0);
-            }
-            for l in 0..o.harmonics {
-                d.a[j][l] /= (l + 1) as f64;
-                d.b[j][l] /= (l + 1) as f64;
-            }
-        }
-        d
+    let mut search = DesignSearch {
+        robot,
+        o,
+        model: &model,
+        all: &all,
+        t: tp.len(),
+        active,
+        sweep,
+        floor_ld: f64::NEG_INFINITY,
+        designs: 0,
     };
     // The naive sine sweep is the first design: the search never returns a worse one, nor
     // one less informative (a lower log-determinant) than it.
-    let mut floor_ld = f64::NEG_INFINITY;
     let mut best: Option<(Design, f64)> = match &fitted_sweep {
         Some((x, tr)) => {
-            let sc = score(tr)?;
-            floor_ld = sc.0;
-            Some((x.clone(), merit(sc)))
+            let sc = search.score(tr)?;
+            search.floor_ld = sc.0;
+            Some((x.clone(), search.merit(sc)))
         }
         None => None,
     };
-    let merit = |sc: (f64, f64)| {
-        if sc.0 >= floor_ld {
-            merit(sc)
-        } else {
-            f64::NEG_INFINITY
-        }
-    };
-    for _ in 0..o.tries {
-        let d = random(&mut rng);
-        designs += 1;
-        let Some((x, tr)) = fit_design(robot, &d, o) else {
-            continue;
-        };
-        let m = merit(score(&tr)?);
-        if best.as_ref().is_none_or(|b| m > b.1) {
-            best = Some((x, m));
-        }
-    }
+    search.random_designs(&mut rng, &mut best)?;
     // Local refinement: perturb the best design's coefficients, shrinking the step.
-    if let Some((b0, mut ld0)) = best.clone() {
-        let mut cur = b0;
-        let mut step = 0.3;
-        for _ in 0..o.tries {
-            let mut d = cur.clone();
-            for j in (0..n).filter(|&j| active[j]) {
-                let mag = d.a[j]
-                    .iter()
-                    .chain(&d.b[j])
-                    .fold(0.0f64, |m, x| m.max(x.abs()))
-                    .max(1e-6);
-                for x in d.a[j].iter_mut().chain(d.b[j].iter_mut()) {
-                    *x += step * mag * rng.gen_range(-1.0..1.0);
-                }
-            }
-            designs += 1;
-            let Some((x, tr)) = fit_design(robot, &d, o) else {
-                step *= 0.9;
-                continue;
-            };
-            let m = merit(score(&tr)?);
-            if m > ld0 {
-                cur = x;
-                ld0 = m;
-            } else {
-                step *= 0.95;
-            }
-        }
-        best = Some((cur, ld0));
+    if let Some(b) = best.clone() {
+        best = Some(search.refine(&mut rng, b)?);
     }
     let Some((d, _)) = best else {
         return Err(Error::Invalid(format!(
@@ -644,9 +580,9 @@ pub fn design(robot: &RobotModel, o: &ExciteOptions) -> Result<Excitation> {
         )));
     };
     let tr = sample(&d, o, o.rate_hz);
-    let (log_det, condition) = score(&tr)?;
+    let (log_det, condition) = search.score(&tr)?;
     let (naive_log_det, naive_condition) = match &fitted_sweep {
-        Some((x, _)) => score(&sample(x, o, o.rate_hz))?,
+        Some((x, _)) => search.score(&sample(x, o, o.rate_hz))?,
         None => (f64::NEG_INFINITY, f64::INFINITY),
     };
     let limits = limit_use(robot, &tr);
@@ -658,10 +594,139 @@ pub fn design(robot: &RobotModel, o: &ExciteOptions) -> Result<Excitation> {
         condition,
         naive_log_det,
         naive_condition,
-        designs,
+        designs: search.designs,
         limits,
         options: o.clone(),
     })
+}
+
+/// Errors for options no design can follow: a period, rate, harmonic or period count that is
+/// not positive, a limit share outside (0, 1].
+fn check_options(o: &ExciteOptions) -> Result<()> {
+    if !(o.period_s > 0.0 && o.rate_hz > 0.0 && o.harmonics >= 1 && o.periods >= 1) {
+        return Err(Error::Invalid(
+            "excite: period, rate, harmonics and periods must be > 0".into(),
+        ));
+    }
+    if !(o.limit_share > 0.0 && o.limit_share <= 1.0) {
+        return Err(Error::Invalid(
+            "excite: limit share must be in (0, 1]".into(),
+        ));
+    }
+    Ok(())
+}
+
+/// The search for an experiment: what it scores, the joints it varies, the sine sweep it
+/// starts from and the designs it tried.
+struct DesignSearch<'a> {
+    robot: &'a RobotModel,
+    o: &'a ExciteOptions,
+    model: &'a Model,
+    /// Target parameters first, then the nuisance ones.
+    all: &'a [(String, usize, String, f64)],
+    /// Number of target parameters.
+    t: usize,
+    /// Joints whose motion the search varies.
+    active: Vec<bool>,
+    sweep: Design,
+    /// Log-determinant of the sine sweep: no design less informative is taken.
+    floor_ld: f64,
+    /// Designs tried.
+    designs: usize,
+}
+
+impl DesignSearch<'_> {
+    /// Log-determinant and condition number of the targets' information along `tr`.
+    fn score(&self, tr: &JointTrajectory) -> Result<(f64, f64)> {
+        Ok(targeted(&information(self.model, self.all, tr, 1)?, self.t))
+    }
+
+    /// What the search maximises: a small condition number first, then a large
+    /// log-determinant (per target).
+    fn merit(&self, (ld, cond): (f64, f64)) -> f64 {
+        -cond.ln() + 0.1 * ld / self.t as f64
+    }
+
+    /// [`DesignSearch::merit`], minus infinity for a design less informative than the sweep.
+    fn floored_merit(&self, sc: (f64, f64)) -> f64 {
+        if sc.0 >= self.floor_ld {
+            self.merit(sc)
+        } else {
+            f64::NEG_INFINITY
+        }
+    }
+
+    /// A random design: the sweep with random coefficients (falling with the harmonic) on the
+    /// varied joints.
+    fn random(&self, rng: &mut ChaCha8Rng) -> Design {
+        let mut d = self.sweep.clone();
+        for j in (0..self.robot.dof()).filter(|&j| self.active[j]) {
+            for x in d.a[j].iter_mut().chain(d.b[j].iter_mut()) {
+                *x = rng.gen_range(-1.0..1.0);
+            }
+            for l in 0..self.o.harmonics {
+                d.a[j][l] /= (l + 1) as f64;
+                d.b[j][l] /= (l + 1) as f64;
+            }
+        }
+        d
+    }
+
+    /// Random designs that keep clear, the best kept in `best`.
+    fn random_designs(
+        &mut self,
+        rng: &mut ChaCha8Rng,
+        best: &mut Option<(Design, f64)>,
+    ) -> Result<()> {
+        for _ in 0..self.o.tries {
+            let d = self.random(rng);
+            self.designs += 1;
+            let Some((x, tr)) = fit_design(self.robot, &d, self.o) else {
+                continue;
+            };
+            let m = self.floored_merit(self.score(&tr)?);
+            if best.as_ref().is_none_or(|b| m > b.1) {
+                *best = Some((x, m));
+            }
+        }
+        Ok(())
+    }
+
+    /// Local refinement of `(design, merit)`: perturb the coefficients, shrinking the step.
+    fn refine(
+        &mut self,
+        rng: &mut ChaCha8Rng,
+        (b0, mut ld0): (Design, f64),
+    ) -> Result<(Design, f64)> {
+        let mut cur = b0;
+        let mut step = 0.3;
+        for _ in 0..self.o.tries {
+            let mut d = cur.clone();
+            for j in (0..self.robot.dof()).filter(|&j| self.active[j]) {
+                let mag = d.a[j]
+                    .iter()
+                    .chain(&d.b[j])
+                    .fold(0.0f64, |m, x| m.max(x.abs()))
+                    .max(1e-6);
+                for x in d.a[j].iter_mut().chain(d.b[j].iter_mut()) {
+                    *x += step * mag * rng.gen_range(-1.0..1.0);
+                }
+            }
+            self.designs += 1;
+            let Some((x, tr)) = fit_design(self.robot, &d, self.o) else {
+                step *= 0.9;
+                continue;
+            };
+            let m = self.floored_merit(self.score(&tr)?);
+            if m > ld0 {
+                cur = x;
+                ld0 = m;
+            } else {
+                step *= 0.95;
+            }
+        }
+        Ok((cur, ld0))
+    }
 }
 
 /// A keep-out box as `xmin,ymin,zmin,xmax,ymax,zmax` (base frame, m): its min and max

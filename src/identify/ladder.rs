@@ -161,20 +161,7 @@ pub(crate) fn identify_holding(
             let Some(ill) = r.ill_conditioned.clone() else {
                 break;
             };
-            for g in &ill.groups {
-                for name in g {
-                    if !held.iter().any(|h| h.name == *name) {
-                        held.push(HeldParam {
-                            name: name.clone(),
-                            reason: if g.len() == 1 {
-                                "not excited by this motion".into()
-                            } else {
-                                format!("cannot be told apart from {}", g.join(", "))
-                            },
-                        });
-                    }
-                }
-            }
+            hold_ill_conditioned(&ill, &mut held);
             model.restore(&before);
             let names: Vec<String> = held.iter().map(|h| h.name.clone()).collect();
             r = fit_holding(train.0, model, &effects[..=i], train.1, &names)?;
@@ -186,6 +173,47 @@ pub(crate) fn identify_holding(
     let (params, at_bound, hac_block_rows, correlation) = last
         .map(|r| (r.params, r.at_bound, r.hac_block_rows, r.correlation))
         .unwrap_or_default();
+    let implausible = implausible_effects(model, effects, &params, &held);
+    Ok(Identification {
+        validation,
+        ladder,
+        params,
+        ill_conditioned: first_ill,
+        held_at_prior: held,
+        at_bound,
+        implausible,
+        hac_block_rows,
+        correlation,
+    })
+}
+
+/// Every parameter of an ill-conditioned fit's groups held at its prior (once), with the
+/// reason: not excited, or not told apart from the rest of its group.
+fn hold_ill_conditioned(ill: &crate::identify::fit::IllConditioning, held: &mut Vec<HeldParam>) {
+    for g in &ill.groups {
+        for name in g {
+            if !held.iter().any(|h| h.name == *name) {
+                held.push(HeldParam {
+                    name: name.clone(),
+                    reason: if g.len() == 1 {
+                        "not excited by this motion".into()
+                    } else {
+                        format!("cannot be told apart from {}", g.join(", "))
+                    },
+                });
+            }
+        }
+    }
+}
+
+/// Why the fitted values of each of `effects` are not plausible (`effect: why`), held
+/// parameters counting as without a standard error.
+fn implausible_effects(
+    model: &Model,
+    effects: &[&'static str],
+    params: &[crate::identify::fit::FittedParam],
+    held: &[HeldParam],
+) -> Vec<String> {
     let mut implausible = Vec::new();
     for e in effects {
         let se: Vec<Option<f64>> = params
@@ -204,17 +232,7 @@ pub(crate) fn identify_holding(
             implausible.push(format!("{e}: {w}"));
         }
     }
-    Ok(Identification {
-        validation,
-        ladder,
-        params,
-        ill_conditioned: first_ill,
-        held_at_prior: held,
-        at_bound,
-        implausible,
-        hac_block_rows,
-        correlation,
-    })
+    implausible
 }
 
 /// The ladder as a Markdown table: per step, train and validation RMSE (in the signal's `unit`),

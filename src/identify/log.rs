@@ -419,69 +419,15 @@ impl<'a> Builder<'a> {
             qd: std::mem::take(&mut self.qd),
             qdd: std::mem::take(&mut self.qdd),
         };
-        // Unknown columns: one warning.
-        let known = |name: &str| {
-            name.starts_with("skip~")
-                || log_dim(name).is_some_and(|_| {
-                    let idx = |p: &str| digits_after(name, p).and_then(|d| d.parse::<usize>().ok());
-                    name == "t"
-                        || name == "p_total"
-                        || ["q", "qd", "qdd", "tau", "i", "p"]
-                            .iter()
-                            .any(|p| idx(p).is_some_and(|k| k >= 1 && k <= n))
-                })
-        };
-        let unknown: Vec<&str> = table
-            .names
-            .iter()
-            .map(String::as_str)
-            .filter(|c| !known(c))
-            .collect();
-        if !unknown.is_empty() {
-            warnings.push(format!(
-                "{file}: ignoring unknown columns {}",
-                unknown.join(", ")
-            ));
-        }
+        warnings.extend(unknown_columns(&table, n, &file));
         if len < MIN_SAMPLES {
             return Err(Error::Invalid(format!(
                 "{file}: {len} samples (lines {}–{}); at least {MIN_SAMPLES} are needed to compare and fit",
                 self.first_line, self.last_line
             )));
         }
-        let mut half = None;
-        if cols.qd.is_none() || cols.qdd.is_none() {
-            let rate = (traj.len() - 1) as f64 / traj.duration().max(1e-12);
-            let m = half_window(rate);
-            half = Some(m);
-            let (qd, qdd) = smooth_derivatives(&traj.t, &traj.q, n, m);
-            if cols.qd.is_none() {
-                traj.qd = qd;
-            }
-            if cols.qdd.is_none() {
-                traj.qdd = qdd;
-            }
-        }
-        // A hole in the time axis: name it (energy and RMSE integrate across it).
-        if traj.t.len() > 2 {
-            let mut d: Vec<f64> = traj.t.windows(2).map(|w| w[1] - w[0]).collect();
-            let mid = d.len() / 2;
-            let median = *d.select_nth_unstable_by(mid, f64::total_cmp).1;
-            drop(d);
-            if let Some(k) = traj
-                .t
-                .windows(2)
-                .map(|w| w[1] - w[0])
-                .position(|x| x > 10.0 * median && x > median + 0.05)
-            {
-                warnings.push(format!(
-                    "{file}:{}: time jumps by {:.3} s from the previous sample (the log's usual step is {:.4} s): a hole in the log; energies and errors are integrated across it",
-                    self.lines.get(k + 1).copied().unwrap_or(0),
-                    traj.t[k + 1] - traj.t[k],
-                    median
-                ));
-            }
-        }
+        let half = missing_derivatives(&cols, &mut traj);
+        warnings.extend(time_hole(&traj, &self.lines, &file));
         Ok(Log {
             units: table
                 .names
@@ -501,6 +447,70 @@ impl<'a> Builder<'a> {
             derivative_half_window: half,
         })
     }
+}
+
+/// One warning naming the header's unknown columns, if any.
+fn unknown_columns(table: &Table, n: usize, file: &str) -> Option<String> {
+    let known = |name: &str| {
+        name.starts_with("skip~")
+            || log_dim(name).is_some_and(|_| {
+                let idx = |p: &str| digits_after(name, p).and_then(|d| d.parse::<usize>().ok());
+                name == "t"
+                    || name == "p_total"
+                    || ["q", "qd", "qdd", "tau", "i", "p"]
+                        .iter()
+                        .any(|p| idx(p).is_some_and(|k| k >= 1 && k <= n))
+            })
+    };
+    let unknown: Vec<&str> = table
+        .names
+        .iter()
+        .map(String::as_str)
+        .filter(|c| !known(c))
+        .collect();
+    (!unknown.is_empty())
+        .then(|| format!("{file}: ignoring unknown columns {}", unknown.join(", ")))
+}
+
+/// Velocities and accelerations the log lacks, filled by smoothed differences of the
+/// positions; the half window used, if any.
+fn missing_derivatives(cols: &Columns, traj: &mut JointTrajectory) -> Option<usize> {
+    if cols.qd.is_some() && cols.qdd.is_some() {
+        return None;
+    }
+    let rate = (traj.len() - 1) as f64 / traj.duration().max(1e-12);
+    let m = half_window(rate);
+    let (qd, qdd) = smooth_derivatives(&traj.t, &traj.q, traj.n, m);
+    if cols.qd.is_none() {
+        traj.qd = qd;
+    }
+    if cols.qdd.is_none() {
+        traj.qdd = qdd;
+    }
+    Some(m)
+}
+
+/// A hole in the time axis, named (energy and RMSE integrate across it): the first step over
+/// ten times the median and 50 ms longer, with its line in `lines`.
+fn time_hole(traj: &JointTrajectory, lines: &[u32], file: &str) -> Option<String> {
+    if traj.t.len() <= 2 {
+        return None;
+    }
+    let mut d: Vec<f64> = traj.t.windows(2).map(|w| w[1] - w[0]).collect();
+    let mid = d.len() / 2;
+    let median = *d.select_nth_unstable_by(mid, f64::total_cmp).1;
+    drop(d);
+    let k = traj
+        .t
+        .windows(2)
+        .map(|w| w[1] - w[0])
+        .position(|x| x > 10.0 * median && x > median + 0.05)?;
+    Some(format!(
+        "{file}:{}: time jumps by {:.3} s from the previous sample (the log's usual step is {:.4} s): a hole in the log; energies and errors are integrated across it",
+        lines.get(k + 1).copied().unwrap_or(0),
+        traj.t[k + 1] - traj.t[k],
+        median
+    ))
 }
 
 /// The compared signal of a header: its kind, its columns, and a warning when the header has

@@ -255,140 +255,21 @@ fn compare_columns(
     let n = log.traj.n;
     let names = channel_names(prep);
     let t = &log.traj.t;
-    let y = |k: usize, c: usize| log.y[k * ch + c];
-    let metrics = |name: String, cs: &[usize]| -> crate::error::Result<ChannelMetrics> {
-        let (mut ssr, mut sm, mut cnt) = (0.0, 0.0, 0usize);
-        let (mut em, mut ep) = (0.0, 0.0);
-        for &c in cs {
-            let p = pred.column(c)?;
-            for k in 0..len {
-                ssr += (p[k] - y(k, c)).powi(2);
-                sm += y(k, c).powi(2);
-                cnt += 1;
-            }
-            em += integrate(t, &power_by(prep, model, len, |k| k, |k| y(k, c), c));
-            ep += integrate(t, &power_by(prep, model, len, |k| k, |k| p[k], c));
-        }
-        let e = rel_pct(ep, em);
-        Ok(ChannelMetrics {
-            name,
-            rmse: (ssr / cnt.max(1) as f64).sqrt(),
-            measured_rms: (sm / cnt.max(1) as f64).sqrt(),
-            energy_measured_j: em,
-            energy_model_j: ep,
-            energy_error_pct: e,
-            accuracy_pct: 100.0 - e.abs(),
-        })
-    };
     let channels = (0..ch)
-        .map(|c| metrics(names[c].clone(), &[c]))
+        .map(|c| channel_metrics(prep, model, pred, names[c].clone(), &[c]))
         .collect::<crate::error::Result<Vec<ChannelMetrics>>>()?;
     let all: Vec<usize> = (0..ch).collect();
-    let total = metrics("total".into(), &all)?;
+    let total = channel_metrics(prep, model, pred, "total".into(), &all)?;
     // The residual of channel `c`, every row.
-    let residual = |c: usize| -> crate::error::Result<Vec<f64>> {
-        let mut r = pred.column(c)?;
-        for (k, v) in r.iter_mut().enumerate() {
-            *v -= y(k, c);
-        }
-        Ok(r)
-    };
-    // Worst windows: each window's squared residual per channel, a channel at a time.
+    let residual = |c: usize| residual_of(log, pred, c);
     let dur = log.traj.duration();
-    let wlen = (dur / 20.0).clamp(0.2, 1.0);
-    let mut spans = Vec::new();
-    let mut start = 0;
-    while start < len {
-        let t0 = t[start];
-        let mut end = start;
-        while end < len && t[end] < t0 + wlen {
-            end += 1;
-        }
-        spans.push((start, end));
-        start = end.max(start + 1);
-    }
-    let mut per = vec![0.0; spans.len() * ch];
-    for c in 0..ch {
-        let r = residual(c)?;
-        for (w, &(start, end)) in spans.iter().enumerate() {
-            let p = &mut per[w * ch + c];
-            for v in &r[start..end] {
-                *p += v.powi(2);
-            }
-        }
-    }
-    let mut windows = Vec::new();
-    for (w, &(start, end)) in spans.iter().enumerate() {
-        let per = &per[w * ch..(w + 1) * ch];
-        let cnt = ((end - start) * ch).max(1) as f64;
-        let worst = (0..ch)
-            .max_by(|a, b| per[*a].total_cmp(&per[*b]))
-            .unwrap_or(0);
-        windows.push(Window {
-            t_start: t[start],
-            t_end: t[end.min(len) - 1],
-            rmse: (per.iter().sum::<f64>() / cnt).sqrt(),
-            worst_channel: names[worst].clone(),
-        });
-    }
-    drop(per);
-    drop(spans);
-    windows.sort_by(|a, b| b.rmse.total_cmp(&a.rmse));
-    windows.truncate(5);
+    let windows = worst_windows(log, &names, &residual)?;
     // Regimes per joint (each sample's squared residual and motion read where they are).
     let mut regimes_all = Vec::new();
     for j in 0..n {
         let c = if ch == 1 { 0 } else { j };
         let res = residual(c)?;
-        let r2 = |k: usize| res[k].powi(2);
-        let mut tot = 0.0;
-        for k in 0..len {
-            tot += r2(k);
-        }
-        let tot = tot.max(1e-300);
-        let qd = |k: usize| log.traj.qd(k)[j];
-        let q = |k: usize| log.traj.q(k)[j];
-        let vmax = (0..len).fold(0.0f64, |a, k| a.max(qd(k).abs()));
-        let v0 = (0.05 * vmax).max(0.005);
-        let a80 = {
-            let mut qdd: Vec<f64> = (0..len).map(|k| log.traj.qdd(k)[j].abs()).collect();
-            let at = (0.8 * (len - 1) as f64) as usize;
-            *qdd.select_nth_unstable_by(at, f64::total_cmp).1
-        };
-        let (qmin, qmax) = (0..len).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), k| {
-            (a.min(q(k)), b.max(q(k)))
-        });
-        let bin = |x: f64| {
-            if qmax > qmin {
-                (((x - qmin) / (qmax - qmin) * 4.0) as usize).min(3)
-            } else {
-                0
-            }
-        };
-        let mut push = |name: String, f: &dyn Fn(usize) -> bool| {
-            let (mut s, mut cnt) = (0.0, 0usize);
-            for k in 0..len {
-                if f(k) {
-                    s += r2(k);
-                    cnt += 1;
-                }
-            }
-            regimes_all.push(Regime {
-                joint: format!("joint_{}", j + 1),
-                regime: name,
-                samples_pct: 100.0 * cnt as f64 / len as f64,
-                residual_pct: 100.0 * s / tot,
-            });
-        };
-        push("positive_speed".into(), &|k| qd(k) > v0);
-        push("negative_speed".into(), &|k| qd(k) < -v0);
-        push("near_zero_speed".into(), &|k| qd(k).abs() <= v0);
-        push("high_acceleration".into(), &|k| {
-            log.traj.qdd(k)[j].abs() >= a80 && a80 > 0.0
-        });
-        for b in 0..4 {
-            push(format!("pose_bin_{}_of_4", b + 1), &|k| bin(q(k)) == b);
-        }
+        joint_regimes(log, &res, j, &mut regimes_all);
     }
     let mut regimes: Vec<Regime> = regimes_all
         .iter()
@@ -437,4 +318,165 @@ fn compare_columns(
         },
         pred,
     ))
+}
+
+/// The figures of the channels `cs` together, named `name`: RMSE, measured RMS and the
+/// energy measured and modelled.
+fn channel_metrics(
+    prep: &Prepared,
+    model: &Model,
+    pred: &crate::identify::columns::Columns,
+    name: String,
+    cs: &[usize],
+) -> crate::error::Result<ChannelMetrics> {
+    let log = prep.log;
+    let len = log.len();
+    let ch = log.channels;
+    let t = &log.traj.t;
+    let y = |k: usize, c: usize| log.y[k * ch + c];
+    let (mut ssr, mut sm, mut cnt) = (0.0, 0.0, 0usize);
+    let (mut em, mut ep) = (0.0, 0.0);
+    for &c in cs {
+        let p = pred.column(c)?;
+        for k in 0..len {
+            ssr += (p[k] - y(k, c)).powi(2);
+            sm += y(k, c).powi(2);
+            cnt += 1;
+        }
+        em += integrate(t, &power_by(prep, model, len, |k| k, |k| y(k, c), c));
+        ep += integrate(t, &power_by(prep, model, len, |k| k, |k| p[k], c));
+    }
+    let e = rel_pct(ep, em);
+    Ok(ChannelMetrics {
+        name,
+        rmse: (ssr / cnt.max(1) as f64).sqrt(),
+        measured_rms: (sm / cnt.max(1) as f64).sqrt(),
+        energy_measured_j: em,
+        energy_model_j: ep,
+        energy_error_pct: e,
+        accuracy_pct: 100.0 - e.abs(),
+    })
+}
+
+/// The residual (prediction − measurement) of channel `c`, every row.
+fn residual_of(
+    log: &crate::identify::log::Log,
+    pred: &crate::identify::columns::Columns,
+    c: usize,
+) -> crate::error::Result<Vec<f64>> {
+    let ch = log.channels;
+    let mut r = pred.column(c)?;
+    for (k, v) in r.iter_mut().enumerate() {
+        *v -= log.y[k * ch + c];
+    }
+    Ok(r)
+}
+
+/// The five worst windows of the log by residual RMS: each window's squared residual per
+/// channel, a channel at a time.
+fn worst_windows(
+    log: &crate::identify::log::Log,
+    names: &[String],
+    residual: &dyn Fn(usize) -> crate::error::Result<Vec<f64>>,
+) -> crate::error::Result<Vec<Window>> {
+    let len = log.len();
+    let ch = log.channels;
+    let t = &log.traj.t;
+    let dur = log.traj.duration();
+    let wlen = (dur / 20.0).clamp(0.2, 1.0);
+    let mut spans = Vec::new();
+    let mut start = 0;
+    while start < len {
+        let t0 = t[start];
+        let mut end = start;
+        while end < len && t[end] < t0 + wlen {
+            end += 1;
+        }
+        spans.push((start, end));
+        start = end.max(start + 1);
+    }
+    let mut per = vec![0.0; spans.len() * ch];
+    for c in 0..ch {
+        let r = residual(c)?;
+        for (w, &(start, end)) in spans.iter().enumerate() {
+            let p = &mut per[w * ch + c];
+            for v in &r[start..end] {
+                *p += v.powi(2);
+            }
+        }
+    }
+    let mut windows = Vec::new();
+    for (w, &(start, end)) in spans.iter().enumerate() {
+        let per = &per[w * ch..(w + 1) * ch];
+        let cnt = ((end - start) * ch).max(1) as f64;
+        let worst = (0..ch)
+            .max_by(|a, b| per[*a].total_cmp(&per[*b]))
+            .unwrap_or(0);
+        windows.push(Window {
+            t_start: t[start],
+            t_end: t[end.min(len) - 1],
+            rmse: (per.iter().sum::<f64>() / cnt).sqrt(),
+            worst_channel: names[worst].clone(),
+        });
+    }
+    drop(per);
+    drop(spans);
+    windows.sort_by(|a, b| b.rmse.total_cmp(&a.rmse));
+    windows.truncate(5);
+    Ok(windows)
+}
+
+/// Joint `j`'s regimes (speed sign, standstill, high acceleration, pose quarter) with their
+/// share of the samples and of the squared residual `res`, appended to `out`.
+fn joint_regimes(log: &crate::identify::log::Log, res: &[f64], j: usize, out: &mut Vec<Regime>) {
+    let len = log.len();
+    let r2 = |k: usize| res[k].powi(2);
+    let mut tot = 0.0;
+    for k in 0..len {
+        tot += r2(k);
+    }
+    let tot = tot.max(1e-300);
+    let qd = |k: usize| log.traj.qd(k)[j];
+    let q = |k: usize| log.traj.q(k)[j];
+    let vmax = (0..len).fold(0.0f64, |a, k| a.max(qd(k).abs()));
+    let v0 = (0.05 * vmax).max(0.005);
+    let a80 = {
+        let mut qdd: Vec<f64> = (0..len).map(|k| log.traj.qdd(k)[j].abs()).collect();
+        let at = (0.8 * (len - 1) as f64) as usize;
+        *qdd.select_nth_unstable_by(at, f64::total_cmp).1
+    };
+    let (qmin, qmax) = (0..len).fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), k| {
+        (a.min(q(k)), b.max(q(k)))
+    });
+    let bin = |x: f64| {
+        if qmax > qmin {
+            (((x - qmin) / (qmax - qmin) * 4.0) as usize).min(3)
+        } else {
+            0
+        }
+    };
+    let mut push = |name: String, f: &dyn Fn(usize) -> bool| {
+        let (mut s, mut cnt) = (0.0, 0usize);
+        for k in 0..len {
+            if f(k) {
+                s += r2(k);
+                cnt += 1;
+            }
+        }
+        out.push(Regime {
+            joint: format!("joint_{}", j + 1),
+            regime: name,
+            samples_pct: 100.0 * cnt as f64 / len as f64,
+            residual_pct: 100.0 * s / tot,
+        });
+    };
+    push("positive_speed".into(), &|k| qd(k) > v0);
+    push("negative_speed".into(), &|k| qd(k) < -v0);
+    push("near_zero_speed".into(), &|k| qd(k).abs() <= v0);
+    push("high_acceleration".into(), &|k| {
+        log.traj.qdd(k)[j].abs() >= a80 && a80 > 0.0
+    });
+    for b in 0..4 {
+        push(format!("pose_bin_{}_of_4", b + 1), &|k| bin(q(k)) == b);
+    }
 }

@@ -490,25 +490,7 @@ impl<'a> Prepared<'a> {
         log: &'a Log,
         progress: &dyn crate::identify::Progress,
     ) -> Result<Self> {
-        let n = model.n;
-        if log.traj.n != n {
-            return Err(Error::SizeMismatch {
-                what: format!(
-                    "{}: joints in the log for robot `{}`",
-                    log.file, model.robot_name
-                ),
-                got: log.traj.n,
-                expected: n,
-            });
-        }
-        if log.kind == SignalKind::Current && !model.has_drive {
-            return Err(Error::Invalid(format!(
-                "{}: a current log (`i1..i{n}`) needs each joint's gear ratio and torque constant K_t \
-(drive file [[joints]] `gear_ratio`, `torque_constant_nm_per_a`), and robot `{}` has none; \
-log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, or give a drive file",
-                log.file, model.robot_name
-            )));
-        }
+        check_log(model, log)?;
         let len = log.len();
         let every = len <= REGRESSOR_CACHE_ROWS;
         let passes = if every {
@@ -523,57 +505,9 @@ log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, 
         let total = (passes * len) as u64;
         let step = (len / 100).max(1);
         let stage = "preparing the log";
-        let tau_rb = if every {
-            let mut data = model.dynamics.data();
-            let mut tau_rb = vec![0.0; len * n];
-            for k in 0..len {
-                if k % step == 0 {
-                    progress.update(stage, k as u64, total);
-                }
-                rnea(
-                    &model.dynamics,
-                    &mut data,
-                    log.traj.q(k),
-                    log.traj.qd(k),
-                    log.traj.qdd(k),
-                    &mut tau_rb[k * n..(k + 1) * n],
-                )?;
-            }
-            RigidTorques::Every(tau_rb)
-        } else {
-            RigidTorques::Some(KeptRows::new(len, n))
-        };
-        let mut regs: Vec<Option<Regressors>> = Vec::new();
-        let mut reg_params = Vec::new();
-        let mut pass = 1;
-        for (e, _) in model.effects.iter() {
-            regs.push(None);
-            reg_params.push(0);
-            if e.stage() != Stage::Torque || !e.costly() {
-                continue;
-            }
-            let i = regs.len() - 1;
-            let p = e.params().len();
-            let mut y = vec![0.0; n * p];
-            if len == 0 || !e.regressor(log.traj.q(0), log.traj.qd(0), log.traj.qdd(0), &mut y) {
-                continue;
-            }
-            reg_params[i] = p;
-            if !every {
-                regs[i] = Some(Regressors::Some(Default::default()));
-                continue;
-            }
-            let mut all = vec![0.0; len * n * p];
-            for k in 0..len {
-                if k % step == 0 {
-                    progress.update(stage, (pass * len + k) as u64, total);
-                }
-                let y = &mut all[k * n * p..(k + 1) * n * p];
-                e.regressor(log.traj.q(k), log.traj.qd(k), log.traj.qdd(k), y);
-            }
-            regs[i] = Some(Regressors::Every(all));
-            pass += 1;
-        }
+        let tick = |k: usize| progress.update(stage, k as u64, total);
+        let tau_rb = rigid_torques(model, log, every, step, &tick)?;
+        let (regs, reg_params) = regressors(model, log, every, step, &tick);
         progress.update(stage, total, total);
         Ok(Prepared {
             log,
@@ -783,4 +717,108 @@ impl Model {
         self.effects = s.effects.clone();
         self.refresh();
     }
+}
+
+/// Errors for a log the model cannot prepare: another joint count, or a current log for a
+/// robot without drive data.
+fn check_log(model: &Model, log: &Log) -> Result<()> {
+    let n = model.n;
+    if log.traj.n != n {
+        return Err(Error::SizeMismatch {
+            what: format!(
+                "{}: joints in the log for robot `{}`",
+                log.file, model.robot_name
+            ),
+            got: log.traj.n,
+            expected: n,
+        });
+    }
+    if log.kind == SignalKind::Current && !model.has_drive {
+        return Err(Error::Invalid(format!(
+            "{}: a current log (`i1..i{n}`) needs each joint's gear ratio and torque constant K_t \
+(drive file [[joints]] `gear_ratio`, `torque_constant_nm_per_a`), and robot `{}` has none; \
+log joint torque (`tau`), axis power (`p`) or supply power (`p_total`) instead, or give a drive file",
+            log.file, model.robot_name
+        )));
+    }
+    Ok(())
+}
+
+/// The rigid-body torque of every row when `every` (one pass, `tick(k)` every `step` rows),
+/// else a store of the rows kept.
+fn rigid_torques(
+    model: &Model,
+    log: &Log,
+    every: bool,
+    step: usize,
+    tick: &dyn Fn(usize),
+) -> Result<RigidTorques> {
+    let n = model.n;
+    let len = log.len();
+    Ok(if every {
+        let mut data = model.dynamics.data();
+        let mut tau_rb = vec![0.0; len * n];
+        for k in 0..len {
+            if k % step == 0 {
+                tick(k);
+            }
+            rnea(
+                &model.dynamics,
+                &mut data,
+                log.traj.q(k),
+                log.traj.qd(k),
+                log.traj.qdd(k),
+                &mut tau_rb[k * n..(k + 1) * n],
+            )?;
+        }
+        RigidTorques::Every(tau_rb)
+    } else {
+        RigidTorques::Some(KeptRows::new(len, n))
+    })
+}
+
+/// Each costly torque effect's regressor (`None` for the others) and its parameter count:
+/// every row's when `every` (one pass each, `tick` counting on from the rigid body's pass),
+/// else a store of the rows kept.
+fn regressors(
+    model: &Model,
+    log: &Log,
+    every: bool,
+    step: usize,
+    tick: &dyn Fn(usize),
+) -> (Vec<Option<Regressors>>, Vec<usize>) {
+    let n = model.n;
+    let len = log.len();
+    let mut regs: Vec<Option<Regressors>> = Vec::new();
+    let mut reg_params = Vec::new();
+    let mut pass = 1;
+    for (e, _) in model.effects.iter() {
+        regs.push(None);
+        reg_params.push(0);
+        if e.stage() != Stage::Torque || !e.costly() {
+            continue;
+        }
+        let i = regs.len() - 1;
+        let p = e.params().len();
+        let mut y = vec![0.0; n * p];
+        if len == 0 || !e.regressor(log.traj.q(0), log.traj.qd(0), log.traj.qdd(0), &mut y) {
+            continue;
+        }
+        reg_params[i] = p;
+        if !every {
+            regs[i] = Some(Regressors::Some(Default::default()));
+            continue;
+        }
+        let mut all = vec![0.0; len * n * p];
+        for k in 0..len {
+            if k % step == 0 {
+                tick(pass * len + k);
+            }
+            let y = &mut all[k * n * p..(k + 1) * n * p];
+            e.regressor(log.traj.q(k), log.traj.qd(k), log.traj.qdd(k), y);
+        }
+        regs[i] = Some(Regressors::Every(all));
+        pass += 1;
+    }
+    (regs, reg_params)
 }

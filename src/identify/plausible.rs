@@ -103,58 +103,10 @@ pub fn implausible_fit(model: &Model, name: &str, std_errors: &[Option<f64>]) ->
     match name {
         "payload" => {
             let p = e.as_any().downcast_ref::<Payload>()?;
-            let (m, h, _) = p.standard();
-            let limit = payload_mass_limit(model);
-            let sm = PLAUSIBILITY_SIGMAS * se(std_errors, 0);
-            if m < -sm {
-                why.push(format!("its mass is {m:.3} kg (< 0)"));
-            } else if m > limit + sm {
-                why.push(format!(
-                    "its mass {m:.3} kg is above {limit:.1} kg ({})",
-                    match model.rated_payload_kg {
-                        Some(r) if r > 0.0 =>
-                            format!("{PAYLOAD_RATED_FACTOR} × the rated payload {r} kg"),
-                        _ => format!(
-                            "{PAYLOAD_MOVING_MASS_SHARE} × the moving links' {:.1} kg",
-                            model.moving_mass_kg
-                        ),
-                    }
-                ));
-            }
-            let sh = (1..4).map(|i| se(std_errors, i)).fold(0.0, f64::max);
-            if h.norm() > m.max(0.0) * PAYLOAD_MAX_COM_M + PLAUSIBILITY_SIGMAS * sh * 3f64.sqrt() {
-                let b = p.body();
-                why.push(format!(
-                    "its centre of mass lies {:.2} m from the flange origin (first moment {:.3} kg·m for {m:.3} kg; at most {PAYLOAD_MAX_COM_M} m)",
-                    b.com.norm(),
-                    h.norm()
-                ));
-            }
-            if m > 0.0 && why.is_empty() {
-                let si = (4..10).map(|i| se(std_errors, i)).fold(0.0, f64::max);
-                let tol = PAYLOAD_INERTIA_TOL_KG_M2 + PLAUSIBILITY_SIGMAS * si;
-                if let Some(w) = inertia_violation(&p.body(), tol) {
-                    why.push(w);
-                }
-            }
+            payload_reasons(model, p, std_errors, &mut why);
         }
         "viscous" | "coulomb" | "stribeck" | "armature" | "standby" => {
-            for (i, (s, x)) in specs.iter().zip(&v).enumerate() {
-                if *x < 0.0 && fitted(std_errors, i) {
-                    why.push(format!("{} = {x:.4} {} < 0", s.name, s.unit));
-                }
-            }
-            if name == "stribeck" {
-                if let Some((s, x)) = specs
-                    .iter()
-                    .zip(&v)
-                    .find(|(s, _)| s.name.starts_with("v_s"))
-                {
-                    if *x <= 0.0 {
-                        why.push(format!("{} = {x} {} is not > 0", s.name, s.unit));
-                    }
-                }
-            }
+            sign_reasons(name, &specs, &v, std_errors, &mut why);
         }
         "copper" => {
             for (i, (s, x)) in specs.iter().zip(&v).enumerate() {
@@ -182,17 +134,84 @@ pub fn implausible_fit(model: &Model, name: &str, std_errors: &[Option<f64>]) ->
         }
         "balancer" => {
             let b = e.as_any().downcast_ref::<Balancer>()?;
-            if !(b.a > 0.0 && b.b > 0.0 && (b.a - b.b).abs() > 1e-6) {
-                why.push(format!(
-                    "its geometry is not physical (levers {} m and {} m must be > 0 and differ)",
-                    b.a, b.b
-                ));
-            }
-            if b.stiffness < -PLAUSIBILITY_SIGMAS * se(std_errors, 1) {
-                why.push(format!("its stiffness {:.1} N/m is < 0", b.stiffness));
-            }
+            balancer_reasons(b, std_errors, &mut why);
         }
         _ => {}
     }
     (!why.is_empty()).then(|| why.join("; "))
+}
+
+/// Why a fitted payload is not plausible: a negative mass or one above the limit, a centre of
+/// mass too far from the flange, an inertia no rigid body has.
+fn payload_reasons(model: &Model, p: &Payload, std_errors: &[Option<f64>], why: &mut Vec<String>) {
+    let (m, h, _) = p.standard();
+    let limit = payload_mass_limit(model);
+    let sm = PLAUSIBILITY_SIGMAS * se(std_errors, 0);
+    if m < -sm {
+        why.push(format!("its mass is {m:.3} kg (< 0)"));
+    } else if m > limit + sm {
+        why.push(format!(
+            "its mass {m:.3} kg is above {limit:.1} kg ({})",
+            match model.rated_payload_kg {
+                Some(r) if r > 0.0 => format!("{PAYLOAD_RATED_FACTOR} × the rated payload {r} kg"),
+                _ => format!(
+                    "{PAYLOAD_MOVING_MASS_SHARE} × the moving links' {:.1} kg",
+                    model.moving_mass_kg
+                ),
+            }
+        ));
+    }
+    let sh = (1..4).map(|i| se(std_errors, i)).fold(0.0, f64::max);
+    if h.norm() > m.max(0.0) * PAYLOAD_MAX_COM_M + PLAUSIBILITY_SIGMAS * sh * 3f64.sqrt() {
+        let b = p.body();
+        why.push(format!(
+            "its centre of mass lies {:.2} m from the flange origin (first moment {:.3} kg·m for {m:.3} kg; at most {PAYLOAD_MAX_COM_M} m)",
+            b.com.norm(),
+            h.norm()
+        ));
+    }
+    if m > 0.0 && why.is_empty() {
+        let si = (4..10).map(|i| se(std_errors, i)).fold(0.0, f64::max);
+        let tol = PAYLOAD_INERTIA_TOL_KG_M2 + PLAUSIBILITY_SIGMAS * si;
+        if let Some(w) = inertia_violation(&p.body(), tol) {
+            why.push(w);
+        }
+    }
+}
+
+/// Why fitted friction, armature or standby values are not plausible: a fitted value below
+/// zero, a Stribeck velocity that is not positive.
+fn sign_reasons(
+    name: &str,
+    specs: &[crate::effects::ParamSpec],
+    v: &[f64],
+    std_errors: &[Option<f64>],
+    why: &mut Vec<String>,
+) {
+    for (i, (s, x)) in specs.iter().zip(v).enumerate() {
+        if *x < 0.0 && fitted(std_errors, i) {
+            why.push(format!("{} = {x:.4} {} < 0", s.name, s.unit));
+        }
+    }
+    if name == "stribeck" {
+        if let Some((s, x)) = specs.iter().zip(v).find(|(s, _)| s.name.starts_with("v_s")) {
+            if *x <= 0.0 {
+                why.push(format!("{} = {x} {} is not > 0", s.name, s.unit));
+            }
+        }
+    }
+}
+
+/// Why a fitted balancer is not plausible: levers that are not physical, a negative
+/// stiffness.
+fn balancer_reasons(b: &Balancer, std_errors: &[Option<f64>], why: &mut Vec<String>) {
+    if !(b.a > 0.0 && b.b > 0.0 && (b.a - b.b).abs() > 1e-6) {
+        why.push(format!(
+            "its geometry is not physical (levers {} m and {} m must be > 0 and differ)",
+            b.a, b.b
+        ));
+    }
+    if b.stiffness < -PLAUSIBILITY_SIGMAS * se(std_errors, 1) {
+        why.push(format!("its stiffness {:.1} N/m is < 0", b.stiffness));
+    }
 }

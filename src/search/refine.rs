@@ -402,170 +402,19 @@ fn refine_with(
             "no feasible placement in the grid: nothing to refine".into(),
         ));
     }
-    // The seed: the best grid cell whose tolerance corners are all feasible. Every tolerance
-    // check and single evaluation below goes through `checker` (first failure stops a check;
-    // nothing is evaluated twice).
-    let mut start: Option<(Evaluated, ToleranceCheck)> = None;
-    let mut tried = 0;
-    let mut first_check = None;
-    for c in cells.iter().take(so.max_start_cells.max(1)) {
-        tried += 1;
-        let chk = checker.check(&c.placement)?;
-        if chk.holds {
-            start = Some(((*c).clone(), chk));
-            break;
-        }
-        first_check.get_or_insert(chk);
-    }
-    let robust_start = start.is_some();
-    let (start, start_chk) = match start {
-        Some(s) => s,
-        // None holds: refine from the best cell and say that the tolerance is not held.
-        None => (
-            cells[0].clone(),
-            first_check.expect("at least one cell was checked"),
-        ),
+    let (start, start_chk, robust_start, tried) = seed_cell(&cells, so, &checker)?;
+    let problem = Problem::around(ev, &start, opts, so)?;
+    let (iterations, converged) = if robust_start && opts.max_evals > problem.dim() {
+        problem.nelder_mead(opts, progress)?
+    } else {
+        (0, true)
     };
-    let active = [true, true, so.z, opts.yaw, opts.spin];
-    let scale = [
-        opts.step_xy_m,
-        opts.step_xy_m,
-        so.step_z_m,
-        opts.step_angle_rad,
-        opts.step_angle_rad,
-    ];
-    let dim = active.iter().filter(|a| **a).count();
-    let evals = Arc::new(Mutex::new(0usize));
-    let problem = Problem {
-        ev,
-        sc: RefCell::new(ev.scratch()?),
-        origin: start.placement,
-        scale,
-        active,
-        bounds: so.bounds,
-        budget: opts.max_evals,
-        evals: evals.clone(),
-        visited: RefCell::new(Vec::new()),
-        history: RefCell::new(vec![start.cost()]),
-        speculative: RefCell::new(0),
-    };
-    // Initial simplex: the grid cell and one step along each searched coordinate.
-    let mut simplex = vec![vec![0.0; dim]];
-    for k in 0..dim {
-        let mut v = vec![0.0; dim];
-        v[k] = 1.0;
-        simplex.push(v);
-    }
-    let solver = SpeculativeNelderMead::new(simplex)
-        .with_sd_tolerance(1e-6)
-        .map_err(|e| Error::Invalid(format!("Nelder–Mead: {e}")))?;
-    let done_iters = Arc::new(Mutex::new(0usize));
-    let obs = Obs {
-        evals: evals.clone(),
-        report: progress,
-        iterations: done_iters.clone(),
-    };
-    let mut iterations = 0;
-    let mut converged = true;
-    if robust_start && opts.max_evals > dim {
-        let r = Executor::new(ByRef(&problem), solver)
-            .configure(|s| s.max_iters(opts.max_evals as u64))
-            .add_observer(obs, ObserverMode::Always)
-            .run();
-        match r {
-            Ok(res) => {
-                iterations = res.state().get_iter() as usize;
-                converged = matches!(
-                    res.state().get_termination_reason(),
-                    Some(argmin::core::TerminationReason::SolverConverged)
-                );
-            }
-            Err(e) if e.to_string().contains(BUDGET) => {
-                converged = false;
-                iterations = done_iters.lock().map(|g| *g).unwrap_or(0);
-            }
-            Err(e) => return Err(Error::Invalid(format!("Nelder–Mead: {e}"))),
-        }
-    }
-    let used = *evals.lock().map_err(|_| Error::Invalid("lock".into()))?;
-    // The answer must hold the tolerance: the best candidates first, else the best placement
-    // on the segment from the (tolerance-holding) seed toward the best candidate.
-    let mut best = (start.clone(), start_chk);
-    let mut cands: Vec<Evaluated> = problem
-        .visited
-        .borrow()
-        .iter()
-        .filter(|e| e.cost() < start.cost())
-        .cloned()
-        .collect();
-    cands.sort_by(|a, b| a.cost().total_cmp(&b.cost()));
-    let mut held = false;
-    for c in cands.iter().take(CANDIDATES) {
-        let chk = checker.check(&c.placement)?;
-        if chk.holds {
-            best = (c.clone(), chk);
-            held = true;
-            break;
-        }
-    }
-    if !held && robust_start {
-        if let Some(target) = cands.first() {
-            let (s0, s1) = (start.placement, target.placement);
-            let at = |t: f64| Placement {
-                x: s0.x + t * (s1.x - s0.x),
-                y: s0.y + t * (s1.y - s0.y),
-                z: s0.z + t * (s1.z - s0.z),
-                yaw: s0.yaw + t * (s1.yaw - s0.yaw),
-                nozzle_spin: s0.nozzle_spin + t * (s1.nozzle_spin - s0.nozzle_spin),
-            };
-            let (mut lo, mut hi) = (0.0, 1.0);
-            for _ in 0..BISECTIONS {
-                let t = 0.5 * (lo + hi);
-                let p = at(t);
-                let e = checker.evaluate(&p, true)?;
-                let ok = if e.cost() < best.0.cost() {
-                    let chk = checker.check(&p)?;
-                    if chk.holds {
-                        best = (e, chk);
-                        true
-                    } else {
-                        false
-                    }
-                } else {
-                    e.cost().is_finite()
-                };
-                if ok {
-                    lo = t;
-                } else {
-                    hi = t;
-                }
-            }
-        }
-    }
-    // A nozzle spin the energy does not depend on (a round nozzle whose spin only shifts
-    // joint 6 by a constant) is not an answer: Nelder–Mead would pick it from rounding noise.
-    // Where the start's spin gives the same energy (no difference at the printed digits,
-    // [`crate::numerics::difference`]) and holds the tolerance, the start's spin is kept.
-    let mut spin_kept = None;
-    if opts.spin && best.0.placement.nozzle_spin != start.placement.nozzle_spin {
-        let p = Placement {
-            nozzle_spin: start.placement.nozzle_spin,
-            ..best.0.placement
-        };
-        let e = checker.evaluate(&p, true)?;
-        if e.cost().is_finite() && crate::numerics::difference(e.cost(), best.0.cost()) == 0.0 {
-            let chk = checker.check(&p)?;
-            if chk.holds || !best.1.holds {
-                spin_kept = Some(format!(
-                    "the energy does not depend on the nozzle spin here ({:.1}° and {:.1}° give the same energy): the spin is kept at {:.1}°",
-                    best.0.placement.nozzle_spin.to_degrees(),
-                    p.nozzle_spin.to_degrees(),
-                    p.nozzle_spin.to_degrees()
-                ));
-                best = (e, chk);
-            }
-        }
-    }
+    let used = *problem
+        .evals
+        .lock()
+        .map_err(|_| Error::Invalid("lock".into()))?;
+    let mut best = held_answer(&problem, &checker, &start, start_chk, robust_start)?;
+    let spin_kept = keep_start_spin(&checker, opts, &start, &mut best)?;
     let budget_spent = (!converged).then(|| {
         format!(
             "Nelder–Mead used its {} evaluations before its simplex converged: its best point is where the budget ran out ({:.1} J below the start cell's {:.1} J); a larger evaluation budget may still move it",
@@ -578,18 +427,7 @@ fn refine_with(
     let speculative = *problem.speculative.borrow() + checker.speculative();
     let tol_evals = checker.evaluations();
     let on_bounds = so.bounds.on_bounds(&best.placement, 0.005);
-    let stmt = best.feasible().and_then(|f| {
-        crate::evaluate::feasibility::margins::margin_statement(
-            ev.job.robot,
-            &ev.feasibility,
-            &f.margins,
-        )
-    });
-    let joint_margin = stmt.as_ref().map(|s| s.0.clone());
-    let wrist_margin = best.feasible().and_then(|f| {
-        crate::evaluate::feasibility::margins::wrist_statement(&ev.feasibility, &f.margins)
-    });
-    let on_margin = stmt.filter(|s| s.1).map(|s| s.0);
+    let (joint_margin, wrist_margin, on_margin) = margin_lines(ev, &best);
     let history = problem.history.borrow().clone();
     Ok((
         OptimiseResult {
@@ -623,6 +461,244 @@ fn refine_with(
             lower_neighbours: polish.lower,
         },
     ))
+}
+
+/// The seed: the best grid cell whose tolerance corners are all feasible (else the best cell,
+/// with its failed check). Every tolerance check and single evaluation of the refinement goes
+/// through `checker` (first failure stops a check; nothing is evaluated twice). With whether
+/// the seed holds its tolerance and how many cells were tried.
+fn seed_cell(
+    cells: &[&Evaluated],
+    so: &SearchOptions,
+    checker: &Checker,
+) -> Result<(Evaluated, ToleranceCheck, bool, usize)> {
+    let mut start: Option<(Evaluated, ToleranceCheck)> = None;
+    let mut tried = 0;
+    let mut first_check = None;
+    for c in cells.iter().take(so.max_start_cells.max(1)) {
+        tried += 1;
+        let chk = checker.check(&c.placement)?;
+        if chk.holds {
+            start = Some(((*c).clone(), chk));
+            break;
+        }
+        first_check.get_or_insert(chk);
+    }
+    let robust_start = start.is_some();
+    let (start, start_chk) = match start {
+        Some(s) => s,
+        // None holds: refine from the best cell and say that the tolerance is not held.
+        None => (
+            cells[0].clone(),
+            first_check.expect("at least one cell was checked"),
+        ),
+    };
+    Ok((start, start_chk, robust_start, tried))
+}
+
+impl<'e, 'j, 'a> Problem<'e, 'j, 'a> {
+    /// The search around `start`: the coordinates searched and their first steps, the budget.
+    fn around(
+        ev: &'e Evaluator<'j, 'a>,
+        start: &Evaluated,
+        opts: &OptimiseOptions,
+        so: &SearchOptions,
+    ) -> Result<Self> {
+        let active = [true, true, so.z, opts.yaw, opts.spin];
+        let scale = [
+            opts.step_xy_m,
+            opts.step_xy_m,
+            so.step_z_m,
+            opts.step_angle_rad,
+            opts.step_angle_rad,
+        ];
+        Ok(Problem {
+            ev,
+            sc: RefCell::new(ev.scratch()?),
+            origin: start.placement,
+            scale,
+            active,
+            bounds: so.bounds,
+            budget: opts.max_evals,
+            evals: Arc::new(Mutex::new(0usize)),
+            visited: RefCell::new(Vec::new()),
+            history: RefCell::new(vec![start.cost()]),
+            speculative: RefCell::new(0),
+        })
+    }
+
+    /// How many coordinates are searched.
+    fn dim(&self) -> usize {
+        self.active.iter().filter(|a| **a).count()
+    }
+
+    /// Nelder–Mead from the grid cell (argmin, with the evaluation budget): its iterations and
+    /// whether its simplex converged.
+    fn nelder_mead(&self, opts: &OptimiseOptions, progress: Progress) -> Result<(usize, bool)> {
+        let dim = self.dim();
+        // Initial simplex: the grid cell and one step along each searched coordinate.
+        let mut simplex = vec![vec![0.0; dim]];
+        for k in 0..dim {
+            let mut v = vec![0.0; dim];
+            v[k] = 1.0;
+            simplex.push(v);
+        }
+        let solver = SpeculativeNelderMead::new(simplex)
+            .with_sd_tolerance(1e-6)
+            .map_err(|e| Error::Invalid(format!("Nelder–Mead: {e}")))?;
+        let done_iters = Arc::new(Mutex::new(0usize));
+        let obs = Obs {
+            evals: self.evals.clone(),
+            report: progress,
+            iterations: done_iters.clone(),
+        };
+        let r = Executor::new(ByRef(self), solver)
+            .configure(|s| s.max_iters(opts.max_evals as u64))
+            .add_observer(obs, ObserverMode::Always)
+            .run();
+        match r {
+            Ok(res) => Ok((
+                res.state().get_iter() as usize,
+                matches!(
+                    res.state().get_termination_reason(),
+                    Some(argmin::core::TerminationReason::SolverConverged)
+                ),
+            )),
+            Err(e) if e.to_string().contains(BUDGET) => {
+                Ok((done_iters.lock().map(|g| *g).unwrap_or(0), false))
+            }
+            Err(e) => Err(Error::Invalid(format!("Nelder–Mead: {e}"))),
+        }
+    }
+}
+
+/// The answer must hold the tolerance: the best candidates the search visited first, else the
+/// best placement on the segment from the (tolerance-holding) seed toward the best candidate,
+/// else the seed.
+fn held_answer(
+    problem: &Problem,
+    checker: &Checker,
+    start: &Evaluated,
+    start_chk: ToleranceCheck,
+    robust_start: bool,
+) -> Result<(Evaluated, ToleranceCheck)> {
+    let mut best = (start.clone(), start_chk);
+    let mut cands: Vec<Evaluated> = problem
+        .visited
+        .borrow()
+        .iter()
+        .filter(|e| e.cost() < start.cost())
+        .cloned()
+        .collect();
+    cands.sort_by(|a, b| a.cost().total_cmp(&b.cost()));
+    for c in cands.iter().take(CANDIDATES) {
+        let chk = checker.check(&c.placement)?;
+        if chk.holds {
+            return Ok((c.clone(), chk));
+        }
+    }
+    if robust_start {
+        if let Some(target) = cands.first() {
+            bisect_toward(checker, start.placement, target.placement, &mut best)?;
+        }
+    }
+    Ok(best)
+}
+
+/// Bisection on the segment from `s0` toward `s1`: a point cheaper than `best` that holds its
+/// tolerance becomes `best`; the search moves on toward `s1` from each feasible point.
+fn bisect_toward(
+    checker: &Checker,
+    s0: Placement,
+    s1: Placement,
+    best: &mut (Evaluated, ToleranceCheck),
+) -> Result<()> {
+    let at = |t: f64| Placement {
+        x: s0.x + t * (s1.x - s0.x),
+        y: s0.y + t * (s1.y - s0.y),
+        z: s0.z + t * (s1.z - s0.z),
+        yaw: s0.yaw + t * (s1.yaw - s0.yaw),
+        nozzle_spin: s0.nozzle_spin + t * (s1.nozzle_spin - s0.nozzle_spin),
+    };
+    let (mut lo, mut hi) = (0.0, 1.0);
+    for _ in 0..BISECTIONS {
+        let t = 0.5 * (lo + hi);
+        let p = at(t);
+        let e = checker.evaluate(&p, true)?;
+        let ok = if e.cost() < best.0.cost() {
+            let chk = checker.check(&p)?;
+            if chk.holds {
+                *best = (e, chk);
+                true
+            } else {
+                false
+            }
+        } else {
+            e.cost().is_finite()
+        };
+        if ok {
+            lo = t;
+        } else {
+            hi = t;
+        }
+    }
+    Ok(())
+}
+
+/// A nozzle spin the energy does not depend on (a round nozzle whose spin only shifts
+/// joint 6 by a constant) is not an answer: Nelder–Mead would pick it from rounding noise.
+/// Where the start's spin gives the same energy (no difference at the printed digits,
+/// [`crate::numerics::difference`]) and holds the tolerance, the start's spin is kept in
+/// `best`; says so.
+fn keep_start_spin(
+    checker: &Checker,
+    opts: &OptimiseOptions,
+    start: &Evaluated,
+    best: &mut (Evaluated, ToleranceCheck),
+) -> Result<Option<String>> {
+    if !(opts.spin && best.0.placement.nozzle_spin != start.placement.nozzle_spin) {
+        return Ok(None);
+    }
+    let p = Placement {
+        nozzle_spin: start.placement.nozzle_spin,
+        ..best.0.placement
+    };
+    let e = checker.evaluate(&p, true)?;
+    if e.cost().is_finite() && crate::numerics::difference(e.cost(), best.0.cost()) == 0.0 {
+        let chk = checker.check(&p)?;
+        if chk.holds || !best.1.holds {
+            let kept = format!(
+                "the energy does not depend on the nozzle spin here ({:.1}° and {:.1}° give the same energy): the spin is kept at {:.1}°",
+                best.0.placement.nozzle_spin.to_degrees(),
+                p.nozzle_spin.to_degrees(),
+                p.nozzle_spin.to_degrees()
+            );
+            *best = (e, chk);
+            return Ok(Some(kept));
+        }
+    }
+    Ok(None)
+}
+
+/// The joint-limit margin the answer keeps, its wrist margin, and the joint-limit margin it
+/// lies on, in words.
+fn margin_lines(
+    ev: &Evaluator,
+    best: &Evaluated,
+) -> (Option<String>, Option<String>, Option<String>) {
+    let stmt = best.feasible().and_then(|f| {
+        crate::evaluate::feasibility::margins::margin_statement(
+            ev.job.robot,
+            &ev.feasibility,
+            &f.margins,
+        )
+    });
+    let joint_margin = stmt.as_ref().map(|s| s.0.clone());
+    let wrist_margin = best.feasible().and_then(|f| {
+        crate::evaluate::feasibility::margins::wrist_statement(&ev.feasibility, &f.margins)
+    });
+    let on_margin = stmt.filter(|s| s.1).map(|s| s.0);
+    (joint_margin, wrist_margin, on_margin)
 }
 
 /// At most this many compass steps of [`polish`].

@@ -307,12 +307,115 @@ pub fn robust(
     let nominal = ev.job.robot;
     let (ranges, source) = uncertainty::resolve_ranges(nominal, o.ranges)?;
     let calibrated = uncertainty::calibrated_names(nominal, &ranges);
+    let robots = drawn_robots(nominal, &ranges, o)?;
+    let jobs = drawn_jobs(ev.job, &robots)?;
+    let evs: Vec<Evaluator> = jobs
+        .iter()
+        .map(|j| Evaluator::new(j, ev.feasibility, ev.objective))
+        .collect();
+    let mut evaluations = 0usize;
+    // Candidates: the answer, its neighbourhood, each draw's optimum.
+    let a = answer.placement;
+    let mut cands = around(&a, so, o);
+    if o.draw_optima {
+        evaluations += draw_optima(&evs, &a, opts, so, o, &mut cands)?;
+    }
+    let (mut keep, tolerance_checked, n_eval) = usable(ev, so, distinct(cands))?;
+    evaluations += n_eval;
+    let mut per = draw_energies(ev, &evs, &keep)?;
+    keep_whole(&mut keep, &mut per)?;
+    let n = o.draws;
+    let nf = n as f64;
+    let best = best_per_draw(&per, keep.len());
+    let candidates = compare(&keep, &per, &best);
+    let recommended = recommendation(&candidates, o.criterion);
+    let (parameters, drawn) = drawn_table(&robots);
+    let (energy_j, value_of_information) =
+        value_of_information(&parameters, &drawn, &per, recommended, o);
+    let rec = &candidates[recommended];
+    let drives_j = best.iter().map(|b| b.1).sum::<f64>() / nf;
+    let yearly_kwh = rec.expected_j * o.prints_per_year / 3.6e6;
+    Ok(Robust {
+        criterion: o.criterion,
+        draws: n,
+        seed: o.seed,
+        source,
+        calibrated,
+        value_of_everything_j: rec.expected_regret_j,
+        standby_j: rec.expected_standby_j,
+        drives_j,
+        recommended,
+        tolerance_checked,
+        candidates,
+        value_of_information,
+        prints_per_year: o.prints_per_year,
+        grid_kg_co2_per_kwh: o.grid_kg_co2_per_kwh,
+        yearly_kwh,
+        yearly_kg_co2: yearly_kwh * o.grid_kg_co2_per_kwh,
+        energy_j,
+        best_drives_j: best.iter().map(|b| b.1).collect(),
+        parameters,
+        drawn,
+        evaluations,
+    })
+}
+
+/// The recommendation: the best candidate by the criterion (the first of equals).
+fn recommendation(candidates: &[Candidate], criterion: RobustObjective) -> usize {
+    let score = |c: &Candidate| match criterion {
+        RobustObjective::Expected => c.expected_j,
+        RobustObjective::Regret => c.max_regret_j,
+    };
+    (1..candidates.len()).fold(0, |b, c| {
+        if score(&candidates[c]) < score(&candidates[b]) {
+            c
+        } else {
+            b
+        }
+    })
+}
+
+/// The objective energy per draw and candidate, and from it the value of measuring each drawn
+/// parameter for the recommendation, most valuable first.
+fn value_of_information(
+    parameters: &[String],
+    drawn: &[Vec<f64>],
+    per: &[Vec<[f64; 3]>],
+    recommended: usize,
+    o: &RobustOptions,
+) -> (Vec<Vec<f64>>, Vec<ParameterValue>) {
+    let energy_j: Vec<Vec<f64>> = per
+        .iter()
+        .map(|e| e.iter().map(|x| x[0]).collect())
+        .collect();
+    let value = crate::search::value_of_information::rank(
+        parameters,
+        drawn,
+        &energy_j,
+        recommended,
+        0,
+        o.prints_per_year,
+    );
+    (energy_j, value)
+}
+
+/// A drawn robot with the parameters drawn for it (name, value).
+type DrawnRobot = (RobotModel, Vec<(String, f64)>);
+
+/// A candidate kept for the comparison: placement, origin and nominal energy, J.
+type Kept = (Placement, String, f64);
+
+/// The drawn robots, in draw order (the balancer force drawn as a factor on its preload).
+fn drawn_robots(
+    nominal: &RobotModel,
+    ranges: &uncertainty::Ranges,
+    o: &RobustOptions,
+) -> Result<Vec<DrawnRobot>> {
     let effects = crate::effects::EffectSet::of_robot(nominal)?;
     let p0 = balancer_preload(nominal).filter(|f| *f != 0.0);
-    // The drawn robots, in draw order.
-    let robots: Vec<(RobotModel, Vec<(String, f64)>)> = (0..o.draws)
+    Ok((0..o.draws)
         .map(|d| {
-            let (m, mut drawn) = uncertainty::drawn_robot_of(nominal, &effects, &ranges, o.seed, d);
+            let (m, mut drawn) = uncertainty::drawn_robot_of(nominal, &effects, ranges, o.seed, d);
             if let Some(p0) = p0 {
                 drawn.push((
                     "balancer force".into(),
@@ -321,9 +424,12 @@ pub fn robust(
             }
             (m, drawn)
         })
-        .collect();
-    let job = ev.job;
-    let jobs: Vec<PathJob> = robots
+        .collect())
+}
+
+/// The path job of each drawn robot: `job` with that robot's energy model.
+fn drawn_jobs<'r>(job: &PathJob<'r>, robots: &'r [DrawnRobot]) -> Result<Vec<PathJob<'r>>> {
+    robots
         .iter()
         .map(|(m, _)| {
             Ok(PathJob {
@@ -337,56 +443,80 @@ pub fn robust(
                 source: job.source.clone(),
             })
         })
-        .collect::<Result<_>>()?;
-    let evs: Vec<Evaluator> = jobs
-        .iter()
-        .map(|j| Evaluator::new(j, ev.feasibility, ev.objective))
-        .collect();
-    let mut evaluations = 0usize;
-    // Candidates: the answer, its neighbourhood, each draw's optimum.
-    let a = answer.placement;
-    let mut cands: Vec<(Placement, String)> = vec![(a, "nominal answer".into())];
-    for (p, why) in neighbourhood(&a, so, o.stencil_m, o.stencil_yaw_rad) {
+        .collect()
+}
+
+/// The nominal answer `a` and its neighbourhood, with their origins.
+fn around(a: &Placement, so: &SearchOptions, o: &RobustOptions) -> Vec<(Placement, String)> {
+    let mut cands: Vec<(Placement, String)> = vec![(*a, "nominal answer".into())];
+    for (p, why) in neighbourhood(a, so, o.stencil_m, o.stencil_yaw_rad) {
         cands.push((p, why.into()));
     }
-    if o.draw_optima {
-        let dopts = OptimiseOptions {
-            max_evals: o.draw_evals,
-            ..*opts
-        };
-        let found: Vec<Result<(Option<Placement>, usize)>> = evs
-            .iter()
-            .map(|evd| {
-                let start = evd.evaluate(&mut evd.scratch()?, &a);
-                if start.feasible().is_none() {
-                    return Ok((None, 1));
-                }
-                let quiet: refine::Progress = std::sync::Arc::new(|_, _, _| {});
-                let (r, si) = refine::refine(evd, &[start], &dopts, so, quiet)?;
-                let n = 1 + r.evals + si.tolerance_evals + 4;
-                Ok((si.tolerance.holds.then_some(r.best.placement), n))
-            })
-            .collect();
-        for (d, f) in found.into_iter().enumerate() {
-            let (p, n) = f?;
-            evaluations += n;
-            if let Some(p) = p {
-                cands.push((p, format!("optimum of draw {d}")));
+    cands
+}
+
+/// Each drawn robot's own optimum from the answer `a` (the refinement with `o.draw_evals`
+/// evaluations), added to `cands` where its tolerance holds; the evaluations made.
+fn draw_optima(
+    evs: &[Evaluator],
+    a: &Placement,
+    opts: &OptimiseOptions,
+    so: &SearchOptions,
+    o: &RobustOptions,
+    cands: &mut Vec<(Placement, String)>,
+) -> Result<usize> {
+    let dopts = OptimiseOptions {
+        max_evals: o.draw_evals,
+        ..*opts
+    };
+    let found: Vec<Result<(Option<Placement>, usize)>> = evs
+        .iter()
+        .map(|evd| {
+            let start = evd.evaluate(&mut evd.scratch()?, a);
+            if start.feasible().is_none() {
+                return Ok((None, 1));
             }
+            let quiet: refine::Progress = std::sync::Arc::new(|_, _, _| {});
+            let (r, si) = refine::refine(evd, &[start], &dopts, so, quiet)?;
+            let n = 1 + r.evals + si.tolerance_evals + 4;
+            Ok((si.tolerance.holds.then_some(r.best.placement), n))
+        })
+        .collect();
+    let mut evaluations = 0;
+    for (d, f) in found.into_iter().enumerate() {
+        let (p, n) = f?;
+        evaluations += n;
+        if let Some(p) = p {
+            cands.push((p, format!("optimum of draw {d}")));
         }
     }
-    // Distinct placements only (the first origin kept).
+    Ok(evaluations)
+}
+
+/// Distinct placements only (the first origin kept).
+fn distinct(cands: Vec<(Placement, String)>) -> Vec<(Placement, String)> {
     let mut uniq: Vec<(Placement, String)> = Vec::new();
     for (p, w) in cands {
         if !uniq.iter().any(|(q, _)| same(q, &p)) {
             uniq.push((p, w));
         }
     }
+    uniq
+}
+
+/// The candidates a site can use: feasible under the nominal robot (timed once) and holding
+/// their tolerance box there (the nominal answer holds its own; a candidate where it does not
+/// is left out before any draw). With the tolerance boxes checked and the evaluations made.
+fn usable(
+    ev: &Evaluator,
+    so: &SearchOptions,
+    uniq: Vec<(Placement, String)>,
+) -> Result<(Vec<Kept>, usize, usize)> {
     // Feasible under the nominal robot, timed once.
     let ps: Vec<Placement> = uniq.iter().map(|c| c.0).collect();
     let nom = ev.sweep(&ps, &|_, _| {})?;
-    evaluations += ps.len();
-    let mut keep: Vec<(Placement, String, f64)> = Vec::new();
+    let mut evaluations = ps.len();
+    let mut keep: Vec<Kept> = Vec::new();
     for ((p, w), e) in uniq.into_iter().zip(&nom) {
         if e.cost().is_finite() {
             keep.push((p, w, e.cost()));
@@ -415,6 +545,13 @@ pub fn robust(
         keep = held;
     }
     evaluations += checker.evaluations();
+    Ok((keep, tolerance_checked, evaluations))
+}
+
+/// Energies (objective, drives, standby) of each candidate under each drawn robot, in draw
+/// order; infinite where a drawn robot cannot give them. Each candidate is timed once, under
+/// the nominal robot.
+fn draw_energies(ev: &Evaluator, evs: &[Evaluator], keep: &[Kept]) -> Result<Vec<Vec<[f64; 3]>>> {
     let timed: Vec<crate::timing::TimedPath> = {
         let r: Vec<Result<crate::timing::TimedPath>> = keep
             .par_iter()
@@ -443,9 +580,12 @@ pub fn robust(
                 .collect())
         })
         .collect();
-    let mut per: Vec<Vec<[f64; 3]>> = per.into_iter().collect::<Result<_>>()?;
-    // A candidate whose energy some drawn robot cannot give (a model error) is left out; the
-    // nominal answer must have them all.
+    per.into_iter().collect::<Result<_>>()
+}
+
+/// A candidate whose energy some drawn robot cannot give (a model error) is left out; the
+/// nominal answer must have them all.
+fn keep_whole(keep: &mut Vec<Kept>, per: &mut [Vec<[f64; 3]>]) -> Result<()> {
     let whole: Vec<bool> = (0..keep.len())
         .map(|c| per.iter().all(|e| e[c].iter().all(|v| v.is_finite())))
         .collect();
@@ -459,19 +599,19 @@ pub fn robust(
         i += 1;
         whole[i - 1]
     });
-    for e in &mut per {
+    for e in per.iter_mut() {
         let mut i = 0;
         e.retain(|_| {
             i += 1;
             whole[i - 1]
         });
     }
-    let k = keep.len();
-    let n = o.draws;
-    let nf = n as f64;
-    // Per draw: the best candidate and its drives' energy.
-    let best: Vec<(usize, f64)> = per
-        .iter()
+    Ok(())
+}
+
+/// Per draw: the best of the `k` candidates and its drives' energy.
+fn best_per_draw(per: &[Vec<[f64; 3]>], k: usize) -> Vec<(usize, f64)> {
+    per.iter()
         .map(|e| {
             let mut b = 0;
             for c in 1..k {
@@ -481,10 +621,16 @@ pub fn robust(
             }
             (b, e[b][1])
         })
-        .collect();
+        .collect()
+}
+
+/// Each candidate over the draws: expected energies, regret against each draw's best, how
+/// often it is the best or within 1 % of it.
+fn compare(keep: &[Kept], per: &[Vec<[f64; 3]>], best: &[(usize, f64)]) -> Vec<Candidate> {
+    let n = per.len();
+    let nf = n as f64;
     let regret = |c: usize, d: usize| per[d][c][0] - per[d][best[d].0][0];
-    let candidates: Vec<Candidate> = keep
-        .iter()
+    keep.iter()
         .enumerate()
         .map(|(c, (p, w, e0))| {
             let mut r: Vec<f64> = (0..n).map(|d| regret(c, d)).collect();
@@ -507,20 +653,12 @@ pub fn robust(
                 p_within_1pct: within as f64 / nf,
             }
         })
-        .collect();
-    // The recommendation: the best by the criterion (the first of equals).
-    let score = |c: &Candidate| match o.criterion {
-        RobustObjective::Expected => c.expected_j,
-        RobustObjective::Regret => c.max_regret_j,
-    };
-    let recommended = (1..k).fold(0, |b, c| {
-        if score(&candidates[c]) < score(&candidates[b]) {
-            c
-        } else {
-            b
-        }
-    });
-    // Value of information.
+        .collect()
+}
+
+/// The parameters drawn (the first draw's names) and each draw's values in their order (NaN
+/// where a draw lacks one).
+fn drawn_table(robots: &[DrawnRobot]) -> (Vec<String>, Vec<Vec<f64>>) {
     let parameters: Vec<String> = robots[0].1.iter().map(|(nm, _)| nm.clone()).collect();
     let drawn: Vec<Vec<f64>> = robots
         .iter()
@@ -532,44 +670,7 @@ pub fn robust(
                 .collect()
         })
         .collect();
-    let energy_j: Vec<Vec<f64>> = per
-        .iter()
-        .map(|e| e.iter().map(|x| x[0]).collect())
-        .collect();
-    let value_of_information = crate::search::value_of_information::rank(
-        &parameters,
-        &drawn,
-        &energy_j,
-        recommended,
-        0,
-        o.prints_per_year,
-    );
-    let rec = &candidates[recommended];
-    let drives_j = best.iter().map(|b| b.1).sum::<f64>() / nf;
-    let yearly_kwh = rec.expected_j * o.prints_per_year / 3.6e6;
-    Ok(Robust {
-        criterion: o.criterion,
-        draws: n,
-        seed: o.seed,
-        source,
-        calibrated,
-        value_of_everything_j: rec.expected_regret_j,
-        standby_j: rec.expected_standby_j,
-        drives_j,
-        recommended,
-        tolerance_checked,
-        candidates,
-        value_of_information,
-        prints_per_year: o.prints_per_year,
-        grid_kg_co2_per_kwh: o.grid_kg_co2_per_kwh,
-        yearly_kwh,
-        yearly_kg_co2: yearly_kwh * o.grid_kg_co2_per_kwh,
-        energy_j,
-        best_drives_j: best.iter().map(|b| b.1).collect(),
-        parameters,
-        drawn,
-        evaluations,
-    })
+    (parameters, drawn)
 }
 
 /// What moving each search bound the answer lies on is worth: the answer's placement with

@@ -296,6 +296,18 @@ fn find(
     Ok(res)
 }
 
+/// A job as it runs: the config, its path job and objective, the grid, the search settings and
+/// the observer.
+struct Run<'r, 'j, 'a> {
+    config: &'r OptimiseConfig,
+    job: &'j PathJob<'a>,
+    ev: &'r Evaluator<'j, 'a>,
+    ps: &'r [crate::toolpath::Placement],
+    opts: &'r OptimiseOptions,
+    so: &'r SearchOptions,
+    observer: &'r dyn Observer,
+}
+
 fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Result<Answer> {
     let s = &config.settings;
     s.check()?;
@@ -304,317 +316,38 @@ fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Resul
     let set = config.placement_set();
     let ps = &set.placements;
     let t0 = std::time::Instant::now();
-    observer.begin(Stage::Grid, ps.len());
-    let rows = ev.sweep(ps, &|done, total| {
-        observer.progress(Progress {
-            stage: Stage::Grid,
-            done,
-            total,
-            best_j: None,
-        })
-    });
-    observer.end(Stage::Grid);
-    let rows = rows?;
-    if !rows.iter().any(|r| r.cost().is_finite()) {
-        return Err(Error::Invalid(
-            crate::search::advice::nothing_feasible_named(&rows, &config.robot, &|k| {
-                observer.setting_name(k)
-            })
-            .trim_end()
-            .to_string(),
-        ));
-    }
-    let step = set.grid.as_ref().and_then(|g| g.step_xy_m()).unwrap_or(0.1);
-    let opts = OptimiseOptions {
-        seed: s.seed,
-        max_evals: s.max_evals,
-        step_xy_m: step / 2.0,
-        yaw: !s.fixed_yaw,
-        spin: !s.fixed_spin,
-        ..Default::default()
-    };
-    let tol = s.tolerance;
+    let rows = grid(config, &ev, ps, observer)?;
+    let opts = optimise_options(s, &set);
     let bounds = Bounds::over(ps, s.z_bounds)?;
-    let so = SearchOptions::new(bounds, tol);
+    let so = SearchOptions::new(bounds, s.tolerance);
+    let run = Run {
+        config,
+        job: &job,
+        ev: &ev,
+        ps,
+        opts: &opts,
+        so: &so,
+        observer,
+    };
     let mut res = find(&ev, &rows, &opts, &so, s.search, observer)?;
-    if let Err(why) = &res.best.outcome {
-        let full = &res.best;
-        return Err(Error::Invalid(format!(
-            "the placement chosen on representative layers (x = {:.3} m, y = {:.3} m, z = {:.3} m, yaw = {:.1}°) is infeasible when every sample is evaluated: {why}; evaluate every sample instead (full evaluation)",
-            full.placement.x,
-            full.placement.y,
-            full.placement.z,
-            full.placement.yaw.to_degrees()
-        )));
-    }
-    // The answer found again with other joint-limit and wrist margins: what each costs. A
-    // stricter setting's answer also keeps the configured margins; when it is cheaper, the
-    // search stopped short of it, and the refinement runs again from it.
-    let mut margin_trade = None;
-    if s.margin_trade {
-        let trade_evals = std::cell::Cell::new(0usize);
-        let find_with =
-            |feas: &FeasibilityOptions| -> Result<std::result::Result<Evaluated, String>> {
-                let ev = evaluator(&job, &config.path, *feas, s.objective, s.evaluation);
-                let rows = ev.sweep(ps, &|_, _| {})?;
-                if !rows.iter().any(|r| r.cost().is_finite()) {
-                    return Ok(Err("no feasible grid placement".into()));
-                }
-                let r = find(&ev, &rows, &opts, &so, s.search, &Silent)?;
-                trade_evals.set(
-                    trade_evals.get()
-                        + rows.len()
-                        + r.evals
-                        + r.search.as_ref().map_or(0, |si| si.tolerance_evals),
-                );
-                Ok(Ok(r.best))
-            };
-        let mut trade = crate::search::margins::trade(&s.feasibility, &res.best, &find_with)?;
-        if let Some(from) = trade.cheaper_stricter().cloned() {
-            let at = from.placement.expect("a feasible setting has a placement");
-            let mut seeded = rows.clone();
-            seeded.extend(ev.sweep(&[at], &|_, _| {})?);
-            let again = find(&ev, &seeded, &opts, &so, s.search, observer)?;
-            if again.best.feasible().is_some() && again.best.cost() < res.best.cost() {
-                // The first refinement's evaluations belong to the trade now.
-                trade_evals.set(
-                    trade_evals.get()
-                        + 1
-                        + res.evals
-                        + res.search.as_ref().map_or(0, |si| si.tolerance_evals),
-                );
-                trade.restart = Some(crate::search::margins::Restart {
-                    joint_margin_deg: from.joint_margin_deg,
-                    wrist_margin_deg: from.wrist_margin_deg,
-                    before_j: res.best.cost(),
-                    after_j: again.best.cost(),
-                });
-                res = again;
-                trade.answer_is(&res.best);
-            }
-        }
-        trade.evaluations = trade_evals.get();
-        margin_trade = Some(trade);
-    }
-    let baseline = match s.baseline {
-        Some(b) => {
-            let r = ev.sweep(&[b], &|_, _| {})?;
-            r.into_iter().next().map(|e| ("given".to_string(), e))
-        }
-        None => feasible_centre(&rows)
-            .map(|e| ("centre of the feasible grid region".to_string(), e.clone())),
+    refuse_infeasible_in_full(&res.best)?;
+    let margin_trade = if s.margin_trade {
+        Some(run.margin_trade(&rows, &mut res)?)
+    } else {
+        None
     };
-    if let Some((_, b)) = &baseline {
-        res.savings = optimise::Savings::of(&res.best, b);
-        // The baseline is checked against the tolerance the answer holds (every corner, so
-        // the report can say how many fail).
-        if res.search.is_some() && !tol.is_zero() && b.cost().is_finite() {
-            res.baseline_tolerance = Some(crate::search::tolerance::check_all(
-                &ev,
-                &b.placement,
-                &tol,
-            )?);
-        }
-    }
+    let baseline = run.baseline(&rows, &mut res)?;
     if let Some(n) = s.uncertainty {
-        // Candidates: the answer first, then every feasible grid cell that is not nominally
-        // better than it (a cheaper cell is one the search rejected because it does not hold
-        // the placement tolerance: not a candidate a site could use).
-        let mut cands = vec![res.best.clone()];
-        cands.extend(
-            rows.iter()
-                .filter(|r| {
-                    r.cost().is_finite()
-                        && r.cost() >= res.best.cost()
-                        && r.placement != res.best.placement
-                })
-                .cloned(),
-        );
-        let setup = StudySetup::new(
-            &ev,
-            &cands,
-            baseline.as_ref().map(|b| &b.1),
-            n,
-            s.seed,
-            None,
-        )?;
-        let study = match draws {
-            Draws::Shard(idx) => {
-                let t1 = std::time::Instant::now();
-                let d = setup.draws(idx)?;
-                let draw_s = t1.elapsed().as_secs_f64();
-                return Ok(Answer::Shard(ShardDraws {
-                    rows: idx.iter().copied().zip(d).collect(),
-                    total: setup.len(),
-                    draw_s,
-                    secs: t0.elapsed().as_secs_f64(),
-                }));
-            }
-            Draws::Given(d) => setup.reduce(d)?,
-            Draws::All => {
-                let all: Vec<usize> = (0..n).collect();
-                let per = setup.draws(&all)?;
-                setup.reduce(&per)?
-            }
-        };
-        res.uncertainty = Some(study);
-        // The decision a site can act on: the robust choice over the drawn robots around the
-        // answer and each drawn robot's own optimum (the refinement run again), with what
-        // measuring each parameter is worth.
-        if res.search.is_some() {
-            let ro = RobustOptions {
-                draws: n,
-                seed: s.seed,
-                criterion: s.robust,
-                prints_per_year: s.prints_per_year,
-                grid_kg_co2_per_kwh: s.grid_kg_co2_per_kwh,
-                ..Default::default()
-            };
-            let r = robust::robust(&ev, &res.best, &opts, &so, &ro)?;
-            let measurement = match &config.robot.effects.calibration {
-                Some(c) => Some(measurement_worth(
-                    config,
-                    &c.base_robot,
-                    &res.best,
-                    &opts,
-                    &so,
-                    &ro,
-                    &r,
-                )?),
-                None => None,
-            };
-            let d = res.decision.get_or_insert_with(Default::default);
-            d.robust = Some(r);
-            d.measurement = measurement;
+        if let Some(shard) = run.uncertainty(n, &rows, &mut res, &baseline, draws, t0)? {
+            return Ok(Answer::Shard(shard));
         }
     }
-    // What moving a search bound the answer lies on is worth (a plinth under the robot).
-    if let Some(si) = &res.search {
-        if !si.on_bounds.is_empty() {
-            let steps = robust::bound_steps(&ev, &res.best, &si.bounds, &robust::BOUND_STEPS_M)?;
-            res.decision
-                .get_or_insert_with(Default::default)
-                .bound_steps = steps;
-        }
-    }
-    // Print time against energy at the answer (the controller's acceleration and jerk).
-    if s.pareto {
-        let pts = crate::search::pareto::time_energy(config, &res.best.placement)?;
-        res.decision.get_or_insert_with(Default::default).pareto = pts;
-    }
-    if let Some(t) = margin_trade {
-        res.decision.get_or_insert_with(Default::default).margins = Some(t);
-    }
+    run.decide(&mut res, margin_trade)?;
     let secs = t0.elapsed().as_secs_f64();
-    // The placements shown in detail (series for the report), evaluated in parallel.
-    let mut wanted = vec![("best", &res.best)];
-    wanted.extend(worst_of(&rows).map(|w| ("worst", w)));
-    wanted.extend(baseline.as_ref().map(|(_, b)| ("baseline", b)));
-    // A long print's one at a time: each holds its whole timed path (about 200 bytes a
-    // sample), and two at once would double the run's peak memory for little time.
-    let details: Vec<Detail> = {
-        use rayon::prelude::*;
-        let each = |(label, e): &(&str, &Evaluated)| detail(&job, label, e);
-        let all: Vec<Option<Detail>> = if job.plan.motion.p.len() >= LEAN_SAMPLES {
-            wanted.iter().map(each).collect::<Result<_>>()?
-        } else {
-            wanted.par_iter().map(each).collect::<Result<_>>()?
-        };
-        all.into_iter().flatten().collect()
-    };
-    // Every evaluation the answer needed: grid, refinement, tolerance checks (with the
-    // bisection and spin points; the baseline's corners) and the 4 sensitivity points.
+    let details = details(&job, &rows, &res, &baseline)?;
     let base_corners = res.baseline_tolerance.as_ref().map_or(0, |c| c.corners);
-    let n_eval = ps.len()
-        + res.evals
-        + res.search.as_ref().map_or(0, |si| si.tolerance_evals)
-        + base_corners
-        + 4;
-    let mut m = meta(
-        &config.robot,
-        &config.path_file,
-        s.objective,
-        &s.feasibility,
-        ev.nominal_samples(),
-    );
-    m.push(("print speed".into(), print_speed_text(&config.path)));
-    m.extend(evaluation_line(&ev));
-    m.push(("seed".into(), s.seed.to_string()));
-    if let Some(si) = &res.search {
-        m.push(("search".into(), si.method.clone()));
-        m.push(("tolerance".into(), tolerance_line(&si.tolerance)));
-        m.push((
-            "search bounds".into(),
-            format!(
-                "x {:.3}…{:.3} m, y {:.3}…{:.3} m, z {:.3}…{:.3} m",
-                si.bounds.x[0],
-                si.bounds.x[1],
-                si.bounds.y[0],
-                si.bounds.y[1],
-                si.bounds.z[0],
-                si.bounds.z[1]
-            ),
-        ));
-        if !si.on_bounds.is_empty() {
-            m.push((
-                "optimum on a search bound".into(),
-                format!("{}: widen the range there", si.on_bounds.join(", ")),
-            ));
-        }
-        if let Some(jm) = &si.joint_margin {
-            m.push(("joint-limit margin kept".into(), jm.clone()));
-        }
-        if let Some(wm) = &si.wrist_margin {
-            m.push(("wrist margin kept".into(), wm.clone()));
-        }
-        let trade_evals = res
-            .decision
-            .as_ref()
-            .and_then(|d| d.margins.as_ref())
-            .map_or(String::new(), |t| {
-                format!(", margin trade {}", t.evaluations)
-            });
-        m.push((
-            "evaluations".into(),
-            if base_corners > 0 {
-                format!(
-                    "grid {}, refinement {}, tolerance corners {} (the answer's search {}, the baseline {}){trade_evals}",
-                    ps.len(),
-                    res.evals,
-                    si.tolerance_evals + base_corners,
-                    si.tolerance_evals,
-                    base_corners
-                )
-            } else {
-                format!(
-                    "grid {}, refinement {}, tolerance corners {}{trade_evals}",
-                    ps.len(),
-                    res.evals,
-                    si.tolerance_evals
-                )
-            },
-        ));
-        if let Some(om) = &si.on_margin {
-            m.push((
-                "optimum on a joint-limit margin".into(),
-                format!(
-                    "{om}: the margin, not the energy, stops the search here (the joint margin)"
-                ),
-            ));
-        }
-        if let Some(sk) = &si.spin_kept {
-            m.push(("nozzle spin".into(), sk.clone()));
-        }
-        if let Some(b) = &si.budget_spent {
-            m.push(("search stopped".into(), b.clone()));
-        }
-        if let Some(pm) = &si.polished {
-            m.push(("polish".into(), pm.clone()));
-        }
-        for l in &si.lower_neighbours {
-            m.push(("cheaper neighbour not taken".into(), l.clone()));
-        }
-    }
+    let n_eval = evaluations(ps.len(), &res);
+    let m = run.meta(&res, base_corners);
     let site = crate::report::site::SiteGeometry::new(
         &config.robot,
         &job,
@@ -643,6 +376,419 @@ fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Resul
         secs,
         evaluations: n_eval,
     })))
+}
+
+/// The refinement's options from the job's settings: its first step in x and y half the
+/// grid's (or 5 cm).
+fn optimise_options(
+    s: &crate::search::job::OptimiseSettings,
+    set: &crate::search::job::PlacementSet,
+) -> OptimiseOptions {
+    let step = set.grid.as_ref().and_then(|g| g.step_xy_m()).unwrap_or(0.1);
+    OptimiseOptions {
+        seed: s.seed,
+        max_evals: s.max_evals,
+        step_xy_m: step / 2.0,
+        yaw: !s.fixed_yaw,
+        spin: !s.fixed_spin,
+        ..Default::default()
+    }
+}
+
+/// Every evaluation the answer needed: grid, refinement, tolerance checks (with the bisection
+/// and spin points; the baseline's corners) and the 4 sensitivity points.
+fn evaluations(grid_n: usize, res: &optimise::OptimiseResult) -> usize {
+    let base_corners = res.baseline_tolerance.as_ref().map_or(0, |c| c.corners);
+    grid_n + res.evals + res.search.as_ref().map_or(0, |si| si.tolerance_evals) + base_corners + 4
+}
+
+/// The grid of candidate placements evaluated, with progress; an error with advice (settings
+/// named by the observer) when no placement is feasible.
+fn grid(
+    config: &OptimiseConfig,
+    ev: &Evaluator,
+    ps: &[crate::toolpath::Placement],
+    observer: &dyn Observer,
+) -> Result<Vec<Evaluated>> {
+    observer.begin(Stage::Grid, ps.len());
+    let rows = ev.sweep(ps, &|done, total| {
+        observer.progress(Progress {
+            stage: Stage::Grid,
+            done,
+            total,
+            best_j: None,
+        })
+    });
+    observer.end(Stage::Grid);
+    let rows = rows?;
+    if !rows.iter().any(|r| r.cost().is_finite()) {
+        return Err(Error::Invalid(
+            crate::search::advice::nothing_feasible_named(&rows, &config.robot, &|k| {
+                observer.setting_name(k)
+            })
+            .trim_end()
+            .to_string(),
+        ));
+    }
+    Ok(rows)
+}
+
+/// An error when the placement chosen on representative layers is infeasible with every
+/// sample evaluated.
+fn refuse_infeasible_in_full(full: &Evaluated) -> Result<()> {
+    if let Err(why) = &full.outcome {
+        return Err(Error::Invalid(format!(
+            "the placement chosen on representative layers (x = {:.3} m, y = {:.3} m, z = {:.3} m, yaw = {:.1}°) is infeasible when every sample is evaluated: {why}; evaluate every sample instead (full evaluation)",
+            full.placement.x,
+            full.placement.y,
+            full.placement.z,
+            full.placement.yaw.to_degrees()
+        )));
+    }
+    Ok(())
+}
+
+/// The placements shown in detail (series for the report): the best, the worst and the
+/// baseline. A long print's one at a time: each holds its whole timed path (about 200 bytes a
+/// sample), and two at once would double the run's peak memory for little time; a shorter
+/// one's in parallel.
+fn details(
+    job: &PathJob,
+    rows: &[Evaluated],
+    res: &optimise::OptimiseResult,
+    baseline: &Option<(String, Evaluated)>,
+) -> Result<Vec<Detail>> {
+    use rayon::prelude::*;
+    let mut wanted = vec![("best", &res.best)];
+    wanted.extend(worst_of(rows).map(|w| ("worst", w)));
+    wanted.extend(baseline.as_ref().map(|(_, b)| ("baseline", b)));
+    let each = |(label, e): &(&str, &Evaluated)| detail(job, label, e);
+    let all: Vec<Option<Detail>> = if job.plan.motion.p.len() >= LEAN_SAMPLES {
+        wanted.iter().map(each).collect::<Result<_>>()?
+    } else {
+        wanted.par_iter().map(each).collect::<Result<_>>()?
+    };
+    Ok(all.into_iter().flatten().collect())
+}
+
+impl Run<'_, '_, '_> {
+    /// The answer found again with other joint-limit and wrist margins: what each costs. A
+    /// stricter setting's answer also keeps the configured margins; when it is cheaper, the
+    /// search stopped short of it, and the refinement runs again from it (`res` becomes its
+    /// answer).
+    fn margin_trade(
+        &self,
+        rows: &[Evaluated],
+        res: &mut optimise::OptimiseResult,
+    ) -> Result<crate::search::margins::MarginTrade> {
+        let (config, ev, opts, so) = (self.config, self.ev, self.opts, self.so);
+        let s = &config.settings;
+        let trade_evals = std::cell::Cell::new(0usize);
+        let find_with =
+            |feas: &FeasibilityOptions| -> Result<std::result::Result<Evaluated, String>> {
+                let ev = evaluator(self.job, &config.path, *feas, s.objective, s.evaluation);
+                let rows = ev.sweep(self.ps, &|_, _| {})?;
+                if !rows.iter().any(|r| r.cost().is_finite()) {
+                    return Ok(Err("no feasible grid placement".into()));
+                }
+                let r = find(&ev, &rows, opts, so, s.search, &Silent)?;
+                trade_evals.set(
+                    trade_evals.get()
+                        + rows.len()
+                        + r.evals
+                        + r.search.as_ref().map_or(0, |si| si.tolerance_evals),
+                );
+                Ok(Ok(r.best))
+            };
+        let mut trade = crate::search::margins::trade(&s.feasibility, &res.best, &find_with)?;
+        if let Some(from) = trade.cheaper_stricter().cloned() {
+            let at = from.placement.expect("a feasible setting has a placement");
+            let mut seeded = rows.to_vec();
+            seeded.extend(ev.sweep(&[at], &|_, _| {})?);
+            let again = find(ev, &seeded, opts, so, s.search, self.observer)?;
+            if again.best.feasible().is_some() && again.best.cost() < res.best.cost() {
+                // The first refinement's evaluations belong to the trade now.
+                trade_evals.set(
+                    trade_evals.get()
+                        + 1
+                        + res.evals
+                        + res.search.as_ref().map_or(0, |si| si.tolerance_evals),
+                );
+                trade.restart = Some(crate::search::margins::Restart {
+                    joint_margin_deg: from.joint_margin_deg,
+                    wrist_margin_deg: from.wrist_margin_deg,
+                    before_j: res.best.cost(),
+                    after_j: again.best.cost(),
+                });
+                *res = again;
+                trade.answer_is(&res.best);
+            }
+        }
+        trade.evaluations = trade_evals.get();
+        Ok(trade)
+    }
+
+    /// The baseline (the given placement, or the centre of the feasible grid region) and the
+    /// answer's savings against it; the baseline is checked against the tolerance the answer
+    /// holds.
+    fn baseline(
+        &self,
+        rows: &[Evaluated],
+        res: &mut optimise::OptimiseResult,
+    ) -> Result<Option<(String, Evaluated)>> {
+        let s = &self.config.settings;
+        let baseline = match s.baseline {
+            Some(b) => {
+                let r = self.ev.sweep(&[b], &|_, _| {})?;
+                r.into_iter().next().map(|e| ("given".to_string(), e))
+            }
+            None => feasible_centre(rows)
+                .map(|e| ("centre of the feasible grid region".to_string(), e.clone())),
+        };
+        if let Some((_, b)) = &baseline {
+            res.savings = optimise::Savings::of(&res.best, b);
+            // The baseline is checked against the tolerance the answer holds (every corner, so
+            // the report can say how many fail).
+            let tol = s.tolerance;
+            if res.search.is_some() && !tol.is_zero() && b.cost().is_finite() {
+                res.baseline_tolerance = Some(crate::search::tolerance::check_all(
+                    self.ev,
+                    &b.placement,
+                    &tol,
+                )?);
+            }
+        }
+        Ok(baseline)
+    }
+
+    /// The uncertainty study over `n` drawn robots and the robust decision; for a shard, only
+    /// its draws (returned).
+    fn uncertainty(
+        &self,
+        n: usize,
+        rows: &[Evaluated],
+        res: &mut optimise::OptimiseResult,
+        baseline: &Option<(String, Evaluated)>,
+        draws: Draws,
+        t0: std::time::Instant,
+    ) -> Result<Option<ShardDraws>> {
+        // Candidates: the answer first, then every feasible grid cell that is not nominally
+        // better than it (a cheaper cell is one the search rejected because it does not hold
+        // the placement tolerance: not a candidate a site could use).
+        let mut cands = vec![res.best.clone()];
+        cands.extend(
+            rows.iter()
+                .filter(|r| {
+                    r.cost().is_finite()
+                        && r.cost() >= res.best.cost()
+                        && r.placement != res.best.placement
+                })
+                .cloned(),
+        );
+        let seed = self.config.settings.seed;
+        let setup = StudySetup::new(
+            self.ev,
+            &cands,
+            baseline.as_ref().map(|b| &b.1),
+            n,
+            seed,
+            None,
+        )?;
+        let study = match draws {
+            Draws::Shard(idx) => {
+                let t1 = std::time::Instant::now();
+                let d = setup.draws(idx)?;
+                let draw_s = t1.elapsed().as_secs_f64();
+                return Ok(Some(ShardDraws {
+                    rows: idx.iter().copied().zip(d).collect(),
+                    total: setup.len(),
+                    draw_s,
+                    secs: t0.elapsed().as_secs_f64(),
+                }));
+            }
+            Draws::Given(d) => setup.reduce(d)?,
+            Draws::All => {
+                let all: Vec<usize> = (0..n).collect();
+                let per = setup.draws(&all)?;
+                setup.reduce(&per)?
+            }
+        };
+        res.uncertainty = Some(study);
+        if res.search.is_some() {
+            self.robust_decision(n, res)?;
+        }
+        Ok(None)
+    }
+
+    /// The decision a site can act on: the robust choice over the drawn robots around the
+    /// answer and each drawn robot's own optimum (the refinement run again), with what
+    /// measuring each parameter is worth.
+    fn robust_decision(&self, n: usize, res: &mut optimise::OptimiseResult) -> Result<()> {
+        let s = &self.config.settings;
+        let ro = RobustOptions {
+            draws: n,
+            seed: s.seed,
+            criterion: s.robust,
+            prints_per_year: s.prints_per_year,
+            grid_kg_co2_per_kwh: s.grid_kg_co2_per_kwh,
+            ..Default::default()
+        };
+        let r = robust::robust(self.ev, &res.best, self.opts, self.so, &ro)?;
+        let measurement = match &self.config.robot.effects.calibration {
+            Some(c) => Some(measurement_worth(
+                self.config,
+                &c.base_robot,
+                &res.best,
+                self.opts,
+                self.so,
+                &ro,
+                &r,
+            )?),
+            None => None,
+        };
+        let d = res.decision.get_or_insert_with(Default::default);
+        d.robust = Some(r);
+        d.measurement = measurement;
+        Ok(())
+    }
+
+    /// The rest of the decision: what moving a search bound is worth, print time against
+    /// energy, the margin trade.
+    fn decide(
+        &self,
+        res: &mut optimise::OptimiseResult,
+        margin_trade: Option<crate::search::margins::MarginTrade>,
+    ) -> Result<()> {
+        // What moving a search bound the answer lies on is worth (a plinth under the robot).
+        if let Some(si) = &res.search {
+            if !si.on_bounds.is_empty() {
+                let steps =
+                    robust::bound_steps(self.ev, &res.best, &si.bounds, &robust::BOUND_STEPS_M)?;
+                res.decision
+                    .get_or_insert_with(Default::default)
+                    .bound_steps = steps;
+            }
+        }
+        // Print time against energy at the answer (the controller's acceleration and jerk).
+        if self.config.settings.pareto {
+            let pts = crate::search::pareto::time_energy(self.config, &res.best.placement)?;
+            res.decision.get_or_insert_with(Default::default).pareto = pts;
+        }
+        if let Some(t) = margin_trade {
+            res.decision.get_or_insert_with(Default::default).margins = Some(t);
+        }
+        Ok(())
+    }
+
+    /// The report's header lines: the run's settings, then the search's.
+    fn meta(&self, res: &optimise::OptimiseResult, base_corners: usize) -> Vec<(String, String)> {
+        let (config, s) = (self.config, &self.config.settings);
+        let mut m = meta(
+            &config.robot,
+            &config.path_file,
+            s.objective,
+            &s.feasibility,
+            self.ev.nominal_samples(),
+        );
+        m.push(("print speed".into(), print_speed_text(&config.path)));
+        m.extend(evaluation_line(self.ev));
+        m.push(("seed".into(), s.seed.to_string()));
+        if let Some(si) = &res.search {
+            search_meta(&mut m, si, res, self.ps.len(), base_corners);
+        }
+        m
+    }
+}
+
+/// The search's header lines: method, tolerance, bounds, margins, evaluations and what
+/// stopped it.
+fn search_meta(
+    m: &mut Vec<(String, String)>,
+    si: &refine::SearchInfo,
+    res: &optimise::OptimiseResult,
+    grid_n: usize,
+    base_corners: usize,
+) {
+    m.push(("search".into(), si.method.clone()));
+    m.push(("tolerance".into(), tolerance_line(&si.tolerance)));
+    m.push((
+        "search bounds".into(),
+        format!(
+            "x {:.3}…{:.3} m, y {:.3}…{:.3} m, z {:.3}…{:.3} m",
+            si.bounds.x[0],
+            si.bounds.x[1],
+            si.bounds.y[0],
+            si.bounds.y[1],
+            si.bounds.z[0],
+            si.bounds.z[1]
+        ),
+    ));
+    if !si.on_bounds.is_empty() {
+        m.push((
+            "optimum on a search bound".into(),
+            format!("{}: widen the range there", si.on_bounds.join(", ")),
+        ));
+    }
+    if let Some(jm) = &si.joint_margin {
+        m.push(("joint-limit margin kept".into(), jm.clone()));
+    }
+    if let Some(wm) = &si.wrist_margin {
+        m.push(("wrist margin kept".into(), wm.clone()));
+    }
+    m.push((
+        "evaluations".into(),
+        evaluations_text(si, res, grid_n, base_corners),
+    ));
+    if let Some(om) = &si.on_margin {
+        m.push((
+            "optimum on a joint-limit margin".into(),
+            format!("{om}: the margin, not the energy, stops the search here (the joint margin)"),
+        ));
+    }
+    if let Some(sk) = &si.spin_kept {
+        m.push(("nozzle spin".into(), sk.clone()));
+    }
+    if let Some(b) = &si.budget_spent {
+        m.push(("search stopped".into(), b.clone()));
+    }
+    if let Some(pm) = &si.polished {
+        m.push(("polish".into(), pm.clone()));
+    }
+    for l in &si.lower_neighbours {
+        m.push(("cheaper neighbour not taken".into(), l.clone()));
+    }
+}
+
+/// The evaluations of a search in words: grid, refinement, tolerance corners (the answer's and
+/// the baseline's), the margin trade's.
+fn evaluations_text(
+    si: &refine::SearchInfo,
+    res: &optimise::OptimiseResult,
+    grid_n: usize,
+    base_corners: usize,
+) -> String {
+    let trade_evals = res
+        .decision
+        .as_ref()
+        .and_then(|d| d.margins.as_ref())
+        .map_or(String::new(), |t| {
+            format!(", margin trade {}", t.evaluations)
+        });
+    if base_corners > 0 {
+        format!(
+            "grid {}, refinement {}, tolerance corners {} (the answer's search {}, the baseline {}){trade_evals}",
+            grid_n,
+            res.evals,
+            si.tolerance_evals + base_corners,
+            si.tolerance_evals,
+            base_corners
+        )
+    } else {
+        format!(
+            "grid {}, refinement {}, tolerance corners {}{trade_evals}",
+            grid_n, res.evals, si.tolerance_evals
+        )
+    }
 }
 
 /// The hand-off of an optimisation's answer `at` for the controller

@@ -565,6 +565,60 @@ impl<'s, 'j, 'a> StudySetup<'s, 'j, 'a> {
     /// not exactly one draw per index, or a draw of another set of candidates.
     pub fn reduce(&self, per: &[Draw]) -> Result<Study> {
         let draws = self.draws;
+        self.check_draws(per)?;
+        let k_opt = self.timed.len() - usize::from(self.has_base); // candidates competing for "best"
+        let tally = Tally::of(per, k_opt, self.has_base, &self.nominal);
+        let savings = &tally.savings;
+        let saving_pct = (!savings.is_empty()).then(|| {
+            let mean = savings.iter().sum::<f64>() / savings.len() as f64;
+            let mut s = savings.clone();
+            s.sort_by(f64::total_cmp);
+            [mean, percentile(&s, 0.05), percentile(&s, 0.95)]
+        });
+        let rhos = &tally.rhos;
+        let rank_correlation = if rhos.is_empty() {
+            [1.0, 1.0]
+        } else {
+            [
+                rhos.iter().sum::<f64>() / rhos.len() as f64,
+                rhos.iter().copied().fold(f64::INFINITY, f64::min),
+            ]
+        };
+        // Which drawn parameter moves the answer: against the regret where it varies, else
+        // against the saving.
+        let regret = &tally.regret;
+        let response: &[f64] = if regret.iter().any(|r| *r != regret[0]) || savings.is_empty() {
+            regret
+        } else {
+            savings
+        };
+        let depends = depends_on(per, response);
+        // The identified parameters the draws take from their standard errors (the same in
+        // every draw: which parameters, not their values, depend on the robot alone).
+        let (_, _, calibrated) = draw_robot(
+            self.ev.job.robot,
+            &self.effects,
+            &self.ranges,
+            &mut ChaCha8Rng::seed_from_u64(self.seed),
+        );
+        Ok(Study {
+            draws,
+            seed: self.seed,
+            source: self.source.clone(),
+            calibrated,
+            candidates: k_opt,
+            p_within_1pct: tally.within as f64 / draws as f64,
+            p_best: tally.best_n as f64 / draws as f64,
+            saving_pct,
+            rank_correlation,
+            depends_on: depends,
+            per_draw_j: tally.per_draw_j,
+        })
+    }
+
+    /// Errors: not exactly one draw per index, or a draw of another set of candidates.
+    fn check_draws(&self, per: &[Draw]) -> Result<()> {
+        let draws = self.draws;
         if per.len() != draws {
             return Err(Error::Invalid(format!(
                 "uncertainty study: {} draws given for a study of {draws}",
@@ -581,9 +635,31 @@ impl<'s, 'j, 'a> StudySetup<'s, 'j, 'a> {
                 self.timed.len()
             )));
         }
-        let has_base = self.has_base;
-        let nominal = &self.nominal;
-        let k_opt = self.timed.len() - usize::from(has_base); // candidates competing for "best"
+        Ok(())
+    }
+}
+
+/// The recommendation over the draws, in draw order.
+struct Tally {
+    /// Draws where it is within 1 % of the best candidate.
+    within: usize,
+    /// Draws where it is the best.
+    best_n: usize,
+    /// Per draw: its saving against the baseline, %.
+    savings: Vec<f64>,
+    /// Per draw: the rank correlation of the candidates with their nominal order.
+    rhos: Vec<f64>,
+    /// Per draw: its relative regret against the best candidate.
+    regret: Vec<f64>,
+    /// Per draw: its energy and the best candidate's, J.
+    per_draw_j: Vec<[f64; 2]>,
+}
+
+impl Tally {
+    /// The tally over `per` of the first of `k_opt` competing candidates (the baseline last
+    /// when `has_base`), `nominal` being their nominal energies.
+    fn of(per: &[Draw], k_opt: usize, has_base: bool, nominal: &[f64]) -> Tally {
+        let draws = per.len();
         let mut within = 0usize;
         let mut best_n = 0usize;
         let mut savings = Vec::new();
@@ -609,63 +685,34 @@ impl<'s, 'j, 'a> StudySetup<'s, 'j, 'a> {
                 rhos.push(r);
             }
         }
-        let saving_pct = (!savings.is_empty()).then(|| {
-            let mean = savings.iter().sum::<f64>() / savings.len() as f64;
-            let mut s = savings.clone();
-            s.sort_by(f64::total_cmp);
-            [mean, percentile(&s, 0.05), percentile(&s, 0.95)]
-        });
-        let rank_correlation = if rhos.is_empty() {
-            [1.0, 1.0]
-        } else {
-            [
-                rhos.iter().sum::<f64>() / rhos.len() as f64,
-                rhos.iter().copied().fold(f64::INFINITY, f64::min),
-            ]
-        };
-        // Which drawn parameter moves the answer: against the regret where it varies, else
-        // against the saving.
-        let response: &[f64] = if regret.iter().any(|r| *r != regret[0]) || savings.is_empty() {
-            &regret
-        } else {
-            &savings
-        };
-        let mut depends: Vec<(String, f64)> = Vec::new();
-        if let Some(first) = per.first() {
-            for (i, (name, _)) in first.drawn.iter().enumerate() {
-                let xs: Vec<f64> = per
-                    .iter()
-                    .map(|d| d.drawn.get(i).map_or(0.0, |v| v.1))
-                    .collect();
-                if let Some(r) = spearman(&xs, response) {
-                    depends.push((name.clone(), r));
-                }
+        Tally {
+            within,
+            best_n,
+            savings,
+            rhos,
+            regret,
+            per_draw_j,
+        }
+    }
+}
+
+/// The drawn parameters that move `response` most (at most five, by rank correlation).
+fn depends_on(per: &[Draw], response: &[f64]) -> Vec<(String, f64)> {
+    let mut depends: Vec<(String, f64)> = Vec::new();
+    if let Some(first) = per.first() {
+        for (i, (name, _)) in first.drawn.iter().enumerate() {
+            let xs: Vec<f64> = per
+                .iter()
+                .map(|d| d.drawn.get(i).map_or(0.0, |v| v.1))
+                .collect();
+            if let Some(r) = spearman(&xs, response) {
+                depends.push((name.clone(), r));
             }
         }
-        depends.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()).then(a.0.cmp(&b.0)));
-        depends.truncate(5);
-        // The identified parameters the draws take from their standard errors (the same in
-        // every draw: which parameters, not their values, depend on the robot alone).
-        let (_, _, calibrated) = draw_robot(
-            self.ev.job.robot,
-            &self.effects,
-            &self.ranges,
-            &mut ChaCha8Rng::seed_from_u64(self.seed),
-        );
-        Ok(Study {
-            draws,
-            seed: self.seed,
-            source: self.source.clone(),
-            calibrated,
-            candidates: k_opt,
-            p_within_1pct: within as f64 / draws as f64,
-            p_best: best_n as f64 / draws as f64,
-            saving_pct,
-            rank_correlation,
-            depends_on: depends,
-            per_draw_j,
-        })
     }
+    depends.sort_by(|a, b| b.1.abs().total_cmp(&a.1.abs()).then(a.0.cmp(&b.0)));
+    depends.truncate(5);
+    depends
 }
 
 /// The ranges a study of `model` draws from: `given`, else the drive file's `[uncertainty]`
