@@ -7,6 +7,7 @@
 use crate::error::{Error, Result};
 use crate::identify::ladder::{self, HeldParam, Identification};
 use crate::identify::log::{Log, SignalKind};
+use crate::identify::metrics;
 use crate::identify::model::{parse_effect_subsets, Model, Prepared};
 use crate::robot::RobotModel;
 use std::path::Path;
@@ -235,6 +236,57 @@ impl RoundResult {
     }
 }
 
+/// The round's report in `dir`: the error per joint before (`before`) and after the fit on the
+/// log `on` was prepared from, the ladder (SVG and Markdown), the page and the JSON.
+fn write_report(
+    job: &RoundJob,
+    model: &Model,
+    on: &Prepared,
+    id: &Identification,
+    before: &metrics::Comparison,
+    written: &Path,
+    dir: &Path,
+) -> Result<()> {
+    use crate::output;
+    std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
+    let after = metrics::compare_metrics(on, model);
+    let on = match job.validation {
+        Some(v) => format!("the validation log {}", v.file),
+        None => format!("the log fitted, {}", job.log.file),
+    };
+    let robot = job.robot;
+    let earlier = robot
+        .effects
+        .calibration
+        .as_ref()
+        .map_or(&[][..], |c| c.rounds.as_slice());
+    let unit = job.log.kind.unit();
+    let report = crate::report::identify::IdentifyReport {
+        title: format!("printwatt identify: {} on {}", job.log.file, robot.name()),
+        facts: vec![
+            ("robot".into(), robot.name().to_string()),
+            ("robot file".into(), crate::robot::robot_file_display(robot)),
+            ("drive data".into(), crate::robot::drive_data_status(robot)),
+            ("log".into(), job.log.file.clone()),
+            ("signal unit".into(), unit.to_string()),
+            ("validated on".into(), id.validation.clone()),
+            ("calibrated robot".into(), written.display().to_string()),
+        ],
+        earlier_rounds: earlier,
+        id,
+        unit: unit.to_string(),
+        before_after: Some((before, &after, on)),
+    };
+    output::write_atomic(&dir.join("ladder.svg"), report.ladder_svg().as_bytes())?;
+    output::write_atomic(&dir.join("report.html"), report.html().as_bytes())?;
+    output::write_atomic(&dir.join("ladder.md"), ladder::table(id, unit).as_bytes())?;
+    output::write_atomic(
+        &dir.join("identify.json"),
+        output::json_text(id)?.as_bytes(),
+    )?;
+    Ok(())
+}
+
 /// Run one identification round: check every output against every input, prepare the logs
 /// for `model` (`progress` told how far), fit the plan, and, when the fit is physically
 /// plausible, write the calibrated robot and the report. `model` ends with the fitted values.
@@ -243,7 +295,7 @@ pub fn run_round(
     model: &mut Model,
     progress: &dyn crate::identify::Progress,
 ) -> Result<RoundResult> {
-    use crate::identify::{calibrate, metrics};
+    use crate::identify::calibrate;
     use crate::output::{self, Existing};
     if let Some(dir) = job.report_dir {
         output::check_dir(dir, job.inputs)?;
@@ -282,42 +334,7 @@ pub fn run_round(
     )?;
     let written = job.calibrated_to.to_path_buf();
     if let (Some(dir), Some(before)) = (job.report_dir, before) {
-        std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;
-        let after = metrics::compare_metrics(on, model);
-        let on = match job.validation {
-            Some(v) => format!("the validation log {}", v.file),
-            None => format!("the log fitted, {}", job.log.file),
-        };
-        let robot = job.robot;
-        let earlier = robot
-            .effects
-            .calibration
-            .as_ref()
-            .map_or(&[][..], |c| c.rounds.as_slice());
-        let unit = job.log.kind.unit();
-        let report = crate::report::identify::IdentifyReport {
-            title: format!("printwatt identify: {} on {}", job.log.file, robot.name()),
-            facts: vec![
-                ("robot".into(), robot.name().to_string()),
-                ("robot file".into(), crate::robot::robot_file_display(robot)),
-                ("drive data".into(), crate::robot::drive_data_status(robot)),
-                ("log".into(), job.log.file.clone()),
-                ("signal unit".into(), unit.to_string()),
-                ("validated on".into(), id.validation.clone()),
-                ("calibrated robot".into(), written.display().to_string()),
-            ],
-            earlier_rounds: earlier,
-            id: &id,
-            unit: unit.to_string(),
-            before_after: Some((&before, &after, on)),
-        };
-        output::write_atomic(&dir.join("ladder.svg"), report.ladder_svg().as_bytes())?;
-        output::write_atomic(&dir.join("report.html"), report.html().as_bytes())?;
-        output::write_atomic(&dir.join("ladder.md"), ladder::table(&id, unit).as_bytes())?;
-        output::write_atomic(
-            &dir.join("identify.json"),
-            output::json_text(&id)?.as_bytes(),
-        )?;
+        write_report(job, model, on, &id, &before, &written, dir)?;
     }
     Ok(RoundResult {
         id,

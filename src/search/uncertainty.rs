@@ -276,30 +276,7 @@ fn draw_robot(
     let dof = nominal.drive.as_ref().map_or(0, |d| d.joints.len());
     {
         let mut d = Drawing::new(&mut m, r, rng, &mut drawn, &cal, &mut used);
-        for phase in [
-            DrawPhase::Robot,
-            DrawPhase::Joint,
-            DrawPhase::Cabinet,
-            DrawPhase::Effects,
-        ] {
-            let of_phase = drawing.iter().filter(|(u, _)| u.phase == phase);
-            match phase {
-                // Per joint of the drive, every effect of the phase for joint 1, then 2, ….
-                DrawPhase::Joint => {
-                    for j in 0..dof {
-                        for (_, e) in of_phase.clone() {
-                            e.draw(&mut d, Some(j));
-                        }
-                    }
-                }
-                DrawPhase::Cabinet if nominal.drive.is_none() => {}
-                _ => {
-                    for (_, e) in of_phase {
-                        e.draw(&mut d, None);
-                    }
-                }
-            }
-        }
+        draw_by_phase(&mut d, &drawing, dof, nominal.drive.is_some());
     }
     // Every other identified parameter that a calibrated robot keeps in `[effects.values]`
     // (which wins over the drive keys drawn above: coulomb per direction, offset, stribeck,
@@ -310,6 +287,54 @@ fn draw_robot(
         .filter(|(u, _)| u.draws_identified)
         .map(|(_, e)| e.name())
         .collect();
+    draw_identified_values(&mut m, effects, &cal, &own, &mut drawn, &mut used);
+    (m, drawn, used)
+}
+
+/// Every drawing effect draws its numbers, phase by phase; in the joint phase, every effect of
+/// the phase for joint 1, then 2, …; the cabinet phase only where the robot has a drive.
+fn draw_by_phase(
+    d: &mut Drawing<'_>,
+    drawing: &[(Uncertainty, &dyn Effect)],
+    dof: usize,
+    has_drive: bool,
+) {
+    for phase in [
+        DrawPhase::Robot,
+        DrawPhase::Joint,
+        DrawPhase::Cabinet,
+        DrawPhase::Effects,
+    ] {
+        let of_phase = drawing.iter().filter(|(u, _)| u.phase == phase);
+        match phase {
+            DrawPhase::Joint => {
+                for j in 0..dof {
+                    for (_, e) in of_phase.clone() {
+                        e.draw(d, Some(j));
+                    }
+                }
+            }
+            DrawPhase::Cabinet if !has_drive => {}
+            _ => {
+                for (_, e) in of_phase {
+                    e.draw(d, None);
+                }
+            }
+        }
+    }
+}
+
+/// The identified parameters of `[effects.values]` that no effect's own draw takes (`own`):
+/// each shifted by its drawn `dv` (`cal`) within the parameter's bounds, recorded in `drawn`
+/// and `used`.
+fn draw_identified_values(
+    m: &mut RobotModel,
+    effects: &EffectSet,
+    cal: &[(String, String, f64, f64)],
+    own: &[&str],
+    drawn: &mut Vec<(String, f64)>,
+    used: &mut Vec<String>,
+) {
     let with_values = m.effects.table.values.is_some() && !cal.is_empty();
     if let (Some(vals), true) = (m.effects.table.values.as_mut(), with_values) {
         for (effect, name, value, dv) in cal.iter().filter(|c| !own.contains(&c.0.as_str())) {
@@ -332,7 +357,6 @@ fn draw_robot(
             }
         }
     }
-    (m, drawn, used)
 }
 
 /// Average ranks (1-based, ties share their mean rank).

@@ -52,6 +52,37 @@ fn fit(x: &[f64], y: &[f64]) -> Option<(f64, f64, f64, f64)> {
     Some((a, b, t, r2))
 }
 
+/// The expected saving of knowing a parameter whose drawn values are `x`: each other
+/// candidate's energy difference to the recommendation (`diffs`) as a line in the parameter
+/// (its mean where the slope is not significant, |t| < 2), the best line's saving averaged over
+/// the `n` draws; never negative, never more than knowing everything (`everything`).
+fn value_of_knowing(x: &[f64], diffs: &[Vec<f64>], n: usize, everything: f64) -> f64 {
+    let lines: Vec<(f64, f64)> = diffs
+        .iter()
+        .filter_map(|y| {
+            let (a, b, t, _) = fit(x, y)?;
+            Some(if t.abs() >= 2.0 {
+                (a, b)
+            } else {
+                (y.iter().sum::<f64>() / n as f64, 0.0)
+            })
+        })
+        .collect();
+    let value_j = x
+        .iter()
+        .map(|&xd| {
+            let m = lines.iter().map(|(a, b)| a + b * xd).fold(0.0f64, f64::min);
+            -m
+        })
+        .sum::<f64>()
+        / n as f64;
+    if value_j > 0.0 {
+        value_j.min(everything)
+    } else {
+        0.0
+    }
+}
+
 /// The value of knowing each parameter, most valuable first (ties by name). `drawn[d][i]`:
 /// parameter `i`'s value in draw `d`; `energy_j[d][c]`: candidate `c`'s energy in draw `d`;
 /// `rec`: the recommendation, `nominal`: the nominal answer (for the regret explained).
@@ -105,30 +136,7 @@ pub fn rank(
             continue;
         }
         let r2 = fit(&x, &nominal_regret).map_or(0.0, |f| f.3);
-        let lines: Vec<(f64, f64)> = diffs
-            .iter()
-            .filter_map(|y| {
-                let (a, b, t, _) = fit(&x, y)?;
-                Some(if t.abs() >= 2.0 {
-                    (a, b)
-                } else {
-                    (y.iter().sum::<f64>() / n as f64, 0.0)
-                })
-            })
-            .collect();
-        let value_j = x
-            .iter()
-            .map(|&xd| {
-                let m = lines.iter().map(|(a, b)| a + b * xd).fold(0.0f64, f64::min);
-                -m
-            })
-            .sum::<f64>()
-            / n as f64;
-        let value_j = if value_j > 0.0 {
-            value_j.min(everything)
-        } else {
-            0.0
-        };
+        let value_j = value_of_knowing(&x, &diffs, n, everything);
         out.push(ParameterValue {
             name: name.clone(),
             regret_explained: r2,
