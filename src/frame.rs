@@ -3,7 +3,7 @@
 //! needs a placement (timing follows the path at one, the readers of placement sets build
 //! them) takes this one value.
 
-use crate::math::{rot_z, Frame, V3};
+use crate::math::{rot_z, Frame, M3, V3};
 
 /// A coordinate at least this far from the base (m) is taken for millimetres by
 /// [`Placement::check_metres`]: no arm reaches 50 m.
@@ -71,7 +71,7 @@ impl Placement {
 
     /// The nozzle's rotation about the vertical in the base frame, rad: `yaw + nozzle_spin`
     /// (the tool x axis points along `(cos, sin, 0)` of it; see
-    /// [`crate::kinematics::nozzle_target`]).
+    /// [`nozzle_target`]).
     #[inline]
     pub fn nozzle_yaw(&self) -> f64 {
         self.yaw + self.nozzle_spin
@@ -80,7 +80,7 @@ impl Placement {
     /// The nozzle pose (base frame) with its tip at the part-frame point `p` (m): the tip at
     /// `self.apply(p)`, the nozzle pointing down and turned by [`Placement::nozzle_yaw`].
     pub fn nozzle_target(&self, p: &V3) -> Frame {
-        crate::kinematics::nozzle_target(&self.apply(p), self.nozzle_yaw())
+        nozzle_target(&self.apply(p), self.nozzle_yaw())
     }
 
     /// This placement with `spin` (rad) as its nozzle spin.
@@ -190,4 +190,15 @@ pub struct NamedPlacement {
     pub name: String,
     /// The placement (m, rad).
     pub placement: Placement,
+}
+
+/// Tool pose for printing: nozzle tip at `tip` (base frame, m), nozzle (tool +z) pointing
+/// straight down (−Z of the base), turned by `spin` (rad) about the nozzle axis (tool +x =
+/// `(cos spin, sin spin, 0)`).
+pub fn nozzle_target(tip: &V3, spin: f64) -> Frame {
+    let (s, c) = spin.sin_cos();
+    Frame {
+        rot: M3::new(c, s, 0.0, s, -c, 0.0, 0.0, 0.0, -1.0),
+        pos: *tip,
+    }
 }

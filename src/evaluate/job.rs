@@ -70,7 +70,7 @@ impl<'a> PathJob<'a> {
     ) -> Result<Self> {
         let moves = timing::moves_from_toolpath(path);
         if moves.is_empty() {
-            return Err(crate::Error::Invalid(format!(
+            return Err(crate::error::Error::Invalid(format!(
                 "{}: the path has no moves of non-zero length",
                 path.source
             )));

@@ -140,7 +140,7 @@ pub fn joint_plan(
     ev: &crate::evaluate::Evaluator<'_, '_>,
     points: &[BasePoint],
     at: &Placement,
-) -> crate::Result<JointPlan> {
+) -> crate::error::Result<JointPlan> {
     let mut sc = ev.scratch()?;
     let timed = ev
         .timed(&mut sc, at)
@@ -432,7 +432,7 @@ pub fn hand_off(
     ev: &crate::evaluate::Evaluator<'_, '_>,
     at: &Placement,
     prefix: &str,
-) -> crate::Result<Vec<(String, String)>> {
+) -> crate::error::Result<Vec<(String, String)>> {
     let model = ev.job.robot;
     let points = base_frame_path(&ev.job.moves, at);
     let plan = joint_plan(ev, &points, at)?;
@@ -525,7 +525,7 @@ pub fn stations_hand_off(
     profile: crate::timing::ProfileOptions,
     feasibility: crate::evaluate::feasibility::FeasibilityOptions,
     objective: crate::evaluate::Objective,
-) -> crate::Result<Vec<(String, String)>> {
+) -> crate::error::Result<Vec<(String, String)>> {
     let mut out = Vec::new();
     for (k, (moves, at)) in stations.iter().enumerate() {
         let [a, b] = *moves;

@@ -23,6 +23,8 @@ use std::f64::consts::PI;
 
 /// Largest number of joints the allocation-free routines handle.
 pub const MAX_DOF: usize = 8;
+// The robot's reach is composed over as many joints as forward kinematics takes.
+const _: () = assert!(MAX_DOF == crate::robot::envelope::MAX_CHAIN);
 
 /// `|sin q5|` below which path IK also considers the other wrist variant (dimensionless).
 pub const NEAR_WRIST_SINGULARITY: f64 = 0.2;
@@ -240,9 +242,9 @@ impl std::fmt::Display for IkFailure {
 
 impl std::error::Error for IkFailure {}
 
-impl From<IkFailure> for crate::Error {
+impl From<IkFailure> for crate::error::Error {
     fn from(e: IkFailure) -> Self {
-        crate::Error::Unreachable(e.to_string())
+        crate::error::Error::Unreachable(e.to_string())
     }
 }
 
@@ -1916,16 +1918,7 @@ pub fn solve_near(
     IkSolver::new(model)?.solve_near(tool_target, q_prev)
 }
 
-/// Tool pose for printing: nozzle tip at `tip` (base frame, m), nozzle (tool +z) pointing
-/// straight down (−Z of the base), turned by `spin` (rad) about the nozzle axis (tool +x =
-/// `(cos spin, sin spin, 0)`).
-pub fn nozzle_target(tip: &V3, spin: f64) -> Frame {
-    let (s, c) = spin.sin_cos();
-    Frame {
-        rot: M3::new(c, s, 0.0, s, -c, 0.0, 0.0, 0.0, -1.0),
-        pos: *tip,
-    }
-}
+pub use crate::frame::nozzle_target;
 
 /// Joint-limit margin of `q` (dimensionless): the smallest distance to a limit as a fraction
 /// of the joint's range; 0 at a limit, 0.5 at mid-range. Joints without finite limits count

@@ -11,7 +11,7 @@
 //! mesh as its convex hull) is a solid of [`ESTIMATE_DENSITY_KG_M3`], an effective density
 //! for hollow cast links enveloped by their collision shapes. A link without any gets the
 //! planner's collision capsule (the segment from its joint origin to the next joint origin or
-//! the flange, radius from [`LinkRadii`](crate::evaluate::feasibility::LinkRadii) times the
+//! the flange, radius from [`LinkRadii`](super::LinkRadii) times the
 //! reach) as a cylinder of the capsule's volume, of [`CAPSULE_DENSITY_KG_M3`]: the capsule is a
 //! clearance radius, thinner than the casting, so its density is calibrated instead, on the
 //! shipped ABB IRB 6700-200/2.60, whose capsules then weigh 751 kg against its 793 kg of
@@ -150,8 +150,8 @@ fn segment_frame(a: &V3, b: &V3) -> Frame {
 pub fn complete(model: &mut RobotModel) {
     let n = model.dof();
     model.info.inertia_sources.resize(n, InertiaSource::Urdf);
-    let reach = crate::evaluate::feasibility::reach_m(model);
-    let radii = crate::evaluate::feasibility::LinkRadii::default();
+    let reach = super::reach_m(model);
+    let radii = super::LinkRadii::default();
     let mut estimated = Vec::new();
     for i in 0..n {
         if model.links[i].is_some() {
@@ -188,7 +188,7 @@ fn estimate_link(
     model: &RobotModel,
     i: usize,
     reach: f64,
-    radii: &crate::evaluate::feasibility::LinkRadii,
+    radii: &super::LinkRadii,
 ) -> (Inertial, InertiaSource) {
     let rho = ESTIMATE_DENSITY_KG_M3;
     let mut body = Inertial::zero();

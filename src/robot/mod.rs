@@ -5,6 +5,7 @@
 //! whose `[robot] urdf = "..."` names the URDF (relative to the drive file).
 
 pub mod drive;
+pub(crate) mod envelope;
 pub mod inertia;
 pub mod mesh;
 pub(crate) mod model;
@@ -18,6 +19,7 @@ pub use drive::{
     CalibratedParam, Calibration, CalibrationRound, Drive, EffectsData, EffectsTable, JointDrive,
     Regeneration,
 };
+pub use envelope::{reach_m, LinkRadii};
 pub use model::{
     CollisionGeom, GeomShape, Inertial, Joint, JointKind, RobotInfo, RobotModel, ToolGeometry,
     VisualGeom, VisualShape, Visuals,

@@ -337,13 +337,13 @@ impl RobotModel {
 
     /// The mass properties of every link in its joint frame, with the payload merged into the
     /// last link when `with_payload`, or the error naming the first link without `<inertial>`.
-    pub(crate) fn dynamic_links(&self, with_payload: bool) -> crate::Result<Vec<Inertial>> {
+    pub(crate) fn dynamic_links(&self, with_payload: bool) -> crate::error::Result<Vec<Inertial>> {
         let mut out = Vec::with_capacity(self.links.len());
         for (i, l) in self.links.iter().enumerate() {
             match l {
                 Some(l) => out.push(*l),
                 None => {
-                    return Err(crate::Error::MissingInertial {
+                    return Err(crate::error::Error::MissingInertial {
                         file: self.source.display().to_string(),
                         link: self.link_names[i].clone(),
                     })
@@ -364,9 +364,9 @@ impl RobotModel {
     }
 
     /// Check a joint vector's length against the robot, naming `what` in the error.
-    pub(crate) fn check_len(&self, what: &str, len: usize) -> crate::Result<()> {
+    pub(crate) fn check_len(&self, what: &str, len: usize) -> crate::error::Result<()> {
         if len != self.dof() {
-            return Err(crate::Error::SizeMismatch {
+            return Err(crate::error::Error::SizeMismatch {
                 what: format!("{what} for robot `{}`", self.name()),
                 got: len,
                 expected: self.dof(),

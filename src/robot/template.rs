@@ -180,7 +180,7 @@ fn write_header(w: &mut String, m: &RobotModel, file_name: &str) {
 
 /// The `[robot]` table: the URDF, name, tool link, reach and provenance.
 fn write_robot(w: &mut String, m: &RobotModel, rel: &str, file_name: &str) {
-    let reach = crate::evaluate::feasibility::reach_m(m);
+    let reach = super::reach_m(m);
     let _ = writeln!(w, "[robot]");
     let _ = writeln!(
         w,

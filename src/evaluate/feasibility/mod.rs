@@ -18,10 +18,10 @@ pub mod collision;
 pub mod margins;
 
 use self::collision::{Beads, Bed, RobotShapes};
-use crate::kinematics::fk::fk;
 use crate::kinematics::opw;
 use crate::math::{Frame, V3};
 use crate::robot::RobotModel;
+pub use crate::robot::{reach_m, LinkRadii};
 use parry3d_f64::math::Isometry;
 use serde::{Deserialize, Serialize};
 
@@ -87,7 +87,7 @@ impl Default for FeasibilityOptions {
 
 impl FeasibilityOptions {
     /// Refuse options no check could use (named as settings, not as a front end's options).
-    pub fn check(&self) -> crate::Result<()> {
+    pub fn check(&self) -> crate::error::Result<()> {
         // In degrees, as the margin is given (90° converted to radians and back is 90° within
         // rounding).
         let m = self.wrist_margin_rad;
@@ -103,32 +103,6 @@ impl FeasibilityOptions {
             ));
         }
         Ok(())
-    }
-}
-
-/// Capsule radii as fractions of the reach `R` (dimensionless). The chain segment that ends at
-/// the origin of joint `i` (0-based) is "base" for i ≤ 1, "arm" for i ≤ 3, "wrist" beyond;
-/// the flange → tip segment is "nozzle".
-#[derive(Clone, Copy, Debug, PartialEq, Serialize)]
-pub struct LinkRadii {
-    /// Base column and shoulder (× R).
-    pub base: f64,
-    /// Upper arm and forearm (× R).
-    pub arm: f64,
-    /// Wrist and flange (× R).
-    pub wrist: f64,
-    /// Nozzle / extruder (× R).
-    pub nozzle: f64,
-}
-
-impl Default for LinkRadii {
-    fn default() -> Self {
-        LinkRadii {
-            base: 0.07,
-            arm: 0.045,
-            wrist: 0.025,
-            nozzle: 0.015,
-        }
     }
 }
 
@@ -310,21 +284,6 @@ impl Margins {
         self.wrist_every
             .map(|w| w.clamp(0.0, 1.0).asin().to_degrees())
     }
-}
-
-/// Reach used to scale the link radii, m.
-pub fn reach_m(model: &RobotModel) -> f64 {
-    if let Some(r) = model.info.reach_m.filter(|r| *r > 0.0) {
-        return r;
-    }
-    let f = fk(model, &vec![0.0; model.dof()]);
-    let mut prev = V3::zeros();
-    let mut s = 0.0;
-    for fr in f.joint_frames() {
-        s += (fr.pos - prev).norm();
-        prev = fr.pos;
-    }
-    (s + (f.tool.pos - prev).norm()).max(0.1)
 }
 
 /// The static world of one placement: the bed in the part frame.
