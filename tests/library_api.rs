@@ -325,10 +325,12 @@ fn public_items() -> usize {
 
 /// What the library offers outside the crate does not grow unnoticed: an item only the crate
 /// itself uses is `pub(crate)` (the `private_interfaces` lint in Cargo.toml keeps such an
-/// item out of public signatures). Raise the bound only for a new public item a user needs.
+/// item out of public signatures). Raise the bound only for a new public item a user needs,
+/// or for a re-export that keeps the old path of an item moved to a lower module (three: the
+/// robot's reach and link radii, and the nozzle's target pose).
 #[test]
 fn the_public_surface_does_not_grow_past_its_recorded_size() {
-    const RECORDED: usize = 1353;
+    const RECORDED: usize = 1356;
     let n = public_items();
     eprintln!("{n} public items (bound {RECORDED})");
     assert!(
