@@ -374,40 +374,64 @@ pub fn smooth_differentiate(t: &[f64], q: &[f64], n: usize, m: usize) -> (Vec<f6
     let len = t.len();
     let mut qd = vec![0.0; len * n];
     let mut qdd = vec![0.0; len * n];
-    if len < 4 || q.len() < len * n {
-        return (qd, qdd);
-    }
-    let w = (2 * m + 1).min(len);
     for k in 0..len {
-        let start = k.saturating_sub(w / 2).min(len - w);
-        let idx = start..start + w;
-        let t0 = t[k];
-        let scale = (t[start + w - 1] - t[start]).max(1e-12);
-        // Normal equations of the cubic in s = (t − t0)/scale.
-        let mut a = nalgebra::Matrix4::<f64>::zeros();
-        for i in idx.clone() {
-            let s = (t[i] - t0) / scale;
-            let p = [1.0, s, s * s, s * s * s];
-            for r in 0..4 {
-                for c in 0..4 {
-                    a[(r, c)] += p[r] * p[c];
-                }
-            }
-        }
-        let Some(inv) = a.try_inverse() else { continue };
-        for j in 0..n {
-            let mut b = nalgebra::Vector4::<f64>::zeros();
-            for i in idx.clone() {
-                let s = (t[i] - t0) / scale;
-                let v = q[i * n + j];
-                b += nalgebra::Vector4::new(v, v * s, v * s * s, v * s * s * s);
-            }
-            let c = inv * b;
-            qd[k * n + j] = c[1] / scale;
-            qdd[k * n + j] = 2.0 * c[2] / (scale * scale);
-        }
+        smooth_differentiate_row(
+            t,
+            q,
+            n,
+            m,
+            k,
+            &mut qd[k * n..(k + 1) * n],
+            &mut qdd[k * n..(k + 1) * n],
+        );
     }
     (qd, qdd)
+}
+
+/// Row `k` of [`smooth_differentiate`] into `qd[..n]` and `qdd[..n]` (left untouched where
+/// the window's normal equations are singular, and for fewer than 4 samples): the same
+/// arithmetic, so a log's derivatives can be made a block of rows at a time.
+pub fn smooth_differentiate_row(
+    t: &[f64],
+    q: &[f64],
+    n: usize,
+    m: usize,
+    k: usize,
+    qd: &mut [f64],
+    qdd: &mut [f64],
+) {
+    let len = t.len();
+    if len < 4 || q.len() < len * n || k >= len {
+        return;
+    }
+    let w = (2 * m + 1).min(len);
+    let start = k.saturating_sub(w / 2).min(len - w);
+    let idx = start..start + w;
+    let t0 = t[k];
+    let scale = (t[start + w - 1] - t[start]).max(1e-12);
+    // Normal equations of the cubic in s = (t − t0)/scale.
+    let mut a = nalgebra::Matrix4::<f64>::zeros();
+    for i in idx.clone() {
+        let s = (t[i] - t0) / scale;
+        let p = [1.0, s, s * s, s * s * s];
+        for r in 0..4 {
+            for c in 0..4 {
+                a[(r, c)] += p[r] * p[c];
+            }
+        }
+    }
+    let Some(inv) = a.try_inverse() else { return };
+    for j in 0..n {
+        let mut b = nalgebra::Vector4::<f64>::zeros();
+        for i in idx.clone() {
+            let s = (t[i] - t0) / scale;
+            let v = q[i * n + j];
+            b += nalgebra::Vector4::new(v, v * s, v * s * s, v * s * s * s);
+        }
+        let c = inv * b;
+        qd[j] = c[1] / scale;
+        qdd[j] = 2.0 * c[2] / (scale * scale);
+    }
 }
 
 /// Significant digits the operands of a [`difference`] are taken to carry: those every JSON

@@ -62,7 +62,8 @@ impl Expert {
         let n = self.nominal.n;
         let p = self.rb.params().len();
         let cols = self.columns();
-        let (q, qd, qdd) = (log.traj.q(k), log.traj.qd(k), log.traj.qdd(k));
+        let r = log.traj.rates(k);
+        let (q, qd, qdd) = (log.traj.q(k), r.qd(), r.qdd());
         self.nominal.torque(q, qd, qdd, tau0).unwrap();
         let mut w = vec![0.0; n * p];
         assert!(self.rb.regressor(q, qd, qdd, &mut w));

@@ -1,10 +1,11 @@
 //! A long measurement log costs memory for the values it compares, not for its text: the log
-//! is read line by line into its compared columns (time, positions, the signal; velocities and
-//! accelerations derived or read); the rigid-body torques and the costly effects' regressors
-//! are kept for the rows the fits use; the whole-log prediction and residuals are kept in a
-//! temporary file and read a channel at a time. `compare` and `identify` of a 1,000,000-row
-//! log stay within a stated margin above the same commands on its first 200,000 rows;
-//! `compare` of it within 250 MB, `identify` within 270 MB, `diagnose` within 320 MB.
+//! is read line by line into its times, positions and signal; its velocities and
+//! accelerations (derived or read) are kept in a temporary file and read a block of rows at
+//! a time; the rigid-body torques, the costly effects' regressors and the rates are kept for
+//! the rows the fits use; the whole-log prediction and residuals are kept in a temporary file
+//! and read a channel at a time. `compare` and `identify` of a 1,000,000-row log stay within
+//! a stated margin above the same commands on its first 200,000 rows; `compare` of it within
+//! 160 MB, `identify` within 175 MB, `diagnose` within 250 MB.
 //!
 //! One binary: each child's own peak resident memory is read with `wait4`
 //! (tests/common/peak_rss.rs).
@@ -21,23 +22,24 @@ const LONG_ROWS: usize = 1_000_000;
 const SHORT_ROWS: usize = 200_000;
 
 /// The most a further row of the log may cost, bytes: measured on the release build, about
-/// 220 bytes for `compare` and `identify` (the compared columns, 200 bytes a row with the
-/// derived velocities and accelerations, and the line number, 4; one channel of the
-/// residual and one joint's motion while a channel is analysed). Keeping every row's
-/// rigid-body torque and the whole prediction in memory cost about 350 bytes a row; reading
-/// the log's text into memory whole, about 1,400.
-const MAX_BYTES_PER_FURTHER_ROW: u64 = 260;
+/// 121–123 bytes for `compare` and `identify` (time, six positions and six signal values,
+/// 104 bytes, and the line number, 4; one channel of the residual while a channel is
+/// analysed). Keeping the velocities and accelerations in memory cost about 220 bytes a row;
+/// every row's rigid-body torque and the whole prediction too, about 350; reading the log's
+/// text into memory whole, about 1,400.
+const MAX_BYTES_PER_FURTHER_ROW: u64 = 150;
 
-/// The most `compare` may hold of the 1,000,000-row log, bytes (measured: about 227–231 MB).
-const MAX_PEAK_LONG: u64 = 250_000_000;
+/// The most `compare` may hold of the 1,000,000-row log, bytes (measured: about 133 MB; 227–231
+/// MB with the rates in memory).
+const MAX_PEAK_LONG: u64 = 160_000_000;
 
-/// The most `identify --effects coulomb` may hold of it, bytes (measured: 249–254 MB).
-const MAX_PEAK_LONG_IDENTIFY: u64 = 270_000_000;
+/// The most `identify --effects coulomb` may hold of it, bytes (measured: about 149 MB).
+const MAX_PEAK_LONG_IDENTIFY: u64 = 175_000_000;
 
-/// The most `diagnose` may hold of it, bytes (measured: about 300 MB; its fits' share, about
+/// The most `diagnose` may hold of it, bytes (measured: about 212 MB; its fits' share, about
 /// 70 MB, does not grow with the log; the fit's `JᵀJ` takes no transposed copy of the
 /// Jacobian, 35 MB).
-const MAX_PEAK_LONG_DIAGNOSE: u64 = 320_000_000;
+const MAX_PEAK_LONG_DIAGNOSE: u64 = 250_000_000;
 
 /// The simulated 1,000,000-row log and its first 200,000 rows, in a scratch directory.
 struct Logs {
@@ -134,7 +136,7 @@ fn a_long_log_costs_memory_for_its_compared_values_not_its_text() {
 }
 
 #[test]
-fn a_million_row_log_is_compared_in_under_250_mb_identified_in_under_270_mb_and_diagnosed_in_under_320_mb(
+fn a_million_row_log_is_compared_in_under_160_mb_identified_in_under_175_mb_and_diagnosed_in_under_250_mb(
 ) {
     let logs = Logs::new("abs");
     for args in [

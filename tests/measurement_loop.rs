@@ -888,7 +888,8 @@ fn a_wrong_link_mass_is_named_rigid_body_not_balancer() {
     let (mut e0, mut e1) = (0.0, 0.0);
     let (mut a, mut b, mut c) = ([0.0; 6], [0.0; 6], [0.0; 6]);
     for k in 0..log.len() {
-        let (q, qd, qdd) = (log.traj.q(k), log.traj.qd(k), log.traj.qdd(k));
+        let r = log.traj.rates(k);
+        let (q, qd, qdd) = (log.traj.q(k), r.qd(), r.qdd());
         tm.torque(q, qd, qdd, &mut a).unwrap();
         m0.torque(q, qd, qdd, &mut b).unwrap();
         m1.torque(q, qd, qdd, &mut c).unwrap();

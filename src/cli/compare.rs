@@ -502,8 +502,8 @@ fn residual_scatter_row(
         let x: Vec<f64> = (0..log.len())
             .map(|k| match f {
                 JointTrajSel::Q => log.traj.q(k)[j],
-                JointTrajSel::Qd => log.traj.qd(k)[j],
-                JointTrajSel::Qdd => log.traj.qdd(k)[j],
+                JointTrajSel::Qd => log.traj.rates(k).qd()[j],
+                JointTrajSel::Qdd => log.traj.rates(k).qdd()[j],
             })
             .collect();
         let fr = svg::Frame::new(

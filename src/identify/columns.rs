@@ -157,7 +157,7 @@ fn io_error(e: std::io::Error) -> Error {
 
 /// A new temporary file, opened for reading and writing, and its path unless it could be
 /// removed already (Unix: an open file needs no name).
-fn temp_file() -> std::io::Result<(std::fs::File, Option<PathBuf>)> {
+pub(crate) fn temp_file() -> std::io::Result<(std::fs::File, Option<PathBuf>)> {
     static NEXT: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
     let dir = std::env::temp_dir();
     let stamp = std::time::SystemTime::now()

@@ -381,7 +381,7 @@ fn unexplained_after(
         model.n,
         &prep.log.traj.t,
         &|k, j| prep.log.traj.q(k)[j],
-        &|k, j| prep.log.traj.qd(k)[j],
+        &|k, j| prep.log.traj.rates(k).qd()[j],
     )
 }
 

@@ -78,7 +78,7 @@ fn base_signal(prep: &Prepared, model: &Model, rows: &[usize]) -> (Vec<f64>, Vec
         model.signal_from_torque(
             prep.log.kind,
             &tau[r * n..(r + 1) * n],
-            prep.log.traj.qd(k),
+            prep.rates(k, true).qd(),
             &mut sig[r * ch..(r + 1) * ch],
         );
     }
@@ -138,7 +138,7 @@ impl Linearisation<'_> {
                 model.signal_from_torque(
                     self.prep.log.kind,
                     &self.tau[r * n..(r + 1) * n],
-                    self.prep.log.traj.qd(k),
+                    self.prep.rates(k, true).qd(),
                     &mut s2[..ch],
                 );
                 for c in 0..ch {
@@ -182,8 +182,8 @@ impl Linearisation<'_> {
                     for j in 0..n {
                         t2[j] = tr[j] + h * d[j * pe + li];
                     }
-                    let qd = self.prep.log.traj.qd(k);
-                    model.signal_from_torque(kind, &t2[..n], qd, &mut s2[..ch]);
+                    let rates = self.prep.rates(k, true);
+                    model.signal_from_torque(kind, &t2[..n], rates.qd(), &mut s2[..ch]);
                     for c in 0..ch {
                         jac[(r * ch + c) * p + i] = (s2[c] - self.sig[r * ch + c]) / h;
                     }
@@ -203,14 +203,14 @@ impl Linearisation<'_> {
         n: usize,
     ) -> Result<TorqueDerivative<'e>> {
         let pe = b.pe;
-        let traj = &self.prep.log.traj;
+        let prep = self.prep;
         let hs: Vec<f64> = (0..pe).map(|li| self.step(b.o + li)).collect();
         // Perturbed copies for effects without a regressor.
         let mut y = vec![0.0; n * pe];
-        let linear = self
-            .rows
-            .first()
-            .is_none_or(|&k| eff.regressor(traj.q(k), traj.qd(k), traj.qdd(k), &mut y));
+        let linear = self.rows.first().is_none_or(|&k| {
+            let r = prep.rates(k, true);
+            eff.regressor(prep.log.traj.q(k), r.qd(), r.qdd(), &mut y)
+        });
         let mut copies: Vec<Box<dyn Effect>> = Vec::new();
         if !linear {
             for li in 0..pe {
@@ -246,11 +246,8 @@ impl TorqueDerivative<'_> {
     fn at(&self, prep: &Prepared, model: &Model, pos: usize, k: usize, d: &mut [f64]) {
         let n = model.n;
         let pe = self.hs.len();
-        let (q, qd, qdd) = (
-            prep.log.traj.q(k),
-            prep.log.traj.qd(k),
-            prep.log.traj.qdd(k),
-        );
+        let r = prep.rates(k, true);
+        let (q, qd, qdd) = (prep.log.traj.q(k), r.qd(), r.qdd());
         if prep.regressor_row(model, pos, k, d) {
         } else if self.linear {
             self.eff.regressor(q, qd, qdd, d);

@@ -80,7 +80,7 @@ pub(crate) fn still_joint_params(
     for j in 0..n {
         let ms = rows
             .iter()
-            .map(|&k| prep.log.traj.qd(k)[j].powi(2))
+            .map(|&k| prep.log.traj.rates(k).qd()[j].powi(2))
             .sum::<f64>()
             / rows.len().max(1) as f64;
         let rms = ms.sqrt();

@@ -10,8 +10,8 @@
 //! (zero phase: the window is centred; it is shifted inwards at the ends).
 
 use crate::error::{Error, Result};
+use crate::identify::motion::LogMotion;
 use crate::table::{Dim, Table};
-use crate::trajectory::JointTrajectory;
 use std::path::Path;
 
 /// Minimum number of samples of a log used for fitting.
@@ -70,12 +70,13 @@ impl SignalKind {
 }
 
 /// A measured log, SI units, with derivatives filled.
-#[derive(Clone, Debug)]
+#[derive(Debug)]
 pub struct Log {
     /// File name for messages.
     pub file: String,
-    /// Motion: `t` s, `q` rad, `qd` rad/s, `qdd` rad/s².
-    pub traj: JointTrajectory,
+    /// Motion: `t` s, `q` rad; velocities rad/s and accelerations rad/s² by
+    /// [`LogMotion::rates`].
+    pub traj: LogMotion,
     /// The compared signal.
     pub kind: SignalKind,
     /// Measured signal, row-major `len × channels` (units of [`SignalKind::unit`]).
@@ -412,13 +413,6 @@ impl<'a> Builder<'a> {
         warnings.extend(several);
         let channels = kind.channels(n);
         let len = self.t.len();
-        let mut traj = JointTrajectory {
-            n,
-            t: std::mem::take(&mut self.t),
-            q: std::mem::take(&mut self.q),
-            qd: std::mem::take(&mut self.qd),
-            qdd: std::mem::take(&mut self.qdd),
-        };
         warnings.extend(unknown_columns(&table, n, &file));
         if len < MIN_SAMPLES {
             return Err(Error::Invalid(format!(
@@ -426,8 +420,15 @@ impl<'a> Builder<'a> {
                 self.first_line, self.last_line
             )));
         }
-        let half = missing_derivatives(&cols, &mut traj);
-        warnings.extend(time_hole(&traj, &self.lines, &file));
+        warnings.extend(time_hole(&self.t, &self.lines, &file));
+        let (traj, half) = motion(
+            &cols,
+            n,
+            std::mem::take(&mut self.t),
+            std::mem::take(&mut self.q),
+            std::mem::take(&mut self.qd),
+            std::mem::take(&mut self.qdd),
+        );
         Ok(Log {
             units: table
                 .names
@@ -472,43 +473,59 @@ fn unknown_columns(table: &Table, n: usize, file: &str) -> Option<String> {
         .then(|| format!("{file}: ignoring unknown columns {}", unknown.join(", ")))
 }
 
-/// Velocities and accelerations the log lacks, filled by smoothed differences of the
-/// positions; the half window used, if any.
-fn missing_derivatives(cols: &Columns, traj: &mut JointTrajectory) -> Option<usize> {
-    if cols.qd.is_some() && cols.qdd.is_some() {
-        return None;
-    }
-    let rate = (traj.len() - 1) as f64 / traj.duration().max(1e-12);
-    let m = half_window(rate);
-    let (qd, qdd) = smooth_derivatives(&traj.t, &traj.q, traj.n, m);
-    if cols.qd.is_none() {
-        traj.qd = qd;
-    }
-    if cols.qdd.is_none() {
-        traj.qdd = qdd;
-    }
-    Some(m)
+/// The log's motion: velocities and accelerations read from the log, those it lacks filled by
+/// smoothed differences of the positions; with the half window used, if any.
+fn motion(
+    cols: &Columns,
+    n: usize,
+    t: Vec<f64>,
+    q: Vec<f64>,
+    qd: Vec<f64>,
+    qdd: Vec<f64>,
+) -> (LogMotion, Option<usize>) {
+    let (have_qd, have_qdd) = (cols.qd.is_some(), cols.qdd.is_some());
+    let half = (!(have_qd && have_qdd)).then(|| {
+        let len = t.len();
+        let duration = t.last().copied().unwrap_or(0.0) - t.first().copied().unwrap_or(0.0);
+        half_window((len - 1) as f64 / duration.max(1e-12))
+    });
+    let m = LogMotion::new(n, t, q, &mut |t, q, rows, out| {
+        for (r, k) in rows.enumerate() {
+            let (a, b) = out[r * 2 * n..(r + 1) * 2 * n].split_at_mut(n);
+            a.fill(0.0);
+            b.fill(0.0);
+            if let Some(m) = half {
+                crate::numerics::smooth_differentiate_row(t, q, n, m, k, a, b);
+            }
+            if have_qd {
+                a.copy_from_slice(&qd[k * n..(k + 1) * n]);
+            }
+            if have_qdd {
+                b.copy_from_slice(&qdd[k * n..(k + 1) * n]);
+            }
+        }
+    });
+    (m, half)
 }
 
 /// A hole in the time axis, named (energy and RMSE integrate across it): the first step over
 /// ten times the median and 50 ms longer, with its line in `lines`.
-fn time_hole(traj: &JointTrajectory, lines: &[u32], file: &str) -> Option<String> {
-    if traj.t.len() <= 2 {
+fn time_hole(t: &[f64], lines: &[u32], file: &str) -> Option<String> {
+    if t.len() <= 2 {
         return None;
     }
-    let mut d: Vec<f64> = traj.t.windows(2).map(|w| w[1] - w[0]).collect();
+    let mut d: Vec<f64> = t.windows(2).map(|w| w[1] - w[0]).collect();
     let mid = d.len() / 2;
     let median = *d.select_nth_unstable_by(mid, f64::total_cmp).1;
     drop(d);
-    let k = traj
-        .t
+    let k = t
         .windows(2)
         .map(|w| w[1] - w[0])
         .position(|x| x > 10.0 * median && x > median + 0.05)?;
     Some(format!(
         "{file}:{}: time jumps by {:.3} s from the previous sample (the log's usual step is {:.4} s): a hole in the log; energies and errors are integrated across it",
         lines.get(k + 1).copied().unwrap_or(0),
-        traj.t[k + 1] - traj.t[k],
+        t[k + 1] - t[k],
         median
     ))
 }
@@ -584,9 +601,74 @@ pub(crate) fn half_window(rate_hz: f64) -> usize {
     ((0.025 * rate_hz).round() as usize).clamp(2, 30)
 }
 
-/// Velocities (rad/s) and accelerations (rad/s²) of `q` (row-major `len × n`, rad) at times
-/// `t` (s) by a local cubic least-squares fit over `2m + 1` samples (Savitzky–Golay on
-/// non-uniform time stamps; window shifted inwards at the ends).
-pub(crate) fn smooth_derivatives(t: &[f64], q: &[f64], n: usize, m: usize) -> (Vec<f64>, Vec<f64>) {
-    crate::numerics::smooth_differentiate(t, q, n, m)
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A log text of `rows` rows at 250 Hz with slightly uneven time stamps, two joints,
+    /// torques; with velocity columns when `qd`.
+    fn log_text(rows: usize, qd: bool) -> String {
+        let mut s = String::from(if qd {
+            "t,q1,q2,qd1,qd2,tau1,tau2\n"
+        } else {
+            "t,q1,q2,tau1,tau2\n"
+        });
+        for k in 0..rows {
+            let t = k as f64 * 0.004 + 1e-5 * ((k * 7) % 3) as f64;
+            let (a, b) = ((0.7 * t).sin(), (1.3 * t).cos() * 0.5);
+            if qd {
+                s += &format!(
+                    "{t:.6},{a:.9},{b:.9},{:.9},{:.9},1.5,-2.5\n",
+                    0.7 * t.cos(),
+                    -0.65 * (1.3 * t).sin()
+                );
+            } else {
+                s += &format!("{t:.6},{a:.9},{b:.9},1.5,-2.5\n");
+            }
+        }
+        s
+    }
+
+    #[test]
+    fn a_long_logs_derived_and_read_rates_equal_the_whole_log_derivatives_bit_for_bit() {
+        let rows = crate::identify::motion::IN_MEMORY_ROWS + 1234;
+        for with_qd in [false, true] {
+            let log = parse_log(&log_text(rows, with_qd), "long.csv", 2, None).unwrap();
+            assert!(
+                log.traj.rates_in_file(),
+                "a log of {rows} rows keeps its rates in a file"
+            );
+            let m = log.derivative_half_window.unwrap();
+            let (qd, qdd) = crate::numerics::smooth_differentiate(&log.traj.t, &log.traj.q, 2, m);
+            let text = log_text(rows, with_qd);
+            let read_qd: Vec<f64> = text
+                .lines()
+                .skip(1)
+                .flat_map(|l| {
+                    let c: Vec<f64> = l.split(',').map(|x| x.parse().unwrap()).collect();
+                    if with_qd {
+                        vec![c[3], c[4]]
+                    } else {
+                        vec![]
+                    }
+                })
+                .collect();
+            for k in (0..rows).step_by(97).chain([0, rows - 1, rows / 2]) {
+                let r = log.traj.rates(k);
+                for j in 0..2 {
+                    let want_qd = if with_qd {
+                        read_qd[k * 2 + j]
+                    } else {
+                        qd[k * 2 + j]
+                    };
+                    assert_eq!(r.qd()[j].to_bits(), want_qd.to_bits(), "qd row {k}");
+                    assert_eq!(
+                        r.qdd()[j].to_bits(),
+                        qdd[k * 2 + j].to_bits(),
+                        "qdd row {k}"
+                    );
+                }
+            }
+        }
+    }
 }

@@ -129,7 +129,7 @@ fn power_by(
 
 /// Power (W) of channel `c` at row `k` of the log with signal value `v`.
 fn power_at(prep: &Prepared, model: &Model, k: usize, v: f64, c: usize) -> f64 {
-    let qd = prep.log.traj.qd(k)[c.min(prep.log.traj.n - 1)];
+    let qd = prep.log.traj.rates(k).qd()[c.min(prep.log.traj.n - 1)];
     match prep.log.kind {
         SignalKind::Torque => (v * qd).max(0.0),
         SignalKind::Current => (v * model.kt[c] * model.gear[c] * qd).max(0.0),
@@ -288,8 +288,8 @@ fn compare_columns(
         n,
         t,
         &|k, j| log.traj.q(k)[j],
-        &|k, j| log.traj.qd(k)[j],
-        &|k, j| log.traj.qdd(k)[j],
+        &|k, j| log.traj.rates(k).qd()[j],
+        &|k, j| log.traj.rates(k).qdd()[j],
         &prismatic,
     )?;
     let pred = if want_pred { Some(pred.rows()?) } else { None };
@@ -436,12 +436,12 @@ fn joint_regimes(log: &crate::identify::log::Log, res: &[f64], j: usize, out: &m
         tot += r2(k);
     }
     let tot = tot.max(1e-300);
-    let qd = |k: usize| log.traj.qd(k)[j];
+    let qd = |k: usize| log.traj.rates(k).qd()[j];
     let q = |k: usize| log.traj.q(k)[j];
     let vmax = (0..len).fold(0.0f64, |a, k| a.max(qd(k).abs()));
     let v0 = (0.05 * vmax).max(0.005);
     let a80 = {
-        let mut qdd: Vec<f64> = (0..len).map(|k| log.traj.qdd(k)[j].abs()).collect();
+        let mut qdd: Vec<f64> = (0..len).map(|k| log.traj.rates(k).qdd()[j].abs()).collect();
         let at = (0.8 * (len - 1) as f64) as usize;
         *qdd.select_nth_unstable_by(at, f64::total_cmp).1
     };
@@ -474,7 +474,7 @@ fn joint_regimes(log: &crate::identify::log::Log, res: &[f64], j: usize, out: &m
     push("negative_speed".into(), &|k| qd(k) < -v0);
     push("near_zero_speed".into(), &|k| qd(k).abs() <= v0);
     push("high_acceleration".into(), &|k| {
-        log.traj.qdd(k)[j].abs() >= a80 && a80 > 0.0
+        log.traj.rates(k).qdd()[j].abs() >= a80 && a80 > 0.0
     });
     for b in 0..4 {
         push(format!("pose_bin_{}_of_4", b + 1), &|k| bin(q(k)) == b);

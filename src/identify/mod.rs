@@ -13,6 +13,7 @@ pub mod ladder;
 pub mod log;
 pub mod metrics;
 pub mod model;
+pub mod motion;
 pub mod plausible;
 pub(crate) mod profiles;
 pub(crate) mod round;

@@ -13,6 +13,7 @@ use crate::effects::{catalogue, Effect, EffectSet, ParamSpec, Stage};
 pub use crate::effects::{catalogue_index, DEFAULT_EFFECTS};
 use crate::error::{Error, Result};
 use crate::identify::log::{Log, SignalKind};
+use crate::identify::motion::Rates;
 use crate::robot::{Regeneration, RobotModel};
 use std::path::{Path, PathBuf};
 
@@ -473,6 +474,9 @@ pub struct Prepared<'a> {
     regs: Vec<Option<Regressors>>,
     /// The costly effects' parameter counts, by position (0 for the others).
     reg_params: Vec<usize>,
+    /// The velocities and accelerations of the rows the fits use, when the log keeps its
+    /// rates in a file ([`crate::identify::motion::LogMotion::rates_in_file`]).
+    rates_kept: Option<KeptRows>,
 }
 
 impl<'a> Prepared<'a> {
@@ -509,11 +513,16 @@ impl<'a> Prepared<'a> {
         let tau_rb = rigid_torques(model, log, every, step, &tick)?;
         let (regs, reg_params) = regressors(model, log, every, step, &tick);
         progress.update(stage, total, total);
+        let rates_kept = log
+            .traj
+            .rates_in_file()
+            .then(|| KeptRows::new(len, 2 * model.n));
         Ok(Prepared {
             log,
             tau_rb,
             regs,
             reg_params,
+            rates_kept,
         })
     }
 
@@ -527,27 +536,49 @@ impl<'a> Prepared<'a> {
         self.log.is_empty()
     }
 
+    /// Velocities and accelerations of sample `k`; kept for the next call when `keep` (a row
+    /// a fit uses again and again) and the log keeps its rates in a file.
+    pub(crate) fn rates(&self, k: usize, keep: bool) -> Rates {
+        let n = self.log.traj.n;
+        let Some(kept) = &self.rates_kept else {
+            return self.log.traj.rates(k);
+        };
+        let mut both = [0.0; 2 * MAX_DOF];
+        if kept.get(k, &mut both) {
+            return Rates::from_both(n, &both);
+        }
+        let r = self.log.traj.rates(k);
+        if keep {
+            kept.put(k, r.both());
+        }
+        r
+    }
+
     /// Joint torque of `model` at sample `k` (N·m) into `tau` (length `n`), skipping the
     /// effects whose position in the model's set is in `skip`.
     pub fn torque_row(&self, model: &Model, k: usize, skip: &[usize], tau: &mut [f64]) {
-        self.rigid_row(model, k, false, &mut None, tau);
-        self.effects_row(model, k, skip, tau);
+        let r = self.rates(k, false);
+        self.rigid_row(model, k, &r, false, &mut None, tau);
+        self.effects_row(model, k, &r, skip, tau);
     }
 
-    /// [`Prepared::torque_row`] at a row a fit uses again and again: its rigid-body torque is
-    /// kept for the next call (while fewer than [`REGRESSOR_CACHE_ROWS`] rows are kept).
+    /// [`Prepared::torque_row`] at a row a fit uses again and again: its rigid-body torque
+    /// and rates are kept for the next call (while fewer than [`REGRESSOR_CACHE_ROWS`] rows
+    /// are kept).
     pub(crate) fn torque_row_kept(&self, model: &Model, k: usize, skip: &[usize], tau: &mut [f64]) {
-        self.rigid_row(model, k, true, &mut None, tau);
-        self.effects_row(model, k, skip, tau);
+        let r = self.rates(k, true);
+        self.rigid_row(model, k, &r, true, &mut None, tau);
+        self.effects_row(model, k, &r, skip, tau);
     }
 
-    /// The rigid-body torque at sample `k` into `tau[..n]`: kept, or computed (and kept when
-    /// `keep` and there is room); `data` is the inverse dynamics' workspace, made when first
-    /// needed.
+    /// The rigid-body torque at sample `k` (rates `r`) into `tau[..n]`: kept, or computed
+    /// (and kept when `keep` and there is room); `data` is the inverse dynamics' workspace,
+    /// made when first needed.
     fn rigid_row(
         &self,
         model: &Model,
         k: usize,
+        r: &Rates,
         keep: bool,
         data: &mut Option<crate::dynamics::DynData>,
         tau: &mut [f64],
@@ -560,11 +591,7 @@ impl<'a> Prepared<'a> {
                     return;
                 }
                 let data = data.get_or_insert_with(|| model.dynamics.data());
-                let (q, qd, qdd) = (
-                    self.log.traj.q(k),
-                    self.log.traj.qd(k),
-                    self.log.traj.qdd(k),
-                );
+                let (q, qd, qdd) = (self.log.traj.q(k), r.qd(), r.qdd());
                 // The joint counts were checked when the log was prepared.
                 let _ = rnea(&model.dynamics, data, q, qd, qdd, &mut tau[..n]);
                 if keep {
@@ -574,15 +601,11 @@ impl<'a> Prepared<'a> {
         }
     }
 
-    /// Add the torque effects of `model` at sample `k` to `tau[..n]`, skipping those at the
-    /// positions in `skip`.
-    fn effects_row(&self, model: &Model, k: usize, skip: &[usize], tau: &mut [f64]) {
+    /// Add the torque effects of `model` at sample `k` (rates `r`) to `tau[..n]`, skipping
+    /// those at the positions in `skip`.
+    fn effects_row(&self, model: &Model, k: usize, r: &Rates, skip: &[usize], tau: &mut [f64]) {
         let n = model.n;
-        let (q, qd, qdd) = (
-            self.log.traj.q(k),
-            self.log.traj.qd(k),
-            self.log.traj.qdd(k),
-        );
+        let (q, qd, qdd) = (self.log.traj.q(k), r.qd(), r.qdd());
         let mut buf = [0.0; MAX_REGRESSOR];
         for (i, (e, on)) in model.effects.iter().enumerate() {
             if !on || e.stage() != Stage::Torque || skip.contains(&i) {
@@ -657,12 +680,8 @@ impl<'a> Prepared<'a> {
         let Some((e, _)) = model.effects.iter().nth(i) else {
             return false;
         };
-        let (q, qd, qdd) = (
-            self.log.traj.q(k),
-            self.log.traj.qd(k),
-            self.log.traj.qdd(k),
-        );
-        if !e.regressor(q, qd, qdd, out) {
+        let r = self.rates(k, false);
+        if !e.regressor(self.log.traj.q(k), r.qd(), r.qdd(), out) {
             return false;
         }
         if let Some(Some(Regressors::Some(m))) = self.regs.get(i) {
@@ -683,14 +702,15 @@ impl<'a> Prepared<'a> {
         out.resize(rows.len() * ch, 0.0);
         let mut tau = [0.0; MAX_DOF];
         let mut data = None;
-        for (r, &k) in rows.iter().enumerate() {
-            self.rigid_row(model, k, false, &mut data, &mut tau);
-            self.effects_row(model, k, &[], &mut tau);
+        for (i, &k) in rows.iter().enumerate() {
+            let r = self.rates(k, false);
+            self.rigid_row(model, k, &r, false, &mut data, &mut tau);
+            self.effects_row(model, k, &r, &[], &mut tau);
             model.signal_from_torque(
                 self.log.kind,
                 &tau[..n],
-                self.log.traj.qd(k),
-                &mut out[r * ch..(r + 1) * ch],
+                r.qd(),
+                &mut out[i * ch..(i + 1) * ch],
             );
         }
     }
@@ -762,12 +782,13 @@ fn rigid_torques(
             if k % step == 0 {
                 tick(k);
             }
+            let r = log.traj.rates(k);
             rnea(
                 &model.dynamics,
                 &mut data,
                 log.traj.q(k),
-                log.traj.qd(k),
-                log.traj.qdd(k),
+                r.qd(),
+                r.qdd(),
                 &mut tau_rb[k * n..(k + 1) * n],
             )?;
         }
@@ -801,7 +822,8 @@ fn regressors(
         let i = regs.len() - 1;
         let p = e.params().len();
         let mut y = vec![0.0; n * p];
-        if len == 0 || !e.regressor(log.traj.q(0), log.traj.qd(0), log.traj.qdd(0), &mut y) {
+        let r0 = (len > 0).then(|| log.traj.rates(0));
+        if !r0.is_some_and(|r| e.regressor(log.traj.q(0), r.qd(), r.qdd(), &mut y)) {
             continue;
         }
         reg_params[i] = p;
@@ -815,7 +837,8 @@ fn regressors(
                 tick(pass * len + k);
             }
             let y = &mut all[k * n * p..(k + 1) * n * p];
-            e.regressor(log.traj.q(k), log.traj.qd(k), log.traj.qdd(k), y);
+            let r = log.traj.rates(k);
+            e.regressor(log.traj.q(k), r.qd(), r.qdd(), y);
         }
         regs[i] = Some(Regressors::Every(all));
         pass += 1;
