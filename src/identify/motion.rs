@@ -14,9 +14,9 @@
 use crate::kinematics::MAX_DOF;
 use std::ops::Range;
 
-/// Rows up to which a log's velocities and accelerations stay in memory: those the fits may
-/// keep of any log ([`crate::identify::model::REGRESSOR_CACHE_ROWS`]).
-pub(crate) const IN_MEMORY_ROWS: usize = crate::identify::model::REGRESSOR_CACHE_ROWS;
+/// Rows up to which a log's velocities and accelerations stay in memory (9.6 MB for six
+/// joints): as many as the fits keep of any log.
+pub(crate) const IN_MEMORY_ROWS: usize = 100_000;
 
 /// Rows a thread reads from the file at a time (48 KB for six joints).
 pub(crate) const BLOCK_ROWS: usize = 512;

@@ -21,7 +21,7 @@ use crate::error::{Error, Result};
 use crate::evaluate::evaluator::{Evaluated, PlacementRow};
 use crate::output::{Existing, Inputs, RunDir};
 use crate::search::optimise::OptimiseResult;
-use crate::search::Grid;
+use crate::search::grid::Grid;
 use serde::Serialize;
 use std::path::Path;
 

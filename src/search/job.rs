@@ -13,7 +13,7 @@ use crate::evaluate::feasibility::FeasibilityOptions;
 use crate::evaluate::reduce::ReduceOptions;
 use crate::robot::RobotModel;
 use crate::search::tolerance::Tolerance;
-use crate::search::Grid;
+use crate::search::grid::Grid;
 use crate::timing::ProfileOptions;
 use crate::toolpath::{Placement, Toolpath};
 use std::fmt;
@@ -392,6 +392,22 @@ impl OptimiseConfig {
             )),
         }
     }
+}
+
+/// The path job of `config` for `robot` (the config's own or another) timed with `profile`
+/// (the config's, or scaled), with the config's energy options.
+pub(crate) fn job_with<'a>(
+    config: &'a OptimiseConfig,
+    robot: &'a crate::robot::RobotModel,
+    profile: crate::timing::ProfileOptions,
+) -> Result<crate::evaluate::PathJob<'a>> {
+    crate::evaluate::PathJob::new(
+        robot,
+        &config.path,
+        config.settings.energy,
+        profile,
+        crate::timing::JointStageOptions::default(),
+    )
 }
 
 #[cfg(test)]

@@ -49,7 +49,7 @@ pub(crate) fn time_energy(config: &OptimiseConfig, at: &Placement) -> Result<Vec
         profile.accel *= k;
         profile.lateral_accel *= k;
         profile.jerk *= k;
-        let job = crate::search::run::job_with(config, &config.robot, profile)?;
+        let job = crate::search::job::job_with(config, &config.robot, profile)?;
         let ev = Evaluator::new(&job, s.feasibility, s.objective);
         let e = ev
             .sweep(&[*at], &|_, _| {})?

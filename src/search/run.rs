@@ -17,7 +17,7 @@ use crate::evaluate::{reduce, PathJob};
 use crate::report::placement::{Detail, RunReport};
 use crate::robot::RobotModel;
 use crate::search::advice::Knob;
-use crate::search::job::{OptimiseConfig, SearchMethod};
+use crate::search::job::{job_with, OptimiseConfig, SearchMethod};
 use crate::search::optimise::{self, feasible_centre, worst_of, OptimiseOptions};
 use crate::search::refine::{self, Bounds, SearchOptions};
 use crate::search::robust::{self, RobustOptions};
@@ -169,22 +169,6 @@ pub fn evaluator<'j, 'a>(
         },
         None => ev,
     }
-}
-
-/// The path job of `config` for `robot` (the config's own or another) timed with `profile`
-/// (the config's, or scaled), with the config's energy options.
-pub(crate) fn job_with<'a>(
-    config: &'a OptimiseConfig,
-    robot: &'a crate::robot::RobotModel,
-    profile: crate::timing::ProfileOptions,
-) -> Result<PathJob<'a>> {
-    PathJob::new(
-        robot,
-        &config.path,
-        config.settings.energy,
-        profile,
-        JointStageOptions::default(),
-    )
 }
 
 /// The regret of the decision before the measurement behind a calibrated robot (the robust
