@@ -2,6 +2,7 @@
 
 use super::LogArgs;
 use anyhow::{Context, Result};
+use printwatt::identify::motion::Rate;
 use printwatt::identify::{self, metrics, model::Model, Log};
 use printwatt::report::html::Page;
 use printwatt::report::svg::{self, Series};
@@ -499,13 +500,16 @@ fn residual_scatter_row(
         ("acceleration", "q̈", "rad/s²", JointTrajSel::Qdd),
         ("position", "q", "rad", JointTrajSel::Q),
     ] {
-        let x: Vec<f64> = (0..log.len())
-            .map(|k| match f {
-                JointTrajSel::Q => log.traj.q(k)[j],
-                JointTrajSel::Qd => log.traj.rates(k).qd()[j],
-                JointTrajSel::Qdd => log.traj.rates(k).qdd()[j],
-            })
-            .collect();
+        let rate = |r| {
+            log.traj
+                .column(j, r)
+                .unwrap_or_else(|_| vec![f64::NAN; log.len()])
+        };
+        let x: Vec<f64> = match f {
+            JointTrajSel::Q => (0..log.len()).map(|k| log.traj.q(k)[j]).collect(),
+            JointTrajSel::Qd => rate(Rate::Velocity),
+            JointTrajSel::Qdd => rate(Rate::Acceleration),
+        };
         let fr = svg::Frame::new(
             &format!("{name} residual vs joint {} {lab}", j + 1),
             &format!("joint {} {lab} {sym} [{unit_x}]", j + 1),

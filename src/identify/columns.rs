@@ -10,7 +10,7 @@
 //! numbers read back are the same either way.
 
 use crate::error::{Error, Result};
-use std::io::{Read, Seek, SeekFrom, Write};
+use std::io::{Seek, SeekFrom, Write};
 use std::path::PathBuf;
 
 /// `len × width` numbers, stored channel by channel (see the module docs).
@@ -87,7 +87,8 @@ impl Columns {
         }
     }
 
-    /// Rows `k0..k0 + out.len()` of channel `c` into `out`.
+    /// Rows `k0..k0 + out.len()` of channel `c` into `out` (positioned reads: any number of
+    /// threads read at once).
     pub fn read(&self, c: usize, k0: usize, out: &mut [f64]) -> Result<()> {
         let at = c * self.len + k0;
         match &self.store {
@@ -96,13 +97,11 @@ impl Columns {
                 Ok(())
             }
             Store::File(f, _) => {
-                let mut f = f;
                 let mut bytes = vec![0u8; out.len().min(BLOCK_ROWS) * 8];
                 let mut done = 0;
-                f.seek(SeekFrom::Start((at * 8) as u64)).map_err(io_error)?;
                 while done < out.len() {
                     let m = (out.len() - done).min(BLOCK_ROWS);
-                    f.read_exact(&mut bytes[..m * 8]).map_err(io_error)?;
+                    read_at(f, &mut bytes[..m * 8], ((at + done) * 8) as u64).map_err(io_error)?;
                     for (o, b) in out[done..done + m].iter_mut().zip(bytes.chunks_exact(8)) {
                         *o = f64::from_le_bytes(b.try_into().unwrap_or([0; 8]));
                     }
@@ -110,6 +109,19 @@ impl Columns {
                 }
                 Ok(())
             }
+        }
+    }
+
+    /// Whether the numbers are in a temporary file (not in memory).
+    pub(crate) fn in_file(&self) -> bool {
+        matches!(self.store, Store::File(..))
+    }
+
+    /// Row `k` of channel `c` when the numbers are in memory.
+    pub(crate) fn in_memory_at(&self, c: usize, k: usize) -> Option<f64> {
+        match &self.store {
+            Store::Memory(v) => v.get(c * self.len + k).copied(),
+            Store::File(..) => None,
         }
     }
 
@@ -146,6 +158,29 @@ impl Drop for Columns {
             let _ = std::fs::remove_file(p);
         }
     }
+}
+
+/// Fill `buf` from `file` at byte `offset`, without moving a shared file position.
+#[cfg(unix)]
+fn read_at(file: &std::fs::File, buf: &mut [u8], offset: u64) -> std::io::Result<()> {
+    std::os::unix::fs::FileExt::read_exact_at(file, buf, offset)
+}
+
+/// Fill `buf` from `file` at byte `offset`, without moving a shared file position.
+#[cfg(windows)]
+fn read_at(file: &std::fs::File, mut buf: &mut [u8], mut offset: u64) -> std::io::Result<()> {
+    while !buf.is_empty() {
+        match std::os::windows::fs::FileExt::seek_read(file, buf, offset) {
+            Ok(0) => return Err(std::io::ErrorKind::UnexpectedEof.into()),
+            Ok(m) => {
+                buf = &mut buf[m..];
+                offset += m as u64;
+            }
+            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
+            Err(e) => return Err(e),
+        }
+    }
+    Ok(())
 }
 
 /// Rows a whole-log pass takes at a time.

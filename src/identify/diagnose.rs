@@ -38,6 +38,7 @@ use crate::error::Result;
 use crate::identify::columns::Columns;
 use crate::identify::fit::{fit_parameters, residuals, FittedParam};
 use crate::identify::model::{Model, Prepared};
+use crate::identify::motion::Rate;
 use crate::identify::structure::{self, Unexplained};
 use serde::Serialize;
 
@@ -381,7 +382,7 @@ fn unexplained_after(
         model.n,
         &prep.log.traj.t,
         &|k, j| prep.log.traj.q(k)[j],
-        &|k, j| prep.log.traj.rates(k).qd()[j],
+        &|j| prep.log.traj.column(j, Rate::Velocity),
     )
 }
 

@@ -9,6 +9,7 @@
 
 use crate::identify::log::SignalKind;
 use crate::identify::model::{Model, Prepared};
+use crate::identify::motion::Rate;
 use serde::Serialize;
 
 /// Metrics of one channel or of the total.
@@ -112,24 +113,27 @@ pub(crate) fn channel_names(prep: &Prepared) -> Vec<String> {
     }
 }
 
-/// Power series (W) of channel `c` over `m` samples: sample `r` is row `row(r)` of the log
-/// with signal value `v(r)`.
+/// Power series (W) of channel `c` at every row of the log, with signal value `v(k)` and
+/// velocity `qd[k]` of the channel's joint ([`channel_joint`]).
 fn power_by(
     prep: &Prepared,
     model: &Model,
-    m: usize,
-    row: impl Fn(usize) -> usize,
+    qd: &[f64],
     v: impl Fn(usize) -> f64,
     c: usize,
 ) -> Vec<f64> {
-    (0..m)
-        .map(|r| power_at(prep, model, row(r), v(r), c))
+    (0..qd.len())
+        .map(|k| power_at(prep, model, qd[k], v(k), c))
         .collect()
 }
 
-/// Power (W) of channel `c` at row `k` of the log with signal value `v`.
-fn power_at(prep: &Prepared, model: &Model, k: usize, v: f64, c: usize) -> f64 {
-    let qd = prep.log.traj.rates(k).qd()[c.min(prep.log.traj.n - 1)];
+/// The joint whose velocity channel `c`'s power takes.
+fn channel_joint(prep: &Prepared, c: usize) -> usize {
+    c.min(prep.log.traj.n - 1)
+}
+
+/// Power (W) of channel `c` with signal value `v` at its joint's velocity `qd`.
+fn power_at(prep: &Prepared, model: &Model, qd: f64, v: f64, c: usize) -> f64 {
     match prep.log.kind {
         SignalKind::Torque => (v * qd).max(0.0),
         SignalKind::Current => (v * model.kt[c] * model.gear[c] * qd).max(0.0),
@@ -155,12 +159,14 @@ pub fn evaluate_rows(prep: &Prepared, model: &Model, rows: &[usize]) -> (f64, f6
     for block in rows.chunks(crate::identify::columns::BLOCK_ROWS) {
         prep.predict(model, block, &mut pred);
         for (r, &k) in block.iter().enumerate() {
+            let rates = prep.rates(k, false);
             for c in 0..ch {
                 let (a, b) = (pred[r * ch + c], y[k * ch + c]);
                 ssr += (a - b).powi(2);
+                let qd = rates.qd()[channel_joint(prep, c)];
                 let (pm, pp) = (
-                    power_at(prep, model, k, b, c),
-                    power_at(prep, model, k, a, c),
+                    power_at(prep, model, qd, b, c),
+                    power_at(prep, model, qd, a, c),
                 );
                 if let Some((t0, m0, p0)) = prev[c] {
                     em_c[c] += 0.5 * (t[k] - t0) * (m0 + pm);
@@ -269,7 +275,7 @@ fn compare_columns(
     for j in 0..n {
         let c = if ch == 1 { 0 } else { j };
         let res = residual(c)?;
-        joint_regimes(log, &res, j, &mut regimes_all);
+        joint_regimes(log, &res, j, &mut regimes_all)?;
     }
     let mut regimes: Vec<Regime> = regimes_all
         .iter()
@@ -288,8 +294,7 @@ fn compare_columns(
         n,
         t,
         &|k, j| log.traj.q(k)[j],
-        &|k, j| log.traj.rates(k).qd()[j],
-        &|k, j| log.traj.rates(k).qdd()[j],
+        &|j, r| log.traj.column(j, r),
         &prismatic,
     )?;
     let pred = if want_pred { Some(pred.rows()?) } else { None };
@@ -343,8 +348,9 @@ fn channel_metrics(
             sm += y(k, c).powi(2);
             cnt += 1;
         }
-        em += integrate(t, &power_by(prep, model, len, |k| k, |k| y(k, c), c));
-        ep += integrate(t, &power_by(prep, model, len, |k| k, |k| p[k], c));
+        let qd = log.traj.column(channel_joint(prep, c), Rate::Velocity)?;
+        em += integrate(t, &power_by(prep, model, &qd, |k| y(k, c), c));
+        ep += integrate(t, &power_by(prep, model, &qd, |k| p[k], c));
     }
     let e = rel_pct(ep, em);
     Ok(ChannelMetrics {
@@ -428,7 +434,12 @@ fn worst_windows(
 
 /// Joint `j`'s regimes (speed sign, standstill, high acceleration, pose quarter) with their
 /// share of the samples and of the squared residual `res`, appended to `out`.
-fn joint_regimes(log: &crate::identify::log::Log, res: &[f64], j: usize, out: &mut Vec<Regime>) {
+fn joint_regimes(
+    log: &crate::identify::log::Log,
+    res: &[f64],
+    j: usize,
+    out: &mut Vec<Regime>,
+) -> crate::error::Result<()> {
     let len = log.len();
     let r2 = |k: usize| res[k].powi(2);
     let mut tot = 0.0;
@@ -436,12 +447,16 @@ fn joint_regimes(log: &crate::identify::log::Log, res: &[f64], j: usize, out: &m
         tot += r2(k);
     }
     let tot = tot.max(1e-300);
-    let qd = |k: usize| log.traj.rates(k).qd()[j];
+    // The joint's speed and |acceleration|, one column each.
+    let speed = log.traj.column(j, Rate::Velocity)?;
+    let mut accel = log.traj.column(j, Rate::Acceleration)?;
+    accel.iter_mut().for_each(|a| *a = a.abs());
+    let qd = |k: usize| speed[k];
     let q = |k: usize| log.traj.q(k)[j];
     let vmax = (0..len).fold(0.0f64, |a, k| a.max(qd(k).abs()));
     let v0 = (0.05 * vmax).max(0.005);
     let a80 = {
-        let mut qdd: Vec<f64> = (0..len).map(|k| log.traj.rates(k).qdd()[j].abs()).collect();
+        let mut qdd = accel.clone();
         let at = (0.8 * (len - 1) as f64) as usize;
         *qdd.select_nth_unstable_by(at, f64::total_cmp).1
     };
@@ -474,9 +489,10 @@ fn joint_regimes(log: &crate::identify::log::Log, res: &[f64], j: usize, out: &m
     push("negative_speed".into(), &|k| qd(k) < -v0);
     push("near_zero_speed".into(), &|k| qd(k).abs() <= v0);
     push("high_acceleration".into(), &|k| {
-        log.traj.rates(k).qdd()[j].abs() >= a80 && a80 > 0.0
+        accel[k] >= a80 && a80 > 0.0
     });
     for b in 0..4 {
         push(format!("pose_bin_{}_of_4", b + 1), &|k| bin(q(k)) == b);
     }
+    Ok(())
 }

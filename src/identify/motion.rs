@@ -1,16 +1,18 @@
 //! A measured log's motion: its times and positions in memory, its velocities and
-//! accelerations (read from the log or derived from the positions) in memory for a log of at
-//! most [`IN_MEMORY_ROWS`] rows, and for a longer log in a temporary file, read back a block
-//! of [`BLOCK_ROWS`] rows at a time. A long log's memory then holds its times, positions and
-//! signal (what its text carries), not the twice as large velocities and accelerations.
+//! accelerations (read from the log or derived from the positions) as `2n` columns
+//! ([`Columns`]: velocities then accelerations, joint by joint) in memory for a log of at
+//! most [`IN_MEMORY_ROWS`] rows, and for a longer log in a temporary file. A long log's memory
+//! then holds its times, positions and signal (what its text carries), not the twice as large
+//! velocities and accelerations.
 //!
-//! The file holds each row's velocities then accelerations (`2n` numbers, the exact bytes
-//! of each `f64`). It is created in the system's temporary directory under a new name and
-//! has no name while open on Unix (elsewhere it is removed when the motion is dropped).
-//! Reading is positioned (`pread`), so any number of threads read at once; each thread keeps
-//! the last block it read. When no temporary file can be written the rates stay in memory;
-//! the numbers read back are the same either way.
+//! The analyses that pass over the whole log read one joint's column at a time
+//! ([`LogMotion::column`]); the per-row work (predictions, fits) reads a row's rates
+//! ([`LogMotion::rates`]), a block of [`BLOCK_ROWS`] rows of every column at a time, each
+//! thread keeping the last [`KEPT_BLOCKS`] blocks it read. Reads are positioned, so any
+//! number of threads read at once. When no temporary file can be written the columns stay in
+//! memory; the numbers read back are the same either way.
 
+use crate::identify::columns::Columns;
 use crate::kinematics::MAX_DOF;
 use std::ops::Range;
 
@@ -18,8 +20,21 @@ use std::ops::Range;
 /// joints): as many as the fits keep of any log.
 pub(crate) const IN_MEMORY_ROWS: usize = 100_000;
 
-/// Rows a thread reads from the file at a time (48 KB for six joints).
-pub(crate) const BLOCK_ROWS: usize = 512;
+/// Rows of every column a thread reads from the file at a time (96 KB for six joints).
+pub(crate) const BLOCK_ROWS: usize = 1024;
+
+/// Blocks of rates each thread keeps (a block goes to slot `block % KEPT_BLOCKS`): passes
+/// that read several stretches of the log in turn each keep theirs.
+pub(crate) const KEPT_BLOCKS: usize = 4;
+
+/// Which rate a column holds.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Rate {
+    /// Velocity, rad/s (m/s for a prismatic joint).
+    Velocity,
+    /// Acceleration, rad/s² (m/s²).
+    Acceleration,
+}
 
 /// Velocities (rad/s) and accelerations (rad/s²) of one sample of a log.
 #[derive(Clone, Copy, Debug)]
@@ -49,7 +64,8 @@ impl Rates {
     }
 }
 
-/// What writes a block of rows' rates: `fill(t, q, rows, slots)`.
+/// What writes a block of rows' rates: `fill(t, q, rows, slots)` (`rows.len() × 2n`,
+/// row-major, velocities then accelerations).
 pub(crate) type Fill<'a> = dyn FnMut(&[f64], &[f64], Range<usize>, &mut [f64]) + 'a;
 
 /// The motion of a measured log, SI units.
@@ -61,40 +77,52 @@ pub struct LogMotion {
     pub t: Vec<f64>,
     /// Positions, rad (row-major, `t.len() * n`).
     pub q: Vec<f64>,
-    store: Store,
-}
-
-#[derive(Debug)]
-enum Store {
-    /// Row-major, `2n` a row.
-    Memory(Vec<f64>),
-    /// The temporary file, its path while it still has a name, and a number no other store
-    /// of this process has (the threads' kept blocks are keyed by it).
-    File {
-        file: std::fs::File,
-        path: Option<std::path::PathBuf>,
-        id: u64,
-    },
+    /// Velocities (columns `0..n`) and accelerations (`n..2n`).
+    rates: Columns,
+    /// A number no other motion of this process has (the threads' kept blocks are keyed by
+    /// it).
+    id: u64,
 }
 
 impl LogMotion {
     /// The motion of `t` and `q` (`n` joints), with the rates of rows `rows` written into
-    /// their slots (`rows.len() × 2n`, row-major, velocities then accelerations) by
-    /// `fill(t, q, rows, slots)`, a block of rows at a time, in order.
+    /// their slots by `fill(t, q, rows, slots)`, a block of rows at a time, in order.
     pub(crate) fn new(n: usize, t: Vec<f64>, q: Vec<f64>, fill: &mut Fill) -> Self {
+        static NEXT_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
         let len = t.len();
         let w = 2 * n;
-        let store = if len > IN_MEMORY_ROWS {
-            to_file(len, w, &mut |rows, out| fill(&t, &q, rows, out))
-        } else {
-            None
+        let write = |cols: &mut Columns, fill: &mut Fill| -> bool {
+            const WRITE_ROWS: usize = 8 * BLOCK_ROWS;
+            let mut vals = vec![0.0; WRITE_ROWS.min(len) * w];
+            let mut k0 = 0;
+            while k0 < len {
+                let rows = k0..(k0 + WRITE_ROWS).min(len);
+                let v = &mut vals[..rows.len() * w];
+                fill(&t, &q, rows.clone(), v);
+                if cols.write_rows(k0, v).is_err() {
+                    return false;
+                }
+                k0 = rows.end;
+            }
+            true
         };
-        let store = store.unwrap_or_else(|| {
-            let mut v = vec![0.0; len * w];
-            fill(&t, &q, 0..len, &mut v);
-            Store::Memory(v)
-        });
-        LogMotion { n, t, q, store }
+        let mut rates = if len > IN_MEMORY_ROWS {
+            Columns::new(len, w)
+        } else {
+            Columns::in_memory(len, w)
+        };
+        if !write(&mut rates, fill) {
+            // The file failed: in memory.
+            rates = Columns::in_memory(len, w);
+            write(&mut rates, fill);
+        }
+        LogMotion {
+            n,
+            t,
+            q,
+            rates,
+            id: NEXT_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
+        }
     }
 
     /// Number of samples.
@@ -123,7 +151,17 @@ impl LogMotion {
     /// Whether the rates are kept in a temporary file (a log of more than
     /// [`IN_MEMORY_ROWS`] rows, when the file could be written).
     pub fn rates_in_file(&self) -> bool {
-        matches!(self.store, Store::File { .. })
+        self.rates.in_file()
+    }
+
+    /// Joint `j`'s velocity or acceleration, every row (one column read). Errors: the
+    /// temporary file cannot be read.
+    pub fn column(&self, j: usize, rate: Rate) -> crate::error::Result<Vec<f64>> {
+        let c = match rate {
+            Rate::Velocity => j,
+            Rate::Acceleration => self.n + j,
+        };
+        self.rates.column(c)
     }
 
     /// Velocities and accelerations of sample `k` (`k < len`). A read of the temporary file
@@ -132,129 +170,58 @@ impl LogMotion {
     pub fn rates(&self, k: usize) -> Rates {
         let n = self.n;
         let w = 2 * n;
-        match &self.store {
-            Store::Memory(v) => Rates::from_both(n, &v[k * w..(k + 1) * w]),
-            Store::File { file, id, .. } => {
-                let len = self.len();
-                KEPT.with(|b| {
-                    let mut b = b.borrow_mut();
-                    let fresh =
-                        b.id == *id && b.rows.contains(&k) && b.bytes.len() >= b.rows.len() * w * 8;
-                    if !fresh {
-                        let start = k - k % BLOCK_ROWS;
-                        let rows = start..(start + BLOCK_ROWS).min(len);
-                        b.bytes.resize(rows.len() * w * 8, 0);
-                        let ok = read_at(file, &mut b.bytes, (start * w * 8) as u64).is_ok();
-                        b.id = if ok { *id } else { u64::MAX };
-                        b.rows = if ok { rows } else { 0..0 };
-                        if !ok {
-                            return Rates {
-                                n,
-                                v: [f64::NAN; 2 * MAX_DOF],
-                            };
-                        }
-                    }
-                    let at = (k - b.rows.start) * w * 8;
-                    let mut v = [0.0; 2 * MAX_DOF];
-                    for (o, c) in v[..w]
-                        .iter_mut()
-                        .zip(b.bytes[at..at + w * 8].chunks_exact(8))
-                    {
-                        *o = f64::from_le_bytes(c.try_into().unwrap_or([0; 8]));
-                    }
-                    Rates { n, v }
-                })
+        let mut v = [0.0; 2 * MAX_DOF];
+        if !self.rates.in_file() {
+            for (c, x) in v[..w].iter_mut().enumerate() {
+                *x = self.rates.in_memory_at(c, k).unwrap_or(f64::NAN);
             }
+            return Rates { n, v };
         }
+        let block = k / BLOCK_ROWS;
+        KEPT.with(|kept| {
+            let mut kept = kept.borrow_mut();
+            let slot = &mut kept[block % KEPT_BLOCKS];
+            if slot.id != self.id || slot.block != block {
+                slot.id = u64::MAX;
+                let rows = block * BLOCK_ROWS..((block + 1) * BLOCK_ROWS).min(self.len());
+                let m = rows.len();
+                slot.vals.resize(w * m, 0.0);
+                for c in 0..w {
+                    if self
+                        .rates
+                        .read(c, rows.start, &mut slot.vals[c * m..(c + 1) * m])
+                        .is_err()
+                    {
+                        return Rates {
+                            n,
+                            v: [f64::NAN; 2 * MAX_DOF],
+                        };
+                    }
+                }
+                (slot.id, slot.block, slot.rows) = (self.id, block, m);
+            }
+            let r = k - block * BLOCK_ROWS;
+            for (c, x) in v[..w].iter_mut().enumerate() {
+                *x = slot.vals[c * slot.rows + r];
+            }
+            Rates { n, v }
+        })
     }
 }
 
-impl Drop for LogMotion {
-    fn drop(&mut self) {
-        if let Store::File { path: Some(p), .. } = &self.store {
-            let _ = std::fs::remove_file(p);
-        }
-    }
-}
-
-/// The block of rates a thread read last: the store it came from, its rows, its bytes.
+/// A block of rates a thread read: the motion it came from, its number and rows, its values
+/// column by column.
 struct Kept {
     id: u64,
-    rows: Range<usize>,
-    bytes: Vec<u8>,
+    block: usize,
+    rows: usize,
+    vals: Vec<f64>,
 }
 
 thread_local! {
-    static KEPT: std::cell::RefCell<Kept> = const {
-        std::cell::RefCell::new(Kept { id: u64::MAX, rows: 0..0, bytes: Vec::new() })
-    };
-}
-
-/// The rates of `len` rows of width `w` written by `fill` into a new temporary file; `None`
-/// when no file can be made or written (the caller keeps them in memory).
-fn to_file(len: usize, w: usize, fill: &mut dyn FnMut(Range<usize>, &mut [f64])) -> Option<Store> {
-    use std::io::Write;
-    static NEXT_ID: std::sync::atomic::AtomicU64 = std::sync::atomic::AtomicU64::new(0);
-    let (file, path) = crate::identify::columns::temp_file().ok()?;
-    let drop_path = |p: &Option<std::path::PathBuf>| {
-        if let Some(p) = p {
-            let _ = std::fs::remove_file(p);
-        }
-    };
-    const WRITE_ROWS: usize = 8 * BLOCK_ROWS;
-    let mut vals = vec![0.0; WRITE_ROWS.min(len) * w];
-    let mut bytes = Vec::with_capacity(vals.len() * 8);
-    let mut out = std::io::BufWriter::new(&file);
-    let mut k0 = 0;
-    while k0 < len {
-        let rows = k0..(k0 + WRITE_ROWS).min(len);
-        let v = &mut vals[..rows.len() * w];
-        fill(rows.clone(), v);
-        bytes.clear();
-        for x in v.iter() {
-            bytes.extend_from_slice(&x.to_le_bytes());
-        }
-        if out.write_all(&bytes).is_err() {
-            drop(out);
-            drop_path(&path);
-            return None;
-        }
-        k0 = rows.end;
-    }
-    if out.flush().is_err() {
-        drop(out);
-        drop_path(&path);
-        return None;
-    }
-    drop(out);
-    Some(Store::File {
-        file,
-        path,
-        id: NEXT_ID.fetch_add(1, std::sync::atomic::Ordering::Relaxed),
-    })
-}
-
-/// Fill `buf` from `file` at byte `offset`, without moving a shared file position.
-#[cfg(unix)]
-fn read_at(file: &std::fs::File, buf: &mut [u8], offset: u64) -> std::io::Result<()> {
-    std::os::unix::fs::FileExt::read_exact_at(file, buf, offset)
-}
-
-/// Fill `buf` from `file` at byte `offset`, without moving a shared file position.
-#[cfg(windows)]
-fn read_at(file: &std::fs::File, mut buf: &mut [u8], mut offset: u64) -> std::io::Result<()> {
-    while !buf.is_empty() {
-        match std::os::windows::fs::FileExt::seek_read(file, buf, offset) {
-            Ok(0) => return Err(std::io::ErrorKind::UnexpectedEof.into()),
-            Ok(m) => {
-                buf = &mut buf[m..];
-                offset += m as u64;
-            }
-            Err(e) if e.kind() == std::io::ErrorKind::Interrupted => {}
-            Err(e) => return Err(e),
-        }
-    }
-    Ok(())
+    static KEPT: std::cell::RefCell<[Kept; KEPT_BLOCKS]> = std::cell::RefCell::new(
+        std::array::from_fn(|_| Kept { id: u64::MAX, block: 0, rows: 0, vals: Vec::new() }),
+    );
 }
 
 #[cfg(test)]
@@ -314,6 +281,12 @@ mod tests {
                 });
             }
         });
+        for c in [0, 5] {
+            let col = m.column(c, Rate::Acceleration).unwrap();
+            assert!((0..len)
+                .step_by(101)
+                .all(|k| col[k].to_bits() == want(k, 6 + c).to_bits()));
+        }
         // Two long motions at once: each thread's kept block belongs to one of them.
         let other = motion(len);
         for k in [3, 3 + BLOCK_ROWS] {

@@ -224,8 +224,7 @@ pub(crate) fn analyse_columns(
     n: usize,
     t: &[f64],
     q: &dyn Fn(usize, usize) -> f64,
-    qd: &dyn Fn(usize, usize) -> f64,
-    qdd: &dyn Fn(usize, usize) -> f64,
+    rate: &dyn Fn(usize, crate::identify::motion::Rate) -> crate::error::Result<Vec<f64>>,
     prismatic: &[bool],
 ) -> crate::error::Result<(Vec<JointProfiles>, Vec<Failure>)> {
     let ch = names.len().max(1);
@@ -249,7 +248,7 @@ pub(crate) fn analyse_columns(
             ("rad", "rad/s", "rad/s²")
         };
         // One joint column at a time.
-        let xqd: Vec<f64> = (0..len).map(|k| qd(k, j)).collect();
+        let xqd: Vec<f64> = rate(j, crate::identify::motion::Rate::Velocity)?;
         let vmax = xqd.iter().fold(0.0f64, |a, b| a.max(b.abs()));
         let band = (STEP_BAND * vmax).max(STEP_BAND_MIN_RAD_S);
         let (step, se) = direction_step(&xqd, &r, band);
@@ -260,7 +259,7 @@ pub(crate) fn analyse_columns(
         let pos = profile("position", u_q, &xq, &r, sigma);
         drop(xq);
         let time = profile("time", "s", &t[..len.min(t.len())], &r, sigma);
-        let xqdd: Vec<f64> = (0..len).map(|k| qdd(k, j)).collect();
+        let xqdd: Vec<f64> = rate(j, crate::identify::motion::Rate::Acceleration)?;
         let acc = profile("acceleration", u_qdd, &xqdd, &r, sigma);
         drop(xqdd);
         let channel = names[c].clone();

@@ -185,15 +185,15 @@ impl std::fmt::Display for Unexplained {
 
 /// Channels of the residual with structure beyond the noise floor, the residual given a
 /// channel at a time: `res(c)` is channel `c`'s residual at every sample (it may fail, e.g.
-/// reading it from a file), `names` the channels. `q(k, j)`, `qd(k, j)`: the log's joint
-/// positions and velocities; `t`: times.
+/// reading it from a file), `names` the channels. `q(k, j)`: the log's joint positions;
+/// `qd(j)`: joint `j`'s velocity at every sample; `t`: times.
 pub(crate) fn unexplained_columns(
     res: &dyn Fn(usize) -> crate::error::Result<Vec<f64>>,
     names: &[String],
     n_joints: usize,
     t: &[f64],
     q: &dyn Fn(usize, usize) -> f64,
-    qd: &dyn Fn(usize, usize) -> f64,
+    qd: &dyn Fn(usize) -> crate::error::Result<Vec<f64>>,
 ) -> crate::error::Result<Vec<Unexplained>> {
     let ch = names.len();
     let len = t.len();
@@ -213,7 +213,7 @@ pub(crate) fn unexplained_columns(
         let mut best: Option<(f64, f64, usize)> = None;
         for j in joints {
             let xq: Vec<f64> = (0..len).map(|k| q(k, j)).collect();
-            let xv: Vec<f64> = (0..len).map(|k| qd(k, j)).collect();
+            let xv: Vec<f64> = qd(j)?;
             let (ep, ev) = (correlation_ratio(&xq, &y), correlation_ratio(&xv, &y));
             if best.is_none_or(|b| ep.max(ev) > b.0.max(b.1)) {
                 best = Some((ep, ev, j));

@@ -20,8 +20,8 @@ use crate::energy::EnergyReport;
 use crate::error::{Error, Result};
 use crate::evaluate::evaluator::{Evaluated, PlacementRow};
 use crate::output::{Existing, Inputs, RunDir};
-use crate::search::optimise::OptimiseResult;
 use crate::search::grid::Grid;
+use crate::search::optimise::OptimiseResult;
 use serde::Serialize;
 use std::path::Path;
 
