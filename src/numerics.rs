@@ -391,7 +391,7 @@ pub fn smooth_differentiate(t: &[f64], q: &[f64], n: usize, m: usize) -> (Vec<f6
 /// Row `k` of [`smooth_differentiate`] into `qd[..n]` and `qdd[..n]` (left untouched where
 /// the window's normal equations are singular, and for fewer than 4 samples): the same
 /// arithmetic, so a log's derivatives can be made a block of rows at a time.
-pub fn smooth_differentiate_row(
+pub(crate) fn smooth_differentiate_row(
     t: &[f64],
     q: &[f64],
     n: usize,

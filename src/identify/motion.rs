@@ -150,7 +150,7 @@ impl LogMotion {
 
     /// Whether the rates are kept in a temporary file (a log of more than
     /// [`IN_MEMORY_ROWS`] rows, when the file could be written).
-    pub fn rates_in_file(&self) -> bool {
+    pub(crate) fn rates_in_file(&self) -> bool {
         self.rates.in_file()
     }
 
