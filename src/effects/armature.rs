@@ -74,6 +74,9 @@ impl Effect for Armature {
     fn clone_box(&self) -> Box<dyn Effect> {
         Box::new(self.clone())
     }
+    fn needs_joint_motion(&self) -> bool {
+        true
+    }
     fn is_null(&self) -> bool {
         self.ia.iter().all(|f| *f == 0.0)
     }

@@ -164,6 +164,12 @@ pub trait Effect: AsAny + Send + Sync + std::fmt::Debug {
     fn costly(&self) -> bool {
         false
     }
+    /// Whether its per-joint parameters (named `…[j]`) act only while joint `j` moves
+    /// (friction, armature): a log in which that joint stands still leaves them unidentified,
+    /// and identification holds them at their values. Default `false`.
+    fn needs_joint_motion(&self) -> bool {
+        false
+    }
     /// Whether it contributes nothing with its current values (skipped by the energy model).
     fn is_null(&self) -> bool {
         false

@@ -76,6 +76,9 @@ impl Effect for Viscous {
     fn clone_box(&self) -> Box<dyn Effect> {
         Box::new(self.clone())
     }
+    fn needs_joint_motion(&self) -> bool {
+        true
+    }
     fn energy_class(&self) -> EnergyClass {
         EnergyClass::Friction
     }

@@ -67,8 +67,9 @@ pub struct HeldParam {
 /// encoder quantisation of a joint held by its brake or servo give less).
 pub(crate) const STILL_RMS_VELOCITY_RAD_S: f64 = 1e-3;
 
-/// Parameters of velocity- and acceleration-driven per-joint effects (`viscous`, `coulomb`,
-/// `stribeck`, `armature`) on joints that do not move in `rows` of the log.
+/// Parameters of the per-joint effects that act only while their joint moves
+/// ([`crate::effects::Effect::needs_joint_motion`]: friction, armature) on joints that do not
+/// move in `rows` of the log.
 pub(crate) fn still_joint_params(
     model: &Model,
     prep: &Prepared,
@@ -88,7 +89,7 @@ pub(crate) fn still_joint_params(
             continue;
         }
         for e in effects {
-            if !matches!(*e, "viscous" | "coulomb" | "stribeck" | "armature") {
+            if !model.effect(e).is_ok_and(|x| x.needs_joint_motion()) {
                 continue;
             }
             for p in model.params(e).unwrap_or_default() {
@@ -252,4 +253,66 @@ pub fn table(id: &Identification, unit: &str) -> String {
         ));
     }
     s
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    /// A 2 s torque log of the UR10e at 250 Hz in which every joint but joint 6 moves.
+    fn log_with_joint_6_still() -> crate::identify::log::Log {
+        let mut s = String::from("t,q1,q2,q3,q4,q5,q6,tau1,tau2,tau3,tau4,tau5,tau6\n");
+        for k in 0..500 {
+            let t = k as f64 * 0.004;
+            let q: Vec<String> = (0..6)
+                .map(|j| {
+                    let v = if j == 5 {
+                        0.3
+                    } else {
+                        0.4 * ((1.0 + j as f64) * t).sin()
+                    };
+                    format!("{v:.9}")
+                })
+                .collect();
+            s += &format!("{t:.3},{},1,1,1,1,1,1\n", q.join(","));
+        }
+        crate::identify::log::parse_log(&s, "still.csv", 6, None).unwrap()
+    }
+
+    #[test]
+    fn the_parameters_of_effects_that_need_joint_motion_are_held_on_a_still_joint_and_no_others() {
+        let robot = crate::robot::load(
+            &std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("robots/ur10e"),
+        )
+        .unwrap();
+        let model = Model::new(&robot).unwrap();
+        let log = log_with_joint_6_still();
+        let prep = Prepared::new(&model, &log).unwrap();
+        let rows: Vec<usize> = (0..log.len()).collect();
+        let effects = ["viscous", "coulomb", "armature", "balancer", "payload"];
+        let held: Vec<String> = still_joint_params(&model, &prep, &rows, &effects)
+            .into_iter()
+            .map(|h| h.name)
+            .collect();
+        let want: Vec<String> = ["viscous", "coulomb", "armature"]
+            .iter()
+            .flat_map(|e| {
+                let model = &model;
+                model
+                    .params(e)
+                    .unwrap()
+                    .into_iter()
+                    .filter(|p| p.name.ends_with("[6]"))
+                    .map(move |p| format!("{e}.{}", p.name))
+            })
+            .collect();
+        assert!(!want.is_empty());
+        assert_eq!(held, want);
+        for e in ["viscous", "coulomb", "stribeck", "armature"] {
+            assert!(model.effect(e).unwrap().needs_joint_motion(), "{e}");
+        }
+        for e in ["balancer", "payload", "gear_efficiency", "standby"] {
+            assert!(!model.effect(e).unwrap().needs_joint_motion(), "{e}");
+        }
+    }
 }
