@@ -1,5 +1,6 @@
 //! Measured logs against the model (architecture.md, `identify`): reading logs
-//! ([`log`]), comparison metrics ([`metrics`]), residual diagnosis ([`diagnose`]), parameter
+//! ([`log`]; a long log's velocities and accelerations are kept outside memory, [`motion`]),
+//! comparison metrics ([`metrics`]), residual diagnosis ([`diagnose`]), parameter
 //! identification with the error ladder ([`ladder`], [`fit`]), where the model fails
 //! ([`profiles`]), one round as a user runs it ([`round`]), simulated logs from a "true"
 //! robot ([`simulate`]). Charts are drawn by [`crate::report::svg`].
