@@ -243,15 +243,71 @@ pub(crate) fn uniform_stencil_entries_on(
     if a >= b {
         return;
     }
+    let (od, odd) = (&mut qd[a..b], &mut qdd[a..b]);
+    stencil_into(q, n, (d1, d2), a, od, odd, level);
+}
+
+/// [`uniform_stencil_entries_on`] of the entries `a .. a + od.len()` written to `od`, `odd`
+/// (entry `a` first).
+fn stencil_into(
+    q: &[f64],
+    n: usize,
+    (d1, d2): ([f64; 3], [f64; 3]),
+    a: usize,
+    od: &mut [f64],
+    odd: &mut [f64],
+    level: crate::simd::Level,
+) {
+    let b = a + od.len();
     let lo = &q[a - n..b - n];
     let mid = &q[a..b];
     let hi = &q[a + n..b + n];
-    let (od, odd) = (&mut qd[a..b], &mut qdd[a..b]);
     crate::simd::run(
         level,
         #[inline(always)]
         || stencil3(lo, mid, hi, d1, d2, od, odd),
     )
+}
+
+/// Samples `k0 .. k0 + count` of [`differentiate_uniform_into_on`]'s velocities and
+/// accelerations of `q` (row-major `len × n`, `len ≥ 3`, `dt` > 0 finite) written to `qd`,
+/// `qdd` (at least `count × n` each, sample `k0` first): the same values bit for bit, for a
+/// consumer that takes the rates of a long path a block at a time instead of keeping them.
+#[allow(clippy::too_many_arguments)]
+pub(crate) fn uniform_rates_rows(
+    q: &[f64],
+    n: usize,
+    dt: f64,
+    k0: usize,
+    count: usize,
+    qd: &mut [f64],
+    qdd: &mut [f64],
+    level: crate::simd::Level,
+) {
+    let len = q.len() / n;
+    let w = uniform_weights(dt);
+    let end = k0 + count;
+    let end_row =
+        |k: usize, c: usize, (d1, d2): ([f64; 3], [f64; 3]), qd: &mut [f64], qdd: &mut [f64]| {
+            let o = (k - k0) * n;
+            for j in 0..n {
+                let f = [q[(c - 1) * n + j], q[c * n + j], q[(c + 1) * n + j]];
+                qd[o + j] = d1[0] * f[0] + d1[1] * f[1] + d1[2] * f[2];
+                qdd[o + j] = d2[0] * f[0] + d2[1] * f[1] + d2[2] * f[2];
+            }
+        };
+    if k0 == 0 && count > 0 {
+        end_row(0, 1, w[0], qd, qdd);
+    }
+    let (a, b) = (k0.max(1), end.min(len - 1));
+    if a < b {
+        let o = (a - k0) * n;
+        let (od, odd) = (&mut qd[o..o + (b - a) * n], &mut qdd[o..o + (b - a) * n]);
+        stencil_into(q, n, w[1], a * n, od, odd, level);
+    }
+    if end == len && count > 0 {
+        end_row(len - 1, len - 2, w[2], qd, qdd);
+    }
 }
 
 /// `od[i] = d1·(lo, mid, hi)[i]` and `odd[i] = d2·(…)[i]`, each as `w0·a + w1·b + w2·c`

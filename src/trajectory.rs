@@ -308,3 +308,57 @@ pub(crate) fn from_table(
         },
     ))
 }
+
+/// The velocities and accelerations of a trajectory sampled every `dt` s, a block of samples
+/// at a time: the trajectory's own when it keeps them, else derived from its positions by
+/// the stencil that timing differentiates with
+/// ([`crate::numerics::uniform_rates_rows`]: the same values, bit for bit, as the kept
+/// ones). A long print's full evaluation keeps only the positions
+/// ([`crate::timing::Buffers::lean_rates`]): 96 bytes a sample fewer for a six-axis arm.
+pub(crate) struct RateBlocks<'t> {
+    traj: &'t JointTrajectory,
+    dt: f64,
+    level: crate::simd::Level,
+    qd: Vec<f64>,
+    qdd: Vec<f64>,
+}
+
+impl<'t> RateBlocks<'t> {
+    /// The rates of `traj`, sampled every `dt` s (at least 3 samples and a finite `dt` > 0
+    /// when it keeps only its positions).
+    pub(crate) fn new(traj: &'t JointTrajectory, dt: f64) -> Self {
+        RateBlocks {
+            traj,
+            dt,
+            level: crate::simd::level(),
+            qd: Vec::new(),
+            qdd: Vec::new(),
+        }
+    }
+
+    /// The velocities and accelerations of samples `k0 .. k0 + count` (row-major, `count × n`
+    /// each).
+    pub(crate) fn block(&mut self, k0: usize, count: usize) -> (&[f64], &[f64]) {
+        let tr = self.traj;
+        let n = tr.n;
+        let (a, b) = (k0 * n, (k0 + count) * n);
+        if tr.qd.len() == tr.q.len() && tr.qdd.len() == tr.q.len() {
+            return (&tr.qd[a..b], &tr.qdd[a..b]);
+        }
+        if self.qd.len() < b - a {
+            self.qd.resize(b - a, 0.0);
+            self.qdd.resize(b - a, 0.0);
+        }
+        crate::numerics::uniform_rates_rows(
+            &tr.q,
+            n,
+            self.dt,
+            k0,
+            count,
+            &mut self.qd,
+            &mut self.qdd,
+            self.level,
+        );
+        (&self.qd[..b - a], &self.qdd[..b - a])
+    }
+}

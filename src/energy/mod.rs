@@ -51,7 +51,7 @@ use crate::effects::{
 use crate::error::{Error, Result};
 use crate::robot::{Regeneration, RobotModel};
 use crate::simd::{Level, LANES};
-use crate::trajectory::JointTrajectory;
+use crate::trajectory::{JointTrajectory, RateBlocks};
 use std::sync::Arc;
 
 /// Choices for [`EnergyModel::with_options`].
@@ -688,8 +688,41 @@ pub fn evaluate_streaming(
     traj: &JointTrajectory,
     on_sample: &mut dyn FnMut(usize, &SamplePower),
 ) -> Result<EnergyReport> {
+    check_trajectory(model, traj, true)?;
+    streaming(model, traj, &mut RateBlocks::new(traj, 0.0), on_sample)
+}
+
+/// [`evaluate_streaming`] of a timed path sampled every `dt` s that may keep only its
+/// positions ([`crate::timing::Buffers::lean_rates`]): its velocities and accelerations are
+/// then derived a block at a time, the same values bit for bit, so the same report.
+pub(crate) fn evaluate_streaming_timed(
+    model: &EnergyModel,
+    traj: &JointTrajectory,
+    dt: f64,
+    on_sample: &mut dyn FnMut(usize, &SamplePower),
+) -> Result<EnergyReport> {
+    let kept = traj.qd.len() == traj.q.len() && traj.qdd.len() == traj.q.len();
+    check_trajectory(model, traj, kept)?;
+    if !kept && (traj.len() < 3 || !(dt > 0.0 && dt.is_finite())) {
+        return Err(Error::Invalid(
+            "trajectory: no velocities and accelerations, and too short or without a period to derive them"
+                .into(),
+        ));
+    }
+    streaming(model, traj, &mut RateBlocks::new(traj, dt), on_sample)
+}
+
+/// Samples whose rates [`streaming`] takes at a time.
+const STREAM_BLOCK: usize = 256;
+
+/// The body of [`evaluate_streaming`]: `traj` checked, its rates from `rates`.
+fn streaming(
+    model: &EnergyModel,
+    traj: &JointTrajectory,
+    rates: &mut RateBlocks<'_>,
+    on_sample: &mut dyn FnMut(usize, &SamplePower),
+) -> Result<EnergyReport> {
     let n = model.n;
-    check_trajectory(model, traj)?;
     let len = traj.len();
     let mut data = model.data();
     let mut s = SamplePower::default();
@@ -697,18 +730,30 @@ pub fn evaluate_streaming(
     let mut acc = Streamed::new();
     let mut first_tau2 = [0.0; MAX_DOF];
     let t = &traj.t;
-    for k in 0..len {
-        eval_sample(model, &mut data, traj.q(k), traj.qd(k), traj.qdd(k), &mut s)?;
-        if k > 0 {
-            acc.add_interval(n, t[k] - t[k - 1], &prev, &s);
-        } else {
-            for (f, t) in first_tau2.iter_mut().zip(&s.tau[..n]) {
-                *f = t.powi(2);
+    for k0 in (0..len).step_by(STREAM_BLOCK) {
+        let count = STREAM_BLOCK.min(len - k0);
+        let (qd, qdd) = rates.block(k0, count);
+        for (r, k) in (k0..k0 + count).enumerate() {
+            let row = r * n..(r + 1) * n;
+            eval_sample(
+                model,
+                &mut data,
+                traj.q(k),
+                &qd[row.clone()],
+                &qdd[row],
+                &mut s,
+            )?;
+            if k > 0 {
+                acc.add_interval(n, t[k] - t[k - 1], &prev, &s);
+            } else {
+                for (f, t) in first_tau2.iter_mut().zip(&s.tau[..n]) {
+                    *f = t.powi(2);
+                }
             }
+            acc.add_peaks(n, &s);
+            on_sample(k, &s);
+            prev = s;
         }
-        acc.add_peaks(n, &s);
-        on_sample(k, &s);
-        prev = s;
     }
     let dur = traj.duration();
     let joints = acc.joints(model, dur, len, &first_tau2);
@@ -731,8 +776,9 @@ pub fn evaluate_streaming(
 }
 
 /// Errors for a trajectory the model cannot evaluate: another joint count, value arrays of
-/// the wrong length, times that do not increase.
-fn check_trajectory(model: &EnergyModel, traj: &JointTrajectory) -> Result<()> {
+/// the wrong length (the velocities and accelerations only when `rates` says it keeps
+/// them), times that do not increase.
+fn check_trajectory(model: &EnergyModel, traj: &JointTrajectory, rates: bool) -> Result<()> {
     let n = model.n;
     if traj.n != n {
         return Err(Error::SizeMismatch {
@@ -742,7 +788,8 @@ fn check_trajectory(model: &EnergyModel, traj: &JointTrajectory) -> Result<()> {
         });
     }
     let len = traj.len();
-    for (name, v) in [("q", &traj.q), ("qd", &traj.qd), ("qdd", &traj.qdd)] {
+    let arrays = [("q", &traj.q), ("qd", &traj.qd), ("qdd", &traj.qdd)];
+    for (name, v) in &arrays[..if rates { 3 } else { 1 }] {
         if v.len() != len * n {
             return Err(Error::SizeMismatch {
                 what: format!(

@@ -406,6 +406,8 @@ impl FullChecks<'_, '_, '_> {
             .then(|| feasibility::CheckedLanes::new(model, o, &ev.shapes))
             .flatten();
         let blocks = crate::simd::level() != crate::simd::Level::Scalar;
+        // The velocities and accelerations, kept or (a long path) derived a block at a time.
+        let mut rates = crate::trajectory::RateBlocks::new(tr, self.timed.motion.dt);
         let mut k0 = 0;
         while k0 < m {
             if k0 % 64 == 0 && cancel.is_some_and(|c| c.load(Ordering::Relaxed)) {
@@ -417,14 +419,15 @@ impl FullChecks<'_, '_, '_> {
             } else {
                 1
             };
+            let (qd, qdd) = rates.block(k0, count);
             let screened = blocks
                 && self.joint_checks.screen(
                     o,
                     n,
                     count,
                     &tr.q[k0 * n..(k0 + count) * n],
-                    &tr.qd[k0 * n..(k0 + count) * n],
-                    &tr.qdd[k0 * n..(k0 + count) * n],
+                    qd,
+                    qdd,
                     self.shared
                         .then(|| &self.sincos_all[k0 * 2 * n..(k0 + count) * 2 * n]),
                     &mut margins,
@@ -440,13 +443,14 @@ impl FullChecks<'_, '_, '_> {
                 }
             } else {
                 for k in k0..k0 + count {
+                    let row = (k - k0) * n..(k - k0 + 1) * n;
                     let joint_check = self.joint_checks.check(
                         model,
                         o,
                         tr.q(k),
                         self.sincos_of(k),
-                        tr.qd(k),
-                        tr.qdd(k),
+                        &qd[row.clone()],
+                        &qdd[row],
                         &mut margins,
                     );
                     if k % every == 0 || k + 1 == m || joint_check.is_some() {
@@ -762,10 +766,10 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         // them again where they need them (the same values, bit for bit); and its buffers
         // are freed after, not kept for a next placement.
         let lean = self.job.plan.motion.p.len() >= self.lean_from;
-        let keep = sc.buf.transient_sincos;
-        sc.buf.transient_sincos = lean;
+        let keep = (sc.buf.transient_sincos, sc.buf.lean_rates);
+        (sc.buf.transient_sincos, sc.buf.lean_rates) = (lean, lean);
         let timed = self.time(sc, at);
-        sc.buf.transient_sincos = keep;
+        (sc.buf.transient_sincos, sc.buf.lean_rates) = keep;
         let timed = match timed {
             Ok(t) => t,
             Err(e) => {
@@ -951,16 +955,18 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         let tr = &timed.traj;
         let mut pl = energy::PowerLanes::default();
         let mut inputs = energy::LaneInputs::default();
+        let mut rates = crate::trajectory::RateBlocks::new(tr, dt);
         for k0 in (0..m).step_by(LANES) {
             if stopped() {
                 return Err(abandoned());
             }
             let count = LANES.min(m - k0);
+            let (qd, qdd) = rates.block(k0, count);
             let r = energy::Rows {
                 q: tr.q.get(k0 * n..).unwrap_or(&[]),
                 sincos: sincos.map(|s| s.get(k0 * 2 * n..).unwrap_or(&[])),
-                qd: tr.qd.get(k0 * n..).unwrap_or(&[]),
-                qdd: tr.qdd.get(k0 * n..).unwrap_or(&[]),
+                qd,
+                qdd,
             };
             // Inside the path every weight is dt (what trapezoid_weight gives there).
             let mut w = [dt; LANES];
@@ -1000,28 +1006,23 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         let n = self.job.robot.dof();
         let m = timed.traj.len();
         let dt = timed.motion.dt;
+        let mut rates = crate::trajectory::RateBlocks::new(&timed.traj, dt);
         for k in 0..m {
             if k % LANES == 0 && stopped() {
                 return Err(abandoned());
             }
+            let (qd, qdd) = rates.block(k, 1);
             let r = match sincos {
                 Some(s) => energy::eval_sample_with_sincos(
                     &self.job.energy,
                     data,
                     timed.traj.q(k),
                     &s[k * 2 * n..(k + 1) * 2 * n],
-                    timed.traj.qd(k),
-                    timed.traj.qdd(k),
+                    qd,
+                    qdd,
                     sp,
                 ),
-                None => energy::eval_sample(
-                    &self.job.energy,
-                    data,
-                    timed.traj.q(k),
-                    timed.traj.qd(k),
-                    timed.traj.qdd(k),
-                    sp,
-                ),
+                None => energy::eval_sample(&self.job.energy, data, timed.traj.q(k), qd, qdd, sp),
             };
             r.map_err(|e| Infeasible::model_error(k, dt, &e))?;
             sums.add_sample(k, sp, crate::numerics::trapezoid_weight(k, m, dt), n);

@@ -123,6 +123,20 @@ impl<'a> PathJob<'a> {
         timing::time_at_planned(solver, &self.timing(&lines), at, &mut buf)
     }
 
+    /// [`PathJob::time`] keeping no joint velocities and accelerations
+    /// ([`Buffers::lean_rates`]: the timed path's `qd` and `qdd` are empty, derived where
+    /// used); for a consumer that takes them a block at a time.
+    pub(crate) fn time_lean(
+        &self,
+        solver: &IkSolver,
+        at: &Placement,
+    ) -> std::result::Result<TimedPath, TimingFailure> {
+        let lines = |i: usize| self.line_of(i);
+        let mut buf = Buffers::default();
+        (buf.transient_sincos, buf.lean_rates) = (true, true);
+        timing::time_at_planned(solver, &self.timing(&lines), at, &mut buf)
+    }
+
     /// Time the path and compute its energy at a placement. The outer error is a model error;
     /// the inner one says why the placement is infeasible.
     pub fn evaluate(

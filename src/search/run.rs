@@ -820,7 +820,8 @@ pub fn detail(job: &PathJob, label: &str, e: &Evaluated) -> Result<Option<Detail
     // The energy integrated sample by sample into the report's figures and charts: no
     // per-sample series is kept (a long print's would be hundreds of bytes a sample).
     let solver = crate::kinematics::IkSolver::new(job.robot)?;
-    let Ok(timed) = job.time(&solver, &e.placement) else {
+    // Positions only: the rates are derived a block at a time as the energy takes them.
+    let Ok(timed) = job.time_lean(&solver, &e.placement) else {
         return Ok(None);
     };
     let mut charts = crate::report::placement::DetailCharts::new(
@@ -829,9 +830,11 @@ pub fn detail(job: &PathJob, label: &str, e: &Evaluated) -> Result<Option<Detail
         job.robot.drive.is_some(),
     );
     let t = &timed.traj.t;
-    let energy = crate::energy::evaluate_streaming(&job.energy, &timed.traj, &mut |k, s| {
-        charts.push(t[k], s)
-    })?;
+    let dt = timed.motion.dt;
+    let energy =
+        crate::energy::evaluate_streaming_timed(&job.energy, &timed.traj, dt, &mut |k, s| {
+            charts.push(t[k], s)
+        })?;
     charts.finish();
     Ok(Some(Detail {
         label: label.into(),

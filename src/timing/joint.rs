@@ -1035,6 +1035,8 @@ struct Violation {
     kind: LimitKind,
     sample: usize,
     ratio: f64,
+    /// The joint's velocity and acceleration at that sample (rad/s, rad/s²).
+    rate: (f64, f64),
 }
 
 /// Every (sample, joint, limit) over its limit, from the positions `q` (for the jerk,
@@ -1215,6 +1217,43 @@ fn derivatives_and_violations(
     out
 }
 
+/// Samples whose velocities and accelerations [`lean_violations`] derives at a time.
+const LEAN_BLOCK: usize = 4096;
+
+/// The [`violations`] of the positions `q` (row-major, `dt` s apart, at least 5 samples, a
+/// finite `dt` > 0) without keeping their velocities and accelerations: derived
+/// [`LEAN_BLOCK`] samples at a time ([`crate::numerics::uniform_rates_rows`], the values
+/// of [`derivatives_and_violations`] bit for bit) and checked sample by sample, so the list
+/// is the same (order, ratios).
+fn lean_violations(
+    model: &RobotModel,
+    q: &[f64],
+    dt: f64,
+    check_jerk: bool,
+    level: crate::simd::Level,
+) -> Vec<Violation> {
+    let n = model.dof();
+    let m = q.len() / n;
+    let mut out = Vec::new();
+    let (mut qd, mut qdd) = (vec![0.0; LEAN_BLOCK * n], vec![0.0; LEAN_BLOCK * n]);
+    for k0 in (0..m).step_by(LEAN_BLOCK) {
+        let count = LEAN_BLOCK.min(m - k0);
+        crate::numerics::uniform_rates_rows(q, n, dt, k0, count, &mut qd, &mut qdd, level);
+        for r in 0..count {
+            let row = r * n..(r + 1) * n;
+            row_violations_of(
+                model,
+                q,
+                (&qd[row.clone()], &qdd[row]),
+                (dt, check_jerk, m),
+                k0 + r,
+                &mut out,
+            );
+        }
+    }
+    out
+}
+
 /// A bound `b` on the jerk's numerator such that `|num| / den > limit` (the per-sample jerk
 /// check, `den = 2 dt³` s³ > 0, a finite `limit` rad/s³) implies `|num| > b`: the screen's
 /// test without a division. `limit · den`, lowered by a few ulps for its rounding; where that
@@ -1328,6 +1367,29 @@ fn row_violations(
 ) {
     let n = model.dof();
     let m = qd.len() / n;
+    let row = k * n..(k + 1) * n;
+    row_violations_of(
+        model,
+        q,
+        (&qd[row.clone()], &qdd[row]),
+        (dt, check_jerk, m),
+        k,
+        out,
+    );
+}
+
+/// [`row_violations`] with sample `k`'s velocities and accelerations given (`rates`, one
+/// row each), of a path of `m` samples.
+#[inline]
+fn row_violations_of(
+    model: &RobotModel,
+    q: &[f64],
+    (qd, qdd): (&[f64], &[f64]),
+    (dt, check_jerk, m): (f64, bool, usize),
+    k: usize,
+    out: &mut Vec<Violation>,
+) {
+    let n = model.dof();
     let jerk = |k: usize, j: usize| {
         if check_jerk && m >= 5 {
             crate::numerics::third_derivative_uniform_at(q, n, dt, k, j)
@@ -1337,12 +1399,8 @@ fn row_violations(
     };
     for (j, jt) in model.joints.iter().enumerate() {
         let checks = [
-            (LimitKind::Velocity, qd[k * n + j], jt.velocity_limit),
-            (
-                LimitKind::Acceleration,
-                qdd[k * n + j],
-                jt.acceleration_limit,
-            ),
+            (LimitKind::Velocity, qd[j], jt.velocity_limit),
+            (LimitKind::Acceleration, qdd[j], jt.acceleration_limit),
             (
                 LimitKind::Jerk,
                 if jt.jerk_limit.is_finite() {
@@ -1360,6 +1418,7 @@ fn row_violations(
                     kind,
                     sample: k,
                     ratio: v.abs() / lim,
+                    rate: (qd[j], qdd[j]),
                 });
             }
         }
@@ -1691,6 +1750,12 @@ pub struct Buffers {
     /// arm, that its consumers compute again with the same function, bit for bit, where they
     /// need them). Off by default.
     pub transient_sincos: bool,
+    /// Keep no joint velocities and accelerations: the timed path's `qd` and `qdd` are left
+    /// empty, its consumers derive them from the positions a block at a time (the same
+    /// values, bit for bit), and a re-planned round lets the previous round's samples go
+    /// before planning (a long path's full evaluation: 96 bytes a sample fewer for a
+    /// six-axis arm). Applies to paths of at least 5 samples; off by default.
+    pub lean_rates: bool,
     /// The base-frame tips of the shared plan's samples at the placement being timed, lane by
     /// lane ([`TipMap::lanes_of`]), computed once by the reach prune of [`time_at_planned`] and used
     /// again by its tracking's first round (scratch; meaningless between calls).
@@ -1701,11 +1766,22 @@ impl Buffers {
     /// Free every vector, keeping the settings (a long path's buffers, hundreds of megabytes,
     /// are not worth keeping for a next placement).
     pub fn release(&mut self) {
-        let transient_sincos = self.transient_sincos;
+        let (transient_sincos, lean_rates) = (self.transient_sincos, self.lean_rates);
         *self = Buffers {
             transient_sincos,
+            lean_rates,
             ..Buffers::default()
         };
+    }
+
+    /// Free the per-sample vectors of a tracked round (positions, TCP points, rates, sines),
+    /// keeping the settings and the tips.
+    fn release_samples(&mut self) {
+        self.qs = Vec::new();
+        self.tcp = Vec::new();
+        self.qd = Vec::new();
+        self.qdd = Vec::new();
+        self.sincos = Vec::new();
     }
 
     /// Take back the vectors of a timed path for reuse.
@@ -1813,25 +1889,51 @@ fn time_path_rounds(
             *buf = tracked;
             return Err(e);
         }
-        let viol = derivatives_and_violations(
-            model,
-            &tracked.qs,
-            motion.dt,
-            path.joint.check_jerk,
-            &mut tracked.qd,
-            &mut tracked.qdd,
-            crate::simd::level(),
-        );
+        let dt = motion.dt;
+        let lean = tracked.lean_rates && tracked.qs.len() >= 5 * rs.n && dt > 0.0 && dt.is_finite();
+        let viol = if lean {
+            // Positions only: the rates are derived where they are used.
+            tracked.qd = Vec::new();
+            tracked.qdd = Vec::new();
+            let level = crate::simd::level();
+            lean_violations(model, &tracked.qs, dt, path.joint.check_jerk, level)
+        } else {
+            derivatives_and_violations(
+                model,
+                &tracked.qs,
+                dt,
+                path.joint.check_jerk,
+                &mut tracked.qd,
+                &mut tracked.qdd,
+                crate::simd::level(),
+            )
+        };
         if viol.is_empty() {
             return Ok(rs.finish(tracked, buf, motion));
         }
-        match rs.slow_down(&viol, &tracked, &motion) {
-            Ok(m) => next = Some(Arc::new(m)),
-            Err(e) => {
-                *buf = tracked;
-                return Err(e);
-            }
+        if let Err(e) = rs.slow_down(&viol, &tracked, &motion) {
+            *buf = tracked;
+            return Err(e);
         }
+        // This round's plan and tracked samples are not needed to plan the next one: a
+        // long path's (hundreds of megabytes) are let go first, so that two rounds' worth
+        // never coexist.
+        drop(motion);
+        if lean {
+            tracked.release_samples();
+        }
+        let PathTiming {
+            pieces,
+            plan,
+            profile,
+            ..
+        } = *path;
+        next = Some(Arc::new(plan_at_speeds(
+            pieces,
+            &plan.nodes,
+            &rs.v,
+            profile,
+        )));
     }
 }
 
@@ -1873,6 +1975,7 @@ impl Rounds<'_, '_> {
         traj.qdd = tracked.qdd;
         buf.sincos = tracked.sincos;
         buf.transient_sincos = tracked.transient_sincos;
+        buf.lean_rates = tracked.lean_rates;
         TimedPath {
             traj,
             motion,
@@ -1903,13 +2006,14 @@ impl Rounds<'_, '_> {
 
     /// After a round whose plan `motion` (tracked: `tracked`) has the violations `viol`: slow
     /// down around every violating sample (see [`Slowing`]), report the worst per (joint,
-    /// kind, move), and plan the next round; the limits not met when no round may follow.
+    /// kind, move), and set the next round's node speeds (`v`); the limits not met when no
+    /// round may follow.
     fn slow_down(
         &mut self,
         viol: &[Violation],
         tracked: &Buffers,
         motion: &CartesianMotion,
-    ) -> Result<CartesianMotion, TimingFailure> {
+    ) -> Result<(), TimingFailure> {
         let PathTiming {
             pieces,
             plan: shared,
@@ -1958,7 +2062,7 @@ impl Rounds<'_, '_> {
         if over_budget(&self.v, nodes, popts) {
             return Err(self.worst(viol, motion));
         }
-        Ok(plan_at_speeds(pieces, nodes, &self.v, popts))
+        Ok(())
     }
 }
 
@@ -1986,8 +2090,8 @@ fn excesses_of(
                 ratio: w.ratio,
                 ramp_share: ramp_share(
                     w.kind,
-                    tracked.qd[k * n + j],
-                    tracked.qdd[k * n + j],
+                    w.rate.0,
+                    w.rate.1,
                     jerk,
                     path_rates(&motion.s, dt, k),
                 ),

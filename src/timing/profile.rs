@@ -321,9 +321,12 @@ pub(crate) fn plan_at_speeds(
         let k = piece_of(s);
         pieces[k].prim.point(s - starts[k])
     };
+    // Each unfiltered series let go once filtered (a long path's are tens of megabytes).
     let p_raw: Vec<V3> = s_raw.iter().map(|&s| point_at(s)).collect();
     let p = box_filter(&p_raw, taps);
+    drop(p_raw);
     let s = box_filter(&s_raw, taps);
+    drop(s_raw);
     let piece: Vec<usize> = s.iter().map(|&x| piece_of(x)).collect();
     let print = piece.iter().map(|&k| pieces[k].print).collect();
     CartesianMotion {
