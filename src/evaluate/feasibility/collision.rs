@@ -111,6 +111,31 @@ impl HeadOverPart {
         })
     }
 
+    /// The head's pose and box (part frame) with the nozzle tip at a point, the nozzle spun by
+    /// `spin` (rad). The head turns the same way at every point: its rotation and its box
+    /// turned (parry's support-map box: each face a support point, rotation · local support +
+    /// translation) are found once, and at a point the box is that turned box moved by the
+    /// pose's translation: the same values, bit for bit, as `compute_aabb` at the pose
+    /// (tested), without its six support-point searches a sample.
+    fn placed(&self, spin: f64) -> impl Fn(&V3) -> (Isometry<f64>, Aabb) + '_ {
+        let rot = crate::kinematics::nozzle_target(&V3::zeros(), spin).rot;
+        let turn = iso(&Frame {
+            rot,
+            pos: V3::zeros(),
+        })
+        .rotation;
+        let turned = {
+            let r = (Isometry::from_parts(Translation::identity(), turn) * self.local).rotation;
+            self.shape
+                .compute_aabb(&Isometry::from_parts(Translation::identity(), r))
+        };
+        move |tip: &V3| {
+            let pose = Isometry::from_parts(Translation::from(*tip), turn) * self.local;
+            let t = pose.translation.vector;
+            (pose, Aabb::new(turned.mins + t, turned.maxs + t))
+        }
+    }
+
     /// The first sample of the nozzle-tip points `p` (part frame, m) at which the head, the
     /// nozzle spun by `spin` (rad) relative to the part, comes within the bead radius of a
     /// bead of `beads` laid by then: every sample is checked.
@@ -118,15 +143,16 @@ impl HeadOverPart {
         if beads.is_empty() {
             return None;
         }
-        let rot = crate::kinematics::nozzle_target(&V3::zeros(), spin).rot;
+        let placed = self.placed(spin);
+        let bound = PieceBound::of_aabb(&self.shape.compute_local_aabb());
         let mut laid = 0;
         for (k, tip) in p.iter().enumerate() {
             laid = beads.laid_at_from(k, laid);
             if laid == 0 {
                 continue;
             }
-            let pose = iso(&Frame { rot, pos: *tip }) * self.local;
-            if let Some(b) = beads.hit(&pose, &self.shape, laid) {
+            let (pose, aabb) = placed(tip);
+            if let Some(b) = beads.hit_placed(&pose, &self.shape, &aabb, None, Some(&bound), laid) {
                 return Some(HeadHit {
                     sample: k,
                     bead: b,
@@ -183,8 +209,8 @@ pub struct BodyShape {
     /// is that box turned (a box that holds the piece's AABB, in O(1) instead of one transform
     /// per vertex: the broad phase of a piece with a few hundred vertices).
     local_box: Option<(Vector<f64>, Vector<f64>)>,
-    /// A mesh piece's AABB in its own frame (the prefilter of its exact distance to a bead).
-    local_aabb: Option<Aabb>,
+    /// A mesh piece's bounds in its own frame (the prefilter of its exact distance to a bead).
+    local_bound: Option<PieceBound>,
 }
 
 impl BodyShape {
@@ -197,8 +223,12 @@ impl BodyShape {
     ) -> Self {
         let b = shape.compute_local_bounding_sphere();
         let capsule = shape.as_capsule().copied();
-        let local_aabb = shape.as_convex_polyhedron().map(|h| h.local_aabb());
-        let local_box = local_aabb.map(|a| (a.center().coords, a.half_extents()));
+        let local_bound = shape
+            .as_convex_polyhedron()
+            .map(|h| PieceBound::of_points(h.local_aabb(), h.points()));
+        let local_box = local_bound
+            .as_ref()
+            .map(|b| (b.aabb.center().coords, b.aabb.half_extents()));
         let at_origin = local == Isometry::identity();
         let local_frame = Frame {
             rot: *local.rotation.to_rotation_matrix().matrix(),
@@ -224,7 +254,7 @@ impl BodyShape {
             axis_body: capsule.map(|c| (in_body(&c.segment.a), in_body(&c.segment.b), c.radius)),
             centre_body: in_body(&b.center),
             local_box,
-            local_aabb,
+            local_bound,
         }
     }
 }
@@ -991,7 +1021,7 @@ impl Beads {
         let local = if shape.as_convex_polyhedron().is_some() {
             None
         } else {
-            Some(shape.compute_local_aabb())
+            Some(PieceBound::of_aabb(&shape.compute_local_aabb()))
         };
         self.hit_placed(pose, shape, aabb, cap, local.as_ref(), laid)
     }
@@ -1008,7 +1038,7 @@ impl Beads {
         pose: &Isometry<f64>,
         shape: &SharedShape,
         cap: &Option<(Point<f64>, Point<f64>, f64)>,
-        local: Option<&Aabb>,
+        local: Option<&PieceBound>,
     ) -> bool {
         let cap_id = Isometry::identity();
         let seg = &self.segs[i];
@@ -1029,7 +1059,7 @@ impl Beads {
                         pose.inverse_transform_point(&seg.b),
                     );
                     let sb = Aabb::new(a.inf(&b), a.sup(&b));
-                    if aabb_gap(&sb, l) >= self.radius_m {
+                    if aabb_gap(&sb, &l.aabb) >= self.radius_m || l.apart(&a, &b, self.radius_m) {
                         return false;
                     }
                 }
@@ -1049,7 +1079,7 @@ impl Beads {
         shape: &SharedShape,
         aabb: &Aabb,
         cap: Option<(Point<f64>, Point<f64>, f64)>,
-        local: Option<&Aabb>,
+        local: Option<&PieceBound>,
         laid: usize,
     ) -> Option<usize> {
         if laid == 0 || self.nodes.is_empty() {
@@ -1067,7 +1097,7 @@ impl Beads {
         // reach (the node's box holds every point within the bead radius of its beads).
         let turned = local
             .filter(|_| cap.is_none())
-            .map(|l| Turned::new(pose, l));
+            .map(|l| Turned::new(pose, &l.aabb));
         // Depth-first, lower indices first: the first bead found is the first laid.
         let mut stack = [0u32; 64];
         let mut top = 1;
@@ -1514,7 +1544,7 @@ impl Against<'_> {
         } else {
             at.iso(i, s)
         };
-        let b = beads.hit_placed(&p, &s.shape, a, cap, s.local_aabb.as_ref(), laid)?;
+        let b = beads.hit_placed(&p, &s.shape, a, cap, s.local_bound.as_ref(), laid)?;
         Some((
             Reason::CollisionPart,
             format!(
@@ -1695,7 +1725,76 @@ fn obb_separated(
     false
 }
 
-/// Distance between two AABBs, m (0 when they overlap).
+/// The ten directions beside the axes of a 26-sided discrete orientation polytope (k-DOP):
+/// the six edge diagonals and the four corner diagonals of a cube, of unit length.
+const DOP_DIRS: [[f64; 3]; 10] = {
+    const E: f64 = std::f64::consts::FRAC_1_SQRT_2;
+    const C: f64 = 0.577_350_269_189_625_8; // 1/√3
+    [
+        [E, E, 0.0],
+        [E, -E, 0.0],
+        [E, 0.0, E],
+        [E, 0.0, -E],
+        [0.0, E, E],
+        [0.0, E, -E],
+        [C, C, C],
+        [C, C, -C],
+        [C, -C, C],
+        [-C, C, C],
+    ]
+};
+
+/// Distance beyond the bead radius by which [`PieceBound::apart`] must hold a segment from a
+/// piece before the exact distance is skipped, m: far above the rounding of either test, so
+/// that a bead the exact distance finds within reach is never skipped.
+const DOP_SLACK_M: f64 = 1e-6;
+
+/// A shape's bounds in its own frame: its AABB, and its extent (least and greatest projection)
+/// along the ten [`DOP_DIRS`]: with the AABB, a 26-sided polytope that holds the shape. A mesh
+/// piece near the print (a wrist, a tool flange) is often a rounded or slanted body that fills
+/// the corners of its box poorly; the diagonal planes prove most beads near the box out of
+/// reach with 20 dot products, where the exact distance (GJK) takes several scans of the
+/// piece's vertices.
+#[derive(Clone, Copy, Debug)]
+pub(crate) struct PieceBound {
+    aabb: Aabb,
+    dop: [(f64, f64); 10],
+}
+
+impl PieceBound {
+    /// The bounds of a convex hull's vertices (`aabb`: their box).
+    fn of_points(aabb: Aabb, points: &[Point<f64>]) -> PieceBound {
+        let mut dop = [(f64::INFINITY, f64::NEG_INFINITY); 10];
+        for p in points {
+            for (d, u) in dop.iter_mut().zip(&DOP_DIRS) {
+                let s = u[0] * p.x + u[1] * p.y + u[2] * p.z;
+                *d = (d.0.min(s), d.1.max(s));
+            }
+        }
+        PieceBound { aabb, dop }
+    }
+
+    /// The bounds of a box (its corners: the polytope holds whatever the box holds).
+    fn of_aabb(aabb: &Aabb) -> PieceBound {
+        PieceBound {
+            dop: PieceBound::of_points(*aabb, &aabb.vertices()).dop,
+            aabb: *aabb,
+        }
+    }
+
+    /// The segment `a`–`b` (the shape's frame, m) lies `r` + [`DOP_SLACK_M`] or more beyond
+    /// one of the diagonal planes: no point of it comes within `r` of the shape.
+    #[inline(always)]
+    fn apart(&self, a: &Point<f64>, b: &Point<f64>, r: f64) -> bool {
+        let reach = r + DOP_SLACK_M;
+        self.dop.iter().zip(&DOP_DIRS).any(|(&(lo, hi), u)| {
+            let sa = u[0] * a.x + u[1] * a.y + u[2] * a.z;
+            let sb = u[0] * b.x + u[1] * b.y + u[2] * b.z;
+            sa.min(sb) - hi >= reach || lo - sa.max(sb) >= reach
+        })
+    }
+}
+
 /// A box of a shape's own frame turned to a pose (part frame): centre, axes and half extents.
 struct Turned {
     centre: Vector<f64>,
@@ -1731,6 +1830,7 @@ impl Turned {
     }
 }
 
+/// Distance between two AABBs, m (0 when they overlap).
 fn aabb_gap(a: &Aabb, b: &Aabb) -> f64 {
     let mut s = 0.0;
     for k in 0..3 {
@@ -1743,6 +1843,7 @@ fn aabb_gap(a: &Aabb, b: &Aabb) -> f64 {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use parry3d_f64::shape::ConvexPolyhedron;
     use rand::{Rng, SeedableRng};
 
     /// The first laid bead within reach of `shape`, by looking at every bead in turn.
@@ -1821,6 +1922,125 @@ mod tests {
         // No beads at all: nothing to hit, whatever `laid` says.
         let none = Beads::new(&p[..10], &[false; 10], 5, BEAD_RADIUS_M);
         assert_eq!(none.hit(&Isometry::identity(), &shapes[0], 3), None);
+    }
+
+    /// The 26-sided bound of a mesh piece never proves a bead out of reach that the exact
+    /// distance finds within reach (random convex hulls, random segments near them, many
+    /// within a hair of the bead radius), and it does prove most far beads out of reach.
+    #[test]
+    fn the_piece_bound_never_skips_a_bead_the_exact_distance_finds_within_reach() {
+        let mut rng = rand::rngs::StdRng::seed_from_u64(26);
+        let r = BEAD_RADIUS_M;
+        let (mut near, mut far, mut skipped_far) = (0, 0, 0);
+        for _ in 0..400 {
+            // A hull of 40 random points in a slanted, elongated cloud (a link piece).
+            let (a, b, c) = (
+                rng.gen_range(0.02..0.3),
+                rng.gen_range(0.02..0.1),
+                rng.gen_range(0.02..0.1),
+            );
+            let rot = UnitQuaternion::from_euler_angles(
+                rng.gen_range(-3.2..3.2),
+                rng.gen_range(-1.6..1.6),
+                rng.gen_range(-3.2..3.2),
+            );
+            let pts: Vec<Point<f64>> = (0..40)
+                .map(|_| {
+                    rot * Point::new(
+                        rng.gen_range(-a..a),
+                        rng.gen_range(-b..b),
+                        rng.gen_range(-c..c),
+                    )
+                })
+                .collect();
+            let Some(hull) = ConvexPolyhedron::from_convex_hull(&pts) else {
+                continue;
+            };
+            let bound = PieceBound::of_points(hull.local_aabb(), hull.points());
+            for _ in 0..100 {
+                let mut pt = || {
+                    Point::new(
+                        rng.gen_range(-0.5..0.5),
+                        rng.gen_range(-0.5..0.5),
+                        rng.gen_range(-0.5..0.5),
+                    )
+                };
+                let (mut sa, mut sb) = (pt(), pt());
+                // Half the segments moved to within a hair of the bead radius of the hull.
+                if rng.gen_bool(0.5) {
+                    let seg = Segment::new(sa, sb);
+                    let id = Isometry::identity();
+                    let d = query::distance(&id, &hull, &id, &seg).unwrap();
+                    if d > 0.0 {
+                        let cp = query::closest_points(&id, &hull, &id, &seg, f64::MAX).unwrap();
+                        if let query::ClosestPoints::WithinMargin(p1, p2) = cp {
+                            let shift =
+                                (p1 - p2).normalize() * (d - r + rng.gen_range(-1e-7..1e-7));
+                            sa += shift;
+                            sb += shift;
+                        }
+                    }
+                }
+                let seg = Segment::new(sa, sb);
+                let id = Isometry::identity();
+                let d = query::distance(&id, &hull, &id, &seg).unwrap();
+                let skipped = bound.apart(&sa, &sb, r);
+                assert!(
+                    !(skipped && d < r),
+                    "a bead at {d} m (radius {r} m) skipped: {sa:?} {sb:?}"
+                );
+                if d < r {
+                    near += 1;
+                } else if d > r + 0.05 {
+                    far += 1;
+                    skipped_far += usize::from(skipped);
+                }
+            }
+        }
+        assert!(near > 5000 && far > 5000, "{near} near, {far} far");
+        assert!(
+            skipped_far * 10 > far * 6,
+            "{skipped_far} of {far} beads far out of reach skipped"
+        );
+    }
+
+    /// The print head's pose and box at a nozzle-tip point, its turned box found once and
+    /// moved, are those of the pose made from the tip's frame and parry's `compute_aabb`,
+    /// bit for bit, for any spin and any point.
+    #[test]
+    fn the_heads_moved_box_is_parrys_box_at_its_pose_bit_for_bit() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let model = crate::robot::load(&root.join("robots/abb_irb6700_200_260")).unwrap();
+        let head = HeadOverPart::new(&model, 2.6, &LinkRadii::default(), 0.05).unwrap();
+        let mut rng = rand::rngs::StdRng::seed_from_u64(5);
+        for _ in 0..200 {
+            let spin = rng.gen_range(-7.0..7.0);
+            let placed = head.placed(spin);
+            let rot = crate::kinematics::nozzle_target(&V3::zeros(), spin).rot;
+            for _ in 0..50 {
+                let tip = V3::new(
+                    rng.gen_range(-3.0..3.0),
+                    rng.gen_range(-3.0..3.0),
+                    rng.gen_range(-0.5..2.5),
+                );
+                let pose = iso(&Frame { rot, pos: tip }) * head.local;
+                let (p, b) = placed(&tip);
+                assert_eq!(p, pose);
+                let want = head.shape.compute_aabb(&pose);
+                for d in 0..3 {
+                    assert_eq!(
+                        b.mins[d].to_bits(),
+                        want.mins[d].to_bits(),
+                        "{spin} {tip:?}"
+                    );
+                    assert_eq!(
+                        b.maxs[d].to_bits(),
+                        want.maxs[d].to_bits(),
+                        "{spin} {tip:?}"
+                    );
+                }
+            }
+        }
     }
 
     /// The oriented-box prefilter of the self pairs never calls two meeting boxes apart, and
