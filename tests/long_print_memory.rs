@@ -216,12 +216,13 @@ fn sweep_json_is_written_without_a_value_tree() {
 }
 
 #[test]
-fn a_long_prints_full_evaluation_holds_its_timed_path_and_no_per_sample_sines() {
+fn a_long_prints_full_evaluation_holds_its_positions_and_no_per_sample_rates_or_sines() {
     // A wall of more than LEAN_SAMPLES samples evaluated in full (the answer's confirmation,
-    // a reduced evaluation's fallback): the timed path (positions, velocities, accelerations,
-    // TCP points, times: about 176 bytes a sample for a six-axis arm, and the tips mapped to
-    // the base frame while it is tracked, 24) is what it holds; the sines and cosines of every
-    // sample (96 bytes more) are not kept, and the scratch is left without buffers.
+    // a reduced evaluation's fallback): the timed path's positions, TCP points and times
+    // (80 bytes a sample for a six-axis arm, and the tips mapped to the base frame while it
+    // is tracked, 24) are what it holds; the velocities and accelerations (96 bytes more) are
+    // derived a block at a time where they are used, the sines and cosines of every sample
+    // (96 bytes more) are not kept, and the scratch is left without buffers.
     let _one = ONE_AT_A_TIME.lock().unwrap_or_else(|p| p.into_inner());
     let model = common::robot("abb_irb6700_200_260");
     let text = wall::wall_gcode(1800.0, 600.0, 4.0, 24);
@@ -257,8 +258,8 @@ fn a_long_prints_full_evaluation_holds_its_timed_path_and_no_per_sample_sines() 
     let per = peak as f64 / samples as f64;
     eprintln!("{samples} samples: a full evaluation peaks at {per:.0} bytes a sample");
     assert!(
-        per < 240.0,
-        "a full evaluation of a long print holds {per:.0} bytes a sample (the timed path is about 200)"
+        per < 130.0,
+        "a full evaluation of a long print holds {per:.0} bytes a sample (positions, TCP points, times and tips: about 104)"
     );
     // Nothing is left in the scratch for a next placement (a short path's scratch keeps its
     // buffers: here they would be tens of megabytes).

@@ -647,7 +647,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         at: &Placement,
     ) -> Option<Infeasible> {
         let head = self.head.as_ref()?;
-        let spin = at.nozzle_spin;
+        let spin = head.spin_checked(at.nozzle_spin);
         let hit = if std::sync::Arc::ptr_eq(motion, &self.job.plan.motion) {
             let key = spin.to_bits();
             let known = self

@@ -2549,9 +2549,10 @@ mod tests {
     }
 
     #[test]
-    fn fused_derivatives_and_screen_equal_the_two_passes_bit_for_bit_on_every_level() {
-        // The one-pass derivatives and screened limit checks against the two passes of the
-        // per-sample path (differentiate_uniform_into_on, then violations, both scalar):
+    fn fused_and_block_derived_rates_and_their_limit_checks_equal_the_two_passes_bit_for_bit() {
+        // The one-pass derivatives and screened limit checks, and the rates derived a block
+        // at a time with the lean checks on them (from 5 samples), against the two passes of
+        // the per-sample path (differentiate_uniform_into_on, then violations, both scalar):
         // paths of 0 to 40 samples and longer ones (not multiples of 8 or of a block),
         // positions with NaN and infinities here and there, limits at quantiles of the
         // demand (and none, NaN, −∞, 0, negative), steps whose jerk denominator underflows
@@ -2623,8 +2624,10 @@ mod tests {
                                 crate::simd::Level::Scalar,
                             );
                             with_excess += usize::from(!want.is_empty());
-                            let key =
-                                |v: &Violation| (v.sample, v.joint, v.kind, v.ratio.to_bits());
+                            let key = |v: &Violation| {
+                                let r = (v.rate.0.to_bits(), v.rate.1.to_bits());
+                                (v.sample, v.joint, v.kind, v.ratio.to_bits(), r)
+                            };
                             let bits =
                                 |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
                             for &level in &levels() {
@@ -2646,6 +2649,32 @@ mod tests {
                                     );
                                     checked += 1;
                                 }
+                                if m < 5 {
+                                    continue;
+                                }
+                                let lean = lean_violations(&model, q, dt, check_jerk, level);
+                                assert_eq!(
+                                    lean.iter().map(key).collect::<Vec<_>>(),
+                                    want.iter().map(key).collect::<Vec<_>>(),
+                                    "lean m={m} dt={dt} scale={scale} jerk={check_jerk} {level:?}"
+                                );
+                                // Blocks of every size from every start, ends included.
+                                for count in [1, 2, 3, 7, m / 2, m] {
+                                    for k0 in (0..m).step_by(count.max(1)) {
+                                        let c = count.min(m - k0);
+                                        let (mut d, mut dd) = (vec![7.0; c * n], vec![7.0; c * n]);
+                                        crate::numerics::uniform_rates_rows(
+                                            q, n, dt, k0, c, &mut d, &mut dd, level,
+                                        );
+                                        let r = k0 * n..(k0 + c) * n;
+                                        assert_eq!(
+                                            bits(&d),
+                                            bits(&d0[r.clone()]),
+                                            "m={m} {k0}+{c}"
+                                        );
+                                        assert_eq!(bits(&dd), bits(&dd0[r]), "m={m} {k0}+{c}");
+                                    }
+                                }
                             }
                         }
                     }
@@ -2656,6 +2685,85 @@ mod tests {
             checked > 1000 && with_excess > 100,
             "{checked} {with_excess}"
         );
+    }
+
+    #[test]
+    fn a_path_timed_without_keeping_its_rates_is_the_same_path_and_derives_the_same_rates() {
+        // A 1.8 × 0.6 m rectangle printed twice by the IRB 6700 with its joint limits lowered
+        // so that the controller slows down over several rounds: timed keeping the rates and
+        // timed lean (positions only, the previous round let go before each re-plan), the
+        // same positions, slow-downs and rounds, and the rates derived a block at a time
+        // equal the kept ones, bit for bit.
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let mut model = crate::robot::load(&root.join("robots/abb_irb6700_200_260")).unwrap();
+        for j in &mut model.joints {
+            j.velocity_limit *= 0.15;
+            j.acceleration_limit *= 0.15;
+        }
+        let c = [
+            (-0.9, -0.3),
+            (0.9, -0.3),
+            (0.9, 0.3),
+            (-0.9, 0.3),
+            (-0.9, -0.3),
+        ];
+        let moves: Vec<Move> = (0..2)
+            .flat_map(|layer| {
+                let z = 0.004 * (layer + 1) as f64;
+                c.windows(2).enumerate().map(move |(i, w)| Move {
+                    prim: Prim::Line {
+                        a: V3::new(w[0].0, w[0].1, z),
+                        b: V3::new(w[1].0, w[1].1, z),
+                    },
+                    speed: 0.4,
+                    zone: 0.01,
+                    print: true,
+                    line: 4 * layer + i + 1,
+                })
+            })
+            .collect();
+        let pieces = blend_path(&moves);
+        let solver = crate::kinematics::IkSolver::new(&model).unwrap();
+        let at = Placement::new(1.683, 0.128, 0.028, 90.3f64.to_radians());
+        let popts = ProfileOptions::default();
+        let plan = Plan::new(&pieces, &popts);
+        let lines = |i: usize| i + 1;
+        let path = PathTiming {
+            pieces: &pieces,
+            plan: &plan,
+            moves_line: &lines,
+            profile: &popts,
+            joint: &JointStageOptions::default(),
+            source: "",
+        };
+        let kept = time_at_planned(&solver, &path, &at, &mut Buffers::default()).unwrap();
+        let mut buf = Buffers {
+            lean_rates: true,
+            ..Buffers::default()
+        };
+        let lean = time_at_planned(&solver, &path, &at, &mut buf).unwrap();
+        assert!(kept.rounds > 2, "{} rounds", kept.rounds);
+        assert!(lean.traj.qd.is_empty() && lean.traj.qdd.is_empty());
+        assert!(buf.lean_rates);
+        let bits = |v: &[f64]| v.iter().map(|x| x.to_bits()).collect::<Vec<_>>();
+        assert_eq!(bits(&lean.traj.q), bits(&kept.traj.q));
+        assert_eq!(bits(&lean.traj.t), bits(&kept.traj.t));
+        assert_eq!(lean.slowdowns, kept.slowdowns);
+        assert_eq!(lean.rounds, kept.rounds);
+        assert_eq!(lean.accel_factor.to_bits(), kept.accel_factor.to_bits());
+        let n = model.dof();
+        let m = lean.traj.len();
+        let mut rates = crate::trajectory::RateBlocks::new(&lean.traj, lean.motion.dt);
+        for k0 in (0..m).step_by(1000) {
+            let c = 1000.min(m - k0);
+            let (qd, qdd) = rates.block(k0, c);
+            assert_eq!(bits(qd), bits(&kept.traj.qd[k0 * n..(k0 + c) * n]), "{k0}");
+            assert_eq!(
+                bits(qdd),
+                bits(&kept.traj.qdd[k0 * n..(k0 + c) * n]),
+                "{k0}"
+            );
+        }
     }
 
     #[test]

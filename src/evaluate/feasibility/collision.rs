@@ -63,6 +63,10 @@ pub struct HeadOverPart {
     shape: SharedShape,
     /// Clearance above the nozzle tip, m.
     pub clearance_m: f64,
+    /// The head is a cylinder about the nozzle axis (a tool along its flange's axis): turning
+    /// the nozzle about that axis moves no point of it, so where it meets the part does not
+    /// depend on the spin.
+    spin_free: bool,
 }
 
 /// Where the print head meets the printed part: the sample, the bead and the words.
@@ -104,11 +108,30 @@ impl HeadOverPart {
         let (l, shape) = cylinder_between(&V3::zeros(), &low, radius)?;
         // Flange frame → tip frame.
         let to_tip = iso(&model.tool.inverse());
+        let local = to_tip * l;
+        // The cylinder's axis (parry: its local y) in the tip frame, on the nozzle axis (z)?
+        let half = shape.as_cylinder().map_or(0.0, |c| c.half_height);
+        let on_axis = |y: f64| {
+            let p = local * Point::new(0.0, y, 0.0);
+            p.x.abs() <= 1e-12 * len && p.y.abs() <= 1e-12 * len
+        };
         Some(HeadOverPart {
-            local: to_tip * l,
+            local,
             shape,
             clearance_m,
+            spin_free: on_axis(half) && on_axis(-half),
         })
+    }
+
+    /// The spin at which [`HeadOverPart::first_hit`] is found for a nozzle spun by `spin`
+    /// (rad): 0 when the head is a cylinder about the nozzle axis (where it meets the part is
+    /// the same at every spin, so it is found once), else `spin`.
+    pub(crate) fn spin_checked(&self, spin: f64) -> f64 {
+        if self.spin_free {
+            0.0
+        } else {
+            spin
+        }
     }
 
     /// The head's pose and box (part frame) with the nozzle tip at a point, the nozzle spun by
@@ -2041,6 +2064,48 @@ mod tests {
                 }
             }
         }
+    }
+
+    /// A head that is a cylinder about the nozzle axis meets the part at the same sample and
+    /// bead whatever the spin (so it is checked once, at spin 0); a tool offset from the
+    /// flange's axis makes the spin matter.
+    #[test]
+    fn a_head_about_the_nozzle_axis_meets_the_part_where_it_does_at_every_spin() {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+        let mut model = crate::robot::load(&root.join("robots/abb_irb6700_200_260")).unwrap();
+        let radii = LinkRadii::default();
+        let head = HeadOverPart::new(&model, 2.6, &radii, 0.05).unwrap();
+        assert!(head.spin_free);
+        assert_eq!(head.spin_checked(1.3), 0.0);
+        // Layers along x at 20 mm, each next one started lower and lower: the head, 50 mm and
+        // more above the tip, comes down onto the beads laid before.
+        let mut p = Vec::new();
+        for layer in 0..6 {
+            let z = 0.3 - 0.03 * layer as f64;
+            for k in 0..400 {
+                let x = if layer % 2 == 0 { k } else { 399 - k } as f64 * 0.0025;
+                p.push(V3::new(x, 0.02 * layer as f64, z));
+            }
+        }
+        let print = vec![true; p.len()];
+        let beads = Beads::new(&p, &print, 10, BEAD_RADIUS_M);
+        let at0 = head.first_hit(&beads, &p, 0.0);
+        assert!(at0.is_some());
+        let mut rng = rand::rngs::StdRng::seed_from_u64(3);
+        for _ in 0..20 {
+            let spin = rng.gen_range(-7.0..7.0);
+            let hit = head.first_hit(&beads, &p, spin);
+            assert_eq!(
+                hit.as_ref().map(|h| (h.sample, h.bead)),
+                at0.as_ref().map(|h| (h.sample, h.bead)),
+                "{spin}"
+            );
+        }
+        // A nozzle 80 mm to the side of the flange's axis: the spin matters.
+        model.tool.pos.x += 0.08;
+        let offset = HeadOverPart::new(&model, 2.6, &radii, 0.05).unwrap();
+        assert!(!offset.spin_free);
+        assert_eq!(offset.spin_checked(1.3), 1.3);
     }
 
     /// The oriented-box prefilter of the self pairs never calls two meeting boxes apart, and
