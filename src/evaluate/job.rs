@@ -116,11 +116,7 @@ impl<'a> PathJob<'a> {
         solver: &IkSolver,
         at: &Placement,
     ) -> std::result::Result<TimedPath, TimingFailure> {
-        let lines = |i: usize| self.line_of(i);
-        // Nobody reads the sines and cosines of the buffers dropped here: none are kept.
-        let mut buf = Buffers::default();
-        buf.transient_sincos = true;
-        timing::time_at_planned(solver, &self.timing(&lines), at, &mut buf)
+        self.time_keeping(solver, at, false)
     }
 
     /// [`PathJob::time`] keeping no joint velocities and accelerations
@@ -131,9 +127,20 @@ impl<'a> PathJob<'a> {
         solver: &IkSolver,
         at: &Placement,
     ) -> std::result::Result<TimedPath, TimingFailure> {
+        self.time_keeping(solver, at, true)
+    }
+
+    /// The path timed at `at`, its rates kept unless `lean`.
+    fn time_keeping(
+        &self,
+        solver: &IkSolver,
+        at: &Placement,
+        lean: bool,
+    ) -> std::result::Result<TimedPath, TimingFailure> {
         let lines = |i: usize| self.line_of(i);
+        // Nobody reads the sines and cosines of the buffers dropped here: none are kept.
         let mut buf = Buffers::default();
-        (buf.transient_sincos, buf.lean_rates) = (true, true);
+        (buf.transient_sincos, buf.lean_rates) = (true, lean);
         timing::time_at_planned(solver, &self.timing(&lines), at, &mut buf)
     }
 
