@@ -270,14 +270,15 @@ fn stencil_into(
 }
 
 /// Samples `k0 .. k0 + count` of [`differentiate_uniform_into_on`]'s velocities and
-/// accelerations of `q` (row-major `len × n`, `len ≥ 3`, `dt` > 0 finite) written to `qd`,
-/// `qdd` (at least `count × n` each, sample `k0` first): the same values bit for bit, for a
-/// consumer that takes the rates of a long path a block at a time instead of keeping them.
-#[allow(clippy::too_many_arguments)]
+/// accelerations of `q` (row-major `len × n`, `len ≥ 3`, `w` the [`uniform_weights`] of a
+/// step `dt` > 0 finite) written to `qd`, `qdd` (at least `count × n` each, sample `k0`
+/// first): the same values bit for bit, for a consumer that takes the rates of a long path a
+/// block at a time instead of keeping them (the weights found once, not per block).
+#[allow(clippy::too_many_arguments, clippy::type_complexity)]
 pub(crate) fn uniform_rates_rows(
     q: &[f64],
     n: usize,
-    dt: f64,
+    w: &[([f64; 3], [f64; 3]); 3],
     k0: usize,
     count: usize,
     qd: &mut [f64],
@@ -285,7 +286,6 @@ pub(crate) fn uniform_rates_rows(
     level: crate::simd::Level,
 ) {
     let len = q.len() / n;
-    let w = uniform_weights(dt);
     let end = k0 + count;
     let end_row =
         |k: usize, c: usize, (d1, d2): ([f64; 3], [f64; 3]), qd: &mut [f64], qdd: &mut [f64]| {

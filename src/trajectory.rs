@@ -317,7 +317,8 @@ pub(crate) fn from_table(
 /// ([`crate::timing::Buffers::lean_rates`]): 96 bytes a sample fewer for a six-axis arm.
 pub(crate) struct RateBlocks<'t> {
     traj: &'t JointTrajectory,
-    dt: f64,
+    /// The stencil's weights for the period (found once).
+    w: [([f64; 3], [f64; 3]); 3],
     level: crate::simd::Level,
     qd: Vec<f64>,
     qdd: Vec<f64>,
@@ -329,7 +330,7 @@ impl<'t> RateBlocks<'t> {
     pub(crate) fn new(traj: &'t JointTrajectory, dt: f64) -> Self {
         RateBlocks {
             traj,
-            dt,
+            w: crate::numerics::uniform_weights(dt),
             level: crate::simd::level(),
             qd: Vec::new(),
             qdd: Vec::new(),
@@ -352,7 +353,7 @@ impl<'t> RateBlocks<'t> {
         crate::numerics::uniform_rates_rows(
             &tr.q,
             n,
-            self.dt,
+            &self.w,
             k0,
             count,
             &mut self.qd,

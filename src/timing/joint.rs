@@ -1236,9 +1236,10 @@ fn lean_violations(
     let m = q.len() / n;
     let mut out = Vec::new();
     let (mut qd, mut qdd) = (vec![0.0; LEAN_BLOCK * n], vec![0.0; LEAN_BLOCK * n]);
+    let w = crate::numerics::uniform_weights(dt);
     for k0 in (0..m).step_by(LEAN_BLOCK) {
         let count = LEAN_BLOCK.min(m - k0);
-        crate::numerics::uniform_rates_rows(q, n, dt, k0, count, &mut qd, &mut qdd, level);
+        crate::numerics::uniform_rates_rows(q, n, &w, k0, count, &mut qd, &mut qdd, level);
         for r in 0..count {
             let row = r * n..(r + 1) * n;
             row_violations_of(
@@ -2659,12 +2660,13 @@ mod tests {
                                     "lean m={m} dt={dt} scale={scale} jerk={check_jerk} {level:?}"
                                 );
                                 // Blocks of every size from every start, ends included.
+                                let w = crate::numerics::uniform_weights(dt);
                                 for count in [1, 2, 3, 7, m / 2, m] {
                                     for k0 in (0..m).step_by(count.max(1)) {
                                         let c = count.min(m - k0);
                                         let (mut d, mut dd) = (vec![7.0; c * n], vec![7.0; c * n]);
                                         crate::numerics::uniform_rates_rows(
-                                            q, n, dt, k0, c, &mut d, &mut dd, level,
+                                            q, n, &w, k0, c, &mut d, &mut dd, level,
                                         );
                                         let r = k0 * n..(k0 + c) * n;
                                         assert_eq!(
