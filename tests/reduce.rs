@@ -525,3 +525,50 @@ fn a_ramp_binding_limit_is_replanned_on_its_layers_and_the_estimate_matches_the_
     );
     assert!(est.error_j < 0.005 * f.energy_j, "{est:?}");
 }
+
+#[test]
+fn a_placements_windows_evaluated_on_two_threads_give_the_one_thread_estimate_bit_for_bit() {
+    // Speed limits at 12 % so that some placements re-plan layers on their own; one placement
+    // fails in a window (its message names the first failing sample either way).
+    let mut model = common::robot("abb_irb6700_200_260");
+    for j in model.joints.iter_mut() {
+        j.velocity_limit *= 0.12;
+    }
+    let tp = wall_path(30);
+    let job = common::default_job(&model, &tp);
+    let (ev, _) = evaluators(&job, &tp, forced());
+    let ps = [
+        Placement::new(1.9, 0.4, 0.6, 1.57),
+        Placement::new(1.8, 0.0, 0.0, 0.0),
+        Placement::new(1.6, 0.5, 0.3, 1.5),
+        Placement::new(1.0, 0.0, 1.6, 0.0),
+    ];
+    // One placement at a time, so that its windows are what the threads share.
+    let run = |threads: usize| {
+        rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap()
+            .install(|| {
+                let mut sc = ev.scratch().unwrap();
+                ps.iter()
+                    .map(|p| ev.evaluate(&mut sc, p))
+                    .collect::<Vec<_>>()
+            })
+    };
+    let one = run(1);
+    for threads in [2, 3] {
+        assert_eq!(
+            format!("{one:?}"),
+            format!("{:?}", run(threads)),
+            "{threads} threads"
+        );
+    }
+    let estimates: Vec<_> = one
+        .iter()
+        .filter_map(|r| r.feasible().and_then(|f| f.path_reduction.as_ref()))
+        .collect();
+    assert!(estimates.iter().any(|e| e.layers_replanned > 0));
+    assert!(estimates.iter().all(|e| e.fallback.is_none()));
+    assert!(one.iter().any(|r| r.feasible().is_none()));
+}

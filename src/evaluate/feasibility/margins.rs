@@ -625,6 +625,91 @@ mod tests {
     use super::*;
     use rand::{Rng, SeedableRng};
 
+    /// Every margin of one sample: the joint checks, the singularity measures and a bed
+    /// clearance, as the per-sample checks record them.
+    fn record(model: &RobotModel, o: &FeasibilityOptions, x: &[f64], margins: &mut Margins) {
+        let n = model.dof();
+        let (q, rest) = x.split_at(n);
+        let (qd, rest) = rest.split_at(n);
+        let (qdd, rest) = rest.split_at(n);
+        check_joint_sample(model, o, q, qd, qdd, margins);
+        let p = model.opw.as_ref().unwrap();
+        let w = opw::wrist_singularity(p, q);
+        let (e, s) = (
+            opw::elbow_singularity(p, q),
+            opw::shoulder_singularity(p, q),
+        );
+        super::super::singular(o, margins, w, e, s);
+        let c = &mut margins.bed_clearance_m;
+        *c = Some(c.map_or(rest[0], |c| c.min(rest[0])));
+    }
+
+    #[test]
+    fn margins_of_stretches_checked_apart_and_joined_in_order_are_the_one_pass_margins_bit_for_bit()
+    {
+        let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("robots");
+        let mut rng = rand_chacha::ChaCha8Rng::seed_from_u64(47);
+        let mut with_wrist_rate = 0;
+        for name in ["abb_irb6700_200_260", "ur10e"] {
+            let model = crate::robot::load(&root.join(name)).unwrap();
+            let n = model.dof();
+            let o = FeasibilityOptions::default();
+            for _ in 0..40 {
+                // Samples (q, q̇, q̈, clearance), now and then near a limit or the wrist
+                // singularity, and now and then one repeated later (a tie: the earlier joint
+                // is kept).
+                let mut samples: Vec<Vec<f64>> = Vec::new();
+                for _ in 0..rng.gen_range(1..300) {
+                    if !samples.is_empty() && rng.gen_range(0..10) == 0 {
+                        let k = rng.gen_range(0..samples.len());
+                        samples.push(samples[k].clone());
+                        continue;
+                    }
+                    let mut x = Vec::new();
+                    for (j, jt) in model.joints.iter().enumerate() {
+                        let (lo, hi) = (jt.lower.max(-4.0), jt.upper.min(4.0));
+                        let mut v = lo + (hi - lo) * rng.gen_range(0.05..0.95);
+                        match rng.gen_range(0..20) {
+                            0 => v = lo + rng.gen_range(0.0..0.2),
+                            1 if j == 4 => v = rng.gen_range(-0.2..0.2),
+                            _ => {}
+                        }
+                        x.push(v);
+                    }
+                    for _ in 0..2 {
+                        for jt in &model.joints {
+                            let l = jt.velocity_limit.min(10.0);
+                            x.push(l * rng.gen_range(-0.9..0.9));
+                        }
+                    }
+                    x.push(rng.gen_range(-0.01..0.5));
+                    debug_assert_eq!(x.len(), 3 * n + 1);
+                    samples.push(x);
+                }
+                let mut one = Margins::default();
+                for x in &samples {
+                    record(&model, &o, x, &mut one);
+                }
+                // Cut into stretches at random, each checked from no margins, joined in order.
+                let mut joined = Margins::default();
+                let mut k = 0;
+                while k < samples.len() {
+                    let end = (k + rng.gen_range(1..60)).min(samples.len());
+                    let mut part = Margins::default();
+                    for x in &samples[k..end] {
+                        record(&model, &o, x, &mut part);
+                    }
+                    joined.then(&part);
+                    k = end;
+                }
+                assert_eq!(format!("{one:?}"), format!("{joined:?}"), "{name}");
+                with_wrist_rate += usize::from(one.wrist_rate.is_some());
+            }
+        }
+        // The wrist rule's measure came into play in most of them.
+        assert!(with_wrist_rate > 40, "{with_wrist_rate} of 80");
+    }
+
     #[test]
     fn screening_a_block_of_joint_checks_passes_only_blocks_the_per_sample_checks_pass_and_leaves_the_same_margins(
     ) {
