@@ -391,6 +391,7 @@ impl Reduction {
 #[derive(Default)]
 pub struct Buffers {
     thin: Vec<f64>,
+    qs: Vec<f64>,
 }
 
 /// Index of each additive quantity in a unit's energy vector.
@@ -557,7 +558,6 @@ fn reduced<'a>(
     }
     // 3.–5. The evaluated units sample by sample, the rest interpolated.
     let world = World::new(&frame, ev.bbox_all, o).with_floor(&ev.shapes);
-    let thin = std::mem::take(&mut sc.red.thin);
     let ctx = Ctx {
         ev,
         red,
@@ -566,11 +566,8 @@ fn reduced<'a>(
         world: &world,
         stride,
         thin_idx: &thin_idx,
-        thin: &thin,
     };
-    let outcome = refine.run(&ctx, sc, &segs);
-    sc.red.thin = thin;
-    outcome
+    refine.run(&ctx, sc, &segs)
 }
 
 /// Step 1 of the module docs: the reach of every sample, coarse to fine (the fine pass skips
@@ -1038,76 +1035,19 @@ impl Refine {
         merged
     }
 
-    /// Step 3: track, check and integrate the samples due, window by window, on as many
-    /// threads as are free (each window in a [`Part`] of its own, joined in window order:
-    /// the numbers, and the first window's failure, of evaluating them one after another).
+    /// Step 3: track, check and integrate the samples due, window by window.
     fn evaluate_due(
         &mut self,
         ctx: &Ctx<'_, '_, '_>,
         sc: &mut Scratch<'_>,
         segs: &Segments<'_>,
     ) -> std::result::Result<(), Outcome> {
-        use rayon::prelude::*;
-        use std::sync::atomic::{AtomicUsize, Ordering};
-        let due = self.due(ctx.red, segs);
-        let nseg = self.unit_e.len();
-        let solver = &sc.solver;
-        // The first window that failed so far: a later one is not started (not needed).
-        let failed = AtomicUsize::new(usize::MAX);
-        let parts: Vec<Option<std::result::Result<Part, Outcome>>> = due
-            .par_iter()
-            .enumerate()
-            .map_init(
-                || Work {
-                    solver: solver.clone(),
-                    data: ctx.ev.job.energy.data(),
-                    sp: Default::default(),
-                    poses: Vec::new(),
-                    qs: Vec::new(),
-                },
-                |w, (i, r)| {
-                    if i > failed.load(Ordering::Relaxed) {
-                        return None;
-                    }
-                    let mut part = Part::new(nseg);
-                    let res = part.window(ctx, w, r.clone(), segs);
-                    if res.is_err() {
-                        failed.fetch_min(i, Ordering::Relaxed);
-                    }
-                    Some(res.map(|()| part))
-                },
-            )
-            .collect();
-        for (r, part) in due.iter().zip(parts) {
+        for r in self.due(ctx.red, segs) {
             self.samples_evaluated += r.len();
-            // A window not started follows one that failed, which returns first.
-            let part = part.expect("a window is skipped only after a failed one")?;
-            self.join(part);
+            self.window(ctx, sc, r, segs)?;
         }
         self.first_pass = false;
         Ok(())
-    }
-
-    /// The part of the next window joined to what the earlier ones found.
-    fn join(&mut self, part: Part) {
-        self.margins.then(&part.margins);
-        fn own<T>(mine: &mut Option<T>, theirs: Option<T>) {
-            if theirs.is_some() {
-                debug_assert!(mine.is_none(), "a segment is evaluated by one window");
-                *mine = theirs;
-            }
-        }
-        for (g, ((e, p), b)) in part
-            .unit_e
-            .into_iter()
-            .zip(part.peaks)
-            .zip(part.binds)
-            .enumerate()
-        {
-            own(&mut self.unit_e[g], e);
-            own(&mut self.peaks[g], p);
-            own(&mut self.binds[g], b);
-        }
     }
 
     /// Step 3b: the segments where a joint rate limit binds re-planned on their own, as the
@@ -1471,8 +1411,6 @@ struct Ctx<'c, 'j, 'a> {
     world: &'c World,
     stride: usize,
     thin_idx: &'c [usize],
-    /// The configurations tracked at `thin_idx` (row-major).
-    thin: &'c [f64],
 }
 
 /// The largest demand over limit of sample `i` of derivatives `qd`, `qdd`, `qddd`
@@ -1748,7 +1686,7 @@ fn unreachable_at(
 /// into `qs`, from the tracked sample at or before them: that sample.
 fn track_window(
     ctx: &Ctx<'_, '_, '_>,
-    solver: &crate::kinematics::IkSolver<'_>,
+    sc: &Scratch<'_>,
     r: &Range<usize>,
     qs: &mut Vec<f64>,
 ) -> std::result::Result<usize, Outcome> {
@@ -1765,48 +1703,18 @@ fn track_window(
     // IK near the previous sample's answer, sample by sample from the tracked one (the
     // lockstep batches of track_near: the same answers and first failure).
     crate::timing::joint::track_near(
-        solver,
+        &sc.solver,
         &ctx.rot,
         hi - t0,
         |i| ctx.frame.apply(&motion.p[t0 + i]),
-        &ctx.thin[ti * n..(ti + 1) * n],
+        &sc.red.thin[ti * n..(ti + 1) * n],
         qs,
     )
     .map_err(|(i, tip, reason)| Outcome::Infeasible(unreachable_at(job, t0 + i, tip, reason)))?;
     Ok(t0)
 }
 
-/// The scratch of one task of [`Refine::evaluate_due`]: its own solver, dynamics data and
-/// buffers, so that windows are evaluated on as many threads as are free.
-struct Work<'a> {
-    solver: crate::kinematics::IkSolver<'a>,
-    data: crate::dynamics::DynData,
-    sp: crate::energy::SamplePower,
-    poses: Vec<parry3d_f64::math::Isometry<f64>>,
-    qs: Vec<f64>,
-}
-
-/// What the windows of one round found, per segment (see [`Refine`]'s fields of the same
-/// names): a window touches only the segments it is made of, so the windows of a round are
-/// evaluated apart and their parts joined in window order, which gives the one pass's
-/// numbers bit for bit ([`Margins::then`]).
-struct Part {
-    margins: Margins,
-    unit_e: Vec<Option<Vec<f64>>>,
-    peaks: Vec<Option<Vec<f64>>>,
-    binds: Vec<Option<String>>,
-}
-
-impl Part {
-    fn new(nseg: usize) -> Self {
-        Part {
-            margins: Margins::default(),
-            unit_e: vec![None; nseg],
-            peaks: vec![None; nseg],
-            binds: vec![None; nseg],
-        }
-    }
-
+impl Refine {
     /// Track, check and integrate the samples `r` of the job's plan (a union of whole
     /// segments: units and the exact stretches). A joint rate limit exceeded on a segment is
     /// noted in `binds` (that segment is then re-planned, see [`Replanner`]); the feasibility
@@ -1814,7 +1722,7 @@ impl Part {
     fn window(
         &mut self,
         ctx: &Ctx<'_, '_, '_>,
-        w: &mut Work<'_>,
+        sc: &mut Scratch<'_>,
         r: Range<usize>,
         segs: &Segments<'_>,
     ) -> std::result::Result<(), Outcome> {
@@ -1824,18 +1732,24 @@ impl Part {
         let m = motion.p.len();
         let dt = motion.dt;
         let every = ctx.ev.feasibility.check_every.max(1);
-        let t0 = track_window(ctx, &w.solver, &r, &mut w.qs)?;
-        let qs = &w.qs;
-        let (qd, qdd, qddd) = crate::timing::joint::differentiate(qs, n, dt);
+        let mut qs = std::mem::take(&mut sc.red.qs);
+        let t0 = match track_window(ctx, sc, &r, &mut qs) {
+            Ok(t0) => t0,
+            Err(e) => {
+                sc.red.qs = qs;
+                return Err(e);
+            }
+        };
+        let (qd, qdd, qddd) = crate::timing::joint::differentiate(&qs, n, dt);
         self.note_rates(ctx, &r, t0, segs, [&qd, &qdd, &qddd]);
         let js = Joints {
-            qs,
+            qs: &qs,
             qd: &qd,
             qdd: &qdd,
         };
-        check(
+        let res = check(
             ctx,
-            &mut w.poses,
+            &mut sc.poses,
             &js,
             (r.start - t0)..(r.end - t0),
             &|i| {
@@ -1843,20 +1757,24 @@ impl Part {
                 (k, motion.p[k], k.is_multiple_of(every) || k + 1 == m)
             },
             &mut self.margins,
-        )?;
-        integrate(
-            ctx,
-            &mut w.data,
-            &mut w.sp,
-            &js,
-            (r.start - t0)..(r.end - t0),
-            &mut Sink {
-                w: &|i| crate::numerics::trapezoid_weight(i + t0, m, dt),
-                dest: &|i| segs.seg_of(i + t0),
-                at_sample: &|i| i + t0,
-                acc: &mut self.unit_e,
-            },
         )
+        .and_then(|()| {
+            integrate(
+                ctx,
+                &mut sc.data,
+                &mut sc.sp,
+                &js,
+                (r.start - t0)..(r.end - t0),
+                &mut Sink {
+                    w: &|i| crate::numerics::trapezoid_weight(i + t0, m, dt),
+                    dest: &|i| segs.seg_of(i + t0),
+                    at_sample: &|i| i + t0,
+                    acc: &mut self.unit_e,
+                },
+            )
+        });
+        sc.red.qs = qs;
+        res
     }
 
     /// The joint rate demands of the samples `r` (derivatives `d` of the samples tracked from
@@ -2211,9 +2129,11 @@ impl Replanner {
         range: &dyn Fn(usize) -> Range<usize>,
         margins: &mut Margins,
     ) -> std::result::Result<(), Outcome> {
+        let thin = std::mem::take(&mut sc.red.thin);
         for &g in binding {
-            self.add(ctx, ctx.thin, g, range(g));
+            self.add(ctx, &thin, g, range(g));
         }
+        sc.red.thin = thin;
         let job = ctx.ev.job;
         let jopts = &job.joint;
         let max_rounds = jopts.max_iterations.max(1);

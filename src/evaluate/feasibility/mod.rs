@@ -278,34 +278,6 @@ pub struct Margins {
 }
 
 impl Margins {
-    /// These margins (met on earlier samples) followed by `later` (met on later samples,
-    /// checked from no margins): the margins of checking both stretches one after the other.
-    /// Each measure is combined as the per-sample checks update it, a smallest or largest
-    /// value, and a tie in the closest joint limit keeps the earlier joint, so the result is
-    /// the single pass's bit for bit.
-    pub(crate) fn then(&mut self, later: &Margins) {
-        let low = |m: &mut Option<f64>, v: Option<f64>| {
-            if let Some(v) = v {
-                *m = Some(m.map_or(v, |x: f64| x.min(v)));
-            }
-        };
-        low(&mut self.wrist, later.wrist);
-        low(&mut self.wrist_every, later.wrist_every);
-        low(&mut self.elbow, later.elbow);
-        low(&mut self.shoulder_m, later.shoulder_m);
-        low(&mut self.bed_clearance_m, later.bed_clearance_m);
-        if let Some(r) = later.wrist_rate {
-            if self.wrist_rate.is_none_or(|x| r > x) {
-                self.wrist_rate = Some(r);
-            }
-        }
-        if let Some((j, d)) = later.joint_limit_rad {
-            if self.joint_limit_rad.is_none_or(|(_, x)| d < x) {
-                self.joint_limit_rad = Some((j, d));
-            }
-        }
-    }
-
     /// The closest approach of `q5` to the wrist singularity (0 or ±180°) over every sample,
     /// degrees.
     pub fn wrist_deg(&self) -> Option<f64> {
