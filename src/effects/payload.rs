@@ -351,6 +351,10 @@ impl Effect for Payload {
     fn costly(&self) -> bool {
         true
     }
+    /// Kept with [`crate::energy::EnergyOptions::payload`].
+    fn in_energy_model(&self, options: &crate::energy::EnergyOptions, _has_drive: bool) -> bool {
+        options.payload
+    }
     fn is_null(&self) -> bool {
         self.dm == 0.0 && self.dh == [0.0; 3] && self.di == [0.0; 6]
     }
