@@ -36,6 +36,10 @@ impl Effect for Armature {
     fn name(&self) -> &'static str {
         "armature"
     }
+    /// Implausible when a fitted value is below zero.
+    fn implausible_fit(&self, std_errors: &[Option<f64>]) -> Option<String> {
+        crate::identify::plausible::implausible_if_negative(self, std_errors)
+    }
     /// `[[joints]] rotor_inertia_kg_m2` (= `G² J_m / G²`).
     fn write_drive_keys(&self, keys: &mut DriveKeysMut<'_>) -> Result<DriveKept> {
         let jm: Vec<f64> = self
