@@ -22,7 +22,10 @@
 //! `identify` writes evaluate the same torque the fit scored (to rounding).
 
 use super::uncertain::at;
-use super::{check_values, BuildContext, DrawPhase, Drawing, Effect, ParamSpec, Uncertainty};
+use super::{
+    check_values, BuildContext, DrawPhase, Drawing, DriveKept, DriveKeysMut, Effect, ParamSpec,
+    Uncertainty,
+};
 use crate::dynamics::{rnea, DynData, DynModel, DynOptions, MAX_DOF};
 use crate::error::Result;
 use crate::identify::plausible::{
@@ -33,6 +36,8 @@ use crate::math::{M3, V3};
 use crate::robot::{Inertial, RobotModel};
 use std::sync::{Arc, Mutex};
 
+/// The drive file's `[effects]` key holding `Δm` (kg), read here.
+const MASS_ERROR_KEY: &str = "payload_mass_error_kg";
 /// Step `s` of the central difference of the first moment, m (the result does not depend on
 /// it up to rounding).
 const COM_STEP_M: f64 = 0.1;
@@ -101,7 +106,7 @@ pub(crate) fn build(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
     if let Some(dm) = ctx.table.payload_mass_error_kg {
         if !(dm.is_finite() && dm >= -p.nominal_mass) {
             return Err(ctx.bad(
-                "payload_mass_error_kg",
+                MASS_ERROR_KEY,
                 format!(
                     "must be finite and >= -{} (the nominal payload), got {dm}",
                     p.nominal_mass
@@ -267,7 +272,7 @@ impl Effect for Payload {
         "payload"
     }
     fn effects_keys(&self) -> &'static [&'static str] {
-        &["payload_mass_error_kg"]
+        &[MASS_ERROR_KEY]
     }
     fn uncertainty(&self) -> Option<Uncertainty> {
         at(DrawPhase::Robot, 1)
@@ -416,6 +421,11 @@ impl Effect for Payload {
             }
         }
         plausible::reasons(why)
+    }
+    /// The robot's own payload: `identify` writes the identified body as the robot's
+    /// `[payload]`, not as an effect.
+    fn write_drive_keys(&self, _keys: &mut DriveKeysMut<'_>) -> Result<DriveKept> {
+        Ok(DriveKept::Body)
     }
     /// Kept with [`crate::energy::EnergyOptions::payload`].
     fn in_energy_model(&self, options: &crate::energy::EnergyOptions, _has_drive: bool) -> bool {
