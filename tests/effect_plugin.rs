@@ -424,8 +424,7 @@ fn motion(seconds: f64, samples: usize) -> printwatt::trajectory::JointTrajector
 }
 
 #[test]
-fn an_effect_defined_outside_the_crate_leaves_the_energy_when_the_energy_option_it_states_is_off(
-) {
+fn an_effect_defined_outside_the_crate_leaves_the_energy_with_the_energy_option_it_states() {
     let (with, without, _) = robots("gated");
     let tr = motion(4.0, 400);
     let supply = |robot: &RobotModel, options: EnergyOptions| {
@@ -444,7 +443,10 @@ fn an_effect_defined_outside_the_crate_leaves_the_energy_when_the_energy_option_
     // Its option on: it is in the energy.
     let (e_with, desc) = supply(&with, EnergyOptions::default());
     let (e_without, _) = supply(&without, EnergyOptions::default());
-    assert!((e_with - e_without).abs() > 1e-3 * e_without, "{e_with} J vs {e_without} J");
+    assert!(
+        (e_with - e_without).abs() > 1e-3 * e_without,
+        "{e_with} J vs {e_without} J"
+    );
     assert!(desc.contains("hose_pull"), "{desc}");
 }
 

@@ -78,7 +78,11 @@ impl Effect for Stribeck {
     fn implausible_fit(&self, std_errors: &[Option<f64>]) -> Option<String> {
         let (specs, v) = (self.params(), self.values());
         let mut why = crate::identify::plausible::negative_fitted(&specs, &v, std_errors);
-        if let Some((s, x)) = specs.iter().zip(&v).find(|(s, _)| s.name.starts_with("v_s")) {
+        if let Some((s, x)) = specs
+            .iter()
+            .zip(&v)
+            .find(|(s, _)| s.name.starts_with("v_s"))
+        {
             if *x <= 0.0 {
                 why.push(format!("{} = {x} {} is not > 0", s.name, s.unit));
             }
