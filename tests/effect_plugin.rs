@@ -1,18 +1,20 @@
 //! An effect defined outside the library, in this one file, plus one registration: a constant
 //! pull per joint (a hanging hose or cable), `τ_j = c_j`. Once registered it is read from a
-//! drive file's `[effects]` table, adds exactly its torque to the energy model, is fitted by
-//! identification and written to the calibrated robot, and draws its own range in the
-//! placement's uncertainty study.
+//! drive file's `[effects]` table, adds exactly its torque to the energy model, leaves the
+//! energy with the payload option it states, is fitted by identification, judged by its own
+//! plausibility rule and written to the calibrated robot, and draws its own range in the
+//! placement's uncertainty study. A second one supplies a motor term (`spare_winding`, the
+//! winding resistance) and enters the motor model by that role.
 
 #![allow(clippy::needless_range_loop)]
 
 mod common;
 use common::{close, root, scratch, Sines};
 use printwatt::effects::{
-    check_values, register, BuildContext, DrawPhase, Drawing, Effect, EffectSet, ParamSpec,
-    Registration, Uncertainty,
+    check_values, register, BuildContext, DrawPhase, Drawing, Effect, EffectSet, MotorTerm,
+    ParamSpec, Registration, Stage, Uncertainty,
 };
-use printwatt::energy::{eval_sample, evaluate, EnergyModel, SamplePower};
+use printwatt::energy::{eval_sample, evaluate, EnergyModel, EnergyOptions, SamplePower};
 use printwatt::error::Result;
 use printwatt::robot::{load, RobotModel};
 use printwatt::search::uncertainty::{drawn_robot, Ranges};
@@ -22,6 +24,9 @@ use std::path::{Path, PathBuf};
 
 /// Half-width of the uniform range of each joint's pull in the uncertainty study, ± fraction.
 const HOSE_PULL_REL: f64 = 0.1;
+
+/// The largest pull a hose exerts on a joint, N·m: a fitted pull beyond it is no hose's.
+const HOSE_PULL_MAX_NM: f64 = 500.0;
 
 /// `hose_pull`: a constant torque per joint, N·m.
 #[derive(Clone, Debug, PartialEq)]
@@ -64,6 +69,26 @@ impl Effect for HosePull {
     fn is_null(&self) -> bool {
         self.c.iter().all(|c| *c == 0.0)
     }
+    /// The hose is part of the print head's equipment: it leaves the energy with the payload.
+    fn in_energy_model(&self, options: &EnergyOptions, _has_drive: bool) -> bool {
+        options.payload
+    }
+    /// A hose weighs a few kilograms: a pull beyond [`HOSE_PULL_MAX_NM`] is no hose's.
+    fn implausible_fit(&self, _std_errors: &[Option<f64>]) -> Option<String> {
+        let why: Vec<String> = self
+            .c
+            .iter()
+            .enumerate()
+            .filter(|(_, c)| c.abs() > HOSE_PULL_MAX_NM)
+            .map(|(j, c)| {
+                format!(
+                    "c[{}] = {c} N·m: no hose pulls more than {HOSE_PULL_MAX_NM} N·m",
+                    j + 1
+                )
+            })
+            .collect();
+        (!why.is_empty()).then(|| why.join("; "))
+    }
     fn add_torque(&self, _q: &[f64], _qd: &[f64], _qdd: &[f64], tau: &mut [f64]) {
         for (t, c) in tau.iter_mut().zip(&self.c) {
             *t += c;
@@ -100,10 +125,59 @@ impl Effect for HosePull {
     }
 }
 
-/// The one registration line.
+/// `spare_winding`: the winding resistance per axis `R`, Ω, supplied to the motor model as
+/// `copper` supplies it.
+#[derive(Clone, Debug, PartialEq)]
+struct SpareWinding {
+    r: Vec<f64>,
+}
+
+/// Built from the robot: zero unless the drive file's `[effects.values] spare_winding` says.
+fn build_spare_winding(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
+    Ok(Box::new(SpareWinding {
+        r: vec![0.0; ctx.dof()],
+    }))
+}
+
+impl Effect for SpareWinding {
+    fn name(&self) -> &'static str {
+        "spare_winding"
+    }
+    fn params(&self) -> Vec<ParamSpec> {
+        (0..self.r.len())
+            .map(|j| ParamSpec {
+                name: format!("R[{}]", j + 1),
+                unit: "Ω",
+                lower: 0.0,
+                upper: f64::INFINITY,
+            })
+            .collect()
+    }
+    fn values(&self) -> Vec<f64> {
+        self.r.clone()
+    }
+    fn set_values(&mut self, values: &[f64]) -> Result<()> {
+        check_values(self.name(), &self.params(), values)?;
+        self.r.copy_from_slice(values);
+        Ok(())
+    }
+    fn clone_box(&self) -> Box<dyn Effect> {
+        Box::new(self.clone())
+    }
+    fn stage(&self) -> Stage {
+        Stage::Motor(MotorTerm::WindingResistance)
+    }
+}
+
+/// The registration lines (`spare_winding` first: `hose_pull` ends the catalogue).
 fn registered() {
     static ONCE: std::sync::Once = std::sync::Once::new();
     ONCE.call_once(|| {
+        register(Registration {
+            name: "spare_winding",
+            build: build_spare_winding,
+        })
+        .expect("spare_winding registers");
         register(Registration {
             name: "hose_pull",
             build,
@@ -337,4 +411,97 @@ fn an_effect_defined_in_one_file_outside_the_crate_is_fitted_by_identify_and_wri
     let back = EffectSet::of_robot(&load(&dst).unwrap()).unwrap();
     assert!(back.is_enabled("hose_pull"));
     assert_eq!(back.get("hose_pull").unwrap().values(), fitted);
+}
+
+/// A sampled motion of every joint, `samples` samples over `seconds` s.
+fn motion(seconds: f64, samples: usize) -> printwatt::trajectory::JointTrajectory {
+    Sines {
+        terms: (0..6)
+            .map(|j| vec![(0.3, 0.9, 0.4 * j as f64), (0.1, 2.3, 1.0)])
+            .collect(),
+    }
+    .trajectory(seconds, samples)
+}
+
+#[test]
+fn an_effect_defined_outside_the_crate_leaves_the_energy_with_the_energy_option_it_states() {
+    let (with, without, _) = robots("gated");
+    let tr = motion(4.0, 400);
+    let supply = |robot: &RobotModel, options: EnergyOptions| {
+        let m = EnergyModel::with_options(robot, options).unwrap();
+        (evaluate(&m, &tr).unwrap().total.supply_j, m.description())
+    };
+    let off = EnergyOptions {
+        payload: false,
+        ..Default::default()
+    };
+    // Its option off: the energy of the robot without it, to the bit, and not named.
+    let (e_with, desc) = supply(&with, off);
+    let (e_without, _) = supply(&without, off);
+    assert_eq!(e_with, e_without);
+    assert!(!desc.contains("hose_pull"), "{desc}");
+    // Its option on: it is in the energy.
+    let (e_with, desc) = supply(&with, EnergyOptions::default());
+    let (e_without, _) = supply(&without, EnergyOptions::default());
+    assert!(
+        (e_with - e_without).abs() > 1e-3 * e_without,
+        "{e_with} J vs {e_without} J"
+    );
+    assert!(desc.contains("hose_pull"), "{desc}");
+}
+
+#[test]
+fn an_effect_defined_outside_the_crate_judges_its_own_fitted_values_implausible() {
+    use printwatt::identify::{plausible, Model};
+    let (with, _, _) = robots("plausible");
+    let mut m = Model::new(&with).unwrap();
+    let se = [Some(1.0); 6];
+    assert_eq!(plausible::implausible_fit(&m, "hose_pull", &se), None);
+    let mut bad = PULL;
+    bad[2] = -2.0 * HOSE_PULL_MAX_NM;
+    m.set_values("hose_pull", &bad).unwrap();
+    assert_eq!(
+        plausible::implausible_fit(&m, "hose_pull", &se).as_deref(),
+        Some("c[3] = -1000 N·m: no hose pulls more than 500 N·m")
+    );
+}
+
+#[test]
+fn an_effect_defined_outside_the_crate_supplies_the_motor_term_it_names() {
+    let (with, _, _) = robots("motor-term");
+    let tr = motion(4.0, 400);
+    let r = EffectSet::of_robot(&with)
+        .unwrap()
+        .get("copper")
+        .unwrap()
+        .values();
+    assert!(r.iter().all(|r| *r > 0.0), "{r:?}");
+    // In place of `copper`, with its values: the same energy, to the bit.
+    let mut spare = with.clone();
+    let t = &mut spare.effects.table;
+    let enabled = t.enabled.as_mut().unwrap();
+    enabled.retain(|e| e != "copper");
+    enabled.push("spare_winding".into());
+    t.values
+        .get_or_insert_with(Default::default)
+        .insert("spare_winding".into(), r.clone());
+    let e_copper = evaluate(&EnergyModel::new(&with).unwrap(), &tr).unwrap();
+    let e_spare = evaluate(&EnergyModel::new(&spare).unwrap(), &tr).unwrap();
+    assert_eq!(e_copper.total.supply_j, e_spare.total.supply_j);
+    assert_eq!(e_copper.total.copper_j, e_spare.total.copper_j);
+    assert!(e_spare.total.copper_j > 0.0);
+    // Beside `copper`: two effects for one motor term is an error naming both, not one
+    // silently replacing the other.
+    spare
+        .effects
+        .table
+        .enabled
+        .as_mut()
+        .unwrap()
+        .push("copper".into());
+    let err = EnergyModel::new(&spare).unwrap_err().to_string();
+    assert!(
+        err.contains("`copper`") && err.contains("`spare_winding`"),
+        "{err}"
+    );
 }

@@ -6,6 +6,7 @@ use super::{
     check_values, diagonal_regressor, per_joint, BuildContext, DrawPhase, Drawing, DriveKept,
     DriveKeysMut, Effect, ParamSpec, Uncertainty,
 };
+use crate::energy::EnergyOptions;
 use crate::error::Result;
 
 /// Reflected rotor inertia per joint `I_a = G² J_m`, kg·m².
@@ -34,6 +35,10 @@ impl Armature {
 impl Effect for Armature {
     fn name(&self) -> &'static str {
         "armature"
+    }
+    /// Implausible when a fitted value is below zero.
+    fn implausible_fit(&self, std_errors: &[Option<f64>]) -> Option<String> {
+        crate::identify::plausible::implausible_if_negative(self, std_errors)
     }
     /// `[[joints]] rotor_inertia_kg_m2` (= `G² J_m / G²`).
     fn write_drive_keys(&self, keys: &mut DriveKeysMut<'_>) -> Result<DriveKept> {
@@ -73,6 +78,11 @@ impl Effect for Armature {
     }
     fn clone_box(&self) -> Box<dyn Effect> {
         Box::new(self.clone())
+    }
+    /// Kept with [`EnergyOptions::armature`] for a robot with drive data (the rotor inertia
+    /// is drive data).
+    fn in_energy_model(&self, options: &EnergyOptions, has_drive: bool) -> bool {
+        options.armature && has_drive
     }
     fn needs_joint_motion(&self) -> bool {
         true

@@ -20,6 +20,7 @@ use super::{
     check_values, BuildContext, DrawPhase, Drawing, Effect, EnergyClass, ParamSpec, Uncertainty,
 };
 use crate::error::Result;
+use crate::identify::plausible::{self, PLAUSIBILITY_SIGMAS};
 
 /// Default lever of the moving end on link 2, m (ESTIMATE used when a drive file names no
 /// geometry; see docs/effects.md).
@@ -289,6 +290,26 @@ impl Effect for Balancer {
 a gravity error here is a link or payload error"
                 .to_string()
         })
+    }
+    /// Implausible as [`Effect::implausible`] says, else when its geometry is not physical
+    /// (levers > 0 and different) or its stiffness is below zero by more than
+    /// [`PLAUSIBILITY_SIGMAS`] standard errors; the preload may have either sign (a cylinder
+    /// pushing at its shortest length).
+    fn implausible_fit(&self, std_errors: &[Option<f64>]) -> Option<String> {
+        if let Some(w) = self.implausible() {
+            return Some(w);
+        }
+        let mut why = Vec::new();
+        if !(self.a > 0.0 && self.b > 0.0 && (self.a - self.b).abs() > 1e-6) {
+            why.push(format!(
+                "its geometry is not physical (levers {} m and {} m must be > 0 and differ)",
+                self.a, self.b
+            ));
+        }
+        if self.stiffness < -PLAUSIBILITY_SIGMAS * plausible::se(std_errors, 1) {
+            why.push(format!("its stiffness {:.1} N/m is < 0", self.stiffness));
+        }
+        plausible::reasons(why)
     }
     fn add_torque(&self, q: &[f64], _qd: &[f64], _qdd: &[f64], tau: &mut [f64]) {
         if let (Some(q), Some(t)) = (q.get(self.joint), tau.get_mut(self.joint)) {

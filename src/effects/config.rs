@@ -251,13 +251,6 @@ impl EffectSet {
         self.iter().filter(|(e, _)| e.stage() == Stage::Torque)
     }
 
-    /// Values of an enabled effect, or `None` when it is off or absent.
-    pub(crate) fn enabled_values(&self, name: &str) -> Option<Vec<f64>> {
-        self.position(name)
-            .filter(|&i| self.enabled[i])
-            .map(|i| self.effects[i].values())
-    }
-
     /// Sum of the enabled torque effects' torques added to `tau` (N·m).
     pub fn add_torque(&self, q: &[f64], qd: &[f64], qdd: &[f64], tau: &mut [f64]) {
         for (e, on) in self.torque_effects() {

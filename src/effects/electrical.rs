@@ -11,6 +11,7 @@ use super::{
     MotorTerm, ParamSpec, Stage, SupplyTerm, Uncertainty,
 };
 use crate::error::Result;
+use crate::identify::plausible;
 
 /// The drive file's `[[joints]]` key holding `R` (Ω), read and written by `copper`.
 const COPPER_DRIVE_KEY: &str = "winding_resistance_ohm";
@@ -50,6 +51,19 @@ pub struct Standby {
 impl Effect for Copper {
     fn name(&self) -> &'static str {
         "copper"
+    }
+    /// Implausible when a fitted `R` is not positive: no winding has zero resistance.
+    fn implausible_fit(&self, std_errors: &[Option<f64>]) -> Option<String> {
+        let mut why = Vec::new();
+        for (i, (s, x)) in self.params().iter().zip(&self.r).enumerate() {
+            if *x <= 0.0 && plausible::fitted(std_errors, i) {
+                why.push(format!(
+                    "{} = {x:.4} {}: no winding has zero or negative resistance",
+                    s.name, s.unit
+                ));
+            }
+        }
+        plausible::reasons(why)
     }
     /// `[[joints]] winding_resistance_ohm`.
     fn write_drive_keys(&self, keys: &mut DriveKeysMut<'_>) -> Result<DriveKept> {
@@ -105,6 +119,16 @@ impl Effect for GearEfficiency {
     fn name(&self) -> &'static str {
         "gear_efficiency"
     }
+    /// Implausible when an efficiency lies outside (0, 1].
+    fn implausible_fit(&self, _std_errors: &[Option<f64>]) -> Option<String> {
+        let mut why = Vec::new();
+        for (s, x) in self.params().iter().zip(&self.eta) {
+            if !(*x > 0.0 && *x <= 1.0) {
+                why.push(format!("{} = {x:.4} outside (0, 1]", s.name));
+            }
+        }
+        plausible::reasons(why)
+    }
     /// `[[joints]] gear_efficiency`.
     fn write_drive_keys(&self, keys: &mut DriveKeysMut<'_>) -> Result<DriveKept> {
         keys.set_joints(GEAR_EFFICIENCY_DRIVE_KEY, &self.eta)?;
@@ -159,6 +183,16 @@ impl Effect for Regeneration {
     fn name(&self) -> &'static str {
         "regeneration"
     }
+    /// Implausible when the recovered fraction lies outside [0, 1].
+    fn implausible_fit(&self, _std_errors: &[Option<f64>]) -> Option<String> {
+        let mut why = Vec::new();
+        for (s, x) in self.params().iter().zip(&self.values()) {
+            if !(0.0..=1.0).contains(x) {
+                why.push(format!("{} = {x:.4} outside [0, 1]", s.name));
+            }
+        }
+        plausible::reasons(why)
+    }
     fn effects_keys(&self) -> &'static [&'static str] {
         &["regeneration_recovered_fraction"]
     }
@@ -189,6 +223,10 @@ impl Effect for Regeneration {
 impl Effect for Standby {
     fn name(&self) -> &'static str {
         "standby"
+    }
+    /// Implausible when a fitted value is below zero.
+    fn implausible_fit(&self, std_errors: &[Option<f64>]) -> Option<String> {
+        crate::identify::plausible::implausible_if_negative(self, std_errors)
     }
     /// `[cabinet] standby_power_w` (when the file has a `[cabinet]` table).
     fn write_drive_keys(&self, keys: &mut DriveKeysMut<'_>) -> Result<DriveKept> {

@@ -149,6 +149,14 @@ pub trait Effect: AsAny + Send + Sync + std::fmt::Debug {
     fn energy_class(&self) -> EnergyClass {
         EnergyClass::RigidBody
     }
+    /// Whether the energy model with `options` keeps this (enabled, not null) torque effect,
+    /// for a robot with drive data (`has_drive`) or without: the energy option that switches
+    /// it, and whether it needs drive data. Default: a friction effect
+    /// ([`EnergyClass::Friction`]) follows [`crate::energy::EnergyOptions::friction`], any
+    /// other is kept.
+    fn in_energy_model(&self, options: &crate::energy::EnergyOptions, _has_drive: bool) -> bool {
+        self.energy_class() != EnergyClass::Friction || options.friction
+    }
     /// Add this effect's joint torque (N·m, N for prismatic joints) at state
     /// (`q` rad, `qd` rad/s, `qdd` rad/s², each of length `dof`) to `tau`. Default: nothing
     /// (effects after the torque).

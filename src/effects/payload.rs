@@ -22,13 +22,22 @@
 //! `identify` writes evaluate the same torque the fit scored (to rounding).
 
 use super::uncertain::at;
-use super::{check_values, BuildContext, DrawPhase, Drawing, Effect, ParamSpec, Uncertainty};
+use super::{
+    check_values, BuildContext, DrawPhase, Drawing, DriveKept, DriveKeysMut, Effect, ParamSpec,
+    Uncertainty,
+};
 use crate::dynamics::{rnea, DynData, DynModel, DynOptions, MAX_DOF};
 use crate::error::Result;
+use crate::identify::plausible::{
+    self, se, PAYLOAD_INERTIA_TOL_KG_M2, PAYLOAD_MAX_COM_M, PAYLOAD_MOVING_MASS_SHARE,
+    PAYLOAD_RATED_FACTOR, PLAUSIBILITY_SIGMAS,
+};
 use crate::math::{M3, V3};
 use crate::robot::{Inertial, RobotModel};
 use std::sync::{Arc, Mutex};
 
+/// The drive file's `[effects]` key holding `Δm` (kg), read here.
+const MASS_ERROR_KEY: &str = "payload_mass_error_kg";
 /// Step `s` of the central difference of the first moment, m (the result does not depend on
 /// it up to rounding).
 const COM_STEP_M: f64 = 0.1;
@@ -57,6 +66,12 @@ pub struct Payload {
     pub nominal_com: [f64; 3],
     /// Nominal payload inertia about its centre of mass, kg·m², flange axes.
     pub nominal_inertia: M3,
+    /// The robot's rated payload, kg (drive file `[robot] rated_payload_kg`), if stated: the
+    /// scale of a plausible payload mass.
+    rated_payload_kg: Option<f64>,
+    /// Total mass of the robot's moving links, kg: the scale of a plausible payload mass
+    /// without a rated payload.
+    moving_mass_kg: f64,
     /// Unit models: a point mass at `c₀` (index 0), at `c₀ ± s eᵢ` (`1 + 2i`, `2 + 2i`), a massless
     /// body with basis inertia `k` about the origin (`7 + k`).
     units: Arc<Vec<DynModel>>,
@@ -91,7 +106,7 @@ pub(crate) fn build(ctx: &BuildContext) -> Result<Box<dyn Effect>> {
     if let Some(dm) = ctx.table.payload_mass_error_kg {
         if !(dm.is_finite() && dm >= -p.nominal_mass) {
             return Err(ctx.bad(
-                "payload_mass_error_kg",
+                MASS_ERROR_KEY,
                 format!(
                     "must be finite and >= -{} (the nominal payload), got {dm}",
                     p.nominal_mass
@@ -152,9 +167,21 @@ impl Payload {
             nominal_mass: robot.payload.map_or(0.0, |p| p.mass),
             nominal_com: [com.x, com.y, com.z],
             nominal_inertia: robot.payload.map_or_else(M3::zeros, |p| p.inertia),
+            rated_payload_kg: robot.info.rated_payload_kg,
+            moving_mass_kg: robot.moving_mass(),
             units: Arc::new(units),
             data: Arc::new(Mutex::new(data)),
         })
+    }
+
+    /// The largest payload mass that is plausible for the robot, kg
+    /// ([`plausible::PAYLOAD_RATED_FACTOR`] × the rated payload; without one,
+    /// [`plausible::PAYLOAD_MOVING_MASS_SHARE`] of the moving links' mass).
+    pub(crate) fn mass_limit(&self) -> f64 {
+        match self.rated_payload_kg {
+            Some(r) if r > 0.0 => PAYLOAD_RATED_FACTOR * r,
+            _ => PAYLOAD_MOVING_MASS_SHARE * self.moving_mass_kg,
+        }
     }
 
     /// Torque of unit model `k` (see the field `units`) into `out`.
@@ -245,7 +272,7 @@ impl Effect for Payload {
         "payload"
     }
     fn effects_keys(&self) -> &'static [&'static str] {
-        &["payload_mass_error_kg"]
+        &[MASS_ERROR_KEY]
     }
     fn uncertainty(&self) -> Option<Uncertainty> {
         at(DrawPhase::Robot, 1)
@@ -350,6 +377,59 @@ impl Effect for Payload {
     }
     fn costly(&self) -> bool {
         true
+    }
+    /// Implausible when its mass is negative or above [`Payload::mass_limit`], its centre of
+    /// mass lies more than [`PAYLOAD_MAX_COM_M`] from the flange origin (given the first
+    /// moment's standard errors), or its inertia about the centre of mass is no rigid body's
+    /// (eigenvalues and triangle inequality, within [`PAYLOAD_INERTIA_TOL_KG_M2`]); each limit
+    /// widened by [`PLAUSIBILITY_SIGMAS`] standard errors.
+    fn implausible_fit(&self, std_errors: &[Option<f64>]) -> Option<String> {
+        let mut why: Vec<String> = Vec::new();
+        let (m, h, _) = self.standard();
+        let limit = self.mass_limit();
+        let sm = PLAUSIBILITY_SIGMAS * se(std_errors, 0);
+        if m < -sm {
+            why.push(format!("its mass is {m:.3} kg (< 0)"));
+        } else if m > limit + sm {
+            why.push(format!(
+                "its mass {m:.3} kg is above {limit:.1} kg ({})",
+                match self.rated_payload_kg {
+                    Some(r) if r > 0.0 => {
+                        format!("{PAYLOAD_RATED_FACTOR} × the rated payload {r} kg")
+                    }
+                    _ => format!(
+                        "{PAYLOAD_MOVING_MASS_SHARE} × the moving links' {:.1} kg",
+                        self.moving_mass_kg
+                    ),
+                }
+            ));
+        }
+        let sh = (1..4).map(|i| se(std_errors, i)).fold(0.0, f64::max);
+        if h.norm() > m.max(0.0) * PAYLOAD_MAX_COM_M + PLAUSIBILITY_SIGMAS * sh * 3f64.sqrt() {
+            let b = self.body();
+            why.push(format!(
+                "its centre of mass lies {:.2} m from the flange origin (first moment {:.3} kg·m for {m:.3} kg; at most {PAYLOAD_MAX_COM_M} m)",
+                b.com.norm(),
+                h.norm()
+            ));
+        }
+        if m > 0.0 && why.is_empty() {
+            let si = (4..10).map(|i| se(std_errors, i)).fold(0.0, f64::max);
+            let tol = PAYLOAD_INERTIA_TOL_KG_M2 + PLAUSIBILITY_SIGMAS * si;
+            if let Some(w) = plausible::inertia_violation(&self.body(), tol) {
+                why.push(w);
+            }
+        }
+        plausible::reasons(why)
+    }
+    /// The robot's own payload: `identify` writes the identified body as the robot's
+    /// `[payload]`, not as an effect.
+    fn write_drive_keys(&self, _keys: &mut DriveKeysMut<'_>) -> Result<DriveKept> {
+        Ok(DriveKept::Body)
+    }
+    /// Kept with [`crate::energy::EnergyOptions::payload`].
+    fn in_energy_model(&self, options: &crate::energy::EnergyOptions, _has_drive: bool) -> bool {
+        options.payload
     }
     fn is_null(&self) -> bool {
         self.dm == 0.0 && self.dh == [0.0; 3] && self.di == [0.0; 6]

@@ -73,6 +73,22 @@ impl Effect for Stribeck {
     fn name(&self) -> &'static str {
         "stribeck"
     }
+    /// Implausible when a fitted value is below zero or the Stribeck velocity is not
+    /// positive.
+    fn implausible_fit(&self, std_errors: &[Option<f64>]) -> Option<String> {
+        let (specs, v) = (self.params(), self.values());
+        let mut why = crate::identify::plausible::negative_fitted(&specs, &v, std_errors);
+        if let Some((s, x)) = specs
+            .iter()
+            .zip(&v)
+            .find(|(s, _)| s.name.starts_with("v_s"))
+        {
+            if *x <= 0.0 {
+                why.push(format!("{} = {x} {} is not > 0", s.name, s.unit));
+            }
+        }
+        crate::identify::plausible::reasons(why)
+    }
     fn effects_keys(&self) -> &'static [&'static str] {
         &["stribeck_nm", "stribeck_velocity_rad_s"]
     }

@@ -184,7 +184,7 @@ impl EnergyModel {
         if !options.payload {
             dyn_robot.payload = None;
         }
-        let staged = Staged::of(&set, &options, has_drive, &mut dyn_robot);
+        let staged = Staged::of(&set, &options, has_drive, &mut dyn_robot)?;
         let dynamics = DynModel::new(
             &dyn_robot,
             DynOptions {
@@ -341,13 +341,14 @@ struct Staged {
 
 impl Staged {
     /// The enabled effects of `set` that `options` keeps, by stage; torque effects that fold
-    /// into the rigid body go into `dyn_robot`.
+    /// into the rigid body go into `dyn_robot`. Error: two enabled effects supply the same
+    /// motor or supply term.
     fn of(
         set: &EffectSet,
         options: &EnergyOptions,
         has_drive: bool,
         dyn_robot: &mut RobotModel,
-    ) -> Staged {
+    ) -> Result<Staged> {
         let mut staged = Staged {
             torque: Vec::new(),
             in_model: Vec::new(),
@@ -355,18 +356,26 @@ impl Staged {
             rho: 0.0,
             p0: 0.0,
         };
+        let mut supplied: Vec<(Stage, &'static str)> = Vec::new();
         for (e, on) in set.iter() {
             if !on {
                 continue;
             }
-            match e.stage() {
+            let stage = e.stage();
+            if let Some((_, other)) = supplied.iter().find(|(s, _)| *s == stage) {
+                return Err(Error::Invalid(format!(
+                    "effects `{other}` and `{}` both act as {stage:?}: one effect per motor or \
+                     supply term",
+                    e.name()
+                )));
+            }
+            if stage != Stage::Torque {
+                supplied.push((stage, e.name()));
+            }
+            match stage {
                 Stage::Torque => {
                     let class = e.energy_class();
-                    let skip = e.is_null()
-                        || (class == EnergyClass::Friction && !options.friction)
-                        || (e.name() == "armature" && !(options.armature && has_drive))
-                        || (e.name() == "payload" && !options.payload);
-                    if skip {
+                    if e.is_null() || !e.in_energy_model(options, has_drive) {
                         continue;
                     }
                     staged.in_model.push(e.name().to_string());
@@ -380,7 +389,7 @@ impl Staged {
                 Stage::Supply(SupplyTerm::Standby) => staged.p0 = e.values()[0],
             }
         }
-        staged
+        Ok(staged)
     }
 }
 

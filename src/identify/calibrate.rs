@@ -5,6 +5,7 @@
 //! identified values go to the drive keys), without them and for URDF-only robots (they go
 //! to `[effects.values]`). Every command takes the written file as `--robot`.
 
+use crate::effects::Effect;
 use crate::error::{Error, Result};
 use crate::identify::ladder::Identification;
 use crate::identify::model::Model;
@@ -160,20 +161,28 @@ fn base_drive_file(inp: &CalibrationInput, dst: &Path) -> Result<DriveFile> {
 /// The model's effects into `f`: each effect writes its values to the drive keys it owns
 /// (per-joint drive tables only); every other enabled effect (and, without drive tables,
 /// every enabled one) keeps its values in `[effects.values]`, which wins over the `[effects]`
-/// keys they replace. The payload is written as the robot's payload.
+/// keys they replace. The effect that is the robot's own body ([`DriveKept::Body`]: the
+/// payload) is written as the robot's payload.
 fn write_effects(f: &mut DriveFile, model: &Model, has_drive: bool) -> Result<()> {
     let mut effects = f.effects.take().unwrap_or_default();
     let mut values = effects.values.take().unwrap_or_default();
     let mut enabled = model.enabled_names();
+    let mut body = None;
     for name in crate::effects::catalogue() {
         let e = model.effect(name)?;
-        let kept = if has_drive {
-            e.write_drive_keys(&mut DriveKeysMut::new(f, &model.gear))?
-        } else {
-            DriveKept::Values
-        };
-        // The payload is written as the robot's payload (below).
-        if kept == DriveKept::Keys || name == "payload" {
+        let mut keys = DriveKeysMut::new(f, &model.gear, has_drive);
+        let kept = e.write_drive_keys(&mut keys)?;
+        let kept = keys.kept(kept);
+        if kept == DriveKept::Body {
+            values.remove(name);
+            enabled.retain(|x| *x != name);
+            for key in e.effects_keys() {
+                effects.clear_key(key)?;
+            }
+            body = Some(e);
+            continue;
+        }
+        if kept == DriveKept::Keys {
             values.remove(name);
             continue;
         }
@@ -186,23 +195,20 @@ fn write_effects(f: &mut DriveFile, model: &Model, has_drive: bool) -> Result<()
             values.remove(name);
         }
     }
-    if let Some(p) = payload_table(model)? {
+    if let Some(p) = body.map(|e| payload_table(model, e)).transpose()?.flatten() {
         f.payload = Some(p);
     }
-    enabled.retain(|e| *e != "payload");
-    effects.payload_mass_error_kg = None;
     effects.enabled = Some(enabled.iter().map(|s| s.to_string()).collect());
     effects.values = (!values.is_empty()).then_some(values);
     f.effects = Some(effects);
     Ok(())
 }
 
-/// The identified payload as the robot's payload: mass, centre of mass and inertia about the
-/// centre of mass, in the flange frame (named in the description), exactly the body the fit
-/// scored. `None` when the payload is off or null.
-fn payload_table(model: &Model) -> Result<Option<PayloadTable>> {
-    let payload = model.effect("payload")?;
-    if !model.is_enabled("payload") || payload.is_null() {
+/// The identified payload `payload` as the robot's payload: mass, centre of mass and inertia
+/// about the centre of mass, in the flange frame (named in the description), exactly the body
+/// the fit scored. `None` when the payload is off or null.
+fn payload_table(model: &Model, payload: &dyn Effect) -> Result<Option<PayloadTable>> {
+    if !model.is_enabled(payload.name()) || payload.is_null() {
         return Ok(None);
     }
     let Some(p) = payload.as_any().downcast_ref::<crate::effects::Payload>() else {

@@ -9,7 +9,7 @@
 //! `R = 0`, `ρ = 0`, `P_0 = 0`.
 
 use crate::dynamics::{rnea, DynModel, DynOptions, MAX_DOF};
-use crate::effects::{catalogue, Effect, EffectSet, ParamSpec, Stage};
+use crate::effects::{catalogue, Effect, EffectSet, MotorTerm, ParamSpec, Stage, SupplyTerm};
 pub use crate::effects::{catalogue_index, DEFAULT_EFFECTS};
 use crate::error::{Error, Result};
 use crate::identify::log::{Log, SignalKind};
@@ -184,17 +184,29 @@ impl Model {
         Ok(m)
     }
 
+    /// The motor cache from the enabled effects, each by the motor or supply term it names
+    /// ([`Stage`]).
     fn refresh(&mut self) {
         let n = self.n;
-        let e = &self.effects;
-        self.motor = MotorCache {
-            r: e.enabled_values("copper").unwrap_or_else(|| vec![0.0; n]),
-            eta: e
-                .enabled_values("gear_efficiency")
-                .unwrap_or_else(|| vec![1.0; n]),
-            rho: e.enabled_values("regeneration").map_or(0.0, |v| v[0]),
-            p0: e.enabled_values("standby").map_or(0.0, |v| v[0]),
+        let mut c = MotorCache {
+            r: vec![0.0; n],
+            eta: vec![1.0; n],
+            rho: 0.0,
+            p0: 0.0,
         };
+        for (e, on) in self.effects.iter() {
+            if !on {
+                continue;
+            }
+            match e.stage() {
+                Stage::Torque => {}
+                Stage::Motor(MotorTerm::WindingResistance) => c.r = e.values(),
+                Stage::Motor(MotorTerm::GearEfficiency) => c.eta = e.values(),
+                Stage::Supply(SupplyTerm::Regeneration) => c.rho = e.values()[0],
+                Stage::Supply(SupplyTerm::Standby) => c.p0 = e.values()[0],
+            }
+        }
+        self.motor = c;
     }
 
     /// Switch an effect on or off. Error: unknown name.

@@ -1,22 +1,14 @@
 //! Physical plausibility of every effect's fitted values (docs/effects.md, "Plausibility"):
 //! a fit no physical robot has is reported with the reason, is not written as the calibrated
-//! robot by `identify` and is not claimed by `diagnose`.
-//!
-//! - `payload`: mass in `[0, k · rated payload]` ([`PAYLOAD_RATED_FACTOR`]; without a rated
-//!   payload, [`PAYLOAD_MOVING_MASS_SHARE`] of the moving links' mass), centre of mass within
-//!   [`PAYLOAD_MAX_COM_M`] of the flange origin (given the first moment's standard errors),
-//!   inertia about the centre of mass a rigid body's (eigenvalues and triangle inequality,
-//!   within [`PAYLOAD_INERTIA_TOL_KG_M2`]);
-//! - `viscous`, `coulomb`, `stribeck`: friction ≥ 0 (and Stribeck velocity > 0);
-//! - `balancer`: geometry physical (levers > 0 and different), stiffness ≥ 0; the preload may
-//!   have either sign (a cylinder pushing at its shortest length);
-//! - `armature` ≥ 0 and `copper` > 0 (no winding has zero resistance) for every fitted value;
-//! - `gear_efficiency` in (0, 1], `regeneration` in [0, 1], `standby` ≥ 0;
-//! - and what the effect itself says ([`crate::effects::Effect::implausible_fit`]: a
-//!   `rigid_body` fit that gives a link a negative mass; a `balancer` on a robot whose drive
-//!   file declares none).
+//! robot by `identify` and is not claimed by `diagnose`. Each effect states its own rule in
+//! its file ([`crate::effects::Effect::implausible_fit`]); this module holds the driver
+//! ([`implausible_fit`]), the payload's limits ([`PAYLOAD_RATED_FACTOR`],
+//! [`PAYLOAD_MOVING_MASS_SHARE`], [`PAYLOAD_MAX_COM_M`], [`PAYLOAD_INERTIA_TOL_KG_M2`]) and the
+//! helpers the rules share: the rigid-body conditions of an inertia, the standard errors a
+//! value may sit beyond a limit, and the rule of values that are physically non-negative
+//! (friction, armature, standby).
 
-use crate::effects::{Balancer, Payload};
+use crate::effects::Payload;
 use crate::identify::model::Model;
 use crate::robot::Inertial;
 
@@ -30,14 +22,6 @@ pub const PAYLOAD_MAX_COM_M: f64 = 1.0;
 pub const PAYLOAD_INERTIA_TOL_KG_M2: f64 = 0.01;
 /// Standard errors a value may sit beyond a limit before it is implausible.
 pub(crate) const PLAUSIBILITY_SIGMAS: f64 = 3.0;
-
-/// The largest payload mass that is plausible for the robot of `model`, kg.
-pub(crate) fn payload_mass_limit(model: &Model) -> f64 {
-    match model.rated_payload_kg {
-        Some(r) if r > 0.0 => PAYLOAD_RATED_FACTOR * r,
-        _ => PAYLOAD_MOVING_MASS_SHARE * model.moving_mass_kg,
-    }
-}
 
 /// Why a body's inertia about its centre of mass is no rigid body's (beyond `tol`), or `None`.
 pub(crate) fn inertia_violation(b: &Inertial, tol: f64) -> Option<String> {
@@ -81,137 +65,48 @@ pub(crate) fn payload_written(p: &Payload) -> (Inertial, f64) {
     (b, lift)
 }
 
-fn fitted(std_errors: &[Option<f64>], i: usize) -> bool {
+/// Whether value `i` was fitted (has a standard error).
+pub(crate) fn fitted(std_errors: &[Option<f64>], i: usize) -> bool {
     std_errors.get(i).is_some_and(|s| s.is_some())
 }
 
-fn se(std_errors: &[Option<f64>], i: usize) -> f64 {
+/// The standard error of value `i` (0 when held or not identifiable).
+pub(crate) fn se(std_errors: &[Option<f64>], i: usize) -> f64 {
     std_errors.get(i).copied().flatten().unwrap_or(0.0)
 }
 
-/// Why the current (fitted) values of effect `name` are not physically plausible for the
-/// robot of `model`, given each value's standard error (`None`: held or not identifiable), or
-/// `None` when they are. See the module docs for the rules.
-pub fn implausible_fit(model: &Model, name: &str, std_errors: &[Option<f64>]) -> Option<String> {
-    if let Some(w) = model.implausible_fit(name, std_errors) {
-        return Some(w);
-    }
-    let e = model.effect(name).ok()?;
-    let specs = e.params();
-    let v = e.values();
-    let mut why: Vec<String> = Vec::new();
-    match name {
-        "payload" => {
-            let p = e.as_any().downcast_ref::<Payload>()?;
-            payload_reasons(model, p, std_errors, &mut why);
-        }
-        "viscous" | "coulomb" | "stribeck" | "armature" | "standby" => {
-            sign_reasons(name, &specs, &v, std_errors, &mut why);
-        }
-        "copper" => {
-            for (i, (s, x)) in specs.iter().zip(&v).enumerate() {
-                if *x <= 0.0 && fitted(std_errors, i) {
-                    why.push(format!(
-                        "{} = {x:.4} {}: no winding has zero or negative resistance",
-                        s.name, s.unit
-                    ));
-                }
-            }
-        }
-        "gear_efficiency" => {
-            for (s, x) in specs.iter().zip(&v) {
-                if !(*x > 0.0 && *x <= 1.0) {
-                    why.push(format!("{} = {x:.4} outside (0, 1]", s.name));
-                }
-            }
-        }
-        "regeneration" => {
-            for (s, x) in specs.iter().zip(&v) {
-                if !(0.0..=1.0).contains(x) {
-                    why.push(format!("{} = {x:.4} outside [0, 1]", s.name));
-                }
-            }
-        }
-        "balancer" => {
-            let b = e.as_any().downcast_ref::<Balancer>()?;
-            balancer_reasons(b, std_errors, &mut why);
-        }
-        _ => {}
-    }
+/// The reasons, joined, or `None` when there are none.
+pub(crate) fn reasons(why: Vec<String>) -> Option<String> {
     (!why.is_empty()).then(|| why.join("; "))
 }
 
-/// Why a fitted payload is not plausible: a negative mass or one above the limit, a centre of
-/// mass too far from the flange, an inertia no rigid body has.
-fn payload_reasons(model: &Model, p: &Payload, std_errors: &[Option<f64>], why: &mut Vec<String>) {
-    let (m, h, _) = p.standard();
-    let limit = payload_mass_limit(model);
-    let sm = PLAUSIBILITY_SIGMAS * se(std_errors, 0);
-    if m < -sm {
-        why.push(format!("its mass is {m:.3} kg (< 0)"));
-    } else if m > limit + sm {
-        why.push(format!(
-            "its mass {m:.3} kg is above {limit:.1} kg ({})",
-            match model.rated_payload_kg {
-                Some(r) if r > 0.0 => format!("{PAYLOAD_RATED_FACTOR} × the rated payload {r} kg"),
-                _ => format!(
-                    "{PAYLOAD_MOVING_MASS_SHARE} × the moving links' {:.1} kg",
-                    model.moving_mass_kg
-                ),
-            }
-        ));
-    }
-    let sh = (1..4).map(|i| se(std_errors, i)).fold(0.0, f64::max);
-    if h.norm() > m.max(0.0) * PAYLOAD_MAX_COM_M + PLAUSIBILITY_SIGMAS * sh * 3f64.sqrt() {
-        let b = p.body();
-        why.push(format!(
-            "its centre of mass lies {:.2} m from the flange origin (first moment {:.3} kg·m for {m:.3} kg; at most {PAYLOAD_MAX_COM_M} m)",
-            b.com.norm(),
-            h.norm()
-        ));
-    }
-    if m > 0.0 && why.is_empty() {
-        let si = (4..10).map(|i| se(std_errors, i)).fold(0.0, f64::max);
-        let tol = PAYLOAD_INERTIA_TOL_KG_M2 + PLAUSIBILITY_SIGMAS * si;
-        if let Some(w) = inertia_violation(&p.body(), tol) {
-            why.push(w);
-        }
-    }
-}
-
-/// Why fitted friction, armature or standby values are not plausible: a fitted value below
-/// zero, a Stribeck velocity that is not positive.
-fn sign_reasons(
-    name: &str,
+/// The rule of values that are physically non-negative (friction, armature, standby): each
+/// fitted value below zero is a reason.
+pub(crate) fn negative_fitted(
     specs: &[crate::effects::ParamSpec],
     v: &[f64],
     std_errors: &[Option<f64>],
-    why: &mut Vec<String>,
-) {
+) -> Vec<String> {
+    let mut why = Vec::new();
     for (i, (s, x)) in specs.iter().zip(v).enumerate() {
         if *x < 0.0 && fitted(std_errors, i) {
             why.push(format!("{} = {x:.4} {} < 0", s.name, s.unit));
         }
     }
-    if name == "stribeck" {
-        if let Some((s, x)) = specs.iter().zip(v).find(|(s, _)| s.name.starts_with("v_s")) {
-            if *x <= 0.0 {
-                why.push(format!("{} = {x} {} is not > 0", s.name, s.unit));
-            }
-        }
-    }
+    why
 }
 
-/// Why a fitted balancer is not plausible: levers that are not physical, a negative
-/// stiffness.
-fn balancer_reasons(b: &Balancer, std_errors: &[Option<f64>], why: &mut Vec<String>) {
-    if !(b.a > 0.0 && b.b > 0.0 && (b.a - b.b).abs() > 1e-6) {
-        why.push(format!(
-            "its geometry is not physical (levers {} m and {} m must be > 0 and differ)",
-            b.a, b.b
-        ));
-    }
-    if b.stiffness < -PLAUSIBILITY_SIGMAS * se(std_errors, 1) {
-        why.push(format!("its stiffness {:.1} N/m is < 0", b.stiffness));
-    }
+/// [`negative_fitted`] of an effect's current values, joined.
+pub(crate) fn implausible_if_negative(
+    e: &dyn crate::effects::Effect,
+    std_errors: &[Option<f64>],
+) -> Option<String> {
+    reasons(negative_fitted(&e.params(), &e.values(), std_errors))
+}
+
+/// Why the current (fitted) values of effect `name` are not physically plausible for the
+/// robot of `model`, given each value's standard error (`None`: held or not identifiable), or
+/// `None` when they are: each effect's own rule ([`crate::effects::Effect::implausible_fit`]).
+pub fn implausible_fit(model: &Model, name: &str, std_errors: &[Option<f64>]) -> Option<String> {
+    model.implausible_fit(name, std_errors)
 }

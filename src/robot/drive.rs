@@ -595,20 +595,43 @@ pub enum DriveKept {
     /// In its drive keys as far as they go, and in full in `[effects.values]`, which wins
     /// when the robot is loaded.
     KeysAndValues,
+    /// As the robot's own body (the payload: `[payload]`), not as an effect: neither
+    /// `[effects.values]` nor `[effects] enabled` names it, and its `[effects]` keys
+    /// ([`crate::effects::Effect::effects_keys`]) are cleared. With or without per-joint
+    /// drive tables.
+    Body,
 }
 
 /// The drive keys of a calibrated drive file being written, as the effects set them: the
-/// per-joint keys of `[[joints]]` and the keys of `[cabinet]` (docs/drive-file.md).
+/// per-joint keys of `[[joints]]` and the keys of `[cabinet]` (docs/drive-file.md). Without
+/// per-joint drive tables nothing is written: every effect's values then go to
+/// `[effects.values]` (or, for [`DriveKept::Body`], into the robot's body).
 #[derive(Debug)]
 pub struct DriveKeysMut<'a> {
     file: &'a mut DriveFile,
     gear: &'a [f64],
+    drive_tables: bool,
 }
 
 impl<'a> DriveKeysMut<'a> {
-    /// The keys of `file`, whose joints have gear ratios `gear`.
-    pub(crate) fn new(file: &'a mut DriveFile, gear: &'a [f64]) -> Self {
-        DriveKeysMut { file, gear }
+    /// The keys of `file`, whose joints have gear ratios `gear`; `drive_tables`: whether the
+    /// file has per-joint drive tables (the keys are written only then).
+    pub(crate) fn new(file: &'a mut DriveFile, gear: &'a [f64], drive_tables: bool) -> Self {
+        DriveKeysMut {
+            file,
+            gear,
+            drive_tables,
+        }
+    }
+
+    /// Where the file keeps the values of an effect that says `kept`: without per-joint
+    /// drive tables in `[effects.values]`, unless it is the robot's body.
+    pub(crate) fn kept(&self, kept: DriveKept) -> DriveKept {
+        match kept {
+            DriveKept::Body => DriveKept::Body,
+            k if self.drive_tables => k,
+            _ => DriveKept::Values,
+        }
     }
 
     /// Gear ratio of each joint (motor turns per joint turn).
@@ -619,6 +642,9 @@ impl<'a> DriveKeysMut<'a> {
     /// Set the per-joint key `key` of the first `values.len()` `[[joints]]` tables. Error: a
     /// key the drive file's joint tables do not have.
     pub(crate) fn set_joints(&mut self, key: &str, values: &[f64]) -> Result<()> {
+        if !self.drive_tables {
+            return Ok(());
+        }
         for (jt, v) in self.file.joints.iter_mut().zip(values) {
             *jt.key_mut(key)? = Some(*v);
         }
@@ -631,6 +657,9 @@ impl<'a> DriveKeysMut<'a> {
     /// Set `[cabinet] key` when the file has a `[cabinet]` table. Error: a key the table does
     /// not have.
     pub(crate) fn set_cabinet(&mut self, key: &str, value: f64) -> Result<()> {
+        if !self.drive_tables {
+            return Ok(());
+        }
         match key {
             "standby_power_w" => {
                 if let Some(c) = self.file.cabinet.as_mut() {
