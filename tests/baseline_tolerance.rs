@@ -7,9 +7,11 @@
 //! cheaper than the answer (−21.3 J) but 8 of the 16 corners of its ±20 mm, ±1° box come
 //! within joint 3's 3° margin; the answer holds the tolerance.
 
+mod common;
+use common::root;
+
 use serde_json::Value;
 use std::path::{Path, PathBuf};
-use std::process::Command;
 
 const CASE: [&str; 13] = [
     "optimise",
@@ -27,23 +29,9 @@ const CASE: [&str; 13] = [
     "7",
 ];
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
 /// Run `printwatt` on the case (with `extra` arguments) from the repository root; stdout.
 fn run(extra: &[&str]) -> String {
-    let o = Command::new(env!("CARGO_BIN_EXE_printwatt"))
-        .current_dir(root())
-        .args(CASE)
-        .args(extra)
-        .output()
-        .unwrap();
-    assert!(
-        o.status.success(),
-        "{extra:?}: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
+    let o = common::run_ok(&[&CASE[..], extra].concat(), &root());
     String::from_utf8(o.stdout).unwrap()
 }
 

@@ -214,13 +214,7 @@ fn breakdown_closes_with_the_identified_effects() {
         set_values(&mut r, "regeneration", vec![rho]);
         let rep = evaluate(&EnergyModel::new(&r).unwrap(), &sines(6, 5.0, 1000)).unwrap();
         let t = &rep.total;
-        let parts = t.rigid_body_j
-            + t.balancer_j
-            + t.friction_j
-            + t.gear_j
-            + t.copper_j
-            + t.regeneration_lost_j
-            + t.standby_j;
+        let parts = common::supply_parts(t);
         assert!(close(t.supply_j, parts, 1e-9), "{} vs {parts}", t.supply_j);
         assert!(close(
             t.mechanical_j,
@@ -299,17 +293,16 @@ fn bad_effects_tables_name_file_and_key() {
 }
 
 fn energy_cli(robot: &Path, traj: &Path, out: &Path) -> serde_json::Value {
-    let o = Command::new(env!("CARGO_BIN_EXE_printwatt"))
-        .args(["energy", "--robot"])
-        .arg(robot)
-        .arg("--trajectory")
-        .arg(traj)
-        .arg("--json")
-        .arg("--out")
-        .arg(out)
-        .output()
-        .unwrap();
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+    let o = common::ok(
+        Command::new(env!("CARGO_BIN_EXE_printwatt"))
+            .args(["energy", "--robot"])
+            .arg(robot)
+            .arg("--trajectory")
+            .arg(traj)
+            .arg("--json")
+            .arg("--out")
+            .arg(out),
+    );
     serde_json::from_slice(&o.stdout).unwrap()
 }
 

@@ -57,13 +57,7 @@ fn breakdown_closes_and_losses_are_non_negative() {
             let m = EnergyModel::with_options(&r, opts).unwrap();
             let rep = evaluate(&m, &sines(6, 2, 3.0, 600, 0.6)).unwrap();
             let t = &rep.total;
-            let sum = t.rigid_body_j
-                + t.balancer_j
-                + t.friction_j
-                + t.gear_j
-                + t.copper_j
-                + t.regeneration_lost_j
-                + t.standby_j;
+            let sum = common::supply_parts(t);
             assert!(
                 close(t.supply_j, sum, 1e-9),
                 "{name}: {} vs {sum}",
@@ -276,13 +270,7 @@ fn a_placements_energies_summed_in_lane_interleaved_partial_sums_stay_within_rou
     let job = common::default_job(&model, &common::path("seed000_test_path.gcode"));
     let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
     let mut sc = ev.scratch().unwrap();
-    let at = Placement {
-        x: 1.8,
-        y: 0.0,
-        z: 0.2,
-        yaw: 90f64.to_radians(),
-        nozzle_spin: 0.0,
-    };
+    let at = Placement::new(1.8, 0.0, 0.2, 90f64.to_radians());
     let timed = ev.timed(&mut sc, &at).unwrap();
     let f = ev
         .energy_of(&mut sc, &timed, Default::default())

@@ -276,13 +276,7 @@ fn a_placement_evaluated_with_shared_sines_equals_its_energy_computed_afresh() {
     let job = common::default_job(&model, &common::path("seed000_test_path.gcode"));
     let ev = Evaluator::new(&job, FeasibilityOptions::default(), Objective::Supply);
     let mut sc = ev.scratch().unwrap();
-    let at = Placement {
-        x: 1.8,
-        y: 0.0,
-        z: 0.2,
-        yaw: 90f64.to_radians(),
-        nozzle_spin: 0.0,
-    };
+    let at = Placement::new(1.8, 0.0, 0.2, 90f64.to_radians());
     // evaluate: the sines of the IK's FK re-check, shared by the checks and RNEA.
     let shared = ev.evaluate(&mut sc, &at);
     let f = shared.feasible().expect("a feasible placement");

@@ -4,34 +4,15 @@
 //! output has is documented, and every documented field is present wherever its parent is
 //! non-null and non-empty. Arrays are written `name[]`, nested fields `a.b`.
 
+mod common;
+use common::root;
+
 use serde_json::Value;
 use std::collections::BTreeSet;
 use std::path::{Path, PathBuf};
-use std::process::Command;
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn tmp(tag: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("printwatt_json_{tag}_{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
 
 fn run(dir: &Path, args: &[&str]) -> String {
-    let o = Command::new(env!("CARGO_BIN_EXE_printwatt"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .unwrap();
-    assert!(
-        o.status.success(),
-        "{args:?}: {}",
-        String::from_utf8_lossy(&o.stderr)
-    );
-    String::from_utf8(o.stdout).unwrap()
+    String::from_utf8(common::run_ok(args, dir).stdout).unwrap()
 }
 
 /// The documented field paths of `command` (docs/json.md, block ```` ```fields command ````).
@@ -156,7 +137,7 @@ fn robot_arg() -> String {
 
 #[test]
 fn json_output_of_simulate_matches_docs_json_md() {
-    let d = tmp("simulate");
+    let d = common::scratch("json", "simulate");
     let r = robot_arg();
     let base = [
         "simulate", "--robot", &r, "--excite", "1", "--signal", "tau", "--rate", "50", "--seed",
@@ -173,7 +154,7 @@ fn json_output_of_simulate_matches_docs_json_md() {
 
 #[test]
 fn json_output_of_compare_matches_docs_json_md() {
-    let d = tmp("compare");
+    let d = common::scratch("json", "compare");
     let log = log_in(&d);
     let out = run(
         &d,
@@ -191,7 +172,7 @@ fn json_output_of_compare_matches_docs_json_md() {
 
 #[test]
 fn json_output_of_diagnose_matches_docs_json_md() {
-    let d = tmp("diagnose");
+    let d = common::scratch("json", "diagnose");
     let log = log_in(&d);
     let out = run(
         &d,
@@ -209,7 +190,7 @@ fn json_output_of_diagnose_matches_docs_json_md() {
 
 #[test]
 fn json_output_of_identify_matches_docs_json_md() {
-    let d = tmp("identify");
+    let d = common::scratch("json", "identify");
     let log = log_in(&d);
     let out = run(
         &d,
@@ -249,7 +230,7 @@ fn check_object(block: &str, v: &Value) {
 
 #[test]
 fn json_path_reduction_of_optimise_matches_docs_json_md() {
-    let d = tmp("reduction");
+    let d = common::scratch("json", "reduction");
     // Five layers of the shipped wall's outline (1200 x 40 mm), 15 mm apart, seams alternating.
     let mut g = String::from("G21\nG90\nM83\n");
     for k in 0..5 {
@@ -308,7 +289,7 @@ fn json_path_reduction_of_optimise_matches_docs_json_md() {
 
 #[test]
 fn json_output_of_stations_matches_docs_json_md() {
-    let d = tmp("stations");
+    let d = common::scratch("json", "stations");
     // Two 1.5 m wall pieces with a travel between them, stations along a track beside them.
     std::fs::write(
         d.join("wall.gcode"),
@@ -335,7 +316,7 @@ fn json_output_of_stations_matches_docs_json_md() {
 
 #[test]
 fn json_output_of_inspect_matches_docs_json_md() {
-    let d = tmp("inspect");
+    let d = common::scratch("json", "inspect");
     std::fs::write(
         d.join("p.csv"),
         "x,y,z,print\n0,0,20,1\n500,0,20,1\n500,0,40,0\n",

@@ -210,26 +210,18 @@ fn optimiser_beats_the_grid_is_deterministic_and_reports_sensitivity() {
 
 #[test]
 fn cli_sweep_json_and_optimise_end_to_end() {
-    let out = bin()
-        .args([
-            "sweep",
-            "--x",
-            "1.4:1.6:0.1",
-            "--y",
-            "-0.1:0.1:0.1",
-            "--z",
-            "0.5",
-            "--yaw",
-            "90",
-            "--json",
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = common::ok(bin().args([
+        "sweep",
+        "--x",
+        "1.4:1.6:0.1",
+        "--y",
+        "-0.1:0.1:0.1",
+        "--z",
+        "0.5",
+        "--yaw",
+        "90",
+        "--json",
+    ]));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["placements"], 9);
     assert!(v["feasible"].as_u64().unwrap() >= 4);
@@ -237,32 +229,27 @@ fn cli_sweep_json_and_optimise_end_to_end() {
 
     let dir = std::env::temp_dir().join(format!("pw-place-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    let out = bin()
-        .args([
-            "optimise",
-            "--x",
-            "1.4:1.6:0.1",
-            "--y",
-            "-0.1:0.1:0.1",
-            "--z",
-            "0.5",
-            "--yaw",
-            "90",
-            "--max-evals",
-            "20",
-            "--run",
-            "t",
-            "--results-dir",
-        ])
-        .arg(&dir)
-        .output()
-        .unwrap();
-    let stdout = String::from_utf8_lossy(&out.stdout);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    let out = common::ok(
+        bin()
+            .args([
+                "optimise",
+                "--x",
+                "1.4:1.6:0.1",
+                "--y",
+                "-0.1:0.1:0.1",
+                "--z",
+                "0.5",
+                "--yaw",
+                "90",
+                "--max-evals",
+                "20",
+                "--run",
+                "t",
+                "--results-dir",
+            ])
+            .arg(&dir),
     );
+    let stdout = String::from_utf8_lossy(&out.stdout);
     assert!(
         stdout.contains("best placement") && stdout.contains("saving"),
         "{stdout}"
@@ -303,34 +290,10 @@ fn cli_sweep_json_and_optimise_end_to_end() {
         String::from_utf8_lossy(&out.stderr)
     );
     let out = again(true);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    common::assert_ok(&out);
     // A run directory holding a foreign file is refused, not overwritten, even with --force.
     std::fs::write(dir.join("t").join("notes.txt"), "mine").unwrap();
-    let out = bin()
-        .args([
-            "optimise",
-            "--force",
-            "--x",
-            "1.5",
-            "--y",
-            "0",
-            "--z",
-            "0.5",
-            "--yaw",
-            "90",
-            "--max-evals",
-            "4",
-            "--run",
-            "t",
-            "--results-dir",
-        ])
-        .arg(&dir)
-        .output()
-        .unwrap();
+    let out = again(true);
     assert!(!out.status.success());
     assert!(String::from_utf8_lossy(&out.stderr).contains("notes.txt"));
     let _ = std::fs::remove_dir_all(&dir);

@@ -134,26 +134,18 @@ fn objectives_drives_and_mechanical_positive_are_offered_and_old_names_still_par
 
 #[test]
 fn sweep_set_with_several_spins_evaluates_every_spin() {
-    let out = bin()
-        .args([
-            "sweep",
-            "--path",
-            "paths/seed000_test_path.gcode",
-            "--set",
-            "paths/placements/p1-p5.csv",
-            "--z",
-            "0.2",
-            "--spin",
-            "0,45,90",
-            "--json",
-        ])
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    let out = common::ok(bin().args([
+        "sweep",
+        "--path",
+        "paths/seed000_test_path.gcode",
+        "--set",
+        "paths/placements/p1-p5.csv",
+        "--z",
+        "0.2",
+        "--spin",
+        "0,45,90",
+        "--json",
+    ]));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["placements"], 15);
     let spins: std::collections::BTreeSet<i64> = v["rows"]
@@ -170,30 +162,25 @@ fn optimise_without_run_writes_a_new_named_run_and_never_replaces_one() {
     let dir = std::env::temp_dir().join(format!("pw-runs-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
     let go = || {
-        let out = bin()
-            .args([
-                "optimise",
-                "--x",
-                "1.5",
-                "--y",
-                "0",
-                "--z",
-                "0.5",
-                "--yaw",
-                "90",
-                "--max-evals",
-                "4",
-                "--tolerance",
-                "0,0",
-                "--results-dir",
-            ])
-            .arg(&dir)
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
+        common::ok(
+            bin()
+                .args([
+                    "optimise",
+                    "--x",
+                    "1.5",
+                    "--y",
+                    "0",
+                    "--z",
+                    "0.5",
+                    "--yaw",
+                    "90",
+                    "--max-evals",
+                    "4",
+                    "--tolerance",
+                    "0,0",
+                    "--results-dir",
+                ])
+                .arg(&dir),
         );
     };
     go();
@@ -243,19 +230,26 @@ fn urdf_without_nozzle_gets_counts_per_reason_and_the_no_tool_offset_hint() {
     );
 }
 
+/// The robot and path the export tests export.
+fn export_case() -> (printwatt::robot::RobotModel, printwatt::toolpath::Toolpath) {
+    (
+        common::robot("abb_irb6700_200_260"),
+        common::path("default.gcode"),
+    )
+}
+
+/// The placement the export tests put the nozzle at: off the axes, with yaw and nozzle spin.
+fn export_at() -> printwatt::toolpath::Placement {
+    printwatt::toolpath::Placement::new(1.55, 0.05, 0.45, 100f64.to_radians())
+        .with_spin(10f64.to_radians())
+}
+
 #[test]
 fn exported_wobjdata_and_frame_put_the_nozzle_where_the_placement_says() {
     use printwatt::export;
-    let model = common::robot("abb_irb6700_200_260");
-    let tp = common::path("default.gcode");
+    let (model, tp) = export_case();
     let job = common::default_job(&model, &tp);
-    let at = printwatt::toolpath::Placement {
-        x: 1.55,
-        y: 0.05,
-        z: 0.45,
-        yaw: 100f64.to_radians(),
-        nozzle_spin: 10f64.to_radians(),
-    };
+    let at = export_at();
     let pe = job.evaluate(&at).unwrap().unwrap();
     // Read the numbers back from the RAPID text: [[x, y, z], [q1, q2, q3, q4]] in mm.
     let w = export::wobjdata("wobjPrint", &at);
@@ -324,16 +318,9 @@ fn an_optimum_on_the_joint_limit_margin_is_flagged_and_the_margin_stated() {
 fn exported_base_frame_path_puts_the_nozzle_where_the_placement_says() {
     use printwatt::export;
     use printwatt::kinematics::{nozzle_target, IkSolver};
-    let model = common::robot("abb_irb6700_200_260");
-    let tp = common::path("default.gcode");
+    let (model, tp) = export_case();
     let job = common::default_job(&model, &tp);
-    let at = printwatt::toolpath::Placement {
-        x: 1.55,
-        y: 0.05,
-        z: 0.45,
-        yaw: 100f64.to_radians(),
-        nozzle_spin: 10f64.to_radians(),
-    };
+    let at = export_at();
     let pts = export::base_frame_path(&job.moves, &at);
     assert!(pts.len() > job.moves.len());
     // Read the coordinates back from both files (mm).

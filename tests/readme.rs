@@ -4,12 +4,11 @@
 //! comment `<!-- readme-test: skip: <reason> -->` is not run (the set-up commands, the slow
 //! optimisations); the test asserts that every skip gives a reason.
 
-use std::path::{Path, PathBuf};
-use std::process::Command;
+mod common;
+use common::root;
 
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
+use std::path::Path;
+use std::process::Command;
 
 /// The README's sh blocks: (line of the fence, skip reason, logical command lines).
 fn blocks(text: &str) -> Vec<(usize, Option<String>, Vec<String>)> {
@@ -168,18 +167,12 @@ fn the_readme_main_job_output_is_what_optimise_prints() {
         .zip([&[][..], &["--uncertainty", "20"][..]])
         .enumerate()
     {
-        let out = Command::new(env!("CARGO_BIN_EXE_printwatt"))
-            .arg("optimise")
-            .args(extra)
-            .arg("--out")
-            .arg(dir.join(format!("run{k}")))
-            .current_dir(root())
-            .output()
-            .unwrap();
-        assert!(
-            out.status.success(),
-            "{}",
-            String::from_utf8_lossy(&out.stderr)
+        let out = common::ok(
+            common::bin()
+                .arg("optimise")
+                .args(extra)
+                .arg("--out")
+                .arg(dir.join(format!("run{k}"))),
         );
         let printed = String::from_utf8_lossy(&out.stdout);
         for line in block {

@@ -5,7 +5,6 @@
 //! before. Rendering in a browser: tests/browser.rs.
 
 mod common;
-use common::root;
 
 use printwatt::evaluate::{Evaluator, FeasibilityOptions, Objective};
 use printwatt::report::placement::{Detail, RunReport};
@@ -88,19 +87,8 @@ fn report_is_well_formed_with_expected_figures() {
     let _ = std::fs::remove_dir_all(&dir);
     rep.write(&dir).unwrap();
     let html = std::fs::read_to_string(dir.join("report.html")).unwrap();
-    let doc = roxmltree::Document::parse_with_options(
-        &html,
-        roxmltree::ParsingOptions {
-            allow_dtd: true,
-            ..Default::default()
-        },
-    )
-    .expect("report.html is well-formed XML");
-    let ids: Vec<&str> = doc
-        .descendants()
-        .filter(|n| n.has_tag_name("figure"))
-        .filter_map(|n| n.attribute("id"))
-        .collect();
+    let doc = common::parse_xhtml(&html);
+    let ids = common::figure_ids(&doc);
     for want in ["heatmap", "bars", "joints", "power-0", "power-1"] {
         assert!(ids.contains(&want), "figure {want} in {ids:?}");
     }
@@ -129,38 +117,21 @@ fn report_is_well_formed_with_expected_figures() {
     let _ = std::fs::remove_dir_all(&dir);
 }
 
-fn parse_xhtml(html: &str) -> roxmltree::Document<'_> {
-    roxmltree::Document::parse_with_options(
-        html,
-        roxmltree::ParsingOptions {
-            allow_dtd: true,
-            ..Default::default()
-        },
-    )
-    .expect("report.html is well-formed XML")
-}
-
 #[test]
 fn compare_report_has_every_chart_and_stays_small() {
     let dir = std::env::temp_dir().join(format!("pw-compare-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&dir);
-    let out = std::process::Command::new(env!("CARGO_BIN_EXE_printwatt"))
-        .current_dir(root())
-        .args([
-            "compare",
-            "--robot",
-            "robots/abb_irb4600_40_255",
-            "--log",
-            "results/identify_example/log.csv",
-            "--out",
-        ])
-        .arg(&dir)
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
+    common::ok(
+        common::bin()
+            .args([
+                "compare",
+                "--robot",
+                "robots/abb_irb4600_40_255",
+                "--log",
+                "results/identify_example/log.csv",
+                "--out",
+            ])
+            .arg(&dir),
     );
     let html = std::fs::read_to_string(dir.join("report.html")).unwrap();
     // 5000 samples × 6 joints: decimated lines and thinned scatters keep it well under 1 MB.
@@ -169,12 +140,8 @@ fn compare_report_has_every_chart_and_stays_small() {
         "report.html is {} bytes",
         html.len()
     );
-    let doc = parse_xhtml(&html);
-    let ids: Vec<&str> = doc
-        .descendants()
-        .filter(|n| n.has_tag_name("figure"))
-        .filter_map(|n| n.attribute("id"))
-        .collect();
+    let doc = common::parse_xhtml(&html);
+    let ids = common::figure_ids(&doc);
     for j in 1..=6 {
         for want in [
             format!("joint_{j}-signal"),
@@ -382,14 +349,7 @@ fn infeasible_cells_are_summarised_by_reason_with_details_collapsed() {
     let html = rep.html();
     let n_inf = rep.rows.iter().filter(|r| r.outcome.is_err()).count();
     assert!(n_inf > 0);
-    let doc = roxmltree::Document::parse_with_options(
-        &html,
-        roxmltree::ParsingOptions {
-            allow_dtd: true,
-            ..Default::default()
-        },
-    )
-    .unwrap();
+    let doc = common::parse_xhtml(&html);
     // The count table: one row per reason, counts adding up to the infeasible placements.
     let h2 = doc
         .descendants()
@@ -624,28 +584,27 @@ fn top_view_stacks_labels_at_one_spot_and_draws_infeasible_points_with_their_own
 fn the_answer_card_states_the_energy_the_cli_prints_and_the_uncertainty_is_drawn() {
     let d = std::env::temp_dir().join(format!("pw-answer-{}", std::process::id()));
     let _ = std::fs::remove_dir_all(&d);
-    let o = common::bin()
-        .args([
-            "optimise",
-            "--x",
-            "1.3,1.5,3",
-            "--y",
-            "-0.1,0.1,3",
-            "--z",
-            "0.5",
-            "--yaw",
-            "90",
-            "--max-evals",
-            "10",
-            "--uncertainty",
-            "6",
-            "--out",
-        ])
-        .arg(&d)
-        .output()
-        .unwrap();
+    let o = common::ok(
+        common::bin()
+            .args([
+                "optimise",
+                "--x",
+                "1.3,1.5,3",
+                "--y",
+                "-0.1,0.1,3",
+                "--z",
+                "0.5",
+                "--yaw",
+                "90",
+                "--max-evals",
+                "10",
+                "--uncertainty",
+                "6",
+                "--out",
+            ])
+            .arg(&d),
+    );
     let out = String::from_utf8_lossy(&o.stdout);
-    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
     let energy = out
         .lines()
         .find_map(|l| l.strip_prefix("energy "))
@@ -653,7 +612,7 @@ fn the_answer_card_states_the_energy_the_cli_prints_and_the_uncertainty_is_drawn
         .unwrap_or_else(|| panic!("no energy line in {out}"))
         .to_string();
     let html = std::fs::read_to_string(d.join("report.html")).unwrap();
-    let doc = parse_xhtml(&html);
+    let doc = common::parse_xhtml(&html);
     let card = doc
         .descendants()
         .find(|n| n.attribute("id") == Some("answer"))

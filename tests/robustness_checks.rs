@@ -3,18 +3,10 @@
 //! of a shipped robot and asserts the error (or warning) that names the file and the field; each
 //! fails if its check is removed (the load would then succeed or the message would be missing).
 
+mod common;
+use common::root;
+
 use std::path::{Path, PathBuf};
-
-fn root() -> PathBuf {
-    PathBuf::from(env!("CARGO_MANIFEST_DIR"))
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("printwatt-chk-{}-{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
 
 /// A copy of the ABB IRB 4600 in a fresh directory, with `edit_urdf` / `edit_drive` applied.
 fn robot_with(
@@ -22,7 +14,7 @@ fn robot_with(
     edit_urdf: &dyn Fn(&str) -> String,
     edit_drive: &dyn Fn(&str) -> String,
 ) -> PathBuf {
-    let d = tmp(name).join("rob");
+    let d = common::scratch("chk", name).join("rob");
     std::fs::create_dir_all(&d).unwrap();
     let src = root().join("robots/abb_irb4600_40_255");
     let u = std::fs::read_to_string(src.join("robot.urdf")).unwrap();
@@ -250,7 +242,7 @@ fn log_whose_metadata_names_another_robot_warns() {
 #[test]
 fn semicolon_separated_export_with_decimal_commas_is_read() {
     // A European spreadsheet export: `;` between fields, `,` as the decimal mark.
-    let d = tmp("semicolon");
+    let d = common::scratch("chk", "semicolon");
     let p = d.join("p.csv");
     std::fs::write(&p, "x[mm];y[mm];z[mm]\n0;0;0\n10,5;0;0\n10,5;20,25;0\n").unwrap();
     let tp = printwatt::toolpath::load(&p, &Default::default()).expect("a ; export reads");

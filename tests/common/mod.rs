@@ -164,6 +164,62 @@ pub fn scratch(prefix: &str, name: &str) -> PathBuf {
     d
 }
 
+/// The parts a supply energy is made of, J: rigid body, balancer, friction, gear, copper,
+/// regeneration lost and standby.
+pub fn supply_parts(t: &printwatt::energy::TotalEnergy) -> f64 {
+    t.rigid_body_j
+        + t.balancer_j
+        + t.friction_j
+        + t.gear_j
+        + t.copper_j
+        + t.regeneration_lost_j
+        + t.standby_j
+}
+
+/// Assert that a command succeeded, showing its stderr when it did not.
+pub fn assert_ok(o: &std::process::Output) {
+    assert!(o.status.success(), "{}", String::from_utf8_lossy(&o.stderr));
+}
+
+/// Run `printwatt args` in `cwd` and assert that it succeeded (naming the arguments when it
+/// did not); its output.
+pub fn run_ok(args: &[&str], cwd: &std::path::Path) -> std::process::Output {
+    let o = run(args, cwd);
+    assert!(
+        o.status.success(),
+        "{args:?}: {}",
+        String::from_utf8_lossy(&o.stderr)
+    );
+    o
+}
+
+/// Run `cmd` to its end and assert that it succeeded; its output.
+pub fn ok(cmd: &mut std::process::Command) -> std::process::Output {
+    let o = cmd.output().expect("run");
+    assert_ok(&o);
+    o
+}
+
+/// A written report (XHTML, with a DTD) parsed as XML.
+pub fn parse_xhtml(html: &str) -> roxmltree::Document<'_> {
+    roxmltree::Document::parse_with_options(
+        html,
+        roxmltree::ParsingOptions {
+            allow_dtd: true,
+            ..Default::default()
+        },
+    )
+    .expect("report.html is well-formed XML")
+}
+
+/// The ids of a report's figures, in document order.
+pub fn figure_ids<'a>(doc: &'a roxmltree::Document) -> Vec<&'a str> {
+    doc.descendants()
+        .filter(|n| n.has_tag_name("figure"))
+        .filter_map(|n| n.attribute("id"))
+        .collect()
+}
+
 /// A command's stderr as text.
 pub fn stderr_of(o: &std::process::Output) -> String {
     String::from_utf8_lossy(&o.stderr).into_owned()
