@@ -38,7 +38,7 @@ impl Effect for Armature {
     }
     /// Implausible when a fitted value is below zero.
     fn implausible_fit(&self, std_errors: &[Option<f64>]) -> Option<String> {
-        crate::identify::plausible::implausible_if_negative(self, std_errors)
+        super::plausible::implausible_if_negative(self, std_errors)
     }
     /// `[[joints]] rotor_inertia_kg_m2` (= `G² J_m / G²`).
     fn write_drive_keys(&self, keys: &mut DriveKeysMut<'_>) -> Result<DriveKept> {

@@ -16,11 +16,11 @@
 //! when the arm leans out, and linear in (`F0`, `k`) (regressor
 //! `[dL/dq, (L − L_min) dL/dq]`, m and m²).
 
+use super::plausible::{self, PLAUSIBILITY_SIGMAS};
 use super::{
     check_values, BuildContext, DrawPhase, Drawing, Effect, EnergyClass, ParamSpec, Uncertainty,
 };
 use crate::error::Result;
-use crate::identify::plausible::{self, PLAUSIBILITY_SIGMAS};
 
 /// Default lever of the moving end on link 2, m (ESTIMATE used when a drive file names no
 /// geometry; see docs/effects.md).

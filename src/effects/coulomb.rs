@@ -98,7 +98,7 @@ impl Effect for Coulomb {
     }
     /// Implausible when a fitted value is below zero.
     fn implausible_fit(&self, std_errors: &[Option<f64>]) -> Option<String> {
-        crate::identify::plausible::implausible_if_negative(self, std_errors)
+        super::plausible::implausible_if_negative(self, std_errors)
     }
     /// `[[joints]] coulomb_nm` holds one value per joint: the mean of both directions; the
     /// values per direction and the transition width go to `[effects.values]` too (which

@@ -5,13 +5,13 @@
 //! motor torque `τ_m = τ/(G η)` when driving and `τ η / G` when back-driven, current
 //! `i = τ_m / K_t`, electrical power `P = τ_m G q̇ + R i²`.
 
+use super::plausible;
 use super::uncertain::at;
 use super::{
     check_values, per_joint, BuildContext, DrawPhase, Drawing, DriveKept, DriveKeysMut, Effect,
     MotorTerm, ParamSpec, Stage, SupplyTerm, Uncertainty,
 };
 use crate::error::Result;
-use crate::identify::plausible;
 
 /// The drive file's `[[joints]]` key holding `R` (Ω), read and written by `copper`.
 const COPPER_DRIVE_KEY: &str = "winding_resistance_ohm";
@@ -226,7 +226,7 @@ impl Effect for Standby {
     }
     /// Implausible when a fitted value is below zero.
     fn implausible_fit(&self, std_errors: &[Option<f64>]) -> Option<String> {
-        crate::identify::plausible::implausible_if_negative(self, std_errors)
+        super::plausible::implausible_if_negative(self, std_errors)
     }
     /// `[cabinet] standby_power_w` (when the file has a `[cabinet]` table).
     fn write_drive_keys(&self, keys: &mut DriveKeysMut<'_>) -> Result<DriveKept> {

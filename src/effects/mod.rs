@@ -28,6 +28,7 @@ mod coulomb;
 mod electrical;
 mod offset;
 mod payload;
+pub(crate) mod plausible;
 pub(crate) mod registry;
 mod rigid_body;
 mod stribeck;

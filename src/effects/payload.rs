@@ -21,6 +21,10 @@
 //! exactly that body into the robot, so the energy model, `compare` and the calibrated robot
 //! `identify` writes evaluate the same torque the fit scored (to rounding).
 
+use super::plausible::{
+    self, se, PAYLOAD_INERTIA_TOL_KG_M2, PAYLOAD_MAX_COM_M, PAYLOAD_MOVING_MASS_SHARE,
+    PAYLOAD_RATED_FACTOR, PLAUSIBILITY_SIGMAS,
+};
 use super::uncertain::at;
 use super::{
     check_values, BuildContext, DrawPhase, Drawing, DriveKept, DriveKeysMut, Effect, ParamSpec,
@@ -28,10 +32,6 @@ use super::{
 };
 use crate::dynamics::{rnea, DynData, DynModel, DynOptions, MAX_DOF};
 use crate::error::Result;
-use crate::identify::plausible::{
-    self, se, PAYLOAD_INERTIA_TOL_KG_M2, PAYLOAD_MAX_COM_M, PAYLOAD_MOVING_MASS_SHARE,
-    PAYLOAD_RATED_FACTOR, PLAUSIBILITY_SIGMAS,
-};
 use crate::math::{M3, V3};
 use crate::robot::{Inertial, RobotModel};
 use std::sync::{Arc, Mutex};

@@ -77,7 +77,7 @@ impl Effect for Stribeck {
     /// positive.
     fn implausible_fit(&self, std_errors: &[Option<f64>]) -> Option<String> {
         let (specs, v) = (self.params(), self.values());
-        let mut why = crate::identify::plausible::negative_fitted(&specs, &v, std_errors);
+        let mut why = super::plausible::negative_fitted(&specs, &v, std_errors);
         if let Some((s, x)) = specs
             .iter()
             .zip(&v)
@@ -87,7 +87,7 @@ impl Effect for Stribeck {
                 why.push(format!("{} = {x} {} is not > 0", s.name, s.unit));
             }
         }
-        crate::identify::plausible::reasons(why)
+        super::plausible::reasons(why)
     }
     fn effects_keys(&self) -> &'static [&'static str] {
         &["stribeck_nm", "stribeck_velocity_rad_s"]

@@ -45,7 +45,7 @@ impl Effect for Viscous {
     }
     /// Implausible when a fitted value is below zero.
     fn implausible_fit(&self, std_errors: &[Option<f64>]) -> Option<String> {
-        crate::identify::plausible::implausible_if_negative(self, std_errors)
+        super::plausible::implausible_if_negative(self, std_errors)
     }
     /// `[[joints]] viscous_nm_s_per_rad`.
     fn write_drive_keys(&self, keys: &mut DriveKeysMut<'_>) -> Result<DriveKept> {
