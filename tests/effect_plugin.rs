@@ -505,3 +505,36 @@ fn an_effect_defined_outside_the_crate_supplies_the_motor_term_it_names() {
         "{err}"
     );
 }
+
+#[test]
+fn an_effect_defined_outside_the_crate_is_seen_in_the_logs_its_stage_reaches() {
+    use printwatt::identify::{Model, RoundPlan, SignalKind};
+    let (with, _, _) = robots("observable");
+    let model = Model::new(&with).unwrap();
+    // A motor term (winding resistance) is in the power logs only, as `copper` is; a joint
+    // torque is in every log.
+    for kind in [
+        SignalKind::Torque,
+        SignalKind::Current,
+        SignalKind::AxisPower,
+        SignalKind::TotalPower,
+    ] {
+        assert_eq!(
+            model.observable("spare_winding", kind),
+            model.observable("copper", kind),
+            "{kind:?}"
+        );
+        assert!(model.observable("hose_pull", kind), "{kind:?}");
+    }
+    assert!(!model.observable("spare_winding", SignalKind::Torque));
+    assert!(model.observable("spare_winding", SignalKind::AxisPower));
+    // A round asked to fit it on a torque log is refused, naming it and the log.
+    let err = RoundPlan::new(&with, &model, "spare_winding", SignalKind::Torque)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("`spare_winding`") && err.contains("`tau`"),
+        "{err}"
+    );
+    assert!(RoundPlan::new(&with, &model, "spare_winding", SignalKind::AxisPower).is_ok());
+}

@@ -304,13 +304,13 @@ fn score_each(
     let mut not_obs = Vec::new();
     let observable: Vec<&'static str> = catalogue()
         .into_iter()
-        .filter(|c| Model::observable(c, prep.log.kind))
+        .filter(|c| model.observable(c, prep.log.kind))
         .collect();
     let total = (observable.len() * (base.blocks.len() + 1)) as u64;
     let mut done = 0u64;
     progress.update("diagnosing", 0, total);
     for name in catalogue() {
-        if !Model::observable(name, prep.log.kind) {
+        if !model.observable(name, prep.log.kind) {
             not_obs.push(name.to_string());
             continue;
         }

@@ -140,6 +140,23 @@ pub(crate) fn drive_file_of(robot_arg: &Path) -> Option<PathBuf> {
     }
 }
 
+/// Whether an effect acting at `stage` can be seen in a log of signal `kind`: a joint-side
+/// torque in every log; the winding resistance (copper loss `R i²`) in power logs only, since
+/// a torque log never sees the motor and a current log gives `i` but not `R`; the gear
+/// efficiency in current and power logs (the motor torque `τ_m = k_t i` differs from the
+/// joint torque by the gear loss); the supply terms (regeneration, standby) in `p_total` logs
+/// only.
+pub fn observable_at(stage: Stage, kind: SignalKind) -> bool {
+    match stage {
+        Stage::Torque => true,
+        Stage::Motor(MotorTerm::WindingResistance) => {
+            matches!(kind, SignalKind::AxisPower | SignalKind::TotalPower)
+        }
+        Stage::Motor(MotorTerm::GearEfficiency) => kind != SignalKind::Torque,
+        Stage::Supply(_) => kind == SignalKind::TotalPower,
+    }
+}
+
 impl Model {
     /// The model of a robot: every registered effect built from the robot's drive data and
     /// drive-file tables ([`EffectSet::of_robot`], the same the energy model reads), the rigid
@@ -303,16 +320,12 @@ impl Model {
         Ok(())
     }
 
-    /// Whether an effect can be seen in a log of this signal: torque-side effects in every
-    /// log; `copper` and `gear_efficiency` in power logs (`gear_efficiency` also in current
-    /// logs); `regeneration` and `standby` only in `p_total` logs.
-    pub fn observable(name: &str, kind: SignalKind) -> bool {
-        match name {
-            "copper" => matches!(kind, SignalKind::AxisPower | SignalKind::TotalPower),
-            "gear_efficiency" => kind != SignalKind::Torque,
-            "regeneration" | "standby" => kind == SignalKind::TotalPower,
-            _ => true,
-        }
+    /// Whether the effect called `name` can be seen in a log of this signal, by the stage it
+    /// acts at ([`observable_at`]); an effect the model does not hold is not.
+    pub fn observable(&self, name: &str, kind: SignalKind) -> bool {
+        self.effects
+            .get(name)
+            .is_ok_and(|e| observable_at(e.stage(), kind))
     }
 
     /// Joint torque of the model at one state (N·m), into `tau` (length `n`).

@@ -107,7 +107,7 @@ impl RoundPlan {
                 if let Some(name) = crate::effects::catalogue().into_iter().find(|n| n == e) {
                     if !asked.contains(&name)
                         && !carried.contains(&name)
-                        && Model::observable(name, kind)
+                        && model.observable(name, kind)
                     {
                         carried.push(name);
                     }
@@ -115,7 +115,7 @@ impl RoundPlan {
             }
         }
         let effects: Vec<&'static str> = carried.iter().chain(&asked).copied().collect();
-        if let Some(e) = effects.iter().find(|e| !Model::observable(e, kind)) {
+        if let Some(e) = effects.iter().find(|e| !model.observable(e, kind)) {
             return Err(Error::Invalid(format!(
                 "effect `{e}` cannot be seen in a `{}` log",
                 kind.prefix()
