@@ -517,3 +517,95 @@ fn a_supply_effect_defined_outside_the_library_acts_by_the_term_it_names() {
         }
     }
 }
+
+/// The energy report keyed by effect: every effect acting in the model has its line, in
+/// catalogue order; a joint-torque effect's energy is what switching it off takes from its
+/// part of the breakdown (its work is linear in its torque), the effects of a part add up to
+/// that part, a motor or supply term's is its part; the payload, a body of the rigid-body
+/// model, has no energy of its own.
+#[test]
+fn each_effects_energy_is_what_it_adds_to_its_part_of_the_breakdown() {
+    let mut r = identified();
+    set_enabled(&mut r, "stribeck", true);
+    set_values(
+        &mut r,
+        "stribeck",
+        vec![10.0, 10.0, 10.0, 10.0, 10.0, 10.0, 0.05],
+    );
+    set_enabled(&mut r, "offset", true);
+    set_values(&mut r, "offset", vec![2.0, -8.0, 1.0, 0.0, 0.3, -0.2]);
+    set_enabled(&mut r, "regeneration", true);
+    set_values(&mut r, "regeneration", vec![0.5]);
+    set_enabled(&mut r, "payload", true);
+    set_values(&mut r, "payload", vec![4.5, 0.0, 0.0, 0.0]);
+    let tr = sines(6, 5.0, 1000);
+    let rep = evaluate(&EnergyModel::new(&r).unwrap(), &tr).unwrap();
+    let t = &rep.total;
+    let names: Vec<&str> = rep.by_effect.iter().map(|e| e.effect.as_str()).collect();
+    let on = set(&r).enabled_names();
+    let catalogue_order: Vec<&str> = printwatt::effects::catalogue()
+        .into_iter()
+        .filter(|c| names.contains(c))
+        .collect();
+    assert_eq!(names, catalogue_order);
+    for want in [
+        "viscous",
+        "coulomb",
+        "stribeck",
+        "payload",
+        "balancer",
+        "offset",
+        "copper",
+        "gear_efficiency",
+        "regeneration",
+        "standby",
+    ] {
+        assert!(names.contains(&want), "{want} missing from {names:?}");
+        assert!(on.contains(&want));
+    }
+    let of = |name: &str| rep.by_effect.iter().find(|e| e.effect == name).unwrap();
+    let sum_of = |part: &str| -> f64 {
+        rep.by_effect
+            .iter()
+            .filter(|e| e.part == part)
+            .map(|e| e.energy_j.unwrap())
+            .sum()
+    };
+    assert!(close(sum_of("friction"), t.friction_j, 1e-12));
+    assert!(close(sum_of("balancer"), t.balancer_j, 1e-12));
+    assert!(t.friction_j > 100.0 && t.balancer_j != 0.0);
+    for (name, part, total) in [
+        ("copper", "copper", t.copper_j),
+        ("gear_efficiency", "gear", t.gear_j),
+        ("regeneration", "regeneration_lost", t.regeneration_lost_j),
+        ("standby", "standby", t.standby_j),
+    ] {
+        assert_eq!((of(name).part, of(name).energy_j), (part, Some(total)));
+    }
+    assert_eq!(
+        (of("payload").part, of("payload").energy_j),
+        ("rigid_body", None)
+    );
+    // Switched off, a joint-torque effect takes its own energy from its part.
+    let part_j = |t: &printwatt::energy::TotalEnergy, part: &str| match part {
+        "friction" => t.friction_j,
+        "balancer" => t.balancer_j,
+        "rigid_body" => t.rigid_body_j,
+        p => panic!("{p}"),
+    };
+    for name in ["viscous", "coulomb", "stribeck", "balancer", "offset"] {
+        let e = of(name);
+        let mut off = r.clone();
+        set_enabled(&mut off, name, false);
+        let without = evaluate(&EnergyModel::new(&off).unwrap(), &tr).unwrap();
+        assert!(without.by_effect.iter().all(|x| x.effect != name));
+        let taken = part_j(t, e.part) - part_j(&without.total, e.part);
+        let own = e.energy_j.unwrap();
+        assert!(own != 0.0, "{name}");
+        assert!(
+            (taken - own).abs() <= 1e-9 * (1.0 + own.abs()),
+            "{name}: switching it off takes {taken} J from {}, its own energy is {own} J",
+            e.part
+        );
+    }
+}

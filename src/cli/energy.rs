@@ -331,6 +331,7 @@ fn print_summary(s: &Summary, model: &printwatt::robot::RobotModel) -> Result<()
     print_joints(r, model)?;
     outln!();
     print_supply(&r.total)?;
+    print_by_effect(&r.by_effect)?;
     if let Some(o) = &s.output_csv {
         outln!("per-sample torque and power written to {o}");
     }
@@ -377,18 +378,35 @@ fn print_joints(r: &EnergyReport, model: &printwatt::robot::RobotModel) -> Resul
     Ok(())
 }
 
+/// One decimal; a value that rounds to zero is printed 0.0, not -0.0 (the signed rigid-body
+/// and balancer work of a closed print cycle is near zero).
+fn j1(x: f64) -> String {
+    let s = format!("{x:.1}");
+    if s == "-0.0" {
+        "0.0".to_string()
+    } else {
+        s
+    }
+}
+
+/// Print each effect's energy and the part of the supply energy it is booked to.
+fn print_by_effect(by: &[energy::EffectEnergy]) -> Result<()> {
+    if by.is_empty() {
+        return Ok(());
+    }
+    let each: Vec<String> = by
+        .iter()
+        .map(|e| match e.energy_j {
+            Some(j) => format!("{} {} J ({})", e.effect, j1(j), e.part),
+            None => format!("{} (inside the rigid body)", e.effect),
+        })
+        .collect();
+    outln!("by effect  {}", each.join(", "));
+    Ok(())
+}
+
 /// Print the supply energy and its parts.
 fn print_supply(t: &energy::TotalEnergy) -> Result<()> {
-    // One decimal; a value that rounds to zero is printed 0.0, not -0.0 (the signed
-    // rigid-body and balancer work of a closed print cycle is near zero).
-    let j1 = |x: f64| {
-        let s = format!("{x:.1}");
-        if s == "-0.0" {
-            "0.0".to_string()
-        } else {
-            s
-        }
-    };
     outln!(
         "supply energy {} J = rigid body {}{} + friction {} + gear {} + copper {} + regeneration lost {} + standby {}",
         j1(t.supply_j),

@@ -42,7 +42,7 @@ mod report;
 pub use lanes::{
     eval_lanes_with_sincos, eval_rows, eval_rows_summed, EnergySums, LaneInputs, PowerLanes, Rows,
 };
-pub use report::{EnergyReport, JointEnergy, SampleSeries, TotalEnergy};
+pub use report::{EffectEnergy, EnergyReport, JointEnergy, SampleSeries, TotalEnergy};
 
 use crate::dynamics::{rnea, rnea_with_sincos, DynData, DynModel, DynOptions, MAX_DOF};
 use crate::effects::{
@@ -107,6 +107,8 @@ pub struct EnergyModel {
     lane_angles: [bool; MAX_DOF],
     /// Names of the effects in the model (folded or per sample), for the description.
     in_model: Vec<String>,
+    /// Every effect acting in the model and where its energy is booked, in catalogue order.
+    booked: Vec<(String, Booked)>,
     calibration: Option<String>,
     regeneration: Regeneration,
     recovered_fraction: f64,
@@ -211,6 +213,7 @@ impl EnergyModel {
             lane_effects,
             lane_angles,
             in_model: staged.in_model,
+            booked: staged.booked,
             regeneration,
             recovered_fraction: if has_drive { staged.rho } else { 0.0 },
             standby_w,
@@ -325,12 +328,42 @@ fn set_coulomb_scale(options: &EnergyOptions, set: &mut EffectSet) -> Result<()>
     Ok(())
 }
 
+/// Where the energy of an effect acting in the model is booked.
+#[derive(Clone, Copy, Debug, PartialEq)]
+enum Booked {
+    /// A joint torque evaluated per sample: its index in [`EnergyModel`]'s torque effects and
+    /// its class.
+    Torque(usize, EnergyClass),
+    /// A joint torque folded into the rigid-body model (the payload).
+    Folded,
+    /// A motor or supply term.
+    Term(Stage),
+}
+
+impl Booked {
+    /// The part of [`TotalEnergy`] the energy is booked to (the field's name without `_j`).
+    fn part(self) -> &'static str {
+        match self {
+            Booked::Torque(_, EnergyClass::RigidBody) | Booked::Folded => "rigid_body",
+            Booked::Torque(_, EnergyClass::Friction) => "friction",
+            Booked::Torque(_, EnergyClass::Balancer) => "balancer",
+            Booked::Term(Stage::Motor(MotorTerm::WindingResistance)) => "copper",
+            Booked::Term(Stage::Motor(MotorTerm::GearEfficiency)) => "gear",
+            Booked::Term(Stage::Supply(SupplyTerm::Regeneration)) => "regeneration_lost",
+            Booked::Term(Stage::Supply(SupplyTerm::Standby)) => "standby",
+            Booked::Term(Stage::Torque) => unreachable!("a torque effect is booked by class"),
+        }
+    }
+}
+
 /// The enabled effects sorted by the stage they act at.
 struct Staged {
     /// Torque effects that do not fold into the rigid body, with their energy class.
     torque: Vec<(Arc<dyn Effect>, EnergyClass)>,
     /// Names of the torque effects in the model.
     in_model: Vec<String>,
+    /// Every effect acting in the model and where its energy is booked.
+    booked: Vec<(String, Booked)>,
     /// Motor terms: winding resistance and gear efficiency per joint.
     motor: [Option<Vec<f64>>; 2],
     /// Recovered fraction of regenerated power.
@@ -352,6 +385,7 @@ impl Staged {
         let mut staged = Staged {
             torque: Vec::new(),
             in_model: Vec::new(),
+            booked: Vec::new(),
             motor: [None, None],
             rho: 0.0,
             p0: 0.0,
@@ -379,14 +413,23 @@ impl Staged {
                         continue;
                     }
                     staged.in_model.push(e.name().to_string());
-                    if !e.fold_into(dyn_robot) {
+                    let booked = if e.fold_into(dyn_robot) {
+                        Booked::Folded
+                    } else {
                         staged.torque.push((Arc::from(e.clone_box()), class));
-                    }
+                        Booked::Torque(staged.torque.len() - 1, class)
+                    };
+                    staged.booked.push((e.name().to_string(), booked));
                 }
                 Stage::Motor(MotorTerm::WindingResistance) => staged.motor[0] = Some(e.values()),
                 Stage::Motor(MotorTerm::GearEfficiency) => staged.motor[1] = Some(e.values()),
                 Stage::Supply(SupplyTerm::Regeneration) => staged.rho = e.values()[0],
                 Stage::Supply(SupplyTerm::Standby) => staged.p0 = e.values()[0],
+            }
+            if stage != Stage::Torque && has_drive {
+                staged
+                    .booked
+                    .push((e.name().to_string(), Booked::Term(stage)));
             }
         }
         Ok(staged)
@@ -737,6 +780,7 @@ fn streaming(
     let mut s = SamplePower::default();
     let mut prev = SamplePower::default();
     let mut acc = Streamed::new();
+    let mut by_effect = EffectWork::new(model);
     let mut first_tau2 = [0.0; MAX_DOF];
     let t = &traj.t;
     for k0 in (0..len).step_by(STREAM_BLOCK) {
@@ -744,14 +788,9 @@ fn streaming(
         let (qd, qdd) = rates.block(k0, count);
         for (r, k) in (k0..k0 + count).enumerate() {
             let row = r * n..(r + 1) * n;
-            eval_sample(
-                model,
-                &mut data,
-                traj.q(k),
-                &qd[row.clone()],
-                &qdd[row],
-                &mut s,
-            )?;
+            let (qd, qdd) = (&qd[row.clone()], &qdd[row]);
+            eval_sample(model, &mut data, traj.q(k), qd, qdd, &mut s)?;
+            by_effect.add_sample(model, traj.q(k), qd, qdd, (k > 0).then(|| t[k] - t[k - 1]));
             if k > 0 {
                 acc.add_interval(n, t[k] - t[k - 1], &prev, &s);
             } else {
@@ -775,6 +814,7 @@ fn streaming(
         standby_power_w: model.standby_w,
         duration_s: dur,
         samples: len,
+        by_effect: by_effect.report(model, &total),
         joints,
         total,
         series: SampleSeries {
@@ -782,6 +822,71 @@ fn streaming(
             ..Default::default()
         },
     })
+}
+
+/// Each per-sample torque effect's own work `Σ_j ∫ τ_e,j q̇_j dt`, integrated as the totals
+/// are (the trapezoid in sample order).
+struct EffectWork {
+    /// Per effect: the work so far, J.
+    sum: Vec<f64>,
+    /// Per effect: the power at the previous sample, W.
+    prev: Vec<f64>,
+}
+
+impl EffectWork {
+    fn new(model: &EnergyModel) -> EffectWork {
+        let zero: f64 = std::iter::empty::<f64>().sum();
+        EffectWork {
+            sum: vec![zero; model.torque.len()],
+            prev: vec![0.0; model.torque.len()],
+        }
+    }
+
+    /// The sample at `q`, `qd`, `qdd`, `h` s after the previous one (none for the first).
+    fn add_sample(
+        &mut self,
+        model: &EnergyModel,
+        q: &[f64],
+        qd: &[f64],
+        qdd: &[f64],
+        h: Option<f64>,
+    ) {
+        let n = model.n;
+        for (i, (e, _)) in model.torque.iter().enumerate() {
+            let mut tau = [0.0; MAX_DOF];
+            e.add_torque(q, qd, qdd, &mut tau[..n]);
+            let p: f64 = tau[..n].iter().zip(qd).map(|(t, v)| t * v).sum();
+            if let Some(h) = h {
+                self.sum[i] += 0.5 * h * (self.prev[i] + p);
+            }
+            self.prev[i] = p;
+        }
+    }
+
+    /// The report's entries: every effect acting in the model, in catalogue order.
+    fn report(&self, model: &EnergyModel, total: &TotalEnergy) -> Vec<EffectEnergy> {
+        model
+            .booked
+            .iter()
+            .map(|(name, b)| EffectEnergy {
+                effect: name.clone(),
+                part: b.part(),
+                energy_j: match *b {
+                    Booked::Torque(i, _) => Some(self.sum[i]),
+                    Booked::Folded => None,
+                    Booked::Term(Stage::Motor(MotorTerm::WindingResistance)) => {
+                        Some(total.copper_j)
+                    }
+                    Booked::Term(Stage::Motor(MotorTerm::GearEfficiency)) => Some(total.gear_j),
+                    Booked::Term(Stage::Supply(SupplyTerm::Regeneration)) => {
+                        Some(total.regeneration_lost_j)
+                    }
+                    Booked::Term(Stage::Supply(SupplyTerm::Standby)) => Some(total.standby_j),
+                    Booked::Term(Stage::Torque) => None,
+                },
+            })
+            .collect()
+    }
 }
 
 /// Errors for a trajectory the model cannot evaluate: another joint count, value arrays of

@@ -67,6 +67,24 @@ pub struct TotalEnergy {
     pub mean_supply_power_w: f64,
 }
 
+/// The energy one effect of the model accounts for. A joint-torque effect's is its own work
+/// `Σ_j ∫ τ_e,j q̇_j dt` (trapezoidal, as the totals), booked to `rigid_body`, `friction` or
+/// `balancer`: the effects of one part add up to that part of [`TotalEnergy`] (the rigid
+/// body's part also holds the rigid body's own work). A motor or supply effect's is the part
+/// of the totals its term makes: `copper` (winding resistance), `gear` (gear efficiency),
+/// `regeneration_lost`, `standby`.
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct EffectEnergy {
+    /// The effect's stable name (`printwatt effects`).
+    pub effect: String,
+    /// The part of [`TotalEnergy`] it is booked to: a field's name without `_j`.
+    pub part: &'static str,
+    /// Its energy, J. Absent for an effect folded into the rigid body (a payload is a body of
+    /// the rigid-body model: its work is inside `rigid_body_j`).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub energy_j: Option<f64>,
+}
+
 /// Per-sample series (row-major `sample × joint` for per-joint arrays).
 #[derive(Clone, Debug, Default, PartialEq, Serialize)]
 pub struct SampleSeries {
@@ -199,6 +217,9 @@ pub struct EnergyReport {
     pub joints: Vec<JointEnergy>,
     /// Totals.
     pub total: TotalEnergy,
+    /// The energy of each effect in the model, in catalogue order: where the totals' parts
+    /// come from.
+    pub by_effect: Vec<EffectEnergy>,
     /// Per-sample series.
     pub series: SampleSeries,
 }
