@@ -109,7 +109,7 @@ impl Error {
 /// Read a whole text file, naming it on failure. The text is decoded as files come from
 /// people's tools (see [`decode_text`]): a UTF-8 byte-order mark is dropped, CR-only and CRLF
 /// line endings become LF, and invalid UTF-8 is an error naming the line and byte.
-pub fn read_text(path: &std::path::Path) -> Result<String> {
+pub(crate) fn read_text(path: &std::path::Path) -> Result<String> {
     let bytes = read_capped(path)?;
     decode_text(&bytes, &path.display().to_string())
 }
@@ -117,7 +117,7 @@ pub fn read_text(path: &std::path::Path) -> Result<String> {
 /// Most bytes read from one input file: 1 GiB (a 1,000,000-row log is about 150 MB), or
 /// `PRINTWATT_MAX_INPUT_BYTES`. A larger input, or one without end (`/dev/urandom`, a FIFO),
 /// stops there with an error naming the file.
-pub fn max_input_bytes() -> u64 {
+pub(crate) fn max_input_bytes() -> u64 {
     std::env::var("PRINTWATT_MAX_INPUT_BYTES")
         .ok()
         .and_then(|v| v.trim().parse::<u64>().ok())
@@ -154,7 +154,7 @@ pub(crate) fn too_long(path: &std::path::Path, max: u64) -> Error {
 /// so that every reader counts lines the same way. Invalid UTF-8 is a [`Error::Parse`] naming
 /// the 1-based line and the 1-based byte within it (column) of the first bad byte, and the
 /// byte's offset in the file. UTF-16 files (a UTF-16 byte-order mark) are named as such.
-pub fn decode_text(bytes: &[u8], file: &str) -> Result<String> {
+pub(crate) fn decode_text(bytes: &[u8], file: &str) -> Result<String> {
     let bytes = bytes.strip_prefix(b"\xEF\xBB\xBF").unwrap_or(bytes);
     if bytes.starts_with(b"\xFF\xFE") || bytes.starts_with(b"\xFE\xFF") {
         return Err(Error::Parse {
@@ -235,6 +235,6 @@ pub fn clip(msg: &str) -> String {
 }
 
 /// Longest token [`clip`] keeps whole, characters.
-pub const CLIP_TOKEN: usize = 120;
+pub(crate) const CLIP_TOKEN: usize = 120;
 /// Longest message [`clip`] keeps, bytes.
-pub const CLIP_MESSAGE: usize = 2000;
+pub(crate) const CLIP_MESSAGE: usize = 2000;

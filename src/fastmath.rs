@@ -428,7 +428,7 @@ pub fn acos_lanes_n<const LANES: usize>(x: &[f64; LANES]) -> [f64; LANES] {
 
 /// Largest `|x|` below which [`tanh`] evaluates its polynomial; from it on, ±1 (where libm's
 /// result rounds to ±1 as well: `1 − tanh 20 ≈ 8.5e-18` is below half an ulp of 1).
-pub const TANH_SATURATED: f64 = 20.0;
+pub(crate) const TANH_SATURATED: f64 = 20.0;
 
 /// ln 2 to 32 bits (fdlibm's `ln2_hi`: its low 21 bits are zero, so `k · LN2_HI` is exact for
 /// `|k| < 2²¹`).

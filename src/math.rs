@@ -90,7 +90,7 @@ pub(crate) fn rot_z(a: f64) -> M3 {
 }
 
 /// Fixed-axis roll, pitch, yaw (rad) as in URDF: `Rz(yaw) · Ry(pitch) · Rx(roll)`.
-pub fn rot_rpy(roll: f64, pitch: f64, yaw: f64) -> M3 {
+pub(crate) fn rot_rpy(roll: f64, pitch: f64, yaw: f64) -> M3 {
     rot_z(yaw) * rot_y(pitch) * rot_x(roll)
 }
 

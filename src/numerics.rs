@@ -62,12 +62,6 @@ pub fn trapezoid(t: &[f64], y: &[f64]) -> f64 {
     trapezoid_by(t, |k| y[k], t.len().min(y.len()))
 }
 
-/// Trapezoidal `∫ y_j dt` over column `j` of a row-major `len × n` array `y` at times `t` (s).
-pub fn trapezoid_column(t: &[f64], y: &[f64], n: usize, j: usize) -> f64 {
-    let len = y.len().checked_div(n).map_or(0, |rows| t.len().min(rows));
-    trapezoid_by(t, |k| y[k * n + j], len)
-}
-
 /// The trapezoidal rule over the first `len` samples, the value of sample `k` given by `y(k)`.
 fn trapezoid_by(t: &[f64], y: impl Fn(usize) -> f64, len: usize) -> f64 {
     (1..len)
@@ -76,7 +70,7 @@ fn trapezoid_by(t: &[f64], y: impl Fn(usize) -> f64, len: usize) -> f64 {
 }
 
 /// Running trapezoidal integral: `out[k] = ∫_{t_0}^{t_k} y dt` (units of `y` × s; `out[0] = 0`).
-pub fn cumulative_trapezoid(t: &[f64], y: &[f64]) -> Vec<f64> {
+pub(crate) fn cumulative_trapezoid(t: &[f64], y: &[f64]) -> Vec<f64> {
     let len = t.len().min(y.len());
     let mut out = Vec::with_capacity(len);
     let mut acc = 0.0;
@@ -142,20 +136,6 @@ pub fn differentiate(grid: Grid<'_>, q: &[f64], n: usize) -> Result<(Vec<f64>, V
     Ok((qd, qdd))
 }
 
-/// [`differentiate`] on a uniform grid (`dt` s, positive and finite; `q` row-major
-/// `len × n`) into buffers reused between calls (resized to `q.len()`): the same formulas,
-/// bit for bit, without allocating once the buffers are large enough. A step that is not
-/// positive and finite leaves zeros (where [`differentiate`] errs).
-pub fn differentiate_uniform_into(
-    q: &[f64],
-    n: usize,
-    dt: f64,
-    qd: &mut Vec<f64>,
-    qdd: &mut Vec<f64>,
-) {
-    differentiate_uniform_into_on(q, n, dt, qd, qdd, crate::simd::level());
-}
-
 /// `v` resized to `len` (new entries 0) with its capacity grown to `len` exactly, not
 /// doubled: per-sample buffers of a long path are hundreds of megabytes.
 pub(crate) fn resize_exact(v: &mut Vec<f64>, len: usize) {
@@ -171,7 +151,7 @@ pub(crate) fn resize_exact(v: &mut Vec<f64>, len: usize) {
 /// level. Each entry takes the same operations in the same order, so every level gives the
 /// reference's values bit for bit. Every entry is written, so the buffers are not cleared
 /// first (a reused buffer of the right length is not zeroed).
-pub fn differentiate_uniform_into_on(
+pub(crate) fn differentiate_uniform_into_on(
     q: &[f64],
     n: usize,
     dt: f64,
@@ -398,7 +378,7 @@ fn fill_derivatives(grid: Grid<'_>, q: &[f64], n: usize, qd: &mut [f64], qdd: &m
 /// the central difference `(q[c+2] − 2q[c+1] + 2q[c−1] − q[c−2]) / (2 dt³)` at `c = k`,
 /// clamped to the interior (the two first and last samples take their neighbour's value).
 /// Fewer than five samples: zeros.
-pub fn third_derivative_uniform(q: &[f64], n: usize, dt: f64) -> Vec<f64> {
+pub(crate) fn third_derivative_uniform(q: &[f64], n: usize, dt: f64) -> Vec<f64> {
     let m = q.len().checked_div(n).unwrap_or(0);
     let mut out = vec![0.0; m * n];
     if m < 5 {
@@ -420,28 +400,6 @@ pub fn third_derivative_uniform_at(q: &[f64], n: usize, dt: f64, k: usize, j: us
     let at = |k: usize| q[k * n + j];
     let c = k.clamp(2, m - 3);
     (at(c + 2) - 2.0 * at(c + 1) + 2.0 * at(c - 1) - at(c - 2)) / (2.0 * dt * dt * dt)
-}
-
-/// Smoothed first and second derivatives (units of `q` per s and per s²) of noisy samples `q`
-/// (row-major `len × n`) at times `t` (s): a local cubic least-squares fit over `2m + 1`
-/// samples (Savitzky–Golay on non-uniform time stamps; the window is shifted inwards at the
-/// ends), differentiated at `t_k`. Fewer than four samples: zeros.
-pub fn smooth_differentiate(t: &[f64], q: &[f64], n: usize, m: usize) -> (Vec<f64>, Vec<f64>) {
-    let len = t.len();
-    let mut qd = vec![0.0; len * n];
-    let mut qdd = vec![0.0; len * n];
-    for k in 0..len {
-        smooth_differentiate_row(
-            t,
-            q,
-            n,
-            m,
-            k,
-            &mut qd[k * n..(k + 1) * n],
-            &mut qdd[k * n..(k + 1) * n],
-        );
-    }
-    (qd, qdd)
 }
 
 /// Row `k` of [`smooth_differentiate`] into `qd[..n]` and `qdd[..n]` (left untouched where
@@ -492,7 +450,7 @@ pub(crate) fn smooth_differentiate_row(
 
 /// Significant digits the operands of a [`difference`] are taken to carry: those every JSON
 /// number and report keeps ([`crate::output::JSON_SIGNIFICANT_DIGITS`]).
-pub const OPERAND_DIGITS: i32 = crate::output::JSON_SIGNIFICANT_DIGITS as i32;
+pub(crate) const OPERAND_DIGITS: i32 = crate::output::JSON_SIGNIFICANT_DIGITS as i32;
 
 /// `a − b` (units of `a` and `b`) rounded to the digits its operands carry: to the unit of the
 /// [`OPERAND_DIGITS`]-th significant digit of the larger of `|a|` and `|b|`. Two numbers equal
@@ -522,6 +480,41 @@ pub(crate) fn relative_difference_pct(a: f64, b: f64) -> f64 {
     } else {
         difference(a, b) / a * 100.0
     }
+}
+
+/// Trapezoidal `∫ y_j dt` over column `j` of a row-major `len × n` array `y` at times `t` (s).
+#[cfg(test)]
+pub(crate) fn trapezoid_column(t: &[f64], y: &[f64], n: usize, j: usize) -> f64 {
+    let len = y.len().checked_div(n).map_or(0, |rows| t.len().min(rows));
+    trapezoid_by(t, |k| y[k * n + j], len)
+}
+
+/// Smoothed first and second derivatives (units of `q` per s and per s²) of noisy samples `q`
+/// (row-major `len × n`) at times `t` (s): a local cubic least-squares fit over `2m + 1`
+/// samples (Savitzky–Golay on non-uniform time stamps; the window is shifted inwards at the
+/// ends), differentiated at `t_k`. Fewer than four samples: zeros.
+#[cfg(test)]
+pub(crate) fn smooth_differentiate(
+    t: &[f64],
+    q: &[f64],
+    n: usize,
+    m: usize,
+) -> (Vec<f64>, Vec<f64>) {
+    let len = t.len();
+    let mut qd = vec![0.0; len * n];
+    let mut qdd = vec![0.0; len * n];
+    for k in 0..len {
+        smooth_differentiate_row(
+            t,
+            q,
+            n,
+            m,
+            k,
+            &mut qd[k * n..(k + 1) * n],
+            &mut qdd[k * n..(k + 1) * n],
+        );
+    }
+    (qd, qdd)
 }
 
 #[cfg(test)]

@@ -173,7 +173,7 @@ pub fn write_file(path: &Path, contents: &[u8], inputs: &Inputs, existing: Exist
 }
 
 /// What streams an output's bytes into its (buffered, temporary) file.
-pub type Fill<'a> = dyn FnMut(&mut dyn Write) -> std::io::Result<()> + 'a;
+pub(crate) type Fill<'a> = dyn FnMut(&mut dyn Write) -> std::io::Result<()> + 'a;
 
 /// [`write_file`] with the contents streamed by `fill` as they are formatted (a long series
 /// is never held in memory as text); the file still appears whole or not at all.
@@ -378,14 +378,6 @@ pub(crate) fn write_atomic_with(path: &Path, fill: &mut Fill<'_>) -> Result<()> 
     Ok(())
 }
 
-/// [`write_atomic`] for a file that must not exist: the temporary file is put in place by a
-/// hard link, which fails if `path` exists, so of two runs writing the same new file at once
-/// the second fails ([`Error::OutputExists`]) instead of replacing the first's. On a file
-/// system without hard links, an existence check and a rename.
-pub fn write_new_atomic(path: &Path, contents: &[u8]) -> Result<()> {
-    write_new_atomic_with(path, &mut |w| w.write_all(contents))
-}
-
 /// [`write_new_atomic`] with the contents streamed by `fill`.
 pub(crate) fn write_new_atomic_with(path: &Path, fill: &mut Fill<'_>) -> Result<()> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
@@ -432,7 +424,7 @@ fn test_delay(var: &str) {
 
 /// Check a `--run` name: one or more plain relative path components (no `..`, `.`, root or
 /// drive prefix), so that the run directory stays inside `--results-dir`.
-pub fn run_name(run: &str) -> Result<PathBuf> {
+pub(crate) fn run_name(run: &str) -> Result<PathBuf> {
     let p = Path::new(run);
     if run.trim().is_empty() {
         return Err(Error::BadRunName { name: run.into() });
@@ -569,12 +561,6 @@ impl RunDir {
         std::fs::create_dir_all(&rd.staging).map_err(|e| Error::io(&rd.staging, e))?;
         rd.done = false;
         Ok(rd)
-    }
-
-    /// Where an earlier run was found moved aside by an interrupted replacement (killed
-    /// between moving it aside and moving the new run in) and put back at the target.
-    pub fn restored(&self) -> Option<&Path> {
-        self.restored.as_deref()
     }
 
     /// The directory the run will be in once committed.
@@ -1158,10 +1144,10 @@ pub const JSON_SCHEMA_VERSION: u32 = 1;
 
 /// Significant digits kept in JSON numbers: far finer than any model or measurement behind
 /// them, coarse enough that float noise (`0.050000000000000044`) does not reach a reader.
-pub const JSON_SIGNIFICANT_DIGITS: usize = 9;
+pub(crate) const JSON_SIGNIFICANT_DIGITS: usize = 9;
 
 /// `x` rounded to `digits` significant digits (non-finite values unchanged).
-pub fn round_significant(x: f64, digits: usize) -> f64 {
+pub(crate) fn round_significant(x: f64, digits: usize) -> f64 {
     if !x.is_finite() || x == 0.0 {
         return x;
     }
@@ -1171,7 +1157,7 @@ pub fn round_significant(x: f64, digits: usize) -> f64 {
 }
 
 /// Round every non-integer number of a JSON value to [`JSON_SIGNIFICANT_DIGITS`].
-pub fn round_json(v: &mut serde_json::Value) {
+pub(crate) fn round_json(v: &mut serde_json::Value) {
     match v {
         serde_json::Value::Number(n) if n.is_f64() => {
             if let Some(x) = n.as_f64() {

@@ -70,7 +70,7 @@ pub enum Dim {
 }
 
 /// Factor converting a value in `unit` to SI for dimension `dim`, or `None` if unknown.
-pub fn si_factor(dim: Dim, unit: &str) -> Option<f64> {
+pub(crate) fn si_factor(dim: Dim, unit: &str) -> Option<f64> {
     let u = unit
         .trim()
         .to_ascii_lowercase()
@@ -209,7 +209,7 @@ pub(crate) fn expected_units(dim: Dim) -> &'static str {
 /// How a reader wants a column read: its dimension and the unit assumed when the header gives
 /// none (empty: SI).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct ColumnSpec {
+pub(crate) struct ColumnSpec {
     /// The dimension (decides the units accepted).
     pub dim: Dim,
     /// Unit assumed when the header gives none (`"mm"`, `"deg"`; `""` = SI).
@@ -257,7 +257,7 @@ pub enum Line {
 
 /// The field separator of a CSV from its header line: `;` for a European spreadsheet export
 /// (header with semicolons and no commas; numbers then have a decimal comma), else `,`.
-pub fn separator(header: &str) -> char {
+pub(crate) fn separator(header: &str) -> char {
     if header.contains(';') && !header.contains(',') {
         ';'
     } else {
@@ -415,7 +415,7 @@ fn column_factor(
 /// Errors (file, line, column): an unclosed `[`, an empty name, a unit on a flag or text
 /// column, an unknown unit (naming the units accepted), a name given twice, a header made of
 /// numbers only.
-pub fn parse_header(
+pub(crate) fn parse_header(
     file: &str,
     line: usize,
     fields: &[Cell],
@@ -497,7 +497,7 @@ pub fn number(file: &str, line: usize, col: usize, name: &str, text: &str) -> Re
 /// Time 1e10 s (Unix timestamps fit), joint position 1e4 rad or m, joint velocity 1e4 rad/s,
 /// joint acceleration 1e6 rad/s², torque 1e7 N·m, current 1e5 A, power 1e8 W, length 1e4 m,
 /// speed 1e3 m/s, rotation 1e4 rad.
-pub fn physical_bound(dim: Dim) -> Option<(f64, &'static str)> {
+pub(crate) fn physical_bound(dim: Dim) -> Option<(f64, &'static str)> {
     Some(match dim {
         Dim::Time => (1e10, "s"),
         Dim::Angle => (1e4, "rad (or m)"),
@@ -552,7 +552,13 @@ pub(crate) fn check_physical(
 
 /// A data row must have one field per header column: the error points at the first extra
 /// field, or at the end of the line when fields are missing.
-pub fn check_count(file: &str, line: usize, fields: &[Cell], n: usize, eol: usize) -> Result<()> {
+pub(crate) fn check_count(
+    file: &str,
+    line: usize,
+    fields: &[Cell],
+    n: usize,
+    eol: usize,
+) -> Result<()> {
     if fields.len() != n {
         let col = if fields.len() > n { fields[n].col } else { eol };
         return Err(parse_err(
@@ -573,7 +579,7 @@ pub fn check_count(file: &str, line: usize, fields: &[Cell], n: usize, eol: usiz
 /// row read, in SI, never the rows before it. [`Table::parse`] collects its rows; the
 /// measurement-log reader stores only the columns it needs, so that a long file costs no more
 /// than its values.
-pub struct TableReader<'a> {
+pub(crate) struct TableReader<'a> {
     table: Table,
     dim_of: &'a dyn Fn(&str) -> Option<Dim>,
     factors: Vec<f64>,
@@ -692,7 +698,10 @@ impl<'a> TableReader<'a> {
 /// encoding) before the first line is visited, so that its errors are the same as
 /// [`crate::error::read_text`]'s. Returns the number of lines. Something other than a regular
 /// file (a pipe, a device) is read whole.
-pub fn for_each_line(path: &Path, f: &mut dyn FnMut(usize, &str) -> Result<()>) -> Result<usize> {
+pub(crate) fn for_each_line(
+    path: &Path,
+    f: &mut dyn FnMut(usize, &str) -> Result<()>,
+) -> Result<usize> {
     // Read whole: the exact errors of `read_text`, or a file that is not a regular one.
     let whole = |f: &mut dyn FnMut(usize, &str) -> Result<()>| -> Result<usize> {
         let text = read_text(path)?;

@@ -128,7 +128,7 @@ pub(crate) fn trajectory_dim(name: &str) -> Option<crate::table::Dim> {
 /// joint, an angle unit (`q1[deg]`) on a prismatic one. `names` and `units` are the header's
 /// lower-case column names and units; `kinds` the robot's joints in chain order. The error names
 /// the file, the header line and the column.
-pub fn check_joint_units(
+pub(crate) fn check_joint_units(
     file: &str,
     header_line: usize,
     names: &[String],

@@ -799,7 +799,7 @@ impl CaseResult {
     /// The same result as written to and read back from a shard (postcard): every number
     /// bit for bit, and only what a shard carries. A single run passes its results through
     /// this too, so that it and a merge of shards write the same files by construction.
-    pub fn as_stored(&self) -> Result<CaseResult> {
+    pub(crate) fn as_stored(&self) -> Result<CaseResult> {
         let bytes = postcard::to_stdvec(self)
             .map_err(|e| Error::Invalid(format!("encoding a case result: {e}")))?;
         postcard::from_bytes(&bytes)

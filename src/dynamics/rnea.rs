@@ -252,7 +252,7 @@ impl DynModel {
     /// rnea(with_link_params(a)) + rnea(with_link_params(b))` up to the gravity/velocity terms
     /// being shared: exactly linear. Parameters need not be physical (a difference of two
     /// models is fine).
-    pub fn with_link_params(&self, params: &[[f64; 10]]) -> DynModel {
+    pub(crate) fn with_link_params(&self, params: &[[f64; 10]]) -> DynModel {
         let mut m = self.clone();
         m.has_armature = false;
         for i in 0..m.n {

@@ -22,7 +22,7 @@ const DRIVE_KEY: &str = "coulomb_nm";
 /// the torque continuous across velocity reversals of sampled paths.
 pub const COULOMB_VELOCITY_SCALE_RAD_S: f64 = 1e-3;
 /// Bounds of the identified transition width ε, rad/s.
-pub const COULOMB_WIDTH_BOUNDS_RAD_S: (f64, f64) = (1e-4, 0.2);
+pub(crate) const COULOMB_WIDTH_BOUNDS_RAD_S: (f64, f64) = (1e-4, 0.2);
 
 /// Coulomb friction per joint and direction, N·m (joint side), sign smoothed with `tanh(q̇/ε)`.
 #[derive(Clone, Debug, PartialEq)]

@@ -5,7 +5,7 @@ use super::{check_values, diagonal_regressor, per_joint_bounded, BuildContext, E
 use crate::error::Result;
 
 /// Bound on `|τ_0|`, N·m: an offset larger than this is not an offset.
-pub const OFFSET_MAX_NM: f64 = 1e4;
+pub(crate) const OFFSET_MAX_NM: f64 = 1e4;
 
 /// Constant torque per joint.
 #[derive(Clone, Debug, PartialEq)]

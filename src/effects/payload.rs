@@ -79,7 +79,7 @@ pub struct Payload {
 }
 
 /// Symmetric tensor from `xx, yy, zz, xy, xz, yz`.
-pub fn sym_from6(v: &[f64; 6]) -> M3 {
+pub(crate) fn sym_from6(v: &[f64; 6]) -> M3 {
     M3::new(v[0], v[3], v[4], v[3], v[1], v[5], v[4], v[5], v[2])
 }
 
@@ -211,7 +211,7 @@ impl Payload {
     /// `m = m₀ + Δm` (zero when the mass is zero). With it, [`Payload::body`] writes the
     /// nominal inertia about the centre of mass: what "the payload's inertia is held" means
     /// when only the mass and the centre of mass are fitted.
-    pub fn held_inertia_error(&self, dm: f64, dh: [f64; 3]) -> [f64; 6] {
+    pub(crate) fn held_inertia_error(&self, dm: f64, dh: [f64; 3]) -> [f64; 6] {
         let m = self.nominal_mass + dm;
         if m.abs() <= 1e-12 {
             return [0.0; 6];

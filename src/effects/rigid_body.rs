@@ -36,10 +36,10 @@ pub(crate) const RIGID_BODY_MAX: f64 = 1e4;
 /// mass (a stated bound, not a law of physics: CAD link masses are rarely off by more than a
 /// few tens of per cent; a larger change is a different robot or an effect the catalogue
 /// lacks, folded into the link by the fit).
-pub const RIGID_BODY_MAX_MASS_CHANGE: f64 = 0.5;
+pub(crate) const RIGID_BODY_MAX_MASS_CHANGE: f64 = 0.5;
 /// Standard errors by which each fitted base-parameter error is pulled toward the nominal
 /// before the plausibility checks (only violations the data insist on are reported).
-pub const RIGID_BODY_PLAUSIBILITY_SIGMAS: f64 = 2.0;
+pub(crate) const RIGID_BODY_PLAUSIBILITY_SIGMAS: f64 = 2.0;
 /// Random states used to find the base parameters.
 const BASE_SAMPLES: usize = 100;
 /// Relative threshold on `|R_kk|` for the rank.

@@ -118,7 +118,7 @@ impl Drawing<'_> {
 
     /// The multiplier `(v + dv)⁺ / v` of an identified parameter `name` drawn with its
     /// standard error ([`Drawing::identified`]), or `None`.
-    pub fn identified_factor(&mut self, name: &str) -> Option<f64> {
+    pub(crate) fn identified_factor(&mut self, name: &str) -> Option<f64> {
         self.identified(name)
             .map(|(v, dv)| (v + dv).max(0.0) / v.max(1e-300))
     }

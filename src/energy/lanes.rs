@@ -1099,7 +1099,14 @@ impl EnergySums {
     /// Add the first `count` lanes of `pl` (W; a batch starting at a multiple of [`LANES`])
     /// with trapezoid weights `w` (s) per lane, for the first `n` joints, on `level`:
     /// lane by lane the operations of [`EnergySums::add_sample`].
-    pub fn add_lanes(&mut self, pl: &PowerLanes, w: &Lanes, count: usize, n: usize, level: Level) {
+    pub(crate) fn add_lanes(
+        &mut self,
+        pl: &PowerLanes,
+        w: &Lanes,
+        count: usize,
+        n: usize,
+        level: Level,
+    ) {
         let n = n.min(MAX_DOF);
         if count < LANES {
             self.add_partial(pl, w, count, n);

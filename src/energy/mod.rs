@@ -504,7 +504,7 @@ pub fn motor(tau: f64, v: f64, gear: f64, eta: f64, kt: f64, r: f64) -> MotorPoi
 
 /// Supply-side powers of one sample, W; see [`supply_power`].
 #[derive(Clone, Copy, Debug, Default, PartialEq)]
-pub struct SupplyPoint {
+pub(crate) struct SupplyPoint {
     /// Drawn by the drives after the policy and the recovered fraction.
     pub drives: f64,
     /// Returned by the axes and burnt (`drives − Σ P_el`).
@@ -518,7 +518,7 @@ pub struct SupplyPoint {
 /// `P_drives − ρ (P_drives − Σ P_el) + P_0`. Shared by [`eval_sample`] and
 /// [`crate::identify::Model::signal_from_torque`].
 #[inline]
-pub fn supply_power(policy: Regeneration, p_el: &[f64], rho: f64, p0: f64) -> SupplyPoint {
+pub(crate) fn supply_power(policy: Regeneration, p_el: &[f64], rho: f64, p0: f64) -> SupplyPoint {
     let sum: f64 = p_el.iter().sum();
     let policy_draw = drives_power(policy, p_el);
     let drives = policy_draw - rho * (policy_draw - sum);
@@ -531,7 +531,7 @@ pub fn supply_power(policy: Regeneration, p_el: &[f64], rho: f64, p0: f64) -> Su
 
 /// Supply power of the drives under a regeneration policy, W, from per-axis electrical powers.
 #[inline]
-pub fn drives_power(policy: Regeneration, p_el: &[f64]) -> f64 {
+pub(crate) fn drives_power(policy: Regeneration, p_el: &[f64]) -> f64 {
     match policy {
         Regeneration::None | Regeneration::PerAxis => p_el.iter().map(|p| p.max(0.0)).sum(),
         Regeneration::DcBus => p_el.iter().sum::<f64>().max(0.0),
@@ -735,7 +735,7 @@ pub fn evaluate(model: &EnergyModel, traj: &JointTrajectory) -> Result<EnergyRep
 /// each sample's powers handed to `on_sample(k, powers)` and then dropped. The report's
 /// `series` is left empty: memory does not grow with the trajectory beyond the trajectory
 /// itself. `on_sample` may keep what it needs (a chart's decimated envelope, a CSV row).
-pub fn evaluate_streaming(
+pub(crate) fn evaluate_streaming(
     model: &EnergyModel,
     traj: &JointTrajectory,
     on_sample: &mut dyn FnMut(usize, &SamplePower),

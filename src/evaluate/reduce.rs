@@ -346,7 +346,7 @@ fn chunk_reaches(p: &crate::robot::opw::OpwParams, lo: &V3, hi: &V3, o: &V3) -> 
 /// Counts of what the reduced evaluations of one [`Reduction`] did (for benchmarks and
 /// tests; the results never depend on them).
 #[derive(Debug, Default)]
-pub struct Stats {
+pub(crate) struct Stats {
     estimates: std::sync::atomic::AtomicUsize,
     rejected: std::sync::atomic::AtomicUsize,
     full: std::sync::atomic::AtomicUsize,

@@ -26,7 +26,7 @@ use crate::timing::{Move, Prim};
 
 /// Largest chord of an arc (or any curved move) in the exported base-frame path, m (5 mm: a
 /// chordal error of 0.03 mm on a 0.1 m radius).
-pub const EXPORT_CHORD_M: f64 = 0.005;
+pub(crate) const EXPORT_CHORD_M: f64 = 0.005;
 
 /// One point of the path in the robot base frame: the end of a (piece of a) programmed move.
 #[derive(Clone, Copy, Debug, PartialEq)]
@@ -358,7 +358,7 @@ pub fn rapid_base(points: &[BasePoint], at: &Placement, model: &RobotModel) -> S
 /// first sample (`MoveAbsJ`), each robtarget's `[cf1, cf4, cf6, cfx]` ([`abb_conf`]) from the
 /// planned branch, `ConfL \On` and `SingArea \Wrist` where the wrist may pass through its
 /// singularity (`\Off` otherwise).
-pub fn rapid_base_planned(
+pub(crate) fn rapid_base_planned(
     points: &[BasePoint],
     at: &Placement,
     model: &RobotModel,
@@ -392,7 +392,7 @@ fn rapid_base_with(
 /// expressed in the part frame (mm), the nozzle's orientation there (its spin relative to the
 /// part), with the plan's configuration, start `jointtarget`, `ConfL \On` and `SingArea`.
 /// Moving the work object moves the print; the configuration holds near the planned placement.
-pub fn rapid_part(
+pub(crate) fn rapid_part(
     points: &[BasePoint],
     at: &Placement,
     model: &RobotModel,

@@ -15,7 +15,7 @@ use std::path::PathBuf;
 
 /// `len × width` numbers, stored channel by channel (see the module docs).
 #[derive(Debug)]
-pub struct Columns {
+pub(crate) struct Columns {
     len: usize,
     width: usize,
     store: Store,

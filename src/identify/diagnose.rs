@@ -43,14 +43,14 @@ use crate::identify::structure::{self, Unexplained};
 use serde::Serialize;
 
 /// Minimum relative cut of the held-out RMSE for a significant candidate.
-pub const MIN_GAIN: f64 = 0.05;
+pub(crate) const MIN_GAIN: f64 = 0.05;
 /// BIC improvement (decrease) required for a significant candidate.
-pub const MIN_DELTA_BIC: f64 = 10.0;
+pub(crate) const MIN_DELTA_BIC: f64 = 10.0;
 /// Materiality: on some channel, the held-out RMS a significant candidate explains must reach
 /// both that channel's noise floor and this fraction of its measured RMS. An effect smaller than 1 % of the signal moves the energy by about 1 % or less,
 /// the accuracy the loop is asked to reach (target: ≥ 99 %); a log whose only errors
 /// are that small (e.g. 1 % link-mass and inertia errors) has nothing missing.
-pub const MIN_MATERIAL: f64 = 0.01;
+pub(crate) const MIN_MATERIAL: f64 = 0.01;
 
 /// One ranked candidate.
 #[derive(Clone, Debug, Serialize)]
@@ -434,7 +434,7 @@ fn verdict(
 
 /// The best plausible, significant candidate is also fitted jointly with each of the next
 /// `PAIR_LEADERS − 1`.
-pub const PAIR_LEADERS: usize = 5;
+pub(crate) const PAIR_LEADERS: usize = 5;
 
 /// The current model's figures every candidate is scored against.
 struct Baseline<'a> {

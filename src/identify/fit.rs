@@ -16,10 +16,10 @@ use serde::Serialize;
 /// Neighbouring rows of a controller log are correlated over the residual's correlation time,
 /// so a longer log adds little information to the fit and only time: with the cap, fitting is
 /// of fixed cost and everything else is linear in the log length.
-pub const FIT_ROWS_MAX: usize = 20_000;
+pub(crate) const FIT_ROWS_MAX: usize = 20_000;
 
 /// The rows used for fitting: all of `rows`, or an even stride of at most [`FIT_ROWS_MAX`].
-pub fn fit_rows(rows: &[usize]) -> Vec<usize> {
+pub(crate) fn fit_rows(rows: &[usize]) -> Vec<usize> {
     if rows.len() <= FIT_ROWS_MAX {
         return rows.to_vec();
     }
@@ -377,7 +377,7 @@ pub(crate) fn finite_or_null<S: serde::Serializer>(
 
 /// Blocks of the autocorrelation-consistent standard errors are this many residual
 /// correlation times long (at least).
-pub const HAC_BLOCK_CORRELATION_TIMES: f64 = 16.0;
+pub(crate) const HAC_BLOCK_CORRELATION_TIMES: f64 = 16.0;
 
 /// Block length (rows) for the autocorrelation-consistent covariance of a row-major residual
 /// `r` with `ch` channels: [`HAC_BLOCK_CORRELATION_TIMES`] times the longest channel's
@@ -467,7 +467,7 @@ pub fn fit(
 /// at their current values: they are not fitted, get no standard error and take no part in
 /// the conditioning analysis (per-joint identifiability: a joint the motion does not excite
 /// keeps its prior while the others are fitted).
-pub fn fit_holding(
+pub(crate) fn fit_holding(
     prep: &Prepared,
     model: &mut Model,
     effects: &[&'static str],

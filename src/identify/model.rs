@@ -68,10 +68,10 @@ pub struct Model {
 
 /// The per-direction Coulomb candidate: `coulomb` with `f_c+[j]` and `f_c−[j]` fitted
 /// separately (claimed by `diagnose` only when it beats the symmetric `coulomb` significantly).
-pub const DIRECTIONAL_COULOMB: &str = "coulomb_directional";
+pub(crate) const DIRECTIONAL_COULOMB: &str = "coulomb_directional";
 
 /// The payload with its own inertia: `payload` with `dI_*` fitted too.
-pub const PAYLOAD_WITH_INERTIA: &str = "payload_inertia";
+pub(crate) const PAYLOAD_WITH_INERTIA: &str = "payload_inertia";
 
 /// Whether an effect list asks for the payload's inertia.
 pub(crate) fn asks_payload_inertia(s: &str) -> bool {
@@ -89,7 +89,7 @@ pub(crate) fn asks_directional_coulomb(s: &str) -> bool {
 
 /// An effect to fit and, for `effect[j]`, the 1-based joints whose parameters are fitted
 /// (`None`: every joint). Several entries of one effect (`viscous[2],viscous[3]`) merge.
-pub type EffectSubset = (&'static str, Option<Vec<usize>>);
+pub(crate) type EffectSubset = (&'static str, Option<Vec<usize>>);
 
 /// Parse `coulomb,viscous[2],viscous[3]` (effect names of the catalogue, a joint in brackets as
 /// `simulate`'s hidden effects take it, [`crate::identify::simulate::split_joint`]) for a robot
@@ -146,7 +146,7 @@ pub(crate) fn drive_file_of(robot_arg: &Path) -> Option<PathBuf> {
 /// efficiency in current and power logs (the motor torque `τ_m = k_t i` differs from the
 /// joint torque by the gear loss); the supply terms (regeneration, standby) in `p_total` logs
 /// only.
-pub fn observable_at(stage: Stage, kind: SignalKind) -> bool {
+pub(crate) fn observable_at(stage: Stage, kind: SignalKind) -> bool {
     match stage {
         Stage::Torque => true,
         Stage::Motor(MotorTerm::WindingResistance) => {
@@ -268,7 +268,7 @@ impl Model {
     /// The parameters (`effect.param`, as [`crate::identify::fit::fit_holding`] names them) of
     /// `effect` that belong to a joint outside `joints` (1-based): what a per-joint subset
     /// holds at its prior. Parameters of no joint (a transition width, a mass) are fitted.
-    pub fn params_outside(&self, effect: &str, joints: &[usize]) -> Result<Vec<String>> {
+    pub(crate) fn params_outside(&self, effect: &str, joints: &[usize]) -> Result<Vec<String>> {
         Ok(self
             .params(effect)?
             .into_iter()
@@ -286,7 +286,7 @@ impl Model {
     /// every other joint are set to zero (no torque from that effect there), its parameters of
     /// no joint (a transition width, a mass) are kept. Errors: an unknown effect, or zero
     /// outside a parameter's bounds (named).
-    pub fn keep_joints(&mut self, effect: &str, joints: &[usize]) -> Result<()> {
+    pub(crate) fn keep_joints(&mut self, effect: &str, joints: &[usize]) -> Result<()> {
         let specs = self.params(effect)?;
         let mut v = self.values(effect)?;
         for (p, x) in specs.iter().zip(v.iter_mut()) {
@@ -392,7 +392,7 @@ impl Model {
 /// every row; a longer log keeps them for at most this many rows, those the fits ask for
 /// ([`Prepared::regressor_row`]), and evaluates them where it needs them elsewhere, so that its
 /// memory does not grow with the log's length.
-pub const REGRESSOR_CACHE_ROWS: usize = 5 * crate::identify::fit::FIT_ROWS_MAX;
+pub(crate) const REGRESSOR_CACHE_ROWS: usize = 5 * crate::identify::fit::FIT_ROWS_MAX;
 
 /// The regressor of one costly effect: of every row, or of the rows asked for so far.
 #[derive(Debug)]
@@ -579,14 +579,6 @@ impl<'a> Prepared<'a> {
         r
     }
 
-    /// Joint torque of `model` at sample `k` (N·m) into `tau` (length `n`), skipping the
-    /// effects whose position in the model's set is in `skip`.
-    pub fn torque_row(&self, model: &Model, k: usize, skip: &[usize], tau: &mut [f64]) {
-        let r = self.rates(k, false);
-        self.rigid_row(model, k, &r, false, &mut None, tau);
-        self.effects_row(model, k, &r, skip, tau);
-    }
-
     /// [`Prepared::torque_row`] at a row a fit uses again and again: its rigid-body torque
     /// and rates are kept for the next call (while fewer than [`REGRESSOR_CACHE_ROWS`] rows
     /// are kept).
@@ -693,7 +685,7 @@ impl<'a> Prepared<'a> {
     /// `out` (`n × P`, row-major): the cached one, or computed and kept for the next call while
     /// fewer than [`REGRESSOR_CACHE_ROWS`] rows are kept (the rows a fit asks for again and
     /// again). `false` when the effect has no regressor.
-    pub fn regressor_row(&self, model: &Model, i: usize, k: usize, out: &mut [f64]) -> bool {
+    pub(crate) fn regressor_row(&self, model: &Model, i: usize, k: usize, out: &mut [f64]) -> bool {
         let n = model.n;
         let p = self.reg_params.get(i).copied().unwrap_or(0);
         if p == 0 || out.len() != n * p {
@@ -758,7 +750,7 @@ impl Model {
         }
     }
     /// Restore a saved state.
-    pub fn restore(&mut self, s: &ModelState) {
+    pub(crate) fn restore(&mut self, s: &ModelState) {
         self.effects = s.effects.clone();
         self.refresh();
     }

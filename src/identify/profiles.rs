@@ -21,12 +21,12 @@
 use serde::Serialize;
 
 /// Bins of a profile.
-pub const BINS: usize = 20;
+pub(crate) const BINS: usize = 20;
 /// Half-width of the band around q̇ = 0 of the direction step, as a fraction of the joint's
 /// largest |q̇|.
-pub const STEP_BAND: f64 = 0.1;
+pub(crate) const STEP_BAND: f64 = 0.1;
 /// Smallest half-width of that band, rad/s.
-pub const STEP_BAND_MIN_RAD_S: f64 = 0.005;
+pub(crate) const STEP_BAND_MIN_RAD_S: f64 = 0.005;
 
 /// One bin of a profile.
 #[derive(Clone, Debug, Serialize)]

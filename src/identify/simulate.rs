@@ -31,7 +31,7 @@ pub struct Hidden {
 /// brackets): the one parser of per-joint effect names (`simulate`'s hidden effects,
 /// `identify`'s per-joint subsets). Error: a joint that is not a whole number ≥ 1, or a
 /// bracket left open.
-pub fn split_joint(s: &str) -> Result<(&str, Option<usize>)> {
+pub(crate) fn split_joint(s: &str) -> Result<(&str, Option<usize>)> {
     let s = s.trim();
     match s.split_once('[') {
         Some((n, j)) => {

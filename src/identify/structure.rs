@@ -15,11 +15,11 @@
 use serde::Serialize;
 
 /// A channel's residual RMS above this multiple of its noise floor is structure.
-pub const STRUCTURE_RATIO: f64 = 1.5;
+pub(crate) const STRUCTURE_RATIO: f64 = 1.5;
 /// Bins of the correlation ratio.
-pub const BINS: usize = 20;
+pub(crate) const BINS: usize = 20;
 /// A periodogram peak above this multiple of the median power gives a dominant period.
-pub const PEAK_RATIO: f64 = 20.0;
+pub(crate) const PEAK_RATIO: f64 = 20.0;
 
 /// Noise floor of one channel of a row-major residual (`ch` channels), signal unit.
 pub fn noise_floor(r: &[f64], ch: usize, c: usize) -> f64 {

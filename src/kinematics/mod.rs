@@ -27,7 +27,7 @@ pub const MAX_DOF: usize = 8;
 const _: () = assert!(MAX_DOF == crate::robot::envelope::MAX_CHAIN);
 
 /// `|sin q5|` below which path IK also considers the other wrist variant (dimensionless).
-pub const NEAR_WRIST_SINGULARITY: f64 = 0.2;
+pub(crate) const NEAR_WRIST_SINGULARITY: f64 = 0.2;
 
 /// Path IK's largest step from the previous answer (rad, the largest |Δq| over the joints) of
 /// the wrist variant it continues, below which the other wrist variant cannot be nearer, so
@@ -71,7 +71,7 @@ impl JointVec {
     /// (every constructor zeroes them and the slice views never reach them), for fixed-width
     /// loops that vectorise.
     #[inline]
-    pub fn padded(&self) -> &[f64; MAX_DOF] {
+    pub(crate) fn padded(&self) -> &[f64; MAX_DOF] {
         &self.v
     }
 }
@@ -884,7 +884,7 @@ impl<'a> IkSolver<'a> {
 
     /// For a tool orientation `rot` (base frame), the constant offset from the tool point to
     /// the wrist centre, m (OPW arms; `None` otherwise): wrist centre = tip + offset.
-    pub fn wrist_offset(&self, rot: &M3) -> Option<V3> {
+    pub(crate) fn wrist_offset(&self, rot: &M3) -> Option<V3> {
         let p = self.model.opw.as_ref()?;
         let flange = self.flange_target(&Frame {
             rot: *rot,
@@ -898,7 +898,7 @@ impl<'a> IkSolver<'a> {
     /// from [`IkSolver::wrist_offset`], whose rounding differs from the solver's). `Ok` for
     /// arms without OPW parameters.
     #[inline]
-    pub fn wrist_centre_reachable(&self, c: &V3, slack: f64) -> Result<(), IkFailure> {
+    pub(crate) fn wrist_centre_reachable(&self, c: &V3, slack: f64) -> Result<(), IkFailure> {
         let (Some(p), Some(k)) = (&self.model.opw, &self.opw_k) else {
             return Ok(());
         };
@@ -906,48 +906,6 @@ impl<'a> IkSolver<'a> {
             Ok(()) => Ok(()),
             Err(e) => opw::arm_reaches(p, k, c, Shoulder::Back, slack).map_err(|_| e),
         }
-    }
-
-    /// For [`crate::simd::LANES`] wrist centres `c[i][lane]` (base frame, m) of an OPW arm:
-    /// per lane whether the front shoulder reaches it with `slack` ([`opw::arm_reaches`] with
-    /// [`Shoulder::Front`], the same operations in lockstep on `level`, so the same verdict).
-    /// `true` means [`IkSolver::wrist_centre_reachable`] is `Ok`; on `false` ask it (it tries
-    /// the back shoulder and gives the error). All `false` for arms without OPW parameters.
-    pub fn wrist_centres_reach_front(
-        &self,
-        c: &[[f64; crate::simd::LANES]; 3],
-        slack: f64,
-        level: crate::simd::Level,
-    ) -> [bool; crate::simd::LANES] {
-        let mask = self.wrist_centres_reach_front_mask(c, slack, level);
-        let mut ok = [false; crate::simd::LANES];
-        for (l, o) in ok.iter_mut().enumerate() {
-            *o = mask >> l & 1 != 0;
-        }
-        ok
-    }
-
-    /// [`IkSolver::wrist_centres_reach_front`] as a bit mask (bit `l`: lane `l` reached).
-    #[inline]
-    pub(crate) fn wrist_centres_reach_front_mask(
-        &self,
-        c: &[[f64; crate::simd::LANES]; 3],
-        slack: f64,
-        level: crate::simd::Level,
-    ) -> u32 {
-        let (Some(p), Some(k)) = (&self.model.opw, &self.opw_k) else {
-            return 0;
-        };
-        let ok = crate::simd::run(
-            level,
-            #[inline(always)]
-            || opw::arm_reaches_front_lanes(p, k, c, slack),
-        );
-        let mut mask = 0u32;
-        for (l, o) in ok.iter().enumerate() {
-            mask |= u32::from(*o != 0) << l;
-        }
-        mask
     }
 
     /// The closed-form branch [`IkSolver::solve_near`] continues from `q` (OPW arms), else `None`.

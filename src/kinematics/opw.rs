@@ -255,7 +255,7 @@ fn checked_acos(x: f64) -> Option<f64> {
 /// computed with rounding differences of ~1e-15 m is never rejected where the closed form
 /// would accept it.
 #[inline]
-pub fn arm_reaches(
+pub(crate) fn arm_reaches(
     p: &OpwParams,
     k: &Prepared,
     c: &V3,
@@ -299,39 +299,6 @@ pub fn arm_reaches(
             what: "wrist centre from the axis of joint 2",
         })
     }
-}
-
-/// [`arm_reaches`] with [`Shoulder::Front`] of [`crate::simd::LANES`] wrist centres
-/// `c[i][lane]` (m), in lockstep: per lane 1 where it is `Ok`, else 0 (the same operations,
-/// so the same verdict; NaN is 0).
-#[allow(clippy::needless_range_loop)] // lanes of parallel fixed arrays
-#[inline(always)]
-pub(crate) fn arm_reaches_front_lanes(
-    p: &OpwParams,
-    k: &Prepared,
-    c: &[[f64; crate::simd::LANES]; 3],
-    slack: f64,
-) -> [u64; crate::simd::LANES] {
-    use crate::simd::LANES;
-    let mut ok = [0u64; LANES];
-    let lim = 1.0 + ACOS_SLACK + slack;
-    for l in 0..LANES {
-        let (cx, cy, cz) = (c[0][l], c[1][l], c[2][l]);
-        let rho2 = cx * cx + cy * cy - p.b * p.b;
-        let near = !(rho2.is_nan() || rho2 < -slack);
-        let rho = rho2.max(0.0).sqrt();
-        let x = rho - p.a1;
-        let dz = cz - p.c1;
-        let s2 = x * x + dz * dz;
-        let s = s2.sqrt();
-        let axis = !(s == 0.0 && slack == 0.0);
-        let u2 = (s2 + k.c22 - k.kappa2) / (2.0 * s * p.c2);
-        let u3 = (s2 - k.c22 - k.kappa2) / (2.0 * p.c2 * k.kappa);
-        let ok2 = !(u2.is_nan() || u2.abs() > lim);
-        let ok3 = !(u3.is_nan() || u3.abs() > lim);
-        ok[l] = u64::from(near & axis & ok2 & ok3);
-    }
-    ok
 }
 
 /// Arm part (joints 1–3, OPW angles) of one shoulder/elbow branch, or why it has none.
@@ -925,7 +892,7 @@ pub fn solve_branch(p: &OpwParams, flange: &Frame, branch: Branch) -> Result<[f6
 /// Like [`solve_branch`], but at the wrist singularity joint 4 keeps its value from `q_ref`
 /// (URDF angles, rad; the previous path sample).
 #[inline]
-pub fn solve_branch_near(
+pub(crate) fn solve_branch_near(
     p: &OpwParams,
     flange: &Frame,
     branch: Branch,
@@ -991,7 +958,7 @@ pub fn wrist_singularity(p: &OpwParams, q: &[f64]) -> f64 {
 /// `|sin(σ q5 − δ)|` with the OPW sign σ and offset δ of joint 5; equal to
 /// [`wrist_singularity`] when δ = 0 (the shipped arms), to rounding otherwise.
 #[inline]
-pub fn wrist_singularity_sincos(p: &OpwParams, s5: f64, c5: f64) -> f64 {
+pub(crate) fn wrist_singularity_sincos(p: &OpwParams, s5: f64, c5: f64) -> f64 {
     let (sign, off) = (p.signs[4], p.offsets[4]);
     if off == 0.0 {
         (sign * s5).abs()

@@ -9,7 +9,7 @@
 use std::fmt::Write as _;
 
 /// A qualitative palette (colour-blind friendly, Okabe–Ito), cycled by series index.
-pub const PALETTE: [&str; 8] = [
+pub(crate) const PALETTE: [&str; 8] = [
     "#0072B2", "#D55E00", "#009E73", "#CC79A7", "#E69F00", "#56B4E9", "#F0E442", "#000000",
 ];
 
@@ -377,7 +377,7 @@ pub fn line_chart(f: &Frame, series: &[Series]) -> String {
 
 /// Buckets of [`line_chart`]'s decimation for a chart in frame `f` whose series are named
 /// `names` (one bucket per two pixel columns of the plot area, which the legend narrows).
-pub fn line_buckets(f: &Frame, names: &[&str]) -> usize {
+pub(crate) fn line_buckets(f: &Frame, names: &[&str]) -> usize {
     let legend: &[&str] = if names.len() > 1 { names } else { &[] };
     let a = Axes::new(f, (0.0, 1.0), (0.0, 1.0));
     ((a.px1 - legend_width(legend) - a.px0) / 2.0)
@@ -390,7 +390,7 @@ pub fn line_buckets(f: &Frame, names: &[&str]) -> usize {
 /// the ranges of x and y and the number of finite points. [`line_chart_streamed`] draws the
 /// same SVG from these as [`line_chart`] from the whole series.
 #[derive(Clone, Debug)]
-pub struct StreamedSeries {
+pub(crate) struct StreamedSeries {
     /// Legend name.
     pub name: String,
     /// Points per bucket (0: every point is kept, the series being short).
@@ -481,7 +481,7 @@ impl StreamedSeries {
 
 /// [`line_chart`] of series taken in with [`StreamedSeries`] (each finished): the same SVG,
 /// byte for byte, as [`line_chart`] over the whole series.
-pub fn line_chart_streamed(f: &Frame, series: &[StreamedSeries]) -> String {
+pub(crate) fn line_chart_streamed(f: &Frame, series: &[StreamedSeries]) -> String {
     let names: Vec<&str> = if series.len() > 1 {
         series.iter().map(|s| s.name.as_str()).collect()
     } else {
@@ -608,7 +608,7 @@ pub fn scatter(f: &Frame, series: &[Series]) -> String {
 /// Grouped bar chart: `categories` along x, one bar per group in `groups` (name, one value per
 /// category). A single group is a plain bar chart. Values are printed above the bars.
 /// The y axis starts at 0 (or below, for negative values).
-pub fn bar_chart(f: &Frame, categories: &[String], groups: &[(String, Vec<f64>)]) -> String {
+pub(crate) fn bar_chart(f: &Frame, categories: &[String], groups: &[(String, Vec<f64>)]) -> String {
     let names: Vec<&str> = if groups.len() > 1 {
         groups.iter().map(|g| g.0.as_str()).collect()
     } else {
@@ -1104,7 +1104,7 @@ pub struct TopView {
 }
 
 /// A filled closed outline on a [`TopView`]: `(class, label, points)`, m.
-pub type Footprint = (String, String, Vec<(f64, f64)>);
+pub(crate) type Footprint = (String, String, Vec<(f64, f64)>);
 
 /// Width of the column beside a top view that holds its colour bar and legend, px.
 const TOP_VIEW_BAR_W: f64 = 170.0;

@@ -155,7 +155,7 @@ pub(crate) struct DriveFile {
 /// A drive file's `[links.<name>]` table: the link's rigid body in its URDF link frame.
 #[derive(Deserialize, Serialize, Debug, Clone, PartialEq)]
 #[serde(deny_unknown_fields)]
-pub struct LinkTable {
+pub(crate) struct LinkTable {
     /// Mass, kg.
     pub mass_kg: f64,
     /// Centre of mass in the link frame, m.

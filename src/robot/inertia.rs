@@ -30,7 +30,7 @@ pub const ESTIMATE_DENSITY_KG_M3: f64 = 1_200.0;
 
 /// Effective density of links estimated from the collision capsule, kg/m³: calibrated on the
 /// shipped ABB IRB 6700-200/2.60 (its capsules' volume, 0.150 m³, carrying its moving mass).
-pub const CAPSULE_DENSITY_KG_M3: f64 = 5_000.0;
+pub(crate) const CAPSULE_DENSITY_KG_M3: f64 = 5_000.0;
 
 /// Stated uncertainty of an estimated link mass, relative (±): the share of a cast link's
 /// outer volume that is metal ranges from about a tenth to a quarter between makers and link
@@ -354,7 +354,7 @@ fn scale_to_stated_mass(
 /// Warnings for link inertias that look like placeholders: the same mass on every moving
 /// link given by the URDF or the drive file (three or more links), or a total moving mass
 /// below the rated payload.
-pub fn placeholder_warnings(model: &RobotModel) -> Vec<String> {
+pub(crate) fn placeholder_warnings(model: &RobotModel) -> Vec<String> {
     let mut out = Vec::new();
     let given: Vec<(usize, f64)> = model
         .links

@@ -101,13 +101,13 @@ fn parse3<'a>(it: &mut impl Iterator<Item = &'a str>, name: &str, line: usize) -
 /// Where a URDF mesh `filename` points: relative paths and `file://` against the URDF's
 /// directory; `package://pkg/rest` against a directory named `pkg` found in `ROS_PACKAGE_PATH`
 /// or among the URDF's ancestors (or their children), else `None`.
-pub fn resolve_mesh_path(filename: &str, urdf_dir: &Path) -> Option<PathBuf> {
+pub(crate) fn resolve_mesh_path(filename: &str, urdf_dir: &Path) -> Option<PathBuf> {
     resolve_mesh_path_in(filename, urdf_dir).map(|(p, _)| p)
 }
 
 /// [`resolve_mesh_path`] with the directory the name is relative to: the package's directory
 /// for `package://`, else the URDF's directory (also for an absolute path).
-pub fn resolve_mesh_path_in(filename: &str, urdf_dir: &Path) -> Option<(PathBuf, PathBuf)> {
+pub(crate) fn resolve_mesh_path_in(filename: &str, urdf_dir: &Path) -> Option<(PathBuf, PathBuf)> {
     if let Some(rest) = filename.strip_prefix("package://") {
         let (pkg, rel) = rest.split_once('/')?;
         let mut roots: Vec<PathBuf> = std::env::var_os("ROS_PACKAGE_PATH")
@@ -139,7 +139,7 @@ pub fn resolve_mesh_path_in(filename: &str, urdf_dir: &Path) -> Option<(PathBuf,
 }
 
 /// Formats of visual meshes the view draws (lower-case extensions).
-pub const VISUAL_FORMATS: [&str; 3] = ["stl", "dae", "obj"];
+pub(crate) const VISUAL_FORMATS: [&str; 3] = ["stl", "dae", "obj"];
 
 /// A visual mesh `filename` of the URDF in `urdf_dir`: the file (canonical) and its format,
 /// only when it is a file of [`VISUAL_FORMATS`] that lies inside the directory its name is

@@ -49,7 +49,7 @@ pub struct Joint {
 impl Joint {
     /// Transform of this joint's frame in the previous joint's frame at position `q`.
     #[inline]
-    pub fn transform(&self, q: f64) -> Frame {
+    pub(crate) fn transform(&self, q: f64) -> Frame {
         match self.kind {
             JointKind::Revolute => Frame {
                 rot: self.origin.rot * rot_axis(&self.axis, q),

@@ -96,7 +96,7 @@ fn exact(x: f64) -> String {
 
 /// The template for the URDF `urdf`, to be written at `out` (its `[robot] urdf` is relative to
 /// `out`'s directory). Errors name the URDF and its line as loading it does.
-pub fn drive_template(urdf: &Path, out: &Path) -> Result<Template> {
+pub(crate) fn drive_template(urdf: &Path, out: &Path) -> Result<Template> {
     if !urdf.is_file() {
         return Err(Error::Invalid(format!(
             "{}: no such URDF file",

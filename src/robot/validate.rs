@@ -22,24 +22,24 @@ use crate::math::M3;
 
 /// Smallest velocity (rad/s or m/s), acceleration or jerk limit accepted: 1e-3. Below it a
 /// limit is a unit or typing error (a URDF `velocity="1e-9"`).
-pub const MIN_LIMIT: f64 = 1e-3;
+pub(crate) const MIN_LIMIT: f64 = 1e-3;
 /// Largest link or payload mass accepted, kg.
-pub const MAX_MASS_KG: f64 = 1e5;
+pub(crate) const MAX_MASS_KG: f64 = 1e5;
 /// Largest length accepted for a tool offset, centre of mass or OPW parameter, m.
-pub const MAX_LENGTH_M: f64 = 100.0;
+pub(crate) const MAX_LENGTH_M: f64 = 100.0;
 /// Largest inertia entry accepted, kg·m².
 pub(crate) const MAX_INERTIA: f64 = 1e6;
 /// Largest drive value accepted (gear ratio, K_t, R, rotor inertia, friction), SI.
-pub const MAX_DRIVE_VALUE: f64 = 1e7;
+pub(crate) const MAX_DRIVE_VALUE: f64 = 1e7;
 
 /// Smallest motor torque constant accepted, N·m/A: servo motors of robot arms have 0.05 to a
 /// few N·m/A; a value far below turns any torque into an unbounded current.
-pub const MIN_TORQUE_CONSTANT: f64 = 1e-3;
+pub(crate) const MIN_TORQUE_CONSTANT: f64 = 1e-3;
 /// Smallest gear efficiency accepted (a gearbox below 1 % does not move an arm).
-pub const MIN_EFFICIENCY: f64 = 0.01;
+pub(crate) const MIN_EFFICIENCY: f64 = 0.01;
 
 /// Where the model came from, for messages: file names and texts (to find lines).
-pub struct Sources<'a> {
+pub(crate) struct Sources<'a> {
     /// URDF file name and text.
     pub urdf: (&'a str, &'a str),
     /// Drive file name and text, when there is one.

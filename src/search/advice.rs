@@ -145,13 +145,6 @@ pub fn what_to_try(reason: Reason) -> Advice {
     Advice { template, knobs }
 }
 
-/// The message printed when no placement of `rows` is feasible: counts per reason, what to
-/// try for each (its settings in the library's words, [`Knob::words`]), and the tool-offset
-/// hint for a robot whose flange is its nozzle.
-pub fn nothing_feasible(rows: &[Evaluated], robot: &RobotModel) -> String {
-    nothing_feasible_named(rows, robot, &|k| k.words().to_string())
-}
-
 /// [`nothing_feasible`] with the settings named by `name` (a front end's own names, e.g. the
 /// command line's options).
 pub fn nothing_feasible_named(

@@ -15,9 +15,9 @@ use crate::frame::Placement;
 use serde::Serialize;
 
 /// Joint-limit margins traded, degrees.
-pub const JOINT_MARGINS_DEG: [f64; 3] = [3.0, 5.0, 8.0];
+pub(crate) const JOINT_MARGINS_DEG: [f64; 3] = [3.0, 5.0, 8.0];
 /// Wrist-singularity margins traded, degrees (0: the wrist may pass through).
-pub const WRIST_MARGINS_DEG: [f64; 3] = [0.0, 5.0, 8.0];
+pub(crate) const WRIST_MARGINS_DEG: [f64; 3] = [0.0, 5.0, 8.0];
 
 /// One margin setting and the answer the search finds with it.
 #[derive(Clone, Debug, PartialEq, Serialize)]

@@ -381,4 +381,4 @@ pub fn default_grid(reach_m: f64) -> Grid {
 /// Upper bound of the default bed-height range, as a fraction of the reach (dimensionless):
 /// the bed top may sit from the base-frame origin (z = 0) up to R/2 (1.3 m on the IRB 6700,
 /// above the shoulder), a cell bound for a bed a person can still work at.
-pub const DEFAULT_Z_MAX_PER_REACH: f64 = 0.5;
+pub(crate) const DEFAULT_Z_MAX_PER_REACH: f64 = 0.5;

@@ -114,7 +114,7 @@ pub struct ToleranceCheck {
 /// Corners are evaluated in batches of this many (in parallel within a batch); the check stops
 /// after the first batch with an infeasible corner. The batches are fixed, so what is
 /// evaluated does not depend on the thread count.
-pub const CORNER_BATCH: usize = 4;
+pub(crate) const CORNER_BATCH: usize = 4;
 
 /// Re-evaluate `at` at the corners of `tol` (in parallel batches, in order; deterministic),
 /// stopping after the first batch that has an infeasible corner.
@@ -146,7 +146,7 @@ pub fn check(ev: &Evaluator, at: &Placement, tol: &Tolerance) -> Result<Toleranc
 /// corner order; deterministic, independent of the thread count), without stopping at the first
 /// infeasible one: for a placement reported beside the answer (the baseline), whose check
 /// says how many corners fail. A zero tolerance evaluates nothing and holds.
-pub fn check_all(ev: &Evaluator, at: &Placement, tol: &Tolerance) -> Result<ToleranceCheck> {
+pub(crate) fn check_all(ev: &Evaluator, at: &Placement, tol: &Tolerance) -> Result<ToleranceCheck> {
     if tol.is_zero() {
         return Ok(summarise(tol, &[]));
     }

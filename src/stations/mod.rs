@@ -69,10 +69,10 @@ use serde::Serialize;
 /// Share of the reach added to the reach annulus by the pre-filter (dimensionless): the
 /// annulus is sampled every 1 % of the reach, so 2 % keeps every station the sampling might
 /// misjudge.
-pub const PREFILTER_SLACK_REACH: f64 = 0.02;
+pub(crate) const PREFILTER_SLACK_REACH: f64 = 0.02;
 
 /// Spacing of the path points the pre-filter tests, m; half of it is added to the slack.
-pub const PREFILTER_SAMPLE_M: f64 = 0.05;
+pub(crate) const PREFILTER_SAMPLE_M: f64 = 0.05;
 
 /// Two z levels closer than this are one layer, m.
 pub(crate) const LEVEL_TOLERANCE_M: f64 = 1e-6;
@@ -82,7 +82,7 @@ pub(crate) const LEVEL_TOLERANCE_M: f64 = 1e-6;
 /// foot is 1107 × 720 mm at a working radius of 3.2 m (ABB product specification IRB 6640;
 /// [3rd] Joseph, *Mastering ROS for Robotics Programming*): a circumscribed radius of 0.66 m,
 /// 0.21 of the reach. A track carriage or crawler is often larger: give its radius.
-pub const FOOTPRINT_PER_REACH: f64 = 0.2;
+pub(crate) const FOOTPRINT_PER_REACH: f64 = 0.2;
 
 /// The default floor disc radius of a station for `model`, m ([`FOOTPRINT_PER_REACH`] × reach).
 pub fn default_footprint_m(model: &RobotModel) -> f64 {
@@ -91,7 +91,7 @@ pub fn default_footprint_m(model: &RobotModel) -> f64 {
 
 /// The largest number of candidate station positions accepted (a finer grid is refused with
 /// the count, not run for hours).
-pub const MAX_CANDIDATES: usize = 20_000;
+pub(crate) const MAX_CANDIDATES: usize = 20_000;
 
 /// A unit of the path: a maximal run of extruding moves at one z level, the smallest piece a
 /// plan assigns to a station.
@@ -154,7 +154,7 @@ pub fn split_units(path: &Toolpath) -> Result<Vec<Unit>> {
 /// The moves of the segment of units `i..=j` as a range of move indices (inclusive): from the
 /// first move of unit `i` (move 0 for the first unit: the lead-in) to the last move of unit
 /// `j` (the last move of the path for the last unit: the lead-out).
-pub fn segment_moves(path: &Toolpath, units: &[Unit], i: usize, j: usize) -> (usize, usize) {
+pub(crate) fn segment_moves(path: &Toolpath, units: &[Unit], i: usize, j: usize) -> (usize, usize) {
     let first = if i == 0 { 0 } else { units[i].first_move };
     let last = if j + 1 == units.len() {
         path.moves.len() - 1

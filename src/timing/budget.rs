@@ -19,7 +19,7 @@ pub const MAX_SAMPLES_ENV: &str = "PRINTWATT_MAX_SAMPLES";
 /// Default budget of samples of one timed path: 5 million, i.e. 5.5 h of motion at the default
 /// 4 ms period, about 6.6 GB for a 6-axis arm when the whole per-sample series is kept (see
 /// [`bytes_per_sample`]).
-pub const DEFAULT_MAX_SAMPLES: usize = 5_000_000;
+pub(crate) const DEFAULT_MAX_SAMPLES: usize = 5_000_000;
 
 /// The sample budget: `$PRINTWATT_MAX_SAMPLES` when set to a positive integer, else
 /// [`DEFAULT_MAX_SAMPLES`].

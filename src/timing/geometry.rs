@@ -46,7 +46,7 @@ pub enum Prim {
 }
 
 /// Number of arc-length table entries of a blend.
-pub const BLEND_TABLE: usize = 33;
+pub(crate) const BLEND_TABLE: usize = 33;
 
 fn bezier(p: &[V3; 4], u: f64) -> V3 {
     let v = 1.0 - u;
@@ -144,7 +144,7 @@ impl Prim {
     }
 
     /// Unit tangent at arc length `s`.
-    pub fn tangent(&self, s: f64) -> V3 {
+    pub(crate) fn tangent(&self, s: f64) -> V3 {
         let len = self.length();
         let t = match self {
             Prim::Line { a, b } => b - a,
@@ -175,7 +175,7 @@ impl Prim {
     }
 
     /// Curvature at arc length `s`, 1/m.
-    pub fn curvature(&self, s: f64) -> f64 {
+    pub(crate) fn curvature(&self, s: f64) -> f64 {
         match self {
             Prim::Line { .. } => 0.0,
             Prim::Arc {
@@ -208,7 +208,7 @@ impl Prim {
 
     /// The part of this primitive between arc lengths `s0 < s1` (lines and arcs only; a blend
     /// is returned unchanged).
-    pub fn trimmed(&self, s0: f64, s1: f64) -> Prim {
+    pub(crate) fn trimmed(&self, s0: f64, s1: f64) -> Prim {
         let len = self.length();
         match *self {
             Prim::Line { .. } => Prim::Line {

@@ -53,7 +53,7 @@ pub struct Slowdown {
 
 /// Hard cap on the planning rounds, as a multiple of [`JointStageOptions::max_iterations`]
 /// (see [`replan_again`]).
-pub const EXTRA_ROUNDS_FACTOR: usize = 4;
+pub(crate) const EXTRA_ROUNDS_FACTOR: usize = 4;
 
 /// Whether the controller plans again after round `round` (1-based) left `count` samples
 /// over a joint limit, `fewest` being the fewest any earlier round left (`usize::MAX` after
@@ -65,7 +65,7 @@ pub const EXTRA_ROUNDS_FACTOR: usize = 4;
 /// the excesses die out over more rounds than a path of long moves needs; from round
 /// `max_rounds` on the rule also aims further below the limits ([`round_margin`]).
 /// With `max_rounds` = 1 no round is added.
-pub fn replan_again(round: usize, max_rounds: usize, count: usize, fewest: usize) -> bool {
+pub(crate) fn replan_again(round: usize, max_rounds: usize, count: usize, fewest: usize) -> bool {
     round < max_rounds
         || (max_rounds > 1
             && count <= fewest.saturating_mul(16)
@@ -75,7 +75,7 @@ pub fn replan_again(round: usize, max_rounds: usize, count: usize, fewest: usize
 /// The margin the slow-down rule aims at in round `round` (1-based) of `max_rounds`: `margin`
 /// in the allowed rounds, then `margin²`, `margin³`, … each further `max_rounds` rounds, so
 /// that excesses that keep appearing on a dense path are pushed further below the limit.
-pub fn round_margin(margin: f64, round: usize, max_rounds: usize) -> f64 {
+pub(crate) fn round_margin(margin: f64, round: usize, max_rounds: usize) -> f64 {
     let extra = round / max_rounds.max(1);
     margin.powi(1 + i32::try_from(extra).unwrap_or(i32::MAX).min(8))
 }
@@ -1501,7 +1501,13 @@ pub(crate) fn path_rates(s: &[f64], dt: f64, k: usize) -> (f64, f64, f64) {
 /// q‴ṡ³, the ramp part is q′s̈ (acceleration) or q′s⃛ + 3q″ṡs̈ (jerk). Lowering the speed
 /// scales the rest; lowering the acceleration (and with it the jerk) scales the ramp part.
 /// Velocity: 0. At rest (ṡ ≈ 0): 1.
-pub fn ramp_share(kind: LimitKind, qd: f64, qdd: f64, qddd: f64, rates: (f64, f64, f64)) -> f64 {
+pub(crate) fn ramp_share(
+    kind: LimitKind,
+    qd: f64,
+    qdd: f64,
+    qddd: f64,
+    rates: (f64, f64, f64),
+) -> f64 {
     let (sd, sdd, sddd) = rates;
     if kind == LimitKind::Velocity {
         return 0.0;
@@ -1525,7 +1531,7 @@ pub fn ramp_share(kind: LimitKind, qd: f64, qdd: f64, qddd: f64, rates: (f64, f6
 
 /// One sample over a joint limit, as the slow-down rule needs it.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub struct Excess {
+pub(crate) struct Excess {
     /// Sample index of the plan.
     pub sample: usize,
     /// 0-based joint index.
@@ -1540,7 +1546,7 @@ pub struct Excess {
 
 /// Where a demand counts as coming from a ramp ([`ramp_share`] at least this): the
 /// acceleration is lowered there instead of the speed.
-pub const RAMP_SHARE: f64 = 0.5;
+pub(crate) const RAMP_SHARE: f64 = 0.5;
 
 /// Lowest factor the ramp acceleration is lowered by in one round (dimensionless).
 const MIN_ACCEL_STEP: f64 = 0.1;
@@ -1548,7 +1554,7 @@ const MIN_ACCEL_STEP: f64 = 0.1;
 /// What one round of the slow-down rule did at one excess: the factor applied to the path
 /// speed or to the ramp acceleration there, relative to the plan it was found in.
 #[derive(Clone, Copy, Debug, PartialEq)]
-pub enum Lever {
+pub(crate) enum Lever {
     /// Path speed capped at this share of the current speed (around the sample).
     Speed(f64),
     /// Ramp acceleration lowered to this share of the current one (over the ramp around the
@@ -1571,7 +1577,7 @@ pub enum Lever {
 ///
 /// Elsewhere the speed and the acceleration are the unslowed plan's.
 #[derive(Clone, Debug, Default)]
-pub struct Slowing {
+pub(crate) struct Slowing {
     /// Factor on each node's speed cap (1 = none).
     pub scale: Vec<f64>,
     /// Factor on the ramp acceleration at each node (empty: 1 everywhere), see

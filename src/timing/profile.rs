@@ -126,7 +126,7 @@ pub fn nodes(pieces: &[Piece], opts: &ProfileOptions) -> Nodes {
 }
 
 /// Acceleration-limited speed at each node under the caps (times `scale`, per node), m/s.
-pub fn speed_at_nodes(nodes: &Nodes, scale: &[f64], accel: f64) -> Vec<f64> {
+pub(crate) fn speed_at_nodes(nodes: &Nodes, scale: &[f64], accel: f64) -> Vec<f64> {
     speed_at_nodes_local(nodes, scale, accel, &[])
 }
 
@@ -136,7 +136,7 @@ pub fn speed_at_nodes(nodes: &Nodes, scale: &[f64], accel: f64) -> Vec<f64> {
 /// a stretch of path only: the speed stays continuous, ramps elsewhere keep `accel`, and the
 /// jerk filter (its length set by the global `accel / jerk`) blends the change of
 /// acceleration at the stretch's ends.
-pub fn speed_at_nodes_local(
+pub(crate) fn speed_at_nodes_local(
     nodes: &Nodes,
     scale: &[f64],
     accel: f64,

@@ -213,7 +213,7 @@ pub struct Dwell {
 }
 
 /// Relative tolerance used to tell z levels apart in [`Toolpath::layer_count`], m.
-pub const LAYER_Z_TOLERANCE_M: f64 = 1e-6;
+pub(crate) const LAYER_Z_TOLERANCE_M: f64 = 1e-6;
 
 impl Toolpath {
     /// Diagonal of the axis-aligned bounding box of the start and every move's end point, m
@@ -504,7 +504,7 @@ impl PathUnits {
     }
 
     /// The unit's symbol.
-    pub fn symbol(self) -> &'static str {
+    pub(crate) fn symbol(self) -> &'static str {
         match self {
             PathUnits::Mm => "mm",
             PathUnits::M => "m",
@@ -599,9 +599,9 @@ pub fn load(path: &Path, opts: &ReadOptions) -> Result<Toolpath> {
 }
 
 /// Smallest plausible bounding-box diagonal of a 3DCP path, m.
-pub const MIN_PLAUSIBLE_EXTENT_M: f64 = 0.05;
+pub(crate) const MIN_PLAUSIBLE_EXTENT_M: f64 = 0.05;
 /// Largest plausible bounding-box diagonal of a 3DCP path, m.
-pub const MAX_PLAUSIBLE_EXTENT_M: f64 = 50.0;
+pub(crate) const MAX_PLAUSIBLE_EXTENT_M: f64 = 50.0;
 
 /// Warn when the path's bounding-box diagonal lies outside
 /// [[`MIN_PLAUSIBLE_EXTENT_M`], [`MAX_PLAUSIBLE_EXTENT_M`]]: a unit slip is likely. `unit`
@@ -646,7 +646,7 @@ fn fmt_g(x: f64) -> String {
 
 /// Commanded speeds below this are implausible for printing (m/s): 1 mm/s, a sixtieth of the
 /// slowest 3DCP print speeds. Such a speed is usually a unit slip (`F1.5` meant `F1500`).
-pub const SLOW_MOVE_M_S: f64 = 1e-3;
+pub(crate) const SLOW_MOVE_M_S: f64 = 1e-3;
 
 /// Warn (naming the lines) about moves commanded below [`SLOW_MOVE_M_S`]. Paths too long to
 /// time at such a speed are refused later by the timing budget; shorter ones still run, so
@@ -685,7 +685,7 @@ fn warn_slow_moves(tp: &mut Toolpath, file: &str, gcode: bool) {
 
 /// Largest coordinate a toolpath may hold, m (100 km: far beyond any printer, small enough
 /// that lengths and times stay finite).
-pub const MAX_EXTENT_M: f64 = 1e5;
+pub(crate) const MAX_EXTENT_M: f64 = 1e5;
 
 /// Refuse a toolpath whose points lie beyond [`MAX_EXTENT_M`] or whose move lengths are not
 /// finite (numbers like `1e308` parse but overflow every later sum), naming the move's line.

@@ -23,7 +23,7 @@ use std::ops::Range;
 pub const REPEAT_TOLERANCE_M: f64 = 1e-6;
 
 /// Largest repeat period tried (layers).
-pub const MAX_PERIOD: usize = 4;
+pub(crate) const MAX_PERIOD: usize = 4;
 
 /// One unit of a path: the moves leading to a print layer and the layer's print moves.
 #[derive(Clone, Debug, PartialEq)]

@@ -32,7 +32,7 @@ pub(crate) const MAX_FRAMES: usize = 600;
 /// Points of the power trace sent with a playback.
 pub(crate) const TRACE_POINTS: usize = 800;
 /// Largest visual mesh file the server sends, bytes.
-pub const MAX_MESH_BYTES: u64 = 64 << 20;
+pub(crate) const MAX_MESH_BYTES: u64 = 64 << 20;
 
 /// A visual mesh file the page may ask for, by its index in [`ViewState::meshes`].
 #[derive(Clone, Debug, PartialEq)]

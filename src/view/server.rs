@@ -25,7 +25,7 @@ use std::net::SocketAddr;
 use std::sync::{mpsc, Condvar, Mutex};
 
 /// Largest request body accepted, bytes.
-pub const MAX_BODY: usize = 64 * 1024;
+pub(crate) const MAX_BODY: usize = 64 * 1024;
 
 const INDEX_HTML: &str = include_str!("assets/index.html");
 const VIEW_JS: &[u8] = include_bytes!("assets/view.js");

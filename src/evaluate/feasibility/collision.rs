@@ -57,7 +57,7 @@ pub(crate) const HEAD_CLEARANCE_M: f64 = 0.03;
 /// (that of [`crate::kinematics::nozzle_target`] at the nozzle spin): whether the head meets
 /// the part depends on the path, the head and the spin, not on where the robot stands.
 #[derive(Clone)]
-pub struct HeadOverPart {
+pub(crate) struct HeadOverPart {
     /// The head above the clearance, in the nozzle-tip frame.
     local: Isometry<f64>,
     shape: SharedShape,
@@ -71,7 +71,7 @@ pub struct HeadOverPart {
 
 /// Where the print head meets the printed part: the sample, the bead and the words.
 #[derive(Clone, Debug, PartialEq)]
-pub struct HeadHit {
+pub(crate) struct HeadHit {
     /// Sample index of the motion checked.
     pub sample: usize,
     /// Index of the bead met (in the order laid).
@@ -387,7 +387,7 @@ impl BodyFrames {
 
     /// The pose of shape `s` (its body's frame composed with its own pose), as a parry
     /// isometry (m).
-    pub fn shape_pose(&self, s: &BodyShape) -> Isometry<f64> {
+    pub(crate) fn shape_pose(&self, s: &BodyShape) -> Isometry<f64> {
         let f = self.body(s.body);
         if s.at_origin {
             iso(f)
@@ -766,7 +766,7 @@ impl RobotShapes {
     /// [`RobotShapes::new`] (again here for parameters other than its model's). The same
     /// numbers as computing them anew.
     #[inline]
-    pub fn elbow_terms(&self, p: &crate::robot::OpwParams) -> (f64, f64) {
+    pub(crate) fn elbow_terms(&self, p: &crate::robot::OpwParams) -> (f64, f64) {
         match self.chain.elbow {
             Some([a2, c3, psi3, k])
                 if a2 == p.a2 && c3 == p.c3 && !crate::fastmath::libm_selected() =>
@@ -1028,7 +1028,7 @@ impl Beads {
 
     /// [`Beads::hit`] with the shape's AABB at `pose` already known (`aabb`, part frame, m:
     /// `shape.compute_aabb(pose)`).
-    pub fn hit_within(
+    pub(crate) fn hit_within(
         &self,
         pose: &Isometry<f64>,
         shape: &SharedShape,

@@ -23,7 +23,7 @@ use crate::kinematics::opw;
 use crate::robot::{JointKind, RobotModel};
 
 /// Default joint-limit margin on every joint, degrees.
-pub const DEFAULT_JOINT_MARGIN_DEG: f64 = 3.0;
+pub(crate) const DEFAULT_JOINT_MARGIN_DEG: f64 = 3.0;
 
 /// Default largest share of joint 4/6 velocity or acceleration limit accepted near the wrist
 /// singularity (dimensionless).
@@ -366,7 +366,7 @@ impl JointChecks {
     /// the wrist singularity gets the wrist rule's ratios as [`check_joint_sample_with`]
     /// computes them (`margins.wrist_rate` the same).
     #[allow(clippy::too_many_arguments)]
-    pub fn screen(
+    pub(crate) fn screen(
         &self,
         o: &FeasibilityOptions,
         n: usize,
@@ -580,7 +580,7 @@ fn screen_entries<R: crate::simd::F64s>(
 /// How close to its joint-limit margin a placement's closest joint comes: the margin is met
 /// "on" the margin when the joint's smallest distance from a limit is within this of it, rad
 /// (0.01°): the answer then sits on the margin the way an optimum can sit on a search bound.
-pub const ON_MARGIN_RAD: f64 = 1.7453292519943295e-4;
+pub(crate) const ON_MARGIN_RAD: f64 = 1.7453292519943295e-4;
 
 /// The joint-limit margin a feasible placement keeps, in words, and whether it lies on the
 /// margin (see [`ON_MARGIN_RAD`]): e.g. ("joint 3 keeps 4.48° from a limit (margin 3.00°)",

@@ -344,7 +344,7 @@ pub struct Scene<'a> {
 /// Check one joint vector `q` (rad) against singularity margins and collisions; `laid` is the
 /// number of beads of `scene.beads` printed so far. Updates `margins`. Returns the reason
 /// and a detail on failure. `poses`: scratch. As [`check_sample_with`] without shared sines.
-pub fn check_sample(
+pub(crate) fn check_sample(
     model: &RobotModel,
     o: &FeasibilityOptions,
     scene: Scene<'_>,

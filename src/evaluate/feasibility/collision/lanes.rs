@@ -28,14 +28,14 @@ use crate::math::Frame;
 use crate::simd::LANES;
 
 /// Shapes the lockstep check takes (more go the per-sample way).
-pub const MAX_SHAPES: usize = 16;
+pub(crate) const MAX_SHAPES: usize = 16;
 
 /// One value per lane.
 type L = [f64; LANES];
 
 /// The results of [`CollisionLanes::compute`] for up to [`LANES`] samples.
 #[derive(Clone)]
-pub struct CollisionLanes {
+pub(crate) struct CollisionLanes {
     /// Per shape: the gap of its box from the bed's box, m.
     gap: [L; MAX_SHAPES],
     /// Per shape: its capsule axis's ends at its pose (x, y, z of the first end, then of the
@@ -369,7 +369,7 @@ impl CollisionLanes {
     #[inline]
     // `!(low <= c)`: the negated comparison is the NaN rule (as the per-shape test's).
     #[allow(clippy::neg_cmp_op_on_partial_ord)]
-    pub fn replay(&self, l: usize, clearance: &mut Option<f64>) -> bool {
+    pub(crate) fn replay(&self, l: usize, clearance: &mut Option<f64>) -> bool {
         if self.exact >> l & 1 != 0 {
             return false;
         }
