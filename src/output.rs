@@ -378,7 +378,11 @@ pub(crate) fn write_atomic_with(path: &Path, fill: &mut Fill<'_>) -> Result<()> 
     Ok(())
 }
 
-/// [`write_new_atomic`] with the contents streamed by `fill`.
+/// [`write_atomic`] for a file that must not exist, its contents streamed by `fill`: the
+/// temporary file is put in place by a hard link, which fails if `path` exists, so of two runs
+/// writing the same new file at once the second fails ([`Error::OutputExists`]) instead of
+/// replacing the first's. On a file system without hard links, an existence check and a
+/// rename.
 pub(crate) fn write_new_atomic_with(path: &Path, fill: &mut Fill<'_>) -> Result<()> {
     if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
         std::fs::create_dir_all(dir).map_err(|e| Error::io(dir, e))?;

@@ -145,8 +145,10 @@ pub fn what_to_try(reason: Reason) -> Advice {
     Advice { template, knobs }
 }
 
-/// [`nothing_feasible`] with the settings named by `name` (a front end's own names, e.g. the
-/// command line's options).
+/// The message printed when no placement of `rows` is feasible: counts per reason, what to
+/// try for each (its settings named by `name`: a front end's own names, e.g. the command
+/// line's options, or the library's words, [`Knob::words`]), and the tool-offset hint for a
+/// robot whose flange is its nozzle.
 pub fn nothing_feasible_named(
     rows: &[Evaluated],
     robot: &RobotModel,
