@@ -501,9 +501,30 @@ fn an_effect_defined_outside_the_crate_supplies_the_motor_term_it_names() {
         .push("copper".into());
     let err = EnergyModel::new(&spare).unwrap_err().to_string();
     assert!(
+        err.contains("`copper`")
+            && err.contains("`spare_winding`")
+            && err.contains("the winding resistance"),
+        "{err}"
+    );
+    // Identification reads the terms by the same rule: the robot is refused, and switching
+    // the second one on in a model is refused and leaves the switch as it was.
+    let err = printwatt::identify::Model::new(&spare)
+        .unwrap_err()
+        .to_string();
+    assert!(
         err.contains("`copper`") && err.contains("`spare_winding`"),
         "{err}"
     );
+    let mut m = printwatt::identify::Model::new(&with).unwrap();
+    assert!(m.is_enabled("copper") && !m.is_enabled("spare_winding"));
+    let err = m
+        .set_enabled("spare_winding", true)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("the winding resistance"), "{err}");
+    assert!(!m.is_enabled("spare_winding"));
+    m.set_enabled("copper", false).unwrap();
+    m.set_enabled("spare_winding", true).unwrap();
 }
 
 #[test]

@@ -330,7 +330,7 @@ fn public_items() -> usize {
 /// re-export shows it. Raise the bound only for a new public item a user needs.
 #[test]
 fn the_public_surface_does_not_grow_past_its_recorded_size() {
-    const RECORDED: usize = 1216;
+    const RECORDED: usize = 1217;
     let n = public_items();
     eprintln!("{n} public items (bound {RECORDED})");
     assert!(

@@ -12,7 +12,7 @@
 //! the other keys; this is where `identify` writes what no other key holds). docs/effects.md.
 
 use super::registry::{registrations, EffectId};
-use super::{Effect, Stage};
+use super::{Effect, MotorTerm, Stage, SupplyTerm};
 use crate::error::{Error, Result};
 use crate::robot::{EffectsTable, RobotModel};
 
@@ -85,6 +85,20 @@ impl BuildContext<'_> {
         }
         Ok(())
     }
+}
+
+/// The motor and supply terms of an effect set ([`EffectSet::motor_terms`]); `None` where no
+/// switched-on effect supplies the term.
+#[derive(Clone, Debug, Default, PartialEq)]
+pub(crate) struct MotorTerms {
+    /// Winding resistance per joint, Ω.
+    pub winding_resistance: Option<Vec<f64>>,
+    /// Gear efficiency per joint (1).
+    pub gear_efficiency: Option<Vec<f64>>,
+    /// Share of braking power recovered (1).
+    pub regeneration: Option<f64>,
+    /// Standby power, W.
+    pub standby_w: Option<f64>,
 }
 
 /// Every registered effect of a robot with its switch, indexed by [`EffectId`].
@@ -244,6 +258,39 @@ impl EffectSet {
             .iter()
             .zip(&self.enabled)
             .map(|(e, on)| (e.as_ref(), *on))
+    }
+
+    /// The motor and supply terms the switched-on effects supply, each read by its
+    /// [`Stage`], not by the effect's name. Error: two switched-on effects supply the same
+    /// term (one would silently replace the other), naming both.
+    pub(crate) fn motor_terms(&self) -> Result<MotorTerms> {
+        let mut t = MotorTerms::default();
+        let mut supplied: Vec<(Stage, &'static str)> = Vec::new();
+        for (e, on) in self.iter() {
+            let stage = e.stage();
+            if !on || stage == Stage::Torque {
+                continue;
+            }
+            if let Some((_, other)) = supplied.iter().find(|(s, _)| *s == stage) {
+                return Err(Error::Invalid(format!(
+                    "effects `{other}` and `{}` both supply {}: one effect per motor or supply \
+                     term",
+                    e.name(),
+                    stage.term()
+                )));
+            }
+            supplied.push((stage, e.name()));
+            match stage {
+                Stage::Torque => {}
+                Stage::Motor(MotorTerm::WindingResistance) => {
+                    t.winding_resistance = Some(e.values())
+                }
+                Stage::Motor(MotorTerm::GearEfficiency) => t.gear_efficiency = Some(e.values()),
+                Stage::Supply(SupplyTerm::Regeneration) => t.regeneration = Some(e.values()[0]),
+                Stage::Supply(SupplyTerm::Standby) => t.standby_w = Some(e.values()[0]),
+            }
+        }
+        Ok(t)
     }
 
     /// The torque effects with their switches, in order.

@@ -74,6 +74,19 @@ pub enum Stage {
     Supply(SupplyTerm),
 }
 
+impl Stage {
+    /// The term a motor or supply stage supplies, in words ("the winding resistance").
+    pub fn term(self) -> &'static str {
+        match self {
+            Stage::Torque => "a joint torque",
+            Stage::Motor(MotorTerm::WindingResistance) => "the winding resistance",
+            Stage::Motor(MotorTerm::GearEfficiency) => "the gear efficiency",
+            Stage::Supply(SupplyTerm::Regeneration) => "the regeneration",
+            Stage::Supply(SupplyTerm::Standby) => "the standby power",
+        }
+    }
+}
+
 /// The motor-model term a [`Stage::Motor`] effect supplies (one value per joint).
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum MotorTerm {

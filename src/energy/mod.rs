@@ -390,47 +390,35 @@ impl Staged {
             rho: 0.0,
             p0: 0.0,
         };
-        let mut supplied: Vec<(Stage, &'static str)> = Vec::new();
+        let terms = set.motor_terms()?;
+        staged.motor = [terms.winding_resistance, terms.gear_efficiency];
+        staged.rho = terms.regeneration.unwrap_or(0.0);
+        staged.p0 = terms.standby_w.unwrap_or(0.0);
         for (e, on) in set.iter() {
             if !on {
                 continue;
             }
             let stage = e.stage();
-            if let Some((_, other)) = supplied.iter().find(|(s, _)| *s == stage) {
-                return Err(Error::Invalid(format!(
-                    "effects `{other}` and `{}` both act as {stage:?}: one effect per motor or \
-                     supply term",
-                    e.name()
-                )));
-            }
             if stage != Stage::Torque {
-                supplied.push((stage, e.name()));
-            }
-            match stage {
-                Stage::Torque => {
-                    let class = e.energy_class();
-                    if e.is_null() || !e.in_energy_model(options, has_drive) {
-                        continue;
-                    }
-                    staged.in_model.push(e.name().to_string());
-                    let booked = if e.fold_into(dyn_robot) {
-                        Booked::Folded
-                    } else {
-                        staged.torque.push((Arc::from(e.clone_box()), class));
-                        Booked::Torque(staged.torque.len() - 1, class)
-                    };
-                    staged.booked.push((e.name().to_string(), booked));
+                if has_drive {
+                    staged
+                        .booked
+                        .push((e.name().to_string(), Booked::Term(stage)));
                 }
-                Stage::Motor(MotorTerm::WindingResistance) => staged.motor[0] = Some(e.values()),
-                Stage::Motor(MotorTerm::GearEfficiency) => staged.motor[1] = Some(e.values()),
-                Stage::Supply(SupplyTerm::Regeneration) => staged.rho = e.values()[0],
-                Stage::Supply(SupplyTerm::Standby) => staged.p0 = e.values()[0],
+                continue;
             }
-            if stage != Stage::Torque && has_drive {
-                staged
-                    .booked
-                    .push((e.name().to_string(), Booked::Term(stage)));
+            let class = e.energy_class();
+            if e.is_null() || !e.in_energy_model(options, has_drive) {
+                continue;
             }
+            staged.in_model.push(e.name().to_string());
+            let booked = if e.fold_into(dyn_robot) {
+                Booked::Folded
+            } else {
+                staged.torque.push((Arc::from(e.clone_box()), class));
+                Booked::Torque(staged.torque.len() - 1, class)
+            };
+            staged.booked.push((e.name().to_string(), booked));
         }
         Ok(staged)
     }

@@ -9,7 +9,7 @@
 //! `R = 0`, `ρ = 0`, `P_0 = 0`.
 
 use crate::dynamics::{rnea, DynModel, DynOptions, MAX_DOF};
-use crate::effects::{catalogue, Effect, EffectSet, MotorTerm, ParamSpec, Stage, SupplyTerm};
+use crate::effects::{catalogue, Effect, EffectSet, MotorTerm, ParamSpec, Stage};
 pub use crate::effects::{catalogue_index, DEFAULT_EFFECTS};
 use crate::error::{Error, Result};
 use crate::identify::log::{Log, SignalKind};
@@ -197,47 +197,48 @@ impl Model {
             motor: MotorCache::default(),
             dynamics,
         };
-        m.refresh();
+        m.refresh()?;
         Ok(m)
     }
 
     /// The motor cache from the enabled effects, each by the motor or supply term it names
-    /// ([`Stage`]).
-    fn refresh(&mut self) {
+    /// ([`EffectSet::motor_terms`], as the energy model reads them). Error: two enabled
+    /// effects supply one term; the cache is then left as it was.
+    fn refresh(&mut self) -> Result<()> {
         let n = self.n;
-        let mut c = MotorCache {
-            r: vec![0.0; n],
-            eta: vec![1.0; n],
-            rho: 0.0,
-            p0: 0.0,
+        let t = self.effects.motor_terms()?;
+        self.motor = MotorCache {
+            r: t.winding_resistance.unwrap_or_else(|| vec![0.0; n]),
+            eta: t.gear_efficiency.unwrap_or_else(|| vec![1.0; n]),
+            rho: t.regeneration.unwrap_or(0.0),
+            p0: t.standby_w.unwrap_or(0.0),
         };
-        for (e, on) in self.effects.iter() {
-            if !on {
-                continue;
-            }
-            match e.stage() {
-                Stage::Torque => {}
-                Stage::Motor(MotorTerm::WindingResistance) => c.r = e.values(),
-                Stage::Motor(MotorTerm::GearEfficiency) => c.eta = e.values(),
-                Stage::Supply(SupplyTerm::Regeneration) => c.rho = e.values()[0],
-                Stage::Supply(SupplyTerm::Standby) => c.p0 = e.values()[0],
-            }
-        }
-        self.motor = c;
+        Ok(())
     }
 
-    /// Switch an effect on or off. Error: unknown name.
+    /// Switch an effect on or off. Errors: unknown name; switching on a second effect for a
+    /// motor or supply term another enabled effect supplies (the switch is then left as it
+    /// was).
     pub fn set_enabled(&mut self, name: &str, on: bool) -> Result<()> {
         self.effects.get(name)?;
+        let was = self.effects.is_enabled(name);
         self.effects.set_enabled(name, on);
-        self.refresh();
+        if let Err(e) = self.refresh() {
+            self.effects.set_enabled(name, was);
+            return Err(e);
+        }
         Ok(())
     }
 
     /// Switch every effect off (the rigid body only).
     pub fn disable_all(&mut self) {
         self.effects.disable_all();
-        self.refresh();
+        self.motor = MotorCache {
+            r: vec![0.0; self.n],
+            eta: vec![1.0; self.n],
+            rho: 0.0,
+            p0: 0.0,
+        };
     }
 
     /// Whether an effect is switched on (false for unknown names).
@@ -316,8 +317,7 @@ impl Model {
     /// Set the parameter values of an effect (checked against the bounds).
     pub fn set_values(&mut self, name: &str, values: &[f64]) -> Result<()> {
         self.effects.get_mut(name)?.set_values(values)?;
-        self.refresh();
-        Ok(())
+        self.refresh()
     }
 
     /// Whether the effect called `name` can be seen in a log of this signal, by the stage it
@@ -752,7 +752,9 @@ impl Model {
     /// Restore a saved state.
     pub(crate) fn restore(&mut self, s: &ModelState) {
         self.effects = s.effects.clone();
-        self.refresh();
+        // A saved state is a model's, whose switches every change keeps valid (set_enabled
+        // refuses a second effect for one term), so its terms read without error.
+        let _ = self.refresh();
     }
 }
 
