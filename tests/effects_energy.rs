@@ -197,21 +197,28 @@ fn balancer_adds_exactly_its_own_torque_on_joint_2() {
     assert!(moved > 100.0, "the balancer should matter: {moved} N·m");
 }
 
+/// The identified robot with Stribeck friction, joint offsets and regeneration recovering
+/// `rho` of the braking power switched on.
+fn with_stribeck_offset_regeneration(rho: f64) -> RobotModel {
+    let mut r = identified();
+    set_enabled(&mut r, "stribeck", true);
+    set_values(
+        &mut r,
+        "stribeck",
+        vec![10.0, 10.0, 10.0, 10.0, 10.0, 10.0, 0.05],
+    );
+    set_enabled(&mut r, "offset", true);
+    set_values(&mut r, "offset", vec![2.0, -8.0, 1.0, 0.0, 0.3, -0.2]);
+    set_enabled(&mut r, "regeneration", true);
+    set_values(&mut r, "regeneration", vec![rho]);
+    r
+}
+
 /// (c) the breakdown closes with the balancer, Stribeck friction and partial regeneration.
 #[test]
 fn breakdown_closes_with_the_identified_effects() {
     for rho in [0.0, 0.5] {
-        let mut r = identified();
-        set_enabled(&mut r, "stribeck", true);
-        set_values(
-            &mut r,
-            "stribeck",
-            vec![10.0, 10.0, 10.0, 10.0, 10.0, 10.0, 0.05],
-        );
-        set_enabled(&mut r, "offset", true);
-        set_values(&mut r, "offset", vec![2.0, -8.0, 1.0, 0.0, 0.3, -0.2]);
-        set_enabled(&mut r, "regeneration", true);
-        set_values(&mut r, "regeneration", vec![rho]);
+        let r = with_stribeck_offset_regeneration(rho);
         let rep = evaluate(&EnergyModel::new(&r).unwrap(), &sines(6, 5.0, 1000)).unwrap();
         let t = &rep.total;
         let parts = common::supply_parts(t);
@@ -525,17 +532,7 @@ fn a_supply_effect_defined_outside_the_library_acts_by_the_term_it_names() {
 /// model, has no energy of its own.
 #[test]
 fn each_effects_energy_is_what_it_adds_to_its_part_of_the_breakdown() {
-    let mut r = identified();
-    set_enabled(&mut r, "stribeck", true);
-    set_values(
-        &mut r,
-        "stribeck",
-        vec![10.0, 10.0, 10.0, 10.0, 10.0, 10.0, 0.05],
-    );
-    set_enabled(&mut r, "offset", true);
-    set_values(&mut r, "offset", vec![2.0, -8.0, 1.0, 0.0, 0.3, -0.2]);
-    set_enabled(&mut r, "regeneration", true);
-    set_values(&mut r, "regeneration", vec![0.5]);
+    let mut r = with_stribeck_offset_regeneration(0.5);
     set_enabled(&mut r, "payload", true);
     set_values(&mut r, "payload", vec![4.5, 0.0, 0.0, 0.0]);
     let tr = sines(6, 5.0, 1000);
