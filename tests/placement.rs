@@ -210,8 +210,8 @@ fn optimiser_beats_the_grid_is_deterministic_and_reports_sensitivity() {
 
 #[test]
 fn cli_sweep_json_and_optimise_end_to_end() {
-    let out = common::ok(bin().args([
-        "sweep",
+    // A 3 × 3 grid the default robot reaches on the default path.
+    let grid = [
         "--x",
         "1.4:1.6:0.1",
         "--y",
@@ -220,8 +220,8 @@ fn cli_sweep_json_and_optimise_end_to_end() {
         "0.5",
         "--yaw",
         "90",
-        "--json",
-    ]));
+    ];
+    let out = common::ok(bin().arg("sweep").args(grid).arg("--json"));
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
     assert_eq!(v["placements"], 9);
     assert!(v["feasible"].as_u64().unwrap() >= 4);
@@ -231,22 +231,9 @@ fn cli_sweep_json_and_optimise_end_to_end() {
     let _ = std::fs::remove_dir_all(&dir);
     let out = common::ok(
         bin()
-            .args([
-                "optimise",
-                "--x",
-                "1.4:1.6:0.1",
-                "--y",
-                "-0.1:0.1:0.1",
-                "--z",
-                "0.5",
-                "--yaw",
-                "90",
-                "--max-evals",
-                "20",
-                "--run",
-                "t",
-                "--results-dir",
-            ])
+            .arg("optimise")
+            .args(grid)
+            .args(["--max-evals", "20", "--run", "t", "--results-dir"])
             .arg(&dir),
     );
     let stdout = String::from_utf8_lossy(&out.stdout);
@@ -260,23 +247,9 @@ fn cli_sweep_json_and_optimise_end_to_end() {
     // An existing run is not replaced without --force.
     let again = |force: bool| {
         let mut c = bin();
-        c.args([
-            "optimise",
-            "--x",
-            "1.5",
-            "--y",
-            "0",
-            "--z",
-            "0.5",
-            "--yaw",
-            "90",
-            "--max-evals",
-            "4",
-            "--run",
-            "t",
-            "--results-dir",
-        ])
-        .arg(&dir);
+        c.args(common::ONE_CELL_OPTIMISE)
+            .args(["--run", "t", "--results-dir"])
+            .arg(&dir);
         if force {
             c.arg("--force");
         }

@@ -164,22 +164,8 @@ fn optimise_without_run_writes_a_new_named_run_and_never_replaces_one() {
     let go = || {
         common::ok(
             bin()
-                .args([
-                    "optimise",
-                    "--x",
-                    "1.5",
-                    "--y",
-                    "0",
-                    "--z",
-                    "0.5",
-                    "--yaw",
-                    "90",
-                    "--max-evals",
-                    "4",
-                    "--tolerance",
-                    "0,0",
-                    "--results-dir",
-                ])
+                .args(common::ONE_CELL_OPTIMISE)
+                .args(["--tolerance", "0,0", "--results-dir"])
                 .arg(&dir),
         );
     };

@@ -37,6 +37,7 @@ mod viscous;
 
 pub use armature::Armature;
 pub use balancer::{Balancer, BALANCER_A_M, BALANCER_B_M, BALANCER_UPRIGHT_RAD};
+pub(crate) use config::MotorTerms;
 pub use config::{BuildContext, EffectSet, DEFAULT_EFFECTS};
 pub use coulomb::{Coulomb, COULOMB_VELOCITY_SCALE_RAD_S};
 pub use electrical::{Copper, GearEfficiency, Regeneration, Standby};

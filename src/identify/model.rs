@@ -31,6 +31,19 @@ struct MotorCache {
     p0: f64,
 }
 
+impl MotorCache {
+    /// The cache of `n` axes from the terms the enabled effects supply (a term nobody
+    /// supplies leaves no loss: `R = 0`, `η = 1`, `ρ = 0`, `P_0 = 0`).
+    fn of(t: crate::effects::MotorTerms, n: usize) -> MotorCache {
+        MotorCache {
+            r: t.winding_resistance.unwrap_or_else(|| vec![0.0; n]),
+            eta: t.gear_efficiency.unwrap_or_else(|| vec![1.0; n]),
+            rho: t.regeneration.unwrap_or(0.0),
+            p0: t.standby_w.unwrap_or(0.0),
+        }
+    }
+}
+
 /// The comparison model: every registered effect ([`crate::effects::REGISTRY`]) with its
 /// parameters and an on/off switch, the rigid body and the motor model.
 #[derive(Debug)]
@@ -205,14 +218,7 @@ impl Model {
     /// ([`EffectSet::motor_terms`], as the energy model reads them). Error: two enabled
     /// effects supply one term; the cache is then left as it was.
     fn refresh(&mut self) -> Result<()> {
-        let n = self.n;
-        let t = self.effects.motor_terms()?;
-        self.motor = MotorCache {
-            r: t.winding_resistance.unwrap_or_else(|| vec![0.0; n]),
-            eta: t.gear_efficiency.unwrap_or_else(|| vec![1.0; n]),
-            rho: t.regeneration.unwrap_or(0.0),
-            p0: t.standby_w.unwrap_or(0.0),
-        };
+        self.motor = MotorCache::of(self.effects.motor_terms()?, self.n);
         Ok(())
     }
 
@@ -233,12 +239,7 @@ impl Model {
     /// Switch every effect off (the rigid body only).
     pub fn disable_all(&mut self) {
         self.effects.disable_all();
-        self.motor = MotorCache {
-            r: vec![0.0; self.n],
-            eta: vec![1.0; self.n],
-            rho: 0.0,
-            p0: 0.0,
-        };
+        self.motor = MotorCache::of(Default::default(), self.n);
     }
 
     /// Whether an effect is switched on (false for unknown names).

@@ -243,3 +243,19 @@ pub fn zero_ranges() -> printwatt::search::uncertainty::Ranges {
         balancer_force_rel: 0.0,
     }
 }
+
+/// A one-cell optimisation that the default robot can do on the default path in a few
+/// evaluations: `printwatt optimise` plus these arguments.
+pub const ONE_CELL_OPTIMISE: [&str; 11] = [
+    "optimise",
+    "--x",
+    "1.5",
+    "--y",
+    "0",
+    "--z",
+    "0.5",
+    "--yaw",
+    "90",
+    "--max-evals",
+    "4",
+];
