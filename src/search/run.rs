@@ -249,9 +249,8 @@ fn with_refine_progress<T>(
 }
 
 /// The search from the grid's `rows`: the refinement (Nelder–Mead with the placement
-/// tolerance, or the pattern search), then a reduced answer evaluated in full (the report
-/// shows both figures; an answer infeasible in full is returned as it is, for the caller to
-/// refuse).
+/// tolerance, or the pattern search). A reduced answer is evaluated in full after
+/// ([`confirm_in_full`]).
 fn find(
     ev: &Evaluator,
     rows: &[Evaluated],
@@ -260,7 +259,7 @@ fn find(
     method: SearchMethod,
     observer: &dyn Observer,
 ) -> Result<optimise::OptimiseResult> {
-    let mut res = match method {
+    Ok(match method {
         SearchMethod::NelderMead => {
             observer.begin(Stage::Refinement, opts.max_evals);
             let r = with_refine_progress(observer, opts.max_evals, |progress| {
@@ -272,12 +271,25 @@ fn find(
             r
         }
         SearchMethod::Pattern => optimise::optimise(ev, rows, opts)?,
-    };
+    })
+}
+
+/// A reduced answer evaluated in full (the report shows both figures); an answer infeasible
+/// in full is refused, naming the placement.
+fn confirm_in_full(ev: &Evaluator, res: &mut optimise::OptimiseResult) -> Result<()> {
     if let Some((full, chk)) = reduce::confirm(ev, &res.best)? {
         res.best = full;
         res.path_reduction = Some(chk);
     }
-    Ok(res)
+    refuse_infeasible_in_full(&res.best)
+}
+
+/// What needs only the grid, worked out beside the refinement: the baseline, its tolerance
+/// check and the worst and baseline placements in detail.
+struct Beside {
+    baseline: Option<(String, Evaluated)>,
+    baseline_tolerance: Option<ToleranceCheck>,
+    details: Vec<Detail>,
 }
 
 /// A job as it runs: the config, its path job and objective, the grid, the search settings and
@@ -313,14 +325,27 @@ fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Resul
         so: &so,
         observer,
     };
-    let mut res = find(&ev, &rows, &opts, &so, s.search, observer)?;
-    refuse_infeasible_in_full(&res.best)?;
+    // The refinement, and beside it (on another thread where there is one) what needs only
+    // the grid: the baseline and the worst placement, each in detail. A shard of an
+    // uncertainty study reports its draws only, so it details nothing.
+    let shard = s.uncertainty.is_some() && matches!(draws, Draws::Shard(_));
+    let (found, beside) = rayon::join(
+        || find(&ev, &rows, &opts, &so, s.search, observer),
+        || run.beside(&rows, !shard),
+    );
+    let mut res = found?;
+    let beside = beside?;
+    confirm_in_full(&ev, &mut res)?;
     let margin_trade = if s.margin_trade {
         Some(run.margin_trade(&rows, &mut res)?)
     } else {
         None
     };
-    let baseline = run.baseline(&rows, &mut res)?;
+    let baseline = beside.baseline;
+    if let Some((_, b)) = &baseline {
+        res.savings = optimise::Savings::of(&res.best, b);
+    }
+    res.baseline_tolerance = beside.baseline_tolerance;
     if let Some(n) = s.uncertainty {
         if let Some(shard) = run.uncertainty(n, &rows, &mut res, &baseline, draws, t0)? {
             return Ok(Answer::Shard(shard));
@@ -328,7 +353,8 @@ fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Resul
     }
     run.decide(&mut res, margin_trade)?;
     let secs = t0.elapsed().as_secs_f64();
-    let details = details(&job, &rows, &res, &baseline)?;
+    let mut details: Vec<Detail> = detail(&job, "best", &res.best)?.into_iter().collect();
+    details.extend(beside.details);
     let base_corners = res.baseline_tolerance.as_ref().map_or(0, |c| c.corners);
     let n_eval = evaluations(ps.len(), &res);
     let m = run.meta(&res, base_corners);
@@ -432,29 +458,6 @@ fn refuse_infeasible_in_full(full: &Evaluated) -> Result<()> {
     Ok(())
 }
 
-/// The placements shown in detail (series for the report): the best, the worst and the
-/// baseline. A long print's one at a time: each holds its whole timed path (about 200 bytes a
-/// sample), and two at once would double the run's peak memory for little time; a shorter
-/// one's in parallel.
-fn details(
-    job: &PathJob,
-    rows: &[Evaluated],
-    res: &optimise::OptimiseResult,
-    baseline: &Option<(String, Evaluated)>,
-) -> Result<Vec<Detail>> {
-    use rayon::prelude::*;
-    let mut wanted = vec![("best", &res.best)];
-    wanted.extend(worst_of(rows).map(|w| ("worst", w)));
-    wanted.extend(baseline.as_ref().map(|(_, b)| ("baseline", b)));
-    let each = |(label, e): &(&str, &Evaluated)| detail(job, label, e);
-    let all: Vec<Option<Detail>> = if job.plan.motion.p.len() >= LEAN_SAMPLES {
-        wanted.iter().map(each).collect::<Result<_>>()?
-    } else {
-        wanted.par_iter().map(each).collect::<Result<_>>()?
-    };
-    Ok(all.into_iter().flatten().collect())
-}
-
 impl Run<'_, '_, '_> {
     /// The answer found again with other joint-limit and wrist margins: what each costs. A
     /// stricter setting's answer also keeps the configured margins; when it is cheaper, the
@@ -512,14 +515,13 @@ impl Run<'_, '_, '_> {
         Ok(trade)
     }
 
-    /// The baseline (the given placement, or the centre of the feasible grid region) and the
-    /// answer's savings against it; the baseline is checked against the tolerance the answer
-    /// holds.
-    fn baseline(
-        &self,
-        rows: &[Evaluated],
-        res: &mut optimise::OptimiseResult,
-    ) -> Result<Option<(String, Evaluated)>> {
+    /// The baseline (the given placement, or the centre of the feasible grid region), checked
+    /// against the placement tolerance after a search that holds it (every corner, so the
+    /// report can say how many fail); with `detailed`, the worst grid cell and the baseline in
+    /// detail. A long print's details one at a time: each holds its whole timed path (about
+    /// 80 bytes a sample), and two at once would raise the run's peak memory for little time.
+    fn beside(&self, rows: &[Evaluated], detailed: bool) -> Result<Beside> {
+        use rayon::prelude::*;
         let s = &self.config.settings;
         let baseline = match s.baseline {
             Some(b) => {
@@ -529,20 +531,37 @@ impl Run<'_, '_, '_> {
             None => feasible_centre(rows)
                 .map(|e| ("centre of the feasible grid region".to_string(), e.clone())),
         };
-        if let Some((_, b)) = &baseline {
-            res.savings = optimise::Savings::of(&res.best, b);
-            // The baseline is checked against the tolerance the answer holds (every corner, so
-            // the report can say how many fail).
-            let tol = s.tolerance;
-            if res.search.is_some() && !tol.is_zero() && b.cost().is_finite() {
-                res.baseline_tolerance = Some(crate::search::tolerance::check_all(
+        let tol = s.tolerance;
+        let baseline_tolerance = match &baseline {
+            Some((_, b))
+                if s.search == SearchMethod::NelderMead
+                    && !tol.is_zero()
+                    && b.cost().is_finite() =>
+            {
+                Some(crate::search::tolerance::check_all(
                     self.ev,
                     &b.placement,
                     &tol,
-                )?);
+                )?)
             }
+            _ => None,
+        };
+        let mut wanted: Vec<(&str, &Evaluated)> = Vec::new();
+        if detailed {
+            wanted.extend(worst_of(rows).map(|w| ("worst", w)));
+            wanted.extend(baseline.as_ref().map(|(_, b)| ("baseline", b)));
         }
-        Ok(baseline)
+        let each = |(label, e): &(&str, &Evaluated)| detail(self.job, label, e);
+        let details: Vec<Option<Detail>> = if self.job.plan.motion.p.len() >= LEAN_SAMPLES {
+            wanted.iter().map(each).collect::<Result<_>>()?
+        } else {
+            wanted.par_iter().map(each).collect::<Result<_>>()?
+        };
+        Ok(Beside {
+            baseline,
+            baseline_tolerance,
+            details: details.into_iter().flatten().collect(),
+        })
     }
 
     /// The uncertainty study over `n` drawn robots and the robust decision; for a shard, only
