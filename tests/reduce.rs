@@ -525,3 +525,44 @@ fn a_ramp_binding_limit_is_replanned_on_its_layers_and_the_estimate_matches_the_
     );
     assert!(est.error_j < 0.005 * f.energy_j, "{est:?}");
 }
+
+#[test]
+fn the_answers_detail_taken_from_its_full_evaluation_is_the_detail_timed_afresh() {
+    // The answer of a reduced search is evaluated in full, and its detail (energy report and
+    // charts) is worked out from that evaluation's timed path instead of timing the path
+    // again: it must be the detail timed afresh, to the bit.
+    use printwatt::search::{self, Grid, PlacementSet, Silent};
+    let model = common::robot("abb_irb6700_200_260");
+    let tp = wall_path(30);
+    let mut cfg = search::OptimiseConfig::new(model.clone(), tp.clone(), "wall30.gcode");
+    cfg.placements = Some(PlacementSet::grid(Grid {
+        xs: search::parse_range("x", "1.6:2.0:0.2").unwrap(),
+        ys: search::parse_range("y", "-0.2:0.2:0.2").unwrap(),
+        zs: vec![0.0],
+        yaws: vec![0.0],
+        spins: vec![0.0],
+    }));
+    cfg.settings.evaluation = search::EvaluationMode::Reduced;
+    cfg.settings.max_evals = 12;
+    cfg.settings.margin_trade = false;
+    cfg.settings.tolerance = "0,0".parse().unwrap();
+    let out = search::run(&cfg, &Silent).unwrap();
+    let report = &out.report;
+    let res = report.optimise.as_ref().unwrap();
+    assert!(res.path_reduction.is_some(), "the answer was confirmed in full");
+    let from_full = report.details.iter().find(|d| d.label == "best").unwrap();
+    assert_eq!(from_full.eval.placement, res.best.placement);
+    let job = common::default_job(&model, &tp);
+    let afresh = search::run::detail(&job, "best", &res.best)
+        .unwrap()
+        .unwrap();
+    assert_eq!(from_full.energy, afresh.energy);
+    assert_eq!(
+        format!("{:?}", from_full.charts),
+        format!("{:?}", afresh.charts)
+    );
+    assert!(from_full.energy.total.supply_j.is_finite());
+    // The worst and baseline cells, worked out beside the refinement, are reported too.
+    let labels: Vec<&str> = report.details.iter().map(|d| d.label.as_str()).collect();
+    assert_eq!(labels, ["best", "worst", "baseline"]);
+}

@@ -745,7 +745,21 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         at: &Placement,
     ) -> std::result::Result<Feasible, Infeasible> {
         // Never abandoned without a flag to say so.
-        self.evaluate_full_unless(sc, at, None)
+        self.evaluate_full_unless(sc, at, None, None)
+            .unwrap_or_else(|| Err(abandoned()))
+    }
+
+    /// [`Evaluator::evaluate_full_inner`], with `also` given the timed path beside the
+    /// checks and the energy (on another thread where there is one): what else needs every
+    /// sample of this placement (a report's detail) takes it from this timing instead of
+    /// timing the path again. `also` is not called when the timing fails.
+    pub(super) fn evaluate_full_beside(
+        &self,
+        sc: &mut Scratch<'a>,
+        at: &Placement,
+        also: &(dyn Fn(&TimedPath) + Sync),
+    ) -> std::result::Result<Feasible, Infeasible> {
+        self.evaluate_full_unless(sc, at, None, Some(also))
             .unwrap_or_else(|| Err(abandoned()))
     }
 
@@ -757,6 +771,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         sc: &mut Scratch<'a>,
         at: &Placement,
         cancel: Option<&AtomicBool>,
+        also: Option<&(dyn Fn(&TimedPath) + Sync)>,
     ) -> Option<std::result::Result<Feasible, Infeasible>> {
         let cancelled = || cancel.is_some_and(|c| c.load(Ordering::Relaxed));
         if cancelled() {
@@ -781,7 +796,16 @@ impl<'j, 'a> Evaluator<'j, 'a> {
             done_with(&mut sc.buf, Some(timed), lean);
             return None;
         }
-        let r = self.check_and_integrate(sc, at, &timed, cancel);
+        let r = match also {
+            None => self.check_and_integrate(sc, at, &timed, cancel),
+            Some(f) => {
+                rayon::join(
+                    || self.check_and_integrate(sc, at, &timed, cancel),
+                    || f(&timed),
+                )
+                .0
+            }
+        };
         done_with(&mut sc.buf, Some(timed), lean); // the buffers kept for the next placement, or freed
         (!cancelled()).then_some(r)
     }
@@ -1127,7 +1151,7 @@ impl<'j, 'a> Evaluator<'j, 'a> {
         let outcome = match &self.reduction {
             Some(_) if cancel.is_some_and(|c| c.load(Ordering::Relaxed)) => return None,
             Some(_) => self.evaluate_inner(sc, at),
-            None => self.evaluate_full_unless(sc, at, cancel)?,
+            None => self.evaluate_full_unless(sc, at, cancel, None)?,
         };
         Some(Evaluated {
             placement: *at,

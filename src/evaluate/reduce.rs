@@ -2212,10 +2212,12 @@ pub struct FullCheck {
 /// Re-evaluate `best` (evaluated with the reduction) in full: returns the full result and the
 /// comparison, or `None` when `best` was not an estimate (evaluated in full already). The
 /// full result may be infeasible (an interior layer the reduction did not check for
-/// collisions): the caller must say so.
+/// collisions): the caller must say so. `also` is given the full evaluation's timed path,
+/// beside its checks and energy ([`Evaluator::evaluate_full_beside`]).
 pub fn confirm(
     ev: &Evaluator<'_, '_>,
     best: &Evaluated,
+    also: &(dyn Fn(&crate::timing::TimedPath) + Sync),
 ) -> crate::error::Result<Option<(Evaluated, FullCheck)>> {
     let (Some(red), Some(f)) = (ev.reduction(), best.feasible()) else {
         return Ok(None);
@@ -2226,7 +2228,7 @@ pub fn confirm(
     let mut sc = ev.scratch()?;
     let full = Evaluated {
         placement: best.placement,
-        outcome: ev.evaluate_full_inner(&mut sc, &best.placement),
+        outcome: ev.evaluate_full_beside(&mut sc, &best.placement, also),
     };
     let full_j = full.cost();
     let chk = FullCheck {

@@ -275,13 +275,32 @@ fn find(
 }
 
 /// A reduced answer evaluated in full (the report shows both figures); an answer infeasible
-/// in full is refused, naming the placement.
-fn confirm_in_full(ev: &Evaluator, res: &mut optimise::OptimiseResult) -> Result<()> {
-    if let Some((full, chk)) = reduce::confirm(ev, &res.best)? {
+/// in full is refused, naming the placement. The answer's detail is worked out beside, from
+/// the same timed path: returned when there was a full evaluation to take it from.
+fn confirm_in_full(
+    ev: &Evaluator,
+    job: &PathJob,
+    res: &mut optimise::OptimiseResult,
+) -> Result<Option<Detail>> {
+    let figures = std::sync::Mutex::new(None);
+    let also = |t: &crate::timing::TimedPath| {
+        let f = detail_figures(job, t);
+        if let Ok(mut g) = figures.lock() {
+            *g = Some(f);
+        }
+    };
+    if let Some((full, chk)) = reduce::confirm(ev, &res.best, &also)? {
         res.best = full;
         res.path_reduction = Some(chk);
     }
-    refuse_infeasible_in_full(&res.best)
+    refuse_infeasible_in_full(&res.best)?;
+    let figures = figures.into_inner().ok().flatten().transpose()?;
+    Ok(figures.map(|(energy, charts)| Detail {
+        label: "best".into(),
+        eval: res.best.clone(),
+        energy,
+        charts: Some(charts),
+    }))
 }
 
 /// What needs only the grid, worked out beside the refinement: the baseline, its tolerance
@@ -335,7 +354,7 @@ fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Resul
     );
     let mut res = found?;
     let beside = beside?;
-    confirm_in_full(&ev, &mut res)?;
+    let confirmed = confirm_in_full(&ev, &job, &mut res)?;
     let margin_trade = if s.margin_trade {
         Some(run.margin_trade(&rows, &mut res)?)
     } else {
@@ -353,7 +372,15 @@ fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Resul
     }
     run.decide(&mut res, margin_trade)?;
     let secs = t0.elapsed().as_secs_f64();
-    let mut details: Vec<Detail> = detail(&job, "best", &res.best)?.into_iter().collect();
+    // The answer's detail from its confirmation, unless the decision moved the answer.
+    let best = match confirmed {
+        Some(d) if d.eval.placement == res.best.placement => Some(Detail {
+            eval: res.best.clone(),
+            ..d
+        }),
+        _ => detail(&job, "best", &res.best)?,
+    };
+    let mut details: Vec<Detail> = best.into_iter().collect();
     details.extend(beside.details);
     let base_corners = res.baseline_tolerance.as_ref().map_or(0, |c| c.corners);
     let n_eval = evaluations(ps.len(), &res);
@@ -836,13 +863,30 @@ pub fn detail(job: &PathJob, label: &str, e: &Evaluated) -> Result<Option<Detail
     if !e.cost().is_finite() {
         return Ok(None);
     }
-    // The energy integrated sample by sample into the report's figures and charts: no
-    // per-sample series is kept (a long print's would be hundreds of bytes a sample).
     let solver = crate::kinematics::IkSolver::new(job.robot)?;
     // Positions only: the rates are derived a block at a time as the energy takes them.
     let Ok(timed) = job.time_lean(&solver, &e.placement) else {
         return Ok(None);
     };
+    let (energy, charts) = detail_figures(job, &timed)?;
+    Ok(Some(Detail {
+        label: label.into(),
+        eval: e.clone(),
+        energy,
+        charts: Some(charts),
+    }))
+}
+
+/// The energy report and charts of a placement's detail, from its timed path: the energy
+/// integrated sample by sample into the report's figures and charts (no per-sample series is
+/// kept: a long print's would be hundreds of bytes a sample).
+fn detail_figures(
+    job: &PathJob,
+    timed: &crate::timing::TimedPath,
+) -> Result<(
+    crate::energy::EnergyReport,
+    crate::report::placement::DetailCharts,
+)> {
     let mut charts = crate::report::placement::DetailCharts::new(
         job.energy.joint_names(),
         timed.traj.len(),
@@ -855,12 +899,7 @@ pub fn detail(job: &PathJob, label: &str, e: &Evaluated) -> Result<Option<Detail
             charts.push(t[k], s)
         })?;
     charts.finish();
-    Ok(Some(Detail {
-        label: label.into(),
-        eval: e.clone(),
-        energy,
-        charts: Some(charts),
-    }))
+    Ok((energy, charts))
 }
 
 /// The report line saying how placements were evaluated, when the path reduction is on.
