@@ -2212,9 +2212,17 @@ pub struct FullCheck {
 /// Re-evaluate `best` (evaluated with the reduction) in full: returns the full result and the
 /// comparison, or `None` when `best` was not an estimate (evaluated in full already). The
 /// full result may be infeasible (an interior layer the reduction did not check for
-/// collisions): the caller must say so. `also` is given the full evaluation's timed path,
-/// beside its checks and energy ([`Evaluator::evaluate_full_beside`]).
+/// collisions): the caller must say so.
 pub fn confirm(
+    ev: &Evaluator<'_, '_>,
+    best: &Evaluated,
+) -> crate::error::Result<Option<(Evaluated, FullCheck)>> {
+    confirm_beside(ev, best, &|_| {})
+}
+
+/// [`confirm`], with `also` given the full evaluation's timed path beside its checks and
+/// energy ([`Evaluator::evaluate_full_beside`]).
+pub(crate) fn confirm_beside(
     ev: &Evaluator<'_, '_>,
     best: &Evaluated,
     also: &(dyn Fn(&crate::timing::TimedPath) + Sync),

@@ -289,7 +289,7 @@ fn confirm_in_full(
             *g = Some(f);
         }
     };
-    if let Some((full, chk)) = reduce::confirm(ev, &res.best, &also)? {
+    if let Some((full, chk)) = reduce::confirm_beside(ev, &res.best, &also)? {
         res.best = full;
         res.path_reduction = Some(chk);
     }

@@ -29,9 +29,9 @@ pub(crate) const MAX_BODY: usize = 64 * 1024;
 
 const INDEX_HTML: &str = include_str!("assets/index.html");
 const VIEW_JS: &[u8] = include_bytes!("assets/view.js");
-const THREE_JS: &[u8] = include_bytes!("assets/three.module.min.js");
-const ORBIT_JS: &[u8] = include_bytes!("assets/OrbitControls.js");
-const THREE_LICENSE: &[u8] = include_bytes!("assets/three-LICENSE");
+const THREE_JS: &[u8] = include_bytes!("../../vendor/three/three.module.min.js");
+const ORBIT_JS: &[u8] = include_bytes!("../../vendor/three/OrbitControls.js");
+const THREE_LICENSE: &[u8] = include_bytes!("../../vendor/three/three-LICENSE");
 
 /// The page's scripts and the three.js licence: path, bytes, content type. The loaders are
 /// three.js 0.160.1's `examples/jsm/loaders/` files, unchanged (the COLLADA loader imports
@@ -42,22 +42,22 @@ const ASSETS: [(&str, &[u8], &str); 8] = [
     ("/assets/OrbitControls.js", ORBIT_JS, "text/javascript"),
     (
         "/assets/loaders/STLLoader.js",
-        include_bytes!("assets/loaders/STLLoader.js"),
+        include_bytes!("../../vendor/three/loaders/STLLoader.js"),
         "text/javascript",
     ),
     (
         "/assets/loaders/ColladaLoader.js",
-        include_bytes!("assets/loaders/ColladaLoader.js"),
+        include_bytes!("../../vendor/three/loaders/ColladaLoader.js"),
         "text/javascript",
     ),
     (
         "/assets/loaders/OBJLoader.js",
-        include_bytes!("assets/loaders/OBJLoader.js"),
+        include_bytes!("../../vendor/three/loaders/OBJLoader.js"),
         "text/javascript",
     ),
     (
         "/assets/loaders/TGALoader.js",
-        include_bytes!("assets/loaders/TGALoader.js"),
+        include_bytes!("../../vendor/three/loaders/TGALoader.js"),
         "text/javascript",
     ),
     ("/assets/three-LICENSE", THREE_LICENSE, "text/plain"),
