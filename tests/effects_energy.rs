@@ -7,7 +7,7 @@
 
 mod common;
 use common::{close, root, Sines};
-use printwatt::effects::{Balancer, EffectSet, TorqueEffect};
+use printwatt::effects::{Balancer, Effect, EffectSet};
 use printwatt::energy::{eval_sample, evaluate, EnergyModel, SamplePower};
 use printwatt::identify::log::SignalKind;
 use printwatt::identify::Model;

@@ -16,7 +16,7 @@ fn sines(n: usize, seed: u64, t_end: f64, steps: usize, amp: f64) -> JointTrajec
         .trajectory(t_end, steps)
 }
 
-use printwatt::effects::{Armature, Coulomb, Effect, EffectSet, TorqueEffect, Viscous};
+use printwatt::effects::{Armature, Coulomb, Effect, EffectSet, Viscous};
 use printwatt::energy::{eval_sample, evaluate, EnergyModel, EnergyOptions, SamplePower};
 use printwatt::robot::Regeneration;
 
@@ -214,7 +214,7 @@ fn regressor_times_parameters_equals_contribution() {
     // `coulomb` carries its transition width ε as a parameter: not linear, no regressor.
     let c = Coulomb::from_drive(d, 0.01);
     assert!(!c.regressor(&[0.0; 6], &[0.1; 6], &[0.0; 6], &mut [0.0; 6 * 13]));
-    let effects: Vec<Box<dyn TorqueEffect>> = vec![
+    let effects: Vec<Box<dyn Effect>> = vec![
         Box::new(Viscous::from_drive(d)),
         Box::new(Armature::from_drive(d)),
     ];

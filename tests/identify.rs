@@ -257,7 +257,7 @@ fn ill_conditioned_fit_names_parameters() {
 
 #[test]
 fn regressor_times_params_equals_contribution() {
-    use printwatt::effects::{Balancer, Payload, TorqueEffect};
+    use printwatt::effects::{Balancer, Effect, Payload};
     let (r, _) = nominal();
     let mut p = Payload::new(&r).unwrap();
     p.dm = 7.0;
@@ -269,7 +269,7 @@ fn regressor_times_params_equals_contribution() {
     let (q, qd, qdd) = ([0.1, 0.4, -0.3, 0.2, 0.5, 0.1], [0.3; 6], [0.7; 6]);
     p.dh = [0.4, -0.3, 1.2];
     p.di = [0.05, -0.02, 0.03, 0.01, 0.0, -0.01];
-    for (e, np) in [(&p as &dyn TorqueEffect, 10usize), (&b, 2)] {
+    for (e, np) in [(&p as &dyn Effect, 10usize), (&b, 2)] {
         let mut tau = [0.0; 6];
         e.add_torque(&q, &qd, &qdd, &mut tau);
         let mut y = vec![0.0; 6 * np];

@@ -549,7 +549,10 @@ fn the_answers_detail_taken_from_its_full_evaluation_is_the_detail_timed_afresh(
     let out = search::run(&cfg, &Silent).unwrap();
     let report = &out.report;
     let res = report.optimise.as_ref().unwrap();
-    assert!(res.path_reduction.is_some(), "the answer was confirmed in full");
+    assert!(
+        res.path_reduction.is_some(),
+        "the answer was confirmed in full"
+    );
     let from_full = report.details.iter().find(|d| d.label == "best").unwrap();
     assert_eq!(from_full.eval.placement, res.best.placement);
     let job = common::default_job(&model, &tp);

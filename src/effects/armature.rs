@@ -2,11 +2,11 @@
 //! `½ J_m (G q̇)²`).
 
 use super::uncertain::at;
+use super::EnergyOptions;
 use super::{
     check_values, diagonal_regressor, per_joint, BuildContext, DrawPhase, Drawing, DriveKept,
     DriveKeysMut, Effect, ParamSpec, Uncertainty,
 };
-use crate::energy::EnergyOptions;
 use crate::error::Result;
 
 /// Reflected rotor inertia per joint `I_a = G² J_m`, kg·m².

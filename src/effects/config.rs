@@ -12,9 +12,9 @@
 //! the other keys; this is where `identify` writes what no other key holds). docs/effects.md.
 
 use super::registry::{registrations, EffectId};
-use super::{Effect, MotorTerm, Stage, SupplyTerm};
+use super::{Effect, MotorTerm, Stage, SupplyTerm, COULOMB_VELOCITY_SCALE_RAD_S};
 use crate::error::{Error, Result};
-use crate::robot::{EffectsTable, RobotModel};
+use crate::robot::{EffectsTable, Regeneration, RobotModel};
 
 /// Effects switched on by default when the robot has drive data (those the drive file's
 /// `[[joints]]` and `[cabinet]` keys carry). Without drive data nothing is switched on.
@@ -304,6 +304,37 @@ impl EffectSet {
             if on {
                 e.add_torque(q, qd, qdd, tau);
             }
+        }
+    }
+}
+
+/// Which effects the energy model keeps, and overrides of their settings: the choices of
+/// [`crate::energy::EnergyModel::with_options`], read by each effect's
+/// [`Effect::in_energy_model`](super::Effect::in_energy_model).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct EnergyOptions {
+    /// Include the payload from the drive file (default `true`).
+    pub payload: bool,
+    /// Include the friction effects (`viscous`, `coulomb`, `stribeck`), each as switched by the
+    /// drive file's `[effects]` table (default `true`).
+    pub friction: bool,
+    /// Include the armature `G²J_m` when `[effects]` switches it on (default `true`).
+    pub armature: bool,
+    /// Velocity scale ε of the smoothed Coulomb sign, rad/s; the default
+    /// ([`COULOMB_VELOCITY_SCALE_RAD_S`]) keeps the robot's own (identified) ε.
+    pub coulomb_velocity_scale: f64,
+    /// Override the drive file's regeneration policy.
+    pub regeneration: Option<Regeneration>,
+}
+
+impl Default for EnergyOptions {
+    fn default() -> Self {
+        EnergyOptions {
+            payload: true,
+            friction: true,
+            armature: true,
+            coulomb_velocity_scale: COULOMB_VELOCITY_SCALE_RAD_S,
+            regeneration: None,
         }
     }
 }

@@ -38,7 +38,7 @@ mod viscous;
 pub use armature::Armature;
 pub use balancer::{Balancer, BALANCER_A_M, BALANCER_B_M, BALANCER_UPRIGHT_RAD};
 pub(crate) use config::MotorTerms;
-pub use config::{BuildContext, EffectSet, DEFAULT_EFFECTS};
+pub use config::{BuildContext, EffectSet, EnergyOptions, DEFAULT_EFFECTS};
 pub use coulomb::{Coulomb, COULOMB_VELOCITY_SCALE_RAD_S};
 pub use electrical::{Copper, GearEfficiency, Regeneration, Standby};
 pub use offset::Offset;
@@ -57,8 +57,6 @@ pub use crate::robot::drive::{
 
 /// The same trait as [`Effect`] under its former name (torque effects implement
 /// [`Effect::add_torque`] and [`Effect::regressor`]).
-pub use self::Effect as TorqueEffect;
-
 use crate::error::{Error, Result};
 use crate::robot::RobotModel;
 
@@ -167,9 +165,9 @@ pub trait Effect: AsAny + Send + Sync + std::fmt::Debug {
     /// Whether the energy model with `options` keeps this (enabled, not null) torque effect,
     /// for a robot with drive data (`has_drive`) or without: the energy option that switches
     /// it, and whether it needs drive data. Default: a friction effect
-    /// ([`EnergyClass::Friction`]) follows [`crate::energy::EnergyOptions::friction`], any
+    /// ([`EnergyClass::Friction`]) follows [`EnergyOptions::friction`], any
     /// other is kept.
-    fn in_energy_model(&self, options: &crate::energy::EnergyOptions, _has_drive: bool) -> bool {
+    fn in_energy_model(&self, options: &EnergyOptions, _has_drive: bool) -> bool {
         self.energy_class() != EnergyClass::Friction || options.friction
     }
     /// Add this effect's joint torque (N·m, N for prismatic joints) at state

@@ -427,8 +427,8 @@ impl Effect for Payload {
     fn write_drive_keys(&self, _keys: &mut DriveKeysMut<'_>) -> Result<DriveKept> {
         Ok(DriveKept::Body)
     }
-    /// Kept with [`crate::energy::EnergyOptions::payload`].
-    fn in_energy_model(&self, options: &crate::energy::EnergyOptions, _has_drive: bool) -> bool {
+    /// Kept with [`super::EnergyOptions::payload`].
+    fn in_energy_model(&self, options: &super::EnergyOptions, _has_drive: bool) -> bool {
         options.payload
     }
     fn is_null(&self) -> bool {

@@ -1,6 +1,6 @@
 //! `stribeck`: the extra breakaway friction at low speed,
 //! `τ = f_s exp(−(q̇/v_s)²) tanh(q̇/ε)` (joint side), on top of Coulomb friction
-//! (Olsson et al. 1998, the Stribeck curve). Not linear in `v_s`, so [`TorqueEffect::regressor`]
+//! (Olsson et al. 1998, the Stribeck curve). Not linear in `v_s`, so [`Effect::regressor`](super::Effect::regressor)
 //! returns `false` and identification uses the bounded nonlinear fit.
 
 use super::{

@@ -54,34 +54,8 @@ use crate::simd::{Level, LANES};
 use crate::trajectory::{JointTrajectory, RateBlocks};
 use std::sync::Arc;
 
-/// Choices for [`EnergyModel::with_options`].
-#[derive(Clone, Copy, Debug, PartialEq)]
-pub struct EnergyOptions {
-    /// Include the payload from the drive file (default `true`).
-    pub payload: bool,
-    /// Include the friction effects (`viscous`, `coulomb`, `stribeck`), each as switched by the
-    /// drive file's `[effects]` table (default `true`).
-    pub friction: bool,
-    /// Include the armature `G²J_m` when `[effects]` switches it on (default `true`).
-    pub armature: bool,
-    /// Velocity scale ε of the smoothed Coulomb sign, rad/s; the default
-    /// ([`COULOMB_VELOCITY_SCALE_RAD_S`]) keeps the robot's own (identified) ε.
-    pub coulomb_velocity_scale: f64,
-    /// Override the drive file's regeneration policy.
-    pub regeneration: Option<Regeneration>,
-}
-
-impl Default for EnergyOptions {
-    fn default() -> Self {
-        EnergyOptions {
-            payload: true,
-            friction: true,
-            armature: true,
-            coulomb_velocity_scale: COULOMB_VELOCITY_SCALE_RAD_S,
-            regeneration: None,
-        }
-    }
-}
+/// Choices for [`EnergyModel::with_options`] (they live beside the effects they switch).
+pub use crate::effects::EnergyOptions;
 
 /// Motor and gearbox constants of one axis, copied into fixed arrays for the hot loop.
 #[derive(Clone, Copy, Debug, Default)]
