@@ -531,9 +531,21 @@ fn the_answers_detail_taken_from_its_full_evaluation_is_the_detail_timed_afresh(
     // The answer of a reduced search is evaluated in full, and its detail (energy report and
     // charts) is worked out from that evaluation's timed path instead of timing the path
     // again: it must be the detail timed afresh, to the bit.
-    use printwatt::search::{self, Grid, PlacementSet, Silent};
     let model = common::robot("abb_irb6700_200_260");
     let tp = wall_path(30);
+    let cfg = reduced_wall_job(&model, &tp);
+    let out = printwatt::search::run(&cfg, &printwatt::search::Silent).unwrap();
+    let report = &out.report;
+    reduced_answer_detail_checks(report, &model, &tp);
+}
+
+/// The 30-layer wall's optimisation job with reduced evaluation (a 3 × 3 grid, 12 Nelder–Mead
+/// evaluations, no tolerance, no margin trade).
+fn reduced_wall_job(
+    model: &printwatt::robot::RobotModel,
+    tp: &Toolpath,
+) -> printwatt::search::OptimiseConfig {
+    use printwatt::search::{self, Grid, PlacementSet};
     let mut cfg = search::OptimiseConfig::new(model.clone(), tp.clone(), "wall30.gcode");
     cfg.placements = Some(PlacementSet::grid(Grid {
         xs: search::parse_range("x", "1.6:2.0:0.2").unwrap(),
@@ -546,8 +558,40 @@ fn the_answers_detail_taken_from_its_full_evaluation_is_the_detail_timed_afresh(
     cfg.settings.max_evals = 12;
     cfg.settings.margin_trade = false;
     cfg.settings.tolerance = "0,0".parse().unwrap();
-    let out = search::run(&cfg, &Silent).unwrap();
-    let report = &out.report;
+    cfg
+}
+
+#[test]
+fn the_work_beside_the_refinement_gives_the_same_report_on_1_and_2_threads() {
+    // The baseline and the worst and baseline details are worked out beside the refinement
+    // where a second thread is free, and the answer's detail beside its full evaluation: the
+    // summary and the whole report must not depend on the thread count.
+    let model = common::robot("abb_irb6700_200_260");
+    let tp = wall_path(30);
+    let cfg = reduced_wall_job(&model, &tp);
+    let run = |n: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .unwrap();
+        let out = pool
+            .install(|| printwatt::search::run(&cfg, &printwatt::search::Silent))
+            .unwrap();
+        (out.report.summary_json(true).unwrap(), out.report.html())
+    };
+    let (json1, html1) = run(1);
+    let (json2, html2) = run(2);
+    assert_eq!(json1, json2);
+    assert!(html1 == html2, "the reports differ between 1 and 2 threads");
+    assert!(json1.contains("\"baseline\""), "{json1}");
+}
+
+fn reduced_answer_detail_checks(
+    report: &printwatt::report::placement::RunReport,
+    model: &printwatt::robot::RobotModel,
+    tp: &Toolpath,
+) {
+    use printwatt::search;
     let res = report.optimise.as_ref().unwrap();
     assert!(
         res.path_reduction.is_some(),
@@ -555,7 +599,7 @@ fn the_answers_detail_taken_from_its_full_evaluation_is_the_detail_timed_afresh(
     );
     let from_full = report.details.iter().find(|d| d.label == "best").unwrap();
     assert_eq!(from_full.eval.placement, res.best.placement);
-    let job = common::default_job(&model, &tp);
+    let job = common::default_job(model, tp);
     let afresh = search::run::detail(&job, "best", &res.best)
         .unwrap()
         .unwrap();
