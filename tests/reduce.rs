@@ -536,7 +536,26 @@ fn the_answers_detail_taken_from_its_full_evaluation_is_the_detail_timed_afresh(
     let cfg = reduced_wall_job(&model, &tp);
     let out = printwatt::search::run(&cfg, &printwatt::search::Silent).unwrap();
     let report = &out.report;
-    reduced_answer_detail_checks(report, &model, &tp);
+    let res = report.optimise.as_ref().unwrap();
+    assert!(
+        res.path_reduction.is_some(),
+        "the answer was confirmed in full"
+    );
+    let from_full = report.details.iter().find(|d| d.label == "best").unwrap();
+    assert_eq!(from_full.eval.placement, res.best.placement);
+    let job = common::default_job(&model, &tp);
+    let afresh = printwatt::search::run::detail(&job, "best", &res.best)
+        .unwrap()
+        .unwrap();
+    assert_eq!(from_full.energy, afresh.energy);
+    assert_eq!(
+        format!("{:?}", from_full.charts),
+        format!("{:?}", afresh.charts)
+    );
+    assert!(from_full.energy.total.supply_j.is_finite());
+    // The worst and baseline cells, worked out beside the refinement, are reported too.
+    let labels: Vec<&str> = report.details.iter().map(|d| d.label.as_str()).collect();
+    assert_eq!(labels, ["best", "worst", "baseline"]);
 }
 
 /// The 30-layer wall's optimisation job with reduced evaluation (a 3 × 3 grid, 12 Nelder–Mead
@@ -584,32 +603,4 @@ fn the_work_beside_the_refinement_gives_the_same_report_on_1_and_2_threads() {
     assert_eq!(json1, json2);
     assert!(html1 == html2, "the reports differ between 1 and 2 threads");
     assert!(json1.contains("\"baseline\""), "{json1}");
-}
-
-fn reduced_answer_detail_checks(
-    report: &printwatt::report::placement::RunReport,
-    model: &printwatt::robot::RobotModel,
-    tp: &Toolpath,
-) {
-    use printwatt::search;
-    let res = report.optimise.as_ref().unwrap();
-    assert!(
-        res.path_reduction.is_some(),
-        "the answer was confirmed in full"
-    );
-    let from_full = report.details.iter().find(|d| d.label == "best").unwrap();
-    assert_eq!(from_full.eval.placement, res.best.placement);
-    let job = common::default_job(model, tp);
-    let afresh = search::run::detail(&job, "best", &res.best)
-        .unwrap()
-        .unwrap();
-    assert_eq!(from_full.energy, afresh.energy);
-    assert_eq!(
-        format!("{:?}", from_full.charts),
-        format!("{:?}", afresh.charts)
-    );
-    assert!(from_full.energy.total.supply_j.is_finite());
-    // The worst and baseline cells, worked out beside the refinement, are reported too.
-    let labels: Vec<&str> = report.details.iter().map(|d| d.label.as_str()).collect();
-    assert_eq!(labels, ["best", "worst", "baseline"]);
 }

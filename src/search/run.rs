@@ -275,13 +275,14 @@ fn find(
 }
 
 /// A reduced answer evaluated in full (the report shows both figures); an answer infeasible
-/// in full is refused, naming the placement. The answer's detail is worked out beside, from
-/// the same timed path: returned when there was a full evaluation to take it from.
+/// in full is refused, naming the placement. The answer's detail figures are worked out
+/// beside, from the same timed path: returned when there was a full evaluation to take them
+/// from.
 fn confirm_in_full(
     ev: &Evaluator,
     job: &PathJob,
     res: &mut optimise::OptimiseResult,
-) -> Result<Option<Detail>> {
+) -> Result<Option<DetailFigures>> {
     let figures = std::sync::Mutex::new(None);
     let also = |t: &crate::timing::TimedPath| {
         let f = detail_figures(job, t);
@@ -294,13 +295,7 @@ fn confirm_in_full(
         res.path_reduction = Some(chk);
     }
     refuse_infeasible_in_full(&res.best)?;
-    let figures = figures.into_inner().ok().flatten().transpose()?;
-    Ok(figures.map(|(energy, charts)| Detail {
-        label: "best".into(),
-        eval: res.best.clone(),
-        energy,
-        charts: Some(charts),
-    }))
+    figures.into_inner().ok().flatten().transpose()
 }
 
 /// What needs only the grid, worked out beside the refinement: the baseline, its tolerance
@@ -354,7 +349,7 @@ fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Resul
     );
     let mut res = found?;
     let beside = beside?;
-    let confirmed = confirm_in_full(&ev, &job, &mut res)?;
+    let confirmed = confirm_in_full(&ev, &job, &mut res)?.map(|f| (res.best.placement, f));
     let margin_trade = if s.margin_trade {
         Some(run.margin_trade(&rows, &mut res)?)
     } else {
@@ -374,9 +369,11 @@ fn work(config: &OptimiseConfig, draws: Draws, observer: &dyn Observer) -> Resul
     let secs = t0.elapsed().as_secs_f64();
     // The answer's detail from its confirmation, unless the decision moved the answer.
     let best = match confirmed {
-        Some(d) if d.eval.placement == res.best.placement => Some(Detail {
+        Some((at, (energy, charts))) if at == res.best.placement => Some(Detail {
+            label: "best".into(),
             eval: res.best.clone(),
-            ..d
+            energy,
+            charts: Some(charts),
         }),
         _ => detail(&job, "best", &res.best)?,
     };
@@ -877,16 +874,16 @@ pub fn detail(job: &PathJob, label: &str, e: &Evaluated) -> Result<Option<Detail
     }))
 }
 
+/// A placement's detail figures: its energy report and charts.
+type DetailFigures = (
+    crate::energy::EnergyReport,
+    crate::report::placement::DetailCharts,
+);
+
 /// The energy report and charts of a placement's detail, from its timed path: the energy
 /// integrated sample by sample into the report's figures and charts (no per-sample series is
 /// kept: a long print's would be hundreds of bytes a sample).
-fn detail_figures(
-    job: &PathJob,
-    timed: &crate::timing::TimedPath,
-) -> Result<(
-    crate::energy::EnergyReport,
-    crate::report::placement::DetailCharts,
-)> {
+fn detail_figures(job: &PathJob, timed: &crate::timing::TimedPath) -> Result<DetailFigures> {
     let mut charts = crate::report::placement::DetailCharts::new(
         job.energy.joint_names(),
         timed.traj.len(),
